@@ -1,0 +1,77 @@
+//! Elementary rotations and skew matrices (right-handed, active).
+//!
+//! $$R_x(a) = \begin{bmatrix}1&0&0\\0&\cos a&-\sin a\\0&\sin a&\cos a\end{bmatrix},\quad
+//!   R_y(a) = \begin{bmatrix}\cos a&0&\sin a\\0&1&0\\-\sin a&0&\cos a\end{bmatrix},\quad
+//!   R_z(a) = \begin{bmatrix}\cos a&-\sin a&0\\\sin a&\cos a&0\\0&0&1\end{bmatrix}.$$
+//!
+//! These are the matrices of eq 17, 19 and 21 of the paper.
+
+use nalgebra::{Matrix3, Matrix4, Vector3};
+
+/// A coordinate axis of a rotation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// The $x$ axis.
+    X,
+    /// The $y$ axis.
+    Y,
+    /// The $z$ axis.
+    Z,
+}
+
+impl Axis {
+    /// The unit vector along this axis.
+    #[must_use]
+    pub fn unit(self) -> Vector3<f64> {
+        match self {
+            Axis::X => Vector3::x(),
+            Axis::Y => Vector3::y(),
+            Axis::Z => Vector3::z(),
+        }
+    }
+}
+
+/// Rotation by `angle_rad` about `axis`.
+#[must_use]
+pub fn rot(axis: Axis, angle_rad: f64) -> Matrix3<f64> {
+    let (s, c) = angle_rad.sin_cos();
+    match axis {
+        Axis::X => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        Axis::Y => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        Axis::Z => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+    }
+}
+
+/// The skew (cross-product) matrix $[v]_\times$, so that $[v]_\times w = v \times w$.
+///
+/// $$[v]_\times = \begin{bmatrix}0&-v_z&v_y\\v_z&0&-v_x\\-v_y&v_x&0\end{bmatrix}.$$
+#[must_use]
+pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// The printed small-angle error matrix $I + [v]_\times$ of eq 17-19 (not orthonormal).
+///
+/// With $v = (\Delta\alpha_{x1}, \Delta\phi_{y1}, \Delta\alpha_{z1})$ this is the second factor of
+/// eq 17; with $(\Delta\varepsilon_x, \Delta\varepsilon_y, 0)$ the first of eq 18; with
+/// $(\Delta\alpha_{x2}, \Delta\alpha_{y2}, \Delta\phi_{z2})$ the second of eq 19.
+#[must_use]
+pub fn small_angle(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::identity() + skew(v)
+}
+
+/// Embed a rotation (or any 3x3 block) in a homogeneous transform with zero translation.
+#[must_use]
+pub fn homogeneous(r: &Matrix3<f64>) -> Matrix4<f64> {
+    let mut t = Matrix4::identity();
+    t.fixed_view_mut::<3, 3>(0, 0).copy_from(r);
+    t
+}
+
+/// A pure translation as a homogeneous transform.
+#[must_use]
+pub fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
+    let mut t = Matrix4::identity();
+    t.fixed_view_mut::<3, 1>(0, 3).copy_from(d);
+    t
+}

@@ -1,0 +1,44 @@
+//! Project commands, in the rust-analyzer xtask shape: `cargo xtask <command>`.
+//!
+//! One module per subcommand. Errors caused by the user's input (a malformed file, a bad
+//! flag value) are [`InputError`]s and exit with code 2; anything else exits with code 1.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+mod input;
+mod orientation_error;
+
+pub use input::InputError;
+
+/// Commands of the GyroWheel turntable error-allocation project.
+#[derive(Debug, Parser)]
+#[command(name = "cargo xtask", bin_name = "cargo xtask", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Orientation error (eq 24-26) of turntables given as CSV rows (FILE or standard input).
+    OrientationError(orientation_error::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::OrientationError(args) => orientation_error::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            if err.downcast_ref::<InputError>().is_some() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::FAILURE
+            }
+        }
+    }
+}
