@@ -91,11 +91,11 @@ impl LinearModel {
     ///
     /// # Formula
     /// $$\begin{aligned}
-    /// \Delta\psi &= \Delta\phi_{y1}\cos\phi_2 - \Delta\alpha_{x1}\sin\phi_2 + \Delta\alpha_{y2}
-    ///   - \Delta\varepsilon_x\sin\phi_2 + \Delta\varepsilon_y\cos\phi_2,\\
+    /// \Delta\psi &= \Delta\phi_{y1}\cos\phi_2 - \Delta\alpha_{x1}\sin\phi_2 + \Delta\alpha_{y2} -
+    ///   \Delta\varepsilon_x\sin\phi_2 + \Delta\varepsilon_y\cos\phi_2,\\
     /// \Delta\theta &= \Delta\phi_{z2} + \Delta\alpha_{z1},\\
-    /// \Delta\gamma &= \Delta\phi_{y1}\sin\phi_2 + \Delta\alpha_{x1}\cos\phi_2 + \Delta\alpha_{x2}
-    ///   + \Delta\varepsilon_x\cos\phi_2 + \Delta\varepsilon_y\sin\phi_2.
+    /// \Delta\gamma &= \Delta\phi_{y1}\sin\phi_2 + \Delta\alpha_{x1}\cos\phi_2 + \Delta\alpha_{x2} +
+    ///   \Delta\varepsilon_x\cos\phi_2 + \Delta\varepsilon_y\sin\phi_2.
     /// \end{aligned}$$
     ///
     /// # Reference

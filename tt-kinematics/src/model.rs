@@ -4,7 +4,7 @@ use crate::chain::{ChainKind, delta_r};
 use crate::errors::TurntableErrors;
 use crate::linear::{LinearModel, OrientationAxis};
 use crate::pose::Pose;
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 /// The orientation error of the GyroWheel axes (eq 24-25), radians.
 ///
@@ -103,7 +103,7 @@ impl OrientationErrorModel for ExactChain {
         match self.readout {
             ReadOut::MatrixElements => OrientationError::from_matrix_elements(&dr),
             ReadOut::RotationVector => {
-                let v: Vector3<f64> = Rotation3::from_matrix_unchecked(dr).scaled_axis();
+                let v = rotation_vector(&dr);
                 OrientationError {
                     delta_psi_rad: v.y,
                     delta_theta_rad: v.z,
@@ -132,4 +132,23 @@ impl OrientationErrorModel for ClosedForm {
     fn orientation_error(&self, pose: &Pose, errors: &TurntableErrors) -> OrientationError {
         LinearModel::paper_eq26().evaluate(pose.phi2_rad, errors)
     }
+}
+
+/// The rotation vector (axis times angle) of a rotation matrix, accurate for small angles.
+///
+/// With $v = \tfrac12\operatorname{vee}(R - R^T) = \sin\vartheta\,\hat n$ and
+/// $\cos\vartheta = \tfrac12(\operatorname{tr}R - 1)$, $\vartheta = \operatorname{atan2}(|v|, \cos\vartheta)$
+/// keeps full relative precision near $\vartheta = 0$ (unlike $\arccos$). Valid for
+/// $\vartheta < \pi$, which holds for every turntable error of interest.
+fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+    let v = 0.5
+        * Vector3::new(
+            r[(2, 1)] - r[(1, 2)],
+            r[(0, 2)] - r[(2, 0)],
+            r[(1, 0)] - r[(0, 1)],
+        );
+    let s = v.norm();
+    let c = 0.5 * (r.trace() - 1.0);
+    let angle = s.atan2(c);
+    if s == 0.0 { v } else { v * (angle / s) }
 }
