@@ -42,15 +42,15 @@ pub fn rot(axis: Axis, angle_rad: f64) -> Matrix3<f64> {
     }
 }
 
-/// The skew (cross-product) matrix $[v]_\times$, so that $[v]_\times w = v \times w$.
+/// The skew (cross-product) matrix $\lbrack v\rbrack_\times$, so that $\lbrack v\rbrack_\times w = v \times w$.
 ///
-/// $$[v]_\times = \begin{bmatrix}0&-v_z&v_y\\v_z&0&-v_x\\-v_y&v_x&0\end{bmatrix}.$$
+/// $$\lbrack v\rbrack_\times = \begin{bmatrix}0&-v_z&v_y\\v_z&0&-v_x\\-v_y&v_x&0\end{bmatrix}.$$
 #[must_use]
 pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// The printed small-angle error matrix $I + [v]_\times$ of eq 17-19 (not orthonormal).
+/// The printed small-angle error matrix $I + \lbrack v\rbrack_\times$ of eq 17-19 (not orthonormal).
 ///
 /// With $v = (\Delta\alpha_{x1}, \Delta\phi_{y1}, \Delta\alpha_{z1})$ this is the second factor of
 /// eq 17; with $(\Delta\varepsilon_x, \Delta\varepsilon_y, 0)$ the first of eq 18; with
