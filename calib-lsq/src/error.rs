@@ -1,0 +1,96 @@
+//! The crate's error type.
+
+use gw_model::{ModelError, SensingAxis};
+
+/// Errors from schedules, least squares, the orientation-error analysis and the requirement.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CalibError {
+    /// An input of the GyroWheel model was invalid (site, position, coefficients).
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// A named input was NaN or infinite.
+    #[error("{field} must be finite, got {value}")]
+    NonFinite {
+        /// Which input (for example `omega_m` or `outputs[3]`).
+        field: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// A named input must be strictly positive.
+    #[error("{field} must be positive, got {value}")]
+    NonPositive {
+        /// Which input.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A schedule (or regression matrix) cannot identify some coefficients: they lie in the
+    /// null space of $\mathbf A$.
+    #[error(
+        "the schedule cannot identify {} of the {axis:?} axis (rank {rank} of 7 with {positions} positions)",
+        coefficients.join(", ")
+    )]
+    Unidentifiable {
+        /// The axis whose regression is rank deficient.
+        axis: SensingAxis,
+        /// Names of the coefficients that are not identifiable (eq 1 names, e.g. `D(x)_xy`).
+        coefficients: Vec<&'static str>,
+        /// Numerical rank of $\mathbf A$.
+        rank: usize,
+        /// Number of positions.
+        positions: usize,
+    },
+    /// Two vectors that must have equal lengths do not.
+    #[error("{what}: expected {expected} entries, got {found}")]
+    LengthMismatch {
+        /// What was passed (for example `outputs` or `delta_r`).
+        what: &'static str,
+        /// The required length (number of positions).
+        expected: usize,
+        /// The given length.
+        found: usize,
+    },
+    /// The requirement region is not bounded within the search range (the reading gives no
+    /// error growth in some direction).
+    #[error(
+        "rate error of the {axis:?} axis stays below omega_m up to {limit_rad} rad in direction {direction_rad} rad"
+    )]
+    Unbounded {
+        /// Axis whose plane is unbounded.
+        axis: SensingAxis,
+        /// Direction (angle in the plane, rad) along which no boundary was found.
+        direction_rad: f64,
+        /// The search limit, rad.
+        limit_rad: f64,
+    },
+    /// A reading name could not be parsed.
+    #[error(
+        "unknown reading `{name}`; expected `outputs/estimate/form`, e.g. `intended/beta1/printed` (see Reading::all)"
+    )]
+    UnknownReading {
+        /// The name given.
+        name: String,
+    },
+    /// A grid specification was invalid.
+    #[error(
+        "grid needs at least 2 points per side and a positive half range, got {points} points and {half_range_rad} rad"
+    )]
+    BadGrid {
+        /// Points per side.
+        points: usize,
+        /// Half range, rad.
+        half_range_rad: f64,
+    },
+}
+
+pub(crate) fn finite(field: impl Into<String>, value: f64) -> Result<f64, CalibError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(CalibError::NonFinite {
+            field: field.into(),
+            value,
+        })
+    }
+}
