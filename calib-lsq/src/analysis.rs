@@ -34,7 +34,7 @@
 //! speaks of) and outputs simulated at the intended orientation.
 
 use crate::error::CalibError;
-use crate::lsq::Regression;
+use crate::lsq::{Regression, qr_estimate};
 use crate::schedule::{Schedule, actual_inputs, rate_vector, regression_matrix};
 use gw_model::{AxisCoefficients, DeltaRKind, Inputs, OrientationAngles, SensingAxis, Site};
 use nalgebra::{DMatrix, DVector, Matrix3};
@@ -348,7 +348,12 @@ impl OrientationErrorAnalysis {
             None
         };
         let beta_2 = if need_both || self.reading.needs_beta_2() {
-            Some(Regression::new(axis, a_prime.clone())?.estimate(&(&b1 - &b2_prime))?)
+            // A' is within the orientation error of A (full rank): plain QR, no rank analysis.
+            let y = &b1 - &b2_prime;
+            match qr_estimate(a_prime.clone(), &y) {
+                Some(b) => Some(b),
+                None => Some(Regression::new(axis, a_prime.clone())?.estimate(&y)?),
+            }
         } else {
             None
         };

@@ -266,3 +266,14 @@ fn pivoted_rank_and_null_space(a: &DMatrix<f64>) -> (usize, Vec<f64>) {
     }
     (rank, shares)
 }
+
+/// Plain Householder-QR least squares for a matrix known to be a small perturbation of a
+/// full-rank one (eq 11's $\mathbf A'$): no rank analysis. `None` if $\mathbf R$ is singular.
+pub(crate) fn qr_estimate(a: DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>> {
+    if a.nrows() < a.ncols() || y.len() != a.nrows() {
+        return None;
+    }
+    let qr = a.qr();
+    let qty = qr.q().transpose() * y;
+    qr.r().solve_upper_triangular(&qty)
+}

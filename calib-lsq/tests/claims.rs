@@ -432,3 +432,56 @@ fn calibrate_rejects_bad_outputs_with_named_errors() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Sensitivity to latitude, in closed form: with the default schedule ($\phi_1$ in 90° steps)
+/// the earth-rate directions $(\sin(\phi_1+\lambda), \cos(\phi_1+\lambda))$ sit at
+/// $\lambda \bmod 90°$ from the axes, the region is an octagon and the best rectangle is the
+/// square of half-side $\omega_m / (\sqrt2\,\omega_e \cos(\lambda' - 45°))$,
+/// $\lambda' = \lambda \bmod 90°$. At Harbin that is 0.026938 deg; it rounds to 0.027 deg for
+/// latitudes within about 11.6° of 45°.
+#[test]
+fn requirement_follows_closed_form_in_latitude_for_default_schedule() {
+    let omega_m = deg_per_h_to_rad_per_s(PAPER_OMEGA_M_DEG_PER_H);
+    for lat in [0.0, 30.0, 45.75, 60.0, 80.0] {
+        let site = Site::from_deg(lat, Site::paper_default().earth_rate_rad_per_s()).unwrap();
+        let p = RequirementProblem {
+            site,
+            ..RequirementProblem::paper()
+        };
+        let offset = (lat % 90.0 - 45.0_f64).to_radians();
+        let want = (omega_m
+            / (std::f64::consts::SQRT_2 * site.earth_rate_rad_per_s() * offset.cos()))
+        .to_degrees();
+        for got in p.requirement().unwrap().deg() {
+            assert_abs_diff_eq!(got, want, epsilon = REQUIREMENT_ACCURACY_DEG);
+        }
+    }
+}
+
+/// The per-position interface (issue 7 feeds the exact turntable $\Delta\mathbf R$ of eq 23 per
+/// position) agrees with the fixed-angle one, and the exact rotation changes the requirement by
+/// less than $10^{-8}$ deg (second order).
+#[test]
+fn per_position_delta_r_and_exact_rotation_agree_with_small_angle_analysis() {
+    let x = analysis(SensingAxis::X, Reading::USER);
+    let angles = OrientationAngles::from_deg(0.01, 0.02, -0.03).unwrap();
+    let n = Schedule::paper_default().len();
+    let per_position = x
+        .analyze(&vec![angles.delta_r(DeltaRKind::Exact); n])
+        .unwrap();
+    let fixed = x.analyze_angles(&angles, DeltaRKind::Exact).unwrap();
+    assert_abs_diff_eq!(
+        per_position.delta_omega_rad_per_s,
+        fixed.delta_omega_rad_per_s,
+        epsilon = RATE_EQ_TOL_RAD_PER_S
+    );
+    let exact = RequirementProblem {
+        delta_r_kind: DeltaRKind::Exact,
+        ..RequirementProblem::paper()
+    }
+    .requirement()
+    .unwrap();
+    for (e, s) in exact.deg().iter().zip(paper_requirement().deg()) {
+        assert_abs_diff_eq!(*e, s, epsilon = 1e-8);
+    }
+}
