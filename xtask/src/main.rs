@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 mod input;
 mod orientation_error;
+mod requirement;
 
 pub use input::InputError;
 
@@ -23,12 +24,15 @@ struct Cli {
 enum Command {
     /// Orientation error (eq 24-26) of turntables given as CSV rows (FILE or standard input).
     OrientationError(orientation_error::Args),
+    /// Orientation requirement I_psi, I_theta, I_gamma (eq 15-16) for the paper's inputs.
+    Requirement(requirement::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::OrientationError(args) => orientation_error::run(&args),
+        Command::Requirement(args) => requirement::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
