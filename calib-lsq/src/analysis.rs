@@ -27,6 +27,11 @@
 //! | actual | $\hat\beta_1$ | $(\mathbf b_1-\mathbf A\hat\beta)-\mathbf b_2$ (residual) | $(\mathbf I-\mathbf P)(\mathbf g+\mathbf e)$ |
 //! | intended | $\hat\beta_2$ | printed | $\mathbf P\mathbf g - (\mathbf I-\mathbf P)\mathbf e$ |
 //! | either | - | $\mathbf A\Delta\boldsymbol\beta$ | $\mathbf P(\mathbf g+\mathbf e)$ |
+//! | actual | $\hat\beta_2$ | $(\mathbf b_1-\mathbf A\hat\beta)-\mathbf b_2$ | $\mathbf g+\mathbf e$ (exact) |
+//! | intended | $\hat\beta_1$ | $(\mathbf b_1-\mathbf A\hat\beta)-\mathbf b_2$ | $\mathbf 0$ (exact) |
+//!
+//! The remaining combinations repeat these up to sign (see the crate README for the full
+//! table with the requirement each gives).
 //!
 //! Only the earth-rate-only readings ($\pm\mathbf e$) reproduce all four statements of §2.2-2.3;
 //! the default, [`Reading::PAPER`], is the first row: eq 13 as printed with

@@ -50,7 +50,7 @@ impl Schedule {
     /// $\phi_2 \in \{0, 45, \dots, 315\}°$.
     ///
     /// The paper does not list its positions (it cites a schedule optimised in its reference
-    /// [10]; NOTES item 10). This grid is the usual choice for a two-axis multiposition test:
+    /// \[10\]; NOTES item 10). This grid is the usual choice for a two-axis multiposition test:
     /// - gravity: $\phi_1 = 0, 180°$ put $z$ up and down; $\phi_1 = 90, 270°$ sweep $x$, $y$
     ///   around the horizontal in 45° steps, so $a_x^2$, $a_x a_y$ ($\pm 1/2$ at odd multiples
     ///   of 45°) and $a_z^2$ are separated: all seven coefficients of both axes are identifiable
