@@ -220,3 +220,53 @@ pub fn run(args: &Args) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default inputs are the library's paper problem.
+    #[test]
+    fn default_inputs_build_the_paper_problem() {
+        assert_eq!(
+            RequirementInputs::default().problem().unwrap(),
+            RequirementProblem::paper()
+        );
+    }
+
+    /// A study file may give only some keys; the rest keep the paper defaults.
+    #[test]
+    fn partial_inputs_fill_from_defaults() {
+        let v: RequirementInputs =
+            serde_json::from_str(r#"{"latitude_deg": 30.0, "delta_r": "exact"}"#).unwrap();
+        let p = v.problem().unwrap();
+        assert_eq!(p.delta_r_kind, DeltaRKind::Exact);
+        assert_eq!(p.schedule, Schedule::paper_default());
+        assert!(serde_json::from_str::<RequirementInputs>(r#"{"latitude": 30.0}"#).is_err());
+    }
+
+    /// Bad inputs name their key; an unidentifiable schedule names the coefficient.
+    #[test]
+    fn bad_inputs_name_the_key() {
+        let mut v = RequirementInputs {
+            schedule_deg: [0.0, 90.0, 180.0, 270.0]
+                .iter()
+                .flat_map(|&a| [0.0, 90.0, 180.0, 270.0].map(|b| [a, b]))
+                .collect(),
+            ..RequirementInputs::default()
+        };
+        let e = v.problem().unwrap_err();
+        assert_eq!(e.location, "schedule_deg");
+        assert!(e.reason.contains("D(x)_xy"), "{}", e.reason);
+        v = RequirementInputs {
+            omega_m_deg_per_h: -1.0,
+            ..RequirementInputs::default()
+        };
+        assert_eq!(v.problem().unwrap_err().location, "omega_m_deg_per_h");
+        v = RequirementInputs {
+            delta_r: "tiny".into(),
+            ..RequirementInputs::default()
+        };
+        assert_eq!(v.problem().unwrap_err().location, "delta_r");
+    }
+}
