@@ -1,0 +1,435 @@
+//! The Monte Carlo driver: chunks, blocks, threads and the order-fixed reduction.
+
+use crate::bounds::ErrorBox;
+use crate::error::McError;
+use crate::fast::{
+    TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, sin_cos_turn_with, tier_for, turn_table,
+};
+use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng};
+use crate::stats::{AxisSummary, Partial};
+use rayon::prelude::*;
+use tt_kinematics::units::RAD_PER_DEG;
+use tt_kinematics::{LinearModel, OrientationAxis, OrientationErrorModel, TurntableErrors};
+
+/// Default samples per chunk (one random stream each; part of the determinism contract).
+pub const DEFAULT_CHUNK_SIZE: u32 = 1 << 16;
+
+/// Default number of histogram bins per axis.
+pub const DEFAULT_HISTOGRAM_BINS: usize = 200;
+
+/// Largest accepted number of histogram bins per axis (bounds the memory of a run).
+pub const MAX_HISTOGRAM_BINS: usize = 10_000;
+
+/// Chunks evaluated in parallel between two in-order reductions (bounds the memory held by
+/// partial results; has no effect on the result).
+const WAVE_CHUNKS: u64 = 64;
+
+/// The paper's orientation requirement, eq 16: $|\Delta\psi|, |\Delta\theta|, |\Delta\gamma|
+/// \le 0.027°$, in degrees.
+pub const PAPER_REQUIREMENT_DEG: f64 = 0.027;
+
+/// What to run: sample count, seed, chunking, requirement and histogram layout.
+///
+/// The result is a function of (bounds, `samples`, `seed`, `chunk_size`) and the model only:
+/// not of the thread count.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct McConfig {
+    /// Number of random turntables, at least 1.
+    pub samples: u64,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Samples per random stream (chunk), at least 1.
+    pub chunk_size: u32,
+    /// The requirement $I$ per axis ($\psi, \theta, \gamma$), rad.
+    pub requirement_rad: [f64; 3],
+    /// Histogram bins per axis, in `1..=MAX_HISTOGRAM_BINS`.
+    pub histogram_bins: usize,
+    /// Histogram half-ranges $H$ per axis, rad; `None` derives them from the bounds
+    /// ([`MonteCarlo::histogram_half_range_rad`]).
+    pub histogram_half_range_rad: Option<[f64; 3]>,
+}
+
+impl McConfig {
+    /// `samples` draws with `seed`, the paper's requirement (eq 16) and default chunking and
+    /// histograms.
+    #[must_use]
+    pub fn new(samples: u64, seed: u64) -> Self {
+        Self {
+            samples,
+            seed,
+            chunk_size: DEFAULT_CHUNK_SIZE,
+            requirement_rad: [PAPER_REQUIREMENT_DEG * RAD_PER_DEG; 3],
+            histogram_bins: DEFAULT_HISTOGRAM_BINS,
+            histogram_half_range_rad: None,
+        }
+    }
+
+    /// The same configuration with another requirement (degrees, the unit of eq 16).
+    #[must_use]
+    pub fn with_requirement_deg(self, psi: f64, theta: f64, gamma: f64) -> Self {
+        Self {
+            requirement_rad: [psi, theta, gamma].map(|d| d * RAD_PER_DEG),
+            ..self
+        }
+    }
+}
+
+/// The outcome of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct McResult {
+    /// Number of samples evaluated.
+    pub samples: u64,
+    /// The seed.
+    pub seed: u64,
+    /// The chunk size used.
+    pub chunk_size: u32,
+    /// The requirement $I$, rad.
+    pub requirement_rad: [f64; 3],
+    /// Per-axis results, in the order $\Delta\psi, \Delta\theta, \Delta\gamma$.
+    pub axes: [AxisSummary; 3],
+    /// Samples with all three angles inside the requirement.
+    pub within_requirement_all: u64,
+}
+
+impl McResult {
+    /// The summary of one axis.
+    #[must_use]
+    pub fn axis(&self, axis: OrientationAxis) -> &AxisSummary {
+        &self.axes[axis.index()]
+    }
+
+    /// Fraction of samples with all three angles inside the requirement.
+    #[must_use]
+    pub fn within_requirement_fraction(&self) -> f64 {
+        self.within_requirement_all as f64 / self.samples as f64
+    }
+
+    /// $\max|\Delta\psi|, \max|\Delta\theta|, \max|\Delta\gamma|$, rad.
+    #[must_use]
+    pub fn max_abs_rad(&self) -> [f64; 3] {
+        self.axes.each_ref().map(|a| a.max_abs_rad)
+    }
+
+    /// Sample standard deviations ($\sqrt{M_2/(n-1)}$), rad.
+    #[must_use]
+    pub fn std_rad(&self) -> [f64; 3] {
+        self.axes
+            .each_ref()
+            .map(|a| a.variance_rad2(self.samples).sqrt())
+    }
+}
+
+/// A validated Monte Carlo verification of a tolerance box (paper §4.3, Figure 9).
+#[derive(Debug, Clone)]
+pub struct MonteCarlo {
+    bounds: ErrorBox,
+    config: McConfig,
+    sampler: TurntableSampler,
+    half_range_rad: [f64; 3],
+}
+
+impl MonteCarlo {
+    /// Validate `config` against `bounds`: errors name the field at fault.
+    pub fn new(bounds: ErrorBox, config: McConfig) -> Result<Self, McError> {
+        if config.samples == 0 {
+            return Err(McError::ZeroSamples);
+        }
+        if config.chunk_size == 0 {
+            return Err(McError::ZeroChunkSize);
+        }
+        if config.histogram_bins == 0 || config.histogram_bins > MAX_HISTOGRAM_BINS {
+            return Err(McError::HistogramBins {
+                bins: config.histogram_bins,
+                max: MAX_HISTOGRAM_BINS,
+            });
+        }
+        for axis in OrientationAxis::ALL {
+            let value = config.requirement_rad[axis.index()];
+            if !(value.is_finite() && value > 0.0) {
+                return Err(McError::Requirement {
+                    axis: axis.name(),
+                    value,
+                });
+            }
+        }
+        let half_range_rad = match config.histogram_half_range_rad {
+            Some(h) => {
+                for axis in OrientationAxis::ALL {
+                    let value = h[axis.index()];
+                    if !(value.is_finite() && value > 0.0) {
+                        return Err(McError::HistogramRange {
+                            axis: axis.name(),
+                            value,
+                        });
+                    }
+                }
+                h
+            }
+            None => Self::histogram_half_range_rad(&bounds),
+        };
+        Ok(Self {
+            bounds,
+            config,
+            sampler: TurntableSampler::new(&bounds),
+            half_range_rad,
+        })
+    }
+
+    /// The default histogram half-range $H_k$ for a box: a rigorous bound on $|\Delta_k|$,
+    /// $$H_k = \max_{\phi_2} \sum_i \mathrm{UB}_i |c_{ki}(\phi_2)| + (e^S - 1 - S),\quad
+    ///   S = \textstyle\sum_i \mathrm{UB}_i,$$
+    /// the exact maximum of the first-order model (eq 26) plus a bound on the remainder:
+    /// $\Delta\mathbf R$ is a product of eight rotations $e^{A_j}$ with $\|A_j\|_2 = |\chi_j|$,
+    /// and $\|\prod_j e^{A_j} - I - \sum_j A_j\|_2 \le e^S - 1 - S$. So no sample of the exact
+    /// chain falls outside (the overflow counts stay zero; tested).
+    #[must_use]
+    pub fn histogram_half_range_rad(bounds: &ErrorBox) -> [f64; 3] {
+        let model = LinearModel::paper_eq26();
+        let ub = bounds.ub_rad();
+        let s = bounds.sum_ub_rad();
+        let remainder = s.exp_m1() - s;
+        OrientationAxis::ALL.map(|axis| {
+            let first = model
+                .max_abs_weighted(axis, &ub, 0.0, std::f64::consts::TAU)
+                .value;
+            // a degenerate (all-zero) box still gets a valid, tiny range
+            (first + remainder).max(f64::MIN_POSITIVE)
+        })
+    }
+
+    /// The bounds.
+    #[must_use]
+    pub fn bounds(&self) -> &ErrorBox {
+        &self.bounds
+    }
+
+    /// The configuration.
+    #[must_use]
+    pub fn config(&self) -> &McConfig {
+        &self.config
+    }
+
+    /// The sampler (its draws are those of the run: see [`crate::chunk_rng`]).
+    #[must_use]
+    pub fn sampler(&self) -> &TurntableSampler {
+        &self.sampler
+    }
+
+    fn chunks(&self) -> u64 {
+        self.config
+            .samples
+            .div_ceil(u64::from(self.config.chunk_size))
+    }
+
+    fn chunk_len(&self, chunk: u64) -> usize {
+        let cs = u64::from(self.config.chunk_size);
+        (self.config.samples - chunk * cs).min(cs) as usize
+    }
+
+    /// Evaluate all chunks in waves on the current rayon pool, reducing in chunk order.
+    fn drive<F>(&self, progress: &(dyn Fn(u64) + Sync), chunk: F) -> Result<McResult, McError>
+    where
+        F: Fn(u64) -> Result<Partial, McError> + Sync,
+    {
+        let mut acc = Partial::new(&self.half_range_rad, self.config.histogram_bins);
+        let n_chunks = self.chunks();
+        let mut start = 0;
+        while start < n_chunks {
+            let end = (start + WAVE_CHUNKS).min(n_chunks);
+            let parts: Vec<Result<Partial, McError>> =
+                (start..end).into_par_iter().map(&chunk).collect();
+            for p in parts {
+                acc.merge(&p?);
+            }
+            progress(acc.n);
+            start = end;
+        }
+        Ok(self.finish(acc))
+    }
+
+    fn finish(&self, acc: Partial) -> McResult {
+        let Partial {
+            n,
+            mean,
+            m2,
+            max_abs,
+            worst,
+            within,
+            within_all,
+            ..
+        } = acc;
+        let axes = OrientationAxis::ALL.map(|axis| {
+            let k = axis.index();
+            AxisSummary {
+                axis,
+                max_abs_rad: max_abs[k],
+                // samples >= 1 is validated, so every axis has a worst sample
+                worst: worst[k].unwrap_or_else(|| unreachable!("a run has at least one sample")),
+                mean_rad: mean[k],
+                m2_rad2: m2[k],
+                within_requirement: within[k],
+                histogram: acc.histogram(k),
+            }
+        });
+        McResult {
+            samples: n,
+            seed: self.config.seed,
+            chunk_size: self.config.chunk_size,
+            requirement_rad: self.config.requirement_rad,
+            axes,
+            within_requirement_all: within_all,
+        }
+    }
+
+    /// Run with the default evaluator: the exact chain with the eq-24 read-out, by the fast
+    /// quaternion path ([`crate::FastChain`]), on the current rayon thread pool.
+    #[must_use]
+    pub fn run(&self) -> McResult {
+        self.run_with_progress(&|_| {})
+    }
+
+    /// [`MonteCarlo::run`], calling `progress(samples_done)` after each batch of chunks.
+    #[must_use]
+    pub fn run_with_progress(&self, progress: &(dyn Fn(u64) + Sync)) -> McResult {
+        let result = match tier_for(self.bounds.max_ub_rad()) {
+            TIER_SHORT => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_SHORT>(c))),
+            TIER_MEDIUM => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_MEDIUM>(c))),
+            _ => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_ANY>(c))),
+        };
+        result.unwrap_or_else(|_| unreachable!("the fast path has no failure"))
+    }
+
+    /// Run with any orientation-error model (for example the plain dense-matrix
+    /// [`tt_kinematics::ExactChain`]); same samples as [`MonteCarlo::run`].
+    ///
+    /// Fails only if the model returns a non-finite angle.
+    pub fn run_model<M: OrientationErrorModel + Sync>(
+        &self,
+        model: &M,
+    ) -> Result<McResult, McError> {
+        self.run_model_with_progress(model, &|_| {})
+    }
+
+    /// [`MonteCarlo::run_model`] with a progress callback.
+    pub fn run_model_with_progress<M: OrientationErrorModel + Sync>(
+        &self,
+        model: &M,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<McResult, McError> {
+        self.drive(progress, |c| self.model_chunk(model, c))
+    }
+
+    /// Draw every sample of the run and nothing else: the random words of each block and
+    /// their decoding into $\chi$ ([`TurntableSampler::fill_block`]), the work a run does
+    /// before evaluating anything. Its throughput is the limit set by the generator, the
+    /// baseline of the "half the generator" goal. Returns the number of samples drawn.
+    #[must_use]
+    pub fn draw_only(&self) -> u64 {
+        let n_chunks = self.chunks();
+        let mut drawn = 0u64;
+        let mut start = 0;
+        while start < n_chunks {
+            let end = (start + WAVE_CHUNKS).min(n_chunks);
+            drawn += (start..end)
+                .into_par_iter()
+                .map(|c| {
+                    let mut rng = chunk_rng(self.config.seed, c);
+                    let mut block = Box::<SampleBlock>::default();
+                    let len = self.chunk_len(c);
+                    let mut done = 0;
+                    while done < len {
+                        let n = (len - done).min(BLOCK_CAPACITY);
+                        self.sampler.fill_block(&mut rng, n, &mut block);
+                        std::hint::black_box(&block);
+                        done += n;
+                    }
+                    done as u64
+                })
+                .sum::<u64>();
+            start = end;
+        }
+        drawn
+    }
+
+    fn fast_chunk<const TIER: u8>(&self, chunk: u64) -> Partial {
+        let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
+        let mut rng = chunk_rng(self.config.seed, chunk);
+        let mut block = Box::<SampleBlock>::default();
+        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
+        let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
+        let first = chunk * u64::from(self.config.chunk_size);
+        let len = self.chunk_len(chunk);
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(BLOCK_CAPACITY);
+            self.sampler.fill_block(&mut rng, n, &mut block);
+            let table = turn_table();
+            for k in 0..n {
+                let (s, c) = sin_cos_turn_with(table, block.word(9, k));
+                sc[0][k] = s;
+                sc[1][k] = c;
+            }
+            let chi = &block.chi;
+            for k in 0..n {
+                let d = delta_block_sample::<TIER>(
+                    sc[0][k],
+                    sc[1][k],
+                    std::array::from_fn(|i| chi[i][k]),
+                );
+                out[0][k] = d[0];
+                out[1][k] = d[1];
+                out[2][k] = d[2];
+            }
+            part.add_block(
+                first + done as u64,
+                &block,
+                &out,
+                &self.config.requirement_rad,
+            );
+            done += n;
+        }
+        part
+    }
+
+    fn model_chunk<M: OrientationErrorModel + Sync>(
+        &self,
+        model: &M,
+        chunk: u64,
+    ) -> Result<Partial, McError> {
+        let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
+        let mut rng = chunk_rng(self.config.seed, chunk);
+        let mut block = Box::<SampleBlock>::default();
+        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
+        let first = chunk * u64::from(self.config.chunk_size);
+        let len = self.chunk_len(chunk);
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(BLOCK_CAPACITY);
+            self.sampler.fill_block(&mut rng, n, &mut block);
+            for k in 0..n {
+                // the sampler's values are finite by construction
+                let errors = TurntableErrors::from_rad(block.chi_rad(k), 0.0)
+                    .unwrap_or_else(|_| unreachable!("finite draws"));
+                let d = model.orientation_error(&block.pose(k), &errors).to_array();
+                for (axis, &v) in OrientationAxis::ALL.iter().zip(&d) {
+                    if !v.is_finite() {
+                        return Err(McError::NonFiniteModelOutput {
+                            sample: first + (done + k) as u64,
+                            axis: axis.name(),
+                            value: v,
+                        });
+                    }
+                    out[axis.index()][k] = v;
+                }
+            }
+            part.add_block(
+                first + done as u64,
+                &block,
+                &out,
+                &self.config.requirement_rad,
+            );
+            done += n;
+        }
+        Ok(part)
+    }
+}

@@ -1,0 +1,296 @@
+//! Streaming statistics of a run: extremes with their samples, moments, histograms, yield.
+//!
+//! Every statistic is merged from per-block and per-chunk partial results in a fixed order
+//! (block order within a chunk, chunk order within the run), so the result is bit-identical
+//! whatever the number of threads. Moments use the pairwise update of Chan, Golub and
+//! LeVeque (1979): for parts $a, b$ with counts $n$, means $m$ and sums of squared
+//! deviations $M_2$, with $\delta = m_b - m_a$ and $n = n_a + n_b$,
+//! $$m = m_a + \delta\,\frac{n_b}{n}, \qquad M_2 = M_{2,a} + M_{2,b} + \delta^2\,\frac{n_a n_b}{n},$$
+//! which is numerically stable (no cancellation between large sums of squares); each block's
+//! $m, M_2$ are computed in two passes over its values.
+
+use crate::sampler::{BLOCK_CAPACITY, SampleBlock};
+use tt_kinematics::{CHI_LEN, OrientationAxis, Pose};
+
+/// The sample that attains the largest $|\Delta|$ of one axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorstSample {
+    /// Global index of the sample in the run (see [`crate::chunk_rng`]).
+    pub index: u64,
+    /// The signed orientation error at that sample, rad.
+    pub value_rad: f64,
+    /// Its pose.
+    pub pose: Pose,
+    /// Its errors $\chi$, rad, order of eq 25.
+    pub chi_rad: [f64; CHI_LEN],
+}
+
+/// A histogram with fixed, uniform bins on $[-H, H]$ plus under- and overflow counts.
+///
+/// The edges are fixed before the run (from the bounds; see
+/// [`crate::MonteCarlo::histogram_half_range_rad`]), so merging partial histograms is exact.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Histogram {
+    /// $H$, rad.
+    pub half_range_rad: f64,
+    /// Counts per bin; bin $j$ covers $[-H + j w, -H + (j+1) w)$ with $w = 2H / \text{bins}$.
+    pub counts: Vec<u64>,
+    /// Values below $-H$.
+    pub underflow: u64,
+    /// Values at or above $H$.
+    pub overflow: u64,
+}
+
+impl Histogram {
+    /// Bin width, rad.
+    #[must_use]
+    pub fn bin_width_rad(&self) -> f64 {
+        2.0 * self.half_range_rad / self.counts.len() as f64
+    }
+
+    /// The `bins + 1` bin edges, rad.
+    #[must_use]
+    pub fn edges_rad(&self) -> Vec<f64> {
+        let n = self.counts.len();
+        (0..=n)
+            .map(|j| self.half_range_rad * (2.0 * j as f64 / n as f64 - 1.0))
+            .collect()
+    }
+
+    /// The bin centres, rad.
+    #[must_use]
+    pub fn centres_rad(&self) -> Vec<f64> {
+        let n = self.counts.len();
+        (0..n)
+            .map(|j| self.half_range_rad * ((2.0 * j as f64 + 1.0) / n as f64 - 1.0))
+            .collect()
+    }
+
+    /// Total count including under- and overflow.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.counts.iter().sum::<u64>() + self.underflow + self.overflow
+    }
+}
+
+/// Results for one orientation angle ($\Delta\psi$, $\Delta\theta$ or $\Delta\gamma$).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisSummary {
+    /// Which angle.
+    pub axis: OrientationAxis,
+    /// $\max |\Delta|$ over the run, rad.
+    pub max_abs_rad: f64,
+    /// The first sample (lowest index) attaining it.
+    pub worst: WorstSample,
+    /// Sample mean, rad.
+    pub mean_rad: f64,
+    /// Sum of squared deviations from the mean, rad² ($M_2$; variance $= M_2/(n-1)$).
+    pub m2_rad2: f64,
+    /// Samples with $|\Delta| \le I$ for this axis.
+    pub within_requirement: u64,
+    /// The histogram (the data of one panel of Figure 9).
+    pub histogram: Histogram,
+}
+
+impl AxisSummary {
+    /// Unbiased sample variance $M_2/(n-1)$ (zero for one sample), rad².
+    #[must_use]
+    pub fn variance_rad2(&self, samples: u64) -> f64 {
+        if samples > 1 {
+            self.m2_rad2 / (samples - 1) as f64
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Partial statistics of a block or chunk (the merge unit).
+#[derive(Debug, Clone)]
+pub(crate) struct Partial {
+    pub n: u64,
+    pub mean: [f64; 3],
+    pub m2: [f64; 3],
+    pub max_abs: [f64; 3],
+    pub worst: [Option<WorstSample>; 3],
+    pub within: [u64; 3],
+    pub within_all: u64,
+    pub half_range_rad: [f64; 3],
+    /// Per axis `bins + 2` counts: underflow, the bins, overflow.
+    pub hist: [Vec<u64>; 3],
+}
+
+/// $2^{52}$: adding it to $t \in [0, 2^{51})$ leaves $\operatorname{round}(t)$ in the low mantissa bits.
+const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
+
+/// Lanes of the order-fixed partial sums (independent accumulators break the add latency
+/// chain and let the compiler vectorise, while the summation order stays fixed).
+const LANES: usize = 4;
+
+/// $(\max_k |v_k|)$ with a fixed lane order.
+#[inline]
+fn max_abs(v: &[f64]) -> f64 {
+    let mut m = [f64::NEG_INFINITY; LANES];
+    let mut chunks = v.chunks_exact(LANES);
+    for c in &mut chunks {
+        for j in 0..LANES {
+            let a = c[j].abs();
+            m[j] = if a > m[j] { a } else { m[j] };
+        }
+    }
+    for (j, x) in chunks.remainder().iter().enumerate() {
+        let a = x.abs();
+        m[j] = if a > m[j] { a } else { m[j] };
+    }
+    m.into_iter()
+        .fold(f64::NEG_INFINITY, |a, b| if b > a { b } else { a })
+}
+
+/// Sum with [`LANES`] accumulators, combined pairwise: a fixed order.
+#[inline]
+fn lane_sum(v: &[f64], f: impl Fn(f64) -> f64) -> f64 {
+    let mut s = [0.0; LANES];
+    let mut chunks = v.chunks_exact(LANES);
+    for c in &mut chunks {
+        for j in 0..LANES {
+            s[j] += f(c[j]);
+        }
+    }
+    for (j, &x) in chunks.remainder().iter().enumerate() {
+        s[j] += f(x);
+    }
+    (s[0] + s[1]) + (s[2] + s[3])
+}
+
+impl Partial {
+    pub fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
+        Self {
+            n: 0,
+            mean: [0.0; 3],
+            m2: [0.0; 3],
+            max_abs: [f64::NEG_INFINITY; 3],
+            worst: [None; 3],
+            within: [0; 3],
+            within_all: 0,
+            half_range_rad: *half_range_rad,
+            hist: std::array::from_fn(|_| vec![0; bins + 2]),
+        }
+    }
+
+    /// Fold one block of values in (after everything folded so far). `out[k][..len]` are the
+    /// values of axis `k` for the samples of `block`, whose first has global index `first`.
+    pub fn add_block(
+        &mut self,
+        first: u64,
+        block: &SampleBlock,
+        out: &[[f64; BLOCK_CAPACITY]; 3],
+        requirement_rad: &[f64; 3],
+    ) {
+        let n = block.len();
+        let nb = n as u64;
+        let mut inside_all = [1u64; BLOCK_CAPACITY];
+        let mut idx = [[0u64; BLOCK_CAPACITY]; 3];
+        for k in 0..3 {
+            let v = &out[k][..n];
+            // extremes: the block maximum, then its first position only if it is a new record
+            let m = max_abs(v);
+            if m > self.max_abs[k] {
+                self.max_abs[k] = m;
+                if let Some(j) = v.iter().position(|x| x.abs().to_bits() == m.to_bits()) {
+                    self.worst[k] = Some(WorstSample {
+                        index: first + j as u64,
+                        value_rad: v[j],
+                        pose: block.pose(j),
+                        chi_rad: block.chi_rad(j),
+                    });
+                }
+            }
+            // moments: two passes over the block, then Chan's merge
+            let mean_b = lane_sum(v, |x| x) / n as f64;
+            let m2_b = lane_sum(v, |x| (x - mean_b) * (x - mean_b));
+            (self.mean[k], self.m2[k]) =
+                merge_moments(self.n, self.mean[k], self.m2[k], nb, mean_b, m2_b);
+            // requirement
+            let req = requirement_rad[k];
+            let mut within = 0u64;
+            for (x, ok) in v.iter().zip(inside_all.iter_mut()) {
+                let inside = u64::from(x.abs() <= req);
+                within += inside;
+                *ok &= inside;
+            }
+            self.within[k] += within;
+            // histogram: slot 0 underflow, 1..=bins the bins, bins + 1 overflow
+            // slot = floor((x + H) / w) + 1 clamped to 0..=bins+1, computed as round(t) with
+            // t = (x + H) / w + 1/2 by the 2^52 trick (vectorisable, unlike a saturating cast).
+            // A value exactly on a bin edge may go to either neighbour (deterministically).
+            let bins = (self.hist[k].len() - 2) as f64;
+            let half = self.half_range_rad[k];
+            let inv_width = bins / (2.0 * half);
+            for (x, i) in v.iter().zip(idx[k].iter_mut()) {
+                let t = ((x + half) * inv_width + 0.5).max(0.0).min(bins + 1.0);
+                *i = (t + TWO_POW_52).to_bits() - TWO_POW_52.to_bits();
+            }
+        }
+        // one loop over the three histograms: three independent increment chains
+        let [h0, h1, h2] = &mut self.hist;
+        for k in 0..n {
+            h0[idx[0][k] as usize] += 1;
+            h1[idx[1][k] as usize] += 1;
+            h2[idx[2][k] as usize] += 1;
+        }
+        self.within_all += inside_all[..n].iter().sum::<u64>();
+        self.n += nb;
+    }
+
+    /// Fold a later partial in (`other` covers samples after all of `self`'s).
+    pub fn merge(&mut self, other: &Partial) {
+        for k in 0..3 {
+            if other.max_abs[k] > self.max_abs[k] {
+                self.max_abs[k] = other.max_abs[k];
+                self.worst[k] = other.worst[k];
+            }
+            (self.mean[k], self.m2[k]) = merge_moments(
+                self.n,
+                self.mean[k],
+                self.m2[k],
+                other.n,
+                other.mean[k],
+                other.m2[k],
+            );
+            self.within[k] += other.within[k];
+            for (a, b) in self.hist[k].iter_mut().zip(&other.hist[k]) {
+                *a += b;
+            }
+        }
+        self.within_all += other.within_all;
+        self.n += other.n;
+    }
+
+    /// The public histogram of axis `k`.
+    pub fn histogram(&self, k: usize) -> Histogram {
+        let h = &self.hist[k];
+        let bins = h.len() - 2;
+        Histogram {
+            half_range_rad: self.half_range_rad[k],
+            counts: h[1..=bins].to_vec(),
+            underflow: h[0],
+            overflow: h[bins + 1],
+        }
+    }
+}
+/// Chan-Golub-LeVeque merge of (count, mean, M2) pairs.
+#[inline]
+fn merge_moments(na: u64, ma: f64, m2a: f64, nb: u64, mb: f64, m2b: f64) -> (f64, f64) {
+    if na == 0 {
+        return (mb, m2b);
+    }
+    if nb == 0 {
+        return (ma, m2a);
+    }
+    let n = (na + nb) as f64;
+    let (na, nb) = (na as f64, nb as f64);
+    let delta = mb - ma;
+    (
+        ma + delta * (nb / n),
+        m2a + m2b + delta * delta * (na * nb / n),
+    )
+}
