@@ -37,8 +37,13 @@ pub const CUT_TOLERANCE: f64 = 1e-9;
 pub const MAX_EXCHANGE_ITERATIONS: usize = 200;
 
 /// Upper guard on each scaled variable (a component 10^4 times larger than the largest value
-/// any single row allows alone): reaching it means the rows do not bound that component.
+/// any single start row allows alone), so that every conic subproblem has a solution.
 const SCALED_GUARD: f64 = 1e4;
+
+/// A scaled variable above this (100 times what the start rows allow it alone) is reported as
+/// unbounded: the rows do not bound it (its coefficients cancel or are never positive), and the
+/// interior-point solver leaves it somewhere far up, where the objective is flat.
+const SCALED_UNBOUNDED: f64 = 1e2;
 
 /// A component is "at its lower bound" when within this relative distance of it.
 const LOWER_ACTIVE_REL: f64 = 1e-7;
@@ -267,7 +272,7 @@ pub fn solve_inverse_square(
         iterations += 1;
         let (y, duals) = conic_solve(&p.label, &cuts, &sigma, &cone_const, &lower_scaled)?;
         let unbounded: Vec<String> = (0..n)
-            .filter(|&i| y[i] >= SCALED_GUARD * (1.0 - 1e-6))
+            .filter(|&i| y[i] > SCALED_UNBOUNDED)
             .map(|i| p.names[i].clone())
             .collect();
         if !unbounded.is_empty() {
@@ -457,8 +462,8 @@ fn conic_solve(
     let (mut ri, mut ci, mut vals, mut b) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut row = 0;
     for c in cuts {
-        for i in 0..n {
-            let a = c.coefficients[i] * sigma[i] / c.bound;
+        for (i, (coef, sig)) in c.coefficients.iter().zip(sigma).enumerate() {
+            let a = coef * sig / c.bound;
             if a != 0.0 {
                 ri.push(row);
                 ci.push(i);

@@ -1,7 +1,7 @@
 //! Named tolerances and shared fixtures of the alloc-opt tests.
 #![allow(dead_code)]
 
-use alloc_opt::{Allocation, Allocator, AllocationProblem, EqualEffects, SensitivityWeighted};
+use alloc_opt::{Allocation, AllocationProblem, Allocator, EqualEffects, SensitivityWeighted};
 use std::sync::OnceLock;
 
 /// Tightness claim of the issue: each requirement is reached to 1e-9 relative.
