@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod input;
+mod mc;
 mod orientation_error;
 mod requirement;
 
@@ -26,6 +27,8 @@ enum Command {
     OrientationError(orientation_error::Args),
     /// Orientation requirement I_psi, I_theta, I_gamma (eq 15-16) for the paper's inputs.
     Requirement(requirement::Args),
+    /// Monte Carlo check of an allocation (section 4.3, Figure 9): random turntables, exact chain.
+    Mc(mc::Args),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +36,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::OrientationError(args) => orientation_error::run(&args),
         Command::Requirement(args) => requirement::run(&args),
+        Command::Mc(args) => mc::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
