@@ -9,7 +9,13 @@ use std::process::ExitCode;
 mod input;
 mod mc;
 mod orientation_error;
+mod plots;
+mod report;
+mod reproduce;
+mod reproduce_mc;
 mod requirement;
+mod study;
+mod svg;
 
 pub use input::InputError;
 
@@ -23,6 +29,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Regenerate every table, figure and claim of the paper with a paper-versus-ours report.
+    ReproducePaper(reproduce::Args),
     /// Orientation error (eq 24-26) of turntables given as CSV rows (FILE or standard input).
     OrientationError(orientation_error::Args),
     /// Orientation requirement I_psi, I_theta, I_gamma (eq 15-16) for the paper's inputs.
@@ -34,6 +42,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::ReproducePaper(args) => reproduce::run(&args),
         Command::OrientationError(args) => orientation_error::run(&args),
         Command::Requirement(args) => requirement::run(&args),
         Command::Mc(args) => mc::run(&args),
