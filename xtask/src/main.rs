@@ -6,6 +6,7 @@
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+mod allocate;
 mod input;
 mod mc;
 mod orientation_error;
@@ -35,6 +36,8 @@ enum Command {
     OrientationError(orientation_error::Args),
     /// Orientation requirement I_psi, I_theta, I_gamma (eq 15-16) for the paper's inputs.
     Requirement(requirement::Args),
+    /// Turntable error allocation (section 4.2-4.3, problems 31-34) beside Table 4.
+    Allocate(allocate::Args),
     /// Monte Carlo check of an allocation (section 4.3, Figure 9): random turntables, exact chain.
     Mc(mc::Args),
 }
@@ -45,6 +48,7 @@ fn main() -> ExitCode {
         Command::ReproducePaper(args) => reproduce::run(&args),
         Command::OrientationError(args) => orientation_error::run(&args),
         Command::Requirement(args) => requirement::run(&args),
+        Command::Allocate(args) => allocate::run(&args),
         Command::Mc(args) => mc::run(&args),
     };
     match result {
