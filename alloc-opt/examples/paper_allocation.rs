@@ -5,7 +5,7 @@
 
 use alloc_opt::{
     AllocError, AllocationProblem, Allocator, Certificate, EqualEffects, PAPER_TABLE4_ARCMIN,
-    SensitivityWeighted, Weights, exact_chain_check, paper_table4_rad,
+    SensitivityWeighted, Weights, allocate_with_exact_margin, exact_chain_check, paper_table4_rad,
 };
 use tt_kinematics::units::RAD_PER_ARCMIN;
 use tt_kinematics::{ErrorComponent, LinearModel};
@@ -61,6 +61,12 @@ fn main() -> Result<(), AllocError> {
             c.axis, c.exact_worst_rad, c.requirement_rad, c.excess_rad
         );
     }
+    let safe = allocate_with_exact_margin(&SensitivityWeighted::paper(), &problem)?;
+    println!(
+        "exact-chain-safe allocation: margin {:.3e}, bounds (arcmin) {:?}",
+        safe.margin,
+        safe.allocation.upper_bounds_arcmin()
+    );
     for s in &ours.subproblems {
         println!(
             "problem {:?}: worst phi2 {:.6} rad, load {:.15}, {} conic solves",
