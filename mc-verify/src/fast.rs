@@ -48,6 +48,30 @@ pub const SHORT_SERIES_MAX_ABS_RAD: f64 = 2.5e-4;
 pub(crate) const TIER_SHORT: u8 = 0;
 pub(crate) const TIER_MEDIUM: u8 = 1;
 pub(crate) const TIER_ANY: u8 = 2;
+/// The short series evaluated directly from the half-integer $t$ of the word (all
+/// $\mathrm{LB}_i = 0$, so $\chi_i = t\,s_i$ with $s_i = \mathrm{UB}_i 2^{-31}$):
+/// $\sin\tfrac{\chi}{2} \approx t(\tfrac{s}{2} - t^2 \tfrac{s^3}{48})$,
+/// $\cos\tfrac{\chi}{2} \approx 1 - t^2 \tfrac{s^2}{8}$ (the same polynomials, fewer operations).
+///
+/// Coefficients per component: $(s/2, s^2/8, s^3/48)$.
+pub(crate) fn short_t_coefficients(scale_rad: &[f64; CHI_LEN]) -> [[f64; 3]; CHI_LEN] {
+    scale_rad.map(|s| [0.5 * s, s * s / 8.0, s * s * s / 48.0])
+}
+
+/// Block kernel of the zero-lower-bound short tier ([`short_t_coefficients`]): `t[i]` is the half-integer of the word of $\chi_i$.
+#[inline(always)]
+pub(crate) fn delta_from_t(
+    s2: f64,
+    c2: f64,
+    t: [f64; CHI_LEN],
+    k: &[[f64; 3]; CHI_LEN],
+) -> [f64; 3] {
+    let h: [(f64, f64); CHI_LEN] = std::array::from_fn(|i| {
+        let t2 = t[i] * t[i];
+        (t[i] * (k[i][0] - t2 * k[i][2]), 1.0 - t2 * k[i][1])
+    });
+    delta_from_half_angles(s2, c2, &h)
+}
 
 /// The tier valid for every $|x| \le$ `max_abs_rad`.
 pub(crate) fn tier_for(max_abs_rad: f64) -> u8 {

@@ -3,9 +3,10 @@
 use crate::bounds::ErrorBox;
 use crate::error::McError;
 use crate::fast::{
-    TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, sin_cos_turn_with, tier_for, turn_table,
+    TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, delta_from_t, short_t_coefficients,
+    sin_cos_turn_with, tier_for, turn_table,
 };
-use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng};
+use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng, fill_words};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
 use tt_kinematics::units::RAD_PER_DEG;
@@ -291,7 +292,9 @@ impl MonteCarlo {
     /// [`MonteCarlo::run`], calling `progress(samples_done)` after each batch of chunks.
     #[must_use]
     pub fn run_with_progress(&self, progress: &(dyn Fn(u64) + Sync)) -> McResult {
+        let zero_lb = self.bounds.lb_rad().iter().all(|&lb| lb <= 0.0);
         let result = match tier_for(self.bounds.max_ub_rad()) {
+            TIER_SHORT if zero_lb => self.drive(progress, |c| Ok(self.fast_chunk_zero_lb(c))),
             TIER_SHORT => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_SHORT>(c))),
             TIER_MEDIUM => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_MEDIUM>(c))),
             _ => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_ANY>(c))),
@@ -351,6 +354,46 @@ impl MonteCarlo {
         drawn
     }
 
+    /// The fast path for a box with zero lower bounds inside the short-series range (the
+    /// paper's case): the series are evaluated from the words' half-integers directly.
+    fn fast_chunk_zero_lb(&self, chunk: u64) -> Partial {
+        let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
+        let mut rng = chunk_rng(self.config.seed, chunk);
+        let mut block = Box::<SampleBlock>::default();
+        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
+        let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
+        let coeffs = short_t_coefficients(self.sampler.scale_rad());
+        let first = chunk * u64::from(self.config.chunk_size);
+        let len = self.chunk_len(chunk);
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(BLOCK_CAPACITY);
+            fill_words(&mut rng, n, &mut block);
+            let table = turn_table();
+            for k in 0..n {
+                let (s, c) = sin_cos_turn_with(table, block.word(9, k));
+                sc[0][k] = s;
+                sc[1][k] = c;
+            }
+            for k in 0..n {
+                let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
+                let d = delta_from_t(sc[0][k], sc[1][k], t, &coeffs);
+                out[0][k] = d[0];
+                out[1][k] = d[1];
+                out[2][k] = d[2];
+            }
+            part.add_block(
+                first + done as u64,
+                &block,
+                &self.sampler,
+                &out,
+                &self.config.requirement_rad,
+            );
+            done += n;
+        }
+        part
+    }
+
     fn fast_chunk<const TIER: u8>(&self, chunk: u64) -> Partial {
         let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
         let mut rng = chunk_rng(self.config.seed, chunk);
@@ -383,6 +426,7 @@ impl MonteCarlo {
             part.add_block(
                 first + done as u64,
                 &block,
+                &self.sampler,
                 &out,
                 &self.config.requirement_rad,
             );
@@ -425,6 +469,7 @@ impl MonteCarlo {
             part.add_block(
                 first + done as u64,
                 &block,
+                &self.sampler,
                 &out,
                 &self.config.requirement_rad,
             );

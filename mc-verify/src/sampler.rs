@@ -108,6 +108,11 @@ impl TurntableSampler {
         }
     }
 
+    /// $(\mathrm{UB}_i - \mathrm{LB}_i)\,2^{-31}$, rad.
+    pub(crate) fn scale_rad(&self) -> &[f64; CHI_LEN] {
+        &self.scale_rad
+    }
+
     /// $\chi_i$ (rad) from its word `w` (see the module table).
     #[inline(always)]
     #[must_use]
@@ -139,11 +144,13 @@ impl TurntableSampler {
     /// `1..=BLOCK_CAPACITY`); consumes exactly `n *` [`WORDS_PER_SAMPLE`] words of `rng`.
     /// [`crate::MonteCarlo`] draws its samples this way.
     pub fn fill_block<R: Rng + ?Sized>(&self, rng: &mut R, n: usize, block: &mut SampleBlock) {
-        let n = n.clamp(1, BLOCK_CAPACITY);
-        block.len = n;
-        let bytes = &mut block.bytes[..n * BYTES_PER_SAMPLE];
-        rng.fill_bytes(bytes);
-        for (i, col) in bytes.chunks_exact(4 * n).take(CHI_LEN).enumerate() {
+        fill_words(rng, n, block);
+        let n = block.len;
+        for (i, col) in block.bytes[..n * BYTES_PER_SAMPLE]
+            .chunks_exact(4 * n)
+            .take(CHI_LEN)
+            .enumerate()
+        {
             let (scale, lb) = (self.scale_rad[i], self.lb_rad[i]);
             for (x, w) in block.chi[i].iter_mut().zip(col.chunks_exact(4)) {
                 let w = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
@@ -152,6 +159,15 @@ impl TurntableSampler {
             }
         }
     }
+}
+
+/// Fill only the words of a block of `n` samples (clamped to `1..=BLOCK_CAPACITY`), without
+/// decoding $\chi$; the decoded values are then available through [`SampleBlock::word`] and
+/// [`TurntableSampler::chi_from_word`] only.
+pub(crate) fn fill_words<R: Rng + ?Sized>(rng: &mut R, n: usize, block: &mut SampleBlock) {
+    let n = n.clamp(1, BLOCK_CAPACITY);
+    block.len = n;
+    rng.fill_bytes(&mut block.bytes[..n * BYTES_PER_SAMPLE]);
 }
 
 /// A block of drawn turntables (structure of arrays), filled by

@@ -9,7 +9,7 @@
 //! which is numerically stable (no cancellation between large sums of squares); each block's
 //! $m, M_2$ are computed in two passes over its values.
 
-use crate::sampler::{BLOCK_CAPACITY, SampleBlock};
+use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler};
 use tt_kinematics::{CHI_LEN, OrientationAxis, Pose};
 
 /// The sample that attains the largest $|\Delta|$ of one axis.
@@ -182,6 +182,7 @@ impl Partial {
         &mut self,
         first: u64,
         block: &SampleBlock,
+        sampler: &TurntableSampler,
         out: &[[f64; BLOCK_CAPACITY]; 3],
         requirement_rad: &[f64; 3],
     ) {
@@ -200,7 +201,10 @@ impl Partial {
                         index: first + j as u64,
                         value_rad: v[j],
                         pose: block.pose(j),
-                        chi_rad: block.chi_rad(j),
+                        // from the words: valid whether or not the block was decoded
+                        chi_rad: std::array::from_fn(|i| {
+                            sampler.chi_from_word(i, block.word(i, j))
+                        }),
                     });
                 }
             }

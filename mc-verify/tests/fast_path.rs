@@ -126,6 +126,13 @@ fn fast_run_matches_plain_chain_run_with_table4_box_short_series() {
 }
 
 #[test]
+fn fast_run_matches_plain_chain_run_with_nonzero_lower_bounds_short_series() {
+    let lb = [0.1, 0.2, 0.0, 0.3, 0.05, 0.1, 0.2, 0.1];
+    let b = ErrorBox::from_arcmin(lb, common::TABLE4_ARCMIN).unwrap();
+    fast_run_matches_plain_run(b, 20_000);
+}
+
+#[test]
 fn fast_run_matches_plain_chain_run_with_10_arcmin_box_medium_series() {
     let b = ErrorBox::from_arcmin([2.0; 8], [10.0; 8]).unwrap();
     fast_run_matches_plain_run(b, 20_000);
