@@ -32,8 +32,10 @@ pub enum AllocError {
     },
     /// The lower bounds alone already violate a requirement: no upper bounds can satisfy it.
     #[error(
-        "problem {problem:?}: the lower bounds of {components:?} alone give a worst case of \
-         {worst_case_rad:e} rad > requirement {requirement_rad:e} rad"
+        "problem {}: the lower bounds of {} alone give a worst case of \
+         {worst_case_rad:e} rad > requirement {requirement_rad:e} rad",
+        .problem.name(),
+        names(.components)
     )]
     InfeasibleLowerBounds {
         /// The problem (orientation angle) that cannot be satisfied: (31) gamma, (32) theta,
@@ -94,6 +96,15 @@ pub enum AllocError {
         /// What is wrong.
         reason: String,
     },
+}
+
+/// `"dalpha_x2, deps_x"`.
+fn names(components: &[ErrorComponent]) -> String {
+    components
+        .iter()
+        .map(|c| c.name())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Check that `value` is finite.

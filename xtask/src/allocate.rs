@@ -285,3 +285,60 @@ pub fn run(args: &Args) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key_of(e: &anyhow::Error) -> String {
+        e.downcast_ref::<InputError>()
+            .map(|i| i.location.clone())
+            .unwrap_or_else(|| panic!("not an InputError: {e:#}"))
+    }
+
+    /// Bad study values become InputErrors (exit 2) naming the key.
+    #[test]
+    fn bad_inputs_are_input_errors_naming_the_key() {
+        let bad = |f: &dyn Fn(&mut AllocateInputs)| {
+            let mut i = AllocateInputs::default();
+            f(&mut i);
+            allocate_json(&i).unwrap_err()
+        };
+        let e = bad(&|i| i.requirement_theta_deg = f64::NAN);
+        assert_eq!(key_of(&e), "requirement_theta_deg");
+        let e = bad(&|i| i.requirement_gamma_deg = -0.01);
+        assert_eq!(key_of(&e), "requirement.gamma");
+        let e = bad(&|i| i.lower_bounds_arcmin[4] = -0.1);
+        assert_eq!(key_of(&e), "lower_bounds.dalpha_x2");
+        let e = bad(&|i| i.lower_bounds_arcmin[4] = 2.0);
+        assert_eq!(key_of(&e), "lower_bounds_arcmin");
+        assert!(e.to_string().contains("problem gamma") && e.to_string().contains("dalpha_x2"));
+        let e = bad(&|i| i.constraint_form = "quarter".into());
+        assert_eq!(key_of(&e), "constraint_form");
+        let e = bad(&|i| i.safety_margin = 1.5);
+        assert_eq!(key_of(&e), "1 - safety_margin");
+    }
+
+    /// The defaults are the paper's example, and the full-range form gives the same bounds
+    /// for eq 26.
+    #[test]
+    fn defaults_are_the_paper_example() {
+        let d = AllocateInputs::default();
+        let (p, a) = d.problem().unwrap();
+        assert_eq!(p, AllocationProblem::paper_example().unwrap());
+        assert_eq!(a, SensitivityWeighted::paper());
+        let full = allocate_json(&AllocateInputs {
+            constraint_form: "full-range".into(),
+            ..d.clone()
+        })
+        .unwrap();
+        let paper = allocate_json(&d).unwrap();
+        for c in ErrorComponent::ALL {
+            let (x, y) = (
+                full["allocation_arcmin"][c.name()].as_f64().unwrap(),
+                paper["allocation_arcmin"][c.name()].as_f64().unwrap(),
+            );
+            assert!((x - y).abs() <= 1e-9 * y, "{}: {x} vs {y}", c.name());
+        }
+    }
+}
