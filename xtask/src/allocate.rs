@@ -1,9 +1,10 @@
 //! `cargo xtask allocate [--json]`: the turntable error allocation (paper §4.2-4.3, problems
 //! 31-34, Table 4) for the paper's inputs, beside Table 4 and the equal-effects allocation.
 //!
-//! Inputs live in [`AllocateInputs`] (paper defaults: eq 26, $I = 0.027^\circ$ for all three
-//! angles as printed in eq 16, zero lower bounds because the paper gives none), so a study file
-//! can fill them later.
+//! Inputs live in [`AllocateInputs`], filled from the study file (`--study FILE`, default the
+//! paper's: eq 26, $I = 0.027^\circ$ for all three angles as printed in eq 16, zero lower
+//! bounds because the paper gives none) and the flags `--constraint-form` and
+//! `--safety-margin`.
 //!
 //! `--json` prints one object with at least
 //! `{"requirement_deg": {"psi","theta","gamma"}, "allocation_arcmin": {"dphi_y1", "dphi_z2",
@@ -14,6 +15,7 @@
 //! Lemma 1 on the full pose range, the equal-effects allocation, and the exact-chain check.
 
 use crate::InputError;
+use crate::study::Study;
 use alloc_opt::{
     AllocError, AllocationProblem, Allocator, Certificate, ConstraintForm, EqualEffects,
     PAPER_REQUIREMENT_DEG, PAPER_TABLE4_ARCMIN, Requirement, SensitivityWeighted, Weights,
@@ -29,9 +31,20 @@ use tt_kinematics::{CHI_LEN, ErrorComponent, LinearModel, OrientationAxis};
 /// Arguments of `allocate`.
 #[derive(Debug, Parser)]
 pub struct Args {
+    /// Study file (default: `studies/gyrowheel-2017.toml`, the paper's inputs).
+    #[arg(long)]
+    pub study: Option<std::path::PathBuf>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// `paper` (the quarter pose ranges of problems 31 and 33) or `full-range` (eq 30 on
+    /// [0, 2 pi]).
+    #[arg(long, default_value = "paper")]
+    pub constraint_form: String,
+    /// Relative safety margin m: allocate for (1 - m) I (room for the exact chain's
+    /// second-order terms).
+    #[arg(long, default_value_t = 0.0)]
+    pub safety_margin: f64,
 }
 
 /// Everything the allocation depends on, in the units of study files; defaults are the
@@ -83,6 +96,20 @@ fn input_error(e: AllocError) -> anyhow::Error {
 }
 
 impl AllocateInputs {
+    /// The study's requirement (eq 16 as written in it) and lower bounds, with the given
+    /// constraint form and safety margin.
+    pub fn from_study(study: &Study, constraint_form: &str, safety_margin: f64) -> Self {
+        let r = &study.file.requirement;
+        Self {
+            requirement_psi_deg: r.psi_deg,
+            requirement_theta_deg: r.theta_deg,
+            requirement_gamma_deg: r.gamma_deg,
+            lower_bounds_arcmin: study.file.allocation.lower_bounds_arcmin.to_array(),
+            constraint_form: constraint_form.to_string(),
+            safety_margin,
+        }
+    }
+
     /// The library problem and allocator, naming the offending key on bad input.
     ///
     /// # Errors
@@ -277,7 +304,12 @@ fn text(v: &Value) -> String {
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let v = allocate_json(&AllocateInputs::default())?;
+    let study = Study::load_or_paper(args.study.as_deref())?;
+    let v = allocate_json(&AllocateInputs::from_study(
+        &study,
+        &args.constraint_form,
+        args.safety_margin,
+    ))?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
@@ -294,6 +326,15 @@ mod tests {
         e.downcast_ref::<InputError>()
             .map(|i| i.location.clone())
             .unwrap_or_else(|| panic!("not an InputError: {e:#}"))
+    }
+
+    /// The paper's study file gives exactly the paper's example.
+    #[test]
+    fn paper_study_gives_the_default_inputs() {
+        assert_eq!(
+            AllocateInputs::from_study(&Study::paper().unwrap(), "paper", 0.0),
+            AllocateInputs::default()
+        );
     }
 
     /// Bad study values become InputErrors (exit 2) naming the key.

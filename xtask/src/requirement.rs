@@ -9,20 +9,23 @@
 //! `--json` prints one object:
 //! `{"reading": "intended/beta1/printed", "latitude_deg": 45.75, "orientation_requirement_deg":
 //! {"psi": .., "theta": .., "gamma": ..}, ...}` with further keys (inputs and both planes'
-//! rectangles). All inputs live in [`RequirementInputs`], which a study file can fill.
+//! rectangles). All inputs come from the study file (`--study FILE`, default the paper's
+//! `studies/gyrowheel-2017.toml`); `--reading` overrides the study's reading of eq 13.
 
 use crate::InputError;
+use crate::study::Study;
 use anyhow::Result;
-use calib_lsq::{Reading, RequirementProblem, Schedule};
+use calib_lsq::{Reading, RequirementProblem};
 use clap::Parser;
-use gw_model::units::{deg_per_h_to_rad_per_s, rad_to_deg};
-use gw_model::{DeltaRKind, DriftCoefficients, Site};
-use serde::{Deserialize, Serialize};
+use gw_model::units::{rad_per_s_to_deg_per_h, rad_to_deg};
 use serde_json::json;
 
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
 pub struct Args {
+    /// Study file (default: `studies/gyrowheel-2017.toml`, the paper's inputs).
+    #[arg(long)]
+    pub study: Option<std::path::PathBuf>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -35,97 +38,11 @@ pub struct Args {
     pub all_readings: bool,
 }
 
-/// Everything the requirement depends on, in the units of study files; defaults are the
-/// paper's inputs plus this project's documented choices.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RequirementInputs {
-    /// Test-site latitude, deg north (default Harbin 45.75).
-    pub latitude_deg: f64,
-    /// Earth rotation rate, rad/s (default WGS-84 7.2921159e-5).
-    pub earth_rate_rad_per_s: f64,
-    /// Required calibration accuracy $\omega_m$, deg/h (paper: 0.01).
-    pub omega_m_deg_per_h: f64,
-    /// $x$-axis coefficients in eq 1 order, deg/h, deg/h/g, deg/h/g^2 (default Table 1).
-    pub coefficients_x_deg_per_h: [f64; 7],
-    /// $y$-axis coefficients in eq 1 order (default Table 1).
-    pub coefficients_y_deg_per_h: [f64; 7],
-    /// Calibration positions `[phi1_deg, phi2_deg]` (default: the 4 x 8 grid of
-    /// `Schedule::paper_default`).
-    pub schedule_deg: Vec<[f64; 2]>,
-    /// Reading of eq 13, `outputs/estimate/form`.
-    pub reading: String,
-    /// `small-angle` (eq 7, default) or `exact`.
-    pub delta_r: String,
-}
-
-impl Default for RequirementInputs {
-    fn default() -> Self {
-        let site = Site::paper_default();
-        Self {
-            latitude_deg: site.latitude_deg(),
-            earth_rate_rad_per_s: site.earth_rate_rad_per_s(),
-            omega_m_deg_per_h: calib_lsq::PAPER_OMEGA_M_DEG_PER_H,
-            coefficients_x_deg_per_h: gw_model::TABLE_1_X_DEG_PER_H,
-            coefficients_y_deg_per_h: gw_model::TABLE_1_Y_DEG_PER_H,
-            schedule_deg: Schedule::paper_default()
-                .positions()
-                .iter()
-                .map(|p| [p.phi_1_deg(), p.phi_2_deg()])
-                .collect(),
-            reading: Reading::PAPER.to_string(),
-            delta_r: DeltaRKind::SmallAngle.name().to_string(),
-        }
-    }
-}
-
-impl RequirementInputs {
-    /// Build the library problem, naming the offending key on bad input.
-    ///
-    /// # Errors
-    /// [`InputError`] naming the key (`latitude_deg`, `schedule_deg`, `reading`, ...).
-    pub fn problem(&self) -> Result<RequirementProblem, InputError> {
-        let bad = |key: &str, e: &dyn std::fmt::Display| InputError::new(key, e.to_string());
-        let site = Site::from_deg(self.latitude_deg, self.earth_rate_rad_per_s)
-            .map_err(|e| bad("latitude_deg/earth_rate_rad_per_s", &e))?;
-        let coefficients = DriftCoefficients::from_deg_per_h(
-            self.coefficients_x_deg_per_h,
-            self.coefficients_y_deg_per_h,
-        )
-        .map_err(|e| bad("coefficients", &e))?;
-        let pairs: Vec<(f64, f64)> = self.schedule_deg.iter().map(|p| (p[0], p[1])).collect();
-        let schedule = Schedule::from_deg(&pairs).map_err(|e| bad("schedule_deg", &e))?;
-        let reading: Reading = self.reading.parse().map_err(|e| bad("reading", &e))?;
-        let delta_r_kind = match self.delta_r.as_str() {
-            "small-angle" => DeltaRKind::SmallAngle,
-            "exact" => DeltaRKind::Exact,
-            other => {
-                return Err(InputError::new(
-                    "delta_r",
-                    format!("expected `small-angle` or `exact`, got `{other}`"),
-                ));
-            }
-        };
-        let problem = RequirementProblem {
-            coefficients,
-            site,
-            schedule,
-            omega_m_rad_per_s: deg_per_h_to_rad_per_s(1.0),
-            reading,
-            delta_r_kind,
-        };
-        problem
-            .with_omega_m_deg_per_h(self.omega_m_deg_per_h)
-            .map_err(|e| bad("omega_m_deg_per_h", &e))
-    }
-}
-
 /// The JSON object printed by `--json` for one problem.
 ///
 /// # Errors
 /// As [`RequirementProblem::requirement`].
 pub fn requirement_json(
-    inputs: &RequirementInputs,
     problem: &RequirementProblem,
 ) -> Result<serde_json::Value, calib_lsq::CalibError> {
     let r = problem.requirement()?;
@@ -135,7 +52,7 @@ pub fn requirement_json(
         "reading_formula": problem.reading.formula(),
         "latitude_deg": problem.site.latitude_deg(),
         "earth_rate_rad_per_s": problem.site.earth_rate_rad_per_s(),
-        "omega_m_deg_per_h": inputs.omega_m_deg_per_h,
+        "omega_m_deg_per_h": rad_per_s_to_deg_per_h(problem.omega_m_rad_per_s),
         "delta_r": problem.delta_r_kind.name(),
         "schedule_positions": problem.schedule.len(),
         "orientation_requirement_deg": {"psi": psi, "theta": theta, "gamma": gamma},
@@ -149,11 +66,13 @@ pub fn requirement_json(
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let mut inputs = RequirementInputs::default();
+    let study = Study::load_or_paper(args.study.as_deref())?;
+    let mut problem = study.requirement_problem();
     if let Some(r) = &args.reading {
-        inputs.reading.clone_from(r);
+        problem.reading = r
+            .parse()
+            .map_err(|e: calib_lsq::CalibError| InputError::new("--reading", e.to_string()))?;
     }
-    let problem = inputs.problem()?;
     if args.all_readings {
         let mut rows = Vec::new();
         for reading in Reading::all() {
@@ -161,7 +80,7 @@ pub fn run(args: &Args) -> Result<()> {
                 reading,
                 ..problem.clone()
             };
-            let row = match requirement_json(&inputs, &p) {
+            let row = match requirement_json(&p) {
                 Ok(v) => v,
                 Err(calib_lsq::CalibError::Unbounded { .. }) => json!({
                     "reading": reading.to_string(),
@@ -196,14 +115,15 @@ pub fn run(args: &Args) -> Result<()> {
         }
         return Ok(());
     }
-    let v = requirement_json(&inputs, &problem)?;
+    let v = requirement_json(&problem)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         let req = &v["orientation_requirement_deg"];
         println!(
-            "orientation requirement (eq 15-16), Table 1, omega_m = {} deg/h, latitude {} deg, {} positions, {} Delta-R",
-            inputs.omega_m_deg_per_h,
+            "orientation requirement (eq 15-16), study {}, omega_m = {} deg/h, latitude {} deg, {} positions, {} Delta-R",
+            study.file.name,
+            rad_per_s_to_deg_per_h(problem.omega_m_rad_per_s),
             problem.site.latitude_deg(),
             problem.schedule.len(),
             problem.delta_r_kind.name()
@@ -225,48 +145,27 @@ pub fn run(args: &Args) -> Result<()> {
 mod tests {
     use super::*;
 
-    /// The default inputs are the library's paper problem.
+    /// The paper's study file builds exactly the library's paper problem (Table 1, Harbin,
+    /// WGS-84, the default schedule, the paper's reading, eq 7).
     #[test]
-    fn default_inputs_build_the_paper_problem() {
+    fn paper_study_builds_the_paper_problem() {
         assert_eq!(
-            RequirementInputs::default().problem().unwrap(),
+            Study::paper().unwrap().requirement_problem(),
             RequirementProblem::paper()
         );
     }
 
-    /// A study file may give only some keys; the rest keep the paper defaults.
+    /// A reading flag that does not parse is an input error naming the flag.
     #[test]
-    fn partial_inputs_fill_from_defaults() {
-        let v: RequirementInputs =
-            serde_json::from_str(r#"{"latitude_deg": 30.0, "delta_r": "exact"}"#).unwrap();
-        let p = v.problem().unwrap();
-        assert_eq!(p.delta_r_kind, DeltaRKind::Exact);
-        assert_eq!(p.schedule, Schedule::paper_default());
-        assert!(serde_json::from_str::<RequirementInputs>(r#"{"latitude": 30.0}"#).is_err());
-    }
-
-    /// Bad inputs name their key; an unidentifiable schedule names the coefficient.
-    #[test]
-    fn bad_inputs_name_the_key() {
-        let mut v = RequirementInputs {
-            schedule_deg: [0.0, 90.0, 180.0, 270.0]
-                .iter()
-                .flat_map(|&a| [0.0, 90.0, 180.0, 270.0].map(|b| [a, b]))
-                .collect(),
-            ..RequirementInputs::default()
+    fn bad_reading_flag_names_the_flag() {
+        let args = Args {
+            study: None,
+            json: true,
+            reading: Some("sideways".into()),
+            all_readings: false,
         };
-        let e = v.problem().unwrap_err();
-        assert_eq!(e.location, "schedule_deg");
-        assert!(e.reason.contains("D(x)_xy"), "{}", e.reason);
-        v = RequirementInputs {
-            omega_m_deg_per_h: -1.0,
-            ..RequirementInputs::default()
-        };
-        assert_eq!(v.problem().unwrap_err().location, "omega_m_deg_per_h");
-        v = RequirementInputs {
-            delta_r: "tiny".into(),
-            ..RequirementInputs::default()
-        };
-        assert_eq!(v.problem().unwrap_err().location, "delta_r");
+        let e = run(&args).unwrap_err();
+        let e = e.downcast_ref::<InputError>().expect("input error");
+        assert_eq!(e.location, "--reading");
     }
 }
