@@ -21,9 +21,9 @@ pub const DEFAULT_HISTOGRAM_BINS: usize = 200;
 /// Largest accepted number of histogram bins per axis (bounds the memory of a run).
 pub const MAX_HISTOGRAM_BINS: usize = 10_000;
 
-/// Chunks evaluated in parallel between two in-order reductions (bounds the memory held by
-/// partial results; has no effect on the result).
-const WAVE_CHUNKS: u64 = 64;
+/// Memory budget (bytes) of the partial histograms held between two in-order reductions; it
+/// sets how many chunks run in parallel per wave (8 to 256) and has no effect on the result.
+const WAVE_HISTOGRAM_BYTES: usize = 8 << 20;
 
 /// The paper's orientation requirement, eq 16: $|\Delta\psi|, |\Delta\theta|, |\Delta\gamma|
 /// \le 0.027°$, in degrees.
@@ -216,6 +216,12 @@ impl MonteCarlo {
         &self.sampler
     }
 
+    /// Chunks per wave: as many as the histogram budget allows, 8 to 256.
+    fn wave_chunks(&self) -> u64 {
+        let per_chunk = 3 * (self.config.histogram_bins + 2) * std::mem::size_of::<u64>();
+        (WAVE_HISTOGRAM_BYTES / per_chunk).clamp(8, 256) as u64
+    }
+
     fn chunks(&self) -> u64 {
         self.config
             .samples
@@ -236,7 +242,7 @@ impl MonteCarlo {
         let n_chunks = self.chunks();
         let mut start = 0;
         while start < n_chunks {
-            let end = (start + WAVE_CHUNKS).min(n_chunks);
+            let end = (start + self.wave_chunks()).min(n_chunks);
             let parts: Vec<Result<Partial, McError>> =
                 (start..end).into_par_iter().map(&chunk).collect();
             for p in parts {
@@ -332,7 +338,7 @@ impl MonteCarlo {
         let mut drawn = 0u64;
         let mut start = 0;
         while start < n_chunks {
-            let end = (start + WAVE_CHUNKS).min(n_chunks);
+            let end = (start + self.wave_chunks()).min(n_chunks);
             drawn += (start..end)
                 .into_par_iter()
                 .map(|c| {

@@ -205,7 +205,7 @@ fn progress_bar(samples: u64) -> Option<ProgressBar> {
     }
     let pb = ProgressBar::with_draw_target(Some(samples), ProgressDrawTarget::stderr());
     if let Ok(style) =
-        ProgressStyle::with_template("{bar:40} {pos}/{len} samples, {per_sec}, eta {eta}")
+        ProgressStyle::with_template("{bar:40} {human_pos}/{human_len} samples, eta {eta}")
     {
         pb.set_style(style);
     }
