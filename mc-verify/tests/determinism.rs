@@ -98,8 +98,9 @@ fn sample_is_a_block_of_one_and_blocks_consume_ten_words_per_sample() {
 
 #[test]
 fn progress_reports_monotone_counts_ending_at_the_sample_count() {
+    // 1,000 chunks: several waves (at most 256 chunks each), so several progress calls
     let mut cfg = McConfig::new(1_000_000, 1);
-    cfg.chunk_size = 10_000;
+    cfg.chunk_size = 1_000;
     let mc = MonteCarlo::new(table4(), cfg).unwrap();
     let last = AtomicU64::new(0);
     let calls = AtomicU64::new(0);
