@@ -87,8 +87,11 @@ pub fn chunk_rng(seed: u64, chunk: u64) -> McRng {
 /// Draws turntables (pose and error vector $\chi$) from an [`ErrorBox`] with the distribution
 /// documented in the [module](self) (uniform magnitudes, fair random signs, uniform pose).
 ///
-/// Reusable outside this crate (for an end-to-end Monte Carlo over turntables): pair it with
-/// [`chunk_rng`] to get the very draws of a [`crate::MonteCarlo`] run.
+/// Reusable outside this crate (for an end-to-end Monte Carlo over turntables): with
+/// [`chunk_rng`]`(seed, c)` and [`TurntableSampler::fill_block`] in blocks of
+/// [`BLOCK_CAPACITY`], it gives the very draws of chunk `c` of a [`crate::MonteCarlo`] run
+/// (sample `k` of the run is sample `k mod n_c` of chunk `k / n_c`, `n_c` the chunk size);
+/// [`TurntableSampler::sample`] draws the same law one sample at a time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TurntableSampler {
     /// $(\mathrm{UB}_i - \mathrm{LB}_i)\,2^{-31}$, rad.

@@ -120,3 +120,37 @@ fn draw_only_draws_every_sample() {
     let mc = MonteCarlo::new(b, McConfig::new(123_457, 1)).unwrap();
     assert_eq!(mc.draw_only(), 123_457);
 }
+
+/// The streams are reusable (issue 7): the worst samples a run reports are found again by
+/// drawing their chunk with `chunk_rng` and `fill_block` in blocks of `BLOCK_CAPACITY`.
+#[test]
+fn run_samples_are_reproduced_by_chunk_rng_and_fill_block() {
+    // chunks of 3,000 = 23 blocks of 128 + one of 56; the last chunk is shorter still
+    let mut cfg = McConfig::new(50_000, 77);
+    cfg.chunk_size = 3_000;
+    let mc = MonteCarlo::new(table4(), cfg).unwrap();
+    let r = mc.run();
+    let s = TurntableSampler::new(&table4());
+    let cs = u64::from(cfg.chunk_size);
+    for a in &r.axes {
+        let (chunk, mut k) = (a.worst.index / cs, (a.worst.index % cs) as usize);
+        // blocks of BLOCK_CAPACITY, the last one of a chunk shorter
+        let mut left = (r.samples - chunk * cs).min(cs) as usize;
+        let mut rng = chunk_rng(77, chunk);
+        let mut block = SampleBlock::default();
+        loop {
+            let n = left.min(BLOCK_CAPACITY);
+            s.fill_block(&mut rng, n, &mut block);
+            if k < n {
+                break;
+            }
+            k -= n;
+            left -= n;
+        }
+        assert_eq!(
+            block.chi_rad(k).map(f64::to_bits),
+            a.worst.chi_rad.map(f64::to_bits)
+        );
+        assert_eq!(block.pose(k), a.worst.pose);
+    }
+}
