@@ -43,7 +43,8 @@ fn main() -> Result<(), e2e_verify::E2eError> {
             );
             println!(
                 "          UB arcmin {:?}",
-                b.upper_bounds_rad.map(|u| (u / RAD_PER_ARCMIN * 1e4).round() / 1e4)
+                b.upper_bounds_rad
+                    .map(|u| (u / RAD_PER_ARCMIN * 1e4).round() / 1e4)
             );
         }
         println!(

@@ -200,7 +200,10 @@ impl EndToEnd {
         let oracle = FiniteCuts::new(rows.clone());
         let problem = InverseSquareProblem {
             label: "direct".into(),
-            names: ErrorComponent::ALL.iter().map(|c| c.name().to_string()).collect(),
+            names: ErrorComponent::ALL
+                .iter()
+                .map(|c| c.name().to_string())
+                .collect(),
             weights: paper_combined_weights().to_vec(),
             lower: lower_bounds_rad.to_vec(),
             initial_cuts: rows,
@@ -270,7 +273,7 @@ impl EndToEnd {
             Ok(self
                 .sample_rates(&b, settings)?
                 .iter()
-                .filter(|(v, _)| v[0] <= omega_m && v[1] <= omega_m)
+                .filter(|d| d.meets(omega_m))
                 .count() as u64)
         };
         let need = (p * settings.samples as f64).ceil() as u64;
@@ -279,7 +282,7 @@ impl EndToEnd {
             let mut q: Vec<f64> = self
                 .sample_rates(&b, settings)?
                 .iter()
-                .map(|(v, _)| v[0].max(v[1]))
+                .map(crate::montecarlo::TurntableDraw::max_rad_per_s)
                 .collect();
             q.sort_by(f64::total_cmp);
             omega_m / q[quantile_index(p, q.len())]

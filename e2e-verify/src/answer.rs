@@ -2,9 +2,7 @@
 //! of the two-step optimum, and the direct and yield-based allocations, for the chosen reading
 //! and for the user's reading.
 
-use crate::allocate::{
-    DEFAULT_YIELD_FRACTION, DirectAllocation, YieldAllocation, paper_objective,
-};
+use crate::allocate::{DEFAULT_YIELD_FRACTION, DirectAllocation, YieldAllocation, paper_objective};
 use crate::error::{E2eError, fraction, positive};
 use crate::linear::WorstCase;
 use crate::montecarlo::{McSettings, RateDistribution};
@@ -84,7 +82,10 @@ impl EndToEndInputs {
             return Err(E2eError::ZeroSamples { field: "samples" });
         }
         fraction("yield_fraction", self.yield_fraction)?;
-        ErrorBox::new(self.lower_bounds_rad, self.lower_bounds_rad.map(|v| v.max(0.0)))?;
+        ErrorBox::new(
+            self.lower_bounds_rad,
+            self.lower_bounds_rad.map(|v| v.max(0.0)),
+        )?;
         Ok(())
     }
 }
@@ -157,6 +158,9 @@ pub fn answer(inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
         inputs.lower_bounds_rad,
     )?)?;
     let ours = two_step.upper_bounds_rad;
+    // Both boxes must contain their lower bounds (named error before any heavy work).
+    ErrorBox::new(inputs.lower_bounds_rad, table4)?;
+    ErrorBox::new(inputs.lower_bounds_rad, ours)?;
     let mut readings = vec![inputs.reading];
     if inputs.reading != Reading::USER {
         readings.push(Reading::USER);
@@ -166,20 +170,19 @@ pub fn answer(inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
     let omega_m = inputs.omega_m_rad_per_s;
     let mut out = Vec::new();
     for reading in readings {
-        let e2e = EndToEnd::new(&inputs.coefficients, &inputs.site, &inputs.schedule, reading)?;
+        let e2e = EndToEnd::new(
+            &inputs.coefficients,
+            &inputs.site,
+            &inputs.schedule,
+            reading,
+        )?;
         let linear = e2e.linearization();
         let box_answer = |ub: [f64; CHI_LEN], s: &McSettings| -> Result<BoxAnswer, E2eError> {
-            let ub = ub.map(|u| u.max(0.0));
-            let lb_clamped: [f64; CHI_LEN] = std::array::from_fn(|j| lb[j].min(ub[j]));
             Ok(BoxAnswer {
                 upper_bounds_rad: ub,
                 objective: paper_objective(&ub),
                 worst_case: e2e.worst_case(&linear, &ub)?,
-                distribution: e2e.rate_distribution(
-                    &ErrorBox::new(lb_clamped, ub)?,
-                    omega_m,
-                    s,
-                )?,
+                distribution: e2e.rate_distribution(&ErrorBox::new(lb, ub)?, omega_m, s)?,
             })
         };
         let direct = e2e.allocate_direct(&linear, omega_m, &lb)?;

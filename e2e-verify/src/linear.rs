@@ -5,8 +5,8 @@
 use crate::error::E2eError;
 use crate::simulate::{AXES, EndToEnd, check_chi};
 use calib_lsq::{ErrorForm, Estimate, OutputsAt};
-use gw_model::units::rad_per_s_to_deg_per_h;
 use gw_model::SensingAxis;
+use gw_model::units::rad_per_s_to_deg_per_h;
 use mc_verify::ErrorBox;
 use nalgebra::{DMatrix, DVector, Vector3};
 use tt_kinematics::{CHI_LEN, LinearModel, OrientationAxis};
@@ -113,13 +113,19 @@ impl WorstCase {
     /// Confirmed worst cases $(\Delta\omega_x, \Delta\omega_y)$ on the exact chain, deg/h.
     #[must_use]
     pub fn exact_deg_per_h(&self) -> [f64; 2] {
-        [self.axes[0].exact_deg_per_h(), self.axes[1].exact_deg_per_h()]
+        [
+            self.axes[0].exact_deg_per_h(),
+            self.axes[1].exact_deg_per_h(),
+        ]
     }
 
     /// Linearised worst cases, deg/h.
     #[must_use]
     pub fn linear_deg_per_h(&self) -> [f64; 2] {
-        [self.axes[0].linear_deg_per_h(), self.axes[1].linear_deg_per_h()]
+        [
+            self.axes[0].linear_deg_per_h(),
+            self.axes[1].linear_deg_per_h(),
+        ]
     }
 }
 
@@ -287,7 +293,15 @@ impl EndToEnd {
             SensingAxis::Y => 1,
         };
         let ad = &self.axes[k];
-        let c = [0.0, rho, rho, rho, 2.0 * rho + s * s, 2.0 * rho + s * s, 2.0 * rho + s * s];
+        let c = [
+            0.0,
+            rho,
+            rho,
+            rho,
+            2.0 * rho + s * s,
+            2.0 * rho + s * s,
+            2.0 * rho + s * s,
+        ];
         let r_g: f64 = ad
             .coefficients
             .rad_per_s()
@@ -303,7 +317,9 @@ impl EndToEnd {
             (OutputsAt::Actual, ErrorForm::Printed) => {
                 Some(ad.i_minus_p_norm_inf * r_g + ad.p_norm_inf * r_e)
             }
-            (OutputsAt::Actual, ErrorForm::NominalRate) => Some(ad.i_minus_p_norm_inf * (r_g + r_e)),
+            (OutputsAt::Actual, ErrorForm::NominalRate) => {
+                Some(ad.i_minus_p_norm_inf * (r_g + r_e))
+            }
             _ => None,
         };
         Ok(tau)
@@ -328,15 +344,17 @@ impl EndToEnd {
         let mut axes = Vec::with_capacity(2);
         for (k, axis) in AXES.into_iter().enumerate() {
             let per: Vec<f64> = rows.rows(k * n, n).iter().copied().collect();
-            let (position, bound) = per
-                .iter()
-                .copied()
-                .enumerate()
-                .fold((0, f64::NEG_INFINITY), |b, (i, v)| if v > b.1 { (i, v) } else { b });
+            let (position, bound) =
+                per.iter()
+                    .copied()
+                    .enumerate()
+                    .fold(
+                        (0, f64::NEG_INFINITY),
+                        |b, (i, v)| if v > b.1 { (i, v) } else { b },
+                    );
             let row = linear.row(axis, position);
-            let chi: [f64; CHI_LEN] = std::array::from_fn(|j| {
-                if row[j] < 0.0 { -ub_rad[j] } else { ub_rad[j] }
-            });
+            let chi: [f64; CHI_LEN] =
+                std::array::from_fn(|j| if row[j] < 0.0 { -ub_rad[j] } else { ub_rad[j] });
             let plus = self.delta_omega(&chi)?[k];
             let minus = self.delta_omega(&chi.map(|v| -v))?[k];
             axes.push(AxisWorstCase {

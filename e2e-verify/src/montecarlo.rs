@@ -102,6 +102,29 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
     ((centre - half).max(0.0), (centre + half).min(1.0))
 }
 
+/// One drawn turntable and its end-to-end rate errors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TurntableDraw {
+    /// $(\Delta\omega_x, \Delta\omega_y)$, rad/s.
+    pub delta_omega_rad_per_s: [f64; 2],
+    /// $\chi$, rad (order of eq 25).
+    pub chi_rad: [f64; CHI_LEN],
+}
+
+impl TurntableDraw {
+    /// $\max(\Delta\omega_x, \Delta\omega_y)$, rad/s.
+    #[must_use]
+    pub fn max_rad_per_s(&self) -> f64 {
+        self.delta_omega_rad_per_s[0].max(self.delta_omega_rad_per_s[1])
+    }
+
+    /// Whether both axes meet $\omega_m$ (rad/s).
+    #[must_use]
+    pub fn meets(&self, omega_m_rad_per_s: f64) -> bool {
+        self.max_rad_per_s() <= omega_m_rad_per_s
+    }
+}
+
 /// One quantile of the rate errors.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RateQuantile {
@@ -166,12 +189,12 @@ impl EndToEnd {
         &self,
         bounds: &ErrorBox,
         settings: &McSettings,
-    ) -> Result<Vec<([f64; 2], [f64; CHI_LEN])>, E2eError> {
+    ) -> Result<Vec<TurntableDraw>, E2eError> {
         settings.validate()?;
         let sampler = TurntableSampler::new(bounds);
         let cs = u64::from(settings.chunk_size);
         let chunks = settings.samples.div_ceil(cs);
-        let per_chunk: Vec<Vec<([f64; 2], [f64; CHI_LEN])>> = (0..chunks)
+        let per_chunk: Vec<Vec<TurntableDraw>> = (0..chunks)
             .into_par_iter()
             .map(|c| {
                 let mut rng = chunk_rng(settings.seed, c);
@@ -179,8 +202,10 @@ impl EndToEnd {
                 (0..len)
                     .map(|_| {
                         let (_, chi) = sampler.sample(&mut rng);
-                        let v = self.delta_omega(&chi).unwrap_or([f64::NAN; 2]);
-                        (v, chi)
+                        TurntableDraw {
+                            delta_omega_rad_per_s: self.delta_omega(&chi).unwrap_or([f64::NAN; 2]),
+                            chi_rad: chi,
+                        }
                     })
                     .collect()
             })
@@ -210,26 +235,19 @@ pub(crate) fn quantile_index(p: f64, n: usize) -> usize {
     ((p * n as f64).ceil() as usize).clamp(1, n) - 1
 }
 
-fn summarise(
-    draws: &[([f64; 2], [f64; CHI_LEN])],
-    omega_m: f64,
-    settings: &McSettings,
-) -> RateDistribution {
+fn summarise(draws: &[TurntableDraw], omega_m: f64, settings: &McSettings) -> RateDistribution {
     let n = draws.len();
     let mut cols: [Vec<f64>; 3] = [
-        draws.iter().map(|(v, _)| v[0]).collect(),
-        draws.iter().map(|(v, _)| v[1]).collect(),
-        draws.iter().map(|(v, _)| v[0].max(v[1])).collect(),
+        draws.iter().map(|d| d.delta_omega_rad_per_s[0]).collect(),
+        draws.iter().map(|d| d.delta_omega_rad_per_s[1]).collect(),
+        draws.iter().map(TurntableDraw::max_rad_per_s).collect(),
     ];
-    let meeting = draws
-        .iter()
-        .filter(|(v, _)| v[0] <= omega_m && v[1] <= omega_m)
-        .count() as u64;
+    let meeting = draws.iter().filter(|d| d.meets(omega_m)).count() as u64;
     let worst = draws
         .iter()
         .enumerate()
-        .fold((0, f64::NEG_INFINITY), |b, (i, (v, _))| {
-            let m = v[0].max(v[1]);
+        .fold((0, f64::NEG_INFINITY), |b, (i, d)| {
+            let m = d.max_rad_per_s();
             if m > b.1 { (i, m) } else { b }
         })
         .0;
@@ -264,7 +282,7 @@ fn summarise(
         omega_m_rad_per_s: omega_m,
         meeting,
         max_rad_per_s: [cols[0][n - 1], cols[1][n - 1]],
-        worst_chi_rad: draws[worst].1,
+        worst_chi_rad: draws[worst].chi_rad,
         quantiles,
         histogram_edges_rad_per_s: edges,
         histogram_counts: counts,

@@ -4,8 +4,8 @@
 
 use crate::error::E2eError;
 use calib_lsq::{
-    ErrorAnalysis, ErrorForm, Estimate, OrientationErrorAnalysis, OutputsAt, Reading,
-    Regression, Schedule, rate_vector, regression_matrix,
+    ErrorAnalysis, ErrorForm, Estimate, OrientationErrorAnalysis, OutputsAt, Reading, Regression,
+    Schedule, rate_vector, regression_matrix,
 };
 use gw_model::units::rad_per_s_to_deg_per_h;
 use gw_model::{
@@ -261,7 +261,10 @@ impl EndToEnd {
         check_chi(chi_rad)?;
         let dr = self.delta_r_reference(chi_rad);
         Ok(EndToEndRun {
-            analyses: [self.analyses[0].analyze(&dr)?, self.analyses[1].analyze(&dr)?],
+            analyses: [
+                self.analyses[0].analyze(&dr)?,
+                self.analyses[1].analyze(&dr)?,
+            ],
             delta_r: dr,
         })
     }
@@ -306,6 +309,29 @@ impl EndToEnd {
     pub fn delta_omega(&self, chi_rad: &[f64; CHI_LEN]) -> Result<[f64; 2], E2eError> {
         let [x, y] = self.error_vectors(chi_rad)?;
         Ok([x.amax(), y.amax()])
+    }
+
+    /// $(\Delta\omega_x, \Delta\omega_y)$ (rad/s) for one given $\Delta\mathbf R$ per position,
+    /// through the fast path when the reading has one (otherwise calib-lsq's analysis).
+    ///
+    /// # Errors
+    /// [`E2eError::Calib`] unless there is one matrix per position, or as
+    /// [`run`](Self::run).
+    pub fn delta_omega_for_delta_r(&self, delta_r: &[Matrix3<f64>]) -> Result<[f64; 2], E2eError> {
+        if delta_r.len() != self.len() {
+            return Err(calib_lsq::CalibError::LengthMismatch {
+                what: "delta_r",
+                expected: self.len(),
+                found: delta_r.len(),
+            }
+            .into());
+        }
+        if self.has_fast_path() {
+            let [x, y] = self.fast_errors(delta_r);
+            Ok([x.amax(), y.amax()])
+        } else {
+            Ok(self.run_with_delta_r(delta_r)?.delta_omega_rad_per_s())
+        }
     }
 
     /// The fast path for readings with $\hat{\boldsymbol\beta}_1$: the outputs and rates of
@@ -372,7 +398,8 @@ pub fn chain_factors(chi_rad: &[f64; CHI_LEN]) -> (Matrix3<f64>, Matrix3<f64>) {
         * rot(Axis::X, c(C::DalphaX1))
         * rot(Axis::Y, c(C::DepsY))
         * rot(Axis::X, c(C::DepsX));
-    let v = rot(Axis::Y, c(C::DalphaY2)) * rot(Axis::Z, c(C::DphiZ2)) * rot(Axis::X, c(C::DalphaX2));
+    let v =
+        rot(Axis::Y, c(C::DalphaY2)) * rot(Axis::Z, c(C::DphiZ2)) * rot(Axis::X, c(C::DalphaX2));
     (u, v)
 }
 
