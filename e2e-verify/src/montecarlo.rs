@@ -3,15 +3,18 @@
 //! \omega_m)$ with a Wilson confidence interval.
 //!
 //! Draws reuse mc-verify's streams and sampler: chunk $c$ of a run seeded $s$ uses
-//! [`mc_verify::chunk_rng`]`(s, c)` and [`mc_verify::TurntableSampler::sample`] (uniform
-//! magnitudes in $[\mathrm{LB}_i, \mathrm{UB}_i]$, fair signs; the pose it also draws is not
-//! used: the calibration positions are the schedule's). Chunks run on rayon threads and are
+//! [`mc_verify::chunk_rng`]`(s, c)` and [`mc_verify::TurntableSampler::fill_block`] in blocks of
+//! [`mc_verify::BLOCK_CAPACITY`] (uniform magnitudes in $[\mathrm{LB}_i, \mathrm{UB}_i]$, fair
+//! signs; the pose it also draws is not used: the calibration positions are the schedule's).
+//! With `chunk_size` = [`mc_verify::DEFAULT_CHUNK_SIZE`] the turntables are exactly those of a
+//! [`mc_verify::MonteCarlo`] run with the same seed; the default here is smaller
+//! ([`DEFAULT_CHUNK_SIZE`]) so that a few ten thousand draws still spread over threads. Chunks run on rayon threads and are
 //! concatenated in chunk order, so results are bit-identical for any thread count.
 
 use crate::error::{E2eError, positive};
 use crate::simulate::EndToEnd;
 use gw_model::units::rad_per_s_to_deg_per_h;
-use mc_verify::{ErrorBox, TurntableSampler, chunk_rng};
+use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
 use rayon::prelude::*;
 use tt_kinematics::CHI_LEN;
 
@@ -198,16 +201,22 @@ impl EndToEnd {
             .into_par_iter()
             .map(|c| {
                 let mut rng = chunk_rng(settings.seed, c);
-                let len = cs.min(settings.samples - c * cs);
-                (0..len)
-                    .map(|_| {
-                        let (_, chi) = sampler.sample(&mut rng);
+                let mut remaining = cs.min(settings.samples - c * cs) as usize;
+                let mut block = SampleBlock::default();
+                let mut out = Vec::with_capacity(remaining);
+                while remaining > 0 {
+                    let m = remaining.min(BLOCK_CAPACITY);
+                    sampler.fill_block(&mut rng, m, &mut block);
+                    out.extend((0..m).map(|k| {
+                        let chi = block.chi_rad(k);
                         TurntableDraw {
                             delta_omega_rad_per_s: self.delta_omega(&chi).unwrap_or([f64::NAN; 2]),
                             chi_rad: chi,
                         }
-                    })
-                    .collect()
+                    }));
+                    remaining -= m;
+                }
+                out
             })
             .collect();
         Ok(per_chunk.into_iter().flatten().collect())

@@ -10,7 +10,7 @@ use e2e_verify::{
 };
 use gw_model::units::{deg_per_h_to_rad_per_s, rad_per_s_to_deg_per_h};
 use gw_model::{DeltaRKind, OrientationAngles, Position, SensingAxis, Site};
-use mc_verify::{ErrorBox, McError, TurntableSampler, chunk_rng};
+use mc_verify::{BLOCK_CAPACITY, ErrorBox, McError, SampleBlock, TurntableSampler, chunk_rng};
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use rand_chacha::ChaCha8Rng;
@@ -445,18 +445,27 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     assert!(dist.yield_fraction() < 0.99);
 }
 
-/// The Monte Carlo draws are mc-verify's: the first turntable of chunk 0 is
-/// `TurntableSampler::sample(chunk_rng(seed, 0))`; results are bit-identical for 1 and 3
-/// threads.
+/// The Monte Carlo draws are mc-verify's: chunk `c` is `chunk_rng(seed, c)` drawn by
+/// `TurntableSampler::fill_block` in blocks of `BLOCK_CAPACITY`; results are bit-identical for
+/// 1 and 3 threads.
 #[test]
 fn monte_carlo_reuses_mc_verify_streams_and_is_thread_count_independent() {
     let e2e = EndToEnd::paper(Reading::USER);
     let bounds = ErrorBox::from_upper_rad(paper_table4_rad()).unwrap();
     let settings = McSettings {
-        chunk_size: 37,
+        chunk_size: 300,
         ..McSettings::new(500, 42)
     };
-    let (_, chi0) = TurntableSampler::new(&bounds).sample(&mut chunk_rng(42, 0));
+    // Sample 0, and sample 433 = sample 128 + 5 of chunk 1 (500 draws in chunks of 300: chunk 1
+    // holds 200 = blocks of 128 + 72).
+    let sampler = TurntableSampler::new(&bounds);
+    let mut block = SampleBlock::default();
+    sampler.fill_block(&mut chunk_rng(42, 0), BLOCK_CAPACITY, &mut block);
+    let chi0 = block.chi_rad(0);
+    let mut rng = chunk_rng(42, 1);
+    sampler.fill_block(&mut rng, BLOCK_CAPACITY, &mut block);
+    sampler.fill_block(&mut rng, 72, &mut block);
+    let chi_433 = block.chi_rad(5);
     let run = |threads| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -467,6 +476,10 @@ fn monte_carlo_reuses_mc_verify_streams_and_is_thread_count_independent() {
     let (one, three) = (run(1), run(3));
     assert_eq!(one.len(), 500);
     assert_eq!(one[0].chi_rad.map(f64::to_bits), chi0.map(f64::to_bits));
+    assert_eq!(
+        one[433].chi_rad.map(f64::to_bits),
+        chi_433.map(f64::to_bits)
+    );
     for (a, b) in one.iter().zip(&three) {
         assert_eq!(
             a.delta_omega_rad_per_s.map(f64::to_bits),
