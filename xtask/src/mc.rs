@@ -18,6 +18,7 @@
 //! and reports the throughput ratios. The result does not depend on `--threads`.
 
 use crate::InputError;
+use crate::study::Study;
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -50,6 +51,10 @@ impl BoundsChoice {
 /// Arguments of `mc`.
 #[derive(Debug, Parser)]
 pub struct Args {
+    /// Study file (default: `studies/gyrowheel-2017.toml`): lower bounds, requirement and the
+    /// allocation problem behind `--bounds ours`.
+    #[arg(long)]
+    pub study: Option<std::path::PathBuf>,
     /// Number of random turntables (accepts `1e9`, `1000000`, `1_000_000`).
     #[arg(long, default_value = "1e7", value_parser = parse_samples)]
     pub samples: u64,
@@ -62,9 +67,10 @@ pub struct Args {
     /// Tolerance box to verify.
     #[arg(long, value_enum, default_value_t = BoundsChoice::Table4)]
     pub bounds: BoundsChoice,
-    /// Requirement |angle| <= I for all three angles, degrees (eq 16: 0.027).
-    #[arg(long, allow_negative_numbers = true, default_value_t = mc_verify::PAPER_REQUIREMENT_DEG)]
-    pub requirement_deg: f64,
+    /// Requirement |angle| <= I for all three angles, degrees (default: the study's, eq 16:
+    /// 0.027).
+    #[arg(long, allow_negative_numbers = true)]
+    pub requirement_deg: Option<f64>,
     /// Samples per random stream (part of the reproducibility contract).
     #[arg(long, default_value_t = mc_verify::DEFAULT_CHUNK_SIZE)]
     pub chunk_size: u32,
@@ -91,13 +97,21 @@ fn parse_samples(s: &str) -> Result<u64, String> {
     Ok(v as u64)
 }
 
-/// The tolerance box for a choice, with a description of its provenance.
-pub fn bounds(choice: BoundsChoice) -> Result<ErrorBox> {
+/// The tolerance box for a choice: Table 4 (with the study's lower bounds), or our
+/// allocation for the study's requirement and lower bounds.
+pub fn bounds(choice: BoundsChoice, study: &Study) -> Result<ErrorBox> {
+    let lb = study.lower_bounds_rad;
     match choice {
-        BoundsChoice::Table4 => Ok(ErrorBox::from_upper_rad(alloc_opt::paper_table4_rad())?),
+        BoundsChoice::Table4 => Ok(ErrorBox::new(lb, alloc_opt::paper_table4_rad())
+            .map_err(|e| InputError::new("allocation.lower_bounds_arcmin", e.to_string()))?),
         BoundsChoice::Ours => {
             use alloc_opt::Allocator;
-            let problem = alloc_opt::AllocationProblem::paper_example()?;
+            let [psi, theta, gamma] = study.requirement_rad;
+            let problem = alloc_opt::AllocationProblem::new(
+                tt_kinematics::LinearModel::paper_eq26(),
+                alloc_opt::Requirement::new(psi, theta, gamma)?,
+                lb,
+            )?;
             let a = alloc_opt::SensitivityWeighted::paper().allocate(&problem)?;
             Ok(ErrorBox::new(a.lower_bounds_rad, a.upper_bounds_rad)?)
         }
@@ -106,14 +120,18 @@ pub fn bounds(choice: BoundsChoice) -> Result<ErrorBox> {
 
 /// Build the run from the arguments; user-input problems are [`InputError`]s naming the flag.
 pub fn monte_carlo(args: &Args) -> Result<MonteCarlo> {
-    let mut cfg = McConfig::new(args.samples, args.seed).with_requirement_deg(
-        args.requirement_deg,
-        args.requirement_deg,
-        args.requirement_deg,
-    );
+    let study = Study::load_or_paper(args.study.as_deref())?;
+    let mut cfg = McConfig::new(args.samples, args.seed);
+    cfg = match args.requirement_deg {
+        Some(d) => cfg.with_requirement_deg(d, d, d),
+        None => McConfig {
+            requirement_rad: study.requirement_rad,
+            ..cfg
+        },
+    };
     cfg.chunk_size = args.chunk_size;
     cfg.histogram_bins = args.bins;
-    let b = bounds(args.bounds)?;
+    let b = bounds(args.bounds, &study)?;
     MonteCarlo::new(b, cfg).map_err(|e| {
         use mc_verify::McError as E;
         let flag = match e {
