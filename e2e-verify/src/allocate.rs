@@ -17,6 +17,14 @@ use tt_kinematics::{CHI_LEN, ErrorComponent, LinearModel};
 /// $2^{-40} \approx 10^{-12}$).
 pub const YIELD_BISECTION_STEPS: usize = 40;
 
+/// Maximum fixed-point steps of the scale when $\mathrm{LB} = 0$ (each one Monte Carlo pass;
+/// two or three reach $10^{-12}$).
+pub const YIELD_FIXED_POINT_STEPS: usize = 4;
+
+/// Relative margin taken off the fixed-point scale so that the draw at the quantile lands on
+/// the safe side of $\omega_m$ despite rounding (dimensionless).
+pub const YIELD_SCALE_MARGIN: f64 = 1e-9;
+
 /// The default yield target: 99.73% (the $3\sigma$ fraction of a normal law).
 pub const DEFAULT_YIELD_FRACTION: f64 = 0.9973;
 
@@ -242,7 +250,11 @@ impl EndToEnd {
     /// ($\chi(s) = s\,\chi(1)$ for the same random words), and the rate errors are homogeneous
     /// of degree 1 in $\chi$ to first order, so $s^* = \omega_m / q_p$ where $q_p$ is the
     /// empirical $p$-quantile (the $\lceil pN\rceil$-th order statistic) of
-    /// $\max(\Delta\omega_x, \Delta\omega_y)$ over $N$ draws at $s = 1$ on the exact chain.
+    /// $\max(\Delta\omega_x, \Delta\omega_y)$ over $N$ draws at $s = 1$ on the exact chain;
+    /// the exact chain's second-order curvature is absorbed by iterating
+    /// $s \leftarrow s\,\omega_m/q_p(s)$ ([`YIELD_FIXED_POINT_STEPS`]) and taking
+    /// [`YIELD_SCALE_MARGIN`] off, so that at least $\lceil pN\rceil$ design draws meet
+    /// $\omega_m$.
     /// With positive lower bounds the scale is bisected ([`YIELD_BISECTION_STEPS`] steps) with
     /// common random numbers (same seed at every $s$) on
     /// $s \in [\max_j \mathrm{LB}_j/\mathrm{UB}_{shape,j}, s_{hi}]$. The yield at $s^*$ is
@@ -278,14 +290,30 @@ impl EndToEnd {
         };
         let need = (p * settings.samples as f64).ceil() as u64;
         let scale = if lower_bounds_rad.iter().all(|&l| l == 0.0) {
-            let b = ErrorBox::from_upper_rad(*shape_rad)?;
-            let mut q: Vec<f64> = self
-                .sample_rates(&b, settings)?
-                .iter()
-                .map(crate::montecarlo::TurntableDraw::max_rad_per_s)
-                .collect();
-            q.sort_by(f64::total_cmp);
-            omega_m / q[quantile_index(p, q.len())]
+            // Fixed point s <- s * omega_m / q_p(s): q_p(s) / s is constant to first order, so
+            // one step is exact to second order and a few more absorb the exact chain's
+            // curvature; then a hair of margin so that the boundary draw counts.
+            let mut s = 1.0;
+            for _ in 0..YIELD_FIXED_POINT_STEPS {
+                let b = ErrorBox::from_upper_rad(scaled(s))?;
+                let mut q: Vec<f64> = self
+                    .sample_rates(&b, settings)?
+                    .iter()
+                    .map(crate::montecarlo::TurntableDraw::max_rad_per_s)
+                    .collect();
+                q.sort_by(f64::total_cmp);
+                let next = s * omega_m / q[quantile_index(p, q.len())];
+                let done = (next / s - 1.0).abs() < 1e-12;
+                s = next;
+                if done {
+                    break;
+                }
+            }
+            let mut s = s * (1.0 - YIELD_SCALE_MARGIN);
+            while count(s)? < need && s > 0.0 {
+                s *= 1.0 - 1e3 * YIELD_SCALE_MARGIN;
+            }
+            s
         } else {
             let s_lo = (0..CHI_LEN)
                 .map(|j| lower_bounds_rad[j] / shape_rad[j])

@@ -41,9 +41,9 @@ pub struct EndToEndInputs {
     pub omega_m_rad_per_s: f64,
     /// Lower bounds $\mathrm{LB}$, rad (default 0: the paper gives none).
     pub lower_bounds_rad: [f64; CHI_LEN],
-    /// The uniform orientation requirement $I$ of the two-step allocation, rad (default
-    /// 0.027 deg, eq 16).
-    pub two_step_requirement_rad: f64,
+    /// The orientation requirement $(I_\psi, I_\theta, I_\gamma)$ handed to the two-step
+    /// allocation, rad (default 0.027 deg each, eq 16 as printed).
+    pub two_step_requirement_rad: [f64; 3],
     /// Monte Carlo turntables per box.
     pub samples: u64,
     /// Seed (the yield-allocation design uses `seed + 1`).
@@ -63,7 +63,7 @@ impl EndToEndInputs {
             reading: Reading::PAPER,
             omega_m_rad_per_s: deg_per_h_to_rad_per_s(PAPER_OMEGA_M_DEG_PER_H),
             lower_bounds_rad: [0.0; CHI_LEN],
-            two_step_requirement_rad: deg_to_rad(PAPER_REQUIREMENT_DEG),
+            two_step_requirement_rad: [deg_to_rad(PAPER_REQUIREMENT_DEG); 3],
             samples: DEFAULT_SAMPLES,
             seed: DEFAULT_SEED,
             yield_fraction: DEFAULT_YIELD_FRACTION,
@@ -77,7 +77,12 @@ impl EndToEndInputs {
     /// `yield_fraction`, or the component and bound of a bad lower bound.
     pub fn validate(&self) -> Result<(), E2eError> {
         positive("omega_m", self.omega_m_rad_per_s)?;
-        positive("two_step_requirement", self.two_step_requirement_rad)?;
+        for (name, v) in ["psi", "theta", "gamma"]
+            .iter()
+            .zip(self.two_step_requirement_rad)
+        {
+            positive(&format!("two_step_requirement.{name}"), v)?;
+        }
         if self.samples == 0 {
             return Err(E2eError::ZeroSamples { field: "samples" });
         }
@@ -151,9 +156,9 @@ pub fn answer(inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
     let two_step = SensitivityWeighted::paper().allocate(&AllocationProblem::new(
         LinearModel::paper_eq26(),
         Requirement::new(
-            inputs.two_step_requirement_rad,
-            inputs.two_step_requirement_rad,
-            inputs.two_step_requirement_rad,
+            inputs.two_step_requirement_rad[0],
+            inputs.two_step_requirement_rad[1],
+            inputs.two_step_requirement_rad[2],
         )?,
         inputs.lower_bounds_rad,
     )?)?;

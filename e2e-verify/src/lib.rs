@@ -61,8 +61,9 @@ mod montecarlo;
 mod simulate;
 
 pub use allocate::{
-    DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS, YieldAllocation,
-    paper_combined_weights, paper_objective, paper_objective_arcmin,
+    DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
+    YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation, paper_combined_weights,
+    paper_objective, paper_objective_arcmin,
 };
 pub use answer::{
     BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, DEFAULT_SEED, EndToEndInputs, ReadingAnswer, answer,

@@ -408,6 +408,9 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
         .unwrap();
     let (lo, hi) = y.interval_95;
     assert!(lo <= 0.9973 && 0.9973 <= hi, "{lo} {hi}");
+    // At least ceil(p N) design draws meet omega_m, and not many more (the scale is the
+    // largest: the quantile draw sits on omega_m).
+    assert!(y.meeting >= 19_946 && y.meeting <= 19_948, "{}", y.meeting);
     let again = e2e
         .rate_distribution(
             &ErrorBox::from_upper_rad(y.upper_bounds_rad).unwrap(),

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod allocate;
+mod end_to_end;
 mod input;
 mod mc;
 mod orientation_error;
@@ -40,6 +41,8 @@ enum Command {
     Allocate(allocate::Args),
     /// Monte Carlo check of an allocation (section 4.3, Figure 9): random turntables, exact chain.
     Mc(mc::Args),
+    /// End to end (issue 7): does the allocated turntable deliver the calibration accuracy?
+    EndToEnd(end_to_end::Args),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +53,7 @@ fn main() -> ExitCode {
         Command::Requirement(args) => requirement::run(&args),
         Command::Allocate(args) => allocate::run(&args),
         Command::Mc(args) => mc::run(&args),
+        Command::EndToEnd(args) => end_to_end::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
