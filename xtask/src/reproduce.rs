@@ -255,28 +255,7 @@ fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequiremen
     // Table 1.
     let mut csv = String::from("axis,coefficient,unit,value\n");
     let mut rows = Vec::new();
-    let x = &s.file.sensor.x_axis;
-    let y = &s.file.sensor.y_axis;
-    let as_written = [
-        [
-            x.d_f_deg_per_h,
-            x.d_x_deg_per_h_per_g,
-            x.d_y_deg_per_h_per_g,
-            x.d_z_deg_per_h_per_g,
-            x.d_xx_deg_per_h_per_g2,
-            x.d_zz_deg_per_h_per_g2,
-            x.d_xy_deg_per_h_per_g2,
-        ],
-        [
-            y.d_f_deg_per_h,
-            y.d_x_deg_per_h_per_g,
-            y.d_y_deg_per_h_per_g,
-            y.d_z_deg_per_h_per_g,
-            y.d_yy_deg_per_h_per_g2,
-            y.d_zz_deg_per_h_per_g2,
-            y.d_yx_deg_per_h_per_g2,
-        ],
-    ];
+    let as_written = s.file.sensor.table1_deg_per_h();
     for (axis, values) in SensingAxis::ALL.into_iter().zip(as_written) {
         let names = axis.coefficient_names();
         let units = axis.coefficient_units();
@@ -974,7 +953,8 @@ fn allocation_section(
 /// What the paper leaves open and how this project settles it (NOTES items).
 fn assumptions_section(ctx: &mut Ctx) {
     let s = &ctx.study;
-    ctx.report.h(2, "What the paper leaves open, and our choices");
+    ctx.report
+        .h(2, "What the paper leaves open, and our choices");
     ctx.report.list(vec![
         "Eq 4 is garbled and eq 2 lists D(x)_y twice: the regressors are 1, a_x, a_y, a_z, a_x^2, a_z^2, a_x a_y (x axis) and 1, a_x, a_y, a_z, a_y^2, a_z^2, a_x a_y (y axis), from eq 1 (NOTES 1-2).".into(),
         format!("Eq 13 is ambiguous (NOTES 3): we use `{}`; `cargo xtask requirement --all-readings` lists all 18 readings and what each gives.", s.reading),

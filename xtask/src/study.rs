@@ -68,6 +68,28 @@ pub struct YAxis {
     pub d_yx_deg_per_h_per_g2: f64,
 }
 
+/// Key names of `[sensor.x_axis]`, in the order of eq 1.
+const SENSOR_X_KEYS: [&str; 7] = [
+    "d_f_deg_per_h",
+    "d_x_deg_per_h_per_g",
+    "d_y_deg_per_h_per_g",
+    "d_z_deg_per_h_per_g",
+    "d_xx_deg_per_h_per_g2",
+    "d_zz_deg_per_h_per_g2",
+    "d_xy_deg_per_h_per_g2",
+];
+
+/// Key names of `[sensor.y_axis]`, in the order of eq 1.
+const SENSOR_Y_KEYS: [&str; 7] = [
+    "d_f_deg_per_h",
+    "d_x_deg_per_h_per_g",
+    "d_y_deg_per_h_per_g",
+    "d_z_deg_per_h_per_g",
+    "d_yy_deg_per_h_per_g2",
+    "d_zz_deg_per_h_per_g2",
+    "d_yx_deg_per_h_per_g2",
+];
+
 /// `[sensor]`: Table 1.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -76,6 +98,34 @@ pub struct Sensor {
     pub x_axis: XAxis,
     /// y-axis coefficients.
     pub y_axis: YAxis,
+}
+
+impl Sensor {
+    /// Both axes' coefficients as written, in the order of eq 1 (F, x, y, z, then the
+    /// g^2 terms), deg/h, deg/h/g, deg/h/g^2.
+    pub fn table1_deg_per_h(&self) -> [[f64; 7]; 2] {
+        let (x, y) = (&self.x_axis, &self.y_axis);
+        [
+            [
+                x.d_f_deg_per_h,
+                x.d_x_deg_per_h_per_g,
+                x.d_y_deg_per_h_per_g,
+                x.d_z_deg_per_h_per_g,
+                x.d_xx_deg_per_h_per_g2,
+                x.d_zz_deg_per_h_per_g2,
+                x.d_xy_deg_per_h_per_g2,
+            ],
+            [
+                y.d_f_deg_per_h,
+                y.d_x_deg_per_h_per_g,
+                y.d_y_deg_per_h_per_g,
+                y.d_z_deg_per_h_per_g,
+                y.d_yy_deg_per_h_per_g2,
+                y.d_zz_deg_per_h_per_g2,
+                y.d_yx_deg_per_h_per_g2,
+            ],
+        ]
+    }
 }
 
 /// `[site]`: eq 3 inputs.
@@ -247,60 +297,17 @@ impl Study {
         })?;
         let at = |key: &str| format!("{source}: key `{key}`");
         // Every number finite, by key.
-        let x = &file.sensor.x_axis;
-        let y = &file.sensor.y_axis;
         let lb = file.allocation.lower_bounds_arcmin.to_array();
-        let mut numbers: Vec<(String, f64)> = vec![
-            ("sensor.x_axis.d_f_deg_per_h".into(), x.d_f_deg_per_h),
-            (
-                "sensor.x_axis.d_x_deg_per_h_per_g".into(),
-                x.d_x_deg_per_h_per_g,
-            ),
-            (
-                "sensor.x_axis.d_y_deg_per_h_per_g".into(),
-                x.d_y_deg_per_h_per_g,
-            ),
-            (
-                "sensor.x_axis.d_z_deg_per_h_per_g".into(),
-                x.d_z_deg_per_h_per_g,
-            ),
-            (
-                "sensor.x_axis.d_xx_deg_per_h_per_g2".into(),
-                x.d_xx_deg_per_h_per_g2,
-            ),
-            (
-                "sensor.x_axis.d_zz_deg_per_h_per_g2".into(),
-                x.d_zz_deg_per_h_per_g2,
-            ),
-            (
-                "sensor.x_axis.d_xy_deg_per_h_per_g2".into(),
-                x.d_xy_deg_per_h_per_g2,
-            ),
-            ("sensor.y_axis.d_f_deg_per_h".into(), y.d_f_deg_per_h),
-            (
-                "sensor.y_axis.d_x_deg_per_h_per_g".into(),
-                y.d_x_deg_per_h_per_g,
-            ),
-            (
-                "sensor.y_axis.d_y_deg_per_h_per_g".into(),
-                y.d_y_deg_per_h_per_g,
-            ),
-            (
-                "sensor.y_axis.d_z_deg_per_h_per_g".into(),
-                y.d_z_deg_per_h_per_g,
-            ),
-            (
-                "sensor.y_axis.d_yy_deg_per_h_per_g2".into(),
-                y.d_yy_deg_per_h_per_g2,
-            ),
-            (
-                "sensor.y_axis.d_zz_deg_per_h_per_g2".into(),
-                y.d_zz_deg_per_h_per_g2,
-            ),
-            (
-                "sensor.y_axis.d_yx_deg_per_h_per_g2".into(),
-                y.d_yx_deg_per_h_per_g2,
-            ),
+        let mut numbers: Vec<(String, f64)> = Vec::new();
+        for ((axis, keys), values) in [("x_axis", SENSOR_X_KEYS), ("y_axis", SENSOR_Y_KEYS)]
+            .into_iter()
+            .zip(file.sensor.table1_deg_per_h())
+        {
+            for (key, v) in keys.iter().zip(values) {
+                numbers.push((format!("sensor.{axis}.{key}"), v));
+            }
+        }
+        numbers.extend([
             ("site.latitude_deg".into(), file.site.latitude_deg),
             (
                 "site.earth_rate_rad_per_s".into(),
@@ -313,7 +320,7 @@ impl Study {
             ("requirement.psi_deg".into(), file.requirement.psi_deg),
             ("requirement.theta_deg".into(), file.requirement.theta_deg),
             ("requirement.gamma_deg".into(), file.requirement.gamma_deg),
-        ];
+        ]);
         for c in ErrorComponent::ALL {
             numbers.push((
                 format!("allocation.lower_bounds_arcmin.{}", c.name()),
@@ -364,27 +371,9 @@ impl Study {
                 ));
             }
         }
-        let coefficients = DriftCoefficients::from_deg_per_h(
-            [
-                x.d_f_deg_per_h,
-                x.d_x_deg_per_h_per_g,
-                x.d_y_deg_per_h_per_g,
-                x.d_z_deg_per_h_per_g,
-                x.d_xx_deg_per_h_per_g2,
-                x.d_zz_deg_per_h_per_g2,
-                x.d_xy_deg_per_h_per_g2,
-            ],
-            [
-                y.d_f_deg_per_h,
-                y.d_x_deg_per_h_per_g,
-                y.d_y_deg_per_h_per_g,
-                y.d_z_deg_per_h_per_g,
-                y.d_yy_deg_per_h_per_g2,
-                y.d_zz_deg_per_h_per_g2,
-                y.d_yx_deg_per_h_per_g2,
-            ],
-        )
-        .map_err(|e| InputError::new(at("sensor"), e.to_string()))?;
+        let [table1_x, table1_y] = file.sensor.table1_deg_per_h();
+        let coefficients = DriftCoefficients::from_deg_per_h(table1_x, table1_y)
+            .map_err(|e| InputError::new(at("sensor"), e.to_string()))?;
         let site = Site::from_deg(file.site.latitude_deg, file.site.earth_rate_rad_per_s)
             .map_err(|e| InputError::new(at("site"), e.to_string()))?;
         let pairs: Vec<(f64, f64)> = file
