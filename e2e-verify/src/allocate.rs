@@ -17,6 +17,10 @@ use tt_kinematics::{CHI_LEN, ErrorComponent, LinearModel};
 /// $2^{-40} \approx 10^{-12}$).
 pub const YIELD_BISECTION_STEPS: usize = 40;
 
+/// Maximum solves of [`EndToEnd::allocate_direct_certified`] (two suffice: the bound shrinks
+/// with the box).
+pub const CERTIFY_STEPS: usize = 6;
+
 /// Maximum fixed-point steps of the scale when $\mathrm{LB} = 0$ (each one Monte Carlo pass;
 /// two or three reach $10^{-12}$).
 pub const YIELD_FIXED_POINT_STEPS: usize = 4;
@@ -86,6 +90,10 @@ pub struct DirectAllocation {
     pub multiplier: f64,
     /// Conic solves of the exchange method.
     pub iterations: usize,
+    /// Room kept for the exact chain's second-order terms, rad/s: the rows are constrained to
+    /// $\omega_m - $ this (0 for [`EndToEnd::allocate_direct`]; the derived bound $\tau$ of
+    /// [`EndToEnd::second_order_bound`] for [`EndToEnd::allocate_direct_certified`]).
+    pub second_order_margin_rad_per_s: f64,
 }
 
 impl DirectAllocation {
@@ -238,7 +246,56 @@ impl EndToEnd {
             loads,
             multiplier: sol.multiplier,
             iterations: sol.iterations,
+            second_order_margin_rad_per_s: 0.0,
         })
+    }
+
+    /// Direct allocation certified on the exact chain: the linearised rows are held to
+    /// $\omega_m - \tau$, with $\tau$ the derived second-order bound
+    /// ([`EndToEnd::second_order_bound`], larger of the two axes) at $s = \sum_j
+    /// \mathrm{UB}_j$ of the previous iterate, until $\max_r \sum_j |M_{rj}|\mathrm{UB}_j +
+    /// \tau(\sum_j\mathrm{UB}_j) \le \omega_m$: then every turntable of the box meets
+    /// $\omega_m$ on the exact chain, not only to first order. $\tau$ shrinks with the bounds,
+    /// so the iteration is monotone; it stops after at most [`CERTIFY_STEPS`] solves.
+    ///
+    /// # Errors
+    /// As [`allocate_direct`](Self::allocate_direct); [`E2eError::OutOfRange`] naming
+    /// `reading` when the reading has no derived bound.
+    pub fn allocate_direct_certified(
+        &self,
+        linear: &Linearization,
+        omega_m_rad_per_s: f64,
+        lower_bounds_rad: &[f64; CHI_LEN],
+    ) -> Result<DirectAllocation, E2eError> {
+        let omega_m = positive("omega_m", omega_m_rad_per_s)?;
+        let tau_of = |ub: &[f64; CHI_LEN]| -> Result<f64, E2eError> {
+            let s: f64 = ub.iter().sum();
+            let mut t = 0.0_f64;
+            for axis in AXES {
+                t = t.max(self.second_order_bound(axis, s)?.ok_or(E2eError::OutOfRange {
+                    field: "reading",
+                    value: f64::NAN,
+                    range: "readings with a derived second-order bound (user's estimate beta1, printed or nominal-rate form, or intended outputs)",
+                })?);
+            }
+            Ok(t)
+        };
+        let mut d = self.allocate_direct(linear, omega_m, lower_bounds_rad)?;
+        for _ in 0..CERTIFY_STEPS {
+            let tau = tau_of(&d.upper_bounds_rad)?;
+            let worst = linear.row_worst_cases(&d.upper_bounds_rad).max();
+            if worst + tau <= omega_m {
+                break;
+            }
+            d = self.allocate_direct(linear, omega_m - tau, lower_bounds_rad)?;
+            d.second_order_margin_rad_per_s = tau;
+        }
+        // Loads against the real omega_m.
+        for r in &mut d.loads {
+            r.load *= d.omega_m_rad_per_s / omega_m;
+        }
+        d.omega_m_rad_per_s = omega_m;
+        Ok(d)
     }
 
     /// Yield-based allocation: keep the shape $\mathrm{UB}_{shape}$ (e.g. the direct

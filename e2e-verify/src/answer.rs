@@ -121,6 +121,10 @@ pub struct ReadingAnswer {
     pub direct: DirectAllocation,
     /// The direct allocation's box (worst case and yield).
     pub direct_box: BoxAnswer,
+    /// The direct allocation certified on the exact chain
+    /// ([`EndToEnd::allocate_direct_certified`]); `None` for a reading without a derived
+    /// second-order bound.
+    pub direct_certified: Option<(DirectAllocation, WorstCase)>,
     /// The yield-based allocation (shape of the direct one).
     pub yield_based: YieldAllocation,
     /// The yield-based box re-measured with an independent seed (`seed + 2`).
@@ -191,6 +195,16 @@ pub fn answer(inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
             })
         };
         let direct = e2e.allocate_direct(&linear, omega_m, &lb)?;
+        let direct_certified = match e2e.allocate_direct_certified(&linear, omega_m, &lb) {
+            Ok(d) => {
+                let wc = e2e.worst_case(&linear, &d.upper_bounds_rad)?;
+                Some((d, wc))
+            }
+            Err(E2eError::OutOfRange {
+                field: "reading", ..
+            }) => None,
+            Err(e) => return Err(e),
+        };
         let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
         let yield_based = e2e.allocate_yield(
             &direct.upper_bounds_rad,
@@ -207,6 +221,7 @@ pub fn answer(inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
             direct_box: box_answer(direct.upper_bounds_rad, &settings)?,
             yield_box: box_answer(yield_based.upper_bounds_rad, &recheck)?,
             direct,
+            direct_certified,
             yield_based,
         });
     }

@@ -61,7 +61,7 @@ mod montecarlo;
 mod simulate;
 
 pub use allocate::{
-    DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
+    CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
     YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation, paper_combined_weights,
     paper_objective, paper_objective_arcmin,
 };

@@ -355,6 +355,36 @@ fn direct_allocation_meets_omega_m_with_equality_on_active_positions() {
     assert!(d.objective < paper_objective(&paper_table4_rad()));
 }
 
+/// The certified direct allocation leaves room for the derived second-order term: its
+/// linearised worst case plus tau is within omega_m, so the exact chain meets omega_m at the
+/// worst vertex (where the plain direct allocation exceeds it by a second-order amount); it
+/// costs a little more than the plain one.
+#[test]
+fn certified_direct_allocation_meets_omega_m_on_exact_chain() {
+    for reading in [Reading::PAPER, Reading::USER] {
+        let e2e = EndToEnd::paper(reading);
+        let lin = e2e.linearization();
+        let plain = e2e
+            .allocate_direct(&lin, omega_m(), &[0.0; CHI_LEN])
+            .unwrap();
+        let cert = e2e
+            .allocate_direct_certified(&lin, omega_m(), &[0.0; CHI_LEN])
+            .unwrap();
+        let tau = cert.second_order_margin_rad_per_s;
+        assert!(tau > 0.0);
+        let wc = e2e.worst_case(&lin, &cert.upper_bounds_rad).unwrap();
+        for a in &wc.axes {
+            let t = a.second_order_bound_rad_per_s.unwrap();
+            assert!(a.linear_bound_rad_per_s + t <= omega_m());
+            assert!(a.exact_at_vertex_rad_per_s <= omega_m());
+        }
+        assert!(cert.objective > plain.objective);
+        assert!(cert.objective < plain.objective * (1.0 + 20.0 * tau / omega_m()));
+        let max_load = cert.loads.iter().map(|l| l.load).fold(0.0, f64::max);
+        assert_relative_eq!(max_load, 1.0 - tau / omega_m(), max_relative = 1e-9);
+    }
+}
+
 /// The combined weights reproduce alloc-opt's objective $J_\psi + J_\theta + J_\gamma$
 /// (eq 28 weights), so direct and two-step objectives are comparable.
 #[test]

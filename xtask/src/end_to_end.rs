@@ -306,6 +306,17 @@ fn reading_json(r: &ReadingAnswer, positions: &[(f64, f64)]) -> Map<String, Valu
                 .collect(),
         ),
     );
+    if let Some((d, wc)) = &r.direct_certified {
+        out.insert(
+            "direct_certified".into(),
+            json!({
+                "allocation_arcmin": arcmin_map(&d.upper_bounds_rad),
+                "objective": d.objective_arcmin(),
+                "second_order_margin_deg_per_h": rad_per_s_to_deg_per_h(d.second_order_margin_rad_per_s),
+                "worst_case_deg_per_h": xy(wc.exact_deg_per_h()),
+            }),
+        );
+    }
     out.insert(
         "yield_allocation_arcmin".into(),
         arcmin_map(&r.yield_based.upper_bounds_rad),
@@ -435,7 +446,13 @@ fn print_text(a: &BuyersAnswer, elapsed: f64, draws: u64, speed: &Throughput) {
             ("two-step", r.ours.upper_bounds_rad),
             ("direct", r.direct.upper_bounds_rad),
             ("yield-based", r.yield_based.upper_bounds_rad),
-        ] {
+        ]
+        .into_iter()
+        .chain(
+            r.direct_certified
+                .as_ref()
+                .map(|(d, _)| ("certified", d.upper_bounds_rad)),
+        ) {
             println!(
                 "  {name:<12} {}",
                 ub.map(|v| format!("{:>9.4}", v / RAD_PER_ARCMIN)).join("")
@@ -453,6 +470,15 @@ fn print_text(a: &BuyersAnswer, elapsed: f64, draws: u64, speed: &Throughput) {
             r.yield_based.objective_arcmin(),
             r.yield_based.objective / a.two_step_objective,
         );
+        if let Some((d, wc)) = &r.direct_certified {
+            let [x, y] = wc.exact_deg_per_h();
+            println!(
+                "  certified direct (rows held to omega_m - {:.2e} deg/h for the exact chain's second-order terms): worst {x:.6} {y:.6} deg/h, J {:.3} = {:.3} x two-step",
+                rad_per_s_to_deg_per_h(d.second_order_margin_rad_per_s),
+                d.objective_arcmin(),
+                d.objective / a.two_step_objective
+            );
+        }
     }
     println!(
         "\nThroughput: {draws} turntables in {elapsed:.2} s ({:.0}/s, all threads, allocations included); one thread, {} draws: fast path {:.0}/s, reference path {:.0}/s (ratio {:.1})",
