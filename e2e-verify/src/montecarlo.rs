@@ -209,6 +209,7 @@ impl EndToEnd {
                     sampler.fill_block(&mut rng, m, &mut block);
                     out.extend((0..m).map(|k| {
                         let chi = block.chi_rad(k);
+                        // The sampler's chi is always finite: the fallback is unreachable.
                         TurntableDraw {
                             delta_omega_rad_per_s: self.delta_omega(&chi).unwrap_or([f64::NAN; 2]),
                             chi_rad: chi,

@@ -230,13 +230,23 @@ impl EndToEnd {
 
     /// $\Delta\mathbf R_i$ of every position through the reference chain
     /// [`tt_kinematics::delta_r`] (`ChainKind::Exact`).
-    #[must_use]
-    pub fn delta_r_reference(&self, chi_rad: &[f64; CHI_LEN]) -> Vec<Matrix3<f64>> {
-        let errors = errors_from(chi_rad);
-        self.poses
+    ///
+    /// # Errors
+    /// [`E2eError::NonFinite`] naming the component of a non-finite $\chi$.
+    pub fn delta_r_reference(
+        &self,
+        chi_rad: &[f64; CHI_LEN],
+    ) -> Result<Vec<Matrix3<f64>>, E2eError> {
+        check_chi(chi_rad)?;
+        let errors = TurntableErrors::from_rad(*chi_rad, 0.0).map_err(|e| E2eError::NonFinite {
+            field: format!("chi ({e})"),
+            value: f64::NAN,
+        })?;
+        Ok(self
+            .poses
             .iter()
             .map(|p| delta_r(p, &errors, ChainKind::Exact))
-            .collect()
+            .collect())
     }
 
     /// $\Delta\mathbf R_i$ of every position by the factored exact chain of the
@@ -258,8 +268,7 @@ impl EndToEnd {
     /// [`E2eError::NonFinite`] for a non-finite $\chi$; [`E2eError::Calib`] if $\mathbf A'$ is
     /// rank deficient (only for readings that need $\hat{\boldsymbol\beta}_2$).
     pub fn run(&self, chi_rad: &[f64; CHI_LEN]) -> Result<EndToEndRun, E2eError> {
-        check_chi(chi_rad)?;
-        let dr = self.delta_r_reference(chi_rad);
+        let dr = self.delta_r_reference(chi_rad)?;
         Ok(EndToEndRun {
             analyses: [
                 self.analyses[0].analyze(&dr)?,
@@ -401,10 +410,6 @@ pub fn chain_factors(chi_rad: &[f64; CHI_LEN]) -> (Matrix3<f64>, Matrix3<f64>) {
     let v =
         rot(Axis::Y, c(C::DalphaY2)) * rot(Axis::Z, c(C::DphiZ2)) * rot(Axis::X, c(C::DalphaX2));
     (u, v)
-}
-
-pub(crate) fn errors_from(chi_rad: &[f64; CHI_LEN]) -> TurntableErrors {
-    TurntableErrors::from_rad(*chi_rad, 0.0).unwrap_or(TurntableErrors::ZERO)
 }
 
 pub(crate) fn check_chi(chi_rad: &[f64; CHI_LEN]) -> Result<(), E2eError> {
