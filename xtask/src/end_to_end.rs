@@ -73,6 +73,27 @@ pub fn inputs(args: &Args) -> Result<EndToEndInputs, InputError> {
             .map_err(|e| InputError::new("--reading", e.to_string()))?,
         None => study.reading,
     };
+    inputs_from_study(
+        &study,
+        reading,
+        args.samples.unwrap_or(study.file.monte_carlo.samples),
+        args.seed.unwrap_or(study.file.monte_carlo.seed),
+        args.yield_fraction,
+    )
+}
+
+/// The library inputs for a study with the given reading, Monte Carlo size, seed and target
+/// yield (also used by `reproduce-paper`).
+///
+/// # Errors
+/// [`InputError`] naming the key or flag.
+pub fn inputs_from_study(
+    study: &Study,
+    reading: Reading,
+    samples: u64,
+    seed: u64,
+    yield_fraction: f64,
+) -> Result<EndToEndInputs, InputError> {
     let inputs = EndToEndInputs {
         coefficients: study.coefficients,
         site: study.site,
@@ -81,9 +102,9 @@ pub fn inputs(args: &Args) -> Result<EndToEndInputs, InputError> {
         omega_m_rad_per_s: study.omega_m_rad_per_s,
         lower_bounds_rad: study.lower_bounds_rad,
         two_step_requirement_rad: study.requirement_rad,
-        samples: args.samples.unwrap_or(study.file.monte_carlo.samples),
-        seed: args.seed.unwrap_or(study.file.monte_carlo.seed),
-        yield_fraction: args.yield_fraction,
+        samples,
+        seed,
+        yield_fraction,
     };
     inputs.validate().map_err(|e| input_error(&e))?;
     Ok(inputs)
@@ -99,7 +120,7 @@ fn input_error(e: &E2eError) -> InputError {
 }
 
 /// Solver trouble is ours (exit 1); everything else comes from the inputs (exit 2).
-fn classify(e: E2eError) -> anyhow::Error {
+pub fn classify(e: E2eError) -> anyhow::Error {
     match e {
         E2eError::Alloc(AllocError::Solver { .. } | AllocError::NoConvergence { .. }) => {
             anyhow::Error::new(e)

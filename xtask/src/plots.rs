@@ -125,7 +125,12 @@ pub fn line_panels(
 ) -> Result<String> {
     let mut svg = String::new();
     {
-        let cols = panels.len().clamp(1, 3);
+        // Two columns for four panels (a 2 x 2 grid), otherwise up to three per row.
+        let cols = if panels.len() == 4 {
+            2
+        } else {
+            panels.len().clamp(1, 3)
+        };
         let rows = panels.len().div_ceil(cols).max(1);
         let root = SVGBackend::with_string(&mut svg, (W, (H / 2 + 40) * rows as u32 + 40))
             .into_drawing_area();

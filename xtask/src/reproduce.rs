@@ -140,6 +140,7 @@ fn compute(study: Study, seed: u64, samples: u64) -> Result<Ctx> {
     kinematics_section(&mut ctx)?;
     let allocation = allocation_section(&mut ctx, &requirement)?;
     crate::reproduce_mc::monte_carlo_section(&mut ctx.mc_view(), &allocation)?;
+    crate::reproduce_mc::end_to_end_section(&mut ctx.mc_view())?;
     assumptions_section(&mut ctx);
     summary_tables(&mut ctx);
     Ok(ctx)

@@ -27,13 +27,14 @@ fn run(args: &[&str]) -> Output {
         .expect("run xtask")
 }
 
-const OUTPUTS: [&str; 9] = [
+const OUTPUTS: [&str; 10] = [
     "report.md",
     "report.html",
     "figure_4_rate_error.svg",
     "figure_5_requirement.svg",
     "figure_8_sensitivities.svg",
     "figure_9_orientation_error.svg",
+    "figure_e2e_rate_error.svg",
     "table_1.csv",
     "table_4.csv",
     "results.json",
@@ -65,7 +66,7 @@ fn reproduce_paper_writes_every_output_and_agrees_with_the_library() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert_eq!(
         html.matches("<figure><svg").count(),
-        4,
+        5,
         "figures inline in the HTML"
     );
     // No temporary directory left behind.
@@ -147,6 +148,7 @@ fn reproduce_paper_writes_every_output_and_agrees_with_the_library() {
         "fig9",
         "conclusion1",
         "conclusion2",
+        "e2e",
     ] {
         let c = claims
             .iter()
@@ -157,6 +159,35 @@ fn reproduce_paper_writes_every_output_and_agrees_with_the_library() {
             "{id} names no test"
         );
         assert_eq!(c["holds"].as_bool().unwrap(), id != "table4", "claim {id}");
+    }
+    // End to end: equals e2e-verify with the same samples and seed.
+    let e2e = e2e_verify::answer(&e2e_verify::EndToEndInputs {
+        samples: 20_000,
+        seed: 7,
+        ..e2e_verify::EndToEndInputs::paper()
+    })
+    .unwrap();
+    for (key, ans) in [
+        ("study_reading", &e2e.readings[0]),
+        ("user_reading", &e2e.readings[1]),
+    ] {
+        let got = &r["end_to_end"][key]["table4"];
+        let [x, y] = ans.table4.worst_case.exact_deg_per_h();
+        assert_relative_eq!(
+            got["worst_case_deg_per_h"]["x"].as_f64().unwrap(),
+            x,
+            max_relative = SAME_VALUE_REL
+        );
+        assert_relative_eq!(
+            got["worst_case_deg_per_h"]["y"].as_f64().unwrap(),
+            y,
+            max_relative = SAME_VALUE_REL
+        );
+        assert_relative_eq!(
+            got["yield"].as_f64().unwrap(),
+            ans.table4.distribution.yield_fraction(),
+            max_relative = SAME_VALUE_REL
+        );
     }
     // table_4.csv: the paper's values beside ours.
     let t4 = std::fs::read_to_string(out.join("table_4.csv")).unwrap();
