@@ -6,7 +6,7 @@ use crate::fast::{
     TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, delta_from_t, short_t_coefficients,
     sin_cos_turn_with, tier_for, turn_table,
 };
-use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng, fill_words};
+use crate::sampler::{BLOCK_CAPACITY, McRng, SampleBlock, TurntableSampler, chunk_rng, fill_words};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
 use tt_kinematics::units::RAD_PER_DEG;
@@ -363,44 +363,35 @@ impl MonteCarlo {
     /// The fast path for a box with zero lower bounds inside the short-series range (the
     /// paper's case): the series are evaluated from the words' half-integers directly.
     fn fast_chunk_zero_lb(&self, chunk: u64) -> Partial {
-        let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
-        let mut rng = chunk_rng(self.config.seed, chunk);
-        let mut block = Box::<SampleBlock>::default();
-        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
-        let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
         let coeffs = short_t_coefficients(self.sampler.scale_rad());
-        let first = chunk * u64::from(self.config.chunk_size);
-        let len = self.chunk_len(chunk);
-        let mut done = 0;
-        while done < len {
-            let n = (len - done).min(BLOCK_CAPACITY);
-            fill_words(&mut rng, n, &mut block);
-            let table = turn_table();
-            for k in 0..n {
-                let (s, c) = sin_cos_turn_with(table, block.word(9, k));
-                sc[0][k] = s;
-                sc[1][k] = c;
-            }
-            for k in 0..n {
+        self.kernel_chunk(
+            chunk,
+            fill_words,
+            |s, c, block, k| {
                 let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
-                let d = delta_from_t(sc[0][k], sc[1][k], t, &coeffs);
-                out[0][k] = d[0];
-                out[1][k] = d[1];
-                out[2][k] = d[2];
-            }
-            part.add_block(
-                first + done as u64,
-                &block,
-                &self.sampler,
-                &out,
-                &self.config.requirement_rad,
-            );
-            done += n;
-        }
-        part
+                delta_from_t(s, c, t, &coeffs)
+            },
+        )
     }
 
     fn fast_chunk<const TIER: u8>(&self, chunk: u64) -> Partial {
+        self.kernel_chunk(
+            chunk,
+            |rng, n, block| self.sampler.fill_block(rng, n, block),
+            |s, c, block, k| {
+                delta_block_sample::<TIER>(s, c, std::array::from_fn(|i| block.chi[i][k]))
+            },
+        )
+    }
+
+    /// One chunk of a fast path: `fill` draws a block, `kernel(sin phi2, cos phi2, block, k)`
+    /// evaluates sample `k`; both are monomorphised into the loop.
+    fn kernel_chunk(
+        &self,
+        chunk: u64,
+        fill: impl Fn(&mut McRng, usize, &mut SampleBlock),
+        kernel: impl Fn(f64, f64, &SampleBlock, usize) -> [f64; 3],
+    ) -> Partial {
         let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
         let mut rng = chunk_rng(self.config.seed, chunk);
         let mut block = Box::<SampleBlock>::default();
@@ -411,20 +402,15 @@ impl MonteCarlo {
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
-            self.sampler.fill_block(&mut rng, n, &mut block);
+            fill(&mut rng, n, &mut block);
             let table = turn_table();
             for k in 0..n {
                 let (s, c) = sin_cos_turn_with(table, block.word(9, k));
                 sc[0][k] = s;
                 sc[1][k] = c;
             }
-            let chi = &block.chi;
             for k in 0..n {
-                let d = delta_block_sample::<TIER>(
-                    sc[0][k],
-                    sc[1][k],
-                    std::array::from_fn(|i| chi[i][k]),
-                );
+                let d = kernel(sc[0][k], sc[1][k], &block, k);
                 out[0][k] = d[0];
                 out[1][k] = d[1];
                 out[2][k] = d[2];
