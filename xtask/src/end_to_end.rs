@@ -460,7 +460,7 @@ fn print_text(a: &BuyersAnswer, elapsed: f64, draws: u64, speed: &Throughput) {
         println!(
             "  {:<12} {}",
             "arcmin",
-            names.map(|n| format!("{n:>9}")).join("")
+            names.map(|n| format!("{n:>10}")).join("")
         );
         for (name, ub) in [
             ("Table 4", r.table4.upper_bounds_rad),
@@ -476,7 +476,7 @@ fn print_text(a: &BuyersAnswer, elapsed: f64, draws: u64, speed: &Throughput) {
         ) {
             println!(
                 "  {name:<12} {}",
-                ub.map(|v| format!("{:>9.4}", v / RAD_PER_ARCMIN)).join("")
+                ub.map(|v| format!("{:>10.4}", v / RAD_PER_ARCMIN)).join("")
             );
         }
         println!(
