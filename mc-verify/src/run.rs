@@ -364,14 +364,10 @@ impl MonteCarlo {
     /// paper's case): the series are evaluated from the words' half-integers directly.
     fn fast_chunk_zero_lb(&self, chunk: u64) -> Partial {
         let coeffs = short_t_coefficients(self.sampler.scale_rad());
-        self.kernel_chunk(
-            chunk,
-            fill_words,
-            |s, c, block, k| {
-                let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
-                delta_from_t(s, c, t, &coeffs)
-            },
-        )
+        self.kernel_chunk(chunk, fill_words, |s, c, block, k| {
+            let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
+            delta_from_t(s, c, t, &coeffs)
+        })
     }
 
     fn fast_chunk<const TIER: u8>(&self, chunk: u64) -> Partial {
