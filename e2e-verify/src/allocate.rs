@@ -2,6 +2,7 @@
 //! $\Delta\omega$ over the box $\le \omega_m$ at every position) and yield-based (a chosen
 //! fraction of the turntables in the box meet $\omega_m$).
 
+use crate::answer::objective_to_arcmin;
 use crate::error::{E2eError, fraction, positive};
 use crate::linear::Linearization;
 use crate::montecarlo::{McSettings, quantile_index, wilson_interval_95};
@@ -10,7 +11,7 @@ use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_squ
 use alloc_opt::{TIGHT_REL, Weights};
 use gw_model::SensingAxis;
 use mc_verify::ErrorBox;
-use tt_kinematics::units::RAD_PER_ARCMIN;
+use tt_kinematics::units::rad_to_arcmin;
 use tt_kinematics::{CHI_LEN, ErrorComponent, LinearModel};
 
 /// Bisection steps on the scale when the lower bounds are positive (relative bracket
@@ -59,7 +60,7 @@ pub fn paper_objective(ub_rad: &[f64; CHI_LEN]) -> f64 {
 /// $J$ in arcmin$^{-2}$ (bounds in arcminutes, the scale of Table 4).
 #[must_use]
 pub fn paper_objective_arcmin(ub_rad: &[f64; CHI_LEN]) -> f64 {
-    paper_objective(ub_rad) * RAD_PER_ARCMIN * RAD_PER_ARCMIN
+    objective_to_arcmin(paper_objective(ub_rad))
 }
 
 /// One row (axis, position) of the direct allocation's constraints.
@@ -100,13 +101,13 @@ impl DirectAllocation {
     /// $\mathrm{UB}$ in arcminutes.
     #[must_use]
     pub fn upper_bounds_arcmin(&self) -> [f64; CHI_LEN] {
-        self.upper_bounds_rad.map(|v| v / RAD_PER_ARCMIN)
+        self.upper_bounds_rad.map(rad_to_arcmin)
     }
 
     /// $J$ in arcmin$^{-2}$.
     #[must_use]
     pub fn objective_arcmin(&self) -> f64 {
-        self.objective * RAD_PER_ARCMIN * RAD_PER_ARCMIN
+        objective_to_arcmin(self.objective)
     }
 
     /// The active rows: load $\ge 1 -$ [`TIGHT_REL`].
@@ -148,13 +149,13 @@ impl YieldAllocation {
     /// $\mathrm{UB}$ in arcminutes.
     #[must_use]
     pub fn upper_bounds_arcmin(&self) -> [f64; CHI_LEN] {
-        self.upper_bounds_rad.map(|v| v / RAD_PER_ARCMIN)
+        self.upper_bounds_rad.map(rad_to_arcmin)
     }
 
     /// $J$ in arcmin$^{-2}$.
     #[must_use]
     pub fn objective_arcmin(&self) -> f64 {
-        self.objective * RAD_PER_ARCMIN * RAD_PER_ARCMIN
+        objective_to_arcmin(self.objective)
     }
 
     /// The design yield at $s^*$.
