@@ -18,7 +18,7 @@ use alloc_opt::{
 use anyhow::{Context, Result};
 use calib_lsq::{Reading, RequirementProblem};
 use clap::Parser;
-use gw_model::units::{deg_per_h_to_rad_per_s, rad_per_s_to_deg_per_h};
+use gw_model::units::rad_per_s_to_deg_per_h;
 use gw_model::{OrientationAngles, SensingAxis};
 use serde::Serialize;
 use serde_json::{Value, json};
@@ -242,10 +242,6 @@ fn header(ctx: &mut Ctx) {
     );
 }
 
-fn deg_per_h(x: f64) -> f64 {
-    rad_per_s_to_deg_per_h(x)
-}
-
 /// §2: Table 1, Figure 4, Figure 5, eq 16.
 fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequirement> {
     let s = &ctx.study;
@@ -359,7 +355,7 @@ fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequiremen
         let z: Vec<Vec<f64>> = (0..surf.u_rad.len())
             .map(|i| {
                 (0..surf.v_rad.len())
-                    .map(|j| deg_per_h(surf.delta_omega_rad_per_s[j][i]))
+                    .map(|j| rad_per_s_to_deg_per_h(surf.delta_omega_rad_per_s[j][i]))
                     .collect()
             })
             .collect();
@@ -388,7 +384,7 @@ fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequiremen
                 ys: surf.v_rad.iter().map(|v| rad_to_deg(*v)).collect(),
                 z,
             },
-            level: Some(deg_per_h(s.omega_m_rad_per_s)),
+            level: Some(rad_per_s_to_deg_per_h(s.omega_m_rad_per_s)),
             rectangles: Vec::new(),
         });
     }
@@ -409,7 +405,10 @@ fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequiremen
                 let mut v = [0.0; 3];
                 v[k] = a;
                 let angles = OrientationAngles::new(v[0], v[1], v[2])?;
-                pts.push((rad_to_deg(a), deg_per_h(problem.rate_error(axis, &angles)?)));
+                pts.push((
+                    rad_to_deg(a),
+                    rad_per_s_to_deg_per_h(problem.rate_error(axis, &angles)?),
+                ));
             }
             let ignored = (axis == SensingAxis::X && k == 2) || (axis == SensingAxis::Y && k == 0);
             if ignored {
@@ -444,14 +443,14 @@ fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequiremen
         let moved = OrientationAngles::from_deg(psi, theta, 0.03)?;
         let d = problem.rate_error(SensingAxis::X, &base)?
             - problem.rate_error(SensingAxis::X, &moved)?;
-        claim1_max = claim1_max.max(deg_per_h(d.abs()));
+        claim1_max = claim1_max.max(rad_per_s_to_deg_per_h(d.abs()));
         let base = OrientationAngles::from_deg(0.0, psi, theta)?;
         let moved = OrientationAngles::from_deg(0.03, psi, theta)?;
         let d = problem.rate_error(SensingAxis::Y, &base)?
             - problem.rate_error(SensingAxis::Y, &moved)?;
-        claim1_max = claim1_max.max(deg_per_h(d.abs()));
+        claim1_max = claim1_max.max(rad_per_s_to_deg_per_h(d.abs()));
     }
-    let omega_m_deg_per_h = deg_per_h(s.omega_m_rad_per_s);
+    let omega_m_deg_per_h = rad_per_s_to_deg_per_h(s.omega_m_rad_per_s);
     let fig4 = crate::svg::stack(&[
         plots::heat_panels(
             "Figure 4 (a, b): rate-sensing error surfaces Gamma_1, Gamma_2 (white: Delta-omega = omega_m)",
@@ -565,7 +564,6 @@ fn calibration_section(ctx: &mut Ctx) -> Result<calib_lsq::OrientationRequiremen
         "orientation_requirement_reading".into(),
         json!(s.reading.to_string()),
     );
-    let _ = deg_per_h_to_rad_per_s;
     Ok(req)
 }
 
