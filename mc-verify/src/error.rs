@@ -84,6 +84,12 @@ pub enum McError {
         /// The offending value, rad.
         value: f64,
     },
+    /// The requested SIMD level is not supported by this CPU.
+    #[error("simd level {level} is not available on this CPU")]
+    SimdUnavailable {
+        /// The level's name.
+        level: &'static str,
+    },
     /// A caller-supplied orientation-error model returned NaN or an infinity.
     #[error("the model returned a non-finite {axis} ({value}) at sample {sample}")]
     NonFiniteModelOutput {

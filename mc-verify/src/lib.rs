@@ -34,13 +34,15 @@
 //! # Reference
 //! Y. Zhao, H. Zhao, X. Huo, Y. Yao, "Error Analysis and Error Allocation for Turntable Systems
 //! Used in GyroWheel Calibration Tests", Int. J. Aerospace Eng. 2017, 6524782, §4.3.
-#![forbid(unsafe_code)]
+// `unsafe` only in `simd` (runtime CPU-feature dispatch, with its safety argument).
+#![deny(unsafe_code)]
 
 mod bounds;
 mod error;
 pub mod fast;
 mod run;
 pub mod sampler;
+pub mod simd;
 mod stats;
 
 pub use bounds::ErrorBox;
@@ -53,4 +55,5 @@ pub use run::{
 pub use sampler::{
     BLOCK_CAPACITY, McRng, SampleBlock, TurntableSampler, WORDS_PER_SAMPLE, chunk_rng,
 };
+pub use simd::SimdLevel;
 pub use stats::{AxisSummary, Histogram, WorstSample};

@@ -7,10 +7,13 @@ use crate::fast::{
     sin_cos_turn_with, tier_for, turn_table,
 };
 use crate::sampler::{BLOCK_CAPACITY, McRng, SampleBlock, TurntableSampler, chunk_rng, fill_words};
+use crate::simd::{HotLoop, SimdLevel, run_at};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
 use tt_kinematics::units::RAD_PER_DEG;
-use tt_kinematics::{LinearModel, OrientationAxis, OrientationErrorModel, TurntableErrors};
+use tt_kinematics::{
+    CHI_LEN, LinearModel, OrientationAxis, OrientationErrorModel, TurntableErrors,
+};
 
 /// Default samples per chunk (one random stream each; part of the determinism contract).
 pub const DEFAULT_CHUNK_SIZE: u32 = 1 << 16;
@@ -298,12 +301,27 @@ impl MonteCarlo {
     /// [`MonteCarlo::run`], calling `progress(samples_done)` after each batch of chunks.
     #[must_use]
     pub fn run_with_progress(&self, progress: &(dyn Fn(u64) + Sync)) -> McResult {
+        self.run_fast(SimdLevel::detected(), progress)
+    }
+
+    /// [`MonteCarlo::run`] with the hot loop compiled for `level` instead of the widest level
+    /// of the CPU ([`SimdLevel::detected`]). The result is bit-identical on every level (see
+    /// [`crate::simd`]); this exists to prove it and to measure the levels against each other.
+    ///
+    /// Fails with [`McError::SimdUnavailable`] if the CPU lacks `level`.
+    pub fn run_with_simd(&self, level: SimdLevel) -> Result<McResult, McError> {
+        Ok(self.run_fast(level.check()?, &|_| {}))
+    }
+
+    fn run_fast(&self, level: SimdLevel, progress: &(dyn Fn(u64) + Sync)) -> McResult {
         let zero_lb = self.bounds.lb_rad().iter().all(|&lb| lb <= 0.0);
         let result = match tier_for(self.bounds.max_ub_rad()) {
-            TIER_SHORT if zero_lb => self.drive(progress, |c| Ok(self.fast_chunk_zero_lb(c))),
-            TIER_SHORT => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_SHORT>(c))),
-            TIER_MEDIUM => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_MEDIUM>(c))),
-            _ => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_ANY>(c))),
+            TIER_SHORT if zero_lb => {
+                self.drive(progress, |c| Ok(self.fast_chunk_zero_lb(level, c)))
+            }
+            TIER_SHORT => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_SHORT>(level, c))),
+            TIER_MEDIUM => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_MEDIUM>(level, c))),
+            _ => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_ANY>(level, c))),
         };
         result.unwrap_or_else(|_| unreachable!("the fast path has no failure"))
     }
@@ -362,65 +380,32 @@ impl MonteCarlo {
 
     /// The fast path for a box with zero lower bounds inside the short-series range (the
     /// paper's case): the series are evaluated from the words' half-integers directly.
-    fn fast_chunk_zero_lb(&self, chunk: u64) -> Partial {
-        let coeffs = short_t_coefficients(self.sampler.scale_rad());
-        self.kernel_chunk(chunk, fill_words, |s, c, block, k| {
-            let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
-            delta_from_t(s, c, t, &coeffs)
-        })
-    }
-
-    fn fast_chunk<const TIER: u8>(&self, chunk: u64) -> Partial {
-        self.kernel_chunk(
-            chunk,
-            |rng, n, block| self.sampler.fill_block(rng, n, block),
-            |s, c, block, k| {
-                delta_block_sample::<TIER>(s, c, std::array::from_fn(|i| block.chi[i][k]))
+    fn fast_chunk_zero_lb(&self, level: SimdLevel, chunk: u64) -> Partial {
+        let kernel = ZeroLbShortKernel {
+            coeffs: short_t_coefficients(self.sampler.scale_rad()),
+        };
+        run_at(
+            level,
+            KernelChunk {
+                mc: self,
+                chunk,
+                kernel,
             },
         )
     }
 
-    /// One chunk of a fast path: `fill` draws a block, `kernel(sin phi2, cos phi2, block, k)`
-    /// evaluates sample `k`; both are monomorphised into the loop.
-    fn kernel_chunk(
-        &self,
-        chunk: u64,
-        fill: impl Fn(&mut McRng, usize, &mut SampleBlock),
-        kernel: impl Fn(f64, f64, &SampleBlock, usize) -> [f64; 3],
-    ) -> Partial {
-        let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
-        let mut rng = chunk_rng(self.config.seed, chunk);
-        let mut block = Box::<SampleBlock>::default();
-        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
-        let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
-        let first = chunk * u64::from(self.config.chunk_size);
-        let len = self.chunk_len(chunk);
-        let mut done = 0;
-        while done < len {
-            let n = (len - done).min(BLOCK_CAPACITY);
-            fill(&mut rng, n, &mut block);
-            let table = turn_table();
-            for k in 0..n {
-                let (s, c) = sin_cos_turn_with(table, block.word(9, k));
-                sc[0][k] = s;
-                sc[1][k] = c;
-            }
-            for k in 0..n {
-                let d = kernel(sc[0][k], sc[1][k], &block, k);
-                out[0][k] = d[0];
-                out[1][k] = d[1];
-                out[2][k] = d[2];
-            }
-            part.add_block(
-                first + done as u64,
-                &block,
-                &self.sampler,
-                &out,
-                &self.config.requirement_rad,
-            );
-            done += n;
-        }
-        part
+    fn fast_chunk<const TIER: u8>(&self, level: SimdLevel, chunk: u64) -> Partial {
+        let kernel = TierKernel::<TIER> {
+            sampler: &self.sampler,
+        };
+        run_at(
+            level,
+            KernelChunk {
+                mc: self,
+                chunk,
+                kernel,
+            },
+        )
     }
 
     fn model_chunk<M: OrientationErrorModel + Sync>(
@@ -464,5 +449,99 @@ impl MonteCarlo {
             done += n;
         }
         Ok(part)
+    }
+}
+
+/// The per-sample work of a fast path. Both methods are `#[inline(always)]` in every
+/// implementation so that they are compiled into the loop of each SIMD level (a closure
+/// would be compiled once, for the portable level, and called per sample).
+trait BlockKernel {
+    /// Draw a block of `n` samples.
+    fn fill(&self, rng: &mut McRng, n: usize, block: &mut SampleBlock);
+    /// `[dpsi, dtheta, dgamma]` of sample `k` with `(sin phi2, cos phi2) = (s2, c2)`.
+    fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3];
+}
+
+/// All lower bounds zero, short-series tier: the series from the words' half-integers.
+struct ZeroLbShortKernel {
+    coeffs: [[f64; 3]; CHI_LEN],
+}
+
+impl BlockKernel for ZeroLbShortKernel {
+    #[inline(always)]
+    fn fill(&self, rng: &mut McRng, n: usize, block: &mut SampleBlock) {
+        fill_words(rng, n, block);
+    }
+
+    #[inline(always)]
+    fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3] {
+        let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
+        delta_from_t(s2, c2, t, &self.coeffs)
+    }
+}
+
+/// Any box: decoded $\chi$, half-angle functions of tier `TIER`.
+struct TierKernel<'a, const TIER: u8> {
+    sampler: &'a TurntableSampler,
+}
+
+impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
+    #[inline(always)]
+    fn fill(&self, rng: &mut McRng, n: usize, block: &mut SampleBlock) {
+        self.sampler.fill_block(rng, n, block);
+    }
+
+    #[inline(always)]
+    fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3] {
+        delta_block_sample::<TIER>(s2, c2, std::array::from_fn(|i| block.chi[i][k]))
+    }
+}
+
+/// One chunk of a fast path, as a [`HotLoop`] compiled per SIMD level.
+struct KernelChunk<'a, K> {
+    mc: &'a MonteCarlo,
+    chunk: u64,
+    kernel: K,
+}
+
+impl<K: BlockKernel> HotLoop for KernelChunk<'_, K> {
+    type Output = Partial;
+
+    #[inline(always)]
+    fn run(self) -> Partial {
+        let Self { mc, chunk, kernel } = self;
+        let mut part = Partial::new(&mc.half_range_rad, mc.config.histogram_bins);
+        let mut rng = chunk_rng(mc.config.seed, chunk);
+        let mut block = Box::<SampleBlock>::default();
+        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
+        let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
+        let first = chunk * u64::from(mc.config.chunk_size);
+        let len = mc.chunk_len(chunk);
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(BLOCK_CAPACITY);
+            kernel.fill(&mut rng, n, &mut block);
+            let table = turn_table();
+            for k in 0..n {
+                let (s, c) = sin_cos_turn_with(table, block.word(9, k));
+                sc[0][k] = s;
+                sc[1][k] = c;
+            }
+            for k in 0..n {
+                let d = kernel.eval(sc[0][k], sc[1][k], &block, k);
+                out[0][k] = d[0];
+                out[1][k] = d[1];
+                out[2][k] = d[2];
+            }
+            part.add_block(
+                first + done as u64,
+                &block,
+                &mc.sampler,
+                &out,
+                &mc.config.requirement_rad,
+            );
+            done += n;
+        }
+        part
     }
 }

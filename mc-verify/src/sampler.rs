@@ -146,6 +146,7 @@ impl TurntableSampler {
     /// Draw a block of `n` turntables into `block` (`n` is clamped to
     /// `1..=BLOCK_CAPACITY`); consumes exactly `n *` [`WORDS_PER_SAMPLE`] words of `rng`.
     /// [`crate::MonteCarlo`] draws its samples this way.
+    #[inline(always)]
     pub fn fill_block<R: Rng + ?Sized>(&self, rng: &mut R, n: usize, block: &mut SampleBlock) {
         fill_words(rng, n, block);
         let n = block.len;

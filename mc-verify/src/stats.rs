@@ -127,7 +127,7 @@ const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
 const LANES: usize = 4;
 
 /// $(\max_k |v_k|)$ with a fixed lane order.
-#[inline]
+#[inline(always)]
 fn max_abs(v: &[f64]) -> f64 {
     let mut m = [f64::NEG_INFINITY; LANES];
     let mut chunks = v.chunks_exact(LANES);
@@ -146,7 +146,7 @@ fn max_abs(v: &[f64]) -> f64 {
 }
 
 /// Sum with [`LANES`] accumulators, combined pairwise: a fixed order.
-#[inline]
+#[inline(always)]
 fn lane_sum(v: &[f64], f: impl Fn(f64) -> f64) -> f64 {
     let mut s = [0.0; LANES];
     let mut chunks = v.chunks_exact(LANES);
@@ -178,6 +178,7 @@ impl Partial {
 
     /// Fold one block of values in (after everything folded so far). `out[k][..len]` are the
     /// values of axis `k` for the samples of `block`, whose first has global index `first`.
+    #[inline(always)]
     pub fn add_block(
         &mut self,
         first: u64,
