@@ -3,7 +3,7 @@
 use crate::bounds::ErrorBox;
 use crate::error::McError;
 use crate::fast::{
-    TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, delta_from_t, short_t_coefficients,
+    TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, delta_from_t, short_tan_coefficients,
     sin_cos_turn_with, tier_for, turn_table,
 };
 use crate::sampler::{BLOCK_CAPACITY, McRng, SampleBlock, TurntableSampler, chunk_rng, fill_words};
@@ -347,11 +347,24 @@ impl MonteCarlo {
     }
 
     /// Draw every sample of the run and nothing else: the random words of each block and
-    /// their decoding into $\chi$ ([`TurntableSampler::fill_block`]), the work a run does
-    /// before evaluating anything. Its throughput is the limit set by the generator, the
-    /// baseline of the "half the generator" goal. Returns the number of samples drawn.
+    /// their decoding into $\chi$ ([`TurntableSampler::fill_block`]), with the loop compiled
+    /// for the same SIMD level as [`MonteCarlo::run`]. This is the work of producing the
+    /// run's random turntables before evaluating anything: the limit set by the generator,
+    /// the baseline of the "half the generator" goal. Returns the number of samples drawn.
     #[must_use]
     pub fn draw_only(&self) -> u64 {
+        self.draw(true)
+    }
+
+    /// [`MonteCarlo::draw_only`] without the decoding: only the generator's words (40 bytes
+    /// per sample) are produced. The strictest baseline: no run can be faster.
+    #[must_use]
+    pub fn draw_words_only(&self) -> u64 {
+        self.draw(false)
+    }
+
+    fn draw(&self, decode: bool) -> u64 {
+        let level = SimdLevel::detected();
         let n_chunks = self.chunks();
         let mut drawn = 0u64;
         let mut start = 0;
@@ -359,18 +372,12 @@ impl MonteCarlo {
             let end = (start + self.wave_chunks()).min(n_chunks);
             drawn += (start..end)
                 .into_par_iter()
-                .map(|c| {
-                    let mut rng = chunk_rng(self.config.seed, c);
-                    let mut block = Box::<SampleBlock>::default();
-                    let len = self.chunk_len(c);
-                    let mut done = 0;
-                    while done < len {
-                        let n = (len - done).min(BLOCK_CAPACITY);
-                        self.sampler.fill_block(&mut rng, n, &mut block);
-                        std::hint::black_box(&block);
-                        done += n;
+                .map(|chunk| {
+                    if decode {
+                        run_at(level, DrawChunk::<true> { mc: self, chunk })
+                    } else {
+                        run_at(level, DrawChunk::<false> { mc: self, chunk })
                     }
-                    done as u64
                 })
                 .sum::<u64>();
             start = end;
@@ -382,7 +389,7 @@ impl MonteCarlo {
     /// paper's case): the series are evaluated from the words' half-integers directly.
     fn fast_chunk_zero_lb(&self, level: SimdLevel, chunk: u64) -> Partial {
         let kernel = ZeroLbShortKernel {
-            coeffs: short_t_coefficients(self.sampler.scale_rad()),
+            coeffs: short_tan_coefficients(self.sampler.scale_rad()),
         };
         run_at(
             level,
@@ -462,9 +469,10 @@ trait BlockKernel {
     fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3];
 }
 
-/// All lower bounds zero, short-series tier: the series from the words' half-integers.
+/// All lower bounds zero, short-series tier: unnormalised quaternions from the words'
+/// half-integers ([`crate::fast::short_tan_coefficients`]).
 struct ZeroLbShortKernel {
-    coeffs: [[f64; 3]; CHI_LEN],
+    coeffs: [[f64; 2]; CHI_LEN],
 }
 
 impl BlockKernel for ZeroLbShortKernel {
@@ -494,6 +502,36 @@ impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
     #[inline(always)]
     fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3] {
         delta_block_sample::<TIER>(s2, c2, std::array::from_fn(|i| block.chi[i][k]))
+    }
+}
+
+/// Drawing one chunk (with or without decoding $\chi$), as a [`HotLoop`]: the baselines.
+struct DrawChunk<'a, const DECODE: bool> {
+    mc: &'a MonteCarlo,
+    chunk: u64,
+}
+
+impl<const DECODE: bool> HotLoop for DrawChunk<'_, DECODE> {
+    type Output = u64;
+
+    #[inline(always)]
+    fn run(self) -> u64 {
+        let Self { mc, chunk } = self;
+        let mut rng = chunk_rng(mc.config.seed, chunk);
+        let mut block = Box::<SampleBlock>::default();
+        let len = mc.chunk_len(chunk);
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(BLOCK_CAPACITY);
+            if DECODE {
+                mc.sampler.fill_block(&mut rng, n, &mut block);
+            } else {
+                fill_words(&mut rng, n, &mut block);
+            }
+            std::hint::black_box(&block);
+            done += n;
+        }
+        done as u64
     }
 }
 

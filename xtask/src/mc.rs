@@ -22,7 +22,7 @@ use crate::study::Study;
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo};
+use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo, SimdLevel};
 use serde_json::{Value, json};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -185,6 +185,7 @@ pub fn report_json(
         "bounds": args.bounds.name(),
         "chunk_size": r.chunk_size,
         "evaluator": "exact chain, eq-24 read-out (fast quaternion path)",
+        "simd_level": SimdLevel::detected().name(),
         "lb_arcmin": chi_json(&mc.bounds().lb_rad()),
         "ub_arcmin": chi_json(&mc.bounds().ub_rad()),
         "requirement_deg": axis_json(|a| rad_to_deg(r.requirement_rad[a.index()])),
@@ -260,11 +261,24 @@ fn run_numpy(seed: u64) -> Value {
 /// The same-run baselines and throughput ratios.
 fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Result<Value> {
     let samples = mc.config().samples;
-    let t = Instant::now();
-    let drawn = pool.install(|| mc.draw_only());
-    let gen_rate = drawn as f64 / t.elapsed().as_secs_f64();
-    // the plain chain is ~10x slower: run it on at most 2e7 of the same samples
+    let rate_of = |f: &(dyn Fn() -> u64 + Sync)| {
+        let t = Instant::now();
+        let n = pool.install(f);
+        n as f64 / t.elapsed().as_secs_f64()
+    };
+    let gen_rate = rate_of(&|| mc.draw_only());
+    let words_rate = rate_of(&|| mc.draw_words_only());
+    // the portable SIMD level on at most 2e8 of the same samples
     let mut cfg = *mc.config();
+    cfg.samples = samples.min(200_000_000);
+    let portable_mc = MonteCarlo::new(*mc.bounds(), cfg)?;
+    let portable_rate = rate_of(&|| {
+        portable_mc
+            .run_with_simd(SimdLevel::Portable)
+            .map_or(0, |r| r.samples)
+    });
+    let portable_samples = cfg.samples;
+    // the plain chain is ~10x slower: run it on at most 2e7 of the same samples
     cfg.samples = samples.min(20_000_000);
     let plain_mc = MonteCarlo::new(*mc.bounds(), cfg)?;
     let t = Instant::now();
@@ -274,10 +288,15 @@ fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Resul
     let numpy_rate = numpy.get("samples_per_sec").and_then(Value::as_f64);
     Ok(json!({
         "generator_alone_samples_per_sec": gen_rate,
+        "generator_words_only_samples_per_sec": words_rate,
+        "portable_simd_samples": portable_samples,
+        "portable_simd_samples_per_sec": portable_rate,
         "plain_chain_samples": plain.samples,
         "plain_chain_samples_per_sec": plain_rate,
         "numpy": numpy,
         "ratio_fast_over_generator_alone": fast_rate / gen_rate,
+        "ratio_fast_over_generator_words_only": fast_rate / words_rate,
+        "ratio_fast_over_portable_simd": fast_rate / portable_rate,
         "ratio_fast_over_plain_chain": fast_rate / plain_rate,
         "ratio_fast_over_numpy": numpy_rate.map(|r| fast_rate / r),
     }))
@@ -316,10 +335,11 @@ pub fn run(args: &Args) -> Result<()> {
         return Ok(());
     }
     println!(
-        "{} samples, seed {}, {} threads, bounds {}: {:.3} s, {:.4e} samples/s",
+        "{} samples, seed {}, {} threads ({}), bounds {}: {:.3} s, {:.4e} samples/s",
         r.samples,
         r.seed,
         threads,
+        SimdLevel::detected().name(),
         args.bounds.name(),
         seconds,
         r.samples as f64 / seconds
