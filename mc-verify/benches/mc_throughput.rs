@@ -1,13 +1,17 @@
 //! Throughput of the Monte Carlo core (samples/s), one thread:
-//! - `fast_chain`: [`MonteCarlo::run`] (quaternion fast path, statistics included);
+//! - `fast_chain`: [`MonteCarlo::run`] (quaternion fast path, statistics included, hot loop
+//!   on the widest SIMD level of the CPU);
+//! - `fast_chain_portable`: the same on the portable level (SSE2 on x86-64);
 //! - `plain_chain`: [`MonteCarlo::run_model`] with [`ExactChain`] (ten dense 3x3 rotations,
 //!   eq 17-24), the baseline; same samples, same statistics;
-//! - `generator_alone`: [`MonteCarlo::draw_only`], drawing the same random words only.
+//! - `generator_alone`: [`MonteCarlo::draw_only`], drawing the same random turntables only
+//!   (the words and their decoding into chi);
+//! - `generator_words_only`: [`MonteCarlo::draw_words_only`], the words alone.
 //!
 //! Run: `CARGO_TARGET_DIR=target cargo bench -p mc-verify --bench mc_throughput`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use mc_verify::{ErrorBox, McConfig, MonteCarlo};
+use mc_verify::{ErrorBox, McConfig, MonteCarlo, SimdLevel};
 use std::hint::black_box;
 use tt_kinematics::ExactChain;
 
@@ -33,8 +37,22 @@ fn bench(c: &mut Criterion) {
     g.bench_function("fast_chain", |b| {
         b.iter(|| pool.install(|| black_box(fast.run().max_abs_rad())));
     });
+    g.bench_function("fast_chain_portable", |b| {
+        b.iter(|| {
+            pool.install(|| {
+                black_box(
+                    fast.run_with_simd(SimdLevel::Portable)
+                        .expect("always available")
+                        .max_abs_rad(),
+                )
+            })
+        });
+    });
     g.bench_function("generator_alone", |b| {
         b.iter(|| pool.install(|| black_box(fast.draw_only())));
+    });
+    g.bench_function("generator_words_only", |b| {
+        b.iter(|| pool.install(|| black_box(fast.draw_words_only())));
     });
     let n_plain = 1u64 << 16;
     let plain = mc(n_plain);

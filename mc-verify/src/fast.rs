@@ -22,6 +22,11 @@
 //! ($|x|^7/645120$ and $|x|^6/46080$) stay below $6\cdot10^{-18}$ there: exact to
 //! rounding. Larger angles use `f64::sin_cos`.
 //!
+//! For the paper's case (all lower bounds zero, every bound within
+//! [`SHORT_SERIES_MAX_ABS_RAD`]) the Monte Carlo kernel uses unnormalised quaternions
+//! $(1, \tan\tfrac x2\,\hat e_a)$ instead: 4 products per factor and no cosine, with the
+//! norm divided out once in the read-out (`short_tan_coefficients`).
+//!
 //! The result equals the plain chain ([`tt_kinematics::ExactChain`] with the eq-24 read-out)
 //! to rounding; the tests check $10^{-15}$ rad per sample for errors up to 10 arcmin.
 //!

@@ -14,6 +14,8 @@
 //!   exact series ([`FastChain`]), equal to [`tt_kinematics::ExactChain`] to rounding;
 //! - [`MonteCarlo`]: chunks on rayon threads, reduced in chunk order so the result does not
 //!   depend on the thread count; memory does not grow with the number of samples;
+//! - [`simd`]: the block loop compiled for SSE2 and AVX2, chosen at run time
+//!   ([`SimdLevel`]), with bit-identical results on every level;
 //! - [`McResult`]: extremes with their worst samples, mean and spread, histograms (the data
 //!   of Figure 9) and the fraction inside the requirement.
 //!

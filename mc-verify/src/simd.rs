@@ -24,7 +24,7 @@
 //!
 //! # Safety argument
 //! Calling a `#[target_feature(enable = "...")]` function is `unsafe` because executing its
-//! instructions on a CPU without the feature is undefined behaviour. [`run_at`] calls such a
+//! instructions on a CPU without the feature is undefined behaviour. `run_at` calls such a
 //! function only after `is_x86_feature_detected!` has confirmed every feature it enables;
 //! [`SimdLevel::is_available`] is the single place that check is made.
 

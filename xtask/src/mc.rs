@@ -12,10 +12,12 @@
 //!
 //! `--json` prints one object with at least `samples`, `seed`, `threads`, `seconds`,
 //! `samples_per_sec`, `max_abs_deg {psi, theta, gamma}` and `within_requirement_fraction`,
-//! plus the bounds, mean, std, worst samples and histograms. `--baselines` also measures, in
-//! the same run, the generator alone and the plain dense-matrix chain on the same samples, and
-//! runs the NumPy baseline (`../shared/bench/numpy_mc_anchor.py`, 2e6 samples) if present,
-//! and reports the throughput ratios. The result does not depend on `--threads`.
+//! plus the bounds, mean, std, worst samples, histograms and the SIMD level chosen at run
+//! time. `--baselines` also measures, in the same run, the generator alone (the same random
+//! turntables drawn and decoded, and its raw words only), the portable SIMD level and the
+//! plain dense-matrix chain on the same samples, and runs the NumPy baseline
+//! (`../shared/bench/numpy_mc_anchor.py`, 2e6 samples) if present, and reports the
+//! throughput ratios. The result does not depend on `--threads` (nor on the SIMD level).
 
 use crate::InputError;
 use crate::study::Study;
@@ -77,7 +79,8 @@ pub struct Args {
     /// Histogram bins per angle.
     #[arg(long, default_value_t = mc_verify::DEFAULT_HISTOGRAM_BINS)]
     pub bins: usize,
-    /// Also measure the generator alone, the plain dense-matrix chain and the NumPy baseline,
+    /// Also measure the generator alone (decoded and raw words), the portable SIMD level, the
+    /// plain dense-matrix chain and the NumPy baseline,
     /// and report the throughput ratios.
     #[arg(long)]
     pub baselines: bool,

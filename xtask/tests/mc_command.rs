@@ -47,6 +47,39 @@ fn mc_json_has_the_documented_keys() {
         assert!(v["worst"][axis]["chi"]["dphi_z2_arcmin"].is_number());
     }
     assert!(v["within_requirement_fraction"].as_f64().unwrap() > 1.0 - 1e-12);
+    assert!(["portable", "avx2"].contains(&v["simd_level"].as_str().unwrap()));
+}
+
+/// `--baselines` reports the same-run rates and their ratios (each ratio is our rate over
+/// the baseline's); the NumPy entry is either a result or an error, never a failure.
+#[test]
+fn mc_baselines_report_same_run_rates_and_consistent_ratios() {
+    let v = run_json(&["--samples", "2e5", "--baselines"]);
+    let b = &v["baselines"];
+    let fast = v["samples_per_sec"].as_f64().unwrap();
+    for (rate, ratio) in [
+        (
+            "generator_alone_samples_per_sec",
+            "ratio_fast_over_generator_alone",
+        ),
+        (
+            "generator_words_only_samples_per_sec",
+            "ratio_fast_over_generator_words_only",
+        ),
+        (
+            "portable_simd_samples_per_sec",
+            "ratio_fast_over_portable_simd",
+        ),
+        ("plain_chain_samples_per_sec", "ratio_fast_over_plain_chain"),
+    ] {
+        let r = b[rate].as_f64().unwrap();
+        assert!(r > 0.0, "{rate}: {r}");
+        let q = b[ratio].as_f64().unwrap();
+        assert!(((q * r) / fast - 1.0).abs() < 1e-12, "{ratio}: {q}");
+    }
+    assert_eq!(b["portable_simd_samples"], 200_000);
+    assert_eq!(b["plain_chain_samples"], 200_000);
+    assert!(b["numpy"].get("samples_per_sec").is_some() || b["numpy"].get("error").is_some());
 }
 
 /// Paper §4.3, Figure 9, for both allocations: every one of 10^6 random turntables (Table 4
