@@ -349,15 +349,14 @@ mod tests {
             for (b, n) in [BLOCK_CAPACITY, BLOCK_CAPACITY, 37].into_iter().enumerate() {
                 sampler.fill_block(&mut rng, n, &mut block);
                 let mut out = [[0.0; BLOCK_CAPACITY]; 3];
-                for k in 0..n {
+                let [o0, o1, o2] = &mut out;
+                for ((a, b), c) in o0[..n].iter_mut().zip(&mut o1[..n]).zip(&mut o2[..n]) {
                     x = x
                         .wrapping_mul(6_364_136_223_846_793_005)
                         .wrapping_add(1_442_695_040_888_963_407);
                     let u = (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
                     let v = offset + 1e-6 * u;
-                    out[0][k] = v;
-                    out[1][k] = -v;
-                    out[2][k] = 2.0 * v;
+                    (*a, *b, *c) = (v, -v, 2.0 * v);
                     all.push(v);
                 }
                 part.add_block(
