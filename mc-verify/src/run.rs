@@ -347,7 +347,8 @@ impl MonteCarlo {
     }
 
     /// Draw every sample of the run and nothing else: the random words of each block and
-    /// their decoding into $\chi$ ([`TurntableSampler::fill_block`]), with the loop compiled
+    /// their decoding into the sample's ten numbers, $\chi$ ([`TurntableSampler::fill_block`])
+    /// and the pose angles $\phi_1, \phi_2$ (rad), with the loop compiled
     /// for the same SIMD level as [`MonteCarlo::run`]. This is the work of producing the
     /// run's random turntables before evaluating anything: the limit set by the generator,
     /// the baseline of the "half the generator" goal. Returns the number of samples drawn.
@@ -505,7 +506,8 @@ impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
     }
 }
 
-/// Drawing one chunk (with or without decoding $\chi$), as a [`HotLoop`]: the baselines.
+/// Drawing one chunk (with or without decoding $\chi$ and the pose), as a [`HotLoop`]: the
+/// baselines.
 struct DrawChunk<'a, const DECODE: bool> {
     mc: &'a MonteCarlo,
     chunk: u64,
@@ -519,12 +521,20 @@ impl<const DECODE: bool> HotLoop for DrawChunk<'_, DECODE> {
         let Self { mc, chunk } = self;
         let mut rng = chunk_rng(mc.config.seed, chunk);
         let mut block = Box::<SampleBlock>::default();
+        let mut angles = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
         let len = mc.chunk_len(chunk);
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
             if DECODE {
                 mc.sampler.fill_block(&mut rng, n, &mut block);
+                for (j, col) in angles.iter_mut().enumerate() {
+                    for (a, w) in col[..n].iter_mut().zip(block.column(8 + j).chunks_exact(4)) {
+                        let w = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
+                        *a = TurntableSampler::angle_from_word(w);
+                    }
+                }
+                std::hint::black_box(&angles);
             } else {
                 fill_words(&mut rng, n, &mut block);
             }

@@ -214,6 +214,12 @@ impl SampleBlock {
         self.len == 0
     }
 
+    /// The little-endian bytes of quantity `j` (0-9) of all samples of the block.
+    #[inline(always)]
+    pub(crate) fn column(&self, j: usize) -> &[u8] {
+        &self.bytes[4 * j * self.len..4 * (j + 1) * self.len]
+    }
+
     /// The raw word of quantity `j` (0-9, see the module table) of sample `k`.
     #[inline(always)]
     pub(crate) fn word(&self, j: usize, k: usize) -> u32 {
