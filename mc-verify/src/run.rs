@@ -6,7 +6,7 @@ use crate::fast::{
     TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, delta_from_t, short_tan_coefficients,
     sin_cos_turn_with, tier_for, turn_table,
 };
-use crate::sampler::{BLOCK_CAPACITY, McRng, SampleBlock, TurntableSampler, chunk_rng, fill_words};
+use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng, fill_words};
 use crate::simd::{HotLoop, SimdLevel, run_at};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
@@ -460,14 +460,31 @@ impl MonteCarlo {
     }
 }
 
-/// The per-sample work of a fast path. Both methods are `#[inline(always)]` in every
-/// implementation so that they are compiled into the loop of each SIMD level (a closure
-/// would be compiled once, for the portable level, and called per sample).
+/// The per-sample work of a fast path. Every method is `#[inline(always)]` in every
+/// implementation so that it is compiled into the loop of each SIMD level (a closure would be
+/// compiled once, for the portable level, and called per sample).
 trait BlockKernel {
-    /// Draw a block of `n` samples.
-    fn fill(&self, rng: &mut McRng, n: usize, block: &mut SampleBlock);
+    /// Turn the `n` drawn samples of `block` into the kernel's eight inputs per sample
+    /// (`inputs[i][k]` for error component `i` of sample `k`), column by column.
+    fn prepare(&self, block: &SampleBlock, n: usize, inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN]);
     /// `[dpsi, dtheta, dgamma]` of sample `k` with `(sin phi2, cos phi2) = (s2, c2)`.
-    fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3];
+    fn eval(
+        &self,
+        s2: f64,
+        c2: f64,
+        inputs: &[[f64; BLOCK_CAPACITY]; CHI_LEN],
+        k: usize,
+    ) -> [f64; 3];
+}
+
+/// The little-endian words of a byte column, as `i32` half-integers $t = \mathrm{i32}(w) +
+/// \tfrac12$ mapped by `f` (a contiguous loop the compiler vectorises).
+#[inline(always)]
+fn decode_column(col: &[u8], out: &mut [f64], f: impl Fn(f64) -> f64) {
+    for (x, w) in out.iter_mut().zip(col.chunks_exact(4)) {
+        let t = f64::from(i32::from_le_bytes([w[0], w[1], w[2], w[3]])) + 0.5;
+        *x = f(t);
+    }
 }
 
 /// All lower bounds zero, short-series tier: unnormalised quaternions from the words'
@@ -478,31 +495,48 @@ struct ZeroLbShortKernel {
 
 impl BlockKernel for ZeroLbShortKernel {
     #[inline(always)]
-    fn fill(&self, rng: &mut McRng, n: usize, block: &mut SampleBlock) {
-        fill_words(rng, n, block);
+    fn prepare(
+        &self,
+        block: &SampleBlock,
+        n: usize,
+        inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN],
+    ) {
+        for (i, t) in inputs.iter_mut().enumerate() {
+            decode_column(block.column(i), &mut t[..n], |t| t);
+        }
     }
 
     #[inline(always)]
-    fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3] {
-        let t = std::array::from_fn(|i| f64::from(block.word(i, k) as i32) + 0.5);
-        delta_from_t(s2, c2, t, &self.coeffs)
+    fn eval(&self, s2: f64, c2: f64, t: &[[f64; BLOCK_CAPACITY]; CHI_LEN], k: usize) -> [f64; 3] {
+        delta_from_t(s2, c2, std::array::from_fn(|i| t[i][k]), &self.coeffs)
     }
 }
 
-/// Any box: decoded $\chi$, half-angle functions of tier `TIER`.
+/// Any box: decoded $\chi$ ([`TurntableSampler::chi_from_word`]), half-angle functions of
+/// tier `TIER`.
 struct TierKernel<'a, const TIER: u8> {
     sampler: &'a TurntableSampler,
 }
 
 impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
     #[inline(always)]
-    fn fill(&self, rng: &mut McRng, n: usize, block: &mut SampleBlock) {
-        self.sampler.fill_block(rng, n, block);
+    fn prepare(
+        &self,
+        block: &SampleBlock,
+        n: usize,
+        inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN],
+    ) {
+        let (scale, lb) = (self.sampler.scale_rad(), self.sampler.lb_rad());
+        for (i, chi) in inputs.iter_mut().enumerate() {
+            decode_column(block.column(i), &mut chi[..n], |t| {
+                t * scale[i] + lb[i].copysign(t)
+            });
+        }
     }
 
     #[inline(always)]
-    fn eval(&self, s2: f64, c2: f64, block: &SampleBlock, k: usize) -> [f64; 3] {
-        delta_block_sample::<TIER>(s2, c2, std::array::from_fn(|i| block.chi[i][k]))
+    fn eval(&self, s2: f64, c2: f64, chi: &[[f64; BLOCK_CAPACITY]; CHI_LEN], k: usize) -> [f64; 3] {
+        delta_block_sample::<TIER>(s2, c2, std::array::from_fn(|i| chi[i][k]))
     }
 }
 
@@ -561,6 +595,7 @@ impl<K: BlockKernel> HotLoop for KernelChunk<'_, K> {
         let mut part = Partial::new(&mc.half_range_rad, mc.config.histogram_bins);
         let mut rng = chunk_rng(mc.config.seed, chunk);
         let mut block = Box::<SampleBlock>::default();
+        let mut inputs = Box::new([[0.0; BLOCK_CAPACITY]; CHI_LEN]);
         let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
         let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
         let first = chunk * u64::from(mc.config.chunk_size);
@@ -568,15 +603,19 @@ impl<K: BlockKernel> HotLoop for KernelChunk<'_, K> {
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
-            kernel.fill(&mut rng, n, &mut block);
+            fill_words(&mut rng, n, &mut block);
+            kernel.prepare(&block, n, &mut inputs);
             let table = turn_table();
-            for k in 0..n {
-                let (s, c) = sin_cos_turn_with(table, block.word(9, k));
-                sc[0][k] = s;
-                sc[1][k] = c;
+            let [sin2, cos2] = &mut *sc;
+            for ((s, c), w) in sin2[..n]
+                .iter_mut()
+                .zip(&mut cos2[..n])
+                .zip(block.column(9).chunks_exact(4))
+            {
+                (*s, *c) = sin_cos_turn_with(table, u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
             }
             for k in 0..n {
-                let d = kernel.eval(sc[0][k], sc[1][k], &block, k);
+                let d = kernel.eval(sc[0][k], sc[1][k], &inputs, k);
                 out[0][k] = d[0];
                 out[1][k] = d[1];
                 out[2][k] = d[2];

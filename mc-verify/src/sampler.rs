@@ -116,6 +116,11 @@ impl TurntableSampler {
         &self.scale_rad
     }
 
+    /// $\mathrm{LB}_i$, rad.
+    pub(crate) fn lb_rad(&self) -> &[f64; CHI_LEN] {
+        &self.lb_rad
+    }
+
     /// $\chi_i$ (rad) from its word `w` (see the module table).
     #[inline(always)]
     #[must_use]
