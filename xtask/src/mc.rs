@@ -14,8 +14,9 @@
 //! `samples_per_sec`, `max_abs_deg {psi, theta, gamma}` and `within_requirement_fraction`,
 //! plus the bounds, mean, std, worst samples, histograms and the SIMD level chosen at run
 //! time. `--baselines` also measures, in the same run, the generator alone (the same random
-//! turntables drawn and decoded, and its raw words only), the portable SIMD level and the
-//! plain dense-matrix chain on the same samples, and runs the NumPy baseline
+//! turntables drawn and decoded, and its raw words only) and the portable SIMD level, in
+//! three interleaved rounds with the fast path on the same samples (best of each), the plain
+//! dense-matrix chain on the same samples, and runs the NumPy baseline
 //! (`../shared/bench/numpy_mc_anchor.py`, 2e6 samples) if present, and reports the
 //! throughput ratios. The result does not depend on `--threads` (nor on the SIMD level).
 
@@ -261,7 +262,20 @@ fn run_numpy(seed: u64) -> Value {
     }
 }
 
+/// Interleaved rounds of the generator-ratio measurement.
+const RATIO_ROUNDS: usize = 3;
+
+/// Samples per timing in the interleaved rounds (or the run's count, if smaller).
+const RATIO_SAMPLES: u64 = 200_000_000;
+
 /// The same-run baselines and throughput ratios.
+///
+/// The ratios to the generator (decoded and raw words) and to the portable SIMD level are
+/// the closest to the goals' limits, so they are measured robustly against other load on
+/// the machine: [`RATIO_ROUNDS`] rounds, each timing the fast path and every baseline in
+/// turn on the same samples (the first [`RATIO_SAMPLES`]), and the best rate of each over
+/// the rounds. The plain chain and NumPy (far from their limits) are timed once and compared
+/// with the main run (`fast_rate`).
 fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Result<Value> {
     let samples = mc.config().samples;
     let rate_of = |f: &(dyn Fn() -> u64 + Sync)| {
@@ -269,18 +283,23 @@ fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Resul
         let n = pool.install(f);
         n as f64 / t.elapsed().as_secs_f64()
     };
-    let gen_rate = rate_of(&|| mc.draw_only());
-    let words_rate = rate_of(&|| mc.draw_words_only());
-    // the portable SIMD level on at most 2e8 of the same samples
     let mut cfg = *mc.config();
-    cfg.samples = samples.min(200_000_000);
-    let portable_mc = MonteCarlo::new(*mc.bounds(), cfg)?;
-    let portable_rate = rate_of(&|| {
-        portable_mc
-            .run_with_simd(SimdLevel::Portable)
-            .map_or(0, |r| r.samples)
-    });
-    let portable_samples = cfg.samples;
+    cfg.samples = samples.min(RATIO_SAMPLES);
+    let sub = MonteCarlo::new(*mc.bounds(), cfg)?;
+    let mut rounds = Vec::with_capacity(RATIO_ROUNDS);
+    for _ in 0..RATIO_ROUNDS {
+        rounds.push([
+            rate_of(&|| sub.run().samples),
+            rate_of(&|| sub.draw_only()),
+            rate_of(&|| sub.draw_words_only()),
+            rate_of(&|| {
+                sub.run_with_simd(SimdLevel::Portable)
+                    .map_or(0, |r| r.samples)
+            }),
+        ]);
+    }
+    let best = |i: usize| rounds.iter().map(|r| r[i]).fold(0.0, f64::max);
+    let (fast_best, gen_rate, words_rate, portable_rate) = (best(0), best(1), best(2), best(3));
     // the plain chain is ~10x slower: run it on at most 2e7 of the same samples
     cfg.samples = samples.min(20_000_000);
     let plain_mc = MonteCarlo::new(*mc.bounds(), cfg)?;
@@ -290,16 +309,26 @@ fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Resul
     let numpy = run_numpy(mc.config().seed);
     let numpy_rate = numpy.get("samples_per_sec").and_then(Value::as_f64);
     Ok(json!({
+        "interleaved_samples": sub.config().samples,
+        "interleaved_rounds": rounds
+            .iter()
+            .map(|r| json!({
+                "fast": r[0],
+                "generator_alone": r[1],
+                "generator_words_only": r[2],
+                "portable_simd": r[3],
+            }))
+            .collect::<Vec<_>>(),
+        "fast_best_samples_per_sec": fast_best,
         "generator_alone_samples_per_sec": gen_rate,
         "generator_words_only_samples_per_sec": words_rate,
-        "portable_simd_samples": portable_samples,
         "portable_simd_samples_per_sec": portable_rate,
         "plain_chain_samples": plain.samples,
         "plain_chain_samples_per_sec": plain_rate,
         "numpy": numpy,
-        "ratio_fast_over_generator_alone": fast_rate / gen_rate,
-        "ratio_fast_over_generator_words_only": fast_rate / words_rate,
-        "ratio_fast_over_portable_simd": fast_rate / portable_rate,
+        "ratio_fast_over_generator_alone": fast_best / gen_rate,
+        "ratio_fast_over_generator_words_only": fast_best / words_rate,
+        "ratio_fast_over_portable_simd": fast_best / portable_rate,
         "ratio_fast_over_plain_chain": fast_rate / plain_rate,
         "ratio_fast_over_numpy": numpy_rate.map(|r| fast_rate / r),
     }))
