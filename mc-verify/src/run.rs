@@ -315,15 +315,39 @@ impl MonteCarlo {
 
     fn run_fast(&self, level: SimdLevel, progress: &(dyn Fn(u64) + Sync)) -> McResult {
         let zero_lb = self.bounds.lb_rad().iter().all(|&lb| lb <= 0.0);
-        let result = match tier_for(self.bounds.max_ub_rad()) {
+        let sampler = &self.sampler;
+        match tier_for(self.bounds.max_ub_rad()) {
             TIER_SHORT if zero_lb => {
-                self.drive(progress, |c| Ok(self.fast_chunk_zero_lb(level, c)))
+                let coeffs = short_tan_coefficients(sampler.scale_rad());
+                self.drive_kernel(level, progress, &ZeroLbShortKernel { coeffs })
             }
-            TIER_SHORT => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_SHORT>(level, c))),
-            TIER_MEDIUM => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_MEDIUM>(level, c))),
-            _ => self.drive(progress, |c| Ok(self.fast_chunk::<TIER_ANY>(level, c))),
+            TIER_SHORT => self.drive_kernel(level, progress, &TierKernel::<TIER_SHORT> { sampler }),
+            TIER_MEDIUM => {
+                self.drive_kernel(level, progress, &TierKernel::<TIER_MEDIUM> { sampler })
+            }
+            _ => self.drive_kernel(level, progress, &TierKernel::<TIER_ANY> { sampler }),
+        }
+    }
+
+    /// Every chunk through `kernel`, with the hot loop compiled for `level`.
+    fn drive_kernel<K: BlockKernel + Sync>(
+        &self,
+        level: SimdLevel,
+        progress: &(dyn Fn(u64) + Sync),
+        kernel: &K,
+    ) -> McResult {
+        let chunk = |chunk| {
+            Ok(run_at(
+                level,
+                KernelChunk {
+                    mc: self,
+                    chunk,
+                    kernel,
+                },
+            ))
         };
-        result.unwrap_or_else(|_| unreachable!("the fast path has no failure"))
+        self.drive(progress, chunk)
+            .unwrap_or_else(|_| unreachable!("the fast path has no failure"))
     }
 
     /// Run with any orientation-error model (for example the plain dense-matrix
@@ -384,36 +408,6 @@ impl MonteCarlo {
             start = end;
         }
         drawn
-    }
-
-    /// The fast path for a box with zero lower bounds inside the short-series range (the
-    /// paper's case): the series are evaluated from the words' half-integers directly.
-    fn fast_chunk_zero_lb(&self, level: SimdLevel, chunk: u64) -> Partial {
-        let kernel = ZeroLbShortKernel {
-            coeffs: short_tan_coefficients(self.sampler.scale_rad()),
-        };
-        run_at(
-            level,
-            KernelChunk {
-                mc: self,
-                chunk,
-                kernel,
-            },
-        )
-    }
-
-    fn fast_chunk<const TIER: u8>(&self, level: SimdLevel, chunk: u64) -> Partial {
-        let kernel = TierKernel::<TIER> {
-            sampler: &self.sampler,
-        };
-        run_at(
-            level,
-            KernelChunk {
-                mc: self,
-                chunk,
-                kernel,
-            },
-        )
     }
 
     fn model_chunk<M: OrientationErrorModel + Sync>(
@@ -477,16 +471,6 @@ trait BlockKernel {
     ) -> [f64; 3];
 }
 
-/// The little-endian words of a byte column, as `i32` half-integers $t = \mathrm{i32}(w) +
-/// \tfrac12$ mapped by `f` (a contiguous loop the compiler vectorises).
-#[inline(always)]
-fn decode_column(col: &[u8], out: &mut [f64], f: impl Fn(f64) -> f64) {
-    for (x, w) in out.iter_mut().zip(col.chunks_exact(4)) {
-        let t = f64::from(i32::from_le_bytes([w[0], w[1], w[2], w[3]])) + 0.5;
-        *x = f(t);
-    }
-}
-
 /// All lower bounds zero, short-series tier: unnormalised quaternions from the words'
 /// half-integers ([`crate::fast::short_tan_coefficients`]).
 struct ZeroLbShortKernel {
@@ -502,7 +486,9 @@ impl BlockKernel for ZeroLbShortKernel {
         inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN],
     ) {
         for (i, t) in inputs.iter_mut().enumerate() {
-            decode_column(block.column(i), &mut t[..n], |t| t);
+            for (x, w) in t[..n].iter_mut().zip(block.column_words(i)) {
+                *x = f64::from(w as i32) + 0.5;
+            }
         }
     }
 
@@ -526,11 +512,9 @@ impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
         n: usize,
         inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN],
     ) {
-        let (scale, lb) = (self.sampler.scale_rad(), self.sampler.lb_rad());
         for (i, chi) in inputs.iter_mut().enumerate() {
-            decode_column(block.column(i), &mut chi[..n], |t| {
-                t * scale[i] + lb[i].copysign(t)
-            });
+            self.sampler
+                .decode_chi(i, block.column_words(i), &mut chi[..n]);
         }
     }
 
@@ -563,8 +547,7 @@ impl<const DECODE: bool> HotLoop for DrawChunk<'_, DECODE> {
             if DECODE {
                 mc.sampler.fill_block(&mut rng, n, &mut block);
                 for (j, col) in angles.iter_mut().enumerate() {
-                    for (a, w) in col[..n].iter_mut().zip(block.column(8 + j).chunks_exact(4)) {
-                        let w = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
+                    for (a, w) in col[..n].iter_mut().zip(block.column_words(8 + j)) {
                         *a = TurntableSampler::angle_from_word(w);
                     }
                 }
@@ -583,7 +566,7 @@ impl<const DECODE: bool> HotLoop for DrawChunk<'_, DECODE> {
 struct KernelChunk<'a, K> {
     mc: &'a MonteCarlo,
     chunk: u64,
-    kernel: K,
+    kernel: &'a K,
 }
 
 impl<K: BlockKernel> HotLoop for KernelChunk<'_, K> {
@@ -610,9 +593,9 @@ impl<K: BlockKernel> HotLoop for KernelChunk<'_, K> {
             for ((s, c), w) in sin2[..n]
                 .iter_mut()
                 .zip(&mut cos2[..n])
-                .zip(block.column(9).chunks_exact(4))
+                .zip(block.column_words(9))
             {
-                (*s, *c) = sin_cos_turn_with(table, u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
+                (*s, *c) = sin_cos_turn_with(table, w);
             }
             for k in 0..n {
                 let d = kernel.eval(sc[0][k], sc[1][k], &inputs, k);

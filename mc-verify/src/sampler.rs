@@ -116,11 +116,6 @@ impl TurntableSampler {
         &self.scale_rad
     }
 
-    /// $\mathrm{LB}_i$, rad.
-    pub(crate) fn lb_rad(&self) -> &[f64; CHI_LEN] {
-        &self.lb_rad
-    }
-
     /// $\chi_i$ (rad) from its word `w` (see the module table).
     #[inline(always)]
     #[must_use]
@@ -154,18 +149,18 @@ impl TurntableSampler {
     #[inline(always)]
     pub fn fill_block<R: Rng + ?Sized>(&self, rng: &mut R, n: usize, block: &mut SampleBlock) {
         fill_words(rng, n, block);
-        let n = block.len;
-        for (i, col) in block.bytes[..n * BYTES_PER_SAMPLE]
-            .chunks_exact(4 * n)
-            .take(CHI_LEN)
-            .enumerate()
-        {
-            let (scale, lb) = (self.scale_rad[i], self.lb_rad[i]);
-            for (x, w) in block.chi[i].iter_mut().zip(col.chunks_exact(4)) {
-                let w = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
-                let t = f64::from(w as i32) + 0.5;
-                *x = t * scale + lb.copysign(t);
-            }
+        let SampleBlock { len, bytes, chi } = block;
+        for (i, out) in chi.iter_mut().enumerate() {
+            self.decode_chi(i, column_words(bytes, *len, i), out);
+        }
+    }
+
+    /// $\chi_i$ (rad) of the words of component `i` into `out`, in order
+    /// ([`TurntableSampler::chi_from_word`] of each; a loop the compiler vectorises).
+    #[inline(always)]
+    pub(crate) fn decode_chi(&self, i: usize, words: impl Iterator<Item = u32>, out: &mut [f64]) {
+        for (x, w) in out.iter_mut().zip(words) {
+            *x = self.chi_from_word(i, w);
         }
     }
 }
@@ -177,6 +172,14 @@ pub(crate) fn fill_words<R: Rng + ?Sized>(rng: &mut R, n: usize, block: &mut Sam
     let n = n.clamp(1, BLOCK_CAPACITY);
     block.len = n;
     rng.fill_bytes(&mut block.bytes[..n * BYTES_PER_SAMPLE]);
+}
+
+/// The words of quantity `j` of a block of `len` samples whose stream bytes are `bytes`.
+#[inline(always)]
+fn column_words(bytes: &[u8], len: usize, j: usize) -> impl Iterator<Item = u32> + '_ {
+    bytes[4 * j * len..4 * (j + 1) * len]
+        .chunks_exact(4)
+        .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
 }
 
 /// A block of drawn turntables (structure of arrays), filled by
@@ -219,10 +222,11 @@ impl SampleBlock {
         self.len == 0
     }
 
-    /// The little-endian bytes of quantity `j` (0-9) of all samples of the block.
+    /// The words of quantity `j` (0-9, see the module table) of all samples of the block,
+    /// in sample order (a contiguous column: loops over it vectorise).
     #[inline(always)]
-    pub(crate) fn column(&self, j: usize) -> &[u8] {
-        &self.bytes[4 * j * self.len..4 * (j + 1) * self.len]
+    pub(crate) fn column_words(&self, j: usize) -> impl Iterator<Item = u32> + '_ {
+        column_words(&self.bytes, self.len, j)
     }
 
     /// The raw word of quantity `j` (0-9, see the module table) of sample `k`.
