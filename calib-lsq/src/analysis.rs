@@ -1,4 +1,4 @@
-//! The orientation-error analysis of eq 7-14 and the readings of eq 13.
+//! The orientation-error analysis of eq 7-14 and the readings of eq 13, for any sensor.
 //!
 //! # The readings of eq 13
 //! Eq 13 prints $\Delta\hat{\boldsymbol\omega}_x = (\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}_2) -
@@ -12,11 +12,13 @@
 //!   intended one, $\mathbf b_1 = \mathbf A\boldsymbol\beta + \mathbf b_2$;
 //! - [`Estimate`]: $\hat{\boldsymbol\beta}_1 = \mathbf A^+(\mathbf b_1 - \mathbf b_2)$ (eq 6, what
 //!   the user gets) or $\hat{\boldsymbol\beta}_2 = \mathbf A'^+(\mathbf b_1 - \mathbf b_2')$ (eq 11);
-//! - [`ErrorForm`]: which regressors and rates form the error vector.
+//! - [`ErrorForm`]: which regressors and known terms form the error vector.
 //!
-//! With $\mathbf e = \mathbf b_2' - \mathbf b_2$ (earth-rate perturbation),
-//! $\mathbf g = (\mathbf A' - \mathbf A)\boldsymbol\beta$ (gravity perturbation) and
-//! $\mathbf P = \mathbf A\mathbf A^+$, the readings give, to first order in the angles:
+//! Here $\mathbf A$ holds the estimated terms' regressors and $\mathbf b_2$ the known terms
+//! (the rate input for a gyro), primes at the actual orientation. With
+//! $\mathbf e = \mathbf b_2' - \mathbf b_2$ (known-term perturbation, the earth rate for eq 1),
+//! $\mathbf g = (\mathbf A' - \mathbf A)\boldsymbol\beta$ (regressor perturbation, gravity for
+//! eq 1) and $\mathbf P = \mathbf A\mathbf A^+$, the readings give, to first order in the angles:
 //!
 //! | outputs | estimate | form | error vector |
 //! |---|---|---|---|
@@ -33,16 +35,25 @@
 //! The remaining combinations repeat these up to sign (see the crate README for the full
 //! table with the requirement each gives).
 //!
-//! Only the earth-rate-only readings ($\pm\mathbf e$) reproduce all four statements of §2.2-2.3;
-//! the default, [`Reading::PAPER`], is the first row: eq 13 as printed with
+//! Only the known-term-only readings ($\pm\mathbf e$) reproduce all four statements of
+//! §2.2-2.3; the paper's reading, [`Reading::PAPER`], is the first row: eq 13 as printed with
 //! $\hat{\boldsymbol\beta}_1$ in place of $\hat{\boldsymbol\beta}_2$ (the estimate the text
 //! speaks of) and outputs simulated at the intended orientation.
+//!
+//! # One evaluation for every use
+//! [`Reading::error_vector`] is the only place the 18 readings are evaluated. It asks a
+//! [`ReadingTerms`] for the building blocks ($\mathbf b_1$, $\mathbf b_2^{(\prime)}$,
+//! $\hat{\boldsymbol\beta}$, $\mathbf A^{(\prime)}\hat{\boldsymbol\beta}$). The reference analysis
+//! ([`OrientationErrorAnalysis`]) supplies them with matrices and QR; a fast path (for
+//! example the end-to-end Monte Carlo) with a precomputed $\mathbf A^+$; a linearisation with
+//! their first variations. Because the error vector is linear in the blocks, the same
+//! dispatch gives the value and the derivative.
 
+use crate::calibration::{Calibration, OutputCalibration, design_matrix, known_vector, simulate_outputs};
 use crate::error::CalibError;
-use crate::lsq::{Regression, qr_estimate};
-use crate::schedule::{Schedule, actual_inputs, rate_vector, regression_matrix};
-use gw_model::{AxisCoefficients, DeltaRKind, Inputs, OrientationAngles, SensingAxis, Site};
-use nalgebra::{DMatrix, DVector, Matrix3};
+use crate::lsq::Regression;
+use gw_model::{DeltaRKind, Inputs, OrientationAngles};
+use nalgebra::{DVector, Matrix3};
 use std::fmt;
 use std::str::FromStr;
 
@@ -66,17 +77,17 @@ pub enum Estimate {
     Beta2,
 }
 
-/// Which regressors and rates form the error vector $\Delta\hat{\boldsymbol\omega}$.
+/// Which regressors and known terms form the error vector $\Delta\hat{\boldsymbol\omega}$.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ErrorForm {
     /// $(\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}) - \mathbf b_2'$: eq 13 as printed.
     Printed,
-    /// $(\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}) - \mathbf b_2$: nominal rates.
+    /// $(\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}) - \mathbf b_2$: nominal known terms.
     NominalRate,
     /// $(\mathbf b_1 - \mathbf A'\hat{\boldsymbol\beta}) - \mathbf b_2'$: actual regressors.
     ActualRegressors,
     /// $(\mathbf b_1 - \mathbf A'\hat{\boldsymbol\beta}) - \mathbf b_2$: actual regressors,
-    /// nominal rates.
+    /// nominal known terms.
     ActualRegressorsNominalRate,
     /// $\mathbf A\,\Delta\boldsymbol\beta = \mathbf A(\hat{\boldsymbol\beta}_1 -
     /// \hat{\boldsymbol\beta}_2)$: eq 12 mapped to the test positions (the estimate is not used).
@@ -95,16 +106,10 @@ pub struct Reading {
     pub form: ErrorForm,
 }
 
-impl Default for Reading {
-    fn default() -> Self {
-        Self::PAPER
-    }
-}
-
 impl Reading {
     /// The reading that reproduces §2.2-2.3 (claims 1-4): outputs at the intended orientation,
     /// $\hat{\boldsymbol\beta}_1$, eq 13's printed form. Its error vector is exactly
-    /// $-(\mathbf b_2' - \mathbf b_2)$, the earth-rate perturbation.
+    /// $-(\mathbf b_2' - \mathbf b_2)$, the known-term (earth-rate) perturbation.
     pub const PAPER: Reading = Reading {
         outputs: OutputsAt::Intended,
         estimate: Estimate::Beta1,
@@ -113,7 +118,7 @@ impl Reading {
 
     /// Eq 13 exactly as printed with physically simulated outputs: outputs at the actual
     /// orientation, $\hat{\boldsymbol\beta}_2$ (which then equals $\boldsymbol\beta$). Its error
-    /// vector is exactly the gravity perturbation $(\mathbf A' - \mathbf A)\boldsymbol\beta$.
+    /// vector is exactly the regressor perturbation $(\mathbf A' - \mathbf A)\boldsymbol\beta$.
     pub const AS_PRINTED: Reading = Reading {
         outputs: OutputsAt::Actual,
         estimate: Estimate::Beta2,
@@ -177,13 +182,88 @@ impl Reading {
         }
     }
 
-    fn needs_beta_2(&self) -> bool {
+    /// Whether the reading needs $\hat{\boldsymbol\beta}_2$ (a factorisation of $\mathbf A'$
+    /// per evaluation).
+    #[must_use]
+    pub fn needs_beta_2(&self) -> bool {
         self.estimate == Estimate::Beta2 || self.form == ErrorForm::DeltaBeta
     }
 
-    fn needs_beta_1(&self) -> bool {
-        self.estimate == Estimate::Beta1 || self.form == ErrorForm::DeltaBeta
+    /// The error vector $\Delta\hat{\boldsymbol\omega}$ of this reading from the building blocks
+    /// `t`, into `out` (one entry per position); `work` holds the intermediate vectors (no
+    /// allocation once sized). The only evaluation of the readings in the workspace (see the
+    /// [module](self)).
+    pub fn error_vector<T: ReadingTerms + ?Sized>(&self, t: &T, work: &mut ReadingWork, out: &mut [f64]) {
+        let (n, k) = (t.positions(), t.coefficients());
+        work.size(n, k);
+        let ReadingWork { b1, b2, beta, beta2, pred, pred2 } = work;
+        t.outputs(self.outputs, b1);
+        if self.form == ErrorForm::DeltaBeta {
+            t.estimate(Estimate::Beta1, b1, beta);
+            t.estimate(Estimate::Beta2, b1, beta2);
+            t.predict(false, beta, pred);
+            t.predict(false, beta2, pred2);
+            for i in 0..n {
+                out[i] = pred[i] - pred2[i];
+            }
+            return;
+        }
+        t.estimate(self.estimate, b1, beta);
+        let (actual_regressors, actual_known) = match self.form {
+            ErrorForm::Printed => (false, true),
+            ErrorForm::NominalRate => (false, false),
+            ErrorForm::ActualRegressors => (true, true),
+            ErrorForm::ActualRegressorsNominalRate => (true, false),
+            ErrorForm::DeltaBeta => unreachable!("handled above"),
+        };
+        t.predict(actual_regressors, beta, pred);
+        t.known(actual_known, b2);
+        for i in 0..n {
+            out[i] = b1[i] - pred[i] - b2[i];
+        }
     }
+}
+
+/// Scratch vectors of [`Reading::error_vector`] (sized on first use, reused after).
+#[derive(Debug, Clone, Default)]
+pub struct ReadingWork {
+    b1: Vec<f64>,
+    b2: Vec<f64>,
+    beta: Vec<f64>,
+    beta2: Vec<f64>,
+    pred: Vec<f64>,
+    pred2: Vec<f64>,
+}
+
+impl ReadingWork {
+    fn size(&mut self, n: usize, k: usize) {
+        for v in [&mut self.b1, &mut self.b2, &mut self.pred, &mut self.pred2] {
+            v.resize(n, 0.0);
+        }
+        for v in [&mut self.beta, &mut self.beta2] {
+            v.resize(k, 0.0);
+        }
+    }
+}
+
+/// The building blocks of eq 13 for one output, supplied to [`Reading::error_vector`]: by
+/// values (the reference analysis, a fast path) or by first variations (a linearisation).
+pub trait ReadingTerms {
+    /// Number of positions $n$.
+    fn positions(&self) -> usize;
+    /// Number of estimated coefficients $k$.
+    fn coefficients(&self) -> usize;
+    /// $\mathbf b_1$ simulated as `at` says.
+    fn outputs(&self, at: OutputsAt, out: &mut [f64]);
+    /// $\mathbf b_2'$ (`actual`) or $\mathbf b_2$.
+    fn known(&self, actual: bool, out: &mut [f64]);
+    /// $\hat{\boldsymbol\beta}_1 = \mathbf A^+(\mathbf b_1 - \mathbf b_2)$ or
+    /// $\hat{\boldsymbol\beta}_2 = \mathbf A'^+(\mathbf b_1 - \mathbf b_2')$ from the given
+    /// $\mathbf b_1$.
+    fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]);
+    /// $\mathbf A'\boldsymbol\beta$ (`actual`) or $\mathbf A\boldsymbol\beta$ for the given
+    /// coefficients.
+    fn predict(&self, actual: bool, beta: &[f64], out: &mut [f64]);
 }
 
 impl fmt::Display for Reading {
@@ -245,14 +325,70 @@ impl FromStr for Reading {
     }
 }
 
-/// The full result of eq 7-14 for one axis.
+/// The building blocks by value, with matrices: the reference path.
+struct ReferenceTerms<'a> {
+    cal: &'a OutputCalibration,
+    a_prime: nalgebra::DMatrix<f64>,
+    b2_prime: DVector<f64>,
+    b1_actual: DVector<f64>,
+    /// $\mathbf A'$ factored (only when the reading needs $\hat{\boldsymbol\beta}_2$).
+    a_prime_qr: Option<Regression>,
+}
+
+impl ReferenceTerms<'_> {
+    fn beta2(&self, y: &DVector<f64>) -> DVector<f64> {
+        self.a_prime_qr
+            .as_ref()
+            .unwrap_or_else(|| unreachable!("factored when the reading needs beta2"))
+            .estimate(y)
+            .unwrap_or_else(|_| unreachable!("lengths match"))
+    }
+}
+
+impl ReadingTerms for ReferenceTerms<'_> {
+    fn positions(&self) -> usize {
+        self.b2_prime.len()
+    }
+    fn coefficients(&self) -> usize {
+        self.cal.beta().len()
+    }
+    fn outputs(&self, at: OutputsAt, out: &mut [f64]) {
+        let v = match at {
+            OutputsAt::Actual => self.b1_actual.clone(),
+            OutputsAt::Intended => self.cal.a_beta() + self.cal.b2(),
+        };
+        out.copy_from_slice(v.as_slice());
+    }
+    fn known(&self, actual: bool, out: &mut [f64]) {
+        out.copy_from_slice(if actual { self.b2_prime.as_slice() } else { self.cal.b2().as_slice() });
+    }
+    fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]) {
+        let b1 = DVector::from_column_slice(b1);
+        let beta = match which {
+            Estimate::Beta1 => self
+                .cal
+                .regression()
+                .estimate(&(b1 - self.cal.b2()))
+                .unwrap_or_else(|_| unreachable!("lengths match")),
+            Estimate::Beta2 => self.beta2(&(b1 - &self.b2_prime)),
+        };
+        out.copy_from_slice(beta.as_slice());
+    }
+    fn predict(&self, actual: bool, beta: &[f64], out: &mut [f64]) {
+        let beta = DVector::from_column_slice(beta);
+        let v = if actual { &self.a_prime * beta } else { self.cal.regression().matrix() * beta };
+        out.copy_from_slice(v.as_slice());
+    }
+}
+
+/// The full result of eq 7-14 for one output.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ErrorAnalysis {
-    /// The axis.
-    pub axis: SensingAxis,
+    /// The output's name.
+    pub output: String,
     /// The reading used.
     pub reading: Reading,
-    /// Simulated outputs $\mathbf b_1$, rad/s.
+    /// Simulated outputs $\mathbf b_1$ (as the reading says).
     pub b1: DVector<f64>,
     /// $\hat{\boldsymbol\beta}_1$ (eq 6).
     pub beta_hat_1: DVector<f64>,
@@ -260,67 +396,56 @@ pub struct ErrorAnalysis {
     pub beta_hat_2: DVector<f64>,
     /// $\Delta\boldsymbol\beta = \hat{\boldsymbol\beta}_1 - \hat{\boldsymbol\beta}_2$ (eq 12).
     pub delta_beta: DVector<f64>,
-    /// $\Delta\hat{\boldsymbol\omega}$ (eq 13 in the chosen reading), rad/s, one per position.
+    /// $\Delta\hat{\boldsymbol\omega}$ (eq 13 in the chosen reading), one per position, in the
+    /// output's unit.
     pub error_vector: DVector<f64>,
-    /// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$ (eq 14), rad/s.
-    pub delta_omega_rad_per_s: f64,
+    /// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$ (eq 14), output unit.
+    pub delta_omega: f64,
 }
 
-/// A prepared orientation-error analysis of one axis: true coefficients, schedule, site and
+/// A prepared orientation-error analysis of one output: true coefficients, schedule, site and
 /// reading fixed; the nominal regression is factored once.
 #[derive(Debug, Clone)]
 pub struct OrientationErrorAnalysis {
-    coefficients: AxisCoefficients,
-    schedule: Schedule,
-    site: Site,
+    cal: OutputCalibration,
+    schedule: crate::Schedule,
+    site: gw_model::Site,
     reading: Reading,
-    nominal: Vec<Inputs>,
-    regression: Regression,
-    b2: DVector<f64>,
-    a_beta: DVector<f64>,
-}
-
-struct Parts {
-    b1: DVector<f64>,
-    beta_1: Option<DVector<f64>>,
-    beta_2: Option<DVector<f64>>,
-    error: DVector<f64>,
 }
 
 impl OrientationErrorAnalysis {
-    /// Prepare the analysis of the axis of `coefficients` (the true $\boldsymbol\beta$).
+    /// Prepare the analysis of output `k` of a calibration under `reading`.
     ///
     /// # Errors
-    /// [`CalibError::Unidentifiable`] if the schedule cannot identify the axis (cannot happen
-    /// for a constructed [`Schedule`]).
-    pub fn new(
-        coefficients: &AxisCoefficients,
-        schedule: &Schedule,
-        site: &Site,
-        reading: Reading,
-    ) -> Result<Self, CalibError> {
-        let axis = coefficients.axis();
-        let nominal = schedule.inputs(site);
-        let regression = Regression::new(axis, regression_matrix(axis, &nominal))?;
-        let b2 = rate_vector(axis, &nominal);
-        let beta = DVector::from_column_slice(&coefficients.rad_per_s());
-        let a_beta = regression.matrix() * &beta;
+    /// [`CalibError::LengthMismatch`] naming `output index` when there is no output `k`.
+    pub fn new(calibration: &Calibration, k: usize, reading: Reading) -> Result<Self, CalibError> {
+        let cal = calibration
+            .outputs()
+            .get(k)
+            .ok_or(CalibError::LengthMismatch {
+                what: "output index",
+                expected: calibration.outputs().len(),
+                found: k,
+            })?
+            .clone();
         Ok(Self {
-            coefficients: *coefficients,
-            schedule: schedule.clone(),
-            site: *site,
+            cal,
+            schedule: calibration.schedule().clone(),
+            site: *calibration.site(),
             reading,
-            nominal,
-            regression,
-            b2,
-            a_beta,
         })
     }
 
-    /// The axis analysed.
+    /// The output's name.
     #[must_use]
-    pub fn axis(&self) -> SensingAxis {
-        self.coefficients.axis()
+    pub fn output(&self) -> &str {
+        &self.cal.output().name
+    }
+
+    /// The output's calibration data.
+    #[must_use]
+    pub fn calibration(&self) -> &OutputCalibration {
+        &self.cal
     }
 
     /// The reading used.
@@ -329,59 +454,32 @@ impl OrientationErrorAnalysis {
         self.reading
     }
 
-    /// The nominal regression matrix $\mathbf A$.
+    /// Number of positions.
     #[must_use]
-    pub fn nominal_matrix(&self) -> &DMatrix<f64> {
-        self.regression.matrix()
+    pub fn positions(&self) -> usize {
+        self.schedule.len()
     }
 
-    fn parts(&self, delta_r: &[Matrix3<f64>], need_both: bool) -> Result<Parts, CalibError> {
-        let axis = self.axis();
-        let actual = actual_inputs(&self.schedule, &self.site, delta_r)?;
-        let a_prime = regression_matrix(axis, &actual);
-        let b2_prime = rate_vector(axis, &actual);
-        let b1 = match self.reading.outputs {
-            OutputsAt::Actual => DVector::from_iterator(
-                actual.len(),
-                actual.iter().map(|i| self.coefficients.output_rad_per_s(i)),
-            ),
-            OutputsAt::Intended => &self.a_beta + &self.b2,
-        };
-        let beta_1 = if need_both || self.reading.needs_beta_1() {
-            Some(self.regression.estimate(&(&b1 - &self.b2))?)
+    fn terms(&self, actual: &[Inputs], need_beta_2: bool) -> Result<ReferenceTerms<'_>, CalibError> {
+        let o = self.cal.output();
+        let a_prime = design_matrix(o, actual);
+        let a_prime_qr = if need_beta_2 {
+            // A' is within the orientation error of A: full rank unless A is near-singular,
+            // which the rank check then reports by name.
+            Some(Regression::new(
+                &o.name,
+                o.estimated_names().into_iter().map(String::from).collect(),
+                a_prime.clone(),
+            )?)
         } else {
             None
         };
-        let beta_2 = if need_both || self.reading.needs_beta_2() {
-            // A' is within the orientation error of A (full rank): plain QR, no rank analysis.
-            let y = &b1 - &b2_prime;
-            match qr_estimate(a_prime.clone(), &y) {
-                Some(b) => Some(b),
-                None => Some(Regression::new(axis, a_prime.clone())?.estimate(&y)?),
-            }
-        } else {
-            None
-        };
-        let chosen = match self.reading.estimate {
-            Estimate::Beta1 => beta_1.as_ref(),
-            Estimate::Beta2 => beta_2.as_ref(),
-        };
-        let a = self.regression.matrix();
-        let error = match (self.reading.form, chosen, &beta_1, &beta_2) {
-            (ErrorForm::DeltaBeta, _, Some(b1h), Some(b2h)) => a * (b1h - b2h),
-            (ErrorForm::Printed, Some(b), _, _) => &b1 - a * b - &b2_prime,
-            (ErrorForm::NominalRate, Some(b), _, _) => &b1 - a * b - &self.b2,
-            (ErrorForm::ActualRegressors, Some(b), _, _) => &b1 - &a_prime * b - &b2_prime,
-            (ErrorForm::ActualRegressorsNominalRate, Some(b), _, _) => {
-                &b1 - &a_prime * b - &self.b2
-            }
-            _ => unreachable!("the estimates a reading needs are always computed"),
-        };
-        Ok(Parts {
-            b1,
-            beta_1,
-            beta_2,
-            error,
+        Ok(ReferenceTerms {
+            cal: &self.cal,
+            b2_prime: known_vector(o, actual),
+            b1_actual: simulate_outputs(o, actual),
+            a_prime,
+            a_prime_qr,
         })
     }
 
@@ -401,54 +499,68 @@ impl OrientationErrorAnalysis {
     /// [`CalibError::LengthMismatch`] unless there is one matrix per position;
     /// [`CalibError::Unidentifiable`] if $\mathbf A'$ is rank deficient.
     pub fn analyze(&self, delta_r: &[Matrix3<f64>]) -> Result<ErrorAnalysis, CalibError> {
-        let p = self.parts(delta_r, true)?;
-        let beta_hat_1 = p.beta_1.unwrap_or_else(|| unreachable!("need_both"));
-        let beta_hat_2 = p.beta_2.unwrap_or_else(|| unreachable!("need_both"));
+        let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
+        let t = self.terms(&actual, true)?;
+        let n = actual.len();
+        let k = t.coefficients();
+        let mut b1 = vec![0.0; n];
+        t.outputs(self.reading.outputs, &mut b1);
+        let (mut beta1, mut beta2) = (vec![0.0; k], vec![0.0; k]);
+        t.estimate(Estimate::Beta1, &b1, &mut beta1);
+        t.estimate(Estimate::Beta2, &b1, &mut beta2);
+        let mut error = vec![0.0; n];
+        self.reading.error_vector(&t, &mut ReadingWork::default(), &mut error);
+        let error_vector = DVector::from_vec(error);
+        let (beta_hat_1, beta_hat_2) = (DVector::from_vec(beta1), DVector::from_vec(beta2));
         Ok(ErrorAnalysis {
-            axis: self.axis(),
+            output: self.output().to_string(),
             reading: self.reading,
-            b1: p.b1,
+            b1: DVector::from_vec(b1),
             delta_beta: &beta_hat_1 - &beta_hat_2,
             beta_hat_1,
             beta_hat_2,
-            delta_omega_rad_per_s: p.error.amax(),
-            error_vector: p.error,
+            delta_omega: error_vector.amax(),
+            error_vector,
         })
     }
 
-    /// $\Delta\omega$ (eq 14, rad/s) with one $\Delta\mathbf R$ per position; computes only what
-    /// the reading needs.
+    /// The error vector $\Delta\hat{\boldsymbol\omega}$ (eq 13) only, computing what the reading
+    /// needs.
+    ///
+    /// # Errors
+    /// As [`analyze`](Self::analyze).
+    pub fn error_vector(&self, delta_r: &[Matrix3<f64>]) -> Result<DVector<f64>, CalibError> {
+        let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
+        let t = self.terms(&actual, self.reading.needs_beta_2())?;
+        let mut error = vec![0.0; actual.len()];
+        self.reading.error_vector(&t, &mut ReadingWork::default(), &mut error);
+        Ok(DVector::from_vec(error))
+    }
+
+    /// $\Delta\omega$ (eq 14, output unit) with one $\Delta\mathbf R$ per position.
     ///
     /// # Errors
     /// As [`analyze`](Self::analyze).
     pub fn delta_omega(&self, delta_r: &[Matrix3<f64>]) -> Result<f64, CalibError> {
-        Ok(self.parts(delta_r, false)?.error.amax())
+        Ok(self.error_vector(delta_r)?.amax())
     }
 
-    /// $\Delta\omega$ (eq 14, rad/s) when every position has the same orientation error
-    /// (§2.2: a fixed $\Delta\psi$, $\Delta\theta$, $\Delta\gamma$).
+    /// $\Delta\omega$ (eq 14) when every position has the same orientation error (§2.2: a
+    /// fixed $\Delta\psi$, $\Delta\theta$, $\Delta\gamma$).
     ///
     /// # Errors
     /// As [`analyze`](Self::analyze).
-    pub fn delta_omega_for_angles(
-        &self,
-        angles: &OrientationAngles,
-        kind: DeltaRKind,
-    ) -> Result<f64, CalibError> {
+    pub fn delta_omega_for_angles(&self, angles: &OrientationAngles, kind: DeltaRKind) -> Result<f64, CalibError> {
         let m = angles.delta_r(kind);
-        self.delta_omega(&vec![m; self.nominal.len()])
+        self.delta_omega(&vec![m; self.positions()])
     }
 
     /// Eq 7-14 when every position has the same orientation error.
     ///
     /// # Errors
     /// As [`analyze`](Self::analyze).
-    pub fn analyze_angles(
-        &self,
-        angles: &OrientationAngles,
-        kind: DeltaRKind,
-    ) -> Result<ErrorAnalysis, CalibError> {
+    pub fn analyze_angles(&self, angles: &OrientationAngles, kind: DeltaRKind) -> Result<ErrorAnalysis, CalibError> {
         let m = angles.delta_r(kind);
-        self.analyze(&vec![m; self.nominal.len()])
+        self.analyze(&vec![m; self.positions()])
     }
 }

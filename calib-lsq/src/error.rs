@@ -1,18 +1,18 @@
 //! The crate's error type.
 
-use gw_model::{ModelError, SensingAxis};
+use gw_model::ModelError;
 
 /// Errors from schedules, least squares, the orientation-error analysis and the requirement.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum CalibError {
-    /// An input of the GyroWheel model was invalid (site, position, coefficients).
+    /// An input of the sensor model was invalid (site, orientation angles, sensor).
     #[error(transparent)]
     Model(#[from] ModelError),
     /// A named input was NaN or infinite.
     #[error("{field} must be finite, got {value}")]
     NonFinite {
-        /// Which input (for example `omega_m` or `outputs[3]`).
+        /// Which input (for example `accuracy` or `outputs[3]`).
         field: String,
         /// The offending value.
         value: f64,
@@ -21,23 +21,25 @@ pub enum CalibError {
     #[error("{field} must be positive, got {value}")]
     NonPositive {
         /// Which input.
-        field: &'static str,
+        field: String,
         /// The offending value.
         value: f64,
     },
     /// A schedule (or regression matrix) cannot identify some coefficients: they lie in the
     /// null space of $\mathbf A$.
     #[error(
-        "the schedule cannot identify {} of the {axis:?} axis (rank {rank} of 7 with {positions} positions)",
+        "the schedule cannot identify {} of output `{output}` (rank {rank} of {columns} with {positions} positions)",
         coefficients.join(", ")
     )]
     Unidentifiable {
-        /// The axis whose regression is rank deficient.
-        axis: SensingAxis,
-        /// Names of the coefficients that are not identifiable (eq 1 names, e.g. `D(x)_xy`).
-        coefficients: Vec<&'static str>,
+        /// The output whose regression is rank deficient.
+        output: String,
+        /// Names of the coefficients that are not identifiable.
+        coefficients: Vec<String>,
         /// Numerical rank of $\mathbf A$.
         rank: usize,
+        /// Number of estimated coefficients.
+        columns: usize,
         /// Number of positions.
         positions: usize,
     },
@@ -54,16 +56,19 @@ pub enum CalibError {
     /// The requirement region is not bounded within the search range (the reading gives no
     /// error growth in some direction).
     #[error(
-        "rate error of the {axis:?} axis stays below omega_m up to {limit_rad} rad in direction {direction_rad} rad"
+        "rate error of output `{output}` stays below its accuracy up to {limit_rad} rad of orientation error in direction {direction:?}"
     )]
     Unbounded {
-        /// Axis whose plane is unbounded.
-        axis: SensingAxis,
-        /// Direction (angle in the plane, rad) along which no boundary was found.
-        direction_rad: f64,
+        /// Output whose region is unbounded.
+        output: String,
+        /// Direction (unit vector in the output's angle space) along which no boundary was found.
+        direction: Vec<f64>,
         /// The search limit, rad.
         limit_rad: f64,
     },
+    /// No output is sensitive to any orientation angle: there is no orientation requirement.
+    #[error("no output's calibration error depends on the orientation: no requirement can be derived")]
+    NoSensitivity,
     /// A reading name could not be parsed.
     #[error(
         "unknown reading `{name}`; expected `outputs/estimate/form`, e.g. `intended/beta1/printed` (see Reading::all)"
@@ -81,6 +86,14 @@ pub enum CalibError {
         points: usize,
         /// Half range, rad.
         half_range_rad: f64,
+    },
+    /// An output or angle was named that does not exist.
+    #[error("{what} `{name}` does not exist")]
+    Unknown {
+        /// What kind of thing (`output`, `angle`).
+        what: &'static str,
+        /// The name given.
+        name: String,
     },
 }
 

@@ -1,30 +1,29 @@
-//! Multiposition least-squares calibration of a GyroWheel and the effect of an orientation
-//! error on it (Zhao, Zhao, Huo and Yao 2017, §2, eq 2-16, Figures 4-5).
+//! Multiposition least-squares calibration of any sensor linear in its coefficients, and the
+//! effect of an orientation error on it (Zhao, Zhao, Huo and Yao 2017, §2, eq 2-16,
+//! Figures 4-5; the GyroWheel of eq 1 is one sensor among many).
 //!
-//! - [`Schedule`]: turntable positions, checked to identify all seven coefficients of each axis
-//!   ([`CalibError::Unidentifiable`] names the ones they cannot); a documented default
-//!   ([`Schedule::paper_default`]).
-//! - [`calibrate`], [`Regression`], [`LsqSolution`]: eq 5-6 by QR, never forming
-//!   $\mathbf A^T\mathbf A$, with residuals, rank and condition number.
-//! - [`simulate_outputs`]: the outputs $\mathbf b_1$ for any per-position $\Delta\mathbf R$
-//!   (eq 8-9), e.g. the exact turntable error of eq 23.
-//! - [`OrientationErrorAnalysis`]: eq 7-14 for one axis under an explicit [`Reading`] of eq 13
-//!   (see [`analysis`] for all readings and what each gives).
-//! - [`RequirementProblem`]: surfaces $\Gamma_1$, $\Gamma_2$ ([`PlaneProblem::surface`]), the
-//!   lines of Figure 5 ([`PlaneProblem::boundary`]) and the requirement of eq 15-16
-//!   ([`RequirementProblem::requirement`]).
+//! - [`Schedule`], [`Position`]: the test orientations (and the joint angles commanding them);
+//! - [`Calibration`]: a [`gw_model::SensorModel`] on a schedule at a site, checked to identify
+//!   every output's coefficients ([`CalibError::Unidentifiable`] names the output and the
+//!   coefficients), regressions factored once ([`Regression`]: QR, rank, condition number,
+//!   singular values by a Jacobi SVD of $\mathbf R$), simulation and calibration (eq 5-6);
+//! - [`Reading`]: the 18 readings of eq 13, evaluated in one place
+//!   ([`Reading::error_vector`] over [`ReadingTerms`]); [`OrientationErrorAnalysis`]: eq 7-14
+//!   for one output;
+//! - [`RequirementProblem`]: the surfaces of Figure 4, the lines of Figure 5 and the
+//!   requirement of eq 15-16 for any sensor ([`RequirementProblem::requirement`]).
 //!
 //! # Example
 //! ```
-//! use calib_lsq::{RequirementProblem, Reading};
+//! use calib_lsq::{Calibration, Reading, RequirementProblem, paper};
+//! use gw_model::DeltaRKind;
 //!
-//! let problem = RequirementProblem::paper(); // Table 1, 0.01 deg/h, Harbin, default schedule
-//! assert_eq!(problem.reading, Reading::PAPER);
-//! let req = problem.requirement()?;
-//! let [psi, theta, gamma] = req.deg();
+//! // Table 1, 0.01 deg/h, Harbin, the default 32-position schedule
+//! let cal = Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &paper::schedule())?;
+//! let req = RequirementProblem::new(cal, Reading::PAPER, DeltaRKind::SmallAngle).requirement()?;
 //! // Eq 16: 0.027 deg for all three angles (rounded).
-//! for i in [psi, theta, gamma] {
-//!     assert!((i - 0.027).abs() < 0.0005, "{i}");
+//! for i in req.deg() {
+//!     assert!((i.unwrap() - 0.027).abs() < 0.0005);
 //! }
 //! # Ok::<(), calib_lsq::CalibError>(())
 //! ```
@@ -36,22 +35,26 @@
 #![forbid(unsafe_code)]
 
 pub mod analysis;
+mod calibration;
 mod error;
 mod lsq;
+pub mod paper;
 mod requirement;
 mod schedule;
 
 pub use analysis::{
     ErrorAnalysis, ErrorForm, Estimate, OrientationErrorAnalysis, OutputsAt, Reading,
+    ReadingTerms, ReadingWork,
+};
+pub use calibration::{
+    Calibration, CalibrationResult, OutputCalibration, design_matrix, known_vector,
+    simulate_outputs,
 };
 pub use error::CalibError;
-pub use lsq::{LsqSolution, NULL_COMPONENT_TOL, RANK_RTOL, Regression, solve_least_squares};
+pub use lsq::{LsqSolution, NULL_COMPONENT_TOL, RANK_RTOL, Regression, jacobi_singular_values};
 pub use requirement::{
-    BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_TOL_RAD, OrientationRequirement,
-    PAPER_OMEGA_M_DEG_PER_H, PlaneProblem, RADIUS_TOL_RAD, Rectangle, RequirementProblem,
-    SEARCH_LIMIT_RAD, Surface,
+    ANGLE_NAMES, BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
+    DIRECTION_TOL_RAD, INSENSITIVE_REL, OrientationRequirement, OutputBox, OutputRegion,
+    RADIUS_TOL_RAD, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD, Surface,
 };
-pub use schedule::{
-    Calibration, DEFAULT_PHI_1_DEG, DEFAULT_PHI_2_DEG, Schedule, actual_inputs, calibrate,
-    calibrate_simulated, rate_vector, regression_matrix, simulate_outputs,
-};
+pub use schedule::{Position, Schedule};

@@ -1,7 +1,7 @@
-//! Least squares by QR decomposition (eq 6 and 11 without forming $A^TA$).
+//! Least squares by QR decomposition (eq 6 and 11 without forming $A^TA$), with rank,
+//! identifiability and singular values.
 
 use crate::error::{CalibError, finite};
-use gw_model::{N_COEFFICIENTS, SensingAxis};
 use nalgebra::{DMatrix, DVector};
 
 /// Relative threshold for the numerical rank: a diagonal entry of the column-pivoted $\mathbf R$
@@ -15,24 +15,27 @@ pub const RANK_RTOL: f64 = 1e-10;
 /// order 1, numerical noise of order $10^{-15}$.
 pub const NULL_COMPONENT_TOL: f64 = 1e-6;
 
+/// Sweeps of the one-sided Jacobi SVD before it gives up (it converges quadratically; a
+/// 20 x 20 triangle needs about 8).
+const JACOBI_MAX_SWEEPS: usize = 60;
+
 /// A least-squares solution with its quality: residuals, rank, condition number.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LsqSolution {
-    /// The estimate $\hat{\boldsymbol\beta}$ (rad/s, rad/s/g, rad/s/g², eq 1 order).
+    /// The estimate $\hat{\boldsymbol\beta}$ (one value per estimated coefficient).
     pub beta: DVector<f64>,
-    /// Residuals $\mathbf y - \mathbf A\hat{\boldsymbol\beta}$ (rad/s), one per position.
+    /// Residuals $\mathbf y - \mathbf A\hat{\boldsymbol\beta}$, one per position.
     pub residuals: DVector<f64>,
     /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]).
     pub rank: usize,
-    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$ (infinite if rank
-    /// deficient).
+    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
     pub condition_number: f64,
     /// Singular values of $\mathbf A$, descending.
     pub singular_values: DVector<f64>,
 }
 
 impl LsqSolution {
-    /// Root mean square of the residuals, rad/s.
+    /// Root mean square of the residuals.
     #[must_use]
     pub fn rms_residual(&self) -> f64 {
         if self.residuals.is_empty() {
@@ -43,93 +46,106 @@ impl LsqSolution {
     }
 }
 
-/// A factored regression matrix $\mathbf A$ (n x 7) of one axis, reusable for many right-hand
-/// sides.
+/// A factored regression matrix $\mathbf A$ ($n \times k$) of one output, reusable for many
+/// right-hand sides.
 ///
 /// Solves by Householder QR ($\mathbf A = \mathbf Q\mathbf R$, then
 /// $\mathbf R\hat{\boldsymbol\beta} = \mathbf Q^T\mathbf y$); the rank and the unidentifiable
 /// coefficients come from a column-pivoted QR; the singular values (for the condition number)
-/// from the symmetric eigenproblem of the $7\times7$ $\mathbf R^T\mathbf R$.
+/// from a one-sided Jacobi SVD of the $k \times k$ triangle $\mathbf R$ (the singular values of
+/// $\mathbf A$, to high relative accuracy; forming $\mathbf R^T\mathbf R$ would square the
+/// condition number).
 ///
-/// nalgebra 0.35's SVD is not used: for some row orders of the default schedule it returns
-/// factors that do not recompose $\mathbf A$ (error 0.09 on entries of order 1; nalgebra issue
-/// #1172), which broke the permutation-invariance test of the estimate.
+/// nalgebra 0.35's SVD is not used: for some row orders of a 32-position schedule it returns
+/// factors that do not recompose $\mathbf A$ (nalgebra issue #1172).
 #[derive(Debug, Clone)]
 pub struct Regression {
-    axis: SensingAxis,
+    output: String,
+    names: Vec<String>,
     a: DMatrix<f64>,
     q: DMatrix<f64>,
     r: DMatrix<f64>,
+    pinv: DMatrix<f64>,
     rank: usize,
     condition_number: f64,
     singular_values: DVector<f64>,
 }
 
 impl Regression {
-    /// Factor $\mathbf A$ and check that every coefficient is identifiable.
+    /// Factor $\mathbf A$ (one column per coefficient named in `names`) and check that every
+    /// coefficient is identifiable.
     ///
     /// # Errors
-    /// [`CalibError::Unidentifiable`] naming every coefficient with a component in the null
-    /// space of $\mathbf A$; [`CalibError::NonFinite`] for a non-finite entry;
-    /// [`CalibError::LengthMismatch`] unless $\mathbf A$ has 7 columns.
-    pub fn new(axis: SensingAxis, a: DMatrix<f64>) -> Result<Self, CalibError> {
+    /// [`CalibError::Unidentifiable`] naming `output` and every coefficient with a component in
+    /// the null space of $\mathbf A$; [`CalibError::NonFinite`] for a non-finite entry;
+    /// [`CalibError::LengthMismatch`] unless there is one name per column.
+    pub fn new(output: &str, names: Vec<String>, a: DMatrix<f64>) -> Result<Self, CalibError> {
         for (k, v) in a.iter().enumerate() {
             finite(format!("A[{}][{}]", k % a.nrows(), k / a.nrows()), *v)?;
         }
-        let n = a.nrows();
-        if a.ncols() != N_COEFFICIENTS {
+        let (n, k) = a.shape();
+        if names.len() != k || k == 0 {
             return Err(CalibError::LengthMismatch {
-                what: "regression matrix columns",
-                expected: N_COEFFICIENTS,
-                found: a.ncols(),
+                what: "coefficient names",
+                expected: k,
+                found: names.len(),
             });
         }
-        // With fewer than 7 rows pad with zero rows: the missing directions become null.
-        let padded = if n < N_COEFFICIENTS {
-            let mut p = DMatrix::zeros(N_COEFFICIENTS, N_COEFFICIENTS);
-            p.view_mut((0, 0), (n, N_COEFFICIENTS)).copy_from(&a);
+        // With fewer rows than columns pad with zero rows: the missing directions become null.
+        let padded = if n < k {
+            let mut p = DMatrix::zeros(k, k);
+            p.view_mut((0, 0), (n, k)).copy_from(&a);
             p
         } else {
             a.clone()
         };
-        let names = axis.coefficient_names();
         let (rank, null_rows) = pivoted_rank_and_null_space(&padded);
-        if rank < N_COEFFICIENTS {
+        if rank < k {
             let coefficients = names
                 .iter()
                 .zip(null_rows)
                 .filter(|(_, share)| *share > NULL_COMPONENT_TOL)
-                .map(|(name, _)| *name)
+                .map(|(name, _)| name.clone())
                 .collect();
             return Err(CalibError::Unidentifiable {
-                axis,
+                output: output.to_string(),
                 coefficients,
                 rank,
+                columns: k,
                 positions: n,
             });
         }
-        let qr = padded.qr();
+        let qr = a.clone().qr();
         let (q, r) = (qr.q(), qr.r());
-        let eig = (r.transpose() * &r).symmetric_eigenvalues();
-        let mut sv: Vec<f64> = eig.iter().map(|l| l.max(0.0).sqrt()).collect();
-        sv.sort_by(|x, y| y.total_cmp(x));
+        let sv = jacobi_singular_values(&r);
         let singular_values = DVector::from_vec(sv);
         let condition_number = singular_values.max() / singular_values.min();
+        let pinv = r
+            .solve_upper_triangular(&q.transpose())
+            .unwrap_or_else(|| unreachable!("full rank was checked"));
         Ok(Self {
-            axis,
+            output: output.to_string(),
+            names,
             a,
             q,
             r,
+            pinv,
             rank,
             condition_number,
             singular_values,
         })
     }
 
-    /// The axis.
+    /// The output's name.
     #[must_use]
-    pub fn axis(&self) -> SensingAxis {
-        self.axis
+    pub fn output(&self) -> &str {
+        &self.output
+    }
+
+    /// The coefficient names (columns).
+    #[must_use]
+    pub fn names(&self) -> &[String] {
+        &self.names
     }
 
     /// The regression matrix $\mathbf A$.
@@ -138,7 +154,14 @@ impl Regression {
         &self.a
     }
 
-    /// Numerical rank (always 7 for a constructed `Regression`).
+    /// The pseudo-inverse $\mathbf A^+ = \mathbf R^{-1}\mathbf Q^T$ ($k \times n$), computed once:
+    /// $\hat{\boldsymbol\beta} = \mathbf A^+\mathbf y$ for every right-hand side.
+    #[must_use]
+    pub fn pinv(&self) -> &DMatrix<f64> {
+        &self.pinv
+    }
+
+    /// Numerical rank (always the column count for a constructed `Regression`).
     #[must_use]
     pub fn rank(&self) -> usize {
         self.rank
@@ -148,6 +171,12 @@ impl Regression {
     #[must_use]
     pub fn condition_number(&self) -> f64 {
         self.condition_number
+    }
+
+    /// Singular values of $\mathbf A$, descending.
+    #[must_use]
+    pub fn singular_values(&self) -> &DVector<f64> {
+        &self.singular_values
     }
 
     /// The least-squares estimate $\hat{\boldsymbol\beta} = \mathbf A^+ \mathbf y$ only.
@@ -163,23 +192,11 @@ impl Regression {
                 found: y.len(),
             });
         }
-        let rhs = if n < N_COEFFICIENTS {
-            let mut p = DVector::zeros(N_COEFFICIENTS);
-            p.rows_mut(0, n).copy_from(y);
-            p
-        } else {
-            y.clone()
-        };
-        // Full rank was checked in `new`, so R is invertible.
-        let qty = self.q.transpose() * rhs;
-        self.r
+        let qty = self.q.transpose() * y;
+        Ok(self
+            .r
             .solve_upper_triangular(&qty)
-            .ok_or(CalibError::Unidentifiable {
-                axis: self.axis,
-                coefficients: Vec::new(),
-                rank: self.rank,
-                positions: n,
-            })
+            .unwrap_or_else(|| unreachable!("full rank was checked")))
     }
 
     /// Solve $\min \lVert \mathbf A\boldsymbol\beta - \mathbf y \rVert_2$ with residuals, rank and
@@ -208,16 +225,42 @@ impl Regression {
     }
 }
 
-/// Least squares for one axis in one call: factor `a` and solve for `y`.
-///
-/// # Errors
-/// As [`Regression::new`] and [`Regression::solve`].
-pub fn solve_least_squares(
-    axis: SensingAxis,
-    a: DMatrix<f64>,
-    y: &DVector<f64>,
-) -> Result<LsqSolution, CalibError> {
-    Regression::new(axis, a)?.solve(y)
+/// Singular values (descending) of a square or tall matrix by the one-sided Jacobi method
+/// (Hestenes): rotate column pairs until all are orthogonal; the column norms are then the
+/// singular values, to high relative accuracy.
+#[must_use]
+pub fn jacobi_singular_values(m: &DMatrix<f64>) -> Vec<f64> {
+    let mut u = m.clone();
+    let k = u.ncols();
+    for _ in 0..JACOBI_MAX_SWEEPS {
+        let mut rotated = false;
+        for p in 0..k {
+            for q in (p + 1)..k {
+                let alpha = u.column(p).norm_squared();
+                let beta = u.column(q).norm_squared();
+                let gamma = u.column(p).dot(&u.column(q));
+                if gamma == 0.0 || gamma.abs() <= f64::EPSILON * (alpha * beta).sqrt() {
+                    continue;
+                }
+                rotated = true;
+                let zeta = (beta - alpha) / (2.0 * gamma);
+                let t = zeta.signum() / (zeta.abs() + (1.0 + zeta * zeta).sqrt());
+                let c = 1.0 / (1.0 + t * t).sqrt();
+                let s = c * t;
+                for i in 0..u.nrows() {
+                    let (x, y) = (u[(i, p)], u[(i, q)]);
+                    u[(i, p)] = c * x - s * y;
+                    u[(i, q)] = s * x + c * y;
+                }
+            }
+        }
+        if !rotated {
+            break;
+        }
+    }
+    let mut sv: Vec<f64> = (0..k).map(|j| u.column(j).norm()).collect();
+    sv.sort_by(|x, y| y.total_cmp(x));
+    sv
 }
 
 /// Numerical rank of `a` (square or tall) by column-pivoted QR, and for each column the norm
@@ -265,15 +308,4 @@ fn pivoted_rank_and_null_space(a: &DMatrix<f64>) -> (usize, Vec<f64>) {
         *s = q.row(j).norm();
     }
     (rank, shares)
-}
-
-/// Plain Householder-QR least squares for a matrix known to be a small perturbation of a
-/// full-rank one (eq 11's $\mathbf A'$): no rank analysis. `None` if $\mathbf R$ is singular.
-pub(crate) fn qr_estimate(a: DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>> {
-    if a.nrows() < a.ncols() || y.len() != a.nrows() {
-        return None;
-    }
-    let qr = a.qr();
-    let qty = qr.q().transpose() * y;
-    qr.r().solve_upper_triangular(&qty)
 }

@@ -1,22 +1,41 @@
-//! Surfaces $\Gamma_1$, $\Gamma_2$ (Figure 4) and the requirement extraction of eq 15-16
-//! (Figure 5).
+//! The orientation requirement of eq 15-16 for any sensor: per output the largest centred box
+//! of orientation errors inside which the output meets its accuracy (Figures 4-5), combined
+//! over the outputs.
+//!
+//! # Formula
+//! Output $k$ meets its accuracy when $\Delta\omega_k(\boldsymbol\delta) \le \omega_{m,k}$ with
+//! $\Delta\omega_k$ of eq 14 for the same orientation error $\boldsymbol\delta =
+//! (\Delta\psi, \Delta\theta, \Delta\gamma)$ at every position (§2.2). The angles an output is
+//! sensitive to are found numerically (claim 1: $\Delta\omega_x$ ignores $\Delta\gamma$,
+//! $\Delta\omega_y$ ignores $\Delta\psi$). In the space of those angles (1, 2 or 3 of them),
+//! the paper's criterion "maximise the areas of the rectangles" (Figure 5) becomes: the
+//! centred, axis-aligned box of largest volume whose corners meet the accuracy. Then
+//! $I_j = \min_k$ of the half-sides along angle $j$ of the outputs sensitive to it
+//! (for the GyroWheel: $I_\psi$ from $x$, $I_\gamma$ from $y$, $I_\theta$ the smaller of the two).
+//! An angle no output is sensitive to has no requirement.
+//!
+//! # Search
+//! Corners in direction $\hat u$ (in the positive orthant) at radius $\rho$: $\rho(\hat u)$ is the
+//! largest radius at which every corner meets the accuracy (doubling, then bisection to
+//! [`RADIUS_TOL_RAD`]); the direction maximises the volume (two angles: a scan of
+//! [`DIRECTION_SCAN`] directions then golden sections to [`DIRECTION_TOL_RAD`]; three: a
+//! [`DIRECTION_SCAN_3D`]² grid then alternating golden sections to [`DIRECTION_TOL_3D_RAD`]).
+//! For a convex region (every first-order reading: $\Delta\omega$ is a maximum of absolute
+//! values of linear forms) the corners bound the whole box; the result records the largest
+//! $\Delta\omega/\omega_m$ found on its boundary.
 
 use crate::analysis::{OrientationErrorAnalysis, Reading};
+use crate::calibration::Calibration;
 use crate::error::{CalibError, finite};
-use crate::schedule::Schedule;
-use gw_model::units::deg_per_h_to_rad_per_s;
-use gw_model::{DeltaRKind, DriftCoefficients, OrientationAngles, SensingAxis, Site};
+use gw_model::{DeltaRKind, OrientationAngles};
 use std::f64::consts::FRAC_PI_2;
 
-/// The required calibration accuracy of §2.3, deg/h.
-pub const PAPER_OMEGA_M_DEG_PER_H: f64 = 0.01;
-
-/// Bisection stops when the bracket on the rectangle's corner radius is narrower than this, rad
+/// Bisection stops when the bracket on the box's corner radius is narrower than this, rad
 /// ($10^{-12}$ rad $\approx 6\times10^{-11}$ deg, far below the $10^{-6}$ deg asked for).
 pub const RADIUS_TOL_RAD: f64 = 1e-12;
 
-/// Golden-section search on the corner direction stops at this bracket width, rad. The area is
-/// flat (quadratic) at its optimum, so the half-sides are located to about
+/// Golden-section search on a two-angle corner direction stops at this bracket width, rad.
+/// The area is flat (quadratic) at its optimum, so the half-sides are located to about
 /// $\rho \cdot$ `DIRECTION_TOL_RAD` $\approx 5\times10^{-13}$ rad.
 pub const DIRECTION_TOL_RAD: f64 = 1e-9;
 
@@ -24,276 +43,272 @@ pub const DIRECTION_TOL_RAD: f64 = 1e-9;
 /// a polygonal region).
 pub const DIRECTION_SCAN: usize = 64;
 
+/// Grid of directions per angle for three sensitive angles.
+pub const DIRECTION_SCAN_3D: usize = 12;
+
+/// Golden-section bracket of the three-angle refinement, rad (half-sides to about
+/// $\rho\cdot10^{-7}$).
+pub const DIRECTION_TOL_3D_RAD: f64 = 1e-7;
+
 /// Largest corner radius searched, rad (about 28.6 deg).
 pub const SEARCH_LIMIT_RAD: f64 = 0.5;
 
-/// Points per edge at which a solved rectangle's boundary is re-checked.
+/// Points per edge at which a solved box's boundary is re-checked.
 pub const BOUNDARY_CHECK_POINTS: usize = 32;
 
-/// Everything the requirement of eq 15-16 depends on.
-#[derive(Debug, Clone, PartialEq)]
+/// An output is insensitive to an angle when a probe of [`SENSITIVITY_PROBE_RAD`] along it
+/// gives less than this fraction of the largest probe response (dimensionless).
+pub const INSENSITIVE_REL: f64 = 1e-9;
+
+/// Size of the probe of the sensitivity test, rad.
+pub const SENSITIVITY_PROBE_RAD: f64 = 1e-5;
+
+/// The three orientation angles in eq 24 order.
+pub const ANGLE_NAMES: [&str; 3] = ["psi", "theta", "gamma"];
+
+/// Everything the requirement of eq 15-16 depends on: the calibration (sensor with its
+/// accuracies, site, schedule), the reading of eq 13 and the matrix of eq 7.
+#[derive(Debug, Clone)]
 pub struct RequirementProblem {
-    /// The true (nominal) drift coefficients, e.g. Table 1.
-    pub coefficients: DriftCoefficients,
-    /// Latitude and earth rate.
-    pub site: Site,
-    /// The calibration positions.
-    pub schedule: Schedule,
-    /// Required calibration accuracy $\omega_m$, rad/s.
-    pub omega_m_rad_per_s: f64,
+    /// The calibration.
+    pub calibration: Calibration,
     /// The reading of eq 13.
     pub reading: Reading,
-    /// How the angles become $\Delta\mathbf R$ (eq 7 small-angle by default).
+    /// How the angles become $\Delta\mathbf R$ (eq 7 small-angle, or exact).
     pub delta_r_kind: DeltaRKind,
 }
 
-impl RequirementProblem {
-    /// The paper's inputs (§2.3): Table 1, $\omega_m = 0.01$ deg/h, with this project's
-    /// defaults for what the paper leaves open: Harbin and WGS-84 ([`Site::paper_default`]),
-    /// [`Schedule::paper_default`], [`Reading::PAPER`], the small-angle $\Delta\mathbf R$ of eq 7.
+/// The rate-sensing error of one output as a function of a constant orientation error.
+#[derive(Debug, Clone)]
+pub struct OutputRegion {
+    analysis: OrientationErrorAnalysis,
+    kind: DeltaRKind,
+    accuracy: f64,
+    sensitive: Vec<usize>,
+}
+
+/// The largest box of one output (in the angles it is sensitive to).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputBox {
+    /// The output.
+    pub output: String,
+    /// Half-sides per angle ($\psi, \theta, \gamma$), rad; `None` for an angle the output is
+    /// insensitive to.
+    pub half_rad: [Option<f64>; 3],
+    /// Volume (length, area or volume) of the box in its angles, rad^d.
+    pub volume: f64,
+    /// Largest $\Delta\omega/\omega_m$ found on the box's boundary (corners and
+    /// [`BOUNDARY_CHECK_POINTS`] points per edge): at most 1 up to the bisection tolerance
+    /// when the region is convex.
+    pub boundary_max_ratio: f64,
+}
+
+/// The requirement $|\Delta\psi| \le I_\psi$, $|\Delta\theta| \le I_\theta$,
+/// $|\Delta\gamma| \le I_\gamma$ (eq 15), radians.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrientationRequirement {
+    /// $(I_\psi, I_\theta, I_\gamma)$, rad; `None` where no output depends on the angle.
+    pub rad: [Option<f64>; 3],
+    /// Each output's box.
+    pub boxes: Vec<OutputBox>,
+    /// For each output, the largest $\Delta\omega/\omega_m$ at the corners of the combined
+    /// box (all three angles at once): at most 1 (to the bisection tolerance) when the
+    /// combination is sound.
+    pub combined_corner_ratio: Vec<f64>,
+}
+
+impl OrientationRequirement {
+    /// $(I_\psi, I_\theta, I_\gamma)$ in degrees (`None` where unconstrained).
     #[must_use]
-    pub fn paper() -> Self {
+    pub fn deg(&self) -> [Option<f64>; 3] {
+        self.rad.map(|r| r.map(f64::to_degrees))
+    }
+
+    /// The smallest of the three, rad (`None` if none is constrained).
+    #[must_use]
+    pub fn min_rad(&self) -> Option<f64> {
+        self.rad.iter().flatten().copied().reduce(f64::min)
+    }
+}
+
+/// Grid data of a surface $\Gamma$ (Figure 4): one output's $\Delta\omega$ over two angles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Surface {
+    /// The output.
+    pub output: String,
+    /// The two plane angles (indices into $\psi, \theta, \gamma$).
+    pub angles: [usize; 2],
+    /// Grid values of the first angle, rad.
+    pub u_rad: Vec<f64>,
+    /// Grid values of the second angle, rad.
+    pub v_rad: Vec<f64>,
+    /// $\Delta\omega$ (output unit) at `(u_rad[i], v_rad[j])`, indexed `[j][i]`.
+    pub delta_omega: Vec<Vec<f64>>,
+}
+
+impl RequirementProblem {
+    /// A problem.
+    #[must_use]
+    pub fn new(calibration: Calibration, reading: Reading, delta_r_kind: DeltaRKind) -> Self {
         Self {
-            coefficients: DriftCoefficients::table_1(),
-            site: Site::paper_default(),
-            schedule: Schedule::paper_default(),
-            omega_m_rad_per_s: deg_per_h_to_rad_per_s(PAPER_OMEGA_M_DEG_PER_H),
-            reading: Reading::PAPER,
-            delta_r_kind: DeltaRKind::SmallAngle,
+            calibration,
+            reading,
+            delta_r_kind,
         }
     }
 
-    /// Set $\omega_m$ in deg/h.
+    /// The region of output `k` (its sensitivities found by probing).
     ///
     /// # Errors
-    /// [`CalibError::NonPositive`] / [`CalibError::NonFinite`] naming `omega_m`.
-    pub fn with_omega_m_deg_per_h(mut self, omega_m_deg_per_h: f64) -> Result<Self, CalibError> {
-        finite("omega_m", omega_m_deg_per_h)?;
-        if omega_m_deg_per_h <= 0.0 {
-            return Err(CalibError::NonPositive {
-                field: "omega_m",
-                value: omega_m_deg_per_h,
-            });
-        }
-        self.omega_m_rad_per_s = deg_per_h_to_rad_per_s(omega_m_deg_per_h);
-        Ok(self)
-    }
-
-    /// The plane problem of one axis.
-    ///
-    /// # Errors
-    /// As [`OrientationErrorAnalysis::new`].
-    pub fn plane(&self, axis: SensingAxis) -> Result<PlaneProblem, CalibError> {
-        Ok(PlaneProblem {
-            analysis: OrientationErrorAnalysis::new(
-                self.coefficients.axis(axis),
-                &self.schedule,
-                &self.site,
-                self.reading,
-            )?,
+    /// [`CalibError::LengthMismatch`] for a missing output; as
+    /// [`OrientationErrorAnalysis::delta_omega`].
+    pub fn region(&self, k: usize) -> Result<OutputRegion, CalibError> {
+        let analysis = OrientationErrorAnalysis::new(&self.calibration, k, self.reading)?;
+        let accuracy = analysis.calibration().output().accuracy;
+        let mut region = OutputRegion {
+            analysis,
             kind: self.delta_r_kind,
-            omega_m_rad_per_s: self.omega_m_rad_per_s,
-        })
+            accuracy,
+            sensitive: Vec::new(),
+        };
+        let mut probe = [0.0; 3];
+        for (j, p) in probe.iter_mut().enumerate() {
+            let mut d = [0.0; 3];
+            d[j] = SENSITIVITY_PROBE_RAD;
+            let plus = region.rate_error(d)?;
+            d[j] = -SENSITIVITY_PROBE_RAD;
+            *p = plus.max(region.rate_error(d)?);
+        }
+        let top = probe.iter().copied().fold(0.0, f64::max);
+        region.sensitive = (0..3)
+            .filter(|&j| top > 0.0 && probe[j] > INSENSITIVE_REL * top)
+            .collect();
+        Ok(region)
     }
 
-    /// $\Delta\omega$ (eq 14, rad/s) of one axis for one orientation error.
+    /// $\Delta\omega$ of output `k` (output unit) for one orientation error.
     ///
     /// # Errors
-    /// As [`OrientationErrorAnalysis::delta_omega`].
-    pub fn rate_error(
-        &self,
-        axis: SensingAxis,
-        angles: &OrientationAngles,
-    ) -> Result<f64, CalibError> {
-        self.plane(axis)?
-            .analysis
+    /// As [`RequirementProblem::region`].
+    pub fn rate_error(&self, k: usize, angles: &OrientationAngles) -> Result<f64, CalibError> {
+        OrientationErrorAnalysis::new(&self.calibration, k, self.reading)?
             .delta_omega_for_angles(angles, self.delta_r_kind)
     }
 
-    /// The requirement of eq 15: the largest-area rectangles of both planes and the combined
-    /// bounds $I_\psi$, $I_\theta$, $I_\gamma$.
-    ///
-    /// # Formula
-    /// $I_\psi$ = half-side of the $x$-plane rectangle along $\Delta\psi$;
-    /// $I_\gamma$ = half-side of the $y$-plane rectangle along $\Delta\gamma$;
-    /// $I_\theta = \min$ of the two planes' half-sides along $\Delta\theta$ (both rectangles stay
-    /// inside their regions when $\Delta\theta$ is cut to the smaller one).
+    /// The requirement of eq 15: every output's largest box, combined.
     ///
     /// # Reference
     /// Eq 15-16, Figure 5.
     ///
     /// # Errors
-    /// As [`PlaneProblem::max_rectangle`].
+    /// [`CalibError::NoSensitivity`] when no output depends on any angle;
+    /// [`CalibError::Unbounded`] when an output's region is not bounded within
+    /// [`SEARCH_LIMIT_RAD`].
     pub fn requirement(&self) -> Result<OrientationRequirement, CalibError> {
-        let x_plane = self.plane(SensingAxis::X)?.max_rectangle()?;
-        let y_plane = self.plane(SensingAxis::Y)?.max_rectangle()?;
+        let regions = (0..self.calibration.outputs().len())
+            .map(|k| self.region(k))
+            .collect::<Result<Vec<_>, _>>()?;
+        if regions.iter().all(|r| r.sensitive.is_empty()) {
+            return Err(CalibError::NoSensitivity);
+        }
+        let boxes = regions
+            .iter()
+            .filter(|r| !r.sensitive.is_empty())
+            .map(OutputRegion::max_box)
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut rad = [None; 3];
+        for b in &boxes {
+            for (j, h) in b.half_rad.iter().enumerate() {
+                if let Some(h) = h {
+                    rad[j] = Some(rad[j].map_or(*h, |r: f64| r.min(*h)));
+                }
+            }
+        }
+        let corner = rad.map(|r| r.unwrap_or(0.0));
+        let combined_corner_ratio = regions
+            .iter()
+            .map(|r| {
+                let mut worst: f64 = 0.0;
+                for signs in 0..8u32 {
+                    let d: [f64; 3] = std::array::from_fn(|j| {
+                        if signs & (1 << j) == 0 { corner[j] } else { -corner[j] }
+                    });
+                    worst = worst.max(r.rate_error(d)? / r.accuracy);
+                }
+                Ok(worst)
+            })
+            .collect::<Result<Vec<_>, CalibError>>()?;
         Ok(OrientationRequirement {
-            psi_rad: x_plane.half_u_rad,
-            theta_rad: x_plane.half_v_rad.min(y_plane.half_u_rad),
-            gamma_rad: y_plane.half_v_rad,
-            x_plane,
-            y_plane,
+            rad,
+            boxes,
+            combined_corner_ratio,
         })
     }
 }
 
-/// The requirement $|\Delta\psi| \le I_\psi$, $|\Delta\theta| \le I_\theta$,
-/// $|\Delta\gamma| \le I_\gamma$ (eq 15), radians.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OrientationRequirement {
-    /// $I_\psi$, rad.
-    pub psi_rad: f64,
-    /// $I_\theta$, rad (the smaller of the two planes').
-    pub theta_rad: f64,
-    /// $I_\gamma$, rad.
-    pub gamma_rad: f64,
-    /// The $x$-axis rectangle in the $(\Delta\psi, \Delta\theta)$ plane.
-    pub x_plane: Rectangle,
-    /// The $y$-axis rectangle in the $(\Delta\theta, \Delta\gamma)$ plane.
-    pub y_plane: Rectangle,
-}
-
-impl OrientationRequirement {
-    /// $(I_\psi, I_\theta, I_\gamma)$ in degrees.
+impl OutputRegion {
+    /// The output's name.
     #[must_use]
-    pub fn deg(&self) -> [f64; 3] {
-        [
-            self.psi_rad.to_degrees(),
-            self.theta_rad.to_degrees(),
-            self.gamma_rad.to_degrees(),
-        ]
-    }
-}
-
-/// A centred, axis-aligned rectangle $|u| \le$ `half_u_rad`, $|v| \le$ `half_v_rad`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Rectangle {
-    /// Half-side along the plane's first angle ($\Delta\psi$ for $x$, $\Delta\theta$ for $y$), rad.
-    pub half_u_rad: f64,
-    /// Half-side along the plane's second angle ($\Delta\theta$ for $x$, $\Delta\gamma$ for $y$),
-    /// rad.
-    pub half_v_rad: f64,
-    /// Area $4\,$`half_u`$\,$`half_v`, rad².
-    pub area_rad2: f64,
-    /// Largest $\Delta\omega$ found on the rectangle's boundary (corners and
-    /// [`BOUNDARY_CHECK_POINTS`] points per edge), rad/s; at most $\omega_m$ up to the
-    /// bisection tolerance when the region is convex.
-    pub boundary_max_rad_per_s: f64,
-}
-
-/// Grid data of a surface $\Gamma_1$ ($x$ axis over $(\Delta\psi, \Delta\theta)$) or $\Gamma_2$
-/// ($y$ axis over $(\Delta\theta, \Delta\gamma)$), Figure 4.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Surface {
-    /// The axis.
-    pub axis: SensingAxis,
-    /// Names of the two plane angles, e.g. `["delta_psi", "delta_theta"]`.
-    pub angle_names: [&'static str; 2],
-    /// Grid values of the first angle, rad.
-    pub u_rad: Vec<f64>,
-    /// Grid values of the second angle, rad.
-    pub v_rad: Vec<f64>,
-    /// $\Delta\omega$ (rad/s) at `(u_rad[i], v_rad[j])`, indexed `[j][i]`.
-    pub delta_omega_rad_per_s: Vec<Vec<f64>>,
-}
-
-/// The rate-sensing error of one axis over its plane of orientation errors.
-///
-/// The $x$ axis is studied in the $(\Delta\psi, \Delta\theta)$ plane with $\Delta\gamma = 0$, the
-/// $y$ axis in the $(\Delta\theta, \Delta\gamma)$ plane with $\Delta\psi = 0$ (Figures 4a-b, 5);
-/// in the default reading the left-out angle has no effect (claim 1).
-#[derive(Debug, Clone)]
-pub struct PlaneProblem {
-    analysis: OrientationErrorAnalysis,
-    kind: DeltaRKind,
-    omega_m_rad_per_s: f64,
-}
-
-impl PlaneProblem {
-    /// The axis.
-    #[must_use]
-    pub fn axis(&self) -> SensingAxis {
-        self.analysis.axis()
+    pub fn output(&self) -> &str {
+        self.analysis.output()
     }
 
-    /// The prepared analysis.
+    /// The analysis.
     #[must_use]
     pub fn analysis(&self) -> &OrientationErrorAnalysis {
         &self.analysis
     }
 
-    /// Names of the two plane angles.
+    /// Its accuracy $\omega_m$ (output unit).
     #[must_use]
-    pub fn angle_names(&self) -> [&'static str; 2] {
-        match self.axis() {
-            SensingAxis::X => ["delta_psi", "delta_theta"],
-            SensingAxis::Y => ["delta_theta", "delta_gamma"],
-        }
+    pub fn accuracy(&self) -> f64 {
+        self.accuracy
     }
 
-    /// The orientation error at plane point $(u, v)$, radians.
+    /// The angles (indices into $\psi, \theta, \gamma$) the output is sensitive to.
     #[must_use]
-    pub fn angles(&self, u_rad: f64, v_rad: f64) -> OrientationAngles {
-        match self.axis() {
-            SensingAxis::X => OrientationAngles {
-                delta_psi_rad: u_rad,
-                delta_theta_rad: v_rad,
-                delta_gamma_rad: 0.0,
-            },
-            SensingAxis::Y => OrientationAngles {
-                delta_psi_rad: 0.0,
-                delta_theta_rad: u_rad,
-                delta_gamma_rad: v_rad,
-            },
-        }
+    pub fn sensitive_angles(&self) -> &[usize] {
+        &self.sensitive
     }
 
-    /// $\Delta\omega$ (rad/s) at plane point $(u, v)$.
+    /// $\Delta\omega$ (output unit) for the orientation error `[psi, theta, gamma]` (rad).
     ///
     /// # Errors
     /// [`CalibError::NonFinite`] for a non-finite angle; as
     /// [`OrientationErrorAnalysis::delta_omega`].
-    pub fn rate_error(&self, u_rad: f64, v_rad: f64) -> Result<f64, CalibError> {
-        finite("u", u_rad)?;
-        finite("v", v_rad)?;
+    pub fn rate_error(&self, angles_rad: [f64; 3]) -> Result<f64, CalibError> {
+        for (name, a) in ANGLE_NAMES.iter().zip(angles_rad) {
+            finite(*name, a)?;
+        }
+        let [psi, theta, gamma] = angles_rad;
         self.analysis
-            .delta_omega_for_angles(&self.angles(u_rad, v_rad), self.kind)
+            .delta_omega_for_angles(&OrientationAngles::new(psi, theta, gamma)?, self.kind)
     }
 
-    /// The surface on a `points` x `points` grid over $[-h, h]^2$ (Figure 4).
-    ///
-    /// # Errors
-    /// [`CalibError::BadGrid`] for fewer than 2 points or a non-positive half range.
-    pub fn surface(&self, half_range_rad: f64, points: usize) -> Result<Surface, CalibError> {
-        if points < 2 || !half_range_rad.is_finite() || half_range_rad <= 0.0 {
-            return Err(CalibError::BadGrid {
-                points,
-                half_range_rad,
-            });
+    fn point(&self, coords: &[f64]) -> [f64; 3] {
+        let mut d = [0.0; 3];
+        for (&j, &c) in self.sensitive.iter().zip(coords) {
+            d[j] = c;
         }
-        let grid: Vec<f64> = (0..points)
-            .map(|i| -half_range_rad + 2.0 * half_range_rad * i as f64 / (points - 1) as f64)
-            .collect();
-        let mut values = Vec::with_capacity(points);
-        for &v in &grid {
-            let row = grid
-                .iter()
-                .map(|&u| self.rate_error(u, v))
-                .collect::<Result<Vec<_>, _>>()?;
-            values.push(row);
-        }
-        Ok(Surface {
-            axis: self.axis(),
-            angle_names: self.angle_names(),
-            u_rad: grid.clone(),
-            v_rad: grid,
-            delta_omega_rad_per_s: values,
-        })
+        d
     }
 
-    /// Largest radius $\rho$ along `direction_rad` such that `ok(ρ)`, by doubling then
-    /// bisection to [`RADIUS_TOL_RAD`].
-    fn radius<F>(&self, direction_rad: f64, ok: F) -> Result<f64, CalibError>
+    fn corners_ok(&self, half: &[f64]) -> Result<bool, CalibError> {
+        let d = half.len();
+        for signs in 0..(1u32 << d) {
+            let c: Vec<f64> = (0..d)
+                .map(|i| if signs & (1 << i) == 0 { half[i] } else { -half[i] })
+                .collect();
+            if self.rate_error(self.point(&c))? > self.accuracy {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Largest radius $\rho$ such that `ok(ρ)`, by doubling then bisection to
+    /// [`RADIUS_TOL_RAD`].
+    fn radius<F>(&self, direction: &[f64], ok: F) -> Result<f64, CalibError>
     where
         F: Fn(f64) -> Result<bool, CalibError>,
     {
@@ -304,8 +319,8 @@ impl PlaneProblem {
             hi *= 2.0;
             if hi > SEARCH_LIMIT_RAD {
                 return Err(CalibError::Unbounded {
-                    axis: self.axis(),
-                    direction_rad,
+                    output: self.output().to_string(),
+                    direction: direction.to_vec(),
                     limit_rad: SEARCH_LIMIT_RAD,
                 });
             }
@@ -321,104 +336,204 @@ impl PlaneProblem {
         Ok(lo)
     }
 
-    /// The line of intersection of $\Gamma$ with the plane $\Delta\omega = \omega_m$ (Figure 5):
-    /// for `directions` rays from the origin, the point where $\Delta\omega$ first reaches
-    /// $\omega_m$, as `[u, v]` in radians.
+    /// The half-sides of the largest box whose corner points along `dir` (unit, positive).
+    fn box_along(&self, dir: &[f64]) -> Result<(Vec<f64>, f64), CalibError> {
+        let r = self.radius(dir, |r| {
+            let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
+            self.corners_ok(&half)
+        })?;
+        let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
+        let volume = half.iter().map(|h| 2.0 * h).product();
+        Ok((half, volume))
+    }
+
+    /// The largest-volume centred axis-aligned box inside $\Delta\omega \le \omega_m$ in the
+    /// output's sensitive angles (Figure 5, "to maximize the areas of the two rectangles").
+    ///
+    /// # Errors
+    /// [`CalibError::Unbounded`] if the region is not bounded within [`SEARCH_LIMIT_RAD`];
+    /// [`CalibError::NoSensitivity`] for an output insensitive to every angle.
+    pub fn max_box(&self) -> Result<OutputBox, CalibError> {
+        let half = match self.sensitive.len() {
+            0 => return Err(CalibError::NoSensitivity),
+            1 => self.box_along(&[1.0])?.0,
+            2 => {
+                let at = |t: f64| self.box_along(&[t.cos(), t.sin()]);
+                golden_max(at, 0.0, FRAC_PI_2, DIRECTION_SCAN, DIRECTION_TOL_RAD)?.0
+            }
+            _ => self.max_box_3d()?,
+        };
+        let volume = half.iter().map(|h| 2.0 * h).product();
+        let mut boundary: f64 = 0.0;
+        let n = BOUNDARY_CHECK_POINTS;
+        let d = half.len();
+        // every edge of the box: one coordinate runs, the others sit at +-half
+        for run in 0..d {
+            for signs in 0..(1u32 << d) {
+                if signs & (1 << run) != 0 {
+                    continue;
+                }
+                for i in 0..=n {
+                    let s = -1.0 + 2.0 * i as f64 / n as f64;
+                    let c: Vec<f64> = (0..d)
+                        .map(|q| {
+                            if q == run {
+                                s * half[q]
+                            } else if signs & (1 << q) == 0 {
+                                half[q]
+                            } else {
+                                -half[q]
+                            }
+                        })
+                        .collect();
+                    boundary = boundary.max(self.rate_error(self.point(&c))? / self.accuracy);
+                }
+            }
+        }
+        let mut half_rad = [None; 3];
+        for (&j, h) in self.sensitive.iter().zip(&half) {
+            half_rad[j] = Some(*h);
+        }
+        Ok(OutputBox {
+            output: self.output().to_string(),
+            half_rad,
+            volume,
+            boundary_max_ratio: boundary,
+        })
+    }
+
+    fn max_box_3d(&self) -> Result<Vec<f64>, CalibError> {
+        let dir = |t: f64, p: f64| [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
+        let at = |t: f64, p: f64| self.box_along(&dir(t, p));
+        let n = DIRECTION_SCAN_3D;
+        let step = FRAC_PI_2 / n as f64;
+        let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
+        for i in 0..n {
+            for j in 0..n {
+                let (t, p) = ((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
+                let v = at(t, p)?.1;
+                if v > best.0 {
+                    best = (v, t, p);
+                }
+            }
+        }
+        let (mut t, mut p) = (best.1, best.2);
+        let mut width = step;
+        for _ in 0..6 {
+            let lo = (t - width).max(0.0);
+            let hi = (t + width).min(FRAC_PI_2);
+            t = golden_max(|x| at(x, p), lo, hi, 1, DIRECTION_TOL_3D_RAD)?.1;
+            let lo = (p - width).max(0.0);
+            let hi = (p + width).min(FRAC_PI_2);
+            p = golden_max(|x| at(t, x), lo, hi, 1, DIRECTION_TOL_3D_RAD)?.1;
+            width *= 0.5;
+        }
+        Ok(at(t, p)?.0)
+    }
+
+    /// The surface $\Gamma$ of this output over angles `angles` (indices into
+    /// $\psi, \theta, \gamma$) on a `points` x `points` grid over $[-h, h]^2$, the third angle
+    /// zero (Figure 4).
+    ///
+    /// # Errors
+    /// [`CalibError::BadGrid`] for fewer than 2 points or a non-positive half range.
+    pub fn surface(&self, angles: [usize; 2], half_range_rad: f64, points: usize) -> Result<Surface, CalibError> {
+        if points < 2 || !half_range_rad.is_finite() || half_range_rad <= 0.0 {
+            return Err(CalibError::BadGrid {
+                points,
+                half_range_rad,
+            });
+        }
+        let grid: Vec<f64> = (0..points)
+            .map(|i| -half_range_rad + 2.0 * half_range_rad * i as f64 / (points - 1) as f64)
+            .collect();
+        let mut values = Vec::with_capacity(points);
+        for &v in &grid {
+            let row = grid
+                .iter()
+                .map(|&u| {
+                    let mut d = [0.0; 3];
+                    d[angles[0]] = u;
+                    d[angles[1]] = v;
+                    self.rate_error(d)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            values.push(row);
+        }
+        Ok(Surface {
+            output: self.output().to_string(),
+            angles,
+            u_rad: grid.clone(),
+            v_rad: grid,
+            delta_omega: values,
+        })
+    }
+
+    /// The line of intersection of $\Gamma$ with the plane $\Delta\omega = \omega_m$ in the
+    /// plane of `angles` (Figure 5): for `directions` rays from the origin, the point where
+    /// $\Delta\omega$ first reaches $\omega_m$, as `[u, v]` in radians.
     ///
     /// # Errors
     /// [`CalibError::Unbounded`] if a ray never reaches $\omega_m$ within [`SEARCH_LIMIT_RAD`].
-    pub fn boundary(&self, directions: usize) -> Result<Vec<[f64; 2]>, CalibError> {
+    pub fn boundary(&self, angles: [usize; 2], directions: usize) -> Result<Vec<[f64; 2]>, CalibError> {
         (0..directions)
             .map(|k| {
                 let t = std::f64::consts::TAU * k as f64 / directions as f64;
                 let (s, c) = t.sin_cos();
-                let r = self.radius(t, |r| {
-                    Ok(self.rate_error(r * c, r * s)? <= self.omega_m_rad_per_s)
+                let r = self.radius(&[c, s], |r| {
+                    let mut d = [0.0; 3];
+                    d[angles[0]] = r * c;
+                    d[angles[1]] = r * s;
+                    Ok(self.rate_error(d)? <= self.accuracy)
                 })?;
                 Ok([r * c, r * s])
             })
             .collect()
     }
+}
 
-    fn corners_ok(&self, a: f64, b: f64) -> Result<bool, CalibError> {
-        for (su, sv) in [(1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)] {
-            if self.rate_error(su * a, sv * b)? > self.omega_m_rad_per_s {
-                return Ok(false);
+/// Maximise `f(x).1` over $[lo, hi]$: a scan of `scan` midpoints, then a golden section on the
+/// best cell to bracket width `tol`. Returns the argument's result and the maximiser.
+fn golden_max<T, F>(f: F, lo: f64, hi: f64, scan: usize, tol: f64) -> Result<(T, f64), CalibError>
+where
+    F: Fn(f64) -> Result<(T, f64), CalibError>,
+{
+    let step = (hi - lo) / scan as f64;
+    let mut best = (0usize, f64::NEG_INFINITY);
+    if scan > 1 {
+        for k in 0..scan {
+            let v = f(lo + (k as f64 + 0.5) * step)?.1;
+            if v > best.1 {
+                best = (k, v);
             }
         }
-        Ok(true)
     }
-
-    /// Half-sides of the largest rectangle whose corners point in `direction_rad`.
-    fn rectangle_at(&self, t: f64) -> Result<(f64, f64, f64), CalibError> {
-        let (s, c) = t.sin_cos();
-        let r = self.radius(t, |r| self.corners_ok(r * c, r * s))?;
-        let (a, b) = (r * c, r * s);
-        Ok((a, b, 4.0 * a * b))
+    let centre = lo + (best.0 as f64 + 0.5) * step;
+    let (mut a, mut b) = if scan > 1 {
+        ((centre - step).max(lo), (centre + step).min(hi))
+    } else {
+        (lo, hi)
+    };
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let mut x1 = b - g * (b - a);
+    let mut x2 = a + g * (b - a);
+    let mut f1 = f(x1)?.1;
+    let mut f2 = f(x2)?.1;
+    while b - a > tol {
+        if f1 < f2 {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = f(x2)?.1;
+        } else {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = f(x1)?.1;
+        }
     }
-
-    /// The largest-area centred axis-aligned rectangle inside $\Delta\omega \le \omega_m$
-    /// (Figure 5, "to maximize the areas of the two rectangles").
-    ///
-    /// # Formula
-    /// With corners $(\pm\rho\cos t, \pm\rho\sin t)$, $\rho(t)$ is the largest radius at which all
-    /// four corners satisfy $\Delta\omega \le \omega_m$ (bisection to [`RADIUS_TOL_RAD`]), and
-    /// $t$ maximises the area $2\rho(t)^2\sin 2t$ ([`DIRECTION_SCAN`]-point scan, then golden
-    /// section to [`DIRECTION_TOL_RAD`]). For a convex region (every first-order reading:
-    /// $\Delta\omega$ is a maximum of absolute values of linear forms) the corners bound the
-    /// whole rectangle; the result records the largest $\Delta\omega$ found on its boundary.
-    ///
-    /// # Reference
-    /// Eq 15-16, Figure 5.
-    ///
-    /// # Errors
-    /// [`CalibError::Unbounded`] if the region is not bounded within [`SEARCH_LIMIT_RAD`].
-    pub fn max_rectangle(&self) -> Result<Rectangle, CalibError> {
-        let step = FRAC_PI_2 / DIRECTION_SCAN as f64;
-        let mut best = (0usize, f64::NEG_INFINITY);
-        for k in 0..DIRECTION_SCAN {
-            let t = (k as f64 + 0.5) * step;
-            let area = self.rectangle_at(t)?.2;
-            if area > best.1 {
-                best = (k, area);
-            }
-        }
-        let centre = (best.0 as f64 + 0.5) * step;
-        let (mut lo, mut hi) = ((centre - step).max(0.0), (centre + step).min(FRAC_PI_2));
-        let inv_phi = (5f64.sqrt() - 1.0) / 2.0;
-        let mut x1 = hi - inv_phi * (hi - lo);
-        let mut x2 = lo + inv_phi * (hi - lo);
-        let mut f1 = self.rectangle_at(x1)?.2;
-        let mut f2 = self.rectangle_at(x2)?.2;
-        while hi - lo > DIRECTION_TOL_RAD {
-            if f1 < f2 {
-                lo = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = lo + inv_phi * (hi - lo);
-                f2 = self.rectangle_at(x2)?.2;
-            } else {
-                hi = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = hi - inv_phi * (hi - lo);
-                f1 = self.rectangle_at(x1)?.2;
-            }
-        }
-        let (a, b, area) = self.rectangle_at(0.5 * (lo + hi))?;
-        let mut boundary_max: f64 = 0.0;
-        let n = BOUNDARY_CHECK_POINTS;
-        for i in 0..=n {
-            let s = -1.0 + 2.0 * i as f64 / n as f64;
-            for (u, v) in [(s * a, b), (s * a, -b), (a, s * b), (-a, s * b)] {
-                boundary_max = boundary_max.max(self.rate_error(u, v)?);
-            }
-        }
-        Ok(Rectangle {
-            half_u_rad: a,
-            half_v_rad: b,
-            area_rad2: area,
-            boundary_max_rad_per_s: boundary_max,
-        })
-    }
+    let x = 0.5 * (a + b);
+    Ok((f(x)?.0, x))
 }

@@ -1,14 +1,14 @@
 //! The crate's error type.
 
-/// Errors from constructing sites, positions, coefficient sets and scale factors.
+/// Errors from constructing sites, orientation errors and sensor models.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ModelError {
     /// A named input was NaN or infinite.
     #[error("{field} must be finite, got {value}")]
     NonFinite {
-        /// Which input (for example `latitude` or `D(x)_F`).
-        field: &'static str,
+        /// Which input (for example `latitude` or `outputs[0].terms[2].value`).
+        field: String,
         /// The offending value, in the unit the caller used.
         value: f64,
     },
@@ -16,7 +16,7 @@ pub enum ModelError {
     #[error("{field} must be positive, got {value}")]
     NonPositive {
         /// Which input (for example `earth_rate`).
-        field: &'static str,
+        field: String,
         /// The offending value, in the unit the caller used.
         value: f64,
     },
@@ -26,21 +26,36 @@ pub enum ModelError {
         /// The offending latitude, degrees.
         latitude_deg: f64,
     },
+    /// A sensor description is invalid; `key` is the path inside it
+    /// (`outputs[1].terms[3].regressor`), so that a file reader can name the offending key.
+    #[error("{key}: {reason}")]
+    Sensor {
+        /// Where, relative to the sensor description.
+        key: String,
+        /// Why it was rejected.
+        reason: String,
+    },
 }
 
-pub(crate) fn finite(field: &'static str, value: f64) -> Result<f64, ModelError> {
+pub(crate) fn finite(field: &str, value: f64) -> Result<f64, ModelError> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(ModelError::NonFinite { field, value })
+        Err(ModelError::NonFinite {
+            field: field.to_string(),
+            value,
+        })
     }
 }
 
-pub(crate) fn positive(field: &'static str, value: f64) -> Result<f64, ModelError> {
+pub(crate) fn positive(field: &str, value: f64) -> Result<f64, ModelError> {
     finite(field, value)?;
     if value > 0.0 {
         Ok(value)
     } else {
-        Err(ModelError::NonPositive { field, value })
+        Err(ModelError::NonPositive {
+            field: field.to_string(),
+            value,
+        })
     }
 }

@@ -1,13 +1,8 @@
-//! Test site, turntable positions and the inputs they produce (eq 3, 7, 8).
+//! Test site and the inputs a sensor feels at an orientation, with or without an orientation
+//! error (eq 3, 7, 8).
 
 use crate::error::{ModelError, finite, positive};
-use crate::units::WGS84_EARTH_RATE_RAD_PER_S;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-
-/// Latitude of the authors' site, Harbin (Harbin Institute of Technology), degrees north.
-///
-/// The paper gives no latitude (NOTES item 8); this is the default of [`Site::paper_default`].
-pub const HARBIN_LATITUDE_DEG: f64 = 45.75;
 
 /// Where the test runs: latitude and earth rotation rate.
 ///
@@ -19,23 +14,7 @@ pub struct Site {
     earth_rate_rad_per_s: f64,
 }
 
-impl Default for Site {
-    fn default() -> Self {
-        Self::paper_default()
-    }
-}
-
 impl Site {
-    /// The default site: Harbin, $\lambda = 45.75°$ N, and the WGS-84 earth rate
-    /// $7.292\,115\,9\times10^{-5}$ rad/s. The paper states neither (NOTES items 8-9).
-    #[must_use]
-    pub fn paper_default() -> Self {
-        Self {
-            latitude_rad: HARBIN_LATITUDE_DEG.to_radians(),
-            earth_rate_rad_per_s: WGS84_EARTH_RATE_RAD_PER_S,
-        }
-    }
-
     /// From a latitude in radians and an earth rate in rad/s.
     ///
     /// # Errors
@@ -94,12 +73,13 @@ impl Site {
         self.earth_rate_rad_per_s * Vector3::new(c, 0.0, s)
     }
 
-    /// The inputs at a position with the intended orientation.
+    /// The inputs at the intended orientation `base_from_sensor` ($\mathbf R_d$, sensor frame to
+    /// base frame, from a turntable pose).
     ///
     /// # Formula
     /// $\mathbf a = \mathbf R_d^T (0,0,1)^T$, $\boldsymbol\omega = \mathbf R_d^T \omega_e
-    /// (\cos\lambda, 0, \sin\lambda)^T$ with $\mathbf R_d = R_y(\phi_1) R_z(\phi_2)$, which
-    /// is, component by component,
+    /// (\cos\lambda, 0, \sin\lambda)^T$. For the paper's $\mathbf R_d = R_y(\phi_1)R_z(\phi_2)$
+    /// this is, component by component, eq 3:
     /// $$a_x = -\sin\phi_1\cos\phi_2,\ a_y = \sin\phi_1\sin\phi_2,\ a_z = \cos\phi_1,$$
     /// $$\omega_x = \omega_e\cos\phi_2\cos(\phi_1+\lambda),\
     ///   \omega_y = -\omega_e\sin\phi_2\cos(\phi_1+\lambda),\
@@ -108,16 +88,16 @@ impl Site {
     /// # Reference
     /// Eq 3 (and eq 21 for $\mathbf R_d$).
     #[must_use]
-    pub fn inputs(&self, position: &Position) -> Inputs {
-        let r_t = position.base_from_body().transpose();
+    pub fn inputs(&self, base_from_sensor: &Matrix3<f64>) -> Inputs {
+        let r_t = base_from_sensor.transpose();
         Inputs {
             specific_force_g: r_t * self.specific_force_base_g(),
             rate_rad_per_s: r_t * self.earth_rate_base_rad_per_s(),
         }
     }
 
-    /// The inputs at a position whose actual orientation differs from the intended one by
-    /// $\Delta\mathbf R = \mathbf R_d^T \mathbf R_t$ (the body-frame matrix of eq 7/23).
+    /// The inputs at an orientation that differs from the intended `base_from_sensor` by
+    /// $\Delta\mathbf R = \mathbf R_d^T \mathbf R_t$ (the sensor-frame matrix of eq 7/23).
     ///
     /// # Formula
     /// $$[\omega_x'\ \omega_y'\ \omega_z'] = [\omega_x\ \omega_y\ \omega_z]\,\Delta\mathbf R,
@@ -128,90 +108,31 @@ impl Site {
     /// # Reference
     /// Eq 8 (with eq 7 or eq 23 for $\Delta\mathbf R$).
     #[must_use]
-    pub fn inputs_with_error(&self, position: &Position, delta_r: &Matrix3<f64>) -> Inputs {
-        let nominal = self.inputs(position);
-        let t = delta_r.transpose();
-        Inputs {
-            specific_force_g: t * nominal.specific_force_g,
-            rate_rad_per_s: t * nominal.rate_rad_per_s,
-        }
+    pub fn inputs_with_error(&self, base_from_sensor: &Matrix3<f64>, delta_r: &Matrix3<f64>) -> Inputs {
+        self.inputs(base_from_sensor).rotated(delta_r)
     }
 }
 
-/// A turntable position: outer-axis angle $\phi_1$ (about $y$) and inner-axis angle $\phi_2$
-/// (about $z$), radians.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Position {
-    phi_1_rad: f64,
-    phi_2_rad: f64,
-}
-
-impl Position {
-    /// From radians.
-    ///
-    /// # Errors
-    /// [`ModelError::NonFinite`] naming `phi1` or `phi2`.
-    pub fn new(phi_1_rad: f64, phi_2_rad: f64) -> Result<Self, ModelError> {
-        Ok(Self {
-            phi_1_rad: finite("phi1", phi_1_rad)?,
-            phi_2_rad: finite("phi2", phi_2_rad)?,
-        })
-    }
-
-    /// From degrees.
-    ///
-    /// # Errors
-    /// [`ModelError::NonFinite`] naming `phi1` or `phi2`.
-    pub fn from_deg(phi_1_deg: f64, phi_2_deg: f64) -> Result<Self, ModelError> {
-        Self::new(
-            finite("phi1", phi_1_deg)?.to_radians(),
-            finite("phi2", phi_2_deg)?.to_radians(),
-        )
-    }
-
-    /// $\phi_1$, radians.
-    #[must_use]
-    pub fn phi_1_rad(&self) -> f64 {
-        self.phi_1_rad
-    }
-
-    /// $\phi_2$, radians.
-    #[must_use]
-    pub fn phi_2_rad(&self) -> f64 {
-        self.phi_2_rad
-    }
-
-    /// $\phi_1$, degrees.
-    #[must_use]
-    pub fn phi_1_deg(&self) -> f64 {
-        self.phi_1_rad.to_degrees()
-    }
-
-    /// $\phi_2$, degrees.
-    #[must_use]
-    pub fn phi_2_deg(&self) -> f64 {
-        self.phi_2_rad.to_degrees()
-    }
-
-    /// The intended direction-cosine matrix $\mathbf R_d = R_y(\phi_1) R_z(\phi_2)$ (body to base).
-    ///
-    /// # Reference
-    /// Eq 21 (rotation part).
-    #[must_use]
-    pub fn base_from_body(&self) -> Matrix3<f64> {
-        let ry = Rotation3::from_axis_angle(&Vector3::y_axis(), self.phi_1_rad);
-        let rz = Rotation3::from_axis_angle(&Vector3::z_axis(), self.phi_2_rad);
-        (ry * rz).into_inner()
-    }
-}
-
-/// Body-frame inputs of the GyroWheel at one position.
+/// Sensor-frame inputs at one orientation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inputs {
     /// Specific force (reaction to gravity), g: $(a_x, a_y, a_z)$.
     pub specific_force_g: Vector3<f64>,
     /// Angular rate (earth rate), rad/s: $(\omega_x, \omega_y, \omega_z)$.
     pub rate_rad_per_s: Vector3<f64>,
+}
+
+impl Inputs {
+    /// The inputs seen from a frame turned by $\Delta\mathbf R$ (eq 8): $\mathbf v' =
+    /// \Delta\mathbf R^T\mathbf v$ for both vectors.
+    #[must_use]
+    pub fn rotated(&self, delta_r: &Matrix3<f64>) -> Self {
+        let t = delta_r.transpose();
+        Self {
+            specific_force_g: t * self.specific_force_g,
+            rate_rad_per_s: t * self.rate_rad_per_s,
+        }
+    }
 }
 
 /// How a triple of orientation-error angles becomes a matrix $\Delta\mathbf R$.
@@ -238,7 +159,7 @@ impl DeltaRKind {
     }
 }
 
-/// The orientation error of the GyroWheel axes: $\Delta\psi$ about $y$, $\Delta\theta$ about $z$,
+/// The orientation error of the sensor axes: $\Delta\psi$ about $y$, $\Delta\theta$ about $z$,
 /// $\Delta\gamma$ about $x$ (§2.2, Figure 3), radians.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct OrientationAngles {

@@ -1,45 +1,53 @@
-//! Geometric error model of a two-axis turntable (Zhao, Zhao, Huo and Yao 2017, §3).
+//! Geometric error model of any serial turntable (one, two or three axes), described as data;
+//! the paper's two-axis table (Zhao, Zhao, Huo and Yao 2017, §3) is one instance
+//! ([`paper`]).
 //!
-//! A two-axis turntable orients a sensor with an outer axis (rotation $\phi_1$ about $y$) and an
-//! inner axis (rotation $\phi_2$ about $z$). Its geometric errors (Table 2 of the paper) make the
-//! sensor's actual orientation differ from the intended one by a small rotation
+//! A turntable orients a sensor through joints. Its geometric errors (position errors,
+//! wobbles, orthogonality and intersection errors; Table 2 of the paper for a two-axis table)
+//! make the platform's actual orientation differ from the intended one by a small rotation
 //! $\Delta\mathbf R = \mathbf R_d^T \mathbf R_t$ (eq 23), read out as the three angles
 //! $\Delta\psi$ (about $y$), $\Delta\theta$ (about $z$) and $\Delta\gamma$ (about $x$) (eq 24).
 //!
-//! This crate gives that error three ways, behind one trait, [`OrientationErrorModel`]:
-//!
-//! | implementation | paper | what it is |
-//! |---|---|---|
-//! | [`ExactChain`] | eq 17-24 with finite rotations | every error a finite rotation, in Table 3's order |
-//! | [`SmallAngleChain`] | eq 17-24 as printed | the printed $I + [\delta]_\times$ error matrices multiplied out |
-//! | [`ClosedForm`] | eq 26-27 | the first-order model, linear in the errors |
-//!
-//! and the sensitivities of eq 28 ([`sensitivity`]): the analytic Jacobian of the exact chain and
-//! its average over the rotation angles (the data of Figure 8), in closed form and numerically.
+//! - [`TurntableDescription`]: an ordered list of factors from the base to the platform
+//!   (joints, error rotations, error translations, fixed rotations), validated and compiled by
+//!   [`Turntable::new`] into the exact and small-angle chains, the analytic Jacobian
+//!   ([`Turntable::jacobian`]) and a flat evaluation plan for hot loops ([`Turntable::plan`]);
+//! - [`OrientationErrorModel`]: pose and errors to $(\Delta\psi, \Delta\theta, \Delta\gamma)$,
+//!   implemented by [`ExactChain`], [`SmallAngleChain`], [`LinearChain`] and the paper's
+//!   [`paper::ClosedForm`] (eq 26); its conformance suite is library code
+//!   (`conformance` feature) so another implementation can run it;
+//! - [`LinearModel`]: the first-order model of any description, its worst case over the poses
+//!   (Lemma 1's quantity) and its average sensitivities (eq 28, Figure 8).
 //!
 //! # Frames, rotation order and signs
-//! $\mathcal F_0$ base, $\mathcal F_1$ outer axis, $\mathcal F_2$ inner-axis reference,
-//! $\mathcal F_3$ inner axis, $\mathcal F_4$ GyroWheel ($= \mathcal F_3$, eq 20). Rotations are
-//! right-handed and active, composed by post-multiplication in the order of Table 3:
+//! Rotations are right-handed and active, composed by post-multiplication in the order of the
+//! description (base first): each factor turns about (or moves along) an axis of the frame the
+//! previous factors produced. $\mathbf R_d$ and $\mathbf R_t$ map platform coordinates to base
+//! coordinates. For the paper's Table 3:
 //!
 //! $$\mathbf R_t = R_y(\phi_1) R_y(\Delta\phi_{y1}) R_z(\Delta\alpha_{z1}) R_x(\Delta\alpha_{x1})
 //!   \cdot R_y(\Delta\varepsilon_y) R_x(\Delta\varepsilon_x)
-//!   \cdot R_z(\phi_2) R_y(\Delta\alpha_{y2}) R_z(\Delta\phi_{z2}) R_x(\Delta\alpha_{x2}),$$
+//!   \cdot R_z(\phi_2) R_y(\Delta\alpha_{y2}) R_z(\Delta\phi_{z2}) R_x(\Delta\alpha_{x2}),
+//!   \qquad \mathbf R_d = R_y(\phi_1) R_z(\phi_2).$$
 //!
-//! $$\mathbf R_d = R_y(\phi_1) R_z(\phi_2).$$
-//!
-//! # Example
+//! # Example: describe your own table
 //! ```
-//! use tt_kinematics::{ClosedForm, ExactChain, OrientationErrorModel, Pose, TurntableErrors};
-//!
-//! // Table 4 of the paper, arcminutes, in the order of chi (eq 25); intersection error 0.1 mm.
-//! let chi = TurntableErrors::from_arcmin(
-//!     [0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233], 1e-4)?;
-//! let pose = Pose::from_deg(30.0, 45.0)?;
-//! let exact = ExactChain::default().orientation_error(&pose, &chi);
-//! let linear = ClosedForm.orientation_error(&pose, &chi);
-//! // Both agree to second order in the (sub-arcminute) errors.
-//! assert!((exact.delta_psi_rad - linear.delta_psi_rad).abs() < 1e-7);
+//! use tt_kinematics::{ExactChain, FactorSpec, OrientationErrorModel, Pose, SignedAxis,
+//!     Turntable, TurntableDescription, TurntableErrors};
+//! let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
+//! let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+//! // A three-axis table: outer about z, middle about x, inner about y.
+//! let table = Turntable::new(&TurntableDescription::new(vec![
+//!     j("outer", SignedAxis::Z), e("d_outer", SignedAxis::Z),
+//!     e("perp_om", SignedAxis::Y),
+//!     j("middle", SignedAxis::X), e("d_middle", SignedAxis::X),
+//!     e("perp_mi", SignedAxis::Z),
+//!     j("inner", SignedAxis::Y), e("d_inner", SignedAxis::Y),
+//! ]))?;
+//! let chi = TurntableErrors::from_arcmin(&[0.5, 0.2, 0.5, 0.2, 0.5], &[])?;
+//! let pose = Pose::from_deg(&[30.0, 45.0, 60.0])?;
+//! let err = ExactChain::new(&table).orientation_error(&pose, &chi)?;
+//! assert!(err.delta_psi_rad.abs() < 1e-3);
 //! # Ok::<(), tt_kinematics::KinematicsError>(())
 //! ```
 //!
@@ -49,23 +57,30 @@
 //! doi:10.1155/2017/6524782.
 #![forbid(unsafe_code)]
 
-mod chain;
+#[cfg(feature = "conformance")]
+pub mod conformance;
 mod error;
-mod errors;
 mod linear;
 mod model;
+pub mod paper;
 mod pose;
 pub mod rotation;
 pub mod sensitivity;
+mod turntable;
 pub mod units;
 
-pub use chain::{
-    ChainKind, Factor, actual_transform, delta_r, exact_factors, ideal_transform, link_transforms,
-};
 pub use error::KinematicsError;
-pub use errors::{CHI_LEN, ErrorComponent, TurntableErrors};
-pub use linear::{LinearModel, OrientationAxis, WorstPose};
-pub use model::{
-    ClosedForm, ExactChain, OrientationError, OrientationErrorModel, ReadOut, SmallAngleChain,
+pub use linear::{
+    AVERAGE_GRID_POINTS, CERTIFY_MAX_EVALUATIONS, CERTIFY_REL_GAP, LinearModel, OrientationAxis,
+    POSE_GRID_POINTS, POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum,
+    mean_abs_harmonic,
 };
-pub use pose::Pose;
+pub use model::{
+    ExactChain, LinearChain, OrientationError, OrientationErrorModel, ReadOut, SmallAngleChain,
+};
+pub use pose::{Pose, TurntableErrors};
+pub use rotation::{Axis, SignedAxis};
+pub use turntable::{
+    ChainKind, ErrorInfo, Factor, FactorSpec, Joint, PlanStep, Turntable, TurntableDescription,
+    is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,
+};

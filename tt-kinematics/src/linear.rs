@@ -1,21 +1,57 @@
-//! Orientation-error models that are linear in $\chi$ with coefficients that are first
-//! harmonics of the inner-axis angle $\phi_2$, such as the closed form of eq 26.
+//! The first-order (linear) orientation-error model of any turntable, its worst case over the
+//! poses (the quantity Lemma 1 bounds) and its average sensitivities (eq 28, Figure 8).
 //!
-//! Every first-order model of a two-axis turntable has this shape: $\phi_1$ cancels in
-//! $\mathbf R_d^T\mathbf R_t$ and $\phi_2$ enters only through $R_z(\mp\phi_2)$, so
+//! # Formula
+//! At $\chi = 0$, $\partial\Delta\mathbf R/\partial\chi_i = [\mathbf v_i]_\times$ with
+//! $\mathbf v_i(\phi) = \mathbf S_j^T\hat e_j$, where $F_j$ is the factor of $\chi_i$, $\hat e_j$
+//! its (signed) axis and $\mathbf S_j$ the nominal product of the factors after it. So to first
+//! order $\Delta\mathbf R = I + [\boldsymbol\delta]_\times$ with
+//! $\boldsymbol\delta = \sum_i \chi_i\mathbf v_i(\phi)$, and eq 24 reads
+//! $$f_k(\phi, \chi) = \sum_i c_{ki}(\phi)\,\chi_i,\qquad (c_{\psi i}, c_{\theta i}, c_{\gamma i}) =
+//! (v_{i,y}, v_{i,z}, v_{i,x}).$$
+//! For the paper's Table 3 this is eq 26 ([`crate::paper::ClosedForm`]).
 //!
-//! $$f_k(\phi_2, \chi) = \sum_{i=1}^{8} \big(a_{ki}\cos\phi_2 + b_{ki}\sin\phi_2 + c_{ki}\big)\,\chi_i,
-//! \qquad k \in \{\psi, \theta, \gamma\}.$$
-//!
-//! Because each coefficient is a sinusoid plus a constant, the worst case over the pose of a
-//! weighted sum of coefficients can be found exactly ([`LinearModel::max_abs_weighted`]) and
-//! their average magnitudes have a closed form ([`LinearModel::average_abs_coefficients`]).
+//! # Structure in the joint angles
+//! $\mathbf S_j$ holds each later joint rotation once, so $c_{ki}$ is a first harmonic
+//! $a\cos\phi + b\sin\phi + c$ in each free joint angle when the others are fixed. With one
+//! free joint (every two-axis table whose outer joint comes first, like the paper's) the worst
+//! case over the pose of a weighted coefficient sum is found exactly, piece by piece between
+//! the zeros of the coefficients; with more, the last free joint is still solved exactly and
+//! the others are searched on a grid refined by golden sections, and
+//! [`LinearModel::worst_pose_certified`] adds a rigorous upper bound by branch and bound with
+//! the Lipschitz constant $\sum_i w_i$ ($|\partial c_{ki}/\partial\phi| \le 1$: a component of a
+//! rotating unit vector).
 
-use crate::error::{KinematicsError, finite};
-use crate::errors::{CHI_LEN, ErrorComponent, TurntableErrors};
+use crate::error::{KinematicsError, length};
 use crate::model::OrientationError;
-use nalgebra::SMatrix;
-use std::f64::consts::{PI, TAU};
+use crate::pose::{Pose, TurntableErrors};
+use crate::rotation::{Axis, rot_sc};
+use crate::turntable::{Factor, Turntable};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use std::f64::consts::TAU;
+
+/// A coefficient whose magnitude is below this is a structural zero (unitless: coefficients
+/// are components of unit vectors; rounding of a chain of a few rotations stays near
+/// $10^{-16}$).
+pub const STRUCTURAL_ZERO: f64 = 1e-12;
+
+/// Grid points per outer free joint of the pose search (the total grid has at most about
+/// 4096 points).
+pub const POSE_GRID_POINTS: usize = 256;
+
+/// Golden-section steps of the local refinement of an outer free joint (bracket shrinks by
+/// $0.618^{60} \approx 3\times10^{-13}$ of a grid cell).
+pub const POSE_REFINE_STEPS: usize = 60;
+
+/// Relative gap at which [`LinearModel::worst_pose_certified`] stops.
+pub const CERTIFY_REL_GAP: f64 = 1e-9;
+
+/// Largest number of evaluations [`LinearModel::worst_pose_certified`] spends.
+pub const CERTIFY_MAX_EVALUATIONS: usize = 200_000;
+
+/// Midpoint points per outer free joint for average sensitivities with two or more free
+/// joints (the last is integrated exactly); error $O(N^{-2})$.
+pub const AVERAGE_GRID_POINTS: usize = 512;
 
 /// One of the three orientation-error angles, in the order of eq 24-26.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -51,261 +87,597 @@ impl OrientationAxis {
             OrientationAxis::Gamma => "gamma",
         }
     }
+
+    /// The frame axis the angle turns about: $y$ for $\psi$, $z$ for $\theta$, $x$ for
+    /// $\gamma$ (Figure 3, eq 7).
+    #[must_use]
+    pub fn frame_axis(self) -> Axis {
+        match self {
+            OrientationAxis::Psi => Axis::Y,
+            OrientationAxis::Theta => Axis::Z,
+            OrientationAxis::Gamma => Axis::X,
+        }
+    }
 }
 
 /// The worst pose of a weighted coefficient sum and its value.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct WorstPose {
-    /// The maximum value (in the unit of the weights, radians for error bounds).
+    /// The largest value found (in the unit of the weights, radians for error bounds); it is
+    /// reached at [`WorstPose::pose_rad`].
     pub value: f64,
-    /// An inner-axis angle $\phi_2$ (rad) where it is reached.
-    pub phi2_rad: f64,
+    /// A pose (every joint, rad) where it is reached; joints that cancel sit at their range's
+    /// lower end.
+    pub pose_rad: Vec<f64>,
+    /// A rigorous upper bound on the maximum: equal to `value` when the search is exact (at
+    /// most one free joint), the branch-and-bound bound of
+    /// [`LinearModel::worst_pose_certified`] otherwise, and `+inf` when not computed.
+    pub upper_bound: f64,
+    /// Whether `value` is the exact maximum (at most one free joint).
+    pub exact: bool,
 }
 
-/// A linear orientation-error model with first-harmonic coefficients in $\phi_2$
-/// (rows $\psi, \theta, \gamma$; columns the components of $\chi$ in the order of eq 25).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The first-order orientation-error model of a turntable (see the [module](self)).
+#[derive(Debug, Clone, PartialEq)]
 pub struct LinearModel {
-    cos: SMatrix<f64, 3, CHI_LEN>,
-    sin: SMatrix<f64, 3, CHI_LEN>,
-    constant: SMatrix<f64, 3, CHI_LEN>,
+    turntable: Turntable,
 }
 
 impl LinearModel {
-    /// A model $c_{ki}(\phi_2) = \text{cos}_{ki}\cos\phi_2 + \text{sin}_{ki}\sin\phi_2 + \text{constant}_{ki}$.
-    /// Rejects non-finite coefficients.
-    pub fn new(
-        cos: SMatrix<f64, 3, CHI_LEN>,
-        sin: SMatrix<f64, 3, CHI_LEN>,
-        constant: SMatrix<f64, 3, CHI_LEN>,
-    ) -> Result<Self, KinematicsError> {
-        for (name, m) in [("cos", &cos), ("sin", &sin), ("constant", &constant)] {
-            for v in m.iter() {
-                finite(name, *v)?;
+    /// The linear model of `turntable`.
+    #[must_use]
+    pub fn new(turntable: &Turntable) -> Self {
+        Self {
+            turntable: turntable.clone(),
+        }
+    }
+
+    /// The turntable.
+    #[must_use]
+    pub fn turntable(&self) -> &Turntable {
+        &self.turntable
+    }
+
+    /// Number of angular errors (columns).
+    #[must_use]
+    pub fn n_errors(&self) -> usize {
+        self.turntable.n_rotation_errors()
+    }
+
+    /// $\mathbf v_i$ of every error for joint angles given by their sines and cosines.
+    fn vectors_sc(&self, sc: &[(f64, f64)]) -> Vec<Vector3<f64>> {
+        let mut v = vec![Vector3::zeros(); self.n_errors()];
+        let mut s = Matrix3::identity();
+        for f in self.turntable.factors().iter().rev() {
+            match *f {
+                Factor::Rotation { error, about } => v[error] = s.transpose() * about.unit(),
+                Factor::Joint { joint, about } => {
+                    let (sj, cj) = sc[joint];
+                    s = rot_sc(about.axis, about.sign() * sj, cj) * s;
+                }
+                Factor::Fixed { angle_rad, about } => {
+                    s = crate::rotation::rot_signed(about, angle_rad) * s;
+                }
+                Factor::Translation { .. } => {}
             }
         }
-        Ok(Self { cos, sin, constant })
+        v
     }
 
-    /// The closed form of eq 26 (the first-order expansion of eq 23-24 about $\chi = 0$):
-    ///
-    /// # Formula
-    /// $$\begin{aligned}
-    /// \Delta\psi &= \Delta\phi_{y1}\cos\phi_2 - \Delta\alpha_{x1}\sin\phi_2 + \Delta\alpha_{y2} -
-    ///   \Delta\varepsilon_x\sin\phi_2 + \Delta\varepsilon_y\cos\phi_2,\\
-    /// \Delta\theta &= \Delta\phi_{z2} + \Delta\alpha_{z1},\\
-    /// \Delta\gamma &= \Delta\phi_{y1}\sin\phi_2 + \Delta\alpha_{x1}\cos\phi_2 + \Delta\alpha_{x2} +
-    ///   \Delta\varepsilon_x\cos\phi_2 + \Delta\varepsilon_y\sin\phi_2.
-    /// \end{aligned}$$
-    ///
-    /// # Reference
-    /// Zhao et al. 2017, eq 26-27.
-    #[must_use]
-    pub fn paper_eq26() -> Self {
-        use ErrorComponent as C;
-        use OrientationAxis as A;
-        let mut cos = SMatrix::zeros();
-        let mut sin = SMatrix::zeros();
-        let mut constant = SMatrix::zeros();
-        let set = |m: &mut SMatrix<f64, 3, CHI_LEN>, a: A, c: C, v: f64| {
-            m[(a.index(), c.index())] = v;
-        };
-        // delta_psi
-        set(&mut cos, A::Psi, C::DphiY1, 1.0);
-        set(&mut sin, A::Psi, C::DalphaX1, -1.0);
-        set(&mut constant, A::Psi, C::DalphaY2, 1.0);
-        set(&mut sin, A::Psi, C::DepsX, -1.0);
-        set(&mut cos, A::Psi, C::DepsY, 1.0);
-        // delta_theta
-        set(&mut constant, A::Theta, C::DphiZ2, 1.0);
-        set(&mut constant, A::Theta, C::DalphaZ1, 1.0);
-        // delta_gamma
-        set(&mut sin, A::Gamma, C::DphiY1, 1.0);
-        set(&mut cos, A::Gamma, C::DalphaX1, 1.0);
-        set(&mut constant, A::Gamma, C::DalphaX2, 1.0);
-        set(&mut cos, A::Gamma, C::DepsX, 1.0);
-        set(&mut sin, A::Gamma, C::DepsY, 1.0);
-        Self { cos, sin, constant }
-    }
-
-    /// The harmonic parts $(a, b, c)$ of one coefficient.
-    #[must_use]
-    pub fn harmonics(&self, axis: OrientationAxis, c: ErrorComponent) -> (f64, f64, f64) {
-        let ij = (axis.index(), c.index());
-        (self.cos[ij], self.sin[ij], self.constant[ij])
-    }
-
-    /// $\partial f_k / \partial \chi_i$ at inner-axis angle `phi2_rad`.
-    #[must_use]
-    pub fn coefficient(&self, axis: OrientationAxis, c: ErrorComponent, phi2_rad: f64) -> f64 {
-        let (a, b, k) = self.harmonics(axis, c);
-        let (s, co) = phi2_rad.sin_cos();
-        a * co + b * s + k
-    }
-
-    /// The 3x8 coefficient (Jacobian) matrix at inner-axis angle `phi2_rad`.
-    #[must_use]
-    pub fn coefficients(&self, phi2_rad: f64) -> SMatrix<f64, 3, CHI_LEN> {
-        let (s, c) = phi2_rad.sin_cos();
-        self.cos * c + self.sin * s + self.constant
-    }
-
-    /// $f(\phi_2, \chi)$ for all three angles.
-    #[must_use]
-    pub fn evaluate(&self, phi2_rad: f64, errors: &TurntableErrors) -> OrientationError {
-        let v = self.coefficients(phi2_rad) * errors.chi_vector();
-        OrientationError::from_array([v[0], v[1], v[2]])
-    }
-
-    /// The components an angle depends on (coefficient not identically zero): $\chi_\psi$,
-    /// $\chi_\theta$, $\chi_\gamma$ of eq 27 for [`LinearModel::paper_eq26`].
-    #[must_use]
-    pub fn involved(&self, axis: OrientationAxis) -> Vec<ErrorComponent> {
-        ErrorComponent::ALL
+    /// The coefficients $c_{ki}$ (rows $\psi, \theta, \gamma$) for sines and cosines of the
+    /// joint angles.
+    fn coefficients_sc(&self, sc: &[(f64, f64)]) -> Vec<[f64; 3]> {
+        self.vectors_sc(sc)
             .into_iter()
-            .filter(|&c| {
-                let (a, b, k) = self.harmonics(axis, c);
-                a != 0.0 || b != 0.0 || k != 0.0
+            .map(|v| [v.y, v.z, v.x])
+            .collect()
+    }
+
+    fn sc_of(pose: &[f64]) -> Vec<(f64, f64)> {
+        pose.iter().map(|a| a.sin_cos()).collect()
+    }
+
+    /// The 3 x n coefficient (Jacobian at $\chi = 0$) matrix at `pose`, rows
+    /// $\psi, \theta, \gamma$.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    pub fn coefficients(&self, pose: &Pose) -> Result<DMatrix<f64>, KinematicsError> {
+        self.turntable.check_pose(pose)?;
+        Ok(self.coefficients_unchecked(pose.angles_rad()))
+    }
+
+    pub(crate) fn coefficients_unchecked(&self, pose: &[f64]) -> DMatrix<f64> {
+        let c = self.coefficients_sc(&Self::sc_of(pose));
+        DMatrix::from_fn(3, c.len(), |k, i| c[i][k])
+    }
+
+    /// The rotation vectors $\mathbf v_i$ (x, y, z components) at `pose`: the first-order
+    /// rotation vector of $\Delta\mathbf R$ is $\sum_i \chi_i\mathbf v_i$.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    pub fn rotation_vectors(&self, pose: &Pose) -> Result<Vec<Vector3<f64>>, KinematicsError> {
+        self.turntable.check_pose(pose)?;
+        Ok(self.vectors_sc(&Self::sc_of(pose.angles_rad())))
+    }
+
+    /// $f(\phi, \chi)$ for all three angles.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    pub fn evaluate(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        self.turntable.check_pose(pose)?;
+        self.turntable.check_errors(errors)?;
+        let c = self.coefficients_sc(&Self::sc_of(pose.angles_rad()));
+        let mut out = [0.0; 3];
+        for (ci, x) in c.iter().zip(errors.chi_rad()) {
+            for k in 0..3 {
+                out[k] += ci[k] * x;
+            }
+        }
+        Ok(OrientationError::from_array(out))
+    }
+
+    /// The free joints (see [`Turntable::free_joints`]).
+    #[must_use]
+    pub fn free_joints(&self) -> &[usize] {
+        self.turntable.free_joints()
+    }
+
+    /// Sines and cosines of a pose where every free joint sits at a quarter turn
+    /// `quarters[k]` (0, 1, 2 for 0, 90, 180 deg, given exactly) and the others at 0.
+    fn quarter_sc(&self, quarters: &[usize]) -> Vec<(f64, f64)> {
+        let mut sc = vec![(0.0, 1.0); self.turntable.n_joints()];
+        for (&j, &q) in self.free_joints().iter().zip(quarters) {
+            sc[j] = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0)][q];
+        }
+        sc
+    }
+
+    /// Whether coefficient $c_{ki}$ is identically zero. It is multi-affine in
+    /// $(\cos\phi_j, \sin\phi_j)$ of the free joints, so it vanishes everywhere if and only if
+    /// it vanishes on the $3^d$ quarter-turn points $\{0, 90°, 180°\}^d$.
+    #[must_use]
+    pub fn is_involved(&self, axis: OrientationAxis, error: usize) -> bool {
+        let d = self.free_joints().len();
+        let mut quarters = vec![0usize; d];
+        loop {
+            let c = self.coefficients_sc(&self.quarter_sc(&quarters));
+            if c[error][axis.index()].abs() > STRUCTURAL_ZERO {
+                return true;
+            }
+            // next point of {0,1,2}^d
+            let mut k = 0;
+            loop {
+                if k == d {
+                    return false;
+                }
+                quarters[k] += 1;
+                if quarters[k] < 3 {
+                    break;
+                }
+                quarters[k] = 0;
+                k += 1;
+            }
+        }
+    }
+
+    /// The errors an angle depends on (coefficient not identically zero): $\chi_\psi$,
+    /// $\chi_\theta$, $\chi_\gamma$ of eq 27 for the paper's table.
+    #[must_use]
+    pub fn involved(&self, axis: OrientationAxis) -> Vec<usize> {
+        (0..self.n_errors())
+            .filter(|&i| self.is_involved(axis, i))
+            .collect()
+    }
+
+    /// The harmonic parts $(a_i, b_i, c_i)$ of the coefficients of `axis` in free joint `j`
+    /// when the other joints have sines and cosines `sc`: $c_{ki}(\phi_j) = a_i\cos\phi_j +
+    /// b_i\sin\phi_j + c_i$. Values below [`STRUCTURAL_ZERO`] are set to zero.
+    fn harmonics_in(&self, axis: OrientationAxis, j: usize, sc: &[(f64, f64)]) -> Vec<[f64; 3]> {
+        let mut sc = sc.to_vec();
+        let mut at = |s: f64, c: f64| {
+            sc[j] = (s, c);
+            self.coefficients_sc(&sc)
+        };
+        let (f0, f90, f180) = (at(0.0, 1.0), at(1.0, 0.0), at(0.0, -1.0));
+        let snap = |x: f64| if x.abs() < STRUCTURAL_ZERO { 0.0 } else { x };
+        (0..self.n_errors())
+            .map(|i| {
+                let k = axis.index();
+                let c = 0.5 * (f0[i][k] + f180[i][k]);
+                let a = 0.5 * (f0[i][k] - f180[i][k]);
+                let b = f90[i][k] - c;
+                [snap(a), snap(b), snap(c)]
             })
             .collect()
     }
 
-    /// Average of $|\partial f_k/\partial\chi_i|$ over $\phi_2 \in [0, 2\pi)$ (and over
-    /// $\phi_1$, on which it does not depend): the sensitivities of eq 28 averaged over the
-    /// rotation angles, the data of Figure 8.
-    ///
-    /// # Formula
-    /// With $R = \sqrt{a^2+b^2}$, the mean of $|R\cos u + c|$ over a period is $|c|$ if
-    /// $|c| \ge R$ and $\tfrac{2}{\pi}\big(\sqrt{R^2-c^2} + c\arcsin(c/R)\big)$ otherwise;
-    /// for eq 26 this is $2/\pi$ for every $\sin\phi_2$/$\cos\phi_2$ term and 1 for a constant.
+    /// For the paper's kind of table (one free joint): the harmonic parts $(a, b, c)$ of every
+    /// coefficient of `axis` in that joint. `None` unless exactly one joint is free.
     #[must_use]
-    pub fn average_abs_coefficients(&self) -> SMatrix<f64, 3, CHI_LEN> {
-        SMatrix::from_fn(|i, j| {
-            let (a, b, c) = (self.cos[(i, j)], self.sin[(i, j)], self.constant[(i, j)]);
-            let r = a.hypot(b);
-            if c.abs() >= r {
-                c.abs()
-            } else {
-                2.0 / PI * ((r * r - c * c).sqrt() + c * (c / r).asin())
-            }
-        })
+    pub fn single_joint_harmonics(&self, axis: OrientationAxis) -> Option<Vec<[f64; 3]>> {
+        match self.free_joints() {
+            [j] => Some(self.harmonics_in(axis, *j, &vec![(0.0, 1.0); self.turntable.n_joints()])),
+            _ => None,
+        }
     }
 
-    /// $\max_{\phi_2 \in [\text{lo}, \text{hi}]} \sum_i w_i\,|c_{ki}(\phi_2)|$, found exactly.
+    fn ranges(&self, ranges: Option<&[[f64; 2]]>) -> Vec<[f64; 2]> {
+        ranges.map_or_else(|| self.turntable.joint_ranges_rad(), <[[f64; 2]]>::to_vec)
+    }
+
+    /// $\max_\phi \sum_i w_i\,|c_{ki}(\phi)|$ over the joint ranges (the turntable's, or
+    /// `ranges` per joint): with $w = \mathrm{UB}$ the worst case of $|f_k|$ over every
+    /// $|\chi_i| \le \mathrm{UB}_i$ (signs chosen adversarially) and every pose, the quantity
+    /// Lemma 1 bounds. Exact for at most one free joint; a grid-and-refine search otherwise
+    /// (see the [module](self); [`LinearModel::worst_pose_certified`] adds a rigorous bound).
     ///
-    /// With $w = \mathrm{UB}$ this is the worst case of $|f_k|$ over all $\chi$ with
-    /// $|\chi_i| \le \mathrm{UB}_i$ (signs chosen adversarially) and all poses in the range:
-    /// the quantity Lemma 1 bounds. The function is a sinusoid plus a constant between the
-    /// zero crossings of the coefficients, so its maximum is at a crossing, an end of the range,
-    /// or a stationary point $\operatorname{atan2}(B, A)$ of one piece.
-    #[must_use]
+    /// # Errors
+    /// [`KinematicsError::Length`] for weights or ranges of the wrong length.
     pub fn max_abs_weighted(
         &self,
         axis: OrientationAxis,
-        weights: &[f64; CHI_LEN],
-        lo_rad: f64,
-        hi_rad: f64,
-    ) -> WorstPose {
-        self.max_piecewise(axis, weights, true, lo_rad, hi_rad)
+        weights: &[f64],
+        ranges: Option<&[[f64; 2]]>,
+    ) -> Result<WorstPose, KinematicsError> {
+        self.search(axis, weights, true, ranges)
     }
 
-    /// $\max_{\phi_2 \in [\text{lo}, \text{hi}]} \sum_i x_i\,c_{ki}(\phi_2)$ (no absolute values),
-    /// found exactly: the left side of the constraints of problems (31)-(33).
-    #[must_use]
+    /// $\max_\phi \sum_i x_i\,c_{ki}(\phi)$ (no absolute values) over the joint ranges: the
+    /// left side of the constraints of problems (31)-(33) as printed.
+    ///
+    /// # Errors
+    /// As [`LinearModel::max_abs_weighted`].
     pub fn max_signed_weighted(
         &self,
         axis: OrientationAxis,
-        x: &[f64; CHI_LEN],
-        lo_rad: f64,
-        hi_rad: f64,
-    ) -> WorstPose {
-        self.max_piecewise(axis, x, false, lo_rad, hi_rad)
+        x: &[f64],
+        ranges: Option<&[[f64; 2]]>,
+    ) -> Result<WorstPose, KinematicsError> {
+        self.search(axis, x, false, ranges)
     }
 
-    fn weighted_value(
-        &self,
-        axis: OrientationAxis,
-        w: &[f64; CHI_LEN],
-        abs: bool,
-        phi: f64,
-    ) -> f64 {
-        ErrorComponent::ALL
-            .into_iter()
-            .map(|c| {
-                let v = self.coefficient(axis, c, phi);
-                w[c.index()] * if abs { v.abs() } else { v }
-            })
-            .sum()
+    fn check_inputs(&self, w: &[f64], ranges: Option<&[[f64; 2]]>) -> Result<(), KinematicsError> {
+        length("weights", self.n_errors(), w.len())?;
+        if let Some(r) = ranges {
+            length("ranges", self.turntable.n_joints(), r.len())?;
+        }
+        Ok(())
     }
 
-    fn max_piecewise(
+    /// Exact maximum over the last free joint for fixed other angles `pose`.
+    fn inner_max(
         &self,
         axis: OrientationAxis,
-        w: &[f64; CHI_LEN],
+        w: &[f64],
         abs: bool,
-        lo: f64,
-        hi: f64,
-    ) -> WorstPose {
-        let (lo, hi) = if lo <= hi { (lo, hi) } else { (hi, lo) };
-        let mut cuts = vec![lo, hi];
-        if abs {
-            for c in ErrorComponent::ALL {
-                let (a, b, k) = self.harmonics(axis, c);
-                let r = a.hypot(b);
-                if w[c.index()] == 0.0 || r == 0.0 || k.abs() > r {
-                    continue;
+        pose: &[f64],
+        inner: usize,
+        range: [f64; 2],
+    ) -> (f64, f64) {
+        let sc = Self::sc_of(pose);
+        let h = self.harmonics_in(axis, inner, &sc);
+        max_harmonic_sum(&h, w, abs, range[0], range[1])
+    }
+
+    fn search(
+        &self,
+        axis: OrientationAxis,
+        w: &[f64],
+        abs: bool,
+        ranges: Option<&[[f64; 2]]>,
+    ) -> Result<WorstPose, KinematicsError> {
+        self.check_inputs(w, ranges)?;
+        let ranges = self.ranges(ranges);
+        let mut pose: Vec<f64> = ranges.iter().map(|r| r[0]).collect();
+        let free = self.free_joints().to_vec();
+        let Some((&inner, outer)) = free.split_last() else {
+            let c = self.coefficients_sc(&Self::sc_of(&pose));
+            let v = weighted(&c, w, abs, axis);
+            return Ok(WorstPose {
+                value: v,
+                pose_rad: pose,
+                upper_bound: v,
+                exact: true,
+            });
+        };
+        if outer.is_empty() {
+            let (v, phi) = self.inner_max(axis, w, abs, &pose, inner, ranges[inner]);
+            pose[inner] = phi;
+            return Ok(WorstPose {
+                value: v,
+                pose_rad: pose,
+                upper_bound: v,
+                exact: true,
+            });
+        }
+        // Grid over the outer free joints.
+        let per = grid_points_per_joint(outer.len());
+        let mut best: Vec<(f64, Vec<f64>)> = Vec::new();
+        let mut idx = vec![0usize; outer.len()];
+        loop {
+            for (k, &j) in outer.iter().enumerate() {
+                let [lo, hi] = ranges[j];
+                pose[j] = lo + (hi - lo) * (idx[k] as f64 + 0.5) / per as f64;
+            }
+            let (v, phi) = self.inner_max(axis, w, abs, &pose, inner, ranges[inner]);
+            let mut p = pose.clone();
+            p[inner] = phi;
+            best.push((v, p));
+            let mut k = 0;
+            loop {
+                if k == outer.len() {
+                    break;
                 }
-                let delta = b.atan2(a);
-                let half = (-k / r).clamp(-1.0, 1.0).acos();
-                for base in [delta + half, delta - half] {
-                    push_periodic(&mut cuts, base, lo, hi);
+                idx[k] += 1;
+                if idx[k] < per {
+                    break;
                 }
+                idx[k] = 0;
+                k += 1;
+            }
+            if k == outer.len() {
+                break;
             }
         }
-        cuts.sort_by(f64::total_cmp);
-        let mut best = WorstPose {
-            value: f64::NEG_INFINITY,
-            phi2_rad: lo,
-        };
-        let consider = |phi: f64, best: &mut WorstPose| {
-            let v = self.weighted_value(axis, w, abs, phi);
-            if v > best.value {
-                *best = WorstPose {
-                    value: v,
-                    phi2_rad: phi,
+        best.sort_by(|a, b| b.0.total_cmp(&a.0));
+        best.truncate(4);
+        let mut winner = (f64::NEG_INFINITY, pose.clone());
+        for (v0, p0) in best {
+            let (v, p) = self.refine(axis, w, abs, &ranges, outer, inner, v0, p0, per);
+            if v > winner.0 {
+                winner = (v, p);
+            }
+        }
+        Ok(WorstPose {
+            value: winner.0,
+            pose_rad: winner.1,
+            upper_bound: f64::INFINITY,
+            exact: false,
+        })
+    }
+
+    /// Coordinate-wise golden-section refinement of the outer joints within one grid cell.
+    #[allow(clippy::too_many_arguments)]
+    fn refine(
+        &self,
+        axis: OrientationAxis,
+        w: &[f64],
+        abs: bool,
+        ranges: &[[f64; 2]],
+        outer: &[usize],
+        inner: usize,
+        v0: f64,
+        p0: Vec<f64>,
+        per: usize,
+    ) -> (f64, Vec<f64>) {
+        let mut best = (v0, p0);
+        let eval = |p: &[f64]| -> (f64, f64) { self.inner_max(axis, w, abs, p, inner, ranges[inner]) };
+        for _sweep in 0..3 {
+            for &j in outer {
+                let [rlo, rhi] = ranges[j];
+                let cell = (rhi - rlo) / per as f64;
+                let (mut lo, mut hi) = ((best.1[j] - cell).max(rlo), (best.1[j] + cell).min(rhi));
+                let g = (5f64.sqrt() - 1.0) / 2.0;
+                let mut p = best.1.clone();
+                let at = |x: f64, p: &mut Vec<f64>| {
+                    p[j] = x;
+                    eval(p)
                 };
-            }
-        };
-        for pair in cuts.windows(2) {
-            let (p, q) = (pair[0], pair[1]);
-            consider(p, &mut best);
-            consider(q, &mut best);
-            if q <= p {
-                continue;
-            }
-            // One smooth piece: sum_i s_i w_i (a_i cos + b_i sin + k_i) = A cos + B sin + C.
-            let mid = 0.5 * (p + q);
-            let (mut big_a, mut big_b) = (0.0, 0.0);
-            for c in ErrorComponent::ALL {
-                let (a, b, _) = self.harmonics(axis, c);
-                let s = if abs {
-                    self.coefficient(axis, c, mid).signum()
-                } else {
-                    1.0
-                };
-                big_a += s * w[c.index()] * a;
-                big_b += s * w[c.index()] * b;
-            }
-            if big_a != 0.0 || big_b != 0.0 {
-                let mut stationary = Vec::new();
-                push_periodic(&mut stationary, big_b.atan2(big_a), p, q);
-                for phi in stationary {
-                    consider(phi, &mut best);
+                let mut x1 = hi - g * (hi - lo);
+                let mut x2 = lo + g * (hi - lo);
+                let mut f1 = at(x1, &mut p).0;
+                let mut f2 = at(x2, &mut p).0;
+                for _ in 0..POSE_REFINE_STEPS {
+                    if f1 < f2 {
+                        lo = x1;
+                        x1 = x2;
+                        f1 = f2;
+                        x2 = lo + g * (hi - lo);
+                        f2 = at(x2, &mut p).0;
+                    } else {
+                        hi = x2;
+                        x2 = x1;
+                        f2 = f1;
+                        x1 = hi - g * (hi - lo);
+                        f1 = at(x1, &mut p).0;
+                    }
+                }
+                for x in [x1, x2, 0.5 * (lo + hi)] {
+                    let (v, phi) = at(x, &mut p);
+                    if v > best.0 {
+                        let mut q = p.clone();
+                        q[inner] = phi;
+                        best = (v, q);
+                    }
                 }
             }
         }
         best
     }
+
+    /// [`LinearModel::max_abs_weighted`] (or the signed form) with a rigorous upper bound:
+    /// branch and bound over the outer free joints, each cell bounded by its centre value
+    /// plus $L\sum_k h_k$ ($L = \sum_i |w_i|$, $h_k$ the half-widths), until the bound is within
+    /// [`CERTIFY_REL_GAP`] of the best value found or [`CERTIFY_MAX_EVALUATIONS`] cells have
+    /// been evaluated. Exact searches return their value as the bound.
+    ///
+    /// # Errors
+    /// As [`LinearModel::max_abs_weighted`].
+    pub fn worst_pose_certified(
+        &self,
+        axis: OrientationAxis,
+        weights: &[f64],
+        abs: bool,
+        ranges: Option<&[[f64; 2]]>,
+    ) -> Result<WorstPose, KinematicsError> {
+        let mut found = self.search(axis, weights, abs, ranges)?;
+        if found.exact {
+            return Ok(found);
+        }
+        let ranges = self.ranges(ranges);
+        let free = self.free_joints().to_vec();
+        let (&inner, outer) = free
+            .split_last()
+            .unwrap_or_else(|| unreachable!("inexact searches have free joints"));
+        let lipschitz: f64 = weights.iter().map(|w| w.abs()).sum();
+        let base = found.pose_rad.clone();
+        let mut heap: std::collections::BinaryHeap<Cell> = std::collections::BinaryHeap::new();
+        let evaluate = |centre: Vec<f64>, half: Vec<f64>, found: &mut WorstPose| -> Cell {
+            let mut p = base.clone();
+            for (k, &j) in outer.iter().enumerate() {
+                p[j] = centre[k];
+            }
+            let (v, phi) = self.inner_max(axis, weights, abs, &p, inner, ranges[inner]);
+            if v > found.value {
+                p[inner] = phi;
+                found.value = v;
+                found.pose_rad = p;
+            }
+            Cell {
+                bound: v + lipschitz * half.iter().sum::<f64>(),
+                centre,
+                half,
+            }
+        };
+        let centre: Vec<f64> = outer
+            .iter()
+            .map(|&j| 0.5 * (ranges[j][0] + ranges[j][1]))
+            .collect();
+        let half: Vec<f64> = outer
+            .iter()
+            .map(|&j| 0.5 * (ranges[j][1] - ranges[j][0]))
+            .collect();
+        heap.push(evaluate(centre, half, &mut found));
+        let mut evaluations = 1;
+        let bound = loop {
+            let Some(top) = heap.pop() else {
+                break found.value;
+            };
+            let tol = CERTIFY_REL_GAP * found.value.abs().max(f64::MIN_POSITIVE);
+            if top.bound <= found.value + tol || evaluations >= CERTIFY_MAX_EVALUATIONS {
+                break top.bound.max(found.value);
+            }
+            // split the widest dimension in two
+            let d = top
+                .half
+                .iter()
+                .enumerate()
+                .fold((0, 0.0), |b, (i, &h)| if h > b.1 { (i, h) } else { b })
+                .0;
+            for side in [-1.0, 1.0] {
+                let mut c = top.centre.clone();
+                let mut h = top.half.clone();
+                h[d] *= 0.5;
+                c[d] += side * h[d];
+                let cell = evaluate(c, h, &mut found);
+                evaluations += 1;
+                if cell.bound > found.value {
+                    heap.push(cell);
+                }
+            }
+        };
+        found.upper_bound = bound;
+        Ok(found)
+    }
+
+    /// Average of $|c_{ki}|$ over the free joints' ranges (uniformly; joints that cancel do
+    /// not matter): the sensitivities of eq 28 averaged over the rotation angles, the data of
+    /// Figure 8. Rows $\psi, \theta, \gamma$.
+    ///
+    /// # Formula
+    /// Per coefficient, exactly over the last free joint: $\int |a\cos\phi + b\sin\phi + c|$
+    /// piece by piece between the zeros, with the antiderivative $a\sin\phi - b\cos\phi +
+    /// c\phi$. Over a full turn this is $|c|$ if $|c| \ge R = \sqrt{a^2+b^2}$ and
+    /// $\tfrac{2}{\pi}(\sqrt{R^2-c^2} + c\arcsin(c/R))$ otherwise: $2/\pi$ for every
+    /// $\sin\phi_2$/$\cos\phi_2$ term of eq 26 and 1 for a constant. Other free joints: the
+    /// midpoint rule with [`AVERAGE_GRID_POINTS`] points each.
+    #[must_use]
+    pub fn average_abs_coefficients(&self) -> DMatrix<f64> {
+        let ranges = self.turntable.joint_ranges_rad();
+        let n = self.n_errors();
+        let mut out = DMatrix::zeros(3, n);
+        let base: Vec<f64> = ranges.iter().map(|r| r[0]).collect();
+        let free = self.free_joints().to_vec();
+        let Some((&inner, outer)) = free.split_last() else {
+            let c = self.coefficients_sc(&Self::sc_of(&base));
+            for i in 0..n {
+                for k in 0..3 {
+                    out[(k, i)] = c[i][k].abs();
+                }
+            }
+            return out;
+        };
+        let per = if outer.is_empty() { 1 } else { AVERAGE_GRID_POINTS };
+        let cells = per.pow(outer.len() as u32);
+        let mut pose = base;
+        for cell in 0..cells {
+            let mut rest = cell;
+            for &j in outer {
+                let [lo, hi] = ranges[j];
+                pose[j] = lo + (hi - lo) * ((rest % per) as f64 + 0.5) / per as f64;
+                rest /= per;
+            }
+            let sc = Self::sc_of(&pose);
+            for axis in OrientationAxis::ALL {
+                let h = self.harmonics_in(axis, inner, &sc);
+                let [lo, hi] = ranges[inner];
+                for (i, hi_) in h.iter().enumerate() {
+                    out[(axis.index(), i)] += mean_abs_harmonic(*hi_, lo, hi);
+                }
+            }
+        }
+        out / cells as f64
+    }
+}
+
+/// A cell of the branch and bound: its bound, centre and half-widths (outer joints).
+struct Cell {
+    bound: f64,
+    centre: Vec<f64>,
+    half: Vec<f64>,
+}
+
+impl PartialEq for Cell {
+    fn eq(&self, other: &Self) -> bool {
+        self.bound.total_cmp(&other.bound).is_eq()
+    }
+}
+impl Eq for Cell {}
+impl PartialOrd for Cell {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Cell {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.bound.total_cmp(&other.bound)
+    }
+}
+
+fn grid_points_per_joint(outer: usize) -> usize {
+    match outer {
+        0 | 1 => POSE_GRID_POINTS,
+        2 => 64,
+        3 => 16,
+        _ => 8,
+    }
+}
+
+fn weighted(c: &[[f64; 3]], w: &[f64], abs: bool, axis: OrientationAxis) -> f64 {
+    c.iter()
+        .zip(w)
+        .map(|(ci, wi)| {
+            let v = ci[axis.index()];
+            wi * if abs { v.abs() } else { v }
+        })
+        .sum()
 }
 
 /// Push every `base + 2 pi k` that lies in `[lo, hi]`.
@@ -318,4 +690,94 @@ fn push_periodic(out: &mut Vec<f64>, base: f64, lo: f64, hi: f64) {
         }
         phi += TAU;
     }
+}
+
+/// $\max_{\phi \in [lo, hi]} \sum_i w_i\,g_i(\phi)$ (or of $|g_i|$), $g_i = a_i\cos\phi +
+/// b_i\sin\phi + c_i$, found exactly: the sum is a sinusoid plus a constant between the zero
+/// crossings of the $g_i$, so its maximum is at a crossing, an end of the range, or a
+/// stationary point $\operatorname{atan2}(B, A)$ of one piece.
+#[must_use]
+pub fn max_harmonic_sum(h: &[[f64; 3]], w: &[f64], abs: bool, lo: f64, hi: f64) -> (f64, f64) {
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+    let value = |phi: f64| -> f64 {
+        let (s, c) = phi.sin_cos();
+        h.iter()
+            .zip(w)
+            .map(|([a, b, k], wi)| {
+                let v = a * c + b * s + k;
+                wi * if abs { v.abs() } else { v }
+            })
+            .sum()
+    };
+    let mut cuts = vec![lo, hi];
+    if abs {
+        for ([a, b, k], wi) in h.iter().zip(w) {
+            let r = a.hypot(*b);
+            if *wi == 0.0 || r == 0.0 || k.abs() > r {
+                continue;
+            }
+            let delta = b.atan2(*a);
+            let half = (-k / r).clamp(-1.0, 1.0).acos();
+            for base in [delta + half, delta - half] {
+                push_periodic(&mut cuts, base, lo, hi);
+            }
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let mut best = (f64::NEG_INFINITY, lo);
+    let mut consider = |phi: f64| {
+        let v = value(phi);
+        if v > best.0 {
+            best = (v, phi);
+        }
+    };
+    for pair in cuts.windows(2) {
+        let (p, q) = (pair[0], pair[1]);
+        consider(p);
+        consider(q);
+        if q <= p {
+            continue;
+        }
+        let mid = 0.5 * (p + q);
+        let (sm, cm) = mid.sin_cos();
+        let (mut big_a, mut big_b) = (0.0, 0.0);
+        for ([a, b, k], wi) in h.iter().zip(w) {
+            let s = if abs { (a * cm + b * sm + k).signum() } else { 1.0 };
+            big_a += s * wi * a;
+            big_b += s * wi * b;
+        }
+        if big_a != 0.0 || big_b != 0.0 {
+            let mut stationary = Vec::new();
+            push_periodic(&mut stationary, big_b.atan2(big_a), p, q);
+            for phi in stationary {
+                consider(phi);
+            }
+        }
+    }
+    if cuts.len() == 2 && lo == hi {
+        consider(lo);
+    }
+    best
+}
+
+/// Mean of $|a\cos\phi + b\sin\phi + c|$ over $[lo, hi]$, exactly (see
+/// [`LinearModel::average_abs_coefficients`]).
+#[must_use]
+pub fn mean_abs_harmonic([a, b, c]: [f64; 3], lo: f64, hi: f64) -> f64 {
+    let anti = |phi: f64| a * phi.sin() - b * phi.cos() + c * phi;
+    let r = a.hypot(b);
+    let mut cuts = vec![lo, hi];
+    if r > 0.0 && c.abs() < r {
+        let delta = b.atan2(a);
+        let half = (-c / r).clamp(-1.0, 1.0).acos();
+        for base in [delta + half, delta - half] {
+            push_periodic(&mut cuts, base, lo, hi);
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let total: f64 = cuts
+        .windows(2)
+        .map(|p| (anti(p[1]) - anti(p[0])).abs())
+        .sum();
+    if hi > lo { total / (hi - lo) } else { (a * lo.cos() + b * lo.sin() + c).abs() }
 }

@@ -1,15 +1,16 @@
-//! The seam [`OrientationErrorModel`] and its three implementations.
+//! The seam [`OrientationErrorModel`] and its implementations for any turntable.
 
-use crate::chain::{ChainKind, delta_r};
-use crate::errors::TurntableErrors;
+use crate::error::KinematicsError;
 use crate::linear::{LinearModel, OrientationAxis};
-use crate::pose::Pose;
-use nalgebra::{Matrix3, Vector3};
+use crate::pose::{Pose, TurntableErrors};
+use crate::rotation::rotation_vector;
+use crate::turntable::{ChainKind, Turntable};
+use nalgebra::Matrix3;
 
-/// The orientation error of the GyroWheel axes (eq 24-25), radians.
+/// The orientation error of the sensor axes (eq 24-25), radians.
 ///
 /// $\Delta\psi$ is the rotation error about $y$, $\Delta\theta$ about $z$, $\Delta\gamma$ about
-/// $x$ (paper Figure 3 and eq 7).
+/// $x$ (paper Figure 3 and eq 7), all in the platform (sensor) frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct OrientationError {
     /// $\Delta\psi$ (about $y$), rad.
@@ -59,22 +60,33 @@ impl OrientationError {
     }
 }
 
-/// Maps a turntable pose and its geometric errors to the orientation error of the sensor.
+/// Maps a turntable pose and its geometric errors to the orientation error of the platform.
 ///
-/// Implemented by [`ExactChain`], [`SmallAngleChain`] and [`ClosedForm`]; all agree to first
-/// order in the errors (tested by one conformance suite).
+/// Implemented for any turntable by [`ExactChain`], [`SmallAngleChain`] and [`LinearChain`],
+/// and for the paper's table by [`crate::paper::ClosedForm`] (eq 26); all agree to first order
+/// in the errors (the conformance suite, [`crate::conformance`] with the `conformance`
+/// feature, checks it for any implementation).
 ///
 /// ```
-/// use tt_kinematics::{ClosedForm, OrientationErrorModel, Pose, TurntableErrors};
-/// let chi = TurntableErrors::from_arcmin([0.0, 1.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0], 0.0)?;
-/// let e = ClosedForm.orientation_error(&Pose::from_deg(0.0, 0.0)?, &chi);
-/// // eq 26: delta_theta = dphi_z2 + dalpha_z1
-/// assert!((e.delta_theta_rad - 1.5_f64.to_radians() / 60.0).abs() < 1e-15);
+/// use tt_kinematics::{paper, ExactChain, OrientationErrorModel, Pose, TurntableErrors};
+/// let table = paper::table3();
+/// let chi = TurntableErrors::from_arcmin(&[0.0, 1.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0], &[0.0])?;
+/// let e = ExactChain::new(&table).orientation_error(&Pose::from_deg(&[0.0, 0.0])?, &chi)?;
+/// // eq 26: delta_theta = dphi_z2 + dalpha_z1, to second order
+/// assert!((e.delta_theta_rad - 1.5_f64.to_radians() / 60.0).abs() < 1e-9);
 /// # Ok::<(), tt_kinematics::KinematicsError>(())
 /// ```
 pub trait OrientationErrorModel {
     /// $(\Delta\psi, \Delta\theta, \Delta\gamma)$ at `pose` for turntable `errors`.
-    fn orientation_error(&self, pose: &Pose, errors: &TurntableErrors) -> OrientationError;
+    ///
+    /// # Errors
+    /// [`KinematicsError::Length`] when the pose or the errors do not fit the model's
+    /// turntable; [`KinematicsError::WrongTurntable`] for a model of one specific table.
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError>;
 }
 
 /// How the exact chain turns $\Delta\mathbf R$ into three angles (NOTES item 7).
@@ -90,17 +102,39 @@ pub enum ReadOut {
     RotationVector,
 }
 
-/// The exact chain: every error a finite rotation in Table 3's order (eq 17-23).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// The exact chain: every error a finite rotation in the order of the description.
+#[derive(Debug, Clone, PartialEq)]
 pub struct ExactChain {
+    turntable: Turntable,
     /// How angles are read off $\Delta\mathbf R$.
     pub readout: ReadOut,
 }
 
+impl ExactChain {
+    /// The exact chain of `turntable` with the eq-24 read-out.
+    #[must_use]
+    pub fn new(turntable: &Turntable) -> Self {
+        Self {
+            turntable: turntable.clone(),
+            readout: ReadOut::MatrixElements,
+        }
+    }
+
+    /// The same chain with another read-out.
+    #[must_use]
+    pub fn with_readout(self, readout: ReadOut) -> Self {
+        Self { readout, ..self }
+    }
+}
+
 impl OrientationErrorModel for ExactChain {
-    fn orientation_error(&self, pose: &Pose, errors: &TurntableErrors) -> OrientationError {
-        let dr = delta_r(pose, errors, ChainKind::Exact);
-        match self.readout {
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        let dr = self.turntable.delta_r(pose, errors, ChainKind::Exact)?;
+        Ok(match self.readout {
             ReadOut::MatrixElements => OrientationError::from_matrix_elements(&dr),
             ReadOut::RotationVector => {
                 let v = rotation_vector(&dr);
@@ -110,45 +144,62 @@ impl OrientationErrorModel for ExactChain {
                     delta_gamma_rad: v.x,
                 }
             }
+        })
+    }
+}
+
+/// The chain with every run of consecutive error rotations replaced by one small-angle matrix
+/// $I + [\delta]_\times$ ([`ChainKind::SmallAngle`]; eq 17-19 as printed for the paper's table),
+/// read out by eq 24.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmallAngleChain {
+    turntable: Turntable,
+}
+
+impl SmallAngleChain {
+    /// The small-angle chain of `turntable`.
+    #[must_use]
+    pub fn new(turntable: &Turntable) -> Self {
+        Self {
+            turntable: turntable.clone(),
         }
     }
 }
 
-/// The chain of eq 17-23 with the small-angle matrices exactly as printed, read out by eq 24.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct SmallAngleChain;
-
 impl OrientationErrorModel for SmallAngleChain {
-    fn orientation_error(&self, pose: &Pose, errors: &TurntableErrors) -> OrientationError {
-        OrientationError::from_matrix_elements(&delta_r(pose, errors, ChainKind::SmallAngle))
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        Ok(OrientationError::from_matrix_elements(
+            &self.turntable.delta_r(pose, errors, ChainKind::SmallAngle)?,
+        ))
     }
 }
 
-/// The closed form of eq 26 (first order in $\chi$; see [`LinearModel::paper_eq26`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct ClosedForm;
+/// The first-order model ([`LinearModel`]) as an [`OrientationErrorModel`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearChain {
+    model: LinearModel,
+}
 
-impl OrientationErrorModel for ClosedForm {
-    fn orientation_error(&self, pose: &Pose, errors: &TurntableErrors) -> OrientationError {
-        LinearModel::paper_eq26().evaluate(pose.phi2_rad, errors)
+impl LinearChain {
+    /// The first-order model of `turntable`.
+    #[must_use]
+    pub fn new(turntable: &Turntable) -> Self {
+        Self {
+            model: LinearModel::new(turntable),
+        }
     }
 }
 
-/// The rotation vector (axis times angle) of a rotation matrix, accurate for small angles.
-///
-/// With $v = \tfrac12\operatorname{vee}(R - R^T) = \sin\vartheta\,\hat n$ and
-/// $\cos\vartheta = \tfrac12(\operatorname{tr}R - 1)$, $\vartheta = \operatorname{atan2}(|v|, \cos\vartheta)$
-/// keeps full relative precision near $\vartheta = 0$ (unlike $\arccos$). Valid for
-/// $\vartheta < \pi$, which holds for every turntable error of interest.
-fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
-    let v = 0.5
-        * Vector3::new(
-            r[(2, 1)] - r[(1, 2)],
-            r[(0, 2)] - r[(2, 0)],
-            r[(1, 0)] - r[(0, 1)],
-        );
-    let s = v.norm();
-    let c = 0.5 * (r.trace() - 1.0);
-    let angle = s.atan2(c);
-    if s == 0.0 { v } else { v * (angle / s) }
+impl OrientationErrorModel for LinearChain {
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        self.model.evaluate(pose, errors)
+    }
 }

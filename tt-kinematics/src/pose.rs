@@ -1,34 +1,162 @@
-//! Turntable pose: the commanded rotation angles of the two axes.
+//! Turntable poses (commanded joint angles) and turntable errors (the values of the errors of a
+//! description).
 
 use crate::error::{KinematicsError, finite};
-use crate::units::deg_to_rad;
+use crate::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 
-/// Commanded turntable angles $\phi = (\phi_1, \phi_2)$ (eq 21), radians.
+/// Commanded joint angles of a turntable, radians, in the order of the description's joints
+/// (the order in which they appear from the base to the platform).
 ///
-/// $\phi_1$ rotates the outer axis about $y$ of the base frame, $\phi_2$ the inner axis about
-/// $z$ of the inner-axis reference frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A pose is not tied to one turntable; a [`crate::Turntable`] checks that it has one angle per
+/// joint when it is used.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Pose {
-    /// Outer-axis angle $\phi_1$ (about $y$), rad.
-    pub phi1_rad: f64,
-    /// Inner-axis angle $\phi_2$ (about $z$), rad.
-    pub phi2_rad: f64,
+    angles_rad: Vec<f64>,
 }
 
 impl Pose {
-    /// A pose from angles in radians; rejects NaN and infinities by name.
-    pub fn new(phi1_rad: f64, phi2_rad: f64) -> Result<Self, KinematicsError> {
-        Ok(Self {
-            phi1_rad: finite("phi1", phi1_rad)?,
-            phi2_rad: finite("phi2", phi2_rad)?,
-        })
+    /// A pose from angles in radians; rejects NaN and infinities, naming `pose[k]`.
+    ///
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] naming the angle.
+    pub fn new(angles_rad: Vec<f64>) -> Result<Self, KinematicsError> {
+        for (k, &a) in angles_rad.iter().enumerate() {
+            finite(&format!("pose[{k}]"), a)?;
+        }
+        Ok(Self { angles_rad })
     }
 
     /// A pose from angles in degrees.
-    pub fn from_deg(phi1_deg: f64, phi2_deg: f64) -> Result<Self, KinematicsError> {
+    ///
+    /// # Errors
+    /// As [`Pose::new`] (the value reported in degrees).
+    pub fn from_deg(angles_deg: &[f64]) -> Result<Self, KinematicsError> {
+        for (k, &a) in angles_deg.iter().enumerate() {
+            finite(&format!("pose[{k}]"), a)?;
+        }
+        Self::new(angles_deg.iter().map(|a| a * RAD_PER_DEG).collect())
+    }
+
+    /// The angles, radians.
+    #[must_use]
+    pub fn angles_rad(&self) -> &[f64] {
+        &self.angles_rad
+    }
+
+    /// The angles, degrees.
+    #[must_use]
+    pub fn angles_deg(&self) -> Vec<f64> {
+        self.angles_rad.iter().map(|a| a / RAD_PER_DEG).collect()
+    }
+
+    /// Number of angles.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.angles_rad.len()
+    }
+
+    /// Whether the pose has no angle.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.angles_rad.is_empty()
+    }
+}
+
+/// The values of a turntable's errors: the angular errors $\chi$ (radians, in the
+/// description's error order, eq 25 for the paper) and the error translations (metres).
+///
+/// Invariant: every value is finite (checked by the constructors). Lengths are checked against
+/// a turntable when it is used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TurntableErrors {
+    chi_rad: Vec<f64>,
+    translations_m: Vec<f64>,
+}
+
+impl TurntableErrors {
+    /// From $\chi$ in radians and the translations in metres.
+    ///
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] naming `chi[k]` or `translations[k]`.
+    pub fn new(chi_rad: Vec<f64>, translations_m: Vec<f64>) -> Result<Self, KinematicsError> {
+        for (k, &v) in chi_rad.iter().enumerate() {
+            finite(&format!("chi[{k}]"), v)?;
+        }
+        for (k, &v) in translations_m.iter().enumerate() {
+            finite(&format!("translations[{k}]"), v)?;
+        }
         Ok(Self {
-            phi1_rad: deg_to_rad(finite("phi1", phi1_deg)?),
-            phi2_rad: deg_to_rad(finite("phi2", phi2_deg)?),
+            chi_rad,
+            translations_m,
         })
+    }
+
+    /// From $\chi$ in arcminutes (the unit of Table 4) and the translations in millimetres.
+    ///
+    /// # Errors
+    /// As [`TurntableErrors::new`] (the value reported in the caller's unit).
+    pub fn from_arcmin(chi_arcmin: &[f64], translations_mm: &[f64]) -> Result<Self, KinematicsError> {
+        Self::new(chi_arcmin.to_vec(), translations_mm.to_vec())?;
+        Self::new(
+            chi_arcmin.iter().map(|v| v * RAD_PER_ARCMIN).collect(),
+            translations_mm.iter().map(|v| v * 1e-3).collect(),
+        )
+    }
+
+    /// All errors zero for `n_chi` angular errors and `n_translations` translations.
+    #[must_use]
+    pub fn zero(n_chi: usize, n_translations: usize) -> Self {
+        Self {
+            chi_rad: vec![0.0; n_chi],
+            translations_m: vec![0.0; n_translations],
+        }
+    }
+
+    /// $\chi$, radians.
+    #[must_use]
+    pub fn chi_rad(&self) -> &[f64] {
+        &self.chi_rad
+    }
+
+    /// The error translations, metres.
+    #[must_use]
+    pub fn translations_m(&self) -> &[f64] {
+        &self.translations_m
+    }
+
+    /// The same errors with angular error `k` replaced (radians).
+    ///
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] for a non-finite value; [`KinematicsError::Length`] when
+    /// `k` is out of range.
+    pub fn with_chi(mut self, k: usize, value_rad: f64) -> Result<Self, KinematicsError> {
+        let n = self.chi_rad.len();
+        let slot = self.chi_rad.get_mut(k).ok_or(KinematicsError::Length {
+            what: "chi index",
+            expected: n,
+            found: k,
+        })?;
+        *slot = finite(&format!("chi[{k}]"), value_rad)?;
+        Ok(self)
+    }
+
+    /// The same angular errors with other translations (metres).
+    ///
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] naming `translations[k]`.
+    pub fn with_translations_m(self, translations_m: Vec<f64>) -> Result<Self, KinematicsError> {
+        Self::new(self.chi_rad, translations_m)
+    }
+
+    /// $\max_i |\chi_i|$, radians.
+    #[must_use]
+    pub fn max_abs_rad(&self) -> f64 {
+        self.chi_rad.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+    }
+
+    /// $\sum_i |\chi_i|$, radians: a bound on the rotation angle of $\Delta\mathbf R$.
+    #[must_use]
+    pub fn l1_rad(&self) -> f64 {
+        self.chi_rad.iter().map(|x| x.abs()).sum()
     }
 }

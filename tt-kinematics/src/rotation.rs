@@ -1,15 +1,17 @@
-//! Elementary rotations and skew matrices (right-handed, active).
+//! Elementary rotations, signed axes and skew matrices (right-handed, active).
 //!
 //! $$R_x(a) = \begin{bmatrix}1&0&0\\0&\cos a&-\sin a\\0&\sin a&\cos a\end{bmatrix},\quad
 //!   R_y(a) = \begin{bmatrix}\cos a&0&\sin a\\0&1&0\\-\sin a&0&\cos a\end{bmatrix},\quad
 //!   R_z(a) = \begin{bmatrix}\cos a&-\sin a&0\\\sin a&\cos a&0\\0&0&1\end{bmatrix}.$$
 //!
-//! These are the matrices of eq 17, 19 and 21 of the paper.
+//! These are the matrices of eq 17, 19 and 21 of the paper. A rotation about a negative axis
+//! $-x$ by $a$ is the rotation about $x$ by $-a$.
 
 use nalgebra::{Matrix3, Matrix4, Vector3};
+use std::fmt;
 
 /// A coordinate axis of a rotation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Axis {
     /// The $x$ axis.
     X,
@@ -20,6 +22,9 @@ pub enum Axis {
 }
 
 impl Axis {
+    /// The three axes, $x$ first.
+    pub const ALL: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
+
     /// The unit vector along this axis.
     #[must_use]
     pub fn unit(self) -> Vector3<f64> {
@@ -29,12 +34,111 @@ impl Axis {
             Axis::Z => Vector3::z(),
         }
     }
+
+    /// Index of the axis (0, 1, 2 for $x$, $y$, $z$).
+    #[must_use]
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// `"x"`, `"y"` or `"z"`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Axis::X => "x",
+            Axis::Y => "y",
+            Axis::Z => "z",
+        }
+    }
+}
+
+/// An axis of the current (moving) frame with a sign: `x`, `y`, `z`, `-x`, `-y`, `-z`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SignedAxis {
+    /// The coordinate axis.
+    pub axis: Axis,
+    /// Whether the axis points the other way ($-x$ etc.).
+    pub negative: bool,
+}
+
+impl SignedAxis {
+    /// `+x`.
+    pub const X: SignedAxis = SignedAxis::positive(Axis::X);
+    /// `+y`.
+    pub const Y: SignedAxis = SignedAxis::positive(Axis::Y);
+    /// `+z`.
+    pub const Z: SignedAxis = SignedAxis::positive(Axis::Z);
+
+    /// The positive direction of `axis`.
+    #[must_use]
+    pub const fn positive(axis: Axis) -> Self {
+        Self {
+            axis,
+            negative: false,
+        }
+    }
+
+    /// Parse `x`, `y`, `z`, `-x`, `-y`, `-z` (also `+x` etc.).
+    #[must_use]
+    pub fn parse(s: &str) -> Option<Self> {
+        let (negative, rest) = match s.as_bytes().first() {
+            Some(b'-') => (true, &s[1..]),
+            Some(b'+') => (false, &s[1..]),
+            _ => (false, s),
+        };
+        let axis = match rest {
+            "x" => Axis::X,
+            "y" => Axis::Y,
+            "z" => Axis::Z,
+            _ => return None,
+        };
+        Some(Self { axis, negative })
+    }
+
+    /// $+1$ or $-1$.
+    #[must_use]
+    pub fn sign(self) -> f64 {
+        if self.negative { -1.0 } else { 1.0 }
+    }
+
+    /// The unit vector (with its sign).
+    #[must_use]
+    pub fn unit(self) -> Vector3<f64> {
+        self.axis.unit() * self.sign()
+    }
+}
+
+impl fmt::Display for SignedAxis {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.negative {
+            write!(f, "-{}", self.axis.name())
+        } else {
+            f.write_str(self.axis.name())
+        }
+    }
 }
 
 /// Rotation by `angle_rad` about `axis`.
 #[must_use]
 pub fn rot(axis: Axis, angle_rad: f64) -> Matrix3<f64> {
     let (s, c) = angle_rad.sin_cos();
+    rot_sc(axis, s, c)
+}
+
+/// Rotation by `angle_rad` about a signed axis.
+#[must_use]
+pub fn rot_signed(axis: SignedAxis, angle_rad: f64) -> Matrix3<f64> {
+    rot(axis.axis, axis.sign() * angle_rad)
+}
+
+/// The rotation about `axis` whose angle has sine `s` and cosine `c` (given exactly, so that
+/// quarter turns give exact zeros).
+#[must_use]
+pub fn rot_sc(axis: Axis, s: f64, c: f64) -> Matrix3<f64> {
     match axis {
         Axis::X => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
         Axis::Y => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
@@ -50,7 +154,7 @@ pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// The printed small-angle error matrix $I + \lbrack v\rbrack_\times$ of eq 17-19 (not orthonormal).
+/// The small-angle error matrix $I + \lbrack v\rbrack_\times$ of eq 17-19 (not orthonormal).
 ///
 /// With $v = (\Delta\alpha_{x1}, \Delta\phi_{y1}, \Delta\alpha_{z1})$ this is the second factor of
 /// eq 17; with $(\Delta\varepsilon_x, \Delta\varepsilon_y, 0)$ the first of eq 18; with
@@ -74,4 +178,24 @@ pub fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
     let mut t = Matrix4::identity();
     t.fixed_view_mut::<3, 1>(0, 3).copy_from(d);
     t
+}
+
+/// The rotation vector (axis times angle) of a rotation matrix, accurate for small angles.
+///
+/// With $v = \tfrac12\operatorname{vee}(R - R^T) = \sin\vartheta\,\hat n$ and
+/// $\cos\vartheta = \tfrac12(\operatorname{tr}R - 1)$, $\vartheta = \operatorname{atan2}(|v|, \cos\vartheta)$
+/// keeps full relative precision near $\vartheta = 0$ (unlike $\arccos$). Valid for
+/// $\vartheta < \pi$, which holds for every turntable error of interest.
+#[must_use]
+pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+    let v = 0.5
+        * Vector3::new(
+            r[(2, 1)] - r[(1, 2)],
+            r[(0, 2)] - r[(2, 0)],
+            r[(1, 0)] - r[(0, 1)],
+        );
+    let s = v.norm();
+    let c = 0.5 * (r.trace() - 1.0);
+    let angle = s.atan2(c);
+    if s == 0.0 { v } else { v * (angle / s) }
 }

@@ -1,119 +1,91 @@
-//! One conformance suite for every `OrientationErrorModel` implementation (issue 2, §2):
-//! the exact chain (eq 17-24, finite rotations), the printed small-angle chain and the
-//! closed form (eq 26). Each property is checked for each implementation.
+//! The conformance suite (library code behind the `conformance` feature) run on every model
+//! of this crate, for the paper's table and a three-axis table, and shown to fail on a wrong
+//! model.
 
 mod common;
 
-use approx::assert_abs_diff_eq;
 use common::*;
-use proptest::prelude::*;
+use tt_kinematics::conformance::{Tolerances, cases, check_model};
+use tt_kinematics::paper::ClosedForm;
 use tt_kinematics::{
-    ClosedForm, ExactChain, OrientationError, OrientationErrorModel, Pose, ReadOut,
-    SmallAngleChain, TurntableErrors,
+    ExactChain, KinematicsError, LinearChain, OrientationError, OrientationErrorModel, Pose,
+    ReadOut, SmallAngleChain, Turntable, TurntableErrors,
 };
 
-/// The implementations under test with their second-order constant against eq 26.
-fn implementations() -> Vec<(&'static str, Box<dyn OrientationErrorModel>, f64)> {
+fn all_models(t: &Turntable) -> Vec<(&'static str, Box<dyn OrientationErrorModel>)> {
     vec![
-        ("exact chain", Box::new(ExactChain::default()), K_EXACT),
+        ("exact", Box::new(ExactChain::new(t))),
         (
-            "exact chain, rotation-vector read-out",
-            Box::new(ExactChain {
-                readout: ReadOut::RotationVector,
-            }),
-            K_EXACT,
+            "exact, rotation vector",
+            Box::new(ExactChain::new(t).with_readout(ReadOut::RotationVector)),
         ),
-        (
-            "small-angle chain",
-            Box::new(SmallAngleChain),
-            K_SMALL_ANGLE,
-        ),
-        ("closed form (26)", Box::new(ClosedForm), 0.0),
+        ("small-angle", Box::new(SmallAngleChain::new(t))),
+        ("linear", Box::new(LinearChain::new(t))),
     ]
 }
 
-fn max_abs_diff(a: &OrientationError, b: &OrientationError) -> f64 {
-    a.to_array()
-        .iter()
-        .zip(b.to_array())
-        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+#[test]
+fn every_model_passes_the_conformance_suite_on_the_paper_table() {
+    let t = table3();
+    let c = cases(&t, 200, MAX_ERROR_RAD);
+    let mut models = all_models(&t);
+    models.push(("eq 26", Box::new(ClosedForm)));
+    for (name, m) in models {
+        check_model(m.as_ref(), &t, &c, &Tolerances::default())
+            .unwrap_or_else(|f| panic!("{name}: {f}"));
+    }
 }
 
 #[test]
-fn conformance_suite_has_every_implementation() {
-    // Guard against an empty suite passing vacuously.
-    assert_eq!(implementations().len(), 4);
+fn every_model_passes_the_conformance_suite_on_a_three_axis_table() {
+    let t = three_axis();
+    let c = cases(&t, 200, MAX_ERROR_RAD);
+    for (name, m) in all_models(&t) {
+        check_model(m.as_ref(), &t, &c, &Tolerances::default())
+            .unwrap_or_else(|f| panic!("{name}: {f}"));
+    }
+}
+
+/// A model with a sign error in one angle (the mutation "Delta-R = R_t^T R_d"): the suite
+/// must reject it, so it can fail.
+struct Transposed(Turntable);
+
+impl OrientationErrorModel for Transposed {
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        let dr = self.0.delta_r(pose, errors, tt_kinematics::ChainKind::Exact)?;
+        Ok(OrientationError::from_matrix_elements(&dr.transpose()))
+    }
+}
+
+/// A model that forgets R_d^T (the leading joint does not cancel).
+struct NoRdTranspose(Turntable);
+
+impl OrientationErrorModel for NoRdTranspose {
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        let rt = self.0.actual_rotation(pose, errors, tt_kinematics::ChainKind::Exact)?;
+        Ok(OrientationError::from_matrix_elements(&(rt - nalgebra::Matrix3::identity())))
+    }
 }
 
 #[test]
-fn no_turntable_error_gives_no_orientation_error_for_every_model() {
-    for (name, model, _) in implementations() {
-        for (p1, p2) in [(0.0, 0.0), (33.0, 71.0), (180.0, 270.0), (-45.0, 390.0)] {
-            let e =
-                model.orientation_error(&Pose::from_deg(p1, p2).unwrap(), &TurntableErrors::ZERO);
-            for v in e.to_array() {
-                assert_abs_diff_eq!(v, 0.0, epsilon = ROUNDING_RAD);
-            }
-            let _ = name;
-        }
+fn the_suite_rejects_wrong_models() {
+    for t in [table3(), three_axis()] {
+        let c = cases(&t, 50, MAX_ERROR_RAD);
+        let f = check_model(&Transposed(t.clone()), &t, &c, &Tolerances::default()).unwrap_err();
+        assert_eq!(f.check, "first-order", "{f}");
+        let f = check_model(&NoRdTranspose(t.clone()), &t, &c, &Tolerances::default()).unwrap_err();
+        assert_eq!(f.check, "zero", "{f}");
     }
-}
-
-proptest! {
-    /// P1 (eq 25 vs eq 26): every model agrees with the closed form (26) within
-    /// K * max|chi_i|^2 for errors up to 10 arcmin (K of each model in `common`).
-    #[test]
-    fn every_model_agrees_with_closed_form_eq26_to_second_order(pose in pose(), chi in errors()) {
-        let linear = ClosedForm.orientation_error(&pose, &chi);
-        let m = chi.max_abs_rad();
-        for (name, model, k) in implementations() {
-            let d = max_abs_diff(&model.orientation_error(&pose, &chi), &linear);
-            prop_assert!(d <= k * m * m + ROUNDING_RAD,
-                "{name}: |model - eq26| = {d:e} > K m^2 = {:e}", k * m * m);
-        }
-    }
-
-    /// P2 (§3.2): the orientation error does not depend on phi1, for every model. Why: the
-    /// outer-axis rotation R_y(phi1) is the leftmost factor of both R_d (21) and R_t (22),
-    /// so it cancels in R_d^T R_t (23).
-    #[test]
-    fn orientation_error_does_not_depend_on_phi1(
-        pose in pose(), other_phi1 in angle(), chi in errors()
-    ) {
-        let moved = Pose { phi1_rad: other_phi1, ..pose };
-        for (name, model, _) in implementations() {
-            let d = max_abs_diff(&model.orientation_error(&pose, &chi), &model.orientation_error(&moved, &chi));
-            prop_assert!(d <= ROUNDING_RAD, "{name}: phi1 changed the error by {d:e}");
-        }
-    }
-
-    /// P3 (claim under eq 25): the intersection error deta has no effect on the orientation
-    /// error, for every model: bit for bit, since a translation never enters the rotation
-    /// block of a product of homogeneous transforms.
-    #[test]
-    fn intersection_error_has_no_effect_on_orientation_eq25(
-        pose in pose(), chi in errors(), deta_m in -0.01..0.01_f64
-    ) {
-        let shifted = chi.with_deta_m(deta_m).unwrap();
-        for (name, model, _) in implementations() {
-            let a = model.orientation_error(&pose, &chi).to_array().map(f64::to_bits);
-            let b = model.orientation_error(&pose, &shifted).to_array().map(f64::to_bits);
-            prop_assert_eq!(a, b, "{}: deta changed the orientation error", name);
-        }
-    }
-
-    /// Every model is odd in chi to first order: f(-chi) = -f(chi) up to the second-order
-    /// term (for the linear model exactly).
-    #[test]
-    fn every_model_is_odd_in_chi_to_first_order(pose in pose(), chi in errors()) {
-        let neg = TurntableErrors::from_rad(chi.chi_rad().map(|x| -x), chi.deta_m()).unwrap();
-        let m = chi.max_abs_rad();
-        for (name, model, k) in implementations() {
-            let a = model.orientation_error(&pose, &chi).to_array();
-            let b = model.orientation_error(&pose, &neg).to_array();
-            for (x, y) in a.iter().zip(b) {
-                prop_assert!((x + y).abs() <= 2.0 * k * m * m + ROUNDING_RAD, "{name}");
-            }
-        }
-    }
+    // eq 26 is a model of the paper's table only: a typed error, reported by the suite
+    let t = three_axis();
+    let f = check_model(&ClosedForm, &t, &cases(&t, 3, 1e-4), &Tolerances::default()).unwrap_err();
+    assert_eq!(f.check, "evaluation", "{f}");
 }

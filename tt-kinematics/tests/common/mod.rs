@@ -1,10 +1,11 @@
-//! Shared tolerances and proptest strategies for the tt-kinematics tests.
+//! Shared tolerances, tables and proptest strategies for the tt-kinematics tests.
 #![allow(dead_code)]
 
 use proptest::prelude::*;
-use std::f64::consts::TAU;
 use tt_kinematics::units::arcmin_to_rad;
-use tt_kinematics::{CHI_LEN, Pose, TurntableErrors};
+use tt_kinematics::{
+    FactorSpec, Pose, SignedAxis, Turntable, TurntableDescription, TurntableErrors, paper,
+};
 
 /// Largest error magnitude the properties are stated for: 10 arcmin (issue 2, P1), rad.
 pub const MAX_ERROR_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0 / 60.0;
@@ -30,6 +31,9 @@ pub const K_SMALL_ANGLE: f64 = 8.0;
 /// of the unit-size matrix entries accumulated over about ten 3x3 products), rad.
 pub const ROUNDING_RAD: f64 = 1e-14;
 
+/// The issue's bound for recovering eq 26 and Figure 8 from the description, unitless.
+pub const RECOVER_TOL: f64 = 1e-12;
+
 /// Orthonormality and determinant tolerance of the exact $\Delta\mathbf R$ (issue 2, P4).
 pub const ORTHONORMAL_TOL: f64 = 1e-12;
 
@@ -42,25 +46,69 @@ pub const FD_STEP_RAD: f64 = 1e-6;
 /// rounding estimate above.
 pub const FD_TOL: f64 = 1e-8;
 
-/// Any angle of a full turn, rad.
-pub fn angle() -> impl Strategy<Value = f64> {
-    0.0..TAU
+/// The paper's table (Table 3).
+pub fn table3() -> Turntable {
+    paper::table3()
 }
 
-/// A pose anywhere in $[0, 2\pi)^2$.
+/// A three-axis table written the way the three-axis literature models one (outer axis
+/// about z, middle about x, inner about y; a position error and two wobbles per axis, two
+/// orthogonality errors per pair of adjacent axes, two non-intersection translations). The
+/// same table as `studies/three-axis-example.toml`.
+pub fn three_axis_description() -> TurntableDescription {
+    let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
+    let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+    let t = |n: &str, a| FactorSpec::Translation { name: n.into(), along: a };
+    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
+    TurntableDescription::new(vec![
+        j("phi_o", z),
+        e("dphi_o", z),
+        e("dalpha_ox", x),
+        e("dalpha_oy", y),
+        t("deta_om", y),
+        e("deps_om_y", y),
+        e("deps_om_z", z),
+        j("phi_m", x),
+        e("dphi_m", x),
+        e("dalpha_my", y),
+        e("dalpha_mz", z),
+        t("deta_mi", z),
+        e("deps_mi_z", z),
+        e("deps_mi_x", x),
+        j("phi_i", y),
+        e("dphi_i", y),
+        e("dalpha_ix", x),
+        e("dalpha_iz", z),
+    ])
+}
+
+/// The three-axis table, compiled.
+pub fn three_axis() -> Turntable {
+    Turntable::new(&three_axis_description()).expect("valid description")
+}
+
+/// A pose of `n` joints anywhere in $[0, 2\pi)^n$.
+pub fn pose_of(n: usize) -> impl Strategy<Value = Pose> {
+    prop::collection::vec(0.0..std::f64::consts::TAU, n).prop_map(|a| Pose::new(a).unwrap())
+}
+
+/// A pose of the paper's table.
 pub fn pose() -> impl Strategy<Value = Pose> {
-    (angle(), angle()).prop_map(|(a, b)| Pose {
-        phi1_rad: a,
-        phi2_rad: b,
-    })
+    pose_of(2)
 }
 
-/// An error vector with every component in $[-m, m]$ for `m_rad`, and an intersection
-/// error up to 1 mm.
+/// Errors of a table with `n` angular errors in $[-m, m]$ and `t` translations up to 1 mm.
+pub fn errors_of(n: usize, t: usize, m_rad: f64) -> impl Strategy<Value = TurntableErrors> {
+    (
+        prop::collection::vec(-m_rad..=m_rad, n),
+        prop::collection::vec(-1e-3..=1e-3_f64, t),
+    )
+        .prop_map(|(chi, tr)| TurntableErrors::new(chi, tr).expect("finite by construction"))
+}
+
+/// Errors of the paper's table up to `m_rad`.
 pub fn errors_up_to(m_rad: f64) -> impl Strategy<Value = TurntableErrors> {
-    (prop::array::uniform8(-m_rad..=m_rad), -1e-3..=1e-3_f64).prop_map(|(chi, deta)| {
-        TurntableErrors::from_rad(chi, deta).expect("finite by construction")
-    })
+    errors_of(8, 1, m_rad)
 }
 
 /// Errors up to 10 arcmin (the range of the issue's properties).
@@ -68,17 +116,18 @@ pub fn errors() -> impl Strategy<Value = TurntableErrors> {
     errors_up_to(MAX_ERROR_RAD)
 }
 
+/// $\chi$ of the paper's table as a fixed array.
+pub fn chi8(e: &TurntableErrors) -> [f64; 8] {
+    e.chi_rad().try_into().expect("eight errors")
+}
+
 /// Table 4 of the paper (arcmin, order of eq 25) as an error vector, all positive.
 pub fn table4() -> TurntableErrors {
-    TurntableErrors::from_rad(
-        [
-            0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233,
-        ]
-        .map(arcmin_to_rad),
-        0.0,
+    TurntableErrors::new(
+        [0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233]
+            .map(arcmin_to_rad)
+            .to_vec(),
+        vec![0.0],
     )
     .expect("finite")
 }
-
-/// Number of components.
-pub const N: usize = CHI_LEN;

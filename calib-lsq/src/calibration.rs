@@ -1,0 +1,235 @@
+//! A sensor on a schedule at a site: the regressions of eq 2/4/5 per output, simulation of the
+//! outputs (eq 8-9) and the calibration (eq 6).
+
+use crate::error::{CalibError, finite};
+use crate::lsq::{LsqSolution, Regression};
+use crate::schedule::Schedule;
+use gw_model::{InputValues, Inputs, Output, SensorModel, Site};
+use nalgebra::{DMatrix, DVector, Matrix3};
+
+/// One output of a prepared calibration: its nominal regression and the true quantities.
+#[derive(Debug, Clone)]
+pub struct OutputCalibration {
+    output: Output,
+    regression: Regression,
+    b2: DVector<f64>,
+    a_beta: DVector<f64>,
+    beta: DVector<f64>,
+}
+
+impl OutputCalibration {
+    /// The output's description.
+    #[must_use]
+    pub fn output(&self) -> &Output {
+        &self.output
+    }
+
+    /// The nominal regression ($\mathbf A$ factored, rank, condition number).
+    #[must_use]
+    pub fn regression(&self) -> &Regression {
+        &self.regression
+    }
+
+    /// $\mathbf b_2$: the known part of the outputs at the intended orientations.
+    #[must_use]
+    pub fn b2(&self) -> &DVector<f64> {
+        &self.b2
+    }
+
+    /// $\mathbf A\boldsymbol\beta$ with the true coefficients.
+    #[must_use]
+    pub fn a_beta(&self) -> &DVector<f64> {
+        &self.a_beta
+    }
+
+    /// The true estimated coefficients $\boldsymbol\beta$ (study order).
+    #[must_use]
+    pub fn beta(&self) -> &DVector<f64> {
+        &self.beta
+    }
+}
+
+/// The result of calibrating one output: its estimated coefficients and the fit's quality.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationResult {
+    /// The output's name.
+    pub output: String,
+    /// The estimated coefficients' names (study order).
+    pub names: Vec<String>,
+    /// The least-squares solution (estimate $\hat{\boldsymbol\beta}_1$, residuals, rank,
+    /// condition number).
+    pub solution: LsqSolution,
+}
+
+/// A sensor, a site and a schedule, checked to identify every output's coefficients; the
+/// nominal regressions are factored once.
+#[derive(Debug, Clone)]
+pub struct Calibration {
+    sensor: SensorModel,
+    site: Site,
+    schedule: Schedule,
+    nominal: Vec<Inputs>,
+    outputs: Vec<OutputCalibration>,
+}
+
+/// The regression matrix (n x k) of an output at the given inputs: row $i$ holds the
+/// estimated terms' regressors at input $i$ (eq 2/4 at nominal inputs, eq 10 at actual ones).
+#[must_use]
+pub fn design_matrix(output: &Output, inputs: &[Inputs]) -> DMatrix<f64> {
+    let k = output.n_estimated();
+    let mut a = DMatrix::zeros(inputs.len(), k);
+    for (i, inp) in inputs.iter().enumerate() {
+        let v = InputValues::from_inputs(inp);
+        for (j, r) in output.regressor_row(&v).enumerate() {
+            a[(i, j)] = r;
+        }
+    }
+    a
+}
+
+/// The known part of an output at the given inputs ($\mathbf b_2$ of eq 4 at nominal inputs,
+/// $\mathbf b_2'$ of eq 10 at actual ones), in the output's unit.
+#[must_use]
+pub fn known_vector(output: &Output, inputs: &[Inputs]) -> DVector<f64> {
+    DVector::from_iterator(
+        inputs.len(),
+        inputs.iter().map(|i| output.known_part(&InputValues::from_inputs(i))),
+    )
+}
+
+/// The outputs $\mathbf b_1$ the sensor produces at the given (actual) inputs: eq 1 solved
+/// for the output, $\mathbf b_1 = \mathbf A'\boldsymbol\beta + \mathbf b_2'$ (eq 9).
+#[must_use]
+pub fn simulate_outputs(output: &Output, inputs: &[Inputs]) -> DVector<f64> {
+    DVector::from_iterator(
+        inputs.len(),
+        inputs.iter().map(|i| output.value(&InputValues::from_inputs(i))),
+    )
+}
+
+impl Calibration {
+    /// Prepare the calibration of `sensor` on `schedule` at `site`.
+    ///
+    /// # Errors
+    /// [`CalibError::Unidentifiable`] naming the first output the schedule cannot identify and
+    /// its unidentifiable coefficients.
+    pub fn new(sensor: &SensorModel, site: &Site, schedule: &Schedule) -> Result<Self, CalibError> {
+        let nominal = schedule.inputs(site);
+        let outputs = sensor
+            .outputs()
+            .iter()
+            .map(|o| {
+                let a = design_matrix(o, &nominal);
+                let names = o.estimated_names().into_iter().map(String::from).collect();
+                let regression = Regression::new(&o.name, names, a)?;
+                let beta = DVector::from_vec(o.estimated_values());
+                Ok(OutputCalibration {
+                    a_beta: regression.matrix() * &beta,
+                    b2: known_vector(o, &nominal),
+                    beta,
+                    regression,
+                    output: o.clone(),
+                })
+            })
+            .collect::<Result<Vec<_>, CalibError>>()?;
+        Ok(Self {
+            sensor: sensor.clone(),
+            site: *site,
+            schedule: schedule.clone(),
+            nominal,
+            outputs,
+        })
+    }
+
+    /// The sensor.
+    #[must_use]
+    pub fn sensor(&self) -> &SensorModel {
+        &self.sensor
+    }
+
+    /// The site.
+    #[must_use]
+    pub fn site(&self) -> &Site {
+        &self.site
+    }
+
+    /// The schedule.
+    #[must_use]
+    pub fn schedule(&self) -> &Schedule {
+        &self.schedule
+    }
+
+    /// The nominal inputs of every position (eq 3).
+    #[must_use]
+    pub fn nominal_inputs(&self) -> &[Inputs] {
+        &self.nominal
+    }
+
+    /// Every output, in study order.
+    #[must_use]
+    pub fn outputs(&self) -> &[OutputCalibration] {
+        &self.outputs
+    }
+
+    /// The condition number of every output's regression, study order.
+    #[must_use]
+    pub fn condition_numbers(&self) -> Vec<f64> {
+        self.outputs
+            .iter()
+            .map(|o| o.regression.condition_number())
+            .collect()
+    }
+
+    /// Calibrate output `k` from measured outputs $\mathbf b_1$ (one per position, in the
+    /// output's unit), with the nominal inputs of the schedule.
+    ///
+    /// # Formula
+    /// $\hat{\boldsymbol\beta}_1 = \arg\min \lVert \mathbf A\boldsymbol\beta - (\mathbf b_1 -
+    /// \mathbf b_2)\rVert_2$, by QR.
+    ///
+    /// # Reference
+    /// Eq 5-6.
+    ///
+    /// # Errors
+    /// [`CalibError::LengthMismatch`] for a wrong count; [`CalibError::NonFinite`] naming the
+    /// output entry.
+    pub fn calibrate(&self, k: usize, outputs: &[f64]) -> Result<CalibrationResult, CalibError> {
+        let o = self.outputs.get(k).ok_or(CalibError::LengthMismatch {
+            what: "output index",
+            expected: self.outputs.len(),
+            found: k,
+        })?;
+        if outputs.len() != self.schedule.len() {
+            return Err(CalibError::LengthMismatch {
+                what: "outputs",
+                expected: self.schedule.len(),
+                found: outputs.len(),
+            });
+        }
+        for (i, v) in outputs.iter().enumerate() {
+            finite(format!("outputs[{i}]"), *v)?;
+        }
+        let y = DVector::from_column_slice(outputs) - &o.b2;
+        Ok(CalibrationResult {
+            output: o.output.name.clone(),
+            names: o.regression.names().to_vec(),
+            solution: o.regression.solve(&y)?,
+        })
+    }
+
+    /// The end-to-end path: every output simulated at the actual orientations (eq 8-9,
+    /// `delta_r[i]` the orientation error of position $i$) and calibrated at the intended ones
+    /// (eq 6), as a calibrating engineer gets it.
+    ///
+    /// # Errors
+    /// As [`Schedule::actual_inputs`] and [`Calibration::calibrate`].
+    pub fn calibrate_simulated(&self, delta_r: &[Matrix3<f64>]) -> Result<Vec<CalibrationResult>, CalibError> {
+        let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
+        (0..self.outputs.len())
+            .map(|k| {
+                let b1 = simulate_outputs(&self.outputs[k].output, &actual);
+                self.calibrate(k, b1.as_slice())
+            })
+            .collect()
+    }
+}

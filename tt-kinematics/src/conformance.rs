@@ -1,0 +1,220 @@
+//! The conformance suite of [`OrientationErrorModel`], as library code: run it on your own
+//! implementation (enable the `conformance` feature, as this crate's own tests do).
+//!
+//! Every model of a turntable's orientation error must, for that turntable,
+//! 1. give no error for a perfect turntable;
+//! 2. agree with the first-order model ([`LinearModel`]) to second order:
+//!    $|f - f_{lin}| \le K S^2$ with $S = \sum_i |\chi_i|$ (the exact chain's remainder is at most
+//!    $e^S - 1 - S \le S^2$ for $S \le \ln 2$, hence the default $K = 1$);
+//! 3. be odd in $\chi$ to first order: $|f(\chi) + f(-\chi)| \le 2KS^2$;
+//! 4. not depend on the joints that come before the first error (they cancel from
+//!    $\mathbf R_d^T\mathbf R_t$);
+//! 5. not depend on the error translations (the claim under eq 25).
+//!
+//! ```
+//! use tt_kinematics::conformance::{cases, check_model, Tolerances};
+//! use tt_kinematics::{paper, ExactChain};
+//! let table = paper::table3();
+//! check_model(&ExactChain::new(&table), &table, &cases(&table, 20, 1e-3), &Tolerances::default())
+//!     .map_err(|f| f.to_string())?;
+//! # Ok::<(), String>(())
+//! ```
+
+use crate::linear::LinearModel;
+use crate::model::OrientationErrorModel;
+use crate::pose::{Pose, TurntableErrors};
+use crate::turntable::Turntable;
+use std::fmt;
+
+/// One test point: a pose and the turntable's errors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    /// The pose.
+    pub pose: Pose,
+    /// The errors.
+    pub errors: TurntableErrors,
+}
+
+/// The tolerances of the suite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// $K$ of checks 2 and 3 (unitless, rad per rad²).
+    pub second_order: f64,
+    /// Rounding allowed where two results are equal in exact arithmetic, rad.
+    pub rounding_rad: f64,
+}
+
+impl Default for Tolerances {
+    /// $K = 1$, rounding $10^{-14}$ rad (a few ulps of unit-size entries over a chain of
+    /// some ten 3x3 products).
+    fn default() -> Self {
+        Self {
+            second_order: 1.0,
+            rounding_rad: 1e-14,
+        }
+    }
+}
+
+/// A failed check: which one, and the case and numbers that broke it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failure {
+    /// The check (`zero`, `first-order`, `odd`, `leading-joints`, `translations`,
+    /// `evaluation`).
+    pub check: &'static str,
+    /// What was found.
+    pub detail: String,
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "conformance check `{}` failed: {}", self.check, self.detail)
+    }
+}
+
+impl std::error::Error for Failure {}
+
+/// Deterministic test points: `n` poses spread over the joint ranges (a low-discrepancy
+/// sequence) with errors of magnitude up to `max_error_rad` (signs and sizes varied) and
+/// translations up to 1 mm.
+#[must_use]
+pub fn cases(turntable: &Turntable, n: usize, max_error_rad: f64) -> Vec<Case> {
+    // additive recurrences with irrational steps: reproducible, well spread
+    let frac = |k: usize, a: f64| (k as f64 * a).fract();
+    let steps = [0.618_033_988_749_895, 0.414_213_562_373_095, 0.732_050_807_568_877];
+    (0..n)
+        .map(|k| {
+            let pose: Vec<f64> = turntable
+                .joint_ranges_rad()
+                .iter()
+                .enumerate()
+                .map(|(j, [lo, hi])| lo + (hi - lo) * frac(k + 1, steps[j % 3] + j as f64 * 0.1))
+                .collect();
+            let chi: Vec<f64> = (0..turntable.n_rotation_errors())
+                .map(|i| max_error_rad * (2.0 * frac(k * 7 + i + 1, 0.754_877_666_246_693) - 1.0))
+                .collect();
+            let tr: Vec<f64> = (0..turntable.n_translation_errors())
+                .map(|i| 1e-3 * (2.0 * frac(k + i + 3, 0.569_840_290_998) - 1.0))
+                .collect();
+            Case {
+                pose: Pose::new(pose).unwrap_or_else(|_| unreachable!("finite")),
+                errors: TurntableErrors::new(chi, tr).unwrap_or_else(|_| unreachable!("finite")),
+            }
+        })
+        .collect()
+}
+
+/// Run the five checks of the [module](self) on `model` for `turntable` at `cases`.
+///
+/// # Errors
+/// The first [`Failure`].
+pub fn check_model<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    turntable: &Turntable,
+    cases: &[Case],
+    tol: &Tolerances,
+) -> Result<(), Failure> {
+    let linear = LinearModel::new(turntable);
+    let eval = |pose: &Pose, e: &TurntableErrors| -> Result<[f64; 3], Failure> {
+        model
+            .orientation_error(pose, e)
+            .map(|o| o.to_array())
+            .map_err(|err| Failure {
+                check: "evaluation",
+                detail: err.to_string(),
+            })
+    };
+    let zero = turntable.zero_errors();
+    for case in cases {
+        let at = |what: &str| format!("{what} at pose {:?} rad, chi {:?} rad", case.pose.angles_rad(), case.errors.chi_rad());
+        let f0 = eval(&case.pose, &zero)?;
+        if f0.iter().any(|v| v.abs() > tol.rounding_rad) {
+            return Err(Failure {
+                check: "zero",
+                detail: at(&format!("a perfect turntable gives {f0:?} rad")),
+            });
+        }
+        let f = eval(&case.pose, &case.errors)?;
+        let lin = linear
+            .evaluate(&case.pose, &case.errors)
+            .map_err(|err| Failure {
+                check: "evaluation",
+                detail: err.to_string(),
+            })?
+            .to_array();
+        let s = case.errors.l1_rad();
+        let bound = tol.second_order * s * s + tol.rounding_rad;
+        for k in 0..3 {
+            if (f[k] - lin[k]).abs() > bound {
+                return Err(Failure {
+                    check: "first-order",
+                    detail: at(&format!(
+                        "angle {k}: model {} rad, first-order model {} rad, bound {bound} rad",
+                        f[k], lin[k]
+                    )),
+                });
+            }
+        }
+        let neg = TurntableErrors::new(
+            case.errors.chi_rad().iter().map(|v| -v).collect(),
+            case.errors.translations_m().to_vec(),
+        )
+        .unwrap_or_else(|_| unreachable!("finite"));
+        let fm = eval(&case.pose, &neg)?;
+        for k in 0..3 {
+            if (f[k] + fm[k]).abs() > 2.0 * bound {
+                return Err(Failure {
+                    check: "odd",
+                    detail: at(&format!("angle {k}: f(chi) {} and f(-chi) {} rad", f[k], fm[k])),
+                });
+            }
+        }
+        let free = turntable.free_joints();
+        let mut moved = case.pose.angles_rad().to_vec();
+        let mut any = false;
+        for (j, a) in moved.iter_mut().enumerate() {
+            if !free.contains(&j) {
+                *a += 1.234_567;
+                any = true;
+            }
+        }
+        if any {
+            let g = eval(
+                &Pose::new(moved).unwrap_or_else(|_| unreachable!("finite")),
+                &case.errors,
+            )?;
+            for k in 0..3 {
+                if (g[k] - f[k]).abs() > tol.rounding_rad {
+                    return Err(Failure {
+                        check: "leading-joints",
+                        detail: at(&format!(
+                            "angle {k} changed from {} to {} rad when a cancelling joint moved",
+                            f[k], g[k]
+                        )),
+                    });
+                }
+            }
+        }
+        if turntable.n_translation_errors() > 0 {
+            let shifted = case
+                .errors
+                .clone()
+                .with_translations_m(
+                    case.errors.translations_m().iter().map(|t| 2.0 * t + 1e-3).collect(),
+                )
+                .unwrap_or_else(|_| unreachable!("finite"));
+            let g = eval(&case.pose, &shifted)?;
+            for k in 0..3 {
+                if (g[k] - f[k]).abs() > tol.rounding_rad {
+                    return Err(Failure {
+                        check: "translations",
+                        detail: at(&format!(
+                            "angle {k} changed from {} to {} rad with other translations",
+                            f[k], g[k]
+                        )),
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
