@@ -52,7 +52,7 @@
 use crate::calibration::{Calibration, OutputCalibration, design_matrix, known_vector, simulate_outputs};
 use crate::error::CalibError;
 use crate::lsq::Regression;
-use gw_model::{DeltaRKind, Inputs, OrientationAngles};
+use gw_model::{DeltaRKind, InputValues, Inputs, OrientationAngles};
 use nalgebra::{DVector, Matrix3};
 use std::fmt;
 use std::str::FromStr;
@@ -378,6 +378,144 @@ impl ReadingTerms for ReferenceTerms<'_> {
         let beta = DVector::from_column_slice(beta);
         let v = if actual { &self.a_prime * beta } else { self.cal.regression().matrix() * beta };
         out.copy_from_slice(v.as_slice());
+    }
+}
+
+/// Scratch space of [`OutputCalibration::error_vector_at`]: sized on first use, reused after
+/// (no allocation in a hot loop).
+#[derive(Debug, Clone, Default)]
+pub struct ErrorWork {
+    reading: ReadingWork,
+    b1_actual: Vec<f64>,
+    b2_actual: Vec<f64>,
+    y: Vec<f64>,
+}
+
+/// The building blocks at given actual input values, with the precomputed
+/// $\mathbf A^+$ of the nominal regression: the fast path.
+struct ActualTerms<'a> {
+    cal: &'a OutputCalibration,
+    actual: &'a [InputValues],
+    b1_actual: &'a [f64],
+    b2_actual: &'a [f64],
+    /// $\mathbf A'$ factored, only for readings that need $\hat{\boldsymbol\beta}_2$.
+    a_prime: Option<Regression>,
+    y: std::cell::RefCell<&'a mut Vec<f64>>,
+}
+
+impl ReadingTerms for ActualTerms<'_> {
+    fn positions(&self) -> usize {
+        self.actual.len()
+    }
+    fn coefficients(&self) -> usize {
+        self.cal.beta().len()
+    }
+    fn outputs(&self, at: OutputsAt, out: &mut [f64]) {
+        match at {
+            OutputsAt::Actual => out.copy_from_slice(self.b1_actual),
+            OutputsAt::Intended => {
+                for ((o, a), b) in out.iter_mut().zip(self.cal.a_beta().iter()).zip(self.cal.b2().iter()) {
+                    *o = a + b;
+                }
+            }
+        }
+    }
+    fn known(&self, actual: bool, out: &mut [f64]) {
+        out.copy_from_slice(if actual { self.b2_actual } else { self.cal.b2().as_slice() });
+    }
+    fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]) {
+        let mut y = self.y.borrow_mut();
+        y.clear();
+        match which {
+            Estimate::Beta1 => {
+                y.extend(b1.iter().zip(self.cal.b2().iter()).map(|(b, k)| b - k));
+                let pinv = self.cal.regression().pinv();
+                for (j, o) in out.iter_mut().enumerate() {
+                    *o = pinv.row(j).iter().zip(y.iter()).map(|(p, v)| p * v).sum();
+                }
+            }
+            Estimate::Beta2 => {
+                y.extend(b1.iter().zip(self.b2_actual).map(|(b, k)| b - k));
+                let r = self
+                    .a_prime
+                    .as_ref()
+                    .unwrap_or_else(|| unreachable!("factored when the reading needs beta2"));
+                let beta = r
+                    .estimate(&DVector::from_column_slice(&y))
+                    .unwrap_or_else(|_| unreachable!("lengths match"));
+                out.copy_from_slice(beta.as_slice());
+            }
+        }
+    }
+    fn predict(&self, actual: bool, beta: &[f64], out: &mut [f64]) {
+        if actual {
+            let o = self.cal.output();
+            for (p, v) in out.iter_mut().zip(self.actual) {
+                *p = o.regressor_row(v).zip(beta).map(|(r, b)| r * b).sum();
+            }
+        } else {
+            let a = self.cal.regression().matrix();
+            for (i, p) in out.iter_mut().enumerate() {
+                *p = a.row(i).iter().zip(beta).map(|(r, b)| r * b).sum();
+            }
+        }
+    }
+}
+
+impl OutputCalibration {
+    /// The reading's error vector $\Delta\hat{\boldsymbol\omega}$ (eq 13) when the positions
+    /// are realised with the actual input values `actual` (one per position, from eq 8), into
+    /// `out`. The fast path: $\hat{\boldsymbol\beta}_1$ through the precomputed
+    /// $\mathbf A^+$, nothing allocated once `work` is sized; readings with
+    /// $\hat{\boldsymbol\beta}_2$ factor $\mathbf A'$.
+    ///
+    /// # Errors
+    /// [`CalibError::LengthMismatch`] unless there is one value per position (and `out` as
+    /// long); [`CalibError::Unidentifiable`] when $\mathbf A'$ is rank deficient (readings with
+    /// $\hat{\boldsymbol\beta}_2$ only).
+    pub fn error_vector_at(
+        &self,
+        reading: Reading,
+        actual: &[InputValues],
+        work: &mut ErrorWork,
+        out: &mut [f64],
+    ) -> Result<(), CalibError> {
+        let n = self.b2().len();
+        for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
+            if len != n {
+                return Err(CalibError::LengthMismatch { what, expected: n, found: len });
+            }
+        }
+        let o = self.output();
+        work.b1_actual.clear();
+        work.b2_actual.clear();
+        for v in actual {
+            let known = o.known_part(v);
+            work.b2_actual.push(known);
+            work.b1_actual.push(known + o.estimated_part(v));
+        }
+        let a_prime = if reading.needs_beta_2() {
+            let mut m = nalgebra::DMatrix::zeros(n, self.beta().len());
+            for (i, v) in actual.iter().enumerate() {
+                for (j, r) in o.regressor_row(v).enumerate() {
+                    m[(i, j)] = r;
+                }
+            }
+            Some(Regression::new(&o.name, self.regression().names().to_vec(), m)?)
+        } else {
+            None
+        };
+        let ErrorWork { reading: rw, b1_actual, b2_actual, y } = work;
+        let terms = ActualTerms {
+            cal: self,
+            actual,
+            b1_actual,
+            b2_actual,
+            a_prime,
+            y: std::cell::RefCell::new(y),
+        };
+        reading.error_vector(&terms, rw, out);
+        Ok(())
     }
 }
 

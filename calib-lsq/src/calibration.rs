@@ -15,9 +15,16 @@ pub struct OutputCalibration {
     b2: DVector<f64>,
     a_beta: DVector<f64>,
     beta: DVector<f64>,
+    nominal: Vec<InputValues>,
 }
 
 impl OutputCalibration {
+    /// The nominal input values of every position (regressor units: g and deg/h).
+    #[must_use]
+    pub fn nominal_values(&self) -> &[InputValues] {
+        &self.nominal
+    }
+
     /// The output's description.
     #[must_use]
     pub fn output(&self) -> &Output {
@@ -124,6 +131,7 @@ impl Calibration {
                 let regression = Regression::new(&o.name, names, a)?;
                 let beta = DVector::from_vec(o.estimated_values());
                 Ok(OutputCalibration {
+                    nominal: nominal.iter().map(InputValues::from_inputs).collect(),
                     a_beta: regression.matrix() * &beta,
                     b2: known_vector(o, &nominal),
                     beta,

@@ -24,10 +24,10 @@
 //! values of linear forms) the corners bound the whole box; the result records the largest
 //! $\Delta\omega/\omega_m$ found on its boundary.
 
-use crate::analysis::{OrientationErrorAnalysis, Reading};
-use crate::calibration::Calibration;
+use crate::analysis::{ErrorWork, OrientationErrorAnalysis, Reading};
+use crate::calibration::{Calibration, OutputCalibration};
 use crate::error::{CalibError, finite};
-use gw_model::{DeltaRKind, OrientationAngles};
+use gw_model::{DeltaRKind, InputValues, OrientationAngles};
 use std::f64::consts::FRAC_PI_2;
 
 /// Bisection stops when the bracket on the box's corner radius is narrower than this, rad
@@ -44,11 +44,30 @@ pub const DIRECTION_TOL_RAD: f64 = 1e-9;
 pub const DIRECTION_SCAN: usize = 64;
 
 /// Grid of directions per angle for three sensitive angles.
-pub const DIRECTION_SCAN_3D: usize = 12;
+pub const DIRECTION_SCAN_3D: usize = 8;
 
-/// Golden-section bracket of the three-angle refinement, rad (half-sides to about
-/// $\rho\cdot10^{-7}$).
-pub const DIRECTION_TOL_3D_RAD: f64 = 1e-7;
+/// Golden-section bracket of the three-angle refinement, rad (the volume is flat at its
+/// optimum: within $10^{-10}$ of the best, half-sides to about $\rho\cdot10^{-5}$).
+pub const DIRECTION_TOL_3D_RAD: f64 = 1e-5;
+
+/// Step of the central differences that linearise an output's error vector, rad.
+pub const LINEARIZATION_STEP_RAD: f64 = 1e-6;
+
+/// A column of the linearised rows below this fraction of the largest one leaves its angle
+/// unbounded to first order (the grid search is used instead).
+pub const UNBOUNDED_COLUMN_REL: f64 = 1e-6;
+
+/// Largest barrier parameter of the first-order box problem (duality gap ~ rows / t).
+const BARRIER_T_MAX: f64 = 1e13;
+
+/// Newton steps per barrier parameter.
+const BARRIER_NEWTON_STEPS: usize = 50;
+
+/// Initial simplex size of the Nelder-Mead refinement of a three-angle direction, rad.
+pub const NELDER_MEAD_START_RAD: f64 = 0.02;
+
+/// Largest number of Nelder-Mead iterations.
+pub const NELDER_MEAD_MAX_ITER: usize = 200;
 
 /// Largest corner radius searched, rad (about 28.6 deg).
 pub const SEARCH_LIMIT_RAD: f64 = 0.5;
@@ -57,11 +76,17 @@ pub const SEARCH_LIMIT_RAD: f64 = 0.5;
 pub const BOUNDARY_CHECK_POINTS: usize = 32;
 
 /// An output is insensitive to an angle when a probe of [`SENSITIVITY_PROBE_RAD`] along it
-/// gives less than this fraction of the largest probe response (dimensionless).
-pub const INSENSITIVE_REL: f64 = 1e-9;
+/// gives less than this fraction of the largest probe response (dimensionless). Rounding of
+/// the fit leaves ~1e-11 of the response; a dependence of second order only still gives
+/// ~1e-3 (the probe size).
+pub const INSENSITIVE_REL: f64 = 1e-7;
 
 /// Size of the probe of the sensitivity test, rad.
-pub const SENSITIVITY_PROBE_RAD: f64 = 1e-5;
+pub const SENSITIVITY_PROBE_RAD: f64 = 1e-3;
+
+/// Relative bisection tolerance on the corner radius while searching three-angle directions
+/// (the chosen direction is then solved to [`RADIUS_TOL_RAD`]).
+pub const SEARCH_RADIUS_REL: f64 = 1e-7;
 
 /// The three orientation angles in eq 24 order.
 pub const ANGLE_NAMES: [&str; 3] = ["psi", "theta", "gamma"];
@@ -81,7 +106,8 @@ pub struct RequirementProblem {
 /// The rate-sensing error of one output as a function of a constant orientation error.
 #[derive(Debug, Clone)]
 pub struct OutputRegion {
-    analysis: OrientationErrorAnalysis,
+    cal: OutputCalibration,
+    reading: Reading,
     kind: DeltaRKind,
     accuracy: f64,
     sensitive: Vec<usize>,
@@ -163,10 +189,20 @@ impl RequirementProblem {
     /// [`CalibError::LengthMismatch`] for a missing output; as
     /// [`OrientationErrorAnalysis::delta_omega`].
     pub fn region(&self, k: usize) -> Result<OutputRegion, CalibError> {
-        let analysis = OrientationErrorAnalysis::new(&self.calibration, k, self.reading)?;
-        let accuracy = analysis.calibration().output().accuracy;
+        let cal = self
+            .calibration
+            .outputs()
+            .get(k)
+            .ok_or(CalibError::LengthMismatch {
+                what: "output index",
+                expected: self.calibration.outputs().len(),
+                found: k,
+            })?
+            .clone();
+        let accuracy = cal.output().accuracy;
         let mut region = OutputRegion {
-            analysis,
+            cal,
+            reading: self.reading,
             kind: self.delta_r_kind,
             accuracy,
             sensitive: Vec::new(),
@@ -250,13 +286,7 @@ impl OutputRegion {
     /// The output's name.
     #[must_use]
     pub fn output(&self) -> &str {
-        self.analysis.output()
-    }
-
-    /// The analysis.
-    #[must_use]
-    pub fn analysis(&self) -> &OrientationErrorAnalysis {
-        &self.analysis
+        &self.cal.output().name
     }
 
     /// Its accuracy $\omega_m$ (output unit).
@@ -280,9 +310,10 @@ impl OutputRegion {
         for (name, a) in ANGLE_NAMES.iter().zip(angles_rad) {
             finite(*name, a)?;
         }
-        let [psi, theta, gamma] = angles_rad;
-        self.analysis
-            .delta_omega_for_angles(&OrientationAngles::new(psi, theta, gamma)?, self.kind)
+        Ok(self
+            .error_vector(angles_rad)?
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs())))
     }
 
     fn point(&self, coords: &[f64]) -> [f64; 3] {
@@ -308,7 +339,7 @@ impl OutputRegion {
 
     /// Largest radius $\rho$ such that `ok(ρ)`, by doubling then bisection to
     /// [`RADIUS_TOL_RAD`].
-    fn radius<F>(&self, direction: &[f64], ok: F) -> Result<f64, CalibError>
+    fn radius<F>(&self, direction: &[f64], rel_tol: f64, ok: F) -> Result<f64, CalibError>
     where
         F: Fn(f64) -> Result<bool, CalibError>,
     {
@@ -325,7 +356,7 @@ impl OutputRegion {
                 });
             }
         }
-        while hi - lo > RADIUS_TOL_RAD {
+        while hi - lo > RADIUS_TOL_RAD.max(rel_tol * lo) {
             let mid = 0.5 * (lo + hi);
             if ok(mid)? {
                 lo = mid;
@@ -336,9 +367,10 @@ impl OutputRegion {
         Ok(lo)
     }
 
-    /// The half-sides of the largest box whose corner points along `dir` (unit, positive).
-    fn box_along(&self, dir: &[f64]) -> Result<(Vec<f64>, f64), CalibError> {
-        let r = self.radius(dir, |r| {
+    /// The half-sides of the largest box whose corner points along `dir` (unit, positive),
+    /// radius to the relative tolerance `rel_tol` (0: to [`RADIUS_TOL_RAD`]).
+    fn box_along(&self, dir: &[f64], rel_tol: f64) -> Result<(Vec<f64>, f64), CalibError> {
+        let r = self.radius(dir, rel_tol, |r| {
             let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
             self.corners_ok(&half)
         })?;
@@ -356,9 +388,9 @@ impl OutputRegion {
     pub fn max_box(&self) -> Result<OutputBox, CalibError> {
         let half = match self.sensitive.len() {
             0 => return Err(CalibError::NoSensitivity),
-            1 => self.box_along(&[1.0])?.0,
+            1 => self.box_along(&[1.0], 0.0)?.0,
             2 => {
-                let at = |t: f64| self.box_along(&[t.cos(), t.sin()]);
+                let at = |t: f64| self.box_along(&[t.cos(), t.sin()], 0.0);
                 golden_max(at, 0.0, FRAC_PI_2, DIRECTION_SCAN, DIRECTION_TOL_RAD)?.0
             }
             _ => self.max_box_3d()?,
@@ -402,33 +434,72 @@ impl OutputRegion {
         })
     }
 
+    /// The first-order model of the output's error vector in its sensitive angles, per unit
+    /// of accuracy: $|\partial e_i/\partial\delta_j| / \omega_m$ by central differences.
+    fn linear_rows(&self) -> Result<Vec<Vec<f64>>, CalibError> {
+        let h = LINEARIZATION_STEP_RAD;
+        let n = self.cal.nominal_values().len();
+        let mut cols = Vec::new();
+        for &j in &self.sensitive {
+            let mut d = [0.0; 3];
+            d[j] = h;
+            let plus = self.error_vector(d)?;
+            d[j] = -h;
+            let minus = self.error_vector(d)?;
+            cols.push((0..n).map(|i| ((plus[i] - minus[i]) / (2.0 * h)).abs() / self.accuracy).collect::<Vec<f64>>());
+        }
+        Ok((0..n).map(|i| cols.iter().map(|c| c[i]).collect()).collect())
+    }
+
     fn max_box_3d(&self) -> Result<Vec<f64>, CalibError> {
         let dir = |t: f64, p: f64| [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
-        let at = |t: f64, p: f64| self.box_along(&dir(t, p));
-        let n = DIRECTION_SCAN_3D;
-        let step = FRAC_PI_2 / n as f64;
-        let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
-        for i in 0..n {
-            for j in 0..n {
-                let (t, p) = ((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
-                let v = at(t, p)?.1;
-                if v > best.0 {
-                    best = (v, t, p);
-                }
+        let volume = |x: &[f64; 2]| -> Result<f64, CalibError> {
+            let (t, p) = (x[0].clamp(0.0, FRAC_PI_2), x[1].clamp(0.0, FRAC_PI_2));
+            Ok(self.box_along(&dir(t, p), SEARCH_RADIUS_REL)?.1)
+        };
+        // Start: the optimum of the first-order model (a convex problem) when it bounds every
+        // angle, else the best of a grid of directions.
+        let start = match max_log_volume(&self.linear_rows()?) {
+            Some(h) => {
+                let norm = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
+                let u = [h[0] / norm, h[1] / norm, h[2] / norm];
+                [u[2].clamp(-1.0, 1.0).acos(), u[1].atan2(u[0])]
             }
-        }
-        let (mut t, mut p) = (best.1, best.2);
-        let mut width = step;
-        for _ in 0..6 {
-            let lo = (t - width).max(0.0);
-            let hi = (t + width).min(FRAC_PI_2);
-            t = golden_max(|x| at(x, p), lo, hi, 1, DIRECTION_TOL_3D_RAD)?.1;
-            let lo = (p - width).max(0.0);
-            let hi = (p + width).min(FRAC_PI_2);
-            p = golden_max(|x| at(t, x), lo, hi, 1, DIRECTION_TOL_3D_RAD)?.1;
-            width *= 0.5;
-        }
-        Ok(at(t, p)?.0)
+            None => {
+                let n = DIRECTION_SCAN_3D;
+                let step = FRAC_PI_2 / n as f64;
+                let mut best = (f64::NEG_INFINITY, [0.0, 0.0]);
+                for i in 0..n {
+                    for j in 0..n {
+                        let x = [(i as f64 + 0.5) * step, (j as f64 + 0.5) * step];
+                        let v = volume(&x)?;
+                        if v > best.0 {
+                            best = (v, x);
+                        }
+                    }
+                }
+                best.1
+            }
+        };
+        let x = nelder_mead_max(volume, start, NELDER_MEAD_START_RAD, DIRECTION_TOL_3D_RAD)?;
+        let (t, p) = (x[0].clamp(0.0, FRAC_PI_2), x[1].clamp(0.0, FRAC_PI_2));
+        Ok(self.box_along(&dir(t, p), 0.0)?.0)
+    }
+
+    /// The error vector (output unit) for one orientation error.
+    fn error_vector(&self, angles_rad: [f64; 3]) -> Result<Vec<f64>, CalibError> {
+        let [psi, theta, gamma] = angles_rad;
+        let dr = OrientationAngles::new(psi, theta, gamma)?.delta_r(self.kind);
+        let actual: Vec<InputValues> = self
+            .cal
+            .nominal_values()
+            .iter()
+            .map(|v| v.rotated(&dr))
+            .collect();
+        let mut out = vec![0.0; actual.len()];
+        self.cal
+            .error_vector_at(self.reading, &actual, &mut ErrorWork::default(), &mut out)?;
+        Ok(out)
     }
 
     /// The surface $\Gamma$ of this output over angles `angles` (indices into
@@ -480,7 +551,7 @@ impl OutputRegion {
             .map(|k| {
                 let t = std::f64::consts::TAU * k as f64 / directions as f64;
                 let (s, c) = t.sin_cos();
-                let r = self.radius(&[c, s], |r| {
+                let r = self.radius(&[c, s], 0.0, |r| {
                     let mut d = [0.0; 3];
                     d[angles[0]] = r * c;
                     d[angles[1]] = r * s;
@@ -490,6 +561,122 @@ impl OutputRegion {
             })
             .collect()
     }
+}
+
+/// $\max \sum_j \log h_j$ subject to $\sum_j a_{ij} h_j \le 1$ for every row $i$ ($a \ge 0$):
+/// the largest-volume box of a region $\{\delta : |L\delta| \le \omega_m\}$ (the first-order
+/// model: the worst corner of the box makes $\sum_j |L_{ij}| h_j$). A convex problem, solved by
+/// a log-barrier Newton method; `None` when the rows do not bound some angle.
+fn max_log_volume(rows: &[Vec<f64>]) -> Option<Vec<f64>> {
+    let d = rows.first()?.len();
+    let colmax: Vec<f64> = (0..d)
+        .map(|j| rows.iter().map(|r| r[j]).fold(0.0, f64::max))
+        .collect();
+    let top = colmax.iter().copied().fold(0.0, f64::max);
+    if top <= 0.0 || colmax.iter().any(|&c| c <= UNBOUNDED_COLUMN_REL * top) {
+        return None;
+    }
+    let mut h: Vec<f64> = colmax.iter().map(|c| 0.5 / (d as f64 * c)).collect();
+    let slack = |h: &[f64]| -> Option<Vec<f64>> {
+        let s: Vec<f64> = rows
+            .iter()
+            .map(|r| 1.0 - r.iter().zip(h).map(|(a, x)| a * x).sum::<f64>())
+            .collect();
+        (s.iter().all(|&v| v > 0.0) && h.iter().all(|&x| x > 0.0)).then_some(s)
+    };
+    let phi = |t: f64, h: &[f64]| -> f64 {
+        match slack(h) {
+            Some(s) => -t * h.iter().map(|x| x.ln()).sum::<f64>() - s.iter().map(|v| v.ln()).sum::<f64>(),
+            None => f64::INFINITY,
+        }
+    };
+    let mut t = 1.0;
+    while t < BARRIER_T_MAX {
+        for _ in 0..BARRIER_NEWTON_STEPS {
+            let s = slack(&h)?;
+            let mut g = nalgebra::DVector::zeros(d);
+            let mut hess = nalgebra::DMatrix::zeros(d, d);
+            for j in 0..d {
+                g[j] = -t / h[j];
+                hess[(j, j)] = t / (h[j] * h[j]);
+            }
+            for (r, si) in rows.iter().zip(&s) {
+                for j in 0..d {
+                    g[j] += r[j] / si;
+                    for k in 0..d {
+                        hess[(j, k)] += r[j] * r[k] / (si * si);
+                    }
+                }
+            }
+            let step = hess.cholesky()?.solve(&(-&g));
+            let decrement = -g.dot(&step);
+            if decrement < 1e-14 {
+                break;
+            }
+            let f0 = phi(t, &h);
+            let mut alpha = 1.0;
+            loop {
+                let trial: Vec<f64> = h.iter().zip(step.iter()).map(|(x, s)| x + alpha * s).collect();
+                if phi(t, &trial) <= f0 - 0.25 * alpha * decrement {
+                    h = trial;
+                    break;
+                }
+                alpha *= 0.5;
+                if alpha < 1e-12 {
+                    break;
+                }
+            }
+        }
+        t *= 10.0;
+    }
+    Some(h)
+}
+
+/// Nelder-Mead maximisation of `f` over two variables from `start` with an initial simplex of
+/// size `size`, until the simplex is smaller than `tol` (or [`NELDER_MEAD_MAX_ITER`]).
+fn nelder_mead_max<F>(f: F, start: [f64; 2], size: f64, tol: f64) -> Result<[f64; 2], CalibError>
+where
+    F: Fn(&[f64; 2]) -> Result<f64, CalibError>,
+{
+    let mut pts = [start, [start[0] + size, start[1]], [start[0], start[1] + size]];
+    let mut vals = [f(&pts[0])?, f(&pts[1])?, f(&pts[2])?];
+    for _ in 0..NELDER_MEAD_MAX_ITER {
+        // order best (largest) first
+        let mut idx = [0usize, 1, 2];
+        idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));
+        pts = idx.map(|i| pts[i]);
+        vals = idx.map(|i| vals[i]);
+        let spread = (0..2)
+            .map(|k| (pts[1][k] - pts[0][k]).abs().max((pts[2][k] - pts[0][k]).abs()))
+            .fold(0.0, f64::max);
+        if spread < tol {
+            break;
+        }
+        let c = [(pts[0][0] + pts[1][0]) / 2.0, (pts[0][1] + pts[1][1]) / 2.0];
+        let at = |s: f64| [c[0] + s * (pts[2][0] - c[0]), c[1] + s * (pts[2][1] - c[1])];
+        let r = at(-1.0);
+        let fr = f(&r)?;
+        if fr > vals[0] {
+            let e = at(-2.0);
+            let fe = f(&e)?;
+            (pts[2], vals[2]) = if fe > fr { (e, fe) } else { (r, fr) };
+        } else if fr > vals[1] {
+            (pts[2], vals[2]) = (r, fr);
+        } else {
+            let k = at(0.5);
+            let fk = f(&k)?;
+            if fk > vals[2] {
+                (pts[2], vals[2]) = (k, fk);
+            } else {
+                for i in 1..3 {
+                    pts[i] = [(pts[i][0] + pts[0][0]) / 2.0, (pts[i][1] + pts[0][1]) / 2.0];
+                    vals[i] = f(&pts[i])?;
+                }
+            }
+        }
+    }
+    let best = (0..3).fold(0, |b, i| if vals[i] > vals[b] { i } else { b });
+    Ok(pts[best])
 }
 
 /// Maximise `f(x).1` over $[lo, hi]$: a scan of `scan` midpoints, then a golden section on the

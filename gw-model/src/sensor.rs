@@ -84,6 +84,29 @@ impl InputValues {
         Self([a.x, a.y, a.z, w.x, w.y, w.z])
     }
 
+    /// The inputs seen from a frame turned by $\Delta\mathbf R$ (eq 8):
+    /// $\mathbf v' = \Delta\mathbf R^T\mathbf v$ for both vectors.
+    #[must_use]
+    pub fn rotated(&self, delta_r: &nalgebra::Matrix3<f64>) -> Self {
+        let [ax, ay, az, wx, wy, wz] = self.0;
+        let t = delta_r.transpose();
+        let a = t * Vector3::new(ax, ay, az);
+        let w = t * Vector3::new(wx, wy, wz);
+        Self([a.x, a.y, a.z, w.x, w.y, w.z])
+    }
+
+    /// The specific force, g.
+    #[must_use]
+    pub fn specific_force_g(&self) -> Vector3<f64> {
+        Vector3::new(self.0[0], self.0[1], self.0[2])
+    }
+
+    /// The angular rate, deg/h.
+    #[must_use]
+    pub fn rate_deg_per_h(&self) -> Vector3<f64> {
+        Vector3::new(self.0[3], self.0[4], self.0[5])
+    }
+
     /// From a specific force (g) and a rate already in deg/h.
     #[must_use]
     pub fn new(specific_force_g: &Vector3<f64>, rate_deg_per_h: &Vector3<f64>) -> Self {
