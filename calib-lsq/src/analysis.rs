@@ -49,7 +49,9 @@
 //! their first variations. Because the error vector is linear in the blocks, the same
 //! dispatch gives the value and the derivative.
 
-use crate::calibration::{Calibration, OutputCalibration, design_matrix, known_vector, simulate_outputs};
+use crate::calibration::{
+    Calibration, OutputCalibration, design_matrix, known_vector, simulate_outputs,
+};
 use crate::error::CalibError;
 use crate::lsq::Regression;
 use gw_model::{DeltaRKind, InputValues, Inputs, OrientationAngles};
@@ -193,10 +195,22 @@ impl Reading {
     /// `t`, into `out` (one entry per position); `work` holds the intermediate vectors (no
     /// allocation once sized). The only evaluation of the readings in the workspace (see the
     /// [module](self)).
-    pub fn error_vector<T: ReadingTerms + ?Sized>(&self, t: &T, work: &mut ReadingWork, out: &mut [f64]) {
+    pub fn error_vector<T: ReadingTerms + ?Sized>(
+        &self,
+        t: &T,
+        work: &mut ReadingWork,
+        out: &mut [f64],
+    ) {
         let (n, k) = (t.positions(), t.coefficients());
         work.size(n, k);
-        let ReadingWork { b1, b2, beta, beta2, pred, pred2 } = work;
+        let ReadingWork {
+            b1,
+            b2,
+            beta,
+            beta2,
+            pred,
+            pred2,
+        } = work;
         t.outputs(self.outputs, b1);
         if self.form == ErrorForm::DeltaBeta {
             t.estimate(Estimate::Beta1, b1, beta);
@@ -360,7 +374,11 @@ impl ReadingTerms for ReferenceTerms<'_> {
         out.copy_from_slice(v.as_slice());
     }
     fn known(&self, actual: bool, out: &mut [f64]) {
-        out.copy_from_slice(if actual { self.b2_prime.as_slice() } else { self.cal.b2().as_slice() });
+        out.copy_from_slice(if actual {
+            self.b2_prime.as_slice()
+        } else {
+            self.cal.b2().as_slice()
+        });
     }
     fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]) {
         let b1 = DVector::from_column_slice(b1);
@@ -376,7 +394,11 @@ impl ReadingTerms for ReferenceTerms<'_> {
     }
     fn predict(&self, actual: bool, beta: &[f64], out: &mut [f64]) {
         let beta = DVector::from_column_slice(beta);
-        let v = if actual { &self.a_prime * beta } else { self.cal.regression().matrix() * beta };
+        let v = if actual {
+            &self.a_prime * beta
+        } else {
+            self.cal.regression().matrix() * beta
+        };
         out.copy_from_slice(v.as_slice());
     }
 }
@@ -414,14 +436,22 @@ impl ReadingTerms for ActualTerms<'_> {
         match at {
             OutputsAt::Actual => out.copy_from_slice(self.b1_actual),
             OutputsAt::Intended => {
-                for ((o, a), b) in out.iter_mut().zip(self.cal.a_beta().iter()).zip(self.cal.b2().iter()) {
+                for ((o, a), b) in out
+                    .iter_mut()
+                    .zip(self.cal.a_beta().iter())
+                    .zip(self.cal.b2().iter())
+                {
                     *o = a + b;
                 }
             }
         }
     }
     fn known(&self, actual: bool, out: &mut [f64]) {
-        out.copy_from_slice(if actual { self.b2_actual } else { self.cal.b2().as_slice() });
+        out.copy_from_slice(if actual {
+            self.b2_actual
+        } else {
+            self.cal.b2().as_slice()
+        });
     }
     fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]) {
         let mut y = self.y.borrow_mut();
@@ -483,7 +513,11 @@ impl OutputCalibration {
         let n = self.b2().len();
         for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
             if len != n {
-                return Err(CalibError::LengthMismatch { what, expected: n, found: len });
+                return Err(CalibError::LengthMismatch {
+                    what,
+                    expected: n,
+                    found: len,
+                });
             }
         }
         let o = self.output();
@@ -501,11 +535,20 @@ impl OutputCalibration {
                     m[(i, j)] = r;
                 }
             }
-            Some(Regression::new(&o.name, self.regression().names().to_vec(), m)?)
+            Some(Regression::new(
+                &o.name,
+                self.regression().names().to_vec(),
+                m,
+            )?)
         } else {
             None
         };
-        let ErrorWork { reading: rw, b1_actual, b2_actual, y } = work;
+        let ErrorWork {
+            reading: rw,
+            b1_actual,
+            b2_actual,
+            y,
+        } = work;
         let terms = ActualTerms {
             cal: self,
             actual,
@@ -598,7 +641,11 @@ impl OrientationErrorAnalysis {
         self.schedule.len()
     }
 
-    fn terms(&self, actual: &[Inputs], need_beta_2: bool) -> Result<ReferenceTerms<'_>, CalibError> {
+    fn terms(
+        &self,
+        actual: &[Inputs],
+        need_beta_2: bool,
+    ) -> Result<ReferenceTerms<'_>, CalibError> {
         let o = self.cal.output();
         let a_prime = design_matrix(o, actual);
         let a_prime_qr = if need_beta_2 {
@@ -647,7 +694,8 @@ impl OrientationErrorAnalysis {
         t.estimate(Estimate::Beta1, &b1, &mut beta1);
         t.estimate(Estimate::Beta2, &b1, &mut beta2);
         let mut error = vec![0.0; n];
-        self.reading.error_vector(&t, &mut ReadingWork::default(), &mut error);
+        self.reading
+            .error_vector(&t, &mut ReadingWork::default(), &mut error);
         let error_vector = DVector::from_vec(error);
         let (beta_hat_1, beta_hat_2) = (DVector::from_vec(beta1), DVector::from_vec(beta2));
         Ok(ErrorAnalysis {
@@ -671,7 +719,8 @@ impl OrientationErrorAnalysis {
         let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
         let t = self.terms(&actual, self.reading.needs_beta_2())?;
         let mut error = vec![0.0; actual.len()];
-        self.reading.error_vector(&t, &mut ReadingWork::default(), &mut error);
+        self.reading
+            .error_vector(&t, &mut ReadingWork::default(), &mut error);
         Ok(DVector::from_vec(error))
     }
 
@@ -688,7 +737,11 @@ impl OrientationErrorAnalysis {
     ///
     /// # Errors
     /// As [`analyze`](Self::analyze).
-    pub fn delta_omega_for_angles(&self, angles: &OrientationAngles, kind: DeltaRKind) -> Result<f64, CalibError> {
+    pub fn delta_omega_for_angles(
+        &self,
+        angles: &OrientationAngles,
+        kind: DeltaRKind,
+    ) -> Result<f64, CalibError> {
         let m = angles.delta_r(kind);
         self.delta_omega(&vec![m; self.positions()])
     }
@@ -697,7 +750,11 @@ impl OrientationErrorAnalysis {
     ///
     /// # Errors
     /// As [`analyze`](Self::analyze).
-    pub fn analyze_angles(&self, angles: &OrientationAngles, kind: DeltaRKind) -> Result<ErrorAnalysis, CalibError> {
+    pub fn analyze_angles(
+        &self,
+        angles: &OrientationAngles,
+        kind: DeltaRKind,
+    ) -> Result<ErrorAnalysis, CalibError> {
         let m = angles.delta_r(kind);
         self.analyze(&vec![m; self.positions()])
     }

@@ -100,7 +100,9 @@ pub fn design_matrix(output: &Output, inputs: &[Inputs]) -> DMatrix<f64> {
 pub fn known_vector(output: &Output, inputs: &[Inputs]) -> DVector<f64> {
     DVector::from_iterator(
         inputs.len(),
-        inputs.iter().map(|i| output.known_part(&InputValues::from_inputs(i))),
+        inputs
+            .iter()
+            .map(|i| output.known_part(&InputValues::from_inputs(i))),
     )
 }
 
@@ -110,7 +112,9 @@ pub fn known_vector(output: &Output, inputs: &[Inputs]) -> DVector<f64> {
 pub fn simulate_outputs(output: &Output, inputs: &[Inputs]) -> DVector<f64> {
     DVector::from_iterator(
         inputs.len(),
-        inputs.iter().map(|i| output.value(&InputValues::from_inputs(i))),
+        inputs
+            .iter()
+            .map(|i| output.value(&InputValues::from_inputs(i))),
     )
 }
 
@@ -231,7 +235,10 @@ impl Calibration {
     ///
     /// # Errors
     /// As [`Schedule::actual_inputs`] and [`Calibration::calibrate`].
-    pub fn calibrate_simulated(&self, delta_r: &[Matrix3<f64>]) -> Result<Vec<CalibrationResult>, CalibError> {
+    pub fn calibrate_simulated(
+        &self,
+        delta_r: &[Matrix3<f64>],
+    ) -> Result<Vec<CalibrationResult>, CalibError> {
         let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
         (0..self.outputs.len())
             .map(|k| {

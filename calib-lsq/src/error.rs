@@ -67,7 +67,9 @@ pub enum CalibError {
         limit_rad: f64,
     },
     /// No output is sensitive to any orientation angle: there is no orientation requirement.
-    #[error("no output's calibration error depends on the orientation: no requirement can be derived")]
+    #[error(
+        "no output's calibration error depends on the orientation: no requirement can be derived"
+    )]
     NoSensitivity,
     /// A reading name could not be parsed.
     #[error(

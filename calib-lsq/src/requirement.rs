@@ -267,7 +267,11 @@ impl RequirementProblem {
                 let mut worst: f64 = 0.0;
                 for signs in 0..8u32 {
                     let d: [f64; 3] = std::array::from_fn(|j| {
-                        if signs & (1 << j) == 0 { corner[j] } else { -corner[j] }
+                        if signs & (1 << j) == 0 {
+                            corner[j]
+                        } else {
+                            -corner[j]
+                        }
                     });
                     worst = worst.max(r.rate_error(d)? / r.accuracy);
                 }
@@ -328,7 +332,13 @@ impl OutputRegion {
         let d = half.len();
         for signs in 0..(1u32 << d) {
             let c: Vec<f64> = (0..d)
-                .map(|i| if signs & (1 << i) == 0 { half[i] } else { -half[i] })
+                .map(|i| {
+                    if signs & (1 << i) == 0 {
+                        half[i]
+                    } else {
+                        -half[i]
+                    }
+                })
                 .collect();
             if self.rate_error(self.point(&c))? > self.accuracy {
                 return Ok(false);
@@ -446,9 +456,15 @@ impl OutputRegion {
             let plus = self.error_vector(d)?;
             d[j] = -h;
             let minus = self.error_vector(d)?;
-            cols.push((0..n).map(|i| ((plus[i] - minus[i]) / (2.0 * h)).abs() / self.accuracy).collect::<Vec<f64>>());
+            cols.push(
+                (0..n)
+                    .map(|i| ((plus[i] - minus[i]) / (2.0 * h)).abs() / self.accuracy)
+                    .collect::<Vec<f64>>(),
+            );
         }
-        Ok((0..n).map(|i| cols.iter().map(|c| c[i]).collect()).collect())
+        Ok((0..n)
+            .map(|i| cols.iter().map(|c| c[i]).collect())
+            .collect())
     }
 
     fn max_box_3d(&self) -> Result<Vec<f64>, CalibError> {
@@ -508,7 +524,12 @@ impl OutputRegion {
     ///
     /// # Errors
     /// [`CalibError::BadGrid`] for fewer than 2 points or a non-positive half range.
-    pub fn surface(&self, angles: [usize; 2], half_range_rad: f64, points: usize) -> Result<Surface, CalibError> {
+    pub fn surface(
+        &self,
+        angles: [usize; 2],
+        half_range_rad: f64,
+        points: usize,
+    ) -> Result<Surface, CalibError> {
         if points < 2 || !half_range_rad.is_finite() || half_range_rad <= 0.0 {
             return Err(CalibError::BadGrid {
                 points,
@@ -546,7 +567,11 @@ impl OutputRegion {
     ///
     /// # Errors
     /// [`CalibError::Unbounded`] if a ray never reaches $\omega_m$ within [`SEARCH_LIMIT_RAD`].
-    pub fn boundary(&self, angles: [usize; 2], directions: usize) -> Result<Vec<[f64; 2]>, CalibError> {
+    pub fn boundary(
+        &self,
+        angles: [usize; 2],
+        directions: usize,
+    ) -> Result<Vec<[f64; 2]>, CalibError> {
         (0..directions)
             .map(|k| {
                 let t = std::f64::consts::TAU * k as f64 / directions as f64;
@@ -586,7 +611,9 @@ fn max_log_volume(rows: &[Vec<f64>]) -> Option<Vec<f64>> {
     };
     let phi = |t: f64, h: &[f64]| -> f64 {
         match slack(h) {
-            Some(s) => -t * h.iter().map(|x| x.ln()).sum::<f64>() - s.iter().map(|v| v.ln()).sum::<f64>(),
+            Some(s) => {
+                -t * h.iter().map(|x| x.ln()).sum::<f64>() - s.iter().map(|v| v.ln()).sum::<f64>()
+            }
             None => f64::INFINITY,
         }
     };
@@ -616,7 +643,11 @@ fn max_log_volume(rows: &[Vec<f64>]) -> Option<Vec<f64>> {
             let f0 = phi(t, &h);
             let mut alpha = 1.0;
             loop {
-                let trial: Vec<f64> = h.iter().zip(step.iter()).map(|(x, s)| x + alpha * s).collect();
+                let trial: Vec<f64> = h
+                    .iter()
+                    .zip(step.iter())
+                    .map(|(x, s)| x + alpha * s)
+                    .collect();
                 if phi(t, &trial) <= f0 - 0.25 * alpha * decrement {
                     h = trial;
                     break;
@@ -638,7 +669,11 @@ fn nelder_mead_max<F>(f: F, start: [f64; 2], size: f64, tol: f64) -> Result<[f64
 where
     F: Fn(&[f64; 2]) -> Result<f64, CalibError>,
 {
-    let mut pts = [start, [start[0] + size, start[1]], [start[0], start[1] + size]];
+    let mut pts = [
+        start,
+        [start[0] + size, start[1]],
+        [start[0], start[1] + size],
+    ];
     let mut vals = [f(&pts[0])?, f(&pts[1])?, f(&pts[2])?];
     for _ in 0..NELDER_MEAD_MAX_ITER {
         // order best (largest) first
@@ -647,7 +682,11 @@ where
         pts = idx.map(|i| pts[i]);
         vals = idx.map(|i| vals[i]);
         let spread = (0..2)
-            .map(|k| (pts[1][k] - pts[0][k]).abs().max((pts[2][k] - pts[0][k]).abs()))
+            .map(|k| {
+                (pts[1][k] - pts[0][k])
+                    .abs()
+                    .max((pts[2][k] - pts[0][k]).abs())
+            })
             .fold(0.0, f64::max);
         if spread < tol {
             break;

@@ -18,7 +18,10 @@ impl Position {
     ///
     /// # Errors
     /// [`CalibError::NonFinite`] naming `base_from_sensor` or `joint_angles_deg[k]`.
-    pub fn new(base_from_sensor: Matrix3<f64>, joint_angles_deg: Vec<f64>) -> Result<Self, CalibError> {
+    pub fn new(
+        base_from_sensor: Matrix3<f64>,
+        joint_angles_deg: Vec<f64>,
+    ) -> Result<Self, CalibError> {
         for v in base_from_sensor.iter() {
             finite("base_from_sensor", *v)?;
         }
@@ -125,7 +128,11 @@ impl Schedule {
     ///
     /// # Errors
     /// [`CalibError::LengthMismatch`] unless there is one matrix per position.
-    pub fn actual_inputs(&self, site: &Site, delta_r: &[Matrix3<f64>]) -> Result<Vec<Inputs>, CalibError> {
+    pub fn actual_inputs(
+        &self,
+        site: &Site,
+        delta_r: &[Matrix3<f64>],
+    ) -> Result<Vec<Inputs>, CalibError> {
         if delta_r.len() != self.len() {
             return Err(CalibError::LengthMismatch {
                 what: "delta_r",

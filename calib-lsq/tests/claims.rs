@@ -35,8 +35,12 @@ const EXACT_DECOMPOSITION_REL: f64 = 1e-6;
 const FIRST_ORDER_REL: f64 = 1e-3;
 
 fn paper_calibration() -> Calibration {
-    Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &paper::schedule())
-        .unwrap()
+    Calibration::new(
+        &gw_model::paper::gyrowheel(),
+        &gw_model::paper::site(),
+        &paper::schedule(),
+    )
+    .unwrap()
 }
 
 fn paper_problem() -> RequirementProblem {
@@ -45,7 +49,11 @@ fn paper_problem() -> RequirementProblem {
 
 fn paper_requirement() -> &'static OrientationRequirement {
     static R: OnceLock<OrientationRequirement> = OnceLock::new();
-    R.get_or_init(|| paper_problem().requirement().expect("paper inputs are valid"))
+    R.get_or_init(|| {
+        paper_problem()
+            .requirement()
+            .expect("paper inputs are valid")
+    })
 }
 
 fn deg(r: &OrientationRequirement) -> [f64; 3] {
@@ -220,13 +228,22 @@ fn requirement_met_on_rectangle_boundary_and_violated_just_outside() {
 #[test]
 fn least_squares_recovers_table_1_without_orientation_error_eq6() {
     let cal = paper_calibration();
-    let results = cal.calibrate_simulated(&vec![Matrix3::identity(); 32]).unwrap();
-    for (c, table) in results.iter().zip([TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H]) {
+    let results = cal
+        .calibrate_simulated(&vec![Matrix3::identity(); 32])
+        .unwrap();
+    for (c, table) in results
+        .iter()
+        .zip([TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H])
+    {
         for (got, want) in c.solution.beta.iter().zip(table) {
             assert_abs_diff_eq!(*got, want, epsilon = TABLE1_RECOVERY_TOL_DEG_PER_H);
         }
         assert_eq!(c.solution.rank, 7);
-        assert!(c.solution.condition_number < 10.0, "{}", c.solution.condition_number);
+        assert!(
+            c.solution.condition_number < 10.0,
+            "{}",
+            c.solution.condition_number
+        );
         assert!(c.solution.rms_residual() < TABLE1_RECOVERY_TOL_DEG_PER_H);
     }
 }
@@ -261,7 +278,13 @@ fn condition_number_is_accurate_for_ill_conditioned_matrices() {
 fn rank_deficient_schedule_is_rejected_naming_d_x_xy() {
     let s = paper::grid(&[0.0, 90.0, 180.0, 270.0], &[0.0, 90.0, 180.0, 270.0]).unwrap();
     match Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &s) {
-        Err(CalibError::Unidentifiable { output, coefficients, rank, columns, positions }) => {
+        Err(CalibError::Unidentifiable {
+            output,
+            coefficients,
+            rank,
+            columns,
+            positions,
+        }) => {
             assert_eq!(output, "x");
             assert_eq!(coefficients, vec!["dx_xy"]);
             assert_eq!((rank, columns, positions), (6, 7, 16));
@@ -269,9 +292,17 @@ fn rank_deficient_schedule_is_rejected_naming_d_x_xy() {
         other => panic!("expected Unidentifiable, got {other:?}"),
     }
     // phi1 at three values gives only two values of a_z: F, z and zz cannot be separated.
-    let s = paper::grid(&[0.0, 120.0, 240.0], &[0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0]).unwrap();
-    let err = Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &s).unwrap_err();
-    assert!(err.to_string().contains("dx_f, dx_z, dx_zz of output `x`"), "{err}");
+    let s = paper::grid(
+        &[0.0, 120.0, 240.0],
+        &[0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0],
+    )
+    .unwrap();
+    let err =
+        Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &s).unwrap_err();
+    assert!(
+        err.to_string().contains("dx_f, dx_z, dx_zz of output `x`"),
+        "{err}"
+    );
 }
 
 /// Eq 13 readings, first order: with $\mathbf e = \mathbf b_2' - \mathbf b_2$,
@@ -294,21 +325,52 @@ fn readings_match_their_first_order_decomposition() {
         let q = a.clone().qr().q();
         let p: DMatrix<f64> = &q * q.transpose();
         let i = DMatrix::<f64>::identity(a.nrows(), a.nrows());
-        let r = |outputs, estimate, form| Reading { outputs, estimate, form };
+        let r = |outputs, estimate, form| Reading {
+            outputs,
+            estimate,
+            form,
+        };
         let expected: Vec<(Reading, DVector<f64>, f64)> = vec![
             (Reading::PAPER, -&e, EXACT_DECOMPOSITION_REL),
-            (r(OutputsAt::Actual, Estimate::Beta2, ErrorForm::ActualRegressorsNominalRate), e.clone(), EXACT_DECOMPOSITION_REL),
+            (
+                r(
+                    OutputsAt::Actual,
+                    Estimate::Beta2,
+                    ErrorForm::ActualRegressorsNominalRate,
+                ),
+                e.clone(),
+                EXACT_DECOMPOSITION_REL,
+            ),
             (Reading::AS_PRINTED, g.clone(), EXACT_DECOMPOSITION_REL),
-            (Reading::USER, (&i - &p) * &g - &p * &e, EXACT_DECOMPOSITION_REL),
-            (r(OutputsAt::Actual, Estimate::Beta1, ErrorForm::NominalRate), (&i - &p) * (&g + &e), EXACT_DECOMPOSITION_REL),
-            (r(OutputsAt::Intended, Estimate::Beta2, ErrorForm::Printed), &p * &g - (&i - &p) * &e, FIRST_ORDER_REL),
-            (r(OutputsAt::Actual, Estimate::Beta1, ErrorForm::DeltaBeta), &p * (&g + &e), EXACT_DECOMPOSITION_REL),
+            (
+                Reading::USER,
+                (&i - &p) * &g - &p * &e,
+                EXACT_DECOMPOSITION_REL,
+            ),
+            (
+                r(OutputsAt::Actual, Estimate::Beta1, ErrorForm::NominalRate),
+                (&i - &p) * (&g + &e),
+                EXACT_DECOMPOSITION_REL,
+            ),
+            (
+                r(OutputsAt::Intended, Estimate::Beta2, ErrorForm::Printed),
+                &p * &g - (&i - &p) * &e,
+                FIRST_ORDER_REL,
+            ),
+            (
+                r(OutputsAt::Actual, Estimate::Beta1, ErrorForm::DeltaBeta),
+                &p * (&g + &e),
+                EXACT_DECOMPOSITION_REL,
+            ),
         ];
         for (reading, want, tol) in expected {
             let got = analysis(k, reading).analyze(&dr).unwrap().error_vector;
             let scale = want.amax();
             assert!(scale > 0.0);
-            assert!((&got - &want).amax() <= tol * scale, "{reading}: {got} vs {want}");
+            assert!(
+                (&got - &want).amax() <= tol * scale,
+                "{reading}: {got} vs {want}"
+            );
         }
     }
 }
@@ -319,7 +381,9 @@ fn readings_match_their_first_order_decomposition() {
 fn no_orientation_error_gives_no_rate_error_in_every_reading() {
     for reading in Reading::all() {
         for k in 0..2 {
-            let r = analysis(k, reading).analyze(&vec![Matrix3::identity(); 32]).unwrap();
+            let r = analysis(k, reading)
+                .analyze(&vec![Matrix3::identity(); 32])
+                .unwrap();
             assert!(r.delta_omega < 1e-12, "{reading}");
             assert!(r.delta_beta.amax() < 1e-10);
         }
@@ -336,7 +400,10 @@ fn reading_names_round_trip() {
     for r in all {
         assert_eq!(r.to_string().parse::<Reading>().unwrap(), r);
     }
-    assert!(matches!("intended/beta3/printed".parse::<Reading>(), Err(CalibError::UnknownReading { .. })));
+    assert!(matches!(
+        "intended/beta3/printed".parse::<Reading>(),
+        Err(CalibError::UnknownReading { .. })
+    ));
 }
 
 /// Figure 4 grid data equals point evaluations; Figure 5 boundary points have
@@ -355,9 +422,16 @@ fn surfaces_and_boundary_lines_agree_with_point_evaluation() {
         epsilon = RATE_EQ_TOL_DEG_PER_H
     );
     for [u, v] in region.boundary([1, 2], 12).unwrap() {
-        assert_relative_eq!(region.rate_error([0.0, u, v]).unwrap(), region.accuracy(), max_relative = 1e-6);
+        assert_relative_eq!(
+            region.rate_error([0.0, u, v]).unwrap(),
+            region.accuracy(),
+            max_relative = 1e-6
+        );
     }
-    assert!(matches!(region.surface([1, 2], 0.0, 5), Err(CalibError::BadGrid { .. })));
+    assert!(matches!(
+        region.surface([1, 2], 0.0, 5),
+        Err(CalibError::BadGrid { .. })
+    ));
 }
 
 /// Calibration input errors are typed and name the offending value.
@@ -365,7 +439,14 @@ fn surfaces_and_boundary_lines_agree_with_point_evaluation() {
 fn calibrate_rejects_bad_outputs_with_named_errors() {
     let cal = paper_calibration();
     let mut b1 = vec![0.0; 32];
-    assert!(matches!(cal.calibrate(0, &b1[..3]), Err(CalibError::LengthMismatch { what: "outputs", expected: 32, found: 3 })));
+    assert!(matches!(
+        cal.calibrate(0, &b1[..3]),
+        Err(CalibError::LengthMismatch {
+            what: "outputs",
+            expected: 32,
+            found: 3
+        })
+    ));
     b1[3] = f64::NAN;
     match cal.calibrate(0, &b1) {
         Err(CalibError::NonFinite { field, .. }) => assert_eq!(field, "outputs[3]"),
@@ -387,7 +468,8 @@ fn requirement_follows_closed_form_in_latitude_for_default_schedule() {
     let we = gw_model::paper::site().earth_rate_rad_per_s();
     for lat in [0.0, 30.0, 45.75, 60.0, 80.0] {
         let site = Site::from_deg(lat, we).unwrap();
-        let cal = Calibration::new(&gw_model::paper::gyrowheel(), &site, &paper::schedule()).unwrap();
+        let cal =
+            Calibration::new(&gw_model::paper::gyrowheel(), &site, &paper::schedule()).unwrap();
         let p = RequirementProblem::new(cal, Reading::PAPER, DeltaRKind::SmallAngle);
         let offset = (lat % 90.0 - 45.0_f64).to_radians();
         let want = (omega_m / (std::f64::consts::SQRT_2 * we * offset.cos())).to_degrees();
@@ -404,9 +486,15 @@ fn requirement_follows_closed_form_in_latitude_for_default_schedule() {
 fn per_position_delta_r_and_exact_rotation_agree_with_small_angle_analysis() {
     let x = analysis(0, Reading::USER);
     let angles = OrientationAngles::from_deg(0.01, 0.02, -0.03).unwrap();
-    let per_position = x.analyze(&vec![angles.delta_r(DeltaRKind::Exact); 32]).unwrap();
+    let per_position = x
+        .analyze(&vec![angles.delta_r(DeltaRKind::Exact); 32])
+        .unwrap();
     let fixed = x.analyze_angles(&angles, DeltaRKind::Exact).unwrap();
-    assert_abs_diff_eq!(per_position.delta_omega, fixed.delta_omega, epsilon = RATE_EQ_TOL_DEG_PER_H);
+    assert_abs_diff_eq!(
+        per_position.delta_omega,
+        fixed.delta_omega,
+        epsilon = RATE_EQ_TOL_DEG_PER_H
+    );
     let exact = RequirementProblem::new(paper_calibration(), Reading::PAPER, DeltaRKind::Exact)
         .requirement()
         .unwrap();

@@ -15,7 +15,13 @@ fn main() -> Result<(), ModelError> {
         site.earth_rate_rad_per_s()
     );
     println!("phi1,phi2 (deg) | a_x a_y a_z (g) | w_x w_y w_z (deg/h) | outputs x, y (deg/h)");
-    for (p1, p2) in [(0.0, 0.0), (90.0, 0.0), (90.0, 45.0), (180.0, 90.0), (270.0, 135.0)] {
+    for (p1, p2) in [
+        (0.0, 0.0),
+        (90.0, 0.0),
+        (90.0, 45.0),
+        (180.0, 90.0),
+        (270.0, 135.0),
+    ] {
         let inputs = site.inputs(&paper::base_from_sensor(
             f64::to_radians(p1),
             f64::to_radians(p2),

@@ -63,7 +63,5 @@ mod site;
 pub mod units;
 
 pub use error::ModelError;
-pub use sensor::{
-    Input, InputValues, MAX_REGRESSOR_DEGREE, Output, Regressor, SensorModel, Term,
-};
+pub use sensor::{Input, InputValues, MAX_REGRESSOR_DEGREE, Output, Regressor, SensorModel, Term};
 pub use site::{DeltaRKind, Inputs, OrientationAngles, Site};

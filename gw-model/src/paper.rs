@@ -36,7 +36,11 @@ pub const Y_NAMES: [&str; 7] = ["dy_f", "dy_x", "dy_y", "dy_z", "dy_yy", "dy_zz"
 #[must_use]
 pub fn regressors(x_axis: bool) -> [Regressor; 7] {
     let a = Regressor::input;
-    let quad = if x_axis { a(Input::Ax).times(a(Input::Ax)) } else { a(Input::Ay).times(a(Input::Ay)) };
+    let quad = if x_axis {
+        a(Input::Ax).times(a(Input::Ax))
+    } else {
+        a(Input::Ay).times(a(Input::Ay))
+    };
     [
         Regressor::ONE,
         a(Input::Ax),

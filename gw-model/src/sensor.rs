@@ -41,7 +41,14 @@ pub enum Input {
 
 impl Input {
     /// All six, in the order $a_x, a_y, a_z, w_x, w_y, w_z$.
-    pub const ALL: [Input; 6] = [Input::Ax, Input::Ay, Input::Az, Input::Wx, Input::Wy, Input::Wz];
+    pub const ALL: [Input; 6] = [
+        Input::Ax,
+        Input::Ay,
+        Input::Az,
+        Input::Wx,
+        Input::Wy,
+        Input::Wz,
+    ];
 
     /// The symbol used in study files (`a_x`, ..., `w_z`).
     #[must_use]
@@ -285,8 +292,15 @@ impl Regressor {
             1 => Some(u.to_string()),
             n => Some(format!("{u}^{n}")),
         };
-        let parts: Vec<String> = [part("deg/h", w), part("g", g)].into_iter().flatten().collect();
-        if parts.is_empty() { "1".into() } else { parts.join("*") }
+        let parts: Vec<String> = [part("deg/h", w), part("g", g)]
+            .into_iter()
+            .flatten()
+            .collect();
+        if parts.is_empty() {
+            "1".into()
+        } else {
+            parts.join("*")
+        }
     }
 }
 
@@ -367,20 +381,27 @@ impl Output {
     /// The known part $\sum_{\text{known}} \beta_t r_t$ at `v` (an entry of $\mathbf b_2$).
     #[must_use]
     pub fn known_part(&self, v: &InputValues) -> f64 {
-        self.known_terms().map(|t| t.value * t.regressor.eval(v)).sum()
+        self.known_terms()
+            .map(|t| t.value * t.regressor.eval(v))
+            .sum()
     }
 
     /// The estimated part $\sum_{\text{estimated}} \beta_t r_t$ at `v` with the true
     /// coefficients (an entry of $\mathbf A\boldsymbol\beta$).
     #[must_use]
     pub fn estimated_part(&self, v: &InputValues) -> f64 {
-        self.estimated().map(|t| t.value * t.regressor.eval(v)).sum()
+        self.estimated()
+            .map(|t| t.value * t.regressor.eval(v))
+            .sum()
     }
 
     /// The output $y = \sum_t \beta_t r_t$ at `v` (eq 1 solved for the output).
     #[must_use]
     pub fn value(&self, v: &InputValues) -> f64 {
-        self.terms.iter().map(|t| t.value * t.regressor.eval(v)).sum()
+        self.terms
+            .iter()
+            .map(|t| t.value * t.regressor.eval(v))
+            .sum()
     }
 
     /// The true values of the estimated coefficients, in order.
@@ -417,45 +438,81 @@ impl SensorModel {
     pub fn new(outputs: Vec<Output>) -> Result<Self, ModelError> {
         let err = |key: String, reason: String| ModelError::Sensor { key, reason };
         if outputs.is_empty() {
-            return Err(err("outputs".into(), "a sensor needs at least one output".into()));
+            return Err(err(
+                "outputs".into(),
+                "a sensor needs at least one output".into(),
+            ));
         }
         let mut output_names = std::collections::BTreeMap::new();
         let mut coefficients = std::collections::BTreeMap::new();
         for (k, o) in outputs.iter().enumerate() {
             let key = |s: &str| format!("outputs[{k}].{s}");
             if !valid_name(&o.name) {
-                return Err(err(key("name"), format!("`{}` is not a valid name (lower-case letter, then lower-case letters, digits or `_`)", o.name)));
+                return Err(err(
+                    key("name"),
+                    format!(
+                        "`{}` is not a valid name (lower-case letter, then lower-case letters, digits or `_`)",
+                        o.name
+                    ),
+                ));
             }
             if let Some(first) = output_names.insert(o.name.clone(), k) {
-                return Err(err(key("name"), format!("`{}` is already the name of outputs[{first}]", o.name)));
+                return Err(err(
+                    key("name"),
+                    format!("`{}` is already the name of outputs[{first}]", o.name),
+                ));
             }
             if o.unit.trim().is_empty() {
                 return Err(err(key("unit"), "must not be empty".into()));
             }
-            positive(&key("accuracy"), o.accuracy)
-                .map_err(|_| err(key("accuracy"), format!("must be positive and finite, found {}", o.accuracy)))?;
+            positive(&key("accuracy"), o.accuracy).map_err(|_| {
+                err(
+                    key("accuracy"),
+                    format!("must be positive and finite, found {}", o.accuracy),
+                )
+            })?;
             if o.terms.is_empty() {
-                return Err(err(key("terms"), "an output needs at least one term".into()));
+                return Err(err(
+                    key("terms"),
+                    "an output needs at least one term".into(),
+                ));
             }
             for (t, term) in o.terms.iter().enumerate() {
                 let tkey = |s: &str| format!("outputs[{k}].terms[{t}].{s}");
                 if !valid_name(&term.coefficient) {
-                    return Err(err(tkey("coefficient"), format!("`{}` is not a valid name", term.coefficient)));
+                    return Err(err(
+                        tkey("coefficient"),
+                        format!("`{}` is not a valid name", term.coefficient),
+                    ));
                 }
                 if let Some((ko, kt)) = coefficients.insert(term.coefficient.clone(), (k, t)) {
                     return Err(err(
                         tkey("coefficient"),
-                        format!("`{}` is already the coefficient of outputs[{ko}].terms[{kt}]", term.coefficient),
+                        format!(
+                            "`{}` is already the coefficient of outputs[{ko}].terms[{kt}]",
+                            term.coefficient
+                        ),
                     ));
                 }
-                finite(&tkey("value"), term.value)
-                    .map_err(|_| err(tkey("value"), format!("must be finite, found {}", term.value)))?;
+                finite(&tkey("value"), term.value).map_err(|_| {
+                    err(
+                        tkey("value"),
+                        format!("must be finite, found {}", term.value),
+                    )
+                })?;
             }
             if o.n_estimated() == 0 {
-                return Err(err(key("terms"), "no estimated term: mark at least one term `known = false`".into()));
+                return Err(err(
+                    key("terms"),
+                    "no estimated term: mark at least one term `known = false`".into(),
+                ));
             }
             for (t, term) in o.terms.iter().enumerate() {
-                if let Some((u, other)) = o.terms[..t].iter().enumerate().find(|(_, x)| x.regressor == term.regressor) {
+                if let Some((u, other)) = o.terms[..t]
+                    .iter()
+                    .enumerate()
+                    .find(|(_, x)| x.regressor == term.regressor)
+                {
                     return Err(err(
                         format!("outputs[{k}].terms[{t}].regressor"),
                         format!(

@@ -108,7 +108,11 @@ impl Site {
     /// # Reference
     /// Eq 8 (with eq 7 or eq 23 for $\Delta\mathbf R$).
     #[must_use]
-    pub fn inputs_with_error(&self, base_from_sensor: &Matrix3<f64>, delta_r: &Matrix3<f64>) -> Inputs {
+    pub fn inputs_with_error(
+        &self,
+        base_from_sensor: &Matrix3<f64>,
+        delta_r: &Matrix3<f64>,
+    ) -> Inputs {
         self.inputs(base_from_sensor).rotated(delta_r)
     }
 }

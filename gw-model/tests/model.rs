@@ -134,7 +134,11 @@ fn eq7_small_angle_matrix_as_printed() {
 fn table_1_values_and_units_as_printed() {
     let s = paper::gyrowheel();
     assert_eq!(s.n_outputs(), 2);
-    for (o, values) in s.outputs().iter().zip([TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H]) {
+    for (o, values) in s
+        .outputs()
+        .iter()
+        .zip([TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H])
+    {
         assert_eq!(o.estimated_values(), values.to_vec());
         assert_eq!(o.unit, "deg_per_h");
         assert_relative_eq!(o.accuracy, 0.01);
@@ -144,15 +148,32 @@ fn table_1_values_and_units_as_printed() {
         let units: Vec<String> = o.estimated().map(|t| o.coefficient_unit(t)).collect();
         assert_eq!(
             units,
-            ["deg_per_h", "deg_per_h/(g)", "deg_per_h/(g)", "deg_per_h/(g)", "deg_per_h/(g^2)", "deg_per_h/(g^2)", "deg_per_h/(g^2)"]
+            [
+                "deg_per_h",
+                "deg_per_h/(g)",
+                "deg_per_h/(g)",
+                "deg_per_h/(g)",
+                "deg_per_h/(g^2)",
+                "deg_per_h/(g^2)",
+                "deg_per_h/(g^2)"
+            ]
         );
     }
     // Golden values, Table 1 as printed (compared as text: exactly the printed digits).
-    assert_eq!(format!("{TABLE_1_X_DEG_PER_H:?}"), "[-93.3, -43.2, 3.5, -1.2, 2.1, -0.089, 17.4]");
-    assert_eq!(format!("{TABLE_1_Y_DEG_PER_H:?}"), "[105.3, 2.2, -33.2, -0.1, -10.6, -10.38, 47.8]");
+    assert_eq!(
+        format!("{TABLE_1_X_DEG_PER_H:?}"),
+        "[-93.3, -43.2, 3.5, -1.2, 2.1, -0.089, 17.4]"
+    );
+    assert_eq!(
+        format!("{TABLE_1_Y_DEG_PER_H:?}"),
+        "[105.3, 2.2, -33.2, -0.1, -10.6, -10.38, 47.8]"
+    );
     let y = &s.outputs()[1];
     assert_eq!(y.estimated_names()[6], "dy_yx");
-    assert_eq!(y.estimated().nth(6).unwrap().regressor.to_string(), "a_x*a_y");
+    assert_eq!(
+        y.estimated().nth(6).unwrap().regressor.to_string(),
+        "a_x*a_y"
+    );
     assert_eq!(y.estimated().nth(4).unwrap().regressor.to_string(), "a_y^2");
 }
 
@@ -160,7 +181,10 @@ fn table_1_values_and_units_as_printed() {
 #[test]
 fn eq1_output_sums_every_term() {
     let site = paper::site();
-    let inp = site.inputs(&paper::base_from_sensor(45f64.to_radians(), (-45f64).to_radians()));
+    let inp = site.inputs(&paper::base_from_sensor(
+        45f64.to_radians(),
+        (-45f64).to_radians(),
+    ));
     let a = inp.specific_force_g;
     let d = TABLE_1_Y_DEG_PER_H;
     let expected_deg_per_h = rad_per_s_to_deg_per_h(inp.rate_rad_per_s.y)
@@ -204,7 +228,12 @@ fn regressors_parse_display_and_units_round_trip() {
 }
 
 fn term(c: &str, r: &str, v: f64, known: bool) -> Term {
-    Term { coefficient: c.into(), regressor: Regressor::parse(r).unwrap(), value: v, known }
+    Term {
+        coefficient: c.into(),
+        regressor: Regressor::parse(r).unwrap(),
+        value: v,
+        known,
+    }
 }
 
 fn sensor_error(outputs: Vec<Output>) -> (String, String) {
@@ -217,20 +246,41 @@ fn sensor_error(outputs: Vec<Output>) -> (String, String) {
 /// Bad sensors and sites give typed errors naming the key or field.
 #[test]
 fn invalid_inputs_are_rejected_with_named_fields() {
-    assert_eq!(Site::from_deg(91.0, 7e-5), Err(ModelError::LatitudeOutOfRange { latitude_deg: 91.0 }));
-    assert!(matches!(Site::from_deg(45.0, -1.0), Err(ModelError::NonPositive { ref field, .. }) if field == "earth_rate"));
-    assert!(matches!(OrientationAngles::new(f64::NAN, 0.0, 0.0), Err(ModelError::NonFinite { ref field, .. }) if field == "delta_psi"));
+    assert_eq!(
+        Site::from_deg(91.0, 7e-5),
+        Err(ModelError::LatitudeOutOfRange { latitude_deg: 91.0 })
+    );
+    assert!(
+        matches!(Site::from_deg(45.0, -1.0), Err(ModelError::NonPositive { ref field, .. }) if field == "earth_rate")
+    );
+    assert!(
+        matches!(OrientationAngles::new(f64::NAN, 0.0, 0.0), Err(ModelError::NonFinite { ref field, .. }) if field == "delta_psi")
+    );
 
-    let ok = |name: &str, terms: Vec<Term>| Output { name: name.into(), unit: "g".into(), accuracy: 1e-4, terms };
+    let ok = |name: &str, terms: Vec<Term>| Output {
+        name: name.into(),
+        unit: "g".into(),
+        accuracy: 1e-4,
+        terms,
+    };
     let good = || vec![term("b", "1", 0.1, false), term("s", "a_x", 1.0, true)];
 
     assert_eq!(sensor_error(vec![]).0, "outputs");
-    let (key, reason) = sensor_error(vec![ok("ax", good()), ok("ax", vec![term("c", "1", 0.0, false)])]);
+    let (key, reason) = sensor_error(vec![
+        ok("ax", good()),
+        ok("ax", vec![term("c", "1", 0.0, false)]),
+    ]);
     assert_eq!(key, "outputs[1].name");
     assert!(reason.contains("already the name of outputs[0]"));
-    let (key, reason) = sensor_error(vec![ok("ax", good()), ok("ay", vec![term("b", "1", 0.0, false)])]);
+    let (key, reason) = sensor_error(vec![
+        ok("ax", good()),
+        ok("ay", vec![term("b", "1", 0.0, false)]),
+    ]);
     assert_eq!(key, "outputs[1].terms[0].coefficient");
-    assert!(reason.contains("already the coefficient of outputs[0].terms[0]"), "{reason}");
+    assert!(
+        reason.contains("already the coefficient of outputs[0].terms[0]"),
+        "{reason}"
+    );
     let mut o = ok("ax", good());
     o.accuracy = 0.0;
     assert_eq!(sensor_error(vec![o]).0, "outputs[0].accuracy");
@@ -240,8 +290,14 @@ fn invalid_inputs_are_rejected_with_named_fields() {
     let (key, reason) = sensor_error(vec![ok("ax", vec![term("s", "a_x", 1.0, true)])]);
     assert_eq!(key, "outputs[0].terms");
     assert!(reason.contains("no estimated term"));
-    let (key, reason) = sensor_error(vec![ok("ax", vec![term("b", "a_x", 0.1, false), term("s", "a_x", 1.0, true)])]);
+    let (key, reason) = sensor_error(vec![ok(
+        "ax",
+        vec![term("b", "a_x", 0.1, false), term("s", "a_x", 1.0, true)],
+    )]);
     assert_eq!(key, "outputs[0].terms[1].regressor");
-    assert!(reason.contains("already the regressor of terms[0]"), "{reason}");
+    assert!(
+        reason.contains("already the regressor of terms[0]"),
+        "{reason}"
+    );
     assert_eq!(sensor_error(vec![ok("Ax", good())]).0, "outputs[0].name");
 }

@@ -8,13 +8,15 @@
 use tt_kinematics::paper::{self, ClosedForm};
 use tt_kinematics::units::{arcmin_to_rad, rad_to_arcmin};
 use tt_kinematics::{
-    ExactChain, FactorSpec, LinearChain, LinearModel, OrientationAxis, OrientationErrorModel,
-    Pose, SignedAxis, SmallAngleChain, Turntable, TurntableDescription, TurntableErrors,
+    ExactChain, FactorSpec, LinearChain, LinearModel, OrientationAxis, OrientationErrorModel, Pose,
+    SignedAxis, SmallAngleChain, Turntable, TurntableDescription, TurntableErrors,
 };
 
 fn main() -> Result<(), tt_kinematics::KinematicsError> {
     let table = paper::table3();
-    let table4_arcmin = [0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233];
+    let table4_arcmin = [
+        0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233,
+    ];
     let chi = TurntableErrors::from_arcmin(&table4_arcmin, &[0.0])?;
     println!("pose (deg)      model         dpsi'     dtheta'   dgamma'");
     let models: [(&str, Box<dyn OrientationErrorModel>); 4] = [
@@ -39,7 +41,9 @@ fn main() -> Result<(), tt_kinematics::KinematicsError> {
     println!("\nFigure 8 (average |d f / d chi|):");
     let avg = linear.average_abs_coefficients();
     for axis in OrientationAxis::ALL {
-        let row: Vec<String> = (0..8).map(|i| format!("{:.4}", avg[(axis.index(), i)])).collect();
+        let row: Vec<String> = (0..8)
+            .map(|i| format!("{:.4}", avg[(axis.index(), i)]))
+            .collect();
         println!("  {:<6} {}", axis.name(), row.join(" "));
     }
     let ub: Vec<f64> = table4_arcmin.iter().map(|&a| arcmin_to_rad(a)).collect();
@@ -55,13 +59,30 @@ fn main() -> Result<(), tt_kinematics::KinematicsError> {
     }
 
     // Any table is a list of factors: a three-axis table in a few lines.
-    let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-    let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+    let j = |n: &str, a| FactorSpec::Joint {
+        name: n.into(),
+        about: a,
+    };
+    let e = |n: &str, a| FactorSpec::Error {
+        name: n.into(),
+        about: a,
+    };
     let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
     let three = Turntable::new(&TurntableDescription::new(vec![
-        j("outer", z), e("d_outer", z), e("wob_ox", x), e("wob_oy", y), e("perp_om", y),
-        j("middle", x), e("d_middle", x), e("wob_my", y), e("wob_mz", z), e("perp_mi", z),
-        j("inner", y), e("d_inner", y), e("wob_ix", x), e("wob_iz", z),
+        j("outer", z),
+        e("d_outer", z),
+        e("wob_ox", x),
+        e("wob_oy", y),
+        e("perp_om", y),
+        j("middle", x),
+        e("d_middle", x),
+        e("wob_my", y),
+        e("wob_mz", z),
+        e("perp_mi", z),
+        j("inner", y),
+        e("d_inner", y),
+        e("wob_ix", x),
+        e("wob_iz", z),
     ]))?;
     let ub = vec![arcmin_to_rad(0.3); three.n_rotation_errors()];
     let lm = LinearModel::new(&three);

@@ -67,7 +67,11 @@ pub struct Failure {
 
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "conformance check `{}` failed: {}", self.check, self.detail)
+        write!(
+            f,
+            "conformance check `{}` failed: {}",
+            self.check, self.detail
+        )
     }
 }
 
@@ -80,7 +84,11 @@ impl std::error::Error for Failure {}
 pub fn cases(turntable: &Turntable, n: usize, max_error_rad: f64) -> Vec<Case> {
     // additive recurrences with irrational steps: reproducible, well spread
     let frac = |k: usize, a: f64| (k as f64 * a).fract();
-    let steps = [0.618_033_988_749_895, 0.414_213_562_373_095, 0.732_050_807_568_877];
+    let steps = [
+        0.618_033_988_749_895,
+        0.414_213_562_373_095,
+        0.732_050_807_568_877,
+    ];
     (0..n)
         .map(|k| {
             let pose: Vec<f64> = turntable
@@ -125,7 +133,13 @@ pub fn check_model<M: OrientationErrorModel + ?Sized>(
     };
     let zero = turntable.zero_errors();
     for case in cases {
-        let at = |what: &str| format!("{what} at pose {:?} rad, chi {:?} rad", case.pose.angles_rad(), case.errors.chi_rad());
+        let at = |what: &str| {
+            format!(
+                "{what} at pose {:?} rad, chi {:?} rad",
+                case.pose.angles_rad(),
+                case.errors.chi_rad()
+            )
+        };
         let f0 = eval(&case.pose, &zero)?;
         if f0.iter().any(|v| v.abs() > tol.rounding_rad) {
             return Err(Failure {
@@ -164,7 +178,10 @@ pub fn check_model<M: OrientationErrorModel + ?Sized>(
             if (f[k] + fm[k]).abs() > 2.0 * bound {
                 return Err(Failure {
                     check: "odd",
-                    detail: at(&format!("angle {k}: f(chi) {} and f(-chi) {} rad", f[k], fm[k])),
+                    detail: at(&format!(
+                        "angle {k}: f(chi) {} and f(-chi) {} rad",
+                        f[k], fm[k]
+                    )),
                 });
             }
         }
@@ -199,7 +216,11 @@ pub fn check_model<M: OrientationErrorModel + ?Sized>(
                 .errors
                 .clone()
                 .with_translations_m(
-                    case.errors.translations_m().iter().map(|t| 2.0 * t + 1e-3).collect(),
+                    case.errors
+                        .translations_m()
+                        .iter()
+                        .map(|t| 2.0 * t + 1e-3)
+                        .collect(),
                 )
                 .unwrap_or_else(|_| unreachable!("finite"));
             let g = eval(&case.pose, &shifted)?;

@@ -55,7 +55,11 @@ pub(crate) fn finite(field: &str, value: f64) -> Result<f64, KinematicsError> {
     }
 }
 
-pub(crate) fn length(what: &'static str, expected: usize, found: usize) -> Result<(), KinematicsError> {
+pub(crate) fn length(
+    what: &'static str,
+    expected: usize,
+    found: usize,
+) -> Result<(), KinematicsError> {
     if expected == found {
         Ok(())
     } else {

@@ -81,6 +81,6 @@ pub use model::{
 pub use pose::{Pose, TurntableErrors};
 pub use rotation::{Axis, SignedAxis};
 pub use turntable::{
-    ChainKind, ErrorInfo, Factor, FactorSpec, Joint, PlanStep, Turntable, TurntableDescription,
-    is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,
+    ChainKind, ErrorInfo, Factor, FactorSpec, Joint, PlanStep, PoseFrames, Turntable,
+    TurntableDescription, is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,
 };

@@ -458,7 +458,8 @@ impl LinearModel {
         per: usize,
     ) -> (f64, Vec<f64>) {
         let mut best = (v0, p0);
-        let eval = |p: &[f64]| -> (f64, f64) { self.inner_max(axis, w, abs, p, inner, ranges[inner]) };
+        let eval =
+            |p: &[f64]| -> (f64, f64) { self.inner_max(axis, w, abs, p, inner, ranges[inner]) };
         for _sweep in 0..3 {
             for &j in outer {
                 let [rlo, rhi] = ranges[j];
@@ -614,7 +615,11 @@ impl LinearModel {
             }
             return out;
         };
-        let per = if outer.is_empty() { 1 } else { AVERAGE_GRID_POINTS };
+        let per = if outer.is_empty() {
+            1
+        } else {
+            AVERAGE_GRID_POINTS
+        };
         let cells = per.pow(outer.len() as u32);
         let mut pose = base;
         for cell in 0..cells {
@@ -742,7 +747,11 @@ pub fn max_harmonic_sum(h: &[[f64; 3]], w: &[f64], abs: bool, lo: f64, hi: f64) 
         let (sm, cm) = mid.sin_cos();
         let (mut big_a, mut big_b) = (0.0, 0.0);
         for ([a, b, k], wi) in h.iter().zip(w) {
-            let s = if abs { (a * cm + b * sm + k).signum() } else { 1.0 };
+            let s = if abs {
+                (a * cm + b * sm + k).signum()
+            } else {
+                1.0
+            };
             big_a += s * wi * a;
             big_b += s * wi * b;
         }
@@ -779,5 +788,9 @@ pub fn mean_abs_harmonic([a, b, c]: [f64; 3], lo: f64, hi: f64) -> f64 {
         .windows(2)
         .map(|p| (anti(p[1]) - anti(p[0])).abs())
         .sum();
-    if hi > lo { total / (hi - lo) } else { (a * lo.cos() + b * lo.sin() + c).abs() }
+    if hi > lo {
+        total / (hi - lo)
+    } else {
+        (a * lo.cos() + b * lo.sin() + c).abs()
+    }
 }

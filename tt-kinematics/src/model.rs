@@ -173,7 +173,9 @@ impl OrientationErrorModel for SmallAngleChain {
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError> {
         Ok(OrientationError::from_matrix_elements(
-            &self.turntable.delta_r(pose, errors, ChainKind::SmallAngle)?,
+            &self
+                .turntable
+                .delta_r(pose, errors, ChainKind::SmallAngle)?,
         ))
     }
 }

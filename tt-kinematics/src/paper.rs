@@ -122,7 +122,16 @@ impl ClosedForm {
     /// Eq 26 at inner-axis angle `phi2_rad` for $\chi$ (rad, order of eq 25).
     #[must_use]
     pub fn eq26(phi2_rad: f64, chi: &[f64; 8]) -> [f64; 3] {
-        let [dphi_y1, dphi_z2, dalpha_x1, dalpha_z1, dalpha_x2, dalpha_y2, deps_x, deps_y] = *chi;
+        let [
+            dphi_y1,
+            dphi_z2,
+            dalpha_x1,
+            dalpha_z1,
+            dalpha_x2,
+            dalpha_y2,
+            deps_x,
+            deps_y,
+        ] = *chi;
         let (s, c) = phi2_rad.sin_cos();
         [
             dphi_y1 * c - dalpha_x1 * s + dalpha_y2 - deps_x * s + deps_y * c,
@@ -154,8 +163,22 @@ impl OrientationErrorModel for ClosedForm {
 /// eq 17-20 exactly as printed (small-angle matrices, translation in metres, eq 18's rotation
 /// before translation), for $\chi$ in the order of eq 25 and $\Delta\eta$.
 #[must_use]
-pub fn printed_links(phi1_rad: f64, phi2_rad: f64, chi: &[f64; 8], deta_m: f64) -> [Matrix4<f64>; 4] {
-    let [dphi_y1, dphi_z2, dalpha_x1, dalpha_z1, dalpha_x2, dalpha_y2, deps_x, deps_y] = *chi;
+pub fn printed_links(
+    phi1_rad: f64,
+    phi2_rad: f64,
+    chi: &[f64; 8],
+    deta_m: f64,
+) -> [Matrix4<f64>; 4] {
+    let [
+        dphi_y1,
+        dphi_z2,
+        dalpha_x1,
+        dalpha_z1,
+        dalpha_x2,
+        dalpha_y2,
+        deps_x,
+        deps_y,
+    ] = *chi;
     [
         homogeneous(
             &(rot(Axis::Y, phi1_rad) * small_angle(&Vector3::new(dalpha_x1, dphi_y1, dalpha_z1))),

@@ -95,7 +95,10 @@ impl TurntableErrors {
     ///
     /// # Errors
     /// As [`TurntableErrors::new`] (the value reported in the caller's unit).
-    pub fn from_arcmin(chi_arcmin: &[f64], translations_mm: &[f64]) -> Result<Self, KinematicsError> {
+    pub fn from_arcmin(
+        chi_arcmin: &[f64],
+        translations_mm: &[f64],
+    ) -> Result<Self, KinematicsError> {
         Self::new(chi_arcmin.to_vec(), translations_mm.to_vec())?;
         Self::new(
             chi_arcmin.iter().map(|v| v * RAD_PER_ARCMIN).collect(),

@@ -56,7 +56,9 @@ impl OrientationErrorModel for Transposed {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError> {
-        let dr = self.0.delta_r(pose, errors, tt_kinematics::ChainKind::Exact)?;
+        let dr = self
+            .0
+            .delta_r(pose, errors, tt_kinematics::ChainKind::Exact)?;
         Ok(OrientationError::from_matrix_elements(&dr.transpose()))
     }
 }
@@ -70,8 +72,12 @@ impl OrientationErrorModel for NoRdTranspose {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError> {
-        let rt = self.0.actual_rotation(pose, errors, tt_kinematics::ChainKind::Exact)?;
-        Ok(OrientationError::from_matrix_elements(&(rt - nalgebra::Matrix3::identity())))
+        let rt = self
+            .0
+            .actual_rotation(pose, errors, tt_kinematics::ChainKind::Exact)?;
+        Ok(OrientationError::from_matrix_elements(
+            &(rt - nalgebra::Matrix3::identity()),
+        ))
     }
 }
 

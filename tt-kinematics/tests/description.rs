@@ -16,24 +16,42 @@ fn key_of(d: &TurntableDescription) -> (String, String) {
 #[test]
 fn bad_descriptions_name_the_key_and_the_reason() {
     let mut d = three_axis_description();
-    d.factors[3] = FactorSpec::Error { name: "dphi_o".into(), about: SignedAxis::X };
+    d.factors[3] = FactorSpec::Error {
+        name: "dphi_o".into(),
+        about: SignedAxis::X,
+    };
     let (key, reason) = key_of(&d);
     assert_eq!(key, "factors[3].error");
-    assert!(reason.contains("already the name of factors[1]"), "{reason}");
+    assert!(
+        reason.contains("already the name of factors[1]"),
+        "{reason}"
+    );
 
     let mut d = three_axis_description();
-    d.factors[0] = FactorSpec::Joint { name: "Phi".into(), about: SignedAxis::Z };
+    d.factors[0] = FactorSpec::Joint {
+        name: "Phi".into(),
+        about: SignedAxis::Z,
+    };
     assert_eq!(key_of(&d).0, "factors[0].joint");
 
-    let d = TurntableDescription::new(vec![FactorSpec::Error { name: "e".into(), about: SignedAxis::X }]);
+    let d = TurntableDescription::new(vec![FactorSpec::Error {
+        name: "e".into(),
+        about: SignedAxis::X,
+    }]);
     assert!(key_of(&d).1.contains("at least one joint"));
 
     let d = TurntableDescription::new(vec![]);
     assert_eq!(key_of(&d).0, "factors");
 
     let mut d = three_axis_description();
-    d.factors.push(FactorSpec::Fixed { angle_rad: f64::NAN, about: SignedAxis::X });
-    assert_eq!(key_of(&d).0, format!("factors[{}].fixed_deg", d.factors.len() - 1));
+    d.factors.push(FactorSpec::Fixed {
+        angle_rad: f64::NAN,
+        about: SignedAxis::X,
+    });
+    assert_eq!(
+        key_of(&d).0,
+        format!("factors[{}].fixed_deg", d.factors.len() - 1)
+    );
 
     let mut d = three_axis_description();
     d.joint_ranges_rad = vec![("phi_m".into(), [1.0, 1.0])];
@@ -92,15 +110,30 @@ fn error_order_must_be_a_permutation_of_the_errors() {
 
 #[test]
 fn signed_axes_parse_and_negative_axes_turn_the_other_way() {
-    assert_eq!(SignedAxis::parse("-y"), Some(SignedAxis { axis: tt_kinematics::Axis::Y, negative: true }));
+    assert_eq!(
+        SignedAxis::parse("-y"),
+        Some(SignedAxis {
+            axis: tt_kinematics::Axis::Y,
+            negative: true
+        })
+    );
     assert_eq!(SignedAxis::parse("w"), None);
     assert_eq!(SignedAxis::parse("--x"), None);
     // a joint about -z by a is the joint about z by -a
     let mk = |about| {
         Turntable::new(&TurntableDescription::new(vec![
-            FactorSpec::Error { name: "e".into(), about: SignedAxis::X },
-            FactorSpec::Joint { name: "j".into(), about },
-            FactorSpec::Error { name: "f".into(), about: SignedAxis::Y },
+            FactorSpec::Error {
+                name: "e".into(),
+                about: SignedAxis::X,
+            },
+            FactorSpec::Joint {
+                name: "j".into(),
+                about,
+            },
+            FactorSpec::Error {
+                name: "f".into(),
+                about: SignedAxis::Y,
+            },
         ]))
         .unwrap()
     };
@@ -108,10 +141,18 @@ fn signed_axes_parse_and_negative_axes_turn_the_other_way() {
     let neg = mk(SignedAxis::parse("-z").unwrap());
     let chi = tt_kinematics::TurntableErrors::new(vec![1e-3, 2e-3], vec![]).unwrap();
     let a = pos
-        .delta_r(&tt_kinematics::Pose::new(vec![0.7]).unwrap(), &chi, tt_kinematics::ChainKind::Exact)
+        .delta_r(
+            &tt_kinematics::Pose::new(vec![0.7]).unwrap(),
+            &chi,
+            tt_kinematics::ChainKind::Exact,
+        )
         .unwrap();
     let b = neg
-        .delta_r(&tt_kinematics::Pose::new(vec![-0.7]).unwrap(), &chi, tt_kinematics::ChainKind::Exact)
+        .delta_r(
+            &tt_kinematics::Pose::new(vec![-0.7]).unwrap(),
+            &chi,
+            tt_kinematics::ChainKind::Exact,
+        )
         .unwrap();
     assert!((a - b).amax() <= 1e-15);
 }

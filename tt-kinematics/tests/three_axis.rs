@@ -123,11 +123,21 @@ fn three_axis_worst_pose_beats_a_dense_grid_and_is_certified() {
         let mut grid_max = f64::NEG_INFINITY;
         for a in 0..n {
             for b in 0..n {
-                let p = [0.0, std::f64::consts::TAU * a as f64 / n as f64, std::f64::consts::TAU * b as f64 / n as f64];
+                let p = [
+                    0.0,
+                    std::f64::consts::TAU * a as f64 / n as f64,
+                    std::f64::consts::TAU * b as f64 / n as f64,
+                ];
                 grid_max = grid_max.max(value(&p));
             }
         }
-        assert!(found.value >= grid_max - 1e-15, "{}: found {} < grid {}", axis.name(), found.value, grid_max);
+        assert!(
+            found.value >= grid_max - 1e-15,
+            "{}: found {} < grid {}",
+            axis.name(),
+            found.value,
+            grid_max
+        );
         assert!(found.upper_bound >= found.value);
         assert!(
             found.upper_bound <= found.value * (1.0 + 1e-6),
@@ -158,8 +168,12 @@ fn joint_ranges_bound_the_worst_pose_search() {
     let narrow = tt_kinematics::Turntable::new(&d).unwrap();
     let w = vec![1e-4; 13];
     for axis in A::ALL {
-        let full = LinearModel::new(&three_axis()).max_abs_weighted(axis, &w, None).unwrap();
-        let part = LinearModel::new(&narrow).max_abs_weighted(axis, &w, None).unwrap();
+        let full = LinearModel::new(&three_axis())
+            .max_abs_weighted(axis, &w, None)
+            .unwrap();
+        let part = LinearModel::new(&narrow)
+            .max_abs_weighted(axis, &w, None)
+            .unwrap();
         assert!(part.value <= full.value + 1e-15);
         assert!(part.pose_rad[1] >= 0.1 - 1e-12 && part.pose_rad[1] <= 0.4 + 1e-12);
     }
@@ -169,12 +183,47 @@ fn joint_ranges_bound_the_worst_pose_search() {
 fn three_axis_errors_of_the_wrong_length_are_typed_errors() {
     let t = three_axis();
     let err = t
-        .delta_r(&Pose::from_deg(&[0.0, 0.0]).unwrap(), &t.zero_errors(), ChainKind::Exact)
+        .delta_r(
+            &Pose::from_deg(&[0.0, 0.0]).unwrap(),
+            &t.zero_errors(),
+            ChainKind::Exact,
+        )
         .unwrap_err();
-    assert!(err.to_string().contains("pose: expected 3 values, got 2"), "{err}");
+    assert!(
+        err.to_string().contains("pose: expected 3 values, got 2"),
+        "{err}"
+    );
     let bad = TurntableErrors::zero(8, 1);
     let err = t
-        .delta_r(&Pose::from_deg(&[0.0, 0.0, 0.0]).unwrap(), &bad, ChainKind::Exact)
+        .delta_r(
+            &Pose::from_deg(&[0.0, 0.0, 0.0]).unwrap(),
+            &bad,
+            ChainKind::Exact,
+        )
         .unwrap_err();
-    assert!(err.to_string().contains("chi: expected 13 values, got 8"), "{err}");
+    assert!(
+        err.to_string().contains("chi: expected 13 values, got 8"),
+        "{err}"
+    );
+}
+
+proptest! {
+    /// The segmented evaluation (pose frames computed once, segment rotations once per
+    /// turntable) gives Delta-R and Delta-R^T v of the matrix chain, for both tables.
+    #[test]
+    fn segmented_evaluation_equals_matrix_chain(
+        pose3 in pose_of(3), chi3 in errors_of(13, 2, 0.05),
+        pose2 in pose_of(2), chi2 in errors_of(8, 1, 0.05),
+        v in proptest::array::uniform3(-1.0..1.0f64),
+    ) {
+        for (t, pose, chi) in [(three_axis(), pose3, chi3), (table3(), pose2, chi2)] {
+            let frames = t.pose_frames(&pose).unwrap();
+            let mut e = vec![Matrix3::identity(); t.n_segments()];
+            t.segment_rotations(chi.chi_rad(), &mut e).unwrap();
+            let dr = t.delta_r(&pose, &chi, ChainKind::Exact).unwrap();
+            prop_assert!((frames.delta_r(&e) - dr).amax() <= ROUNDING_RAD);
+            let v = Vector3::from(v);
+            prop_assert!((frames.delta_r_transpose_times(&e, &v) - dr.transpose() * v).amax() <= ROUNDING_RAD);
+        }
+    }
 }

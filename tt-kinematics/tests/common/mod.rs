@@ -56,9 +56,18 @@ pub fn table3() -> Turntable {
 /// orthogonality errors per pair of adjacent axes, two non-intersection translations). The
 /// same table as `studies/three-axis-example.toml`.
 pub fn three_axis_description() -> TurntableDescription {
-    let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-    let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
-    let t = |n: &str, a| FactorSpec::Translation { name: n.into(), along: a };
+    let j = |n: &str, a| FactorSpec::Joint {
+        name: n.into(),
+        about: a,
+    };
+    let e = |n: &str, a| FactorSpec::Error {
+        name: n.into(),
+        about: a,
+    };
+    let t = |n: &str, a| FactorSpec::Translation {
+        name: n.into(),
+        along: a,
+    };
     let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
     TurntableDescription::new(vec![
         j("phi_o", z),
@@ -124,9 +133,11 @@ pub fn chi8(e: &TurntableErrors) -> [f64; 8] {
 /// Table 4 of the paper (arcmin, order of eq 25) as an error vector, all positive.
 pub fn table4() -> TurntableErrors {
     TurntableErrors::new(
-        [0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233]
-            .map(arcmin_to_rad)
-            .to_vec(),
+        [
+            0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233,
+        ]
+        .map(arcmin_to_rad)
+        .to_vec(),
         vec![0.0],
     )
     .expect("finite")
