@@ -197,12 +197,11 @@ fn requirement_is_close_to_disc_bound_omega_m_over_sqrt2_omega_e() {
 fn requirement_met_on_rectangle_boundary_and_violated_just_outside() {
     let p = paper_problem();
     let r = paper_requirement();
-    for k in 0..2 {
+    for (k, [i0, i1]) in PLANES.into_iter().enumerate() {
         let region = p.region(k).unwrap();
         let omega_m = region.accuracy();
         let b = &r.boxes[k];
         assert!(b.boundary_max_ratio <= 1.0);
-        let [i0, i1] = PLANES[k];
         let (a, c) = (b.half_rad[i0].unwrap(), b.half_rad[i1].unwrap());
         let at = |u, v| region.rate_error(plane_point(k, u, v)).unwrap();
         for i in 0..=20 {

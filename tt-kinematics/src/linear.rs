@@ -763,9 +763,6 @@ pub fn max_harmonic_sum(h: &[[f64; 3]], w: &[f64], abs: bool, lo: f64, hi: f64) 
             }
         }
     }
-    if cuts.len() == 2 && lo == hi {
-        consider(lo);
-    }
     best
 }
 

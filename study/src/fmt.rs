@@ -1,0 +1,69 @@
+//! Numbers for people: sensible significant digits in messages and human-readable output
+//! (JSON and CSV keep full precision).
+
+/// `v` with at most `sig` significant digits: fixed notation for magnitudes in
+/// $[10^{-4}, 10^6)$ (trailing zeros dropped), exponent notation otherwise (`1e308`,
+/// `2.5e-7`); `NaN` and infinities spelled out.
+#[must_use]
+pub fn sig(v: f64, sig: usize) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let sig = sig.max(1);
+    let a = v.abs();
+    if (1e-4..1e6).contains(&a) {
+        let exp = a.log10().floor() as i32;
+        let decimals = (sig as i32 - 1 - exp).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        if s == "-0" { "0".into() } else { s }
+    } else {
+        let s = format!("{v:.prec$e}", prec = sig - 1);
+        // 1.500000e-7 -> 1.5e-7
+        match s.split_once('e') {
+            Some((m, e)) => {
+                let m = if m.contains('.') {
+                    m.trim_end_matches('0').trim_end_matches('.')
+                } else {
+                    m
+                };
+                format!("{m}e{e}")
+            }
+            None => s,
+        }
+    }
+}
+
+/// [`sig`] with 6 significant digits: the default for messages.
+#[must_use]
+pub fn num(v: f64) -> String {
+    sig(v, 6)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_and_exact_enough() {
+        assert_eq!(num(1e308), "1e308");
+        assert_eq!(num(29.999999999999996), "30");
+        assert_eq!(num(0.0002700000000000002), "0.00027");
+        assert_eq!(num(0.026938049684760747), "0.026938");
+        assert_eq!(num(-93.3), "-93.3");
+        assert_eq!(num(1e-6), "1e-6");
+        assert_eq!(num(0.001), "0.001");
+        assert_eq!(num(123456.7), "123457");
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(f64::NAN), "NaN");
+        assert_eq!(sig(7.2921159e-5, 8), "7.2921159e-5");
+        assert_eq!(sig(-2.5e-7, 3), "-2.5e-7");
+    }
+}

@@ -1,0 +1,37 @@
+//! The physical ranges every number of a study (and of a tolerance file or a turntable CSV)
+//! must lie in. A value outside is rejected at the input with the file, the key and the range,
+//! so that no absurd value reaches a computation and comes out as confident nonsense.
+//!
+//! | quantity | range | why |
+//! |---|---|---|
+//! | latitude | $[-90, 90]$ deg | a latitude |
+//! | earth rate | $[10^{-6}, 10^{-3}]$ rad/s | planets' rotation rates (Earth $7.29\times10^{-5}$) with a wide margin |
+//! | output accuracy | $[10^{-12}, 10^{6}]$ output units | positive and finite; beyond, the analysis is meaningless in any unit |
+//! | coefficient value | $|v| \le 10^{6}$ output unit per regressor unit | Table 1's largest is 105 deg/h; a million keeps every product finite |
+//! | joint angle, fixed angle, range end | $[-720, 720]$ deg | two turns either way |
+//! | joint range width | $(0, 360]$ deg | at most a turn |
+//! | given requirement | $(0, 10]$ deg | the first-order theory of §2-4 holds for small angles only |
+//! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
+//! | tolerance (translation) | $[0, 1000]$ mm | a metre |
+//! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
+
+/// Latitude range, deg.
+pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
+/// Earth-rate range, rad/s.
+pub const EARTH_RATE_RAD_PER_S: (f64, f64) = (1e-6, 1e-3);
+/// Output accuracy range, output units.
+pub const ACCURACY: (f64, f64) = (1e-12, 1e6);
+/// Largest coefficient magnitude, output unit per regressor unit.
+pub const COEFFICIENT_ABS_MAX: f64 = 1e6;
+/// Largest joint, fixed or range angle magnitude, deg.
+pub const ANGLE_ABS_MAX_DEG: f64 = 720.0;
+/// Given requirement range (exclusive lower end), deg.
+pub const REQUIREMENT_DEG: (f64, f64) = (0.0, 10.0);
+/// Lower bound / angular tolerance range, arcmin.
+pub const ANGLE_TOLERANCE_ARCMIN: (f64, f64) = (0.0, 600.0);
+/// Translation tolerance range, mm.
+pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
+/// Largest Monte Carlo sample count.
+pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
+/// Largest study or tolerance file read, bytes (a study is a few kilobytes).
+pub const MAX_FILE_BYTES: u64 = 4 << 20;

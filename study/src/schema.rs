@@ -1,0 +1,772 @@
+//! The study schema and its strict parser.
+
+use crate::error::StudyError;
+use crate::fmt::num;
+use crate::limits;
+use calib_lsq::{Calibration, Position, Reading, Schedule};
+use gw_model::{DeltaRKind, Output, Regressor, SensorModel, Site, Term};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::Path;
+use tt_kinematics::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
+use tt_kinematics::{
+    FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
+};
+
+/// The reading of eq 13 when a study does not name one: outputs at the actual orientation,
+/// the user's estimate, eq 13's printed form: what a calibrating engineer gets.
+pub const DEFAULT_READING: &str = "actual/beta1/printed";
+
+/// The orientation-error matrix when a study does not name one: the exact rotation.
+pub const DEFAULT_DELTA_R: &str = "exact";
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStudy {
+    name: String,
+    description: Option<String>,
+    turntable: RawTurntable,
+    site: RawSite,
+    sensor: RawSensor,
+    calibration: RawCalibration,
+    requirement: Option<RawRequirement>,
+    allocation: Option<RawAllocation>,
+    monte_carlo: RawMonteCarlo,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTurntable {
+    factors: Vec<RawFactor>,
+    error_order: Option<Vec<String>>,
+    joint_ranges_deg: Option<BTreeMap<String, Vec<f64>>>,
+    descriptions: Option<BTreeMap<String, String>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFactor {
+    joint: Option<String>,
+    error: Option<String>,
+    fixed_deg: Option<f64>,
+    about: Option<String>,
+    along: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSite {
+    latitude_deg: f64,
+    earth_rate_rad_per_s: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSensor {
+    outputs: Vec<RawOutput>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOutput {
+    name: String,
+    unit: String,
+    accuracy: f64,
+    terms: Vec<RawTerm>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTerm {
+    coefficient: String,
+    regressor: String,
+    value: f64,
+    known: Option<bool>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCalibration {
+    reading: Option<String>,
+    delta_r: Option<String>,
+    positions_deg: Vec<Vec<f64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRequirement {
+    source: Option<String>,
+    psi_deg: Option<f64>,
+    theta_deg: Option<f64>,
+    gamma_deg: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAllocation {
+    lower_bounds_arcmin: Option<BTreeMap<String, f64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMonteCarlo {
+    samples: Count,
+    seed: u64,
+}
+
+/// A count written as an integer or as a float with an integral value (`1e6`).
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum Count {
+    Int(i64),
+    Float(f64),
+}
+
+/// Where the orientation requirement handed to the two-step allocation comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RequirementSource {
+    /// Computed from the calibration inputs (eq 15-16), the default.
+    Computed,
+    /// Given in the study, rad, order $(\psi, \theta, \gamma)$.
+    Given {
+        /// $(I_\psi, I_\theta, I_\gamma)$, rad.
+        rad: [f64; 3],
+    },
+}
+
+/// Monte Carlo settings of a study.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MonteCarloSettings {
+    /// Number of random turntables.
+    pub samples: u64,
+    /// Seed of the random streams.
+    pub seed: u64,
+}
+
+/// A validated study: the library values built from the file.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// The path as the user gave it (printed in reports; never made absolute).
+    pub path: String,
+    /// The file's text (to write a modified study that keeps the comments).
+    pub text: String,
+    /// Short name.
+    pub name: String,
+    /// One-line description, if given.
+    pub description: Option<String>,
+    /// The turntable.
+    pub turntable: Turntable,
+    /// The sensor.
+    pub sensor: SensorModel,
+    /// The site.
+    pub site: Site,
+    /// The reading of eq 13.
+    pub reading: Reading,
+    /// The orientation-error matrix kind of eq 7.
+    pub delta_r_kind: DeltaRKind,
+    /// The test positions as written (joint angles, deg, joint order).
+    pub positions_deg: Vec<Vec<f64>>,
+    /// Sensor, site and schedule, checked to identify every output's coefficients.
+    pub calibration: Calibration,
+    /// The requirement handed to the two-step allocation.
+    pub requirement: RequirementSource,
+    /// Lower bounds LB_i of the angular errors (eq 29), rad, order of chi.
+    pub lower_bounds_rad: Vec<f64>,
+    /// Monte Carlo settings.
+    pub monte_carlo: MonteCarloSettings,
+}
+
+/// Read a user file (study, tolerances): a regular file of at most
+/// [`limits::MAX_FILE_BYTES`], UTF-8, a leading byte-order mark removed.
+pub(crate) fn read_text_file(path: &Path, what: &str) -> Result<String, StudyError> {
+    let shown = path.display().to_string();
+    let meta = std::fs::metadata(path)
+        .map_err(|e| StudyError::new(&shown, format!("cannot read {what}: {e}")))?;
+    if !meta.is_file() {
+        return Err(StudyError::new(
+            &shown,
+            format!("cannot read {what}: not a regular file"),
+        ));
+    }
+    if meta.len() > limits::MAX_FILE_BYTES {
+        return Err(StudyError::new(
+            &shown,
+            format!(
+                "cannot read {what}: {} bytes, more than the {} a {what} may have",
+                meta.len(),
+                limits::MAX_FILE_BYTES
+            ),
+        ));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(limits::MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| StudyError::new(&shown, format!("cannot read {what}: {e}")))?;
+    if bytes.len() as u64 > limits::MAX_FILE_BYTES {
+        return Err(StudyError::new(
+            &shown,
+            format!("cannot read {what}: file too large"),
+        ));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        StudyError::new(
+            &shown,
+            format!(
+                "{what} is not valid UTF-8 (first bad byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })?;
+    Ok(text
+        .strip_prefix('\u{feff}')
+        .map(str::to_string)
+        .unwrap_or(text))
+}
+
+/// A TOML error as `file:line:column` and a one-line reason.
+pub(crate) fn toml_error(source: &str, text: &str, e: &toml::de::Error) -> StudyError {
+    let location = match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            format!("{source}:{line}:{column}")
+        }
+        None => source.to_string(),
+    };
+    StudyError::new(
+        location,
+        format!("invalid {}: {}", "TOML", e.message().trim()),
+    )
+}
+
+/// Check a number is finite and in `[lo, hi]` (`open_lo`: `(lo, hi]`).
+pub(crate) fn in_range(
+    at: &dyn Fn(&str) -> String,
+    key: &str,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    open_lo: bool,
+    unit: &str,
+) -> Result<f64, StudyError> {
+    let ok = v.is_finite() && v <= hi && if open_lo { v > lo } else { v >= lo };
+    if ok {
+        Ok(v)
+    } else {
+        let (l, h) = (num(lo), num(hi));
+        let range = if open_lo {
+            format!("({l}, {h}]")
+        } else {
+            format!("[{l}, {h}]")
+        };
+        Err(StudyError::new(
+            at(key),
+            format!("must lie in {range} {unit}, found {}", num(v)),
+        ))
+    }
+}
+
+fn axis(at: &dyn Fn(&str) -> String, key: &str, s: &str) -> Result<SignedAxis, StudyError> {
+    SignedAxis::parse(s).ok_or_else(|| {
+        StudyError::new(
+            at(key),
+            format!("unknown axis `{s}`; expected x, y, z, -x, -y or -z"),
+        )
+    })
+}
+
+fn count(at: &dyn Fn(&str) -> String, key: &str, c: &Count, max: u64) -> Result<u64, StudyError> {
+    let v = match *c {
+        Count::Int(i) if i >= 1 => i as u64,
+        Count::Float(f) if f.is_finite() && f >= 1.0 && f.fract() == 0.0 && f <= max as f64 => {
+            f as u64
+        }
+        Count::Int(i) => {
+            return Err(StudyError::new(
+                at(key),
+                format!("must be at least 1, found {i}"),
+            ));
+        }
+        Count::Float(f) => {
+            return Err(StudyError::new(
+                at(key),
+                format!("must be a whole number from 1 to {max}, found {f}"),
+            ));
+        }
+    };
+    if v > max {
+        return Err(StudyError::new(
+            at(key),
+            format!("must be at most {max}, found {v}"),
+        ));
+    }
+    Ok(v)
+}
+
+impl Study {
+    /// Read and validate a study file (see [`read_text_file`] for what is refused).
+    ///
+    /// # Errors
+    /// A [`StudyError`] naming the file (and key) for any problem.
+    pub fn load(path: &Path) -> Result<Self, StudyError> {
+        let text = read_text_file(path, "study file")?;
+        Self::parse(&path.display().to_string(), &text)
+    }
+
+    /// Parse and validate study text; `source` names it in errors and reports.
+    ///
+    /// # Errors
+    /// A [`StudyError`] naming `source`, the key and the reason.
+    pub fn parse(source: &str, text: &str) -> Result<Self, StudyError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let raw: RawStudy = toml::from_str(text).map_err(|e| toml_error(source, text, &e))?;
+        let at = |key: &str| format!("{source}: key `{key}`");
+        let at: &dyn Fn(&str) -> String = &at;
+
+        if raw.name.trim().is_empty() {
+            return Err(StudyError::new(at("name"), "must not be empty"));
+        }
+        let turntable = parse_turntable(at, &raw.turntable)?;
+        let site = Site::from_deg(
+            in_range(
+                at,
+                "site.latitude_deg",
+                raw.site.latitude_deg,
+                limits::LATITUDE_DEG.0,
+                limits::LATITUDE_DEG.1,
+                false,
+                "deg",
+            )?,
+            in_range(
+                at,
+                "site.earth_rate_rad_per_s",
+                raw.site.earth_rate_rad_per_s,
+                limits::EARTH_RATE_RAD_PER_S.0,
+                limits::EARTH_RATE_RAD_PER_S.1,
+                false,
+                "rad/s",
+            )?,
+        )
+        .map_err(|e| StudyError::new(at("site"), e.to_string()))?;
+        let sensor = parse_sensor(at, &raw.sensor)?;
+        let reading_text = raw
+            .calibration
+            .reading
+            .as_deref()
+            .unwrap_or(DEFAULT_READING);
+        let reading: Reading = reading_text.parse().map_err(|e: calib_lsq::CalibError| {
+            StudyError::new(at("calibration.reading"), e.to_string())
+        })?;
+        let delta_r_kind = match raw
+            .calibration
+            .delta_r
+            .as_deref()
+            .unwrap_or(DEFAULT_DELTA_R)
+        {
+            "small-angle" => DeltaRKind::SmallAngle,
+            "exact" => DeltaRKind::Exact,
+            other => {
+                return Err(StudyError::new(
+                    at("calibration.delta_r"),
+                    format!("must be \"small-angle\" or \"exact\", found \"{other}\""),
+                ));
+            }
+        };
+        let positions_deg = raw.calibration.positions_deg.clone();
+        let calibration = calibration_for(at, &turntable, &sensor, &site, &positions_deg)?;
+        let requirement = match &raw.requirement {
+            None => RequirementSource::Computed,
+            Some(r) => parse_requirement(at, r)?,
+        };
+        let mut lower_bounds_rad = vec![0.0; turntable.n_rotation_errors()];
+        if let Some(lb) = raw
+            .allocation
+            .as_ref()
+            .and_then(|a| a.lower_bounds_arcmin.as_ref())
+        {
+            for (name, &v) in lb {
+                let key = format!("allocation.lower_bounds_arcmin.{name}");
+                let Some(i) = turntable.rotation_error_index(name) else {
+                    let why = if turntable.translation_error_names().contains(&name.as_str()) {
+                        format!(
+                            "`{name}` is a translation: it has no effect on the orientation and gets no bound"
+                        )
+                    } else {
+                        format!("`{name}` is not an angular error of the turntable")
+                    };
+                    return Err(StudyError::new(at(&key), why));
+                };
+                let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
+                lower_bounds_rad[i] =
+                    in_range(at, &key, v, lo, hi, false, "arcmin")? * RAD_PER_ARCMIN;
+            }
+        }
+        let monte_carlo = MonteCarloSettings {
+            samples: count(
+                at,
+                "monte_carlo.samples",
+                &raw.monte_carlo.samples,
+                limits::MAX_SAMPLES,
+            )?,
+            seed: raw.monte_carlo.seed,
+        };
+        Ok(Self {
+            path: source.to_string(),
+            text: text.to_string(),
+            name: raw.name,
+            description: raw.description,
+            turntable,
+            sensor,
+            site,
+            reading,
+            delta_r_kind,
+            positions_deg,
+            calibration,
+            requirement,
+            lower_bounds_rad,
+            monte_carlo,
+        })
+    }
+
+    /// The calibration schedule.
+    #[must_use]
+    pub fn schedule(&self) -> &Schedule {
+        self.calibration.schedule()
+    }
+
+    /// The same study with other test positions (joint angles, deg), validated as the file's
+    /// would be (count per position, ranges, identifiability), named `calibration.positions_deg`.
+    ///
+    /// # Errors
+    /// A [`StudyError`] naming the position and the reason.
+    pub fn with_positions_deg(&self, positions_deg: Vec<Vec<f64>>) -> Result<Self, StudyError> {
+        let at = |key: &str| format!("{}: key `{key}`", self.path);
+        let calibration = calibration_for(
+            &at,
+            &self.turntable,
+            &self.sensor,
+            &self.site,
+            &positions_deg,
+        )?;
+        Ok(Self {
+            positions_deg,
+            calibration,
+            ..self.clone()
+        })
+    }
+
+    /// The study's text with `calibration.positions_deg` replaced by `positions_deg` (every
+    /// comment and every other value kept) and `comment` (lines without `#`) placed above it.
+    ///
+    /// # Errors
+    /// A [`StudyError`] if the text no longer parses (it was parsed when loaded).
+    pub fn text_with_positions(
+        &self,
+        positions_deg: &[Vec<f64>],
+        comment: &str,
+    ) -> Result<String, StudyError> {
+        let mut doc: toml_edit::DocumentMut = self
+            .text
+            .parse()
+            .map_err(|e: toml_edit::TomlError| StudyError::new(&self.path, e.to_string()))?;
+        let mut array = toml_edit::Array::new();
+        for p in positions_deg {
+            let mut row = toml_edit::Array::new();
+            for &a in p {
+                row.push(a);
+            }
+            row.decor_mut().set_prefix("\n  ");
+            array.push_formatted(toml_edit::Value::Array(row));
+        }
+        array.set_trailing("\n");
+        array.set_trailing_comma(true);
+        let calibration = doc
+            .get_mut("calibration")
+            .and_then(|c| c.as_table_like_mut())
+            .ok_or_else(|| StudyError::new(&self.path, "no [calibration] table"))?;
+        calibration.insert("positions_deg", toml_edit::value(array));
+        if let Some(mut key) = calibration.key_mut("positions_deg") {
+            let lines: String = comment.lines().map(|l| format!("# {l}\n")).collect();
+            key.leaf_decor_mut().set_prefix(lines);
+        }
+        Ok(doc.to_string())
+    }
+}
+
+fn parse_turntable(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawTurntable,
+) -> Result<Turntable, StudyError> {
+    let mut factors = Vec::with_capacity(raw.factors.len());
+    for (i, f) in raw.factors.iter().enumerate() {
+        let key = |k: &str| format!("turntable.factors[{i}]{k}");
+        let present: Vec<&str> = [
+            ("joint", f.joint.is_some()),
+            ("error", f.error.is_some()),
+            ("fixed_deg", f.fixed_deg.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(n, p)| p.then_some(n))
+        .collect();
+        let kind = match present.as_slice() {
+            [one] => *one,
+            [] => {
+                return Err(StudyError::new(
+                    at(&key("")),
+                    "a factor needs one of `joint`, `error` or `fixed_deg`",
+                ));
+            }
+            many => {
+                return Err(StudyError::new(
+                    at(&key("")),
+                    format!(
+                        "a factor has exactly one of `joint`, `error`, `fixed_deg`; found {}",
+                        many.join(", ")
+                    ),
+                ));
+            }
+        };
+        let spec = match (kind, &f.about, &f.along) {
+            (_, Some(_), Some(_)) => {
+                return Err(StudyError::new(
+                    at(&key("")),
+                    "a factor has `about` (rotation) or `along` (translation), not both",
+                ));
+            }
+            ("joint", Some(a), None) => FactorSpec::Joint {
+                name: f.joint.clone().unwrap_or_default(),
+                about: axis(at, &key(".about"), a)?,
+            },
+            ("error", Some(a), None) => FactorSpec::Error {
+                name: f.error.clone().unwrap_or_default(),
+                about: axis(at, &key(".about"), a)?,
+            },
+            ("error", None, Some(a)) => FactorSpec::Translation {
+                name: f.error.clone().unwrap_or_default(),
+                along: axis(at, &key(".along"), a)?,
+            },
+            ("fixed_deg", Some(a), None) => {
+                let deg = in_range(
+                    at,
+                    &key(".fixed_deg"),
+                    f.fixed_deg.unwrap_or(f64::NAN),
+                    -limits::ANGLE_ABS_MAX_DEG,
+                    limits::ANGLE_ABS_MAX_DEG,
+                    false,
+                    "deg",
+                )?;
+                FactorSpec::Fixed {
+                    angle_rad: deg * RAD_PER_DEG,
+                    about: axis(at, &key(".about"), a)?,
+                }
+            }
+            ("joint" | "fixed_deg", None, Some(_)) => {
+                return Err(StudyError::new(
+                    at(&key(".along")),
+                    format!("a `{kind}` rotates: give `about`, not `along`"),
+                ));
+            }
+            (_, None, None) => {
+                return Err(StudyError::new(
+                    at(&key("")),
+                    format!(
+                        "a `{kind}` factor needs `about` (or `along` for an error translation)"
+                    ),
+                ));
+            }
+            _ => unreachable!("every combination is matched"),
+        };
+        factors.push(spec);
+    }
+    let mut joint_ranges_rad = Vec::new();
+    for (name, r) in raw.joint_ranges_deg.iter().flatten() {
+        let key = format!("turntable.joint_ranges_deg.{name}");
+        let [lo, hi] = r.as_slice() else {
+            return Err(StudyError::new(
+                at(&key),
+                format!("a range is [min, max], found {} numbers", r.len()),
+            ));
+        };
+        let m = limits::ANGLE_ABS_MAX_DEG;
+        in_range(at, &key, *lo, -m, m, false, "deg")?;
+        in_range(at, &key, *hi, -m, m, false, "deg")?;
+        joint_ranges_rad.push((name.clone(), [lo * RAD_PER_DEG, hi * RAD_PER_DEG]));
+    }
+    let description = TurntableDescription {
+        factors,
+        error_order: raw.error_order.clone(),
+        joint_ranges_rad,
+        descriptions: raw
+            .descriptions
+            .iter()
+            .flatten()
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect(),
+    };
+    Turntable::new(&description).map_err(|e| match e {
+        KinematicsError::Description { key, reason } => {
+            StudyError::new(at(&format!("turntable.{key}")), reason)
+        }
+        other => StudyError::new(at("turntable"), other.to_string()),
+    })
+}
+
+fn parse_sensor(at: &dyn Fn(&str) -> String, raw: &RawSensor) -> Result<SensorModel, StudyError> {
+    let mut outputs = Vec::with_capacity(raw.outputs.len());
+    for (k, o) in raw.outputs.iter().enumerate() {
+        let key = |s: &str| format!("sensor.outputs[{k}].{s}");
+        let (lo, hi) = limits::ACCURACY;
+        in_range(
+            at,
+            &key("accuracy"),
+            o.accuracy,
+            lo,
+            hi,
+            false,
+            &format!("({})", o.unit),
+        )?;
+        let mut terms = Vec::with_capacity(o.terms.len());
+        for (t, term) in o.terms.iter().enumerate() {
+            let tkey = |s: &str| format!("sensor.outputs[{k}].terms[{t}].{s}");
+            let regressor = Regressor::parse(&term.regressor)
+                .map_err(|e| StudyError::new(at(&tkey("regressor")), e))?;
+            let m = limits::COEFFICIENT_ABS_MAX;
+            in_range(
+                at,
+                &tkey("value"),
+                term.value,
+                -m,
+                m,
+                false,
+                "(output unit per regressor unit)",
+            )?;
+            terms.push(Term {
+                coefficient: term.coefficient.clone(),
+                regressor,
+                value: term.value,
+                known: term.known.unwrap_or(false),
+            });
+        }
+        outputs.push(Output {
+            name: o.name.clone(),
+            unit: o.unit.clone(),
+            accuracy: o.accuracy,
+            terms,
+        });
+    }
+    SensorModel::new(outputs).map_err(|e| match e {
+        gw_model::ModelError::Sensor { key, reason } => {
+            StudyError::new(at(&format!("sensor.{key}")), reason)
+        }
+        other => StudyError::new(at("sensor"), other.to_string()),
+    })
+}
+
+fn parse_requirement(
+    at: &dyn Fn(&str) -> String,
+    r: &RawRequirement,
+) -> Result<RequirementSource, StudyError> {
+    let values = [
+        ("psi_deg", r.psi_deg),
+        ("theta_deg", r.theta_deg),
+        ("gamma_deg", r.gamma_deg),
+    ];
+    let given: Vec<&str> = values
+        .iter()
+        .filter(|(_, v)| v.is_some())
+        .map(|(n, _)| *n)
+        .collect();
+    match r.source.as_deref() {
+        Some("computed") | None if given.is_empty() => Ok(RequirementSource::Computed),
+        Some("computed") => Err(StudyError::new(
+            at("requirement.source"),
+            format!(
+                "\"computed\" takes no values, but {} given: remove them or write source = \"given\"",
+                given.join(", ")
+            ),
+        )),
+        Some("given") | None => {
+            let mut rad = [0.0; 3];
+            for (slot, (name, v)) in rad.iter_mut().zip(values) {
+                let key = format!("requirement.{name}");
+                let v = v.ok_or_else(|| {
+                    StudyError::new(
+                        at(&key),
+                        "missing: a given requirement needs psi_deg, theta_deg and gamma_deg",
+                    )
+                })?;
+                let (lo, hi) = limits::REQUIREMENT_DEG;
+                *slot = in_range(at, &key, v, lo, hi, true, "deg")? * RAD_PER_DEG;
+            }
+            Ok(RequirementSource::Given { rad })
+        }
+        Some(other) => Err(StudyError::new(
+            at("requirement.source"),
+            format!("must be \"computed\" or \"given\", found \"{other}\""),
+        )),
+    }
+}
+
+/// Validate positions against the turntable and build the calibration.
+fn calibration_for(
+    at: &dyn Fn(&str) -> String,
+    turntable: &Turntable,
+    sensor: &SensorModel,
+    site: &Site,
+    positions_deg: &[Vec<f64>],
+) -> Result<Calibration, StudyError> {
+    if positions_deg.is_empty() {
+        return Err(StudyError::new(
+            at("calibration.positions_deg"),
+            "no test position",
+        ));
+    }
+    let ranges = turntable.joint_ranges_rad();
+    let names = turntable.joint_names();
+    let mut positions = Vec::with_capacity(positions_deg.len());
+    for (i, p) in positions_deg.iter().enumerate() {
+        let key = format!("calibration.positions_deg[{i}]");
+        if p.len() != turntable.n_joints() {
+            return Err(StudyError::new(
+                at(&key),
+                format!(
+                    "a position has one angle per joint ({}: {}), found {} numbers",
+                    turntable.n_joints(),
+                    names.join(", "),
+                    p.len()
+                ),
+            ));
+        }
+        for (j, &a) in p.iter().enumerate() {
+            let key = format!("calibration.positions_deg[{i}][{j}]");
+            let m = limits::ANGLE_ABS_MAX_DEG;
+            in_range(at, &key, a, -m, m, false, "deg")?;
+            let [lo, hi] = ranges[j];
+            let r = a * RAD_PER_DEG;
+            if r < lo - 1e-12 || r > hi + 1e-12 {
+                return Err(StudyError::new(
+                    at(&key),
+                    format!(
+                        "{} = {a} deg is outside the joint's range [{}, {}] deg",
+                        names[j],
+                        lo / RAD_PER_DEG,
+                        hi / RAD_PER_DEG
+                    ),
+                ));
+            }
+        }
+        let pose = Pose::from_deg(p).map_err(|e| StudyError::new(at(&key), e.to_string()))?;
+        let rd = turntable
+            .nominal_rotation(&pose)
+            .map_err(|e| StudyError::new(at(&key), e.to_string()))?;
+        positions.push(
+            Position::new(rd, p.clone()).map_err(|e| StudyError::new(at(&key), e.to_string()))?,
+        );
+    }
+    let schedule = Schedule::new(positions)
+        .map_err(|e| StudyError::new(at("calibration.positions_deg"), e.to_string()))?;
+    Calibration::new(sensor, site, &schedule)
+        .map_err(|e| StudyError::new(at("calibration.positions_deg"), e.to_string()))
+}

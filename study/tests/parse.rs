@@ -1,0 +1,408 @@
+//! The study parser: the paper's study reproduces the paper's inputs, and every bad input is
+//! a typed error naming the file, the key and the reason.
+
+use study::{RequirementSource, Study, Tolerances};
+
+const PAPER: &str = include_str!("../../studies/gyrowheel-2017.toml");
+
+fn err(text: &str) -> String {
+    Study::parse("s.toml", text).unwrap_err().to_string()
+}
+
+/// The paper's study file holds exactly the library's paper instances: Table 3, Table 1,
+/// Harbin, the 32-position schedule, eq 16 as given, LB = 0, 10,000 samples.
+#[test]
+fn paper_study_holds_the_papers_inputs() {
+    let s = Study::parse("studies/gyrowheel-2017.toml", PAPER).unwrap();
+    assert_eq!(s.turntable, tt_kinematics::paper::table3());
+    assert_eq!(s.sensor, gw_model::paper::gyrowheel());
+    assert_eq!(s.site, gw_model::paper::site());
+    assert_eq!(s.positions_deg.len(), 32);
+    assert_eq!(s.reading, calib_lsq::Reading::PAPER);
+    assert_eq!(s.delta_r_kind, gw_model::DeltaRKind::SmallAngle);
+    match s.requirement {
+        RequirementSource::Given { rad } => {
+            for r in rad {
+                assert!((r.to_degrees() - 0.027).abs() < 1e-15);
+            }
+        }
+        RequirementSource::Computed => panic!("the paper's study gives eq 16"),
+    }
+    assert_eq!(s.lower_bounds_rad, vec![0.0; 8]);
+    assert_eq!((s.monte_carlo.samples, s.monte_carlo.seed), (10_000, 2017));
+    let paper_schedule = calib_lsq::paper::schedule();
+    for (a, b) in s
+        .schedule()
+        .positions()
+        .iter()
+        .zip(paper_schedule.positions())
+    {
+        assert!((a.base_from_sensor() - b.base_from_sensor()).amax() < 1e-15);
+    }
+    assert_eq!(s.path, "studies/gyrowheel-2017.toml");
+}
+
+fn replace(from: &str, to: &str) -> String {
+    assert!(PAPER.contains(from), "{from}");
+    PAPER.replacen(from, to, 1)
+}
+
+/// Each malformed study names the file, the key (with the list index) and the reason.
+#[test]
+fn bad_studies_name_the_key_and_the_reason() {
+    let cases: Vec<(String, &str, &str)> = vec![
+        (
+            replace("name = \"gyrowheel-2017\"", "name = \"x\"\ncolour = 3"),
+            "s.toml:",
+            "unknown field `colour`",
+        ),
+        (
+            replace(
+                "{ joint = \"phi1\", about = \"y\" }",
+                "{ joint = \"phi1\", about = \"w\" }",
+            ),
+            "key `turntable.factors[0].about`",
+            "unknown axis `w`",
+        ),
+        (
+            replace(
+                "{ error = \"dalpha_z1\", about = \"z\" }",
+                "{ error = \"dphi_y1\", about = \"z\" }",
+            ),
+            "key `turntable.factors[2].error`",
+            "already the name of factors[1]",
+        ),
+        (
+            replace(
+                "{ joint = \"phi1\", about = \"y\" }",
+                "{ joint = \"phi1\", error = \"e\", about = \"y\" }",
+            ),
+            "key `turntable.factors[0]`",
+            "exactly one of",
+        ),
+        (
+            replace(
+                "{ joint = \"phi1\", about = \"y\" }",
+                "{ joint = \"phi1\", wobble = 2, about = \"y\" }",
+            ),
+            "s.toml:",
+            "unknown field `wobble`",
+        ),
+        (
+            replace(
+                "[turntable.descriptions]",
+                "[turntable.joint_ranges_deg]\nphi2 = [90, 90]\n\n[turntable.descriptions]",
+            ),
+            "key `turntable.joint_ranges_deg.phi2`",
+            "min must be below max",
+        ),
+        (
+            replace(
+                "[turntable.descriptions]",
+                "[turntable.joint_ranges_deg]\nphi3 = [0, 90]\n\n[turntable.descriptions]",
+            ),
+            "key `turntable.joint_ranges_deg.phi3`",
+            "not a joint",
+        ),
+        (
+            replace("[0, 0], [0, 45]", "[0, 0], [0, 45, 999]"),
+            "key `calibration.positions_deg[1]`",
+            "one angle per joint (2: phi1, phi2), found 3",
+        ),
+        (
+            replace("[0, 0], [0, 45]", "[0, 0], [0]"),
+            "key `calibration.positions_deg[1]`",
+            "found 1",
+        ),
+        (
+            replace(
+                "regressor = \"a_x*a_y\", value = 17.4",
+                "regressor = \"a_x*a_q\", value = 17.4",
+            ),
+            "key `sensor.outputs[0].terms[7].regressor`",
+            "unknown input symbol `a_q`",
+        ),
+        (
+            replace("coefficient = \"dy_f\"", "coefficient = \"dx_f\""),
+            "key `sensor.outputs[1].terms[1].coefficient`",
+            "already the coefficient of outputs[0].terms[1]",
+        ),
+        (
+            replace(
+                "accuracy = 0.01   # omega_m, the",
+                "accuracy = -0.01   # omega_m, the",
+            ),
+            "key `sensor.outputs[0].accuracy`",
+            "must lie in",
+        ),
+        (
+            replace(
+                "accuracy = 0.01   # omega_m, the",
+                "accuracy = 1e300   # omega_m, the",
+            ),
+            "key `sensor.outputs[0].accuracy`",
+            "must lie in",
+        ),
+        (
+            replace("value = -43.2", "value = 1e300"),
+            "key `sensor.outputs[0].terms[2].value`",
+            "must lie in",
+        ),
+        (
+            replace(
+                "earth_rate_rad_per_s = 7.2921159e-5",
+                "earth_rate_rad_per_s = 1e300",
+            ),
+            "key `site.earth_rate_rad_per_s`",
+            "must lie in [1e-6, 0.001] rad/s, found 1e300",
+        ),
+        (
+            replace("latitude_deg = 45.75", "latitude_deg = 91"),
+            "key `site.latitude_deg`",
+            "must lie in [-90, 90] deg",
+        ),
+        (
+            replace("gamma_deg = 0.027", "gamma_deg = 1e308"),
+            "key `requirement.gamma_deg`",
+            "must lie in (0, 10] deg",
+        ),
+        (
+            replace("gamma_deg = 0.027 # eq 16", ""),
+            "key `requirement.gamma_deg`",
+            "missing",
+        ),
+        (
+            replace("source = \"given\"", "source = \"computed\""),
+            "key `requirement.source`",
+            "takes no values",
+        ),
+        (
+            replace("dalpha_x2 = 0.0", "dalpha_x2 = -1.0"),
+            "key `allocation.lower_bounds_arcmin.dalpha_x2`",
+            "must lie in [0, 600] arcmin",
+        ),
+        (
+            replace("deps_y = 0.0\n", "deps_y = 0.0\ndeta = 1.0\n"),
+            "key `allocation.lower_bounds_arcmin.deta`",
+            "is a translation",
+        ),
+        (
+            replace("samples = 10000", "samples = 0"),
+            "key `monte_carlo.samples`",
+            "at least 1",
+        ),
+        (
+            replace("samples = 10000", "samples = 100000000000000000"),
+            "key `monte_carlo.samples`",
+            "at most",
+        ),
+        (
+            replace(
+                "reading = \"intended/beta1/printed\"",
+                "reading = \"intended/beta3/printed\"",
+            ),
+            "key `calibration.reading`",
+            "unknown reading",
+        ),
+        (
+            replace("delta_r = \"small-angle\"", "delta_r = \"tiny\""),
+            "key `calibration.delta_r`",
+            "\"small-angle\" or \"exact\"",
+        ),
+        (
+            replace("[90, 45], [90, 90]", "[90, 45], [90, 1e999]"),
+            "s.toml:",
+            "invalid TOML",
+        ),
+        (
+            PAPER
+                .replace(", [0, 45]", "")
+                .replace(", [0, 135]", "")
+                .replace(", [0, 225]", "")
+                .replace(", [0, 315]", "")
+                .replace(", [90, 45]", "")
+                .replace(", [90, 135]", "")
+                .replace(", [90, 225]", "")
+                .replace(", [90, 315]", "")
+                .replace(", [180, 45]", "")
+                .replace(", [180, 135]", "")
+                .replace(", [180, 225]", "")
+                .replace(", [180, 315]", "")
+                .replace(", [270, 45]", "")
+                .replace(", [270, 135]", "")
+                .replace(", [270, 225]", "")
+                .replace(", [270, 315]", ""),
+            "key `calibration.positions_deg`",
+            "cannot identify dx_xy of output `x`",
+        ),
+    ];
+    for (text, location, reason) in cases {
+        let e = err(&text);
+        assert!(
+            e.contains(location),
+            "{e}\n  expected location `{location}`"
+        );
+        assert!(e.contains(reason), "{e}\n  expected reason `{reason}`");
+    }
+}
+
+/// A missing required key is named.
+#[test]
+fn missing_keys_are_named() {
+    let e = err(&PAPER.replace("latitude_deg = 45.75", ""));
+    assert!(e.contains("missing field `latitude_deg`"), "{e}");
+    let e = err(&PAPER.replace("[monte_carlo]", "[monte_carlox]"));
+    assert!(e.contains("monte_carlo"), "{e}");
+}
+
+/// Defaults of a new study: computed requirement, the user's reading, the exact matrix.
+#[test]
+fn omitted_optional_sections_take_their_documented_defaults() {
+    let start = PAPER.find("[requirement]").unwrap();
+    let end = PAPER.find("# Tolerance allocation").unwrap();
+    let text = format!("{}{}", &PAPER[..start], &PAPER[end..])
+        .replace("reading = \"intended/beta1/printed\"", "")
+        .replace("delta_r = \"small-angle\"", "");
+    let s = Study::parse("s.toml", &text).unwrap();
+    assert_eq!(s.requirement, RequirementSource::Computed);
+    assert_eq!(s.reading, calib_lsq::Reading::USER);
+    assert_eq!(s.delta_r_kind, gw_model::DeltaRKind::Exact);
+    // a byte-order mark is accepted
+    assert!(Study::parse("s.toml", &format!("\u{feff}{PAPER}")).is_ok());
+}
+
+/// A study rewritten with other positions keeps every comment and value, and parses back to
+/// the same study with the new positions.
+#[test]
+fn text_with_positions_keeps_comments_and_round_trips() {
+    let s = Study::parse("s.toml", PAPER).unwrap();
+    let positions: Vec<Vec<f64>> = s.positions_deg.iter().rev().cloned().collect();
+    let text = s
+        .text_with_positions(&positions, "designed by test\nsecond line")
+        .unwrap();
+    assert!(
+        text.contains("# designed by test\n# second line\npositions_deg"),
+        "{text}"
+    );
+    assert!(text.contains("# Table 1, D(x)_xy"));
+    let back = Study::parse("s.toml", &text).unwrap();
+    assert_eq!(back.positions_deg, positions);
+    assert_eq!(back.sensor, s.sensor);
+}
+
+#[test]
+fn tolerance_files_are_strict() {
+    let t = tt_kinematics::paper::table3();
+    let good = "[tolerances_arcmin]\ndphi_y1 = 0.4\ndphi_z2 = 0.8\ndalpha_x1 = 0.4\ndalpha_z1 = 0.8\ndalpha_x2 = 0.3\ndalpha_y2 = 0.3\ndeps_x = 0.4\ndeps_y = 0.4\n[tolerances_mm]\ndeta = 0.1\n";
+    let tol = Tolerances::parse("t.toml", good, &t).unwrap();
+    assert!((tol.ub_rad[4] - 0.3_f64.to_radians() / 60.0).abs() < 1e-18);
+    assert_eq!(tol.translations_m, vec![Some(1e-4)]);
+    let e = Tolerances::parse("t.toml", &good.replace("deps_y = 0.4\n", ""), &t)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing: deps_y"), "{e}");
+    let e = Tolerances::parse(
+        "t.toml",
+        &good.replace("deps_y = 0.4", "deps_y = 1e300"),
+        &t,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("key `tolerances_arcmin.deps_y`") && e.contains("must lie in"),
+        "{e}"
+    );
+    let e = Tolerances::parse(
+        "t.toml",
+        &good.replace("deps_y = 0.4", "deps_y = 0.4\ndeta = 2"),
+        &t,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("is a translation"), "{e}");
+}
+
+#[test]
+fn csv_columns_follow_the_study_turntable_in_any_order() {
+    use study::csv::{TurntableColumns, expected_header};
+    let t = tt_kinematics::paper::table3();
+    assert_eq!(
+        expected_header(&t),
+        "phi1_deg,phi2_deg,dphi_y1_arcmin,dphi_z2_arcmin,dalpha_x1_arcmin,dalpha_z1_arcmin,dalpha_x2_arcmin,dalpha_y2_arcmin,deps_x_arcmin,deps_y_arcmin,deta_mm"
+    );
+    let header = "deta_mm, phi2_deg,phi1_deg,dphi_y1_arcmin,dphi_z2_arcmin,dalpha_x1_arcmin,dalpha_z1_arcmin,dalpha_x2_arcmin,dalpha_y2_arcmin,deps_x_arcmin,deps_y_arcmin";
+    let cols = TurntableColumns::from_header("c.csv", 1, &format!("\u{feff}{header}"), &t).unwrap();
+    let row = cols
+        .parse_row("c.csv", 2, "0.1, 90, 30, 1,0,0,0,0,0,0,0")
+        .unwrap();
+    assert!((row.pose_rad[0] - 30f64.to_radians()).abs() < 1e-15);
+    assert!((row.pose_rad[1] - 90f64.to_radians()).abs() < 1e-15);
+    assert!((row.translations_m[0] - 1e-4).abs() < 1e-18);
+    for (line, want) in [
+        (
+            "0.1,90,30,1,0,0,0,0,0,0",
+            "c.csv:2: expected 11 columns, found 10",
+        ),
+        (
+            "0.1,90,30,x,0,0,0,0,0,0,0",
+            "c.csv:2 column 4: `dphi_y1_arcmin`: `x` is not a number",
+        ),
+        (
+            "0.1,90,30,1e300,0,0,0,0,0,0,0",
+            "c.csv:2 column 4: `dphi_y1_arcmin` must lie in",
+        ),
+        ("0.1,NaN,30,1,0,0,0,0,0,0,0", "column 2"),
+    ] {
+        let e = cols.parse_row("c.csv", 2, line).unwrap_err().to_string();
+        assert!(e.contains(want), "{e}");
+    }
+    let e = TurntableColumns::from_header("c.csv", 1, "phi1_deg,phi2_deg,extra_arcmin", &t)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("column 3") && e.contains("unknown column `extra_arcmin`"),
+        "{e}"
+    );
+    let e = TurntableColumns::from_header("c.csv", 1, "phi1_deg,phi2_deg", &t)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing columns: dphi_y1_arcmin"), "{e}");
+    let e = TurntableColumns::from_header("c.csv", 1, "phi1_deg,phi1_deg", &t)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("appears twice"), "{e}");
+    assert!(
+        study::csv::decode_line("c.csv", 3, b"1,\xff,2")
+            .unwrap_err()
+            .to_string()
+            .starts_with("c.csv:3")
+    );
+}
+
+#[test]
+fn files_that_are_not_regular_or_too_large_are_refused() {
+    let e = Study::load(std::path::Path::new("/dev/null"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not a regular file"), "{e}");
+    let e = Study::load(std::path::Path::new("/nonexistent/study.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("/nonexistent/study.toml: cannot read study file"),
+        "{e}"
+    );
+}
+
+#[test]
+#[ignore = "prints sample messages for a human to read: cargo test -p study -- --ignored --nocapture"]
+fn print_sample_messages() {
+    for (from, to) in [
+        ("name = \"gyrowheel-2017\"", "name = \"x\"\ncolour = 3"),
+        ("[90, 45], [90, 90]", "[90, 45], [90, 1e999]"),
+        ("latitude_deg = 45.75", ""),
+        ("gamma_deg = 0.027", "gamma_deg = 1e308"),
+    ] {
+        println!("{}", err(&replace(from, to)));
+    }
+}
