@@ -184,6 +184,18 @@ impl Reading {
         }
     }
 
+    /// Whether the reading uses the outputs simulated at the actual orientation.
+    #[must_use]
+    pub fn needs_actual_outputs(&self) -> bool {
+        self.outputs == OutputsAt::Actual
+    }
+
+    /// Whether the reading uses the known terms at the actual orientation ($\mathbf b_2'$).
+    #[must_use]
+    pub fn needs_actual_known(&self) -> bool {
+        self.needs_beta_2() || matches!(self.form, ErrorForm::Printed | ErrorForm::ActualRegressors)
+    }
+
     /// Whether the reading needs $\hat{\boldsymbol\beta}_2$ (a factorisation of $\mathbf A'$
     /// per evaluation).
     #[must_use]
@@ -523,10 +535,15 @@ impl OutputCalibration {
         let o = self.output();
         work.b1_actual.clear();
         work.b2_actual.clear();
-        for v in actual {
-            let known = o.known_part(v);
-            work.b2_actual.push(known);
-            work.b1_actual.push(known + o.estimated_part(v));
+        let (need_b1, need_b2) = (reading.needs_actual_outputs(), reading.needs_actual_known());
+        if need_b1 || need_b2 {
+            for v in actual {
+                let known = o.known_part(v);
+                work.b2_actual.push(known);
+                if need_b1 {
+                    work.b1_actual.push(known + o.estimated_part(v));
+                }
+            }
         }
         let a_prime = if reading.needs_beta_2() {
             let mut m = nalgebra::DMatrix::zeros(n, self.beta().len());

@@ -219,11 +219,15 @@ impl Regressor {
 
     /// Value at `v`.
     #[must_use]
+    #[inline]
     pub fn eval(&self, v: &InputValues) -> f64 {
         let mut out = 1.0;
-        for (p, x) in self.powers.iter().zip(v.0) {
-            for _ in 0..*p {
-                out *= x;
+        for (&p, &x) in self.powers.iter().zip(&v.0) {
+            match p {
+                0 => {}
+                1 => out *= x,
+                2 => out *= x * x,
+                p => out *= x.powi(i32::from(p)),
             }
         }
         out

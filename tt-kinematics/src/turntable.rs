@@ -216,7 +216,9 @@ pub enum PlanStep {
 #[derive(Debug, Clone, PartialEq)]
 pub struct PoseFrames {
     b1: Matrix3<f64>,
-    blocks_t: Vec<Matrix3<f64>>,
+    /// $\mathbf A_s^T$, `None` where the block is the identity (no nominal rotation after the
+    /// segment): skipped.
+    blocks_t: Vec<Option<Matrix3<f64>>>,
 }
 
 impl PoseFrames {
@@ -235,9 +237,31 @@ impl PoseFrames {
         e: &[Matrix3<f64>],
         v: &nalgebra::Vector3<f64>,
     ) -> nalgebra::Vector3<f64> {
-        let mut w = self.b1 * v;
+        self.delta_r_transpose_times_pre(e, &self.pre(v))
+    }
+
+    /// $\mathbf B_1\mathbf v$: the part of [`PoseFrames::delta_r_transpose_times`] that does not
+    /// depend on the errors (compute it once per pose and vector).
+    #[inline]
+    #[must_use]
+    pub fn pre(&self, v: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+        self.b1 * v
+    }
+
+    /// [`PoseFrames::delta_r_transpose_times`] from $\mathbf B_1\mathbf v$ ([`PoseFrames::pre`]).
+    #[inline]
+    #[must_use]
+    pub fn delta_r_transpose_times_pre(
+        &self,
+        e: &[Matrix3<f64>],
+        pre: &nalgebra::Vector3<f64>,
+    ) -> nalgebra::Vector3<f64> {
+        let mut w = *pre;
         for (es, at) in e.iter().zip(&self.blocks_t) {
-            w = at * (es.transpose() * w);
+            w = es.tr_mul(&w);
+            if let Some(at) = at {
+                w = at * w;
+            }
         }
         w
     }
@@ -245,9 +269,10 @@ impl PoseFrames {
     /// $\Delta\mathbf R = \mathbf B_1^T\mathbf E_1\mathbf A_1\cdots\mathbf E_m\mathbf A_m$.
     #[must_use]
     pub fn delta_r(&self, e: &[Matrix3<f64>]) -> Matrix3<f64> {
-        e.iter()
-            .zip(&self.blocks_t)
-            .fold(self.b1.transpose(), |m, (es, at)| m * es * at.transpose())
+        e.iter().zip(&self.blocks_t).fold(self.b1.transpose(), |m, (es, at)| match at {
+            Some(at) => m * es * at.transpose(),
+            None => m * es,
+        })
     }
 }
 
@@ -618,10 +643,13 @@ impl Turntable {
             })
             .collect();
         let b1 = blocks.iter().fold(Matrix3::identity(), |m, a| m * a);
-        Ok(PoseFrames {
-            b1,
-            blocks_t: blocks.iter().map(Matrix3::transpose).collect(),
-        })
+        let blocks_t = self
+            .segments
+            .iter()
+            .zip(&blocks)
+            .map(|((_, block), a)| (!block.is_empty()).then(|| a.transpose()))
+            .collect();
+        Ok(PoseFrames { b1, blocks_t })
     }
 
     /// The error segment rotations $\mathbf E_s$ for $\chi$ into `out` (one per segment,
