@@ -141,6 +141,12 @@ pub struct OrientationRequirement {
     /// box (all three angles at once): at most 1 (to the bisection tolerance) when the
     /// combination is sound.
     pub combined_corner_ratio: Vec<f64>,
+    /// Outputs that impose no requirement: insensitive to a constant orientation error, or
+    /// meeting their accuracy for every constant orientation error up to
+    /// [`SEARCH_LIMIT_RAD`] (the calibration absorbs it, e.g. an accelerometer whose
+    /// misalignments are estimated). Only a pose-dependent analysis (the end-to-end direct
+    /// allocation) can account for them.
+    pub unconstrained_outputs: Vec<String>,
 }
 
 impl OrientationRequirement {
@@ -237,21 +243,29 @@ impl RequirementProblem {
     /// Eq 15-16, Figure 5.
     ///
     /// # Errors
-    /// [`CalibError::NoSensitivity`] when no output depends on any angle;
-    /// [`CalibError::Unbounded`] when an output's region is not bounded within
-    /// [`SEARCH_LIMIT_RAD`].
+    /// [`CalibError::NoSensitivity`] when no output constrains a constant orientation error
+    /// (every output is insensitive to it or absorbs it; see
+    /// [`OrientationRequirement::unconstrained_outputs`]).
     pub fn requirement(&self) -> Result<OrientationRequirement, CalibError> {
         let regions = (0..self.calibration.outputs().len())
             .map(|k| self.region(k))
             .collect::<Result<Vec<_>, _>>()?;
-        if regions.iter().all(|r| r.sensitive.is_empty()) {
+        let mut boxes = Vec::new();
+        let mut unconstrained_outputs = Vec::new();
+        for r in &regions {
+            if r.sensitive.is_empty() {
+                unconstrained_outputs.push(r.output().to_string());
+                continue;
+            }
+            match r.max_box() {
+                Ok(b) => boxes.push(b),
+                Err(CalibError::Unbounded { .. }) => unconstrained_outputs.push(r.output().to_string()),
+                Err(e) => return Err(e),
+            }
+        }
+        if boxes.is_empty() {
             return Err(CalibError::NoSensitivity);
         }
-        let boxes = regions
-            .iter()
-            .filter(|r| !r.sensitive.is_empty())
-            .map(OutputRegion::max_box)
-            .collect::<Result<Vec<_>, _>>()?;
         let mut rad = [None; 3];
         for b in &boxes {
             for (j, h) in b.half_rad.iter().enumerate() {
@@ -282,6 +296,7 @@ impl RequirementProblem {
             rad,
             boxes,
             combined_corner_ratio,
+            unconstrained_outputs,
         })
     }
 }

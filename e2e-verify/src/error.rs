@@ -3,26 +3,30 @@
 use alloc_opt::AllocError;
 use calib_lsq::CalibError;
 use mc_verify::McError;
+use tt_kinematics::KinematicsError;
 
 /// Errors of the end-to-end check and of the direct and yield-based allocations. Every
 /// user-input variant names the offending field or value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum E2eError {
-    /// The calibration (schedule, coefficients, site) was invalid.
+    /// The calibration (schedule, sensor, site) was invalid, or a calibration failed.
     #[error(transparent)]
     Calib(#[from] CalibError),
+    /// The turntable rejected an input (lengths, non-finite values).
+    #[error(transparent)]
+    Kinematics(#[from] KinematicsError),
     /// The allocation core failed or its inputs were invalid.
     #[error(transparent)]
     Alloc(#[from] AllocError),
-    /// A tolerance box was invalid (non-finite or negative bound, `LB > UB`); names the
-    /// component and the bound.
+    /// A tolerance box was invalid (non-finite or negative bound, `LB > UB`); names the error
+    /// and the bound.
     #[error(transparent)]
     Bounds(#[from] McError),
     /// A named input was NaN or infinite.
     #[error("{field} must be finite, got {value}")]
     NonFinite {
-        /// Which input (e.g. `omega_m`).
+        /// Which input (e.g. `chi.dalpha_x2`).
         field: String,
         /// The offending value.
         value: f64,
@@ -35,11 +39,15 @@ pub enum E2eError {
         /// The offending value.
         value: f64,
     },
-    /// A sample count was zero.
-    #[error("{field} must be at least 1, got 0")]
-    ZeroSamples {
+    /// A count was zero or above its maximum.
+    #[error("{field} must lie in 1..={max}, got {value}")]
+    Count {
         /// Which count (`samples`, `chunk_size`, `histogram_bins`).
         field: &'static str,
+        /// The offending value.
+        value: u64,
+        /// The largest accepted value.
+        max: u64,
     },
     /// A probability had to lie strictly between 0 and 1.
     #[error("{field} must lie in (0, 1), got {value}")]
@@ -59,20 +67,35 @@ pub enum E2eError {
         /// The accepted range, in words.
         range: &'static str,
     },
-    /// The lower bounds alone violate the rate requirement on some row (the linearised worst
+    /// The reading has no derived second-order bound, so the allocation cannot be certified
+    /// on the exact chain.
+    #[error("reading `{reading}` has no derived second-order bound: certification needs the user's estimate beta1 with the printed or nominal-rate form, or outputs at the intended orientation")]
+    NoSecondOrderBound {
+        /// The reading.
+        reading: String,
+    },
+    /// The lower bounds alone violate an output's accuracy on some row (the linearised worst
     /// case of the box $[\mathrm{LB}, \mathrm{LB}]$ exceeds $\omega_m$).
     #[error(
-        "the lower bounds alone give a worst-case rate error of {worst_rad_per_s} rad/s on the {axis} axis at position {position} (omega_m = {omega_m_rad_per_s} rad/s)"
+        "the lower bounds alone give a worst-case error of {worst} on output `{output}` at position {position}, above its accuracy {accuracy}"
     )]
     InfeasibleLowerBounds {
-        /// `x` or `y`.
-        axis: &'static str,
+        /// The output.
+        output: String,
         /// Index of the calibration position in the schedule.
         position: usize,
-        /// The lower bounds' worst case, rad/s.
-        worst_rad_per_s: f64,
-        /// The requirement, rad/s.
-        omega_m_rad_per_s: f64,
+        /// The lower bounds' worst case (output unit).
+        worst: f64,
+        /// The accuracy (output unit).
+        accuracy: f64,
+    },
+    /// A simulated calibration of a drawn turntable failed (never silently dropped).
+    #[error("turntable {sample} of the Monte Carlo: {reason}")]
+    Draw {
+        /// Global index of the draw.
+        sample: u64,
+        /// Why.
+        reason: String,
     },
     /// No scale of the allocation shape reaches the requested yield (with positive lower
     /// bounds even the smallest admissible box fails).
@@ -84,6 +107,16 @@ pub enum E2eError {
         target: f64,
         /// The best yield found.
         best: f64,
+    },
+    /// An iteration did not settle within its bound.
+    #[error("{what} did not converge in {iterations} steps (last change {change})")]
+    NoConvergence {
+        /// What iterated.
+        what: &'static str,
+        /// Steps made.
+        iterations: usize,
+        /// The last relative change or violation.
+        change: f64,
     },
 }
 

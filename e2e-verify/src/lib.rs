@@ -1,6 +1,7 @@
-//! End-to-end verification of a turntable tolerance allocation: does the allocated turntable
-//! deliver the GyroWheel calibration accuracy? Direct and yield-based allocation (issue 7,
-//! extending Zhao, Zhao, Huo and Yao 2017).
+//! End to end: does a turntable deliver the calibration accuracy of every output of a sensor?
+//! Direct and yield-based allocation against those accuracies, and the check of a vendor's
+//! tolerances, for any described turntable and sensor (extending Zhao, Zhao, Huo and Yao
+//! 2017).
 //!
 //! The paper splits the problem in two: §2 assumes one constant orientation error at every
 //! test position and derives a square requirement (0.027 deg, eq 16); §4 allocates the
@@ -9,42 +10,44 @@
 //!
 //! - [`EndToEnd`]: one calibration run for a turntable $\chi$: at every position of the
 //!   schedule $\Delta\mathbf R_i$ from the exact chain (eq 23), the outputs, the least-squares
-//!   calibration and $\Delta\omega_x$, $\Delta\omega_y$ (eq 14) under a
+//!   calibration and $\Delta\omega_k$ (eq 14) of every output under a
 //!   [`calib_lsq::Reading`] of eq 13 ([`Reading::PAPER`](calib_lsq::Reading::PAPER)
 //!   reproduces §2; [`Reading::USER`](calib_lsq::Reading::USER) is what a calibrating
-//!   engineer gets);
+//!   engineer gets); a fast path with everything that does not change between turntables
+//!   computed once, and the reference path through calib-lsq;
 //! - [`Linearization`]: $\Delta\hat{\boldsymbol\omega} \approx \mathbf M\chi$ (analytic and by
 //!   finite differences) and the worst case of a box ([`WorstCase`]): a vertex, confirmed on
-//!   the exact chain, with a derived second-order bound
-//!   ([`EndToEnd::second_order_bound`]);
-//! - [`EndToEnd::rate_distribution`]: Monte Carlo over turntables drawn from the box, the
-//!   yield with a Wilson interval;
-//! - [`EndToEnd::allocate_direct`] and [`EndToEnd::allocate_yield`]: allocations against
-//!   $\omega_m$ itself;
-//! - [`answer`]: everything for the paper's inputs ([`EndToEndInputs::paper`]), used by
-//!   `cargo xtask end-to-end`.
+//!   the exact chain, with a derived second-order bound ([`EndToEnd::second_order_bound`]);
+//! - [`EndToEnd::rate_distribution`]: Monte Carlo over turntables drawn from a box with memory
+//!   independent of the draw count; the yield with a Wilson interval; exact order statistics
+//!   ([`EndToEnd::ratio_quantile`]);
+//! - [`EndToEnd::allocate_direct`], [`EndToEnd::allocate_direct_certified`] and
+//!   [`EndToEnd::allocate_yield`]: allocations against every output's accuracy;
+//! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
+//!   contribution and a verdict;
+//! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`.
 //!
 //! # Why a separate crate
 //! It needs calib-lsq (the calibration), alloc-opt (the allocation core) and mc-verify (the
-//! random streams) together. Putting it in mc-verify would make that light crate depend on
-//! calib-lsq and alloc-opt; putting it in alloc-opt would make alloc-opt depend on calib-lsq
-//! and mc-verify, and mc-verify's users on the solver. A crate on top keeps the graph acyclic
-//! and the lower crates light.
+//! random streams) together. A crate on top keeps the graph acyclic and the lower crates
+//! light.
 //!
 //! # Example
 //! ```
 //! use e2e_verify::EndToEnd;
-//! use calib_lsq::Reading;
-//! use alloc_opt::paper_table4_rad;
+//! use calib_lsq::{Calibration, Reading};
+//! use tt_kinematics::{paper, Pose};
 //!
-//! let e2e = EndToEnd::paper(Reading::PAPER);
-//! // A perfect turntable calibrates perfectly (up to rounding of 1e-4 rad/s terms).
-//! assert!(e2e.delta_omega(&[0.0; 8])?.iter().all(|v| v.abs() < 1e-17));
+//! let table = paper::table3();
+//! let cal = Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &calib_lsq::paper::schedule())?;
+//! let poses: Vec<Pose> = cal.schedule().positions().iter().map(|p| Pose::from_deg(p.joint_angles_deg())).collect::<Result<_, _>>()?;
+//! let e2e = EndToEnd::new(&table, &cal, &poses, Reading::PAPER)?;
+//! // A perfect turntable calibrates perfectly.
+//! assert!(e2e.delta_omega(&[0.0; 8])?.iter().all(|v| v.abs() < 1e-12));
 //! // The worst turntable within Table 4's bounds, linearised and confirmed on the exact chain.
-//! let wc = e2e.worst_case(&e2e.linearization(), &paper_table4_rad())?;
-//! let [x, y] = wc.exact_deg_per_h();
-//! assert!(x > 0.0 && y > 0.0);
-//! # Ok::<(), e2e_verify::E2eError>(())
+//! let wc = e2e.worst_case(&e2e.linearization(), &alloc_opt::paper::table4_rad())?;
+//! assert!(wc.exact().iter().all(|&v| v > 0.0 && v < 0.01));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! # Reference
@@ -55,6 +58,7 @@
 
 mod allocate;
 mod answer;
+mod check;
 mod error;
 mod linear;
 mod montecarlo;
@@ -62,17 +66,18 @@ mod simulate;
 
 pub use allocate::{
     CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
-    YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation, paper_combined_weights,
-    paper_objective, paper_objective_arcmin,
+    YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation,
 };
 pub use answer::{
-    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, DEFAULT_SEED, EndToEndInputs, ReadingAnswer, answer,
+    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
     objective_to_arcmin,
 };
+pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
-pub use linear::{AxisWorstCase, Linearization, WorstCase};
+pub use linear::{Linearization, OutputWorstCase, WorstCase};
 pub use montecarlo::{
-    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, McSettings, REPORTED_QUANTILES, RateDistribution,
-    RateQuantile, TurntableDraw, Z_95, wilson_interval_95,
+    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings,
+    QUANTILE_BINS, QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution,
+    RateQuantile, WorstDraw, Z_95, wilson_interval_95,
 };
-pub use simulate::{AXES, EndToEnd, EndToEndRun, chain_factors};
+pub use simulate::{DrawWork, EndToEnd, EndToEndRun};

@@ -1,217 +1,288 @@
-//! The linearised end-to-end map $\Delta\hat{\boldsymbol\omega} \approx \mathbf M\chi$ and the
-//! worst case of a tolerance box, found exactly for the linear model (a vertex) and confirmed
-//! on the exact chain.
+//! The end-to-end error linearised in the turntable errors, $\Delta\hat{\boldsymbol\omega}
+//! \approx \mathbf M\chi$, and the worst case of a tolerance box.
 
-use crate::error::E2eError;
-use crate::simulate::{AXES, EndToEnd, check_chi};
-use calib_lsq::{ErrorForm, Estimate, OutputsAt};
-use gw_model::SensingAxis;
-use gw_model::units::rad_per_s_to_deg_per_h;
-use mc_verify::ErrorBox;
+use crate::error::{E2eError, finite};
+use crate::simulate::EndToEnd;
+use calib_lsq::{ErrorForm, Estimate, OutputCalibration, OutputsAt, ReadingTerms, ReadingWork};
+use gw_model::InputValues;
 use nalgebra::{DMatrix, DVector, Vector3};
-use tt_kinematics::{CHI_LEN, LinearModel, OrientationAxis};
+use tt_kinematics::LinearModel;
 
-/// The Jacobian $\mathbf M$ ($2n \times 8$) of the error vectors with respect to $\chi$ at
-/// $\chi = 0$: rows $0..n$ are the $x$ axis at positions $0..n$, rows $n..2n$ the $y$ axis.
-/// Units: rad/s per rad.
+/// The Jacobian $\mathbf M$ of the error vectors with respect to $\chi$ at $\chi = 0$: row
+/// $(k, i)$ for output $k$ at position $i$ (output-major), one column per angular error; in
+/// output unit per radian.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Linearization {
     m: DMatrix<f64>,
     n: usize,
+    outputs: usize,
 }
 
 impl Linearization {
-    /// The matrix $\mathbf M$ (rad/s per rad).
+    /// The matrix (rows output-major: output $k$, position $i$ at row $kn + i$).
     #[must_use]
     pub fn matrix(&self) -> &DMatrix<f64> {
         &self.m
     }
 
-    /// Number of positions $n$.
+    /// Positions per output $n$.
     #[must_use]
     pub fn positions(&self) -> usize {
         self.n
     }
 
-    /// Row index of (axis, position).
+    /// Number of outputs.
     #[must_use]
-    pub fn row_index(&self, axis: SensingAxis, position: usize) -> usize {
-        match axis {
-            SensingAxis::X => position,
-            SensingAxis::Y => self.n + position,
-        }
+    pub fn outputs(&self) -> usize {
+        self.outputs
     }
 
-    /// One row $\mathbf M_r$ (rad/s per rad).
+    /// Row index of (output, position).
     #[must_use]
-    pub fn row(&self, axis: SensingAxis, position: usize) -> [f64; CHI_LEN] {
-        let r = self.row_index(axis, position);
-        std::array::from_fn(|j| self.m[(r, j)])
+    pub fn row_index(&self, output: usize, position: usize) -> usize {
+        output * self.n + position
+    }
+
+    /// One row $\mathbf M_r$ (output unit per rad).
+    #[must_use]
+    pub fn row(&self, output: usize, position: usize) -> Vec<f64> {
+        self.m.row(self.row_index(output, position)).iter().copied().collect()
     }
 
     /// The linearised worst case of every row over the box $|\chi_j| \le \mathrm{UB}_j$:
-    /// $\sum_j |M_{rj}|\,\mathrm{UB}_j$ (rad/s), in row order.
+    /// $\sum_j |M_{rj}|\,\mathrm{UB}_j$ (output unit), in row order. Infinite bounds count only
+    /// where the row depends on the error.
     #[must_use]
-    pub fn row_worst_cases(&self, ub_rad: &[f64; CHI_LEN]) -> DVector<f64> {
+    pub fn row_worst_cases(&self, ub_rad: &[f64]) -> DVector<f64> {
         DVector::from_iterator(
-            2 * self.n,
-            self.m
-                .row_iter()
-                .map(|r| r.iter().zip(ub_rad).map(|(m, u)| m.abs() * u).sum::<f64>()),
+            self.m.nrows(),
+            self.m.row_iter().map(|r| {
+                r.iter()
+                    .zip(ub_rad)
+                    .map(|(m, u)| if *m == 0.0 { 0.0 } else { m.abs() * u })
+                    .sum::<f64>()
+            }),
         )
+    }
+
+    /// Errors that no row depends on (all $|M_{rj}| \le 10^{-12}\max|M|$): they do not affect
+    /// any output and get no bound.
+    #[must_use]
+    pub fn unconstrained(&self) -> Vec<usize> {
+        let top = self.m.amax();
+        (0..self.m.ncols())
+            .filter(|&j| self.m.column(j).amax() <= 1e-12 * top)
+            .collect()
     }
 }
 
-/// The worst case of one axis over a tolerance box.
+/// The worst case of one output over a tolerance box.
 #[derive(Debug, Clone, PartialEq)]
-pub struct AxisWorstCase {
-    /// The axis.
-    pub axis: SensingAxis,
-    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this axis's rows (rad/s): the exact worst
-    /// case of the linearised model (a maximum of absolute linear forms peaks at a vertex).
-    pub linear_bound_rad_per_s: f64,
+pub struct OutputWorstCase {
+    /// The output's index.
+    pub output: usize,
+    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit): the
+    /// exact worst case of the linearised model (a maximum of absolute linear forms peaks at
+    /// a vertex).
+    pub linear_bound: f64,
     /// The position (index in the schedule) of the worst row.
     pub position: usize,
     /// The worst vertex $\chi_j = \operatorname{sign}(M_{rj})\,\mathrm{UB}_j$ (rad).
-    pub worst_chi_rad: [f64; CHI_LEN],
-    /// $\Delta\omega$ of this axis on the exact chain at $\pm$ the worst vertex (the larger),
-    /// rad/s: a point of the box, so a lower bound on the exact worst case.
-    pub exact_at_vertex_rad_per_s: f64,
+    pub worst_chi_rad: Vec<f64>,
+    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst vertex (the
+    /// larger): a point of the box, so a lower bound on the exact worst case.
+    pub exact_at_vertex: f64,
     /// The derived bound $\tau$ on $|\Delta\hat\omega_{exact} - \mathbf M\chi|$ over the box
-    /// (rad/s; see [`EndToEnd::second_order_bound`]); `None` for readings without one. The
-    /// exact worst case lies in [`exact_at_vertex_rad_per_s`](Self::exact_at_vertex_rad_per_s)
-    /// $\ldots$ `linear_bound + tau`.
-    pub second_order_bound_rad_per_s: Option<f64>,
-    /// Linearised worst case of every position (rad/s), the data of the per-position figure.
-    pub per_position_rad_per_s: Vec<f64>,
+    /// (output unit; see [`EndToEnd::second_order_bound`]); `None` for readings without one.
+    /// The exact worst case lies in `exact_at_vertex ..= linear_bound + tau`.
+    pub second_order_bound: Option<f64>,
+    /// Linearised worst case of every position (output unit), the data of the per-position
+    /// figure.
+    pub per_position: Vec<f64>,
 }
 
-impl AxisWorstCase {
-    /// The confirmed (exact-chain) worst case, deg/h.
+impl OutputWorstCase {
+    /// `linear_bound + tau`: a rigorous bound on the exact worst case, when derived.
     #[must_use]
-    pub fn exact_deg_per_h(&self) -> f64 {
-        rad_per_s_to_deg_per_h(self.exact_at_vertex_rad_per_s)
-    }
-
-    /// The linearised worst case, deg/h.
-    #[must_use]
-    pub fn linear_deg_per_h(&self) -> f64 {
-        rad_per_s_to_deg_per_h(self.linear_bound_rad_per_s)
+    pub fn certified_bound(&self) -> Option<f64> {
+        self.second_order_bound.map(|t| self.linear_bound + t)
     }
 }
 
-/// The worst case of both axes over a tolerance box.
+/// The worst case of every output over a tolerance box.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WorstCase {
-    /// The upper bounds of the box (rad, order of eq 25).
-    pub upper_bounds_rad: [f64; CHI_LEN],
-    /// $x$ then $y$.
-    pub axes: [AxisWorstCase; 2],
+    /// The upper bounds of the box (rad, order of $\chi$).
+    pub upper_bounds_rad: Vec<f64>,
+    /// One per output.
+    pub outputs: Vec<OutputWorstCase>,
 }
 
 impl WorstCase {
-    /// Confirmed worst cases $(\Delta\omega_x, \Delta\omega_y)$ on the exact chain, deg/h.
+    /// Confirmed worst cases on the exact chain, output unit, per output.
     #[must_use]
-    pub fn exact_deg_per_h(&self) -> [f64; 2] {
-        [
-            self.axes[0].exact_deg_per_h(),
-            self.axes[1].exact_deg_per_h(),
-        ]
+    pub fn exact(&self) -> Vec<f64> {
+        self.outputs.iter().map(|o| o.exact_at_vertex).collect()
     }
 
-    /// Linearised worst cases, deg/h.
+    /// Linearised worst cases, output unit, per output.
     #[must_use]
-    pub fn linear_deg_per_h(&self) -> [f64; 2] {
-        [
-            self.axes[0].linear_deg_per_h(),
-            self.axes[1].linear_deg_per_h(),
-        ]
+    pub fn linear(&self) -> Vec<f64> {
+        self.outputs.iter().map(|o| o.linear_bound).collect()
     }
 }
 
+/// First variations of the building blocks of eq 13 for one output and one error direction:
+/// the same dispatch ([`calib_lsq::Reading::error_vector`]) turns them into a column of
+/// $\mathbf M$.
+struct DerivativeTerms<'a> {
+    cal: &'a OutputCalibration,
+    /// $d\mathbf e$: first variation of the known part (e.g. the rate input).
+    de: Vec<f64>,
+    /// $d\mathbf g = (d\mathbf A')\boldsymbol\beta$: first variation of the estimated part.
+    dg: Vec<f64>,
+}
+
+impl ReadingTerms for DerivativeTerms<'_> {
+    fn positions(&self) -> usize {
+        self.de.len()
+    }
+    fn coefficients(&self) -> usize {
+        self.cal.beta().len()
+    }
+    fn outputs(&self, at: OutputsAt, out: &mut [f64]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = match at {
+                OutputsAt::Actual => self.dg[i] + self.de[i],
+                OutputsAt::Intended => 0.0,
+            };
+        }
+    }
+    fn known(&self, actual: bool, out: &mut [f64]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = if actual { self.de[i] } else { 0.0 };
+        }
+    }
+    fn estimate(&self, which: Estimate, db1: &[f64], out: &mut [f64]) {
+        // d beta1 = A+ db1; d beta2 = A+ (db1 - de - dg) (A' = A + dA, beta2 = beta + dbeta)
+        let y: Vec<f64> = match which {
+            Estimate::Beta1 => db1.to_vec(),
+            Estimate::Beta2 => (0..db1.len()).map(|i| db1[i] - self.de[i] - self.dg[i]).collect(),
+        };
+        let pinv = self.cal.regression().pinv();
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = pinv.row(j).iter().zip(&y).map(|(p, v)| p * v).sum();
+        }
+    }
+    fn predict(&self, actual: bool, dbeta: &[f64], out: &mut [f64]) {
+        // d(A beta) = A dbeta; d(A' beta) = dA beta + A dbeta = dg + A dbeta
+        let a = self.cal.regression().matrix();
+        for (i, o) in out.iter_mut().enumerate() {
+            let v: f64 = a.row(i).iter().zip(dbeta).map(|(r, b)| r * b).sum();
+            *o = if actual { v + self.dg[i] } else { v };
+        }
+    }
+}
+
+/// $\sum_t \beta_t \nabla r_t(\mathbf u)\cdot d\mathbf u$ over the known (`known = true`) or the
+/// estimated terms of an output.
+fn directional(o: &gw_model::Output, known: bool, u: &InputValues, du: &[f64; 6]) -> f64 {
+    o.terms
+        .iter()
+        .filter(|t| t.known == known)
+        .map(|t| {
+            let g = t.regressor.gradient(u);
+            t.value * g.iter().zip(du).map(|(a, b)| a * b).sum::<f64>()
+        })
+        .sum()
+}
+
 impl EndToEnd {
-    /// The Jacobian $\mathbf M$ analytically: eq 26 per position chained with the derivative of
-    /// the reading's error vector with respect to the orientation error.
+    /// Check upper bounds: one per angular error, non-negative, finite except for the errors
+    /// no output depends on ([`Linearization::unconstrained`]), which may be `+inf`.
+    pub(crate) fn check_bounds(&self, linear: &Linearization, ub_rad: &[f64]) -> Result<(), E2eError> {
+        if ub_rad.len() != self.n_errors() {
+            return Err(E2eError::Kinematics(tt_kinematics::KinematicsError::Length {
+                what: "upper bounds",
+                expected: self.n_errors(),
+                found: ub_rad.len(),
+            }));
+        }
+        let free = linear.unconstrained();
+        for (j, (name, u)) in self.turntable().rotation_error_names().iter().zip(ub_rad).enumerate() {
+            let field = format!("upper_bounds.{name}");
+            if u.is_nan() || (u.is_infinite() && !free.contains(&j)) {
+                return Err(E2eError::NonFinite { field, value: *u });
+            }
+            if *u < 0.0 {
+                return Err(E2eError::NotPositive { field, value: *u });
+            }
+        }
+        Ok(())
+    }
+
+    /// The Jacobian $\mathbf M$ analytically: the first-order model of the turntable per
+    /// position chained with the derivative of the reading's error vector with respect to
+    /// the orientation error.
     ///
     /// # Formula
     /// At position $i$ the rotation vector of $\Delta\mathbf R_i$ is, to first order,
-    /// $\boldsymbol\delta_i = (\Delta\gamma, \Delta\psi, \Delta\theta) = \mathbf K(\phi_{2i})\chi$
-    /// (eq 26), and $\mathbf v' = \Delta\mathbf R^T\mathbf v \approx \mathbf v + \mathbf v \times
-    /// \boldsymbol\delta$ for $\mathbf a$ and $\boldsymbol\omega$ (eq 8). With the local first
-    /// variations $d\mathbf e_i = (\boldsymbol\omega_i\times\boldsymbol\delta_i)_{axis}$ (rate),
-    /// $d\mathbf g_i = \sum_j \beta_j \nabla r_j(\mathbf a_i)\cdot(\mathbf a_i\times\boldsymbol\delta_i)$
-    /// (gravity), $d\mathbf b_1 = d\mathbf e + d\mathbf g$ (outputs at the actual orientation) or
-    /// $0$ (intended), $d\hat{\boldsymbol\beta}_1 = \mathbf A^+ d\mathbf b_1$,
-    /// $d\hat{\boldsymbol\beta}_2 = \mathbf A^+(d\mathbf b_1 - d\mathbf e - d\mathbf g)$:
-    /// printed form $d\mathbf b_1 - \mathbf A\,d\hat{\boldsymbol\beta} - d\mathbf e$, nominal
-    /// rate $d\mathbf b_1 - \mathbf A\,d\hat{\boldsymbol\beta}$, actual regressors subtract
-    /// $d\mathbf g$ as well, $\mathbf A\Delta\boldsymbol\beta$ gives
-    /// $\mathbf A(d\hat{\boldsymbol\beta}_1 - d\hat{\boldsymbol\beta}_2)$. $\nabla r\cdot\mathbf d$
-    /// is evaluated as $(r(\mathbf a+\mathbf d) - r(\mathbf a-\mathbf d))/2$, exact for the
-    /// quadratic regressors of eq 1.
+    /// $\boldsymbol\delta_i = \sum_j \chi_j\mathbf v_{ij}$ ([`LinearModel::rotation_vectors`]),
+    /// and $\mathbf u' = \Delta\mathbf R^T\mathbf u \approx \mathbf u + \mathbf u \times
+    /// \boldsymbol\delta$ for $\mathbf a$ and $\boldsymbol\omega$ (eq 8). With the first
+    /// variations $d\mathbf e_i = \sum_{\text{known}}\beta_t\nabla r_t\cdot d\mathbf u_i$ and
+    /// $d\mathbf g_i = \sum_{\text{estimated}}\beta_t\nabla r_t\cdot d\mathbf u_i$, the blocks
+    /// of eq 13 vary as $d\mathbf b_1 = d\mathbf g + d\mathbf e$ (outputs at the actual
+    /// orientation) or $0$, $d\mathbf b_2' = d\mathbf e$, $d\hat{\boldsymbol\beta}_1 =
+    /// \mathbf A^+ d\mathbf b_1$, $d\hat{\boldsymbol\beta}_2 = \mathbf A^+(d\mathbf b_1 - d\mathbf e -
+    /// d\mathbf g)$, $d(\mathbf A'\hat{\boldsymbol\beta}) = d\mathbf g + \mathbf A\,d\hat{\boldsymbol\beta}$,
+    /// and [`calib_lsq::Reading::error_vector`] (the one evaluation of the readings) combines
+    /// them into column $j$.
     ///
     /// # Reference
-    /// Eq 1, 8-13, 26.
+    /// Eq 8-13, eq 26 generalised.
     #[must_use]
     pub fn linearization(&self) -> Linearization {
-        let model = LinearModel::paper_eq26();
+        let model = LinearModel::new(self.turntable());
         let n = self.len();
-        let mut m = DMatrix::zeros(2 * n, CHI_LEN);
-        for j in 0..CHI_LEN {
-            // Per-position first variations of a and omega.
-            let d: Vec<(Vector3<f64>, Vector3<f64>)> = self
-                .poses()
-                .iter()
-                .zip(self.nominal_inputs())
-                .map(|(p, inp)| {
-                    let k = model.coefficients(p.phi2_rad);
-                    let delta = Vector3::new(
-                        k[(OrientationAxis::Gamma.index(), j)],
-                        k[(OrientationAxis::Psi.index(), j)],
-                        k[(OrientationAxis::Theta.index(), j)],
-                    );
-                    (
-                        inp.specific_force_g.cross(&delta),
-                        inp.rate_rad_per_s.cross(&delta),
-                    )
-                })
-                .collect();
-            for (k, axis) in AXES.into_iter().enumerate() {
-                let ad = &self.axes[k];
-                let de = DVector::from_iterator(n, d.iter().map(|(_, dw)| axis.rate_component(dw)));
-                let dg = DVector::from_iterator(
-                    n,
-                    self.nominal_inputs().iter().zip(&d).map(|(inp, (da, _))| {
-                        let a = inp.specific_force_g;
-                        0.5 * (ad.coefficients.drift_rad_per_s(&(a + da))
-                            - ad.coefficients.drift_rad_per_s(&(a - da)))
-                    }),
-                );
-                let db1 = match self.reading().outputs {
-                    OutputsAt::Actual => &de + &dg,
-                    OutputsAt::Intended => DVector::zeros(n),
-                };
-                let dbeta_1 = &ad.pinv * &db1;
-                let dbeta_2 = &ad.pinv * (&db1 - &de - &dg);
-                let dbeta = match self.reading().estimate {
-                    Estimate::Beta1 => &dbeta_1,
-                    Estimate::Beta2 => &dbeta_2,
-                };
-                let col = match self.reading().form {
-                    ErrorForm::Printed => &db1 - &ad.a * dbeta - &de,
-                    ErrorForm::NominalRate => &db1 - &ad.a * dbeta,
-                    ErrorForm::ActualRegressors => &db1 - &dg - &ad.a * dbeta - &de,
-                    ErrorForm::ActualRegressorsNominalRate => &db1 - &dg - &ad.a * dbeta,
-                    ErrorForm::DeltaBeta => &ad.a * (&dbeta_1 - &dbeta_2),
-                };
-                m.view_mut((k * n, j), (n, 1)).copy_from(&col);
+        let outputs = self.n_outputs();
+        let errors = self.n_errors();
+        let vectors: Vec<Vec<Vector3<f64>>> = self
+            .poses()
+            .iter()
+            .map(|p| {
+                model
+                    .rotation_vectors(p)
+                    .unwrap_or_else(|_| unreachable!("poses were checked against the turntable"))
+            })
+            .collect();
+        let mut m = DMatrix::zeros(outputs * n, errors);
+        let mut work = ReadingWork::default();
+        let mut col = vec![0.0; n];
+        for (k, cal) in self.calibration().outputs().iter().enumerate() {
+            let o = cal.output();
+            for j in 0..errors {
+                let (mut de, mut dg) = (Vec::with_capacity(n), Vec::with_capacity(n));
+                for (i, u) in cal.nominal_values().iter().enumerate() {
+                    let delta = vectors[i][j];
+                    let da = u.specific_force_g().cross(&delta);
+                    let dw = u.rate_deg_per_h().cross(&delta);
+                    let du = [da.x, da.y, da.z, dw.x, dw.y, dw.z];
+                    de.push(directional(o, true, u, &du));
+                    dg.push(directional(o, false, u, &du));
+                }
+                let terms = DerivativeTerms { cal, de, dg };
+                self.reading().error_vector(&terms, &mut work, &mut col);
+                for (i, v) in col.iter().enumerate() {
+                    m[(k * n + i, j)] = *v;
+                }
             }
         }
-        Linearization { m, n }
+        Linearization { m, n, outputs }
     }
 
     /// The Jacobian $\mathbf M$ by central differences of the reference path
-    /// ([`EndToEnd::run`], calib-lsq's analysis with the exact chain):
+    /// ([`EndToEnd::run`], calib-lsq's analysis with the plain exact chain):
     /// $\mathbf M_{:j} \approx (\Delta\hat{\boldsymbol\omega}(h\mathbf e_j) -
     /// \Delta\hat{\boldsymbol\omega}(-h\mathbf e_j))/(2h)$, error $O(h^2)$.
     ///
@@ -227,42 +298,41 @@ impl EndToEnd {
             });
         }
         let n = self.len();
-        let mut m = DMatrix::zeros(2 * n, CHI_LEN);
-        for j in 0..CHI_LEN {
-            let mut chi = [0.0; CHI_LEN];
+        let outputs = self.n_outputs();
+        let mut m = DMatrix::zeros(outputs * n, self.n_errors());
+        for j in 0..self.n_errors() {
+            let mut chi = vec![0.0; self.n_errors()];
             chi[j] = step_rad;
             let plus = self.run(&chi)?;
             chi[j] = -step_rad;
             let minus = self.run(&chi)?;
-            for k in 0..2 {
-                let col = (&plus.analyses[k].error_vector - &minus.analyses[k].error_vector)
-                    / (2.0 * step_rad);
+            for k in 0..outputs {
+                let col = (&plus.analyses[k].error_vector - &minus.analyses[k].error_vector) / (2.0 * step_rad);
                 m.view_mut((k * n, j), (n, 1)).copy_from(&col);
             }
         }
-        Ok(Linearization { m, n })
+        Ok(Linearization { m, n, outputs })
     }
 
-    /// A derived bound $\tau$ (rad/s) on $\lVert\Delta\hat{\boldsymbol\omega}(\chi) -
-    /// \mathbf M\chi\rVert_\infty$ of one axis for every $\chi$ with $\lVert\chi\rVert_1 \le s$,
-    /// or `None` for a reading it is not derived for (those with
-    /// $\hat{\boldsymbol\beta}_2$, $\mathbf A\Delta\boldsymbol\beta$, or actual regressors
-    /// with outputs at the actual orientation).
+    /// A derived bound $\tau_k$ (output unit) on $\lVert\Delta\hat{\boldsymbol\omega}_k(\chi) -
+    /// \mathbf M_k\chi\rVert_\infty$ for every $\chi$ with $\lVert\chi\rVert_1 \le s$, or `None`
+    /// for a reading it is not derived for (those with $\hat{\boldsymbol\beta}_2$,
+    /// $\mathbf A\Delta\boldsymbol\beta$, or actual regressors with outputs at the actual
+    /// orientation).
     ///
     /// # Formula
-    /// $\Delta\mathbf R = \prod_{k=1}^8 \exp(\tilde{\mathbf A}_k)$ with skew
-    /// $\tilde{\mathbf A}_k$ of norm $|\chi_k|$ (the $R_z(\phi_2)$ conjugations keep norms) and
-    /// $\sum_k\tilde{\mathbf A}_k = [\boldsymbol\delta]_\times$ (eq 26). Expanding the product,
-    /// $\lVert\Delta\mathbf R - \mathbf I - [\boldsymbol\delta]_\times\rVert_2 \le e^s - 1 - s
-    /// \le \rho = \tfrac12 s^2 e^s$, and the same for $\Delta\mathbf R^T$; the rotation angle
-    /// of $\Delta\mathbf R$ is at most $s$, so $|\Delta\mathbf a| \le s$. With
-    /// $|\mathbf a_i| = 1$ g and $|\boldsymbol\omega_i| = \omega_e$, the remainders of the rate
-    /// and gravity perturbations are $|r_{e,i}| \le \omega_e\rho$ and
-    /// $|r_{g,i}| \le \sum_j |\beta_j| c_j$ with $c_j = 0$ (constant), $\rho$ (linear
-    /// regressors), $2\rho + s^2$ (quadratic regressors). The readings map them as
-    /// - intended outputs: printed $-\mathbf e$: $\tau = \omega_e\rho$; nominal rate: $0$;
-    ///   actual regressors $-\mathbf g - \mathbf e$; actual regressors, nominal rate
-    ///   $-\mathbf g$;
+    /// $\Delta\mathbf R$ is a product of rotations whose angles sum to at most $s$, so
+    /// $\lVert\Delta\mathbf R^T - \mathbf I - [\boldsymbol\delta]_\times^T\rVert_2 \le e^s - 1 - s
+    /// \le \rho = \tfrac12 s^2 e^s$ and the input moves by $|d\mathbf u| \le s|\mathbf u|$, with
+    /// $|\mathbf a| = 1$ g and $|\boldsymbol\omega| = \omega_e$. A term $\beta_t r_t$ then leaves
+    /// a remainder of at most $|\beta_t| c_t$, $c_t$ = the second-order remainder of the
+    /// monomial over that box ([`gw_model::Regressor::remainder_bound`]) plus its gradient
+    /// bound times $\rho|\mathbf u|$ (for eq 1: 0 for a constant, $\rho$ for $a_j$,
+    /// $2\rho + s^2$ for a quadratic, $\rho\,\omega_e$ for the rate). Summing over the known and
+    /// the estimated terms gives $r_e$ and $r_g$, and the readings map them as
+    /// - intended outputs: printed $-\mathbf e$: $\tau = r_e$; nominal rate: $0$;
+    ///   actual regressors $-\mathbf g - \mathbf e$: $r_g + r_e$; actual regressors, nominal
+    ///   rate $-\mathbf g$: $r_g$;
     /// - actual outputs, $\hat{\boldsymbol\beta}_1$: printed
     ///   $(\mathbf I-\mathbf P)\mathbf g - \mathbf P\mathbf e$:
     ///   $\tau = \lVert\mathbf I-\mathbf P\rVert_\infty r_g + \lVert\mathbf P\rVert_\infty r_e$;
@@ -270,109 +340,129 @@ impl EndToEnd {
     ///
     /// # Errors
     /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming `l1_norm_rad` if $s$ is not
-    /// finite and non-negative.
-    pub fn second_order_bound(
-        &self,
-        axis: SensingAxis,
-        l1_norm_rad: f64,
-    ) -> Result<Option<f64>, E2eError> {
-        let s = crate::error::finite("l1_norm_rad", l1_norm_rad)?;
+    /// finite and non-negative; [`E2eError::OutOfRange`] for a missing output.
+    pub fn second_order_bound(&self, output: usize, l1_norm_rad: f64) -> Result<Option<f64>, E2eError> {
+        let s = finite("l1_norm_rad", l1_norm_rad)?;
         if s < 0.0 {
             return Err(E2eError::NotPositive {
                 field: "l1_norm_rad".into(),
                 value: s,
             });
         }
-        if self.reading().estimate != Estimate::Beta1 {
+        let cal = self.calibration().outputs().get(output).ok_or(E2eError::OutOfRange {
+            field: "output",
+            value: output as f64,
+            range: "an output of the sensor",
+        })?;
+        let reading = self.reading();
+        if reading.estimate != Estimate::Beta1 || reading.form == ErrorForm::DeltaBeta {
             return Ok(None);
         }
         let rho = 0.5 * s * s * s.exp();
-        let r_e = self.site().earth_rate_rad_per_s() * rho;
-        let k = match axis {
-            SensingAxis::X => 0,
-            SensingAxis::Y => 1,
+        let we = gw_model::units::rad_per_s_to_deg_per_h(self.calibration().site().earth_rate_rad_per_s());
+        let m = [1.0, 1.0, 1.0, we, we, we];
+        let d = m.map(|v| s * v);
+        let remainder = |known: bool| -> f64 {
+            cal.output()
+                .terms
+                .iter()
+                .filter(|t| t.known == known)
+                .map(|t| {
+                    let r = &t.regressor;
+                    // gradient bound over the box |u_j| <= M_j, times rho |u|
+                    let grad: f64 = gw_model::Input::ALL
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &inp)| {
+                            let p = r.power(inp);
+                            if p == 0 {
+                                return 0.0;
+                            }
+                            let mono: f64 = gw_model::Input::ALL
+                                .iter()
+                                .enumerate()
+                                .map(|(q, &iq)| {
+                                    let e = if q == j { p - 1 } else { r.power(iq) };
+                                    m[q].powi(i32::from(e))
+                                })
+                                .product();
+                            f64::from(p) * mono * rho * m[j]
+                        })
+                        .sum();
+                    t.value.abs() * (r.remainder_bound(&m, &d) + grad)
+                })
+                .sum()
         };
-        let ad = &self.axes[k];
-        let c = [
-            0.0,
-            rho,
-            rho,
-            rho,
-            2.0 * rho + s * s,
-            2.0 * rho + s * s,
-            2.0 * rho + s * s,
-        ];
-        let r_g: f64 = ad
-            .coefficients
-            .rad_per_s()
-            .iter()
-            .zip(c)
-            .map(|(b, c)| b.abs() * c)
-            .sum();
-        let tau = match (self.reading().outputs, self.reading().form) {
+        let (r_e, r_g) = (remainder(true), remainder(false));
+        let a = cal.regression().matrix();
+        let p = a * cal.regression().pinv();
+        let i_minus_p = DMatrix::identity(p.nrows(), p.ncols()) - &p;
+        let norm = |x: &DMatrix<f64>| {
+            x.row_iter()
+                .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        Ok(match (reading.outputs, reading.form) {
             (OutputsAt::Intended, ErrorForm::Printed) => Some(r_e),
             (OutputsAt::Intended, ErrorForm::NominalRate) => Some(0.0),
             (OutputsAt::Intended, ErrorForm::ActualRegressors) => Some(r_g + r_e),
             (OutputsAt::Intended, ErrorForm::ActualRegressorsNominalRate) => Some(r_g),
-            (OutputsAt::Actual, ErrorForm::Printed) => {
-                Some(ad.i_minus_p_norm_inf * r_g + ad.p_norm_inf * r_e)
-            }
-            (OutputsAt::Actual, ErrorForm::NominalRate) => {
-                Some(ad.i_minus_p_norm_inf * (r_g + r_e))
-            }
+            (OutputsAt::Actual, ErrorForm::Printed) => Some(norm(&i_minus_p) * r_g + norm(&p) * r_e),
+            (OutputsAt::Actual, ErrorForm::NominalRate) => Some(norm(&i_minus_p) * (r_g + r_e)),
             _ => None,
-        };
-        Ok(tau)
+        })
     }
 
     /// The worst case over the box $|\chi_j| \le \mathrm{UB}_j$ (the lower bounds do not
-    /// matter: the maximum is at $|\chi_j| = \mathrm{UB}_j$): exact for the linearised model,
-    /// confirmed on the exact chain at the worst vertex, with the second-order bound.
+    /// matter: the maximum is at $|\chi_j| = \mathrm{UB}_j$), per output: exact for the
+    /// linearised model, confirmed on the exact chain at the worst vertex, with the
+    /// second-order bound.
     ///
     /// # Errors
-    /// [`E2eError::Bounds`] naming the component for a negative or non-finite bound.
-    pub fn worst_case(
-        &self,
-        linear: &Linearization,
-        ub_rad: &[f64; CHI_LEN],
-    ) -> Result<WorstCase, E2eError> {
-        ErrorBox::from_upper_rad(*ub_rad)?;
-        check_chi(ub_rad)?;
+    /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming the error of a bad bound; as
+    /// [`EndToEnd::delta_omega`].
+    pub fn worst_case(&self, linear: &Linearization, ub_rad: &[f64]) -> Result<WorstCase, E2eError> {
+        self.check_bounds(linear, ub_rad)?;
         let rows = linear.row_worst_cases(ub_rad);
         let n = self.len();
-        let s: f64 = ub_rad.iter().sum();
-        let mut axes = Vec::with_capacity(2);
-        for (k, axis) in AXES.into_iter().enumerate() {
+        let s: f64 = ub_rad.iter().filter(|u| u.is_finite()).sum();
+        let mut work = self.work();
+        let mut outputs = Vec::with_capacity(self.n_outputs());
+        for k in 0..self.n_outputs() {
             let per: Vec<f64> = rows.rows(k * n, n).iter().copied().collect();
-            let (position, bound) =
-                per.iter()
-                    .copied()
-                    .enumerate()
-                    .fold(
-                        (0, f64::NEG_INFINITY),
-                        |b, (i, v)| if v > b.1 { (i, v) } else { b },
-                    );
-            let row = linear.row(axis, position);
-            let chi: [f64; CHI_LEN] =
-                std::array::from_fn(|j| if row[j] < 0.0 { -ub_rad[j] } else { ub_rad[j] });
-            let plus = self.delta_omega(&chi)?[k];
-            let minus = self.delta_omega(&chi.map(|v| -v))?[k];
-            axes.push(AxisWorstCase {
-                axis,
-                linear_bound_rad_per_s: bound,
+            let (position, bound) = per
+                .iter()
+                .copied()
+                .enumerate()
+                .fold((0, f64::NEG_INFINITY), |b, (i, v)| if v > b.1 { (i, v) } else { b });
+            let row = linear.row(k, position);
+            let chi: Vec<f64> = row
+                .iter()
+                .zip(ub_rad)
+                .map(|(m, u)| match (u.is_finite(), *m < 0.0) {
+                    (false, _) => 0.0,
+                    (true, true) => -u,
+                    (true, false) => *u,
+                })
+                .collect();
+            self.delta_omega_into(&chi, &mut work)?;
+            let plus = work.delta_omega[k];
+            let neg: Vec<f64> = chi.iter().map(|v| -v).collect();
+            self.delta_omega_into(&neg, &mut work)?;
+            let minus = work.delta_omega[k];
+            outputs.push(OutputWorstCase {
+                output: k,
+                linear_bound: bound,
                 position,
-                worst_chi_rad: if plus >= minus { chi } else { chi.map(|v| -v) },
-                exact_at_vertex_rad_per_s: plus.max(minus),
-                second_order_bound_rad_per_s: self.second_order_bound(axis, s)?,
-                per_position_rad_per_s: per,
+                worst_chi_rad: if plus >= minus { chi } else { neg },
+                exact_at_vertex: plus.max(minus),
+                second_order_bound: self.second_order_bound(k, s)?,
+                per_position: per,
             });
         }
-        let [x, y]: [AxisWorstCase; 2] = axes
-            .try_into()
-            .unwrap_or_else(|_| unreachable!("two axes pushed"));
         Ok(WorstCase {
-            upper_bounds_rad: *ub_rad,
-            axes: [x, y],
+            upper_bounds_rad: ub_rad.to_vec(),
+            outputs,
         })
     }
 }

@@ -1,6 +1,7 @@
-//! Monte Carlo over turntables drawn from a tolerance box: the distribution of the
-//! end-to-end rate errors and the yield $P(\Delta\omega_x \le \omega_m \wedge \Delta\omega_y \le
-//! \omega_m)$ with a Wilson confidence interval.
+//! Monte Carlo over turntables drawn from a tolerance box: the distribution of the end-to-end
+//! calibration errors, the yield $P(\Delta\omega_k \le \omega_{m,k}\ \forall k)$ with a Wilson
+//! confidence interval, and exact order statistics, all with memory independent of the number
+//! of draws.
 //!
 //! Draws reuse mc-verify's streams and sampler: chunk $c$ of a run seeded $s$ uses
 //! [`mc_verify::chunk_rng`]`(s, c)` and [`mc_verify::TurntableSampler::fill_block`] in blocks of
@@ -8,15 +9,27 @@
 //! signs; the pose it also draws is not used: the calibration positions are the schedule's).
 //! With `chunk_size` = [`mc_verify::DEFAULT_CHUNK_SIZE`] the turntables are exactly those of a
 //! [`mc_verify::MonteCarlo`] run with the same seed; the default here is smaller
-//! ([`DEFAULT_CHUNK_SIZE`]) so that a few ten thousand draws still spread over threads. Chunks run on rayon threads and are
-//! concatenated in chunk order, so results are bit-identical for any thread count.
+//! ([`DEFAULT_CHUNK_SIZE`]) so that a few ten thousand draws still spread over threads.
+//! Chunks run on rayon threads in waves and their partial statistics are merged in chunk
+//! order, so results are bit-identical for any thread count.
+//!
+//! # Streaming statistics
+//! Per output: the largest $\Delta\omega_k$ with its turntable, the count meeting the
+//! accuracy, a histogram on fixed edges $[0, H_k]$ with $H_k$ = the linearised worst case of
+//! the box plus its second-order bound (or twice the linearised worst case when no bound is
+//! derived), at least the accuracy, and an overflow count. The same for the largest ratio
+//! $r = \max_k \Delta\omega_k/\omega_{m,k}$ (the turntable meets every accuracy when
+//! $r \le 1$). Reported quantiles ([`REPORTED_QUANTILES`]) are upper bin edges of fine
+//! histograms ([`QUANTILE_BINS`] bins; the exact maximum when the rank falls in the overflow),
+//! so they are upper bounds with a stated resolution; [`EndToEnd::ratio_quantile`] gives the
+//! exact order statistic by re-drawing the same turntables and narrowing the bin
+//! (at most [`QUANTILE_PASSES`] passes, then a sort of at most [`QUANTILE_COLLECT`] values).
 
 use crate::error::{E2eError, positive};
+use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
-use gw_model::units::rad_per_s_to_deg_per_h;
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
 use rayon::prelude::*;
-use tt_kinematics::CHI_LEN;
 
 /// Standard normal quantile of 97.5% ($z$ of a two-sided 95% interval).
 pub const Z_95: f64 = 1.959_963_984_540_054;
@@ -24,11 +37,30 @@ pub const Z_95: f64 = 1.959_963_984_540_054;
 /// Default number of samples per chunk (one random stream each).
 pub const DEFAULT_CHUNK_SIZE: u32 = 1024;
 
-/// Default number of histogram bins.
+/// Default number of histogram bins (the figure's histogram).
 pub const DEFAULT_BINS: usize = 40;
+
+/// Largest number of figure histogram bins.
+pub const MAX_BINS: usize = 10_000;
+
+/// Bins of the fine histograms behind the reported quantiles.
+pub const QUANTILE_BINS: usize = 4096;
+
+/// Largest number of draws of one distribution: at the measured 10^6 draws per second on two
+/// cores, about three hours.
+pub const MAX_SAMPLES: u64 = 10_000_000_000;
 
 /// Probabilities at which [`RateDistribution::quantiles`] are reported.
 pub const REPORTED_QUANTILES: [f64; 6] = [0.5, 0.9, 0.99, 0.9973, 0.999, 1.0];
+
+/// Passes of the exact order statistic before it falls back to a bin edge.
+pub const QUANTILE_PASSES: usize = 6;
+
+/// Values collected in the last pass of the exact order statistic.
+pub const QUANTILE_COLLECT: usize = 1 << 16;
+
+/// Chunks evaluated per wave (bounds the memory of the partial statistics held at once).
+const WAVE_CHUNKS: u64 = 64;
 
 /// How many turntables to draw and from which random streams.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,7 +71,7 @@ pub struct McSettings {
     pub seed: u64,
     /// Turntables per chunk (stream).
     pub chunk_size: u32,
-    /// Histogram bins.
+    /// Histogram bins of the figure histograms.
     pub histogram_bins: usize,
 }
 
@@ -58,22 +90,19 @@ impl McSettings {
     /// Check the counts.
     ///
     /// # Errors
-    /// [`E2eError::ZeroSamples`] naming `samples`, `chunk_size` or `histogram_bins`.
+    /// [`E2eError::Count`] naming `samples` (1 to [`MAX_SAMPLES`]), `chunk_size` or
+    /// `histogram_bins` (1 to [`MAX_BINS`]).
     pub fn validate(&self) -> Result<(), E2eError> {
-        if self.samples == 0 {
-            return Err(E2eError::ZeroSamples { field: "samples" });
-        }
-        if self.chunk_size == 0 {
-            return Err(E2eError::ZeroSamples {
-                field: "chunk_size",
-            });
-        }
-        if self.histogram_bins == 0 {
-            return Err(E2eError::ZeroSamples {
-                field: "histogram_bins",
-            });
-        }
-        Ok(())
+        let check = |field, value: u64, max: u64| {
+            if value == 0 || value > max {
+                Err(E2eError::Count { field, value, max })
+            } else {
+                Ok(())
+            }
+        };
+        check("samples", self.samples, MAX_SAMPLES)?;
+        check("chunk_size", u64::from(self.chunk_size), u64::from(u32::MAX))?;
+        check("histogram_bins", self.histogram_bins as u64, MAX_BINS as u64)
     }
 }
 
@@ -105,65 +134,115 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
     ((centre - half).max(0.0), (centre + half).min(1.0))
 }
 
-/// One drawn turntable and its end-to-end rate errors.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TurntableDraw {
-    /// $(\Delta\omega_x, \Delta\omega_y)$, rad/s.
-    pub delta_omega_rad_per_s: [f64; 2],
-    /// $\chi$, rad (order of eq 25).
-    pub chi_rad: [f64; CHI_LEN],
+/// The turntable attaining a maximum.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorstDraw {
+    /// Global index of the draw.
+    pub index: u64,
+    /// Its value (output unit, or the ratio for the ratio's worst draw).
+    pub value: f64,
+    /// Its errors $\chi$, rad.
+    pub chi_rad: Vec<f64>,
 }
 
-impl TurntableDraw {
-    /// $\max(\Delta\omega_x, \Delta\omega_y)$, rad/s.
-    #[must_use]
-    pub fn max_rad_per_s(&self) -> f64 {
-        self.delta_omega_rad_per_s[0].max(self.delta_omega_rad_per_s[1])
+/// A histogram on fixed edges $[0, H]$ plus an overflow count.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Histogram {
+    /// Upper end $H$ of the binned range.
+    pub range: f64,
+    /// Counts per bin (bin $b$ covers $[bH/B, (b+1)H/B)$).
+    pub counts: Vec<u64>,
+    /// Values at or above $H$.
+    pub overflow: u64,
+}
+
+impl Histogram {
+    fn new(range: f64, bins: usize) -> Self {
+        Self {
+            range,
+            counts: vec![0; bins],
+            overflow: 0,
+        }
     }
 
-    /// Whether both axes meet $\omega_m$ (rad/s).
+    #[inline]
+    fn add(&mut self, v: f64) {
+        let b = (v / self.range * self.counts.len() as f64) as usize;
+        match self.counts.get_mut(b) {
+            Some(c) => *c += 1,
+            None => self.overflow += 1,
+        }
+    }
+
+    fn merge(&mut self, o: &Self) {
+        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
+            *a += b;
+        }
+        self.overflow += o.overflow;
+    }
+
+    /// The bin edges, `bins + 1` values from 0 to $H$.
     #[must_use]
-    pub fn meets(&self, omega_m_rad_per_s: f64) -> bool {
-        self.max_rad_per_s() <= omega_m_rad_per_s
+    pub fn edges(&self) -> Vec<f64> {
+        let n = self.counts.len();
+        (0..=n).map(|b| self.range * b as f64 / n as f64).collect()
+    }
+
+    /// Upper bound of the empirical $p$-quantile ($\lceil pN\rceil$-th order statistic): the
+    /// upper edge of its bin, `max` when it falls in the overflow.
+    fn quantile_upper(&self, p: f64, n: u64, max: f64) -> f64 {
+        let k = quantile_rank(p, n);
+        let mut seen = 0;
+        let w = self.range / self.counts.len() as f64;
+        for (b, c) in self.counts.iter().enumerate() {
+            seen += c;
+            if seen >= k {
+                return ((b + 1) as f64 * w).min(max.max(0.0));
+            }
+        }
+        max
     }
 }
 
-/// One quantile of the rate errors.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One quantile of the calibration errors.
+#[derive(Debug, Clone, PartialEq)]
 pub struct RateQuantile {
     /// Probability $p$.
     pub p: f64,
-    /// Empirical $p$-quantiles of $\Delta\omega_x$, $\Delta\omega_y$ and
-    /// $\max(\Delta\omega_x, \Delta\omega_y)$ (rad/s): the $\lceil pN\rceil$-th order statistic.
-    pub rad_per_s: [f64; 3],
+    /// Upper bounds of the empirical $p$-quantiles of every output's $\Delta\omega_k$ (output
+    /// unit), resolution one [`QUANTILE_BINS`]-th of the histogram range.
+    pub per_output: Vec<f64>,
+    /// The same for the ratio $\max_k \Delta\omega_k/\omega_{m,k}$.
+    pub ratio: f64,
 }
 
-/// The distribution of the end-to-end rate errors over turntables drawn from a box.
+/// The distribution of the end-to-end calibration errors over turntables drawn from a box.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RateDistribution {
     /// Turntables drawn.
     pub samples: u64,
     /// Seed of the streams.
     pub seed: u64,
-    /// The requirement $\omega_m$ (rad/s).
-    pub omega_m_rad_per_s: f64,
-    /// Turntables with $\Delta\omega_x \le \omega_m$ and $\Delta\omega_y \le \omega_m$.
+    /// Every output's accuracy (output unit).
+    pub accuracies: Vec<f64>,
+    /// Turntables meeting every output's accuracy.
     pub meeting: u64,
-    /// Largest $\Delta\omega_x$, $\Delta\omega_y$ drawn (rad/s).
-    pub max_rad_per_s: [f64; 2],
-    /// $\chi$ (rad) of the turntable with the largest $\max(\Delta\omega_x, \Delta\omega_y)$.
-    pub worst_chi_rad: [f64; CHI_LEN],
+    /// Turntables meeting each output's accuracy.
+    pub meeting_per_output: Vec<u64>,
+    /// Largest $\Delta\omega_k$ drawn per output, with its turntable.
+    pub worst: Vec<WorstDraw>,
+    /// Largest ratio $\max_k \Delta\omega_k/\omega_{m,k}$ drawn, with its turntable.
+    pub worst_ratio: WorstDraw,
     /// Quantiles at [`REPORTED_QUANTILES`].
     pub quantiles: Vec<RateQuantile>,
-    /// Histogram bin edges (rad/s), `bins + 1` values from 0 to at least $\omega_m$ and the
-    /// largest value drawn.
-    pub histogram_edges_rad_per_s: Vec<f64>,
-    /// Counts per bin of $\Delta\omega_x$, $\Delta\omega_y$ and their maximum.
-    pub histogram_counts: [Vec<u64>; 3],
+    /// Figure histograms per output ($\Delta\omega_k$, output unit).
+    pub histograms: Vec<Histogram>,
+    /// Figure histogram of the ratio.
+    pub ratio_histogram: Histogram,
 }
 
 impl RateDistribution {
-    /// The yield: fraction of turntables meeting $\omega_m$ on both axes.
+    /// The yield: fraction of turntables meeting every accuracy.
     #[must_use]
     pub fn yield_fraction(&self) -> f64 {
         self.meeting as f64 / self.samples as f64
@@ -175,126 +254,368 @@ impl RateDistribution {
         wilson_interval_95(self.meeting, self.samples)
     }
 
-    /// Largest $\Delta\omega_x$, $\Delta\omega_y$ drawn, deg/h.
+    /// Largest $\Delta\omega_k$ drawn per output (output unit).
     #[must_use]
-    pub fn max_deg_per_h(&self) -> [f64; 2] {
-        self.max_rad_per_s.map(rad_per_s_to_deg_per_h)
+    pub fn max(&self) -> Vec<f64> {
+        self.worst.iter().map(|w| w.value).collect()
+    }
+}
+
+/// Index (1-based) of the empirical $p$-quantile: the $\lceil pN\rceil$-th order statistic.
+pub(crate) fn quantile_rank(p: f64, n: u64) -> u64 {
+    ((p * n as f64).ceil() as u64).clamp(1, n)
+}
+
+/// Partial statistics of a chunk (merged in chunk order).
+#[derive(Debug, Clone)]
+struct Partial {
+    n: u64,
+    meeting: u64,
+    meeting_per_output: Vec<u64>,
+    worst: Vec<Option<WorstDraw>>,
+    worst_ratio: Option<WorstDraw>,
+    hist: Vec<Histogram>,
+    fine: Vec<Histogram>,
+}
+
+impl Partial {
+    fn new(ranges: &[f64], bins: usize) -> Self {
+        Self {
+            n: 0,
+            meeting: 0,
+            meeting_per_output: vec![0; ranges.len() - 1],
+            worst: vec![None; ranges.len() - 1],
+            worst_ratio: None,
+            hist: ranges.iter().map(|&r| Histogram::new(r, bins)).collect(),
+            fine: ranges.iter().map(|&r| Histogram::new(r, QUANTILE_BINS)).collect(),
+        }
+    }
+
+    fn merge(&mut self, o: Partial) {
+        self.n += o.n;
+        self.meeting += o.meeting;
+        for (a, b) in self.meeting_per_output.iter_mut().zip(&o.meeting_per_output) {
+            *a += b;
+        }
+        let better = |mine: &mut Option<WorstDraw>, theirs: Option<WorstDraw>| {
+            if let Some(t) = theirs {
+                if mine.as_ref().is_none_or(|m| t.value > m.value) {
+                    *mine = Some(t);
+                }
+            }
+        };
+        for (a, b) in self.worst.iter_mut().zip(o.worst) {
+            better(a, b);
+        }
+        better(&mut self.worst_ratio, o.worst_ratio);
+        for (a, b) in self.hist.iter_mut().zip(&o.hist) {
+            a.merge(b);
+        }
+        for (a, b) in self.fine.iter_mut().zip(&o.fine) {
+            a.merge(b);
+        }
     }
 }
 
 impl EndToEnd {
-    /// $(\Delta\omega_x, \Delta\omega_y)$ (rad/s) and $\chi$ of every turntable drawn from
-    /// `bounds`, in sample order (deterministic for any thread count).
-    ///
-    /// # Errors
-    /// As [`McSettings::validate`].
-    pub fn sample_rates(
+    /// Draw every turntable of `settings` from `bounds` and give each chunk's draws to `visit`
+    /// (index, $\chi$, $\Delta\omega_k$ per output), folding chunk results with `merge` in
+    /// chunk order: the one Monte Carlo driver of the crate (memory independent of the count).
+    pub(crate) fn drive<P, N, V, M>(
         &self,
         bounds: &ErrorBox,
         settings: &McSettings,
-    ) -> Result<Vec<TurntableDraw>, E2eError> {
+        new: N,
+        visit: V,
+        merge: M,
+    ) -> Result<P, E2eError>
+    where
+        P: Send,
+        N: Fn() -> P + Sync,
+        V: Fn(&mut P, u64, &[f64], &[f64]) + Sync,
+        M: Fn(&mut P, P),
+    {
         settings.validate()?;
-        let sampler = TurntableSampler::new(bounds);
+        let sampler = TurntableSampler::new(bounds, self.turntable());
         let cs = u64::from(settings.chunk_size);
         let chunks = settings.samples.div_ceil(cs);
-        let per_chunk: Vec<Vec<TurntableDraw>> = (0..chunks)
-            .into_par_iter()
-            .map(|c| {
-                let mut rng = chunk_rng(settings.seed, c);
-                let mut remaining = cs.min(settings.samples - c * cs) as usize;
-                let mut block = SampleBlock::default();
-                let mut out = Vec::with_capacity(remaining);
-                while remaining > 0 {
-                    let m = remaining.min(BLOCK_CAPACITY);
-                    sampler.fill_block(&mut rng, m, &mut block);
-                    out.extend((0..m).map(|k| {
-                        let chi = block.chi_rad(k);
-                        // The sampler's chi is always finite: the fallback is unreachable.
-                        TurntableDraw {
-                            delta_omega_rad_per_s: self.delta_omega(&chi).unwrap_or([f64::NAN; 2]),
-                            chi_rad: chi,
+        let mut acc = new();
+        let mut start = 0;
+        while start < chunks {
+            let end = (start + WAVE_CHUNKS).min(chunks);
+            let parts: Vec<Result<P, E2eError>> = (start..end)
+                .into_par_iter()
+                .map(|c| {
+                    let mut part = new();
+                    let mut rng = chunk_rng(settings.seed, c);
+                    let mut remaining = cs.min(settings.samples - c * cs) as usize;
+                    let mut block = SampleBlock::new(&sampler);
+                    let mut work = self.work();
+                    let mut chi = vec![0.0; self.n_errors()];
+                    let mut index = c * cs;
+                    while remaining > 0 {
+                        let m = remaining.min(BLOCK_CAPACITY);
+                        sampler.fill_block(&mut rng, m, &mut block);
+                        for k in 0..m {
+                            block.chi_rad_into(k, &mut chi);
+                            self.delta_omega_into(&chi, &mut work).map_err(|e| E2eError::Draw {
+                                sample: index,
+                                reason: e.to_string(),
+                            })?;
+                            if let Some((o, v)) = work
+                                .delta_omega
+                                .iter()
+                                .enumerate()
+                                .find(|(_, v)| !v.is_finite())
+                            {
+                                return Err(E2eError::Draw {
+                                    sample: index,
+                                    reason: format!("non-finite calibration error {v} on output {o}"),
+                                });
+                            }
+                            visit(&mut part, index, &chi, &work.delta_omega);
+                            index += 1;
                         }
-                    }));
-                    remaining -= m;
-                }
-                out
-            })
-            .collect();
-        Ok(per_chunk.into_iter().flatten().collect())
+                        remaining -= m;
+                    }
+                    Ok(part)
+                })
+                .collect();
+            for p in parts {
+                merge(&mut acc, p?);
+            }
+            start = end;
+        }
+        Ok(acc)
     }
 
-    /// The distribution of $\Delta\omega_x$, $\Delta\omega_y$ over turntables drawn from
-    /// `bounds` and the yield against $\omega_m$ (rad/s).
+    /// Histogram ranges $H_k$ per output and for the ratio (last): see the [module](self).
+    pub(crate) fn histogram_ranges(&self, linear: &Linearization, bounds: &ErrorBox) -> Result<Vec<f64>, E2eError> {
+        let ub = bounds.ub_rad();
+        let rows = linear.row_worst_cases(ub);
+        let n = self.len();
+        let s: f64 = ub.iter().sum();
+        let acc = self.accuracies();
+        let mut ranges = Vec::with_capacity(acc.len() + 1);
+        let mut ratio: f64 = 1.0;
+        for (k, a) in acc.iter().enumerate() {
+            let lin = rows.rows(k * n, n).max();
+            let h = match self.second_order_bound(k, s)? {
+                Some(t) => lin + t,
+                None => 2.0 * lin,
+            };
+            let h = h.max(*a) * (1.0 + 1e-9);
+            ratio = ratio.max(h / a);
+            ranges.push(h);
+        }
+        ranges.push(ratio);
+        Ok(ranges)
+    }
+
+    /// The distribution of every output's $\Delta\omega_k$ over turntables drawn from `bounds`
+    /// and the yield against the outputs' accuracies (see the [module](self)).
     ///
     /// # Errors
-    /// [`E2eError::NotPositive`] naming `omega_m`; as [`McSettings::validate`].
+    /// As [`McSettings::validate`]; [`E2eError::Draw`] naming the first turntable whose
+    /// calibration fails (never dropped).
     pub fn rate_distribution(
         &self,
+        linear: &Linearization,
         bounds: &ErrorBox,
-        omega_m_rad_per_s: f64,
         settings: &McSettings,
     ) -> Result<RateDistribution, E2eError> {
-        positive("omega_m", omega_m_rad_per_s)?;
-        let draws = self.sample_rates(bounds, settings)?;
-        Ok(summarise(&draws, omega_m_rad_per_s, settings))
-    }
-}
-
-/// Index of the empirical $p$-quantile (the $\lceil pN\rceil$-th order statistic, 0-based).
-pub(crate) fn quantile_index(p: f64, n: usize) -> usize {
-    ((p * n as f64).ceil() as usize).clamp(1, n) - 1
-}
-
-fn summarise(draws: &[TurntableDraw], omega_m: f64, settings: &McSettings) -> RateDistribution {
-    let n = draws.len();
-    let mut cols: [Vec<f64>; 3] = [
-        draws.iter().map(|d| d.delta_omega_rad_per_s[0]).collect(),
-        draws.iter().map(|d| d.delta_omega_rad_per_s[1]).collect(),
-        draws.iter().map(TurntableDraw::max_rad_per_s).collect(),
-    ];
-    let meeting = draws.iter().filter(|d| d.meets(omega_m)).count() as u64;
-    let worst = draws
-        .iter()
-        .enumerate()
-        .fold((0, f64::NEG_INFINITY), |b, (i, d)| {
-            let m = d.max_rad_per_s();
-            if m > b.1 { (i, m) } else { b }
+        let ranges = self.histogram_ranges(linear, bounds)?;
+        let acc = self.accuracies();
+        let outputs = acc.len();
+        let p = self.drive(
+            bounds,
+            settings,
+            || Partial::new(&ranges, settings.histogram_bins),
+            |part, index, chi, dw| {
+                part.n += 1;
+                let mut ratio: f64 = 0.0;
+                for k in 0..outputs {
+                    let v = dw[k];
+                    if v <= acc[k] {
+                        part.meeting_per_output[k] += 1;
+                    }
+                    ratio = ratio.max(v / acc[k]);
+                    if part.worst[k].as_ref().is_none_or(|w| v > w.value) {
+                        part.worst[k] = Some(WorstDraw { index, value: v, chi_rad: chi.to_vec() });
+                    }
+                    part.hist[k].add(v);
+                    part.fine[k].add(v);
+                }
+                if ratio <= 1.0 {
+                    part.meeting += 1;
+                }
+                if part.worst_ratio.as_ref().is_none_or(|w| ratio > w.value) {
+                    part.worst_ratio = Some(WorstDraw { index, value: ratio, chi_rad: chi.to_vec() });
+                }
+                part.hist[outputs].add(ratio);
+                part.fine[outputs].add(ratio);
+            },
+            Partial::merge,
+        )?;
+        let worst: Vec<WorstDraw> = p
+            .worst
+            .into_iter()
+            .map(|w| w.unwrap_or_else(|| unreachable!("at least one draw")))
+            .collect();
+        let worst_ratio = p.worst_ratio.unwrap_or_else(|| unreachable!("at least one draw"));
+        let quantiles = REPORTED_QUANTILES
+            .iter()
+            .map(|&q| RateQuantile {
+                p: q,
+                per_output: (0..outputs)
+                    .map(|k| p.fine[k].quantile_upper(q, p.n, worst[k].value))
+                    .collect(),
+                ratio: p.fine[outputs].quantile_upper(q, p.n, worst_ratio.value),
+            })
+            .collect();
+        let mut histograms = p.hist;
+        let ratio_histogram = histograms.pop().unwrap_or_else(|| unreachable!("ratio histogram"));
+        Ok(RateDistribution {
+            samples: p.n,
+            seed: settings.seed,
+            accuracies: acc,
+            meeting: p.meeting,
+            meeting_per_output: p.meeting_per_output,
+            worst,
+            worst_ratio,
+            quantiles,
+            histograms,
+            ratio_histogram,
         })
-        .0;
-    let hi = cols[2].iter().copied().fold(omega_m, f64::max);
-    let bins = settings.histogram_bins;
-    let width = hi / bins as f64;
-    let edges: Vec<f64> = (0..=bins).map(|b| b as f64 * width).collect();
-    let counts = cols.clone().map(|c| {
-        let mut h = vec![0_u64; bins];
-        for v in c {
-            let b = ((v / width) as usize).min(bins - 1);
-            h[b] += 1;
+    }
+
+    /// The errors $\chi$ of the turntables of `settings` drawn from `bounds`, in draw order (for
+    /// small counts: the result holds every draw).
+    ///
+    /// # Errors
+    /// As [`McSettings::validate`]; [`E2eError::Count`] above 10^6 draws.
+    pub fn sample_chi(&self, bounds: &ErrorBox, settings: &McSettings) -> Result<Vec<Vec<f64>>, E2eError> {
+        const MAX: u64 = 1_000_000;
+        if settings.samples > MAX {
+            return Err(E2eError::Count { field: "samples", value: settings.samples, max: MAX });
         }
-        h
-    });
-    for c in &mut cols {
-        c.sort_by(f64::total_cmp);
+        self.drive(bounds, settings, Vec::new, |v, _, chi, _| v.push(chi.to_vec()), |a, mut b| a.append(&mut b))
     }
-    let quantiles = REPORTED_QUANTILES
-        .iter()
-        .map(|&p| {
-            let k = quantile_index(p, n);
-            RateQuantile {
-                p,
-                rad_per_s: [cols[0][k], cols[1][k], cols[2][k]],
+
+    /// The number of turntables drawn from `bounds` that meet every accuracy.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::rate_distribution`].
+    pub fn meeting_count(&self, bounds: &ErrorBox, settings: &McSettings) -> Result<u64, E2eError> {
+        let acc = self.accuracies();
+        self.drive(
+            bounds,
+            settings,
+            || 0u64,
+            |count, _, _, dw| {
+                if dw.iter().zip(&acc).all(|(v, a)| v <= a) {
+                    *count += 1;
+                }
+            },
+            |a, b| *a += b,
+        )
+    }
+
+    /// The exact empirical $p$-quantile (the $\lceil pN\rceil$-th order statistic) of the ratio
+    /// $r = \max_k \Delta\omega_k/\omega_{m,k}$ over the draws of `settings`, with memory
+    /// independent of $N$: the same turntables are drawn again while the bin holding the rank
+    /// narrows (see the [module](self)).
+    ///
+    /// # Errors
+    /// [`E2eError::FractionOutOfRange`] unless $0 < p \le 1$ (`quantile`); as
+    /// [`EndToEnd::rate_distribution`].
+    pub fn ratio_quantile(&self, bounds: &ErrorBox, settings: &McSettings, p: f64) -> Result<f64, E2eError> {
+        if !(p > 0.0 && p <= 1.0) {
+            return Err(E2eError::FractionOutOfRange { field: "quantile", value: p });
+        }
+        settings.validate()?;
+        let acc = self.accuracies();
+        let ratio = |dw: &[f64]| dw.iter().zip(&acc).fold(0.0_f64, |m, (v, a)| m.max(v / a));
+        let rank = quantile_rank(p, settings.samples);
+        // (count below lo, histogram of [lo, hi), count >= hi, max)
+        type Pass = (u64, Vec<u64>, u64, f64);
+        let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
+        for _ in 0..QUANTILE_PASSES {
+            let width = if hi.is_finite() { hi - lo } else { f64::INFINITY };
+            let bins = QUANTILE_BINS;
+            let scan: Pass = self.drive(
+                bounds,
+                settings,
+                || (0, vec![0; bins], 0, 0.0),
+                |(below, h, above, max), _, _, dw| {
+                    let r = ratio(dw);
+                    *max = f64::max(*max, r);
+                    if r < lo {
+                        *below += 1;
+                    } else if r >= hi || !width.is_finite() {
+                        *above += 1;
+                    } else {
+                        let b = (((r - lo) / width) * bins as f64) as usize;
+                        h[b.min(bins - 1)] += 1;
+                    }
+                },
+                |a, b| {
+                    a.0 += b.0;
+                    for (x, y) in a.1.iter_mut().zip(&b.1) {
+                        *x += y;
+                    }
+                    a.2 += b.2;
+                    a.3 = a.3.max(b.3);
+                },
+            )?;
+            let (below, h, _, max) = scan;
+            if !width.is_finite() {
+                // first pass: only the maximum is known; bin [0, max] next
+                hi = max * (1.0 + 1e-12) + f64::MIN_POSITIVE;
+                continue;
             }
-        })
-        .collect();
-    RateDistribution {
-        samples: n as u64,
-        seed: settings.seed,
-        omega_m_rad_per_s: omega_m,
-        meeting,
-        max_rad_per_s: [cols[0][n - 1], cols[1][n - 1]],
-        worst_chi_rad: draws[worst].chi_rad,
-        quantiles,
-        histogram_edges_rad_per_s: edges,
-        histogram_counts: counts,
+            let mut seen = below;
+            let mut chosen = None;
+            for (b, c) in h.iter().enumerate() {
+                if seen + c >= rank {
+                    chosen = Some((b, seen, *c));
+                    break;
+                }
+                seen += c;
+            }
+            let Some((b, before, count)) = chosen else {
+                return Ok(max);
+            };
+            let (blo, bhi) = (lo + width * b as f64 / bins as f64, lo + width * (b + 1) as f64 / bins as f64);
+            if count as usize <= QUANTILE_COLLECT {
+                let mut values = self.drive(
+                    bounds,
+                    settings,
+                    Vec::new,
+                    |v, _, _, dw| {
+                        let r = ratio(dw);
+                        if r >= blo && r < bhi {
+                            v.push(r);
+                        }
+                    },
+                    |a, mut b| a.append(&mut b),
+                )?;
+                values.sort_by(f64::total_cmp);
+                let i = (rank - before - 1) as usize;
+                return values.get(i).copied().ok_or(E2eError::NoConvergence {
+                    what: "exact quantile",
+                    iterations: QUANTILE_PASSES,
+                    change: f64::NAN,
+                });
+            }
+            lo = blo;
+            hi = bhi;
+        }
+        Ok(hi)
+    }
+
+    /// Check a positive accuracy scale (internal helper for callers of the yield allocation).
+    pub(crate) fn check_positive(field: &str, v: f64) -> Result<f64, E2eError> {
+        positive(field, v)
     }
 }

@@ -1,174 +1,126 @@
 //! One calibration run of a turntable with geometric errors $\chi$: the exact orientation at
 //! every test position, the outputs and the least-squares calibration of the chosen
-//! [`Reading`] of eq 13, and the rate-sensing errors $\Delta\omega_x$, $\Delta\omega_y$ (eq 14).
+//! [`Reading`] of eq 13, and the calibration error $\Delta\omega_k$ (eq 14) of every output.
 
-use crate::error::E2eError;
-use calib_lsq::{
-    ErrorAnalysis, ErrorForm, Estimate, OrientationErrorAnalysis, OutputsAt, Reading, Regression,
-    Schedule, rate_vector, regression_matrix,
-};
-use gw_model::units::rad_per_s_to_deg_per_h;
-use gw_model::{
-    AxisCoefficients, DriftCoefficients, Inputs, N_COEFFICIENTS, SensingAxis, Site, regressors,
-};
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-use tt_kinematics::rotation::{Axis, rot};
-use tt_kinematics::{CHI_LEN, ChainKind, ErrorComponent, Pose, TurntableErrors, delta_r};
+use crate::error::{E2eError, finite};
+use calib_lsq::{Calibration, ErrorAnalysis, ErrorWork, OrientationErrorAnalysis, Reading};
+use gw_model::InputValues;
+use nalgebra::{Matrix3, Vector3};
+use tt_kinematics::{ChainKind, Pose, PoseFrames, Turntable, TurntableErrors};
 
-/// The two sensing axes in the order used by every `[_; 2]` of this crate: $x$, then $y$.
-pub const AXES: [SensingAxis; 2] = [SensingAxis::X, SensingAxis::Y];
-
-/// Precomputed data of one sensing axis: nominal regression and its pseudo-inverse.
-#[derive(Debug, Clone)]
-pub(crate) struct AxisData {
-    pub coefficients: AxisCoefficients,
-    /// $\mathbf A$ (n x 7).
-    pub a: DMatrix<f64>,
-    /// $\mathbf A^+ = \mathbf R^{-1}\mathbf Q^T$ (7 x n), from calib-lsq's QR.
-    pub pinv: DMatrix<f64>,
-    /// $\mathbf b_2$ (rad/s).
-    pub b2: DVector<f64>,
-    /// $\mathbf A\boldsymbol\beta$ (rad/s).
-    pub a_beta: DVector<f64>,
-    /// $\lVert\mathbf P\rVert_\infty$ with $\mathbf P = \mathbf A\mathbf A^+$.
-    pub p_norm_inf: f64,
-    /// $\lVert\mathbf I - \mathbf P\rVert_\infty$.
-    pub i_minus_p_norm_inf: f64,
-}
-
-/// An end-to-end calibration simulator: drift coefficients (the truth), site, schedule and
-/// reading fixed; the nominal regressions are factored once (never inside a Monte Carlo loop).
+/// An end-to-end calibration simulator: turntable, sensor (the truth), site, schedule and
+/// reading fixed; the nominal regressions are factored once and the pose-dependent part of
+/// the chain is computed once per position (never inside a Monte Carlo loop).
 ///
 /// # Formula
-/// For turntable errors $\chi$ and position $i$ with pose $(\phi_{1i}, \phi_{2i})$:
-/// $$\Delta\mathbf R_i = \mathbf R_d^T\mathbf R_t = R_z(\phi_{2i})^T\,\mathbf U\,R_z(\phi_{2i})\,\mathbf V,$$
-/// $$\mathbf U = R_y(\Delta\phi_{y1})R_z(\Delta\alpha_{z1})R_x(\Delta\alpha_{x1})R_y(\Delta\varepsilon_y)R_x(\Delta\varepsilon_x),
-/// \quad \mathbf V = R_y(\Delta\alpha_{y2})R_z(\Delta\phi_{z2})R_x(\Delta\alpha_{x2})$$
-/// (the exact chain of Table 3; $\phi_1$ cancels), then eq 8-14 of calib-lsq with the chosen
+/// For turntable errors $\chi$ and position $i$ with pose $\phi_i$,
+/// $\Delta\mathbf R_i = \mathbf R_d^T\mathbf R_t$ (eq 23) by the segmented chain
+/// ([`tt_kinematics::PoseFrames`]): the error segments $\mathbf E_s(\chi)$ once per turntable,
+/// the nominal blocks once per position. Then eq 8-14 of calib-lsq with the chosen
 /// [`Reading`]: actual inputs $\mathbf v_i' = \Delta\mathbf R_i^T\mathbf v_i$, outputs
 /// $\mathbf b_1$, estimate, error vector $\Delta\hat{\boldsymbol\omega}$ and
-/// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$.
+/// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$ per output.
 ///
 /// # Reference
 /// Eq 7-14 (calibration) and eq 17-23 (turntable chain).
 #[derive(Debug, Clone)]
 pub struct EndToEnd {
-    coefficients: DriftCoefficients,
-    site: Site,
-    schedule: Schedule,
+    turntable: Turntable,
+    calibration: Calibration,
     reading: Reading,
     poses: Vec<Pose>,
-    rz: Vec<Matrix3<f64>>,
-    nominal: Vec<Inputs>,
-    pub(crate) axes: [AxisData; 2],
-    analyses: [OrientationErrorAnalysis; 2],
+    frames: Vec<PoseFrames>,
+    /// $\mathbf B_1\mathbf a_i$ and $\mathbf B_1\boldsymbol\omega_i$ (g, deg/h) per position.
+    pre: Vec<[Vector3<f64>; 2]>,
+    analyses: Vec<OrientationErrorAnalysis>,
 }
 
 /// The result of one simulated calibration run (reference path through calib-lsq).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EndToEndRun {
-    /// $\Delta\mathbf R_i$ of every position (exact chain, [`tt_kinematics::delta_r`]).
+    /// $\Delta\mathbf R_i$ of every position (exact matrix chain).
     pub delta_r: Vec<Matrix3<f64>>,
-    /// The full eq 7-14 analysis of the $x$ and $y$ axes.
-    pub analyses: [ErrorAnalysis; 2],
+    /// The full eq 7-14 analysis of every output.
+    pub analyses: Vec<ErrorAnalysis>,
 }
 
 impl EndToEndRun {
-    /// $(\Delta\omega_x, \Delta\omega_y)$, rad/s.
+    /// $\Delta\omega_k$ of every output (output unit).
     #[must_use]
-    pub fn delta_omega_rad_per_s(&self) -> [f64; 2] {
-        [
-            self.analyses[0].delta_omega_rad_per_s,
-            self.analyses[1].delta_omega_rad_per_s,
-        ]
-    }
-
-    /// $(\Delta\omega_x, \Delta\omega_y)$, deg/h.
-    #[must_use]
-    pub fn delta_omega_deg_per_h(&self) -> [f64; 2] {
-        self.delta_omega_rad_per_s().map(rad_per_s_to_deg_per_h)
+    pub fn delta_omega(&self) -> Vec<f64> {
+        self.analyses.iter().map(|a| a.delta_omega).collect()
     }
 }
 
+/// Scratch space of one simulated run on the fast path: sized once, reused for every draw.
+#[derive(Debug, Clone)]
+pub struct DrawWork {
+    segments: Vec<Matrix3<f64>>,
+    actual: Vec<InputValues>,
+    error: Vec<f64>,
+    work: ErrorWork,
+    /// $\Delta\omega_k$ of every output after [`EndToEnd::delta_omega_into`] (output unit).
+    pub delta_omega: Vec<f64>,
+}
+
 impl EndToEnd {
-    /// Prepare the simulation.
+    /// Prepare the simulation of `calibration` (sensor, site and schedule, whose positions
+    /// are `poses` of `turntable`) under `reading`.
     ///
     /// # Errors
-    /// [`E2eError::Calib`] if the schedule cannot identify an axis.
+    /// [`E2eError::Kinematics`] when a pose does not fit the turntable;
+    /// [`E2eError::OutOfRange`] naming `poses` unless there is one pose per position.
     pub fn new(
-        coefficients: &DriftCoefficients,
-        site: &Site,
-        schedule: &Schedule,
+        turntable: &Turntable,
+        calibration: &Calibration,
+        poses: &[Pose],
         reading: Reading,
     ) -> Result<Self, E2eError> {
-        let nominal = schedule.inputs(site);
-        let n = nominal.len();
-        let mut axes = Vec::with_capacity(2);
-        let mut analyses = Vec::with_capacity(2);
-        for axis in AXES {
-            let coeffs = *coefficients.axis(axis);
-            let a = regression_matrix(axis, &nominal);
-            let regression = Regression::new(axis, a.clone())?;
-            let mut pinv = DMatrix::zeros(N_COEFFICIENTS, n);
-            for k in 0..n {
-                let mut e = DVector::zeros(n);
-                e[k] = 1.0;
-                pinv.set_column(k, &regression.estimate(&e)?);
-            }
-            let p = &a * &pinv;
-            let i_minus_p = DMatrix::identity(n, n) - &p;
-            let beta = DVector::from_column_slice(&coeffs.rad_per_s());
-            axes.push(AxisData {
-                coefficients: coeffs,
-                a_beta: &a * &beta,
-                b2: rate_vector(axis, &nominal),
-                p_norm_inf: row_sum_norm(&p),
-                i_minus_p_norm_inf: row_sum_norm(&i_minus_p),
-                a,
-                pinv,
+        if poses.len() != calibration.schedule().len() {
+            return Err(E2eError::OutOfRange {
+                field: "poses",
+                value: poses.len() as f64,
+                range: "one pose per position of the schedule",
             });
-            analyses.push(OrientationErrorAnalysis::new(
-                &coeffs, schedule, site, reading,
-            )?);
         }
-        let poses: Vec<Pose> = schedule
-            .positions()
+        let frames = poses
             .iter()
-            .map(|p| Pose {
-                phi1_rad: p.phi_1_rad(),
-                phi2_rad: p.phi_2_rad(),
-            })
+            .map(|p| turntable.pose_frames(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        let nominal: Vec<InputValues> = calibration
+            .nominal_inputs()
+            .iter()
+            .map(InputValues::from_inputs)
             .collect();
-        let rz = poses.iter().map(|p| rot(Axis::Z, p.phi2_rad)).collect();
-        let [ax, ay]: [AxisData; 2] = axes
-            .try_into()
-            .unwrap_or_else(|_| unreachable!("two axes pushed"));
-        let [nx, ny]: [OrientationErrorAnalysis; 2] = analyses
-            .try_into()
-            .unwrap_or_else(|_| unreachable!("two axes pushed"));
+        let pre = frames
+            .iter()
+            .zip(&nominal)
+            .map(|(f, v)| [f.pre(&v.specific_force_g()), f.pre(&v.rate_deg_per_h())])
+            .collect();
+        let analyses = (0..calibration.outputs().len())
+            .map(|k| OrientationErrorAnalysis::new(calibration, k, reading))
+            .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
-            coefficients: *coefficients,
-            site: *site,
-            schedule: schedule.clone(),
+            turntable: turntable.clone(),
+            calibration: calibration.clone(),
             reading,
-            poses,
-            rz,
-            nominal,
-            axes: [ax, ay],
-            analyses: [nx, ny],
+            poses: poses.to_vec(),
+            frames,
+            pre,
+            analyses,
         })
     }
 
-    /// The paper's calibration (Table 1, Harbin, [`Schedule::paper_default`]) with a reading.
+    /// The turntable.
     #[must_use]
-    pub fn paper(reading: Reading) -> Self {
-        Self::new(
-            &DriftCoefficients::table_1(),
-            &Site::paper_default(),
-            &Schedule::paper_default(),
-            reading,
-        )
-        .unwrap_or_else(|_| unreachable!("the default schedule identifies both axes"))
+    pub fn turntable(&self) -> &Turntable {
+        &self.turntable
+    }
+
+    /// The calibration (sensor, site, schedule).
+    #[must_use]
+    pub fn calibration(&self) -> &Calibration {
+        &self.calibration
     }
 
     /// The reading used.
@@ -177,25 +129,15 @@ impl EndToEnd {
         self.reading
     }
 
-    /// The schedule.
-    #[must_use]
-    pub fn schedule(&self) -> &Schedule {
-        &self.schedule
+    /// The same simulator under another reading.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::new`].
+    pub fn with_reading(&self, reading: Reading) -> Result<Self, E2eError> {
+        Self::new(&self.turntable, &self.calibration, &self.poses, reading)
     }
 
-    /// The site.
-    #[must_use]
-    pub fn site(&self) -> &Site {
-        &self.site
-    }
-
-    /// The true drift coefficients.
-    #[must_use]
-    pub fn coefficients(&self) -> &DriftCoefficients {
-        &self.coefficients
-    }
-
-    /// The turntable pose of every position (same angles as the schedule).
+    /// The turntable pose of every position.
     #[must_use]
     pub fn poses(&self) -> &[Pose] {
         &self.poses
@@ -207,75 +149,95 @@ impl EndToEnd {
         self.poses.len()
     }
 
-    /// Whether the schedule is empty (never for a constructed schedule).
+    /// Whether the schedule is empty (never for a constructed simulator).
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.poses.is_empty()
     }
 
-    /// The nominal inputs of every position (eq 3).
+    /// Number of outputs.
     #[must_use]
-    pub fn nominal_inputs(&self) -> &[Inputs] {
-        &self.nominal
+    pub fn n_outputs(&self) -> usize {
+        self.calibration.outputs().len()
     }
 
-    /// Whether [`delta_omega`](Self::delta_omega) uses the fast path (readings with the user's
-    /// estimate $\hat{\boldsymbol\beta}_1$ and a residual form): one precomputed
-    /// $\mathbf A^+$ per axis, no factorisation per draw. Other readings need a QR of
-    /// $\mathbf A'$ per draw and go through calib-lsq.
+    /// Number of angular errors (length of $\chi$).
     #[must_use]
-    pub fn has_fast_path(&self) -> bool {
-        self.reading.estimate == Estimate::Beta1 && self.reading.form != ErrorForm::DeltaBeta
+    pub fn n_errors(&self) -> usize {
+        self.turntable.n_rotation_errors()
     }
 
-    /// $\Delta\mathbf R_i$ of every position through the reference chain
-    /// [`tt_kinematics::delta_r`] (`ChainKind::Exact`).
-    ///
-    /// # Errors
-    /// [`E2eError::NonFinite`] naming the component of a non-finite $\chi$.
-    pub fn delta_r_reference(
-        &self,
-        chi_rad: &[f64; CHI_LEN],
-    ) -> Result<Vec<Matrix3<f64>>, E2eError> {
-        check_chi(chi_rad)?;
-        let errors = TurntableErrors::from_rad(*chi_rad, 0.0).map_err(|e| E2eError::NonFinite {
-            field: format!("chi ({e})"),
-            value: f64::NAN,
-        })?;
-        Ok(self
-            .poses
+    /// Every output's accuracy $\omega_{m,k}$ (output unit).
+    #[must_use]
+    pub fn accuracies(&self) -> Vec<f64> {
+        self.calibration
+            .outputs()
             .iter()
-            .map(|p| delta_r(p, &errors, ChainKind::Exact))
-            .collect())
-    }
-
-    /// $\Delta\mathbf R_i$ of every position by the factored exact chain of the
-    /// [type documentation](Self) (two products per position; equal to
-    /// [`delta_r_reference`](Self::delta_r_reference) to rounding).
-    #[must_use]
-    pub fn delta_r_fast(&self, chi_rad: &[f64; CHI_LEN]) -> Vec<Matrix3<f64>> {
-        let (u, v) = chain_factors(chi_rad);
-        self.rz
-            .iter()
-            .map(|rz| rz.transpose() * u * rz * v)
+            .map(|o| o.output().accuracy)
             .collect()
     }
 
-    /// One calibration run through calib-lsq's analysis (eq 7-14) with the exact chain: the
-    /// reference path, with every intermediate result.
+    /// Scratch space for [`EndToEnd::delta_omega_into`].
+    #[must_use]
+    pub fn work(&self) -> DrawWork {
+        DrawWork {
+            segments: vec![Matrix3::identity(); self.turntable.n_segments()],
+            actual: Vec::with_capacity(self.len()),
+            error: vec![0.0; self.len()],
+            work: ErrorWork::default(),
+            delta_omega: vec![0.0; self.n_outputs()],
+        }
+    }
+
+    pub(crate) fn check_chi(&self, chi_rad: &[f64]) -> Result<(), E2eError> {
+        if chi_rad.len() != self.n_errors() {
+            return Err(E2eError::Kinematics(tt_kinematics::KinematicsError::Length {
+                what: "chi",
+                expected: self.n_errors(),
+                found: chi_rad.len(),
+            }));
+        }
+        for (name, v) in self.turntable.rotation_error_names().iter().zip(chi_rad) {
+            finite(&format!("chi.{name}"), *v)?;
+        }
+        Ok(())
+    }
+
+    /// $\Delta\mathbf R_i$ of every position through the plain matrix chain
+    /// ([`Turntable::delta_r`], exact).
+    ///
+    /// # Errors
+    /// [`E2eError::NonFinite`] naming the error of a non-finite $\chi$; a length error.
+    pub fn delta_r_reference(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
+        self.check_chi(chi_rad)?;
+        let errors = TurntableErrors::new(chi_rad.to_vec(), vec![0.0; self.turntable.n_translation_errors()])?;
+        self.poses
+            .iter()
+            .map(|p| Ok(self.turntable.delta_r(p, &errors, ChainKind::Exact)?))
+            .collect()
+    }
+
+    /// $\Delta\mathbf R_i$ of every position by the segmented chain (equal to
+    /// [`EndToEnd::delta_r_reference`] to rounding).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_r_reference`].
+    pub fn delta_r_fast(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
+        self.check_chi(chi_rad)?;
+        let mut e = vec![Matrix3::identity(); self.turntable.n_segments()];
+        self.turntable.segment_rotations(chi_rad, &mut e)?;
+        Ok(self.frames.iter().map(|f| f.delta_r(&e)).collect())
+    }
+
+    /// One calibration run through calib-lsq's analysis (eq 7-14) with the plain exact chain:
+    /// the reference path, with every intermediate result.
     ///
     /// # Errors
     /// [`E2eError::NonFinite`] for a non-finite $\chi$; [`E2eError::Calib`] if $\mathbf A'$ is
     /// rank deficient (only for readings that need $\hat{\boldsymbol\beta}_2$).
-    pub fn run(&self, chi_rad: &[f64; CHI_LEN]) -> Result<EndToEndRun, E2eError> {
+    pub fn run(&self, chi_rad: &[f64]) -> Result<EndToEndRun, E2eError> {
         let dr = self.delta_r_reference(chi_rad)?;
-        Ok(EndToEndRun {
-            analyses: [
-                self.analyses[0].analyze(&dr)?,
-                self.analyses[1].analyze(&dr)?,
-            ],
-            delta_r: dr,
-        })
+        self.run_with_delta_r(&dr)
     }
 
     /// One calibration run with one given $\Delta\mathbf R$ per position (reference path).
@@ -284,143 +246,88 @@ impl EndToEnd {
     /// As [`OrientationErrorAnalysis::analyze`].
     pub fn run_with_delta_r(&self, delta_r: &[Matrix3<f64>]) -> Result<EndToEndRun, E2eError> {
         Ok(EndToEndRun {
-            analyses: [
-                self.analyses[0].analyze(delta_r)?,
-                self.analyses[1].analyze(delta_r)?,
-            ],
+            analyses: self
+                .analyses
+                .iter()
+                .map(|a| a.analyze(delta_r))
+                .collect::<Result<Vec<_>, _>>()?,
             delta_r: delta_r.to_vec(),
         })
     }
 
-    /// The error vectors $\Delta\hat{\boldsymbol\omega}$ of the $x$ and $y$ axes (rad/s, one
-    /// entry per position) for turntable errors $\chi$ (exact chain).
+    /// $\Delta\omega_k$ of every output (output unit) for turntable errors $\chi$, by the fast
+    /// path, into `work.delta_omega`: no allocation once `work` is sized.
     ///
     /// # Errors
-    /// [`E2eError::NonFinite`] for a non-finite $\chi$; [`E2eError::Calib`] as
-    /// [`run`](Self::run) for readings without the fast path.
-    pub fn error_vectors(&self, chi_rad: &[f64; CHI_LEN]) -> Result<[DVector<f64>; 2], E2eError> {
-        check_chi(chi_rad)?;
-        let dr = self.delta_r_fast(chi_rad);
-        if self.has_fast_path() {
-            Ok(self.fast_errors(&dr))
-        } else {
-            let run = self.run_with_delta_r(&dr)?;
-            let [x, y] = run.analyses;
-            Ok([x.error_vector, y.error_vector])
+    /// [`E2eError::NonFinite`] or a length error for a bad $\chi$; [`E2eError::Calib`] when a
+    /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
+    pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
+        self.check_chi(chi_rad)?;
+        self.turntable.segment_rotations(chi_rad, &mut work.segments)?;
+        work.actual.clear();
+        for (f, [a, w]) in self.frames.iter().zip(&self.pre) {
+            let a = f.delta_r_transpose_times_pre(&work.segments, a);
+            let w = f.delta_r_transpose_times_pre(&work.segments, w);
+            work.actual.push(InputValues::new(&a, &w));
         }
+        for (k, o) in self.calibration.outputs().iter().enumerate() {
+            o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
+            work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+        }
+        Ok(())
     }
 
-    /// $(\Delta\omega_x, \Delta\omega_y)$ (eq 14, rad/s) for turntable errors $\chi$ (exact
-    /// chain): the end-to-end answer for one turntable.
+    /// $\Delta\omega_k$ of every output (output unit) for turntable errors $\chi$ (fast path,
+    /// allocating its scratch space: use [`EndToEnd::delta_omega_into`] in loops).
     ///
     /// # Errors
-    /// As [`error_vectors`](Self::error_vectors).
-    pub fn delta_omega(&self, chi_rad: &[f64; CHI_LEN]) -> Result<[f64; 2], E2eError> {
-        let [x, y] = self.error_vectors(chi_rad)?;
-        Ok([x.amax(), y.amax()])
+    /// As [`EndToEnd::delta_omega_into`].
+    pub fn delta_omega(&self, chi_rad: &[f64]) -> Result<Vec<f64>, E2eError> {
+        let mut w = self.work();
+        self.delta_omega_into(chi_rad, &mut w)?;
+        Ok(w.delta_omega)
     }
 
-    /// $(\Delta\omega_x, \Delta\omega_y)$ (rad/s) for one given $\Delta\mathbf R$ per position,
-    /// through the fast path when the reading has one (otherwise calib-lsq's analysis).
+    /// The error vectors $\Delta\hat{\boldsymbol\omega}$ of every output (output unit, one entry
+    /// per position) for turntable errors $\chi$ (fast path).
     ///
     /// # Errors
-    /// [`E2eError::Calib`] unless there is one matrix per position, or as
-    /// [`run`](Self::run).
-    pub fn delta_omega_for_delta_r(&self, delta_r: &[Matrix3<f64>]) -> Result<[f64; 2], E2eError> {
-        if delta_r.len() != self.len() {
-            return Err(calib_lsq::CalibError::LengthMismatch {
-                what: "delta_r",
-                expected: self.len(),
-                found: delta_r.len(),
-            }
-            .into());
-        }
-        if self.has_fast_path() {
-            let [x, y] = self.fast_errors(delta_r);
-            Ok([x.amax(), y.amax()])
-        } else {
-            Ok(self.run_with_delta_r(delta_r)?.delta_omega_rad_per_s())
-        }
-    }
-
-    /// The fast path for readings with $\hat{\boldsymbol\beta}_1$: the outputs and rates of
-    /// every position, then $\hat{\boldsymbol\beta}_1 = \mathbf A^+(\mathbf b_1 - \mathbf b_2)$
-    /// with the precomputed pseudo-inverse, then the reading's error vector.
-    pub(crate) fn fast_errors(&self, dr: &[Matrix3<f64>]) -> [DVector<f64>; 2] {
-        let n = self.len();
-        let actual: Vec<(Vector3<f64>, Vector3<f64>)> = self
-            .nominal
+    /// As [`EndToEnd::delta_omega_into`].
+    pub fn error_vectors(&self, chi_rad: &[f64]) -> Result<Vec<Vec<f64>>, E2eError> {
+        let mut w = self.work();
+        self.delta_omega_into(chi_rad, &mut w)?;
+        self.calibration
+            .outputs()
             .iter()
-            .zip(dr)
-            .map(|(inp, d)| {
-                let t = d.transpose();
-                (t * inp.specific_force_g, t * inp.rate_rad_per_s)
+            .map(|o| {
+                let mut out = vec![0.0; self.len()];
+                o.error_vector_at(self.reading, &w.actual, &mut w.work, &mut out)?;
+                Ok(out)
             })
-            .collect();
-        let mut out = [DVector::zeros(n), DVector::zeros(n)];
-        for (k, axis) in AXES.into_iter().enumerate() {
-            let ad = &self.axes[k];
-            let b2p = DVector::from_iterator(n, actual.iter().map(|(_, w)| axis.rate_component(w)));
-            let b1 = match self.reading.outputs {
-                OutputsAt::Actual => DVector::from_iterator(
-                    n,
-                    actual
-                        .iter()
-                        .zip(b2p.iter())
-                        .map(|((a, _), w)| w + ad.coefficients.drift_rad_per_s(a)),
-                ),
-                OutputsAt::Intended => &ad.a_beta + &ad.b2,
-            };
-            let beta_1 = &ad.pinv * (&b1 - &ad.b2);
-            let a_prime_beta = || {
-                DVector::from_iterator(
-                    n,
-                    actual.iter().map(|(a, _)| {
-                        regressors(axis, a)
-                            .iter()
-                            .zip(beta_1.iter())
-                            .map(|(r, b)| r * b)
-                            .sum::<f64>()
-                    }),
-                )
-            };
-            out[k] = match self.reading.form {
-                ErrorForm::Printed => &b1 - &ad.a * &beta_1 - &b2p,
-                ErrorForm::NominalRate => &b1 - &ad.a * &beta_1 - &ad.b2,
-                ErrorForm::ActualRegressors => &b1 - a_prime_beta() - &b2p,
-                ErrorForm::ActualRegressorsNominalRate => &b1 - a_prime_beta() - &ad.b2,
-                ErrorForm::DeltaBeta => unreachable!("no fast path for DeltaBeta"),
-            };
-        }
-        out
+            .collect()
     }
-}
 
-/// The outer and inner factors $(\mathbf U, \mathbf V)$ of the exact chain (see
-/// [`EndToEnd`]), built with the same elementary rotations as [`tt_kinematics::exact_factors`].
-#[must_use]
-pub fn chain_factors(chi_rad: &[f64; CHI_LEN]) -> (Matrix3<f64>, Matrix3<f64>) {
-    use ErrorComponent as C;
-    let c = |k: C| chi_rad[k.index()];
-    let u = rot(Axis::Y, c(C::DphiY1))
-        * rot(Axis::Z, c(C::DalphaZ1))
-        * rot(Axis::X, c(C::DalphaX1))
-        * rot(Axis::Y, c(C::DepsY))
-        * rot(Axis::X, c(C::DepsX));
-    let v =
-        rot(Axis::Y, c(C::DalphaY2)) * rot(Axis::Z, c(C::DphiZ2)) * rot(Axis::X, c(C::DalphaX2));
-    (u, v)
-}
-
-pub(crate) fn check_chi(chi_rad: &[f64; CHI_LEN]) -> Result<(), E2eError> {
-    for c in ErrorComponent::ALL {
-        crate::error::finite(&format!("chi.{}", c.name()), chi_rad[c.index()])?;
+    /// The estimated coefficients minus their true values, every estimated coefficient in
+    /// study order, when the same errors $\chi$ act at every position, outputs are simulated at
+    /// the actual orientation and calibrated at the intended one (eq 6, the user's estimate):
+    /// what a calibrating engineer's coefficients are off by.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_r_fast`] and [`Calibration::calibrate_simulated`].
+    pub fn coefficient_errors(&self, chi_rad: &[f64]) -> Result<Vec<f64>, E2eError> {
+        let dr = self.delta_r_fast(chi_rad)?;
+        let results = self.calibration.calibrate_simulated(&dr)?;
+        Ok(results
+            .iter()
+            .zip(self.calibration.outputs())
+            .flat_map(|(r, o)| {
+                r.solution
+                    .beta
+                    .iter()
+                    .zip(o.beta().iter())
+                    .map(|(est, truth)| est - truth)
+                    .collect::<Vec<_>>()
+            })
+            .collect())
     }
-    Ok(())
-}
-
-fn row_sum_norm(m: &DMatrix<f64>) -> f64 {
-    m.row_iter()
-        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
 }

@@ -1,27 +1,30 @@
-//! `cargo xtask mc [--samples N] [--seed S] [--threads T] [--bounds table4|ours] [--json]`:
-//! the paper's Monte Carlo check of an allocation (§4.3, Figure 9), fast and reproducible.
+//! `cargo xtask mc [--study FILE] [--samples N] [--seed S] [--threads T]
+//! [--bounds two-step|table4] [--tolerances FILE] [--json] [--baselines]`: the Monte Carlo check
+//! of a tolerance box (paper §4.3, Figure 9) for the study's turntable, fast and reproducible.
 //!
-//! Draws `N` random turntables (|chi_i| uniform in [LB_i, UB_i], fair random signs, pose
-//! uniform in [0, 2 pi)^2; see `mc_verify::sampler`), evaluates the exact chain with the eq-24
-//! read-out and reports the extremes (with their worst samples), mean, standard deviation,
-//! histograms and the fraction inside the requirement (eq 16, 0.027 deg by default).
+//! Draws `N` random turntables (|chi_i| uniform in [LB_i, UB_i], fair random signs, poses
+//! uniform over the joint ranges; see `mc_verify::sampler`), evaluates the exact chain with the
+//! eq-24 read-out and reports the extremes (with their worst samples), mean, standard deviation,
+//! histograms and the fraction inside the study's orientation requirement.
 //!
-//! Bounds: `table4` is the paper's Table 4 (`alloc_opt::PAPER_TABLE4_ARCMIN`, LB = 0), `ours`
-//! the paper's method solved to the optimum by `alloc_opt::SensitivityWeighted` on the paper's
-//! example (LB = 0).
+//! Boxes: `two-step` (default) is the study's two-step allocation (alloc-opt against the
+//! study's requirement and lower bounds); `table4` the paper's Table 4 (the paper's table only);
+//! `--tolerances FILE` a vendor's tolerances. Defaults for `--samples` and `--seed` are the
+//! study's `monte_carlo` values.
 //!
 //! `--json` prints one object with at least `samples`, `seed`, `threads`, `seconds`,
 //! `samples_per_sec`, `max_abs_deg {psi, theta, gamma}` and `within_requirement_fraction`,
-//! plus the bounds, mean, std, worst samples, histograms and the SIMD level chosen at run
-//! time. `--baselines` also measures, in the same run, the generator alone (the same random
-//! turntables drawn and decoded, and its raw words only) and the portable SIMD level, in
-//! three interleaved rounds with the fast path on the same samples (best of each), the plain
-//! dense-matrix chain on the same samples, and runs the NumPy baseline
-//! (`../shared/bench/numpy_mc_anchor.py`, 2e6 samples) if present, and reports the
-//! throughput ratios. The result does not depend on `--threads` (nor on the SIMD level).
+//! plus the bounds, mean, std, worst samples, histograms, the certificate's worst case and the
+//! SIMD level chosen at run time. `--baselines` also measures, in the same run, the generator
+//! alone (the same random turntables drawn and decoded, and its raw words only) and the
+//! portable SIMD level, in three interleaved rounds with the fast path on the same samples
+//! (best of each), the plain dense-matrix chain on the same samples, and runs the NumPy
+//! baseline (`shared/bench/numpy_mc_anchor.py` beside the workspace, if present), and reports
+//! the throughput ratios. The result does not depend on `--threads` (nor on the SIMD level).
 
 use crate::InputError;
-use crate::study::Study;
+use crate::study as st;
+use alloc_opt::{AllocationProblem, Allocator, SensitivityWeighted};
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -30,59 +33,50 @@ use serde_json::{Value, json};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
+use study::Study;
+use study::fmt::num;
 use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
-use tt_kinematics::{ErrorComponent, ExactChain, OrientationAxis};
+use tt_kinematics::{ExactChain, LinearModel, OrientationAxis};
 
 /// Which tolerance box to verify.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum BoundsChoice {
-    /// The paper's Table 4 (LB = 0).
+    /// The study's two-step allocation (the paper's method solved to the optimum).
+    TwoStep,
+    /// The paper's Table 4 (the paper's table only).
     Table4,
-    /// Our allocation: the paper's method (31)-(34) solved to the optimum (alloc-opt), LB = 0.
-    Ours,
-}
-
-impl BoundsChoice {
-    fn name(self) -> &'static str {
-        match self {
-            BoundsChoice::Table4 => "table4",
-            BoundsChoice::Ours => "ours",
-        }
-    }
 }
 
 /// Arguments of `mc`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`): lower bounds, requirement and the
-    /// allocation problem behind `--bounds ours`.
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
-    pub study: Option<std::path::PathBuf>,
-    /// Number of random turntables (accepts `1e9`, `1000000`, `1_000_000`).
-    #[arg(long, default_value = "1e7", value_parser = parse_samples)]
-    pub samples: u64,
-    /// Seed of the random streams (printed in every report).
-    #[arg(long, default_value_t = 2017)]
-    pub seed: u64,
+    pub study: Option<PathBuf>,
+    /// Number of random turntables (default: the study's `monte_carlo.samples`; accepts
+    /// `1e9`, `1000000`, `1_000_000`).
+    #[arg(long, value_parser = crate::args::samples)]
+    pub samples: Option<u64>,
+    /// Seed of the random streams (default: the study's `monte_carlo.seed`).
+    #[arg(long, value_parser = crate::args::seed)]
+    pub seed: Option<u64>,
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
     /// Tolerance box to verify.
-    #[arg(long, value_enum, default_value_t = BoundsChoice::Table4)]
+    #[arg(long, value_enum, default_value_t = BoundsChoice::TwoStep, conflicts_with = "tolerances")]
     pub bounds: BoundsChoice,
-    /// Requirement |angle| <= I for all three angles, degrees (default: the study's, eq 16:
-    /// 0.027).
-    #[arg(long, allow_negative_numbers = true)]
-    pub requirement_deg: Option<f64>,
+    /// A vendor's tolerance file instead of `--bounds`.
+    #[arg(long)]
+    pub tolerances: Option<PathBuf>,
     /// Samples per random stream (part of the reproducibility contract).
-    #[arg(long, default_value_t = mc_verify::DEFAULT_CHUNK_SIZE)]
+    #[arg(long, default_value_t = mc_verify::DEFAULT_CHUNK_SIZE, value_parser = clap::value_parser!(u32).range(1..))]
     pub chunk_size: u32,
-    /// Histogram bins per angle.
-    #[arg(long, default_value_t = mc_verify::DEFAULT_HISTOGRAM_BINS)]
+    /// Histogram bins per angle (1 to 10,000).
+    #[arg(long, default_value_t = mc_verify::DEFAULT_HISTOGRAM_BINS, value_parser = parse_bins)]
     pub bins: usize,
-    /// Also measure the generator alone (decoded and raw words), the portable SIMD level, the
-    /// plain dense-matrix chain and the NumPy baseline,
-    /// and report the throughput ratios.
+    /// Also measure the generator alone (decoded and raw words), the portable SIMD level,
+    /// the plain dense-matrix chain and the NumPy baseline, and report the throughput ratios.
     #[arg(long)]
     pub baselines: bool,
     /// Print JSON instead of text.
@@ -90,123 +84,111 @@ pub struct Args {
     pub json: bool,
 }
 
-fn parse_samples(s: &str) -> Result<u64, String> {
-    let t = s.replace('_', "");
-    let v: f64 = t
-        .parse()
-        .map_err(|_| format!("`{s}` is not a number of samples"))?;
-    if !(v.is_finite() && (1.0..=1e18).contains(&v)) || v.fract() > 0.0 {
-        return Err(format!("`{s}`: samples must be a whole number in 1..=1e18"));
-    }
-    Ok(v as u64)
+fn parse_bins(s: &str) -> Result<usize, String> {
+    crate::args::count(s, mc_verify::MAX_HISTOGRAM_BINS as u64).map(|v| v as usize)
 }
 
-/// The tolerance box for a choice: Table 4 (with the study's lower bounds), or our
-/// allocation for the study's requirement and lower bounds.
-pub fn bounds(choice: BoundsChoice, study: &Study) -> Result<ErrorBox> {
-    let lb = study.lower_bounds_rad;
-    match choice {
-        BoundsChoice::Table4 => Ok(ErrorBox::new(lb, alloc_opt::paper_table4_rad())
-            .map_err(|e| InputError::new("allocation.lower_bounds_arcmin", e.to_string()))?),
-        BoundsChoice::Ours => {
-            use alloc_opt::Allocator;
-            let [psi, theta, gamma] = study.requirement_rad;
-            let problem = alloc_opt::AllocationProblem::new(
-                tt_kinematics::LinearModel::paper_eq26(),
-                alloc_opt::Requirement::new(psi, theta, gamma)?,
-                lb,
-            )?;
-            let a = alloc_opt::SensitivityWeighted::paper().allocate(&problem)?;
-            Ok(ErrorBox::new(a.lower_bounds_rad, a.upper_bounds_rad)?)
+/// The box and its name for the arguments.
+///
+/// # Errors
+/// An [`InputError`] naming the flag or key.
+pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
+    let lb = s.lower_bounds_rad.clone();
+    let boxed = |ub: Vec<f64>, what: &str| -> Result<ErrorBox> {
+        ErrorBox::new(&s.turntable, lb.clone(), ub)
+            .map_err(|e| InputError::new(what, format!("{e} (lower bounds from the study's allocation.lower_bounds_arcmin)")).into())
+    };
+    if let Some(path) = &args.tolerances {
+        let tol = study::Tolerances::load(path, &s.turntable)?;
+        return Ok((format!("tolerances {}", tol.path), boxed(tol.ub_rad, &tol.path)?));
+    }
+    match args.bounds {
+        BoundsChoice::Table4 => {
+            if s.turntable != tt_kinematics::paper::table3() {
+                return Err(InputError::new("--bounds", "table4 is the paper's Table 4: it applies only to the paper's turntable").into());
+            }
+            Ok(("table4".into(), boxed(alloc_opt::paper::table4_rad(), "--bounds table4")?))
+        }
+        BoundsChoice::TwoStep => {
+            let req = st::requirement(s)?;
+            let r = req.used.ok_or_else(|| {
+                InputError::new(
+                    "--bounds two-step",
+                    "the study has no orientation requirement (no output constrains a constant orientation error): give --tolerances, or use end-to-end",
+                )
+            })?;
+            let a = SensitivityWeighted::general()
+                .allocate(&AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone()).map_err(|e| InputError::new("key `allocation.lower_bounds_arcmin`", e.to_string()))?)
+                .map_err(|e| InputError::new("--bounds two-step", e.to_string()))?;
+            let ub: Vec<f64> = a.upper_bounds_rad.iter().zip(&lb).map(|(u, l)| if u.is_finite() { *u } else { *l }).collect();
+            Ok(("two-step".into(), boxed(ub, "--bounds two-step")?))
         }
     }
 }
 
 /// Build the run from the arguments; user-input problems are [`InputError`]s naming the flag.
-pub fn monte_carlo(args: &Args) -> Result<MonteCarlo> {
-    let study = Study::load_or_paper(args.study.as_deref())?;
-    let mut cfg = McConfig::new(args.samples, args.seed);
-    cfg = match args.requirement_deg {
-        Some(d) => cfg.with_requirement_deg(d, d, d),
-        None => McConfig {
-            requirement_rad: study.requirement_rad,
-            ..cfg
-        },
-    };
+///
+/// # Errors
+/// As [`bounds`]; an [`InputError`] naming the flag for a bad configuration.
+pub fn monte_carlo(args: &Args, s: &Study) -> Result<(String, MonteCarlo)> {
+    let req = st::requirement(s)?;
+    let requirement = req.used.map_or([None; 3], |r| r.to_array());
+    let mut cfg = McConfig::new(
+        args.samples.unwrap_or(s.monte_carlo.samples),
+        args.seed.unwrap_or(s.monte_carlo.seed),
+        requirement,
+    );
     cfg.chunk_size = args.chunk_size;
     cfg.histogram_bins = args.bins;
-    let b = bounds(args.bounds, &study)?;
-    MonteCarlo::new(b, cfg).map_err(|e| {
-        use mc_verify::McError as E;
-        let flag = match e {
-            E::ZeroSamples => "--samples",
-            E::ZeroChunkSize => "--chunk-size",
-            E::HistogramBins { .. } => "--bins",
-            E::Requirement { .. } => "--requirement-deg",
-            _ => "--bounds",
-        };
-        InputError::new(flag, e.to_string()).into()
-    })
+    let (name, b) = bounds(args, s)?;
+    let mc = MonteCarlo::new(&s.turntable, b, cfg).map_err(|e| InputError::new("mc", e.to_string()))?;
+    Ok((name, mc))
 }
 
-fn axis_json<T>(f: impl Fn(OrientationAxis) -> T) -> Value
-where
-    T: Into<Value>,
-{
-    let mut m = serde_json::Map::new();
-    for a in OrientationAxis::ALL {
-        m.insert(a.name().to_string(), f(a).into());
-    }
-    Value::Object(m)
+fn axis_json<T: Into<Value>>(f: impl Fn(OrientationAxis) -> T) -> Value {
+    Value::Object(OrientationAxis::ALL.iter().map(|&a| (a.name().to_string(), f(a).into())).collect())
 }
 
-fn chi_json(chi_rad: &[f64; 8]) -> Value {
-    let mut m = serde_json::Map::new();
-    for c in ErrorComponent::ALL {
-        m.insert(
-            format!("{}_arcmin", c.name()),
-            rad_to_arcmin(chi_rad[c.index()]).into(),
-        );
-    }
-    Value::Object(m)
+fn errors_json(names: &[&str], rad: &[f64]) -> Value {
+    Value::Object(names.iter().zip(rad).map(|(n, v)| (format!("{n}_arcmin"), json!(rad_to_arcmin(*v)))).collect())
 }
 
 /// The JSON report of a run.
-pub fn report_json(
-    args: &Args,
-    mc: &MonteCarlo,
-    r: &McResult,
-    threads: usize,
-    seconds: f64,
-) -> Value {
+#[must_use]
+pub fn report_json(s: &Study, name: &str, mc: &MonteCarlo, r: &McResult, threads: usize, seconds: f64) -> Value {
     let std = r.std_rad();
+    let names = s.turntable.rotation_error_names();
+    let joints = s.turntable.joint_names();
+    let linear = LinearModel::new(&s.turntable);
     json!({
+        "study": s.path,
         "samples": r.samples,
         "seed": r.seed,
         "threads": threads,
         "seconds": seconds,
         "samples_per_sec": r.samples as f64 / seconds,
-        "bounds": args.bounds.name(),
+        "bounds": name,
         "chunk_size": r.chunk_size,
-        "evaluator": "exact chain, eq-24 read-out (fast quaternion path)",
+        "evaluator": "exact chain, eq-24 read-out (fast quaternion plan)",
         "simd_level": SimdLevel::detected().name(),
-        "lb_arcmin": chi_json(&mc.bounds().lb_rad()),
-        "ub_arcmin": chi_json(&mc.bounds().ub_rad()),
-        "requirement_deg": axis_json(|a| rad_to_deg(r.requirement_rad[a.index()])),
+        "lb_arcmin": errors_json(&names, mc.bounds().lb_rad()),
+        "ub_arcmin": errors_json(&names, mc.bounds().ub_rad()),
+        "requirement_deg": axis_json(|a| r.requirement_rad[a.index()].map(rad_to_deg)),
         "max_abs_deg": axis_json(|a| rad_to_deg(r.axis(a).max_abs_rad)),
+        "linear_worst_case_deg": axis_json(|a| linear
+            .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
+            .map_or(Value::Null, |w| json!(rad_to_deg(w.upper_bound)))),
         "mean_deg": axis_json(|a| rad_to_deg(r.axis(a).mean_rad)),
         "std_deg": axis_json(|a| rad_to_deg(std[a.index()])),
         "within_requirement_fraction": r.within_requirement_fraction(),
-        "within_requirement_fraction_per_axis":
-            axis_json(|a| r.axis(a).within_requirement as f64 / r.samples as f64),
+        "within_requirement_fraction_per_axis": axis_json(|a| r.axis(a).within_requirement as f64 / r.samples as f64),
         "worst": axis_json(|a| {
             let w = &r.axis(a).worst;
             json!({
                 "index": w.index,
                 "value_deg": rad_to_deg(w.value_rad),
-                "phi1_deg": rad_to_deg(w.pose.phi1_rad),
-                "phi2_deg": rad_to_deg(w.pose.phi2_rad),
-                "chi": chi_json(&w.chi_rad),
+                "pose_deg": joints.iter().zip(w.pose.angles_rad()).map(|(j, v)| (format!("{j}_deg"), json!(rad_to_deg(*v)))).collect::<serde_json::Map<_, _>>(),
+                "chi": errors_json(&names, &w.chi_rad),
             })
         }),
         "histogram_deg": axis_json(|a| {
@@ -227,36 +209,29 @@ fn progress_bar(samples: u64) -> Option<ProgressBar> {
         return None;
     }
     let pb = ProgressBar::with_draw_target(Some(samples), ProgressDrawTarget::stderr());
-    if let Ok(style) =
-        ProgressStyle::with_template("{bar:40} {human_pos}/{human_len} samples, eta {eta}")
-    {
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {human_pos}/{human_len} samples, eta {eta}") {
         pb.set_style(style);
     }
     Some(pb)
 }
 
-/// The NumPy baseline script: `../shared/bench/numpy_mc_anchor.py` beside the repository.
-fn numpy_script() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/bench/numpy_mc_anchor.py")
+/// The NumPy baseline script: `shared/bench/numpy_mc_anchor.py` beside the workspace root
+/// (found at run time), if present.
+fn numpy_script() -> Option<PathBuf> {
+    let root = crate::paths::workspace_root().ok()?;
+    let script = root.parent()?.join("shared/bench/numpy_mc_anchor.py");
+    script.is_file().then_some(script)
 }
 
 /// Samples of the NumPy baseline run (its own default scale: 2e6).
 const NUMPY_SAMPLES: &str = "2e6";
 
 fn run_numpy(seed: u64) -> Value {
-    let script = numpy_script();
-    if !script.exists() {
-        return json!({"error": format!("{} not found", script.display())});
-    }
-    match std::process::Command::new("python3")
-        .arg(&script)
-        .arg(NUMPY_SAMPLES)
-        .arg(seed.to_string())
-        .output()
-    {
-        Ok(out) if out.status.success() => {
-            serde_json::from_slice(&out.stdout).unwrap_or_else(|e| json!({"error": e.to_string()}))
-        }
+    let Some(script) = numpy_script() else {
+        return json!({"error": "shared/bench/numpy_mc_anchor.py not found beside the workspace"});
+    };
+    match std::process::Command::new("python3").arg(&script).arg(NUMPY_SAMPLES).arg(seed.to_string()).output() {
+        Ok(out) if out.status.success() => serde_json::from_slice(&out.stdout).unwrap_or_else(|e| json!({"error": e.to_string()})),
         Ok(out) => json!({"error": String::from_utf8_lossy(&out.stderr).to_string()}),
         Err(e) => json!({"error": e.to_string()}),
     }
@@ -276,7 +251,7 @@ const RATIO_SAMPLES: u64 = 200_000_000;
 /// turn on the same samples (the first [`RATIO_SAMPLES`]), and the best rate of each over
 /// the rounds. The plain chain and NumPy (far from their limits) are timed once and compared
 /// with the main run (`fast_rate`).
-fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Result<Value> {
+fn baselines(s: &Study, mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Result<Value> {
     let samples = mc.config().samples;
     let rate_of = |f: &(dyn Fn() -> u64 + Sync)| {
         let t = Instant::now();
@@ -285,40 +260,34 @@ fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Resul
     };
     let mut cfg = *mc.config();
     cfg.samples = samples.min(RATIO_SAMPLES);
-    let sub = MonteCarlo::new(*mc.bounds(), cfg)?;
+    let sub = MonteCarlo::new(&s.turntable, mc.bounds().clone(), cfg)?;
     let mut rounds = Vec::with_capacity(RATIO_ROUNDS);
     for _ in 0..RATIO_ROUNDS {
         rounds.push([
             rate_of(&|| sub.run().samples),
             rate_of(&|| sub.draw_only()),
             rate_of(&|| sub.draw_words_only()),
-            rate_of(&|| {
-                sub.run_with_simd(SimdLevel::Portable)
-                    .map_or(0, |r| r.samples)
-            }),
+            rate_of(&|| sub.run_with_simd(SimdLevel::Portable).map_or(0, |r| r.samples)),
         ]);
     }
     let best = |i: usize| rounds.iter().map(|r| r[i]).fold(0.0, f64::max);
     let (fast_best, gen_rate, words_rate, portable_rate) = (best(0), best(1), best(2), best(3));
     // the plain chain is ~10x slower: run it on at most 2e7 of the same samples
     cfg.samples = samples.min(20_000_000);
-    let plain_mc = MonteCarlo::new(*mc.bounds(), cfg)?;
+    let plain_mc = MonteCarlo::new(&s.turntable, mc.bounds().clone(), cfg)?;
     let t = Instant::now();
-    let plain = pool.install(|| plain_mc.run_model(&ExactChain::default()))?;
+    let plain = pool.install(|| plain_mc.run_model(&ExactChain::new(&s.turntable)))?;
     let plain_rate = plain.samples as f64 / t.elapsed().as_secs_f64();
-    let numpy = run_numpy(mc.config().seed);
+    let numpy = if s.turntable == tt_kinematics::paper::table3() { run_numpy(mc.config().seed) } else { json!({"error": "the NumPy baseline models the paper's table only"}) };
     let numpy_rate = numpy.get("samples_per_sec").and_then(Value::as_f64);
     Ok(json!({
         "interleaved_samples": sub.config().samples,
-        "interleaved_rounds": rounds
-            .iter()
-            .map(|r| json!({
-                "fast": r[0],
-                "generator_alone": r[1],
-                "generator_words_only": r[2],
-                "portable_simd": r[3],
-            }))
-            .collect::<Vec<_>>(),
+        "interleaved_rounds": rounds.iter().map(|r| json!({
+            "fast": r[0],
+            "generator_alone": r[1],
+            "generator_words_only": r[2],
+            "portable_simd": r[3],
+        })).collect::<Vec<_>>(),
         "fast_best_samples_per_sec": fast_best,
         "generator_alone_samples_per_sec": gen_rate,
         "generator_words_only_samples_per_sec": words_rate,
@@ -336,16 +305,16 @@ fn baselines(mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Resul
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let mc = monte_carlo(args)?;
+    let s = st::load(args.study.as_deref())?;
+    let note = st::requirement(&s)?.disagreement;
+    let (name, mc) = monte_carlo(args, &s)?;
     let threads = match args.threads {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, usize::from),
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("building the thread pool")?;
-    let pb = progress_bar(args.samples);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().context("building the thread pool")?;
+    let samples = mc.config().samples;
+    let pb = progress_bar(samples);
     let t = Instant::now();
     let r = pool.install(|| {
         mc.run_with_progress(&|done| {
@@ -358,46 +327,50 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(pb) = pb {
         pb.finish_and_clear();
     }
-    let mut report = report_json(args, &mc, &r, threads, seconds);
+    let mut report = report_json(&s, &name, &mc, &r, threads, seconds);
+    report["requirement_note"] = json!(note);
     if args.baselines {
-        report["baselines"] = baselines(&mc, &pool, r.samples as f64 / seconds)?;
+        report["baselines"] = baselines(&s, &mc, &pool, r.samples as f64 / seconds)?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-        return Ok(());
+        return crate::out::print(&(serde_json::to_string_pretty(&report)? + "\n"));
     }
-    println!(
-        "{} samples, seed {}, {} threads ({}), bounds {}: {:.3} s, {:.4e} samples/s",
+    let mut t = format!(
+        "{} samples, seed {}, {} threads ({}), bounds {}, study {}: {:.3} s, {} samples/s\n",
         r.samples,
         r.seed,
         threads,
         SimdLevel::detected().name(),
-        args.bounds.name(),
+        name,
+        s.path,
         seconds,
-        r.samples as f64 / seconds
+        num(r.samples as f64 / seconds)
     );
     let std = r.std_rad();
     for a in &r.axes {
         let k = a.axis.index();
-        println!(
-            "{:>6}: max |.| {:.6} deg (requirement {:.4}), mean {:+.3e} deg, std {:.6} deg, worst sample #{} (phi2 {:.2} deg)",
+        t.push_str(&format!(
+            "{:>6}: max |.| {} deg (requirement {}), mean {} deg, std {} deg, worst sample #{}\n",
             a.axis.name(),
-            rad_to_deg(a.max_abs_rad),
-            rad_to_deg(r.requirement_rad[k]),
-            rad_to_deg(a.mean_rad),
-            rad_to_deg(std[k]),
+            num(rad_to_deg(a.max_abs_rad)),
+            r.requirement_rad[k].map_or("none".into(), |v| num(rad_to_deg(v))),
+            num(rad_to_deg(a.mean_rad)),
+            num(rad_to_deg(std[k])),
             a.worst.index,
-            rad_to_deg(a.worst.pose.phi2_rad),
-        );
+        ));
     }
-    println!(
-        "inside the requirement (all three angles): {} of {} = {:.9}",
+    t.push_str(&format!(
+        "inside the requirement (all three angles): {} of {} = {}\n",
         r.within_requirement_all,
         r.samples,
-        r.within_requirement_fraction()
-    );
-    if let Some(b) = report.get("baselines") {
-        println!("baselines: {}", serde_json::to_string_pretty(b)?);
+        study::fmt::sig(r.within_requirement_fraction(), 9)
+    ));
+    if let Some(n) = note {
+        t.push_str(&n);
+        t.push('\n');
     }
-    Ok(())
+    if let Some(b) = report.get("baselines") {
+        t.push_str(&format!("baselines: {}\n", serde_json::to_string_pretty(b)?));
+    }
+    crate::out::print(&t)
 }

@@ -1,36 +1,23 @@
-//! `cargo xtask orientation-error`: evaluate turntables given as CSV rows.
+//! `cargo xtask orientation-error [--study FILE] [--model exact|small-angle|linear|closed-form]
+//! [CSV]`: the orientation error (eq 24-26) of turntables given as CSV rows.
 //!
-//! Input columns (header required, in this order):
-//! `phi1_deg,phi2_deg,dphi_y1_arcmin,dphi_z2_arcmin,dalpha_x1_arcmin,dalpha_z1_arcmin,
-//! dalpha_x2_arcmin,dalpha_y2_arcmin,deps_x_arcmin,deps_y_arcmin,deta_mm`.
-//! Output: `dpsi_arcmin,dtheta_arcmin,dgamma_arcmin`, one row per input row, printed with
-//! Rust's shortest round-trip formatting (full precision). Blank lines are skipped. The whole
-//! input is checked before anything is written, so a bad row leaves standard output empty.
+//! Input: a header naming every joint `<joint>_deg`, every angular error `<error>_arcmin` and
+//! every error translation `<error>_mm` of the study's turntable (default: the paper's), in
+//! any order, all required; one turntable per row. `CSV` is a file, or standard input when
+//! absent or `-`. Output: `dpsi_arcmin,dtheta_arcmin,dgamma_arcmin`, one row per input row,
+//! full precision. The whole input is checked before anything is written, so a bad row leaves
+//! standard output empty; memory does not grow with the input (see [`crate::csvio`]).
 
 use crate::InputError;
-use anyhow::{Context, Result};
+use crate::csvio::Source;
+use anyhow::Result;
 use clap::{Parser, ValueEnum};
-use std::io::{Read, Write};
 use std::path::PathBuf;
-use tt_kinematics::units::{arcmin_to_rad, rad_to_arcmin};
+use tt_kinematics::units::rad_to_arcmin;
 use tt_kinematics::{
-    ClosedForm, ExactChain, OrientationErrorModel, Pose, SmallAngleChain, TurntableErrors,
+    ExactChain, LinearChain, OrientationErrorModel, Pose, SmallAngleChain, TurntableErrors,
+    paper::ClosedForm,
 };
-
-/// The input header, in order.
-pub const INPUT_COLUMNS: [&str; 11] = [
-    "phi1_deg",
-    "phi2_deg",
-    "dphi_y1_arcmin",
-    "dphi_z2_arcmin",
-    "dalpha_x1_arcmin",
-    "dalpha_z1_arcmin",
-    "dalpha_x2_arcmin",
-    "dalpha_y2_arcmin",
-    "deps_x_arcmin",
-    "deps_y_arcmin",
-    "deta_mm",
-];
 
 /// The output header.
 pub const OUTPUT_HEADER: &str = "dpsi_arcmin,dtheta_arcmin,dgamma_arcmin";
@@ -38,115 +25,60 @@ pub const OUTPUT_HEADER: &str = "dpsi_arcmin,dtheta_arcmin,dgamma_arcmin";
 /// Which orientation-error model to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ModelChoice {
-    /// Every error a finite rotation (eq 17-24, Table 3 order).
+    /// Every error a finite rotation, in the order of the study's factors (eq 17-24).
     Exact,
-    /// The printed small-angle matrices of eq 17-19.
+    /// Runs of error rotations as small-angle matrices (the printed eq 17-19 for the paper).
     SmallAngle,
-    /// The closed form of eq 26.
+    /// The first-order model built from the description (eq 26 for the paper's table).
+    Linear,
+    /// The paper's printed eq 26 (the paper's table only).
     ClosedForm,
 }
 
 /// Arguments of `orientation-error`.
 #[derive(Debug, Parser)]
 pub struct Args {
+    /// Study file whose turntable the rows describe (default: the paper's).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
     /// Orientation-error model.
     #[arg(long, value_enum, default_value_t = ModelChoice::Exact)]
     pub model: ModelChoice,
-    /// CSV file to read; standard input when absent.
+    /// CSV file to read; standard input when absent or `-`.
     pub file: Option<PathBuf>,
 }
 
-/// Run the command: read, evaluate, then write everything at once.
+/// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let (name, text) = match &args.file {
-        Some(path) => (
-            path.display().to_string(),
-            std::fs::read_to_string(path)
-                .map_err(|e| InputError::new(path.display().to_string(), e.to_string()))?,
-        ),
-        None => {
-            let mut s = String::new();
-            std::io::stdin()
-                .read_to_string(&mut s)
-                .context("reading standard input")?;
-            ("<stdin>".to_string(), s)
+    let s = crate::study::load(args.study.as_deref())?;
+    let t = &s.turntable;
+    let model: Box<dyn OrientationErrorModel> = match args.model {
+        ModelChoice::Exact => Box::new(ExactChain::new(t)),
+        ModelChoice::SmallAngle => Box::new(SmallAngleChain::new(t)),
+        ModelChoice::Linear => Box::new(LinearChain::new(t)),
+        ModelChoice::ClosedForm => {
+            if *t != tt_kinematics::paper::table3() {
+                return Err(InputError::new("--model", "closed-form is the paper's eq 26 and applies only to the paper's table; use `linear` for any table").into());
+            }
+            Box::new(ClosedForm)
         }
     };
-    let out = evaluate_csv(&name, &text, args.model)?;
-    let mut stdout = std::io::stdout().lock();
-    stdout.write_all(out.as_bytes())?;
-    stdout.flush()?;
-    Ok(())
+    let source = Source::from_arg(args.file.as_deref());
+    let name = source.name();
+    let eval = |line: usize, row: study::csv::TurntableRow| -> Result<[f64; 3], InputError> {
+        let at = || format!("{name}:{line}");
+        let pose = Pose::new(row.pose_rad).map_err(|e| InputError::new(at(), e.to_string()))?;
+        let errors = TurntableErrors::new(row.chi_rad, row.translations_m).map_err(|e| InputError::new(at(), e.to_string()))?;
+        let e = model.orientation_error(&pose, &errors).map_err(|e| InputError::new(at(), e.to_string()))?;
+        let v = e.to_array().map(rad_to_arcmin);
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(InputError::new(at(), "the model gave a non-finite orientation error"));
+        }
+        Ok(v)
+    };
+    crate::csvio::run_rows(&source, t, OUTPUT_HEADER, |line, row| {
+        let v = eval(line, row)?;
+        Ok(format!("{},{},{}", v[0], v[1], v[2]))
+    })
 }
 
-/// Evaluate a whole CSV text; returns the output CSV or the first input error.
-pub fn evaluate_csv(source: &str, text: &str, model: ModelChoice) -> Result<String, InputError> {
-    let model: &dyn OrientationErrorModel = match model {
-        ModelChoice::Exact => &ExactChain::default(),
-        ModelChoice::SmallAngle => &SmallAngleChain,
-        ModelChoice::ClosedForm => &ClosedForm,
-    };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (header_no, header) = lines
-        .next()
-        .ok_or_else(|| InputError::new(source, "empty input: expected a header line"))?;
-    let found: Vec<&str> = header.split(',').map(str::trim).collect();
-    if found != INPUT_COLUMNS {
-        return Err(InputError::new(
-            format!("{source}:{}", header_no + 1),
-            format!(
-                "header must be `{}`, found `{}`",
-                INPUT_COLUMNS.join(","),
-                header.trim()
-            ),
-        ));
-    }
-    let mut out = String::from(OUTPUT_HEADER);
-    out.push('\n');
-    for (i, line) in lines {
-        let at = |col: usize| format!("{source}:{} column {col}", i + 1);
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        if fields.len() != INPUT_COLUMNS.len() {
-            return Err(InputError::new(
-                format!("{source}:{}", i + 1),
-                format!(
-                    "expected {} columns, found {}",
-                    INPUT_COLUMNS.len(),
-                    fields.len()
-                ),
-            ));
-        }
-        let mut v = [0.0; 11];
-        for (col, (field, slot)) in fields.iter().zip(v.iter_mut()).enumerate() {
-            let x: f64 = field.parse().map_err(|_| {
-                InputError::new(
-                    at(col + 1),
-                    format!("`{}`: `{field}` is not a number", INPUT_COLUMNS[col]),
-                )
-            })?;
-            if !x.is_finite() {
-                return Err(InputError::new(
-                    at(col + 1),
-                    format!("`{}` must be finite, found `{field}`", INPUT_COLUMNS[col]),
-                ));
-            }
-            *slot = x;
-        }
-        let pose = Pose::from_deg(v[0], v[1]).map_err(|e| InputError::new(at(1), e.to_string()))?;
-        let mut chi = [0.0; 8];
-        chi.copy_from_slice(&v[2..10]);
-        let errors = TurntableErrors::from_rad(chi.map(arcmin_to_rad), v[10] * 1e-3)
-            .map_err(|e| InputError::new(format!("{source}:{}", i + 1), e.to_string()))?;
-        let e = model.orientation_error(&pose, &errors);
-        out.push_str(&format!(
-            "{},{},{}\n",
-            rad_to_arcmin(e.delta_psi_rad),
-            rad_to_arcmin(e.delta_theta_rad),
-            rad_to_arcmin(e.delta_gamma_rad)
-        ));
-    }
-    Ok(out)
-}

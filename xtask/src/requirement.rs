@@ -1,24 +1,18 @@
-//! `cargo xtask requirement [--json] [--reading R] [--all-readings]`: the orientation
-//! requirement of eq 15-16 (paper §2.2-2.3, Figure 5).
+//! `cargo xtask requirement [--study FILE] [--json] [--reading R] [--all-readings]`: the
+//! orientation requirement of eq 15-16 (paper §2.2-2.3, Figure 5) for the study's sensor.
 //!
-//! Prints $I_\psi$, $I_\theta$, $I_\gamma$ in degrees for the paper's inputs (Table 1,
-//! $\omega_m$ = 0.01 deg/h) with this project's defaults for what the paper leaves open
-//! (Harbin 45.75 deg N, WGS-84 earth rate, the default 32-position schedule, the reading of
-//! eq 13 that reproduces the paper, the small-angle $\Delta\mathbf R$ of eq 7).
-//!
-//! `--json` prints one object:
-//! `{"reading": "intended/beta1/printed", "latitude_deg": 45.75, "orientation_requirement_deg":
-//! {"psi": .., "theta": .., "gamma": ..}, ...}` with further keys (inputs and both planes'
-//! rectangles). All inputs come from the study file (`--study FILE`, default the paper's
-//! `studies/gyrowheel-2017.toml`); `--reading` overrides the study's reading of eq 13.
+//! `--json` prints one object: `{"study", "reading", "reading_formula", "delta_r",
+//! "orientation_requirement_deg": {"psi", "theta", "gamma"} (null where no output constrains
+//! the angle), "outputs": [{"name", "accuracy", "unit", "sensitive_angles", "half_sides_deg"}],
+//! "unconstrained_outputs": [...], "given_requirement_deg", "note"}`.
 
 use crate::InputError;
-use crate::study::Study;
+use crate::study as st;
 use anyhow::Result;
-use calib_lsq::{Reading, RequirementProblem};
+use calib_lsq::{ANGLE_NAMES, CalibError, OrientationRequirement, Reading, RequirementProblem};
 use clap::Parser;
-use gw_model::units::{rad_per_s_to_deg_per_h, rad_to_deg};
-use serde_json::json;
+use serde_json::{Value, json};
+use study::fmt::num;
 
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
@@ -29,143 +23,139 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Reading of eq 13 as `outputs/estimate/form` (e.g. `actual/beta1/printed`); default: the
-    /// one that reproduces the paper, `intended/beta1/printed`.
+    /// Reading of eq 13 as `outputs/estimate/form` (e.g. `actual/beta1/printed`); default:
+    /// the study's.
     #[arg(long)]
     pub reading: Option<String>,
-    /// Evaluate every reading of eq 13 side by side (slower: about 10 s optimised).
+    /// Evaluate every reading of eq 13 side by side.
     #[arg(long)]
     pub all_readings: bool,
 }
 
-/// The JSON object printed by `--json` for one problem.
-///
-/// # Errors
-/// As [`RequirementProblem::requirement`].
-pub fn requirement_json(
-    problem: &RequirementProblem,
-) -> Result<serde_json::Value, calib_lsq::CalibError> {
-    let r = problem.requirement()?;
-    let [psi, theta, gamma] = r.deg();
-    Ok(json!({
-        "reading": problem.reading.to_string(),
-        "reading_formula": problem.reading.formula(),
-        "latitude_deg": problem.site.latitude_deg(),
-        "earth_rate_rad_per_s": problem.site.earth_rate_rad_per_s(),
-        "omega_m_deg_per_h": rad_per_s_to_deg_per_h(problem.omega_m_rad_per_s),
-        "delta_r": problem.delta_r_kind.name(),
-        "schedule_positions": problem.schedule.len(),
-        "orientation_requirement_deg": {"psi": psi, "theta": theta, "gamma": gamma},
-        "planes_deg": {
-            "x": {"delta_psi": rad_to_deg(r.x_plane.half_u_rad), "delta_theta": rad_to_deg(r.x_plane.half_v_rad)},
-            "y": {"delta_theta": rad_to_deg(r.y_plane.half_u_rad), "delta_gamma": rad_to_deg(r.y_plane.half_v_rad)},
-        },
-        "theta_rule": "min of the x-plane and y-plane half-sides",
-    }))
+fn deg3(r: &[Option<f64>; 3]) -> Value {
+    json!({"psi": r[0].map(f64::to_degrees), "theta": r[1].map(f64::to_degrees), "gamma": r[2].map(f64::to_degrees)})
+}
+
+/// The JSON object of one requirement.
+#[must_use]
+pub fn requirement_json(p: &RequirementProblem, r: &Result<OrientationRequirement, CalibError>) -> Value {
+    let outputs: Vec<Value> = p
+        .calibration
+        .outputs()
+        .iter()
+        .map(|o| {
+            let b = r.as_ref().ok().and_then(|r| r.boxes.iter().find(|b| b.output == o.output().name));
+            json!({
+                "name": o.output().name,
+                "unit": o.output().unit,
+                "accuracy": o.output().accuracy,
+                "sensitive_angles": b.map(|b| (0..3).filter(|&j| b.half_rad[j].is_some()).map(|j| ANGLE_NAMES[j]).collect::<Vec<_>>()),
+                "half_sides_deg": b.map(|b| deg3(&b.half_rad)),
+            })
+        })
+        .collect();
+    json!({
+        "reading": p.reading.to_string(),
+        "reading_formula": p.reading.formula(),
+        "delta_r": p.delta_r_kind.name(),
+        "schedule_positions": p.calibration.schedule().len(),
+        "orientation_requirement_deg": r.as_ref().ok().map(|r| deg3(&r.rad)),
+        "outputs": outputs,
+        "unconstrained_outputs": r.as_ref().map(|r| r.unconstrained_outputs.clone()).unwrap_or_default(),
+        "note": r.as_ref().err().map(ToString::to_string),
+    })
+}
+
+fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
+    let mut s = String::new();
+    match r {
+        Ok(r) => {
+            for (k, name) in ANGLE_NAMES.iter().enumerate() {
+                match r.rad[k] {
+                    Some(v) => s.push_str(&format!("I_{name:<5} = {} deg\n", study::fmt::sig(v.to_degrees(), 8))),
+                    None => s.push_str(&format!("I_{name:<5} : none (no output constrains it)\n")),
+                }
+            }
+            for b in &r.boxes {
+                let sides: Vec<String> = (0..3)
+                    .filter_map(|j| b.half_rad[j].map(|h| format!("{} {} deg", ANGLE_NAMES[j], num(h.to_degrees()))))
+                    .collect();
+                s.push_str(&format!("  output {}: largest box {}\n", b.output, sides.join(", ")));
+            }
+            for o in &r.unconstrained_outputs {
+                s.push_str(&format!(
+                    "  output {o}: no requirement (it meets its accuracy under every constant orientation error; only the end-to-end allocation bounds the turntable for it)\n"
+                ));
+            }
+        }
+        Err(e) => s.push_str(&format!("no requirement: {e}\n")),
+    }
+    s
 }
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let study = Study::load_or_paper(args.study.as_deref())?;
-    let mut problem = study.requirement_problem();
+    let s = st::load(args.study.as_deref())?;
+    let mut problem = st::requirement_problem(&s);
     if let Some(r) = &args.reading {
         problem.reading = r
             .parse()
-            .map_err(|e: calib_lsq::CalibError| InputError::new("--reading", e.to_string()))?;
+            .map_err(|e: CalibError| InputError::new("--reading", e.to_string()))?;
     }
+    let resolved = st::requirement(&s)?;
+    let given = match s.requirement {
+        study::RequirementSource::Given { rad } => Some(rad.map(Some)),
+        study::RequirementSource::Computed => None,
+    };
     if args.all_readings {
-        let mut rows = Vec::new();
-        for reading in Reading::all() {
-            let p = RequirementProblem {
-                reading,
-                ..problem.clone()
-            };
-            let row = match requirement_json(&p) {
-                Ok(v) => v,
-                Err(calib_lsq::CalibError::Unbounded { .. }) => json!({
-                    "reading": reading.to_string(),
-                    "reading_formula": reading.formula(),
-                    "orientation_requirement_deg": null,
-                    "note": "unbounded: this reading gives no rate error in some direction",
-                }),
-                Err(e) => return Err(e.into()),
-            };
-            rows.push(row);
-        }
+        let rows: Vec<(Reading, Value)> = Reading::all()
+            .into_iter()
+            .map(|reading| {
+                let p = RequirementProblem { reading, ..problem.clone() };
+                let r = p.requirement();
+                (reading, requirement_json(&p, &r))
+            })
+            .collect();
         if args.json {
-            println!("{}", serde_json::to_string_pretty(&rows)?);
+            let v: Vec<Value> = rows.into_iter().map(|(_, v)| v).collect();
+            crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))?;
         } else {
-            println!("reading | error vector | I_psi (deg) | I_theta (deg) | I_gamma (deg)");
-            for row in &rows {
-                let req = &row["orientation_requirement_deg"];
-                let f = |k: &str| {
-                    req[k]
-                        .as_f64()
-                        .map_or_else(|| "unbounded".to_string(), |v| format!("{v:.7}"))
-                };
-                println!(
-                    "{} | {} | {} | {} | {}",
-                    row["reading"].as_str().unwrap_or_default(),
-                    row["reading_formula"].as_str().unwrap_or_default(),
-                    f("psi"),
-                    f("theta"),
-                    f("gamma")
-                );
+            let mut t = format!("study {} ({})\nreading | error vector | I_psi (deg) | I_theta (deg) | I_gamma (deg)\n", s.name, s.path);
+            for (reading, v) in rows {
+                let req = &v["orientation_requirement_deg"];
+                let f = |k: &str| req[k].as_f64().map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7));
+                t.push_str(&format!("{reading} | {} | {} | {} | {}\n", reading.formula(), f("psi"), f("theta"), f("gamma")));
             }
+            crate::out::print(&t)?;
         }
         return Ok(());
     }
-    let v = requirement_json(&problem)?;
+    let r = problem.requirement();
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        let mut v = requirement_json(&problem, &r);
+        v["study"] = json!(s.path);
+        v["given_requirement_deg"] = given.map_or(Value::Null, |g| deg3(&g));
+        v["disagreement"] = json!(resolved.disagreement);
+        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))?;
     } else {
-        let req = &v["orientation_requirement_deg"];
-        println!(
-            "orientation requirement (eq 15-16), study {}, omega_m = {} deg/h, latitude {} deg, {} positions, {} Delta-R",
-            study.file.name,
-            rad_per_s_to_deg_per_h(problem.omega_m_rad_per_s),
-            problem.site.latitude_deg(),
-            problem.schedule.len(),
-            problem.delta_r_kind.name()
-        );
-        println!(
-            "reading: {} ({})",
+        let mut t = format!(
+            "orientation requirement (eq 15-16), study {} ({}), {} positions, {} Delta-R\nreading: {} ({})\n",
+            s.name,
+            s.path,
+            problem.calibration.schedule().len(),
+            problem.delta_r_kind.name(),
             problem.reading,
             problem.reading.formula()
         );
-        for k in ["psi", "theta", "gamma"] {
-            let d = req[k].as_f64().unwrap_or(f64::NAN);
-            println!("I_{k:<5} = {d:.9} deg  (rounded {d:.3} deg)");
+        for o in problem.calibration.outputs() {
+            t.push_str(&format!("  output {}: accuracy {} {}\n", o.output().name, num(o.output().accuracy), o.output().unit));
         }
+        t.push_str(&text(&r));
+        if let Some(d) = &resolved.disagreement {
+            t.push_str(d);
+            t.push('\n');
+        }
+        crate::out::print(&t)?;
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The paper's study file builds exactly the library's paper problem (Table 1, Harbin,
-    /// WGS-84, the default schedule, the paper's reading, eq 7).
-    #[test]
-    fn paper_study_builds_the_paper_problem() {
-        assert_eq!(
-            Study::paper().unwrap().requirement_problem(),
-            RequirementProblem::paper()
-        );
-    }
-
-    /// A reading flag that does not parse is an input error naming the flag.
-    #[test]
-    fn bad_reading_flag_names_the_flag() {
-        let args = Args {
-            study: None,
-            json: true,
-            reading: Some("sideways".into()),
-            all_readings: false,
-        };
-        let e = run(&args).unwrap_err();
-        let e = e.downcast_ref::<InputError>().expect("input error");
-        assert_eq!(e.location, "--reading");
-    }
 }

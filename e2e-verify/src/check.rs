@@ -1,0 +1,154 @@
+//! "The vendor's sheet says these tolerances: will my calibration meet its accuracy, and
+//! which error dominates?" The end-to-end check of a given tolerance box.
+
+use crate::error::E2eError;
+use crate::linear::{Linearization, OutputWorstCase};
+use crate::montecarlo::{McSettings, RateDistribution};
+use crate::simulate::EndToEnd;
+
+/// How sure the answer is that every turntable within the tolerances meets an accuracy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// Proven: the linearised worst case plus the derived second-order bound is within the
+    /// accuracy, so every turntable of the box meets it on the exact chain.
+    Guaranteed,
+    /// The worst vertex meets the accuracy on the exact chain, but no rigorous bound proves it
+    /// for the whole box (the reading has no derived second-order bound, or the linearised
+    /// worst case plus that bound exceeds the accuracy): likely, not proven.
+    Likely,
+    /// A turntable within the tolerances (the worst vertex) misses the accuracy on the exact
+    /// chain.
+    Fails,
+}
+
+impl Verdict {
+    /// `guaranteed`, `likely` or `fails`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Guaranteed => "guaranteed",
+            Verdict::Likely => "likely",
+            Verdict::Fails => "fails",
+        }
+    }
+}
+
+/// One error's contribution to an output's worst case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contribution {
+    /// The error's index in $\chi$.
+    pub error: usize,
+    /// Share of the linearised worst case at the worst row:
+    /// $|M_{rj}|\mathrm{UB}_j / \sum_i |M_{ri}|\mathrm{UB}_i$.
+    pub worst_share: f64,
+    /// Share of the variance of the linearised error at the worst row for errors drawn as the
+    /// Monte Carlo draws them ($|\chi_j|$ uniform on $[\mathrm{LB}_j, \mathrm{UB}_j]$, random
+    /// sign: $E\chi_j^2 = (\mathrm{UB}^3 - \mathrm{LB}^3)/(3(\mathrm{UB} - \mathrm{LB}))$).
+    pub variance_share: f64,
+}
+
+/// The check of one output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputCheck {
+    /// The output's index.
+    pub output: usize,
+    /// Its accuracy (output unit).
+    pub accuracy: f64,
+    /// The worst case over the tolerance box.
+    pub worst_case: OutputWorstCase,
+    /// The verdict for this output.
+    pub verdict: Verdict,
+    /// Every error's contribution, in the order of $\chi$.
+    pub contributions: Vec<Contribution>,
+}
+
+/// The check of a tolerance box against every output's accuracy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TurntableCheck {
+    /// The tolerances (rad).
+    pub upper_bounds_rad: Vec<f64>,
+    /// One per output.
+    pub outputs: Vec<OutputCheck>,
+    /// The Monte Carlo over the box: yield with its 95% interval.
+    pub distribution: RateDistribution,
+    /// The overall verdict: the weakest of the outputs'.
+    pub verdict: Verdict,
+}
+
+impl EndToEnd {
+    /// Check tolerances `ub_rad` (with lower bounds `lower_bounds_rad`) against every output's
+    /// accuracy: the worst case per output (linearised, confirmed on the exact chain at the
+    /// worst vertex, with its second-order bound), each error's contribution, the Monte Carlo
+    /// yield and a verdict.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::worst_case`] and [`EndToEnd::rate_distribution`].
+    pub fn check_tolerances(
+        &self,
+        linear: &Linearization,
+        ub_rad: &[f64],
+        lower_bounds_rad: &[f64],
+        settings: &McSettings,
+    ) -> Result<TurntableCheck, E2eError> {
+        let wc = self.worst_case(linear, ub_rad)?;
+        let bounds = self.box_of(ub_rad, lower_bounds_rad)?;
+        let distribution = self.rate_distribution(linear, &bounds, settings)?;
+        let acc = self.accuracies();
+        let mut outputs = Vec::with_capacity(acc.len());
+        for (k, w) in wc.outputs.into_iter().enumerate() {
+            let row = linear.row(k, w.position);
+            let worst_terms: Vec<f64> = row
+                .iter()
+                .zip(ub_rad)
+                .map(|(m, u)| if u.is_finite() { m.abs() * u } else { 0.0 })
+                .collect();
+            let second: Vec<f64> = row
+                .iter()
+                .zip(ub_rad.iter().zip(lower_bounds_rad))
+                .map(|(m, (u, l))| {
+                    if !u.is_finite() {
+                        return 0.0;
+                    }
+                    let e2 = if u > l { (u.powi(3) - l.powi(3)) / (3.0 * (u - l)) } else { u * u };
+                    m * m * e2
+                })
+                .collect();
+            let (ws, vs): (f64, f64) = (worst_terms.iter().sum(), second.iter().sum());
+            let contributions = (0..row.len())
+                .map(|j| Contribution {
+                    error: j,
+                    worst_share: if ws > 0.0 { worst_terms[j] / ws } else { 0.0 },
+                    variance_share: if vs > 0.0 { second[j] / vs } else { 0.0 },
+                })
+                .collect();
+            let verdict = if w.exact_at_vertex > acc[k] {
+                Verdict::Fails
+            } else {
+                match w.certified_bound() {
+                    Some(b) if b <= acc[k] => Verdict::Guaranteed,
+                    _ => Verdict::Likely,
+                }
+            };
+            outputs.push(OutputCheck {
+                output: k,
+                accuracy: acc[k],
+                worst_case: w,
+                verdict,
+                contributions,
+            });
+        }
+        let verdict = if outputs.iter().any(|o| o.verdict == Verdict::Fails) {
+            Verdict::Fails
+        } else if outputs.iter().all(|o| o.verdict == Verdict::Guaranteed) {
+            Verdict::Guaranteed
+        } else {
+            Verdict::Likely
+        };
+        Ok(TurntableCheck {
+            upper_bounds_rad: ub_rad.to_vec(),
+            outputs,
+            distribution,
+            verdict,
+        })
+    }
+}

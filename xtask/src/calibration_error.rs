@@ -1,0 +1,63 @@
+//! `cargo xtask calibration-error [--study FILE] [CSV]`: the calibration error of turntables
+//! given as CSV rows (the columns of `orientation-error --study`; the joint columns are
+//! required but not used: the same errors act at every position of the study's schedule).
+//!
+//! For each turntable the outputs are simulated at the actual orientation of every test
+//! position and calibrated at the intended one (eq 6, the user's estimate). Output, one row
+//! per turntable: `<coefficient>_error` (estimate minus true value, in the coefficient's unit:
+//! output unit per regressor unit) for every estimated coefficient in study order, then
+//! `<output>_rate_error` (eq 14 under the study's reading, output unit). Full precision. As
+//! for `orientation-error`, the whole input is checked before anything is written.
+
+use crate::InputError;
+use crate::csvio::Source;
+use anyhow::Result;
+use clap::Parser;
+use e2e_verify::EndToEnd;
+use std::path::PathBuf;
+
+/// Arguments of `calibration-error`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// Study file: turntable, sensor, site, schedule, reading (default: the paper's).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// CSV file to read; standard input when absent or `-`.
+    pub file: Option<PathBuf>,
+}
+
+/// The output header for a study's sensor.
+#[must_use]
+pub fn header(e2e: &EndToEnd) -> String {
+    let mut cols: Vec<String> = e2e
+        .calibration()
+        .sensor()
+        .estimated_terms()
+        .map(|(_, t)| format!("{}_error", t.coefficient))
+        .collect();
+    cols.extend(e2e.calibration().sensor().outputs().iter().map(|o| format!("{}_rate_error", o.name)));
+    cols.join(",")
+}
+
+/// Run the command.
+pub fn run(args: &Args) -> Result<()> {
+    let s = crate::study::load(args.study.as_deref())?;
+    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &crate::study::poses(&s)?, s.reading)
+        .map_err(|e| InputError::new(&s.path, e.to_string()))?;
+    let source = Source::from_arg(args.file.as_deref());
+    let name = source.name();
+    let mut work = e2e.work();
+    let mut eval = |line: usize, row: study::csv::TurntableRow| -> Result<Vec<f64>, InputError> {
+        let at = || format!("{name}:{line}");
+        let mut v = e2e.coefficient_errors(&row.chi_rad).map_err(|e| InputError::new(at(), e.to_string()))?;
+        e2e.delta_omega_into(&row.chi_rad, &mut work).map_err(|e| InputError::new(at(), e.to_string()))?;
+        v.extend_from_slice(&work.delta_omega);
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(InputError::new(at(), "the calibration gave a non-finite result"));
+        }
+        Ok(v)
+    };
+    let line_of = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    crate::csvio::run_rows(&source, &s.turntable, &header(&e2e), |line, row| Ok(line_of(&eval(line, row)?)))
+}
+

@@ -1,0 +1,148 @@
+//! `cargo xtask check-turntable [--study FILE] --tolerances FILE.toml [--samples N] [--seed S]
+//! [--json]`: "the vendor's sheet says these tolerances: will my calibration meet its
+//! accuracy, and which error dominates?"
+//!
+//! For every output: the end-to-end worst case over the tolerance box (linearised, confirmed
+//! on the exact chain at the worst vertex, with the derived second-order bound when the
+//! reading has one) against its accuracy, the Monte Carlo yield with a 95% interval, and each
+//! error's share of the worst case and of the variance; then one verdict line.
+
+use crate::InputError;
+use anyhow::Result;
+use clap::Parser;
+use e2e_verify::{EndToEnd, McSettings, TurntableCheck, Verdict};
+use serde_json::{Value, json};
+use std::path::PathBuf;
+use study::Tolerances;
+use study::fmt::num;
+use tt_kinematics::units::rad_to_arcmin;
+
+/// Arguments of `check-turntable`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// Study file: turntable, sensor and its accuracies, site, schedule, reading (default:
+    /// the paper's).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// The vendor's tolerances (TOML: `[tolerances_arcmin]` with every angular error,
+    /// optional `[tolerances_mm]`).
+    #[arg(long)]
+    pub tolerances: PathBuf,
+    /// Monte Carlo turntables (default: the study's `monte_carlo.samples`).
+    #[arg(long, value_parser = crate::args::samples)]
+    pub samples: Option<u64>,
+    /// Seed of the random streams (default: the study's).
+    #[arg(long, value_parser = crate::args::seed)]
+    pub seed: Option<u64>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The check's JSON object.
+#[must_use]
+pub fn to_json(e2e: &EndToEnd, tol: &Tolerances, c: &TurntableCheck) -> Value {
+    let names = e2e.turntable().rotation_error_names();
+    let (lo, hi) = c.distribution.yield_interval_95();
+    json!({
+        "tolerances": tol.path,
+        "tolerances_arcmin": names.iter().zip(&c.upper_bounds_rad).map(|(n, u)| (n.to_string(), json!(rad_to_arcmin(*u)))).collect::<serde_json::Map<_, _>>(),
+        "reading": e2e.reading().to_string(),
+        "verdict": c.verdict.name(),
+        "yield": c.distribution.yield_fraction(),
+        "yield_interval_95": [lo, hi],
+        "samples": c.distribution.samples,
+        "seed": c.distribution.seed,
+        "outputs": c.outputs.iter().map(|o| {
+            let out = &e2e.calibration().outputs()[o.output].output();
+            json!({
+                "name": out.name,
+                "unit": out.unit,
+                "accuracy": o.accuracy,
+                "verdict": o.verdict.name(),
+                "worst_case_linear": o.worst_case.linear_bound,
+                "worst_case_exact_at_vertex": o.worst_case.exact_at_vertex,
+                "second_order_bound": o.worst_case.second_order_bound,
+                "certified_bound": o.worst_case.certified_bound(),
+                "worst_position": o.worst_case.position,
+                "meeting_fraction": c.distribution.meeting_per_output[o.output] as f64 / c.distribution.samples as f64,
+                "monte_carlo_max": c.distribution.worst[o.output].value,
+                "contributions": o.contributions.iter().map(|k| json!({
+                    "error": names[k.error],
+                    "worst_case_share": k.worst_share,
+                    "variance_share": k.variance_share,
+                })).collect::<Vec<_>>(),
+            })
+        }).collect::<Vec<_>>(),
+    })
+}
+
+/// The check as text.
+#[must_use]
+pub fn to_text(e2e: &EndToEnd, study_path: &str, tol: &Tolerances, c: &TurntableCheck) -> String {
+    let names = e2e.turntable().rotation_error_names();
+    let mut s = format!(
+        "check of {} against the study {} (reading {})\n",
+        tol.name.clone().unwrap_or_else(|| tol.path.clone()),
+        study_path,
+        e2e.reading()
+    );
+    for o in &c.outputs {
+        let out = e2e.calibration().outputs()[o.output].output();
+        let w = &o.worst_case;
+        s.push_str(&format!(
+            "output {}: accuracy {} {u}; worst case {} {u} (linearised {}{}), Monte Carlo max {} {u}, {:.2}% meet it: {}\n",
+            out.name,
+            num(o.accuracy),
+            num(w.exact_at_vertex),
+            num(w.linear_bound),
+            w.second_order_bound.map_or(String::new(), |t| format!(", proven below {}", num(w.linear_bound + t))),
+            num(c.distribution.worst[o.output].value),
+            100.0 * c.distribution.meeting_per_output[o.output] as f64 / c.distribution.samples as f64,
+            o.verdict.name(),
+            u = out.unit
+        ));
+        let mut top: Vec<_> = o.contributions.iter().collect();
+        top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
+        let dominant: Vec<String> = top
+            .iter()
+            .take(3)
+            .filter(|k| k.worst_share > 0.0)
+            .map(|k| format!("{} {:.0}% of the worst case, {:.0}% of the variance", names[k.error], 100.0 * k.worst_share, 100.0 * k.variance_share))
+            .collect();
+        s.push_str(&format!("  dominant errors: {}\n", dominant.join("; ")));
+    }
+    let (lo, hi) = c.distribution.yield_interval_95();
+    let verdict = match c.verdict {
+        Verdict::Guaranteed => "MEETS every accuracy: proven for every turntable within these tolerances",
+        Verdict::Likely => "likely meets every accuracy: the worst vertex does, but no bound proves it for the whole box",
+        Verdict::Fails => "does NOT meet every accuracy: a turntable within these tolerances (the worst vertex) misses",
+    };
+    s.push_str(&format!(
+        "verdict: {verdict}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables, seed {})\n",
+        100.0 * c.distribution.yield_fraction(),
+        100.0 * lo,
+        100.0 * hi,
+        c.distribution.samples,
+        c.distribution.seed
+    ));
+    s
+}
+
+/// Run the command.
+pub fn run(args: &Args) -> Result<()> {
+    let s = crate::study::load(args.study.as_deref())?;
+    let tol = Tolerances::load(&args.tolerances, &s.turntable)?;
+    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &crate::study::poses(&s)?, s.reading)
+        .map_err(|e| InputError::new(&s.path, e.to_string()))?;
+    let settings = McSettings::new(args.samples.unwrap_or(s.monte_carlo.samples), args.seed.unwrap_or(s.monte_carlo.seed));
+    let lb: Vec<f64> = s.lower_bounds_rad.iter().zip(&tol.ub_rad).map(|(l, u)| l.min(*u)).collect();
+    let c = e2e
+        .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
+        .map_err(crate::end_to_end::classify)?;
+    if args.json {
+        crate::out::print(&(serde_json::to_string_pretty(&to_json(&e2e, &tol, &c))? + "\n"))
+    } else {
+        crate::out::print(&to_text(&e2e, &s.path, &tol, &c))
+    }
+}

@@ -1,0 +1,159 @@
+//! Reading turntable CSV input (a file or standard input, `-`) line by line with memory that
+//! does not grow with the input: a file is validated in a first pass and evaluated in a
+//! second; standard input cannot be read twice, so each row is evaluated as it is read and its
+//! result line goes to an anonymous temporary file until the whole input is known to be
+//! valid. Nothing is written to standard output before that.
+
+use crate::InputError;
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use study::csv::{TurntableColumns, TurntableRow, decode_line};
+use tt_kinematics::Turntable;
+
+/// Longest line accepted, bytes.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Where the CSV comes from.
+#[derive(Debug, Clone)]
+pub enum Source {
+    /// A file (read twice).
+    File(PathBuf),
+    /// Standard input (read once).
+    Stdin,
+}
+
+impl Source {
+    /// `None` or `-` is standard input.
+    #[must_use]
+    pub fn from_arg(arg: Option<&Path>) -> Self {
+        match arg {
+            Some(p) if p != Path::new("-") => Source::File(p.to_path_buf()),
+            _ => Source::Stdin,
+        }
+    }
+
+    /// Its name in messages.
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self {
+            Source::File(p) => p.display().to_string(),
+            Source::Stdin => "<stdin>".into(),
+        }
+    }
+
+    fn open(&self) -> Result<Box<dyn BufRead>, InputError> {
+        match self {
+            Source::File(p) => {
+                let meta = std::fs::metadata(p).map_err(|e| InputError::new(self.name(), format!("cannot read: {e}")))?;
+                if meta.is_dir() {
+                    return Err(InputError::new(self.name(), "cannot read: a directory"));
+                }
+                let f = std::fs::File::open(p).map_err(|e| InputError::new(self.name(), format!("cannot read: {e}")))?;
+                Ok(Box::new(BufReader::new(f)))
+            }
+            Source::Stdin => Ok(Box::new(BufReader::new(std::io::stdin()))),
+        }
+    }
+}
+
+/// Visit every data row of the CSV (header mapped to `turntable`), in order, with its line
+/// number; blank lines are skipped. Stops at the first error.
+///
+/// # Errors
+/// An [`InputError`] at `source:line` (and column) for an unreadable input, invalid UTF-8, a
+/// line longer than [`MAX_LINE_BYTES`], a bad header or row, or an empty input.
+pub fn for_each_row<F>(source: &Source, turntable: &Turntable, mut visit: F) -> Result<(), InputError>
+where
+    F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
+{
+    let name = source.name();
+    let mut reader = source.open()?;
+    let mut buf = Vec::new();
+    let mut columns: Option<TurntableColumns> = None;
+    let mut line_no = 0;
+    loop {
+        buf.clear();
+        let n = (&mut reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut buf)
+            .map_err(|e| InputError::new(format!("{name}:{}", line_no + 1), format!("cannot read: {e}")))?;
+        if n == 0 {
+            break;
+        }
+        line_no += 1;
+        if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
+            return Err(InputError::new(format!("{name}:{line_no}"), format!("line longer than {MAX_LINE_BYTES} bytes")));
+        }
+        let line = decode_line(&name, line_no, &buf)?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        match &columns {
+            None => columns = Some(TurntableColumns::from_header(&name, line_no, line, turntable)?),
+            Some(c) => visit(line_no, c.parse_row(&name, line_no, line)?)?,
+        }
+    }
+    if columns.is_none() {
+        return Err(InputError::new(
+            name,
+            format!("empty input: expected a header line ({})", study::csv::expected_header(turntable)),
+        ));
+    }
+    Ok(())
+}
+
+/// Evaluate every row and write `header` then one line per row to standard output, only
+/// once the whole input is known to be valid: a file is read twice (validate, then evaluate
+/// and stream); standard input is evaluated once into an anonymous temporary file (removed by
+/// the system when closed), copied out at the end. Memory does not grow with the input.
+///
+/// # Errors
+/// The first [`InputError`] of the input or of `eval` (nothing written then); I/O errors of
+/// standard output (a closed pipe ends quietly, see [`crate::out`]).
+pub fn run_rows<F>(source: &Source, turntable: &Turntable, header: &str, mut eval: F) -> anyhow::Result<()>
+where
+    F: FnMut(usize, TurntableRow) -> Result<String, InputError>,
+{
+    use std::io::{Seek, Write};
+    let name = source.name();
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    match source {
+        Source::File(_) => {
+            for_each_row(source, turntable, |line, row| eval(line, row).map(|_| ()))?;
+            writeln!(out, "{header}").map_err(crate::out::io)?;
+            let mut io_error = None;
+            let streamed = for_each_row(source, turntable, |line, row| {
+                let text = eval(line, row)?;
+                writeln!(out, "{text}").map_err(|e| {
+                    io_error = Some(e);
+                    InputError::new(name.clone(), "standard output failed")
+                })
+            });
+            if let Some(e) = io_error {
+                return Err(crate::out::io(e));
+            }
+            streamed?;
+        }
+        Source::Stdin => {
+            let file = tempfile::tempfile().map_err(|e| anyhow::Error::new(e).context("creating a temporary file for standard input's results"))?;
+            let mut spill = std::io::BufWriter::new(file);
+            let mut io_error = None;
+            let read = for_each_row(source, turntable, |line, row| {
+                let text = eval(line, row)?;
+                writeln!(spill, "{text}").map_err(|e| {
+                    io_error = Some(e);
+                    InputError::new(name.clone(), "writing the temporary file failed")
+                })
+            });
+            if let Some(e) = io_error {
+                return Err(anyhow::Error::new(e).context("writing the temporary file"));
+            }
+            read?;
+            let mut file = spill.into_inner().map_err(|e| anyhow::Error::new(e.into_error()))?;
+            file.rewind()?;
+            writeln!(out, "{header}").map_err(crate::out::io)?;
+            std::io::copy(&mut file, &mut out).map_err(crate::out::io)?;
+        }
+    }
+    out.flush().map_err(crate::out::io)
+}

@@ -1,0 +1,56 @@
+//! Paths resolved at run time, never at compile time: a user's path resolves against the
+//! current directory; the defaults (the paper's study) against the workspace root found by
+//! walking up from the current directory, then from the executable. (`CARGO_MANIFEST_DIR`
+//! is fixed at compile time and points at the wrong clone when a target directory is shared.)
+
+use crate::InputError;
+use std::path::{Path, PathBuf};
+
+/// The paper's study, relative to the workspace root.
+pub const PAPER_STUDY: &str = "studies/gyrowheel-2017.toml";
+
+/// Whether `dir` is this project's workspace root: a `Cargo.toml` with a `[workspace]`
+/// table and the paper's study beside it.
+fn is_root(dir: &Path) -> bool {
+    dir.join(PAPER_STUDY).is_file()
+        && std::fs::read_to_string(dir.join("Cargo.toml")).is_ok_and(|t| t.contains("[workspace]"))
+}
+
+/// The workspace root: the first ancestor of the current directory (then of the executable)
+/// that is the project's root.
+///
+/// # Errors
+/// An [`InputError`] when neither is inside a clone of the project.
+pub fn workspace_root() -> Result<PathBuf, InputError> {
+    let starts = [
+        std::env::current_dir().ok(),
+        std::env::current_exe().ok().and_then(|e| e.parent().map(Path::to_path_buf)),
+    ];
+    for start in starts.into_iter().flatten() {
+        if let Some(root) = start.ancestors().find(|d| is_root(d)) {
+            return Ok(root.to_path_buf());
+        }
+    }
+    Err(InputError::new(
+        "--study",
+        format!("no study given and no project workspace (with {PAPER_STUDY}) found above the current directory; pass --study FILE"),
+    ))
+}
+
+/// The study file to read: the user's (as given), or the paper's in the workspace root.
+///
+/// # Errors
+/// As [`workspace_root`] when no path is given.
+pub fn study_path(given: Option<&Path>) -> Result<PathBuf, InputError> {
+    match given {
+        Some(p) => Ok(p.to_path_buf()),
+        None => Ok(workspace_root()?.join(PAPER_STUDY)),
+    }
+}
+
+/// How to show a path in reports: as the user gave it; the default study as its workspace
+/// path (never an absolute path of the machine).
+#[must_use]
+pub fn shown(given: Option<&Path>) -> String {
+    given.map_or_else(|| PAPER_STUDY.to_string(), |p| p.display().to_string())
+}
