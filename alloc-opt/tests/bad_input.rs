@@ -140,7 +140,7 @@ fn safety_margin_out_of_range_is_rejected_by_name() {
     approx::assert_relative_eq!(
         shrunk.requirement().get(A::Psi).unwrap(),
         0.9 * p.requirement().get(A::Psi).unwrap(),
-        max_relative = 1e-15
+        max_relative = ULP_REL
     );
 }
 

@@ -29,6 +29,10 @@ const RELAXATION_POINTS: usize = 120;
 /// (theta, gamma) and 0 (psi, whose worst pose is on the grid). Relative.
 const RELAXATION_GAP_REL: f64 = 1e-4;
 
+/// The most the safety rescaling may take off a bound, relative: the branch-and-bound gap
+/// (~7e-8 on this table when its evaluation budget runs out) plus 2e-9, with room.
+const SAFETY_SHRINK_MAX: f64 = 1e-6;
+
 /// The three-axis numbers quoted in the README (7 significant digits), relative.
 const README_QUOTE_REL: f64 = 1e-6;
 
@@ -271,7 +275,7 @@ fn three_axis_allocation_on_the_exact_chain_is_within_second_order() {
             .unwrap()
             .get(c.axis)
             .abs();
-        assert_relative_eq!(v, c.exact_worst_rad, max_relative = 1e-12);
+        assert_relative_eq!(v, c.exact_worst_rad, max_relative = CHAIN_REPRODUCE_REL);
         // The hunted vertex at the worst pose.
         let pose = Pose::new(cert.worst_pose_rad.clone()).unwrap();
         let coef = model.coefficients(&pose).unwrap();
@@ -307,7 +311,7 @@ fn three_axis_safety_rescale_makes_the_rigorous_bound_meet_the_requirement() {
     let a = SensitivityWeighted::general().allocate(&problem).unwrap();
     let g = a.certificate.get(A::Gamma);
     let scale = a.safety_scale[A::Gamma.index()];
-    assert!(scale < 1.0 && scale > 1.0 - 1e-6, "{scale}");
+    assert!(scale < 1.0 && scale > 1.0 - SAFETY_SHRINK_MAX, "{scale}");
     assert!(g.upper_bound_rad <= i);
     assert!(g.satisfied && g.requirement_active && !g.exact);
     assert!(a.certificate.lemma1_holds());
@@ -324,7 +328,7 @@ fn three_axis_safety_rescale_makes_the_rigorous_bound_meet_the_requirement() {
     let s = &a.subproblems[0];
     assert_eq!(s.axis, A::Gamma);
     for (&i, &x) in s.components.iter().zip(&s.bounds_rad) {
-        assert_relative_eq!(a.upper_bounds_rad[i], x * scale, max_relative = 1e-15);
+        assert_relative_eq!(a.upper_bounds_rad[i], x * scale, max_relative = ULP_REL);
     }
 }
 

@@ -36,6 +36,31 @@ pub const TABLE4_PRINT_ARCMIN: f64 = 5e-5;
 /// The shares of Table 4 are quoted to 4 decimals in the docs.
 pub const SHARE_QUOTE: f64 = 5e-5;
 
+/// Objectives quoted in the README to 6 significant digits (115.867, 124.458, 138.467),
+/// relative.
+pub const README_J_REL: f64 = 1e-5;
+
+/// Closed-form constants written to 5 significant digits in the tests (0.30623, 0.46450),
+/// relative.
+pub const CLOSED_FORM_QUOTE_REL: f64 = 1e-4;
+
+/// A closed-form expression evaluated two ways (an exact integral or a cube root against
+/// pi/2, pi/sqrt2, I/(1 + 2 sqrt2)): a few ulp, relative.
+pub const FORMULA_REL: f64 = 1e-12;
+
+/// One product of a few numbers computed two ways (a scale times a bound, a share applied
+/// twice): one or two ulp, relative.
+pub const ULP_REL: f64 = 1e-15;
+
+/// The exact chain evaluated twice at the same pose and vertex, by the segmented product of
+/// `exact_chain_check` and by `ExactChain` (the matrix chain): equal to rounding of a product
+/// of about ten 3x3 matrices, read as a ~1e-4 rad entry, relative.
+pub const CHAIN_REPRODUCE_REL: f64 = 1e-12;
+
+/// A worst pose located by the exact one-joint search, relative (rad): the maximum of a
+/// smooth sum is flat, so its argument is found to about sqrt(epsilon).
+pub const WORST_POSE_REL: f64 = 1e-6;
+
 /// Rounding of a weighted sum of 13 unit-size coefficients times bounds of ~1e-4 rad,
 /// evaluated two ways (chain product versus harmonic form), rad.
 pub const ROUNDING_RAD: f64 = 1e-15;
