@@ -1,21 +1,25 @@
 //! The traditional equal-effects allocation (the paper's comparison, its refs 20-21).
 
-use crate::allocation::{Allocation, Allocator, AxisOracle, Certificate, Subproblem};
+use crate::allocation::{Allocation, Allocator, AxisOracle, Subproblem, finish};
 use crate::error::AllocError;
 use crate::problem::{AllocationProblem, Weights};
-use std::f64::consts::TAU;
-use tt_kinematics::{CHI_LEN, ErrorComponent, OrientationAxis};
+use crate::solver::CutOracle;
+use crate::weighted::PROBLEM_ORDER;
+
+/// Bisection steps on the common effect (the bracket shrinks to one ulp well before this).
+const SHARE_BISECTION_STEPS: usize = 200;
 
 /// Equal effects: every error of an angle contributes the same amount to its worst case.
 ///
 /// # Formula
-/// For angle $k$ with components $\chi_k$, let $M_{ki} = \max_{\phi_2}|c_{ki}(\phi_2)|$ (the
-/// largest effect of a unit error). Equal effects means $x_{ki} M_{ki} = s_k$ for all free
-/// components; $s_k$ is the largest value that keeps the exact worst case
-/// $\max_{\phi_2 \in [0, 2\pi]} \sum_i x_{ki}|c_{ki}(\phi_2)|$ within $I_k$, so the method gives
-/// the same guarantee (Lemma 1) as the weighted allocator and uses the whole requirement.
-/// Components whose share falls below their lower bound are held at it and the others
-/// re-shared (water filling). Then $\mathrm{UB}_i = \min_k x_{ki}$ as in (34).
+/// For angle $k$ with errors $\chi_k$, let $M_{ki} = \max_{\phi}|c_{ki}(\phi)|$ over the joint
+/// ranges (the largest effect of a unit error). Equal effects means $x_{ki} M_{ki} = s_k$ for
+/// all free errors; $s_k$ is the largest value that keeps the worst case
+/// $\max_{\phi} \sum_i x_{ki}|c_{ki}(\phi)|$ within $I_k$, so the method gives the same
+/// guarantee (Lemma 1) as the weighted allocator and uses the whole requirement. Errors whose
+/// share falls below their lower bound are held at it and the others re-shared (water
+/// filling). Then $\mathrm{UB}_i = \min_k x_{ki}$ as in (34); an error no angle with a
+/// requirement depends on is unconstrained ($+\infty$).
 ///
 /// For eq 26 with $\mathrm{LB} = 0$: every bound is $I/(1 + 2\sqrt 2)$ for $\gamma, \psi$ and
 /// $I/2$ for $\theta$.
@@ -35,82 +39,69 @@ impl Allocator for EqualEffects {
 
     fn allocate(&self, problem: &AllocationProblem) -> Result<Allocation, AllocError> {
         let model = problem.model();
+        let names = problem.error_names();
         let lb = problem.lower_bounds_rad();
-        let mut ub = [f64::INFINITY; CHI_LEN];
+        let mut ub = vec![f64::INFINITY; model.n_errors()];
         let mut subproblems = Vec::new();
-        for axis in [
-            OrientationAxis::Gamma,
-            OrientationAxis::Theta,
-            OrientationAxis::Psi,
-        ] {
+        let ranges = model.turntable().joint_ranges_rad();
+        for axis in PROBLEM_ORDER {
+            let Some(requirement_rad) = problem.requirement().get(axis) else {
+                continue;
+            };
             let components = model.involved(axis);
             if components.is_empty() {
                 continue;
             }
-            let oracle = AxisOracle {
-                model: *model,
+            let oracle = AxisOracle::new(
+                model,
                 axis,
-                components: components.clone(),
-                lo: 0.0,
-                hi: TAU,
-                abs: true,
-                requirement_rad: problem.requirement().get(axis),
-            };
-            let lower: Vec<f64> = components.iter().map(|c| lb[c.index()]).collect();
-            oracle.check_lower_bounds(&lower)?;
-            let x = share_equally(&oracle, &components, &lower);
-            let worst = {
-                use crate::solver::CutOracle;
-                let w = oracle.most_violated(&x);
-                (w.tag, w.load(&x))
-            };
-            for (k, c) in components.iter().enumerate() {
-                let u = &mut ub[c.index()];
-                *u = u.min(x[k]);
+                components.clone(),
+                ranges.clone(),
+                true,
+                requirement_rad,
+            )?;
+            let lower: Vec<f64> = components.iter().map(|&i| lb[i]).collect();
+            oracle.check_lower_bounds(&lower, &names)?;
+            let x = share_equally(&oracle, &lower)?;
+            let worst = oracle.search(&x)?;
+            for (k, &i) in components.iter().enumerate() {
+                ub[i] = ub[i].min(x[k]);
             }
             subproblems.push(Subproblem {
                 axis,
                 components,
                 bounds_rad: x,
-                pose_range_rad: (0.0, TAU),
-                objective: f64::NAN,
-                worst_phi2_rad: worst.0,
-                load: worst.1,
-                multiplier: f64::NAN,
+                pose_ranges_rad: ranges.clone(),
+                objective: None,
+                load: worst.value / requirement_rad,
+                worst_pose_rad: worst.pose_rad,
+                multiplier: None,
                 iterations: 0,
+                exact_oracle: oracle.exact(),
             });
         }
         let weights = Weights::inverse_average_sensitivity(model);
-        let certificate = Certificate::compute(model, &problem.requirement(), &lb, &ub);
-        Ok(Allocation {
-            method: self.name(),
-            upper_bounds_rad: ub,
-            lower_bounds_rad: lb,
-            requirement: problem.requirement(),
-            objective: weights.objective(&ub),
-            weights,
-            subproblems,
-            certificate,
-        })
+        finish(self.name(), problem, weights, ub, subproblems)
     }
 }
 
-/// Water filling: equal effects for the free components, lower bounds held.
-fn share_equally(oracle: &AxisOracle, components: &[ErrorComponent], lower: &[f64]) -> Vec<f64> {
-    use crate::solver::CutOracle;
-    let n = components.len();
+/// Water filling: equal effects for the free errors, lower bounds held.
+fn share_equally(oracle: &AxisOracle<'_>, lower: &[f64]) -> Result<Vec<f64>, AllocError> {
+    let n = lower.len();
     // Largest effect of a unit error of each component.
-    let effect: Vec<f64> = components
-        .iter()
-        .map(|&c| {
-            let mut w = [0.0; CHI_LEN];
-            w[c.index()] = 1.0;
-            oracle
-                .model
-                .max_abs_weighted(oracle.axis, &w, 0.0, TAU)
-                .value
-        })
-        .collect();
+    let mut effect = Vec::with_capacity(n);
+    for k in 0..n {
+        let mut unit = vec![0.0; n];
+        unit[k] = 1.0;
+        let e = oracle.search(&unit)?.value;
+        if !(e > 0.0 && e.is_finite()) {
+            return Err(AllocError::NonFiniteResult {
+                what: format!("largest effect of error {k} on {}", oracle.axis.name()),
+                value: 1.0 / e,
+            });
+        }
+        effect.push(e);
+    }
     let mut fixed = vec![false; n];
     loop {
         let at = |s: f64| -> Vec<f64> {
@@ -128,7 +119,7 @@ fn share_equally(oracle: &AxisOracle, components: &[ErrorComponent], lower: &[f6
             hi *= 2.0;
         }
         let mut lo = 0.0;
-        for _ in 0..200 {
+        for _ in 0..SHARE_BISECTION_STEPS {
             let mid = 0.5 * (lo + hi);
             if mid <= lo || mid >= hi {
                 break;
@@ -142,13 +133,13 @@ fn share_equally(oracle: &AxisOracle, components: &[ErrorComponent], lower: &[f6
         let x = at(lo);
         let newly: Vec<usize> = (0..n).filter(|&i| !fixed[i] && x[i] < lower[i]).collect();
         if newly.is_empty() || fixed.iter().all(|&f| f) {
-            return x;
+            return Ok(x);
         }
         for i in newly {
             fixed[i] = true;
         }
         if fixed.iter().all(|&f| f) {
-            return lower.to_vec();
+            return Ok(lower.to_vec());
         }
     }
 }

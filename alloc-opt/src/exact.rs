@@ -1,93 +1,239 @@
-//! How an allocation that is tight on the linear model (26) fares on the exact chain.
+//! How an allocation that is tight on the linear model fares on the exact chain.
 //!
 //! The allocation is exact for the first-order model; the finite-rotation chain adds terms of
 //! second order in the errors (products $\chi_i\chi_j$, about $10^{-7}$ rad for sub-arcminute
-//! errors against $I = 4.7\times10^{-4}$ rad). An allocation that uses the whole requirement on
-//! the linear model can therefore exceed it on the exact chain by that much. This module
-//! measures it, and [`allocate_with_exact_margin`] shrinks the requirement by the measured
-//! excess until the exact chain's worst case found is within the original requirement.
+//! errors against $I = 4.7\times10^{-4}$ rad for the paper's table). An allocation that uses
+//! the whole requirement on the linear model can therefore exceed it on the exact chain by
+//! that much. [`exact_chain_check`] hunts for it, and [`allocate_with_exact_margin`] shrinks
+//! the requirement by the excess found until the exact chain's worst case found is within the
+//! original requirement.
+//!
+//! This is a search, not a proof: it looks where the linear model is worst (the certificate's
+//! worst pose, adversarial signs) and on a grid of poses, which is where the second-order
+//! excess matters.
 
 use crate::allocation::{Allocation, Allocator};
-use crate::error::AllocError;
+use crate::error::{AllocError, length};
 use crate::problem::AllocationProblem;
+use nalgebra::Matrix3;
 use std::f64::consts::TAU;
-use tt_kinematics::{
-    CHI_LEN, ExactChain, OrientationAxis, OrientationErrorModel, Pose, TurntableErrors,
-};
+use tt_kinematics::{OrientationAxis, OrientationError, Pose, Turntable};
 
-/// Poses $\phi_2$ scanned besides each angle's linear worst pose (every 2.5 degrees).
-const SCAN_POSES: usize = 144;
+/// Poses per free joint scanned besides each angle's linear worst pose: every 2.5 degrees for
+/// one free joint (the paper's table).
+const SCAN_POSES_ONE_JOINT: usize = 144;
+
+/// Poses per free joint for two free joints (every 15 degrees of each, 576 poses).
+const SCAN_POSES_TWO_JOINTS: usize = 24;
+
+/// Poses per free joint for three or more free joints.
+const SCAN_POSES_MORE_JOINTS: usize = 8;
+
+/// Up to this many bounded errors every sign vertex $\chi_i = \pm\mathrm{UB}_i$ is tried
+/// ($2^{10} = 1024$ per pose).
+pub const FULL_ENUMERATION_MAX_ERRORS: usize = 10;
+
+/// Rounds of [`allocate_with_exact_margin`].
+const MARGIN_ROUNDS: usize = 4;
 
 /// The exact chain's worst case found for one angle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExactAxisCheck {
     /// The angle.
     pub axis: OrientationAxis,
-    /// $I_k$ (rad).
-    pub requirement_rad: f64,
+    /// $I_k$ (rad) of the problem checked against; `None` without a requirement.
+    pub requirement_rad: Option<f64>,
     /// The linear model's worst case (the certificate's, rad).
     pub linear_worst_rad: f64,
     /// The largest $|f_k|$ of the exact chain found (rad).
     pub exact_worst_rad: f64,
-    /// `exact_worst_rad - requirement_rad` (rad): positive means the exact chain exceeds $I_k$.
-    pub excess_rad: f64,
-    /// The pose $\phi_2$ (rad) of that worst case ($\phi_1$ cancels exactly).
-    pub phi2_rad: f64,
-    /// The error vertex $\chi$ (rad) of that worst case, each $\pm\mathrm{UB}_i$.
-    pub chi_rad: [f64; CHI_LEN],
+    /// `exact_worst_rad - requirement_rad` (rad): positive means the exact chain exceeds
+    /// $I_k$; `None` without a requirement.
+    pub excess_rad: Option<f64>,
+    /// The pose (rad, every joint) of that worst case.
+    pub pose_rad: Vec<f64>,
+    /// The error vertex $\chi$ (rad) of that worst case: $\pm\mathrm{UB}_i$, and 0 for the
+    /// unconstrained errors (infinite bound).
+    pub chi_rad: Vec<f64>,
+    /// Exact-chain evaluations done for this angle.
+    pub evaluations: usize,
 }
 
-/// Evaluate the exact chain (finite rotations, eq 17-24) at the $2^8$ sign vertices
-/// $\chi_i = \pm\mathrm{UB}_i$, at each angle's linear worst pose and on a 2.5-degree grid of
-/// $\phi_2$, and report the largest $|f_k|$ found per angle.
+/// Hunt the exact chain's worst case (finite rotations, eq 17-24 for the paper's table) of
+/// `allocation` on `problem`'s turntable, checked against `problem`'s requirement.
 ///
-/// This is a search, not a proof: it finds the second-order excess where the linear model is
-/// worst, which is where it matters.
+/// # Method
+/// For each angle $k$, at the certificate's worst pose and on a grid over the free joints'
+/// ranges (every 2.5° for one free joint, 24 x 24 poses for two, 8 per joint for more), the
+/// errors are put on the vertices of the box $|\chi_i| = \mathrm{UB}_i$ with adversarial
+/// signs: all $2^n$ vertices when $n \le$ [`FULL_ENUMERATION_MAX_ERRORS`]; otherwise the signs
+/// $s_i = \operatorname{sign} c_{ki}(\phi)$ of the linear coefficients at that pose, their
+/// negation, and every single and double flip of both. The largest $|f_k|$ is reported.
+///
+/// Unconstrained errors (infinite bound) are held at zero: the exact chain needs a finite
+/// box, and at second order they would make every angle unbounded.
+///
+/// This is a search, not a proof; the linear certificate ([`crate::Certificate`]) is the
+/// proof for the first-order model.
 ///
 /// # Errors
-/// [`AllocError::NonFinite`] when a bound is infinite (a component no angle depends on).
-pub fn exact_chain_check(allocation: &Allocation) -> Result<[ExactAxisCheck; 3], AllocError> {
-    let ub = allocation.upper_bounds_rad;
-    for (i, u) in ub.iter().enumerate() {
-        crate::error::finite(format!("upper_bounds[{i}]"), *u)?;
-    }
-    let chain = ExactChain::default();
+/// [`AllocError::Length`] when the allocation does not fit the problem's turntable;
+/// [`AllocError::Kinematics`] if the chain rejects an input.
+pub fn exact_chain_check(
+    problem: &AllocationProblem,
+    allocation: &Allocation,
+) -> Result<[ExactAxisCheck; 3], AllocError> {
+    let model = problem.model();
+    let turntable = model.turntable();
+    let n = model.n_errors();
+    length("upper_bounds", n, allocation.upper_bounds_rad.len())?;
+    let ub: Vec<f64> = allocation
+        .upper_bounds_rad
+        .iter()
+        .map(|&u| if u.is_finite() { u } else { 0.0 })
+        .collect();
+    let boxed: Vec<usize> = (0..n).filter(|&i| ub[i] > 0.0).collect();
+    let grid = pose_grid(turntable);
+    let full = boxed.len() <= FULL_ENUMERATION_MAX_ERRORS;
+    // Every vertex's error-segment rotations, once (they do not depend on the pose).
+    let vertices: Vec<(Vec<f64>, Vec<Matrix3<f64>>)> = if full {
+        (0u32..(1 << boxed.len()))
+            .map(|signs| {
+                let mut chi = vec![0.0; n];
+                for (b, &i) in boxed.iter().enumerate() {
+                    chi[i] = if signs & (1 << b) == 0 { ub[i] } else { -ub[i] };
+                }
+                let e = segments(turntable, &chi)?;
+                Ok((chi, e))
+            })
+            .collect::<Result<_, AllocError>>()?
+    } else {
+        Vec::new()
+    };
     let mut out = Vec::with_capacity(3);
     for axis in OrientationAxis::ALL {
         let cert = allocation.certificate.get(axis);
-        let mut poses = vec![cert.worst_phi2_rad];
-        poses.extend((0..SCAN_POSES).map(|j| TAU * j as f64 / SCAN_POSES as f64));
-        let mut best = (f64::NEG_INFINITY, 0.0, [0.0; CHI_LEN]);
-        for &phi2 in &poses {
-            let pose = Pose::new(0.0, phi2).map_err(|_| AllocError::NonFinite {
-                field: "phi2".into(),
-                value: phi2,
-            })?;
-            for signs in 0u32..(1 << CHI_LEN) {
-                let chi: [f64; CHI_LEN] =
-                    std::array::from_fn(|i| if signs & (1 << i) == 0 { ub[i] } else { -ub[i] });
-                let errors =
-                    TurntableErrors::from_rad(chi, 0.0).map_err(|_| AllocError::NonFinite {
-                        field: "upper_bounds".into(),
-                        value: f64::NAN,
-                    })?;
-                let v = chain.orientation_error(&pose, &errors).get(axis).abs();
-                if v > best.0 {
-                    best = (v, phi2, chi);
+        let mut poses = vec![cert.worst_pose_rad.clone()];
+        poses.extend(grid.iter().cloned());
+        let mut best = (f64::NEG_INFINITY, poses[0].clone(), vec![0.0; n]);
+        let mut evaluations = 0;
+        for pose in &poses {
+            let pose_v = Pose::new(pose.clone())?;
+            let frames = turntable.pose_frames(&pose_v)?;
+            let mut consider = |chi: &[f64], e: &[Matrix3<f64>]| {
+                let f = OrientationError::from_matrix_elements(&frames.delta_r(e))
+                    .get(axis)
+                    .abs();
+                if f > best.0 {
+                    best = (f, pose.clone(), chi.to_vec());
+                }
+            };
+            if full {
+                for (chi, e) in &vertices {
+                    consider(chi, e);
+                }
+                evaluations += vertices.len();
+            } else {
+                let c = model.coefficients(&pose_v)?;
+                let s: Vec<f64> = (0..n)
+                    .map(|i| {
+                        if c[(axis.index(), i)] < 0.0 {
+                            -1.0
+                        } else {
+                            1.0
+                        }
+                    })
+                    .collect();
+                for chi in adversarial_vertices(&ub, &boxed, &s) {
+                    let e = segments(turntable, &chi)?;
+                    consider(&chi, &e);
+                    evaluations += 1;
                 }
             }
         }
+        let requirement_rad = problem.requirement().get(axis);
         out.push(ExactAxisCheck {
             axis,
-            requirement_rad: cert.requirement_rad,
+            requirement_rad,
             linear_worst_rad: cert.worst_case_rad,
             exact_worst_rad: best.0,
-            excess_rad: best.0 - cert.requirement_rad,
-            phi2_rad: best.1,
+            excess_rad: requirement_rad.map(|i| best.0 - i),
+            pose_rad: best.1,
             chi_rad: best.2,
+            evaluations,
         });
     }
-    Ok([out.remove(0), out.remove(0), out.remove(0)])
+    let [psi, theta, gamma]: [ExactAxisCheck; 3] = out
+        .try_into()
+        .unwrap_or_else(|_| unreachable!("three angles"));
+    Ok([psi, theta, gamma])
+}
+
+/// The error-segment rotations of the exact chain for $\chi$.
+fn segments(turntable: &Turntable, chi: &[f64]) -> Result<Vec<Matrix3<f64>>, AllocError> {
+    let mut e = vec![Matrix3::identity(); turntable.n_segments()];
+    turntable.segment_rotations(chi, &mut e)?;
+    Ok(e)
+}
+
+/// The sign vertices tried when there are too many errors to enumerate: $s$, $-s$, and every
+/// single and double flip of both.
+fn adversarial_vertices(ub: &[f64], boxed: &[usize], s: &[f64]) -> Vec<Vec<f64>> {
+    let at = |signs: &[f64]| -> Vec<f64> {
+        let mut chi = vec![0.0; ub.len()];
+        for &i in boxed {
+            chi[i] = signs[i] * ub[i];
+        }
+        chi
+    };
+    let mut out = Vec::new();
+    for base in [s.to_vec(), s.iter().map(|v| -v).collect::<Vec<f64>>()] {
+        out.push(at(&base));
+        for (a, &i) in boxed.iter().enumerate() {
+            let mut one = base.clone();
+            one[i] = -one[i];
+            out.push(at(&one));
+            for &j in &boxed[a + 1..] {
+                let mut two = one.clone();
+                two[j] = -two[j];
+                out.push(at(&two));
+            }
+        }
+    }
+    out
+}
+
+/// The scan grid over the free joints (other joints at the lower end of their range).
+fn pose_grid(turntable: &Turntable) -> Vec<Vec<f64>> {
+    let ranges = turntable.joint_ranges_rad();
+    let free = turntable.free_joints().to_vec();
+    let per = match free.len() {
+        0 => 1,
+        1 => SCAN_POSES_ONE_JOINT,
+        2 => SCAN_POSES_TWO_JOINTS,
+        _ => SCAN_POSES_MORE_JOINTS,
+    };
+    let base: Vec<f64> = ranges.iter().map(|r| r[0]).collect();
+    let total = per.pow(free.len() as u32);
+    (0..total)
+        .map(|cell| {
+            let mut pose = base.clone();
+            let mut rest = cell;
+            for &j in &free {
+                let [lo, hi] = ranges[j];
+                let k = (rest % per) as f64;
+                rest /= per;
+                // A full turn: per points, the end left out (it is the start); otherwise
+                // both ends.
+                pose[j] = if hi - lo >= TAU * (1.0 - 1e-12) || per == 1 {
+                    lo + (hi - lo) * k / per as f64
+                } else {
+                    lo + (hi - lo) * k / (per - 1) as f64
+                };
+            }
+            pose
+        })
+        .collect()
 }
 
 /// An allocation whose exact-chain worst case (as found by [`exact_chain_check`]) is within
@@ -102,9 +248,9 @@ pub struct ExactSafeAllocation {
     pub check: [ExactAxisCheck; 3],
 }
 
-/// Allocate, measure the exact chain's excess, and shrink every requirement by the largest
-/// relative excess (plus 1%), up to four times, until the exact chain stays within the
-/// original requirement.
+/// Allocate, hunt the exact chain's excess, and shrink every requirement by the largest
+/// relative excess (plus 1%), up to four times, until the exact chain's worst case found
+/// stays within the original requirement.
 ///
 /// # Errors
 /// Those of the allocator and of [`exact_chain_check`]; [`AllocError::NoConvergence`] if four
@@ -113,20 +259,16 @@ pub fn allocate_with_exact_margin(
     allocator: &dyn Allocator,
     problem: &AllocationProblem,
 ) -> Result<ExactSafeAllocation, AllocError> {
-    let original = problem.requirement();
-    const ROUNDS: usize = 4;
     let mut margin = 0.0_f64;
     let mut last_violation = f64::NAN;
-    for _ in 0..ROUNDS {
+    for _ in 0..MARGIN_ROUNDS {
         let shrunk = problem.with_safety_margin(margin)?;
         let allocation = allocator.allocate(&shrunk)?;
-        let mut check = exact_chain_check(&allocation)?;
-        let mut worst_rel = f64::NEG_INFINITY;
-        for c in &mut check {
-            c.requirement_rad = original.get(c.axis);
-            c.excess_rad = c.exact_worst_rad - c.requirement_rad;
-            worst_rel = worst_rel.max(c.excess_rad / c.requirement_rad);
-        }
+        let check = exact_chain_check(problem, &allocation)?;
+        let worst_rel = check
+            .iter()
+            .filter_map(|c| c.excess_rad.zip(c.requirement_rad).map(|(e, i)| e / i))
+            .fold(f64::NEG_INFINITY, f64::max);
         if worst_rel <= 0.0 {
             return Ok(ExactSafeAllocation {
                 allocation,
@@ -139,7 +281,7 @@ pub fn allocate_with_exact_margin(
     }
     Err(AllocError::NoConvergence {
         problem: "exact-chain margin".into(),
-        iterations: ROUNDS,
+        iterations: MARGIN_ROUNDS,
         violation: last_violation,
     })
 }

@@ -1,107 +1,122 @@
 //! The inputs of an allocation: model, requirement, lower bounds, weights.
 
-use crate::error::{AllocError, finite, non_negative, positive};
-use nalgebra::SMatrix;
+use crate::error::{AllocError, finite, length, non_negative, positive};
+use nalgebra::DMatrix;
 use tt_kinematics::units::deg_to_rad;
-use tt_kinematics::{CHI_LEN, ErrorComponent, LinearModel, OrientationAxis};
+use tt_kinematics::{LinearModel, OrientationAxis};
 
 /// The orientation-accuracy requirement $(I_\psi, I_\theta, I_\gamma)$ of eq 15-16, radians.
+///
+/// An angle may carry no requirement (`None`), for example when no sensor output depends on
+/// it: it then imposes no constraint, and an error that only such angles depend on is left
+/// unconstrained by the allocation (upper bound $+\infty$).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Requirement {
-    rad: [f64; 3],
+    rad: [Option<f64>; 3],
 }
 
 impl Requirement {
-    /// A requirement in radians; each must be finite and positive.
+    /// A requirement on all three angles, radians; each must be finite and positive.
     ///
     /// # Errors
     /// [`AllocError::NonFinite`] or [`AllocError::NotPositive`] naming `requirement.<axis>`.
     pub fn new(psi_rad: f64, theta_rad: f64, gamma_rad: f64) -> Result<Self, AllocError> {
-        Ok(Self {
-            rad: [
-                positive("requirement.psi", psi_rad)?,
-                positive("requirement.theta", theta_rad)?,
-                positive("requirement.gamma", gamma_rad)?,
-            ],
-        })
+        Self::from_options([Some(psi_rad), Some(theta_rad), Some(gamma_rad)])
+    }
+
+    /// A requirement with some angles left free (`None`), order $\psi, \theta, \gamma$,
+    /// radians; each given value must be finite and positive.
+    ///
+    /// # Errors
+    /// As [`Requirement::new`].
+    pub fn from_options(rad: [Option<f64>; 3]) -> Result<Self, AllocError> {
+        let mut out = [None; 3];
+        for axis in OrientationAxis::ALL {
+            if let Some(v) = rad[axis.index()] {
+                out[axis.index()] = Some(positive(format!("requirement.{}", axis.name()), v)?);
+            }
+        }
+        Ok(Self { rad: out })
     }
 
     /// The same requirement for all three angles, in degrees (eq 16 prints 0.027 deg).
     ///
     /// # Errors
-    /// As [`Requirement::new`].
+    /// As [`Requirement::new`] (`requirement_deg` when not finite).
     pub fn uniform_deg(deg: f64) -> Result<Self, AllocError> {
         let r = deg_to_rad(finite("requirement_deg", deg)?);
         Self::new(r, r, r)
     }
 
-    /// $I_k$ in radians.
+    /// $I_k$ in radians, `None` when the angle carries no requirement.
     #[must_use]
-    pub fn get(&self, axis: OrientationAxis) -> f64 {
+    pub fn get(&self, axis: OrientationAxis) -> Option<f64> {
         self.rad[axis.index()]
     }
 
     /// All three, in the order $\psi, \theta, \gamma$.
     #[must_use]
-    pub fn to_array(&self) -> [f64; 3] {
+    pub fn to_array(&self) -> [Option<f64>; 3] {
         self.rad
     }
 
-    /// The requirement multiplied by `factor` (in $(0, 1]$ for a safety margin).
+    /// The angles that carry a requirement, in the order $\psi, \theta, \gamma$.
+    #[must_use]
+    pub fn constrained_axes(&self) -> Vec<OrientationAxis> {
+        OrientationAxis::ALL
+            .into_iter()
+            .filter(|a| self.get(*a).is_some())
+            .collect()
+    }
+
+    /// The requirement multiplied by `factor` (in $(0, 1]$ for a safety margin); angles
+    /// without a requirement stay without.
     ///
     /// # Errors
     /// [`AllocError::NotPositive`] when `factor` is not positive and finite.
     pub fn scaled(&self, factor: f64) -> Result<Self, AllocError> {
         let f = positive("requirement_factor", factor)?;
-        Self::new(self.rad[0] * f, self.rad[1] * f, self.rad[2] * f)
+        Self::from_options(self.rad.map(|v| v.map(|v| v * f)))
     }
 }
 
-/// What an [`crate::Allocator`] is asked: a linear first-harmonic orientation-error model
-/// (eq 26 is one), the requirement and the lower bounds $\mathrm{LB}_i$ of eq 29.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What an [`crate::Allocator`] is asked: the first-order orientation-error model of a
+/// turntable (eq 26 for the paper's table), the requirement and one lower bound
+/// $\mathrm{LB}_i$ per rotation error (eq 29).
+#[derive(Debug, Clone, PartialEq)]
 pub struct AllocationProblem {
     model: LinearModel,
     requirement: Requirement,
-    lower_bounds_rad: [f64; CHI_LEN],
+    lower_bounds_rad: Vec<f64>,
 }
 
 impl AllocationProblem {
-    /// A problem; lower bounds (radians, order of $\chi$ in eq 25) must be finite and
-    /// non-negative.
+    /// A problem; lower bounds (radians, one per rotation error in the turntable's error
+    /// order, eq 25 for the paper) must be finite and non-negative.
     ///
     /// # Errors
-    /// [`AllocError::NonFinite`] or [`AllocError::Negative`] naming `lower_bounds.<component>`.
+    /// [`AllocError::Length`] naming `lower_bounds` for a vector of the wrong length;
+    /// [`AllocError::NonFinite`] or [`AllocError::Negative`] naming
+    /// `lower_bounds.<error name>`.
     pub fn new(
         model: LinearModel,
         requirement: Requirement,
-        lower_bounds_rad: [f64; CHI_LEN],
+        lower_bounds_rad: Vec<f64>,
     ) -> Result<Self, AllocError> {
-        for c in ErrorComponent::ALL {
-            non_negative(
-                format!("lower_bounds.{}", c.name()),
-                lower_bounds_rad[c.index()],
-            )?;
+        length("lower_bounds", model.n_errors(), lower_bounds_rad.len())?;
+        for (name, &lb) in model
+            .turntable()
+            .rotation_error_names()
+            .iter()
+            .zip(&lower_bounds_rad)
+        {
+            non_negative(format!("lower_bounds.{name}"), lb)?;
         }
         Ok(Self {
             model,
             requirement,
             lower_bounds_rad,
         })
-    }
-
-    /// The paper's example (§4.3): model (26), $I = 0.027^\circ$ for all three angles (eq 16
-    /// as printed), and $\mathrm{LB} = 0$ because the paper gives no lower bounds (NOTES item
-    /// 11; the NumPy Monte Carlo anchor also draws from zero).
-    ///
-    /// # Errors
-    /// Never in practice (the inputs are constants); kept fallible for uniformity.
-    pub fn paper_example() -> Result<Self, AllocError> {
-        Self::new(
-            LinearModel::paper_eq26(),
-            Requirement::uniform_deg(crate::PAPER_REQUIREMENT_DEG)?,
-            [0.0; CHI_LEN],
-        )
     }
 
     /// The same problem with every requirement shrunk by a relative safety margin
@@ -121,7 +136,7 @@ impl AllocationProblem {
         }
         Ok(Self {
             requirement: self.requirement.scaled(1.0 - m)?,
-            ..*self
+            ..self.clone()
         })
     }
 
@@ -137,78 +152,130 @@ impl AllocationProblem {
         self.requirement
     }
 
-    /// The lower bounds (radians, order of eq 25).
+    /// The lower bounds (radians, the turntable's error order).
     #[must_use]
-    pub fn lower_bounds_rad(&self) -> [f64; CHI_LEN] {
-        self.lower_bounds_rad
+    pub fn lower_bounds_rad(&self) -> &[f64] {
+        &self.lower_bounds_rad
+    }
+
+    /// The names of the rotation errors (the turntable's error order).
+    #[must_use]
+    pub fn error_names(&self) -> Vec<String> {
+        error_names(&self.model)
     }
 }
 
+pub(crate) fn error_names(model: &LinearModel) -> Vec<String> {
+    model
+        .turntable()
+        .rotation_error_names()
+        .into_iter()
+        .map(str::to_string)
+        .collect()
+}
+
 /// Weights $W_{ki}$ of the objective $J = \sum_k \sum_{i \in \chi_k} W_{ki}^2/\chi_{ki}^2$
-/// (problems 31-33): a 3x8 matrix (rows $\psi, \theta, \gamma$), zero where a component is
-/// not involved in an angle.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// (problems 31-33): a $3 \times n$ matrix (rows $\psi, \theta, \gamma$, one column per
+/// rotation error), zero where an error is not involved in an angle.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Weights {
-    w: SMatrix<f64, 3, CHI_LEN>,
+    w: DMatrix<f64>,
 }
 
 impl Weights {
-    /// The paper's weights: the multiplicative inverse of the average sensitivity (eq 28,
-    /// Figure 8). For eq 26 this is $\pi/2$ for every $\sin\phi_2$/$\cos\phi_2$ term and 1 for
-    /// a constant term.
+    /// The paper's weights: the multiplicative inverse of the average sensitivity over the
+    /// joint ranges (eq 28, Figure 8), zero where an error is not involved. For eq 26 this is
+    /// $\pi/2$ for every $\sin\phi_2$/$\cos\phi_2$ term and 1 for a constant term.
     ///
     /// # Formula
-    /// $$W_{ki} = 1 \Big/ \tfrac{1}{2\pi}\int_0^{2\pi} \Big|\frac{\partial f_k}{\partial\chi_i}\Big|\,d\phi_2.$$
+    /// $$W_{ki} = 1 \Big/ \overline{\Big|\frac{\partial f_k}{\partial\chi_i}\Big|},$$ the
+    /// average taken uniformly over the free joints' ranges
+    /// ([`LinearModel::average_abs_coefficients`]: exact in the last free joint, a midpoint
+    /// rule in the others).
     ///
     /// # Reference
     /// Zhao et al. 2017, eq 28 and the text below (33).
     #[must_use]
     pub fn inverse_average_sensitivity(model: &LinearModel) -> Self {
         let avg = model.average_abs_coefficients();
-        Self {
-            w: avg.map(|a| if a > 0.0 { 1.0 / a } else { 0.0 }),
+        let mut w = DMatrix::zeros(3, model.n_errors());
+        for axis in OrientationAxis::ALL {
+            for i in model.involved(axis) {
+                let a = avg[(axis.index(), i)];
+                if a > 0.0 && (1.0 / a).is_finite() {
+                    w[(axis.index(), i)] = 1.0 / a;
+                }
+            }
         }
+        Self { w }
     }
 
-    /// Explicit weights; every entry of a component involved in an angle (per `model`) must be
-    /// finite and positive, the others are ignored (set to zero).
+    /// Explicit weights ($3 \times n$, rows $\psi, \theta, \gamma$); every entry of an error
+    /// involved in an angle (per `model`) must be finite and positive, the others are ignored
+    /// (set to zero).
     ///
     /// # Errors
+    /// [`AllocError::Length`] naming `weights` for a matrix that is not $3 \times n$;
     /// [`AllocError::NonFinite`] or [`AllocError::NotPositive`] naming
-    /// `weights.<axis>.<component>`.
-    pub fn new(model: &LinearModel, w: SMatrix<f64, 3, CHI_LEN>) -> Result<Self, AllocError> {
-        let mut out = SMatrix::zeros();
+    /// `weights.<axis>.<error name>`.
+    pub fn new(model: &LinearModel, w: DMatrix<f64>) -> Result<Self, AllocError> {
+        length("weights (rows)", 3, w.nrows())?;
+        length("weights", model.n_errors(), w.ncols())?;
+        let names = error_names(model);
+        let mut out = DMatrix::zeros(3, model.n_errors());
         for axis in OrientationAxis::ALL {
-            for c in model.involved(axis) {
-                let ij = (axis.index(), c.index());
-                out[ij] = positive(format!("weights.{}.{}", axis.name(), c.name()), w[ij])?;
+            for i in model.involved(axis) {
+                let ij = (axis.index(), i);
+                out[ij] = positive(format!("weights.{}.{}", axis.name(), names[i]), w[ij])?;
             }
         }
         Ok(Self { w: out })
     }
 
-    /// $W_{ki}$ (zero when not involved).
+    /// Number of errors (columns).
     #[must_use]
-    pub fn get(&self, axis: OrientationAxis, c: ErrorComponent) -> f64 {
-        self.w[(axis.index(), c.index())]
+    pub fn n_errors(&self) -> usize {
+        self.w.ncols()
+    }
+
+    /// $W_{ki}$ (zero when not involved).
+    ///
+    /// # Panics
+    /// When `error` is not below [`Weights::n_errors`].
+    #[must_use]
+    pub fn get(&self, axis: OrientationAxis, error: usize) -> f64 {
+        self.w[(axis.index(), error)]
     }
 
     /// The matrix (rows $\psi, \theta, \gamma$).
     #[must_use]
-    pub fn matrix(&self) -> SMatrix<f64, 3, CHI_LEN> {
-        self.w
+    pub fn matrix(&self) -> &DMatrix<f64> {
+        &self.w
+    }
+
+    /// The combined weight of each error, $w_i = \sqrt{\sum_k W_{ki}^2}$: then
+    /// $\sum_i w_i^2/\mathrm{UB}_i^2 = J(\mathrm{UB})$ of [`Weights::objective`], so an error
+    /// that appears in two angles counts twice, as in the per-angle problems. For eq 26:
+    /// $\pi/\sqrt2$ for the four errors shared by $\psi$ and $\gamma$, 1 for the others.
+    #[must_use]
+    pub fn combined(&self) -> Vec<f64> {
+        (0..self.n_errors())
+            .map(|i| self.w.column(i).norm())
+            .collect()
     }
 
     /// $J_k(\mathrm{UB}) = \sum_{i} W_{ki}^2 / \mathrm{UB}_i^2$ for one angle (rad$^{-2}$ for
-    /// bounds in radians). Infinite bounds contribute 0.
+    /// bounds in radians). Infinite bounds (unconstrained errors) contribute 0.
+    ///
+    /// # Panics
+    /// When `ub_rad` is shorter than [`Weights::n_errors`].
     #[must_use]
-    pub fn objective_axis(&self, axis: OrientationAxis, ub_rad: &[f64; CHI_LEN]) -> f64 {
-        ErrorComponent::ALL
-            .into_iter()
-            .map(|c| {
-                let w = self.get(axis, c);
+    pub fn objective_axis(&self, axis: OrientationAxis, ub_rad: &[f64]) -> f64 {
+        (0..self.n_errors())
+            .map(|i| {
+                let w = self.get(axis, i);
                 if w > 0.0 {
-                    (w / ub_rad[c.index()]).powi(2)
+                    (w / ub_rad[i]).powi(2)
                 } else {
                     0.0
                 }
@@ -218,9 +285,12 @@ impl Weights {
 
     /// $J(\mathrm{UB}) = J_\psi + J_\theta + J_\gamma$: the paper's three objectives evaluated
     /// at the combined bounds (rad$^{-2}$ for bounds in radians; multiply by
-    /// $(\pi/10800)^2$ for arcmin$^{-2}$).
+    /// $(\pi/10800)^2$ for arcmin$^{-2}$). Infinite bounds contribute 0.
+    ///
+    /// # Panics
+    /// When `ub_rad` is shorter than [`Weights::n_errors`].
     #[must_use]
-    pub fn objective(&self, ub_rad: &[f64; CHI_LEN]) -> f64 {
+    pub fn objective(&self, ub_rad: &[f64]) -> f64 {
         OrientationAxis::ALL
             .into_iter()
             .map(|a| self.objective_axis(a, ub_rad))

@@ -12,12 +12,23 @@
 //! \{(u, v, z): u^{1/3} v^{2/3} \ge |z|,\ u, v \ge 0\}$, since
 //! $\tau^{1/3} x^{2/3} \ge w^{2/3} \iff \tau x^2 \ge w^2$.
 //!
-//! When $T$ is infinite (every pose $\phi_2$ of a range) the problem is solved by the exchange
-//! (cutting-plane) method: solve with a finite set of rows, ask the [`CutOracle`] for the
-//! exact most violated row at the solution, add it, repeat until the relative violation is
-//! below [`CUT_TOLERANCE`]. Finally the free components (those not at a lower bound) are
-//! rescaled by one factor, found by bisection, so that the exact constraint is met with
-//! $\max_t a(t)^T x / b(t) \in [1 - 10^{-13}, 1]$: the returned bounds are feasible and tight.
+//! When $T$ is infinite (every pose $\phi$ in the joint ranges of a turntable) the problem is
+//! solved by the exchange (cutting-plane) method: solve with a finite set of rows, ask the
+//! [`CutOracle`] for the most violated row at the solution, add it, repeat until the relative
+//! violation is below [`CUT_TOLERANCE`]. The allocators' oracle is the worst pose of the
+//! linear model ([`tt_kinematics::LinearModel::max_signed_weighted`] /
+//! [`tt_kinematics::LinearModel::max_abs_weighted`]): exact for at most one free joint, a
+//! grid-and-refine search otherwise (the allocators then make the final bounds safe with a
+//! rigorous bound, see [`crate::Certificate`]). Then the free components (those not at a
+//! lower bound) are rescaled by one factor, found by bisection, so that the constraint is met
+//! with $\max_t a(t)^T x / b(t) \in [1 - 10^{-13}, 1]$: the returned bounds are feasible and
+//! tight.
+//!
+//! The interior-point $x$ is accurate only to about the square root of its duality gap
+//! ($\sim 10^{-6}$: $J$ is flat at the optimum), so a KKT polish follows: exact for one active
+//! row, and for several an active-set Newton method on the KKT system whose rows the oracle
+//! moves to their exact worst poses. A polished point replaces the interior-point one only
+//! when it is not worse ([`InverseSquareSolution::polished`]).
 //!
 //! Issue 7 (direct/yield-based allocation) reuses this core with a finite row set
 //! ([`FiniteCuts`]): the rate errors are linear in $\chi$ at each calibration position.
@@ -48,15 +59,17 @@ const SCALED_UNBOUNDED: f64 = 1e2;
 /// A component is "at its lower bound" when within this relative distance of it.
 const LOWER_ACTIVE_REL: f64 = 1e-7;
 
-/// One linear constraint $a^T x \le b$ with $b > 0$, tagged (for example with its pose
-/// $\phi_2$ in radians).
+/// One linear constraint $a^T x \le b$ with $b > 0$, tagged with a scalar label (the
+/// allocators' rows carry the angle of the turntable's last free joint, $\phi_2$ for the
+/// paper's table; a finite row set can carry its row index).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cut {
     /// The row $a$ (one entry per variable).
     pub coefficients: Vec<f64>,
     /// The right-hand side $b > 0$.
     pub bound: f64,
-    /// A label for the row, for example the inner-axis angle $\phi_2$ (rad) it came from.
+    /// A label for the row, for example the angle (rad) of the last free joint of the pose
+    /// it came from, or a row index.
     pub tag: f64,
 }
 
@@ -73,7 +86,7 @@ impl Cut {
     }
 }
 
-/// The exact separation oracle of a semi-infinite constraint family.
+/// The separation oracle of a semi-infinite constraint family.
 ///
 /// # Example
 /// ```
@@ -85,7 +98,8 @@ impl Cut {
 /// assert_eq!(rows.most_violated(&[0.5, 0.25]).tag, 1.0);
 /// ```
 pub trait CutOracle {
-    /// The row with the largest load $a^T x / b$ at `x` (found exactly, not on a grid).
+    /// The row with the largest load $a^T x / b$ at `x` (exactly where possible; an inexact
+    /// oracle makes the solution feasible only for the rows it finds).
     fn most_violated(&self, x: &[f64]) -> Cut;
 }
 
@@ -141,7 +155,7 @@ pub struct InverseSquareProblem<'a> {
     pub lower: Vec<f64>,
     /// Rows to start from (at least one; a grid of poses is a good start).
     pub initial_cuts: Vec<Cut>,
-    /// The exact separation oracle of the whole (possibly infinite) row family.
+    /// The separation oracle of the whole (possibly infinite) row family.
     pub oracle: &'a dyn CutOracle,
 }
 
@@ -164,7 +178,7 @@ pub struct InverseSquareSolution {
     pub x: Vec<f64>,
     /// $J(x) = \sum w_i^2/x_i^2$.
     pub objective: f64,
-    /// The most loaded row at `x` (its `tag` is the worst pose).
+    /// The most loaded row at `x` (its `tag` labels the worst pose).
     pub worst: Cut,
     /// Its load $\max_t a(t)^T x/b(t)$, in $[1 - 10^{-13}, 1]$ when the constraint is active.
     pub load: f64,
@@ -178,8 +192,9 @@ pub struct InverseSquareSolution {
     pub iterations: usize,
     /// Rows in the last conic problem.
     pub cuts: usize,
-    /// Whether the single-active-row KKT polish replaced the interior-point point (it is
-    /// kept only when exact and not worse; otherwise the conic solution is returned).
+    /// Whether a KKT polish (one active row, or an active set of rows refined by the oracle)
+    /// replaced the interior-point point (it is kept only when exact and not worse;
+    /// otherwise the conic solution is returned).
     pub polished: bool,
 }
 
@@ -268,7 +283,7 @@ pub fn solve_inverse_square(
 
     let mut cuts: Vec<Cut> = p.initial_cuts.clone();
     let mut iterations = 0;
-    let (x, multiplier) = loop {
+    let (x, multiplier, duals) = loop {
         iterations += 1;
         let (y, duals) = conic_solve(&p.label, &cuts, &sigma, &cone_const, &lower_scaled)?;
         let unbounded: Vec<String> = (0..n)
@@ -286,7 +301,7 @@ pub fn solve_inverse_square(
         let load = worst.load(&x);
         let lambda = duals.iter().sum::<f64>() * wmax * wmax;
         if load <= 1.0 + CUT_TOLERANCE {
-            break (x, lambda);
+            break (x, lambda, duals);
         }
         if iterations >= MAX_EXCHANGE_ITERATIONS {
             return Err(AllocError::NoConvergence {
@@ -300,7 +315,23 @@ pub fn solve_inverse_square(
 
     let x = restore_tightness(p, x);
     let objective_of = |x: &[f64]| -> f64 { (0..n).map(|i| (p.weights[i] / x[i]).powi(2)).sum() };
-    let (x, multiplier, polished) = match polish_single_row(p, &x) {
+    let polish = polish_single_row(p, &x).or_else(|| {
+        // Rows with a multiplier, largest first, without near-copies (the exchange method
+        // leaves successive refinements of the same active pose).
+        let max_dual = duals.iter().copied().fold(0.0_f64, f64::max);
+        let mut order: Vec<usize> = (0..cuts.len())
+            .filter(|&r| duals[r] > ACTIVE_DUAL_REL * max_dual)
+            .collect();
+        order.sort_by(|&a, &b| duals[b].total_cmp(&duals[a]));
+        let mut active: Vec<Cut> = Vec::new();
+        for r in order {
+            if !active.iter().any(|c| same_row(c, &cuts[r])) {
+                active.push(cuts[r].clone());
+            }
+        }
+        polish_active_rows(p, &x, active)
+    });
+    let (x, multiplier, polished) = match polish {
         Some((xp, lambda)) if objective_of(&xp) <= objective_of(&x) * (1.0 + POLISH_ACCEPT_REL) => {
             (xp, lambda, true)
         }
@@ -328,6 +359,173 @@ pub fn solve_inverse_square(
 /// A polished point is kept when its objective is not above the interior-point one by more
 /// than this (relative): the polish is exact where it applies, so it only ever gains.
 const POLISH_ACCEPT_REL: f64 = 1e-12;
+
+/// A row of the last conic problem starts the active-set polish when its multiplier is above
+/// this fraction of the largest one.
+const ACTIVE_DUAL_REL: f64 = 1e-6;
+
+/// Rounds of the active-set polish (one oracle call each).
+const ACTIVE_SET_ROUNDS: usize = 40;
+
+/// Newton steps on the KKT system of one active set (quadratic convergence from the
+/// interior-point point takes a handful).
+const NEWTON_STEPS: usize = 60;
+
+/// A point of the active-set polish is accepted when the oracle's most loaded row exceeds the
+/// constraint by at most this (relative); the one-factor rescaling then moves it by as much.
+const POLISH_LOAD_REL: f64 = 1e-12;
+
+/// The active-set polish stops refining the poses when the excess is at most this (relative,
+/// a few ulp of a load of 1): the rows are then at the worst poses to within rounding (the
+/// excess is second order in the pose error, so the poses are within about $10^{-8}$ rad).
+const POLISH_LOAD_TARGET: f64 = 4.0 * f64::EPSILON;
+
+/// The oracle's row replaces an active row (it is that row's refinement, at a nearby pose)
+/// when their normalised coefficients differ by less than this, relative to the largest.
+const SAME_ROW_REL: f64 = 1e-3;
+
+/// Polish for several active rows (poses): an active-set method on the KKT conditions.
+///
+/// # Formula
+/// With active rows $a_r$ (normalised by $b_r$) and free components $F$, the optimum of
+/// $\min \sum_{i \in F} w_i^2/x_i^2$ s.t. $\sum_i a_{ri} x_i / b_r = 1$ satisfies
+/// $2 w_i^2 / x_i^3 = \sum_r \lambda_r a_{ri}/b_r$; Newton's method on these equations
+/// (in the variables $x_i / x_i^{(0)}$, so that the system is well scaled) converges
+/// quadratically from the interior-point point. Rows with a negative multiplier are dropped;
+/// then the oracle's most loaded row at the new point replaces the row it refines (or joins
+/// the set), until no row exceeds the constraint by more than [`POLISH_LOAD_TARGET`]. For a
+/// semi-infinite family this moves each active pose to its maximiser (linearly, by a factor
+/// of about ten per round on the three-axis example). Returns the best point within
+/// [`POLISH_LOAD_REL`], or `None` (keep the interior-point point) when there is none: the
+/// system is singular, a free component would reach its lower bound, or the rounds run out.
+fn polish_active_rows(
+    p: &InverseSquareProblem<'_>,
+    x0: &[f64],
+    mut active: Vec<Cut>,
+) -> Option<(Vec<f64>, f64)> {
+    let n = x0.len();
+    let free: Vec<usize> = (0..n)
+        .filter(|&i| x0[i] > p.lower[i] * (1.0 + LOWER_ACTIVE_REL))
+        .collect();
+    if free.is_empty() {
+        return None;
+    }
+    let mut x = x0.to_vec();
+    // The best point whose load is within POLISH_LOAD_REL, with its multiplier sum.
+    let mut accepted: Option<(f64, Vec<f64>, f64)> = None;
+    for _ in 0..ACTIVE_SET_ROUNDS {
+        if active.is_empty() {
+            break;
+        }
+        let Some((xn, lambda)) = newton_kkt(p, &x, &free, &active) else {
+            break;
+        };
+        if let Some((r, _)) = lambda
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| **l < 0.0)
+            .min_by(|a, b| a.1.total_cmp(b.1))
+        {
+            active.remove(r);
+            continue;
+        }
+        x = xn;
+        let row = p.oracle.most_violated(&x);
+        let excess = row.load(&x) - 1.0;
+        if excess <= POLISH_LOAD_REL && accepted.as_ref().is_none_or(|(e, _, _)| excess < *e) {
+            accepted = Some((excess, x.clone(), lambda.iter().sum()));
+        }
+        if excess <= POLISH_LOAD_TARGET {
+            break;
+        }
+        match active.iter().position(|c| same_row(c, &row)) {
+            Some(k) => active[k] = row,
+            None => active.push(row),
+        }
+    }
+    accepted.map(|(_, x, lambda)| (restore_tightness(p, x), lambda))
+}
+
+/// Whether two rows are the same constraint up to [`SAME_ROW_REL`]: their normalised
+/// coefficients $a/b$ differ by less than that fraction of the largest.
+fn same_row(a: &Cut, b: &Cut) -> bool {
+    let u: Vec<f64> = a.coefficients.iter().map(|v| v / a.bound).collect();
+    let v: Vec<f64> = b.coefficients.iter().map(|v| v / b.bound).collect();
+    let scale = u.iter().chain(&v).map(|x| x.abs()).fold(0.0_f64, f64::max);
+    u.iter()
+        .zip(&v)
+        .all(|(p, q)| (p - q).abs() <= SAME_ROW_REL * scale)
+}
+
+/// Newton's method on the KKT conditions of $\min \sum_{i\in F} w_i^2/x_i^2$ subject to the
+/// given rows as equalities (the other components fixed). Returns the point and the rows'
+/// multipliers (units of $J$), or `None` when it does not converge.
+fn newton_kkt(
+    p: &InverseSquareProblem<'_>,
+    x0: &[f64],
+    free: &[usize],
+    rows: &[Cut],
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    use nalgebra::{DMatrix, DVector};
+    let (nf, m) = (free.len(), rows.len());
+    if m == 0 || m > nf {
+        return None;
+    }
+    // Scaled variables y_i = x_i / x0_i: objective sum c_i / y_i^2, rows A y = rhs.
+    let c: Vec<f64> = free
+        .iter()
+        .map(|&i| (p.weights[i] / x0[i]).powi(2))
+        .collect();
+    let a = DMatrix::from_fn(m, nf, |r, k| {
+        rows[r].coefficients[free[k]] * x0[free[k]] / rows[r].bound
+    });
+    let rhs = DVector::from_fn(m, |r, _| {
+        let fixed: f64 = (0..x0.len())
+            .filter(|i| !free.contains(i))
+            .map(|i| rows[r].coefficients[i] * x0[i] / rows[r].bound)
+            .sum();
+        1.0 - fixed
+    });
+    let floor: Vec<f64> = free.iter().map(|&i| p.lower[i] / x0[i]).collect();
+    let mut y: DVector<f64> = DVector::from_element(nf, 1.0);
+    for _ in 0..NEWTON_STEPS {
+        let mut k: DMatrix<f64> = DMatrix::zeros(nf + m, nf + m);
+        let mut b: DVector<f64> = DVector::zeros(nf + m);
+        for j in 0..nf {
+            k[(j, j)] = 6.0 * c[j] / y[j].powi(4);
+            b[j] = 2.0 * c[j] / y[j].powi(3);
+        }
+        k.view_mut((0, nf), (nf, m)).copy_from(&a.transpose());
+        k.view_mut((nf, 0), (m, nf)).copy_from(&a);
+        let residual = &rhs - &a * &y;
+        b.rows_mut(nf, m).copy_from(&residual);
+        let sol = k.lu().solve(&b)?;
+        let dy = sol.rows(0, nf).into_owned();
+        let lambda = sol.rows(nf, m).into_owned();
+        let mut t = 1.0;
+        while (0..nf).any(|j| y[j] + t * dy[j] <= floor[j].max(0.5 * y[j])) {
+            t *= 0.5;
+            if t < 1e-6 {
+                return None;
+            }
+        }
+        y += t * &dy;
+        let step = (0..nf)
+            .map(|j| (t * dy[j] / y[j]).abs())
+            .fold(0.0, f64::max);
+        if !step.is_finite() || lambda.iter().any(|l| !l.is_finite()) {
+            return None;
+        }
+        if step <= 8.0 * f64::EPSILON && residual.amax() <= 1e-14 {
+            let mut x = x0.to_vec();
+            for (j, &i) in free.iter().enumerate() {
+                x[i] = x0[i] * y[j];
+            }
+            return Some((x, lambda.iter().copied().collect()));
+        }
+    }
+    None
+}
 
 /// Polish for the common case of one active pose: solve the KKT conditions of the single
 /// most loaded row exactly and repeat with the new worst row.
