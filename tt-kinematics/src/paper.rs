@@ -216,3 +216,207 @@ pub fn figure8_expected() -> [[f64; 8]; 3] {
         [h, 0.0, h, 0.0, 1.0, 0.0, h, h],
     ]
 }
+
+/// The paper's claims about the turntable model (§3-4), each a function returning its
+/// evidence (the numbers a report prints) and whether it holds. The claim tests of this crate
+/// call them and assert; the reproduction report calls the same functions and prints them.
+pub mod claims {
+    use crate::error::KinematicsError;
+    use crate::linear::{LinearModel, OrientationAxis};
+    use crate::pose::{Pose, TurntableErrors};
+    use crate::turntable::{ChainKind, Turntable};
+    use std::fmt;
+
+    /// Deterministic test points spread over the joint ranges with errors up to `max_rad`
+    /// (an additive recurrence: reproducible, well spread).
+    fn points(t: &Turntable, n: usize, max_rad: f64) -> Vec<(Pose, TurntableErrors)> {
+        let frac = |k: usize, a: f64| (k as f64 * a).fract();
+        (0..n)
+            .map(|k| {
+                let pose: Vec<f64> = t
+                    .joint_ranges_rad()
+                    .iter()
+                    .enumerate()
+                    .map(|(j, [lo, hi])| lo + (hi - lo) * frac(k + 1, 0.618_033_988_749_895 + 0.1 * j as f64))
+                    .collect();
+                let chi: Vec<f64> = (0..t.n_rotation_errors())
+                    .map(|i| max_rad * (2.0 * frac(k * 7 + i + 1, 0.754_877_666_246_693) - 1.0))
+                    .collect();
+                (
+                    Pose::new(pose).unwrap_or_else(|_| unreachable!("finite")),
+                    TurntableErrors::new(chi, vec![0.0; t.n_translation_errors()])
+                        .unwrap_or_else(|_| unreachable!("finite")),
+                )
+            })
+            .collect()
+    }
+
+    /// Claim under eq 25: the intersection error has no effect on the orientation error.
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct IntersectionEvidence {
+        /// Test points (poses and error vectors).
+        pub points: usize,
+        /// Translation applied to every error translation, m.
+        pub translation_m: f64,
+        /// Largest change of any element of $\Delta\mathbf R$ (exact chain), rad.
+        pub max_change_rad: f64,
+    }
+
+    impl IntersectionEvidence {
+        /// Holds when nothing changes, bit for bit.
+        #[must_use]
+        pub fn holds(&self) -> bool {
+            self.max_change_rad == 0.0
+        }
+    }
+
+    impl fmt::Display for IntersectionEvidence {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            write!(
+                f,
+                "largest change of Delta-R from a {} mm translation at {} poses: {:e} rad",
+                self.translation_m * 1e3,
+                self.points,
+                self.max_change_rad
+            )
+        }
+    }
+
+    /// Evaluate the claim under eq 25 on `table`.
+    ///
+    /// # Errors
+    /// [`KinematicsError`] from the chain (never for a valid table).
+    pub fn eq25_intersection_error_has_no_effect(table: &Turntable) -> Result<IntersectionEvidence, KinematicsError> {
+        const TRANSLATION_M: f64 = 1e-3;
+        let pts = points(table, 200, 10.0 * crate::units::RAD_PER_ARCMIN);
+        let mut max: f64 = 0.0;
+        for (pose, e) in &pts {
+            let moved = e.clone().with_translations_m(vec![TRANSLATION_M; table.n_translation_errors()])?;
+            for kind in [ChainKind::Exact, ChainKind::SmallAngle] {
+                let d = table.delta_r(pose, e, kind)? - table.delta_r(pose, &moved, kind)?;
+                max = max.max(d.amax());
+            }
+        }
+        Ok(IntersectionEvidence { points: pts.len(), translation_m: TRANSLATION_M, max_change_rad: max })
+    }
+
+    /// Eq 26 approximates the exact orientation error (25) to second order.
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct Eq26Evidence {
+        /// Largest error magnitude tested, rad.
+        pub max_error_rad: f64,
+        /// Largest difference between the exact chain and eq 26 found, rad.
+        pub max_difference_rad: f64,
+        /// The derived bound $K m^2$ ($K = 33$: $e^s - 1 - s$ with $s = 8m$), rad.
+        pub bound_rad: f64,
+        /// Largest difference between the first-order model built from the description and
+        /// the printed eq 26, rad (the description recovers eq 26).
+        pub eq26_recovery_rad: f64,
+    }
+
+    impl Eq26Evidence {
+        /// Holds when the difference is within the bound and the description recovers eq 26
+        /// to 1e-12.
+        #[must_use]
+        pub fn holds(&self) -> bool {
+            self.max_difference_rad <= self.bound_rad && self.eq26_recovery_rad <= 1e-12
+        }
+    }
+
+    impl fmt::Display for Eq26Evidence {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            write!(
+                f,
+                "errors up to {:.1} arcmin: exact chain minus eq 26 at most {:.3e} rad (bound 33 m^2 = {:.3e} rad); the description's first-order model equals eq 26 to {:.1e}",
+                self.max_error_rad / crate::units::RAD_PER_ARCMIN,
+                self.max_difference_rad,
+                self.bound_rad,
+                self.eq26_recovery_rad
+            )
+        }
+    }
+
+    /// Evaluate eq 26 against the exact chain of the paper's table (errors up to 10 arcmin).
+    ///
+    /// # Errors
+    /// [`KinematicsError::WrongTurntable`] unless `table` is the paper's (eight errors, two
+    /// joints).
+    pub fn eq26_approximates_the_exact_chain(table: &Turntable) -> Result<Eq26Evidence, KinematicsError> {
+        use crate::model::OrientationErrorModel;
+        let m = 10.0 * crate::units::RAD_PER_ARCMIN;
+        let exact = crate::model::ExactChain::new(table);
+        let linear = LinearModel::new(table);
+        let (mut diff, mut recovery): (f64, f64) = (0.0, 0.0);
+        for (pose, e) in points(table, 400, m) {
+            let a = exact.orientation_error(&pose, &e)?.to_array();
+            let b = super::ClosedForm.orientation_error(&pose, &e)?.to_array();
+            let c = linear.evaluate(&pose, &e)?.to_array();
+            for k in 0..3 {
+                diff = diff.max((a[k] - b[k]).abs());
+                recovery = recovery.max((b[k] - c[k]).abs() / e.max_abs_rad().max(f64::MIN_POSITIVE));
+            }
+        }
+        Ok(Eq26Evidence { max_error_rad: m, max_difference_rad: diff, bound_rad: 33.0 * m * m, eq26_recovery_rad: recovery })
+    }
+
+    /// Figure 8 and §4.3: only $\Delta\theta$ is sensitive to $\Delta\phi_{z2}$ and
+    /// $\Delta\alpha_{z1}$, and $\Delta\theta$ only to them.
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct Fig8Evidence {
+        /// Average sensitivities (rows $\psi, \theta, \gamma$; error order of $\chi$).
+        pub averages: Vec<[f64; 3]>,
+        /// Error names, order of $\chi$.
+        pub names: Vec<String>,
+        /// The errors $\Delta\theta$ depends on.
+        pub theta_errors: Vec<String>,
+        /// Of those, the ones $\Delta\psi$ or $\Delta\gamma$ also depend on.
+        pub shared_with_other_angles: Vec<String>,
+    }
+
+    impl Fig8Evidence {
+        /// Holds when $\Delta\theta$ depends exactly on `dphi_z2` and `dalpha_z1`, and no other
+        /// angle on them.
+        #[must_use]
+        pub fn holds(&self) -> bool {
+            self.theta_errors == ["dphi_z2", "dalpha_z1"] && self.shared_with_other_angles.is_empty()
+        }
+    }
+
+    impl fmt::Display for Fig8Evidence {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            let avg: Vec<String> = self
+                .names
+                .iter()
+                .zip(&self.averages)
+                .map(|(n, a)| format!("{n} {:.4}/{:.4}/{:.4}", a[0], a[1], a[2]))
+                .collect();
+            write!(
+                f,
+                "Delta-theta depends on {}; shared with Delta-psi or Delta-gamma: {}; average sensitivities psi/theta/gamma: {}",
+                self.theta_errors.join(", "),
+                if self.shared_with_other_angles.is_empty() { "none".into() } else { self.shared_with_other_angles.join(", ") },
+                avg.join("; ")
+            )
+        }
+    }
+
+    /// Evaluate the Figure 8 claim on `table` (its first-order model).
+    #[must_use]
+    pub fn fig8_theta_depends_only_on_dphi_z2_and_dalpha_z1(table: &Turntable) -> Fig8Evidence {
+        let m = LinearModel::new(table);
+        let names: Vec<String> = table.rotation_error_names().iter().map(|s| s.to_string()).collect();
+        let avg = m.average_abs_coefficients();
+        let theta = m.involved(OrientationAxis::Theta);
+        let shared = theta
+            .iter()
+            .filter(|&&i| m.is_involved(OrientationAxis::Psi, i) || m.is_involved(OrientationAxis::Gamma, i))
+            .map(|&i| names[i].clone())
+            .collect();
+        Fig8Evidence {
+            averages: (0..names.len()).map(|i| [avg[(0, i)], avg[(1, i)], avg[(2, i)]]).collect(),
+            theta_errors: theta.iter().map(|&i| names[i].clone()).collect(),
+            shared_with_other_angles: shared,
+            names,
+        }
+    }
+}

@@ -1,32 +1,37 @@
-//! `cargo xtask allocate [--json]`: the turntable error allocation (paper §4.2-4.3, problems
-//! 31-34, Table 4) for the paper's inputs, beside Table 4 and the equal-effects allocation.
+//! `cargo xtask allocate [--study FILE] [--json] [--constraint-form paper|full-range]
+//! [--safety-margin M]`: the two-step turntable error allocation (paper §4.2-4.3, problems
+//! 31-34) for the study's turntable and requirement, beside the equal-effects allocation (and
+//! the paper's Table 4 when the study's turntable is the paper's).
 //!
-//! Inputs live in [`AllocateInputs`], filled from the study file (`--study FILE`, default the
-//! paper's: eq 26, $I = 0.027^\circ$ for all three angles as printed in eq 16, zero lower
-//! bounds because the paper gives none) and the flags `--constraint-form` and
-//! `--safety-margin`.
-//!
-//! `--json` prints one object with at least
-//! `{"requirement_deg": {"psi","theta","gamma"}, "allocation_arcmin": {"dphi_y1", "dphi_z2",
-//! "dalpha_x1", "dalpha_z1", "dalpha_x2", "dalpha_y2", "deps_x", "deps_y"}, "objective": J,
-//! "paper_table4_arcmin": {...same keys...}, "paper_table4_objective": J}`; objectives are
-//! $J = J_\psi + J_\theta + J_\gamma$ with the bounds in arcmin (unit arcmin$^{-2}$) and the
-//! paper's weights. Further keys: shares of each requirement, worst poses, active constraints,
-//! Lemma 1 on the full pose range, the equal-effects allocation, and the exact-chain check.
+//! `--json` prints one object with at least `requirement_deg {psi, theta, gamma}`,
+//! `allocation_arcmin` (keyed by error name; null for an error no constrained angle depends
+//! on), `objective` ($J = J_\psi + J_\theta + J_\gamma$ with the bounds in arcmin, unit
+//! arcmin$^{-2}$, the paper's weights) and `certificate` (per angle: worst case found, rigorous
+//! upper bound, worst pose, share, Lemma 1), plus the equal-effects allocation, the exact-chain
+//! check and, for the paper's table, `paper_table4_arcmin` and `paper_table4_objective`.
 
 use crate::InputError;
-use crate::study::Study;
+use crate::study as st;
 use alloc_opt::{
-    AllocError, AllocationProblem, Allocator, Certificate, ConstraintForm, EqualEffects,
-    PAPER_REQUIREMENT_DEG, PAPER_TABLE4_ARCMIN, Requirement, SensitivityWeighted, Weights,
-    exact_chain_check, paper_table4_rad,
+    AllocError, Allocation, AllocationProblem, Allocator, Certificate, ConstraintForm,
+    EqualEffects, SensitivityWeighted, Weights, exact_chain_check,
 };
 use anyhow::Result;
-use clap::Parser;
-use serde::{Deserialize, Serialize};
+use clap::{Parser, ValueEnum};
 use serde_json::{Map, Value, json};
-use tt_kinematics::units::{RAD_PER_ARCMIN, arcmin_to_rad, deg_to_rad, rad_to_deg};
-use tt_kinematics::{CHI_LEN, ErrorComponent, LinearModel, OrientationAxis};
+use study::Study;
+use study::fmt::num;
+use tt_kinematics::units::{RAD_PER_ARCMIN, rad_to_arcmin, rad_to_deg};
+use tt_kinematics::{LinearModel, OrientationAxis};
+
+/// The constraint of the per-angle problems.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FormChoice {
+    /// As printed: the quarter pose ranges of problems 31 and 33 (tables with one free joint).
+    Paper,
+    /// Eq 30 itself over every pose (any table; the same optimum for the paper's).
+    FullRange,
+}
 
 /// Arguments of `allocate`.
 #[derive(Debug, Parser)]
@@ -37,349 +42,208 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-    /// `paper` (the quarter pose ranges of problems 31 and 33) or `full-range` (eq 30 on
-    /// [0, 2 pi]).
-    #[arg(long, default_value = "paper")]
-    pub constraint_form: String,
-    /// Relative safety margin m: allocate for (1 - m) I (room for the exact chain's
+    /// The constraint form of the per-angle problems.
+    #[arg(long, value_enum, default_value_t = FormChoice::FullRange)]
+    pub constraint_form: FormChoice,
+    /// Relative safety margin m in [0, 1): allocate for (1 - m) I (room for the exact chain's
     /// second-order terms).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_margin)]
     pub safety_margin: f64,
 }
 
-/// Everything the allocation depends on, in the units of study files; defaults are the
-/// paper's example.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AllocateInputs {
-    /// Requirement $I_\psi$ in degrees (eq 16: 0.027).
-    pub requirement_psi_deg: f64,
-    /// Requirement $I_\theta$ in degrees (eq 16: 0.027).
-    pub requirement_theta_deg: f64,
-    /// Requirement $I_\gamma$ in degrees (eq 16: 0.027).
-    pub requirement_gamma_deg: f64,
-    /// Lower bounds $\mathrm{LB}_i$ (eq 29) in arcmin, order of eq 25 (default 0: the paper
-    /// gives none).
-    pub lower_bounds_arcmin: [f64; CHI_LEN],
-    /// `paper` (quarter ranges of 31/33, default) or `full-range` (eq 30 on $[0, 2\pi]$).
-    pub constraint_form: String,
-    /// Relative safety margin: allocate for $(1 - m) I$ (default 0).
-    pub safety_margin: f64,
+fn parse_margin(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..1.0).contains(&v) { Ok(v) } else { Err(format!("`{s}`: the safety margin must lie in [0, 1)")) }
 }
 
-impl Default for AllocateInputs {
-    fn default() -> Self {
-        Self {
-            requirement_psi_deg: PAPER_REQUIREMENT_DEG,
-            requirement_theta_deg: PAPER_REQUIREMENT_DEG,
-            requirement_gamma_deg: PAPER_REQUIREMENT_DEG,
-            lower_bounds_arcmin: [0.0; CHI_LEN],
-            constraint_form: "paper".to_string(),
-            safety_margin: 0.0,
-        }
-    }
-}
-
-/// Map an allocation error caused by the inputs to an [`InputError`] (exit 2).
-fn input_error(e: AllocError) -> anyhow::Error {
+/// An allocation error as exit code 2 (the inputs) or 1 (the solver).
+pub fn classify(e: AllocError, s: &Study) -> anyhow::Error {
     match &e {
-        AllocError::NonFinite { field, .. }
-        | AllocError::NotPositive { field, .. }
-        | AllocError::Negative { field, .. } => {
-            InputError::new(field.clone(), e.to_string()).into()
+        AllocError::InfeasibleLowerBounds { .. } | AllocError::Negative { .. } => {
+            InputError::new(format!("{}: key `allocation.lower_bounds_arcmin`", s.path), e.to_string()).into()
         }
-        AllocError::InfeasibleLowerBounds { .. } | AllocError::Unbounded { .. } => {
-            InputError::new("lower_bounds_arcmin", e.to_string()).into()
+        AllocError::NonFinite { field, .. } | AllocError::NotPositive { field, .. } => {
+            InputError::new(format!("{}: {field}", s.path), e.to_string()).into()
         }
+        AllocError::QuarterRangesNeedOneFreeJoint { .. } => InputError::new("--constraint-form", e.to_string()).into(),
         _ => e.into(),
     }
 }
 
-impl AllocateInputs {
-    /// The study's requirement (eq 16 as written in it) and lower bounds, with the given
-    /// constraint form and safety margin.
-    pub fn from_study(study: &Study, constraint_form: &str, safety_margin: f64) -> Self {
-        let r = &study.file.requirement;
-        Self {
-            requirement_psi_deg: r.psi_deg,
-            requirement_theta_deg: r.theta_deg,
-            requirement_gamma_deg: r.gamma_deg,
-            lower_bounds_arcmin: study.file.allocation.lower_bounds_arcmin.to_array(),
-            constraint_form: constraint_form.to_string(),
-            safety_margin,
-        }
-    }
-
-    /// The library problem and allocator, naming the offending key on bad input.
-    ///
-    /// # Errors
-    /// [`InputError`] naming the key.
-    pub fn problem(&self) -> Result<(AllocationProblem, SensitivityWeighted)> {
-        let deg = |key: &str, v: f64| -> Result<f64> {
-            if v.is_finite() {
-                Ok(deg_to_rad(v))
-            } else {
-                Err(InputError::new(key, format!("must be finite, got {v}")).into())
-            }
-        };
-        let requirement = Requirement::new(
-            deg("requirement_psi_deg", self.requirement_psi_deg)?,
-            deg("requirement_theta_deg", self.requirement_theta_deg)?,
-            deg("requirement_gamma_deg", self.requirement_gamma_deg)?,
-        )
-        .map_err(input_error)?;
-        let problem = AllocationProblem::new(
-            LinearModel::paper_eq26(),
-            requirement,
-            self.lower_bounds_arcmin.map(arcmin_to_rad),
-        )
-        .map_err(input_error)?
-        .with_safety_margin(self.safety_margin)
-        .map_err(input_error)?;
-        let form = match self.constraint_form.as_str() {
-            "paper" => ConstraintForm::PaperQuarterRanges,
-            "full-range" => ConstraintForm::FullRange,
-            other => {
-                return Err(InputError::new(
-                    "constraint_form",
-                    format!("expected `paper` or `full-range`, got `{other}`"),
-                )
-                .into());
-            }
-        };
-        Ok((
-            problem,
-            SensitivityWeighted {
-                form,
-                ..SensitivityWeighted::paper()
-            },
-        ))
-    }
-}
-
-fn components(values: &[f64; CHI_LEN]) -> Value {
-    let mut m = Map::new();
-    for c in ErrorComponent::ALL {
-        m.insert(c.name().to_string(), json!(values[c.index()]));
-    }
-    Value::Object(m)
+fn bounds_json(names: &[&str], ub_rad: &[f64]) -> Value {
+    Value::Object(
+        names
+            .iter()
+            .zip(ub_rad)
+            .map(|(n, u)| (n.to_string(), if u.is_finite() { json!(rad_to_arcmin(*u)) } else { Value::Null }))
+            .collect(),
+    )
 }
 
 fn per_axis(f: impl Fn(OrientationAxis) -> Value) -> Value {
-    let mut m = Map::new();
-    for a in OrientationAxis::ALL {
-        m.insert(a.name().to_string(), f(a));
-    }
-    Value::Object(m)
+    Value::Object(OrientationAxis::ALL.iter().map(|&a| (a.name().to_string(), f(a))).collect())
 }
 
-fn shares(cert: &Certificate) -> Value {
-    per_axis(|a| json!(cert.get(a).share))
+fn certificate_json(s: &Study, c: &Certificate) -> Value {
+    let joints = s.turntable.joint_names();
+    per_axis(|a| {
+        let x = c.get(a);
+        json!({
+            "requirement_deg": x.requirement_rad.map(rad_to_deg),
+            "worst_case_deg": rad_to_deg(x.worst_case_rad),
+            "upper_bound_deg": rad_to_deg(x.upper_bound_rad),
+            "exact_search": x.exact,
+            "worst_pose_deg": joints.iter().zip(&x.worst_pose_rad).map(|(j, v)| (j.to_string(), json!(rad_to_deg(*v)))).collect::<Map<_, _>>(),
+            "share": x.share,
+            "requirement_active": x.requirement_active,
+            "lemma1": x.satisfied,
+        })
+    })
+}
+
+/// The allocations of a study.
+#[derive(Debug, Clone)]
+pub struct Allocations {
+    /// The problem.
+    pub problem: AllocationProblem,
+    /// The sensitivity-weighted (paper's method) allocation.
+    pub ours: Allocation,
+    /// The equal-effects allocation.
+    pub equal: Allocation,
+    /// Table 4 with its certificate and objective (arcmin^-2), for the paper's table.
+    pub table4: Option<(Vec<f64>, Certificate, f64)>,
+}
+
+/// Allocate for a study.
+///
+/// # Errors
+/// An [`InputError`] naming the key or flag, or a solver error.
+pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Allocations> {
+    let req = st::requirement(s)?.used.ok_or_else(|| {
+        InputError::new(
+            format!("{}: key `requirement`", s.path),
+            "the study has no orientation requirement: no output constrains a constant orientation error (see `requirement`); give one in [requirement] or use `end-to-end`, which allocates against the outputs' accuracies directly",
+        )
+    })?;
+    let problem = AllocationProblem::new(LinearModel::new(&s.turntable), req, s.lower_bounds_rad.clone())
+        .map_err(|e| classify(e, s))?
+        .with_safety_margin(safety_margin)
+        .map_err(|e| InputError::new("--safety-margin", e.to_string()))?;
+    let allocator = SensitivityWeighted {
+        form: match form {
+            FormChoice::Paper => ConstraintForm::PaperQuarterRanges,
+            FormChoice::FullRange => ConstraintForm::FullRange,
+        },
+        ..SensitivityWeighted::paper()
+    };
+    let ours = allocator.allocate(&problem).map_err(|e| classify(e, s))?;
+    let equal = EqualEffects.allocate(&problem).map_err(|e| classify(e, s))?;
+    let table4 = if s.turntable == tt_kinematics::paper::table3() {
+        let t = alloc_opt::paper::table4_rad();
+        let cert = Certificate::compute(problem.model(), &problem.requirement(), problem.lower_bounds_rad(), &t).map_err(|e| classify(e, s))?;
+        let j = Weights::inverse_average_sensitivity(problem.model()).objective(&t) * RAD_PER_ARCMIN * RAD_PER_ARCMIN;
+        Some((t, cert, j))
+    } else {
+        None
+    };
+    Ok(Allocations { problem, ours, equal, table4 })
 }
 
 /// The JSON object printed by `--json`.
 ///
 /// # Errors
-/// [`InputError`] for bad inputs; solver failures otherwise.
-pub fn allocate_json(inputs: &AllocateInputs) -> Result<Value> {
-    let (problem, allocator) = inputs.problem()?;
-    let ours = allocator.allocate(&problem).map_err(input_error)?;
-    let equal = EqualEffects.allocate(&problem).map_err(input_error)?;
-    let table = paper_table4_rad();
-    let table_cert = Certificate::compute(
-        problem.model(),
-        &problem.requirement(),
-        &problem.lower_bounds_rad(),
-        &table,
-    );
-    let weights = Weights::inverse_average_sensitivity(problem.model());
-    let table_objective = weights.objective(&table) * RAD_PER_ARCMIN * RAD_PER_ARCMIN;
-    let exact = exact_chain_check(&ours)?;
-    let req = problem.requirement();
-    let active_lb: Vec<&str> = {
-        let mut v: Vec<&str> = ours
-            .certificate
-            .axes
-            .iter()
-            .flat_map(|a| a.active_lower_bounds.iter().map(|c| c.name()))
-            .collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
-    Ok(json!({
-        "requirement_deg": per_axis(|a| json!(rad_to_deg(req.get(a)))),
-        "lower_bounds_arcmin": components(&inputs.lower_bounds_arcmin),
-        "constraint_form": inputs.constraint_form,
-        "safety_margin": inputs.safety_margin,
-        "allocation_arcmin": components(&ours.upper_bounds_arcmin()),
-        "objective": ours.objective_arcmin(),
+/// As [`allocate`] and the exact-chain check.
+pub fn allocate_json(s: &Study, a: &Allocations, form: FormChoice, safety_margin: f64) -> Result<Value> {
+    let names = s.turntable.rotation_error_names();
+    let exact = exact_chain_check(&a.problem, &a.ours).map_err(|e| classify(e, s))?;
+    let req = a.problem.requirement();
+    let mut v = json!({
+        "study": s.path,
+        "requirement_deg": per_axis(|x| json!(req.get(x).map(rad_to_deg))),
+        "lower_bounds_arcmin": bounds_json(&names, a.problem.lower_bounds_rad()),
+        "constraint_form": match form { FormChoice::Paper => "paper", FormChoice::FullRange => "full-range" },
+        "safety_margin": safety_margin,
+        "allocation_arcmin": bounds_json(&names, &a.ours.upper_bounds_rad),
+        "unconstrained": a.ours.unconstrained_names(),
+        "objective": a.ours.objective_arcmin(),
         "objective_unit": "arcmin^-2 (J_psi + J_theta + J_gamma, W = 1/average sensitivity)",
-        "share": shares(&ours.certificate),
-        "worst_phi2_deg": per_axis(|a| json!(rad_to_deg(ours.certificate.get(a).worst_phi2_rad))),
-        "active_requirements": per_axis(|a| json!(ours.certificate.get(a).requirement_active)),
-        "active_lower_bounds": active_lb,
-        "lemma1_full_range": ours.certificate.lemma1_holds(),
-        "paper_table4_arcmin": components(&PAPER_TABLE4_ARCMIN),
-        "paper_table4_objective": table_objective,
-        "paper_table4_share": shares(&table_cert),
-        "equal_effects_arcmin": components(&equal.upper_bounds_arcmin()),
-        "equal_effects_objective": equal.objective_arcmin(),
-        "equal_effects_share": shares(&equal.certificate),
-        "exact_chain_worst_rad": per_axis(|a| json!(exact[a.index()].exact_worst_rad)),
-        "exact_chain_excess_rad": per_axis(|a| json!(exact[a.index()].excess_rad)),
-    }))
+        "certificate": certificate_json(s, &a.ours.certificate),
+        "lemma1_full_range": a.ours.certificate.lemma1_holds(),
+        "equal_effects_arcmin": bounds_json(&names, &a.equal.upper_bounds_rad),
+        "equal_effects_objective": a.equal.objective_arcmin(),
+        "exact_chain_worst_deg": per_axis(|x| json!(rad_to_deg(exact[x.index()].exact_worst_rad))),
+        "exact_chain_excess_rad": per_axis(|x| json!(exact[x.index()].excess_rad)),
+        "requirement_note": st::requirement(s)?.disagreement,
+    });
+    if let Some((t, cert, j)) = &a.table4 {
+        v["paper_table4_arcmin"] = bounds_json(&names, t);
+        v["paper_table4_objective"] = json!(j);
+        v["paper_table4_certificate"] = certificate_json(s, cert);
+    }
+    Ok(v)
 }
 
-fn text(v: &Value) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
-    let req = &v["requirement_deg"];
-    let lb: Vec<String> = ErrorComponent::ALL
-        .iter()
-        .map(|c| format!("{}", v["lower_bounds_arcmin"][c.name()]))
-        .collect();
-    let _ = writeln!(
-        s,
-        "requirement (deg): psi {} theta {} gamma {}; lower bounds (arcmin, eq 25 order): {}",
-        req["psi"],
-        req["theta"],
-        req["gamma"],
-        lb.join(" ")
+fn text(s: &Study, a: &Allocations, v: &Value) -> String {
+    let names = s.turntable.rotation_error_names();
+    let req = a.problem.requirement();
+    let mut t = format!(
+        "two-step allocation, study {} ({}); requirement psi {}, theta {}, gamma {} deg\n",
+        s.name,
+        s.path,
+        req.get(OrientationAxis::Psi).map_or("none".into(), |r| num(rad_to_deg(r))),
+        req.get(OrientationAxis::Theta).map_or("none".into(), |r| num(rad_to_deg(r))),
+        req.get(OrientationAxis::Gamma).map_or("none".into(), |r| num(rad_to_deg(r))),
     );
-    let _ = writeln!(
-        s,
-        "{:<10} {:>12} {:>12} {:>14}",
-        "component", "ours (')", "Table 4 (')", "equal eff. (')"
-    );
-    for c in ErrorComponent::ALL {
-        let k = c.name();
-        let f = |key: &str| v[key][k].as_f64().unwrap_or(f64::NAN);
-        let _ = writeln!(
-            s,
-            "{:<10} {:>12.4} {:>12.4} {:>14.4}",
-            k,
-            f("allocation_arcmin"),
-            f("paper_table4_arcmin"),
-            f("equal_effects_arcmin")
-        );
+    let width = names.iter().map(|n| n.len()).max().unwrap_or(5).max(5);
+    let mut header = format!("{:<width$} {:>12} {:>14}", "error", "ours (')", "equal eff. (')");
+    if a.table4.is_some() {
+        header.push_str(&format!(" {:>12}", "Table 4 (')"));
     }
-    let g = |key: &str| v[key].as_f64().unwrap_or(f64::NAN);
-    let _ = writeln!(
-        s,
-        "{:<10} {:>12.3} {:>12.3} {:>14.3}   (J, arcmin^-2)",
-        "J",
-        g("objective"),
-        g("paper_table4_objective"),
-        g("equal_effects_objective")
-    );
-    for a in OrientationAxis::ALL {
-        let k = a.name();
-        let f = |key: &str| v[key][k].as_f64().unwrap_or(f64::NAN);
-        let _ = writeln!(
-            s,
-            "share {:<5}{:>11.2}% {:>11.2}% {:>13.2}%",
-            k,
-            100.0 * f("share"),
-            100.0 * f("paper_table4_share"),
-            100.0 * f("equal_effects_share")
-        );
+    t.push_str(&header);
+    t.push('\n');
+    let cell = |u: f64| if u.is_finite() { format!("{:.4}", rad_to_arcmin(u)) } else { "none".into() };
+    for (i, n) in names.iter().enumerate() {
+        let mut row = format!("{:<width$} {:>12} {:>14}", n, cell(a.ours.upper_bounds_rad[i]), cell(a.equal.upper_bounds_rad[i]));
+        if let Some((tb, _, _)) = &a.table4 {
+            row.push_str(&format!(" {:>12}", cell(tb[i])));
+        }
+        t.push_str(&row);
+        t.push('\n');
     }
-    let _ = writeln!(
-        s,
-        "Lemma 1 on the full pose range: {}; exact-chain excess over I (rad): psi {:.3e}, theta {:.3e}, gamma {:.3e}",
-        v["lemma1_full_range"],
-        v["exact_chain_excess_rad"]["psi"]
-            .as_f64()
-            .unwrap_or(f64::NAN),
-        v["exact_chain_excess_rad"]["theta"]
-            .as_f64()
-            .unwrap_or(f64::NAN),
-        v["exact_chain_excess_rad"]["gamma"]
-            .as_f64()
-            .unwrap_or(f64::NAN),
-    );
-    s
+    let mut j = format!("{:<width$} {:>12} {:>14}", "J", num(a.ours.objective_arcmin()), num(a.equal.objective_arcmin()));
+    if let Some((_, _, tj)) = &a.table4 {
+        j.push_str(&format!(" {:>12}", num(*tj)));
+    }
+    t.push_str(&j);
+    t.push_str("   (arcmin^-2)\n");
+    for x in OrientationAxis::ALL {
+        let c = a.ours.certificate.get(x);
+        t.push_str(&format!(
+            "{:<6} worst case {} deg (bound {}), share {}, Lemma 1 {}\n",
+            x.name(),
+            num(rad_to_deg(c.worst_case_rad)),
+            num(rad_to_deg(c.upper_bound_rad)),
+            c.share.map_or("-".into(), |v| format!("{:.4}%", 100.0 * v)),
+            if c.satisfied { "holds" } else { "fails" }
+        ));
+    }
+    let ex = |k: &str| v["exact_chain_excess_rad"][k].as_f64().map_or("-".into(), num);
+    t.push_str(&format!("exact chain over I (rad): psi {}, theta {}, gamma {}\n", ex("psi"), ex("theta"), ex("gamma")));
+    if let Some(n) = v["requirement_note"].as_str() {
+        t.push_str(n);
+        t.push('\n');
+    }
+    t
 }
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let study = Study::load_or_paper(args.study.as_deref())?;
-    let v = allocate_json(&AllocateInputs::from_study(
-        &study,
-        &args.constraint_form,
-        args.safety_margin,
-    ))?;
+    let s = st::load(args.study.as_deref())?;
+    let a = allocate(&s, args.constraint_form, args.safety_margin)?;
+    let v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
     } else {
-        print!("{}", text(&v));
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn key_of(e: &anyhow::Error) -> String {
-        e.downcast_ref::<InputError>()
-            .map(|i| i.location.clone())
-            .unwrap_or_else(|| panic!("not an InputError: {e:#}"))
-    }
-
-    /// The paper's study file gives exactly the paper's example.
-    #[test]
-    fn paper_study_gives_the_default_inputs() {
-        assert_eq!(
-            AllocateInputs::from_study(&Study::paper().unwrap(), "paper", 0.0),
-            AllocateInputs::default()
-        );
-    }
-
-    /// Bad study values become InputErrors (exit 2) naming the key.
-    #[test]
-    fn bad_inputs_are_input_errors_naming_the_key() {
-        let bad = |f: &dyn Fn(&mut AllocateInputs)| {
-            let mut i = AllocateInputs::default();
-            f(&mut i);
-            allocate_json(&i).unwrap_err()
-        };
-        let e = bad(&|i| i.requirement_theta_deg = f64::NAN);
-        assert_eq!(key_of(&e), "requirement_theta_deg");
-        let e = bad(&|i| i.requirement_gamma_deg = -0.01);
-        assert_eq!(key_of(&e), "requirement.gamma");
-        let e = bad(&|i| i.lower_bounds_arcmin[4] = -0.1);
-        assert_eq!(key_of(&e), "lower_bounds.dalpha_x2");
-        let e = bad(&|i| i.lower_bounds_arcmin[4] = 2.0);
-        assert_eq!(key_of(&e), "lower_bounds_arcmin");
-        assert!(e.to_string().contains("problem gamma") && e.to_string().contains("dalpha_x2"));
-        let e = bad(&|i| i.constraint_form = "quarter".into());
-        assert_eq!(key_of(&e), "constraint_form");
-        let e = bad(&|i| i.safety_margin = 1.5);
-        assert_eq!(key_of(&e), "1 - safety_margin");
-    }
-
-    /// The defaults are the paper's example, and the full-range form gives the same bounds
-    /// for eq 26.
-    #[test]
-    fn defaults_are_the_paper_example() {
-        let d = AllocateInputs::default();
-        let (p, a) = d.problem().unwrap();
-        assert_eq!(p, AllocationProblem::paper_example().unwrap());
-        assert_eq!(a, SensitivityWeighted::paper());
-        let full = allocate_json(&AllocateInputs {
-            constraint_form: "full-range".into(),
-            ..d.clone()
-        })
-        .unwrap();
-        let paper = allocate_json(&d).unwrap();
-        for c in ErrorComponent::ALL {
-            let (x, y) = (
-                full["allocation_arcmin"][c.name()].as_f64().unwrap(),
-                paper["allocation_arcmin"][c.name()].as_f64().unwrap(),
-            );
-            assert!((x - y).abs() <= 1e-9 * y, "{}: {x} vs {y}", c.name());
-        }
+        crate::out::print(&text(&s, &a, &v))
     }
 }

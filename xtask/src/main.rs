@@ -1,27 +1,30 @@
 //! Project commands, in the rust-analyzer xtask shape: `cargo xtask <command>`.
 //!
 //! One module per subcommand. Errors caused by the user's input (a malformed file, a bad
-//! flag value) are [`InputError`]s and exit with code 2; anything else exits with code 1.
+//! flag value) are [`InputError`]s and exit with code 2 with nothing on standard output;
+//! anything else exits with code 1. A closed standard output (`| head`) ends quietly.
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod allocate;
+mod args;
+mod calibration_error;
+mod check_turntable;
+mod csvio;
 mod end_to_end;
 mod input;
 mod mc;
 mod orientation_error;
-mod plots;
-mod report;
-mod reproduce;
-mod reproduce_mc;
+mod out;
+mod outdir;
+mod paths;
 mod requirement;
 mod study;
-mod svg;
 
 pub use input::InputError;
 
-/// Commands of the GyroWheel turntable error-allocation project.
+/// Commands of the turntable error-allocation project (Zhao et al. 2017, generalised).
 #[derive(Debug, Parser)]
 #[command(name = "cargo xtask", bin_name = "cargo xtask", version, about)]
 struct Cli {
@@ -31,32 +34,36 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Regenerate every table, figure and claim of the paper with a paper-versus-ours report.
-    ReproducePaper(reproduce::Args),
-    /// Orientation error (eq 24-26) of turntables given as CSV rows (FILE or standard input).
-    OrientationError(orientation_error::Args),
-    /// Orientation requirement I_psi, I_theta, I_gamma (eq 15-16) for the paper's inputs.
+    /// Orientation requirement I_psi, I_theta, I_gamma (eq 15-16) for the study's sensor.
     Requirement(requirement::Args),
-    /// Turntable error allocation (section 4.2-4.3, problems 31-34) beside Table 4.
+    /// Two-step turntable error allocation (section 4.2, problems 31-34) for the study.
     Allocate(allocate::Args),
-    /// Monte Carlo check of an allocation (section 4.3, Figure 9): random turntables, exact chain.
+    /// Monte Carlo check of a tolerance box on the exact chain (section 4.3, Figure 9).
     Mc(mc::Args),
-    /// End to end (issue 7): does the allocated turntable deliver the calibration accuracy?
+    /// End to end: does the turntable deliver every output's calibration accuracy? Direct and yield-based allocation.
     EndToEnd(end_to_end::Args),
+    /// Will a vendor's tolerances deliver the study's accuracies, and which error dominates?
+    CheckTurntable(check_turntable::Args),
+    /// Orientation error (eq 24-26) of turntables given as CSV rows.
+    OrientationError(orientation_error::Args),
+    /// Calibration error (coefficients and eq 14) of turntables given as CSV rows.
+    CalibrationError(calibration_error::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::ReproducePaper(args) => reproduce::run(&args),
-        Command::OrientationError(args) => orientation_error::run(&args),
-        Command::Requirement(args) => requirement::run(&args),
-        Command::Allocate(args) => allocate::run(&args),
-        Command::Mc(args) => mc::run(&args),
-        Command::EndToEnd(args) => end_to_end::run(&args),
+        Command::Requirement(a) => requirement::run(&a),
+        Command::Allocate(a) => allocate::run(&a),
+        Command::Mc(a) => mc::run(&a),
+        Command::EndToEnd(a) => end_to_end::run(&a),
+        Command::CheckTurntable(a) => check_turntable::run(&a),
+        Command::OrientationError(a) => orientation_error::run(&a),
+        Command::CalibrationError(a) => calibration_error::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(err) if err.downcast_ref::<out::BrokenPipe>().is_some() => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");
             if err.downcast_ref::<InputError>().is_some() {
