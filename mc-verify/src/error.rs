@@ -1,5 +1,7 @@
 //! The crate's error type.
 
+use tt_kinematics::KinematicsError;
+
 /// Which end of a tolerance interval $[\mathrm{LB}_i, \mathrm{UB}_i]$.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BoundKind {
@@ -38,46 +40,72 @@ pub enum McError {
         /// The largest accepted number.
         max: usize,
     },
+    /// A list of bounds did not have one value per angular error of the turntable.
+    #[error("{kind} needs one value per angular error of the turntable ({expected}), got {found}", kind = kind.name())]
+    BoundsLength {
+        /// Lower or upper bounds.
+        kind: BoundKind,
+        /// Number of angular errors of the turntable.
+        expected: usize,
+        /// Number of values given.
+        found: usize,
+    },
     /// A bound was NaN or infinite.
-    #[error("{kind} of {component} must be finite, got {value} rad", kind = kind.name())]
+    #[error("{kind} of {component} must be finite, got {value}", kind = kind.name())]
     NonFiniteBound {
-        /// Error component name (`dphi_y1`, ..., `deps_y`).
-        component: &'static str,
+        /// Name of the angular error (from the turntable description).
+        component: String,
         /// Lower or upper bound.
         kind: BoundKind,
-        /// The offending value, rad.
+        /// The offending value, in the caller's unit (rad or arcmin).
         value: f64,
     },
     /// A bound was negative (bounds are limits on $|\chi_i|$).
-    #[error("{kind} of {component} must be >= 0 (a bound on |chi|), got {value} rad", kind = kind.name())]
+    #[error("{kind} of {component} must be >= 0 (a bound on |chi|), got {value}", kind = kind.name())]
     NegativeBound {
-        /// Error component name.
-        component: &'static str,
+        /// Name of the angular error.
+        component: String,
         /// Lower or upper bound.
         kind: BoundKind,
-        /// The offending value, rad.
+        /// The offending value, in the caller's unit (rad or arcmin).
         value: f64,
     },
     /// $\mathrm{LB}_i > \mathrm{UB}_i$.
-    #[error("LB of {component} ({lb_rad} rad) exceeds its UB ({ub_rad} rad)")]
+    #[error("LB of {component} ({lb}) exceeds its UB ({ub})")]
     LowerAboveUpper {
-        /// Error component name.
-        component: &'static str,
-        /// The lower bound, rad.
-        lb_rad: f64,
-        /// The upper bound, rad.
-        ub_rad: f64,
+        /// Name of the angular error.
+        component: String,
+        /// The lower bound, in the caller's unit.
+        lb: f64,
+        /// The upper bound, in the caller's unit.
+        ub: f64,
+    },
+    /// The bounds were made for another turntable (their error names differ from the
+    /// turntable's angular errors).
+    #[error(
+        "the bounds do not belong to this turntable: angular error {position} is `{expected}`, the bounds name `{found}`"
+    )]
+    BoundsForAnotherTurntable {
+        /// Position in $\chi$ of the first difference.
+        position: usize,
+        /// The turntable's error name there (empty if the turntable has fewer errors).
+        expected: String,
+        /// The bounds' error name there (empty if the bounds have fewer).
+        found: String,
     },
     /// A requirement $I_k$ was not a positive finite angle.
-    #[error("requirement for {axis} must be positive and finite, got {value} rad")]
+    #[error("requirement for {axis} must be positive and finite (or None), got {value} rad")]
     Requirement {
         /// `psi`, `theta` or `gamma`.
         axis: &'static str,
         /// The offending value, rad.
         value: f64,
     },
-    /// A histogram half-range was not a positive finite angle.
-    #[error("histogram half-range for {axis} must be positive and finite, got {value} rad")]
+    /// A histogram half-range was not a positive finite angle (large enough for a finite
+    /// inverse bin width).
+    #[error(
+        "histogram half-range for {axis} must be positive and finite (and bins / (2 H) finite), got {value} rad"
+    )]
     HistogramRange {
         /// `psi`, `theta` or `gamma`.
         axis: &'static str,
@@ -90,7 +118,7 @@ pub enum McError {
         /// The level's name.
         level: &'static str,
     },
-    /// A caller-supplied orientation-error model returned NaN or an infinity.
+    /// An orientation-error evaluation returned NaN or an infinity.
     #[error("the model returned a non-finite {axis} ({value}) at sample {sample}")]
     NonFiniteModelOutput {
         /// Global index of the sample (stream position, see [`crate::chunk_rng`]).
@@ -100,4 +128,19 @@ pub enum McError {
         /// The value returned.
         value: f64,
     },
+    /// A caller-supplied orientation-error model returned an error.
+    #[error("the model failed at sample {sample}: {source}")]
+    Model {
+        /// Global index of the sample (stream position, see [`crate::chunk_rng`]).
+        sample: u64,
+        /// The model's error.
+        source: KinematicsError,
+    },
+    /// A kinematic computation on the turntable failed (for example the certified worst
+    /// case of the histogram range).
+    #[error("turntable: {0}")]
+    Kinematics(#[from] KinematicsError),
+    /// The specialised paper kernel ([`crate::baseline`]) was asked to run another turntable.
+    #[error("the specialised paper kernel applies only to the paper's Table 3 turntable")]
+    NotThePaperTable,
 }

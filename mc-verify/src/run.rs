@@ -3,16 +3,16 @@
 use crate::bounds::ErrorBox;
 use crate::error::McError;
 use crate::fast::{
-    TIER_ANY, TIER_MEDIUM, TIER_SHORT, delta_block_sample, delta_from_t, short_tan_coefficients,
-    sin_cos_turn_with, tier_for, turn_table,
+    BlockKernel, CompiledPlan, PlanKernel, TIER_ANY, TIER_MEDIUM, TIER_SHORT, TIER_TANGENT, Tier,
 };
 use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng, fill_words};
 use crate::simd::{HotLoop, SimdLevel, run_at};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
+use std::sync::Mutex;
 use tt_kinematics::units::RAD_PER_DEG;
 use tt_kinematics::{
-    CHI_LEN, LinearModel, OrientationAxis, OrientationErrorModel, TurntableErrors,
+    LinearModel, OrientationAxis, OrientationErrorModel, Turntable, TurntableErrors,
 };
 
 /// Default samples per chunk (one random stream each; part of the determinism contract).
@@ -28,14 +28,33 @@ pub const MAX_HISTOGRAM_BINS: usize = 10_000;
 /// sets how many chunks run in parallel per wave (8 to 256) and has no effect on the result.
 const WAVE_HISTOGRAM_BYTES: usize = 8 << 20;
 
-/// The paper's orientation requirement, eq 16: $|\Delta\psi|, |\Delta\theta|, |\Delta\gamma|
-/// \le 0.027°$, in degrees.
-pub const PAPER_REQUIREMENT_DEG: f64 = 0.027;
+/// Cap of the default histogram half-range, unitless (rad of an element of a rotation
+/// matrix): every element of $\Delta\mathbf R$ lies in $[-1, 1]$, and its computed value
+/// within a few $10^{-16}$ of it, so $1 + 2^{-20}$ bounds every computed read-out. It takes
+/// over only for huge boxes, where the series bound $e^S - 1 - S$ exceeds 1 (or overflows).
+const READOUT_ABS_CAP: f64 = 1.0 + 1.0 / 1_048_576.0;
+
+/// Rounding allowance of the default histogram half-range, rad: an evaluator's computed
+/// read-out differs from the exact one by rounding, a few $10^{-16}$ for the fast path and
+/// up to about $10^{-15}$ for a dense chain of a dozen 3x3 products (the plain chain gives
+/// $5.6\cdot10^{-17}$ for an all-zero box). It replaces the remainder term $e^S - 1 - S$
+/// where that is smaller (boxes with $S$ below about $1.4\cdot10^{-7}$ rad); larger
+/// remainder terms already hold far more than the rounding (they would be tight only with
+/// every error rotation aligned), and keep the half-range of earlier versions to the bit.
+const READOUT_ROUNDING_RAD: f64 = 1e-14;
+
+/// Number of (turntable, upper bounds) half-ranges remembered
+/// ([`MonteCarlo::histogram_half_range_rad`] costs up to seconds for a table with two free
+/// joints: a branch and bound).
+const HALF_RANGE_CACHE_LEN: usize = 32;
+
+/// A remembered half-range: (turntable, bits of the upper bounds, half-ranges in rad).
+type HalfRangeEntry = (Turntable, Vec<u64>, [f64; 3]);
 
 /// What to run: sample count, seed, chunking, requirement and histogram layout.
 ///
-/// The result is a function of (bounds, `samples`, `seed`, `chunk_size`) and the model only:
-/// not of the thread count.
+/// The result is a function of (turntable, bounds, `samples`, `seed`, `chunk_size`) and the
+/// model only: not of the thread count nor of the SIMD level.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct McConfig {
     /// Number of random turntables, at least 1.
@@ -44,35 +63,43 @@ pub struct McConfig {
     pub seed: u64,
     /// Samples per random stream (chunk), at least 1.
     pub chunk_size: u32,
-    /// The requirement $I$ per axis ($\psi, \theta, \gamma$), rad.
-    pub requirement_rad: [f64; 3],
+    /// The requirement $|\Delta_k| \le I_k$ per axis ($\psi, \theta, \gamma$), rad; `None` for
+    /// an axis without requirement (every sample counts as within for it).
+    pub requirement_rad: [Option<f64>; 3],
     /// Histogram bins per axis, in `1..=MAX_HISTOGRAM_BINS`.
     pub histogram_bins: usize,
-    /// Histogram half-ranges $H$ per axis, rad; `None` derives them from the bounds
-    /// ([`MonteCarlo::histogram_half_range_rad`]).
+    /// Histogram half-ranges $H$ per axis, rad; `None` derives them from the turntable and
+    /// the bounds ([`MonteCarlo::histogram_half_range_rad`]).
     pub histogram_half_range_rad: Option<[f64; 3]>,
 }
 
 impl McConfig {
-    /// `samples` draws with `seed`, the paper's requirement (eq 16) and default chunking and
-    /// histograms.
+    /// `samples` draws with `seed` and the requirement `requirement_rad` ($\psi, \theta,
+    /// \gamma$; `None` for no requirement on that angle), default chunking and histograms.
+    ///
+    /// ```
+    /// // the paper's requirement, eq 16: 0.027 deg on all three angles
+    /// let i = Some(0.027_f64.to_radians());
+    /// let cfg = mc_verify::McConfig::new(1_000_000, 2017, [i, i, i]);
+    /// assert_eq!(cfg.chunk_size, mc_verify::DEFAULT_CHUNK_SIZE);
+    /// ```
     #[must_use]
-    pub fn new(samples: u64, seed: u64) -> Self {
+    pub fn new(samples: u64, seed: u64, requirement_rad: [Option<f64>; 3]) -> Self {
         Self {
             samples,
             seed,
             chunk_size: DEFAULT_CHUNK_SIZE,
-            requirement_rad: [PAPER_REQUIREMENT_DEG * RAD_PER_DEG; 3],
+            requirement_rad,
             histogram_bins: DEFAULT_HISTOGRAM_BINS,
             histogram_half_range_rad: None,
         }
     }
 
-    /// The same configuration with another requirement (degrees, the unit of eq 16).
+    /// The same configuration with the requirement given in degrees.
     #[must_use]
-    pub fn with_requirement_deg(self, psi: f64, theta: f64, gamma: f64) -> Self {
+    pub fn with_requirement_deg(self, requirement_deg: [Option<f64>; 3]) -> Self {
         Self {
-            requirement_rad: [psi, theta, gamma].map(|d| d * RAD_PER_DEG),
+            requirement_rad: requirement_deg.map(|d| d.map(|d| d * RAD_PER_DEG)),
             ..self
         }
     }
@@ -87,8 +114,8 @@ pub struct McResult {
     pub seed: u64,
     /// The chunk size used.
     pub chunk_size: u32,
-    /// The requirement $I$, rad.
-    pub requirement_rad: [f64; 3],
+    /// The requirement $I$, rad (`None`: no requirement on that angle).
+    pub requirement_rad: [Option<f64>; 3],
     /// Per-axis results, in the order $\Delta\psi, \Delta\theta, \Delta\gamma$.
     pub axes: [AxisSummary; 3],
     /// Samples with all three angles inside the requirement.
@@ -123,18 +150,30 @@ impl McResult {
     }
 }
 
-/// A validated Monte Carlo verification of a tolerance box (paper §4.3, Figure 9).
+/// A validated Monte Carlo verification of a tolerance box of a turntable (paper §4.3,
+/// Figure 9).
 #[derive(Debug, Clone)]
 pub struct MonteCarlo {
+    turntable: Turntable,
     bounds: ErrorBox,
     config: McConfig,
     sampler: TurntableSampler,
+    plan: CompiledPlan,
     half_range_rad: [f64; 3],
+    /// The requirement per axis, `+inf` for none.
+    requirement_cmp_rad: [f64; 3],
 }
 
 impl MonteCarlo {
-    /// Validate `config` against `bounds`: errors name the field at fault.
-    pub fn new(bounds: ErrorBox, config: McConfig) -> Result<Self, McError> {
+    /// Validate `bounds` against `turntable` and `config`: errors name the field at fault.
+    ///
+    /// # Errors
+    /// [`McError::BoundsForAnotherTurntable`] if the box was made for another turntable;
+    /// [`McError::ZeroSamples`], [`McError::ZeroChunkSize`], [`McError::HistogramBins`],
+    /// [`McError::Requirement`], [`McError::HistogramRange`] for a bad configuration;
+    /// [`McError::Kinematics`] if the default histogram range cannot be computed.
+    pub fn new(turntable: &Turntable, bounds: ErrorBox, config: McConfig) -> Result<Self, McError> {
+        check_fit(turntable, &bounds)?;
         if config.samples == 0 {
             return Err(McError::ZeroSamples);
         }
@@ -148,19 +187,21 @@ impl MonteCarlo {
             });
         }
         for axis in OrientationAxis::ALL {
-            let value = config.requirement_rad[axis.index()];
-            if !(value.is_finite() && value > 0.0) {
-                return Err(McError::Requirement {
-                    axis: axis.name(),
-                    value,
-                });
+            if let Some(value) = config.requirement_rad[axis.index()] {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(McError::Requirement {
+                        axis: axis.name(),
+                        value,
+                    });
+                }
             }
         }
         let half_range_rad = match config.histogram_half_range_rad {
             Some(h) => {
                 for axis in OrientationAxis::ALL {
                     let value = h[axis.index()];
-                    if !(value.is_finite() && value > 0.0) {
+                    let inv_width = config.histogram_bins as f64 / (2.0 * value);
+                    if !(value.is_finite() && value > 0.0 && inv_width.is_finite()) {
                         return Err(McError::HistogramRange {
                             axis: axis.name(),
                             value,
@@ -169,36 +210,83 @@ impl MonteCarlo {
                 }
                 h
             }
-            None => Self::histogram_half_range_rad(&bounds),
+            None => Self::histogram_half_range_rad(turntable, &bounds)?,
         };
         Ok(Self {
+            sampler: TurntableSampler::new(&bounds, turntable),
+            plan: CompiledPlan::new(turntable),
+            turntable: turntable.clone(),
             bounds,
+            requirement_cmp_rad: config.requirement_rad.map(|r| r.unwrap_or(f64::INFINITY)),
             config,
-            sampler: TurntableSampler::new(&bounds),
             half_range_rad,
         })
     }
 
-    /// The default histogram half-range $H_k$ for a box: a rigorous bound on $|\Delta_k|$,
-    /// $$H_k = \max_{\phi_2} \sum_i \mathrm{UB}_i |c_{ki}(\phi_2)| + (e^S - 1 - S),\quad
+    /// The default histogram half-range $H_k$ for a box of a turntable: a rigorous bound on
+    /// $|\Delta_k|$,
+    /// $$H_k = \max_{\phi} \sum_i \mathrm{UB}_i |c_{ki}(\phi)| + (e^S - 1 - S),\quad
     ///   S = \textstyle\sum_i \mathrm{UB}_i,$$
-    /// the exact maximum of the first-order model (eq 26) plus a bound on the remainder:
-    /// $\Delta\mathbf R$ is a product of eight rotations $e^{A_j}$ with $\|A_j\|_2 = |\chi_j|$,
-    /// and $\|\prod_j e^{A_j} - I - \sum_j A_j\|_2 \le e^S - 1 - S$. So no sample of the exact
-    /// chain falls outside (the overflow counts stay zero; tested).
-    #[must_use]
-    pub fn histogram_half_range_rad(bounds: &ErrorBox) -> [f64; 3] {
-        let model = LinearModel::paper_eq26();
+    /// the worst case of the first-order model over the joint ranges, as a certified upper
+    /// bound ([`LinearModel::worst_pose_certified`]: exact for one free joint, a branch and
+    /// bound otherwise), plus a bound on the remainder: $\Delta\mathbf R$ is a product of
+    /// rotations $e^{A_j}$ (conjugated error rotations) with $\|A_j\|_2 = |\chi_j|$, and
+    /// $\|\prod_j e^{A_j} - I - \sum_j A_j\|_2 \le e^S - 1 - S$. So no sample of the exact
+    /// chain falls outside (the overflow counts stay zero; tested). Capped at $1 + 2^{-20}$
+    /// (every element of a rotation matrix lies in $[-1, 1]$) for huge boxes; at least
+    /// $10^{-300}$ for an all-zero box. Remembered per (turntable, upper
+    /// bounds) for the process: a branch and bound can take seconds.
+    ///
+    /// # Errors
+    /// [`McError::BoundsForAnotherTurntable`] if the box does not belong to the turntable.
+    pub fn histogram_half_range_rad(
+        turntable: &Turntable,
+        bounds: &ErrorBox,
+    ) -> Result<[f64; 3], McError> {
+        check_fit(turntable, bounds)?;
+        static CACHE: Mutex<Vec<HalfRangeEntry>> = Mutex::new(Vec::new());
+        let key: Vec<u64> = bounds.ub_rad().iter().map(|u| u.to_bits()).collect();
+        let cached = |cache: &Vec<HalfRangeEntry>| {
+            cache
+                .iter()
+                .find(|(t, k, _)| *k == key && t == turntable)
+                .map(|e| e.2)
+        };
+        if let Some(h) = CACHE.lock().ok().and_then(|c| cached(&c)) {
+            return Ok(h);
+        }
+        let model = LinearModel::new(turntable);
         let ub = bounds.ub_rad();
         let s = bounds.sum_ub_rad();
-        let remainder = s.exp_m1() - s;
-        OrientationAxis::ALL.map(|axis| {
-            let first = model
-                .max_abs_weighted(axis, &ub, 0.0, std::f64::consts::TAU)
-                .value;
-            // a degenerate (all-zero) box still gets a valid, tiny range
-            (first + remainder).max(f64::MIN_POSITIVE)
-        })
+        let remainder = (s.exp_m1() - s).max(READOUT_ROUNDING_RAD);
+        let firsts: Vec<Result<f64, McError>> = OrientationAxis::ALL
+            .par_iter()
+            .map(|&axis| {
+                let w = model.worst_pose_certified(axis, ub, true, None)?;
+                // |c_ki| <= 1 (components of unit vectors): sum UB is a bound too
+                Ok(w.upper_bound.min(s))
+            })
+            .collect();
+        let mut h = [0.0; 3];
+        for (hk, first) in h.iter_mut().zip(firsts) {
+            // `min` returns the cap for a NaN (an overflowing remainder)
+            *hk = (first? + remainder).min(READOUT_ABS_CAP);
+        }
+        if let Ok(mut cache) = CACHE.lock() {
+            if cached(&cache).is_none() {
+                if cache.len() >= HALF_RANGE_CACHE_LEN {
+                    cache.remove(0);
+                }
+                cache.push((turntable.clone(), key, h));
+            }
+        }
+        Ok(h)
+    }
+
+    /// The turntable.
+    #[must_use]
+    pub fn turntable(&self) -> &Turntable {
+        &self.turntable
     }
 
     /// The bounds.
@@ -213,22 +301,37 @@ impl MonteCarlo {
         &self.config
     }
 
+    /// The histogram half-ranges in use, rad.
+    #[must_use]
+    pub fn half_range_rad(&self) -> [f64; 3] {
+        self.half_range_rad
+    }
+
     /// The sampler (its draws are those of the run: see [`crate::chunk_rng`]).
     #[must_use]
     pub fn sampler(&self) -> &TurntableSampler {
         &self.sampler
     }
 
+    /// How [`MonteCarlo::run`] evaluates the error angles' half-angle functions (chosen from
+    /// the box).
+    #[must_use]
+    pub fn tier(&self) -> Tier {
+        Tier::for_box(&self.bounds)
+    }
+
+    /// Number of chunks of the run.
+    #[must_use]
+    pub fn chunks(&self) -> u64 {
+        self.config
+            .samples
+            .div_ceil(u64::from(self.config.chunk_size))
+    }
+
     /// Chunks per wave: as many as the histogram budget allows, 8 to 256.
     fn wave_chunks(&self) -> u64 {
         let per_chunk = 3 * (self.config.histogram_bins + 2) * std::mem::size_of::<u64>();
         (WAVE_HISTOGRAM_BYTES / per_chunk).clamp(8, 256) as u64
-    }
-
-    fn chunks(&self) -> u64 {
-        self.config
-            .samples
-            .div_ceil(u64::from(self.config.chunk_size))
     }
 
     fn chunk_len(&self, chunk: u64) -> usize {
@@ -251,6 +354,13 @@ impl MonteCarlo {
             for p in parts {
                 acc.merge(&p?);
             }
+            if let Some((sample, axis, value)) = acc.non_finite {
+                return Err(McError::NonFiniteModelOutput {
+                    sample,
+                    axis: axis.name(),
+                    value,
+                });
+            }
             progress(acc.n);
             start = end;
         }
@@ -267,14 +377,17 @@ impl MonteCarlo {
             within,
             within_all,
             ..
-        } = acc;
+        } = &acc;
+        let mut worst = worst.clone();
         let axes = OrientationAxis::ALL.map(|axis| {
             let k = axis.index();
             AxisSummary {
                 axis,
                 max_abs_rad: max_abs[k],
                 // samples >= 1 is validated, so every axis has a worst sample
-                worst: worst[k].unwrap_or_else(|| unreachable!("a run has at least one sample")),
+                worst: worst[k]
+                    .take()
+                    .unwrap_or_else(|| unreachable!("a run has at least one sample")),
                 mean_rad: mean[k],
                 m2_rad2: m2[k],
                 within_requirement: within[k],
@@ -282,17 +395,18 @@ impl MonteCarlo {
             }
         });
         McResult {
-            samples: n,
+            samples: *n,
             seed: self.config.seed,
             chunk_size: self.config.chunk_size,
             requirement_rad: self.config.requirement_rad,
             axes,
-            within_requirement_all: within_all,
+            within_requirement_all: *within_all,
         }
     }
 
-    /// Run with the default evaluator: the exact chain with the eq-24 read-out, by the fast
-    /// quaternion path ([`crate::FastChain`]), on the current rayon thread pool.
+    /// Run with the default evaluator: the exact chain with the eq-24 read-out, by the
+    /// turntable's compiled plan ([`crate::fast`]), on the current rayon thread pool and the
+    /// widest SIMD level of the CPU.
     #[must_use]
     pub fn run(&self) -> McResult {
         self.run_with_progress(&|_| {})
@@ -308,29 +422,35 @@ impl MonteCarlo {
     /// of the CPU ([`SimdLevel::detected`]). The result is bit-identical on every level (see
     /// [`crate::simd`]); this exists to prove it and to measure the levels against each other.
     ///
-    /// Fails with [`McError::SimdUnavailable`] if the CPU lacks `level`.
+    /// # Errors
+    /// [`McError::SimdUnavailable`] if the CPU lacks `level`.
     pub fn run_with_simd(&self, level: SimdLevel) -> Result<McResult, McError> {
         Ok(self.run_fast(level.check()?, &|_| {}))
     }
 
     fn run_fast(&self, level: SimdLevel, progress: &(dyn Fn(u64) + Sync)) -> McResult {
-        let zero_lb = self.bounds.lb_rad().iter().all(|&lb| lb <= 0.0);
-        let sampler = &self.sampler;
-        match tier_for(self.bounds.max_ub_rad()) {
-            TIER_SHORT if zero_lb => {
-                let coeffs = short_tan_coefficients(sampler.scale_rad());
-                self.drive_kernel(level, progress, &ZeroLbShortKernel { coeffs })
-            }
-            TIER_SHORT => self.drive_kernel(level, progress, &TierKernel::<TIER_SHORT> { sampler }),
-            TIER_MEDIUM => {
-                self.drive_kernel(level, progress, &TierKernel::<TIER_MEDIUM> { sampler })
-            }
-            _ => self.drive_kernel(level, progress, &TierKernel::<TIER_ANY> { sampler }),
+        self.with_plan_kernel(RunAll {
+            mc: self,
+            level,
+            progress,
+        })
+    }
+
+    /// Call `user` with the plan kernel of this run's tier.
+    fn with_plan_kernel<U: KernelUser>(&self, user: U) -> U::Output {
+        let (plan, sampler) = (&self.plan, &self.sampler);
+        match self.tier() {
+            Tier::Tangent => user.with(&PlanKernel::<TIER_TANGENT>::new(plan, sampler)),
+            Tier::Short => user.with(&PlanKernel::<TIER_SHORT>::new(plan, sampler)),
+            Tier::Medium => user.with(&PlanKernel::<TIER_MEDIUM>::new(plan, sampler)),
+            Tier::Any => user.with(&PlanKernel::<TIER_ANY>::new(plan, sampler)),
         }
     }
 
-    /// Every chunk through `kernel`, with the hot loop compiled for `level`.
-    fn drive_kernel<K: BlockKernel + Sync>(
+    /// Every chunk through `kernel`, with the hot loop compiled for `level`. A non-finite
+    /// value cannot come out of the crate's kernels (finite bounded inputs, bounded
+    /// quaternion arithmetic); were it to, this reports it rather than return it.
+    pub(crate) fn drive_kernel<K: BlockKernel>(
         &self,
         level: SimdLevel,
         progress: &(dyn Fn(u64) + Sync),
@@ -346,14 +466,30 @@ impl MonteCarlo {
                 },
             ))
         };
-        self.drive(progress, chunk)
-            .unwrap_or_else(|_| unreachable!("the fast path has no failure"))
+        self.drive(progress, chunk).unwrap_or_else(|e| {
+            panic!("mc-verify: a fast kernel produced a non-finite value (a bug): {e}")
+        })
+    }
+
+    /// The values $(\Delta\psi, \Delta\theta, \Delta\gamma)$ (rad) that [`MonteCarlo::run`]
+    /// computes for every sample of chunk `chunk`, in sample order (a run never stores them;
+    /// this is for checks and for inspecting a chunk). Empty for a chunk past the end.
+    #[must_use]
+    pub fn chunk_values_rad(&self, chunk: u64) -> Vec<[f64; 3]> {
+        if chunk >= self.chunks() {
+            return Vec::new();
+        }
+        self.with_plan_kernel(ChunkValues { mc: self, chunk })
     }
 
     /// Run with any orientation-error model (for example the plain dense-matrix
-    /// [`tt_kinematics::ExactChain`]); same samples as [`MonteCarlo::run`].
+    /// [`tt_kinematics::ExactChain`]); same samples as [`MonteCarlo::run`]. The model gets
+    /// every joint angle and $\chi$; error translations are zero (the Monte Carlo draws
+    /// orientation errors only).
     ///
-    /// Fails only if the model returns a non-finite angle.
+    /// # Errors
+    /// [`McError::Model`] if the model returns an error, [`McError::NonFiniteModelOutput`]
+    /// if it returns a non-finite angle, each naming the first such sample (and the axis).
     pub fn run_model<M: OrientationErrorModel + Sync>(
         &self,
         model: &M,
@@ -362,6 +498,9 @@ impl MonteCarlo {
     }
 
     /// [`MonteCarlo::run_model`] with a progress callback.
+    ///
+    /// # Errors
+    /// As [`MonteCarlo::run_model`].
     pub fn run_model_with_progress<M: OrientationErrorModel + Sync>(
         &self,
         model: &M,
@@ -371,18 +510,19 @@ impl MonteCarlo {
     }
 
     /// Draw every sample of the run and nothing else: the random words of each block and
-    /// their decoding into the sample's ten numbers, $\chi$ ([`TurntableSampler::fill_block`])
-    /// and the pose angles $\phi_1, \phi_2$ (rad), with the loop compiled
-    /// for the same SIMD level as [`MonteCarlo::run`]. This is the work of producing the
-    /// run's random turntables before evaluating anything: the limit set by the generator,
-    /// the baseline of the "half the generator" goal. Returns the number of samples drawn.
+    /// their decoding into the sample's numbers, $\chi$ ([`TurntableSampler::fill_block`])
+    /// and every joint angle (rad), with the loop compiled for the same SIMD level as
+    /// [`MonteCarlo::run`]. This is the work of producing the run's random turntables before
+    /// evaluating anything: the limit set by the generator, the baseline of the throughput
+    /// goals. Returns the number of samples drawn.
     #[must_use]
     pub fn draw_only(&self) -> u64 {
         self.draw(true)
     }
 
-    /// [`MonteCarlo::draw_only`] without the decoding: only the generator's words (40 bytes
-    /// per sample) are produced. The strictest baseline: no run can be faster.
+    /// [`MonteCarlo::draw_only`] without the decoding: only the generator's words
+    /// ([`TurntableSampler::words_per_sample`] per sample) are produced. The strictest
+    /// baseline: no run can be faster.
     #[must_use]
     pub fn draw_words_only(&self) -> u64 {
         self.draw(false)
@@ -417,23 +557,28 @@ impl MonteCarlo {
     ) -> Result<Partial, McError> {
         let mut part = Partial::new(&self.half_range_rad, self.config.histogram_bins);
         let mut rng = chunk_rng(self.config.seed, chunk);
-        let mut block = Box::<SampleBlock>::default();
+        let mut block = SampleBlock::new(&self.sampler);
         let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
         let first = chunk * u64::from(self.config.chunk_size);
         let len = self.chunk_len(chunk);
+        let n_translations = self.turntable.n_translation_errors();
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
             self.sampler.fill_block(&mut rng, n, &mut block);
             for k in 0..n {
+                let sample = first + (done + k) as u64;
                 // the sampler's values are finite by construction
-                let errors = TurntableErrors::from_rad(block.chi_rad(k), 0.0)
+                let errors = TurntableErrors::new(block.chi_rad(k), vec![0.0; n_translations])
                     .unwrap_or_else(|_| unreachable!("finite draws"));
-                let d = model.orientation_error(&block.pose(k), &errors).to_array();
+                let d = model
+                    .orientation_error(&block.pose(k), &errors)
+                    .map_err(|source| McError::Model { sample, source })?
+                    .to_array();
                 for (axis, &v) in OrientationAxis::ALL.iter().zip(&d) {
                     if !v.is_finite() {
                         return Err(McError::NonFiniteModelOutput {
-                            sample: first + (done + k) as u64,
+                            sample,
                             axis: axis.name(),
                             value: v,
                         });
@@ -446,7 +591,7 @@ impl MonteCarlo {
                 &block,
                 &self.sampler,
                 &out,
-                &self.config.requirement_rad,
+                &self.requirement_cmp_rad,
             );
             done += n;
         }
@@ -454,73 +599,72 @@ impl MonteCarlo {
     }
 }
 
-/// The per-sample work of a fast path. Every method is `#[inline(always)]` in every
-/// implementation so that it is compiled into the loop of each SIMD level (a closure would be
-/// compiled once, for the portable level, and called per sample).
-trait BlockKernel {
-    /// Turn the `n` drawn samples of `block` into the kernel's eight inputs per sample
-    /// (`inputs[i][k]` for error component `i` of sample `k`), column by column.
-    fn prepare(&self, block: &SampleBlock, n: usize, inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN]);
-    /// `[dpsi, dtheta, dgamma]` of sample `k` with `(sin phi2, cos phi2) = (s2, c2)`.
-    fn eval(
-        &self,
-        s2: f64,
-        c2: f64,
-        inputs: &[[f64; BLOCK_CAPACITY]; CHI_LEN],
-        k: usize,
-    ) -> [f64; 3];
-}
-
-/// All lower bounds zero, short-series tier: unnormalised quaternions from the words'
-/// half-integers ([`crate::fast::short_tan_coefficients`]).
-struct ZeroLbShortKernel {
-    coeffs: [[f64; 2]; CHI_LEN],
-}
-
-impl BlockKernel for ZeroLbShortKernel {
-    #[inline(always)]
-    fn prepare(
-        &self,
-        block: &SampleBlock,
-        n: usize,
-        inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN],
-    ) {
-        for (i, t) in inputs.iter_mut().enumerate() {
-            for (x, w) in t[..n].iter_mut().zip(block.column_words(i)) {
-                *x = f64::from(w as i32) + 0.5;
-            }
+/// [`McError::BoundsForAnotherTurntable`] unless the box's error names are the turntable's.
+fn check_fit(turntable: &Turntable, bounds: &ErrorBox) -> Result<(), McError> {
+    let expected = turntable.rotation_error_names();
+    let found = bounds.names();
+    for position in 0..expected.len().max(found.len()) {
+        let (e, f) = (
+            expected.get(position).copied().unwrap_or(""),
+            found.get(position).map_or("", String::as_str),
+        );
+        if e != f {
+            return Err(McError::BoundsForAnotherTurntable {
+                position,
+                expected: e.to_string(),
+                found: f.to_string(),
+            });
         }
     }
+    Ok(())
+}
 
-    #[inline(always)]
-    fn eval(&self, s2: f64, c2: f64, t: &[[f64; BLOCK_CAPACITY]; CHI_LEN], k: usize) -> [f64; 3] {
-        delta_from_t(s2, c2, std::array::from_fn(|i| t[i][k]), &self.coeffs)
+/// Something done with a block kernel whose type is chosen at run time (the tier): the
+/// generic method is monomorphised per kernel.
+pub(crate) trait KernelUser {
+    type Output;
+    fn with<K: BlockKernel>(self, kernel: &K) -> Self::Output;
+}
+
+/// The whole run through a kernel.
+struct RunAll<'a> {
+    mc: &'a MonteCarlo,
+    level: SimdLevel,
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl KernelUser for RunAll<'_> {
+    type Output = McResult;
+    fn with<K: BlockKernel>(self, kernel: &K) -> McResult {
+        self.mc.drive_kernel(self.level, self.progress, kernel)
     }
 }
 
-/// Any box: decoded $\chi$ ([`TurntableSampler::chi_from_word`]), half-angle functions of
-/// tier `TIER`.
-struct TierKernel<'a, const TIER: u8> {
-    sampler: &'a TurntableSampler,
+/// The values of one chunk through a kernel.
+struct ChunkValues<'a> {
+    mc: &'a MonteCarlo,
+    chunk: u64,
 }
 
-impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
-    #[inline(always)]
-    fn prepare(
-        &self,
-        block: &SampleBlock,
-        n: usize,
-        inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN],
-    ) {
-        for (i, chi) in inputs.iter_mut().enumerate() {
-            self.sampler
-                .decode_chi(i, block.column_words(i), &mut chi[..n]);
+impl KernelUser for ChunkValues<'_> {
+    type Output = Vec<[f64; 3]>;
+    fn with<K: BlockKernel>(self, kernel: &K) -> Vec<[f64; 3]> {
+        let Self { mc, chunk } = self;
+        let mut rng = chunk_rng(mc.config.seed, chunk);
+        let mut block = SampleBlock::new(&mc.sampler);
+        let mut scratch = kernel.scratch();
+        let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
+        let len = mc.chunk_len(chunk);
+        let mut values = Vec::with_capacity(len);
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(BLOCK_CAPACITY);
+            fill_words(&mc.sampler, &mut rng, n, &mut block);
+            kernel.eval_block(&block, n, &mut scratch, &mut out);
+            values.extend((0..n).map(|k| [out[0][k], out[1][k], out[2][k]]));
+            done += n;
         }
-    }
-
-    #[inline(always)]
-    fn eval(&self, s2: f64, c2: f64, chi: &[[f64; BLOCK_CAPACITY]; CHI_LEN], k: usize) -> [f64; 3] {
-        delta_block_sample::<TIER>(s2, c2, std::array::from_fn(|i| chi[i][k]))
+        values
     }
 }
 
@@ -537,23 +681,23 @@ impl<const DECODE: bool> HotLoop for DrawChunk<'_, DECODE> {
     #[inline(always)]
     fn run(self) -> u64 {
         let Self { mc, chunk } = self;
+        let sampler = &mc.sampler;
         let mut rng = chunk_rng(mc.config.seed, chunk);
-        let mut block = Box::<SampleBlock>::default();
-        let mut angles = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
+        let mut block = SampleBlock::new(sampler);
+        let mut angles = vec![[0.0; BLOCK_CAPACITY]; sampler.n_joints()];
+        let n_chi = sampler.n_rotation_errors();
         let len = mc.chunk_len(chunk);
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
             if DECODE {
-                mc.sampler.fill_block(&mut rng, n, &mut block);
-                for (j, col) in angles.iter_mut().enumerate() {
-                    for (a, w) in col[..n].iter_mut().zip(block.column_words(8 + j)) {
-                        *a = TurntableSampler::angle_from_word(w);
-                    }
+                sampler.fill_block(&mut rng, n, &mut block);
+                for ((j, col), law) in angles.iter_mut().enumerate().zip(sampler.joint_laws()) {
+                    law.decode(block.column_words(n_chi + j), &mut col[..n]);
                 }
                 std::hint::black_box(&angles);
             } else {
-                fill_words(&mut rng, n, &mut block);
+                fill_words(sampler, &mut rng, n, &mut block);
             }
             std::hint::black_box(&block);
             done += n;
@@ -577,38 +721,22 @@ impl<K: BlockKernel> HotLoop for KernelChunk<'_, K> {
         let Self { mc, chunk, kernel } = self;
         let mut part = Partial::new(&mc.half_range_rad, mc.config.histogram_bins);
         let mut rng = chunk_rng(mc.config.seed, chunk);
-        let mut block = Box::<SampleBlock>::default();
-        let mut inputs = Box::new([[0.0; BLOCK_CAPACITY]; CHI_LEN]);
+        let mut block = SampleBlock::new(&mc.sampler);
+        let mut scratch = kernel.scratch();
         let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
-        let mut sc = Box::new([[0.0; BLOCK_CAPACITY]; 2]);
         let first = chunk * u64::from(mc.config.chunk_size);
         let len = mc.chunk_len(chunk);
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
-            fill_words(&mut rng, n, &mut block);
-            kernel.prepare(&block, n, &mut inputs);
-            let table = turn_table();
-            let [sin2, cos2] = &mut *sc;
-            for ((s, c), w) in sin2[..n]
-                .iter_mut()
-                .zip(&mut cos2[..n])
-                .zip(block.column_words(9))
-            {
-                (*s, *c) = sin_cos_turn_with(table, w);
-            }
-            for k in 0..n {
-                let d = kernel.eval(sc[0][k], sc[1][k], &inputs, k);
-                out[0][k] = d[0];
-                out[1][k] = d[1];
-                out[2][k] = d[2];
-            }
+            fill_words(&mc.sampler, &mut rng, n, &mut block);
+            kernel.eval_block(&block, n, &mut scratch, &mut out);
             part.add_block(
                 first + done as u64,
                 &block,
                 &mc.sampler,
                 &out,
-                &mc.config.requirement_rad,
+                &mc.requirement_cmp_rad,
             );
             done += n;
         }

@@ -13,19 +13,19 @@
 //! cancellation costs under one bit.
 
 use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler};
-use tt_kinematics::{CHI_LEN, OrientationAxis, Pose};
+use tt_kinematics::{OrientationAxis, Pose};
 
 /// The sample that attains the largest $|\Delta|$ of one axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct WorstSample {
     /// Global index of the sample in the run (see [`crate::chunk_rng`]).
     pub index: u64,
     /// The signed orientation error at that sample, rad.
     pub value_rad: f64,
-    /// Its pose.
+    /// Its pose (every joint, including those that cancel).
     pub pose: Pose,
-    /// Its errors $\chi$, rad, order of eq 25.
-    pub chi_rad: [f64; CHI_LEN],
+    /// Its angular errors $\chi$, rad, order of $\chi$ (eq 25 for the paper's table).
+    pub chi_rad: Vec<f64>,
 }
 
 /// A histogram with fixed, uniform bins on $[-H, H]$ plus under- and overflow counts.
@@ -89,7 +89,8 @@ pub struct AxisSummary {
     pub mean_rad: f64,
     /// Sum of squared deviations from the mean, rad² ($M_2$; variance $= M_2/(n-1)$).
     pub m2_rad2: f64,
-    /// Samples with $|\Delta| \le I$ for this axis.
+    /// Samples with $|\Delta| \le I$ for this axis (every sample when the axis has no
+    /// requirement).
     pub within_requirement: u64,
     /// The histogram (the data of one panel of Figure 9).
     pub histogram: Histogram,
@@ -120,6 +121,8 @@ pub(crate) struct Partial {
     pub half_range_rad: [f64; 3],
     /// Per axis `bins + 2` counts: underflow, the bins, overflow.
     pub hist: [Vec<u64>; 3],
+    /// The first non-finite value met, if any: (sample, axis, value).
+    pub non_finite: Option<(u64, OrientationAxis, f64)>,
 }
 
 /// $2^{52}$: adding it to $t \in [0, 2^{51})$ leaves $\operatorname{round}(t)$ in the low mantissa bits.
@@ -180,16 +183,19 @@ impl Partial {
             mean: [0.0; 3],
             m2: [0.0; 3],
             max_abs: [f64::NEG_INFINITY; 3],
-            worst: [None; 3],
+            worst: [None, None, None],
             within: [0; 3],
             within_all: 0,
             half_range_rad: *half_range_rad,
             hist: std::array::from_fn(|_| vec![0; bins + 2]),
+            non_finite: None,
         }
     }
 
     /// Fold one block of values in (after everything folded so far). `out[k][..len]` are the
-    /// values of axis `k` for the samples of `block`, whose first has global index `first`.
+    /// values of axis `k` for the samples of `block`, whose first has global index `first`;
+    /// `requirement_rad[k]` is the requirement of axis `k` (`+inf` for none: every finite
+    /// value is within). A non-finite value is recorded in `non_finite` (the first one).
     #[inline(always)]
     pub fn add_block(
         &mut self,
@@ -215,9 +221,9 @@ impl Partial {
                         value_rad: v[j],
                         pose: block.pose(j),
                         // from the words: valid whether or not the block was decoded
-                        chi_rad: std::array::from_fn(|i| {
-                            sampler.chi_from_word(i, block.word(i, j))
-                        }),
+                        chi_rad: (0..sampler.n_rotation_errors())
+                            .map(|i| sampler.chi_from_word(i, block.word(i, j)))
+                            .collect(),
                     });
                 }
             }
@@ -226,6 +232,12 @@ impl Partial {
             // Chan's merge; mean_b = c + sum(d)/n, M2_b = sum(d^2) - sum(d)^2/n
             let c = if self.n == 0 { v[0] } else { self.mean[k] };
             let (sd, sq) = lane_sums_shifted(v, c);
+            // a NaN or an infinity anywhere makes a sum non-finite: one check per block
+            if !(sd.is_finite() && sq.is_finite()) && self.non_finite.is_none() {
+                if let Some(j) = v.iter().position(|x| !x.is_finite()) {
+                    self.non_finite = Some((first + j as u64, OrientationAxis::ALL[k], v[j]));
+                }
+            }
             let mean_d = sd / n as f64;
             let m2_b = (sq - sd * mean_d).max(0.0);
             (self.mean[k], self.m2[k]) =
@@ -272,7 +284,7 @@ impl Partial {
         for k in 0..3 {
             if other.max_abs[k] > self.max_abs[k] {
                 self.max_abs[k] = other.max_abs[k];
-                self.worst[k] = other.worst[k];
+                self.worst[k].clone_from(&other.worst[k]);
             }
             (self.mean[k], self.m2[k]) = merge_moments(
                 self.n,
@@ -289,6 +301,9 @@ impl Partial {
         }
         self.within_all += other.within_all;
         self.n += other.n;
+        if self.non_finite.is_none() {
+            self.non_finite = other.non_finite;
+        }
     }
 
     /// The public histogram of axis `k`.
@@ -338,9 +353,10 @@ mod tests {
     /// would cancel catastrophically) and for a short last block.
     #[test]
     fn streamed_moments_match_two_pass_reference_even_far_from_zero() {
-        let bounds = ErrorBox::from_upper_rad([1e-4; 8]).unwrap();
-        let sampler = TurntableSampler::new(&bounds);
-        let mut block = SampleBlock::default();
+        let table = tt_kinematics::paper::table3();
+        let bounds = ErrorBox::from_upper_rad(&table, vec![1e-4; 8]).unwrap();
+        let sampler = TurntableSampler::new(&bounds, &table);
+        let mut block = SampleBlock::new(&sampler);
         let mut rng = chunk_rng(3, 0);
         for offset in [0.0, 1.0, -1.0, 0.25] {
             let mut part = Partial::new(&[1.0; 3], 10);

@@ -1,7 +1,8 @@
 //! Shared fixtures of the integration tests (included with `mod common;`).
 #![allow(dead_code)]
 
-use mc_verify::{ErrorBox, McResult};
+use mc_verify::{ErrorBox, McConfig, McResult};
+use tt_kinematics::{FactorSpec, SignedAxis, Turntable, TurntableDescription, paper};
 
 /// Table 4 of the paper (arcmin), rows in the order of chi (eq 25; NOTES item 6):
 /// dphi_y1, dphi_z2, dalpha_x1, dalpha_z1, dalpha_x2, dalpha_y2, deps_x, deps_y.
@@ -9,9 +10,84 @@ pub const TABLE4_ARCMIN: [f64; 8] = [
     0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233,
 ];
 
+/// The paper's requirement, eq 16: 0.027 deg on each angle, deg.
+pub const EQ16_REQUIREMENT_DEG: f64 = 0.027;
+
+/// The paper's requirement (eq 16) on all three angles, rad.
+pub fn eq16() -> [Option<f64>; 3] {
+    [Some(EQ16_REQUIREMENT_DEG.to_radians()); 3]
+}
+
+/// `samples` draws with `seed` and the paper's requirement.
+pub fn config(samples: u64, seed: u64) -> McConfig {
+    McConfig::new(samples, seed, eq16())
+}
+
+/// The paper's table (Table 3).
+pub fn paper_table() -> Turntable {
+    paper::table3()
+}
+
 /// The paper's box: Table 4 upper bounds, zero lower bounds (the paper prints none).
 pub fn table4() -> ErrorBox {
-    ErrorBox::from_arcmin([0.0; 8], TABLE4_ARCMIN).expect("Table 4 is a valid box")
+    ErrorBox::from_arcmin(&paper_table(), vec![0.0; 8], TABLE4_ARCMIN.to_vec())
+        .expect("Table 4 is a valid box")
+}
+
+/// A three-axis table written the way the three-axis literature models one (outer axis
+/// about z, middle about x, inner about y; a position error and two wobbles per axis, two
+/// orthogonality errors per pair of adjacent axes, two non-intersection translations): the
+/// table of `tt-kinematics/tests/common/mod.rs` and `studies/three-axis-example.toml`. The
+/// outer joint comes first, so it cancels; 13 angular errors, 3 joints.
+pub fn three_axis_description() -> TurntableDescription {
+    let j = |n: &str, a| FactorSpec::Joint {
+        name: n.into(),
+        about: a,
+    };
+    let e = |n: &str, a| FactorSpec::Error {
+        name: n.into(),
+        about: a,
+    };
+    let t = |n: &str, a| FactorSpec::Translation {
+        name: n.into(),
+        along: a,
+    };
+    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
+    TurntableDescription::new(vec![
+        j("phi_o", z),
+        e("dphi_o", z),
+        e("dalpha_ox", x),
+        e("dalpha_oy", y),
+        t("deta_om", y),
+        e("deps_om_y", y),
+        e("deps_om_z", z),
+        j("phi_m", x),
+        e("dphi_m", x),
+        e("dalpha_my", y),
+        e("dalpha_mz", z),
+        t("deta_mi", z),
+        e("deps_mi_z", z),
+        e("deps_mi_x", x),
+        j("phi_i", y),
+        e("dphi_i", y),
+        e("dalpha_ix", x),
+        e("dalpha_iz", z),
+    ])
+}
+
+/// The three-axis table, compiled.
+pub fn three_axis() -> Turntable {
+    Turntable::new(&three_axis_description()).expect("valid description")
+}
+
+/// Upper bounds of the three-axis table in the short tier (0.3 to 0.6 arcmin).
+pub fn three_axis_ub_arcmin() -> Vec<f64> {
+    (0..13).map(|i| 0.3 + 0.025 * f64::from(i)).collect()
+}
+
+/// The three-axis box of the examples: [`three_axis_ub_arcmin`], zero lower bounds.
+pub fn three_axis_box() -> ErrorBox {
+    ErrorBox::from_arcmin(&three_axis(), vec![0.0; 13], three_axis_ub_arcmin()).expect("valid box")
 }
 
 /// Every number of a result as bits (floats by `to_bits`), for bit-identity checks.
@@ -22,7 +98,7 @@ pub fn fingerprint(r: &McResult) -> Vec<u64> {
         u64::from(r.chunk_size),
         r.within_requirement_all,
     ];
-    v.extend(r.requirement_rad.map(f64::to_bits));
+    v.extend(r.requirement_rad.map(|i| i.map_or(u64::MAX, f64::to_bits)));
     for a in &r.axes {
         v.extend([
             a.max_abs_rad.to_bits(),
@@ -31,13 +107,12 @@ pub fn fingerprint(r: &McResult) -> Vec<u64> {
             a.within_requirement,
             a.worst.index,
             a.worst.value_rad.to_bits(),
-            a.worst.pose.phi1_rad.to_bits(),
-            a.worst.pose.phi2_rad.to_bits(),
             a.histogram.half_range_rad.to_bits(),
             a.histogram.underflow,
             a.histogram.overflow,
         ]);
-        v.extend(a.worst.chi_rad.map(f64::to_bits));
+        v.extend(a.worst.pose.angles_rad().iter().map(|x| x.to_bits()));
+        v.extend(a.worst.chi_rad.iter().map(|x| x.to_bits()));
         v.extend(&a.histogram.counts);
     }
     v
