@@ -43,7 +43,7 @@ mod requirement;
 mod schedule;
 
 pub use analysis::{
-    ErrorAnalysis, ErrorForm, Estimate, OrientationErrorAnalysis, OutputsAt, Reading, ReadingTerms,
+    ErrorAnalysis, ErrorForm, ErrorWork, Estimate, OrientationErrorAnalysis, OutputsAt, Reading, ReadingTerms,
     ReadingWork,
 };
 pub use calibration::{

@@ -327,7 +327,7 @@ pub fn to_text(s: &Study, e2e: &EndToEnd, a: &BuyersAnswer, note: Option<&String
 pub fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
     let e2e = simulator(&s)?;
-    let samples = args.samples.unwrap_or(s.monte_carlo.samples.max(e2e_verify::DEFAULT_SAMPLES));
+    let samples = args.samples.unwrap_or(s.monte_carlo.samples);
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);
     let inputs = inputs(&s, samples, seed, args.yield_fraction)?;
     let note = st::requirement(&s)?.disagreement;
