@@ -15,15 +15,28 @@
 //! 3x3 products of the plain chain.
 //!
 //! # Evaluation
-//! The plan is compiled once (`CompiledPlan`) into a list of operations with the axis in the
-//! operation (no lookup in the description afterwards). A block of [`BLOCK_CAPACITY`] samples
-//! is evaluated in three passes: (1) per angular error, one column loop turns its words into
-//! $(\sin\tfrac x2, \cos\tfrac x2)$ (or $\tan\tfrac x2$, below); (2) per free joint, one column
-//! loop gives $(\sin\phi, \cos\phi)$ (the sign of a negative axis is folded into the sines of
-//! both passes); (3) the samples are taken [`LANES`] at a time, the four quaternion
-//! components held in fixed-size arrays of [`LANES`] values (registers), and the operations
-//! are applied in order, one `match` per operation per lane group. Joints that cancel are
-//! drawn but their sine and cosine are never computed.
+//! The plan is compiled once per run (`CompiledPlan`) into a list of operations that carry
+//! their axis, so evaluating one needs no lookup in the description: the first two error
+//! rotations fused into one start,
+//! $(c_a, s_a\hat e_A)(c_b, s_b\hat e_B) = (c_ac_b,\ s_ac_b\hat e_A + c_as_b\hat e_B +
+//! s_as_b\,\hat e_A \times \hat e_B)$ (the products the single steps compute from $q = 1$,
+//! without those by zero); consecutive error rotations paired into one operation (one
+//! dispatch for two); joints and fixed rotations as conjugation slots (a fixed rotation's slot
+//! holds constant columns, so that every conjugation is the same code). A block of
+//! [`BLOCK_CAPACITY`] samples is then evaluated in three passes:
+//! 1. per angular error, one column loop turns its words into $(\sin\tfrac x2, \cos\tfrac x2)$
+//!    (or $\tan\tfrac x2$, below), the sign of a negative axis folded in;
+//! 2. per free joint, $(\sin\phi, \cos\phi)$: a scalar loop fetches the table entries (a
+//!    lookup does not vectorise), then a vectorised loop computes the remainder's series and
+//!    the angle-sum formula (per sample exactly the arithmetic of [`sin_cos_turn`]);
+//! 3. the samples are taken [`LANES`] at a time, the four quaternion components held in
+//!    fixed-size arrays of [`LANES`] values (registers: one AVX2 vector holds four), and the
+//!    operations are applied in order, one `match` per operation per lane group, then the
+//!    read-out.
+//!
+//! Joints that cancel are drawn but their sine and cosine are never computed. Every
+//! per-sample operation is an IEEE operation in a fixed order (no FMA, no reassociation), so
+//! the vector width does not change a bit of the result.
 //!
 //! $\sin\tfrac x2, \cos\tfrac x2$ of the error angles use the tier chosen once per run from the
 //! box ([`Tier`]): Taylor series exact to rounding ($|x| \le$ [`SHORT_SERIES_MAX_ABS_RAD`]:
@@ -44,9 +57,10 @@
 //! angle of a joint with a range, from the same table after a floating-point reduction
 //! (`sin_cos_reduced`); of an angle beyond $\pm 4\pi$, from `f64::sin_cos`.
 //!
-//! For the paper's table the operations and their order are exactly those of the crate's
-//! earlier hand-written kernel, so the results are bit-identical to it (tested against a kept
-//! copy, [`crate::baseline`], and against values pinned from it). The result equals the plain
+//! For the paper's table every sample gets exactly the operations of the crate's earlier
+//! hand-written kernel, in the same order, so the results are bit-identical to it (tested
+//! against a kept copy, [`crate::baseline`], in every tier and with zero bounds, and against
+//! values pinned from it). The result equals the plain
 //! chain ([`tt_kinematics::ExactChain`] with the eq-24 read-out) to rounding; the tests check
 //! $10^{-15}$ rad per sample on the paper's and a three-axis table, in every tier.
 //!
@@ -582,7 +596,7 @@ struct JointColumn {
 pub(crate) struct PlanScratch {
     /// $\sin\tfrac x2$ (or $\tan\tfrac x2$) per angular error, sign folded in.
     s: Vec<Col>,
-    /// $\cos\tfrac x2$ per angular error (unit-quaternion tiers).
+    /// $\cos\tfrac x2$ per angular error (unit-quaternion tiers; empty in the tangent tier).
     c: Vec<Col>,
     /// $\sin\phi$ per rotation slot (free joints, sign folded in; then the fixed
     /// rotations, constant).
@@ -654,17 +668,21 @@ impl<'a, const TIER: u8> PlanKernel<'a, TIER> {
     #[inline(always)]
     fn prepare_errors(&self, block: &SampleBlock, n: usize, scratch: &mut PlanScratch) {
         let PlanScratch { s, c, .. } = scratch;
-        for (i, (s_col, c_col)) in s.iter_mut().zip(c.iter_mut()).enumerate() {
-            let s_col = &mut s_col.as_flattened_mut()[..n];
-            let words = block.column_words(i);
-            if TIER == TIER_TANGENT {
+        if TIER == TIER_TANGENT {
+            for (i, s_col) in s.iter_mut().enumerate() {
                 let [k0, k1] = self.tan[i];
-                for (x, w) in s_col.iter_mut().zip(words) {
+                for (x, w) in s_col.as_flattened_mut()[..n]
+                    .iter_mut()
+                    .zip(block.column_words(i))
+                {
                     let t = f64::from(w as i32) + 0.5;
                     *x = t * (k0 + (t * t) * k1);
                 }
-            } else {
-                self.sampler.decode_chi(i, words, s_col);
+            }
+        } else {
+            for (i, (s_col, c_col)) in s.iter_mut().zip(c.iter_mut()).enumerate() {
+                let s_col = &mut s_col.as_flattened_mut()[..n];
+                self.sampler.decode_chi(i, block.column_words(i), s_col);
                 let sign = self.plan.chi_sign[i];
                 for (x, co) in s_col.iter_mut().zip(&mut c_col.as_flattened_mut()[..n]) {
                     let (sn, cs) = half_sin_cos_tier::<TIER>(*x);
@@ -945,9 +963,11 @@ impl<const TIER: u8> BlockKernel for PlanKernel<'_, TIER> {
             js.push([[sn; LANES]; GROUPS]);
             jc.push([[cs; LANES]; GROUPS]);
         }
+        // the tangent tier reads no cosines
+        let n_cos = if TIER == TIER_TANGENT { 0 } else { n_chi };
         PlanScratch {
             s: vec![col; n_chi],
-            c: vec![col; n_chi],
+            c: vec![col; n_cos],
             js,
             jc,
         }

@@ -9,9 +9,9 @@
 //! `#[inline(always)]` on every function of the loop, and kernels as trait implementations
 //! rather than closures, which would be compiled once for the portable level).
 //!
-//! Measured on this project's machine (one thread, Table 4, `cargo run --release -p
-//! mc-verify --example simd_levels`): AVX2 runs the whole Monte Carlo loop 1.3x faster than
-//! the portable level. AVX-512 (eight lanes) was tried and gained about 1 %, within noise,
+//! Measured on this project's machine (one thread, the paper's Table 4 and a three-axis
+//! table, `cargo run --release -p mc-verify --example throughput`): AVX2 runs the whole Monte
+//! Carlo loop 1.3x faster than the portable level. AVX-512 (eight lanes) was tried and gained about 1 %, within noise,
 //! for a newer minimum Rust (1.89) and the clock penalty of wide vectors on some CPUs, so
 //! it is not offered.
 //!

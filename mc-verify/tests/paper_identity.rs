@@ -196,7 +196,18 @@ fn draws_reproduce_values_pinned_from_the_earlier_sampler() {
 /// every tier and on every SIMD level of this CPU.
 #[test]
 fn general_plan_equals_the_kept_specialised_kernel_bit_for_bit_in_every_tier() {
-    for (name, b, _, seed, chunk, _) in pinned_cases() {
+    // plus boxes with zero upper bounds (exact zeros flow through the chain)
+    let zero_ub = [0.0, 0.78, 0.4, 0.0, 0.3, 0.3, 0.0, 0.4];
+    let mut cases = pinned_cases();
+    for (name, lb, ub) in [
+        ("some UB = 0", [0.0; 8], zero_ub),
+        ("some UB = 0, LB > 0", zero_ub.map(|u| 0.5 * u), zero_ub),
+        ("all UB = 0", [0.0; 8], [0.0; 8]),
+        ("some UB = 0, 2 deg", [0.0; 8], zero_ub.map(|u| 150.0 * u)),
+    ] {
+        cases.push((name, arcmin_box(lb, ub), 0, 5, 7_000, Tier::Any));
+    }
+    for (name, b, _, seed, chunk, _) in cases {
         let mc = mc(b, 40_001, seed, chunk);
         let general = fingerprint(&mc.run());
         assert_eq!(
