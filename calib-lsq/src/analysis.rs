@@ -420,16 +420,19 @@ impl ReadingTerms for ReferenceTerms<'_> {
 #[derive(Debug, Clone, Default)]
 pub struct ErrorWork {
     reading: ReadingWork,
+    /// Actual regressor rows, row-major $n \times k$ (when the reading needs them).
+    rows: Vec<f64>,
     b1_actual: Vec<f64>,
     b2_actual: Vec<f64>,
     y: Vec<f64>,
 }
 
-/// The building blocks at given actual input values, with the precomputed
-/// $\mathbf A^+$ of the nominal regression: the fast path.
+/// The building blocks at given actual input values, with the precomputed row-major
+/// $\mathbf A$ and $\mathbf A^+$ of the nominal regression: the fast path.
 struct ActualTerms<'a> {
     cal: &'a OutputCalibration,
-    actual: &'a [InputValues],
+    k: usize,
+    rows: &'a [f64],
     b1_actual: &'a [f64],
     b2_actual: &'a [f64],
     /// $\mathbf A'$ factored, only for readings that need $\hat{\boldsymbol\beta}_2$.
@@ -437,33 +440,26 @@ struct ActualTerms<'a> {
     y: std::cell::RefCell<&'a mut Vec<f64>>,
 }
 
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 impl ReadingTerms for ActualTerms<'_> {
     fn positions(&self) -> usize {
-        self.actual.len()
+        self.cal.fast.b1_intended.len()
     }
     fn coefficients(&self) -> usize {
-        self.cal.beta().len()
+        self.k
     }
     fn outputs(&self, at: OutputsAt, out: &mut [f64]) {
         match at {
             OutputsAt::Actual => out.copy_from_slice(self.b1_actual),
-            OutputsAt::Intended => {
-                for ((o, a), b) in out
-                    .iter_mut()
-                    .zip(self.cal.a_beta().iter())
-                    .zip(self.cal.b2().iter())
-                {
-                    *o = a + b;
-                }
-            }
+            OutputsAt::Intended => out.copy_from_slice(&self.cal.fast.b1_intended),
         }
     }
     fn known(&self, actual: bool, out: &mut [f64]) {
-        out.copy_from_slice(if actual {
-            self.b2_actual
-        } else {
-            self.cal.b2().as_slice()
-        });
+        out.copy_from_slice(if actual { self.b2_actual } else { self.cal.b2().as_slice() });
     }
     fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]) {
         let mut y = self.y.borrow_mut();
@@ -471,9 +467,9 @@ impl ReadingTerms for ActualTerms<'_> {
         match which {
             Estimate::Beta1 => {
                 y.extend(b1.iter().zip(self.cal.b2().iter()).map(|(b, k)| b - k));
-                let pinv = self.cal.regression().pinv();
+                let n = y.len();
                 for (j, o) in out.iter_mut().enumerate() {
-                    *o = pinv.row(j).iter().zip(y.iter()).map(|(p, v)| p * v).sum();
+                    *o = dot(&self.cal.fast.pinv_rows[j * n..(j + 1) * n], &y);
                 }
             }
             Estimate::Beta2 => {
@@ -490,16 +486,9 @@ impl ReadingTerms for ActualTerms<'_> {
         }
     }
     fn predict(&self, actual: bool, beta: &[f64], out: &mut [f64]) {
-        if actual {
-            let o = self.cal.output();
-            for (p, v) in out.iter_mut().zip(self.actual) {
-                *p = o.regressor_row(v).zip(beta).map(|(r, b)| r * b).sum();
-            }
-        } else {
-            let a = self.cal.regression().matrix();
-            for (i, p) in out.iter_mut().enumerate() {
-                *p = a.row(i).iter().zip(beta).map(|(r, b)| r * b).sum();
-            }
+        let rows = if actual { self.rows } else { &self.cal.fast.a_rows };
+        for (i, p) in out.iter_mut().enumerate() {
+            *p = dot(&rows[i * self.k..(i + 1) * self.k], beta);
         }
     }
 }
@@ -508,8 +497,8 @@ impl OutputCalibration {
     /// The reading's error vector $\Delta\hat{\boldsymbol\omega}$ (eq 13) when the positions
     /// are realised with the actual input values `actual` (one per position, from eq 8), into
     /// `out`. The fast path: $\hat{\boldsymbol\beta}_1$ through the precomputed
-    /// $\mathbf A^+$, nothing allocated once `work` is sized; readings with
-    /// $\hat{\boldsymbol\beta}_2$ factor $\mathbf A'$.
+    /// $\mathbf A^+$, compiled regressors, only the blocks the reading needs, nothing allocated
+    /// once `work` is sized; readings with $\hat{\boldsymbol\beta}_2$ factor $\mathbf A'$.
     ///
     /// # Errors
     /// [`CalibError::LengthMismatch`] unless there is one value per position (and `out` as
@@ -525,50 +514,47 @@ impl OutputCalibration {
         let n = self.b2().len();
         for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
             if len != n {
-                return Err(CalibError::LengthMismatch {
-                    what,
-                    expected: n,
-                    found: len,
-                });
+                return Err(CalibError::LengthMismatch { what, expected: n, found: len });
             }
         }
-        let o = self.output();
+        let f = &self.fast;
+        let k = f.estimated.len();
+        let need_b1 = reading.needs_actual_outputs();
+        let need_rows = need_b1
+            || reading.needs_beta_2()
+            || matches!(reading.form, ErrorForm::ActualRegressors | ErrorForm::ActualRegressorsNominalRate);
+        let need_b2 = need_b1 || reading.needs_actual_known();
+        work.rows.clear();
         work.b1_actual.clear();
         work.b2_actual.clear();
-        let (need_b1, need_b2) = (reading.needs_actual_outputs(), reading.needs_actual_known());
-        if need_b1 || need_b2 {
-            for v in actual {
-                let known = o.known_part(v);
-                work.b2_actual.push(known);
+        let beta = self.beta().as_slice();
+        for v in actual {
+            if need_rows {
+                let start = work.rows.len();
+                work.rows.extend(f.estimated.iter().map(|m| m.eval(&v.0)));
                 if need_b1 {
-                    work.b1_actual.push(known + o.estimated_part(v));
+                    let est = dot(&work.rows[start..], beta);
+                    let known: f64 = f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum();
+                    work.b2_actual.push(known);
+                    work.b1_actual.push(known + est);
+                    continue;
                 }
+            }
+            if need_b2 {
+                work.b2_actual.push(f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum());
             }
         }
         let a_prime = if reading.needs_beta_2() {
-            let mut m = nalgebra::DMatrix::zeros(n, self.beta().len());
-            for (i, v) in actual.iter().enumerate() {
-                for (j, r) in o.regressor_row(v).enumerate() {
-                    m[(i, j)] = r;
-                }
-            }
-            Some(Regression::new(
-                &o.name,
-                self.regression().names().to_vec(),
-                m,
-            )?)
+            let m = nalgebra::DMatrix::from_row_slice(n, k, &work.rows);
+            Some(Regression::new(&self.output().name, self.regression().names().to_vec(), m)?)
         } else {
             None
         };
-        let ErrorWork {
-            reading: rw,
-            b1_actual,
-            b2_actual,
-            y,
-        } = work;
+        let ErrorWork { reading: rw, rows, b1_actual, b2_actual, y } = work;
         let terms = ActualTerms {
             cal: self,
-            actual,
+            k,
+            rows,
             b1_actual,
             b2_actual,
             a_prime,

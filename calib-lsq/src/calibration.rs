@@ -7,6 +7,53 @@ use crate::schedule::Schedule;
 use gw_model::{InputValues, Inputs, Output, SensorModel, Site};
 use nalgebra::{DMatrix, DVector, Matrix3};
 
+/// A monomial compiled for fast evaluation: the input indices of its factors (a power
+/// repeats its index).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Mono {
+    idx: [u8; gw_model::MAX_REGRESSOR_DEGREE as usize],
+    len: u8,
+}
+
+impl Mono {
+    fn new(r: &gw_model::Regressor) -> Self {
+        let mut idx = [0u8; gw_model::MAX_REGRESSOR_DEGREE as usize];
+        let mut len = 0;
+        for (j, u) in gw_model::Input::ALL.iter().enumerate() {
+            for _ in 0..r.power(*u) {
+                idx[len] = j as u8;
+                len += 1;
+            }
+        }
+        Self { idx, len: len as u8 }
+    }
+
+    #[inline(always)]
+    pub(crate) fn eval(&self, v: &[f64; 6]) -> f64 {
+        let mut out = 1.0;
+        for &i in &self.idx[..usize::from(self.len)] {
+            out *= v[usize::from(i)];
+        }
+        out
+    }
+}
+
+/// Row-major copies and compiled terms of an output for the fast path (no lookups, contiguous
+/// rows).
+#[derive(Debug, Clone)]
+pub(crate) struct FastOutput {
+    /// $\mathbf A$ row-major ($n \times k$).
+    pub a_rows: Vec<f64>,
+    /// $\mathbf A^+$ row-major ($k \times n$).
+    pub pinv_rows: Vec<f64>,
+    /// Estimated terms' monomials (the columns of $\mathbf A$).
+    pub estimated: Vec<Mono>,
+    /// Known terms: value and monomial.
+    pub known: Vec<(f64, Mono)>,
+    /// $\mathbf A\boldsymbol\beta + \mathbf b_2$: the outputs at the intended orientation.
+    pub b1_intended: Vec<f64>,
+}
+
 /// One output of a prepared calibration: its nominal regression and the true quantities.
 #[derive(Debug, Clone)]
 pub struct OutputCalibration {
@@ -16,6 +63,7 @@ pub struct OutputCalibration {
     a_beta: DVector<f64>,
     beta: DVector<f64>,
     nominal: Vec<InputValues>,
+    pub(crate) fast: FastOutput,
 }
 
 impl OutputCalibration {
@@ -134,13 +182,24 @@ impl Calibration {
                 let names = o.estimated_names().into_iter().map(String::from).collect();
                 let regression = Regression::new(&o.name, names, a)?;
                 let beta = DVector::from_vec(o.estimated_values());
+                let a_beta = regression.matrix() * &beta;
+                let b2 = known_vector(o, &nominal);
+                let (n, k) = regression.matrix().shape();
+                let fast = FastOutput {
+                    a_rows: (0..n).flat_map(|i| (0..k).map(move |j| (i, j))).map(|(i, j)| regression.matrix()[(i, j)]).collect(),
+                    pinv_rows: (0..k).flat_map(|j| (0..n).map(move |i| (j, i))).map(|(j, i)| regression.pinv()[(j, i)]).collect(),
+                    estimated: o.estimated().map(|t| Mono::new(&t.regressor)).collect(),
+                    known: o.known_terms().map(|t| (t.value, Mono::new(&t.regressor))).collect(),
+                    b1_intended: (&a_beta + &b2).iter().copied().collect(),
+                };
                 Ok(OutputCalibration {
                     nominal: nominal.iter().map(InputValues::from_inputs).collect(),
-                    a_beta: regression.matrix() * &beta,
-                    b2: known_vector(o, &nominal),
+                    a_beta,
+                    b2,
                     beta,
                     regression,
                     output: o.clone(),
+                    fast,
                 })
             })
             .collect::<Result<Vec<_>, CalibError>>()?;

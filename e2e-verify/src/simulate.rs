@@ -197,8 +197,8 @@ impl EndToEnd {
                 found: chi_rad.len(),
             }));
         }
-        for (name, v) in self.turntable.rotation_error_names().iter().zip(chi_rad) {
-            finite(&format!("chi.{name}"), *v)?;
+        if let Some(i) = chi_rad.iter().position(|v| !v.is_finite()) {
+            finite(&format!("chi.{}", self.turntable.rotation_error_names()[i]), chi_rad[i])?;
         }
         Ok(())
     }
