@@ -1,64 +1,84 @@
-//! Throughput of the end-to-end evaluation (turntables/s: exact chain at the 32 positions, both
-//! axes calibrated), one thread, Table 4's box, USER reading:
-//! - `fast_path`: [`EndToEnd::delta_omega`] (factored chain, precomputed pseudo-inverse);
-//! - `reference_path`: [`EndToEnd::run`] on the same draws (tt-kinematics' chain per position,
-//!   calib-lsq's full eq 7-14 analysis with both estimates, a QR of A' per draw), the baseline;
-//! - `monte_carlo`: [`EndToEnd::sample_rates`] (drawing included).
+//! Throughput of the end-to-end evaluation (turntables/s: exact chain at every position of the
+//! paper's schedule, both outputs calibrated, eq 14), one thread, Table 4's box, for both
+//! readings of eq 13 that matter:
+//! - `fast_path`: [`EndToEnd::delta_omega_into`] (pose frames, nominal inputs, the least-squares
+//!   pseudo-inverse and the needed regressor blocks computed once);
+//! - `reference_path`: [`EndToEnd::run`] on the same turntables (tt-kinematics' chain per
+//!   position, calib-lsq's full analysis with a QR per turntable), the baseline measured in the
+//!   same run: the ratio of the two is the figure to read, not the absolute times;
+//! - `monte_carlo`: [`EndToEnd::rate_distribution`] (drawing and streaming statistics included).
 //!
-//! Run: `CARGO_TARGET_DIR=target cargo bench -p e2e-verify --bench e2e_throughput`.
+//! Run: `cargo bench -p e2e-verify --bench e2e_throughput`.
 
-use alloc_opt::paper_table4_rad;
-use calib_lsq::Reading;
+use calib_lsq::{Calibration, Reading};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use e2e_verify::{EndToEnd, McSettings};
-use mc_verify::ErrorBox;
 use std::hint::black_box;
+use tt_kinematics::{Pose, paper};
+
+/// Turntables per benchmark iteration.
+const DRAWS: u64 = 512;
 
 fn bench(c: &mut Criterion) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .expect("thread pool");
-    let e2e = EndToEnd::paper(Reading::USER);
-    let bounds = ErrorBox::from_upper_rad(paper_table4_rad()).expect("Table 4 is valid");
-    let n = 1024_u64;
-    let draws = e2e
-        .sample_rates(&bounds, &McSettings::new(n, 2017))
-        .expect("valid settings");
-    let mut g = c.benchmark_group("end_to_end_1_thread");
-    g.throughput(Throughput::Elements(n));
-    g.bench_function("fast_path", |b| {
-        b.iter(|| {
-            draws
-                .iter()
-                .map(|d| e2e.delta_omega(black_box(&d.chi_rad)).expect("finite")[0])
-                .sum::<f64>()
+    let table = paper::table3();
+    let cal = Calibration::new(
+        &gw_model::paper::gyrowheel(),
+        &gw_model::paper::site(),
+        &calib_lsq::paper::schedule(),
+    )
+    .expect("the paper's schedule identifies every coefficient");
+    let poses: Vec<Pose> = cal
+        .schedule()
+        .positions()
+        .iter()
+        .map(|p| Pose::from_deg(p.joint_angles_deg()))
+        .collect::<Result<_, _>>()
+        .expect("the paper's poses are finite");
+    for (label, reading) in [("paper_reading", Reading::PAPER), ("user_reading", Reading::USER)] {
+        let e2e = EndToEnd::new(&table, &cal, &poses, reading).expect("valid study");
+        let linear = e2e.linearization();
+        let bounds = e2e
+            .box_of(&alloc_opt::paper::table4_rad(), &[0.0; 8])
+            .expect("Table 4 is a valid box");
+        let settings = McSettings::new(DRAWS, 2017);
+        let chis = e2e.sample_chi(&bounds, &settings).expect("valid settings");
+        let mut g = c.benchmark_group(format!("end_to_end_1_thread_{label}"));
+        g.throughput(Throughput::Elements(DRAWS));
+        g.bench_function("fast_path", |b| {
+            let mut work = e2e.work();
+            b.iter(|| {
+                let mut s = 0.0;
+                for chi in &chis {
+                    e2e.delta_omega_into(black_box(chi), &mut work).expect("finite");
+                    s += work.delta_omega[0];
+                }
+                s
+            });
         });
-    });
-    g.bench_function("reference_path", |b| {
-        b.iter(|| {
-            draws
-                .iter()
-                .map(|d| {
-                    e2e.run(black_box(&d.chi_rad))
-                        .expect("finite")
-                        .delta_omega_rad_per_s()[0]
+        g.bench_function("reference_path", |b| {
+            b.iter(|| {
+                chis.iter()
+                    .map(|chi| e2e.run(black_box(chi)).expect("finite").delta_omega()[0])
+                    .sum::<f64>()
+            });
+        });
+        g.bench_function("monte_carlo", |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    black_box(
+                        e2e.rate_distribution(&linear, &bounds, &settings)
+                            .expect("valid settings")
+                            .samples,
+                    )
                 })
-                .sum::<f64>()
+            });
         });
-    });
-    g.bench_function("monte_carlo", |b| {
-        b.iter(|| {
-            pool.install(|| {
-                black_box(
-                    e2e.sample_rates(&bounds, &McSettings::new(n, 2017))
-                        .expect("valid settings")
-                        .len(),
-                )
-            })
-        });
-    });
-    g.finish();
+        g.finish();
+    }
 }
 
 criterion_group!(benches, bench);

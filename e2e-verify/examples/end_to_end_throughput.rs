@@ -2,7 +2,7 @@
 //! output calibrated) for the paper's study, on one thread and on all, against the reference
 //! path (plain matrix chain, calib-lsq's analysis) measured in the same run.
 //!
-//! Run: `cargo run --release -p e2e-verify --example throughput`
+//! Run: `cargo run --release -p e2e-verify --example end_to_end_throughput`
 
 use calib_lsq::{Calibration, Reading};
 use e2e_verify::{EndToEnd, McSettings};
