@@ -54,14 +54,39 @@ pub mod claims {
     use crate::requirement::{ANGLE_NAMES, RequirementProblem};
     use std::fmt;
 
+    /// The paper's outputs (0 = x, 1 = y) and the angle each is claimed not to depend on
+    /// (claim 1: $\Delta\omega_x$ ignores $\Delta\gamma$, $\Delta\omega_y$ ignores $\Delta\psi$).
+    pub const PAPER_IGNORED_ANGLES: [(usize, usize); 2] = [(0, 2), (1, 0)];
+
+    /// The plane of each of the paper's outputs (claims 2-3: x over $\Delta\psi,
+    /// \Delta\theta$; y over $\Delta\theta, \Delta\gamma$).
+    pub const PAPER_PLANES: [(usize, [usize; 2]); 2] = [(0, [0, 1]), (1, [1, 2])];
+
+    /// Eq 16 as printed: 0.027 deg ...
+    pub const EQ16_PRINTED_DEG: f64 = 0.027;
+
+    /// ... to three decimals.
+    pub const EQ16_PRINTED_DECIMALS: i32 = 3;
+
     /// Rounding allowed where two rate errors are equal in exact arithmetic: a few ulps of
     /// outputs of ~100 deg/h (Table 1), in the output's unit.
     pub const RATE_EQ_TOL: f64 = 3e-12;
 
+    /// The Greek letter of an angle name (`psi` → `ψ`), for evidence printed to people.
+    fn greek(name: &str) -> &'static str {
+        match name {
+            "psi" => "ψ",
+            "theta" => "θ",
+            _ => "γ",
+        }
+    }
+
     /// Orientation errors probed by claims (1)-(3): a 7 x 7 grid up to 0.1 deg (Figure 4's
     /// scale), rad.
     fn grid() -> Vec<f64> {
-        (-3..=3).map(|k| f64::from(k) * (0.1f64 / 3.0).to_radians()).collect()
+        (-3..=3)
+            .map(|k| f64::from(k) * (0.1f64 / 3.0).to_radians())
+            .collect()
     }
 
     /// Claim (1): each output ignores one angle (the paper: $\Delta\omega_x$ is not affected by
@@ -86,7 +111,12 @@ pub mod claims {
             let parts: Vec<String> = self
                 .outputs
                 .iter()
-                .map(|(o, a, c)| format!("Delta-omega_{o} changes by at most {c:.1e} when Delta-{a} varies"))
+                .map(|(o, a, c)| {
+                    format!(
+                        "Δω_{o} changes by at most {c:.1e} when Δ{} varies",
+                        greek(a)
+                    )
+                })
                 .collect();
             f.write_str(&parts.join("; "))
         }
@@ -97,7 +127,10 @@ pub mod claims {
     ///
     /// # Errors
     /// As [`RequirementProblem::region`].
-    pub fn claim1_each_output_ignores_one_angle(p: &RequirementProblem, ignored: &[(usize, usize)]) -> Result<Claim1Evidence, CalibError> {
+    pub fn claim1_each_output_ignores_one_angle(
+        p: &RequirementProblem,
+        ignored: &[(usize, usize)],
+    ) -> Result<Claim1Evidence, CalibError> {
         let g = grid();
         let mut outputs = Vec::new();
         for &(k, j) in ignored {
@@ -162,7 +195,10 @@ pub mod claims {
     ///
     /// # Errors
     /// As [`RequirementProblem::region`].
-    pub fn claims2_3_surface_shape(p: &RequirementProblem, planes: &[(usize, [usize; 2])]) -> Result<ShapeEvidence, CalibError> {
+    pub fn claims2_3_surface_shape(
+        p: &RequirementProblem,
+        planes: &[(usize, [usize; 2])],
+    ) -> Result<ShapeEvidence, CalibError> {
         let g = grid();
         let (mut asym, mut checks, mut fails): (f64, usize, usize) = (0.0, 0, 0);
         for &(k, [a, b]) in planes {
@@ -176,7 +212,9 @@ pub mod claims {
             for &u in &g {
                 for &v in &g {
                     let f0 = at(u, v)?;
-                    asym = asym.max((f0 - at(-u, v)?).abs()).max((f0 - at(u, -v)?).abs());
+                    asym = asym
+                        .max((f0 - at(-u, v)?).abs())
+                        .max((f0 - at(u, -v)?).abs());
                     if u == 0.0 && v == 0.0 {
                         continue;
                     }
@@ -189,7 +227,11 @@ pub mod claims {
                 }
             }
         }
-        Ok(ShapeEvidence { max_asymmetry: asym, growth_checks: checks, growth_failures: fails })
+        Ok(ShapeEvidence {
+            max_asymmetry: asym,
+            growth_checks: checks,
+            growth_failures: fails,
+        })
     }
 
     /// Eq 16: the requirement, and whether it rounds to the printed value.
@@ -208,9 +250,9 @@ pub mod claims {
         #[must_use]
         pub fn holds(&self) -> bool {
             let scale = 10f64.powi(self.printed_decimals);
-            self.requirement_deg
-                .iter()
-                .all(|r| r.is_some_and(|d| ((d * scale).round() - self.printed_deg * scale).abs() < 0.5))
+            self.requirement_deg.iter().all(|r| {
+                r.is_some_and(|d| ((d * scale).round() - self.printed_deg * scale).abs() < 0.5)
+            })
         }
     }
 
@@ -220,7 +262,13 @@ pub mod claims {
                 .requirement_deg
                 .iter()
                 .zip(ANGLE_NAMES)
-                .map(|(d, n)| format!("I_{n} = {}", d.map_or("none".into(), |d| format!("{d:.7} deg"))))
+                .map(|(d, n)| {
+                    format!(
+                        "I_{} = {}",
+                        greek(n),
+                        d.map_or("none".into(), |d| format!("{d:.7} deg"))
+                    )
+                })
                 .collect();
             write!(f, "{} (printed {} deg)", r.join(", "), self.printed_deg)
         }
@@ -230,7 +278,15 @@ pub mod claims {
     ///
     /// # Errors
     /// As [`RequirementProblem::requirement`].
-    pub fn eq16_requirement(p: &RequirementProblem, printed_deg: f64, printed_decimals: i32) -> Result<Eq16Evidence, CalibError> {
-        Ok(Eq16Evidence { requirement_deg: p.requirement()?.deg(), printed_deg, printed_decimals })
+    pub fn eq16_requirement(
+        p: &RequirementProblem,
+        printed_deg: f64,
+        printed_decimals: i32,
+    ) -> Result<Eq16Evidence, CalibError> {
+        Ok(Eq16Evidence {
+            requirement_deg: p.requirement()?.deg(),
+            printed_deg,
+            printed_decimals,
+        })
     }
 }

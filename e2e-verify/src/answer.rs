@@ -37,7 +37,11 @@ pub struct EndToEndInputs {
 impl EndToEndInputs {
     /// Inputs with defaults: no extra box, [`DEFAULT_SAMPLES`], [`DEFAULT_YIELD_FRACTION`].
     #[must_use]
-    pub fn new(lower_bounds_rad: Vec<f64>, two_step_requirement: Option<Requirement>, seed: u64) -> Self {
+    pub fn new(
+        lower_bounds_rad: Vec<f64>,
+        two_step_requirement: Option<Requirement>,
+        seed: u64,
+    ) -> Self {
         Self {
             lower_bounds_rad,
             two_step_requirement,
@@ -77,8 +81,14 @@ pub struct ReadingAnswer {
     pub direct_box: BoxAnswer,
     /// The direct allocation certified on the exact chain
     /// ([`EndToEnd::allocate_direct_certified`]) with its worst case; `None` for a reading
-    /// without a derived second-order bound.
+    /// without a derived second-order bound, or when the certification cannot be had (see
+    /// [`ReadingAnswer::direct_certified_note`]).
     pub direct_certified: Option<(DirectAllocation, WorstCase)>,
+    /// Why [`ReadingAnswer::direct_certified`] is `None`: the reading has no derived bound, the
+    /// second-order margin exceeds an output's accuracy (the derived bound is too coarse for
+    /// this table and sensor), or the certification did not settle in
+    /// [`crate::CERTIFY_STEPS`] solves. The direct allocation itself is unaffected.
+    pub direct_certified_note: Option<String>,
     /// The yield-based allocation (shape of the direct one).
     pub yield_based: YieldAllocation,
     /// The yield-based box re-measured with an independent seed (`seed + 2`).
@@ -112,13 +122,41 @@ pub fn answer(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<BuyersAnswer, E
     fraction("yield_fraction", inputs.yield_fraction)?;
     McSettings::new(inputs.samples, inputs.seed).validate()?;
     let two_step = match inputs.two_step_requirement {
-        Some(req) => Some(SensitivityWeighted::general().allocate(&AllocationProblem::new(
-            LinearModel::new(e2e.turntable()),
-            req,
-            inputs.lower_bounds_rad.clone(),
-        )?)?),
+        Some(req) => Some(
+            SensitivityWeighted::general().allocate(&AllocationProblem::new(
+                LinearModel::new(e2e.turntable()),
+                req,
+                inputs.lower_bounds_rad.clone(),
+            )?)?,
+        ),
         None => None,
     };
+    answer_with_two_step(e2e, inputs, two_step)
+}
+
+/// [`answer()`] with the two-step allocation already computed (by the caller, for the same
+/// turntable, requirement and lower bounds as `inputs`): the allocation of a table with two
+/// or more free joints takes seconds, and a report that also prints it need not pay twice.
+///
+/// # Errors
+/// As [`answer()`]; [`E2eError::Alloc`] ([`alloc_opt::AllocError::Length`]) when the
+/// allocation's length is not the turntable's error count.
+pub fn answer_with_two_step(
+    e2e: &EndToEnd,
+    inputs: &EndToEndInputs,
+    two_step: Option<Allocation>,
+) -> Result<BuyersAnswer, E2eError> {
+    fraction("yield_fraction", inputs.yield_fraction)?;
+    McSettings::new(inputs.samples, inputs.seed).validate()?;
+    if let Some(a) = &two_step {
+        if a.upper_bounds_rad.len() != e2e.n_errors() {
+            return Err(E2eError::Alloc(alloc_opt::AllocError::Length {
+                field: "two-step allocation".into(),
+                expected: e2e.n_errors(),
+                found: a.upper_bounds_rad.len(),
+            }));
+        }
+    }
     let mut named: Vec<(String, Vec<f64>)> = Vec::new();
     if let Some(a) = &two_step {
         named.push(("two-step".into(), a.upper_bounds_rad.clone()));
@@ -136,9 +174,17 @@ pub fn answer(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<BuyersAnswer, E
     let lb = &inputs.lower_bounds_rad;
     let mut out = Vec::new();
     for reading in readings {
-        let sim = if reading == e2e.reading() { e2e.clone() } else { e2e.with_reading(reading)? };
+        let sim = if reading == e2e.reading() {
+            e2e.clone()
+        } else {
+            e2e.with_reading(reading)?
+        };
         let linear = sim.linearization();
-        let box_answer = |name: &str, ub: &[f64], s: &McSettings, linear: &Linearization| -> Result<BoxAnswer, E2eError> {
+        let box_answer = |name: &str,
+                          ub: &[f64],
+                          s: &McSettings,
+                          linear: &Linearization|
+         -> Result<BoxAnswer, E2eError> {
             Ok(BoxAnswer {
                 name: name.to_string(),
                 upper_bounds_rad: ub.to_vec(),
@@ -152,24 +198,37 @@ pub fn answer(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<BuyersAnswer, E
             .map(|(name, ub)| box_answer(name, ub, &settings, &linear))
             .collect::<Result<Vec<_>, _>>()?;
         let direct = sim.allocate_direct(&linear, lb)?;
-        let direct_certified = match sim.allocate_direct_certified(&linear, lb) {
-            Ok(d) => {
-                let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
-                Some((d, wc))
-            }
-            Err(E2eError::NoSecondOrderBound { .. }) => None,
-            Err(e) => return Err(e),
-        };
+        let (direct_certified, direct_certified_note) =
+            match sim.allocate_direct_certified(&linear, lb) {
+                Ok(d) => {
+                    let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
+                    (Some((d, wc)), None)
+                }
+                // not certifiable for this reading, table and sensor: say why, keep the rest
+                Err(
+                    e @ (E2eError::NoSecondOrderBound { .. }
+                    | E2eError::NotPositive { .. }
+                    | E2eError::NoConvergence { .. }),
+                ) => (None, Some(e.to_string())),
+                Err(e) => return Err(e),
+            };
         let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
-        let yield_based = sim.allocate_yield(&direct.upper_bounds_rad, lb, inputs.yield_fraction, &design)?;
+        let yield_based =
+            sim.allocate_yield(&direct.upper_bounds_rad, lb, inputs.yield_fraction, &design)?;
         let recheck = McSettings::new(inputs.samples, inputs.seed.wrapping_add(2));
         out.push(ReadingAnswer {
             reading,
             boxes,
             direct_box: box_answer("direct", &direct.upper_bounds_rad, &settings, &linear)?,
-            yield_box: box_answer("yield-based", &yield_based.upper_bounds_rad, &recheck, &linear)?,
+            yield_box: box_answer(
+                "yield-based",
+                &yield_based.upper_bounds_rad,
+                &recheck,
+                &linear,
+            )?,
             direct,
             direct_certified,
+            direct_certified_note,
             yield_based,
         });
     }

@@ -108,6 +108,13 @@ pub enum E2eError {
         /// The best yield found.
         best: f64,
     },
+    /// A claim or report needed a part of an answer that it does not hold (a named box, a
+    /// reading).
+    #[error("the end-to-end answer has no {what}")]
+    MissingInAnswer {
+        /// What was looked for, e.g. `box "Table 4" under reading intended/beta1/printed`.
+        what: String,
+    },
     /// An iteration did not settle within its bound.
     #[error("{what} did not converge in {iterations} steps (last change {change})")]
     NoConvergence {

@@ -62,6 +62,7 @@ mod check;
 mod error;
 mod linear;
 mod montecarlo;
+pub mod paper;
 mod simulate;
 
 pub use allocate::{
@@ -69,7 +70,7 @@ pub use allocate::{
     YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation,
 };
 pub use answer::{
-    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
+    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer, answer_with_two_step,
     objective_to_arcmin,
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};

@@ -78,6 +78,7 @@ pub mod baseline;
 mod bounds;
 mod error;
 pub mod fast;
+pub mod paper;
 mod run;
 pub mod sampler;
 pub mod simd;

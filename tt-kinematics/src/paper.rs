@@ -237,7 +237,9 @@ pub mod claims {
                     .joint_ranges_rad()
                     .iter()
                     .enumerate()
-                    .map(|(j, [lo, hi])| lo + (hi - lo) * frac(k + 1, 0.618_033_988_749_895 + 0.1 * j as f64))
+                    .map(|(j, [lo, hi])| {
+                        lo + (hi - lo) * frac(k + 1, 0.618_033_988_749_895 + 0.1 * j as f64)
+                    })
                     .collect();
                 let chi: Vec<f64> = (0..t.n_rotation_errors())
                     .map(|i| max_rad * (2.0 * frac(k * 7 + i + 1, 0.754_877_666_246_693) - 1.0))
@@ -274,7 +276,7 @@ pub mod claims {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
             write!(
                 f,
-                "largest change of Delta-R from a {} mm translation at {} poses: {:e} rad",
+                "largest change of ΔR from a {} mm translation at {} poses: {:e} rad",
                 self.translation_m * 1e3,
                 self.points,
                 self.max_change_rad
@@ -286,18 +288,26 @@ pub mod claims {
     ///
     /// # Errors
     /// [`KinematicsError`] from the chain (never for a valid table).
-    pub fn eq25_intersection_error_has_no_effect(table: &Turntable) -> Result<IntersectionEvidence, KinematicsError> {
+    pub fn eq25_intersection_error_has_no_effect(
+        table: &Turntable,
+    ) -> Result<IntersectionEvidence, KinematicsError> {
         const TRANSLATION_M: f64 = 1e-3;
         let pts = points(table, 200, 10.0 * crate::units::RAD_PER_ARCMIN);
         let mut max: f64 = 0.0;
         for (pose, e) in &pts {
-            let moved = e.clone().with_translations_m(vec![TRANSLATION_M; table.n_translation_errors()])?;
+            let moved = e
+                .clone()
+                .with_translations_m(vec![TRANSLATION_M; table.n_translation_errors()])?;
             for kind in [ChainKind::Exact, ChainKind::SmallAngle] {
                 let d = table.delta_r(pose, e, kind)? - table.delta_r(pose, &moved, kind)?;
                 max = max.max(d.amax());
             }
         }
-        Ok(IntersectionEvidence { points: pts.len(), translation_m: TRANSLATION_M, max_change_rad: max })
+        Ok(IntersectionEvidence {
+            points: pts.len(),
+            translation_m: TRANSLATION_M,
+            max_change_rad: max,
+        })
     }
 
     /// Eq 26 approximates the exact orientation error (25) to second order.
@@ -327,7 +337,7 @@ pub mod claims {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
             write!(
                 f,
-                "errors up to {:.1} arcmin: exact chain minus eq 26 at most {:.3e} rad (bound 33 m^2 = {:.3e} rad); the description's first-order model equals eq 26 to {:.1e}",
+                "errors up to {:.1} arcmin: exact chain minus eq 26 at most {:.3e} rad (bound 33 m² = {:.3e} rad); the description's first-order model equals eq 26 to {:.1e}",
                 self.max_error_rad / crate::units::RAD_PER_ARCMIN,
                 self.max_difference_rad,
                 self.bound_rad,
@@ -341,7 +351,9 @@ pub mod claims {
     /// # Errors
     /// [`KinematicsError::WrongTurntable`] unless `table` is the paper's (eight errors, two
     /// joints).
-    pub fn eq26_approximates_the_exact_chain(table: &Turntable) -> Result<Eq26Evidence, KinematicsError> {
+    pub fn eq26_approximates_the_exact_chain(
+        table: &Turntable,
+    ) -> Result<Eq26Evidence, KinematicsError> {
         use crate::model::OrientationErrorModel;
         let m = 10.0 * crate::units::RAD_PER_ARCMIN;
         let exact = crate::model::ExactChain::new(table);
@@ -353,10 +365,16 @@ pub mod claims {
             let c = linear.evaluate(&pose, &e)?.to_array();
             for k in 0..3 {
                 diff = diff.max((a[k] - b[k]).abs());
-                recovery = recovery.max((b[k] - c[k]).abs() / e.max_abs_rad().max(f64::MIN_POSITIVE));
+                recovery =
+                    recovery.max((b[k] - c[k]).abs() / e.max_abs_rad().max(f64::MIN_POSITIVE));
             }
         }
-        Ok(Eq26Evidence { max_error_rad: m, max_difference_rad: diff, bound_rad: 33.0 * m * m, eq26_recovery_rad: recovery })
+        Ok(Eq26Evidence {
+            max_error_rad: m,
+            max_difference_rad: diff,
+            bound_rad: 33.0 * m * m,
+            eq26_recovery_rad: recovery,
+        })
     }
 
     /// Figure 8 and §4.3: only $\Delta\theta$ is sensitive to $\Delta\phi_{z2}$ and
@@ -378,24 +396,30 @@ pub mod claims {
         /// angle on them.
         #[must_use]
         pub fn holds(&self) -> bool {
-            self.theta_errors == ["dphi_z2", "dalpha_z1"] && self.shared_with_other_angles.is_empty()
+            self.theta_errors == ["dphi_z2", "dalpha_z1"]
+                && self.shared_with_other_angles.is_empty()
         }
     }
 
     impl fmt::Display for Fig8Evidence {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-            let avg: Vec<String> = self
-                .names
+            let theta: Vec<String> = self
+                .theta_errors
                 .iter()
-                .zip(&self.averages)
-                .map(|(n, a)| format!("{n} {:.4}/{:.4}/{:.4}", a[0], a[1], a[2]))
+                .map(|n| {
+                    let k = self.names.iter().position(|m| m == n).unwrap_or(0);
+                    format!("{n} ({:.4})", self.averages.get(k).map_or(0.0, |a| a[1]))
+                })
                 .collect();
             write!(
                 f,
-                "Delta-theta depends on {}; shared with Delta-psi or Delta-gamma: {}; average sensitivities psi/theta/gamma: {}",
-                self.theta_errors.join(", "),
-                if self.shared_with_other_angles.is_empty() { "none".into() } else { self.shared_with_other_angles.join(", ") },
-                avg.join("; ")
+                "Δθ depends on {} (average sensitivity); shared with Δψ or Δγ: {}",
+                theta.join(", "),
+                if self.shared_with_other_angles.is_empty() {
+                    "none".into()
+                } else {
+                    self.shared_with_other_angles.join(", ")
+                },
             )
         }
     }
@@ -404,16 +428,24 @@ pub mod claims {
     #[must_use]
     pub fn fig8_theta_depends_only_on_dphi_z2_and_dalpha_z1(table: &Turntable) -> Fig8Evidence {
         let m = LinearModel::new(table);
-        let names: Vec<String> = table.rotation_error_names().iter().map(|s| s.to_string()).collect();
+        let names: Vec<String> = table
+            .rotation_error_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
         let avg = m.average_abs_coefficients();
         let theta = m.involved(OrientationAxis::Theta);
         let shared = theta
             .iter()
-            .filter(|&&i| m.is_involved(OrientationAxis::Psi, i) || m.is_involved(OrientationAxis::Gamma, i))
+            .filter(|&&i| {
+                m.is_involved(OrientationAxis::Psi, i) || m.is_involved(OrientationAxis::Gamma, i)
+            })
             .map(|&i| names[i].clone())
             .collect();
         Fig8Evidence {
-            averages: (0..names.len()).map(|i| [avg[(0, i)], avg[(1, i)], avg[(2, i)]]).collect(),
+            averages: (0..names.len())
+                .map(|i| [avg[(0, i)], avg[(1, i)], avg[(2, i)]])
+                .collect(),
             theta_errors: theta.iter().map(|&i| names[i].clone()).collect(),
             shared_with_other_angles: shared,
             names,
