@@ -198,20 +198,25 @@ pub fn answer_with_two_step(
             .map(|(name, ub)| box_answer(name, ub, &settings, &linear))
             .collect::<Result<Vec<_>, _>>()?;
         let direct = sim.allocate_direct(&linear, lb)?;
-        let (direct_certified, direct_certified_note) =
-            match sim.allocate_direct_certified(&linear, lb) {
-                Ok(d) => {
-                    let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
-                    (Some((d, wc)), None)
-                }
-                // not certifiable for this reading, table and sensor: say why, keep the rest
-                Err(
-                    e @ (E2eError::NoSecondOrderBound { .. }
-                    | E2eError::NotPositive { .. }
-                    | E2eError::NoConvergence { .. }),
-                ) => (None, Some(e.to_string())),
-                Err(e) => return Err(e),
-            };
+        let (direct_certified, direct_certified_note) = match sim
+            .allocate_direct_certified(&linear, lb)
+        {
+            Ok(d) => {
+                let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
+                (Some((d, wc)), None)
+            }
+            // not certifiable for this reading, table and sensor: say why, keep the rest
+            Err(E2eError::NotPositive { field, value }) => (
+                None,
+                Some(format!(
+                    "the derived second-order bound exceeds an output's accuracy ({field} is {value:.3}): the bound is too coarse for this turntable and sensor"
+                )),
+            ),
+            Err(e @ (E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. })) => {
+                (None, Some(e.to_string()))
+            }
+            Err(e) => return Err(e),
+        };
         let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
         let yield_based =
             sim.allocate_yield(&direct.upper_bounds_rad, lb, inputs.yield_fraction, &design)?;

@@ -70,12 +70,12 @@ pub use allocate::{
     YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation,
 };
 pub use answer::{
-    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer, answer_with_two_step,
-    objective_to_arcmin,
+    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
+    answer_with_two_step, objective_to_arcmin,
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
-pub use linear::{Linearization, OutputWorstCase, WorstCase};
+pub use linear::{Linearization, OutputWorstCase, UNCONSTRAINED_REL, WorstCase};
 pub use montecarlo::{
     DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings,
     QUANTILE_BINS, QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution,

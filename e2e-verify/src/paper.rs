@@ -537,32 +537,55 @@ pub mod registry {
         Ok(out)
     }
 
+    /// The first sentence of [`summary`]: how many claims hold under both readings.
+    #[must_use]
+    pub fn count_line(evaluations: &[ClaimEvaluation]) -> String {
+        let both = evaluations.iter().filter(|c| c.holds_everywhere()).count();
+        format!(
+            "{both} of {} claims hold under both readings of eq 13.",
+            evaluations.len()
+        )
+    }
+
+    /// For each claim that does not hold under some reading: `id (section): why`, with the
+    /// evidence of the failing verdict.
+    #[must_use]
+    pub fn failing(evaluations: &[ClaimEvaluation]) -> Vec<String> {
+        evaluations
+            .iter()
+            .filter(|c| !c.holds_everywhere())
+            .map(|c| {
+                let why = if c.verdict_depends_on_reading() {
+                    let (good, bad) = if c.paper.holds {
+                        ("the paper's", "the user's")
+                    } else {
+                        ("the user's", "the paper's")
+                    };
+                    let failing = if c.paper.holds {
+                        c.user.as_ref().map_or("", |u| u.evidence.as_str())
+                    } else {
+                        c.paper.evidence.as_str()
+                    };
+                    format!("holds under {good} reading, not under {bad} ({failing})")
+                } else if c.user.is_some() {
+                    format!("holds under neither reading ({})", c.paper.evidence)
+                } else {
+                    format!("does not hold ({})", c.paper.evidence)
+                };
+                format!("{} ({}): {why}", c.info.id, c.info.section)
+            })
+            .collect()
+    }
+
     /// One line for people: how many claims hold, and for each that does not (under some
     /// reading), which and why.
     #[must_use]
     pub fn summary(evaluations: &[ClaimEvaluation]) -> String {
-        let both = evaluations.iter().filter(|c| c.holds_everywhere()).count();
-        let mut s = format!(
-            "{both} of {} claims hold under both readings of eq 13.",
-            evaluations.len()
-        );
-        for c in evaluations.iter().filter(|c| !c.holds_everywhere()) {
-            let why = if c.verdict_depends_on_reading() {
-                let (good, bad) = if c.paper.holds {
-                    ("the paper's", "the user's")
-                } else {
-                    ("the user's", "the paper's")
-                };
-                let failing = if c.paper.holds {
-                    c.user.as_ref().map_or("", |u| u.evidence.as_str())
-                } else {
-                    c.paper.evidence.as_str()
-                };
-                format!("holds under {good} reading, not under {bad} ({failing})")
-            } else {
-                format!("does not hold ({})", c.paper.evidence)
-            };
-            s.push_str(&format!(" {} ({}): {why}.", c.info.id, c.info.section));
+        let mut s = count_line(evaluations);
+        for f in failing(evaluations) {
+            s.push(' ');
+            s.push_str(&f);
+            s.push('.');
         }
         s
     }

@@ -19,6 +19,7 @@ mod orientation_error;
 mod out;
 mod outdir;
 mod paths;
+mod report;
 mod requirement;
 mod study;
 
@@ -48,6 +49,10 @@ enum Command {
     OrientationError(orientation_error::Args),
     /// Calibration error (coefficients and eq 14) of turntables given as CSV rows.
     CalibrationError(calibration_error::Args),
+    /// The report of a study (md, self-contained html, SVG figures, CSV tables, results.json).
+    Report(report::Args),
+    /// The report of the paper's study with the paper's printed values beside ours and its claims.
+    ReproducePaper(report::PaperArgs),
 }
 
 fn main() -> ExitCode {
@@ -60,6 +65,8 @@ fn main() -> ExitCode {
         Command::CheckTurntable(a) => check_turntable::run(&a),
         Command::OrientationError(a) => orientation_error::run(&a),
         Command::CalibrationError(a) => calibration_error::run(&a),
+        Command::Report(a) => report::run(&a),
+        Command::ReproducePaper(a) => report::run_paper(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

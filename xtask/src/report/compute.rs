@@ -1,0 +1,516 @@
+//! Everything a report prints, computed by the libraries (this module only calls them, in
+//! parallel where they are independent, and keeps the results): the requirement and its
+//! surfaces, the sensitivities, the two-step and equal-effects allocations with their
+//! certificates, the Monte Carlo, the end-to-end answer, the vendor check, the designed
+//! schedule's comparison and, for the paper, the claims.
+
+use crate::InputError;
+use crate::study::{self as st, StudyRequirement};
+use alloc_opt::{
+    Allocation, AllocationProblem, Allocator, EqualEffects, ExactAxisCheck, SensitivityWeighted,
+    exact_chain_check,
+};
+use anyhow::{Context, Result};
+use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem, Surface};
+use e2e_verify::paper::registry::{self, ClaimEvaluation, PaperRun};
+use e2e_verify::{BuyersAnswer, EndToEnd, TurntableCheck};
+use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo};
+use std::time::Instant;
+use study::{Study, Tolerances};
+use tt_kinematics::LinearModel;
+
+/// Grid points per side of a rate-error surface.
+pub const SURFACE_POINTS: usize = 41;
+/// Rays of a line of intersection (the boundary $\Delta\omega = \omega_m$).
+pub const BOUNDARY_RAYS: usize = 120;
+/// Points of a one-angle cut.
+pub const CUT_POINTS: usize = 81;
+
+/// What to compute.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Monte Carlo seed.
+    pub seed: u64,
+    /// Monte Carlo turntables per box.
+    pub samples: u64,
+    /// The paper's extras: Table 4 and the claims.
+    pub paper: bool,
+    /// A vendor's tolerances to check.
+    pub tolerances: Option<Tolerances>,
+    /// A second study with a designed schedule.
+    pub designed: Option<Study>,
+}
+
+/// One output's orientation-error plane: the data of the surfaces, lines and cuts.
+#[derive(Debug, Clone)]
+pub struct OutputPlane {
+    /// Output index.
+    pub output: usize,
+    /// The angles it is sensitive to (indices into psi, theta, gamma).
+    pub sensitive: Vec<usize>,
+    /// The plotted plane (two sensitive angles; the third angle zero).
+    pub plane: Option<[usize; 2]>,
+    /// The surface over the plane.
+    pub surface: Option<Surface>,
+    /// The line $\Delta\omega = \omega_m$ in the plane (or why there is none).
+    pub boundary: Result<Vec<[f64; 2]>, String>,
+    /// $\Delta\omega$ against each angle (the others zero): (angle, [(rad, value)]).
+    pub cuts: Vec<(usize, Vec<(f64, f64)>)>,
+}
+
+/// The two-step allocation and what follows from it.
+#[derive(Debug, Clone)]
+pub struct TwoStep {
+    /// The problem (first-order model, the study's requirement, lower bounds).
+    pub problem: AllocationProblem,
+    /// The sensitivity-weighted allocation (the paper's method solved to the optimum).
+    pub ours: Allocation,
+    /// Its check on the exact chain (a search for the second-order excess).
+    pub exact: Vec<ExactAxisCheck>,
+    /// The Monte Carlo of its box with the requirement.
+    pub monte_carlo: MonteCarlo,
+    /// Its result.
+    pub result: McResult,
+}
+
+/// One schedule's facts for the side-by-side comparison.
+#[derive(Debug, Clone)]
+pub struct ScheduleFacts {
+    /// The study path as given.
+    pub path: String,
+    /// Number of positions.
+    pub positions: usize,
+    /// $J$ of the direct allocation under the study's reading, arcmin$^{-2}$.
+    pub direct_objective_arcmin: f64,
+    /// Condition number per output.
+    pub conditions: Vec<f64>,
+    /// The computed requirement.
+    pub requirement: std::result::Result<OrientationRequirement, CalibError>,
+}
+
+/// The paper's extras.
+#[derive(Debug, Clone)]
+pub struct PaperExtras {
+    /// The Monte Carlo of Table 4's box with the requirement of eq 16.
+    pub table4_monte_carlo: MonteCarlo,
+    /// Its result.
+    pub table4_result: McResult,
+    /// Every claim of the registry, evaluated on this run.
+    pub claims: Vec<ClaimEvaluation>,
+}
+
+/// The computed report.
+#[derive(Debug, Clone)]
+pub struct Computed {
+    /// The study.
+    pub study: Study,
+    /// The options.
+    pub options: Options,
+    /// The requirement handed to the allocation and the computed one.
+    pub requirement: StudyRequirement,
+    /// The requirement under the readings shown side by side (the study's first).
+    pub readings: Vec<(
+        Reading,
+        std::result::Result<OrientationRequirement, CalibError>,
+    )>,
+    /// Per output.
+    pub planes: Vec<OutputPlane>,
+    /// Average sensitivities per error: `[psi, theta, gamma]` (eq 28).
+    pub sensitivity: Vec<[f64; 3]>,
+    /// The two-step allocation (`None`: no requirement).
+    pub two_step: Option<TwoStep>,
+    /// The equal-effects allocation of the same problem.
+    pub equal: Option<Allocation>,
+    /// The end-to-end simulator (the study's reading).
+    pub e2e: EndToEnd,
+    /// Its answer (the study's reading, then the user's).
+    pub answer: BuyersAnswer,
+    /// The vendor check.
+    pub vendor: Option<(Tolerances, TurntableCheck)>,
+    /// The study's schedule beside the designed one.
+    pub designed: Option<[ScheduleFacts; 2]>,
+    /// The paper's extras.
+    pub paper: Option<PaperExtras>,
+    /// Wall-clock seconds of the computation.
+    pub seconds: f64,
+}
+
+/// The end-to-end answer, the vendor check and (for the paper) Table 4's Monte Carlo.
+type AnswerPart = (
+    BuyersAnswer,
+    Option<(Tolerances, TurntableCheck)>,
+    Option<(MonteCarlo, McResult)>,
+);
+
+/// With `XTASK_TIMING` set, print how long a phase took (to standard error).
+fn timing(what: &str, since: Instant) {
+    if std::env::var_os("XTASK_TIMING").is_some() {
+        eprintln!("timing: {what}: {:.2} s", since.elapsed().as_secs_f64());
+    }
+}
+
+fn calib(s: &Study, e: CalibError) -> anyhow::Error {
+    InputError::new(&s.path, e.to_string()).into()
+}
+
+/// The planes, cuts and surfaces of every output.
+fn planes(
+    s: &Study,
+    problem: &RequirementProblem,
+    req: Option<&OrientationRequirement>,
+) -> Result<Vec<OutputPlane>> {
+    let mut out = Vec::new();
+    for k in 0..s.sensor.n_outputs() {
+        let region = problem.region(k).map_err(|e| calib(s, e))?;
+        let sensitive = region.sensitive_angles().to_vec();
+        let name = region.output().to_string();
+        let bx = req.and_then(|r| r.boxes.iter().find(|b| b.output == name));
+        let plane = match sensitive.len() {
+            0 | 1 => None,
+            2 => Some([sensitive[0], sensitive[1]]),
+            _ => {
+                // the two most constraining angles of the output's box
+                let mut by: Vec<usize> = sensitive.clone();
+                if let Some(b) = bx {
+                    by.sort_by(|a, c| {
+                        b.half_rad[*a]
+                            .unwrap_or(f64::INFINITY)
+                            .total_cmp(&b.half_rad[*c].unwrap_or(f64::INFINITY))
+                    });
+                }
+                let mut two = [by[0], by[1]];
+                two.sort_unstable();
+                Some(two)
+            }
+        };
+        let half_box = bx
+            .map(|b| b.half_rad.iter().flatten().fold(0.0_f64, |m, v| m.max(*v)))
+            .filter(|h| *h > 0.0);
+        let Some(half_box) = half_box else {
+            out.push(OutputPlane {
+                output: k,
+                sensitive,
+                plane,
+                surface: None,
+                boundary: Err("the output does not constrain a constant orientation error".into()),
+                cuts: Vec::new(),
+            });
+            continue;
+        };
+        let half = 2.0 * half_box;
+        let surface = match plane {
+            Some(p) => Some(
+                region
+                    .surface(p, half, SURFACE_POINTS)
+                    .map_err(|e| calib(s, e))?,
+            ),
+            None => None,
+        };
+        let boundary = match plane {
+            Some(p) => region.boundary(p, BOUNDARY_RAYS).map_err(|e| e.to_string()),
+            None => Err("the output depends on one angle only".into()),
+        };
+        let mut cuts = Vec::new();
+        for angle in 0..3 {
+            let mut pts = Vec::with_capacity(CUT_POINTS);
+            for i in 0..CUT_POINTS {
+                let a = -half + 2.0 * half * i as f64 / (CUT_POINTS - 1) as f64;
+                let mut d = [0.0; 3];
+                d[angle] = a;
+                pts.push((a, region.rate_error(d).map_err(|e| calib(s, e))?));
+            }
+            cuts.push((angle, pts));
+        }
+        out.push(OutputPlane {
+            output: k,
+            sensitive,
+            plane,
+            surface,
+            boundary,
+            cuts,
+        });
+    }
+    Ok(out)
+}
+
+/// The facts of one study's schedule (for the designed-schedule comparison).
+fn schedule_facts(s: &Study) -> Result<ScheduleFacts> {
+    let e2e = crate::end_to_end::simulator(s)?;
+    let linear = e2e.linearization();
+    let direct = e2e
+        .allocate_direct(&linear, &s.lower_bounds_rad)
+        .map_err(crate::end_to_end::classify)?;
+    Ok(ScheduleFacts {
+        path: s.path.clone(),
+        positions: s.positions_deg.len(),
+        direct_objective_arcmin: direct.objective_arcmin(),
+        conditions: s.calibration.condition_numbers(),
+        requirement: st::requirement_problem(s).requirement(),
+    })
+}
+
+/// The designed study must describe the same sensor, site and turntable.
+fn check_designed(s: &Study, d: &Study) -> Result<(), InputError> {
+    let same = s.turntable == d.turntable
+        && s.sensor == d.sensor
+        && s.site == d.site
+        && s.reading == d.reading
+        && s.lower_bounds_rad == d.lower_bounds_rad;
+    if same {
+        Ok(())
+    } else {
+        Err(InputError::new(
+            format!("--designed {}", d.path),
+            format!(
+                "the designed study must describe the same turntable, sensor, site, reading and lower bounds as {} (only the schedule may differ)",
+                s.path
+            ),
+        ))
+    }
+}
+
+/// Compute the report of `study`.
+///
+/// # Errors
+/// [`InputError`]s for inputs the libraries reject (exit 2), other errors when a solver
+/// fails.
+pub fn compute(study: Study, options: Options) -> Result<Computed> {
+    let started = Instant::now();
+    let s = &study;
+    if let Some(d) = &options.designed {
+        check_designed(s, d)?;
+    }
+    let requirement = st::requirement(s)?;
+    let problem = st::requirement_problem(s);
+    let e2e = crate::end_to_end::simulator(s)?;
+    let mut inputs = crate::end_to_end::inputs(
+        s,
+        options.samples,
+        options.seed,
+        e2e_verify::DEFAULT_YIELD_FRACTION,
+    )?;
+    // `inputs` adds Table 4 for the paper's table; only the paper's reproduction shows it
+    inputs
+        .extra_boxes
+        .retain(|(n, _)| options.paper && n == e2e_verify::paper::TABLE4_BOX);
+    let paper_table = options.paper && s.turntable == tt_kinematics::paper::table3();
+    if options.paper && !paper_table {
+        return Err(InputError::new(
+            &s.path,
+            "the paper's reproduction needs the paper's turntable (Table 3)",
+        )
+        .into());
+    }
+    let alloc_problem = match requirement.used {
+        Some(req) => Some(
+            AllocationProblem::new(
+                LinearModel::new(&s.turntable),
+                req,
+                s.lower_bounds_rad.clone(),
+            )
+            .map_err(|e| crate::allocate::classify(e, s))?,
+        ),
+        None => None,
+    };
+    let bins = ((options.samples as f64).sqrt().round() as usize)
+        .clamp(10, mc_verify::DEFAULT_HISTOGRAM_BINS);
+    let mc_config = |ub: &[f64]| -> Result<MonteCarlo> {
+        let lb = &s.lower_bounds_rad;
+        let ub: Vec<f64> = ub
+            .iter()
+            .zip(lb)
+            .map(|(u, l)| if u.is_finite() { *u } else { *l })
+            .collect();
+        let b = ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| {
+            InputError::new(
+                format!("{}: key `allocation.lower_bounds_arcmin`", s.path),
+                e.to_string(),
+            )
+        })?;
+        let mut cfg = McConfig::new(
+            options.samples,
+            options.seed,
+            requirement.used.map_or([None; 3], |r| r.to_array()),
+        );
+        cfg.histogram_bins = bins;
+        MonteCarlo::new(&s.turntable, b, cfg)
+            .map_err(|e| InputError::new("--samples", e.to_string()).into())
+    };
+
+    // Two independent branches on the two cores: (two-step, its Monte Carlo, the end-to-end
+    // answer that reuses it, the vendor check) and (equal effects, surfaces, readings,
+    // sensitivities, the designed schedule).
+    type Left = (
+        Option<TwoStep>,
+        BuyersAnswer,
+        Option<(Tolerances, TurntableCheck)>,
+        Option<(MonteCarlo, McResult)>,
+    );
+    type Right = (
+        Option<Allocation>,
+        Vec<(
+            Reading,
+            std::result::Result<OrientationRequirement, CalibError>,
+        )>,
+        Vec<OutputPlane>,
+        Vec<[f64; 3]>,
+        Option<[ScheduleFacts; 2]>,
+    );
+    let (left, right): (Result<Left>, Result<Right>) = rayon::join(
+        || {
+            let t0 = Instant::now();
+            let ours = match &alloc_problem {
+                Some(p) => Some(
+                    SensitivityWeighted::general()
+                        .allocate(p)
+                        .map_err(|e| crate::allocate::classify(e, s))?,
+                ),
+                None => None,
+            };
+            timing("two-step allocation", t0);
+            // after the allocation: its Monte Carlo (and the exact-chain check) beside the
+            // end-to-end answer that reuses it
+            let (mc, rest) = rayon::join(
+                || -> Result<Option<(Vec<alloc_opt::ExactAxisCheck>, MonteCarlo, McResult)>> {
+                    match (&alloc_problem, &ours) {
+                        (Some(p), Some(a)) => {
+                            let exact = exact_chain_check(p, a)
+                                .map_err(|e| crate::allocate::classify(e, s))?;
+                            let monte_carlo = mc_config(&a.upper_bounds_rad)?;
+                            let result = monte_carlo.run();
+                            timing("two-step Monte Carlo", t0);
+                            Ok(Some((exact.to_vec(), monte_carlo, result)))
+                        }
+                        _ => Ok(None),
+                    }
+                },
+                || -> Result<AnswerPart> {
+                    let answer = e2e_verify::answer_with_two_step(&e2e, &inputs, ours.clone())
+                        .map_err(crate::end_to_end::classify)?;
+                    timing("end-to-end answer", t0);
+                    let vendor = match &options.tolerances {
+                        Some(tol) => {
+                            let settings =
+                                e2e_verify::McSettings::new(options.samples, options.seed);
+                            let lb: Vec<f64> = s
+                                .lower_bounds_rad
+                                .iter()
+                                .zip(&tol.ub_rad)
+                                .map(|(l, u)| l.min(*u))
+                                .collect();
+                            let c = e2e
+                                .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
+                                .map_err(crate::end_to_end::classify)?;
+                            Some((tol.clone(), c))
+                        }
+                        None => None,
+                    };
+                    let table4 = if options.paper {
+                        let mc = mc_config(&alloc_opt::paper::table4_rad())?;
+                        let r = mc.run();
+                        Some((mc, r))
+                    } else {
+                        None
+                    };
+                    Ok((answer, vendor, table4))
+                },
+            );
+            let (answer, vendor, table4) = rest?;
+            let two_step = match (ours, &alloc_problem, mc?) {
+                (Some(ours), Some(p), Some((exact, monte_carlo, result))) => Some(TwoStep {
+                    problem: p.clone(),
+                    ours,
+                    exact,
+                    monte_carlo,
+                    result,
+                }),
+                _ => None,
+            };
+            Ok((two_step, answer, vendor, table4))
+        },
+        || {
+            let t0 = Instant::now();
+            // equal effects where its worst case is exact and cheap (at most one free joint;
+            // a searched certificate takes seconds), and always for the paper
+            let equal = match &alloc_problem {
+                Some(p) if options.paper || s.turntable.free_joints().len() <= 1 => Some(
+                    EqualEffects
+                        .allocate(p)
+                        .map_err(|e| crate::allocate::classify(e, s))?,
+                ),
+                _ => None,
+            };
+            timing("equal effects", t0);
+            let mut readings = vec![(s.reading, requirement.computed.clone())];
+            for r in [Reading::PAPER, Reading::USER, Reading::AS_PRINTED] {
+                if r != s.reading {
+                    readings.push((
+                        r,
+                        RequirementProblem {
+                            reading: r,
+                            ..problem.clone()
+                        }
+                        .requirement(),
+                    ));
+                }
+            }
+            timing("readings", t0);
+            let planes = planes(s, &problem, requirement.computed.as_ref().ok())?;
+            timing("planes", t0);
+            let avg = LinearModel::new(&s.turntable).average_abs_coefficients();
+            let sensitivity = (0..avg.ncols())
+                .map(|i| [avg[(0, i)], avg[(1, i)], avg[(2, i)]])
+                .collect();
+            let designed = match &options.designed {
+                Some(d) => Some([schedule_facts(s)?, schedule_facts(d)?]),
+                None => None,
+            };
+            Ok((equal, readings, planes, sensitivity, designed))
+        },
+    );
+    let (two_step, answer, vendor, table4) = left?;
+    let (equal, readings, planes, sensitivity, designed) = right?;
+    let paper = match (table4, &two_step, &equal, &alloc_problem) {
+        (Some((mc, result)), Some(t), Some(eq), Some(p)) => {
+            let run = PaperRun {
+                requirement: &problem,
+                turntable: &s.turntable,
+                allocation_problem: p,
+                proposed: &t.ours,
+                equal_effects: eq,
+                table4_monte_carlo: (&mc, &result),
+                end_to_end: (&e2e, &answer),
+            };
+            let claims = registry::evaluate(&run).context("evaluating the paper's claims")?;
+            Some(PaperExtras {
+                table4_monte_carlo: mc,
+                table4_result: result,
+                claims,
+            })
+        }
+        (Some(_), ..) => {
+            return Err(InputError::new(
+                &s.path,
+                "the paper's reproduction needs the study's requirement (eq 16)",
+            )
+            .into());
+        }
+        _ => None,
+    };
+    Ok(Computed {
+        study,
+        options,
+        requirement,
+        readings,
+        planes,
+        sensitivity,
+        two_step,
+        equal,
+        e2e,
+        answer,
+        vendor,
+        designed,
+        paper,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}

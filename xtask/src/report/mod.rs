@@ -1,0 +1,485 @@
+//! `cargo xtask report --study FILE [--out DIR] [--seed N] [--samples N] [--tolerances FILE]
+//! [--designed FILE]`: the report of any study, and `cargo xtask reproduce-paper [--out DIR]
+//! [--seed N] [--samples N]`: the same report for the paper's study with the paper's printed
+//! values beside ours and its claims.
+//!
+//! Files (written atomically by [`crate::outdir`]: nothing of the user's is touched, a failed
+//! run leaves nothing behind): `report.md`, `report.html` (self-contained, figures inline),
+//! the SVG figures, CSV tables and `results.json`. Default directory:
+//! `target/report/<study name>` (`target/paper` for the paper) in the workspace.
+//!
+//! This module parses, calls [`compute`] (the libraries), formats ([`render`], [`paper`]) and
+//! writes; it computes no science.
+
+mod compute;
+pub mod doc;
+pub mod figures;
+mod paper;
+mod render;
+
+use crate::InputError;
+use anyhow::{Result, bail};
+use clap::Parser;
+use compute::{Computed, Options};
+use render::Sections;
+use serde_json::{Map, Value, json};
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
+use study::Tolerances;
+use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
+
+/// Arguments of `report`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// Study file.
+    #[arg(long)]
+    pub study: PathBuf,
+    /// Output directory (default: `target/report/<study name>`); replaced only when it holds a
+    /// previous report.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Seed of the Monte Carlo streams (default: the study's `monte_carlo.seed`).
+    #[arg(long, value_parser = crate::args::seed)]
+    pub seed: Option<u64>,
+    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
+    /// `1e4`, `10000`, `10_000`).
+    #[arg(long, value_parser = crate::args::samples)]
+    pub samples: Option<u64>,
+    /// A vendor's tolerance file to check (TOML: `[tolerances_arcmin]`).
+    #[arg(long)]
+    pub tolerances: Option<PathBuf>,
+    /// A study with a designed schedule (same sensor and turntable) to compare side by side.
+    #[arg(long)]
+    pub designed: Option<PathBuf>,
+}
+
+/// Arguments of `reproduce-paper`.
+#[derive(Debug, Parser)]
+pub struct PaperArgs {
+    /// Output directory (default: `target/paper`); replaced only when it holds a previous
+    /// report.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Seed of the Monte Carlo streams (default: the study's, 2017).
+    #[arg(long, value_parser = crate::args::seed)]
+    pub seed: Option<u64>,
+    /// Monte Carlo turntables per box (default: the study's, the paper's 10,000).
+    #[arg(long, value_parser = crate::args::samples)]
+    pub samples: Option<u64>,
+}
+
+thread_local! {
+    /// Set when a NaN was put into `results.json` (an internal error: nothing is written).
+    static NAN_SEEN: Cell<bool> = const { Cell::new(false) };
+}
+
+/// A JSON number; `null` for an infinite bound (no bound); a NaN is recorded and fails the
+/// run.
+fn f(v: f64) -> Value {
+    if v.is_nan() {
+        NAN_SEEN.with(|c| c.set(true));
+        Value::Null
+    } else if v.is_finite() {
+        json!(v)
+    } else {
+        Value::Null
+    }
+}
+
+fn deg3(r: &[Option<f64>; 3]) -> Value {
+    json!({"psi": r[0].map(|v| f(rad_to_deg(v))), "theta": r[1].map(|v| f(rad_to_deg(v))), "gamma": r[2].map(|v| f(rad_to_deg(v)))})
+}
+
+fn arcmin_map(names: &[&str], ub_rad: &[f64]) -> Value {
+    Value::Object(
+        names
+            .iter()
+            .zip(ub_rad)
+            .map(|(n, u)| ((*n).to_string(), f(rad_to_arcmin(*u))))
+            .collect(),
+    )
+}
+
+/// `results.json`: every number of the report at full precision.
+fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
+    let s = &c.study;
+    let names = s.turntable.rotation_error_names();
+    let outs: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();
+    let mut m = Map::new();
+    m.insert("study".into(), json!(s.path));
+    m.insert("study_name".into(), json!(s.name));
+    m.insert("seed".into(), json!(c.options.seed));
+    m.insert("samples".into(), json!(c.options.samples));
+    m.insert("seconds".into(), f(c.seconds));
+    m.insert("reading".into(), json!(s.reading.to_string()));
+    m.insert(
+        "requirement".into(),
+        json!({
+            "given": c.requirement.given,
+            "used_deg": c.requirement.used.map(|r| deg3(&r.to_array())),
+            "computed_deg": c.requirement.computed.as_ref().ok().map(|r| deg3(&r.rad)),
+            "computed_note": c.requirement.computed.as_ref().err().map(ToString::to_string),
+            "unconstrained_outputs": c.requirement.computed.as_ref().map(|r| r.unconstrained_outputs.clone()).unwrap_or_default(),
+            "disagreement": c.requirement.disagreement,
+            "readings": c.readings.iter().map(|(r, q)| json!({"reading": r.to_string(), "requirement_deg": q.as_ref().ok().map(|q| deg3(&q.rad)), "note": q.as_ref().err().map(ToString::to_string)})).collect::<Vec<_>>(),
+        }),
+    );
+    m.insert(
+        "calibration".into(),
+        Value::Array(
+            s.calibration
+                .outputs()
+                .iter()
+                .map(|o| json!({"output": o.output().name, "coefficients": o.regression().names(), "rank": o.regression().rank(), "condition_number": f(o.regression().condition_number())}))
+                .collect(),
+        ),
+    );
+    m.insert(
+        "average_sensitivity".into(),
+        Value::Object(names.iter().enumerate().map(|(i, n)| ((*n).to_string(), json!({"psi": f(c.sensitivity[i][0]), "theta": f(c.sensitivity[i][1]), "gamma": f(c.sensitivity[i][2])}))).collect()),
+    );
+    if let Some(t) = &c.two_step {
+        m.insert(
+            "two_step".into(),
+            json!({
+                "requirement_deg": deg3(&t.problem.requirement().to_array()),
+                "bounds_arcmin": arcmin_map(&names, &t.ours.upper_bounds_rad),
+                "objective_arcmin": f(t.ours.objective_arcmin()),
+                "certificate": t.ours.certificate.axes.iter().map(|a| json!({
+                    "angle": a.axis.name(),
+                    "worst_case_deg": f(rad_to_deg(a.worst_case_rad)),
+                    "proven_bound_deg": f(rad_to_deg(a.upper_bound_rad)),
+                    "share": a.share.map(f),
+                    "lemma1": a.satisfied,
+                })).collect::<Vec<_>>(),
+                "exact_chain_excess_rad": t.exact.iter().map(|e| e.excess_rad.map(f)).collect::<Vec<_>>(),
+                "monte_carlo": {
+                    "samples": t.result.samples,
+                    "max_abs_deg": t.result.max_abs_rad().map(|v| f(rad_to_deg(v))),
+                    "proven_bound_deg": t.monte_carlo.half_range_rad().map(|v| f(rad_to_deg(v))),
+                    "within_requirement_fraction": f(t.result.within_requirement_fraction()),
+                },
+            }),
+        );
+    }
+    if let Some(e) = &c.equal {
+        m.insert("equal_effects".into(), json!({"bounds_arcmin": arcmin_map(&names, &e.upper_bounds_rad), "objective_arcmin": f(e.objective_arcmin())}));
+    }
+    let boxj = |b: &e2e_verify::BoxAnswer| {
+        let (lo, hi) = b.distribution.yield_interval_95();
+        json!({
+            "name": b.name,
+            "objective_arcmin": f(e2e_verify::objective_to_arcmin(b.objective)),
+            "bounds_arcmin": arcmin_map(&names, &b.upper_bounds_rad),
+            "worst_case": b.worst_case.outputs.iter().map(|w| json!({"output": outs[w.output], "exact_at_vertex": f(w.exact_at_vertex), "linear": f(w.linear_bound), "certified": w.certified_bound().map(f)})).collect::<Vec<_>>(),
+            "yield": f(b.distribution.yield_fraction()),
+            "yield_interval_95": [f(lo), f(hi)],
+        })
+    };
+    m.insert(
+        "end_to_end".into(),
+        Value::Array(
+            c.answer
+                .readings
+                .iter()
+                .map(|r| {
+                    json!({
+                        "reading": r.reading.to_string(),
+                        "boxes": r.boxes.iter().map(boxj).collect::<Vec<_>>(),
+                        "direct": boxj(&r.direct_box),
+                        "yield_based": boxj(&r.yield_box),
+                        "direct_certified": r.direct_certified.as_ref().map(|(dc, _)| json!({"objective_arcmin": f(dc.objective_arcmin()), "bounds_arcmin": arcmin_map(&names, &dc.upper_bounds_rad)})),
+                        "direct_certified_note": r.direct_certified_note,
+                    })
+                })
+                .collect(),
+        ),
+    );
+    if let Some((tol, chk)) = &c.vendor {
+        m.insert(
+            "vendor".into(),
+            json!({
+                "tolerances": tol.path,
+                "verdict": chk.verdict.name(),
+                "yield": f(chk.distribution.yield_fraction()),
+                "outputs": chk.outputs.iter().map(|o| json!({"output": outs[o.output], "verdict": o.verdict.name(), "worst_case": f(o.worst_case.exact_at_vertex), "accuracy": f(o.accuracy)})).collect::<Vec<_>>(),
+            }),
+        );
+    }
+    if let Some(ds) = &c.designed {
+        m.insert(
+            "designed".into(),
+            Value::Array(
+                ds.iter()
+                    .map(|x| json!({"study": x.path, "positions": x.positions, "direct_objective_arcmin": f(x.direct_objective_arcmin), "condition_numbers": x.conditions.iter().map(|v| f(*v)).collect::<Vec<_>>(), "requirement_deg": x.requirement.as_ref().ok().map(|r| deg3(&r.rad))}))
+                    .collect(),
+            ),
+        );
+    }
+    if let Some(p) = &c.paper {
+        m.insert(
+            "claims".into(),
+            Value::Array(
+                p.claims
+                    .iter()
+                    .map(|x| {
+                        json!({
+                            "id": x.info.id,
+                            "section": x.info.section,
+                            "statement": x.info.statement,
+                            "function": x.info.function,
+                            "test": x.info.test.to_string(),
+                            "test_command": x.info.test.command(),
+                            "holds_paper_reading": x.paper.holds,
+                            "evidence_paper_reading": x.paper.evidence,
+                            "holds_user_reading": x.user.as_ref().map(|u| u.holds),
+                            "evidence_user_reading": x.user.as_ref().map(|u| u.evidence.clone()),
+                        })
+                    })
+                    .collect(),
+            ),
+        );
+        m.insert(
+            "claims_summary".into(),
+            json!(e2e_verify::paper::registry::summary(&p.claims)),
+        );
+        m.insert("paper_versus_ours".into(), Value::Array(comparisons.iter().map(|r| json!({"quantity": r.quantity, "paper": f(r.paper), "ours": f(r.ours), "unit": r.unit, "reason": r.reason})).collect()));
+    }
+    Value::Object(m)
+}
+
+/// A rendered report: title, document, CSV files (name, text), `results.json`.
+type Rendered = (String, doc::Doc, Vec<(String, String)>, Value);
+
+/// Render the computed report.
+fn render(c: &Computed) -> Result<Rendered> {
+    let mut sec = Sections::new(c);
+    let s = &c.study;
+    let title = if c.paper.is_some() {
+        "Reproduction of Zhao, Zhao, Huo and Yao (2017)".to_string()
+    } else {
+        format!("Turntable error allocation: {}", s.name)
+    };
+    sec.doc.h(1, &title);
+    if c.paper.is_some() {
+        sec.doc.p("\"Error Analysis and Error Allocation for Turntable Systems Used in GyroWheel Calibration Tests\", Int. J. Aerospace Eng. 2017, 6524782. Every number below is computed by this project's crates from the study file; the paper's printed values stand beside ours.");
+    } else if let Some(desc) = &s.description {
+        sec.doc.p(desc.clone());
+    }
+    sec.doc.p(format!(
+        "Study `{}`, {} Monte Carlo turntables per box, seed {}; computed in {:.1} s by the workspace's crates. Reproduce: `{}`.",
+        s.path,
+        c.options.samples,
+        c.options.seed,
+        c.seconds,
+        command(c)
+    ));
+    sec.answer_callout();
+    sec.doc.contents();
+    let splice_at = sec.doc.blocks.len();
+    sec.inputs();
+    sec.calibration();
+    sec.requirement()?;
+    sec.sensitivities()?;
+    let table4 = match (&c.paper, &c.two_step) {
+        (Some(_), Some(t)) => {
+            let w = alloc_opt::Weights::inverse_average_sensitivity(t.problem.model());
+            let t4 = alloc_opt::paper::table4_rad();
+            let cert = alloc_opt::Certificate::compute(
+                t.problem.model(),
+                &t.problem.requirement(),
+                t.problem.lower_bounds_rad(),
+                &t4,
+            )
+            .map_err(|e| crate::allocate::classify(e, s))?;
+            Some((
+                alloc_opt::paper::TABLE4_ARCMIN.to_vec(),
+                e2e_verify::objective_to_arcmin(w.objective(&t4)),
+                [0, 1, 2].map(|k| cert.axes[k].share),
+            ))
+        }
+        _ => None,
+    };
+    sec.allocation(table4.as_ref());
+    sec.monte_carlo(
+        c.paper
+            .as_ref()
+            .map(|p| (&p.table4_monte_carlo, &p.table4_result)),
+    )?;
+    sec.end_to_end()?;
+    sec.vendor();
+    sec.designed();
+    let comparisons = match &c.paper {
+        Some(p) => {
+            let rows = paper::comparisons(c, p);
+            let extra = paper::sections(&sec, p, &rows);
+            sec.doc.blocks.splice(splice_at..splice_at, extra.blocks);
+            paper::open_points(&mut sec.doc, c);
+            rows
+        }
+        None => Vec::new(),
+    };
+    sec.doc.h(2, "Reproduce");
+    sec.doc
+        .code(format!("{}\ncargo test --workspace", command(c)));
+    let json = results_json(c, &comparisons);
+    Ok((title, sec.doc, sec.csv, json))
+}
+
+/// The command that reproduces the report (paths as the user gave them).
+fn command(c: &Computed) -> String {
+    if c.paper.is_some() {
+        return format!(
+            "cargo xtask reproduce-paper --seed {} --samples {}",
+            c.options.seed, c.options.samples
+        );
+    }
+    let mut s = format!(
+        "cargo xtask report --study {} --seed {} --samples {}",
+        c.study.path, c.options.seed, c.options.samples
+    );
+    if let Some((t, _)) = &c.vendor {
+        s.push_str(&format!(" --tolerances {}", t.path));
+    }
+    if let Some([_, dsg]) = &c.designed {
+        s.push_str(&format!(" --designed {}", dsg.path));
+    }
+    s
+}
+
+/// The files of a report (name, bytes), checked: no NaN anywhere, every internal link
+/// resolves.
+fn files(c: &Computed) -> Result<Vec<(String, Vec<u8>)>> {
+    NAN_SEEN.with(|x| x.set(false));
+    let (title, doc, csv, json) = render(c)?;
+    let md = doc.to_markdown();
+    let html = doc.to_html(&title);
+    if NAN_SEEN.with(Cell::get) || md.contains("NaN") || csv.iter().any(|(_, t)| t.contains("NaN"))
+    {
+        bail!(
+            "internal error: a NaN reached the report of {}; nothing was written",
+            c.study.path
+        );
+    }
+    let anchors = doc.anchors();
+    for part in html.split("href=\"#").skip(1) {
+        let id = part.split('"').next().unwrap_or("");
+        if !anchors.contains(&id) {
+            bail!("internal error: the report links to #{id}, which it does not contain");
+        }
+    }
+    let mut out: Vec<(String, Vec<u8>)> = vec![
+        ("report.md".into(), md.into_bytes()),
+        ("report.html".into(), html.into_bytes()),
+    ];
+    for (name, svg) in doc.figures() {
+        out.push((name.to_string(), svg.as_bytes().to_vec()));
+    }
+    for (name, text) in csv {
+        out.push((name, text.into_bytes()));
+    }
+    out.push((
+        "results.json".into(),
+        (serde_json::to_string_pretty(&json)? + "\n").into_bytes(),
+    ));
+    Ok(out)
+}
+
+/// The workspace's `target/...` directory (or `./target/...` outside a clone).
+fn default_out(rel: &str) -> PathBuf {
+    crate::paths::workspace_root().map_or_else(
+        |_| PathBuf::from("target").join(rel),
+        |r| r.join("target").join(rel),
+    )
+}
+
+/// Compute and write a report; print one summary line and where to open it.
+fn write(c: &Computed, out: &Path, what: &str) -> Result<()> {
+    let files = files(c)?;
+    crate::outdir::write_report_dir(out, &files)?;
+    let mut t = format!(
+        "{what}: study {} ({}), seed {}, {} samples: wrote {} files to {} in {:.1} s\n",
+        c.study.name,
+        c.study.path,
+        c.options.seed,
+        c.options.samples,
+        files.len() + 1,
+        out.display(),
+        c.seconds
+    );
+    if let Some(p) = &c.paper {
+        t.push_str(&format!(
+            "  {}\n",
+            e2e_verify::paper::registry::summary(&p.claims)
+        ));
+    }
+    if let Some(n) = &c.requirement.disagreement {
+        t.push_str(&format!("  {n}\n"));
+    }
+    t.push_str(&format!("  open {}\n", out.join("report.html").display()));
+    crate::out::print(&t)
+}
+
+/// Compute a study's report (for the command and the tests).
+///
+/// # Errors
+/// [`InputError`] for bad inputs; others if a solver fails.
+pub fn build(
+    study: Option<&Path>,
+    seed: Option<u64>,
+    samples: Option<u64>,
+    tolerances: Option<&Path>,
+    designed: Option<&Path>,
+    paper: bool,
+) -> Result<Computed> {
+    let s = crate::study::load(study)?;
+    let tolerances = match tolerances {
+        Some(p) => Some(Tolerances::load(p, &s.turntable).map_err(InputError::from)?),
+        None => None,
+    };
+    let designed = match designed {
+        Some(p) => Some(
+            crate::study::load(Some(p))
+                .map_err(|e| InputError::new(format!("--designed {}", e.location), e.reason))?,
+        ),
+        None => None,
+    };
+    let options = Options {
+        seed: seed.unwrap_or(s.monte_carlo.seed),
+        samples: samples.unwrap_or(s.monte_carlo.samples),
+        paper,
+        tolerances,
+        designed,
+    };
+    compute::compute(s, options)
+}
+
+/// Run `report`.
+///
+/// # Errors
+/// As [`build`] and the output directory.
+pub fn run(args: &Args) -> Result<()> {
+    let c = build(
+        Some(&args.study),
+        args.seed,
+        args.samples,
+        args.tolerances.as_deref(),
+        args.designed.as_deref(),
+        false,
+    )?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out(&format!("report/{}", c.study.name)));
+    write(&c, &out, "report")
+}
+
+/// Run `reproduce-paper`.
+///
+/// # Errors
+/// As [`build`] and the output directory.
+pub fn run_paper(args: &PaperArgs) -> Result<()> {
+    let c = build(None, args.seed, args.samples, None, None, true)?;
+    let out = args.out.clone().unwrap_or_else(|| default_out("paper"));
+    write(&c, &out, "reproduce-paper")
+}

@@ -1,0 +1,1425 @@
+//! The report's sections for any study: formatting of what [`super::compute`] computed
+//! (no science here: every number comes from a library result).
+
+use super::compute::{Computed, OutputPlane};
+use super::doc::Doc;
+use super::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
+use anyhow::Result;
+use calib_lsq::{CalibError, OrientationRequirement, Reading};
+use e2e_verify::{BoxAnswer, ReadingAnswer, Verdict, objective_to_arcmin};
+use std::fmt::Write as _;
+use study::fmt::{num, sig};
+use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
+use tt_kinematics::{Factor, OrientationAxis};
+
+/// Greek letter of angle `k` (ψ, θ, γ).
+#[must_use]
+pub fn greek(k: usize) -> &'static str {
+    ["ψ", "θ", "γ"][k.min(2)]
+}
+
+/// `Δψ`, `Δθ`, `Δγ`.
+#[must_use]
+pub fn d(k: usize) -> String {
+    format!("Δ{}", greek(k))
+}
+
+/// A unit label for people: `deg_per_h` → `deg/h`.
+#[must_use]
+pub fn unit(u: &str) -> String {
+    u.replace("_per_", "/")
+        .replace("/(g)", "/g")
+        .replace("^2", "²")
+        .replace("^3", "³")
+}
+
+/// A short name of a reading for headers: `intended`/`actual` for the paper's and the user's.
+#[must_use]
+pub fn short_reading(r: Reading) -> String {
+    if r == Reading::PAPER {
+        "intended".into()
+    } else if r == Reading::USER {
+        "actual".into()
+    } else {
+        r.to_string()
+    }
+}
+
+/// A `note: ...` line as a sentence.
+fn sentence(note: &str) -> String {
+    let t = note.trim_start_matches("note: ");
+    let mut c = t.chars();
+    match c.next() {
+        Some(f) => format!(
+            "Note: {}{}.",
+            f.to_uppercase(),
+            c.as_str().trim_end_matches('.')
+        ),
+        None => String::new(),
+    }
+}
+
+/// `yes`, or `**no**` (coloured in HTML).
+fn yes_no(b: bool) -> String {
+    if b { "**yes**".into() } else { "**no**".into() }
+}
+
+fn pct(v: f64) -> String {
+    format!("{:.1}%", 100.0 * v)
+}
+
+/// The requirement as `I_ψ = … deg, …` (`none` for an unconstrained angle).
+pub fn requirement_text(r: &[Option<f64>; 3]) -> String {
+    (0..3)
+        .map(|k| {
+            format!(
+                "I_{} = {}",
+                greek(k),
+                r[k].map_or("none".into(), |v| format!("{} deg", num(rad_to_deg(v))))
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn reading_words(r: Reading) -> &'static str {
+    if r.needs_actual_outputs() {
+        "outputs simulated at the actual orientation (what a calibrating lab measures)"
+    } else {
+        "outputs simulated at the intended orientation"
+    }
+}
+
+/// Whether a box's worst turntable meets every accuracy; the cell text.
+fn meets_cell(b: &BoxAnswer, accuracies: &[f64]) -> (bool, String) {
+    let exact_ok = b
+        .worst_case
+        .outputs
+        .iter()
+        .all(|w| w.exact_at_vertex <= accuracies[w.output]);
+    if exact_ok {
+        return (true, "**yes**".into());
+    }
+    let linear_ok = b
+        .worst_case
+        .outputs
+        .iter()
+        .all(|w| w.linear_bound <= accuracies[w.output] * (1.0 + 1e-9));
+    let excess = b
+        .worst_case
+        .outputs
+        .iter()
+        .map(|w| w.exact_at_vertex / accuracies[w.output] - 1.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    if linear_ok {
+        (
+            false,
+            format!(
+                "to first order; **no** on the exact chain (+{}%)",
+                sig(100.0 * excess, 2)
+            ),
+        )
+    } else {
+        (false, format!("**no** (+{})", pct(excess)))
+    }
+}
+
+/// The paper's Table 4 beside the allocation: bounds (arcmin), J (arcmin⁻²), shares of the
+/// requirement.
+pub type PaperColumn = (Vec<f64>, f64, [Option<f64>; 3]);
+
+/// Context shared by the sections.
+pub struct Sections<'a> {
+    /// The computed report.
+    pub c: &'a Computed,
+    /// The document.
+    pub doc: Doc,
+    /// CSV files.
+    pub csv: Vec<(String, String)>,
+    /// Anchors of the figures by key (for links from the paper's claims table).
+    pub figure_ids: Vec<(&'static str, String)>,
+}
+
+impl<'a> Sections<'a> {
+    /// A new renderer of `c`.
+    #[must_use]
+    pub fn new(c: &'a Computed) -> Self {
+        Self {
+            c,
+            doc: Doc::default(),
+            csv: Vec::new(),
+            figure_ids: Vec::new(),
+        }
+    }
+
+    fn outputs(&self) -> Vec<(String, String, f64)> {
+        self.c
+            .study
+            .sensor
+            .outputs()
+            .iter()
+            .map(|o| (o.name.clone(), unit(&o.unit), o.accuracy))
+            .collect()
+    }
+
+    /// The anchor of a figure by key.
+    #[must_use]
+    pub fn figure(&self, key: &str) -> Option<&str> {
+        self.figure_ids
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, id)| id.as_str())
+    }
+
+    /// The answer in a few sentences (the top of the report): one bullet per reading.
+    pub fn answer_callout(&mut self) {
+        let c = self.c;
+        let acc = c.e2e.accuracies();
+        let outs = self.outputs();
+        let two = c.two_step.as_ref().map(|t| t.ours.objective_arcmin());
+        let mut items = Vec::new();
+        for (i, r) in c.answer.readings.iter().enumerate() {
+            let mut s = format!(
+                "Reading `{}`{} ({}): ",
+                r.reading,
+                if i == 0 { ", the study's" } else { "" },
+                reading_words(r.reading)
+            );
+            if let Some(b) = r.boxes.iter().find(|b| b.name == "two-step") {
+                let (ok, _) = meets_cell(b, &acc);
+                let worst: Vec<String> = b
+                    .worst_case
+                    .outputs
+                    .iter()
+                    .map(|w| {
+                        format!(
+                            "{} {} {}",
+                            outs[w.output].0,
+                            sig(w.exact_at_vertex, 4),
+                            outs[w.output].1
+                        )
+                    })
+                    .collect();
+                let _ = write!(
+                    s,
+                    "the two-step allocation (J = {:.2} arcmin⁻²) {} every output's accuracy (worst turntable {}; {} of random turntables meet them); ",
+                    objective_to_arcmin(b.objective),
+                    if ok { "**meets**" } else { "**does not meet**" },
+                    worst.join(", "),
+                    pct(b.distribution.yield_fraction())
+                );
+            }
+            let j = r.direct.objective_arcmin();
+            let _ = write!(
+                s,
+                "the direct allocation against every accuracy needs J = {j:.2} arcmin⁻²"
+            );
+            if let Some(t) = two {
+                let ratio = t / j;
+                if ratio >= 1.0 {
+                    let _ = write!(
+                        s,
+                        ", {}× looser than the two-step allocation",
+                        sig(ratio, 3)
+                    );
+                } else {
+                    let _ = write!(
+                        s,
+                        ", {}× tighter than the two-step allocation",
+                        sig(1.0 / ratio, 3)
+                    );
+                }
+            }
+            s.push('.');
+            items.push(s);
+        }
+        if c.two_step.is_none() {
+            items.push("No output constrains a constant orientation error, so there is no two-step allocation: the direct allocation is the answer.".into());
+        }
+        if let Some(n) = &c.requirement.disagreement {
+            items.push(sentence(n));
+        }
+        let lead = "**Answer.** Does a turntable allocated by the two-step method (an orientation requirement first, then the turntable against it) deliver every output's accuracy, and what does the direct allocation against those accuracies ask of the table (J: lower is a looser, cheaper table)?";
+        self.doc.callout_list(lead, items);
+    }
+
+    /// Inputs: site, reading, sensor, turntable, schedule.
+    pub fn inputs(&mut self) {
+        let c = self.c;
+        let s = &c.study;
+        self.doc.h(2, "Inputs");
+        let lb_nonzero: Vec<String> = s
+            .turntable
+            .rotation_error_names()
+            .iter()
+            .zip(&s.lower_bounds_rad)
+            .filter(|(_, l)| **l > 0.0)
+            .map(|(n, l)| format!("`{n}` {} arcmin", num(rad_to_arcmin(*l))))
+            .collect();
+        let req = match (&c.requirement.given, c.requirement.used) {
+            (true, Some(r)) => format!("given in the study: {}", requirement_text(&r.to_array())),
+            (false, Some(r)) => format!(
+                "computed from the calibration inputs: {}",
+                requirement_text(&r.to_array())
+            ),
+            (_, None) => "none (no output constrains a constant orientation error)".into(),
+        };
+        self.doc.table(
+            &["input", "value"],
+            vec![
+                vec!["study".into(), format!("`{}` (`{}`)", s.name, s.path)],
+                vec![
+                    "description".into(),
+                    s.description.clone().unwrap_or_else(|| "-".into()),
+                ],
+                vec![
+                    "site".into(),
+                    format!(
+                        "latitude {} deg, earth rate {} rad/s",
+                        num(s.site.latitude_deg()),
+                        sig(s.site.earth_rate_rad_per_s(), 8)
+                    ),
+                ],
+                vec![
+                    "reading of eq 13".into(),
+                    format!(
+                        "`{}`: {}, error vector `{}`",
+                        s.reading,
+                        reading_words(s.reading),
+                        s.reading.formula()
+                    ),
+                ],
+                vec!["ΔR of eq 7".into(), s.delta_r_kind.name().into()],
+                vec![
+                    "calibration positions".into(),
+                    s.positions_deg.len().to_string(),
+                ],
+                vec!["requirement handed to the two-step allocation".into(), req],
+                vec![
+                    "lower bounds LB_i".into(),
+                    if lb_nonzero.is_empty() {
+                        "0 for every error".into()
+                    } else {
+                        format!("{} (0 for the others)", lb_nonzero.join(", "))
+                    },
+                ],
+                vec![
+                    "Monte Carlo".into(),
+                    format!(
+                        "{} turntables per box, seed {}",
+                        c.options.samples, c.options.seed
+                    ),
+                ],
+            ],
+        );
+        if let Some(n) = &c.requirement.disagreement {
+            self.doc.callout(sentence(n));
+        }
+
+        self.doc.h(3, "Sensor");
+        let mut rows = Vec::new();
+        let mut csv = String::from(
+            "output,coefficient,regressor,value,unit,estimated,accuracy,output_unit\n",
+        );
+        for o in s.sensor.outputs() {
+            for t in &o.terms {
+                rows.push(vec![
+                    format!("`{}`", o.name),
+                    format!("`{}`", t.coefficient),
+                    format!("`{}`", t.regressor),
+                    num(t.value),
+                    unit(&o.coefficient_unit(t)),
+                    if t.known {
+                        "known".into()
+                    } else {
+                        "estimated".into()
+                    },
+                ]);
+                let _ = writeln!(
+                    csv,
+                    "{},{},{},{},{},{},{},{}",
+                    o.name,
+                    t.coefficient,
+                    t.regressor,
+                    t.value,
+                    o.coefficient_unit(t),
+                    !t.known,
+                    o.accuracy,
+                    o.unit
+                );
+            }
+        }
+        let acc: Vec<String> = s
+            .sensor
+            .outputs()
+            .iter()
+            .map(|o| format!("`{}` {} {}", o.name, num(o.accuracy), unit(&o.unit)))
+            .collect();
+        self.doc.p(format!(
+            "{} outputs, each linear in its coefficients; the calibration must reach the accuracy ω_m of every output: {}. Written to `sensor_terms.csv`.",
+            s.sensor.n_outputs(),
+            acc.join(", ")
+        ));
+        self.doc.table(
+            &[
+                "output",
+                "coefficient",
+                "regressor",
+                "nominal value",
+                "unit",
+                "role",
+            ],
+            rows,
+        );
+        self.csv.push(("sensor_terms.csv".into(), csv));
+
+        self.doc.h(3, "Turntable");
+        let mut rows = Vec::new();
+        let joints = s.turntable.joints();
+        for (i, f) in s.turntable.factors().iter().enumerate() {
+            let (name, kind, axis) = match f {
+                Factor::Joint { joint, about } => (
+                    joints[*joint].name.clone(),
+                    "joint",
+                    format!("about {about}"),
+                ),
+                Factor::Rotation { error, about } => (
+                    s.turntable.rotation_errors()[*error].name.clone(),
+                    "angular error",
+                    format!("about {about}"),
+                ),
+                Factor::Translation { error, along } => (
+                    s.turntable.translation_errors()[*error].name.clone(),
+                    "translation error",
+                    format!("along {along}"),
+                ),
+                Factor::Fixed { angle_rad, about } => (
+                    format!("{} deg", num(rad_to_deg(*angle_rad))),
+                    "fixed rotation",
+                    format!("about {about}"),
+                ),
+            };
+            let desc = s.turntable.description_of(&name).unwrap_or("-").to_string();
+            rows.push(vec![
+                (i + 1).to_string(),
+                format!("`{name}`"),
+                kind.into(),
+                axis,
+                desc,
+            ]);
+        }
+        self.doc.p(format!(
+            "Factors from the base to the platform, each about (or along) an axis of the current frame: {} joints, {} angular errors (the vector χ), {} translation errors.",
+            s.turntable.n_joints(),
+            s.turntable.n_rotation_errors(),
+            s.turntable.n_translation_errors()
+        ));
+        self.doc
+            .table(&["#", "factor", "kind", "axis", "description"], rows);
+
+        self.doc.h(3, "Schedule");
+        let jn = s.turntable.joint_names();
+        let mut csv = format!(
+            "position,{}\n",
+            jn.iter()
+                .map(|j| format!("{j}_deg"))
+                .collect::<Vec<_>>()
+                .join(",")
+        );
+        let mut items = Vec::new();
+        for (i, p) in s.positions_deg.iter().enumerate() {
+            let _ = writeln!(
+                csv,
+                "{},{}",
+                i + 1,
+                p.iter()
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(",")
+            );
+            items.push(format!(
+                "{}: ({})",
+                i + 1,
+                p.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ")
+            ));
+        }
+        self.doc.p(format!(
+            "{} test positions, joint angles ({}) in deg; written to `schedule.csv`: {}.",
+            s.positions_deg.len(),
+            jn.join(", "),
+            items.join("; ")
+        ));
+        self.csv.push(("schedule.csv".into(), csv));
+    }
+
+    /// Identifiability and condition numbers.
+    pub fn calibration(&mut self) {
+        let c = self.c;
+        self.doc
+            .h(2, "Calibration: identifiability and conditioning");
+        let mut rows = Vec::new();
+        for o in c.study.calibration.outputs() {
+            let r = o.regression();
+            let sv = r.singular_values();
+            let (lo, hi) = (
+                sv.iter().copied().fold(f64::INFINITY, f64::min),
+                sv.iter().copied().fold(0.0_f64, f64::max),
+            );
+            rows.push(vec![
+                format!("`{}`", o.output().name),
+                r.names().len().to_string(),
+                r.rank().to_string(),
+                sig(r.condition_number(), 4),
+                format!("{} / {}", sig(lo, 4), sig(hi, 4)),
+            ]);
+        }
+        self.doc.p(format!(
+            "Least squares over the {} positions (eq 5-6): every output's estimated coefficients are identifiable (full column rank; the study is rejected otherwise). The condition number of the regression matrix A (ratio of its largest to smallest singular value, by an SVD of R) says how much the schedule amplifies errors into the coefficients.",
+            c.study.positions_deg.len()
+        ));
+        self.doc.table(
+            &[
+                "output",
+                "estimated coefficients",
+                "rank",
+                "condition number",
+                "smallest / largest singular value",
+            ],
+            rows,
+        );
+    }
+
+    /// The orientation requirement and its figures.
+    pub fn requirement(&mut self) -> Result<()> {
+        let c = self.c;
+        let outs = self.outputs();
+        self.doc.h(2, "Orientation requirement (eq 15-16)");
+        self.doc.p(format!(
+            "Under one constant orientation error (Δψ, Δθ, Δγ) at every test position, the calibration's rate error Δω of each output depends on the angles; the requirement is the largest box |Δψ| ≤ I_ψ, |Δθ| ≤ I_θ, |Δγ| ≤ I_γ inside which every output meets its accuracy (the largest-area rectangle of each output's region, the smallest half-side per angle). Reading of eq 13: `{}` ({}).",
+            c.study.reading,
+            reading_words(c.study.reading)
+        ));
+        let mut rows = Vec::new();
+        let boxes = c.requirement.computed.as_ref().ok().map(|r| &r.boxes);
+        for (k, (name, u, acc)) in outs.iter().enumerate() {
+            let p = &c.planes[k];
+            let b = boxes.and_then(|b| b.iter().find(|b| &b.output == name));
+            let sides = match b {
+                Some(b) => (0..3).map(|j| b.half_rad[j].map_or("-".into(), |h| num(rad_to_deg(h)))).collect::<Vec<_>>().join(" / "),
+                None => "no requirement: it meets its accuracy under every constant orientation error (only the end-to-end allocation bounds the turntable for it)".into(),
+            };
+            rows.push(vec![
+                format!("`{name}`"),
+                format!("{} {u}", num(*acc)),
+                p.sensitive
+                    .iter()
+                    .map(|&j| d(j))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                sides,
+            ]);
+        }
+        self.doc.table(
+            &[
+                "output",
+                "accuracy ω_m",
+                "sensitive to",
+                "largest box: half-sides Δψ / Δθ / Δγ (deg)",
+            ],
+            rows,
+        );
+        match &c.requirement.computed {
+            Ok(r) => self.doc.p(format!(
+                "Requirement computed from the study: {}.",
+                requirement_text(&r.rad)
+            )),
+            Err(e) => self.doc.p(format!("No requirement can be computed: {e}.")),
+        }
+        self.doc.h(3, "Readings of eq 13");
+        self.doc.p("Eq 13 can be read in several ways (`cargo xtask requirement --all-readings` lists all 18). Side by side, the requirement under the study's reading and under the main alternatives:");
+        let rows = c
+            .readings
+            .iter()
+            .map(|(r, req)| {
+                let cell = match req {
+                    Ok(q) => (0..3)
+                        .map(|k| q.rad[k].map_or("none".into(), |v| num(rad_to_deg(v))))
+                        .collect::<Vec<_>>()
+                        .join(" / "),
+                    Err(e) => format!("none ({e})"),
+                };
+                vec![
+                    format!(
+                        "`{r}`{}",
+                        if *r == c.study.reading {
+                            " (study)"
+                        } else {
+                            ""
+                        }
+                    ),
+                    reading_words(*r).to_string(),
+                    format!("`{}`", r.formula()),
+                    cell,
+                ]
+            })
+            .collect();
+        self.doc.table(
+            &[
+                "reading",
+                "outputs",
+                "error vector",
+                "I_ψ / I_θ / I_γ (deg)",
+            ],
+            rows,
+        );
+        self.requirement_figures()
+    }
+
+    fn requirement_figures(&mut self) -> Result<()> {
+        let c = self.c;
+        let outs = self.outputs();
+        let req = c.requirement.computed.as_ref().ok();
+        let plotted: Vec<&OutputPlane> = c.planes.iter().filter(|p| p.surface.is_some()).collect();
+        if plotted.is_empty() {
+            self.doc
+                .p("No output constrains two angles: no surface to draw.");
+            return Ok(());
+        }
+        // surfaces
+        let mut panels = Vec::new();
+        for p in &plotted {
+            let (Some(s), Some([a, b])) = (&p.surface, p.plane) else {
+                continue;
+            };
+            let (name, u, acc) = &outs[p.output];
+            panels.push(HeatPanel {
+                title: format!("Δω_{name} over ({}, {})", d(a), d(b)),
+                x_label: format!("{} (deg)", d(a)),
+                y_label: format!("{} (deg)", d(b)),
+                xs: s.u_rad.iter().map(|v| rad_to_deg(*v)).collect(),
+                ys: s.v_rad.iter().map(|v| rad_to_deg(*v)).collect(),
+                z: s.delta_omega.clone(),
+                z_label: format!("Δω_{name} ({u})"),
+                level: Some(*acc),
+                rectangle: req
+                    .map(|r| {
+                        (
+                            r.rad[a].map_or(0.0, rad_to_deg),
+                            r.rad[b].map_or(0.0, rad_to_deg),
+                        )
+                    })
+                    .filter(|(x, y)| *x > 0.0 && *y > 0.0),
+            });
+        }
+        let third = |p: &OutputPlane| {
+            p.plane.map_or(String::new(), |[a, b]| {
+                (0..3)
+                    .find(|k| *k != a && *k != b)
+                    .map_or(String::new(), |k| format!(", {} = 0", d(k)))
+            })
+        };
+        let legend = vec![
+            (
+                "Δω = ω_m (white line)".to_string(),
+                Mark::Line(figures::CONTOUR_LEGEND, false),
+            ),
+            (
+                "requirement box ±I (dashed)".to_string(),
+                Mark::Line(plotters::style::colors::BLACK, true),
+            ),
+        ];
+        let svg = figures::heat_figure(
+            "Rate-sensing error against the orientation error",
+            &panels,
+            &legend,
+        )?;
+        self.doc.h(3, "Rate-sensing error surfaces");
+        let id = self.doc.figure(
+            "rate_error_surfaces.svg",
+            format!(
+                "The calibration's rate error of each output over its two most constraining angles{} (colour; white line: Δω = ω_m; dashed: the requirement box). The paper's Figure 4 (a, b) for this study.",
+                plotted.first().map_or(String::new(), |p| third(p))
+            ),
+            svg,
+        );
+        self.figure_ids.push(("surfaces", id));
+
+        // cuts
+        let mut panels = Vec::new();
+        for p in &plotted {
+            let (name, u, acc) = &outs[p.output];
+            let series = p
+                .cuts
+                .iter()
+                .map(|(angle, pts)| {
+                    let sensitive = p.sensitive.contains(angle);
+                    // the second sensitive angle dashed: equal cuts stay visible
+                    let dashed = p.sensitive.first().is_some_and(|f| f != angle);
+                    Series {
+                        label: d(*angle),
+                        points: pts.iter().map(|(a, v)| (rad_to_deg(*a), *v)).collect(),
+                        mark: if sensitive {
+                            Mark::Line(colour(*angle), dashed)
+                        } else {
+                            Mark::Dots(colour(*angle))
+                        },
+                    }
+                })
+                .collect();
+            panels.push(LinePanel {
+                title: format!("Δω_{name} against one angle, the others 0"),
+                x_label: "orientation error (deg)".into(),
+                y_label: format!("Δω_{name} ({u})"),
+                series,
+                hlines: vec![("accuracy ω_m".into(), *acc, Mark::Line(LIMIT, true))],
+                x_integer: false,
+                y_from_zero: true,
+            });
+        }
+        let cols = if panels.len() >= 3 { 3 } else { 2 };
+        let mut legend: Vec<(String, Mark)> = (0..3)
+            .map(|k| (format!("against {}", d(k)), Mark::Line(colour(k), false)))
+            .collect();
+        legend.push((
+            "dotted: an angle the output ignores".into(),
+            Mark::Dots(plotters::style::colors::BLACK),
+        ));
+        legend.push(("accuracy ω_m".into(), Mark::Line(LIMIT, true)));
+        let svg = figures::line_figure_with_legend(
+            "Rate-sensing error against each angle",
+            &panels,
+            cols,
+            &legend,
+        )?;
+        let id = self.doc.figure("rate_error_cuts.svg", "One-angle cuts of the surfaces (the other two angles zero); a second sensitive angle is dashed so that equal cuts stay visible, dots mark an angle the output does not depend on. The paper's Figure 4 (c-f) for this study.", svg);
+        self.figure_ids.push(("cuts", id));
+
+        // lines of intersection
+        let mut panels = Vec::new();
+        let mut notes = Vec::new();
+        for p in &plotted {
+            let (name, _, _) = &outs[p.output];
+            let Some([a, b]) = p.plane else { continue };
+            let bx = req.and_then(|r| r.boxes.iter().find(|x| &x.output == name));
+            let mut series = Vec::new();
+            match &p.boundary {
+                Ok(pts) => {
+                    let mut v: Vec<(f64, f64)> = pts
+                        .iter()
+                        .map(|q| (rad_to_deg(q[0]), rad_to_deg(q[1])))
+                        .collect();
+                    if let Some(f) = v.first().copied() {
+                        v.push(f);
+                    }
+                    series.push(Series {
+                        label: "Δω = ω_m".into(),
+                        points: v,
+                        mark: Mark::Line(colour(0), false),
+                    });
+                }
+                Err(e) => notes.push(format!("`{name}`: no closed line ({e})")),
+            }
+            if let Some(bx) = bx {
+                if let (Some(ha), Some(hb)) = (bx.half_rad[a], bx.half_rad[b]) {
+                    let (x, y) = (rad_to_deg(ha), rad_to_deg(hb));
+                    series.push(Series {
+                        label: "largest box of the output".into(),
+                        points: vec![(-x, -y), (x, -y), (x, y), (-x, y), (-x, -y)],
+                        mark: Mark::Line(colour(1), false),
+                    });
+                }
+            }
+            if let Some(r) = req {
+                if let (Some(ia), Some(ib)) = (r.rad[a], r.rad[b]) {
+                    let (x, y) = (rad_to_deg(ia), rad_to_deg(ib));
+                    series.push(Series {
+                        label: "requirement (all outputs)".into(),
+                        points: vec![(-x, -y), (x, -y), (x, y), (-x, y), (-x, -y)],
+                        mark: Mark::Line(colour(2), true),
+                    });
+                }
+            }
+            if series.is_empty() {
+                continue;
+            }
+            panels.push(LinePanel {
+                title: format!("Δω_{name} = ω_m in the ({}, {}) plane", d(a), d(b)),
+                x_label: format!("{} (deg)", d(a)),
+                y_label: format!("{} (deg)", d(b)),
+                series,
+                hlines: Vec::new(),
+                x_integer: false,
+                y_from_zero: false,
+            });
+        }
+        if !panels.is_empty() {
+            let cols = if panels.len() >= 3 { 3 } else { 2 };
+            let svg =
+                figures::line_figure("Lines of intersection and the requirement", &panels, cols)?;
+            self.doc.h(3, "Lines of intersection and the requirement");
+            let id = self.doc.figure(
+                "requirement_lines.svg",
+                "Where each output's rate error reaches its accuracy (the surface cut at Δω = ω_m), the largest box inside it, and the requirement common to all outputs (eq 15-16). The paper's Figure 5 for this study.",
+                svg,
+            );
+            self.figure_ids.push(("lines", id));
+        }
+        if !notes.is_empty() {
+            self.doc.p(notes.join("; "));
+        }
+        Ok(())
+    }
+
+    /// Average sensitivities (Figure 8 for any table).
+    pub fn sensitivities(&mut self) -> Result<()> {
+        let c = self.c;
+        let t = &c.study.turntable;
+        let names: Vec<String> = t
+            .rotation_error_names()
+            .iter()
+            .map(|s| (*s).to_string())
+            .collect();
+        self.doc.h(2, "Turntable error model and sensitivities");
+        self.doc.p(format!(
+            "The orientation error of the platform is ΔR = R_dᵀ R_t (eq 23), read out as (Δψ, Δθ, Δγ) (eq 24); to first order each angle is a sum of the {} angular errors with pose-dependent coefficients (eq 26 for the paper's table). The average sensitivity of an angle to an error (eq 28) is the mean of the coefficient's magnitude over the poses: it sets the error's weight in the allocation. Written to `sensitivities.csv`.",
+            names.len()
+        ));
+        let series: Vec<(String, Vec<f64>)> = OrientationAxis::ALL
+            .iter()
+            .map(|a| {
+                (
+                    d(a.index()),
+                    (0..names.len())
+                        .map(|i| c.sensitivity[i][a.index()])
+                        .collect(),
+                )
+            })
+            .collect();
+        let svg = figures::hbar_figure(
+            "Average sensitivity of the orientation error to each turntable error",
+            &names,
+            &series,
+            "average |∂f/∂χ_i| over the poses (rad/rad)",
+        )?;
+        let id = self.doc.figure("sensitivities.svg", "Average sensitivities (eq 28) of Δψ, Δθ, Δγ to every angular error, from the turntable's first-order model. The paper's Figure 8 for this table.", svg);
+        self.figure_ids.push(("sensitivities", id));
+        let mut rows = Vec::new();
+        let mut csv = String::from("error,psi,theta,gamma\n");
+        for (i, n) in names.iter().enumerate() {
+            let v: Vec<f64> = (0..3).map(|k| c.sensitivity[i][k]).collect();
+            rows.push(vec![
+                format!("`{n}`"),
+                t.description_of(n).unwrap_or("-").into(),
+                format!("{:.4}", v[0]),
+                format!("{:.4}", v[1]),
+                format!("{:.4}", v[2]),
+            ]);
+            let _ = writeln!(csv, "{n},{},{},{}", v[0], v[1], v[2]);
+        }
+        self.doc
+            .table(&["error", "description", "Δψ", "Δθ", "Δγ"], rows);
+        self.csv.push(("sensitivities.csv".into(), csv));
+        Ok(())
+    }
+
+    /// The two-step allocation with its certificate; `table4`: the paper's column.
+    pub fn allocation(&mut self, table4: Option<&PaperColumn>) {
+        let c = self.c;
+        self.doc.h(2, "Two-step allocation");
+        let Some(t) = &c.two_step else {
+            self.doc.p("The study has no orientation requirement (no output constrains a constant orientation error), so the paper's two-step method (requirement, then allocation against it) does not apply; see the end-to-end section for the direct allocation against every output's accuracy.");
+            return;
+        };
+        let names = c.study.turntable.rotation_error_names();
+        let req = t.problem.requirement();
+        self.doc.p(format!(
+            "Upper bounds UB_i on the angular errors such that, for every pose and every χ with LB_i ≤ |χ_i| ≤ UB_i, the first-order orientation error stays within the requirement ({}) (Lemma 1), minimising J = Σ_k Σ_i W_ki²/UB_i² with the weights W = 1/average sensitivity (problems 31-34, solved to the optimum with the constraint over every pose; errors combined by rule 34). {} Written to `allocation.csv`.",
+            requirement_text(&req.to_array()),
+            if c.equal.is_some() {
+                "Beside it the equal-effects allocation (every error contributes equally to the worst case, same guarantee)."
+            } else {
+                "(The equal-effects comparison is shown for tables with at most one free joint, where its worst case is exact; `cargo xtask allocate` computes it for any table.)"
+            }
+        ));
+        let ours = t.ours.upper_bounds_arcmin();
+        let equal = c.equal.as_ref().map(|e| e.upper_bounds_arcmin());
+        let cell = |v: f64| {
+            if v.is_finite() {
+                format!("{v:.4}")
+            } else {
+                "none".into()
+            }
+        };
+        let mut header = vec!["error", "description", "two-step (arcmin)"];
+        if equal.is_some() {
+            header.push("equal effects (arcmin)");
+        }
+        if table4.is_some() {
+            header.push("Table 4 (arcmin)");
+        }
+        let mut rows = Vec::new();
+        let mut csv = String::from("error,two_step_arcmin");
+        if equal.is_some() {
+            csv.push_str(",equal_effects_arcmin");
+        }
+        if table4.is_some() {
+            csv.push_str(",paper_table4_arcmin");
+        }
+        csv.push('\n');
+        for (i, n) in names.iter().enumerate() {
+            let mut row = vec![
+                format!("`{n}`"),
+                c.study.turntable.description_of(n).unwrap_or("-").into(),
+                cell(ours[i]),
+            ];
+            if let Some(e) = &equal {
+                row.push(cell(e[i]));
+            }
+            let _ = write!(csv, "{n},{}", ours[i]);
+            if let Some(e) = &equal {
+                let _ = write!(csv, ",{}", e[i]);
+            }
+            if let Some((t4, _, _)) = &table4 {
+                row.push(cell(t4[i]));
+                let _ = write!(csv, ",{}", t4[i]);
+            }
+            csv.push('\n');
+            rows.push(row);
+        }
+        let mut jrow = vec![
+            "**J**".to_string(),
+            "objective (arcmin⁻²)".into(),
+            format!("{:.3}", t.ours.objective_arcmin()),
+        ];
+        if let Some(e) = &c.equal {
+            jrow.push(format!("{:.3}", e.objective_arcmin()));
+        }
+        let _ = write!(csv, "objective_J_arcmin^-2,{}", t.ours.objective_arcmin());
+        if let Some(e) = &c.equal {
+            let _ = write!(csv, ",{}", e.objective_arcmin());
+        }
+        if let Some((_, j, _)) = &table4 {
+            jrow.push(format!("{j:.3}"));
+            let _ = write!(csv, ",{j}");
+        }
+        csv.push('\n');
+        rows.push(jrow);
+        self.doc.table(&header, rows);
+        self.csv.push(("allocation.csv".into(), csv));
+        if !t.ours.unconstrained.is_empty() {
+            self.doc.p(format!(
+                "No angle with a requirement depends on {}: no bound (held at the lower bound in the Monte Carlo).",
+                t.ours.unconstrained_names().iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+            ));
+        }
+        let jn = c.study.turntable.joint_names();
+        let mut rows = Vec::new();
+        let shares = |s: &[Option<f64>; 3]| {
+            (0..3)
+                .map(|k| s[k].map_or("-".into(), pct))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        };
+        for a in &t.ours.certificate.axes {
+            let k = a.axis.index();
+            rows.push(vec![
+                d(k),
+                a.requirement_rad
+                    .map_or("none".into(), |v| num(rad_to_deg(v))),
+                num(rad_to_deg(a.worst_case_rad)),
+                num(rad_to_deg(a.upper_bound_rad)),
+                a.share.map_or("-".into(), pct),
+                format!(
+                    "({})",
+                    jn.iter()
+                        .zip(&a.worst_pose_rad)
+                        .map(|(j, v)| format!("{j} {}", num(rad_to_deg(*v))))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                yes_no(a.satisfied),
+                t.exact.get(k).map_or("-".into(), |e| {
+                    e.excess_rad.map_or("-".into(), |x| {
+                        format!("{} arcmin", sig(rad_to_arcmin(x), 3))
+                    })
+                }),
+            ]);
+        }
+        self.doc.p(format!(
+            "Lemma 1 certificate of the two-step allocation: the worst case of each angle over every pose and every admissible χ ({}), a rigorous upper bound on it, the share of the requirement used, and the exact chain's excess over the requirement at the worst vertices found (second order; negative: within).",
+            if t.ours.certificate.exact() { "exact: at most one free joint" } else { "searched over the free joints, bounded by branch and bound" }
+        ));
+        self.doc.table(
+            &[
+                "angle",
+                "requirement (deg)",
+                "worst case (deg)",
+                "proven bound (deg)",
+                "share used",
+                "worst pose (deg)",
+                "Lemma 1",
+                "exact chain over I",
+            ],
+            rows,
+        );
+        if let Some((_, _, s)) = &table4 {
+            self.doc.p(format!(
+                "Shares of the requirement used: two-step {}, equal effects {}, Table 4 {}.",
+                shares(&t.ours.shares()),
+                c.equal.as_ref().map_or("-".into(), |e| shares(&e.shares())),
+                shares(s)
+            ));
+        }
+    }
+
+    /// The Monte Carlo of the two-step box (and the paper's Table 4 box).
+    pub fn monte_carlo(
+        &mut self,
+        table4: Option<(&mc_verify::MonteCarlo, &mc_verify::McResult)>,
+    ) -> Result<()> {
+        let c = self.c;
+        let Some(t) = &c.two_step else { return Ok(()) };
+        self.doc.h(2, "Monte Carlo of the allocation");
+        self.doc.p(format!(
+            "{} random turntables per box, seed {}: each |χ_i| uniform in [LB_i, UB_i] with a fair random sign, the pose uniform over the joint ranges, evaluated on the exact chain (eq 25, read-out of eq 24); the same for any number of threads. The largest drawn |Δ| is compared with the proven worst case over the whole box (the certificate's first-order worst case plus the exact chain's remainder): the draws rarely reach the box's corners, so \"every draw inside\" alone proves little. An allocation that uses 100% of I to first order exceeds it on the exact chain by the second-order remainder (the certificate's last column).",
+            c.options.samples, c.options.seed
+        ));
+        let mut runs: Vec<(&str, &mc_verify::MonteCarlo, &mc_verify::McResult)> =
+            vec![("two-step", &t.monte_carlo, &t.result)];
+        if let Some((mc, r)) = table4 {
+            runs.push(("Table 4", mc, r));
+        }
+        let mut rows = Vec::new();
+        for (name, mc, r) in &runs {
+            let bound = mc.half_range_rad();
+            let sd = r.std_rad();
+            for a in OrientationAxis::ALL {
+                let k = a.index();
+                rows.push(vec![
+                    (*name).to_string(),
+                    d(k),
+                    sig(rad_to_deg(r.axes[k].max_abs_rad), 5),
+                    sig(rad_to_deg(bound[k]), 5),
+                    r.requirement_rad[k].map_or("none".into(), |i| sig(rad_to_deg(i), 5)),
+                    sig(rad_to_deg(sd[k]), 4),
+                    pct(r.axes[k].within_requirement as f64 / r.samples as f64),
+                ]);
+            }
+        }
+        self.doc.table(
+            &[
+                "box",
+                "angle",
+                "largest drawn |Δ| (deg)",
+                "proven bound (deg)",
+                "requirement (deg)",
+                "std (deg)",
+                "draws inside",
+            ],
+            rows,
+        );
+        let (name, _mc, r) =
+            runs.last()
+                .copied()
+                .unwrap_or(("two-step", &t.monte_carlo, &t.result));
+        let panels: Vec<HistPanel> = OrientationAxis::ALL
+            .iter()
+            .map(|a| {
+                let k = a.index();
+                let h = &r.axes[k].histogram;
+                let mut limits = Vec::new();
+                if let Some(i) = r.requirement_rad[k] {
+                    limits.push((
+                        "±I (requirement)".to_string(),
+                        rad_to_deg(i),
+                        Mark::Line(LIMIT, false),
+                    ));
+                }
+                let mc = runs.last().map_or(&t.monte_carlo, |x| x.1);
+                limits.push((
+                    "± proven worst case".to_string(),
+                    rad_to_deg(mc.half_range_rad()[k]),
+                    Mark::Line(plotters::style::colors::BLACK, true),
+                ));
+                HistPanel {
+                    title: format!("{} ({name})", d(k)),
+                    x_label: format!("{} (deg)", d(k)),
+                    edges: h.edges_rad().iter().map(|v| rad_to_deg(*v)).collect(),
+                    counts: h.counts.clone(),
+                    limits,
+                }
+            })
+            .collect();
+        let svg = figures::histogram_figure(
+            &format!(
+                "Orientation error of {} random turntables of the {name} box",
+                r.samples
+            ),
+            &panels,
+            "draws per bin",
+        )?;
+        let caption = if name == "Table 4" {
+            "Distribution of the orientation error of random Table 4 turntables on the exact chain (red: ±I of eq 16; dashed: the proven worst case). The paper's Figure 9."
+        } else {
+            "Distribution of the orientation error of random turntables of the two-step box on the exact chain (red: ±I, the requirement; dashed: the proven worst case). The paper's Figure 9 for this study."
+        };
+        let id = self.doc.figure("monte_carlo.svg", caption, svg);
+        self.figure_ids.push(("monte_carlo", id));
+        Ok(())
+    }
+
+    fn reading_table(&mut self, r: &ReadingAnswer) {
+        let c = self.c;
+        let acc = c.e2e.accuracies();
+        let outs = self.outputs();
+        let mut rows = Vec::new();
+        let mut boxes: Vec<(&str, &BoxAnswer)> =
+            r.boxes.iter().map(|b| (b.name.as_str(), b)).collect();
+        boxes.push(("direct", &r.direct_box));
+        boxes.push(("yield-based", &r.yield_box));
+        for (name, b) in boxes {
+            let worst: Vec<String> = b
+                .worst_case
+                .outputs
+                .iter()
+                .map(|w| format!("{} {}", outs[w.output].0, sig(w.exact_at_vertex, 5)))
+                .collect();
+            let (lo, hi) = b.distribution.yield_interval_95();
+            let label = match name {
+                "two-step" => "two-step (requirement, then turntable)",
+                "direct" => "direct (against every accuracy)",
+                "yield-based" => "yield-based (99.73% of turntables)",
+                other => other,
+            };
+            rows.push(vec![
+                label.to_string(),
+                format!("{:.2}", objective_to_arcmin(b.objective)),
+                worst.join(", "),
+                meets_cell(b, &acc).1,
+                format!(
+                    "{:.2}% [{:.2}, {:.2}]",
+                    100.0 * b.distribution.yield_fraction(),
+                    100.0 * lo,
+                    100.0 * hi
+                ),
+            ]);
+        }
+        if let Some((dc, wc)) = &r.direct_certified {
+            let proven: Vec<String> = wc
+                .outputs
+                .iter()
+                .map(|w| {
+                    format!(
+                        "{} ≤ {}",
+                        outs[w.output].0,
+                        w.certified_bound().map_or("-".into(), |v| sig(v, 6))
+                    )
+                })
+                .collect();
+            let ok = wc
+                .outputs
+                .iter()
+                .all(|w| w.certified_bound().is_some_and(|v| v <= acc[w.output]));
+            rows.push(vec![
+                "direct, certified on the exact chain".into(),
+                format!("{:.2}", dc.objective_arcmin()),
+                proven.join(", "),
+                yes_no(ok),
+                "-".into(),
+            ]);
+        }
+        self.doc.table(
+            &[
+                "box",
+                "J (arcmin⁻²)",
+                "worst turntable: Δω per output",
+                "meets every ω_m",
+                "yield [95% interval]",
+            ],
+            rows,
+        );
+        if let Some(n) = &r.direct_certified_note {
+            self.doc.p(format!(
+                "The direct allocation could not be certified on the exact chain here: {n}."
+            ));
+        }
+    }
+
+    /// End to end: both readings, the direct allocation.
+    pub fn end_to_end(&mut self) -> Result<()> {
+        let c = self.c;
+        let outs = self.outputs();
+        self.doc.h(
+            2,
+            "End to end: does the turntable deliver every output's accuracy?",
+        );
+        self.doc.p(format!(
+            "A real turntable has fixed errors χ whose orientation error changes from position to position. Each turntable is calibrated end to end: at every one of the {} positions the exact chain gives ΔR, the outputs follow, the least-squares calibration is run, and Δω of every output (eq 14) is compared with its accuracy. Worst cases are the vertex of the linearised problem, confirmed on the exact chain; yields come from {} random turntables per box (seed {}). Accuracies: {}.",
+            c.study.positions_deg.len(),
+            c.options.samples,
+            c.options.seed,
+            outs.iter().map(|(n, u, a)| format!("`{n}` {} {u}", num(*a))).collect::<Vec<_>>().join(", ")
+        ));
+        let readings = c.answer.readings.clone();
+        for (i, r) in readings.iter().enumerate() {
+            self.doc.h(
+                3,
+                format!(
+                    "Reading `{}`{}",
+                    r.reading,
+                    if i == 0 { " (the study's)" } else { "" }
+                ),
+            );
+            self.doc.p(format!(
+                "{}; error vector `{}`.",
+                reading_words(r.reading),
+                r.reading.formula()
+            ));
+            self.reading_table(r);
+        }
+        // the direct allocation's bounds
+        self.doc.h(3, "Direct allocation");
+        let names = c.study.turntable.rotation_error_names();
+        let mut header: Vec<String> = Vec::new();
+        header.push("error".into());
+        let mut cols: Vec<(String, Vec<f64>)> = Vec::new();
+        for r in &readings {
+            cols.push((
+                format!("direct, {} (arcmin)", short_reading(r.reading)),
+                r.direct.upper_bounds_arcmin(),
+            ));
+            if let Some((dc, _)) = &r.direct_certified {
+                cols.push((
+                    format!("certified, {}", short_reading(r.reading)),
+                    dc.upper_bounds_arcmin(),
+                ));
+            }
+        }
+        if let Some(t) = &c.two_step {
+            cols.push(("two-step (arcmin)".into(), t.ours.upper_bounds_arcmin()));
+        }
+        header.extend(cols.iter().map(|(h, _)| h.clone()));
+        let mut rows = Vec::new();
+        let mut csv = format!(
+            "error,{}\n",
+            cols.iter()
+                .map(|(h, _)| h
+                    .replace(['`', ','], "")
+                    .replace(" (arcmin)", "")
+                    .replace(' ', "_"))
+                .collect::<Vec<_>>()
+                .join(",")
+        );
+        for (i, n) in names.iter().enumerate() {
+            let mut row = vec![format!("`{n}`")];
+            let mut line = n.to_string();
+            for (_, v) in &cols {
+                row.push(if v[i].is_finite() {
+                    format!("{:.4}", v[i])
+                } else {
+                    "none".into()
+                });
+                let _ = write!(
+                    line,
+                    ",{}",
+                    if v[i].is_finite() {
+                        v[i].to_string()
+                    } else {
+                        String::new()
+                    }
+                );
+            }
+            rows.push(row);
+            let _ = writeln!(csv, "{line}");
+        }
+        let h: Vec<&str> = header.iter().map(String::as_str).collect();
+        self.doc.p(format!(
+            "The direct allocation bounds the turntable against every output's accuracy at every position (no square requirement in between): one linear constraint per output and position on the linearised errors, the same objective J; \"certified\" keeps room for the exact chain's second-order terms. Its bounds beside the two-step allocation's (none: no output depends on the error). Readings: {}. Written to `end_to_end.csv`.",
+            readings.iter().map(|r| format!("{} = `{}`", short_reading(r.reading), r.reading)).collect::<Vec<_>>().join(", ")
+        ));
+        self.doc.table(&h, rows);
+        self.csv.push(("end_to_end.csv".into(), csv));
+
+        // figure: worst case per position
+        let mut panels = Vec::new();
+        for r in &readings {
+            for (k, (name, u, acc)) in outs.iter().enumerate() {
+                let mut series = Vec::new();
+                let mut boxes: Vec<(&str, &BoxAnswer)> =
+                    r.boxes.iter().map(|b| (b.name.as_str(), b)).collect();
+                boxes.push(("direct", &r.direct_box));
+                for (j, (bn, b)) in boxes.iter().enumerate() {
+                    let Some(w) = b.worst_case.outputs.iter().find(|w| w.output == k) else {
+                        continue;
+                    };
+                    series.push(Series {
+                        label: (*bn).to_string(),
+                        points: w
+                            .per_position
+                            .iter()
+                            .enumerate()
+                            .map(|(i, v)| ((i + 1) as f64, *v))
+                            .collect(),
+                        mark: Mark::Line(colour(j), false),
+                    });
+                }
+                panels.push(LinePanel {
+                    title: format!("Δω_{name}, `{}`", r.reading).replace('`', ""),
+                    x_label: "test position".into(),
+                    y_label: format!("worst Δω_{name} ({u})"),
+                    series,
+                    hlines: vec![("accuracy ω_m".into(), *acc, Mark::Line(LIMIT, true))],
+                    x_integer: true,
+                    y_from_zero: true,
+                });
+            }
+        }
+        let cols = if panels.len() == 4 || panels.len() <= 2 {
+            2
+        } else {
+            3
+        };
+        let svg = figures::line_figure(
+            "Worst-case calibration error at each test position",
+            &panels,
+            cols,
+        )?;
+        let id = self.doc.figure(
+            "end_to_end.svg",
+            "The linearised worst-case rate error of each output at each test position, for the two-step allocation's box and the direct allocation's (dashed red: the output's accuracy), under each reading.",
+            svg,
+        );
+        self.figure_ids.push(("end_to_end", id));
+        Ok(())
+    }
+
+    /// The vendor's tolerances.
+    pub fn vendor(&mut self) {
+        let c = self.c;
+        let Some((tol, chk)) = &c.vendor else { return };
+        let outs = self.outputs();
+        let names = c.study.turntable.rotation_error_names();
+        self.doc.h(2, "Vendor tolerances");
+        self.doc.p(format!(
+            "The tolerances of `{}`{} checked end to end under the study's reading: for every output the worst turntable within them (linearised, confirmed on the exact chain, with the derived second-order bound where the reading has one), the Monte Carlo yield, and each error's share of the worst case and of the variance.",
+            tol.path,
+            tol.name.as_ref().map_or(String::new(), |n| format!(" ({n})"))
+        ));
+        let mut rows = Vec::new();
+        for o in &chk.outputs {
+            let (n, u, _) = &outs[o.output];
+            let mut top: Vec<_> = o.contributions.iter().collect();
+            top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
+            let dominant: Vec<String> = top
+                .iter()
+                .take(3)
+                .filter(|k| k.worst_share > 0.0)
+                .map(|k| format!("`{}` {}", names[k.error], pct(k.worst_share)))
+                .collect();
+            rows.push(vec![
+                format!("`{n}`"),
+                format!("{} {u}", num(o.accuracy)),
+                format!("{} {u}", sig(o.worst_case.exact_at_vertex, 5)),
+                o.worst_case
+                    .certified_bound()
+                    .map_or("-".into(), |v| sig(v, 5)),
+                pct(chk.distribution.meeting_per_output[o.output] as f64
+                    / chk.distribution.samples as f64),
+                match o.verdict {
+                    Verdict::Guaranteed => "**yes** (proven)".into(),
+                    Verdict::Likely => "likely (not proven)".into(),
+                    Verdict::Fails => "**no**".into(),
+                },
+                dominant.join(", "),
+            ]);
+        }
+        self.doc.table(
+            &[
+                "output",
+                "accuracy",
+                "worst turntable",
+                "proven bound",
+                "random turntables meeting it",
+                "meets",
+                "dominant errors (share of the worst case)",
+            ],
+            rows,
+        );
+        let (lo, hi) = chk.distribution.yield_interval_95();
+        let verdict = match chk.verdict {
+            Verdict::Guaranteed => {
+                "these tolerances **meet** every accuracy: proven for every turntable within them"
+            }
+            Verdict::Likely => {
+                "these tolerances likely meet every accuracy: the worst turntable does, but no bound proves it for the whole box"
+            }
+            Verdict::Fails => {
+                "these tolerances do **not** meet every accuracy: a turntable within them (the worst vertex) misses"
+            }
+        };
+        self.doc.callout(format!(
+            "Verdict: {verdict}; {:.2}% of {} random turntables meet every accuracy (95% interval {:.2}%-{:.2}%).",
+            100.0 * chk.distribution.yield_fraction(),
+            chk.distribution.samples,
+            100.0 * lo,
+            100.0 * hi
+        ));
+    }
+
+    /// The study's schedule beside the designed one.
+    pub fn designed(&mut self) {
+        let c = self.c;
+        let Some([a, b]) = &c.designed else { return };
+        let outs = self.outputs();
+        self.doc.h(2, "Designed schedule");
+        self.doc.p(format!(
+            "The study's schedule beside the designed one of `{}` (same sensor, site, turntable and reading): J of the direct allocation under the study's reading (the cost of the turntable that meets every output's accuracy; lower is a cheaper table), the condition number of every output's regression, and the orientation requirement.",
+            b.path
+        ));
+        let req = |r: &Result<OrientationRequirement, CalibError>| match r {
+            Ok(q) => (0..3)
+                .map(|k| q.rad[k].map_or("none".into(), |v| num(rad_to_deg(v))))
+                .collect::<Vec<_>>()
+                .join(" / "),
+            Err(e) => format!("none ({e})"),
+        };
+        let conds = |f: &super::compute::ScheduleFacts| {
+            f.conditions
+                .iter()
+                .zip(&outs)
+                .map(|(v, o)| format!("{} {}", o.0, sig(*v, 4)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let rows = [("study's", a), ("designed", b)]
+            .iter()
+            .map(|(name, f)| {
+                vec![
+                    format!("{name} (`{}`)", f.path),
+                    f.positions.to_string(),
+                    format!("{:.3}", f.direct_objective_arcmin),
+                    conds(f),
+                    req(&f.requirement),
+                ]
+            })
+            .collect();
+        self.doc.table(
+            &[
+                "schedule",
+                "positions",
+                "J direct (arcmin⁻²)",
+                "condition numbers",
+                "I_ψ / I_θ / I_γ (deg)",
+            ],
+            rows,
+        );
+        let ratio = a.direct_objective_arcmin / b.direct_objective_arcmin;
+        self.doc.p(format!(
+            "The designed schedule's turntable is {} demanding: J {} vs {} ({}×).",
+            if ratio >= 1.0 { "less" } else { "more" },
+            format_args!("{:.3}", b.direct_objective_arcmin),
+            format_args!("{:.3}", a.direct_objective_arcmin),
+            sig(if ratio >= 1.0 { ratio } else { 1.0 / ratio }, 3)
+        ));
+    }
+}

@@ -1,0 +1,571 @@
+//! `cargo xtask report` and `cargo xtask reproduce-paper`: the report of any study (files,
+//! numbers, no paper wording for a study that is not the paper's, the vendor check and the
+//! designed schedule), and the output directory's guarantees (issue 15 item 1: nothing of the
+//! user's is deleted or replaced, a failed run leaves nothing behind, concurrent runs leave
+//! one complete report).
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The workspace root (commands run there, with paths as a user types them).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Exit 2, nothing on standard output, a message naming `what`.
+fn assert_input_error(o: &Output, what: &str) {
+    assert_eq!(o.status.code(), Some(2), "stderr: {}", text(&o.stderr));
+    assert!(o.stdout.is_empty(), "stdout: {}", text(&o.stdout));
+    assert!(
+        text(&o.stderr).contains(what),
+        "stderr should name {what}: {}",
+        text(&o.stderr)
+    );
+}
+
+fn ok(o: &Output) {
+    assert!(
+        o.status.success(),
+        "exit {:?}\nstderr: {}\nstdout: {}",
+        o.status.code(),
+        text(&o.stderr),
+        text(&o.stdout)
+    );
+}
+
+fn read(dir: &Path, f: &str) -> String {
+    std::fs::read_to_string(dir.join(f))
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.join(f).display()))
+}
+
+fn json(dir: &Path) -> Value {
+    serde_json::from_str(&read(dir, "results.json")).unwrap()
+}
+
+/// The paper's study with replacements (each `old` must exist).
+fn paper_with(replace: &[(&str, &str)]) -> String {
+    let mut t = std::fs::read_to_string(root().join("studies/gyrowheel-2017.toml")).unwrap();
+    for (old, new) in replace {
+        assert!(t.contains(old), "the paper's study has no `{old}`");
+        t = t.replace(old, new);
+    }
+    t
+}
+
+/// The `[requirement]` section of the paper's study, removed (the requirement is computed).
+fn without_requirement(t: &str) -> String {
+    let start = t.find("# The orientation requirement handed").unwrap();
+    let end = t.find("# Tolerance allocation").unwrap();
+    format!("{}{}", &t[..start], &t[end..])
+}
+
+/// Every file a report writes, and the manifest listing exactly them.
+fn assert_complete(dir: &Path) {
+    let manifest = read(dir, ".report-manifest");
+    let listed: Vec<&str> = manifest.lines().skip(1).collect();
+    for f in [
+        "report.md",
+        "report.html",
+        "results.json",
+        "schedule.csv",
+        "sensor_terms.csv",
+        "sensitivities.csv",
+        "end_to_end.csv",
+        "end_to_end.svg",
+        "sensitivities.svg",
+    ] {
+        assert!(listed.contains(&f), "{f} not in the manifest: {listed:?}");
+    }
+    let mut present: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != ".report-manifest")
+        .collect();
+    present.sort();
+    let mut l: Vec<String> = listed.iter().map(|s| (*s).to_string()).collect();
+    l.sort();
+    assert_eq!(present, l, "the directory holds exactly the listed files");
+    let html = read(dir, "report.html");
+    assert!(html.ends_with("</html>\n"));
+    // every figure file is inline in the page
+    let svgs = l.iter().filter(|f| f.ends_with(".svg")).count();
+    assert_eq!(
+        html.matches("<img src=\"data:image/svg+xml;base64,")
+            .count(),
+        svgs
+    );
+}
+
+/// The issue's example: the paper's study copied to latitude 30 deg with ω_m = 0.005 deg/h
+/// (requirement computed). Its report carries none of the paper's wording or numbers (no
+/// Harbin, no 0.027, no ω_m = 0.01, no Table 4, no claims), and prints its own requirement,
+/// 0.0139 deg. With the paper's `[requirement]` kept (given 0.027 deg), the report says in
+/// one line that the given requirement disagrees with the computed one.
+#[test]
+fn report_of_a_non_paper_study_carries_none_of_the_papers_wording() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = paper_with(&[
+        (
+            "latitude_deg = 45.75                # assumption: Harbin, the authors' site (the paper gives none; NOTES 8)",
+            "latitude_deg = 30",
+        ),
+        (
+            "accuracy = 0.01   # omega_m, the required calibration accuracy (§2.3, §4.3)",
+            "accuracy = 0.005",
+        ),
+        (
+            "accuracy = 0.01   # omega_m (§2.3, §4.3)",
+            "accuracy = 0.005",
+        ),
+        ("name = \"gyrowheel-2017\"", "name = \"my-lab\""),
+    ]);
+    let study = dir.path().join("my-lab.toml");
+    std::fs::write(&study, without_requirement(&copy)).unwrap();
+    let out = dir.path().join("out");
+    let o = run(&[
+        "report",
+        "--study",
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "2000",
+    ]);
+    ok(&o);
+    assert_complete(&out);
+    let md = read(&out, "report.md");
+    let html = read(&out, "report.html");
+    for forbidden in [
+        "Harbin",
+        "0.027",
+        "omega_m = 0.01",
+        "ω_m = 0.01",
+        "45.75",
+        "Table 4",
+        "Zhao, Zhao",
+        "Claims",
+        "eq 16 prints",
+        "NaN",
+    ] {
+        assert!(!md.contains(forbidden), "the report says `{forbidden}`");
+        assert!(!html.contains(forbidden), "the page says `{forbidden}`");
+    }
+    for svg in std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+    {
+        let t = std::fs::read_to_string(&svg).unwrap();
+        assert!(
+            !t.contains("0.027") && !t.contains("Table 4"),
+            "{}",
+            svg.display()
+        );
+    }
+    assert!(md.contains("latitude 30 deg"), "its own site");
+    assert!(
+        md.contains("I_ψ = 0.0139"),
+        "its own requirement: {}",
+        md.lines()
+            .find(|l| l.contains("Requirement computed"))
+            .unwrap_or("")
+    );
+    let v = json(&out);
+    assert!(v.get("claims").is_none() && v.get("paper_versus_ours").is_none());
+    assert_eq!(v["requirement"]["given"], Value::Bool(false));
+    let psi = v["requirement"]["computed_deg"]["psi"].as_f64().unwrap();
+    assert!((psi - 0.013943).abs() < 1e-5, "{psi}");
+
+    // the paper's requirement kept: given 0.027 deg disagrees with the computed 0.0139 deg
+    let kept = dir.path().join("kept.toml");
+    std::fs::write(&kept, &copy).unwrap();
+    let out2 = dir.path().join("out2");
+    ok(&run(&[
+        "report",
+        "--study",
+        kept.to_str().unwrap(),
+        "--out",
+        out2.to_str().unwrap(),
+        "--samples",
+        "2000",
+    ]));
+    let md = read(&out2, "report.md");
+    assert!(
+        md.contains("psi 0.027 deg given vs 0.0139"),
+        "the disagreement line"
+    );
+    assert!(
+        json(&out2)["requirement"]["disagreement"]
+            .as_str()
+            .unwrap()
+            .contains("given vs")
+    );
+}
+
+/// `reproduce-paper` reproduces the old report's numbers, now from library calls: the
+/// requirement 0.0269380 deg (eq 16 prints 0.027), J = 115.867 (ours) against Table 4's
+/// 138.467, equal effects 124.458, the end-to-end worst case of Table 4 0.00834 deg/h under the
+/// paper's reading and 0.01594 deg/h (94.1% yield) under the user's; 13 claims with both
+/// verdicts where eq 13 matters, 9 holding under both readings; the study path as given.
+#[test]
+fn reproduce_paper_reports_the_papers_numbers_and_every_claim_with_both_readings() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("paper");
+    let o = run(&["reproduce-paper", "--out", out.to_str().unwrap()]);
+    ok(&o);
+    let stdout = text(&o.stdout);
+    assert!(
+        stdout.contains("9 of 13 claims hold under both readings of eq 13."),
+        "{stdout}"
+    );
+    assert_complete(&out);
+    let v = json(&out);
+    let close = |x: &Value, want: f64, tol: f64| {
+        let got = x.as_f64().unwrap_or(f64::NAN);
+        assert!((got - want).abs() <= tol, "{got} vs {want}");
+    };
+    assert_eq!(v["study"], "studies/gyrowheel-2017.toml");
+    close(&v["requirement"]["computed_deg"]["psi"], 0.026938, 5e-7);
+    close(&v["two_step"]["objective_arcmin"], 115.867, 5e-4);
+    close(&v["equal_effects"]["objective_arcmin"], 124.458, 5e-4);
+    let e2e = v["end_to_end"].as_array().unwrap();
+    assert_eq!(e2e[0]["reading"], "intended/beta1/printed");
+    assert_eq!(e2e[1]["reading"], "actual/beta1/printed");
+    let t4 = |r: &Value| {
+        r["boxes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|b| b["name"] == "Table 4")
+            .unwrap()
+            .clone()
+    };
+    close(
+        &t4(&e2e[0])["worst_case"][0]["exact_at_vertex"],
+        0.00834,
+        5e-6,
+    );
+    close(
+        &t4(&e2e[1])["worst_case"][0]["exact_at_vertex"],
+        0.01594,
+        5e-6,
+    );
+    close(&t4(&e2e[1])["yield"], 0.9411, 5e-5);
+    close(&t4(&e2e[0])["objective_arcmin"], 138.467, 5e-4);
+    let claims = v["claims"].as_array().unwrap();
+    assert_eq!(claims.len(), 13);
+    let e = claims.iter().find(|c| c["id"] == "e2e").unwrap();
+    assert_eq!(
+        (
+            e["holds_paper_reading"].as_bool(),
+            e["holds_user_reading"].as_bool()
+        ),
+        (Some(true), Some(false))
+    );
+    assert!(
+        e["test_command"]
+            .as_str()
+            .unwrap()
+            .starts_with("cargo test -p e2e-verify --test paper_claims ")
+    );
+    let t = claims.iter().find(|c| c["id"] == "table4").unwrap();
+    assert_eq!(
+        (
+            t["holds_paper_reading"].as_bool(),
+            t["holds_user_reading"].is_null()
+        ),
+        (Some(false), true)
+    );
+    let md = read(&out, "report.md");
+    for section in [
+        "## Paper versus ours",
+        "## Claims",
+        "## What the paper leaves open",
+        "| Table 4: dalpha_x2 | 0.2825 |",
+    ] {
+        assert!(md.contains(section), "{section}");
+    }
+    assert!(
+        !md.contains("/work/") && !md.contains(&root().display().to_string()),
+        "no absolute path of this machine"
+    );
+    assert!(read(&out, "allocation.csv").contains("paper_table4_arcmin"));
+}
+
+/// The vendor check (`--tolerances`) and the designed schedule (`--designed`) sections: the
+/// paper's Table 4 as a vendor sheet meets the accuracy under the paper's reading; a second
+/// schedule of the same study appears beside the study's with its own J, conditions and
+/// requirement.
+#[test]
+fn report_checks_vendor_tolerances_and_shows_a_designed_schedule_beside_the_studys() {
+    let dir = tempfile::tempdir().unwrap();
+    let tol = dir.path().join("vendor.toml");
+    std::fs::write(
+        &tol,
+        "name = \"vendor sheet\"\n[tolerances_arcmin]\ndphi_y1 = 0.4235\ndphi_z2 = 0.78\ndalpha_x1 = 0.4234\ndalpha_z1 = 0.78\ndalpha_x2 = 0.2825\ndalpha_y2 = 0.2824\ndeps_x = 0.4234\ndeps_y = 0.4233\n",
+    )
+    .unwrap();
+    let designed = dir.path().join("designed.toml");
+    let positions = "positions_deg = [\n  [0, 0], [0, 45], [0, 90], [0, 135], [0, 180], [0, 225], [0, 270], [0, 315],\n  [90, 0], [90, 45], [90, 90], [90, 135], [90, 180], [90, 225], [90, 270], [90, 315],\n  [180, 0], [180, 45], [180, 90], [180, 135], [180, 180], [180, 225], [180, 270], [180, 315],\n  [270, 0], [270, 45], [270, 90], [270, 135], [270, 180], [270, 225], [270, 270], [270, 315],\n]";
+    let text = paper_with(&[]);
+    assert!(text.contains(positions));
+    let fewer = "positions_deg = [\n  [0, 0], [0, 90], [0, 180], [0, 270],\n  [90, 0], [90, 45], [90, 90], [90, 135], [90, 180], [90, 225], [90, 270], [90, 315],\n  [180, 0], [180, 90], [180, 180], [180, 270],\n  [270, 0], [270, 45], [270, 90], [270, 135], [270, 180], [270, 225], [270, 270], [270, 315],\n]";
+    std::fs::write(&designed, text.replace(positions, fewer)).unwrap();
+    let out = dir.path().join("out");
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--tolerances",
+        tol.to_str().unwrap(),
+        "--designed",
+        designed.to_str().unwrap(),
+    ]);
+    ok(&o);
+    let md = read(&out, "report.md");
+    assert!(md.contains("## Vendor tolerances") && md.contains("## Designed schedule"));
+    assert!(
+        md.contains("Verdict: these tolerances **meet** every accuracy"),
+        "Table 4 meets ω_m under the paper's reading"
+    );
+    let v = json(&out);
+    assert_eq!(v["vendor"]["verdict"], "guaranteed");
+    let d = v["designed"].as_array().unwrap();
+    assert_eq!(
+        (d[0]["positions"].as_u64(), d[1]["positions"].as_u64()),
+        (Some(32), Some(24))
+    );
+    let (j0, j1) = (
+        d[0]["direct_objective_arcmin"].as_f64().unwrap(),
+        d[1]["direct_objective_arcmin"].as_f64().unwrap(),
+    );
+    assert!((j0 - 54.652).abs() < 5e-3, "{j0}");
+    assert!(
+        j1.is_finite() && j1 > 0.0 && (j1 - j0).abs() > 1e-6,
+        "a different schedule, a different J: {j1}"
+    );
+    assert!(md.contains(&format!("{j1:.3}")));
+    assert!(
+        read(&out, "report.md").contains(&format!("--designed {}", designed.display())),
+        "the reproduce line names the designed study as given"
+    );
+
+    // a designed study with another sensor is refused, naming the flag
+    let other = dir.path().join("other.toml");
+    std::fs::write(&other, text.replace("value = -93.3 }", "value = -90 }")).unwrap();
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--out",
+        dir.path().join("o2").to_str().unwrap(),
+        "--designed",
+        other.to_str().unwrap(),
+    ]);
+    assert_input_error(&o, "--designed");
+    assert!(!dir.path().join("o2").exists());
+}
+
+/// Bad input: exit 2, nothing on standard output, the file or flag named, no directory
+/// created; an absurd value is refused at the input, never a hang in a plot.
+#[test]
+fn report_bad_input_exits_2_naming_it_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o_ = out.to_str().unwrap();
+    assert_input_error(
+        &run(&["report", "--study", "no/such/study.toml", "--out", o_]),
+        "no/such/study.toml",
+    );
+    assert_input_error(
+        &run(&[
+            "report",
+            "--study",
+            "studies/gyrowheel-2017.toml",
+            "--out",
+            o_,
+            "--samples",
+            "0",
+        ]),
+        "--samples",
+    );
+    let bad_tol = dir.path().join("t.toml");
+    std::fs::write(&bad_tol, "[tolerances_arcmin]\nno_such_error = 1\n").unwrap();
+    assert_input_error(
+        &run(&[
+            "report",
+            "--study",
+            "studies/gyrowheel-2017.toml",
+            "--out",
+            o_,
+            "--tolerances",
+            bad_tol.to_str().unwrap(),
+        ]),
+        "no_such_error",
+    );
+    let huge = dir.path().join("huge.toml");
+    std::fs::write(
+        &huge,
+        paper_with(&[("gamma_deg = 0.027 # eq 16", "gamma_deg = 1e308")]),
+    )
+    .unwrap();
+    let started = std::time::Instant::now();
+    assert_input_error(
+        &run(&["report", "--study", huge.to_str().unwrap(), "--out", o_]),
+        "gamma_deg",
+    );
+    assert!(started.elapsed().as_secs() < 30, "refused at once, no hang");
+    assert!(!out.exists(), "nothing written");
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "no temporary or lock file left: {left:?}");
+}
+
+/// Issue 15 item 1, data loss: `--out` naming a directory with a file the program did not
+/// write is refused (exit 2, the directory and how to proceed named) and the file survives;
+/// `--out` naming a file is refused and the file is untouched; a previous report of ours is
+/// replaced as a whole (the directory holds exactly the new report's files).
+#[test]
+fn report_never_deletes_or_replaces_what_it_did_not_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("d");
+    std::fs::create_dir(&d).unwrap();
+    std::fs::write(d.join("notes.txt"), "x").unwrap();
+    let o = run(&[
+        "reproduce-paper",
+        "--out",
+        d.to_str().unwrap(),
+        "--samples",
+        "1000",
+    ]);
+    assert_input_error(&o, d.to_str().unwrap());
+    assert!(
+        text(&o.stderr).contains("notes.txt") && text(&o.stderr).contains("--out"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(d.join("notes.txt")).unwrap(), "x");
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+
+    let f = dir.path().join("f");
+    std::fs::write(&f, "mine").unwrap();
+    assert_input_error(
+        &run(&[
+            "report",
+            "--study",
+            "studies/gyrowheel-2017.toml",
+            "--out",
+            f.to_str().unwrap(),
+            "--samples",
+            "1000",
+        ]),
+        f.to_str().unwrap(),
+    );
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "mine");
+
+    // a previous report of ours is replaced as a whole
+    let r = dir.path().join("r");
+    ok(&run(&[
+        "report",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--out",
+        r.to_str().unwrap(),
+        "--samples",
+        "1000",
+    ]));
+    assert_complete(&r);
+    let first = read(&r, "results.json");
+    ok(&run(&[
+        "report",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--out",
+        r.to_str().unwrap(),
+        "--samples",
+        "1500",
+    ]));
+    assert_complete(&r);
+    assert_ne!(read(&r, "results.json"), first);
+    assert_eq!(json(&r)["samples"], 1500);
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(
+        left.is_empty(),
+        "no temporary, old or lock directory left: {left:?}"
+    );
+}
+
+/// Issue 15 item 1, concurrent runs: two reports written into one `--out` at once either
+/// both succeed or one fails with a clear message (exit 2, "another run"), and the directory
+/// always ends as one complete report.
+#[test]
+fn concurrent_reports_into_one_directory_leave_one_complete_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("same");
+    for round in 0..3 {
+        let spawn = |samples: &str| {
+            Command::new(env!("CARGO_BIN_EXE_xtask"))
+                .args([
+                    "report",
+                    "--study",
+                    "studies/gyrowheel-2017.toml",
+                    "--out",
+                    out.to_str().unwrap(),
+                    "--samples",
+                    samples,
+                ])
+                .current_dir(root())
+                .stdout(std::process::Stdio::piped())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        };
+        let (a, b) = (spawn("1000"), spawn("1200"));
+        let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
+        for o in [&a, &b] {
+            if !o.status.success() {
+                assert_input_error(o, "another run is writing this report");
+            }
+        }
+        assert!(
+            a.status.success() || b.status.success(),
+            "round {round}: one of them writes the report"
+        );
+        assert_complete(&out);
+        let samples = json(&out)["samples"].as_u64().unwrap();
+        assert!(samples == 1000 || samples == 1200);
+    }
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "no temporary or lock file left: {left:?}");
+}
