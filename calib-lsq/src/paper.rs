@@ -72,6 +72,15 @@ pub mod claims {
     /// outputs of ~100 deg/h (Table 1), in the output's unit.
     pub const RATE_EQ_TOL: f64 = 3e-12;
 
+    /// A small magnitude for people: `0` when exactly zero, else `5.6e-14`.
+    fn short(v: f64) -> String {
+        if v == 0.0 {
+            "0".into()
+        } else {
+            format!("{v:.1e}")
+        }
+    }
+
     /// The Greek letter of an angle name (`psi` → `ψ`), for evidence printed to people.
     fn greek(name: &str) -> &'static str {
         match name {
@@ -113,7 +122,8 @@ pub mod claims {
                 .iter()
                 .map(|(o, a, c)| {
                     format!(
-                        "Δω_{o} changes by at most {c:.1e} when Δ{} varies",
+                        "Δω_{o} changes by at most {} when Δ{} varies",
+                        short(*c),
                         greek(a)
                     )
                 })
@@ -184,8 +194,10 @@ pub mod claims {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
             write!(
                 f,
-                "largest asymmetry {:.1e}; {} of {} growth checks fail",
-                self.max_asymmetry, self.growth_failures, self.growth_checks
+                "largest asymmetry {}; {} of {} growth checks fail",
+                short(self.max_asymmetry),
+                self.growth_failures,
+                self.growth_checks
             )
         }
     }

@@ -576,6 +576,35 @@ impl OutputRegion {
         })
     }
 
+    /// $\Delta\omega$ of this output against one angle (`angle`, an index into $\psi, \theta,
+    /// \gamma$), the other two zero, at `points` evenly spaced values over $[-h, h]$: the 1-D cuts
+    /// of Figure 4 (c-f), as `(angle_rad, delta_omega)` pairs.
+    ///
+    /// # Errors
+    /// [`CalibError::BadGrid`] for fewer than 2 points, a non-positive half range or an angle
+    /// index above 2; as [`OutputRegion::rate_error`].
+    pub fn cut(
+        &self,
+        angle: usize,
+        half_range_rad: f64,
+        points: usize,
+    ) -> Result<Vec<(f64, f64)>, CalibError> {
+        if points < 2 || angle > 2 || !half_range_rad.is_finite() || half_range_rad <= 0.0 {
+            return Err(CalibError::BadGrid {
+                points,
+                half_range_rad,
+            });
+        }
+        (0..points)
+            .map(|i| {
+                let a = -half_range_rad + 2.0 * half_range_rad * i as f64 / (points - 1) as f64;
+                let mut d = [0.0; 3];
+                d[angle] = a;
+                Ok((a, self.rate_error(d)?))
+            })
+            .collect()
+    }
+
     /// The line of intersection of $\Gamma$ with the plane $\Delta\omega = \omega_m$ in the
     /// plane of `angles` (Figure 5): for `directions` rays from the origin, the point where
     /// $\Delta\omega$ first reaches $\omega_m$, as `[u, v]` in radians.

@@ -91,3 +91,35 @@ fn eq16_claim_s2_3_requirement_rounds_to_0_027_deg_only_under_the_paper_reading(
         "{paper}"
     );
 }
+
+/// Figure 4 (c-f): a one-angle cut is the rate error along that angle with the others zero,
+/// symmetric for the paper's reading (claim 2) and flat along the ignored angle (claim 1);
+/// a bad grid is a typed error.
+#[test]
+fn figure4_cuts_follow_the_rate_error_along_one_angle() {
+    let p = problem(Reading::PAPER);
+    let x = p.region(0).unwrap();
+    let half = 0.05_f64.to_radians();
+    let cut = x.cut(1, half, 11).unwrap();
+    assert_eq!(cut.len(), 11);
+    assert_abs_diff_eq!(cut[0].0, -half, epsilon = 1e-18);
+    for (a, v) in &cut {
+        assert_abs_diff_eq!(
+            *v,
+            x.rate_error([0.0, *a, 0.0]).unwrap(),
+            epsilon = claims::RATE_EQ_TOL
+        );
+    }
+    assert_abs_diff_eq!(cut[0].1, cut[10].1, epsilon = claims::RATE_EQ_TOL);
+    assert!(cut[10].1 > cut[8].1 && cut[5].1.abs() < claims::RATE_EQ_TOL);
+    assert!(
+        x.cut(2, half, 11)
+            .unwrap()
+            .iter()
+            .all(|(_, v)| v.abs() <= claims::RATE_EQ_TOL),
+        "Δω_x ignores Δγ"
+    );
+    assert!(
+        x.cut(3, half, 11).is_err() && x.cut(0, half, 1).is_err() && x.cut(0, f64::NAN, 5).is_err()
+    );
+}

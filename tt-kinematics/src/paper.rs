@@ -276,10 +276,14 @@ pub mod claims {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
             write!(
                 f,
-                "largest change of ΔR from a {} mm translation at {} poses: {:e} rad",
+                "largest change of ΔR from a {} mm translation at {} poses: {} rad",
                 self.translation_m * 1e3,
                 self.points,
-                self.max_change_rad
+                if self.max_change_rad == 0.0 {
+                    "0".to_string()
+                } else {
+                    format!("{:e}", self.max_change_rad)
+                }
             )
         }
     }
@@ -337,11 +341,15 @@ pub mod claims {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
             write!(
                 f,
-                "errors up to {:.1} arcmin: exact chain minus eq 26 at most {:.3e} rad (bound 33 m² = {:.3e} rad); the description's first-order model equals eq 26 to {:.1e}",
+                "errors up to {:.1} arcmin: exact chain minus eq 26 at most {:.3e} rad (bound 33 m² = {:.3e} rad); the description's first-order model equals eq 26 to {}",
                 self.max_error_rad / crate::units::RAD_PER_ARCMIN,
                 self.max_difference_rad,
                 self.bound_rad,
-                self.eq26_recovery_rad
+                if self.eq26_recovery_rad == 0.0 {
+                    "rounding (0)".to_string()
+                } else {
+                    format!("{:.1e} (relative)", self.eq26_recovery_rad)
+                }
             )
         }
     }

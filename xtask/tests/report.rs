@@ -569,3 +569,49 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
         .collect();
     assert!(left.is_empty(), "no temporary or lock file left: {left:?}");
 }
+
+/// A study whose outputs constrain no constant orientation error (the IMU example's
+/// accelerometers alone): no requirement, so no two-step allocation and no Monte Carlo of it;
+/// the report says so and answers with the direct allocation against every accuracy.
+#[test]
+fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = std::fs::read_to_string(root().join("studies/imu-triad-example.toml")).unwrap();
+    let first = t.find("[[sensor.outputs]]").unwrap();
+    let ax = t[..t.find("name = \"ax\"").unwrap()]
+        .rfind("[[sensor.outputs]]")
+        .unwrap();
+    let study = dir.path().join("accel.toml");
+    std::fs::write(
+        &study,
+        format!("{}{}", &t[..first], &t[ax..])
+            .replace("name = \"imu-triad-example\"", "name = \"accel\""),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    ok(&run(&[
+        "report",
+        "--study",
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "2000",
+    ]));
+    let md = read(&out, "report.md");
+    assert!(
+        md.contains("no two-step allocation: the direct allocation is the answer"),
+        "{md}"
+    );
+    assert!(
+        md.contains("no requirement: it meets its accuracy under every constant orientation error")
+    );
+    assert!(!md.contains("## Monte Carlo of the allocation"));
+    let v = json(&out);
+    assert!(v.get("two_step").is_none() && v["requirement"]["used_deg"].is_null());
+    let j = v["end_to_end"][0]["direct"]["objective_arcmin"]
+        .as_f64()
+        .unwrap();
+    assert!(j.is_finite() && j > 0.0);
+    assert!(!out.join("monte_carlo.svg").exists() && out.join("end_to_end.svg").exists());
+}

@@ -210,17 +210,16 @@ fn planes(
             Some(p) => region.boundary(p, BOUNDARY_RAYS).map_err(|e| e.to_string()),
             None => Err("the output depends on one angle only".into()),
         };
-        let mut cuts = Vec::new();
-        for angle in 0..3 {
-            let mut pts = Vec::with_capacity(CUT_POINTS);
-            for i in 0..CUT_POINTS {
-                let a = -half + 2.0 * half * i as f64 / (CUT_POINTS - 1) as f64;
-                let mut d = [0.0; 3];
-                d[angle] = a;
-                pts.push((a, region.rate_error(d).map_err(|e| calib(s, e))?));
-            }
-            cuts.push((angle, pts));
-        }
+        let cuts = (0..3)
+            .map(|angle| {
+                Ok((
+                    angle,
+                    region
+                        .cut(angle, half, CUT_POINTS)
+                        .map_err(|e| calib(s, e))?,
+                ))
+            })
+            .collect::<Result<Vec<_>>>()?;
         out.push(OutputPlane {
             output: k,
             sensitive,

@@ -59,6 +59,23 @@ fn sentence(note: &str) -> String {
     }
 }
 
+/// A joint's name for people: a leading `phi` becomes φ and trailing digits subscripts
+/// (`phi1` → `φ₁`, `phi_o` → `φ_o`); other names as written.
+#[must_use]
+pub fn joint(name: &str) -> String {
+    match name.strip_prefix("phi") {
+        Some(rest) if rest.chars().all(|c| c.is_ascii_digit()) => {
+            let sub: String = rest
+                .chars()
+                .map(|c| char::from_u32(0x2080 + c.to_digit(10).unwrap_or(0)).unwrap_or(c))
+                .collect();
+            format!("φ{sub}")
+        }
+        Some(rest) if rest.starts_with('_') => format!("φ{rest}"),
+        _ => name.to_string(),
+    }
+}
+
 /// `yes`, or `**no**` (coloured in HTML).
 fn yes_no(b: bool) -> String {
     if b { "**yes**".into() } else { "**no**".into() }
@@ -84,7 +101,7 @@ pub fn requirement_text(r: &[Option<f64>; 3]) -> String {
 
 fn reading_words(r: Reading) -> &'static str {
     if r.needs_actual_outputs() {
-        "outputs simulated at the actual orientation (what a calibrating lab measures)"
+        "outputs simulated at the actual orientation, what a calibrating lab measures"
     } else {
         "outputs simulated at the intended orientation"
     }
@@ -446,7 +463,7 @@ impl<'a> Sections<'a> {
         self.doc.p(format!(
             "{} test positions, joint angles ({}) in deg; written to `schedule.csv`: {}.",
             s.positions_deg.len(),
-            jn.join(", "),
+            jn.iter().map(|j| joint(j)).collect::<Vec<_>>().join(", "),
             items.join("; ")
         ));
         self.csv.push(("schedule.csv".into(), csv));
