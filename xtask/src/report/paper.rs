@@ -135,14 +135,21 @@ pub fn sections(sec: &Sections<'_>, x: &PaperExtras, rows: &[Comparison]) -> Doc
     doc.table(
         &["quantity", "paper", "ours", "difference", "unit", "reason"],
         rows.iter()
-            .map(|r| {
+            .enumerate()
+            .map(|(i, r)| {
+                // a reason repeated from the row above is not printed again
+                let reason = if i > 0 && rows[i - 1].reason == r.reason {
+                    "as above".to_string()
+                } else {
+                    r.reason.clone()
+                };
                 vec![
                     r.quantity.clone(),
                     sig(r.paper, 6),
                     sig(r.ours, 6),
                     format!("{:+.6}", r.ours - r.paper),
                     r.unit.into(),
-                    r.reason.clone(),
+                    reason,
                 ]
             })
             .collect(),
