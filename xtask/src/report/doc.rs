@@ -242,8 +242,15 @@ impl Doc {
                     }
                     s.push('\n');
                 }
-                Block::Figure { file, caption, .. } => {
-                    let _ = writeln!(s, "![{}]({file})\n\n*{caption}*\n", plain(caption));
+                Block::Figure {
+                    id, file, caption, ..
+                } => {
+                    // an explicit anchor: links to a figure resolve in Markdown too
+                    let _ = writeln!(
+                        s,
+                        "<a id=\"{id}\"></a>\n\n![{}]({file})\n\n*{caption}*\n",
+                        plain(caption)
+                    );
                 }
                 Block::Code(t) => {
                     let _ = writeln!(s, "```text\n{t}\n```\n");
@@ -533,7 +540,7 @@ mod tests {
         assert!(html.contains("<a href=\"#δω-against-ψ-1\">Δω against ψ &lt;1&gt;</a>"));
         let md = d.to_markdown();
         assert!(md.contains("| 1\\|2 | 0.5 |"));
-        assert!(md.contains("![cap & more](f.svg)"));
+        assert!(md.contains("<a id=\"figure-f\"></a>\n\n![cap & more](f.svg)"));
         assert!(md.contains("- [Δω against ψ <1>](#δω-against-ψ-1)"));
         assert_eq!(d.figures().count(), 1);
         assert_eq!(d.h(2, "Δω against ψ <1>"), "δω-against-ψ-1-1");
