@@ -65,7 +65,7 @@ mod montecarlo;
 mod simulate;
 
 pub use allocate::{
-    CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
+    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
     YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation,
 };
 pub use answer::{

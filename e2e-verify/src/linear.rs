@@ -50,8 +50,9 @@ impl Linearization {
     }
 
     /// The linearised worst case of every row over the box $|\chi_j| \le \mathrm{UB}_j$:
-    /// $\sum_j |M_{rj}|\,\mathrm{UB}_j$ (output unit), in row order. Infinite bounds count only
-    /// where the row depends on the error.
+    /// $\sum_j |M_{rj}|\,\mathrm{UB}_j$ (output unit), in row order. An infinite bound marks an
+    /// error without a bound, one no output depends on ([`Linearization::unconstrained`]): it
+    /// counts 0 (callers check that only those errors are unbounded).
     #[must_use]
     pub fn row_worst_cases(&self, ub_rad: &[f64]) -> DVector<f64> {
         DVector::from_iterator(
@@ -59,7 +60,7 @@ impl Linearization {
             self.m.row_iter().map(|r| {
                 r.iter()
                     .zip(ub_rad)
-                    .map(|(m, u)| if *m == 0.0 { 0.0 } else { m.abs() * u })
+                    .map(|(m, u)| if u.is_finite() { m.abs() * u } else { 0.0 })
                     .sum::<f64>()
             }),
         )
