@@ -32,8 +32,8 @@ pub struct Args {
     /// Study file (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
     pub study: Option<PathBuf>,
-    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`, at least
-    /// 20,000).
+    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
+    /// `1e6`, `1000000`, `1_000_000`).
     #[arg(long, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
     /// Seed of the random streams (default: the study's).
