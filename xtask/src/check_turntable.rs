@@ -183,7 +183,7 @@ pub fn run(args: &Args) -> Result<()> {
     let checks = sims
         .into_iter()
         .map(|sim| {
-            let c = sim.check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings).map_err(crate::end_to_end::classify)?;
+            let c = sim.check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings).map_err(|e| crate::end_to_end::classify(e, &s))?;
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;
