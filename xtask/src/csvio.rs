@@ -62,12 +62,25 @@ impl Source {
 /// # Errors
 /// An [`InputError`] at `source:line` (and column) for an unreadable input, invalid UTF-8, a
 /// line longer than [`MAX_LINE_BYTES`], a bad header or row, or an empty input.
-pub fn for_each_row<F>(source: &Source, turntable: &Turntable, joints: JointColumns, mut visit: F) -> Result<(), InputError>
+pub fn for_each_row<F>(source: &Source, turntable: &Turntable, joints: JointColumns, visit: F) -> Result<(), InputError>
 where
     F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
 {
-    let name = source.name();
-    let mut reader = source.open()?;
+    let reader = source.open()?;
+    for_each_row_in(reader, &source.name(), turntable, joints, visit)
+}
+
+/// [`for_each_row`] on any reader (`name` names it in messages): the one CSV loop, also
+/// driven by the fuzz harness.
+///
+/// # Errors
+/// As [`for_each_row`].
+pub fn for_each_row_in<R, F>(mut reader: R, name: &str, turntable: &Turntable, joints: JointColumns, mut visit: F) -> Result<(), InputError>
+where
+    R: BufRead,
+    F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
+{
+    let name = name.to_string();
     let mut buf = Vec::new();
     let mut columns: Option<TurntableColumns> = None;
     let mut line_no = 0;
