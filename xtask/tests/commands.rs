@@ -237,8 +237,9 @@ fn normal_equations(a: &[Vec<f64>], y: &[f64]) -> Vec<f64> {
         for r in 0..p {
             if r != c {
                 let f = m[r][c] / m[c][c];
-                for k in c..=p {
-                    m[r][k] -= f * m[c][k];
+                let pivot_row = m[c].clone();
+                for (x, y) in m[r].iter_mut().zip(&pivot_row).skip(c) {
+                    *x -= f * y;
                 }
             }
         }
