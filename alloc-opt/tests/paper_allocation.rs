@@ -36,7 +36,10 @@ fn coefficient(axis: A, i: usize, pose: &[f64]) -> f64 {
 
 /// The pre-change allocation (alloc-opt at commit 5018d77, paper-only types: SMatrix<3, 8>
 /// model, ErrorComponent), printed with `{:?}` (shortest round-trip) by a throw-away example;
-/// radians in the order of eq 25.
+/// radians in the order of eq 25. These pin the refactoring to the last ulp; their
+/// independent source is the closed form of problems (31)-(33) (see
+/// `problems_31_to_33_match_their_closed_form_optimum` and, for equal effects,
+/// `conclusion2_proposed_allocation_beats_equal_effects_at_the_same_guarantee`).
 const PRE_CHANGE_PAPER_UB_RAD: [f64; 8] = [
     0.000_135_113_543_360_072_26,
     0.000_235_619_449_019_234_48,
@@ -521,6 +524,16 @@ fn conclusion2_proposed_allocation_beats_equal_effects_at_the_same_guarantee() {
         e[idx("dphi_z2")],
         I_ARCMIN / 2.0,
         max_relative = FORMULA_REL
+    );
+    // The independent source of 124.458: J of those closed-form bounds with eq 28's weights
+    // (pi/2 for the four harmonic terms of psi and gamma, 1 for the constant ones and for
+    // theta's two), as 115.867 is derived in `problems_31_to_33_match_their_closed_form_optimum`.
+    let eb = I_ARCMIN / (1.0 + 2.0 * SQRT_2);
+    let j_equal = 2.0 * (4.0 * (PI / 2.0).powi(2) / (eb * eb) + 1.0 / (eb * eb)) + 2.0 / (0.81 * 0.81);
+    assert_relative_eq!(
+        equal.objective_arcmin(),
+        j_equal,
+        max_relative = OBJECTIVE_REL * 10.0
     );
 }
 

@@ -66,7 +66,7 @@ pub mod paper;
 mod simulate;
 
 pub use allocate::{
-    CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
+    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
     YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation,
 };
 pub use answer::{
@@ -75,7 +75,7 @@ pub use answer::{
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
-pub use linear::{Linearization, OutputWorstCase, UNCONSTRAINED_REL, WorstCase};
+pub use linear::{Linearization, OutputWorstCase, WorstCase};
 pub use montecarlo::{
     DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings,
     QUANTILE_BINS, QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution,

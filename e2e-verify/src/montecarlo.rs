@@ -602,10 +602,11 @@ impl EndToEnd {
                 )?;
                 values.sort_by(f64::total_cmp);
                 let i = (rank - before - 1) as usize;
+                let found = values.len() as f64;
                 return values.get(i).copied().ok_or(E2eError::NoConvergence {
-                    what: "exact quantile",
+                    what: "exact quantile (re-drawn values in the bin)",
                     iterations: QUANTILE_PASSES,
-                    change: f64::NAN,
+                    change: found,
                 });
             }
             lo = blo;

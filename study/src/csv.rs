@@ -1,6 +1,8 @@
 //! Turntables as CSV rows (for `orientation-error` and `calibration-error`): a header naming
-//! every joint `<joint>_deg`, every angular error `<error>_arcmin` and every error translation
-//! `<error>_mm` of a study's turntable, in any order, all required; one turntable per row.
+//! every joint `<joint>_deg` (when the rows are poses, [`JointColumns::Required`]; rows that
+//! act at every position of a schedule have none, [`JointColumns::Absent`]), every angular
+//! error `<error>_arcmin` and every error translation `<error>_mm` of a study's turntable, in
+//! any order, all required; one turntable per row.
 //!
 //! A UTF-8 byte-order mark before the header is accepted; blank lines are skipped; fields may
 //! be surrounded by spaces. Every problem is a [`StudyError`] at `file:line` (and column).
@@ -39,15 +41,34 @@ pub struct TurntableColumns {
     translations: usize,
 }
 
+/// Whether the rows carry joint angles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointColumns {
+    /// Every joint has a `<joint>_deg` column (each row is a turntable at a pose).
+    Required,
+    /// No joint column is accepted (each row is a turntable; the poses come from elsewhere,
+    /// for example a study's schedule).
+    Absent,
+}
+
 /// The header the turntable's CSV uses in the study's order: joints, angular errors,
 /// translations.
 #[must_use]
 pub fn expected_header(turntable: &Turntable) -> String {
-    let mut cols: Vec<String> = turntable
-        .joint_names()
-        .iter()
-        .map(|n| format!("{n}_deg"))
-        .collect();
+    expected_header_for(turntable, JointColumns::Required)
+}
+
+/// The header for rows with or without joint columns, in the study's order.
+#[must_use]
+pub fn expected_header_for(turntable: &Turntable, joints: JointColumns) -> String {
+    let mut cols: Vec<String> = match joints {
+        JointColumns::Required => turntable
+            .joint_names()
+            .iter()
+            .map(|n| format!("{n}_deg"))
+            .collect(),
+        JointColumns::Absent => Vec::new(),
+    };
     cols.extend(
         turntable
             .rotation_error_names()
@@ -97,6 +118,21 @@ impl TurntableColumns {
         header: &str,
         turntable: &Turntable,
     ) -> Result<Self, StudyError> {
+        Self::from_header_for(source, line_no, header, turntable, JointColumns::Required)
+    }
+
+    /// Map a header line with or without joint columns.
+    ///
+    /// # Errors
+    /// As [`TurntableColumns::from_header`]; with [`JointColumns::Absent`] a joint column is an
+    /// error naming it.
+    pub fn from_header_for(
+        source: &str,
+        line_no: usize,
+        header: &str,
+        turntable: &Turntable,
+        joints: JointColumns,
+    ) -> Result<Self, StudyError> {
         let at = format!("{source}:{line_no}");
         let header = header.strip_prefix('\u{feff}').unwrap_or(header);
         let mut slots = Vec::new();
@@ -108,6 +144,15 @@ impl TurntableColumns {
                 .strip_suffix("_deg")
                 .and_then(|n| turntable.joint_index(n))
             {
+                if joints == JointColumns::Absent {
+                    return Err(StudyError::new(
+                        format!("{at} column {}", c + 1),
+                        format!(
+                            "column `{col}`: these rows take no joint angles (the errors act at every position of the study's schedule); the columns are {}",
+                            expected_header_for(turntable, joints)
+                        ),
+                    ));
+                }
                 Slot::Joint(j)
             } else if let Some(i) = col
                 .strip_suffix("_arcmin")
@@ -126,7 +171,7 @@ impl TurntableColumns {
                     format!("{at} column {}", c + 1),
                     format!(
                         "unknown column `{col}`; the study's turntable has the columns {}",
-                        expected_header(turntable)
+                        expected_header_for(turntable, joints)
                     ),
                 ));
             };
@@ -139,7 +184,7 @@ impl TurntableColumns {
             slots.push(slot);
             names.push(col.to_string());
         }
-        let expected: Vec<String> = expected_header(turntable)
+        let expected: Vec<String> = expected_header_for(turntable, joints)
             .split(',')
             .map(String::from)
             .collect();
@@ -157,7 +202,10 @@ impl TurntableColumns {
         Ok(Self {
             slots,
             names,
-            joints: turntable.n_joints(),
+            joints: match joints {
+                JointColumns::Required => turntable.n_joints(),
+                JointColumns::Absent => 0,
+            },
             rotations: turntable.n_rotation_errors(),
             translations: turntable.n_translation_errors(),
         })

@@ -36,7 +36,7 @@ pub enum FormChoice {
 /// Arguments of `allocate`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`, the paper's inputs).
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
     pub study: Option<std::path::PathBuf>,
     /// Print JSON instead of text.
@@ -59,8 +59,18 @@ fn parse_margin(s: &str) -> Result<f64, String> {
 /// An allocation error as exit code 2 (the inputs) or 1 (the solver).
 pub fn classify(e: AllocError, s: &Study) -> anyhow::Error {
     match &e {
-        AllocError::InfeasibleLowerBounds { .. } | AllocError::Negative { .. } => {
-            InputError::new(format!("{}: key `allocation.lower_bounds_arcmin`", s.path), e.to_string()).into()
+        AllocError::InfeasibleLowerBounds { problem, components, worst_case_rad, requirement_rad } => crate::input::infeasible_lower_bounds(
+            &s.path,
+            &s.lower_bounds_rad,
+            &s.turntable.rotation_error_names(),
+            components,
+            problem.name(),
+            *worst_case_rad,
+            *requirement_rad,
+        )
+        .into(),
+        AllocError::Negative { .. } => {
+            InputError::new(format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY), e.to_string()).into()
         }
         AllocError::NonFinite { field, .. } | AllocError::NotPositive { field, .. } => {
             InputError::new(format!("{}: {field}", s.path), e.to_string()).into()

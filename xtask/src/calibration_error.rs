@@ -1,6 +1,7 @@
 //! `cargo xtask calibration-error [--study FILE] [CSV]`: the calibration error of turntables
-//! given as CSV rows (the columns of `orientation-error --study`; the joint columns are
-//! required but not used: the same errors act at every position of the study's schedule).
+//! given as CSV rows: the study's error columns (`<error>_arcmin`, `<error>_mm`, as in
+//! `orientation-error --study` but without joint angles: the same errors act at every
+//! position of the study's schedule).
 //!
 //! For each turntable the outputs are simulated at the actual orientation of every test
 //! position and calibrated at the intended one (eq 6, the user's estimate). Output, one row
@@ -58,6 +59,6 @@ pub fn run(args: &Args) -> Result<()> {
         Ok(v)
     };
     let line_of = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
-    crate::csvio::run_rows(&source, &s.turntable, &header(&e2e), |line, row| Ok(line_of(&eval(line, row)?)))
+    crate::csvio::run_rows(&source, &s.turntable, study::csv::JointColumns::Absent, &header(&e2e), |line, row| Ok(line_of(&eval(line, row)?)))
 }
 

@@ -10,6 +10,7 @@
 use crate::InputError;
 use anyhow::Result;
 use clap::Parser;
+use calib_lsq::Reading;
 use e2e_verify::{EndToEnd, McSettings, TurntableCheck, Verdict};
 use serde_json::{Value, json};
 use std::path::PathBuf;
@@ -39,14 +40,11 @@ pub struct Args {
     pub json: bool,
 }
 
-/// The check's JSON object.
-#[must_use]
-pub fn to_json(e2e: &EndToEnd, tol: &Tolerances, c: &TurntableCheck) -> Value {
+/// One reading's check as JSON.
+fn check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
     let names = e2e.turntable().rotation_error_names();
     let (lo, hi) = c.distribution.yield_interval_95();
     json!({
-        "tolerances": tol.path,
-        "tolerances_arcmin": names.iter().zip(&c.upper_bounds_rad).map(|(n, u)| (n.to_string(), json!(rad_to_arcmin(*u)))).collect::<serde_json::Map<_, _>>(),
         "reading": e2e.reading().to_string(),
         "verdict": c.verdict.name(),
         "yield": c.distribution.yield_fraction(),
@@ -77,21 +75,37 @@ pub fn to_json(e2e: &EndToEnd, tol: &Tolerances, c: &TurntableCheck) -> Value {
     })
 }
 
-/// The check as text.
+/// The check's JSON object: the study's reading at the top level (`verdict`, `yield`,
+/// `outputs`, ...), and `user_reading`, the same for outputs simulated at the actual
+/// orientation when the study's reading is another one (else `null`).
 #[must_use]
-pub fn to_text(e2e: &EndToEnd, study_path: &str, tol: &Tolerances, c: &TurntableCheck) -> String {
+pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value {
+    let (e2e, c) = &checks[0];
     let names = e2e.turntable().rotation_error_names();
-    let mut s = format!(
-        "check of {} against the study {} (reading {})\n",
-        tol.name.clone().unwrap_or_else(|| tol.path.clone()),
-        study_path,
-        e2e.reading()
-    );
+    let mut v = check_json(e2e, c);
+    if let Value::Object(m) = &mut v {
+        m.insert("tolerances".into(), json!(tol.path));
+        m.insert(
+            "tolerances_arcmin".into(),
+            names.iter().zip(&c.upper_bounds_rad).map(|(n, u)| (n.to_string(), json!(rad_to_arcmin(*u)))).collect::<serde_json::Map<_, _>>().into(),
+        );
+        m.insert("user_reading".into(), checks.get(1).map_or(Value::Null, |(e, c)| check_json(e, c)));
+    }
+    v
+}
+
+/// Below this share of its accuracy an output's linearised worst case is rounding: the output
+/// does not depend on these errors to first order (dimensionless).
+const INSENSITIVE_SHARE: f64 = 1e-9;
+
+fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
+    let names = e2e.turntable().rotation_error_names();
+    let mut s = String::new();
     for o in &c.outputs {
         let out = e2e.calibration().outputs()[o.output].output();
         let w = &o.worst_case;
         s.push_str(&format!(
-            "output {}: accuracy {} {u}; worst case {} {u} (linearised {}{}), Monte Carlo max {} {u}, {:.2}% meet it: {}\n",
+            "  output {}: accuracy {} {u}; worst case {} {u} (linearised {}{}), Monte Carlo max {} {u}, {:.2}% meet it: {}\n",
             out.name,
             num(o.accuracy),
             num(w.exact_at_vertex),
@@ -102,6 +116,10 @@ pub fn to_text(e2e: &EndToEnd, study_path: &str, tol: &Tolerances, c: &Turntable
             o.verdict.name(),
             u = out.unit
         ));
+        if w.linear_bound <= INSENSITIVE_SHARE * o.accuracy {
+            s.push_str("    dominant errors: none (the output does not depend on these errors to first order)\n");
+            continue;
+        }
         let mut top: Vec<_> = o.contributions.iter().collect();
         top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
         let dominant: Vec<String> = top
@@ -110,7 +128,7 @@ pub fn to_text(e2e: &EndToEnd, study_path: &str, tol: &Tolerances, c: &Turntable
             .filter(|k| k.worst_share > 0.0)
             .map(|k| format!("{} {:.0}% of the worst case, {:.0}% of the variance", names[k.error], 100.0 * k.worst_share, 100.0 * k.variance_share))
             .collect();
-        s.push_str(&format!("  dominant errors: {}\n", dominant.join("; ")));
+        s.push_str(&format!("    dominant errors: {}\n", dominant.join("; ")));
     }
     let (lo, hi) = c.distribution.yield_interval_95();
     let verdict = match c.verdict {
@@ -119,7 +137,7 @@ pub fn to_text(e2e: &EndToEnd, study_path: &str, tol: &Tolerances, c: &Turntable
         Verdict::Fails => "does NOT meet every accuracy: a turntable within these tolerances (the worst vertex) misses",
     };
     s.push_str(&format!(
-        "verdict: {verdict}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables, seed {})\n",
+        "  verdict: {verdict}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables, seed {})\n",
         100.0 * c.distribution.yield_fraction(),
         100.0 * lo,
         100.0 * hi,
@@ -129,20 +147,49 @@ pub fn to_text(e2e: &EndToEnd, study_path: &str, tol: &Tolerances, c: &Turntable
     s
 }
 
+/// The check as text: one block per reading (the study's, then the user's when different).
+#[must_use]
+pub fn to_text(checks: &[(EndToEnd, TurntableCheck)], study_path: &str, tol: &Tolerances) -> String {
+    let mut s = format!("check of {} against the study {}\n", tol.name.clone().unwrap_or_else(|| tol.path.clone()), study_path);
+    for (i, (e2e, c)) in checks.iter().enumerate() {
+        let what = if e2e.reading() == Reading::USER {
+            "outputs at the actual orientation: what a calibrating lab gets"
+        } else {
+            "the study's reading"
+        };
+        s.push_str(&format!("\nreading {} ({what}; {})\n", e2e.reading(), e2e.reading().formula()));
+        s.push_str(&reading_text(e2e, c));
+        if i == 0 && checks.len() > 1 && c.verdict != checks[1].1.verdict {
+            s.push_str("  (the verdict depends on the reading of eq 13: see the user's reading below)\n");
+        }
+    }
+    s
+}
+
 /// Run the command.
+///
+/// # Errors
+/// [`InputError`] for a bad study, tolerance file or flag; other errors if a computation fails.
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::study::load(args.study.as_deref())?;
-    let tol = Tolerances::load(&args.tolerances, &s.turntable)?;
-    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &crate::study::poses(&s)?, s.reading)
-        .map_err(|e| InputError::new(&s.path, e.to_string()))?;
+    let tol = Tolerances::load(&args.tolerances, &s.turntable).map_err(InputError::from)?;
+    let e2e = crate::end_to_end::simulator(&s)?;
     let settings = McSettings::new(args.samples.unwrap_or(s.monte_carlo.samples), args.seed.unwrap_or(s.monte_carlo.seed));
     let lb: Vec<f64> = s.lower_bounds_rad.iter().zip(&tol.ub_rad).map(|(l, u)| l.min(*u)).collect();
-    let c = e2e
-        .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
-        .map_err(crate::end_to_end::classify)?;
+    let mut sims = vec![e2e.clone()];
+    if e2e.reading() != Reading::USER {
+        sims.push(e2e.with_reading(Reading::USER).map_err(|e| InputError::new(&s.path, e.to_string()))?);
+    }
+    let checks = sims
+        .into_iter()
+        .map(|sim| {
+            let c = sim.check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings).map_err(|e| crate::end_to_end::classify(e, &s))?;
+            Ok((sim, c))
+        })
+        .collect::<Result<Vec<_>>>()?;
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&e2e, &tol, &c))? + "\n"))
+        crate::out::print(&(serde_json::to_string_pretty(&to_json(&checks, &tol))? + "\n"))
     } else {
-        crate::out::print(&to_text(&e2e, &s.path, &tol, &c))
+        crate::out::print(&to_text(&checks, &s.path, &tol))
     }
 }

@@ -7,7 +7,7 @@
 use crate::InputError;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
-use study::csv::{TurntableColumns, TurntableRow, decode_line};
+use study::csv::{JointColumns, TurntableColumns, TurntableRow, decode_line};
 use tt_kinematics::Turntable;
 
 /// Longest line accepted, bytes.
@@ -62,12 +62,25 @@ impl Source {
 /// # Errors
 /// An [`InputError`] at `source:line` (and column) for an unreadable input, invalid UTF-8, a
 /// line longer than [`MAX_LINE_BYTES`], a bad header or row, or an empty input.
-pub fn for_each_row<F>(source: &Source, turntable: &Turntable, mut visit: F) -> Result<(), InputError>
+pub fn for_each_row<F>(source: &Source, turntable: &Turntable, joints: JointColumns, visit: F) -> Result<(), InputError>
 where
     F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
 {
-    let name = source.name();
-    let mut reader = source.open()?;
+    let reader = source.open()?;
+    for_each_row_in(reader, &source.name(), turntable, joints, visit)
+}
+
+/// [`for_each_row`] on any reader (`name` names it in messages): the one CSV loop, also
+/// driven by the fuzz harness.
+///
+/// # Errors
+/// As [`for_each_row`].
+pub fn for_each_row_in<R, F>(mut reader: R, name: &str, turntable: &Turntable, joints: JointColumns, mut visit: F) -> Result<(), InputError>
+where
+    R: BufRead,
+    F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
+{
+    let name = name.to_string();
     let mut buf = Vec::new();
     let mut columns: Option<TurntableColumns> = None;
     let mut line_no = 0;
@@ -89,14 +102,14 @@ where
             continue;
         }
         match &columns {
-            None => columns = Some(TurntableColumns::from_header(&name, line_no, line, turntable)?),
+            None => columns = Some(TurntableColumns::from_header_for(&name, line_no, line, turntable, joints)?),
             Some(c) => visit(line_no, c.parse_row(&name, line_no, line)?)?,
         }
     }
     if columns.is_none() {
         return Err(InputError::new(
             name,
-            format!("empty input: expected a header line ({})", study::csv::expected_header(turntable)),
+            format!("empty input: expected a header line ({})", study::csv::expected_header_for(turntable, joints)),
         ));
     }
     Ok(())
@@ -110,7 +123,7 @@ where
 /// # Errors
 /// The first [`InputError`] of the input or of `eval` (nothing written then); I/O errors of
 /// standard output (a closed pipe ends quietly, see [`crate::out`]).
-pub fn run_rows<F>(source: &Source, turntable: &Turntable, header: &str, mut eval: F) -> anyhow::Result<()>
+pub fn run_rows<F>(source: &Source, turntable: &Turntable, joints: JointColumns, header: &str, mut eval: F) -> anyhow::Result<()>
 where
     F: FnMut(usize, TurntableRow) -> Result<String, InputError>,
 {
@@ -119,10 +132,10 @@ where
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     match source {
         Source::File(_) => {
-            for_each_row(source, turntable, |line, row| eval(line, row).map(|_| ()))?;
+            for_each_row(source, turntable, joints, |line, row| eval(line, row).map(|_| ()))?;
             writeln!(out, "{header}").map_err(crate::out::io)?;
             let mut io_error = None;
-            let streamed = for_each_row(source, turntable, |line, row| {
+            let streamed = for_each_row(source, turntable, joints, |line, row| {
                 let text = eval(line, row)?;
                 writeln!(out, "{text}").map_err(|e| {
                     io_error = Some(e);
@@ -138,7 +151,7 @@ where
             let file = tempfile::tempfile().map_err(|e| anyhow::Error::new(e).context("creating a temporary file for standard input's results"))?;
             let mut spill = std::io::BufWriter::new(file);
             let mut io_error = None;
-            let read = for_each_row(source, turntable, |line, row| {
+            let read = for_each_row(source, turntable, joints, |line, row| {
                 let text = eval(line, row)?;
                 writeln!(spill, "{text}").map_err(|e| {
                     io_error = Some(e);

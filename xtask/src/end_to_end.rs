@@ -32,8 +32,8 @@ pub struct Args {
     /// Study file (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
     pub study: Option<PathBuf>,
-    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`, at least
-    /// 20,000).
+    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
+    /// `1e6`, `1000000`, `1_000_000`).
     #[arg(long, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
     /// Seed of the random streams (default: the study's).
@@ -47,17 +47,22 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Solver trouble is ours (exit 1); everything else comes from the inputs (exit 2).
-pub fn classify(e: E2eError) -> anyhow::Error {
+/// Solver trouble is ours (exit 1); everything else comes from the inputs (exit 2), named in
+/// the user's terms (the study file and key, the flag, arcmin).
+pub fn classify(e: E2eError, s: &Study) -> anyhow::Error {
     match e {
-        E2eError::Alloc(AllocError::Solver { .. } | AllocError::NoConvergence { .. })
-        | E2eError::NoConvergence { .. } => anyhow::Error::new(e),
+        E2eError::Alloc(a @ (AllocError::Solver { .. } | AllocError::NoConvergence { .. })) => anyhow::Error::new(a),
+        E2eError::Alloc(a) => crate::allocate::classify(a, s),
+        E2eError::NoConvergence { .. } => anyhow::Error::new(e),
         E2eError::InfeasibleLowerBounds { .. } => {
-            InputError::new("key `allocation.lower_bounds_arcmin`", e.to_string()).into()
+            InputError::new(format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY), e.to_string()).into()
         }
-        E2eError::Count { field, .. } => InputError::new(format!("--{field}"), e.to_string()).into(),
+        E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
+            crate::input::lower_above_upper(&s.path, &component, lb, ub, "the box").into()
+        }
+        E2eError::Count { field, .. } => InputError::new(format!("--{}", field.replace('_', "-")), e.to_string()).into(),
         E2eError::FractionOutOfRange { .. } => InputError::new("--yield-fraction", e.to_string()).into(),
-        other => InputError::new("end-to-end", other.to_string()).into(),
+        other => InputError::new(&s.path, other.to_string()).into(),
     }
 }
 
@@ -114,20 +119,20 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
     const REFERENCE: u64 = 400;
     let r = &a.readings[0];
     let lb = &a.inputs.lower_bounds_rad;
-    let bounds = e2e.box_of(&r.direct.upper_bounds_rad, lb).map_err(classify)?;
+    let bounds = e2e.box_of(&r.direct.upper_bounds_rad, lb).map_err(anyhow::Error::new)?;
     let linear = e2e.linearization();
     let t = Instant::now();
-    e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST, seed)).map_err(classify)?;
+    e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST, seed)).map_err(anyhow::Error::new)?;
     let fast = t.elapsed().as_secs_f64();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let t = Instant::now();
-    pool.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST / 4, seed))).map_err(classify)?;
+    pool.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST / 4, seed))).map_err(anyhow::Error::new)?;
     let one = t.elapsed().as_secs_f64();
-    let chis = e2e.sample_chi(&bounds, &McSettings::new(REFERENCE, seed)).map_err(classify)?;
+    let chis = e2e.sample_chi(&bounds, &McSettings::new(REFERENCE, seed)).map_err(anyhow::Error::new)?;
     let t = Instant::now();
     let mut sink = 0.0;
     for chi in &chis {
-        sink += e2e.run(chi).map_err(classify)?.delta_omega()[0];
+        sink += e2e.run(chi).map_err(anyhow::Error::new)?.delta_omega()[0];
     }
     let reference = t.elapsed().as_secs_f64();
     std::hint::black_box(sink);
@@ -332,7 +337,7 @@ pub fn run(args: &Args) -> Result<()> {
     let inputs = inputs(&s, samples, seed, args.yield_fraction)?;
     let note = st::requirement(&s)?.disagreement;
     let t0 = Instant::now();
-    let a = answer(&e2e, &inputs).map_err(classify)?;
+    let a = answer(&e2e, &inputs).map_err(|e| classify(e, &s))?;
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     if args.json {

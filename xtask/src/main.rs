@@ -13,6 +13,7 @@ mod calibration_error;
 mod check_turntable;
 mod csvio;
 mod end_to_end;
+mod fuzz;
 mod input;
 mod mc;
 mod orientation_error;
@@ -49,6 +50,8 @@ enum Command {
     OrientationError(orientation_error::Args),
     /// Calibration error (coefficients and eq 14) of turntables given as CSV rows.
     CalibrationError(calibration_error::Args),
+    /// Mutation fuzzing of the study, tolerance and CSV parsers (no panic, no hang, located errors).
+    Fuzz(fuzz::Args),
     /// The report of a study (md, self-contained html, SVG figures, CSV tables, results.json).
     Report(report::Args),
     /// The report of the paper's study with the paper's printed values beside ours and its claims.
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
         Command::CheckTurntable(a) => check_turntable::run(&a),
         Command::OrientationError(a) => orientation_error::run(&a),
         Command::CalibrationError(a) => calibration_error::run(&a),
+        Command::Fuzz(a) => fuzz::run(&a),
         Command::Report(a) => report::run(&a),
         Command::ReproducePaper(a) => report::run_paper(&a),
     };

@@ -95,11 +95,13 @@ fn parse_bins(s: &str) -> Result<usize, String> {
 pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
     let lb = s.lower_bounds_rad.clone();
     let boxed = |ub: Vec<f64>, what: &str| -> Result<ErrorBox> {
-        ErrorBox::new(&s.turntable, lb.clone(), ub)
-            .map_err(|e| InputError::new(what, format!("{e} (lower bounds from the study's allocation.lower_bounds_arcmin)")).into())
+        ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| match e {
+            mc_verify::McError::LowerAboveUpper { component, lb, ub } => crate::input::lower_above_upper(&s.path, &component, lb, ub, what).into(),
+            other => InputError::new(what, other.to_string()).into(),
+        })
     };
     if let Some(path) = &args.tolerances {
-        let tol = study::Tolerances::load(path, &s.turntable)?;
+        let tol = study::Tolerances::load(path, &s.turntable).map_err(InputError::from)?;
         return Ok((format!("tolerances {}", tol.path), boxed(tol.ub_rad, &tol.path)?));
     }
     match args.bounds {
@@ -107,7 +109,7 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
             if s.turntable != tt_kinematics::paper::table3() {
                 return Err(InputError::new("--bounds", "table4 is the paper's Table 4: it applies only to the paper's turntable").into());
             }
-            Ok(("table4".into(), boxed(alloc_opt::paper::table4_rad(), "--bounds table4")?))
+            Ok(("table4".into(), boxed(alloc_opt::paper::table4_rad(), "Table 4 (--bounds table4)")?))
         }
         BoundsChoice::TwoStep => {
             let req = st::requirement(s)?;
@@ -118,10 +120,10 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
                 )
             })?;
             let a = SensitivityWeighted::general()
-                .allocate(&AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone()).map_err(|e| InputError::new("key `allocation.lower_bounds_arcmin`", e.to_string()))?)
-                .map_err(|e| InputError::new("--bounds two-step", e.to_string()))?;
+                .allocate(&AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone()).map_err(|e| crate::allocate::classify(e, s))?)
+                .map_err(|e| crate::allocate::classify(e, s))?;
             let ub: Vec<f64> = a.upper_bounds_rad.iter().zip(&lb).map(|(u, l)| if u.is_finite() { *u } else { *l }).collect();
-            Ok(("two-step".into(), boxed(ub, "--bounds two-step")?))
+            Ok(("two-step".into(), boxed(ub, "the two-step allocation")?))
         }
     }
 }

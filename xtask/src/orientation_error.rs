@@ -76,7 +76,7 @@ pub fn run(args: &Args) -> Result<()> {
         }
         Ok(v)
     };
-    crate::csvio::run_rows(&source, t, OUTPUT_HEADER, |line, row| {
+    crate::csvio::run_rows(&source, t, study::csv::JointColumns::Required, OUTPUT_HEADER, |line, row| {
         let v = eval(line, row)?;
         Ok(format!("{},{},{}", v[0], v[1], v[2]))
     })

@@ -17,7 +17,7 @@ use study::fmt::num;
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`, the paper's inputs).
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
     pub study: Option<std::path::PathBuf>,
     /// Print JSON instead of text.

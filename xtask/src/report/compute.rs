@@ -238,7 +238,7 @@ fn schedule_facts(s: &Study) -> Result<ScheduleFacts> {
     let linear = e2e.linearization();
     let direct = e2e
         .allocate_direct(&linear, &s.lower_bounds_rad)
-        .map_err(crate::end_to_end::classify)?;
+        .map_err(|e| crate::end_to_end::classify(e, s))?;
     Ok(ScheduleFacts {
         path: s.path.clone(),
         positions: s.positions_deg.len(),
@@ -385,7 +385,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 },
                 || -> Result<AnswerPart> {
                     let answer = e2e_verify::answer_with_two_step(&e2e, &inputs, ours.clone())
-                        .map_err(crate::end_to_end::classify)?;
+                        .map_err(|e| crate::end_to_end::classify(e, s))?;
                     timing("end-to-end answer", t0);
                     let vendor = match &options.tolerances {
                         Some(tol) => {
@@ -399,7 +399,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                                 .collect();
                             let c = e2e
                                 .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
-                                .map_err(crate::end_to_end::classify)?;
+                                .map_err(|e| crate::end_to_end::classify(e, s))?;
                             Some((tol.clone(), c))
                         }
                         None => None,

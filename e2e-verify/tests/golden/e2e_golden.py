@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Independent source of the end-to-end golden values in e2e-verify/tests/end_to_end.rs.
+
+The worst calibration error of the paper's Table 4 turntable (Zhao, Zhao, Huo and Yao 2017,
+Int. J. Aerospace Eng. 6524782), under the paper's reading of eq 13 (outputs simulated at the
+intended orientation) and the user's (outputs at the actual orientation), written from the
+paper with NumPy only, sharing no code with the Rust workspace:
+
+- turntable (§3, Table 3, eq 21-23): R_t = Ry(phi1) Ry(dphi_y1) Rz(dalpha_z1) Rx(dalpha_x1)
+  Ry(deps_y) Rx(deps_x) Rz(phi2) Ry(dalpha_y2) Rz(dphi_z2) Rx(dalpha_x2), R_d = Ry(phi1) Rz(phi2),
+  Delta R = R_d^T R_t (the translation/intersection errors do not rotate, eq 25);
+- inputs (eq 3, 8): specific force (0, 0, 1) g and earth rate w_e (cos L, 0, sin L) in the
+  north-west-up base frame, seen in the sensor frame R^T u (R = R_d intended, R_t actual);
+- sensor (eq 1, Table 1) and schedule read from studies/gyrowheel-2017.toml with Python's own
+  TOML parser: output = known rate term + sum of estimated terms;
+- calibration (eq 6): beta1 = lstsq(A, b1 - b2) with A, b2 at the intended orientation;
+  error vector (eq 13 as printed with beta1): (b1 - A beta1) - b2'; Delta omega = max |.| (eq 14);
+- worst case over the box |chi_j| <= UB_j, two well-defined numbers per output: the
+  linearised worst case max_r sum_j |M_rj| UB_j (Jacobian by central differences), and the
+  exact error maximised over all 2^8 vertices of the box.
+
+Usage: python3 e2e-verify/tests/golden/e2e_golden.py > e2e-verify/tests/golden/e2e_golden.rs
+(needs numpy; run from the workspace root).
+"""
+import itertools
+import pathlib
+import sys
+import tomllib
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+STUDY = tomllib.loads((ROOT / "studies" / "gyrowheel-2017.toml").read_text())
+ARCMIN = np.pi / 180 / 60
+# Table 4 (arcmin), order dphi_y1 dphi_z2 dalpha_x1 dalpha_z1 dalpha_x2 dalpha_y2 deps_x deps_y
+TABLE4 = np.array([0.4235, 0.78, 0.4234, 0.78, 0.2825, 0.2824, 0.4234, 0.4233]) * ARCMIN
+
+
+def rot(axis, a):
+    c, s = np.cos(a), np.sin(a)
+    if axis == "x":
+        return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    if axis == "y":
+        return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def r_actual(p1, p2, chi):
+    dy1, dz2, ax1, az1, ax2, ay2, ex, ey = chi
+    return (rot("y", p1) @ rot("y", dy1) @ rot("z", az1) @ rot("x", ax1) @ rot("y", ey)
+            @ rot("x", ex) @ rot("z", p2) @ rot("y", ay2) @ rot("z", dz2) @ rot("x", ax2))
+
+
+def r_intended(p1, p2):
+    return rot("y", p1) @ rot("z", p2)
+
+
+LAT = np.radians(STUDY["site"]["latitude_deg"])
+WE_DEG_H = np.degrees(STUDY["site"]["earth_rate_rad_per_s"]) * 3600.0
+A_BASE = np.array([0.0, 0.0, 1.0])
+W_BASE = WE_DEG_H * np.array([np.cos(LAT), 0.0, np.sin(LAT)])
+POSES = [np.radians(p) for p in STUDY["calibration"]["positions_deg"]]
+SYMBOLS = {"a_x": (0, 0), "a_y": (0, 1), "a_z": (0, 2), "w_x": (1, 0), "w_y": (1, 1), "w_z": (1, 2)}
+
+
+def regressor(expr, a, w):
+    if expr == "1":
+        return 1.0
+    v = 1.0
+    for factor in expr.split("*"):
+        name, _, power = factor.partition("^")
+        which, i = SYMBOLS[name]
+        v *= (a if which == 0 else w)[i] ** (int(power) if power else 1)
+    return v
+
+
+def blocks(output, rotations):
+    """A (estimated regressors) and b2 (known part) at the given sensor-to-base rotations."""
+    a_rows, known = [], []
+    for r in rotations:
+        a, w = r.T @ A_BASE, r.T @ W_BASE
+        a_rows.append([regressor(t["regressor"], a, w) for t in output["terms"] if not t.get("known")])
+        known.append(sum(t["value"] * regressor(t["regressor"], a, w) for t in output["terms"] if t.get("known")))
+    return np.array(a_rows), np.array(known)
+
+
+def error_vectors(chi, user):
+    intended = [r_intended(*p) for p in POSES]
+    actual = [r_actual(*p, chi) for p in POSES]
+    out = []
+    for o in STUDY["sensor"]["outputs"]:
+        beta = np.array([t["value"] for t in o["terms"] if not t.get("known")])
+        a, b2 = blocks(o, intended)
+        a_act, b2_act = blocks(o, actual)
+        b1 = (a_act @ beta + b2_act) if user else (a @ beta + b2)
+        beta1 = np.linalg.lstsq(a, b1 - b2, rcond=None)[0]
+        out.append((b1 - a @ beta1) - b2_act)
+    return out
+
+
+def worst(user, ub):
+    n = len(POSES)
+    h = 1e-6
+    m = np.zeros((2 * n, 8))
+    for j in range(8):
+        e = np.zeros(8)
+        e[j] = h
+        plus, minus = error_vectors(e, user), error_vectors(-e, user)
+        m[:, j] = np.concatenate([(p - q) / (2 * h) for p, q in zip(plus, minus)])
+    result = []
+    for k in range(2):
+        linear = (np.abs(m[k * n:(k + 1) * n]) @ ub).max()
+        every = max(np.abs(error_vectors(np.array(s) * ub, user)[k]).max()
+                    for s in itertools.product((1.0, -1.0), repeat=8))
+        result.append((linear, every))
+    return result
+
+
+if __name__ == "__main__":
+    print("// Generated by e2e-verify/tests/golden/e2e_golden.py (NumPy, independent of the Rust code):")
+    print("// Table 4's box, worst calibration error per output (deg/h): linearised, and exact over all vertices.")
+    for label, user in (("PAPER", False), ("USER", True)):
+        for axis, (linear, every) in zip("XY", worst(user, TABLE4)):
+            print(f"/// {label.title()} reading, output {axis.lower()}: linearised worst case (deg/h).")
+            print(f"pub const {label}_{axis}_LINEAR: f64 = {linear:.12e};")
+            print(f"/// {label.title()} reading, output {axis.lower()}: exact maximum over the 256 vertices (deg/h).")
+            print(f"pub const {label}_{axis}_VERTICES: f64 = {every:.12e};")

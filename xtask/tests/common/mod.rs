@@ -1,0 +1,87 @@
+//! Running the built `xtask` binary from the workspace root, and scratch files.
+#![allow(dead_code)]
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+/// The workspace root (where `studies/` lives).
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Run `cargo xtask <args>` (the built binary) in the workspace root with `stdin`.
+pub fn run_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("xtask runs");
+    let mut input = child.stdin.take().expect("stdin");
+    let data = stdin.to_vec();
+    let writer = std::thread::spawn(move || {
+        // the command may stop reading early (an error): a broken pipe here is fine
+        let _ = input.write_all(&data);
+    });
+    let out = child.wait_with_output().expect("xtask finishes");
+    writer.join().expect("stdin writer");
+    out
+}
+
+/// Run `cargo xtask <args>` with empty standard input.
+pub fn run(args: &[&str]) -> Output {
+    run_with_stdin(args, b"")
+}
+
+/// Standard output as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("UTF-8 stdout")
+}
+
+/// Standard error as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Assert success and parse standard output as JSON.
+pub fn json(args: &[&str]) -> serde_json::Value {
+    let o = run(args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    serde_json::from_slice(&o.stdout).expect("JSON on stdout")
+}
+
+/// Assert exit code 2, nothing on standard output, and a message containing every `needle`.
+pub fn assert_input_error(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    assert!(o.stdout.is_empty(), "stdout must be empty, got {}", stdout(o));
+    for n in needles {
+        assert!(err.contains(n), "stderr lacks `{n}`: {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// A shipped study's path relative to the workspace root.
+pub fn study(name: &str) -> String {
+    format!("studies/{name}.toml")
+}
+
+/// The text of a shipped study.
+pub fn study_text(name: &str) -> String {
+    std::fs::read_to_string(root().join(study(name))).expect("study file")
+}
+
+/// Write `text` to `dir/name` and return its path.
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).expect("write scratch file");
+    p
+}
+
+/// A number of a JSON value.
+pub fn num(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
