@@ -10,7 +10,7 @@ use crate::simulate::EndToEnd;
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
-use tt_kinematics::LinearModel;
+use tt_kinematics::{LinearModel, Turntable};
 use tt_kinematics::units::rad_to_arcmin;
 
 /// Golden-section steps of [`EndToEnd::allocate_direct_certified`] over the $\ell_1$ budget
@@ -179,17 +179,11 @@ impl EndToEnd {
     /// (rad$^{-2}$ for bounds in radians; infinite bounds count 0).
     #[must_use]
     pub fn objective(&self, ub_rad: &[f64]) -> f64 {
-        self.combined_weights()
-            .iter()
-            .zip(ub_rad)
-            .filter(|(_, u)| u.is_finite())
-            .map(|(w, u)| (w / u).powi(2))
-            .sum()
+        objective_with(&self.combined_weights(), ub_rad)
     }
 
     fn check_lower_bounds(&self, lower_bounds_rad: &[f64]) -> Result<(), E2eError> {
-        ErrorBox::new(self.turntable(), lower_bounds_rad.to_vec(), lower_bounds_rad.iter().map(|v| v.max(0.0)).collect())?;
-        Ok(())
+        check_lower_bounds(self.turntable(), lower_bounds_rad)
     }
 
     /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
@@ -201,89 +195,16 @@ impl EndToEnd {
         margins: &[f64],
         l1_budget_rad: Option<f64>,
     ) -> Result<DirectAllocation, E2eError> {
-        self.check_lower_bounds(lower_bounds_rad)?;
-        let n = self.len();
-        let acc = self.accuracies();
-        let bound = |k: usize| acc[k] - margins[k];
-        for (k, _) in acc.iter().enumerate() {
-            if bound(k) <= 0.0 {
-                return Err(E2eError::NotPositive {
-                    field: format!("accuracy of output {} minus its second-order margin", self.calibration().outputs()[k].output().name),
-                    value: bound(k),
-                });
-            }
-        }
-        let lb_rows = linear.row_worst_cases(lower_bounds_rad);
-        for (r, v) in lb_rows.iter().enumerate() {
-            let k = r / n;
-            if *v > bound(k) {
-                return Err(E2eError::InfeasibleLowerBounds {
-                    output: self.calibration().outputs()[k].output().name.clone(),
-                    position: r % n,
-                    worst: *v,
-                    accuracy: acc[k],
-                });
-            }
-        }
-        let unconstrained = linear.unconstrained();
-        let free: Vec<usize> = (0..self.n_errors()).filter(|j| !unconstrained.contains(j)).collect();
-        let names = self.turntable().rotation_error_names();
         let weights = self.combined_weights();
-        let rows: Vec<Cut> = linear
-            .matrix()
-            .row_iter()
-            .enumerate()
-            .map(|(r, row)| Cut {
-                coefficients: free.iter().map(|&j| row[j].abs()).collect(),
-                bound: bound(r / n),
-                tag: r as f64,
-            })
-            .collect();
-        let mut rows = undominated(rows);
-        if let Some(budget) = l1_budget_rad {
-            // sum_j UB_j <= budget (rad): the l1 size the second-order bound was taken at
-            rows.push(Cut {
-                coefficients: vec![1.0; free.len()],
-                bound: budget,
-                tag: -1.0,
-            });
+        let accuracies = self.accuracies();
+        let names: Vec<&str> = self.calibration().outputs().iter().map(|o| o.output().name.as_str()).collect();
+        DirectSetup {
+            turntable: self.turntable(),
+            weights: &weights,
+            accuracies: &accuracies,
+            output_names: &names,
         }
-        let oracle = FiniteCuts::new(rows.clone());
-        let problem = InverseSquareProblem {
-            label: "direct".into(),
-            names: free.iter().map(|&j| names[j].to_string()).collect(),
-            weights: free.iter().map(|&j| weights[j]).collect(),
-            lower: free.iter().map(|&j| lower_bounds_rad[j]).collect(),
-            initial_cuts: rows,
-            oracle: &oracle,
-        };
-        let sol = solve_inverse_square(&problem)?;
-        let mut ub = vec![f64::INFINITY; self.n_errors()];
-        for (k, &j) in free.iter().enumerate() {
-            // the solver meets UB >= LB to rounding; make it exact so the box is valid
-            ub[j] = crate::error::finite(&format!("upper_bounds.{}", names[j]), sol.x[k])?.max(lower_bounds_rad[j]);
-        }
-        let loads = linear
-            .row_worst_cases(&ub)
-            .iter()
-            .enumerate()
-            .map(|(r, v)| RowLoad {
-                output: r / n,
-                position: r % n,
-                load: v / acc[r / n],
-            })
-            .collect();
-        Ok(DirectAllocation {
-            objective: self.objective(&ub),
-            upper_bounds_rad: ub,
-            unconstrained,
-            lower_bounds_rad: lower_bounds_rad.to_vec(),
-            accuracies: acc,
-            loads,
-            multiplier: sol.multiplier,
-            iterations: sol.iterations,
-            second_order_margins: margins.to_vec(),
-        })
+        .allocate(linear, lower_bounds_rad, margins, l1_budget_rad)
     }
 
     /// Direct allocation against every output's accuracy.
@@ -551,6 +472,131 @@ impl EndToEnd {
             seed: settings.seed,
             meeting,
             interval_95: wilson_interval_95(meeting, settings.samples),
+        })
+    }
+}
+
+/// Check lower bounds: one per angular error of `turntable`, finite and non-negative.
+pub(crate) fn check_lower_bounds(turntable: &Turntable, lower_bounds_rad: &[f64]) -> Result<(), E2eError> {
+    ErrorBox::new(turntable, lower_bounds_rad.to_vec(), lower_bounds_rad.iter().map(|v| v.max(0.0)).collect())?;
+    Ok(())
+}
+
+/// $J(\mathrm{UB}) = \sum_j w_j^2/\mathrm{UB}_j^2$ (infinite bounds count 0).
+pub(crate) fn objective_with(weights: &[f64], ub_rad: &[f64]) -> f64 {
+    weights
+        .iter()
+        .zip(ub_rad)
+        .filter(|(_, u)| u.is_finite())
+        .map(|(w, u)| (w / u).powi(2))
+        .sum()
+}
+
+/// What the direct allocation needs besides $\mathbf M$: the turntable (names, lower-bound
+/// checks), the combined weights and every output's accuracy and name. Shared by
+/// [`EndToEnd::allocate_direct`] and the schedule designer ([`crate::design`]), so both give
+/// the same $J$ for the same $\mathbf M$.
+pub(crate) struct DirectSetup<'a> {
+    pub turntable: &'a Turntable,
+    pub weights: &'a [f64],
+    pub accuracies: &'a [f64],
+    pub output_names: &'a [&'a str],
+}
+
+impl DirectSetup<'_> {
+    /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
+    /// of each accuracy free and, with `l1_budget_rad`, $\sum_j \mathrm{UB}_j$ within it (see
+    /// [`EndToEnd::allocate_direct`] and [`EndToEnd::allocate_direct_certified`]).
+    pub(crate) fn allocate(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        margins: &[f64],
+        l1_budget_rad: Option<f64>,
+    ) -> Result<DirectAllocation, E2eError> {
+        check_lower_bounds(self.turntable, lower_bounds_rad)?;
+        let n = linear.positions();
+        let n_errors = self.turntable.n_rotation_errors();
+        let acc = self.accuracies.to_vec();
+        let bound = |k: usize| acc[k] - margins[k];
+        for (k, _) in acc.iter().enumerate() {
+            if bound(k) <= 0.0 {
+                return Err(E2eError::NotPositive {
+                    field: format!("accuracy of output {} minus its second-order margin", self.output_names[k]),
+                    value: bound(k),
+                });
+            }
+        }
+        let lb_rows = linear.row_worst_cases(lower_bounds_rad);
+        for (r, v) in lb_rows.iter().enumerate() {
+            let k = r / n;
+            if *v > bound(k) {
+                return Err(E2eError::InfeasibleLowerBounds {
+                    output: self.output_names[k].to_string(),
+                    position: r % n,
+                    worst: *v,
+                    accuracy: acc[k],
+                });
+            }
+        }
+        let unconstrained = linear.unconstrained();
+        let free: Vec<usize> = (0..n_errors).filter(|j| !unconstrained.contains(j)).collect();
+        let names = self.turntable.rotation_error_names();
+        let weights = self.weights;
+        let rows: Vec<Cut> = linear
+            .matrix()
+            .row_iter()
+            .enumerate()
+            .map(|(r, row)| Cut {
+                coefficients: free.iter().map(|&j| row[j].abs()).collect(),
+                bound: bound(r / n),
+                tag: r as f64,
+            })
+            .collect();
+        let mut rows = undominated(rows);
+        if let Some(budget) = l1_budget_rad {
+            // sum_j UB_j <= budget (rad): the l1 size the second-order bound was taken at
+            rows.push(Cut {
+                coefficients: vec![1.0; free.len()],
+                bound: budget,
+                tag: -1.0,
+            });
+        }
+        let oracle = FiniteCuts::new(rows.clone());
+        let problem = InverseSquareProblem {
+            label: "direct".into(),
+            names: free.iter().map(|&j| names[j].to_string()).collect(),
+            weights: free.iter().map(|&j| weights[j]).collect(),
+            lower: free.iter().map(|&j| lower_bounds_rad[j]).collect(),
+            initial_cuts: rows,
+            oracle: &oracle,
+        };
+        let sol = solve_inverse_square(&problem)?;
+        let mut ub = vec![f64::INFINITY; n_errors];
+        for (k, &j) in free.iter().enumerate() {
+            // the solver meets UB >= LB to rounding; make it exact so the box is valid
+            ub[j] = crate::error::finite(&format!("upper_bounds.{}", names[j]), sol.x[k])?.max(lower_bounds_rad[j]);
+        }
+        let loads = linear
+            .row_worst_cases(&ub)
+            .iter()
+            .enumerate()
+            .map(|(r, v)| RowLoad {
+                output: r / n,
+                position: r % n,
+                load: v / acc[r / n],
+            })
+            .collect();
+        Ok(DirectAllocation {
+            objective: objective_with(weights, &ub),
+            upper_bounds_rad: ub,
+            unconstrained,
+            lower_bounds_rad: lower_bounds_rad.to_vec(),
+            accuracies: acc,
+            loads,
+            multiplier: sol.multiplier,
+            iterations: sol.iterations,
+            second_order_margins: margins.to_vec(),
         })
     }
 }

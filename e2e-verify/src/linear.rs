@@ -3,7 +3,7 @@
 
 use crate::error::{E2eError, finite};
 use crate::simulate::EndToEnd;
-use calib_lsq::{ErrorForm, Estimate, OutputCalibration, OutputsAt, ReadingTerms, ReadingWork};
+use calib_lsq::{ErrorForm, Estimate, OutputsAt, ReadingTerms, ReadingWork};
 use gw_model::InputValues;
 use nalgebra::{DMatrix, DVector, Vector3};
 use tt_kinematics::LinearModel;
@@ -19,6 +19,11 @@ pub struct Linearization {
 }
 
 impl Linearization {
+    /// A linearisation from its matrix (rows output-major, `n` positions per output).
+    pub(crate) fn from_parts(m: DMatrix<f64>, n: usize, outputs: usize) -> Self {
+        Self { m, n, outputs }
+    }
+
     /// The matrix (rows output-major: output $k$, position $i$ at row $kn + i$).
     #[must_use]
     pub fn matrix(&self) -> &DMatrix<f64> {
@@ -135,13 +140,17 @@ impl WorstCase {
 
 /// First variations of the building blocks of eq 13 for one output and one error direction:
 /// the same dispatch ([`calib_lsq::Reading::error_vector`]) turns them into a column of
-/// $\mathbf M$.
-struct DerivativeTerms<'a> {
-    cal: &'a OutputCalibration,
+/// $\mathbf M$. Used by [`EndToEnd::linearization`] and by the schedule designer
+/// ([`crate::design`]) with the regression of a candidate schedule.
+pub(crate) struct DerivativeTerms<'a> {
+    /// The nominal regression matrix $\mathbf A$ ($n \times k$).
+    pub a: &'a DMatrix<f64>,
+    /// Its pseudo-inverse $\mathbf A^+$ ($k \times n$).
+    pub pinv: &'a DMatrix<f64>,
     /// $d\mathbf e$: first variation of the known part (e.g. the rate input).
-    de: Vec<f64>,
+    pub de: Vec<f64>,
     /// $d\mathbf g = (d\mathbf A')\boldsymbol\beta$: first variation of the estimated part.
-    dg: Vec<f64>,
+    pub dg: Vec<f64>,
 }
 
 impl ReadingTerms for DerivativeTerms<'_> {
@@ -149,7 +158,7 @@ impl ReadingTerms for DerivativeTerms<'_> {
         self.de.len()
     }
     fn coefficients(&self) -> usize {
-        self.cal.beta().len()
+        self.pinv.nrows()
     }
     fn outputs(&self, at: OutputsAt, out: &mut [f64]) {
         for (i, o) in out.iter_mut().enumerate() {
@@ -170,16 +179,14 @@ impl ReadingTerms for DerivativeTerms<'_> {
             Estimate::Beta1 => db1.to_vec(),
             Estimate::Beta2 => (0..db1.len()).map(|i| db1[i] - self.de[i] - self.dg[i]).collect(),
         };
-        let pinv = self.cal.regression().pinv();
         for (j, o) in out.iter_mut().enumerate() {
-            *o = pinv.row(j).iter().zip(&y).map(|(p, v)| p * v).sum();
+            *o = self.pinv.row(j).iter().zip(&y).map(|(p, v)| p * v).sum();
         }
     }
     fn predict(&self, actual: bool, dbeta: &[f64], out: &mut [f64]) {
         // d(A beta) = A dbeta; d(A' beta) = dA beta + A dbeta = dg + A dbeta
-        let a = self.cal.regression().matrix();
         for (i, o) in out.iter_mut().enumerate() {
-            let v: f64 = a.row(i).iter().zip(dbeta).map(|(r, b)| r * b).sum();
+            let v: f64 = self.a.row(i).iter().zip(dbeta).map(|(r, b)| r * b).sum();
             *o = if actual { v + self.dg[i] } else { v };
         }
     }
@@ -187,7 +194,7 @@ impl ReadingTerms for DerivativeTerms<'_> {
 
 /// $\sum_t \beta_t \nabla r_t(\mathbf u)\cdot d\mathbf u$ over the known (`known = true`) or the
 /// estimated terms of an output.
-fn directional(o: &gw_model::Output, known: bool, u: &InputValues, du: &[f64; 6]) -> f64 {
+pub(crate) fn directional(o: &gw_model::Output, known: bool, u: &InputValues, du: &[f64; 6]) -> f64 {
     o.terms
         .iter()
         .filter(|t| t.known == known)
@@ -272,7 +279,7 @@ impl EndToEnd {
                     de.push(directional(o, true, u, &du));
                     dg.push(directional(o, false, u, &du));
                 }
-                let terms = DerivativeTerms { cal, de, dg };
+                let terms = DerivativeTerms { a: cal.regression().matrix(), pinv: cal.regression().pinv(), de, dg };
                 self.reading().error_vector(&terms, &mut work, &mut col);
                 for (i, v) in col.iter().enumerate() {
                     m[(k * n + i, j)] = *v;
