@@ -458,7 +458,8 @@ impl Study {
     }
 
     /// The study's text with `calibration.positions_deg` replaced by `positions_deg` (every
-    /// comment and every other value kept) and `comment` (lines without `#`) placed above it.
+    /// comment and every other value kept, the comment lines above the key included) and
+    /// `comment` (lines without `#`) placed right above it.
     ///
     /// # Errors
     /// A [`StudyError`] if the text no longer parses (it was parsed when loaded).
@@ -486,10 +487,16 @@ impl Study {
             .get_mut("calibration")
             .and_then(|c| c.as_table_like_mut())
             .ok_or_else(|| StudyError::new(&self.path, "no [calibration] table"))?;
+        let before = calibration
+            .key("positions_deg")
+            .and_then(|k| k.leaf_decor().prefix())
+            .and_then(|p| p.as_str())
+            .unwrap_or_default()
+            .to_string();
         calibration.insert("positions_deg", toml_edit::value(array));
         if let Some(mut key) = calibration.key_mut("positions_deg") {
             let lines: String = comment.lines().map(|l| format!("# {l}\n")).collect();
-            key.leaf_decor_mut().set_prefix(lines);
+            key.leaf_decor_mut().set_prefix(format!("{before}{lines}"));
         }
         Ok(doc.to_string())
     }

@@ -285,6 +285,11 @@ fn text_with_positions_keeps_comments_and_round_trips() {
         "{text}"
     );
     assert!(text.contains("# Table 1, D(x)_xy"));
+    // the comment that described the old positions stays, above the new lines
+    assert!(
+        text.contains("# both axes.\n# designed by test\n"),
+        "{text}"
+    );
     let back = Study::parse("s.toml", &text).unwrap();
     assert_eq!(back.positions_deg, positions);
     assert_eq!(back.sensor, s.sensor);
