@@ -115,6 +115,63 @@ pub enum E2eError {
         /// What was looked for, e.g. `box "Table 4" under reading intended/beta1/printed`.
         what: String,
     },
+    /// A schedule design was asked to choose from no candidate position.
+    #[error("no candidate position to design a schedule from")]
+    EmptyCandidates,
+    /// A candidate position lies outside its joint's range.
+    #[error("candidate {candidate}: {joint} = {angle_deg} deg is outside the joint's range")]
+    CandidateOutsideRange {
+        /// Index of the candidate.
+        candidate: usize,
+        /// The joint.
+        joint: String,
+        /// The angle (deg).
+        angle_deg: f64,
+    },
+    /// No schedule drawn from the candidates identifies an output: the regressors of every
+    /// candidate together leave these coefficients in the null space.
+    #[error("no schedule drawn from the {candidates} candidate positions identifies output `{output}`: coefficient(s) {} cannot be separated", coefficients.join(", "))]
+    UnidentifiableCandidates {
+        /// The output.
+        output: String,
+        /// The coefficients no candidate set identifies.
+        coefficients: Vec<String>,
+        /// Number of candidates.
+        candidates: usize,
+    },
+    /// Fewer positions than an output has coefficients to estimate.
+    #[error("{positions} positions cannot identify output `{output}`, which has {coefficients} coefficients to estimate")]
+    TooFewPositions {
+        /// The requested number of positions.
+        positions: usize,
+        /// The output with the most coefficients.
+        output: String,
+        /// Its number of estimated coefficients.
+        coefficients: usize,
+    },
+    /// More positions than candidates (a schedule uses each candidate at most once).
+    #[error("{positions} positions requested but only {candidates} candidate positions exist")]
+    TooManyPositions {
+        /// The requested number of positions.
+        positions: usize,
+        /// Number of candidates.
+        candidates: usize,
+    },
+    /// A schedule used the same candidate twice.
+    #[error("candidate {candidate} appears twice in the schedule")]
+    RepeatedCandidate {
+        /// Index of the candidate.
+        candidate: usize,
+    },
+    /// No schedule the search met identifies every output with a condition number within the
+    /// bound.
+    #[error("no schedule found whose condition numbers are all at most {max_condition}: the best one reached {best_condition}")]
+    ConditionUnreachable {
+        /// The bound.
+        max_condition: f64,
+        /// The smallest largest condition number met.
+        best_condition: f64,
+    },
     /// An iteration did not settle within its bound.
     #[error("{what} did not converge in {iterations} steps (last change {change})")]
     NoConvergence {

@@ -25,7 +25,10 @@
 //!   [`EndToEnd::allocate_yield`]: allocations against every output's accuracy;
 //! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
 //!   contribution and a verdict;
-//! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`.
+//! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`;
+//! - [`design`]: the calibration schedule that lets the cheapest turntable meet every
+//!   accuracy (minimum direct-allocation objective), beside the D-optimal and random
+//!   baselines, used by `cargo xtask design-schedule`.
 //!
 //! # Why a separate crate
 //! It needs calib-lsq (the calibration), alloc-opt (the allocation core) and mc-verify (the
@@ -59,6 +62,7 @@
 mod allocate;
 mod answer;
 mod check;
+pub mod design;
 mod error;
 mod linear;
 mod montecarlo;

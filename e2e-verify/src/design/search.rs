@@ -1,0 +1,821 @@
+//! The search: per-schedule state for cheap swap screening (rank-one and rank-two updates of
+//! $(\mathbf A^T\mathbf A)^{-1}$, rigorous dual lower bounds, a fixed-shape upper bound),
+//! the greedy construction and the exchange.
+
+use super::dual;
+use super::problem::DesignProblem;
+use super::{
+    DUAL_SWEEPS, Evaluation, ExchangeOutcome, IMPROVEMENT_REL, MAX_EXCHANGES_PER_POSITION,
+    SINGULAR_RATIO,
+};
+use crate::error::E2eError;
+use crate::linear::Linearization;
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// Per output: $\mathbf G = (\mathbf A^T\mathbf A)^{-1}$, $\mathbf G\mathbf a_c$ for every
+/// candidate and $\mathbf H = \mathbf A^+\mathbf C_1$ (so that $\mathbf P\mathbf C_1$ row $q$ is
+/// $\mathbf a_q^T\mathbf H$).
+#[derive(Debug, Clone)]
+pub(crate) struct Factor {
+    /// $\mathbf G\mathbf a_c$ for every candidate ($C \times p$).
+    ga: Vec<f64>,
+    /// $\mathbf H$ ($p \times m$, row-major); empty for static rows.
+    h: Vec<f64>,
+}
+
+/// The current schedule with its exact evaluation and everything the screening of its
+/// neighbours needs.
+#[derive(Debug, Clone)]
+pub(crate) struct State {
+    pub s: Vec<usize>,
+    pub in_s: Vec<bool>,
+    pub eval: Evaluation,
+    /// $J$ (rad$^{-2}$).
+    pub j: f64,
+    /// $\mathrm{UB}$ (rad; `+inf` for an error no output depends on).
+    pub x: Vec<f64>,
+    /// $|\mathbf M|/\omega_m$ row $(k, q)$ at `(k * n + q) * m`.
+    rows: Vec<f64>,
+    /// Load of every row at $\mathrm{UB}$.
+    loads: Vec<f64>,
+    /// Multipliers $\mu_{kq} \ge 0$ of the rows (any non-negative values give valid bounds;
+    /// these are fitted to the KKT conditions at $\mathrm{UB}$).
+    mu: Vec<f64>,
+    factors: Vec<Factor>,
+}
+
+use super::SwapBound as Screened;
+
+/// The searcher of one problem with its settings.
+#[derive(Debug)]
+pub(crate) struct Search<'a> {
+    pub p: &'a DesignProblem,
+    pub max_condition: f64,
+    /// Whether every lower bound of the errors is zero (closed-form dual bound).
+    zero_lower: bool,
+}
+
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Load of a normalised row at `x` with the convention of
+/// [`Linearization::row_worst_cases`]: a zero coefficient contributes nothing even against an
+/// infinite bound.
+#[inline]
+fn load(row: &[f64], x: &[f64]) -> f64 {
+    row.iter()
+        .zip(x)
+        .map(|(a, u)| if *a == 0.0 { 0.0 } else { a * u })
+        .sum()
+}
+
+impl<'a> Search<'a> {
+    pub(crate) fn new(p: &'a DesignProblem, max_condition: f64) -> Self {
+        Self {
+            p,
+            max_condition,
+            zero_lower: p.lower_bounds_rad.iter().all(|&l| l == 0.0),
+        }
+    }
+
+    /// Whether an evaluation is a feasible schedule: identifiable, condition numbers within
+    /// the bound, lower bounds compatible.
+    pub(crate) fn feasible(&self, e: &Evaluation) -> bool {
+        e.is_feasible(self.max_condition)
+    }
+
+    /// The state of an evaluated, identifiable schedule.
+    pub(crate) fn state(&self, eval: Evaluation) -> Result<State, E2eError> {
+        let p = self.p;
+        let s = eval.schedule.clone();
+        let n = s.len();
+        let m = p.errors;
+        let mut in_s = vec![false; p.n_candidates()];
+        for &c in &s {
+            in_s[c] = true;
+        }
+        let linear = eval.linear.as_ref().ok_or(E2eError::NoConvergence {
+            what: "schedule state (unidentifiable schedule)",
+            iterations: 0,
+            change: f64::NAN,
+        })?;
+        let mut rows = Vec::with_capacity(p.outputs.len() * n * m);
+        for (r, row) in linear.matrix().row_iter().enumerate() {
+            let w = 1.0 / p.accuracies[r / n];
+            rows.extend(row.iter().map(|v| v.abs() * w));
+        }
+        let (j, x) = match &eval.allocation {
+            Some(a) => (a.objective, a.upper_bounds_rad.clone()),
+            None => (f64::INFINITY, vec![f64::INFINITY; m]),
+        };
+        let loads: Vec<f64> = rows.chunks(m).map(|r| load(r, &x)).collect();
+        let mu = if j.is_finite() {
+            self.multipliers(&rows, &loads, &x)
+        } else {
+            vec![0.0; rows.len() / m]
+        };
+        let regs = p.regressions(&s)?;
+        let factors = p
+            .outputs
+            .iter()
+            .zip(&regs)
+            .map(|(o, reg)| {
+                let pinv = reg.pinv();
+                let g = pinv * pinv.transpose();
+                let gv: Vec<f64> = (0..o.p)
+                    .flat_map(|r| (0..o.p).map(move |c| (r, c)))
+                    .map(|(r, c)| g[(r, c)])
+                    .collect();
+                let ga: Vec<f64> = (0..p.n_candidates())
+                    .flat_map(|c| {
+                        let a = o.a_row(c);
+                        (0..o.p)
+                            .map(|r| dot(&gv[r * o.p..(r + 1) * o.p], a))
+                            .collect::<Vec<_>>()
+                    })
+                    .collect();
+                let h = if p.affine.is_static() {
+                    Vec::new()
+                } else {
+                    let c1 = DMatrix::from_fn(n, m, |i, jj| o.c1[s[i] * m + jj]);
+                    let hm = pinv * c1;
+                    (0..o.p)
+                        .flat_map(|r| (0..m).map(move |c| (r, c)))
+                        .map(|(r, c)| hm[(r, c)])
+                        .collect()
+                };
+                Factor { ga, h }
+            })
+            .collect();
+        Ok(State {
+            s,
+            in_s,
+            eval,
+            j,
+            x,
+            rows,
+            loads,
+            mu,
+            factors,
+        })
+    }
+
+    /// Multipliers of the rows fitted to the KKT conditions at `x`: on the rows at full load,
+    /// $\sum_r \mu_r |M_{rj}|/\omega = 2w_j^2/x_j^3$ for every error above its lower bound,
+    /// by projected coordinate descent on the non-negative least-squares problem.
+    fn multipliers(&self, rows: &[f64], loads: &[f64], x: &[f64]) -> Vec<f64> {
+        let p = self.p;
+        let m = p.errors;
+        let free: Vec<usize> = (0..m)
+            .filter(|&j| x[j].is_finite() && x[j] > p.lower_bounds_rad[j] * (1.0 + 1e-7))
+            .collect();
+        let tight: Vec<usize> = (0..loads.len())
+            .filter(|&r| loads[r] >= 1.0 - 1e-9)
+            .collect();
+        let mut mu = vec![0.0; loads.len()];
+        if free.is_empty() || tight.is_empty() {
+            return mu;
+        }
+        let g: Vec<f64> = free
+            .iter()
+            .map(|&j| 2.0 * p.weights[j].powi(2) / x[j].powi(3))
+            .collect();
+        // columns of B: tight rows restricted to the free errors
+        let b: Vec<Vec<f64>> = tight
+            .iter()
+            .map(|&r| free.iter().map(|&j| rows[r * m + j]).collect())
+            .collect();
+        let q: Vec<Vec<f64>> = b
+            .iter()
+            .map(|u| b.iter().map(|v| dot(u, v)).collect())
+            .collect();
+        let rhs: Vec<f64> = b.iter().map(|u| dot(u, &g)).collect();
+        let mut v = vec![0.0; tight.len()];
+        for _ in 0..DUAL_SWEEPS {
+            let mut change: f64 = 0.0;
+            for t in 0..v.len() {
+                if q[t][t] <= 0.0 {
+                    continue;
+                }
+                let grad = dot(&q[t], &v) - rhs[t];
+                let new = (v[t] - grad / q[t][t]).max(0.0);
+                change = change.max((new - v[t]).abs());
+                v[t] = new;
+            }
+            if change <= 1e-15 * v.iter().copied().fold(0.0, f64::max) {
+                break;
+            }
+        }
+        for (t, &r) in tight.iter().enumerate() {
+            mu[r] = v[t];
+        }
+        mu
+    }
+
+    /// The Lagrangian dual bound: for multipliers $\mu \ge 0$ on some rows of a schedule,
+    /// with $c_j = \sum_r \mu_r |M_{rj}|/\omega$ and $\Lambda = \sum_r \mu_r$,
+    /// $J \ge \max_{t \ge 0} \sum_j h_j(t c_j) - t\Lambda$,
+    /// $h_j(c) = \min_{x \ge \ell_j} w_j^2/x^2 + c x$; with $\ell = 0$ this is
+    /// $\big(\sum_j (w_j c_j)^{2/3}\big)^3/\Lambda^2$.
+    pub(crate) fn dual_bound(&self, c: &[f64], lambda: f64) -> f64 {
+        if lambda.is_nan() || lambda <= 0.0 {
+            return 0.0;
+        }
+        let w = &self.p.weights;
+        if self.zero_lower {
+            let a: f64 = c
+                .iter()
+                .zip(w)
+                .map(|(c, w)| (w * c.max(0.0)).powf(2.0 / 3.0))
+                .sum();
+            return a * a * a / (lambda * lambda);
+        }
+        let l = &self.p.lower_bounds_rad;
+        let phi = |t: f64| -> f64 {
+            let mut v = -t * lambda;
+            for j in 0..c.len() {
+                let cj = t * c[j].max(0.0);
+                if cj <= 0.0 {
+                    continue;
+                }
+                let xu = (2.0 * w[j] * w[j] / cj).cbrt();
+                let x = xu.max(l[j]);
+                v += (w[j] / x).powi(2) + cj * x;
+            }
+            v
+        };
+        // the closed-form optimum for l = 0 brackets the maximiser of this concave function
+        let a: f64 = c
+            .iter()
+            .zip(w)
+            .map(|(c, w)| (w * c.max(0.0)).powf(2.0 / 3.0))
+            .sum();
+        let kappa = 3.0 / 2f64.powf(2.0 / 3.0);
+        let t0 = (2.0 * kappa * a / (3.0 * lambda)).powi(3);
+        let (mut lo, mut hi) = (0.0, 8.0 * t0.max(1e-300));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        for _ in 0..80 {
+            let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if phi(m1) < phi(m2) {
+                lo = m1;
+            } else {
+                hi = m2;
+            }
+        }
+        phi(0.5 * (lo + hi)).max(0.0)
+    }
+
+    /// Rows of output `k` at slot `q` of `st` after replacing the candidate in slot `slot`
+    /// by `c`: $\mathbf C_0 + \mathbf a^T\mathbf H'$ (normalised, signed) into `out`.
+    #[inline]
+    fn row_after(&self, k: usize, cand: usize, h: &[f64], out: &mut [f64]) {
+        let o = &self.p.outputs[k];
+        let m = self.p.errors;
+        let c0 = &o.c0[cand * m..(cand + 1) * m];
+        out.copy_from_slice(c0);
+        if !h.is_empty() {
+            let a = o.a_row(cand);
+            for (r, ar) in a.iter().enumerate() {
+                let hr = &h[r * m..(r + 1) * m];
+                for (v, hv) in out.iter_mut().zip(hr) {
+                    *v += ar * hv;
+                }
+            }
+        }
+    }
+
+    /// $\mathbf H'$ after the swap (slot's candidate `ci` out, `c` in) by the Woodbury formula
+    /// with $\mathbf U = (\mathbf a_c, \mathbf a_i)$, $\mathbf D = \operatorname{diag}(1, -1)$;
+    /// `None` when the swap makes $\mathbf A$ (nearly) rank deficient. Also returns the ratio
+    /// $\det\mathbf A'^T\mathbf A'/\det\mathbf A^T\mathbf A$ (Fedorov's $\Delta$).
+    fn h_after_swap(
+        &self,
+        st: &State,
+        k: usize,
+        ci: usize,
+        c: usize,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        let o = &self.p.outputs[k];
+        let f = &st.factors[k];
+        let (pk, m) = (o.p, self.p.errors);
+        let (ac, ai) = (o.a_row(c), o.a_row(ci));
+        let (u1, u2) = (&f.ga[c * pk..(c + 1) * pk], &f.ga[ci * pk..(ci + 1) * pk]);
+        let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
+        let ratio = (1.0 + dc) * (1.0 - di) + dic * dic;
+        if ratio.is_nan() || ratio <= SINGULAR_RATIO {
+            return None;
+        }
+        if f.h.is_empty() {
+            out.clear();
+            return Some(ratio);
+        }
+        let (c1c, c1i) = (&o.c1[c * m..(c + 1) * m], &o.c1[ci * m..(ci + 1) * m]);
+        // T = H + u1 c1_c^T - u2 c1_i^T
+        out.clear();
+        out.extend_from_slice(&f.h);
+        for r in 0..pk {
+            let row = &mut out[r * m..(r + 1) * m];
+            for jj in 0..m {
+                row[jj] += u1[r] * c1c[jj] - u2[r] * c1i[jj];
+            }
+        }
+        // K = [[1 + dc, dic], [dic, -1 + di]]; solve K y = (a_c^T T, a_i^T T)
+        let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
+        let det = k11 * k22 - k12 * k12;
+        let mut r1 = vec![0.0; m];
+        let mut r2 = vec![0.0; m];
+        for r in 0..pk {
+            for jj in 0..m {
+                r1[jj] += ac[r] * out[r * m + jj];
+                r2[jj] += ai[r] * out[r * m + jj];
+            }
+        }
+        for jj in 0..m {
+            let y1 = (k22 * r1[jj] - k12 * r2[jj]) / det;
+            let y2 = (k11 * r2[jj] - k12 * r1[jj]) / det;
+            for r in 0..pk {
+                out[r * m + jj] -= u1[r] * y1 + u2[r] * y2;
+            }
+        }
+        Some(ratio)
+    }
+
+    /// Screen every swap of `slot` with every candidate not in the schedule: the dual lower
+    /// bound with the state's multipliers (the slot's rows dropped; the rows of the retained
+    /// positions recomputed for the new projection) and, where it does not prune, the
+    /// fixed-shape estimate $J\,L^2$ with $L$ the largest load of the new rows at the
+    /// current $\mathrm{UB}$.
+    pub(crate) fn screen_swaps(&self, st: &State, slot: usize) -> Vec<Screened> {
+        let p = self.p;
+        let n = st.s.len();
+        let m = p.errors;
+        let ci = st.s[slot];
+        let threshold = st.j * (1.0 - IMPROVEMENT_REL);
+        let outside: Vec<usize> = (0..p.n_candidates()).filter(|&c| !st.in_s[c]).collect();
+        let static_rows = p.affine.is_static();
+        // static rows: the bound without the slot's rows is the same for every candidate
+        let mut base_c = vec![0.0; m];
+        let mut base_mu = 0.0;
+        let mut max_other: f64 = 0.0;
+        for k in 0..p.outputs.len() {
+            for q in 0..n {
+                let r = k * n + q;
+                if q == slot {
+                    continue;
+                }
+                max_other = max_other.max(st.loads[r]);
+                if st.mu[r] > 0.0 {
+                    base_mu += st.mu[r];
+                    for (b, v) in base_c.iter_mut().zip(&st.rows[r * m..(r + 1) * m]) {
+                        *b += st.mu[r] * v;
+                    }
+                }
+            }
+        }
+        let static_lower = self.dual_bound(&base_c, base_mu);
+        outside
+            .par_iter()
+            .map(|&c| {
+                let mut hs: Vec<Vec<f64>> = vec![Vec::new(); p.outputs.len()];
+                for (k, h) in hs.iter_mut().enumerate() {
+                    if self.h_after_swap(st, k, ci, c, h).is_none() {
+                        return Screened {
+                            candidate: c,
+                            lower: f64::INFINITY,
+                            estimate: f64::INFINITY,
+                        };
+                    }
+                }
+                let mut row = vec![0.0; m];
+                let lower = if static_rows {
+                    static_lower
+                } else {
+                    let mut cc = vec![0.0; m];
+                    for (k, h) in hs.iter().enumerate() {
+                        for q in 0..n {
+                            let r = k * n + q;
+                            if q == slot || st.mu[r] <= 0.0 {
+                                continue;
+                            }
+                            self.row_after(k, st.s[q], h, &mut row);
+                            for (b, v) in cc.iter_mut().zip(&row) {
+                                *b += st.mu[r] * v.abs();
+                            }
+                        }
+                    }
+                    self.dual_bound(&cc, base_mu)
+                };
+                if lower >= threshold {
+                    return Screened {
+                        candidate: c,
+                        lower,
+                        estimate: f64::INFINITY,
+                    };
+                }
+                let rows = self.rows_after_swap(st, slot, c, &hs);
+                let (lower2, upper) = self.dual_bounds(st, slot, &rows, threshold);
+                let lower = lower.max(lower2);
+                let estimate = if upper.is_finite() {
+                    upper
+                } else {
+                    st.j * max_load(&rows, &st.x, m).powi(2)
+                };
+                Screened {
+                    candidate: c,
+                    lower,
+                    estimate,
+                }
+            })
+            .collect()
+    }
+
+    /// Every row of the schedule after the swap (slot's candidate replaced by `c`), in the
+    /// state's order $(k, q)$, normalised and in absolute value ($R \times m$).
+    fn rows_after_swap(&self, st: &State, slot: usize, c: usize, hs: &[Vec<f64>]) -> Vec<f64> {
+        let p = self.p;
+        let n = st.s.len();
+        let m = p.errors;
+        let mut rows = vec![0.0; p.outputs.len() * n * m];
+        for (k, h) in hs.iter().enumerate() {
+            for q in 0..n {
+                let cand = if q == slot { c } else { st.s[q] };
+                let out = &mut rows[(k * n + q) * m..(k * n + q + 1) * m];
+                self.row_after(k, cand, h, out);
+                for v in out.iter_mut() {
+                    *v = v.abs();
+                }
+            }
+        }
+        rows
+    }
+
+    /// Rigorous bounds on $J$ of a schedule with normalised rows `rows` (same layout as the
+    /// state's) from the dual screening solver warm-started at the state's multipliers
+    /// (except `slot`'s rows): (lower, upper). Only for zero lower bounds (the dual's closed
+    /// form); otherwise `(0, inf)`.
+    fn dual_bounds(&self, st: &State, slot: usize, rows: &[f64], threshold: f64) -> (f64, f64) {
+        if !self.zero_lower {
+            return (0.0, f64::INFINITY);
+        }
+        let n = st.s.len();
+        let mu0: Vec<(usize, f64)> = st
+            .mu
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|&(r, v)| v > 0.0 && r % n != slot)
+            .collect();
+        dual::bounds(&self.p.weights, rows, self.p.errors, &mu0, threshold, 0.0)
+    }
+
+    /// Screen adding each candidate not in the schedule (greedy construction): the
+    /// fixed-shape estimate of $J$ after the addition and the information gain
+    /// $\sum_k \ln(1 + \mathbf a_c^T\mathbf G_k\mathbf a_c)$ (the D-optimal criterion's
+    /// increase) as tie-break.
+    pub(crate) fn screen_additions(&self, st: &State) -> Vec<(usize, f64, f64)> {
+        let p = self.p;
+        let n = st.s.len();
+        let m = p.errors;
+        let static_rows = p.affine.is_static();
+        let max_now = st.loads.iter().copied().fold(0.0, f64::max);
+        (0..p.n_candidates())
+            .into_par_iter()
+            .filter(|&c| !st.in_s[c])
+            .map(|c| {
+                let mut gain = 0.0;
+                let mut worst: f64 = if static_rows { max_now.max(1.0) } else { 0.0 };
+                let mut row = vec![0.0; m];
+                let mut h = Vec::new();
+                for (k, o) in p.outputs.iter().enumerate() {
+                    let f = &st.factors[k];
+                    let a = o.a_row(c);
+                    let u = &f.ga[c * o.p..(c + 1) * o.p];
+                    let kappa = 1.0 + dot(a, u);
+                    gain += kappa.ln();
+                    if !static_rows {
+                        // H' = T - u (a^T T)/kappa, T = H + u c1_c^T
+                        let c1 = &o.c1[c * m..(c + 1) * m];
+                        h.clear();
+                        h.extend_from_slice(&f.h);
+                        for r in 0..o.p {
+                            for jj in 0..m {
+                                h[r * m + jj] += u[r] * c1[jj];
+                            }
+                        }
+                        let mut at = vec![0.0; m];
+                        for r in 0..o.p {
+                            for jj in 0..m {
+                                at[jj] += a[r] * h[r * m + jj];
+                            }
+                        }
+                        for r in 0..o.p {
+                            for jj in 0..m {
+                                h[r * m + jj] -= u[r] * at[jj] / kappa;
+                            }
+                        }
+                        for q in 0..n {
+                            self.row_after(k, st.s[q], &h, &mut row);
+                            worst = worst.max(abs_load(&row, &st.x));
+                        }
+                    }
+                    self.row_after(k, c, &h, &mut row);
+                    worst = worst.max(abs_load(&row, &st.x));
+                }
+                (c, st.j * worst * worst, gain)
+            })
+            .collect()
+    }
+
+    /// $J$ and $\mathrm{UB}$ of the schedule without `slot` (static rows only: a lower bound
+    /// on $J$ of every swap of that slot, since rows only add constraints).
+    fn without_slot(&self, st: &State, slot: usize) -> Result<Option<(f64, Vec<f64>)>, E2eError> {
+        let n = st.s.len();
+        if n < 2 {
+            return Ok(None);
+        }
+        let linear = st.eval.linear.as_ref().map(|l| {
+            let keep: Vec<usize> = (0..l.matrix().nrows()).filter(|r| r % n != slot).collect();
+            let mat = l.matrix().select_rows(keep.iter());
+            Linearization::from_parts(mat, n - 1, l.outputs())
+        });
+        let Some(linear) = linear else {
+            return Ok(None);
+        };
+        match self.p.allocate(&linear) {
+            Ok(a) => Ok(Some((a.objective, a.upper_bounds_rad))),
+            Err(E2eError::InfeasibleLowerBounds { .. }) => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The schedule with `slot` replaced by `c`.
+    fn swapped(st: &State, slot: usize, c: usize) -> Vec<usize> {
+        let mut s = st.s.clone();
+        s[slot] = c;
+        s
+    }
+
+    /// Exchange from a feasible start: for each slot in turn, screen every swap, prune those
+    /// whose rigorous lower bound is not below $J(1 - \epsilon)$, evaluate the others exactly
+    /// in the order of their estimate and take the first that is feasible and improves $J$ by
+    /// more than $\epsilon$ (relative); stop after a full pass without an exchange (then no
+    /// feasible single exchange improves $J$ by more than $\epsilon$) or at
+    /// [`MAX_EXCHANGES_PER_POSITION`] $\times N$ exchanges.
+    pub(crate) fn exchange(&self, start: Evaluation) -> Result<ExchangeOutcome, E2eError> {
+        let start_objective = start.objective;
+        let mut st = self.state(start)?;
+        let n = st.s.len();
+        let max_exchanges = MAX_EXCHANGES_PER_POSITION * n;
+        let (mut exchanges, mut exact, mut screened, mut passes, mut unevaluated) = (0, 0, 0, 0, 0);
+        let mut certified = false;
+        'outer: loop {
+            passes += 1;
+            let mut moved = false;
+            let mut pass_unevaluated = 0;
+            for slot in 0..n {
+                if exchanges >= max_exchanges {
+                    break 'outer;
+                }
+                let threshold = st.j * (1.0 - IMPROVEMENT_REL);
+                if self.p.affine.is_static() {
+                    // rows are fixed: J(swap) >= J(schedule without the slot) for every swap
+                    if let Some((j_minus, _)) = self.without_slot(&st, slot)? {
+                        if j_minus >= threshold {
+                            continue;
+                        }
+                    }
+                }
+                let mut list: Vec<Screened> = self.screen_swaps(&st, slot);
+                screened += list.len();
+                list.retain(|s| s.lower < threshold);
+                if list.is_empty() {
+                    continue;
+                }
+                list.sort_by(|a, b| {
+                    a.estimate
+                        .total_cmp(&b.estimate)
+                        .then(a.candidate.cmp(&b.candidate))
+                });
+                for cand in list {
+                    exact += 1;
+                    let Some(e) = self.p.evaluate_or_skip(
+                        &Self::swapped(&st, slot, cand.candidate),
+                        self.max_condition,
+                    )?
+                    else {
+                        unevaluated += 1;
+                        pass_unevaluated += 1;
+                        continue;
+                    };
+                    if self.feasible(&e) && e.objective < threshold {
+                        st = self.state(e)?;
+                        exchanges += 1;
+                        moved = true;
+                        break;
+                    }
+                }
+            }
+            if !moved {
+                certified = pass_unevaluated == 0;
+                break;
+            }
+        }
+        Ok(ExchangeOutcome {
+            start_objective,
+            evaluation: st.eval,
+            exchanges,
+            passes,
+            exact_evaluations: exact,
+            screened_swaps: screened,
+            unevaluated_swaps: unevaluated,
+            local_optimum: certified,
+        })
+    }
+
+    /// Each candidate's own cost: the largest over its rows of the single-row optimum
+    /// $\big(\sum_j (w_j |c_{0,j}|)^{2/3}\big)^3$ (the exact $J$ of a schedule made of that row
+    /// alone when $\mathrm{LB} = 0$; with the schedule-independent part $\mathbf C_0$ of the
+    /// rows, exact for static rows and a heuristic otherwise), and the candidates in
+    /// increasing order of it (ties: index).
+    pub(crate) fn level_order(&self) -> Vec<usize> {
+        let p = self.p;
+        let m = p.errors;
+        let score: Vec<f64> = (0..p.n_candidates())
+            .map(|c| {
+                p.outputs
+                    .iter()
+                    .map(|o| {
+                        let a: f64 = o.c0[c * m..(c + 1) * m]
+                            .iter()
+                            .zip(&p.weights)
+                            .map(|(v, w)| (w * v.abs()).powf(2.0 / 3.0))
+                            .sum();
+                        a * a * a
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..p.n_candidates()).collect();
+        order.sort_by(|&a, &b| score[a].total_cmp(&score[b]).then(a.cmp(&b)));
+        order
+    }
+
+    fn conditions_ok(&self, s: &[usize]) -> bool {
+        self.p
+            .regressions(s)
+            .is_ok_and(|r| r.iter().all(|g| g.condition_number() <= self.max_condition))
+    }
+
+    /// The level set: the shortest prefix of [`Search::level_order`] (found by bisection on
+    /// its length) from which the greedy D-optimal construction of `n` positions meets the
+    /// condition bound, with that construction; `None` when even all candidates do not.
+    pub(crate) fn level_set(&self, n: usize) -> Result<Option<(usize, Vec<usize>)>, E2eError> {
+        let order = self.level_order();
+        let total = order.len();
+        let test = |len: usize| -> Result<Option<Vec<usize>>, E2eError> {
+            let s = super::dopt::greedy_d_among(self.p, &order[..len], n)?;
+            Ok(self.conditions_ok(&s).then_some(s))
+        };
+        let Some(mut best) = test(total)? else {
+            return Ok(None);
+        };
+        let (mut lo, mut hi) = (n, total);
+        if let Some(s) = test(lo)? {
+            return Ok(Some((lo, s)));
+        }
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            match test(mid)? {
+                Some(s) => {
+                    hi = mid;
+                    best = s;
+                }
+                None => lo = mid,
+            }
+        }
+        Ok(Some((hi, best)))
+    }
+
+    /// Greedy construction: a core (the shortest prefix of the level set's greedy D-optimal
+    /// sequence that identifies every output), then one candidate at a time from all
+    /// candidates, the one with the smallest fixed-shape estimate of $J$ (ties: the largest
+    /// information gain), each step evaluated exactly.
+    pub(crate) fn greedy(&self, n: usize) -> Result<Option<Evaluation>, E2eError> {
+        let sequence = match self.level_set(n)? {
+            Some((_, s)) => s,
+            None => super::dopt::greedy_d(self.p, n)?,
+        };
+        // the core: the shortest prefix that meets the condition bound, else the shortest
+        // that identifies every output
+        let first = self.p.min_positions().min(n);
+        let core = (first..=n)
+            .find(|&k| self.conditions_ok(&sequence[..k]))
+            .or_else(|| (first..=n).find(|&k| self.p.regressions(&sequence[..k]).is_ok()))
+            .unwrap_or(n);
+        let Some(mut e) = self.p.evaluate_or_skip(&sequence[..core], f64::INFINITY)? else {
+            return Ok(None);
+        };
+        if e.unidentifiable.is_some() {
+            return Ok(Some(e));
+        }
+        while e.schedule.len() < n {
+            let feasible_now = e.max_condition() <= self.max_condition;
+            let st = self.state(e)?;
+            let grams = self.grams(&st.s);
+            let mut ranked = self.screen_additions(&st);
+            ranked.sort_by(|a, b| {
+                a.1.total_cmp(&b.1)
+                    .then(b.2.total_cmp(&a.2))
+                    .then(a.0.cmp(&b.0))
+            });
+            // keep a feasible schedule feasible: the best-ranked addition within the bound
+            if feasible_now {
+                if let Some(pos) = ranked
+                    .iter()
+                    .position(|t| self.condition_with(&grams, t.0) <= self.max_condition)
+                {
+                    ranked[..=pos].rotate_right(1);
+                }
+            }
+            let mut next = None;
+            for (c, _, _) in ranked {
+                let mut s = st.s.clone();
+                s.push(c);
+                if let Some(ev) = self.p.evaluate_or_skip(&s, f64::INFINITY)? {
+                    next = Some(ev);
+                    break;
+                }
+            }
+            match next {
+                Some(ev) => e = ev,
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(e))
+    }
+
+    /// $\mathbf A_k^T\mathbf A_k$ of every output for schedule `s`.
+    fn grams(&self, s: &[usize]) -> Vec<DMatrix<f64>> {
+        self.p
+            .outputs
+            .iter()
+            .map(|o| {
+                let mut g = DMatrix::zeros(o.p, o.p);
+                for &c in s {
+                    let a = o.a_row(c);
+                    for r in 0..o.p {
+                        for q in 0..o.p {
+                            g[(r, q)] += a[r] * a[q];
+                        }
+                    }
+                }
+                g
+            })
+            .collect()
+    }
+
+    /// The largest condition number $\sqrt{\lambda_{max}/\lambda_{min}}$ of
+    /// $\mathbf A_k^T\mathbf A_k + \mathbf a_c\mathbf a_c^T$ over the outputs (a screen; the
+    /// exact check is [`calib_lsq::Regression`]'s).
+    fn condition_with(&self, grams: &[DMatrix<f64>], c: usize) -> f64 {
+        self.p
+            .outputs
+            .iter()
+            .zip(grams)
+            .map(|(o, g)| {
+                let a = o.a_row(c);
+                let mut g = g.clone();
+                for r in 0..o.p {
+                    for q in 0..o.p {
+                        g[(r, q)] += a[r] * a[q];
+                    }
+                }
+                let ev = g.symmetric_eigenvalues();
+                let (lo, hi) = (ev.min(), ev.max());
+                if lo > 0.0 {
+                    (hi / lo).sqrt()
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+/// The largest load of the rows (`R x m`) at `x`.
+fn max_load(rows: &[f64], x: &[f64], m: usize) -> f64 {
+    rows.chunks(m).map(|r| load(r, x)).fold(0.0, f64::max)
+}
+
+/// Load of a signed row (absolute values taken) at `x`.
+#[inline]
+fn abs_load(row: &[f64], x: &[f64]) -> f64 {
+    row.iter()
+        .zip(x)
+        .map(|(a, u)| if *a == 0.0 { 0.0 } else { a.abs() * u })
+        .sum()
+}
