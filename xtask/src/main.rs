@@ -12,6 +12,7 @@ mod args;
 mod calibration_error;
 mod check_turntable;
 mod csvio;
+mod design_schedule;
 mod end_to_end;
 mod fuzz;
 mod input;
@@ -56,6 +57,8 @@ enum Command {
     Report(report::Args),
     /// The report of the paper's study with the paper's printed values beside ours and its claims.
     ReproducePaper(report::PaperArgs),
+    /// Design the test positions that let the cheapest turntable meet every accuracy.
+    DesignSchedule(design_schedule::Args),
 }
 
 fn main() -> ExitCode {
@@ -71,6 +74,7 @@ fn main() -> ExitCode {
         Command::Fuzz(a) => fuzz::run(&a),
         Command::Report(a) => report::run(&a),
         Command::ReproducePaper(a) => report::run_paper(&a),
+        Command::DesignSchedule(a) => design_schedule::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

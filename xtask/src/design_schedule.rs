@@ -1,0 +1,506 @@
+//! `cargo xtask design-schedule [--study FILE] [--positions N] [--step-deg S]
+//! [--max-condition K] [--seed S] [--write-study OUT.toml] [--json]`: the calibration schedule
+//! that lets the cheapest turntable meet every output's accuracy.
+//!
+//! Candidates: the joint-angle grid with step S over the joint ranges (default 15 deg) plus
+//! the study's positions. The designed schedule (N positions, default the study's count,
+//! minimum direct-allocation objective J under the study's reading, every condition number at
+//! most K) is printed beside the study's schedule, the D-optimal schedule and the best of the
+//! random schedules, each with J (arcmin^-2, as `end-to-end --json` reports
+//! `direct_objective`), the condition numbers, the orientation requirement (eq 15-16) and the
+//! worst case of every output with today's turntable (the direct allocation of the study's
+//! schedule). `--write-study OUT.toml` writes the input study with the designed positions and
+//! a comment saying how they were made (refused if OUT exists; written atomically). `--json`
+//! prints an object with keys `designed`, `study`, `d_optimal`, `random_best`, each with
+//! `objective`, `positions_deg`, `condition_numbers` and `requirement_deg`.
+
+use crate::InputError;
+use anyhow::{Context, Result};
+use clap::Parser;
+use e2e_verify::E2eError;
+use e2e_verify::design::{
+    DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, DesignInputs, DesignSettings, ScheduleDesign,
+    ScheduleReport, StartKind, coarse_levels, design_on_grid,
+};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::{Map, Value, json};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use study::Study;
+use study::fmt::{num, sig};
+use tt_kinematics::units::rad_to_arcmin;
+
+/// Arguments of `design-schedule`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// Number of test positions N (default: the study's).
+    #[arg(long, value_parser = crate::args::small_count)]
+    pub positions: Option<u64>,
+    /// Grid step of the candidate joint angles, deg, in (0, 360].
+    #[arg(long, default_value_t = DEFAULT_STEP_DEG, value_parser = step)]
+    pub step_deg: f64,
+    /// Largest condition number allowed for any output's regression (at least 1).
+    #[arg(long, default_value_t = DEFAULT_MAX_CONDITION, value_parser = condition)]
+    pub max_condition: f64,
+    /// Seed of the restarts and of the random baseline (default: the study's).
+    #[arg(long, value_parser = crate::args::seed)]
+    pub seed: Option<u64>,
+    /// Write the study with the designed positions to this new file (never overwritten).
+    #[arg(long)]
+    pub write_study: Option<PathBuf>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn step(s: &str) -> Result<f64, String> {
+    crate::args::positive(s, 360.0)
+}
+
+fn condition(s: &str) -> Result<f64, String> {
+    let v = crate::args::positive(s, 1e12)?;
+    if v < 1.0 {
+        return Err(format!("`{s}`: a condition number is at least 1"));
+    }
+    Ok(v)
+}
+
+/// Bad inputs are the user's (exit 2); solver trouble is ours (exit 1).
+fn classify(e: E2eError, s: &Study) -> anyhow::Error {
+    let at = match &e {
+        E2eError::TooFewPositions { .. } | E2eError::TooManyPositions { .. } => "--positions",
+        E2eError::OutOfRange {
+            field: "step_deg" | "candidates",
+            ..
+        } => "--step-deg",
+        E2eError::OutOfRange {
+            field: "max_condition",
+            ..
+        }
+        | E2eError::ConditionUnreachable { .. } => "--max-condition",
+        E2eError::UnidentifiableCandidates { .. } => {
+            "candidate positions (--step-deg and the joint ranges)"
+        }
+        _ => return crate::end_to_end::classify(e, s),
+    };
+    InputError::new(at, e.to_string()).into()
+}
+
+/// Refuse an output path that exists (any kind of entry) or whose directory does not.
+fn check_output(out: &Path) -> Result<(), InputError> {
+    let shown = out.display().to_string();
+    if out.symlink_metadata().is_ok() {
+        return Err(InputError::new(
+            &shown,
+            "--write-study: the file exists; choose a new name (an existing file is never overwritten)",
+        ));
+    }
+    let dir = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        return Err(InputError::new(
+            &shown,
+            "--write-study: its directory does not exist",
+        ));
+    }
+    if out.file_name().is_none() {
+        return Err(InputError::new(&shown, "--write-study needs a file name"));
+    }
+    Ok(())
+}
+
+/// Write `text` to `out` atomically: a temporary file in the same directory, flushed, then
+/// linked into place only if `out` still does not exist (never replacing anything).
+fn write_new(out: &Path, text: &str) -> Result<()> {
+    let dir = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".design-schedule-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
+    tmp.write_all(text.as_bytes())?;
+    tmp.as_file().sync_all()?;
+    tmp.persist_noclobber(out).map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            anyhow::Error::new(InputError::new(
+                out.display().to_string(),
+                "--write-study: the file appeared while designing; not overwritten",
+            ))
+        } else {
+            anyhow::Error::new(e.error).context(format!("writing {}", out.display()))
+        }
+    })?;
+    Ok(())
+}
+
+fn progress_bar(units: u64) -> Option<ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let pb = ProgressBar::with_draw_target(Some(units), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{bar:40} {pos}/{len} restarts and baseline schedules, {elapsed}",
+    ) {
+        pb.set_style(style);
+    }
+    Some(pb)
+}
+
+/// Everything the command prints, computed.
+struct Outcome {
+    design: ScheduleDesign,
+    settings: DesignSettings,
+    candidates: usize,
+    step_deg: f64,
+    seconds: f64,
+    command: String,
+    written: Option<String>,
+}
+
+fn requirement_json(r: &ScheduleReport) -> Value {
+    match &r.requirement {
+        Ok(q) => {
+            let d = q.deg();
+            json!({"psi": d[0], "theta": d[1], "gamma": d[2]})
+        }
+        Err(_) => json!({"psi": null, "theta": null, "gamma": null}),
+    }
+}
+
+fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
+    let outputs = s.sensor.outputs();
+    let errors = s.turntable.rotation_error_names();
+    let by_output = |v: &[f64]| -> Value {
+        Value::Object(
+            outputs
+                .iter()
+                .zip(v)
+                .map(|(o, x)| (o.name.clone(), json!(x)))
+                .collect(),
+        )
+    };
+    json!({
+        "objective": r.allocation.objective_arcmin(),
+        "positions_deg": r.positions_deg,
+        "condition_numbers": by_output(&r.condition_numbers),
+        "requirement_deg": requirement_json(r),
+        "requirement_note": r.requirement.as_ref().err().map(ToString::to_string),
+        "bounds_arcmin": Value::Object(errors.iter().zip(&r.allocation.upper_bounds_rad).map(|(n, u)| (n.to_string(), if u.is_finite() { json!(rad_to_arcmin(*u)) } else { Value::Null })).collect()),
+        "log_det_information": r.log_det_information,
+        "worst_case_today": r.worst_case_today.as_ref().map(|w| Value::Object(w.outputs.iter().map(|o| (outputs[o.output].name.clone(), json!({
+            "linear": o.linear_bound,
+            "exact_at_vertex": o.exact_at_vertex,
+            "accuracy": outputs[o.output].accuracy,
+            "position": o.position,
+        }))).collect())),
+    })
+}
+
+fn start_name(k: StartKind) -> String {
+    match k {
+        StartKind::Study => "study schedule".into(),
+        StartKind::Coarse => "coarse grid".into(),
+        StartKind::Given(g) => format!("given {g}"),
+        StartKind::Greedy => "greedy".into(),
+        StartKind::LevelSet => "level set".into(),
+        StartKind::Random(r) => format!("random {r}"),
+    }
+}
+
+fn to_json(s: &Study, o: &Outcome) -> Value {
+    let d = &o.design;
+    let search = &d.search;
+    let mut m = Map::new();
+    m.insert("study_path".into(), json!(s.path));
+    m.insert("reading".into(), json!(s.reading.to_string()));
+    m.insert("positions".into(), json!(o.settings.positions));
+    m.insert("step_deg".into(), json!(o.step_deg));
+    m.insert("max_condition".into(), json!(o.settings.max_condition));
+    m.insert("seed".into(), json!(o.settings.seed));
+    m.insert("candidates".into(), json!(o.candidates));
+    m.insert("seconds".into(), json!(o.seconds));
+    m.insert("command".into(), json!(o.command));
+    m.insert(
+        "outputs".into(),
+        json!(
+            s.sensor
+                .outputs()
+                .iter()
+                .map(|x| json!({"name": x.name, "unit": x.unit, "accuracy": x.accuracy}))
+                .collect::<Vec<_>>()
+        ),
+    );
+    m.insert("designed".into(), schedule_json(s, &d.designed));
+    m.insert("study".into(), schedule_json(s, &d.study));
+    m.insert("d_optimal".into(), schedule_json(s, &d.d_optimal));
+    m.insert(
+        "random_best".into(),
+        d.random_best
+            .as_ref()
+            .map_or(Value::Null, |r| schedule_json(s, r)),
+    );
+    m.insert("search".into(), json!({
+        "best_restart": start_name(search.restarts[search.best_restart].start),
+        "local_optimum": search.designed.local_optimum,
+        "restarts": search.restarts.iter().map(|r| json!({
+            "start": start_name(r.start),
+            "start_objective": if r.start_objective.is_finite() { json!(e2e_verify::objective_to_arcmin(r.start_objective)) } else { Value::Null },
+            "objective": r.exchange.as_ref().map(|e| e.evaluation.objective_arcmin()),
+            "exchanges": r.exchange.as_ref().map(|e| e.exchanges),
+            "exact_evaluations": r.exchange.as_ref().map(|e| e.exact_evaluations),
+            "screened_swaps": r.exchange.as_ref().map(|e| e.screened_swaps),
+            "local_optimum": r.exchange.as_ref().map(|e| e.local_optimum),
+        })).collect::<Vec<_>>(),
+        "d_optimal_log_det": search.d_optimal.log_det,
+        "random_drawn": search.random_drawn,
+        "random_feasible": search.random_feasible,
+    }));
+    m.insert("written_study".into(), json!(o.written));
+    Value::Object(m)
+}
+
+fn to_text(s: &Study, o: &Outcome) -> String {
+    let d = &o.design;
+    let outputs = s.sensor.outputs();
+    let names = outputs
+        .iter()
+        .map(|x| x.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut t = format!(
+        "design-schedule: study {} ({}), reading {}\n  {} candidates ({} deg grid over {}, and the study's positions), {} positions, condition numbers <= {}, seed {}\n\n",
+        s.name,
+        s.path,
+        s.reading,
+        o.candidates,
+        num(o.step_deg),
+        s.turntable.joint_names().join(", "),
+        o.settings.positions,
+        num(o.settings.max_condition),
+        o.settings.seed
+    );
+    let study_j = d.study.allocation.objective_arcmin();
+    let head = [
+        "schedule",
+        "J (arcmin^-2)",
+        "vs study",
+        "condition numbers",
+        "requirement psi/theta/gamma (deg)",
+        "worst case with today's table",
+    ];
+    t.push_str(&format!(
+        "{:<12} {:>13} {:>8}  {:<22} {:<34} {}\n",
+        head[0], head[1], head[2], head[3], head[4], head[5]
+    ));
+    let line = |label: &str, r: &ScheduleReport| -> String {
+        let req = match &r.requirement {
+            Ok(q) => q
+                .deg()
+                .iter()
+                .map(|v| v.map_or("-".into(), |x| sig(x, 3)))
+                .collect::<Vec<_>>()
+                .join(" / "),
+            Err(_) => "none".into(),
+        };
+        let wc = r.worst_case_today.as_ref().map_or("unbounded".into(), |w| {
+            w.outputs
+                .iter()
+                .map(|x| sig(x.exact_at_vertex, 3))
+                .collect::<Vec<_>>()
+                .join(", ")
+        });
+        let j = r.allocation.objective_arcmin();
+        let cond = r
+            .condition_numbers
+            .iter()
+            .map(|c| sig(*c, 3))
+            .collect::<Vec<_>>()
+            .join(", ");
+        format!(
+            "{label:<12} {:>13} {:>8}  {cond:<22} {req:<34} {wc}\n",
+            sig(j, 6),
+            sig(j / study_j, 3)
+        )
+    };
+    t.push_str(&line("designed", &d.designed));
+    t.push_str(&line("study", &d.study));
+    t.push_str(&line("D-optimal", &d.d_optimal));
+    match &d.random_best {
+        Some(r) => t.push_str(&line("random best", r)),
+        None => t.push_str("random best  none of the random schedules meets the condition bound\n"),
+    }
+    t.push_str(&format!(
+        "  outputs {names}; accuracies {}; today's table: the direct allocation of the study's schedule; random best: best of {} random schedules ({} meet the condition bound)\n",
+        outputs.iter().map(|x| format!("{} {}", num(x.accuracy), x.unit)).collect::<Vec<_>>().join(", "),
+        d.search.random_drawn,
+        d.search.random_feasible
+    ));
+    let errs = s.turntable.rotation_error_names();
+    let bounds = |r: &ScheduleReport| -> String {
+        errs.iter()
+            .zip(&r.allocation.upper_bounds_rad)
+            .map(|(n, u)| {
+                format!(
+                    "{n} {}",
+                    if u.is_finite() {
+                        sig(rad_to_arcmin(*u), 3)
+                    } else {
+                        "free".into()
+                    }
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    t.push_str(&format!(
+        "\ntolerances (arcmin) the designed schedule allows: {}\n",
+        bounds(&d.designed)
+    ));
+    t.push_str(&format!(
+        "tolerances (arcmin) the study's schedule allows:  {}\n",
+        bounds(&d.study)
+    ));
+    t.push_str(&format!(
+        "\ndesigned positions [{}] deg:\n",
+        s.turntable.joint_names().join(", ")
+    ));
+    for chunk in d.designed.positions_deg.chunks(8) {
+        let row: Vec<String> = chunk
+            .iter()
+            .map(|p| {
+                format!(
+                    "[{}]",
+                    p.iter().map(|a| num(*a)).collect::<Vec<_>>().join(", ")
+                )
+            })
+            .collect();
+        t.push_str(&format!("  {}\n", row.join(", ")));
+    }
+    let search = &d.search;
+    t.push_str(&format!(
+        "\nsearch: {} restarts, best from {}; {}; {:.1} s\n",
+        search.restarts.len(),
+        start_name(search.restarts[search.best_restart].start),
+        if search.designed.local_optimum {
+            "no single exchange of a position for a candidate improves J (a local optimum, not proven global)"
+        } else {
+            "stopped before proving local optimality"
+        },
+        o.seconds
+    ));
+    if let Some(w) = &o.written {
+        t.push_str(&format!("wrote {w}\n"));
+    }
+    t
+}
+
+/// Run the command.
+///
+/// # Errors
+/// [`InputError`] for bad inputs (exit 2, nothing on standard output); other errors if a
+/// solver fails.
+pub fn run(args: &Args) -> Result<()> {
+    let s = crate::study::load(args.study.as_deref())?;
+    if let Some(out) = &args.write_study {
+        check_output(out)?;
+    }
+    let positions = args.positions.map_or(s.positions_deg.len(), |n| n as usize);
+    let seed = args.seed.unwrap_or(s.monte_carlo.seed);
+    let mut settings = DesignSettings::new(positions, seed);
+    settings.max_condition = args.max_condition;
+    let pb = progress_bar(settings.work_units() + coarse_levels(args.step_deg));
+    let tick = || {
+        if let Some(pb) = &pb {
+            pb.inc(1);
+        }
+    };
+    let inputs = DesignInputs {
+        turntable: &s.turntable,
+        sensor: &s.sensor,
+        site: &s.site,
+        reading: s.reading,
+        delta_r_kind: s.delta_r_kind,
+        lower_bounds_rad: &s.lower_bounds_rad,
+        study_positions_deg: &s.positions_deg,
+    };
+    let t0 = Instant::now();
+    let (problem, design) =
+        design_on_grid(&inputs, args.step_deg, &settings, &tick).map_err(|e| classify(e, &s))?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if let Some(pb) = &pb {
+        pb.finish_and_clear();
+    }
+    // the report's J comes from the same path as `end-to-end`; the search's must agree
+    let searched = design.search.designed.evaluation.objective;
+    let reported = design.designed.allocation.objective;
+    if !((searched - reported).abs() <= 1e-9 * reported) {
+        anyhow::bail!(
+            "internal: the search's J {searched} and the end-to-end path's {reported} differ"
+        );
+    }
+    let command = format!(
+        "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
+        s.path,
+        positions,
+        num(args.step_deg),
+        num(args.max_condition),
+        seed
+    );
+    let written = match &args.write_study {
+        Some(out) => {
+            let comment = format!(
+                "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.",
+                num(design.designed.allocation.objective_arcmin()),
+                s.reading,
+                num(design.study.allocation.objective_arcmin()),
+                num(design.d_optimal.allocation.objective_arcmin()),
+                s.sensor
+                    .outputs()
+                    .iter()
+                    .zip(&design.designed.condition_numbers)
+                    .map(|(o, c)| format!("{} {}", o.name, num(*c)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                design.search.restarts.len(),
+                problem.n_candidates()
+            );
+            let text = s
+                .text_with_positions(&design.designed.positions_deg, &comment)
+                .map_err(InputError::from)?;
+            let shown = out.display().to_string();
+            let back = Study::parse(&shown, &text)
+                .map_err(|e| anyhow::anyhow!("internal: the written study does not parse: {e}"))?;
+            if back.positions_deg != design.designed.positions_deg {
+                anyhow::bail!(
+                    "internal: the written study's positions differ from the designed ones"
+                );
+            }
+            write_new(out, &text)?;
+            Some(shown)
+        }
+        None => None,
+    };
+    let outcome = Outcome {
+        design,
+        settings,
+        candidates: problem.n_candidates(),
+        step_deg: args.step_deg,
+        seconds,
+        command,
+        written,
+    };
+    if args.json {
+        crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &outcome))? + "\n"))
+    } else {
+        crate::out::print(&to_text(&s, &outcome))
+    }
+}

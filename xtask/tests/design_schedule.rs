@@ -1,0 +1,226 @@
+//! `cargo xtask design-schedule` end to end, through the built binary: the written study
+//! reproduces the designer's J in `end-to-end`, an existing output file is never touched,
+//! bad flags exit 2 with nothing on standard output, and the shipped examples design.
+
+use approx::assert_relative_eq;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Relative agreement of J between the designer and `end-to-end` on the written study
+/// (dimensionless): both take the same path from the same positions, so only the printing
+/// of the JSON numbers (shortest round-trip) may differ, which it does not.
+const SAME_PATH_REL: f64 = 1e-12;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn xtask(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run xtask")
+}
+
+fn json_of(out: &Output) -> Value {
+    assert!(
+        out.status.success(),
+        "exit {:?}: {}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
+}
+
+/// A fresh directory under the target directory (never the source tree, never /tmp shared
+/// with other runs), removed first if a previous run left it.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("design-schedule-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn objective(v: &Value, key: &str) -> f64 {
+    v[key]["objective"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key}.objective missing: {v}"))
+}
+
+/// Every schedule object has the keys with values of the right kind.
+fn check_schedule(v: &Value, key: &str, outputs: &[&str], positions: usize, joints: usize) {
+    let s = &v[key];
+    assert!(objective(v, key) > 0.0);
+    let p = s["positions_deg"].as_array().unwrap();
+    assert_eq!(p.len(), positions, "{key}");
+    assert!(p.iter().all(|q| q.as_array().unwrap().len() == joints));
+    for o in outputs {
+        assert!(
+            s["condition_numbers"][o].as_f64().unwrap() >= 1.0,
+            "{key}.{o}"
+        );
+    }
+    for a in ["psi", "theta", "gamma"] {
+        let r = &s["requirement_deg"][a];
+        assert!(
+            r.is_null() || r.as_f64().is_some_and(|x| x > 0.0),
+            "{key}.requirement_deg.{a} = {r}"
+        );
+    }
+}
+
+/// The acceptance: for the paper's study the designed J is below the study
+/// schedule's and the D-optimal one's, and `end-to-end` on the written study reports as
+/// `direct_objective` exactly the J the designer printed. The written study keeps the input
+/// study's comments and says how the schedule was made.
+#[test]
+fn end_to_end_on_the_written_study_reproduces_the_designed_objective() {
+    let dir = scratch("paper");
+    let out = dir.join("designed.toml");
+    let v = json_of(&xtask(&[
+        "design-schedule",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--write-study",
+        out.to_str().unwrap(),
+        "--json",
+    ]));
+    let designed = objective(&v, "designed");
+    assert!(
+        designed < objective(&v, "study") && designed < objective(&v, "d_optimal"),
+        "{v}"
+    );
+    assert_relative_eq!(
+        objective(&v, "study"),
+        54.652_234_256_453_7,
+        max_relative = 1e-9
+    );
+    check_schedule(&v, "designed", &["x", "y"], 32, 2);
+    for k in ["study", "d_optimal", "random_best"] {
+        check_schedule(&v, k, &["x", "y"], 32, 2);
+    }
+    assert!(v["designed"]["condition_numbers"]["x"].as_f64().unwrap() <= 10.0);
+    assert_eq!(v["written_study"].as_str().unwrap(), out.to_str().unwrap());
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("# Table 1, D(x)_xy"),
+        "the input study's comments are kept"
+    );
+    assert!(text.contains(
+        "# both axes.\n# The positions below replace the schedule described above. Designed by\n"
+    ));
+    assert!(text.contains("--seed 2017`"), "the seed is in the comment");
+    let e2e = json_of(&xtask(&[
+        "end-to-end",
+        "--study",
+        out.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--json",
+    ]));
+    assert_relative_eq!(
+        e2e["direct_objective"].as_f64().unwrap(),
+        designed,
+        max_relative = SAME_PATH_REL
+    );
+    // no temporary file is left beside it
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("designed.toml")]);
+}
+
+/// `--write-study` never overwrites: an existing file is refused with exit 2, nothing on
+/// standard output, the file unchanged; so is a missing directory.
+#[test]
+fn an_existing_output_file_is_refused_and_left_untouched() {
+    let dir = scratch("exists");
+    let out = dir.join("mine.toml");
+    std::fs::write(&out, "# my own notes\n").unwrap();
+    let r = xtask(&["design-schedule", "--write-study", out.to_str().unwrap()]);
+    assert_eq!(r.status.code(), Some(2));
+    assert!(r.stdout.is_empty());
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("mine.toml") && err.contains("exists"), "{err}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "# my own notes\n");
+    let r = xtask(&[
+        "design-schedule",
+        "--write-study",
+        dir.join("no/such/dir.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(2));
+    assert!(r.stdout.is_empty());
+}
+
+/// Bad flags exit 2 naming the flag, with nothing on standard output.
+#[test]
+fn bad_flags_exit_2_naming_the_flag() {
+    for (args, needle) in [
+        (vec!["--positions", "6"], "--positions"),
+        (vec!["--positions", "5000"], "--positions"),
+        (vec!["--step-deg", "0"], "--step-deg"),
+        (vec!["--step-deg", "400"], "--step-deg"),
+        (vec!["--max-condition", "0.5"], "--max-condition"),
+        (vec!["--max-condition", "1.0001"], "--max-condition"),
+        (vec!["--seed", "x"], "--seed"),
+    ] {
+        let mut a = vec!["design-schedule"];
+        a.extend(args.iter());
+        let r = xtask(&a);
+        assert_eq!(
+            r.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+        assert!(r.stdout.is_empty(), "{args:?}");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+/// The three-axis example (GyroWheel on a three-axis table) and the IMU example (six outputs,
+/// the user's reading) design on a 45 deg grid: the designed schedule has the study's size,
+/// meets the condition bound, is a local optimum and is no worse than the study's own
+/// schedule (a start of the search); every schedule carries the keys.
+#[test]
+fn three_axis_and_imu_examples_design_within_the_bound_and_no_worse_than_their_schedules() {
+    for (study, outputs, positions) in [
+        ("studies/three-axis-example.toml", vec!["x", "y"], 32),
+        (
+            "studies/imu-triad-example.toml",
+            vec!["gx", "gy", "gz", "ax", "ay", "az"],
+            24,
+        ),
+    ] {
+        let v = json_of(&xtask(&[
+            "design-schedule",
+            "--study",
+            study,
+            "--step-deg",
+            "45",
+            "--json",
+        ]));
+        assert_eq!(v["candidates"].as_u64().unwrap(), 512, "{study}");
+        for k in ["designed", "study", "d_optimal"] {
+            check_schedule(&v, k, &outputs, positions, 3);
+        }
+        assert!(
+            objective(&v, "designed") <= objective(&v, "study"),
+            "{study}: {v}"
+        );
+        for o in &outputs {
+            assert!(
+                v["designed"]["condition_numbers"][o].as_f64().unwrap() <= 10.0,
+                "{study} {o}"
+            );
+        }
+        assert_eq!(v["search"]["local_optimum"], Value::Bool(true), "{study}");
+    }
+}
