@@ -211,6 +211,7 @@ fn start_name(k: StartKind) -> String {
         StartKind::Coarse => "coarse grid".into(),
         StartKind::Given(g) => format!("given {g}"),
         StartKind::Greedy => "greedy".into(),
+        StartKind::GreedyUnconstrained => "greedy (J only)".into(),
         StartKind::LevelSet => "level set".into(),
         StartKind::Random(r) => format!("random {r}"),
     }
@@ -258,6 +259,7 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
             "exchanges": r.exchange.as_ref().map(|e| e.exchanges),
             "exact_evaluations": r.exchange.as_ref().map(|e| e.exact_evaluations),
             "screened_swaps": r.exchange.as_ref().map(|e| e.screened_swaps),
+            "unevaluated_swaps": r.exchange.as_ref().map(|e| e.unevaluated_swaps),
             "local_optimum": r.exchange.as_ref().map(|e| e.local_optimum),
         })).collect::<Vec<_>>(),
         "d_optimal_log_det": search.d_optimal.log_det,

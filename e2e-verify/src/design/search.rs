@@ -701,10 +701,16 @@ impl<'a> Search<'a> {
     }
 
     /// Greedy construction: a core (the shortest prefix of the level set's greedy D-optimal
-    /// sequence that identifies every output), then one candidate at a time from all
-    /// candidates, the one with the smallest fixed-shape estimate of $J$ (ties: the largest
-    /// information gain), each step evaluated exactly.
-    pub(crate) fn greedy(&self, n: usize) -> Result<Option<Evaluation>, E2eError> {
+    /// sequence that identifies every output; with `keep_feasible`, that meets the condition
+    /// bound if one does), then one candidate at a time from all candidates, the one with the
+    /// smallest fixed-shape estimate of $J$ (ties: the largest information gain), with
+    /// `keep_feasible` the best one that keeps a feasible schedule within the condition
+    /// bound, each step evaluated exactly.
+    pub(crate) fn greedy(
+        &self,
+        n: usize,
+        keep_feasible: bool,
+    ) -> Result<Option<Evaluation>, E2eError> {
         let sequence = match self.level_set(n)? {
             Some((_, s)) => s,
             None => super::dopt::greedy_d(self.p, n)?,
@@ -712,8 +718,12 @@ impl<'a> Search<'a> {
         // the core: the shortest prefix that meets the condition bound, else the shortest
         // that identifies every output
         let first = self.p.min_positions().min(n);
-        let core = (first..=n)
-            .find(|&k| self.conditions_ok(&sequence[..k]))
+        let feasible_core = if keep_feasible {
+            (first..=n).find(|&k| self.conditions_ok(&sequence[..k]))
+        } else {
+            None
+        };
+        let core = feasible_core
             .or_else(|| (first..=n).find(|&k| self.p.regressions(&sequence[..k]).is_ok()))
             .unwrap_or(n);
         let Some(mut e) = self.p.evaluate_or_skip(&sequence[..core], f64::INFINITY)? else {
@@ -723,7 +733,7 @@ impl<'a> Search<'a> {
             return Ok(Some(e));
         }
         while e.schedule.len() < n {
-            let feasible_now = e.max_condition() <= self.max_condition;
+            let feasible_now = keep_feasible && e.max_condition() <= self.max_condition;
             let st = self.state(e)?;
             let grams = self.grams(&st.s);
             let mut ranked = self.screen_additions(&st);
