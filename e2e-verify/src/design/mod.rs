@@ -101,7 +101,7 @@
 //!   step (itself started from four times the step, up to [`MAX_COARSE_STEP_DEG`]) is one
 //!   more start: a coarse grid is a subset of the fine one, small enough to search well, and
 //!   its optimum is usually near a good fine one. (Measured: for the IMU example the 30 deg
-//!   design reaches $J = 20$ arcmin$^{-2}$ where the 15 deg restarts alone stop at 797.)
+//!   design reaches $J = 20$ arcmin$^{-2}$ where the 15 deg restarts alone stop at 241 or worse.)
 //!
 //! A conic solve that fails on a candidate schedule (the core's solver reports no progress on
 //! a few ill-scaled row sets) makes that swap unavailable, never an error of the whole
