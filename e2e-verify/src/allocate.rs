@@ -10,8 +10,8 @@ use crate::simulate::EndToEnd;
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
-use tt_kinematics::{LinearModel, Turntable};
 use tt_kinematics::units::rad_to_arcmin;
+use tt_kinematics::{LinearModel, Turntable};
 
 /// Golden-section steps of [`EndToEnd::allocate_direct_certified`] over the $\ell_1$ budget
 /// (relative resolution $0.618^{40} \approx 4\cdot10^{-9}$ of the log range).
@@ -197,7 +197,12 @@ impl EndToEnd {
     ) -> Result<DirectAllocation, E2eError> {
         let weights = self.combined_weights();
         let accuracies = self.accuracies();
-        let names: Vec<&str> = self.calibration().outputs().iter().map(|o| o.output().name.as_str()).collect();
+        let names: Vec<&str> = self
+            .calibration()
+            .outputs()
+            .iter()
+            .map(|o| o.output().name.as_str())
+            .collect();
         DirectSetup {
             turntable: self.turntable(),
             weights: &weights,
@@ -477,8 +482,15 @@ impl EndToEnd {
 }
 
 /// Check lower bounds: one per angular error of `turntable`, finite and non-negative.
-pub(crate) fn check_lower_bounds(turntable: &Turntable, lower_bounds_rad: &[f64]) -> Result<(), E2eError> {
-    ErrorBox::new(turntable, lower_bounds_rad.to_vec(), lower_bounds_rad.iter().map(|v| v.max(0.0)).collect())?;
+pub(crate) fn check_lower_bounds(
+    turntable: &Turntable,
+    lower_bounds_rad: &[f64],
+) -> Result<(), E2eError> {
+    ErrorBox::new(
+        turntable,
+        lower_bounds_rad.to_vec(),
+        lower_bounds_rad.iter().map(|v| v.max(0.0)).collect(),
+    )?;
     Ok(())
 }
 
@@ -522,7 +534,10 @@ impl DirectSetup<'_> {
         for (k, _) in acc.iter().enumerate() {
             if bound(k) <= 0.0 {
                 return Err(E2eError::NotPositive {
-                    field: format!("accuracy of output {} minus its second-order margin", self.output_names[k]),
+                    field: format!(
+                        "accuracy of output {} minus its second-order margin",
+                        self.output_names[k]
+                    ),
                     value: bound(k),
                 });
             }
@@ -540,7 +555,9 @@ impl DirectSetup<'_> {
             }
         }
         let unconstrained = linear.unconstrained();
-        let free: Vec<usize> = (0..n_errors).filter(|j| !unconstrained.contains(j)).collect();
+        let free: Vec<usize> = (0..n_errors)
+            .filter(|j| !unconstrained.contains(j))
+            .collect();
         let names = self.turntable.rotation_error_names();
         let weights = self.weights;
         let rows: Vec<Cut> = linear
@@ -575,7 +592,8 @@ impl DirectSetup<'_> {
         let mut ub = vec![f64::INFINITY; n_errors];
         for (k, &j) in free.iter().enumerate() {
             // the solver meets UB >= LB to rounding; make it exact so the box is valid
-            ub[j] = crate::error::finite(&format!("upper_bounds.{}", names[j]), sol.x[k])?.max(lower_bounds_rad[j]);
+            ub[j] = crate::error::finite(&format!("upper_bounds.{}", names[j]), sol.x[k])?
+                .max(lower_bounds_rad[j]);
         }
         let loads = linear
             .row_worst_cases(&ub)

@@ -140,7 +140,9 @@ pub enum E2eError {
         candidates: usize,
     },
     /// Fewer positions than an output has coefficients to estimate.
-    #[error("{positions} positions cannot identify output `{output}`, which has {coefficients} coefficients to estimate")]
+    #[error(
+        "{positions} positions cannot identify output `{output}`, which has {coefficients} coefficients to estimate"
+    )]
     TooFewPositions {
         /// The requested number of positions.
         positions: usize,
@@ -165,7 +167,9 @@ pub enum E2eError {
     },
     /// No schedule the search met identifies every output with a condition number within the
     /// bound.
-    #[error("no schedule found whose condition numbers are all at most {max_condition}: the best one reached {best_condition}")]
+    #[error(
+        "no schedule found whose condition numbers are all at most {max_condition}: the best one reached {best_condition}"
+    )]
     ConditionUnreachable {
         /// The bound.
         max_condition: f64,
