@@ -529,7 +529,8 @@ fn conclusion2_proposed_allocation_beats_equal_effects_at_the_same_guarantee() {
     // (pi/2 for the four harmonic terms of psi and gamma, 1 for the constant ones and for
     // theta's two), as 115.867 is derived in `problems_31_to_33_match_their_closed_form_optimum`.
     let eb = I_ARCMIN / (1.0 + 2.0 * SQRT_2);
-    let j_equal = 2.0 * (4.0 * (PI / 2.0).powi(2) / (eb * eb) + 1.0 / (eb * eb)) + 2.0 / (0.81 * 0.81);
+    let j_equal =
+        2.0 * (4.0 * (PI / 2.0).powi(2) / (eb * eb) + 1.0 / (eb * eb)) + 2.0 / (0.81 * 0.81);
     assert_relative_eq!(
         equal.objective_arcmin(),
         j_equal,

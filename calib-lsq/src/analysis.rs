@@ -459,7 +459,11 @@ impl ReadingTerms for ActualTerms<'_> {
         }
     }
     fn known(&self, actual: bool, out: &mut [f64]) {
-        out.copy_from_slice(if actual { self.b2_actual } else { self.cal.b2().as_slice() });
+        out.copy_from_slice(if actual {
+            self.b2_actual
+        } else {
+            self.cal.b2().as_slice()
+        });
     }
     fn estimate(&self, which: Estimate, b1: &[f64], out: &mut [f64]) {
         let mut y = self.y.borrow_mut();
@@ -486,7 +490,11 @@ impl ReadingTerms for ActualTerms<'_> {
         }
     }
     fn predict(&self, actual: bool, beta: &[f64], out: &mut [f64]) {
-        let rows = if actual { self.rows } else { &self.cal.fast.a_rows };
+        let rows = if actual {
+            self.rows
+        } else {
+            &self.cal.fast.a_rows
+        };
         for (i, p) in out.iter_mut().enumerate() {
             *p = dot(&rows[i * self.k..(i + 1) * self.k], beta);
         }
@@ -514,7 +522,11 @@ impl OutputCalibration {
         let n = self.b2().len();
         for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
             if len != n {
-                return Err(CalibError::LengthMismatch { what, expected: n, found: len });
+                return Err(CalibError::LengthMismatch {
+                    what,
+                    expected: n,
+                    found: len,
+                });
             }
         }
         let f = &self.fast;
@@ -522,7 +534,10 @@ impl OutputCalibration {
         let need_b1 = reading.needs_actual_outputs();
         let need_rows = need_b1
             || reading.needs_beta_2()
-            || matches!(reading.form, ErrorForm::ActualRegressors | ErrorForm::ActualRegressorsNominalRate);
+            || matches!(
+                reading.form,
+                ErrorForm::ActualRegressors | ErrorForm::ActualRegressorsNominalRate
+            );
         let need_b2 = need_b1 || reading.needs_actual_known();
         work.rows.clear();
         work.b1_actual.clear();
@@ -541,16 +556,27 @@ impl OutputCalibration {
                 }
             }
             if need_b2 {
-                work.b2_actual.push(f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum());
+                work.b2_actual
+                    .push(f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum());
             }
         }
         let a_prime = if reading.needs_beta_2() {
             let m = nalgebra::DMatrix::from_row_slice(n, k, &work.rows);
-            Some(Regression::new(&self.output().name, self.regression().names().to_vec(), m)?)
+            Some(Regression::new(
+                &self.output().name,
+                self.regression().names().to_vec(),
+                m,
+            )?)
         } else {
             None
         };
-        let ErrorWork { reading: rw, rows, b1_actual, b2_actual, y } = work;
+        let ErrorWork {
+            reading: rw,
+            rows,
+            b1_actual,
+            b2_actual,
+            y,
+        } = work;
         let terms = ActualTerms {
             cal: self,
             k,

@@ -25,7 +25,10 @@ impl Mono {
                 len += 1;
             }
         }
-        Self { idx, len: len as u8 }
+        Self {
+            idx,
+            len: len as u8,
+        }
     }
 
     #[inline(always)]
@@ -186,10 +189,19 @@ impl Calibration {
                 let b2 = known_vector(o, &nominal);
                 let (n, k) = regression.matrix().shape();
                 let fast = FastOutput {
-                    a_rows: (0..n).flat_map(|i| (0..k).map(move |j| (i, j))).map(|(i, j)| regression.matrix()[(i, j)]).collect(),
-                    pinv_rows: (0..k).flat_map(|j| (0..n).map(move |i| (j, i))).map(|(j, i)| regression.pinv()[(j, i)]).collect(),
+                    a_rows: (0..n)
+                        .flat_map(|i| (0..k).map(move |j| (i, j)))
+                        .map(|(i, j)| regression.matrix()[(i, j)])
+                        .collect(),
+                    pinv_rows: (0..k)
+                        .flat_map(|j| (0..n).map(move |i| (j, i)))
+                        .map(|(j, i)| regression.pinv()[(j, i)])
+                        .collect(),
                     estimated: o.estimated().map(|t| Mono::new(&t.regressor)).collect(),
-                    known: o.known_terms().map(|t| (t.value, Mono::new(&t.regressor))).collect(),
+                    known: o
+                        .known_terms()
+                        .map(|t| (t.value, Mono::new(&t.regressor)))
+                        .collect(),
                     b1_intended: (&a_beta + &b2).iter().copied().collect(),
                 };
                 Ok(OutputCalibration {

@@ -43,8 +43,8 @@ mod requirement;
 mod schedule;
 
 pub use analysis::{
-    ErrorAnalysis, ErrorForm, ErrorWork, Estimate, OrientationErrorAnalysis, OutputsAt, Reading, ReadingTerms,
-    ReadingWork,
+    ErrorAnalysis, ErrorForm, ErrorWork, Estimate, OrientationErrorAnalysis, OutputsAt, Reading,
+    ReadingTerms, ReadingWork,
 };
 pub use calibration::{
     Calibration, CalibrationResult, OutputCalibration, design_matrix, known_vector,

@@ -259,7 +259,9 @@ impl RequirementProblem {
             }
             match r.max_box() {
                 Ok(b) => boxes.push(b),
-                Err(CalibError::Unbounded { .. }) => unconstrained_outputs.push(r.output().to_string()),
+                Err(CalibError::Unbounded { .. }) => {
+                    unconstrained_outputs.push(r.output().to_string())
+                }
                 Err(e) => return Err(e),
             }
         }

@@ -38,7 +38,10 @@ fn bench(c: &mut Criterion) {
         .map(|p| Pose::from_deg(p.joint_angles_deg()))
         .collect::<Result<_, _>>()
         .expect("the paper's poses are finite");
-    for (label, reading) in [("paper_reading", Reading::PAPER), ("user_reading", Reading::USER)] {
+    for (label, reading) in [
+        ("paper_reading", Reading::PAPER),
+        ("user_reading", Reading::USER),
+    ] {
         let e2e = EndToEnd::new(&table, &cal, &poses, reading).expect("valid study");
         let linear = e2e.linearization();
         let bounds = e2e
@@ -53,7 +56,8 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 let mut s = 0.0;
                 for chi in &chis {
-                    e2e.delta_omega_into(black_box(chi), &mut work).expect("finite");
+                    e2e.delta_omega_into(black_box(chi), &mut work)
+                        .expect("finite");
                     s += work.delta_omega[0];
                 }
                 s

@@ -11,9 +11,21 @@ use tt_kinematics::{Pose, paper};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let table = paper::table3();
-    let cal = Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &calib_lsq::paper::schedule())?;
-    let poses: Vec<Pose> = cal.schedule().positions().iter().map(|p| Pose::from_deg(p.joint_angles_deg())).collect::<Result<_, _>>()?;
-    let n: u64 = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(1_000_000);
+    let cal = Calibration::new(
+        &gw_model::paper::gyrowheel(),
+        &gw_model::paper::site(),
+        &calib_lsq::paper::schedule(),
+    )?;
+    let poses: Vec<Pose> = cal
+        .schedule()
+        .positions()
+        .iter()
+        .map(|p| Pose::from_deg(p.joint_angles_deg()))
+        .collect::<Result<_, _>>()?;
+    let n: u64 = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1_000_000);
     for reading in [Reading::PAPER, Reading::USER] {
         let e2e = EndToEnd::new(&table, &cal, &poses, reading)?;
         let linear = e2e.linearization();

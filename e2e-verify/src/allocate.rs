@@ -84,7 +84,10 @@ impl DirectAllocation {
     /// $\mathrm{UB}$ in arcminutes.
     #[must_use]
     pub fn upper_bounds_arcmin(&self) -> Vec<f64> {
-        self.upper_bounds_rad.iter().map(|&u| rad_to_arcmin(u)).collect()
+        self.upper_bounds_rad
+            .iter()
+            .map(|&u| rad_to_arcmin(u))
+            .collect()
     }
 
     /// $J$ in arcmin$^{-2}$.
@@ -96,7 +99,11 @@ impl DirectAllocation {
     /// The active rows: load $\ge 1 -$ [`TIGHT_REL`].
     #[must_use]
     pub fn active_rows(&self) -> Vec<RowLoad> {
-        self.loads.iter().copied().filter(|r| r.load >= 1.0 - TIGHT_REL).collect()
+        self.loads
+            .iter()
+            .copied()
+            .filter(|r| r.load >= 1.0 - TIGHT_REL)
+            .collect()
     }
 }
 
@@ -128,7 +135,10 @@ impl YieldAllocation {
     /// $\mathrm{UB}$ in arcminutes.
     #[must_use]
     pub fn upper_bounds_arcmin(&self) -> Vec<f64> {
-        self.upper_bounds_rad.iter().map(|&u| rad_to_arcmin(u)).collect()
+        self.upper_bounds_rad
+            .iter()
+            .map(|&u| rad_to_arcmin(u))
+            .collect()
     }
 
     /// $J$ in arcmin$^{-2}$.
@@ -230,8 +240,17 @@ impl EndToEnd {
     /// # Errors
     /// [`E2eError::Bounds`] for bad lower bounds; [`E2eError::InfeasibleLowerBounds`] naming
     /// the output and the row; [`E2eError::Alloc`] if the solver fails.
-    pub fn allocate_direct(&self, linear: &Linearization, lower_bounds_rad: &[f64]) -> Result<DirectAllocation, E2eError> {
-        self.allocate_direct_with_margins(linear, lower_bounds_rad, &vec![0.0; self.n_outputs()], None)
+    pub fn allocate_direct(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+    ) -> Result<DirectAllocation, E2eError> {
+        self.allocate_direct_with_margins(
+            linear,
+            lower_bounds_rad,
+            &vec![0.0; self.n_outputs()],
+            None,
+        )
     }
 
     /// Direct allocation certified on the exact chain: the cheapest allocation found whose
@@ -256,21 +275,30 @@ impl EndToEnd {
     /// # Errors
     /// As [`EndToEnd::allocate_direct`]; [`E2eError::NoSecondOrderBound`] when the reading has
     /// no derived bound; [`E2eError::NoConvergence`] when no budget in the range certifies.
-    pub fn allocate_direct_certified(&self, linear: &Linearization, lower_bounds_rad: &[f64]) -> Result<DirectAllocation, E2eError> {
+    pub fn allocate_direct_certified(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+    ) -> Result<DirectAllocation, E2eError> {
         let acc = self.accuracies();
         let n = self.len();
         let taus = |s: f64| -> Result<Vec<f64>, E2eError> {
             (0..self.n_outputs())
                 .map(|k| {
-                    self.second_order_bound(k, s)?.ok_or_else(|| E2eError::NoSecondOrderBound {
-                        reading: self.reading().to_string(),
-                    })
+                    self.second_order_bound(k, s)?
+                        .ok_or_else(|| E2eError::NoSecondOrderBound {
+                            reading: self.reading().to_string(),
+                        })
                 })
                 .collect()
         };
         let plain = self.allocate_direct(linear, lower_bounds_rad)?;
         let l1 = |ub: &[f64]| -> f64 { ub.iter().filter(|u| u.is_finite()).sum() };
-        let admissible = |t: &[f64]| t.iter().zip(&acc).all(|(t, a)| *t <= CERTIFY_MAX_MARGIN * a);
+        let admissible = |t: &[f64]| {
+            t.iter()
+                .zip(&acc)
+                .all(|(t, a)| *t <= CERTIFY_MAX_MARGIN * a)
+        };
         let mut s_hi = l1(&plain.upper_bounds_rad);
         if !admissible(&taus(s_hi)?) {
             // largest admissible budget by bisection (tau grows with s)
@@ -311,7 +339,9 @@ impl EndToEnd {
             }
             match self.allocate_direct_with_margins(linear, lower_bounds_rad, &margins, Some(s)) {
                 Ok(d) if certified(&d)? => Ok(Some(d)),
-                Ok(_) | Err(E2eError::InfeasibleLowerBounds { .. } | E2eError::Alloc(_)) => Ok(None),
+                Ok(_) | Err(E2eError::InfeasibleLowerBounds { .. } | E2eError::Alloc(_)) => {
+                    Ok(None)
+                }
                 Err(e) => Err(e),
             }
         };
@@ -362,7 +392,11 @@ impl EndToEnd {
             .zip(lower_bounds_rad)
             .map(|(u, l)| if u.is_finite() { *u } else { *l })
             .collect();
-        Ok(ErrorBox::new(self.turntable(), lower_bounds_rad.to_vec(), ub)?)
+        Ok(ErrorBox::new(
+            self.turntable(),
+            lower_bounds_rad.to_vec(),
+            ub,
+        )?)
     }
 
     /// Yield-based allocation: keep the shape $\mathrm{UB}_{shape}$ (e.g. the direct
@@ -396,23 +430,44 @@ impl EndToEnd {
         let p = fraction("yield_fraction", target)?;
         settings.validate()?;
         self.check_lower_bounds(lower_bounds_rad)?;
-        for (name, v) in self.turntable().rotation_error_names().iter().zip(shape_rad) {
+        for (name, v) in self
+            .turntable()
+            .rotation_error_names()
+            .iter()
+            .zip(shape_rad)
+        {
             if v.is_nan() || *v <= 0.0 {
-                return Err(E2eError::NotPositive { field: format!("shape.{name}"), value: *v });
+                return Err(E2eError::NotPositive {
+                    field: format!("shape.{name}"),
+                    value: *v,
+                });
             }
         }
         // s >= max LB/UB_shape whenever it is called, so s u >= LB up to rounding: made exact
-        let scaled = |s: f64| -> Vec<f64> { shape_rad.iter().zip(lower_bounds_rad).map(|(u, l)| (s * u).max(*l)).collect() };
-        let count = |s: f64| -> Result<u64, E2eError> { self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings) };
+        let scaled = |s: f64| -> Vec<f64> {
+            shape_rad
+                .iter()
+                .zip(lower_bounds_rad)
+                .map(|(u, l)| (s * u).max(*l))
+                .collect()
+        };
+        let count = |s: f64| -> Result<u64, E2eError> {
+            self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
+        };
         let need = (p * settings.samples as f64).ceil() as u64;
         let scale = if lower_bounds_rad.iter().all(|&l| l == 0.0) {
             let mut s = 1.0;
             let mut settled = false;
             let mut change = f64::INFINITY;
             for _ in 0..YIELD_FIXED_POINT_STEPS {
-                let q = self.ratio_quantile(&self.box_of(&scaled(s), lower_bounds_rad)?, settings, p)?;
+                let q =
+                    self.ratio_quantile(&self.box_of(&scaled(s), lower_bounds_rad)?, settings, p)?;
                 if !(q > 0.0 && q.is_finite()) {
-                    return Err(E2eError::NoConvergence { what: "yield scale (quantile)", iterations: 0, change: q });
+                    return Err(E2eError::NoConvergence {
+                        what: "yield scale (quantile)",
+                        iterations: 0,
+                        change: q,
+                    });
                 }
                 let next = s / q;
                 change = (next / s - 1.0).abs();
@@ -423,7 +478,11 @@ impl EndToEnd {
                 }
             }
             if !settled && change > 1e-6 {
-                return Err(E2eError::NoConvergence { what: "yield scale fixed point", iterations: YIELD_FIXED_POINT_STEPS, change });
+                return Err(E2eError::NoConvergence {
+                    what: "yield scale fixed point",
+                    iterations: YIELD_FIXED_POINT_STEPS,
+                    change,
+                });
             }
             let mut s = s * (1.0 - YIELD_SCALE_MARGIN);
             let mut steps = 0;
@@ -431,7 +490,11 @@ impl EndToEnd {
                 s *= 1.0 - 1e3 * YIELD_SCALE_MARGIN;
                 steps += 1;
                 if steps >= YIELD_BRACKET_STEPS {
-                    return Err(E2eError::NoConvergence { what: "yield scale margin", iterations: steps, change: s });
+                    return Err(E2eError::NoConvergence {
+                        what: "yield scale margin",
+                        iterations: steps,
+                        change: s,
+                    });
                 }
             }
             s
@@ -443,7 +506,10 @@ impl EndToEnd {
                 .fold(0.0, f64::max);
             let best = count(s_lo)?;
             if best < need {
-                return Err(E2eError::YieldUnreachable { target: p, best: best as f64 / settings.samples as f64 });
+                return Err(E2eError::YieldUnreachable {
+                    target: p,
+                    best: best as f64 / settings.samples as f64,
+                });
             }
             let mut hi = s_lo.max(1.0);
             let mut steps = 0;
@@ -451,7 +517,11 @@ impl EndToEnd {
                 hi *= 2.0;
                 steps += 1;
                 if steps >= YIELD_BRACKET_STEPS {
-                    return Err(E2eError::NoConvergence { what: "yield scale bracket", iterations: steps, change: hi });
+                    return Err(E2eError::NoConvergence {
+                        what: "yield scale bracket",
+                        iterations: steps,
+                        change: hi,
+                    });
                 }
             }
             let mut lo = s_lo;

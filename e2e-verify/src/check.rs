@@ -109,7 +109,11 @@ impl EndToEnd {
                     if !u.is_finite() {
                         return 0.0;
                     }
-                    let e2 = if u > l { (u.powi(3) - l.powi(3)) / (3.0 * (u - l)) } else { u * u };
+                    let e2 = if u > l {
+                        (u.powi(3) - l.powi(3)) / (3.0 * (u - l))
+                    } else {
+                        u * u
+                    };
                     m * m * e2
                 })
                 .collect();

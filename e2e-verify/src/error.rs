@@ -69,7 +69,9 @@ pub enum E2eError {
     },
     /// The reading has no derived second-order bound, so the allocation cannot be certified
     /// on the exact chain.
-    #[error("reading `{reading}` has no derived second-order bound: certification needs the user's estimate beta1 with the printed or nominal-rate form, or outputs at the intended orientation")]
+    #[error(
+        "reading `{reading}` has no derived second-order bound: certification needs the user's estimate beta1 with the printed or nominal-rate form, or outputs at the intended orientation"
+    )]
     NoSecondOrderBound {
         /// The reading.
         reading: String,

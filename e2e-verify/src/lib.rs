@@ -70,8 +70,9 @@ pub mod paper;
 mod simulate;
 
 pub use allocate::{
-    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_STEPS, DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS,
-    YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation,
+    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_STEPS, DEFAULT_YIELD_FRACTION,
+    DirectAllocation, RowLoad, YIELD_BISECTION_STEPS, YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS,
+    YIELD_SCALE_MARGIN, YieldAllocation,
 };
 pub use answer::{
     BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
@@ -81,8 +82,8 @@ pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
 pub use linear::{Linearization, OutputWorstCase, WorstCase};
 pub use montecarlo::{
-    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings,
-    QUANTILE_BINS, QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution,
-    RateQuantile, WorstDraw, Z_95, wilson_interval_95,
+    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS,
+    QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution, RateQuantile,
+    WorstDraw, Z_95, wilson_interval_95,
 };
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun};

@@ -51,7 +51,11 @@ impl Linearization {
     /// One row $\mathbf M_r$ (output unit per rad).
     #[must_use]
     pub fn row(&self, output: usize, position: usize) -> Vec<f64> {
-        self.m.row(self.row_index(output, position)).iter().copied().collect()
+        self.m
+            .row(self.row_index(output, position))
+            .iter()
+            .copied()
+            .collect()
     }
 
     /// The linearised worst case of every row over the box $|\chi_j| \le \mathrm{UB}_j$:
@@ -177,7 +181,9 @@ impl ReadingTerms for DerivativeTerms<'_> {
         // d beta1 = A+ db1; d beta2 = A+ (db1 - de - dg) (A' = A + dA, beta2 = beta + dbeta)
         let y: Vec<f64> = match which {
             Estimate::Beta1 => db1.to_vec(),
-            Estimate::Beta2 => (0..db1.len()).map(|i| db1[i] - self.de[i] - self.dg[i]).collect(),
+            Estimate::Beta2 => (0..db1.len())
+                .map(|i| db1[i] - self.de[i] - self.dg[i])
+                .collect(),
         };
         for (j, o) in out.iter_mut().enumerate() {
             *o = self.pinv.row(j).iter().zip(&y).map(|(p, v)| p * v).sum();
@@ -194,7 +200,12 @@ impl ReadingTerms for DerivativeTerms<'_> {
 
 /// $\sum_t \beta_t \nabla r_t(\mathbf u)\cdot d\mathbf u$ over the known (`known = true`) or the
 /// estimated terms of an output.
-pub(crate) fn directional(o: &gw_model::Output, known: bool, u: &InputValues, du: &[f64; 6]) -> f64 {
+pub(crate) fn directional(
+    o: &gw_model::Output,
+    known: bool,
+    u: &InputValues,
+    du: &[f64; 6],
+) -> f64 {
     o.terms
         .iter()
         .filter(|t| t.known == known)
@@ -208,16 +219,28 @@ pub(crate) fn directional(o: &gw_model::Output, known: bool, u: &InputValues, du
 impl EndToEnd {
     /// Check upper bounds: one per angular error, non-negative, finite except for the errors
     /// no output depends on ([`Linearization::unconstrained`]), which may be `+inf`.
-    pub(crate) fn check_bounds(&self, linear: &Linearization, ub_rad: &[f64]) -> Result<(), E2eError> {
+    pub(crate) fn check_bounds(
+        &self,
+        linear: &Linearization,
+        ub_rad: &[f64],
+    ) -> Result<(), E2eError> {
         if ub_rad.len() != self.n_errors() {
-            return Err(E2eError::Kinematics(tt_kinematics::KinematicsError::Length {
-                what: "upper bounds",
-                expected: self.n_errors(),
-                found: ub_rad.len(),
-            }));
+            return Err(E2eError::Kinematics(
+                tt_kinematics::KinematicsError::Length {
+                    what: "upper bounds",
+                    expected: self.n_errors(),
+                    found: ub_rad.len(),
+                },
+            ));
         }
         let free = linear.unconstrained();
-        for (j, (name, u)) in self.turntable().rotation_error_names().iter().zip(ub_rad).enumerate() {
+        for (j, (name, u)) in self
+            .turntable()
+            .rotation_error_names()
+            .iter()
+            .zip(ub_rad)
+            .enumerate()
+        {
             let field = format!("upper_bounds.{name}");
             if u.is_nan() || (u.is_infinite() && !free.contains(&j)) {
                 return Err(E2eError::NonFinite { field, value: *u });
@@ -279,7 +302,12 @@ impl EndToEnd {
                     de.push(directional(o, true, u, &du));
                     dg.push(directional(o, false, u, &du));
                 }
-                let terms = DerivativeTerms { a: cal.regression().matrix(), pinv: cal.regression().pinv(), de, dg };
+                let terms = DerivativeTerms {
+                    a: cal.regression().matrix(),
+                    pinv: cal.regression().pinv(),
+                    de,
+                    dg,
+                };
                 self.reading().error_vector(&terms, &mut work, &mut col);
                 for (i, v) in col.iter().enumerate() {
                     m[(k * n + i, j)] = *v;
@@ -315,7 +343,8 @@ impl EndToEnd {
             chi[j] = -step_rad;
             let minus = self.run(&chi)?;
             for k in 0..outputs {
-                let col = (&plus.analyses[k].error_vector - &minus.analyses[k].error_vector) / (2.0 * step_rad);
+                let col = (&plus.analyses[k].error_vector - &minus.analyses[k].error_vector)
+                    / (2.0 * step_rad);
                 m.view_mut((k * n, j), (n, 1)).copy_from(&col);
             }
         }
@@ -349,7 +378,11 @@ impl EndToEnd {
     /// # Errors
     /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming `l1_norm_rad` if $s$ is not
     /// finite and non-negative; [`E2eError::OutOfRange`] for a missing output.
-    pub fn second_order_bound(&self, output: usize, l1_norm_rad: f64) -> Result<Option<f64>, E2eError> {
+    pub fn second_order_bound(
+        &self,
+        output: usize,
+        l1_norm_rad: f64,
+    ) -> Result<Option<f64>, E2eError> {
         let s = finite("l1_norm_rad", l1_norm_rad)?;
         if s < 0.0 {
             return Err(E2eError::NotPositive {
@@ -357,17 +390,23 @@ impl EndToEnd {
                 value: s,
             });
         }
-        let cal = self.calibration().outputs().get(output).ok_or(E2eError::OutOfRange {
-            field: "output",
-            value: output as f64,
-            range: "an output of the sensor",
-        })?;
+        let cal = self
+            .calibration()
+            .outputs()
+            .get(output)
+            .ok_or(E2eError::OutOfRange {
+                field: "output",
+                value: output as f64,
+                range: "an output of the sensor",
+            })?;
         let reading = self.reading();
         if reading.estimate != Estimate::Beta1 || reading.form == ErrorForm::DeltaBeta {
             return Ok(None);
         }
         let rho = 0.5 * s * s * s.exp();
-        let we = gw_model::units::rad_per_s_to_deg_per_h(self.calibration().site().earth_rate_rad_per_s());
+        let we = gw_model::units::rad_per_s_to_deg_per_h(
+            self.calibration().site().earth_rate_rad_per_s(),
+        );
         let m = [1.0, 1.0, 1.0, we, we, we];
         let d = m.map(|v| s * v);
         let remainder = |known: bool| -> f64 {
@@ -415,7 +454,9 @@ impl EndToEnd {
             (OutputsAt::Intended, ErrorForm::NominalRate) => Some(0.0),
             (OutputsAt::Intended, ErrorForm::ActualRegressors) => Some(r_g + r_e),
             (OutputsAt::Intended, ErrorForm::ActualRegressorsNominalRate) => Some(r_g),
-            (OutputsAt::Actual, ErrorForm::Printed) => Some(norm(&i_minus_p) * r_g + norm(&p) * r_e),
+            (OutputsAt::Actual, ErrorForm::Printed) => {
+                Some(norm(&i_minus_p) * r_g + norm(&p) * r_e)
+            }
             (OutputsAt::Actual, ErrorForm::NominalRate) => Some(norm(&i_minus_p) * (r_g + r_e)),
             _ => None,
         })
@@ -429,7 +470,11 @@ impl EndToEnd {
     /// # Errors
     /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming the error of a bad bound; as
     /// [`EndToEnd::delta_omega`].
-    pub fn worst_case(&self, linear: &Linearization, ub_rad: &[f64]) -> Result<WorstCase, E2eError> {
+    pub fn worst_case(
+        &self,
+        linear: &Linearization,
+        ub_rad: &[f64],
+    ) -> Result<WorstCase, E2eError> {
         self.check_bounds(linear, ub_rad)?;
         let rows = linear.row_worst_cases(ub_rad);
         let n = self.len();
@@ -438,11 +483,14 @@ impl EndToEnd {
         let mut outputs = Vec::with_capacity(self.n_outputs());
         for k in 0..self.n_outputs() {
             let per: Vec<f64> = rows.rows(k * n, n).iter().copied().collect();
-            let (position, bound) = per
-                .iter()
-                .copied()
-                .enumerate()
-                .fold((0, f64::NEG_INFINITY), |b, (i, v)| if v > b.1 { (i, v) } else { b });
+            let (position, bound) =
+                per.iter()
+                    .copied()
+                    .enumerate()
+                    .fold(
+                        (0, f64::NEG_INFINITY),
+                        |b, (i, v)| if v > b.1 { (i, v) } else { b },
+                    );
             let row = linear.row(k, position);
             let chi: Vec<f64> = row
                 .iter()

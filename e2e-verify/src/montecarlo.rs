@@ -101,8 +101,16 @@ impl McSettings {
             }
         };
         check("samples", self.samples, MAX_SAMPLES)?;
-        check("chunk_size", u64::from(self.chunk_size), u64::from(u32::MAX))?;
-        check("histogram_bins", self.histogram_bins as u64, MAX_BINS as u64)
+        check(
+            "chunk_size",
+            u64::from(self.chunk_size),
+            u64::from(u32::MAX),
+        )?;
+        check(
+            "histogram_bins",
+            self.histogram_bins as u64,
+            MAX_BINS as u64,
+        )
     }
 }
 
@@ -287,14 +295,21 @@ impl Partial {
             worst: vec![None; ranges.len() - 1],
             worst_ratio: None,
             hist: ranges.iter().map(|&r| Histogram::new(r, bins)).collect(),
-            fine: ranges.iter().map(|&r| Histogram::new(r, QUANTILE_BINS)).collect(),
+            fine: ranges
+                .iter()
+                .map(|&r| Histogram::new(r, QUANTILE_BINS))
+                .collect(),
         }
     }
 
     fn merge(&mut self, o: Partial) {
         self.n += o.n;
         self.meeting += o.meeting;
-        for (a, b) in self.meeting_per_output.iter_mut().zip(&o.meeting_per_output) {
+        for (a, b) in self
+            .meeting_per_output
+            .iter_mut()
+            .zip(&o.meeting_per_output)
+        {
             *a += b;
         }
         let better = |mine: &mut Option<WorstDraw>, theirs: Option<WorstDraw>| {
@@ -358,10 +373,11 @@ impl EndToEnd {
                         sampler.fill_block(&mut rng, m, &mut block);
                         for k in 0..m {
                             block.chi_rad_into(k, &mut chi);
-                            self.delta_omega_into(&chi, &mut work).map_err(|e| E2eError::Draw {
-                                sample: index,
-                                reason: e.to_string(),
-                            })?;
+                            self.delta_omega_into(&chi, &mut work)
+                                .map_err(|e| E2eError::Draw {
+                                    sample: index,
+                                    reason: e.to_string(),
+                                })?;
                             if let Some((o, v)) = work
                                 .delta_omega
                                 .iter()
@@ -370,7 +386,9 @@ impl EndToEnd {
                             {
                                 return Err(E2eError::Draw {
                                     sample: index,
-                                    reason: format!("non-finite calibration error {v} on output {o}"),
+                                    reason: format!(
+                                        "non-finite calibration error {v} on output {o}"
+                                    ),
                                 });
                             }
                             visit(&mut part, index, &chi, &work.delta_omega);
@@ -390,7 +408,11 @@ impl EndToEnd {
     }
 
     /// Histogram ranges $H_k$ per output and for the ratio (last): see the [module](self).
-    pub(crate) fn histogram_ranges(&self, linear: &Linearization, bounds: &ErrorBox) -> Result<Vec<f64>, E2eError> {
+    pub(crate) fn histogram_ranges(
+        &self,
+        linear: &Linearization,
+        bounds: &ErrorBox,
+    ) -> Result<Vec<f64>, E2eError> {
         let ub = bounds.ub_rad();
         let rows = linear.row_worst_cases(ub);
         let n = self.len();
@@ -441,7 +463,11 @@ impl EndToEnd {
                     }
                     ratio = ratio.max(v / acc[k]);
                     if part.worst[k].as_ref().is_none_or(|w| v > w.value) {
-                        part.worst[k] = Some(WorstDraw { index, value: v, chi_rad: chi.to_vec() });
+                        part.worst[k] = Some(WorstDraw {
+                            index,
+                            value: v,
+                            chi_rad: chi.to_vec(),
+                        });
                     }
                     part.hist[k].add(v);
                     part.fine[k].add(v);
@@ -450,7 +476,11 @@ impl EndToEnd {
                     part.meeting += 1;
                 }
                 if part.worst_ratio.as_ref().is_none_or(|w| ratio > w.value) {
-                    part.worst_ratio = Some(WorstDraw { index, value: ratio, chi_rad: chi.to_vec() });
+                    part.worst_ratio = Some(WorstDraw {
+                        index,
+                        value: ratio,
+                        chi_rad: chi.to_vec(),
+                    });
                 }
                 part.hist[outputs].add(ratio);
                 part.fine[outputs].add(ratio);
@@ -462,7 +492,9 @@ impl EndToEnd {
             .into_iter()
             .map(|w| w.unwrap_or_else(|| unreachable!("at least one draw")))
             .collect();
-        let worst_ratio = p.worst_ratio.unwrap_or_else(|| unreachable!("at least one draw"));
+        let worst_ratio = p
+            .worst_ratio
+            .unwrap_or_else(|| unreachable!("at least one draw"));
         let quantiles = REPORTED_QUANTILES
             .iter()
             .map(|&q| RateQuantile {
@@ -474,7 +506,9 @@ impl EndToEnd {
             })
             .collect();
         let mut histograms = p.hist;
-        let ratio_histogram = histograms.pop().unwrap_or_else(|| unreachable!("ratio histogram"));
+        let ratio_histogram = histograms
+            .pop()
+            .unwrap_or_else(|| unreachable!("ratio histogram"));
         Ok(RateDistribution {
             samples: p.n,
             seed: settings.seed,
@@ -494,12 +528,26 @@ impl EndToEnd {
     ///
     /// # Errors
     /// As [`McSettings::validate`]; [`E2eError::Count`] above 10^6 draws.
-    pub fn sample_chi(&self, bounds: &ErrorBox, settings: &McSettings) -> Result<Vec<Vec<f64>>, E2eError> {
+    pub fn sample_chi(
+        &self,
+        bounds: &ErrorBox,
+        settings: &McSettings,
+    ) -> Result<Vec<Vec<f64>>, E2eError> {
         const MAX: u64 = 1_000_000;
         if settings.samples > MAX {
-            return Err(E2eError::Count { field: "samples", value: settings.samples, max: MAX });
+            return Err(E2eError::Count {
+                field: "samples",
+                value: settings.samples,
+                max: MAX,
+            });
         }
-        self.drive(bounds, settings, Vec::new, |v, _, chi, _| v.push(chi.to_vec()), |a, mut b| a.append(&mut b))
+        self.drive(
+            bounds,
+            settings,
+            Vec::new,
+            |v, _, chi, _| v.push(chi.to_vec()),
+            |a, mut b| a.append(&mut b),
+        )
     }
 
     /// The number of turntables drawn from `bounds` that meet every accuracy.
@@ -529,9 +577,17 @@ impl EndToEnd {
     /// # Errors
     /// [`E2eError::FractionOutOfRange`] unless $0 < p \le 1$ (`quantile`); as
     /// [`EndToEnd::rate_distribution`].
-    pub fn ratio_quantile(&self, bounds: &ErrorBox, settings: &McSettings, p: f64) -> Result<f64, E2eError> {
+    pub fn ratio_quantile(
+        &self,
+        bounds: &ErrorBox,
+        settings: &McSettings,
+        p: f64,
+    ) -> Result<f64, E2eError> {
         if !(p > 0.0 && p <= 1.0) {
-            return Err(E2eError::FractionOutOfRange { field: "quantile", value: p });
+            return Err(E2eError::FractionOutOfRange {
+                field: "quantile",
+                value: p,
+            });
         }
         settings.validate()?;
         let acc = self.accuracies();
@@ -541,7 +597,11 @@ impl EndToEnd {
         type Pass = (u64, Vec<u64>, u64, f64);
         let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
         for _ in 0..QUANTILE_PASSES {
-            let width = if hi.is_finite() { hi - lo } else { f64::INFINITY };
+            let width = if hi.is_finite() {
+                hi - lo
+            } else {
+                f64::INFINITY
+            };
             let bins = QUANTILE_BINS;
             let scan: Pass = self.drive(
                 bounds,
@@ -586,7 +646,10 @@ impl EndToEnd {
             let Some((b, before, count)) = chosen else {
                 return Ok(max);
             };
-            let (blo, bhi) = (lo + width * b as f64 / bins as f64, lo + width * (b + 1) as f64 / bins as f64);
+            let (blo, bhi) = (
+                lo + width * b as f64 / bins as f64,
+                lo + width * (b + 1) as f64 / bins as f64,
+            );
             if count as usize <= QUANTILE_COLLECT {
                 let mut values = self.drive(
                     bounds,

@@ -191,14 +191,19 @@ impl EndToEnd {
 
     pub(crate) fn check_chi(&self, chi_rad: &[f64]) -> Result<(), E2eError> {
         if chi_rad.len() != self.n_errors() {
-            return Err(E2eError::Kinematics(tt_kinematics::KinematicsError::Length {
-                what: "chi",
-                expected: self.n_errors(),
-                found: chi_rad.len(),
-            }));
+            return Err(E2eError::Kinematics(
+                tt_kinematics::KinematicsError::Length {
+                    what: "chi",
+                    expected: self.n_errors(),
+                    found: chi_rad.len(),
+                },
+            ));
         }
         if let Some(i) = chi_rad.iter().position(|v| !v.is_finite()) {
-            finite(&format!("chi.{}", self.turntable.rotation_error_names()[i]), chi_rad[i])?;
+            finite(
+                &format!("chi.{}", self.turntable.rotation_error_names()[i]),
+                chi_rad[i],
+            )?;
         }
         Ok(())
     }
@@ -210,7 +215,10 @@ impl EndToEnd {
     /// [`E2eError::NonFinite`] naming the error of a non-finite $\chi$; a length error.
     pub fn delta_r_reference(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
         self.check_chi(chi_rad)?;
-        let errors = TurntableErrors::new(chi_rad.to_vec(), vec![0.0; self.turntable.n_translation_errors()])?;
+        let errors = TurntableErrors::new(
+            chi_rad.to_vec(),
+            vec![0.0; self.turntable.n_translation_errors()],
+        )?;
         self.poses
             .iter()
             .map(|p| Ok(self.turntable.delta_r(p, &errors, ChainKind::Exact)?))
@@ -263,7 +271,8 @@ impl EndToEnd {
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
-        self.turntable.segment_rotations(chi_rad, &mut work.segments)?;
+        self.turntable
+            .segment_rotations(chi_rad, &mut work.segments)?;
         work.actual.clear();
         for (f, [a, w]) in self.frames.iter().zip(&self.pre) {
             let a = f.delta_r_transpose_times_pre(&work.segments, a);

@@ -309,8 +309,16 @@ fn table4_meets_omega_m_in_paper_reading_but_not_in_user_reading() {
     /// ($10^{-16}$ of outputs of order $10^2$ deg/h against errors of $10^{-2}$ deg/h).
     const EXACT_REL: f64 = 1e-9;
     let golden = [
-        (Reading::PAPER, [golden::PAPER_X_LINEAR, golden::PAPER_Y_LINEAR], [golden::PAPER_X_VERTICES, golden::PAPER_Y_VERTICES]),
-        (Reading::USER, [golden::USER_X_LINEAR, golden::USER_Y_LINEAR], [golden::USER_X_VERTICES, golden::USER_Y_VERTICES]),
+        (
+            Reading::PAPER,
+            [golden::PAPER_X_LINEAR, golden::PAPER_Y_LINEAR],
+            [golden::PAPER_X_VERTICES, golden::PAPER_Y_VERTICES],
+        ),
+        (
+            Reading::USER,
+            [golden::USER_X_LINEAR, golden::USER_Y_LINEAR],
+            [golden::USER_X_VERTICES, golden::USER_Y_VERTICES],
+        ),
     ];
     let ub = table4();
     for (reading, linear, vertices) in golden {
@@ -319,7 +327,11 @@ fn table4_meets_omega_m_in_paper_reading_but_not_in_user_reading() {
         let mut every = [0.0_f64; 2];
         let mut work = e2e.work();
         for signs in 0..256_u32 {
-            let chi: Vec<f64> = ub.iter().enumerate().map(|(j, u)| if signs >> j & 1 == 1 { -u } else { *u }).collect();
+            let chi: Vec<f64> = ub
+                .iter()
+                .enumerate()
+                .map(|(j, u)| if signs >> j & 1 == 1 { -u } else { *u })
+                .collect();
             e2e.delta_omega_into(&chi, &mut work).unwrap();
             for (m, v) in every.iter_mut().zip(&work.delta_omega) {
                 *m = m.max(*v);
@@ -368,7 +380,9 @@ fn direct_allocation_meets_omega_m_with_equality_on_active_positions() {
         assert_relative_eq!(d.objective, e2e.objective(&d.upper_bounds_rad));
     }
     let e2e = paper(Reading::PAPER);
-    let d = e2e.allocate_direct(&e2e.linearization(), &[0.0; 8]).unwrap();
+    let d = e2e
+        .allocate_direct(&e2e.linearization(), &[0.0; 8])
+        .unwrap();
     assert!(d.objective < e2e.objective(&two_step_ub()));
     assert!(d.objective < e2e.objective(&table4()));
 }
@@ -391,7 +405,11 @@ fn certified_direct_allocation_meets_omega_m_on_exact_chain() {
             assert!(o.exact_at_vertex <= OMEGA_M_DEG_PER_H);
         }
         assert!(cert.objective > plain.objective);
-        let tau_max = cert.second_order_margins.iter().copied().fold(0.0, f64::max);
+        let tau_max = cert
+            .second_order_margins
+            .iter()
+            .copied()
+            .fold(0.0, f64::max);
         assert!(cert.objective < plain.objective * (1.0 + 20.0 * tau_max / OMEGA_M_DEG_PER_H));
     }
 }
@@ -403,7 +421,11 @@ fn combined_weights_reproduce_alloc_opt_objective() {
     let e2e = paper(Reading::PAPER);
     let w = Weights::inverse_average_sensitivity(&LinearModel::new(&tt_paper::table3()));
     for ub in [table4(), two_step_ub()] {
-        assert_relative_eq!(e2e.objective(&ub), w.objective(&ub), max_relative = OBJECTIVE_REL);
+        assert_relative_eq!(
+            e2e.objective(&ub),
+            w.objective(&ub),
+            max_relative = OBJECTIVE_REL
+        );
     }
 }
 
@@ -417,7 +439,12 @@ fn direct_allocation_is_optimal_under_feasible_perturbations() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     for _ in 0..300 {
         let f = random_chi(&mut rng, &[1e-3; 8]);
-        let x: Vec<f64> = d.upper_bounds_rad.iter().zip(&f).map(|(u, f)| u * f.exp()).collect();
+        let x: Vec<f64> = d
+            .upper_bounds_rad
+            .iter()
+            .zip(&f)
+            .map(|(u, f)| u * f.exp())
+            .collect();
         let load = lin.row_worst_cases(&x).max() / OMEGA_M_DEG_PER_H;
         let x: Vec<f64> = x.iter().map(|v| v / load.max(1.0)).collect();
         let j = e2e.objective(&x);
@@ -434,7 +461,12 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
     let lin = e2e.linearization();
     let d = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
     let y = e2e
-        .allocate_yield(&d.upper_bounds_rad, &[0.0; 8], 0.9973, &McSettings::new(20_000, 1))
+        .allocate_yield(
+            &d.upper_bounds_rad,
+            &[0.0; 8],
+            0.9973,
+            &McSettings::new(20_000, 1),
+        )
         .unwrap();
     let (lo, hi) = y.interval_95;
     assert!(lo <= 0.9973 && 0.9973 <= hi, "{lo} {hi}");
@@ -442,7 +474,11 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
     // largest: the quantile draw sits on the accuracy).
     assert!(y.meeting >= 19_946 && y.meeting <= 19_948, "{}", y.meeting);
     let again = e2e
-        .rate_distribution(&lin, &e2e.box_of(&y.upper_bounds_rad, &[0.0; 8]).unwrap(), &McSettings::new(40_000, 99))
+        .rate_distribution(
+            &lin,
+            &e2e.box_of(&y.upper_bounds_rad, &[0.0; 8]).unwrap(),
+            &McSettings::new(40_000, 99),
+        )
         .unwrap();
     let f = again.yield_fraction();
     assert!(lo <= f && f <= hi, "{f} outside [{lo}, {hi}]");
@@ -459,7 +495,9 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     let lb = [0.05 * RAD_PER_ARCMIN; 8];
     let d = e2e.allocate_direct(&lin, &lb).unwrap();
     let settings = McSettings::new(2_000, 3);
-    let y = e2e.allocate_yield(&d.upper_bounds_rad, &lb, 0.99, &settings).unwrap();
+    let y = e2e
+        .allocate_yield(&d.upper_bounds_rad, &lb, 0.99, &settings)
+        .unwrap();
     assert!(y.yield_fraction() >= 0.99);
     for (u, l) in y.upper_bounds_rad.iter().zip(&lb) {
         assert!(u >= l);
@@ -493,7 +531,12 @@ fn monte_carlo_reuses_mc_verify_streams_and_is_thread_count_independent() {
     sampler.fill_block(&mut rng, BLOCK_CAPACITY, &mut block);
     sampler.fill_block(&mut rng, 72, &mut block);
     let chi_433 = block.chi_rad(5);
-    let pool = |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
     let chis = pool(1).install(|| e2e.sample_chi(&bounds, &settings).unwrap());
     assert_eq!(chis.len(), 500);
     assert_eq!(bits(&chis[0]), bits(&chi0));
@@ -526,7 +569,10 @@ fn rate_distribution_summary_matches_the_draws() {
     let chis = e2e.sample_chi(&bounds, &settings).unwrap();
     let rates: Vec<Vec<f64>> = chis.iter().map(|c| e2e.delta_omega(c).unwrap()).collect();
     let acc = e2e.accuracies();
-    let meeting = rates.iter().filter(|r| r.iter().zip(&acc).all(|(v, a)| v <= a)).count() as u64;
+    let meeting = rates
+        .iter()
+        .filter(|r| r.iter().zip(&acc).all(|(v, a)| v <= a))
+        .count() as u64;
     assert_eq!(dist.meeting, meeting);
     let mut ratios: Vec<f64> = rates
         .iter()
@@ -579,7 +625,9 @@ fn tolerance_check_verdicts_and_contributions() {
     let e2e = paper(Reading::USER);
     let lin = e2e.linearization();
     let settings = McSettings::new(2_000, 4);
-    let check = e2e.check_tolerances(&lin, &table4(), &[0.0; 8], &settings).unwrap();
+    let check = e2e
+        .check_tolerances(&lin, &table4(), &[0.0; 8], &settings)
+        .unwrap();
     assert_eq!(check.verdict, e2e_verify::Verdict::Fails);
     for o in &check.outputs {
         let w: f64 = o.contributions.iter().map(|c| c.worst_share).sum();
@@ -589,7 +637,9 @@ fn tolerance_check_verdicts_and_contributions() {
     }
     assert!(check.distribution.yield_fraction() < 1.0);
     let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();
-    let ok = e2e.check_tolerances(&lin, &cert.upper_bounds_rad, &[0.0; 8], &settings).unwrap();
+    let ok = e2e
+        .check_tolerances(&lin, &cert.upper_bounds_rad, &[0.0; 8], &settings)
+        .unwrap();
     assert_eq!(ok.verdict, e2e_verify::Verdict::Guaranteed);
     assert_eq!(ok.distribution.meeting, 2_000);
 }
@@ -609,7 +659,12 @@ fn example_studies_answer_the_buyers_question() {
         let wc = e2e.worst_case(&lin, &cert.upper_bounds_rad).unwrap();
         let acc = e2e.accuracies();
         for (o, a) in wc.outputs.iter().zip(&acc) {
-            assert!(o.exact_at_vertex <= *a, "{name}: output {} {} > {a}", o.output, o.exact_at_vertex);
+            assert!(
+                o.exact_at_vertex <= *a,
+                "{name}: output {} {} > {a}",
+                o.output,
+                o.exact_at_vertex
+            );
             assert!(o.certified_bound().unwrap() <= a * (1.0 + FEASIBLE_REL));
         }
         let plain = e2e.allocate_direct(&lin, &lb).unwrap();
@@ -628,38 +683,102 @@ fn bad_input_gives_typed_errors_naming_the_field() {
     let mut bad = table4();
     bad[1] = -1e-4;
     let err = e2e.worst_case(&lin, &bad).unwrap_err();
-    assert!(matches!(err, E2eError::NotPositive { ref field, .. } if field == "upper_bounds.dphi_z2"), "{err:?}");
+    assert!(
+        matches!(err, E2eError::NotPositive { ref field, .. } if field == "upper_bounds.dphi_z2"),
+        "{err:?}"
+    );
     bad[1] = f64::NAN;
     let err = e2e.worst_case(&lin, &bad).unwrap_err();
-    assert!(matches!(err, E2eError::NonFinite { ref field, .. } if field == "upper_bounds.dphi_z2"), "{err:?}");
-    assert!(matches!(e2e.worst_case(&lin, &table4()[..7]).unwrap_err(), E2eError::Kinematics(_)));
+    assert!(
+        matches!(err, E2eError::NonFinite { ref field, .. } if field == "upper_bounds.dphi_z2"),
+        "{err:?}"
+    );
+    assert!(matches!(
+        e2e.worst_case(&lin, &table4()[..7]).unwrap_err(),
+        E2eError::Kinematics(_)
+    ));
     let mut lb = vec![0.0; 8];
     lb[3] = 1.0 * RAD_PER_ARCMIN;
     let err = e2e.box_of(&table4(), &lb).unwrap_err();
     assert!(err.to_string().contains("dalpha_z1"), "{err}");
     let b = e2e.box_of(&table4(), &[0.0; 8]).unwrap();
     for samples in [0, u64::MAX] {
-        let err = e2e.rate_distribution(&lin, &b, &McSettings::new(samples, 1)).unwrap_err();
-        assert!(matches!(err, E2eError::Count { field: "samples", .. }), "{err:?}");
+        let err = e2e
+            .rate_distribution(&lin, &b, &McSettings::new(samples, 1))
+            .unwrap_err();
+        assert!(
+            matches!(
+                err,
+                E2eError::Count {
+                    field: "samples",
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
     }
     for p in [0.0, 1.0, -0.5, f64::NAN] {
-        let err = e2e.allocate_yield(&table4(), &[0.0; 8], p, &McSettings::new(10, 1)).unwrap_err();
-        assert!(matches!(err, E2eError::FractionOutOfRange { field: "yield_fraction", .. }), "{err:?}");
+        let err = e2e
+            .allocate_yield(&table4(), &[0.0; 8], p, &McSettings::new(10, 1))
+            .unwrap_err();
+        assert!(
+            matches!(
+                err,
+                E2eError::FractionOutOfRange {
+                    field: "yield_fraction",
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
     }
-    let err = e2e.delta_omega(&[0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap_err();
-    assert!(matches!(err, E2eError::NonFinite { ref field, .. } if field == "chi.dphi_z2"), "{err:?}");
-    let err = e2e.allocate_direct(&lin, &[10.0 * RAD_PER_ARCMIN; 8]).unwrap_err();
-    assert!(matches!(err, E2eError::InfeasibleLowerBounds { .. }), "{err:?}");
+    let err = e2e
+        .delta_omega(&[0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+        .unwrap_err();
+    assert!(
+        matches!(err, E2eError::NonFinite { ref field, .. } if field == "chi.dphi_z2"),
+        "{err:?}"
+    );
+    let err = e2e
+        .allocate_direct(&lin, &[10.0 * RAD_PER_ARCMIN; 8])
+        .unwrap_err();
+    assert!(
+        matches!(err, E2eError::InfeasibleLowerBounds { .. }),
+        "{err:?}"
+    );
     assert!(err.to_string().contains("lower bounds"));
     let err = e2e.linearization_numerical(0.0).unwrap_err();
-    assert!(matches!(err, E2eError::OutOfRange { field: "step_rad", .. }));
+    assert!(matches!(
+        err,
+        E2eError::OutOfRange {
+            field: "step_rad",
+            ..
+        }
+    ));
     let err = e2e.second_order_bound(5, 1e-3).unwrap_err();
-    assert!(matches!(err, E2eError::OutOfRange { field: "output", .. }));
-    let err = EndToEnd::new(e2e.turntable(), e2e.calibration(), &e2e.poses()[..3], Reading::USER).unwrap_err();
+    assert!(matches!(
+        err,
+        E2eError::OutOfRange {
+            field: "output",
+            ..
+        }
+    ));
+    let err = EndToEnd::new(
+        e2e.turntable(),
+        e2e.calibration(),
+        &e2e.poses()[..3],
+        Reading::USER,
+    )
+    .unwrap_err();
     assert!(matches!(err, E2eError::OutOfRange { field: "poses", .. }));
     let no_bound = paper(Reading::AS_PRINTED);
-    let err = no_bound.allocate_direct_certified(&no_bound.linearization(), &[0.0; 8]).unwrap_err();
-    assert!(matches!(err, E2eError::NoSecondOrderBound { .. }), "{err:?}");
+    let err = no_bound
+        .allocate_direct_certified(&no_bound.linearization(), &[0.0; 8])
+        .unwrap_err();
+    assert!(
+        matches!(err, E2eError::NoSecondOrderBound { .. }),
+        "{err:?}"
+    );
     assert!(!err.to_string().contains("NaN"));
 }
 

@@ -316,13 +316,23 @@ impl LinearModel {
     /// The harmonic parts in joint `j` of the coefficients of `axis` (`deriv: None`) or of
     /// their derivatives with respect to another joint (`Some(k)`, `k != j`): both are
     /// $a\cos\phi_j + b\sin\phi_j + c$ (every joint appears once in the chain).
-    fn harmonics_of(&self, axis: OrientationAxis, j: usize, sc: &[(f64, f64)], deriv: Option<usize>) -> Vec<[f64; 3]> {
+    fn harmonics_of(
+        &self,
+        axis: OrientationAxis,
+        j: usize,
+        sc: &[(f64, f64)],
+        deriv: Option<usize>,
+    ) -> Vec<[f64; 3]> {
         let mut sc = sc.to_vec();
         let mut at = |s: f64, c: f64| {
             sc[j] = (s, c);
             match deriv {
                 None => self.coefficients_sc(&sc),
-                Some(k) => self.vector_derivatives_sc(&sc, k).into_iter().map(|v| [v.y, v.z, v.x]).collect(),
+                Some(k) => self
+                    .vector_derivatives_sc(&sc, k)
+                    .into_iter()
+                    .map(|v| [v.y, v.z, v.x])
+                    .collect(),
             }
         };
         let (f0, f90, f180) = (at(0.0, 1.0), at(1.0, 0.0), at(0.0, -1.0));
@@ -593,14 +603,21 @@ impl LinearModel {
                 // coefficient (a unit vector rotated by joint rotations: second derivatives of
                 // norm <= 1); the linear part's weighted sum is convex in d, so its maximum over
                 // the cell is at a vertex, and for each vertex it is harmonic in the inner joint.
-                let grads: Vec<Vec<[f64; 3]>> = outer.iter().map(|&j| self.harmonics_of(axis, inner, &sc, Some(j))).collect();
+                let grads: Vec<Vec<[f64; 3]>> = outer
+                    .iter()
+                    .map(|&j| self.harmonics_of(axis, inner, &sc, Some(j)))
+                    .collect();
                 let mut vertex_max = f64::NEG_INFINITY;
                 let mut hv = h.clone();
                 for corner in 0..(1_usize << outer.len()) {
                     for (i, hi_) in hv.iter_mut().enumerate() {
                         *hi_ = h[i];
                         for (k, g) in grads.iter().enumerate() {
-                            let d = if corner >> k & 1 == 1 { half[k] } else { -half[k] };
+                            let d = if corner >> k & 1 == 1 {
+                                half[k]
+                            } else {
+                                -half[k]
+                            };
                             for m in 0..3 {
                                 hi_[m] += d * g[i][m];
                             }
@@ -610,7 +627,11 @@ impl LinearModel {
                 }
                 bound = bound.min(vertex_max + 0.5 * lipschitz * l1 * l1);
             }
-            Cell { bound, centre, half }
+            Cell {
+                bound,
+                centre,
+                half,
+            }
         };
         let centre: Vec<f64> = outer
             .iter()
@@ -872,14 +893,23 @@ mod tests {
     fn vector_derivatives_equal_central_differences() {
         use crate::{FactorSpec, SignedAxis, Turntable, TurntableDescription};
         let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-        let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-        let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+        let j = |n: &str, a| FactorSpec::Joint {
+            name: n.into(),
+            about: a,
+        };
+        let e = |n: &str, a| FactorSpec::Error {
+            name: n.into(),
+            about: a,
+        };
         // outer z, middle x (tilted by a fixed 10 deg about y), inner y, errors between them
         let t = Turntable::new(&TurntableDescription::new(vec![
             j("o", z),
             e("eo", x),
             e("eo2", z),
-            FactorSpec::Fixed { angle_rad: 10f64.to_radians(), about: y },
+            FactorSpec::Fixed {
+                angle_rad: 10f64.to_radians(),
+                about: y,
+            },
             j("m", x),
             e("em", y),
             e("em2", x),
@@ -891,17 +921,26 @@ mod tests {
         let m = LinearModel::new(&t);
         let h = 1e-5;
         for k in 0..20 {
-            let pose: Vec<f64> = (0..t.n_joints()).map(|j| 0.37 * (k * 3 + j) as f64 + 0.1).collect();
+            let pose: Vec<f64> = (0..t.n_joints())
+                .map(|j| 0.37 * (k * 3 + j) as f64 + 0.1)
+                .collect();
             for j in 0..t.n_joints() {
                 let d = m.vector_derivatives_sc(&LinearModel::sc_of(&pose), j);
                 let mut plus = pose.clone();
                 plus[j] += h;
                 let mut minus = pose.clone();
                 minus[j] -= h;
-                let (vp, vm) = (m.vectors_sc(&LinearModel::sc_of(&plus)), m.vectors_sc(&LinearModel::sc_of(&minus)));
+                let (vp, vm) = (
+                    m.vectors_sc(&LinearModel::sc_of(&plus)),
+                    m.vectors_sc(&LinearModel::sc_of(&minus)),
+                );
                 for i in 0..m.n_errors() {
                     let fd = (vp[i] - vm[i]) / (2.0 * h);
-                    assert!((fd - d[i]).amax() < FD_ABS, "joint {j} error {i}: {fd} vs {}", d[i]);
+                    assert!(
+                        (fd - d[i]).amax() < FD_ABS,
+                        "joint {j} error {i}: {fd} vs {}",
+                        d[i]
+                    );
                 }
             }
         }

@@ -269,10 +269,12 @@ impl PoseFrames {
     /// $\Delta\mathbf R = \mathbf B_1^T\mathbf E_1\mathbf A_1\cdots\mathbf E_m\mathbf A_m$.
     #[must_use]
     pub fn delta_r(&self, e: &[Matrix3<f64>]) -> Matrix3<f64> {
-        e.iter().zip(&self.blocks_t).fold(self.b1.transpose(), |m, (es, at)| match at {
-            Some(at) => m * es * at.transpose(),
-            None => m * es,
-        })
+        e.iter()
+            .zip(&self.blocks_t)
+            .fold(self.b1.transpose(), |m, (es, at)| match at {
+                Some(at) => m * es * at.transpose(),
+                None => m * es,
+            })
     }
 }
 

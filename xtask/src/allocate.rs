@@ -52,14 +52,26 @@ pub struct Args {
 }
 
 fn parse_margin(s: &str) -> Result<f64, String> {
-    let v: f64 = s.trim().parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if (0.0..1.0).contains(&v) { Ok(v) } else { Err(format!("`{s}`: the safety margin must lie in [0, 1)")) }
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("`{s}`: the safety margin must lie in [0, 1)"))
+    }
 }
 
 /// An allocation error as exit code 2 (the inputs) or 1 (the solver).
 pub fn classify(e: AllocError, s: &Study) -> anyhow::Error {
     match &e {
-        AllocError::InfeasibleLowerBounds { problem, components, worst_case_rad, requirement_rad } => crate::input::infeasible_lower_bounds(
+        AllocError::InfeasibleLowerBounds {
+            problem,
+            components,
+            worst_case_rad,
+            requirement_rad,
+        } => crate::input::infeasible_lower_bounds(
             &s.path,
             &s.lower_bounds_rad,
             &s.turntable.rotation_error_names(),
@@ -69,13 +81,17 @@ pub fn classify(e: AllocError, s: &Study) -> anyhow::Error {
             *requirement_rad,
         )
         .into(),
-        AllocError::Negative { .. } => {
-            InputError::new(format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY), e.to_string()).into()
-        }
+        AllocError::Negative { .. } => InputError::new(
+            format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY),
+            e.to_string(),
+        )
+        .into(),
         AllocError::NonFinite { field, .. } | AllocError::NotPositive { field, .. } => {
             InputError::new(format!("{}: {field}", s.path), e.to_string()).into()
         }
-        AllocError::QuarterRangesNeedOneFreeJoint { .. } => InputError::new("--constraint-form", e.to_string()).into(),
+        AllocError::QuarterRangesNeedOneFreeJoint { .. } => {
+            InputError::new("--constraint-form", e.to_string()).into()
+        }
         _ => e.into(),
     }
 }
@@ -85,13 +101,27 @@ fn bounds_json(names: &[&str], ub_rad: &[f64]) -> Value {
         names
             .iter()
             .zip(ub_rad)
-            .map(|(n, u)| (n.to_string(), if u.is_finite() { json!(rad_to_arcmin(*u)) } else { Value::Null }))
+            .map(|(n, u)| {
+                (
+                    n.to_string(),
+                    if u.is_finite() {
+                        json!(rad_to_arcmin(*u))
+                    } else {
+                        Value::Null
+                    },
+                )
+            })
             .collect(),
     )
 }
 
 fn per_axis(f: impl Fn(OrientationAxis) -> Value) -> Value {
-    Value::Object(OrientationAxis::ALL.iter().map(|&a| (a.name().to_string(), f(a))).collect())
+    Value::Object(
+        OrientationAxis::ALL
+            .iter()
+            .map(|&a| (a.name().to_string(), f(a)))
+            .collect(),
+    )
 }
 
 fn certificate_json(s: &Study, c: &Certificate) -> Value {
@@ -135,10 +165,14 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
             "the study has no orientation requirement: no output constrains a constant orientation error (see `requirement`); give one in [requirement] or use `end-to-end`, which allocates against the outputs' accuracies directly",
         )
     })?;
-    let problem = AllocationProblem::new(LinearModel::new(&s.turntable), req, s.lower_bounds_rad.clone())
-        .map_err(|e| classify(e, s))?
-        .with_safety_margin(safety_margin)
-        .map_err(|e| InputError::new("--safety-margin", e.to_string()))?;
+    let problem = AllocationProblem::new(
+        LinearModel::new(&s.turntable),
+        req,
+        s.lower_bounds_rad.clone(),
+    )
+    .map_err(|e| classify(e, s))?
+    .with_safety_margin(safety_margin)
+    .map_err(|e| InputError::new("--safety-margin", e.to_string()))?;
     let allocator = SensitivityWeighted {
         form: match form {
             FormChoice::Paper => ConstraintForm::PaperQuarterRanges,
@@ -147,23 +181,43 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
         ..SensitivityWeighted::paper()
     };
     let ours = allocator.allocate(&problem).map_err(|e| classify(e, s))?;
-    let equal = EqualEffects.allocate(&problem).map_err(|e| classify(e, s))?;
+    let equal = EqualEffects
+        .allocate(&problem)
+        .map_err(|e| classify(e, s))?;
     let table4 = if s.turntable == tt_kinematics::paper::table3() {
         let t = alloc_opt::paper::table4_rad();
-        let cert = Certificate::compute(problem.model(), &problem.requirement(), problem.lower_bounds_rad(), &t).map_err(|e| classify(e, s))?;
-        let j = Weights::inverse_average_sensitivity(problem.model()).objective(&t) * RAD_PER_ARCMIN * RAD_PER_ARCMIN;
+        let cert = Certificate::compute(
+            problem.model(),
+            &problem.requirement(),
+            problem.lower_bounds_rad(),
+            &t,
+        )
+        .map_err(|e| classify(e, s))?;
+        let j = Weights::inverse_average_sensitivity(problem.model()).objective(&t)
+            * RAD_PER_ARCMIN
+            * RAD_PER_ARCMIN;
         Some((t, cert, j))
     } else {
         None
     };
-    Ok(Allocations { problem, ours, equal, table4 })
+    Ok(Allocations {
+        problem,
+        ours,
+        equal,
+        table4,
+    })
 }
 
 /// The JSON object printed by `--json`.
 ///
 /// # Errors
 /// As [`allocate`] and the exact-chain check.
-pub fn allocate_json(s: &Study, a: &Allocations, form: FormChoice, safety_margin: f64) -> Result<Value> {
+pub fn allocate_json(
+    s: &Study,
+    a: &Allocations,
+    form: FormChoice,
+    safety_margin: f64,
+) -> Result<Value> {
     let names = s.turntable.rotation_error_names();
     let exact = exact_chain_check(&a.problem, &a.ours).map_err(|e| classify(e, s))?;
     let req = a.problem.requirement();
@@ -200,27 +254,49 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
         "two-step allocation, study {} ({}); requirement psi {}, theta {}, gamma {} deg\n",
         s.name,
         s.path,
-        req.get(OrientationAxis::Psi).map_or("none".into(), |r| num(rad_to_deg(r))),
-        req.get(OrientationAxis::Theta).map_or("none".into(), |r| num(rad_to_deg(r))),
-        req.get(OrientationAxis::Gamma).map_or("none".into(), |r| num(rad_to_deg(r))),
+        req.get(OrientationAxis::Psi)
+            .map_or("none".into(), |r| num(rad_to_deg(r))),
+        req.get(OrientationAxis::Theta)
+            .map_or("none".into(), |r| num(rad_to_deg(r))),
+        req.get(OrientationAxis::Gamma)
+            .map_or("none".into(), |r| num(rad_to_deg(r))),
     );
     let width = names.iter().map(|n| n.len()).max().unwrap_or(5).max(5);
-    let mut header = format!("{:<width$} {:>12} {:>14}", "error", "ours (')", "equal eff. (')");
+    let mut header = format!(
+        "{:<width$} {:>12} {:>14}",
+        "error", "ours (')", "equal eff. (')"
+    );
     if a.table4.is_some() {
         header.push_str(&format!(" {:>12}", "Table 4 (')"));
     }
     t.push_str(&header);
     t.push('\n');
-    let cell = |u: f64| if u.is_finite() { format!("{:.4}", rad_to_arcmin(u)) } else { "none".into() };
+    let cell = |u: f64| {
+        if u.is_finite() {
+            format!("{:.4}", rad_to_arcmin(u))
+        } else {
+            "none".into()
+        }
+    };
     for (i, n) in names.iter().enumerate() {
-        let mut row = format!("{:<width$} {:>12} {:>14}", n, cell(a.ours.upper_bounds_rad[i]), cell(a.equal.upper_bounds_rad[i]));
+        let mut row = format!(
+            "{:<width$} {:>12} {:>14}",
+            n,
+            cell(a.ours.upper_bounds_rad[i]),
+            cell(a.equal.upper_bounds_rad[i])
+        );
         if let Some((tb, _, _)) = &a.table4 {
             row.push_str(&format!(" {:>12}", cell(tb[i])));
         }
         t.push_str(&row);
         t.push('\n');
     }
-    let mut j = format!("{:<width$} {:>12} {:>14}", "J", num(a.ours.objective_arcmin()), num(a.equal.objective_arcmin()));
+    let mut j = format!(
+        "{:<width$} {:>12} {:>14}",
+        "J",
+        num(a.ours.objective_arcmin()),
+        num(a.equal.objective_arcmin())
+    );
     if let Some((_, _, tj)) = &a.table4 {
         j.push_str(&format!(" {:>12}", num(*tj)));
     }
@@ -237,8 +313,17 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
             if c.satisfied { "holds" } else { "fails" }
         ));
     }
-    let ex = |k: &str| v["exact_chain_excess_rad"][k].as_f64().map_or("-".into(), num);
-    t.push_str(&format!("exact chain over I (rad): psi {}, theta {}, gamma {}\n", ex("psi"), ex("theta"), ex("gamma")));
+    let ex = |k: &str| {
+        v["exact_chain_excess_rad"][k]
+            .as_f64()
+            .map_or("-".into(), num)
+    };
+    t.push_str(&format!(
+        "exact chain over I (rad): psi {}, theta {}, gamma {}\n",
+        ex("psi"),
+        ex("theta"),
+        ex("gamma")
+    ));
     if let Some(n) = v["requirement_note"].as_str() {
         t.push_str(n);
         t.push('\n');

@@ -36,29 +36,51 @@ pub fn header(e2e: &EndToEnd) -> String {
         .estimated_terms()
         .map(|(_, t)| format!("{}_error", t.coefficient))
         .collect();
-    cols.extend(e2e.calibration().sensor().outputs().iter().map(|o| format!("{}_rate_error", o.name)));
+    cols.extend(
+        e2e.calibration()
+            .sensor()
+            .outputs()
+            .iter()
+            .map(|o| format!("{}_rate_error", o.name)),
+    );
     cols.join(",")
 }
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::study::load(args.study.as_deref())?;
-    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &crate::study::poses(&s)?, s.reading)
-        .map_err(|e| InputError::new(&s.path, e.to_string()))?;
+    let e2e = EndToEnd::new(
+        &s.turntable,
+        &s.calibration,
+        &crate::study::poses(&s)?,
+        s.reading,
+    )
+    .map_err(|e| InputError::new(&s.path, e.to_string()))?;
     let source = Source::from_arg(args.file.as_deref());
     let name = source.name();
     let mut work = e2e.work();
     let mut eval = |line: usize, row: study::csv::TurntableRow| -> Result<Vec<f64>, InputError> {
         let at = || format!("{name}:{line}");
-        let mut v = e2e.coefficient_errors(&row.chi_rad).map_err(|e| InputError::new(at(), e.to_string()))?;
-        e2e.delta_omega_into(&row.chi_rad, &mut work).map_err(|e| InputError::new(at(), e.to_string()))?;
+        let mut v = e2e
+            .coefficient_errors(&row.chi_rad)
+            .map_err(|e| InputError::new(at(), e.to_string()))?;
+        e2e.delta_omega_into(&row.chi_rad, &mut work)
+            .map_err(|e| InputError::new(at(), e.to_string()))?;
         v.extend_from_slice(&work.delta_omega);
         if v.iter().any(|x| !x.is_finite()) {
-            return Err(InputError::new(at(), "the calibration gave a non-finite result"));
+            return Err(InputError::new(
+                at(),
+                "the calibration gave a non-finite result",
+            ));
         }
         Ok(v)
     };
     let line_of = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
-    crate::csvio::run_rows(&source, &s.turntable, study::csv::JointColumns::Absent, &header(&e2e), |line, row| Ok(line_of(&eval(line, row)?)))
+    crate::csvio::run_rows(
+        &source,
+        &s.turntable,
+        study::csv::JointColumns::Absent,
+        &header(&e2e),
+        |line, row| Ok(line_of(&eval(line, row)?)),
+    )
 }
-

@@ -9,8 +9,8 @@
 
 use crate::InputError;
 use anyhow::Result;
-use clap::Parser;
 use calib_lsq::Reading;
+use clap::Parser;
 use e2e_verify::{EndToEnd, McSettings, TurntableCheck, Verdict};
 use serde_json::{Value, json};
 use std::path::PathBuf;
@@ -87,9 +87,17 @@ pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value
         m.insert("tolerances".into(), json!(tol.path));
         m.insert(
             "tolerances_arcmin".into(),
-            names.iter().zip(&c.upper_bounds_rad).map(|(n, u)| (n.to_string(), json!(rad_to_arcmin(*u)))).collect::<serde_json::Map<_, _>>().into(),
+            names
+                .iter()
+                .zip(&c.upper_bounds_rad)
+                .map(|(n, u)| (n.to_string(), json!(rad_to_arcmin(*u))))
+                .collect::<serde_json::Map<_, _>>()
+                .into(),
         );
-        m.insert("user_reading".into(), checks.get(1).map_or(Value::Null, |(e, c)| check_json(e, c)));
+        m.insert(
+            "user_reading".into(),
+            checks.get(1).map_or(Value::Null, |(e, c)| check_json(e, c)),
+        );
     }
     v
 }
@@ -126,15 +134,28 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
             .iter()
             .take(3)
             .filter(|k| k.worst_share > 0.0)
-            .map(|k| format!("{} {:.0}% of the worst case, {:.0}% of the variance", names[k.error], 100.0 * k.worst_share, 100.0 * k.variance_share))
+            .map(|k| {
+                format!(
+                    "{} {:.0}% of the worst case, {:.0}% of the variance",
+                    names[k.error],
+                    100.0 * k.worst_share,
+                    100.0 * k.variance_share
+                )
+            })
             .collect();
         s.push_str(&format!("    dominant errors: {}\n", dominant.join("; ")));
     }
     let (lo, hi) = c.distribution.yield_interval_95();
     let verdict = match c.verdict {
-        Verdict::Guaranteed => "MEETS every accuracy: proven for every turntable within these tolerances",
-        Verdict::Likely => "likely meets every accuracy: the worst vertex does, but no bound proves it for the whole box",
-        Verdict::Fails => "does NOT meet every accuracy: a turntable within these tolerances (the worst vertex) misses",
+        Verdict::Guaranteed => {
+            "MEETS every accuracy: proven for every turntable within these tolerances"
+        }
+        Verdict::Likely => {
+            "likely meets every accuracy: the worst vertex does, but no bound proves it for the whole box"
+        }
+        Verdict::Fails => {
+            "does NOT meet every accuracy: a turntable within these tolerances (the worst vertex) misses"
+        }
     };
     s.push_str(&format!(
         "  verdict: {verdict}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables, seed {})\n",
@@ -149,18 +170,32 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
 
 /// The check as text: one block per reading (the study's, then the user's when different).
 #[must_use]
-pub fn to_text(checks: &[(EndToEnd, TurntableCheck)], study_path: &str, tol: &Tolerances) -> String {
-    let mut s = format!("check of {} against the study {}\n", tol.name.clone().unwrap_or_else(|| tol.path.clone()), study_path);
+pub fn to_text(
+    checks: &[(EndToEnd, TurntableCheck)],
+    study_path: &str,
+    tol: &Tolerances,
+) -> String {
+    let mut s = format!(
+        "check of {} against the study {}\n",
+        tol.name.clone().unwrap_or_else(|| tol.path.clone()),
+        study_path
+    );
     for (i, (e2e, c)) in checks.iter().enumerate() {
         let what = if e2e.reading() == Reading::USER {
             "outputs at the actual orientation: what a calibrating lab gets"
         } else {
             "the study's reading"
         };
-        s.push_str(&format!("\nreading {} ({what}; {})\n", e2e.reading(), e2e.reading().formula()));
+        s.push_str(&format!(
+            "\nreading {} ({what}; {})\n",
+            e2e.reading(),
+            e2e.reading().formula()
+        ));
         s.push_str(&reading_text(e2e, c));
         if i == 0 && checks.len() > 1 && c.verdict != checks[1].1.verdict {
-            s.push_str("  (the verdict depends on the reading of eq 13: see the user's reading below)\n");
+            s.push_str(
+                "  (the verdict depends on the reading of eq 13: see the user's reading below)\n",
+            );
         }
     }
     s
@@ -174,16 +209,29 @@ pub fn run(args: &Args) -> Result<()> {
     let s = crate::study::load(args.study.as_deref())?;
     let tol = Tolerances::load(&args.tolerances, &s.turntable).map_err(InputError::from)?;
     let e2e = crate::end_to_end::simulator(&s)?;
-    let settings = McSettings::new(args.samples.unwrap_or(s.monte_carlo.samples), args.seed.unwrap_or(s.monte_carlo.seed));
-    let lb: Vec<f64> = s.lower_bounds_rad.iter().zip(&tol.ub_rad).map(|(l, u)| l.min(*u)).collect();
+    let settings = McSettings::new(
+        args.samples.unwrap_or(s.monte_carlo.samples),
+        args.seed.unwrap_or(s.monte_carlo.seed),
+    );
+    let lb: Vec<f64> = s
+        .lower_bounds_rad
+        .iter()
+        .zip(&tol.ub_rad)
+        .map(|(l, u)| l.min(*u))
+        .collect();
     let mut sims = vec![e2e.clone()];
     if e2e.reading() != Reading::USER {
-        sims.push(e2e.with_reading(Reading::USER).map_err(|e| InputError::new(&s.path, e.to_string()))?);
+        sims.push(
+            e2e.with_reading(Reading::USER)
+                .map_err(|e| InputError::new(&s.path, e.to_string()))?,
+        );
     }
     let checks = sims
         .into_iter()
         .map(|sim| {
-            let c = sim.check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings).map_err(|e| crate::end_to_end::classify(e, &s))?;
+            let c = sim
+                .check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings)
+                .map_err(|e| crate::end_to_end::classify(e, &s))?;
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;

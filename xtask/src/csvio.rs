@@ -44,11 +44,13 @@ impl Source {
     fn open(&self) -> Result<Box<dyn BufRead>, InputError> {
         match self {
             Source::File(p) => {
-                let meta = std::fs::metadata(p).map_err(|e| InputError::new(self.name(), format!("cannot read: {e}")))?;
+                let meta = std::fs::metadata(p)
+                    .map_err(|e| InputError::new(self.name(), format!("cannot read: {e}")))?;
                 if meta.is_dir() {
                     return Err(InputError::new(self.name(), "cannot read: a directory"));
                 }
-                let f = std::fs::File::open(p).map_err(|e| InputError::new(self.name(), format!("cannot read: {e}")))?;
+                let f = std::fs::File::open(p)
+                    .map_err(|e| InputError::new(self.name(), format!("cannot read: {e}")))?;
                 Ok(Box::new(BufReader::new(f)))
             }
             Source::Stdin => Ok(Box::new(BufReader::new(std::io::stdin()))),
@@ -62,7 +64,12 @@ impl Source {
 /// # Errors
 /// An [`InputError`] at `source:line` (and column) for an unreadable input, invalid UTF-8, a
 /// line longer than [`MAX_LINE_BYTES`], a bad header or row, or an empty input.
-pub fn for_each_row<F>(source: &Source, turntable: &Turntable, joints: JointColumns, visit: F) -> Result<(), InputError>
+pub fn for_each_row<F>(
+    source: &Source,
+    turntable: &Turntable,
+    joints: JointColumns,
+    visit: F,
+) -> Result<(), InputError>
 where
     F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
 {
@@ -75,7 +82,13 @@ where
 ///
 /// # Errors
 /// As [`for_each_row`].
-pub fn for_each_row_in<R, F>(mut reader: R, name: &str, turntable: &Turntable, joints: JointColumns, mut visit: F) -> Result<(), InputError>
+pub fn for_each_row_in<R, F>(
+    mut reader: R,
+    name: &str,
+    turntable: &Turntable,
+    joints: JointColumns,
+    mut visit: F,
+) -> Result<(), InputError>
 where
     R: BufRead,
     F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
@@ -89,27 +102,42 @@ where
         let n = (&mut reader)
             .take(MAX_LINE_BYTES as u64 + 1)
             .read_until(b'\n', &mut buf)
-            .map_err(|e| InputError::new(format!("{name}:{}", line_no + 1), format!("cannot read: {e}")))?;
+            .map_err(|e| {
+                InputError::new(
+                    format!("{name}:{}", line_no + 1),
+                    format!("cannot read: {e}"),
+                )
+            })?;
         if n == 0 {
             break;
         }
         line_no += 1;
         if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
-            return Err(InputError::new(format!("{name}:{line_no}"), format!("line longer than {MAX_LINE_BYTES} bytes")));
+            return Err(InputError::new(
+                format!("{name}:{line_no}"),
+                format!("line longer than {MAX_LINE_BYTES} bytes"),
+            ));
         }
         let line = decode_line(&name, line_no, &buf)?;
         if line.trim().is_empty() {
             continue;
         }
         match &columns {
-            None => columns = Some(TurntableColumns::from_header_for(&name, line_no, line, turntable, joints)?),
+            None => {
+                columns = Some(TurntableColumns::from_header_for(
+                    &name, line_no, line, turntable, joints,
+                )?)
+            }
             Some(c) => visit(line_no, c.parse_row(&name, line_no, line)?)?,
         }
     }
     if columns.is_none() {
         return Err(InputError::new(
             name,
-            format!("empty input: expected a header line ({})", study::csv::expected_header_for(turntable, joints)),
+            format!(
+                "empty input: expected a header line ({})",
+                study::csv::expected_header_for(turntable, joints)
+            ),
         ));
     }
     Ok(())
@@ -123,7 +151,13 @@ where
 /// # Errors
 /// The first [`InputError`] of the input or of `eval` (nothing written then); I/O errors of
 /// standard output (a closed pipe ends quietly, see [`crate::out`]).
-pub fn run_rows<F>(source: &Source, turntable: &Turntable, joints: JointColumns, header: &str, mut eval: F) -> anyhow::Result<()>
+pub fn run_rows<F>(
+    source: &Source,
+    turntable: &Turntable,
+    joints: JointColumns,
+    header: &str,
+    mut eval: F,
+) -> anyhow::Result<()>
 where
     F: FnMut(usize, TurntableRow) -> Result<String, InputError>,
 {
@@ -132,7 +166,9 @@ where
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     match source {
         Source::File(_) => {
-            for_each_row(source, turntable, joints, |line, row| eval(line, row).map(|_| ()))?;
+            for_each_row(source, turntable, joints, |line, row| {
+                eval(line, row).map(|_| ())
+            })?;
             writeln!(out, "{header}").map_err(crate::out::io)?;
             let mut io_error = None;
             let streamed = for_each_row(source, turntable, joints, |line, row| {
@@ -148,7 +184,10 @@ where
             streamed?;
         }
         Source::Stdin => {
-            let file = tempfile::tempfile().map_err(|e| anyhow::Error::new(e).context("creating a temporary file for standard input's results"))?;
+            let file = tempfile::tempfile().map_err(|e| {
+                anyhow::Error::new(e)
+                    .context("creating a temporary file for standard input's results")
+            })?;
             let mut spill = std::io::BufWriter::new(file);
             let mut io_error = None;
             let read = for_each_row(source, turntable, joints, |line, row| {
@@ -162,7 +201,9 @@ where
                 return Err(anyhow::Error::new(e).context("writing the temporary file"));
             }
             read?;
-            let mut file = spill.into_inner().map_err(|e| anyhow::Error::new(e.into_error()))?;
+            let mut file = spill
+                .into_inner()
+                .map_err(|e| anyhow::Error::new(e.into_error()))?;
             file.rewind()?;
             writeln!(out, "{header}").map_err(crate::out::io)?;
             std::io::copy(&mut file, &mut out).map_err(crate::out::io)?;

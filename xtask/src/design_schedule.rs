@@ -444,7 +444,8 @@ pub fn run(args: &Args) -> Result<()> {
     // the report's J comes from the same path as `end-to-end`; the search's must agree
     let searched = design.search.designed.evaluation.objective;
     let reported = design.designed.allocation.objective;
-    if !((searched - reported).abs() <= 1e-9 * reported) {
+    let agree = (searched - reported).abs() <= 1e-9 * reported;
+    if !agree {
         anyhow::bail!(
             "internal: the search's J {searched} and the end-to-end path's {reported} differ"
         );

@@ -16,8 +16,8 @@ use alloc_opt::AllocError;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::{
-    BoxAnswer, BuyersAnswer, E2eError, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer,
-    answer, objective_to_arcmin,
+    BoxAnswer, BuyersAnswer, E2eError, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer, answer,
+    objective_to_arcmin,
 };
 use serde_json::{Map, Value, json};
 use std::path::PathBuf;
@@ -51,17 +51,25 @@ pub struct Args {
 /// the user's terms (the study file and key, the flag, arcmin).
 pub fn classify(e: E2eError, s: &Study) -> anyhow::Error {
     match e {
-        E2eError::Alloc(a @ (AllocError::Solver { .. } | AllocError::NoConvergence { .. })) => anyhow::Error::new(a),
+        E2eError::Alloc(a @ (AllocError::Solver { .. } | AllocError::NoConvergence { .. })) => {
+            anyhow::Error::new(a)
+        }
         E2eError::Alloc(a) => crate::allocate::classify(a, s),
         E2eError::NoConvergence { .. } => anyhow::Error::new(e),
-        E2eError::InfeasibleLowerBounds { .. } => {
-            InputError::new(format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY), e.to_string()).into()
-        }
+        E2eError::InfeasibleLowerBounds { .. } => InputError::new(
+            format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY),
+            e.to_string(),
+        )
+        .into(),
         E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
             crate::input::lower_above_upper(&s.path, &component, lb, ub, "the box").into()
         }
-        E2eError::Count { field, .. } => InputError::new(format!("--{}", field.replace('_', "-")), e.to_string()).into(),
-        E2eError::FractionOutOfRange { .. } => InputError::new("--yield-fraction", e.to_string()).into(),
+        E2eError::Count { field, .. } => {
+            InputError::new(format!("--{}", field.replace('_', "-")), e.to_string()).into()
+        }
+        E2eError::FractionOutOfRange { .. } => {
+            InputError::new("--yield-fraction", e.to_string()).into()
+        }
         other => InputError::new(&s.path, other.to_string()).into(),
     }
 }
@@ -80,13 +88,20 @@ pub fn simulator(s: &Study) -> Result<EndToEnd, InputError> {
 ///
 /// # Errors
 /// An [`InputError`] naming the key.
-pub fn inputs(s: &Study, samples: u64, seed: u64, yield_fraction: f64) -> Result<EndToEndInputs, InputError> {
+pub fn inputs(
+    s: &Study,
+    samples: u64,
+    seed: u64,
+    yield_fraction: f64,
+) -> Result<EndToEndInputs, InputError> {
     let req = st::requirement(s)?;
     let mut inputs = EndToEndInputs::new(s.lower_bounds_rad.clone(), req.used, seed);
     inputs.samples = samples;
     inputs.yield_fraction = yield_fraction;
     if s.turntable == tt_kinematics::paper::table3() {
-        inputs.extra_boxes.push(("Table 4".into(), alloc_opt::paper::table4_rad()));
+        inputs
+            .extra_boxes
+            .push(("Table 4".into(), alloc_opt::paper::table4_rad()));
     }
     Ok(inputs)
 }
@@ -119,16 +134,22 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
     const REFERENCE: u64 = 400;
     let r = &a.readings[0];
     let lb = &a.inputs.lower_bounds_rad;
-    let bounds = e2e.box_of(&r.direct.upper_bounds_rad, lb).map_err(anyhow::Error::new)?;
+    let bounds = e2e
+        .box_of(&r.direct.upper_bounds_rad, lb)
+        .map_err(anyhow::Error::new)?;
     let linear = e2e.linearization();
     let t = Instant::now();
-    e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST, seed)).map_err(anyhow::Error::new)?;
+    e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST, seed))
+        .map_err(anyhow::Error::new)?;
     let fast = t.elapsed().as_secs_f64();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let t = Instant::now();
-    pool.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST / 4, seed))).map_err(anyhow::Error::new)?;
+    pool.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST / 4, seed)))
+        .map_err(anyhow::Error::new)?;
     let one = t.elapsed().as_secs_f64();
-    let chis = e2e.sample_chi(&bounds, &McSettings::new(REFERENCE, seed)).map_err(anyhow::Error::new)?;
+    let chis = e2e
+        .sample_chi(&bounds, &McSettings::new(REFERENCE, seed))
+        .map_err(anyhow::Error::new)?;
     let t = Instant::now();
     let mut sink = 0.0;
     for chi in &chis {
@@ -151,7 +172,16 @@ fn arcmin_map(names: &[&str], ub_rad: &[f64]) -> Value {
         names
             .iter()
             .zip(ub_rad)
-            .map(|(n, u)| (n.to_string(), if u.is_finite() { json!(rad_to_arcmin(*u)) } else { Value::Null }))
+            .map(|(n, u)| {
+                (
+                    n.to_string(),
+                    if u.is_finite() {
+                        json!(rad_to_arcmin(*u))
+                    } else {
+                        Value::Null
+                    },
+                )
+            })
             .collect(),
     )
 }
@@ -187,7 +217,10 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
     let names = e2e.turntable().rotation_error_names();
     let mut m = Map::new();
     m.insert("reading".into(), json!(r.reading.to_string()));
-    m.insert("boxes".into(), Value::Array(r.boxes.iter().map(|b| box_json(e2e, b)).collect()));
+    m.insert(
+        "boxes".into(),
+        Value::Array(r.boxes.iter().map(|b| box_json(e2e, b)).collect()),
+    );
     m.insert("direct".into(), json!({
         "objective": r.direct.objective_arcmin(),
         "bounds_arcmin": arcmin_map(&names, &r.direct.upper_bounds_rad),
@@ -209,32 +242,51 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
         }),
         None => Value::Null,
     });
-    m.insert("yield_based".into(), json!({
-        "objective": r.yield_based.objective_arcmin(),
-        "target": r.yield_based.target,
-        "scale": r.yield_based.scale,
-        "design_yield": r.yield_based.yield_fraction(),
-        "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
-        "bounds_arcmin": arcmin_map(&names, &r.yield_based.upper_bounds_rad),
-        "remeasured": box_json(e2e, &r.yield_box),
-    }));
+    m.insert(
+        "yield_based".into(),
+        json!({
+            "objective": r.yield_based.objective_arcmin(),
+            "target": r.yield_based.target,
+            "scale": r.yield_based.scale,
+            "design_yield": r.yield_based.yield_fraction(),
+            "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
+            "bounds_arcmin": arcmin_map(&names, &r.yield_based.upper_bounds_rad),
+            "remeasured": box_json(e2e, &r.yield_box),
+        }),
+    );
     Value::Object(m)
 }
 
 /// The command's JSON object.
 #[must_use]
-pub fn to_json(s: &Study, e2e: &EndToEnd, a: &BuyersAnswer, note: Option<&String>, seconds: f64, speed: &Throughput) -> Value {
+pub fn to_json(
+    s: &Study,
+    e2e: &EndToEnd,
+    a: &BuyersAnswer,
+    note: Option<&String>,
+    seconds: f64,
+    speed: &Throughput,
+) -> Value {
     let names = e2e.turntable().rotation_error_names();
     let r0 = &a.readings[0];
     let mut bounds = Map::new();
     for b in &r0.boxes {
         bounds.insert(b.name.clone(), arcmin_map(&names, &b.upper_bounds_rad));
     }
-    bounds.insert("direct".into(), arcmin_map(&names, &r0.direct.upper_bounds_rad));
+    bounds.insert(
+        "direct".into(),
+        arcmin_map(&names, &r0.direct.upper_bounds_rad),
+    );
     if let Some((d, _)) = &r0.direct_certified {
-        bounds.insert("direct_certified".into(), arcmin_map(&names, &d.upper_bounds_rad));
+        bounds.insert(
+            "direct_certified".into(),
+            arcmin_map(&names, &d.upper_bounds_rad),
+        );
     }
-    bounds.insert("yield_based".into(), arcmin_map(&names, &r0.yield_based.upper_bounds_rad));
+    bounds.insert(
+        "yield_based".into(),
+        arcmin_map(&names, &r0.yield_based.upper_bounds_rad),
+    );
     json!({
         "study": s.path,
         "reading": e2e.reading().to_string(),
@@ -267,26 +319,48 @@ pub fn to_json(s: &Study, e2e: &EndToEnd, a: &BuyersAnswer, note: Option<&String
 
 /// The command's text.
 #[must_use]
-pub fn to_text(s: &Study, e2e: &EndToEnd, a: &BuyersAnswer, note: Option<&String>, seconds: f64, speed: &Throughput) -> String {
+pub fn to_text(
+    s: &Study,
+    e2e: &EndToEnd,
+    a: &BuyersAnswer,
+    note: Option<&String>,
+    seconds: f64,
+    speed: &Throughput,
+) -> String {
     let mut t = format!(
         "end to end: study {} ({}), {} turntables per box, seed {}\n",
         s.name, s.path, a.inputs.samples, a.inputs.seed
     );
     for o in e2e.calibration().outputs() {
-        t.push_str(&format!("  output {}: accuracy {} {}\n", o.output().name, num(o.output().accuracy), o.output().unit));
+        t.push_str(&format!(
+            "  output {}: accuracy {} {}\n",
+            o.output().name,
+            num(o.output().accuracy),
+            o.output().unit
+        ));
     }
     if let Some(n) = note {
         t.push_str(n);
         t.push('\n');
     }
     for r in &a.readings {
-        t.push_str(&format!("\nreading {} ({})\n", r.reading, r.reading.formula()));
+        t.push_str(&format!(
+            "\nreading {} ({})\n",
+            r.reading,
+            r.reading.formula()
+        ));
         let line = |b: &BoxAnswer| -> String {
             let worst: Vec<String> = b
                 .worst_case
                 .outputs
                 .iter()
-                .map(|w| format!("{} {}", e2e.calibration().outputs()[w.output].output().name, num(w.exact_at_vertex)))
+                .map(|w| {
+                    format!(
+                        "{} {}",
+                        e2e.calibration().outputs()[w.output].output().name,
+                        num(w.exact_at_vertex)
+                    )
+                })
                 .collect();
             let (lo, hi) = b.distribution.yield_interval_95();
             format!(
@@ -308,7 +382,11 @@ pub fn to_text(s: &Study, e2e: &EndToEnd, a: &BuyersAnswer, note: Option<&String
                 "  {:<14} J = {:>9} arcmin^-2  proven worst case {}\n",
                 "certified",
                 num(d.objective_arcmin()),
-                wc.outputs.iter().map(|w| w.certified_bound().map_or("-".into(), num)).collect::<Vec<_>>().join(", ")
+                wc.outputs
+                    .iter()
+                    .map(|w| w.certified_bound().map_or("-".into(), num))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ));
         }
         t.push_str(&line(&r.yield_box));
@@ -341,7 +419,16 @@ pub fn run(args: &Args) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed))? + "\n"))
+        crate::out::print(
+            &(serde_json::to_string_pretty(&to_json(
+                &s,
+                &e2e,
+                &a,
+                note.as_ref(),
+                seconds,
+                &speed,
+            ))? + "\n"),
+        )
     } else {
         crate::out::print(&to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed))
     }

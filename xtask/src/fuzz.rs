@@ -108,8 +108,22 @@ pub struct Summary {
 }
 
 const EXTREMES: [&str; 16] = [
-    "1e308", "-1e308", "1e-320", "-0", "0", "nan", "inf", "-inf", "123456789012345678901234567890", "\"\"",
-    "true", "[1, 2]", "{ a = 1 }", "\"x\"", "-1", "1e300",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "-0",
+    "0",
+    "nan",
+    "inf",
+    "-inf",
+    "123456789012345678901234567890",
+    "\"\"",
+    "true",
+    "[1, 2]",
+    "{ a = 1 }",
+    "\"x\"",
+    "-1",
+    "1e300",
 ];
 
 fn pick<'a, T>(rng: &mut ChaCha8Rng, v: &'a [T]) -> &'a T {
@@ -117,7 +131,11 @@ fn pick<'a, T>(rng: &mut ChaCha8Rng, v: &'a [T]) -> &'a T {
 }
 
 fn below(rng: &mut ChaCha8Rng, n: usize) -> usize {
-    if n == 0 { 0 } else { (rng.next_u64() % n as u64) as usize }
+    if n == 0 {
+        0
+    } else {
+        (rng.next_u64() % n as u64) as usize
+    }
 }
 
 /// One random mutation of `bytes` (text-level where the input is text).
@@ -176,7 +194,9 @@ fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool) -> Vec<u8> {
         8 => {
             let mut b = bytes.to_vec();
             let at = below(rng, b.len() + 1);
-            let junk: Vec<u8> = (0..1 + below(rng, 8)).map(|_| (rng.next_u32() & 0xff) as u8).collect();
+            let junk: Vec<u8> = (0..1 + below(rng, 8))
+                .map(|_| (rng.next_u32() & 0xff) as u8)
+                .collect();
             b.splice(at..at, junk);
             return b;
         }
@@ -185,7 +205,11 @@ fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool) -> Vec<u8> {
             let i = below(rng, n);
             if let Some((k, v)) = lines[i].split_once('=') {
                 let v = v.trim();
-                lines[i] = if v.starts_with('"') { format!("{k}= {}", v.trim_matches('"')) } else { format!("{k}= \"{v}\"") };
+                lines[i] = if v.starts_with('"') {
+                    format!("{k}= {}", v.trim_matches('"'))
+                } else {
+                    format!("{k}= \"{v}\"")
+                };
             }
         }
         _ => {}
@@ -203,12 +227,21 @@ fn located(e: &StudyError, source: &str) -> bool {
 
 fn check_study(s: &Study) -> Option<String> {
     let finite = s.positions_deg.iter().flatten().all(|v| v.is_finite())
-        && s.lower_bounds_rad.iter().all(|v| v.is_finite() && *v >= 0.0)
-        && s.sensor.outputs().iter().all(|o| o.accuracy.is_finite() && o.accuracy > 0.0);
+        && s.lower_bounds_rad
+            .iter()
+            .all(|v| v.is_finite() && *v >= 0.0)
+        && s.sensor
+            .outputs()
+            .iter()
+            .all(|o| o.accuracy.is_finite() && o.accuracy > 0.0);
     if !finite {
         return Some("a valid study holds a non-finite or out-of-range number".into());
     }
-    if s.calibration.outputs().iter().any(|o| o.regression().rank() < o.regression().names().len()) {
+    if s.calibration
+        .outputs()
+        .iter()
+        .any(|o| o.regression().rank() < o.regression().names().len())
+    {
         return Some("a valid study does not identify every coefficient".into());
     }
     None
@@ -236,21 +269,41 @@ fn run_case(target: Target, bytes: &[u8], studies: &[Study]) -> Outcome {
                 };
                 let t = &studies[0].turntable;
                 match Tolerances::parse(source, text, t) {
-                    Ok(tol) if tol.ub_rad.iter().all(|u| u.is_finite() && *u >= 0.0) => Outcome::Valid,
-                    Ok(_) => Outcome::Finding("valid tolerances with a non-finite or negative bound".into()),
+                    Ok(tol) if tol.ub_rad.iter().all(|u| u.is_finite() && *u >= 0.0) => {
+                        Outcome::Valid
+                    }
+                    Ok(_) => Outcome::Finding(
+                        "valid tolerances with a non-finite or negative bound".into(),
+                    ),
                     Err(e) if located(&e, source) => Outcome::Rejected,
                     Err(e) => Outcome::Finding(format!("error without a location: {e}")),
                 }
             }
             Target::CsvPoses | Target::CsvErrors => {
-                let joints = if target == Target::CsvPoses { JointColumns::Required } else { JointColumns::Absent };
+                let joints = if target == Target::CsvPoses {
+                    JointColumns::Required
+                } else {
+                    JointColumns::Absent
+                };
                 let mut bad = None;
-                let r = for_each_row_in(std::io::Cursor::new(bytes), source, &studies[0].turntable, joints, |_, row| {
-                    if row.chi_rad.iter().chain(&row.pose_rad).chain(&row.translations_m).any(|v| !v.is_finite()) {
-                        bad = Some("a valid row holds a non-finite number".to_string());
-                    }
-                    Ok(())
-                });
+                let r = for_each_row_in(
+                    std::io::Cursor::new(bytes),
+                    source,
+                    &studies[0].turntable,
+                    joints,
+                    |_, row| {
+                        if row
+                            .chi_rad
+                            .iter()
+                            .chain(&row.pose_rad)
+                            .chain(&row.translations_m)
+                            .any(|v| !v.is_finite())
+                        {
+                            bad = Some("a valid row holds a non-finite number".to_string());
+                        }
+                        Ok(())
+                    },
+                );
                 match (r, bad) {
                     (_, Some(f)) => Outcome::Finding(f),
                     (Ok(()), None) => Outcome::Valid,
@@ -258,7 +311,9 @@ fn run_case(target: Target, bytes: &[u8], studies: &[Study]) -> Outcome {
                         if location.contains(source) && !reason.is_empty() {
                             Outcome::Rejected
                         } else {
-                            Outcome::Finding(format!("error without a location: {location}: {reason}"))
+                            Outcome::Finding(format!(
+                                "error without a location: {location}: {reason}"
+                            ))
                         }
                     }
                 }
@@ -287,19 +342,39 @@ fn seeds(root: &std::path::Path) -> Result<(Vec<Seed>, Vec<Study>)> {
         let path = root.join(format!("studies/{n}.toml"));
         let text = std::fs::read(&path)?;
         let s = Study::load(&path).map_err(InputError::from)?;
-        seeds.push(Seed { target: Target::Study, study: i, bytes: text });
+        seeds.push(Seed {
+            target: Target::Study,
+            study: i,
+            bytes: text,
+        });
         let header = study::csv::expected_header(&s.turntable);
         let cells = header.split(',').count();
-        let row: Vec<String> = (0..cells).map(|k| format!("{}", 0.1 * (k as f64 + 1.0))).collect();
-        seeds.push(Seed { target: Target::CsvPoses, study: i, bytes: format!("{header}\n{}\n{}\n", row.join(","), row.join(",")).into_bytes() });
+        let row: Vec<String> = (0..cells)
+            .map(|k| format!("{}", 0.1 * (k as f64 + 1.0)))
+            .collect();
+        seeds.push(Seed {
+            target: Target::CsvPoses,
+            study: i,
+            bytes: format!("{header}\n{}\n{}\n", row.join(","), row.join(",")).into_bytes(),
+        });
         let eh = study::csv::expected_header_for(&s.turntable, JointColumns::Absent);
         let ecells = eh.split(',').count();
-        let erow: Vec<String> = (0..ecells).map(|k| format!("{}", 0.05 * (k as f64 + 1.0))).collect();
-        seeds.push(Seed { target: Target::CsvErrors, study: i, bytes: format!("{eh}\n{}\n", erow.join(",")).into_bytes() });
+        let erow: Vec<String> = (0..ecells)
+            .map(|k| format!("{}", 0.05 * (k as f64 + 1.0)))
+            .collect();
+        seeds.push(Seed {
+            target: Target::CsvErrors,
+            study: i,
+            bytes: format!("{eh}\n{}\n", erow.join(",")).into_bytes(),
+        });
         studies.push(s);
     }
     for (file, study) in [("table4.toml", 0), ("three-axis-navigation-grade.toml", 1)] {
-        seeds.push(Seed { target: Target::Tolerances, study, bytes: std::fs::read(root.join("studies/tolerances").join(file))? });
+        seeds.push(Seed {
+            target: Target::Tolerances,
+            study,
+            bytes: std::fs::read(root.join("studies/tolerances").join(file))?,
+        });
     }
     Ok((seeds, studies))
 }
@@ -313,7 +388,8 @@ pub fn fuzz(root: &std::path::Path, cases: u64, seed: u64) -> Result<Summary> {
     let results: Vec<(u64, Target, Outcome, f64, Vec<u8>)> = (0..cases)
         .into_par_iter()
         .map(|case| {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+            let mut rng =
+                ChaCha8Rng::seed_from_u64(seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15));
             let s = &seeds[below(&mut rng, seeds.len())];
             let csv = matches!(s.target, Target::CsvPoses | Target::CsvErrors);
             let mut bytes = s.bytes.clone();
@@ -327,11 +403,18 @@ pub fn fuzz(root: &std::path::Path, cases: u64, seed: u64) -> Result<Summary> {
             if dt > CASE_TIME_LIMIT && !matches!(outcome, Outcome::Finding(_)) {
                 outcome = Outcome::Finding(format!("took {:.2} s", dt.as_secs_f64()));
             }
-            let keep = if matches!(outcome, Outcome::Finding(_)) { bytes } else { Vec::new() };
+            let keep = if matches!(outcome, Outcome::Finding(_)) {
+                bytes
+            } else {
+                Vec::new()
+            };
             (case, s.target, outcome, dt.as_secs_f64(), keep)
         })
         .collect();
-    let mut sum = Summary { cases, ..Summary::default() };
+    let mut sum = Summary {
+        cases,
+        ..Summary::default()
+    };
     for (case, target, outcome, dt, bytes) in results {
         sum.slowest_s = sum.slowest_s.max(dt);
         match outcome {
@@ -365,7 +448,11 @@ pub fn run(args: &Args) -> Result<()> {
     if !sum.findings.is_empty() {
         let dir = &args.findings;
         if dir.exists() {
-            return Err(InputError::new(format!("--findings {}", dir.display()), "exists: give a new directory (nothing is overwritten)").into());
+            return Err(InputError::new(
+                format!("--findings {}", dir.display()),
+                "exists: give a new directory (nothing is overwritten)",
+            )
+            .into());
         }
         std::fs::create_dir_all(dir)?;
         let mut list = String::new();
@@ -377,7 +464,11 @@ pub fn run(args: &Args) -> Result<()> {
         std::fs::write(dir.join("findings.txt"), &list)?;
         text.push_str(&list);
         crate::out::print(&text)?;
-        anyhow::bail!("{} findings; inputs in {}", sum.findings.len(), dir.display());
+        anyhow::bail!(
+            "{} findings; inputs in {}",
+            sum.findings.len(),
+            dir.display()
+        );
     }
     crate::out::print(&text)
 }
@@ -400,7 +491,10 @@ mod tests {
     /// Errors count as located only when they name the source and give a reason.
     #[test]
     fn unlocated_errors_are_findings() {
-        assert!(located(&StudyError::new("fuzz-input: key `site`", "bad"), "fuzz-input"));
+        assert!(located(
+            &StudyError::new("fuzz-input: key `site`", "bad"),
+            "fuzz-input"
+        ));
         assert!(!located(&StudyError::new("somewhere", "bad"), "fuzz-input"));
         assert!(!located(&StudyError::new("fuzz-input", " "), "fuzz-input"));
     }
@@ -412,11 +506,24 @@ mod tests {
     fn a_few_thousand_cases_run_clean_and_reproducibly() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let run = |threads| {
-            rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| fuzz(&root, 3000, 11).unwrap())
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| fuzz(&root, 3000, 11).unwrap())
         };
         let (a, b) = (run(1), run(2));
-        assert!(a.findings.is_empty(), "{:?}", a.findings.iter().map(|f| &f.2).collect::<Vec<_>>());
-        assert!(a.valid > 100 && a.rejected > 100, "{} valid, {} rejected", a.valid, a.rejected);
+        assert!(
+            a.findings.is_empty(),
+            "{:?}",
+            a.findings.iter().map(|f| &f.2).collect::<Vec<_>>()
+        );
+        assert!(
+            a.valid > 100 && a.rejected > 100,
+            "{} valid, {} rejected",
+            a.valid,
+            a.rejected
+        );
         assert_eq!((a.valid, a.rejected), (b.valid, b.rejected));
     }
 }

@@ -35,7 +35,13 @@ pub const LOWER_BOUNDS_KEY: &str = "allocation.lower_bounds_arcmin";
 /// A lower bound above an upper bound, in the user's units (the box's values come in rad),
 /// naming the study file and key and the box (`what`: `Table 4`, a tolerance file...).
 #[must_use]
-pub fn lower_above_upper(study_path: &str, component: &str, lb_rad: f64, ub_rad: f64, what: &str) -> InputError {
+pub fn lower_above_upper(
+    study_path: &str,
+    component: &str,
+    lb_rad: f64,
+    ub_rad: f64,
+    what: &str,
+) -> InputError {
     use tt_kinematics::units::rad_to_arcmin;
     InputError::new(
         format!("{study_path}: key `{LOWER_BOUNDS_KEY}.{component}`"),
@@ -49,12 +55,23 @@ pub fn lower_above_upper(study_path: &str, component: &str, lb_rad: f64, ub_rad:
 
 /// Lower bounds that alone violate a requirement, in the user's units.
 #[must_use]
-pub fn infeasible_lower_bounds(study_path: &str, lower_bounds_rad: &[f64], names: &[&str], components: &[String], angle: &str, worst_rad: f64, requirement_rad: f64) -> InputError {
+pub fn infeasible_lower_bounds(
+    study_path: &str,
+    lower_bounds_rad: &[f64],
+    names: &[&str],
+    components: &[String],
+    angle: &str,
+    worst_rad: f64,
+    requirement_rad: f64,
+) -> InputError {
     use tt_kinematics::units::rad_to_arcmin;
     let listed: Vec<String> = components
         .iter()
         .map(|c| {
-            let lb = names.iter().position(|n| n == c).map_or(f64::NAN, |j| lower_bounds_rad[j]);
+            let lb = names
+                .iter()
+                .position(|n| n == c)
+                .map_or(f64::NAN, |j| lower_bounds_rad[j]);
             format!("{c} = {} arcmin", study::fmt::num(rad_to_arcmin(lb)))
         })
         .collect();

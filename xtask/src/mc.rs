@@ -96,20 +96,32 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
     let lb = s.lower_bounds_rad.clone();
     let boxed = |ub: Vec<f64>, what: &str| -> Result<ErrorBox> {
         ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| match e {
-            mc_verify::McError::LowerAboveUpper { component, lb, ub } => crate::input::lower_above_upper(&s.path, &component, lb, ub, what).into(),
+            mc_verify::McError::LowerAboveUpper { component, lb, ub } => {
+                crate::input::lower_above_upper(&s.path, &component, lb, ub, what).into()
+            }
             other => InputError::new(what, other.to_string()).into(),
         })
     };
     if let Some(path) = &args.tolerances {
         let tol = study::Tolerances::load(path, &s.turntable).map_err(InputError::from)?;
-        return Ok((format!("tolerances {}", tol.path), boxed(tol.ub_rad, &tol.path)?));
+        return Ok((
+            format!("tolerances {}", tol.path),
+            boxed(tol.ub_rad, &tol.path)?,
+        ));
     }
     match args.bounds {
         BoundsChoice::Table4 => {
             if s.turntable != tt_kinematics::paper::table3() {
-                return Err(InputError::new("--bounds", "table4 is the paper's Table 4: it applies only to the paper's turntable").into());
+                return Err(InputError::new(
+                    "--bounds",
+                    "table4 is the paper's Table 4: it applies only to the paper's turntable",
+                )
+                .into());
             }
-            Ok(("table4".into(), boxed(alloc_opt::paper::table4_rad(), "Table 4 (--bounds table4)")?))
+            Ok((
+                "table4".into(),
+                boxed(alloc_opt::paper::table4_rad(), "Table 4 (--bounds table4)")?,
+            ))
         }
         BoundsChoice::TwoStep => {
             let req = st::requirement(s)?;
@@ -120,9 +132,17 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
                 )
             })?;
             let a = SensitivityWeighted::general()
-                .allocate(&AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone()).map_err(|e| crate::allocate::classify(e, s))?)
+                .allocate(
+                    &AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone())
+                        .map_err(|e| crate::allocate::classify(e, s))?,
+                )
                 .map_err(|e| crate::allocate::classify(e, s))?;
-            let ub: Vec<f64> = a.upper_bounds_rad.iter().zip(&lb).map(|(u, l)| if u.is_finite() { *u } else { *l }).collect();
+            let ub: Vec<f64> = a
+                .upper_bounds_rad
+                .iter()
+                .zip(&lb)
+                .map(|(u, l)| if u.is_finite() { *u } else { *l })
+                .collect();
             Ok(("two-step".into(), boxed(ub, "the two-step allocation")?))
         }
     }
@@ -143,21 +163,40 @@ pub fn monte_carlo(args: &Args, s: &Study) -> Result<(String, MonteCarlo)> {
     cfg.chunk_size = args.chunk_size;
     cfg.histogram_bins = args.bins;
     let (name, b) = bounds(args, s)?;
-    let mc = MonteCarlo::new(&s.turntable, b, cfg).map_err(|e| InputError::new("mc", e.to_string()))?;
+    let mc =
+        MonteCarlo::new(&s.turntable, b, cfg).map_err(|e| InputError::new("mc", e.to_string()))?;
     Ok((name, mc))
 }
 
 fn axis_json<T: Into<Value>>(f: impl Fn(OrientationAxis) -> T) -> Value {
-    Value::Object(OrientationAxis::ALL.iter().map(|&a| (a.name().to_string(), f(a).into())).collect())
+    Value::Object(
+        OrientationAxis::ALL
+            .iter()
+            .map(|&a| (a.name().to_string(), f(a).into()))
+            .collect(),
+    )
 }
 
 fn errors_json(names: &[&str], rad: &[f64]) -> Value {
-    Value::Object(names.iter().zip(rad).map(|(n, v)| (format!("{n}_arcmin"), json!(rad_to_arcmin(*v)))).collect())
+    Value::Object(
+        names
+            .iter()
+            .zip(rad)
+            .map(|(n, v)| (format!("{n}_arcmin"), json!(rad_to_arcmin(*v))))
+            .collect(),
+    )
 }
 
 /// The JSON report of a run.
 #[must_use]
-pub fn report_json(s: &Study, name: &str, mc: &MonteCarlo, r: &McResult, threads: usize, seconds: f64) -> Value {
+pub fn report_json(
+    s: &Study,
+    name: &str,
+    mc: &MonteCarlo,
+    r: &McResult,
+    threads: usize,
+    seconds: f64,
+) -> Value {
     let std = r.std_rad();
     let names = s.turntable.rotation_error_names();
     let joints = s.turntable.joint_names();
@@ -211,7 +250,9 @@ fn progress_bar(samples: u64) -> Option<ProgressBar> {
         return None;
     }
     let pb = ProgressBar::with_draw_target(Some(samples), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template("{bar:40} {human_pos}/{human_len} samples, eta {eta}") {
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {human_pos}/{human_len} samples, eta {eta}")
+    {
         pb.set_style(style);
     }
     Some(pb)
@@ -232,8 +273,15 @@ fn run_numpy(seed: u64) -> Value {
     let Some(script) = numpy_script() else {
         return json!({"error": "shared/bench/numpy_mc_anchor.py not found beside the workspace"});
     };
-    match std::process::Command::new("python3").arg(&script).arg(NUMPY_SAMPLES).arg(seed.to_string()).output() {
-        Ok(out) if out.status.success() => serde_json::from_slice(&out.stdout).unwrap_or_else(|e| json!({"error": e.to_string()})),
+    match std::process::Command::new("python3")
+        .arg(&script)
+        .arg(NUMPY_SAMPLES)
+        .arg(seed.to_string())
+        .output()
+    {
+        Ok(out) if out.status.success() => {
+            serde_json::from_slice(&out.stdout).unwrap_or_else(|e| json!({"error": e.to_string()}))
+        }
         Ok(out) => json!({"error": String::from_utf8_lossy(&out.stderr).to_string()}),
         Err(e) => json!({"error": e.to_string()}),
     }
@@ -253,7 +301,12 @@ const RATIO_SAMPLES: u64 = 200_000_000;
 /// turn on the same samples (the first [`RATIO_SAMPLES`]), and the best rate of each over
 /// the rounds. The plain chain and NumPy (far from their limits) are timed once and compared
 /// with the main run (`fast_rate`).
-fn baselines(s: &Study, mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f64) -> Result<Value> {
+fn baselines(
+    s: &Study,
+    mc: &MonteCarlo,
+    pool: &rayon::ThreadPool,
+    fast_rate: f64,
+) -> Result<Value> {
     let samples = mc.config().samples;
     let rate_of = |f: &(dyn Fn() -> u64 + Sync)| {
         let t = Instant::now();
@@ -269,7 +322,10 @@ fn baselines(s: &Study, mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f6
             rate_of(&|| sub.run().samples),
             rate_of(&|| sub.draw_only()),
             rate_of(&|| sub.draw_words_only()),
-            rate_of(&|| sub.run_with_simd(SimdLevel::Portable).map_or(0, |r| r.samples)),
+            rate_of(&|| {
+                sub.run_with_simd(SimdLevel::Portable)
+                    .map_or(0, |r| r.samples)
+            }),
         ]);
     }
     let best = |i: usize| rounds.iter().map(|r| r[i]).fold(0.0, f64::max);
@@ -280,7 +336,11 @@ fn baselines(s: &Study, mc: &MonteCarlo, pool: &rayon::ThreadPool, fast_rate: f6
     let t = Instant::now();
     let plain = pool.install(|| plain_mc.run_model(&ExactChain::new(&s.turntable)))?;
     let plain_rate = plain.samples as f64 / t.elapsed().as_secs_f64();
-    let numpy = if s.turntable == tt_kinematics::paper::table3() { run_numpy(mc.config().seed) } else { json!({"error": "the NumPy baseline models the paper's table only"}) };
+    let numpy = if s.turntable == tt_kinematics::paper::table3() {
+        run_numpy(mc.config().seed)
+    } else {
+        json!({"error": "the NumPy baseline models the paper's table only"})
+    };
     let numpy_rate = numpy.get("samples_per_sec").and_then(Value::as_f64);
     Ok(json!({
         "interleaved_samples": sub.config().samples,
@@ -314,7 +374,10 @@ pub fn run(args: &Args) -> Result<()> {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, usize::from),
     };
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().context("building the thread pool")?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("building the thread pool")?;
     let samples = mc.config().samples;
     let pb = progress_bar(samples);
     let t = Instant::now();
@@ -372,7 +435,10 @@ pub fn run(args: &Args) -> Result<()> {
         t.push('\n');
     }
     if let Some(b) = report.get("baselines") {
-        t.push_str(&format!("baselines: {}\n", serde_json::to_string_pretty(b)?));
+        t.push_str(&format!(
+            "baselines: {}\n",
+            serde_json::to_string_pretty(b)?
+        ));
     }
     crate::out::print(&t)
 }

@@ -68,17 +68,28 @@ pub fn run(args: &Args) -> Result<()> {
     let eval = |line: usize, row: study::csv::TurntableRow| -> Result<[f64; 3], InputError> {
         let at = || format!("{name}:{line}");
         let pose = Pose::new(row.pose_rad).map_err(|e| InputError::new(at(), e.to_string()))?;
-        let errors = TurntableErrors::new(row.chi_rad, row.translations_m).map_err(|e| InputError::new(at(), e.to_string()))?;
-        let e = model.orientation_error(&pose, &errors).map_err(|e| InputError::new(at(), e.to_string()))?;
+        let errors = TurntableErrors::new(row.chi_rad, row.translations_m)
+            .map_err(|e| InputError::new(at(), e.to_string()))?;
+        let e = model
+            .orientation_error(&pose, &errors)
+            .map_err(|e| InputError::new(at(), e.to_string()))?;
         let v = e.to_array().map(rad_to_arcmin);
         if v.iter().any(|x| !x.is_finite()) {
-            return Err(InputError::new(at(), "the model gave a non-finite orientation error"));
+            return Err(InputError::new(
+                at(),
+                "the model gave a non-finite orientation error",
+            ));
         }
         Ok(v)
     };
-    crate::csvio::run_rows(&source, t, study::csv::JointColumns::Required, OUTPUT_HEADER, |line, row| {
-        let v = eval(line, row)?;
-        Ok(format!("{},{},{}", v[0], v[1], v[2]))
-    })
+    crate::csvio::run_rows(
+        &source,
+        t,
+        study::csv::JointColumns::Required,
+        OUTPUT_HEADER,
+        |line, row| {
+            let v = eval(line, row)?;
+            Ok(format!("{},{},{}", v[0], v[1], v[2]))
+        },
+    )
 }
-

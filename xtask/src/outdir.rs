@@ -20,7 +20,8 @@ use std::path::{Path, PathBuf};
 pub const MANIFEST: &str = ".report-manifest";
 
 /// The manifest's first line.
-const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
+const SIGNATURE: &str =
+    "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
 
 /// Removes a path it created when dropped, unless disarmed.
 struct Cleanup {
@@ -37,7 +38,11 @@ impl Cleanup {
 impl Drop for Cleanup {
     fn drop(&mut self) {
         if let Some(p) = self.path.take() {
-            let _ = if self.dir { std::fs::remove_dir_all(&p) } else { std::fs::remove_file(&p) };
+            let _ = if self.dir {
+                std::fs::remove_dir_all(&p)
+            } else {
+                std::fs::remove_file(&p)
+            };
         }
     }
 }
@@ -86,8 +91,15 @@ fn previous_report(dir: &Path) -> Result<Option<Vec<String>>, InputError> {
     match listed {
         None => Err(refuse(entries.iter().collect())),
         Some(listed) => {
-            let foreign: Vec<&String> = entries.iter().filter(|e| *e != MANIFEST && !listed.contains(e)).collect();
-            if foreign.is_empty() { Ok(Some(listed)) } else { Err(refuse(foreign)) }
+            let foreign: Vec<&String> = entries
+                .iter()
+                .filter(|e| *e != MANIFEST && !listed.contains(e))
+                .collect();
+            if foreign.is_empty() {
+                Ok(Some(listed))
+            } else {
+                Err(refuse(foreign))
+            }
         }
     }
 }
@@ -96,14 +108,23 @@ fn previous_report(dir: &Path) -> Result<Option<Vec<String>>, InputError> {
 fn lock(parent: &Path, name: &str, out: &Path) -> Result<Cleanup> {
     let path = parent.join(format!(".{name}.lock"));
     for _ in 0..2 {
-        match std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)
+        {
             Ok(mut f) => {
                 use std::io::Write;
                 writeln!(f, "{}", std::process::id())?;
-                return Ok(Cleanup { path: Some(path), dir: false });
+                return Ok(Cleanup {
+                    path: Some(path),
+                    dir: false,
+                });
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let pid = std::fs::read_to_string(&path).ok().and_then(|t| t.trim().parse::<u32>().ok());
+                let pid = std::fs::read_to_string(&path)
+                    .ok()
+                    .and_then(|t| t.trim().parse::<u32>().ok());
                 let alive = pid.is_some_and(|p| Path::new(&format!("/proc/{p}")).exists());
                 if alive || pid.is_none() {
                     return Err(InputError::new(
@@ -117,9 +138,14 @@ fn lock(parent: &Path, name: &str, out: &Path) -> Result<Cleanup> {
                     .into());
                 }
                 // a lock of ours whose process is gone: stale
-                std::fs::remove_file(&path).with_context(|| format!("removing the stale lock {}", path.display()))?;
+                std::fs::remove_file(&path)
+                    .with_context(|| format!("removing the stale lock {}", path.display()))?;
             }
-            Err(e) => return Err(anyhow::Error::new(e).context(format!("creating the lock {}", path.display()))),
+            Err(e) => {
+                return Err(
+                    anyhow::Error::new(e).context(format!("creating the lock {}", path.display()))
+                );
+            }
         }
     }
     Err(InputError::new(out.display().to_string(), "could not take the output lock").into())
@@ -142,21 +168,36 @@ pub fn write_report_dir(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
     let (parent, name) = parent_and_name(out)?;
     if let Ok(meta) = std::fs::symlink_metadata(out) {
         if !meta.is_dir() {
-            return Err(InputError::new(&shown, "exists and is not a directory; choose another --out").into());
+            return Err(InputError::new(
+                &shown,
+                "exists and is not a directory; choose another --out",
+            )
+            .into());
         }
         previous_report(out)?;
     }
-    std::fs::create_dir_all(&parent)
-        .map_err(|e| InputError::new(parent.display().to_string(), format!("cannot create the output's parent directory: {e}")))?;
+    std::fs::create_dir_all(&parent).map_err(|e| {
+        InputError::new(
+            parent.display().to_string(),
+            format!("cannot create the output's parent directory: {e}"),
+        )
+    })?;
     let _lock = lock(&parent, &name, out)?;
     // Re-check under the lock: another run may have written meanwhile.
-    let previous = if out.exists() { previous_report(out)? } else { None };
+    let previous = if out.exists() {
+        previous_report(out)?
+    } else {
+        None
+    };
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.subsec_nanos());
     let tmp = parent.join(format!(".{name}.tmp-{}-{nanos}", std::process::id()));
     std::fs::create_dir(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
-    let mut tmp_guard = Cleanup { path: Some(tmp.clone()), dir: true };
+    let mut tmp_guard = Cleanup {
+        path: Some(tmp.clone()),
+        dir: true,
+    };
     let mut manifest = format!("{SIGNATURE}\n");
     for (file, bytes) in files {
         std::fs::write(tmp.join(file), bytes).with_context(|| format!("writing {file}"))?;
@@ -167,21 +208,26 @@ pub fn write_report_dir(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
     match previous {
         Some(listed) => {
             let old = parent.join(format!(".{name}.old-{}-{nanos}", std::process::id()));
-            std::fs::rename(out, &old).with_context(|| format!("moving the previous report {shown} aside"))?;
+            std::fs::rename(out, &old)
+                .with_context(|| format!("moving the previous report {shown} aside"))?;
             if let Err(e) = std::fs::rename(&tmp, out) {
                 let _ = std::fs::rename(&old, out);
-                return Err(anyhow::Error::new(e).context(format!("moving the new report into {shown}")));
+                return Err(
+                    anyhow::Error::new(e).context(format!("moving the new report into {shown}"))
+                );
             }
             tmp_guard.disarm();
             // remove the previous report: only the files it lists, then the directory
             for f in listed.iter().map(String::as_str).chain([MANIFEST]) {
                 let _ = std::fs::remove_file(old.join(f));
             }
-            std::fs::remove_dir(&old).with_context(|| format!("removing the previous report {}", old.display()))?;
+            std::fs::remove_dir(&old)
+                .with_context(|| format!("removing the previous report {}", old.display()))?;
         }
         None => {
             // a missing or empty directory (an empty one is replaced atomically)
-            std::fs::rename(&tmp, out).with_context(|| format!("moving the report into {shown}"))?;
+            std::fs::rename(&tmp, out)
+                .with_context(|| format!("moving the report into {shown}"))?;
             tmp_guard.disarm();
         }
     }

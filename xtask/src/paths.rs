@@ -24,7 +24,9 @@ fn is_root(dir: &Path) -> bool {
 pub fn workspace_root() -> Result<PathBuf, InputError> {
     let starts = [
         std::env::current_dir().ok(),
-        std::env::current_exe().ok().and_then(|e| e.parent().map(Path::to_path_buf)),
+        std::env::current_exe()
+            .ok()
+            .and_then(|e| e.parent().map(Path::to_path_buf)),
     ];
     for start in starts.into_iter().flatten() {
         if let Some(root) = start.ancestors().find(|d| is_root(d)) {
@@ -33,7 +35,9 @@ pub fn workspace_root() -> Result<PathBuf, InputError> {
     }
     Err(InputError::new(
         "--study",
-        format!("no study given and no project workspace (with {PAPER_STUDY}) found above the current directory; pass --study FILE"),
+        format!(
+            "no study given and no project workspace (with {PAPER_STUDY}) found above the current directory; pass --study FILE"
+        ),
     ))
 }
 

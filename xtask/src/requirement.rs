@@ -38,7 +38,10 @@ fn deg3(r: &[Option<f64>; 3]) -> Value {
 
 /// The JSON object of one requirement.
 #[must_use]
-pub fn requirement_json(p: &RequirementProblem, r: &Result<OrientationRequirement, CalibError>) -> Value {
+pub fn requirement_json(
+    p: &RequirementProblem,
+    r: &Result<OrientationRequirement, CalibError>,
+) -> Value {
     let outputs: Vec<Value> = p
         .calibration
         .outputs()
@@ -72,15 +75,25 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
         Ok(r) => {
             for (k, name) in ANGLE_NAMES.iter().enumerate() {
                 match r.rad[k] {
-                    Some(v) => s.push_str(&format!("I_{name:<5} = {} deg\n", study::fmt::sig(v.to_degrees(), 8))),
+                    Some(v) => s.push_str(&format!(
+                        "I_{name:<5} = {} deg\n",
+                        study::fmt::sig(v.to_degrees(), 8)
+                    )),
                     None => s.push_str(&format!("I_{name:<5} : none (no output constrains it)\n")),
                 }
             }
             for b in &r.boxes {
                 let sides: Vec<String> = (0..3)
-                    .filter_map(|j| b.half_rad[j].map(|h| format!("{} {} deg", ANGLE_NAMES[j], num(h.to_degrees()))))
+                    .filter_map(|j| {
+                        b.half_rad[j]
+                            .map(|h| format!("{} {} deg", ANGLE_NAMES[j], num(h.to_degrees())))
+                    })
                     .collect();
-                s.push_str(&format!("  output {}: largest box {}\n", b.output, sides.join(", ")));
+                s.push_str(&format!(
+                    "  output {}: largest box {}\n",
+                    b.output,
+                    sides.join(", ")
+                ));
             }
             for o in &r.unconstrained_outputs {
                 s.push_str(&format!(
@@ -111,7 +124,10 @@ pub fn run(args: &Args) -> Result<()> {
         let rows: Vec<(Reading, Value)> = Reading::all()
             .into_iter()
             .map(|reading| {
-                let p = RequirementProblem { reading, ..problem.clone() };
+                let p = RequirementProblem {
+                    reading,
+                    ..problem.clone()
+                };
                 let r = p.requirement();
                 (reading, requirement_json(&p, &r))
             })
@@ -120,11 +136,24 @@ pub fn run(args: &Args) -> Result<()> {
             let v: Vec<Value> = rows.into_iter().map(|(_, v)| v).collect();
             crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))?;
         } else {
-            let mut t = format!("study {} ({})\nreading | error vector | I_psi (deg) | I_theta (deg) | I_gamma (deg)\n", s.name, s.path);
+            let mut t = format!(
+                "study {} ({})\nreading | error vector | I_psi (deg) | I_theta (deg) | I_gamma (deg)\n",
+                s.name, s.path
+            );
             for (reading, v) in rows {
                 let req = &v["orientation_requirement_deg"];
-                let f = |k: &str| req[k].as_f64().map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7));
-                t.push_str(&format!("{reading} | {} | {} | {} | {}\n", reading.formula(), f("psi"), f("theta"), f("gamma")));
+                let f = |k: &str| {
+                    req[k]
+                        .as_f64()
+                        .map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7))
+                };
+                t.push_str(&format!(
+                    "{reading} | {} | {} | {} | {}\n",
+                    reading.formula(),
+                    f("psi"),
+                    f("theta"),
+                    f("gamma")
+                ));
             }
             crate::out::print(&t)?;
         }
@@ -148,7 +177,12 @@ pub fn run(args: &Args) -> Result<()> {
             problem.reading.formula()
         );
         for o in problem.calibration.outputs() {
-            t.push_str(&format!("  output {}: accuracy {} {}\n", o.output().name, num(o.output().accuracy), o.output().unit));
+            t.push_str(&format!(
+                "  output {}: accuracy {} {}\n",
+                o.output().name,
+                num(o.output().accuracy),
+                o.output().unit
+            ));
         }
         t.push_str(&text(&r));
         if let Some(d) = &resolved.disagreement {

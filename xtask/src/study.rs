@@ -26,7 +26,11 @@ pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
     let text_path = paths::shown(given);
     let mut s = Study::load(&path).map_err(|e| {
         // name the file as the user gave it (or the workspace-relative default)
-        InputError::new(e.location.replacen(&path.display().to_string(), &text_path, 1), e.reason)
+        InputError::new(
+            e.location
+                .replacen(&path.display().to_string(), &text_path, 1),
+            e.reason,
+        )
     })?;
     s.path = text_path;
     Ok(s)
@@ -76,14 +80,22 @@ pub fn requirement(s: &Study) -> Result<StudyRequirement, InputError> {
     match s.requirement {
         RequirementSource::Computed => {
             let used = match &computed {
-                Ok(r) => Some(Requirement::from_options(r.rad).map_err(|e| InputError::new(format!("{}: computed requirement", s.path), e.to_string()))?),
+                Ok(r) => Some(Requirement::from_options(r.rad).map_err(|e| {
+                    InputError::new(format!("{}: computed requirement", s.path), e.to_string())
+                })?),
                 Err(_) => None,
             };
-            Ok(StudyRequirement { used, computed, given: false, disagreement: None })
+            Ok(StudyRequirement {
+                used,
+                computed,
+                given: false,
+                disagreement: None,
+            })
         }
         RequirementSource::Given { rad } => {
-            let used = Requirement::new(rad[0], rad[1], rad[2])
-                .map_err(|e| InputError::new(format!("{}: key `requirement`", s.path), e.to_string()))?;
+            let used = Requirement::new(rad[0], rad[1], rad[2]).map_err(|e| {
+                InputError::new(format!("{}: key `requirement`", s.path), e.to_string())
+            })?;
             let disagreement = match &computed {
                 Ok(c) => {
                     let parts: Vec<String> = ["psi", "theta", "gamma"]
@@ -98,7 +110,10 @@ pub fn requirement(s: &Study) -> Result<StudyRequirement, InputError> {
                                     study::fmt::num(v.to_degrees()),
                                     100.0 * (g / v - 1.0)
                                 )),
-                                None => Some(format!("{n} {} deg given, none computed (no output constrains it)", study::fmt::num(g.to_degrees()))),
+                                None => Some(format!(
+                                    "{n} {} deg given, none computed (no output constrains it)",
+                                    study::fmt::num(g.to_degrees())
+                                )),
                                 _ => None,
                             }
                         })
@@ -110,9 +125,16 @@ pub fn requirement(s: &Study) -> Result<StudyRequirement, InputError> {
                         )
                     })
                 }
-                Err(e) => Some(format!("note: the study gives a requirement, but none can be computed from its calibration inputs ({e})")),
+                Err(e) => Some(format!(
+                    "note: the study gives a requirement, but none can be computed from its calibration inputs ({e})"
+                )),
             };
-            Ok(StudyRequirement { used: Some(used), computed, given: true, disagreement })
+            Ok(StudyRequirement {
+                used: Some(used),
+                computed,
+                given: true,
+                disagreement,
+            })
         }
     }
 }

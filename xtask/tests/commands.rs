@@ -11,7 +11,6 @@ use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
 use tt_kinematics::{ChainKind, Pose, TurntableErrors};
 
-
 const STUDIES: [&str; 3] = ["gyrowheel-2017", "three-axis-example", "imu-triad-example"];
 
 /// JSON keeps full precision: a value printed and parsed back is the same double.
@@ -35,21 +34,33 @@ fn requirement_json_is_the_library_requirement_for_every_study() {
         for (k, angle) in ["psi", "theta", "gamma"].iter().enumerate() {
             let printed = &v["orientation_requirement_deg"][angle];
             match lib.rad[k] {
-                Some(r) => assert_relative_eq!(num(printed), r.to_degrees(), max_relative = JSON_REL),
+                Some(r) => {
+                    assert_relative_eq!(num(printed), r.to_degrees(), max_relative = JSON_REL)
+                }
                 None => assert!(printed.is_null(), "{name} {angle}"),
             }
         }
         if name == "gyrowheel-2017" {
             for angle in ["psi", "theta", "gamma"] {
-                assert_relative_eq!(num(&v["orientation_requirement_deg"][angle]), 0.026938, max_relative = 1e-5);
+                assert_relative_eq!(
+                    num(&v["orientation_requirement_deg"][angle]),
+                    0.026938,
+                    max_relative = 1e-5
+                );
             }
         }
         if name == "imu-triad-example" {
             let outputs = v["outputs"].as_array().unwrap();
-            let accel: Vec<_> = outputs.iter().filter(|o| o["name"].as_str().unwrap().starts_with('a')).collect();
+            let accel: Vec<_> = outputs
+                .iter()
+                .filter(|o| o["name"].as_str().unwrap().starts_with('a'))
+                .collect();
             assert_eq!(accel.len(), 3);
             assert!(accel.iter().all(|o| o["half_sides_deg"].is_null()));
-            assert_eq!(v["unconstrained_outputs"], serde_json::json!(["ax", "ay", "az"]));
+            assert_eq!(
+                v["unconstrained_outputs"],
+                serde_json::json!(["ax", "ay", "az"])
+            );
         }
     }
 }
@@ -63,13 +74,24 @@ fn allocate_json_keeps_the_paper_numbers() {
     const PRINTED_REL: f64 = 5e-6;
     let v = json(&["allocate", "--json"]);
     assert_relative_eq!(num(&v["objective"]), 115.867, max_relative = PRINTED_REL);
-    assert_relative_eq!(num(&v["equal_effects_objective"]), 124.458, max_relative = PRINTED_REL);
-    assert_relative_eq!(num(&v["paper_table4_objective"]), 138.467, max_relative = PRINTED_REL);
+    assert_relative_eq!(
+        num(&v["equal_effects_objective"]),
+        124.458,
+        max_relative = PRINTED_REL
+    );
+    assert_relative_eq!(
+        num(&v["paper_table4_objective"]),
+        138.467,
+        max_relative = PRINTED_REL
+    );
     assert_eq!(v["lemma1_full_range"], true);
     for name in ["three-axis-example", "imu-triad-example"] {
         let v = json(&["allocate", "--study", &study(name), "--json"]);
         assert!(num(&v["objective"]) > 0.0, "{name}");
-        assert!(v["paper_table4_objective"].is_null(), "{name}: Table 4 belongs to the paper's table");
+        assert!(
+            v["paper_table4_objective"].is_null(),
+            "{name}: Table 4 belongs to the paper's table"
+        );
     }
 }
 
@@ -81,8 +103,26 @@ fn mc_follows_the_study_and_is_thread_count_independent() {
     let v = json(&["mc", "--json"]);
     assert_eq!(v["samples"], 10_000);
     assert_eq!(v["seed"], 2017);
-    let one = json(&["mc", "--json", "--samples", "1e4", "--seed", "7", "--threads", "1"]);
-    let two = json(&["mc", "--json", "--samples", "10_000", "--seed", "7", "--threads", "2"]);
+    let one = json(&[
+        "mc",
+        "--json",
+        "--samples",
+        "1e4",
+        "--seed",
+        "7",
+        "--threads",
+        "1",
+    ]);
+    let two = json(&[
+        "mc",
+        "--json",
+        "--samples",
+        "10_000",
+        "--seed",
+        "7",
+        "--threads",
+        "2",
+    ]);
     assert_eq!(one["samples"], 10_000);
     assert_eq!(one["max_abs_deg"], two["max_abs_deg"]);
     assert_eq!(one["mean_deg"], two["mean_deg"]);
@@ -101,25 +141,50 @@ fn mc_follows_the_study_and_is_thread_count_independent() {
 #[test]
 fn end_to_end_json_is_the_library_answer() {
     let s = load("gyrowheel-2017");
-    let poses: Vec<Pose> = s.positions_deg.iter().map(|p| Pose::from_deg(p).unwrap()).collect();
+    let poses: Vec<Pose> = s
+        .positions_deg
+        .iter()
+        .map(|p| Pose::from_deg(p).unwrap())
+        .collect();
     let e2e = e2e_verify::EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
-    let direct = e2e.allocate_direct(&e2e.linearization(), &s.lower_bounds_rad).unwrap();
+    let direct = e2e
+        .allocate_direct(&e2e.linearization(), &s.lower_bounds_rad)
+        .unwrap();
     let v = json(&["end-to-end", "--json", "--samples", "2000"]);
-    assert_relative_eq!(num(&v["direct_objective"]), direct.objective_arcmin(), max_relative = JSON_REL);
+    assert_relative_eq!(
+        num(&v["direct_objective"]),
+        direct.objective_arcmin(),
+        max_relative = JSON_REL
+    );
     assert_eq!(v["samples"], 2000);
     let readings = v["readings"].as_array().unwrap();
     assert_eq!(readings.len(), 2);
     assert_eq!(readings[1]["reading"], "actual/beta1/printed");
-    let table4 = readings[1]["boxes"].as_array().unwrap().iter().find(|b| b["name"] == "Table 4").unwrap();
+    let table4 = readings[1]["boxes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["name"] == "Table 4")
+        .unwrap();
     let worst = table4["worst_case"][0]["exact_at_vertex"].as_f64().unwrap();
     assert_relative_eq!(worst, 0.015936, max_relative = 1e-4);
-    for c in readings[1]["direct_certified"]["certified_bounds"].as_array().unwrap() {
+    for c in readings[1]["direct_certified"]["certified_bounds"]
+        .as_array()
+        .unwrap()
+    {
         assert!(num(c) <= 0.01);
     }
     let t = &v["throughput"];
     assert!(num(&t["one_thread_ratio_fast_over_reference"]) > 1.0);
     for name in ["three-axis-example", "imu-triad-example"] {
-        let v = json(&["end-to-end", "--study", &study(name), "--json", "--samples", "1000"]);
+        let v = json(&[
+            "end-to-end",
+            "--study",
+            &study(name),
+            "--json",
+            "--samples",
+            "1000",
+        ]);
         assert!(num(&v["direct_objective"]) > 0.0, "{name}");
     }
 }
@@ -129,7 +194,14 @@ fn end_to_end_json_is_the_library_answer() {
 /// meets the three-axis and IMU studies' accuracies.
 #[test]
 fn check_turntable_gives_both_readings_verdicts() {
-    let v = json(&["check-turntable", "--tolerances", "studies/tolerances/table4.toml", "--json", "--samples", "2000"]);
+    let v = json(&[
+        "check-turntable",
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+        "--json",
+        "--samples",
+        "2000",
+    ]);
     assert_eq!(v["reading"], "intended/beta1/printed");
     assert_eq!(v["verdict"], "guaranteed");
     assert_eq!(v["user_reading"]["verdict"], "fails");
@@ -141,9 +213,18 @@ fn check_turntable_gives_both_readings_verdicts() {
         .map(|c| num(&c["worst_case_share"]))
         .sum();
     assert_relative_eq!(shares, 1.0, max_relative = 1e-12);
-    let o = run(&["check-turntable", "--tolerances", "studies/tolerances/table4.toml", "--samples", "2000"]);
+    let o = run(&[
+        "check-turntable",
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+        "--samples",
+        "2000",
+    ]);
     let text = stdout(&o);
-    assert!(text.contains("MEETS every accuracy") && text.contains("does NOT meet every accuracy"), "{text}");
+    assert!(
+        text.contains("MEETS every accuracy") && text.contains("does NOT meet every accuracy"),
+        "{text}"
+    );
     assert!(text.contains("the verdict depends on the reading of eq 13"));
     for name in ["three-axis-example", "imu-triad-example"] {
         let v = json(&[
@@ -178,14 +259,31 @@ fn orientation_error_is_the_library_value_for_file_stdin_and_bom() {
         assert_eq!(stdout(o), stdout(&from_file));
     }
     let out = stdout(&from_file);
-    let values: Vec<f64> = out.lines().nth(1).unwrap().split(',').map(|x| x.parse().unwrap()).collect();
-    let chi: Vec<f64> = row.split(',').skip(2).take(8).map(|x| x.parse::<f64>().unwrap() * tt_kinematics::units::RAD_PER_ARCMIN).collect();
+    let values: Vec<f64> = out
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let chi: Vec<f64> = row
+        .split(',')
+        .skip(2)
+        .take(8)
+        .map(|x| x.parse::<f64>().unwrap() * tt_kinematics::units::RAD_PER_ARCMIN)
+        .collect();
     let errors = TurntableErrors::new(chi, vec![1e-4]).unwrap();
     let pose = Pose::from_deg(&[30.0, 45.0]).unwrap();
     use tt_kinematics::OrientationErrorModel;
-    let angles = tt_kinematics::ExactChain::new(&s.turntable).orientation_error(&pose, &errors).unwrap();
+    let angles = tt_kinematics::ExactChain::new(&s.turntable)
+        .orientation_error(&pose, &errors)
+        .unwrap();
     for (v, a) in values.iter().zip(angles.to_array()) {
-        assert_relative_eq!(*v, tt_kinematics::units::rad_to_arcmin(a), max_relative = JSON_REL);
+        assert_relative_eq!(
+            *v,
+            tt_kinematics::units::rad_to_arcmin(a),
+            max_relative = JSON_REL
+        );
     }
 }
 
@@ -206,7 +304,9 @@ fn regressor(expr: &str, a: &[f64; 3], w: &[f64; 3]) -> f64 {
     }
     expr.split('*')
         .map(|f| {
-            let (name, power) = f.split_once('^').map_or((f, 1), |(n, p)| (n, p.parse().unwrap()));
+            let (name, power) = f
+                .split_once('^')
+                .map_or((f, 1), |(n, p)| (n, p.parse().unwrap()));
             let i = match &name[2..] {
                 "x" => 0,
                 "y" => 1,
@@ -232,7 +332,9 @@ fn normal_equations(a: &[Vec<f64>], y: &[f64]) -> Vec<f64> {
         }
     }
     for c in 0..p {
-        let piv = (c..p).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs())).unwrap();
+        let piv = (c..p)
+            .max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs()))
+            .unwrap();
         m.swap(c, piv);
         for r in 0..p {
             if r != c {
@@ -260,7 +362,11 @@ fn calibration_error_matches_an_independent_least_squares() {
     const LSQ_ABS: f64 = 1e-9;
     let name = "imu-triad-example";
     let s = load(name);
-    assert_eq!(s.reading, calib_lsq::Reading::USER, "the test assumes the user's reading");
+    assert_eq!(
+        s.reading,
+        calib_lsq::Reading::USER,
+        "the test assumes the user's reading"
+    );
     let raw: toml::Value = toml::from_str(&common::study_text(name)).unwrap();
     let outputs = raw["sensor"]["outputs"].as_array().unwrap();
     let n_err = s.turntable.n_rotation_errors();
@@ -268,32 +374,59 @@ fn calibration_error_matches_an_independent_least_squares() {
     let header = study::csv::expected_header_for(&s.turntable, study::csv::JointColumns::Absent);
     let mut row: Vec<String> = chi_arcmin.iter().map(f64::to_string).collect();
     row.extend((0..s.turntable.n_translation_errors()).map(|_| "0.1".to_string()));
-    let o = run_with_stdin(&["calibration-error", "--study", &study(name)], format!("{header}\n{}\n", row.join(",")).as_bytes());
+    let o = run_with_stdin(
+        &["calibration-error", "--study", &study(name)],
+        format!("{header}\n{}\n", row.join(",")).as_bytes(),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     let mut lines = out.lines();
     let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let got: Vec<f64> = lines.next().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    let got: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
     assert_eq!(cols.len(), got.len());
-    let chi: Vec<f64> = chi_arcmin.iter().map(|v| v * tt_kinematics::units::RAD_PER_ARCMIN).collect();
+    let chi: Vec<f64> = chi_arcmin
+        .iter()
+        .map(|v| v * tt_kinematics::units::RAD_PER_ARCMIN)
+        .collect();
     let errors = TurntableErrors::new(chi, vec![1e-4; s.turntable.n_translation_errors()]).unwrap();
     let mut expected: Vec<(String, f64)> = Vec::new();
     let mut rates = Vec::new();
     for o in outputs {
         let terms = o["terms"].as_array().unwrap();
-        let known = |t: &toml::Value| t.get("known").and_then(toml::Value::as_bool).unwrap_or(false);
+        let known = |t: &toml::Value| {
+            t.get("known")
+                .and_then(toml::Value::as_bool)
+                .unwrap_or(false)
+        };
         let value = |t: &toml::Value| t["value"].as_float().unwrap();
-        let (mut a_rows, mut b1, mut b2, mut b2_actual) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut a_rows, mut b1, mut b2, mut b2_actual) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for p in &s.positions_deg {
             let pose = Pose::from_deg(p).unwrap();
             let nominal = s.turntable.nominal_rotation(&pose).unwrap();
-            let actual = s.turntable.actual_rotation(&pose, &errors, ChainKind::Exact).unwrap();
+            let actual = s
+                .turntable
+                .actual_rotation(&pose, &errors, ChainKind::Exact)
+                .unwrap();
             let (a0, w0) = inputs(&s, &nominal);
             let (a1, w1) = inputs(&s, &actual);
             let est: Vec<&toml::Value> = terms.iter().filter(|t| !known(t)).collect();
-            a_rows.push(est.iter().map(|t| regressor(t["regressor"].as_str().unwrap(), &a0, &w0)).collect::<Vec<f64>>());
+            a_rows.push(
+                est.iter()
+                    .map(|t| regressor(t["regressor"].as_str().unwrap(), &a0, &w0))
+                    .collect::<Vec<f64>>(),
+            );
             let sum = |a: &[f64; 3], w: &[f64; 3], k: bool| -> f64 {
-                terms.iter().filter(|t| known(t) == k).map(|t| value(t) * regressor(t["regressor"].as_str().unwrap(), a, w)).sum()
+                terms
+                    .iter()
+                    .filter(|t| known(t) == k)
+                    .map(|t| value(t) * regressor(t["regressor"].as_str().unwrap(), a, w))
+                    .sum()
             };
             b1.push(sum(&a1, &w1, false) + sum(&a1, &w1, true));
             b2.push(sum(&a0, &w0, true));
@@ -302,19 +435,27 @@ fn calibration_error_matches_an_independent_least_squares() {
         let y: Vec<f64> = b1.iter().zip(&b2).map(|(a, b)| a - b).collect();
         let beta = normal_equations(&a_rows, &y);
         for (t, b) in terms.iter().filter(|t| !known(t)).zip(&beta) {
-            expected.push((format!("{}_error", t["coefficient"].as_str().unwrap()), b - value(t)));
+            expected.push((
+                format!("{}_error", t["coefficient"].as_str().unwrap()),
+                b - value(t),
+            ));
         }
         // eq 13 (printed, beta1) and eq 14
         let rate = a_rows
             .iter()
             .zip(&b1)
             .zip(&b2_actual)
-            .map(|((r, b1), b2a)| (b1 - r.iter().zip(&beta).map(|(x, b)| x * b).sum::<f64>() - b2a).abs())
+            .map(|((r, b1), b2a)| {
+                (b1 - r.iter().zip(&beta).map(|(x, b)| x * b).sum::<f64>() - b2a).abs()
+            })
             .fold(0.0, f64::max);
         rates.push((format!("{}_rate_error", o["name"].as_str().unwrap()), rate));
     }
     expected.extend(rates);
-    assert_eq!(cols, expected.iter().map(|(c, _)| c.as_str()).collect::<Vec<_>>());
+    assert_eq!(
+        cols,
+        expected.iter().map(|(c, _)| c.as_str()).collect::<Vec<_>>()
+    );
     for ((c, want), have) in expected.iter().zip(&got) {
         approx::assert_abs_diff_eq!(*have, *want, epsilon = LSQ_ABS);
         let _ = c;

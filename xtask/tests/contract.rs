@@ -25,7 +25,15 @@ fn study_commands(path: &str) -> Vec<Vec<String>> {
         v(&["allocate", "--study", path]),
         v(&["mc", "--study", path, "--samples", "1000"]),
         v(&["end-to-end", "--study", path, "--samples", "500"]),
-        v(&["check-turntable", "--study", path, "--tolerances", "studies/tolerances/table4.toml", "--samples", "500"]),
+        v(&[
+            "check-turntable",
+            "--study",
+            path,
+            "--tolerances",
+            "studies/tolerances/table4.toml",
+            "--samples",
+            "500",
+        ]),
         v(&["calibration-error", "--study", path]),
         v(&["orientation-error", "--study", path]),
     ]
@@ -44,14 +52,38 @@ fn run_owned(args: &[String]) -> std::process::Output {
 fn out_of_range_study_values_exit_2_naming_the_key_in_every_command() {
     let dir = tempfile::tempdir().unwrap();
     let cases = [
-        ("gamma_deg = 0.027 # eq 16", "gamma_deg = 1e308", "requirement.gamma_deg"),
-        ("earth_rate_rad_per_s = 7.2921159e-5", "earth_rate_rad_per_s = 1e300", "site.earth_rate_rad_per_s"),
+        (
+            "gamma_deg = 0.027 # eq 16",
+            "gamma_deg = 1e308",
+            "requirement.gamma_deg",
+        ),
+        (
+            "earth_rate_rad_per_s = 7.2921159e-5",
+            "earth_rate_rad_per_s = 1e300",
+            "site.earth_rate_rad_per_s",
+        ),
         ("value = -93.3 }", "value = 1e300 }", "value"),
-        ("accuracy = 0.01   # omega_m, the required", "accuracy = 1e300   # omega_m, the required", "accuracy"),
-        ("[0, 0], [0, 45],", "[270, 315, 999], [0, 45],", "positions_deg"),
+        (
+            "accuracy = 0.01   # omega_m, the required",
+            "accuracy = 1e300   # omega_m, the required",
+            "accuracy",
+        ),
+        (
+            "[0, 0], [0, 45],",
+            "[270, 315, 999], [0, 45],",
+            "positions_deg",
+        ),
         ("dalpha_x2 = 0.0", "dalpha_x2 = 1e300", "dalpha_x2"),
-        ("samples = 10000", "samples = 100000000000000000", "monte_carlo.samples"),
-        ("latitude_deg = 45.75", "latitude_deg = 91", "site.latitude_deg"),
+        (
+            "samples = 10000",
+            "samples = 100000000000000000",
+            "monte_carlo.samples",
+        ),
+        (
+            "latitude_deg = 45.75",
+            "latitude_deg = 91",
+            "site.latitude_deg",
+        ),
     ];
     for (i, (old, new, key)) in cases.iter().enumerate() {
         let path = write(dir.path(), &format!("bad{i}.toml"), &paper_with(old, new));
@@ -60,7 +92,11 @@ fn out_of_range_study_values_exit_2_naming_the_key_in_every_command() {
             let start = Instant::now();
             let o = run_owned(&cmd);
             assert_input_error(&o, &[p, key]);
-            assert!(start.elapsed() < Duration::from_secs(20), "{cmd:?} took {:?}", start.elapsed());
+            assert!(
+                start.elapsed() < Duration::from_secs(20),
+                "{cmd:?} took {:?}",
+                start.elapsed()
+            );
         }
     }
 }
@@ -69,7 +105,15 @@ fn out_of_range_study_values_exit_2_naming_the_key_in_every_command() {
 /// maximum), never an allocation failure; every count flag accepts the same forms.
 #[test]
 fn huge_and_malformed_counts_exit_2_naming_the_flag() {
-    for cmd in [&["end-to-end"][..], &["mc"], &["check-turntable", "--tolerances", "studies/tolerances/table4.toml"]] {
+    for cmd in [
+        &["end-to-end"][..],
+        &["mc"],
+        &[
+            "check-turntable",
+            "--tolerances",
+            "studies/tolerances/table4.toml",
+        ],
+    ] {
         for bad in ["100000000000000000", "0", "1.5", "-3", "lots"] {
             let mut args = cmd.to_vec();
             let flag = format!("--samples={bad}");
@@ -80,7 +124,14 @@ fn huge_and_malformed_counts_exit_2_naming_the_flag() {
     }
     let o = run(&["end-to-end", "--samples", "2e10"]);
     assert_input_error(&o, &["--samples"]);
-    let o = run(&["end-to-end", "--samples", "1e3", "--seed", "1_000", "--json"]);
+    let o = run(&[
+        "end-to-end",
+        "--samples",
+        "1e3",
+        "--seed",
+        "1_000",
+        "--json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["samples"], 1000);
@@ -92,7 +143,11 @@ fn huge_and_malformed_counts_exit_2_naming_the_flag() {
 #[test]
 fn lower_bounds_are_checked_in_arcmin_against_every_box() {
     let dir = tempfile::tempdir().unwrap();
-    let big = write(dir.path(), "lb.toml", &paper_with("dalpha_x2 = 0.0", "dalpha_x2 = 5"));
+    let big = write(
+        dir.path(),
+        "lb.toml",
+        &paper_with("dalpha_x2 = 0.0", "dalpha_x2 = 5"),
+    );
     let p = big.to_str().unwrap();
     for cmd in [
         vec!["allocate", "--study", p],
@@ -103,11 +158,35 @@ fn lower_bounds_are_checked_in_arcmin_against_every_box() {
         assert_input_error(&o, &[p, "dalpha_x2", "arcmin"]);
         assert!(!stderr(&o).contains(" rad"), "{}", stderr(&o));
     }
-    let small = write(dir.path(), "lb_small.toml", &paper_with("dalpha_x2 = 0.0", "dalpha_x2 = 0.1"));
-    let o = run(&["mc", "--study", small.to_str().unwrap(), "--bounds", "table4", "--samples", "1000"]);
+    let small = write(
+        dir.path(),
+        "lb_small.toml",
+        &paper_with("dalpha_x2 = 0.0", "dalpha_x2 = 0.1"),
+    );
+    let o = run(&[
+        "mc",
+        "--study",
+        small.to_str().unwrap(),
+        "--bounds",
+        "table4",
+        "--samples",
+        "1000",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let too_big = write(dir.path(), "lb_big.toml", &paper_with("dalpha_x2 = 0.0", "dalpha_x2 = 0.3"));
-    let o = run(&["mc", "--study", too_big.to_str().unwrap(), "--bounds", "table4", "--samples", "1000"]);
+    let too_big = write(
+        dir.path(),
+        "lb_big.toml",
+        &paper_with("dalpha_x2 = 0.0", "dalpha_x2 = 0.3"),
+    );
+    let o = run(&[
+        "mc",
+        "--study",
+        too_big.to_str().unwrap(),
+        "--bounds",
+        "table4",
+        "--samples",
+        "1000",
+    ]);
     assert_input_error(&o, &["dalpha_x2", "0.3", "0.2825"]);
 }
 
@@ -119,11 +198,31 @@ fn csv_errors_exit_2_naming_line_and_column_with_nothing_written() {
     let header = "phi1_deg,phi2_deg,dphi_y1_arcmin,dphi_z2_arcmin,dalpha_x1_arcmin,dalpha_z1_arcmin,dalpha_x2_arcmin,dalpha_y2_arcmin,deps_x_arcmin,deps_y_arcmin,deta_mm";
     let good = "30,45,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1";
     let cases: Vec<(Vec<u8>, Vec<&str>)> = vec![
-        (format!("{header}\n{good}\n30,45,1e300,0,0,0,0,0,0,0,0\n").into_bytes(), vec!["<stdin>:3", "column 3", "dphi_y1_arcmin"]),
-        (format!("{header}\n{good}\n30,45,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1,7\n").into_bytes(), vec!["<stdin>:3", "12"]),
-        (format!("{header}\n{good}\n30,45,x,0,0,0,0,0,0,0,0\n").into_bytes(), vec!["<stdin>:3", "column 3", "not a number"]),
-        ([format!("{header}\n{good}\n").as_bytes(), b"30,45,\xff\xfe,0\n"].concat(), vec!["<stdin>:3", "UTF-8"]),
-        (b"phi1_deg,phi2_deg\n".to_vec(), vec!["<stdin>:1", "missing columns"]),
+        (
+            format!("{header}\n{good}\n30,45,1e300,0,0,0,0,0,0,0,0\n").into_bytes(),
+            vec!["<stdin>:3", "column 3", "dphi_y1_arcmin"],
+        ),
+        (
+            format!("{header}\n{good}\n30,45,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1,7\n")
+                .into_bytes(),
+            vec!["<stdin>:3", "12"],
+        ),
+        (
+            format!("{header}\n{good}\n30,45,x,0,0,0,0,0,0,0,0\n").into_bytes(),
+            vec!["<stdin>:3", "column 3", "not a number"],
+        ),
+        (
+            [
+                format!("{header}\n{good}\n").as_bytes(),
+                b"30,45,\xff\xfe,0\n",
+            ]
+            .concat(),
+            vec!["<stdin>:3", "UTF-8"],
+        ),
+        (
+            b"phi1_deg,phi2_deg\n".to_vec(),
+            vec!["<stdin>:1", "missing columns"],
+        ),
     ];
     for (input, needles) in cases {
         let o = run_with_stdin(&["orientation-error"], &input);
@@ -141,7 +240,11 @@ fn non_regular_and_oversized_study_files_are_refused_at_once() {
     let huge = dir.path().join("huge.toml");
     let f = std::fs::File::create(&huge).unwrap();
     f.set_len(64 << 20).unwrap();
-    for path in ["/dev/urandom", dir.path().to_str().unwrap(), huge.to_str().unwrap()] {
+    for path in [
+        "/dev/urandom",
+        dir.path().to_str().unwrap(),
+        huge.to_str().unwrap(),
+    ] {
         let start = Instant::now();
         let o = run(&["requirement", "--study", path]);
         assert_input_error(&o, &[path]);
@@ -161,7 +264,12 @@ fn closed_standard_output_ends_quietly() {
     let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
     writeln!(f, "{header}").unwrap();
     for i in 0..200_000 {
-        writeln!(f, "{},45,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1", i % 360).unwrap();
+        writeln!(
+            f,
+            "{},45,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1",
+            i % 360
+        )
+        .unwrap();
     }
     drop(f);
     let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
@@ -200,10 +308,18 @@ fn default_study_resolves_from_the_current_directory() {
     let dir = tempfile::tempdir().unwrap();
     let exe = dir.path().join("xtask-copy");
     std::fs::copy(env!("CARGO_BIN_EXE_xtask"), &exe).unwrap();
-    let o = Command::new(&exe).args(["requirement"]).current_dir(dir.path()).output().unwrap();
+    let o = Command::new(&exe)
+        .args(["requirement"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
     assert_input_error(&o, &["--study"]);
     let copy = write(dir.path(), "mine.toml", &study_text("gyrowheel-2017"));
-    let o = Command::new(&exe).args(["requirement", "--study", "mine.toml"]).current_dir(dir.path()).output().unwrap();
+    let o = Command::new(&exe)
+        .args(["requirement", "--study", "mine.toml"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("mine.toml"));
     assert!(copy.exists());
@@ -215,24 +331,40 @@ fn default_study_resolves_from_the_current_directory() {
 #[test]
 fn given_requirement_that_disagrees_is_flagged_everywhere() {
     let dir = tempfile::tempdir().unwrap();
-    let text = paper_with("latitude_deg = 45.75", "latitude_deg = 30").replace("accuracy = 0.01 ", "accuracy = 0.005 ");
+    let text = paper_with("latitude_deg = 45.75", "latitude_deg = 30")
+        .replace("accuracy = 0.01 ", "accuracy = 0.005 ");
     let given = write(dir.path(), "given.toml", &text);
     let p = given.to_str().unwrap();
-    for cmd in [vec!["requirement", "--study", p], vec!["allocate", "--study", p], vec!["mc", "--study", p, "--samples", "1000"]] {
+    for cmd in [
+        vec!["requirement", "--study", p],
+        vec!["allocate", "--study", p],
+        vec!["mc", "--study", p, "--samples", "1000"],
+    ] {
         let o = run(&cmd);
         assert!(o.status.success(), "{cmd:?}: {}", stderr(&o));
         let all = format!("{}{}", stdout(&o), stderr(&o));
-        assert_eq!(all.matches("differs from the one computed").count(), 1, "{cmd:?}: {all}");
+        assert_eq!(
+            all.matches("differs from the one computed").count(),
+            1,
+            "{cmd:?}: {all}"
+        );
         assert!(all.contains("0.027 deg given"), "{all}");
     }
     let computed_text = text
         .replace("source = \"given\"", "source = \"computed\"")
         .lines()
-        .filter(|l| !(l.starts_with("psi_deg") || l.starts_with("theta_deg") || l.starts_with("gamma_deg")))
+        .filter(|l| {
+            !(l.starts_with("psi_deg") || l.starts_with("theta_deg") || l.starts_with("gamma_deg"))
+        })
         .collect::<Vec<_>>()
         .join("\n");
     let computed = write(dir.path(), "computed.toml", &computed_text);
-    let v = common::json(&["requirement", "--study", computed.to_str().unwrap(), "--json"]);
+    let v = common::json(&[
+        "requirement",
+        "--study",
+        computed.to_str().unwrap(),
+        "--json",
+    ]);
     let psi = common::num(&v["orientation_requirement_deg"]["psi"]);
     assert!(psi < 0.02 && psi > 0.01, "{psi}");
     assert!(v["disagreement"].is_null());
@@ -244,7 +376,11 @@ fn given_requirement_that_disagrees_is_flagged_everywhere() {
 #[test]
 fn human_output_has_sensible_digits_and_no_nan() {
     let dir = tempfile::tempdir().unwrap();
-    let odd = write(dir.path(), "odd.toml", &paper_with("latitude_deg = 45.75", "latitude_deg = 29.999999999999996"));
+    let odd = write(
+        dir.path(),
+        "odd.toml",
+        &paper_with("latitude_deg = 45.75", "latitude_deg = 29.999999999999996"),
+    );
     let p = odd.to_str().unwrap();
     let long_float = |t: &str| {
         t.split(|c: char| !(c.is_ascii_digit() || c == '.'))
@@ -255,7 +391,15 @@ fn human_output_has_sensible_digits_and_no_nan() {
         vec!["allocate", "--study", p],
         vec!["mc", "--study", p, "--samples", "1000"],
         vec!["end-to-end", "--study", p, "--samples", "500"],
-        vec!["check-turntable", "--study", p, "--tolerances", "studies/tolerances/table4.toml", "--samples", "500"],
+        vec![
+            "check-turntable",
+            "--study",
+            p,
+            "--tolerances",
+            "studies/tolerances/table4.toml",
+            "--samples",
+            "500",
+        ],
     ] {
         let o = run(&cmd);
         assert!(o.status.success(), "{cmd:?}: {}", stderr(&o));
@@ -264,9 +408,20 @@ fn human_output_has_sensible_digits_and_no_nan() {
         assert!(!t.contains("NaN") && !t.contains("inf"), "{cmd:?}:\n{t}");
         assert!(!t.contains("29.999"), "{cmd:?}");
     }
-    for cmd in ["requirement", "allocate", "mc", "end-to-end", "check-turntable", "orientation-error", "calibration-error"] {
+    for cmd in [
+        "requirement",
+        "allocate",
+        "mc",
+        "end-to-end",
+        "check-turntable",
+        "orientation-error",
+        "calibration-error",
+    ] {
         let h = stdout(&run(&[cmd, "--help"]));
-        assert!(!h.contains("issue") && !h.contains("paper's inputs"), "{cmd}: {h}");
+        assert!(
+            !h.contains("issue") && !h.contains("paper's inputs"),
+            "{cmd}: {h}"
+        );
     }
 }
 
@@ -278,7 +433,8 @@ fn every_command_runs_on_every_shipped_study() {
         let s = study::Study::load(&common::root().join(&p)).unwrap();
         let header = study::csv::expected_header(&s.turntable);
         let zeros = vec!["0"; header.split(',').count()].join(",");
-        let errors_only = study::csv::expected_header_for(&s.turntable, study::csv::JointColumns::Absent);
+        let errors_only =
+            study::csv::expected_header_for(&s.turntable, study::csv::JointColumns::Absent);
         let zeros_e = vec!["0.1"; errors_only.split(',').count()].join(",");
         for cmd in study_commands(&p) {
             let input = match cmd[0].as_str() {

@@ -11,7 +11,10 @@ use std::time::Duration;
 /// `stdin` fed from a file; stdout discarded. Panics unless the command succeeds.
 fn peak_kib(args: &[&str], stdin: Option<&std::path::Path>) -> u64 {
     let mut c = Command::new(env!("CARGO_BIN_EXE_xtask"));
-    c.args(args).current_dir(common::root()).stdout(Stdio::null()).stderr(Stdio::piped());
+    c.args(args)
+        .current_dir(common::root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
     if let Some(p) = stdin {
         c.stdin(std::fs::File::open(p).unwrap());
     }
@@ -21,7 +24,13 @@ fn peak_kib(args: &[&str], stdin: Option<&std::path::Path>) -> u64 {
     loop {
         if let Ok(text) = std::fs::read_to_string(&status_path) {
             if let Some(v) = text.lines().find_map(|l| l.strip_prefix("VmHWM:")) {
-                peak = peak.max(v.trim().trim_end_matches("kB").trim().parse::<u64>().unwrap_or(0));
+                peak = peak.max(
+                    v.trim()
+                        .trim_end_matches("kB")
+                        .trim()
+                        .parse::<u64>()
+                        .unwrap_or(0),
+                );
             }
         }
         if let Some(status) = child.try_wait().unwrap() {
@@ -44,7 +53,13 @@ fn orientation_error_memory_does_not_grow_with_the_input() {
     let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
     writeln!(f, "{header}").unwrap();
     for i in 0..1_300_000 {
-        writeln!(f, "{},{},0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1", i % 360, (i * 7) % 360).unwrap();
+        writeln!(
+            f,
+            "{},{},0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1",
+            i % 360,
+            (i * 7) % 360
+        )
+        .unwrap();
     }
     drop(f);
     let size_kib = std::fs::metadata(&path).unwrap().len() / 1024;
@@ -52,7 +67,10 @@ fn orientation_error_memory_does_not_grow_with_the_input() {
     let file = peak_kib(&["orientation-error", path.to_str().unwrap()], None);
     let stdin = peak_kib(&["orientation-error", "-"], Some(&path));
     for (what, peak) in [("file", file), ("stdin", stdin)] {
-        assert!(peak < size_kib / 2, "{what}: peak {peak} KiB for {size_kib} KiB of input");
+        assert!(
+            peak < size_kib / 2,
+            "{what}: peak {peak} KiB for {size_kib} KiB of input"
+        );
     }
 }
 
@@ -62,5 +80,8 @@ fn orientation_error_memory_does_not_grow_with_the_input() {
 fn end_to_end_memory_does_not_grow_with_the_sample_count() {
     let small = peak_kib(&["end-to-end", "--samples", "2e3"], None);
     let large = peak_kib(&["end-to-end", "--samples", "2e5"], None);
-    assert!(large < small + 8 * 1024, "2e3 draws: {small} KiB, 2e5 draws: {large} KiB");
+    assert!(
+        large < small + 8 * 1024,
+        "2e3 draws: {small} KiB, 2e5 draws: {large} KiB"
+    );
 }

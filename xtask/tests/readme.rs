@@ -28,7 +28,10 @@ fn readme_shows_the_main_job_and_the_test_command() {
     assert!(r.contains("cargo xtask reproduce-paper"));
     assert!(r.contains("cargo test --workspace"));
     let ci = std::fs::read_to_string(common::root().join(".ci/run")).unwrap();
-    assert!(ci.contains("cargo test --workspace"), ".ci/run must run the README's test command");
+    assert!(
+        ci.contains("cargo test --workspace"),
+        ".ci/run must run the README's test command"
+    );
 }
 
 /// Every subcommand has a row in the README's commands table naming every long flag of its
@@ -47,10 +50,19 @@ fn readme_commands_table_lists_every_command_and_flag() {
         for flag in help
             .split_whitespace()
             .filter(|w| w.starts_with("--") && w.len() > 2)
-            .map(|w| w.trim_end_matches([',', '.', ')', '`', ';']).split(['=', '<']).next().unwrap_or("").to_string())
+            .map(|w| {
+                w.trim_end_matches([',', '.', ')', '`', ';'])
+                    .split(['=', '<'])
+                    .next()
+                    .unwrap_or("")
+                    .to_string()
+            })
             .filter(|f| f != "--help" && f.len() > 2)
         {
-            assert!(row.contains(&flag), "README row for `{c}` lacks `{flag}`: {row}");
+            assert!(
+                row.contains(&flag),
+                "README row for `{c}` lacks `{flag}`: {row}"
+            );
         }
     }
 }

@@ -57,7 +57,11 @@ pub fn json(args: &[&str]) -> serde_json::Value {
 pub fn assert_input_error(o: &Output, needles: &[&str]) {
     let err = stderr(o);
     assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
-    assert!(o.stdout.is_empty(), "stdout must be empty, got {}", stdout(o));
+    assert!(
+        o.stdout.is_empty(),
+        "stdout must be empty, got {}",
+        stdout(o)
+    );
     for n in needles {
         assert!(err.contains(n), "stderr lacks `{n}`: {err}");
     }
