@@ -127,9 +127,8 @@ pub struct AxisCertificate {
 ///   `satisfied` is Lemma 1 itself for the linear model.
 /// - Two or more free joints: the worst case is searched (grid and refinement over the outer
 ///   free joints, exact in the last one) and bounded rigorously by branch and bound with a
-///   Lipschitz constant ([`LinearModel::worst_pose_certified`], relative gap
-///   [`CERTIFY_REL_GAP`] $= 10^{-9}$ when reached within its evaluation budget; on the
-///   three-axis example it stops at about $10^{-7}$). `satisfied` uses the rigorous bound, so it
+///   second-order cell bound ([`LinearModel::worst_pose_certified`], relative gap
+///   [`CERTIFY_REL_GAP`] $= 10^{-9}$, reached on the three-axis example). `satisfied` uses the rigorous bound, so it
 ///   is still Lemma 1 for the linear model; the allocators shrink the bounds until it holds,
 ///   giving away the bound's gap (plus $2\times10^{-9}$) of the requirement.
 /// - Neither covers the second-order terms of the exact chain: see

@@ -42,9 +42,8 @@
 //! - **Two or more free joints** (a three-axis table): the worst pose is searched (a grid over
 //!   the outer free joints refined by golden sections, exact in the last joint). The exchange
 //!   method converges to the optimum *of the poses found*; then the certificate bounds the
-//!   worst case rigorously by branch and bound with a Lipschitz constant
-//!   ([`tt_kinematics::LinearModel::worst_pose_certified`], relative gap $10^{-9}$ as a target,
-//!   about $10^{-7}$ when its evaluation budget runs out), and where that bound exceeds the
+//!   worst case rigorously by branch and bound with a second-order cell bound
+//!   ([`tt_kinematics::LinearModel::worst_pose_certified`], relative gap $10^{-9}$), and where that bound exceeds the
 //!   requirement the free bounds are shrunk until it does not ([`Allocation::safety_scale`],
 //!   by the bound's gap). So **Lemma 1 is guaranteed** for the linear model (the rigorous
 //!   bound is within $I$), while **optimality is not**: it holds up to the search's miss and
