@@ -65,7 +65,7 @@ mod check;
 pub mod design;
 mod error;
 mod linear;
-mod montecarlo;
+pub mod montecarlo;
 pub mod paper;
 mod simulate;
 

@@ -6,7 +6,7 @@
 #[error("{location}: {reason}")]
 #[non_exhaustive]
 pub struct StudyError {
-    /// Where: `file: key `turntable.factors[3].about``, `file:12 column 4`, or the file.
+    /// Where: a file and key (``file: key `turntable.factors[3].about` ``), a file, line and column (`file:12 column 4`), or the file.
     pub location: String,
     /// Why it was rejected.
     pub reason: String,

@@ -306,7 +306,7 @@ fn count(at: &dyn Fn(&str) -> String, key: &str, c: &Count, max: u64) -> Result<
 }
 
 impl Study {
-    /// Read and validate a study file (see [`read_text_file`] for what is refused).
+    /// Read and validate a study file (a regular UTF-8 file of at most [`limits::MAX_FILE_BYTES`](crate::limits::MAX_FILE_BYTES) bytes).
     ///
     /// # Errors
     /// A [`StudyError`] naming the file (and key) for any problem.

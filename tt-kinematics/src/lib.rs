@@ -60,13 +60,13 @@
 #[cfg(feature = "conformance")]
 pub mod conformance;
 mod error;
-mod linear;
+pub mod linear;
 mod model;
 pub mod paper;
 mod pose;
 pub mod rotation;
 pub mod sensitivity;
-mod turntable;
+pub mod turntable;
 pub mod units;
 
 pub use error::KinematicsError;

@@ -64,7 +64,7 @@ impl OrientationError {
 ///
 /// Implemented for any turntable by [`ExactChain`], [`SmallAngleChain`] and [`LinearChain`],
 /// and for the paper's table by [`crate::paper::ClosedForm`] (eq 26); all agree to first order
-/// in the errors (the conformance suite, [`crate::conformance`] with the `conformance`
+/// in the errors (the conformance suite, `crate::conformance` with the `conformance`
 /// feature, checks it for any implementation).
 ///
 /// ```

@@ -8,7 +8,7 @@
 //! the SVG figures, CSV tables and `results.json`. Default directory:
 //! `target/report/<study name>` (`target/paper` for the paper) in the workspace.
 //!
-//! This module parses, calls [`compute`] (the libraries), formats ([`render`], [`paper`]) and
+//! This module parses, calls [`compute`] (the libraries), formats (`render`, `paper`) and
 //! writes; it computes no science.
 
 mod compute;
