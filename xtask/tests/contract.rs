@@ -252,6 +252,11 @@ fn non_regular_and_oversized_study_files_are_refused_at_once() {
     }
     let o = run(&["requirement", "--study", "no/such/study.toml"]);
     assert_input_error(&o, &["no/such/study.toml", "cannot read"]);
+    // a tolerance sheet is a user file too (before: exit 1)
+    for path in ["/dev/null", "no/such/sheet.toml"] {
+        let o = run(&["check-turntable", "--tolerances", path]);
+        assert_input_error(&o, &[path, "tolerance file"]);
+    }
 }
 
 /// Issue 15 defect 6: `orientation-error big.csv | head -2` ends quietly (exit 0, nothing on
