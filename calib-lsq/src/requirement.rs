@@ -18,8 +18,10 @@
 //! Corners in direction $\hat u$ (in the positive orthant) at radius $\rho$: $\rho(\hat u)$ is the
 //! largest radius at which every corner meets the accuracy (doubling, then bisection to
 //! [`RADIUS_TOL_RAD`]); the direction maximises the volume (two angles: a scan of
-//! [`DIRECTION_SCAN`] directions then golden sections to [`DIRECTION_TOL_RAD`]; three: a
-//! [`DIRECTION_SCAN_3D`]² grid then alternating golden sections to [`DIRECTION_TOL_3D_RAD`]).
+//! [`DIRECTION_SCAN`] directions then golden sections to [`DIRECTION_TOL_RAD`]; three: a start
+//! from the log-barrier solution of the first-order problem (a [`DIRECTION_SCAN_3D`]² grid of
+//! directions when the first-order problem is unbounded), refined by Nelder-Mead to
+//! [`DIRECTION_TOL_3D_RAD`]).
 //! For a convex region (every first-order reading: $\Delta\omega$ is a maximum of absolute
 //! values of linear forms) the corners bound the whole box; the result records the largest
 //! $\Delta\omega/\omega_m$ found on its boundary.

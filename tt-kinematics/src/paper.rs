@@ -324,8 +324,9 @@ pub mod claims {
         /// The derived bound $K m^2$ ($K = 33$: $e^s - 1 - s$ with $s = 8m$), rad.
         pub bound_rad: f64,
         /// Largest difference between the first-order model built from the description and
-        /// the printed eq 26, rad (the description recovers eq 26).
-        pub eq26_recovery_rad: f64,
+        /// the printed eq 26, relative to the largest coefficient (dimensionless; the
+        /// description recovers eq 26).
+        pub eq26_recovery_rel: f64,
     }
 
     impl Eq26Evidence {
@@ -333,7 +334,7 @@ pub mod claims {
         /// to 1e-12.
         #[must_use]
         pub fn holds(&self) -> bool {
-            self.max_difference_rad <= self.bound_rad && self.eq26_recovery_rad <= 1e-12
+            self.max_difference_rad <= self.bound_rad && self.eq26_recovery_rel <= 1e-12
         }
     }
 
@@ -345,10 +346,10 @@ pub mod claims {
                 self.max_error_rad / crate::units::RAD_PER_ARCMIN,
                 self.max_difference_rad,
                 self.bound_rad,
-                if self.eq26_recovery_rad == 0.0 {
+                if self.eq26_recovery_rel == 0.0 {
                     "rounding (0)".to_string()
                 } else {
-                    format!("{:.1e} (relative)", self.eq26_recovery_rad)
+                    format!("{:.1e} (relative)", self.eq26_recovery_rel)
                 }
             )
         }
@@ -381,7 +382,7 @@ pub mod claims {
             max_error_rad: m,
             max_difference_rad: diff,
             bound_rad: 33.0 * m * m,
-            eq26_recovery_rad: recovery,
+            eq26_recovery_rel: recovery,
         })
     }
 

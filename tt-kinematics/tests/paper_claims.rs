@@ -58,7 +58,7 @@ fn eq26_claim_s3_2_closed_form_approximates_the_exact_chain_to_second_order() {
     assert!((e.max_error_rad / RAD_PER_ARCMIN - 10.0).abs() < 1e-12);
     assert!(e.max_difference_rad > SECOND_ORDER_FLOOR_RAD, "{e}");
     assert!(e.max_difference_rad <= e.bound_rad);
-    assert!(e.eq26_recovery_rad <= EQ26_RECOVERY_REL);
+    assert!(e.eq26_recovery_rel <= EQ26_RECOVERY_REL);
     // The verdict turns when the bound does not cover the difference.
     let mut tight = e.clone();
     tight.bound_rad = e.max_difference_rad * 0.5;
