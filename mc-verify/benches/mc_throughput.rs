@@ -24,7 +24,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use mc_verify::baseline::paper_kernel_run;
 use mc_verify::{ErrorBox, McConfig, MonteCarlo, SimdLevel};
 use std::hint::black_box;
-use tt_kinematics::{ExactChain, FactorSpec, SignedAxis, Turntable, TurntableDescription, paper};
+use tt_kinematics::{ExactChain, paper};
 
 /// Table 4 of the paper, arcmin (order of eq 25).
 const TABLE4_ARCMIN: [f64; 8] = [
@@ -42,46 +42,8 @@ fn paper_mc(samples: u64) -> MonteCarlo {
     MonteCarlo::new(&t, b, McConfig::new(samples, 2017, eq16())).expect("valid config")
 }
 
-/// The three-axis example table (outer z, middle x, inner y; 13 angular errors).
-fn three_axis() -> Turntable {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
-    let t = |n: &str, a| FactorSpec::Translation {
-        name: n.into(),
-        along: a,
-    };
-    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    Turntable::new(&TurntableDescription::new(vec![
-        j("phi_o", z),
-        e("dphi_o", z),
-        e("dalpha_ox", x),
-        e("dalpha_oy", y),
-        t("deta_om", y),
-        e("deps_om_y", y),
-        e("deps_om_z", z),
-        j("phi_m", x),
-        e("dphi_m", x),
-        e("dalpha_my", y),
-        e("dalpha_mz", z),
-        t("deta_mi", z),
-        e("deps_mi_z", z),
-        e("deps_mi_x", x),
-        j("phi_i", y),
-        e("dphi_i", y),
-        e("dalpha_ix", x),
-        e("dalpha_iz", z),
-    ]))
-    .expect("valid description")
-}
-
 fn three_axis_mc(samples: u64) -> MonteCarlo {
-    let t = three_axis();
+    let t = tt_kinematics::conformance::three_axis();
     let ub = (0..13).map(|i| 0.3 + 0.025 * f64::from(i)).collect();
     let b = ErrorBox::from_arcmin(&t, vec![0.0; 13], ub).expect("valid box");
     MonteCarlo::new(&t, b, McConfig::new(samples, 2017, eq16())).expect("valid config")

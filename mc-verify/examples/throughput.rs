@@ -24,7 +24,7 @@
 use mc_verify::baseline::paper_kernel_run_with_simd;
 use mc_verify::{ErrorBox, McConfig, MonteCarlo, SimdLevel};
 use std::time::Instant;
-use tt_kinematics::{FactorSpec, SignedAxis, Turntable, TurntableDescription, paper};
+use tt_kinematics::paper;
 
 /// Table 4 of the paper, arcmin (order of eq 25).
 const TABLE4_ARCMIN: [f64; 8] = [
@@ -33,44 +33,6 @@ const TABLE4_ARCMIN: [f64; 8] = [
 
 /// The paper's requirement, eq 16, deg.
 const EQ16_DEG: f64 = 0.027;
-
-/// The three-axis example table (outer z, middle x, inner y; 13 angular errors).
-fn three_axis() -> Turntable {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
-    let t = |n: &str, a| FactorSpec::Translation {
-        name: n.into(),
-        along: a,
-    };
-    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    Turntable::new(&TurntableDescription::new(vec![
-        j("phi_o", z),
-        e("dphi_o", z),
-        e("dalpha_ox", x),
-        e("dalpha_oy", y),
-        t("deta_om", y),
-        e("deps_om_y", y),
-        e("deps_om_z", z),
-        j("phi_m", x),
-        e("dphi_m", x),
-        e("dalpha_my", y),
-        e("dalpha_mz", z),
-        t("deta_mi", z),
-        e("deps_mi_z", z),
-        e("deps_mi_x", x),
-        j("phi_i", y),
-        e("dphi_i", y),
-        e("dalpha_ix", x),
-        e("dalpha_iz", z),
-    ]))
-    .expect("valid description")
-}
 
 /// CPU time of the calling thread, ns (Linux; `None` elsewhere).
 fn thread_cpu_ns() -> Option<u64> {
@@ -93,7 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let paper_table = paper::table3();
     let paper_box = ErrorBox::from_arcmin(&paper_table, vec![0.0; 8], TABLE4_ARCMIN.to_vec())?;
     let paper_mc = MonteCarlo::new(&paper_table, paper_box, McConfig::new(samples, 2017, req))?;
-    let three = three_axis();
+    let three = tt_kinematics::conformance::three_axis();
     let ub: Vec<f64> = (0..13).map(|i| 0.3 + 0.025 * f64::from(i)).collect();
     let three_box = ErrorBox::from_arcmin(&three, vec![0.0; 13], ub)?;
     let three_mc = MonteCarlo::new(&three, three_box, McConfig::new(samples, 2017, req))?;

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use mc_verify::{ErrorBox, McConfig, McResult};
-use tt_kinematics::{FactorSpec, SignedAxis, Turntable, TurntableDescription, paper};
+use tt_kinematics::{Turntable, paper};
 
 /// Table 4 of the paper (arcmin), rows in the order of chi (eq 25; NOTES item 6):
 /// dphi_y1, dphi_z2, dalpha_x1, dalpha_z1, dalpha_x2, dalpha_y2, deps_x, deps_y.
@@ -34,51 +34,10 @@ pub fn table4() -> ErrorBox {
         .expect("Table 4 is a valid box")
 }
 
-/// A three-axis table written the way the three-axis literature models one (outer axis
-/// about z, middle about x, inner about y; a position error and two wobbles per axis, two
-/// orthogonality errors per pair of adjacent axes, two non-intersection translations): the
-/// table of `tt-kinematics/tests/common/mod.rs` and `studies/three-axis-example.toml`. The
-/// outer joint comes first, so it cancels; 13 angular errors, 3 joints.
-pub fn three_axis_description() -> TurntableDescription {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
-    let t = |n: &str, a| FactorSpec::Translation {
-        name: n.into(),
-        along: a,
-    };
-    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    TurntableDescription::new(vec![
-        j("phi_o", z),
-        e("dphi_o", z),
-        e("dalpha_ox", x),
-        e("dalpha_oy", y),
-        t("deta_om", y),
-        e("deps_om_y", y),
-        e("deps_om_z", z),
-        j("phi_m", x),
-        e("dphi_m", x),
-        e("dalpha_my", y),
-        e("dalpha_mz", z),
-        t("deta_mi", z),
-        e("deps_mi_z", z),
-        e("deps_mi_x", x),
-        j("phi_i", y),
-        e("dphi_i", y),
-        e("dalpha_ix", x),
-        e("dalpha_iz", z),
-    ])
-}
-
-/// The three-axis table, compiled.
-pub fn three_axis() -> Turntable {
-    Turntable::new(&three_axis_description()).expect("valid description")
-}
+/// The three-axis table of tt-kinematics' conformance suite and of
+/// `studies/three-axis-example.toml` (13 angular errors, 3 joints).
+#[allow(unused_imports)] // each test binary uses a part of this module
+pub use tt_kinematics::conformance::{three_axis, three_axis_description};
 
 /// Upper bounds of the three-axis table in the short tier (0.3 to 0.6 arcmin).
 pub fn three_axis_ub_arcmin() -> Vec<f64> {

@@ -9,6 +9,22 @@ fn err(text: &str) -> String {
     Study::parse("s.toml", text).unwrap_err().to_string()
 }
 
+/// The three-axis example study describes the reference three-axis table of tt-kinematics'
+/// conformance suite (the table every crate's three-axis tests, benchmarks and examples use):
+/// the same factors in the same order.
+#[test]
+fn three_axis_study_is_the_conformance_suites_three_axis_table() {
+    let s = Study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/three-axis-example.toml"
+    )))
+    .unwrap();
+    assert_eq!(
+        s.turntable.factors(),
+        tt_kinematics::conformance::three_axis().factors()
+    );
+}
+
 /// The paper's study file holds exactly the library's paper instances: Table 3, Table 1,
 /// Harbin, the 32-position schedule, eq 16 as given, LB = 0, 10,000 samples.
 #[test]

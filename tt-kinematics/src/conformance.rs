@@ -23,8 +23,63 @@
 use crate::linear::LinearModel;
 use crate::model::OrientationErrorModel;
 use crate::pose::{Pose, TurntableErrors};
-use crate::turntable::Turntable;
+use crate::rotation::SignedAxis;
+use crate::turntable::{FactorSpec, Turntable, TurntableDescription};
 use std::fmt;
+
+/// A reference three-axis table to run the suite (and any other check) on besides the paper's:
+/// outer axis about z, middle about x, inner about y; a position error and two wobbles per
+/// axis, two orthogonality errors and a non-intersection translation per pair of adjacent
+/// axes, as the three-axis literature models such tables (13 angular errors, 2 translations,
+/// 3 joints; the outer joint comes first, so it cancels). It is the table of
+/// `studies/three-axis-example.toml`, where the sources are cited; the workspace's tests,
+/// benchmarks and examples all use this one description.
+#[must_use]
+pub fn three_axis_description() -> TurntableDescription {
+    let j = |n: &str, a| FactorSpec::Joint {
+        name: n.into(),
+        about: a,
+    };
+    let e = |n: &str, a| FactorSpec::Error {
+        name: n.into(),
+        about: a,
+    };
+    let t = |n: &str, a| FactorSpec::Translation {
+        name: n.into(),
+        along: a,
+    };
+    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
+    TurntableDescription::new(vec![
+        j("phi_o", z),
+        e("dphi_o", z),
+        e("dalpha_ox", x),
+        e("dalpha_oy", y),
+        t("deta_om", y),
+        e("deps_om_y", y),
+        e("deps_om_z", z),
+        j("phi_m", x),
+        e("dphi_m", x),
+        e("dalpha_my", y),
+        e("dalpha_mz", z),
+        t("deta_mi", z),
+        e("deps_mi_z", z),
+        e("deps_mi_x", x),
+        j("phi_i", y),
+        e("dphi_i", y),
+        e("dalpha_ix", x),
+        e("dalpha_iz", z),
+    ])
+}
+
+/// [`three_axis_description`] compiled.
+///
+/// # Panics
+/// Never: the description is valid (tested).
+#[must_use]
+pub fn three_axis() -> Turntable {
+    Turntable::new(&three_axis_description())
+        .unwrap_or_else(|e| unreachable!("the reference three-axis description is valid: {e}"))
+}
 
 /// One test point: a pose and the turntable's errors.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,8 +5,8 @@ use alloc_opt::{
     Allocation, AllocationProblem, Allocator, EqualEffects, Requirement, SensitivityWeighted, paper,
 };
 use std::sync::OnceLock;
+use tt_kinematics::LinearModel;
 use tt_kinematics::units::arcmin_to_rad;
-use tt_kinematics::{FactorSpec, LinearModel, SignedAxis, Turntable, TurntableDescription};
 
 /// Tightness claim of the issue: each requirement is reached to 1e-9 relative (exact worst
 /// case, one free joint).
@@ -111,51 +111,10 @@ pub fn equal_allocation() -> &'static Allocation {
     })
 }
 
-/// A three-axis table written the way the three-axis literature models one (outer axis
-/// about z, middle about x, inner about y; a position error and two wobbles per axis, two
-/// orthogonality errors per pair of adjacent axes, two non-intersection translations): the
-/// table of tt-kinematics' tests (`tests/common/mod.rs`), 13 rotation errors, free joints
-/// phi_m and phi_i.
-pub fn three_axis_description() -> TurntableDescription {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
-    let t = |n: &str, a| FactorSpec::Translation {
-        name: n.into(),
-        along: a,
-    };
-    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    TurntableDescription::new(vec![
-        j("phi_o", z),
-        e("dphi_o", z),
-        e("dalpha_ox", x),
-        e("dalpha_oy", y),
-        t("deta_om", y),
-        e("deps_om_y", y),
-        e("deps_om_z", z),
-        j("phi_m", x),
-        e("dphi_m", x),
-        e("dalpha_my", y),
-        e("dalpha_mz", z),
-        t("deta_mi", z),
-        e("deps_mi_z", z),
-        e("deps_mi_x", x),
-        j("phi_i", y),
-        e("dphi_i", y),
-        e("dalpha_ix", x),
-        e("dalpha_iz", z),
-    ])
-}
-
-/// The three-axis table, compiled.
-pub fn three_axis() -> Turntable {
-    Turntable::new(&three_axis_description()).expect("valid description")
-}
+/// The three-axis table of tt-kinematics' conformance suite (outer z, middle x, inner y;
+/// 13 rotation errors, free joints phi_m and phi_i).
+#[allow(unused_imports)] // each test binary uses a part of this module
+pub use tt_kinematics::conformance::{three_axis, three_axis_description};
 
 /// The three-axis problem of the tests and README: 1.62 arcmin (eq 16's 0.027 deg) on every
 /// angle, no lower bounds.

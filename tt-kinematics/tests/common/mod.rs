@@ -3,9 +3,7 @@
 
 use proptest::prelude::*;
 use tt_kinematics::units::arcmin_to_rad;
-use tt_kinematics::{
-    FactorSpec, Pose, SignedAxis, Turntable, TurntableDescription, TurntableErrors, paper,
-};
+use tt_kinematics::{Pose, Turntable, TurntableErrors, paper};
 
 /// Largest error magnitude the properties are stated for: 10 arcmin (issue 2, P1), rad.
 pub const MAX_ERROR_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0 / 60.0;
@@ -51,50 +49,9 @@ pub fn table3() -> Turntable {
     paper::table3()
 }
 
-/// A three-axis table written the way the three-axis literature models one (outer axis
-/// about z, middle about x, inner about y; a position error and two wobbles per axis, two
-/// orthogonality errors per pair of adjacent axes, two non-intersection translations). The
-/// same table as `studies/three-axis-example.toml`.
-pub fn three_axis_description() -> TurntableDescription {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
-    let t = |n: &str, a| FactorSpec::Translation {
-        name: n.into(),
-        along: a,
-    };
-    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    TurntableDescription::new(vec![
-        j("phi_o", z),
-        e("dphi_o", z),
-        e("dalpha_ox", x),
-        e("dalpha_oy", y),
-        t("deta_om", y),
-        e("deps_om_y", y),
-        e("deps_om_z", z),
-        j("phi_m", x),
-        e("dphi_m", x),
-        e("dalpha_my", y),
-        e("dalpha_mz", z),
-        t("deta_mi", z),
-        e("deps_mi_z", z),
-        e("deps_mi_x", x),
-        j("phi_i", y),
-        e("dphi_i", y),
-        e("dalpha_ix", x),
-        e("dalpha_iz", z),
-    ])
-}
-
-/// The three-axis table, compiled.
-pub fn three_axis() -> Turntable {
-    Turntable::new(&three_axis_description()).expect("valid description")
-}
+/// The three-axis table of the suite: [`tt_kinematics::conformance::three_axis_description`].
+#[allow(unused_imports)] // each test binary uses a part of this module
+pub use tt_kinematics::conformance::{three_axis, three_axis_description};
 
 /// A pose of `n` joints anywhere in $[0, 2\pi)^n$.
 pub fn pose_of(n: usize) -> impl Strategy<Value = Pose> {
