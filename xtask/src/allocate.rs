@@ -96,25 +96,6 @@ pub fn classify(e: AllocError, s: &Study) -> anyhow::Error {
     }
 }
 
-fn bounds_json(names: &[&str], ub_rad: &[f64]) -> Value {
-    Value::Object(
-        names
-            .iter()
-            .zip(ub_rad)
-            .map(|(n, u)| {
-                (
-                    n.to_string(),
-                    if u.is_finite() {
-                        json!(rad_to_arcmin(*u))
-                    } else {
-                        Value::Null
-                    },
-                )
-            })
-            .collect(),
-    )
-}
-
 fn per_axis(f: impl Fn(OrientationAxis) -> Value) -> Value {
     Value::Object(
         OrientationAxis::ALL
@@ -224,23 +205,23 @@ pub fn allocate_json(
     let mut v = json!({
         "study": s.path,
         "requirement_deg": per_axis(|x| json!(req.get(x).map(rad_to_deg))),
-        "lower_bounds_arcmin": bounds_json(&names, a.problem.lower_bounds_rad()),
+        "lower_bounds_arcmin": crate::out::arcmin_json(&names, a.problem.lower_bounds_rad()),
         "constraint_form": match form { FormChoice::Paper => "paper", FormChoice::FullRange => "full-range" },
         "safety_margin": safety_margin,
-        "allocation_arcmin": bounds_json(&names, &a.ours.upper_bounds_rad),
+        "allocation_arcmin": crate::out::arcmin_json(&names, &a.ours.upper_bounds_rad),
         "unconstrained": a.ours.unconstrained_names(),
         "objective": a.ours.objective_arcmin(),
         "objective_unit": "arcmin^-2 (J_psi + J_theta + J_gamma, W = 1/average sensitivity)",
         "certificate": certificate_json(s, &a.ours.certificate),
         "lemma1_full_range": a.ours.certificate.lemma1_holds(),
-        "equal_effects_arcmin": bounds_json(&names, &a.equal.upper_bounds_rad),
+        "equal_effects_arcmin": crate::out::arcmin_json(&names, &a.equal.upper_bounds_rad),
         "equal_effects_objective": a.equal.objective_arcmin(),
         "exact_chain_worst_deg": per_axis(|x| json!(rad_to_deg(exact[x.index()].exact_worst_rad))),
         "exact_chain_excess_rad": per_axis(|x| json!(exact[x.index()].excess_rad)),
         "requirement_note": st::requirement(s)?.disagreement,
     });
     if let Some((t, cert, j)) = &a.table4 {
-        v["paper_table4_arcmin"] = bounds_json(&names, t);
+        v["paper_table4_arcmin"] = crate::out::arcmin_json(&names, t);
         v["paper_table4_objective"] = json!(j);
         v["paper_table4_certificate"] = certificate_json(s, cert);
     }

@@ -16,7 +16,6 @@ use serde_json::{Value, json};
 use std::path::PathBuf;
 use study::Tolerances;
 use study::fmt::num;
-use tt_kinematics::units::rad_to_arcmin;
 
 /// Arguments of `check-turntable`.
 #[derive(Debug, Parser)]
@@ -87,12 +86,7 @@ pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value
         m.insert("tolerances".into(), json!(tol.path));
         m.insert(
             "tolerances_arcmin".into(),
-            names
-                .iter()
-                .zip(&c.upper_bounds_rad)
-                .map(|(n, u)| (n.to_string(), json!(rad_to_arcmin(*u))))
-                .collect::<serde_json::Map<_, _>>()
-                .into(),
+            crate::out::arcmin_json(&names, &c.upper_bounds_rad),
         );
         m.insert(
             "user_reading".into(),
@@ -201,6 +195,17 @@ pub fn to_text(
     s
 }
 
+/// The study's lower bounds, each held within the sheet's tolerance (a vendor's tolerance
+/// below the study's manufacturing capability is the vendor's claim to check, not an error).
+#[must_use]
+pub fn lower_bounds_within(s: &study::Study, tol: &Tolerances) -> Vec<f64> {
+    s.lower_bounds_rad
+        .iter()
+        .zip(&tol.ub_rad)
+        .map(|(l, u)| l.min(*u))
+        .collect()
+}
+
 /// Run the command.
 ///
 /// # Errors
@@ -213,12 +218,7 @@ pub fn run(args: &Args) -> Result<()> {
         args.samples.unwrap_or(s.monte_carlo.samples),
         args.seed.unwrap_or(s.monte_carlo.seed),
     );
-    let lb: Vec<f64> = s
-        .lower_bounds_rad
-        .iter()
-        .zip(&tol.ub_rad)
-        .map(|(l, u)| l.min(*u))
-        .collect();
+    let lb = lower_bounds_within(&s, &tol);
     let mut sims = vec![e2e.clone()];
     if e2e.reading() != Reading::USER {
         sims.push(

@@ -194,7 +194,7 @@ fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
         "condition_numbers": by_output(&r.condition_numbers),
         "requirement_deg": requirement_json(r),
         "requirement_note": r.requirement.as_ref().err().map(ToString::to_string),
-        "bounds_arcmin": Value::Object(errors.iter().zip(&r.allocation.upper_bounds_rad).map(|(n, u)| (n.to_string(), if u.is_finite() { json!(rad_to_arcmin(*u)) } else { Value::Null })).collect()),
+        "bounds_arcmin": crate::out::arcmin_json(&errors, &r.allocation.upper_bounds_rad),
         "log_det_information": r.log_det_information,
         "worst_case_today": r.worst_case_today.as_ref().map(|w| Value::Object(w.outputs.iter().map(|o| (outputs[o.output].name.clone(), json!({
             "linear": o.linear_bound,

@@ -24,7 +24,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::num;
-use tt_kinematics::units::rad_to_arcmin;
 
 /// Arguments of `end-to-end`.
 #[derive(Debug, Parser)]
@@ -167,32 +166,13 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
     })
 }
 
-fn arcmin_map(names: &[&str], ub_rad: &[f64]) -> Value {
-    Value::Object(
-        names
-            .iter()
-            .zip(ub_rad)
-            .map(|(n, u)| {
-                (
-                    n.to_string(),
-                    if u.is_finite() {
-                        json!(rad_to_arcmin(*u))
-                    } else {
-                        Value::Null
-                    },
-                )
-            })
-            .collect(),
-    )
-}
-
 fn box_json(e2e: &EndToEnd, b: &BoxAnswer) -> Value {
     let d = &b.distribution;
     let (lo, hi) = d.yield_interval_95();
     json!({
         "name": b.name,
         "objective": objective_to_arcmin(b.objective),
-        "bounds_arcmin": arcmin_map(&e2e.turntable().rotation_error_names(), &b.upper_bounds_rad),
+        "bounds_arcmin": crate::out::arcmin_json(&e2e.turntable().rotation_error_names(), &b.upper_bounds_rad),
         "worst_case": b.worst_case.outputs.iter().map(|w| json!({
             "output": e2e.calibration().outputs()[w.output].output().name,
             "exact_at_vertex": w.exact_at_vertex,
@@ -223,7 +203,7 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
     );
     m.insert("direct".into(), json!({
         "objective": r.direct.objective_arcmin(),
-        "bounds_arcmin": arcmin_map(&names, &r.direct.upper_bounds_rad),
+        "bounds_arcmin": crate::out::arcmin_json(&names, &r.direct.upper_bounds_rad),
         "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
         "active_rows": r.direct.active_rows().iter().map(|row| json!({
             "output": e2e.calibration().outputs()[row.output].output().name,
@@ -235,13 +215,17 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
     m.insert("direct_certified".into(), match &r.direct_certified {
         Some((d, wc)) => json!({
             "objective": d.objective_arcmin(),
-            "bounds_arcmin": arcmin_map(&names, &d.upper_bounds_rad),
+            "bounds_arcmin": crate::out::arcmin_json(&names, &d.upper_bounds_rad),
             "second_order_margins": d.second_order_margins,
             "worst_case_exact": wc.exact(),
             "certified_bounds": wc.outputs.iter().map(|w| w.certified_bound()).collect::<Vec<_>>(),
         }),
         None => Value::Null,
     });
+    m.insert(
+        "direct_certified_note".into(),
+        json!(r.direct_certified_note),
+    );
     m.insert(
         "yield_based".into(),
         json!({
@@ -250,7 +234,7 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
             "scale": r.yield_based.scale,
             "design_yield": r.yield_based.yield_fraction(),
             "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
-            "bounds_arcmin": arcmin_map(&names, &r.yield_based.upper_bounds_rad),
+            "bounds_arcmin": crate::out::arcmin_json(&names, &r.yield_based.upper_bounds_rad),
             "remeasured": box_json(e2e, &r.yield_box),
         }),
     );
@@ -271,21 +255,24 @@ pub fn to_json(
     let r0 = &a.readings[0];
     let mut bounds = Map::new();
     for b in &r0.boxes {
-        bounds.insert(b.name.clone(), arcmin_map(&names, &b.upper_bounds_rad));
+        bounds.insert(
+            b.name.clone(),
+            crate::out::arcmin_json(&names, &b.upper_bounds_rad),
+        );
     }
     bounds.insert(
         "direct".into(),
-        arcmin_map(&names, &r0.direct.upper_bounds_rad),
+        crate::out::arcmin_json(&names, &r0.direct.upper_bounds_rad),
     );
     if let Some((d, _)) = &r0.direct_certified {
         bounds.insert(
             "direct_certified".into(),
-            arcmin_map(&names, &d.upper_bounds_rad),
+            crate::out::arcmin_json(&names, &d.upper_bounds_rad),
         );
     }
     bounds.insert(
         "yield_based".into(),
-        arcmin_map(&names, &r0.yield_based.upper_bounds_rad),
+        crate::out::arcmin_json(&names, &r0.yield_based.upper_bounds_rad),
     );
     json!({
         "study": s.path,
@@ -388,6 +375,8 @@ pub fn to_text(
                     .collect::<Vec<_>>()
                     .join(", ")
             ));
+        } else if let Some(n) = &r.direct_certified_note {
+            t.push_str(&format!("  {:<14} none: {n}\n", "certified"));
         }
         t.push_str(&line(&r.yield_box));
     }

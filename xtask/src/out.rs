@@ -33,3 +33,23 @@ pub fn print(text: &str) -> anyhow::Result<()> {
     out.write_all(text.as_bytes()).map_err(io)?;
     out.flush().map_err(io)
 }
+
+/// Bounds in arcminutes keyed by error name, for JSON: a non-finite bound (an error with no
+/// bound) is `null`.
+#[must_use]
+pub fn arcmin_json(names: &[&str], ub_rad: &[f64]) -> serde_json::Value {
+    serde_json::Value::Object(
+        names
+            .iter()
+            .zip(ub_rad)
+            .map(|(n, u)| {
+                let v = if u.is_finite() {
+                    serde_json::json!(tt_kinematics::units::rad_to_arcmin(*u))
+                } else {
+                    serde_json::Value::Null
+                };
+                ((*n).to_string(), v)
+            })
+            .collect(),
+    )
+}

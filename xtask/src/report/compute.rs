@@ -391,12 +391,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                         Some(tol) => {
                             let settings =
                                 e2e_verify::McSettings::new(options.samples, options.seed);
-                            let lb: Vec<f64> = s
-                                .lower_bounds_rad
-                                .iter()
-                                .zip(&tol.ub_rad)
-                                .map(|(l, u)| l.min(*u))
-                                .collect();
+                            let lb = crate::check_turntable::lower_bounds_within(s, tol);
                             let c = e2e
                                 .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
                                 .map_err(|e| crate::end_to_end::classify(e, s))?;
