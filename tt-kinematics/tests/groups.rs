@@ -87,7 +87,7 @@ fn assert_groups_match_columns(t: &Turntable) {
         for b in a + 1..t.n_rotation_errors() {
             let (same, opposite) = gaps[a][b];
             if group_of(a) == group_of(b) {
-                let gap = if sign_of(a) == sign_of(b) {
+                let gap = if sign_of(a) * sign_of(b) > 0.0 {
                     same
                 } else {
                     opposite
@@ -112,6 +112,14 @@ fn assert_groups_match_columns(t: &Turntable) {
     let mut all: Vec<usize> = groups.iter().flat_map(|g| g.errors.clone()).collect();
     all.sort_unstable();
     assert_eq!(all, (0..t.n_rotation_errors()).collect::<Vec<_>>());
+}
+
+/// The largest component difference of two columns (unitless).
+fn max_gap(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a.iter()
+        .zip(&b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 fn combinations(t: &Turntable) -> Vec<String> {
@@ -186,7 +194,11 @@ fn eq26_table3_has_three_groups_that_eq26_prints_with_equal_coefficients() {
             let phi2 = TAU * f64::from(k) / 16.0;
             let first = column(phi2, members[0]);
             for m in &members[1..] {
-                assert_eq!(column(phi2, m), first, "eq 26: {m} vs {}", members[0]);
+                assert!(
+                    max_gap(column(phi2, m), first) <= SAME_COLUMN,
+                    "eq 26: {m} vs {}",
+                    members[0]
+                );
             }
         }
     }
@@ -195,8 +207,9 @@ fn eq26_table3_has_three_groups_that_eq26_prints_with_equal_coefficients() {
         for other in paper::CHI.map(|(n, _)| n) {
             if other != lone {
                 assert!(
-                    column(0.0, lone) != column(0.0, other)
-                        || column(FRAC_PI_2, lone) != column(FRAC_PI_2, other)
+                    max_gap(column(0.0, lone), column(0.0, other)) > DIFFERENT_COLUMN
+                        || max_gap(column(FRAC_PI_2, lone), column(FRAC_PI_2, other))
+                            > DIFFERENT_COLUMN
                 );
             }
         }
