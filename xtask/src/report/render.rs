@@ -273,8 +273,18 @@ impl<'a> Sections<'a> {
             s.push('.');
             items.push(s);
         }
+        if c.vendor.is_some() {
+            // the allocations answer another question than the sheet's: a comparison
+            for i in &mut items {
+                *i = format!("For comparison, {}", lower_first(i));
+            }
+        }
         if c.two_step.is_none() {
-            items.push("No output constrains a constant orientation error, so there is no two-step allocation: the direct allocation is the answer.".into());
+            items.push(if c.vendor.is_some() {
+                "No output constrains a constant orientation error, so there is no two-step allocation.".into()
+            } else {
+                "No output constrains a constant orientation error, so there is no two-step allocation: the direct allocation is the answer.".into()
+            });
         }
         if let Some(n) = &c.requirement.disagreement {
             items.push(sentence(n));
@@ -283,13 +293,7 @@ impl<'a> Sections<'a> {
         let lead = match &c.vendor {
             // the user's question comes first: the verdict on their sheet
             Some((tol, chk)) => {
-                let mut sheet = vec![self.sheet_outputs(chk)];
-                sheet.extend(
-                    items
-                        .into_iter()
-                        .map(|i| format!("For comparison, {}", lower_first(&i))),
-                );
-                items = sheet;
+                items.insert(0, self.sheet_outputs(chk));
                 format!(
                     "**Answer.** Do the tolerances of `{}`{} deliver every output's accuracy? {}.",
                     tol.path,
