@@ -33,17 +33,23 @@ impl Verdict {
     }
 }
 
-/// One error's contribution to an output's worst case.
+/// One error's contribution to an output's worst case, or the contribution of a group of
+/// errors that act only together ([`tt_kinematics::ErrorGroup`]: one rotation to first order,
+/// so no check can split the share between them).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Contribution {
-    /// The error's index in $\chi$.
+    /// The error's index in $\chi$ (the group's first error).
     pub error: usize,
+    /// The group of errors that act only together, [`Contribution::error`] first (one error
+    /// when it acts alone).
+    pub group: tt_kinematics::ErrorGroup,
     /// Share of the linearised worst case at the worst row:
-    /// $|M_{rj}|\mathrm{UB}_j / \sum_i |M_{ri}|\mathrm{UB}_i$.
+    /// $|M_{rj}|\mathrm{UB}_j / \sum_i |M_{ri}|\mathrm{UB}_i$, summed over the group.
     pub worst_share: f64,
     /// Share of the variance of the linearised error at the worst row for errors drawn as the
     /// Monte Carlo draws them ($|\chi_j|$ uniform on $[\mathrm{LB}_j, \mathrm{UB}_j]$, random
-    /// sign: $E\chi_j^2 = (\mathrm{UB}^3 - \mathrm{LB}^3)/(3(\mathrm{UB} - \mathrm{LB}))$).
+    /// sign: $E\chi_j^2 = (\mathrm{UB}^3 - \mathrm{LB}^3)/(3(\mathrm{UB} - \mathrm{LB}))$),
+    /// summed over the group.
     pub variance_share: f64,
 }
 
@@ -58,7 +64,9 @@ pub struct OutputCheck {
     pub worst_case: OutputWorstCase,
     /// The verdict for this output.
     pub verdict: Verdict,
-    /// Every error's contribution, in the order of $\chi$.
+    /// Every group's contribution ([`tt_kinematics::Turntable::error_groups`]: one per error
+    /// that acts alone, one per group of errors that act only together), in the order of
+    /// their first error in $\chi$.
     pub contributions: Vec<Contribution>,
 }
 
@@ -78,8 +86,8 @@ pub struct TurntableCheck {
 impl EndToEnd {
     /// Check tolerances `ub_rad` (with lower bounds `lower_bounds_rad`) against every output's
     /// accuracy: the worst case per output (linearised, confirmed on the exact chain at the
-    /// worst vertex, with its second-order bound), each error's contribution, the Monte Carlo
-    /// yield and a verdict.
+    /// worst vertex, with its second-order bound), each error's contribution (one per group of
+    /// errors that act only together), the Monte Carlo yield and a verdict.
     ///
     /// # Errors
     /// As [`EndToEnd::worst_case`] and [`EndToEnd::rate_distribution`].
@@ -94,6 +102,7 @@ impl EndToEnd {
         let bounds = self.box_of(ub_rad, lower_bounds_rad)?;
         let distribution = self.rate_distribution(linear, &bounds, settings)?;
         let acc = self.accuracies();
+        let groups = self.turntable().error_groups();
         let mut outputs = Vec::with_capacity(acc.len());
         for (k, w) in wc.outputs.into_iter().enumerate() {
             let row = linear.row(k, w.position);
@@ -118,11 +127,17 @@ impl EndToEnd {
                 })
                 .collect();
             let (ws, vs): (f64, f64) = (worst_terms.iter().sum(), second.iter().sum());
-            let contributions = (0..row.len())
-                .map(|j| Contribution {
-                    error: j,
-                    worst_share: if ws > 0.0 { worst_terms[j] / ws } else { 0.0 },
-                    variance_share: if vs > 0.0 { second[j] / vs } else { 0.0 },
+            let contributions = groups
+                .iter()
+                .map(|g| Contribution {
+                    error: g.errors[0],
+                    group: g.clone(),
+                    worst_share: if ws > 0.0 {
+                        g.sum(&worst_terms) / ws
+                    } else {
+                        0.0
+                    },
+                    variance_share: if vs > 0.0 { g.sum(&second) / vs } else { 0.0 },
                 })
                 .collect();
             let verdict = if w.exact_at_vertex > acc[k] {

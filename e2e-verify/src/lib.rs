@@ -80,7 +80,7 @@ pub use answer::{
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
-pub use linear::{Linearization, OutputWorstCase, WorstCase};
+pub use linear::{BoxMeets, LINEAR_MEETS_REL, Linearization, OutputWorstCase, WorstCase};
 pub use montecarlo::{
     DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS,
     QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution, RateQuantile,

@@ -140,6 +140,111 @@ impl WorstCase {
     pub fn linear(&self) -> Vec<f64> {
         self.outputs.iter().map(|o| o.linear_bound).collect()
     }
+
+    /// Whether the box's worst turntable meets every accuracy (`accuracies` by output index,
+    /// output unit): on the exact chain at the worst vertex, or only to first order, or not
+    /// at all. Every output that prints a box's worst case says it in the words of
+    /// [`BoxMeets`]'s `Display`.
+    #[must_use]
+    pub fn meets(&self, accuracies: &[f64]) -> BoxMeets {
+        let acc = |o: &OutputWorstCase| accuracies.get(o.output).copied().unwrap_or(f64::NAN);
+        if self.outputs.iter().all(|o| o.exact_at_vertex <= acc(o)) {
+            return BoxMeets::Yes;
+        }
+        let excess = self
+            .outputs
+            .iter()
+            .map(|o| o.exact_at_vertex / acc(o) - 1.0)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if self
+            .outputs
+            .iter()
+            .all(|o| o.linear_bound <= acc(o) * (1.0 + LINEAR_MEETS_REL))
+        {
+            BoxMeets::FirstOrderOnly { excess }
+        } else {
+            BoxMeets::No { excess }
+        }
+    }
+}
+
+/// A linearised worst case counts as meeting its accuracy within this relative rounding
+/// (dimensionless): the direct allocation puts the worst row's load exactly at 1, which the
+/// solver reaches to about $10^{-13}$ and the sum of a row's terms rounds at $10^{-16}$.
+pub const LINEAR_MEETS_REL: f64 = 1e-9;
+
+/// Whether the worst turntable of a tolerance box meets every output's accuracy
+/// ([`WorstCase::meets`]). `Display` gives the words every output uses: `yes`,
+/// `to first order; no on the exact chain (+1.7%)`, `no (+1.7%)`, the percentage being the
+/// largest excess of the exact chain at the worst vertex over an accuracy.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BoxMeets {
+    /// The worst vertex meets every accuracy on the exact chain.
+    Yes,
+    /// The linearised worst case meets every accuracy, the exact chain at the worst vertex
+    /// misses one by `excess` (relative, > 0).
+    FirstOrderOnly {
+        /// Largest relative excess over an accuracy.
+        excess: f64,
+    },
+    /// The linearised worst case misses an accuracy; the exact chain at the worst vertex
+    /// misses by `excess` (relative, > 0).
+    No {
+        /// Largest relative excess over an accuracy.
+        excess: f64,
+    },
+}
+
+impl BoxMeets {
+    /// Whether every accuracy is met on the exact chain at the worst vertex.
+    #[must_use]
+    pub fn holds(self) -> bool {
+        self == BoxMeets::Yes
+    }
+
+    /// `yes`, `first-order-only` or `no`: a key for JSON.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            BoxMeets::Yes => "yes",
+            BoxMeets::FirstOrderOnly { .. } => "first-order-only",
+            BoxMeets::No { .. } => "no",
+        }
+    }
+
+    /// The largest relative excess over an accuracy; `None` when every accuracy is met.
+    #[must_use]
+    pub fn excess(self) -> Option<f64> {
+        match self {
+            BoxMeets::Yes => None,
+            BoxMeets::FirstOrderOnly { excess } | BoxMeets::No { excess } => Some(excess),
+        }
+    }
+}
+
+/// `100 x` with two significant digits (at least one decimal): `1.7`, `0.0042`, `25.0`.
+fn percent_2sig(x: f64) -> String {
+    let p = 100.0 * x;
+    let decimals = if p.is_finite() && p > 0.0 {
+        (1 - p.log10().floor() as i32).clamp(1, 12) as usize
+    } else {
+        1
+    };
+    format!("{p:.decimals$}")
+}
+
+impl std::fmt::Display for BoxMeets {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            BoxMeets::Yes => f.write_str("yes"),
+            BoxMeets::FirstOrderOnly { excess } => write!(
+                f,
+                "to first order; no on the exact chain (+{}%)",
+                percent_2sig(excess)
+            ),
+            BoxMeets::No { excess } => write!(f, "no (+{}%)", percent_2sig(excess)),
+        }
+    }
 }
 
 /// First variations of the building blocks of eq 13 for one output and one error direction:

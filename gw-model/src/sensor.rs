@@ -438,7 +438,9 @@ impl SensorModel {
     /// `outputs[0].terms[2].coefficient`, `outputs[0].accuracy`) and the reason: no output, an
     /// invalid or duplicate output or coefficient name (coefficient names are unique across
     /// the sensor), a non-finite value, a non-positive accuracy, an output without an
-    /// estimated term, or an output whose known and estimated terms share a regressor.
+    /// estimated term, or an output with two estimated terms of one regressor (a known term
+    /// may share its regressor with an estimated one: a known input plus an estimated
+    /// scale-factor error).
     pub fn new(outputs: Vec<Output>) -> Result<Self, ModelError> {
         let err = |key: String, reason: String| ModelError::Sensor { key, reason };
         if outputs.is_empty() {
@@ -511,16 +513,19 @@ impl SensorModel {
                     "no estimated term: mark at least one term `known = false`".into(),
                 ));
             }
-            for (t, term) in o.terms.iter().enumerate() {
+            // Two estimated coefficients of one regressor are two equal columns of A: they
+            // cannot be told apart. A known term only shifts the measurement (b2), so a known
+            // input term and an estimated scale-factor error on one regressor are fine.
+            for (t, term) in o.terms.iter().enumerate().filter(|(_, x)| !x.known) {
                 if let Some((u, other)) = o.terms[..t]
                     .iter()
                     .enumerate()
-                    .find(|(_, x)| x.regressor == term.regressor)
+                    .find(|(_, x)| !x.known && x.regressor == term.regressor)
                 {
                     return Err(err(
                         format!("outputs[{k}].terms[{t}].regressor"),
                         format!(
-                            "`{}` is already the regressor of terms[{u}] (`{}`): two coefficients of one regressor cannot be told apart",
+                            "`{}` is already the regressor of the estimated terms[{u}] (`{}`): two estimated coefficients of one regressor cannot be told apart (mark one `known = true`, or merge them)",
                             term.regressor, other.coefficient
                         ),
                     ));

@@ -5,8 +5,8 @@ use approx::{assert_abs_diff_eq, assert_relative_eq};
 use gw_model::paper::{self, TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H};
 use gw_model::units::rad_per_s_to_deg_per_h;
 use gw_model::{
-    DeltaRKind, Input, InputValues, ModelError, OrientationAngles, Output, Regressor, SensorModel,
-    Site, Term,
+    DeltaRKind, Input, InputValues, Inputs, ModelError, OrientationAngles, Output, Regressor,
+    SensorModel, Site, Term,
 };
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
@@ -290,14 +290,56 @@ fn invalid_inputs_are_rejected_with_named_fields() {
     let (key, reason) = sensor_error(vec![ok("ax", vec![term("s", "a_x", 1.0, true)])]);
     assert_eq!(key, "outputs[0].terms");
     assert!(reason.contains("no estimated term"));
+    // two estimated coefficients of one regressor: two equal columns of A (the known term
+    // between them does not matter)
     let (key, reason) = sensor_error(vec![ok(
         "ax",
-        vec![term("b", "a_x", 0.1, false), term("s", "a_x", 1.0, true)],
+        vec![
+            term("b", "a_x", 0.1, false),
+            term("s", "a_x", 1.0, true),
+            term("c", "a_x", 0.2, false),
+        ],
     )]);
-    assert_eq!(key, "outputs[0].terms[1].regressor");
+    assert_eq!(key, "outputs[0].terms[2].regressor");
     assert!(
-        reason.contains("already the regressor of terms[0]"),
+        reason.contains("already the regressor of the estimated terms[0]")
+            && reason.contains("two estimated coefficients of one regressor"),
         "{reason}"
     );
     assert_eq!(sensor_error(vec![ok("Ax", good())]).0, "outputs[0].name");
+}
+
+/// The most common gyro and accelerometer model: a known input term and an estimated
+/// scale-factor error on the same regressor (issue 19 §6). The known term only shifts the
+/// measurement (b2); the estimated one is a column of A and is identifiable. The output sums
+/// both; only the estimated term is estimated.
+#[test]
+fn a_known_input_and_an_estimated_scale_factor_error_may_share_a_regressor() {
+    let out = Output {
+        name: "ax".into(),
+        unit: "g".into(),
+        accuracy: 1e-4,
+        terms: vec![
+            term("ax_in", "a_x", 1.0, true),
+            term("ax_b", "1", 0.001, false),
+            term("ax_sf", "a_x", 0.0015, false),
+        ],
+    };
+    let sensor = SensorModel::new(vec![out]).expect("a known input and its scale-factor error");
+    let o = &sensor.outputs()[0];
+    assert_eq!(o.estimated_names(), ["ax_b", "ax_sf"]);
+    let v = InputValues::from_inputs(&Inputs {
+        specific_force_g: Vector3::new(0.5, 0.0, 0.0),
+        rate_rad_per_s: Vector3::zeros(),
+    });
+    assert_abs_diff_eq!(o.known_part(&v), 0.5, epsilon = TRIG_TOL);
+    let row: Vec<f64> = o.regressor_row(&v).collect();
+    assert_eq!(row.len(), 2);
+    assert_abs_diff_eq!(row[0], 1.0, epsilon = TRIG_TOL);
+    assert_abs_diff_eq!(row[1], 0.5, epsilon = TRIG_TOL);
+    assert_abs_diff_eq!(o.value(&v), 0.5 + 0.001 + 0.0015 * 0.5, epsilon = TRIG_TOL);
+    // two known terms of one regressor only add up: accepted too
+    let mut terms = o.terms.clone();
+    terms.push(term("ax_in2", "a_x", 0.5, true));
+    SensorModel::new(vec![Output { terms, ..o.clone() }]).expect("two known terms");
 }

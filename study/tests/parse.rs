@@ -427,3 +427,40 @@ fn print_sample_messages() {
         println!("{}", err(&replace(from, to)));
     }
 }
+
+/// Issue 19 §6: an output with a known input term and an estimated scale-factor error on the
+/// same regressor (the most common gyro and accelerometer model) parses, as in the shipped IMU
+/// example's `ax`; two estimated coefficients of one regressor are still refused, naming the
+/// key.
+#[test]
+fn a_known_input_and_an_estimated_scale_factor_error_may_share_a_regressor() {
+    let imu = Study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/imu-triad-example.toml"
+    )))
+    .unwrap();
+    let ax = imu.sensor.output("ax").unwrap();
+    let on_ax: Vec<(&str, bool)> = ax
+        .terms
+        .iter()
+        .filter(|t| t.regressor.to_string() == "a_x")
+        .map(|t| (t.coefficient.as_str(), t.known))
+        .collect();
+    assert_eq!(on_ax, [("in_x", true), ("sf_x", false)]);
+    // the paper's x output with a known unit input on the bias regressor beside D(x)_F
+    let text = replace(
+        "{ coefficient = \"dx_f\", regressor = \"1\", value = -93.3 },",
+        "{ coefficient = \"dx_in\", regressor = \"1\", value = 1.0, known = true },\n  { coefficient = \"dx_f\", regressor = \"1\", value = -93.3 },",
+    );
+    let s = Study::parse("s.toml", &text).unwrap();
+    assert_eq!(s.sensor.outputs()[0].n_estimated(), 7);
+    let e = err(&replace(
+        "regressor = \"a_x*a_y\", value = 17.4",
+        "regressor = \"a_x\", value = 17.4",
+    ));
+    assert!(
+        e.contains("key `sensor.outputs[0].terms[7].regressor`")
+            && e.contains("two estimated coefficients of one regressor"),
+        "{e}"
+    );
+}

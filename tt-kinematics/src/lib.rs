@@ -17,7 +17,10 @@
 //!   [`paper::ClosedForm`] (eq 26); its conformance suite is library code
 //!   (`conformance` feature) so another implementation can run it;
 //! - [`LinearModel`]: the first-order model of any description, its worst case over the poses
-//!   (Lemma 1's quantity) and its average sensitivities (eq 28, Figure 8).
+//!   (Lemma 1's quantity) and its average sensitivities (eq 28, Figure 8);
+//! - [`Turntable::proportional_groups`]: the errors that act only together (one rotation to
+//!   first order, e.g. a wobble about the next joint's axis and that joint's position error),
+//!   found exactly from the description ([`groups`]).
 //!
 //! # Frames, rotation order and signs
 //! Rotations are right-handed and active, composed by post-multiplication in the order of the
@@ -60,6 +63,7 @@
 #[cfg(feature = "conformance")]
 pub mod conformance;
 mod error;
+pub mod groups;
 pub mod linear;
 mod model;
 pub mod paper;
@@ -70,6 +74,7 @@ pub mod turntable;
 pub mod units;
 
 pub use error::KinematicsError;
+pub use groups::{ErrorGroup, GROUP_AXIS_TOLERANCE};
 pub use linear::{
     AVERAGE_GRID_POINTS, CERTIFY_MAX_EVALUATIONS, CERTIFY_REL_GAP, LinearModel, OrientationAxis,
     POSE_GRID_POINTS, POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum,

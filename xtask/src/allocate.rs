@@ -8,7 +8,9 @@
 //! on), `objective` ($J = J_\psi + J_\theta + J_\gamma$ with the bounds in arcmin, unit
 //! arcmin$^{-2}$, the paper's weights) and `certificate` (per angle: worst case found, rigorous
 //! upper bound, worst pose, share, Lemma 1), plus the equal-effects allocation, the exact-chain
-//! check and, for the paper's table, `paper_table4_arcmin` and `paper_table4_objective`.
+//! check, `groups` (errors that act only together, with the bound of their combination under
+//! each allocation) and, for the paper's table, `paper_table4_arcmin` and
+//! `paper_table4_objective`.
 
 use crate::InputError;
 use crate::study as st;
@@ -220,12 +222,25 @@ pub fn allocate_json(
         "exact_chain_excess_rad": per_axis(|x| json!(exact[x.index()].excess_rad)),
         "requirement_note": st::requirement(s)?.disagreement,
     });
+    v["groups"] = crate::groups::json(&s.turntable, &group_boxes(a));
     if let Some((t, cert, j)) = &a.table4 {
         v["paper_table4_arcmin"] = crate::out::arcmin_json(&names, t);
         v["paper_table4_objective"] = json!(j);
         v["paper_table4_certificate"] = certificate_json(s, cert);
     }
     Ok(v)
+}
+
+/// The allocations' bounds by label, for the groups of errors that act only together.
+fn group_boxes(a: &Allocations) -> Vec<(&'static str, &[f64])> {
+    let mut b: Vec<(&'static str, &[f64])> = vec![
+        ("ours", &a.ours.upper_bounds_rad),
+        ("equal effects", &a.equal.upper_bounds_rad),
+    ];
+    if let Some((t, _, _)) = &a.table4 {
+        b.push(("Table 4", t));
+    }
+    b
 }
 
 fn text(s: &Study, a: &Allocations, v: &Value) -> String {
@@ -283,6 +298,7 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
     }
     t.push_str(&j);
     t.push_str("   (arcmin^-2)\n");
+    t.push_str(&crate::groups::text(&s.turntable, &group_boxes(a), ""));
     for x in OrientationAxis::ALL {
         let c = a.ours.certificate.get(x);
         t.push_str(&format!(

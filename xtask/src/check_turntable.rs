@@ -5,7 +5,9 @@
 //! For every output: the end-to-end worst case over the tolerance box (linearised, confirmed
 //! on the exact chain at the worst vertex, with the derived second-order bound when the
 //! reading has one) against its accuracy, the Monte Carlo yield with a 95% interval, and each
-//! error's share of the worst case and of the variance; then one verdict line.
+//! error's share of the worst case and of the variance (one share per group of errors that act
+//! only together, named by their combination, e.g. `dphi_o + deps_om_z`); then one verdict
+//! line. JSON: `groups` lists those groups.
 
 use crate::InputError;
 use anyhow::Result;
@@ -65,7 +67,8 @@ fn check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
                 "meeting_fraction": c.distribution.meeting_per_output[o.output] as f64 / c.distribution.samples as f64,
                 "monte_carlo_max": c.distribution.worst[o.output].value,
                 "contributions": o.contributions.iter().map(|k| json!({
-                    "error": names[k.error],
+                    "error": crate::groups::contribution_name(e2e.turntable(), &k.group),
+                    "errors": k.group.names(&names),
                     "worst_case_share": k.worst_share,
                     "variance_share": k.variance_share,
                 })).collect::<Vec<_>>(),
@@ -88,6 +91,7 @@ pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value
             "tolerances_arcmin".into(),
             crate::out::arcmin_json(&names, &c.upper_bounds_rad),
         );
+        m.insert("groups".into(), crate::groups::json(e2e.turntable(), &[]));
         m.insert(
             "user_reading".into(),
             checks.get(1).map_or(Value::Null, |(e, c)| check_json(e, c)),
@@ -101,7 +105,6 @@ pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value
 const INSENSITIVE_SHARE: f64 = 1e-9;
 
 fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
-    let names = e2e.turntable().rotation_error_names();
     let mut s = String::new();
     for o in &c.outputs {
         let out = e2e.calibration().outputs()[o.output].output();
@@ -131,7 +134,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
             .map(|k| {
                 format!(
                     "{} {:.0}% of the worst case, {:.0}% of the variance",
-                    names[k.error],
+                    crate::groups::contribution_name(e2e.turntable(), &k.group),
                     100.0 * k.worst_share,
                     100.0 * k.variance_share
                 )
@@ -174,6 +177,7 @@ pub fn to_text(
         tol.name.clone().unwrap_or_else(|| tol.path.clone()),
         study_path
     );
+    s.push_str(&crate::groups::text(checks[0].0.turntable(), &[], "  "));
     for (i, (e2e, c)) in checks.iter().enumerate() {
         let what = if e2e.reading() == Reading::USER {
             "outputs at the actual orientation: what a calibrating lab gets"

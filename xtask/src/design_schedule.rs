@@ -12,7 +12,8 @@
 //! schedule). `--write-study OUT.toml` writes the input study with the designed positions and
 //! a comment saying how they were made (refused if OUT exists; written atomically). `--json`
 //! prints an object with keys `designed`, `study`, `d_optimal`, `random_best`, each with
-//! `objective`, `positions_deg`, `condition_numbers` and `requirement_deg`.
+//! `objective`, `positions_deg`, `condition_numbers` and `requirement_deg`, and `groups` (errors
+//! that act only together, with the bound of their combination under both allocations).
 
 use crate::InputError;
 use anyhow::{Context, Result};
@@ -217,6 +218,15 @@ fn start_name(k: StartKind) -> String {
     }
 }
 
+/// The designed and the study's allocations by label, for the groups of errors that act only
+/// together.
+fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
+    [
+        ("designed", &o.design.designed.allocation.upper_bounds_rad),
+        ("study's", &o.design.study.allocation.upper_bounds_rad),
+    ]
+}
+
 fn to_json(s: &Study, o: &Outcome) -> Value {
     let d = &o.design;
     let search = &d.search;
@@ -266,6 +276,10 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
         "random_drawn": search.random_drawn,
         "random_feasible": search.random_feasible,
     }));
+    m.insert(
+        "groups".into(),
+        crate::groups::json(&s.turntable, &group_bounds(o)),
+    );
     m.insert("written_study".into(), json!(o.written));
     Value::Object(m)
 }
@@ -371,6 +385,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         "tolerances (arcmin) the study's schedule allows:  {}\n",
         bounds(&d.study)
     ));
+    t.push_str(&crate::groups::text(&s.turntable, &group_bounds(o), ""));
     t.push_str(&format!(
         "\ndesigned positions [{}] deg:\n",
         s.turntable.joint_names().join(", ")

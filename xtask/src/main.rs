@@ -15,6 +15,7 @@ mod csvio;
 mod design_schedule;
 mod end_to_end;
 mod fuzz;
+mod groups;
 mod input;
 mod mc;
 mod orientation_error;

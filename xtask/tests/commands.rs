@@ -21,8 +21,11 @@ fn load(name: &str) -> study::Study {
 }
 
 /// `requirement --json` prints calib-lsq's requirement (eq 15-16) of each study; for the paper
-/// it is 0.0269380 deg on every angle (eq 16 prints 0.027), and the IMU's accelerometers do not
-/// constrain it (they absorb a constant orientation error).
+/// it is 0.0269380 deg on every angle (eq 16 prints 0.027). The IMU's accelerometers with the
+/// whole scale factor estimated (`ay`, `az`) do not constrain it (they absorb a constant
+/// orientation error); `ax`, a known input of 1000 mg/g plus an estimated scale-factor error,
+/// does: its largest box is accuracy / input scale = 0.1 mg / 1000 mg/g = 1e-4 rad on the two
+/// angles that tilt its input axis.
 #[test]
 fn requirement_json_is_the_library_requirement_for_every_study() {
     for name in STUDIES {
@@ -56,11 +59,18 @@ fn requirement_json_is_the_library_requirement_for_every_study() {
                 .filter(|o| o["name"].as_str().unwrap().starts_with('a'))
                 .collect();
             assert_eq!(accel.len(), 3);
-            assert!(accel.iter().all(|o| o["half_sides_deg"].is_null()));
-            assert_eq!(
-                v["unconstrained_outputs"],
-                serde_json::json!(["ax", "ay", "az"])
-            );
+            assert!(accel[1..].iter().all(|o| o["half_sides_deg"].is_null()));
+            assert_eq!(v["unconstrained_outputs"], serde_json::json!(["ay", "az"]));
+            /// The requirement search's relative resolution on this closed form.
+            const CLOSED_FORM_REL: f64 = 1e-6;
+            let box_ax = &accel[0]["half_sides_deg"];
+            for angle in ["psi", "theta"] {
+                assert_relative_eq!(
+                    num(&box_ax[angle]),
+                    1e-4_f64.to_degrees(),
+                    max_relative = CLOSED_FORM_REL
+                );
+            }
         }
     }
 }
@@ -463,4 +473,120 @@ fn calibration_error_matches_an_independent_least_squares() {
     // the errors are not trivially zero
     assert!(got.iter().any(|v| v.abs() > 1e-3));
     assert!(Path::new(&common::root().join(study(name))).exists());
+}
+
+/// Issue 19 §5: `end-to-end` flags every box whose worst turntable misses an accuracy, in the
+/// words of the report (the direct allocation of the paper's study meets 0.01 deg/h to first
+/// order and misses by 0.025% on the exact chain), and its JSON carries the same words and a
+/// flag per box; the errors that act only together are listed once with their combined
+/// bound.
+#[test]
+fn end_to_end_says_whether_each_box_meets_every_accuracy_in_one_wording() {
+    let text = stdout(&run(&["end-to-end", "--samples", "300"]));
+    let v = json(&["end-to-end", "--samples", "300", "--json"]);
+    let mut flagged = 0;
+    for r in v["readings"].as_array().unwrap() {
+        for b in r["boxes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .chain([&r["direct"]["box"], &r["yield_based"]["remeasured"]])
+        {
+            let words = b["meets_text"].as_str().unwrap();
+            assert_eq!(
+                b["meets"].as_str().unwrap() == "yes",
+                words == "yes",
+                "{words}"
+            );
+            assert!(
+                text.contains(&format!("(meets every accuracy: {words})")),
+                "{words} in {text}"
+            );
+            flagged += usize::from(words != "yes");
+        }
+    }
+    assert!(flagged >= 3, "{text}");
+    assert!(text.contains(
+        "worst case x 0.0100025, y 0.0100025 (meets every accuracy: to first order; no on the exact chain (+0.025%))"
+    ));
+    assert_eq!(
+        v["readings"][0]["direct"]["box"]["meets"].as_str(),
+        Some("first-order-only")
+    );
+    // one line per group of errors that act only together, and the JSON `groups`
+    assert_eq!(text.matches("act as one rotation").count(), 3);
+    assert_eq!(v["groups"].as_array().unwrap().len(), 3);
+    assert!(v["groups"][0]["combined_bound_arcmin"]["direct, study's reading"].is_number());
+}
+
+/// Issue 19 §5: on the three-axis example `check-turntable` gives one share per group of
+/// errors that act only together (named by their combination), never a member alone, in the
+/// text and the JSON, and lists the groups (`dphi_o + deps_om_z`, ...) once.
+#[test]
+fn check_turntable_lists_a_group_of_errors_that_act_together_once() {
+    let args = [
+        "check-turntable",
+        "--study",
+        "studies/three-axis-example.toml",
+        "--tolerances",
+        "studies/tolerances/three-axis-navigation-grade.toml",
+        "--samples",
+        "300",
+    ];
+    let text = stdout(&run(&args));
+    let v = json(&[args.as_slice(), &["--json"]].concat());
+    let groups: Vec<&str> = v["groups"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g["combination"].as_str().unwrap())
+        .collect();
+    for pair in [
+        "dalpha_oy + deps_om_y",
+        "dphi_o + deps_om_z",
+        "dalpha_ox + dphi_m + deps_mi_x",
+    ] {
+        assert!(groups.contains(&pair), "{groups:?}");
+    }
+    for reading in [&v, &v["user_reading"]] {
+        for o in reading["outputs"].as_array().unwrap() {
+            let names: Vec<&str> = o["contributions"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c["error"].as_str().unwrap())
+                .collect();
+            assert_eq!(
+                names.len(),
+                13 - 6,
+                "13 errors in 7 contributions: {names:?}"
+            );
+            for g in &groups {
+                assert_eq!(names.iter().filter(|n| *n == g).count(), 1);
+            }
+            for member in ["dphi_o", "deps_om_z", "dalpha_oy", "deps_om_y", "dphi_m"] {
+                assert!(!names.contains(&member), "{member} alone in {names:?}");
+            }
+        }
+    }
+    for line in text.lines().filter(|l| l.contains("dominant errors:")) {
+        // "<name> <pct>% of the worst case, <pct>% of the variance", name possibly "a + b"
+        for share in line.trim_start_matches("    dominant errors: ").split("; ") {
+            let head = share.split("% of the worst case").next().unwrap();
+            let name = head.rsplit_once(' ').map_or(head, |(n, _)| n);
+            assert!(
+                ![
+                    "dphi_o",
+                    "deps_om_z",
+                    "dalpha_oy",
+                    "deps_om_y",
+                    "dphi_m",
+                    "deps_mi_x"
+                ]
+                .contains(&name),
+                "{line}"
+            );
+        }
+    }
+    assert_eq!(text.matches("act as one rotation").count(), 5);
 }

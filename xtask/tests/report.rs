@@ -571,12 +571,28 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
 }
 
 /// A study whose outputs constrain no constant orientation error (the IMU example's
-/// accelerometers alone): no requirement, so no two-step allocation and no Monte Carlo of it;
-/// the report says so and answers with the direct allocation against every accuracy.
+/// accelerometers alone, each with its whole scale factor estimated: `ax`'s known input and
+/// scale-factor error merged into one estimated coefficient): no requirement, so no two-step
+/// allocation and no Monte Carlo of it; the report says so and answers with the direct
+/// allocation against every accuracy.
 #[test]
 fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() {
     let dir = tempfile::tempdir().unwrap();
     let t = std::fs::read_to_string(root().join("studies/imu-triad-example.toml")).unwrap();
+    let known_input =
+        "  { coefficient = \"in_x\", regressor = \"a_x\", value = 1000.0, known = true },";
+    let t = t
+        .lines()
+        .filter(|l| !l.starts_with(known_input))
+        .map(|l| {
+            l.replace(
+                "{ coefficient = \"sf_x\", regressor = \"a_x\", value = 0.3 },",
+                "{ coefficient = \"sf_x\", regressor = \"a_x\", value = 1000.3 },",
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(!t.contains("in_x") && t.contains("value = 1000.3 }"));
     let first = t.find("[[sensor.outputs]]").unwrap();
     let ax = t[..t.find("name = \"ax\"").unwrap()]
         .rfind("[[sensor.outputs]]")
@@ -614,4 +630,127 @@ fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() 
         .unwrap();
     assert!(j.is_finite() && j > 0.0);
     assert!(!out.join("monte_carlo.svg").exists() && out.join("end_to_end.svg").exists());
+}
+
+/// The plain text of Markdown inline markup: `**`, `` ` `` removed.
+fn plain(md: &str) -> String {
+    md.replace("**", "").replace('`', "")
+}
+
+/// Issue 19 §5: with a tolerance sheet the report's answer (the first callout) leads with the
+/// verdict on the sheet, the question asked, in the vendor section's words, and keeps the
+/// allocations as a comparison; every box of the end-to-end tables says whether it meets every
+/// accuracy in the words `end-to-end` prints (`results.json` `meets_text`); the errors that act
+/// only together (Table 3: dphi_y1 + deps_y, dphi_z2 + dalpha_z1, dalpha_x1 + deps_x) are one
+/// line each, one share each in the vendor table, and `groups` in `results.json`.
+#[test]
+fn report_with_a_sheet_answers_with_its_verdict_first_and_treats_groups_as_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    ok(&run(&[
+        "report",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "500",
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+    ]));
+    let md = read(&out, "report.md");
+    let answer: Vec<&str> = md
+        .lines()
+        .skip_while(|l| !l.starts_with("> **Answer.**"))
+        .take_while(|l| l.starts_with('>'))
+        .collect();
+    assert!(
+        answer[0].starts_with(
+            "> **Answer.** Do the tolerances of `studies/tolerances/table4.toml` (Zhao et al. 2017, Table 4 (the paper's allocation)) deliver every output's accuracy? These tolerances **meet** every accuracy: proven for every turntable within them;"
+        ),
+        "{}",
+        answer[0]
+    );
+    let verdict = md
+        .lines()
+        .find(|l| l.starts_with("> Verdict: "))
+        .expect("the vendor section's verdict");
+    let words = verdict.trim_start_matches("> Verdict: these");
+    assert!(answer[0].contains(words), "same words: {verdict}");
+    assert!(answer[2].contains("The worst turntable within the sheet"));
+    assert!(
+        answer
+            .iter()
+            .skip(3)
+            .any(|l| l.contains("For comparison, reading") && l.contains("two-step allocation")),
+        "the allocations follow as a comparison: {answer:?}"
+    );
+
+    // errors that act only together: one line each, one share each, `groups` in the JSON
+    let v = json(&out);
+    let groups: Vec<String> = v["groups"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g["combination"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(
+        groups,
+        [
+            "dphi_y1 + deps_y",
+            "dphi_z2 + dalpha_z1",
+            "dalpha_x1 + deps_x"
+        ]
+    );
+    assert!(md.contains(
+        "- dphi_y1 and deps_y act as one rotation (first order, every pose): only their combination dphi_y1 + deps_y matters\n"
+    ));
+    let vendor_rows: Vec<&str> = md
+        .lines()
+        .skip_while(|l| !l.starts_with("## Vendor tolerances"))
+        .filter(|l| l.starts_with("| `x`") || l.starts_with("| `y`"))
+        .collect();
+    assert_eq!(vendor_rows.len(), 2);
+    for row in vendor_rows {
+        assert!(row.contains("`dphi_z2 + dalpha_z1`"), "{row}");
+        for member in [
+            "dphi_y1",
+            "deps_y",
+            "dphi_z2",
+            "dalpha_z1",
+            "dalpha_x1",
+            "deps_x",
+        ] {
+            assert!(
+                !row.contains(&format!("`{member}`")),
+                "a group's share is never split: {row}"
+            );
+        }
+    }
+
+    // the boxes say whether they meet every accuracy in end-to-end's words
+    let e2e = &v["end_to_end"];
+    let mut seen = 0;
+    for r in e2e.as_array().unwrap() {
+        for b in r["boxes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .chain([&r["direct"], &r["yield_based"]])
+        {
+            let words = b["meets_text"].as_str().unwrap();
+            assert!(
+                md.lines()
+                    .any(|l| l.starts_with("| ") && plain(l).contains(&format!("| {words} |"))),
+                "{words}"
+            );
+            seen += 1;
+        }
+    }
+    assert!(seen >= 6);
+    assert_eq!(
+        e2e[0]["direct"]["meets_text"].as_str(),
+        Some("to first order; no on the exact chain (+0.025%)"),
+        "the paper's direct allocation misses by 0.0100025 on the exact chain"
+    );
 }

@@ -134,6 +134,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                 .collect(),
         ),
     );
+    m.insert("groups".into(), crate::groups::json(&s.turntable, &[]));
     m.insert(
         "average_sensitivity".into(),
         Value::Object(names.iter().enumerate().map(|(i, n)| ((*n).to_string(), json!({"psi": f(c.sensitivity[i][0]), "theta": f(c.sensitivity[i][1]), "gamma": f(c.sensitivity[i][2])}))).collect()),
@@ -165,10 +166,15 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
     if let Some(e) = &c.equal {
         m.insert("equal_effects".into(), json!({"bounds_arcmin": arcmin_map(&names, &e.upper_bounds_rad), "objective_arcmin": f(e.objective_arcmin())}));
     }
+    let accuracies = c.e2e.accuracies();
     let boxj = |b: &e2e_verify::BoxAnswer| {
         let (lo, hi) = b.distribution.yield_interval_95();
+        let meets = b.worst_case.meets(&accuracies);
         json!({
             "name": b.name,
+            "meets": meets.name(),
+            "meets_text": meets.to_string(),
+            "meets_excess": meets.excess().map(f),
             "objective_arcmin": f(e2e_verify::objective_to_arcmin(b.objective)),
             "bounds_arcmin": arcmin_map(&names, &b.upper_bounds_rad),
             "worst_case": b.worst_case.outputs.iter().map(|w| json!({"output": outs[w.output], "exact_at_vertex": f(w.exact_at_vertex), "linear": f(w.linear_bound), "certified": w.certified_bound().map(f)})).collect::<Vec<_>>(),

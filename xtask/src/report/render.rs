@@ -6,7 +6,7 @@ use super::doc::Doc;
 use super::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
-use e2e_verify::{BoxAnswer, ReadingAnswer, Verdict, objective_to_arcmin};
+use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, objective_to_arcmin};
 use std::fmt::Write as _;
 use study::fmt::{num, sig};
 use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
@@ -107,38 +107,61 @@ fn reading_words(r: Reading) -> &'static str {
     }
 }
 
-/// Whether a box's worst turntable meets every accuracy; the cell text.
-fn meets_cell(b: &BoxAnswer, accuracies: &[f64]) -> (bool, String) {
-    let exact_ok = b
-        .worst_case
-        .outputs
-        .iter()
-        .all(|w| w.exact_at_vertex <= accuracies[w.output]);
-    if exact_ok {
-        return (true, "**yes**".into());
+/// Whether a box's worst turntable meets every accuracy: [`e2e_verify::BoxMeets`]'s words
+/// (the same as `end-to-end`'s), with the verdict word in bold.
+fn meets_md(m: BoxMeets) -> String {
+    let words = m.to_string();
+    match m {
+        BoxMeets::Yes => format!("**{words}**"),
+        BoxMeets::FirstOrderOnly { .. } | BoxMeets::No { .. } => words.replacen("no", "**no**", 1),
     }
-    let linear_ok = b
-        .worst_case
-        .outputs
-        .iter()
-        .all(|w| w.linear_bound <= accuracies[w.output] * (1.0 + 1e-9));
-    let excess = b
-        .worst_case
-        .outputs
-        .iter()
-        .map(|w| w.exact_at_vertex / accuracies[w.output] - 1.0)
-        .fold(f64::NEG_INFINITY, f64::max);
-    if linear_ok {
-        (
-            false,
-            format!(
-                "to first order; **no** on the exact chain (+{}%)",
-                sig(100.0 * excess, 2)
-            ),
-        )
-    } else {
-        (false, format!("**no** (+{})", pct(excess)))
+}
+
+/// The groups of errors that act only together, one line each ([`crate::groups::sentence`]),
+/// with the bound of their combination under each labelled box; nothing when there is none.
+fn group_list(doc: &mut Doc, t: &tt_kinematics::Turntable, bounds: &[(&str, &[f64])]) {
+    let lines = crate::groups::lines(t, bounds);
+    if !lines.is_empty() {
+        doc.list(lines);
     }
+}
+
+/// The verdict on a vendor's sheet with its Monte Carlo yield: one wording for the answer at
+/// the top and the vendor section.
+fn sheet_verdict(chk: &e2e_verify::TurntableCheck) -> String {
+    let (lo, hi) = chk.distribution.yield_interval_95();
+    let verdict = match chk.verdict {
+        Verdict::Guaranteed => {
+            "these tolerances **meet** every accuracy: proven for every turntable within them"
+        }
+        Verdict::Likely => {
+            "these tolerances likely meet every accuracy: the worst turntable does, but no bound proves it for the whole box"
+        }
+        Verdict::Fails => {
+            "these tolerances do **not** meet every accuracy: a turntable within them (the worst vertex) misses"
+        }
+    };
+    format!(
+        "{verdict}; {:.2}% of {} random turntables meet every accuracy (95% interval {:.2}%-{:.2}%)",
+        100.0 * chk.distribution.yield_fraction(),
+        chk.distribution.samples,
+        100.0 * lo,
+        100.0 * hi
+    )
+}
+
+/// `text` with its first letter in upper case.
+fn upper_first(text: &str) -> String {
+    let mut c = text.chars();
+    c.next()
+        .map_or(String::new(), |f| f.to_uppercase().chain(c).collect())
+}
+
+/// `text` with its first letter in lower case.
+fn lower_first(text: &str) -> String {
+    let mut c = text.chars();
+    c.next()
+        .map_or(String::new(), |f| f.to_lowercase().chain(c).collect())
 }
 
 /// The paper's Table 4 beside the allocation: bounds (arcmin), J (arcmin⁻²), shares of the
@@ -203,7 +226,7 @@ impl<'a> Sections<'a> {
                 reading_words(r.reading)
             );
             if let Some(b) = r.boxes.iter().find(|b| b.name == "two-step") {
-                let (ok, _) = meets_cell(b, &acc);
+                let ok = b.worst_case.meets(&acc).holds();
                 let worst: Vec<String> = b
                     .worst_case
                     .outputs
@@ -250,13 +273,38 @@ impl<'a> Sections<'a> {
             s.push('.');
             items.push(s);
         }
+        if c.vendor.is_some() {
+            // the allocations answer another question than the sheet's: a comparison
+            for i in &mut items {
+                *i = format!("For comparison, {}", lower_first(i));
+            }
+        }
         if c.two_step.is_none() {
-            items.push("No output constrains a constant orientation error, so there is no two-step allocation: the direct allocation is the answer.".into());
+            items.push(if c.vendor.is_some() {
+                "No output constrains a constant orientation error, so there is no two-step allocation.".into()
+            } else {
+                "No output constrains a constant orientation error, so there is no two-step allocation: the direct allocation is the answer.".into()
+            });
         }
         if let Some(n) = &c.requirement.disagreement {
             items.push(sentence(n));
         }
-        let lead = "**Answer.** Does a turntable allocated by the two-step method (an orientation requirement first, then the turntable against it) deliver every output's accuracy, and what does the direct allocation against those accuracies ask of the table (J: lower is a looser, cheaper table)?";
+        let allocation_question = "Does a turntable allocated by the two-step method (an orientation requirement first, then the turntable against it) deliver every output's accuracy, and what does the direct allocation against those accuracies ask of the table (J: lower is a looser, cheaper table)?";
+        let lead = match &c.vendor {
+            // the user's question comes first: the verdict on their sheet
+            Some((tol, chk)) => {
+                items.insert(0, self.sheet_outputs(chk));
+                format!(
+                    "**Answer.** Do the tolerances of `{}`{} deliver every output's accuracy? {}.",
+                    tol.path,
+                    tol.name
+                        .as_ref()
+                        .map_or(String::new(), |n| format!(" ({n})")),
+                    upper_first(&sheet_verdict(chk))
+                )
+            }
+            None => format!("**Answer.** {allocation_question}"),
+        };
         self.doc.callout_list(lead, items);
     }
 
@@ -433,6 +481,10 @@ impl<'a> Sections<'a> {
         ));
         self.doc
             .table(&["#", "factor", "kind", "axis", "description"], rows);
+        if !s.turntable.proportional_groups().is_empty() {
+            self.doc.p("Errors that act only together: rotations about one axis with nothing but other errors between them (or a joint about that axis, as a wobble about the next joint's axis and that joint's position error) are one rotation to first order at every pose, so no calibration can tell them apart and the shares, allocations and verdicts below treat each such group as one:");
+            group_list(&mut self.doc, &s.turntable, &[]);
+        }
 
         self.doc.h(3, "Schedule");
         let jn = s.turntable.joint_names();
@@ -923,6 +975,19 @@ impl<'a> Sections<'a> {
         rows.push(jrow);
         self.doc.table(&header, rows);
         self.csv.push(("allocation.csv".into(), csv));
+        let mut group_bounds: Vec<(&str, &[f64])> = vec![("two-step", &t.ours.upper_bounds_rad)];
+        if let Some(e) = &c.equal {
+            group_bounds.push(("equal effects", &e.upper_bounds_rad));
+        }
+        let t4_rad = table4.map(|(t4, _, _)| {
+            t4.iter()
+                .map(|v| tt_kinematics::units::arcmin_to_rad(*v))
+                .collect::<Vec<f64>>()
+        });
+        if let Some(t4) = &t4_rad {
+            group_bounds.push(("Table 4", t4));
+        }
+        group_list(&mut self.doc, &c.study.turntable, &group_bounds);
         if !t.ours.unconstrained.is_empty() {
             self.doc.p(format!(
                 "No angle with a requirement depends on {}: no bound (held at the lower bound in the Monte Carlo).",
@@ -1112,7 +1177,7 @@ impl<'a> Sections<'a> {
                 label.to_string(),
                 format!("{:.2}", objective_to_arcmin(b.objective)),
                 worst.join(", "),
-                meets_cell(b, &acc).1,
+                meets_md(b.worst_case.meets(&acc)),
                 format!(
                     "{:.2}% [{:.2}, {:.2}]",
                     100.0 * b.distribution.yield_fraction(),
@@ -1256,6 +1321,16 @@ impl<'a> Sections<'a> {
         ));
         self.doc.table(&h, rows);
         self.csv.push(("end_to_end.csv".into(), csv));
+        let labels: Vec<String> = readings
+            .iter()
+            .map(|r| format!("direct, {}", short_reading(r.reading)))
+            .collect();
+        let group_bounds: Vec<(&str, &[f64])> = labels
+            .iter()
+            .zip(&readings)
+            .map(|(l, r)| (l.as_str(), r.direct.upper_bounds_rad.as_slice()))
+            .collect();
+        group_list(&mut self.doc, &c.study.turntable, &group_bounds);
 
         // figure: worst case per position
         let mut panels = Vec::new();
@@ -1315,10 +1390,9 @@ impl<'a> Sections<'a> {
         let c = self.c;
         let Some((tol, chk)) = &c.vendor else { return };
         let outs = self.outputs();
-        let names = c.study.turntable.rotation_error_names();
         self.doc.h(2, "Vendor tolerances");
         self.doc.p(format!(
-            "The tolerances of `{}`{} checked end to end under the study's reading: for every output the worst turntable within them (linearised, confirmed on the exact chain, with the derived second-order bound where the reading has one), the Monte Carlo yield, and each error's share of the worst case and of the variance.",
+            "The tolerances of `{}`{} checked end to end under the study's reading: for every output the worst turntable within them (linearised, confirmed on the exact chain, with the derived second-order bound where the reading has one), the Monte Carlo yield, and each error's share of the worst case and of the variance (one share per group of errors that act only together).",
             tol.path,
             tol.name.as_ref().map_or(String::new(), |n| format!(" ({n})"))
         ));
@@ -1331,7 +1405,13 @@ impl<'a> Sections<'a> {
                 .iter()
                 .take(3)
                 .filter(|k| k.worst_share > 0.0)
-                .map(|k| format!("`{}` {}", names[k.error], pct(k.worst_share)))
+                .map(|k| {
+                    format!(
+                        "`{}` {}",
+                        crate::groups::contribution_name(&c.study.turntable, &k.group),
+                        pct(k.worst_share)
+                    )
+                })
                 .collect();
             rows.push(vec![
                 format!("`{n}`"),
@@ -1362,25 +1442,47 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
-        let (lo, hi) = chk.distribution.yield_interval_95();
-        let verdict = match chk.verdict {
-            Verdict::Guaranteed => {
-                "these tolerances **meet** every accuracy: proven for every turntable within them"
-            }
-            Verdict::Likely => {
-                "these tolerances likely meet every accuracy: the worst turntable does, but no bound proves it for the whole box"
-            }
-            Verdict::Fails => {
-                "these tolerances do **not** meet every accuracy: a turntable within them (the worst vertex) misses"
-            }
-        };
-        self.doc.callout(format!(
-            "Verdict: {verdict}; {:.2}% of {} random turntables meet every accuracy (95% interval {:.2}%-{:.2}%).",
-            100.0 * chk.distribution.yield_fraction(),
-            chk.distribution.samples,
-            100.0 * lo,
-            100.0 * hi
-        ));
+        self.doc
+            .callout(format!("Verdict: {}.", sheet_verdict(chk)));
+    }
+
+    /// Every output's worst turntable within the sheet against its accuracy, with the
+    /// dominant error (or group), for the answer at the top.
+    fn sheet_outputs(&self, chk: &e2e_verify::TurntableCheck) -> String {
+        let outs = self.outputs();
+        let t = &self.c.study.turntable;
+        let per: Vec<String> = chk
+            .outputs
+            .iter()
+            .map(|o| {
+                let (n, u, _) = &outs[o.output];
+                let top = o
+                    .contributions
+                    .iter()
+                    .filter(|k| k.worst_share > 0.0)
+                    .max_by(|a, b| a.worst_share.total_cmp(&b.worst_share));
+                format!(
+                    "`{n}` {} {u} against {} {u} ({}{})",
+                    sig(o.worst_case.exact_at_vertex, 4),
+                    num(o.accuracy),
+                    match o.verdict {
+                        Verdict::Guaranteed => "**yes**, proven",
+                        Verdict::Likely => "likely, not proven",
+                        Verdict::Fails => "**no**",
+                    },
+                    top.map_or(String::new(), |k| format!(
+                        "; dominant `{}` {}",
+                        crate::groups::contribution_name(t, &k.group),
+                        pct(k.worst_share)
+                    ))
+                )
+            })
+            .collect();
+        format!(
+            "The worst turntable within the sheet under the study's reading `{}` ([vendor tolerances](#vendor-tolerances)): {}.",
+            self.c.study.reading,
+            per.join(", ")
+        )
     }
 
     /// The study's schedule beside the designed one.
