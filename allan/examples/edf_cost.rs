@@ -3,7 +3,9 @@ use allan::{PowerLaw, edf::edf};
 fn main() {
     for &n in &[1u64 << 20, 1u64 << 27] {
         for &m in &[512u64, 4096, 1 << 14, 1 << 17] {
-            if 3 * m > n { continue; }
+            if 3 * m > n {
+                continue;
+            }
             for p in PowerLaw::ALL {
                 let full = edf(p, n, m, 1);
                 let mut line = format!("N=2^{} m={m} {p:>12}: full {full:.4}", n.trailing_zeros());

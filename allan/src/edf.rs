@@ -85,9 +85,7 @@ pub fn edf(noise: PowerLaw, samples: u64, m: u64, stride: u64) -> f64 {
     let s_factor = (m / stride.max(1)).max(1);
     let s = s_factor as f64;
     if noise == PowerLaw::Quantization {
-        let inv = (36.0 * big_m
-            + 32.0 * (big_m - s).max(0.0)
-            + 2.0 * (big_m - 2.0 * s).max(0.0))
+        let inv = (36.0 * big_m + 32.0 * (big_m - s).max(0.0) + 2.0 * (big_m - 2.0 * s).max(0.0))
             / (36.0 * big_m * big_m);
         return 1.0 / inv;
     }

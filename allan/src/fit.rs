@@ -93,7 +93,11 @@ impl PowerFit {
 /// QR on scaled columns. Returns the coefficients (in `cols` order), the residual sum of
 /// squares and the linear operator (coefficients = op * y), or `None` when rank deficient.
 #[allow(clippy::type_complexity, clippy::needless_range_loop)]
-fn least_squares(x: &[[f64; 5]], y: &[f64], cols: &[usize]) -> Option<(Vec<f64>, f64, Vec<Vec<f64>>)> {
+fn least_squares(
+    x: &[[f64; 5]],
+    y: &[f64],
+    cols: &[usize],
+) -> Option<(Vec<f64>, f64, Vec<Vec<f64>>)> {
     let n = x.len();
     let p = cols.len();
     if p == 0 || p > n {
@@ -193,7 +197,11 @@ pub fn fit_power_terms(points: &[(f64, f64, f64)]) -> PowerFit {
     let floor = peak * 1e-30;
     // subsets, white noise first, then by size
     let mut subsets: Vec<Vec<usize>> = (1u32..32)
-        .map(|mask| (0..5).filter(|b| mask & (1 << b) != 0).collect::<Vec<usize>>())
+        .map(|mask| {
+            (0..5)
+                .filter(|b| mask & (1 << b) != 0)
+                .collect::<Vec<usize>>()
+        })
         .collect();
     subsets.sort_by_key(|s| (s.len(), !s.contains(&1), s.clone()));
     let mut model: Vec<f64> = points.iter().map(|p| p.1.max(floor)).collect();

@@ -11,6 +11,5 @@ pub use error::AllanError;
 pub use fit::FLICKER_FLOOR_FACTOR;
 pub use noise::{NoiseModel, PowerLaw};
 pub use stream::{
-    AllanPoint, Analysis, DEFAULT_OVERLAP, MAX_OVERLAP, NoiseFit, Settings, StreamingAllan,
-    analyse,
+    AllanPoint, Analysis, DEFAULT_OVERLAP, MAX_OVERLAP, NoiseFit, Settings, StreamingAllan, analyse,
 };

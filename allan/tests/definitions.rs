@@ -23,7 +23,13 @@ const WIDE_CONFIDENCE: f64 = 1.0 - 1e-6;
 /// (dimensionless): 5 %, so that SIGMAS uncertainties stay within 25 % of the value.
 const MAX_RELATIVE_UNCERTAINTY: f64 = 0.05;
 
-fn analyse(recipe: &Recipe, samples: u64, rate_hz: f64, seed: u64, settings: Settings) -> allan::Analysis {
+fn analyse(
+    recipe: &Recipe,
+    samples: u64,
+    rate_hz: f64,
+    seed: u64,
+    settings: Settings,
+) -> allan::Analysis {
     let mut a = StreamingAllan::new(settings).unwrap();
     recipe.generate(samples, seed, |y| a.push(y).unwrap());
     let r = a.analyse().unwrap();
@@ -79,7 +85,13 @@ fn rate_random_walk_and_white_noise_recovered_ieee952_eq_c12() {
     let mut recipe = Recipe::white(sigma);
     recipe.rw_step = step;
     recipe.bias = 3.0;
-    let r = analyse(&recipe, 1 << 20, rate, 12, Settings::new(rate).confidence(WIDE_CONFIDENCE));
+    let r = analyse(
+        &recipe,
+        1 << 20,
+        rate,
+        12,
+        Settings::new(rate).confidence(WIDE_CONFIDENCE),
+    );
     // the exact curve of this discrete process inside every (wide) band
     for p in &r.points {
         let exact = recipe.avar(p.cluster).sqrt();
@@ -96,9 +108,20 @@ fn rate_random_walk_and_white_noise_recovered_ieee952_eq_c12() {
     let un = fit.white_noise_uncertainty.unwrap();
     let k = fit.rate_random_walk.expect("a +1/2 slope is fitted");
     let uk = fit.rate_random_walk_uncertainty.unwrap();
-    assert!(un < MAX_RELATIVE_UNCERTAINTY * n_true && uk < 2.0 * MAX_RELATIVE_UNCERTAINTY * k_true, "N {} +- {un}, K {k} +- {uk}", fit.white_noise);
-    assert!((fit.white_noise - n_true).abs() <= SIGMAS * un, "N {} +- {un} vs {n_true}", fit.white_noise);
-    assert!((k - k_true).abs() <= SIGMAS * uk, "K {k} +- {uk} vs {k_true}");
+    assert!(
+        un < MAX_RELATIVE_UNCERTAINTY * n_true && uk < 2.0 * MAX_RELATIVE_UNCERTAINTY * k_true,
+        "N {} +- {un}, K {k} +- {uk}",
+        fit.white_noise
+    );
+    assert!(
+        (fit.white_noise - n_true).abs() <= SIGMAS * un,
+        "N {} +- {un} vs {n_true}",
+        fit.white_noise
+    );
+    assert!(
+        (k - k_true).abs() <= SIGMAS * uk,
+        "K {k} +- {uk} vs {k_true}"
+    );
     let bend = (2.0 * n_true * k_true / 3f64.sqrt()).sqrt();
     let ub = fit.bias_instability_uncertainty.unwrap();
     assert!(
@@ -142,7 +165,10 @@ fn flicker_floor_is_0664_b_ieee952_eq_c9() {
         worst = worst.max((adev / (FLICKER_FLOOR_FACTOR * b) - 1.0).abs());
     }
     assert!(worst <= FLICKER_RIPPLE, "ripple {worst}");
-    assert!((FLICKER_FLOOR_FACTOR - (2.0 * std::f64::consts::LN_2 / std::f64::consts::PI).sqrt()).abs() < 1e-15);
+    assert!(
+        (FLICKER_FLOOR_FACTOR - (2.0 * std::f64::consts::LN_2 / std::f64::consts::PI).sqrt()).abs()
+            < 1e-15
+    );
     // the fit on a log of white noise plus that flicker
     let recipe = Recipe {
         bias: -7.0,
@@ -150,10 +176,22 @@ fn flicker_floor_is_0664_b_ieee952_eq_c9() {
         rw_step: 0.0,
         gauss_markov: gm,
     };
-    let r = analyse(&recipe, 1 << 20, rate, 13, Settings::new(rate).confidence(WIDE_CONFIDENCE));
+    let r = analyse(
+        &recipe,
+        1 << 20,
+        rate,
+        13,
+        Settings::new(rate).confidence(WIDE_CONFIDENCE),
+    );
     for p in &r.points {
         let exact = recipe.avar(p.cluster).sqrt();
-        assert!(p.lower <= exact && exact <= p.upper, "tau {}: {exact} outside [{}, {}]", p.tau_s, p.lower, p.upper);
+        assert!(
+            p.lower <= exact && exact <= p.upper,
+            "tau {}: {exact} outside [{}, {}]",
+            p.tau_s,
+            p.lower,
+            p.upper
+        );
     }
     let fit = r.fit;
     let ub = fit.bias_instability_uncertainty.unwrap();
@@ -165,5 +203,9 @@ fn flicker_floor_is_0664_b_ieee952_eq_c9() {
     );
     let n_true = sigma / f64::sqrt(rate);
     let un = fit.white_noise_uncertainty.unwrap();
-    assert!((fit.white_noise - n_true).abs() <= SIGMAS * un, "N {} +- {un} vs {n_true}", fit.white_noise);
+    assert!(
+        (fit.white_noise - n_true).abs() <= SIGMAS * un,
+        "N {} +- {un} vs {n_true}",
+        fit.white_noise
+    );
 }

@@ -60,7 +60,11 @@ impl Recipe {
     pub fn generate(&self, samples: u64, seed: u64, mut visit: impl FnMut(f64)) {
         let mut g = Normal::new(seed);
         let mut rw = 0.0;
-        let mut gm: Vec<f64> = self.gauss_markov.iter().map(|(sd, _)| sd * g.draw()).collect();
+        let mut gm: Vec<f64> = self
+            .gauss_markov
+            .iter()
+            .map(|(sd, _)| sd * g.draw())
+            .collect();
         for _ in 0..samples {
             let mut y = self.bias;
             if self.white_sd > 0.0 {
