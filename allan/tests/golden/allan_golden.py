@@ -21,7 +21,8 @@ and SciPy) is the measuring stick, not a dependency of the product. This script:
 
 Usage (from the workspace root):
   python3 -m venv /tmp/venv && /tmp/venv/bin/pip install allantools numpy
-  /tmp/venv/bin/python allan/tests/golden/allan_golden.py > allan/tests/golden/allan_golden.rs
+  /tmp/venv/bin/python allan/tests/golden/allan_golden.py | rustfmt --edition 2024 \
+      > allan/tests/golden/allan_golden.rs
 """
 import math
 
