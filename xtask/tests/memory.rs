@@ -118,7 +118,10 @@ fn allan_memory_does_not_grow_with_the_log_length() {
     };
     let s = run(&args(&small), None);
     let l = run(&args(&large), None);
-    let l_stdin = run(&["allan".into(), "--rate-hz".into(), "100".into()], Some(&large));
+    let l_stdin = run(
+        &["allan".into(), "--rate-hz".into(), "100".into()],
+        Some(&large),
+    );
     for (what, peak) in [("file", l), ("stdin", l_stdin)] {
         assert!(
             peak < s + 8 * 1024,
