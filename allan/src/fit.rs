@@ -5,8 +5,8 @@
 //! IEEE Std 1293-1998 Annex for accelerometers; N. El-Sheimy, H. Hou, X. Niu, *Analysis and
 //! Modeling of Inertial Sensors Using Allan Variance*, IEEE Trans. Instrum. Meas. 57(1), 2008,
 //! Table I):
-//! $$\sigma^2(\tau) = \frac{3Q^2}{\tau^2} + \frac{N^2}{\tau} + C_0 + \frac{K^2\tau}{3}
-//! + \frac{R^2\tau^2}{2},$$
+//! $$\sigma^2(\tau) = \frac{3Q^2}{\tau^2} + \frac{N^2}{\tau} + C_0 + \frac{K^2\tau}{3} +
+//! \frac{R^2\tau^2}{2},$$
 //! quantization $Q$ (slope $-1$), white noise $N$ (slope $-1/2$: $\sigma(\tau) = N/\sqrt\tau$,
 //! so $N$ is the line's value at $\tau = 1$ s), a flat part $C_0$ (flicker: slope 0), rate
 //! random walk $K$ (slope $+1/2$: $K$ is the line's value at $\tau = 3$ s) and a rate ramp
@@ -89,15 +89,14 @@ impl PowerFit {
     }
 }
 
+/// A least-squares solution: coefficients, residual sum of squares, linear operator.
+type Solution = (Vec<f64>, f64, Vec<Vec<f64>>);
+
 /// Least squares of `y` on the columns `cols` of `x` (rows already weighted), by Householder
 /// QR on scaled columns. Returns the coefficients (in `cols` order), the residual sum of
 /// squares and the linear operator (coefficients = op * y), or `None` when rank deficient.
-#[allow(clippy::type_complexity, clippy::needless_range_loop)]
-fn least_squares(
-    x: &[[f64; 5]],
-    y: &[f64],
-    cols: &[usize],
-) -> Option<(Vec<f64>, f64, Vec<Vec<f64>>)> {
+#[allow(clippy::needless_range_loop)]
+fn least_squares(x: &[[f64; 5]], y: &[f64], cols: &[usize]) -> Option<Solution> {
     let n = x.len();
     let p = cols.len();
     if p == 0 || p > n {
@@ -225,7 +224,7 @@ pub fn fit_power_terms(points: &[(f64, f64, f64)]) -> PowerFit {
             })
             .collect();
         let y: Vec<f64> = points.iter().zip(&w).map(|(p, wi)| wi * p.1).collect();
-        let mut chosen: Option<(f64, Vec<usize>, Vec<f64>, Vec<Vec<f64>>)> = None;
+        let mut chosen: Option<(Vec<usize>, Solution)> = None;
         for s in &subsets {
             let Some((coef, rss, op)) = least_squares(&x, &y, s) else {
                 continue;
@@ -235,13 +234,13 @@ pub fn fit_power_terms(points: &[(f64, f64, f64)]) -> PowerFit {
             }
             let better = match &chosen {
                 None => true,
-                Some((r, ..)) => rss < *r - 1e-12 * r.max(f64::MIN_POSITIVE),
+                Some((_, (_, r, _))) => rss < *r - 1e-12 * r.max(f64::MIN_POSITIVE),
             };
             if better {
-                chosen = Some((rss, s.clone(), coef, op));
+                chosen = Some((s.clone(), (coef, rss, op)));
             }
         }
-        let Some((_, support, coef, op)) = chosen else {
+        let Some((support, (coef, _, op))) = chosen else {
             return zero;
         };
         let mut fit = zero.clone();
