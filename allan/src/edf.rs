@@ -4,7 +4,7 @@
 //! form $A = \frac{1}{2 m^2 M} \sum_{i=0}^{M-1} d_{is}^2$ of Gaussian second differences
 //! $d_t = x_{t+2m} - 2x_{t+m} + x_t$ of the phase (the integrated log). Its equivalent
 //! degrees of freedom are Satterthwaite's
-//! $$\nu = \frac{2\,\mathrm E[A]^2}{\operatorname{Var}[A]},$$
+//! $$\nu = \frac{2\,\mathrm E(A)^2}{\operatorname{Var}(A)},$$
 //! so that $\nu A / \sigma^2$ is approximately $\chi^2_\nu$. With $S = m/s$ evaluations per
 //! cluster time (the stride factor: $S = m$ fully overlapping, $S = 1$ not overlapping) and
 //! the autocovariance of $d$ at a lag of $t$ cluster times written $s_z(t)$,
