@@ -41,7 +41,7 @@ impl Source {
         }
     }
 
-    fn open(&self) -> Result<Box<dyn BufRead>, InputError> {
+    pub(crate) fn open(&self) -> Result<Box<dyn BufRead>, InputError> {
         match self {
             Source::File(p) => {
                 let meta = std::fs::metadata(p)

@@ -7,6 +7,7 @@
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+mod allan;
 mod allocate;
 mod args;
 mod calibration_error;
@@ -60,6 +61,8 @@ enum Command {
     ReproducePaper(report::PaperArgs),
     /// Design the test positions that let the cheapest turntable meet every accuracy.
     DesignSchedule(design_schedule::Args),
+    /// Noise from a log: overlapping Allan deviation, white noise, bias instability (IEEE 952).
+    Allan(allan::Args),
 }
 
 fn main() -> ExitCode {
@@ -76,6 +79,7 @@ fn main() -> ExitCode {
         Command::Report(a) => report::run(&a),
         Command::ReproducePaper(a) => report::run_paper(&a),
         Command::DesignSchedule(a) => design_schedule::run(&a),
+        Command::Allan(a) => allan::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,688 @@
+//! `cargo xtask allan [LOG.csv] --rate-hz F [--column NAME] [--unit U] [--confidence P]
+//! [--json] [--figure FILE.svg] [--write-noise FILE.toml]`: the noise of a sensor from a log of
+//! its output (a rate or a specific force sampled at F Hz): the overlapping Allan deviation
+//! with its confidence bands, the fitted white noise and bias instability (IEEE Std 952 /
+//! 1293), a log-log figure and the noise block for a study (the `allan` crate does the
+//! science).
+//!
+//! The log is a CSV file, or standard input (`-` or nothing; a named pipe works too): a header
+//! line naming the columns, then one numeric row per sample (a UTF-8 byte-order mark is
+//! accepted, blank lines are skipped, fields may be surrounded by spaces). One column is used:
+//! the only one, or `--column NAME`. The log is read once, streaming: memory does not grow
+//! with its length. Every problem exits with code 2 naming the flag, or the line and column.
+//!
+//! `--json` prints one object: `white_noise_per_sqrt_hz` (the log's unit per sqrt(Hz): the
+//! 1 s Allan deviation of the white part), `bias_instability` (the log's unit: the floor of
+//! the Allan deviation divided by sqrt(2 ln 2 / pi) = 0.664), their uncertainties,
+//! `floor_tau_s`, `floor_reached`, `rate_random_walk`, `quantization`, `rate_ramp` (null when
+//! not in the fit), `samples`, `rate_hz`, `duration_s`, `confidence`, `overlap`, `column`,
+//! `unit`, and `curve`, a list of `{tau_s, adev, lower, upper, edf, cluster, stride, terms,
+//! noise}`; full precision, never NaN.
+//!
+//! `--figure FILE.svg` draws the curve, its band and the fitted lines; `--write-noise
+//! FILE.toml` writes `[sensor.outputs.noise]` with `white_per_sqrt_hz`, `bias_instability` and
+//! `bias_correlation_s` and a comment naming the log. Both refuse an existing path (exit 2)
+//! and are written atomically (a temporary file renamed into place; nothing is left behind
+//! on failure).
+
+use crate::InputError;
+use crate::csvio::{MAX_LINE_BYTES, Source};
+use crate::report::figures::{LIMIT, WIDTH, colour, finite};
+use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan};
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Parser;
+use plotters::prelude::*;
+use serde_json::{Value, json};
+use std::io::{BufRead, Read, Write};
+use std::path::{Path, PathBuf};
+use study::fmt::sig;
+
+/// Arguments of `allan`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// The log: a CSV file with a header line, or `-` (or nothing) for standard input.
+    pub log: Option<PathBuf>,
+    /// Sample rate of the log, Hz (required).
+    #[arg(long, value_parser = rate)]
+    pub rate_hz: f64,
+    /// The column to analyse (needed when the log has more than one).
+    #[arg(long)]
+    pub column: Option<String>,
+    /// The log's unit, for the text, figure and noise file (default: "log unit").
+    #[arg(long, value_parser = unit)]
+    pub unit: Option<String>,
+    /// Confidence of the bands, a probability (default: 1 sigma, 0.6827).
+    #[arg(long, default_value_t = allan::chi2::ONE_SIGMA, value_parser = confidence)]
+    pub confidence: f64,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Write a log-log SVG figure of the curve, its band and the fitted lines to this new file.
+    #[arg(long)]
+    pub figure: Option<PathBuf>,
+    /// Write the study's noise block (TOML) to this new file.
+    #[arg(long)]
+    pub write_noise: Option<PathBuf>,
+}
+
+fn rate(s: &str) -> Result<f64, String> {
+    crate::args::positive(s, 1e12)
+}
+
+fn confidence(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if v > 0.0 && v < 1.0 && v <= 1.0 - 1e-9 {
+        Ok(v)
+    } else {
+        Err(format!("`{s}`: a confidence is a probability in (0, 1)"))
+    }
+}
+
+fn unit(s: &str) -> Result<String, String> {
+    if s.is_empty() || s.chars().count() > 40 || s.chars().any(char::is_control) {
+        return Err(format!(
+            "`{}`: a unit is 1 to 40 printable characters",
+            s.escape_debug()
+        ));
+    }
+    Ok(s.to_string())
+}
+
+/// What was read: the analysis and where it came from.
+struct Log {
+    name: String,
+    column: String,
+    analysis: Analysis,
+}
+
+/// The column to read, from the header line.
+fn pick_column(
+    name: &str,
+    line_no: usize,
+    header: &str,
+    wanted: Option<&str>,
+) -> Result<(usize, usize, String), InputError> {
+    let at = format!("{name}:{line_no}");
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let listed = || {
+        cols.iter()
+            .map(|c| format!("`{}`", c.escape_debug()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(first) = cols.first() {
+        if first.parse::<f64>().is_ok() {
+            return Err(InputError::new(
+                at,
+                format!(
+                    "the first line must name the columns, found the number `{}`; add a header line",
+                    first.escape_debug()
+                ),
+            ));
+        }
+    }
+    for (i, c) in cols.iter().enumerate() {
+        if c.is_empty() {
+            return Err(InputError::new(
+                format!("{at} column {}", i + 1),
+                "a column without a name in the header",
+            ));
+        }
+        if cols[..i].contains(c) {
+            return Err(InputError::new(
+                format!("{at} column {}", i + 1),
+                format!("column `{}` appears twice", c.escape_debug()),
+            ));
+        }
+    }
+    let index = match wanted {
+        Some(w) => cols.iter().position(|c| *c == w).ok_or_else(|| {
+            InputError::new(
+                "--column",
+                format!(
+                    "`{}` is not a column of {name}; its columns are {}",
+                    w.escape_debug(),
+                    listed()
+                ),
+            )
+        })?,
+        None if cols.len() == 1 => 0,
+        None => {
+            return Err(InputError::new(
+                "--column",
+                format!(
+                    "{name} has {} columns ({}); choose one with --column NAME",
+                    cols.len(),
+                    listed()
+                ),
+            ));
+        }
+    };
+    Ok((index, cols.len(), cols[index].to_string()))
+}
+
+/// Read the log once, line by line, into the estimator.
+fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
+    let name = source.name();
+    let settings = Settings::new(args.rate_hz).confidence(args.confidence);
+    let mut est =
+        StreamingAllan::new(settings).map_err(|e| InputError::new("--rate-hz", e.to_string()))?;
+    let mut reader = source.open()?;
+    let mut buf = Vec::new();
+    let mut line_no = 0usize;
+    let mut layout: Option<(usize, usize, String)> = None;
+    loop {
+        buf.clear();
+        let n = (&mut reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut buf)
+            .map_err(|e| {
+                InputError::new(
+                    format!("{name}:{}", line_no + 1),
+                    format!("cannot read: {e}"),
+                )
+            })?;
+        if n == 0 {
+            break;
+        }
+        line_no += 1;
+        if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
+            return Err(InputError::new(
+                format!("{name}:{line_no}"),
+                format!("line longer than {MAX_LINE_BYTES} bytes"),
+            ));
+        }
+        let line = study::csv::decode_line(&name, line_no, &buf)?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let Some((index, count, column)) = &layout else {
+            layout = Some(pick_column(&name, line_no, line, args.column.as_deref())?);
+            continue;
+        };
+        let mut fields = 0usize;
+        let mut cell = "";
+        for (i, f) in line.split(',').enumerate() {
+            if i == *index {
+                cell = f.trim();
+            }
+            fields += 1;
+        }
+        if fields != *count {
+            return Err(InputError::new(
+                format!("{name}:{line_no}"),
+                format!("expected {count} columns, found {fields}"),
+            ));
+        }
+        let at = || format!("{name}:{line_no} column {}", index + 1);
+        let v: f64 = cell.parse().map_err(|_| {
+            InputError::new(
+                at(),
+                format!(
+                    "`{}`: `{}` is not a number",
+                    column.escape_debug(),
+                    cell.escape_debug()
+                ),
+            )
+        })?;
+        if !v.is_finite() {
+            return Err(InputError::new(
+                at(),
+                format!(
+                    "`{}`: `{}` is not a finite number",
+                    column.escape_debug(),
+                    cell.escape_debug()
+                ),
+            ));
+        }
+        est.push(v)
+            .map_err(|e| InputError::new(at(), e.to_string()))?;
+    }
+    let Some((_, _, column)) = layout else {
+        return Err(InputError::new(
+            name,
+            "empty input: expected a header line naming the columns, then one sample per line",
+        ));
+    };
+    let analysis = est.analyse().map_err(|e| match e {
+        AllanError::TooFewSamples { samples, needed } => InputError::new(
+            name.clone(),
+            format!(
+                "column `{}` has {samples} samples; the shortest cluster time (one sample) needs at least {needed} (three clusters)",
+                column.escape_debug()
+            ),
+        ),
+        other => InputError::new(name.clone(), other.to_string()),
+    })?;
+    Ok(Log {
+        name,
+        column,
+        analysis,
+    })
+}
+
+/// Every number of the analysis, for the no-NaN check.
+fn numbers(a: &Analysis) -> Vec<f64> {
+    let f = &a.fit;
+    let mut v = vec![
+        a.rate_hz,
+        a.confidence,
+        f.white_noise,
+        f.bias_instability,
+        f.floor_tau_s,
+        f.floor_adev_measured,
+    ];
+    v.extend(
+        [
+            f.white_noise_uncertainty,
+            f.bias_instability_uncertainty,
+            f.rate_random_walk,
+            f.rate_random_walk_uncertainty,
+            f.quantization,
+            f.rate_ramp,
+        ]
+        .into_iter()
+        .flatten(),
+    );
+    v.extend(f.coefficients);
+    for p in &a.points {
+        v.extend([p.tau_s, p.adev, p.lower, p.upper, p.edf]);
+    }
+    v
+}
+
+fn json_of(log: &Log, unit: Option<&str>) -> Result<Value> {
+    let a = &log.analysis;
+    let f = &a.fit;
+    Ok(json!({
+        "log": log.name,
+        "column": log.column,
+        "unit": unit,
+        "samples": a.samples,
+        "rate_hz": a.rate_hz,
+        "duration_s": a.samples as f64 / a.rate_hz,
+        "confidence": a.confidence,
+        "overlap": a.overlap,
+        "white_noise_per_sqrt_hz": f.white_noise,
+        "white_noise_uncertainty": f.white_noise_uncertainty,
+        "bias_instability": f.bias_instability,
+        "bias_instability_uncertainty": f.bias_instability_uncertainty,
+        "floor_factor": FLICKER_FLOOR_FACTOR,
+        "floor_tau_s": f.floor_tau_s,
+        "floor_adev": f.floor_adev_measured,
+        "floor_reached": f.floor_reached,
+        "rate_random_walk": f.rate_random_walk,
+        "rate_random_walk_uncertainty": f.rate_random_walk_uncertainty,
+        "quantization": f.quantization,
+        "rate_ramp": f.rate_ramp,
+        "curve": serde_json::to_value(&a.points)?,
+    }))
+}
+
+fn text_of(log: &Log, unit: &str) -> String {
+    let a = &log.analysis;
+    let f = &a.fit;
+    let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" (+- {})", sig(u, 2)));
+    let mut t = format!(
+        "Allan deviation of {}, column `{}`: {} samples at {} Hz ({} s); bands at {} % confidence\n",
+        log.name.escape_debug(),
+        log.column.escape_debug(),
+        a.samples,
+        sig(a.rate_hz, 6),
+        sig(a.samples as f64 / a.rate_hz, 4),
+        sig(100.0 * a.confidence, 3)
+    );
+    t.push_str(&format!(
+        "white noise N        {} {unit}/sqrt(Hz){}: the -1/2 line at tau = 1 s\n",
+        sig(f.white_noise, 4),
+        pm(f.white_noise_uncertainty)
+    ));
+    t.push_str(&format!(
+        "bias instability B   {} {unit}{}: the floor {} {unit} / 0.664{}\n",
+        sig(f.bias_instability, 4),
+        pm(f.bias_instability_uncertainty),
+        sig(f.bias_instability * FLICKER_FLOOR_FACTOR, 4),
+        if f.floor_reached {
+            ""
+        } else {
+            " (an upper bound: the curve still falls at the longest cluster time)"
+        }
+    ));
+    t.push_str(&format!(
+        "floor cluster time   {} s (a correlation time to try for a Gauss-Markov bias model)\n",
+        sig(f.floor_tau_s, 4)
+    ));
+    if let Some(k) = f.rate_random_walk {
+        t.push_str(&format!(
+            "rate random walk K   {} {unit}*sqrt(Hz){}: the +1/2 line at tau = 3 s\n",
+            sig(k, 4),
+            pm(f.rate_random_walk_uncertainty)
+        ));
+    }
+    t.push_str(&format!(
+        "\n{:>12} {:>12} {:>12} {:>12} {:>10}  noise (for the band)\n",
+        "tau (s)", "adev", "lower", "upper", "edf"
+    ));
+    for p in &a.points {
+        t.push_str(&format!(
+            "{:>12} {:>12} {:>12} {:>12} {:>10}  {}\n",
+            sig(p.tau_s, 4),
+            sig(p.adev, 4),
+            sig(p.lower, 4),
+            sig(p.upper, 4),
+            sig(p.edf, 3),
+            p.noise
+        ));
+    }
+    t
+}
+
+fn noise_toml(log: &Log, unit: &str) -> String {
+    let a = &log.analysis;
+    let f = &a.fit;
+    format!(
+        "# Noise of column `{}` of {}: {} samples at {} Hz, by `cargo xtask allan` (IEEE Std 952\n\
+         # Annex C: white noise from the -1/2 slope, bias instability = floor / 0.664).\n\
+         # The values are in the log's unit ({}): white_per_sqrt_hz in {}/sqrt(Hz), bias_instability in\n\
+         # {}, bias_correlation_s in s (the floor's cluster time, a heuristic Gauss-Markov correlation\n\
+         # time{}). Convert them if the output's unit differs from the log's.\n\
+         [sensor.outputs.noise]\n\
+         white_per_sqrt_hz = {:?}\n\
+         bias_instability = {:?}\n\
+         bias_correlation_s = {:?}\n",
+        log.column.escape_debug(),
+        log.name.escape_debug(),
+        a.samples,
+        sig(a.rate_hz, 17),
+        unit,
+        unit,
+        unit,
+        if f.floor_reached {
+            ""
+        } else {
+            "; the curve still falls at the longest cluster time: bias_instability is an upper bound"
+        },
+        f.white_noise,
+        f.bias_instability,
+        f.floor_tau_s,
+    )
+}
+
+/// The log-log figure: the curve with its band, the fitted -1/2 line and the floor.
+fn figure_svg(log: &Log, unit: &str) -> Result<String> {
+    let a = &log.analysis;
+    let f = &a.fit;
+    let what = "Allan deviation figure";
+    finite(what, numbers(a))?;
+    if let Some(p) = a.points.iter().find(|p| p.lower <= 0.0) {
+        return Err(InputError::new(
+            "--figure",
+            format!(
+                "the Allan deviation (or its band) is zero at tau = {} s: nothing to draw on a log scale",
+                sig(p.tau_s, 4)
+            ),
+        )
+        .into());
+    }
+    let x0 = a.points[0].tau_s;
+    let x1 = a.points[a.points.len() - 1].tau_s;
+    let (x0, x1) = (x0 / 1.5, x1 * 1.5);
+    let mut y0 = a
+        .points
+        .iter()
+        .map(|p| p.lower)
+        .fold(f64::INFINITY, f64::min);
+    let y1 = a.points.iter().map(|p| p.upper).fold(0.0, f64::max);
+    let floor = f.bias_instability * FLICKER_FLOOR_FACTOR;
+    if floor > 0.0 {
+        y0 = y0.min(floor);
+    }
+    let (y0, y1) = (y0 / 2.0, y1 * 2.0);
+    let white = |t: f64| f.white_noise / t.sqrt();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, 640)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{what}: {e:?}"))?;
+        let title = format!(
+            "Allan deviation of {}, column {} ({} samples at {} Hz)",
+            log.name.escape_debug(),
+            log.column.escape_debug(),
+            a.samples,
+            sig(a.rate_hz, 6)
+        );
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 19))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(90)
+            .build_cartesian_2d(
+                (x0..x1).log_scale().with_key_points(log_ticks(x0, x1)),
+                (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
+            )
+            .map_err(|e| anyhow!("{what}: {e:?}"))?;
+        chart
+            .configure_mesh()
+            .x_desc("cluster time tau (s)")
+            .y_desc(format!("Allan deviation ({unit})"))
+            .x_label_formatter(&|v| sig(*v, 3))
+            .y_label_formatter(&|v| sig(*v, 3))
+            .light_line_style(TRANSPARENT)
+            .bold_line_style(RGBColor(225, 225, 225))
+            .draw()
+            .map_err(|e| anyhow!("{what}: {e:?}"))?;
+        let band: Vec<(f64, f64)> = a
+            .points
+            .iter()
+            .map(|p| (p.tau_s, p.upper))
+            .chain(a.points.iter().rev().map(|p| (p.tau_s, p.lower)))
+            .collect();
+        let c = colour(0);
+        chart
+            .draw_series(std::iter::once(Polygon::new(band, c.mix(0.18).filled())))
+            .map_err(|e| anyhow!("{what}: {e:?}"))?
+            .label(format!("{} % band", sig(100.0 * a.confidence, 3)))
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 20, y + 6)], c.mix(0.18).filled())
+            });
+        chart
+            .draw_series(LineSeries::new(
+                a.points.iter().map(|p| (p.tau_s, p.adev)),
+                c.stroke_width(2),
+            ))
+            .map_err(|e| anyhow!("{what}: {e:?}"))?
+            .label("overlapping Allan deviation")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        chart
+            .draw_series(
+                a.points
+                    .iter()
+                    .map(|p| Circle::new((p.tau_s, p.adev), 3, c.filled())),
+            )
+            .map_err(|e| anyhow!("{what}: {e:?}"))?;
+        if f.white_noise > 0.0 {
+            let w = colour(1);
+            // the -1/2 line where it lies inside the plot
+            let pts: Vec<(f64, f64)> = (0..=64)
+                .map(|i| x0 * (x1 / x0).powf(f64::from(i) / 64.0))
+                .map(|t| (t, white(t)))
+                .filter(|(_, v)| *v >= y0 && *v <= y1)
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts, w.stroke_width(2)))
+                .map_err(|e| anyhow!("{what}: {e:?}"))?
+                .label(format!(
+                    "white noise N / sqrt(tau), N = {} {unit}/sqrt(Hz)",
+                    sig(f.white_noise, 3)
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], w.stroke_width(2))
+                });
+        }
+        if floor > 0.0 {
+            chart
+                .draw_series(LineSeries::new(
+                    [(x0, floor), (x1, floor)],
+                    LIMIT.stroke_width(2),
+                ))
+                .map_err(|e| anyhow!("{what}: {e:?}"))?
+                .label(format!(
+                    "floor 0.664 B, B = {} {unit} (at tau = {} s)",
+                    sig(f.bias_instability, 3),
+                    sig(f.floor_tau_s, 3)
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], LIMIT.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK.mix(0.3))
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{what}: {e:?}"))?;
+        root.present().map_err(|e| anyhow!("{what}: {e:?}"))?;
+    }
+    Ok(svg)
+}
+
+/// Tick values of a log axis over `[lo, hi]`: 1, 2, 5 times the powers of ten, or the powers
+/// of ten alone over more than four decades.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let first = lo.log10().floor() as i32;
+    let last = hi.log10().ceil() as i32;
+    let steps: &[f64] = if last - first > 4 {
+        &[1.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    };
+    (first..=last)
+        .flat_map(|e| steps.iter().map(move |s| s * 10f64.powi(e)))
+        .filter(|v| *v >= lo && *v <= hi)
+        .collect()
+}
+
+/// Refuse an output path that exists (any kind of entry), has no file name, or whose
+/// directory does not exist.
+fn check_new_path(flag: &str, out: &Path) -> Result<(), InputError> {
+    let shown = out.display().to_string();
+    if out.symlink_metadata().is_ok() {
+        return Err(InputError::new(
+            &shown,
+            format!(
+                "{flag}: the file exists; choose a new name (an existing file is never overwritten)"
+            ),
+        ));
+    }
+    if out.file_name().is_none() {
+        return Err(InputError::new(&shown, format!("{flag} needs a file name")));
+    }
+    let dir = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        return Err(InputError::new(
+            &shown,
+            format!("{flag}: its directory does not exist"),
+        ));
+    }
+    Ok(())
+}
+
+/// A complete temporary file beside `out`, to be linked into place.
+fn stage(out: &Path, bytes: &[u8]) -> Result<tempfile::NamedTempFile> {
+    let dir = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".allan-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    Ok(tmp)
+}
+
+/// Link a staged file into place, never replacing anything.
+fn commit(flag: &str, tmp: tempfile::NamedTempFile, out: &Path) -> Result<()> {
+    tmp.persist_noclobber(out).map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            anyhow::Error::new(InputError::new(
+                out.display().to_string(),
+                format!("{flag}: the file appeared while the log was read; not overwritten"),
+            ))
+        } else {
+            anyhow::Error::new(e.error).context(format!("writing {}", out.display()))
+        }
+    })?;
+    Ok(())
+}
+
+/// Run the command.
+///
+/// # Errors
+/// [`InputError`] for bad input (exit 2, nothing on standard output); other errors for a
+/// failing disk.
+pub fn run(args: &Args) -> Result<()> {
+    let outputs: Vec<(&str, &PathBuf)> = [
+        ("--figure", &args.figure),
+        ("--write-noise", &args.write_noise),
+    ]
+    .into_iter()
+    .filter_map(|(f, p)| p.as_ref().map(|p| (f, p)))
+    .collect();
+    for (flag, p) in &outputs {
+        check_new_path(flag, p)?;
+    }
+    if let [(_, a), (_, b)] = outputs.as_slice() {
+        if a == b {
+            return Err(InputError::new("--write-noise", "the same path as --figure").into());
+        }
+    }
+    let source = Source::from_arg(args.log.as_deref());
+    let log = read_log(&source, args)?;
+    let unit = args.unit.as_deref().unwrap_or("log unit");
+    let nums = numbers(&log.analysis);
+    if nums.iter().any(|v| !v.is_finite()) {
+        bail!(
+            "internal: a non-finite number in the analysis of {}",
+            log.name
+        );
+    }
+    let stdout = if args.json {
+        let mut s = serde_json::to_string_pretty(&json_of(&log, args.unit.as_deref())?)?;
+        s.push('\n');
+        s
+    } else {
+        text_of(&log, unit)
+    };
+    let mut staged = Vec::new();
+    if let Some(p) = &args.figure {
+        staged.push(("--figure", stage(p, figure_svg(&log, unit)?.as_bytes())?, p));
+    }
+    if let Some(p) = &args.write_noise {
+        staged.push((
+            "--write-noise",
+            stage(p, noise_toml(&log, unit).as_bytes())?,
+            p,
+        ));
+    }
+    let mut written = String::new();
+    for (flag, tmp, p) in staged {
+        commit(flag, tmp, p)?;
+        if !args.json {
+            written.push_str(&format!(
+                "wrote {}\n",
+                p.display().to_string().escape_debug()
+            ));
+        }
+    }
+    crate::out::print(&(stdout + &written))
+}

@@ -1,0 +1,462 @@
+//! `cargo xtask allan`: the JSON against the library on a synthetic log, files, standard input
+//! and named pipes, the figure and the noise file, and bad inputs (exit 2, nothing written).
+
+mod common;
+
+use common::{assert_input_error, num, run, run_with_stdin, stderr, stdout, write};
+use rand_chacha::ChaCha8Rng;
+use rand_core::{Rng, SeedableRng};
+use std::path::Path;
+
+/// A seeded log: white noise (sd 0.05 per sample) plus a random walk (steps of 1e-4), a bias
+/// of 3, `n` samples; with a time column before it and a second noise column after it.
+fn samples(n: usize, seed: u64) -> (Vec<f64>, String) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut u = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    let mut normal = move || {
+        let (a, b) = (u(), u());
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    };
+    let mut rw = 0.0;
+    let mut y = Vec::with_capacity(n);
+    let mut csv = String::from("\u{feff}t_s, gz_deg_per_s ,ax_g\n");
+    for i in 0..n {
+        rw += 1e-4 * normal();
+        let v = 3.0 + 0.05 * normal() + rw;
+        y.push(v);
+        csv.push_str(&format!("{},{v},{}\n", i as f64 / 100.0, normal()));
+        if i == 10 {
+            csv.push('\n'); // blank lines are skipped
+        }
+    }
+    (y, csv)
+}
+
+fn assert_close(a: f64, b: f64, what: &str) {
+    // the CSV holds the samples at full precision (shortest round-trip form): the same
+    // doubles reach the same estimator, so the values agree to the last bit
+    assert_eq!(a.to_bits(), b.to_bits(), "{what}: {a} vs {b}");
+}
+
+/// The JSON's keys and values are the library's on the same samples: white noise, bias
+/// instability and every point of the curve, at full precision.
+#[test]
+fn json_keys_and_values_match_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let (y, csv) = samples(60_000, 1);
+    let path = write(dir.path(), "log.csv", &csv);
+    let o = run(&[
+        "allan",
+        path.to_str().unwrap(),
+        "--rate-hz",
+        "100",
+        "--column",
+        "gz_deg_per_s",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let lib = allan::analyse(&y, allan::Settings::new(100.0)).unwrap();
+    assert_eq!(j["samples"], 60_000);
+    assert_close(num(&j["rate_hz"]), 100.0, "rate");
+    assert_eq!(j["column"], "gz_deg_per_s");
+    assert_close(
+        num(&j["white_noise_per_sqrt_hz"]),
+        lib.fit.white_noise,
+        "white noise",
+    );
+    assert_close(
+        num(&j["bias_instability"]),
+        lib.fit.bias_instability,
+        "bias instability",
+    );
+    assert_close(num(&j["floor_tau_s"]), lib.fit.floor_tau_s, "floor tau");
+    assert_close(num(&j["confidence"]), allan::chi2::ONE_SIGMA, "confidence");
+    let curve = j["curve"].as_array().unwrap();
+    assert_eq!(curve.len(), lib.points.len());
+    for (c, p) in curve.iter().zip(&lib.points) {
+        assert_close(num(&c["tau_s"]), p.tau_s, "tau_s");
+        assert_close(num(&c["adev"]), p.adev, "adev");
+        assert_close(num(&c["lower"]), p.lower, "lower");
+        assert_close(num(&c["upper"]), p.upper, "upper");
+        assert!(num(&c["lower"]) < num(&c["adev"]) && num(&c["adev"]) < num(&c["upper"]));
+    }
+    // the white noise of the log (0.05 per sample at 100 Hz: 0.005 per sqrt(Hz))
+    let n = num(&j["white_noise_per_sqrt_hz"]);
+    let u = num(&j["white_noise_uncertainty"]);
+    assert!((n - 0.005).abs() <= 5.0 * u && u < 2.5e-4, "N {n} +- {u}");
+    // every number finite; absent terms are null, not NaN
+    let text = stdout(&o);
+    assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    for key in [
+        "rate_random_walk",
+        "quantization",
+        "rate_ramp",
+        "floor_reached",
+        "unit",
+        "duration_s",
+    ] {
+        assert!(j.get(key).is_some(), "key {key}");
+    }
+}
+
+/// Standard input (`-` or no path) and a named pipe give the same answer as the file: the
+/// log is read once, streaming.
+#[test]
+fn standard_input_and_a_named_pipe_are_read_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, csv) = samples(20_000, 2);
+    let path = write(dir.path(), "log.csv", &csv);
+    fn args(p: &str) -> Vec<&str> {
+        vec![
+            "allan",
+            p,
+            "--rate-hz",
+            "50",
+            "--column",
+            "gz_deg_per_s",
+            "--json",
+        ]
+    }
+    let strip = |o: &std::process::Output| {
+        assert!(o.status.success(), "{}", stderr(o));
+        let mut j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        j.as_object_mut().unwrap().remove("log");
+        j
+    };
+    let file = strip(&run(&args(path.to_str().unwrap())));
+    let dash = strip(&run_with_stdin(&args("-"), csv.as_bytes()));
+    assert_eq!(file, dash);
+    let none = strip(&run_with_stdin(
+        &[
+            "allan",
+            "--rate-hz",
+            "50",
+            "--column",
+            "gz_deg_per_s",
+            "--json",
+        ],
+        csv.as_bytes(),
+    ));
+    assert_eq!(file, none);
+    // a named pipe: a writer thread feeds it while the command reads it
+    let fifo = dir.path().join("log.fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let writer = {
+        let fifo = fifo.clone();
+        let csv = csv.clone();
+        std::thread::spawn(move || std::fs::write(&fifo, csv).unwrap())
+    };
+    let piped = strip(&run(&args(fifo.to_str().unwrap())));
+    writer.join().unwrap();
+    assert_eq!(file, piped);
+}
+
+/// The text names the unit (the log's unit unless --unit is given), the fitted values and a
+/// table of the curve.
+#[test]
+fn text_names_the_units_and_the_fit() {
+    let (_, csv) = samples(5_000, 3);
+    let o = run_with_stdin(
+        &[
+            "allan",
+            "--rate-hz",
+            "100",
+            "--column",
+            "gz_deg_per_s",
+            "--unit",
+            "deg/s",
+        ],
+        csv.as_bytes(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = stdout(&o);
+    for needle in [
+        "white noise N",
+        "deg/s/sqrt(Hz)",
+        "bias instability B",
+        "floor cluster time",
+        "tau (s)",
+        "5000 samples",
+    ] {
+        assert!(t.contains(needle), "lacks `{needle}`: {t}");
+    }
+    let o = run_with_stdin(
+        &["allan", "--rate-hz", "100", "--column", "ax_g"],
+        csv.as_bytes(),
+    );
+    assert!(stdout(&o).contains("log unit/sqrt(Hz)"), "{}", stdout(&o));
+}
+
+/// The figure (SVG, axis labels with units) and the noise block (TOML with the schema's keys,
+/// equal to the JSON's values) are written whole, nothing else is left in the directory.
+#[test]
+fn figure_and_noise_file_are_written_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, csv) = samples(30_000, 4);
+    let log = write(dir.path(), "log.csv", &csv);
+    let fig = dir.path().join("adev.svg");
+    let noise = dir.path().join("noise.toml");
+    let o = run(&[
+        "allan",
+        log.to_str().unwrap(),
+        "--rate-hz",
+        "100",
+        "--column",
+        "gz_deg_per_s",
+        "--unit",
+        "deg/s",
+        "--json",
+        "--figure",
+        fig.to_str().unwrap(),
+        "--write-noise",
+        noise.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let svg = std::fs::read_to_string(&fig).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    for needle in [
+        "cluster time tau (s)",
+        "Allan deviation (deg/s)",
+        "white noise",
+        "floor 0.664 B",
+    ] {
+        assert!(svg.contains(needle), "figure lacks `{needle}`");
+    }
+    let text = std::fs::read_to_string(&noise).unwrap();
+    assert!(
+        text.contains("log.csv") && text.contains("gz_deg_per_s") && text.contains("100 Hz"),
+        "{text}"
+    );
+    assert!(text.contains("in the log's unit (deg/s)"), "{text}");
+    let t: toml::Table = toml::from_str(&text).unwrap();
+    let block = &t["sensor"]["outputs"]["noise"];
+    for (key, json_key) in [
+        ("white_per_sqrt_hz", "white_noise_per_sqrt_hz"),
+        ("bias_instability", "bias_instability"),
+        ("bias_correlation_s", "floor_tau_s"),
+    ] {
+        let v = block[key]
+            .as_float()
+            .unwrap_or_else(|| panic!("{key} is a float"));
+        assert_eq!(v.to_bits(), num(&j[json_key]).to_bits(), "{key}");
+    }
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["adev.svg", "log.csv", "noise.toml"]);
+}
+
+fn only(dir: &Path, names: &[&str]) {
+    let mut found: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    assert_eq!(found, names, "the directory holds only what was there");
+}
+
+/// An existing --figure or --write-noise path is refused (exit 2) and left untouched; a figure
+/// that cannot be drawn leaves nothing behind.
+#[test]
+fn existing_outputs_are_refused_and_failures_leave_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, csv) = samples(2_000, 5);
+    let log = write(dir.path(), "log.csv", &csv);
+    let taken = write(dir.path(), "taken.svg", "mine");
+    for flag in ["--figure", "--write-noise"] {
+        let o = run(&[
+            "allan",
+            log.to_str().unwrap(),
+            "--rate-hz",
+            "10",
+            "--column",
+            "ax_g",
+            flag,
+            taken.to_str().unwrap(),
+        ]);
+        assert_input_error(&o, &[flag, "exists"]);
+        assert_eq!(std::fs::read_to_string(&taken).unwrap(), "mine");
+    }
+    let o = run(&[
+        "allan",
+        log.to_str().unwrap(),
+        "--rate-hz",
+        "10",
+        "--column",
+        "ax_g",
+        "--figure",
+        dir.path().join("no/such/dir.svg").to_str().unwrap(),
+    ]);
+    assert_input_error(&o, &["--figure", "directory does not exist"]);
+    // a constant log: zero deviation, nothing to draw on a log scale
+    let flat = write(
+        dir.path(),
+        "flat.csv",
+        &format!("x\n{}", "1.5\n".repeat(100)),
+    );
+    let fig = dir.path().join("flat.svg");
+    let noise = dir.path().join("flat.toml");
+    let o = run(&[
+        "allan",
+        flat.to_str().unwrap(),
+        "--rate-hz",
+        "10",
+        "--figure",
+        fig.to_str().unwrap(),
+        "--write-noise",
+        noise.to_str().unwrap(),
+    ]);
+    assert_input_error(&o, &["--figure", "zero"]);
+    only(dir.path(), &["flat.csv", "log.csv", "taken.svg"]);
+}
+
+/// Bad input exits 2 naming the flag, or the line and column, with nothing on standard output.
+#[test]
+fn bad_input_exits_2_naming_the_flag_line_or_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = write(dir.path(), "good.csv", "a,b\n1,2\n3,4\n5,6\n7,8\n");
+    let g = good.to_str().unwrap();
+    // the rate
+    assert_input_error(&run(&["allan", g, "--column", "a"]), &["--rate-hz"]);
+    for bad in ["0", "-1", "nan", "inf", "-inf", "x", "1e13"] {
+        assert_input_error(
+            &run(&["allan", g, "--column", "a", "--rate-hz", bad]),
+            &["--rate-hz"],
+        );
+    }
+    for bad in ["0", "1", "1.5", "nan"] {
+        assert_input_error(
+            &run(&[
+                "allan",
+                g,
+                "--column",
+                "a",
+                "--rate-hz",
+                "1",
+                "--confidence",
+                bad,
+            ]),
+            &["--confidence"],
+        );
+    }
+    assert_input_error(
+        &run(&[
+            "allan",
+            g,
+            "--column",
+            "a",
+            "--rate-hz",
+            "1",
+            "--unit",
+            "a\u{1b}[2J",
+        ]),
+        &["--unit"],
+    );
+    // columns
+    assert_input_error(
+        &run(&["allan", g, "--rate-hz", "1", "--column", "c"]),
+        &["--column", "`c`", "`a`, `b`"],
+    );
+    assert_input_error(
+        &run(&["allan", g, "--rate-hz", "1"]),
+        &["--column", "2 columns"],
+    );
+    let dup = write(dir.path(), "dup.csv", "a,a\n1,2\n");
+    assert_input_error(
+        &run(&[
+            "allan",
+            dup.to_str().unwrap(),
+            "--rate-hz",
+            "1",
+            "--column",
+            "a",
+        ]),
+        &["dup.csv:1 column 2", "twice"],
+    );
+    let headerless = write(dir.path(), "raw.csv", "0.1\n0.2\n0.3\n");
+    assert_input_error(
+        &run(&["allan", headerless.to_str().unwrap(), "--rate-hz", "1"]),
+        &["raw.csv:1", "header"],
+    );
+    // cells
+    for (body, needles) in [
+        (
+            "a,b\n1,2\n3,x\n5,6\n",
+            vec!["bad.csv:3 column 2", "`x` is not a number"],
+        ),
+        (
+            "a,b\n1,2\n3,inf\n5,6\n",
+            vec!["bad.csv:3 column 2", "not a finite number"],
+        ),
+        (
+            "a,b\n1,2\n3,NaN\n5,6\n",
+            vec!["bad.csv:3 column 2", "not a finite number"],
+        ),
+        (
+            "a,b\n1,2\n3\n5,6\n",
+            vec!["bad.csv:3", "expected 2 columns, found 1"],
+        ),
+        (
+            "a,b\n1,2\n3,\n5,6\n",
+            vec!["bad.csv:3 column 2", "is not a number"],
+        ),
+        (
+            "a,b\n1,2\n3,1e999\n5,6\n",
+            vec!["bad.csv:3 column 2", "not a finite number"],
+        ),
+    ] {
+        let p = write(dir.path(), "bad.csv", body);
+        assert_input_error(
+            &run(&[
+                "allan",
+                p.to_str().unwrap(),
+                "--rate-hz",
+                "1",
+                "--column",
+                "b",
+            ]),
+            &needles,
+        );
+    }
+    // too few samples, empty input, invalid UTF-8, a directory, a missing file
+    let short = write(dir.path(), "short.csv", "b\n1\n2\n");
+    assert_input_error(
+        &run(&["allan", short.to_str().unwrap(), "--rate-hz", "1"]),
+        &["short.csv", "2 samples", "at least 3"],
+    );
+    let header_only = write(dir.path(), "h.csv", "b\n");
+    assert_input_error(
+        &run(&["allan", header_only.to_str().unwrap(), "--rate-hz", "1"]),
+        &["h.csv", "0 samples"],
+    );
+    assert_input_error(
+        &run_with_stdin(&["allan", "--rate-hz", "1"], b""),
+        &["<stdin>", "empty input"],
+    );
+    assert_input_error(
+        &run_with_stdin(&["allan", "--rate-hz", "1"], b"b\n1\n\xff\n3\n"),
+        &["<stdin>:3", "UTF-8"],
+    );
+    assert_input_error(
+        &run(&["allan", dir.path().to_str().unwrap(), "--rate-hz", "1"]),
+        &["directory"],
+    );
+    assert_input_error(
+        &run(&["allan", "/no/such/log.csv", "--rate-hz", "1"]),
+        &["/no/such/log.csv", "cannot read"],
+    );
+    // three samples are enough: one cluster time
+    let three = write(dir.path(), "three.csv", "b\n1\n2\n4\n");
+    let o = run(&["allan", three.to_str().unwrap(), "--rate-hz", "1", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["curve"].as_array().unwrap().len(), 1);
+}
