@@ -89,6 +89,15 @@ pub enum CalibError {
         /// Half range, rad.
         half_range_rad: f64,
     },
+    /// A calibration timing (dwell, move time, sample rate) is invalid; `field` names it
+    /// (`move_s`, `dwell_s[3]`).
+    #[error("{field}: {reason}")]
+    Timing {
+        /// Which value.
+        field: String,
+        /// Why it was rejected.
+        reason: String,
+    },
     /// An output or angle was named that does not exist.
     #[error("{what} `{name}` does not exist")]
     Unknown {
