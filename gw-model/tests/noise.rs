@@ -130,8 +130,11 @@ fn random_walk_after_one_hour_equals_the_datasheet_coefficient() {
 fn density_in_the_output_unit_needs_no_known_unit() {
     for unit in ["deg_per_h", "mg", "counts"] {
         assert_eq!(
-            WhiteDensity::PerSqrtHz(2.5).in_output_unit(unit).unwrap(),
-            2.5
+            WhiteDensity::PerSqrtHz(2.5)
+                .in_output_unit(unit)
+                .unwrap()
+                .to_bits(),
+            2.5f64.to_bits()
         );
     }
     assert_eq!(OutputUnit::parse("counts"), None);
@@ -146,7 +149,11 @@ fn density_in_the_output_unit_needs_no_known_unit() {
     // every listed label parses to its row
     for &(label, family, si) in OUTPUT_UNITS {
         let u = OutputUnit::parse(label).unwrap();
-        assert_eq!((u.family(), u.si_per_unit()), (family, si), "{label}");
+        assert_eq!(
+            (u.family(), u.si_per_unit().to_bits()),
+            (family, si.to_bits()),
+            "{label}"
+        );
     }
 }
 
@@ -329,16 +336,16 @@ fn numerical_gm_covariance(sigma: f64, tc: f64, w1: (f64, f64), w2: (f64, f64)) 
     }
     let k = |s: f64, u: f64| (-(s - u).abs() / tc).exp();
     let mut sum = 0.0;
-    for ci in edges.windows(2) {
-        for cj in edges.windows(2) {
+    for (a, ci) in edges.windows(2).enumerate() {
+        for (b, cj) in edges.windows(2).enumerate() {
             let (p, q, r, t) = (ci[0], ci[1], cj[0], cj[1]);
             let in1 = p >= w1.0 && q <= w1.1;
             let in2 = r >= w2.0 && t <= w2.1;
             if !(in1 && in2) {
                 continue;
             }
-            if p == r {
-                // triangle u <= s in [p, q]^2, twice (the integrand is symmetric)
+            if a == b {
+                // same cell: triangle u <= s in [p, q]^2, twice (the integrand is symmetric)
                 let h = q - p;
                 for &(x, wx) in &gl {
                     let s = p + h * x;
@@ -433,7 +440,7 @@ fn white_and_quantization_variances_of_an_average_are_n2_over_t_and_q2_over_12_f
         q * q / (12.0 * m),
         max_relative = CONVERSION_REL
     );
-    assert_eq!(noise.correlated_variance_of_average(&w), 0.0);
+    assert_eq!(noise.correlated_variance_of_average(&w).to_bits(), 0);
     // half of w shared with a window of the same length: half the variance
     let half = Window::new(130.0, 60.0).unwrap();
     assert_relative_eq!(
@@ -442,7 +449,7 @@ fn white_and_quantization_variances_of_an_average_are_n2_over_t_and_q2_over_12_f
         max_relative = CONVERSION_REL
     );
     let later = Window::new(160.0, 60.0).unwrap();
-    assert_eq!(noise.covariance_of_averages(&w, &later, fs), 0.0);
+    assert_eq!(noise.covariance_of_averages(&w, &later, fs).to_bits(), 0);
 }
 
 /// The n x n matrix of a schedule's windows (built with one exponential per gap, in time
@@ -493,7 +500,7 @@ fn window_covariance_matrix_equals_pairwise_closed_forms_in_any_order() {
         Window::new(1e6, 10.0).unwrap(),
     ];
     let c = noise.window_covariance(&far, fs).unwrap();
-    assert_eq!(c.correlated[(0, 1)], 0.0);
+    assert_eq!(c.correlated[(0, 1)].to_bits(), 0);
     assert!(c.total().iter().all(|v| v.is_finite()));
 }
 

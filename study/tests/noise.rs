@@ -80,7 +80,7 @@ fn imu_example_has_the_stim300_noise_and_a_timing() {
     for (o, n) in s.sensor.outputs().iter().zip(&s.noise) {
         let n = n.as_ref().unwrap();
         let gm = n.bias().unwrap();
-        assert_eq!(gm.correlation_s(), 3600.0);
+        assert_eq!(gm.correlation_s().to_bits(), 3600f64.to_bits());
         let (white, b) = if o.unit == "deg_per_h" {
             (9.0, 0.5)
         } else {
@@ -89,7 +89,7 @@ fn imu_example_has_the_stim300_noise_and_a_timing() {
         };
         assert_relative_eq!(n.white_per_sqrt_hz(), white, max_relative = CONVERSION_REL);
         assert_relative_eq!(gm.bias_instability(), b, max_relative = CONVERSION_REL);
-        assert_eq!(n.quantization(), 0.0);
+        assert_eq!(n.quantization().to_bits(), 0);
     }
     let cov = s.calibration.noise_covariances(&s.noise, t).unwrap();
     for (o, c) in s.sensor.outputs().iter().zip(&cov).take(3) {
@@ -136,14 +136,17 @@ fn each_white_key_converts_to_the_output_unit() {
     )
     .unwrap();
     let n = s.noise[1].as_ref().unwrap();
-    assert_eq!(n.white_per_sqrt_hz(), 0.0);
+    assert_eq!(n.white_per_sqrt_hz().to_bits(), 0);
     assert_relative_eq!(
         n.bias().unwrap().bias_instability(),
         0.002,
         max_relative = CONVERSION_REL
     );
     let s = Study::parse("s.toml", &paper_with("quantization = 0.001", "")).unwrap();
-    assert_eq!(s.noise[1].as_ref().unwrap().quantization(), 0.001);
+    assert_eq!(
+        s.noise[1].as_ref().unwrap().quantization().to_bits(),
+        0.001f64.to_bits()
+    );
 }
 
 /// Bad noise values: negative, non-finite, above the limit, pairs incomplete, two white keys,
@@ -274,14 +277,14 @@ fn bad_timing_is_an_error_naming_the_key() {
     )
     .unwrap();
     let t = s.timing.unwrap();
-    assert_eq!(t.dwell_s()[31], 61.0);
-    assert_eq!(t.move_s(), 5.0);
+    assert_eq!(t.dwell_s()[31].to_bits(), 61f64.to_bits());
+    assert_eq!(t.move_s().to_bits(), 5f64.to_bits());
     let s = Study::parse(
         "s.toml",
         &paper_with("", "dwell_s = 60\nsample_rate_hz = 100"),
     )
     .unwrap();
-    assert_eq!(s.timing.unwrap().move_s(), 0.0); // move_s defaults to 0
+    assert_eq!(s.timing.unwrap().move_s().to_bits(), 0); // move_s defaults to 0
 
     let key = |k: &str| format!("s.toml: key `calibration.timing.{k}`");
     let mut bad_list = list.clone();

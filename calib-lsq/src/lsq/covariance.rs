@@ -110,37 +110,54 @@ impl CoefficientCovariance {
 
 /// The covariance of the noise part of the rate error at the test positions,
 /// $\mathbf A\,\mathrm{Cov}\,\hat{\boldsymbol\beta}\,\mathbf A^T$ ($n\times n$, output unit
-/// squared), white and correlated parts.
+/// squared), white and correlated parts. The per-position standard deviations are computed
+/// at once ($\sigma_i^2 = \mathbf a_i^T\mathrm{Cov}\,\mathbf a_i$, $O(nk^2)$); the
+/// $n\times n$ matrices only when asked for.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RateErrorCovariance {
+    a: DMatrix<f64>,
     white: DMatrix<f64>,
     correlated: DMatrix<f64>,
+    white_variance: DVector<f64>,
+    correlated_variance: DVector<f64>,
 }
 
 impl RateErrorCovariance {
-    /// The white part.
+    /// The white part, $\mathbf A\,\mathrm{Cov}_w\mathbf A^T$ ($n\times n$).
     #[must_use]
-    pub fn white(&self) -> &DMatrix<f64> {
-        &self.white
+    pub fn white(&self) -> DMatrix<f64> {
+        sandwich(&self.a, &self.white)
     }
 
-    /// The correlated part.
+    /// The correlated part, $\mathbf A\,\mathrm{Cov}_b\mathbf A^T$ ($n\times n$).
     #[must_use]
-    pub fn correlated(&self) -> &DMatrix<f64> {
-        &self.correlated
+    pub fn correlated(&self) -> DMatrix<f64> {
+        sandwich(&self.a, &self.correlated)
     }
 
-    /// The whole covariance.
+    /// The whole covariance ($n\times n$).
     #[must_use]
     pub fn total(&self) -> DMatrix<f64> {
-        &self.white + &self.correlated
+        sandwich(&self.a, &(&self.white + &self.correlated))
     }
 
     /// Standard deviation of the rate error at each test position (the noise sigma of that
     /// position's entry of eq 14's infinity norm), output unit.
     #[must_use]
     pub fn sigma(&self) -> DVector<f64> {
-        diag_sqrt(&(&self.white + &self.correlated))
+        (&self.white_variance + &self.correlated_variance).map(|v| v.max(0.0).sqrt())
+    }
+
+    /// Standard deviation at each test position, white part only.
+    #[must_use]
+    pub fn white_sigma(&self) -> DVector<f64> {
+        self.white_variance.map(|v| v.max(0.0).sqrt())
+    }
+
+    /// Standard deviation at each test position, correlated part only.
+    #[must_use]
+    pub fn correlated_sigma(&self) -> DVector<f64> {
+        self.correlated_variance.map(|v| v.max(0.0).sqrt())
     }
 
     /// The largest per-position standard deviation and its position.
@@ -176,6 +193,81 @@ fn sandwich(b: &DMatrix<f64>, c: &DMatrix<f64>) -> DMatrix<f64> {
     (&m + m.transpose()) * 0.5
 }
 
+/// $\mathbf P\mathbf C\mathbf P^T$ for a symmetric $n\times n$ $\mathbf C$ and $\mathbf P$
+/// given transposed (`pt`, $n\times k$, columns contiguous): a diagonal $\mathbf C$ in
+/// $O(nk^2)$, a dense one as $k$ products $\mathbf C\mathbf p_r$ (contiguous dot products,
+/// using the symmetry) and $k^2$ dot products.
+fn sandwich_symmetric(pt: &DMatrix<f64>, c: &DMatrix<f64>) -> DMatrix<f64> {
+    let (n, k) = pt.shape();
+    // column-major storage: column j of an n-row matrix is [j n, (j + 1) n)
+    let (p, cs) = (pt.as_slice(), c.as_slice());
+    let diagonal = cs
+        .chunks_exact(n)
+        .enumerate()
+        .all(|(j, col)| col.iter().enumerate().all(|(i, &v)| i == j || v == 0.0));
+    let mut out = DMatrix::zeros(k, k);
+    if diagonal {
+        for i in 0..n {
+            let d = cs[i * n + i];
+            if d == 0.0 {
+                continue;
+            }
+            for r in 0..k {
+                let pr = p[r * n + i] * d;
+                for s in 0..=r {
+                    out[(r, s)] += pr * p[s * n + i];
+                }
+            }
+        }
+    } else {
+        // cp = C P^T (n x k), by symmetry (C p_r)_j = column j of C . p_r
+        let mut cp = vec![0.0; n * k];
+        for r in 0..k {
+            let pr = &p[r * n..(r + 1) * n];
+            for (j, col) in cs.chunks_exact(n).enumerate() {
+                cp[r * n + j] = dot(col, pr);
+            }
+        }
+        for r in 0..k {
+            for s in 0..=r {
+                out[(r, s)] = dot(&p[r * n..(r + 1) * n], &cp[s * n..(s + 1) * n]);
+            }
+        }
+    }
+    for r in 0..k {
+        for s in 0..r {
+            out[(s, r)] = out[(r, s)];
+        }
+    }
+    out
+}
+
+/// $\mathbf x\cdot\mathbf y$ with eight independent partial sums (a single running sum is a
+/// chain of dependent additions, several times slower for the $n = 128$ of a long schedule).
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    const LANES: usize = 8;
+    let mut acc = [0.0; LANES];
+    let (xc, yc) = (x.chunks_exact(LANES), y.chunks_exact(LANES));
+    let tail: f64 = xc
+        .remainder()
+        .iter()
+        .zip(yc.remainder())
+        .map(|(a, b)| a * b)
+        .sum();
+    for (a, b) in xc.zip(yc) {
+        for l in 0..LANES {
+            acc[l] += a[l] * b[l];
+        }
+    }
+    acc.iter().sum::<f64>() + tail
+}
+
+/// $\mathbf a_i^T\mathbf C\mathbf a_i$ for every row $i$ of $\mathbf A$.
+fn row_quadratic_forms(a: &DMatrix<f64>, c: &DMatrix<f64>) -> DVector<f64> {
+    let ac = a * c;
+    DVector::from_iterator(a.nrows(), (0..a.nrows()).map(|i| ac.row(i).dot(&a.row(i))))
+}
+
 impl Regression {
     /// The covariance of the estimated coefficients when the outputs at the positions (the
     /// rows of $\mathbf A$) carry noise of covariance `positions` ($n\times n$, white and
@@ -197,10 +289,11 @@ impl Regression {
                 });
             }
         }
+        let pt = self.pinv.transpose();
         Ok(CoefficientCovariance {
             names: self.names.clone(),
-            white: sandwich(&self.pinv, &positions.white),
-            correlated: sandwich(&self.pinv, &positions.correlated),
+            white: sandwich_symmetric(&pt, &positions.white),
+            correlated: sandwich_symmetric(&pt, &positions.correlated),
         })
     }
 
@@ -222,8 +315,11 @@ impl Regression {
             });
         }
         Ok(RateErrorCovariance {
-            white: sandwich(&self.a, &coefficients.white),
-            correlated: sandwich(&self.a, &coefficients.correlated),
+            a: self.a.clone(),
+            white_variance: row_quadratic_forms(&self.a, &coefficients.white),
+            correlated_variance: row_quadratic_forms(&self.a, &coefficients.correlated),
+            white: coefficients.white.clone(),
+            correlated: coefficients.correlated.clone(),
         })
     }
 
