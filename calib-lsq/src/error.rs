@@ -118,3 +118,13 @@ pub(crate) fn finite(field: impl Into<String>, value: f64) -> Result<f64, CalibE
         })
     }
 }
+
+pub(crate) fn positive(field: impl Into<String>, value: f64) -> Result<f64, CalibError> {
+    let field = field.into();
+    finite(field.as_str(), value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(CalibError::NonPositive { field, value })
+    }
+}

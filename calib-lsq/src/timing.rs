@@ -9,7 +9,7 @@
 //! $$W_{o_r} = \Big[\sum_{s<r}(T_{o_s} + t_m),\ \sum_{s<r}(T_{o_s} + t_m) + T_{o_r}\Big],$$
 //! $T_k$ being position $k$'s dwell (a dwell belongs to its position, whatever the order).
 
-use crate::error::{CalibError, finite};
+use crate::error::{CalibError, finite, positive};
 use gw_model::noise::Window;
 
 /// Dwell per position (schedule order), move time and sample rate of a calibration.
@@ -178,17 +178,5 @@ impl Timing {
         out.into_iter()
             .map(|w| w.unwrap_or_else(|| unreachable!("order is a permutation")))
             .collect()
-    }
-}
-
-fn positive(field: &str, v: f64) -> Result<f64, CalibError> {
-    finite(field, v)?;
-    if v > 0.0 {
-        Ok(v)
-    } else {
-        Err(CalibError::NonPositive {
-            field: field.to_string(),
-            value: v,
-        })
     }
 }

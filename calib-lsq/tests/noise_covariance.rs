@@ -205,7 +205,7 @@ fn frozen_bias_goes_entirely_into_the_bias_coefficient() {
 /// minutes leaks into the g-sensitivities whose regressors change along the order) and leaves
 /// the white part unchanged: the IMU's 24 positions grouped by gravity direction (the study's
 /// order) against the same positions with the two gravity directions of each axis
-/// interleaved.
+/// interleaved; and the reverse of an order is the same as the order.
 #[test]
 fn visiting_order_changes_the_correlated_covariance_and_not_the_white() {
     let cal = Calibration::new(&gyro(), &gw_model::paper::site(), &imu_schedule()).unwrap();
@@ -242,6 +242,17 @@ fn visiting_order_changes_the_correlated_covariance_and_not_the_white() {
     for j in 1..4 {
         assert!(b[j] < 0.5 * a[j], "coefficient {j}: {} vs {}", b[j], a[j]);
     }
+    // reversing an order changes nothing: the stationary Gauss-Markov process is
+    // time-reversible (the windows are mirrored in time, their covariances unchanged)
+    let reversed: Vec<usize> = interleaved.iter().rev().copied().collect();
+    let back = out
+        .noise_covariance_in_order(&noise, &timing, &reversed)
+        .unwrap();
+    let scale = other.coefficients.correlated().amax();
+    assert!(
+        (back.coefficients.correlated() - other.coefficients.correlated()).amax()
+            <= PRODUCT_REL * scale
+    );
     // a bad permutation is a typed error
     assert!(matches!(
         out.noise_covariance_in_order(&noise, &timing, &[0; 24]),
@@ -448,4 +459,15 @@ fn bad_timing_is_an_error_naming_the_field() {
         .noise_covariances(&[None], &Timing::uniform(24, 60.0, 10.0, 100.0).unwrap())
         .unwrap();
     assert!(all[0].is_none());
+}
+
+/// The README's noise example is the example file the test suite compiles.
+#[test]
+fn readme_noise_example_is_the_compiled_example() {
+    let readme = include_str!("../README.md");
+    let example = include_str!("../examples/noise_covariance.rs");
+    assert!(
+        readme.contains(example.trim()),
+        "README.md must show examples/noise_covariance.rs verbatim"
+    );
 }

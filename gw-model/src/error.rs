@@ -94,3 +94,15 @@ pub(crate) fn positive(field: &str, value: f64) -> Result<f64, ModelError> {
         })
     }
 }
+
+pub(crate) fn non_negative(field: &str, value: f64) -> Result<f64, ModelError> {
+    finite(field, value)?;
+    if value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(ModelError::Negative {
+            field: field.to_string(),
+            value,
+        })
+    }
+}

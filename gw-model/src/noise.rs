@@ -126,7 +126,7 @@
 //! # Ok::<(), gw_model::ModelError>(())
 //! ```
 
-use crate::error::{ModelError, finite, positive};
+use crate::error::{ModelError, finite, non_negative, positive};
 use nalgebra::DMatrix;
 use std::fmt;
 
@@ -567,18 +567,6 @@ fn phi(v: f64) -> f64 {
         sum
     } else {
         (-v).exp_m1() + v
-    }
-}
-
-fn non_negative(field: &str, value: f64) -> Result<f64, ModelError> {
-    finite(field, value)?;
-    if value >= 0.0 {
-        Ok(value)
-    } else {
-        Err(ModelError::Negative {
-            field: field.to_string(),
-            value,
-        })
     }
 }
 

@@ -559,3 +559,14 @@ fn bad_noise_values_are_errors_naming_the_field() {
         "sample_rate_hz"
     );
 }
+
+/// The README's noise example is the example file the test suite compiles.
+#[test]
+fn readme_noise_example_is_the_compiled_example() {
+    let readme = include_str!("../README.md");
+    let example = include_str!("../examples/noise_of_an_output.rs");
+    assert!(
+        readme.contains(example.trim()),
+        "README.md must show examples/noise_of_an_output.rs verbatim"
+    );
+}
