@@ -89,6 +89,15 @@ pub enum CalibError {
         /// Half range, rad.
         half_range_rad: f64,
     },
+    /// A calibration timing (dwell, move time, sample rate) is invalid; `field` names it
+    /// (`move_s`, `dwell_s[3]`).
+    #[error("{field}: {reason}")]
+    Timing {
+        /// Which value.
+        field: String,
+        /// Why it was rejected.
+        reason: String,
+    },
     /// An output or angle was named that does not exist.
     #[error("{what} `{name}` does not exist")]
     Unknown {
@@ -107,5 +116,15 @@ pub(crate) fn finite(field: impl Into<String>, value: f64) -> Result<f64, CalibE
             field: field.into(),
             value,
         })
+    }
+}
+
+pub(crate) fn positive(field: impl Into<String>, value: f64) -> Result<f64, CalibError> {
+    let field = field.into();
+    finite(field.as_str(), value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(CalibError::NonPositive { field, value })
     }
 }

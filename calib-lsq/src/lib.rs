@@ -12,6 +12,12 @@
 //!   for one output;
 //! - [`RequirementProblem`]: the surfaces of Figure 4, the lines of Figure 5 and the
 //!   requirement of eq 15-16 for any sensor ([`RequirementProblem::requirement`]).
+//! - [`Timing`] (dwell per position, move time, sample rate) and the covariance of a
+//!   calibration under sensor noise (a `gw_model::noise::NoiseModel`): of the estimated
+//!   coefficients and of the rate error at the test positions, white and correlated between
+//!   positions in the visiting order ([`Regression::coefficient_covariance`],
+//!   [`OutputCalibration::noise_covariance`], [`Calibration::noise_covariances`]), from the
+//!   regression's pseudo-inverse, without a second solve.
 //!
 //! # Example
 //! ```
@@ -41,6 +47,7 @@ mod lsq;
 pub mod paper;
 mod requirement;
 mod schedule;
+mod timing;
 
 pub use analysis::{
     ErrorAnalysis, ErrorForm, ErrorWork, Estimate, OrientationErrorAnalysis, OutputsAt, Reading,
@@ -51,10 +58,14 @@ pub use calibration::{
     simulate_outputs,
 };
 pub use error::CalibError;
-pub use lsq::{LsqSolution, NULL_COMPONENT_TOL, RANK_RTOL, Regression, jacobi_singular_values};
+pub use lsq::{
+    CoefficientCovariance, LsqSolution, NULL_COMPONENT_TOL, NoiseCovariance, RANK_RTOL,
+    RateErrorCovariance, Regression, jacobi_singular_values,
+};
 pub use requirement::{
     ANGLE_NAMES, BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
     DIRECTION_TOL_RAD, INSENSITIVE_REL, OrientationRequirement, OutputBox, OutputRegion,
     RADIUS_TOL_RAD, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD, Surface,
 };
 pub use schedule::{Position, Schedule};
+pub use timing::Timing;

@@ -1,8 +1,12 @@
 //! Least squares by QR decomposition (eq 6 and 11 without forming $A^TA$), with rank,
-//! identifiability and singular values.
+//! identifiability and singular values, and the covariance of the estimate under sensor
+//! noise (submodule `covariance`: [`Regression::coefficient_covariance`]).
 
 use crate::error::{CalibError, finite};
 use nalgebra::{DMatrix, DVector};
+
+mod covariance;
+pub use covariance::{CoefficientCovariance, NoiseCovariance, RateErrorCovariance};
 
 /// Relative threshold for the numerical rank: a diagonal entry of the column-pivoted $\mathbf R$
 /// below `RANK_RTOL` $\cdot |R_{11}|$ counts as zero. Dimensionless. A coefficient identified

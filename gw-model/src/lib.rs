@@ -11,6 +11,9 @@
 //!   inputs at an intended orientation (eq 3 for the paper's table) and
 //!   [`Site::inputs_with_error`] at an orientation off by $\Delta\mathbf R$ (eq 8);
 //! - [`OrientationAngles`]: $(\Delta\psi, \Delta\theta, \Delta\gamma)$ and their matrix (eq 7).
+//! - [`noise`]: the noise of an output (white density, Gauss-Markov bias instability,
+//!   quantization), datasheet units converted to the output's unit, and the variance and
+//!   covariance of its averages over the windows a calibration dwells at each position.
 //!
 //! For eq 1 the outputs are
 //! $$k_y i_y = \omega_x + D(x)_F + D(x)_x a_x + D(x)_y a_y + D(x)_z a_z + D(x)_{xx} a_x^2 +
@@ -57,6 +60,7 @@
 #![forbid(unsafe_code)]
 
 mod error;
+pub mod noise;
 pub mod paper;
 mod sensor;
 mod site;

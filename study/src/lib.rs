@@ -25,6 +25,7 @@ pub mod csv;
 mod error;
 pub mod fmt;
 pub mod limits;
+mod noise;
 mod schema;
 mod tolerances;
 

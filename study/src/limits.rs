@@ -14,6 +14,11 @@
 //! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
 //! | tolerance (translation) | $[0, 1000]$ mm | a metre |
 //! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
+//! | noise: white density, bias instability, quantization | $[0, 10^{6}]$ in the key's unit (output unit, or the datasheet unit the key names) | non-negative; like the accuracy, beyond $10^6$ nothing is meaningful |
+//! | bias correlation time | $(0, 10^{7}]$ s | about 4 months: longer is a constant bias |
+//! | dwell per position | $(0, 86\,400]$ s, and at least one sample ($f_s T \ge 1$) | a day per position |
+//! | move time | $[0, 86\,400]$ s | a day |
+//! | sample rate | $(0, 10^{6}]$ Hz | inertial sensors sample at up to a few kHz |
 
 /// Latitude range, deg.
 pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
@@ -35,3 +40,13 @@ pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
 pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
 /// Largest study or tolerance file read, bytes (a study is a few kilobytes).
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
+/// Largest white-noise density, bias instability or quantization step, in the key's unit.
+pub const NOISE_MAX: f64 = 1e6;
+/// Bias correlation time range (exclusive lower end), s.
+pub const CORRELATION_S: (f64, f64) = (0.0, 1e7);
+/// Dwell time range per position (exclusive lower end), s.
+pub const DWELL_S: (f64, f64) = (0.0, 86_400.0);
+/// Move time range between positions, s.
+pub const MOVE_S: (f64, f64) = (0.0, 86_400.0);
+/// Sample rate range (exclusive lower end), Hz.
+pub const SAMPLE_RATE_HZ: (f64, f64) = (0.0, 1e6);

@@ -74,6 +74,7 @@ struct RawOutput {
     unit: String,
     accuracy: f64,
     terms: Vec<RawTerm>,
+    noise: Option<crate::noise::RawNoise>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -91,6 +92,7 @@ struct RawCalibration {
     reading: Option<String>,
     delta_r: Option<String>,
     positions_deg: Vec<Vec<f64>>,
+    timing: Option<crate::noise::RawTiming>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -175,6 +177,11 @@ pub struct Study {
     pub lower_bounds_rad: Vec<f64>,
     /// Monte Carlo settings.
     pub monte_carlo: MonteCarloSettings,
+    /// The noise model of each output (study order; `None` where the study gives none,
+    /// `[sensor.outputs.noise]`), in the output's unit.
+    pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
+    /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
+    pub timing: Option<calib_lsq::Timing>,
 }
 
 /// Read a user file (study, tolerances): a regular file of at most
@@ -351,6 +358,18 @@ impl Study {
         )
         .map_err(|e| StudyError::new(at("site"), e.to_string()))?;
         let sensor = parse_sensor(at, &raw.sensor)?;
+        let noise = raw
+            .sensor
+            .outputs
+            .iter()
+            .enumerate()
+            .map(|(k, o)| {
+                o.noise
+                    .as_ref()
+                    .map(|n| crate::noise::parse_output_noise(at, k, &o.unit, n))
+                    .transpose()
+            })
+            .collect::<Result<Vec<_>, StudyError>>()?;
         let reading_text = raw
             .calibration
             .reading
@@ -376,6 +395,12 @@ impl Study {
         };
         let positions_deg = raw.calibration.positions_deg.clone();
         let calibration = calibration_for(at, &turntable, &sensor, &site, &positions_deg)?;
+        let timing = raw
+            .calibration
+            .timing
+            .as_ref()
+            .map(|t| crate::noise::parse_timing(at, t, positions_deg.len()))
+            .transpose()?;
         let requirement = match &raw.requirement {
             None => RequirementSource::Computed,
             Some(r) => parse_requirement(at, r)?,
@@ -427,6 +452,8 @@ impl Study {
             requirement,
             lower_bounds_rad,
             monte_carlo,
+            noise,
+            timing,
         })
     }
 
@@ -438,9 +465,12 @@ impl Study {
 
     /// The same study with other test positions (joint angles, deg), validated as the file's
     /// would be (count per position, ranges, identifiability), named `calibration.positions_deg`.
+    /// A timing with one dwell for every position carries over to any number of positions; a
+    /// per-position dwell list only to as many positions as it has values.
     ///
     /// # Errors
-    /// A [`StudyError`] naming the position and the reason.
+    /// A [`StudyError`] naming the position and the reason, or
+    /// `calibration.timing.dwell_s` when its list does not fit the new count.
     pub fn with_positions_deg(&self, positions_deg: Vec<Vec<f64>>) -> Result<Self, StudyError> {
         let at = |key: &str| format!("{}: key `{key}`", self.path);
         let calibration = calibration_for(
@@ -450,9 +480,23 @@ impl Study {
             &self.site,
             &positions_deg,
         )?;
+        let n = positions_deg.len();
+        let timing = match &self.timing {
+            Some(t) if t.len() != n => Some(t.with_len(n).ok_or_else(|| {
+                StudyError::new(
+                    at("calibration.timing.dwell_s"),
+                    format!(
+                        "one dwell per position: {} values, but the new schedule has {n} positions (give one number for all)",
+                        t.len()
+                    ),
+                )
+            })?),
+            other => other.clone(),
+        };
         Ok(Self {
             positions_deg,
             calibration,
+            timing,
             ..self.clone()
         })
     }
@@ -462,7 +506,8 @@ impl Study {
     /// `comment` (lines without `#`) placed right above it.
     ///
     /// # Errors
-    /// A [`StudyError`] if the text no longer parses (it was parsed when loaded).
+    /// A [`StudyError`] if the text no longer parses (it was parsed when loaded), or naming
+    /// `calibration.timing.dwell_s` when it is a per-position list of another length.
     pub fn text_with_positions(
         &self,
         positions_deg: &[Vec<f64>],
@@ -487,6 +532,21 @@ impl Study {
             .get_mut("calibration")
             .and_then(|c| c.as_table_like_mut())
             .ok_or_else(|| StudyError::new(&self.path, "no [calibration] table"))?;
+        if let Some(list) = calibration
+            .get("timing")
+            .and_then(|t| t.get("dwell_s"))
+            .and_then(|d| d.as_array())
+            .filter(|a| a.len() != positions_deg.len())
+        {
+            return Err(StudyError::new(
+                format!("{}: key `calibration.timing.dwell_s`", self.path),
+                format!(
+                    "one dwell per position: {} values, but the new schedule has {} positions (give one number for all)",
+                    list.len(),
+                    positions_deg.len()
+                ),
+            ));
+        }
         let before = calibration
             .key("positions_deg")
             .and_then(|k| k.leaf_decor().prefix())

@@ -1,0 +1,266 @@
+//! The noise keys of a study: `[sensor.outputs.noise]` per output and
+//! `[calibration.timing]`, parsed strictly into `gw_model::noise::NoiseModel` and
+//! `calib_lsq::Timing`.
+//!
+//! ```toml
+//! [[sensor.outputs]]
+//! name = "gx"
+//! unit = "deg_per_h"
+//! # ...
+//! [sensor.outputs.noise]
+//! white_deg_per_sqrt_h = 0.15   # at most one of the four white keys
+//! bias_instability = 0.5        # output unit, with bias_correlation_s (both or neither)
+//! bias_correlation_s = 3600
+//! quantization = 0.0            # output unit (optional)
+//!
+//! [calibration.timing]
+//! dwell_s = 60                  # or one value per position
+//! sample_rate_hz = 1000
+//! move_s = 10                   # optional, 0 by default
+//! ```
+
+use crate::error::StudyError;
+use crate::limits;
+use crate::schema::in_range;
+use calib_lsq::Timing;
+use gw_model::ModelError;
+use gw_model::noise::{NoiseModel, WhiteDensity};
+use serde::Deserialize;
+
+/// `[sensor.outputs.noise]` as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawNoise {
+    white_deg_per_sqrt_h: Option<f64>,
+    white_ug_per_sqrt_hz: Option<f64>,
+    white_m_per_s_per_sqrt_h: Option<f64>,
+    white_per_sqrt_hz: Option<f64>,
+    bias_instability: Option<f64>,
+    bias_correlation_s: Option<f64>,
+    quantization: Option<f64>,
+}
+
+/// `[calibration.timing]` as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTiming {
+    dwell_s: toml::Value,
+    sample_rate_hz: f64,
+    move_s: Option<f64>,
+}
+
+/// The unit each white key is in, for messages.
+fn white_unit(key: &str) -> &'static str {
+    match key {
+        "white_deg_per_sqrt_h" => "deg/sqrt(h)",
+        "white_ug_per_sqrt_hz" => "ug/sqrt(Hz)",
+        "white_m_per_s_per_sqrt_h" => "(m/s)/sqrt(h)",
+        _ => "(output unit)/sqrt(Hz)",
+    }
+}
+
+/// Parse output `k`'s noise table (`unit` is the output's unit label).
+pub(crate) fn parse_output_noise(
+    at: &dyn Fn(&str) -> String,
+    k: usize,
+    unit: &str,
+    raw: &RawNoise,
+) -> Result<NoiseModel, StudyError> {
+    let key = |s: &str| {
+        if s.is_empty() {
+            format!("sensor.outputs[{k}].noise")
+        } else {
+            format!("sensor.outputs[{k}].noise.{s}")
+        }
+    };
+    let shown_unit = format!("({})", unit.escape_debug());
+    let whites: Vec<WhiteDensity> = [
+        raw.white_deg_per_sqrt_h.map(WhiteDensity::DegPerSqrtH),
+        raw.white_ug_per_sqrt_hz.map(WhiteDensity::UgPerSqrtHz),
+        raw.white_m_per_s_per_sqrt_h
+            .map(WhiteDensity::MPerSPerSqrtH),
+        raw.white_per_sqrt_hz.map(WhiteDensity::PerSqrtHz),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    if whites.len() > 1 {
+        let names: Vec<&str> = whites.iter().map(WhiteDensity::key).collect();
+        return Err(StudyError::new(
+            at(&key("")),
+            format!(
+                "give the white noise once, in one unit; found {}",
+                names.join(", ")
+            ),
+        ));
+    }
+    if whites.is_empty()
+        && raw.bias_instability.is_none()
+        && raw.bias_correlation_s.is_none()
+        && raw.quantization.is_none()
+    {
+        return Err(StudyError::new(
+            at(&key("")),
+            format!(
+                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, or quantization (or remove the table)",
+                WhiteDensity::KEYS.join(", ")
+            ),
+        ));
+    }
+    let white = whites.first().copied();
+    if let Some(w) = white {
+        in_range(
+            at,
+            &key(w.key()),
+            w.value(),
+            0.0,
+            limits::NOISE_MAX,
+            false,
+            white_unit(w.key()),
+        )?;
+    }
+    let bias = match (raw.bias_instability, raw.bias_correlation_s) {
+        (None, None) => None,
+        (Some(_), None) => {
+            return Err(StudyError::new(
+                at(&key("bias_correlation_s")),
+                "missing: bias_instability needs its correlation time bias_correlation_s (s)",
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(StudyError::new(
+                at(&key("bias_instability")),
+                "missing: bias_correlation_s needs the bias_instability it belongs to",
+            ));
+        }
+        (Some(b), Some(tc)) => {
+            let b = in_range(
+                at,
+                &key("bias_instability"),
+                b,
+                0.0,
+                limits::NOISE_MAX,
+                false,
+                &shown_unit,
+            )?;
+            let (lo, hi) = limits::CORRELATION_S;
+            let tc = in_range(at, &key("bias_correlation_s"), tc, lo, hi, true, "s")?;
+            Some((b, tc))
+        }
+    };
+    let quantization = raw
+        .quantization
+        .map(|q| {
+            in_range(
+                at,
+                &key("quantization"),
+                q,
+                0.0,
+                limits::NOISE_MAX,
+                false,
+                &shown_unit,
+            )
+        })
+        .transpose()?;
+    NoiseModel::from_datasheet(unit, white, bias, quantization).map_err(|e| {
+        let field = match &e {
+            ModelError::UnitFamilyMismatch { key, .. } | ModelError::UnknownUnit { key, .. } => {
+                key.clone()
+            }
+            ModelError::NonFinite { field, .. }
+            | ModelError::NonPositive { field, .. }
+            | ModelError::Negative { field, .. } => field.clone(),
+            _ => String::new(),
+        };
+        StudyError::new(at(&key(&field)), e.to_string())
+    })
+}
+
+/// Parse `[calibration.timing]` for a schedule of `n` positions.
+pub(crate) fn parse_timing(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawTiming,
+    n: usize,
+) -> Result<Timing, StudyError> {
+    const KEY: &str = "calibration.timing.dwell_s";
+    let (lo, hi) = limits::DWELL_S;
+    let number = |key: &str, v: &toml::Value| -> Result<f64, StudyError> {
+        let x = match v {
+            toml::Value::Float(f) => *f,
+            toml::Value::Integer(i) => *i as f64,
+            other => {
+                return Err(StudyError::new(
+                    at(key),
+                    format!("must be a number of seconds, found a {}", other.type_str()),
+                ));
+            }
+        };
+        in_range(at, key, x, lo, hi, true, "s")
+    };
+    let dwell_s = match &raw.dwell_s {
+        toml::Value::Array(list) => {
+            if list.len() != n {
+                return Err(StudyError::new(
+                    at(KEY),
+                    format!(
+                        "one dwell per position: {n} positions, found {} values (or give one number for all)",
+                        list.len()
+                    ),
+                ));
+            }
+            list.iter()
+                .enumerate()
+                .map(|(i, v)| number(&format!("{KEY}[{i}]"), v))
+                .collect::<Result<Vec<f64>, StudyError>>()?
+        }
+        v => vec![number(KEY, v)?; n],
+    };
+    let (flo, fhi) = limits::SAMPLE_RATE_HZ;
+    let fs = in_range(
+        at,
+        "calibration.timing.sample_rate_hz",
+        raw.sample_rate_hz,
+        flo,
+        fhi,
+        true,
+        "Hz",
+    )?;
+    let (mlo, mhi) = limits::MOVE_S;
+    let move_s = in_range(
+        at,
+        "calibration.timing.move_s",
+        raw.move_s.unwrap_or(0.0),
+        mlo,
+        mhi,
+        false,
+        "s",
+    )?;
+    let uniform = !matches!(raw.dwell_s, toml::Value::Array(_));
+    for (i, &t) in dwell_s.iter().enumerate() {
+        if t * fs < 1.0 {
+            let key = if uniform {
+                KEY.to_string()
+            } else {
+                format!("{KEY}[{i}]")
+            };
+            return Err(StudyError::new(
+                at(&key),
+                format!(
+                    "{t} s at sample_rate_hz = {fs} holds less than one sample: dwell at least {} s",
+                    1.0 / fs
+                ),
+            ));
+        }
+    }
+    Timing::new(dwell_s, move_s, fs).map_err(|e| {
+        let key = match &e {
+            calib_lsq::CalibError::Timing { field, .. }
+            | calib_lsq::CalibError::NonFinite { field, .. }
+            | calib_lsq::CalibError::NonPositive { field, .. } => {
+                format!("calibration.timing.{field}")
+            }
+            _ => "calibration.timing".to_string(),
+        };
+        StudyError::new(at(&key), e.to_string())
+    })
+}
