@@ -14,6 +14,7 @@
 //! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
 //! | tolerance (translation) | $[0, 1000]$ mm | a metre |
 //! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
+//! | study `name` | 1 to 64 of `A-Z a-z 0-9 . _ -`, first a letter or digit | it names the report directory (`target/report/<name>`): one safe path component on every system |
 
 /// Latitude range, deg.
 pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
@@ -35,3 +36,5 @@ pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
 pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
 /// Largest study or tolerance file read, bytes (a study is a few kilobytes).
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
+/// Longest study `name`, characters (it is a file name: see [`crate::is_name_slug`]).
+pub const MAX_NAME_CHARS: usize = 64;

@@ -151,7 +151,7 @@ pub struct Study {
     pub path: String,
     /// The file's text (to write a modified study that keeps the comments).
     pub text: String,
-    /// Short name.
+    /// Short name, a file-name-safe slug ([`is_name_slug`]): it names the report directory.
     pub name: String,
     /// One-line description, if given.
     pub description: Option<String>,
@@ -175,6 +175,42 @@ pub struct Study {
     pub lower_bounds_rad: Vec<f64>,
     /// Monte Carlo settings.
     pub monte_carlo: MonteCarloSettings,
+}
+
+/// Whether `name` is a valid study `name`: a file-name-safe slug of 1 to
+/// [`limits::MAX_NAME_CHARS`] characters from `A-Z a-z 0-9 . _ -`, the first a letter or a
+/// digit. It names the report directory (`target/report/<name>`), so it is one path component
+/// that can never be `.`, `..`, hidden, a flag, or escape its parent.
+///
+/// ```
+/// assert!(study::is_name_slug("gyrowheel-2017"));
+/// for bad in ["", ".", "..", "../../../escaped", "a/b", "-x", ".hidden", "a\0b", "my study"] {
+///     assert!(!study::is_name_slug(bad), "{bad}");
+/// }
+/// assert!(!study::is_name_slug(&"x".repeat(65)));
+/// ```
+#[must_use]
+pub fn is_name_slug(name: &str) -> bool {
+    let b = name.as_bytes();
+    !b.is_empty()
+        && b.len() <= limits::MAX_NAME_CHARS
+        && b[0].is_ascii_alphanumeric()
+        && b.iter()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'_' | b'-'))
+}
+
+/// Why `name` is not a valid study name, showing it escaped and shortened.
+fn name_error(name: &str) -> String {
+    let shown: String = crate::fmt::visible(name).chars().take(40).collect();
+    let more = if crate::fmt::visible(name).chars().count() > 40 {
+        format!("... ({} characters)", name.chars().count())
+    } else {
+        String::new()
+    };
+    format!(
+        "must be a file-name-safe name (it names the report directory): 1 to {} of the characters A-Z a-z 0-9 . _ -, the first a letter or digit; found \"{shown}\"{more}",
+        limits::MAX_NAME_CHARS
+    )
 }
 
 /// Read a user file (study, tolerances): a regular file of at most
@@ -325,8 +361,8 @@ impl Study {
         let at = |key: &str| format!("{source}: key `{key}`");
         let at: &dyn Fn(&str) -> String = &at;
 
-        if raw.name.trim().is_empty() {
-            return Err(StudyError::new(at("name"), "must not be empty"));
+        if !is_name_slug(&raw.name) {
+            return Err(StudyError::new(at("name"), name_error(&raw.name)));
         }
         let turntable = parse_turntable(at, &raw.turntable)?;
         let site = Site::from_deg(

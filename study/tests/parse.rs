@@ -427,3 +427,60 @@ fn print_sample_messages() {
         println!("{}", err(&replace(from, to)));
     }
 }
+
+/// Issue 19 §2: the study's `name` names the report directory (`target/report/<name>`), so it
+/// is a file-name-safe slug checked at parse time. A path (`../../../escaped`), `.`, `..`, a NUL
+/// or an escape character, a space, a leading `-` or `.`, and 300 characters are refused naming
+/// the key `name`, the offending value shown escaped and shortened (never raw).
+#[test]
+fn study_name_is_a_file_name_safe_slug_checked_at_parse_time() {
+    let long = "a".repeat(300);
+    let bad = [
+        "../../../escaped",
+        "..",
+        ".",
+        "a/b",
+        "a\\\\b",
+        "nul\\u0000byte",
+        "esc\\u001b[31mred",
+        "bell\\u0007",
+        "cr\\r",
+        "my study",
+        "-rf",
+        ".hidden",
+        "",
+        long.as_str(),
+        "ünïcode",
+    ];
+    for b in bad {
+        let text = replace("name = \"gyrowheel-2017\"", &format!("name = \"{b}\""));
+        let e = err(&text);
+        assert!(e.contains("s.toml: key `name`"), "{b}: {e}");
+        assert!(e.contains("file-name-safe"), "{b}: {e}");
+        assert!(
+            !e.chars().any(study::fmt::is_unsafe_char),
+            "{b}: the message carries a raw control character: {e:?}"
+        );
+        assert!(e.len() < 400, "{b}: the value is shortened: {e}");
+    }
+    let e = err(&replace(
+        "name = \"gyrowheel-2017\"",
+        "name = \"esc\\u001b[31mred\"",
+    ));
+    assert!(e.contains("esc\\u{1b}[31mred"), "shown escaped: {e}");
+    assert!(
+        err(&replace(
+            "name = \"gyrowheel-2017\"",
+            &format!("name = \"{long}\"")
+        ))
+        .contains("(300 characters)")
+    );
+    for good in ["gyrowheel-2017", "Lab_3.v2", "x", &"a".repeat(64)] {
+        let s = Study::parse(
+            "s.toml",
+            &replace("name = \"gyrowheel-2017\"", &format!("name = \"{good}\"")),
+        )
+        .unwrap_or_else(|e| panic!("{good}: {e}"));
+        assert_eq!(s.name, good);
+    }
+}
