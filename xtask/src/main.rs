@@ -17,6 +17,7 @@ mod end_to_end;
 mod fuzz;
 mod input;
 mod mc;
+mod newfile;
 mod orientation_error;
 mod out;
 mod outdir;
@@ -24,6 +25,7 @@ mod paths;
 mod report;
 mod requirement;
 mod study;
+mod suite;
 
 pub use input::InputError;
 
@@ -59,6 +61,8 @@ enum Command {
     ReproducePaper(report::PaperArgs),
     /// Design the test positions that let the cheapest turntable meet every accuracy.
     DesignSchedule(design_schedule::Args),
+    /// The test suite on any machine: installs Chromium and the report fonts when missing (as root), then cargo test --workspace.
+    Test(suite::Args),
 }
 
 fn main() -> ExitCode {
@@ -75,12 +79,17 @@ fn main() -> ExitCode {
         Command::Report(a) => report::run(&a),
         Command::ReproducePaper(a) => report::run_paper(&a),
         Command::DesignSchedule(a) => design_schedule::run(&a),
+        Command::Test(a) => match suite::run(&a) {
+            Ok(code) => return code,
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) if err.downcast_ref::<out::BrokenPipe>().is_some() => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            // a message may quote a file's text: never a raw control character
+            eprintln!("error: {}", ::study::fmt::terminal(&format!("{err:#}")));
             if err.downcast_ref::<InputError>().is_some() {
                 ExitCode::from(2)
             } else {
