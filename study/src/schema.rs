@@ -153,7 +153,7 @@ pub struct Study {
     pub text: String,
     /// Short name, a file-name-safe slug ([`is_name_slug`]): it names the report directory.
     pub name: String,
-    /// One-line description, if given.
+    /// Description (free text, shown escaped in reports), if given.
     pub description: Option<String>,
     /// The turntable.
     pub turntable: Turntable,
@@ -197,6 +197,26 @@ pub fn is_name_slug(name: &str) -> bool {
         && b[0].is_ascii_alphanumeric()
         && b.iter()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'_' | b'-'))
+}
+
+/// A one-line label of a file (a unit, a turntable part's description, a tolerance sheet's
+/// name): printed in every output as it is, so no control character (ESC, BEL, CR, a line
+/// break, ...) or bidirectional override ([`crate::fmt::is_unsafe_char`]) is accepted.
+pub(crate) fn one_line(
+    at: &dyn Fn(&str) -> String,
+    key: &str,
+    text: &str,
+) -> Result<(), StudyError> {
+    if text.chars().any(crate::fmt::is_unsafe_char) {
+        return Err(StudyError::new(
+            at(key),
+            format!(
+                "must be one line of printable text (no control character such as ESC, a tab or a line break); found \"{}\"",
+                crate::fmt::visible(text)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Why `name` is not a valid study name, showing it escaped and shortened.
@@ -637,6 +657,9 @@ fn parse_turntable(
         in_range(at, &key, *hi, -m, m, false, "deg")?;
         joint_ranges_rad.push((name.clone(), [lo * RAD_PER_DEG, hi * RAD_PER_DEG]));
     }
+    for (name, text) in raw.descriptions.iter().flatten() {
+        one_line(at, &format!("turntable.descriptions.{name}"), text)?;
+    }
     let description = TurntableDescription {
         factors,
         error_order: raw.error_order.clone(),
@@ -660,6 +683,7 @@ fn parse_sensor(at: &dyn Fn(&str) -> String, raw: &RawSensor) -> Result<SensorMo
     let mut outputs = Vec::with_capacity(raw.outputs.len());
     for (k, o) in raw.outputs.iter().enumerate() {
         let key = |s: &str| format!("sensor.outputs[{k}].{s}");
+        one_line(at, &key("unit"), &o.unit)?;
         let (lo, hi) = limits::ACCURACY;
         in_range(
             at,

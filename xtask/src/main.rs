@@ -66,6 +66,25 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // `test` passes its arguments on to cargo exactly as given (a `--` included)
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if argv.get(1).is_some_and(|a| a == "test")
+        && !argv.get(2).is_some_and(|a| a == "-h" || a == "--help")
+    {
+        let args = suite::Args {
+            cargo_args: argv[2..]
+                .iter()
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect(),
+        };
+        return match suite::run(&args) {
+            Ok(code) => code,
+            Err(e) => {
+                eprintln!("error: {}", ::study::fmt::terminal(&format!("{e:#}")));
+                ExitCode::FAILURE
+            }
+        };
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Requirement(a) => requirement::run(&a),

@@ -27,7 +27,8 @@ use std::process::{Command, ExitCode};
 /// Arguments of `test`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Arguments passed on to `cargo test --workspace` (e.g. `-p study`, `-- --nocapture`).
+    /// Arguments passed on to `cargo test --workspace` (e.g. `-p study`, a test name, the test
+    /// binaries' own flags after `--`).
     #[arg(
         trailing_var_arg = true,
         allow_hyphen_values = true,
