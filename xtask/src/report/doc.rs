@@ -382,7 +382,7 @@ impl Doc {
             "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
              <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
              <title>{}</title>\n<style>{CSS}</style></head><body>\n<main>\n",
-            escape(title)
+            escape(&plain(title))
         );
         for b in &self.blocks {
             match b {
@@ -656,6 +656,53 @@ mod tests {
         assert!(md.contains("- [Δω against ψ <1>](#δω-against-ψ-1)"));
         assert_eq!(d.figures().count(), 1);
         assert_eq!(d.h(2, "Δω against ψ <1>"), "δω-against-ψ-1-1");
+    }
+
+    /// Issue 19 §2: text from a file shows literally in both renderings: in HTML it is the
+    /// escaped text (no tag, bold, code or link of its making), [`plain`] gives it back (control
+    /// characters shown escaped, line breaks as spaces), and in Markdown every active character
+    /// is backslash-escaped.
+    #[test]
+    fn study_text_shows_literally_in_html_and_markdown() {
+        let hostile = [
+            "<script>alert(1)</script>",
+            "**bold** `code` [x](#y) ![i](#z) &amp; _u_ ~~s~~ | pipe",
+            "- item",
+            "1. first",
+            "# heading",
+            "a\u{1b}[31mb\u{7}\r\nc\td",
+            "\\* backslash \\",
+            "private \u{e02a} use",
+            "deg_per_h/(g)",
+        ];
+        for h in hostile {
+            let t = text(h);
+            let flat = h.replace("\r\n", " ").replace(['\n', '\t'], " ");
+            let shown = study::fmt::visible(&flat).replace('\u{e02a}', "\\u{e02a}");
+            assert_eq!(plain(&t), shown, "{h:?}");
+            assert_eq!(inline(&t), escape(&shown), "{h:?}");
+            assert!(!t.chars().any(study::fmt::is_unsafe_char), "{t:?}");
+            let mut d = Doc::default();
+            d.p(t.clone());
+            d.table(&["a"], vec![vec![t.clone()]]);
+            let html = d.to_html("x");
+            assert!(
+                !html.contains("<script") && !html.contains("<b>") && !html.contains("href=\"#y\"")
+            );
+        }
+        assert_eq!(text("a<b>&c*_`[]#~"), "a\\<b\\>\\&c\\*\\_\\`\\[\\]\\#\\~");
+        assert_eq!(text("- x"), "\\- x");
+        assert_eq!(text("12. x"), "12\\. x");
+        assert_eq!(code("my study;echo.toml"), "`my study;echo.toml`");
+        assert_eq!(code("a`b"), "a\\`b");
+        assert_eq!(plain(&code("a\nb")), "a\\nb");
+        let mut d = Doc::default();
+        d.h(1, format!("Report: {}", text("my_study")));
+        assert!(
+            d.to_html("Report: my\\_study")
+                .contains("<title>Report: my_study</title>")
+        );
+        assert!(d.to_markdown().starts_with("# Report: my\\_study"));
     }
 
     #[test]
