@@ -553,7 +553,8 @@ impl Prepared {
             })?;
         let result = build_and_swap(t, &tmp, files);
         if result.is_err() {
-            // our own temporary directory: the files we wrote, the manifest, the directory
+            // failed before the swap: our own temporary directory (the files we wrote, the
+            // manifest, the directory)
             let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
             let present: Vec<String> = names.into_iter().filter(|n| tmp.join(n).exists()).collect();
             let _ = remove_ours(&tmp, &present);
@@ -613,19 +614,27 @@ fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result
             );
         }
     };
-    // remove the previous report: only the files of ours it holds
-    match contents(&old) {
-        Ok(Contents::Empty) => {
-            std::fs::remove_dir(&old).with_context(|| format!("removing {}", old.display()))
+    // The new report is in place. Remove the previous one: only the files of ours it holds.
+    // A failure here loses nothing (the next run removes or leaves the leftover): a warning.
+    let cleanup = match contents(&old) {
+        Ok(Contents::Empty) => std::fs::remove_dir(&old).map_err(|e| e.to_string()),
+        Ok(Contents::Ours { present, .. }) => {
+            remove_ours(&old, &present).map_err(|e| e.to_string())
         }
-        Ok(Contents::Ours { present, .. }) => remove_ours(&old, &present)
-            .with_context(|| format!("removing the previous report {}", old.display())),
-        _ => anyhow::bail!(
-            "the new report is in {}; the previous one, moved to {}, now holds files this program did not write, so it was left there",
-            t.shown,
-            old.display()
-        ),
+        Ok(Contents::Foreign(why)) => Err(format!("{why}, so it was left there")),
+        Err(e) => Err(e.to_string()),
+    };
+    if let Err(why) = cleanup {
+        eprintln!(
+            "warning: {}",
+            ::study::fmt::terminal(&format!(
+                "the new report is in {}; the previous one, moved to {}, was not removed: {why}",
+                t.shown,
+                old.display()
+            ))
+        );
     }
+    Ok(())
 }
 
 /// Swap two directory entries atomically (Linux `renameat2(RENAME_EXCHANGE)`).
