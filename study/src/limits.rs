@@ -19,6 +19,7 @@
 //! | dwell per position | $(0, 86\,400]$ s, and at least one sample ($f_s T \ge 1$) | a day per position |
 //! | move time | $[0, 86\,400]$ s | a day |
 //! | sample rate | $(0, 10^{6}]$ Hz | inertial sensors sample at up to a few kHz |
+//! | study `name` | 1 to 64 of `A-Z a-z 0-9 . _ -`, first a letter or digit | it names the report directory (`target/report/<name>`): one safe path component on every system |
 
 /// Latitude range, deg.
 pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
@@ -50,3 +51,5 @@ pub const DWELL_S: (f64, f64) = (0.0, 86_400.0);
 pub const MOVE_S: (f64, f64) = (0.0, 86_400.0);
 /// Sample rate range (exclusive lower end), Hz.
 pub const SAMPLE_RATE_HZ: (f64, f64) = (0.0, 1e6);
+/// Longest study `name`, characters (it is a file name: see [`crate::is_name_slug`]).
+pub const MAX_NAME_CHARS: usize = 64;

@@ -153,9 +153,9 @@ pub struct Study {
     pub path: String,
     /// The file's text (to write a modified study that keeps the comments).
     pub text: String,
-    /// Short name.
+    /// Short name, a file-name-safe slug ([`is_name_slug`]): it names the report directory.
     pub name: String,
-    /// One-line description, if given.
+    /// Description (free text, shown escaped in reports), if given.
     pub description: Option<String>,
     /// The turntable.
     pub turntable: Turntable,
@@ -182,6 +182,62 @@ pub struct Study {
     pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
     /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
     pub timing: Option<calib_lsq::Timing>,
+}
+
+/// Whether `name` is a valid study `name`: a file-name-safe slug of 1 to
+/// [`limits::MAX_NAME_CHARS`] characters from `A-Z a-z 0-9 . _ -`, the first a letter or a
+/// digit. It names the report directory (`target/report/<name>`), so it is one path component
+/// that can never be `.`, `..`, hidden, a flag, or escape its parent.
+///
+/// ```
+/// assert!(study::is_name_slug("gyrowheel-2017"));
+/// for bad in ["", ".", "..", "../../../escaped", "a/b", "-x", ".hidden", "a\0b", "my study"] {
+///     assert!(!study::is_name_slug(bad), "{bad}");
+/// }
+/// assert!(!study::is_name_slug(&"x".repeat(65)));
+/// ```
+#[must_use]
+pub fn is_name_slug(name: &str) -> bool {
+    let b = name.as_bytes();
+    !b.is_empty()
+        && b.len() <= limits::MAX_NAME_CHARS
+        && b[0].is_ascii_alphanumeric()
+        && b.iter()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'_' | b'-'))
+}
+
+/// A one-line label of a file (a unit, a turntable part's description, a tolerance sheet's
+/// name): printed in every output as it is, so no control character (ESC, BEL, CR, a line
+/// break, ...) or bidirectional override ([`crate::fmt::is_unsafe_char`]) is accepted.
+pub(crate) fn one_line(
+    at: &dyn Fn(&str) -> String,
+    key: &str,
+    text: &str,
+) -> Result<(), StudyError> {
+    if text.chars().any(crate::fmt::is_unsafe_char) {
+        return Err(StudyError::new(
+            at(key),
+            format!(
+                "must be one line of printable text (no control character such as ESC, a tab or a line break); found \"{}\"",
+                crate::fmt::visible(text)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Why `name` is not a valid study name, showing it escaped and shortened.
+fn name_error(name: &str) -> String {
+    let shown: String = crate::fmt::visible(name).chars().take(40).collect();
+    let more = if crate::fmt::visible(name).chars().count() > 40 {
+        format!("... ({} characters)", name.chars().count())
+    } else {
+        String::new()
+    };
+    format!(
+        "must be a file-name-safe name (it names the report directory): 1 to {} of the characters A-Z a-z 0-9 . _ -, the first a letter or digit; found \"{shown}\"{more}",
+        limits::MAX_NAME_CHARS
+    )
 }
 
 /// Read a user file (study, tolerances): a regular file of at most
@@ -332,8 +388,8 @@ impl Study {
         let at = |key: &str| format!("{source}: key `{key}`");
         let at: &dyn Fn(&str) -> String = &at;
 
-        if raw.name.trim().is_empty() {
-            return Err(StudyError::new(at("name"), "must not be empty"));
+        if !is_name_slug(&raw.name) {
+            return Err(StudyError::new(at("name"), name_error(&raw.name)));
         }
         let turntable = parse_turntable(at, &raw.turntable)?;
         let site = Site::from_deg(
@@ -661,6 +717,9 @@ fn parse_turntable(
         in_range(at, &key, *hi, -m, m, false, "deg")?;
         joint_ranges_rad.push((name.clone(), [lo * RAD_PER_DEG, hi * RAD_PER_DEG]));
     }
+    for (name, text) in raw.descriptions.iter().flatten() {
+        one_line(at, &format!("turntable.descriptions.{name}"), text)?;
+    }
     let description = TurntableDescription {
         factors,
         error_order: raw.error_order.clone(),
@@ -684,6 +743,7 @@ fn parse_sensor(at: &dyn Fn(&str) -> String, raw: &RawSensor) -> Result<SensorMo
     let mut outputs = Vec::with_capacity(raw.outputs.len());
     for (k, o) in raw.outputs.iter().enumerate() {
         let key = |s: &str| format!("sensor.outputs[{k}].{s}");
+        one_line(at, &key("unit"), &o.unit)?;
         let (lo, hi) = limits::ACCURACY;
         in_range(
             at,

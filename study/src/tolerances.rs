@@ -12,7 +12,7 @@
 
 use crate::error::StudyError;
 use crate::limits;
-use crate::schema::{in_range, read_text_file, toml_error};
+use crate::schema::{in_range, one_line, read_text_file, toml_error};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -58,6 +58,9 @@ impl Tolerances {
     pub fn parse(source: &str, text: &str, turntable: &Turntable) -> Result<Self, StudyError> {
         let raw: RawTolerances = toml::from_str(text).map_err(|e| toml_error(source, text, &e))?;
         let at = |key: &str| format!("{source}: key `{key}`");
+        if let Some(name) = &raw.name {
+            one_line(&at, "name", name)?;
+        }
         let mut ub = vec![None; turntable.n_rotation_errors()];
         for (name, &v) in &raw.tolerances_arcmin {
             let key = format!("tolerances_arcmin.{name}");

@@ -464,3 +464,121 @@ fn a_known_input_and_an_estimated_scale_factor_error_may_share_a_regressor() {
         "{e}"
     );
 }
+
+/// Issue 19 §2: the study's `name` names the report directory (`target/report/<name>`), so it
+/// is a file-name-safe slug checked at parse time. A path (`../../../escaped`), `.`, `..`, a NUL
+/// or an escape character, a space, a leading `-` or `.`, and 300 characters are refused naming
+/// the key `name`, the offending value shown escaped and shortened (never raw).
+#[test]
+fn study_name_is_a_file_name_safe_slug_checked_at_parse_time() {
+    let long = "a".repeat(300);
+    let bad = [
+        "../../../escaped",
+        "..",
+        ".",
+        "a/b",
+        "a\\\\b",
+        "nul\\u0000byte",
+        "esc\\u001b[31mred",
+        "bell\\u0007",
+        "cr\\r",
+        "my study",
+        "-rf",
+        ".hidden",
+        "",
+        long.as_str(),
+        "ünïcode",
+    ];
+    for b in bad {
+        let text = replace("name = \"gyrowheel-2017\"", &format!("name = \"{b}\""));
+        let e = err(&text);
+        assert!(e.contains("s.toml: key `name`"), "{b}: {e}");
+        assert!(e.contains("file-name-safe"), "{b}: {e}");
+        assert!(
+            !e.chars().any(study::fmt::is_unsafe_char),
+            "{b}: the message carries a raw control character: {e:?}"
+        );
+        assert!(e.len() < 400, "{b}: the value is shortened: {e}");
+    }
+    let e = err(&replace(
+        "name = \"gyrowheel-2017\"",
+        "name = \"esc\\u001b[31mred\"",
+    ));
+    assert!(e.contains("esc\\u{1b}[31mred"), "shown escaped: {e}");
+    assert!(
+        err(&replace(
+            "name = \"gyrowheel-2017\"",
+            &format!("name = \"{long}\"")
+        ))
+        .contains("(300 characters)")
+    );
+    for good in ["gyrowheel-2017", "Lab_3.v2", "x", &"a".repeat(64)] {
+        let s = Study::parse(
+            "s.toml",
+            &replace("name = \"gyrowheel-2017\"", &format!("name = \"{good}\"")),
+        )
+        .unwrap_or_else(|e| panic!("{good}: {e}"));
+        assert_eq!(s.name, good);
+    }
+}
+
+/// Issue 19 §2: the one-line labels printed as they are by every command (an output's `unit`,
+/// a turntable part's description, a tolerance sheet's `name`) refuse control characters
+/// (ESC, BEL, CR, a line break, a bidirectional override), naming the key and showing the value
+/// escaped; printable text, markup included, is accepted (the outputs escape it).
+#[test]
+fn one_line_labels_refuse_control_characters_naming_the_key() {
+    let cases = [
+        (
+            "unit = \"deg_per_h\"",
+            "unit = \"deg/h\\u001b[31m\"",
+            "sensor.outputs[0].unit",
+            "deg/h\\u{1b}[31m",
+        ),
+        (
+            "unit = \"deg_per_h\"",
+            "unit = \"deg/h\\nverdict: meets\"",
+            "sensor.outputs[0].unit",
+            "deg/h\\nverdict: meets",
+        ),
+        (
+            "phi1 = \"outer axis\"",
+            "phi1 = \"outer\\u202eaxis\"",
+            "turntable.descriptions.phi1",
+            "outer\\u{202e}axis",
+        ),
+    ];
+    for (from, to, key, shown) in cases {
+        let e = err(&replace(from, to));
+        assert!(e.contains(&format!("s.toml: key `{key}`")), "{e}");
+        assert!(e.contains(shown), "{e}");
+        assert!(!e.chars().any(study::fmt::is_unsafe_char), "{e:?}");
+    }
+    let s = Study::parse(
+        "s.toml",
+        &replace("unit = \"deg_per_h\"", "unit = \"deg/h<img src=x>\""),
+    )
+    .unwrap();
+    assert_eq!(s.sensor.outputs()[0].unit, "deg/h<img src=x>");
+
+    let turntable = Study::parse("s.toml", PAPER).unwrap().turntable;
+    let sheet = "[tolerances_arcmin]\ndphi_y1 = 0.4\ndphi_z2 = 0.78\ndalpha_x1 = 0.4\ndalpha_z1 = 0.78\ndalpha_x2 = 0.28\ndalpha_y2 = 0.28\ndeps_x = 0.42\ndeps_y = 0.42\n";
+    let e = Tolerances::parse(
+        "t.toml",
+        &format!("name = \"v\\u0007\\r\"\n{sheet}"),
+        &turntable,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("t.toml: key `name`") && e.contains("v\\u{7}\\r"),
+        "{e}"
+    );
+    let t = Tolerances::parse(
+        "t.toml",
+        &format!("name = \"<script>\"\n{sheet}"),
+        &turntable,
+    )
+    .unwrap();
+    assert_eq!(t.name.as_deref(), Some("<script>"));
+}

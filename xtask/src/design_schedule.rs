@@ -10,13 +10,14 @@
 //! `direct_objective`), the condition numbers, the orientation requirement (eq 15-16) and the
 //! worst case of every output with today's turntable (the direct allocation of the study's
 //! schedule). `--write-study OUT.toml` writes the input study with the designed positions and
-//! a comment saying how they were made (refused if OUT exists; written atomically). `--json`
+//! a comment saying how they were made (refused if OUT exists or its directory is not writable,
+//! both checked before the search; written atomically, mode 0666 less the umask). `--json`
 //! prints an object with keys `designed`, `study`, `d_optimal`, `random_best`, each with
 //! `objective`, `positions_deg`, `condition_numbers` and `requirement_deg`, and `groups` (errors
 //! that act only together, with the bound of their combination under both allocations).
 
 use crate::InputError;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Parser;
 use e2e_verify::E2eError;
 use e2e_verify::design::{
@@ -25,8 +26,8 @@ use e2e_verify::design::{
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{Map, Value, json};
-use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::{num, sig};
@@ -89,58 +90,6 @@ fn classify(e: E2eError, s: &Study) -> anyhow::Error {
         _ => return crate::end_to_end::classify(e, s),
     };
     InputError::new(at, e.to_string()).into()
-}
-
-/// Refuse an output path that exists (any kind of entry) or whose directory does not.
-fn check_output(out: &Path) -> Result<(), InputError> {
-    let shown = out.display().to_string();
-    if out.symlink_metadata().is_ok() {
-        return Err(InputError::new(
-            &shown,
-            "--write-study: the file exists; choose a new name (an existing file is never overwritten)",
-        ));
-    }
-    let dir = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !dir.is_dir() {
-        return Err(InputError::new(
-            &shown,
-            "--write-study: its directory does not exist",
-        ));
-    }
-    if out.file_name().is_none() {
-        return Err(InputError::new(&shown, "--write-study needs a file name"));
-    }
-    Ok(())
-}
-
-/// Write `text` to `out` atomically: a temporary file in the same directory, flushed, then
-/// linked into place only if `out` still does not exist (never replacing anything).
-fn write_new(out: &Path, text: &str) -> Result<()> {
-    let dir = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".design-schedule-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
-    tmp.write_all(text.as_bytes())?;
-    tmp.as_file().sync_all()?;
-    tmp.persist_noclobber(out).map_err(|e| {
-        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
-            anyhow::Error::new(InputError::new(
-                out.display().to_string(),
-                "--write-study: the file appeared while designing; not overwritten",
-            ))
-        } else {
-            anyhow::Error::new(e.error).context(format!("writing {}", out.display()))
-        }
-    })?;
-    Ok(())
 }
 
 fn progress_bar(units: u64) -> Option<ProgressBar> {
@@ -428,7 +377,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::study::load(args.study.as_deref())?;
     if let Some(out) = &args.write_study {
-        check_output(out)?;
+        crate::newfile::check(out, "--write-study")?;
     }
     let positions = args.positions.map_or(s.positions_deg.len(), |n| n as usize);
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);
@@ -467,7 +416,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
-        s.path,
+        crate::paths::shell_quote(&s.path),
         positions,
         num(args.step_deg),
         num(args.max_condition),
@@ -502,7 +451,7 @@ pub fn run(args: &Args) -> Result<()> {
                     "internal: the written study's positions differ from the designed ones"
                 );
             }
-            write_new(out, &text)?;
+            crate::newfile::write(out, text.as_bytes(), "--write-study")?;
             Some(shown)
         }
         None => None,

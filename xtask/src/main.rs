@@ -19,6 +19,7 @@ mod fuzz;
 mod groups;
 mod input;
 mod mc;
+mod newfile;
 mod orientation_error;
 mod out;
 mod outdir;
@@ -26,6 +27,7 @@ mod paths;
 mod report;
 mod requirement;
 mod study;
+mod suite;
 
 pub use input::InputError;
 
@@ -63,9 +65,30 @@ enum Command {
     DesignSchedule(design_schedule::Args),
     /// Noise from a log: overlapping Allan deviation, white noise, bias instability (IEEE 952).
     Allan(allan::Args),
+    /// The test suite on any machine: installs Chromium and the report fonts when missing (as root), then cargo test --workspace.
+    Test(suite::Args),
 }
 
 fn main() -> ExitCode {
+    // `test` passes its arguments on to cargo exactly as given (a `--` included)
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if argv.get(1).is_some_and(|a| a == "test")
+        && !argv.get(2).is_some_and(|a| a == "-h" || a == "--help")
+    {
+        let args = suite::Args {
+            cargo_args: argv[2..]
+                .iter()
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect(),
+        };
+        return match suite::run(&args) {
+            Ok(code) => code,
+            Err(e) => {
+                eprintln!("error: {}", ::study::fmt::terminal(&format!("{e:#}")));
+                ExitCode::FAILURE
+            }
+        };
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Requirement(a) => requirement::run(&a),
@@ -80,12 +103,17 @@ fn main() -> ExitCode {
         Command::ReproducePaper(a) => report::run_paper(&a),
         Command::DesignSchedule(a) => design_schedule::run(&a),
         Command::Allan(a) => allan::run(&a),
+        Command::Test(a) => match suite::run(&a) {
+            Ok(code) => return code,
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) if err.downcast_ref::<out::BrokenPipe>().is_some() => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            // a message may quote a file's text: never a raw control character
+            eprintln!("error: {}", ::study::fmt::terminal(&format!("{err:#}")));
             if err.downcast_ref::<InputError>().is_some() {
                 ExitCode::from(2)
             } else {

@@ -24,14 +24,29 @@ pub fn io(e: std::io::Error) -> anyhow::Error {
     }
 }
 
-/// Write `text` to standard output and flush.
+/// Write `text` to standard output and flush. Control characters (from a study's text: ESC,
+/// BEL, CR, ...) are shown escaped ([`study::fmt::terminal`]): nothing a file says can drive
+/// the terminal.
 ///
 /// # Errors
 /// [`BrokenPipe`] when the reader is gone; other I/O errors.
 pub fn print(text: &str) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes()).map_err(io)?;
+    out.write_all(study::fmt::terminal(text).as_bytes())
+        .map_err(io)?;
     out.flush().map_err(io)
+}
+
+/// A CSV field (RFC 4180) from a file's text (a unit): control characters shown escaped
+/// ([`study::fmt::visible`]), in double quotes when it holds a comma or a quote.
+#[must_use]
+pub fn csv_field(s: &str) -> String {
+    let v = study::fmt::visible(s);
+    if v.contains([',', '"']) {
+        format!("\"{}\"", v.replace('"', "\"\""))
+    } else {
+        v.into_owned()
+    }
 }
 
 /// Bounds in arcminutes keyed by error name, for JSON: a non-finite bound (an error with no

@@ -58,3 +58,52 @@ pub fn study_path(given: Option<&Path>) -> Result<PathBuf, InputError> {
 pub fn shown(given: Option<&Path>) -> String {
     given.map_or_else(|| PAPER_STUDY.to_string(), |p| p.display().to_string())
 }
+
+/// `s` as one word of a POSIX shell command line, to copy and paste: as is when it holds only
+/// `A-Z a-z 0-9 _ - . / : = @ % + ,`; in single quotes otherwise (`'my study;echo x.toml'`,
+/// a quote as `'\''`); with a control character, in bash's `$'...'` form so that the line stays
+/// one visible line (`$'a\nb'`).
+#[must_use]
+pub fn shell_quote(s: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "_-./:=@%+,".contains(c);
+    if !s.is_empty() && s.chars().all(safe) {
+        return s.to_string();
+    }
+    if s.chars().any(study::fmt::is_unsafe_char) {
+        let mut out = String::from("$'");
+        for c in s.chars() {
+            match c {
+                '\\' => out.push_str("\\\\"),
+                '\'' => out.push_str("\\'"),
+                c if study::fmt::is_unsafe_char(c) => {
+                    out.push_str(&format!("\\U{:08x}", u32::from(c)));
+                }
+                c => out.push(c),
+            }
+        }
+        out.push('\'');
+        return out;
+    }
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shell_quote;
+
+    #[test]
+    fn shell_quote_keeps_one_word_and_shows_no_raw_control_character() {
+        assert_eq!(
+            shell_quote("studies/gyrowheel-2017.toml"),
+            "studies/gyrowheel-2017.toml"
+        );
+        assert_eq!(
+            shell_quote("my study;echo PWNED;.toml"),
+            "'my study;echo PWNED;.toml'"
+        );
+        assert_eq!(shell_quote("it's"), "'it'\\''s'");
+        assert_eq!(shell_quote(""), "''");
+        assert_eq!(shell_quote("a\nb\u{1b}'"), "$'a\\U0000000ab\\U0000001b\\''");
+        assert_eq!(shell_quote("$(rm -rf ~)`x`"), "'$(rm -rf ~)`x`'");
+    }
+}

@@ -2,8 +2,11 @@
 //! linked SVG files) and as one self-contained HTML page (figures inline as data URIs, a
 //! table of contents, tables that fit a 1280 px window).
 //!
-//! Inline markup in text: `` `code` ``, `**bold**` and internal links `[text](#id)`;
-//! everything else is escaped.
+//! Inline markup in text: `` `code` ``, `**bold**`, internal links `[text](#id)` and
+//! CommonMark's backslash escapes (`\*` is a literal `*`); everything else is escaped in HTML.
+//! Text from a file (a study's description, units, paths, a tolerance sheet's name) enters a
+//! document only through [`text`] or [`code`]: it then shows literally in both renderings, never
+//! as markup, raw HTML or a raw control character.
 
 use std::fmt::Write as _;
 
@@ -45,6 +48,98 @@ pub struct Doc {
     ids: Vec<String>,
 }
 
+/// First of the private-use characters that stand for escaped ASCII punctuation while inline
+/// markup is parsed (`\*` becomes `ESCAPED + '*'`); [`text`] shows any such character of a file
+/// escaped, so they never come from outside.
+const ESCAPED: u32 = 0xE000;
+
+fn is_placeholder(c: char) -> bool {
+    (ESCAPED..ESCAPED + 0x80).contains(&u32::from(c))
+}
+
+/// The characters [`text`] escapes anywhere: Markdown's inline markup, raw HTML and entities.
+/// (`|` is escaped by the table renderer, which knows where it matters.)
+const MD_ACTIVE: &[char] = &['\\', '`', '*', '_', '[', ']', '<', '>', '&', '~', '#'];
+
+/// Text from a file, as literal document text: line breaks and tabs become spaces, control
+/// and bidirectional characters are shown escaped ([`study::fmt::visible`]), and every
+/// character that Markdown or HTML would read as structure is backslash-escaped (as are `-`,
+/// `+`, `=` at the start, and `.`/`)` after leading digits: list and heading markers). Both
+/// renderings then show exactly the text.
+#[must_use]
+pub fn text(s: &str) -> String {
+    let flat = s.replace("\r\n", " ").replace(['\n', '\t'], " ");
+    let shown = study::fmt::visible(&flat);
+    let mut out = String::with_capacity(shown.len() + 8);
+    let digits = shown.chars().take_while(char::is_ascii_digit).count();
+    for (i, c) in shown.chars().enumerate() {
+        if is_placeholder(c) {
+            out.push_str(&format!("\\\\u{{{:x}}}", u32::from(c)));
+            continue;
+        }
+        let line_start = i == 0 && matches!(c, '-' | '+' | '=');
+        let list_marker = i == digits && digits > 0 && matches!(c, '.' | ')');
+        if MD_ACTIVE.contains(&c) || line_start || list_marker {
+            out.push('\\');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Text from a file (a path, a name) as a code span: shown literally, control characters
+/// escaped; one that holds a backtick (which would end the span) becomes literal [`text`].
+#[must_use]
+pub fn code(s: &str) -> String {
+    let shown = study::fmt::visible(s);
+    if shown.contains('`') || shown.chars().any(is_placeholder) || shown.is_empty() {
+        text(&shown)
+    } else {
+        format!("`{shown}`")
+    }
+}
+
+/// Replace every backslash escape outside code spans by its placeholder, so that the
+/// markup parsers below see only real markup.
+fn protect(t: &str) -> String {
+    let mut out = String::with_capacity(t.len());
+    let mut in_code = false;
+    let mut chars = t.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if !in_code => match chars.peek() {
+                Some(&n) if n.is_ascii_punctuation() => {
+                    chars.next();
+                    out.push(char::from_u32(ESCAPED + u32::from(n)).unwrap_or(n));
+                }
+                _ => out.push(c),
+            },
+            '`' => {
+                in_code = !in_code;
+                out.push(c);
+            }
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// The placeholders of [`protect`] back as literal characters (`md`: as Markdown escapes).
+fn unprotect(t: &str, md: bool) -> String {
+    let mut out = String::with_capacity(t.len());
+    for c in t.chars() {
+        if is_placeholder(c) {
+            if md {
+                out.push('\\');
+            }
+            out.push(char::from_u32(u32::from(c) - ESCAPED).unwrap_or(c));
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// A GitHub-style anchor: lower case, letters, digits, `-` and `_` kept, spaces to `-`,
 /// everything else dropped.
 #[must_use]
@@ -60,9 +155,20 @@ pub fn slug(text: &str) -> String {
     s
 }
 
-/// Text without the inline markup (`code`, **bold**, [text](#id) → text).
+/// Text without the inline markup (`code`, **bold**, [text](#id) → text; escapes resolved):
+/// for anchors, attributes and figure labels.
 #[must_use]
 pub fn plain(text: &str) -> String {
+    unprotect(&strip(&protect(text)), false)
+}
+
+/// [`plain`] for Markdown: the markup removed, backslash escapes kept (a link's label).
+fn plain_md(text: &str) -> String {
+    unprotect(&strip(&protect(text)), true)
+}
+
+/// Remove code, bold and link markup from protected text.
+fn strip(text: &str) -> String {
     let mut out = String::new();
     let mut rest = text;
     while let Some(i) = rest.find('[') {
@@ -207,7 +313,8 @@ impl Doc {
                     let _ = writeln!(s, "{} {t}\n", "#".repeat(usize::from(*l)));
                 }
                 Block::Paragraph(t) => {
-                    let _ = writeln!(s, "{t}\n");
+                    // leading spaces would make an indented code block
+                    let _ = writeln!(s, "{}\n", t.trim_start());
                 }
                 Block::Callout(t, items) => {
                     let _ = writeln!(s, "> {t}");
@@ -249,7 +356,7 @@ impl Doc {
                     let _ = writeln!(
                         s,
                         "<a id=\"{id}\"></a>\n\n![{}]({file})\n\n*{caption}*\n",
-                        plain(caption)
+                        plain_md(caption)
                     );
                 }
                 Block::Code(t) => {
@@ -259,7 +366,7 @@ impl Doc {
                     s.push_str("**Contents**\n\n");
                     for (l, t, id) in self.headings() {
                         let indent = if l == 3 { "  " } else { "" };
-                        let _ = writeln!(s, "{indent}- [{}](#{id})", plain(t));
+                        let _ = writeln!(s, "{indent}- [{}](#{id})", plain_md(t));
                     }
                     s.push('\n');
                 }
@@ -275,7 +382,7 @@ impl Doc {
             "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
              <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
              <title>{}</title>\n<style>{CSS}</style></head><body>\n<main>\n",
-            escape(title)
+            escape(&plain(title))
         );
         for b in &self.blocks {
             match b {
@@ -383,9 +490,11 @@ impl Doc {
 const LONG_CODE: usize = 24;
 
 /// The page's style: readable width, tables that fit (long identifiers wrap), figures scaled
-/// to the column.
+/// to the column. Fonts: the families `cargo xtask test` installs (fonts-dejavu-core,
+/// fonts-liberation) first, so that the page lays out alike wherever the README's set-up ran.
 const CSS: &str = "\
-body{font-family:'DejaVu Sans',Arial,sans-serif;color:#222;margin:0;line-height:1.5}\
+body{font-family:'DejaVu Sans','Liberation Sans',sans-serif;color:#222;margin:0;line-height:1.5}\
+code,pre{font-family:'DejaVu Sans Mono','Liberation Mono',monospace}\
 main{max-width:1180px;margin:0 auto;padding:1em 1.5em 3em}\
 h1{font-size:1.7em;margin:.4em 0}h2{margin-top:1.8em;border-bottom:1px solid #ccc;padding-bottom:.15em}\
 h3{margin-top:1.4em}\
@@ -445,8 +554,10 @@ fn base64(bytes: &[u8]) -> String {
     out
 }
 
+/// HTML-escape text (`&`, `<`, `>`; escaped characters of [`protect`] as themselves).
 fn escape(t: &str) -> String {
-    t.replace('&', "&amp;")
+    unprotect(t, false)
+        .replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
 }
@@ -454,6 +565,7 @@ fn escape(t: &str) -> String {
 /// Escape, then turn `code`, **bold** and [text](#id) into HTML. `**no**` and `**yes**`
 /// (verdicts) get a colour.
 fn inline(t: &str) -> String {
+    let t = protect(t);
     let mut out = String::new();
     for (k, part) in t.split('`').enumerate() {
         if k % 2 == 1 {
@@ -544,6 +656,53 @@ mod tests {
         assert!(md.contains("- [Δω against ψ <1>](#δω-against-ψ-1)"));
         assert_eq!(d.figures().count(), 1);
         assert_eq!(d.h(2, "Δω against ψ <1>"), "δω-against-ψ-1-1");
+    }
+
+    /// Issue 19 §2: text from a file shows literally in both renderings: in HTML it is the
+    /// escaped text (no tag, bold, code or link of its making), [`plain`] gives it back (control
+    /// characters shown escaped, line breaks as spaces), and in Markdown every active character
+    /// is backslash-escaped.
+    #[test]
+    fn study_text_shows_literally_in_html_and_markdown() {
+        let hostile = [
+            "<script>alert(1)</script>",
+            "**bold** `code` [x](#y) ![i](#z) &amp; _u_ ~~s~~ | pipe",
+            "- item",
+            "1. first",
+            "# heading",
+            "a\u{1b}[31mb\u{7}\r\nc\td",
+            "\\* backslash \\",
+            "private \u{e02a} use",
+            "deg_per_h/(g)",
+        ];
+        for h in hostile {
+            let t = text(h);
+            let flat = h.replace("\r\n", " ").replace(['\n', '\t'], " ");
+            let shown = study::fmt::visible(&flat).replace('\u{e02a}', "\\u{e02a}");
+            assert_eq!(plain(&t), shown, "{h:?}");
+            assert_eq!(inline(&t), escape(&shown), "{h:?}");
+            assert!(!t.chars().any(study::fmt::is_unsafe_char), "{t:?}");
+            let mut d = Doc::default();
+            d.p(t.clone());
+            d.table(&["a"], vec![vec![t.clone()]]);
+            let html = d.to_html("x");
+            assert!(
+                !html.contains("<script") && !html.contains("<b>") && !html.contains("href=\"#y\"")
+            );
+        }
+        assert_eq!(text("a<b>&c*_`[]#~"), "a\\<b\\>\\&c\\*\\_\\`\\[\\]\\#\\~");
+        assert_eq!(text("- x"), "\\- x");
+        assert_eq!(text("12. x"), "12\\. x");
+        assert_eq!(code("my study;echo.toml"), "`my study;echo.toml`");
+        assert_eq!(code("a`b"), "a\\`b");
+        assert_eq!(plain(&code("a\nb")), "a\\nb");
+        let mut d = Doc::default();
+        d.h(1, format!("Report: {}", text("my_study")));
+        assert!(
+            d.to_html("Report: my\\_study")
+                .contains("<title>Report: my_study</title>")
+        );
+        assert!(d.to_markdown().starts_with("# Report: my\\_study"));
     }
 
     #[test]

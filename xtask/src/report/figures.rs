@@ -20,7 +20,8 @@ pub const WIDTH: u32 = 1120;
 pub const MAX_PLOT_ABS: f64 = 1e100;
 
 const TITLE_PX: u32 = 34;
-const FONT: &str = "sans-serif";
+/// The figures' font: the families `cargo xtask test` installs first (as the page's CSS).
+const FONT: &str = "DejaVu Sans, Liberation Sans, sans-serif";
 const PALETTE: [RGBColor; 7] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),

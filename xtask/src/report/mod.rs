@@ -264,21 +264,21 @@ fn render(c: &Computed) -> Result<Rendered> {
     let title = if c.paper.is_some() {
         "Reproduction of Zhao, Zhao, Huo and Yao (2017)".to_string()
     } else {
-        format!("Turntable error allocation: {}", s.name)
+        format!("Turntable error allocation: {}", doc::text(&s.name))
     };
     sec.doc.h(1, &title);
     if c.paper.is_some() {
         sec.doc.p("\"Error Analysis and Error Allocation for Turntable Systems Used in GyroWheel Calibration Tests\", Int. J. Aerospace Eng. 2017, 6524782. Every number below is computed by this project's crates from the study file; the paper's printed values stand beside ours.");
     } else if let Some(desc) = &s.description {
-        sec.doc.p(desc.clone());
+        sec.doc.p(doc::text(desc));
     }
     sec.doc.p(format!(
-        "Study `{}`, {} Monte Carlo turntables per box, seed {}; computed in {:.1} s by the workspace's crates. Reproduce: `{}`.",
-        s.path,
+        "Study {}, {} Monte Carlo turntables per box, seed {}; computed in {:.1} s by the workspace's crates. Reproduce: {}.",
+        doc::code(&s.path),
         c.options.samples,
         c.options.seed,
         c.seconds,
-        command(c)
+        doc::code(&command(c))
     ));
     sec.answer_callout();
     sec.doc.contents();
@@ -326,14 +326,14 @@ fn render(c: &Computed) -> Result<Rendered> {
         None => Vec::new(),
     };
     sec.doc.h(2, "Reproduce");
-    sec.doc
-        .code(format!("{}\ncargo test --workspace", command(c)));
+    sec.doc.code(format!("{}\ncargo xtask test", command(c)));
     let json = results_json(c, &comparisons);
     Ok((title, sec.doc, sec.csv, json))
 }
 
-/// The command that reproduces the report (paths as the user gave them).
+/// The command that reproduces the report (paths as the user gave them, shell-quoted).
 fn command(c: &Computed) -> String {
+    use crate::paths::shell_quote as q;
     if c.paper.is_some() {
         return format!(
             "cargo xtask reproduce-paper --seed {} --samples {}",
@@ -342,13 +342,15 @@ fn command(c: &Computed) -> String {
     }
     let mut s = format!(
         "cargo xtask report --study {} --seed {} --samples {}",
-        c.study.path, c.options.seed, c.options.samples
+        q(&c.study.path),
+        c.options.seed,
+        c.options.samples
     );
     if let Some((t, _)) = &c.vendor {
-        s.push_str(&format!(" --tolerances {}", t.path));
+        s.push_str(&format!(" --tolerances {}", q(&t.path)));
     }
     if let Some([_, dsg]) = &c.designed {
-        s.push_str(&format!(" --designed {}", dsg.path));
+        s.push_str(&format!(" --designed {}", q(&dsg.path)));
     }
     s
 }
@@ -399,12 +401,20 @@ fn default_out(rel: &str) -> PathBuf {
     )
 }
 
-/// Compute and write a report; print one summary line and where to open it.
-fn write(c: &Computed, out: &Path, what: &str) -> Result<()> {
+/// Write a computed report into the checked and locked output directory; print one summary
+/// line and where to open it.
+fn write(c: &Computed, out: &Path, prepared: crate::outdir::Prepared, what: &str) -> Result<()> {
     let files = files(c)?;
-    crate::outdir::write_report_dir(out, &files)?;
+    let notes = prepared.notes.clone();
+    let dir = prepared.dir().to_path_buf();
+    prepared.write(&files)?;
+    let linked = if dir == out {
+        String::new()
+    } else {
+        format!(" (a link to {})", dir.display())
+    };
     let mut t = format!(
-        "{what}: study {} ({}), seed {}, {} samples: wrote {} files to {} in {:.1} s\n",
+        "{what}: study {} ({}), seed {}, {} samples: wrote {} files to {}{linked} in {:.1} s\n",
         c.study.name,
         c.study.path,
         c.options.seed,
@@ -413,6 +423,9 @@ fn write(c: &Computed, out: &Path, what: &str) -> Result<()> {
         out.display(),
         c.seconds
     );
+    for n in &notes {
+        t.push_str(&format!("  note: {n}\n"));
+    }
     if let Some(p) = &c.paper {
         t.push_str(&format!(
             "  {}\n",
@@ -426,18 +439,18 @@ fn write(c: &Computed, out: &Path, what: &str) -> Result<()> {
     crate::out::print(&t)
 }
 
-/// Compute a study's report (for the command and the tests).
+/// Read and check a report's inputs (study, tolerances, designed study) and its options.
 ///
 /// # Errors
-/// [`InputError`] for bad inputs; others if a solver fails.
-pub fn build(
+/// [`InputError`] for bad inputs.
+fn inputs(
     study: Option<&Path>,
     seed: Option<u64>,
     samples: Option<u64>,
     tolerances: Option<&Path>,
     designed: Option<&Path>,
     paper: bool,
-) -> Result<Computed> {
+) -> Result<(study::Study, Options)> {
     let s = crate::study::load(study)?;
     let tolerances = match tolerances {
         Some(p) => Some(Tolerances::load(p, &s.turntable).map_err(InputError::from)?),
@@ -457,15 +470,16 @@ pub fn build(
         tolerances,
         designed,
     };
-    compute::compute(s, options)
+    Ok((s, options))
 }
 
-/// Run `report`.
+/// Run `report`: the inputs and the output directory are checked (and the directory locked)
+/// before the work.
 ///
 /// # Errors
-/// As [`build`] and the output directory.
+/// As [`inputs`], [`compute::compute`] and the output directory.
 pub fn run(args: &Args) -> Result<()> {
-    let c = build(
+    let (s, options) = inputs(
         Some(&args.study),
         args.seed,
         args.samples,
@@ -473,19 +487,24 @@ pub fn run(args: &Args) -> Result<()> {
         args.designed.as_deref(),
         false,
     )?;
+    // the name is a file-name-safe slug (checked when the study was read): one component
     let out = args
         .out
         .clone()
-        .unwrap_or_else(|| default_out(&format!("report/{}", c.study.name)));
-    write(&c, &out, "report")
+        .unwrap_or_else(|| default_out(&format!("report/{}", s.name)));
+    let prepared = crate::outdir::Prepared::new(&out)?;
+    let c = compute::compute(s, options)?;
+    write(&c, &out, prepared, "report")
 }
 
 /// Run `reproduce-paper`.
 ///
 /// # Errors
-/// As [`build`] and the output directory.
+/// As [`inputs`], [`compute::compute`] and the output directory.
 pub fn run_paper(args: &PaperArgs) -> Result<()> {
-    let c = build(None, args.seed, args.samples, None, None, true)?;
+    let (s, options) = inputs(None, args.seed, args.samples, None, None, true)?;
     let out = args.out.clone().unwrap_or_else(|| default_out("paper"));
-    write(&c, &out, "reproduce-paper")
+    let prepared = crate::outdir::Prepared::new(&out)?;
+    let c = compute::compute(s, options)?;
+    write(&c, &out, prepared, "reproduce-paper")
 }

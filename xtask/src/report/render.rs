@@ -2,7 +2,7 @@
 //! (no science here: every number comes from a library result).
 
 use super::compute::{Computed, OutputPlane};
-use super::doc::Doc;
+use super::doc::{self, Doc};
 use super::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
@@ -198,7 +198,7 @@ impl<'a> Sections<'a> {
             .sensor
             .outputs()
             .iter()
-            .map(|o| (o.name.clone(), unit(&o.unit), o.accuracy))
+            .map(|o| (o.name.clone(), doc::text(&unit(&o.unit)), o.accuracy))
             .collect()
     }
 
@@ -332,10 +332,15 @@ impl<'a> Sections<'a> {
         self.doc.table(
             &["input", "value"],
             vec![
-                vec!["study".into(), format!("`{}` (`{}`)", s.name, s.path)],
+                vec![
+                    "study".into(),
+                    format!("{} ({})", doc::code(&s.name), doc::code(&s.path)),
+                ],
                 vec![
                     "description".into(),
-                    s.description.clone().unwrap_or_else(|| "-".into()),
+                    s.description
+                        .as_deref()
+                        .map_or_else(|| "-".into(), doc::text),
                 ],
                 vec![
                     "site".into(),
@@ -393,7 +398,7 @@ impl<'a> Sections<'a> {
                     format!("`{}`", t.coefficient),
                     format!("`{}`", t.regressor),
                     num(t.value),
-                    unit(&o.coefficient_unit(t)),
+                    doc::text(&unit(&o.coefficient_unit(t))),
                     if t.known {
                         "known".into()
                     } else {
@@ -407,10 +412,10 @@ impl<'a> Sections<'a> {
                     t.coefficient,
                     t.regressor,
                     t.value,
-                    o.coefficient_unit(t),
+                    crate::out::csv_field(&o.coefficient_unit(t)),
                     !t.known,
                     o.accuracy,
-                    o.unit
+                    crate::out::csv_field(&o.unit)
                 );
             }
         }
@@ -418,7 +423,14 @@ impl<'a> Sections<'a> {
             .sensor
             .outputs()
             .iter()
-            .map(|o| format!("`{}` {} {}", o.name, num(o.accuracy), unit(&o.unit)))
+            .map(|o| {
+                format!(
+                    "`{}` {} {}",
+                    o.name,
+                    num(o.accuracy),
+                    doc::text(&unit(&o.unit))
+                )
+            })
             .collect();
         self.doc.p(format!(
             "{} outputs, each linear in its coefficients; the calibration must reach the accuracy ω_m of every output: {}. Written to `sensor_terms.csv`.",
@@ -464,7 +476,10 @@ impl<'a> Sections<'a> {
                     format!("about {about}"),
                 ),
             };
-            let desc = s.turntable.description_of(&name).unwrap_or("-").to_string();
+            let desc = s
+                .turntable
+                .description_of(&name)
+                .map_or_else(|| "-".into(), doc::text);
             rows.push(vec![
                 (i + 1).to_string(),
                 format!("`{name}`"),
@@ -668,7 +683,7 @@ impl<'a> Sections<'a> {
                 xs: s.u_rad.iter().map(|v| rad_to_deg(*v)).collect(),
                 ys: s.v_rad.iter().map(|v| rad_to_deg(*v)).collect(),
                 z: s.delta_omega.clone(),
-                z_label: format!("Δω_{name} ({u})"),
+                z_label: format!("Δω_{name} ({})", doc::plain(u)),
                 level: Some(*acc),
                 rectangle: req
                     .map(|r| {
@@ -738,7 +753,7 @@ impl<'a> Sections<'a> {
             panels.push(LinePanel {
                 title: format!("Δω_{name} against one angle, the others 0"),
                 x_label: "orientation error (deg)".into(),
-                y_label: format!("Δω_{name} ({u})"),
+                y_label: format!("Δω_{name} ({})", doc::plain(u)),
                 series,
                 hlines: vec![("accuracy ω_m".into(), *acc, Mark::Line(LIMIT, true))],
                 x_integer: false,
@@ -878,7 +893,7 @@ impl<'a> Sections<'a> {
             let v: Vec<f64> = (0..3).map(|k| c.sensitivity[i][k]).collect();
             rows.push(vec![
                 format!("`{n}`"),
-                t.description_of(n).unwrap_or("-").into(),
+                t.description_of(n).map_or_else(|| "-".into(), doc::text),
                 format!("{:.4}", v[0]),
                 format!("{:.4}", v[1]),
                 format!("{:.4}", v[2]),
@@ -938,7 +953,10 @@ impl<'a> Sections<'a> {
         for (i, n) in names.iter().enumerate() {
             let mut row = vec![
                 format!("`{n}`"),
-                c.study.turntable.description_of(n).unwrap_or("-").into(),
+                c.study
+                    .turntable
+                    .description_of(n)
+                    .map_or_else(|| "-".into(), doc::text),
                 cell(ours[i]),
             ];
             if let Some(e) = &equal {
@@ -1358,7 +1376,7 @@ impl<'a> Sections<'a> {
                 panels.push(LinePanel {
                     title: format!("Δω_{name}, `{}`", r.reading).replace('`', ""),
                     x_label: "test position".into(),
-                    y_label: format!("worst Δω_{name} ({u})"),
+                    y_label: format!("worst Δω_{name} ({})", doc::plain(u)),
                     series,
                     hlines: vec![("accuracy ω_m".into(), *acc, Mark::Line(LIMIT, true))],
                     x_integer: true,
@@ -1392,9 +1410,11 @@ impl<'a> Sections<'a> {
         let outs = self.outputs();
         self.doc.h(2, "Vendor tolerances");
         self.doc.p(format!(
-            "The tolerances of `{}`{} checked end to end under the study's reading: for every output the worst turntable within them (linearised, confirmed on the exact chain, with the derived second-order bound where the reading has one), the Monte Carlo yield, and each error's share of the worst case and of the variance (one share per group of errors that act only together).",
-            tol.path,
-            tol.name.as_ref().map_or(String::new(), |n| format!(" ({n})"))
+            "The tolerances of {}{} checked end to end under the study's reading: for every output the worst turntable within them (linearised, confirmed on the exact chain, with the derived second-order bound where the reading has one), the Monte Carlo yield, and each error's share of the worst case and of the variance (one share per group of errors that act only together).",
+            doc::code(&tol.path),
+            tol.name
+                .as_ref()
+                .map_or(String::new(), |n| format!(" ({})", doc::text(n)))
         ));
         let mut rows = Vec::new();
         for o in &chk.outputs {
@@ -1492,8 +1512,8 @@ impl<'a> Sections<'a> {
         let outs = self.outputs();
         self.doc.h(2, "Designed schedule");
         self.doc.p(format!(
-            "The study's schedule beside the designed one of `{}` (same sensor, site, turntable and reading): J of the direct allocation under the study's reading (the cost of the turntable that meets every output's accuracy; lower is a cheaper table), the condition number of every output's regression, and the orientation requirement.",
-            b.path
+            "The study's schedule beside the designed one of {} (same sensor, site, turntable and reading): J of the direct allocation under the study's reading (the cost of the turntable that meets every output's accuracy; lower is a cheaper table), the condition number of every output's regression, and the orientation requirement.",
+            doc::code(&b.path)
         ));
         let req = |r: &Result<OrientationRequirement, CalibError>| match r {
             Ok(q) => (0..3)
@@ -1514,7 +1534,7 @@ impl<'a> Sections<'a> {
             .iter()
             .map(|(name, f)| {
                 vec![
-                    format!("{name} (`{}`)", f.path),
+                    format!("{name} ({})", doc::code(&f.path)),
                     f.positions.to_string(),
                     format!("{:.3}", f.direct_objective_arcmin),
                     conds(f),
