@@ -3,7 +3,7 @@
 //! allocated); then the throughput against baselines measured in the same run (a log of 2^22
 //! samples in memory, interleaved rounds, best of each).
 //!
-//! Run: `cargo run --release -p allan --example throughput -- [SAMPLES]` (default 1e8 for the
+//! Run: `cargo run --release -p allan --example allan_throughput -- [SAMPLES]` (default 1e8 for the
 //! long log).
 
 use allan::{Settings, StreamingAllan};
