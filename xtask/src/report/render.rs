@@ -295,11 +295,11 @@ impl<'a> Sections<'a> {
             Some((tol, chk)) => {
                 items.insert(0, self.sheet_outputs(chk));
                 format!(
-                    "**Answer.** Do the tolerances of `{}`{} deliver every output's accuracy? {}.",
-                    tol.path,
+                    "**Answer.** Do the tolerances of {}{} deliver every output's accuracy? {}.",
+                    doc::code(&tol.path),
                     tol.name
                         .as_ref()
-                        .map_or(String::new(), |n| format!(" ({n})")),
+                        .map_or(String::new(), |n| format!(" ({})", doc::text(n))),
                     upper_first(&sheet_verdict(chk))
                 )
             }
