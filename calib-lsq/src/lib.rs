@@ -55,6 +55,6 @@ pub use lsq::{LsqSolution, NULL_COMPONENT_TOL, RANK_RTOL, Regression, jacobi_sin
 pub use requirement::{
     ANGLE_NAMES, BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
     DIRECTION_TOL_RAD, INSENSITIVE_REL, OrientationRequirement, OutputBox, OutputRegion,
-    RADIUS_TOL_RAD, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD, Surface,
+    LINEAR_REGIME_RAD, RADIUS_TOL_REL, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD, Surface,
 };
 pub use schedule::{Position, Schedule};
