@@ -445,7 +445,11 @@ impl OutputRegion {
     where
         F: Fn(f64) -> Result<bool, CalibError>,
     {
-        let tol = if rel_tol > 0.0 { rel_tol } else { RADIUS_TOL_REL };
+        let tol = if rel_tol > 0.0 {
+            rel_tol
+        } else {
+            RADIUS_TOL_REL
+        };
         let start = self
             .first_order_radius()
             .map_or(1e-3 * SEARCH_LIMIT_RAD, |r| r.min(SEARCH_LIMIT_RAD));

@@ -214,9 +214,11 @@ fn scaled_requirement(values: f64, omega_m: f64) -> [f64; 3] {
         .collect();
     let sensor = gw_model::SensorModel::new(outputs).unwrap();
     let cal = Calibration::new(&sensor, &gw_model::paper::site(), &paper::schedule()).unwrap();
-    deg(&RequirementProblem::new(cal, Reading::PAPER, DeltaRKind::SmallAngle)
-        .requirement()
-        .unwrap())
+    deg(
+        &RequirementProblem::new(cal, Reading::PAPER, DeltaRKind::SmallAngle)
+            .requirement()
+            .unwrap(),
+    )
 }
 
 proptest! {

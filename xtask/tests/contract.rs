@@ -24,7 +24,7 @@ fn study_commands(path: &str) -> Vec<Vec<String>> {
         v(&["requirement", "--study", path]),
         v(&["allocate", "--study", path]),
         v(&["mc", "--study", path, "--samples", "1000"]),
-        v(&["end-to-end", "--study", path, "--samples", "500"]),
+        v(&["end-to-end", "--study", path, "--samples", "1500"]),
         v(&[
             "check-turntable",
             "--study",
@@ -152,7 +152,7 @@ fn lower_bounds_are_checked_in_arcmin_against_every_box() {
     for cmd in [
         vec!["allocate", "--study", p],
         vec!["mc", "--study", p, "--samples", "1000"],
-        vec!["end-to-end", "--study", p, "--samples", "500"],
+        vec!["end-to-end", "--study", p, "--samples", "1500"],
     ] {
         let o = run(&cmd);
         assert_input_error(&o, &[p, "dalpha_x2", "arcmin"]);
@@ -395,7 +395,7 @@ fn human_output_has_sensible_digits_and_no_nan() {
         vec!["requirement", "--study", p],
         vec!["allocate", "--study", p],
         vec!["mc", "--study", p, "--samples", "1000"],
-        vec!["end-to-end", "--study", p, "--samples", "500"],
+        vec!["end-to-end", "--study", p, "--samples", "1500"],
         vec![
             "check-turntable",
             "--study",
