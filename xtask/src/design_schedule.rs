@@ -385,7 +385,7 @@ fn study_tolerances_note(s: &Study, d: &ScheduleDesign) -> String {
     if !unbounded.is_empty() {
         unbounded.sort_unstable();
         t.push_str(&format!(
-            "; unbounded: the output depends on {}, which those tolerances leave free (the study's schedule needs no bound on it)",
+            "; unbounded: the output depends on {}, which those tolerances leave free (the study's schedule needs no bound there)",
             unbounded.iter().map(|&j| errs[j]).collect::<Vec<_>>().join(", ")
         ));
     }
