@@ -127,14 +127,14 @@ fn huge_and_malformed_counts_exit_2_naming_the_flag() {
     let o = run(&[
         "end-to-end",
         "--samples",
-        "1e3",
+        "2e3",
         "--seed",
         "1_000",
         "--json",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["samples"], 1000);
+    assert_eq!(v["samples"], 2000);
     assert_eq!(v["seed"], 1000);
 }
 
