@@ -64,8 +64,9 @@ pub use lsq::{
 };
 pub use requirement::{
     ANGLE_NAMES, BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
-    DIRECTION_TOL_RAD, INSENSITIVE_REL, OrientationRequirement, OutputBox, OutputRegion,
-    RADIUS_TOL_RAD, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD, Surface,
+    DIRECTION_TOL_RAD, INSENSITIVE_REL, LINEAR_REGIME_RAD, OrientationRequirement, OutputBox,
+    OutputRegion, RADIUS_TOL_REL, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD,
+    Surface,
 };
 pub use schedule::{Position, Schedule};
 pub use timing::Timing;

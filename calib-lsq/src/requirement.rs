@@ -16,8 +16,9 @@
 //!
 //! # Search
 //! Corners in direction $\hat u$ (in the positive orthant) at radius $\rho$: $\rho(\hat u)$ is the
-//! largest radius at which every corner meets the accuracy (doubling, then bisection to
-//! [`RADIUS_TOL_RAD`]); the direction maximises the volume (two angles: a scan of
+//! largest radius at which every corner meets the accuracy (from the first-order radius,
+//! doubled or halved until bracketed, then bisection to [`RADIUS_TOL_REL`] of the radius: the
+//! search is scale-free); the direction maximises the volume (two angles: a scan of
 //! [`DIRECTION_SCAN`] directions then golden sections to [`DIRECTION_TOL_RAD`]; three: a start
 //! from the log-barrier solution of the first-order problem (a [`DIRECTION_SCAN_3D`]² grid of
 //! directions when the first-order problem is unbounded), refined by Nelder-Mead to
@@ -32,9 +33,25 @@ use crate::error::{CalibError, finite};
 use gw_model::{DeltaRKind, InputValues, OrientationAngles};
 use std::f64::consts::FRAC_PI_2;
 
-/// Bisection stops when the bracket on the box's corner radius is narrower than this, rad
-/// ($10^{-12}$ rad $\approx 6\times10^{-11}$ deg, far below the $10^{-6}$ deg asked for).
-pub const RADIUS_TOL_RAD: f64 = 1e-12;
+/// Bisection stops when the bracket on the box's corner radius is narrower than this fraction
+/// of the radius (dimensionless): the search is scale-free, so the requirement scales with the
+/// accuracy at every accuracy (it is linear in $\omega_m$ to first order).
+pub const RADIUS_TOL_REL: f64 = 1e-12;
+
+/// Halvings of the starting radius at most before the search brackets the boundary from 0
+/// (the start is the first-order radius, so a few suffice).
+const MAX_HALVINGS: usize = 200;
+
+/// Below this first-order corner radius (rad, about 2 arcsec) an output's box is computed at
+/// the accuracy whose first-order radius is this ([`OutputRegion::linear_regime_accuracy`])
+/// and scaled to the output's accuracy, so the requirement is exactly proportional to
+/// $\omega_m$ below it. Why: $\Delta\omega$ comes from outputs that cancel, so a direct
+/// evaluation at corner radius $\rho$ resolves it only to a few ulp of the outputs' size, a
+/// relative error of about $5\times10^{-14}/\rho$ on the radius for the paper's sensor
+/// (measured: $10^{-4}$ at $\rho = 5\times10^{-10}$ rad); scaling instead neglects the
+/// second-order terms, a relative error of about $0.4\rho^2$ (measured for the exact
+/// $\Delta\mathbf R$). At $10^{-5}$ rad both are below $10^{-8}$.
+pub const LINEAR_REGIME_RAD: f64 = 1e-5;
 
 /// Golden-section search on a two-angle corner direction stops at this bracket width, rad.
 /// The area is flat (quadratic) at its optimum, so the half-sides are located to about
@@ -87,7 +104,7 @@ pub const INSENSITIVE_REL: f64 = 1e-7;
 pub const SENSITIVITY_PROBE_RAD: f64 = 1e-3;
 
 /// Relative bisection tolerance on the corner radius while searching three-angle directions
-/// (the chosen direction is then solved to [`RADIUS_TOL_RAD`]).
+/// (the chosen direction is then solved to [`RADIUS_TOL_REL`]).
 pub const SEARCH_RADIUS_REL: f64 = 1e-7;
 
 /// The three orientation angles in eq 24 order.
@@ -113,6 +130,9 @@ pub struct OutputRegion {
     kind: DeltaRKind,
     accuracy: f64,
     sensitive: Vec<usize>,
+    /// $\max_i\sum_j|\partial e_i/\partial\delta_j|$ over the sensitive angles (output unit
+    /// per rad; `None` without a first-order sensitivity): independent of $\omega_m$.
+    gain: Option<f64>,
 }
 
 /// The largest box of one output (in the angles it is sensitive to).
@@ -214,6 +234,7 @@ impl RequirementProblem {
             kind: self.delta_r_kind,
             accuracy,
             sensitive: Vec::new(),
+            gain: None,
         };
         let mut probe = [0.0; 3];
         for (j, p) in probe.iter_mut().enumerate() {
@@ -227,6 +248,13 @@ impl RequirementProblem {
         region.sensitive = (0..3)
             .filter(|&j| top > 0.0 && probe[j] > INSENSITIVE_REL * top)
             .collect();
+        // the largest first-order change of the error vector at a unit corner
+        let gain = region
+            .derivative_rows()?
+            .iter()
+            .map(|r| r.iter().sum::<f64>())
+            .fold(0.0, f64::max);
+        region.gain = (gain > 0.0 && gain.is_finite()).then_some(gain);
         Ok(region)
     }
 
@@ -291,7 +319,7 @@ impl RequirementProblem {
                             -corner[j]
                         }
                     });
-                    worst = worst.max(r.rate_error(d)? / r.accuracy);
+                    worst = worst.max(r.accuracy_ratio(d)?);
                 }
                 Ok(worst)
             })
@@ -366,27 +394,100 @@ impl OutputRegion {
         Ok(true)
     }
 
-    /// Largest radius $\rho$ such that `ok(ρ)`, by doubling then bisection to
-    /// [`RADIUS_TOL_RAD`].
+    /// The first-order radius (rad) at which the corner $(\rho, \dots, \rho)$ of a box in the
+    /// sensitive angles first reaches $\omega_m$: $\omega_m/\max_i\sum_j
+    /// |\partial e_i/\partial\delta_j|$ (central differences); `None` without a first-order
+    /// sensitivity. It is proportional to $\omega_m$: the search starts there, so it does not
+    /// depend on the scale of the accuracy.
+    #[must_use]
+    pub fn first_order_radius(&self) -> Option<f64> {
+        self.gain.map(|g| self.accuracy / g)
+    }
+
+    /// The accuracy (output unit) whose first-order radius is [`LINEAR_REGIME_RAD`]: below
+    /// it the box is computed at this accuracy and scaled (`None` without a first-order
+    /// sensitivity). It does not depend on the output's own accuracy.
+    #[must_use]
+    pub fn linear_regime_accuracy(&self) -> Option<f64> {
+        self.gain.map(|g| LINEAR_REGIME_RAD * g)
+    }
+
+    /// The factor $f = \omega_{ref}/\omega_m > 1$ when the output's accuracy is in the linear
+    /// regime (then the region is evaluated at $\omega_{ref}$ and scaled by $1/f$), else
+    /// `None`.
+    fn linear_scale(&self) -> Option<(f64, Self)> {
+        let reference = self.linear_regime_accuracy()?;
+        (self.accuracy < reference).then(|| {
+            let mut r = self.clone();
+            r.accuracy = reference;
+            (reference / self.accuracy, r)
+        })
+    }
+
+    /// $\Delta\omega/\omega_m$ at the orientation error `angles_rad`, evaluated where it is
+    /// resolved: in the linear regime at the reference accuracy with the angles scaled by the
+    /// same factor (exact to first order), else directly.
+    ///
+    /// # Errors
+    /// As [`OutputRegion::rate_error`].
+    pub fn accuracy_ratio(&self, angles_rad: [f64; 3]) -> Result<f64, CalibError> {
+        match self.linear_scale() {
+            Some((f, r)) => Ok(r.rate_error(angles_rad.map(|a| a * f))? / r.accuracy),
+            None => Ok(self.rate_error(angles_rad)? / self.accuracy),
+        }
+    }
+
+    /// Largest radius $\rho$ such that `ok(ρ)`, to the relative tolerance `rel_tol` (0:
+    /// [`RADIUS_TOL_REL`]): from the first-order radius ([`OutputRegion::first_order_radius`]),
+    /// doubled or halved until the boundary is bracketed, then bisected. Every corner meeting
+    /// the accuracy at [`SEARCH_LIMIT_RAD`] makes the region unbounded.
     fn radius<F>(&self, direction: &[f64], rel_tol: f64, ok: F) -> Result<f64, CalibError>
     where
         F: Fn(f64) -> Result<bool, CalibError>,
     {
-        let mut lo = 0.0;
-        let mut hi = 1e-4;
-        while ok(hi)? {
-            lo = hi;
-            hi *= 2.0;
-            if hi > SEARCH_LIMIT_RAD {
-                return Err(CalibError::Unbounded {
-                    output: self.output().to_string(),
-                    direction: direction.to_vec(),
-                    limit_rad: SEARCH_LIMIT_RAD,
-                });
+        let tol = if rel_tol > 0.0 {
+            rel_tol
+        } else {
+            RADIUS_TOL_REL
+        };
+        let start = self
+            .first_order_radius()
+            .map_or(1e-3 * SEARCH_LIMIT_RAD, |r| r.min(SEARCH_LIMIT_RAD));
+        let (mut lo, mut hi);
+        if ok(start)? {
+            (lo, hi) = (start, start);
+            loop {
+                if hi >= SEARCH_LIMIT_RAD {
+                    return Err(CalibError::Unbounded {
+                        output: self.output().to_string(),
+                        direction: direction.to_vec(),
+                        limit_rad: SEARCH_LIMIT_RAD,
+                    });
+                }
+                hi = (2.0 * hi).min(SEARCH_LIMIT_RAD);
+                if !ok(hi)? {
+                    break;
+                }
+                lo = hi;
+            }
+        } else {
+            (lo, hi) = (0.5 * start, start);
+            let mut halvings = 0;
+            while !ok(lo)? {
+                hi = lo;
+                lo *= 0.5;
+                halvings += 1;
+                if halvings >= MAX_HALVINGS {
+                    lo = 0.0;
+                    break;
+                }
             }
         }
-        while hi - lo > RADIUS_TOL_RAD.max(rel_tol * lo) {
+        while hi - lo > tol * hi {
             let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
             if ok(mid)? {
                 lo = mid;
             } else {
@@ -397,7 +498,7 @@ impl OutputRegion {
     }
 
     /// The half-sides of the largest box whose corner points along `dir` (unit, positive),
-    /// radius to the relative tolerance `rel_tol` (0: to [`RADIUS_TOL_RAD`]).
+    /// radius to the relative tolerance `rel_tol` (0: [`RADIUS_TOL_REL`]).
     fn box_along(&self, dir: &[f64], rel_tol: f64) -> Result<(Vec<f64>, f64), CalibError> {
         let r = self.radius(dir, rel_tol, |r| {
             let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
@@ -410,11 +511,27 @@ impl OutputRegion {
 
     /// The largest-volume centred axis-aligned box inside $\Delta\omega \le \omega_m$ in the
     /// output's sensitive angles (Figure 5, "to maximize the areas of the two rectangles").
+    /// Below [`OutputRegion::linear_regime_accuracy`] the box at that accuracy, scaled by
+    /// $\omega_m/\omega_{ref}$ (see [`LINEAR_REGIME_RAD`]): the requirement is proportional to
+    /// $\omega_m$ there, at every scale down to the smallest accepted accuracy.
     ///
     /// # Errors
     /// [`CalibError::Unbounded`] if the region is not bounded within [`SEARCH_LIMIT_RAD`];
     /// [`CalibError::NoSensitivity`] for an output insensitive to every angle.
     pub fn max_box(&self) -> Result<OutputBox, CalibError> {
+        let Some((f, reference)) = self.linear_scale() else {
+            return self.max_box_direct();
+        };
+        // the linear regime: the box at the reference accuracy, scaled (see LINEAR_REGIME_RAD)
+        let b = reference.max_box_direct()?;
+        Ok(OutputBox {
+            half_rad: b.half_rad.map(|h| h.map(|h| h / f)),
+            volume: b.volume / f.powi(self.sensitive.len() as i32),
+            ..b
+        })
+    }
+
+    fn max_box_direct(&self) -> Result<OutputBox, CalibError> {
         let half = match self.sensitive.len() {
             0 => return Err(CalibError::NoSensitivity),
             1 => self.box_along(&[1.0], 0.0)?.0,
@@ -466,6 +583,16 @@ impl OutputRegion {
     /// The first-order model of the output's error vector in its sensitive angles, per unit
     /// of accuracy: $|\partial e_i/\partial\delta_j| / \omega_m$ by central differences.
     fn linear_rows(&self) -> Result<Vec<Vec<f64>>, CalibError> {
+        Ok(self
+            .derivative_rows()?
+            .into_iter()
+            .map(|r| r.into_iter().map(|v| v / self.accuracy).collect())
+            .collect())
+    }
+
+    /// $|\partial e_i/\partial\delta_j|$ (output unit per rad) in the sensitive angles by
+    /// central differences of step [`LINEARIZATION_STEP_RAD`].
+    fn derivative_rows(&self) -> Result<Vec<Vec<f64>>, CalibError> {
         let h = LINEARIZATION_STEP_RAD;
         let n = self.cal.nominal_values().len();
         let mut cols = Vec::new();
@@ -477,7 +604,7 @@ impl OutputRegion {
             let minus = self.error_vector(d)?;
             cols.push(
                 (0..n)
-                    .map(|i| ((plus[i] - minus[i]) / (2.0 * h)).abs() / self.accuracy)
+                    .map(|i| ((plus[i] - minus[i]) / (2.0 * h)).abs())
                     .collect::<Vec<f64>>(),
             );
         }

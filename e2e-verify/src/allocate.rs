@@ -25,6 +25,12 @@ pub const CERTIFY_BISECTION_STEPS: usize = 50;
 /// terms (dimensionless): a bound that needs more than this is reported as not certifiable.
 pub const CERTIFY_MAX_MARGIN: f64 = 0.9;
 
+/// Share of every accuracy the certified allocation keeps free besides the second-order bound
+/// (dimensionless): room for the round trip of its tolerances through a decimal sheet (written
+/// at full precision and read back, a bound moves by a few ulp, about $10^{-16}$), so that a
+/// sheet of the certified tolerances is still proven by `check-turntable`.
+pub const CERTIFY_ROUND_TRIP_REL: f64 = 1e-12;
+
 /// Bisection steps on the scale when the lower bounds are positive (relative bracket
 /// $2^{-40} \approx 10^{-12}$).
 pub const YIELD_BISECTION_STEPS: usize = 40;
@@ -43,6 +49,77 @@ pub const YIELD_SCALE_MARGIN: f64 = 1e-9;
 
 /// The default yield target: 99.73% (the $3\sigma$ fraction of a normal law).
 pub const DEFAULT_YIELD_FRACTION: f64 = 0.9973;
+
+/// The fewest Monte Carlo draws that can demonstrate a yield `target` at 95% confidence: with
+/// $n$ draws none of which fails, the lower end of the 95% Wilson interval
+/// ([`wilson_interval_95`]) is $n/(n + z^2)$, which reaches the target $p$ only for
+/// $$n \ge \frac{z^2\,p}{1 - p},\qquad z = 1.96.$$
+/// Fewer draws cannot tell a yield of $p$ from a smaller one whatever they show (1419 for
+/// 99.73%, 35 for 90%). A `target` outside $(0, 1)$ gives 1.
+#[must_use]
+pub fn min_yield_samples(target: f64) -> u64 {
+    if !(target > 0.0 && target < 1.0) {
+        return 1;
+    }
+    let z2 = crate::montecarlo::Z_95 * crate::montecarlo::Z_95;
+    let mut n = (z2 * target / (1.0 - target)).ceil().max(1.0) as u64;
+    // the closed form up to rounding: the interval itself decides
+    while n > 1 && wilson_interval_95(n - 1, n - 1).0 >= target {
+        n -= 1;
+    }
+    while wilson_interval_95(n, n).0 < target {
+        n += 1;
+    }
+    n
+}
+
+/// Whether a yield measured with a 95% interval reaches its target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum YieldVerdict {
+    /// The whole interval is at or above the target.
+    Meets,
+    /// The whole interval is below the target.
+    DoesNotMeet,
+    /// The interval contains the target: the draws cannot tell.
+    CannotTell,
+}
+
+impl YieldVerdict {
+    /// The verdict for a 95% interval `(lo, hi)` of the yield against `target`.
+    #[must_use]
+    pub fn of(interval_95: (f64, f64), target: f64) -> Self {
+        if interval_95.0 >= target {
+            YieldVerdict::Meets
+        } else if interval_95.1 < target {
+            YieldVerdict::DoesNotMeet
+        } else {
+            YieldVerdict::CannotTell
+        }
+    }
+
+    /// `meets`, `does not meet` or `cannot tell`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            YieldVerdict::Meets => "meets",
+            YieldVerdict::DoesNotMeet => "does not meet",
+            YieldVerdict::CannotTell => "cannot tell",
+        }
+    }
+}
+
+/// Refuse a draw count that cannot resolve `target` ([`min_yield_samples`]).
+pub(crate) fn check_yield_samples(samples: u64, target: f64) -> Result<(), E2eError> {
+    let needed = min_yield_samples(target);
+    if samples < needed {
+        return Err(E2eError::TooFewSamples {
+            samples,
+            needed,
+            target,
+        });
+    }
+    Ok(())
+}
 
 /// One row (output, position) of the direct allocation's constraints.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -152,6 +229,12 @@ impl YieldAllocation {
     pub fn yield_fraction(&self) -> f64 {
         self.meeting as f64 / self.samples as f64
     }
+
+    /// The design draws' 95% interval against the target.
+    #[must_use]
+    pub fn design_verdict(&self) -> YieldVerdict {
+        YieldVerdict::of(self.interval_95, self.target)
+    }
 }
 
 /// The rows no other row dominates. Row $a$ (coefficients $\mathbf c_a \ge 0$, bound $b_a$)
@@ -254,9 +337,9 @@ impl EndToEnd {
     }
 
     /// Direct allocation certified on the exact chain: the cheapest allocation found whose
-    /// linearised worst case plus the derived second-order bound is within every accuracy, so
-    /// that every turntable of the box meets every accuracy on the exact chain, not only to
-    /// first order.
+    /// linearised worst case plus the derived second-order bound is within every accuracy
+    /// (less [`CERTIFY_ROUND_TRIP_REL`] of it), so that every turntable of the box meets every
+    /// accuracy on the exact chain, not only to first order.
     ///
     /// # Method
     /// The bound $\tau_k(s)$ ([`EndToEnd::second_order_bound`]) depends on the box through
@@ -327,13 +410,18 @@ impl EndToEnd {
                 change: s_hi,
             });
         }
+        let room = |k: usize| acc[k] * (1.0 - CERTIFY_ROUND_TRIP_REL);
         let certified = |d: &DirectAllocation| -> Result<bool, E2eError> {
             let tau = taus(l1(&d.upper_bounds_rad))?;
             let rows = linear.row_worst_cases(&d.upper_bounds_rad);
-            Ok((0..acc.len()).all(|k| rows.rows(k * n, n).max() + tau[k] <= acc[k]))
+            Ok((0..acc.len()).all(|k| rows.rows(k * n, n).max() + tau[k] <= room(k)))
         };
         let solve = |s: f64| -> Result<Option<DirectAllocation>, E2eError> {
-            let margins = taus(s)?;
+            let margins: Vec<f64> = taus(s)?
+                .iter()
+                .zip(&acc)
+                .map(|(t, a)| t + a * CERTIFY_ROUND_TRIP_REL)
+                .collect();
             if margins.iter().zip(&acc).any(|(t, a)| t >= a) {
                 return Ok(None);
             }
@@ -416,7 +504,8 @@ impl EndToEnd {
     /// re-evaluated on the design draws and stated with its 95% Wilson interval.
     ///
     /// # Errors
-    /// [`E2eError::FractionOutOfRange`] naming `yield_fraction`; [`E2eError::NotPositive`]
+    /// [`E2eError::FractionOutOfRange`] naming `yield_fraction`; [`E2eError::TooFewSamples`]
+    /// when the draws cannot resolve the target ([`min_yield_samples`]); [`E2eError::NotPositive`]
     /// naming `shape.<error>`; [`E2eError::Bounds`]; [`E2eError::YieldUnreachable`];
     /// [`E2eError::NoConvergence`] when a bounded loop does not settle; as
     /// [`McSettings::validate`].
@@ -429,6 +518,7 @@ impl EndToEnd {
     ) -> Result<YieldAllocation, E2eError> {
         let p = fraction("yield_fraction", target)?;
         settings.validate()?;
+        check_yield_samples(settings.samples, p)?;
         self.check_lower_bounds(lower_bounds_rad)?;
         for (name, v) in self
             .turntable()
@@ -548,6 +638,34 @@ impl EndToEnd {
             meeting,
             interval_95: wilson_interval_95(meeting, settings.samples),
         })
+    }
+}
+
+/// The certified direct allocation of `sim` ([`EndToEnd::allocate_direct_certified`]), or why
+/// there is none (the reading has no derived bound, the second-order margin exceeds an
+/// output's accuracy, or the search did not certify): the answer of `end-to-end` and of the
+/// schedule designer, in the same words.
+///
+/// # Errors
+/// The allocation's other errors (bad lower bounds, solver failure).
+pub(crate) fn certified_or_note(
+    sim: &EndToEnd,
+    linear: &Linearization,
+    lower_bounds_rad: &[f64],
+) -> Result<(Option<DirectAllocation>, Option<String>), E2eError> {
+    match sim.allocate_direct_certified(linear, lower_bounds_rad) {
+        Ok(d) => Ok((Some(d), None)),
+        // not certifiable for this reading, table and sensor: say why, keep the rest
+        Err(E2eError::NotPositive { field, value }) => Ok((
+            None,
+            Some(format!(
+                "the derived second-order bound exceeds an output's accuracy ({field} is {value:.3}): the bound is too coarse for this turntable and sensor"
+            )),
+        )),
+        Err(e @ (E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. })) => {
+            Ok((None, Some(e.to_string())))
+        }
+        Err(e) => Err(e),
     }
 }
 

@@ -2,7 +2,9 @@
 //! any other named box, e.g. the paper's Table 4), and the direct and yield-based allocations,
 //! for the study's reading and for the user's reading.
 
-use crate::allocate::{DEFAULT_YIELD_FRACTION, DirectAllocation, YieldAllocation};
+use crate::allocate::{
+    DEFAULT_YIELD_FRACTION, DirectAllocation, YieldAllocation, YieldVerdict, check_yield_samples,
+};
 use crate::error::{E2eError, fraction};
 use crate::linear::{Linearization, WorstCase};
 use crate::montecarlo::{McSettings, RateDistribution};
@@ -95,6 +97,20 @@ pub struct ReadingAnswer {
     pub yield_box: BoxAnswer,
 }
 
+impl ReadingAnswer {
+    /// The yield-based box re-measured on independent draws against its target: the 95%
+    /// interval of [`ReadingAnswer::yield_box`]'s yield and whether it reaches
+    /// [`YieldAllocation::target`] (meets: the whole interval at or above it; does not meet:
+    /// the whole interval below it; cannot tell).
+    #[must_use]
+    pub fn yield_verdict(&self) -> YieldVerdict {
+        YieldVerdict::of(
+            self.yield_box.distribution.yield_interval_95(),
+            self.yield_based.target,
+        )
+    }
+}
+
 /// The full answer.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuyersAnswer {
@@ -117,10 +133,13 @@ pub fn objective_to_arcmin(objective_rad: f64) -> f64 {
 /// Answer the buyer's question for the simulator `e2e` (its reading first, then the user's).
 ///
 /// # Errors
-/// Typed errors naming the field for bad inputs; as the allocations and the Monte Carlo.
+/// Typed errors naming the field for bad inputs; [`E2eError::TooFewSamples`] when
+/// `inputs.samples` cannot resolve the yield target ([`crate::min_yield_samples`]); as the
+/// allocations and the Monte Carlo.
 pub fn answer(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
     fraction("yield_fraction", inputs.yield_fraction)?;
     McSettings::new(inputs.samples, inputs.seed).validate()?;
+    check_yield_samples(inputs.samples, inputs.yield_fraction)?;
     let two_step = match inputs.two_step_requirement {
         Some(req) => Some(
             SensitivityWeighted::general().allocate(&AllocationProblem::new(
@@ -148,6 +167,7 @@ pub fn answer_with_two_step(
 ) -> Result<BuyersAnswer, E2eError> {
     fraction("yield_fraction", inputs.yield_fraction)?;
     McSettings::new(inputs.samples, inputs.seed).validate()?;
+    check_yield_samples(inputs.samples, inputs.yield_fraction)?;
     if let Some(a) = &two_step {
         if a.upper_bounds_rad.len() != e2e.n_errors() {
             return Err(E2eError::Alloc(alloc_opt::AllocError::Length {
@@ -198,24 +218,14 @@ pub fn answer_with_two_step(
             .map(|(name, ub)| box_answer(name, ub, &settings, &linear))
             .collect::<Result<Vec<_>, _>>()?;
         let direct = sim.allocate_direct(&linear, lb)?;
-        let (direct_certified, direct_certified_note) = match sim
-            .allocate_direct_certified(&linear, lb)
-        {
-            Ok(d) => {
+        let (certified, direct_certified_note) =
+            crate::allocate::certified_or_note(&sim, &linear, lb)?;
+        let direct_certified = match certified {
+            Some(d) => {
                 let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
-                (Some((d, wc)), None)
+                Some((d, wc))
             }
-            // not certifiable for this reading, table and sensor: say why, keep the rest
-            Err(E2eError::NotPositive { field, value }) => (
-                None,
-                Some(format!(
-                    "the derived second-order bound exceeds an output's accuracy ({field} is {value:.3}): the bound is too coarse for this turntable and sensor"
-                )),
-            ),
-            Err(e @ (E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. })) => {
-                (None, Some(e.to_string()))
-            }
-            Err(e) => return Err(e),
+            None => None,
         };
         let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
         let yield_based =

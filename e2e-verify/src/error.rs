@@ -99,6 +99,20 @@ pub enum E2eError {
         /// Why.
         reason: String,
     },
+    /// Too few Monte Carlo draws to resolve a yield target: even with every draw meeting the
+    /// accuracies, the 95% Wilson interval of the yield would reach below the target
+    /// ([`crate::min_yield_samples`]).
+    #[error(
+        "{samples} turntables cannot resolve a yield target of {target}: even with none failing, the 95% interval of the yield reaches below it; at least {needed} are needed"
+    )]
+    TooFewSamples {
+        /// The draws asked for.
+        samples: u64,
+        /// The smallest count that can demonstrate the target.
+        needed: u64,
+        /// The yield target.
+        target: f64,
+    },
     /// No scale of the allocation shape reaches the requested yield (with positive lower
     /// bounds even the smallest admissible box fails).
     #[error(

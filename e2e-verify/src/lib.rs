@@ -70,9 +70,9 @@ pub mod paper;
 mod simulate;
 
 pub use allocate::{
-    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_STEPS, DEFAULT_YIELD_FRACTION,
-    DirectAllocation, RowLoad, YIELD_BISECTION_STEPS, YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS,
-    YIELD_SCALE_MARGIN, YieldAllocation,
+    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_ROUND_TRIP_REL, CERTIFY_STEPS,
+    DEFAULT_YIELD_FRACTION, DirectAllocation, RowLoad, YIELD_BISECTION_STEPS, YIELD_BRACKET_STEPS,
+    YIELD_FIXED_POINT_STEPS, YIELD_SCALE_MARGIN, YieldAllocation, YieldVerdict, min_yield_samples,
 };
 pub use answer::{
     BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
@@ -86,4 +86,4 @@ pub use montecarlo::{
     QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution, RateQuantile,
     WorstDraw, Z_95, wilson_interval_95,
 };
-pub use simulate::{DrawWork, EndToEnd, EndToEndRun};
+pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};

@@ -109,6 +109,10 @@ pub struct OutputWorstCase {
     /// Linearised worst case of every position (output unit), the data of the per-position
     /// figure.
     pub per_position: Vec<f64>,
+    /// The computation's precision for this output ([`EndToEnd::precisions`], output unit):
+    /// `linear_bound`, `exact_at_vertex` and `per_position` values at or below it are
+    /// reported as 0 ([`crate::resolved`]).
+    pub precision: f64,
 }
 
 impl OutputWorstCase {
@@ -570,7 +574,8 @@ impl EndToEnd {
     /// The worst case over the box $|\chi_j| \le \mathrm{UB}_j$ (the lower bounds do not
     /// matter: the maximum is at $|\chi_j| = \mathrm{UB}_j$), per output: exact for the
     /// linearised model, confirmed on the exact chain at the worst vertex, with the
-    /// second-order bound.
+    /// second-order bound. Values at or below the output's precision
+    /// ([`EndToEnd::precisions`]) are reported as 0.
     ///
     /// # Errors
     /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming the error of a bad bound; as
@@ -587,6 +592,7 @@ impl EndToEnd {
         let mut work = self.work();
         let mut outputs = Vec::with_capacity(self.n_outputs());
         for k in 0..self.n_outputs() {
+            let precision = self.precisions()[k];
             let per: Vec<f64> = rows.rows(k * n, n).iter().copied().collect();
             let (position, bound) =
                 per.iter()
@@ -613,12 +619,13 @@ impl EndToEnd {
             let minus = work.delta_omega[k];
             outputs.push(OutputWorstCase {
                 output: k,
-                linear_bound: bound,
+                linear_bound: crate::resolved(bound, precision),
                 position,
                 worst_chi_rad: if plus >= minus { chi } else { neg },
-                exact_at_vertex: plus.max(minus),
+                exact_at_vertex: crate::resolved(plus.max(minus), precision),
                 second_order_bound: self.second_order_bound(k, s)?,
-                per_position: per,
+                per_position: per.iter().map(|v| crate::resolved(*v, precision)).collect(),
+                precision,
             });
         }
         Ok(WorstCase {

@@ -24,6 +24,9 @@
 //! so they are upper bounds with a stated resolution; [`EndToEnd::ratio_quantile`] gives the
 //! exact order statistic by re-drawing the same turntables and narrowing the bin
 //! (at most [`QUANTILE_PASSES`] passes, then a sort of at most [`QUANTILE_COLLECT`] values).
+//! The largest values and quantiles at or below the computation's precision
+//! ([`EndToEnd::precisions`]) are reported as 0; counts and histograms use the values as
+//! computed.
 
 use crate::error::{E2eError, positive};
 use crate::linear::Linearization;
@@ -247,6 +250,9 @@ pub struct RateDistribution {
     pub histograms: Vec<Histogram>,
     /// Figure histogram of the ratio.
     pub ratio_histogram: Histogram,
+    /// Every output's precision ([`EndToEnd::precisions`], output unit): the largest values
+    /// and quantiles at or below it are reported as 0 (the ratio's when every output's are).
+    pub precisions: Vec<f64>,
 }
 
 impl RateDistribution {
@@ -487,22 +493,48 @@ impl EndToEnd {
             },
             Partial::merge,
         )?;
+        let precisions = self.precisions().to_vec();
+        // a ratio at or below every output's precision (over its accuracy) is rounding
+        let ratio_precision = precisions
+            .iter()
+            .zip(&acc)
+            .map(|(p, a)| p / a)
+            .fold(f64::INFINITY, f64::min);
         let worst: Vec<WorstDraw> = p
             .worst
             .into_iter()
-            .map(|w| w.unwrap_or_else(|| unreachable!("at least one draw")))
+            .zip(&precisions)
+            .map(|(w, &e)| {
+                let w = w.unwrap_or_else(|| unreachable!("at least one draw"));
+                WorstDraw {
+                    value: crate::resolved(w.value, e),
+                    ..w
+                }
+            })
             .collect();
         let worst_ratio = p
             .worst_ratio
+            .map(|w| WorstDraw {
+                value: crate::resolved(w.value, ratio_precision),
+                ..w
+            })
             .unwrap_or_else(|| unreachable!("at least one draw"));
         let quantiles = REPORTED_QUANTILES
             .iter()
             .map(|&q| RateQuantile {
                 p: q,
                 per_output: (0..outputs)
-                    .map(|k| p.fine[k].quantile_upper(q, p.n, worst[k].value))
+                    .map(|k| {
+                        crate::resolved(
+                            p.fine[k].quantile_upper(q, p.n, worst[k].value),
+                            precisions[k],
+                        )
+                    })
                     .collect(),
-                ratio: p.fine[outputs].quantile_upper(q, p.n, worst_ratio.value),
+                ratio: crate::resolved(
+                    p.fine[outputs].quantile_upper(q, p.n, worst_ratio.value),
+                    ratio_precision,
+                ),
             })
             .collect();
         let mut histograms = p.hist;
@@ -520,6 +552,7 @@ impl EndToEnd {
             quantiles,
             histograms,
             ratio_histogram,
+            precisions,
         })
     }
 

@@ -33,6 +33,44 @@ pub struct EndToEnd {
     /// $\mathbf B_1\mathbf a_i$ and $\mathbf B_1\boldsymbol\omega_i$ (g, deg/h) per position.
     pre: Vec<[Vector3<f64>; 2]>,
     analyses: Vec<OrientationErrorAnalysis>,
+    /// [`EndToEnd::precisions`], once.
+    precisions: Vec<f64>,
+}
+
+/// `value` when it exceeds `precision`, else 0: a computed value at or below the computation's
+/// precision ([`EndToEnd::precisions`]) cannot be told from 0.
+#[must_use]
+pub fn resolved(value: f64, precision: f64) -> f64 {
+    if value.abs() <= precision { 0.0 } else { value }
+}
+
+/// See [`EndToEnd::precisions`].
+fn precisions(calibration: &Calibration) -> Vec<f64> {
+    let n = calibration.schedule().len();
+    calibration
+        .outputs()
+        .iter()
+        .map(|o| {
+            let out = o.output();
+            let size = o
+                .nominal_values()
+                .iter()
+                .map(|u| {
+                    out.terms
+                        .iter()
+                        .map(|t| (t.value * t.regressor.eval(u)).abs())
+                        .sum::<f64>()
+                })
+                .fold(0.0, f64::max);
+            let (a, pinv) = (o.regression().matrix(), o.regression().pinv());
+            let amplification = (a.abs() * pinv.abs())
+                .row_iter()
+                .map(|r| r.sum())
+                .fold(0.0, f64::max);
+            let operations = (out.terms.len() + 3 + n + out.n_estimated()) as f64;
+            operations * f64::EPSILON * (1.0 + amplification) * size
+        })
+        .collect()
 }
 
 /// The result of one simulated calibration run (reference path through calib-lsq).
@@ -108,7 +146,34 @@ impl EndToEnd {
             frames,
             pre,
             analyses,
+            precisions: precisions(calibration),
         })
+    }
+
+    /// The precision of every output's $\Delta\omega_k$ (output unit): a bound on the rounding
+    /// error of its evaluation, so a computed $\Delta\omega_k$ at or below it cannot be told
+    /// from 0 (a perfect turntable computes to about $10^{-14}$ deg/h on the paper's sensor, not
+    /// 0). Values at or below it are reported as 0 ([`resolved`]) by [`EndToEnd::worst_case`]
+    /// and [`EndToEnd::rate_distribution`].
+    ///
+    /// # Formula
+    /// $\Delta\hat{\boldsymbol\omega}$ is a difference of outputs of size
+    /// $S_k = \max_i\sum_t|\beta_t r_t(\mathbf u_i)|$ (every term of the output, known ones
+    /// included, at the nominal inputs). Each output sums $m_k$ terms of inputs rotated by a
+    /// $3\times3$ matrix (rounding within $\gamma_{m_k+3}S_k$, $\gamma_N = N\epsilon$), and the
+    /// least-squares step forms $\mathbf A(\mathbf A^+\mathbf b)$ with $n$ positions and $p_k$
+    /// coefficients (within $\gamma_{n+p_k}\lVert|\mathbf A||\mathbf A^+|\rVert_\infty$ of the
+    /// outputs' error and size). So
+    /// $$P_k = (m_k + 3 + n + p_k)\,\epsilon\,\big(1 + \lVert|\mathbf A_k||\mathbf
+    /// A_k^+|\rVert_\infty\big)\,S_k,$$
+    /// Higham's first-order worst-case bound (N. J. Higham, *Accuracy and Stability of
+    /// Numerical Algorithms*, 2nd ed., SIAM 2002, §3.1) for the readings with
+    /// $\hat{\boldsymbol\beta}_1$; the readings with $\hat{\boldsymbol\beta}_2$ refactor
+    /// $\mathbf A'$, which this does not bound. For the paper's sensor $P \approx 10^{-11}$
+    /// deg/h against $\omega_m = 10^{-2}$.
+    #[must_use]
+    pub fn precisions(&self) -> &[f64] {
+        &self.precisions
     }
 
     /// The turntable.

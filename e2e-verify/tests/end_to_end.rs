@@ -861,6 +861,7 @@ fn box_meets_has_one_classification_and_one_wording() {
         exact_at_vertex: exact,
         second_order_bound: None,
         per_position: vec![],
+        precision: 1e-12,
     };
     let wc = |outputs| WorstCase {
         upper_bounds_rad: vec![],

@@ -7,7 +7,8 @@
 //! position and calibrated at the intended one (eq 6, the user's estimate). Output, one row
 //! per turntable: `<coefficient>_error` (estimate minus true value, in the coefficient's unit:
 //! output unit per regressor unit) for every estimated coefficient in study order, then
-//! `<output>_rate_error` (eq 14 under the study's reading, output unit). Full precision. As
+//! `<output>_rate_error` (eq 14 under the study's reading, output unit; 0 when at or below the
+//! computation's precision, `e2e_verify::EndToEnd::precisions`). Full precision. As
 //! for `orientation-error`, the whole input is checked before anything is written.
 
 use crate::InputError;
@@ -66,7 +67,13 @@ pub fn run(args: &Args) -> Result<()> {
             .map_err(|e| InputError::new(at(), e.to_string()))?;
         e2e.delta_omega_into(&row.chi_rad, &mut work)
             .map_err(|e| InputError::new(at(), e.to_string()))?;
-        v.extend_from_slice(&work.delta_omega);
+        // a rate error at or below the computation's precision is reported as 0
+        v.extend(
+            work.delta_omega
+                .iter()
+                .zip(e2e.precisions())
+                .map(|(d, p)| e2e_verify::resolved(*d, *p)),
+        );
         if v.iter().any(|x| !x.is_finite()) {
             return Err(InputError::new(
                 at(),

@@ -64,6 +64,7 @@ fn check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
                 "second_order_bound": o.worst_case.second_order_bound,
                 "certified_bound": o.worst_case.certified_bound(),
                 "worst_position": o.worst_case.position,
+                "precision": o.worst_case.precision,
                 "meeting_fraction": c.distribution.meeting_per_output[o.output] as f64 / c.distribution.samples as f64,
                 "monte_carlo_max": c.distribution.worst[o.output].value,
                 "contributions": o.contributions.iter().map(|k| json!({
@@ -121,6 +122,12 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
             o.verdict.name(),
             u = out.unit
         ));
+        let max = c.distribution.worst[o.output].value;
+        if w.exact_at_vertex == 0.0 || max == 0.0 {
+            if let Some(n) = crate::out::precision_note(&[(&out.name, &out.unit, w.precision)]) {
+                s.push_str(&format!("    ({n})\n"));
+            }
+        }
         if w.linear_bound <= INSENSITIVE_SHARE * o.accuracy {
             s.push_str("    dominant errors: none (the output does not depend on these errors to first order)\n");
             continue;

@@ -8,13 +8,18 @@
 //! most K) is printed beside the study's schedule, the D-optimal schedule and the best of the
 //! random schedules, each with J (arcmin^-2, as `end-to-end --json` reports
 //! `direct_objective`), the condition numbers, the orientation requirement (eq 15-16) and the
-//! worst case of every output with today's turntable (the direct allocation of the study's
-//! schedule). `--write-study OUT.toml` writes the input study with the designed positions and
-//! a comment saying how they were made (refused if OUT exists or its directory is not writable,
-//! both checked before the search; written atomically, mode 0666 less the umask). `--json`
-//! prints an object with keys `designed`, `study`, `d_optimal`, `random_best`, each with
-//! `objective`, `positions_deg`, `condition_numbers` and `requirement_deg`, and `groups` (errors
-//! that act only together, with the bound of their combination under both allocations).
+//! worst case of every output with the study's tolerances (the allocation certified on the
+//! exact chain for the study's schedule: what one would buy for it), then the tolerances each
+//! schedule allows: certified on the exact chain (as `end-to-end`'s `direct_certified`; these
+//! pass `check-turntable` on the schedule) and linearised (the design objective J).
+//! `--write-study OUT.toml` writes the input study with the designed positions and a comment
+//! saying how they were made (refused if OUT exists or its directory is not writable, both checked before the search;
+//! written atomically, mode 0666 less the umask). `--json` prints an
+//! object with keys `designed`, `study`, `d_optimal`, `random_best`, each with `objective`,
+//! `positions_deg`, `condition_numbers`, `requirement_deg`, `bounds_arcmin` (linearised),
+//! `certified` (`objective`, `bounds_arcmin`) and `worst_case_with_study_tolerances`, and
+//! `groups` (errors that act only together, with the bound of their combination under the
+//! certified allocation of each schedule, the linearised one where none is certified).
 
 use crate::InputError;
 use anyhow::Result;
@@ -138,6 +143,19 @@ fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
                 .collect(),
         )
     };
+    let w = &r.with_study_tolerances;
+    let with_study = json!({
+        "tolerances": if w.certified { "certified" } else { "linearised" },
+        "unbounded_errors": w.unbounded.iter().map(|&j| errors[j]).collect::<Vec<_>>(),
+        "outputs": Value::Object(outputs.iter().zip(&w.outputs).map(|(out, o)| (out.name.clone(), o.as_ref().map_or(Value::Null, |o| json!({
+            "linear": o.linear_bound,
+            "exact_at_vertex": o.exact_at_vertex,
+            "certified_bound": o.certified_bound(),
+            "accuracy": out.accuracy,
+            "precision": o.precision,
+            "position": o.position,
+        })))).collect()),
+    });
     json!({
         "objective": r.allocation.objective_arcmin(),
         "positions_deg": r.positions_deg,
@@ -146,12 +164,13 @@ fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
         "requirement_note": r.requirement.as_ref().err().map(ToString::to_string),
         "bounds_arcmin": crate::out::arcmin_json(&errors, &r.allocation.upper_bounds_rad),
         "log_det_information": r.log_det_information,
-        "worst_case_today": r.worst_case_today.as_ref().map(|w| Value::Object(w.outputs.iter().map(|o| (outputs[o.output].name.clone(), json!({
-            "linear": o.linear_bound,
-            "exact_at_vertex": o.exact_at_vertex,
-            "accuracy": outputs[o.output].accuracy,
-            "position": o.position,
-        }))).collect())),
+        "certified": r.certified.as_ref().map(|c| json!({
+            "objective": c.objective_arcmin(),
+            "bounds_arcmin": crate::out::arcmin_json(&errors, &c.upper_bounds_rad),
+            "second_order_margins": by_output(&c.second_order_margins),
+        })),
+        "certified_note": r.certified_note,
+        "worst_case_with_study_tolerances": with_study,
     })
 }
 
@@ -169,10 +188,18 @@ fn start_name(k: StartKind) -> String {
 
 /// The designed and the study's allocations by label, for the groups of errors that act only
 /// together.
+/// The bounds behind each schedule's recommended tolerances: the certified allocation, or the
+/// linearised one where none is certified.
+fn recommended_bounds(r: &ScheduleReport) -> &[f64] {
+    r.certified
+        .as_ref()
+        .map_or(&r.allocation.upper_bounds_rad, |c| &c.upper_bounds_rad)
+}
+
 fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
     [
-        ("designed", &o.design.designed.allocation.upper_bounds_rad),
-        ("study's", &o.design.study.allocation.upper_bounds_rad),
+        ("designed", recommended_bounds(&o.design.designed)),
+        ("study's", recommended_bounds(&o.design.study)),
     ]
 }
 
@@ -233,6 +260,114 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
     Value::Object(m)
 }
 
+/// `v` rounded down to `digits` significant digits, printed: a tolerance read back from the
+/// text is never looser than the one computed.
+fn sig_down(v: f64, digits: usize) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return sig(v, digits);
+    }
+    let scale = 10f64.powi(digits as i32 - 1 - v.log10().floor() as i32);
+    let mut m = (v * scale).floor();
+    loop {
+        let shown = sig(m / scale, digits);
+        if m <= 0.0 || shown.parse::<f64>().is_ok_and(|x| x <= v) {
+            return shown;
+        }
+        m -= 1.0;
+    }
+}
+
+/// The tolerances a schedule allows (arcmin): the certified allocation, the one to buy
+/// (rounded down), then the linearised direct allocation (the design objective, not proven on
+/// the exact chain).
+fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
+    let errs = s.turntable.rotation_error_names();
+    let list = |ub: &[f64], shown: &dyn Fn(f64) -> String| -> String {
+        errs.iter()
+            .zip(ub)
+            .map(|(n, u)| {
+                format!(
+                    "{n} {}",
+                    if u.is_finite() {
+                        shown(rad_to_arcmin(*u))
+                    } else {
+                        "free".into()
+                    }
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut t = match &r.certified {
+        Some(c) => format!(
+            "tolerances (arcmin) the {what} schedule allows, certified on the exact chain (J = {}; rounded down; every turntable within them meets every accuracy: `check-turntable` proves them): {}\n",
+            sig(c.objective_arcmin(), 6),
+            list(&c.upper_bounds_rad, &|v| sig_down(v, 3))
+        ),
+        None => format!(
+            "tolerances (arcmin) the {what} schedule allows, certified on the exact chain: none ({})\n",
+            r.certified_note.as_deref().unwrap_or("not certifiable")
+        ),
+    };
+    t.push_str(&format!(
+        "  linearised (J = {}, the design objective; not proven on the exact chain): {}\n",
+        sig(r.allocation.objective_arcmin(), 6),
+        list(&r.allocation.upper_bounds_rad, &|v| sig(v, 3))
+    ));
+    t
+}
+
+/// What the "worst case with the study's tolerances" column is, and the precision of any 0.
+fn study_tolerances_note(s: &Study, d: &ScheduleDesign) -> String {
+    let outputs = s.sensor.outputs();
+    let errs = s.turntable.rotation_error_names();
+    let w = &d.study.with_study_tolerances;
+    let mut t = format!(
+        "  worst case with the study's tolerances: per output, on the exact chain at the worst vertex, over the tolerances {} for the study's schedule (what one would buy for it)",
+        if w.certified {
+            "certified on the exact chain"
+        } else {
+            "of the linearised direct allocation (not certifiable here)"
+        }
+    );
+    let mut unbounded: Vec<usize> = Vec::new();
+    let mut zeroed: Vec<(&str, &str, f64)> = Vec::new();
+    for r in [
+        Some(&d.designed),
+        Some(&d.study),
+        Some(&d.d_optimal),
+        d.random_best.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        for &j in &r.with_study_tolerances.unbounded {
+            if !unbounded.contains(&j) {
+                unbounded.push(j);
+            }
+        }
+        for (k, o) in r.with_study_tolerances.outputs.iter().enumerate() {
+            if let Some(o) = o {
+                if o.exact_at_vertex == 0.0 && !zeroed.iter().any(|z| z.0 == outputs[k].name) {
+                    zeroed.push((&outputs[k].name, &outputs[k].unit, o.precision));
+                }
+            }
+        }
+    }
+    if !unbounded.is_empty() {
+        unbounded.sort_unstable();
+        t.push_str(&format!(
+            "; unbounded: the output depends on {}, which those tolerances leave free (the study's schedule needs no bound there)",
+            unbounded.iter().map(|&j| errs[j]).collect::<Vec<_>>().join(", ")
+        ));
+    }
+    if let Some(n) = crate::out::precision_note(&zeroed) {
+        t.push_str(&format!("; {n}"));
+    }
+    t.push('\n');
+    t
+}
+
 fn to_text(s: &Study, o: &Outcome) -> String {
     let d = &o.design;
     let outputs = s.sensor.outputs();
@@ -260,7 +395,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         "vs study",
         "condition numbers",
         "requirement psi/theta/gamma (deg)",
-        "worst case with today's table",
+        "worst case with the study's tolerances",
     ];
     t.push_str(&format!(
         "{:<12} {:>13} {:>8}  {:<22} {:<34} {}\n",
@@ -276,13 +411,16 @@ fn to_text(s: &Study, o: &Outcome) -> String {
                 .join(" / "),
             Err(_) => "none".into(),
         };
-        let wc = r.worst_case_today.as_ref().map_or("unbounded".into(), |w| {
-            w.outputs
-                .iter()
-                .map(|x| sig(x.exact_at_vertex, 3))
-                .collect::<Vec<_>>()
-                .join(", ")
-        });
+        let wc = r
+            .with_study_tolerances
+            .outputs
+            .iter()
+            .map(|x| {
+                x.as_ref()
+                    .map_or("unbounded".into(), |x| sig(x.exact_at_vertex, 3))
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
         let j = r.allocation.objective_arcmin();
         let cond = r
             .condition_numbers
@@ -304,36 +442,16 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         None => t.push_str("random best  none of the random schedules meets the condition bound\n"),
     }
     t.push_str(&format!(
-        "  outputs {names}; accuracies {}; today's table: the direct allocation of the study's schedule; random best: best of {} random schedules ({} meet the condition bound)\n",
+        "  outputs {names}; accuracies {}; random best: best of {} random schedules ({} meet the condition bound)\n",
         outputs.iter().map(|x| format!("{} {}", num(x.accuracy), x.unit)).collect::<Vec<_>>().join(", "),
         d.search.random_drawn,
         d.search.random_feasible
     ));
-    let errs = s.turntable.rotation_error_names();
-    let bounds = |r: &ScheduleReport| -> String {
-        errs.iter()
-            .zip(&r.allocation.upper_bounds_rad)
-            .map(|(n, u)| {
-                format!(
-                    "{n} {}",
-                    if u.is_finite() {
-                        sig(rad_to_arcmin(*u), 3)
-                    } else {
-                        "free".into()
-                    }
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    t.push_str(&format!(
-        "\ntolerances (arcmin) the designed schedule allows: {}\n",
-        bounds(&d.designed)
-    ));
-    t.push_str(&format!(
-        "tolerances (arcmin) the study's schedule allows:  {}\n",
-        bounds(&d.study)
-    ));
+    t.push_str(&study_tolerances_note(s, d));
+    t.push('\n');
+    for (what, r) in [("designed", &d.designed), ("study's", &d.study)] {
+        t.push_str(&tolerance_lines(s, what, r));
+    }
     t.push_str(&crate::groups::text(&s.turntable, &group_bounds(o), ""));
     t.push_str(&format!(
         "\ndesigned positions [{}] deg:\n",
@@ -424,8 +542,35 @@ pub fn run(args: &Args) -> Result<()> {
     );
     let written = match &args.write_study {
         Some(out) => {
+            let certified = design.designed.certified.as_ref().map_or_else(
+                || {
+                    format!(
+                        "none ({})",
+                        design
+                            .designed
+                            .certified_note
+                            .as_deref()
+                            .unwrap_or("not certifiable")
+                    )
+                },
+                |c| {
+                    s.turntable
+                        .rotation_error_names()
+                        .iter()
+                        .zip(&c.upper_bounds_rad)
+                        .map(|(n, u)| {
+                            if u.is_finite() {
+                                format!("{n} {}", sig_down(rad_to_arcmin(*u), 3))
+                            } else {
+                                format!("{n} free")
+                            }
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+            );
             let comment = format!(
-                "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.",
+                "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.\nTolerances certified on the exact chain for these positions (arcmin, rounded down):\n{certified}.",
                 num(design.designed.allocation.objective_arcmin()),
                 s.reading,
                 num(design.study.allocation.objective_arcmin()),

@@ -18,8 +18,8 @@ use alloc_opt::AllocError;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::{
-    BoxAnswer, BuyersAnswer, E2eError, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer, answer,
-    objective_to_arcmin,
+    BoxAnswer, BuyersAnswer, E2eError, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer,
+    YieldVerdict, answer, objective_to_arcmin,
 };
 use serde_json::{Map, Value, json};
 use std::path::PathBuf;
@@ -71,8 +71,39 @@ pub fn classify(e: E2eError, s: &Study) -> anyhow::Error {
         E2eError::FractionOutOfRange { .. } => {
             InputError::new("--yield-fraction", e.to_string()).into()
         }
+        E2eError::TooFewSamples { .. } => InputError::new("--samples", e.to_string()).into(),
         other => InputError::new(&s.path, other.to_string()).into(),
     }
+}
+
+/// Refuse a Monte Carlo size that cannot resolve the yield target `target` (exit 2, before any
+/// work), naming where it came from: `--samples` when `from_flag`, else the study's
+/// `monte_carlo.samples` ([`e2e_verify::min_yield_samples`]).
+///
+/// # Errors
+/// An [`InputError`] naming the flag or the key and the smallest count that can do.
+pub fn check_yield_samples(
+    samples: u64,
+    from_flag: bool,
+    target: f64,
+    s: &Study,
+) -> Result<(), InputError> {
+    let needed = e2e_verify::min_yield_samples(target);
+    if samples >= needed {
+        return Ok(());
+    }
+    let at = if from_flag {
+        "--samples".to_string()
+    } else {
+        format!("{}: key `monte_carlo.samples`", s.path)
+    };
+    Err(InputError::new(
+        at,
+        format!(
+            "{samples} turntables cannot resolve the yield target {}% of the yield-based allocation: even with none failing, the 95% Wilson interval of the yield reaches below it; at least {needed} are needed (z^2 p / (1 - p), z = 1.96)",
+            num(100.0 * target)
+        ),
+    ))
 }
 
 /// The simulator of a study.
@@ -240,6 +271,9 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
             "scale": r.yield_based.scale,
             "design_yield": r.yield_based.yield_fraction(),
             "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
+            "design_verdict": r.yield_based.design_verdict().name(),
+            "verdict": r.yield_verdict().name(),
+            "min_samples": e2e_verify::min_yield_samples(r.yield_based.target),
             "bounds_arcmin": crate::out::arcmin_json(&names, &r.yield_based.upper_bounds_rad),
             "remeasured": box_json(e2e, &r.yield_box),
         }),
@@ -303,7 +337,7 @@ pub fn to_json(
         "samples": a.inputs.samples,
         "seed": a.inputs.seed,
         "seconds": seconds,
-        "outputs": e2e.calibration().outputs().iter().map(|o| json!({"name": o.output().name, "unit": o.output().unit, "accuracy": o.output().accuracy})).collect::<Vec<_>>(),
+        "outputs": e2e.calibration().outputs().iter().zip(e2e.precisions()).map(|(o, p)| json!({"name": o.output().name, "unit": o.output().unit, "accuracy": o.output().accuracy, "precision": p})).collect::<Vec<_>>(),
         "errors": names,
         "groups": crate::groups::json(e2e.turntable(), &direct_bounds(a)),
         "two_step_requirement_deg": a.inputs.two_step_requirement.map(|r| json!({
@@ -326,6 +360,52 @@ pub fn to_json(
             "reference_draws": speed.reference_draws,
         },
     })
+}
+
+/// The yield-based box against its target: the re-measured yield's 95% interval and the
+/// verdict, one line.
+fn yield_text(r: &ReadingAnswer) -> String {
+    let (lo, hi) = r.yield_box.distribution.yield_interval_95();
+    format!(
+        "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% (95% interval {:.2}-{:.2}%): {}\n",
+        "",
+        num(100.0 * r.yield_based.target),
+        r.yield_box.distribution.samples,
+        100.0 * r.yield_box.distribution.yield_fraction(),
+        100.0 * lo,
+        100.0 * hi,
+        match r.yield_verdict() {
+            YieldVerdict::Meets => "meets its target",
+            YieldVerdict::DoesNotMeet => "does NOT meet its target",
+            YieldVerdict::CannotTell => "cannot tell (the interval contains the target)",
+        }
+    )
+}
+
+/// The outputs (name, unit, precision) with a worst case or Monte Carlo maximum shown as 0 in
+/// this reading's boxes: at or below the computation's precision.
+fn zeroed_outputs<'a>(e2e: &'a EndToEnd, r: &ReadingAnswer) -> Vec<(&'a str, &'a str, f64)> {
+    let mut boxes: Vec<&BoxAnswer> = r.boxes.iter().collect();
+    boxes.push(&r.direct_box);
+    boxes.push(&r.yield_box);
+    e2e.calibration()
+        .outputs()
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| {
+            boxes.iter().any(|b| {
+                b.worst_case.outputs[*k].exact_at_vertex == 0.0
+                    || b.distribution.worst[*k].value == 0.0
+            })
+        })
+        .map(|(k, o)| {
+            (
+                o.output().name.as_str(),
+                o.output().unit.as_str(),
+                e2e.precisions()[k],
+            )
+        })
+        .collect()
 }
 
 /// The command's text.
@@ -409,6 +489,11 @@ pub fn to_text(
             t.push_str(&format!("  {:<14} none: {n}\n", "certified"));
         }
         t.push_str(&line(&r.yield_box));
+        t.push_str(&yield_text(r));
+        let zeroed = zeroed_outputs(e2e, r);
+        if let Some(n) = crate::out::precision_note(&zeroed) {
+            t.push_str(&format!("  ({n})\n"));
+        }
     }
     t.push_str(&format!(
         "\nthroughput: fast path {} turntables/s ({} threads), {} on one thread, reference path {} on one thread ({}x); {:.1} s in all\n",
@@ -431,6 +516,7 @@ pub fn run(args: &Args) -> Result<()> {
     let e2e = simulator(&s)?;
     let samples = args.samples.unwrap_or(s.monte_carlo.samples);
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);
+    check_yield_samples(samples, args.samples.is_some(), args.yield_fraction, &s)?;
     let inputs = inputs(&s, samples, seed, args.yield_fraction)?;
     let note = st::requirement(&s)?.disagreement;
     let t0 = Instant::now();

@@ -193,7 +193,7 @@ fn end_to_end_json_is_the_library_answer() {
             &study(name),
             "--json",
             "--samples",
-            "1000",
+            "1500",
         ]);
         assert!(num(&v["direct_objective"]) > 0.0, "{name}");
     }

@@ -24,7 +24,7 @@ fn study_commands(path: &str) -> Vec<Vec<String>> {
         v(&["requirement", "--study", path]),
         v(&["allocate", "--study", path]),
         v(&["mc", "--study", path, "--samples", "1000"]),
-        v(&["end-to-end", "--study", path, "--samples", "500"]),
+        v(&["end-to-end", "--study", path, "--samples", "1500"]),
         v(&[
             "check-turntable",
             "--study",
@@ -127,14 +127,14 @@ fn huge_and_malformed_counts_exit_2_naming_the_flag() {
     let o = run(&[
         "end-to-end",
         "--samples",
-        "1e3",
+        "2e3",
         "--seed",
         "1_000",
         "--json",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["samples"], 1000);
+    assert_eq!(v["samples"], 2000);
     assert_eq!(v["seed"], 1000);
 }
 
@@ -152,7 +152,7 @@ fn lower_bounds_are_checked_in_arcmin_against_every_box() {
     for cmd in [
         vec!["allocate", "--study", p],
         vec!["mc", "--study", p, "--samples", "1000"],
-        vec!["end-to-end", "--study", p, "--samples", "500"],
+        vec!["end-to-end", "--study", p, "--samples", "1500"],
     ] {
         let o = run(&cmd);
         assert_input_error(&o, &[p, "dalpha_x2", "arcmin"]);
@@ -395,7 +395,7 @@ fn human_output_has_sensible_digits_and_no_nan() {
         vec!["requirement", "--study", p],
         vec!["allocate", "--study", p],
         vec!["mc", "--study", p, "--samples", "1000"],
-        vec!["end-to-end", "--study", p, "--samples", "500"],
+        vec!["end-to-end", "--study", p, "--samples", "1500"],
         vec![
             "check-turntable",
             "--study",

@@ -459,7 +459,7 @@ fn report_never_deletes_or_replaces_what_it_did_not_write() {
         "--out",
         d.to_str().unwrap(),
         "--samples",
-        "1000",
+        "1450",
     ]);
     assert_input_error(&o, d.to_str().unwrap());
     assert!(
@@ -480,7 +480,7 @@ fn report_never_deletes_or_replaces_what_it_did_not_write() {
             "--out",
             f.to_str().unwrap(),
             "--samples",
-            "1000",
+            "1450",
         ]),
         f.to_str().unwrap(),
     );
@@ -495,7 +495,7 @@ fn report_never_deletes_or_replaces_what_it_did_not_write() {
         "--out",
         r.to_str().unwrap(),
         "--samples",
-        "1000",
+        "1450",
     ]));
     assert_complete(&r);
     let first = read(&r, "results.json");
@@ -547,7 +547,7 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
                 .spawn()
                 .unwrap()
         };
-        let (a, b) = (spawn("1000"), spawn("1200"));
+        let (a, b) = (spawn("1450"), spawn("1600"));
         let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
         for o in [&a, &b] {
             if !o.status.success() {
@@ -560,7 +560,7 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
         );
         assert_complete(&out);
         let samples = json(&out)["samples"].as_u64().unwrap();
-        assert!(samples == 1000 || samples == 1200);
+        assert!(samples == 1450 || samples == 1600);
     }
     let left: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()

@@ -97,11 +97,15 @@
 //!   best is chosen by $(J, \text{restart index})$, so the result does not depend on the
 //!   number of threads. A start whose condition numbers exceed $\kappa_{max}$ is first
 //!   repaired by D-optimal exchange until it meets the bound.
-//! - **Coarse to fine** ([`design_on_grid`]): on a grid, the design on the grid of twice the
-//!   step (itself started from four times the step, up to [`MAX_COARSE_STEP_DEG`]) is one
-//!   more start: a coarse grid is a subset of the fine one, small enough to search well, and
-//!   its optimum is usually near a good fine one. (Measured: for the IMU example the 30 deg
-//!   design reaches $J = 20$ arcmin$^{-2}$ where the 15 deg restarts alone stop at 241 or worse.)
+//! - **Coarse to fine** ([`design_on_grid`]): on a grid of step $s$, the best design of every
+//!   coarser grid it contains (steps $Ms$, $M \ge 2$, up to [`MAX_COARSE_STEP_DEG`]; each
+//!   designed as it would be on its own, coarsest first) is one more start: a coarse grid is
+//!   a subset of the fine one, small enough to search well, and its optimum is usually near a
+//!   good fine one. Since the exchange never loses on a start, a finer grid is never worse
+//!   than a coarser one it contains. (Measured: for the IMU example the 15 deg restarts alone
+//!   stop at $J = 241$ arcmin$^{-2}$ or worse; from its coarser grids' best design the 15 deg
+//!   search reaches 6.67.) Each level costs a design: 23 of them for the paper's 15 deg grid,
+//!   most of its 7.5 s of CPU.
 //!
 //! A conic solve that fails on a candidate schedule (the core's solver reports no progress on
 //! a few ill-scaled row sets) makes that swap unavailable, never an error of the whole
@@ -111,7 +115,9 @@
 //! - The exchange never returns a schedule worse than its (feasible) start: it only takes
 //!   exchanges that improve the exactly evaluated $J$. So the designed schedule is never worse
 //!   than the study's own when the study's schedule is a start (same $N$, its positions among
-//!   the candidates, condition numbers within the bound).
+//!   the candidates, condition numbers within the bound), and a grid design is never worse
+//!   than the design of a coarser grid it contains (its step a whole multiple of the fine one;
+//!   exactly so when the multiples are exact in binary, e.g. integer steps).
 //! - When it ends by a pass without an exchange ([`ExchangeOutcome::local_optimum`]), no
 //!   single exchange of a position for a candidate gives a feasible schedule with $J$ lower
 //!   by more than $\epsilon$: every swap was either bounded below rigorously or evaluated
@@ -166,7 +172,7 @@ pub use problem::DesignProblem;
 
 use crate::allocate::DirectAllocation;
 use crate::error::E2eError;
-use crate::linear::{Linearization, WorstCase};
+use crate::linear::{Linearization, OutputWorstCase};
 use crate::simulate::EndToEnd;
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};
 use gw_model::DeltaRKind;
@@ -410,8 +416,8 @@ pub struct DOptimalOutcome {
 pub enum StartKind {
     /// The study's own schedule.
     Study,
-    /// The design on the grid of twice the step (itself started from the grid of four times
-    /// the step, and so on): coarse to fine.
+    /// The best design of the coarser grids the fine grid contains (each started from its own
+    /// coarser grids, and so on): coarse to fine ([`design_on_grid`]).
     Coarse,
     /// Another given schedule, by its index among the given starts.
     Given(usize),
@@ -875,9 +881,12 @@ impl DesignProblem {
 
     /// A schedule's report through the same path as every other command (study positions to
     /// [`Calibration`], [`EndToEnd::new`], [`EndToEnd::linearization`],
-    /// [`EndToEnd::allocate_direct`]): its own direct allocation, condition numbers, the
-    /// D-criterion, the worst case of every output with `today`'s bounds (rad) and the
-    /// orientation requirement of eq 15-16 under `delta_r_kind`.
+    /// [`EndToEnd::allocate_direct`]): its own direct allocation (the design objective), the
+    /// same certified on the exact chain ([`EndToEnd::allocate_direct_certified`], the
+    /// tolerances to buy), condition numbers, the D-criterion, the worst case of every output
+    /// with the tolerances `study_tolerances` (rad; `None`: this schedule's own certified
+    /// tolerances, else its direct allocation) and the orientation requirement of eq 15-16
+    /// under `delta_r_kind`.
     ///
     /// # Errors
     /// As [`Calibration::new`], [`EndToEnd::new`] and [`EndToEnd::allocate_direct`].
@@ -885,7 +894,7 @@ impl DesignProblem {
         &self,
         positions_deg: &[Vec<f64>],
         delta_r_kind: DeltaRKind,
-        today: Option<&[f64]>,
+        study_tolerances: Option<&StudyTolerances>,
     ) -> Result<ScheduleReport, E2eError> {
         let positions = positions_deg
             .iter()
@@ -905,18 +914,11 @@ impl DesignProblem {
         let e2e = EndToEnd::new(&self.turntable, &calibration, &poses, self.reading)?;
         let linear = e2e.linearization();
         let allocation = e2e.allocate_direct(&linear, &self.lower_bounds_rad)?;
-        let today = today.unwrap_or(&allocation.upper_bounds_rad);
-        let unconstrained = linear.unconstrained();
-        // a box without a bound on an error this schedule depends on has no finite worst case
-        let bounded = today
-            .iter()
-            .enumerate()
-            .all(|(j, u)| u.is_finite() || unconstrained.contains(&j));
-        let worst_case_today = if bounded {
-            Some(e2e.worst_case(&linear, today)?)
-        } else {
-            None
-        };
+        let (certified, certified_note) =
+            crate::allocate::certified_or_note(&e2e, &linear, &self.lower_bounds_rad)?;
+        let own = StudyTolerances::of(&allocation, certified.as_ref());
+        let tolerances = study_tolerances.unwrap_or(&own);
+        let with_study_tolerances = tolerances.worst_case(&e2e, &linear)?;
         let s: Vec<usize> = positions_deg
             .iter()
             .filter_map(|p| self.index_of(p))
@@ -943,8 +945,10 @@ impl DesignProblem {
             requirement: RequirementProblem::new(calibration, self.reading, delta_r_kind)
                 .requirement(),
             allocation,
+            certified,
+            certified_note,
             log_det_information,
-            worst_case_today,
+            with_study_tolerances,
         })
     }
 
@@ -1014,19 +1018,119 @@ impl Neighbourhood<'_> {
 pub struct ScheduleReport {
     /// The positions (joint angles, deg).
     pub positions_deg: Vec<Vec<f64>>,
-    /// Its own direct allocation ($J$, bounds, active rows).
+    /// Its own direct allocation ($J$, bounds, active rows): the linearised design objective.
+    /// Its worst case on the exact chain may exceed an accuracy (by the second-order terms);
+    /// see `certified` for tolerances that are proven.
     pub allocation: DirectAllocation,
+    /// Its direct allocation certified on the exact chain
+    /// ([`EndToEnd::allocate_direct_certified`], as `end-to-end`'s `direct_certified`): every
+    /// turntable within these tolerances meets every accuracy, so they pass
+    /// `check-turntable` on this schedule. `None` when not certifiable (`certified_note`).
+    pub certified: Option<DirectAllocation>,
+    /// Why `certified` is `None`.
+    pub certified_note: Option<String>,
     /// Every output's condition number.
     pub condition_numbers: Vec<f64>,
     /// $\sum_k\ln\det(\mathbf A_k^T\mathbf A_k)$.
     pub log_det_information: f64,
-    /// The worst case of every output over "today's" box (the direct allocation of the
-    /// study's own schedule): what the table one would buy for today's schedule gives with
-    /// this schedule. `None` when that box leaves an error unbounded that this schedule
-    /// depends on.
-    pub worst_case_today: Option<WorstCase>,
+    /// The worst case of every output over the study schedule's tolerances (what the table
+    /// one would buy for the study's schedule gives with this schedule).
+    pub with_study_tolerances: StudyTolerancesWorstCase,
     /// The orientation requirement of eq 15-16 for this schedule, or why there is none.
     pub requirement: Result<OrientationRequirement, CalibError>,
+}
+
+/// The tolerances one would buy for the study's schedule: its certified allocation when it has
+/// one, else its (linearised) direct allocation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyTolerances {
+    /// The upper bounds (rad; `+inf` for an error the study's schedule needs no bound on).
+    pub upper_bounds_rad: Vec<f64>,
+    /// Whether they are the certified allocation (else the linearised one).
+    pub certified: bool,
+}
+
+impl StudyTolerances {
+    /// The certified allocation if any, else the direct one.
+    #[must_use]
+    pub fn of(direct: &DirectAllocation, certified: Option<&DirectAllocation>) -> Self {
+        match certified {
+            Some(c) => Self {
+                upper_bounds_rad: c.upper_bounds_rad.clone(),
+                certified: true,
+            },
+            None => Self {
+                upper_bounds_rad: direct.upper_bounds_rad.clone(),
+                certified: false,
+            },
+        }
+    }
+
+    /// The worst case of every output of `e2e` over these tolerances: an error they leave
+    /// free (`+inf`) that `e2e`'s schedule depends on is unbounded, so every output that
+    /// depends on it (to first order) has no finite worst case; the others are evaluated with
+    /// those errors at 0.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::worst_case`].
+    pub fn worst_case(
+        &self,
+        e2e: &EndToEnd,
+        linear: &Linearization,
+    ) -> Result<StudyTolerancesWorstCase, E2eError> {
+        let free = linear.unconstrained();
+        let unbounded: Vec<usize> = self
+            .upper_bounds_rad
+            .iter()
+            .enumerate()
+            .filter(|(j, u)| !u.is_finite() && !free.contains(j))
+            .map(|(j, _)| j)
+            .collect();
+        let ub: Vec<f64> = self
+            .upper_bounds_rad
+            .iter()
+            .enumerate()
+            .map(|(j, u)| if unbounded.contains(&j) { 0.0 } else { *u })
+            .collect();
+        let wc = e2e.worst_case(linear, &ub)?;
+        let n = linear.positions();
+        // as Linearization::unconstrained: an entry below 1e-12 of the largest is no dependence
+        let small = 1e-12 * linear.matrix().amax();
+        let outputs = wc
+            .outputs
+            .into_iter()
+            .map(|o| {
+                let k = o.output;
+                let reached = (0..n).any(|i| {
+                    let row = linear.row(k, i);
+                    unbounded.iter().any(|&j| row[j].abs() > small)
+                });
+                (!reached).then_some(o)
+            })
+            .collect();
+        Ok(StudyTolerancesWorstCase {
+            certified: self.certified,
+            upper_bounds_rad: self.upper_bounds_rad.clone(),
+            outputs,
+            unbounded,
+        })
+    }
+}
+
+/// The worst case of a schedule's outputs over [`StudyTolerances`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyTolerancesWorstCase {
+    /// Whether the tolerances are the study schedule's certified allocation (else its
+    /// linearised direct allocation, when it has no certified one).
+    pub certified: bool,
+    /// The tolerances (rad).
+    pub upper_bounds_rad: Vec<f64>,
+    /// Per output its worst case (linearised, exact at the worst vertex, second-order bound),
+    /// or `None` when the output depends to first order on an error in `unbounded`.
+    pub outputs: Vec<Option<OutputWorstCase>>,
+    /// The errors the tolerances leave free (the study's schedule needs no bound on them)
+    /// that this schedule depends on.
+    pub unbounded: Vec<usize>,
 }
 
 /// The designed schedule and the baselines, each as a [`ScheduleReport`].
@@ -1071,8 +1175,9 @@ pub fn design_schedule(
     given.extend(extra.iter().cloned());
     let search = problem.design(settings, &given, progress)?;
     let study = problem.report(study_positions_deg, delta_r_kind, None)?;
-    let today = study.allocation.upper_bounds_rad.clone();
-    let rep = |s: &[usize]| problem.report(&problem.positions_deg(s), delta_r_kind, Some(&today));
+    let tolerances = StudyTolerances::of(&study.allocation, study.certified.as_ref());
+    let rep =
+        |s: &[usize]| problem.report(&problem.positions_deg(s), delta_r_kind, Some(&tolerances));
     Ok(ScheduleDesign {
         designed: rep(&search.designed.evaluation.schedule)?,
         d_optimal: rep(&search.d_optimal.schedule)?,
@@ -1086,8 +1191,28 @@ pub fn design_schedule(
     })
 }
 
-/// Coarse grids are used up to this step (deg): three points on a full turn.
-pub const MAX_COARSE_STEP_DEG: f64 = 120.0;
+/// Coarse grids are used up to this step (deg): every grid whose step is a whole multiple of
+/// the fine step up to a full turn is one the fine grid contains.
+pub const MAX_COARSE_STEP_DEG: f64 = 360.0;
+
+/// Two grid positions are the same candidate when every joint angle agrees to this (deg):
+/// a coarse grid's angles $k(Ms)$ and the fine grid's $(kM)s$ may differ by rounding.
+pub const GRID_MATCH_DEG: f64 = 1e-9;
+
+/// The coarse levels of a grid design with step `step_deg`: the multiples $M s$
+/// ($M = 2, 3, \dots$) up to [`MAX_COARSE_STEP_DEG`], as `(M, step)`, coarsest first.
+fn coarse_steps(step_deg: f64) -> Vec<(u32, f64)> {
+    if !(step_deg > 0.0 && step_deg.is_finite()) {
+        return Vec::new();
+    }
+    let most = (MAX_COARSE_STEP_DEG / step_deg + 1e-9)
+        .floor()
+        .min(f64::from(u32::MAX)) as u32;
+    (2..=most)
+        .rev()
+        .map(|m| (m, f64::from(m) * step_deg))
+        .collect()
+}
 
 /// What a grid design needs besides the step and the settings (a study fills it).
 #[derive(Debug, Clone, Copy)]
@@ -1109,10 +1234,14 @@ pub struct DesignInputs<'a> {
 }
 
 /// The grid design: the candidates are the grid of `step_deg` ([`grid_positions_deg`]) and
-/// the study's positions; besides the study's schedule, the design on the grid of twice the
-/// step (found the same way, coarse to fine, up to [`MAX_COARSE_STEP_DEG`]; a coarse grid
-/// that cannot identify the sensor or meet the bound is skipped) is a start. Returns the
-/// problem (for the candidates) and the design.
+/// the study's positions; besides the study's schedule, the best design of every coarser grid
+/// the fine one contains (the steps $Ms$, $M \ge 2$, up to [`MAX_COARSE_STEP_DEG`]) is a start.
+/// Each coarse level is designed exactly as `design_on_grid` would design it on its own (its
+/// grid and the study's positions, the study's schedule and the best of its own coarser
+/// levels as starts), coarsest first, so a finer grid is never worse than a coarser one it
+/// contains: the exchange never loses on its start. A coarse grid that cannot identify the
+/// sensor or meet the bound is skipped. Returns the problem (for the candidates) and the
+/// design.
 ///
 /// # Errors
 /// As [`grid_positions_deg`], [`DesignProblem::new`] and [`design_schedule`].
@@ -1122,59 +1251,75 @@ pub fn design_on_grid(
     settings: &DesignSettings,
     progress: &(dyn Fn() + Sync),
 ) -> Result<(DesignProblem, ScheduleDesign), E2eError> {
-    let problem_of = |candidates: Vec<Vec<f64>>| {
+    let problem_of = |step: f64| {
         DesignProblem::new(
             inputs.turntable,
             inputs.sensor,
             inputs.site,
             inputs.reading,
             inputs.lower_bounds_rad,
-            candidates,
+            candidates_with(
+                grid_positions_deg(inputs.turntable, step)?,
+                inputs.study_positions_deg,
+            ),
         )
     };
-    let fine = problem_of(candidates_with(
-        grid_positions_deg(inputs.turntable, step_deg)?,
-        inputs.study_positions_deg,
-    ))?;
-    // coarse levels, coarsest first; each one's design starts the next finer one
-    let mut coarse_steps = Vec::new();
-    let mut s = 2.0 * step_deg;
-    while s <= MAX_COARSE_STEP_DEG + 1e-9 {
-        coarse_steps.push(s);
-        s *= 2.0;
-    }
-    let mut carried: Option<Vec<Vec<f64>>> = None;
-    for &s in coarse_steps.iter().rev() {
-        let Ok(problem) = grid_positions_deg(inputs.turntable, s).and_then(problem_of) else {
+    let fine = problem_of(step_deg)?;
+    // The starts of a level: the study's schedule, then the best design of its multiples.
+    let starts = |problem: &DesignProblem,
+                  best: Option<&(f64, Vec<Vec<f64>>)>|
+     -> Vec<(StartKind, Vec<usize>)> {
+        let study: Option<Vec<usize>> = inputs
+            .study_positions_deg
+            .iter()
+            .map(|p| problem.index_of(p))
+            .collect();
+        let mut given: Vec<(StartKind, Vec<usize>)> = study
+            .into_iter()
+            .filter(|s| s.len() == settings.positions)
+            .map(|s| (StartKind::Study, s))
+            .collect();
+        if let Some(g) = best.and_then(|(_, p)| indices_near(problem, p)) {
+            given.push((StartKind::Coarse, g));
+        }
+        given
+    };
+    // levels[m]: the design (J, positions) of the grid of step m * step_deg
+    let levels_steps = coarse_steps(step_deg);
+    let mut designs: Vec<(u32, f64, Vec<Vec<f64>>)> = Vec::new();
+    let best_of_multiples = |designs: &[(u32, f64, Vec<Vec<f64>>)], m: u32| {
+        designs
+            .iter()
+            .filter(|(mm, _, _)| mm % m == 0)
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(_, j, p)| (*j, p.clone()))
+    };
+    for &(m, step) in &levels_steps {
+        let Ok(problem) = problem_of(step) else {
+            progress();
             continue;
         };
-        let given: Vec<(StartKind, Vec<usize>)> = carried
-            .as_ref()
-            .and_then(|p| {
-                p.iter()
-                    .map(|q| problem.index_of(q))
-                    .collect::<Option<Vec<_>>>()
-            })
-            .map(|g| vec![(StartKind::Coarse, g)])
-            .unwrap_or_default();
+        let best = best_of_multiples(&designs, m);
+        let given = starts(&problem, best.as_ref());
         match problem.restarts(settings, &given, &|| {}) {
-            Ok((r, best)) => {
-                carried = r[best]
-                    .exchange
-                    .as_ref()
-                    .map(|e| problem.positions_deg(&e.evaluation.schedule));
+            Ok((r, b)) => {
+                if let Some(e) = &r[b].exchange {
+                    designs.push((
+                        m,
+                        e.evaluation.objective,
+                        problem.positions_deg(&e.evaluation.schedule),
+                    ));
+                }
             }
             Err(E2eError::ConditionUnreachable { .. } | E2eError::TooManyPositions { .. }) => {}
             Err(e) => return Err(e),
         }
         progress();
     }
-    let extra: Vec<(StartKind, Vec<usize>)> = carried
-        .and_then(|p| {
-            p.iter()
-                .map(|q| fine.index_of(q))
-                .collect::<Option<Vec<_>>>()
-        })
+    let best = best_of_multiples(&designs, 1);
+    let extra: Vec<(StartKind, Vec<usize>)> = best
+        .as_ref()
+        .and_then(|(_, p)| indices_near(&fine, p))
         .map(|g| vec![(StartKind::Coarse, g)])
         .unwrap_or_default();
     let design = design_schedule(
@@ -1188,15 +1333,27 @@ pub fn design_on_grid(
     Ok((fine, design))
 }
 
+/// The candidates of `problem` at `positions` (deg), each within [`GRID_MATCH_DEG`] on every
+/// joint; `None` if one is missing.
+fn indices_near(problem: &DesignProblem, positions: &[Vec<f64>]) -> Option<Vec<usize>> {
+    positions
+        .iter()
+        .map(|p| {
+            problem.index_of(p).or_else(|| {
+                (0..problem.n_candidates()).find(|&c| {
+                    problem.candidates_deg[c]
+                        .iter()
+                        .zip(p)
+                        .all(|(a, b)| (a - b).abs() <= GRID_MATCH_DEG)
+                })
+            })
+        })
+        .collect()
+}
+
 /// The number of coarse levels [`design_on_grid`] tries for `step_deg` (one progress unit
 /// each).
 #[must_use]
 pub fn coarse_levels(step_deg: f64) -> u64 {
-    let mut n = 0;
-    let mut s = 2.0 * step_deg;
-    while s <= MAX_COARSE_STEP_DEG + 1e-9 {
-        n += 1;
-        s *= 2.0;
-    }
-    n
+    coarse_steps(step_deg).len() as u64
 }

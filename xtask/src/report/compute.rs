@@ -248,23 +248,84 @@ fn schedule_facts(s: &Study) -> Result<ScheduleFacts> {
     })
 }
 
-/// The designed study must describe the same sensor, site and turntable.
+/// The first key of the study file at which the designed study `d` differs from `s` in what
+/// must be the same (everything but the schedule), or `None`.
+fn differing_key(s: &Study, d: &Study) -> Option<String> {
+    let (a, b) = (&s.turntable, &d.turntable);
+    if a != b {
+        if let Some(i) = (0..a.factors().len().max(b.factors().len()))
+            .find(|&i| a.factors().get(i) != b.factors().get(i))
+        {
+            return Some(format!("turntable.factors[{i}]"));
+        }
+        if a.rotation_error_names() != b.rotation_error_names()
+            || a.translation_error_names() != b.translation_error_names()
+        {
+            return Some("turntable.error_order".into());
+        }
+        if let Some(j) = (0..a.n_joints()).find(|&j| {
+            a.joint_ranges_rad()[j].map(f64::to_bits) != b.joint_ranges_rad()[j].map(f64::to_bits)
+        }) {
+            return Some(format!("turntable.joint_ranges_deg.{}", a.joint_names()[j]));
+        }
+        let names = a
+            .joint_names()
+            .into_iter()
+            .chain(a.rotation_error_names())
+            .chain(a.translation_error_names());
+        for n in names {
+            if a.description_of(n) != b.description_of(n) {
+                return Some(format!("turntable.descriptions.{n}"));
+            }
+        }
+        return Some("turntable".into());
+    }
+    let (oa, ob) = (s.sensor.outputs(), d.sensor.outputs());
+    if oa.len() != ob.len() {
+        return Some("sensor.outputs".into());
+    }
+    for (i, (x, y)) in oa.iter().zip(ob).enumerate() {
+        for (key, same) in [
+            ("name", x.name == y.name),
+            ("unit", x.unit == y.unit),
+            ("accuracy", x.accuracy.to_bits() == y.accuracy.to_bits()),
+            ("terms", x.terms == y.terms),
+        ] {
+            if !same {
+                return Some(format!("sensor.outputs[{i}].{key}"));
+            }
+        }
+    }
+    if s.site.latitude_rad().to_bits() != d.site.latitude_rad().to_bits() {
+        return Some("site.latitude_deg".into());
+    }
+    if s.site != d.site {
+        return Some("site.earth_rate_rad_per_s".into());
+    }
+    if s.reading != d.reading {
+        return Some("calibration.reading".into());
+    }
+    if s.delta_r_kind != d.delta_r_kind {
+        return Some("calibration.delta_r".into());
+    }
+    let names = s.turntable.rotation_error_names();
+    (0..names.len())
+        .find(|&j| s.lower_bounds_rad[j].to_bits() != d.lower_bounds_rad[j].to_bits())
+        .map(|j| format!("{}.{}", crate::input::LOWER_BOUNDS_KEY, names[j]))
+}
+
+/// The designed study must describe the same turntable, sensor, site, reading and lower
+/// bounds; the error names the first key that differs.
 fn check_designed(s: &Study, d: &Study) -> Result<(), InputError> {
-    let same = s.turntable == d.turntable
-        && s.sensor == d.sensor
-        && s.site == d.site
-        && s.reading == d.reading
-        && s.lower_bounds_rad == d.lower_bounds_rad;
-    if same {
-        Ok(())
-    } else {
-        Err(InputError::new(
-            format!("--designed {}", d.path),
+    match differing_key(s, d) {
+        None => Ok(()),
+        Some(key) => Err(InputError::new(
+            format!("--designed {}: key `{key}`", d.path),
             format!(
-                "the designed study must describe the same turntable, sensor, site, reading and lower bounds as {} (only the schedule may differ)",
+                "differs from the study {}: the designed study must describe the same turntable, sensor, site, reading and lower bounds (only the schedule may differ)",
                 s.path
             ),
-        ))
+        )),
     }
 }
 

@@ -177,7 +177,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
             "meets_excess": meets.excess().map(f),
             "objective_arcmin": f(e2e_verify::objective_to_arcmin(b.objective)),
             "bounds_arcmin": arcmin_map(&names, &b.upper_bounds_rad),
-            "worst_case": b.worst_case.outputs.iter().map(|w| json!({"output": outs[w.output], "exact_at_vertex": f(w.exact_at_vertex), "linear": f(w.linear_bound), "certified": w.certified_bound().map(f)})).collect::<Vec<_>>(),
+            "worst_case": b.worst_case.outputs.iter().map(|w| json!({"output": outs[w.output], "exact_at_vertex": f(w.exact_at_vertex), "linear": f(w.linear_bound), "certified": w.certified_bound().map(f), "precision": f(w.precision)})).collect::<Vec<_>>(),
             "yield": f(b.distribution.yield_fraction()),
             "yield_interval_95": [f(lo), f(hi)],
         })
@@ -194,6 +194,8 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                         "boxes": r.boxes.iter().map(boxj).collect::<Vec<_>>(),
                         "direct": boxj(&r.direct_box),
                         "yield_based": boxj(&r.yield_box),
+                        "yield_target": f(r.yield_based.target),
+                        "yield_verdict": r.yield_verdict().name(),
                         "direct_certified": r.direct_certified.as_ref().map(|(dc, _)| json!({"objective_arcmin": f(dc.objective_arcmin()), "bounds_arcmin": arcmin_map(&names, &dc.upper_bounds_rad)})),
                         "direct_certified_note": r.direct_certified_note,
                     })
@@ -208,7 +210,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                 "tolerances": tol.path,
                 "verdict": chk.verdict.name(),
                 "yield": f(chk.distribution.yield_fraction()),
-                "outputs": chk.outputs.iter().map(|o| json!({"output": outs[o.output], "verdict": o.verdict.name(), "worst_case": f(o.worst_case.exact_at_vertex), "accuracy": f(o.accuracy)})).collect::<Vec<_>>(),
+                "outputs": chk.outputs.iter().map(|o| json!({"output": outs[o.output], "verdict": o.verdict.name(), "worst_case": f(o.worst_case.exact_at_vertex), "accuracy": f(o.accuracy), "precision": f(o.worst_case.precision)})).collect::<Vec<_>>(),
             }),
         );
     }
@@ -463,6 +465,12 @@ fn inputs(
         ),
         None => None,
     };
+    crate::end_to_end::check_yield_samples(
+        samples.unwrap_or(s.monte_carlo.samples),
+        samples.is_some(),
+        e2e_verify::DEFAULT_YIELD_FRACTION,
+        &s,
+    )?;
     let options = Options {
         seed: seed.unwrap_or(s.monte_carlo.seed),
         samples: samples.unwrap_or(s.monte_carlo.samples),

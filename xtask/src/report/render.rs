@@ -6,7 +6,7 @@ use super::doc::{self, Doc};
 use super::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
-use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, objective_to_arcmin};
+use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict, objective_to_arcmin};
 use std::fmt::Write as _;
 use study::fmt::{num, sig};
 use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
@@ -1186,22 +1186,38 @@ impl<'a> Sections<'a> {
                 .collect();
             let (lo, hi) = b.distribution.yield_interval_95();
             let label = match name {
-                "two-step" => "two-step (requirement, then turntable)",
-                "direct" => "direct (against every accuracy)",
-                "yield-based" => "yield-based (99.73% of turntables)",
-                other => other,
+                "two-step" => "two-step (requirement, then turntable)".to_string(),
+                "direct" => "direct (against every accuracy)".to_string(),
+                "yield-based" => format!(
+                    "yield-based ({}% of turntables)",
+                    num(100.0 * r.yield_based.target)
+                ),
+                other => other.to_string(),
             };
+            let mut yield_cell = format!(
+                "{:.2}% [{:.2}, {:.2}]",
+                100.0 * b.distribution.yield_fraction(),
+                100.0 * lo,
+                100.0 * hi
+            );
+            if name == "yield-based" {
+                // re-measured on independent draws, against the allocation's target
+                let _ = write!(
+                    yield_cell,
+                    ": {} its target",
+                    match r.yield_verdict() {
+                        YieldVerdict::Meets => "**meets**",
+                        YieldVerdict::DoesNotMeet => "does **not** meet",
+                        YieldVerdict::CannotTell => "cannot tell whether it meets",
+                    }
+                );
+            }
             rows.push(vec![
-                label.to_string(),
+                label,
                 format!("{:.2}", objective_to_arcmin(b.objective)),
                 worst.join(", "),
                 meets_md(b.worst_case.meets(&acc)),
-                format!(
-                    "{:.2}% [{:.2}, {:.2}]",
-                    100.0 * b.distribution.yield_fraction(),
-                    100.0 * lo,
-                    100.0 * hi
-                ),
+                yield_cell,
             ]);
         }
         if let Some((dc, wc)) = &r.direct_certified {
@@ -1242,6 +1258,29 @@ impl<'a> Sections<'a> {
             self.doc.p(format!(
                 "The direct allocation could not be certified on the exact chain here: {n}."
             ));
+        }
+        let mut zeroed: Vec<usize> = Vec::new();
+        for b in r.boxes.iter().chain([&r.direct_box, &r.yield_box]) {
+            for w in &b.worst_case.outputs {
+                if w.exact_at_vertex == 0.0 && !zeroed.contains(&w.output) {
+                    zeroed.push(w.output);
+                }
+            }
+        }
+        self.precision_note(&zeroed);
+    }
+
+    /// One sentence for worst cases shown as 0 because they are at or below the computation's
+    /// precision (`outputs`: their indices), with the precision of each.
+    fn precision_note(&mut self, outputs: &[usize]) {
+        let outs = self.outputs();
+        let p = self.c.e2e.precisions();
+        let zeroed: Vec<(&str, &str, f64)> = outputs
+            .iter()
+            .map(|&k| (outs[k].0.as_str(), outs[k].1.as_str(), p[k]))
+            .collect();
+        if let Some(n) = crate::out::precision_note(&zeroed) {
+            self.doc.p(format!("Worst cases: {n}."));
         }
     }
 
@@ -1462,6 +1501,13 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
+        let zeroed: Vec<usize> = chk
+            .outputs
+            .iter()
+            .filter(|o| o.worst_case.exact_at_vertex == 0.0)
+            .map(|o| o.output)
+            .collect();
+        self.precision_note(&zeroed);
         self.doc
             .callout(format!("Verdict: {}.", sheet_verdict(chk)));
     }
