@@ -482,8 +482,8 @@ fn calibration_error_matches_an_independent_least_squares() {
 /// bound.
 #[test]
 fn end_to_end_says_whether_each_box_meets_every_accuracy_in_one_wording() {
-    let text = stdout(&run(&["end-to-end", "--samples", "300"]));
-    let v = json(&["end-to-end", "--samples", "300", "--json"]);
+    let text = stdout(&run(&["end-to-end", "--samples", "1500"]));
+    let v = json(&["end-to-end", "--samples", "1500", "--json"]);
     let mut flagged = 0;
     for r in v["readings"].as_array().unwrap() {
         for b in r["boxes"]

@@ -654,7 +654,7 @@ fn report_with_a_sheet_answers_with_its_verdict_first_and_treats_groups_as_one()
         "--out",
         out.to_str().unwrap(),
         "--samples",
-        "500",
+        "1500",
         "--tolerances",
         "studies/tolerances/table4.toml",
     ]));

@@ -66,15 +66,15 @@ fn paper_into(out: &Path) -> Output {
         "--out",
         out.to_str().unwrap(),
         "--samples",
-        "200",
+        "1500",
     ])
 }
 
-/// The report in `out` is a complete new one (200 samples) and nothing but it.
+/// The report in `out` is a complete new one (1500 samples) and nothing but it.
 fn assert_new_report(out: &Path) {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
-    assert_eq!(json["samples"], 200);
+    assert_eq!(json["samples"], 1500);
     let manifest = std::fs::read_to_string(out.join(".report-manifest")).unwrap();
     let mut listed: Vec<String> = manifest.lines().skip(1).map(String::from).collect();
     listed.push(".report-manifest".into());
@@ -122,7 +122,7 @@ fn study_name_cannot_leave_the_report_directory() {
             1,
         );
         let p = write(dir.path(), &format!("s{i}.toml"), &text);
-        let o = run(&["report", "--study", p.to_str().unwrap(), "--samples", "200"]);
+        let o = run(&["report", "--study", p.to_str().unwrap(), "--samples", "1500"]);
         assert_input_error(&o, &[p.to_str().unwrap(), "key `name`", "file-name-safe"]);
     }
     assert!(!root().join("escaped").exists());
@@ -208,7 +208,7 @@ fn study_text_never_reaches_a_terminal_a_report_or_a_shell_line_raw() {
     for cmd in [
         vec!["requirement", "--study", s],
         vec!["allocate", "--study", s],
-        vec!["end-to-end", "--study", s, "--samples", "200"],
+        vec!["end-to-end", "--study", s, "--samples", "1500"],
         vec![
             "check-turntable",
             "--study",
@@ -250,7 +250,7 @@ fn study_text_never_reaches_a_terminal_a_report_or_a_shell_line_raw() {
         "--out",
         out.to_str().unwrap(),
         "--samples",
-        "200",
+        "1500",
     ]);
     ok(&o);
     assert!(raw_controls(&stdout(&o)).is_empty(), "{}", stdout(&o));
