@@ -14,6 +14,7 @@
 //! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
 //! | tolerance (translation) | $[0, 1000]$ mm | a metre |
 //! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
+//! | test positions | $[1, 10\,000]$ | a lab's schedule has tens to hundreds; every command's cost grows linearly with the count (the requirement of eq 15-16 about 1.3 ms and 4 KB per position: 10,000 take about 13 s and 40 MB) |
 
 /// Latitude range, deg.
 pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
@@ -33,5 +34,8 @@ pub const ANGLE_TOLERANCE_ARCMIN: (f64, f64) = (0.0, 600.0);
 pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
 /// Largest Monte Carlo sample count.
 pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
+/// Largest number of test positions in a schedule (`calibration.positions_deg`, and
+/// `design-schedule --positions`).
+pub const MAX_POSITIONS: usize = 10_000;
 /// Largest study or tolerance file read, bytes (a study is a few kilobytes).
 pub const MAX_FILE_BYTES: u64 = 4 << 20;

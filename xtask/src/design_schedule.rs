@@ -38,16 +38,16 @@ pub struct Args {
     #[arg(long)]
     pub study: Option<PathBuf>,
     /// Number of test positions N (default: the study's).
-    #[arg(long, value_parser = crate::args::small_count)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::positions)]
     pub positions: Option<u64>,
     /// Grid step of the candidate joint angles, deg, in (0, 360].
-    #[arg(long, default_value_t = DEFAULT_STEP_DEG, value_parser = step)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = DEFAULT_STEP_DEG, value_parser = step)]
     pub step_deg: f64,
-    /// Largest condition number allowed for any output's regression (at least 1).
-    #[arg(long, default_value_t = DEFAULT_MAX_CONDITION, value_parser = condition)]
+    /// Largest condition number allowed for any output's regression, in [1, 1e12].
+    #[arg(long, allow_negative_numbers = true, default_value_t = DEFAULT_MAX_CONDITION, value_parser = condition)]
     pub max_condition: f64,
     /// Seed of the restarts and of the random baseline (default: the study's).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Write the study with the designed positions to this new file (never overwritten).
     #[arg(long)]
@@ -62,11 +62,7 @@ fn step(s: &str) -> Result<f64, String> {
 }
 
 fn condition(s: &str) -> Result<f64, String> {
-    let v = crate::args::positive(s, 1e12)?;
-    if v < 1.0 {
-        return Err(format!("`{s}`: a condition number is at least 1"));
-    }
-    Ok(v)
+    crate::args::number_in(s, 1.0, 1e12, "a condition number")
 }
 
 /// Bad inputs are the user's (exit 2); solver trouble is ours (exit 1).
@@ -77,6 +73,13 @@ fn classify(e: E2eError, s: &Study) -> anyhow::Error {
             field: "step_deg" | "candidates",
             ..
         } => "--step-deg",
+        E2eError::GridTooLarge { step_deg, .. } => {
+            return InputError::new(
+                format!("--step-deg {}", study::fmt::exact(*step_deg)),
+                e.to_string(),
+            )
+            .into();
+        }
         E2eError::OutOfRange {
             field: "max_condition",
             ..

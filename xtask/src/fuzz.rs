@@ -41,10 +41,10 @@ pub const CASE_TIME_LIMIT: Duration = Duration::from_secs(1);
 #[derive(Debug, Parser)]
 pub struct Args {
     /// Number of cases (accepts `1e5`, `100000`, `100_000`).
-    #[arg(long, default_value = "10000", value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = crate::args::samples)]
     pub cases: u64,
     /// Seed of the mutations.
-    #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1, value_parser = crate::args::seed)]
     pub seed: u64,
     /// Directory for the inputs of findings (created; must not exist).
     #[arg(long, default_value = "target/fuzz-findings")]
