@@ -209,9 +209,12 @@ pub fn answer_with_two_step(
             .map(|(name, ub)| box_answer(name, ub, &settings, &linear))
             .collect::<Result<Vec<_>, _>>()?;
         let direct = sim.allocate_direct(&linear, lb)?;
-        let (direct_certified, direct_certified_note) = match sim
-            .allocate_direct_certified(&linear, lb)
-        {
+        let certified = if direct.no_bound_needed() {
+            Err(E2eError::NoBoxToCertify)
+        } else {
+            sim.allocate_direct_certified(&linear, lb)
+        };
+        let (direct_certified, direct_certified_note) = match certified {
             Ok(d) => {
                 let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
                 (Some((d, wc)), None)
@@ -223,9 +226,11 @@ pub fn answer_with_two_step(
                     "the derived second-order bound exceeds an output's accuracy ({field} is {value:.3}): the bound is too coarse for this turntable and sensor"
                 )),
             ),
-            Err(e @ (E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. })) => {
-                (None, Some(e.to_string()))
-            }
+            Err(
+                e @ (E2eError::NoSecondOrderBound { .. }
+                | E2eError::NoConvergence { .. }
+                | E2eError::NoBoxToCertify),
+            ) => (None, Some(e.to_string())),
             Err(e) => return Err(e),
         };
         let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));

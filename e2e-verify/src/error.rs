@@ -38,6 +38,12 @@ pub enum E2eError {
         /// The box's upper bound (rad).
         ub: f64,
     },
+    /// No error affects any output to first order, so the direct allocation has no bound
+    /// and there is no box to certify on the exact chain.
+    #[error(
+        "no error affects any output to first order: no bound is needed for any error, and there is no box to certify"
+    )]
+    NoBoxToCertify,
     /// A named input was NaN or infinite.
     #[error("{field} must be finite, got {value}")]
     NonFinite {

@@ -10,7 +10,7 @@
 //! | coefficient value | $|v| \le 10^{6}$ output unit per regressor unit | Table 1's largest is 105 deg/h; a million keeps every product finite |
 //! | joint angle, fixed angle, range end | $[-720, 720]$ deg | two turns either way |
 //! | joint range width | $(0, 360]$ deg | at most a turn |
-//! | given requirement | $(0, 10]$ deg | the first-order theory of §2-4 holds for small angles only |
+//! | given requirement | $[10^{-9}, 10]$ deg | the first-order theory of §2-4 holds for small angles only; $10^{-9}$ deg (3.6 micro-arcseconds) is a thousand times below the best angle metrology, and the exact chain's rounding ($\sim10^{-16}$ rad) stays $10^{-7}$ of it (the objective $J \propto I^{-2}$ overflows below $\sim10^{-140}$ deg) |
 //! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
 //! | tolerance (translation) | $[0, 1000]$ mm | a metre |
 //! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
@@ -26,8 +26,8 @@ pub const ACCURACY: (f64, f64) = (1e-12, 1e6);
 pub const COEFFICIENT_ABS_MAX: f64 = 1e6;
 /// Largest joint, fixed or range angle magnitude, deg.
 pub const ANGLE_ABS_MAX_DEG: f64 = 720.0;
-/// Given requirement range (exclusive lower end), deg.
-pub const REQUIREMENT_DEG: (f64, f64) = (0.0, 10.0);
+/// Given requirement range, deg.
+pub const REQUIREMENT_DEG: (f64, f64) = (1e-9, 10.0);
 /// Lower bound / angular tolerance range, arcmin.
 pub const ANGLE_TOLERANCE_ARCMIN: (f64, f64) = (0.0, 600.0);
 /// Translation tolerance range, mm.

@@ -718,7 +718,7 @@ fn parse_requirement(
                     )
                 })?;
                 let (lo, hi) = limits::REQUIREMENT_DEG;
-                *slot = in_range(at, &key, v, lo, hi, true, "deg")? * RAD_PER_DEG;
+                *slot = in_range(at, &key, v, lo, hi, false, "deg")? * RAD_PER_DEG;
             }
             Ok(RequirementSource::Given { rad })
         }

@@ -198,6 +198,7 @@ fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
         "requirement_deg": requirement_json(r),
         "requirement_note": r.requirement.as_ref().err().map(ToString::to_string),
         "bounds_arcmin": crate::out::arcmin_json(&errors, &r.allocation.upper_bounds_rad),
+        "no_bound_needed": r.allocation.no_bound_needed(),
         "log_det_information": r.log_det_information,
         "worst_case_today": r.worst_case_today.as_ref().map(|w| Value::Object(w.outputs.iter().map(|o| (outputs[o.output].name.clone(), json!({
             "linear": o.linear_bound,
@@ -330,10 +331,15 @@ fn to_text(s: &Study, o: &Outcome) -> String {
             .map(|c| sig(*c, 3))
             .collect::<Vec<_>>()
             .join(", ");
-        format!(
-            "{label:<12} {:>13} {:>8}  {cond:<22} {req:<34} {wc}\n",
-            sig(j, 6),
+        // J of a schedule whose errors need no bound is 0: no ratio then
+        let vs = if study_j > 0.0 {
             sig(j / study_j, 3)
+        } else {
+            "-".into()
+        };
+        format!(
+            "{label:<12} {:>13} {vs:>8}  {cond:<22} {req:<34} {wc}\n",
+            sig(j, 6)
         )
     };
     t.push_str(&line("designed", &d.designed));
@@ -349,6 +355,12 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         d.search.random_drawn,
         d.search.random_feasible
     ));
+    if d.designed.allocation.no_bound_needed() {
+        t.push_str(&format!(
+            "  the designed schedule: {}\n",
+            e2e_verify::NO_BOUND_NEEDED
+        ));
+    }
     let errs = s.turntable.rotation_error_names();
     let bounds = |r: &ScheduleReport| -> String {
         errs.iter()

@@ -218,6 +218,7 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
         "objective": r.direct.objective_arcmin(),
         "bounds_arcmin": crate::out::arcmin_json(&names, &r.direct.upper_bounds_rad),
         "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
+        "no_bound_needed": r.direct.no_bound_needed(),
         "active_rows": r.direct.active_rows().iter().map(|row| json!({
             "output": e2e.calibration().outputs()[row.output].output().name,
             "position": row.position,
@@ -245,6 +246,7 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
             "objective": r.yield_based.objective_arcmin(),
             "target": r.yield_based.target,
             "scale": r.yield_based.scale,
+            "capped": r.yield_based.capped,
             "design_yield": r.yield_based.yield_fraction(),
             "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
             "bounds_arcmin": crate::out::arcmin_json(&names, &r.yield_based.upper_bounds_rad),

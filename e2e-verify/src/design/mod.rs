@@ -1262,3 +1262,76 @@ pub fn coarse_levels(step_deg: f64) -> u64 {
     }
     n
 }
+
+#[cfg(test)]
+mod grid_tests {
+    use super::*;
+
+    /// The enumeration the count replaces (issue 19: it grew to 24 GB for a 1e-308 deg step).
+    fn enumerated(lo: f64, hi: f64, step: f64) -> f64 {
+        let full = hi - lo >= 360.0 - 1e-9;
+        let mut k = 0_u32;
+        loop {
+            let a = lo + f64::from(k) * step;
+            if a > hi + 1e-9 || (full && a >= lo + 360.0 - 1e-9) {
+                return f64::from(k);
+            }
+            k += 1;
+        }
+    }
+
+    /// The computed count of a joint's grid angles is the enumerated one, for full turns,
+    /// partial ranges, steps that divide them and steps that do not.
+    #[test]
+    fn grid_counts_equal_the_enumeration() {
+        for (lo, hi) in [
+            (0.0, 360.0),
+            (-180.0, 180.0),
+            (0.0, 90.0),
+            (-45.0, 30.0),
+            (10.0, 10.5),
+        ] {
+            for step in [0.1, 0.7, 1.0, 7.0, 13.0, 15.0, 45.0, 100.0, 360.0] {
+                assert_eq!(
+                    axis_count(lo, hi, step).to_bits(),
+                    enumerated(lo, hi, step).to_bits(),
+                    "[{lo}, {hi}] step {step}"
+                );
+            }
+        }
+    }
+
+    /// A step that would give more than [`MAX_CANDIDATES`] positions is refused before any
+    /// is built, with the counts (also when they exceed every float).
+    #[test]
+    fn tiny_steps_are_refused_with_the_count_before_building() {
+        let t = tt_kinematics::paper::table3();
+        let e = grid_positions_deg(&t, 1e-308).unwrap_err();
+        let E2eError::GridTooLarge {
+            per_joint_log10, ..
+        } = &e
+        else {
+            panic!("{e:?}")
+        };
+        assert!(
+            per_joint_log10.iter().all(|c| *c > 310.0 && *c < 311.0),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains("about 1.3e621 candidate positions"),
+            "{e}"
+        );
+        let e = grid_positions_deg(&t, 1e-6).unwrap_err().to_string();
+        assert!(
+            e.contains("129600000000000000 candidate positions")
+                || e.contains("about 1.3e17 candidate positions"),
+            "{e}"
+        );
+        assert!(e.contains("360000000 x 360000000 per joint"), "{e}");
+        let e = grid_positions_deg(&t, 1.0).unwrap_err().to_string();
+        assert!(
+            e.contains("129600 candidate positions (360 x 360 per joint), more than 50000"),
+            "{e}"
+        );
+    }
+}

@@ -227,11 +227,15 @@ impl<'a> Sections<'a> {
                 );
             }
             let j = r.direct.objective_arcmin();
-            let _ = write!(
-                s,
-                "the direct allocation against every accuracy needs J = {j:.2} arcmin⁻²"
-            );
-            if let Some(t) = two {
+            if r.direct.no_bound_needed() {
+                s.push_str(e2e_verify::NO_BOUND_NEEDED);
+            } else {
+                let _ = write!(
+                    s,
+                    "the direct allocation against every accuracy needs J = {j:.2} arcmin⁻²"
+                );
+            }
+            if let (Some(t), false) = (two, r.direct.no_bound_needed()) {
                 let ratio = t / j;
                 if ratio >= 1.0 {
                     let _ = write!(
