@@ -325,7 +325,8 @@ fn axis_count(lo: f64, hi: f64, step_deg: f64) -> f64 {
         a > hi + 1e-9 || (full && a >= lo + 360.0 - 1e-9)
     };
     let estimate = ((hi - lo + 1e-9) / step_deg).floor() + 1.0;
-    if !(estimate < 4_503_599_627_370_496.0) {
+    // beyond 2^52 (or NaN-free infinity for a step of 1e-308) only the size matters
+    if estimate.is_nan() || estimate >= 4_503_599_627_370_496.0 {
         return estimate;
     }
     // the first k that stops (stop is monotone in k): the count

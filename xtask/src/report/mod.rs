@@ -187,6 +187,8 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                         "reading": r.reading.to_string(),
                         "boxes": r.boxes.iter().map(boxj).collect::<Vec<_>>(),
                         "direct": boxj(&r.direct_box),
+                        "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
+                        "no_bound_needed": r.direct.no_bound_needed(),
                         "yield_based": boxj(&r.yield_box),
                         "direct_certified": r.direct_certified.as_ref().map(|(dc, _)| json!({"objective_arcmin": f(dc.objective_arcmin()), "bounds_arcmin": arcmin_map(&names, &dc.upper_bounds_rad)})),
                         "direct_certified_note": r.direct_certified_note,
