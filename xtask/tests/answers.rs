@@ -88,7 +88,7 @@ fn design_schedule_of_300_positions_gives_a_verified_design() {
 }
 
 /// `design-schedule --step-deg 7` exited 1 the same way: now a verified design (the largest
-/// of the three: 2,601 candidates, half a minute; the conic problem it stalled on is also a
+/// of the three: 2,734 candidates, half a minute; the conic problem it stalled on is also a
 /// fixture of alloc-opt's `stalled_conic` test).
 #[test]
 fn design_schedule_on_a_7_deg_grid_gives_a_verified_design() {
