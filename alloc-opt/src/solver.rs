@@ -644,6 +644,38 @@ fn restore_tightness(p: &InverseSquareProblem<'_>, x: Vec<f64>) -> Vec<f64> {
     at(lo)
 }
 
+/// Settings of one conic solve attempt.
+#[derive(Debug, Clone, Copy)]
+struct ConicAttempt {
+    /// Ruiz equilibration of the problem data.
+    equilibrate: bool,
+    /// Largest fraction of the step to the cone boundary.
+    max_step_fraction: f64,
+}
+
+/// The attempts of [`conic_solve`], in order: clarabel's defaults, then without
+/// equilibration, then with shorter steps. The interior-point method on power cones can stall
+/// (`InsufficientProgress`) where the same problem solves with the other path (the direct
+/// allocations of issue 19 did, on schedules with identical error columns); a solution of
+/// any attempt is checked the same way afterwards (the exchange method asks the oracle for the
+/// most loaded row, the final rescaling makes the bounds feasible and tight, the polish
+/// verifies the KKT conditions), so the answer does not depend on which attempt gave it
+/// beyond the solver's tolerance.
+const CONIC_ATTEMPTS: [ConicAttempt; 3] = [
+    ConicAttempt {
+        equilibrate: true,
+        max_step_fraction: 0.99,
+    },
+    ConicAttempt {
+        equilibrate: false,
+        max_step_fraction: 0.99,
+    },
+    ConicAttempt {
+        equilibrate: false,
+        max_step_fraction: 0.9,
+    },
+];
+
 /// One conic solve with a finite row set. Returns the scaled solution $y$ and the duals of
 /// the rows (in the normalised objective's units).
 fn conic_solve(
@@ -709,37 +741,43 @@ fn conic_solve(
     }
     let mut cones = vec![SupportedConeT::NonnegativeConeT(nonneg)];
     cones.extend((0..n).map(|_| SupportedConeT::PowerConeT(1.0 / 3.0)));
-    let settings = DefaultSettings {
-        verbose: false,
-        max_iter: 200,
-        tol_gap_abs: 1e-11,
-        tol_gap_rel: 1e-11,
-        tol_feas: 1e-11,
-        tol_ktratio: 1e-8,
-        ..DefaultSettings::default()
-    };
-    let mut solver =
-        DefaultSolver::new(&pm, &q, &a, &b, &cones, settings).map_err(|e| AllocError::Solver {
-            problem: label.to_string(),
-            status: e.to_string(),
-        })?;
-    solver.solve();
-    let sol = &solver.solution;
-    match sol.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {}
-        other => {
-            return Err(AllocError::Solver {
+    let mut last = String::new();
+    for attempt in CONIC_ATTEMPTS {
+        let settings = DefaultSettings {
+            verbose: false,
+            max_iter: 200,
+            tol_gap_abs: 1e-11,
+            tol_gap_rel: 1e-11,
+            tol_feas: 1e-11,
+            tol_ktratio: 1e-8,
+            equilibrate_enable: attempt.equilibrate,
+            max_step_fraction: attempt.max_step_fraction,
+            ..DefaultSettings::default()
+        };
+        let mut solver = DefaultSolver::new(&pm, &q, &a, &b, &cones, settings).map_err(|e| {
+            AllocError::Solver {
                 problem: label.to_string(),
-                status: format!("{other:?}"),
-            });
+                status: e.to_string(),
+            }
+        })?;
+        solver.solve();
+        let sol = &solver.solution;
+        match sol.status {
+            SolverStatus::Solved | SolverStatus::AlmostSolved => {}
+            other => {
+                last = format!("{other:?}");
+                continue;
+            }
         }
+        let y = sol.x[..n].to_vec();
+        if y.iter().any(|v| !v.is_finite()) {
+            last = "non-finite solution".into();
+            continue;
+        }
+        return Ok((y, sol.z[..m_cuts].to_vec()));
     }
-    let y = sol.x[..n].to_vec();
-    if y.iter().any(|v| !v.is_finite()) {
-        return Err(AllocError::Solver {
-            problem: label.to_string(),
-            status: "non-finite solution".into(),
-        });
-    }
-    Ok((y, sol.z[..m_cuts].to_vec()))
+    Err(AllocError::Solver {
+        problem: label.to_string(),
+        status: last,
+    })
 }

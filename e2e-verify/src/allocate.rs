@@ -31,8 +31,8 @@ pub const CERTIFY_MAX_MARGIN: f64 = 0.9;
 /// sheet of the certified tolerances is still proven by `check-turntable`.
 pub const CERTIFY_ROUND_TRIP_REL: f64 = 1e-12;
 
-/// Bisection steps on the scale when the lower bounds are positive (relative bracket
-/// $2^{-40} \approx 10^{-12}$).
+/// Bisection steps in $\log s$ on the scale (from a bracket of ratio 2: $\ln 2 / 2^{40}
+/// \approx 6\cdot10^{-13}$ relative).
 pub const YIELD_BISECTION_STEPS: usize = 40;
 
 /// Maximum fixed-point steps of the scale when $\mathrm{LB} = 0$ (each one exact-quantile
@@ -46,6 +46,19 @@ pub const YIELD_BRACKET_STEPS: usize = 60;
 /// Relative margin taken off the fixed-point scale so that the draw at the quantile lands on
 /// the safe side of the accuracy despite rounding (dimensionless).
 pub const YIELD_SCALE_MARGIN: f64 = 1e-9;
+
+/// The scale search stops when every finite bound of the shape reaches this (rad, half a
+/// turn): a larger bound describes no other rotation. Meeting the target there means the
+/// accuracies do not constrain the table ([`YieldAllocation::capped`]).
+pub const YIELD_SCALE_CAP_RAD: f64 = std::f64::consts::PI;
+
+/// The log-scale bisection of the yield scale stops when the bracket's ratio is within this
+/// of 1 (dimensionless).
+pub const YIELD_SCALE_REL: f64 = 1e-12;
+
+/// What every output says when no error affects any output to first order
+/// ([`DirectAllocation::no_bound_needed`]).
+pub const NO_BOUND_NEEDED: &str = "no error affects any output to first order (the calibration absorbs every error): no bound is needed for any error";
 
 /// The default yield target: 99.73% (the $3\sigma$ fraction of a normal law).
 pub const DEFAULT_YIELD_FRACTION: f64 = 0.9973;
@@ -173,6 +186,14 @@ impl DirectAllocation {
         objective_to_arcmin(self.objective)
     }
 
+    /// Whether no error affects any output to first order (every bound infinite): the
+    /// calibration absorbs every error, and no bound is needed for any
+    /// ([`NO_BOUND_NEEDED`]).
+    #[must_use]
+    pub fn no_bound_needed(&self) -> bool {
+        self.upper_bounds_rad.iter().all(|u| u.is_infinite())
+    }
+
     /// The active rows: load $\ge 1 -$ [`TIGHT_REL`].
     #[must_use]
     pub fn active_rows(&self) -> Vec<RowLoad> {
@@ -206,6 +227,10 @@ pub struct YieldAllocation {
     /// The 95% Wilson interval of the yield at $s^*$ (from the design draws): the stated
     /// confidence of the allocation.
     pub interval_95: (f64, f64),
+    /// The target is met even at the largest scale searched, [`YIELD_SCALE_CAP_RAD`] on every
+    /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
+    /// errors, and the bounds are that cap, not a limit.
+    pub capped: bool,
 }
 
 impl YieldAllocation {
@@ -498,17 +523,23 @@ impl EndToEnd {
     /// $p$-quantile ([`EndToEnd::ratio_quantile`]) of $r = \max_k \Delta\omega_k/\omega_{m,k}$ at
     /// $s = 1$ on the exact chain; the chain's curvature is absorbed by iterating
     /// $s \leftarrow s / q_p(s)$ (at most [`YIELD_FIXED_POINT_STEPS`]) and taking
-    /// [`YIELD_SCALE_MARGIN`] off. With positive lower bounds the scale is bisected
-    /// ([`YIELD_BISECTION_STEPS`]) with common random numbers (same seed at every $s$) on
-    /// $s \in [\max_j \mathrm{LB}_j/\mathrm{UB}_{shape,j}, s_{hi}]$. The yield at $s^*$ is
+    /// [`YIELD_SCALE_MARGIN`] off. When that does not settle (rounding dominates the quantile
+    /// at tiny accuracies, the chain's curvature at huge ones), and with positive lower bounds,
+    /// the scale is bracketed in factors of 2 and bisected in $\log s$
+    /// ([`YIELD_BISECTION_STEPS`], to [`YIELD_SCALE_REL`]) on the count of draws meeting every
+    /// accuracy, with common random numbers (same seed at every $s$), on
+    /// $s \in [\max_j \mathrm{LB}_j/\mathrm{UB}_{shape,j}, s_{cap}]$: nothing depends on the
+    /// absolute scale of the accuracies. $s_{cap}$ brings every finite bound to
+    /// [`YIELD_SCALE_CAP_RAD`]; a target met there (or a shape without a finite bound, when no
+    /// error affects an output to first order) is reported as [`YieldAllocation::capped`]. The
+    /// yield at $s^*$ is
     /// re-evaluated on the design draws and stated with its 95% Wilson interval.
     ///
     /// # Errors
     /// [`E2eError::FractionOutOfRange`] naming `yield_fraction`; [`E2eError::TooFewSamples`]
     /// when the draws cannot resolve the target ([`min_yield_samples`]); [`E2eError::NotPositive`]
-    /// naming `shape.<error>`; [`E2eError::Bounds`]; [`E2eError::YieldUnreachable`];
-    /// [`E2eError::NoConvergence`] when a bounded loop does not settle; as
-    /// [`McSettings::validate`].
+    /// naming `shape.<error>`; [`E2eError::Bounds`]; [`E2eError::YieldUnreachable`] when no
+    /// scale meets the target; as [`McSettings::validate`].
     pub fn allocate_yield(
         &self,
         shape_rad: &[f64],
@@ -545,85 +576,48 @@ impl EndToEnd {
             self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
         };
         let need = (p * settings.samples as f64).ceil() as u64;
-        let scale = if lower_bounds_rad.iter().all(|&l| l == 0.0) {
-            let mut s = 1.0;
-            let mut settled = false;
-            let mut change = f64::INFINITY;
-            for _ in 0..YIELD_FIXED_POINT_STEPS {
-                let q =
-                    self.ratio_quantile(&self.box_of(&scaled(s), lower_bounds_rad)?, settings, p)?;
-                if !(q > 0.0 && q.is_finite()) {
-                    return Err(E2eError::NoConvergence {
-                        what: "yield scale (quantile)",
-                        iterations: 0,
-                        change: q,
-                    });
-                }
-                let next = s / q;
-                change = (next / s - 1.0).abs();
-                s = next;
-                if change < 1e-12 {
-                    settled = true;
-                    break;
-                }
-            }
-            if !settled && change > 1e-6 {
-                return Err(E2eError::NoConvergence {
-                    what: "yield scale fixed point",
-                    iterations: YIELD_FIXED_POINT_STEPS,
-                    change,
-                });
-            }
-            let mut s = s * (1.0 - YIELD_SCALE_MARGIN);
-            let mut steps = 0;
-            while count(s)? < need {
-                s *= 1.0 - 1e3 * YIELD_SCALE_MARGIN;
-                steps += 1;
-                if steps >= YIELD_BRACKET_STEPS {
-                    return Err(E2eError::NoConvergence {
-                        what: "yield scale margin",
-                        iterations: steps,
-                        change: s,
-                    });
-                }
-            }
-            s
-        } else {
-            let s_lo = lower_bounds_rad
-                .iter()
-                .zip(shape_rad)
-                .map(|(l, u)| if u.is_finite() { l / u } else { 0.0 })
-                .fold(0.0, f64::max);
-            let best = count(s_lo)?;
+        let finite: Vec<f64> = shape_rad
+            .iter()
+            .copied()
+            .filter(|u| u.is_finite())
+            .collect();
+        // the scale at which every finite bound reaches the cap (no finite bound: the box does
+        // not depend on the scale, and 1 is as good as any)
+        let s_cap = finite
+            .iter()
+            .map(|u| YIELD_SCALE_CAP_RAD / u)
+            .fold(1.0_f64, f64::max);
+        let (scale, capped) = if finite.is_empty() {
+            let best = count(1.0)?;
             if best < need {
                 return Err(E2eError::YieldUnreachable {
                     target: p,
                     best: best as f64 / settings.samples as f64,
                 });
             }
-            let mut hi = s_lo.max(1.0);
-            let mut steps = 0;
-            while count(hi)? >= need {
-                hi *= 2.0;
-                steps += 1;
-                if steps >= YIELD_BRACKET_STEPS {
-                    return Err(E2eError::NoConvergence {
-                        what: "yield scale bracket",
-                        iterations: steps,
-                        change: hi,
-                    });
-                }
+            (1.0, true)
+        } else if lower_bounds_rad.iter().all(|&l| l == 0.0) {
+            match self.yield_fixed_point(&scaled, lower_bounds_rad, settings, p, need, s_cap)? {
+                Some(s) => (s, false),
+                // the fixed point did not settle (rounding at tiny accuracies, the exact
+                // chain's curvature at huge ones): bracket and bisect on the count instead
+                None => bisect_scale(&count, need, 0.0, 1.0, s_cap, p, settings.samples)?,
             }
-            let mut lo = s_lo;
-            for _ in 0..YIELD_BISECTION_STEPS {
-                let mid = 0.5 * (lo + hi);
-                if count(mid)? >= need {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            lo
+        } else {
+            let s_lo = lower_bounds_rad
+                .iter()
+                .zip(shape_rad)
+                .map(|(l, u)| if u.is_finite() { l / u } else { 0.0 })
+                .fold(0.0, f64::max);
+            bisect_scale(
+                &count,
+                need,
+                s_lo,
+                s_lo.max(1.0),
+                s_cap.max(s_lo),
+                p,
+                settings.samples,
+            )?
         };
         let ub = scaled(scale);
         let meeting = count(scale)?;
@@ -637,8 +631,123 @@ impl EndToEnd {
             seed: settings.seed,
             meeting,
             interval_95: wilson_interval_95(meeting, settings.samples),
+            capped,
         })
     }
+
+    /// The scale of the yield-based allocation with $\mathrm{LB} = 0$ by the fixed point
+    /// $s \leftarrow s/q_p(s)$ (see [`EndToEnd::allocate_yield`]), [`YIELD_SCALE_MARGIN`]
+    /// taken off and checked on the count; `None` when it does not settle to $10^{-6}$ in
+    /// [`YIELD_FIXED_POINT_STEPS`], leaves $(0, s_{cap}]$, or the margin does not restore the
+    /// count (the caller then bisects).
+    fn yield_fixed_point(
+        &self,
+        scaled: &dyn Fn(f64) -> Vec<f64>,
+        lower_bounds_rad: &[f64],
+        settings: &McSettings,
+        p: f64,
+        need: u64,
+        s_cap: f64,
+    ) -> Result<Option<f64>, E2eError> {
+        let count = |s: f64| -> Result<u64, E2eError> {
+            self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
+        };
+        let mut s = 1.0;
+        let mut change = f64::INFINITY;
+        for _ in 0..YIELD_FIXED_POINT_STEPS {
+            let q =
+                self.ratio_quantile(&self.box_of(&scaled(s), lower_bounds_rad)?, settings, p)?;
+            let next = s / q;
+            if !(next.is_finite() && next > 0.0 && next <= s_cap) {
+                return Ok(None);
+            }
+            change = (next / s - 1.0).abs();
+            s = next;
+            if change < 1e-12 {
+                break;
+            }
+        }
+        if change > 1e-6 {
+            return Ok(None);
+        }
+        let mut s = s * (1.0 - YIELD_SCALE_MARGIN);
+        let mut steps = 0;
+        while count(s)? < need {
+            s *= 1.0 - 1e3 * YIELD_SCALE_MARGIN;
+            steps += 1;
+            if steps >= YIELD_BRACKET_STEPS {
+                return Ok(None);
+            }
+        }
+        Ok(Some(s))
+    }
+}
+
+/// The largest scale found at which `count` reaches `need`, by bracketing from `start` (in
+/// factors of 2, no lower than `s_min`, no higher than `s_cap`) and bisection in $\log s$ to
+/// [`YIELD_SCALE_REL`]: independent of the absolute scale. Returns `(s_cap, true)` when the
+/// cap itself meets the target.
+///
+/// # Errors
+/// [`E2eError::YieldUnreachable`] when no scale down to `s_min` (or $2^{-60}$ of the start)
+/// meets it; as `count`.
+fn bisect_scale(
+    count: &dyn Fn(f64) -> Result<u64, E2eError>,
+    need: u64,
+    s_min: f64,
+    start: f64,
+    s_cap: f64,
+    target: f64,
+    samples: u64,
+) -> Result<(f64, bool), E2eError> {
+    let unreachable = |best: u64| E2eError::YieldUnreachable {
+        target,
+        best: best as f64 / samples as f64,
+    };
+    let start = start.clamp(s_min, s_cap);
+    let (mut lo, mut hi);
+    if count(start)? >= need {
+        lo = start;
+        hi = start;
+        loop {
+            if hi >= s_cap {
+                return Ok((s_cap, true));
+            }
+            hi = (2.0 * hi).min(s_cap);
+            if count(hi)? < need {
+                break;
+            }
+            lo = hi;
+        }
+    } else {
+        hi = start;
+        lo = start;
+        let mut steps = 0;
+        loop {
+            lo = (0.5 * lo).max(s_min);
+            let c = count(lo)?;
+            if c >= need {
+                break;
+            }
+            steps += 1;
+            if lo <= s_min || steps >= YIELD_BRACKET_STEPS {
+                return Err(unreachable(c));
+            }
+            hi = lo;
+        }
+    }
+    for _ in 0..YIELD_BISECTION_STEPS {
+        if hi / lo - 1.0 <= YIELD_SCALE_REL {
+            break;
+        }
+        let mid = if lo > 0.0 { (lo * hi).sqrt() } else { 0.5 * hi };
+        if count(mid)? >= need {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok((lo, false))
 }
 
 /// The certified direct allocation of `sim` ([`EndToEnd::allocate_direct_certified`]), or why
@@ -652,7 +761,11 @@ pub(crate) fn certified_or_note(
     sim: &EndToEnd,
     linear: &Linearization,
     lower_bounds_rad: &[f64],
+    plain: &DirectAllocation,
 ) -> Result<(Option<DirectAllocation>, Option<String>), E2eError> {
+    if plain.no_bound_needed() {
+        return Ok((None, Some(E2eError::NoBoxToCertify.to_string())));
+    }
     match sim.allocate_direct_certified(linear, lower_bounds_rad) {
         Ok(d) => Ok((Some(d), None)),
         // not certifiable for this reading, table and sensor: say why, keep the rest
@@ -684,12 +797,13 @@ pub(crate) fn check_lower_bounds(
 
 /// $J(\mathrm{UB}) = \sum_j w_j^2/\mathrm{UB}_j^2$ (infinite bounds count 0).
 pub(crate) fn objective_with(weights: &[f64], ub_rad: &[f64]) -> f64 {
+    // a fold from +0 (an empty float sum is -0, which prints as "-0.00")
     weights
         .iter()
         .zip(ub_rad)
         .filter(|(_, u)| u.is_finite())
         .map(|(w, u)| (w / u).powi(2))
-        .sum()
+        .fold(0.0, |a, b| a + b)
 }
 
 /// What the direct allocation needs besides $\mathbf M$: the turntable (names, lower-bound
@@ -748,6 +862,26 @@ impl DirectSetup<'_> {
             .collect();
         let names = self.turntable.rotation_error_names();
         let weights = self.weights;
+        if free.is_empty() {
+            // no error affects any output to first order: no bound is needed for any
+            return Ok(DirectAllocation {
+                upper_bounds_rad: vec![f64::INFINITY; n_errors],
+                unconstrained,
+                lower_bounds_rad: lower_bounds_rad.to_vec(),
+                loads: (0..linear.matrix().nrows())
+                    .map(|r| RowLoad {
+                        output: r / n,
+                        position: r % n,
+                        load: 0.0,
+                    })
+                    .collect(),
+                accuracies: acc,
+                objective: 0.0,
+                multiplier: 0.0,
+                iterations: 0,
+                second_order_margins: margins.to_vec(),
+            });
+        }
         let rows: Vec<Cut> = linear
             .matrix()
             .row_iter()

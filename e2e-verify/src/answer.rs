@@ -183,8 +183,19 @@ pub fn answer_with_two_step(
     }
     named.extend(inputs.extra_boxes.iter().cloned());
     // Every box must contain its lower bounds (named error before any heavy work).
-    for (_, ub) in &named {
-        e2e.box_of(ub, &inputs.lower_bounds_rad)?;
+    for (name, ub) in &named {
+        e2e.box_of(ub, &inputs.lower_bounds_rad)
+            .map_err(|e| match e {
+                E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
+                    E2eError::LowerAboveBox {
+                        name: name.clone(),
+                        component,
+                        lb,
+                        ub,
+                    }
+                }
+                other => other,
+            })?;
     }
     let mut readings = vec![e2e.reading()];
     if e2e.reading() != Reading::USER {
@@ -219,7 +230,7 @@ pub fn answer_with_two_step(
             .collect::<Result<Vec<_>, _>>()?;
         let direct = sim.allocate_direct(&linear, lb)?;
         let (certified, direct_certified_note) =
-            crate::allocate::certified_or_note(&sim, &linear, lb)?;
+            crate::allocate::certified_or_note(&sim, &linear, lb, &direct)?;
         let direct_certified = match certified {
             Some(d) => {
                 let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;

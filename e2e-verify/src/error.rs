@@ -23,6 +23,27 @@ pub enum E2eError {
     /// and the bound.
     #[error(transparent)]
     Bounds(#[from] McError),
+    /// A lower bound lies above the upper bound of a named box evaluated beside the
+    /// allocations (e.g. the paper's Table 4).
+    #[error(
+        "{component}: the lower bound {lb} rad exceeds the upper bound {ub} rad of the box `{name}`"
+    )]
+    LowerAboveBox {
+        /// The box (`Table 4`, ...).
+        name: String,
+        /// The error.
+        component: String,
+        /// The lower bound (rad).
+        lb: f64,
+        /// The box's upper bound (rad).
+        ub: f64,
+    },
+    /// No error affects any output to first order, so the direct allocation has no bound
+    /// and there is no box to certify on the exact chain.
+    #[error(
+        "no error affects any output to first order: no bound is needed for any error, and there is no box to certify"
+    )]
+    NoBoxToCertify,
     /// A named input was NaN or infinite.
     #[error("{field} must be finite, got {value}")]
     NonFinite {
@@ -131,6 +152,22 @@ pub enum E2eError {
         /// What was looked for, e.g. `box "Table 4" under reading intended/beta1/printed`.
         what: String,
     },
+    /// The candidate grid of a schedule design would exceed its limit (counted before it is
+    /// built).
+    #[error(
+        "the grid gives {} candidate positions ({} per joint), more than {max}: use a larger step",
+        count_text(per_joint_log10.iter().sum()),
+        per_joint_log10.iter().map(|c| count_text(*c)).collect::<Vec<_>>().join(" x ")
+    )]
+    GridTooLarge {
+        /// The grid step (deg).
+        step_deg: f64,
+        /// $\log_{10}$ of the number of grid angles of each joint (a count may exceed any
+        /// float).
+        per_joint_log10: Vec<f64>,
+        /// The limit.
+        max: usize,
+    },
     /// A schedule design was asked to choose from no candidate position.
     #[error("no candidate position to design a schedule from")]
     EmptyCandidates,
@@ -183,9 +220,7 @@ pub enum E2eError {
     },
     /// No schedule the search met identifies every output with a condition number within the
     /// bound.
-    #[error(
-        "no schedule found whose condition numbers are all at most {max_condition}: the best one reached {best_condition}"
-    )]
+    #[error("{}", unreachable_text(*max_condition, *best_condition))]
     ConditionUnreachable {
         /// The bound.
         max_condition: f64,
@@ -202,6 +237,28 @@ pub enum E2eError {
         /// The last relative change or violation.
         change: f64,
     },
+}
+
+/// The message of [`E2eError::ConditionUnreachable`].
+fn unreachable_text(max_condition: f64, best_condition: f64) -> String {
+    let head = format!("no schedule found whose condition numbers are all at most {max_condition}");
+    if best_condition.is_finite() {
+        // rounded up, so that the value quoted is reachable
+        let up = (best_condition * 1e4).ceil() / 1e4;
+        format!("{head}: the smallest the search reached is {up} (ask for at least that)")
+    } else {
+        format!("{head}: no schedule the search met identifies every output")
+    }
+}
+
+/// A count given by its $\log_{10}$, for messages: the whole number below $10^{15}$, else
+/// `about 1.3e621` (the count may exceed any float).
+fn count_text(log10: f64) -> String {
+    if log10 < 15.0 {
+        return format!("{}", 10f64.powf(log10).round());
+    }
+    let e = log10.floor();
+    format!("about {:.1}e{e}", 10f64.powf(log10 - e))
 }
 
 pub(crate) fn finite(field: &str, value: f64) -> Result<f64, E2eError> {

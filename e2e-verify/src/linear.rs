@@ -16,12 +16,52 @@ pub struct Linearization {
     m: DMatrix<f64>,
     n: usize,
     outputs: usize,
+    /// Per output and error: the rounding level of that output's entries of $\mathbf M$
+    /// (output unit per rad), see [`rounding_level`]; zero when unknown.
+    noise: DMatrix<f64>,
+}
+
+/// Rounding of the calibration's residual, in units of $\varepsilon\,\kappa$ (dimensionless):
+/// a residual $(\mathbf I - \mathbf A\mathbf A^+)\mathbf d$ is computed to about
+/// $\varepsilon\,\kappa(\mathbf A)\,\lVert\mathbf d\rVert$; 64 covers the sums over positions and
+/// coefficients with a wide margin (an error the calibration absorbs exactly leaves
+/// $\sim 10^{-17}$ of its raw effect on the paper's schedule, against a threshold of
+/// $\sim 2\cdot10^{-14}$).
+pub const ROUNDING_ULPS: f64 = 64.0;
+
+/// The rounding level of an output's column of $\mathbf M$: [`ROUNDING_ULPS`]
+/// $\cdot\,\varepsilon \cdot \max(1, \kappa) \cdot \max_i \max(|d_{e,i}|, |d_{g,i}|)$, with
+/// $\mathbf d_e, \mathbf d_g$ the raw first-order effects of the error on the outputs and
+/// regressors at each position (before the calibration absorbs them) and $\kappa$ the
+/// output's condition number. An entry below it is rounding, not an effect.
+pub(crate) fn rounding_level(de: &[f64], dg: &[f64], condition: f64) -> f64 {
+    let raw = de.iter().chain(dg).fold(0.0_f64, |m, v| m.max(v.abs()));
+    ROUNDING_ULPS * f64::EPSILON * condition.max(1.0) * raw
 }
 
 impl Linearization {
-    /// A linearisation from its matrix (rows output-major, `n` positions per output).
-    pub(crate) fn from_parts(m: DMatrix<f64>, n: usize, outputs: usize) -> Self {
-        Self { m, n, outputs }
+    /// A linearisation from its matrix (rows output-major, `n` positions per output) and the
+    /// rounding level of each output's column (outputs x errors, see [`rounding_level`]).
+    pub(crate) fn from_parts(
+        m: DMatrix<f64>,
+        n: usize,
+        outputs: usize,
+        noise: DMatrix<f64>,
+    ) -> Self {
+        Self {
+            m,
+            n,
+            outputs,
+            noise,
+        }
+    }
+
+    /// The rounding level of every output's column (outputs x errors, output unit per rad):
+    /// entries of $\mathbf M$ at or below it are rounding of a calibration that absorbs the
+    /// error, not an effect (zero for the numerical Jacobian, whose level is not tracked).
+    #[must_use]
+    pub fn rounding(&self) -> &DMatrix<f64> {
+        &self.noise
     }
 
     /// The matrix (rows output-major: output $k$, position $i$ at row $kn + i$).
@@ -75,13 +115,20 @@ impl Linearization {
         )
     }
 
-    /// Errors that no row depends on (all $|M_{rj}| \le 10^{-12}\max|M|$): they do not affect
-    /// any output and get no bound.
+    /// Errors that no row depends on: all $|M_{rj}| \le 10^{-12}\max|M|$, or every output's
+    /// entries at or below their rounding level ([`Linearization::rounding`]: the
+    /// calibration absorbs the error's first-order effect). They do not affect any output and
+    /// get no bound; when every error is such, no bound is needed at all.
     #[must_use]
     pub fn unconstrained(&self) -> Vec<usize> {
         let top = self.m.amax();
         (0..self.m.ncols())
-            .filter(|&j| self.m.column(j).amax() <= 1e-12 * top)
+            .filter(|&j| {
+                self.m.column(j).amax() <= 1e-12 * top
+                    || (0..self.outputs).all(|k| {
+                        self.m.view((k * self.n, j), (self.n, 1)).amax() <= self.noise[(k, j)]
+                    })
+            })
             .collect()
     }
 }
@@ -397,6 +444,7 @@ impl EndToEnd {
             })
             .collect();
         let mut m = DMatrix::zeros(outputs * n, errors);
+        let mut noise = DMatrix::zeros(outputs, errors);
         let mut work = ReadingWork::default();
         let mut col = vec![0.0; n];
         for (k, cal) in self.calibration().outputs().iter().enumerate() {
@@ -411,6 +459,7 @@ impl EndToEnd {
                     de.push(directional(o, true, u, &du));
                     dg.push(directional(o, false, u, &du));
                 }
+                noise[(k, j)] = rounding_level(&de, &dg, cal.regression().condition_number());
                 let terms = DerivativeTerms {
                     a: cal.regression().matrix(),
                     pinv: cal.regression().pinv(),
@@ -423,7 +472,12 @@ impl EndToEnd {
                 }
             }
         }
-        Linearization { m, n, outputs }
+        Linearization {
+            m,
+            n,
+            outputs,
+            noise,
+        }
     }
 
     /// The Jacobian $\mathbf M$ by central differences of the reference path
@@ -457,7 +511,12 @@ impl EndToEnd {
                 m.view_mut((k * n, j), (n, 1)).copy_from(&col);
             }
         }
-        Ok(Linearization { m, n, outputs })
+        Ok(Linearization {
+            m,
+            n,
+            outputs,
+            noise: DMatrix::zeros(outputs, self.n_errors()),
+        })
     }
 
     /// A derived bound $\tau_k$ (output unit) on $\lVert\Delta\hat{\boldsymbol\omega}_k(\chi) -

@@ -51,6 +51,32 @@ pub enum JointColumns {
     Absent,
 }
 
+/// The output columns of `calibration-error` for a sensor, each with the study key it is
+/// derived from: `<coefficient>_error` for every estimated coefficient (study order), then
+/// `<output>_rate_error` for every output. A study whose columns collide (a coefficient
+/// named `x_rate` beside an output `x`) is refused when read.
+#[must_use]
+pub fn calibration_error_columns(sensor: &gw_model::SensorModel) -> Vec<(String, String)> {
+    let mut cols = Vec::new();
+    for (k, o) in sensor.outputs().iter().enumerate() {
+        for (t, term) in o.terms.iter().enumerate() {
+            if !term.known {
+                cols.push((
+                    format!("{}_error", term.coefficient),
+                    format!("sensor.outputs[{k}].terms[{t}].coefficient"),
+                ));
+            }
+        }
+    }
+    for (k, o) in sensor.outputs().iter().enumerate() {
+        cols.push((
+            format!("{}_rate_error", o.name),
+            format!("sensor.outputs[{k}].name"),
+        ));
+    }
+    cols
+}
+
 /// The header the turntable's CSV uses in the study's order: joints, angular errors,
 /// translations.
 #[must_use]

@@ -104,9 +104,54 @@ pub fn terminal(s: &str) -> Cow<'_, str> {
     escape_unsafe(s, &['\n', '\t'])
 }
 
+/// `v` exactly: the shortest digits that read back as the same `f64` (Rust's round-trip
+/// formatting), in fixed notation for magnitudes in $[10^{-5}, 10^{16})$ and zero, in
+/// exponent notation otherwise (`1e-300`, not a 300-character field; `1.7976931348623157e308`).
+/// For CSV and JSON-like output at full precision, and for a value a message must show as the
+/// user gave it (`600.0000001` is not `600`).
+#[must_use]
+pub fn exact(v: f64) -> String {
+    let a = v.abs();
+    if !v.is_finite() || a == 0.0 || (1e-5..1e16).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Full precision in a short field: every value reads back as the same f64, and no field
+    /// is longer than the 24 characters of the longest exponent form.
+    #[test]
+    fn exact_numbers_round_trip_in_a_short_field() {
+        assert_eq!(exact(1e-300), "1e-300");
+        assert_eq!(exact(600.0000001), "600.0000001");
+        assert_eq!(exact(0.1), "0.1");
+        assert_eq!(exact(-2.5e-7), "-2.5e-7");
+        assert_eq!(exact(1e16), "1e16");
+        assert_eq!(exact(0.0), "0");
+        for v in [
+            1e-300,
+            -1e-300,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+            -f64::MAX,
+            1.0 / 3.0,
+            0.026938049684760747,
+            123_456_789_012_345.6,
+            1e16 - 2.0,
+            1e-5,
+            9.99999999999e-6,
+        ] {
+            let s = exact(v);
+            assert!(s.len() <= 24, "{v}: {s}");
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{s}");
+        }
+    }
 
     #[test]
     fn control_and_bidi_characters_are_escaped_visibly() {

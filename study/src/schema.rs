@@ -1,7 +1,7 @@
 //! The study schema and its strict parser.
 
 use crate::error::StudyError;
-use crate::fmt::num;
+use crate::fmt::{exact, num};
 use crate::limits;
 use calib_lsq::{Calibration, Position, Reading, Schedule};
 use gw_model::{DeltaRKind, Output, Regressor, SensorModel, Site, Term};
@@ -326,7 +326,7 @@ pub(crate) fn in_range(
         };
         Err(StudyError::new(
             at(key),
-            format!("must lie in {range} {unit}, found {}", num(v)),
+            format!("must lie in {range} {unit}, found {}", exact(v)),
         ))
     }
 }
@@ -355,7 +355,7 @@ fn count(at: &dyn Fn(&str) -> String, key: &str, c: &Count, max: u64) -> Result<
         Count::Float(f) => {
             return Err(StudyError::new(
                 at(key),
-                format!("must be a whole number from 1 to {max}, found {f}"),
+                format!("must be a whole number from 1 to {max}, found {}", exact(f)),
             ));
         }
     };
@@ -783,12 +783,25 @@ fn parse_sensor(at: &dyn Fn(&str) -> String, raw: &RawSensor) -> Result<SensorMo
             terms,
         });
     }
-    SensorModel::new(outputs).map_err(|e| match e {
+    let sensor = SensorModel::new(outputs).map_err(|e| match e {
         gw_model::ModelError::Sensor { key, reason } => {
             StudyError::new(at(&format!("sensor.{key}")), reason)
         }
         other => StudyError::new(at("sensor"), other.to_string()),
-    })
+    })?;
+    // derived column names must be unique (calibration-error prints one column each)
+    let columns = crate::csv::calibration_error_columns(&sensor);
+    for (i, (col, key)) in columns.iter().enumerate() {
+        if let Some((_, first)) = columns[..i].iter().find(|(c, _)| c == col) {
+            return Err(StudyError::new(
+                at(key),
+                format!(
+                    "gives the column `{col}` of calibration-error, as does `{first}`: rename one of them"
+                ),
+            ));
+        }
+    }
+    Ok(sensor)
 }
 
 fn parse_requirement(
@@ -825,7 +838,7 @@ fn parse_requirement(
                     )
                 })?;
                 let (lo, hi) = limits::REQUIREMENT_DEG;
-                *slot = in_range(at, &key, v, lo, hi, true, "deg")? * RAD_PER_DEG;
+                *slot = in_range(at, &key, v, lo, hi, false, "deg")? * RAD_PER_DEG;
             }
             Ok(RequirementSource::Given { rad })
         }
@@ -848,6 +861,16 @@ fn calibration_for(
         return Err(StudyError::new(
             at("calibration.positions_deg"),
             "no test position",
+        ));
+    }
+    if positions_deg.len() > limits::MAX_POSITIONS {
+        return Err(StudyError::new(
+            at("calibration.positions_deg"),
+            format!(
+                "{} test positions; at most {} are accepted (a calibration schedule has tens to hundreds)",
+                positions_deg.len(),
+                limits::MAX_POSITIONS
+            ),
         ));
     }
     let ranges = turntable.joint_ranges_rad();

@@ -180,7 +180,7 @@ fn bad_studies_name_the_key_and_the_reason() {
         (
             replace("gamma_deg = 0.027", "gamma_deg = 1e308"),
             "key `requirement.gamma_deg`",
-            "must lie in (0, 10] deg",
+            "must lie in [1e-9, 10] deg",
         ),
         (
             replace("gamma_deg = 0.027 # eq 16", ""),
@@ -412,6 +412,93 @@ fn files_that_are_not_regular_or_too_large_are_refused() {
     assert!(
         e.starts_with("/nonexistent/study.toml: cannot read study file"),
         "{e}"
+    );
+}
+
+/// A schedule longer than `study::limits::MAX_POSITIONS` is refused when read, naming
+/// `calibration.positions_deg` and the count (issue 19: 150,000 positions, a 1.4 MB file under
+/// the size limit, made `requirement` run past 100 s at 533 MB); the limit itself is accepted.
+#[test]
+fn schedules_beyond_the_position_limit_are_refused_with_the_count() {
+    let with = |n: usize| {
+        let positions: Vec<String> = (0..n)
+            .map(|k| format!("[{}, {}]", (k * 7) % 360, (k * 13) % 360))
+            .collect();
+        let start = PAPER.find("positions_deg = [").unwrap();
+        let end = start + PAPER[start..].find("\n]\n").unwrap() + 3;
+        format!(
+            "{}positions_deg = [{}]\n{}",
+            &PAPER[..start],
+            positions.join(", "),
+            &PAPER[end..]
+        )
+    };
+    let max = study::limits::MAX_POSITIONS;
+    let e = err(&with(150_000));
+    assert!(
+        e.contains("key `calibration.positions_deg`")
+            && e.contains("150000")
+            && e.contains(&max.to_string()),
+        "{e}"
+    );
+    assert!(err(&with(max + 1)).contains(&(max + 1).to_string()));
+    assert_eq!(
+        Study::parse("s.toml", &with(max))
+            .unwrap()
+            .positions_deg
+            .len(),
+        max
+    );
+}
+
+/// A coefficient named `<output>_rate` would print the column `<output>_rate_error` of
+/// `calibration-error` twice (issue 19): refused when read, naming both keys.
+#[test]
+fn colliding_calibration_error_columns_are_refused_naming_both_keys() {
+    let e = err(&replace(
+        "{ coefficient = \"dx_zz\", regressor = \"a_z^2\"",
+        "{ coefficient = \"x_rate\", regressor = \"a_z^2\"",
+    ));
+    assert!(
+        e.contains("key `sensor.outputs[0].name`")
+            && e.contains("sensor.outputs[0].terms[6].coefficient")
+            && e.contains("`x_rate_error`"),
+        "{e}"
+    );
+    // the columns of a valid study are all distinct
+    let s = Study::parse("s.toml", PAPER).unwrap();
+    let cols = study::csv::calibration_error_columns(&s.sensor);
+    let mut names: Vec<&str> = cols.iter().map(|(c, _)| c.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), cols.len());
+}
+
+/// An out-of-range value is shown as given, not rounded back into range (issue 19:
+/// 600.0000001 arcmin read "found 600"), and a given requirement below the documented lower
+/// limit (1e-300 deg made the objective overflow) is refused naming the key.
+#[test]
+fn out_of_range_values_are_shown_exactly_and_tiny_requirements_refused() {
+    let e = err(&replace("dphi_y1 = 0.0", "dphi_y1 = 600.0000001"));
+    assert!(
+        e.contains("key `allocation.lower_bounds_arcmin.dphi_y1`")
+            && e.contains("found 600.0000001"),
+        "{e}"
+    );
+    let e = err(&replace("psi_deg = 0.027", "psi_deg = 1e-300"));
+    assert!(
+        e.contains("key `requirement.psi_deg`")
+            && e.contains("must lie in [1e-9, 10] deg")
+            && e.contains("found 1e-300"),
+        "{e}"
+    );
+    let lo = study::limits::REQUIREMENT_DEG.0;
+    assert!(
+        Study::parse(
+            "s.toml",
+            &replace("psi_deg = 0.027", &format!("psi_deg = {lo:e}"))
+        )
+        .is_ok()
     );
 }
 

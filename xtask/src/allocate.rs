@@ -49,7 +49,7 @@ pub struct Args {
     pub constraint_form: FormChoice,
     /// Relative safety margin m in [0, 1): allocate for (1 - m) I (room for the exact chain's
     /// second-order terms).
-    #[arg(long, default_value_t = 0.0, value_parser = parse_margin)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_parser = parse_margin)]
     pub safety_margin: f64,
 }
 

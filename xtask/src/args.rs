@@ -10,10 +10,19 @@ pub fn count(s: &str, max: u64) -> Result<u64, String> {
         .parse()
         .map_err(|_| format!("`{s}` is not a count (write 1000000, 1_000_000 or 1e6)"))?;
     if !v.is_finite() || v.fract() != 0.0 || v < 1.0 || v > max as f64 {
-        return Err(format!(
-            "`{s}`: must be a whole number from 1 to {}",
-            study::fmt::num(max as f64)
-        ));
+        // the largest accepted value exactly: `1e12` for a power of ten, else every digit
+        let shown = if max >= 10
+            && max
+                .to_string()
+                .trim_start_matches('1')
+                .bytes()
+                .all(|b| b == b'0')
+        {
+            format!("1e{}", max.to_string().len() - 1)
+        } else {
+            max.to_string()
+        };
+        return Err(format!("`{s}`: must be a whole number from 1 to {shown}"));
     }
     // exact for integers written in full; `1e6` forms are exact below 2^53
     Ok(t.parse::<u64>().unwrap_or(v as u64))
@@ -27,12 +36,45 @@ pub fn samples(s: &str) -> Result<u64, String> {
     count(s, study::limits::MAX_SAMPLES)
 }
 
-/// A count of positions, bins or similar (up to 10^6).
+/// A number of test positions (up to [`study::limits::MAX_POSITIONS`], the limit of a
+/// study's schedule).
 ///
 /// # Errors
 /// As [`count`].
-pub fn small_count(s: &str) -> Result<u64, String> {
-    count(s, 1_000_000)
+pub fn positions(s: &str) -> Result<u64, String> {
+    count(s, study::limits::MAX_POSITIONS as u64)
+}
+
+/// A thread count (1 to 1024).
+///
+/// # Errors
+/// As [`count`].
+pub fn threads(s: &str) -> Result<u32, String> {
+    count(s, 1024).map(|v| v as u32)
+}
+
+/// A count that fits `u32` (a chunk size).
+///
+/// # Errors
+/// As [`count`].
+pub fn count_u32(s: &str) -> Result<u32, String> {
+    count(s, u64::from(u32::MAX)).map(|v| v as u32)
+}
+
+/// A fraction in the open interval (0, 1) (a yield target).
+///
+/// # Errors
+/// A message naming the value and the range.
+pub fn fraction(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() && v > 0.0 && v < 1.0 {
+        Ok(v)
+    } else {
+        Err(format!("`{s}`: must lie in (0, 1)"))
+    }
 }
 
 /// A seed: any whole number `0..=u64::MAX`.
@@ -46,6 +88,26 @@ pub fn seed(s: &str) -> Result<u64, String> {
             u64::MAX
         )
     })
+}
+
+/// A finite number in `[lo, hi]` (`what` names it in the message).
+///
+/// # Errors
+/// A message naming the value and the range (NaN and infinities are outside).
+pub fn number_in(s: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "`{s}`: {what} must lie in [{}, {}]",
+            study::fmt::num(lo),
+            study::fmt::num(hi)
+        ))
+    }
 }
 
 /// A finite positive number in `(0, max]`.
@@ -77,6 +139,14 @@ mod tests {
         for bad in ["0", "-5", "1.5", "1e13", "x", "", "nan", "inf"] {
             assert!(count(bad, 1e12 as u64).is_err(), "{bad}");
         }
+        // the largest value is quoted exactly
+        assert!(
+            count_u32("1e12")
+                .unwrap_err()
+                .contains("from 1 to 4294967295")
+        );
+        assert_eq!(count_u32("1e6"), Ok(1_000_000));
+        assert!(threads("2000").unwrap_err().contains("from 1 to 1024"));
         assert!(
             samples("100000000000000000")
                 .unwrap_err()

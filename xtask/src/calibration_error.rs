@@ -28,23 +28,14 @@ pub struct Args {
     pub file: Option<PathBuf>,
 }
 
-/// The output header for a study's sensor.
+/// The output header for a study's sensor ([`study::csv::calibration_error_columns`]).
 #[must_use]
 pub fn header(e2e: &EndToEnd) -> String {
-    let mut cols: Vec<String> = e2e
-        .calibration()
-        .sensor()
-        .estimated_terms()
-        .map(|(_, t)| format!("{}_error", t.coefficient))
-        .collect();
-    cols.extend(
-        e2e.calibration()
-            .sensor()
-            .outputs()
-            .iter()
-            .map(|o| format!("{}_rate_error", o.name)),
-    );
-    cols.join(",")
+    study::csv::calibration_error_columns(e2e.calibration().sensor())
+        .into_iter()
+        .map(|(c, _)| c)
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 /// Run the command.
@@ -82,7 +73,12 @@ pub fn run(args: &Args) -> Result<()> {
         }
         Ok(v)
     };
-    let line_of = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    let line_of = |v: &[f64]| {
+        v.iter()
+            .map(|x| study::fmt::exact(*x))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
     crate::csvio::run_rows(
         &source,
         &s.turntable,

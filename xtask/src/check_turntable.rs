@@ -31,10 +31,10 @@ pub struct Args {
     #[arg(long)]
     pub tolerances: PathBuf,
     /// Monte Carlo turntables (default: the study's `monte_carlo.samples`).
-    #[arg(long, value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
     /// Seed of the random streams (default: the study's).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Print JSON instead of text.
     #[arg(long)]

@@ -1,8 +1,8 @@
-//! Reading turntable CSV input (a file or standard input, `-`) line by line with memory that
-//! does not grow with the input: a file is validated in a first pass and evaluated in a
-//! second; standard input cannot be read twice, so each row is evaluated as it is read and its
-//! result line goes to an anonymous temporary file until the whole input is known to be
-//! valid. Nothing is written to standard output before that.
+//! Reading turntable CSV input (a file, a pipe or FIFO, or standard input, `-`) line by line
+//! with memory that does not grow with the input. Every input is read exactly once (a pipe,
+//! FIFO, `<(...)` or `/dev/stdin` cannot be read twice): each row is evaluated as it is read
+//! and its result line goes to an anonymous temporary file until the whole input is known to
+//! be valid. Nothing is written to standard output before that.
 
 use crate::InputError;
 use std::io::{BufRead, BufReader, Read};
@@ -16,7 +16,7 @@ pub const MAX_LINE_BYTES: usize = 1 << 20;
 /// Where the CSV comes from.
 #[derive(Debug, Clone)]
 pub enum Source {
-    /// A file (read twice).
+    /// A file, FIFO or other named input (read once).
     File(PathBuf),
     /// Standard input (read once).
     Stdin,
@@ -144,9 +144,9 @@ where
 }
 
 /// Evaluate every row and write `header` then one line per row to standard output, only
-/// once the whole input is known to be valid: a file is read twice (validate, then evaluate
-/// and stream); standard input is evaluated once into an anonymous temporary file (removed by
-/// the system when closed), copied out at the end. Memory does not grow with the input.
+/// once the whole input is known to be valid: the input is read once, each row evaluated as
+/// it comes, its line spooled to an anonymous temporary file (removed by the system when
+/// closed) and copied out at the end. Memory does not grow with the input.
 ///
 /// # Errors
 /// The first [`InputError`] of the input or of `eval` (nothing written then); I/O errors of
@@ -163,51 +163,27 @@ where
 {
     use std::io::{Seek, Write};
     let name = source.name();
-    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-    match source {
-        Source::File(_) => {
-            for_each_row(source, turntable, joints, |line, row| {
-                eval(line, row).map(|_| ())
-            })?;
-            writeln!(out, "{header}").map_err(crate::out::io)?;
-            let mut io_error = None;
-            let streamed = for_each_row(source, turntable, joints, |line, row| {
-                let text = eval(line, row)?;
-                writeln!(out, "{text}").map_err(|e| {
-                    io_error = Some(e);
-                    InputError::new(name.clone(), "standard output failed")
-                })
-            });
-            if let Some(e) = io_error {
-                return Err(crate::out::io(e));
-            }
-            streamed?;
-        }
-        Source::Stdin => {
-            let file = tempfile::tempfile().map_err(|e| {
-                anyhow::Error::new(e)
-                    .context("creating a temporary file for standard input's results")
-            })?;
-            let mut spill = std::io::BufWriter::new(file);
-            let mut io_error = None;
-            let read = for_each_row(source, turntable, joints, |line, row| {
-                let text = eval(line, row)?;
-                writeln!(spill, "{text}").map_err(|e| {
-                    io_error = Some(e);
-                    InputError::new(name.clone(), "writing the temporary file failed")
-                })
-            });
-            if let Some(e) = io_error {
-                return Err(anyhow::Error::new(e).context("writing the temporary file"));
-            }
-            read?;
-            let mut file = spill
-                .into_inner()
-                .map_err(|e| anyhow::Error::new(e.into_error()))?;
-            file.rewind()?;
-            writeln!(out, "{header}").map_err(crate::out::io)?;
-            std::io::copy(&mut file, &mut out).map_err(crate::out::io)?;
-        }
+    let file = tempfile::tempfile()
+        .map_err(|e| anyhow::Error::new(e).context("creating a temporary file for the results"))?;
+    let mut spill = std::io::BufWriter::new(file);
+    let mut io_error = None;
+    let read = for_each_row(source, turntable, joints, |line, row| {
+        let text = eval(line, row)?;
+        writeln!(spill, "{text}").map_err(|e| {
+            io_error = Some(e);
+            InputError::new(name.clone(), "writing the temporary file failed")
+        })
+    });
+    if let Some(e) = io_error {
+        return Err(anyhow::Error::new(e).context("writing the temporary file"));
     }
+    read?;
+    let mut file = spill
+        .into_inner()
+        .map_err(|e| anyhow::Error::new(e.into_error()))?;
+    file.rewind()?;
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(out, "{header}").map_err(crate::out::io)?;
+    std::io::copy(&mut file, &mut out).map_err(crate::out::io)?;
     out.flush().map_err(crate::out::io)
 }

@@ -45,16 +45,16 @@ pub struct Args {
     #[arg(long)]
     pub study: Option<PathBuf>,
     /// Number of test positions N (default: the study's).
-    #[arg(long, value_parser = crate::args::small_count)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::positions)]
     pub positions: Option<u64>,
     /// Grid step of the candidate joint angles, deg, in (0, 360].
-    #[arg(long, default_value_t = DEFAULT_STEP_DEG, value_parser = step)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = DEFAULT_STEP_DEG, value_parser = step)]
     pub step_deg: f64,
-    /// Largest condition number allowed for any output's regression (at least 1).
-    #[arg(long, default_value_t = DEFAULT_MAX_CONDITION, value_parser = condition)]
+    /// Largest condition number allowed for any output's regression, in [1, 1e12].
+    #[arg(long, allow_negative_numbers = true, default_value_t = DEFAULT_MAX_CONDITION, value_parser = condition)]
     pub max_condition: f64,
     /// Seed of the restarts and of the random baseline (default: the study's).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Write the study with the designed positions to this new file (never overwritten).
     #[arg(long)]
@@ -69,11 +69,7 @@ fn step(s: &str) -> Result<f64, String> {
 }
 
 fn condition(s: &str) -> Result<f64, String> {
-    let v = crate::args::positive(s, 1e12)?;
-    if v < 1.0 {
-        return Err(format!("`{s}`: a condition number is at least 1"));
-    }
-    Ok(v)
+    crate::args::number_in(s, 1.0, 1e12, "a condition number")
 }
 
 /// Bad inputs are the user's (exit 2); solver trouble is ours (exit 1).
@@ -84,6 +80,13 @@ fn classify(e: E2eError, s: &Study) -> anyhow::Error {
             field: "step_deg" | "candidates",
             ..
         } => "--step-deg",
+        E2eError::GridTooLarge { step_deg, .. } => {
+            return InputError::new(
+                format!("--step-deg {}", study::fmt::exact(*step_deg)),
+                e.to_string(),
+            )
+            .into();
+        }
         E2eError::OutOfRange {
             field: "max_condition",
             ..
@@ -163,6 +166,7 @@ fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
         "requirement_deg": requirement_json(r),
         "requirement_note": r.requirement.as_ref().err().map(ToString::to_string),
         "bounds_arcmin": crate::out::arcmin_json(&errors, &r.allocation.upper_bounds_rad),
+        "no_bound_needed": r.allocation.no_bound_needed(),
         "log_det_information": r.log_det_information,
         "certified": r.certified.as_ref().map(|c| json!({
             "objective": c.objective_arcmin(),
@@ -428,10 +432,15 @@ fn to_text(s: &Study, o: &Outcome) -> String {
             .map(|c| sig(*c, 3))
             .collect::<Vec<_>>()
             .join(", ");
-        format!(
-            "{label:<12} {:>13} {:>8}  {cond:<22} {req:<34} {wc}\n",
-            sig(j, 6),
+        // J of a schedule whose errors need no bound is 0: no ratio then
+        let vs = if study_j > 0.0 {
             sig(j / study_j, 3)
+        } else {
+            "-".into()
+        };
+        format!(
+            "{label:<12} {:>13} {vs:>8}  {cond:<22} {req:<34} {wc}\n",
+            sig(j, 6)
         )
     };
     t.push_str(&line("designed", &d.designed));
@@ -447,6 +456,12 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         d.search.random_drawn,
         d.search.random_feasible
     ));
+    if d.designed.allocation.no_bound_needed() {
+        t.push_str(&format!(
+            "  the designed schedule: {}\n",
+            e2e_verify::NO_BOUND_NEEDED
+        ));
+    }
     t.push_str(&study_tolerances_note(s, d));
     t.push('\n');
     for (what, r) in [("designed", &d.designed), ("study's", &d.study)] {

@@ -35,13 +35,13 @@ pub struct Args {
     pub study: Option<PathBuf>,
     /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
     /// `1e6`, `1000000`, `1_000_000`).
-    #[arg(long, value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
     /// Seed of the random streams (default: the study's).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Target yield of the yield-based allocation, in (0, 1).
-    #[arg(long, default_value_t = e2e_verify::DEFAULT_YIELD_FRACTION)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_YIELD_FRACTION, value_parser = crate::args::fraction)]
     pub yield_fraction: f64,
     /// Print JSON instead of text.
     #[arg(long)]
@@ -64,6 +64,19 @@ pub fn classify(e: E2eError, s: &Study) -> anyhow::Error {
         .into(),
         E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
             crate::input::lower_above_upper(&s.path, &component, lb, ub, "the box").into()
+        }
+        E2eError::LowerAboveBox {
+            name,
+            component,
+            lb,
+            ub,
+        } => {
+            let what = if name == e2e_verify::paper::TABLE4_BOX {
+                format!("{name} (the paper's allocation, evaluated beside ours)")
+            } else {
+                format!("the box `{name}`")
+            };
+            crate::input::lower_above_upper(&s.path, &component, lb, ub, &what).into()
         }
         E2eError::Count { field, .. } => {
             InputError::new(format!("--{}", field.replace('_', "-")), e.to_string()).into()
@@ -242,6 +255,7 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
         "objective": r.direct.objective_arcmin(),
         "bounds_arcmin": crate::out::arcmin_json(&names, &r.direct.upper_bounds_rad),
         "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
+        "no_bound_needed": r.direct.no_bound_needed(),
         "active_rows": r.direct.active_rows().iter().map(|row| json!({
             "output": e2e.calibration().outputs()[row.output].output().name,
             "position": row.position,
@@ -269,6 +283,7 @@ fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
             "objective": r.yield_based.objective_arcmin(),
             "target": r.yield_based.target,
             "scale": r.yield_based.scale,
+            "capped": r.yield_based.capped,
             "design_yield": r.yield_based.yield_fraction(),
             "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
             "design_verdict": r.yield_based.design_verdict().name(),

@@ -4,11 +4,14 @@
 //!
 //! Each case takes a seed input (a shipped study, a shipped tolerance sheet, a valid CSV for a
 //! shipped study's turntable) and applies one to four random mutations: a line deleted,
-//! duplicated or swapped; a value replaced by an extreme or ill-typed one (`1e308`, `-0`,
-//! `nan`, `inf`, `1e-320`, a 30-digit integer, `""`, `true`, `[1, 2]`, `{a = 1}`); a key
-//! renamed or its value retyped; the text truncated at a random byte; random bytes inserted
-//! (including invalid UTF-8 and NUL); a CSV cell replaced or a separator dropped. The case then
-//! asserts the contract of the input layer:
+//! duplicated, swapped or repeated thousands of times (huge counts: schedules beyond
+//! [`study::limits::MAX_POSITIONS`], CSV files of many rows); a value replaced by an extreme
+//! or ill-typed one (`1e308`, `-0`, `nan`, `inf`, `1e-320`, `1e13`, a 30-digit integer, `""`,
+//! `true`, `[1, 2]`, `{a = 1}`); a key renamed or its value retyped; the text truncated at a
+//! random byte; random bytes inserted (including invalid UTF-8 and NUL); a CSV cell replaced
+//! or a separator dropped. CSV cases are also read through a non-seekable reader that returns
+//! short reads, as a pipe or FIFO does ([`Target::CsvPipe`]): it must give exactly what the
+//! file gives. The case then asserts the contract of the input layer:
 //!
 //! - never a panic (caught and reported with the input);
 //! - never longer than [`CASE_TIME_LIMIT`] (reported);
@@ -17,13 +20,22 @@
 //!   column): an error without a location is a finding.
 //!
 //! Cases are independent and seeded by (seed, case number), so a run is reproducible for any
-//! thread count and a finding can be replayed alone. Findings are written (only when there are
-//! some) as `case-<n>.<ext>` files with a `findings.txt` summary to `--findings DIR`, a new
-//! directory (an existing one is refused rather than overwritten).
+//! thread count and a finding can be replayed alone. They run in blocks of [`BLOCK`] cases
+//! whose outcomes are folded into counters and discarded: memory does not grow with `--cases`
+//! (up to 10^12). Each finding is written when its block ends, as `case-<n>.<ext>` with a
+//! line in `findings.txt`, to `--findings DIR` (default `target/fuzz-findings` of the
+//! workspace, found like the default study), a new directory: an existing path, even a
+//! dangling symbolic link, is refused before any case runs; the directory is created at the
+//! first finding only.
+//!
+//! # Adding a target
+//! A new input kind (study names, report manifests, ...) is a [`Target`] variant with its
+//! seed inputs in `seeds` and its check in `run_case` (which returns an [`Outcome`]); the
+//! mutations, the blocks, the counters and the findings are shared.
 
 use crate::InputError;
 use crate::csvio::for_each_row_in;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Parser;
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
@@ -37,18 +49,34 @@ use study::{Study, StudyError, Tolerances};
 /// The longest a single case may take.
 pub const CASE_TIME_LIMIT: Duration = Duration::from_secs(1);
 
+/// Cases per block: run in parallel, folded into the counters, then dropped.
+pub const BLOCK: u64 = 4096;
+
+/// Largest text a repeated line adds to a case, bytes (enough for a schedule beyond
+/// [`study::limits::MAX_POSITIONS`]; small beside [`study::limits::MAX_FILE_BYTES`]). A line
+/// is repeated only in an input shorter than this, so no case exceeds about twice it: the
+/// memory of a case, and so of a run, is bounded whatever the number of cases.
+pub const REPEAT_BYTES: usize = 128 << 10;
+
+/// Findings listed in the command's output (all of them are in `findings.txt`).
+pub const LISTED_FINDINGS: usize = 20;
+
+/// The default findings directory, relative to the workspace root.
+pub const DEFAULT_FINDINGS: &str = "target/fuzz-findings";
+
 /// Arguments of `fuzz`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Number of cases (accepts `1e5`, `100000`, `100_000`).
-    #[arg(long, default_value = "10000", value_parser = crate::args::samples)]
+    /// Number of cases (accepts `1e5`, `100000`, `100_000`; up to 1e12).
+    #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = crate::args::samples)]
     pub cases: u64,
     /// Seed of the mutations.
-    #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1, value_parser = crate::args::seed)]
     pub seed: u64,
-    /// Directory for the inputs of findings (created; must not exist).
-    #[arg(long, default_value = "target/fuzz-findings")]
-    pub findings: PathBuf,
+    /// A new directory for the inputs of findings (default: `target/fuzz-findings` of the
+    /// workspace; refused if it exists; created at the first finding).
+    #[arg(long)]
+    pub findings: Option<PathBuf>,
 }
 
 /// Which parser a case drives.
@@ -62,14 +90,22 @@ pub enum Target {
     CsvPoses,
     /// The turntable CSV loop without joint columns (`calibration-error`).
     CsvErrors,
+    /// The turntable CSV loop (joint columns required) through a non-seekable reader that
+    /// returns short reads, as a pipe or FIFO does: the outcome and the rows must be those of
+    /// the same bytes read as a file.
+    CsvPipe,
 }
 
 impl Target {
     fn ext(self) -> &'static str {
         match self {
             Target::Study | Target::Tolerances => "toml",
-            Target::CsvPoses | Target::CsvErrors => "csv",
+            Target::CsvPoses | Target::CsvErrors | Target::CsvPipe => "csv",
         }
+    }
+
+    fn is_csv(self) -> bool {
+        matches!(self, Target::CsvPoses | Target::CsvErrors | Target::CsvPipe)
     }
 }
 
@@ -92,7 +128,20 @@ pub enum Outcome {
     Finding(String),
 }
 
-/// The summary of a run.
+/// One finding: the case, its target, what happened and the input.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Finding {
+    /// The case number (replay with the same seed).
+    pub case: u64,
+    /// The parser driven.
+    pub target: Target,
+    /// What went wrong.
+    pub what: String,
+    /// The mutated input.
+    pub input: Vec<u8>,
+}
+
+/// The summary of a run: counters only (the findings went to the sink as found).
 #[derive(Debug, Clone, Default)]
 pub struct Summary {
     /// Cases run.
@@ -101,13 +150,13 @@ pub struct Summary {
     pub valid: u64,
     /// Rejected with a located error.
     pub rejected: u64,
-    /// (case, target, what, input) of each finding.
-    pub findings: Vec<(u64, Target, String, Vec<u8>)>,
+    /// Findings (each handed to the sink).
+    pub findings: u64,
     /// The slowest case, seconds.
     pub slowest_s: f64,
 }
 
-const EXTREMES: [&str; 16] = [
+const EXTREMES: [&str; 20] = [
     "1e308",
     "-1e308",
     "1e-320",
@@ -124,6 +173,10 @@ const EXTREMES: [&str; 16] = [
     "\"x\"",
     "-1",
     "1e300",
+    "1e12",
+    "1e13",
+    "1_000_000_000_000",
+    "18446744073709551616",
 ];
 
 fn pick<'a, T>(rng: &mut ChaCha8Rng, v: &'a [T]) -> &'a T {
@@ -143,7 +196,7 @@ fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool) -> Vec<u8> {
     let text = String::from_utf8_lossy(bytes).into_owned();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let n = lines.len();
-    match rng.next_u32() % 10 {
+    match rng.next_u32() % 11 {
         0 if n > 0 => {
             lines.remove(below(rng, n));
         }
@@ -190,6 +243,16 @@ fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool) -> Vec<u8> {
             let mut b = bytes.to_vec();
             b.truncate(below(rng, b.len() + 1));
             return b;
+        }
+        9 if n > 0 && bytes.len() < REPEAT_BYTES && rng.next_u32() % 8 == 0 => {
+            // a huge count: one line repeated thousands of times (a schedule of more
+            // positions than allowed, a CSV file of many rows), at most REPEAT_BYTES in all
+            // so that a case's memory stays bounded
+            let i = below(rng, n);
+            let l = lines[i].clone();
+            let times = (1000 + below(rng, 20_000)).min(REPEAT_BYTES / (l.len() + 1));
+            let extra: Vec<String> = (0..times).map(|_| l.clone()).collect();
+            lines.splice(i..i, extra);
         }
         8 => {
             let mut b = bytes.to_vec();
@@ -248,7 +311,7 @@ fn check_study(s: &Study) -> Option<String> {
 }
 
 /// Run one case on `bytes`.
-fn run_case(target: Target, bytes: &[u8], studies: &[Study]) -> Outcome {
+fn run_case(target: Target, bytes: &[u8], study: &Study) -> Outcome {
     let source = "fuzz-input";
     guarded(|| -> Outcome {
         match target {
@@ -267,7 +330,7 @@ fn run_case(target: Target, bytes: &[u8], studies: &[Study]) -> Outcome {
                 let Ok(text) = std::str::from_utf8(bytes) else {
                     return Outcome::Rejected;
                 };
-                let t = &studies[0].turntable;
+                let t = &study.turntable;
                 match Tolerances::parse(source, text, t) {
                     Ok(tol) if tol.ub_rad.iter().all(|u| u.is_finite() && *u >= 0.0) => {
                         Outcome::Valid
@@ -285,41 +348,99 @@ fn run_case(target: Target, bytes: &[u8], studies: &[Study]) -> Outcome {
                 } else {
                     JointColumns::Absent
                 };
-                let mut bad = None;
-                let r = for_each_row_in(
+                csv_outcome(std::io::Cursor::new(bytes), source, study, joints).0
+            }
+            Target::CsvPipe => {
+                let file = csv_outcome(
                     std::io::Cursor::new(bytes),
                     source,
-                    &studies[0].turntable,
-                    joints,
-                    |_, row| {
-                        if row
-                            .chi_rad
-                            .iter()
-                            .chain(&row.pose_rad)
-                            .chain(&row.translations_m)
-                            .any(|v| !v.is_finite())
-                        {
-                            bad = Some("a valid row holds a non-finite number".to_string());
-                        }
-                        Ok(())
-                    },
+                    study,
+                    JointColumns::Required,
                 );
-                match (r, bad) {
-                    (_, Some(f)) => Outcome::Finding(f),
-                    (Ok(()), None) => Outcome::Valid,
-                    (Err(InputError { location, reason }), None) => {
-                        if location.contains(source) && !reason.is_empty() {
-                            Outcome::Rejected
-                        } else {
-                            Outcome::Finding(format!(
-                                "error without a location: {location}: {reason}"
-                            ))
-                        }
-                    }
+                let pipe = csv_outcome(
+                    std::io::BufReader::with_capacity(7, ShortReads::new(bytes)),
+                    source,
+                    study,
+                    JointColumns::Required,
+                );
+                if file == pipe {
+                    pipe.0
+                } else {
+                    Outcome::Finding(format!(
+                        "read as a pipe, the input gives {:?} ({} rows), as a file {:?} ({} rows)",
+                        pipe.0, pipe.1, file.0, file.1
+                    ))
                 }
             }
         }
     })
+}
+
+/// A non-seekable reader that returns short reads (1 to 13 bytes, in a fixed pattern), as a
+/// pipe or FIFO may.
+struct ShortReads<'a> {
+    bytes: &'a [u8],
+    at: usize,
+    step: usize,
+}
+
+impl<'a> ShortReads<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        Self {
+            bytes,
+            at: 0,
+            step: 0,
+        }
+    }
+}
+
+impl std::io::Read for ShortReads<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        self.step = self.step % 13 + 1;
+        let n = self.step.min(buf.len()).min(self.bytes.len() - self.at);
+        buf[..n].copy_from_slice(&self.bytes[self.at..self.at + n]);
+        self.at += n;
+        Ok(n)
+    }
+}
+
+/// The outcome of the CSV loop on `reader` and a digest of the rows it accepted (their count
+/// and the bits of every value), so that two ways of reading the same bytes can be compared.
+fn csv_outcome<R: std::io::BufRead>(
+    reader: R,
+    source: &str,
+    study: &Study,
+    joints: JointColumns,
+) -> (Outcome, u64, u64) {
+    let mut bad = None;
+    let (mut rows, mut digest) = (0_u64, 0_u64);
+    let r = for_each_row_in(reader, source, &study.turntable, joints, |_, row| {
+        let values = row
+            .chi_rad
+            .iter()
+            .chain(&row.pose_rad)
+            .chain(&row.translations_m);
+        for v in values.clone() {
+            digest = digest.rotate_left(7) ^ v.to_bits();
+        }
+        rows += 1;
+        if values.clone().any(|v| !v.is_finite()) {
+            bad = Some("a valid row holds a non-finite number".to_string());
+        }
+        Ok(())
+    });
+    let outcome = match (r, bad) {
+        (_, Some(f)) => Outcome::Finding(f),
+        (Ok(()), None) => Outcome::Valid,
+        (Err(InputError { location, reason }), None) => {
+            if location.contains(source) && !reason.is_empty() {
+                Outcome::Rejected
+            } else {
+                Outcome::Finding(format!("error without a location: {location}: {reason}"))
+            }
+        }
+    };
+    (outcome, rows, digest)
 }
 
 /// Run `f`, turning a panic into a finding that carries the panic message.
@@ -352,10 +473,16 @@ fn seeds(root: &std::path::Path) -> Result<(Vec<Seed>, Vec<Study>)> {
         let row: Vec<String> = (0..cells)
             .map(|k| format!("{}", 0.1 * (k as f64 + 1.0)))
             .collect();
+        let poses = format!("{header}\n{}\n{}\n", row.join(","), row.join(",")).into_bytes();
+        seeds.push(Seed {
+            target: Target::CsvPipe,
+            study: i,
+            bytes: poses.clone(),
+        });
         seeds.push(Seed {
             target: Target::CsvPoses,
             study: i,
-            bytes: format!("{header}\n{}\n{}\n", row.join(","), row.join(",")).into_bytes(),
+            bytes: poses,
         });
         let eh = study::csv::expected_header_for(&s.turntable, JointColumns::Absent);
         let ecells = eh.split(',').count();
@@ -379,96 +506,177 @@ fn seeds(root: &std::path::Path) -> Result<(Vec<Seed>, Vec<Study>)> {
     Ok((seeds, studies))
 }
 
-/// Run `cases` cases from `seed` on the shipped inputs under `root`.
+/// Run case `case` of the run seeded `seed`: its target, outcome, duration (s) and input.
+fn one_case(
+    seeds: &[Seed],
+    studies: &[Study],
+    seed: u64,
+    case: u64,
+) -> (Target, Outcome, f64, Vec<u8>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let s = &seeds[below(&mut rng, seeds.len())];
+    let mut bytes = s.bytes.clone();
+    for _ in 0..1 + below(&mut rng, 4) {
+        bytes = mutate(&mut rng, &bytes, s.target.is_csv());
+    }
+    let t = Instant::now();
+    let mut outcome = run_case(s.target, &bytes, &studies[s.study]);
+    let dt = t.elapsed();
+    if dt > CASE_TIME_LIMIT && !matches!(outcome, Outcome::Finding(_)) {
+        outcome = Outcome::Finding(format!("took {:.2} s", dt.as_secs_f64()));
+    }
+    (s.target, outcome, dt.as_secs_f64(), bytes)
+}
+
+/// Run `cases` cases from `seed` on the shipped inputs under `root`, in blocks of [`BLOCK`]:
+/// each block's outcomes are folded into the counters and dropped, its findings handed to
+/// `sink` in case order. Memory does not grow with `cases`.
 ///
 /// # Errors
-/// When a seed input cannot be read (a broken checkout).
-pub fn fuzz(root: &std::path::Path, cases: u64, seed: u64) -> Result<Summary> {
+/// When a seed input cannot be read (a broken checkout); the sink's first error.
+pub fn fuzz(
+    root: &std::path::Path,
+    cases: u64,
+    seed: u64,
+    sink: &mut dyn FnMut(Finding) -> Result<()>,
+) -> Result<Summary> {
     let (seeds, studies) = seeds(root)?;
-    let results: Vec<(u64, Target, Outcome, f64, Vec<u8>)> = (0..cases)
-        .into_par_iter()
-        .map(|case| {
-            let mut rng =
-                ChaCha8Rng::seed_from_u64(seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-            let s = &seeds[below(&mut rng, seeds.len())];
-            let csv = matches!(s.target, Target::CsvPoses | Target::CsvErrors);
-            let mut bytes = s.bytes.clone();
-            for _ in 0..1 + below(&mut rng, 4) {
-                bytes = mutate(&mut rng, &bytes, csv);
-            }
-            let own: Vec<Study> = vec![studies[s.study].clone()];
-            let t = Instant::now();
-            let mut outcome = run_case(s.target, &bytes, &own);
-            let dt = t.elapsed();
-            if dt > CASE_TIME_LIMIT && !matches!(outcome, Outcome::Finding(_)) {
-                outcome = Outcome::Finding(format!("took {:.2} s", dt.as_secs_f64()));
-            }
-            let keep = if matches!(outcome, Outcome::Finding(_)) {
-                bytes
-            } else {
-                Vec::new()
-            };
-            (case, s.target, outcome, dt.as_secs_f64(), keep)
-        })
-        .collect();
     let mut sum = Summary {
         cases,
         ..Summary::default()
     };
-    for (case, target, outcome, dt, bytes) in results {
-        sum.slowest_s = sum.slowest_s.max(dt);
-        match outcome {
-            Outcome::Valid => sum.valid += 1,
-            Outcome::Rejected => sum.rejected += 1,
-            Outcome::Finding(what) => sum.findings.push((case, target, what, bytes)),
+    let mut first = 0;
+    while first < cases {
+        let last = first.saturating_add(BLOCK).min(cases);
+        let block: Vec<(u64, Target, Outcome, f64, Vec<u8>)> = (first..last)
+            .into_par_iter()
+            .map(|case| {
+                let (target, outcome, dt, bytes) = one_case(&seeds, &studies, seed, case);
+                let keep = if matches!(outcome, Outcome::Finding(_)) {
+                    bytes
+                } else {
+                    Vec::new()
+                };
+                (case, target, outcome, dt, keep)
+            })
+            .collect();
+        for (case, target, outcome, dt, input) in block {
+            sum.slowest_s = sum.slowest_s.max(dt);
+            match outcome {
+                Outcome::Valid => sum.valid += 1,
+                Outcome::Rejected => sum.rejected += 1,
+                Outcome::Finding(what) => {
+                    sum.findings += 1;
+                    sink(Finding {
+                        case,
+                        target,
+                        what,
+                        input,
+                    })?;
+                }
+            }
         }
+        first = last;
     }
     Ok(sum)
+}
+
+/// The findings directory: the user's path as given (relative to the current directory), or
+/// [`DEFAULT_FINDINGS`] under the workspace root (found like the default study, never
+/// relative to wherever the command runs).
+fn findings_dir(given: Option<&std::path::Path>, root: &std::path::Path) -> PathBuf {
+    given.map_or_else(|| root.join(DEFAULT_FINDINGS), std::path::Path::to_path_buf)
+}
+
+/// Refuse a findings path that exists in any form (a file, a directory, a dangling symbolic
+/// link): nothing is ever written into or over it.
+fn check_findings_path(dir: &std::path::Path) -> Result<(), InputError> {
+    if dir.symlink_metadata().is_ok() {
+        return Err(InputError::new(
+            format!("--findings {}", dir.display()),
+            "exists (a file, a directory or a symbolic link): give a new path (nothing is overwritten)",
+        ));
+    }
+    Ok(())
+}
+
+/// Writes each finding as it comes: the directory is created at the first one (it must not
+/// exist then either), `case-<n>.<ext>` and a line of `findings.txt` per finding.
+struct FindingsDir {
+    dir: PathBuf,
+    list: Option<std::fs::File>,
+    listed: String,
+}
+
+impl FindingsDir {
+    fn write(&mut self, f: &Finding) -> Result<()> {
+        use std::io::Write;
+        let shown = || format!("--findings {}", self.dir.display());
+        if self.list.is_none() {
+            std::fs::create_dir(&self.dir).map_err(|e| {
+                if e.kind() == std::io::ErrorKind::AlreadyExists {
+                    anyhow::Error::new(InputError::new(
+                        shown(),
+                        "appeared while fuzzing: give a new path (nothing is overwritten)",
+                    ))
+                } else {
+                    anyhow::Error::new(e).context(format!("creating {}", self.dir.display()))
+                }
+            })?;
+            let list = std::fs::OpenOptions::new()
+                .create_new(true)
+                .append(true)
+                .open(self.dir.join("findings.txt"))
+                .with_context(|| format!("writing {}", self.dir.display()))?;
+            self.list = Some(list);
+        }
+        let name = format!("case-{}.{}", f.case, f.target.ext());
+        std::fs::write(self.dir.join(&name), &f.input)
+            .with_context(|| format!("writing {}", self.dir.join(&name).display()))?;
+        let line = format!("{name} ({:?}): {}\n", f.target, f.what);
+        if let Some(list) = &mut self.list {
+            list.write_all(line.as_bytes())?;
+            list.flush()?;
+        }
+        if self.listed.lines().count() < LISTED_FINDINGS {
+            self.listed.push_str(&line);
+        }
+        Ok(())
+    }
 }
 
 /// Run the command: exit 1 when there are findings (their inputs written to `--findings`).
 ///
 /// # Errors
-/// [`InputError`] for an existing findings directory; an error naming the findings.
+/// [`InputError`] for an existing findings path (checked before any case runs); an error
+/// naming the findings.
 pub fn run(args: &Args) -> Result<()> {
     let root = crate::paths::workspace_root()?;
+    let dir = findings_dir(args.findings.as_deref(), &root);
+    check_findings_path(&dir)?;
+    let mut out = FindingsDir {
+        dir,
+        list: None,
+        listed: String::new(),
+    };
     let t = Instant::now();
-    let sum = fuzz(&root, args.cases, args.seed)?;
+    let sum = fuzz(&root, args.cases, args.seed, &mut |f| out.write(&f))?;
     let secs = t.elapsed().as_secs_f64();
     let mut text = format!(
         "fuzz: {} cases (seed {}) in {:.1} s: {} valid, {} rejected with a located error, {} findings; slowest case {:.3} s\n",
-        sum.cases,
-        args.seed,
-        secs,
-        sum.valid,
-        sum.rejected,
-        sum.findings.len(),
-        sum.slowest_s
+        sum.cases, args.seed, secs, sum.valid, sum.rejected, sum.findings, sum.slowest_s
     );
-    if !sum.findings.is_empty() {
-        let dir = &args.findings;
-        if dir.exists() {
-            return Err(InputError::new(
-                format!("--findings {}", dir.display()),
-                "exists: give a new directory (nothing is overwritten)",
-            )
-            .into());
+    if sum.findings > 0 {
+        text.push_str(&out.listed);
+        if sum.findings > LISTED_FINDINGS as u64 {
+            text.push_str(&format!(
+                "... and {} more in {}\n",
+                sum.findings - LISTED_FINDINGS as u64,
+                out.dir.join("findings.txt").display()
+            ));
         }
-        std::fs::create_dir_all(dir)?;
-        let mut list = String::new();
-        for (case, target, what, bytes) in &sum.findings {
-            let name = format!("case-{case}.{}", target.ext());
-            std::fs::write(dir.join(&name), bytes)?;
-            list.push_str(&format!("{name} ({target:?}): {what}\n"));
-        }
-        std::fs::write(dir.join("findings.txt"), &list)?;
-        text.push_str(&list);
         crate::out::print(&text)?;
-        anyhow::bail!(
-            "{} findings; inputs in {}",
-            sum.findings.len(),
-            dir.display()
-        );
+        anyhow::bail!("{} findings; inputs in {}", sum.findings, out.dir.display());
     }
     crate::out::print(&text)
 }
@@ -486,6 +694,56 @@ mod tests {
         let o = guarded(|| panic!("boom"));
         std::panic::set_hook(prev);
         assert_eq!(o, Outcome::Finding("panic: boom".into()));
+    }
+
+    /// The default findings directory is the workspace's `target/fuzz-findings` (issue 19: it
+    /// was relative to the current directory); a given path is kept as given.
+    #[test]
+    fn findings_go_under_the_workspace_target_unless_given() {
+        let root = std::path::Path::new("/work/clone");
+        assert_eq!(
+            findings_dir(None, root),
+            std::path::Path::new("/work/clone/target/fuzz-findings")
+        );
+        assert_eq!(
+            findings_dir(Some(std::path::Path::new("here")), root),
+            std::path::Path::new("here")
+        );
+    }
+
+    /// A CSV read through short reads (a pipe, a FIFO) gives exactly what the file gives:
+    /// the same rows, the same errors.
+    #[test]
+    fn short_reads_give_what_the_file_gives() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let (seeds, studies) = seeds(&root).unwrap();
+        let s = seeds.iter().find(|s| s.target == Target::CsvPipe).unwrap();
+        let mut bytes = s.bytes.clone();
+        bytes.extend_from_slice(&s.bytes[s.bytes.iter().position(|b| *b == b'\n').unwrap() + 1..]);
+        for input in [
+            bytes.clone(),
+            bytes[..bytes.len() - 5].to_vec(),
+            b"x\n".to_vec(),
+        ] {
+            let study = &studies[s.study];
+            let file = csv_outcome(
+                std::io::Cursor::new(&input),
+                "f",
+                study,
+                JointColumns::Required,
+            );
+            let pipe = csv_outcome(
+                std::io::BufReader::with_capacity(7, ShortReads::new(&input)),
+                "f",
+                study,
+                JointColumns::Required,
+            );
+            assert_eq!(file, pipe);
+        }
+        assert_eq!(
+            run_case(Target::CsvPipe, &bytes, &studies[s.study]),
+            Outcome::Valid
+        );
     }
 
     /// Errors count as located only when they name the source and give a reason.
@@ -506,18 +764,23 @@ mod tests {
     fn a_few_thousand_cases_run_clean_and_reproducibly() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let run = |threads| {
-            rayon::ThreadPoolBuilder::new()
+            let mut found = Vec::new();
+            let sum = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| fuzz(&root, 3000, 11).unwrap())
+                .install(|| {
+                    fuzz(&root, 3000, 11, &mut |f| {
+                        found.push(f.what);
+                        Ok(())
+                    })
+                    .unwrap()
+                });
+            assert_eq!(sum.findings, found.len() as u64);
+            assert!(found.is_empty(), "{found:?}");
+            sum
         };
         let (a, b) = (run(1), run(2));
-        assert!(
-            a.findings.is_empty(),
-            "{:?}",
-            a.findings.iter().map(|f| &f.2).collect::<Vec<_>>()
-        );
         assert!(
             a.valid > 100 && a.rejected > 100,
             "{} valid, {} rejected",

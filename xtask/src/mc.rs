@@ -55,13 +55,13 @@ pub struct Args {
     pub study: Option<PathBuf>,
     /// Number of random turntables (default: the study's `monte_carlo.samples`; accepts
     /// `1e9`, `1000000`, `1_000_000`).
-    #[arg(long, value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
     /// Seed of the random streams (default: the study's `monte_carlo.seed`).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Worker threads (default: all cores). The result does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::threads)]
     pub threads: Option<u32>,
     /// Tolerance box to verify.
     #[arg(long, value_enum, default_value_t = BoundsChoice::TwoStep, conflicts_with = "tolerances")]
@@ -70,10 +70,10 @@ pub struct Args {
     #[arg(long)]
     pub tolerances: Option<PathBuf>,
     /// Samples per random stream (part of the reproducibility contract).
-    #[arg(long, default_value_t = mc_verify::DEFAULT_CHUNK_SIZE, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, allow_negative_numbers = true, default_value_t = mc_verify::DEFAULT_CHUNK_SIZE, value_parser = crate::args::count_u32)]
     pub chunk_size: u32,
     /// Histogram bins per angle (1 to 10,000).
-    #[arg(long, default_value_t = mc_verify::DEFAULT_HISTOGRAM_BINS, value_parser = parse_bins)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = mc_verify::DEFAULT_HISTOGRAM_BINS, value_parser = parse_bins)]
     pub bins: usize,
     /// Also measure the generator alone (decoded and raw words), the portable SIMD level,
     /// the plain dense-matrix chain and the NumPy baseline, and report the throughput ratios.

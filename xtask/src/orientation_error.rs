@@ -89,7 +89,7 @@ pub fn run(args: &Args) -> Result<()> {
         OUTPUT_HEADER,
         |line, row| {
             let v = eval(line, row)?;
-            Ok(format!("{},{},{}", v[0], v[1], v[2]))
+            Ok(v.map(study::fmt::exact).join(","))
         },
     )
 }

@@ -1,4 +1,4 @@
-//! `cargo xtask requirement [--study FILE] [--json] [--reading R] [--all-readings]`: the
+//! `cargo xtask requirement [--study FILE] [--json] [--reading R | --all-readings]`: the
 //! orientation requirement of eq 15-16 (paper §2.2-2.3, Figure 5) for the study's sensor.
 //!
 //! `--json` prints one object: `{"study", "reading", "reading_formula", "delta_r",
@@ -27,8 +27,8 @@ pub struct Args {
     /// the study's.
     #[arg(long)]
     pub reading: Option<String>,
-    /// Evaluate every reading of eq 13 side by side.
-    #[arg(long)]
+    /// Evaluate every reading of eq 13 side by side (not with `--reading`).
+    #[arg(long, conflicts_with = "reading")]
     pub all_readings: bool,
 }
 

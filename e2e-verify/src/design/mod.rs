@@ -245,7 +245,8 @@ pub const STREAM_D_OPTIMAL: u64 = 3 << 32;
 ///
 /// # Errors
 /// [`E2eError::OutOfRange`] naming `step_deg` unless $0 < s \le 360$;
-/// [`E2eError::OutOfRange`] naming `candidates` above [`MAX_CANDIDATES`].
+/// [`E2eError::GridTooLarge`] above [`MAX_CANDIDATES`] grid positions (counted before any
+/// is built, in checked arithmetic).
 pub fn grid_positions_deg(
     turntable: &tt_kinematics::Turntable,
     step_deg: f64,
@@ -257,37 +258,53 @@ pub fn grid_positions_deg(
             range: "(0, 360] deg",
         });
     }
-    let axes: Vec<Vec<f64>> = turntable
+    // count first (no allocation): a tiny step would otherwise build axes of any length
+    let ranges: Vec<(f64, f64)> = turntable
         .joint_ranges_rad()
         .iter()
-        .map(|[lo, hi]| {
-            let (lo, hi) = (lo.to_degrees(), hi.to_degrees());
-            let full = hi - lo >= 360.0 - 1e-9;
-            let mut v = Vec::new();
-            let mut k = 0u32;
-            loop {
-                let a = lo + f64::from(k) * step_deg;
-                if a > hi + 1e-9 || (full && a >= lo + 360.0 - 1e-9) {
-                    break;
-                }
-                v.push(a.min(hi));
-                k += 1;
+        .map(|[lo, hi]| (lo.to_degrees(), hi.to_degrees()))
+        .collect();
+    let counts: Vec<f64> = ranges
+        .iter()
+        .map(|&(lo, hi)| axis_count(lo, hi, step_deg))
+        .collect();
+    let exact = counts
+        .iter()
+        .try_fold(1_u64, |acc, &c| {
+            if c <= u64::MAX as f64 {
+                acc.checked_mul(c as u64)
+            } else {
+                None
             }
-            v
+        })
+        .filter(|&c| c <= MAX_CANDIDATES as u64);
+    let Some(count) = exact else {
+        return Err(E2eError::GridTooLarge {
+            step_deg,
+            per_joint_log10: ranges
+                .iter()
+                .zip(&counts)
+                .map(|(&(lo, hi), c)| {
+                    if c.is_finite() {
+                        c.log10()
+                    } else {
+                        (hi - lo + 1e-9).log10() - step_deg.log10()
+                    }
+                })
+                .collect(),
+            max: MAX_CANDIDATES,
+        });
+    };
+    let axes: Vec<Vec<f64>> = ranges
+        .iter()
+        .zip(&counts)
+        .map(|(&(lo, hi), &n)| {
+            (0..n as u32)
+                .map(|k| (lo + f64::from(k) * step_deg).min(hi))
+                .collect()
         })
         .collect();
-    let count = axes
-        .iter()
-        .map(Vec::len)
-        .try_fold(1usize, usize::checked_mul)
-        .unwrap_or(usize::MAX);
-    if count > MAX_CANDIDATES {
-        return Err(E2eError::OutOfRange {
-            field: "candidates",
-            value: count as f64,
-            range: "at most 50000 grid positions (use a larger step)",
-        });
-    }
+    debug_assert_eq!(axes.iter().map(Vec::len).product::<usize>() as u64, count);
     let mut out = vec![Vec::new()];
     for axis in &axes {
         out = out
@@ -302,6 +319,31 @@ pub fn grid_positions_deg(
             .collect();
     }
     Ok(out)
+}
+
+/// The number of grid angles of one joint: $\min, \min + s, \dots \le \max$ (to 1e-9 deg),
+/// the start again left out for a full turn; computed, not enumerated (an approximation
+/// beyond $2^{52}$, where only its size matters).
+fn axis_count(lo: f64, hi: f64, step_deg: f64) -> f64 {
+    let full = hi - lo >= 360.0 - 1e-9;
+    let stop = |k: f64| {
+        let a = lo + k * step_deg;
+        a > hi + 1e-9 || (full && a >= lo + 360.0 - 1e-9)
+    };
+    let estimate = ((hi - lo + 1e-9) / step_deg).floor() + 1.0;
+    // beyond 2^52 (or NaN-free infinity for a step of 1e-308) only the size matters
+    if estimate.is_nan() || estimate >= 4_503_599_627_370_496.0 {
+        return estimate;
+    }
+    // the first k that stops (stop is monotone in k): the count
+    let mut k = estimate.max(0.0);
+    while k > 0.0 && stop(k - 1.0) {
+        k -= 1.0;
+    }
+    while !stop(k) {
+        k += 1.0;
+    }
+    k
 }
 
 /// `grid` followed by the positions of `extra` that are not already in it (exact equality
@@ -440,6 +482,10 @@ pub struct RestartOutcome {
     pub start_objective: f64,
     /// The exchange, or `None` when no feasible start could be made.
     pub exchange: Option<ExchangeOutcome>,
+    /// The smallest largest condition number of the identifiable schedules this restart met
+    /// (its start and the start's repair; `+inf` when none was identifiable): what the
+    /// search could reach when no restart meets the bound.
+    pub best_condition: f64,
 }
 
 /// Settings of the design search.
@@ -685,25 +731,26 @@ impl DesignProblem {
         kind: StartKind,
         given: Option<&[usize]>,
         settings: &DesignSettings,
-    ) -> Result<(f64, Option<Evaluation>), E2eError> {
+    ) -> Result<(f64, Option<Evaluation>, f64), E2eError> {
         let n = settings.positions;
+        let none = Ok((f64::INFINITY, None, f64::INFINITY));
         let first = match kind {
             StartKind::Study | StartKind::Coarse | StartKind::Given(_) => match given {
                 Some(g) => self.evaluate(g)?,
-                None => return Ok((f64::INFINITY, None)),
+                None => return none,
             },
             StartKind::Greedy | StartKind::GreedyUnconstrained => {
                 match search.greedy(n, kind == StartKind::Greedy)? {
                     Some(e) => e,
-                    None => return Ok((f64::INFINITY, None)),
+                    None => return none,
                 }
             }
             StartKind::LevelSet => match search.level_set(n)? {
                 Some((_, s)) => match self.evaluate_or_skip(&s, f64::INFINITY)? {
                     Some(e) => e,
-                    None => return Ok((f64::INFINITY, None)),
+                    None => return none,
                 },
-                None => return Ok((f64::INFINITY, None)),
+                None => return none,
             },
             StartKind::Random(r) => {
                 let mut first_identifiable = None;
@@ -728,7 +775,7 @@ impl DesignProblem {
                 }
                 match (found, first_identifiable) {
                     (Some(e), _) | (None, Some(e)) => e,
-                    (None, None) => return Ok((f64::INFINITY, None)),
+                    (None, None) => return none,
                 }
             }
         };
@@ -737,11 +784,19 @@ impl DesignProblem {
         } else {
             f64::INFINITY
         };
+        let reached = |e: &Evaluation| {
+            if e.unidentifiable.is_some() {
+                f64::INFINITY
+            } else {
+                e.max_condition()
+            }
+        };
+        let first_condition = reached(&first);
         if search.feasible(&first) {
-            return Ok((start_objective, Some(first)));
+            return Ok((start_objective, Some(first), first_condition));
         }
         if first.unidentifiable.is_some() {
-            return Ok((start_objective, None));
+            return Ok((start_objective, None, first_condition));
         }
         let k = settings.max_condition;
         let ok = |s: &[usize]| {
@@ -750,7 +805,10 @@ impl DesignProblem {
         };
         let repaired = dopt::exchange_d(self, first.schedule.clone(), &ok)?;
         let e = self.evaluate_or_skip(&repaired.schedule, f64::INFINITY)?;
-        Ok((start_objective, e.filter(|e| search.feasible(e))))
+        let best = e
+            .as_ref()
+            .map_or(first_condition, |e| reached(e).min(first_condition));
+        Ok((start_objective, e.filter(|e| search.feasible(e)), best))
     }
 
     /// The restarts of the design search: the `given` starts (each a kind and a schedule of
@@ -793,13 +851,15 @@ impl DesignProblem {
         let restarts: Vec<RestartOutcome> = kinds
             .par_iter()
             .map(|&(kind, g)| {
-                let (start_objective, start) = self.start(&search, kind, g, settings)?;
+                let (start_objective, start, best_condition) =
+                    self.start(&search, kind, g, settings)?;
                 let exchange = start.map(|e| search.exchange(e)).transpose()?;
                 progress();
                 Ok(RestartOutcome {
                     start: kind,
                     start_objective,
                     exchange,
+                    best_condition,
                 })
             })
             .collect::<Result<_, E2eError>>()?;
@@ -812,7 +872,10 @@ impl DesignProblem {
         let Some(best_restart) = best_restart else {
             return Err(E2eError::ConditionUnreachable {
                 max_condition: settings.max_condition,
-                best_condition: f64::INFINITY,
+                best_condition: restarts
+                    .iter()
+                    .map(|r| r.best_condition)
+                    .fold(f64::INFINITY, f64::min),
             });
         };
         Ok((restarts, best_restart))
@@ -915,7 +978,7 @@ impl DesignProblem {
         let linear = e2e.linearization();
         let allocation = e2e.allocate_direct(&linear, &self.lower_bounds_rad)?;
         let (certified, certified_note) =
-            crate::allocate::certified_or_note(&e2e, &linear, &self.lower_bounds_rad)?;
+            crate::allocate::certified_or_note(&e2e, &linear, &self.lower_bounds_rad, &allocation)?;
         let own = StudyTolerances::of(&allocation, certified.as_ref());
         let tolerances = study_tolerances.unwrap_or(&own);
         let with_study_tolerances = tolerances.worst_case(&e2e, &linear)?;
@@ -1356,4 +1419,77 @@ fn indices_near(problem: &DesignProblem, positions: &[Vec<f64>]) -> Option<Vec<u
 #[must_use]
 pub fn coarse_levels(step_deg: f64) -> u64 {
     coarse_steps(step_deg).len() as u64
+}
+
+#[cfg(test)]
+mod grid_tests {
+    use super::*;
+
+    /// The enumeration the count replaces (issue 19: it grew to 24 GB for a 1e-308 deg step).
+    fn enumerated(lo: f64, hi: f64, step: f64) -> f64 {
+        let full = hi - lo >= 360.0 - 1e-9;
+        let mut k = 0_u32;
+        loop {
+            let a = lo + f64::from(k) * step;
+            if a > hi + 1e-9 || (full && a >= lo + 360.0 - 1e-9) {
+                return f64::from(k);
+            }
+            k += 1;
+        }
+    }
+
+    /// The computed count of a joint's grid angles is the enumerated one, for full turns,
+    /// partial ranges, steps that divide them and steps that do not.
+    #[test]
+    fn grid_counts_equal_the_enumeration() {
+        for (lo, hi) in [
+            (0.0, 360.0),
+            (-180.0, 180.0),
+            (0.0, 90.0),
+            (-45.0, 30.0),
+            (10.0, 10.5),
+        ] {
+            for step in [0.1, 0.7, 1.0, 7.0, 13.0, 15.0, 45.0, 100.0, 360.0] {
+                assert_eq!(
+                    axis_count(lo, hi, step).to_bits(),
+                    enumerated(lo, hi, step).to_bits(),
+                    "[{lo}, {hi}] step {step}"
+                );
+            }
+        }
+    }
+
+    /// A step that would give more than [`MAX_CANDIDATES`] positions is refused before any
+    /// is built, with the counts (also when they exceed every float).
+    #[test]
+    fn tiny_steps_are_refused_with_the_count_before_building() {
+        let t = tt_kinematics::paper::table3();
+        let e = grid_positions_deg(&t, 1e-308).unwrap_err();
+        let E2eError::GridTooLarge {
+            per_joint_log10, ..
+        } = &e
+        else {
+            panic!("{e:?}")
+        };
+        assert!(
+            per_joint_log10.iter().all(|c| *c > 310.0 && *c < 311.0),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains("about 1.3e621 candidate positions"),
+            "{e}"
+        );
+        let e = grid_positions_deg(&t, 1e-6).unwrap_err().to_string();
+        assert!(
+            e.contains("129600000000000000 candidate positions")
+                || e.contains("about 1.3e17 candidate positions"),
+            "{e}"
+        );
+        assert!(e.contains("360000000 x 360000000 per joint"), "{e}");
+        let e = grid_positions_deg(&t, 1.0).unwrap_err().to_string();
+        assert!(
+            e.contains("129600 candidate positions (360 x 360 per joint), more than 50000"),
+            "{e}"
+        );
+    }
 }

@@ -288,6 +288,7 @@ impl DesignProblem {
         let n = s.len();
         let m = self.errors;
         let mut mat = DMatrix::zeros(self.outputs.len() * n, m);
+        let mut noise = DMatrix::zeros(self.outputs.len(), m);
         let mut work = ReadingWork::default();
         let mut col = vec![0.0; n];
         for (k, (o, reg)) in self.outputs.iter().zip(regs).enumerate() {
@@ -298,13 +299,15 @@ impl DesignProblem {
                     de: s.iter().map(|&c| o.de[c * m + j]).collect(),
                     dg: s.iter().map(|&c| o.dg[c * m + j]).collect(),
                 };
+                noise[(k, j)] =
+                    crate::linear::rounding_level(&terms.de, &terms.dg, reg.condition_number());
                 self.reading.error_vector(&terms, &mut work, &mut col);
                 for (i, v) in col.iter().enumerate() {
                     mat[(k * n + i, j)] = *v;
                 }
             }
         }
-        Linearization::from_parts(mat, n, self.outputs.len())
+        Linearization::from_parts(mat, n, self.outputs.len(), noise)
     }
 
     /// $\mathbf M$ of schedule `s` (candidate indices) from the precomputed blocks.

@@ -540,7 +540,7 @@ impl<'a> Search<'a> {
         let linear = st.eval.linear.as_ref().map(|l| {
             let keep: Vec<usize> = (0..l.matrix().nrows()).filter(|r| r % n != slot).collect();
             let mat = l.matrix().select_rows(keep.iter());
-            Linearization::from_parts(mat, n - 1, l.outputs())
+            Linearization::from_parts(mat, n - 1, l.outputs(), l.rounding().clone())
         });
         let Some(linear) = linear else {
             return Ok(None);

@@ -39,11 +39,11 @@ pub struct Args {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Seed of the Monte Carlo streams (default: the study's `monte_carlo.seed`).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
     /// `1e4`, `10000`, `10_000`).
-    #[arg(long, value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
     /// A vendor's tolerance file to check (TOML: `[tolerances_arcmin]`).
     #[arg(long)]
@@ -61,10 +61,10 @@ pub struct PaperArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Seed of the Monte Carlo streams (default: the study's, 2017).
-    #[arg(long, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Monte Carlo turntables per box (default: the study's, the paper's 10,000).
-    #[arg(long, value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
 }
 
@@ -193,6 +193,8 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                         "reading": r.reading.to_string(),
                         "boxes": r.boxes.iter().map(boxj).collect::<Vec<_>>(),
                         "direct": boxj(&r.direct_box),
+                        "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
+                        "no_bound_needed": r.direct.no_bound_needed(),
                         "yield_based": boxj(&r.yield_box),
                         "yield_target": f(r.yield_based.target),
                         "yield_verdict": r.yield_verdict().name(),

@@ -8,7 +8,7 @@ use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
 use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict, objective_to_arcmin};
 use std::fmt::Write as _;
-use study::fmt::{num, sig};
+use study::fmt::{exact, num, sig};
 use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{Factor, OrientationAxis};
 
@@ -250,11 +250,15 @@ impl<'a> Sections<'a> {
                 );
             }
             let j = r.direct.objective_arcmin();
-            let _ = write!(
-                s,
-                "the direct allocation against every accuracy needs J = {j:.2} arcmin⁻²"
-            );
-            if let Some(t) = two {
+            if r.direct.no_bound_needed() {
+                s.push_str(e2e_verify::NO_BOUND_NEEDED);
+            } else {
+                let _ = write!(
+                    s,
+                    "the direct allocation against every accuracy needs J = {j:.2} arcmin⁻²"
+                );
+            }
+            if let (Some(t), false) = (two, r.direct.no_bound_needed()) {
                 let ratio = t / j;
                 if ratio >= 1.0 {
                     let _ = write!(
@@ -411,10 +415,10 @@ impl<'a> Sections<'a> {
                     o.name,
                     t.coefficient,
                     t.regressor,
-                    t.value,
+                    exact(t.value),
                     crate::out::csv_field(&o.coefficient_unit(t)),
                     !t.known,
-                    o.accuracy,
+                    exact(o.accuracy),
                     crate::out::csv_field(&o.unit)
                 );
             }
@@ -516,10 +520,7 @@ impl<'a> Sections<'a> {
                 csv,
                 "{},{}",
                 i + 1,
-                p.iter()
-                    .map(|v| v.to_string())
-                    .collect::<Vec<_>>()
-                    .join(",")
+                p.iter().map(|v| exact(*v)).collect::<Vec<_>>().join(",")
             );
             items.push(format!(
                 "{}: ({})",
@@ -898,7 +899,7 @@ impl<'a> Sections<'a> {
                 format!("{:.4}", v[1]),
                 format!("{:.4}", v[2]),
             ]);
-            let _ = writeln!(csv, "{n},{},{},{}", v[0], v[1], v[2]);
+            let _ = writeln!(csv, "{n},{},{},{}", exact(v[0]), exact(v[1]), exact(v[2]));
         }
         self.doc
             .table(&["error", "description", "Δψ", "Δθ", "Δγ"], rows);
@@ -962,13 +963,13 @@ impl<'a> Sections<'a> {
             if let Some(e) = &equal {
                 row.push(cell(e[i]));
             }
-            let _ = write!(csv, "{n},{}", ours[i]);
+            let _ = write!(csv, "{n},{}", exact(ours[i]));
             if let Some(e) = &equal {
-                let _ = write!(csv, ",{}", e[i]);
+                let _ = write!(csv, ",{}", exact(e[i]));
             }
             if let Some((t4, _, _)) = &table4 {
                 row.push(cell(t4[i]));
-                let _ = write!(csv, ",{}", t4[i]);
+                let _ = write!(csv, ",{}", exact(t4[i]));
             }
             csv.push('\n');
             rows.push(row);
@@ -981,13 +982,17 @@ impl<'a> Sections<'a> {
         if let Some(e) = &c.equal {
             jrow.push(format!("{:.3}", e.objective_arcmin()));
         }
-        let _ = write!(csv, "objective_J_arcmin^-2,{}", t.ours.objective_arcmin());
+        let _ = write!(
+            csv,
+            "objective_J_arcmin^-2,{}",
+            exact(t.ours.objective_arcmin())
+        );
         if let Some(e) = &c.equal {
-            let _ = write!(csv, ",{}", e.objective_arcmin());
+            let _ = write!(csv, ",{}", exact(e.objective_arcmin()));
         }
         if let Some((_, j, _)) = &table4 {
             jrow.push(format!("{j:.3}"));
-            let _ = write!(csv, ",{j}");
+            let _ = write!(csv, ",{}", exact(*j));
         }
         csv.push('\n');
         rows.push(jrow);
@@ -1362,7 +1367,7 @@ impl<'a> Sections<'a> {
                     line,
                     ",{}",
                     if v[i].is_finite() {
-                        v[i].to_string()
+                        exact(v[i])
                     } else {
                         String::new()
                     }

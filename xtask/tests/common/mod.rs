@@ -89,3 +89,12 @@ pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 pub fn num(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
 }
+
+/// A fresh directory `<prefix>-<name>` under the target's scratch directory (never the source
+/// tree), emptied first if a previous run left it.
+pub fn scratch(prefix: &str, name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{prefix}-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}

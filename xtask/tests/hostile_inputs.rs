@@ -1,0 +1,372 @@
+//! Hostile inputs of issue 19 through the built binary: inputs that cannot be read twice,
+//! grids and schedules too large to build, and messages that name the flag or key with the
+//! value as given. Each test failed before the fix it names.
+
+mod common;
+
+use common::{assert_input_error, run, run_with_stdin, stderr, stdout, study_text};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A command that must refuse its input at once takes at most this (s): far above the
+/// milliseconds it takes, far below the minutes (or the abort) of the old behaviour.
+const PROMPT_S: u64 = 60;
+
+/// The paper's turntable CSV header (orientation-error).
+const HEADER: &str = "phi1_deg,phi2_deg,dphi_y1_arcmin,dphi_z2_arcmin,dalpha_x1_arcmin,dalpha_z1_arcmin,dalpha_x2_arcmin,dalpha_y2_arcmin,deps_x_arcmin,deps_y_arcmin,deta_mm";
+
+fn scratch(name: &str) -> PathBuf {
+    common::scratch("hostile", name)
+}
+
+fn csv() -> String {
+    format!(
+        "{HEADER}\n10,20,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1\n0,0,1e-300,0,0,0,0,0,0,0,0\n"
+    )
+}
+
+/// Run `cargo xtask <args>` from the workspace root, killed (and the test failed) when it
+/// does not end within `limit_s`.
+fn run_within(args: &[&str], limit_s: u64) -> std::process::Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(args)
+        .current_dir(common::root())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if start.elapsed() > Duration::from_secs(limit_s) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} still running after {limit_s} s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The expected output of [`csv`]: the same whether read from a file, a FIFO or a pipe.
+fn expected_output() -> String {
+    let dir = scratch("file");
+    let path = dir.join("c.csv");
+    std::fs::write(&path, csv()).unwrap();
+    let o = run(&["orientation-error", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    stdout(&o)
+}
+
+/// A CSV argument that is a FIFO is read once and answered (before: a hang, the file being
+/// opened a second time with no writer left).
+#[test]
+fn a_fifo_csv_argument_is_read_once_and_answered() {
+    let want = expected_output();
+    let dir = scratch("fifo");
+    let fifo = dir.join("c.fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success(), "mkfifo");
+    let writer = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || {
+            let mut f = std::fs::OpenOptions::new().write(true).open(fifo).unwrap();
+            f.write_all(csv().as_bytes()).unwrap();
+        })
+    };
+    let o = run_within(&["orientation-error", fifo.to_str().unwrap()], PROMPT_S);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stdout(&o), want);
+    // it read the FIFO, so the writer is done
+    writer.join().unwrap();
+}
+
+/// `/dev/stdin` on a pipe (as `<(cat c.csv)` gives `/dev/fd/63`) is read once: the whole
+/// answer, not the header followed by "empty input".
+#[test]
+fn a_pipe_named_as_a_file_is_read_once_and_answered() {
+    let want = expected_output();
+    for cmd in ["orientation-error", "calibration-error"] {
+        let input = if cmd == "orientation-error" {
+            csv()
+        } else {
+            format!(
+                "{}\n0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1\n",
+                HEADER.split_once(",phi2_deg,").unwrap().1
+            )
+        };
+        let o = run_with_stdin(&[cmd, "/dev/stdin"], input.as_bytes());
+        assert!(o.status.success(), "{cmd}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("empty input"), "{}", stderr(&o));
+        let lines = stdout(&o).lines().count();
+        assert_eq!(lines, input.lines().count(), "{cmd}: {}", stdout(&o));
+        if cmd == "orientation-error" {
+            assert_eq!(stdout(&o), want);
+        }
+    }
+}
+
+/// CSV output keeps full precision in a short field: 1e-300 is `1e-300`, not a
+/// 300-character fixed-point field, and every field reads back as a finite number.
+#[test]
+fn csv_output_of_tiny_values_is_short_and_exact() {
+    let out = expected_output();
+    let last = out.lines().last().unwrap();
+    let fields: Vec<&str> = last.split(',').collect();
+    assert!(fields.iter().all(|f| f.len() <= 24), "{last}");
+    let v: f64 = fields[0].parse().unwrap();
+    // 1e-300 arcmin in, the same angle out (the exact chain at zero elsewhere)
+    approx::assert_relative_eq!(v, 1e-300, max_relative = 1e-12);
+    assert_eq!(study::fmt::exact(v), fields[0], "shortest round trip");
+}
+
+/// `design-schedule --step-deg 1e-308` (24 GB, killed) and `1e-6` (a 4 GB allocation
+/// aborted) are refused at once with exit 2, naming the flag and the candidate count.
+#[test]
+fn tiny_grid_steps_are_refused_at_once_with_the_count() {
+    for (step, count) in [
+        ("1e-308", "about 1.3e621 candidate positions"),
+        (
+            "1e-6",
+            "candidate positions (360000000 x 360000000 per joint)",
+        ),
+    ] {
+        let o = run_within(&["design-schedule", "--step-deg", step], PROMPT_S);
+        assert_input_error(
+            &o,
+            &[&format!("--step-deg {step}"), count, "more than 50000"],
+        );
+    }
+}
+
+/// A 150,000-position study (1.4 MB, under the size limit) is refused at once naming
+/// `calibration.positions_deg` and the count (before: `requirement` ran past 100 s at 533 MB).
+#[test]
+fn an_oversized_schedule_is_refused_at_once() {
+    let text = study_text("gyrowheel-2017");
+    let start = text.find("positions_deg = [").unwrap();
+    let end = start + text[start..].find("\n]\n").unwrap() + 3;
+    let positions: Vec<String> = (0..150_000)
+        .map(|k| format!("[{}, {}]", (k * 7) % 360, (k * 13) % 360))
+        .collect();
+    let big = format!(
+        "{}positions_deg = [{}]\n{}",
+        &text[..start],
+        positions.join(","),
+        &text[end..]
+    );
+    assert!(big.len() < 4 << 20);
+    let dir = scratch("positions");
+    let path = dir.join("big.toml");
+    std::fs::write(&path, big).unwrap();
+    let o = run_within(
+        &["requirement", "--study", path.to_str().unwrap()],
+        PROMPT_S,
+    );
+    assert_input_error(
+        &o,
+        &[
+            "key `calibration.positions_deg`",
+            "150000 test positions",
+            "at most 10000",
+        ],
+    );
+    // design-schedule asks for no more than a study may hold
+    let o = run(&["design-schedule", "--positions", "10001"]);
+    assert_input_error(&o, &["--positions", "from 1 to 1e4"]);
+}
+
+/// Numeric flags take negative numbers as values, so the range check names the flag (before:
+/// "unexpected argument '-5'"); counts are parsed by one parser (before: `--chunk-size 1e12`
+/// said "invalid digit"); `--max-condition nan` says what the help says.
+#[test]
+fn numeric_flags_are_range_checked_by_name() {
+    for (args, needles) in [
+        (
+            vec!["design-schedule", "--positions", "-5"],
+            vec!["--positions", "`-5`: must be a whole number from 1 to 1e4"],
+        ),
+        (
+            vec!["design-schedule", "--step-deg", "-15"],
+            vec!["--step-deg", "`-15`: must lie in (0, 360]"],
+        ),
+        (
+            vec!["design-schedule", "--max-condition", "nan"],
+            vec![
+                "--max-condition",
+                "a condition number must lie in [1, 1e12]",
+            ],
+        ),
+        (
+            vec!["mc", "--chunk-size", "1e12"],
+            vec![
+                "--chunk-size",
+                "must be a whole number from 1 to 4294967295",
+            ],
+        ),
+        (
+            vec!["mc", "--threads", "-2"],
+            vec!["--threads", "from 1 to 1024"],
+        ),
+        (
+            vec!["mc", "--samples", "-1"],
+            vec!["--samples", "from 1 to 1e12"],
+        ),
+        (
+            vec!["end-to-end", "--yield-fraction", "-0.5"],
+            vec!["--yield-fraction", "must lie in (0, 1)"],
+        ),
+        (
+            vec!["fuzz", "--cases", "-3"],
+            vec!["--cases", "from 1 to 1e12"],
+        ),
+    ] {
+        let o = run(&args);
+        let n: Vec<&str> = needles.clone();
+        assert_input_error(&o, &n);
+        assert!(!stderr(&o).contains("unexpected argument"), "{args:?}");
+    }
+    // the --help of the condition bound states the same range
+    let help = stdout(&run(&["design-schedule", "--help"]));
+    assert!(help.contains("[1, 1e12]"), "{help}");
+}
+
+/// A `--max-condition` below what any schedule reaches quotes the smallest value the search
+/// reached, and that value is accepted (before: "the best one reached inf").
+#[test]
+fn an_unreachable_condition_bound_quotes_a_reachable_value() {
+    let o = run(&[
+        "design-schedule",
+        "--step-deg",
+        "60",
+        "--max-condition",
+        "1.0001",
+    ]);
+    assert_input_error(
+        &o,
+        &["--max-condition", "the smallest the search reached is"],
+    );
+    let err = stderr(&o);
+    assert!(!err.contains("inf"), "{err}");
+    let quoted = err
+        .split("the smallest the search reached is ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .unwrap();
+    let v: f64 = quoted.parse().unwrap();
+    assert!(v > 1.0001 && v.is_finite(), "{err}");
+    let o = run(&[
+        "design-schedule",
+        "--step-deg",
+        "60",
+        "--max-condition",
+        quoted,
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// A lower bound above the paper's Table 4, which `end-to-end` evaluates beside its own
+/// allocations, is refused naming the box (before: "of the box").
+#[test]
+fn a_lower_bound_above_table_4_names_table_4() {
+    let dir = scratch("lb");
+    let path = dir.join("lb.toml");
+    std::fs::write(
+        &path,
+        study_text("gyrowheel-2017").replacen("dphi_y1 = 0.0", "dphi_y1 = 0.5", 1),
+    )
+    .unwrap();
+    let o = run(&[
+        "end-to-end",
+        "--study",
+        path.to_str().unwrap(),
+        "--samples",
+        "100",
+    ]);
+    assert_input_error(
+        &o,
+        &[
+            "key `allocation.lower_bounds_arcmin.dphi_y1`",
+            "exceeds the upper bound 0.4235 arcmin of Table 4",
+        ],
+    );
+}
+
+/// `fuzz --findings` refuses an existing path before any case runs (before: after all of
+/// them; `--cases 1e12` aborted on a 72 TB allocation first) and a dangling symbolic link
+/// with exit 2 naming it (before: exit 1 without a path). Nothing is created or changed.
+#[test]
+fn fuzz_findings_paths_are_checked_before_any_case() {
+    let dir = scratch("findings");
+    let existing = dir.join("mine");
+    std::fs::create_dir(&existing).unwrap();
+    std::fs::write(existing.join("notes.txt"), "mine").unwrap();
+    let dangling = dir.join("dangling");
+    std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
+    for p in [&existing, &dangling] {
+        let o = run_within(
+            &["fuzz", "--cases", "1e12", "--findings", p.to_str().unwrap()],
+            PROMPT_S,
+        );
+        assert_input_error(&o, &[&format!("--findings {}", p.display()), "exists"]);
+    }
+    assert_eq!(
+        std::fs::read_to_string(existing.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    assert!(!dir.join("nowhere").exists());
+    // a clean run creates nothing
+    let fresh = dir.join("fresh");
+    let o = run(&[
+        "fuzz",
+        "--cases",
+        "200",
+        "--findings",
+        fresh.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!fresh.exists());
+}
+
+/// `requirement --all-readings --reading X` is refused (before: `--reading` was ignored).
+#[test]
+fn all_readings_with_one_reading_is_refused() {
+    let o = run(&[
+        "requirement",
+        "--all-readings",
+        "--reading",
+        "actual/beta1/printed",
+    ]);
+    assert_input_error(&o, &["--all-readings", "--reading"]);
+}
+
+/// A coefficient named `x_rate` beside the output `x` is refused when the study is read
+/// (before: `calibration-error` printed the column `x_rate_error` twice).
+#[test]
+fn colliding_calibration_error_columns_are_refused() {
+    let dir = scratch("xrate");
+    let path = dir.join("xrate.toml");
+    std::fs::write(
+        &path,
+        study_text("gyrowheel-2017").replacen(
+            "{ coefficient = \"dx_zz\", regressor = \"a_z^2\"",
+            "{ coefficient = \"x_rate\", regressor = \"a_z^2\"",
+            1,
+        ),
+    )
+    .unwrap();
+    let o = run(&["calibration-error", "--study", path.to_str().unwrap()]);
+    assert_input_error(
+        &o,
+        &[
+            "key `sensor.outputs[0].name`",
+            "sensor.outputs[0].terms[6].coefficient",
+            "x_rate_error",
+        ],
+    );
+}
