@@ -122,7 +122,13 @@ fn study_name_cannot_leave_the_report_directory() {
             1,
         );
         let p = write(dir.path(), &format!("s{i}.toml"), &text);
-        let o = run(&["report", "--study", p.to_str().unwrap(), "--samples", "1500"]);
+        let o = run(&[
+            "report",
+            "--study",
+            p.to_str().unwrap(),
+            "--samples",
+            "1500",
+        ]);
         assert_input_error(&o, &[p.to_str().unwrap(), "key `name`", "file-name-safe"]);
     }
     assert!(!root().join("escaped").exists());
