@@ -52,11 +52,11 @@ pub const CASE_TIME_LIMIT: Duration = Duration::from_secs(1);
 /// Cases per block: run in parallel, folded into the counters, then dropped.
 pub const BLOCK: u64 = 4096;
 
-/// Largest text a repeated line adds to a case, bytes (enough for a schedule beyond
+/// Default largest text a repeated line adds to a case, KiB (enough for a schedule beyond
 /// [`study::limits::MAX_POSITIONS`]; small beside [`study::limits::MAX_FILE_BYTES`]). A line
 /// is repeated only in an input shorter than this, so no case exceeds about twice it: the
-/// memory of a case, and so of a run, is bounded whatever the number of cases.
-pub const REPEAT_BYTES: usize = 128 << 10;
+/// memory of a case, and so of a run, is bounded whatever the number of cases (`--repeat-kib`).
+pub const REPEAT_KIB: usize = 128;
 
 /// Findings listed in the command's output (all of them are in `findings.txt`).
 pub const LISTED_FINDINGS: usize = 20;
@@ -77,6 +77,18 @@ pub struct Args {
     /// workspace; refused if it exists; created at the first finding).
     #[arg(long)]
     pub findings: Option<PathBuf>,
+    /// Largest text one repeated line adds to a case, KiB (huge counts: schedules beyond the
+    /// position limit, long CSV files). It bounds the memory of one case, and so of the run.
+    #[arg(long, default_value_t = REPEAT_KIB, value_parser = repeat_kib)]
+    pub repeat_kib: usize,
+}
+
+/// `--repeat-kib`: a whole number of KiB in 1..=4096.
+fn repeat_kib(s: &str) -> std::result::Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(k) if (1..=4096).contains(&k) => Ok(k),
+        _ => Err(format!("must be a whole number of KiB from 1 to 4096, found `{s}`")),
+    }
 }
 
 /// Which parser a case drives.
@@ -192,7 +204,7 @@ fn below(rng: &mut ChaCha8Rng, n: usize) -> usize {
 }
 
 /// One random mutation of `bytes` (text-level where the input is text).
-fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool) -> Vec<u8> {
+fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool, repeat_bytes: usize) -> Vec<u8> {
     let text = String::from_utf8_lossy(bytes).into_owned();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let n = lines.len();
@@ -244,13 +256,13 @@ fn mutate(rng: &mut ChaCha8Rng, bytes: &[u8], csv: bool) -> Vec<u8> {
             b.truncate(below(rng, b.len() + 1));
             return b;
         }
-        9 if n > 0 && bytes.len() < REPEAT_BYTES && rng.next_u32() % 8 == 0 => {
+        9 if n > 0 && bytes.len() < repeat_bytes && rng.next_u32() % 8 == 0 => {
             // a huge count: one line repeated thousands of times (a schedule of more
-            // positions than allowed, a CSV file of many rows), at most REPEAT_BYTES in all
+            // positions than allowed, a CSV file of many rows), at most `repeat_bytes` in all
             // so that a case's memory stays bounded
             let i = below(rng, n);
             let l = lines[i].clone();
-            let times = (1000 + below(rng, 20_000)).min(REPEAT_BYTES / (l.len() + 1));
+            let times = (1000 + below(rng, 20_000)).min(repeat_bytes / (l.len() + 1));
             let extra: Vec<String> = (0..times).map(|_| l.clone()).collect();
             lines.splice(i..i, extra);
         }
@@ -512,12 +524,13 @@ fn one_case(
     studies: &[Study],
     seed: u64,
     case: u64,
+    repeat_bytes: usize,
 ) -> (Target, Outcome, f64, Vec<u8>) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let s = &seeds[below(&mut rng, seeds.len())];
     let mut bytes = s.bytes.clone();
     for _ in 0..1 + below(&mut rng, 4) {
-        bytes = mutate(&mut rng, &bytes, s.target.is_csv());
+        bytes = mutate(&mut rng, &bytes, s.target.is_csv(), repeat_bytes);
     }
     let t = Instant::now();
     let mut outcome = run_case(s.target, &bytes, &studies[s.study]);
@@ -538,6 +551,7 @@ pub fn fuzz(
     root: &std::path::Path,
     cases: u64,
     seed: u64,
+    repeat_kib: usize,
     sink: &mut dyn FnMut(Finding) -> Result<()>,
 ) -> Result<Summary> {
     let (seeds, studies) = seeds(root)?;
@@ -551,7 +565,7 @@ pub fn fuzz(
         let block: Vec<(u64, Target, Outcome, f64, Vec<u8>)> = (first..last)
             .into_par_iter()
             .map(|case| {
-                let (target, outcome, dt, bytes) = one_case(&seeds, &studies, seed, case);
+                let (target, outcome, dt, bytes) = one_case(&seeds, &studies, seed, case, repeat_kib << 10);
                 let keep = if matches!(outcome, Outcome::Finding(_)) {
                     bytes
                 } else {
@@ -660,7 +674,7 @@ pub fn run(args: &Args) -> Result<()> {
         listed: String::new(),
     };
     let t = Instant::now();
-    let sum = fuzz(&root, args.cases, args.seed, &mut |f| out.write(&f))?;
+    let sum = fuzz(&root, args.cases, args.seed, args.repeat_kib, &mut |f| out.write(&f))?;
     let secs = t.elapsed().as_secs_f64();
     let mut text = format!(
         "fuzz: {} cases (seed {}) in {:.1} s: {} valid, {} rejected with a located error, {} findings; slowest case {:.3} s\n",
@@ -770,7 +784,7 @@ mod tests {
                 .build()
                 .unwrap()
                 .install(|| {
-                    fuzz(&root, 3000, 11, &mut |f| {
+                    fuzz(&root, 3000, 11, REPEAT_KIB, &mut |f| {
                         found.push(f.what);
                         Ok(())
                     })

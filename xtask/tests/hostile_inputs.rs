@@ -286,7 +286,7 @@ fn a_lower_bound_above_table_4_names_table_4() {
         "--study",
         path.to_str().unwrap(),
         "--samples",
-        "100",
+        "1500",
     ]);
     assert_input_error(
         &o,

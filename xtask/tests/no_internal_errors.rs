@@ -64,7 +64,7 @@ fn designs_and_verifies(name: &str, args: &[&str]) {
         "--study",
         out.to_str().unwrap(),
         "--samples",
-        "500",
+        "1500",
         "--json",
     ]);
     assert_relative_eq!(
@@ -136,7 +136,7 @@ fn a_turntable_whose_errors_do_not_matter_needs_no_bound() {
         "--study",
         &study,
         "--samples",
-        "500",
+        "1500",
         "--out",
         out.to_str().unwrap(),
     ]);
@@ -261,7 +261,7 @@ fn yield_based_allocation_is_scale_free() {
             "--study",
             &with_accuracy(&dir, accuracy),
             "--samples",
-            "1000",
+            "1500",
             "--out",
             out.to_str().unwrap(),
         ]);

@@ -1265,13 +1265,7 @@ pub const GRID_MATCH_DEG: f64 = 1e-9;
 /// The coarse levels of a grid design with step `step_deg`: the multiples $M s$
 /// ($M = 2, 3, \dots$) up to [`MAX_COARSE_STEP_DEG`], as `(M, step)`, coarsest first.
 fn coarse_steps(step_deg: f64) -> Vec<(u32, f64)> {
-    if !(step_deg > 0.0 && step_deg.is_finite()) {
-        return Vec::new();
-    }
-    let most = (MAX_COARSE_STEP_DEG / step_deg + 1e-9)
-        .floor()
-        .min(f64::from(u32::MAX)) as u32;
-    (2..=most)
+    (2..=most_coarse_multiple(step_deg))
         .rev()
         .map(|m| (m, f64::from(m) * step_deg))
         .collect()
@@ -1418,7 +1412,20 @@ fn indices_near(problem: &DesignProblem, positions: &[Vec<f64>]) -> Option<Vec<u
 /// each).
 #[must_use]
 pub fn coarse_levels(step_deg: f64) -> u64 {
-    coarse_steps(step_deg).len() as u64
+    // counted, not enumerated: a tiny step (refused later, by the grid count) must not
+    // allocate one entry per multiple first
+    u64::from(most_coarse_multiple(step_deg).saturating_sub(1))
+}
+
+/// The largest multiple $M$ with $M \cdot$ `step_deg` $\le$ [`MAX_COARSE_STEP_DEG`] (0 for a
+/// step that is not positive and finite).
+fn most_coarse_multiple(step_deg: f64) -> u32 {
+    if !(step_deg > 0.0 && step_deg.is_finite()) {
+        return 0;
+    }
+    (MAX_COARSE_STEP_DEG / step_deg + 1e-9)
+        .floor()
+        .min(f64::from(u32::MAX)) as u32
 }
 
 #[cfg(test)]
