@@ -87,7 +87,9 @@ pub struct Args {
 fn repeat_kib(s: &str) -> std::result::Result<usize, String> {
     match s.parse::<usize>() {
         Ok(k) if (1..=4096).contains(&k) => Ok(k),
-        _ => Err(format!("must be a whole number of KiB from 1 to 4096, found `{s}`")),
+        _ => Err(format!(
+            "must be a whole number of KiB from 1 to 4096, found `{s}`"
+        )),
     }
 }
 
@@ -565,7 +567,8 @@ pub fn fuzz(
         let block: Vec<(u64, Target, Outcome, f64, Vec<u8>)> = (first..last)
             .into_par_iter()
             .map(|case| {
-                let (target, outcome, dt, bytes) = one_case(&seeds, &studies, seed, case, repeat_kib << 10);
+                let (target, outcome, dt, bytes) =
+                    one_case(&seeds, &studies, seed, case, repeat_kib << 10);
                 let keep = if matches!(outcome, Outcome::Finding(_)) {
                     bytes
                 } else {
@@ -674,7 +677,9 @@ pub fn run(args: &Args) -> Result<()> {
         listed: String::new(),
     };
     let t = Instant::now();
-    let sum = fuzz(&root, args.cases, args.seed, args.repeat_kib, &mut |f| out.write(&f))?;
+    let sum = fuzz(&root, args.cases, args.seed, args.repeat_kib, &mut |f| {
+        out.write(&f)
+    })?;
     let secs = t.elapsed().as_secs_f64();
     let mut text = format!(
         "fuzz: {} cases (seed {}) in {:.1} s: {} valid, {} rejected with a located error, {} findings; slowest case {:.3} s\n",
