@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 pub const MANIFEST: &str = ".report-manifest";
 
 /// The manifest's first line.
-const SIGNATURE: &str =
+pub(crate) const SIGNATURE: &str =
     "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
 
 /// The extensions of the files a report holds.
@@ -60,6 +60,17 @@ pub fn is_report_file(name: &str) -> bool {
         && stem
             .bytes()
             .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
+}
+
+/// The text of the manifest of a report made of the files `names`: the [`SIGNATURE`] line, then
+/// one name per line (what a report directory's [`MANIFEST`] holds).
+pub(crate) fn manifest_text<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
+    let mut text = format!("{SIGNATURE}\n");
+    for name in names {
+        text.push_str(name);
+        text.push('\n');
+    }
+    text
 }
 
 /// FNV-1a, 64 bit: a stable short name for a long directory name.
@@ -569,11 +580,7 @@ impl Prepared {
 /// previous report.
 fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
     use std::io::Write;
-    let mut manifest = format!("{SIGNATURE}\n");
-    for (file, _) in files {
-        manifest.push_str(file);
-        manifest.push('\n');
-    }
+    let manifest = manifest_text(files.iter().map(|(file, _)| file.as_str()));
     std::fs::write(tmp.join(MANIFEST), manifest)
         .with_context(|| format!("writing {}", tmp.join(MANIFEST).display()))?;
     for (file, bytes) in files {

@@ -397,12 +397,16 @@ fn files(c: &Computed) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(out)
 }
 
-/// The workspace's `target/...` directory (or `./target/...` outside a clone).
-fn default_out(rel: &str) -> PathBuf {
-    crate::paths::workspace_root().map_or_else(
-        |_| PathBuf::from("target").join(rel),
-        |r| r.join("target").join(rel),
-    )
+/// The workspace's `target` directory (or `./target` outside a clone).
+fn target_dir() -> PathBuf {
+    crate::paths::workspace_root().map_or_else(|_| PathBuf::from("target"), |r| r.join("target"))
+}
+
+/// The directory `report` writes a study's report to without `--out`: `<target>/report/<name>`.
+/// The study's `name` is a file-name-safe slug (checked when the study is read), so this is one
+/// entry directly inside `<target>/report` (the fuzz harness checks it for hostile names).
+pub(crate) fn default_report_dir(target: &Path, study_name: &str) -> PathBuf {
+    target.join("report").join(study_name)
 }
 
 /// Write a computed report into the checked and locked output directory; print one summary
@@ -501,7 +505,7 @@ pub fn run(args: &Args) -> Result<()> {
     let out = args
         .out
         .clone()
-        .unwrap_or_else(|| default_out(&format!("report/{}", s.name)));
+        .unwrap_or_else(|| default_report_dir(&target_dir(), &s.name));
     let prepared = crate::outdir::Prepared::new(&out)?;
     let c = compute::compute(s, options)?;
     write(&c, &out, prepared, "report")
@@ -513,7 +517,10 @@ pub fn run(args: &Args) -> Result<()> {
 /// As [`inputs`], [`compute::compute`] and the output directory.
 pub fn run_paper(args: &PaperArgs) -> Result<()> {
     let (s, options) = inputs(None, args.seed, args.samples, None, None, true)?;
-    let out = args.out.clone().unwrap_or_else(|| default_out("paper"));
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| target_dir().join("paper"));
     let prepared = crate::outdir::Prepared::new(&out)?;
     let c = compute::compute(s, options)?;
     write(&c, &out, prepared, "reproduce-paper")
