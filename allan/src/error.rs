@@ -47,3 +47,17 @@ pub enum AllanError {
         tau_s: f64,
     },
 }
+
+impl tt_core::ErrorClass for AllanError {
+    /// Input: a sample (`samples`), the rate (`rate_hz`), a setting, too few samples. Internal:
+    /// none (an overflow comes from samples too large for a double: `samples`).
+    fn input_field(&self) -> Option<&str> {
+        match self {
+            AllanError::NonFiniteSample { .. }
+            | AllanError::TooFewSamples { .. }
+            | AllanError::Overflow { .. } => Some("samples"),
+            AllanError::InvalidRate { .. } => Some("rate_hz"),
+            AllanError::InvalidSetting { field, .. } => Some(field),
+        }
+    }
+}

@@ -7,7 +7,7 @@ use alloc_opt::{
     AllocError, Allocator, Certificate, EqualEffects, SensitivityWeighted, Weights,
     allocate_with_exact_margin, exact_chain_check, paper,
 };
-use tt_kinematics::units::RAD_PER_ARCMIN;
+use tt_core::units::RAD_PER_ARCMIN;
 
 fn main() -> Result<(), AllocError> {
     let problem = paper::example_problem()?;

@@ -8,7 +8,7 @@
 use alloc_opt::{
     AllocationProblem, Allocator, EqualEffects, Requirement, SensitivityWeighted, exact_chain_check,
 };
-use tt_kinematics::units::{RAD_PER_ARCMIN, arcmin_to_rad};
+use tt_core::units::{RAD_PER_ARCMIN, arcmin_to_rad};
 use tt_kinematics::{FactorSpec, LinearModel, SignedAxis, Turntable, TurntableDescription};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -1,9 +1,10 @@
 //! The [`Allocator`] seam, its result [`Allocation`] and the Lemma 1 [`Certificate`].
 
 use crate::error::{AllocError, finite_result, length};
-use crate::problem::{AllocationProblem, Requirement, Weights, error_names};
+use crate::problem::{AllocationProblem, Weights, error_names};
 use crate::solver::{Cut, CutOracle};
-use tt_kinematics::units::RAD_PER_ARCMIN;
+use tt_core::Requirement;
+use tt_core::units::RAD_PER_ARCMIN;
 use tt_kinematics::{CERTIFY_REL_GAP, LinearModel, OrientationAxis, Pose, WorstPose};
 
 /// A requirement counts as active (tight) when the worst case uses at least
@@ -148,8 +149,8 @@ impl Certificate {
     /// [`LinearModel::worst_pose_certified`].
     ///
     /// # Errors
-    /// [`AllocError::Length`] for vectors of the wrong length; [`AllocError::NonFinite`] or
-    /// [`AllocError::Negative`] naming `upper_bounds.<error name>` for a bound that is NaN,
+    /// [`AllocError::Field`] (wrong length) for vectors of the wrong length; [`AllocError::Field`] (not finite) or
+    /// [`AllocError::Field`] (negative) naming `upper_bounds.<error name>` for a bound that is NaN,
     /// negative, or infinite on an angle with a requirement.
     ///
     /// # Reference
@@ -166,16 +167,18 @@ impl Certificate {
         let names = error_names(model);
         for (name, &u) in names.iter().zip(ub_rad) {
             if u.is_nan() {
-                return Err(AllocError::NonFinite {
+                return Err(tt_core::FieldError::NonFinite {
                     field: format!("upper_bounds.{name}"),
                     value: u,
-                });
+                }
+                .into());
             }
             if u < 0.0 {
-                return Err(AllocError::Negative {
+                return Err(tt_core::FieldError::Negative {
                     field: format!("upper_bounds.{name}"),
                     value: u,
-                });
+                }
+                .into());
             }
         }
         let mut axes = Vec::with_capacity(3);
@@ -187,10 +190,11 @@ impl Certificate {
                 if ub_rad[i].is_finite() {
                     w[i] = ub_rad[i];
                 } else if requirement.get(axis).is_some() {
-                    return Err(AllocError::NonFinite {
+                    return Err(tt_core::FieldError::NonFinite {
                         field: format!("upper_bounds.{}", names[i]),
                         value: ub_rad[i],
-                    });
+                    }
+                    .into());
                 } else {
                     unbounded.push(i);
                 }
@@ -346,7 +350,7 @@ impl Allocation {
     /// $J$ with the bounds in arcminutes (unit arcmin$^{-2}$), the scale of Table 4.
     #[must_use]
     pub fn objective_arcmin(&self) -> f64 {
-        self.objective * RAD_PER_ARCMIN * RAD_PER_ARCMIN
+        tt_core::units::objective_to_arcmin(self.objective)
     }
 
     /// The share of each requirement used, order $\psi, \theta, \gamma$ (`None` without a

@@ -6,42 +6,11 @@ use tt_kinematics::{KinematicsError, OrientationAxis};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum AllocError {
-    /// A named input was NaN or infinite.
-    #[error("{field} must be finite, got {value}")]
-    NonFinite {
-        /// Which input, for example `requirement.gamma` or `lower_bounds.dalpha_x2`.
-        field: String,
-        /// The offending value (radians for angles).
-        value: f64,
-    },
-    /// A named input that must be strictly positive was zero or negative.
-    #[error("{field} must be positive, got {value}")]
-    NotPositive {
-        /// Which input, for example `requirement.theta` or `weights.gamma.dalpha_x2`.
-        field: String,
-        /// The offending value.
-        value: f64,
-    },
-    /// A named input that must be non-negative was negative.
-    #[error("{field} must not be negative, got {value}")]
-    Negative {
-        /// Which input, for example `lower_bounds.deps_x`.
-        field: String,
-        /// The offending value.
-        value: f64,
-    },
-    /// A vector or matrix given for the turntable's errors has the wrong size.
-    #[error(
-        "{field}: expected {expected} values (one per rotation error of the turntable), got {found}"
-    )]
-    Length {
-        /// Which input (`lower_bounds`, `weights`, `upper_bounds`).
-        field: String,
-        /// How many the turntable needs.
-        expected: usize,
-        /// How many were given.
-        found: usize,
-    },
+    /// An input was rejected by a check (NaN or infinite, not positive, negative, wrong
+    /// length), naming the field (`requirement.gamma`, `lower_bounds.dalpha_x2`,
+    /// `weights.gamma.dalpha_x2`, `upper_bounds`).
+    #[error(transparent)]
+    Field(#[from] tt_core::FieldError),
     /// The lower bounds alone already violate a requirement: no upper bounds can satisfy it.
     #[error(
         "problem {}: the lower bounds of {} alone give a worst case of \
@@ -127,39 +96,7 @@ pub enum AllocError {
     Kinematics(#[from] KinematicsError),
 }
 
-/// Check that `value` is finite.
-pub(crate) fn finite(field: impl Into<String>, value: f64) -> Result<f64, AllocError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(AllocError::NonFinite {
-            field: field.into(),
-            value,
-        })
-    }
-}
-
-/// Check that `value` is finite and strictly positive.
-pub(crate) fn positive(field: impl Into<String>, value: f64) -> Result<f64, AllocError> {
-    let field = field.into();
-    let v = finite(field.clone(), value)?;
-    if v > 0.0 {
-        Ok(v)
-    } else {
-        Err(AllocError::NotPositive { field, value })
-    }
-}
-
-/// Check that `value` is finite and non-negative.
-pub(crate) fn non_negative(field: impl Into<String>, value: f64) -> Result<f64, AllocError> {
-    let field = field.into();
-    let v = finite(field.clone(), value)?;
-    if v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(AllocError::Negative { field, value })
-    }
-}
+pub(crate) use tt_core::{finite, length, non_negative, positive};
 
 /// Check that a computed quantity is finite.
 pub(crate) fn finite_result(what: impl FnOnce() -> String, value: f64) -> Result<f64, AllocError> {
@@ -173,15 +110,22 @@ pub(crate) fn finite_result(what: impl FnOnce() -> String, value: f64) -> Result
     }
 }
 
-/// Check a length.
-pub(crate) fn length(field: &str, expected: usize, found: usize) -> Result<(), AllocError> {
-    if expected == found {
-        Ok(())
-    } else {
-        Err(AllocError::Length {
-            field: field.to_string(),
-            expected,
-            found,
-        })
+impl tt_core::ErrorClass for AllocError {
+    /// Input: the fields, lower bounds that alone violate the requirement (`lower_bounds`),
+    /// the paper's quarter ranges on a table they do not fit (`constraint_form`), the
+    /// kinematics' input errors. Internal: an unbounded problem, the conic solver, the
+    /// exchange method, a malformed subproblem, a non-finite result.
+    fn input_field(&self) -> Option<&str> {
+        match self {
+            AllocError::Field(e) => Some(e.field()),
+            AllocError::InfeasibleLowerBounds { .. } => Some("lower_bounds"),
+            AllocError::QuarterRangesNeedOneFreeJoint { .. } => Some("constraint_form"),
+            AllocError::Kinematics(e) => tt_core::ErrorClass::input_field(e),
+            AllocError::Unbounded { .. }
+            | AllocError::Solver { .. }
+            | AllocError::NoConvergence { .. }
+            | AllocError::Malformed { .. }
+            | AllocError::NonFiniteResult { .. } => None,
+        }
     }
 }

@@ -77,7 +77,7 @@ pub struct ExactAxisCheck {
 /// proof for the first-order model.
 ///
 /// # Errors
-/// [`AllocError::Length`] when the allocation does not fit the problem's turntable;
+/// [`AllocError::Field`] (wrong length) when the allocation does not fit the problem's turntable;
 /// [`AllocError::Kinematics`] if the chain rejects an input.
 pub fn exact_chain_check(
     problem: &AllocationProblem,

@@ -136,5 +136,7 @@ pub use exact::{
     ExactAxisCheck, ExactSafeAllocation, FULL_ENUMERATION_MAX_ERRORS, allocate_with_exact_margin,
     exact_chain_check,
 };
-pub use problem::{AllocationProblem, Requirement, Weights};
+pub use problem::{AllocationProblem, Weights};
+/// The requirement of eq 15-16 ([`tt_core::Requirement`]), re-exported.
+pub use tt_core::Requirement;
 pub use weighted::{ConstraintForm, SensitivityWeighted, WeightRule};

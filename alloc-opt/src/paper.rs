@@ -3,8 +3,9 @@
 //! here is used by the general code paths.
 
 use crate::error::AllocError;
-use crate::problem::{AllocationProblem, Requirement};
-use tt_kinematics::units::RAD_PER_ARCMIN;
+use crate::problem::AllocationProblem;
+use tt_core::Requirement;
+use tt_core::units::RAD_PER_ARCMIN;
 use tt_kinematics::{LinearModel, paper as tt_paper};
 
 /// The orientation requirement of eq 16 as printed: $|\Delta\psi|, |\Delta\theta|,
@@ -60,7 +61,6 @@ pub mod claims {
     use crate::error::AllocError;
     use crate::problem::{AllocationProblem, Weights};
     use std::fmt;
-    use tt_kinematics::units::RAD_PER_ARCMIN;
 
     /// Half a unit of Table 4's last printed digit (arcmin): two bounds that agree to the
     /// printing agree within this.
@@ -76,7 +76,7 @@ pub mod claims {
     }
 
     fn arcmin2(objective_rad: f64) -> f64 {
-        objective_rad * RAD_PER_ARCMIN * RAD_PER_ARCMIN
+        tt_core::units::objective_to_arcmin(objective_rad)
     }
 
     /// §4.3: Table 4 against the optimum of problems (31)-(34).

@@ -1,84 +1,9 @@
 //! The inputs of an allocation: model, requirement, lower bounds, weights.
 
-use crate::error::{AllocError, finite, length, non_negative, positive};
+use crate::error::{AllocError, length, non_negative, positive};
 use nalgebra::DMatrix;
-use tt_kinematics::units::deg_to_rad;
+use tt_core::Requirement;
 use tt_kinematics::{LinearModel, OrientationAxis};
-
-/// The orientation-accuracy requirement $(I_\psi, I_\theta, I_\gamma)$ of eq 15-16, radians.
-///
-/// An angle may carry no requirement (`None`), for example when no sensor output depends on
-/// it: it then imposes no constraint, and an error that only such angles depend on is left
-/// unconstrained by the allocation (upper bound $+\infty$).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Requirement {
-    rad: [Option<f64>; 3],
-}
-
-impl Requirement {
-    /// A requirement on all three angles, radians; each must be finite and positive.
-    ///
-    /// # Errors
-    /// [`AllocError::NonFinite`] or [`AllocError::NotPositive`] naming `requirement.<axis>`.
-    pub fn new(psi_rad: f64, theta_rad: f64, gamma_rad: f64) -> Result<Self, AllocError> {
-        Self::from_options([Some(psi_rad), Some(theta_rad), Some(gamma_rad)])
-    }
-
-    /// A requirement with some angles left free (`None`), order $\psi, \theta, \gamma$,
-    /// radians; each given value must be finite and positive.
-    ///
-    /// # Errors
-    /// As [`Requirement::new`].
-    pub fn from_options(rad: [Option<f64>; 3]) -> Result<Self, AllocError> {
-        let mut out = [None; 3];
-        for axis in OrientationAxis::ALL {
-            if let Some(v) = rad[axis.index()] {
-                out[axis.index()] = Some(positive(format!("requirement.{}", axis.name()), v)?);
-            }
-        }
-        Ok(Self { rad: out })
-    }
-
-    /// The same requirement for all three angles, in degrees (eq 16 prints 0.027 deg).
-    ///
-    /// # Errors
-    /// As [`Requirement::new`] (`requirement_deg` when not finite).
-    pub fn uniform_deg(deg: f64) -> Result<Self, AllocError> {
-        let r = deg_to_rad(finite("requirement_deg", deg)?);
-        Self::new(r, r, r)
-    }
-
-    /// $I_k$ in radians, `None` when the angle carries no requirement.
-    #[must_use]
-    pub fn get(&self, axis: OrientationAxis) -> Option<f64> {
-        self.rad[axis.index()]
-    }
-
-    /// All three, in the order $\psi, \theta, \gamma$.
-    #[must_use]
-    pub fn to_array(&self) -> [Option<f64>; 3] {
-        self.rad
-    }
-
-    /// The angles that carry a requirement, in the order $\psi, \theta, \gamma$.
-    #[must_use]
-    pub fn constrained_axes(&self) -> Vec<OrientationAxis> {
-        OrientationAxis::ALL
-            .into_iter()
-            .filter(|a| self.get(*a).is_some())
-            .collect()
-    }
-
-    /// The requirement multiplied by `factor` (in $(0, 1]$ for a safety margin); angles
-    /// without a requirement stay without.
-    ///
-    /// # Errors
-    /// [`AllocError::NotPositive`] when `factor` is not positive and finite.
-    pub fn scaled(&self, factor: f64) -> Result<Self, AllocError> {
-        let f = positive("requirement_factor", factor)?;
-        Self::from_options(self.rad.map(|v| v.map(|v| v * f)))
-    }
-}
 
 /// What an [`crate::Allocator`] is asked: the first-order orientation-error model of a
 /// turntable (eq 26 for the paper's table), the requirement and one lower bound
@@ -95,8 +20,8 @@ impl AllocationProblem {
     /// order, eq 25 for the paper) must be finite and non-negative.
     ///
     /// # Errors
-    /// [`AllocError::Length`] naming `lower_bounds` for a vector of the wrong length;
-    /// [`AllocError::NonFinite`] or [`AllocError::Negative`] naming
+    /// [`AllocError::Field`] (wrong length) naming `lower_bounds` for a vector of the wrong length;
+    /// [`AllocError::Field`] (not finite, negative) naming
     /// `lower_bounds.<error name>`.
     pub fn new(
         model: LinearModel,
@@ -124,15 +49,16 @@ impl AllocationProblem {
     /// second-order terms the linear model omits (see [`crate::exact_chain_check`]).
     ///
     /// # Errors
-    /// [`AllocError::NonFinite`]/[`AllocError::Negative`] naming `safety_margin`, or
-    /// [`AllocError::NotPositive`] when `margin >= 1`.
+    /// [`AllocError::Field`] (not finite, negative) naming `safety_margin`, or
+    /// [`AllocError::Field`] (not positive) when `margin >= 1`.
     pub fn with_safety_margin(&self, margin: f64) -> Result<Self, AllocError> {
         let m = non_negative("safety_margin", margin)?;
         if m >= 1.0 {
-            return Err(AllocError::NotPositive {
+            return Err(tt_core::FieldError::NotPositive {
                 field: "1 - safety_margin".into(),
                 value: 1.0 - m,
-            });
+            }
+            .into());
         }
         Ok(Self {
             requirement: self.requirement.scaled(1.0 - m)?,
@@ -215,8 +141,8 @@ impl Weights {
     /// (set to zero).
     ///
     /// # Errors
-    /// [`AllocError::Length`] naming `weights` for a matrix that is not $3 \times n$;
-    /// [`AllocError::NonFinite`] or [`AllocError::NotPositive`] naming
+    /// [`AllocError::Field`] (wrong length) naming `weights` for a matrix that is not $3 \times n$;
+    /// [`AllocError::Field`] (not finite, not positive) naming
     /// `weights.<axis>.<error name>`.
     pub fn new(model: &LinearModel, w: DMatrix<f64>) -> Result<Self, AllocError> {
         length("weights (rows)", 3, w.nrows())?;

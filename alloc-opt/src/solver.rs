@@ -202,7 +202,7 @@ pub struct InverseSquareSolution {
 ///
 /// # Errors
 /// [`AllocError::Malformed`] for inconsistent lengths or an empty start set,
-/// [`AllocError::NonFinite`]/[`AllocError::NotPositive`]/[`AllocError::Negative`] for bad
+/// [`AllocError::Field`] (not finite, not positive, negative) for bad
 /// weights, bounds or rows, [`AllocError::Unbounded`] when the rows do not bound a component,
 /// [`AllocError::Solver`] when clarabel fails, [`AllocError::NoConvergence`] when the exchange
 /// method stalls. Lower bounds that violate the rows give [`AllocError::Malformed`]; the

@@ -11,15 +11,13 @@ use alloc_opt::{
 use common::*;
 use nalgebra::DMatrix;
 use proptest::prelude::*;
-use tt_kinematics::units::arcmin_to_rad;
+use tt_core::FieldError;
+use tt_core::units::arcmin_to_rad;
 use tt_kinematics::{LinearModel, OrientationAxis as A};
 
 fn field_of(e: &AllocError) -> &str {
     match e {
-        AllocError::NonFinite { field, .. }
-        | AllocError::NotPositive { field, .. }
-        | AllocError::Negative { field, .. }
-        | AllocError::Length { field, .. } => field,
+        AllocError::Field(f) => f.field(),
         other => panic!("expected a field error, got {other:?}"),
     }
 }
@@ -27,21 +25,21 @@ fn field_of(e: &AllocError) -> &str {
 #[test]
 fn requirement_nan_infinite_zero_or_negative_is_rejected_by_name() {
     let e = Requirement::new(f64::NAN, 1e-4, 1e-4).unwrap_err();
-    assert!(matches!(e, AllocError::NonFinite { .. }));
-    assert_eq!(field_of(&e), "requirement.psi");
+    assert!(matches!(e, FieldError::NonFinite { .. }));
+    assert_eq!(e.field(), "requirement.psi");
     let e = Requirement::new(1e-4, 0.0, 1e-4).unwrap_err();
-    assert!(matches!(e, AllocError::NotPositive { .. }));
-    assert_eq!(field_of(&e), "requirement.theta");
+    assert!(matches!(e, FieldError::NotPositive { .. }));
+    assert_eq!(e.field(), "requirement.theta");
     let e = Requirement::new(1e-4, 1e-4, f64::INFINITY).unwrap_err();
-    assert_eq!(field_of(&e), "requirement.gamma");
+    assert_eq!(e.field(), "requirement.gamma");
     let e = Requirement::new(1e-4, -1e-4, 1e-4).unwrap_err();
-    assert_eq!(field_of(&e), "requirement.theta");
+    assert_eq!(e.field(), "requirement.theta");
     // An absent requirement is fine; a present one is still checked.
     assert!(Requirement::from_options([None, Some(1e-4), None]).is_ok());
     let e = Requirement::from_options([None, None, Some(-1.0)]).unwrap_err();
-    assert_eq!(field_of(&e), "requirement.gamma");
+    assert_eq!(e.field(), "requirement.gamma");
     assert_eq!(
-        field_of(&Requirement::uniform_deg(f64::NAN).unwrap_err()),
+        Requirement::uniform_deg(f64::NAN).unwrap_err().field(),
         "requirement_deg"
     );
 }
@@ -52,12 +50,12 @@ fn lower_bound_negative_or_not_finite_is_rejected_by_name() {
     let mut lb = vec![0.0; 8];
     lb[idx("dalpha_x2")] = -1e-6;
     let e = AllocationProblem::new(paper_model(), req, lb.clone()).unwrap_err();
-    assert!(matches!(e, AllocError::Negative { .. }));
+    assert!(matches!(e, AllocError::Field(FieldError::Negative { .. })));
     assert_eq!(field_of(&e), "lower_bounds.dalpha_x2");
     assert!(e.to_string().contains("lower_bounds.dalpha_x2"), "{e}");
     lb[idx("dalpha_x2")] = f64::NEG_INFINITY;
     let e = AllocationProblem::new(paper_model(), req, lb.clone()).unwrap_err();
-    assert!(matches!(e, AllocError::NonFinite { .. }));
+    assert!(matches!(e, AllocError::Field(FieldError::NonFinite { .. })));
     assert_eq!(field_of(&e), "lower_bounds.dalpha_x2");
     lb[idx("dalpha_x2")] = 0.0;
     lb[idx("dalpha_z1")] = f64::NAN;
@@ -76,11 +74,11 @@ fn vectors_of_the_wrong_length_are_rejected_by_name() {
     let e = AllocationProblem::new(paper_model(), req, vec![0.0; 13]).unwrap_err();
     assert_eq!(
         e,
-        AllocError::Length {
+        AllocError::Field(FieldError::Length {
             field: "lower_bounds".into(),
             expected: 8,
             found: 13
-        }
+        })
     );
     let e = Weights::new(&paper_model(), DMatrix::from_element(3, 7, 1.0)).unwrap_err();
     assert_eq!(field_of(&e), "weights");
@@ -97,7 +95,10 @@ fn weight_zero_negative_or_nan_is_rejected_by_name() {
         .clone();
     w[(A::Gamma.index(), idx("dalpha_x2"))] = 0.0;
     let e = Weights::new(&model, w.clone()).unwrap_err();
-    assert!(matches!(e, AllocError::NotPositive { .. }));
+    assert!(matches!(
+        e,
+        AllocError::Field(FieldError::NotPositive { .. })
+    ));
     assert_eq!(field_of(&e), "weights.gamma.dalpha_x2");
     w[(A::Gamma.index(), idx("dalpha_x2"))] = f64::NAN;
     assert_eq!(

@@ -14,7 +14,7 @@ use approx::assert_relative_eq;
 use common::*;
 use proptest::prelude::*;
 use std::f64::consts::TAU;
-use tt_kinematics::units::{arcmin_to_rad, deg_to_rad};
+use tt_core::units::{arcmin_to_rad, deg_to_rad};
 use tt_kinematics::{
     Axis, FactorSpec, LinearModel, OrientationAxis as A, Pose, SignedAxis, Turntable,
     TurntableDescription,

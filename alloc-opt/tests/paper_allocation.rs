@@ -12,8 +12,8 @@ use approx::{assert_abs_diff_eq, assert_relative_eq};
 use common::*;
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, SQRT_2, TAU};
+use tt_core::units::{RAD_PER_ARCMIN, arcmin_to_rad, deg_to_rad};
 use tt_kinematics::paper::ClosedForm;
-use tt_kinematics::units::{RAD_PER_ARCMIN, arcmin_to_rad, deg_to_rad};
 use tt_kinematics::{
     ExactChain, OrientationAxis as A, OrientationErrorModel, Pose, TurntableErrors,
 };

@@ -13,7 +13,7 @@ use approx::assert_relative_eq;
 use common::*;
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
-use tt_kinematics::units::arcmin_to_rad;
+use tt_core::units::arcmin_to_rad;
 use tt_kinematics::{
     ExactChain, LinearModel, OrientationAxis as A, OrientationErrorModel, Pose, TurntableErrors,
 };

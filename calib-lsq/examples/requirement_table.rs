@@ -4,7 +4,8 @@
 //! Run: `cargo run --release -p calib-lsq --example requirement_table`
 
 use calib_lsq::{CalibError, Calibration, Reading, RequirementProblem, Schedule, paper};
-use gw_model::{DeltaRKind, Site};
+use gw_model::Site;
+use tt_core::DeltaRKind;
 
 fn fmt(r: &[Option<f64>; 3]) -> String {
     r.iter()
@@ -42,7 +43,7 @@ fn main() -> Result<(), CalibError> {
             Ok(p.region(k)?
                 .sensitive_angles()
                 .iter()
-                .map(|&j| calib_lsq::ANGLE_NAMES[j])
+                .map(|&j| tt_core::OrientationAxis::ALL[j].name())
                 .collect::<Vec<_>>()
                 .join(","))
         };
@@ -51,7 +52,7 @@ fn main() -> Result<(), CalibError> {
             Ok(r) => println!(
                 "| `{reading}` | `{}` | {} | {sx} | {sy} |",
                 reading.formula(),
-                fmt(&r.deg())
+                fmt(&r.requirement.deg())
             ),
             Err(CalibError::Unbounded { .. } | CalibError::NoSensitivity) => println!(
                 "| `{reading}` | `{}` | unbounded | unbounded | unbounded | {sx} | {sy} |",
@@ -69,7 +70,7 @@ fn main() -> Result<(), CalibError> {
     ] {
         let s = Site::from_deg(lat, site.earth_rate_rad_per_s())?;
         let r = problem(&s, &schedule, Reading::PAPER)?.requirement()?;
-        println!("| {lat} | {} |", fmt(&r.deg()));
+        println!("| {lat} | {} |", fmt(&r.requirement.deg()));
     }
 
     println!("\n## Sensitivity to the schedule (paper's reading, Harbin)\n");
@@ -92,7 +93,11 @@ fn main() -> Result<(), CalibError> {
         };
         let sched = paper::grid(&steps(s1), &steps(s2))?;
         let r = problem(&site, &sched, Reading::PAPER)?.requirement()?;
-        println!("| {s1} x {s2} | {} | {} |", sched.len(), fmt(&r.deg()));
+        println!(
+            "| {s1} x {s2} | {} | {} |",
+            sched.len(),
+            fmt(&r.requirement.deg())
+        );
     }
     Ok(())
 }

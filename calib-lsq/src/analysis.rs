@@ -54,10 +54,11 @@ use crate::calibration::{
 };
 use crate::error::CalibError;
 use crate::lsq::Regression;
-use gw_model::{DeltaRKind, InputValues, Inputs, OrientationAngles};
+use gw_model::{InputValues, Inputs};
 use nalgebra::{DVector, Matrix3};
 use std::fmt;
 use std::str::FromStr;
+use tt_core::{DeltaRKind, OrientationError};
 
 /// Where the outputs $\mathbf b_1$ are simulated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -509,7 +510,7 @@ impl OutputCalibration {
     /// once `work` is sized; readings with $\hat{\boldsymbol\beta}_2$ factor $\mathbf A'$.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless there is one value per position (and `out` as
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one value per position (and `out` as
     /// long); [`CalibError::Unidentifiable`] when $\mathbf A'$ is rank deficient (readings with
     /// $\hat{\boldsymbol\beta}_2$ only).
     pub fn error_vector_at(
@@ -521,13 +522,7 @@ impl OutputCalibration {
     ) -> Result<(), CalibError> {
         let n = self.b2().len();
         for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
-            if len != n {
-                return Err(CalibError::LengthMismatch {
-                    what,
-                    expected: n,
-                    found: len,
-                });
-            }
+            tt_core::length(what, n, len)?;
         }
         let f = &self.fast;
         let k = f.estimated.len();
@@ -627,16 +622,16 @@ impl OrientationErrorAnalysis {
     /// Prepare the analysis of output `k` of a calibration under `reading`.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] naming `output index` when there is no output `k`.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) naming `output index` when there is no output `k`.
     pub fn new(calibration: &Calibration, k: usize, reading: Reading) -> Result<Self, CalibError> {
         let cal = calibration
             .outputs()
             .get(k)
-            .ok_or(CalibError::LengthMismatch {
-                what: "output index",
+            .ok_or(CalibError::Field(tt_core::FieldError::Length {
+                field: "output index".into(),
                 expected: calibration.outputs().len(),
                 found: k,
-            })?
+            }))?
             .clone();
         Ok(Self {
             cal,
@@ -710,7 +705,7 @@ impl OrientationErrorAnalysis {
     /// Eq 7-14.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless there is one matrix per position;
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one matrix per position;
     /// [`CalibError::Unidentifiable`] if $\mathbf A'$ is rank deficient.
     pub fn analyze(&self, delta_r: &[Matrix3<f64>]) -> Result<ErrorAnalysis, CalibError> {
         let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
@@ -768,7 +763,7 @@ impl OrientationErrorAnalysis {
     /// As [`analyze`](Self::analyze).
     pub fn delta_omega_for_angles(
         &self,
-        angles: &OrientationAngles,
+        angles: &OrientationError,
         kind: DeltaRKind,
     ) -> Result<f64, CalibError> {
         let m = angles.delta_r(kind);
@@ -781,7 +776,7 @@ impl OrientationErrorAnalysis {
     /// As [`analyze`](Self::analyze).
     pub fn analyze_angles(
         &self,
-        angles: &OrientationAngles,
+        angles: &OrientationError,
         kind: DeltaRKind,
     ) -> Result<ErrorAnalysis, CalibError> {
         let m = angles.delta_r(kind);

@@ -274,20 +274,23 @@ impl Calibration {
     /// Eq 5-6.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] for a wrong count; [`CalibError::NonFinite`] naming the
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) for a wrong count; [`CalibError::Field`] (not finite) naming the
     /// output entry.
     pub fn calibrate(&self, k: usize, outputs: &[f64]) -> Result<CalibrationResult, CalibError> {
-        let o = self.outputs.get(k).ok_or(CalibError::LengthMismatch {
-            what: "output index",
-            expected: self.outputs.len(),
-            found: k,
-        })?;
+        let o = self
+            .outputs
+            .get(k)
+            .ok_or(CalibError::Field(tt_core::FieldError::Length {
+                field: "output index".into(),
+                expected: self.outputs.len(),
+                found: k,
+            }))?;
         if outputs.len() != self.schedule.len() {
-            return Err(CalibError::LengthMismatch {
-                what: "outputs",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "outputs".into(),
                 expected: self.schedule.len(),
                 found: outputs.len(),
-            });
+            }));
         }
         for (i, v) in outputs.iter().enumerate() {
             finite(format!("outputs[{i}]"), *v)?;

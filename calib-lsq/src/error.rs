@@ -9,22 +9,10 @@ pub enum CalibError {
     /// An input of the sensor model was invalid (site, orientation angles, sensor).
     #[error(transparent)]
     Model(#[from] ModelError),
-    /// A named input was NaN or infinite.
-    #[error("{field} must be finite, got {value}")]
-    NonFinite {
-        /// Which input (for example `accuracy` or `outputs[3]`).
-        field: String,
-        /// The offending value.
-        value: f64,
-    },
-    /// A named input must be strictly positive.
-    #[error("{field} must be positive, got {value}")]
-    NonPositive {
-        /// Which input.
-        field: String,
-        /// The offending value.
-        value: f64,
-    },
+    /// An input was rejected by a check (NaN or infinite, not positive, wrong length), naming
+    /// the field (`accuracy`, `outputs[3]`, `delta_r`, `dwell_s[2]`).
+    #[error(transparent)]
+    Field(#[from] tt_core::FieldError),
     /// A schedule (or regression matrix) cannot identify some coefficients: they lie in the
     /// null space of $\mathbf A$.
     #[error(
@@ -42,16 +30,6 @@ pub enum CalibError {
         columns: usize,
         /// Number of positions.
         positions: usize,
-    },
-    /// Two vectors that must have equal lengths do not.
-    #[error("{what}: expected {expected} entries, got {found}")]
-    LengthMismatch {
-        /// What was passed (for example `outputs` or `delta_r`).
-        what: &'static str,
-        /// The required length (number of positions).
-        expected: usize,
-        /// The given length.
-        found: usize,
     },
     /// The requirement region is not bounded within the search range (the reading gives no
     /// error growth in some direction).
@@ -108,23 +86,23 @@ pub enum CalibError {
     },
 }
 
-pub(crate) fn finite(field: impl Into<String>, value: f64) -> Result<f64, CalibError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(CalibError::NonFinite {
-            field: field.into(),
-            value,
-        })
-    }
-}
+pub(crate) use tt_core::{finite, positive};
 
-pub(crate) fn positive(field: impl Into<String>, value: f64) -> Result<f64, CalibError> {
-    let field = field.into();
-    finite(field.as_str(), value)?;
-    if value > 0.0 {
-        Ok(value)
-    } else {
-        Err(CalibError::NonPositive { field, value })
+impl tt_core::ErrorClass for CalibError {
+    /// Input: the fields, a schedule that cannot identify a coefficient (`positions`), a
+    /// reading's name, a grid, a timing, an unknown name. Internal: an unbounded requirement
+    /// region (the search found no boundary).
+    fn input_field(&self) -> Option<&str> {
+        match self {
+            CalibError::Model(e) => tt_core::ErrorClass::input_field(e),
+            CalibError::Field(e) => Some(e.field()),
+            CalibError::Unidentifiable { .. } => Some("positions"),
+            CalibError::NoSensitivity => Some("sensor"),
+            CalibError::UnknownReading { .. } => Some("reading"),
+            CalibError::BadGrid { .. } => Some("grid"),
+            CalibError::Timing { field, .. } => Some(field),
+            CalibError::Unknown { what, .. } => Some(what),
+            CalibError::Unbounded { .. } => None,
+        }
     }
 }

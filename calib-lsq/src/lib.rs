@@ -22,13 +22,13 @@
 //! # Example
 //! ```
 //! use calib_lsq::{Calibration, Reading, RequirementProblem, paper};
-//! use gw_model::DeltaRKind;
+//! use tt_core::DeltaRKind;
 //!
 //! // Table 1, 0.01 deg/h, Harbin, the default 32-position schedule
 //! let cal = Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &paper::schedule())?;
 //! let req = RequirementProblem::new(cal, Reading::PAPER, DeltaRKind::SmallAngle).requirement()?;
 //! // Eq 16: 0.027 deg for all three angles (rounded).
-//! for i in req.deg() {
+//! for i in req.requirement.deg() {
 //!     assert!((i.unwrap() - 0.027).abs() < 0.0005);
 //! }
 //! # Ok::<(), calib_lsq::CalibError>(())
@@ -63,7 +63,7 @@ pub use lsq::{
     RateErrorCovariance, Regression, jacobi_singular_values,
 };
 pub use requirement::{
-    ANGLE_NAMES, BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
+    BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
     DIRECTION_TOL_RAD, INSENSITIVE_REL, LINEAR_REGIME_RAD, OrientationRequirement, OutputBox,
     OutputRegion, RADIUS_TOL_REL, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD,
     Surface,

@@ -81,19 +81,19 @@ impl Regression {
     ///
     /// # Errors
     /// [`CalibError::Unidentifiable`] naming `output` and every coefficient with a component in
-    /// the null space of $\mathbf A$; [`CalibError::NonFinite`] for a non-finite entry;
-    /// [`CalibError::LengthMismatch`] unless there is one name per column.
+    /// the null space of $\mathbf A$; [`CalibError::Field`] (not finite) for a non-finite entry;
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one name per column.
     pub fn new(output: &str, names: Vec<String>, a: DMatrix<f64>) -> Result<Self, CalibError> {
         for (k, v) in a.iter().enumerate() {
             finite(format!("A[{}][{}]", k % a.nrows(), k / a.nrows()), *v)?;
         }
         let (n, k) = a.shape();
         if names.len() != k || k == 0 {
-            return Err(CalibError::LengthMismatch {
-                what: "coefficient names",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "coefficient names".into(),
                 expected: k,
                 found: names.len(),
-            });
+            }));
         }
         // With fewer rows than columns pad with zero rows: the missing directions become null.
         let padded = if n < k {
@@ -186,15 +186,15 @@ impl Regression {
     /// The least-squares estimate $\hat{\boldsymbol\beta} = \mathbf A^+ \mathbf y$ only.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] if `y` does not have one entry per row of $\mathbf A$.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) if `y` does not have one entry per row of $\mathbf A$.
     pub fn estimate(&self, y: &DVector<f64>) -> Result<DVector<f64>, CalibError> {
         let n = self.a.nrows();
         if y.len() != n {
-            return Err(CalibError::LengthMismatch {
-                what: "right-hand side",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "right-hand side".into(),
                 expected: n,
                 found: y.len(),
-            });
+            }));
         }
         let qty = self.q.transpose() * y;
         Ok(self

@@ -29,7 +29,7 @@ pub fn schedule() -> Schedule {
 /// The product grid of the given outer and inner angles (degrees) on the paper's table.
 ///
 /// # Errors
-/// [`CalibError::NonFinite`] for a non-finite angle, [`CalibError::LengthMismatch`] for an
+/// [`CalibError::Field`] (not finite) for a non-finite angle, [`CalibError::Field`] ([`tt_core::FieldError::Length`]) for an
 /// empty grid.
 pub fn grid(phi1_deg: &[f64], phi2_deg: &[f64]) -> Result<Schedule, CalibError> {
     let positions = phi1_deg
@@ -51,8 +51,9 @@ pub fn grid(phi1_deg: &[f64], phi2_deg: &[f64]) -> Result<Schedule, CalibError> 
 /// whether it holds. The claim tests call them and assert; the report prints them.
 pub mod claims {
     use crate::error::CalibError;
-    use crate::requirement::{ANGLE_NAMES, RequirementProblem};
+    use crate::requirement::RequirementProblem;
     use std::fmt;
+    use tt_core::OrientationAxis;
 
     /// The paper's outputs (0 = x, 1 = y) and the angle each is claimed not to depend on
     /// (claim 1: $\Delta\omega_x$ ignores $\Delta\gamma$, $\Delta\omega_y$ ignores $\Delta\psi$).
@@ -159,7 +160,11 @@ pub mod claims {
                     }
                 }
             }
-            outputs.push((r.output().to_string(), ANGLE_NAMES[j], change));
+            outputs.push((
+                r.output().to_string(),
+                OrientationAxis::ALL[j].name(),
+                change,
+            ));
         }
         Ok(Claim1Evidence { outputs })
     }
@@ -273,7 +278,7 @@ pub mod claims {
             let r: Vec<String> = self
                 .requirement_deg
                 .iter()
-                .zip(ANGLE_NAMES)
+                .zip(OrientationAxis::ALL.map(OrientationAxis::name))
                 .map(|(d, n)| {
                     format!(
                         "I_{} = {}",
@@ -296,7 +301,7 @@ pub mod claims {
         printed_decimals: i32,
     ) -> Result<Eq16Evidence, CalibError> {
         Ok(Eq16Evidence {
-            requirement_deg: p.requirement()?.deg(),
+            requirement_deg: p.requirement()?.requirement.deg(),
             printed_deg,
             printed_decimals,
         })

@@ -30,8 +30,9 @@
 use crate::analysis::{ErrorWork, OrientationErrorAnalysis, Reading};
 use crate::calibration::{Calibration, OutputCalibration};
 use crate::error::{CalibError, finite};
-use gw_model::{DeltaRKind, InputValues, OrientationAngles};
+use gw_model::InputValues;
 use std::f64::consts::FRAC_PI_2;
+use tt_core::{DeltaRKind, OrientationAxis, OrientationError, Requirement};
 
 /// Bisection stops when the bracket on the box's corner radius is narrower than this fraction
 /// of the radius (dimensionless): the search is scale-free, so the requirement scales with the
@@ -107,9 +108,6 @@ pub const SENSITIVITY_PROBE_RAD: f64 = 1e-3;
 /// (the chosen direction is then solved to [`RADIUS_TOL_REL`]).
 pub const SEARCH_RADIUS_REL: f64 = 1e-7;
 
-/// The three orientation angles in eq 24 order.
-pub const ANGLE_NAMES: [&str; 3] = ["psi", "theta", "gamma"];
-
 /// Everything the requirement of eq 15-16 depends on: the calibration (sensor with its
 /// accuracies, site, schedule), the reading of eq 13 and the matrix of eq 7.
 #[derive(Debug, Clone)]
@@ -156,7 +154,7 @@ pub struct OutputBox {
 #[derive(Debug, Clone, PartialEq)]
 pub struct OrientationRequirement {
     /// $(I_\psi, I_\theta, I_\gamma)$, rad; `None` where no output depends on the angle.
-    pub rad: [Option<f64>; 3],
+    pub requirement: Requirement,
     /// Each output's box.
     pub boxes: Vec<OutputBox>,
     /// For each output, the largest $\Delta\omega/\omega_m$ at the corners of the combined
@@ -169,20 +167,6 @@ pub struct OrientationRequirement {
     /// misalignments are estimated). Only a pose-dependent analysis (the end-to-end direct
     /// allocation) can account for them.
     pub unconstrained_outputs: Vec<String>,
-}
-
-impl OrientationRequirement {
-    /// $(I_\psi, I_\theta, I_\gamma)$ in degrees (`None` where unconstrained).
-    #[must_use]
-    pub fn deg(&self) -> [Option<f64>; 3] {
-        self.rad.map(|r| r.map(f64::to_degrees))
-    }
-
-    /// The smallest of the three, rad (`None` if none is constrained).
-    #[must_use]
-    pub fn min_rad(&self) -> Option<f64> {
-        self.rad.iter().flatten().copied().reduce(f64::min)
-    }
 }
 
 /// Grid data of a surface $\Gamma$ (Figure 4): one output's $\Delta\omega$ over two angles.
@@ -214,18 +198,18 @@ impl RequirementProblem {
     /// The region of output `k` (its sensitivities found by probing).
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] for a missing output; as
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) for a missing output; as
     /// [`OrientationErrorAnalysis::delta_omega`].
     pub fn region(&self, k: usize) -> Result<OutputRegion, CalibError> {
         let cal = self
             .calibration
             .outputs()
             .get(k)
-            .ok_or(CalibError::LengthMismatch {
-                what: "output index",
+            .ok_or(CalibError::Field(tt_core::FieldError::Length {
+                field: "output index".into(),
                 expected: self.calibration.outputs().len(),
                 found: k,
-            })?
+            }))?
             .clone();
         let accuracy = cal.output().accuracy;
         let mut region = OutputRegion {
@@ -262,7 +246,7 @@ impl RequirementProblem {
     ///
     /// # Errors
     /// As [`RequirementProblem::region`].
-    pub fn rate_error(&self, k: usize, angles: &OrientationAngles) -> Result<f64, CalibError> {
+    pub fn rate_error(&self, k: usize, angles: &OrientationError) -> Result<f64, CalibError> {
         OrientationErrorAnalysis::new(&self.calibration, k, self.reading)?
             .delta_omega_for_angles(angles, self.delta_r_kind)
     }
@@ -325,7 +309,7 @@ impl RequirementProblem {
             })
             .collect::<Result<Vec<_>, CalibError>>()?;
         Ok(OrientationRequirement {
-            rad,
+            requirement: Requirement::from_options(rad)?,
             boxes,
             combined_corner_ratio,
             unconstrained_outputs,
@@ -355,11 +339,11 @@ impl OutputRegion {
     /// $\Delta\omega$ (output unit) for the orientation error `[psi, theta, gamma]` (rad).
     ///
     /// # Errors
-    /// [`CalibError::NonFinite`] for a non-finite angle; as
+    /// [`CalibError::Field`] (not finite) for a non-finite angle; as
     /// [`OrientationErrorAnalysis::delta_omega`].
     pub fn rate_error(&self, angles_rad: [f64; 3]) -> Result<f64, CalibError> {
-        for (name, a) in ANGLE_NAMES.iter().zip(angles_rad) {
-            finite(*name, a)?;
+        for axis in OrientationAxis::ALL {
+            finite(axis.name(), angles_rad[axis.index()])?;
         }
         Ok(self
             .error_vector(angles_rad)?
@@ -651,7 +635,7 @@ impl OutputRegion {
     /// The error vector (output unit) for one orientation error.
     fn error_vector(&self, angles_rad: [f64; 3]) -> Result<Vec<f64>, CalibError> {
         let [psi, theta, gamma] = angles_rad;
-        let dr = OrientationAngles::new(psi, theta, gamma)?.delta_r(self.kind);
+        let dr = OrientationError::new(psi, theta, gamma)?.delta_r(self.kind);
         let actual: Vec<InputValues> = self
             .cal
             .nominal_values()

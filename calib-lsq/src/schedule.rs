@@ -17,7 +17,7 @@ impl Position {
     /// it. The rotation is checked to be finite.
     ///
     /// # Errors
-    /// [`CalibError::NonFinite`] naming `base_from_sensor` or `joint_angles_deg[k]`.
+    /// [`CalibError::Field`] (not finite) naming `base_from_sensor` or `joint_angles_deg[k]`.
     pub fn new(
         base_from_sensor: Matrix3<f64>,
         joint_angles_deg: Vec<f64>,
@@ -58,14 +58,14 @@ impl Schedule {
     /// A schedule from positions (at least one).
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] naming `positions` when empty.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) naming `positions` when empty.
     pub fn new(positions: Vec<Position>) -> Result<Self, CalibError> {
         if positions.is_empty() {
-            return Err(CalibError::LengthMismatch {
-                what: "positions",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "positions".into(),
                 expected: 1,
                 found: 0,
-            });
+            }));
         }
         Ok(Self { positions })
     }
@@ -92,14 +92,16 @@ impl Schedule {
     /// position placed at `i`.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless `order` is a permutation of `0..n`.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless `order` is a permutation of `0..n`.
     pub fn permuted(&self, order: &[usize]) -> Result<Self, CalibError> {
         let n = self.len();
         let mut seen = vec![false; n];
-        let bad = || CalibError::LengthMismatch {
-            what: "permutation",
-            expected: n,
-            found: order.len(),
+        let bad = || {
+            CalibError::Field(tt_core::FieldError::Length {
+                field: "permutation".into(),
+                expected: n,
+                found: order.len(),
+            })
         };
         if order.len() != n {
             return Err(bad());
@@ -127,18 +129,18 @@ impl Schedule {
     /// The actual inputs (eq 8) at every position for per-position $\Delta\mathbf R$.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless there is one matrix per position.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one matrix per position.
     pub fn actual_inputs(
         &self,
         site: &Site,
         delta_r: &[Matrix3<f64>],
     ) -> Result<Vec<Inputs>, CalibError> {
         if delta_r.len() != self.len() {
-            return Err(CalibError::LengthMismatch {
-                what: "delta_r",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "delta_r".into(),
                 expected: self.len(),
                 found: delta_r.len(),
-            });
+            }));
         }
         Ok(self
             .positions

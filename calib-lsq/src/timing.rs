@@ -25,7 +25,7 @@ impl Timing {
     /// dwells (s), `sample_rate_hz` the output's sample rate.
     ///
     /// # Errors
-    /// [`CalibError::NonFinite`] or [`CalibError::NonPositive`] naming `dwell_s[k]` or
+    /// [`CalibError::Field`] (not finite, not positive) naming `dwell_s[k]` or
     /// `sample_rate_hz`; [`CalibError::Timing`] naming `move_s` when negative, `dwell_s` when
     /// empty, and `dwell_s[k]` when a dwell holds less than one sample ($f_s T_k < 1$).
     pub fn new(dwell_s: Vec<f64>, move_s: f64, sample_rate_hz: f64) -> Result<Self, CalibError> {
@@ -143,14 +143,14 @@ impl Timing {
     /// positions are visited in `order` (`order[r]` is the position visited $r$-th).
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless `order` is a permutation of `0..n`.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless `order` is a permutation of `0..n`.
     pub fn windows_in_order(&self, order: &[usize]) -> Result<Vec<Window>, CalibError> {
         let n = self.len();
-        let bad = CalibError::LengthMismatch {
-            what: "visiting order (a permutation of the positions)",
+        let bad = CalibError::Field(tt_core::FieldError::Length {
+            field: "visiting order (a permutation of the positions)".into(),
             expected: n,
             found: order.len(),
-        };
+        });
         if order.len() != n {
             return Err(bad);
         }

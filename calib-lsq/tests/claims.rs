@@ -7,12 +7,13 @@ use calib_lsq::{
     OutputsAt, Position, Reading, RequirementProblem, Schedule, design_matrix, known_vector, paper,
     simulate_outputs,
 };
+use gw_model::Site;
 use gw_model::paper::{TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H};
-use gw_model::units::deg_per_h_to_rad_per_s;
-use gw_model::{DeltaRKind, OrientationAngles, Site};
 use nalgebra::{DMatrix, DVector, Matrix3};
 use proptest::prelude::*;
 use std::sync::OnceLock;
+use tt_core::units::deg_per_h_to_rad_per_s;
+use tt_core::{DeltaRKind, FieldError, OrientationError};
 
 /// Rate errors are of order 1e-2 deg/h and come from cancelling outputs of up to ~100 deg/h
 /// (Table 1), so values that must be equal agree to a few ulps of 100 deg/h: 3e-12 deg/h
@@ -63,7 +64,9 @@ fn paper_requirement() -> &'static OrientationRequirement {
 }
 
 fn deg(r: &OrientationRequirement) -> [f64; 3] {
-    r.deg().map(|d| d.expect("every angle constrained"))
+    r.requirement
+        .deg()
+        .map(|d| d.expect("every angle constrained"))
 }
 
 fn analysis(k: usize, reading: Reading) -> OrientationErrorAnalysis {
@@ -97,9 +100,9 @@ proptest! {
         let k = DeltaRKind::SmallAngle;
         let x = analysis(0, Reading::PAPER);
         let y = analysis(1, Reading::PAPER);
-        let a = OrientationAngles::new(psi, theta, gamma).unwrap();
-        let x_other = OrientationAngles::new(psi, theta, other).unwrap();
-        let y_other = OrientationAngles::new(other, theta, gamma).unwrap();
+        let a = OrientationError::new(psi, theta, gamma).unwrap();
+        let x_other = OrientationError::new(psi, theta, other).unwrap();
+        let y_other = OrientationError::new(other, theta, gamma).unwrap();
         assert_abs_diff_eq!(x.delta_omega_for_angles(&a, k).unwrap(), x.delta_omega_for_angles(&x_other, k).unwrap(), epsilon = RATE_EQ_TOL_DEG_PER_H);
         assert_abs_diff_eq!(y.delta_omega_for_angles(&a, k).unwrap(), y.delta_omega_for_angles(&y_other, k).unwrap(), epsilon = RATE_EQ_TOL_DEG_PER_H);
     }
@@ -145,7 +148,7 @@ proptest! {
             order.swap(i, j);
         }
         let permuted = schedule.permuted(&order).unwrap();
-        let dr = vec![OrientationAngles::from_deg(0.02, -0.03, 0.01).unwrap().delta_r(DeltaRKind::Exact); schedule.len()];
+        let dr = vec![OrientationError::from_deg(0.02, -0.03, 0.01).unwrap().delta_r(DeltaRKind::Exact); schedule.len()];
         let cal = Calibration::new(&sensor, &site, &schedule).unwrap();
         let calp = Calibration::new(&sensor, &site, &permuted).unwrap();
         let actual = schedule.actual_inputs(&site, &dr).unwrap();
@@ -383,7 +386,7 @@ fn readings_match_their_first_order_decomposition() {
     let cal = paper_calibration();
     let site = gw_model::paper::site();
     let schedule = paper::schedule();
-    let angles = OrientationAngles::from_deg(0.02, -0.015, 0.01).unwrap();
+    let angles = OrientationError::from_deg(0.02, -0.015, 0.01).unwrap();
     let dr = vec![angles.delta_r(DeltaRKind::SmallAngle); schedule.len()];
     let nominal = schedule.inputs(&site);
     let actual = schedule.actual_inputs(&site, &dr).unwrap();
@@ -511,15 +514,17 @@ fn calibrate_rejects_bad_outputs_with_named_errors() {
     let mut b1 = vec![0.0; 32];
     assert!(matches!(
         cal.calibrate(0, &b1[..3]),
-        Err(CalibError::LengthMismatch {
-            what: "outputs",
+        Err(CalibError::Field(FieldError::Length {
+            ref field,
             expected: 32,
             found: 3
-        })
+        })) if field == "outputs"
     ));
     b1[3] = f64::NAN;
     match cal.calibrate(0, &b1) {
-        Err(CalibError::NonFinite { field, .. }) => assert_eq!(field, "outputs[3]"),
+        Err(CalibError::Field(FieldError::NonFinite { field, .. })) => {
+            assert_eq!(field, "outputs[3]")
+        }
         other => panic!("{other:?}"),
     }
     assert!(Position::new(Matrix3::identity() * f64::NAN, vec![0.0]).is_err());
@@ -555,7 +560,7 @@ fn requirement_follows_closed_form_in_latitude_for_default_schedule() {
 #[test]
 fn per_position_delta_r_and_exact_rotation_agree_with_small_angle_analysis() {
     let x = analysis(0, Reading::USER);
-    let angles = OrientationAngles::from_deg(0.01, 0.02, -0.03).unwrap();
+    let angles = OrientationError::from_deg(0.01, 0.02, -0.03).unwrap();
     let per_position = x
         .analyze(&vec![angles.delta_r(DeltaRKind::Exact); 32])
         .unwrap();

@@ -11,6 +11,7 @@ use gw_model::{Output, Regressor, SensorModel, Term};
 use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
+use tt_core::FieldError;
 
 /// Matrix products of size up to 32 x 7 with condition numbers below 10: relative to the
 /// largest entry, a few hundred ulps.
@@ -256,7 +257,7 @@ fn visiting_order_changes_the_correlated_covariance_and_not_the_white() {
     // a bad permutation is a typed error
     assert!(matches!(
         out.noise_covariance_in_order(&noise, &timing, &[0; 24]),
-        Err(CalibError::LengthMismatch { .. })
+        Err(CalibError::Field(tt_core::FieldError::Length { .. }))
     ));
 }
 
@@ -411,8 +412,9 @@ fn windows_follow_dwell_and_move_times_in_the_visiting_order() {
 #[test]
 fn bad_timing_is_an_error_naming_the_field() {
     let field = |e: CalibError| match e {
-        CalibError::NonFinite { field, .. }
-        | CalibError::NonPositive { field, .. }
+        CalibError::Field(
+            FieldError::NonFinite { field, .. } | FieldError::NotPositive { field, .. },
+        )
         | CalibError::Timing { field, .. } => field,
         other => panic!("unexpected {other:?}"),
     };
@@ -449,11 +451,11 @@ fn bad_timing_is_an_error_naming_the_field() {
     let short = Timing::uniform(23, 60.0, 10.0, 100.0).unwrap();
     assert!(matches!(
         cal.outputs()[0].noise_covariance(&noise, &short),
-        Err(CalibError::LengthMismatch { .. })
+        Err(CalibError::Field(tt_core::FieldError::Length { .. }))
     ));
     assert!(matches!(
         cal.noise_covariances(&[], &Timing::uniform(24, 60.0, 10.0, 100.0).unwrap()),
-        Err(CalibError::LengthMismatch { .. })
+        Err(CalibError::Field(tt_core::FieldError::Length { .. }))
     ));
     let all = cal
         .noise_covariances(&[None], &Timing::uniform(24, 60.0, 10.0, 100.0).unwrap())

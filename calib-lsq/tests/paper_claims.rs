@@ -7,7 +7,7 @@
 use approx::assert_abs_diff_eq;
 use calib_lsq::paper::claims;
 use calib_lsq::{Calibration, Reading, RequirementProblem, paper};
-use gw_model::DeltaRKind;
+use tt_core::DeltaRKind;
 
 /// Eq 16 as printed: 0.027 deg, three decimals.
 const EQ16_PRINTED_DEG: f64 = 0.027;

@@ -2,7 +2,6 @@
 //! $\Delta\omega_k$ over the box within $\omega_{m,k}$ at every position) and yield-based (a
 //! chosen fraction of the turntables in the box meet every accuracy).
 
-use crate::answer::objective_to_arcmin;
 use crate::error::{E2eError, fraction};
 use crate::linear::Linearization;
 use crate::montecarlo::{McSettings, wilson_interval_95};
@@ -10,7 +9,8 @@ use crate::simulate::EndToEnd;
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
-use tt_kinematics::units::rad_to_arcmin;
+use tt_core::units::objective_to_arcmin;
+use tt_core::units::rad_to_arcmin;
 use tt_kinematics::{LinearModel, Turntable};
 
 /// Golden-section steps of [`EndToEnd::allocate_direct_certified`] over the $\ell_1$ budget
@@ -536,8 +536,8 @@ impl EndToEnd {
     /// re-evaluated on the design draws and stated with its 95% Wilson interval.
     ///
     /// # Errors
-    /// [`E2eError::FractionOutOfRange`] naming `yield_fraction`; [`E2eError::TooFewSamples`]
-    /// when the draws cannot resolve the target ([`min_yield_samples`]); [`E2eError::NotPositive`]
+    /// [`E2eError::Field`] (out of range) naming `yield_fraction`; [`E2eError::TooFewSamples`]
+    /// when the draws cannot resolve the target ([`min_yield_samples`]); [`E2eError::Field`] (not positive)
     /// naming `shape.<error>`; [`E2eError::Bounds`]; [`E2eError::YieldUnreachable`] when no
     /// scale meets the target; as [`McSettings::validate`].
     pub fn allocate_yield(
@@ -558,10 +558,11 @@ impl EndToEnd {
             .zip(shape_rad)
         {
             if v.is_nan() || *v <= 0.0 {
-                return Err(E2eError::NotPositive {
+                return Err(tt_core::FieldError::NotPositive {
                     field: format!("shape.{name}"),
                     value: *v,
-                });
+                }
+                .into());
             }
         }
         // s >= max LB/UB_shape whenever it is called, so s u >= LB up to rounding: made exact
@@ -769,10 +770,10 @@ pub(crate) fn certified_or_note(
     match sim.allocate_direct_certified(linear, lower_bounds_rad) {
         Ok(d) => Ok((Some(d), None)),
         // not certifiable for this reading, table and sensor: say why, keep the rest
-        Err(E2eError::NotPositive { field, value }) => Ok((
+        Err(E2eError::MarginExceedsAccuracy { output, value }) => Ok((
             None,
             Some(format!(
-                "the derived second-order bound exceeds an output's accuracy ({field} is {value:.3}): the bound is too coarse for this turntable and sensor"
+                "the derived second-order bound exceeds an output's accuracy (accuracy of output {output} minus its second-order margin is {value:.3}): the bound is too coarse for this turntable and sensor"
             )),
         )),
         Err(e @ (E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. })) => {
@@ -835,11 +836,8 @@ impl DirectSetup<'_> {
         let bound = |k: usize| acc[k] - margins[k];
         for (k, _) in acc.iter().enumerate() {
             if bound(k) <= 0.0 {
-                return Err(E2eError::NotPositive {
-                    field: format!(
-                        "accuracy of output {} minus its second-order margin",
-                        self.output_names[k]
-                    ),
+                return Err(E2eError::MarginExceedsAccuracy {
+                    output: self.output_names[k].to_string(),
                     value: bound(k),
                 });
             }
@@ -914,7 +912,7 @@ impl DirectSetup<'_> {
         let mut ub = vec![f64::INFINITY; n_errors];
         for (k, &j) in free.iter().enumerate() {
             // the solver meets UB >= LB to rounding; make it exact so the box is valid
-            ub[j] = crate::error::finite(&format!("upper_bounds.{}", names[j]), sol.x[k])?
+            ub[j] = crate::error::finite(format!("upper_bounds.{}", names[j]), sol.x[k])?
                 .max(lower_bounds_rad[j]);
         }
         let loads = linear

@@ -12,7 +12,6 @@ use crate::simulate::EndToEnd;
 use alloc_opt::{Allocation, AllocationProblem, Allocator, Requirement, SensitivityWeighted};
 use calib_lsq::Reading;
 use tt_kinematics::LinearModel;
-use tt_kinematics::units::RAD_PER_ARCMIN;
 
 /// Default number of Monte Carlo turntables per box.
 pub const DEFAULT_SAMPLES: u64 = 20_000;
@@ -124,12 +123,6 @@ pub struct BuyersAnswer {
     pub readings: Vec<ReadingAnswer>,
 }
 
-/// $J$ in arcmin$^{-2}$ from rad$^{-2}$.
-#[must_use]
-pub fn objective_to_arcmin(objective_rad: f64) -> f64 {
-    objective_rad * RAD_PER_ARCMIN * RAD_PER_ARCMIN
-}
-
 /// Answer the buyer's question for the simulator `e2e` (its reading first, then the user's).
 ///
 /// # Errors
@@ -169,13 +162,11 @@ pub fn answer_with_two_step(
     McSettings::new(inputs.samples, inputs.seed).validate()?;
     check_yield_samples(inputs.samples, inputs.yield_fraction)?;
     if let Some(a) = &two_step {
-        if a.upper_bounds_rad.len() != e2e.n_errors() {
-            return Err(E2eError::Alloc(alloc_opt::AllocError::Length {
-                field: "two-step allocation".into(),
-                expected: e2e.n_errors(),
-                found: a.upper_bounds_rad.len(),
-            }));
-        }
+        tt_core::length(
+            "two-step allocation",
+            e2e.n_errors(),
+            a.upper_bounds_rad.len(),
+        )?;
     }
     let mut named: Vec<(String, Vec<f64>)> = Vec::new();
     if let Some(a) = &two_step {

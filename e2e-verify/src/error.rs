@@ -44,49 +44,21 @@ pub enum E2eError {
         "no error affects any output to first order: no bound is needed for any error, and there is no box to certify"
     )]
     NoBoxToCertify,
-    /// A named input was NaN or infinite.
-    #[error("{field} must be finite, got {value}")]
-    NonFinite {
-        /// Which input (e.g. `chi.dalpha_x2`).
-        field: String,
-        /// The offending value.
+    /// An input was rejected by a check (NaN or infinite, not positive, a count or a value
+    /// out of its range), naming the field (`chi.dalpha_x2`, `upper_bounds.dphi_z2`,
+    /// `samples`, `yield_fraction`, `step_deg`).
+    #[error(transparent)]
+    Field(#[from] tt_core::FieldError),
+    /// The derived second-order bound of an output is at least its accuracy: the direct
+    /// allocation cannot be certified on the exact chain for this turntable and sensor.
+    #[error(
+        "accuracy of output {output} minus its second-order margin must be positive, got {value}"
+    )]
+    MarginExceedsAccuracy {
+        /// The output.
+        output: String,
+        /// Its accuracy minus its margin (output unit), not positive.
         value: f64,
-    },
-    /// A named input must be strictly positive.
-    #[error("{field} must be positive, got {value}")]
-    NotPositive {
-        /// Which input.
-        field: String,
-        /// The offending value.
-        value: f64,
-    },
-    /// A count was zero or above its maximum.
-    #[error("{field} must lie in 1..={max}, got {value}")]
-    Count {
-        /// Which count (`samples`, `chunk_size`, `histogram_bins`).
-        field: &'static str,
-        /// The offending value.
-        value: u64,
-        /// The largest accepted value.
-        max: u64,
-    },
-    /// A probability had to lie strictly between 0 and 1.
-    #[error("{field} must lie in (0, 1), got {value}")]
-    FractionOutOfRange {
-        /// Which input (`yield_fraction`).
-        field: &'static str,
-        /// The offending value.
-        value: f64,
-    },
-    /// A step or size parameter was outside its documented range.
-    #[error("{field} = {value} is outside {range}")]
-    OutOfRange {
-        /// Which input.
-        field: &'static str,
-        /// The offending value.
-        value: f64,
-        /// The accepted range, in words.
-        range: &'static str,
     },
     /// The reading has no derived second-order bound, so the allocation cannot be certified
     /// on the exact chain.
@@ -261,33 +233,54 @@ fn count_text(log10: f64) -> String {
     format!("about {:.1}e{e}", 10f64.powf(log10 - e))
 }
 
-pub(crate) fn finite(field: &str, value: f64) -> Result<f64, E2eError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(E2eError::NonFinite {
-            field: field.to_string(),
-            value,
-        })
-    }
+pub(crate) use tt_core::{finite, positive};
+
+/// `value` if it lies strictly between 0 and 1.
+pub(crate) fn fraction(field: &str, value: f64) -> Result<f64, E2eError> {
+    use std::ops::Bound::Excluded;
+    Ok(tt_core::in_range(
+        field,
+        value,
+        Excluded(0.0),
+        Excluded(1.0),
+        "",
+    )?)
 }
 
-pub(crate) fn positive(field: &str, value: f64) -> Result<f64, E2eError> {
-    finite(field, value)?;
-    if value > 0.0 {
-        Ok(value)
-    } else {
-        Err(E2eError::NotPositive {
-            field: field.to_string(),
-            value,
-        })
-    }
-}
-
-pub(crate) fn fraction(field: &'static str, value: f64) -> Result<f64, E2eError> {
-    if value.is_finite() && value > 0.0 && value < 1.0 {
-        Ok(value)
-    } else {
-        Err(E2eError::FractionOutOfRange { field, value })
+impl tt_core::ErrorClass for E2eError {
+    /// Input: the fields, the parts of the calibration, turntable, allocation and box that
+    /// are the caller's input, lower bounds above a box or infeasible, a reading without a
+    /// second-order bound (`reading`), too few draws for a yield target (`samples`), a yield
+    /// no scale reaches (`lower_bounds`), the schedule design's settings and candidates.
+    /// Internal: a margin at least the accuracy, a failed draw, a missing part of an answer,
+    /// no box to certify, an iteration that did not converge, and the inner crates' internal
+    /// errors.
+    fn input_field(&self) -> Option<&str> {
+        match self {
+            E2eError::Calib(e) => e.input_field(),
+            E2eError::Kinematics(e) => e.input_field(),
+            E2eError::Alloc(e) => e.input_field(),
+            E2eError::Bounds(e) => e.input_field(),
+            E2eError::Field(e) => Some(e.field()),
+            E2eError::LowerAboveBox { .. }
+            | E2eError::InfeasibleLowerBounds { .. }
+            | E2eError::YieldUnreachable { .. } => Some("lower_bounds"),
+            E2eError::NoSecondOrderBound { .. } => Some("reading"),
+            E2eError::TooFewSamples { .. } => Some("samples"),
+            E2eError::GridTooLarge { .. } => Some("step_deg"),
+            E2eError::EmptyCandidates
+            | E2eError::CandidateOutsideRange { .. }
+            | E2eError::RepeatedCandidate { .. } => Some("candidates"),
+            E2eError::UnidentifiableCandidates { .. } => Some("candidate_positions"),
+            E2eError::TooFewPositions { .. } | E2eError::TooManyPositions { .. } => {
+                Some("positions")
+            }
+            E2eError::ConditionUnreachable { .. } => Some("max_condition"),
+            E2eError::MarginExceedsAccuracy { .. }
+            | E2eError::NoBoxToCertify
+            | E2eError::Draw { .. }
+            | E2eError::MissingInAnswer { .. }
+            | E2eError::NoConvergence { .. } => None,
+        }
     }
 }

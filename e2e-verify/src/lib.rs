@@ -77,7 +77,7 @@ pub use allocate::{
 };
 pub use answer::{
     BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
-    answer_with_two_step, objective_to_arcmin,
+    answer_with_two_step,
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;

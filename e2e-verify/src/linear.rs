@@ -380,15 +380,8 @@ impl EndToEnd {
         linear: &Linearization,
         ub_rad: &[f64],
     ) -> Result<(), E2eError> {
-        if ub_rad.len() != self.n_errors() {
-            return Err(E2eError::Kinematics(
-                tt_kinematics::KinematicsError::Length {
-                    what: "upper bounds",
-                    expected: self.n_errors(),
-                    found: ub_rad.len(),
-                },
-            ));
-        }
+        tt_core::length("upper bounds", self.n_errors(), ub_rad.len())
+            .map_err(|e| E2eError::Kinematics(e.into()))?;
         let free = linear.unconstrained();
         for (j, (name, u)) in self
             .turntable()
@@ -399,10 +392,10 @@ impl EndToEnd {
         {
             let field = format!("upper_bounds.{name}");
             if u.is_nan() || (u.is_infinite() && !free.contains(&j)) {
-                return Err(E2eError::NonFinite { field, value: *u });
+                return Err(tt_core::FieldError::NonFinite { field, value: *u }.into());
             }
             if *u < 0.0 {
-                return Err(E2eError::NotPositive { field, value: *u });
+                return Err(tt_core::FieldError::NotPositive { field, value: *u }.into());
             }
         }
         Ok(())
@@ -486,15 +479,15 @@ impl EndToEnd {
     /// \Delta\hat{\boldsymbol\omega}(-h\mathbf e_j))/(2h)$, error $O(h^2)$.
     ///
     /// # Errors
-    /// [`E2eError::OutOfRange`] naming `step_rad` unless $0 < h \le 10^{-2}$;
+    /// [`E2eError::Field`] (out of range) naming `step_rad` unless $0 < h \le 10^{-2}$;
     /// [`E2eError::Calib`] as [`EndToEnd::run`].
     pub fn linearization_numerical(&self, step_rad: f64) -> Result<Linearization, E2eError> {
         if !(step_rad > 0.0 && step_rad <= 1e-2) {
-            return Err(E2eError::OutOfRange {
-                field: "step_rad",
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "step_rad".into(),
                 value: step_rad,
-                range: "(0, 1e-2] rad",
-            });
+                range: "(0, 1e-2] rad".into(),
+            }));
         }
         let n = self.len();
         let outputs = self.n_outputs();
@@ -544,8 +537,8 @@ impl EndToEnd {
     ///   nominal rate $(\mathbf I-\mathbf P)(\mathbf g+\mathbf e)$.
     ///
     /// # Errors
-    /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming `l1_norm_rad` if $s$ is not
-    /// finite and non-negative; [`E2eError::OutOfRange`] for a missing output.
+    /// [`E2eError::Field`] (not finite, not positive) naming `l1_norm_rad` if $s$ is not
+    /// finite and non-negative; [`E2eError::Field`] (out of range) for a missing output.
     pub fn second_order_bound(
         &self,
         output: usize,
@@ -553,26 +546,27 @@ impl EndToEnd {
     ) -> Result<Option<f64>, E2eError> {
         let s = finite("l1_norm_rad", l1_norm_rad)?;
         if s < 0.0 {
-            return Err(E2eError::NotPositive {
+            return Err(tt_core::FieldError::NotPositive {
                 field: "l1_norm_rad".into(),
                 value: s,
-            });
+            }
+            .into());
         }
         let cal = self
             .calibration()
             .outputs()
             .get(output)
-            .ok_or(E2eError::OutOfRange {
-                field: "output",
+            .ok_or(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "output".into(),
                 value: output as f64,
-                range: "an output of the sensor",
-            })?;
+                range: "an output of the sensor".into(),
+            }))?;
         let reading = self.reading();
         if reading.estimate != Estimate::Beta1 || reading.form == ErrorForm::DeltaBeta {
             return Ok(None);
         }
         let rho = 0.5 * s * s * s.exp();
-        let we = gw_model::units::rad_per_s_to_deg_per_h(
+        let we = tt_core::units::rad_per_s_to_deg_per_h(
             self.calibration().site().earth_rate_rad_per_s(),
         );
         let m = [1.0, 1.0, 1.0, we, we, we];
@@ -637,7 +631,7 @@ impl EndToEnd {
     /// ([`EndToEnd::precisions`]) are reported as 0.
     ///
     /// # Errors
-    /// [`E2eError::NonFinite`]/[`E2eError::NotPositive`] naming the error of a bad bound; as
+    /// [`E2eError::Field`] (not finite, not positive) naming the error of a bad bound; as
     /// [`EndToEnd::delta_omega`].
     pub fn worst_case(
         &self,

@@ -93,16 +93,10 @@ impl McSettings {
     /// Check the counts.
     ///
     /// # Errors
-    /// [`E2eError::Count`] naming `samples` (1 to [`MAX_SAMPLES`]), `chunk_size` or
+    /// [`E2eError::Field`] (a count) naming `samples` (1 to [`MAX_SAMPLES`]), `chunk_size` or
     /// `histogram_bins` (1 to [`MAX_BINS`]).
     pub fn validate(&self) -> Result<(), E2eError> {
-        let check = |field, value: u64, max: u64| {
-            if value == 0 || value > max {
-                Err(E2eError::Count { field, value, max })
-            } else {
-                Ok(())
-            }
-        };
+        let check = |field, value: u64, max: u64| tt_core::count(field, value, max);
         check("samples", self.samples, MAX_SAMPLES)?;
         check(
             "chunk_size",
@@ -113,7 +107,8 @@ impl McSettings {
             "histogram_bins",
             self.histogram_bins as u64,
             MAX_BINS as u64,
-        )
+        )?;
+        Ok(())
     }
 }
 
@@ -560,20 +555,14 @@ impl EndToEnd {
     /// small counts: the result holds every draw).
     ///
     /// # Errors
-    /// As [`McSettings::validate`]; [`E2eError::Count`] above 10^6 draws.
+    /// As [`McSettings::validate`]; [`E2eError::Field`] (a count) above 10^6 draws.
     pub fn sample_chi(
         &self,
         bounds: &ErrorBox,
         settings: &McSettings,
     ) -> Result<Vec<Vec<f64>>, E2eError> {
         const MAX: u64 = 1_000_000;
-        if settings.samples > MAX {
-            return Err(E2eError::Count {
-                field: "samples",
-                value: settings.samples,
-                max: MAX,
-            });
-        }
+        tt_core::count("samples", settings.samples, MAX)?;
         self.drive(
             bounds,
             settings,
@@ -608,7 +597,7 @@ impl EndToEnd {
     /// narrows (see the [module](self)).
     ///
     /// # Errors
-    /// [`E2eError::FractionOutOfRange`] unless $0 < p \le 1$ (`quantile`); as
+    /// [`E2eError::Field`] (out of range) unless $0 < p \le 1$ (`quantile`); as
     /// [`EndToEnd::rate_distribution`].
     pub fn ratio_quantile(
         &self,
@@ -616,12 +605,13 @@ impl EndToEnd {
         settings: &McSettings,
         p: f64,
     ) -> Result<f64, E2eError> {
-        if !(p > 0.0 && p <= 1.0) {
-            return Err(E2eError::FractionOutOfRange {
-                field: "quantile",
-                value: p,
-            });
-        }
+        tt_core::in_range(
+            "quantile",
+            p,
+            std::ops::Bound::Excluded(0.0),
+            std::ops::Bound::Included(1.0),
+            "",
+        )?;
         settings.validate()?;
         let acc = self.accuracies();
         let ratio = |dw: &[f64]| dw.iter().zip(&acc).fold(0.0_f64, |m, (v, a)| m.max(v / a));
@@ -713,6 +703,6 @@ impl EndToEnd {
 
     /// Check a positive accuracy scale (internal helper for callers of the yield allocation).
     pub(crate) fn check_positive(field: &str, v: f64) -> Result<f64, E2eError> {
-        positive(field, v)
+        Ok(positive(field, v)?)
     }
 }

@@ -12,8 +12,8 @@ use crate::error::E2eError;
 use crate::simulate::EndToEnd;
 use alloc_opt::{Allocation, AllocationProblem, Allocator, EqualEffects, SensitivityWeighted};
 use calib_lsq::{Calibration, Reading, RequirementProblem};
-use gw_model::DeltaRKind;
 use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo};
+use tt_core::DeltaRKind;
 use tt_kinematics::{Pose, Turntable};
 
 /// The name of the paper's Table 4 box in an end-to-end answer (an extra box of
@@ -638,11 +638,7 @@ impl PaperComputation {
         let req = allocation_problem.requirement();
         let n = turntable.n_rotation_errors();
         let bounds = ErrorBox::new(&turntable, vec![0.0; n], alloc_opt::paper::table4_rad())?;
-        let monte_carlo = MonteCarlo::new(
-            &turntable,
-            bounds,
-            McConfig::new(samples, seed, req.to_array()),
-        )?;
+        let monte_carlo = MonteCarlo::new(&turntable, bounds, McConfig::new(samples, seed, req))?;
         let monte_carlo_result = monte_carlo.run();
         let poses = calibration
             .schedule()

@@ -107,7 +107,7 @@ impl EndToEnd {
     ///
     /// # Errors
     /// [`E2eError::Kinematics`] when a pose does not fit the turntable;
-    /// [`E2eError::OutOfRange`] naming `poses` unless there is one pose per position.
+    /// [`E2eError::Field`] (out of range) naming `poses` unless there is one pose per position.
     pub fn new(
         turntable: &Turntable,
         calibration: &Calibration,
@@ -115,11 +115,11 @@ impl EndToEnd {
         reading: Reading,
     ) -> Result<Self, E2eError> {
         if poses.len() != calibration.schedule().len() {
-            return Err(E2eError::OutOfRange {
-                field: "poses",
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "poses".into(),
                 value: poses.len() as f64,
-                range: "one pose per position of the schedule",
-            });
+                range: "one pose per position of the schedule".into(),
+            }));
         }
         let frames = poses
             .iter()
@@ -257,16 +257,17 @@ impl EndToEnd {
     pub(crate) fn check_chi(&self, chi_rad: &[f64]) -> Result<(), E2eError> {
         if chi_rad.len() != self.n_errors() {
             return Err(E2eError::Kinematics(
-                tt_kinematics::KinematicsError::Length {
-                    what: "chi",
+                tt_core::FieldError::Length {
+                    field: "chi".into(),
                     expected: self.n_errors(),
                     found: chi_rad.len(),
-                },
+                }
+                .into(),
             ));
         }
         if let Some(i) = chi_rad.iter().position(|v| !v.is_finite()) {
             finite(
-                &format!("chi.{}", self.turntable.rotation_error_names()[i]),
+                format!("chi.{}", self.turntable.rotation_error_names()[i]),
                 chi_rad[i],
             )?;
         }
@@ -277,7 +278,7 @@ impl EndToEnd {
     /// ([`Turntable::delta_r`], exact).
     ///
     /// # Errors
-    /// [`E2eError::NonFinite`] naming the error of a non-finite $\chi$; a length error.
+    /// [`E2eError::Field`] (not finite) naming the error of a non-finite $\chi$; a length error.
     pub fn delta_r_reference(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
         self.check_chi(chi_rad)?;
         let errors = TurntableErrors::new(
@@ -306,7 +307,7 @@ impl EndToEnd {
     /// the reference path, with every intermediate result.
     ///
     /// # Errors
-    /// [`E2eError::NonFinite`] for a non-finite $\chi$; [`E2eError::Calib`] if $\mathbf A'$ is
+    /// [`E2eError::Field`] (not finite) for a non-finite $\chi$; [`E2eError::Calib`] if $\mathbf A'$ is
     /// rank deficient (only for readings that need $\hat{\boldsymbol\beta}_2$).
     pub fn run(&self, chi_rad: &[f64]) -> Result<EndToEndRun, E2eError> {
         let dr = self.delta_r_reference(chi_rad)?;
@@ -332,7 +333,7 @@ impl EndToEnd {
     /// path, into `work.delta_omega`: no allocation once `work` is sized.
     ///
     /// # Errors
-    /// [`E2eError::NonFinite`] or a length error for a bad $\chi$; [`E2eError::Calib`] when a
+    /// [`E2eError::Field`] (not finite) or a length error for a bad $\chi$; [`E2eError::Calib`] when a
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;

@@ -9,7 +9,7 @@ use e2e_verify::design::{
     DesignProblem, DesignSettings, candidates_with, design_schedule, grid_positions_deg,
 };
 use e2e_verify::{E2eError, EndToEnd};
-use gw_model::DeltaRKind;
+use tt_core::DeltaRKind;
 use tt_kinematics::{Pose, paper};
 
 /// Relative agreement of two evaluations of the same quantity by different floating-point
@@ -402,10 +402,7 @@ fn bad_sizes_and_steps_are_typed_errors() {
         assert!(
             matches!(
                 grid_positions_deg(&table, bad).unwrap_err(),
-                E2eError::OutOfRange {
-                    field: "step_deg",
-                    ..
-                }
+                E2eError::Field(tt_core::FieldError::OutOfRange { ref field, .. }) if field == "step_deg"
             ),
             "{bad}"
         );

@@ -8,7 +8,7 @@ use e2e_verify::design::{
     DesignInputs, DesignSettings, ScheduleReport, StudyTolerances, design_on_grid,
 };
 use e2e_verify::{EndToEnd, McSettings, Verdict};
-use gw_model::DeltaRKind;
+use tt_core::DeltaRKind;
 use tt_kinematics::{Pose, paper};
 
 /// Relative slack on comparing two objectives J found by searches on nested candidate sets

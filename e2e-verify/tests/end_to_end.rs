@@ -10,12 +10,12 @@ use approx::{assert_abs_diff_eq, assert_relative_eq};
 use calib_lsq::{Reading, RequirementProblem};
 use common::{output_scale, paper, random_chi, study_e2e};
 use e2e_verify::{E2eError, EndToEnd, McSettings, wilson_interval_95};
-use gw_model::{DeltaRKind, OrientationAngles};
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
 use proptest::prelude::*;
 use rand_chacha::ChaCha8Rng;
 use rand_core::SeedableRng;
-use tt_kinematics::units::RAD_PER_ARCMIN;
+use tt_core::units::RAD_PER_ARCMIN;
+use tt_core::{DeltaRKind, FieldError, OrientationError};
 use tt_kinematics::{LinearModel, paper as tt_paper};
 
 /// Rotation matrices of the segmented chain against the plain matrix chain: a few ulp of
@@ -199,7 +199,7 @@ fn zero_turntable_error_gives_zero_rate_error_in_every_reading() {
 /// eq 7 and the paper's and the user's readings.
 #[test]
 fn constant_orientation_error_equals_section_2_analysis() {
-    let angles = OrientationAngles::from_deg(0.02, -0.015, 0.025).unwrap();
+    let angles = OrientationError::from_deg(0.02, -0.015, 0.025).unwrap();
     for reading in [Reading::PAPER, Reading::USER] {
         let e2e = paper(reading);
         let tol = FAST_VS_REFERENCE_REL * output_scale(&e2e);
@@ -736,13 +736,13 @@ fn bad_input_gives_typed_errors_naming_the_field() {
     bad[1] = -1e-4;
     let err = e2e.worst_case(&lin, &bad).unwrap_err();
     assert!(
-        matches!(err, E2eError::NotPositive { ref field, .. } if field == "upper_bounds.dphi_z2"),
+        matches!(err, E2eError::Field(FieldError::NotPositive { ref field, .. }) if field == "upper_bounds.dphi_z2"),
         "{err:?}"
     );
     bad[1] = f64::NAN;
     let err = e2e.worst_case(&lin, &bad).unwrap_err();
     assert!(
-        matches!(err, E2eError::NonFinite { ref field, .. } if field == "upper_bounds.dphi_z2"),
+        matches!(err, E2eError::Field(FieldError::NonFinite { ref field, .. }) if field == "upper_bounds.dphi_z2"),
         "{err:?}"
     );
     assert!(matches!(
@@ -761,10 +761,7 @@ fn bad_input_gives_typed_errors_naming_the_field() {
         assert!(
             matches!(
                 err,
-                E2eError::Count {
-                    field: "samples",
-                    ..
-                }
+                E2eError::Field(FieldError::Count { ref field, .. }) if field == "samples"
             ),
             "{err:?}"
         );
@@ -776,10 +773,7 @@ fn bad_input_gives_typed_errors_naming_the_field() {
         assert!(
             matches!(
                 err,
-                E2eError::FractionOutOfRange {
-                    field: "yield_fraction",
-                    ..
-                }
+                E2eError::Field(FieldError::OutOfRange { ref field, .. }) if field == "yield_fraction"
             ),
             "{err:?}"
         );
@@ -788,7 +782,7 @@ fn bad_input_gives_typed_errors_naming_the_field() {
         .delta_omega(&[0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
         .unwrap_err();
     assert!(
-        matches!(err, E2eError::NonFinite { ref field, .. } if field == "chi.dphi_z2"),
+        matches!(err, E2eError::Field(FieldError::NonFinite { ref field, .. }) if field == "chi.dphi_z2"),
         "{err:?}"
     );
     let err = e2e
@@ -802,18 +796,12 @@ fn bad_input_gives_typed_errors_naming_the_field() {
     let err = e2e.linearization_numerical(0.0).unwrap_err();
     assert!(matches!(
         err,
-        E2eError::OutOfRange {
-            field: "step_rad",
-            ..
-        }
+        E2eError::Field(FieldError::OutOfRange { ref field, .. }) if field == "step_rad"
     ));
     let err = e2e.second_order_bound(5, 1e-3).unwrap_err();
     assert!(matches!(
         err,
-        E2eError::OutOfRange {
-            field: "output",
-            ..
-        }
+        E2eError::Field(FieldError::OutOfRange { ref field, .. }) if field == "output"
     ));
     let err = EndToEnd::new(
         e2e.turntable(),
@@ -822,7 +810,9 @@ fn bad_input_gives_typed_errors_naming_the_field() {
         Reading::USER,
     )
     .unwrap_err();
-    assert!(matches!(err, E2eError::OutOfRange { field: "poses", .. }));
+    assert!(
+        matches!(err, E2eError::Field(FieldError::OutOfRange { ref field, .. }) if field == "poses")
+    );
     let no_bound = paper(Reading::AS_PRINTED);
     let err = no_bound
         .allocate_direct_certified(&no_bound.linearization(), &[0.0; 8])

@@ -3,8 +3,8 @@
 //!
 //! Run: `cargo run -p gw-model --example inputs_at_positions`
 
-use gw_model::units::rad_per_s_to_deg_per_h;
 use gw_model::{InputValues, ModelError, paper};
+use tt_core::units::rad_per_s_to_deg_per_h;
 
 fn main() -> Result<(), ModelError> {
     let site = paper::site();

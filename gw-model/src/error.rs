@@ -4,22 +4,10 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ModelError {
-    /// A named input was NaN or infinite.
-    #[error("{field} must be finite, got {value}")]
-    NonFinite {
-        /// Which input (for example `latitude` or `outputs[0].terms[2].value`).
-        field: String,
-        /// The offending value, in the unit the caller used.
-        value: f64,
-    },
-    /// A named input must be strictly positive.
-    #[error("{field} must be positive, got {value}")]
-    NonPositive {
-        /// Which input (for example `earth_rate`).
-        field: String,
-        /// The offending value, in the unit the caller used.
-        value: f64,
-    },
+    /// An input was rejected by a check (NaN or infinite, not positive, negative), naming the
+    /// field (`latitude`, `outputs[0].terms[2].value`, `white_per_sqrt_hz`).
+    #[error(transparent)]
+    Field(#[from] tt_core::FieldError),
     /// The latitude is outside $[-\pi/2, \pi/2]$.
     #[error("latitude must lie in [-90, 90] deg, got {latitude_deg} deg")]
     LatitudeOutOfRange {
@@ -34,14 +22,6 @@ pub enum ModelError {
         key: String,
         /// Why it was rejected.
         reason: String,
-    },
-    /// A named input must not be negative.
-    #[error("{field} must not be negative, got {value}")]
-    Negative {
-        /// Which input (for example `white_per_sqrt_hz`).
-        field: String,
-        /// The offending value, in the unit the caller used.
-        value: f64,
     },
     /// A white-noise density was given in a unit of one family (an angular rate's angle
     /// random walk) for an output of the other (a specific force in mg); `unit` is the
@@ -72,37 +52,19 @@ pub enum ModelError {
     },
 }
 
-pub(crate) fn finite(field: &str, value: f64) -> Result<f64, ModelError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(ModelError::NonFinite {
-            field: field.to_string(),
-            value,
-        })
-    }
-}
+pub(crate) use tt_core::{finite, non_negative, positive};
 
-pub(crate) fn positive(field: &str, value: f64) -> Result<f64, ModelError> {
-    finite(field, value)?;
-    if value > 0.0 {
-        Ok(value)
-    } else {
-        Err(ModelError::NonPositive {
-            field: field.to_string(),
-            value,
-        })
-    }
-}
-
-pub(crate) fn non_negative(field: &str, value: f64) -> Result<f64, ModelError> {
-    finite(field, value)?;
-    if value >= 0.0 {
-        Ok(value)
-    } else {
-        Err(ModelError::Negative {
-            field: field.to_string(),
-            value,
-        })
+impl tt_core::ErrorClass for ModelError {
+    /// Every variant is the caller's input: the field, the latitude, the sensor key or the
+    /// noise density's key.
+    fn input_field(&self) -> Option<&str> {
+        match self {
+            ModelError::Field(e) => Some(e.field()),
+            ModelError::LatitudeOutOfRange { .. } => Some("latitude"),
+            ModelError::Sensor { key, .. } => Some(key),
+            ModelError::UnitFamilyMismatch { key, .. } | ModelError::UnknownUnit { key, .. } => {
+                Some(key)
+            }
+        }
     }
 }

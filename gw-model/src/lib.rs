@@ -10,7 +10,8 @@
 //! - [`Site`]: latitude and earth rate, base frame north-west-up; [`Site::inputs`] gives the
 //!   inputs at an intended orientation (eq 3 for the paper's table) and
 //!   [`Site::inputs_with_error`] at an orientation off by $\Delta\mathbf R$ (eq 8);
-//! - [`OrientationAngles`]: $(\Delta\psi, \Delta\theta, \Delta\gamma)$ and their matrix (eq 7).
+//! - an orientation error is [`tt_core::OrientationError`], whose matrix (eq 7) turns the
+//!   inputs through [`Site::inputs_with_error`].
 //! - [`noise`]: the noise of an output (white density, Gauss-Markov bias instability,
 //!   quantization), datasheet units converted to the output's unit, and the variance and
 //!   covariance of its averages over the windows a calibration dwells at each position.
@@ -33,7 +34,8 @@
 //!
 //! # Example
 //! ```
-//! use gw_model::{paper, InputValues, OrientationAngles, DeltaRKind};
+//! use gw_model::{paper, InputValues};
+//! use tt_core::{DeltaRKind, OrientationError};
 //!
 //! let site = paper::site(); // Harbin, 45.75 deg N, WGS-84 earth rate (our assumption)
 //! let rd = paper::base_from_sensor(90f64.to_radians(), 0.0); // outer axis at 90 deg
@@ -47,10 +49,10 @@
 //! assert!((x.value(&v) - (-48.0 + v.0[3])).abs() < 1e-9);
 //!
 //! // The same position turned by 0.027 deg about y (eq 7-8).
-//! let err = OrientationAngles::from_deg(0.027, 0.0, 0.0)?;
+//! let err = OrientationError::from_deg(0.027, 0.0, 0.0)?;
 //! let actual = site.inputs_with_error(&rd, &err.delta_r(DeltaRKind::SmallAngle));
 //! assert!(actual.rate_rad_per_s.x != inputs.rate_rad_per_s.x);
-//! # Ok::<(), gw_model::ModelError>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! # Reference
@@ -64,8 +66,7 @@ pub mod noise;
 pub mod paper;
 mod sensor;
 mod site;
-pub mod units;
 
 pub use error::ModelError;
 pub use sensor::{Input, InputValues, MAX_REGRESSOR_DEGREE, Output, Regressor, SensorModel, Term};
-pub use site::{DeltaRKind, Inputs, OrientationAngles, Site};
+pub use site::{Inputs, Site, WGS84_EARTH_RATE_RAD_PER_S};

@@ -196,7 +196,7 @@ impl fmt::Display for UnitFamily {
 }
 
 /// One degree per hour in rad/s.
-const RAD_PER_S_PER_DEG_PER_H: f64 = crate::units::RAD_PER_S_PER_DEG_PER_H;
+const RAD_PER_S_PER_DEG_PER_H: f64 = tt_core::units::RAD_PER_S_PER_DEG_PER_H;
 /// One degree per second in rad/s.
 const RAD_PER_S_PER_DEG_PER_S: f64 = std::f64::consts::PI / 180.0;
 
@@ -346,7 +346,7 @@ impl WhiteDensity {
     /// label is `unit`: $v\,s_k/s_u$ (see the [module documentation](self)).
     ///
     /// # Errors
-    /// [`ModelError::NonFinite`] or [`ModelError::Negative`] naming the key for a bad value;
+    /// [`ModelError::Field`] (not finite, negative) naming the key for a bad value;
     /// [`ModelError::UnitFamilyMismatch`] naming the key and the unit when the density is of
     /// the other family; [`ModelError::UnknownUnit`] when a conversion is needed and `unit`
     /// is not in [`OUTPUT_UNITS`].
@@ -385,7 +385,7 @@ impl Window {
     /// The window $[t_0, t_0 + T]$.
     ///
     /// # Errors
-    /// [`ModelError::NonFinite`] for a non-finite start, [`ModelError::NonPositive`] naming
+    /// [`ModelError::Field`] for a non-finite start, not positive naming
     /// `duration_s` unless $T > 0$.
     pub fn new(start_s: f64, duration_s: f64) -> Result<Self, ModelError> {
         finite("start_s", start_s)?;
@@ -436,8 +436,8 @@ impl GaussMarkov {
     /// `correlation_s`.
     ///
     /// # Errors
-    /// [`ModelError::NonFinite`]/[`ModelError::Negative`] naming `bias_sigma`,
-    /// [`ModelError::NonPositive`] naming `bias_correlation_s`.
+    /// [`ModelError::Field`] (not finite, negative) naming `bias_sigma`,
+    /// [`ModelError::Field`] (not positive) naming `bias_correlation_s`.
     pub fn new(sigma: f64, correlation_s: f64) -> Result<Self, ModelError> {
         non_negative("bias_sigma", sigma)?;
         positive("bias_correlation_s", correlation_s)?;
@@ -605,7 +605,7 @@ impl NoiseModel {
     /// instability (`None` for none) and the quantization step $q$ (output unit; 0 for none).
     ///
     /// # Errors
-    /// [`ModelError::NonFinite`] or [`ModelError::Negative`] naming `white_per_sqrt_hz` or
+    /// [`ModelError::Field`] (not finite, negative) naming `white_per_sqrt_hz` or
     /// `quantization`.
     pub fn new(
         white_per_sqrt_hz: f64,
@@ -731,7 +731,7 @@ impl NoiseModel {
     /// pair by pair.
     ///
     /// # Errors
-    /// [`ModelError::NonPositive`] naming `sample_rate_hz`.
+    /// [`ModelError::Field`] (not positive) naming `sample_rate_hz`.
     pub fn window_covariance(
         &self,
         windows: &[Window],

@@ -6,7 +6,7 @@
 
 use crate::sensor::{Input, Output, Regressor, SensorModel, Term};
 use crate::site::Site;
-use crate::units::WGS84_EARTH_RATE_RAD_PER_S;
+use crate::site::WGS84_EARTH_RATE_RAD_PER_S;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// Latitude of the authors' site, Harbin (Harbin Institute of Technology), degrees north.

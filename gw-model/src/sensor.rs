@@ -18,9 +18,9 @@
 
 use crate::error::{ModelError, finite, positive};
 use crate::site::Inputs;
-use crate::units::rad_per_s_to_deg_per_h;
 use nalgebra::Vector3;
 use std::fmt;
+use tt_core::units::rad_per_s_to_deg_per_h;
 
 /// An input component in the sensor frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -471,7 +471,7 @@ impl SensorModel {
             if o.unit.trim().is_empty() {
                 return Err(err(key("unit"), "must not be empty".into()));
             }
-            positive(&key("accuracy"), o.accuracy).map_err(|_| {
+            positive(key("accuracy"), o.accuracy).map_err(|_| {
                 err(
                     key("accuracy"),
                     format!("must be positive and finite, found {}", o.accuracy),
@@ -500,7 +500,7 @@ impl SensorModel {
                         ),
                     ));
                 }
-                finite(&tkey("value"), term.value).map_err(|_| {
+                finite(tkey("value"), term.value).map_err(|_| {
                     err(
                         tkey("value"),
                         format!("must be finite, found {}", term.value),
@@ -564,7 +564,7 @@ impl SensorModel {
     /// The same sensor with every accuracy multiplied by `factor` (> 0).
     ///
     /// # Errors
-    /// [`ModelError::NonPositive`] naming `factor`.
+    /// [`ModelError::Field`] (not positive) naming `factor`.
     pub fn with_accuracy_scaled(&self, factor: f64) -> Result<Self, ModelError> {
         positive("factor", factor)?;
         let mut outputs = self.outputs.clone();

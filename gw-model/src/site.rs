@@ -2,7 +2,10 @@
 //! error (eq 3, 7, 8).
 
 use crate::error::{ModelError, finite, positive};
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
+
+/// Earth rotation rate of WGS-84, rad/s (NIMA TR8350.2, $\omega_e = 7.292\,115\,9 \times 10^{-5}$).
+pub const WGS84_EARTH_RATE_RAD_PER_S: f64 = 7.292_115_9e-5;
 
 /// Where the test runs: latitude and earth rotation rate.
 ///
@@ -18,8 +21,8 @@ impl Site {
     /// From a latitude in radians and an earth rate in rad/s.
     ///
     /// # Errors
-    /// [`ModelError::LatitudeOutOfRange`] outside $[-\pi/2, \pi/2]$; [`ModelError::NonFinite`] or
-    /// [`ModelError::NonPositive`] naming `latitude` or `earth_rate`.
+    /// [`ModelError::LatitudeOutOfRange`] outside $[-\pi/2, \pi/2]$; [`ModelError::Field`] (not finite,
+    /// not positive) naming `latitude` or `earth_rate`.
     pub fn new(latitude_rad: f64, earth_rate_rad_per_s: f64) -> Result<Self, ModelError> {
         finite("latitude", latitude_rad)?;
         if latitude_rad.abs() > std::f64::consts::FRAC_PI_2 {
@@ -135,112 +138,6 @@ impl Inputs {
         Self {
             specific_force_g: t * self.specific_force_g,
             rate_rad_per_s: t * self.rate_rad_per_s,
-        }
-    }
-}
-
-/// How a triple of orientation-error angles becomes a matrix $\Delta\mathbf R$.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum DeltaRKind {
-    /// The printed small-angle matrix of eq 7, $I + [\boldsymbol\delta]_\times$ (not orthonormal).
-    /// The default: it is what the paper uses.
-    #[default]
-    SmallAngle,
-    /// The exact rotation $\exp([\boldsymbol\delta]_\times)$ with the rotation vector
-    /// $\boldsymbol\delta = (\Delta\gamma, \Delta\psi, \Delta\theta)$ (about $x$, $y$, $z$); it
-    /// equals eq 7 to first order and needs no choice of rotation order.
-    Exact,
-}
-
-impl DeltaRKind {
-    /// `"small-angle"` or `"exact"`.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            DeltaRKind::SmallAngle => "small-angle",
-            DeltaRKind::Exact => "exact",
-        }
-    }
-}
-
-/// The orientation error of the sensor axes: $\Delta\psi$ about $y$, $\Delta\theta$ about $z$,
-/// $\Delta\gamma$ about $x$ (§2.2, Figure 3), radians.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct OrientationAngles {
-    /// $\Delta\psi$, rotation error about $y$, rad.
-    pub delta_psi_rad: f64,
-    /// $\Delta\theta$, rotation error about $z$, rad.
-    pub delta_theta_rad: f64,
-    /// $\Delta\gamma$, rotation error about $x$, rad.
-    pub delta_gamma_rad: f64,
-}
-
-impl OrientationAngles {
-    /// No orientation error.
-    pub const ZERO: Self = Self {
-        delta_psi_rad: 0.0,
-        delta_theta_rad: 0.0,
-        delta_gamma_rad: 0.0,
-    };
-
-    /// From radians.
-    ///
-    /// # Errors
-    /// [`ModelError::NonFinite`] naming `delta_psi`, `delta_theta` or `delta_gamma`.
-    pub fn new(
-        delta_psi_rad: f64,
-        delta_theta_rad: f64,
-        delta_gamma_rad: f64,
-    ) -> Result<Self, ModelError> {
-        Ok(Self {
-            delta_psi_rad: finite("delta_psi", delta_psi_rad)?,
-            delta_theta_rad: finite("delta_theta", delta_theta_rad)?,
-            delta_gamma_rad: finite("delta_gamma", delta_gamma_rad)?,
-        })
-    }
-
-    /// From degrees.
-    ///
-    /// # Errors
-    /// As [`OrientationAngles::new`].
-    pub fn from_deg(
-        delta_psi_deg: f64,
-        delta_theta_deg: f64,
-        delta_gamma_deg: f64,
-    ) -> Result<Self, ModelError> {
-        Self::new(
-            finite("delta_psi", delta_psi_deg)?.to_radians(),
-            finite("delta_theta", delta_theta_deg)?.to_radians(),
-            finite("delta_gamma", delta_gamma_deg)?.to_radians(),
-        )
-    }
-
-    /// The rotation vector $(\Delta\gamma, \Delta\psi, \Delta\theta)$ (about $x$, $y$, $z$), rad.
-    #[must_use]
-    pub fn rotation_vector(&self) -> Vector3<f64> {
-        Vector3::new(
-            self.delta_gamma_rad,
-            self.delta_psi_rad,
-            self.delta_theta_rad,
-        )
-    }
-
-    /// The orientation-error matrix $\Delta\mathbf R$.
-    ///
-    /// # Formula
-    /// Small angle (eq 7):
-    /// $$\Delta\mathbf R = \begin{bmatrix} 1 & -\Delta\theta & \Delta\psi \\ \Delta\theta & 1 &
-    ///   -\Delta\gamma \\ -\Delta\psi & \Delta\gamma & 1 \end{bmatrix};$$
-    /// exact: $\exp$ of the same skew-symmetric part.
-    ///
-    /// # Reference
-    /// Eq 7.
-    #[must_use]
-    pub fn delta_r(&self, kind: DeltaRKind) -> Matrix3<f64> {
-        let w = self.rotation_vector();
-        match kind {
-            DeltaRKind::SmallAngle => Matrix3::identity() + w.cross_matrix(),
-            DeltaRKind::Exact => Rotation3::new(w).into_inner(),
         }
     }
 }

@@ -3,13 +3,13 @@
 
 use approx::{assert_abs_diff_eq, assert_relative_eq};
 use gw_model::paper::{self, TABLE_1_X_DEG_PER_H, TABLE_1_Y_DEG_PER_H};
-use gw_model::units::rad_per_s_to_deg_per_h;
 use gw_model::{
-    DeltaRKind, Input, InputValues, Inputs, ModelError, OrientationAngles, Output, Regressor,
-    SensorModel, Site, Term,
+    Input, InputValues, Inputs, ModelError, Output, Regressor, SensorModel, Site, Term,
 };
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
+use tt_core::units::rad_per_s_to_deg_per_h;
+use tt_core::{DeltaRKind, FieldError, OrientationError};
 
 /// Trigonometric identities evaluated in f64 on O(1) quantities: a few ulps. Dimensionless (g)
 /// or relative.
@@ -68,7 +68,7 @@ proptest! {
     fn exact_delta_r_is_rotation_matching_eq7_to_first_order(
         psi in -0.01..0.01f64, theta in -0.01..0.01f64, gamma in -0.01..0.01f64,
     ) {
-        let ang = OrientationAngles::new(psi, theta, gamma).unwrap();
+        let ang = OrientationError::new(psi, theta, gamma).unwrap();
         let exact = ang.delta_r(DeltaRKind::Exact);
         let small = ang.delta_r(DeltaRKind::SmallAngle);
         assert_abs_diff_eq!(exact.transpose() * exact, Matrix3::identity(), epsilon = TRIG_TOL);
@@ -122,7 +122,7 @@ proptest! {
 /// Eq 7 as printed: rows (1, -dtheta, dpsi), (dtheta, 1, -dgamma), (-dpsi, dgamma, 1).
 #[test]
 fn eq7_small_angle_matrix_as_printed() {
-    let ang = OrientationAngles::new(0.1, 0.2, 0.3).unwrap();
+    let ang = OrientationError::new(0.1, 0.2, 0.3).unwrap();
     let m = ang.delta_r(DeltaRKind::SmallAngle);
     let printed = Matrix3::new(1.0, -0.2, 0.1, 0.2, 1.0, -0.3, -0.1, 0.3, 1.0);
     assert_abs_diff_eq!(m, printed, epsilon = TRIG_TOL);
@@ -251,10 +251,10 @@ fn invalid_inputs_are_rejected_with_named_fields() {
         Err(ModelError::LatitudeOutOfRange { latitude_deg: 91.0 })
     );
     assert!(
-        matches!(Site::from_deg(45.0, -1.0), Err(ModelError::NonPositive { ref field, .. }) if field == "earth_rate")
+        matches!(Site::from_deg(45.0, -1.0), Err(ModelError::Field(FieldError::NotPositive { ref field, .. })) if field == "earth_rate")
     );
     assert!(
-        matches!(OrientationAngles::new(f64::NAN, 0.0, 0.0), Err(ModelError::NonFinite { ref field, .. }) if field == "delta_psi")
+        matches!(OrientationError::new(f64::NAN, 0.0, 0.0), Err(FieldError::NonFinite { ref field, .. }) if field == "delta_psi")
     );
 
     let ok = |name: &str, terms: Vec<Term>| Output {

@@ -10,6 +10,7 @@ use gw_model::noise::{
     GaussMarkov, NoiseModel, OUTPUT_UNITS, OutputUnit, STANDARD_GRAVITY_M_PER_S2, UnitFamily,
     WhiteDensity, Window,
 };
+use tt_core::FieldError;
 
 /// Unit conversions are products of a few exact constants: a few ulps, relative.
 const CONVERSION_REL: f64 = 1e-14;
@@ -510,9 +511,11 @@ fn window_covariance_matrix_equals_pairwise_closed_forms_in_any_order() {
 #[test]
 fn bad_noise_values_are_errors_naming_the_field() {
     let field = |e: ModelError| match e {
-        ModelError::NonFinite { field, .. }
-        | ModelError::NonPositive { field, .. }
-        | ModelError::Negative { field, .. } => field,
+        ModelError::Field(
+            FieldError::NonFinite { field, .. }
+            | FieldError::NotPositive { field, .. }
+            | FieldError::Negative { field, .. },
+        ) => field,
         other => panic!("unexpected {other:?}"),
     };
     assert_eq!(

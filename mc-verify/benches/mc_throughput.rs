@@ -32,8 +32,8 @@ const TABLE4_ARCMIN: [f64; 8] = [
 ];
 
 /// The requirement of eq 16 on every angle, rad.
-fn eq16() -> [Option<f64>; 3] {
-    [Some(0.027_f64.to_radians()); 3]
+fn eq16() -> tt_core::Requirement {
+    tt_core::Requirement::from_options([Some(0.027_f64.to_radians()); 3]).expect("valid")
 }
 
 fn paper_mc(samples: u64) -> MonteCarlo {

@@ -6,7 +6,7 @@
 //! Run: `cargo run --release -p mc-verify --example figure9 [-- SAMPLES]`.
 
 use mc_verify::{ErrorBox, McConfig, MonteCarlo};
-use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
+use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{LinearModel, OrientationAxis, paper};
 
 /// Table 4 of the paper, arcmin, in the order of chi (eq 25).
@@ -24,8 +24,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map_or(1_000_000, |v| v as u64);
     let table = paper::table3();
     let bounds = ErrorBox::from_arcmin(&table, vec![0.0; 8], TABLE4_ARCMIN.to_vec())?;
-    let req = Some(EQ16_DEG.to_radians());
-    let mc = MonteCarlo::new(&table, bounds, McConfig::new(samples, 2017, [req; 3]))?;
+    let req = tt_core::Requirement::from_options([Some(EQ16_DEG.to_radians()); 3])?;
+    let mc = MonteCarlo::new(&table, bounds, McConfig::new(samples, 2017, req))?;
     let t = std::time::Instant::now();
     let r = mc.run();
     let seconds = t.elapsed().as_secs_f64();

@@ -50,7 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let samples = arg(0, 1 << 22);
     let rounds = arg(1, 15) as usize;
     let threads = arg(2, 1) as usize;
-    let req = [Some(EQ16_DEG.to_radians()); 3];
+    let req = tt_core::Requirement::from_options([Some(EQ16_DEG.to_radians()); 3])?;
 
     let paper_table = paper::table3();
     let paper_box = ErrorBox::from_arcmin(&paper_table, vec![0.0; 8], TABLE4_ARCMIN.to_vec())?;

@@ -2,8 +2,8 @@
 //! §4.2-4.3), for the angular errors of any turntable.
 
 use crate::error::{BoundKind, McError};
+use tt_core::units::RAD_PER_ARCMIN;
 use tt_kinematics::Turntable;
-use tt_kinematics::units::RAD_PER_ARCMIN;
 
 /// Validated bounds on the magnitudes of a turntable's angular errors, radians, one pair per
 /// error in the order of $\chi$ ([`Turntable::rotation_error_names`]; eq 25 for the paper's

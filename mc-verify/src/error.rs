@@ -93,14 +93,6 @@ pub enum McError {
         /// The bounds' error name there (empty if the bounds have fewer).
         found: String,
     },
-    /// A requirement $I_k$ was not a positive finite angle.
-    #[error("requirement for {axis} must be positive and finite (or None), got {value} rad")]
-    Requirement {
-        /// `psi`, `theta` or `gamma`.
-        axis: &'static str,
-        /// The offending value, rad.
-        value: f64,
-    },
     /// A histogram half-range was not a positive finite angle (large enough for a finite
     /// inverse bin width).
     #[error(
@@ -143,4 +135,33 @@ pub enum McError {
     /// The specialised paper kernel ([`crate::baseline`]) was asked to run another turntable.
     #[error("the specialised paper kernel applies only to the paper's Table 3 turntable")]
     NotThePaperTable,
+}
+
+impl tt_core::ErrorClass for McError {
+    /// Input: the configuration (`samples`, `chunk_size`, `histogram_bins`,
+    /// `histogram_half_range`, `simd`), the box (`lower_bounds`, `upper_bounds`, `bounds` for a
+    /// box of another turntable), the kinematics' input errors, and a table the specialised
+    /// kernel does not apply to (`turntable`). Internal: a model that returned a non-finite
+    /// value or failed during the run.
+    fn input_field(&self) -> Option<&str> {
+        let bound = |kind: &BoundKind| match kind {
+            BoundKind::Lower => "lower_bounds",
+            BoundKind::Upper => "upper_bounds",
+        };
+        match self {
+            McError::ZeroSamples => Some("samples"),
+            McError::ZeroChunkSize => Some("chunk_size"),
+            McError::HistogramBins { .. } => Some("histogram_bins"),
+            McError::BoundsLength { kind, .. }
+            | McError::NonFiniteBound { kind, .. }
+            | McError::NegativeBound { kind, .. } => Some(bound(kind)),
+            McError::LowerAboveUpper { .. } => Some("lower_bounds"),
+            McError::BoundsForAnotherTurntable { .. } => Some("bounds"),
+            McError::HistogramRange { .. } => Some("histogram_half_range"),
+            McError::SimdUnavailable { .. } => Some("simd"),
+            McError::Kinematics(e) => tt_core::ErrorClass::input_field(e),
+            McError::NotThePaperTable => Some("turntable"),
+            McError::NonFiniteModelOutput { .. } | McError::Model { .. } => None,
+        }
+    }
 }

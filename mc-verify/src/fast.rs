@@ -1031,17 +1031,7 @@ impl OrientationErrorModel for FastChain {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError> {
-        let check = |what, expected, found| {
-            if expected == found {
-                Ok(())
-            } else {
-                Err(KinematicsError::Length {
-                    what,
-                    expected,
-                    found,
-                })
-            }
-        };
+        let check = tt_core::length;
         check("pose", self.plan.n_joints, pose.len())?;
         check("chi", self.n_chi, errors.chi_rad().len())?;
         check(

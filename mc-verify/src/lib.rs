@@ -32,14 +32,14 @@
 //! let table4 = vec![0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233];
 //! let bounds = ErrorBox::from_arcmin(&table, vec![0.0; 8], table4)?;
 //! // eq 16: |angle| <= 0.027 deg on all three angles
-//! let i = Some(0.027_f64.to_radians());
-//! let mc = MonteCarlo::new(&table, bounds, McConfig::new(100_000, 42, [i, i, i]))?;
+//! let i = tt_core::Requirement::uniform_deg(0.027)?;
+//! let mc = MonteCarlo::new(&table, bounds, McConfig::new(100_000, 42, i))?;
 //! let result = mc.run();
 //! assert_eq!(result.within_requirement_all, 100_000);
 //! // never beyond the rigorous bound (certified linear worst case + remainder)
 //! let h = MonteCarlo::histogram_half_range_rad(&table, mc.bounds())?;
 //! assert!(result.max_abs_rad().iter().zip(h).all(|(&m, h)| m <= h));
-//! # Ok::<(), mc_verify::McError>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! # Example: your own table
@@ -61,7 +61,7 @@
 //! let table = Turntable::new(&d)?;
 //! let bounds = ErrorBox::from_arcmin(&table, vec![0.0; 5], vec![0.5; 5])?;
 //! // a requirement on theta only
-//! let cfg = McConfig::new(50_000, 7, [None, Some(2e-4), None]);
+//! let cfg = McConfig::new(50_000, 7, tt_core::Requirement::from_options([None, Some(2e-4), None])?);
 //! let r = MonteCarlo::new(&table, bounds, cfg)?.run();
 //! assert_eq!(r.axes[0].within_requirement, 50_000); // no requirement on psi
 //! assert_eq!(r.axes[0].worst.pose.len(), 3); // every joint, the cancelling outer one too

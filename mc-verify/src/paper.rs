@@ -8,7 +8,7 @@ pub mod claims {
     use crate::error::McError;
     use crate::run::{McResult, MonteCarlo};
     use std::fmt;
-    use tt_kinematics::units::RAD_PER_ARCMIN;
+    use tt_core::units::RAD_PER_ARCMIN;
     use tt_kinematics::{LinearModel, OrientationAxis};
 
     /// One angle of the Figure 9 claim.
@@ -113,7 +113,7 @@ pub mod claims {
             let w = model.worst_pose_certified(axis, mc.bounds().ub_rad(), true, None)?;
             axes.push(Figure9Axis {
                 axis,
-                requirement_rad: result.requirement_rad[axis.index()],
+                requirement_rad: result.requirement.get(axis),
                 max_abs_rad: result.axis(axis).max_abs_rad,
                 linear_worst_rad: w.value,
                 rigorous_bound_rad: bound[axis.index()],

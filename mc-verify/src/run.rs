@@ -10,7 +10,7 @@ use crate::simd::{HotLoop, SimdLevel, run_at};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
 use std::sync::Mutex;
-use tt_kinematics::units::RAD_PER_DEG;
+use tt_core::Requirement;
 use tt_kinematics::{
     LinearModel, OrientationAxis, OrientationErrorModel, Turntable, TurntableErrors,
 };
@@ -63,9 +63,9 @@ pub struct McConfig {
     pub seed: u64,
     /// Samples per random stream (chunk), at least 1.
     pub chunk_size: u32,
-    /// The requirement $|\Delta_k| \le I_k$ per axis ($\psi, \theta, \gamma$), rad; `None` for
-    /// an axis without requirement (every sample counts as within for it).
-    pub requirement_rad: [Option<f64>; 3],
+    /// The requirement $|\Delta_k| \le I_k$ per axis ($\psi, \theta, \gamma$), rad; an axis
+    /// without requirement counts every sample as within.
+    pub requirement: Requirement,
     /// Histogram bins per axis, in `1..=MAX_HISTOGRAM_BINS`.
     pub histogram_bins: usize,
     /// Histogram half-ranges $H$ per axis, rad; `None` derives them from the turntable and
@@ -74,32 +74,33 @@ pub struct McConfig {
 }
 
 impl McConfig {
-    /// `samples` draws with `seed` and the requirement `requirement_rad` ($\psi, \theta,
-    /// \gamma$; `None` for no requirement on that angle), default chunking and histograms.
+    /// `samples` draws with `seed` and the `requirement` (an angle without one counts every
+    /// sample as within), default chunking and histograms.
     ///
     /// ```
-    /// // the paper's requirement, eq 16: 0.027 deg on all three angles
-    /// let i = Some(0.027_f64.to_radians());
-    /// let cfg = mc_verify::McConfig::new(1_000_000, 2017, [i, i, i]);
+    /// // 0.03 deg on all three angles
+    /// let i = tt_core::Requirement::uniform_deg(0.03)?;
+    /// let cfg = mc_verify::McConfig::new(1_000_000, 2017, i);
     /// assert_eq!(cfg.chunk_size, mc_verify::DEFAULT_CHUNK_SIZE);
+    /// # Ok::<(), tt_core::FieldError>(())
     /// ```
     #[must_use]
-    pub fn new(samples: u64, seed: u64, requirement_rad: [Option<f64>; 3]) -> Self {
+    pub fn new(samples: u64, seed: u64, requirement: Requirement) -> Self {
         Self {
             samples,
             seed,
             chunk_size: DEFAULT_CHUNK_SIZE,
-            requirement_rad,
+            requirement,
             histogram_bins: DEFAULT_HISTOGRAM_BINS,
             histogram_half_range_rad: None,
         }
     }
 
-    /// The same configuration with the requirement given in degrees.
+    /// The same configuration with another requirement.
     #[must_use]
-    pub fn with_requirement_deg(self, requirement_deg: [Option<f64>; 3]) -> Self {
+    pub fn with_requirement(self, requirement: Requirement) -> Self {
         Self {
-            requirement_rad: requirement_deg.map(|d| d.map(|d| d * RAD_PER_DEG)),
+            requirement,
             ..self
         }
     }
@@ -114,8 +115,8 @@ pub struct McResult {
     pub seed: u64,
     /// The chunk size used.
     pub chunk_size: u32,
-    /// The requirement $I$, rad (`None`: no requirement on that angle).
-    pub requirement_rad: [Option<f64>; 3],
+    /// The requirement $I$, rad.
+    pub requirement: Requirement,
     /// Per-axis results, in the order $\Delta\psi, \Delta\theta, \Delta\gamma$.
     pub axes: [AxisSummary; 3],
     /// Samples with all three angles inside the requirement.
@@ -170,7 +171,7 @@ impl MonteCarlo {
     /// # Errors
     /// [`McError::BoundsForAnotherTurntable`] if the box was made for another turntable;
     /// [`McError::ZeroSamples`], [`McError::ZeroChunkSize`], [`McError::HistogramBins`],
-    /// [`McError::Requirement`], [`McError::HistogramRange`] for a bad configuration;
+    /// [`McError::HistogramRange`] for a bad configuration;
     /// [`McError::Kinematics`] if the default histogram range cannot be computed.
     pub fn new(turntable: &Turntable, bounds: ErrorBox, config: McConfig) -> Result<Self, McError> {
         check_fit(turntable, &bounds)?;
@@ -185,16 +186,6 @@ impl MonteCarlo {
                 bins: config.histogram_bins,
                 max: MAX_HISTOGRAM_BINS,
             });
-        }
-        for axis in OrientationAxis::ALL {
-            if let Some(value) = config.requirement_rad[axis.index()] {
-                if !(value.is_finite() && value > 0.0) {
-                    return Err(McError::Requirement {
-                        axis: axis.name(),
-                        value,
-                    });
-                }
-            }
         }
         let half_range_rad = match config.histogram_half_range_rad {
             Some(h) => {
@@ -217,7 +208,10 @@ impl MonteCarlo {
             plan: CompiledPlan::new(turntable),
             turntable: turntable.clone(),
             bounds,
-            requirement_cmp_rad: config.requirement_rad.map(|r| r.unwrap_or(f64::INFINITY)),
+            requirement_cmp_rad: config
+                .requirement
+                .to_array()
+                .map(|r| r.unwrap_or(f64::INFINITY)),
             config,
             half_range_rad,
         })
@@ -398,7 +392,7 @@ impl MonteCarlo {
             samples: *n,
             seed: self.config.seed,
             chunk_size: self.config.chunk_size,
-            requirement_rad: self.config.requirement_rad,
+            requirement: self.config.requirement,
             axes,
             within_requirement_all: *within_all,
         }

@@ -5,6 +5,7 @@ mod common;
 
 use common::{config, paper_table, table4, three_axis, three_axis_box};
 use mc_verify::{BoundKind, ErrorBox, MAX_HISTOGRAM_BINS, McConfig, McError, MonteCarlo};
+use tt_core::Requirement;
 use tt_kinematics::{
     ExactChain, KinematicsError, OrientationError, OrientationErrorModel, Pose, TurntableErrors,
 };
@@ -146,13 +147,9 @@ fn bad_requirement_histogram_bins_and_range_are_rejected() {
         );
     }
     for bad in [0.0, -1e-4, f64::NAN, f64::INFINITY] {
-        let mut cfg = config(10, 1);
-        cfg.requirement_rad[1] = Some(bad);
-        let e = MonteCarlo::new(&paper_table(), table4(), cfg).unwrap_err();
-        assert!(
-            matches!(e, McError::Requirement { axis: "theta", .. }),
-            "{e:?}"
-        );
+        // a requirement is checked where it is made (the configuration cannot hold a bad one)
+        let e = Requirement::from_options([None, Some(bad), None]).unwrap_err();
+        assert_eq!(e.field(), "requirement.theta", "{e:?}");
 
         let mut cfg = config(10, 1);
         cfg.histogram_half_range_rad = Some([1e-3, 1e-3, bad]);
@@ -221,11 +218,11 @@ fn model_errors_are_typed_errors_naming_the_sample() {
         e,
         McError::Model {
             sample: 0,
-            source: KinematicsError::Length {
-                what: "pose",
+            source: KinematicsError::Field(tt_core::FieldError::Length {
+                field: "pose".into(),
                 expected: 3,
                 found: 2
-            }
+            })
         }
     );
     assert!(e.to_string().contains("sample 0"), "{e}");
@@ -249,7 +246,11 @@ fn values_outside_a_caller_histogram_range_are_counted_not_lost() {
 /// Requirements are optional per angle: `None` counts every sample as within.
 #[test]
 fn an_angle_without_requirement_counts_every_sample_as_within() {
-    let cfg = McConfig::new(20_000, 3, [None, Some(1e-4), None]);
+    let cfg = McConfig::new(
+        20_000,
+        3,
+        Requirement::from_options([None, Some(1e-4), None]).unwrap(),
+    );
     let r = MonteCarlo::new(&paper_table(), table4(), cfg)
         .unwrap()
         .run();
@@ -257,7 +258,7 @@ fn an_angle_without_requirement_counts_every_sample_as_within() {
     assert_eq!(r.axes[2].within_requirement, 20_000);
     assert!(r.axes[1].within_requirement < 20_000);
     assert_eq!(r.within_requirement_all, r.axes[1].within_requirement);
-    assert_eq!(r.requirement_rad, [None, Some(1e-4), None]);
+    assert_eq!(r.requirement.to_array(), [None, Some(1e-4), None]);
 }
 
 /// Huge and degenerate boxes still give finite results (no NaN reaches a result): errors of

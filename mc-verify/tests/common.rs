@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use mc_verify::{ErrorBox, McConfig, McResult};
+use tt_core::Requirement;
 use tt_kinematics::{Turntable, paper};
 
 /// Table 4 of the paper (arcmin), rows in the order of chi (eq 25; NOTES item 6):
@@ -14,8 +15,8 @@ pub const TABLE4_ARCMIN: [f64; 8] = [
 pub const EQ16_REQUIREMENT_DEG: f64 = 0.027;
 
 /// The paper's requirement (eq 16) on all three angles, rad.
-pub fn eq16() -> [Option<f64>; 3] {
-    [Some(EQ16_REQUIREMENT_DEG.to_radians()); 3]
+pub fn eq16() -> Requirement {
+    Requirement::from_options([Some(EQ16_REQUIREMENT_DEG.to_radians()); 3]).expect("valid")
 }
 
 /// `samples` draws with `seed` and the paper's requirement.
@@ -57,7 +58,11 @@ pub fn fingerprint(r: &McResult) -> Vec<u64> {
         u64::from(r.chunk_size),
         r.within_requirement_all,
     ];
-    v.extend(r.requirement_rad.map(|i| i.map_or(u64::MAX, f64::to_bits)));
+    v.extend(
+        r.requirement
+            .to_array()
+            .map(|i| i.map_or(u64::MAX, f64::to_bits)),
+    );
     for a in &r.axes {
         v.extend([
             a.max_abs_rad.to_bits(),

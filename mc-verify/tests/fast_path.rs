@@ -10,7 +10,7 @@ use mc_verify::fast::{sin_cos_reduced, sin_cos_turn};
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, FastChain, MonteCarlo, SampleBlock, Tier, chunk_rng};
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
-use tt_kinematics::units::arcmin_to_rad;
+use tt_core::units::arcmin_to_rad;
 use tt_kinematics::{
     ExactChain, FactorSpec, OrientationErrorModel, Pose, SignedAxis, Turntable,
     TurntableDescription, TurntableErrors,

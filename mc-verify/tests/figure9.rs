@@ -90,9 +90,13 @@ fn figure9_table4_maximum_of_a_million_samples_approaches_and_never_exceeds_the_
 fn three_axis_maximum_never_exceeds_the_certified_bound() {
     let t = three_axis();
     let b = three_axis_box();
-    let r = MonteCarlo::new(&t, b.clone(), McConfig::new(300_000, 3, [None; 3]))
-        .unwrap()
-        .run();
+    let r = MonteCarlo::new(
+        &t,
+        b.clone(),
+        McConfig::new(300_000, 3, tt_core::Requirement::none()),
+    )
+    .unwrap()
+    .run();
     let bound = MonteCarlo::histogram_half_range_rad(&t, &b).unwrap();
     let worst = linear_worst_cases(&t, b.ub_rad());
     for (a, ((value, upper), h)) in r.axes.iter().zip(worst.into_iter().zip(bound)) {
@@ -111,7 +115,9 @@ fn three_axis_maximum_never_exceeds_the_certified_bound() {
 /// positive fraction of samples (the count is not hard-wired to "all").
 #[test]
 fn a_tighter_requirement_is_violated_by_some_samples() {
-    let cfg = config(200_000, 1).with_requirement_deg([Some(0.02); 3]);
+    let cfg = config(200_000, 1).with_requirement(
+        tt_core::Requirement::from_options([Some(tt_core::units::deg_to_rad(0.02)); 3]).unwrap(),
+    );
     let r = MonteCarlo::new(&paper_table(), table4(), cfg)
         .unwrap()
         .run();

@@ -6,7 +6,7 @@ mod common;
 use common::{EQ16_REQUIREMENT_DEG, config, paper_table, table4};
 use mc_verify::MonteCarlo;
 use mc_verify::paper::claims;
-use tt_kinematics::units::RAD_PER_ARCMIN;
+use tt_core::units::RAD_PER_ARCMIN;
 
 /// Table 4's first-order worst cases as shares of eq 16 (unitless): Δψ and Δγ 1.4801 arcmin
 /// of 1.62 (91.36%), Δθ 0.78 + 0.78 = 1.56 arcmin (96.30%).
@@ -56,7 +56,14 @@ fn figure9_claim_s4_3_every_table4_turntable_meets_eq16_by_the_certified_worst_c
     let tight = MonteCarlo::new(
         &t,
         table4(),
-        config(10_000, 2017).with_requirement_deg([Some(between.to_degrees()), None, None]),
+        config(10_000, 2017).with_requirement(
+            tt_core::Requirement::from_options([
+                Some(tt_core::units::deg_to_rad(between.to_degrees())),
+                None,
+                None,
+            ])
+            .unwrap(),
+        ),
     )
     .unwrap();
     let r = tight.run();

@@ -24,7 +24,8 @@ fn legacy_fingerprint(r: &McResult) -> Vec<u64> {
         r.within_requirement_all,
     ];
     v.extend(
-        r.requirement_rad
+        r.requirement
+            .to_array()
             .map(|i| i.expect("eq 16 on every axis").to_bits()),
     );
     for a in &r.axes {

@@ -9,7 +9,7 @@ mod common;
 use common::{config, paper_table, table4, three_axis, three_axis_box};
 use mc_verify::{ErrorBox, MonteCarlo, TurntableSampler, chunk_rng};
 use std::f64::consts::TAU;
-use tt_kinematics::units::arcmin_to_rad;
+use tt_core::units::arcmin_to_rad;
 use tt_kinematics::{
     FactorSpec, OrientationAxis, SignedAxis, Turntable, TurntableDescription, paper,
 };

@@ -9,8 +9,8 @@
 
 use crate::error::StudyError;
 use crate::limits;
+use tt_core::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 use tt_kinematics::Turntable;
-use tt_kinematics::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 
 /// What one CSV column holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

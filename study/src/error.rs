@@ -21,3 +21,10 @@ impl StudyError {
         }
     }
 }
+
+impl tt_core::ErrorClass for StudyError {
+    /// Always the user's input: the location names the file and key, or the line and column.
+    fn input_field(&self) -> Option<&str> {
+        Some(&self.location)
+    }
+}

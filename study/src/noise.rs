@@ -167,9 +167,7 @@ pub(crate) fn parse_output_noise(
             ModelError::UnitFamilyMismatch { key, .. } | ModelError::UnknownUnit { key, .. } => {
                 key.clone()
             }
-            ModelError::NonFinite { field, .. }
-            | ModelError::NonPositive { field, .. }
-            | ModelError::Negative { field, .. } => field.clone(),
+            ModelError::Field(f) => f.field().to_string(),
             _ => String::new(),
         };
         StudyError::new(at(&key(&field)), e.to_string())
@@ -254,11 +252,11 @@ pub(crate) fn parse_timing(
     }
     Timing::new(dwell_s, move_s, fs).map_err(|e| {
         let key = match &e {
-            calib_lsq::CalibError::Timing { field, .. }
-            | calib_lsq::CalibError::NonFinite { field, .. }
-            | calib_lsq::CalibError::NonPositive { field, .. } => {
-                format!("calibration.timing.{field}")
-            }
+            calib_lsq::CalibError::Timing { field, .. } => format!("calibration.timing.{field}"),
+            calib_lsq::CalibError::Field(
+                f @ (tt_core::FieldError::NonFinite { .. }
+                | tt_core::FieldError::NotPositive { .. }),
+            ) => format!("calibration.timing.{}", f.field()),
             _ => "calibration.timing".to_string(),
         };
         StudyError::new(at(&key), e.to_string())

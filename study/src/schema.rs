@@ -4,12 +4,13 @@ use crate::error::StudyError;
 use crate::fmt::{exact, num};
 use crate::limits;
 use calib_lsq::{Calibration, Position, Reading, Schedule};
-use gw_model::{DeltaRKind, Output, Regressor, SensorModel, Site, Term};
+use gw_model::{Output, Regressor, SensorModel, Site, Term};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
-use tt_kinematics::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
+use tt_core::DeltaRKind;
+use tt_core::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 use tt_kinematics::{
     FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
 };

@@ -16,8 +16,8 @@ use crate::schema::{in_range, one_line, read_text_file, toml_error};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
+use tt_core::units::RAD_PER_ARCMIN;
 use tt_kinematics::Turntable;
-use tt_kinematics::units::RAD_PER_ARCMIN;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]

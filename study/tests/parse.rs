@@ -35,7 +35,7 @@ fn paper_study_holds_the_papers_inputs() {
     assert_eq!(s.site, gw_model::paper::site());
     assert_eq!(s.positions_deg.len(), 32);
     assert_eq!(s.reading, calib_lsq::Reading::PAPER);
-    assert_eq!(s.delta_r_kind, gw_model::DeltaRKind::SmallAngle);
+    assert_eq!(s.delta_r_kind, tt_core::DeltaRKind::SmallAngle);
     match s.requirement {
         RequirementSource::Given { rad } => {
             for r in rad {
@@ -282,7 +282,7 @@ fn omitted_optional_sections_take_their_documented_defaults() {
     let s = Study::parse("s.toml", &text).unwrap();
     assert_eq!(s.requirement, RequirementSource::Computed);
     assert_eq!(s.reading, calib_lsq::Reading::USER);
-    assert_eq!(s.delta_r_kind, gw_model::DeltaRKind::Exact);
+    assert_eq!(s.delta_r_kind, tt_core::DeltaRKind::Exact);
     // a byte-order mark is accepted
     assert!(Study::parse("s.toml", &format!("\u{feff}{PAPER}")).is_ok());
 }

@@ -5,8 +5,8 @@
 //!
 //! Run: `cargo run -p tt-kinematics --example table4_worst_case`
 
+use tt_core::units::{arcmin_to_rad, rad_to_arcmin};
 use tt_kinematics::paper::{self, ClosedForm};
-use tt_kinematics::units::{arcmin_to_rad, rad_to_arcmin};
 use tt_kinematics::{
     ExactChain, FactorSpec, LinearChain, LinearModel, OrientationAxis, OrientationErrorModel, Pose,
     SignedAxis, SmallAngleChain, Turntable, TurntableDescription, TurntableErrors,

@@ -22,10 +22,11 @@
 
 use crate::linear::LinearModel;
 use crate::model::OrientationErrorModel;
-use crate::pose::{Pose, TurntableErrors};
+use crate::pose::TurntableErrors;
 use crate::rotation::SignedAxis;
 use crate::turntable::{FactorSpec, Turntable, TurntableDescription};
 use std::fmt;
+use tt_core::Pose;
 
 /// A reference three-axis table to run the suite (and any other check) on besides the paper's:
 /// outer axis about z, middle about x, inner about y; a position error and two wobbles per

@@ -4,14 +4,10 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum KinematicsError {
-    /// A named input was NaN or infinite.
-    #[error("{field} must be finite, got {value}")]
-    NonFinite {
-        /// Which input (for example `dalpha_x2` or `phi2`).
-        field: String,
-        /// The offending value, in the unit the caller used.
-        value: f64,
-    },
+    /// An input was rejected by a check (non-finite value, wrong length), naming the field
+    /// (`pose[1]`, `chi`, `weights`).
+    #[error(transparent)]
+    Field(#[from] tt_core::FieldError),
     /// A turntable description is invalid. `key` is the path inside the description
     /// (`factors[3].about`, `joint_ranges_deg.phi1`, ...), so that a file reader can name the
     /// offending key.
@@ -21,17 +17,6 @@ pub enum KinematicsError {
         key: String,
         /// Why it was rejected.
         reason: String,
-    },
-    /// A vector passed to a turntable has the wrong length (one value per joint, per
-    /// rotation error or per translation error).
-    #[error("{what}: expected {expected} values, got {found}")]
-    Length {
-        /// What was passed (`pose`, `chi`, `translations`, `weights`).
-        what: &'static str,
-        /// How many the turntable needs.
-        expected: usize,
-        /// How many were given.
-        found: usize,
     },
     /// A model was asked about a turntable it does not describe (for example the paper's
     /// closed form of eq 26 on a three-axis table).
@@ -44,36 +29,23 @@ pub enum KinematicsError {
     },
 }
 
-pub(crate) fn finite(field: &str, value: f64) -> Result<f64, KinematicsError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(KinematicsError::NonFinite {
-            field: field.to_string(),
-            value,
-        })
-    }
-}
-
-pub(crate) fn length(
-    what: &'static str,
-    expected: usize,
-    found: usize,
-) -> Result<(), KinematicsError> {
-    if expected == found {
-        Ok(())
-    } else {
-        Err(KinematicsError::Length {
-            what,
-            expected,
-            found,
-        })
-    }
-}
+pub(crate) use tt_core::{finite, length};
 
 pub(crate) fn description(key: impl Into<String>, reason: impl Into<String>) -> KinematicsError {
     KinematicsError::Description {
         key: key.into(),
         reason: reason.into(),
+    }
+}
+
+impl tt_core::ErrorClass for KinematicsError {
+    /// Every variant is the caller's input: a field, a key of the description, or `model`
+    /// for a model asked about a turntable it does not describe.
+    fn input_field(&self) -> Option<&str> {
+        match self {
+            KinematicsError::Field(e) => Some(e.field()),
+            KinematicsError::Description { key, .. } => Some(key),
+            KinematicsError::WrongTurntable { .. } => Some("model"),
+        }
     }
 }

@@ -71,20 +71,17 @@ mod pose;
 pub mod rotation;
 pub mod sensitivity;
 pub mod turntable;
-pub mod units;
 
 pub use error::KinematicsError;
 pub use groups::{ErrorGroup, GROUP_AXIS_TOLERANCE};
 pub use linear::{
-    AVERAGE_GRID_POINTS, CERTIFY_MAX_EVALUATIONS, CERTIFY_REL_GAP, LinearModel, OrientationAxis,
-    POSE_GRID_POINTS, POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum,
-    mean_abs_harmonic,
+    AVERAGE_GRID_POINTS, CERTIFY_MAX_EVALUATIONS, CERTIFY_REL_GAP, LinearModel, POSE_GRID_POINTS,
+    POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum, mean_abs_harmonic,
 };
-pub use model::{
-    ExactChain, LinearChain, OrientationError, OrientationErrorModel, ReadOut, SmallAngleChain,
-};
-pub use pose::{Pose, TurntableErrors};
-pub use rotation::{Axis, SignedAxis};
+pub use model::{ExactChain, LinearChain, OrientationErrorModel, ReadOut, SmallAngleChain};
+pub use pose::TurntableErrors;
+/// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.
+pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};
 pub use turntable::{
     ChainKind, ErrorInfo, Factor, FactorSpec, Joint, PlanStep, PoseFrames, Turntable,
     TurntableDescription, is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,

@@ -23,12 +23,13 @@
 //! $|\partial c_{ki}/\partial\phi| \le 1$ for a component of a rotating unit vector).
 
 use crate::error::{KinematicsError, length};
-use crate::model::OrientationError;
-use crate::pose::{Pose, TurntableErrors};
-use crate::rotation::{Axis, rot_sc};
+use crate::pose::TurntableErrors;
+use crate::rotation::rot_sc;
 use crate::turntable::{Factor, Turntable};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use std::f64::consts::TAU;
+use tt_core::Pose;
+use tt_core::{OrientationAxis, OrientationError};
 
 /// A coefficient whose magnitude is below this is a structural zero (unitless: coefficients
 /// are components of unit vectors; rounding of a chain of a few rotations stays near
@@ -52,53 +53,6 @@ pub const CERTIFY_MAX_EVALUATIONS: usize = 200_000;
 /// Midpoint points per outer free joint for average sensitivities with two or more free
 /// joints (the last is integrated exactly); error $O(N^{-2})$.
 pub const AVERAGE_GRID_POINTS: usize = 512;
-
-/// One of the three orientation-error angles, in the order of eq 24-26.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum OrientationAxis {
-    /// $\Delta\psi$, rotation error about $y$.
-    Psi,
-    /// $\Delta\theta$, rotation error about $z$.
-    Theta,
-    /// $\Delta\gamma$, rotation error about $x$.
-    Gamma,
-}
-
-impl OrientationAxis {
-    /// All three, in the order $\psi, \theta, \gamma$.
-    pub const ALL: [OrientationAxis; 3] = [
-        OrientationAxis::Psi,
-        OrientationAxis::Theta,
-        OrientationAxis::Gamma,
-    ];
-
-    /// Row index (0, 1, 2).
-    #[must_use]
-    pub fn index(self) -> usize {
-        self as usize
-    }
-
-    /// `"psi"`, `"theta"` or `"gamma"`.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            OrientationAxis::Psi => "psi",
-            OrientationAxis::Theta => "theta",
-            OrientationAxis::Gamma => "gamma",
-        }
-    }
-
-    /// The frame axis the angle turns about: $y$ for $\psi$, $z$ for $\theta$, $x$ for
-    /// $\gamma$ (Figure 3, eq 7).
-    #[must_use]
-    pub fn frame_axis(self) -> Axis {
-        match self {
-            OrientationAxis::Psi => Axis::Y,
-            OrientationAxis::Theta => Axis::Z,
-            OrientationAxis::Gamma => Axis::X,
-        }
-    }
-}
 
 /// The worst pose of a weighted coefficient sum and its value.
 #[derive(Debug, Clone, PartialEq)]
@@ -211,7 +165,7 @@ impl LinearModel {
     /// $\psi, \theta, \gamma$.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a pose of the wrong length.
     pub fn coefficients(&self, pose: &Pose) -> Result<DMatrix<f64>, KinematicsError> {
         self.turntable.check_pose(pose)?;
         Ok(self.coefficients_unchecked(pose.angles_rad()))
@@ -226,7 +180,7 @@ impl LinearModel {
     /// rotation vector of $\Delta\mathbf R$ is $\sum_i \chi_i\mathbf v_i$.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a pose of the wrong length.
     pub fn rotation_vectors(&self, pose: &Pose) -> Result<Vec<Vector3<f64>>, KinematicsError> {
         self.turntable.check_pose(pose)?;
         Ok(self.vectors_sc(&Self::sc_of(pose.angles_rad())))
@@ -235,7 +189,7 @@ impl LinearModel {
     /// $f(\phi, \chi)$ for all three angles.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for inputs of the wrong length.
     pub fn evaluate(
         &self,
         pose: &Pose,
@@ -369,7 +323,7 @@ impl LinearModel {
     /// (see the [module](self); [`LinearModel::worst_pose_certified`] adds a rigorous bound).
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for weights or ranges of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for weights or ranges of the wrong length.
     pub fn max_abs_weighted(
         &self,
         axis: OrientationAxis,

@@ -1,64 +1,11 @@
 //! The seam [`OrientationErrorModel`] and its implementations for any turntable.
 
 use crate::error::KinematicsError;
-use crate::linear::{LinearModel, OrientationAxis};
-use crate::pose::{Pose, TurntableErrors};
+use crate::linear::LinearModel;
+use crate::pose::TurntableErrors;
 use crate::rotation::rotation_vector;
 use crate::turntable::{ChainKind, Turntable};
-use nalgebra::Matrix3;
-
-/// The orientation error of the sensor axes (eq 24-25), radians.
-///
-/// $\Delta\psi$ is the rotation error about $y$, $\Delta\theta$ about $z$, $\Delta\gamma$ about
-/// $x$ (paper Figure 3 and eq 7), all in the platform (sensor) frame.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct OrientationError {
-    /// $\Delta\psi$ (about $y$), rad.
-    pub delta_psi_rad: f64,
-    /// $\Delta\theta$ (about $z$), rad.
-    pub delta_theta_rad: f64,
-    /// $\Delta\gamma$ (about $x$), rad.
-    pub delta_gamma_rad: f64,
-}
-
-impl OrientationError {
-    /// `[delta_psi, delta_theta, delta_gamma]`, radians (the order of eq 24-26).
-    #[must_use]
-    pub fn to_array(&self) -> [f64; 3] {
-        [
-            self.delta_psi_rad,
-            self.delta_theta_rad,
-            self.delta_gamma_rad,
-        ]
-    }
-
-    /// From `[delta_psi, delta_theta, delta_gamma]`, radians.
-    #[must_use]
-    pub fn from_array(a: [f64; 3]) -> Self {
-        Self {
-            delta_psi_rad: a[0],
-            delta_theta_rad: a[1],
-            delta_gamma_rad: a[2],
-        }
-    }
-
-    /// One angle, radians.
-    #[must_use]
-    pub fn get(&self, axis: OrientationAxis) -> f64 {
-        self.to_array()[axis.index()]
-    }
-
-    /// Read the angles off $\Delta\mathbf R$ as eq 24 does:
-    /// $\Delta\psi = \Delta R_{13}$, $\Delta\theta = \Delta R_{21}$, $\Delta\gamma = \Delta R_{32}$.
-    #[must_use]
-    pub fn from_matrix_elements(dr: &Matrix3<f64>) -> Self {
-        Self {
-            delta_psi_rad: dr[(0, 2)],
-            delta_theta_rad: dr[(1, 0)],
-            delta_gamma_rad: dr[(2, 1)],
-        }
-    }
-}
+use tt_core::{OrientationError, Pose};
 
 /// Maps a turntable pose and its geometric errors to the orientation error of the platform.
 ///
@@ -80,7 +27,7 @@ pub trait OrientationErrorModel {
     /// $(\Delta\psi, \Delta\theta, \Delta\gamma)$ at `pose` for turntable `errors`.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] when the pose or the errors do not fit the model's
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) when the pose or the errors do not fit the model's
     /// turntable; [`KinematicsError::WrongTurntable`] for a model of one specific table.
     fn orientation_error(
         &self,

@@ -7,11 +7,13 @@
 //! examples can use the paper's table without a file, and to hold eq 26 as printed.
 
 use crate::error::KinematicsError;
-use crate::model::{OrientationError, OrientationErrorModel};
-use crate::pose::{Pose, TurntableErrors};
+use crate::model::OrientationErrorModel;
+use crate::pose::TurntableErrors;
 use crate::rotation::{Axis, SignedAxis, homogeneous, rot, small_angle, translation};
 use crate::turntable::{FactorSpec, Turntable, TurntableDescription};
 use nalgebra::{Matrix3, Matrix4, Vector3};
+use tt_core::OrientationError;
+use tt_core::Pose;
 
 /// The angular errors of the paper's table in the order of $\chi$ (eq 25) with Table 2's
 /// definitions.
@@ -222,10 +224,12 @@ pub fn figure8_expected() -> [[f64; 8]; 3] {
 /// call them and assert; the reproduction report calls the same functions and prints them.
 pub mod claims {
     use crate::error::KinematicsError;
-    use crate::linear::{LinearModel, OrientationAxis};
-    use crate::pose::{Pose, TurntableErrors};
+    use crate::linear::LinearModel;
+    use crate::pose::TurntableErrors;
     use crate::turntable::{ChainKind, Turntable};
     use std::fmt;
+    use tt_core::OrientationAxis;
+    use tt_core::Pose;
 
     /// Deterministic test points spread over the joint ranges with errors up to `max_rad`
     /// (an additive recurrence: reproducible, well spread).
@@ -296,7 +300,7 @@ pub mod claims {
         table: &Turntable,
     ) -> Result<IntersectionEvidence, KinematicsError> {
         const TRANSLATION_M: f64 = 1e-3;
-        let pts = points(table, 200, 10.0 * crate::units::RAD_PER_ARCMIN);
+        let pts = points(table, 200, 10.0 * tt_core::units::RAD_PER_ARCMIN);
         let mut max: f64 = 0.0;
         for (pose, e) in &pts {
             let moved = e
@@ -343,7 +347,7 @@ pub mod claims {
             write!(
                 f,
                 "errors up to {:.1} arcmin: exact chain minus eq 26 at most {:.3e} rad (bound 33 m² = {:.3e} rad); the description's first-order model equals eq 26 to {}",
-                self.max_error_rad / crate::units::RAD_PER_ARCMIN,
+                self.max_error_rad / tt_core::units::RAD_PER_ARCMIN,
                 self.max_difference_rad,
                 self.bound_rad,
                 if self.eq26_recovery_rel == 0.0 {
@@ -364,7 +368,7 @@ pub mod claims {
         table: &Turntable,
     ) -> Result<Eq26Evidence, KinematicsError> {
         use crate::model::OrientationErrorModel;
-        let m = 10.0 * crate::units::RAD_PER_ARCMIN;
+        let m = 10.0 * tt_core::units::RAD_PER_ARCMIN;
         let exact = crate::model::ExactChain::new(table);
         let linear = LinearModel::new(table);
         let (mut diff, mut recovery): (f64, f64) = (0.0, 0.0);

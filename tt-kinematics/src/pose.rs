@@ -1,66 +1,8 @@
-//! Turntable poses (commanded joint angles) and turntable errors (the values of the errors of a
-//! description).
+//! Turntable errors (the values of the errors of a description); the poses they act at are
+//! [`tt_core::Pose`].
 
 use crate::error::{KinematicsError, finite};
-use crate::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
-
-/// Commanded joint angles of a turntable, radians, in the order of the description's joints
-/// (the order in which they appear from the base to the platform).
-///
-/// A pose is not tied to one turntable; a [`crate::Turntable`] checks that it has one angle per
-/// joint when it is used.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Pose {
-    angles_rad: Vec<f64>,
-}
-
-impl Pose {
-    /// A pose from angles in radians; rejects NaN and infinities, naming `pose[k]`.
-    ///
-    /// # Errors
-    /// [`KinematicsError::NonFinite`] naming the angle.
-    pub fn new(angles_rad: Vec<f64>) -> Result<Self, KinematicsError> {
-        for (k, &a) in angles_rad.iter().enumerate() {
-            finite(&format!("pose[{k}]"), a)?;
-        }
-        Ok(Self { angles_rad })
-    }
-
-    /// A pose from angles in degrees.
-    ///
-    /// # Errors
-    /// As [`Pose::new`] (the value reported in degrees).
-    pub fn from_deg(angles_deg: &[f64]) -> Result<Self, KinematicsError> {
-        for (k, &a) in angles_deg.iter().enumerate() {
-            finite(&format!("pose[{k}]"), a)?;
-        }
-        Self::new(angles_deg.iter().map(|a| a * RAD_PER_DEG).collect())
-    }
-
-    /// The angles, radians.
-    #[must_use]
-    pub fn angles_rad(&self) -> &[f64] {
-        &self.angles_rad
-    }
-
-    /// The angles, degrees.
-    #[must_use]
-    pub fn angles_deg(&self) -> Vec<f64> {
-        self.angles_rad.iter().map(|a| a / RAD_PER_DEG).collect()
-    }
-
-    /// Number of angles.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.angles_rad.len()
-    }
-
-    /// Whether the pose has no angle.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.angles_rad.is_empty()
-    }
-}
+use tt_core::units::RAD_PER_ARCMIN;
 
 /// The values of a turntable's errors: the angular errors $\chi$ (radians, in the
 /// description's error order, eq 25 for the paper) and the error translations (metres).
@@ -77,13 +19,13 @@ impl TurntableErrors {
     /// From $\chi$ in radians and the translations in metres.
     ///
     /// # Errors
-    /// [`KinematicsError::NonFinite`] naming `chi[k]` or `translations[k]`.
+    /// [`tt_core::FieldError::NonFinite`] naming `chi[k]` or `translations[k]`.
     pub fn new(chi_rad: Vec<f64>, translations_m: Vec<f64>) -> Result<Self, KinematicsError> {
         for (k, &v) in chi_rad.iter().enumerate() {
-            finite(&format!("chi[{k}]"), v)?;
+            finite(format!("chi[{k}]"), v)?;
         }
         for (k, &v) in translations_m.iter().enumerate() {
-            finite(&format!("translations[{k}]"), v)?;
+            finite(format!("translations[{k}]"), v)?;
         }
         Ok(Self {
             chi_rad,
@@ -130,23 +72,23 @@ impl TurntableErrors {
     /// The same errors with angular error `k` replaced (radians).
     ///
     /// # Errors
-    /// [`KinematicsError::NonFinite`] for a non-finite value; [`KinematicsError::Length`] when
+    /// [`tt_core::FieldError::NonFinite`] for a non-finite value; [`tt_core::FieldError::Length`] when
     /// `k` is out of range.
     pub fn with_chi(mut self, k: usize, value_rad: f64) -> Result<Self, KinematicsError> {
         let n = self.chi_rad.len();
-        let slot = self.chi_rad.get_mut(k).ok_or(KinematicsError::Length {
-            what: "chi index",
+        let slot = self.chi_rad.get_mut(k).ok_or(tt_core::FieldError::Length {
+            field: "chi index".into(),
             expected: n,
             found: k,
         })?;
-        *slot = finite(&format!("chi[{k}]"), value_rad)?;
+        *slot = finite(format!("chi[{k}]"), value_rad)?;
         Ok(self)
     }
 
     /// The same angular errors with other translations (metres).
     ///
     /// # Errors
-    /// [`KinematicsError::NonFinite`] naming `translations[k]`.
+    /// [`tt_core::FieldError::NonFinite`] naming `translations[k]`.
     pub fn with_translations_m(self, translations_m: Vec<f64>) -> Result<Self, KinematicsError> {
         Self::new(self.chi_rad, translations_m)
     }

@@ -30,11 +30,12 @@
 //! program a hot loop runs without looking at the description.
 
 use crate::error::{KinematicsError, description, finite, length};
-use crate::pose::{Pose, TurntableErrors};
+use crate::pose::TurntableErrors;
 use crate::rotation::{Axis, SignedAxis, homogeneous, rot_signed, skew, translation};
 use nalgebra::{DMatrix, Matrix3, Matrix4};
 use std::collections::{BTreeMap, BTreeSet};
 use std::f64::consts::TAU;
+use tt_core::Pose;
 
 /// One factor of a turntable description, as a user writes it (names, not indices).
 #[derive(Debug, Clone, PartialEq)]
@@ -341,7 +342,7 @@ impl Turntable {
                     ("error", name)
                 }
                 FactorSpec::Fixed { angle_rad, .. } => {
-                    finite(&format!("factors[{i}].fixed"), *angle_rad).map_err(|_| {
+                    finite(format!("factors[{i}].fixed"), *angle_rad).map_err(|_| {
                         description(format!("factors[{i}].fixed_deg"), "must be finite")
                     })?;
                     continue;
@@ -631,7 +632,7 @@ impl Turntable {
     /// costs $2m$ matrix-vector products per vector and turntable.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a pose of the wrong length.
     pub fn pose_frames(&self, pose: &Pose) -> Result<PoseFrames, KinematicsError> {
         self.check_pose(pose)?;
         let p = pose.angles_rad();
@@ -659,7 +660,7 @@ impl Turntable {
     /// not depend on the pose.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for a $\chi$ or an `out` of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a $\chi$ or an `out` of the wrong length.
     pub fn segment_rotations(
         &self,
         chi: &[f64],
@@ -684,22 +685,22 @@ impl Turntable {
     /// Check that `pose` has one angle per joint.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] naming `pose`.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) naming `pose`.
     pub fn check_pose(&self, pose: &Pose) -> Result<(), KinematicsError> {
-        length("pose", self.n_joints(), pose.len())
+        Ok(length("pose", self.n_joints(), pose.len())?)
     }
 
     /// Check that `errors` has one value per angular error and per translation.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] naming `chi` or `translations`.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) naming `chi` or `translations`.
     pub fn check_errors(&self, errors: &TurntableErrors) -> Result<(), KinematicsError> {
         length("chi", self.n_rotation_errors(), errors.chi_rad().len())?;
-        length(
+        Ok(length(
             "translations",
             self.n_translation_errors(),
             errors.translations_m().len(),
-        )
+        )?)
     }
 
     /// The rotation of one factor (identity for a translation), `chi = None` for the nominal
@@ -733,7 +734,7 @@ impl Turntable {
     /// eq 21.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a pose of the wrong length.
     pub fn nominal_rotation(&self, pose: &Pose) -> Result<Matrix3<f64>, KinematicsError> {
         self.check_pose(pose)?;
         Ok(self.nominal_rotation_unchecked(pose.angles_rad()))
@@ -778,7 +779,7 @@ impl Turntable {
     /// The actual direction-cosine matrix $\mathbf R_t$ (eq 22's rotation part).
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for inputs of the wrong length.
     pub fn actual_rotation(
         &self,
         pose: &Pose,
@@ -808,7 +809,7 @@ impl Turntable {
     /// orthonormal only to first order.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for inputs of the wrong length.
     pub fn delta_r(
         &self,
         pose: &Pose,
@@ -823,7 +824,7 @@ impl Turntable {
     /// The nominal homogeneous transform $\mathbf T_d$ (eq 21).
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for a pose of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a pose of the wrong length.
     pub fn nominal_transform(&self, pose: &Pose) -> Result<Matrix4<f64>, KinematicsError> {
         Ok(homogeneous(&self.nominal_rotation(pose)?))
     }
@@ -832,7 +833,7 @@ impl Turntable {
     /// translations in metres.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for inputs of the wrong length.
     pub fn actual_transform(
         &self,
         pose: &Pose,
@@ -859,7 +860,7 @@ impl Turntable {
     /// At $\chi = 0$ it equals the first-order model ([`crate::LinearModel`]).
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for inputs of the wrong length.
     pub fn jacobian(
         &self,
         pose: &Pose,
@@ -903,7 +904,7 @@ impl Turntable {
     /// rounding, and the reference for specialised evaluators of the plan.
     ///
     /// # Errors
-    /// [`KinematicsError::Length`] for inputs of the wrong length.
+    /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for inputs of the wrong length.
     pub fn plan_orientation_error(
         &self,
         pose: &Pose,

@@ -147,7 +147,7 @@ proptest! {
     /// the rotation order at second order, which P1 cannot see.
     #[test]
     fn exact_chain_second_order_term_is_the_ordered_product(pose in pose(), chi in errors()) {
-        use tt_kinematics::rotation::{rot, skew, Axis};
+        use tt_kinematics::{rotation::{rot, skew}, Axis};
         let rz = rot(Axis::Z, pose.angles_rad()[1]);
         let g = |v: Vector3<f64>, conj: bool| if conj { rz.transpose() * skew(&v) * rz } else { skew(&v) };
         let e = |n: &str| chi.chi_rad()[chi_index(n)];

@@ -2,8 +2,8 @@
 //! test calls the claim function the reproduction report prints and asserts its verdict and
 //! evidence. The property tests behind the claims are in `claims.rs`.
 
+use tt_core::units::RAD_PER_ARCMIN;
 use tt_kinematics::paper::{self, claims};
-use tt_kinematics::units::RAD_PER_ARCMIN;
 use tt_kinematics::{FactorSpec, SignedAxis, Turntable, TurntableDescription};
 
 /// Eq 26 is a first-order model: at errors of 10 arcmin (2.9e-3 rad) the exact chain differs

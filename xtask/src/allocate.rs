@@ -15,15 +15,15 @@
 use crate::InputError;
 use crate::study as st;
 use alloc_opt::{
-    AllocError, Allocation, AllocationProblem, Allocator, Certificate, ConstraintForm,
-    EqualEffects, SensitivityWeighted, Weights, exact_chain_check,
+    Allocation, AllocationProblem, Allocator, Certificate, ConstraintForm, EqualEffects,
+    SensitivityWeighted, Weights, exact_chain_check,
 };
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
 use serde_json::{Map, Value, json};
 use study::Study;
 use study::fmt::num;
-use tt_kinematics::units::{RAD_PER_ARCMIN, rad_to_arcmin, rad_to_deg};
+use tt_core::units::{RAD_PER_ARCMIN, rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{LinearModel, OrientationAxis};
 
 /// The constraint of the per-angle problems.
@@ -65,47 +65,7 @@ fn parse_margin(s: &str) -> Result<f64, String> {
     }
 }
 
-/// An allocation error as exit code 2 (the inputs) or 1 (the solver).
-pub fn classify(e: AllocError, s: &Study) -> anyhow::Error {
-    match &e {
-        AllocError::InfeasibleLowerBounds {
-            problem,
-            components,
-            worst_case_rad,
-            requirement_rad,
-        } => crate::input::infeasible_lower_bounds(
-            &s.path,
-            &s.lower_bounds_rad,
-            &s.turntable.rotation_error_names(),
-            components,
-            problem.name(),
-            *worst_case_rad,
-            *requirement_rad,
-        )
-        .into(),
-        AllocError::Negative { .. } => InputError::new(
-            format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY),
-            e.to_string(),
-        )
-        .into(),
-        AllocError::NonFinite { field, .. } | AllocError::NotPositive { field, .. } => {
-            InputError::new(format!("{}: {field}", s.path), e.to_string()).into()
-        }
-        AllocError::QuarterRangesNeedOneFreeJoint { .. } => {
-            InputError::new("--constraint-form", e.to_string()).into()
-        }
-        _ => e.into(),
-    }
-}
-
-fn per_axis(f: impl Fn(OrientationAxis) -> Value) -> Value {
-    Value::Object(
-        OrientationAxis::ALL
-            .iter()
-            .map(|&a| (a.name().to_string(), f(a)))
-            .collect(),
-    )
-}
+use crate::out::per_angle as per_axis;
 
 fn certificate_json(s: &Study, c: &Certificate) -> Value {
     let joints = s.turntable.joint_names();
@@ -153,9 +113,9 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
         req,
         s.lower_bounds_rad.clone(),
     )
-    .map_err(|e| classify(e, s))?
+    .map_err(|e| crate::input::library(e, s))?
     .with_safety_margin(safety_margin)
-    .map_err(|e| InputError::new("--safety-margin", e.to_string()))?;
+    .map_err(|e| crate::input::library(e, s))?;
     let allocator = SensitivityWeighted {
         form: match form {
             FormChoice::Paper => ConstraintForm::PaperQuarterRanges,
@@ -163,10 +123,12 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
         },
         ..SensitivityWeighted::paper()
     };
-    let ours = allocator.allocate(&problem).map_err(|e| classify(e, s))?;
+    let ours = allocator
+        .allocate(&problem)
+        .map_err(|e| crate::input::library(e, s))?;
     let equal = EqualEffects
         .allocate(&problem)
-        .map_err(|e| classify(e, s))?;
+        .map_err(|e| crate::input::library(e, s))?;
     let table4 = if s.turntable == tt_kinematics::paper::table3() {
         let t = alloc_opt::paper::table4_rad();
         let cert = Certificate::compute(
@@ -175,7 +137,7 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
             problem.lower_bounds_rad(),
             &t,
         )
-        .map_err(|e| classify(e, s))?;
+        .map_err(|e| crate::input::library(e, s))?;
         let j = Weights::inverse_average_sensitivity(problem.model()).objective(&t)
             * RAD_PER_ARCMIN
             * RAD_PER_ARCMIN;
@@ -202,7 +164,7 @@ pub fn allocate_json(
     safety_margin: f64,
 ) -> Result<Value> {
     let names = s.turntable.rotation_error_names();
-    let exact = exact_chain_check(&a.problem, &a.ours).map_err(|e| classify(e, s))?;
+    let exact = exact_chain_check(&a.problem, &a.ours).map_err(|e| crate::input::library(e, s))?;
     let req = a.problem.requirement();
     let mut v = json!({
         "study": s.path,
@@ -315,11 +277,13 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
             .as_f64()
             .map_or("-".into(), num)
     };
+    let excess: Vec<String> = OrientationAxis::ALL
+        .iter()
+        .map(|a| format!("{} {}", a.name(), ex(a.name())))
+        .collect();
     t.push_str(&format!(
-        "exact chain over I (rad): psi {}, theta {}, gamma {}\n",
-        ex("psi"),
-        ex("theta"),
-        ex("gamma")
+        "exact chain over I (rad): {}\n",
+        excess.join(", ")
     ));
     if let Some(n) = v["requirement_note"].as_str() {
         t.push_str(n);

@@ -47,7 +47,7 @@ pub fn run(args: &Args) -> Result<()> {
         &crate::study::poses(&s)?,
         s.reading,
     )
-    .map_err(|e| InputError::new(&s.path, e.to_string()))?;
+    .map_err(|e| crate::input::library(e, &s))?;
     let source = Source::from_arg(args.file.as_deref());
     let name = source.name();
     let mut work = e2e.work();

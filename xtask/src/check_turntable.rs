@@ -234,7 +234,7 @@ pub fn run(args: &Args) -> Result<()> {
     if e2e.reading() != Reading::USER {
         sims.push(
             e2e.with_reading(Reading::USER)
-                .map_err(|e| InputError::new(&s.path, e.to_string()))?,
+                .map_err(|e| crate::input::library(e, &s))?,
         );
     }
     let checks = sims
@@ -242,7 +242,7 @@ pub fn run(args: &Args) -> Result<()> {
         .map(|sim| {
             let c = sim
                 .check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings)
-                .map_err(|e| crate::end_to_end::classify(e, &s))?;
+                .map_err(|e| crate::input::library(e, &s))?;
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;

@@ -24,7 +24,6 @@
 use crate::InputError;
 use anyhow::Result;
 use clap::Parser;
-use e2e_verify::E2eError;
 use e2e_verify::design::{
     DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, DesignInputs, DesignSettings, ScheduleDesign,
     ScheduleReport, StartKind, coarse_levels, design_on_grid,
@@ -36,7 +35,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::{num, sig};
-use tt_kinematics::units::rad_to_arcmin;
+use tt_core::units::objective_to_arcmin;
+use tt_core::units::rad_to_arcmin;
 
 /// Arguments of `design-schedule`.
 #[derive(Debug, Parser)]
@@ -72,34 +72,6 @@ fn condition(s: &str) -> Result<f64, String> {
     crate::args::number_in(s, 1.0, 1e12, "a condition number")
 }
 
-/// Bad inputs are the user's (exit 2); solver trouble is ours (exit 1).
-fn classify(e: E2eError, s: &Study) -> anyhow::Error {
-    let at = match &e {
-        E2eError::TooFewPositions { .. } | E2eError::TooManyPositions { .. } => "--positions",
-        E2eError::OutOfRange {
-            field: "step_deg" | "candidates",
-            ..
-        } => "--step-deg",
-        E2eError::GridTooLarge { step_deg, .. } => {
-            return InputError::new(
-                format!("--step-deg {}", study::fmt::exact(*step_deg)),
-                e.to_string(),
-            )
-            .into();
-        }
-        E2eError::OutOfRange {
-            field: "max_condition",
-            ..
-        }
-        | E2eError::ConditionUnreachable { .. } => "--max-condition",
-        E2eError::UnidentifiableCandidates { .. } => {
-            "candidate positions (--step-deg and the joint ranges)"
-        }
-        _ => return crate::end_to_end::classify(e, s),
-    };
-    InputError::new(at, e.to_string()).into()
-}
-
 fn progress_bar(units: u64) -> Option<ProgressBar> {
     if !std::io::stderr().is_terminal() {
         return None;
@@ -126,11 +98,8 @@ struct Outcome {
 
 fn requirement_json(r: &ScheduleReport) -> Value {
     match &r.requirement {
-        Ok(q) => {
-            let d = q.deg();
-            json!({"psi": d[0], "theta": d[1], "gamma": d[2]})
-        }
-        Err(_) => json!({"psi": null, "theta": null, "gamma": null}),
+        Ok(q) => crate::out::deg3(&q.requirement.to_array()),
+        Err(_) => crate::out::per_angle(|_| Value::Null),
     }
 }
 
@@ -244,7 +213,7 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
         "local_optimum": search.designed.local_optimum,
         "restarts": search.restarts.iter().map(|r| json!({
             "start": start_name(r.start),
-            "start_objective": if r.start_objective.is_finite() { json!(e2e_verify::objective_to_arcmin(r.start_objective)) } else { Value::Null },
+            "start_objective": if r.start_objective.is_finite() { json!(objective_to_arcmin(r.start_objective)) } else { Value::Null },
             "objective": r.exchange.as_ref().map(|e| e.evaluation.objective_arcmin()),
             "exchanges": r.exchange.as_ref().map(|e| e.exchanges),
             "exact_evaluations": r.exchange.as_ref().map(|e| e.exact_evaluations),
@@ -408,6 +377,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     let line = |label: &str, r: &ScheduleReport| -> String {
         let req = match &r.requirement {
             Ok(q) => q
+                .requirement
                 .deg()
                 .iter()
                 .map(|v| v.map_or("-".into(), |x| sig(x, 3)))
@@ -532,8 +502,8 @@ pub fn run(args: &Args) -> Result<()> {
         study_positions_deg: &s.positions_deg,
     };
     let t0 = Instant::now();
-    let (problem, design) =
-        design_on_grid(&inputs, args.step_deg, &settings, &tick).map_err(|e| classify(e, &s))?;
+    let (problem, design) = design_on_grid(&inputs, args.step_deg, &settings, &tick)
+        .map_err(|e| crate::input::library(e, &s))?;
     let seconds = t0.elapsed().as_secs_f64();
     if let Some(pb) = &pb {
         pb.finish_and_clear();

@@ -14,18 +14,18 @@
 
 use crate::InputError;
 use crate::study as st;
-use alloc_opt::AllocError;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::{
-    BoxAnswer, BuyersAnswer, E2eError, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer,
-    YieldVerdict, answer, objective_to_arcmin,
+    BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer, YieldVerdict,
+    answer,
 };
 use serde_json::{Map, Value, json};
 use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::num;
+use tt_core::units::objective_to_arcmin;
 
 /// Arguments of `end-to-end`.
 #[derive(Debug, Parser)]
@@ -46,47 +46,6 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Solver trouble is ours (exit 1); everything else comes from the inputs (exit 2), named in
-/// the user's terms (the study file and key, the flag, arcmin).
-pub fn classify(e: E2eError, s: &Study) -> anyhow::Error {
-    match e {
-        E2eError::Alloc(a @ (AllocError::Solver { .. } | AllocError::NoConvergence { .. })) => {
-            anyhow::Error::new(a)
-        }
-        E2eError::Alloc(a) => crate::allocate::classify(a, s),
-        E2eError::NoConvergence { .. } => anyhow::Error::new(e),
-        E2eError::InfeasibleLowerBounds { .. } => InputError::new(
-            format!("{}: key `{}`", s.path, crate::input::LOWER_BOUNDS_KEY),
-            e.to_string(),
-        )
-        .into(),
-        E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
-            crate::input::lower_above_upper(&s.path, &component, lb, ub, "the box").into()
-        }
-        E2eError::LowerAboveBox {
-            name,
-            component,
-            lb,
-            ub,
-        } => {
-            let what = if name == e2e_verify::paper::TABLE4_BOX {
-                format!("{name} (the paper's allocation, evaluated beside ours)")
-            } else {
-                format!("the box `{name}`")
-            };
-            crate::input::lower_above_upper(&s.path, &component, lb, ub, &what).into()
-        }
-        E2eError::Count { field, .. } => {
-            InputError::new(format!("--{}", field.replace('_', "-")), e.to_string()).into()
-        }
-        E2eError::FractionOutOfRange { .. } => {
-            InputError::new("--yield-fraction", e.to_string()).into()
-        }
-        E2eError::TooFewSamples { .. } => InputError::new("--samples", e.to_string()).into(),
-        other => InputError::new(&s.path, other.to_string()).into(),
-    }
 }
 
 /// Refuse a Monte Carlo size that cannot resolve the yield target `target` (exit 2, before any
@@ -123,9 +82,9 @@ pub fn check_yield_samples(
 ///
 /// # Errors
 /// An [`InputError`] naming the study.
-pub fn simulator(s: &Study) -> Result<EndToEnd, InputError> {
+pub fn simulator(s: &Study) -> Result<EndToEnd> {
     EndToEnd::new(&s.turntable, &s.calibration, &st::poses(s)?, s.reading)
-        .map_err(|e| InputError::new(&s.path, e.to_string()))
+        .map_err(|e| crate::input::library(e, s))
 }
 
 /// The inputs of the answer for a study: its lower bounds and requirement, the paper's
@@ -133,12 +92,7 @@ pub fn simulator(s: &Study) -> Result<EndToEnd, InputError> {
 ///
 /// # Errors
 /// An [`InputError`] naming the key.
-pub fn inputs(
-    s: &Study,
-    samples: u64,
-    seed: u64,
-    yield_fraction: f64,
-) -> Result<EndToEndInputs, InputError> {
+pub fn inputs(s: &Study, samples: u64, seed: u64, yield_fraction: f64) -> Result<EndToEndInputs> {
     let req = st::requirement(s)?;
     let mut inputs = EndToEndInputs::new(s.lower_bounds_rad.clone(), req.used, seed);
     inputs.samples = samples;
@@ -173,7 +127,7 @@ pub struct Throughput {
 /// Measure [`Throughput`] on the direct allocation's box of `a` (study's reading).
 ///
 /// # Errors
-/// As [`EndToEnd::rate_distribution`] ([`classify`]d).
+/// As [`EndToEnd::rate_distribution`] (through [`crate::input::library`]).
 pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Throughput> {
     const FAST: u64 = 200_000;
     const REFERENCE: u64 = 400;
@@ -355,11 +309,7 @@ pub fn to_json(
         "outputs": e2e.calibration().outputs().iter().zip(e2e.precisions()).map(|(o, p)| json!({"name": o.output().name, "unit": o.output().unit, "accuracy": o.output().accuracy, "precision": p})).collect::<Vec<_>>(),
         "errors": names,
         "groups": crate::groups::json(e2e.turntable(), &direct_bounds(a)),
-        "two_step_requirement_deg": a.inputs.two_step_requirement.map(|r| json!({
-            "psi": r.to_array()[0].map(f64::to_degrees),
-            "theta": r.to_array()[1].map(f64::to_degrees),
-            "gamma": r.to_array()[2].map(f64::to_degrees),
-        })),
+        "two_step_requirement_deg": a.inputs.two_step_requirement.map(|r| crate::out::deg3(&r.to_array())),
         "requirement_note": note,
         "two_step_objective": a.two_step.as_ref().map(|t| t.objective_arcmin()),
         "direct_objective": r0.direct.objective_arcmin(),
@@ -535,7 +485,7 @@ pub fn run(args: &Args) -> Result<()> {
     let inputs = inputs(&s, samples, seed, args.yield_fraction)?;
     let note = st::requirement(&s)?.disagreement;
     let t0 = Instant::now();
-    let a = answer(&e2e, &inputs).map_err(|e| classify(e, &s))?;
+    let a = answer(&e2e, &inputs).map_err(|e| crate::input::library(e, &s))?;
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     if args.json {

@@ -4,7 +4,7 @@
 
 use serde_json::{Map, Value, json};
 use study::fmt::sig;
-use tt_kinematics::units::rad_to_arcmin;
+use tt_core::units::rad_to_arcmin;
 use tt_kinematics::{ErrorGroup, Turntable};
 
 /// "a, b and c".
@@ -117,7 +117,7 @@ mod tests {
     fn the_sentence_names_every_member_and_the_combination() {
         let t = tt_kinematics::paper::table3();
         let g = &t.proportional_groups()[0];
-        let ub = vec![tt_kinematics::units::arcmin_to_rad(0.25); t.n_rotation_errors()];
+        let ub = vec![tt_core::units::arcmin_to_rad(0.25); t.n_rotation_errors()];
         assert_eq!(
             sentence(&t, g, &[("direct", &ub)]),
             "dphi_y1 and deps_y act as one rotation (first order, every pose): only their combination dphi_y1 + deps_y matters; its bound is the sum of theirs: 0.5 arcmin (direct)"

@@ -1,6 +1,17 @@
 //! Errors in what the user gave us (files, flags): they exit with code 2.
+//!
+//! A library error becomes an exit code by one rule ([`library`]): an input error
+//! ([`tt_core::ErrorClass::input_field`] names the field) is an [`InputError`] located by its
+//! field (a flag, a study key, or the file the input came from), anything else is internal
+//! (exit 1).
 
+use alloc_opt::AllocError;
+use e2e_verify::E2eError;
+use mc_verify::McError;
+use std::any::Any;
 use std::fmt;
+use study::Study;
+use tt_core::ErrorClass;
 
 /// A problem with the user's input, naming where it is (file, line, column or key) and why.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -42,7 +53,7 @@ pub fn lower_above_upper(
     ub_rad: f64,
     what: &str,
 ) -> InputError {
-    use tt_kinematics::units::rad_to_arcmin;
+    use tt_core::units::rad_to_arcmin;
     InputError::new(
         format!("{study_path}: key `{LOWER_BOUNDS_KEY}.{component}`"),
         format!(
@@ -64,7 +75,7 @@ pub fn infeasible_lower_bounds(
     worst_rad: f64,
     requirement_rad: f64,
 ) -> InputError {
-    use tt_kinematics::units::rad_to_arcmin;
+    use tt_core::units::rad_to_arcmin;
     let listed: Vec<String> = components
         .iter()
         .map(|c| {
@@ -84,4 +95,104 @@ pub fn infeasible_lower_bounds(
             study::fmt::num(requirement_rad.to_degrees())
         ),
     )
+}
+
+/// Any library error of the workspace: it says whether it is the caller's input.
+pub trait LibraryError: ErrorClass + std::error::Error + Send + Sync + 'static {}
+
+impl<T: ErrorClass + std::error::Error + Send + Sync + 'static> LibraryError for T {}
+
+/// The one rule from a library error to the command's error: an input error is an
+/// [`InputError`] (exit 2) located by its field ([`location`]), anything else is internal
+/// (exit 1). Fields that are not flags or lower bounds are located at the study file.
+pub fn library<E: LibraryError>(e: E, s: &Study) -> anyhow::Error {
+    located(e, s, &s.path, "the box")
+}
+
+/// [`library`] with `at` (a tolerance file, a CSV row) as the location of the fields that are
+/// not flags or lower bounds (and as the name of a box whose lower bound exceeds its upper).
+pub fn library_at<E: LibraryError>(e: E, s: &Study, at: &str) -> anyhow::Error {
+    located(e, s, at, at)
+}
+
+fn located<E: LibraryError>(e: E, s: &Study, at: &str, box_name: &str) -> anyhow::Error {
+    if let Some(input) = in_user_units(&e, s, box_name) {
+        return input.into();
+    }
+    match e.input_field() {
+        Some(field) => InputError::new(location(field, s, at), e.to_string()).into(),
+        None => anyhow::Error::new(e),
+    }
+}
+
+/// Where an input field of a library error is, for the user: its flag, the study key of the
+/// lower bounds, or `at`.
+fn location(field: &str, s: &Study, at: &str) -> String {
+    match field {
+        "samples" | "chunk_size" | "yield_fraction" | "positions" | "max_condition"
+        | "constraint_form" => format!("--{}", field.replace('_', "-")),
+        "histogram_bins" => "--bins".into(),
+        "safety_margin" | "1 - safety_margin" | "requirement_factor" => "--safety-margin".into(),
+        "step_deg" | "candidates" => "--step-deg".into(),
+        "candidate_positions" => "candidate positions (--step-deg and the joint ranges)".into(),
+        f if f == "lower_bounds" || f.starts_with("lower_bounds.") => {
+            format!("{}: key `{LOWER_BOUNDS_KEY}`", s.path)
+        }
+        _ => at.to_string(),
+    }
+}
+
+/// The errors whose message is rewritten in the user's units (arcmin, the study's key) or
+/// whose location quotes the flag's value.
+fn in_user_units(e: &dyn Any, s: &Study, box_name: &str) -> Option<InputError> {
+    if let Some(e) = e.downcast_ref::<E2eError>() {
+        return match e {
+            E2eError::Alloc(a) => in_user_units(a, s, box_name),
+            E2eError::Bounds(b) => in_user_units(b, s, box_name),
+            E2eError::LowerAboveBox {
+                name,
+                component,
+                lb,
+                ub,
+            } => {
+                let what = if zhao2017_box(name) {
+                    format!("{name} (the paper's allocation, evaluated beside ours)")
+                } else {
+                    format!("the box `{name}`")
+                };
+                Some(lower_above_upper(&s.path, component, *lb, *ub, &what))
+            }
+            E2eError::GridTooLarge { step_deg, .. } => Some(InputError::new(
+                format!("--step-deg {}", study::fmt::exact(*step_deg)),
+                e.to_string(),
+            )),
+            _ => None,
+        };
+    }
+    if let Some(McError::LowerAboveUpper { component, lb, ub }) = e.downcast_ref::<McError>() {
+        return Some(lower_above_upper(&s.path, component, *lb, *ub, box_name));
+    }
+    if let Some(AllocError::InfeasibleLowerBounds {
+        problem,
+        components,
+        worst_case_rad,
+        requirement_rad,
+    }) = e.downcast_ref::<AllocError>()
+    {
+        return Some(infeasible_lower_bounds(
+            &s.path,
+            &s.lower_bounds_rad,
+            &s.turntable.rotation_error_names(),
+            components,
+            problem.name(),
+            *worst_case_rad,
+            *requirement_rad,
+        ));
+    }
+    None
+}
+
+/// Whether a named box of an end-to-end answer is the paper's Table 4.
+fn zhao2017_box(name: &str) -> bool {
+    name == e2e_verify::paper::TABLE4_BOX
 }

@@ -35,7 +35,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::num;
-use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
+use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{ExactChain, LinearModel, OrientationAxis};
 
 /// Which tolerance box to verify.
@@ -95,12 +95,8 @@ fn parse_bins(s: &str) -> Result<usize, String> {
 pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
     let lb = s.lower_bounds_rad.clone();
     let boxed = |ub: Vec<f64>, what: &str| -> Result<ErrorBox> {
-        ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| match e {
-            mc_verify::McError::LowerAboveUpper { component, lb, ub } => {
-                crate::input::lower_above_upper(&s.path, &component, lb, ub, what).into()
-            }
-            other => InputError::new(what, other.to_string()).into(),
-        })
+        ErrorBox::new(&s.turntable, lb.clone(), ub)
+            .map_err(|e| crate::input::library_at(e, s, what))
     };
     if let Some(path) = &args.tolerances {
         let tol = study::Tolerances::load(path, &s.turntable).map_err(InputError::from)?;
@@ -134,9 +130,9 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
             let a = SensitivityWeighted::general()
                 .allocate(
                     &AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone())
-                        .map_err(|e| crate::allocate::classify(e, s))?,
+                        .map_err(|e| crate::input::library(e, s))?,
                 )
-                .map_err(|e| crate::allocate::classify(e, s))?;
+                .map_err(|e| crate::input::library(e, s))?;
             let ub: Vec<f64> = a
                 .upper_bounds_rad
                 .iter()
@@ -154,7 +150,7 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
 /// As [`bounds`]; an [`InputError`] naming the flag for a bad configuration.
 pub fn monte_carlo(args: &Args, s: &Study) -> Result<(String, MonteCarlo)> {
     let req = st::requirement(s)?;
-    let requirement = req.used.map_or([None; 3], |r| r.to_array());
+    let requirement = req.used.unwrap_or_else(tt_core::Requirement::none);
     let mut cfg = McConfig::new(
         args.samples.unwrap_or(s.monte_carlo.samples),
         args.seed.unwrap_or(s.monte_carlo.seed),
@@ -164,7 +160,7 @@ pub fn monte_carlo(args: &Args, s: &Study) -> Result<(String, MonteCarlo)> {
     cfg.histogram_bins = args.bins;
     let (name, b) = bounds(args, s)?;
     let mc =
-        MonteCarlo::new(&s.turntable, b, cfg).map_err(|e| InputError::new("mc", e.to_string()))?;
+        MonteCarlo::new(&s.turntable, b, cfg).map_err(|e| crate::input::library_at(e, s, "mc"))?;
     Ok((name, mc))
 }
 
@@ -214,7 +210,7 @@ pub fn report_json(
         "simd_level": SimdLevel::detected().name(),
         "lb_arcmin": errors_json(&names, mc.bounds().lb_rad()),
         "ub_arcmin": errors_json(&names, mc.bounds().ub_rad()),
-        "requirement_deg": axis_json(|a| r.requirement_rad[a.index()].map(rad_to_deg)),
+        "requirement_deg": axis_json(|a| r.requirement.get(a).map(rad_to_deg)),
         "max_abs_deg": axis_json(|a| rad_to_deg(r.axis(a).max_abs_rad)),
         "linear_worst_case_deg": axis_json(|a| linear
             .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
@@ -418,7 +414,7 @@ pub fn run(args: &Args) -> Result<()> {
             "{:>6}: max |.| {} deg (requirement {}), mean {} deg, std {} deg, worst sample #{}\n",
             a.axis.name(),
             num(rad_to_deg(a.max_abs_rad)),
-            r.requirement_rad[k].map_or("none".into(), |v| num(rad_to_deg(v))),
+            r.requirement.to_array()[k].map_or("none".into(), |v| num(rad_to_deg(v))),
             num(rad_to_deg(a.mean_rad)),
             num(rad_to_deg(std[k])),
             a.worst.index,

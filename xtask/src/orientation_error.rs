@@ -13,7 +13,7 @@ use crate::csvio::Source;
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
 use std::path::PathBuf;
-use tt_kinematics::units::rad_to_arcmin;
+use tt_core::units::rad_to_arcmin;
 use tt_kinematics::{
     ExactChain, LinearChain, OrientationErrorModel, Pose, SmallAngleChain, TurntableErrors,
     paper::ClosedForm,

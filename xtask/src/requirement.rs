@@ -9,10 +9,11 @@
 use crate::InputError;
 use crate::study as st;
 use anyhow::Result;
-use calib_lsq::{ANGLE_NAMES, CalibError, OrientationRequirement, Reading, RequirementProblem};
+use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem};
 use clap::Parser;
 use serde_json::{Value, json};
 use study::fmt::num;
+use tt_core::OrientationAxis;
 
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
@@ -32,9 +33,7 @@ pub struct Args {
     pub all_readings: bool,
 }
 
-fn deg3(r: &[Option<f64>; 3]) -> Value {
-    json!({"psi": r[0].map(f64::to_degrees), "theta": r[1].map(f64::to_degrees), "gamma": r[2].map(f64::to_degrees)})
-}
+use crate::out::deg3;
 
 /// The JSON object of one requirement.
 #[must_use]
@@ -52,7 +51,7 @@ pub fn requirement_json(
                 "name": o.output().name,
                 "unit": o.output().unit,
                 "accuracy": o.output().accuracy,
-                "sensitive_angles": b.map(|b| (0..3).filter(|&j| b.half_rad[j].is_some()).map(|j| ANGLE_NAMES[j]).collect::<Vec<_>>()),
+                "sensitive_angles": b.map(|b| (0..3).filter(|&j| b.half_rad[j].is_some()).map(|j| OrientationAxis::ALL[j].name()).collect::<Vec<_>>()),
                 "half_sides_deg": b.map(|b| deg3(&b.half_rad)),
             })
         })
@@ -62,7 +61,7 @@ pub fn requirement_json(
         "reading_formula": p.reading.formula(),
         "delta_r": p.delta_r_kind.name(),
         "schedule_positions": p.calibration.schedule().len(),
-        "orientation_requirement_deg": r.as_ref().ok().map(|r| deg3(&r.rad)),
+        "orientation_requirement_deg": r.as_ref().ok().map(|r| deg3(&r.requirement.to_array())),
         "outputs": outputs,
         "unconstrained_outputs": r.as_ref().map(|r| r.unconstrained_outputs.clone()).unwrap_or_default(),
         "note": r.as_ref().err().map(ToString::to_string),
@@ -73,8 +72,9 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
     let mut s = String::new();
     match r {
         Ok(r) => {
-            for (k, name) in ANGLE_NAMES.iter().enumerate() {
-                match r.rad[k] {
+            for axis in OrientationAxis::ALL {
+                let name = axis.name();
+                match r.requirement.get(axis) {
                     Some(v) => s.push_str(&format!(
                         "I_{name:<5} = {} deg\n",
                         study::fmt::sig(v.to_degrees(), 8)
@@ -85,8 +85,13 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
             for b in &r.boxes {
                 let sides: Vec<String> = (0..3)
                     .filter_map(|j| {
-                        b.half_rad[j]
-                            .map(|h| format!("{} {} deg", ANGLE_NAMES[j], num(h.to_degrees())))
+                        b.half_rad[j].map(|h| {
+                            format!(
+                                "{} {} deg",
+                                OrientationAxis::ALL[j].name(),
+                                num(h.to_degrees())
+                            )
+                        })
                     })
                     .collect();
                 s.push_str(&format!(
@@ -147,12 +152,10 @@ pub fn run(args: &Args) -> Result<()> {
                         .as_f64()
                         .map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7))
                 };
+                let [psi, theta, gamma] = OrientationAxis::ALL.map(|a| f(a.name()));
                 t.push_str(&format!(
-                    "{reading} | {} | {} | {} | {}\n",
+                    "{reading} | {} | {psi} | {theta} | {gamma}\n",
                     reading.formula(),
-                    f("psi"),
-                    f("theta"),
-                    f("gamma")
                 ));
             }
             crate::out::print(&t)?;

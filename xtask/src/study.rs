@@ -8,7 +8,7 @@ use alloc_opt::Requirement;
 use calib_lsq::{CalibError, OrientationRequirement, RequirementProblem};
 use std::path::Path;
 use study::{RequirementSource, Study};
-use tt_kinematics::Pose;
+use tt_core::{OrientationAxis, Pose};
 
 impl From<study::StudyError> for InputError {
     fn from(e: study::StudyError) -> Self {
@@ -40,10 +40,10 @@ pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
 ///
 /// # Errors
 /// Never for a parsed study (positions were validated); an [`InputError`] otherwise.
-pub fn poses(s: &Study) -> Result<Vec<Pose>, InputError> {
+pub fn poses(s: &Study) -> anyhow::Result<Vec<Pose>> {
     s.positions_deg
         .iter()
-        .map(|p| Pose::from_deg(p).map_err(|e| InputError::new(&s.path, e.to_string())))
+        .map(|p| Pose::from_deg(p).map_err(|e| crate::input::library(e, s)))
         .collect()
 }
 
@@ -75,16 +75,11 @@ pub const DISAGREE_REL: f64 = 1e-6;
 ///
 /// # Errors
 /// An [`InputError`] naming `requirement` when a given value is invalid for the allocation.
-pub fn requirement(s: &Study) -> Result<StudyRequirement, InputError> {
+pub fn requirement(s: &Study) -> anyhow::Result<StudyRequirement> {
     let computed = requirement_problem(s).requirement();
     match s.requirement {
         RequirementSource::Computed => {
-            let used = match &computed {
-                Ok(r) => Some(Requirement::from_options(r.rad).map_err(|e| {
-                    InputError::new(format!("{}: computed requirement", s.path), e.to_string())
-                })?),
-                Err(_) => None,
-            };
+            let used = computed.as_ref().ok().map(|r| r.requirement);
             Ok(StudyRequirement {
                 used,
                 computed,
@@ -94,16 +89,15 @@ pub fn requirement(s: &Study) -> Result<StudyRequirement, InputError> {
         }
         RequirementSource::Given { rad } => {
             let used = Requirement::new(rad[0], rad[1], rad[2]).map_err(|e| {
-                InputError::new(format!("{}: key `requirement`", s.path), e.to_string())
+                crate::input::library_at(e, s, &format!("{}: key `requirement`", s.path))
             })?;
             let disagreement = match &computed {
                 Ok(c) => {
-                    let parts: Vec<String> = ["psi", "theta", "gamma"]
+                    let parts: Vec<String> = OrientationAxis::ALL
                         .iter()
-                        .enumerate()
-                        .filter_map(|(k, n)| {
-                            let g = rad[k];
-                            match c.rad[k] {
+                        .filter_map(|axis| {
+                            let (g, n) = (rad[axis.index()], axis.name());
+                            match c.requirement.get(*axis) {
                                 Some(v) if ((g - v) / v).abs() > DISAGREE_REL => Some(format!(
                                     "{n} {} deg given vs {} deg computed ({:+.2}%)",
                                     study::fmt::num(g.to_degrees()),

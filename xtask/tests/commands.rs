@@ -36,7 +36,7 @@ fn requirement_json_is_the_library_requirement_for_every_study() {
         let v = json(&["requirement", "--study", &study(name), "--json"]);
         for (k, angle) in ["psi", "theta", "gamma"].iter().enumerate() {
             let printed = &v["orientation_requirement_deg"][angle];
-            match lib.rad[k] {
+            match lib.requirement.to_array()[k] {
                 Some(r) => {
                     assert_relative_eq!(num(printed), r.to_degrees(), max_relative = JSON_REL)
                 }
@@ -280,7 +280,7 @@ fn orientation_error_is_the_library_value_for_file_stdin_and_bom() {
         .split(',')
         .skip(2)
         .take(8)
-        .map(|x| x.parse::<f64>().unwrap() * tt_kinematics::units::RAD_PER_ARCMIN)
+        .map(|x| x.parse::<f64>().unwrap() * tt_core::units::RAD_PER_ARCMIN)
         .collect();
     let errors = TurntableErrors::new(chi, vec![1e-4]).unwrap();
     let pose = Pose::from_deg(&[30.0, 45.0]).unwrap();
@@ -291,7 +291,7 @@ fn orientation_error_is_the_library_value_for_file_stdin_and_bom() {
     for (v, a) in values.iter().zip(angles.to_array()) {
         assert_relative_eq!(
             *v,
-            tt_kinematics::units::rad_to_arcmin(a),
+            tt_core::units::rad_to_arcmin(a),
             max_relative = JSON_REL
         );
     }
@@ -401,7 +401,7 @@ fn calibration_error_matches_an_independent_least_squares() {
     assert_eq!(cols.len(), got.len());
     let chi: Vec<f64> = chi_arcmin
         .iter()
-        .map(|v| v * tt_kinematics::units::RAD_PER_ARCMIN)
+        .map(|v| v * tt_core::units::RAD_PER_ARCMIN)
         .collect();
     let errors = TurntableErrors::new(chi, vec![1e-4; s.turntable.n_translation_errors()]).unwrap();
     let mut expected: Vec<(String, f64)> = Vec::new();

@@ -5,8 +5,8 @@ use alloc_opt::{
     Allocation, AllocationProblem, Allocator, EqualEffects, Requirement, SensitivityWeighted, paper,
 };
 use std::sync::OnceLock;
+use tt_core::units::arcmin_to_rad;
 use tt_kinematics::LinearModel;
-use tt_kinematics::units::arcmin_to_rad;
 
 /// Tightness claim of the issue: each requirement is reached to 1e-9 relative (exact worst
 /// case, one free joint).

@@ -274,7 +274,7 @@ impl Regression {
     /// correlated parts): $\mathbf A^+\boldsymbol\Sigma\mathbf A^{+T}$ per part.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless both parts are $n\times n$.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless both parts are $n\times n$.
     pub fn coefficient_covariance(
         &self,
         positions: &WindowCovariance,
@@ -282,11 +282,11 @@ impl Regression {
         let n = self.a.nrows();
         for m in [&positions.white, &positions.correlated] {
             if m.shape() != (n, n) {
-                return Err(CalibError::LengthMismatch {
-                    what: "position covariance (rows and columns)",
+                return Err(CalibError::Field(tt_core::FieldError::Length {
+                    field: "position covariance (rows and columns)".into(),
                     expected: n,
                     found: if m.nrows() == n { m.ncols() } else { m.nrows() },
-                });
+                }));
             }
         }
         let pt = self.pinv.transpose();
@@ -301,18 +301,18 @@ impl Regression {
     /// $\mathbf A\,\mathrm{Cov}\,\hat{\boldsymbol\beta}\,\mathbf A^T$ per part.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless `coefficients` is $k\times k$.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless `coefficients` is $k\times k$.
     pub fn rate_error_covariance(
         &self,
         coefficients: &CoefficientCovariance,
     ) -> Result<RateErrorCovariance, CalibError> {
         let k = self.a.ncols();
         if coefficients.white.shape() != (k, k) {
-            return Err(CalibError::LengthMismatch {
-                what: "coefficient covariance (rows)",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "coefficient covariance (rows)".into(),
                 expected: k,
                 found: coefficients.white.nrows(),
-            });
+            }));
         }
         Ok(RateErrorCovariance {
             a: self.a.clone(),
@@ -345,7 +345,7 @@ impl OutputCalibration {
     /// schedule's order.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless `timing` has one dwell per position.
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless `timing` has one dwell per position.
     pub fn noise_covariance(
         &self,
         noise: &NoiseModel,
@@ -361,7 +361,7 @@ impl OutputCalibration {
     /// [`noise_covariance`](Self::noise_covariance) to see what the order does.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless `timing` has one dwell per position and `order`
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless `timing` has one dwell per position and `order`
     /// is a permutation of the positions.
     pub fn noise_covariance_in_order(
         &self,
@@ -382,11 +382,11 @@ impl OutputCalibration {
         if timing.len() == n {
             Ok(())
         } else {
-            Err(CalibError::LengthMismatch {
-                what: "dwell times (one per position)",
+            Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "dwell times (one per position)".into(),
                 expected: n,
                 found: timing.len(),
-            })
+            }))
         }
     }
 
@@ -406,7 +406,7 @@ impl Calibration {
     /// study order; `None` for a noiseless output), positions in the schedule's order.
     ///
     /// # Errors
-    /// [`CalibError::LengthMismatch`] unless there is one entry per output and one dwell per
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one entry per output and one dwell per
     /// position.
     pub fn noise_covariances(
         &self,
@@ -414,11 +414,11 @@ impl Calibration {
         timing: &Timing,
     ) -> Result<Vec<Option<NoiseCovariance>>, CalibError> {
         if noise.len() != self.outputs().len() {
-            return Err(CalibError::LengthMismatch {
-                what: "noise models (one per output)",
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "noise models (one per output)".into(),
                 expected: self.outputs().len(),
                 found: noise.len(),
-            });
+            }));
         }
         self.outputs()
             .iter()

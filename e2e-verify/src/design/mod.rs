@@ -175,10 +175,10 @@ use crate::error::E2eError;
 use crate::linear::{Linearization, OutputWorstCase};
 use crate::simulate::EndToEnd;
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};
-use gw_model::DeltaRKind;
 use rand_core::Rng;
 use rayon::prelude::*;
 use search::Search;
+use tt_core::DeltaRKind;
 
 /// The default grid step of the candidates (deg).
 pub const DEFAULT_STEP_DEG: f64 = 15.0;
@@ -244,7 +244,7 @@ pub const STREAM_D_OPTIMAL: u64 = 3 << 32;
 /// point (the start again) is left out.
 ///
 /// # Errors
-/// [`E2eError::OutOfRange`] naming `step_deg` unless $0 < s \le 360$;
+/// [`E2eError::Field`] (out of range) naming `step_deg` unless $0 < s \le 360$;
 /// [`E2eError::GridTooLarge`] above [`MAX_CANDIDATES`] grid positions (counted before any
 /// is built, in checked arithmetic).
 pub fn grid_positions_deg(
@@ -252,11 +252,11 @@ pub fn grid_positions_deg(
     step_deg: f64,
 ) -> Result<Vec<Vec<f64>>, E2eError> {
     if !(step_deg > 0.0 && step_deg <= 360.0) {
-        return Err(E2eError::OutOfRange {
-            field: "step_deg",
+        return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+            field: "step_deg".into(),
             value: step_deg,
-            range: "(0, 360] deg",
-        });
+            range: "(0, 360] deg".into(),
+        }));
     }
     // count first (no allocation): a tiny step would otherwise build axes of any length
     let ranges: Vec<(f64, f64)> = turntable
@@ -411,7 +411,7 @@ impl Evaluation {
     /// $J$ in arcmin$^{-2}$ (as `end-to-end --json` reports `direct_objective`).
     #[must_use]
     pub fn objective_arcmin(&self) -> f64 {
-        crate::objective_to_arcmin(self.objective)
+        tt_core::units::objective_to_arcmin(self.objective)
     }
 }
 
@@ -583,23 +583,17 @@ impl DesignProblem {
             });
         }
         if !(s.max_condition >= 1.0 && s.max_condition.is_finite()) {
-            return Err(E2eError::OutOfRange {
-                field: "max_condition",
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "max_condition".into(),
                 value: s.max_condition,
-                range: "[1, inf) (a condition number is at least 1)",
-            });
+                range: "[1, inf) (a condition number is at least 1)".into(),
+            }));
         }
         for (field, v) in [
             ("restarts", s.restarts),
             ("d_optimal_restarts", s.d_optimal_restarts),
         ] {
-            if v == 0 {
-                return Err(E2eError::Count {
-                    field,
-                    value: 0,
-                    max: u64::MAX,
-                });
-            }
+            tt_core::count(field, v as u64, u64::MAX)?;
         }
         Ok(())
     }
@@ -828,11 +822,11 @@ impl DesignProblem {
         for (_, g) in given {
             self.check_schedule(g)?;
             if g.len() != settings.positions {
-                return Err(E2eError::OutOfRange {
-                    field: "given start",
+                return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                    field: "given start".into(),
                     value: g.len() as f64,
-                    range: "schedules of the requested number of positions",
-                });
+                    range: "schedules of the requested number of positions".into(),
+                }));
             }
         }
         let search = Search::new(self, settings.max_condition);
@@ -887,7 +881,7 @@ impl DesignProblem {
     ///
     /// # Errors
     /// [`E2eError::TooFewPositions`], [`E2eError::TooManyPositions`],
-    /// [`E2eError::OutOfRange`] for bad settings; [`E2eError::ConditionUnreachable`] when no
+    /// [`E2eError::Field`] (out of range) for bad settings; [`E2eError::ConditionUnreachable`] when no
     /// restart reaches a feasible schedule; as [`DesignProblem::evaluate`].
     pub fn design(
         &self,
@@ -1063,14 +1057,14 @@ impl Neighbourhood<'_> {
     /// improvement.
     ///
     /// # Errors
-    /// [`E2eError::OutOfRange`] naming `slot` beyond the schedule.
+    /// [`E2eError::Field`] (out of range) naming `slot` beyond the schedule.
     pub fn screen(&self, slot: usize) -> Result<Vec<SwapBound>, E2eError> {
         if slot >= self.state.s.len() {
-            return Err(E2eError::OutOfRange {
-                field: "slot",
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "slot".into(),
                 value: slot as f64,
-                range: "a slot of the schedule",
-            });
+                range: "a slot of the schedule".into(),
+            }));
         }
         Ok(self.search.screen_swaps(&self.state, slot))
     }

@@ -100,7 +100,7 @@ impl DesignProblem {
     /// Prepare the design over `candidates_deg` (joint angles in degrees, joint order).
     ///
     /// # Errors
-    /// [`E2eError::EmptyCandidates`]; [`E2eError::OutOfRange`] naming `candidates` above
+    /// [`E2eError::EmptyCandidates`]; [`E2eError::Field`] (out of range) naming `candidates` above
     /// [`super::MAX_CANDIDATES`]; [`E2eError::Kinematics`] for a candidate that does
     /// not fit the turntable (wrong length, non-finite); [`E2eError::CandidateOutsideRange`]
     /// outside a joint range;
@@ -119,11 +119,11 @@ impl DesignProblem {
             return Err(E2eError::EmptyCandidates);
         }
         if candidates_deg.len() > super::MAX_CANDIDATES {
-            return Err(E2eError::OutOfRange {
-                field: "candidates",
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "candidates".into(),
                 value: candidates_deg.len() as f64,
-                range: "at most 50000 candidate positions",
-            });
+                range: "at most 50000 candidate positions".into(),
+            }));
         }
         crate::allocate::check_lower_bounds(turntable, lower_bounds_rad)?;
         let ranges = turntable.joint_ranges_rad();
@@ -349,11 +349,11 @@ impl DesignProblem {
             });
         }
         if let Some(&c) = s.iter().find(|&&c| c >= self.n_candidates()) {
-            return Err(E2eError::OutOfRange {
-                field: "schedule",
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "schedule".into(),
                 value: c as f64,
-                range: "candidate indices",
-            });
+                range: "candidate indices".into(),
+            }));
         }
         let mut seen = vec![false; self.n_candidates()];
         for &c in s {

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use proptest::prelude::*;
-use tt_kinematics::units::arcmin_to_rad;
+use tt_core::units::arcmin_to_rad;
 use tt_kinematics::{Pose, Turntable, TurntableErrors, paper};
 
 /// Largest error magnitude the properties are stated for: 10 arcmin (issue 2, P1), rad.

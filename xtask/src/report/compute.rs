@@ -150,7 +150,7 @@ fn timing(what: &str, since: Instant) {
 }
 
 fn calib(s: &Study, e: CalibError) -> anyhow::Error {
-    InputError::new(&s.path, e.to_string()).into()
+    crate::input::library(e, s)
 }
 
 /// The planes, cuts and surfaces of every output.
@@ -238,7 +238,7 @@ fn schedule_facts(s: &Study) -> Result<ScheduleFacts> {
     let linear = e2e.linearization();
     let direct = e2e
         .allocate_direct(&linear, &s.lower_bounds_rad)
-        .map_err(|e| crate::end_to_end::classify(e, s))?;
+        .map_err(|e| crate::input::library(e, s))?;
     Ok(ScheduleFacts {
         path: s.path.clone(),
         positions: s.positions_deg.len(),
@@ -368,7 +368,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 req,
                 s.lower_bounds_rad.clone(),
             )
-            .map_err(|e| crate::allocate::classify(e, s))?,
+            .map_err(|e| crate::input::library(e, s))?,
         ),
         None => None,
     };
@@ -381,20 +381,16 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
             .zip(lb)
             .map(|(u, l)| if u.is_finite() { *u } else { *l })
             .collect();
-        let b = ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| {
-            InputError::new(
-                format!("{}: key `allocation.lower_bounds_arcmin`", s.path),
-                e.to_string(),
-            )
-        })?;
+        let b =
+            ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| crate::input::library(e, s))?;
         let mut cfg = McConfig::new(
             options.samples,
             options.seed,
-            requirement.used.map_or([None; 3], |r| r.to_array()),
+            requirement.used.unwrap_or_else(tt_core::Requirement::none),
         );
         cfg.histogram_bins = bins;
         MonteCarlo::new(&s.turntable, b, cfg)
-            .map_err(|e| InputError::new("--samples", e.to_string()).into())
+            .map_err(|e| crate::input::library_at(e, s, "--samples"))
     };
 
     // Two independent branches on the two cores: (two-step, its Monte Carlo, the end-to-end
@@ -423,7 +419,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 Some(p) => Some(
                     SensitivityWeighted::general()
                         .allocate(p)
-                        .map_err(|e| crate::allocate::classify(e, s))?,
+                        .map_err(|e| crate::input::library(e, s))?,
                 ),
                 None => None,
             };
@@ -434,8 +430,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 || -> Result<Option<(Vec<alloc_opt::ExactAxisCheck>, MonteCarlo, McResult)>> {
                     match (&alloc_problem, &ours) {
                         (Some(p), Some(a)) => {
-                            let exact = exact_chain_check(p, a)
-                                .map_err(|e| crate::allocate::classify(e, s))?;
+                            let exact =
+                                exact_chain_check(p, a).map_err(|e| crate::input::library(e, s))?;
                             let monte_carlo = mc_config(&a.upper_bounds_rad)?;
                             let result = monte_carlo.run();
                             timing("two-step Monte Carlo", t0);
@@ -446,7 +442,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 },
                 || -> Result<AnswerPart> {
                     let answer = e2e_verify::answer_with_two_step(&e2e, &inputs, ours.clone())
-                        .map_err(|e| crate::end_to_end::classify(e, s))?;
+                        .map_err(|e| crate::input::library(e, s))?;
                     timing("end-to-end answer", t0);
                     let vendor = match &options.tolerances {
                         Some(tol) => {
@@ -455,7 +451,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                             let lb = crate::check_turntable::lower_bounds_within(s, tol);
                             let c = e2e
                                 .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
-                                .map_err(|e| crate::end_to_end::classify(e, s))?;
+                                .map_err(|e| crate::input::library(e, s))?;
                             Some((tol.clone(), c))
                         }
                         None => None,
@@ -491,7 +487,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 Some(p) if options.paper || s.turntable.free_joints().len() <= 1 => Some(
                     EqualEffects
                         .allocate(p)
-                        .map_err(|e| crate::allocate::classify(e, s))?,
+                        .map_err(|e| crate::input::library(e, s))?,
                 ),
                 _ => None,
             };

@@ -26,7 +26,8 @@ use serde_json::{Map, Value, json};
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use study::Tolerances;
-use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
+use tt_core::units::objective_to_arcmin;
+use tt_core::units::{rad_to_arcmin, rad_to_deg};
 
 /// Arguments of `report`.
 #[derive(Debug, Parser)]
@@ -87,7 +88,7 @@ fn f(v: f64) -> Value {
 }
 
 fn deg3(r: &[Option<f64>; 3]) -> Value {
-    json!({"psi": r[0].map(|v| f(rad_to_deg(v))), "theta": r[1].map(|v| f(rad_to_deg(v))), "gamma": r[2].map(|v| f(rad_to_deg(v)))})
+    crate::out::per_angle(|a| json!(r[a.index()].map(|v| f(rad_to_deg(v)))))
 }
 
 fn arcmin_map(names: &[&str], ub_rad: &[f64]) -> Value {
@@ -117,11 +118,11 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
         json!({
             "given": c.requirement.given,
             "used_deg": c.requirement.used.map(|r| deg3(&r.to_array())),
-            "computed_deg": c.requirement.computed.as_ref().ok().map(|r| deg3(&r.rad)),
+            "computed_deg": c.requirement.computed.as_ref().ok().map(|r| deg3(&r.requirement.to_array())),
             "computed_note": c.requirement.computed.as_ref().err().map(ToString::to_string),
             "unconstrained_outputs": c.requirement.computed.as_ref().map(|r| r.unconstrained_outputs.clone()).unwrap_or_default(),
             "disagreement": c.requirement.disagreement,
-            "readings": c.readings.iter().map(|(r, q)| json!({"reading": r.to_string(), "requirement_deg": q.as_ref().ok().map(|q| deg3(&q.rad)), "note": q.as_ref().err().map(ToString::to_string)})).collect::<Vec<_>>(),
+            "readings": c.readings.iter().map(|(r, q)| json!({"reading": r.to_string(), "requirement_deg": q.as_ref().ok().map(|q| deg3(&q.requirement.to_array())), "note": q.as_ref().err().map(ToString::to_string)})).collect::<Vec<_>>(),
         }),
     );
     m.insert(
@@ -137,7 +138,18 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
     m.insert("groups".into(), crate::groups::json(&s.turntable, &[]));
     m.insert(
         "average_sensitivity".into(),
-        Value::Object(names.iter().enumerate().map(|(i, n)| ((*n).to_string(), json!({"psi": f(c.sensitivity[i][0]), "theta": f(c.sensitivity[i][1]), "gamma": f(c.sensitivity[i][2])}))).collect()),
+        Value::Object(
+            names
+                .iter()
+                .enumerate()
+                .map(|(i, n)| {
+                    (
+                        (*n).to_string(),
+                        crate::out::per_angle(|a| f(c.sensitivity[i][a.index()])),
+                    )
+                })
+                .collect(),
+        ),
     );
     if let Some(t) = &c.two_step {
         m.insert(
@@ -175,7 +187,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
             "meets": meets.name(),
             "meets_text": meets.to_string(),
             "meets_excess": meets.excess().map(f),
-            "objective_arcmin": f(e2e_verify::objective_to_arcmin(b.objective)),
+            "objective_arcmin": f(objective_to_arcmin(b.objective)),
             "bounds_arcmin": arcmin_map(&names, &b.upper_bounds_rad),
             "worst_case": b.worst_case.outputs.iter().map(|w| json!({"output": outs[w.output], "exact_at_vertex": f(w.exact_at_vertex), "linear": f(w.linear_bound), "certified": w.certified_bound().map(f), "precision": f(w.precision)})).collect::<Vec<_>>(),
             "yield": f(b.distribution.yield_fraction()),
@@ -221,7 +233,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
             "designed".into(),
             Value::Array(
                 ds.iter()
-                    .map(|x| json!({"study": x.path, "positions": x.positions, "direct_objective_arcmin": f(x.direct_objective_arcmin), "condition_numbers": x.conditions.iter().map(|v| f(*v)).collect::<Vec<_>>(), "requirement_deg": x.requirement.as_ref().ok().map(|r| deg3(&r.rad))}))
+                    .map(|x| json!({"study": x.path, "positions": x.positions, "direct_objective_arcmin": f(x.direct_objective_arcmin), "condition_numbers": x.conditions.iter().map(|v| f(*v)).collect::<Vec<_>>(), "requirement_deg": x.requirement.as_ref().ok().map(|r| deg3(&r.requirement.to_array()))}))
                     .collect(),
             ),
         );
@@ -301,10 +313,10 @@ fn render(c: &Computed) -> Result<Rendered> {
                 t.problem.lower_bounds_rad(),
                 &t4,
             )
-            .map_err(|e| crate::allocate::classify(e, s))?;
+            .map_err(|e| crate::input::library(e, s))?;
             Some((
                 alloc_opt::paper::TABLE4_ARCMIN.to_vec(),
-                e2e_verify::objective_to_arcmin(w.objective(&t4)),
+                objective_to_arcmin(w.objective(&t4)),
                 [0, 1, 2].map(|k| cert.axes[k].share),
             ))
         }

@@ -9,7 +9,8 @@ use super::render::{Sections, d, greek};
 use e2e_verify::paper::registry;
 use serde::Serialize;
 use study::fmt::{num, sig};
-use tt_kinematics::units::rad_to_deg;
+use tt_core::units::objective_to_arcmin;
+use tt_core::units::rad_to_deg;
 
 /// One printed number of the paper beside ours.
 #[derive(Debug, Clone, Serialize)]
@@ -33,7 +34,7 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
     let s = &c.study;
     if let Ok(r) = &c.requirement.computed {
         for k in 0..3 {
-            if let Some(v) = r.rad[k] {
+            if let Some(v) = r.requirement.to_array()[k] {
                 out.push(Comparison {
                     quantity: format!("eq 16: I_{}", greek(k)),
                     paper: alloc_opt::paper::REQUIREMENT_DEG,
@@ -98,7 +99,7 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
         let w = alloc_opt::Weights::inverse_average_sensitivity(t.problem.model());
         out.push(Comparison {
             quantity: "objective J of the allocation".into(),
-            paper: e2e_verify::objective_to_arcmin(w.objective(&alloc_opt::paper::table4_rad())),
+            paper: objective_to_arcmin(w.objective(&alloc_opt::paper::table4_rad())),
             ours: t.ours.objective_arcmin(),
             unit: "arcmin⁻²",
             reason: "the paper does not print J; its value is computed from Table 4 with the paper's weights".into(),
@@ -106,7 +107,7 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
     }
     let bound = x.table4_monte_carlo.half_range_rad();
     for (k, b) in bound.iter().enumerate() {
-        if let Some(i) = x.table4_result.requirement_rad[k] {
+        if let Some(i) = x.table4_result.requirement.to_array()[k] {
             out.push(Comparison {
                 quantity: format!("Figure 9: bound on |{}| of Table 4 turntables", d(k)),
                 paper: rad_to_deg(i),

@@ -6,10 +6,11 @@ use super::doc::{self, Doc};
 use super::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
-use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict, objective_to_arcmin};
+use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict};
 use std::fmt::Write as _;
 use study::fmt::{exact, num, sig};
-use tt_kinematics::units::{rad_to_arcmin, rad_to_deg};
+use tt_core::units::objective_to_arcmin;
+use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{Factor, OrientationAxis};
 
 /// Greek letter of angle `k` (ψ, θ, γ).
@@ -616,7 +617,7 @@ impl<'a> Sections<'a> {
         match &c.requirement.computed {
             Ok(r) => self.doc.p(format!(
                 "Requirement computed from the study: {}.",
-                requirement_text(&r.rad)
+                requirement_text(&r.requirement.to_array())
             )),
             Err(e) => self.doc.p(format!("No requirement can be computed: {e}.")),
         }
@@ -628,7 +629,10 @@ impl<'a> Sections<'a> {
             .map(|(r, req)| {
                 let cell = match req {
                     Ok(q) => (0..3)
-                        .map(|k| q.rad[k].map_or("none".into(), |v| num(rad_to_deg(v))))
+                        .map(|k| {
+                            q.requirement.to_array()[k]
+                                .map_or("none".into(), |v| num(rad_to_deg(v)))
+                        })
                         .collect::<Vec<_>>()
                         .join(" / "),
                     Err(e) => format!("none ({e})"),
@@ -689,8 +693,8 @@ impl<'a> Sections<'a> {
                 rectangle: req
                     .map(|r| {
                         (
-                            r.rad[a].map_or(0.0, rad_to_deg),
-                            r.rad[b].map_or(0.0, rad_to_deg),
+                            r.requirement.to_array()[a].map_or(0.0, rad_to_deg),
+                            r.requirement.to_array()[b].map_or(0.0, rad_to_deg),
                         )
                     })
                     .filter(|(x, y)| *x > 0.0 && *y > 0.0),
@@ -815,7 +819,9 @@ impl<'a> Sections<'a> {
                 }
             }
             if let Some(r) = req {
-                if let (Some(ia), Some(ib)) = (r.rad[a], r.rad[b]) {
+                if let (Some(ia), Some(ib)) =
+                    (r.requirement.to_array()[a], r.requirement.to_array()[b])
+                {
                     let (x, y) = (rad_to_deg(ia), rad_to_deg(ib));
                     series.push(Series {
                         label: "requirement (all outputs)".into(),
@@ -1004,7 +1010,7 @@ impl<'a> Sections<'a> {
         }
         let t4_rad = table4.map(|(t4, _, _)| {
             t4.iter()
-                .map(|v| tt_kinematics::units::arcmin_to_rad(*v))
+                .map(|v| tt_core::units::arcmin_to_rad(*v))
                 .collect::<Vec<f64>>()
         });
         if let Some(t4) = &t4_rad {
@@ -1105,7 +1111,7 @@ impl<'a> Sections<'a> {
                     d(k),
                     sig(rad_to_deg(r.axes[k].max_abs_rad), 5),
                     sig(rad_to_deg(bound[k]), 5),
-                    r.requirement_rad[k].map_or("none".into(), |i| sig(rad_to_deg(i), 5)),
+                    r.requirement.to_array()[k].map_or("none".into(), |i| sig(rad_to_deg(i), 5)),
                     sig(rad_to_deg(sd[k]), 4),
                     pct(r.axes[k].within_requirement as f64 / r.samples as f64),
                 ]);
@@ -1133,7 +1139,7 @@ impl<'a> Sections<'a> {
                 let k = a.index();
                 let h = &r.axes[k].histogram;
                 let mut limits = Vec::new();
-                if let Some(i) = r.requirement_rad[k] {
+                if let Some(i) = r.requirement.to_array()[k] {
                     limits.push((
                         "±I (requirement)".to_string(),
                         rad_to_deg(i),
@@ -1568,7 +1574,7 @@ impl<'a> Sections<'a> {
         ));
         let req = |r: &Result<OrientationRequirement, CalibError>| match r {
             Ok(q) => (0..3)
-                .map(|k| q.rad[k].map_or("none".into(), |v| num(rad_to_deg(v))))
+                .map(|k| q.requirement.to_array()[k].map_or("none".into(), |v| num(rad_to_deg(v))))
                 .collect::<Vec<_>>()
                 .join(" / "),
             Err(e) => format!("none ({e})"),
