@@ -26,15 +26,14 @@
 //! on failure).
 
 use crate::InputError;
-use crate::csvio::{MAX_LINE_BYTES, Source};
+use crate::csvio::{Source, for_each_line_in};
 use crate::report::figures::{LIMIT, WIDTH, colour, finite};
 use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan};
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Result, anyhow, bail};
 use clap::Parser;
 use plotters::prelude::*;
 use serde_json::{Value, json};
-use std::io::{BufRead, Read, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use study::fmt::sig;
 
 /// Arguments of `allan`.
@@ -170,38 +169,12 @@ fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
     let settings = Settings::new(args.rate_hz).confidence(args.confidence);
     let mut est =
         StreamingAllan::new(settings).map_err(|e| InputError::new("--rate-hz", e.to_string()))?;
-    let mut reader = source.open()?;
-    let mut buf = Vec::new();
-    let mut line_no = 0usize;
+    let reader = source.open()?;
     let mut layout: Option<(usize, usize, String)> = None;
-    loop {
-        buf.clear();
-        let n = (&mut reader)
-            .take(MAX_LINE_BYTES as u64 + 1)
-            .read_until(b'\n', &mut buf)
-            .map_err(|e| {
-                InputError::new(
-                    format!("{name}:{}", line_no + 1),
-                    format!("cannot read: {e}"),
-                )
-            })?;
-        if n == 0 {
-            break;
-        }
-        line_no += 1;
-        if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
-            return Err(InputError::new(
-                format!("{name}:{line_no}"),
-                format!("line longer than {MAX_LINE_BYTES} bytes"),
-            ));
-        }
-        let line = study::csv::decode_line(&name, line_no, &buf)?;
-        if line.trim().is_empty() {
-            continue;
-        }
+    for_each_line_in(reader, &name, |line_no, line| {
         let Some((index, count, column)) = &layout else {
             layout = Some(pick_column(&name, line_no, line, args.column.as_deref())?);
-            continue;
+            return Ok(());
         };
         let mut fields = 0usize;
         let mut cell = "";
@@ -239,8 +212,8 @@ fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
             ));
         }
         est.push(v)
-            .map_err(|e| InputError::new(at(), e.to_string()))?;
-    }
+            .map_err(|e| InputError::new(at(), e.to_string()))
+    })?;
     let Some((_, _, column)) = layout else {
         return Err(InputError::new(
             name,
@@ -566,65 +539,6 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Refuse an output path that exists (any kind of entry), has no file name, or whose
-/// directory does not exist.
-fn check_new_path(flag: &str, out: &Path) -> Result<(), InputError> {
-    let shown = out.display().to_string();
-    if out.symlink_metadata().is_ok() {
-        return Err(InputError::new(
-            &shown,
-            format!(
-                "{flag}: the file exists; choose a new name (an existing file is never overwritten)"
-            ),
-        ));
-    }
-    if out.file_name().is_none() {
-        return Err(InputError::new(&shown, format!("{flag} needs a file name")));
-    }
-    let dir = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !dir.is_dir() {
-        return Err(InputError::new(
-            &shown,
-            format!("{flag}: its directory does not exist"),
-        ));
-    }
-    Ok(())
-}
-
-/// A complete temporary file beside `out`, to be linked into place.
-fn stage(out: &Path, bytes: &[u8]) -> Result<tempfile::NamedTempFile> {
-    let dir = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".allan-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
-    tmp.write_all(bytes)?;
-    tmp.as_file().sync_all()?;
-    Ok(tmp)
-}
-
-/// Link a staged file into place, never replacing anything.
-fn commit(flag: &str, tmp: tempfile::NamedTempFile, out: &Path) -> Result<()> {
-    tmp.persist_noclobber(out).map_err(|e| {
-        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
-            anyhow::Error::new(InputError::new(
-                out.display().to_string(),
-                format!("{flag}: the file appeared while the log was read; not overwritten"),
-            ))
-        } else {
-            anyhow::Error::new(e.error).context(format!("writing {}", out.display()))
-        }
-    })?;
-    Ok(())
-}
-
 /// Run the command.
 ///
 /// # Errors
@@ -639,7 +553,7 @@ pub fn run(args: &Args) -> Result<()> {
     .filter_map(|(f, p)| p.as_ref().map(|p| (f, p)))
     .collect();
     for (flag, p) in &outputs {
-        check_new_path(flag, p)?;
+        crate::newfile::check(p, flag)?;
     }
     if let [(_, a), (_, b)] = outputs.as_slice() {
         if a == b {
@@ -665,18 +579,22 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let mut staged = Vec::new();
     if let Some(p) = &args.figure {
-        staged.push(("--figure", stage(p, figure_svg(&log, unit)?.as_bytes())?, p));
+        staged.push((
+            "--figure",
+            crate::newfile::stage(p, figure_svg(&log, unit)?.as_bytes())?,
+            p,
+        ));
     }
     if let Some(p) = &args.write_noise {
         staged.push((
             "--write-noise",
-            stage(p, noise_toml(&log, unit).as_bytes())?,
+            crate::newfile::stage(p, noise_toml(&log, unit).as_bytes())?,
             p,
         ));
     }
     let mut written = String::new();
     for (flag, tmp, p) in staged {
-        commit(flag, tmp, p)?;
+        tmp.commit(flag)?;
         if !args.json {
             written.push_str(&format!(
                 "wrote {}\n",

@@ -58,6 +58,49 @@ impl Source {
     }
 }
 
+/// The one line loop of every CSV input: read `reader` once, line by line (memory bounded by
+/// [`MAX_LINE_BYTES`]), decode each line as UTF-8 (a byte-order mark is accepted), skip blank
+/// lines and hand the others to `visit` with their 1-based line number. Stops at the first
+/// error.
+///
+/// # Errors
+/// An [`InputError`] at `name:line` for an unreadable input, invalid UTF-8 or a line longer
+/// than [`MAX_LINE_BYTES`]; or the first error `visit` returns.
+pub fn for_each_line_in<R, F>(mut reader: R, name: &str, mut visit: F) -> Result<(), InputError>
+where
+    R: BufRead,
+    F: FnMut(usize, &str) -> Result<(), InputError>,
+{
+    let mut buf = Vec::new();
+    let mut line_no = 0;
+    loop {
+        buf.clear();
+        let n = (&mut reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut buf)
+            .map_err(|e| {
+                InputError::new(
+                    format!("{name}:{}", line_no + 1),
+                    format!("cannot read: {e}"),
+                )
+            })?;
+        if n == 0 {
+            return Ok(());
+        }
+        line_no += 1;
+        if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
+            return Err(InputError::new(
+                format!("{name}:{line_no}"),
+                format!("line longer than {MAX_LINE_BYTES} bytes"),
+            ));
+        }
+        let line = decode_line(name, line_no, &buf)?;
+        if !line.trim().is_empty() {
+            visit(line_no, line)?;
+        }
+    }
+}
+
 /// Visit every data row of the CSV (header mapped to `turntable`), in order, with its line
 /// number; blank lines are skipped. Stops at the first error.
 ///
@@ -94,43 +137,16 @@ where
     F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
 {
     let name = name.to_string();
-    let mut buf = Vec::new();
     let mut columns: Option<TurntableColumns> = None;
-    let mut line_no = 0;
-    loop {
-        buf.clear();
-        let n = (&mut reader)
-            .take(MAX_LINE_BYTES as u64 + 1)
-            .read_until(b'\n', &mut buf)
-            .map_err(|e| {
-                InputError::new(
-                    format!("{name}:{}", line_no + 1),
-                    format!("cannot read: {e}"),
-                )
-            })?;
-        if n == 0 {
-            break;
+    for_each_line_in(&mut reader, &name, |line_no, line| match &columns {
+        None => {
+            columns = Some(TurntableColumns::from_header_for(
+                &name, line_no, line, turntable, joints,
+            )?);
+            Ok(())
         }
-        line_no += 1;
-        if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
-            return Err(InputError::new(
-                format!("{name}:{line_no}"),
-                format!("line longer than {MAX_LINE_BYTES} bytes"),
-            ));
-        }
-        let line = decode_line(&name, line_no, &buf)?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        match &columns {
-            None => {
-                columns = Some(TurntableColumns::from_header_for(
-                    &name, line_no, line, turntable, joints,
-                )?)
-            }
-            Some(c) => visit(line_no, c.parse_row(&name, line_no, line)?)?,
-        }
-    }
+        Some(c) => visit(line_no, c.parse_row(&name, line_no, line)?),
+    })?;
     if columns.is_none() {
         return Err(InputError::new(
             name,

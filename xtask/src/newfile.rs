@@ -1,4 +1,4 @@
-//! A new file the user names (`design-schedule --write-study OUT`): checked before the work
+//! A new file the user names (`design-schedule --write-study OUT`, `allan --figure`, `allan --write-noise`): checked before the work
 //! (it must not exist, its directory must exist and be writable: exit 2 naming the path
 //! otherwise), then written atomically, never replacing anything, with the permissions any
 //! other program gives a new file (`0666` less the umask).
@@ -74,44 +74,86 @@ pub fn check(out: &Path, flag: &str) -> Result<(), InputError> {
 }
 
 /// Move `tmp` to `out` unless `out` exists (`renameat2(RENAME_NOREPLACE)`, or a hard link
-/// where the file system cannot do that).
-fn link_new(tmp: &Path, out: &Path) -> std::io::Result<()> {
+/// where the file system cannot do that). Returns whether the name `tmp` still exists (the
+/// hard-link case).
+fn link_new(tmp: &Path, out: &Path) -> std::io::Result<bool> {
     use rustix::fs::{CWD, RenameFlags, renameat_with};
     match renameat_with(CWD, tmp, CWD, out, RenameFlags::NOREPLACE) {
-        Ok(()) => Ok(()),
+        Ok(()) => Ok(false),
         Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => {
-            std::fs::hard_link(tmp, out)
+            std::fs::hard_link(tmp, out).map(|()| true)
         }
         Err(e) => Err(e.into()),
     }
 }
 
-/// Write `bytes` to the new file `out`: a temporary file beside it, flushed, then linked into
-/// place only if `out` still does not exist (never replacing anything).
+/// A complete temporary file beside its destination, not yet in place; its temporary name is
+/// removed when dropped unless [`Staged::commit`] renamed it into place. Staging every output first and committing them last
+/// means a failure while producing one leaves none of them behind.
+#[derive(Debug)]
+pub struct Staged {
+    tmp: std::path::PathBuf,
+    out: std::path::PathBuf,
+    linked: bool,
+}
+
+/// Write `bytes` to a temporary file beside `out` (mode `0666` less the umask), flushed to
+/// disk, for [`Staged::commit`].
 ///
 /// # Errors
-/// An [`InputError`] if `out` appeared meanwhile (it is not touched); I/O errors otherwise
-/// (the temporary file is removed).
-pub fn write(out: &Path, bytes: &[u8], flag: &str) -> Result<()> {
+/// I/O errors creating or writing the temporary file (it is removed).
+pub fn stage(out: &Path, bytes: &[u8]) -> Result<Staged> {
     let dir = dir_of(out);
     let (tmp, mut f) = create_temporary(dir)
         .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
-    let result = f
-        .write_all(bytes)
+    let staged = Staged {
+        tmp,
+        out: out.to_path_buf(),
+        linked: false,
+    };
+    f.write_all(bytes)
         .and_then(|()| f.sync_all())
-        .with_context(|| format!("writing {}", tmp.display()))
-        .and_then(|()| {
-            link_new(&tmp, out).map_err(|e| {
-                if e.kind() == std::io::ErrorKind::AlreadyExists {
-                    anyhow::Error::new(InputError::new(
-                        out.display().to_string(),
-                        format!("{flag}: the file appeared meanwhile; not overwritten"),
-                    ))
-                } else {
-                    anyhow::Error::new(e).context(format!("writing {}", out.display()))
-                }
-            })
-        });
-    let _ = std::fs::remove_file(&tmp);
-    result
+        .with_context(|| format!("writing {}", staged.tmp.display()))?;
+    Ok(staged)
+}
+
+impl Staged {
+    /// Link the file into place only if its destination still does not exist (never
+    /// replacing anything).
+    ///
+    /// # Errors
+    /// An [`InputError`] naming the destination and `flag` if it appeared meanwhile (it is not
+    /// touched); I/O errors otherwise. The temporary file is removed either way.
+    pub fn commit(mut self, flag: &str) -> Result<()> {
+        let tmp_remains = link_new(&self.tmp, &self.out).map_err(|e| {
+            if e.kind() == std::io::ErrorKind::AlreadyExists {
+                anyhow::Error::new(InputError::new(
+                    self.out.display().to_string(),
+                    format!("{flag}: the file appeared meanwhile; not overwritten"),
+                ))
+            } else {
+                anyhow::Error::new(e).context(format!("writing {}", self.out.display()))
+            }
+        })?;
+        // After a rename the temporary name is gone (and may not be removed: it could be
+        // someone else's by now); after a hard link it is a second name of the committed file.
+        self.linked = !tmp_remains;
+        Ok(())
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if !self.linked {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Write `bytes` to the new file `out`: [`stage`] then [`Staged::commit`].
+///
+/// # Errors
+/// As [`stage`] and [`Staged::commit`].
+pub fn write(out: &Path, bytes: &[u8], flag: &str) -> Result<()> {
+    stage(out, bytes)?.commit(flag)
 }

@@ -460,3 +460,40 @@ fn bad_input_exits_2_naming_the_flag_line_or_column() {
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(j["curve"].as_array().unwrap().len(), 1);
 }
+
+/// `--figure` and `--write-noise` create their files like any other program: `0666` less the
+/// umask (before: always 0600, as `--write-study` was; issue 19 §2), and leave no temporary
+/// file behind.
+#[test]
+fn figure_and_noise_files_respect_the_umask() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let (_, csv) = samples(3_000, 5);
+    let log = write(dir.path(), "log.csv", &csv);
+    for (umask, expected) in [("022", 0o644), ("027", 0o640)] {
+        let fig = dir.path().join(format!("adev-{umask}.svg"));
+        let noise = dir.path().join(format!("noise-{umask}.toml"));
+        let o = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!("umask {umask}; exec \"$0\" \"$@\""))
+            .arg(env!("CARGO_BIN_EXE_xtask"))
+            .args(["allan", log.to_str().unwrap(), "--rate-hz", "100"])
+            .args(["--column", "gz_deg_per_s", "--figure"])
+            .arg(&fig)
+            .arg("--write-noise")
+            .arg(&noise)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        for p in [&fig, &noise] {
+            let mode = std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode, expected, "{} under umask {umask}", p.display());
+        }
+    }
+    let hidden: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(hidden.is_empty(), "no temporary file left: {hidden:?}");
+}
