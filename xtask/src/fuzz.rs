@@ -15,7 +15,8 @@
 //! file gives. The case then asserts the contract of the input layer:
 //!
 //! - never a panic (caught and reported with the input);
-//! - never longer than [`CASE_TIME_LIMIT`] (reported);
+//! - never more CPU time than [`CASE_TIME_LIMIT`] (reported; the case's own thread's CPU time,
+//!   not the wall clock, so that a loaded machine does not make findings);
 //! - either a valid value, whose numbers are finite and whose schedule identifies every
 //!   coefficient, or a typed error that names the source and where in it (a key, a line, a
 //!   column): an error without a location is a finding.
@@ -85,8 +86,19 @@ use study::fmt::{is_unsafe_char, visible};
 use study::{Study, StudyError, Tolerances};
 use tt_kinematics::Turntable;
 
-/// The longest a single case may take.
+/// The most CPU time a single case may take (its own thread's user and system time, so a
+/// loaded or shared machine does not turn slow scheduling into findings; a case runs on one
+/// thread).
 pub const CASE_TIME_LIMIT: Duration = Duration::from_secs(1);
+
+/// The CPU time this thread has used so far (`CLOCK_THREAD_CPUTIME_ID`).
+fn thread_cpu_time() -> Duration {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+    Duration::new(
+        u64::try_from(t.tv_sec).unwrap_or(0),
+        u32::try_from(t.tv_nsec).unwrap_or(0),
+    )
+}
 
 /// Cases per block: run in parallel, folded into the counters, then dropped.
 pub const BLOCK: u64 = 4096;
@@ -267,7 +279,7 @@ pub struct Summary {
     pub rejected: u64,
     /// Findings (each handed to the sink).
     pub findings: u64,
-    /// The slowest case, seconds.
+    /// The slowest case, CPU seconds.
     pub slowest_s: f64,
     /// The counters of each target ([`Target::ALL`] order in a run).
     pub by_target: Vec<(Target, Counts)>,
@@ -1839,7 +1851,7 @@ fn one_case(
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let s = &seeds[below(&mut rng, seeds.len())];
     let study = &studies[s.study];
-    let t = Instant::now();
+    let t = thread_cpu_time();
     let (bytes, outcome) = match (s.target, s.form) {
         (Target::Manifests, Form::Out(start)) => {
             let base = scratch.join(format!("case-{case}"));
@@ -1853,12 +1865,17 @@ fn one_case(
             for _ in 0..1 + below(&mut rng, 4) {
                 bytes = mutate(&mut rng, &bytes, target.is_csv(), config.repeat_kib << 10);
             }
-            let t = Instant::now();
+            let t = thread_cpu_time();
             let outcome = run_case(target, &bytes, study, &config.hooks);
-            return timed(target, outcome, t.elapsed(), bytes);
+            return timed(target, outcome, thread_cpu_time().saturating_sub(t), bytes);
         }
     };
-    timed(s.target, outcome, t.elapsed(), bytes)
+    timed(
+        s.target,
+        outcome,
+        thread_cpu_time().saturating_sub(t),
+        bytes,
+    )
 }
 
 /// A case's result, a case over [`CASE_TIME_LIMIT`] made a finding.
@@ -1869,7 +1886,7 @@ fn timed(
     bytes: Vec<u8>,
 ) -> (Target, Outcome, f64, Vec<u8>) {
     if dt > CASE_TIME_LIMIT && !matches!(outcome, Outcome::Finding(_)) {
-        outcome = Outcome::Finding(format!("took {:.2} s", dt.as_secs_f64()));
+        outcome = Outcome::Finding(format!("took {:.2} s of CPU time", dt.as_secs_f64()));
     }
     (target, outcome, dt.as_secs_f64(), bytes)
 }
@@ -2040,7 +2057,7 @@ pub fn run(args: &Args) -> Result<()> {
     })?;
     let secs = t.elapsed().as_secs_f64();
     let mut text = format!(
-        "fuzz: {} cases (seed {}) in {:.1} s: {} valid, {} rejected with a located error, {} findings; slowest case {:.3} s\n",
+        "fuzz: {} cases (seed {}) in {:.1} s: {} valid, {} rejected with a located error, {} findings; slowest case {:.3} CPU s\n",
         sum.cases, args.seed, secs, sum.valid, sum.rejected, sum.findings, sum.slowest_s
     );
     for (target, c) in Target::ALL.map(|t| (t, sum.of(t))) {
@@ -2074,6 +2091,40 @@ pub fn run(args: &Args) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A case is timed by its own thread's CPU time: waiting (what a loaded machine does to a
+    /// case) does not count, work does, and a case over [`CASE_TIME_LIMIT`] is a finding
+    /// (a wall-clock limit once reported parsing a study on a busy machine as a 1.26 s case).
+    #[test]
+    fn cases_are_timed_by_their_cpu_time_not_the_wall_clock() {
+        let t = thread_cpu_time();
+        std::thread::sleep(CASE_TIME_LIMIT + Duration::from_millis(200));
+        let waited = thread_cpu_time().saturating_sub(t);
+        assert!(
+            waited < CASE_TIME_LIMIT / 4,
+            "sleeping used {waited:?} of CPU time"
+        );
+        let t = thread_cpu_time();
+        let mut x = 0u64;
+        while thread_cpu_time().saturating_sub(t) < Duration::from_millis(30) {
+            x = std::hint::black_box(x.wrapping_add(1));
+        }
+        assert!(thread_cpu_time().saturating_sub(t) >= Duration::from_millis(30));
+        let slow = timed(
+            Target::Study,
+            Outcome::Valid,
+            CASE_TIME_LIMIT * 2,
+            Vec::new(),
+        );
+        assert!(matches!(slow.1, Outcome::Finding(ref m) if m.contains("CPU time")));
+        let fast = timed(
+            Target::Study,
+            Outcome::Valid,
+            CASE_TIME_LIMIT / 2,
+            Vec::new(),
+        );
+        assert!(matches!(fast.1, Outcome::Valid));
+    }
 
     /// A panic inside a case is caught and reported as a finding with its message (the
     /// harness can see what it is looking for).
