@@ -192,3 +192,87 @@ fn a_larger_k_sigma_gives_a_larger_noise_part() {
         );
     }
 }
+
+/// The IMU example with white noise only (its bias-instability lines removed).
+fn imu_white_only() -> String {
+    common::study_text("imu-triad-example")
+        .lines()
+        .filter(|l| {
+            let t = l.trim_start();
+            !t.starts_with("bias_instability") && !t.starts_with("bias_correlation_s")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+#[test]
+fn end_to_end_states_the_shortest_dwell_and_the_tradeoff() {
+    // white noise only: sigma scales as 1/sqrt(T), so the shortest dwell is the closed form
+    // T0 (3 sigma(T0) / accuracy)^2 of the output that needs the longest (no lower bounds)
+    let dir = scratch("noise", "white");
+    let p = write(&dir, "imu-white.toml", &imu_white_only());
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        p.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--yield-fraction",
+        "0.9",
+        "--json",
+    ]);
+    let noise = &v["readings"][0]["noise"];
+    let sigma: Vec<f64> = noise["noise_sigma"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(num)
+        .collect();
+    let acc: Vec<f64> = v["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| num(&o["accuracy"]))
+        .collect();
+    let expected = sigma
+        .iter()
+        .zip(&acc)
+        .map(|(s, a)| 60.0 * (3.0 * s / a).powi(2))
+        .fold(0.0, f64::max);
+    // bisection to 2^-48 of the log width; JSON full precision
+    assert_relative_eq!(num(&v["min_dwell_s"]), expected, max_relative = 1e-9);
+    let curve = v["tradeoff"].as_array().unwrap();
+    assert!(curve.len() >= 10);
+    let js: Vec<f64> = curve.iter().map(|p| num(&p["objective_arcmin"])).collect();
+    assert!(js.windows(2).all(|w| w[1] < w[0]), "{js:?}");
+    assert!(num(&curve[0]["dwell_s"]) > num(&v["min_dwell_s"]));
+    // at 60 s the gyros' noise alone exceeds 0.1 deg/h: an answer, exit 0
+    assert_eq!(noise["direct_with_noise"]["no_table_suffices"], true);
+    // the paper's study has no noise: none of the new keys
+    let paper = json(&["end-to-end", "--samples", "2000", "--json"]);
+    for key in ["min_dwell_s", "tradeoff", "k_sigma"] {
+        assert!(paper.get(key).is_none(), "{key}");
+    }
+    assert!(paper["readings"][0].get("noise").is_none());
+}
+
+#[test]
+fn end_to_end_with_bias_instability_says_no_dwell_within_a_day_suffices() {
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--samples",
+        "2000",
+        "--yield-fraction",
+        "0.9",
+        "--json",
+    ]);
+    assert!(v["min_dwell_s"].is_null());
+    assert_eq!(v["tradeoff"], serde_json::json!([]));
+    assert_eq!(
+        v["readings"][0]["noise"]["direct_with_noise"]["no_table_suffices"],
+        true
+    );
+}
