@@ -338,6 +338,10 @@ pub struct Tradeoff {
     pub knee_dwell_s: Option<f64>,
     /// $J$ with no noise (rad$^{-2}$), the curve's limit for long dwells.
     pub noiseless_objective: f64,
+    /// The noise part $\kappa\sigma_k$ of every output (output unit) on [`TRADEOFF_POINTS`]
+    /// dwells spread evenly in $\log T$ over the whole searched range: where it crosses the
+    /// accuracy (less the lower bounds' table part) lies the shortest dwell.
+    pub noise_curve: Vec<(f64, Vec<f64>)>,
 }
 
 impl EndToEnd {
@@ -379,6 +383,31 @@ impl EndToEnd {
             per_position,
             factors,
         })
+    }
+
+    /// [`EndToEnd::noise_budget`] with every dwell of `timing` scaled alike so that their
+    /// mean is `dwell_s` (the move time and sample rate kept).
+    ///
+    /// # Errors
+    /// As [`Timing::new`] (a dwell holding less than one sample) and
+    /// [`EndToEnd::noise_budget`].
+    pub fn noise_budget_at_dwell(
+        &self,
+        noise: &[Option<NoiseModel>],
+        timing: &Timing,
+        dwell_s: f64,
+    ) -> Result<NoiseBudget, E2eError> {
+        let mean = timing.dwell_s().iter().sum::<f64>() / timing.len() as f64;
+        let scaled = Timing::new(
+            timing
+                .dwell_s()
+                .iter()
+                .map(|d| d * dwell_s / mean)
+                .collect(),
+            timing.move_s(),
+            timing.sample_rate_hz(),
+        )?;
+        self.noise_budget(noise, &scaled)
     }
 
     /// The combined answer of a box's worst case `wc` with `budget`'s noise at $\kappa$.
@@ -690,14 +719,7 @@ impl EndToEnd {
                 range: format!("at least the shortest dwell holding one sample, {lo} s"),
             }));
         }
-        let at = |t: f64| -> Result<NoiseBudget, E2eError> {
-            let scaled = Timing::new(
-                timing.dwell_s().iter().map(|d| d * t / mean).collect(),
-                timing.move_s(),
-                timing.sample_rate_hz(),
-            )?;
-            self.noise_budget(noise, &scaled)
-        };
+        let at = |t: f64| self.noise_budget_at_dwell(noise, timing, t);
         let fits = |t: f64| -> Result<bool, E2eError> {
             Ok(self
                 .no_room(linear, lower_bounds_rad, &at(t)?.margins(k_sigma))
@@ -743,7 +765,14 @@ impl EndToEnd {
                 });
             }
         }
+        let mut noise_curve = Vec::with_capacity(TRADEOFF_POINTS);
+        for i in 0..TRADEOFF_POINTS {
+            let f = i as f64 / (TRADEOFF_POINTS - 1) as f64;
+            let t = (lo.ln() + f * (hi.ln() - lo.ln())).exp().clamp(lo, hi);
+            noise_curve.push((t, at(t)?.margins(k_sigma)));
+        }
         Ok(Tradeoff {
+            noise_curve,
             k_sigma,
             min_dwell_s,
             min_dwell_at_range_start: at_start,

@@ -314,6 +314,48 @@ pub fn lower_bounds_within(s: &study::Study, tol: &Tolerances) -> Vec<f64> {
         .collect()
 }
 
+/// The checks with the noise part, one per check (empty when the study gives no noise or no
+/// timing): every output's combined answer, the verdict counting both and the yield over
+/// turntables in the box `ub_rad` and noise.
+///
+/// # Errors
+/// As [`e2e_verify::EndToEnd::noise_budget`] and [`e2e_verify::EndToEnd::combined_yield`].
+pub fn noisy_checks(
+    s: &study::Study,
+    e2e: &EndToEnd,
+    checks: &[(EndToEnd, TurntableCheck)],
+    ub_rad: &[f64],
+    lb: &[f64],
+    settings: &McSettings,
+    k_sigma: f64,
+) -> Result<Vec<NoisyCheck>> {
+    let Some(budget) = crate::noise::budget(s, e2e)? else {
+        return Ok(Vec::new());
+    };
+    let sigma = budget.sigma();
+    let bounds = e2e
+        .box_of(ub_rad, lb)
+        .map_err(|e| crate::input::library(e, s))?;
+    checks
+        .iter()
+        .map(|(sim, c)| {
+            let outputs: Vec<CombinedOutput> = c
+                .outputs
+                .iter()
+                .map(|o| CombinedOutput::of(&o.worst_case, o.accuracy, sigma[o.output], k_sigma))
+                .collect();
+            let combined_yield = sim
+                .combined_yield(&bounds, &budget, settings)
+                .map_err(|e| crate::input::library(e, s))?;
+            Ok(NoisyCheck {
+                verdict: e2e_verify::noise::weakest(outputs.iter().map(|o| o.verdict)),
+                outputs,
+                combined_yield,
+            })
+        })
+        .collect()
+}
+
 /// Run the command.
 ///
 /// # Errors
@@ -343,40 +385,7 @@ pub fn run(args: &Args) -> Result<()> {
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;
-    let noisy = match crate::noise::budget(&s, &e2e)? {
-        None => Vec::new(),
-        Some(budget) => {
-            let sigma = budget.sigma();
-            let bounds = e2e
-                .box_of(&tol.ub_rad, &lb)
-                .map_err(|e| crate::input::library(e, &s))?;
-            checks
-                .iter()
-                .map(|(sim, c)| {
-                    let outputs: Vec<CombinedOutput> = c
-                        .outputs
-                        .iter()
-                        .map(|o| {
-                            CombinedOutput::of(
-                                &o.worst_case,
-                                o.accuracy,
-                                sigma[o.output],
-                                args.k_sigma,
-                            )
-                        })
-                        .collect();
-                    let combined_yield = sim
-                        .combined_yield(&bounds, &budget, &settings)
-                        .map_err(|e| crate::input::library(e, &s))?;
-                    Ok(NoisyCheck {
-                        verdict: e2e_verify::noise::weakest(outputs.iter().map(|o| o.verdict)),
-                        outputs,
-                        combined_yield,
-                    })
-                })
-                .collect::<Result<Vec<_>>>()?
-        }
-    };
+    let noisy = noisy_checks(&s, &e2e, &checks, &tol.ub_rad, &lb, &settings, args.k_sigma)?;
     if args.json {
         crate::out::print(&(serde_json::to_string_pretty(&to_json(&checks, &tol, &noisy))? + "\n"))
     } else {

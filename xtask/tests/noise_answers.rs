@@ -276,3 +276,45 @@ fn end_to_end_with_bias_instability_says_no_dwell_within_a_day_suffices() {
         true
     );
 }
+
+#[test]
+fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
+    let dir = scratch("noise", "report");
+    let out = dir.join("imu");
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--samples",
+        "2000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("## Noise and test time"), "noise section");
+    assert!(md.contains("| box | output | table part | noise part | combined |"));
+    assert!(md.contains("No table suffices at this dwell"));
+    assert!(md.contains("No dwell up to 86400 s per position"));
+    let svg = std::fs::read_to_string(out.join("tradeoff.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("noise part against the dwell"));
+    let results: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert!(results["noise"]["min_dwell_s"].is_null());
+    assert_eq!(results["noise"]["noise_sigma"].as_array().unwrap().len(), 6);
+    // the three-axis example has no noise: no section, no figure
+    let plain = dir.join("three-axis");
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/three-axis-example.toml",
+        "--samples",
+        "2000",
+        "--out",
+        plain.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(plain.join("report.md")).unwrap();
+    assert!(!md.contains("Noise and test time"));
+    assert!(!plain.join("tradeoff.svg").exists());
+}
