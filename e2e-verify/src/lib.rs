@@ -30,6 +30,9 @@
 //!   noise (calib-lsq's covariance) at a stated confidence, with the combined yield, the
 //!   direct allocation that gives the table what the noise leaves and the time/table
 //!   trade-off (the shortest dwell at which some table suffices);
+//! - [`timedomain`]: an independent time-domain simulation of the whole calibration (samples
+//!   at the sample rate, white, Gauss-Markov and quantization noise, the estimator on the
+//!   position averages) that checks the analytic noise answer;
 //! - [`design`]: the calibration schedule that lets the cheapest turntable meet every
 //!   accuracy (minimum direct-allocation objective), beside the D-optimal and random
 //!   baselines, used by `cargo xtask design-schedule`.
@@ -73,6 +76,7 @@ pub mod montecarlo;
 pub mod noise;
 pub mod paper;
 mod simulate;
+pub mod timedomain;
 
 pub use allocate::{
     CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_ROUND_TRIP_REL, CERTIFY_STEPS,
@@ -97,3 +101,4 @@ pub use noise::{
     NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
 };
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
+pub use timedomain::{OutputMoments, TimeDomainRun};
