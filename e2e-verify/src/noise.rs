@@ -710,7 +710,8 @@ impl EndToEnd {
             .fold(f64::INFINITY, f64::min);
         // every dwell must hold one sample: the mean dwell at least mean / shortest / f_s
         let lo = crate::error::positive("dwell_range_s.lo", dwell_range_s.0)?
-            .max(mean / shortest / timing.sample_rate_hz());
+            // (a relative 1e-9 above: the scaled shortest dwell must not round below one sample)
+            .max(mean / shortest / timing.sample_rate_hz() * (1.0 + 1e-9));
         let hi = crate::error::positive("dwell_range_s.hi", dwell_range_s.1)?;
         if hi < lo {
             return Err(E2eError::Field(tt_core::FieldError::OutOfRange {

@@ -300,3 +300,39 @@ fn k_sigma_must_be_positive_and_finite() {
     }
     assert_relative_eq!(check_k_sigma(3.0).unwrap(), 3.0);
 }
+
+#[test]
+fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
+    // noise far below every accuracy: one sample per position already suffices, and the
+    // range's lower end (one sample at the shortest dwell) is a valid timing despite rounding
+    let e2e = common::study_e2e("three-axis-example", None);
+    let timing = Timing::new(
+        (0..e2e.len()).map(|i| 1.0 + 0.37 * i as f64).collect(),
+        0.5,
+        3.0,
+    )
+    .unwrap();
+    let noise = white(&e2e, 1e-12);
+    let tr = e2e
+        .tradeoff(
+            &e2e.linearization(),
+            &vec![0.0; e2e.n_errors()],
+            &noise,
+            &timing,
+            3.0,
+            (f64::MIN_POSITIVE, 86_400.0),
+        )
+        .unwrap();
+    assert!(tr.min_dwell_at_range_start);
+    let shortest = timing
+        .dwell_s()
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let mean = timing.dwell_s().iter().sum::<f64>() / timing.len() as f64;
+    assert_relative_eq!(
+        tr.min_dwell_s.unwrap(),
+        mean / shortest / 3.0,
+        max_relative = 1e-8
+    );
+}
