@@ -330,6 +330,17 @@ impl EndToEnd {
         .allocate(linear, lower_bounds_rad, margins, l1_budget_rad)
     }
 
+    /// Direct allocation keeping `margins[k]` (output unit) of each accuracy free (the noise
+    /// part of [`EndToEnd::allocate_direct_with_noise`]).
+    pub(crate) fn allocate_direct_keeping(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        margins: &[f64],
+    ) -> Result<DirectAllocation, E2eError> {
+        self.allocate_direct_with_margins(linear, lower_bounds_rad, margins, None)
+    }
+
     /// Direct allocation against every output's accuracy.
     ///
     /// # Formula

@@ -26,6 +26,13 @@
 //! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
 //!   contribution and a verdict;
 //! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`;
+//! - [`noise`]: one answer for both error sources, the table's worst case and the sensor's
+//!   noise (calib-lsq's covariance) at a stated confidence, with the combined yield, the
+//!   direct allocation that gives the table what the noise leaves and the time/table
+//!   trade-off (the shortest dwell at which some table suffices);
+//! - [`timedomain`]: an independent time-domain simulation of the whole calibration (samples
+//!   at the sample rate, white, Gauss-Markov and quantization noise, the estimator on the
+//!   position averages) that checks the analytic noise answer;
 //! - [`design`]: the calibration schedule that lets the cheapest turntable meet every
 //!   accuracy (minimum direct-allocation objective), beside the D-optimal and random
 //!   baselines, used by `cargo xtask design-schedule`.
@@ -66,8 +73,10 @@ pub mod design;
 mod error;
 mod linear;
 pub mod montecarlo;
+pub mod noise;
 pub mod paper;
 mod simulate;
+pub mod timedomain;
 
 pub use allocate::{
     CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_ROUND_TRIP_REL, CERTIFY_STEPS,
@@ -87,4 +96,9 @@ pub use montecarlo::{
     QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution, RateQuantile,
     WorstDraw, Z_95, wilson_interval_95,
 };
+pub use noise::{
+    CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
+    NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
+};
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
+pub use timedomain::{OutputMoments, TimeDomainRun};

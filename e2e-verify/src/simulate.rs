@@ -352,6 +352,25 @@ impl EndToEnd {
         Ok(())
     }
 
+    /// The error vectors $\Delta\hat{\boldsymbol\omega}$ of every output into `out[k]` (one
+    /// entry per position, output unit) for turntable errors $\chi$ by the fast path, reusing
+    /// `work` (no allocation once sized); `work.delta_omega` is set too.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_omega_into`].
+    pub(crate) fn error_vectors_into(
+        &self,
+        chi_rad: &[f64],
+        work: &mut DrawWork,
+        out: &mut [Vec<f64>],
+    ) -> Result<(), E2eError> {
+        self.delta_omega_into(chi_rad, work)?;
+        for (o, v) in self.calibration.outputs().iter().zip(out.iter_mut()) {
+            o.error_vector_at(self.reading, &work.actual, &mut work.work, v)?;
+        }
+        Ok(())
+    }
+
     /// $\Delta\omega_k$ of every output (output unit) for turntable errors $\chi$ (fast path,
     /// allocating its scratch space: use [`EndToEnd::delta_omega_into`] in loops).
     ///

@@ -126,6 +126,24 @@ pub fn positive(s: &str, max: f64) -> Result<f64, String> {
     }
 }
 
+/// The confidence multiplier of the noise part (`--k-sigma`): finite, in
+/// $(0,$ [`e2e_verify::noise::MAX_K_SIGMA`]$]$ (the library's own check).
+///
+/// # Errors
+/// A message naming the value and the range.
+pub fn k_sigma(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    e2e_verify::check_k_sigma(v).map_err(|_| {
+        format!(
+            "`{s}`: must lie in (0, {}]",
+            study::fmt::num(e2e_verify::noise::MAX_K_SIGMA)
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,5 +1,5 @@
 //! `cargo xtask check-turntable [--study FILE] --tolerances FILE.toml [--samples N] [--seed S]
-//! [--json]`: "the vendor's sheet says these tolerances: will my calibration meet its
+//! [--k-sigma K] [--json]`: "the vendor's sheet says these tolerances: will my calibration meet its
 //! accuracy, and which error dominates?"
 //!
 //! For every output: the end-to-end worst case over the tolerance box (linearised, confirmed
@@ -8,12 +8,19 @@
 //! error's share of the worst case and of the variance (one share per group of errors that act
 //! only together, named by their combination, e.g. `dphi_o + deps_om_z`); then one verdict
 //! line. JSON: `groups` lists those groups.
+//!
+//! With noise and a timing in the study, every output's answer is split into the table's part
+//! and the noise's ("table 0.0061, noise 0.0047 at 3 sigma", `--k-sigma`, default 3): the
+//! verdict counts both (JSON `verdict`; `table_verdict` is the table's alone), every output
+//! gets `table_part`, `noise_sigma` and `combined` (the unit of `accuracy`), and the yield
+//! over turntables and noise is given with its interval (`combined_yield`). A study without
+//! noise gets exactly today's answer.
 
 use crate::InputError;
 use anyhow::Result;
 use calib_lsq::Reading;
 use clap::Parser;
-use e2e_verify::{EndToEnd, McSettings, TurntableCheck, Verdict};
+use e2e_verify::{CombinedOutput, CombinedYield, EndToEnd, McSettings, TurntableCheck, Verdict};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 use study::Tolerances;
@@ -36,13 +43,61 @@ pub struct Args {
     /// Seed of the random streams (default: the study's).
     #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
+    /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
+    /// used when the study gives noise and a timing.
+    #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
+    pub k_sigma: f64,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
 }
 
-/// One reading's check as JSON.
-fn check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
+/// One reading's check with the noise part: every output's combined answer, the verdict with
+/// the noise counted and the yield over turntables and noise.
+#[derive(Debug, Clone)]
+pub struct NoisyCheck {
+    /// One per output.
+    pub outputs: Vec<CombinedOutput>,
+    /// The weakest of the outputs' combined verdicts.
+    pub verdict: Verdict,
+    /// The yield over turntables in the box and random noise.
+    pub combined_yield: CombinedYield,
+}
+
+/// One reading's check as JSON; with the noise part, every output gets `table_part`,
+/// `noise_sigma` and `combined` (and the split's other keys), `verdict` counts the noise and
+/// `table_verdict` is the table's alone.
+fn check_json(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) -> Value {
+    let mut v = table_check_json(e2e, c);
+    let Some(n) = noisy else {
+        return v;
+    };
+    if let Value::Object(m) = &mut v {
+        m.insert("table_verdict".into(), json!(c.verdict.name()));
+        m.insert("verdict".into(), json!(n.verdict.name()));
+        m.insert(
+            "k_sigma".into(),
+            json!(n.outputs.first().map(|o| o.k_sigma)),
+        );
+        m.insert(
+            "combined_yield".into(),
+            crate::noise::yield_json(&n.combined_yield),
+        );
+        if let Some(Value::Array(outs)) = m.get_mut("outputs") {
+            for (o, co) in outs.iter_mut().zip(&n.outputs) {
+                if let Value::Object(om) = o {
+                    om.insert("table_verdict".into(), om["verdict"].clone());
+                    om.insert("verdict".into(), json!(co.verdict.name()));
+                    crate::noise::insert_output_json(om, co);
+                }
+            }
+        }
+    }
+    v
+}
+
+/// One reading's check as JSON, the table's part only.
+fn table_check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
     let names = e2e.turntable().rotation_error_names();
     let (lo, hi) = c.distribution.yield_interval_95();
     json!({
@@ -82,10 +137,14 @@ fn check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
 /// `outputs`, ...), and `user_reading`, the same for outputs simulated at the actual
 /// orientation when the study's reading is another one (else `null`).
 #[must_use]
-pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value {
+pub fn to_json(
+    checks: &[(EndToEnd, TurntableCheck)],
+    tol: &Tolerances,
+    noisy: &[NoisyCheck],
+) -> Value {
     let (e2e, c) = &checks[0];
     let names = e2e.turntable().rotation_error_names();
-    let mut v = check_json(e2e, c);
+    let mut v = check_json(e2e, c, noisy.first());
     if let Value::Object(m) = &mut v {
         m.insert("tolerances".into(), json!(tol.path));
         m.insert(
@@ -95,7 +154,9 @@ pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value
         m.insert("groups".into(), crate::groups::json(e2e.turntable(), &[]));
         m.insert(
             "user_reading".into(),
-            checks.get(1).map_or(Value::Null, |(e, c)| check_json(e, c)),
+            checks
+                .get(1)
+                .map_or(Value::Null, |(e, c)| check_json(e, c, noisy.get(1))),
         );
     }
     v
@@ -105,9 +166,10 @@ pub fn to_json(checks: &[(EndToEnd, TurntableCheck)], tol: &Tolerances) -> Value
 /// does not depend on these errors to first order (dimensionless).
 const INSENSITIVE_SHARE: f64 = 1e-9;
 
-fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
+fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) -> String {
     let mut s = String::new();
     for o in &c.outputs {
+        let split = noisy.map(|n| &n.outputs[o.output]);
         let out = e2e.calibration().outputs()[o.output].output();
         let w = &o.worst_case;
         s.push_str(&format!(
@@ -127,6 +189,13 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
             if let Some(n) = crate::out::precision_note(&[(&out.name, &out.unit, w.precision)]) {
                 s.push_str(&format!("    ({n})\n"));
             }
+        }
+        if let Some(co) = split {
+            s.push_str(&format!(
+                "    with noise: {}: {}\n",
+                crate::noise::split_text(co, &out.unit),
+                if co.meets() { "meets" } else { "does NOT meet" }
+            ));
         }
         if w.linear_bound <= INSENSITIVE_SHARE * o.accuracy {
             s.push_str("    dominant errors: none (the output does not depend on these errors to first order)\n");
@@ -150,6 +219,26 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck) -> String {
         s.push_str(&format!("    dominant errors: {}\n", dominant.join("; ")));
     }
     let (lo, hi) = c.distribution.yield_interval_95();
+    if let Some(n) = noisy {
+        let verdict = match n.verdict {
+            Verdict::Guaranteed => {
+                "MEETS every accuracy with the noise counted: proven for every turntable within these tolerances"
+            }
+            Verdict::Likely => {
+                "likely meets every accuracy with the noise counted: the worst vertex does, but no bound proves it for the whole box"
+            }
+            Verdict::Fails => "does NOT meet every accuracy once the noise is counted",
+        };
+        s.push_str(&format!(
+            "  verdict: {verdict} (table alone: {}); {}; table alone: Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%)\n",
+            c.verdict.name(),
+            crate::noise::yield_text(&n.combined_yield),
+            100.0 * c.distribution.yield_fraction(),
+            100.0 * lo,
+            100.0 * hi,
+        ));
+        return s;
+    }
     let verdict = match c.verdict {
         Verdict::Guaranteed => {
             "MEETS every accuracy: proven for every turntable within these tolerances"
@@ -178,6 +267,7 @@ pub fn to_text(
     checks: &[(EndToEnd, TurntableCheck)],
     study_path: &str,
     tol: &Tolerances,
+    noisy: &[NoisyCheck],
 ) -> String {
     let mut s = format!(
         "check of {} against the study {}\n",
@@ -185,6 +275,12 @@ pub fn to_text(
         study_path
     );
     s.push_str(&crate::groups::text(checks[0].0.turntable(), &[], "  "));
+    if let Some(n) = noisy.first() {
+        s.push_str(&format!(
+            "  noise: the study's noise over its timing, noise part at {} sigma (calib-lsq's covariance of the calibration)\n",
+            num(n.outputs.first().map_or(0.0, |o| o.k_sigma))
+        ));
+    }
     for (i, (e2e, c)) in checks.iter().enumerate() {
         let what = if e2e.reading() == Reading::USER {
             "outputs at the actual orientation: what a calibrating lab gets"
@@ -196,8 +292,9 @@ pub fn to_text(
             e2e.reading(),
             e2e.reading().formula()
         ));
-        s.push_str(&reading_text(e2e, c));
-        if i == 0 && checks.len() > 1 && c.verdict != checks[1].1.verdict {
+        s.push_str(&reading_text(e2e, c, noisy.get(i)));
+        let verdict = |i: usize| noisy.get(i).map_or(checks[i].1.verdict, |n| n.verdict);
+        if i == 0 && checks.len() > 1 && verdict(0) != verdict(1) {
             s.push_str(
                 "  (the verdict depends on the reading of eq 13: see the user's reading below)\n",
             );
@@ -214,6 +311,48 @@ pub fn lower_bounds_within(s: &study::Study, tol: &Tolerances) -> Vec<f64> {
         .iter()
         .zip(&tol.ub_rad)
         .map(|(l, u)| l.min(*u))
+        .collect()
+}
+
+/// The checks with the noise part, one per check (empty when the study gives no noise or no
+/// timing): every output's combined answer, the verdict counting both and the yield over
+/// turntables in the box `ub_rad` and noise.
+///
+/// # Errors
+/// As [`e2e_verify::EndToEnd::noise_budget`] and [`e2e_verify::EndToEnd::combined_yield`].
+pub fn noisy_checks(
+    s: &study::Study,
+    e2e: &EndToEnd,
+    checks: &[(EndToEnd, TurntableCheck)],
+    ub_rad: &[f64],
+    lb: &[f64],
+    settings: &McSettings,
+    k_sigma: f64,
+) -> Result<Vec<NoisyCheck>> {
+    let Some(budget) = crate::noise::budget(s, e2e)? else {
+        return Ok(Vec::new());
+    };
+    let sigma = budget.sigma();
+    let bounds = e2e
+        .box_of(ub_rad, lb)
+        .map_err(|e| crate::input::library(e, s))?;
+    checks
+        .iter()
+        .map(|(sim, c)| {
+            let outputs: Vec<CombinedOutput> = c
+                .outputs
+                .iter()
+                .map(|o| CombinedOutput::of(&o.worst_case, o.accuracy, sigma[o.output], k_sigma))
+                .collect();
+            let combined_yield = sim
+                .combined_yield(&bounds, &budget, settings)
+                .map_err(|e| crate::input::library(e, s))?;
+            Ok(NoisyCheck {
+                verdict: e2e_verify::noise::weakest(outputs.iter().map(|o| o.verdict)),
+                outputs,
+                combined_yield,
+            })
+        })
         .collect()
 }
 
@@ -246,9 +385,15 @@ pub fn run(args: &Args) -> Result<()> {
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;
+    let noisy = noisy_checks(&s, &e2e, &checks, &tol.ub_rad, &lb, &settings, args.k_sigma)?;
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&checks, &tol))? + "\n"))
+        crate::out::print(&(serde_json::to_string_pretty(&to_json(&checks, &tol, &noisy))? + "\n"))
     } else {
-        crate::out::print(&to_text(&checks, &s.path, &tol))
+        let mut text = to_text(&checks, &s.path, &tol, &noisy);
+        if let Some(n) = crate::noise::note(&s) {
+            text.push_str(&n);
+            text.push('\n');
+        }
+        crate::out::print(&text)
     }
 }

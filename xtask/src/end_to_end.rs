@@ -17,8 +17,8 @@ use crate::study as st;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::{
-    BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, ReadingAnswer, YieldVerdict,
-    answer,
+    BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, NoiseAnswer, NoisyDirect,
+    ReadingAnswer, Tradeoff, YieldVerdict, answer,
 };
 use serde_json::{Map, Value, json};
 use std::path::PathBuf;
@@ -43,9 +43,244 @@ pub struct Args {
     /// Target yield of the yield-based allocation, in (0, 1).
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_YIELD_FRACTION, value_parser = crate::args::fraction)]
     pub yield_fraction: f64,
+    /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
+    /// used when the study gives noise and a timing.
+    #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
+    pub k_sigma: f64,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// The answer with the noise part: per reading (the order of the answer's readings) every
+/// box combined with the noise and the direct allocation that keeps the noise part free; the
+/// time/table trade-off under the study's reading.
+#[derive(Debug, Clone)]
+pub struct NoisyAnswer {
+    /// Per reading.
+    pub readings: Vec<NoiseAnswer>,
+    /// The trade-off (study's reading).
+    pub tradeoff: Tradeoff,
+}
+
+/// The answer for both error sources, when the study gives noise and a timing.
+///
+/// # Errors
+/// As [`e2e_verify::EndToEnd::noise_answer`] and [`e2e_verify::EndToEnd::tradeoff`].
+pub fn noisy_answer(
+    s: &Study,
+    e2e: &EndToEnd,
+    a: &BuyersAnswer,
+    k_sigma: f64,
+) -> Result<Option<NoisyAnswer>> {
+    let (Some(budget), Some(timing)) = (crate::noise::budget(s, e2e)?, &s.timing) else {
+        return Ok(None);
+    };
+    let lb = &a.inputs.lower_bounds_rad;
+    let settings = McSettings::new(a.inputs.samples, a.inputs.seed);
+    let mut readings = Vec::new();
+    for r in &a.readings {
+        let sim = if r.reading == e2e.reading() {
+            e2e.clone()
+        } else {
+            e2e.with_reading(r.reading)
+                .map_err(|e| crate::input::library(e, s))?
+        };
+        readings.push(
+            sim.noise_answer(r, lb, &budget, k_sigma, &settings)
+                .map_err(|e| crate::input::library(e, s))?,
+        );
+    }
+    let tradeoff = e2e
+        .tradeoff(
+            &e2e.linearization(),
+            lb,
+            &s.noise,
+            timing,
+            k_sigma,
+            (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
+        )
+        .map_err(|e| crate::input::library(e, s))?;
+    Ok(Some(NoisyAnswer { readings, tradeoff }))
+}
+
+/// The noise part of one reading as JSON.
+fn noise_reading_json(e2e: &EndToEnd, n: &NoiseAnswer) -> Value {
+    let names = e2e.turntable().rotation_error_names();
+    let out_name = |k: usize| e2e.calibration().outputs()[k].output().name.clone();
+    let combined = |b: &e2e_verify::CombinedBox| {
+        json!({
+            "name": b.name,
+            "verdict": b.verdict.name(),
+            "outputs": b.outputs.iter().map(|c| {
+                let mut m = Map::new();
+                m.insert("output".into(), json!(out_name(c.output)));
+                m.insert("accuracy".into(), json!(c.accuracy));
+                m.insert("verdict".into(), json!(c.verdict.name()));
+                crate::noise::insert_output_json(&mut m, c);
+                Value::Object(m)
+            }).collect::<Vec<_>>(),
+            "combined_yield": crate::noise::yield_json(&b.combined_yield),
+        })
+    };
+    json!({
+        "k_sigma": n.k_sigma,
+        "noise_sigma": n.sigma,
+        "boxes": n.boxes.iter().map(combined).collect::<Vec<_>>(),
+        "direct_with_noise": match &n.direct {
+            NoisyDirect::Allocated { allocation, answer } => json!({
+                "no_table_suffices": false,
+                "objective": allocation.objective_arcmin(),
+                "bounds_arcmin": crate::out::arcmin_json(&names, &allocation.upper_bounds_rad),
+                "noise_parts": allocation.second_order_margins,
+                "box": combined(answer),
+            }),
+            NoisyDirect::NoTableSuffices { outputs } => json!({
+                "no_table_suffices": true,
+                "outputs": outputs.iter().map(|o| json!({
+                    "output": out_name(o.output),
+                    "noise_part": o.noise_part,
+                    "lower_bounds_part": o.lower_bounds_part,
+                })).collect::<Vec<_>>(),
+            }),
+        },
+    })
+}
+
+/// The trade-off's JSON keys: `min_dwell_s`, `knee_dwell_s`, `tradeoff` (list of
+/// `{dwell_s, total_s, objective_arcmin}`, `null` where no table suffices) and
+/// `noiseless_objective_arcmin`.
+fn insert_tradeoff_json(m: &mut Map<String, Value>, t: &Tradeoff) {
+    m.insert("k_sigma".into(), json!(t.k_sigma));
+    m.insert("min_dwell_s".into(), json!(t.min_dwell_s));
+    m.insert(
+        "min_dwell_at_one_sample".into(),
+        json!(t.min_dwell_at_range_start),
+    );
+    m.insert("knee_dwell_s".into(), json!(t.knee_dwell_s));
+    m.insert("dwell_range_s".into(), json!([t.range_s.0, t.range_s.1]));
+    m.insert(
+        "noiseless_objective_arcmin".into(),
+        json!(objective_to_arcmin(t.noiseless_objective)),
+    );
+    m.insert(
+        "tradeoff".into(),
+        Value::Array(
+            t.points
+                .iter()
+                .map(|p| {
+                    json!({
+                        "dwell_s": p.dwell_s,
+                        "total_s": p.total_s,
+                        "objective_arcmin": p.objective.map(objective_to_arcmin),
+                    })
+                })
+                .collect(),
+        ),
+    );
+}
+
+/// The noise part of the text: per reading, every box's combined answer and the direct
+/// allocation with the noise part kept free; then the trade-off.
+#[must_use]
+pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
+    let mut t = String::new();
+    let outputs = e2e.calibration().outputs();
+    let sigma = &n.readings[0].sigma;
+    t.push_str(&format!(
+        "\nwith the sensor's noise (calib-lsq's covariance of the calibration, the study's timing), noise part at {} sigma:\n",
+        num(n.tradeoff.k_sigma)
+    ));
+    for (o, s) in outputs.iter().zip(sigma) {
+        t.push_str(&format!(
+            "  output {}: noise sigma {} {} at the worst position\n",
+            o.output().name,
+            num(*s),
+            o.output().unit
+        ));
+    }
+    for (r, nr) in a.readings.iter().zip(&n.readings) {
+        t.push_str(&format!("reading {} with noise\n", r.reading));
+        for b in &nr.boxes {
+            t.push_str(&format!(
+                "  {:<14} verdict {}; {}\n",
+                b.name,
+                b.verdict.name(),
+                crate::noise::yield_text(&b.combined_yield)
+            ));
+            for c in &b.outputs {
+                let out = outputs[c.output].output();
+                t.push_str(&format!(
+                    "    {}: {}\n",
+                    out.name,
+                    crate::noise::split_text(c, &out.unit)
+                ));
+            }
+        }
+        match &nr.direct {
+            NoisyDirect::Allocated { allocation, answer } => t.push_str(&format!(
+                "  {:<14} J = {} arcmin^-2 (the table gets what the noise leaves; {} without noise); verdict {}; {}\n",
+                "direct, noise",
+                num(allocation.objective_arcmin()),
+                num(r.direct.objective_arcmin()),
+                answer.verdict.name(),
+                crate::noise::yield_text(&answer.combined_yield)
+            )),
+            NoisyDirect::NoTableSuffices { outputs: blocked } => {
+                let what: Vec<String> = blocked
+                    .iter()
+                    .map(|b| {
+                        let out = outputs[b.output].output();
+                        format!(
+                            "{} noise part {} of {} {}",
+                            out.name,
+                            num(b.noise_part),
+                            num(out.accuracy),
+                            out.unit
+                        )
+                    })
+                    .collect();
+                t.push_str(&format!(
+                    "  {:<14} no table suffices at this dwell: {}\n",
+                    "direct, noise",
+                    what.join(", ")
+                ));
+            }
+        }
+    }
+    t.push_str(&tradeoff_text(&n.tradeoff));
+    t
+}
+
+/// The trade-off in words and as a table.
+#[must_use]
+pub fn tradeoff_text(tr: &Tradeoff) -> String {
+    let mut t = String::new();
+    match tr.min_dwell_s {
+        None => t.push_str(&format!(
+            "time/table trade-off: no dwell up to {} s per position lets any table meet every accuracy (noise alone exceeds one)\n",
+            num(tr.range_s.1)
+        )),
+        Some(d) => {
+            t.push_str(&format!(
+                "time/table trade-off: the shortest dwell at which some table meets every accuracy is {} s per position{}; the knee (d ln J / d ln T = -1) {}; without noise J = {} arcmin^-2\n",
+                num(d),
+                if tr.min_dwell_at_range_start { " (one sample per position already suffices)" } else { "" },
+                tr.knee_dwell_s.map_or("is not on the curve".into(), |k| format!("at {} s", num(k))),
+                num(objective_to_arcmin(tr.noiseless_objective))
+            ));
+            t.push_str("  dwell (s)     total test time (s)   J (arcmin^-2)\n");
+            for p in &tr.points {
+                t.push_str(&format!(
+                    "  {:<13} {:<21} {}\n",
+                    num(p.dwell_s),
+                    num(p.total_s),
+                    p.objective.map_or("none".into(), |j| num(objective_to_arcmin(j)))
+                ));
+            }
+        }
+    }
+    t
 }
 
 /// Refuse a Monte Carlo size that cannot resolve the yield target `target` (exit 2, before any
@@ -276,6 +511,30 @@ pub fn to_json(
     note: Option<&String>,
     seconds: f64,
     speed: &Throughput,
+    noisy: Option<&NoisyAnswer>,
+) -> Value {
+    let mut v = table_json(s, e2e, a, note, seconds, speed);
+    if let (Some(n), Value::Object(m)) = (noisy, &mut v) {
+        insert_tradeoff_json(m, &n.tradeoff);
+        if let Some(Value::Array(rs)) = m.get_mut("readings") {
+            for (r, nr) in rs.iter_mut().zip(&n.readings) {
+                if let Value::Object(rm) = r {
+                    rm.insert("noise".into(), noise_reading_json(e2e, nr));
+                }
+            }
+        }
+    }
+    v
+}
+
+/// The command's JSON object, the table's part only.
+fn table_json(
+    s: &Study,
+    e2e: &EndToEnd,
+    a: &BuyersAnswer,
+    note: Option<&String>,
+    seconds: f64,
+    speed: &Throughput,
 ) -> Value {
     let names = e2e.turntable().rotation_error_names();
     let r0 = &a.readings[0];
@@ -486,6 +745,7 @@ pub fn run(args: &Args) -> Result<()> {
     let note = st::requirement(&s)?.disagreement;
     let t0 = Instant::now();
     let a = answer(&e2e, &inputs).map_err(|e| crate::input::library(e, &s))?;
+    let noisy = noisy_answer(&s, &e2e, &a, args.k_sigma)?;
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     if args.json {
@@ -497,9 +757,18 @@ pub fn run(args: &Args) -> Result<()> {
                 note.as_ref(),
                 seconds,
                 &speed,
+                noisy.as_ref(),
             ))? + "\n"),
         )
     } else {
-        crate::out::print(&to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed))
+        let mut t = to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed);
+        if let Some(n) = &noisy {
+            t.push_str(&noise_text(&e2e, &a, n));
+        }
+        if let Some(n) = crate::noise::note(&s) {
+            t.push_str(&n);
+            t.push('\n');
+        }
+        crate::out::print(&t)
     }
 }

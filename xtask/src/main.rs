@@ -20,6 +20,7 @@ mod groups;
 mod input;
 mod mc;
 mod newfile;
+mod noise;
 mod orientation_error;
 mod out;
 mod outdir;

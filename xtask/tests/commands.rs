@@ -201,7 +201,8 @@ fn end_to_end_json_is_the_library_answer() {
 
 /// `check-turntable`: the paper's Table 4 meets omega_m under the study's (paper's) reading but
 /// fails under the user's, and both verdicts are printed; a navigation-grade three-axis sheet
-/// meets the three-axis and IMU studies' accuracies.
+/// meets the three-axis and IMU studies' accuracies for the table's part (the IMU example's
+/// noise at its 60 s dwell fails it once counted: issue 21).
 #[test]
 fn check_turntable_gives_both_readings_verdicts() {
     let v = json(&[
@@ -247,7 +248,13 @@ fn check_turntable_gives_both_readings_verdicts() {
             "--samples",
             "2000",
         ]);
-        assert_eq!(v["verdict"], "guaranteed", "{name}");
+        if name == "imu-triad-example" {
+            assert_eq!(v["table_verdict"], "guaranteed", "{name}");
+            assert_eq!(v["verdict"], "fails", "{name}: noise counted");
+        } else {
+            assert_eq!(v["verdict"], "guaranteed", "{name}");
+            assert!(v.get("table_verdict").is_none(), "{name} has no noise");
+        }
     }
 }
 

@@ -129,6 +129,11 @@ pub struct Computed {
     pub vendor: Option<(Tolerances, TurntableCheck)>,
     /// The study's schedule beside the designed one.
     pub designed: Option<[ScheduleFacts; 2]>,
+    /// The answer for both error sources (the study's noise over its timing, 3 sigma), when
+    /// the study gives noise and a timing.
+    pub noise: Option<crate::end_to_end::NoisyAnswer>,
+    /// The vendor check with the noise part (study's reading), when both are given.
+    pub vendor_noise: Option<crate::check_turntable::NoisyCheck>,
     /// The paper's extras.
     pub paper: Option<PaperExtras>,
     /// Wall-clock seconds of the computation.
@@ -548,7 +553,27 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         }
         _ => None,
     };
+    let noise = crate::end_to_end::noisy_answer(s, &e2e, &answer, e2e_verify::DEFAULT_K_SIGMA)?;
+    timing("noise and test time", started);
+    let vendor_noise = match &vendor {
+        Some((tol, chk)) => {
+            let lb = crate::check_turntable::lower_bounds_within(s, tol);
+            crate::check_turntable::noisy_checks(
+                s,
+                &e2e,
+                &[(e2e.clone(), chk.clone())],
+                &tol.ub_rad,
+                &lb,
+                &e2e_verify::McSettings::new(options.samples, options.seed),
+                e2e_verify::DEFAULT_K_SIGMA,
+            )?
+            .pop()
+        }
+        None => None,
+    };
     Ok(Computed {
+        noise,
+        vendor_noise,
         study,
         options,
         requirement,

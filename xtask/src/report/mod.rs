@@ -194,6 +194,31 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
             "yield_interval_95": [f(lo), f(hi)],
         })
     };
+    if let Some(n) = &c.noise {
+        let t = &n.tradeoff;
+        let r0 = &n.readings[0];
+        m.insert(
+            "noise".into(),
+            json!({
+                "k_sigma": f(t.k_sigma),
+                "noise_sigma": r0.sigma.iter().map(|v| f(*v)).collect::<Vec<_>>(),
+                "boxes": r0.boxes.iter().map(|b| json!({
+                    "name": b.name,
+                    "verdict": b.verdict.name(),
+                    "table_part": b.outputs.iter().map(|o| f(o.table_part)).collect::<Vec<_>>(),
+                    "combined": b.outputs.iter().map(|o| f(o.combined)).collect::<Vec<_>>(),
+                    "combined_yield": f(b.combined_yield.yield_fraction()),
+                })).collect::<Vec<_>>(),
+                "direct_with_noise_objective_arcmin": match &r0.direct {
+                    e2e_verify::NoisyDirect::Allocated { allocation, .. } => json!(f(allocation.objective_arcmin())),
+                    e2e_verify::NoisyDirect::NoTableSuffices { .. } => Value::Null,
+                },
+                "min_dwell_s": t.min_dwell_s.map(f),
+                "knee_dwell_s": t.knee_dwell_s.map(f),
+                "tradeoff": t.points.iter().map(|p| json!({"dwell_s": f(p.dwell_s), "total_s": f(p.total_s), "objective_arcmin": p.objective.map(|j| f(tt_core::units::objective_to_arcmin(j)))})).collect::<Vec<_>>(),
+            }),
+        );
+    }
     m.insert(
         "end_to_end".into(),
         Value::Array(
@@ -329,6 +354,7 @@ fn render(c: &Computed) -> Result<Rendered> {
             .map(|p| (&p.table4_monte_carlo, &p.table4_result)),
     )?;
     sec.end_to_end()?;
+    sec.noise()?;
     sec.vendor();
     sec.designed();
     let comparisons = match &c.paper {

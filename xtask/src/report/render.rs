@@ -78,6 +78,14 @@ pub fn joint(name: &str) -> String {
 }
 
 /// `yes`, or `**no**` (coloured in HTML).
+fn verdict_md(v: Verdict) -> String {
+    match v {
+        Verdict::Guaranteed => "**meets** (proven)".into(),
+        Verdict::Likely => "likely meets".into(),
+        Verdict::Fails => "does **not** meet".into(),
+    }
+}
+
 fn yes_no(b: bool) -> String {
     if b { "**yes**".into() } else { "**no**".into() }
 }
@@ -1450,6 +1458,283 @@ impl<'a> Sections<'a> {
             svg,
         );
         self.figure_ids.push(("end_to_end", id));
+        Ok(())
+    }
+
+    /// Noise and test time (issue 21): every box's answer split into the table's part and
+    /// the noise's, the direct allocation that gives the table what the noise leaves, and the
+    /// time/table trade-off with its figure. Nothing when the study gives no noise.
+    pub fn noise(&mut self) -> Result<()> {
+        let c = self.c;
+        let Some(n) = &c.noise else {
+            return Ok(());
+        };
+        let outs = self.outputs();
+        let tr = &n.tradeoff;
+        let k = tr.k_sigma;
+        let nr = &n.readings[0];
+        let timing = c.study.timing.as_ref();
+        self.doc
+            .h(2, "Noise and test time: both error sources in one answer");
+        self.doc.p(format!(
+            "The sensor's noise, averaged over the dwell at each position, adds a random part to every output's calibration error: its standard deviation σ at the worst test position comes from the covariance of the least-squares calibration (white noise and the Gauss-Markov bias instability, positions in the schedule's order{}). The answer per output is the table's part (the certified worst case over the box where a second-order bound is derived) plus {} σ; it meets the accuracy only when the sum does. Noise σ: {}.",
+            timing.map_or(String::new(), |t| format!(
+                "; {} positions, mean dwell {} s, {} Hz, move {} s, total {} s",
+                t.len(),
+                num(t.dwell_s().iter().sum::<f64>() / t.len() as f64),
+                num(t.sample_rate_hz()),
+                num(t.move_s()),
+                num(t.total_s())
+            )),
+            num(k),
+            outs.iter()
+                .zip(&nr.sigma)
+                .map(|((name, u, _), s)| format!("{} {} {u}", doc::code(name), sig(*s, 4)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        let reading = c.answer.readings[0].reading;
+        let mut rows = Vec::new();
+        for b in &nr.boxes {
+            for o in &b.outputs {
+                let (name, u, acc) = &outs[o.output];
+                rows.push(vec![
+                    doc::text(&b.name),
+                    doc::code(name),
+                    format!(
+                        "{}{}",
+                        sig(o.table_part, 4),
+                        if o.table_certified {
+                            ""
+                        } else {
+                            " (not certified)"
+                        }
+                    ),
+                    format!(
+                        "{} ({} σ)",
+                        sig(o.k_sigma * o.noise_sigma, 4),
+                        num(o.k_sigma)
+                    ),
+                    format!("{} {u}", sig(o.combined, 4)),
+                    format!("{} {u}", sig(*acc, 4)),
+                    o.dominant.name().to_string(),
+                    verdict_md(o.verdict),
+                ]);
+            }
+        }
+        self.doc.p(format!(
+            "Every box of the end-to-end answer under the study's reading `{reading}`, split per output (the yields count calibrations over random turntables in the box and random noise, {} draws, seed {}):",
+            c.options.samples, c.options.seed
+        ));
+        self.doc.table(
+            &[
+                "box",
+                "output",
+                "table part",
+                "noise part",
+                "combined",
+                "accuracy ω_m",
+                "dominates",
+                "verdict",
+            ],
+            rows,
+        );
+        let yields: Vec<String> = nr
+            .boxes
+            .iter()
+            .map(|b| {
+                let (lo, hi) = b.combined_yield.yield_interval_95();
+                format!(
+                    "{} {:.2}% [{:.2}, {:.2}]",
+                    doc::text(&b.name),
+                    100.0 * b.combined_yield.yield_fraction(),
+                    100.0 * lo,
+                    100.0 * hi
+                )
+            })
+            .collect();
+        self.doc.p(format!(
+            "Yield over turntables and noise [95% interval]: {}.",
+            yields.join("; ")
+        ));
+        match &nr.direct {
+            e2e_verify::NoisyDirect::Allocated { allocation, answer } => {
+                self.doc.p(format!(
+                    "The direct allocation with the noise part kept free (each output's rows held to ω_m − {} σ: the table gets what the noise leaves) needs J = {} arcmin⁻² against {} without noise; its verdict with the noise: {}.",
+                    num(k),
+                    sig(allocation.objective_arcmin(), 5),
+                    sig(c.answer.readings[0].direct.objective_arcmin(), 5),
+                    verdict_md(answer.verdict)
+                ));
+            }
+            e2e_verify::NoisyDirect::NoTableSuffices { outputs } => {
+                let what: Vec<String> = outputs
+                    .iter()
+                    .map(|b| {
+                        let (name, u, acc) = &outs[b.output];
+                        format!(
+                            "{}: noise part {} of {} {u}",
+                            doc::code(name),
+                            sig(b.noise_part, 4),
+                            sig(*acc, 4)
+                        )
+                    })
+                    .collect();
+                self.doc.callout(format!(
+                    "**No table suffices at this dwell**: the noise alone takes the whole accuracy of {}. A longer dwell (or a quieter sensor) is needed before any turntable can help.",
+                    what.join(", ")
+                ));
+            }
+        }
+        if let Some(nc) = &c.vendor_noise {
+            let parts: Vec<String> = nc
+                .outputs
+                .iter()
+                .map(|o| {
+                    let (name, u, _) = &outs[o.output];
+                    format!(
+                        "{} table {}, noise {} at {} σ, combined {} {u}",
+                        doc::code(name),
+                        sig(o.table_part, 3),
+                        sig(o.k_sigma * o.noise_sigma, 3),
+                        num(o.k_sigma),
+                        sig(o.combined, 3)
+                    )
+                })
+                .collect();
+            let (lo, hi) = nc.combined_yield.yield_interval_95();
+            self.doc.p(format!(
+                "The vendor's sheet with the noise counted: {}; verdict {}; yield over turntables and noise {:.2}% [{:.2}, {:.2}].",
+                parts.join("; "),
+                verdict_md(nc.verdict),
+                100.0 * nc.combined_yield.yield_fraction(),
+                100.0 * lo,
+                100.0 * hi
+            ));
+        }
+        // the trade-off
+        self.doc
+            .h(3, "How long to dwell, and how good the table must be");
+        match tr.min_dwell_s {
+            Some(d) => self.doc.p(format!(
+                "The shortest dwell at which some table meets every accuracy (noise part plus the lower bounds' table part within ω_m, found by bisection): **{} s per position**{}. Above it the table's J falls towards its noiseless value {} arcmin⁻²; the knee (where a longer dwell stops paying: d ln J / d ln T = −1) {}. Written to `tradeoff.csv`.",
+                sig(d, 4),
+                if tr.min_dwell_at_range_start { " (one sample per position already suffices)" } else { "" },
+                sig(objective_to_arcmin(tr.noiseless_objective), 5),
+                tr.knee_dwell_s.map_or("is not on the curve".into(), |v| format!("lies at {} s", sig(v, 3)))
+            )),
+            None => {
+                let last: Vec<String> = tr
+                    .noise_curve
+                    .last()
+                    .map(|(_, m)| {
+                        outs.iter()
+                            .zip(m)
+                            .map(|((name, u, _), v)| format!("{} {} {u}", doc::code(name), sig(*v, 3)))
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                self.doc.p(format!(
+                    "**No dwell up to {} s per position** lets any table meet every accuracy: the noise part alone exceeds one even then ({} σ at that dwell: {}). Written to `tradeoff.csv`.",
+                    num(tr.range_s.1),
+                    num(k),
+                    last.join(", ")
+                ));
+            }
+        }
+        let mut csv = String::from("dwell_s,total_s,objective_arcmin\n");
+        let mut rows = Vec::new();
+        for p in &tr.points {
+            let j = p.objective.map(objective_to_arcmin);
+            let _ = writeln!(
+                csv,
+                "{},{},{}",
+                exact(p.dwell_s),
+                exact(p.total_s),
+                j.map_or(String::new(), exact)
+            );
+            rows.push(vec![
+                sig(p.dwell_s, 4),
+                sig(p.total_s, 4),
+                j.map_or("none".into(), |v| sig(v, 5)),
+            ]);
+        }
+        if !rows.is_empty() {
+            self.doc.table(
+                &[
+                    "dwell per position (s)",
+                    "total test time (s)",
+                    "J (arcmin⁻²)",
+                ],
+                rows,
+            );
+        }
+        self.csv.push(("tradeoff.csv".into(), csv));
+        // figure: the noise part against the dwell (every study with noise), and J against
+        // the dwell (when some table suffices); log10 of the dwell on x
+        let mut panels = Vec::new();
+        // outputs without noise have no curve (their noise part is 0 at every dwell)
+        let series: Vec<Series> = outs
+            .iter()
+            .enumerate()
+            .filter(|(o, _)| tr.noise_curve.iter().all(|(_, m)| m[*o] > 0.0))
+            .map(|(o, (name, _, acc))| Series {
+                label: format!("{name}: {} σ / ω_m", num(k)),
+                points: tr
+                    .noise_curve
+                    .iter()
+                    .map(|(t, m)| (t.log10(), (m[o] / acc).log10()))
+                    .collect(),
+                mark: Mark::Line(colour(o), false),
+            })
+            .collect();
+        panels.push(LinePanel {
+            title: "noise part against the dwell".into(),
+            x_label: "dwell per position, log10 (s)".into(),
+            y_label: "log10 (noise part / accuracy)".into(),
+            series,
+            hlines: vec![("the whole accuracy".into(), 0.0, Mark::Line(LIMIT, true))],
+            x_integer: false,
+            y_from_zero: false,
+        });
+        let curve: Vec<(f64, f64)> = tr
+            .points
+            .iter()
+            .filter_map(|p| {
+                p.objective
+                    .map(|j| (p.dwell_s.log10(), objective_to_arcmin(j)))
+            })
+            .collect();
+        if !curve.is_empty() {
+            panels.push(LinePanel {
+                title: "the table's J against the dwell".into(),
+                x_label: "dwell per position, log10 (s)".into(),
+                y_label: "J (arcmin⁻²)".into(),
+                series: vec![Series {
+                    label: "direct allocation, noise part kept free".into(),
+                    points: curve,
+                    mark: Mark::Line(colour(0), false),
+                }],
+                hlines: vec![(
+                    "J without noise".into(),
+                    objective_to_arcmin(tr.noiseless_objective),
+                    Mark::Line(LIMIT, true),
+                )],
+                x_integer: false,
+                y_from_zero: true,
+            });
+        }
+        let cols = panels.len();
+        let svg = figures::line_figure("Noise and test time", &panels, cols)?;
+        let id = self.doc.figure(
+            "tradeoff.svg",
+            format!(
+                "Left: each output's noise part ({} σ) over its accuracy against the dwell per position (dashed red: the whole accuracy; where the noise crosses it lies the shortest dwell). Right, when some table suffices: the J the table needs against the dwell (dashed red: J without noise).",
+                num(k)
+            ),
+            svg,
+        );
+        self.figure_ids.push(("tradeoff", id));
         Ok(())
     }
 

@@ -1,0 +1,329 @@
+//! An independent time-domain simulation of the whole calibration, to check the analytic
+//! noise answer ([`crate::noise`], calib-lsq's covariance) against what a lab would record.
+//!
+//! # What it simulates
+//! For every calibration: a turntable $\chi$ drawn in a box (mc-verify's streams, exactly the
+//! turntables of [`EndToEnd::rate_distribution`] with the same seed) and, for every output with
+//! noise, the samples a lab records: at every position, in the schedule's order with the
+//! timing's dwell and move times, $n_i = \mathrm{round}(f_sT_i)$ samples at the sample rate
+//! $f_s$, each the sum of
+//! - white noise of variance $N^2f_s$ (a density $N$ per $\sqrt{\mathrm{Hz}}$),
+//! - the Gauss-Markov bias $b$, propagated exactly from sample to sample and across the moves,
+//!   $b_{t+\Delta} = e^{-\Delta/T_c}b_t + \sigma_b\sqrt{1 - e^{-2\Delta/T_c}}\,w$, started
+//!   stationary,
+//! - quantization, uniform on $[-q/2, q/2]$;
+//!
+//! the position averages $\boldsymbol\nu$; the estimator run on them (the calibration's own
+//! pseudo-inverse: the coefficients move by $\mathbf A^+\boldsymbol\nu$) and the rate error at
+//! the test positions, the table's error vector plus $\mathbf A\mathbf A^+\boldsymbol\nu$.
+//! Nothing here uses the covariance formulas: the agreement of
+//! [`TimeDomainRun::coefficient_covariance`] with calib-lsq's prediction is a test of both.
+//!
+//! Noise comes from ChaCha stream `chunk | `[`TIME_DOMAIN_STREAM`] of the run's key; chunks
+//! run on rayon threads and their sums merge in chunk order, so every result is identical for
+//! any thread count; memory does not depend on the number of calibrations.
+
+use crate::error::E2eError;
+use crate::montecarlo::{McSettings, wilson_interval_95};
+use crate::noise::standard_normal_pair;
+use crate::simulate::EndToEnd;
+use calib_lsq::Timing;
+use gw_model::noise::NoiseModel;
+use mc_verify::{BLOCK_CAPACITY, ErrorBox, McRng, SampleBlock, TurntableSampler, chunk_rng};
+use nalgebra::{DMatrix, DVector};
+use rand_core::Rng;
+use rayon::prelude::*;
+
+/// The bit that turns chunk $c$'s turntable stream into its time-domain noise stream.
+pub const TIME_DOMAIN_STREAM: u64 = 1 << 62;
+
+/// Chunks evaluated per wave (bounds the partial sums held at once).
+const WAVE_CHUNKS: u64 = 64;
+
+/// Streaming sums of one output's simulated errors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputMoments {
+    /// Calibrations.
+    pub n: u64,
+    /// $\sum\delta\boldsymbol\beta$ (coefficient errors from the noise).
+    pub sum: DVector<f64>,
+    /// $\sum\delta\boldsymbol\beta\,\delta\boldsymbol\beta^T$.
+    pub sum_outer: DMatrix<f64>,
+    /// $\sum e_i$ per position (noise part of the rate error).
+    pub rate_sum: Vec<f64>,
+    /// $\sum e_i^2$ per position.
+    pub rate_sum_sq: Vec<f64>,
+}
+
+impl OutputMoments {
+    fn new(k: usize, n_pos: usize) -> Self {
+        Self {
+            n: 0,
+            sum: DVector::zeros(k),
+            sum_outer: DMatrix::zeros(k, k),
+            rate_sum: vec![0.0; n_pos],
+            rate_sum_sq: vec![0.0; n_pos],
+        }
+    }
+
+    fn merge(&mut self, o: &Self) {
+        self.n += o.n;
+        self.sum += &o.sum;
+        self.sum_outer += &o.sum_outer;
+        for (a, b) in self.rate_sum.iter_mut().zip(&o.rate_sum) {
+            *a += b;
+        }
+        for (a, b) in self.rate_sum_sq.iter_mut().zip(&o.rate_sum_sq) {
+            *a += b;
+        }
+    }
+
+    /// The sample covariance of the coefficient errors ($k\times k$).
+    #[must_use]
+    pub fn coefficient_covariance(&self) -> DMatrix<f64> {
+        let n = self.n as f64;
+        (&self.sum_outer - &self.sum * self.sum.transpose() / n) / (n - 1.0)
+    }
+
+    /// The sample standard deviation of the noise part of the rate error at every position.
+    #[must_use]
+    pub fn rate_sigma(&self) -> Vec<f64> {
+        let n = self.n as f64;
+        self.rate_sum
+            .iter()
+            .zip(&self.rate_sum_sq)
+            .map(|(s, q)| ((q - s * s / n) / (n - 1.0)).max(0.0).sqrt())
+            .collect()
+    }
+}
+
+/// The result of a time-domain run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimeDomainRun {
+    /// Calibrations simulated.
+    pub calibrations: u64,
+    /// Seed.
+    pub seed: u64,
+    /// Per output with noise, its streaming sums.
+    pub outputs: Vec<Option<OutputMoments>>,
+    /// Calibrations meeting every accuracy (table error plus simulated noise).
+    pub meeting: u64,
+    /// Calibrations meeting each output's accuracy.
+    pub meeting_per_output: Vec<u64>,
+    /// Noise samples generated.
+    pub noise_samples: u64,
+}
+
+impl TimeDomainRun {
+    /// The fraction of calibrations meeting every accuracy.
+    #[must_use]
+    pub fn yield_fraction(&self) -> f64 {
+        self.meeting as f64 / self.calibrations as f64
+    }
+
+    /// Its 95% Wilson interval.
+    #[must_use]
+    pub fn yield_interval_95(&self) -> (f64, f64) {
+        wilson_interval_95(self.meeting, self.calibrations)
+    }
+}
+
+/// One output's sample generator (its noise and the windows of the timing).
+struct Generator {
+    white_sd: f64,
+    quantization: f64,
+    bias: Option<(f64, f64)>,
+    /// (start, samples) per position in the schedule's order.
+    windows: Vec<(f64, u64)>,
+    dt: f64,
+}
+
+impl Generator {
+    fn new(noise: &NoiseModel, timing: &Timing) -> Self {
+        let fs = timing.sample_rate_hz();
+        let q = noise.quantization();
+        Self {
+            white_sd: (noise.white_sample_variance(fs) - q * q / 12.0)
+                .max(0.0)
+                .sqrt(),
+            quantization: q,
+            bias: noise.bias().map(|b| (b.sigma(), b.correlation_s())),
+            windows: timing
+                .windows()
+                .iter()
+                .map(|w| (w.start_s(), ((w.duration_s() * fs).round() as u64).max(1)))
+                .collect(),
+            dt: 1.0 / fs,
+        }
+    }
+
+    fn samples(&self) -> u64 {
+        self.windows.iter().map(|w| w.1).sum()
+    }
+
+    /// The position averages of one calibration into `avg`.
+    fn averages(&self, rng: &mut McRng, avg: &mut [f64]) {
+        const SCALE: f64 = 1.0 / (1u64 << 53) as f64;
+        let (sigma_b, tc) = self.bias.unwrap_or((0.0, 1.0));
+        let phi = (-self.dt / tc).exp();
+        let innovation = sigma_b * (1.0 - phi * phi).max(0.0).sqrt();
+        let mut b = if self.bias.is_some() {
+            sigma_b * standard_normal_pair(rng).0
+        } else {
+            0.0
+        };
+        let mut t = 0.0;
+        for (a, &(start, n)) in avg.iter_mut().zip(&self.windows) {
+            if self.bias.is_some() && start > t {
+                let g = (-(start - t) / tc).exp();
+                b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * standard_normal_pair(rng).0;
+            }
+            let mut sum = 0.0;
+            for _ in 0..n {
+                let (z1, z2) = standard_normal_pair(rng);
+                b = phi * b + innovation * z1;
+                let mut x = b + self.white_sd * z2;
+                if self.quantization > 0.0 {
+                    let u = (rng.next_u64() >> 11) as f64 * SCALE;
+                    x += self.quantization * (u - 0.5);
+                }
+                sum += x;
+            }
+            *a = sum / n as f64;
+            t = start + n as f64 * self.dt;
+        }
+    }
+}
+
+impl EndToEnd {
+    /// The time-domain simulation of `settings.samples` calibrations (see the
+    /// [module](self)): turntables drawn from `bounds`, noise `noise[k]` per output over
+    /// `timing`.
+    ///
+    /// # Errors
+    /// As [`McSettings::validate`]; [`E2eError::Calib`] unless `noise` has one entry per
+    /// output and `timing` one dwell per position; [`E2eError::Draw`] naming the first
+    /// calibration that fails.
+    pub fn simulate_time_domain(
+        &self,
+        bounds: &ErrorBox,
+        noise: &[Option<NoiseModel>],
+        timing: &Timing,
+        settings: &McSettings,
+    ) -> Result<TimeDomainRun, E2eError> {
+        settings.validate()?;
+        // the same checks as the analytic answer (lengths), before any work
+        self.calibration().noise_covariances(noise, timing)?;
+        let n = self.len();
+        let acc = self.accuracies();
+        let outputs = acc.len();
+        let gens: Vec<Option<Generator>> = noise
+            .iter()
+            .map(|m| m.as_ref().map(|m| Generator::new(m, timing)))
+            .collect();
+        let samples_per_calibration: u64 = gens.iter().flatten().map(Generator::samples).sum();
+        let regressions: Vec<(&DMatrix<f64>, &DMatrix<f64>)> = self
+            .calibration()
+            .outputs()
+            .iter()
+            .map(|o| (o.regression().matrix(), o.regression().pinv()))
+            .collect();
+        let sampler = TurntableSampler::new(bounds, self.turntable());
+        let cs = u64::from(settings.chunk_size);
+        let chunks = settings.samples.div_ceil(cs);
+        type Part = (Vec<Option<OutputMoments>>, u64, Vec<u64>);
+        let new_part = || -> Part {
+            (
+                gens.iter()
+                    .zip(&regressions)
+                    .map(|(g, (a, _))| g.as_ref().map(|_| OutputMoments::new(a.ncols(), n)))
+                    .collect(),
+                0,
+                vec![0; outputs],
+            )
+        };
+        let mut acc_part = new_part();
+        let mut start = 0;
+        while start < chunks {
+            let end = (start + WAVE_CHUNKS).min(chunks);
+            let parts: Vec<Result<Part, E2eError>> = (start..end)
+                .into_par_iter()
+                .map(|c| {
+                    let mut part = new_part();
+                    let mut rng = chunk_rng(settings.seed, c);
+                    let mut noise_rng = chunk_rng(settings.seed, c | TIME_DOMAIN_STREAM);
+                    let mut remaining = cs.min(settings.samples - c * cs) as usize;
+                    let mut block = SampleBlock::new(&sampler);
+                    let mut work = self.work();
+                    let mut chi = vec![0.0; self.n_errors()];
+                    let mut vectors = vec![vec![0.0; n]; outputs];
+                    let mut avg = vec![0.0; n];
+                    let mut index = c * cs;
+                    while remaining > 0 {
+                        let m = remaining.min(BLOCK_CAPACITY);
+                        sampler.fill_block(&mut rng, m, &mut block);
+                        for s in 0..m {
+                            block.chi_rad_into(s, &mut chi);
+                            self.error_vectors_into(&chi, &mut work, &mut vectors)
+                                .map_err(|e| E2eError::Draw {
+                                    sample: index,
+                                    reason: e.to_string(),
+                                })?;
+                            let mut all = true;
+                            for k in 0..outputs {
+                                let v = &mut vectors[k];
+                                if let (Some(g), Some(mom)) = (&gens[k], &mut part.0[k]) {
+                                    g.averages(&mut noise_rng, &mut avg);
+                                    let (a, pinv) = regressions[k];
+                                    let dbeta = pinv * DVector::from_column_slice(&avg);
+                                    let e = a * &dbeta;
+                                    mom.n += 1;
+                                    mom.sum += &dbeta;
+                                    mom.sum_outer += &dbeta * dbeta.transpose();
+                                    for (i, ei) in e.iter().enumerate() {
+                                        mom.rate_sum[i] += ei;
+                                        mom.rate_sum_sq[i] += ei * ei;
+                                        v[i] += ei;
+                                    }
+                                }
+                                let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                                if worst <= acc[k] {
+                                    part.2[k] += 1;
+                                } else {
+                                    all = false;
+                                }
+                            }
+                            if all {
+                                part.1 += 1;
+                            }
+                            index += 1;
+                        }
+                        remaining -= m;
+                    }
+                    Ok(part)
+                })
+                .collect();
+            for p in parts {
+                let p = p?;
+                for (a, b) in acc_part.0.iter_mut().zip(&p.0) {
+                    if let (Some(a), Some(b)) = (a, b) {
+                        a.merge(b);
+                    }
+                }
+                acc_part.1 += p.1;
+                for (a, b) in acc_part.2.iter_mut().zip(&p.2) {
+                    *a += b;
+                }
+            }
+            start = end;
+        }
+        Ok(TimeDomainRun {
+            calibrations: settings.samples,
+            seed: settings.seed,
+            outputs: acc_part.0,
+            meeting: acc_part.1,
+            meeting_per_output: acc_part.2,
+            noise_samples: samples_per_calibration * settings.samples,
+        })
+    }
+}

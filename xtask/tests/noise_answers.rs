@@ -1,0 +1,320 @@
+//! Both error sources in the commands' answers (issue 21): the table's part, the noise's and
+//! their combination per output, the verdict counting both, and a study without noise
+//! answered exactly as before.
+
+mod common;
+
+use approx::assert_relative_eq;
+use common::{assert_input_error, json, num, run, scratch, stdout, write};
+use serde_json::Value;
+
+/// JSON keeps full precision; the sum is one rounding (relative).
+const SUM_REL: f64 = 1e-12;
+
+const TOL: &str = "studies/tolerances/three-axis-navigation-grade.toml";
+
+/// The IMU example without its noise blocks.
+fn imu_without_noise() -> String {
+    let t = common::study_text("imu-triad-example");
+    let mut out = Vec::new();
+    let mut skipping = false;
+    for line in t.lines() {
+        if line.trim() == "[sensor.outputs.noise]" {
+            skipping = true;
+            continue;
+        }
+        if skipping && line.trim_start().starts_with('[') {
+            skipping = false;
+        }
+        if !skipping {
+            out.push(line);
+        }
+    }
+    out.join("\n") + "\n"
+}
+
+/// The keys the noise adds, removed; `table_verdict` put back as `verdict`.
+fn strip_noise(v: &mut Value) {
+    if let Value::Object(m) = v {
+        if let Some(t) = m.remove("table_verdict") {
+            m.insert("verdict".into(), t);
+        }
+        for k in [
+            "k_sigma",
+            "combined_yield",
+            "table_part",
+            "table_certified",
+            "noise_sigma",
+            "combined",
+            "combined_meets",
+            "dominant",
+        ] {
+            m.remove(k);
+        }
+        for (_, x) in m.iter_mut() {
+            strip_noise(x);
+        }
+    } else if let Value::Array(a) = v {
+        a.iter_mut().for_each(strip_noise);
+    }
+}
+
+#[test]
+fn check_turntable_splits_every_output_into_table_and_noise() {
+    let v = json(&[
+        "check-turntable",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--tolerances",
+        TOL,
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    for o in v["outputs"].as_array().unwrap() {
+        let (t, s, c) = (
+            num(&o["table_part"]),
+            num(&o["noise_sigma"]),
+            num(&o["combined"]),
+        );
+        assert_relative_eq!(c, t + 3.0 * s, max_relative = SUM_REL);
+        assert!(s > 0.0);
+        assert_eq!(o["combined_meets"], c <= num(&o["accuracy"]));
+    }
+    // the gyros' noise alone at 60 s exceeds 0.1 deg/h: the table is proven, the calibration not
+    assert_eq!(v["table_verdict"], "guaranteed");
+    assert_eq!(v["verdict"], "fails");
+    assert!(num(&v["combined_yield"]["yield"]) < 0.01);
+    let t = stdout(&run(&[
+        "check-turntable",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--tolerances",
+        TOL,
+        "--samples",
+        "2000",
+    ]));
+    assert!(t.contains("with noise: table "), "{t}");
+    assert!(t.contains(" at 3 sigma"), "{t}");
+    assert!(
+        t.contains("does NOT meet every accuracy once the noise is counted"),
+        "{t}"
+    );
+}
+
+#[test]
+fn a_study_without_noise_answers_exactly_as_before() {
+    // the same study without its noise: the JSON is the noisy one's minus the noise's keys,
+    // with the table's verdict as the verdict
+    let dir = scratch("noise", "without");
+    let quiet = write(&dir, "imu-quiet.toml", &imu_without_noise());
+    let quiet = quiet.to_str().unwrap();
+    let args = |study: &'static str| -> Vec<String> {
+        [
+            "check-turntable",
+            "--tolerances",
+            TOL,
+            "--samples",
+            "2000",
+            "--json",
+            "--study",
+            study,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    };
+    let mut a = args("studies/imu-triad-example.toml");
+    let mut noisy = {
+        let r: Vec<&str> = a.iter().map(String::as_str).collect();
+        json(&r)
+    };
+    a.pop();
+    a.push(quiet.to_string());
+    let plain = {
+        let r: Vec<&str> = a.iter().map(String::as_str).collect();
+        json(&r)
+    };
+    for key in ["table_part", "noise_sigma", "combined", "table_verdict"] {
+        assert!(
+            !plain.to_string().contains(&format!("\"{key}\"")),
+            "no `{key}` without noise"
+        );
+    }
+    strip_noise(&mut noisy);
+    assert_eq!(noisy, plain);
+}
+
+#[test]
+fn k_sigma_out_of_range_exits_2_naming_the_flag() {
+    for bad in ["0", "-1", "nan", "inf", "11", "x"] {
+        let o = run(&[
+            "check-turntable",
+            "--study",
+            "studies/imu-triad-example.toml",
+            "--tolerances",
+            TOL,
+            "--k-sigma",
+            bad,
+        ]);
+        assert_input_error(&o, &["--k-sigma"]);
+    }
+}
+
+#[test]
+fn a_larger_k_sigma_gives_a_larger_noise_part() {
+    let get = |k: &str| {
+        json(&[
+            "check-turntable",
+            "--study",
+            "studies/imu-triad-example.toml",
+            "--tolerances",
+            TOL,
+            "--samples",
+            "500",
+            "--k-sigma",
+            k,
+            "--json",
+        ])
+    };
+    let (one, three) = (get("1"), get("3"));
+    for (a, b) in one["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(three["outputs"].as_array().unwrap())
+    {
+        assert_relative_eq!(num(&a["noise_sigma"]), num(&b["noise_sigma"]));
+        assert_relative_eq!(
+            num(&b["combined"]) - num(&a["combined"]),
+            2.0 * num(&a["noise_sigma"]),
+            max_relative = 1e-9
+        );
+    }
+}
+
+/// The IMU example with white noise only (its bias-instability lines removed).
+fn imu_white_only() -> String {
+    common::study_text("imu-triad-example")
+        .lines()
+        .filter(|l| {
+            let t = l.trim_start();
+            !t.starts_with("bias_instability") && !t.starts_with("bias_correlation_s")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+#[test]
+fn end_to_end_states_the_shortest_dwell_and_the_tradeoff() {
+    // white noise only: sigma scales as 1/sqrt(T), so the shortest dwell is the closed form
+    // T0 (3 sigma(T0) / accuracy)^2 of the output that needs the longest (no lower bounds)
+    let dir = scratch("noise", "white");
+    let p = write(&dir, "imu-white.toml", &imu_white_only());
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        p.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--yield-fraction",
+        "0.9",
+        "--json",
+    ]);
+    let noise = &v["readings"][0]["noise"];
+    let sigma: Vec<f64> = noise["noise_sigma"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(num)
+        .collect();
+    let acc: Vec<f64> = v["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| num(&o["accuracy"]))
+        .collect();
+    let expected = sigma
+        .iter()
+        .zip(&acc)
+        .map(|(s, a)| 60.0 * (3.0 * s / a).powi(2))
+        .fold(0.0, f64::max);
+    // bisection to 2^-48 of the log width; JSON full precision
+    assert_relative_eq!(num(&v["min_dwell_s"]), expected, max_relative = 1e-9);
+    let curve = v["tradeoff"].as_array().unwrap();
+    assert!(curve.len() >= 10);
+    let js: Vec<f64> = curve.iter().map(|p| num(&p["objective_arcmin"])).collect();
+    assert!(js.windows(2).all(|w| w[1] < w[0]), "{js:?}");
+    assert!(num(&curve[0]["dwell_s"]) > num(&v["min_dwell_s"]));
+    // at 60 s the gyros' noise alone exceeds 0.1 deg/h: an answer, exit 0
+    assert_eq!(noise["direct_with_noise"]["no_table_suffices"], true);
+    // the paper's study has no noise: none of the new keys
+    let paper = json(&["end-to-end", "--samples", "2000", "--json"]);
+    for key in ["min_dwell_s", "tradeoff", "k_sigma"] {
+        assert!(paper.get(key).is_none(), "{key}");
+    }
+    assert!(paper["readings"][0].get("noise").is_none());
+}
+
+#[test]
+fn end_to_end_with_bias_instability_says_no_dwell_within_a_day_suffices() {
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--samples",
+        "2000",
+        "--yield-fraction",
+        "0.9",
+        "--json",
+    ]);
+    assert!(v["min_dwell_s"].is_null());
+    assert_eq!(v["tradeoff"], serde_json::json!([]));
+    assert_eq!(
+        v["readings"][0]["noise"]["direct_with_noise"]["no_table_suffices"],
+        true
+    );
+}
+
+#[test]
+fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
+    let dir = scratch("noise", "report");
+    let out = dir.join("imu");
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--samples",
+        "2000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("## Noise and test time"), "noise section");
+    assert!(md.contains("| box | output | table part | noise part | combined |"));
+    assert!(md.contains("No table suffices at this dwell"));
+    assert!(md.contains("No dwell up to 86400 s per position"));
+    let svg = std::fs::read_to_string(out.join("tradeoff.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("noise part against the dwell"));
+    let results: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert!(results["noise"]["min_dwell_s"].is_null());
+    assert_eq!(results["noise"]["noise_sigma"].as_array().unwrap().len(), 6);
+    // the three-axis example has no noise: no section, no figure
+    let plain = dir.join("three-axis");
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/three-axis-example.toml",
+        "--samples",
+        "2000",
+        "--out",
+        plain.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(plain.join("report.md")).unwrap();
+    assert!(!md.contains("Noise and test time"));
+    assert!(!plain.join("tradeoff.svg").exists());
+}
