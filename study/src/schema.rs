@@ -12,7 +12,7 @@ use std::path::Path;
 use tt_core::DeltaRKind;
 use tt_core::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 use tt_kinematics::{
-    FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
+    ErrorVariation, FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
 };
 
 /// The reading of eq 13 when a study does not name one: outputs at the actual orientation,
@@ -53,6 +53,9 @@ struct RawFactor {
     fixed_deg: Option<f64>,
     about: Option<String>,
     along: Option<String>,
+    varies: Option<String>,
+    of: Option<String>,
+    harmonics: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -183,6 +186,9 @@ pub struct Study {
     pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
     /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
     pub timing: Option<calib_lsq::Timing>,
+    /// How each angular error varies with a shaft angle (order of $\chi$;
+    /// `turntable.factors[i].varies`, `of`, `harmonics`); constant unless the study says so.
+    pub variations: Vec<tt_kinematics::ErrorVariation>,
 }
 
 /// Whether `name` is a valid study `name`: a file-name-safe slug of 1 to
@@ -393,6 +399,7 @@ impl Study {
             return Err(StudyError::new(at("name"), name_error(&raw.name)));
         }
         let turntable = parse_turntable(at, &raw.turntable)?;
+        let variations = parse_variations(at, &raw.turntable, &turntable)?;
         let site = Site::from_deg(
             in_range(
                 at,
@@ -511,7 +518,37 @@ impl Study {
             monte_carlo,
             noise,
             timing,
+            variations,
         })
+    }
+
+    /// The expansion of the turntable's errors into coefficients over the study's schedule
+    /// (`turntable.factors[i].varies`; every error constant unless the study says otherwise).
+    ///
+    /// # Errors
+    /// Never for a study that was read (the variations and positions were checked).
+    pub fn expansion(&self) -> Result<tt_kinematics::Expansion, StudyError> {
+        let poses = self
+            .positions_deg
+            .iter()
+            .map(|p| Pose::from_deg(p))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| {
+                StudyError::new(
+                    format!("{}: key `calibration.positions_deg`", self.path),
+                    e.to_string(),
+                )
+            })?;
+        tt_kinematics::Expansion::new(&self.turntable, &self.variations, &poses)
+            .map_err(|e| StudyError::new(format!("{}: key `turntable`", self.path), e.to_string()))
+    }
+
+    /// Whether any error of the study's turntable varies with a shaft angle.
+    #[must_use]
+    pub fn has_angle_dependent_errors(&self) -> bool {
+        self.variations
+            .iter()
+            .any(tt_kinematics::ErrorVariation::varies)
     }
 
     /// The calibration schedule.
@@ -738,6 +775,121 @@ fn parse_turntable(
         }
         other => StudyError::new(at("turntable"), other.to_string()),
     })
+}
+
+/// The error model of each angular error (order of $\chi$): `varies = "constant"` (the
+/// default), `"harmonics"` (the default when `harmonics` is given) with `harmonics = [1, 2]`
+/// and `of = "<joint>"`, or `"any"` with `of`.
+fn parse_variations(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawTurntable,
+    turntable: &Turntable,
+) -> Result<Vec<ErrorVariation>, StudyError> {
+    let mut by_factor = vec![ErrorVariation::Constant; raw.factors.len()];
+    for (i, f) in raw.factors.iter().enumerate() {
+        let key = |k: &str| format!("turntable.factors[{i}].{k}");
+        if f.varies.is_none() && f.of.is_none() && f.harmonics.is_none() {
+            continue;
+        }
+        let first = [
+            ("varies", f.varies.is_some()),
+            ("of", f.of.is_some()),
+            ("harmonics", f.harmonics.is_some()),
+        ]
+        .into_iter()
+        .find_map(|(k, p)| p.then_some(k))
+        .unwrap_or("varies");
+        if f.error.is_none() || f.about.is_none() {
+            return Err(StudyError::new(
+                at(&key(first)),
+                "only an angular error (`error` with `about`) can vary with a shaft angle",
+            ));
+        }
+        let varies = f.varies.as_deref().unwrap_or(if f.harmonics.is_some() {
+            "harmonics"
+        } else {
+            "constant"
+        });
+        let joint = || {
+            f.of.clone().ok_or_else(|| {
+                StudyError::new(
+                    at(&key("of")),
+                    format!("`varies = \"{varies}\"` needs `of`, the joint whose angle the error follows"),
+                )
+            })
+        };
+        let v = match varies {
+            "constant" => {
+                if let Some(k) = [("of", f.of.is_some()), ("harmonics", f.harmonics.is_some())]
+                    .into_iter()
+                    .find_map(|(k, p)| p.then_some(k))
+                {
+                    return Err(StudyError::new(
+                        at(&key(k)),
+                        "a constant error follows no joint: remove it or set `varies`",
+                    ));
+                }
+                ErrorVariation::Constant
+            }
+            "harmonics" => {
+                let Some(list) = &f.harmonics else {
+                    return Err(StudyError::new(
+                        at(&key("harmonics")),
+                        "`varies = \"harmonics\"` needs `harmonics = [1, 2, ...]` (the orders; [] for the constant term only)",
+                    ));
+                };
+                let mut orders = Vec::with_capacity(list.len());
+                for (k, &o) in list.iter().enumerate() {
+                    let hk = key(&format!("harmonics[{k}]"));
+                    let max = f64::from(tt_kinematics::variation::MAX_HARMONIC_ORDER);
+                    if !(o.is_finite() && o.fract() == 0.0 && (1.0..=max).contains(&o)) {
+                        return Err(StudyError::new(
+                            at(&hk),
+                            format!(
+                                "a harmonic order is a positive integer up to {max}, found {o:?}"
+                            ),
+                        ));
+                    }
+                    orders.push(o as u32);
+                }
+                ErrorVariation::Harmonics {
+                    joint: joint()?,
+                    orders,
+                }
+            }
+            "any" => {
+                if f.harmonics.is_some() {
+                    return Err(StudyError::new(
+                        at(&key("harmonics")),
+                        "`varies = \"any\"` takes no harmonic orders (one free value per angle)",
+                    ));
+                }
+                ErrorVariation::Any { joint: joint()? }
+            }
+            other => {
+                return Err(StudyError::new(
+                    at(&key("varies")),
+                    format!(
+                        "must be \"constant\", \"harmonics\" or \"any\", found \"{}\"",
+                        crate::fmt::visible(other)
+                    ),
+                ));
+            }
+        };
+        by_factor[i] = v;
+    }
+    let variations: Vec<ErrorVariation> = turntable
+        .rotation_errors()
+        .iter()
+        .map(|e| by_factor[e.factor].clone())
+        .collect();
+    tt_kinematics::validate_variations(turntable, &variations).map_err(|e| match e {
+        KinematicsError::Description { key, reason } => {
+            StudyError::new(at(&format!("turntable.{key}")), reason)
+        }
+        other => StudyError::new(at("turntable"), other.to_string()),
+    })?;
+    Ok(variations)
 }
 
 fn parse_sensor(at: &dyn Fn(&str) -> String, raw: &RawSensor) -> Result<SensorModel, StudyError> {

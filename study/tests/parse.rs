@@ -669,3 +669,75 @@ fn one_line_labels_refuse_control_characters_naming_the_key() {
     .unwrap();
     assert_eq!(t.name.as_deref(), Some("<script>"));
 }
+
+/// Angle-dependent errors (issue 22): `varies`, `of` and `harmonics` on an error factor give
+/// each error its model in the order of chi; bad input names the key.
+#[test]
+fn angle_dependent_errors_are_read_and_bad_ones_name_the_key() {
+    let wobble = r#"{ error = "dalpha_y2", about = "y" }"#;
+    let with = |to: &str| PAPER.replacen(wobble, to, 1);
+    let s = Study::parse(
+        "s.toml",
+        &with(r#"{ error = "dalpha_y2", about = "y", harmonics = [1, 2], of = "phi2" }"#),
+    )
+    .unwrap();
+    let i = s.turntable.rotation_error_index("dalpha_y2").unwrap();
+    assert_eq!(
+        s.variations[i],
+        tt_kinematics::ErrorVariation::Harmonics {
+            joint: "phi2".into(),
+            orders: vec![1, 2]
+        }
+    );
+    assert!(s.has_angle_dependent_errors());
+    assert_eq!(s.expansion().unwrap().n_coefficients(), 8 + 4);
+    let s = Study::parse(
+        "s.toml",
+        &with(r#"{ error = "dalpha_y2", about = "y", varies = "any", of = "phi2" }"#),
+    )
+    .unwrap();
+    // phi2 takes 8 distinct angles in the paper's schedule
+    assert_eq!(s.expansion().unwrap().n_coefficients(), 7 + 8);
+    let paper = Study::parse("s.toml", PAPER).unwrap();
+    assert!(!paper.has_angle_dependent_errors());
+    for (to, key) in [
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1.5], of = "phi2" }"#,
+            "turntable.factors[8].harmonics[0]",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [0], of = "phi2" }"#,
+            "turntable.factors[8].harmonics[0]",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1, -2], of = "phi2" }"#,
+            "turntable.factors[8].harmonics[1]",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1], of = "phi9" }"#,
+            "turntable.factors[8].of",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1] }"#,
+            "turntable.factors[8].of",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", varies = "sometimes", of = "phi2" }"#,
+            "turntable.factors[8].varies",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", varies = "any", of = "phi2", harmonics = [1] }"#,
+            "turntable.factors[8].harmonics",
+        ),
+    ] {
+        let e = err(&with(to));
+        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
+    }
+    // an error before the joint does not follow it
+    let e = err(&PAPER.replacen(
+        r#"{ error = "dphi_y1", about = "y" }"#,
+        r#"{ error = "dphi_y1", about = "y", varies = "any", of = "phi2" }"#,
+        1,
+    ));
+    assert!(e.contains("turntable.factors[1].of"), "{e}");
+}
