@@ -60,6 +60,7 @@
 #![forbid(unsafe_code)]
 
 mod allocate;
+pub mod angle;
 mod answer;
 mod check;
 pub mod design;
