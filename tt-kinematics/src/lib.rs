@@ -89,4 +89,6 @@ pub use turntable::{
     ChainKind, ErrorInfo, Factor, FactorSpec, Joint, PlanStep, PoseFrames, Turntable,
     TurntableDescription, is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,
 };
-pub use variation::{BoundGroup, ErrorVariation, Expansion, GroupShape, validate_variations};
+pub use variation::{
+    BoundGroup, ErrorVariation, Expansion, GroupShape, on_shafts, validate_variations,
+};

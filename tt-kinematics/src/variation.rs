@@ -158,6 +158,28 @@ pub fn validate_variations(
     Ok(())
 }
 
+/// Every angular error following the shaft it rides on: the last joint before it in the chain
+/// (`make(joint)` gives its model); an error before every joint (a base tilt) stays constant.
+/// With `make = |j| Any { joint: j }` this is the model a sheet supports that bounds each
+/// error over the whole revolution and says nothing more.
+#[must_use]
+pub fn on_shafts(
+    turntable: &Turntable,
+    make: impl Fn(&str) -> ErrorVariation,
+) -> Vec<ErrorVariation> {
+    turntable
+        .rotation_errors()
+        .iter()
+        .map(|e| {
+            turntable
+                .joints()
+                .iter()
+                .rfind(|j| j.factor < e.factor)
+                .map_or(ErrorVariation::Constant, |j| make(&j.name))
+        })
+        .collect()
+}
+
 /// The bound set of one group of coefficients.
 #[derive(Debug, Clone, PartialEq)]
 pub enum GroupShape {
@@ -270,6 +292,18 @@ impl BoundGroup {
             GroupShape::Harmonics { orders, .. } => {
                 harmonic_dual_norm(orders, s, &self.angles).upper
             }
+        }
+    }
+
+    /// Coefficients of an error bounded by one over the revolution at which the functional
+    /// `s` reaches (or, for harmonics, comes within the certified bracket of) its dual norm:
+    /// the worst error shape, to be scaled by the bound.
+    #[must_use]
+    pub fn worst_point(&self, s: &[f64]) -> Vec<f64> {
+        let sign = |v: f64| if v < 0.0 { -1.0 } else { 1.0 };
+        match &self.shape {
+            GroupShape::Constant | GroupShape::Any { .. } => s.iter().map(|v| sign(*v)).collect(),
+            GroupShape::Harmonics { orders, .. } => harmonic_worst_shape(orders, s, &self.angles),
         }
     }
 
@@ -477,6 +511,22 @@ impl Expansion {
             .sum()
     }
 
+    /// The worst coefficients for the functional `s` within the bounds `ub` (one per error;
+    /// an infinite bound gives 0): each group's [`BoundGroup::worst_point`] times its bound.
+    #[must_use]
+    pub fn worst_point(&self, s: &[f64], ub: &[f64]) -> Vec<f64> {
+        let mut c = vec![0.0; self.n_coefficients];
+        for (g, &u) in self.groups.iter().zip(ub) {
+            if u.is_finite() {
+                let w = g.worst_point(&s[g.first..g.first + g.len()]);
+                for (o, v) in c[g.first..g.first + g.len()].iter_mut().zip(w) {
+                    *o = u * v;
+                }
+            }
+        }
+        c
+    }
+
     /// The dual norm of every group at the functional `s` (one entry per coefficient): the
     /// effect per unit bound of each error, $d_j(s_j)$, in place of the constant model's
     /// $\lvert s_j\rvert$.
@@ -491,11 +541,13 @@ impl Expansion {
     /// Coefficients of errors drawn inside the bounds `ub` (one per error) from the uniform
     /// numbers in $[0, 1)$ that `uniform` returns. The law: a constant is uniform in
     /// $[-\mathrm{UB}, \mathrm{UB}]$; an `any` error takes an independent uniform value in
-    /// $[-\mathrm{UB}, \mathrm{UB}]$ at each angle; a harmonic error draws every coefficient
-    /// uniform in $[-1, 1]$, scales the polynomial to a certified sup-norm bound
-    /// ([`sup_norm_upper`]) of one, then by $U\,\mathrm{UB}$ with $U$ uniform in $[0, 1]$
-    /// (so its amplitude over the revolution is uniform up to the bound, and it never
-    /// exceeds it).
+    /// $[-\mathrm{UB}, \mathrm{UB}]$ at each angle; a harmonic error with $K$ orders draws an
+    /// amplitude $A = U\,\mathrm{UB}$ ($U$ uniform in $[0, 1]$), splits it over the constant and
+    /// the orders by weights $w_0, \dots, w_K$ uniform in $[0, 1]$ normalised to sum one, and
+    /// gives each order a uniform phase and the constant a fair sign: $c_0 = \pm w_0 A$,
+    /// $(a_k, b_k) = w_k A(\cos\theta_k, \sin\theta_k)$. Then $\lvert\chi(\phi)\rvert \le
+    /// \lvert c_0\rvert + \sum_k \sqrt{a_k^2 + b_k^2} = A \le \mathrm{UB}$ for every $\phi$:
+    /// always inside the bound, with no grid per draw.
     pub fn draw(&self, ub: &[f64], mut uniform: impl FnMut() -> f64, out: &mut [f64]) {
         debug_assert_eq!(out.len(), self.n_coefficients);
         for (g, &u) in self.groups.iter().zip(ub) {
@@ -507,13 +559,22 @@ impl Expansion {
                     }
                 }
                 GroupShape::Harmonics { orders, .. } => {
-                    for v in c.iter_mut() {
-                        *v = 2.0 * uniform() - 1.0;
+                    let amplitude = u * uniform();
+                    // weights into the even slots (c0, a_k), normalised below
+                    let mut total = 0.0;
+                    c[0] = uniform();
+                    total += c[0];
+                    for k in 0..orders.len() {
+                        c[1 + 2 * k] = uniform();
+                        total += c[1 + 2 * k];
                     }
-                    let sup = sup_norm_upper(orders, c);
-                    let scale = if sup > 0.0 { u * uniform() / sup } else { 0.0 };
-                    for v in c.iter_mut() {
-                        *v *= scale;
+                    let scale = if total > 0.0 { amplitude / total } else { 0.0 };
+                    c[0] *= if uniform() < 0.5 { -scale } else { scale };
+                    for k in 0..orders.len() {
+                        let r = c[1 + 2 * k] * scale;
+                        let (sn, cs) = (std::f64::consts::TAU * uniform()).sin_cos();
+                        c[1 + 2 * k] = r * cs;
+                        c[2 + 2 * k] = r * sn;
                     }
                 }
             }
@@ -568,6 +629,56 @@ pub struct HarmonicDualNorm {
     pub lower: f64,
 }
 
+/// The coefficients of a polynomial of certified sup norm at most one at which
+/// [`HarmonicDualNorm::lower`] is attained (the worst error shape found), or $\pm$ the
+/// constant one when the program gives nothing better.
+#[must_use]
+pub fn harmonic_worst_shape(orders: &[u32], s: &[f64], extra: &[f64]) -> Vec<f64> {
+    let mut best = vec![0.0; s.len()];
+    best[0] = if s[0] < 0.0 { -1.0 } else { 1.0 };
+    if orders.is_empty() || s[1..].iter().all(|v| *v == 0.0) {
+        return best;
+    }
+    let (rows, factor) = lp_rows(orders, extra, s.len());
+    let (_, c) = solve_lp(&rows, s);
+    if let Some(c) = c {
+        let grid_max = rows
+            .iter()
+            .map(|row| row.iter().zip(&c).map(|(b, v)| b * v).sum::<f64>().abs())
+            .fold(0.0, f64::max);
+        if grid_max > 0.0 {
+            let scaled: Vec<f64> = c.iter().map(|v| v * factor / grid_max).collect();
+            let dot = |x: &[f64]| s.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+            if dot(&scaled) > dot(&best) {
+                best = scaled;
+            }
+        }
+    }
+    best
+}
+
+fn lp_rows(orders: &[u32], extra: &[f64], n: usize) -> (Vec<Vec<f64>>, f64) {
+    let (m, factor) = grid_size(orders);
+    let mut angles: Vec<f64> = (0..m)
+        .map(|i| std::f64::consts::TAU * i as f64 / m as f64)
+        .collect();
+    for &a in extra {
+        let a = wrap(a);
+        if !angles.iter().any(|b| (a - b).abs() <= SAME_ANGLE_RAD) {
+            angles.push(a);
+        }
+    }
+    let rows = angles
+        .iter()
+        .map(|&phi| {
+            let mut b = Vec::with_capacity(n);
+            harmonic_basis(orders, phi, &mut b);
+            b
+        })
+        .collect();
+    (rows, factor)
+}
+
 /// $\max\{s\cdot c : \lVert p_c\rVert_\infty \le 1\}$ over harmonic coefficients $c = (c_0,
 /// a_{k_1}, b_{k_1}, \dots)$.
 ///
@@ -596,25 +707,7 @@ pub fn harmonic_dual_norm(orders: &[u32], s: &[f64], extra: &[f64]) -> HarmonicD
             lower: s0,
         };
     }
-    let (m, factor) = grid_size(orders);
-    let mut angles: Vec<f64> = (0..m)
-        .map(|i| std::f64::consts::TAU * i as f64 / m as f64)
-        .collect();
-    for &a in extra {
-        let a = wrap(a);
-        if !angles.iter().any(|b| (a - b).abs() <= SAME_ANGLE_RAD) {
-            angles.push(a);
-        }
-    }
-    let n = s.len();
-    let rows: Vec<Vec<f64>> = angles
-        .iter()
-        .map(|&phi| {
-            let mut b = Vec::with_capacity(n);
-            harmonic_basis(orders, phi, &mut b);
-            b
-        })
-        .collect();
+    let (rows, factor) = lp_rows(orders, extra, s.len());
     let (y, c) = solve_lp(&rows, s);
     // the rigorous bound from any multipliers y
     let mut r = s.to_vec();

@@ -246,9 +246,25 @@ pub fn run(args: &Args) -> Result<()> {
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;
+    let angle = crate::angle::check(&s, &checks, &tol.ub_rad, settings.samples, settings.seed)?;
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&checks, &tol))? + "\n"))
+        let mut v = to_json(&checks, &tol);
+        if let Value::Object(m) = &mut v {
+            m.insert(
+                "angle_dependent".into(),
+                crate::angle::json(&checks, &angle),
+            );
+        }
+        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
     } else {
-        crate::out::print(&to_text(&checks, &s.path, &tol))
+        let mut text = to_text(&checks, &s.path, &tol);
+        text.push_str(
+            "\nerrors that vary with the shaft angle, same tolerances over the whole revolution:\n",
+        );
+        for ((e2e, c), a) in checks.iter().zip(&angle.readings) {
+            text.push_str(&format!("reading {}\n", e2e.reading()));
+            text.push_str(&crate::angle::text(e2e, c, a, &angle));
+        }
+        crate::out::print(&text)
     }
 }
