@@ -81,6 +81,66 @@ impl AngleYield {
     }
 }
 
+/// The dual norm of a magnitude (disc) bound $\sqrt{\chi_a(\phi)^2 + \chi_b(\phi)^2} \le 1$
+/// on two errors at the functional `s` (the expansion's coefficients): both constant,
+/// $\lVert(s_a, s_b)\rVert_2$; both `any` of the same joint, $\sum_{\text{angles}}
+/// \lVert(s_{a,k}, s_{b,k})\rVert_2$; otherwise the square's $d_a + d_b$ (the disc lies in the
+/// square, so this is a rigorous, conservative bound).
+#[must_use]
+pub fn disc_dual_norm(expansion: &Expansion, s: &[f64], a: usize, b: usize) -> f64 {
+    use tt_kinematics::GroupShape;
+    let (ga, gb) = (&expansion.groups()[a], &expansion.groups()[b]);
+    let sa = &s[ga.first..ga.first + ga.len()];
+    let sb = &s[gb.first..gb.first + gb.len()];
+    match (&ga.shape, &gb.shape) {
+        (GroupShape::Constant, GroupShape::Constant) => sa[0].hypot(sb[0]),
+        (GroupShape::Any { angles_rad: x, .. }, GroupShape::Any { angles_rad: y, .. })
+            if x == y =>
+        {
+            sa.iter().zip(sb).map(|(p, q)| p.hypot(*q)).sum()
+        }
+        _ => ga.dual_norm(sa) + gb.dual_norm(sb),
+    }
+}
+
+/// The linearised worst case of every output (output unit) over the bounds `ub_rad` with the
+/// magnitude bounds `discs` (`(errors, w)`, rad): $\max_r \sum_{j \notin \text{discs}}
+/// \mathrm{UB}_j d_j + \sum_{\text{discs}} w\,D(s_r)$ ([`disc_dual_norm`]), `expanded` the
+/// expansion's linearisation.
+#[must_use]
+pub fn disc_worst_case(
+    expansion: &Expansion,
+    expanded: &Linearization,
+    ub_rad: &[f64],
+    discs: &[([usize; 2], f64)],
+) -> Vec<f64> {
+    let n = expanded.positions();
+    (0..expanded.outputs())
+        .map(|k| {
+            (0..n)
+                .map(|i| {
+                    let s = expanded.row(k, i);
+                    let d = expansion.dual_norms(&s);
+                    let mut in_disc = vec![false; d.len()];
+                    let mut total = 0.0;
+                    for &([a, b], w) in discs {
+                        in_disc[a] = true;
+                        in_disc[b] = true;
+                        total += w * disc_dual_norm(expansion, &s, a, b);
+                    }
+                    total
+                        + d.iter()
+                            .zip(ub_rad)
+                            .zip(&in_disc)
+                            .filter(|(_, skip)| !**skip)
+                            .map(|((d, u), _)| if u.is_finite() { d * u } else { 0.0 })
+                            .sum::<f64>()
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect()
+}
+
 /// Draws per random stream of [`EndToEnd::angle_yield`] (chunk $c$ uses
 /// [`mc_verify::chunk_rng`]`(seed, c)`; fixed, so results do not depend on the thread count).
 pub const ANGLE_CHUNK: u64 = 1024;

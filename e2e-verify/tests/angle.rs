@@ -213,3 +213,57 @@ fn angle_yield_is_deterministic_and_within_the_worst_case() {
         .fold(0.0, f64::max);
     assert!(a.worst_ratio <= bound, "{} > {bound}", a.worst_ratio);
 }
+
+/// A magnitude bound sqrt(a^2 + b^2) <= w lies between the square of side w/sqrt(2) inside it
+/// and the square of side w around it: its worst case is between theirs, for constant and for
+/// angle-dependent errors (three-axis example, every wobble pair as a disc).
+#[test]
+fn disc_bounds_lie_between_the_inscribed_and_the_circumscribed_squares() {
+    let e2e = study_e2e("three-axis-example", Some(Reading::USER));
+    let t = e2e.turntable();
+    let idx = |n: &str| t.rotation_error_index(n).unwrap();
+    let w = tt_core::units::arcmin_to_rad(0.05);
+    let pairs = [
+        ("dalpha_ox", "dalpha_oy"),
+        ("dalpha_my", "dalpha_mz"),
+        ("dalpha_ix", "dalpha_iz"),
+    ];
+    let discs: Vec<([usize; 2], f64)> = pairs.iter().map(|(a, b)| ([idx(a), idx(b)], w)).collect();
+    let square = vec![tt_core::units::arcmin_to_rad(0.08); t.n_rotation_errors()];
+    let with = |side: f64| {
+        let mut u = square.clone();
+        for ([a, b], _) in &discs {
+            u[*a] = side;
+            u[*b] = side;
+        }
+        u
+    };
+    for v in [
+        vec![V::Constant; t.n_rotation_errors()],
+        tt_kinematics::on_shafts(t, |j| V::Any { joint: j.into() }),
+    ] {
+        let ex = expansion(&e2e, &v);
+        let lin = e2e.linearization_expanded(&ex).unwrap();
+        let worst = |u: &[f64]| e2e_verify::angle::disc_worst_case(&ex, &lin, u, &[]);
+        let disc = e2e_verify::angle::disc_worst_case(&ex, &lin, &with(w), &discs);
+        let (outer, inner) = (worst(&with(w)), worst(&with(w / 2f64.sqrt())));
+        for k in 0..disc.len() {
+            assert!(
+                disc[k] <= outer[k] * (1.0 + NESTING_REL),
+                "{k}: {} > {}",
+                disc[k],
+                outer[k]
+            );
+            assert!(
+                disc[k] >= inner[k] * (1.0 - NESTING_REL),
+                "{k}: {} < {}",
+                disc[k],
+                inner[k]
+            );
+        }
+        assert!(
+            (0..disc.len()).any(|k| disc[k] < outer[k] * (1.0 - 1e-6)),
+            "the disc is tighter somewhere"
+        );
+    }
+}

@@ -741,3 +741,80 @@ fn angle_dependent_errors_are_read_and_bad_ones_name_the_key() {
     ));
     assert!(e.contains("turntable.factors[1].of"), "{e}");
 }
+
+/// A sheet in the vendor's terms (issue 22): per axis a wobble and a perpendicularity bound a
+/// disc on the two errors they name (the square around it in `ub_rad`), a positioning accuracy
+/// one error; the convention scales the values; a quantity of an axis the table lacks, or
+/// errors that do not ride on the axis, name the key.
+#[test]
+fn vendor_sheets_map_axis_quantities_onto_the_description_and_refuse_what_does_not_map() {
+    let three = Study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/three-axis-example.toml"
+    )))
+    .unwrap();
+    let t = &three.turntable;
+    let sheet = include_str!("../../studies/tolerances/three-axis-vendor-sheet.toml");
+    let tol = Tolerances::parse("v.toml", sheet, t).unwrap();
+    assert_eq!(tol.discs.len(), 5);
+    let arcsec = |v: f64| v / 3600.0 * std::f64::consts::PI / 180.0;
+    let i = t.rotation_error_index("dalpha_ix").unwrap();
+    approx::assert_relative_eq!(tol.ub_rad[i], arcsec(3.0), max_relative = 1e-15);
+    assert_eq!(
+        tol.implied[i],
+        Some(tt_kinematics::ErrorVariation::Any {
+            joint: "phi_i".into()
+        })
+    );
+    let o = t.rotation_error_index("deps_mi_x").unwrap();
+    assert_eq!(
+        tol.implied[o],
+        Some(tt_kinematics::ErrorVariation::Constant)
+    );
+    // peak-to-peak halves every value, one-sigma triples one
+    let p2p = Tolerances::parse(
+        "v.toml",
+        &sheet.replace("convention = \"bound\"", "convention = \"peak-to-peak\"\n[conventions]\n\"axes.phi_i.wobble_arcsec\" = \"one-sigma\""),
+        t,
+    )
+    .unwrap();
+    let p = t.rotation_error_index("dphi_i").unwrap();
+    approx::assert_relative_eq!(p2p.ub_rad[p], arcsec(2.5), max_relative = 1e-15);
+    approx::assert_relative_eq!(p2p.ub_rad[i], arcsec(9.0), max_relative = 1e-15);
+    let bad = |from: &str, to: &str| {
+        Tolerances::parse("v.toml", &sheet.replacen(from, to, 1), t)
+            .unwrap_err()
+            .to_string()
+    };
+    for (from, to, key) in [
+        ("[axes.phi_i]", "[axes.phi_x]", "axes.phi_x"),
+        (
+            "wobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble = [\"dalpha_ox\", \"dalpha_iz\"]",
+            "axes.phi_i.wobble[0]",
+        ),
+        (
+            "wobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble = [\"dalpha_ix\"]",
+            "axes.phi_i.wobble",
+        ),
+        (
+            "positioning = \"dphi_i\"",
+            "positioning = \"dalpha_ix\"",
+            "axes.phi_i.positioning",
+        ),
+        (
+            "convention = \"bound\"",
+            "convention = \"2-sigma\"",
+            "convention",
+        ),
+        (
+            "wobble_arcsec = 3.0\nwobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble_arcsec = -3.0\nwobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "axes.phi_i.wobble_arcsec",
+        ),
+    ] {
+        let e = bad(from, to);
+        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
+    }
+}

@@ -24,6 +24,18 @@ pub struct ReadingAngle {
     pub yield_: AngleYield,
     /// The weakest of the outputs' verdicts.
     pub verdict: Verdict,
+    /// With the sheet's magnitude bounds (discs): the linearised worst case per output.
+    pub disc: Option<DiscWorst>,
+}
+
+/// The linearised worst case per output (output unit) when the sheet's magnitudes bound a disc,
+/// not the square of the two components.
+#[derive(Debug, Clone)]
+pub struct DiscWorst {
+    /// Constant errors.
+    pub constant: Vec<f64>,
+    /// Angle-dependent errors.
+    pub angle: Vec<f64>,
 }
 
 /// The angle-dependent check of every reading (same order as the constant checks).
@@ -37,18 +49,22 @@ pub struct AngleCheck {
     pub readings: Vec<ReadingAngle>,
 }
 
-/// The model used: the study's, or `any` on every shaft.
+/// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
+/// quantities imply (an orthogonality is a constant).
 #[must_use]
-pub fn model_of(s: &Study) -> (bool, Vec<ErrorVariation>) {
+pub fn model_of(s: &Study, tol: &study::Tolerances) -> (bool, Vec<ErrorVariation>) {
     if s.has_angle_dependent_errors() {
         (true, s.variations.clone())
     } else {
-        (
-            false,
-            tt_kinematics::on_shafts(&s.turntable, |j| ErrorVariation::Any {
-                joint: j.to_string(),
-            }),
-        )
+        let mut v = tt_kinematics::on_shafts(&s.turntable, |j| ErrorVariation::Any {
+            joint: j.to_string(),
+        });
+        for (x, i) in v.iter_mut().zip(&tol.implied) {
+            if let Some(i) = i {
+                *x = i.clone();
+            }
+        }
+        (false, v)
     }
 }
 
@@ -71,11 +87,13 @@ fn weakest(v: impl Iterator<Item = Verdict>) -> Verdict {
 pub fn check(
     s: &Study,
     checks: &[(EndToEnd, TurntableCheck)],
-    ub_rad: &[f64],
+    tol: &study::Tolerances,
     samples: u64,
     seed: u64,
 ) -> Result<AngleCheck> {
-    let (study_model, variations) = model_of(s);
+    let ub_rad = &tol.ub_rad[..];
+    let (study_model, variations) = model_of(s, tol);
+    let discs: Vec<([usize; 2], f64)> = tol.discs.iter().map(|d| (d.errors, d.bound_rad)).collect();
     let mut readings = Vec::with_capacity(checks.len());
     for (e2e, _) in checks {
         let ex = Expansion::new(e2e.turntable(), &variations, e2e.poses())
@@ -91,10 +109,25 @@ pub fn check(
             .angle_yield(&ex, ub_rad, samples, seed)
             .map_err(|e| crate::input::library(e, s))?;
         let verdict = weakest(outputs.iter().map(|o| o.verdict));
+        let disc = if discs.is_empty() {
+            None
+        } else {
+            let constant = Expansion::new(
+                e2e.turntable(),
+                &vec![ErrorVariation::Constant; e2e.n_errors()],
+                e2e.poses(),
+            )
+            .map_err(|e| crate::input::library(e, s))?;
+            Some(DiscWorst {
+                constant: e2e_verify::angle::disc_worst_case(&constant, &lin, ub_rad, &discs),
+                angle: e2e_verify::angle::disc_worst_case(&ex, &al.expanded, ub_rad, &discs),
+            })
+        };
         readings.push(ReadingAngle {
             outputs,
             yield_,
             verdict,
+            disc,
         });
     }
     Ok(AngleCheck {
@@ -102,6 +135,14 @@ pub fn check(
         variations,
         readings,
     })
+}
+
+fn describe(v: &ErrorVariation) -> String {
+    match v {
+        ErrorVariation::Constant => "constant".into(),
+        ErrorVariation::Harmonics { joint, orders } => format!("harmonics {:?} of {joint}", orders),
+        ErrorVariation::Any { joint } => format!("any function of {joint}"),
+    }
 }
 
 fn model_words(a: &AngleCheck) -> &'static str {
@@ -153,6 +194,35 @@ pub fn text(
         100.0 * hi,
         a.yield_.samples
     ));
+    if let Some(d) = &a.disc {
+        for o in &a.outputs {
+            let out = e2e.calibration().outputs()[o.output].output();
+            s.push_str(&format!(
+                "    output {}, the sheet's magnitudes as discs (sqrt(a_x^2 + a_y^2) <= w), not squares: linearised worst case {} {u} with constant errors (square {}), {} {u} with angle-dependent errors (square {})\n",
+                out.name,
+                num(d.constant[o.output]),
+                num(constant.outputs[o.output].worst_case.linear_bound),
+                num(d.angle[o.output]),
+                num(o.linear_bound),
+                u = out.unit,
+            ));
+        }
+    }
+    let names = e2e.turntable().rotation_error_names();
+    for g in e2e.turntable().error_groups() {
+        let models: Vec<&ErrorVariation> = g.errors.iter().map(|&i| &model.variations[i]).collect();
+        if g.errors.len() > 1 && models.iter().any(|m| *m != models[0]) {
+            s.push_str(&format!(
+                "    {} act as one rotation when the errors are constant; with the shaft-angle dependence they are distinct ({})\n",
+                g.names(&names).join(" and "),
+                g.errors
+                    .iter()
+                    .map(|&i| format!("{} {}", names[i], describe(&model.variations[i])))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+    }
     s.push_str(if model.study_model {
         "    the study declares how its errors vary: its model is the one to trust\n"
     } else {
@@ -169,6 +239,7 @@ pub fn reading_json(e2e: &EndToEnd, a: &ReadingAngle) -> Value {
         "yield": a.yield_.fraction(),
         "yield_interval_95": [a.yield_.interval_95.0, a.yield_.interval_95.1],
         "samples": a.yield_.samples,
+        "disc_worst_case_linear": a.disc.as_ref().map(|d| json!({"constant": d.constant, "angle_dependent": d.angle})),
         "outputs": a.outputs.iter().map(|o| {
             let out = e2e.calibration().outputs()[o.output].output();
             json!({

@@ -246,7 +246,7 @@ pub fn run(args: &Args) -> Result<()> {
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;
-    let angle = crate::angle::check(&s, &checks, &tol.ub_rad, settings.samples, settings.seed)?;
+    let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed)?;
     if args.json {
         let mut v = to_json(&checks, &tol);
         if let Value::Object(m) = &mut v {

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{json, num, run, stdout};
+use common::{assert_input_error, json, num, run, scratch, stdout, study, write};
 
 /// Relative agreement of two computations of the same linear worst case (dimensionless).
 const SAME_REL: f64 = 1e-12;
@@ -54,4 +54,67 @@ fn check_turntable_reports_the_angle_dependent_verdict_beside_the_constant_one()
         text.contains("verdict: constant errors fails, angle-dependent errors fails"),
         "{text}"
     );
+}
+
+/// `check-turntable` with a sheet in the vendor's terms: the magnitudes bound discs, whose worst
+/// case is never above the square's and below it for some output; the wobble and the
+/// orthogonality next to it are reported as distinct under the angle-dependent model; a
+/// quantity of an axis the table does not have exits 2 naming it.
+#[test]
+fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_axis() {
+    let sheet = "studies/tolerances/three-axis-vendor-sheet.toml";
+    let three = study("three-axis-example");
+    let v = json(&[
+        "check-turntable",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--json",
+        "--samples",
+        "1500",
+    ]);
+    let user = &v["angle_dependent"]["readings"][1];
+    let disc = &user["disc_worst_case_linear"];
+    let mut tighter = false;
+    for (k, o) in user["outputs"].as_array().unwrap().iter().enumerate() {
+        let (d, sq) = (
+            num(&disc["angle_dependent"][k]),
+            num(&o["worst_case_linear"]),
+        );
+        assert!(d <= sq * (1.0 + 1e-12), "{d} > {sq}");
+        tighter |= d < sq * (1.0 - 1e-6);
+        let (dc, sqc) = (
+            num(&disc["constant"][k]),
+            num(&v["user_reading"]["outputs"][k]["worst_case_linear"]),
+        );
+        assert!(dc <= sqc * (1.0 + 1e-12), "{dc} > {sqc}");
+    }
+    assert!(tighter);
+    let text = stdout(&run(&[
+        "check-turntable",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--samples",
+        "1500",
+    ]));
+    assert!(text.contains("dphi_o and deps_om_z act as one rotation when the errors are constant; with the shaft-angle dependence they are distinct"), "{text}");
+    let dir = scratch("angle", "vendor");
+    let bad = write(
+        &dir,
+        "bad.toml",
+        &std::fs::read_to_string(common::root().join(sheet))
+            .unwrap()
+            .replace("[axes.phi_i]", "[axes.phi_x]"),
+    );
+    let o = run(&[
+        "check-turntable",
+        "--study",
+        &three,
+        "--tolerances",
+        bad.to_str().unwrap(),
+    ]);
+    assert_input_error(&o, &["axes.phi_x", "does not have"]);
 }
