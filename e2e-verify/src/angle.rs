@@ -141,6 +141,60 @@ pub fn disc_worst_case(
         .collect()
 }
 
+/// The box that matters once measured errors are compensated: each measured error's bound
+/// replaced by its measurement uncertainty (`uncertainty_rad[j]`, `None` where not measured),
+/// $\lvert\chi_j(\phi) - m_j(\phi)\rvert \le u_j$.
+#[must_use]
+pub fn compensated_box(ub_rad: &[f64], uncertainty_rad: &[Option<f64>]) -> Vec<f64> {
+    ub_rad
+        .iter()
+        .zip(uncertainty_rad)
+        .map(|(u, m)| m.unwrap_or(*u))
+        .collect()
+}
+
+impl EndToEnd {
+    /// $\Delta\omega_k$ of every output (output unit) for a compensated calibration: the lab
+    /// has measured the errors (coefficients `measured` of `expansion`) and takes the
+    /// orientation they give, $\mathbf R_t(m(\phi_i))$, as known; the table's true errors are
+    /// `actual`. The calibration sees the residual rotation $\mathbf R_t(m)^T\mathbf
+    /// R_t(\chi)$ at each position (exact chains, reference path). The regression keeps the
+    /// nominal poses (their change by $m$ acts on the residual at second order,
+    /// $O(\lvert m\rvert\,\lvert\chi - m\rvert)$). With $m = \chi$ the residual is the identity
+    /// and the calibration error vanishes; to first order it is the uncompensated error of
+    /// $\chi - m$, so the box that matters is the measurement's uncertainty
+    /// ([`compensated_box`]).
+    ///
+    /// # Errors
+    /// Lengths, non-finite values; as [`EndToEnd::run_with_delta_r`].
+    pub fn delta_omega_compensated(
+        &self,
+        expansion: &Expansion,
+        measured: &[f64],
+        actual: &[f64],
+    ) -> Result<Vec<f64>, E2eError> {
+        check_expansion(self, expansion)?;
+        let zero = vec![0.0; self.turntable().n_translation_errors()];
+        let dr = self
+            .poses()
+            .iter()
+            .enumerate()
+            .map(|(i, pose)| {
+                let m = expansion.errors_at(measured, i, &zero)?;
+                let x = expansion.errors_at(actual, i, &zero)?;
+                let rm =
+                    self.turntable()
+                        .actual_rotation(pose, &m, tt_kinematics::ChainKind::Exact)?;
+                let rx =
+                    self.turntable()
+                        .actual_rotation(pose, &x, tt_kinematics::ChainKind::Exact)?;
+                Ok(rm.transpose() * rx)
+            })
+            .collect::<Result<Vec<_>, tt_kinematics::KinematicsError>>()?;
+        Ok(self.run_with_delta_r(&dr)?.delta_omega())
+    }
+}
+
 /// Draws per random stream of [`EndToEnd::angle_yield`] (chunk $c$ uses
 /// [`mc_verify::chunk_rng`]`(seed, c)`; fixed, so results do not depend on the thread count).
 pub const ANGLE_CHUNK: u64 = 1024;

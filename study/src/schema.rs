@@ -34,6 +34,34 @@ struct RawStudy {
     requirement: Option<RawRequirement>,
     allocation: Option<RawAllocation>,
     monte_carlo: RawMonteCarlo,
+    compensation: Option<RawCompensation>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCompensation {
+    measured: Vec<RawMeasured>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMeasured {
+    error: String,
+    value_arcmin: Option<f64>,
+    coefficients_arcmin: Option<Vec<f64>>,
+    uncertainty_arcmin: f64,
+}
+
+/// A measured error of the table (`[[compensation.measured]]`): the lab's measurement, which
+/// the compensated calibration uses as a known input of the chain, and its uncertainty, the
+/// bound that then matters: $\lvert\chi(\phi) - m(\phi)\rvert \le u$ over the revolution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured {
+    /// The measured coefficients (rad) in the order of the error's expansion group: one
+    /// constant, or $(c_0, a_{k_1}, b_{k_1}, \dots)$ for harmonics.
+    pub coefficients_rad: Vec<f64>,
+    /// The measurement uncertainty $u$ (rad), a bound over the revolution.
+    pub uncertainty_rad: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -186,6 +214,9 @@ pub struct Study {
     pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
     /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
     pub timing: Option<calib_lsq::Timing>,
+    /// The measured errors (order of $\chi$; `[[compensation.measured]]`), `None` where not
+    /// measured.
+    pub measured: Vec<Option<Measured>>,
     /// How each angular error varies with a shaft angle (order of $\chi$;
     /// `turntable.factors[i].varies`, `of`, `harmonics`); constant unless the study says so.
     pub variations: Vec<tt_kinematics::ErrorVariation>,
@@ -400,6 +431,7 @@ impl Study {
         }
         let turntable = parse_turntable(at, &raw.turntable)?;
         let variations = parse_variations(at, &raw.turntable, &turntable)?;
+        let measured = parse_measured(at, raw.compensation.as_ref(), &turntable, &variations)?;
         let site = Site::from_deg(
             in_range(
                 at,
@@ -518,6 +550,7 @@ impl Study {
             monte_carlo,
             noise,
             timing,
+            measured,
             variations,
         })
     }
@@ -775,6 +808,104 @@ fn parse_turntable(
         }
         other => StudyError::new(at("turntable"), other.to_string()),
     })
+}
+
+/// The measured errors of `[[compensation.measured]]` (order of $\chi$).
+fn parse_measured(
+    at: &dyn Fn(&str) -> String,
+    raw: Option<&RawCompensation>,
+    turntable: &Turntable,
+    variations: &[ErrorVariation],
+) -> Result<Vec<Option<Measured>>, StudyError> {
+    let mut out = vec![None; turntable.n_rotation_errors()];
+    let Some(raw) = raw else {
+        return Ok(out);
+    };
+    let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
+    for (k, m) in raw.measured.iter().enumerate() {
+        let key = |s: &str| format!("compensation.measured[{k}].{s}");
+        let Some(i) = turntable.rotation_error_index(&m.error) else {
+            return Err(StudyError::new(
+                at(&key("error")),
+                format!(
+                    "`{}` is not an angular error of the turntable ({})",
+                    crate::fmt::visible(&m.error),
+                    turntable.rotation_error_names().join(", ")
+                ),
+            ));
+        };
+        if out[i].is_some() {
+            return Err(StudyError::new(
+                at(&key("error")),
+                format!("`{}` is measured twice", m.error),
+            ));
+        }
+        let n = match &variations[i] {
+            ErrorVariation::Constant => 1,
+            ErrorVariation::Harmonics { orders, .. } => 1 + 2 * orders.len(),
+            ErrorVariation::Any { .. } => {
+                return Err(StudyError::new(
+                    at(&key("error")),
+                    format!(
+                        "`{}` varies as any function of the angle: a measurement gives it as a constant or as harmonics",
+                        m.error
+                    ),
+                ));
+            }
+        };
+        let values: Vec<(String, f64)> = match (&m.value_arcmin, &m.coefficients_arcmin) {
+            (Some(v), None) if n == 1 => vec![(key("value_arcmin"), *v)],
+            (None, Some(c)) if c.len() == n => c
+                .iter()
+                .enumerate()
+                .map(|(j, v)| (key(&format!("coefficients_arcmin[{j}]")), *v))
+                .collect(),
+            (None, Some(c)) => {
+                return Err(StudyError::new(
+                    at(&key("coefficients_arcmin")),
+                    format!(
+                        "`{}` has {n} coefficients in the study's model (c0, a_k, b_k per order), found {}",
+                        m.error,
+                        c.len()
+                    ),
+                ));
+            }
+            (Some(_), None) => {
+                return Err(StudyError::new(
+                    at(&key("value_arcmin")),
+                    format!(
+                        "`{}` varies with the shaft angle: give its {n} `coefficients_arcmin` (c0, a_k, b_k per order)",
+                        m.error
+                    ),
+                ));
+            }
+            _ => {
+                return Err(StudyError::new(
+                    at(&key("value_arcmin")),
+                    "give one of `value_arcmin` (a constant error) or `coefficients_arcmin` (harmonics)",
+                ));
+            }
+        };
+        let mut coefficients_rad = Vec::with_capacity(n);
+        for (vkey, v) in values {
+            coefficients_rad
+                .push(in_range(at, &vkey, v, -hi, hi, false, "arcmin")? * RAD_PER_ARCMIN);
+        }
+        let uncertainty_rad = in_range(
+            at,
+            &key("uncertainty_arcmin"),
+            m.uncertainty_arcmin,
+            lo,
+            hi,
+            false,
+            "arcmin",
+        )? * RAD_PER_ARCMIN;
+        out[i] = Some(Measured {
+            coefficients_rad,
+            uncertainty_rad,
+        });
+    }
+    Ok(out)
 }
 
 /// The error model of each angular error (order of $\chi$): `varies = "constant"` (the

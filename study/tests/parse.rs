@@ -818,3 +818,61 @@ fn vendor_sheets_map_axis_quantities_onto_the_description_and_refuse_what_does_n
         assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
     }
 }
+
+/// Measured errors (issue 22): `[[compensation.measured]]` gives a constant's value or a
+/// harmonic error's coefficients with an uncertainty; a negative uncertainty, a value outside
+/// the physical range, the wrong number of coefficients or an unknown error name the key.
+#[test]
+fn measured_errors_are_read_and_bad_ones_name_the_key() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/gyrowheel-2017-harmonic-errors.toml"
+    ))
+    .unwrap();
+    let s = Study::parse("h.toml", &text).unwrap();
+    let i = s.turntable.rotation_error_index("dalpha_x1").unwrap();
+    let m = s.measured[i].as_ref().unwrap();
+    assert_eq!(m.coefficients_rad.len(), 5);
+    approx::assert_relative_eq!(
+        m.uncertainty_rad,
+        0.05 * std::f64::consts::PI / 10800.0,
+        max_relative = 1e-15
+    );
+    assert_eq!(s.measured.iter().filter(|m| m.is_some()).count(), 4);
+    for (from, to, key) in [
+        (
+            "value_arcmin = 0.20\nuncertainty_arcmin = 0.05",
+            "value_arcmin = 0.20\nuncertainty_arcmin = -0.05",
+            "compensation.measured[0].uncertainty_arcmin",
+        ),
+        (
+            "value_arcmin = 0.20",
+            "value_arcmin = 700.0",
+            "compensation.measured[0].value_arcmin",
+        ),
+        (
+            "coefficients_arcmin = [0.05, 0.20, -0.10, 0.03, 0.02]",
+            "coefficients_arcmin = [0.05, 0.20]",
+            "compensation.measured[2].coefficients_arcmin",
+        ),
+        (
+            "error = \"deps_y\"\nvalue",
+            "error = \"deps_q\"\nvalue",
+            "compensation.measured[1].error",
+        ),
+        (
+            "error = \"deps_y\"\nvalue",
+            "error = \"deps_x\"\nvalue",
+            "compensation.measured[1].error",
+        ),
+        (
+            "error = \"deps_y\"\nvalue_arcmin = -0.15",
+            "error = \"dalpha_x2\"\nvalue_arcmin = -0.15",
+            "compensation.measured[1].value_arcmin",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let e = err(&text.replacen(from, to, 1));
+        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
+    }
+}

@@ -274,3 +274,102 @@ pub fn json(checks: &[(EndToEnd, TurntableCheck)], a: &AngleCheck) -> Value {
         "readings": checks.iter().zip(&a.readings).map(|((e, _), r)| reading_json(e, r)).collect::<Vec<_>>(),
     })
 }
+
+/// The check of the compensated table: the measured errors are known inputs of the chain, so
+/// their bound is their measurement uncertainty (the rest of the sheet unchanged).
+#[derive(Debug, Clone)]
+pub struct Compensated {
+    /// The box that matters (rad, order of chi).
+    pub ub_rad: Vec<f64>,
+    /// The constant-model check of every reading.
+    pub checks: Vec<TurntableCheck>,
+    /// The angle-dependent check.
+    pub angle: AngleCheck,
+}
+
+/// The compensated check when the study measures errors (`[[compensation.measured]]`), else
+/// `None`.
+///
+/// # Errors
+/// A library error located in the study.
+pub fn compensated(
+    s: &Study,
+    checks: &[(EndToEnd, TurntableCheck)],
+    tol: &study::Tolerances,
+    settings: &e2e_verify::McSettings,
+) -> Result<Option<Compensated>> {
+    if s.measured.iter().all(Option::is_none) {
+        return Ok(None);
+    }
+    let u: Vec<Option<f64>> = s
+        .measured
+        .iter()
+        .map(|m| m.as_ref().map(|m| m.uncertainty_rad))
+        .collect();
+    let ub_rad = e2e_verify::angle::compensated_box(&tol.ub_rad, &u);
+    let lb: Vec<f64> = s
+        .lower_bounds_rad
+        .iter()
+        .zip(&ub_rad)
+        .map(|(l, u)| l.min(*u))
+        .collect();
+    let mut out = Vec::with_capacity(checks.len());
+    for (e2e, _) in checks {
+        out.push(
+            e2e.check_tolerances(&e2e.linearization(), &ub_rad, &lb, settings)
+                .map_err(|e| crate::input::library(e, s))?,
+        );
+    }
+    let mut t = tol.clone();
+    t.ub_rad.clone_from(&ub_rad);
+    let angle = check(s, checks, &t, settings.samples, settings.seed)?;
+    Ok(Some(Compensated {
+        ub_rad,
+        checks: out,
+        angle,
+    }))
+}
+
+/// The compensated block of the text: per reading, the verdicts before and after.
+#[must_use]
+pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) -> String {
+    let mut s = String::from(
+        "\ncompensated (the study's measured errors are known inputs of the chain; the bound that matters is their measurement uncertainty):\n",
+    );
+    for (((e2e, before), after), aa) in checks.iter().zip(&c.checks).zip(&c.angle.readings) {
+        s.push_str(&format!("reading {}\n", e2e.reading()));
+        for (o, a) in before.outputs.iter().zip(&after.outputs) {
+            let out = e2e.calibration().outputs()[o.output].output();
+            s.push_str(&format!(
+                "  output {}: worst case linearised {} {u} before, {} {u} after compensation (constant errors); {} {u} after (angle-dependent errors)\n",
+                out.name,
+                num(o.worst_case.linear_bound),
+                num(a.worst_case.linear_bound),
+                num(aa.outputs[o.output].linear_bound),
+                u = out.unit,
+            ));
+        }
+        s.push_str(&format!(
+            "  verdict before: {}; after compensation: {} (constant errors), {} (angle-dependent errors)\n",
+            before.verdict.name(),
+            after.verdict.name(),
+            aa.verdict.name()
+        ));
+    }
+    s
+}
+
+/// The `compensated` JSON key.
+#[must_use]
+pub fn compensated_json(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) -> Value {
+    let names = checks[0].0.turntable().rotation_error_names();
+    json!({
+        "tolerances_arcmin": crate::out::arcmin_json(&names, &c.ub_rad),
+        "readings": checks.iter().zip(&c.checks).zip(&c.angle.readings).map(|(((e2e, _), k), a)| json!({
+            "reading": e2e.reading().to_string(),
+            "verdict": k.verdict.name(),
+            "worst_case_linear": k.outputs.iter().map(|o| o.worst_case.linear_bound).collect::<Vec<_>>(),
+            "angle_dependent": reading_json(e2e, a),
+        })).collect::<Vec<_>>(),
+    })
+}

@@ -247,12 +247,19 @@ pub fn run(args: &Args) -> Result<()> {
         })
         .collect::<Result<Vec<_>>>()?;
     let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed)?;
+    let compensated = crate::angle::compensated(&s, &checks, &tol, &settings)?;
     if args.json {
         let mut v = to_json(&checks, &tol);
         if let Value::Object(m) = &mut v {
             m.insert(
                 "angle_dependent".into(),
                 crate::angle::json(&checks, &angle),
+            );
+            m.insert(
+                "compensated".into(),
+                compensated
+                    .as_ref()
+                    .map_or(Value::Null, |c| crate::angle::compensated_json(&checks, c)),
             );
         }
         crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
@@ -264,6 +271,9 @@ pub fn run(args: &Args) -> Result<()> {
         for ((e2e, c), a) in checks.iter().zip(&angle.readings) {
             text.push_str(&format!("reading {}\n", e2e.reading()));
             text.push_str(&crate::angle::text(e2e, c, a, &angle));
+        }
+        if let Some(c) = &compensated {
+            text.push_str(&crate::angle::compensated_text(&checks, c));
         }
         crate::out::print(&text)
     }

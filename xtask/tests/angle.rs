@@ -118,3 +118,48 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
     ]);
     assert_input_error(&o, &["axes.phi_x", "does not have"]);
 }
+
+/// Compensation in `check-turntable` (issue 22): a study that measures errors gets the verdict
+/// before and after; after compensation the measured errors' bound is their uncertainty, so
+/// the worst case cannot grow, and on the harmonic example Table 4 goes from failing to
+/// guaranteed under the user's reading with constant errors.
+#[test]
+fn check_turntable_reports_before_and_after_compensation() {
+    let h = study("gyrowheel-2017-harmonic-errors");
+    let v = json(&[
+        "check-turntable",
+        "--study",
+        &h,
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+        "--json",
+        "--samples",
+        "1500",
+    ]);
+    let c = &v["compensated"];
+    approx::assert_relative_eq!(
+        num(&c["tolerances_arcmin"]["deps_x"]),
+        0.05,
+        max_relative = SAME_REL
+    );
+    let user = &c["readings"][1];
+    assert_eq!(v["user_reading"]["verdict"], "fails");
+    assert_eq!(user["verdict"], "guaranteed");
+    for (k, w) in user["worst_case_linear"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        assert!(num(w) <= num(&v["user_reading"]["outputs"][k]["worst_case_linear"]));
+    }
+    let plain = json(&[
+        "check-turntable",
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+        "--json",
+        "--samples",
+        "1500",
+    ]);
+    assert!(plain["compensated"].is_null());
+}
