@@ -67,6 +67,7 @@
 #![forbid(unsafe_code)]
 
 mod allocate;
+pub mod angle;
 mod answer;
 mod check;
 pub mod design;

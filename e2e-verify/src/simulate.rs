@@ -371,6 +371,37 @@ impl EndToEnd {
         Ok(())
     }
 
+    /// $\Delta\omega_k$ of every output (output unit) when the errors differ from position to
+    /// position (errors that vary with a shaft angle, [`crate::angle`]): `chi_at(i, chi)`
+    /// writes $\chi$ at position $i$ (rad) into `chi` (one per angular error, checked finite),
+    /// the segmented chain is evaluated per position, then the reading as in
+    /// [`EndToEnd::delta_omega_into`]. With the same $\chi$ at every position it equals that
+    /// path exactly.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_omega_into`].
+    pub(crate) fn delta_omega_varying_into(
+        &self,
+        mut chi_at: impl FnMut(usize, &mut [f64]),
+        chi: &mut [f64],
+        work: &mut DrawWork,
+    ) -> Result<(), E2eError> {
+        work.actual.clear();
+        for (i, (f, [a, w])) in self.frames.iter().zip(&self.pre).enumerate() {
+            chi_at(i, chi);
+            self.check_chi(chi)?;
+            self.turntable.segment_rotations(chi, &mut work.segments)?;
+            let a = f.delta_r_transpose_times_pre(&work.segments, a);
+            let w = f.delta_r_transpose_times_pre(&work.segments, w);
+            work.actual.push(InputValues::new(&a, &w));
+        }
+        for (k, o) in self.calibration.outputs().iter().enumerate() {
+            o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
+            work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+        }
+        Ok(())
+    }
+
     /// $\Delta\omega_k$ of every output (output unit) for turntable errors $\chi$ (fast path,
     /// allocating its scratch space: use [`EndToEnd::delta_omega_into`] in loops).
     ///

@@ -31,6 +31,7 @@ mod tolerances;
 
 pub use error::StudyError;
 pub use schema::{
-    DEFAULT_DELTA_R, DEFAULT_READING, MonteCarloSettings, RequirementSource, Study, is_name_slug,
+    DEFAULT_DELTA_R, DEFAULT_READING, Measured, MonteCarloSettings, RequirementSource, Study,
+    is_name_slug,
 };
-pub use tolerances::Tolerances;
+pub use tolerances::{DiscBound, Tolerances, ValueConvention};

@@ -12,7 +12,7 @@ use std::path::Path;
 use tt_core::DeltaRKind;
 use tt_core::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 use tt_kinematics::{
-    FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
+    ErrorVariation, FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
 };
 
 /// The reading of eq 13 when a study does not name one: outputs at the actual orientation,
@@ -34,6 +34,34 @@ struct RawStudy {
     requirement: Option<RawRequirement>,
     allocation: Option<RawAllocation>,
     monte_carlo: RawMonteCarlo,
+    compensation: Option<RawCompensation>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCompensation {
+    measured: Vec<RawMeasured>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMeasured {
+    error: String,
+    value_arcmin: Option<f64>,
+    coefficients_arcmin: Option<Vec<f64>>,
+    uncertainty_arcmin: f64,
+}
+
+/// A measured error of the table (`[[compensation.measured]]`): the lab's measurement, which
+/// the compensated calibration uses as a known input of the chain, and its uncertainty, the
+/// bound that then matters: $\lvert\chi(\phi) - m(\phi)\rvert \le u$ over the revolution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured {
+    /// The measured coefficients (rad) in the order of the error's expansion group: one
+    /// constant, or $(c_0, a_{k_1}, b_{k_1}, \dots)$ for harmonics.
+    pub coefficients_rad: Vec<f64>,
+    /// The measurement uncertainty $u$ (rad), a bound over the revolution.
+    pub uncertainty_rad: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -53,6 +81,9 @@ struct RawFactor {
     fixed_deg: Option<f64>,
     about: Option<String>,
     along: Option<String>,
+    varies: Option<String>,
+    of: Option<String>,
+    harmonics: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -183,6 +214,12 @@ pub struct Study {
     pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
     /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
     pub timing: Option<calib_lsq::Timing>,
+    /// The measured errors (order of $\chi$; `[[compensation.measured]]`), `None` where not
+    /// measured.
+    pub measured: Vec<Option<Measured>>,
+    /// How each angular error varies with a shaft angle (order of $\chi$;
+    /// `turntable.factors[i].varies`, `of`, `harmonics`); constant unless the study says so.
+    pub variations: Vec<tt_kinematics::ErrorVariation>,
 }
 
 /// Whether `name` is a valid study `name`: a file-name-safe slug of 1 to
@@ -393,6 +430,8 @@ impl Study {
             return Err(StudyError::new(at("name"), name_error(&raw.name)));
         }
         let turntable = parse_turntable(at, &raw.turntable)?;
+        let variations = parse_variations(at, &raw.turntable, &turntable)?;
+        let measured = parse_measured(at, raw.compensation.as_ref(), &turntable, &variations)?;
         let site = Site::from_deg(
             in_range(
                 at,
@@ -511,7 +550,38 @@ impl Study {
             monte_carlo,
             noise,
             timing,
+            measured,
+            variations,
         })
+    }
+
+    /// The expansion of the turntable's errors into coefficients over the study's schedule
+    /// (`turntable.factors[i].varies`; every error constant unless the study says otherwise).
+    ///
+    /// # Errors
+    /// Never for a study that was read (the variations and positions were checked).
+    pub fn expansion(&self) -> Result<tt_kinematics::Expansion, StudyError> {
+        let poses = self
+            .positions_deg
+            .iter()
+            .map(|p| Pose::from_deg(p))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| {
+                StudyError::new(
+                    format!("{}: key `calibration.positions_deg`", self.path),
+                    e.to_string(),
+                )
+            })?;
+        tt_kinematics::Expansion::new(&self.turntable, &self.variations, &poses)
+            .map_err(|e| StudyError::new(format!("{}: key `turntable`", self.path), e.to_string()))
+    }
+
+    /// Whether any error of the study's turntable varies with a shaft angle.
+    #[must_use]
+    pub fn has_angle_dependent_errors(&self) -> bool {
+        self.variations
+            .iter()
+            .any(tt_kinematics::ErrorVariation::varies)
     }
 
     /// The calibration schedule.
@@ -738,6 +808,219 @@ fn parse_turntable(
         }
         other => StudyError::new(at("turntable"), other.to_string()),
     })
+}
+
+/// The measured errors of `[[compensation.measured]]` (order of $\chi$).
+fn parse_measured(
+    at: &dyn Fn(&str) -> String,
+    raw: Option<&RawCompensation>,
+    turntable: &Turntable,
+    variations: &[ErrorVariation],
+) -> Result<Vec<Option<Measured>>, StudyError> {
+    let mut out = vec![None; turntable.n_rotation_errors()];
+    let Some(raw) = raw else {
+        return Ok(out);
+    };
+    let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
+    for (k, m) in raw.measured.iter().enumerate() {
+        let key = |s: &str| format!("compensation.measured[{k}].{s}");
+        let Some(i) = turntable.rotation_error_index(&m.error) else {
+            return Err(StudyError::new(
+                at(&key("error")),
+                format!(
+                    "`{}` is not an angular error of the turntable ({})",
+                    crate::fmt::visible(&m.error),
+                    turntable.rotation_error_names().join(", ")
+                ),
+            ));
+        };
+        if out[i].is_some() {
+            return Err(StudyError::new(
+                at(&key("error")),
+                format!("`{}` is measured twice", m.error),
+            ));
+        }
+        let n = match &variations[i] {
+            ErrorVariation::Constant => 1,
+            ErrorVariation::Harmonics { orders, .. } => 1 + 2 * orders.len(),
+            ErrorVariation::Any { .. } => {
+                return Err(StudyError::new(
+                    at(&key("error")),
+                    format!(
+                        "`{}` varies as any function of the angle: a measurement gives it as a constant or as harmonics",
+                        m.error
+                    ),
+                ));
+            }
+        };
+        let values: Vec<(String, f64)> = match (&m.value_arcmin, &m.coefficients_arcmin) {
+            (Some(v), None) if n == 1 => vec![(key("value_arcmin"), *v)],
+            (None, Some(c)) if c.len() == n => c
+                .iter()
+                .enumerate()
+                .map(|(j, v)| (key(&format!("coefficients_arcmin[{j}]")), *v))
+                .collect(),
+            (None, Some(c)) => {
+                return Err(StudyError::new(
+                    at(&key("coefficients_arcmin")),
+                    format!(
+                        "`{}` has {n} coefficients in the study's model (c0, a_k, b_k per order), found {}",
+                        m.error,
+                        c.len()
+                    ),
+                ));
+            }
+            (Some(_), None) => {
+                return Err(StudyError::new(
+                    at(&key("value_arcmin")),
+                    format!(
+                        "`{}` varies with the shaft angle: give its {n} `coefficients_arcmin` (c0, a_k, b_k per order)",
+                        m.error
+                    ),
+                ));
+            }
+            _ => {
+                return Err(StudyError::new(
+                    at(&key("value_arcmin")),
+                    "give one of `value_arcmin` (a constant error) or `coefficients_arcmin` (harmonics)",
+                ));
+            }
+        };
+        let mut coefficients_rad = Vec::with_capacity(n);
+        for (vkey, v) in values {
+            coefficients_rad
+                .push(in_range(at, &vkey, v, -hi, hi, false, "arcmin")? * RAD_PER_ARCMIN);
+        }
+        let uncertainty_rad = in_range(
+            at,
+            &key("uncertainty_arcmin"),
+            m.uncertainty_arcmin,
+            lo,
+            hi,
+            false,
+            "arcmin",
+        )? * RAD_PER_ARCMIN;
+        out[i] = Some(Measured {
+            coefficients_rad,
+            uncertainty_rad,
+        });
+    }
+    Ok(out)
+}
+
+/// The error model of each angular error (order of $\chi$): `varies = "constant"` (the
+/// default), `"harmonics"` (the default when `harmonics` is given) with `harmonics = [1, 2]`
+/// and `of = "<joint>"`, or `"any"` with `of`.
+fn parse_variations(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawTurntable,
+    turntable: &Turntable,
+) -> Result<Vec<ErrorVariation>, StudyError> {
+    let mut by_factor = vec![ErrorVariation::Constant; raw.factors.len()];
+    for (i, f) in raw.factors.iter().enumerate() {
+        let key = |k: &str| format!("turntable.factors[{i}].{k}");
+        if f.varies.is_none() && f.of.is_none() && f.harmonics.is_none() {
+            continue;
+        }
+        let first = [
+            ("varies", f.varies.is_some()),
+            ("of", f.of.is_some()),
+            ("harmonics", f.harmonics.is_some()),
+        ]
+        .into_iter()
+        .find_map(|(k, p)| p.then_some(k))
+        .unwrap_or("varies");
+        if f.error.is_none() || f.about.is_none() {
+            return Err(StudyError::new(
+                at(&key(first)),
+                "only an angular error (`error` with `about`) can vary with a shaft angle",
+            ));
+        }
+        let varies = f.varies.as_deref().unwrap_or(if f.harmonics.is_some() {
+            "harmonics"
+        } else {
+            "constant"
+        });
+        let joint = || {
+            f.of.clone().ok_or_else(|| {
+                StudyError::new(
+                    at(&key("of")),
+                    format!("`varies = \"{varies}\"` needs `of`, the joint whose angle the error follows"),
+                )
+            })
+        };
+        let v = match varies {
+            "constant" => {
+                if let Some(k) = [("of", f.of.is_some()), ("harmonics", f.harmonics.is_some())]
+                    .into_iter()
+                    .find_map(|(k, p)| p.then_some(k))
+                {
+                    return Err(StudyError::new(
+                        at(&key(k)),
+                        "a constant error follows no joint: remove it or set `varies`",
+                    ));
+                }
+                ErrorVariation::Constant
+            }
+            "harmonics" => {
+                let Some(list) = &f.harmonics else {
+                    return Err(StudyError::new(
+                        at(&key("harmonics")),
+                        "`varies = \"harmonics\"` needs `harmonics = [1, 2, ...]` (the orders; [] for the constant term only)",
+                    ));
+                };
+                let mut orders = Vec::with_capacity(list.len());
+                for (k, &o) in list.iter().enumerate() {
+                    let hk = key(&format!("harmonics[{k}]"));
+                    let max = f64::from(tt_kinematics::variation::MAX_HARMONIC_ORDER);
+                    if !(o.is_finite() && o.fract() == 0.0 && (1.0..=max).contains(&o)) {
+                        return Err(StudyError::new(
+                            at(&hk),
+                            format!(
+                                "a harmonic order is a positive integer up to {max}, found {o:?}"
+                            ),
+                        ));
+                    }
+                    orders.push(o as u32);
+                }
+                ErrorVariation::Harmonics {
+                    joint: joint()?,
+                    orders,
+                }
+            }
+            "any" => {
+                if f.harmonics.is_some() {
+                    return Err(StudyError::new(
+                        at(&key("harmonics")),
+                        "`varies = \"any\"` takes no harmonic orders (one free value per angle)",
+                    ));
+                }
+                ErrorVariation::Any { joint: joint()? }
+            }
+            other => {
+                return Err(StudyError::new(
+                    at(&key("varies")),
+                    format!(
+                        "must be \"constant\", \"harmonics\" or \"any\", found \"{}\"",
+                        crate::fmt::visible(other)
+                    ),
+                ));
+            }
+        };
+        by_factor[i] = v;
+    }
+    let variations: Vec<ErrorVariation> = turntable
+        .rotation_errors()
+        .iter()
+        .map(|e| by_factor[e.factor].clone())
+        .collect();
+    tt_kinematics::validate_variations(turntable, &variations).map_err(|e| match e {
+        KinematicsError::Description { key, reason } => {
+            StudyError::new(at(&format!("turntable.{key}")), reason)
+        }
+        other => StudyError::new(at("turntable"), other.to_string()),
+    })?;
+    Ok(variations)
 }
 
 fn parse_sensor(at: &dyn Fn(&str) -> String, raw: &RawSensor) -> Result<SensorModel, StudyError> {

@@ -23,8 +23,87 @@ use tt_kinematics::Turntable;
 #[serde(deny_unknown_fields)]
 struct RawTolerances {
     name: Option<String>,
+    convention: Option<String>,
+    conventions: Option<BTreeMap<String, String>>,
+    #[serde(default)]
     tolerances_arcmin: BTreeMap<String, f64>,
     tolerances_mm: Option<BTreeMap<String, f64>>,
+    axes: Option<BTreeMap<String, RawAxis>>,
+}
+
+/// A vendor's quantities for one axis (`[axes.<joint>]`), each with the description's errors
+/// it bounds.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAxis {
+    wobble_arcsec: Option<f64>,
+    wobble: Option<Vec<String>>,
+    positioning_accuracy_arcsec: Option<f64>,
+    positioning: Option<String>,
+    orthogonality_arcsec: Option<f64>,
+    orthogonality: Option<Vec<String>>,
+}
+
+/// How a sheet's value bounds its error (`convention`, per value `[conventions]`): a $\pm$
+/// bound (the default), one standard deviation (the bound taken as $3\sigma$) or
+/// peak-to-peak (the bound is half of it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ValueConvention {
+    /// `bound`: $\lvert\chi\rvert \le v$ (the default).
+    Bound,
+    /// `one-sigma`: $v = \sigma$, bound $3v$ (99.73% of a normal law).
+    OneSigma,
+    /// `peak-to-peak`: $\max\chi - \min\chi \le v$, bound $v/2$ about a zero mean.
+    PeakToPeak,
+}
+
+impl ValueConvention {
+    /// The factor from the sheet's value to the bound.
+    #[must_use]
+    pub fn factor(self) -> f64 {
+        match self {
+            ValueConvention::Bound => 1.0,
+            ValueConvention::OneSigma => 3.0,
+            ValueConvention::PeakToPeak => 0.5,
+        }
+    }
+
+    fn parse(at: &dyn Fn(&str) -> String, key: &str, v: &str) -> Result<Self, StudyError> {
+        match v {
+            "bound" => Ok(ValueConvention::Bound),
+            "one-sigma" => Ok(ValueConvention::OneSigma),
+            "peak-to-peak" => Ok(ValueConvention::PeakToPeak),
+            other => Err(StudyError::new(
+                at(key),
+                format!(
+                    "must be \"bound\", \"one-sigma\" or \"peak-to-peak\", found \"{}\"",
+                    crate::fmt::visible(other)
+                ),
+            )),
+        }
+    }
+}
+
+/// A vendor quantity of an axis: name, value, the errors it names, the factor range they must
+/// lie in, the model it implies.
+type Quantity<'a> = (
+    &'a str,
+    Option<f64>,
+    Option<Vec<String>>,
+    (usize, usize),
+    Option<tt_kinematics::ErrorVariation>,
+);
+
+/// A magnitude (disc) bound on two angular errors: $\sqrt{\chi_a^2 + \chi_b^2} \le w$ (a
+/// vendor's wobble or perpendicularity, the magnitude of a tilt with two components).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiscBound {
+    /// The sheet's key (`axes.phi2.wobble_arcsec`).
+    pub key: String,
+    /// The two errors' indices in $\chi$.
+    pub errors: [usize; 2],
+    /// $w$, rad.
+    pub bound_rad: f64,
 }
 
 /// A turntable's tolerances: $|\chi_i| \le \mathrm{UB}_i$ for every angular error.
@@ -38,6 +117,13 @@ pub struct Tolerances {
     pub ub_rad: Vec<f64>,
     /// Translation tolerances, metres, in the turntable's order (None when not given).
     pub translations_m: Vec<Option<f64>>,
+    /// Magnitude bounds on pairs of errors (`[axes.<joint>]` wobble and orthogonality): the
+    /// members' entries of `ub_rad` hold the square around the disc, $w$ each.
+    pub discs: Vec<DiscBound>,
+    /// The error model a vendor quantity implies per error (order of $\chi$): a wobble or a
+    /// positioning accuracy bounds an error over the revolution of its axis (`any` of the
+    /// joint), an orthogonality a constant; `None` for a value of `[tolerances_arcmin]`.
+    pub implied: Vec<Option<tt_kinematics::ErrorVariation>>,
 }
 
 impl Tolerances {
@@ -61,7 +147,46 @@ impl Tolerances {
         if let Some(name) = &raw.name {
             one_line(&at, "name", name)?;
         }
+        let default = match &raw.convention {
+            Some(c) => ValueConvention::parse(&at, "convention", c)?,
+            None => ValueConvention::Bound,
+        };
+        let conventions = raw.conventions.clone().unwrap_or_default();
+        let convention_of = |key: &str| -> Result<f64, StudyError> {
+            match conventions.get(key) {
+                Some(c) => {
+                    Ok(ValueConvention::parse(&at, &format!("conventions.{key}"), c)?.factor())
+                }
+                None => Ok(default.factor()),
+            }
+        };
+        for key in conventions.keys() {
+            let known = raw.tolerances_arcmin.contains_key(key)
+                || key.strip_prefix("axes.").is_some_and(|rest| {
+                    rest.rsplit_once('.').is_some_and(|(j, q)| {
+                        raw.axes
+                            .as_ref()
+                            .and_then(|a| a.get(j))
+                            .is_some_and(|ax| match q {
+                                "wobble_arcsec" => ax.wobble_arcsec.is_some(),
+                                "positioning_accuracy_arcsec" => {
+                                    ax.positioning_accuracy_arcsec.is_some()
+                                }
+                                "orthogonality_arcsec" => ax.orthogonality_arcsec.is_some(),
+                                _ => false,
+                            })
+                    })
+                });
+            if !known {
+                return Err(StudyError::new(
+                    at(&format!("conventions.{key}")),
+                    "names no value of this sheet (a [tolerances_arcmin] error or axes.<joint>.<quantity>)",
+                ));
+            }
+        }
         let mut ub = vec![None; turntable.n_rotation_errors()];
+        let mut implied = vec![None; turntable.n_rotation_errors()];
+        let mut discs = Vec::new();
         for (name, &v) in &raw.tolerances_arcmin {
             let key = format!("tolerances_arcmin.{name}");
             let i = turntable.rotation_error_index(name).ok_or_else(|| {
@@ -76,7 +201,162 @@ impl Tolerances {
                 StudyError::new(at(&key), why)
             })?;
             let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
-            ub[i] = Some(in_range(&at, &key, v, lo, hi, false, "arcmin")? * RAD_PER_ARCMIN);
+            ub[i] = Some(
+                in_range(&at, &key, v, lo, hi, false, "arcmin")?
+                    * RAD_PER_ARCMIN
+                    * convention_of(name)?,
+            );
+        }
+        for (joint, ax) in raw.axes.iter().flatten() {
+            let jkey = format!("axes.{joint}");
+            let Some(j) = turntable.joint_index(joint) else {
+                return Err(StudyError::new(
+                    at(&jkey),
+                    format!(
+                        "the sheet gives quantities of axis `{}`, which the study's turntable does not have (joints: {})",
+                        crate::fmt::visible(joint),
+                        turntable.joint_names().join(", ")
+                    ),
+                ));
+            };
+            let jf = turntable.joints()[j].factor;
+            let next = turntable
+                .joints()
+                .get(j + 1)
+                .map_or(usize::MAX, |n| n.factor);
+            let prev = if j == 0 {
+                0
+            } else {
+                turntable.joints()[j - 1].factor
+            };
+            let any = || {
+                Some(tt_kinematics::ErrorVariation::Any {
+                    joint: joint.clone(),
+                })
+            };
+            // (quantity, value, errors, where they must sit, implied model)
+            let quantities: [Quantity<'_>; 3] = [
+                (
+                    "wobble",
+                    ax.wobble_arcsec,
+                    ax.wobble.clone(),
+                    (jf, next),
+                    any(),
+                ),
+                (
+                    "positioning_accuracy",
+                    ax.positioning_accuracy_arcsec,
+                    ax.positioning.clone().map(|p| vec![p]),
+                    (jf, next),
+                    any(),
+                ),
+                (
+                    "orthogonality",
+                    ax.orthogonality_arcsec,
+                    ax.orthogonality.clone(),
+                    (prev, jf),
+                    Some(tt_kinematics::ErrorVariation::Constant),
+                ),
+            ];
+            for (q, value, errors, (lo_f, hi_f), model) in quantities {
+                let vkey = format!("{jkey}.{q}_arcsec");
+                let list_key = format!(
+                    "{jkey}.{}",
+                    if q == "positioning_accuracy" {
+                        "positioning"
+                    } else {
+                        q
+                    }
+                );
+                let (value, errors) = match (value, errors) {
+                    (None, None) => continue,
+                    (Some(v), Some(e)) => (v, e),
+                    (None, Some(_)) => {
+                        return Err(StudyError::new(
+                            at(&list_key),
+                            format!("names the errors of `{vkey}`, which is not given"),
+                        ));
+                    }
+                    (Some(_), None) => {
+                        return Err(StudyError::new(
+                            at(&list_key),
+                            format!(
+                                "`{vkey}` needs the description's errors it bounds (`{list_key}`)"
+                            ),
+                        ));
+                    }
+                };
+                let want = if q == "positioning_accuracy" { 1 } else { 2 };
+                if errors.len() != want {
+                    return Err(StudyError::new(
+                        at(&list_key),
+                        format!(
+                            "{q} bounds {want} error(s) of the axis, found {}",
+                            errors.len()
+                        ),
+                    ));
+                }
+                let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
+                let bound = in_range(&at, &vkey, value, lo * 60.0, hi * 60.0, false, "arcsec")?
+                    / 60.0
+                    * RAD_PER_ARCMIN
+                    * convention_of(&format!("{jkey}.{q}_arcsec"))?;
+                let mut idx = Vec::with_capacity(want);
+                for (k, e) in errors.iter().enumerate() {
+                    let ekey = format!("{list_key}[{k}]");
+                    let ekey = if want == 1 { list_key.clone() } else { ekey };
+                    let Some(i) = turntable.rotation_error_index(e) else {
+                        return Err(StudyError::new(
+                            at(&ekey),
+                            format!(
+                                "`{}` is not an angular error of the study's turntable",
+                                crate::fmt::visible(e)
+                            ),
+                        ));
+                    };
+                    let f = turntable.rotation_errors()[i].factor;
+                    if !(f > lo_f && f < hi_f) || (q == "orthogonality" && j == 0) {
+                        return Err(StudyError::new(
+                            at(&ekey),
+                            format!(
+                                "`{e}` does not map onto the {q} of axis `{joint}`: it is not {} in the chain",
+                                if q == "orthogonality" {
+                                    "between the previous joint and this one"
+                                } else {
+                                    "between this joint and the next"
+                                }
+                            ),
+                        ));
+                    }
+                    if q == "positioning_accuracy"
+                        && turntable.rotation_errors()[i].axis.axis
+                            != turntable.joints()[j].about.axis
+                    {
+                        return Err(StudyError::new(
+                            at(&ekey),
+                            format!(
+                                "`{e}` does not turn about the axis of `{joint}`: it is not its position error"
+                            ),
+                        ));
+                    }
+                    if ub[i].is_some() {
+                        return Err(StudyError::new(
+                            at(&ekey),
+                            format!("`{e}` is bounded twice (also by another value of this sheet)"),
+                        ));
+                    }
+                    ub[i] = Some(bound);
+                    implied[i] = model.clone();
+                    idx.push(i);
+                }
+                if want == 2 {
+                    discs.push(DiscBound {
+                        key: vkey,
+                        errors: [idx[0], idx[1]],
+                        bound_rad: bound,
+                    });
+                }
+            }
         }
         let missing: Vec<&str> = turntable
             .rotation_error_names()
@@ -118,6 +398,8 @@ impl Tolerances {
                 .map(|u| u.unwrap_or_else(|| unreachable!("checked")))
                 .collect(),
             translations_m,
+            discs,
+            implied,
         })
     }
 }

@@ -669,3 +669,210 @@ fn one_line_labels_refuse_control_characters_naming_the_key() {
     .unwrap();
     assert_eq!(t.name.as_deref(), Some("<script>"));
 }
+
+/// Angle-dependent errors (issue 22): `varies`, `of` and `harmonics` on an error factor give
+/// each error its model in the order of chi; bad input names the key.
+#[test]
+fn angle_dependent_errors_are_read_and_bad_ones_name_the_key() {
+    let wobble = r#"{ error = "dalpha_y2", about = "y" }"#;
+    let with = |to: &str| PAPER.replacen(wobble, to, 1);
+    let s = Study::parse(
+        "s.toml",
+        &with(r#"{ error = "dalpha_y2", about = "y", harmonics = [1, 2], of = "phi2" }"#),
+    )
+    .unwrap();
+    let i = s.turntable.rotation_error_index("dalpha_y2").unwrap();
+    assert_eq!(
+        s.variations[i],
+        tt_kinematics::ErrorVariation::Harmonics {
+            joint: "phi2".into(),
+            orders: vec![1, 2]
+        }
+    );
+    assert!(s.has_angle_dependent_errors());
+    assert_eq!(s.expansion().unwrap().n_coefficients(), 8 + 4);
+    let s = Study::parse(
+        "s.toml",
+        &with(r#"{ error = "dalpha_y2", about = "y", varies = "any", of = "phi2" }"#),
+    )
+    .unwrap();
+    // phi2 takes 8 distinct angles in the paper's schedule
+    assert_eq!(s.expansion().unwrap().n_coefficients(), 7 + 8);
+    let paper = Study::parse("s.toml", PAPER).unwrap();
+    assert!(!paper.has_angle_dependent_errors());
+    for (to, key) in [
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1.5], of = "phi2" }"#,
+            "turntable.factors[8].harmonics[0]",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [0], of = "phi2" }"#,
+            "turntable.factors[8].harmonics[0]",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1, -2], of = "phi2" }"#,
+            "turntable.factors[8].harmonics[1]",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1], of = "phi9" }"#,
+            "turntable.factors[8].of",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1] }"#,
+            "turntable.factors[8].of",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", varies = "sometimes", of = "phi2" }"#,
+            "turntable.factors[8].varies",
+        ),
+        (
+            r#"{ error = "dalpha_y2", about = "y", varies = "any", of = "phi2", harmonics = [1] }"#,
+            "turntable.factors[8].harmonics",
+        ),
+    ] {
+        let e = err(&with(to));
+        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
+    }
+    // an error before the joint does not follow it
+    let e = err(&PAPER.replacen(
+        r#"{ error = "dphi_y1", about = "y" }"#,
+        r#"{ error = "dphi_y1", about = "y", varies = "any", of = "phi2" }"#,
+        1,
+    ));
+    assert!(e.contains("turntable.factors[1].of"), "{e}");
+}
+
+/// A sheet in the vendor's terms (issue 22): per axis a wobble and a perpendicularity bound a
+/// disc on the two errors they name (the square around it in `ub_rad`), a positioning accuracy
+/// one error; the convention scales the values; a quantity of an axis the table lacks, or
+/// errors that do not ride on the axis, name the key.
+#[test]
+fn vendor_sheets_map_axis_quantities_onto_the_description_and_refuse_what_does_not_map() {
+    let three = Study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/three-axis-example.toml"
+    )))
+    .unwrap();
+    let t = &three.turntable;
+    let sheet = include_str!("../../studies/tolerances/three-axis-vendor-sheet.toml");
+    let tol = Tolerances::parse("v.toml", sheet, t).unwrap();
+    assert_eq!(tol.discs.len(), 5);
+    let arcsec = |v: f64| v / 3600.0 * std::f64::consts::PI / 180.0;
+    let i = t.rotation_error_index("dalpha_ix").unwrap();
+    approx::assert_relative_eq!(tol.ub_rad[i], arcsec(3.0), max_relative = 1e-15);
+    assert_eq!(
+        tol.implied[i],
+        Some(tt_kinematics::ErrorVariation::Any {
+            joint: "phi_i".into()
+        })
+    );
+    let o = t.rotation_error_index("deps_mi_x").unwrap();
+    assert_eq!(
+        tol.implied[o],
+        Some(tt_kinematics::ErrorVariation::Constant)
+    );
+    // peak-to-peak halves every value, one-sigma triples one
+    let p2p = Tolerances::parse(
+        "v.toml",
+        &sheet.replace("convention = \"bound\"", "convention = \"peak-to-peak\"\n[conventions]\n\"axes.phi_i.wobble_arcsec\" = \"one-sigma\""),
+        t,
+    )
+    .unwrap();
+    let p = t.rotation_error_index("dphi_i").unwrap();
+    approx::assert_relative_eq!(p2p.ub_rad[p], arcsec(2.5), max_relative = 1e-15);
+    approx::assert_relative_eq!(p2p.ub_rad[i], arcsec(9.0), max_relative = 1e-15);
+    let bad = |from: &str, to: &str| {
+        Tolerances::parse("v.toml", &sheet.replacen(from, to, 1), t)
+            .unwrap_err()
+            .to_string()
+    };
+    for (from, to, key) in [
+        ("[axes.phi_i]", "[axes.phi_x]", "axes.phi_x"),
+        (
+            "wobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble = [\"dalpha_ox\", \"dalpha_iz\"]",
+            "axes.phi_i.wobble[0]",
+        ),
+        (
+            "wobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble = [\"dalpha_ix\"]",
+            "axes.phi_i.wobble",
+        ),
+        (
+            "positioning = \"dphi_i\"",
+            "positioning = \"dalpha_ix\"",
+            "axes.phi_i.positioning",
+        ),
+        (
+            "convention = \"bound\"",
+            "convention = \"2-sigma\"",
+            "convention",
+        ),
+        (
+            "wobble_arcsec = 3.0\nwobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble_arcsec = -3.0\nwobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "axes.phi_i.wobble_arcsec",
+        ),
+    ] {
+        let e = bad(from, to);
+        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
+    }
+}
+
+/// Measured errors (issue 22): `[[compensation.measured]]` gives a constant's value or a
+/// harmonic error's coefficients with an uncertainty; a negative uncertainty, a value outside
+/// the physical range, the wrong number of coefficients or an unknown error name the key.
+#[test]
+fn measured_errors_are_read_and_bad_ones_name_the_key() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/gyrowheel-2017-harmonic-errors.toml"
+    ))
+    .unwrap();
+    let s = Study::parse("h.toml", &text).unwrap();
+    let i = s.turntable.rotation_error_index("dalpha_x1").unwrap();
+    let m = s.measured[i].as_ref().unwrap();
+    assert_eq!(m.coefficients_rad.len(), 5);
+    approx::assert_relative_eq!(
+        m.uncertainty_rad,
+        0.05 * std::f64::consts::PI / 10800.0,
+        max_relative = 1e-15
+    );
+    assert_eq!(s.measured.iter().filter(|m| m.is_some()).count(), 4);
+    for (from, to, key) in [
+        (
+            "value_arcmin = 0.20\nuncertainty_arcmin = 0.05",
+            "value_arcmin = 0.20\nuncertainty_arcmin = -0.05",
+            "compensation.measured[0].uncertainty_arcmin",
+        ),
+        (
+            "value_arcmin = 0.20",
+            "value_arcmin = 700.0",
+            "compensation.measured[0].value_arcmin",
+        ),
+        (
+            "coefficients_arcmin = [0.05, 0.20, -0.10, 0.03, 0.02]",
+            "coefficients_arcmin = [0.05, 0.20]",
+            "compensation.measured[2].coefficients_arcmin",
+        ),
+        (
+            "error = \"deps_y\"\nvalue",
+            "error = \"deps_q\"\nvalue",
+            "compensation.measured[1].error",
+        ),
+        (
+            "error = \"deps_y\"\nvalue",
+            "error = \"deps_x\"\nvalue",
+            "compensation.measured[1].error",
+        ),
+        (
+            "error = \"deps_y\"\nvalue_arcmin = -0.15",
+            "error = \"dalpha_x2\"\nvalue_arcmin = -0.15",
+            "compensation.measured[1].value_arcmin",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let e = err(&text.replacen(from, to, 1));
+        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
+    }
+}

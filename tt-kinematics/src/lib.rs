@@ -20,7 +20,9 @@
 //!   (Lemma 1's quantity) and its average sensitivities (eq 28, Figure 8);
 //! - [`Turntable::proportional_groups`]: the errors that act only together (one rotation to
 //!   first order, e.g. a wobble about the next joint's axis and that joint's position error),
-//!   found exactly from the description ([`groups`]).
+//!   found exactly from the description ([`groups`]);
+//! - [`variation`]: errors that vary with a shaft angle (harmonics of a joint, or any bounded
+//!   function of it), expanded into coefficients with the dual norm of each error's bound set.
 //!
 //! # Frames, rotation order and signs
 //! Rotations are right-handed and active, composed by post-multiplication in the order of the
@@ -71,6 +73,7 @@ mod pose;
 pub mod rotation;
 pub mod sensitivity;
 pub mod turntable;
+pub mod variation;
 
 pub use error::KinematicsError;
 pub use groups::{ErrorGroup, GROUP_AXIS_TOLERANCE};
@@ -85,4 +88,7 @@ pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};
 pub use turntable::{
     ChainKind, ErrorInfo, Factor, FactorSpec, Joint, PlanStep, PoseFrames, Turntable,
     TurntableDescription, is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,
+};
+pub use variation::{
+    BoundGroup, ErrorVariation, Expansion, GroupShape, on_shafts, validate_variations,
 };

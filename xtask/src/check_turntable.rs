@@ -386,13 +386,38 @@ pub fn run(args: &Args) -> Result<()> {
         })
         .collect::<Result<Vec<_>>>()?;
     let noisy = noisy_checks(&s, &e2e, &checks, &tol.ub_rad, &lb, &settings, args.k_sigma)?;
+    let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed)?;
+    let compensated = crate::angle::compensated(&s, &checks, &tol, &settings)?;
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&checks, &tol, &noisy))? + "\n"))
+        let mut v = to_json(&checks, &tol, &noisy);
+        if let Value::Object(m) = &mut v {
+            m.insert(
+                "angle_dependent".into(),
+                crate::angle::json(&checks, &angle),
+            );
+            m.insert(
+                "compensated".into(),
+                compensated
+                    .as_ref()
+                    .map_or(Value::Null, |c| crate::angle::compensated_json(&checks, c)),
+            );
+        }
+        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
     } else {
         let mut text = to_text(&checks, &s.path, &tol, &noisy);
         if let Some(n) = crate::noise::note(&s) {
             text.push_str(&n);
             text.push('\n');
+        }
+        text.push_str(
+            "\nerrors that vary with the shaft angle, same tolerances over the whole revolution:\n",
+        );
+        for ((e2e, c), a) in checks.iter().zip(&angle.readings) {
+            text.push_str(&format!("reading {}\n", e2e.reading()));
+            text.push_str(&crate::angle::text(e2e, c, a, &angle));
+        }
+        if let Some(c) = &compensated {
+            text.push_str(&crate::angle::compensated_text(&checks, c));
         }
         crate::out::print(&text)
     }

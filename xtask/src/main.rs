@@ -9,6 +9,7 @@ use std::process::ExitCode;
 
 mod allan;
 mod allocate;
+mod angle;
 mod args;
 mod calibration_error;
 mod check_turntable;
