@@ -41,6 +41,12 @@ pub trait OrientationErrorModel {
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError>;
 
+    /// Number of translation errors the model's [`TurntableErrors`] carry (0 by default; a
+    /// described turntable's chains return the turntable's).
+    fn n_translation_errors(&self) -> usize {
+        0
+    }
+
     /// $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ (eq 23) at `pose` for `errors`. Default:
     /// the rotation of [`OrientationErrorModel::orientation_error`]'s angles read as a
     /// rotation vector ([`DeltaRKind::Exact`]), equal to the model's own $\Delta\mathbf R$ to
@@ -275,6 +281,10 @@ impl ExactChain {
 }
 
 impl OrientationErrorModel for ExactChain {
+    fn n_translation_errors(&self) -> usize {
+        self.turntable.n_translation_errors()
+    }
+
     fn delta_r(
         &self,
         pose: &Pose,
@@ -335,6 +345,10 @@ impl SmallAngleChain {
 }
 
 impl OrientationErrorModel for SmallAngleChain {
+    fn n_translation_errors(&self) -> usize {
+        self.turntable.n_translation_errors()
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -365,6 +379,10 @@ impl LinearChain {
 }
 
 impl OrientationErrorModel for LinearChain {
+    fn n_translation_errors(&self) -> usize {
+        self.model.turntable().n_translation_errors()
+    }
+
     fn first_order(
         &self,
         pose: &Pose,

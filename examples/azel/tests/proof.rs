@@ -217,3 +217,51 @@ fn the_linear_error_model_agrees_with_the_orientation_model_everywhere_sampled()
         assert_relative_eq!(row.value, best, max_relative = 1e-12);
     }
 }
+
+/// Relative tolerance of a Monte Carlo standard deviation from 200,000 draws against its
+/// closed form: the sampling error of a standard deviation is about 1/sqrt(2n) times a
+/// kurtosis factor (~0.3% here); 2% leaves room and still fails a wrong coefficient.
+const MC_STD_REL: f64 = 0.02;
+
+#[test]
+fn the_monte_carlo_of_the_mount_matches_the_closed_form_moments() {
+    use mc_verify::{ErrorBox, McConfig, MonteCarlo};
+    let u = I;
+    let b = ErrorBox::with_names(AzElMount.error_names(), vec![0.0; 4], vec![u; 4]).unwrap();
+    let cfg = McConfig::new(200_000, 2026, Requirement::new(I, I, I).unwrap());
+    let mc = MonteCarlo::for_model(AzElMount, AzElMount.joint_ranges_rad(), b, cfg).unwrap();
+    // the histogram range comes from the model's own first order: psi's worst case is
+    // u0 + u1 + u3 = 3u at (90 deg, 0), on the grid; plus the remainder e^S - 1 - S
+    let s: f64 = 4.0 * u;
+    let rem = s.exp_m1() - s;
+    assert_relative_eq!(
+        mc.half_range_rad()[0],
+        1.05 * 3.0 * u + rem,
+        max_relative = 1e-12
+    );
+    let r = mc.try_run().unwrap();
+    assert_eq!(r.samples, 200_000);
+    // chi uniform on [-u, u] (E chi^2 = u^2/3), a uniform on a turn (E sin^2 = 1/2), e
+    // uniform on [0, 90 deg] (E cos^2 = E sin^2 = 1/2): Var psi = (u^2/3)(1/2 + 1 + 1/2),
+    // Var theta = Var gamma = (u^2/3)(1/4 + 1/2) to first order
+    let std = r.std_rad();
+    assert_relative_eq!(
+        std[0],
+        u * (2.0_f64 / 3.0).sqrt(),
+        max_relative = MC_STD_REL
+    );
+    assert_relative_eq!(std[1], u / 2.0, max_relative = MC_STD_REL);
+    assert_relative_eq!(std[2], u / 2.0, max_relative = MC_STD_REL);
+    for k in 0..3 {
+        let h = &r.axes[k].histogram;
+        assert_eq!(h.overflow + h.underflow, 0);
+    }
+    // every draw within the box's worst case (psi: 3u, theta and gamma: 2u) plus remainder
+    let m = r.max_abs_rad();
+    assert!(m[0] <= 3.0 * u + rem && m[1] <= 2.0 * u + rem && m[2] <= 2.0 * u + rem);
+    // same seed, same answer
+    assert_eq!(
+        mc.try_run().unwrap().max_abs_rad().map(f64::to_bits),
+        m.map(f64::to_bits)
+    );
+}
