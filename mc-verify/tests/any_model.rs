@@ -45,11 +45,11 @@ fn a_models_default_histogram_range_comes_from_its_own_first_order() {
     let table_h = MonteCarlo::histogram_half_range_rad(&t, &b).unwrap();
     let s = b.sum_ub_rad();
     let r = mc.try_run().unwrap();
-    for k in 0..3 {
+    for (k, th) in table_h.iter().enumerate() {
         let h = mc.half_range_rad()[k];
         // the grid contains the paper table's worst poses (multiples of 45 deg), so the
         // estimate is the certified worst case times 1.05 plus the same remainder
-        let first = table_h[k] - (s.exp_m1() - s);
+        let first = th - (s.exp_m1() - s);
         approx::assert_relative_eq!(h, 1.05 * first + (s.exp_m1() - s), max_relative = 1e-12);
         assert_eq!(
             r.axes[k].histogram.overflow + r.axes[k].histogram.underflow,
