@@ -67,6 +67,7 @@ mod error;
 mod linear;
 pub mod montecarlo;
 pub mod paper;
+mod seam;
 mod simulate;
 
 pub use allocate::{
