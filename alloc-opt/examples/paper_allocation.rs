@@ -16,7 +16,7 @@ fn main() -> Result<(), AllocError> {
     let table4 = paper::table4_rad();
     let table4_cert = Certificate::compute(
         problem.model(),
-        &problem.requirement(),
+        problem.limits(),
         problem.lower_bounds_rad(),
         &table4,
     )?;
@@ -68,10 +68,10 @@ fn main() -> Result<(), AllocError> {
         safe.margin,
         safe.allocation.upper_bounds_arcmin()
     );
-    for s in &ours.subproblems {
+    for s in ours.subproblems() {
         println!(
             "problem {:?}: worst pose {:.6?} rad, load {:.15}, {} conic solves",
-            s.axis, s.worst_pose_rad, s.load, s.iterations
+            s.name, s.worst_pose_rad, s.load, s.iterations
         );
     }
     Ok(())

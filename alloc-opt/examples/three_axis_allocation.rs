@@ -70,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "{:<5} worst found {:.7}' at pose {:.6?} rad, rigorous bound {:.7}' (gap {:.2e}), \
              share {:.9}, active {}, Lemma 1 {}",
-            c.axis.name(),
+            c.name,
             c.worst_case_rad / RAD_PER_ARCMIN,
             c.worst_pose_rad,
             c.upper_bound_rad / RAD_PER_ARCMIN,
@@ -80,10 +80,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             c.satisfied
         );
     }
-    for s in &ours.subproblems {
+    for s in ours.subproblems() {
         println!(
             "problem {:<5}: {} conic solves, load {:.15}, multiplier {:.6e}",
-            s.axis.name(),
+            s.name,
             s.iterations,
             s.load,
             s.multiplier.unwrap_or(f64::NAN)

@@ -1,11 +1,12 @@
-//! The [`Allocator`] seam, its result [`Allocation`] and the Lemma 1 [`Certificate`].
+//! The [`Allocator`] seam, its one result [`ToleranceBox`], the public finishing step
+//! [`finish`] and the Lemma 1 [`Certificate`].
 
 use crate::error::{AllocError, finite_result, length};
-use crate::problem::{AllocationProblem, Weights, error_names};
+use crate::model::{LinearErrorModel, WorstRow};
+use crate::problem::{AllocationProblem, Weights};
 use crate::solver::{Cut, CutOracle};
-use tt_core::Requirement;
 use tt_core::units::RAD_PER_ARCMIN;
-use tt_kinematics::{CERTIFY_REL_GAP, LinearModel, OrientationAxis, Pose, WorstPose};
+use tt_kinematics::{CERTIFY_REL_GAP, LinearModel, OrientationAxis};
 
 /// A requirement counts as active (tight) when the worst case uses at least
 /// $1 - 10^{-9}$ of it (relative; the exchange method ends within $10^{-13}$). Applies when
@@ -31,7 +32,9 @@ const AT_LOWER_REL: f64 = 1e-7;
 /// suffices unless the branch and bound hits its evaluation limit).
 const SAFETY_ROUNDS: usize = 8;
 
-/// Turns an [`AllocationProblem`] into upper bounds $\mathrm{UB}_i$ with a certificate.
+/// Turns an [`AllocationProblem`] over a [`LinearErrorModel`] `M` into a [`ToleranceBox`]
+/// with a certificate. The methods of this crate implement it for every model; an outside
+/// method implements it too and ends with [`finish`].
 ///
 /// # Example
 /// ```
@@ -39,37 +42,38 @@ const SAFETY_ROUNDS: usize = 8;
 /// let problem = paper::example_problem()?;
 /// for allocator in [&SensitivityWeighted::paper() as &dyn Allocator, &EqualEffects] {
 ///     let a = allocator.allocate(&problem)?;
-///     assert!(a.certificate.lemma1_holds());
+///     assert!(a.certificate().lemma1_holds());
 /// }
 /// # Ok::<(), alloc_opt::AllocError>(())
 /// ```
-pub trait Allocator {
+pub trait Allocator<M: LinearErrorModel = LinearModel> {
     /// A short name of the method (`"sensitivity-weighted"`, `"equal-effects"`).
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
 
     /// Allocate the upper bounds.
     ///
     /// # Errors
     /// [`AllocError`] naming the problem and errors when the lower bounds are infeasible,
-    /// when the method does not apply to the turntable, or when a solver fails.
-    fn allocate(&self, problem: &AllocationProblem) -> Result<Allocation, AllocError>;
+    /// when the method does not apply to the model, or when a solver fails.
+    fn allocate(&self, problem: &AllocationProblem<M>) -> Result<ToleranceBox, AllocError>;
 }
 
-/// The solution of one per-angle problem ((31) $\gamma$, (32) $\theta$, (33) $\psi$ for the
-/// paper's table).
+/// The solution of one per-quantity problem ((31) $\gamma$, (32) $\theta$, (33) $\psi$ for
+/// the paper's table).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Subproblem {
-    /// The angle (problem) concerned.
-    pub axis: OrientationAxis,
+    /// The quantity (problem) concerned: its index in the model.
+    pub quantity: usize,
+    /// Its name (`gamma`, ...).
+    pub name: String,
     /// Its errors (indices into $\chi$; $\chi_\gamma$, $\chi_\theta$, $\chi_\psi$ of eq 27).
     pub components: Vec<usize>,
     /// The optimal $\chi_k^*$ (rad), one per component.
     pub bounds_rad: Vec<f64>,
-    /// The joint ranges (rad, one `[lo, hi]` per joint) of the constraint.
-    pub pose_ranges_rad: Vec<[f64; 2]>,
     /// $J_k(\chi_k^*)$ (rad$^{-2}$); `None` for the equal-effects allocator.
     pub objective: Option<f64>,
-    /// A pose (rad, every joint) where the constraint is tight.
+    /// A point of the domain (a pose, rad, every joint) where the constraint is tight.
     pub worst_pose_rad: Vec<f64>,
     /// The constraint's load at the optimum (1 = the whole requirement used).
     pub load: f64,
@@ -81,21 +85,33 @@ pub struct Subproblem {
     pub exact_oracle: bool,
 }
 
-/// The certificate of one angle: the worst case over all poses in the joint ranges and all
-/// admissible errors.
+impl Subproblem {
+    /// The angle of the problem, for a model whose quantities are the three angles
+    /// ($\psi, \theta, \gamma$ in that order); `None` for another quantity index.
+    #[must_use]
+    pub fn axis(&self) -> Option<OrientationAxis> {
+        OrientationAxis::ALL.get(self.quantity).copied()
+    }
+}
+
+/// The certificate of one quantity: the worst case over the model's domain (all poses in
+/// the joint ranges) and all admissible errors.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct AxisCertificate {
-    /// The angle.
-    pub axis: OrientationAxis,
-    /// $I_k$ (rad); `None` when the angle carries no requirement.
+    /// The quantity's index in the model (for a turntable: [`OrientationAxis::index`]).
+    pub quantity: usize,
+    /// Its name (`psi`, `theta`, `gamma` for a turntable).
+    pub name: String,
+    /// $I_k$ (rad); `None` when the quantity carries no requirement.
     pub requirement_rad: Option<f64>,
     /// The largest worst case found,
     /// $\max_{\phi} \max_{\mathrm{LB} \le |\chi| \le \mathrm{UB}} |f_k(\phi,\chi)|
     /// = \max_{\phi} \sum_i \mathrm{UB}_i |c_{ki}(\phi)|$ (rad), over the errors with a
     /// finite bound. Exact when [`AxisCertificate::exact`].
     pub worst_case_rad: f64,
-    /// A pose (rad, every joint) where it is reached (joints that cancel sit at the lower end
-    /// of their range).
+    /// A point where it is reached (for a turntable a pose, rad, every joint; joints that
+    /// cancel sit at the lower end of their range).
     pub worst_pose_rad: Vec<f64>,
     /// A rigorous upper bound on the worst case (rad): equal to `worst_case_rad` when exact,
     /// the branch-and-bound bound of [`LinearModel::worst_pose_certified`] otherwise.
@@ -108,18 +124,18 @@ pub struct AxisCertificate {
     /// The requirement is active: share $\ge 1 -$ [`TIGHT_REL`] when exact; when searched,
     /// `upper_bound_rad` $\ge (1 -$ [`SEARCHED_TIGHT_REL`]$)\,I_k$.
     pub requirement_active: bool,
-    /// The requirement holds (Lemma 1 for this angle): `upper_bound_rad` $\le (1 +$
-    /// [`SATISFIED_REL`]$)\,I_k$; true for an angle without a requirement.
+    /// The requirement holds (Lemma 1 for this quantity): `upper_bound_rad` $\le (1 +$
+    /// [`SATISFIED_REL`]$)\,I_k$; true for a quantity without a requirement.
     pub satisfied: bool,
     /// Involved errors (indices) whose upper bound equals their positive lower bound.
     pub active_lower_bounds: Vec<usize>,
-    /// Involved errors (indices) with an infinite upper bound (only for an angle without a
-    /// requirement): the angle's true worst case is then unbounded, and the numbers above are
+    /// Involved errors (indices) with an infinite upper bound (only for a quantity without a
+    /// requirement): its true worst case is then unbounded, and the numbers above are
     /// those of the bounded errors.
     pub unbounded: Vec<usize>,
 }
 
-/// Lemma 1's certificate for all three angles.
+/// Lemma 1's certificate for every quantity of the model (the three angles of a turntable).
 ///
 /// # What is guaranteed
 /// - At most one free joint (the paper's table, any two-axis table whose outer joint comes
@@ -132,39 +148,44 @@ pub struct AxisCertificate {
 ///   [`CERTIFY_REL_GAP`] $= 10^{-9}$, reached on the three-axis example). `satisfied` uses the rigorous bound, so it
 ///   is still Lemma 1 for the linear model; the allocators shrink the bounds until it holds,
 ///   giving away the bound's gap (plus $2\times10^{-9}$) of the requirement.
+/// - Any other [`LinearErrorModel`]: what its [`LinearErrorModel::worst_case`] proves.
 /// - Neither covers the second-order terms of the exact chain: see
 ///   [`crate::exact_chain_check`].
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Certificate {
-    /// One per angle, in the order $\psi, \theta, \gamma$.
-    pub axes: [AxisCertificate; 3],
+    /// One per quantity, in the model's order ($\psi, \theta, \gamma$ for a turntable).
+    pub axes: Vec<AxisCertificate>,
 }
 
 impl Certificate {
-    /// The worst cases of `ub_rad` on `model` over the turntable's joint ranges.
+    /// The worst cases of `ub_rad` on `model` over its domain (the turntable's joint ranges)
+    /// against `limits` (one per quantity, rad, `None` for no requirement).
     ///
     /// # Formula
     /// $$\max_{\phi}\sum_i \mathrm{UB}_i\,|c_{ki}(\phi)|,$$ the signs of $\chi$ chosen
     /// adversarially (the lower bounds do not lower the maximum), found by
-    /// [`LinearModel::worst_pose_certified`].
+    /// [`LinearErrorModel::worst_case`] ([`LinearModel::worst_pose_certified`] for a
+    /// turntable).
     ///
     /// # Errors
     /// [`AllocError::Field`] (wrong length) for vectors of the wrong length; [`AllocError::Field`] (not finite) or
     /// [`AllocError::Field`] (negative) naming `upper_bounds.<error name>` for a bound that is NaN,
-    /// negative, or infinite on an angle with a requirement.
+    /// negative, or infinite on a quantity with a requirement.
     ///
     /// # Reference
     /// Zhao et al. 2017, Lemma 1 and eq 30.
-    pub fn compute(
-        model: &LinearModel,
-        requirement: &Requirement,
+    pub fn compute<M: LinearErrorModel + ?Sized>(
+        model: &M,
+        limits: &[Option<f64>],
         lower_bounds_rad: &[f64],
         ub_rad: &[f64],
     ) -> Result<Self, AllocError> {
         let n = model.n_errors();
+        length("limits", model.n_quantities(), limits.len())?;
         length("lower_bounds", n, lower_bounds_rad.len())?;
         length("upper_bounds", n, ub_rad.len())?;
-        let names = error_names(model);
+        let names: Vec<String> = (0..n).map(|j| model.error_name(j)).collect();
         for (name, &u) in names.iter().zip(ub_rad) {
             if u.is_nan() {
                 return Err(tt_core::FieldError::NonFinite {
@@ -181,15 +202,15 @@ impl Certificate {
                 .into());
             }
         }
-        let mut axes = Vec::with_capacity(3);
-        for axis in OrientationAxis::ALL {
-            let involved = model.involved(axis);
+        let mut axes = Vec::with_capacity(limits.len());
+        for (k, &limit) in limits.iter().enumerate() {
+            let involved = model.involved(k);
             let mut w = vec![0.0; n];
             let mut unbounded = Vec::new();
             for &i in &involved {
                 if ub_rad[i].is_finite() {
                     w[i] = ub_rad[i];
-                } else if requirement.get(axis).is_some() {
+                } else if limit.is_some() {
                     return Err(tt_core::FieldError::NonFinite {
                         field: format!("upper_bounds.{}", names[i]),
                         value: ub_rad[i],
@@ -199,7 +220,7 @@ impl Certificate {
                     unbounded.push(i);
                 }
             }
-            let worst = model.worst_pose_certified(axis, &w, true, None)?;
+            let worst = model.worst_case(k, &w)?;
             let active_lower_bounds = involved
                 .iter()
                 .copied()
@@ -209,28 +230,33 @@ impl Certificate {
                 })
                 .collect();
             axes.push(AxisCertificate::new(
-                axis,
-                requirement.get(axis),
+                k,
+                model.quantity_name(k),
+                limit,
                 worst,
                 active_lower_bounds,
                 unbounded,
             ));
         }
-        let [psi, theta, gamma]: [AxisCertificate; 3] = axes
-            .try_into()
-            .unwrap_or_else(|_| unreachable!("three angles"));
-        Ok(Self {
-            axes: [psi, theta, gamma],
-        })
+        Ok(Self { axes })
     }
 
-    /// The certificate of one angle.
+    /// The certificate of one angle (a model whose quantities are the three angles).
+    ///
+    /// # Panics
+    /// When the model has fewer quantities than `axis.index() + 1`.
     #[must_use]
     pub fn get(&self, axis: OrientationAxis) -> &AxisCertificate {
         &self.axes[axis.index()]
     }
 
-    /// Lemma 1: every angle's rigorous worst-case bound is within its requirement.
+    /// The certificate of quantity `k`, if there is one.
+    #[must_use]
+    pub fn quantity(&self, k: usize) -> Option<&AxisCertificate> {
+        self.axes.get(k)
+    }
+
+    /// Lemma 1: every quantity's rigorous worst-case bound is within its requirement.
     #[must_use]
     pub fn lemma1_holds(&self) -> bool {
         self.axes.iter().all(|a| a.satisfied)
@@ -244,10 +270,18 @@ impl Certificate {
 }
 
 impl AxisCertificate {
+    /// The angle, for a model whose quantities are the three angles ($\psi, \theta,
+    /// \gamma$ in that order); `None` for another quantity index.
+    #[must_use]
+    pub fn axis(&self) -> Option<OrientationAxis> {
+        OrientationAxis::ALL.get(self.quantity).copied()
+    }
+
     fn new(
-        axis: OrientationAxis,
+        quantity: usize,
+        name: String,
         requirement_rad: Option<f64>,
-        worst: WorstPose,
+        worst: WorstRow,
         active_lower_bounds: Vec<usize>,
         unbounded: Vec<usize>,
     ) -> Self {
@@ -260,10 +294,11 @@ impl AxisCertificate {
             }
         });
         Self {
-            axis,
+            quantity,
+            name,
             requirement_rad,
             worst_case_rad: worst.value,
-            worst_pose_rad: worst.pose_rad,
+            worst_pose_rad: worst.point,
             upper_bound_rad: worst.upper_bound,
             exact: worst.exact,
             share,
@@ -278,9 +313,9 @@ impl AxisCertificate {
     /// Check every number (no NaN or infinity may reach an allocation).
     fn check_finite(&self) -> Result<(), AllocError> {
         let what = |field: &str| {
-            let axis = self.axis.name();
+            let q = self.name.clone();
             let field = field.to_string();
-            move || format!("certificate.{axis}.{field}")
+            move || format!("certificate.{q}.{field}")
         };
         finite_result(what("worst_case_rad"), self.worst_case_rad)?;
         finite_result(what("upper_bound_rad"), self.upper_bound_rad)?;
@@ -294,41 +329,139 @@ impl AxisCertificate {
     }
 }
 
-/// An allocation: upper bounds with their objective, per-problem solutions and certificate.
+/// What a method adds to its [`ToleranceBox`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct Allocation {
+#[non_exhaustive]
+pub enum MethodDetails {
+    /// Per-quantity problems combined by rule (34) (sensitivity-weighted, equal effects).
+    TwoStep {
+        /// The per-quantity problems, in the order solved (quantities with a requirement and
+        /// at least one involved error).
+        subproblems: Vec<Subproblem>,
+    },
+    /// A method defined outside this crate, with its own description.
+    External {
+        /// Free text (for printing).
+        description: String,
+    },
+}
+
+/// The one result of every [`Allocator`]: upper bounds $\mathrm{UB}_i$ with their
+/// objective, certificate and the method's details. (Formerly `Allocation`, which remains
+/// as an alias.) Read it through the accessors; the fields stay public for now for the
+/// sibling crates and will narrow.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ToleranceBox {
     /// The allocator's name.
-    pub method: &'static str,
-    /// The names of the rotation errors (the turntable's error order).
+    pub method: String,
+    /// The names of the errors (the model's order).
     pub error_names: Vec<String>,
-    /// $\mathrm{UB}_i$ (rad, the turntable's error order); `+inf` exactly for the errors in
-    /// [`Allocation::unconstrained`], finite otherwise.
+    /// $\mathrm{UB}_i$ (rad, the model's error order); `+inf` exactly for the errors in
+    /// [`ToleranceBox::unconstrained`], finite otherwise.
     pub upper_bounds_rad: Vec<f64>,
     /// The lower bounds used (rad).
     pub lower_bounds_rad: Vec<f64>,
-    /// The requirement used.
-    pub requirement: Requirement,
-    /// $J(\mathrm{UB}) = J_\psi + J_\theta + J_\gamma$ (rad$^{-2}$) under
-    /// [`Allocation::weights`] (unconstrained errors contribute 0).
+    /// The limit of each quantity used (rad; `None`: no requirement).
+    pub limits: Vec<Option<f64>>,
+    /// $J(\mathrm{UB}) = \sum_k J_k$ (rad$^{-2}$) under [`ToleranceBox::weights`]
+    /// (unconstrained errors contribute 0).
     pub objective: f64,
     /// The weights the objective is computed with (the paper's inverse average sensitivities
     /// unless the allocator was given others).
     pub weights: Weights,
-    /// The per-angle problems, in the order solved (angles with a requirement and at least
-    /// one involved error).
-    pub subproblems: Vec<Subproblem>,
-    /// Worst cases over the joint ranges (Lemma 1).
+    /// Worst cases over the model's domain (Lemma 1).
     pub certificate: Certificate,
-    /// Errors (indices) that no angle with a requirement depends on: their bound is `+inf`.
+    /// Errors (indices) that no quantity with a requirement depends on: their bound is `+inf`.
     pub unconstrained: Vec<usize>,
-    /// Per angle ($\psi, \theta, \gamma$), the factor by which the free bounds of its errors
-    /// were shrunk after the combination (34) so that the rigorous worst-case bound is within
-    /// the requirement (an error shared by several such angles is shrunk by the smallest of
-    /// their factors); 1 when the worst case is exact.
-    pub safety_scale: [f64; 3],
+    /// Per quantity, the factor by which the free bounds of its errors were shrunk after the
+    /// combination (34) so that the rigorous worst-case bound is within the requirement (an
+    /// error shared by several such quantities is shrunk by the smallest of their factors);
+    /// 1 when the worst case is exact.
+    pub safety_scale: Vec<f64>,
+    /// What the method adds.
+    pub details: MethodDetails,
 }
 
-impl Allocation {
+/// The former name of [`ToleranceBox`].
+pub type Allocation = ToleranceBox;
+
+impl ToleranceBox {
+    /// The allocator's name.
+    #[must_use]
+    pub fn method(&self) -> &str {
+        &self.method
+    }
+
+    /// The names of the errors (the model's order).
+    #[must_use]
+    pub fn error_names(&self) -> &[String] {
+        &self.error_names
+    }
+
+    /// $\mathrm{UB}_i$ (rad); `+inf` exactly for the unconstrained errors.
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// The lower bounds used (rad).
+    #[must_use]
+    pub fn lower_bounds_rad(&self) -> &[f64] {
+        &self.lower_bounds_rad
+    }
+
+    /// The limit of each quantity used (rad).
+    #[must_use]
+    pub fn limits(&self) -> &[Option<f64>] {
+        &self.limits
+    }
+
+    /// $J$ (rad$^{-2}$).
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
+
+    /// The weights of the objective.
+    #[must_use]
+    pub fn weights(&self) -> &Weights {
+        &self.weights
+    }
+
+    /// The certificate (Lemma 1).
+    #[must_use]
+    pub fn certificate(&self) -> &Certificate {
+        &self.certificate
+    }
+
+    /// The errors without a bound (indices).
+    #[must_use]
+    pub fn unconstrained(&self) -> &[usize] {
+        &self.unconstrained
+    }
+
+    /// The safety factors, one per quantity.
+    #[must_use]
+    pub fn safety_scale(&self) -> &[f64] {
+        &self.safety_scale
+    }
+
+    /// What the method adds.
+    #[must_use]
+    pub fn details(&self) -> &MethodDetails {
+        &self.details
+    }
+
+    /// The per-quantity problems of a two-step method (empty for other methods).
+    #[must_use]
+    pub fn subproblems(&self) -> &[Subproblem] {
+        match &self.details {
+            MethodDetails::TwoStep { subproblems } => subproblems,
+            MethodDetails::External { .. } => &[],
+        }
+    }
+
     /// $\mathrm{UB}_i$ in arcminutes (for printing).
     #[must_use]
     pub fn upper_bounds_arcmin(&self) -> Vec<f64> {
@@ -353,11 +486,11 @@ impl Allocation {
         tt_core::units::objective_to_arcmin(self.objective)
     }
 
-    /// The share of each requirement used, order $\psi, \theta, \gamma$ (`None` without a
-    /// requirement).
+    /// The share of each requirement used, in the model's quantity order ($\psi, \theta,
+    /// \gamma$; `None` without a requirement).
     #[must_use]
-    pub fn shares(&self) -> [Option<f64>; 3] {
-        [0, 1, 2].map(|k| self.certificate.axes[k].share)
+    pub fn shares(&self) -> Vec<Option<f64>> {
+        self.certificate.axes.iter().map(|a| a.share).collect()
     }
 
     /// The names of the unconstrained errors.
@@ -370,53 +503,40 @@ impl Allocation {
     }
 }
 
-/// The constraint family of one angle's problem as a separation oracle: rows
-/// $c_{ki}(\phi)$ (or $|c_{ki}(\phi)|$) for every pose $\phi$ in the joint ranges.
-#[derive(Debug, Clone)]
-pub(crate) struct AxisOracle<'m> {
-    pub model: &'m LinearModel,
-    pub axis: OrientationAxis,
+/// The constraint family of one quantity's problem as a separation oracle: the rows of
+/// [`LinearErrorModel::search`] over the model's domain.
+pub(crate) struct AxisOracle<'m, S: LinearErrorModel + ?Sized> {
+    pub model: &'m S,
+    pub quantity: usize,
+    pub name: String,
     pub components: Vec<usize>,
-    pub ranges: Vec<[f64; 2]>,
-    pub abs: bool,
     pub requirement_rad: f64,
+    exact: bool,
 }
 
-/// Start-grid points per free joint: 17 for one free joint (the paper's), fewer for more.
-fn start_points(free: usize) -> usize {
-    match free {
-        0 => 1,
-        1 => 17,
-        2 => 9,
-        _ => 5,
-    }
-}
-
-impl<'m> AxisOracle<'m> {
+impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     /// The oracle; checks the lengths once so that later searches cannot fail.
     pub fn new(
-        model: &'m LinearModel,
-        axis: OrientationAxis,
+        model: &'m S,
+        quantity: usize,
         components: Vec<usize>,
-        ranges: Vec<[f64; 2]>,
-        abs: bool,
         requirement_rad: f64,
     ) -> Result<Self, AllocError> {
-        let o = Self {
+        let mut o = Self {
             model,
-            axis,
+            quantity,
+            name: model.quantity_name(quantity),
             components,
-            ranges,
-            abs,
             requirement_rad,
+            exact: false,
         };
-        o.search(&vec![0.0; o.components.len()])?;
+        o.exact = o.search(&vec![0.0; o.components.len()])?.exact;
         Ok(o)
     }
 
     /// Whether the search of this oracle is exact.
     pub fn exact(&self) -> bool {
-        self.model.free_joints().len() <= 1
+        self.exact
     }
 
     /// The weight vector over all errors for the components' values `x`.
@@ -428,66 +548,39 @@ impl<'m> AxisOracle<'m> {
         w
     }
 
-    /// The worst pose of the components' values `x` (the search).
-    pub fn search(&self, x: &[f64]) -> Result<WorstPose, AllocError> {
-        let w = self.full(x);
-        Ok(if self.abs {
-            self.model
-                .max_abs_weighted(self.axis, &w, Some(&self.ranges))?
-        } else {
-            self.model
-                .max_signed_weighted(self.axis, &w, Some(&self.ranges))?
-        })
+    /// The worst point of the components' values `x` (the search).
+    pub fn search(&self, x: &[f64]) -> Result<WorstRow, AllocError> {
+        self.model.search(self.quantity, &self.full(x))
     }
 
-    fn search_infallible(&self, x: &[f64]) -> WorstPose {
+    fn search_infallible(&self, x: &[f64]) -> WorstRow {
         self.search(x)
             .unwrap_or_else(|e| unreachable!("lengths checked in AxisOracle::new: {e}"))
     }
 
-    /// The row at `pose`; its tag is the angle of the last free joint (the paper's
-    /// $\phi_2$), or 0 when no joint is free.
-    pub fn row(&self, pose: &[f64]) -> Cut {
-        let c = Pose::new(pose.to_vec())
-            .ok()
-            .and_then(|p| self.model.coefficients(&p).ok());
-        let coefficients = self
-            .components
-            .iter()
-            .map(|&i| {
-                let v = c.as_ref().map_or(0.0, |c| c[(self.axis.index(), i)]);
-                if self.abs { v.abs() } else { v }
-            })
-            .collect();
+    /// The cut of a worst row (its components).
+    pub fn row(&self, r: &WorstRow) -> Cut {
         Cut {
-            coefficients,
+            coefficients: self
+                .components
+                .iter()
+                .map(|&i| r.row.get(i).copied().unwrap_or(0.0))
+                .collect(),
             bound: self.requirement_rad,
-            tag: self.model.free_joints().last().map_or(0.0, |&j| pose[j]),
+            tag: r.tag,
         }
     }
 
-    /// Start rows: a grid over the free joints' ranges (one row when nothing depends on the
-    /// pose); rows equal to an earlier one are dropped.
+    /// Start rows: the model's [`LinearErrorModel::start_rows`] (the search at equal weights
+    /// when it has none); rows equal to an earlier one are dropped.
     pub fn grid(&self) -> Vec<Cut> {
-        let free = self.model.free_joints().to_vec();
-        let per = start_points(free.len());
-        let base: Vec<f64> = self.ranges.iter().map(|r| r[0]).collect();
-        let total = per.pow(free.len() as u32);
+        let mut start = self.model.start_rows(self.quantity);
+        if start.is_empty() {
+            start.push(self.search_infallible(&vec![1.0; self.components.len()]));
+        }
         let mut rows: Vec<Cut> = Vec::new();
-        for cell in 0..total {
-            let mut pose = base.clone();
-            let mut rest = cell;
-            for &j in &free {
-                let [lo, hi] = self.ranges[j];
-                let k = rest % per;
-                rest /= per;
-                pose[j] = if per == 1 {
-                    lo
-                } else {
-                    lo + (hi - lo) * k as f64 / (per - 1) as f64
-                };
-            }
-            let row = self.row(&pose);
+        for r in &start {
+            let row = self.row(r);
             let duplicate = rows.iter().any(|r| {
                 r.coefficients
                     .iter()
@@ -515,7 +608,7 @@ impl<'m> AxisOracle<'m> {
                 .map(|((&i, _), _)| names[i].clone())
                 .collect();
             return Err(AllocError::InfeasibleLowerBounds {
-                problem: self.axis,
+                problem: self.name.clone(),
                 components,
                 worst_case_rad: load * self.requirement_rad,
                 requirement_rad: self.requirement_rad,
@@ -523,10 +616,8 @@ impl<'m> AxisOracle<'m> {
         }
         Ok(())
     }
-}
 
-impl AxisOracle<'_> {
-    /// Reject errors whose coefficient is never positive on the pose ranges (possible in the
+    /// Reject errors whose coefficient is never positive on the domain (possible in the
     /// signed form only): no row bounds them, so the objective has no minimiser. Caught here
     /// by name rather than left to the conic solver, which stalls on such a problem.
     pub fn check_each_bounded(&self, names: &[String]) -> Result<(), AllocError> {
@@ -543,59 +634,89 @@ impl AxisOracle<'_> {
             Ok(())
         } else {
             Err(AllocError::Unbounded {
-                problem: self.axis.name().to_string(),
+                problem: self.name.clone(),
                 components: unbounded,
             })
         }
     }
 }
 
-impl CutOracle for AxisOracle<'_> {
+impl<S: LinearErrorModel + ?Sized> CutOracle for AxisOracle<'_, S> {
     fn most_violated(&self, x: &[f64]) -> Cut {
         let wp = self.search_infallible(x);
-        self.row(&wp.pose_rad)
+        self.row(&wp)
     }
 }
 
-/// The errors of `model` that no angle with a requirement depends on.
-pub(crate) fn unconstrained_errors(model: &LinearModel, requirement: &Requirement) -> Vec<usize> {
-    let constrained: Vec<Vec<usize>> = requirement
-        .constrained_axes()
-        .into_iter()
-        .map(|a| model.involved(a))
+/// The errors of `model` that no quantity with a limit depends on.
+pub(crate) fn unconstrained_errors<M: LinearErrorModel + ?Sized>(
+    model: &M,
+    limits: &[Option<f64>],
+) -> Vec<usize> {
+    let constrained: Vec<Vec<usize>> = limits
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.is_some())
+        .map(|(k, _)| model.involved(k))
         .collect();
     (0..model.n_errors())
         .filter(|i| !constrained.iter().any(|inv| inv.contains(i)))
         .collect()
 }
 
-/// The common last step of every allocator: make the combined bounds safe with respect to
-/// the rigorous worst-case bound (tables with two or more free joints), compute the
-/// certificate and the objective, and check that every number is finite.
+/// Combination rule (34), generalised: $\mathrm{UB}_i = \min_k \chi^*_{ki}$ over the
+/// per-quantity solutions `(components, bounds)` that contain error $i$; `+inf` for an
+/// error none of them contains.
+///
+/// # Reference
+/// Zhao et al. 2017, eq 34.
+#[must_use]
+pub fn combine_rule_34(n_errors: usize, solutions: &[(&[usize], &[f64])]) -> Vec<f64> {
+    let mut ub = vec![f64::INFINITY; n_errors];
+    for (components, bounds) in solutions {
+        for (&i, &b) in components.iter().zip(bounds.iter()) {
+            ub[i] = ub[i].min(b);
+        }
+    }
+    ub
+}
+
+/// The finishing step every allocator ends with, this crate's and an outside one: errors
+/// no quantity with a limit depends on get `+inf`; the bounds are made safe with respect to
+/// the rigorous worst-case bound ([`LinearErrorModel::worst_case`]; for a turntable with two
+/// or more free joints); the certificate and the objective are computed, and every number
+/// is checked finite.
 ///
 /// # Formula
-/// For an angle whose rigorous bound $U$ exceeds $I$: the free bounds $x_F$ of its errors are
-/// shrunk by $s = (I - U_L)/((1 + 2g)U - U_L)$, $U_L$ the rigorous bound with only the errors
-/// held at their lower bounds and $g$ = [`CERTIFY_REL_GAP`]. The worst case
+/// For a quantity whose rigorous bound $U$ exceeds $I$: the free bounds $x_F$ of its errors
+/// are shrunk by $s = (I - U_L)/((1 + 2g)U - U_L)$, $U_L$ the rigorous bound with only the
+/// errors held at their lower bounds and $g$ = [`CERTIFY_REL_GAP`]. The worst case
 /// $F(x) = \max_\phi \sum_i x_i|c_{ki}(\phi)|$ is convex and positively homogeneous, so
 /// $F(s x_F + x_L) \le sF(x) + (1 - s)F(x_L) \le sU + (1 - s)U_L < I$.
-pub(crate) fn finish(
-    method: &'static str,
-    problem: &AllocationProblem,
+///
+/// # Errors
+/// [`AllocError::Field`] for bounds of the wrong length or NaN/negative;
+/// [`AllocError::NoConvergence`] when the bounds cannot be made safe;
+/// [`AllocError::NonFiniteResult`] for a non-finite number.
+pub fn finish<M: LinearErrorModel>(
+    problem: &AllocationProblem<M>,
+    method: &str,
     weights: Weights,
     mut ub: Vec<f64>,
-    subproblems: Vec<Subproblem>,
-) -> Result<Allocation, AllocError> {
+    details: MethodDetails,
+) -> Result<ToleranceBox, AllocError> {
     let model = problem.model();
-    let requirement = problem.requirement();
+    let limits = problem.limits().to_vec();
     let lb = problem.lower_bounds_rad().to_vec();
     let names = problem.error_names();
-    let unconstrained = unconstrained_errors(model, &requirement);
+    length("upper_bounds", model.n_errors(), ub.len())?;
+    length("weights", model.n_errors(), weights.n_errors())?;
+    let unconstrained = unconstrained_errors(model, &limits);
     for &i in &unconstrained {
         ub[i] = f64::INFINITY;
     }
-    let mut safety_scale = [1.0; 3];
-    let mut certificate = Certificate::compute(model, &requirement, &lb, &ub)?;
+    let mut safety_scale = vec![1.0; limits.len()];
+    let mut certificate = Certificate::compute(model, &limits, &lb, &ub)?;
     let mut rounds = 0;
     while !certificate.lemma1_holds() {
         let unsafe_axes: Vec<&AxisCertificate> = certificate
@@ -612,19 +733,19 @@ pub(crate) fn finish(
             }
             let a = unsafe_axes[0];
             return Err(AllocError::NoConvergence {
-                problem: format!("{} (rigorous worst-case bound)", a.axis.name()),
+                problem: format!("{} (rigorous worst-case bound)", a.name),
                 iterations: rounds,
                 violation: a.upper_bound_rad / a.requirement_rad.unwrap_or(f64::NAN) - 1.0,
             });
         }
         rounds += 1;
-        // Each error is shrunk by the smallest factor of the unsafe angles that depend on it:
-        // the worst case is monotone in the bounds (absolute coefficients), so each angle's
-        // own factor already makes it safe.
+        // Each error is shrunk by the smallest factor of the unsafe quantities that depend
+        // on it: the worst case is monotone in the bounds (absolute coefficients), so each
+        // quantity's own factor already makes it safe.
         let mut factor = vec![1.0_f64; ub.len()];
         for a in unsafe_axes {
             let i_k = a.requirement_rad.unwrap_or(f64::INFINITY);
-            let involved = model.involved(a.axis);
+            let involved = model.involved(a.quantity);
             let free: Vec<usize> = involved
                 .iter()
                 .copied()
@@ -637,44 +758,42 @@ pub(crate) fn finish(
                 }
             }
             let u_l = if held.iter().any(|&v| v > 0.0) {
-                model
-                    .worst_pose_certified(a.axis, &held, true, None)?
-                    .upper_bound
+                model.worst_case(a.quantity, &held)?.upper_bound
             } else {
                 0.0
             };
             let s = (i_k - u_l) / ((1.0 + 2.0 * CERTIFY_REL_GAP) * a.upper_bound_rad - u_l);
             if !(s > 0.0 && s < 1.0) {
                 return Err(AllocError::NonFiniteResult {
-                    what: format!("safety scale of {}", a.axis.name()),
+                    what: format!("safety scale of {}", a.name),
                     value: s,
                 });
             }
             for &i in &free {
                 factor[i] = factor[i].min(s);
             }
-            safety_scale[a.axis.index()] *= s;
+            safety_scale[a.quantity] *= s;
         }
         for (u, (f, l)) in ub.iter_mut().zip(factor.iter().zip(&lb)) {
             if *f < 1.0 {
                 *u = (*u * f).max(*l);
             }
         }
-        certificate = Certificate::compute(model, &requirement, &lb, &ub)?;
+        certificate = Certificate::compute(model, &limits, &lb, &ub)?;
     }
     let objective = weights.objective(&ub);
-    let allocation = Allocation {
-        method,
+    let allocation = ToleranceBox {
+        method: method.to_string(),
         error_names: names,
         upper_bounds_rad: ub,
         lower_bounds_rad: lb,
-        requirement,
+        limits,
         objective,
         weights,
-        subproblems,
         certificate,
         unconstrained,
         safety_scale,
+        details,
     };
     check_finite(&allocation)?;
     Ok(allocation)
@@ -682,24 +801,24 @@ pub(crate) fn finish(
 
 /// No NaN or infinity may reach an allocation, except the `+inf` bound of an unconstrained
 /// error.
-fn check_finite(a: &Allocation) -> Result<(), AllocError> {
+fn check_finite(a: &ToleranceBox) -> Result<(), AllocError> {
     for (i, (&u, name)) in a.upper_bounds_rad.iter().zip(&a.error_names).enumerate() {
         if !(a.unconstrained.contains(&i) && u == f64::INFINITY) {
             finite_result(|| format!("upper_bounds.{name}"), u)?;
         }
     }
     finite_result(|| "objective".into(), a.objective)?;
-    for s in &a.subproblems {
-        let axis = s.axis.name();
+    for s in a.subproblems() {
+        let q = &s.name;
         for &v in s.bounds_rad.iter().chain(&s.worst_pose_rad) {
-            finite_result(|| format!("subproblem.{axis}"), v)?;
+            finite_result(|| format!("subproblem.{q}"), v)?;
         }
-        finite_result(|| format!("subproblem.{axis}.load"), s.load)?;
+        finite_result(|| format!("subproblem.{q}.load"), s.load)?;
         if let Some(j) = s.objective {
-            finite_result(|| format!("subproblem.{axis}.objective"), j)?;
+            finite_result(|| format!("subproblem.{q}.objective"), j)?;
         }
         if let Some(m) = s.multiplier {
-            finite_result(|| format!("subproblem.{axis}.multiplier"), m)?;
+            finite_result(|| format!("subproblem.{q}.multiplier"), m)?;
         }
     }
     for c in &a.certificate.axes {

@@ -1,10 +1,13 @@
 //! The traditional equal-effects allocation (the paper's comparison, its refs 20-21).
 
-use crate::allocation::{Allocation, Allocator, AxisOracle, Subproblem, finish};
+use crate::allocation::{
+    Allocator, AxisOracle, MethodDetails, Subproblem, ToleranceBox, combine_rule_34, finish,
+};
 use crate::error::AllocError;
+use crate::model::LinearErrorModel;
 use crate::problem::{AllocationProblem, Weights};
 use crate::solver::CutOracle;
-use crate::weighted::PROBLEM_ORDER;
+use crate::weighted::problem_order;
 
 /// Bisection steps on the common effect (the bracket shrinks to one ulp well before this).
 const SHARE_BISECTION_STEPS: usize = 200;
@@ -32,61 +35,63 @@ const SHARE_BISECTION_STEPS: usize = 200;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct EqualEffects;
 
-impl Allocator for EqualEffects {
+impl<M: LinearErrorModel> Allocator<M> for EqualEffects {
     fn name(&self) -> &'static str {
         "equal-effects"
     }
 
-    fn allocate(&self, problem: &AllocationProblem) -> Result<Allocation, AllocError> {
+    fn allocate(&self, problem: &AllocationProblem<M>) -> Result<ToleranceBox, AllocError> {
         let model = problem.model();
         let names = problem.error_names();
         let lb = problem.lower_bounds_rad();
-        let mut ub = vec![f64::INFINITY; model.n_errors()];
         let mut subproblems = Vec::new();
-        let ranges = model.turntable().joint_ranges_rad();
-        for axis in PROBLEM_ORDER {
-            let Some(requirement_rad) = problem.requirement().get(axis) else {
+        for k in problem_order(model.n_quantities()) {
+            let Some(requirement_rad) = problem.limits()[k] else {
                 continue;
             };
-            let components = model.involved(axis);
+            let components = model.involved(k);
             if components.is_empty() {
                 continue;
             }
-            let oracle = AxisOracle::new(
-                model,
-                axis,
-                components.clone(),
-                ranges.clone(),
-                true,
-                requirement_rad,
-            )?;
+            let oracle = AxisOracle::new(model, k, components.clone(), requirement_rad)?;
             let lower: Vec<f64> = components.iter().map(|&i| lb[i]).collect();
             oracle.check_lower_bounds(&lower, &names)?;
             let x = share_equally(&oracle, &lower)?;
             let worst = oracle.search(&x)?;
-            for (k, &i) in components.iter().enumerate() {
-                ub[i] = ub[i].min(x[k]);
-            }
             subproblems.push(Subproblem {
-                axis,
+                quantity: k,
+                name: oracle.name.clone(),
                 components,
                 bounds_rad: x,
-                pose_ranges_rad: ranges.clone(),
                 objective: None,
                 load: worst.value / requirement_rad,
-                worst_pose_rad: worst.pose_rad,
+                worst_pose_rad: worst.point,
                 multiplier: None,
                 iterations: 0,
                 exact_oracle: oracle.exact(),
             });
         }
+        let solutions: Vec<(&[usize], &[f64])> = subproblems
+            .iter()
+            .map(|s| (s.components.as_slice(), s.bounds_rad.as_slice()))
+            .collect();
+        let ub = combine_rule_34(model.n_errors(), &solutions);
         let weights = Weights::inverse_average_sensitivity(model);
-        finish(self.name(), problem, weights, ub, subproblems)
+        finish(
+            problem,
+            Allocator::<M>::name(self),
+            weights,
+            ub,
+            MethodDetails::TwoStep { subproblems },
+        )
     }
 }
 
 /// Water filling: equal effects for the free errors, lower bounds held.
-fn share_equally(oracle: &AxisOracle<'_>, lower: &[f64]) -> Result<Vec<f64>, AllocError> {
+fn share_equally<M: LinearErrorModel + ?Sized>(
+    oracle: &AxisOracle<'_, M>,
+    lower: &[f64],
+) -> Result<Vec<f64>, AllocError> {
     let n = lower.len();
     // Largest effect of a unit error of each component.
     let mut effect = Vec::with_capacity(n);
@@ -96,7 +101,7 @@ fn share_equally(oracle: &AxisOracle<'_>, lower: &[f64]) -> Result<Vec<f64>, All
         let e = oracle.search(&unit)?.value;
         if !(e > 0.0 && e.is_finite()) {
             return Err(AllocError::NonFiniteResult {
-                what: format!("largest effect of error {k} on {}", oracle.axis.name()),
+                what: format!("largest effect of error {k} on {}", oracle.name),
                 value: 1.0 / e,
             });
         }

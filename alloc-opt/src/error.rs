@@ -1,6 +1,6 @@
 //! The crate's error type.
 
-use tt_kinematics::{KinematicsError, OrientationAxis};
+use tt_kinematics::KinematicsError;
 
 /// Why an allocation could not be made. Every variant names the offending input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -13,15 +13,14 @@ pub enum AllocError {
     Field(#[from] tt_core::FieldError),
     /// The lower bounds alone already violate a requirement: no upper bounds can satisfy it.
     #[error(
-        "problem {}: the lower bounds of {} alone give a worst case of \
+        "problem {problem}: the lower bounds of {} alone give a worst case of \
          {worst_case_rad:e} rad > requirement {requirement_rad:e} rad",
-        .problem.name(),
         .components.join(", ")
     )]
     InfeasibleLowerBounds {
-        /// The problem (orientation angle) that cannot be satisfied ((31) gamma, (32) theta,
+        /// The problem (quantity name) that cannot be satisfied ((31) gamma, (32) theta,
         /// (33) psi for the paper's table).
-        problem: OrientationAxis,
+        problem: String,
         /// The names of the errors with a positive lower bound that contribute to that worst
         /// case.
         components: Vec<String>,
@@ -52,6 +51,15 @@ pub enum AllocError {
     QuarterRangesNeedOneFreeJoint {
         /// The names of the turntable's free joints.
         free_joints: Vec<String>,
+    },
+    /// A method was asked of a model it does not apply to (the paper's quarter ranges on a
+    /// model that is not a turntable's [`tt_kinematics::LinearModel`]).
+    #[error("the {method} method does not apply to this model: {reason}")]
+    NotApplicable {
+        /// The method.
+        method: String,
+        /// Why.
+        reason: String,
     },
     /// The conic solver did not reach a solution.
     #[error("conic solver failed on problem {problem}: {status}")]
@@ -119,7 +127,9 @@ impl tt_core::ErrorClass for AllocError {
         match self {
             AllocError::Field(e) => Some(e.field()),
             AllocError::InfeasibleLowerBounds { .. } => Some("lower_bounds"),
-            AllocError::QuarterRangesNeedOneFreeJoint { .. } => Some("constraint_form"),
+            AllocError::QuarterRangesNeedOneFreeJoint { .. } | AllocError::NotApplicable { .. } => {
+                Some("constraint_form")
+            }
             AllocError::Kinematics(e) => tt_core::ErrorClass::input_field(e),
             AllocError::Unbounded { .. }
             | AllocError::Solver { .. }

@@ -17,6 +17,7 @@ use crate::error::{AllocError, length};
 use crate::problem::AllocationProblem;
 use nalgebra::Matrix3;
 use std::f64::consts::TAU;
+use tt_kinematics::LinearModel;
 use tt_kinematics::{OrientationAxis, OrientationError, Pose, Turntable};
 
 /// Poses per free joint scanned besides each angle's linear worst pose: every 2.5 degrees for
@@ -256,7 +257,7 @@ pub struct ExactSafeAllocation {
 /// Those of the allocator and of [`exact_chain_check`]; [`AllocError::NoConvergence`] if four
 /// rounds do not suffice.
 pub fn allocate_with_exact_margin(
-    allocator: &dyn Allocator,
+    allocator: &dyn Allocator<LinearModel>,
     problem: &AllocationProblem,
 ) -> Result<ExactSafeAllocation, AllocError> {
     let mut margin = 0.0_f64;

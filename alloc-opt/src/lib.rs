@@ -115,20 +115,22 @@
 //! # Reference
 //! Y. Zhao, H. Zhao, X. Huo, Y. Yao, "Error Analysis and Error Allocation for Turntable Systems
 //! Used in GyroWheel Calibration Tests", Int. J. Aerospace Eng. 2017, 6524782.
+#![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 
 mod allocation;
 mod equal;
 mod error;
 mod exact;
+mod model;
 pub mod paper;
 mod problem;
 pub mod solver;
 mod weighted;
 
 pub use allocation::{
-    Allocation, Allocator, AxisCertificate, Certificate, SATISFIED_REL, SEARCHED_TIGHT_REL,
-    Subproblem, TIGHT_REL,
+    Allocation, Allocator, AxisCertificate, Certificate, MethodDetails, SATISFIED_REL,
+    SEARCHED_TIGHT_REL, Subproblem, TIGHT_REL, ToleranceBox, combine_rule_34, finish,
 };
 pub use equal::EqualEffects;
 pub use error::AllocError;
@@ -136,6 +138,7 @@ pub use exact::{
     ExactAxisCheck, ExactSafeAllocation, FULL_ENUMERATION_MAX_ERRORS, allocate_with_exact_margin,
     exact_chain_check,
 };
+pub use model::{LinearErrorModel, WorstRow};
 pub use problem::{AllocationProblem, Weights};
 /// The requirement of eq 15-16 ([`tt_core::Requirement`]), re-exported.
 pub use tt_core::Requirement;

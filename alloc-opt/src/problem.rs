@@ -1,57 +1,79 @@
-//! The inputs of an allocation: model, requirement, lower bounds, weights.
+//! The inputs of an allocation: model, limits, lower bounds, weights.
 
 use crate::error::{AllocError, length, non_negative, positive};
+use crate::model::LinearErrorModel;
 use nalgebra::DMatrix;
 use tt_core::Requirement;
 use tt_kinematics::{LinearModel, OrientationAxis};
 
-/// What an [`crate::Allocator`] is asked: the first-order orientation-error model of a
-/// turntable (eq 26 for the paper's table), the requirement and one lower bound
-/// $\mathrm{LB}_i$ per rotation error (eq 29).
+/// What an [`crate::Allocator`] is asked: a first-order model of the constrained quantities
+/// ([`LinearErrorModel`]; eq 26 for the paper's table), one limit per quantity (the
+/// requirement) and one lower bound $\mathrm{LB}_i$ per error (eq 29).
 #[derive(Debug, Clone, PartialEq)]
-pub struct AllocationProblem {
-    model: LinearModel,
-    requirement: Requirement,
+pub struct AllocationProblem<M = LinearModel> {
+    model: M,
+    limits: Vec<Option<f64>>,
     lower_bounds_rad: Vec<f64>,
 }
 
-impl AllocationProblem {
-    /// A problem; lower bounds (radians, one per rotation error in the turntable's error
-    /// order, eq 25 for the paper) must be finite and non-negative.
+impl<M: LinearErrorModel> AllocationProblem<M> {
+    /// A problem for a model whose quantities are the three angles $\psi, \theta, \gamma$
+    /// (a turntable's), with the requirement of eq 15-16; lower bounds (radians, one per
+    /// error in the model's order, eq 25 for the paper) must be finite and non-negative.
     ///
     /// # Errors
-    /// [`AllocError::Field`] (wrong length) naming `lower_bounds` for a vector of the wrong length;
-    /// [`AllocError::Field`] (not finite, negative) naming
-    /// `lower_bounds.<error name>`.
+    /// [`AllocError::Field`] (wrong length) naming `requirement` for a model without three
+    /// quantities or `lower_bounds` for a vector of the wrong length;
+    /// [`AllocError::Field`] (not finite, negative) naming `lower_bounds.<error name>`.
     pub fn new(
-        model: LinearModel,
+        model: M,
         requirement: Requirement,
         lower_bounds_rad: Vec<f64>,
     ) -> Result<Self, AllocError> {
+        length("requirement", model.n_quantities(), 3)?;
+        Self::with_limits(model, requirement.to_array().to_vec(), lower_bounds_rad)
+    }
+
+    /// A problem with one limit per quantity (`None`: unconstrained; a limit must be finite
+    /// and positive, in the quantity's unit, rad for angles).
+    ///
+    /// # Errors
+    /// [`AllocError::Field`] (wrong length) naming `limits` or `lower_bounds`;
+    /// (not finite, not positive) naming `requirement.<quantity name>`; (not finite, negative)
+    /// naming `lower_bounds.<error name>`.
+    pub fn with_limits(
+        model: M,
+        limits: Vec<Option<f64>>,
+        lower_bounds_rad: Vec<f64>,
+    ) -> Result<Self, AllocError> {
+        length("limits", model.n_quantities(), limits.len())?;
+        for (k, l) in limits.iter().enumerate() {
+            if let Some(l) = l {
+                positive(format!("requirement.{}", model.quantity_name(k)), *l)?;
+            }
+        }
         length("lower_bounds", model.n_errors(), lower_bounds_rad.len())?;
-        for (name, &lb) in model
-            .turntable()
-            .rotation_error_names()
-            .iter()
-            .zip(&lower_bounds_rad)
-        {
-            non_negative(format!("lower_bounds.{name}"), lb)?;
+        for (j, &lb) in lower_bounds_rad.iter().enumerate() {
+            non_negative(format!("lower_bounds.{}", model.error_name(j)), lb)?;
         }
         Ok(Self {
             model,
-            requirement,
+            limits,
             lower_bounds_rad,
         })
     }
 
-    /// The same problem with every requirement shrunk by a relative safety margin
+    /// The same problem with every limit shrunk by a relative safety margin
     /// `margin` in $[0, 1)$: $I_k \to (1 - \text{margin}) I_k$. Use it to keep room for the
     /// second-order terms the linear model omits (see [`crate::exact_chain_check`]).
     ///
     /// # Errors
     /// [`AllocError::Field`] (not finite, negative) naming `safety_margin`, or
     /// [`AllocError::Field`] (not positive) when `margin >= 1`.
-    pub fn with_safety_margin(&self, margin: f64) -> Result<Self, AllocError> {
+    pub fn with_safety_margin(&self, margin: f64) -> Result<Self, AllocError>
+    where
+        M: Clone,
+    {
         let m = non_negative("safety_margin", margin)?;
         if m >= 1.0 {
             return Err(tt_core::FieldError::NotPositive {
@@ -60,49 +82,69 @@ impl AllocationProblem {
             }
             .into());
         }
+        let factor = 1.0 - m;
+        let mut limits = Vec::with_capacity(self.limits.len());
+        for (k, l) in self.limits.iter().enumerate() {
+            limits.push(match l {
+                Some(v) => Some(positive(
+                    format!("requirement.{}", self.model.quantity_name(k)),
+                    v * factor,
+                )?),
+                None => None,
+            });
+        }
         Ok(Self {
-            requirement: self.requirement.scaled(1.0 - m)?,
+            limits,
             ..self.clone()
         })
     }
 
     /// The model.
     #[must_use]
-    pub fn model(&self) -> &LinearModel {
+    pub fn model(&self) -> &M {
         &self.model
     }
 
-    /// The requirement.
+    /// The limit of each quantity (rad for angles; `None`: unconstrained).
     #[must_use]
-    pub fn requirement(&self) -> Requirement {
-        self.requirement
+    pub fn limits(&self) -> &[Option<f64>] {
+        &self.limits
     }
 
-    /// The lower bounds (radians, the turntable's error order).
+    /// The requirement, for a model whose quantities are the three angles.
+    ///
+    /// # Panics
+    /// When the model does not have three quantities (checked by
+    /// [`AllocationProblem::new`]; use [`AllocationProblem::limits`] otherwise).
+    #[must_use]
+    pub fn requirement(&self) -> Requirement {
+        let [psi, theta, gamma] = self.limits[..] else {
+            panic!("requirement() needs three quantities; use limits()")
+        };
+        Requirement::from_options([psi, theta, gamma])
+            .unwrap_or_else(|e| unreachable!("limits checked when built: {e}"))
+    }
+
+    /// The lower bounds (radians, the model's error order).
     #[must_use]
     pub fn lower_bounds_rad(&self) -> &[f64] {
         &self.lower_bounds_rad
     }
 
-    /// The names of the rotation errors (the turntable's error order).
+    /// The names of the errors (the model's order).
     #[must_use]
     pub fn error_names(&self) -> Vec<String> {
         error_names(&self.model)
     }
 }
 
-pub(crate) fn error_names(model: &LinearModel) -> Vec<String> {
-    model
-        .turntable()
-        .rotation_error_names()
-        .into_iter()
-        .map(str::to_string)
-        .collect()
+pub(crate) fn error_names<M: LinearErrorModel + ?Sized>(model: &M) -> Vec<String> {
+    (0..model.n_errors()).map(|j| model.error_name(j)).collect()
 }
 
 /// Weights $W_{ki}$ of the objective $J = \sum_k \sum_{i \in \chi_k} W_{ki}^2/\chi_{ki}^2$
-/// (problems 31-33): a $3 \times n$ matrix (rows $\psi, \theta, \gamma$, one column per
-/// rotation error), zero where an error is not involved in an angle.
+/// (problems 31-33): a $q \times n$ matrix (one row per quantity: $\psi, \theta, \gamma$
+/// for a turntable; one column per error), zero where an error is not involved in an angle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Weights {
     w: DMatrix<f64>,
@@ -122,14 +164,14 @@ impl Weights {
     /// # Reference
     /// Zhao et al. 2017, eq 28 and the text below (33).
     #[must_use]
-    pub fn inverse_average_sensitivity(model: &LinearModel) -> Self {
+    pub fn inverse_average_sensitivity<M: LinearErrorModel + ?Sized>(model: &M) -> Self {
         let avg = model.average_abs_coefficients();
-        let mut w = DMatrix::zeros(3, model.n_errors());
-        for axis in OrientationAxis::ALL {
-            for i in model.involved(axis) {
-                let a = avg[(axis.index(), i)];
+        let mut w = DMatrix::zeros(model.n_quantities(), model.n_errors());
+        for k in 0..model.n_quantities() {
+            for i in model.involved(k) {
+                let a = avg[(k, i)];
                 if a > 0.0 && (1.0 / a).is_finite() {
-                    w[(axis.index(), i)] = 1.0 / a;
+                    w[(k, i)] = 1.0 / a;
                 }
             }
         }
@@ -144,15 +186,20 @@ impl Weights {
     /// [`AllocError::Field`] (wrong length) naming `weights` for a matrix that is not $3 \times n$;
     /// [`AllocError::Field`] (not finite, not positive) naming
     /// `weights.<axis>.<error name>`.
-    pub fn new(model: &LinearModel, w: DMatrix<f64>) -> Result<Self, AllocError> {
-        length("weights (rows)", 3, w.nrows())?;
+    pub fn new<M: LinearErrorModel + ?Sized>(
+        model: &M,
+        w: DMatrix<f64>,
+    ) -> Result<Self, AllocError> {
+        let q = model.n_quantities();
+        length("weights (rows)", q, w.nrows())?;
         length("weights", model.n_errors(), w.ncols())?;
         let names = error_names(model);
-        let mut out = DMatrix::zeros(3, model.n_errors());
-        for axis in OrientationAxis::ALL {
-            for i in model.involved(axis) {
-                let ij = (axis.index(), i);
-                out[ij] = positive(format!("weights.{}.{}", axis.name(), names[i]), w[ij])?;
+        let mut out = DMatrix::zeros(q, model.n_errors());
+        for k in 0..q {
+            let quantity = model.quantity_name(k);
+            for i in model.involved(k) {
+                let ij = (k, i);
+                out[ij] = positive(format!("weights.{quantity}.{}", names[i]), w[ij])?;
             }
         }
         Ok(Self { w: out })
@@ -171,6 +218,15 @@ impl Weights {
     #[must_use]
     pub fn get(&self, axis: OrientationAxis, error: usize) -> f64 {
         self.w[(axis.index(), error)]
+    }
+
+    /// $W_{ki}$ of quantity `k` (zero when not involved).
+    ///
+    /// # Panics
+    /// When `k` or `error` is out of range.
+    #[must_use]
+    pub fn of(&self, k: usize, error: usize) -> f64 {
+        self.w[(k, error)]
     }
 
     /// The matrix (rows $\psi, \theta, \gamma$).
@@ -197,9 +253,19 @@ impl Weights {
     /// When `ub_rad` is shorter than [`Weights::n_errors`].
     #[must_use]
     pub fn objective_axis(&self, axis: OrientationAxis, ub_rad: &[f64]) -> f64 {
+        self.objective_of(axis.index(), ub_rad)
+    }
+
+    /// $J_k(\mathrm{UB})$ of quantity `k` (rad$^{-2}$ for bounds in radians); infinite bounds
+    /// contribute 0.
+    ///
+    /// # Panics
+    /// When `k` is out of range or `ub_rad` is shorter than [`Weights::n_errors`].
+    #[must_use]
+    pub fn objective_of(&self, k: usize, ub_rad: &[f64]) -> f64 {
         (0..self.n_errors())
             .map(|i| {
-                let w = self.get(axis, i);
+                let w = self.of(k, i);
                 if w > 0.0 {
                     (w / ub_rad[i]).powi(2)
                 } else {
@@ -217,9 +283,8 @@ impl Weights {
     /// When `ub_rad` is shorter than [`Weights::n_errors`].
     #[must_use]
     pub fn objective(&self, ub_rad: &[f64]) -> f64 {
-        OrientationAxis::ALL
-            .into_iter()
-            .map(|a| self.objective_axis(a, ub_rad))
+        (0..self.w.nrows())
+            .map(|k| self.objective_of(k, ub_rad))
             .sum()
     }
 }

@@ -1,11 +1,13 @@
 //! The paper's allocator: sensitivity-weighted per-angle problems (31)-(33) and combination
 //! rule (34), for any turntable.
 
-use crate::allocation::{Allocation, Allocator, AxisOracle, Subproblem, finish};
+use crate::allocation::{
+    Allocator, AxisOracle, MethodDetails, Subproblem, ToleranceBox, combine_rule_34, finish,
+};
 use crate::error::AllocError;
-use crate::problem::{AllocationProblem, Weights};
+use crate::model::{LinearErrorModel, QuarterRanges};
+use crate::problem::{AllocationProblem, Weights, error_names};
 use crate::solver::{InverseSquareProblem, solve_inverse_square};
-use std::f64::consts::{FRAC_PI_2, TAU};
 use tt_kinematics::{LinearModel, OrientationAxis};
 
 /// The order in which the per-angle problems are solved: (31) $\gamma$, (32) $\theta$,
@@ -24,16 +26,18 @@ pub enum ConstraintForm {
     /// $[0, \pi/2]$ for $\gamma$ (31), $[3\pi/2, 2\pi]$ for $\psi$ (33), and the full turn
     /// $[0, 2\pi]$ for $\theta$ (32, which does not depend on the pose in eq 26).
     ///
-    /// Valid only for a turntable with exactly one free joint
-    /// ([`AllocError::QuarterRangesNeedOneFreeJoint`] otherwise). Lemma 1's proof (35)-(38)
-    /// relies on the symmetries of eq 26 to extend these quarter ranges to the full turn; for
-    /// another table check [`crate::Certificate::lemma1_holds`], which is always computed
-    /// over the turntable's joint ranges.
+    /// Valid only for a turntable's [`LinearModel`] with exactly one free joint
+    /// ([`AllocError::QuarterRangesNeedOneFreeJoint`] otherwise,
+    /// [`AllocError::NotApplicable`] for another model). Lemma 1's proof (35)-(38) relies on
+    /// the symmetries of eq 26 to extend these quarter ranges to the full turn; for another
+    /// table check [`crate::Certificate::lemma1_holds`], which is always computed over the
+    /// turntable's joint ranges. Implemented as a wrapper model around the turntable's
+    /// (its constraint search), not as a branch of the general method.
     #[default]
     PaperQuarterRanges,
-    /// The requirement of eq 30 itself, valid for any turntable:
-    /// $\sum_i \chi_i |c_{ki}(\phi)| \le I_k$ for every pose $\phi$ in the joint ranges. For
-    /// eq 26 it has the same optimum as the paper's form.
+    /// The requirement of eq 30 itself, valid for any model:
+    /// $\sum_i \chi_i |c_{ki}(p)| \le I_k$ for every point $p$ of the model's domain (every
+    /// pose in the joint ranges). For eq 26 it has the same optimum as the paper's form.
     FullRange,
 }
 
@@ -49,26 +53,10 @@ impl ConstraintForm {
         model: &LinearModel,
         axis: OrientationAxis,
     ) -> Result<(Vec<[f64; 2]>, bool), AllocError> {
-        let mut ranges = model.turntable().joint_ranges_rad();
         match self {
-            ConstraintForm::FullRange => Ok((ranges, true)),
+            ConstraintForm::FullRange => Ok((model.turntable().joint_ranges_rad(), true)),
             ConstraintForm::PaperQuarterRanges => {
-                let [j] = model.free_joints() else {
-                    let names = model.turntable().joint_names();
-                    return Err(AllocError::QuarterRangesNeedOneFreeJoint {
-                        free_joints: model
-                            .free_joints()
-                            .iter()
-                            .map(|&j| names[j].to_string())
-                            .collect(),
-                    });
-                };
-                ranges[*j] = match axis {
-                    OrientationAxis::Gamma => [0.0, FRAC_PI_2],
-                    OrientationAxis::Psi => [3.0 * FRAC_PI_2, TAU],
-                    OrientationAxis::Theta => [0.0, TAU],
-                };
-                Ok((ranges, false))
+                Ok((QuarterRanges::new(model)?.ranges(axis.index()), false))
             }
         }
     }
@@ -96,7 +84,7 @@ pub enum WeightRule {
 /// [`LinearModel::max_abs_weighted`]); then (34) generalised:
 /// $\mathrm{UB}_i = \min_k \chi^*_{ki}$ over the problems that contain error $i$. An error no
 /// angle with a requirement depends on gets $\mathrm{UB}_i = +\infty$ and is listed in
-/// [`Allocation::unconstrained`].
+/// [`ToleranceBox::unconstrained`].
 ///
 /// For eq 26 with $\mathrm{LB} = 0$ the optimum is known in closed form:
 /// $\max_{\phi_2 \in [0,\pi/2]} f_\gamma = \sqrt{(x_1+x_5)^2 + (x_2+x_4)^2} + x_3$, and
@@ -134,7 +122,10 @@ impl SensitivityWeighted {
     ///
     /// # Errors
     /// As [`Weights::new`] for explicit weights that do not fit the model.
-    pub fn weights_for(&self, problem: &AllocationProblem) -> Result<Weights, AllocError> {
+    pub fn weights_for<M: LinearErrorModel>(
+        &self,
+        problem: &AllocationProblem<M>,
+    ) -> Result<Weights, AllocError> {
         match &self.weights {
             WeightRule::InverseAverageSensitivity => {
                 Ok(Weights::inverse_average_sensitivity(problem.model()))
@@ -144,64 +135,122 @@ impl SensitivityWeighted {
     }
 }
 
-impl Allocator for SensitivityWeighted {
+/// The per-quantity order of the two-step methods: (31) $\gamma$, (32) $\theta$, (33)
+/// $\psi$ for a model of the three angles, the model's order reversed in general.
+pub(crate) fn problem_order(n_quantities: usize) -> Vec<usize> {
+    if n_quantities == 3 {
+        PROBLEM_ORDER.iter().map(|a| a.index()).collect()
+    } else {
+        (0..n_quantities).rev().collect()
+    }
+}
+
+/// The sensitivity-weighted per-quantity problems over `search` (the model itself, or the
+/// paper's quarter-range wrapper), combined by rule (34).
+fn two_step<S: LinearErrorModel + ?Sized>(
+    search: &S,
+    limits: &[Option<f64>],
+    lb: &[f64],
+    weights: &Weights,
+) -> Result<(Vec<f64>, Vec<Subproblem>), AllocError> {
+    let names = error_names(search);
+    let mut subproblems = Vec::new();
+    for k in problem_order(search.n_quantities()) {
+        let Some(requirement_rad) = limits[k] else {
+            continue;
+        };
+        let components = search.involved(k);
+        if components.is_empty() {
+            continue;
+        }
+        let oracle = AxisOracle::new(search, k, components.clone(), requirement_rad)?;
+        let lower: Vec<f64> = components.iter().map(|&i| lb[i]).collect();
+        oracle.check_lower_bounds(&lower, &names)?;
+        oracle.check_each_bounded(&names)?;
+        let sub = InverseSquareProblem {
+            label: oracle.name.clone(),
+            names: components.iter().map(|&i| names[i].clone()).collect(),
+            weights: components.iter().map(|&i| weights.of(k, i)).collect(),
+            lower,
+            initial_cuts: oracle.grid(),
+            oracle: &oracle,
+        };
+        let sol = solve_inverse_square(&sub)?;
+        let worst = oracle.search(&sol.x)?;
+        subproblems.push(Subproblem {
+            quantity: k,
+            name: oracle.name.clone(),
+            components,
+            bounds_rad: sol.x,
+            objective: Some(sol.objective),
+            worst_pose_rad: worst.point,
+            load: sol.load,
+            multiplier: Some(sol.multiplier),
+            iterations: sol.iterations,
+            exact_oracle: oracle.exact(),
+        });
+    }
+    let solutions: Vec<(&[usize], &[f64])> = subproblems
+        .iter()
+        .map(|s| (s.components.as_slice(), s.bounds_rad.as_slice()))
+        .collect();
+    Ok((combine_rule_34(search.n_errors(), &solutions), subproblems))
+}
+
+impl<M: LinearErrorModel + 'static> Allocator<M> for SensitivityWeighted {
     fn name(&self) -> &'static str {
         "sensitivity-weighted"
     }
 
-    fn allocate(&self, problem: &AllocationProblem) -> Result<Allocation, AllocError> {
-        let model = problem.model();
+    fn allocate(&self, problem: &AllocationProblem<M>) -> Result<ToleranceBox, AllocError> {
         let weights = self.weights_for(problem)?;
-        let names = problem.error_names();
-        let lb = problem.lower_bounds_rad();
-        let mut ub = vec![f64::INFINITY; model.n_errors()];
-        let mut subproblems = Vec::new();
-        for axis in PROBLEM_ORDER {
-            let Some(requirement_rad) = problem.requirement().get(axis) else {
-                continue;
-            };
-            let components = model.involved(axis);
-            if components.is_empty() {
-                continue;
+        let (ub, subproblems) = match self.form {
+            ConstraintForm::FullRange => two_step(
+                problem.model(),
+                problem.limits(),
+                problem.lower_bounds_rad(),
+                &weights,
+            )?,
+            ConstraintForm::PaperQuarterRanges => {
+                let any: &dyn std::any::Any = problem.model();
+                let Some(model) = any.downcast_ref::<LinearModel>() else {
+                    return Err(AllocError::NotApplicable {
+                        method: "sensitivity-weighted (paper's quarter ranges)".into(),
+                        reason: "the quarter ranges of problems (31)-(33) are ranges of a \
+                                 turntable's free joint; use the full-range form"
+                            .into(),
+                    });
+                };
+                // As before the wrapper: only a constrained quantity needs the ranges.
+                let constrained =
+                    problem.limits().iter().enumerate().any(|(k, l)| {
+                        l.is_some() && !LinearErrorModel::involved(model, k).is_empty()
+                    });
+                if !constrained {
+                    return finish(
+                        problem,
+                        Allocator::<M>::name(self),
+                        weights,
+                        vec![f64::INFINITY; model.n_errors()],
+                        MethodDetails::TwoStep {
+                            subproblems: Vec::new(),
+                        },
+                    );
+                }
+                two_step(
+                    &QuarterRanges::new(model)?,
+                    problem.limits(),
+                    problem.lower_bounds_rad(),
+                    &weights,
+                )?
             }
-            let (ranges, abs) = self.form.pose_ranges(model, axis)?;
-            let oracle = AxisOracle::new(
-                model,
-                axis,
-                components.clone(),
-                ranges.clone(),
-                abs,
-                requirement_rad,
-            )?;
-            let lower: Vec<f64> = components.iter().map(|&i| lb[i]).collect();
-            oracle.check_lower_bounds(&lower, &names)?;
-            oracle.check_each_bounded(&names)?;
-            let sub = InverseSquareProblem {
-                label: axis.name().to_string(),
-                names: components.iter().map(|&i| names[i].clone()).collect(),
-                weights: components.iter().map(|&i| weights.get(axis, i)).collect(),
-                lower,
-                initial_cuts: oracle.grid(),
-                oracle: &oracle,
-            };
-            let sol = solve_inverse_square(&sub)?;
-            let worst = oracle.search(&sol.x)?;
-            for (k, &i) in components.iter().enumerate() {
-                ub[i] = ub[i].min(sol.x[k]);
-            }
-            subproblems.push(Subproblem {
-                axis,
-                components,
-                bounds_rad: sol.x,
-                pose_ranges_rad: ranges,
-                objective: Some(sol.objective),
-                worst_pose_rad: worst.pose_rad,
-                load: sol.load,
-                multiplier: Some(sol.multiplier),
-                iterations: sol.iterations,
-                exact_oracle: oracle.exact(),
-            });
-        }
-        finish(self.name(), problem, weights, ub, subproblems)
+        };
+        finish(
+            problem,
+            Allocator::<M>::name(self),
+            weights,
+            ub,
+            MethodDetails::TwoStep { subproblems },
+        )
     }
 }

@@ -83,7 +83,7 @@ fn vectors_of_the_wrong_length_are_rejected_by_name() {
     let e = Weights::new(&paper_model(), DMatrix::from_element(3, 7, 1.0)).unwrap_err();
     assert_eq!(field_of(&e), "weights");
     let p = paper_problem();
-    let e = Certificate::compute(p.model(), &p.requirement(), &[0.0; 8], &[1e-4; 9]).unwrap_err();
+    let e = Certificate::compute(p.model(), p.limits(), &[0.0; 8], &[1e-4; 9]).unwrap_err();
     assert_eq!(field_of(&e), "upper_bounds");
 }
 
@@ -178,13 +178,13 @@ fn certificate_rejects_bad_upper_bounds_by_name() {
     let p = paper_problem();
     let mut ub = paper::table4_rad();
     ub[idx("deps_y")] = f64::NAN;
-    let e = Certificate::compute(p.model(), &p.requirement(), &[0.0; 8], &ub).unwrap_err();
+    let e = Certificate::compute(p.model(), p.limits(), &[0.0; 8], &ub).unwrap_err();
     assert_eq!(field_of(&e), "upper_bounds.deps_y");
     ub[idx("deps_y")] = -1e-5;
-    let e = Certificate::compute(p.model(), &p.requirement(), &[0.0; 8], &ub).unwrap_err();
+    let e = Certificate::compute(p.model(), p.limits(), &[0.0; 8], &ub).unwrap_err();
     assert_eq!(field_of(&e), "upper_bounds.deps_y");
     ub[idx("deps_y")] = f64::INFINITY;
-    let e = Certificate::compute(p.model(), &p.requirement(), &[0.0; 8], &ub).unwrap_err();
+    let e = Certificate::compute(p.model(), p.limits(), &[0.0; 8], &ub).unwrap_err();
     assert_eq!(field_of(&e), "upper_bounds.deps_y");
 }
 
@@ -226,7 +226,7 @@ fn infeasible_lower_bounds_name_the_problem_and_the_components() {
                     worst_case_rad,
                     requirement_rad,
                 }) => {
-                    assert_eq!(problem, axis, "{}", allocator.name());
+                    assert_eq!(problem, axis.name(), "{}", allocator.name());
                     assert_eq!(components, names, "{}", allocator.name());
                     assert!(worst_case_rad > requirement_rad);
                 }

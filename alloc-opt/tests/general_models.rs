@@ -111,7 +111,7 @@ proptest! {
         prop_assert!(a.certificate.exact());
         prop_assert!(a.unconstrained.is_empty());
         prop_assert!(a.upper_bounds_rad.iter().all(|u| u.is_finite() && *u > 0.0));
-        for s in &a.subproblems {
+        for s in a.subproblems() {
             prop_assert!(s.load <= 1.0 && s.load >= 1.0 - TIGHT_REL, "load {}", s.load);
             let rows: Vec<Cut> = (0..GRID_POSES)
                 .map(|j| {
@@ -119,8 +119,8 @@ proptest! {
                     let c = model.coefficients(&Pose::new(vec![0.0, phi]).unwrap()).unwrap();
                     Cut {
                         coefficients: s.components.iter()
-                            .map(|&i| c[(s.axis.index(), i)].abs()).collect(),
-                        bound: problem.requirement().get(s.axis).unwrap(),
+                            .map(|&i| c[(s.axis().unwrap().index(), i)].abs()).collect(),
+                        bound: problem.requirement().get(s.axis().unwrap()).unwrap(),
                         tag: j as f64,
                     }
                 })
@@ -131,7 +131,7 @@ proptest! {
             let grid = solve_inverse_square(&InverseSquareProblem {
                 label: "grid".into(),
                 names: s.components.iter().map(|&i| a.error_names[i].clone()).collect(),
-                weights: s.components.iter().map(|&i| a.weights.get(s.axis, i)).collect(),
+                weights: s.components.iter().map(|&i| a.weights.get(s.axis().unwrap(), i)).collect(),
                 lower: vec![0.0; s.components.len()],
                 initial_cuts: start,
                 oracle: &oracle,
@@ -188,9 +188,9 @@ fn quarter_ranges_can_miss_lemma1_on_another_model_and_the_certificate_says_so()
     assert!(full.certificate.lemma1_holds());
     for axis in A::ALL {
         assert_relative_eq!(
-            full.subproblems
+            full.subproblems()
                 .iter()
-                .find(|s| s.axis == axis)
+                .find(|s| s.axis().unwrap() == axis)
                 .unwrap()
                 .load,
             1.0,
@@ -293,7 +293,7 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
         assert!(a.upper_bounds_rad[idx("dalpha_y2")].is_infinite());
         assert!(a.upper_bounds_rad[idx("dalpha_y2")] > 0.0);
         assert!(a.objective.is_finite());
-        assert_eq!(a.subproblems.len(), 2);
+        assert_eq!(a.subproblems().len(), 2);
         let psi = a.certificate.get(A::Psi);
         assert_eq!(psi.requirement_rad, None);
         assert_eq!(psi.share, None);
@@ -333,7 +333,7 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
     .unwrap();
     let a = SensitivityWeighted::paper().allocate(&none).unwrap();
     assert_eq!(a.unconstrained, (0..8).collect::<Vec<_>>());
-    assert!(a.subproblems.is_empty());
+    assert!(a.subproblems().is_empty());
     approx::assert_abs_diff_eq!(a.objective, 0.0);
     assert!(a.certificate.lemma1_holds());
     // The paper's example is unaffected by the option type.

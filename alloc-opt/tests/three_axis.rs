@@ -87,7 +87,7 @@ fn three_axis_full_range_allocation_is_certified_against_a_dense_pose_grid() {
     assert!(!a.certificate.exact());
     assert!(a.unconstrained.is_empty());
     assert!(a.upper_bounds_rad.iter().all(|u| u.is_finite() && *u > 0.0));
-    assert_eq!(a.subproblems.len(), 3);
+    assert_eq!(a.subproblems().len(), 3);
     let ub = &a.upper_bounds_rad;
     let mut grid_max = [f64::NEG_INFINITY; 3];
     for p in 0..DENSE_POINTS {
@@ -147,21 +147,21 @@ fn three_axis_full_range_allocation_is_certified_against_a_dense_pose_grid() {
 fn three_axis_subproblems_satisfy_kkt_at_their_worst_pose() {
     let a = three_axis_allocation();
     let model = LinearModel::new(&three_axis());
-    for s in &a.subproblems {
+    for s in a.subproblems() {
         let c = coefficients(&model, &s.worst_pose_rad);
-        let i_k = a.requirement.get(s.axis).unwrap();
+        let i_k = a.limits[s.quantity].unwrap();
         let lambda = s.multiplier.unwrap();
         for (&i, &x) in s.components.iter().zip(&s.bounds_rad) {
-            let w = a.weights.get(s.axis, i);
-            let l = 2.0 * w * w / x.powi(3) * i_k / c[(s.axis.index(), i)].abs();
+            let w = a.weights.of(s.quantity, i);
+            let l = 2.0 * w * w / x.powi(3) * i_k / c[(s.quantity, i)].abs();
             assert_relative_eq!(l, lambda, max_relative = KKT_SEARCHED_REL);
         }
         assert_relative_eq!(s.load, 1.0, max_relative = TIGHT_REL);
     }
     let objective = |axis: A| {
-        a.subproblems
+        a.subproblems()
             .iter()
-            .find(|s| s.axis == axis)
+            .find(|s| s.axis().unwrap() == axis)
             .unwrap()
             .objective
             .unwrap()
@@ -193,7 +193,7 @@ fn three_axis_allocation_is_near_optimal_against_a_grid_relaxation() {
             )
         })
         .collect();
-    for s in &a.subproblems {
+    for s in a.subproblems() {
         let rows: Vec<Cut> = poses
             .iter()
             .enumerate()
@@ -201,9 +201,9 @@ fn three_axis_allocation_is_near_optimal_against_a_grid_relaxation() {
                 coefficients: s
                     .components
                     .iter()
-                    .map(|&i| c[(s.axis.index(), i)].abs())
+                    .map(|&i| c[(s.quantity, i)].abs())
                     .collect(),
-                bound: a.requirement.get(s.axis).unwrap(),
+                bound: a.limits[s.quantity].unwrap(),
                 tag: r as f64,
             })
             .collect();
@@ -219,7 +219,7 @@ fn three_axis_allocation_is_near_optimal_against_a_grid_relaxation() {
             weights: s
                 .components
                 .iter()
-                .map(|&i| a.weights.get(s.axis, i))
+                .map(|&i| a.weights.of(s.quantity, i))
                 .collect(),
             lower: vec![0.0; s.components.len()],
             initial_cuts: start,
@@ -231,14 +231,14 @@ fn three_axis_allocation_is_near_optimal_against_a_grid_relaxation() {
         assert!(
             grid.objective <= ours * (1.0 + OBJECTIVE_REL),
             "{:?}: grid {} above ours {}",
-            s.axis,
+            s.name,
             grid.objective,
             ours
         );
         assert!(
             ours <= grid.objective * (1.0 + RELAXATION_GAP_REL),
             "{:?}: ours {} vs grid {}",
-            s.axis,
+            s.name,
             ours,
             grid.objective
         );
@@ -325,8 +325,8 @@ fn three_axis_safety_rescale_makes_the_rigorous_bound_meet_the_requirement() {
         assert!(!c.unbounded.is_empty());
         assert!(c.unbounded.iter().all(|i| a.unconstrained.contains(i)));
     }
-    let s = &a.subproblems[0];
-    assert_eq!(s.axis, A::Gamma);
+    let s = &a.subproblems()[0];
+    assert_eq!(s.axis(), Some(A::Gamma));
     for (&i, &x) in s.components.iter().zip(&s.bounds_rad) {
         assert_relative_eq!(a.upper_bounds_rad[i], x * scale, max_relative = ULP_REL);
     }

@@ -47,7 +47,7 @@ pub fn paper_kernel_run(mc: &MonteCarlo) -> Result<McResult, McError> {
 /// [`McError::SimdUnavailable`] if the CPU lacks `level`.
 pub fn paper_kernel_run_with_simd(mc: &MonteCarlo, level: SimdLevel) -> Result<McResult, McError> {
     let level = level.check()?;
-    let t = mc.turntable();
+    let t = mc.turntable().ok_or(McError::NotThePaperTable)?;
     let paper = paper::table3();
     let full_turn = [0.0, std::f64::consts::TAU].map(f64::to_bits);
     let full_turns = t

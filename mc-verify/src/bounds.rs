@@ -51,6 +51,24 @@ impl ErrorBox {
         })
     }
 
+    /// Bounds in radians of errors called `names` (any model's, in its order of $\chi$; lower
+    /// case, as every name of the workspace): no turntable needed.
+    ///
+    /// # Errors
+    /// As [`ErrorBox::new`].
+    pub fn with_names(
+        names: Vec<String>,
+        lb_rad: Vec<f64>,
+        ub_rad: Vec<f64>,
+    ) -> Result<Self, McError> {
+        validate(&names, &lb_rad, &ub_rad)?;
+        Ok(Self {
+            names,
+            lb_rad,
+            ub_rad,
+        })
+    }
+
     /// Upper bounds in radians with every lower bound zero (the paper does not print its
     /// lower bounds; NOTES item 11).
     ///

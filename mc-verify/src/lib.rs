@@ -72,6 +72,7 @@
 //! Y. Zhao, H. Zhao, X. Huo, Y. Yao, "Error Analysis and Error Allocation for Turntable Systems
 //! Used in GyroWheel Calibration Tests", Int. J. Aerospace Eng. 2017, 6524782, §4.3.
 // `unsafe` only in `simd` (runtime CPU-feature dispatch, with its safety argument).
+#![doc = include_str!("../README.md")]
 #![deny(unsafe_code)]
 
 pub mod baseline;

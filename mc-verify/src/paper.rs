@@ -106,7 +106,7 @@ pub mod claims {
         mc: &MonteCarlo,
         result: &McResult,
     ) -> Result<Figure9Evidence, McError> {
-        let model = LinearModel::new(mc.turntable());
+        let model = LinearModel::new(mc.turntable().ok_or(McError::NotThePaperTable)?);
         let bound = mc.half_range_rad();
         let mut axes = Vec::with_capacity(3);
         for axis in OrientationAxis::ALL {

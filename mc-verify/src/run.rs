@@ -9,8 +9,8 @@ use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler, chunk_rng, f
 use crate::simd::{HotLoop, SimdLevel, run_at};
 use crate::stats::{AxisSummary, Partial};
 use rayon::prelude::*;
-use std::sync::Mutex;
-use tt_core::Requirement;
+use std::sync::{Arc, Mutex};
+use tt_core::{Pose, Requirement};
 use tt_kinematics::{
     LinearModel, OrientationAxis, OrientationErrorModel, Turntable, TurntableErrors,
 };
@@ -151,15 +151,61 @@ impl McResult {
     }
 }
 
+/// Poses per joint of the grid [`MonteCarlo::for_model`] estimates a model's histogram range
+/// on (at most [`MODEL_RANGE_MAX_POSES`] poses in all).
+const MODEL_RANGE_POINTS_PER_JOINT: usize = 65;
+
+/// Most poses of that grid (the points per joint shrink for many joints).
+const MODEL_RANGE_MAX_POSES: usize = 1 << 14;
+
+/// Relative margin of a model's histogram range over its grid estimate (the grid can miss a
+/// maximum between its points by a second-order amount; a draw beyond the range is counted
+/// in the overflow bins, never lost).
+const MODEL_RANGE_MARGIN: f64 = 0.05;
+
+/// What a Monte Carlo evaluates.
+// One per Monte Carlo, never in a collection: the size difference costs nothing, and the plan
+// stays inline for the hot loop.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone)]
+enum Source {
+    /// A described turntable: the exact chain by its compiled plan ([`crate::fast`]).
+    Table {
+        turntable: Turntable,
+        plan: CompiledPlan,
+    },
+    /// Any orientation-error model over joint ranges, evaluated sample by sample.
+    Model {
+        model: Arc<dyn OrientationErrorModel + Send + Sync>,
+        joint_ranges_rad: Vec<[f64; 2]>,
+    },
+}
+
+impl std::fmt::Debug for Source {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Source::Table { turntable, .. } => f
+                .debug_struct("Table")
+                .field("turntable", turntable)
+                .finish_non_exhaustive(),
+            Source::Model {
+                joint_ranges_rad, ..
+            } => f
+                .debug_struct("Model")
+                .field("joint_ranges_rad", joint_ranges_rad)
+                .finish_non_exhaustive(),
+        }
+    }
+}
+
 /// A validated Monte Carlo verification of a tolerance box of a turntable (paper §4.3,
-/// Figure 9).
+/// Figure 9), or of any [`OrientationErrorModel`] ([`MonteCarlo::for_model`]).
 #[derive(Debug, Clone)]
 pub struct MonteCarlo {
-    turntable: Turntable,
+    source: Source,
     bounds: ErrorBox,
     config: McConfig,
     sampler: TurntableSampler,
-    plan: CompiledPlan,
     half_range_rad: [f64; 3],
     /// The requirement per axis, `+inf` for none.
     requirement_cmp_rad: [f64; 3],
@@ -175,38 +221,71 @@ impl MonteCarlo {
     /// [`McError::Kinematics`] if the default histogram range cannot be computed.
     pub fn new(turntable: &Turntable, bounds: ErrorBox, config: McConfig) -> Result<Self, McError> {
         check_fit(turntable, &bounds)?;
-        if config.samples == 0 {
-            return Err(McError::ZeroSamples);
-        }
-        if config.chunk_size == 0 {
-            return Err(McError::ZeroChunkSize);
-        }
-        if config.histogram_bins == 0 || config.histogram_bins > MAX_HISTOGRAM_BINS {
-            return Err(McError::HistogramBins {
-                bins: config.histogram_bins,
-                max: MAX_HISTOGRAM_BINS,
-            });
-        }
+        check_config(&config)?;
         let half_range_rad = match config.histogram_half_range_rad {
-            Some(h) => {
-                for axis in OrientationAxis::ALL {
-                    let value = h[axis.index()];
-                    let inv_width = config.histogram_bins as f64 / (2.0 * value);
-                    if !(value.is_finite() && value > 0.0 && inv_width.is_finite()) {
-                        return Err(McError::HistogramRange {
-                            axis: axis.name(),
-                            value,
-                        });
-                    }
-                }
-                h
-            }
+            Some(h) => h,
             None => Self::histogram_half_range_rad(turntable, &bounds)?,
         };
         Ok(Self {
             sampler: TurntableSampler::new(&bounds, turntable),
-            plan: CompiledPlan::new(turntable),
-            turntable: turntable.clone(),
+            source: Source::Table {
+                turntable: turntable.clone(),
+                plan: CompiledPlan::new(turntable),
+            },
+            bounds,
+            requirement_cmp_rad: config
+                .requirement
+                .to_array()
+                .map(|r| r.unwrap_or(f64::INFINITY)),
+            config,
+            half_range_rad,
+        })
+    }
+
+    /// A Monte Carlo of any orientation-error `model` (no turntable needed): the pose drawn
+    /// uniformly over `joint_ranges_rad` (one `[lo, hi]` per joint), $\chi$ in the box
+    /// `bounds` (its names are the model's errors, [`ErrorBox::with_names`]); running it
+    /// evaluates the model itself, sample by sample, on the same draws as a turntable's run.
+    ///
+    /// The default histogram half-range is estimated from the model's own first order
+    /// ([`OrientationErrorModel::first_order`]) on a grid of poses:
+    /// $H_k = (1 + 0.05)\max_{\phi}\sum_j \mathrm{UB}_j|c_{kj}(\phi)| + (e^S - 1 - S)$: an
+    /// estimate, not a proof, so a draw beyond it is counted in the histogram's overflow
+    /// (never lost); give [`McConfig::histogram_half_range_rad`] to fix it.
+    ///
+    /// # Errors
+    /// As [`MonteCarlo::new`] for the configuration; [`McError::Model`] (sample 0) when the
+    /// model rejects a pose of these ranges or a $\chi$ of the box's length;
+    /// [`McError::Kinematics`] naming `joint_ranges` for a non-finite or reversed range.
+    pub fn for_model<M: OrientationErrorModel + Send + Sync + 'static>(
+        model: M,
+        joint_ranges_rad: Vec<[f64; 2]>,
+        bounds: ErrorBox,
+        config: McConfig,
+    ) -> Result<Self, McError> {
+        check_config(&config)?;
+        for (j, &[lo, hi]) in joint_ranges_rad.iter().enumerate() {
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return Err(McError::Kinematics(
+                    tt_core::FieldError::OutOfRange {
+                        field: format!("joint_ranges[{j}]"),
+                        value: if lo.is_finite() { hi } else { lo },
+                        range: "finite, lower end at most the upper end".into(),
+                    }
+                    .into(),
+                ));
+            }
+        }
+        let half_range_rad = match config.histogram_half_range_rad {
+            Some(h) => h,
+            None => model_half_range_rad(&model, &joint_ranges_rad, &bounds)?,
+        };
+        Ok(Self {
+            sampler: TurntableSampler::for_joint_ranges(&bounds, &joint_ranges_rad),
+            source: Source::Model {
+                model: Arc::new(model),
+                joint_ranges_rad,
+            },
             bounds,
             requirement_cmp_rad: config
                 .requirement
@@ -277,10 +356,24 @@ impl MonteCarlo {
         Ok(h)
     }
 
-    /// The turntable.
+    /// The turntable, for a Monte Carlo of one (`None` for [`MonteCarlo::for_model`]).
     #[must_use]
-    pub fn turntable(&self) -> &Turntable {
-        &self.turntable
+    pub fn turntable(&self) -> Option<&Turntable> {
+        match &self.source {
+            Source::Table { turntable, .. } => Some(turntable),
+            Source::Model { .. } => None,
+        }
+    }
+
+    /// The joint ranges the poses are drawn over (rad).
+    #[must_use]
+    pub fn joint_ranges_rad(&self) -> Vec<[f64; 2]> {
+        match &self.source {
+            Source::Table { turntable, .. } => turntable.joint_ranges_rad(),
+            Source::Model {
+                joint_ranges_rad, ..
+            } => joint_ranges_rad.clone(),
+        }
     }
 
     /// The bounds.
@@ -398,18 +491,50 @@ impl MonteCarlo {
         }
     }
 
-    /// Run with the default evaluator: the exact chain with the eq-24 read-out, by the
-    /// turntable's compiled plan ([`crate::fast`]), on the current rayon thread pool and the
-    /// widest SIMD level of the CPU.
+    /// Run with the default evaluator: for a turntable the exact chain with the eq-24
+    /// read-out, by the turntable's compiled plan ([`crate::fast`]), on the current rayon
+    /// thread pool and the widest SIMD level of the CPU; for [`MonteCarlo::for_model`] the
+    /// model itself.
+    ///
+    /// # Panics
+    /// Only for [`MonteCarlo::for_model`], when the model fails on a drawn sample (use
+    /// [`MonteCarlo::try_run`] there); a turntable's run cannot fail.
     #[must_use]
     pub fn run(&self) -> McResult {
         self.run_with_progress(&|_| {})
     }
 
     /// [`MonteCarlo::run`], calling `progress(samples_done)` after each batch of chunks.
+    ///
+    /// # Panics
+    /// As [`MonteCarlo::run`].
     #[must_use]
     pub fn run_with_progress(&self, progress: &(dyn Fn(u64) + Sync)) -> McResult {
-        self.run_fast(SimdLevel::detected(), progress)
+        self.try_run_with_progress(progress)
+            .unwrap_or_else(|e| panic!("mc-verify: the model failed (use try_run): {e}"))
+    }
+
+    /// [`MonteCarlo::run`] returning the model's failure as an error.
+    ///
+    /// # Errors
+    /// [`McError::Model`] or [`McError::NonFiniteModelOutput`] naming the first failing
+    /// sample of a model's run.
+    pub fn try_run(&self) -> Result<McResult, McError> {
+        self.try_run_with_progress(&|_| {})
+    }
+
+    /// [`MonteCarlo::try_run`] with a progress callback.
+    ///
+    /// # Errors
+    /// As [`MonteCarlo::try_run`].
+    pub fn try_run_with_progress(
+        &self,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<McResult, McError> {
+        match &self.source {
+            Source::Table { .. } => Ok(self.run_fast(SimdLevel::detected(), progress)),
+            Source::Model { model, .. } => self.run_model_with_progress(model.as_ref(), progress),
+        }
     }
 
     /// [`MonteCarlo::run`] with the hot loop compiled for `level` instead of the widest level
@@ -419,7 +544,11 @@ impl MonteCarlo {
     /// # Errors
     /// [`McError::SimdUnavailable`] if the CPU lacks `level`.
     pub fn run_with_simd(&self, level: SimdLevel) -> Result<McResult, McError> {
-        Ok(self.run_fast(level.check()?, &|_| {}))
+        let level = level.check()?;
+        match &self.source {
+            Source::Table { .. } => Ok(self.run_fast(level, &|_| {})),
+            Source::Model { .. } => self.try_run(),
+        }
     }
 
     fn run_fast(&self, level: SimdLevel, progress: &(dyn Fn(u64) + Sync)) -> McResult {
@@ -428,16 +557,20 @@ impl MonteCarlo {
             level,
             progress,
         })
+        .unwrap_or_else(|| unreachable!("run_fast is called for a turntable's run only"))
     }
 
     /// Call `user` with the plan kernel of this run's tier.
-    fn with_plan_kernel<U: KernelUser>(&self, user: U) -> U::Output {
-        let (plan, sampler) = (&self.plan, &self.sampler);
+    fn with_plan_kernel<U: KernelUser>(&self, user: U) -> Option<U::Output> {
+        let Source::Table { plan, .. } = &self.source else {
+            return None;
+        };
+        let sampler = &self.sampler;
         match self.tier() {
-            Tier::Tangent => user.with(&PlanKernel::<TIER_TANGENT>::new(plan, sampler)),
-            Tier::Short => user.with(&PlanKernel::<TIER_SHORT>::new(plan, sampler)),
-            Tier::Medium => user.with(&PlanKernel::<TIER_MEDIUM>::new(plan, sampler)),
-            Tier::Any => user.with(&PlanKernel::<TIER_ANY>::new(plan, sampler)),
+            Tier::Tangent => Some(user.with(&PlanKernel::<TIER_TANGENT>::new(plan, sampler))),
+            Tier::Short => Some(user.with(&PlanKernel::<TIER_SHORT>::new(plan, sampler))),
+            Tier::Medium => Some(user.with(&PlanKernel::<TIER_MEDIUM>::new(plan, sampler))),
+            Tier::Any => Some(user.with(&PlanKernel::<TIER_ANY>::new(plan, sampler))),
         }
     }
 
@@ -467,13 +600,16 @@ impl MonteCarlo {
 
     /// The values $(\Delta\psi, \Delta\theta, \Delta\gamma)$ (rad) that [`MonteCarlo::run`]
     /// computes for every sample of chunk `chunk`, in sample order (a run never stores them;
-    /// this is for checks and for inspecting a chunk). Empty for a chunk past the end.
+    /// this is for checks and for inspecting a chunk). Empty for a chunk past the end, and
+    /// for a Monte Carlo of a model ([`MonteCarlo::for_model`]), whose values come from the
+    /// model's own evaluation in [`MonteCarlo::try_run`].
     #[must_use]
     pub fn chunk_values_rad(&self, chunk: u64) -> Vec<[f64; 3]> {
         if chunk >= self.chunks() {
             return Vec::new();
         }
         self.with_plan_kernel(ChunkValues { mc: self, chunk })
+            .unwrap_or_default()
     }
 
     /// Run with any orientation-error model (for example the plain dense-matrix
@@ -484,7 +620,7 @@ impl MonteCarlo {
     /// # Errors
     /// [`McError::Model`] if the model returns an error, [`McError::NonFiniteModelOutput`]
     /// if it returns a non-finite angle, each naming the first such sample (and the axis).
-    pub fn run_model<M: OrientationErrorModel + Sync>(
+    pub fn run_model<M: OrientationErrorModel + Sync + ?Sized>(
         &self,
         model: &M,
     ) -> Result<McResult, McError> {
@@ -495,7 +631,7 @@ impl MonteCarlo {
     ///
     /// # Errors
     /// As [`MonteCarlo::run_model`].
-    pub fn run_model_with_progress<M: OrientationErrorModel + Sync>(
+    pub fn run_model_with_progress<M: OrientationErrorModel + Sync + ?Sized>(
         &self,
         model: &M,
         progress: &(dyn Fn(u64) + Sync),
@@ -544,7 +680,7 @@ impl MonteCarlo {
         drawn
     }
 
-    fn model_chunk<M: OrientationErrorModel + Sync>(
+    fn model_chunk<M: OrientationErrorModel + Sync + ?Sized>(
         &self,
         model: &M,
         chunk: u64,
@@ -555,7 +691,10 @@ impl MonteCarlo {
         let mut out = Box::new([[0.0; BLOCK_CAPACITY]; 3]);
         let first = chunk * u64::from(self.config.chunk_size);
         let len = self.chunk_len(chunk);
-        let n_translations = self.turntable.n_translation_errors();
+        let n_translations = match &self.source {
+            Source::Table { turntable, .. } => turntable.n_translation_errors(),
+            Source::Model { model, .. } => model.n_translation_errors(),
+        };
         let mut done = 0;
         while done < len {
             let n = (len - done).min(BLOCK_CAPACITY);
@@ -591,6 +730,86 @@ impl MonteCarlo {
         }
         Ok(part)
     }
+}
+
+/// Check a configuration: samples, chunk size, histogram bins and range.
+fn check_config(config: &McConfig) -> Result<(), McError> {
+    if config.samples == 0 {
+        return Err(McError::ZeroSamples);
+    }
+    if config.chunk_size == 0 {
+        return Err(McError::ZeroChunkSize);
+    }
+    if config.histogram_bins == 0 || config.histogram_bins > MAX_HISTOGRAM_BINS {
+        return Err(McError::HistogramBins {
+            bins: config.histogram_bins,
+            max: MAX_HISTOGRAM_BINS,
+        });
+    }
+    if let Some(h) = config.histogram_half_range_rad {
+        for axis in OrientationAxis::ALL {
+            let value = h[axis.index()];
+            let inv_width = config.histogram_bins as f64 / (2.0 * value);
+            if !(value.is_finite() && value > 0.0 && inv_width.is_finite()) {
+                return Err(McError::HistogramRange {
+                    axis: axis.name(),
+                    value,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The default histogram half-range of a model ([`MonteCarlo::for_model`]): its own first
+/// order on a grid of poses, plus the remainder bound, with a margin.
+fn model_half_range_rad<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    joint_ranges_rad: &[[f64; 2]],
+    bounds: &ErrorBox,
+) -> Result<[f64; 3], McError> {
+    let ub = bounds.ub_rad();
+    let s = bounds.sum_ub_rad();
+    let remainder = (s.exp_m1() - s).max(READOUT_ROUNDING_RAD);
+    let joints = joint_ranges_rad.len();
+    let mut per = MODEL_RANGE_POINTS_PER_JOINT;
+    while joints > 0 && per > 2 && per.pow(joints as u32) > MODEL_RANGE_MAX_POSES {
+        per -= 1;
+    }
+    let total = if joints == 0 {
+        1
+    } else {
+        per.pow(joints as u32)
+    };
+    let zero = TurntableErrors::zero(ub.len(), model.n_translation_errors());
+    let mut first = [0.0_f64; 3];
+    for cell in 0..total {
+        let mut rest = cell;
+        let pose: Vec<f64> = joint_ranges_rad
+            .iter()
+            .map(|&[lo, hi]| {
+                let i = rest % per;
+                rest /= per;
+                lo + (hi - lo) * i as f64 / (per - 1).max(1) as f64
+            })
+            .collect();
+        let pose = Pose::new(pose).map_err(|e| McError::Kinematics(e.into()))?;
+        let c = model
+            .first_order(&pose, &zero)
+            .map_err(|source| McError::Model { sample: 0, source })?;
+        for (k, f) in first.iter_mut().enumerate() {
+            let v: f64 = (0..ub.len()).map(|j| ub[j] * c[(k, j)].abs()).sum();
+            *f = f.max(v);
+        }
+    }
+    Ok(first.map(|f| {
+        let h = ((1.0 + MODEL_RANGE_MARGIN) * f + remainder).min(READOUT_ABS_CAP);
+        if h.is_finite() && h > 0.0 {
+            h
+        } else {
+            READOUT_ABS_CAP
+        }
+    }))
 }
 
 /// [`McError::BoundsForAnotherTurntable`] unless the box's error names are the turntable's.

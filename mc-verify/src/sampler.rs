@@ -184,6 +184,13 @@ impl TurntableSampler {
     /// checks that the box belongs to the turntable) and one per joint.
     #[must_use]
     pub fn new(bounds: &ErrorBox, turntable: &Turntable) -> Self {
+        Self::for_joint_ranges(bounds, &turntable.joint_ranges_rad())
+    }
+
+    /// The sampler of a box over any joint ranges (rad, one `[lo, hi]` per joint): what
+    /// [`crate::MonteCarlo::for_model`] draws.
+    #[must_use]
+    pub fn for_joint_ranges(bounds: &ErrorBox, joint_ranges_rad: &[[f64; 2]]) -> Self {
         let (lb, ub) = (bounds.lb_rad(), bounds.ub_rad());
         Self {
             scale_rad: lb
@@ -192,9 +199,9 @@ impl TurntableSampler {
                 .map(|(l, u)| (u - l) * TWO_POW_M31)
                 .collect(),
             lb_rad: lb.to_vec(),
-            joints: turntable
-                .joint_ranges_rad()
-                .into_iter()
+            joints: joint_ranges_rad
+                .iter()
+                .copied()
                 .map(JointLaw::new)
                 .collect(),
         }

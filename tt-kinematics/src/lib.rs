@@ -60,6 +60,7 @@
 //! Y. Zhao, H. Zhao, X. Huo, Y. Yao, "Error Analysis and Error Allocation for Turntable Systems
 //! Used in GyroWheel Calibration Tests", Int. J. Aerospace Eng. 2017, 6524782,
 //! doi:10.1155/2017/6524782.
+#![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 
 #[cfg(feature = "conformance")]
@@ -81,7 +82,10 @@ pub use linear::{
     AVERAGE_GRID_POINTS, CERTIFY_MAX_EVALUATIONS, CERTIFY_REL_GAP, LinearModel, POSE_GRID_POINTS,
     POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum, mean_abs_harmonic,
 };
-pub use model::{ExactChain, LinearChain, OrientationErrorModel, ReadOut, SmallAngleChain};
+pub use model::{
+    AtPoses, ExactChain, FIRST_ORDER_STEP_RAD, LinearChain, OrientationErrorModel, ReadOut,
+    ScheduleErrorModel, SmallAngleChain,
+};
 pub use pose::TurntableErrors;
 /// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.
 pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};

@@ -5,7 +5,13 @@ use crate::linear::LinearModel;
 use crate::pose::TurntableErrors;
 use crate::rotation::rotation_vector;
 use crate::turntable::{ChainKind, Turntable};
-use tt_core::{OrientationError, Pose};
+use nalgebra::{DMatrix, Matrix3};
+use tt_core::{DeltaRKind, OrientationError, Pose};
+
+/// Step (rad) of the central differences of [`OrientationErrorModel::first_order`]'s default:
+/// the truncation error of a smooth model is $O(h^2) \approx 10^{-12}$ relative, the
+/// rounding $\epsilon/h \approx 2\cdot10^{-10}$ relative to the coefficients (of order 1).
+pub const FIRST_ORDER_STEP_RAD: f64 = 1e-6;
 
 /// Maps a turntable pose and its geometric errors to the orientation error of the platform.
 ///
@@ -34,6 +40,206 @@ pub trait OrientationErrorModel {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError>;
+
+    /// Number of translation errors the model's [`TurntableErrors`] carry (0 by default; a
+    /// described turntable's chains return the turntable's).
+    fn n_translation_errors(&self) -> usize {
+        0
+    }
+
+    /// $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ (eq 23) at `pose` for `errors`. Default:
+    /// the rotation of [`OrientationErrorModel::orientation_error`]'s angles read as a
+    /// rotation vector ([`DeltaRKind::Exact`]), equal to the model's own $\Delta\mathbf R$ to
+    /// first order; [`ExactChain`] returns its exact matrix.
+    ///
+    /// # Errors
+    /// As [`OrientationErrorModel::orientation_error`].
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        Ok(self
+            .orientation_error(pose, errors)?
+            .delta_r(DeltaRKind::Exact))
+    }
+
+    /// The $3 \times n$ first-order coefficients $\partial(\Delta\psi, \Delta\theta,
+    /// \Delta\gamma)/\partial\chi_j$ at $\chi = 0$ and `pose` (rows $\psi, \theta, \gamma$), for
+    /// errors shaped as `zero` (its values are ignored: the derivative is taken at zero).
+    /// Default: central differences with step [`FIRST_ORDER_STEP_RAD`]; a model that knows its
+    /// coefficients returns them (the conformance suite checks the model against this).
+    ///
+    /// # Errors
+    /// As [`OrientationErrorModel::orientation_error`].
+    fn first_order(
+        &self,
+        pose: &Pose,
+        zero: &TurntableErrors,
+    ) -> Result<DMatrix<f64>, KinematicsError> {
+        let n = zero.chi_rad().len();
+        let base = TurntableErrors::zero(n, zero.translations_m().len());
+        let h = FIRST_ORDER_STEP_RAD;
+        let mut out = DMatrix::zeros(3, n);
+        for j in 0..n {
+            let plus = self
+                .orientation_error(pose, &base.clone().with_chi(j, h)?)?
+                .to_array();
+            let minus = self
+                .orientation_error(pose, &base.clone().with_chi(j, -h)?)?
+                .to_array();
+            for k in 0..3 {
+                out[(k, j)] = (plus[k] - minus[k]) / (2.0 * h);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A schedule-bound model: an error vector $\chi$ to $\Delta\mathbf R_i$ at each position
+/// $i$ of a calibration schedule (what the end-to-end analysis needs). [`AtPoses`] makes one of
+/// any [`OrientationErrorModel`] at a list of poses.
+pub trait ScheduleErrorModel {
+    /// Number of errors $\chi_j$.
+    fn n_errors(&self) -> usize;
+    /// Number of positions.
+    fn n_positions(&self) -> usize;
+    /// $\Delta\mathbf R_i$ of every position into `out` (one per position).
+    ///
+    /// # Errors
+    /// [`KinematicsError`] for $\chi$ or `out` of the wrong length or a failing model.
+    fn delta_r_into(
+        &self,
+        chi_rad: &[f64],
+        out: &mut [Matrix3<f64>],
+    ) -> Result<(), KinematicsError>;
+    /// The errors' names (lower case, as every name of the workspace); default `chi0`, `chi1`...
+    fn error_names(&self) -> Vec<String> {
+        (0..self.n_errors()).map(|j| format!("chi{j}")).collect()
+    }
+    /// The $3\times n$ first-order coefficients (rows $\psi, \theta, \gamma$) at `position`;
+    /// default: central differences of [`ScheduleErrorModel::delta_r_into`] read by eq 24.
+    ///
+    /// # Errors
+    /// As [`ScheduleErrorModel::delta_r_into`].
+    fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
+        let n = self.n_errors();
+        let h = FIRST_ORDER_STEP_RAD;
+        let mut plus = vec![Matrix3::identity(); self.n_positions()];
+        let mut minus = plus.clone();
+        let mut out = DMatrix::zeros(3, n);
+        let mut chi = vec![0.0; n];
+        for j in 0..n {
+            chi[j] = h;
+            self.delta_r_into(&chi, &mut plus)?;
+            chi[j] = -h;
+            self.delta_r_into(&chi, &mut minus)?;
+            chi[j] = 0.0;
+            let p = OrientationError::from_matrix_elements(&plus[position]).to_array();
+            let m = OrientationError::from_matrix_elements(&minus[position]).to_array();
+            for k in 0..3 {
+                out[(k, j)] = (p[k] - m[k]) / (2.0 * h);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Any [`OrientationErrorModel`] at a list of poses, as a [`ScheduleErrorModel`]: position $i$
+/// is pose $i$, translation errors (if the model has any) are zero.
+///
+/// # Example
+/// ```
+/// use tt_kinematics::{paper, AtPoses, ExactChain, Pose, ScheduleErrorModel};
+/// let table = paper::table3();
+/// let poses = vec![Pose::from_deg(&[0.0, 0.0])?, Pose::from_deg(&[90.0, 45.0])?];
+/// let names = table.rotation_error_names().iter().map(|n| n.to_string()).collect();
+/// let s = AtPoses::new(ExactChain::new(&table), poses, names, 1);
+/// let mut dr = vec![nalgebra::Matrix3::identity(); 2];
+/// s.delta_r_into(&[0.0; 8], &mut dr)?;
+/// assert_eq!(dr[1], nalgebra::Matrix3::identity());
+/// # Ok::<(), tt_kinematics::KinematicsError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct AtPoses<M> {
+    model: M,
+    poses: Vec<Pose>,
+    names: Vec<String>,
+    n_translations: usize,
+}
+
+impl<M: OrientationErrorModel> AtPoses<M> {
+    /// `model` at `poses`, with its errors called `error_names` (their number is the model's
+    /// error count) and `n_translations` translation errors held at zero.
+    #[must_use]
+    pub fn new(
+        model: M,
+        poses: Vec<Pose>,
+        error_names: Vec<String>,
+        n_translations: usize,
+    ) -> Self {
+        Self {
+            model,
+            poses,
+            names: error_names,
+            n_translations,
+        }
+    }
+
+    /// The model.
+    #[must_use]
+    pub fn model(&self) -> &M {
+        &self.model
+    }
+
+    /// The poses.
+    #[must_use]
+    pub fn poses(&self) -> &[Pose] {
+        &self.poses
+    }
+
+    fn errors(&self, chi_rad: &[f64]) -> Result<TurntableErrors, KinematicsError> {
+        tt_core::length("chi", self.names.len(), chi_rad.len())?;
+        TurntableErrors::new(chi_rad.to_vec(), vec![0.0; self.n_translations])
+    }
+}
+
+impl<M: OrientationErrorModel> ScheduleErrorModel for AtPoses<M> {
+    fn n_errors(&self) -> usize {
+        self.names.len()
+    }
+    fn n_positions(&self) -> usize {
+        self.poses.len()
+    }
+    fn delta_r_into(
+        &self,
+        chi_rad: &[f64],
+        out: &mut [Matrix3<f64>],
+    ) -> Result<(), KinematicsError> {
+        tt_core::length("delta_r", self.poses.len(), out.len())?;
+        let errors = self.errors(chi_rad)?;
+        for (o, p) in out.iter_mut().zip(&self.poses) {
+            *o = self.model.delta_r(p, &errors)?;
+        }
+        Ok(())
+    }
+    fn error_names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+    fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
+        let pose = self
+            .poses
+            .get(position)
+            .ok_or_else(|| tt_core::FieldError::OutOfRange {
+                field: "position".into(),
+                value: position as f64,
+                range: format!("0..{}", self.poses.len()),
+            })?;
+        self.model.first_order(
+            pose,
+            &TurntableErrors::zero(self.names.len(), self.n_translations),
+        )
+    }
 }
 
 /// How the exact chain turns $\Delta\mathbf R$ into three angles (NOTES item 7).
@@ -75,6 +281,31 @@ impl ExactChain {
 }
 
 impl OrientationErrorModel for ExactChain {
+    fn n_translation_errors(&self) -> usize {
+        self.turntable.n_translation_errors()
+    }
+
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        self.turntable.delta_r(pose, errors, ChainKind::Exact)
+    }
+
+    fn first_order(
+        &self,
+        pose: &Pose,
+        zero: &TurntableErrors,
+    ) -> Result<DMatrix<f64>, KinematicsError> {
+        tt_core::length(
+            "chi",
+            self.turntable.n_rotation_errors(),
+            zero.chi_rad().len(),
+        )?;
+        LinearModel::new(&self.turntable).coefficients(pose)
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -114,6 +345,10 @@ impl SmallAngleChain {
 }
 
 impl OrientationErrorModel for SmallAngleChain {
+    fn n_translation_errors(&self) -> usize {
+        self.turntable.n_translation_errors()
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -144,6 +379,19 @@ impl LinearChain {
 }
 
 impl OrientationErrorModel for LinearChain {
+    fn n_translation_errors(&self) -> usize {
+        self.model.turntable().n_translation_errors()
+    }
+
+    fn first_order(
+        &self,
+        pose: &Pose,
+        zero: &TurntableErrors,
+    ) -> Result<DMatrix<f64>, KinematicsError> {
+        tt_core::length("chi", self.model.n_errors(), zero.chi_rad().len())?;
+        self.model.coefficients(pose)
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,

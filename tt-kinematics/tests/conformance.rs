@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use tt_kinematics::conformance::{Tolerances, cases, check_model};
+use tt_kinematics::conformance::{Tolerances, cases, cases_in, check_model, check_model_general};
 use tt_kinematics::paper::ClosedForm;
 use tt_kinematics::{
     ExactChain, KinematicsError, LinearChain, OrientationError, OrientationErrorModel, Pose,
@@ -94,4 +94,113 @@ fn the_suite_rejects_wrong_models() {
     let t = three_axis();
     let f = check_model(&ClosedForm, &t, &cases(&t, 3, 1e-4), &Tolerances::default()).unwrap_err();
     assert_eq!(f.check, "evaluation", "{f}");
+}
+
+/// A correct model whose declared first-order coefficients are doubled: the general suite,
+/// which compares a model with its OWN `first_order` (no turntable involved), rejects it.
+struct DoubledCoefficients(ExactChain);
+
+impl OrientationErrorModel for DoubledCoefficients {
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        self.0.orientation_error(pose, errors)
+    }
+    fn first_order(
+        &self,
+        pose: &Pose,
+        zero: &TurntableErrors,
+    ) -> Result<nalgebra::DMatrix<f64>, KinematicsError> {
+        Ok(self.0.first_order(pose, zero)? * 2.0)
+    }
+}
+
+#[test]
+fn the_general_suite_checks_a_model_against_its_own_first_order() {
+    for t in [table3(), three_axis()] {
+        let zero = t.zero_errors();
+        let c = cases_in(
+            &t.joint_ranges_rad(),
+            t.n_rotation_errors(),
+            t.n_translation_errors(),
+            50,
+            MAX_ERROR_RAD,
+        );
+        check_model_general(&ExactChain::new(&t), &zero, &c, &Tolerances::default())
+            .unwrap_or_else(|f| panic!("{f}"));
+        // the default (central differences) first order of the small-angle chain passes too
+        check_model_general(&SmallAngleChain::new(&t), &zero, &c, &Tolerances::default())
+            .unwrap_or_else(|f| panic!("{f}"));
+        let f = check_model_general(
+            &DoubledCoefficients(ExactChain::new(&t)),
+            &zero,
+            &c,
+            &Tolerances::default(),
+        )
+        .unwrap_err();
+        assert_eq!(f.check, "first-order", "{f}");
+    }
+}
+
+/// Central differences with h = 1e-6 rad: truncation O(h^2) ~ 1e-12 and rounding ~ eps/h
+/// ~ 2e-10 per unit coefficient; 1e-8 bounds both with room.
+const CENTRAL_DIFFERENCE_TOL: f64 = 1e-8;
+
+#[test]
+fn the_default_first_order_equals_the_linear_model_coefficients() {
+    for t in [table3(), three_axis()] {
+        let zero = t.zero_errors();
+        for case in cases(&t, 10, MAX_ERROR_RAD) {
+            let analytic = ExactChain::new(&t).first_order(&case.pose, &zero).unwrap();
+            let numeric = SmallAngleChain::new(&t)
+                .first_order(&case.pose, &zero)
+                .unwrap();
+            assert_eq!(analytic.shape(), (3, t.n_rotation_errors()));
+            for (a, b) in analytic.iter().zip(numeric.iter()) {
+                approx::assert_abs_diff_eq!(a, b, epsilon = CENTRAL_DIFFERENCE_TOL);
+            }
+        }
+    }
+}
+
+#[test]
+fn at_poses_gives_the_models_delta_r_and_first_order_at_each_position() {
+    use tt_kinematics::{AtPoses, ScheduleErrorModel};
+    let t = three_axis();
+    let c = cases(&t, 4, MAX_ERROR_RAD);
+    let poses: Vec<Pose> = c.iter().map(|k| k.pose.clone()).collect();
+    let names: Vec<String> = t
+        .rotation_error_names()
+        .iter()
+        .map(|n| n.to_string())
+        .collect();
+    let s = AtPoses::new(
+        ExactChain::new(&t),
+        poses.clone(),
+        names.clone(),
+        t.n_translation_errors(),
+    );
+    assert_eq!(s.n_positions(), 4);
+    assert_eq!(s.error_names(), names);
+    let chi = c[0].errors.chi_rad().to_vec();
+    let mut dr = vec![nalgebra::Matrix3::identity(); 4];
+    s.delta_r_into(&chi, &mut dr).unwrap();
+    let errors = TurntableErrors::new(chi.clone(), vec![0.0; t.n_translation_errors()]).unwrap();
+    for (i, p) in poses.iter().enumerate() {
+        let want = t
+            .delta_r(p, &errors, tt_kinematics::ChainKind::Exact)
+            .unwrap();
+        assert_eq!(dr[i], want);
+        // AtPoses's first order is the model's own (here the turntable's coefficients)
+        let own = s.first_order(i).unwrap();
+        let lm = tt_kinematics::LinearModel::new(&t).coefficients(p).unwrap();
+        for (a, b) in own.iter().zip(lm.iter()) {
+            approx::assert_abs_diff_eq!(a, b, epsilon = CENTRAL_DIFFERENCE_TOL);
+        }
+    }
+    // wrong lengths are typed errors naming the field
+    let e = s.delta_r_into(&chi[1..], &mut dr).unwrap_err();
+    assert!(e.to_string().contains("chi"), "{e}");
 }

@@ -133,7 +133,7 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
         let t = alloc_opt::paper::table4_rad();
         let cert = Certificate::compute(
             problem.model(),
-            &problem.requirement(),
+            problem.limits(),
             problem.lower_bounds_rad(),
             &t,
         )

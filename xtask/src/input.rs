@@ -184,7 +184,7 @@ fn in_user_units(e: &dyn Any, s: &Study, box_name: &str) -> Option<InputError> {
             &s.lower_bounds_rad,
             &s.turntable.rotation_error_names(),
             components,
-            problem.name(),
+            problem,
             *worst_case_rad,
             *requirement_rad,
         ));

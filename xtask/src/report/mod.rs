@@ -159,7 +159,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                 "bounds_arcmin": arcmin_map(&names, &t.ours.upper_bounds_rad),
                 "objective_arcmin": f(t.ours.objective_arcmin()),
                 "certificate": t.ours.certificate.axes.iter().map(|a| json!({
-                    "angle": a.axis.name(),
+                    "angle": a.name,
                     "worst_case_deg": f(rad_to_deg(a.worst_case_rad)),
                     "proven_bound_deg": f(rad_to_deg(a.upper_bound_rad)),
                     "share": a.share.map(f),
@@ -334,7 +334,7 @@ fn render(c: &Computed) -> Result<Rendered> {
             let t4 = alloc_opt::paper::table4_rad();
             let cert = alloc_opt::Certificate::compute(
                 t.problem.model(),
-                &t.problem.requirement(),
+                t.problem.limits(),
                 t.problem.lower_bounds_rad(),
                 &t4,
             )

@@ -75,7 +75,7 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
         let t4 = alloc_opt::paper::table4_rad();
         let used = alloc_opt::Certificate::compute(
             t.problem.model(),
-            &t.problem.requirement(),
+            t.problem.limits(),
             t.problem.lower_bounds_rad(),
             &t4,
         )

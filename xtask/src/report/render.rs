@@ -1033,14 +1033,14 @@ impl<'a> Sections<'a> {
         }
         let jn = c.study.turntable.joint_names();
         let mut rows = Vec::new();
-        let shares = |s: &[Option<f64>; 3]| {
+        let shares = |s: &[Option<f64>]| {
             (0..3)
                 .map(|k| s[k].map_or("-".into(), pct))
                 .collect::<Vec<_>>()
                 .join(" / ")
         };
         for a in &t.ours.certificate.axes {
-            let k = a.axis.index();
+            let k = a.quantity;
             rows.push(vec![
                 d(k),
                 a.requirement_rad
