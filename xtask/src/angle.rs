@@ -213,7 +213,7 @@ pub fn text(
         let models: Vec<&ErrorVariation> = g.errors.iter().map(|&i| &model.variations[i]).collect();
         if g.errors.len() > 1 && models.iter().any(|m| *m != models[0]) {
             s.push_str(&format!(
-                "    {} act as one rotation when the errors are constant; with the shaft-angle dependence they are distinct ({})\n",
+                "    {}: one rotation when the errors are constant, distinct once they vary with the shaft angle ({})\n",
                 g.names(&names).join(" and "),
                 g.errors
                     .iter()

@@ -100,7 +100,7 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
         "--samples",
         "1500",
     ]));
-    assert!(text.contains("dphi_o and deps_om_z act as one rotation when the errors are constant; with the shaft-angle dependence they are distinct"), "{text}");
+    assert!(text.contains("dphi_o and deps_om_z: one rotation when the errors are constant, distinct once they vary with the shaft angle"), "{text}");
     let dir = scratch("angle", "vendor");
     let bad = write(
         &dir,
