@@ -399,6 +399,23 @@ impl EndToEnd {
         linear: &Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<DirectAllocation, E2eError> {
+        self.allocate_direct_certified_keeping(
+            linear,
+            lower_bounds_rad,
+            &vec![0.0; self.n_outputs()],
+        )
+    }
+
+    /// [`EndToEnd::allocate_direct_certified`] keeping `extra[k]` (output unit) of each
+    /// accuracy free besides the second-order bound (the noise part of
+    /// [`EndToEnd::allocate_direct_with_noise_certified`]): every turntable of the returned box
+    /// has an exact-chain error within $\omega_{m,k} - \mathrm{extra}_k$.
+    pub(crate) fn allocate_direct_certified_keeping(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        extra: &[f64],
+    ) -> Result<DirectAllocation, E2eError> {
         let acc = self.accuracies();
         let n = self.len();
         let taus = |s: f64| -> Result<Vec<f64>, E2eError> {
@@ -411,7 +428,7 @@ impl EndToEnd {
                 })
                 .collect()
         };
-        let plain = self.allocate_direct(linear, lower_bounds_rad)?;
+        let plain = self.allocate_direct_with_margins(linear, lower_bounds_rad, extra, None)?;
         let l1 = |ub: &[f64]| -> f64 { ub.iter().filter(|u| u.is_finite()).sum() };
         let admissible = |t: &[f64]| {
             t.iter()
@@ -446,7 +463,7 @@ impl EndToEnd {
                 change: s_hi,
             });
         }
-        let room = |k: usize| acc[k] * (1.0 - CERTIFY_ROUND_TRIP_REL);
+        let room = |k: usize| acc[k] * (1.0 - CERTIFY_ROUND_TRIP_REL) - extra[k];
         let certified = |d: &DirectAllocation| -> Result<bool, E2eError> {
             let tau = taus(l1(&d.upper_bounds_rad))?;
             let rows = linear.row_worst_cases(&d.upper_bounds_rad);
@@ -456,7 +473,8 @@ impl EndToEnd {
             let margins: Vec<f64> = taus(s)?
                 .iter()
                 .zip(&acc)
-                .map(|(t, a)| t + a * CERTIFY_ROUND_TRIP_REL)
+                .zip(extra)
+                .map(|((t, a), e)| t + a * CERTIFY_ROUND_TRIP_REL + e)
                 .collect();
             if margins.iter().zip(&acc).any(|(t, a)| t >= a) {
                 return Ok(None);

@@ -628,6 +628,38 @@ impl EndToEnd {
         )?))
     }
 
+    /// [`EndToEnd::allocate_direct_with_noise`] certified on the exact chain where the reading
+    /// has a derived second-order bound ([`EndToEnd::allocate_direct_certified`] with the
+    /// noise part kept free as well): every turntable of the box then has an exact-chain
+    /// error within $\omega_{m,k} - \kappa\sigma_k$, so the box meets its own combined
+    /// verdict. Where the reading has no derived bound, or no $\ell_1$ budget leaves room for
+    /// it beside the noise, the first-order allocation is returned (its combined verdict,
+    /// computed from its certified worst case, says whether it meets).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct_with_noise`].
+    pub fn allocate_direct_with_noise_certified(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        budget: &NoiseBudget,
+        k_sigma: f64,
+    ) -> Result<NoisyAllocation, E2eError> {
+        let first_order =
+            self.allocate_direct_with_noise(linear, lower_bounds_rad, budget, k_sigma)?;
+        if first_order.is_err() {
+            return Ok(first_order);
+        }
+        let margins = budget.margins(k_sigma);
+        match self.allocate_direct_certified_keeping(linear, lower_bounds_rad, &margins) {
+            Ok(d) => Ok(Ok(d)),
+            Err(E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. }) => {
+                Ok(first_order)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// The answer of one reading for both error sources: every box of `r` combined with the
     /// noise (with its combined yield), and the direct allocation with the noise part kept
     /// free.
@@ -656,25 +688,29 @@ impl EndToEnd {
                 settings,
             )?);
         }
-        let direct =
-            match self.allocate_direct_with_noise(&linear, lower_bounds_rad, budget, k_sigma)? {
-                Ok(allocation) => {
-                    let answer = self.combined_box(
-                        "direct with noise",
-                        &linear,
-                        &allocation.upper_bounds_rad,
-                        lower_bounds_rad,
-                        budget,
-                        k_sigma,
-                        settings,
-                    )?;
-                    NoisyDirect::Allocated {
-                        allocation: Box::new(allocation),
-                        answer,
-                    }
+        let direct = match self.allocate_direct_with_noise_certified(
+            &linear,
+            lower_bounds_rad,
+            budget,
+            k_sigma,
+        )? {
+            Ok(allocation) => {
+                let answer = self.combined_box(
+                    "direct with noise",
+                    &linear,
+                    &allocation.upper_bounds_rad,
+                    lower_bounds_rad,
+                    budget,
+                    k_sigma,
+                    settings,
+                )?;
+                NoisyDirect::Allocated {
+                    allocation: Box::new(allocation),
+                    answer,
                 }
-                Err(outputs) => NoisyDirect::NoTableSuffices { outputs },
-            };
+            }
+            Err(outputs) => NoisyDirect::NoTableSuffices { outputs },
+        };
         Ok(NoiseAnswer {
             k_sigma,
             sigma: budget.sigma(),
