@@ -224,3 +224,33 @@ fn three_axis_and_imu_examples_design_within_the_bound_and_no_worse_than_their_s
         assert_eq!(v["search"]["local_optimum"], Value::Bool(true), "{study}");
     }
 }
+
+/// With noise in the study, design-schedule says that its schedules are designed and compared
+/// for the table's part alone (text and JSON `noise_note`), instead of implying an answer for
+/// both error sources; a study without noise has no such key.
+#[test]
+fn design_schedule_says_when_the_noise_is_not_counted() {
+    let noisy = xtask(&[
+        "design-schedule",
+        "--study",
+        "studies/gyrowheel-2017-noise-assumed.toml",
+        "--step-deg",
+        "45",
+        "--json",
+    ]);
+    let v = json_of(&noisy);
+    let note = v["noise_note"].as_str().expect("a note with noise");
+    assert!(note.contains("table's part alone"), "{note}");
+    let text = xtask(&[
+        "design-schedule",
+        "--study",
+        "studies/gyrowheel-2017-noise-assumed.toml",
+        "--step-deg",
+        "45",
+    ]);
+    assert!(text.status.success());
+    let out = String::from_utf8(text.stdout).unwrap();
+    assert!(out.contains("note: the study gives noise"), "{out}");
+    let quiet = json_of(&xtask(&["design-schedule", "--step-deg", "45", "--json"]));
+    assert!(quiet.get("noise_note").is_none());
+}
