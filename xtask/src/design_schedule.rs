@@ -28,6 +28,7 @@ use e2e_verify::design::{
     DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, DesignInputs, DesignSettings, ScheduleDesign,
     ScheduleReport, StartKind, coarse_levels, design_on_grid,
 };
+use e2e_verify::noise::DEFAULT_K_SIGMA;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{Map, Value, json};
 use std::io::IsTerminal;
@@ -88,6 +89,8 @@ fn progress_bar(units: u64) -> Option<ProgressBar> {
 /// Everything the command prints, computed.
 struct Outcome {
     design: ScheduleDesign,
+    /// With noise and a timing in the study: both schedules answered for both error sources.
+    combined: Option<CombinedChoice>,
     settings: DesignSettings,
     candidates: usize,
     step_deg: f64,
@@ -176,12 +179,83 @@ fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
     ]
 }
 
-/// With noise in the study: the schedules here are designed and compared for the table's part
-/// alone (issue 21's time budget, positions and dwell times chosen together, is not built
-/// yet), which the output says rather than imply a combined answer.
+/// With noise in the study: the positions are searched for the table's part alone (a time
+/// budget choosing positions and dwell times together is not built yet), which the output
+/// says; the recommendation then counts the noise ([`CombinedChoice`]).
 fn noise_note(s: &Study) -> Option<&'static str> {
     s.noise.iter().any(Option::is_some).then_some(
-        "the study gives noise: these schedules are designed and compared for the table's part alone (the noise part of each schedule is not counted); `end-to-end` on the written study answers for both",
+        "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of the search); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
+    )
+}
+
+/// The study's and the designed schedule answered for both error sources (table + noise at
+/// [`DEFAULT_K_SIGMA`] sigma, the study's timing): the certified direct allocation's J with
+/// the noise part kept free (`None`: no table suffices at this dwell), and which schedule is
+/// recommended. The designed schedule is chosen for the table's part; with noise it must not
+/// lose to the study's on the combined answer, else the study's is recommended.
+struct CombinedChoice {
+    study_objective_arcmin: Option<f64>,
+    designed_objective_arcmin: Option<f64>,
+    designed_recommended: bool,
+}
+
+/// J (arcmin^-2) of the certified direct allocation with the noise part kept free for `s` at
+/// `positions_deg`; `Ok(None)` when the study has no noise or no timing, `Ok(Some(None))`
+/// when no table suffices at the study's dwell.
+fn combined_objective(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<Option<f64>>> {
+    let s2 = s
+        .with_positions_deg(positions_deg.to_vec())
+        .map_err(InputError::from)?;
+    let e2e = crate::end_to_end::simulator(&s2)?;
+    let Some(budget) = crate::noise::budget(&s2, &e2e)? else {
+        return Ok(None);
+    };
+    let answer = e2e
+        .allocate_direct_with_noise_certified(
+            &e2e.linearization(),
+            &s2.lower_bounds_rad,
+            &budget,
+            DEFAULT_K_SIGMA,
+        )
+        .map_err(|e| crate::input::library(e, &s2))?;
+    Ok(Some(answer.ok().map(|d| d.objective_arcmin())))
+}
+
+/// [`CombinedChoice`] of a design, `None` without noise or timing.
+fn combined_choice(s: &Study, d: &ScheduleDesign) -> Result<Option<CombinedChoice>> {
+    let Some(study) = combined_objective(s, &d.study.positions_deg)? else {
+        return Ok(None);
+    };
+    let designed = combined_objective(s, &d.designed.positions_deg)?.flatten();
+    let designed_recommended = match (designed, study) {
+        (Some(a), Some(b)) => a <= b,
+        (Some(_), None) | (None, None) => true,
+        (None, Some(_)) => false,
+    };
+    Ok(Some(CombinedChoice {
+        study_objective_arcmin: study,
+        designed_objective_arcmin: designed,
+        designed_recommended,
+    }))
+}
+
+/// The combined comparison in words.
+fn combined_text(c: &CombinedChoice) -> String {
+    let j = |v: Option<f64>| {
+        v.map_or("no table suffices".to_string(), |v| {
+            format!("J = {}", num(v))
+        })
+    };
+    format!(
+        "with the noise counted ({} sigma, the study's timing; certified direct allocation with the noise part kept free): study's schedule {}, designed {}: {}\n",
+        num(DEFAULT_K_SIGMA),
+        j(c.study_objective_arcmin),
+        j(c.designed_objective_arcmin),
+        if c.designed_recommended {
+            "the designed schedule does not lose on the combined answer"
+        } else {
+            "the designed schedule LOSES on the combined answer; keep the study's schedule (it is the one recommended and written)"
+        }
     )
 }
 
@@ -200,6 +274,17 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
     m.insert("command".into(), json!(o.command));
     if let Some(n) = noise_note(s) {
         m.insert("noise_note".into(), json!(n));
+    }
+    if let Some(c) = &o.combined {
+        m.insert(
+            "combined".into(),
+            json!({
+                "k_sigma": DEFAULT_K_SIGMA,
+                "study_objective_arcmin": c.study_objective_arcmin,
+                "designed_objective_arcmin": c.designed_objective_arcmin,
+                "recommended": if c.designed_recommended { "designed" } else { "study" },
+            }),
+        );
     }
     m.insert(
         "outputs".into(),
@@ -374,7 +459,11 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         o.settings.seed
     );
     if let Some(n) = noise_note(s) {
-        t.push_str(&format!("note: {n}\n\n"));
+        t.push_str(&format!("note: {n}\n"));
+        if let Some(c) = &o.combined {
+            t.push_str(&combined_text(c));
+        }
+        t.push('\n');
     }
     let study_j = d.study.allocation.objective_arcmin();
     let head = [
@@ -532,6 +621,7 @@ pub fn run(args: &Args) -> Result<()> {
             "internal: the search's J {searched} and the end-to-end path's {reported} differ"
         );
     }
+    let combined = combined_choice(&s, &design)?;
     let command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
         crate::paths::shell_quote(&s.path),
@@ -569,7 +659,8 @@ pub fn run(args: &Args) -> Result<()> {
                         .join(", ")
                 },
             );
-            let comment = format!(
+            let keep_study = combined.as_ref().is_some_and(|c| !c.designed_recommended);
+            let mut comment = format!(
                 "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.\nTolerances certified on the exact chain for these positions (arcmin, rounded down):\n{certified}.",
                 num(design.designed.allocation.objective_arcmin()),
                 s.reading,
@@ -585,13 +676,22 @@ pub fn run(args: &Args) -> Result<()> {
                 design.search.restarts.len(),
                 problem.n_candidates()
             );
+            if let Some(c) = &combined {
+                comment.push('\n');
+                comment.push_str(combined_text(c).trim_end());
+            }
+            let positions = if keep_study {
+                &design.study.positions_deg
+            } else {
+                &design.designed.positions_deg
+            };
             let text = s
-                .text_with_positions(&design.designed.positions_deg, &comment)
+                .text_with_positions(positions, &comment)
                 .map_err(InputError::from)?;
             let shown = out.display().to_string();
             let back = Study::parse(&shown, &text)
                 .map_err(|e| anyhow::anyhow!("internal: the written study does not parse: {e}"))?;
-            if back.positions_deg != design.designed.positions_deg {
+            if &back.positions_deg != positions {
                 anyhow::bail!(
                     "internal: the written study's positions differ from the designed ones"
                 );
@@ -603,6 +703,7 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let outcome = Outcome {
         design,
+        combined,
         settings,
         candidates: problem.n_candidates(),
         step_deg: args.step_deg,
