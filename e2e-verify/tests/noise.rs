@@ -214,15 +214,22 @@ fn libm_erfc(x: f64) -> f64 {
     s * h / 3.0 * 2.0 / std::f64::consts::PI.sqrt()
 }
 
-#[test]
-fn direct_allocation_with_noise_gives_the_table_what_the_noise_leaves() {
+/// The three-axis example with white noise whose part at 3 sigma is a quarter of the first
+/// output's accuracy (30 s per position at 100 Hz).
+fn three_axis_with_a_quarter_of_the_accuracy_in_noise() -> (EndToEnd, NoiseBudget) {
     let e2e = common::study_e2e("three-axis-example", None);
     let acc = e2e.accuracies();
     let timing = Timing::uniform(e2e.len(), 30.0, 0.0, 100.0).unwrap();
     let unit = e2e.noise_budget(&white(&e2e, 1.0), &timing).unwrap();
-    // noise part a quarter of the first output's accuracy at 3 sigma
     let density = acc[0] / 12.0 / unit.sigma()[0];
-    let budget: NoiseBudget = e2e.noise_budget(&white(&e2e, density), &timing).unwrap();
+    let budget = e2e.noise_budget(&white(&e2e, density), &timing).unwrap();
+    (e2e, budget)
+}
+
+#[test]
+fn direct_allocation_with_noise_gives_the_table_what_the_noise_leaves() {
+    let (e2e, budget) = three_axis_with_a_quarter_of_the_accuracy_in_noise();
+    let acc = e2e.accuracies();
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let d = e2e
@@ -343,12 +350,8 @@ fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
 /// the first-order one.
 #[test]
 fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
-    let e2e = common::study_e2e("three-axis-example", None);
+    let (e2e, budget) = three_axis_with_a_quarter_of_the_accuracy_in_noise();
     let acc = e2e.accuracies();
-    let timing = Timing::uniform(e2e.len(), 30.0, 0.0, 100.0).unwrap();
-    let unit = e2e.noise_budget(&white(&e2e, 1.0), &timing).unwrap();
-    let density = acc[0] / 12.0 / unit.sigma()[0];
-    let budget: NoiseBudget = e2e.noise_budget(&white(&e2e, density), &timing).unwrap();
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let first = e2e
