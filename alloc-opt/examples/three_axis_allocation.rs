@@ -12,14 +12,8 @@ use tt_core::units::{RAD_PER_ARCMIN, arcmin_to_rad};
 use tt_kinematics::{FactorSpec, LinearModel, SignedAxis, Turntable, TurntableDescription};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
+    let j = FactorSpec::joint;
+    let e = FactorSpec::error;
     let t = |n: &str, a| FactorSpec::Translation {
         name: n.into(),
         along: a,

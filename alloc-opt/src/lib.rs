@@ -94,8 +94,8 @@
 //! use alloc_opt::{AllocationProblem, Allocator, Requirement, SensitivityWeighted};
 //! use tt_kinematics::{FactorSpec, LinearModel, SignedAxis, Turntable, TurntableDescription};
 //!
-//! let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-//! let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+//! let j = FactorSpec::joint;
+//! let e = FactorSpec::error;
 //! // A two-axis table: outer joint about z, inner about x, a position error and a wobble each.
 //! let table = Turntable::new(&TurntableDescription::new(vec![
 //!     j("outer", SignedAxis::Z), e("d_outer", SignedAxis::Z), e("wobble_o", SignedAxis::X),

@@ -11,50 +11,80 @@ use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::rad_to_arcmin;
-use tt_kinematics::{LinearModel, Turntable};
+use tt_kinematics::{LinearModel, ScheduleErrorModel, Turntable};
 
-/// Golden-section steps of [`EndToEnd::allocate_direct_certified`] over the $\ell_1$ budget
-/// (relative resolution $0.618^{40} \approx 4\cdot10^{-9}$ of the log range).
-pub const CERTIFY_STEPS: usize = 40;
+/// Tuning of the certified direct allocation ([`EndToEnd::allocate_direct_certified_with`]):
+/// a parameter struct with [`Default`] (faer's convention), so a caller changes one knob
+/// without the others: `let mut p = CertifyParams::default(); p.steps = 60;`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct CertifyParams {
+    /// Golden-section steps over the $\ell_1$ budget (default 40: relative resolution
+    /// $0.618^{40} \approx 4\cdot10^{-9}$ of the log range).
+    pub steps: usize,
+    /// Bisection steps for the largest $\ell_1$ budget whose second-order bound is admissible
+    /// (default 50: relative resolution $2^{-50}$).
+    pub bisection_steps: usize,
+    /// Largest share of an accuracy kept free for the second-order terms (dimensionless,
+    /// default 0.9): a bound that needs more is reported as not certifiable.
+    pub max_margin: f64,
+    /// Share of every accuracy kept free besides the second-order bound (dimensionless,
+    /// default $10^{-12}$): room for the round trip of the tolerances through a decimal sheet
+    /// (written at full precision and read back, a bound moves by a few ulp, about
+    /// $10^{-16}$), so that a sheet of the certified tolerances is still proven by
+    /// `check-turntable`.
+    pub round_trip_rel: f64,
+}
 
-/// Bisection steps for the largest $\ell_1$ budget whose second-order bound is admissible
-/// (relative resolution $2^{-50}$).
-pub const CERTIFY_BISECTION_STEPS: usize = 50;
+impl Default for CertifyParams {
+    fn default() -> Self {
+        Self {
+            steps: 40,
+            bisection_steps: 50,
+            max_margin: 0.9,
+            round_trip_rel: 1e-12,
+        }
+    }
+}
 
-/// Largest share of an accuracy the certified allocation keeps free for the second-order
-/// terms (dimensionless): a bound that needs more than this is reported as not certifiable.
-pub const CERTIFY_MAX_MARGIN: f64 = 0.9;
+/// Tuning of the yield-based allocation ([`EndToEnd::allocate_yield_with`]), with
+/// [`Default`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct YieldParams {
+    /// Bisection steps in $\log s$ on the scale (default 40: from a bracket of ratio 2,
+    /// $\ln 2 / 2^{40} \approx 6\cdot10^{-13}$ relative).
+    pub bisection_steps: usize,
+    /// Maximum fixed-point steps of the scale when $\mathrm{LB} = 0$ (default 8; each one an
+    /// exact-quantile Monte Carlo; two or three reach $10^{-12}$).
+    pub fixed_point_steps: usize,
+    /// Maximum doublings of the upper end of the scale's bracket, and of shrink steps when
+    /// the fixed point's rounding leaves the boundary draw on the wrong side (default 60).
+    pub bracket_steps: usize,
+    /// Relative margin taken off the fixed-point scale so that the draw at the quantile lands
+    /// on the safe side of the accuracy despite rounding (dimensionless, default $10^{-9}$).
+    pub scale_margin: f64,
+    /// The scale search stops when every finite bound of the shape reaches this (rad, default
+    /// $\pi$, half a turn: a larger bound describes no other rotation). Meeting the target
+    /// there means the accuracies do not constrain the table ([`YieldAllocation::capped`]).
+    pub scale_cap_rad: f64,
+    /// The log-scale bisection stops when the bracket's ratio is within this of 1
+    /// (dimensionless, default $10^{-12}$).
+    pub scale_rel: f64,
+}
 
-/// Share of every accuracy the certified allocation keeps free besides the second-order bound
-/// (dimensionless): room for the round trip of its tolerances through a decimal sheet (written
-/// at full precision and read back, a bound moves by a few ulp, about $10^{-16}$), so that a
-/// sheet of the certified tolerances is still proven by `check-turntable`.
-pub const CERTIFY_ROUND_TRIP_REL: f64 = 1e-12;
-
-/// Bisection steps in $\log s$ on the scale (from a bracket of ratio 2: $\ln 2 / 2^{40}
-/// \approx 6\cdot10^{-13}$ relative).
-pub const YIELD_BISECTION_STEPS: usize = 40;
-
-/// Maximum fixed-point steps of the scale when $\mathrm{LB} = 0$ (each one exact-quantile
-/// Monte Carlo; two or three reach $10^{-12}$).
-pub const YIELD_FIXED_POINT_STEPS: usize = 8;
-
-/// Maximum doublings of the upper end of the scale's bracket, and of shrink steps when the
-/// fixed point's rounding leaves the boundary draw on the wrong side.
-pub const YIELD_BRACKET_STEPS: usize = 60;
-
-/// Relative margin taken off the fixed-point scale so that the draw at the quantile lands on
-/// the safe side of the accuracy despite rounding (dimensionless).
-pub const YIELD_SCALE_MARGIN: f64 = 1e-9;
-
-/// The scale search stops when every finite bound of the shape reaches this (rad, half a
-/// turn): a larger bound describes no other rotation. Meeting the target there means the
-/// accuracies do not constrain the table ([`YieldAllocation::capped`]).
-pub const YIELD_SCALE_CAP_RAD: f64 = std::f64::consts::PI;
-
-/// The log-scale bisection of the yield scale stops when the bracket's ratio is within this
-/// of 1 (dimensionless).
-pub const YIELD_SCALE_REL: f64 = 1e-12;
+impl Default for YieldParams {
+    fn default() -> Self {
+        Self {
+            bisection_steps: 40,
+            fixed_point_steps: 8,
+            bracket_steps: 60,
+            scale_margin: 1e-9,
+            scale_cap_rad: std::f64::consts::PI,
+            scale_rel: 1e-12,
+        }
+    }
+}
 
 /// What every output says when no error affects any output to first order
 /// ([`DirectAllocation::no_bound_needed`]).
@@ -227,7 +257,7 @@ pub struct YieldAllocation {
     /// The 95% Wilson interval of the yield at $s^*$ (from the design draws): the stated
     /// confidence of the allocation.
     pub interval_95: (f64, f64),
-    /// The target is met even at the largest scale searched, [`YIELD_SCALE_CAP_RAD`] on every
+    /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
     /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
     /// errors, and the bounds are that cap, not a limit.
     pub capped: bool,
@@ -282,15 +312,24 @@ fn undominated(rows: Vec<Cut>) -> Vec<Cut> {
         .collect()
 }
 
-impl EndToEnd {
+impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// The paper's combined weights $w_j = \sqrt{\sum_k W_{kj}^2}$ with
     /// $W_{kj} = 1/\overline{|\partial f_k/\partial\chi_j|}$ (eq 28, Figure 8) of this turntable:
     /// then $\sum_j w_j^2/\mathrm{UB}_j^2$ equals alloc-opt's $J = J_\psi + J_\theta + J_\gamma$,
     /// so an error that appears in two angles counts twice, exactly as in the two-step
     /// allocation, and the objectives are comparable.
+    ///
+    /// A model that is not a turntable has no pose-domain linear model: its weights are those
+    /// of its own end-to-end linearisation ($W_{kj}$ over its outputs $k$ instead of the three
+    /// angles, averaged over the schedule's positions).
     #[must_use]
     pub fn combined_weights(&self) -> Vec<f64> {
-        Weights::inverse_average_sensitivity(&LinearModel::new(self.turntable())).combined()
+        match self.model().as_turntable_schedule() {
+            Some(t) => {
+                Weights::inverse_average_sensitivity(&LinearModel::new(t.turntable())).combined()
+            }
+            None => Weights::inverse_average_sensitivity(&self.linearization()).combined(),
+        }
     }
 
     /// $J(\mathrm{UB}) = \sum_j w_j^2/\mathrm{UB}_j^2$ with [`EndToEnd::combined_weights`]
@@ -301,7 +340,7 @@ impl EndToEnd {
     }
 
     fn check_lower_bounds(&self, lower_bounds_rad: &[f64]) -> Result<(), E2eError> {
-        check_lower_bounds(self.turntable(), lower_bounds_rad)
+        check_lower_bounds_named(self.error_names(), lower_bounds_rad)
     }
 
     /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
@@ -322,7 +361,7 @@ impl EndToEnd {
             .map(|o| o.output().name.as_str())
             .collect();
         DirectSetup {
-            turntable: self.turntable(),
+            error_names: &self.error_names(),
             weights: &weights,
             accuracies: &accuracies,
             output_names: &names,
@@ -374,7 +413,7 @@ impl EndToEnd {
 
     /// Direct allocation certified on the exact chain: the cheapest allocation found whose
     /// linearised worst case plus the derived second-order bound is within every accuracy
-    /// (less [`CERTIFY_ROUND_TRIP_REL`] of it), so that every turntable of the box meets every
+    /// (less [`CertifyParams::round_trip_rel`] of it), so that every turntable of the box meets every
     /// accuracy on the exact chain, not only to first order.
     ///
     /// # Method
@@ -382,9 +421,9 @@ impl EndToEnd {
     /// $s = \sum_j \mathrm{UB}_j$ only and grows with it. For an $\ell_1$ budget $S$ the
     /// allocation with rows held to $\omega_{m,k} - \tau_k(S)$ and the extra row
     /// $\sum_j \mathrm{UB}_j \le S$ is certified by construction; its cost $J(S)$ is searched
-    /// over $S$ by golden section in $\log S$ ([`CERTIFY_STEPS`] solves) on
+    /// over $S$ by golden section in $\log S$ ([`CertifyParams::steps`] solves) on
     /// $[S_{hi}\,10^{-4}, S_{hi}]$, $S_{hi}$ the smaller of the plain allocation's $\ell_1$ size
-    /// and the largest $S$ with $\tau_k(S) \le$ [`CERTIFY_MAX_MARGIN`]$\,\omega_{m,k}$. The
+    /// and the largest $S$ with $\tau_k(S) \le$ [`CertifyParams::max_margin`]$\,\omega_{m,k}$. The
     /// budget matters where the first-order error is small and the second-order one is not
     /// (accelerometers, which absorb most of a rotation, see the IMU example); for the paper's
     /// study it is inactive and the result is the plain allocation with $\tau$ kept free.
@@ -399,10 +438,24 @@ impl EndToEnd {
         linear: &Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<DirectAllocation, E2eError> {
-        self.allocate_direct_certified_keeping(
+        self.allocate_direct_certified_with(linear, lower_bounds_rad, &CertifyParams::default())
+    }
+
+    /// [`EndToEnd::allocate_direct_certified`] with its search tuned by `params`.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct_certified`].
+    pub fn allocate_direct_certified_with(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        params: &CertifyParams,
+    ) -> Result<DirectAllocation, E2eError> {
+        self.certified_keeping(
             linear,
             lower_bounds_rad,
             &vec![0.0; self.n_outputs()],
+            params,
         )
     }
 
@@ -416,30 +469,41 @@ impl EndToEnd {
         lower_bounds_rad: &[f64],
         extra: &[f64],
     ) -> Result<DirectAllocation, E2eError> {
+        self.certified_keeping(linear, lower_bounds_rad, extra, &CertifyParams::default())
+    }
+
+    fn certified_keeping(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        extra: &[f64],
+        params: &CertifyParams,
+    ) -> Result<DirectAllocation, E2eError> {
         let acc = self.accuracies();
         let n = self.len();
+        // the rotation angles of a box with l1 size S sum to at most gain * S (the model's
+        // angle-sum bound is a gauge, so its largest value on the l1 ball is at a vertex; a
+        // turntable's is the l1 norm itself, gain 1)
+        let gain = self.angle_sum_gain()?;
         let taus = |s: f64| -> Result<Vec<f64>, E2eError> {
             (0..self.n_outputs())
                 .map(|k| {
-                    self.second_order_bound(k, s)?
-                        .ok_or_else(|| E2eError::NoSecondOrderBound {
+                    self.second_order_bound(k, gain * s)?.ok_or_else(|| {
+                        E2eError::NoSecondOrderBound {
                             reading: self.reading().to_string(),
-                        })
+                        }
+                    })
                 })
                 .collect()
         };
         let plain = self.allocate_direct_with_margins(linear, lower_bounds_rad, extra, None)?;
         let l1 = |ub: &[f64]| -> f64 { ub.iter().filter(|u| u.is_finite()).sum() };
-        let admissible = |t: &[f64]| {
-            t.iter()
-                .zip(&acc)
-                .all(|(t, a)| *t <= CERTIFY_MAX_MARGIN * a)
-        };
+        let admissible = |t: &[f64]| t.iter().zip(&acc).all(|(t, a)| *t <= params.max_margin * a);
         let mut s_hi = l1(&plain.upper_bounds_rad);
         if !admissible(&taus(s_hi)?) {
             // largest admissible budget by bisection (tau grows with s)
             let (mut lo, mut hi) = (0.0, s_hi);
-            for _ in 0..CERTIFY_BISECTION_STEPS {
+            for _ in 0..params.bisection_steps {
                 let mid = 0.5 * (lo + hi);
                 if admissible(&taus(mid)?) {
                     lo = mid;
@@ -463,7 +527,7 @@ impl EndToEnd {
                 change: s_hi,
             });
         }
-        let room = |k: usize| acc[k] * (1.0 - CERTIFY_ROUND_TRIP_REL) - extra[k];
+        let room = |k: usize| acc[k] * (1.0 - params.round_trip_rel) - extra[k];
         let certified = |d: &DirectAllocation| -> Result<bool, E2eError> {
             let tau = taus(l1(&d.upper_bounds_rad))?;
             let rows = linear.row_worst_cases(&d.upper_bounds_rad);
@@ -474,7 +538,7 @@ impl EndToEnd {
                 .iter()
                 .zip(&acc)
                 .zip(extra)
-                .map(|((t, a), e)| t + a * CERTIFY_ROUND_TRIP_REL + e)
+                .map(|((t, a), e)| t + a * params.round_trip_rel + e)
                 .collect();
             if margins.iter().zip(&acc).any(|(t, a)| t >= a) {
                 return Ok(None);
@@ -496,7 +560,7 @@ impl EndToEnd {
         let mut d = a + phi * (b - a);
         let mut fc = solve(c.exp())?;
         let mut fd = solve(d.exp())?;
-        for _ in 0..CERTIFY_STEPS {
+        for _ in 0..params.steps {
             if cost(&fc) <= cost(&fd) {
                 b = d;
                 d = c;
@@ -518,9 +582,37 @@ impl EndToEnd {
         }
         best.ok_or(E2eError::NoConvergence {
             what: "certified direct allocation (no l1 budget certifies)",
-            iterations: CERTIFY_STEPS,
+            iterations: params.steps,
             change: s_hi,
         })
+    }
+
+    /// $\max_j$ of the model's angle-sum bound at the unit box $\mathbf e_j$
+    /// ([`ScheduleErrorModel::angle_sum_bound`]): the rotation angles of any box with
+    /// $\sum_j \mathrm{UB}_j \le S$ sum to at most this times $S$ (1 for a turntable).
+    ///
+    /// # Errors
+    /// [`E2eError::NoSecondOrderBound`] when the model gives no angle-sum bound (or a
+    /// non-finite or negative one).
+    fn angle_sum_gain(&self) -> Result<f64, E2eError> {
+        let none = || E2eError::NoSecondOrderBound {
+            reading: format!(
+                "{} (the table model gives no angle-sum bound)",
+                self.reading()
+            ),
+        };
+        let mut unit = vec![0.0; self.n_errors()];
+        let mut gain = 0.0_f64;
+        for j in 0..unit.len() {
+            unit[j] = 1.0;
+            let g = self.model().angle_sum_bound(&unit).ok_or_else(none)?;
+            unit[j] = 0.0;
+            if !(g.is_finite() && g >= 0.0) {
+                return Err(none());
+            }
+            gain = gain.max(g);
+        }
+        Ok(gain)
     }
 
     /// The Monte Carlo box of upper bounds `ub_rad` (rad) and lower bounds: errors without a
@@ -534,8 +626,8 @@ impl EndToEnd {
             .zip(lower_bounds_rad)
             .map(|(u, l)| if u.is_finite() { *u } else { *l })
             .collect();
-        Ok(ErrorBox::new(
-            self.turntable(),
+        Ok(ErrorBox::with_names(
+            self.error_names(),
             lower_bounds_rad.to_vec(),
             ub,
         )?)
@@ -551,15 +643,15 @@ impl EndToEnd {
     /// degree 1 in $\chi$ to first order, so $s^* = 1 / q_p$ where $q_p$ is the exact empirical
     /// $p$-quantile ([`EndToEnd::ratio_quantile`]) of $r = \max_k \Delta\omega_k/\omega_{m,k}$ at
     /// $s = 1$ on the exact chain; the chain's curvature is absorbed by iterating
-    /// $s \leftarrow s / q_p(s)$ (at most [`YIELD_FIXED_POINT_STEPS`]) and taking
-    /// [`YIELD_SCALE_MARGIN`] off. When that does not settle (rounding dominates the quantile
+    /// $s \leftarrow s / q_p(s)$ (at most [`YieldParams::fixed_point_steps`]) and taking
+    /// [`YieldParams::scale_margin`] off. When that does not settle (rounding dominates the quantile
     /// at tiny accuracies, the chain's curvature at huge ones), and with positive lower bounds,
     /// the scale is bracketed in factors of 2 and bisected in $\log s$
-    /// ([`YIELD_BISECTION_STEPS`], to [`YIELD_SCALE_REL`]) on the count of draws meeting every
+    /// ([`YieldParams::bisection_steps`], to [`YieldParams::scale_rel`]) on the count of draws meeting every
     /// accuracy, with common random numbers (same seed at every $s$), on
     /// $s \in [\max_j \mathrm{LB}_j/\mathrm{UB}_{shape,j}, s_{cap}]$: nothing depends on the
     /// absolute scale of the accuracies. $s_{cap}$ brings every finite bound to
-    /// [`YIELD_SCALE_CAP_RAD`]; a target met there (or a shape without a finite bound, when no
+    /// [`YieldParams::scale_cap_rad`]; a target met there (or a shape without a finite bound, when no
     /// error affects an output to first order) is reported as [`YieldAllocation::capped`]. The
     /// yield at $s^*$ is
     /// re-evaluated on the design draws and stated with its 95% Wilson interval.
@@ -576,16 +668,32 @@ impl EndToEnd {
         target: f64,
         settings: &McSettings,
     ) -> Result<YieldAllocation, E2eError> {
+        self.allocate_yield_with(
+            shape_rad,
+            lower_bounds_rad,
+            target,
+            settings,
+            &YieldParams::default(),
+        )
+    }
+
+    /// [`EndToEnd::allocate_yield`] with its scale search tuned by `params`.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_yield`].
+    pub fn allocate_yield_with(
+        &self,
+        shape_rad: &[f64],
+        lower_bounds_rad: &[f64],
+        target: f64,
+        settings: &McSettings,
+        params: &YieldParams,
+    ) -> Result<YieldAllocation, E2eError> {
         let p = fraction("yield_fraction", target)?;
         settings.validate()?;
         check_yield_samples(settings.samples, p)?;
         self.check_lower_bounds(lower_bounds_rad)?;
-        for (name, v) in self
-            .turntable()
-            .rotation_error_names()
-            .iter()
-            .zip(shape_rad)
-        {
+        for (name, v) in self.error_names().iter().zip(shape_rad) {
             if v.is_nan() || *v <= 0.0 {
                 return Err(tt_core::FieldError::NotPositive {
                     field: format!("shape.{name}"),
@@ -606,6 +714,11 @@ impl EndToEnd {
             self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
         };
         let need = (p * settings.samples as f64).ceil() as u64;
+        let goal = YieldGoal {
+            target: p,
+            need,
+            samples: settings.samples,
+        };
         let finite: Vec<f64> = shape_rad
             .iter()
             .copied()
@@ -615,7 +728,7 @@ impl EndToEnd {
         // not depend on the scale, and 1 is as good as any)
         let s_cap = finite
             .iter()
-            .map(|u| YIELD_SCALE_CAP_RAD / u)
+            .map(|u| params.scale_cap_rad / u)
             .fold(1.0_f64, f64::max);
         let (scale, capped) = if finite.is_empty() {
             let best = count(1.0)?;
@@ -627,11 +740,18 @@ impl EndToEnd {
             }
             (1.0, true)
         } else if lower_bounds_rad.iter().all(|&l| l == 0.0) {
-            match self.yield_fixed_point(&scaled, lower_bounds_rad, settings, p, need, s_cap)? {
+            match self.yield_fixed_point(
+                &scaled,
+                lower_bounds_rad,
+                settings,
+                &goal,
+                s_cap,
+                params,
+            )? {
                 Some(s) => (s, false),
                 // the fixed point did not settle (rounding at tiny accuracies, the exact
                 // chain's curvature at huge ones): bracket and bisect on the count instead
-                None => bisect_scale(&count, need, 0.0, 1.0, s_cap, p, settings.samples)?,
+                None => bisect_scale(&count, &goal, 0.0, 1.0, s_cap, params)?,
             }
         } else {
             let s_lo = lower_bounds_rad
@@ -639,15 +759,7 @@ impl EndToEnd {
                 .zip(shape_rad)
                 .map(|(l, u)| if u.is_finite() { l / u } else { 0.0 })
                 .fold(0.0, f64::max);
-            bisect_scale(
-                &count,
-                need,
-                s_lo,
-                s_lo.max(1.0),
-                s_cap.max(s_lo),
-                p,
-                settings.samples,
-            )?
+            bisect_scale(&count, &goal, s_lo, s_lo.max(1.0), s_cap.max(s_lo), params)?
         };
         let ub = scaled(scale);
         let meeting = count(scale)?;
@@ -666,25 +778,26 @@ impl EndToEnd {
     }
 
     /// The scale of the yield-based allocation with $\mathrm{LB} = 0$ by the fixed point
-    /// $s \leftarrow s/q_p(s)$ (see [`EndToEnd::allocate_yield`]), [`YIELD_SCALE_MARGIN`]
+    /// $s \leftarrow s/q_p(s)$ (see [`EndToEnd::allocate_yield`]), [`YieldParams::scale_margin`]
     /// taken off and checked on the count; `None` when it does not settle to $10^{-6}$ in
-    /// [`YIELD_FIXED_POINT_STEPS`], leaves $(0, s_{cap}]$, or the margin does not restore the
+    /// [`YieldParams::fixed_point_steps`], leaves $(0, s_{cap}]$, or the margin does not restore the
     /// count (the caller then bisects).
     fn yield_fixed_point(
         &self,
         scaled: &dyn Fn(f64) -> Vec<f64>,
         lower_bounds_rad: &[f64],
         settings: &McSettings,
-        p: f64,
-        need: u64,
+        goal: &YieldGoal,
         s_cap: f64,
+        params: &YieldParams,
     ) -> Result<Option<f64>, E2eError> {
+        let (p, need) = (goal.target, goal.need);
         let count = |s: f64| -> Result<u64, E2eError> {
             self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
         };
         let mut s = 1.0;
         let mut change = f64::INFINITY;
-        for _ in 0..YIELD_FIXED_POINT_STEPS {
+        for _ in 0..params.fixed_point_steps {
             let q =
                 self.ratio_quantile(&self.box_of(&scaled(s), lower_bounds_rad)?, settings, p)?;
             let next = s / q;
@@ -700,12 +813,12 @@ impl EndToEnd {
         if change > 1e-6 {
             return Ok(None);
         }
-        let mut s = s * (1.0 - YIELD_SCALE_MARGIN);
+        let mut s = s * (1.0 - params.scale_margin);
         let mut steps = 0;
         while count(s)? < need {
-            s *= 1.0 - 1e3 * YIELD_SCALE_MARGIN;
+            s *= 1.0 - 1e3 * params.scale_margin;
             steps += 1;
-            if steps >= YIELD_BRACKET_STEPS {
+            if steps >= params.bracket_steps {
                 return Ok(None);
             }
         }
@@ -713,9 +826,18 @@ impl EndToEnd {
     }
 }
 
-/// The largest scale found at which `count` reaches `need`, by bracketing from `start` (in
+/// What the yield scale must reach: a fraction `target` of `samples` draws, i.e. `need` of
+/// them.
+#[derive(Debug, Clone, Copy)]
+struct YieldGoal {
+    target: f64,
+    need: u64,
+    samples: u64,
+}
+
+/// The largest scale found at which `count` reaches `goal.need`, by bracketing from `start` (in
 /// factors of 2, no lower than `s_min`, no higher than `s_cap`) and bisection in $\log s$ to
-/// [`YIELD_SCALE_REL`]: independent of the absolute scale. Returns `(s_cap, true)` when the
+/// [`YieldParams::scale_rel`]: independent of the absolute scale. Returns `(s_cap, true)` when the
 /// cap itself meets the target.
 ///
 /// # Errors
@@ -723,13 +845,17 @@ impl EndToEnd {
 /// meets it; as `count`.
 fn bisect_scale(
     count: &dyn Fn(f64) -> Result<u64, E2eError>,
-    need: u64,
+    goal: &YieldGoal,
     s_min: f64,
     start: f64,
     s_cap: f64,
-    target: f64,
-    samples: u64,
+    params: &YieldParams,
 ) -> Result<(f64, bool), E2eError> {
+    let YieldGoal {
+        target,
+        need,
+        samples,
+    } = *goal;
     let unreachable = |best: u64| E2eError::YieldUnreachable {
         target,
         best: best as f64 / samples as f64,
@@ -760,14 +886,14 @@ fn bisect_scale(
                 break;
             }
             steps += 1;
-            if lo <= s_min || steps >= YIELD_BRACKET_STEPS {
+            if lo <= s_min || steps >= params.bracket_steps {
                 return Err(unreachable(c));
             }
             hi = lo;
         }
     }
-    for _ in 0..YIELD_BISECTION_STEPS {
-        if hi / lo - 1.0 <= YIELD_SCALE_REL {
+    for _ in 0..params.bisection_steps {
+        if hi / lo - 1.0 <= params.scale_rel {
             break;
         }
         let mid = if lo > 0.0 { (lo * hi).sqrt() } else { 0.5 * hi };
@@ -817,8 +943,23 @@ pub(crate) fn check_lower_bounds(
     turntable: &Turntable,
     lower_bounds_rad: &[f64],
 ) -> Result<(), E2eError> {
-    ErrorBox::new(
-        turntable,
+    check_lower_bounds_named(
+        turntable
+            .rotation_error_names()
+            .into_iter()
+            .map(str::to_string)
+            .collect(),
+        lower_bounds_rad,
+    )
+}
+
+/// Check lower bounds: one per error named in `names`, finite and non-negative.
+pub(crate) fn check_lower_bounds_named(
+    names: Vec<String>,
+    lower_bounds_rad: &[f64],
+) -> Result<(), E2eError> {
+    ErrorBox::with_names(
+        names,
         lower_bounds_rad.to_vec(),
         lower_bounds_rad.iter().map(|v| v.max(0.0)).collect(),
     )?;
@@ -836,12 +977,12 @@ pub(crate) fn objective_with(weights: &[f64], ub_rad: &[f64]) -> f64 {
         .fold(0.0, |a, b| a + b)
 }
 
-/// What the direct allocation needs besides $\mathbf M$: the turntable (names, lower-bound
-/// checks), the combined weights and every output's accuracy and name. Shared by
+/// What the direct allocation needs besides $\mathbf M$: the errors' names (lower-bound
+/// checks, messages), the combined weights and every output's accuracy and name. Shared by
 /// [`EndToEnd::allocate_direct`] and the schedule designer ([`crate::design`]), so both give
 /// the same $J$ for the same $\mathbf M$.
 pub(crate) struct DirectSetup<'a> {
-    pub turntable: &'a Turntable,
+    pub error_names: &'a [String],
     pub weights: &'a [f64],
     pub accuracies: &'a [f64],
     pub output_names: &'a [&'a str],
@@ -858,9 +999,9 @@ impl DirectSetup<'_> {
         margins: &[f64],
         l1_budget_rad: Option<f64>,
     ) -> Result<DirectAllocation, E2eError> {
-        check_lower_bounds(self.turntable, lower_bounds_rad)?;
+        check_lower_bounds_named(self.error_names.to_vec(), lower_bounds_rad)?;
         let n = linear.positions();
-        let n_errors = self.turntable.n_rotation_errors();
+        let n_errors = self.error_names.len();
         let acc = self.accuracies.to_vec();
         let bound = |k: usize| acc[k] - margins[k];
         for (k, _) in acc.iter().enumerate() {
@@ -887,7 +1028,7 @@ impl DirectSetup<'_> {
         let free: Vec<usize> = (0..n_errors)
             .filter(|j| !unconstrained.contains(j))
             .collect();
-        let names = self.turntable.rotation_error_names();
+        let names = self.error_names;
         let weights = self.weights;
         if free.is_empty() {
             // no error affects any output to first order: no bound is needed for any

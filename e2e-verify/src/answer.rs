@@ -88,7 +88,7 @@ pub struct ReadingAnswer {
     /// Why [`ReadingAnswer::direct_certified`] is `None`: the reading has no derived bound, the
     /// second-order margin exceeds an output's accuracy (the derived bound is too coarse for
     /// this table and sensor), or the certification did not settle in
-    /// [`crate::CERTIFY_STEPS`] solves. The direct allocation itself is unaffected.
+    /// [`crate::CertifyParams::steps`] solves. The direct allocation itself is unaffected.
     pub direct_certified_note: Option<String>,
     /// The yield-based allocation (shape of the direct one).
     pub yield_based: YieldAllocation,

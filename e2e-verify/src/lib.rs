@@ -82,10 +82,8 @@ mod simulate;
 pub mod timedomain;
 
 pub use allocate::{
-    CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_ROUND_TRIP_REL, CERTIFY_STEPS,
-    DEFAULT_YIELD_FRACTION, DirectAllocation, NO_BOUND_NEEDED, RowLoad, YIELD_BISECTION_STEPS,
-    YIELD_BRACKET_STEPS, YIELD_FIXED_POINT_STEPS, YIELD_SCALE_CAP_RAD, YIELD_SCALE_MARGIN,
-    YIELD_SCALE_REL, YieldAllocation, YieldVerdict, min_yield_samples,
+    CertifyParams, DEFAULT_YIELD_FRACTION, DirectAllocation, NO_BOUND_NEEDED, RowLoad,
+    YieldAllocation, YieldParams, YieldVerdict, min_yield_samples,
 };
 pub use answer::{
     BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,

@@ -5,8 +5,8 @@ use crate::error::{E2eError, finite};
 use crate::simulate::EndToEnd;
 use calib_lsq::{ErrorForm, Estimate, OutputsAt, ReadingTerms, ReadingWork};
 use gw_model::InputValues;
-use nalgebra::{DMatrix, DVector, Vector3};
-use tt_kinematics::LinearModel;
+use nalgebra::{DMatrix, DVector};
+use tt_kinematics::ScheduleErrorModel;
 
 /// The Jacobian $\mathbf M$ of the error vectors with respect to $\chi$ at $\chi = 0$: row
 /// $(k, i)$ for output $k$ at position $i$ (output-major), one column per angular error; in
@@ -372,7 +372,7 @@ pub(crate) fn directional(
         .sum()
 }
 
-impl EndToEnd {
+impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// Check upper bounds: one per angular error, non-negative, finite except for the errors
     /// no output depends on ([`Linearization::unconstrained`]), which may be `+inf`.
     pub(crate) fn check_bounds(
@@ -383,13 +383,7 @@ impl EndToEnd {
         tt_core::length("upper bounds", self.n_errors(), ub_rad.len())
             .map_err(|e| E2eError::Kinematics(e.into()))?;
         let free = linear.unconstrained();
-        for (j, (name, u)) in self
-            .turntable()
-            .rotation_error_names()
-            .iter()
-            .zip(ub_rad)
-            .enumerate()
-        {
+        for (j, (name, u)) in self.error_names().iter().zip(ub_rad).enumerate() {
             let field = format!("upper_bounds.{name}");
             if u.is_nan() || (u.is_infinite() && !free.contains(&j)) {
                 return Err(tt_core::FieldError::NonFinite { field, value: *u }.into());
@@ -407,7 +401,7 @@ impl EndToEnd {
     ///
     /// # Formula
     /// At position $i$ the rotation vector of $\Delta\mathbf R_i$ is, to first order,
-    /// $\boldsymbol\delta_i = \sum_j \chi_j\mathbf v_{ij}$ ([`LinearModel::rotation_vectors`]),
+    /// $\boldsymbol\delta_i = \sum_j \chi_j\mathbf v_{ij}$ ([`ScheduleErrorModel::rotation_vectors`]),
     /// and $\mathbf u' = \Delta\mathbf R^T\mathbf u \approx \mathbf u + \mathbf u \times
     /// \boldsymbol\delta$ for $\mathbf a$ and $\boldsymbol\omega$ (eq 8). With the first
     /// variations $d\mathbf e_i = \sum_{\text{known}}\beta_t\nabla r_t\cdot d\mathbf u_i$ and
@@ -423,19 +417,10 @@ impl EndToEnd {
     /// Eq 8-13, eq 26 generalised.
     #[must_use]
     pub fn linearization(&self) -> Linearization {
-        let model = LinearModel::new(self.turntable());
         let n = self.len();
         let outputs = self.n_outputs();
         let errors = self.n_errors();
-        let vectors: Vec<Vec<Vector3<f64>>> = self
-            .poses()
-            .iter()
-            .map(|p| {
-                model
-                    .rotation_vectors(p)
-                    .unwrap_or_else(|_| unreachable!("poses were checked against the turntable"))
-            })
-            .collect();
+        let vectors = self.rotation_vectors();
         let mut m = DMatrix::zeros(outputs * n, errors);
         let mut noise = DMatrix::zeros(outputs, errors);
         let mut work = ReadingWork::default();
@@ -513,7 +498,9 @@ impl EndToEnd {
     }
 
     /// A derived bound $\tau_k$ (output unit) on $\lVert\Delta\hat{\boldsymbol\omega}_k(\chi) -
-    /// \mathbf M_k\chi\rVert_\infty$ for every $\chi$ with $\lVert\chi\rVert_1 \le s$, or `None`
+    /// \mathbf M_k\chi\rVert_\infty$ for every $\chi$ whose $\Delta\mathbf R_i$ are products of
+    /// rotations with angles summing to at most $s$ (for a turntable: $\lVert\chi\rVert_1 \le s$;
+    /// for another model: its [`ScheduleErrorModel::angle_sum_bound`]), or `None`
     /// for a reading it is not derived for (those with $\hat{\boldsymbol\beta}_2$,
     /// $\mathbf A\Delta\boldsymbol\beta$, or actual regressors with outputs at the actual
     /// orientation).
@@ -641,7 +628,7 @@ impl EndToEnd {
         self.check_bounds(linear, ub_rad)?;
         let rows = linear.row_worst_cases(ub_rad);
         let n = self.len();
-        let s: f64 = ub_rad.iter().filter(|u| u.is_finite()).sum();
+        let s = self.model().angle_sum_bound(ub_rad);
         let mut work = self.work();
         let mut outputs = Vec::with_capacity(self.n_outputs());
         for k in 0..self.n_outputs() {
@@ -676,7 +663,10 @@ impl EndToEnd {
                 position,
                 worst_chi_rad: if plus >= minus { chi } else { neg },
                 exact_at_vertex: crate::resolved(plus.max(minus), precision),
-                second_order_bound: self.second_order_bound(k, s)?,
+                second_order_bound: match s {
+                    Some(s) => self.second_order_bound(k, s)?,
+                    None => None,
+                },
                 per_position: per.iter().map(|v| crate::resolved(*v, precision)).collect(),
                 precision,
             });

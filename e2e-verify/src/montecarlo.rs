@@ -33,6 +33,7 @@ use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
 use rayon::prelude::*;
+use tt_kinematics::ScheduleErrorModel;
 
 /// Standard normal quantile of 97.5% ($z$ of a two-sided 95% interval).
 pub const Z_95: f64 = 1.959_963_984_540_054;
@@ -333,7 +334,7 @@ impl Partial {
     }
 }
 
-impl EndToEnd {
+impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// Draw every turntable of `settings` from `bounds` and give each chunk's draws to `visit`
     /// (index, $\chi$, $\Delta\omega_k$ per output), folding chunk results with `merge` in
     /// chunk order: the one Monte Carlo driver of the crate (memory independent of the count).
@@ -352,7 +353,7 @@ impl EndToEnd {
         M: Fn(&mut P, P),
     {
         settings.validate()?;
-        let sampler = TurntableSampler::new(bounds, self.turntable());
+        let sampler = TurntableSampler::for_joint_ranges(bounds, &self.model().joint_ranges_rad());
         let cs = u64::from(settings.chunk_size);
         let chunks = settings.samples.div_ceil(cs);
         let mut acc = new();

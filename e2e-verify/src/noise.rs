@@ -344,7 +344,7 @@ pub struct Tradeoff {
     pub noise_curve: Vec<(f64, Vec<f64>)>,
 }
 
-impl EndToEnd {
+impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// The noise of every output's calibration for `timing` (`noise[k]` for output $k$,
     /// `None` for a noiseless one): calib-lsq's covariance of the rate error at the test
     /// positions, positions in the schedule's order.
@@ -440,7 +440,7 @@ impl EndToEnd {
     ) -> Result<CombinedYield, E2eError> {
         settings.validate()?;
         const WAVE_CHUNKS: u64 = 64;
-        let sampler = TurntableSampler::new(bounds, self.turntable());
+        let sampler = TurntableSampler::for_joint_ranges(bounds, &self.model().joint_ranges_rad());
         let acc = self.accuracies();
         let outputs = acc.len();
         let n = self.len();
@@ -615,7 +615,7 @@ impl EndToEnd {
         k_sigma: f64,
     ) -> Result<NoisyAllocation, E2eError> {
         check_k_sigma(k_sigma)?;
-        crate::allocate::check_lower_bounds(self.turntable(), lower_bounds_rad)?;
+        crate::allocate::check_lower_bounds_named(self.error_names(), lower_bounds_rad)?;
         let margins = budget.margins(k_sigma);
         let blocked = self.no_room(linear, lower_bounds_rad, &margins);
         if !blocked.is_empty() {

@@ -6,7 +6,9 @@ use crate::error::{E2eError, finite};
 use calib_lsq::{Calibration, ErrorAnalysis, ErrorWork, OrientationErrorAnalysis, Reading};
 use gw_model::InputValues;
 use nalgebra::{Matrix3, Vector3};
-use tt_kinematics::{ChainKind, Pose, PoseFrames, Turntable, TurntableErrors};
+use tt_kinematics::{
+    ChainKind, Pose, ScheduleErrorModel, Turntable, TurntableErrors, TurntableSchedule,
+};
 
 /// An end-to-end calibration simulator: turntable, sensor (the truth), site, schedule and
 /// reading fixed; the nominal regressions are factored once and the pose-dependent part of
@@ -21,18 +23,27 @@ use tt_kinematics::{ChainKind, Pose, PoseFrames, Turntable, TurntableErrors};
 /// $\mathbf b_1$, estimate, error vector $\Delta\hat{\boldsymbol\omega}$ and
 /// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$ per output.
 ///
+/// The table is any [`ScheduleErrorModel`] (an error vector to $\Delta\mathbf R_i$ at every
+/// position): a [`Turntable`] at its poses ([`TurntableSchedule`], the default type, with the
+/// compiled segmented chain) through [`EndToEnd::new`], anything else through
+/// [`EndToEnd::for_model`].
+///
 /// # Reference
 /// Eq 7-14 (calibration) and eq 17-23 (turntable chain).
 #[derive(Debug, Clone)]
-pub struct EndToEnd {
-    turntable: Turntable,
+pub struct EndToEnd<S = TurntableSchedule> {
+    chain: S,
     calibration: Calibration,
     reading: Reading,
-    poses: Vec<Pose>,
-    frames: Vec<PoseFrames>,
-    /// $\mathbf B_1\mathbf a_i$ and $\mathbf B_1\boldsymbol\omega_i$ (g, deg/h) per position.
-    pre: Vec<[Vector3<f64>; 2]>,
+    /// $\mathbf a_i$ and $\boldsymbol\omega_i$ (g, deg/h) per position, nominal.
+    nominal: Vec<[Vector3<f64>; 2]>,
+    /// The fast path of a turntable: $\mathbf B_1\mathbf a_i$ and $\mathbf B_1\boldsymbol\omega_i$
+    /// per position ([`ScheduleErrorModel::as_turntable_schedule`]).
+    pre: Option<Vec<[Vector3<f64>; 2]>>,
     analyses: Vec<OrientationErrorAnalysis>,
+    /// The first-order rotation vectors $\mathbf v_{ij}$ of every position $i$ and error $j$
+    /// ([`ScheduleErrorModel::rotation_vectors`]), once.
+    vectors: Vec<Vec<Vector3<f64>>>,
     /// [`EndToEnd::precisions`], once.
     precisions: Vec<f64>,
 }
@@ -94,6 +105,8 @@ impl EndToEndRun {
 #[derive(Debug, Clone)]
 pub struct DrawWork {
     segments: Vec<Matrix3<f64>>,
+    /// $\Delta\mathbf R_i$ of every position (the path of a model without the fast path).
+    delta_r: Vec<Matrix3<f64>>,
     actual: Vec<InputValues>,
     error: Vec<f64>,
     work: ErrorWork,
@@ -121,33 +134,140 @@ impl EndToEnd {
                 range: "one pose per position of the schedule".into(),
             }));
         }
-        let frames = poses
-            .iter()
-            .map(|p| turntable.pose_frames(p))
-            .collect::<Result<Vec<_>, _>>()?;
-        let nominal: Vec<InputValues> = calibration
+        Self::for_model(
+            TurntableSchedule::new(turntable, poses)?,
+            calibration,
+            reading,
+        )
+    }
+
+    /// The turntable.
+    #[must_use]
+    pub fn turntable(&self) -> &Turntable {
+        self.chain.turntable()
+    }
+
+    /// The turntable pose of every position.
+    #[must_use]
+    pub fn poses(&self) -> &[Pose] {
+        self.chain.poses()
+    }
+
+    /// $\Delta\mathbf R_i$ of every position by the segmented chain (equal to
+    /// [`EndToEnd::delta_r_reference`] to rounding).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_r_reference`].
+    pub fn delta_r_fast(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
+        self.check_chi(chi_rad)?;
+        let mut out = vec![Matrix3::identity(); self.len()];
+        self.chain.delta_r_into(chi_rad, &mut out)?;
+        Ok(out)
+    }
+
+    /// $\Delta\omega_k$ of every output (output unit) when the errors differ from position to
+    /// position (errors that vary with a shaft angle, [`crate::angle`]): `chi_at(i, chi)`
+    /// writes $\chi$ at position $i$ (rad) into `chi` (one per angular error, checked finite),
+    /// the segmented chain is evaluated per position, then the reading as in
+    /// [`EndToEnd::delta_omega_into`]. With the same $\chi$ at every position it equals that
+    /// path exactly.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_omega_into`].
+    pub(crate) fn delta_omega_varying_into(
+        &self,
+        mut chi_at: impl FnMut(usize, &mut [f64]),
+        chi: &mut [f64],
+        work: &mut DrawWork,
+    ) -> Result<(), E2eError> {
+        let pre = self.pre.as_deref().unwrap_or_default();
+        work.actual.clear();
+        for (i, (f, [a, w])) in self.chain.frames().iter().zip(pre).enumerate() {
+            chi_at(i, chi);
+            self.check_chi(chi)?;
+            self.turntable()
+                .segment_rotations(chi, &mut work.segments)?;
+            let a = f.delta_r_transpose_times_pre(&work.segments, a);
+            let w = f.delta_r_transpose_times_pre(&work.segments, w);
+            work.actual.push(InputValues::new(&a, &w));
+        }
+        self.finish_draw(work)
+    }
+}
+
+impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// Prepare the simulation of `calibration` (sensor, site and schedule) under `reading`
+    /// for any table model with one position per position of the schedule: the end-to-end
+    /// analysis of a model that is not a [`Turntable`].
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] (out of range) naming `positions` unless the model has one position
+    /// per position of the schedule; [`E2eError::Calib`] for a reading the calibration cannot
+    /// analyse.
+    pub fn for_model(
+        chain: S,
+        calibration: &Calibration,
+        reading: Reading,
+    ) -> Result<Self, E2eError> {
+        if chain.n_positions() != calibration.schedule().len() {
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "positions".into(),
+                value: chain.n_positions() as f64,
+                range: format!("the schedule's {} positions", calibration.schedule().len()),
+            }));
+        }
+        let nominal: Vec<[Vector3<f64>; 2]> = calibration
             .nominal_inputs()
             .iter()
             .map(InputValues::from_inputs)
+            .map(|v| [v.specific_force_g(), v.rate_deg_per_h()])
             .collect();
-        let pre = frames
-            .iter()
-            .zip(&nominal)
-            .map(|(f, v)| [f.pre(&v.specific_force_g()), f.pre(&v.rate_deg_per_h())])
-            .collect();
+        let pre = chain.as_turntable_schedule().map(|t| {
+            t.frames()
+                .iter()
+                .zip(&nominal)
+                .map(|(f, [a, w])| [f.pre(a), f.pre(w)])
+                .collect()
+        });
         let analyses = (0..calibration.outputs().len())
             .map(|k| OrientationErrorAnalysis::new(calibration, k, reading))
             .collect::<Result<Vec<_>, _>>()?;
+        let vectors = (0..chain.n_positions())
+            .map(|i| {
+                let v = chain.rotation_vectors(i)?;
+                tt_core::length("rotation vectors", chain.n_errors(), v.len())?;
+                Ok(v)
+            })
+            .collect::<Result<Vec<_>, tt_kinematics::KinematicsError>>()?;
         Ok(Self {
-            turntable: turntable.clone(),
+            vectors,
+            chain,
             calibration: calibration.clone(),
             reading,
-            poses: poses.to_vec(),
-            frames,
+            nominal,
             pre,
             analyses,
             precisions: precisions(calibration),
         })
+    }
+
+    /// The table model.
+    #[must_use]
+    pub fn model(&self) -> &S {
+        &self.chain
+    }
+
+    /// The first-order rotation vectors $\mathbf v_{ij}$ (x, y, z) of every position $i$ and
+    /// error $j$: $\Delta\mathbf R_i \approx \mathbf I + [\sum_j\chi_j\mathbf v_{ij}]_\times$.
+    #[must_use]
+    pub fn rotation_vectors(&self) -> &[Vec<Vector3<f64>>] {
+        &self.vectors
+    }
+
+    /// The errors' names, one per error of the model.
+    #[must_use]
+    pub fn error_names(&self) -> Vec<String> {
+        self.chain.error_names()
     }
 
     /// The precision of every output's $\Delta\omega_k$ (output unit): a bound on the rounding
@@ -176,12 +296,6 @@ impl EndToEnd {
         &self.precisions
     }
 
-    /// The turntable.
-    #[must_use]
-    pub fn turntable(&self) -> &Turntable {
-        &self.turntable
-    }
-
     /// The calibration (sensor, site, schedule).
     #[must_use]
     pub fn calibration(&self) -> &Calibration {
@@ -194,30 +308,16 @@ impl EndToEnd {
         self.reading
     }
 
-    /// The same simulator under another reading.
-    ///
-    /// # Errors
-    /// As [`EndToEnd::new`].
-    pub fn with_reading(&self, reading: Reading) -> Result<Self, E2eError> {
-        Self::new(&self.turntable, &self.calibration, &self.poses, reading)
-    }
-
-    /// The turntable pose of every position.
-    #[must_use]
-    pub fn poses(&self) -> &[Pose] {
-        &self.poses
-    }
-
     /// Number of positions $n$.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.poses.len()
+        self.nominal.len()
     }
 
     /// Whether the schedule is empty (never for a constructed simulator).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.poses.is_empty()
+        self.nominal.is_empty()
     }
 
     /// Number of outputs.
@@ -229,7 +329,7 @@ impl EndToEnd {
     /// Number of angular errors (length of $\chi$).
     #[must_use]
     pub fn n_errors(&self) -> usize {
-        self.turntable.n_rotation_errors()
+        self.chain.n_errors()
     }
 
     /// Every output's accuracy $\omega_{m,k}$ (output unit).
@@ -245,8 +345,17 @@ impl EndToEnd {
     /// Scratch space for [`EndToEnd::delta_omega_into`].
     #[must_use]
     pub fn work(&self) -> DrawWork {
+        let segments = self
+            .chain
+            .as_turntable_schedule()
+            .map_or(0, |t| t.turntable().n_segments());
         DrawWork {
-            segments: vec![Matrix3::identity(); self.turntable.n_segments()],
+            segments: vec![Matrix3::identity(); segments],
+            delta_r: if self.pre.is_some() {
+                Vec::new()
+            } else {
+                vec![Matrix3::identity(); self.len()]
+            },
             actual: Vec::with_capacity(self.len()),
             error: vec![0.0; self.len()],
             work: ErrorWork::default(),
@@ -266,41 +375,32 @@ impl EndToEnd {
             ));
         }
         if let Some(i) = chi_rad.iter().position(|v| !v.is_finite()) {
-            finite(
-                format!("chi.{}", self.turntable.rotation_error_names()[i]),
-                chi_rad[i],
-            )?;
+            finite(format!("chi.{}", self.error_names()[i]), chi_rad[i])?;
         }
         Ok(())
     }
 
-    /// $\Delta\mathbf R_i$ of every position through the plain matrix chain
-    /// ([`Turntable::delta_r`], exact).
+    /// $\Delta\mathbf R_i$ of every position through the plain chain: for a turntable the
+    /// plain matrix chain ([`Turntable::delta_r`], exact), for any other model its
+    /// [`ScheduleErrorModel::delta_r_into`].
     ///
     /// # Errors
     /// [`E2eError::Field`] (not finite) naming the error of a non-finite $\chi$; a length error.
     pub fn delta_r_reference(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
         self.check_chi(chi_rad)?;
-        let errors = TurntableErrors::new(
-            chi_rad.to_vec(),
-            vec![0.0; self.turntable.n_translation_errors()],
-        )?;
-        self.poses
-            .iter()
-            .map(|p| Ok(self.turntable.delta_r(p, &errors, ChainKind::Exact)?))
-            .collect()
-    }
-
-    /// $\Delta\mathbf R_i$ of every position by the segmented chain (equal to
-    /// [`EndToEnd::delta_r_reference`] to rounding).
-    ///
-    /// # Errors
-    /// As [`EndToEnd::delta_r_reference`].
-    pub fn delta_r_fast(&self, chi_rad: &[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> {
-        self.check_chi(chi_rad)?;
-        let mut e = vec![Matrix3::identity(); self.turntable.n_segments()];
-        self.turntable.segment_rotations(chi_rad, &mut e)?;
-        Ok(self.frames.iter().map(|f| f.delta_r(&e)).collect())
+        if let Some(t) = self.chain.as_turntable_schedule() {
+            let table = t.turntable();
+            let errors =
+                TurntableErrors::new(chi_rad.to_vec(), vec![0.0; table.n_translation_errors()])?;
+            return t
+                .poses()
+                .iter()
+                .map(|p| Ok(table.delta_r(p, &errors, ChainKind::Exact)?))
+                .collect();
+        }
+        let mut out = vec![Matrix3::identity(); self.len()];
+        self.chain.delta_r_into(chi_rad, &mut out)?;
+        Ok(out)
     }
 
     /// One calibration run through calib-lsq's analysis (eq 7-14) with the plain exact chain:
@@ -337,14 +437,30 @@ impl EndToEnd {
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
-        self.turntable
-            .segment_rotations(chi_rad, &mut work.segments)?;
         work.actual.clear();
-        for (f, [a, w]) in self.frames.iter().zip(&self.pre) {
-            let a = f.delta_r_transpose_times_pre(&work.segments, a);
-            let w = f.delta_r_transpose_times_pre(&work.segments, w);
-            work.actual.push(InputValues::new(&a, &w));
+        match (self.chain.as_turntable_schedule(), &self.pre) {
+            (Some(t), Some(pre)) => {
+                t.turntable()
+                    .segment_rotations(chi_rad, &mut work.segments)?;
+                for (f, [a, w]) in t.frames().iter().zip(pre) {
+                    let a = f.delta_r_transpose_times_pre(&work.segments, a);
+                    let w = f.delta_r_transpose_times_pre(&work.segments, w);
+                    work.actual.push(InputValues::new(&a, &w));
+                }
+            }
+            _ => {
+                self.chain.delta_r_into(chi_rad, &mut work.delta_r)?;
+                for (d, [a, w]) in work.delta_r.iter().zip(&self.nominal) {
+                    let t = d.transpose();
+                    work.actual.push(InputValues::new(&(t * a), &(t * w)));
+                }
+            }
         }
+        self.finish_draw(work)
+    }
+
+    /// The reading's $\Delta\omega_k$ of every output from `work.actual`.
+    fn finish_draw(&self, work: &mut DrawWork) -> Result<(), E2eError> {
         for (k, o) in self.calibration.outputs().iter().enumerate() {
             o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
             work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
@@ -367,37 +483,6 @@ impl EndToEnd {
         self.delta_omega_into(chi_rad, work)?;
         for (o, v) in self.calibration.outputs().iter().zip(out.iter_mut()) {
             o.error_vector_at(self.reading, &work.actual, &mut work.work, v)?;
-        }
-        Ok(())
-    }
-
-    /// $\Delta\omega_k$ of every output (output unit) when the errors differ from position to
-    /// position (errors that vary with a shaft angle, [`crate::angle`]): `chi_at(i, chi)`
-    /// writes $\chi$ at position $i$ (rad) into `chi` (one per angular error, checked finite),
-    /// the segmented chain is evaluated per position, then the reading as in
-    /// [`EndToEnd::delta_omega_into`]. With the same $\chi$ at every position it equals that
-    /// path exactly.
-    ///
-    /// # Errors
-    /// As [`EndToEnd::delta_omega_into`].
-    pub(crate) fn delta_omega_varying_into(
-        &self,
-        mut chi_at: impl FnMut(usize, &mut [f64]),
-        chi: &mut [f64],
-        work: &mut DrawWork,
-    ) -> Result<(), E2eError> {
-        work.actual.clear();
-        for (i, (f, [a, w])) in self.frames.iter().zip(&self.pre).enumerate() {
-            chi_at(i, chi);
-            self.check_chi(chi)?;
-            self.turntable.segment_rotations(chi, &mut work.segments)?;
-            let a = f.delta_r_transpose_times_pre(&work.segments, a);
-            let w = f.delta_r_transpose_times_pre(&work.segments, w);
-            work.actual.push(InputValues::new(&a, &w));
-        }
-        for (k, o) in self.calibration.outputs().iter().enumerate() {
-            o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
-            work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
         }
         Ok(())
     }
@@ -438,9 +523,11 @@ impl EndToEnd {
     /// what a calibrating engineer's coefficients are off by.
     ///
     /// # Errors
-    /// As [`EndToEnd::delta_r_fast`] and [`Calibration::calibrate_simulated`].
+    /// As [`EndToEnd::delta_omega_into`] and [`Calibration::calibrate_simulated`].
     pub fn coefficient_errors(&self, chi_rad: &[f64]) -> Result<Vec<f64>, E2eError> {
-        let dr = self.delta_r_fast(chi_rad)?;
+        self.check_chi(chi_rad)?;
+        let mut dr = vec![Matrix3::identity(); self.len()];
+        self.chain.delta_r_into(chi_rad, &mut dr)?;
         let results = self.calibration.calibrate_simulated(&dr)?;
         Ok(results
             .iter()
@@ -454,5 +541,15 @@ impl EndToEnd {
                     .collect::<Vec<_>>()
             })
             .collect())
+    }
+}
+
+impl<S: ScheduleErrorModel + Clone> EndToEnd<S> {
+    /// The same simulator under another reading.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::for_model`].
+    pub fn with_reading(&self, reading: Reading) -> Result<Self, E2eError> {
+        Self::for_model(self.chain.clone(), &self.calibration, reading)
     }
 }

@@ -195,7 +195,7 @@ impl Generator {
     }
 }
 
-impl EndToEnd {
+impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// The time-domain simulation of `settings.samples` calibrations (see the
     /// [module](self)): turntables drawn from `bounds`, noise `noise[k]` per output over
     /// `timing`.
@@ -228,7 +228,7 @@ impl EndToEnd {
             .iter()
             .map(|o| (o.regression().matrix(), o.regression().pinv()))
             .collect();
-        let sampler = TurntableSampler::new(bounds, self.turntable());
+        let sampler = TurntableSampler::for_joint_ranges(bounds, &self.model().joint_ranges_rad());
         let cs = u64::from(settings.chunk_size);
         let chunks = settings.samples.div_ceil(cs);
         type Part = (Vec<Option<OutputMoments>>, u64, Vec<u64>);

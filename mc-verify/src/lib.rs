@@ -46,8 +46,8 @@
 //! ```
 //! use mc_verify::{ErrorBox, McConfig, MonteCarlo};
 //! use tt_kinematics::{FactorSpec, SignedAxis, Turntable, TurntableDescription};
-//! let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-//! let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+//! let j = FactorSpec::joint;
+//! let e = FactorSpec::error;
 //! // A three-axis table: outer about z, middle about x, inner about y; the inner axis
 //! // turns only through [-90, 90] deg.
 //! let mut d = TurntableDescription::new(vec![

@@ -41,21 +41,15 @@ fn negative(axis: SignedAxis) -> SignedAxis {
 }
 
 fn j(name: &str, about: SignedAxis) -> FactorSpec {
-    FactorSpec::Joint {
-        name: name.into(),
-        about,
-    }
+    FactorSpec::joint(name, about)
 }
 
 fn e(name: &str, about: SignedAxis) -> FactorSpec {
-    FactorSpec::Error {
-        name: name.into(),
-        about,
-    }
+    FactorSpec::error(name, about)
 }
 
 fn fixed(angle_rad: f64, about: SignedAxis) -> FactorSpec {
-    FactorSpec::Fixed { angle_rad, about }
+    FactorSpec::fixed(angle_rad, about)
 }
 
 /// A table built to exercise every operation of the compiled plan: a cancelling joint with a

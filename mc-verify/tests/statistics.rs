@@ -136,14 +136,8 @@ const ANGLE_BINS: usize = 20;
 #[test]
 fn joint_angles_are_uniform_inside_their_ranges() {
     let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
+    let j = FactorSpec::joint;
+    let e = FactorSpec::error;
     let mut d = TurntableDescription::new(vec![
         j("cancels", z),
         e("e1", x),

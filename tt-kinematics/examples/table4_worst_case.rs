@@ -59,14 +59,8 @@ fn main() -> Result<(), tt_kinematics::KinematicsError> {
     }
 
     // Any table is a list of factors: a three-axis table in a few lines.
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
+    let j = FactorSpec::joint;
+    let e = FactorSpec::error;
     let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
     let three = Turntable::new(&TurntableDescription::new(vec![
         j("outer", z),

@@ -41,14 +41,8 @@ use tt_core::Pose;
 /// benchmarks and examples all use this one description.
 #[must_use]
 pub fn three_axis_description() -> TurntableDescription {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
+    let j = FactorSpec::joint;
+    let e = FactorSpec::error;
     let t = |n: &str, a| FactorSpec::Translation {
         name: n.into(),
         along: a,

@@ -36,8 +36,8 @@
 //! # Example: a wobble about the next joint's axis is that joint's position error
 //! ```
 //! use tt_kinematics::{FactorSpec, SignedAxis, Turntable, TurntableDescription};
-//! let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-//! let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+//! let j = FactorSpec::joint;
+//! let e = FactorSpec::error;
 //! let t = Turntable::new(&TurntableDescription::new(vec![
 //!     j("outer", SignedAxis::Z), e("wobble_x", SignedAxis::X), e("tilt_y", SignedAxis::Y),
 //!     j("inner", SignedAxis::X), e("d_inner", SignedAxis::X),

@@ -39,8 +39,8 @@
 //! ```
 //! use tt_kinematics::{ExactChain, FactorSpec, OrientationErrorModel, Pose, SignedAxis,
 //!     Turntable, TurntableDescription, TurntableErrors};
-//! let j = |n: &str, a| FactorSpec::Joint { name: n.into(), about: a };
-//! let e = |n: &str, a| FactorSpec::Error { name: n.into(), about: a };
+//! let j = FactorSpec::joint;
+//! let e = FactorSpec::error;
 //! // A three-axis table: outer about z, middle about x, inner about y.
 //! let table = Turntable::new(&TurntableDescription::new(vec![
 //!     j("outer", SignedAxis::Z), e("d_outer", SignedAxis::Z),
@@ -72,6 +72,7 @@ mod model;
 pub mod paper;
 mod pose;
 pub mod rotation;
+mod schedule;
 pub mod sensitivity;
 pub mod turntable;
 pub mod variation;
@@ -87,6 +88,7 @@ pub use model::{
     ScheduleErrorModel, SmallAngleChain,
 };
 pub use pose::TurntableErrors;
+pub use schedule::TurntableSchedule;
 /// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.
 pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};
 pub use turntable::{

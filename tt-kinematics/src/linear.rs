@@ -858,14 +858,8 @@ mod tests {
     fn vector_derivatives_equal_central_differences() {
         use crate::{FactorSpec, SignedAxis, Turntable, TurntableDescription};
         let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-        let j = |n: &str, a| FactorSpec::Joint {
-            name: n.into(),
-            about: a,
-        };
-        let e = |n: &str, a| FactorSpec::Error {
-            name: n.into(),
-            about: a,
-        };
+        let j = FactorSpec::joint;
+        let e = FactorSpec::error;
         // outer z, middle x (tilted by a fixed 10 deg about y), inner y, errors between them
         let t = Turntable::new(&TurntableDescription::new(vec![
             j("o", z),

@@ -5,7 +5,7 @@ use crate::linear::LinearModel;
 use crate::pose::TurntableErrors;
 use crate::rotation::rotation_vector;
 use crate::turntable::{ChainKind, Turntable};
-use nalgebra::{DMatrix, Matrix3};
+use nalgebra::{DMatrix, Matrix3, Vector3};
 use tt_core::{DeltaRKind, OrientationError, Pose};
 
 /// Step (rad) of the central differences of [`OrientationErrorModel::first_order`]'s default:
@@ -142,6 +142,48 @@ pub trait ScheduleErrorModel {
             }
         }
         Ok(out)
+    }
+
+    /// The first-order rotation vectors $\mathbf v_j$ (x, y, z components) at `position`:
+    /// $\Delta\mathbf R_i \approx \mathbf I + [\sum_j\chi_j\mathbf v_j]_\times$. Default:
+    /// [`ScheduleErrorModel::first_order`] read as $\mathbf v_j = (c_{\gamma j}, c_{\psi j},
+    /// c_{\theta j})$ ($\Delta\gamma$ about $x$, $\Delta\psi$ about $y$, $\Delta\theta$ about
+    /// $z$, eq 7 and 24).
+    ///
+    /// # Errors
+    /// As [`ScheduleErrorModel::first_order`].
+    fn rotation_vectors(&self, position: usize) -> Result<Vec<Vector3<f64>>, KinematicsError> {
+        let c = self.first_order(position)?;
+        Ok((0..c.ncols())
+            .map(|j| Vector3::new(c[(2, j)], c[(0, j)], c[(1, j)]))
+            .collect())
+    }
+
+    /// A bound $s$ on the sum of the rotation angles whose product is $\Delta\mathbf R_i$, at
+    /// every position and for every $|\chi_j| \le \mathrm{UB}_j$ (`ub_rad`, rad; infinite for
+    /// an error held at 0), or `None` when the model does not know one (the default). With it
+    /// the end-to-end analysis derives a second-order bound on its linearisation's error; without
+    /// it that bound is not claimed. It must be a gauge of the bounds (non-negative, monotone,
+    /// convex and positively homogeneous of degree 1, e.g. a weighted sum $\sum_j c_j
+    /// \mathrm{UB}_j$), so that its largest value over the boxes with $\sum_j \mathrm{UB}_j \le
+    /// S$ is $S \max_j$ of its value at the unit boxes (what the certified allocation uses).
+    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
+        let _ = ub_rad;
+        None
+    }
+
+    /// The joints' ranges (rad, one `[lo, hi]` per joint) a Monte Carlo draws a pose word for,
+    /// to keep the random streams of a turntable's Monte Carlo; default none (the positions
+    /// are fixed by the schedule).
+    fn joint_ranges_rad(&self) -> Vec<[f64; 2]> {
+        Vec::new()
+    }
+
+    /// The turntable behind the model, for the compiled fast path of the end-to-end analysis;
+    /// default `None`.
+    #[doc(hidden)]
+    fn as_turntable_schedule(&self) -> Option<&crate::TurntableSchedule> {
+        None
     }
 }
 

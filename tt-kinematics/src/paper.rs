@@ -55,14 +55,8 @@ pub fn chi_index(name: &str) -> usize {
 /// translation part of $\mathbf T_t$, never $\Delta\mathbf R$.
 #[must_use]
 pub fn table3_description() -> TurntableDescription {
-    let joint = |name: &str, about| FactorSpec::Joint {
-        name: name.into(),
-        about,
-    };
-    let error = |name: &str, about| FactorSpec::Error {
-        name: name.into(),
-        about,
-    };
+    let joint = FactorSpec::joint;
+    let error = FactorSpec::error;
     let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
     let mut error_order: Vec<String> = CHI.iter().map(|(n, _)| (*n).to_string()).collect();
     error_order.push("deta".into());

@@ -70,6 +70,41 @@ pub enum FactorSpec {
     },
 }
 
+impl FactorSpec {
+    /// [`FactorSpec::Joint`]: the commanded rotation of joint `name` about `about`.
+    #[must_use]
+    pub fn joint(name: &str, about: SignedAxis) -> Self {
+        Self::Joint {
+            name: name.into(),
+            about,
+        }
+    }
+
+    /// [`FactorSpec::Error`]: the small error rotation `name` about `about`.
+    #[must_use]
+    pub fn error(name: &str, about: SignedAxis) -> Self {
+        Self::Error {
+            name: name.into(),
+            about,
+        }
+    }
+
+    /// [`FactorSpec::Translation`]: the error translation `name` along `along`.
+    #[must_use]
+    pub fn translation(name: &str, along: SignedAxis) -> Self {
+        Self::Translation {
+            name: name.into(),
+            along,
+        }
+    }
+
+    /// [`FactorSpec::Fixed`]: a fixed nominal rotation by `angle_rad` about `about`.
+    #[must_use]
+    pub fn fixed(angle_rad: f64, about: SignedAxis) -> Self {
+        Self::Fixed { angle_rad, about }
+    }
+}
+
 /// A turntable as data: factors from the base to the platform plus optional error order, joint
 /// ranges and wording. Validated and compiled by [`Turntable::new`].
 ///
@@ -180,6 +215,7 @@ pub enum Factor {
 ///
 /// Then $q$ is the quaternion of $\Delta\mathbf R$ and eq 24 reads
 /// $\Delta\psi = 2(xz + wy)$, $\Delta\theta = 2(xy + wz)$, $\Delta\gamma = 2(yz + wx)$.
+#[doc(hidden)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PlanStep {
     /// Multiply by the error rotation of $\chi_{\text{chi}}$.
@@ -214,6 +250,7 @@ pub enum PlanStep {
 /// Per-pose nominal data of the segmented evaluation of $\Delta\mathbf R$ (see
 /// [`Turntable::pose_frames`]): $\mathbf B_1$ and the transposed nominal blocks
 /// $\mathbf A_s^T$ after each error segment.
+#[doc(hidden)]
 #[derive(Debug, Clone, PartialEq)]
 pub struct PoseFrames {
     b1: Matrix3<f64>,
@@ -605,6 +642,7 @@ impl Turntable {
 
     /// The flat evaluation plan of $\Delta\mathbf R$ (see [`PlanStep`]); the leading nominal
     /// block is left out (it cancels).
+    #[doc(hidden)]
     #[must_use]
     pub fn plan(&self) -> &[PlanStep] {
         &self.plan
@@ -620,6 +658,7 @@ impl Turntable {
 
     /// Number of error segments $m$ (maximal runs of error rotations between nominal
     /// rotations).
+    #[doc(hidden)]
     #[must_use]
     pub fn n_segments(&self) -> usize {
         self.segments.len()
@@ -633,6 +672,7 @@ impl Turntable {
     ///
     /// # Errors
     /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a pose of the wrong length.
+    #[doc(hidden)]
     pub fn pose_frames(&self, pose: &Pose) -> Result<PoseFrames, KinematicsError> {
         self.check_pose(pose)?;
         let p = pose.angles_rad();
@@ -661,6 +701,7 @@ impl Turntable {
     ///
     /// # Errors
     /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) for a $\chi$ or an `out` of the wrong length.
+    #[doc(hidden)]
     pub fn segment_rotations(
         &self,
         chi: &[f64],
@@ -937,6 +978,7 @@ impl Turntable {
 }
 
 /// $q \otimes (c, s\,\hat e_{\text{axis}})$ for a quaternion `q = [w, x, y, z]`.
+#[doc(hidden)]
 #[inline(always)]
 #[must_use]
 pub fn quat_mul_axis(q: [f64; 4], axis: Axis, s: f64, c: f64) -> [f64; 4] {
@@ -950,6 +992,7 @@ pub fn quat_mul_axis(q: [f64; 4], axis: Axis, s: f64, c: f64) -> [f64; 4] {
 
 /// $n^{-1} \otimes q \otimes n$ for the rotation $n$ about `axis` whose angle has sine `s` and
 /// cosine `c`: the vector part turned by $R_{\text{axis}}(-\text{angle})$.
+#[doc(hidden)]
 #[inline(always)]
 #[must_use]
 pub fn quat_conjugate_axis(q: [f64; 4], axis: Axis, s: f64, c: f64) -> [f64; 4] {
@@ -962,6 +1005,7 @@ pub fn quat_conjugate_axis(q: [f64; 4], axis: Axis, s: f64, c: f64) -> [f64; 4] 
 }
 
 /// The eq-24 read-out $(\Delta R_{13}, \Delta R_{21}, \Delta R_{32})$ of a unit quaternion.
+#[doc(hidden)]
 #[inline(always)]
 #[must_use]
 pub fn quat_readout(q: [f64; 4]) -> [f64; 3] {

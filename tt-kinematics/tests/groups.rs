@@ -221,14 +221,8 @@ fn eq26_table3_has_three_groups_that_eq26_prints_with_equal_coefficients() {
 /// apart that its rotation moves.
 #[test]
 fn signs_fixed_rotations_and_narrow_ranges_are_handled_exactly() {
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
-    let e = |n: &str, a| FactorSpec::Error {
-        name: n.into(),
-        about: a,
-    };
+    let j = FactorSpec::joint;
+    let e = FactorSpec::error;
     let neg_z = SignedAxis::parse("-z").expect("axis");
     let mut d = TurntableDescription::new(vec![
         e("tilt", SignedAxis::Y),

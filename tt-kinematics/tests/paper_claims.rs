@@ -24,10 +24,7 @@ fn eq25_claim_s3_2_intersection_error_has_no_effect_on_the_orientation_error() {
     assert!(e.holds(), "{e}");
     assert_eq!(e.points, 200);
     assert!(e.max_change_rad.to_bits() == 0.0_f64.to_bits());
-    let j = |n: &str, a| FactorSpec::Joint {
-        name: n.into(),
-        about: a,
-    };
+    let j = FactorSpec::joint;
     let t = Turntable::new(&TurntableDescription::new(vec![
         j("a", SignedAxis::Z),
         FactorSpec::Translation {

@@ -326,8 +326,14 @@ impl DesignProblem {
         linear: &Linearization,
     ) -> Result<crate::DirectAllocation, E2eError> {
         let names: Vec<&str> = self.output_names.iter().map(String::as_str).collect();
+        let error_names: Vec<String> = self
+            .turntable
+            .rotation_error_names()
+            .into_iter()
+            .map(str::to_string)
+            .collect();
         DirectSetup {
-            turntable: &self.turntable,
+            error_names: &error_names,
             weights: &self.weights,
             accuracies: &self.accuracies,
             output_names: &names,

@@ -38,7 +38,7 @@ use nalgebra::{DMatrix, Matrix3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use tt_core::{Axis, OrientationError, Pose};
 use tt_kinematics::rotation::rot;
-use tt_kinematics::{KinematicsError, OrientationErrorModel, TurntableErrors};
+use tt_kinematics::{KinematicsError, OrientationErrorModel, ScheduleErrorModel, TurntableErrors};
 
 /// The errors' names, lower case.
 pub const ERROR_NAMES: [&str; 4] = ["az_tilt", "el_offset", "non_perp", "flexure"];
@@ -202,5 +202,71 @@ impl<M: LinearErrorModel> Allocator<M> for UniformBound {
                 description: format!("one bound for every error: {u:e} rad"),
             },
         )
+    }
+}
+
+/// The mount at the positions of a calibration schedule: what the end-to-end analysis takes
+/// (`e2e_verify::EndToEnd::for_model`). $\Delta\mathbf R_i$ exactly, the first order in closed
+/// form, and the one fact the second-order bound needs: $\Delta\mathbf R = R_y(-e)R_z(-a)
+/// R_x(\chi_0)R_z(a)\,R_y(-e)^{-1}\cdots$ is a product of rotations by $\chi_0$, $\chi_2$ and
+/// $\chi_1 + \chi_3\cos e$, whose angles sum to at most $\lVert\chi\rVert_1$.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AzElSchedule {
+    poses: Vec<[f64; 2]>,
+}
+
+impl AzElSchedule {
+    /// The mount at `poses` (azimuth, elevation), rad.
+    #[must_use]
+    pub fn new(poses: Vec<[f64; 2]>) -> Self {
+        Self { poses }
+    }
+
+    /// The intended orientation $\mathbf R_d = R_z(a)R_y(e)$ (sensor to base) of every position.
+    #[must_use]
+    pub fn base_from_sensor(&self) -> Vec<Matrix3<f64>> {
+        self.poses
+            .iter()
+            .map(|[a, e]| rot(Axis::Z, *a) * rot(Axis::Y, *e))
+            .collect()
+    }
+}
+
+impl ScheduleErrorModel for AzElSchedule {
+    fn n_errors(&self) -> usize {
+        4
+    }
+    fn n_positions(&self) -> usize {
+        self.poses.len()
+    }
+    fn delta_r_into(
+        &self,
+        chi_rad: &[f64],
+        out: &mut [Matrix3<f64>],
+    ) -> Result<(), KinematicsError> {
+        tt_core::length("chi", 4, chi_rad.len())?;
+        tt_core::length("delta_r", self.poses.len(), out.len())?;
+        for (o, p) in out.iter_mut().zip(&self.poses) {
+            *o = AzElMount::exact_delta_r(p, chi_rad);
+        }
+        Ok(())
+    }
+    fn error_names(&self) -> Vec<String> {
+        AzElMount.error_names()
+    }
+    fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
+        let [a, e] = *self
+            .poses
+            .get(position)
+            .ok_or_else(|| tt_core::FieldError::OutOfRange {
+                field: "position".into(),
+                value: position as f64,
+                range: format!("0..{}", self.poses.len()),
+            })?;
+        let c = AzElMount::coefficients(a, e);
+        Ok(DMatrix::from_fn(3, 4, |k, j| c[k][j]))
+    }
+    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
+        Some(ub_rad.iter().filter(|u| u.is_finite()).sum())
     }
 }
