@@ -136,6 +136,9 @@ pub struct Computed {
     pub vendor_noise: Option<crate::check_turntable::NoisyCheck>,
     /// The paper's extras.
     pub paper: Option<PaperExtras>,
+    /// Which table errors the calibration estimates itself (joint least squares, user's
+    /// reading), at the vendor's sheet when given.
+    pub estimable: crate::estimable::Estimable,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -571,7 +574,11 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         }
         None => None,
     };
+    let estimable =
+        crate::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.ub_rad.as_slice()))?;
+    timing("estimable", started);
     Ok(Computed {
+        estimable,
         noise,
         vendor_noise,
         study,

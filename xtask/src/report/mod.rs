@@ -292,6 +292,10 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
         );
         m.insert("paper_versus_ours".into(), Value::Array(comparisons.iter().map(|r| json!({"quantity": r.quantity, "paper": f(r.paper), "ours": f(r.ours), "unit": r.unit, "reason": r.reason})).collect()));
     }
+    m.insert(
+        "estimable".into(),
+        crate::estimable::to_json(s, &c.estimable),
+    );
     Value::Object(m)
 }
 
@@ -356,6 +360,7 @@ fn render(c: &Computed) -> Result<Rendered> {
     sec.end_to_end()?;
     sec.noise()?;
     sec.vendor();
+    sec.estimable();
     sec.designed();
     let comparisons = match &c.paper {
         Some(p) => {
