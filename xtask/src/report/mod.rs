@@ -360,8 +360,8 @@ fn render(c: &Computed) -> Result<Rendered> {
     sec.end_to_end()?;
     sec.noise()?;
     sec.vendor();
-    sec.estimable();
     sec.designed();
+    sec.estimable();
     let comparisons = match &c.paper {
         Some(p) => {
             let rows = paper::comparisons(c, p);
