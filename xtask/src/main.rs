@@ -10,6 +10,7 @@ use std::process::ExitCode;
 mod allan;
 mod allocate;
 mod angle;
+mod angle_alloc;
 mod args;
 mod calibration_error;
 mod check_turntable;

@@ -1808,6 +1808,72 @@ impl<'a> Sections<'a> {
             .callout(format!("Verdict: {}.", sheet_verdict(chk)));
     }
 
+    /// The allocation when the study's errors vary with the shaft angle, and after its measured
+    /// errors are compensated (`crate::angle_alloc`).
+    pub fn angle_allocation(&mut self) {
+        let Some(a) = &self.c.angle_alloc else { return };
+        let names = self.c.study.turntable.rotation_error_names();
+        self.doc
+            .h(2, "Errors that vary with the shaft angle, and compensation");
+        if a.varies {
+            let models: Vec<String> = names
+                .iter()
+                .zip(&a.variations)
+                .map(|(n, v)| {
+                    format!(
+                        "{} {}",
+                        doc::code(n),
+                        doc::text(&crate::angle_alloc::model_name(v))
+                    )
+                })
+                .collect();
+            self.doc.p(format!(
+                "The study's errors vary with the shaft angle ({}); every bound holds over the whole revolution. The direct allocation under that model (each error's dual norm in place of its coefficient), certified on the exact chain where the reading has a second-order bound, beside the constant model's.",
+                models.join(", ")
+            ));
+        } else {
+            self.doc.p("The study gives measured errors: the allocation with them compensated beside the allocation without.");
+        }
+        let j = |d: &e2e_verify::DirectAllocation| {
+            if d.no_bound_needed() {
+                "no bound needed".to_string()
+            } else {
+                sig(d.objective_arcmin(), 5)
+            }
+        };
+        let rows = a
+            .readings
+            .iter()
+            .map(|r| {
+                vec![
+                    doc::code(&r.reading.to_string()),
+                    j(&r.constant_direct),
+                    j(&r.direct),
+                    r.certified.as_ref().map_or("-".into(), &j),
+                    match &r.compensated {
+                        Some(Ok(d)) => format!(
+                            "{} (before: {})",
+                            j(d),
+                            r.unmeasured_before_arcmin.map_or("-".into(), |v| sig(v, 5))
+                        ),
+                        Some(Err(why)) => doc::text(why),
+                        None => "-".into(),
+                    },
+                ]
+            })
+            .collect();
+        self.doc.table(
+            &[
+                "reading",
+                "J, constant model",
+                "J, the study's model",
+                "J certified",
+                "J of the unmeasured errors, compensated",
+            ],
+            rows,
+        );
+    }
+
     /// Which table errors the calibration estimates itself: the joint least squares of the
     /// sensor coefficients and the table errors (`cargo xtask estimable`).
     pub fn estimable(&mut self) {
