@@ -43,6 +43,7 @@
 pub mod analysis;
 mod calibration;
 mod error;
+pub mod joint;
 mod lsq;
 pub mod paper;
 mod requirement;

@@ -21,7 +21,7 @@ pub const NULL_COMPONENT_TOL: f64 = 1e-6;
 
 /// Sweeps of the one-sided Jacobi SVD before it gives up (it converges quadratically; a
 /// 20 x 20 triangle needs about 8).
-const JACOBI_MAX_SWEEPS: usize = 60;
+pub(crate) const JACOBI_MAX_SWEEPS: usize = 60;
 
 /// A least-squares solution with its quality: residuals, rank, condition number.
 #[derive(Debug, Clone, PartialEq)]
@@ -234,37 +234,7 @@ impl Regression {
 /// singular values, to high relative accuracy.
 #[must_use]
 pub fn jacobi_singular_values(m: &DMatrix<f64>) -> Vec<f64> {
-    let mut u = m.clone();
-    let k = u.ncols();
-    for _ in 0..JACOBI_MAX_SWEEPS {
-        let mut rotated = false;
-        for p in 0..k {
-            for q in (p + 1)..k {
-                let alpha = u.column(p).norm_squared();
-                let beta = u.column(q).norm_squared();
-                let gamma = u.column(p).dot(&u.column(q));
-                if gamma == 0.0 || gamma.abs() <= f64::EPSILON * (alpha * beta).sqrt() {
-                    continue;
-                }
-                rotated = true;
-                let zeta = (beta - alpha) / (2.0 * gamma);
-                let t = zeta.signum() / (zeta.abs() + (1.0 + zeta * zeta).sqrt());
-                let c = 1.0 / (1.0 + t * t).sqrt();
-                let s = c * t;
-                for i in 0..u.nrows() {
-                    let (x, y) = (u[(i, p)], u[(i, q)]);
-                    u[(i, p)] = c * x - s * y;
-                    u[(i, q)] = s * x + c * y;
-                }
-            }
-        }
-        if !rotated {
-            break;
-        }
-    }
-    let mut sv: Vec<f64> = (0..k).map(|j| u.column(j).norm()).collect();
-    sv.sort_by(|x, y| y.total_cmp(x));
-    sv
+    crate::joint::jacobi_svd(m).0
 }
 
 /// Numerical rank of `a` (square or tall) by column-pivoted QR, and for each column the norm

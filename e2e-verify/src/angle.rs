@@ -444,3 +444,58 @@ impl EndToEnd {
         })
     }
 }
+
+impl EndToEnd {
+    /// The direct allocation once measured errors are compensated: error $j$ with
+    /// `fixed_rad[j] = Some(u_j)` is held at its measurement uncertainty ($\mathrm{UB}_j =
+    /// u_j$, the bound that then matters), the others are allocated what remains. Each output
+    /// keeps free the largest load of the fixed errors over its rows, $\max_r \sum_{j\,
+    /// \text{fixed}} \lvert M_{rj}\rvert u_j$ (conservative: a row with a smaller fixed load
+    /// gets no more), and the free errors are allocated as [`EndToEnd::allocate_direct`] does
+    /// on the matrix without the fixed columns. The returned bounds hold $u_j$ for the fixed
+    /// errors; the objective is that of the free errors. `Ok(Err(..))` when the fixed errors
+    /// alone leave an output no room.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct`]; a length error.
+    pub fn allocate_direct_compensated(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        fixed_rad: &[Option<f64>],
+    ) -> Result<Result<crate::DirectAllocation, Vec<crate::NoRoom>>, E2eError> {
+        tt_core::length("measured errors", self.n_errors(), fixed_rad.len())
+            .map_err(|e| E2eError::Kinematics(e.into()))?;
+        let fixed_ub: Vec<f64> = fixed_rad.iter().map(|u| u.unwrap_or(0.0)).collect();
+        let loads = linear.row_worst_cases(&fixed_ub);
+        let n = self.len();
+        let margins: Vec<f64> = (0..self.n_outputs())
+            .map(|k| loads.rows(k * n, n).max())
+            .collect();
+        let mut m = linear.matrix().clone();
+        let mut noise = linear.rounding().clone();
+        let mut lb = lower_bounds_rad.to_vec();
+        for (j, u) in fixed_rad.iter().enumerate() {
+            if u.is_some() {
+                m.column_mut(j).fill(0.0);
+                noise.column_mut(j).fill(0.0);
+                if let Some(l) = lb.get_mut(j) {
+                    *l = 0.0;
+                }
+            }
+        }
+        let free = Linearization::from_parts(m, n, self.n_outputs(), noise);
+        let blocked = self.no_room(&free, &lb, &margins);
+        if !blocked.is_empty() {
+            return Ok(Err(blocked));
+        }
+        let mut d = self.allocate_direct_keeping(&free, &lb, &margins)?;
+        for (j, u) in fixed_rad.iter().enumerate() {
+            if let Some(u) = u {
+                d.upper_bounds_rad[j] = *u;
+                d.unconstrained.retain(|&x| x != j);
+            }
+        }
+        Ok(Ok(d))
+    }
+}

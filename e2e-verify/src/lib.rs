@@ -33,6 +33,8 @@
 //! - [`timedomain`]: an independent time-domain simulation of the whole calibration (samples
 //!   at the sample rate, white, Gauss-Markov and quantization noise, the estimator on the
 //!   position averages) that checks the analytic noise answer;
+//! - [`estimable`]: which table errors a joint least squares of the sensor coefficients and
+//!   the table errors estimates from the same data, and the allocation of the rest;
 //! - [`design`]: the calibration schedule that lets the cheapest turntable meet every
 //!   accuracy (minimum direct-allocation objective), beside the D-optimal and random
 //!   baselines, used by `cargo xtask design-schedule`.
@@ -73,6 +75,7 @@ mod answer;
 mod check;
 pub mod design;
 mod error;
+pub mod estimable;
 mod linear;
 pub mod montecarlo;
 pub mod noise;

@@ -580,7 +580,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
 
     /// The outputs whose noise part (with the lower bounds' table part) leaves no room in the
     /// accuracy; empty when some table suffices.
-    fn no_room(
+    pub(crate) fn no_room(
         &self,
         linear: &Linearization,
         lower_bounds_rad: &[f64],

@@ -352,3 +352,39 @@ fn compensation_with_an_uncertainty_is_the_analysis_of_the_uncertainty_box() {
         assert_eq!(b.to_bits(), want.to_bits(), "error {j}");
     }
 }
+
+/// The allocation after compensation holds the measured errors at their uncertainty and keeps
+/// every row of the first-order model within its accuracy; an uncertainty that alone exceeds
+/// an accuracy leaves no room (named output), not a bad allocation.
+#[test]
+fn compensated_allocation_holds_measured_errors_at_their_uncertainty_and_meets_every_row() {
+    /// Relative slack of a row at its accuracy (dimensionless): the solver's tolerance.
+    const ROW_REL: f64 = 1e-7;
+    let e2e = paper(Reading::USER);
+    let lin = e2e.linearization();
+    let lb = vec![0.0; e2e.n_errors()];
+    let u = 3.0 / 60.0 * tt_core::units::RAD_PER_ARCMIN;
+    let mut fixed = vec![None; e2e.n_errors()];
+    fixed[0] = Some(u);
+    fixed[6] = Some(u);
+    let d = e2e
+        .allocate_direct_compensated(&lin, &lb, &fixed)
+        .unwrap()
+        .unwrap();
+    assert_eq!(d.upper_bounds_rad[0].to_bits(), u.to_bits());
+    assert_eq!(d.upper_bounds_rad[6].to_bits(), u.to_bits());
+    assert!(d.upper_bounds_rad.iter().all(|v| v.is_finite() && *v > 0.0));
+    let rows = lin.row_worst_cases(&d.upper_bounds_rad);
+    let acc = e2e.accuracies();
+    let n = e2e.len();
+    for (r, v) in rows.iter().enumerate() {
+        assert!(*v <= acc[r / n] * (1.0 + ROW_REL), "row {r}: {v}");
+    }
+    let mut huge = vec![None; e2e.n_errors()];
+    huge[0] = Some(600.0 * tt_core::units::RAD_PER_ARCMIN);
+    let blocked = e2e
+        .allocate_direct_compensated(&lin, &lb, &huge)
+        .unwrap()
+        .unwrap_err();
+    assert!(!blocked.is_empty());
+}

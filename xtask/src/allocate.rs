@@ -296,10 +296,31 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
 pub fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
     let a = allocate(&s, args.constraint_form, args.safety_margin)?;
-    let v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
-    if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
+    let mut v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
+    // errors that vary with the shaft angle: the direct allocations of the angle model
+    let angle = if s.has_angle_dependent_errors() || s.measured.iter().any(Option::is_some) {
+        let e2e = crate::end_to_end::simulator(&s)?;
+        crate::angle_alloc::compute(&s, &e2e)?.map(|an| (e2e, an))
     } else {
-        crate::out::print(&text(&s, &a, &v))
+        None
+    };
+    let extra = angle
+        .as_ref()
+        .map(|(e2e, an)| crate::angle_alloc::to_text(e2e, an));
+    let text_out = (!args.json).then(|| text(&s, &a, &v));
+    if let (Some((e2e, an)), serde_json::Value::Object(m)) = (&angle, &mut v) {
+        m.insert(
+            "angle_dependent".into(),
+            crate::angle_alloc::to_json(e2e, an),
+        );
+    }
+    match text_out {
+        None => crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n")),
+        Some(mut t) => {
+            if let Some(x) = extra {
+                t.push_str(&x);
+            }
+            crate::out::print(&t)
+        }
     }
 }

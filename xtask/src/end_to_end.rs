@@ -748,22 +748,23 @@ pub fn run(args: &Args) -> Result<()> {
     let noisy = noisy_answer(&s, &e2e, &a, args.k_sigma)?;
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
+    let angle = crate::angle_alloc::compute(&s, &e2e)?;
     if args.json {
-        crate::out::print(
-            &(serde_json::to_string_pretty(&to_json(
-                &s,
-                &e2e,
-                &a,
-                note.as_ref(),
-                seconds,
-                &speed,
-                noisy.as_ref(),
-            ))? + "\n"),
-        )
+        let mut v = to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
+        if let (Some(an), Value::Object(m)) = (&angle, &mut v) {
+            m.insert(
+                "angle_dependent".into(),
+                crate::angle_alloc::to_json(&e2e, an),
+            );
+        }
+        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
     } else {
         let mut t = to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed);
         if let Some(n) = &noisy {
             t.push_str(&noise_text(&e2e, &a, n));
+        }
+        if let Some(an) = &angle {
+            t.push_str(&crate::angle_alloc::to_text(&e2e, an));
         }
         if let Some(n) = crate::noise::note(&s) {
             t.push_str(&n);

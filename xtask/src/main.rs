@@ -10,12 +10,14 @@ use std::process::ExitCode;
 mod allan;
 mod allocate;
 mod angle;
+mod angle_alloc;
 mod args;
 mod calibration_error;
 mod check_turntable;
 mod csvio;
 mod design_schedule;
 mod end_to_end;
+mod estimable;
 mod fuzz;
 mod groups;
 mod input;
@@ -51,6 +53,8 @@ enum Command {
     Mc(mc::Args),
     /// End to end: does the turntable deliver every output's calibration accuracy? Direct and yield-based allocation.
     EndToEnd(end_to_end::Args),
+    /// Which table errors the calibration estimates itself (joint least squares with the sensor coefficients), and the allocation of the rest.
+    Estimable(estimable::Args),
     /// Will a vendor's tolerances deliver the study's accuracies, and which error dominates?
     CheckTurntable(check_turntable::Args),
     /// Orientation error (eq 24-26) of turntables given as CSV rows.
@@ -97,6 +101,7 @@ fn main() -> ExitCode {
         Command::Allocate(a) => allocate::run(&a),
         Command::Mc(a) => mc::run(&a),
         Command::EndToEnd(a) => end_to_end::run(&a),
+        Command::Estimable(a) => estimable::run(&a),
         Command::CheckTurntable(a) => check_turntable::run(&a),
         Command::OrientationError(a) => orientation_error::run(&a),
         Command::CalibrationError(a) => calibration_error::run(&a),

@@ -36,6 +36,7 @@ fn study_commands(path: &str) -> Vec<Vec<String>> {
         ]),
         v(&["calibration-error", "--study", path]),
         v(&["orientation-error", "--study", path]),
+        v(&["estimable", "--study", path]),
     ]
 }
 

@@ -136,6 +136,12 @@ pub struct Computed {
     pub vendor_noise: Option<crate::check_turntable::NoisyCheck>,
     /// The paper's extras.
     pub paper: Option<PaperExtras>,
+    /// Which table errors the calibration estimates itself (joint least squares, user's
+    /// reading), at the vendor's sheet when given.
+    pub estimable: crate::estimable::Estimable,
+    /// The allocations under the study's angle-dependent model and after compensation
+    /// (`None` when the study declares neither).
+    pub angle_alloc: Option<crate::angle_alloc::AngleAllocations>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -571,7 +577,14 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         }
         None => None,
     };
+    let estimable =
+        crate::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.ub_rad.as_slice()))?;
+    timing("estimable", started);
+    let angle_alloc = crate::angle_alloc::compute(s, &e2e)?;
+    timing("angle-dependent allocation", started);
     Ok(Computed {
+        estimable,
+        angle_alloc,
         noise,
         vendor_noise,
         study,

@@ -292,6 +292,16 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
         );
         m.insert("paper_versus_ours".into(), Value::Array(comparisons.iter().map(|r| json!({"quantity": r.quantity, "paper": f(r.paper), "ours": f(r.ours), "unit": r.unit, "reason": r.reason})).collect()));
     }
+    if let Some(a) = &c.angle_alloc {
+        m.insert(
+            "angle_dependent".into(),
+            crate::angle_alloc::to_json(&c.e2e, a),
+        );
+    }
+    m.insert(
+        "estimable".into(),
+        crate::estimable::to_json(s, &c.estimable),
+    );
     Value::Object(m)
 }
 
@@ -357,6 +367,8 @@ fn render(c: &Computed) -> Result<Rendered> {
     sec.noise()?;
     sec.vendor();
     sec.designed();
+    sec.angle_allocation();
+    sec.estimable();
     let comparisons = match &c.paper {
         Some(p) => {
             let rows = paper::comparisons(c, p);

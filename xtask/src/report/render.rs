@@ -1808,6 +1808,159 @@ impl<'a> Sections<'a> {
             .callout(format!("Verdict: {}.", sheet_verdict(chk)));
     }
 
+    /// The allocation when the study's errors vary with the shaft angle, and after its measured
+    /// errors are compensated (`crate::angle_alloc`).
+    pub fn angle_allocation(&mut self) {
+        let Some(a) = &self.c.angle_alloc else { return };
+        let names = self.c.study.turntable.rotation_error_names();
+        self.doc
+            .h(2, "Errors that vary with the shaft angle, and compensation");
+        if a.varies {
+            let models: Vec<String> = names
+                .iter()
+                .zip(&a.variations)
+                .map(|(n, v)| {
+                    format!(
+                        "{} {}",
+                        doc::code(n),
+                        doc::text(&crate::angle_alloc::model_name(v))
+                    )
+                })
+                .collect();
+            self.doc.p(format!(
+                "The study's errors vary with the shaft angle ({}); every bound holds over the whole revolution. The direct allocation under that model (each error's dual norm in place of its coefficient), certified on the exact chain where the reading has a second-order bound, beside the constant model's.",
+                models.join(", ")
+            ));
+        } else {
+            self.doc.p("The study gives measured errors: the allocation with them compensated beside the allocation without.");
+        }
+        let j = |d: &e2e_verify::DirectAllocation| {
+            if d.no_bound_needed() {
+                "no bound needed".to_string()
+            } else {
+                sig(d.objective_arcmin(), 5)
+            }
+        };
+        let rows = a
+            .readings
+            .iter()
+            .map(|r| {
+                vec![
+                    doc::code(&r.reading.to_string()),
+                    j(&r.constant_direct),
+                    j(&r.direct),
+                    r.certified.as_ref().map_or("-".into(), &j),
+                    match &r.compensated {
+                        Some(Ok(d)) => format!(
+                            "{} (before: {})",
+                            j(d),
+                            r.unmeasured_before_arcmin.map_or("-".into(), |v| sig(v, 5))
+                        ),
+                        Some(Err(why)) => doc::text(why),
+                        None => "-".into(),
+                    },
+                ]
+            })
+            .collect();
+        self.doc.table(
+            &[
+                "reading",
+                "J, constant model",
+                "J, the study's model",
+                "J certified",
+                "J of the unmeasured errors, compensated",
+            ],
+            rows,
+        );
+    }
+
+    /// Which table errors the calibration estimates itself: the joint least squares of the
+    /// sensor coefficients and the table errors (`cargo xtask estimable`).
+    pub fn estimable(&mut self) {
+        let c = self.c;
+        let a = &c.estimable;
+        let est = &a.est;
+        let names = c.study.turntable.rotation_error_names();
+        self.doc
+            .h(2, "Table errors the calibration estimates itself");
+        self.doc.p(format!(
+            "A joint least squares of the sensor coefficients and the table errors from the same data (outputs simulated at the actual orientation, the user's reading): the joint Jacobian at zero table error has rank {} of {} ({} coefficients and {} errors; singular values of the table part counted above {} of the largest raw effect, rows weighted by 1/accuracy). {} combinations of the errors are estimable with the coefficients; {} are not: their effect lies in the sensor's columns, the calibration absorbs it.",
+            est.rank(),
+            est.columns(),
+            est.coefficients(),
+            names.len(),
+            sig(calib_lsq::joint::JOINT_RANK_RTOL, 1),
+            est.table_rank(),
+            names.len() - est.table_rank(),
+        ));
+        let reference = est.reference();
+        let sv: Vec<String> = est
+            .singular_values()
+            .iter()
+            .map(|v| sig(if reference > 0.0 { v / reference } else { 0.0 }, 3))
+            .collect();
+        self.doc.p(format!(
+            "Singular values of the table part relative to the largest raw effect: {} (the smallest counted one says how weakly the least estimable combination shows in the data).",
+            sv.join(", ")
+        ));
+        let mut rows: Vec<Vec<String>> = est
+            .estimable_combinations()
+            .iter()
+            .map(|comb| vec!["estimable".into(), doc::code(&comb.to_string())])
+            .collect();
+        rows.extend(
+            est.invisible_combinations()
+                .iter()
+                .map(|comb| vec!["not estimable".into(), doc::code(&comb.to_string())]),
+        );
+        self.doc.table(&["", "combination"], rows);
+        let alloc = |d: &e2e_verify::DirectAllocation| {
+            if d.no_bound_needed() {
+                "no bound needed for any error".to_string()
+            } else {
+                format!("J = {} arcmin^-2", sig(d.objective_arcmin(), 5))
+            }
+        };
+        self.doc.p(format!(
+            "Direct allocation (user's reading, first order): {} with the ordinary calibration; {} when the estimable combinations are estimated (the rest keep their first-order effect).",
+            alloc(&a.ordinary),
+            alloc(&a.joint),
+        ));
+        let what = if a.at_box.source == "tolerances" {
+            "the vendor's sheet"
+        } else {
+            "the ordinary direct allocation's box"
+        };
+        let outs = self.outputs();
+        let rows = a
+            .at_box
+            .rates
+            .iter()
+            .enumerate()
+            .map(|(k, (p, j))| {
+                let (n, u, acc) = &outs[k];
+                vec![
+                    format!("`{n}`"),
+                    format!("{} {u}", num(*acc)),
+                    format!("{} {u}", sig(*p, 4)),
+                    format!("{} {u}", sig(*j, 3)),
+                ]
+            })
+            .collect();
+        self.doc.p(format!(
+            "At the worst turntable of {what} (exact chain, noiseless sensor; the joint estimator by Gauss-Newton from zero):"
+        ));
+        self.doc.table(
+            &[
+                "output",
+                "accuracy",
+                "ordinary calibration",
+                "joint estimator",
+            ],
+            rows,
+        );
+    }
+
     /// Every output's worst turntable within the sheet against its accuracy, with the
     /// dominant error (or group), for the answer at the top.
     fn sheet_outputs(&self, chk: &e2e_verify::TurntableCheck) -> String {

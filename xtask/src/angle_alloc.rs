@@ -1,0 +1,263 @@
+//! The allocation when the study's errors vary with the shaft angle (issue 22 item 1 in
+//! `end-to-end`, `allocate` and `report`): the direct and the certified allocation of the
+//! angle-dependent model (each error bounded over the whole revolution), beside the constant
+//! model's direct allocation with the same readings.
+//!
+//! The angle model's first-order matrix is e2e-verify's reduced linearisation
+//! ([`e2e_verify::angle::AngleLinearization::reduced`]: each error's dual norm in place of
+//! $\lvert M_{rj}\rvert$), which the direct and the certified allocation take unchanged; the
+//! second-order bound stays rigorous (it bounds each position's rotation). A study without
+//! `varies` gets nothing from here (its answers are today's).
+//!
+//! With measured errors (`[[compensation.measured]]`) every reading also gets the allocation
+//! after compensation: the measured errors held at their uncertainty, the unmeasured ones
+//! allocated what remains ([`e2e_verify::EndToEnd::allocate_direct_compensated`]).
+//!
+//! JSON (`angle_dependent`): `model` (`{error: "constant" | "harmonics [1, 2] of phi1" | "any
+//! of phi1"}`), `readings` (`[{"reading", "constant_direct_objective_arcmin", "direct":
+//! {"objective_arcmin", "upper_bounds_arcmin"}, "certified": {...} | null, "certified_note",
+//! "unmeasured_before_objective_arcmin", "compensated": {...} | {"no_room"} | null}]`).
+
+use anyhow::Result;
+use calib_lsq::Reading;
+use e2e_verify::{DirectAllocation, EndToEnd};
+use serde_json::{Value, json};
+use study::Study;
+use study::fmt::sig;
+use tt_kinematics::{ErrorVariation, Expansion};
+
+/// One reading's allocations under the angle-dependent model.
+#[derive(Debug, Clone)]
+pub struct ReadingAngleAllocation {
+    /// The reading.
+    pub reading: Reading,
+    /// The constant model's direct allocation (same reading, same lower bounds).
+    pub constant_direct: DirectAllocation,
+    /// The direct allocation under the angle model.
+    pub direct: DirectAllocation,
+    /// The certified direct allocation under the angle model, or why there is none.
+    pub certified: std::result::Result<DirectAllocation, String>,
+    /// With the study's measured errors compensated (`[[compensation.measured]]`): the direct
+    /// allocation of the unmeasured errors with the measured ones held at their uncertainty
+    /// (same model), or why the measured errors alone leave no room; `None` without
+    /// measurements.
+    pub compensated: Option<std::result::Result<DirectAllocation, String>>,
+    /// The objective of the unmeasured errors' bounds before compensation (arcmin^-2; the
+    /// direct allocation's bounds of those errors), to compare with `compensated`'s.
+    pub unmeasured_before_arcmin: Option<f64>,
+}
+
+/// The angle-dependent allocations of a study (the study's reading, then the user's).
+#[derive(Debug, Clone)]
+pub struct AngleAllocations {
+    /// Each error's model (order of chi).
+    pub variations: Vec<ErrorVariation>,
+    /// Whether the study declares an error that varies with a shaft angle (else only the
+    /// compensation is shown).
+    pub varies: bool,
+    /// Per reading.
+    pub readings: Vec<ReadingAngleAllocation>,
+}
+
+/// The allocations under the study's angle-dependent model and with its measured errors
+/// compensated, `None` when the study declares neither an error that varies with a shaft angle
+/// nor a measurement.
+///
+/// # Errors
+/// A library error located in the study.
+pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
+    let varies = s.has_angle_dependent_errors();
+    let measured: Vec<Option<f64>> = s
+        .measured
+        .iter()
+        .map(|m| m.as_ref().map(|m| m.uncertainty_rad))
+        .collect();
+    if !varies && measured.iter().all(Option::is_none) {
+        return Ok(None);
+    }
+    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let mut sims = vec![e2e.clone()];
+    if e2e.reading() != Reading::USER {
+        sims.push(e2e.with_reading(Reading::USER).map_err(lib)?);
+    }
+    let mut readings = Vec::with_capacity(sims.len());
+    for sim in &sims {
+        let ex = Expansion::new(sim.turntable(), &s.variations, sim.poses())
+            .map_err(|e| crate::input::library(e, s))?;
+        let al = sim.angle_linearization(&ex).map_err(lib)?;
+        let lb = &s.lower_bounds_rad;
+        let constant_direct = sim.allocate_direct(&sim.linearization(), lb).map_err(lib)?;
+        let direct = sim.allocate_direct(&al.reduced, lb).map_err(lib)?;
+        let certified = if direct.no_bound_needed() {
+            Err("no bound is needed".to_string())
+        } else {
+            match sim.allocate_direct_certified(&al.reduced, lb) {
+                Ok(d) => Ok(d),
+                Err(
+                    e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
+                    | e2e_verify::E2eError::NoConvergence { .. }
+                    | e2e_verify::E2eError::MarginExceedsAccuracy { .. }),
+                ) => Err(e.to_string()),
+                Err(e) => return Err(lib(e)),
+            }
+        };
+        let compensated = if measured.iter().all(Option::is_none) {
+            None
+        } else {
+            Some(
+                sim.allocate_direct_compensated(&al.reduced, lb, &measured)
+                    .map_err(lib)?
+                    .map_err(|blocked| {
+                        format!(
+                            "the measured errors' uncertainty alone leaves no room for output{} {}",
+                            if blocked.len() > 1 { "s" } else { "" },
+                            blocked
+                                .iter()
+                                .map(|b| sim.calibration().outputs()[b.output]
+                                    .output()
+                                    .name
+                                    .clone())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    }),
+            )
+        };
+        let unmeasured_before_arcmin = compensated.is_some().then(|| {
+            let ub: Vec<f64> = direct
+                .upper_bounds_rad
+                .iter()
+                .zip(&measured)
+                .map(|(u, m)| if m.is_some() { f64::INFINITY } else { *u })
+                .collect();
+            tt_core::units::objective_to_arcmin(sim.objective(&ub))
+        });
+        readings.push(ReadingAngleAllocation {
+            unmeasured_before_arcmin,
+            reading: sim.reading(),
+            constant_direct,
+            direct,
+            certified,
+            compensated,
+        });
+    }
+    Ok(Some(AngleAllocations {
+        varies,
+        variations: s.variations.clone(),
+        readings,
+    }))
+}
+
+fn objective(d: &DirectAllocation) -> Option<f64> {
+    (!d.no_bound_needed()).then(|| d.objective_arcmin())
+}
+
+fn allocation_json(names: &[&str], d: &DirectAllocation) -> Value {
+    json!({
+        "objective_arcmin": objective(d),
+        "upper_bounds_arcmin": crate::out::arcmin_json(names, &d.upper_bounds_rad),
+    })
+}
+
+/// A model in words: `constant`, `harmonics [1, 2] of phi1`, `any of phi1`.
+#[must_use]
+pub fn model_name(v: &ErrorVariation) -> String {
+    match v {
+        ErrorVariation::Constant => "constant".into(),
+        ErrorVariation::Harmonics { joint, orders } => format!("harmonics {orders:?} of {joint}"),
+        ErrorVariation::Any { joint } => format!("any of {joint}"),
+    }
+}
+
+/// The JSON value of `angle_dependent` (see the [module](self)).
+#[must_use]
+pub fn to_json(e2e: &EndToEnd, a: &AngleAllocations) -> Value {
+    let names = e2e.turntable().rotation_error_names();
+    json!({
+        "model": Value::Object(names.iter().zip(&a.variations).map(|(n, v)| ((*n).to_string(), json!(model_name(v)))).collect()),
+        "readings": a.readings.iter().map(|r| json!({
+            "reading": r.reading.to_string(),
+            "constant_direct_objective_arcmin": objective(&r.constant_direct),
+            "direct": allocation_json(&names, &r.direct),
+            "certified": r.certified.as_ref().ok().map(|d| allocation_json(&names, d)),
+            "certified_note": r.certified.as_ref().err(),
+            "unmeasured_before_objective_arcmin": r.unmeasured_before_arcmin,
+            "compensated": r.compensated.as_ref().map(|c| match c {
+                Ok(d) => allocation_json(&names, d),
+                Err(why) => json!({"no_room": why}),
+            }),
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {
+    names
+        .iter()
+        .zip(&d.upper_bounds_rad)
+        .map(|(n, u)| {
+            if u.is_finite() {
+                format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 4))
+            } else {
+                format!("{n} none")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn j_text(d: &DirectAllocation) -> String {
+    objective(d).map_or("no bound needed".into(), |j| {
+        format!("J = {} arcmin^-2", sig(j, 5))
+    })
+}
+
+/// The text block (empty lines excluded) for the terminal.
+#[must_use]
+pub fn to_text(e2e: &EndToEnd, a: &AngleAllocations) -> String {
+    let names = e2e.turntable().rotation_error_names();
+    let mut t = String::new();
+    if a.varies {
+        t.push_str(
+            "\nerrors that vary with the shaft angle (the study's model; each bound holds over the whole revolution): ",
+        );
+        t.push_str(
+            &names
+                .iter()
+                .zip(&a.variations)
+                .map(|(n, v)| format!("{n} {}", model_name(v)))
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+        t.push('\n');
+    } else {
+        t.push_str("\nwith the study's measured errors compensated:\n");
+    }
+    for r in &a.readings {
+        t.push_str(&format!(
+            "reading {}: direct allocation {} (constant model: {})\n  bounds (arcmin): {}\n",
+            r.reading,
+            j_text(&r.direct),
+            j_text(&r.constant_direct),
+            bounds_text(&names, &r.direct)
+        ));
+        match &r.certified {
+            Ok(d) => t.push_str(&format!(
+                "  certified on the exact chain: {}; bounds (arcmin): {}\n",
+                j_text(d),
+                bounds_text(&names, d)
+            )),
+            Err(why) => t.push_str(&format!("  not certified: {why}\n")),
+        }
+        match &r.compensated {
+            Some(Ok(d)) => t.push_str(&format!(
+                "  compensated (measured errors held at their uncertainty, first order): {} for the unmeasured errors (before: J = {}); bounds (arcmin): {}\n",
+                j_text(d),
+                r.unmeasured_before_arcmin.map_or("-".into(), |j| sig(j, 5)),
+                bounds_text(&names, d)
+            )),
+            Some(Err(why)) => t.push_str(&format!("  compensated: {why}\n")),
+            None => {}
+        }
+    }
+    t
+}

@@ -1,0 +1,299 @@
+//! `cargo xtask estimable [--study FILE] [--tolerances FILE] [--json]`: which table errors the
+//! calibration can estimate itself (issue 22 item 4).
+//!
+//! A joint least squares of the sensor coefficients and the turntable's angular errors from
+//! the same schedule data, with the outputs simulated at the actual orientation (the user's
+//! reading of eq 13, whatever the study's reading: under the paper's the outputs carry no
+//! trace of the table). It prints the rank of the joint Jacobian (SVD, relative tolerance
+//! [`calib_lsq::joint::JOINT_RANK_RTOL`] of the largest raw effect, rows weighted by
+//! 1/accuracy), the estimable and the invisible combinations in the errors' names, each
+//! error's status, the direct allocation (user's reading, first order) before and after the
+//! estimable combinations are estimated, and at the worst turntable of a box (the sheet given
+//! by `--tolerances`, else that direct allocation's box) every output's rate error with the
+//! ordinary calibration and with the joint estimator (Gauss-Newton on the exact chain from
+//! noiseless outputs).
+//!
+//! JSON: `reading`, `rank`, `columns`, `coefficients`, `table_rank`, `rank_rtol`,
+//! `singular_values_relative`, `estimable` and `invisible` (`[{"combination", "terms":
+//! {error: coefficient}}]`), `errors` (`[{"name", "status"}]`, status `alone`, `combined` or
+//! `invisible`), `allocation` (`ordinary` and `joint`: `objective_arcmin` (`null` when no
+//! bound is needed), `upper_bounds_arcmin` (`null` = no bound needed), `no_bound_needed`),
+//! `box` (`source`: `tolerances` or `direct-allocation`; `outputs`: `[{"name", "unit",
+//! "accuracy", "ordinary", "joint"}]`).
+
+use crate::InputError;
+use anyhow::Result;
+use calib_lsq::Reading;
+use calib_lsq::joint::{Combination, JOINT_RANK_RTOL, JointEstimability};
+use clap::Parser;
+use e2e_verify::{DirectAllocation, EndToEnd};
+use serde_json::{Value, json};
+use std::path::PathBuf;
+use study::Study;
+use study::fmt::{num, sig};
+
+/// Gauss-Newton steps of the joint estimator at the box's worst turntable (it converges
+/// quadratically: 1e-4 rad to rounding in about four).
+pub const JOINT_ITERATIONS: usize = 10;
+
+/// Arguments of `estimable`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// A vendor's tolerances whose worst turntable is calibrated both ways (default: the
+    /// direct allocation's box under the user's reading).
+    #[arg(long)]
+    pub tolerances: Option<PathBuf>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Every output's rate error at a box's worst turntable (the ordinary calibration's worst
+/// vertex of that output), ordinary and joint.
+#[derive(Debug, Clone)]
+pub struct BoxRates {
+    /// `tolerances` or `direct-allocation`.
+    pub source: &'static str,
+    /// Per output: (ordinary, joint), output unit.
+    pub rates: Vec<(f64, f64)>,
+}
+
+/// The joint-estimation answer of a study.
+#[derive(Debug, Clone)]
+pub struct Estimable {
+    /// The user's-reading simulator.
+    pub e2e: EndToEnd,
+    /// The estimability.
+    pub est: JointEstimability,
+    /// The direct allocation, ordinary calibration.
+    pub ordinary: DirectAllocation,
+    /// The direct allocation when the estimable combinations are estimated.
+    pub joint: DirectAllocation,
+    /// The rate errors at a box's worst turntable.
+    pub at_box: BoxRates,
+}
+
+/// Compute the answer for a study (`ub_rad`: a sheet's bounds, if given).
+///
+/// # Errors
+/// An [`InputError`] naming the study for what its data make impossible (infeasible lower
+/// bounds); a library failure otherwise.
+pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
+    let e2e = crate::end_to_end::simulator(s)?
+        .with_reading(Reading::USER)
+        .map_err(|e| crate::input::library(e, s))?;
+    let est = e2e
+        .estimability()
+        .map_err(|e| crate::input::library(e, s))?;
+    let ordinary = e2e
+        .allocate_direct(&e2e.linearization(), &s.lower_bounds_rad)
+        .map_err(|e| crate::input::library(e, s))?;
+    let lj = e2e
+        .linearization_joint(&est)
+        .map_err(|e| crate::input::library(e, s))?;
+    let joint = e2e
+        .allocate_direct(&lj, &s.lower_bounds_rad)
+        .map_err(|e| crate::input::library(e, s))?;
+    let (source, ub) = match ub_rad {
+        Some(u) => ("tolerances", u.to_vec()),
+        None => ("direct-allocation", ordinary.upper_bounds_rad.clone()),
+    };
+    let wc = e2e
+        .worst_case(&e2e.linearization(), &ub)
+        .map_err(|e| crate::input::library(e, s))?;
+    let rates = wc
+        .outputs
+        .iter()
+        .map(|o| {
+            let plain = e2e.delta_omega(&o.worst_chi_rad)?[o.output];
+            let joint = e2e.joint_delta_omega(&o.worst_chi_rad, &est, JOINT_ITERATIONS)?[o.output];
+            Ok((plain, joint))
+        })
+        .collect::<Result<Vec<_>, e2e_verify::E2eError>>()
+        .map_err(|e| crate::input::library(e, s))?;
+    for (p, j) in &rates {
+        if !(p.is_finite() && j.is_finite()) {
+            anyhow::bail!("the joint estimator gave a non-finite rate error");
+        }
+    }
+    Ok(Estimable {
+        e2e,
+        est,
+        ordinary,
+        joint,
+        at_box: BoxRates { source, rates },
+    })
+}
+
+fn combination_json(c: &Combination) -> Value {
+    json!({
+        "combination": c.to_string(),
+        "terms": Value::Object(c.terms.iter().map(|(n, v)| (n.clone(), json!(v))).collect()),
+    })
+}
+
+fn allocation_json(names: &[&str], d: &DirectAllocation) -> Value {
+    json!({
+        "objective_arcmin": (!d.no_bound_needed()).then(|| d.objective_arcmin()),
+        "upper_bounds_arcmin": crate::out::arcmin_json(names, &d.upper_bounds_rad),
+        "no_bound_needed": d.no_bound_needed(),
+    })
+}
+
+/// The answer as JSON (see the [module](self)).
+#[must_use]
+pub fn to_json(s: &Study, a: &Estimable) -> Value {
+    let names = a.e2e.turntable().rotation_error_names();
+    let reference = a.est.reference();
+    let outputs: Vec<Value> = a
+        .e2e
+        .calibration()
+        .outputs()
+        .iter()
+        .zip(&a.at_box.rates)
+        .map(|(oc, (p, j))| {
+            let o = oc.output();
+            json!({"name": o.name, "unit": o.unit, "accuracy": o.accuracy, "ordinary": p, "joint": j})
+        })
+        .collect();
+    json!({
+        "study": s.path,
+        "reading": Reading::USER.to_string(),
+        "rank": a.est.rank(),
+        "columns": a.est.columns(),
+        "coefficients": a.est.coefficients(),
+        "table_rank": a.est.table_rank(),
+        "rank_rtol": JOINT_RANK_RTOL,
+        "singular_values_relative": a.est.singular_values().iter().map(|v| if reference > 0.0 { v / reference } else { 0.0 }).collect::<Vec<_>>(),
+        "estimable": a.est.estimable_combinations().iter().map(combination_json).collect::<Vec<_>>(),
+        "invisible": a.est.invisible_combinations().iter().map(combination_json).collect::<Vec<_>>(),
+        "errors": names.iter().zip(a.est.identifiability()).map(|(n, st)| json!({"name": n, "status": st.name()})).collect::<Vec<_>>(),
+        "allocation": {
+            "ordinary": allocation_json(&names, &a.ordinary),
+            "joint": allocation_json(&names, &a.joint),
+        },
+        "box": {"source": a.at_box.source, "outputs": outputs},
+    })
+}
+
+fn allocation_line(names: &[&str], d: &DirectAllocation) -> String {
+    if d.no_bound_needed() {
+        return "no bound needed for any error (first order)".into();
+    }
+    let bounds: Vec<String> = names
+        .iter()
+        .zip(&d.upper_bounds_rad)
+        .map(|(n, u)| {
+            if u.is_finite() {
+                format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 4))
+            } else {
+                format!("{n} none")
+            }
+        })
+        .collect();
+    format!(
+        "J = {} arcmin^-2; bounds (arcmin): {}",
+        sig(d.objective_arcmin(), 5),
+        bounds.join(", ")
+    )
+}
+
+/// The answer as text lines (also the report's section body, which escapes it).
+#[must_use]
+pub fn to_text(a: &Estimable) -> String {
+    let names = a.e2e.turntable().rotation_error_names();
+    let est = &a.est;
+    let reference = est.reference();
+    let mut t = String::new();
+    t.push_str("joint least squares of the sensor coefficients and the table errors (outputs at the actual orientation: the user's reading)\n");
+    t.push_str(&format!(
+        "rank of the joint Jacobian: {} of {} ({} sensor coefficients + {} table errors; table part {} of {})\n",
+        est.rank(),
+        est.columns(),
+        est.coefficients(),
+        names.len(),
+        est.table_rank(),
+        names.len()
+    ));
+    let sv: Vec<String> = est
+        .singular_values()
+        .iter()
+        .map(|v| sig(if reference > 0.0 { v / reference } else { 0.0 }, 3))
+        .collect();
+    t.push_str(&format!(
+        "singular values of the table part, relative to the largest raw effect (zero at or below {}): {}\n",
+        sig(JOINT_RANK_RTOL, 1),
+        sv.join(", ")
+    ));
+    let e = est.estimable_combinations();
+    t.push_str(&format!("estimable with the coefficients ({}):\n", e.len()));
+    for c in &e {
+        t.push_str(&format!("  {c}\n"));
+    }
+    let n = est.invisible_combinations();
+    t.push_str(&format!(
+        "not estimable ({}; their effect lies in the sensor's columns, the calibration absorbs it):\n",
+        n.len()
+    ));
+    for c in &n {
+        t.push_str(&format!("  {c}\n"));
+    }
+    let status: Vec<String> = names
+        .iter()
+        .zip(est.identifiability())
+        .map(|(n, s)| format!("{n} {}", s.name()))
+        .collect();
+    t.push_str(&format!(
+        "each error (alone: estimable by itself; combined: only in a combination; invisible: not at all): {}\n",
+        status.join(", ")
+    ));
+    t.push_str(&format!(
+        "direct allocation (user's reading, first order), ordinary calibration: {}\n",
+        allocation_line(&names, &a.ordinary)
+    ));
+    t.push_str(&format!(
+        "with the estimable combinations estimated: {}\n",
+        allocation_line(&names, &a.joint)
+    ));
+    let what = match a.at_box.source {
+        "tolerances" => "the sheet's",
+        _ => "the ordinary direct allocation's",
+    };
+    t.push_str(&format!(
+        "at {what} worst turntable (exact chain, noiseless sensor; joint: Gauss-Newton, {JOINT_ITERATIONS} steps):\n"
+    ));
+    for (oc, (p, j)) in a.e2e.calibration().outputs().iter().zip(&a.at_box.rates) {
+        let o = oc.output();
+        t.push_str(&format!(
+            "  {}: ordinary {} {u}, joint {} {u} (accuracy {} {u})\n",
+            o.name,
+            sig(*p, 4),
+            sig(*j, 3),
+            num(o.accuracy),
+            u = o.unit
+        ));
+    }
+    t
+}
+
+/// Run `estimable`.
+///
+/// # Errors
+/// An [`InputError`] (exit 2) for a bad study or sheet; others exit 1.
+pub fn run(args: &Args) -> Result<()> {
+    let s = crate::study::load(args.study.as_deref())?;
+    let tol = args
+        .tolerances
+        .as_ref()
+        .map(|p| study::Tolerances::load(p, &s.turntable).map_err(InputError::from))
+        .transpose()?;
+    let a = compute(&s, tol.as_ref().map(|t| t.ub_rad.as_slice()))?;
+    if args.json {
+        crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &a))? + "\n"))
+    } else {
+        crate::out::print(&format!("study {}\n{}", s.path, to_text(&a)))
+    }
+}

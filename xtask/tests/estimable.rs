@@ -1,0 +1,115 @@
+//! `cargo xtask estimable` (issue 22 item 4): which table errors the calibration estimates
+//! itself, on the paper's study and the three-axis example.
+
+mod common;
+
+use common::{assert_input_error, json, num, run, scratch, stdout, write};
+
+/// The paper's eight errors act as five (eq 26's equal coefficients): the joint least squares
+/// sees exactly those five combinations (rank 14 + 5 of 22), the three differences are
+/// invisible, no bound is needed once they are estimated, and Table 4's worst turntable,
+/// 0.0159 deg/h with the ordinary calibration (user's reading), calibrates to rounding with
+/// the joint estimator. The text says the same.
+#[test]
+fn estimable_on_the_paper_study_finds_the_five_groups_and_needs_no_bound() {
+    let v = json(&[
+        "estimable",
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+        "--json",
+    ]);
+    assert_eq!(v["reading"], "actual/beta1/printed");
+    assert_eq!(v["rank"], 19);
+    assert_eq!(v["columns"], 22);
+    assert_eq!(v["table_rank"], 5);
+    assert_eq!(v["estimable"].as_array().unwrap().len(), 5);
+    let invisible: Vec<&str> = v["invisible"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["combination"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        invisible,
+        [
+            "0.71 dphi_y1 - 0.71 deps_y",
+            "0.71 dphi_z2 - 0.71 dalpha_z1",
+            "0.71 dalpha_x1 - 0.71 deps_x"
+        ]
+    );
+    let status: Vec<&str> = v["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["status"].as_str().unwrap())
+        .collect();
+    assert_eq!(status.iter().filter(|s| **s == "alone").count(), 2);
+    assert!(!status.contains(&"invisible"));
+    assert_eq!(v["allocation"]["joint"]["no_bound_needed"], true);
+    assert!(v["allocation"]["joint"]["objective_arcmin"].is_null());
+    assert_eq!(v["allocation"]["ordinary"]["no_bound_needed"], false);
+    assert_eq!(v["box"]["source"], "tolerances");
+    for o in v["box"]["outputs"].as_array().unwrap() {
+        let (plain, joint) = (num(&o["ordinary"]), num(&o["joint"]));
+        assert!(
+            plain > num(&o["accuracy"]),
+            "Table 4 fails the user's reading"
+        );
+        assert!(joint < 1e-6 * plain, "{joint} vs {plain}");
+    }
+    let out = run(&[
+        "estimable",
+        "--tolerances",
+        "studies/tolerances/table4.toml",
+    ]);
+    assert!(out.status.success());
+    let t = stdout(&out);
+    assert!(t.contains("rank of the joint Jacobian: 19 of 22"), "{t}");
+    assert!(t.contains("  0.71 dphi_y1 - 0.71 deps_y\n"), "{t}");
+    assert!(
+        t.contains("with the estimable combinations estimated: no bound needed for any error"),
+        "{t}"
+    );
+}
+
+/// The three-axis example: thirteen errors act as seven, all seven are estimable, six
+/// differences invisible; without `--tolerances` the box is the ordinary direct allocation's.
+#[test]
+fn estimable_on_the_three_axis_example_finds_seven_combinations() {
+    let v = json(&[
+        "estimable",
+        "--study",
+        "studies/three-axis-example.toml",
+        "--json",
+    ]);
+    assert_eq!(v["table_rank"], 7);
+    assert_eq!(v["rank"], num(&v["coefficients"]) as u64 + 7);
+    assert_eq!(v["invisible"].as_array().unwrap().len(), 6);
+    assert_eq!(v["box"]["source"], "direct-allocation");
+    let sv: Vec<f64> = v["singular_values_relative"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(num)
+        .collect();
+    assert!(sv[6] > 1e3 * num(&v["rank_rtol"]) && sv[7] < num(&v["rank_rtol"]));
+    assert_eq!(v["allocation"]["joint"]["no_bound_needed"], true);
+}
+
+/// A sheet that does not fit the study's turntable: exit 2 naming it, nothing on stdout.
+#[test]
+fn estimable_refuses_a_sheet_of_another_turntable() {
+    let dir = scratch("estimable", "sheet");
+    let sheet = write(
+        &dir,
+        "bad.toml",
+        "[tolerances_arcmin]\nnot_an_error = 1.0\n",
+    );
+    let out = run(&[
+        "estimable",
+        "--tolerances",
+        sheet.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_input_error(&out, &["not_an_error"]);
+}
