@@ -80,6 +80,7 @@ pub mod paper;
 mod seam;
 mod simulate;
 pub mod timedomain;
+pub mod ziggurat;
 
 pub use allocate::{
     CERTIFY_BISECTION_STEPS, CERTIFY_MAX_MARGIN, CERTIFY_ROUND_TRIP_REL, CERTIFY_STEPS,
