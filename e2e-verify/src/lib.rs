@@ -83,6 +83,7 @@ pub mod paper;
 mod seam;
 mod simulate;
 pub mod timedomain;
+pub mod ziggurat;
 
 pub use allocate::{
     CertifyParams, DEFAULT_YIELD_FRACTION, DirectAllocation, NO_BOUND_NEEDED, RowLoad,

@@ -13,6 +13,9 @@
 //!   stationary,
 //! - quantization, uniform on $[-q/2, q/2]$;
 //!
+//! (normal draws by the ziggurat, [`crate::ziggurat`], one per white and one per Gauss-Markov
+//! term of a sample);
+//!
 //! the position averages $\boldsymbol\nu$; the estimator run on them (the calibration's own
 //! pseudo-inverse: the coefficients move by $\mathbf A^+\boldsymbol\nu$) and the rate error at
 //! the test positions, the table's error vector plus $\mathbf A\mathbf A^+\boldsymbol\nu$.
@@ -25,8 +28,8 @@
 
 use crate::error::E2eError;
 use crate::montecarlo::{McSettings, wilson_interval_95};
-use crate::noise::standard_normal_pair;
 use crate::simulate::EndToEnd;
+use crate::ziggurat::Ziggurat;
 use calib_lsq::Timing;
 use gw_model::noise::NoiseModel;
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, McRng, SampleBlock, TurntableSampler, chunk_rng};
@@ -167,23 +170,33 @@ impl Generator {
         let (sigma_b, tc) = self.bias.unwrap_or((0.0, 1.0));
         let phi = (-self.dt / tc).exp();
         let innovation = sigma_b * (1.0 - phi * phi).max(0.0).sqrt();
-        let mut b = if self.bias.is_some() {
-            sigma_b * standard_normal_pair(rng).0
+        let has_bias = self.bias.is_some();
+        let has_white = self.white_sd > 0.0;
+        let has_quantization = self.quantization > 0.0;
+        let z = Ziggurat::get();
+        let standard_normal = |rng: &mut McRng| z.sample(rng);
+        let mut b = if has_bias {
+            sigma_b * standard_normal(rng)
         } else {
             0.0
         };
         let mut t = 0.0;
         for (a, &(start, n)) in avg.iter_mut().zip(&self.windows) {
-            if self.bias.is_some() && start > t {
+            if has_bias && start > t {
                 let g = (-(start - t) / tc).exp();
-                b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * standard_normal_pair(rng).0;
+                b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * standard_normal(rng);
             }
             let mut sum = 0.0;
             for _ in 0..n {
-                let (z1, z2) = standard_normal_pair(rng);
-                b = phi * b + innovation * z1;
-                let mut x = b + self.white_sd * z2;
-                if self.quantization > 0.0 {
+                let mut x = 0.0;
+                if has_bias {
+                    b = phi * b + innovation * standard_normal(rng);
+                    x = b;
+                }
+                if has_white {
+                    x += self.white_sd * standard_normal(rng);
+                }
+                if has_quantization {
                     let u = (rng.next_u64() >> 11) as f64 * SCALE;
                     x += self.quantization * (u - 0.5);
                 }

@@ -20,6 +20,14 @@
 //! `certified` (`objective`, `bounds_arcmin`) and `worst_case_with_study_tolerances`, and
 //! `groups` (errors that act only together, with the bound of their combination under the
 //! certified allocation of each schedule, the linearised one where none is certified).
+//!
+//! `--time-budget-s S` (finite, > 0) with noise in the study: the positions and the dwell
+//! chosen together with the noise counted ([`e2e_verify::design::design_with_budget`]; total
+//! test time = positions x (dwell + move)), JSON `time_budget` (`budget_s`, `k_sigma`,
+//! `chosen`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
+//! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
+//! `--write-study`). Without noise the budget only changes the dwell: `time_budget.note` says
+//! so and the answer is unchanged.
 
 use crate::InputError;
 use anyhow::Result;
@@ -60,9 +68,23 @@ pub struct Args {
     /// Write the study with the designed positions to this new file (never overwritten).
     #[arg(long)]
     pub write_study: Option<PathBuf>,
+    /// Total test-time budget (s, finite, > 0): choose the positions and the dwell together
+    /// with the noise counted, and report the Pareto front of test time against J.
+    #[arg(long, allow_negative_numbers = true, value_parser = budget)]
+    pub time_budget_s: Option<f64>,
+    /// Write the Pareto front of `--time-budget-s` as an SVG figure to this new file.
+    #[arg(long)]
+    pub pareto_svg: Option<PathBuf>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// The largest `--time-budget-s` (s): about 32 years.
+const MAX_BUDGET_S: f64 = 1e9;
+
+fn budget(s: &str) -> Result<f64, String> {
+    crate::args::positive(s, MAX_BUDGET_S)
 }
 
 fn step(s: &str) -> Result<f64, String> {
@@ -91,6 +113,8 @@ struct Outcome {
     design: ScheduleDesign,
     /// With noise and a timing in the study: both schedules answered for both error sources.
     combined: Option<CombinedChoice>,
+    /// With `--time-budget-s`: positions and dwell chosen together.
+    budget: Option<crate::design_budget::Budgeted>,
     settings: DesignSettings,
     candidates: usize,
     step_deg: f64,
@@ -184,7 +208,7 @@ fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
 /// says; the recommendation then counts the noise ([`CombinedChoice`]).
 fn noise_note(s: &Study) -> Option<&'static str> {
     s.noise.iter().any(Option::is_some).then_some(
-        "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of the search); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
+        "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of this search; --time-budget-s adds the search of positions and dwell together with the noise counted); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
     )
 }
 
@@ -327,6 +351,11 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
         crate::groups::json(&s.turntable, &group_bounds(o)),
     );
     m.insert("written_study".into(), json!(o.written));
+    if let Some(b) = &o.budget {
+        for (k, v) in crate::design_budget::json(b) {
+            m.insert(k.into(), v);
+        }
+    }
     Value::Object(m)
 }
 
@@ -465,6 +494,9 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         }
         t.push('\n');
     }
+    if let Some(b) = &o.budget {
+        t.push_str(&crate::design_budget::text(s, b));
+    }
     let study_j = d.study.allocation.objective_arcmin();
     let head = [
         "schedule",
@@ -586,6 +618,14 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(out) = &args.write_study {
         crate::newfile::check(out, "--write-study")?;
     }
+    if let Some(out) = &args.pareto_svg {
+        if args.time_budget_s.is_none() {
+            return Err(
+                InputError::new("--pareto-svg", "the Pareto front needs --time-budget-s").into(),
+            );
+        }
+        crate::newfile::check(out, "--pareto-svg")?;
+    }
     let positions = args.positions.map_or(s.positions_deg.len(), |n| n as usize);
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);
     let mut settings = DesignSettings::new(positions, seed);
@@ -622,6 +662,32 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     let combined = combined_choice(&s, &design)?;
+    let budget = args
+        .time_budget_s
+        .map(|b| {
+            crate::design_budget::run(
+                &s,
+                &problem,
+                &design.search.designed.evaluation.schedule,
+                &design.search.d_optimal.schedule,
+                args.max_condition,
+                b,
+            )
+        })
+        .transpose()?;
+    let svg = match (&args.pareto_svg, &budget) {
+        (Some(out), Some(crate::design_budget::Budgeted::Design(d))) => {
+            Some((out, crate::design_budget::svg(d)?))
+        }
+        (Some(_), Some(crate::design_budget::Budgeted::Noiseless { .. })) => {
+            return Err(InputError::new(
+                "--pareto-svg",
+                "the study gives no noise: there is no trade-off of test time against the table to draw",
+            )
+            .into());
+        }
+        _ => None,
+    };
     let command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
         crate::paths::shell_quote(&s.path),
@@ -696,14 +762,28 @@ pub fn run(args: &Args) -> Result<()> {
                     "internal: the written study's positions differ from the designed ones"
                 );
             }
-            crate::newfile::write(out, text.as_bytes(), "--write-study")?;
+            Some((shown, crate::newfile::stage(out, text.as_bytes())?))
+        }
+        None => None,
+    };
+    // both files staged before either is linked into place
+    let svg = svg
+        .map(|(out, text)| crate::newfile::stage(out, text.as_bytes()))
+        .transpose()?;
+    let written = match written {
+        Some((shown, staged)) => {
+            staged.commit("--write-study")?;
             Some(shown)
         }
         None => None,
     };
+    if let Some(staged) = svg {
+        staged.commit("--pareto-svg")?;
+    }
     let outcome = Outcome {
         design,
         combined,
+        budget,
         settings,
         candidates: problem.n_candidates(),
         step_deg: args.step_deg,

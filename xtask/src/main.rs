@@ -15,6 +15,7 @@ mod args;
 mod calibration_error;
 mod check_turntable;
 mod csvio;
+mod design_budget;
 mod design_schedule;
 mod end_to_end;
 mod estimable;

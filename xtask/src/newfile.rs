@@ -149,11 +149,3 @@ impl Drop for Staged {
         }
     }
 }
-
-/// Write `bytes` to the new file `out`: [`stage`] then [`Staged::commit`].
-///
-/// # Errors
-/// As [`stage`] and [`Staged::commit`].
-pub fn write(out: &Path, bytes: &[u8], flag: &str) -> Result<()> {
-    stage(out, bytes)?.commit(flag)
-}

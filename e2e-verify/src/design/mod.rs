@@ -163,10 +163,16 @@
 //! Technometrics 22 (1980) 315-324 (the per-point exchange). The objective is the direct
 //! allocation of this crate, an extension of Zhao et al. 2017, problems (31)-(33).
 
+mod budget;
 mod dopt;
 mod dual;
 mod problem;
 mod search;
+
+pub use budget::{
+    BUDGET_DWELLS_PER_DECADE, BUDGET_FIXED_POINT_STEPS, BUDGET_SEARCH_DWELLS, BudgetDesign,
+    BudgetPoint, ScheduleOrigin, TimeBudget, design_with_budget, pareto_front, total_test_s,
+};
 
 pub use problem::DesignProblem;
 
@@ -936,6 +942,30 @@ impl DesignProblem {
         })
     }
 
+    /// The end-to-end simulator of a schedule (joint angles, deg) through the same path as
+    /// every other command: study positions to [`Calibration`], then [`EndToEnd::new`].
+    ///
+    /// # Errors
+    /// As [`Calibration::new`] and [`EndToEnd::new`].
+    pub fn end_to_end(&self, positions_deg: &[Vec<f64>]) -> Result<EndToEnd, E2eError> {
+        let positions = positions_deg
+            .iter()
+            .map(|p| {
+                let pose = tt_kinematics::Pose::from_deg(p)?;
+                Ok(calib_lsq::Position::new(
+                    self.turntable.nominal_rotation(&pose)?,
+                    p.clone(),
+                )?)
+            })
+            .collect::<Result<Vec<_>, E2eError>>()?;
+        let calibration = Calibration::new(&self.sensor, &self.site, &Schedule::new(positions)?)?;
+        let poses = positions_deg
+            .iter()
+            .map(|p| tt_kinematics::Pose::from_deg(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        EndToEnd::new(&self.turntable, &calibration, &poses, self.reading)
+    }
+
     /// A schedule's report through the same path as every other command (study positions to
     /// [`Calibration`], [`EndToEnd::new`], [`EndToEnd::linearization`],
     /// [`EndToEnd::allocate_direct`]): its own direct allocation (the design objective), the
@@ -953,22 +983,8 @@ impl DesignProblem {
         delta_r_kind: DeltaRKind,
         study_tolerances: Option<&StudyTolerances>,
     ) -> Result<ScheduleReport, E2eError> {
-        let positions = positions_deg
-            .iter()
-            .map(|p| {
-                let pose = tt_kinematics::Pose::from_deg(p)?;
-                Ok(calib_lsq::Position::new(
-                    self.turntable.nominal_rotation(&pose)?,
-                    p.clone(),
-                )?)
-            })
-            .collect::<Result<Vec<_>, E2eError>>()?;
-        let calibration = Calibration::new(&self.sensor, &self.site, &Schedule::new(positions)?)?;
-        let poses = positions_deg
-            .iter()
-            .map(|p| tt_kinematics::Pose::from_deg(p))
-            .collect::<Result<Vec<_>, _>>()?;
-        let e2e = EndToEnd::new(&self.turntable, &calibration, &poses, self.reading)?;
+        let e2e = self.end_to_end(positions_deg)?;
+        let calibration = e2e.calibration().clone();
         let linear = e2e.linearization();
         let allocation = e2e.allocate_direct(&linear, &self.lower_bounds_rad)?;
         let (certified, certified_note) =

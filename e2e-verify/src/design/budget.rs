@@ -1,0 +1,467 @@
+//! Test time as a resource: the positions and the dwell chosen together under a total
+//! test-time budget, with the sensor's noise counted (issue 21, item 4).
+//!
+//! # Objective
+//! For a schedule $S$ of $N$ positions and a dwell $T$ at each, $J(S, T)$ is the direct
+//! allocation with the noise part kept free at $\kappa$ sigma
+//! ([`EndToEnd::allocate_direct_with_noise`], as `end-to-end`'s trade-off computes it): every
+//! row of output $k$ is held to $\omega_{m,k} - \kappa\sigma_k(S, T)$, where $\sigma_k$ is
+//! the largest standard deviation of output $k$'s calibrated rate error over the positions
+//! (calib-lsq's covariance for white, Gauss-Markov and quantization noise, positions in the
+//! schedule's order, the same dwell $T$ at each). No table suffices when the noise part (with
+//! the lower bounds' table part) fills an accuracy: $J = \infty$. The total test time is
+//! $N\,(T + T_{move})$ (a move before every dwell).
+//!
+//! # The search
+//! The noise part depends on the schedule, so the search holds it fixed and updates it (a
+//! fixed point): for a dwell $T$, start from the best schedule known at $T$, take its noise
+//! parts $m_k = \kappa\sigma_k(S, T)$, and run the exchange ([`DesignProblem::exchange`],
+//! the table's search with every bound and screening unchanged) on the problem whose
+//! accuracies are $\omega_{m,k} - m_k$: its $J$ is exactly $J(S', T)$ for any $S'$ with the
+//! same noise parts. The result's own noise parts are then computed and the step repeated
+//! (at most [`BUDGET_FIXED_POINT_STEPS`] times, or until the schedule stops changing). This
+//! runs at [`BUDGET_SEARCH_DWELLS`] dwells: the budget's own and dwells spread over those at
+//! which some known schedule leaves the table room.
+//!
+//! # The Pareto front
+//! Every schedule found (the table's design, the study's schedule, every noise-aware design)
+//! is evaluated exactly at every dwell of a grid ([`BUDGET_DWELLS_PER_DECADE`] per decade in
+//! $\log T$ from one sample to the longest dwell, plus each schedule's dwell that spends the
+//! whole budget). The front is the set of $(N(T + T_{move}), J)$ not dominated by another:
+//! sorted by the total time, each point needs a strictly cheaper table than every point
+//! before it, so more time never needs a better table. The chosen point is the cheapest table
+//! within the budget (ties: the shorter test).
+//!
+//! # What is guaranteed
+//! Every point's $J$ is computed exactly (not estimated) on the same path as `end-to-end`
+//! (study positions to [`EndToEnd`], its linearisation, calib-lsq's covariance, the shared
+//! allocation core), and the schedules searched include the study's and the table's design,
+//! so the chosen point is never worse than either at the budget's dwell. The search is a local
+//! one (single exchanges, noise parts held fixed within each exchange): not a global optimum.
+
+use super::DesignProblem;
+use crate::error::E2eError;
+use crate::simulate::EndToEnd;
+use calib_lsq::Timing;
+use gw_model::noise::NoiseModel;
+use rayon::prelude::*;
+
+/// Dwells of the evaluation grid per decade of $T$ (dimensionless): the front's resolution
+/// in test time (a factor $10^{1/4} \approx 1.78$ between neighbours).
+pub const BUDGET_DWELLS_PER_DECADE: usize = 4;
+
+/// Dwells at which the noise-aware search runs (the budget's own first).
+pub const BUDGET_SEARCH_DWELLS: usize = 4;
+
+/// Updates of the noise part per searched dwell at most (the fixed point of the search).
+pub const BUDGET_FIXED_POINT_STEPS: usize = 2;
+
+/// The noise, timing and budget of a budget design.
+#[derive(Debug, Clone, Copy)]
+pub struct TimeBudget<'a> {
+    /// Per output its noise (`None`: noiseless).
+    pub noise: &'a [Option<NoiseModel>],
+    /// Time to move between two positions (s).
+    pub move_s: f64,
+    /// Sample rate (Hz).
+    pub sample_rate_hz: f64,
+    /// $\kappa$ of the noise part.
+    pub k_sigma: f64,
+    /// The total test time allowed (s).
+    pub budget_s: f64,
+    /// The longest dwell per position considered (s).
+    pub max_dwell_s: f64,
+}
+
+/// Where a schedule of the budget design comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ScheduleOrigin {
+    /// The design for the table's part alone.
+    Table,
+    /// The study's own schedule.
+    Study,
+    /// The D-optimal schedule (the least noise for white noise, whatever the table).
+    DOptimal,
+    /// The noise-aware search at this dwell (s).
+    Noise(f64),
+}
+
+/// One schedule at one dwell, evaluated exactly.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BudgetPoint {
+    /// Where the schedule comes from.
+    pub origin: ScheduleOrigin,
+    /// The positions (joint angles, deg).
+    pub positions_deg: Vec<Vec<f64>>,
+    /// The dwell at every position (s).
+    pub dwell_s: f64,
+    /// The total test time $N(T + T_{move})$ (s).
+    pub total_s: f64,
+    /// $J$ (rad$^{-2}$) of the direct allocation with the noise part kept free.
+    pub objective: f64,
+}
+
+impl BudgetPoint {
+    /// Number of positions $N$.
+    #[must_use]
+    pub fn n_positions(&self) -> usize {
+        self.positions_deg.len()
+    }
+
+    /// $J$ in arcmin$^{-2}$.
+    #[must_use]
+    pub fn objective_arcmin(&self) -> f64 {
+        tt_core::units::objective_to_arcmin(self.objective)
+    }
+}
+
+/// The budget design's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BudgetDesign {
+    /// The budget (s).
+    pub budget_s: f64,
+    /// $\kappa$ of the noise part.
+    pub k_sigma: f64,
+    /// The evaluation grid of dwells (s), ascending.
+    pub dwells_s: Vec<f64>,
+    /// Every schedule evaluated, with its origin.
+    pub schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)>,
+    /// Schedule-dwell pairs evaluated.
+    pub evaluated: usize,
+    /// The Pareto front, by ascending total time (and strictly descending $J$).
+    pub pareto: Vec<BudgetPoint>,
+    /// The cheapest table within the budget; `None` when no evaluated point within it leaves
+    /// the table room.
+    pub chosen: Option<BudgetPoint>,
+}
+
+/// The total test time of `n` positions with `dwell_s` each: $N(T + T_{move})$ (s).
+#[must_use]
+pub fn total_test_s(n: usize, dwell_s: f64, move_s: f64) -> f64 {
+    n as f64 * (dwell_s + move_s)
+}
+
+/// The non-dominated points of `points` (by total time, then $J$): ascending total time,
+/// each with a $J$ strictly below every point before it.
+#[must_use]
+pub fn pareto_front(points: &[BudgetPoint]) -> Vec<BudgetPoint> {
+    let mut sorted: Vec<&BudgetPoint> = points.iter().filter(|p| p.objective.is_finite()).collect();
+    sorted.sort_by(|a, b| {
+        a.total_s
+            .total_cmp(&b.total_s)
+            .then(a.objective.total_cmp(&b.objective))
+    });
+    let mut out: Vec<BudgetPoint> = Vec::new();
+    for p in sorted {
+        if out.last().is_none_or(|q| p.objective < q.objective) {
+            out.push(p.clone());
+        }
+    }
+    out
+}
+
+impl DesignProblem {
+    /// The same problem with every output's accuracy lowered by `margins[k]` (output unit):
+    /// its $J$ is the direct allocation with those margins kept free. `None` when a margin
+    /// leaves no room.
+    fn with_margins(&self, margins: &[f64]) -> Option<Self> {
+        if self
+            .accuracies
+            .iter()
+            .zip(margins)
+            .any(|(a, m)| (a - m).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater))
+        {
+            return None;
+        }
+        let mut p = self.clone();
+        for ((o, acc), m) in p.outputs.iter_mut().zip(&mut p.accuracies).zip(margins) {
+            *acc -= m;
+            let w = 1.0 / *acc;
+            let (c_g, c_e, d) = (self.affine.c_g, self.affine.c_e, self.affine.d);
+            o.c0 =
+                o.dg.iter()
+                    .zip(&o.de)
+                    .map(|(g, e)| (c_g * g + c_e * e) * w)
+                    .collect();
+            o.c1 =
+                o.dg.iter()
+                    .zip(&o.de)
+                    .map(|(g, e)| d * (g + e) * w)
+                    .collect();
+        }
+        Some(p)
+    }
+}
+
+/// One schedule's end-to-end simulator and linearisation, evaluated at dwells.
+struct Evaluator<'a> {
+    e2e: EndToEnd,
+    linear: crate::Linearization,
+    lower_bounds_rad: &'a [f64],
+    budget: &'a TimeBudget<'a>,
+}
+
+impl Evaluator<'_> {
+    fn noise(&self, dwell_s: f64) -> Result<crate::noise::NoiseBudget, E2eError> {
+        let timing = Timing::uniform(
+            self.e2e.len(),
+            dwell_s,
+            self.budget.move_s,
+            self.budget.sample_rate_hz,
+        )?;
+        self.e2e.noise_budget(self.budget.noise, &timing)
+    }
+
+    /// $J(S, T)$ (rad$^{-2}$; `+inf` when no table suffices).
+    fn objective(&self, dwell_s: f64) -> Result<f64, E2eError> {
+        let noise = self.noise(dwell_s)?;
+        Ok(self
+            .e2e
+            .allocate_direct_with_noise(
+                &self.linear,
+                self.lower_bounds_rad,
+                &noise,
+                self.budget.k_sigma,
+            )?
+            .map_or(f64::INFINITY, |d| d.objective))
+    }
+}
+
+/// The dwell grid: [`BUDGET_DWELLS_PER_DECADE`] per decade from one sample to `max_dwell_s`,
+/// with `extra` dwells in that range merged in, ascending, without repeats.
+fn dwell_grid(lo: f64, hi: f64, extra: &[f64]) -> Vec<f64> {
+    let decades = (hi / lo).log10().max(0.0);
+    let steps = (decades * BUDGET_DWELLS_PER_DECADE as f64).ceil() as usize;
+    let mut out: Vec<f64> = (0..=steps)
+        .map(|i| {
+            if steps == 0 {
+                lo
+            } else {
+                (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / steps as f64)
+                    .exp()
+                    .clamp(lo, hi)
+            }
+        })
+        .collect();
+    out.extend(extra.iter().copied().filter(|t| *t >= lo && *t <= hi));
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    out
+}
+
+/// The dwell that spends the whole budget on `n` positions, if it holds one sample and is
+/// within the longest dwell.
+fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
+    let t = b.budget_s / n as f64 - b.move_s;
+    (t >= lo && t <= b.max_dwell_s).then_some(t)
+}
+
+/// Positions and dwell chosen together under a total test-time budget (see the
+/// [module](self)): `table` is the design for the table's part alone, `study` the study's
+/// schedule (candidate indices of `problem`, if all its positions are candidates) and
+/// `others` more schedules (e.g. the D-optimal one), each a start of the noise-aware search
+/// when it has the designed size; the study's schedule (`study_positions_deg`) is evaluated in
+/// any case.
+///
+/// # Errors
+/// [`E2eError::Field`] naming `budget_s`, `max_dwell_s`, `sample_rate_hz` or `move_s` when
+/// not finite and positive (non-negative for the move); as [`EndToEnd::noise_budget`] and
+/// [`EndToEnd::allocate_direct_with_noise`].
+pub fn design_with_budget(
+    problem: &DesignProblem,
+    table: &[usize],
+    study: Option<&[usize]>,
+    study_positions_deg: &[Vec<f64>],
+    others: &[(ScheduleOrigin, Vec<usize>)],
+    max_condition: f64,
+    b: &TimeBudget<'_>,
+) -> Result<BudgetDesign, E2eError> {
+    let budget_s = crate::error::positive("budget_s", b.budget_s)?;
+    crate::error::positive("max_dwell_s", b.max_dwell_s)?;
+    let rate = crate::error::positive("sample_rate_hz", b.sample_rate_hz)?;
+    if !(b.move_s >= 0.0 && b.move_s.is_finite()) {
+        return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+            field: "move_s".into(),
+            value: b.move_s,
+            range: "[0, inf) s".into(),
+        }));
+    }
+    crate::noise::check_k_sigma(b.k_sigma)?;
+    // the shortest dwell holds one sample (a relative 1e-9 above, against rounding)
+    let lo = (1.0 / rate * (1.0 + 1e-9)).min(b.max_dwell_s);
+    let evaluator = |positions: &[Vec<f64>]| -> Result<Evaluator<'_>, E2eError> {
+        let e2e = problem.end_to_end(positions)?;
+        let linear = e2e.linearization();
+        Ok(Evaluator {
+            e2e,
+            linear,
+            lower_bounds_rad: &problem.lower_bounds_rad,
+            budget: b,
+        })
+    };
+    let n = table.len();
+    let mut schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> =
+        vec![(ScheduleOrigin::Table, problem.positions_deg(table))];
+    let same = |a: &[Vec<f64>], b: &[Vec<f64>]| {
+        let (mut a, mut b) = (a.to_vec(), b.to_vec());
+        let key = |x: &Vec<f64>, y: &Vec<f64>| {
+            x.iter()
+                .zip(y)
+                .map(|(p, q)| p.total_cmp(q))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        };
+        a.sort_by(key);
+        b.sort_by(key);
+        a == b
+    };
+    for (origin, positions) in
+        std::iter::once((ScheduleOrigin::Study, study_positions_deg.to_vec()))
+            .chain(others.iter().map(|(o, s)| (*o, problem.positions_deg(s))))
+    {
+        if !schedules.iter().any(|(_, q)| same(q, &positions)) {
+            schedules.push((origin, positions));
+        }
+    }
+    let extra: Vec<f64> = schedules
+        .iter()
+        .filter_map(|(_, s)| budget_dwell(b, s.len(), lo))
+        .collect();
+    let dwells = dwell_grid(lo, b.max_dwell_s, &extra);
+    // J of every schedule at every dwell (in parallel over the schedules; order kept)
+    let table_of = |positions: &[Vec<f64>]| -> Result<Vec<f64>, E2eError> {
+        let ev = evaluator(positions)?;
+        dwells.iter().map(|&t| ev.objective(t)).collect()
+    };
+    let mut objectives: Vec<Vec<f64>> = schedules
+        .par_iter()
+        .map(|(_, s)| table_of(s))
+        .collect::<Result<_, _>>()?;
+    // the searched dwells: the budget's own, then spread over those where a schedule of the
+    // designed size leaves room
+    let same_size: Vec<usize> = (0..schedules.len())
+        .filter(|&i| schedules[i].1.len() == n)
+        .collect();
+    let open: Vec<usize> = (0..dwells.len())
+        .filter(|&d| same_size.iter().any(|&i| objectives[i][d].is_finite()))
+        .collect();
+    let mut searched: Vec<usize> = Vec::new();
+    if let Some(t) = budget_dwell(b, n, lo) {
+        if let Some(d) = dwells.iter().position(|&x| x.to_bits() == t.to_bits()) {
+            searched.push(d);
+        }
+    }
+    let spread = BUDGET_SEARCH_DWELLS.saturating_sub(searched.len());
+    for i in 0..spread {
+        if open.is_empty() {
+            break;
+        }
+        let f = if spread > 1 {
+            i as f64 / (spread - 1) as f64
+        } else {
+            0.0
+        };
+        let d = open[(f * (open.len() - 1) as f64).round() as usize];
+        if !searched.contains(&d) {
+            searched.push(d);
+        }
+    }
+    let index_of = |positions: &[Vec<f64>]| -> Option<Vec<usize>> {
+        positions.iter().map(|p| problem.index_of(p)).collect()
+    };
+    let mut known: Vec<Vec<usize>> = vec![table.to_vec()];
+    if let Some(s) = study.filter(|s| s.len() == n) {
+        known.push(s.to_vec());
+    }
+    known.extend(others.iter().map(|(_, s)| s.clone()));
+    // every known schedule of the designed size that leaves the table room at a searched dwell
+    // starts one noise-aware exchange there
+    let mut jobs: Vec<(usize, Vec<usize>)> = Vec::new();
+    for &d in &searched {
+        for &i in &same_size {
+            if objectives[i][d].is_finite() {
+                if let Some(s) = index_of(&schedules[i].1) {
+                    jobs.push((d, s));
+                }
+            }
+        }
+    }
+    let found: Vec<(usize, Vec<Vec<usize>>)> = jobs
+        .into_par_iter()
+        .map(|(d, mut s)| {
+            let t = dwells[d];
+            let mut out = Vec::new();
+            for _ in 0..BUDGET_FIXED_POINT_STEPS {
+                let ev = evaluator(&problem.positions_deg(&s))?;
+                let margins = ev.noise(t)?.margins(b.k_sigma);
+                let Some(reduced) = problem.with_margins(&margins) else {
+                    break;
+                };
+                let next = match reduced.exchange(&s, max_condition) {
+                    Ok(e) => e.evaluation.schedule,
+                    Err(E2eError::ConditionUnreachable { .. }) => break,
+                    Err(e) => return Err(e),
+                };
+                if next == s {
+                    break;
+                }
+                out.push(next.clone());
+                s = next;
+            }
+            Ok((d, out))
+        })
+        .collect::<Result<_, E2eError>>()?;
+    let mut new: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> = Vec::new();
+    for (d, list) in found {
+        for s in list {
+            let mut sorted = s.clone();
+            sorted.sort_unstable();
+            let seen = known.iter().any(|k| {
+                let mut k = k.clone();
+                k.sort_unstable();
+                k == sorted
+            });
+            if !seen {
+                known.push(s.clone());
+                new.push((ScheduleOrigin::Noise(dwells[d]), problem.positions_deg(&s)));
+            }
+        }
+    }
+    let more: Vec<Vec<f64>> = new
+        .par_iter()
+        .map(|(_, s)| table_of(s))
+        .collect::<Result<_, _>>()?;
+    schedules.extend(new);
+    objectives.extend(more);
+    let mut points = Vec::new();
+    for ((origin, s), js) in schedules.iter().zip(&objectives) {
+        for (&t, &j) in dwells.iter().zip(js) {
+            if j.is_finite() {
+                points.push(BudgetPoint {
+                    origin: *origin,
+                    positions_deg: s.clone(),
+                    dwell_s: t,
+                    total_s: total_test_s(s.len(), t, b.move_s),
+                    objective: j,
+                });
+            }
+        }
+    }
+    let pareto = pareto_front(&points);
+    // the front holds the cheapest table for every total time: the last point within the
+    // budget is the choice
+    let chosen = pareto
+        .iter()
+        .take_while(|p| p.total_s <= budget_s)
+        .last()
+        .cloned();
+    Ok(BudgetDesign {
+        budget_s,
+        k_sigma: b.k_sigma,
+        evaluated: schedules.len() * dwells.len(),
+        dwells_s: dwells,
+        schedules,
+        pareto,
+        chosen,
+    })
+}

@@ -1,0 +1,235 @@
+//! `design-schedule --time-budget-s SECONDS [--pareto-svg PATH]`: the positions and the dwell
+//! chosen together under a total test-time budget with the noise counted
+//! ([`e2e_verify::design::design_with_budget`]); the Pareto front of total test time against
+//! J as a table, JSON (`time_budget`, `pareto`) and a figure.
+
+use crate::InputError;
+use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
+use anyhow::Result;
+use e2e_verify::design::{
+    BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, design_with_budget,
+};
+use e2e_verify::noise::DEFAULT_K_SIGMA;
+use serde_json::{Value, json};
+use study::Study;
+use study::fmt::{num, sig};
+
+/// What the budget answers for a study.
+pub enum Budgeted {
+    /// The study gives no noise: the budget only changes the dwell.
+    Noiseless { budget_s: f64 },
+    /// The design under the budget.
+    Design(Box<BudgetDesign>),
+}
+
+/// Why a noiseless study's answer does not change with the budget.
+pub const NOISELESS_NOTE: &str = "the study gives no noise: the budget only changes the dwell (without noise the table's part does not depend on the dwell), so the positions are those designed for the table and the answer is the one without a budget";
+
+/// Run the budget design on the designed (`table`) and the study's schedule.
+///
+/// # Errors
+/// An [`InputError`] naming `--time-budget-s` when the study gives noise but no
+/// `[calibration.timing]` (the sample rate and move time); library errors otherwise.
+pub fn run(
+    s: &Study,
+    problem: &DesignProblem,
+    table: &[usize],
+    d_optimal: &[usize],
+    max_condition: f64,
+    budget_s: f64,
+) -> Result<Budgeted> {
+    if s.noise.iter().all(Option::is_none) {
+        return Ok(Budgeted::Noiseless { budget_s });
+    }
+    let Some(timing) = &s.timing else {
+        return Err(InputError::new(
+            "--time-budget-s",
+            "the study gives noise but no [calibration.timing]: the budget needs its sample_rate_hz and move_s",
+        )
+        .into());
+    };
+    let study: Option<Vec<usize>> = s
+        .positions_deg
+        .iter()
+        .map(|p| problem.index_of(p))
+        .collect();
+    let b = TimeBudget {
+        noise: &s.noise,
+        move_s: timing.move_s(),
+        sample_rate_hz: timing.sample_rate_hz(),
+        k_sigma: DEFAULT_K_SIGMA,
+        budget_s,
+        max_dwell_s: study::limits::DWELL_S.1,
+    };
+    let d = design_with_budget(
+        problem,
+        table,
+        study.as_deref(),
+        &s.positions_deg,
+        &[(ScheduleOrigin::DOptimal, d_optimal.to_vec())],
+        max_condition,
+        &b,
+    )
+    .map_err(|e| crate::input::library(e, s))?;
+    Ok(Budgeted::Design(Box::new(d)))
+}
+
+fn origin(o: ScheduleOrigin) -> String {
+    match o {
+        ScheduleOrigin::Table => "designed for the table".into(),
+        ScheduleOrigin::Study => "study's positions".into(),
+        ScheduleOrigin::DOptimal => "D-optimal".into(),
+        ScheduleOrigin::Noise(t) => format!("designed with the noise at {} s", sig(t, 4)),
+    }
+}
+
+fn point_json(p: &BudgetPoint) -> Value {
+    json!({
+        "total_s": p.total_s,
+        "n_positions": p.n_positions(),
+        "dwell_s": p.dwell_s,
+        "objective_arcmin": p.objective_arcmin(),
+        "origin": origin(p.origin),
+    })
+}
+
+/// The JSON keys: `time_budget` and, with noise, `pareto`.
+pub fn json(b: &Budgeted) -> Vec<(&'static str, Value)> {
+    match b {
+        Budgeted::Noiseless { budget_s } => vec![(
+            "time_budget",
+            json!({"budget_s": budget_s, "note": NOISELESS_NOTE}),
+        )],
+        Budgeted::Design(d) => vec![
+            (
+                "time_budget",
+                json!({
+                    "budget_s": d.budget_s,
+                    "k_sigma": d.k_sigma,
+                    "total_time": "n_positions x (dwell_s + move_s)",
+                    "schedules": d.schedules.len(),
+                    "dwells": d.dwells_s.len(),
+                    "evaluated": d.evaluated,
+                    "chosen": d.chosen.as_ref().map(|p| {
+                        let mut v = point_json(p);
+                        v["positions_deg"] = json!(p.positions_deg);
+                        v
+                    }),
+                }),
+            ),
+            (
+                "pareto",
+                json!(d.pareto.iter().map(point_json).collect::<Vec<_>>()),
+            ),
+        ],
+    }
+}
+
+/// The budget's answer in words, with the Pareto front as a table.
+pub fn text(s: &Study, b: &Budgeted) -> String {
+    let d = match b {
+        Budgeted::Noiseless { budget_s } => {
+            return format!("time budget {} s: {NOISELESS_NOTE}\n\n", num(*budget_s));
+        }
+        Budgeted::Design(d) => d,
+    };
+    let mut t = format!(
+        "time budget {} s ({} h; total = positions x (dwell + move)), noise counted at {} sigma: {} schedules at {} dwells each (J of the direct allocation with the noise part kept free, as end-to-end's trade-off)\n",
+        num(d.budget_s),
+        sig(d.budget_s / 3600.0, 4),
+        num(d.k_sigma),
+        d.schedules.len(),
+        d.dwells_s.len()
+    );
+    match &d.chosen {
+        Some(p) => t.push_str(&format!(
+            "  within the budget: {} positions x {} s ({} s in all), J = {} arcmin^-2 ({})\n",
+            p.n_positions(),
+            sig(p.dwell_s, 4),
+            sig(p.total_s, 4),
+            sig(p.objective_arcmin(), 6),
+            origin(p.origin)
+        )),
+        None => t.push_str(&match d.pareto.first() {
+            Some(p) => format!(
+                "  within the budget no table suffices (the noise fills an accuracy); the shortest test at which one does: {} s ({} positions x {} s)\n",
+                sig(p.total_s, 4),
+                p.n_positions(),
+                sig(p.dwell_s, 4)
+            ),
+            None => format!(
+                "  no table suffices at any dwell up to {} s per position: the noise fills an accuracy\n",
+                num(study::limits::DWELL_S.1)
+            ),
+        }),
+    }
+    if !d.pareto.is_empty() {
+        t.push_str(&format!(
+            "  Pareto front (the cheapest table for each total test time; outputs {}):\n",
+            s.sensor
+                .outputs()
+                .iter()
+                .map(|o| o.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        t.push_str(&format!(
+            "  {:>12} {:>10} {:>12} {:>14}  {}\n",
+            "total (s)", "positions", "dwell (s)", "J (arcmin^-2)", "schedule"
+        ));
+        for p in &d.pareto {
+            t.push_str(&format!(
+                "  {:>12} {:>10} {:>12} {:>14}  {}{}\n",
+                sig(p.total_s, 4),
+                p.n_positions(),
+                sig(p.dwell_s, 4),
+                sig(p.objective_arcmin(), 5),
+                origin(p.origin),
+                if p.total_s <= d.budget_s {
+                    ""
+                } else {
+                    " (over the budget)"
+                }
+            ));
+        }
+    }
+    t.push('\n');
+    t
+}
+
+/// The Pareto front as a figure in the report's style (the report's line-figure code):
+/// J against the total test time, both log10, with the chosen point.
+///
+/// # Errors
+/// When the front is empty (nothing to draw) or a value is not plottable.
+pub fn svg(d: &BudgetDesign) -> Result<String> {
+    if d.pareto.is_empty() {
+        anyhow::bail!("--pareto-svg: no table suffices at any dwell, the front is empty");
+    }
+    let xy = |p: &BudgetPoint| ((p.total_s / 3600.0).log10(), p.objective_arcmin().log10());
+    let mut series = vec![Series {
+        label: "Pareto front: the cheapest table for each total test time".into(),
+        points: d.pareto.iter().map(xy).collect(),
+        mark: Mark::Line(colour(0), false),
+    }];
+    if let Some(p) = &d.chosen {
+        series.push(Series {
+            label: format!(
+                "chosen within the budget ({} h)",
+                sig(d.budget_s / 3600.0, 3)
+            ),
+            points: vec![xy(p)],
+            mark: Mark::Dots(LIMIT),
+        });
+    }
+    let panel = LinePanel {
+        title: "Test time against the table's J".into(),
+        x_label: "total test time, log10 (h)".into(),
+        y_label: "log10 J (arcmin⁻²)".into(),
+        series,
+        hlines: Vec::new(),
+        x_integer: false,
+        y_from_zero: false,
+    };
+    figures::line_figure("Test time and the table", &[panel], 1)
+}

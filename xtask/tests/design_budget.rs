@@ -1,0 +1,131 @@
+//! `design-schedule --time-budget-s` through the built binary (issue 21 item 4): bad values
+//! exit 2 naming the flag with nothing on standard output, a study without noise keeps its
+//! answer and says why, and with noise the Pareto front (JSON `pareto`) is monotone, the
+//! chosen point fits the budget and `--pareto-svg` writes a new figure, never over a file.
+
+mod common;
+
+use common::{root, scratch};
+use serde_json::Value;
+use std::process::{Command, Output};
+
+fn xtask(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run xtask")
+}
+
+fn json_of(out: &Output) -> Value {
+    assert!(
+        out.status.success(),
+        "exit {:?}: {}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
+}
+
+const NOISY: &str = "studies/gyrowheel-2017-noise-assumed.toml";
+
+/// A budget that is not a finite positive number, and `--pareto-svg` without a budget, exit 2
+/// naming the flag, with nothing on standard output.
+#[test]
+fn bad_time_budgets_exit_2_naming_the_flag() {
+    for (args, needle) in [
+        (vec!["--time-budget-s", "0"], "--time-budget-s"),
+        (vec!["--time-budget-s", "-60"], "--time-budget-s"),
+        (vec!["--time-budget-s", "nan"], "--time-budget-s"),
+        (vec!["--time-budget-s", "inf"], "--time-budget-s"),
+        (vec!["--time-budget-s", "an hour"], "--time-budget-s"),
+        (vec!["--pareto-svg", "front.svg"], "--pareto-svg"),
+    ] {
+        let mut a = vec!["design-schedule", "--study", NOISY];
+        a.extend(args.iter());
+        let r = xtask(&a);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
+        assert!(r.stdout.is_empty(), "{args:?}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+/// Without noise the budget only changes the dwell: the answer is the one without a budget
+/// (the same designed positions and J), with a note saying so and no front.
+#[test]
+fn without_noise_the_budget_changes_nothing_but_says_why() {
+    let plain = json_of(&xtask(&["design-schedule", "--step-deg", "45", "--json"]));
+    let with = json_of(&xtask(&[
+        "design-schedule",
+        "--step-deg",
+        "45",
+        "--time-budget-s",
+        "3600",
+        "--json",
+    ]));
+    assert_eq!(plain["designed"], with["designed"]);
+    assert_eq!(plain["study"], with["study"]);
+    let note = with["time_budget"]["note"].as_str().expect("a note");
+    assert!(note.contains("only changes the dwell"), "{note}");
+    assert!(with.get("pareto").is_none());
+}
+
+/// With noise: the front is ordered by total time with J strictly falling, each total is
+/// n_positions x (dwell + move), the chosen point is on it within the budget, and the figure
+/// is written once (an existing file is refused with exit 2 and left as it was).
+#[test]
+fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
+    let dir = scratch("design-budget", "front");
+    let svg = dir.join("front.svg");
+    let svg_arg = svg.to_str().unwrap();
+    let budget = 25_000.0;
+    let v = json_of(&xtask(&[
+        "design-schedule",
+        "--study",
+        NOISY,
+        "--step-deg",
+        "45",
+        "--time-budget-s",
+        "25000",
+        "--pareto-svg",
+        svg_arg,
+        "--json",
+    ]));
+    let front = v["pareto"].as_array().expect("a front");
+    assert!(front.len() >= 3, "{front:?}");
+    let f = |p: &Value, k: &str| p[k].as_f64().unwrap();
+    for w in front.windows(2) {
+        assert!(f(&w[1], "total_s") > f(&w[0], "total_s"), "{w:?}");
+        assert!(
+            f(&w[1], "objective_arcmin") < f(&w[0], "objective_arcmin"),
+            "{w:?}"
+        );
+    }
+    // the study's 60 s move between positions
+    for p in front {
+        let n = p["n_positions"].as_u64().unwrap() as f64;
+        let total = n * (f(p, "dwell_s") + 60.0);
+        assert!((f(p, "total_s") - total).abs() <= 1e-9 * total, "{p}");
+    }
+    let chosen = &v["time_budget"]["chosen"];
+    assert!(f(chosen, "total_s") <= budget, "{chosen}");
+    assert!(front.iter().any(|p| p["total_s"] == chosen["total_s"]
+        && p["objective_arcmin"] == chosen["objective_arcmin"]));
+    let text = std::fs::read_to_string(&svg).expect("the figure is written");
+    assert!(text.contains("<svg"), "{}", &text[..text.len().min(200)]);
+    let again = xtask(&[
+        "design-schedule",
+        "--study",
+        NOISY,
+        "--step-deg",
+        "45",
+        "--time-budget-s",
+        "25000",
+        "--pareto-svg",
+        svg_arg,
+    ]);
+    assert_eq!(again.status.code(), Some(2));
+    assert!(again.stdout.is_empty());
+    assert_eq!(std::fs::read_to_string(&svg).unwrap(), text);
+}
