@@ -435,13 +435,22 @@ pub fn joint_step(
         col += a.ncols();
     }
     let cols = p + z;
+    if rows < cols {
+        return Err(CalibError::Unidentifiable {
+            output: "joint".into(),
+            coefficients: Vec::new(),
+            rank: rows,
+            columns: cols,
+            positions: rows,
+        });
+    }
     let qr = j.qr();
     let (q, rr) = (qr.q(), qr.r());
     let d0 = (0..cols).map(|i| rr[(i, i)].abs()).fold(0.0, f64::max);
     let rank = (0..cols)
         .filter(|&i| rr[(i, i)].abs() > crate::RANK_RTOL * d0)
         .count();
-    if rank < cols || rows < cols {
+    if rank < cols {
         return Err(CalibError::Unidentifiable {
             output: "joint".into(),
             coefficients: Vec::new(),

@@ -131,3 +131,20 @@ fn joint_estimability_names_a_bad_weight_and_a_wrong_shape() {
     .unwrap_err();
     assert!(bad.to_string().contains("joint.blocks[0].effects"), "{bad}");
 }
+
+/// Fewer rows than unknowns: a typed error, not an out-of-bounds index into the triangular
+/// factor.
+#[test]
+fn joint_step_with_fewer_rows_than_unknowns_is_unidentifiable() {
+    let a = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 1.0]);
+    let d = DMatrix::from_row_slice(2, 1, &[1.0, -1.0]);
+    let r = DVector::from_vec(vec![1.0, 2.0]);
+    assert!(matches!(
+        joint_step(&[(&a, &d, 1.0)], &[r]),
+        Err(calib_lsq::CalibError::Unidentifiable {
+            rank: 2,
+            columns: 3,
+            ..
+        })
+    ));
+}

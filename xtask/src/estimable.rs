@@ -294,6 +294,10 @@ pub fn run(args: &Args) -> Result<()> {
     if args.json {
         crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &a))? + "\n"))
     } else {
-        crate::out::print(&format!("study {}\n{}", s.path, to_text(&a)))
+        let mut t = format!("study {}\n{}", s.path, to_text(&a));
+        if s.noise.iter().any(Option::is_some) {
+            t.push_str("note: the sensor's noise is not counted here: a joint estimator's estimates carry it, the more the weaker the combination's singular value\n");
+        }
+        crate::out::print(&t)
     }
 }
