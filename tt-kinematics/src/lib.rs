@@ -71,6 +71,7 @@ pub mod linear;
 mod model;
 pub mod paper;
 mod pose;
+pub mod rate;
 pub mod rotation;
 pub mod sensitivity;
 pub mod turntable;
@@ -87,6 +88,10 @@ pub use model::{
     ScheduleErrorModel, SmallAngleChain,
 };
 pub use pose::TurntableErrors;
+pub use rate::{
+    RateAverage, RateEnvironment, RateErrorValues, RateStep, STANDARD_GRAVITY_M_PER_S2,
+    ripple_averages,
+};
 /// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.
 pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};
 pub use turntable::{
