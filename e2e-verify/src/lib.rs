@@ -77,6 +77,7 @@ mod linear;
 pub mod montecarlo;
 pub mod noise;
 pub mod paper;
+pub mod rate;
 mod seam;
 mod simulate;
 pub mod timedomain;
@@ -103,5 +104,6 @@ pub use noise::{
     CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
     NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
 };
-pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
+pub use rate::ExtraError;
+pub use simulate::{DrawWork, EndToEnd, EndToEndRun, RATE_DERIVATIVE_STEP, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

@@ -35,6 +35,10 @@ pub struct EndToEnd {
     analyses: Vec<OrientationErrorAnalysis>,
     /// [`EndToEnd::precisions`], once.
     precisions: Vec<f64>,
+    /// The rate steps of the schedule and the errors they expose ([`crate::rate`]).
+    rate: crate::rate::RatePlan,
+    /// The values of the extra errors.
+    extra_values: Vec<f64>,
 }
 
 /// `value` when it exceeds `precision`, else 0: a computed value at or below the computation's
@@ -94,6 +98,8 @@ impl EndToEndRun {
 #[derive(Debug, Clone)]
 pub struct DrawWork {
     segments: Vec<Matrix3<f64>>,
+    /// Every angular error's rotation (rate steps only).
+    rotations: Vec<Matrix3<f64>>,
     actual: Vec<InputValues>,
     error: Vec<f64>,
     work: ErrorWork,
@@ -138,6 +144,7 @@ impl EndToEnd {
         let analyses = (0..calibration.outputs().len())
             .map(|k| OrientationErrorAnalysis::new(calibration, k, reading))
             .collect::<Result<Vec<_>, _>>()?;
+        let rate = crate::rate::RatePlan::new(turntable, calibration, poses)?;
         Ok(Self {
             turntable: turntable.clone(),
             calibration: calibration.clone(),
@@ -147,6 +154,8 @@ impl EndToEnd {
             pre,
             analyses,
             precisions: precisions(calibration),
+            extra_values: vec![0.0; rate.extra.len()],
+            rate,
         })
     }
 
@@ -199,7 +208,10 @@ impl EndToEnd {
     /// # Errors
     /// As [`EndToEnd::new`].
     pub fn with_reading(&self, reading: Reading) -> Result<Self, E2eError> {
-        Self::new(&self.turntable, &self.calibration, &self.poses, reading)
+        Ok(Self {
+            extra_values: self.extra_values.clone(),
+            ..Self::new(&self.turntable, &self.calibration, &self.poses, reading)?
+        })
     }
 
     /// The turntable pose of every position.
@@ -232,6 +244,58 @@ impl EndToEnd {
         self.turntable.n_rotation_errors()
     }
 
+    /// The table errors only a rate step exposes (empty for a static schedule; see
+    /// [`crate::rate`]), held at [`EndToEnd::extra_values`] wherever $\chi$ is evaluated.
+    #[must_use]
+    pub fn extra_errors(&self) -> &[crate::rate::ExtraError] {
+        &self.rate.extra
+    }
+
+    /// The values of [`EndToEnd::extra_errors`] (m, relative), zero unless set by
+    /// [`EndToEnd::with_extra_values`].
+    #[must_use]
+    pub fn extra_values(&self) -> &[f64] {
+        &self.extra_values
+    }
+
+    /// The same simulator with the extra errors at `values` (one per
+    /// [`EndToEnd::extra_errors`]).
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] for a wrong length or a non-finite value, naming the error.
+    pub fn with_extra_values(&self, values: &[f64]) -> Result<Self, E2eError> {
+        self.check_extra(values)?;
+        Ok(Self {
+            extra_values: values.to_vec(),
+            ..self.clone()
+        })
+    }
+
+    pub(crate) fn check_extra(&self, values: &[f64]) -> Result<(), E2eError> {
+        tt_core::length("extra errors", self.rate.extra.len(), values.len())
+            .map_err(|e| E2eError::Kinematics(e.into()))?;
+        for (e, v) in self.rate.extra.iter().zip(values) {
+            finite(e.name(&self.turntable), *v)?;
+        }
+        Ok(())
+    }
+
+    /// Whether the schedule has a rate step.
+    #[must_use]
+    pub fn has_rate_steps(&self) -> bool {
+        self.rate.is_active()
+    }
+
+    /// The name of every extra error ([`crate::rate::ExtraError::name`]).
+    #[must_use]
+    pub fn extra_names(&self) -> Vec<String> {
+        self.rate
+            .extra
+            .iter()
+            .map(|e| e.name(&self.turntable))
+            .collect()
+    }
+
     /// Every output's accuracy $\omega_{m,k}$ (output unit).
     #[must_use]
     pub fn accuracies(&self) -> Vec<f64> {
@@ -247,6 +311,7 @@ impl EndToEnd {
     pub fn work(&self) -> DrawWork {
         DrawWork {
             segments: vec![Matrix3::identity(); self.turntable.n_segments()],
+            rotations: vec![Matrix3::identity(); self.turntable.n_rotation_errors()],
             actual: Vec::with_capacity(self.len()),
             error: vec![0.0; self.len()],
             work: ErrorWork::default(),
@@ -304,14 +369,62 @@ impl EndToEnd {
     }
 
     /// One calibration run through calib-lsq's analysis (eq 7-14) with the plain exact chain:
-    /// the reference path, with every intermediate result.
+    /// the reference path, with every intermediate result (a rate step's inputs by
+    /// [`Turntable::rate_step_average`], the extra errors at [`EndToEnd::extra_values`];
+    /// `delta_r` holds the orientation error where each entry starts).
     ///
     /// # Errors
     /// [`E2eError::Field`] (not finite) for a non-finite $\chi$; [`E2eError::Calib`] if $\mathbf A'$ is
     /// rank deficient (only for readings that need $\hat{\boldsymbol\beta}_2$).
     pub fn run(&self, chi_rad: &[f64]) -> Result<EndToEndRun, E2eError> {
         let dr = self.delta_r_reference(chi_rad)?;
-        self.run_with_delta_r(&dr)
+        if !self.rate.is_active() {
+            return self.run_with_delta_r(&dr);
+        }
+        // rate steps: their inputs by the plain chain split at the turning joint
+        let n_tr = self.turntable.n_translation_errors();
+        let errors = TurntableErrors::new(chi_rad.to_vec(), self.extra_values[..n_tr].to_vec())?;
+        let site = self.calibration.site();
+        let actual = self
+            .calibration
+            .schedule()
+            .positions()
+            .iter()
+            .zip(&dr)
+            .zip(&self.poses)
+            .zip(&self.rate.entries)
+            .map(|(((p, d), pose), entry)| match (p.motion(), entry) {
+                (Some(m), Some(entry)) => {
+                    let step = tt_kinematics::RateStep {
+                        joint: m.joint,
+                        rate_rad_per_s: m.rate_rad_per_s,
+                        pose: pose.clone(),
+                        revolutions: m.revolutions,
+                    };
+                    let k = entry.rate_index;
+                    let re = tt_kinematics::RateErrorValues {
+                        accuracy: self.extra_values[k],
+                        ripple: [self.extra_values[k + 1], self.extra_values[k + 2]],
+                    };
+                    let avg = self
+                        .turntable
+                        .rate_step_average(&step, &errors, &re, &entry.env)?;
+                    Ok(gw_model::Inputs {
+                        specific_force_g: avg.specific_force_g,
+                        rate_rad_per_s: avg.rate_rad_per_s,
+                    })
+                }
+                _ => Ok(site.inputs_with_error(p.base_from_sensor(), d)),
+            })
+            .collect::<Result<Vec<_>, E2eError>>()?;
+        Ok(EndToEndRun {
+            analyses: self
+                .analyses
+                .iter()
+                .map(|a| a.analyze_inputs(&actual))
+                .collect::<Result<Vec<_>, _>>()?,
+            delta_r: dr,
+        })
     }
 
     /// One calibration run with one given $\Delta\mathbf R$ per position (reference path).
@@ -337,14 +450,7 @@ impl EndToEnd {
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
-        self.turntable
-            .segment_rotations(chi_rad, &mut work.segments)?;
-        work.actual.clear();
-        for (f, [a, w]) in self.frames.iter().zip(&self.pre) {
-            let a = f.delta_r_transpose_times_pre(&work.segments, a);
-            let w = f.delta_r_transpose_times_pre(&work.segments, w);
-            work.actual.push(InputValues::new(&a, &w));
-        }
+        self.actual_into(chi_rad, &self.extra_values, work)?;
         for (k, o) in self.calibration.outputs().iter().enumerate() {
             o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
             work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
@@ -386,6 +492,7 @@ impl EndToEnd {
         chi: &mut [f64],
         work: &mut DrawWork,
     ) -> Result<(), E2eError> {
+        self.static_only("errors that vary with a shaft angle")?;
         work.actual.clear();
         for (i, (f, [a, w])) in self.frames.iter().zip(&self.pre).enumerate() {
             chi_at(i, chi);
@@ -440,8 +547,21 @@ impl EndToEnd {
     /// # Errors
     /// As [`EndToEnd::delta_r_fast`] and [`Calibration::calibrate_simulated`].
     pub fn coefficient_errors(&self, chi_rad: &[f64]) -> Result<Vec<f64>, E2eError> {
-        let dr = self.delta_r_fast(chi_rad)?;
-        let results = self.calibration.calibrate_simulated(&dr)?;
+        let results = if self.has_rate_steps() {
+            self.check_chi(chi_rad)?;
+            let mut work = self.work();
+            self.actual_into(chi_rad, &self.extra_values, &mut work)?;
+            (0..self.n_outputs())
+                .map(|k| {
+                    let out = &self.calibration.outputs()[k];
+                    let b1: Vec<f64> = work.actual.iter().map(|u| out.output().value(u)).collect();
+                    self.calibration.calibrate(k, &b1)
+                })
+                .collect::<Result<Vec<_>, _>>()?
+        } else {
+            let dr = self.delta_r_fast(chi_rad)?;
+            self.calibration.calibrate_simulated(&dr)?
+        };
         Ok(results
             .iter()
             .zip(self.calibration.outputs())
@@ -456,3 +576,89 @@ impl EndToEnd {
             .collect())
     }
 }
+
+impl EndToEnd {
+    /// The actual inputs at every position for the (checked) angular errors `chi` and extra
+    /// errors `extra` into `work.actual`: static positions by the segmented chain, rate steps
+    /// by their compiled revolution averages ([`crate::rate`]).
+    pub(crate) fn actual_into(
+        &self,
+        chi: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+    ) -> Result<(), E2eError> {
+        self.turntable.segment_rotations(chi, &mut work.segments)?;
+        if self.rate.is_active() {
+            self.turntable.error_rotations(chi, &mut work.rotations)?;
+        }
+        work.actual.clear();
+        let n_tr = self.turntable.n_translation_errors();
+        for ((f, [a, w]), entry) in self.frames.iter().zip(&self.pre).zip(&self.rate.entries) {
+            if let Some(entry) = entry {
+                let u = self.rate.inputs(entry, &work.rotations, extra, n_tr)?;
+                work.actual.push(u);
+                continue;
+            }
+            let a = f.delta_r_transpose_times_pre(&work.segments, a);
+            let w = f.delta_r_transpose_times_pre(&work.segments, w);
+            work.actual.push(InputValues::new(&a, &w));
+        }
+        Ok(())
+    }
+
+    /// Refuse `what` for a schedule with rate steps (a path built on one orientation error
+    /// per position).
+    pub(crate) fn static_only(&self, what: &str) -> Result<(), E2eError> {
+        if self.rate.is_active() {
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "calibration.rate_steps".into(),
+                value: self.rate.entries.iter().flatten().count() as f64,
+                range: format!("no rate step: {what} takes static positions only"),
+            }));
+        }
+        Ok(())
+    }
+
+    /// The actual inputs' first variation at position `i` for a unit change of angular error
+    /// `j` (`extra` false) or extra error `j` (`extra` true), at $\chi = 0$ and the extra
+    /// errors at their values (g and deg/h per unit of the error), where it is not a rotation
+    /// of the nominal inputs: `None` at a static position for an angular error (the analytic
+    /// model applies there); zero at a static position for an extra error; central
+    /// differences of the compiled rate step at a rate step (step [`RATE_DERIVATIVE_STEP`] of
+    /// the error's unit: rad, m, relative).
+    pub(crate) fn rate_input_derivative(
+        &self,
+        i: usize,
+        j: usize,
+        extra: bool,
+    ) -> Option<[f64; 6]> {
+        let entry = match &self.rate.entries.get(i) {
+            Some(Some(e)) => e,
+            _ => return extra.then_some([0.0; 6]),
+        };
+        let h = RATE_DERIVATIVE_STEP;
+        let n_rot = self.turntable.n_rotation_errors();
+        let mut chi = vec![0.0; n_rot];
+        let mut x = self.extra_values.clone();
+        let mut rot = vec![Matrix3::identity(); n_rot];
+        let n_tr = self.turntable.n_translation_errors();
+        let mut at = |v: f64| {
+            if extra {
+                x[j] = self.extra_values[j] + v;
+            } else {
+                chi[j] = v;
+            }
+            self.turntable.error_rotations(&chi, &mut rot).ok()?;
+            self.rate.inputs(entry, &rot, &x, n_tr).ok()
+        };
+        let (plus, minus) = (at(h)?, at(-h)?);
+        Some(std::array::from_fn(|q| {
+            (plus.0[q] - minus.0[q]) / (2.0 * h)
+        }))
+    }
+}
+
+/// The step of the central differences of a rate step's inputs (unit of the error: rad, m,
+/// relative): truncation $O(h^2) \approx 10^{-10}$ and rounding $\epsilon/h \approx
+/// 2\cdot10^{-11}$ of the inputs' size.
+pub const RATE_DERIVATIVE_STEP: f64 = 1e-5;

@@ -89,8 +89,8 @@ pub use model::{
 };
 pub use pose::TurntableErrors;
 pub use rate::{
-    RateAverage, RateEnvironment, RateErrorValues, RateStep, STANDARD_GRAVITY_M_PER_S2,
-    ripple_averages,
+    RateAverage, RateEnvironment, RateErrorValues, RateStep, RateStepFrames,
+    STANDARD_GRAVITY_M_PER_S2, ripple_averages,
 };
 /// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.
 pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};

@@ -145,7 +145,177 @@ pub fn ripple_averages(ripple: [f64; 2]) -> Result<(f64, f64, f64), KinematicsEr
     Ok((kappa * ripple[0], kappa * ripple[1], 1.0 / root))
 }
 
+/// One step of a [`RateStepFrames`] chain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Op {
+    /// A product of nominal rotations (joints at the step's angles, fixed rotations).
+    Nominal(Matrix3<f64>),
+    /// The rotation of angular error `chi` ([`Turntable::error_rotations`]).
+    Error(usize),
+    /// The translation error `index` along a unit vector.
+    Translate(usize, Vector3<f64>),
+}
+
+/// A rate step compiled for many turntables (the pose-dependent products once, as
+/// [`crate::PoseFrames`] for static positions): [`RateStepFrames::average`] equals
+/// [`Turntable::rate_step_average`] to rounding.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateStepFrames {
+    before: Vec<Op>,
+    after: Vec<Op>,
+    axis: Vector3<f64>,
+    rate_rad_per_s: f64,
+}
+
+fn push_nominal(ops: &mut Vec<Op>, m: Matrix3<f64>) {
+    if let Some(Op::Nominal(last)) = ops.last_mut() {
+        *last *= m;
+    } else {
+        ops.push(Op::Nominal(m));
+    }
+}
+
+impl RateStepFrames {
+    /// The averaged inputs for the rotations of every angular error `rotations`
+    /// ([`Turntable::error_rotations`]), the translations (m), the rate errors and `env`.
+    ///
+    /// # Errors
+    /// As [`ripple_averages`]; [`KinematicsError::Field`] naming `accuracy` when not finite.
+    pub fn average(
+        &self,
+        rotations: &[Matrix3<f64>],
+        translations_m: &[f64],
+        rate_errors: &RateErrorValues,
+        env: &RateEnvironment,
+    ) -> Result<RateAverage, KinematicsError> {
+        finite("accuracy", rate_errors.accuracy)?;
+        let ripple = ripple_averages(rate_errors.ripple)?;
+        let mut p = Matrix3::identity();
+        for op in &self.before {
+            match *op {
+                Op::Nominal(m) => p *= m,
+                Op::Error(e) => p *= rotations[e],
+                Op::Translate(..) => {}
+            }
+        }
+        let (mut s, mut t) = (Matrix3::identity(), Vector3::zeros());
+        for op in &self.after {
+            match *op {
+                Op::Nominal(m) => s *= m,
+                Op::Error(e) => s *= rotations[e],
+                Op::Translate(i, d) => t += s * (d * translations_m[i]),
+            }
+        }
+        let r = t + s * env.lever_arm_m;
+        Ok(average(
+            &p,
+            &s,
+            &r,
+            &self.axis,
+            self.rate_rad_per_s * (1.0 + rate_errors.accuracy),
+            ripple,
+            env,
+        ))
+    }
+}
+
+/// The formula of the [module](self) from the split chain.
+fn average(
+    p: &Matrix3<f64>,
+    s: &Matrix3<f64>,
+    r: &Vector3<f64>,
+    u: &Vector3<f64>,
+    omega: f64,
+    (cos_avg, sin_avg, omega2_factor): (f64, f64, f64),
+    env: &RateEnvironment,
+) -> RateAverage {
+    let uu = u * u.transpose();
+    let m = uu + (Matrix3::identity() - uu) * cos_avg - skew(u) * sin_avg;
+    let we = p.tr_mul(&env.earth_rate_base_rad_per_s);
+    let rate = s.tr_mul(&(u * omega + m * we));
+    let r_perp = r - u * u.dot(r);
+    let centripetal = -(omega * omega * omega2_factor) * r_perp;
+    let coriolis = 2.0 * omega * (uu * we).cross(&u.cross(r));
+    let f = m * p.tr_mul(&env.specific_force_base_g)
+        + (centripetal + coriolis) / STANDARD_GRAVITY_M_PER_S2;
+    RateAverage {
+        specific_force_g: s.tr_mul(&f),
+        rate_rad_per_s: rate,
+    }
+}
+
 impl Turntable {
+    /// The rotation of every angular error into `out` (order of $\chi$), for
+    /// [`RateStepFrames::average`].
+    ///
+    /// # Errors
+    /// [`KinematicsError::Field`] for a $\chi$ or an `out` of the wrong length.
+    pub fn error_rotations(
+        &self,
+        chi: &[f64],
+        out: &mut [Matrix3<f64>],
+    ) -> Result<(), KinematicsError> {
+        crate::error::length("chi", self.n_rotation_errors(), chi.len())?;
+        crate::error::length("error rotations", self.n_rotation_errors(), out.len())?;
+        for ((e, o), x) in self.rotation_errors().iter().zip(out.iter_mut()).zip(chi) {
+            *o = crate::rotation::rot_signed(e.axis, *x);
+        }
+        Ok(())
+    }
+
+    /// A rate step compiled for [`RateStepFrames::average`].
+    ///
+    /// # Errors
+    /// As [`Turntable::rate_step_average`] for the step itself.
+    pub fn rate_step_frames(&self, step: &RateStep) -> Result<RateStepFrames, KinematicsError> {
+        self.check_step(step)?;
+        let at = self.joints()[step.joint].factor;
+        let pose = step.pose.angles_rad();
+        let mut before = Vec::new();
+        let mut after = Vec::new();
+        for (k, f) in self.factors().iter().enumerate() {
+            if k == at {
+                continue;
+            }
+            let ops = if k < at { &mut before } else { &mut after };
+            match *f {
+                Factor::Rotation { error, .. } => ops.push(Op::Error(error)),
+                Factor::Translation { error, along } => {
+                    ops.push(Op::Translate(error, along.unit()));
+                }
+                _ => push_nominal(ops, self.factor_rotation(f, pose, None)),
+            }
+        }
+        Ok(RateStepFrames {
+            before,
+            after,
+            axis: self.joints()[step.joint].about.unit(),
+            rate_rad_per_s: step.rate_rad_per_s,
+        })
+    }
+
+    fn check_step(&self, step: &RateStep) -> Result<(), KinematicsError> {
+        self.check_pose(&step.pose)?;
+        if step.joint >= self.n_joints() {
+            return Err(tt_core::FieldError::OutOfRange {
+                field: "joint".into(),
+                value: step.joint as f64,
+                range: format!("a joint of the turntable (0..{})", self.n_joints()),
+            }
+            .into());
+        }
+        finite("rate_rad_per_s", step.rate_rad_per_s)?;
+        if step.rate_rad_per_s == 0.0 {
+            return Err(tt_core::FieldError::OutOfRange {
+                field: "rate_rad_per_s".into(),
+                value: 0.0,
+                range: "non-zero".into(),
+            }
+            .into());
+        }
+        Ok(())
+    }
+
     /// The inputs averaged over the whole revolutions of a rate step, through the exact chain
     /// with `errors` (angular errors and translations), the turning joint's rate errors and
     /// the site and mounting of `env` (formula in the [module](self)).

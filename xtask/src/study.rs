@@ -36,12 +36,13 @@ pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
     Ok(s)
 }
 
-/// The turntable pose of every test position of a study.
+/// The turntable pose of every schedule entry of a study (the test positions, then where
+/// each rate step starts).
 ///
 /// # Errors
 /// Never for a parsed study (positions were validated); an [`InputError`] otherwise.
 pub fn poses(s: &Study) -> anyhow::Result<Vec<Pose>> {
-    s.positions_deg
+    s.schedule_angles_deg()
         .iter()
         .map(|p| Pose::from_deg(p).map_err(|e| crate::input::library(e, s)))
         .collect()
