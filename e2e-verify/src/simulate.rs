@@ -449,8 +449,23 @@ impl EndToEnd {
     /// [`E2eError::Field`] (not finite) or a length error for a bad $\chi$; [`E2eError::Calib`] when a
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
+        self.delta_omega_extra_into(chi_rad, &self.extra_values, work)
+    }
+
+    /// [`EndToEnd::delta_omega_into`] with the extra errors at `extra` (one per
+    /// [`EndToEnd::extra_errors`]) instead of [`EndToEnd::extra_values`].
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_omega_into`]; a length error or a non-finite extra value.
+    pub fn delta_omega_extra_into(
+        &self,
+        chi_rad: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+    ) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
-        self.actual_into(chi_rad, &self.extra_values, work)?;
+        self.check_extra(extra)?;
+        self.actual_into(chi_rad, extra, work)?;
         for (k, o) in self.calibration.outputs().iter().enumerate() {
             o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
             work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));

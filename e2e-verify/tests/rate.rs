@@ -112,3 +112,86 @@ fn rate_step_fast_path_equals_the_reference_path() {
         assert_relative_eq!(f, r, max_relative = 1e-9);
     }
 }
+
+/// The worst case over both boxes: with every extra bound zero it is the angular worst case;
+/// with a rate accuracy bound T on each turning joint every gyro gains T times the steps'
+/// rate (60 deg/s = 216,000 deg/h) to first order, and the exact chain at the worst vertex
+/// agrees with the linear bound.
+#[test]
+fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let ub = vec![1e-5; e.n_errors()];
+    let zero = vec![0.0; e.extra_errors().len()];
+    let alone = e.worst_case(&m, &ub).expect("runs");
+    let both = e.worst_case_with_extra(&m, &n, &ub, &zero).expect("runs");
+    for (a, b) in alone.outputs.iter().zip(&both) {
+        assert_relative_eq!(a.linear_bound, b.linear_bound, max_relative = 1e-12);
+    }
+    let t = 1e-4;
+    let bounds: Vec<f64> = e
+        .extra_errors()
+        .iter()
+        .map(|x| {
+            if matches!(x, ExtraError::RateAccuracy(_)) {
+                t
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let with = e.worst_case_with_extra(&m, &n, &ub, &bounds).expect("runs");
+    for o in &with[..3] {
+        // (1 + k) of the scale factor and the earth's rate: 1e-3 of it
+        assert_relative_eq!(o.extra_part(), t * 216_000.0, max_relative = 1e-3);
+        // the exact chain at the vertex: second order in 1e-5 rad and 1e-4
+        assert_relative_eq!(o.exact_at_vertex, o.linear_bound, max_relative = 1e-3);
+    }
+}
+
+/// The direct allocation with the rate errors at their bounds leaves them their room: its
+/// box, worst-cased with them, is within every accuracy to first order; the Monte Carlo over
+/// both boxes is reproducible for a seed and meets where the worst case does.
+#[test]
+fn direct_allocation_with_rate_errors_meets_with_them() {
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let bounds: Vec<f64> = e
+        .extra_errors()
+        .iter()
+        .map(|x| match x {
+            ExtraError::Translation(_) => 1e-4,
+            ExtraError::RateAccuracy(_) => 2e-5,
+            _ => 1e-4,
+        })
+        .collect();
+    let lb = vec![0.0; e.n_errors()];
+    let d = e
+        .allocate_direct_with_extra(&m, &n, &lb, &bounds)
+        .expect("feasible");
+    let ub: Vec<f64> = d
+        .upper_bounds_rad
+        .iter()
+        .map(|u| if u.is_finite() { *u } else { 0.0 })
+        .collect();
+    let wc = e.worst_case_with_extra(&m, &n, &ub, &bounds).expect("runs");
+    for (o, a) in wc.iter().zip(e.accuracies()) {
+        // solver tolerance: 1e-6 of the accuracy
+        assert!(
+            o.linear_bound <= a * (1.0 + 1e-6),
+            "{} > {a}",
+            o.linear_bound
+        );
+    }
+    let settings = e2e_verify::McSettings::new(3000, 7);
+    let first = e
+        .meeting_count_with_extra(&ub, &lb, &bounds, &settings)
+        .expect("runs");
+    let again = e
+        .meeting_count_with_extra(&ub, &lb, &bounds, &settings)
+        .expect("runs");
+    assert_eq!(first, again);
+    for (mx, o) in first.1.iter().zip(&wc) {
+        assert!(*mx <= o.exact_at_vertex.max(o.linear_bound) * (1.0 + 1e-3));
+    }
+}
