@@ -709,7 +709,25 @@ impl OrientationErrorAnalysis {
     /// [`CalibError::Unidentifiable`] if $\mathbf A'$ is rank deficient.
     pub fn analyze(&self, delta_r: &[Matrix3<f64>]) -> Result<ErrorAnalysis, CalibError> {
         let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
-        let t = self.terms(&actual, true)?;
+        self.analyze_inputs(&actual)
+    }
+
+    /// Eq 9-14 with the actual inputs of every position given (for a schedule whose entries
+    /// are not all a rotation of the nominal inputs, such as a rate step's revolution
+    /// averages); [`analyze`](Self::analyze) is this with eq 8's inputs.
+    ///
+    /// # Errors
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there are inputs for
+    /// every position; [`CalibError::Unidentifiable`] if $\mathbf A'$ is rank deficient.
+    pub fn analyze_inputs(&self, actual: &[gw_model::Inputs]) -> Result<ErrorAnalysis, CalibError> {
+        if actual.len() != self.positions() {
+            return Err(CalibError::Field(tt_core::FieldError::Length {
+                field: "actual inputs".into(),
+                expected: self.positions(),
+                found: actual.len(),
+            }));
+        }
+        let t = self.terms(actual, true)?;
         let n = actual.len();
         let k = t.coefficients();
         let mut b1 = vec![0.0; n];

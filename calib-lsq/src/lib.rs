@@ -69,5 +69,5 @@ pub use requirement::{
     OutputRegion, RADIUS_TOL_REL, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD,
     Surface,
 };
-pub use schedule::{Position, Schedule};
+pub use schedule::{Position, RateMotion, Schedule};
 pub use timing::Timing;

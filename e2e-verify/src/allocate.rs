@@ -922,6 +922,12 @@ pub(crate) fn certified_or_note(
     if plain.no_bound_needed() {
         return Ok((None, Some(E2eError::NoBoxToCertify.to_string())));
     }
+    if sim.has_rate_steps() {
+        return Ok((
+            None,
+            Some(crate::rate::NOT_CERTIFIED_AT_RATE_STEPS.to_string()),
+        ));
+    }
     match sim.allocate_direct_certified(linear, lower_bounds_rad) {
         Ok(d) => Ok((Some(d), None)),
         // not certifiable for this reading, table and sensor: say why, keep the rest

@@ -80,6 +80,7 @@ mod linear;
 pub mod montecarlo;
 pub mod noise;
 pub mod paper;
+pub mod rate;
 mod seam;
 mod simulate;
 pub mod timedomain;
@@ -105,5 +106,6 @@ pub use noise::{
     CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
     NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
 };
-pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
+pub use rate::{EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase};
+pub use simulate::{DrawWork, EndToEnd, EndToEndRun, RATE_DERIVATIVE_STEP, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

@@ -417,10 +417,36 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// Eq 8-13, eq 26 generalised.
     #[must_use]
     pub fn linearization(&self) -> Linearization {
+        let vectors = self.rotation_vectors();
+        // a rate step's inputs are not a rotation of the nominal ones: central differences
+        let rate_du: Vec<Vec<Option<[f64; 6]>>> = (0..self.len())
+            .map(|i| {
+                (0..self.n_errors())
+                    .map(|j| self.rate_input_derivative(i, j, false))
+                    .collect()
+            })
+            .collect();
+        self.linearization_with(self.n_errors(), |i, j, u| {
+            rate_du[i][j].unwrap_or_else(|| {
+                let delta = vectors[i][j];
+                let da = u.specific_force_g().cross(&delta);
+                let dw = u.rate_deg_per_h().cross(&delta);
+                [da.x, da.y, da.z, dw.x, dw.y, dw.z]
+            })
+        })
+    }
+
+    /// The Jacobian of the error vectors with respect to `errors` errors whose first
+    /// variation of the inputs at position `i` for error `j` is `du(i, j, nominal inputs)`
+    /// (g, deg/h per unit of the error), through the reading (see
+    /// [`EndToEnd::linearization`]).
+    pub(crate) fn linearization_with(
+        &self,
+        errors: usize,
+        du: impl Fn(usize, usize, &InputValues) -> [f64; 6],
+    ) -> Linearization {
         let n = self.len();
         let outputs = self.n_outputs();
-        let errors = self.n_errors();
-        let vectors = self.rotation_vectors();
         let mut m = DMatrix::zeros(outputs * n, errors);
         let mut noise = DMatrix::zeros(outputs, errors);
         let mut work = ReadingWork::default();
@@ -430,10 +456,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             for j in 0..errors {
                 let (mut de, mut dg) = (Vec::with_capacity(n), Vec::with_capacity(n));
                 for (i, u) in cal.nominal_values().iter().enumerate() {
-                    let delta = vectors[i][j];
-                    let da = u.specific_force_g().cross(&delta);
-                    let dw = u.rate_deg_per_h().cross(&delta);
-                    let du = [da.x, da.y, da.z, dw.x, dw.y, dw.z];
+                    let du = du(i, j, u);
                     de.push(directional(o, true, u, &du));
                     dg.push(directional(o, false, u, &du));
                 }
@@ -549,7 +572,11 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 range: "an output of the sensor".into(),
             }))?;
         let reading = self.reading();
-        if reading.estimate != Estimate::Beta1 || reading.form == ErrorForm::DeltaBeta {
+        if reading.estimate != Estimate::Beta1
+            || reading.form == ErrorForm::DeltaBeta
+            || self.has_rate_steps()
+        {
+            // (a rate step's inputs are not a rotation of the nominal ones: not derived)
             return Ok(None);
         }
         let rho = 0.5 * s * s * s.exp();

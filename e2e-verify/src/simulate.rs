@@ -46,6 +46,11 @@ pub struct EndToEnd<S = TurntableSchedule> {
     vectors: Vec<Vec<Vector3<f64>>>,
     /// [`EndToEnd::precisions`], once.
     precisions: Vec<f64>,
+    /// The rate steps of the schedule and the errors they expose ([`crate::rate`]; a
+    /// turntable's only).
+    rate: crate::rate::RatePlan,
+    /// The values of the extra errors.
+    extra_values: Vec<f64>,
 }
 
 /// `value` when it exceeds `precision`, else 0: a computed value at or below the computation's
@@ -107,6 +112,8 @@ pub struct DrawWork {
     segments: Vec<Matrix3<f64>>,
     /// $\Delta\mathbf R_i$ of every position (the path of a model without the fast path).
     delta_r: Vec<Matrix3<f64>>,
+    /// Every angular error's rotation (rate steps only).
+    rotations: Vec<Matrix3<f64>>,
     actual: Vec<InputValues>,
     error: Vec<f64>,
     work: ErrorWork,
@@ -180,6 +187,7 @@ impl EndToEnd {
         chi: &mut [f64],
         work: &mut DrawWork,
     ) -> Result<(), E2eError> {
+        self.static_only("errors that vary with a shaft angle")?;
         let pre = self.pre.as_deref().unwrap_or_default();
         work.actual.clear();
         for (i, (f, [a, w])) in self.chain.frames().iter().zip(pre).enumerate() {
@@ -232,6 +240,22 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         let analyses = (0..calibration.outputs().len())
             .map(|k| OrientationErrorAnalysis::new(calibration, k, reading))
             .collect::<Result<Vec<_>, _>>()?;
+        let rate = match chain.as_turntable_schedule() {
+            Some(t) => crate::rate::RatePlan::new(t.turntable(), calibration, t.poses())?,
+            None if calibration.schedule().has_rate_steps() => {
+                return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                    field: "calibration.rate_steps".into(),
+                    value: calibration
+                        .schedule()
+                        .positions()
+                        .iter()
+                        .filter(|p| p.motion().is_some())
+                        .count() as f64,
+                    range: "no rate step: a table model that is not a turntable has static positions only".into(),
+                }));
+            }
+            None => crate::rate::RatePlan::static_schedule(calibration.schedule().len()),
+        };
         let vectors = (0..chain.n_positions())
             .map(|i| {
                 let v = chain.rotation_vectors(i)?;
@@ -240,6 +264,8 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             })
             .collect::<Result<Vec<_>, tt_kinematics::KinematicsError>>()?;
         Ok(Self {
+            extra_values: vec![0.0; rate.extra.len()],
+            rate,
             vectors,
             chain,
             calibration: calibration.clone(),
@@ -332,6 +358,65 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         self.chain.n_errors()
     }
 
+    /// The table errors only a rate step exposes (empty for a static schedule; see
+    /// [`crate::rate`]), held at [`EndToEnd::extra_values`] wherever $\chi$ is evaluated.
+    #[must_use]
+    pub fn extra_errors(&self) -> &[crate::rate::ExtraError] {
+        &self.rate.extra
+    }
+
+    /// The values of [`EndToEnd::extra_errors`] (m, relative), zero unless set by
+    /// [`EndToEnd::with_extra_values`].
+    #[must_use]
+    pub fn extra_values(&self) -> &[f64] {
+        &self.extra_values
+    }
+
+    /// The same simulator with the extra errors at `values` (one per
+    /// [`EndToEnd::extra_errors`]).
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] for a wrong length or a non-finite value, naming the error.
+    pub fn with_extra_values(&self, values: &[f64]) -> Result<Self, E2eError>
+    where
+        S: Clone,
+    {
+        self.check_extra(values)?;
+        Ok(Self {
+            extra_values: values.to_vec(),
+            ..self.clone()
+        })
+    }
+
+    pub(crate) fn check_extra(&self, values: &[f64]) -> Result<(), E2eError> {
+        tt_core::length("extra errors", self.rate.extra.len(), values.len())
+            .map_err(|e| E2eError::Kinematics(e.into()))?;
+        for (name, v) in self.extra_names().into_iter().zip(values) {
+            finite(name, *v)?;
+        }
+        Ok(())
+    }
+
+    /// Whether the schedule has a rate step.
+    #[must_use]
+    pub fn has_rate_steps(&self) -> bool {
+        self.rate.is_active()
+    }
+
+    /// The name of every extra error ([`crate::rate::ExtraError::name`]).
+    #[must_use]
+    pub fn extra_names(&self) -> Vec<String> {
+        match self.chain.as_turntable_schedule() {
+            Some(t) => self
+                .rate
+                .extra
+                .iter()
+                .map(|e| e.name(t.turntable()))
+                .collect(),
+            None => Vec::new(),
+        }
+    }
+
     /// Every output's accuracy $\omega_{m,k}$ (output unit).
     #[must_use]
     pub fn accuracies(&self) -> Vec<f64> {
@@ -355,6 +440,11 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 Vec::new()
             } else {
                 vec![Matrix3::identity(); self.len()]
+            },
+            rotations: if self.rate.is_active() {
+                vec![Matrix3::identity(); self.n_errors()]
+            } else {
+                Vec::new()
             },
             actual: Vec::with_capacity(self.len()),
             error: vec![0.0; self.len()],
@@ -411,7 +501,53 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// rank deficient (only for readings that need $\hat{\boldsymbol\beta}_2$).
     pub fn run(&self, chi_rad: &[f64]) -> Result<EndToEndRun, E2eError> {
         let dr = self.delta_r_reference(chi_rad)?;
-        self.run_with_delta_r(&dr)
+        let table = match self.chain.as_turntable_schedule() {
+            Some(t) if self.rate.is_active() => t,
+            _ => return self.run_with_delta_r(&dr),
+        };
+        // rate steps: their inputs by the plain chain split at the turning joint
+        let turntable = table.turntable();
+        let n_tr = turntable.n_translation_errors();
+        let errors = TurntableErrors::new(chi_rad.to_vec(), self.extra_values[..n_tr].to_vec())?;
+        let site = self.calibration.site();
+        let actual = self
+            .calibration
+            .schedule()
+            .positions()
+            .iter()
+            .zip(&dr)
+            .zip(table.poses())
+            .zip(&self.rate.entries)
+            .map(|(((p, d), pose), entry)| match (p.motion(), entry) {
+                (Some(m), Some(entry)) => {
+                    let step = tt_kinematics::RateStep {
+                        joint: m.joint,
+                        rate_rad_per_s: m.rate_rad_per_s,
+                        pose: pose.clone(),
+                        revolutions: m.revolutions,
+                    };
+                    let k = entry.rate_index;
+                    let re = tt_kinematics::RateErrorValues {
+                        accuracy: self.extra_values[k],
+                        ripple: [self.extra_values[k + 1], self.extra_values[k + 2]],
+                    };
+                    let avg = turntable.rate_step_average(&step, &errors, &re, &entry.env)?;
+                    Ok(gw_model::Inputs {
+                        specific_force_g: avg.specific_force_g,
+                        rate_rad_per_s: avg.rate_rad_per_s,
+                    })
+                }
+                _ => Ok(site.inputs_with_error(p.base_from_sensor(), d)),
+            })
+            .collect::<Result<Vec<_>, E2eError>>()?;
+        Ok(EndToEndRun {
+            analyses: self
+                .analyses
+                .iter()
+                .map(|a| a.analyze_inputs(&actual))
+                .collect::<Result<Vec<_>, _>>()?,
+            delta_r: dr,
+        })
     }
 
     /// One calibration run with one given $\Delta\mathbf R$ per position (reference path).
@@ -437,26 +573,119 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
+        self.actual_into(chi_rad, &self.extra_values, work)?;
+        self.finish_draw(work)
+    }
+
+    /// [`EndToEnd::delta_omega_into`] with the extra errors at `extra` (one per
+    /// [`EndToEnd::extra_errors`]) instead of [`EndToEnd::extra_values`].
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_omega_into`]; a length error or a non-finite extra value.
+    pub fn delta_omega_extra_into(
+        &self,
+        chi_rad: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+    ) -> Result<(), E2eError> {
+        self.check_chi(chi_rad)?;
+        self.check_extra(extra)?;
+        self.actual_into(chi_rad, extra, work)?;
+        self.finish_draw(work)
+    }
+
+    /// The actual inputs at every position for the (checked) angular errors `chi` and extra
+    /// errors `extra` into `work.actual`: for a turntable, static positions by the segmented
+    /// chain and rate steps by their compiled revolution averages ([`crate::rate`]); for any
+    /// other model $\Delta\mathbf R_i^T$ of the nominal inputs.
+    pub(crate) fn actual_into(
+        &self,
+        chi: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+    ) -> Result<(), E2eError> {
         work.actual.clear();
         match (self.chain.as_turntable_schedule(), &self.pre) {
             (Some(t), Some(pre)) => {
-                t.turntable()
-                    .segment_rotations(chi_rad, &mut work.segments)?;
-                for (f, [a, w]) in t.frames().iter().zip(pre) {
+                let table = t.turntable();
+                table.segment_rotations(chi, &mut work.segments)?;
+                if self.rate.is_active() {
+                    table.error_rotations(chi, &mut work.rotations)?;
+                }
+                let n_tr = table.n_translation_errors();
+                for ((f, [a, w]), entry) in t.frames().iter().zip(pre).zip(&self.rate.entries) {
+                    if let Some(entry) = entry {
+                        let u = self.rate.inputs(entry, &work.rotations, extra, n_tr)?;
+                        work.actual.push(u);
+                        continue;
+                    }
                     let a = f.delta_r_transpose_times_pre(&work.segments, a);
                     let w = f.delta_r_transpose_times_pre(&work.segments, w);
                     work.actual.push(InputValues::new(&a, &w));
                 }
             }
             _ => {
-                self.chain.delta_r_into(chi_rad, &mut work.delta_r)?;
+                self.chain.delta_r_into(chi, &mut work.delta_r)?;
                 for (d, [a, w]) in work.delta_r.iter().zip(&self.nominal) {
                     let t = d.transpose();
                     work.actual.push(InputValues::new(&(t * a), &(t * w)));
                 }
             }
         }
-        self.finish_draw(work)
+        Ok(())
+    }
+
+    /// Refuse `what` for a schedule with rate steps (a path built on one orientation error
+    /// per position).
+    pub(crate) fn static_only(&self, what: &str) -> Result<(), E2eError> {
+        if self.rate.is_active() {
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "calibration.rate_steps".into(),
+                value: self.rate.entries.iter().flatten().count() as f64,
+                range: format!("no rate step: {what} takes static positions only"),
+            }));
+        }
+        Ok(())
+    }
+
+    /// The actual inputs' first variation at position `i` for a unit change of angular error
+    /// `j` (`extra` false) or extra error `j` (`extra` true), at $\chi = 0$ and the extra
+    /// errors at their values (g and deg/h per unit of the error), where it is not a rotation
+    /// of the nominal inputs: `None` at a static position for an angular error (the analytic
+    /// model applies there); zero at a static position for an extra error; central
+    /// differences of the compiled rate step at a rate step (step [`RATE_DERIVATIVE_STEP`] of
+    /// the error's unit: rad, m, relative).
+    pub(crate) fn rate_input_derivative(
+        &self,
+        i: usize,
+        j: usize,
+        extra: bool,
+    ) -> Option<[f64; 6]> {
+        let entry = match &self.rate.entries.get(i) {
+            Some(Some(e)) => e,
+            _ => return extra.then_some([0.0; 6]),
+        };
+        // a rate entry exists only for a turntable
+        let table = self.chain.as_turntable_schedule()?.turntable();
+        let h = RATE_DERIVATIVE_STEP;
+        let n_rot = table.n_rotation_errors();
+        let mut chi = vec![0.0; n_rot];
+        let mut x = self.extra_values.clone();
+        let mut rot = vec![Matrix3::identity(); n_rot];
+        let n_tr = table.n_translation_errors();
+        let mut at = |v: f64| {
+            if extra {
+                x[j] = self.extra_values[j] + v;
+            } else {
+                chi[j] = v;
+            }
+            table.error_rotations(&chi, &mut rot).ok()?;
+            self.rate.inputs(entry, &rot, &x, n_tr).ok()
+        };
+        let (plus, minus) = (at(h)?, at(-h)?);
+        Some(std::array::from_fn(|q| {
+            (plus.0[q] - minus.0[q]) / (2.0 * h)
+        }))
     }
 
     /// The reading's $\Delta\omega_k$ of every output from `work.actual`.
@@ -526,9 +755,21 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// As [`EndToEnd::delta_omega_into`] and [`Calibration::calibrate_simulated`].
     pub fn coefficient_errors(&self, chi_rad: &[f64]) -> Result<Vec<f64>, E2eError> {
         self.check_chi(chi_rad)?;
-        let mut dr = vec![Matrix3::identity(); self.len()];
-        self.chain.delta_r_into(chi_rad, &mut dr)?;
-        let results = self.calibration.calibrate_simulated(&dr)?;
+        let results = if self.has_rate_steps() {
+            let mut work = self.work();
+            self.actual_into(chi_rad, &self.extra_values, &mut work)?;
+            (0..self.n_outputs())
+                .map(|k| {
+                    let out = &self.calibration.outputs()[k];
+                    let b1: Vec<f64> = work.actual.iter().map(|u| out.output().value(u)).collect();
+                    self.calibration.calibrate(k, &b1)
+                })
+                .collect::<Result<Vec<_>, _>>()?
+        } else {
+            let mut dr = vec![Matrix3::identity(); self.len()];
+            self.chain.delta_r_into(chi_rad, &mut dr)?;
+            self.calibration.calibrate_simulated(&dr)?
+        };
         Ok(results
             .iter()
             .zip(self.calibration.outputs())
@@ -550,6 +791,14 @@ impl<S: ScheduleErrorModel + Clone> EndToEnd<S> {
     /// # Errors
     /// As [`EndToEnd::for_model`].
     pub fn with_reading(&self, reading: Reading) -> Result<Self, E2eError> {
-        Self::for_model(self.chain.clone(), &self.calibration, reading)
+        Ok(Self {
+            extra_values: self.extra_values.clone(),
+            ..Self::for_model(self.chain.clone(), &self.calibration, reading)?
+        })
     }
 }
+
+/// The step of the central differences of a rate step's inputs (unit of the error: rad, m,
+/// relative): truncation $O(h^2) \approx 10^{-10}$ and rounding $\epsilon/h \approx
+/// 2\cdot10^{-11}$ of the inputs' size.
+pub const RATE_DERIVATIVE_STEP: f64 = 1e-5;

@@ -32,6 +32,6 @@ mod tolerances;
 pub use error::StudyError;
 pub use schema::{
     DEFAULT_DELTA_R, DEFAULT_READING, Measured, MonteCarloSettings, RequirementSource, Study,
-    is_name_slug,
+    StudyRateStep, is_name_slug,
 };
 pub use tolerances::{DiscBound, Tolerances, ValueConvention};

@@ -38,6 +38,15 @@ pub const REQUIREMENT_DEG: (f64, f64) = (1e-9, 10.0);
 pub const ANGLE_TOLERANCE_ARCMIN: (f64, f64) = (0.0, 600.0);
 /// Translation tolerance range, mm.
 pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
+/// Rate limit of a joint (`turntable.max_rate_deg_per_s.<joint>`), deg/s: rate tables reach
+/// a few thousand deg/s, centrifuges more.
+pub const MAX_RATE_DEG_PER_S: (f64, f64) = (0.0, 1e5);
+/// Revolutions of a rate step.
+pub const MAX_REVOLUTIONS: u64 = 1_000_000;
+/// Largest lever-arm component (`sensor.lever_arm_m`), m.
+pub const LEVER_ARM_ABS_MAX_M: f64 = 10.0;
+/// Rate tolerances (rate accuracy, ripple), ppm.
+pub const RATE_TOLERANCE_PPM: (f64, f64) = (0.0, 1e5);
 /// Largest Monte Carlo sample count.
 pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
 /// Largest number of test positions in a schedule (`calibration.positions_deg`, and

@@ -70,6 +70,7 @@ struct RawTurntable {
     factors: Vec<RawFactor>,
     error_order: Option<Vec<String>>,
     joint_ranges_deg: Option<BTreeMap<String, Vec<f64>>>,
+    max_rate_deg_per_s: Option<BTreeMap<String, f64>>,
     descriptions: Option<BTreeMap<String, String>>,
 }
 
@@ -97,6 +98,7 @@ struct RawSite {
 #[serde(deny_unknown_fields)]
 struct RawSensor {
     outputs: Vec<RawOutput>,
+    lever_arm_m: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -125,6 +127,31 @@ struct RawCalibration {
     delta_r: Option<String>,
     positions_deg: Vec<Vec<f64>>,
     timing: Option<crate::noise::RawTiming>,
+    rate_steps: Option<Vec<RawRateStep>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRateStep {
+    joint: String,
+    rate_deg_per_s: f64,
+    angles_deg: Vec<f64>,
+    revolutions: f64,
+}
+
+/// A rate step of a study (`[[calibration.rate_steps]]`): joint `joint` turns at
+/// `rate_deg_per_s` for `revolutions` whole revolutions from `angles_deg`; the schedule holds
+/// it after the static positions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyRateStep {
+    /// Index of the turning joint (pose order).
+    pub joint: usize,
+    /// Commanded rate, deg/s (signed, non-zero, within the joint's limit).
+    pub rate_deg_per_s: f64,
+    /// Every joint's angle (deg, joint order); the turning joint's is where it starts.
+    pub angles_deg: Vec<f64>,
+    /// Whole revolutions.
+    pub revolutions: u32,
 }
 
 #[derive(Debug, Deserialize)]
@@ -220,6 +247,14 @@ pub struct Study {
     /// How each angular error varies with a shaft angle (order of $\chi$;
     /// `turntable.factors[i].varies`, `of`, `harmonics`); constant unless the study says so.
     pub variations: Vec<tt_kinematics::ErrorVariation>,
+    /// The rate steps (`[[calibration.rate_steps]]`), after the static positions in the
+    /// schedule; empty for a static schedule.
+    pub rate_steps: Vec<StudyRateStep>,
+    /// The sensor's mounting lever arm in the platform frame (`sensor.lever_arm_m`), m.
+    pub lever_arm_m: [f64; 3],
+    /// Each joint's rate limit (`turntable.max_rate_deg_per_s`), deg/s; `None` where not
+    /// given.
+    pub max_rate_deg_per_s: Vec<Option<f64>>,
 }
 
 /// Whether `name` is a valid study `name`: a file-name-safe slug of 1 to
@@ -490,7 +525,39 @@ impl Study {
             }
         };
         let positions_deg = raw.calibration.positions_deg.clone();
-        let calibration = calibration_for(at, &turntable, &sensor, &site, &positions_deg)?;
+        let max_rate_deg_per_s = parse_max_rates(at, &raw.turntable, &turntable)?;
+        let lever_arm_m = parse_lever_arm(at, raw.sensor.lever_arm_m.as_deref())?;
+        let rate_steps = parse_rate_steps(
+            at,
+            raw.calibration.rate_steps.as_deref().unwrap_or_default(),
+            &turntable,
+            &max_rate_deg_per_s,
+        )?;
+        if !rate_steps.is_empty() {
+            if variations.iter().any(tt_kinematics::ErrorVariation::varies) {
+                return Err(StudyError::new(
+                    at("calibration.rate_steps"),
+                    "errors that vary with a shaft angle (`turntable.factors[i].varies`) are modelled at static positions only: a rate step takes constant errors",
+                ));
+            }
+            if raw.calibration.timing.is_some() {
+                return Err(StudyError::new(
+                    at("calibration.rate_steps"),
+                    "the noise timing (`[calibration.timing]`) covers static positions only: a study with rate steps has no timing yet",
+                ));
+            }
+        }
+        let calibration = calibration_for(
+            at,
+            &turntable,
+            &sensor,
+            &site,
+            &positions_deg,
+            &RateSchedule {
+                steps: &rate_steps,
+                lever_arm_m,
+            },
+        )?;
         let timing = raw
             .calibration
             .timing
@@ -552,7 +619,27 @@ impl Study {
             timing,
             measured,
             variations,
+            rate_steps,
+            lever_arm_m,
+            max_rate_deg_per_s,
         })
+    }
+
+    /// Whether the schedule has a rate step.
+    #[must_use]
+    pub fn has_rate_steps(&self) -> bool {
+        !self.rate_steps.is_empty()
+    }
+
+    /// The joint angles (deg) of every schedule entry: the static positions, then where each
+    /// rate step starts.
+    #[must_use]
+    pub fn schedule_angles_deg(&self) -> Vec<Vec<f64>> {
+        self.positions_deg
+            .iter()
+            .cloned()
+            .chain(self.rate_steps.iter().map(|r| r.angles_deg.clone()))
+            .collect()
     }
 
     /// The expansion of the turntable's errors into coefficients over the study's schedule
@@ -606,6 +693,10 @@ impl Study {
             &self.sensor,
             &self.site,
             &positions_deg,
+            &RateSchedule {
+                steps: &self.rate_steps,
+                lever_arm_m: self.lever_arm_m,
+            },
         )?;
         let n = positions_deg.len();
         let timing = match &self.timing {
@@ -1133,13 +1224,155 @@ fn parse_requirement(
     }
 }
 
-/// Validate positions against the turntable and build the calibration.
+/// The rate steps a schedule appends to its static positions.
+struct RateSchedule<'a> {
+    steps: &'a [StudyRateStep],
+    lever_arm_m: [f64; 3],
+}
+
+/// Each joint's rate limit, `turntable.max_rate_deg_per_s.<joint>`.
+fn parse_max_rates(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawTurntable,
+    turntable: &Turntable,
+) -> Result<Vec<Option<f64>>, StudyError> {
+    let mut out = vec![None; turntable.n_joints()];
+    for (name, &v) in raw.max_rate_deg_per_s.iter().flatten() {
+        let key = format!("turntable.max_rate_deg_per_s.{name}");
+        let Some(j) = turntable.joint_index(name) else {
+            return Err(StudyError::new(
+                at(&key),
+                format!("`{name}` is not a joint of the turntable"),
+            ));
+        };
+        let (lo, hi) = limits::MAX_RATE_DEG_PER_S;
+        out[j] = Some(in_range(at, &key, v, lo, hi, true, "deg/s")?);
+    }
+    Ok(out)
+}
+
+/// `sensor.lever_arm_m`: three components, m (zero when not given).
+fn parse_lever_arm(
+    at: &dyn Fn(&str) -> String,
+    raw: Option<&[f64]>,
+) -> Result<[f64; 3], StudyError> {
+    let Some(v) = raw else {
+        return Ok([0.0; 3]);
+    };
+    let [x, y, z] = v else {
+        return Err(StudyError::new(
+            at("sensor.lever_arm_m"),
+            format!(
+                "a lever arm is [x, y, z] in the platform frame, found {} numbers",
+                v.len()
+            ),
+        ));
+    };
+    let m = limits::LEVER_ARM_ABS_MAX_M;
+    let mut out = [0.0; 3];
+    for (k, (o, c)) in out.iter_mut().zip([x, y, z]).enumerate() {
+        *o = in_range(
+            at,
+            &format!("sensor.lever_arm_m[{k}]"),
+            *c,
+            -m,
+            m,
+            false,
+            "m",
+        )?;
+    }
+    Ok(out)
+}
+
+/// `[[calibration.rate_steps]]`: a joint of the turntable with a rate limit, a non-zero rate
+/// within it, one angle per joint, a whole number of revolutions.
+fn parse_rate_steps(
+    at: &dyn Fn(&str) -> String,
+    raw: &[RawRateStep],
+    turntable: &Turntable,
+    max_rates: &[Option<f64>],
+) -> Result<Vec<StudyRateStep>, StudyError> {
+    let names = turntable.joint_names();
+    raw.iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let key = |k: &str| format!("calibration.rate_steps[{i}].{k}");
+            let Some(joint) = turntable.joint_index(&r.joint) else {
+                return Err(StudyError::new(
+                    at(&key("joint")),
+                    format!(
+                        "`{}` is not a joint of the turntable (joints: {})",
+                        r.joint,
+                        names.join(", ")
+                    ),
+                ));
+            };
+            let Some(limit) = max_rates[joint] else {
+                return Err(StudyError::new(
+                    at(&key("joint")),
+                    format!(
+                        "joint `{}` has no rate limit: give `turntable.max_rate_deg_per_s.{}`",
+                        r.joint, r.joint
+                    ),
+                ));
+            };
+            let rate = r.rate_deg_per_s;
+            if !rate.is_finite() || rate == 0.0 || rate.abs() > limit {
+                return Err(StudyError::new(
+                    at(&key("rate_deg_per_s")),
+                    format!(
+                        "must be non-zero with |rate| <= {} deg/s (the rate limit of `{}`), found {}",
+                        num(limit),
+                        r.joint,
+                        exact(rate)
+                    ),
+                ));
+            }
+            let revs = r.revolutions;
+            if !(revs.is_finite()
+                && revs >= 1.0
+                && revs.fract() == 0.0
+                && revs <= limits::MAX_REVOLUTIONS as f64)
+            {
+                return Err(StudyError::new(
+                    at(&key("revolutions")),
+                    format!(
+                        "must be a whole number of revolutions from 1 to {} (the averages are over whole revolutions), found {}",
+                        limits::MAX_REVOLUTIONS,
+                        exact(revs)
+                    ),
+                ));
+            }
+            if r.angles_deg.len() != turntable.n_joints() {
+                return Err(StudyError::new(
+                    at(&key("angles_deg")),
+                    format!(
+                        "one angle per joint ({}: {}; the turning joint's is where it starts), found {} numbers",
+                        turntable.n_joints(),
+                        names.join(", "),
+                        r.angles_deg.len()
+                    ),
+                ));
+            }
+            Ok(StudyRateStep {
+                joint,
+                rate_deg_per_s: rate,
+                angles_deg: r.angles_deg.clone(),
+                revolutions: revs as u32,
+            })
+        })
+        .collect()
+}
+
+/// Validate positions against the turntable and build the calibration (the static positions,
+/// then the rate steps).
 fn calibration_for(
     at: &dyn Fn(&str) -> String,
     turntable: &Turntable,
     sensor: &SensorModel,
     site: &Site,
     positions_deg: &[Vec<f64>],
+    rates: &RateSchedule<'_>,
 ) -> Result<Calibration, StudyError> {
     if positions_deg.is_empty() {
         return Err(StudyError::new(
@@ -1147,21 +1380,31 @@ fn calibration_for(
             "no test position",
         ));
     }
-    if positions_deg.len() > limits::MAX_POSITIONS {
+    if positions_deg.len() + rates.steps.len() > limits::MAX_POSITIONS {
         return Err(StudyError::new(
             at("calibration.positions_deg"),
             format!(
-                "{} test positions; at most {} are accepted (a calibration schedule has tens to hundreds)",
-                positions_deg.len(),
+                "{} test positions and rate steps; at most {} are accepted (a calibration schedule has tens to hundreds)",
+                positions_deg.len() + rates.steps.len(),
                 limits::MAX_POSITIONS
             ),
         ));
     }
     let ranges = turntable.joint_ranges_rad();
     let names = turntable.joint_names();
-    let mut positions = Vec::with_capacity(positions_deg.len());
-    for (i, p) in positions_deg.iter().enumerate() {
-        let key = format!("calibration.positions_deg[{i}]");
+    let mut positions = Vec::with_capacity(positions_deg.len() + rates.steps.len());
+    let entries = positions_deg
+        .iter()
+        .map(|p| (p, None))
+        .chain(rates.steps.iter().map(|r| (&r.angles_deg, Some(r))));
+    for (i, (p, rate)) in entries.enumerate() {
+        let key = match rate {
+            None => format!("calibration.positions_deg[{i}]"),
+            Some(_) => format!(
+                "calibration.rate_steps[{}].angles_deg",
+                i - positions_deg.len()
+            ),
+        };
         if p.len() != turntable.n_joints() {
             return Err(StudyError::new(
                 at(&key),
@@ -1174,7 +1417,7 @@ fn calibration_for(
             ));
         }
         for (j, &a) in p.iter().enumerate() {
-            let key = format!("calibration.positions_deg[{i}][{j}]");
+            let key = format!("{key}[{j}]");
             let m = limits::ANGLE_ABS_MAX_DEG;
             in_range(at, &key, a, -m, m, false, "deg")?;
             let [lo, hi] = ranges[j];
@@ -1195,9 +1438,45 @@ fn calibration_for(
         let rd = turntable
             .nominal_rotation(&pose)
             .map_err(|e| StudyError::new(at(&key), e.to_string()))?;
-        positions.push(
-            Position::new(rd, p.clone()).map_err(|e| StudyError::new(at(&key), e.to_string()))?,
-        );
+        let position = match rate {
+            None => Position::new(rd, p.clone()),
+            Some(r) => {
+                let step = tt_kinematics::RateStep {
+                    joint: r.joint,
+                    rate_rad_per_s: r.rate_deg_per_s * RAD_PER_DEG,
+                    pose,
+                    revolutions: r.revolutions,
+                };
+                let env = tt_kinematics::RateEnvironment {
+                    specific_force_base_g: site.specific_force_base_g(),
+                    earth_rate_base_rad_per_s: site.earth_rate_base_rad_per_s(),
+                    lever_arm_m: rates.lever_arm_m.into(),
+                };
+                let avg = turntable
+                    .rate_step_average(
+                        &step,
+                        &turntable.zero_errors(),
+                        &tt_kinematics::RateErrorValues::default(),
+                        &env,
+                    )
+                    .map_err(|e| StudyError::new(at(&key), e.to_string()))?;
+                Position::rate_step(
+                    rd,
+                    p.clone(),
+                    calib_lsq::RateMotion {
+                        joint: r.joint,
+                        rate_rad_per_s: step.rate_rad_per_s,
+                        revolutions: r.revolutions,
+                        lever_arm_m: rates.lever_arm_m,
+                        nominal: gw_model::Inputs {
+                            specific_force_g: avg.specific_force_g,
+                            rate_rad_per_s: avg.rate_rad_per_s,
+                        },
+                    },
+                )
+            }
+        };
+        positions.push(position.map_err(|e| StudyError::new(at(&key), e.to_string()))?);
     }
     let schedule = Schedule::new(positions)
         .map_err(|e| StudyError::new(at("calibration.positions_deg"), e.to_string()))?;

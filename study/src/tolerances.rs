@@ -6,8 +6,11 @@
 //! [tolerances_arcmin]   # every angular error of the study's turntable
 //! dphi_y1 = 0.4
 //! # ...
-//! [tolerances_mm]       # optional: error translations (no effect on orientation)
-//! deta = 0.1
+//! [tolerances_mm]       # optional: error translations (no effect on orientation; at a rate
+//! deta = 0.1            # step the accelerometers feel omega^2 times them)
+//! [tolerances_ppm]      # optional: a turning joint's rate errors (studies with rate steps)
+//! phi1_rate_accuracy = 100   # rate averaged over whole revolutions, |error| <= 100 ppm
+//! phi1_rate_ripple = 1000    # first-harmonic ripple over the revolution, each component
 //! ```
 
 use crate::error::StudyError;
@@ -28,6 +31,7 @@ struct RawTolerances {
     #[serde(default)]
     tolerances_arcmin: BTreeMap<String, f64>,
     tolerances_mm: Option<BTreeMap<String, f64>>,
+    tolerances_ppm: Option<BTreeMap<String, f64>>,
     axes: Option<BTreeMap<String, RawAxis>>,
 }
 
@@ -124,6 +128,12 @@ pub struct Tolerances {
     /// positioning accuracy bounds an error over the revolution of its axis (`any` of the
     /// joint), an orthogonality a constant; `None` for a value of `[tolerances_arcmin]`.
     pub implied: Vec<Option<tt_kinematics::ErrorVariation>>,
+    /// Each joint's rate accuracy bound (relative; `[tolerances_ppm]`
+    /// `<joint>_rate_accuracy` / $10^6$), `None` when not given.
+    pub rate_accuracy: Vec<Option<f64>>,
+    /// Each joint's rate ripple bound (relative, each of its two components;
+    /// `<joint>_rate_ripple` / $10^6$), `None` when not given.
+    pub rate_ripple: Vec<Option<f64>>,
 }
 
 impl Tolerances {
@@ -390,7 +400,37 @@ impl Tolerances {
             let (lo, hi) = limits::TRANSLATION_TOLERANCE_MM;
             translations_m[i] = Some(in_range(&at, &key, v, lo, hi, false, "mm")? * 1e-3);
         }
+        let mut rate_accuracy = vec![None; turntable.n_joints()];
+        let mut rate_ripple = vec![None; turntable.n_joints()];
+        for (name, &v) in raw.tolerances_ppm.iter().flatten() {
+            let key = format!("tolerances_ppm.{name}");
+            let parsed = [("_rate_accuracy", 0), ("_rate_ripple", 1)]
+                .iter()
+                .find_map(|(suffix, kind)| {
+                    name.strip_suffix(suffix)
+                        .and_then(|j| turntable.joint_index(j))
+                        .map(|j| (j, *kind))
+                });
+            let Some((j, kind)) = parsed else {
+                return Err(StudyError::new(
+                    at(&key),
+                    format!(
+                        "expected `<joint>_rate_accuracy` or `<joint>_rate_ripple` for a joint of the study's turntable ({})",
+                        turntable.joint_names().join(", ")
+                    ),
+                ));
+            };
+            let (lo, hi) = limits::RATE_TOLERANCE_PPM;
+            let value = in_range(&at, &key, v, lo, hi, false, "ppm")? * 1e-6;
+            if kind == 0 {
+                rate_accuracy[j] = Some(value);
+            } else {
+                rate_ripple[j] = Some(value);
+            }
+        }
         Ok(Self {
+            rate_accuracy,
+            rate_ripple,
             path: source.to_string(),
             name: raw.name,
             ub_rad: ub

@@ -71,6 +71,7 @@ pub mod linear;
 mod model;
 pub mod paper;
 mod pose;
+pub mod rate;
 pub mod rotation;
 mod schedule;
 pub mod sensitivity;
@@ -88,6 +89,10 @@ pub use model::{
     ScheduleErrorModel, SmallAngleChain,
 };
 pub use pose::TurntableErrors;
+pub use rate::{
+    RateAverage, RateEnvironment, RateErrorValues, RateStep, RateStepFrames,
+    STANDARD_GRAVITY_M_PER_S2, ripple_averages,
+};
 pub use schedule::TurntableSchedule;
 /// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.
 pub use tt_core::{Axis, OrientationAxis, OrientationError, Pose, SignedAxis};

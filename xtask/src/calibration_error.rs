@@ -10,6 +10,10 @@
 //! `<output>_rate_error` (eq 14 under the study's reading, output unit; 0 when at or below the
 //! computation's precision, `e2e_verify::EndToEnd::precisions`). Full precision. As
 //! for `orientation-error`, the whole input is checked before anything is written.
+//!
+//! With rate steps in the study the rate steps are simulated too (their revolution averages
+//! through the exact chain), and a row's `<error>_mm` translations act at them (the sensor
+//! off the turning axis); the table's rate accuracy and ripple are held at zero.
 
 use crate::InputError;
 use crate::csvio::Source;
@@ -53,6 +57,22 @@ pub fn run(args: &Args) -> Result<()> {
     let mut work = e2e.work();
     let mut eval = |line: usize, row: study::csv::TurntableRow| -> Result<Vec<f64>, InputError> {
         let at = || format!("{name}:{line}");
+        // rate steps: the row's translations act there (rate accuracy and ripple held at 0)
+        let with_rows;
+        let e2e = if e2e.has_rate_steps() {
+            let mut extra = vec![0.0; e2e.extra_errors().len()];
+            for (x, v) in e2e.extra_errors().iter().zip(extra.iter_mut()) {
+                if let e2e_verify::ExtraError::Translation(i) = *x {
+                    *v = row.translations_m[i];
+                }
+            }
+            with_rows = e2e
+                .with_extra_values(&extra)
+                .map_err(|e| InputError::new(at(), e.to_string()))?;
+            &with_rows
+        } else {
+            &e2e
+        };
         let mut v = e2e
             .coefficient_errors(&row.chi_rad)
             .map_err(|e| InputError::new(at(), e.to_string()))?;

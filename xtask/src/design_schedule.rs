@@ -212,6 +212,14 @@ fn noise_note(s: &Study) -> Option<&'static str> {
     )
 }
 
+/// With rate steps in the study: they are kept fixed (and written unchanged); the search
+/// designs the static positions, and its J values are those of the static positions alone.
+fn rate_steps_note(s: &Study) -> Option<&'static str> {
+    s.has_rate_steps().then_some(
+        "the study has rate steps: they are kept fixed (and written unchanged with --write-study); the search designs the static positions only, and the J values below are those of the static positions alone (end-to-end on the written study answers with its rate steps)",
+    )
+}
+
 /// The study's and the designed schedule answered for both error sources (table + noise at
 /// [`DEFAULT_K_SIGMA`] sigma, the study's timing): the certified direct allocation's J with
 /// the noise part kept free (`None`: no table suffices at this dwell), and which schedule is
@@ -296,6 +304,9 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
     m.insert("candidates".into(), json!(o.candidates));
     m.insert("seconds".into(), json!(o.seconds));
     m.insert("command".into(), json!(o.command));
+    if let Some(n) = rate_steps_note(s) {
+        m.insert("rate_steps_note".into(), json!(n));
+    }
     if let Some(n) = noise_note(s) {
         m.insert("noise_note".into(), json!(n));
     }
@@ -487,6 +498,9 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         num(o.settings.max_condition),
         o.settings.seed
     );
+    if let Some(n) = rate_steps_note(s) {
+        t.push_str(&format!("note: {n}\n"));
+    }
     if let Some(n) = noise_note(s) {
         t.push_str(&format!("note: {n}\n"));
         if let Some(c) = &o.combined {

@@ -329,7 +329,9 @@ pub fn simulator(s: &Study) -> Result<EndToEnd> {
 /// An [`InputError`] naming the key.
 pub fn inputs(s: &Study, samples: u64, seed: u64, yield_fraction: f64) -> Result<EndToEndInputs> {
     let req = st::requirement(s)?;
-    let mut inputs = EndToEndInputs::new(s.lower_bounds_rad.clone(), req.used, seed);
+    // the requirement of eq 15-16 is static: no two-step allocation with rate steps
+    let used = if s.has_rate_steps() { None } else { req.used };
+    let mut inputs = EndToEndInputs::new(s.lower_bounds_rad.clone(), used, seed);
     inputs.samples = samples;
     inputs.yield_fraction = yield_fraction;
     if s.turntable == tt_kinematics::paper::table3() {
@@ -742,7 +744,11 @@ pub fn run(args: &Args) -> Result<()> {
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);
     check_yield_samples(samples, args.samples.is_some(), args.yield_fraction, &s)?;
     let inputs = inputs(&s, samples, seed, args.yield_fraction)?;
-    let note = st::requirement(&s)?.disagreement;
+    let note = if s.has_rate_steps() {
+        Some(crate::rate::rate_steps_note(&e2e))
+    } else {
+        st::requirement(&s)?.disagreement
+    };
     let t0 = Instant::now();
     let a = answer(&e2e, &inputs).map_err(|e| crate::input::library(e, &s))?;
     let noisy = noisy_answer(&s, &e2e, &a, args.k_sigma)?;

@@ -29,6 +29,7 @@ mod orientation_error;
 mod out;
 mod outdir;
 mod paths;
+mod rate;
 mod report;
 mod requirement;
 mod study;

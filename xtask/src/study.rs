@@ -36,12 +36,13 @@ pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
     Ok(s)
 }
 
-/// The turntable pose of every test position of a study.
+/// The turntable pose of every schedule entry of a study (the test positions, then where
+/// each rate step starts).
 ///
 /// # Errors
 /// Never for a parsed study (positions were validated); an [`InputError`] otherwise.
 pub fn poses(s: &Study) -> anyhow::Result<Vec<Pose>> {
-    s.positions_deg
+    s.schedule_angles_deg()
         .iter()
         .map(|p| Pose::from_deg(p).map_err(|e| crate::input::library(e, s)))
         .collect()
@@ -76,6 +77,22 @@ pub const DISAGREE_REL: f64 = 1e-6;
 /// # Errors
 /// An [`InputError`] naming `requirement` when a given value is invalid for the allocation.
 pub fn requirement(s: &Study) -> anyhow::Result<StudyRequirement> {
+    let mut r = requirement_of(s)?;
+    if s.has_rate_steps() {
+        // every command and report that prints the requirement's note says it is static
+        let note = format!(
+            "note: {}; here it is computed over every schedule entry, a rate step's averaged inputs as if they were a static position's",
+            crate::rate::STATIC_REQUIREMENT_NOTE
+        );
+        r.disagreement = Some(match r.disagreement {
+            Some(d) => format!("{note}\n{d}"),
+            None => note,
+        });
+    }
+    Ok(r)
+}
+
+fn requirement_of(s: &Study) -> anyhow::Result<StudyRequirement> {
     let computed = requirement_problem(s).requirement();
     match s.requirement {
         RequirementSource::Computed => {

@@ -1,0 +1,409 @@
+//! Rate steps end to end: the schedule entries at which a joint turns
+//! ([`calib_lsq::RateMotion`]), evaluated through the exact chain
+//! ([`tt_kinematics::RateStepFrames`]), and the table errors only rotation exposes.
+//!
+//! # The errors of a study with rate steps
+//! A static position sees the orientation alone, so the error vector is $\chi$ (the angular
+//! errors, rad). Once the schedule has a rate step, three more kinds of table error act, the
+//! extra errors of [`crate::EndToEnd`] (in this order; [`ExtraError`]):
+//! - every translation error of the description (m): a non-intersection of the axes puts the
+//!   sensor off the turning axis, and the accelerometers feel $\Omega^2 r$;
+//! - per turning joint, its rate accuracy $\varepsilon$ (relative; a sheet's ppm / $10^6$):
+//!   the rate averaged over whole revolutions is $\Omega_c(1+\varepsilon)$, so a gyro's scale
+//!   factor estimated from it is off by $\varepsilon$ to first order;
+//! - per turning joint, its rate ripple $(\rho_c, \rho_s)$ (relative, first harmonic of the
+//!   shaft angle): the time average weighs the angles unevenly and leaves $\rho/2$ of gravity
+//!   and of the earth's rate across the axis.
+//!
+//! Every evaluation of $\chi$ holds them at [`crate::EndToEnd::extra_values`] (zero: an ideal
+//! rate table); [`RateTolerances`] bound them like the angles, and the worst case, the
+//! allocation and the Monte Carlo of this module take both boxes at once. A study without
+//! rate steps has no extra error and keeps its answers exactly.
+
+use calib_lsq::Calibration;
+use gw_model::InputValues;
+use nalgebra::{Matrix3, Vector3};
+use tt_kinematics::{Pose, RateEnvironment, RateErrorValues, RateStep, RateStepFrames, Turntable};
+
+use crate::error::E2eError;
+
+/// Why a schedule with rate steps gets no certified allocation: the derived second-order
+/// bound ([`crate::EndToEnd::second_order_bound`]) assumes every entry's inputs are a rotation
+/// of the nominal ones (the earth's rate and 1 g), which a rate step's are not.
+pub const NOT_CERTIFIED_AT_RATE_STEPS: &str = "the schedule has rate steps: the second-order bound of the certificate is derived for static positions only (inputs a rotation of the earth's rate and 1 g), so the direct allocation is not certified on the exact chain; its worst vertex is checked on the exact chain instead";
+
+/// A table error beyond the angular errors $\chi$, appended to $\chi$ when the schedule has a
+/// rate step (see the [module](self)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExtraError {
+    /// The translation error of this index (m).
+    Translation(usize),
+    /// The rate accuracy of this joint (relative).
+    RateAccuracy(usize),
+    /// The cosine part of this joint's rate ripple (relative).
+    RippleCos(usize),
+    /// The sine part of this joint's rate ripple (relative).
+    RippleSin(usize),
+}
+
+impl ExtraError {
+    /// The name of the error: the translation's name, `<joint>_rate_accuracy`,
+    /// `<joint>_rate_ripple_cos`, `<joint>_rate_ripple_sin`.
+    #[must_use]
+    pub fn name(&self, turntable: &Turntable) -> String {
+        let joint = |j: usize| turntable.joints()[j].name.clone();
+        match *self {
+            ExtraError::Translation(i) => turntable.translation_errors()[i].name.clone(),
+            ExtraError::RateAccuracy(j) => format!("{}_rate_accuracy", joint(j)),
+            ExtraError::RippleCos(j) => format!("{}_rate_ripple_cos", joint(j)),
+            ExtraError::RippleSin(j) => format!("{}_rate_ripple_sin", joint(j)),
+        }
+    }
+
+    /// Whether the error is a translation (m); otherwise a relative rate error.
+    #[must_use]
+    pub fn is_translation(&self) -> bool {
+        matches!(self, ExtraError::Translation(_))
+    }
+}
+
+/// One rate step compiled for the fast path.
+#[derive(Debug, Clone)]
+pub(crate) struct RateEntry {
+    pub(crate) frames: RateStepFrames,
+    pub(crate) env: RateEnvironment,
+    /// Index in the extra errors of the joint's rate accuracy (ripple cos, sin follow).
+    pub(crate) rate_index: usize,
+}
+
+/// The rate steps of a schedule and the extra errors they expose.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct RatePlan {
+    /// One per position; `None` for a static position.
+    pub(crate) entries: Vec<Option<RateEntry>>,
+    /// The extra errors, after $\chi$.
+    pub(crate) extra: Vec<ExtraError>,
+}
+
+impl RatePlan {
+    /// The plan of a static schedule of `n` positions: no rate step, no extra error.
+    pub(crate) fn static_schedule(n: usize) -> Self {
+        Self {
+            entries: vec![None; n],
+            extra: Vec::new(),
+        }
+    }
+
+    /// The plan of `calibration`'s schedule on `turntable` at `poses` (empty for a static
+    /// schedule).
+    pub(crate) fn new(
+        turntable: &Turntable,
+        calibration: &Calibration,
+        poses: &[Pose],
+    ) -> Result<Self, E2eError> {
+        let positions = calibration.schedule().positions();
+        if !calibration.schedule().has_rate_steps() {
+            return Ok(Self::static_schedule(positions.len()));
+        }
+        let mut joints: Vec<usize> = positions
+            .iter()
+            .filter_map(|p| p.motion().map(|m| m.joint))
+            .collect();
+        joints.sort_unstable();
+        joints.dedup();
+        let mut extra: Vec<ExtraError> = (0..turntable.n_translation_errors())
+            .map(ExtraError::Translation)
+            .collect();
+        for &j in &joints {
+            extra.extend([
+                ExtraError::RateAccuracy(j),
+                ExtraError::RippleCos(j),
+                ExtraError::RippleSin(j),
+            ]);
+        }
+        let site = calibration.site();
+        let entries = positions
+            .iter()
+            .zip(poses)
+            .map(|(p, pose)| {
+                let Some(m) = p.motion() else {
+                    return Ok(None);
+                };
+                let step = RateStep {
+                    joint: m.joint,
+                    rate_rad_per_s: m.rate_rad_per_s,
+                    pose: pose.clone(),
+                    revolutions: m.revolutions,
+                };
+                let rate_index = extra
+                    .iter()
+                    .position(|e| *e == ExtraError::RateAccuracy(m.joint))
+                    .unwrap_or_default();
+                Ok(Some(RateEntry {
+                    frames: turntable.rate_step_frames(&step)?,
+                    env: RateEnvironment {
+                        specific_force_base_g: site.specific_force_base_g(),
+                        earth_rate_base_rad_per_s: site.earth_rate_base_rad_per_s(),
+                        lever_arm_m: Vector3::from(m.lever_arm_m),
+                    },
+                    rate_index,
+                }))
+            })
+            .collect::<Result<Vec<_>, E2eError>>()?;
+        Ok(Self { entries, extra })
+    }
+
+    /// Whether the schedule has a rate step.
+    pub(crate) fn is_active(&self) -> bool {
+        !self.extra.is_empty() || self.entries.iter().any(Option::is_some)
+    }
+
+    /// The averaged inputs (g, deg/h) at rate entry `entry` for the extra errors `extra`,
+    /// with the angular errors' rotations `rotations` ([`Turntable::error_rotations`]).
+    pub(crate) fn inputs(
+        &self,
+        entry: &RateEntry,
+        rotations: &[Matrix3<f64>],
+        extra: &[f64],
+        n_translations: usize,
+    ) -> Result<InputValues, E2eError> {
+        let (translations, x) = (&extra[..n_translations], extra);
+        let k = entry.rate_index;
+        let re = RateErrorValues {
+            accuracy: x[k],
+            ripple: [x[k + 1], x[k + 2]],
+        };
+        let avg = entry
+            .frames
+            .average(rotations, translations, &re, &entry.env)?;
+        Ok(InputValues::new(
+            &avg.specific_force_g,
+            &avg.rate_rad_per_s
+                .map(tt_core::units::rad_per_s_to_deg_per_h),
+        ))
+    }
+}
+
+/// The worst case of one output over the angular box and the extra errors' box together
+/// ([`crate::EndToEnd::worst_case_with_extra`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtraOutputWorstCase {
+    /// Output index.
+    pub output: usize,
+    /// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit):
+    /// exact for the linearised model.
+    pub linear_bound: f64,
+    /// The entry (position or rate step) where it is reached.
+    pub position: usize,
+    /// The angular errors' part of it there.
+    pub angular_part: f64,
+    /// Each extra error's part of it there, $|N_{ie}|\,T_e$ (order of
+    /// [`crate::EndToEnd::extra_errors`]).
+    pub extra_parts: Vec<f64>,
+    /// $\Delta\omega_k$ on the exact chain at the worst vertex (the larger of it and its
+    /// negative).
+    pub exact_at_vertex: f64,
+}
+
+impl ExtraOutputWorstCase {
+    /// The extra errors' total part at the worst entry.
+    #[must_use]
+    pub fn extra_part(&self) -> f64 {
+        self.extra_parts.iter().sum()
+    }
+}
+
+/// Check extra-error bounds: one per extra error, finite and non-negative.
+fn check_extra_bounds(e2e: &crate::EndToEnd, bounds: &[f64]) -> Result<(), E2eError> {
+    tt_core::length("extra error bounds", e2e.extra_errors().len(), bounds.len())
+        .map_err(|e| E2eError::Kinematics(e.into()))?;
+    for (name, b) in e2e.extra_names().into_iter().zip(bounds) {
+        if !b.is_finite() {
+            return Err(tt_core::FieldError::NonFinite {
+                field: name,
+                value: *b,
+            }
+            .into());
+        }
+        if *b < 0.0 {
+            return Err(tt_core::FieldError::NotPositive {
+                field: name,
+                value: *b,
+            }
+            .into());
+        }
+    }
+    Ok(())
+}
+
+impl crate::EndToEnd {
+    /// The Jacobian $\mathbf N$ of every output's error vector with respect to the extra
+    /// errors ([`crate::EndToEnd::extra_errors`]; per metre or per unit of relative rate error),
+    /// at $\chi = 0$ and the extra errors at [`crate::EndToEnd::extra_values`]: zero rows at
+    /// the static positions.
+    #[must_use]
+    pub fn extra_linearization(&self) -> crate::Linearization {
+        let n_extra = self.extra_errors().len();
+        let du: Vec<Vec<[f64; 6]>> = (0..self.len())
+            .map(|i| {
+                (0..n_extra)
+                    .map(|j| self.rate_input_derivative(i, j, true).unwrap_or([0.0; 6]))
+                    .collect()
+            })
+            .collect();
+        self.linearization_with(n_extra, |i, j, _| du[i][j])
+    }
+
+    /// The worst case over the angular box $|\chi_j| \le \mathrm{UB}_j$ and the extra
+    /// errors' box $|x_e| \le T_e$ together, per output: exact for the linearised model
+    /// ($\mathbf M$ of [`crate::EndToEnd::linearization`], $\mathbf N$ of
+    /// [`crate::EndToEnd::extra_linearization`]), confirmed on the exact chain at the worst
+    /// vertex, with each extra error's part. With every $T_e = 0$ it is
+    /// [`crate::EndToEnd::worst_case`]'s linear bound.
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] naming a bad bound; as [`crate::EndToEnd::delta_omega`].
+    pub fn worst_case_with_extra(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        ub_rad: &[f64],
+        extra_bounds: &[f64],
+    ) -> Result<Vec<ExtraOutputWorstCase>, E2eError> {
+        self.check_bounds(linear, ub_rad)?;
+        check_extra_bounds(self, extra_bounds)?;
+        let angular = linear.row_worst_cases(ub_rad);
+        let extra = extra_linear.row_worst_cases(extra_bounds);
+        let n = self.len();
+        let mut work = self.work();
+        (0..self.n_outputs())
+            .map(|k| {
+                let (position, bound) = (0..n)
+                    .map(|i| (i, angular[k * n + i] + extra[k * n + i]))
+                    .fold((0, f64::NEG_INFINITY), |b, c| if c.1 > b.1 { c } else { b });
+                let vertex = |row: Vec<f64>, bounds: &[f64]| -> Vec<f64> {
+                    row.iter()
+                        .zip(bounds)
+                        .map(|(m, u)| match (u.is_finite(), *m < 0.0) {
+                            (false, _) => 0.0,
+                            (true, true) => -u,
+                            (true, false) => *u,
+                        })
+                        .collect()
+                };
+                let chi = vertex(linear.row(k, position), ub_rad);
+                let x = vertex(extra_linear.row(k, position), extra_bounds);
+                self.delta_omega_extra_into(&chi, &x, &mut work)?;
+                let plus = work.delta_omega[k];
+                let neg = |v: &[f64]| v.iter().map(|a| -a).collect::<Vec<f64>>();
+                self.delta_omega_extra_into(&neg(&chi), &neg(&x), &mut work)?;
+                let minus = work.delta_omega[k];
+                let precision = self.precisions()[k];
+                Ok(ExtraOutputWorstCase {
+                    output: k,
+                    linear_bound: crate::resolved(bound, precision),
+                    position,
+                    angular_part: angular[k * n + position],
+                    extra_parts: extra_linear
+                        .row(k, position)
+                        .iter()
+                        .zip(extra_bounds)
+                        .map(|(m, t)| m.abs() * t)
+                        .collect(),
+                    exact_at_vertex: crate::resolved(plus.max(minus), precision),
+                })
+            })
+            .collect()
+    }
+
+    /// Direct allocation of the angular errors with the extra errors at their bounds
+    /// `extra_bounds`: each output keeps free the largest part the extra errors' box takes at
+    /// any entry, $\max_i\sum_e |N_{ie}|\,T_e$ (a safe margin: at most that row's share), and
+    /// the angles get the rest ([`crate::EndToEnd::allocate_direct`] otherwise).
+    ///
+    /// # Errors
+    /// As [`crate::EndToEnd::allocate_direct`]; [`E2eError::MarginExceedsAccuracy`] when the
+    /// extra errors alone take an output's whole accuracy; a bad bound.
+    pub fn allocate_direct_with_extra(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        extra_bounds: &[f64],
+    ) -> Result<crate::DirectAllocation, E2eError> {
+        check_extra_bounds(self, extra_bounds)?;
+        let rows = extra_linear.row_worst_cases(extra_bounds);
+        let n = self.len();
+        let margins: Vec<f64> = (0..self.n_outputs())
+            .map(|k| rows.rows(k * n, n).max())
+            .collect();
+        self.allocate_direct_keeping(linear, lower_bounds_rad, &margins)
+    }
+
+    /// Monte Carlo over both boxes: `settings.samples` turntables, each angular error with
+    /// $|\chi_j|$ uniform in $[\mathrm{LB}_j, \mathrm{UB}_j]$ and a fair random sign (the law of
+    /// [`crate::EndToEnd::rate_distribution`]), each extra error uniform in $[-T_e, T_e]$;
+    /// returns how many meet every accuracy and the largest $\Delta\omega_k$ seen. One
+    /// ChaCha8 stream per block of [`EXTRA_MC_BLOCK`] draws (seed, block), run in block
+    /// order: the result does not depend on the thread count; memory does not grow with the
+    /// count.
+    ///
+    /// # Errors
+    /// A bad bound or setting; as [`crate::EndToEnd::delta_omega`].
+    pub fn meeting_count_with_extra(
+        &self,
+        ub_rad: &[f64],
+        lower_bounds_rad: &[f64],
+        extra_bounds: &[f64],
+        settings: &crate::McSettings,
+    ) -> Result<(u64, Vec<f64>), E2eError> {
+        use rand_core::{Rng, SeedableRng};
+        settings.validate()?;
+        check_extra_bounds(self, extra_bounds)?;
+        crate::allocate::check_lower_bounds(self.turntable(), lower_bounds_rad)?;
+        tt_core::length("upper bounds", self.n_errors(), ub_rad.len())
+            .map_err(|e| E2eError::Kinematics(e.into()))?;
+        let acc = self.accuracies();
+        let mut work = self.work();
+        let (mut chi, mut x) = (vec![0.0; self.n_errors()], vec![0.0; extra_bounds.len()]);
+        let (mut meets, mut max) = (0u64, vec![0.0f64; self.n_outputs()]);
+        let uniform = |rng: &mut rand_chacha::ChaCha8Rng| {
+            (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        };
+        let mut done = 0u64;
+        let mut block = 0u64;
+        while done < settings.samples {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(settings.seed);
+            rng.set_stream(block);
+            let count = EXTRA_MC_BLOCK.min(settings.samples - done);
+            for _ in 0..count {
+                for ((c, u), l) in chi.iter_mut().zip(ub_rad).zip(lower_bounds_rad) {
+                    let u = if u.is_finite() { *u } else { 0.0 };
+                    let magnitude = l + (u - l).max(0.0) * uniform(&mut rng);
+                    *c = if rng.next_u32() & 1 == 0 {
+                        magnitude
+                    } else {
+                        -magnitude
+                    };
+                }
+                for (v, t) in x.iter_mut().zip(extra_bounds) {
+                    *v = t * (2.0 * uniform(&mut rng) - 1.0);
+                }
+                self.delta_omega_extra_into(&chi, &x, &mut work)?;
+                let mut ok = true;
+                for (k, d) in work.delta_omega.iter().enumerate() {
+                    let d = crate::resolved(*d, self.precisions()[k]);
+                    max[k] = max[k].max(d);
+                    ok &= d <= acc[k];
+                }
+                meets += u64::from(ok);
+            }
+            done += count;
+            block += 1;
+        }
+        Ok((meets, max))
+    }
+}
+
+/// Draws per random stream of [`crate::EndToEnd::meeting_count_with_extra`].
+pub const EXTRA_MC_BLOCK: u64 = 4096;

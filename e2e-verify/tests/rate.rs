@@ -1,0 +1,197 @@
+//! Rate steps end to end (issue 23): the example study with static positions and +-60 deg/s
+//! steps about each sensor axis.
+
+mod common;
+
+use approx::assert_relative_eq;
+use e2e_verify::{EndToEnd, ExtraError};
+
+const STUDY: &str = "tactical-rate-table-example";
+
+fn e2e() -> EndToEnd {
+    common::study_e2e(STUDY, None)
+}
+
+/// The index of an estimated coefficient in `coefficient_errors`' order (study order).
+fn coefficient_index(e2e: &EndToEnd, name: &str) -> usize {
+    e2e.calibration()
+        .outputs()
+        .iter()
+        .flat_map(|o| o.output().estimated_names())
+        .position(|n| n == name)
+        .unwrap_or_else(|| panic!("no coefficient {name}"))
+}
+
+/// With every table error zero (angles, translations, rate accuracy and ripple) the rate
+/// steps give the commanded rate exactly: every coefficient is recovered and every output's
+/// error is zero to the computation's precision.
+#[test]
+fn rate_steps_with_zero_table_errors_calibrate_exactly() {
+    let e = e2e();
+    assert!(e.has_rate_steps());
+    let zero = vec![0.0; e.n_errors()];
+    for (k, d) in e.delta_omega(&zero).expect("runs").iter().enumerate() {
+        assert!(d.abs() <= e.precisions()[k], "output {k}: {d}");
+    }
+    for c in e.coefficient_errors(&zero).expect("runs") {
+        // rounding of coefficients of size 1e3 (mg/g) fitted from outputs of size 2e5 (deg/h)
+        assert!(c.abs() < 1e-9, "{c}");
+    }
+}
+
+/// A rate accuracy error e of the turning joint shifts the estimated scale factor of the gyro
+/// about that axis by e (first order; exactly e (1 + k) for a scale factor 1 + k, the earth's
+/// rate leaving 1e-5 of it), and leaves the other gyros' scale factors alone.
+#[test]
+fn rate_accuracy_error_e_shifts_the_estimated_gyro_scale_factor_by_e() {
+    let e = e2e();
+    let names = e.extra_names();
+    let joint_of_y = names
+        .iter()
+        .position(|n| n == "phi_i_rate_accuracy")
+        .expect("the inner axis turns");
+    let eps = 1e-4;
+    let mut extra = vec![0.0; names.len()];
+    extra[joint_of_y] = eps;
+    let with = e.with_extra_values(&extra).expect("finite");
+    let errors = with
+        .coefficient_errors(&vec![0.0; e.n_errors()])
+        .expect("runs");
+    let k_y = -2.0e-4; // sf_gy of the study
+    // relative: the static positions' earth rate (15 deg/h against the steps' 216,000 deg/h)
+    assert_relative_eq!(
+        errors[coefficient_index(&e, "sf_gy")],
+        eps * (1.0 + k_y),
+        max_relative = 1e-4
+    );
+    assert_relative_eq!(
+        errors[coefficient_index(&e, "sf_gy")],
+        eps,
+        max_relative = 3e-4
+    );
+    for other in ["sf_gx", "sf_gz"] {
+        assert!(errors[coefficient_index(&e, other)].abs() < 1e-12 * eps.max(1.0));
+    }
+}
+
+/// The linearisation at the rate steps (the inputs' variation by central differences of the
+/// compiled step) agrees with central differences of the whole reference path.
+#[test]
+fn rate_step_linearization_agrees_with_the_reference_path() {
+    let e = e2e();
+    let analytic = e.linearization();
+    let numerical = e.linearization_numerical(1e-6).expect("runs");
+    let scale = analytic.matrix().amax();
+    let diff = (analytic.matrix() - numerical.matrix()).amax();
+    // O(h^2) truncation and eps/h rounding of outputs of size 2e5 deg/h: 1e-6 of the largest
+    assert!(diff <= 1e-6 * scale, "{diff:e} of {scale:e}");
+}
+
+/// The fast path and the reference path (plain chain split at the turning joint, calib-lsq's
+/// analysis) agree at rate steps, with every error, translation and rate error non-zero.
+#[test]
+fn rate_step_fast_path_equals_the_reference_path() {
+    let e = e2e();
+    let extra: Vec<f64> = e
+        .extra_errors()
+        .iter()
+        .map(|x| match x {
+            ExtraError::Translation(_) => 2e-4,
+            ExtraError::RateAccuracy(_) => 5e-5,
+            ExtraError::RippleCos(_) => 1e-3,
+            ExtraError::RippleSin(_) => -7e-4,
+        })
+        .collect();
+    let e = e.with_extra_values(&extra).expect("finite");
+    let chi: Vec<f64> = (0..e.n_errors())
+        .map(|j| 1e-5 * (1.0 + j as f64).sin())
+        .collect();
+    let fast = e.delta_omega(&chi).expect("runs");
+    let reference = e.run(&chi).expect("runs").delta_omega();
+    for (f, r) in fast.iter().zip(&reference) {
+        assert_relative_eq!(f, r, max_relative = 1e-9);
+    }
+}
+
+/// The worst case over both boxes: with every extra bound zero it is the angular worst case;
+/// with a rate accuracy bound T on each turning joint every gyro gains T times the steps'
+/// rate (60 deg/s = 216,000 deg/h) to first order, and the exact chain at the worst vertex
+/// agrees with the linear bound.
+#[test]
+fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let ub = vec![1e-5; e.n_errors()];
+    let zero = vec![0.0; e.extra_errors().len()];
+    let alone = e.worst_case(&m, &ub).expect("runs");
+    let both = e.worst_case_with_extra(&m, &n, &ub, &zero).expect("runs");
+    for (a, b) in alone.outputs.iter().zip(&both) {
+        assert_relative_eq!(a.linear_bound, b.linear_bound, max_relative = 1e-12);
+    }
+    let t = 1e-4;
+    let bounds: Vec<f64> = e
+        .extra_errors()
+        .iter()
+        .map(|x| {
+            if matches!(x, ExtraError::RateAccuracy(_)) {
+                t
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let with = e.worst_case_with_extra(&m, &n, &ub, &bounds).expect("runs");
+    for o in &with[..3] {
+        // (1 + k) of the scale factor and the earth's rate: 1e-3 of it
+        assert_relative_eq!(o.extra_part(), t * 216_000.0, max_relative = 1e-3);
+        // the exact chain at the vertex: second order in 1e-5 rad and 1e-4
+        assert_relative_eq!(o.exact_at_vertex, o.linear_bound, max_relative = 1e-3);
+    }
+}
+
+/// The direct allocation with the rate errors at their bounds leaves them their room: its
+/// box, worst-cased with them, is within every accuracy to first order; the Monte Carlo over
+/// both boxes is reproducible for a seed and meets where the worst case does.
+#[test]
+fn direct_allocation_with_rate_errors_meets_with_them() {
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let bounds: Vec<f64> = e
+        .extra_errors()
+        .iter()
+        .map(|x| match x {
+            ExtraError::Translation(_) => 1e-4,
+            ExtraError::RateAccuracy(_) => 2e-5,
+            _ => 1e-4,
+        })
+        .collect();
+    let lb = vec![0.0; e.n_errors()];
+    let d = e
+        .allocate_direct_with_extra(&m, &n, &lb, &bounds)
+        .expect("feasible");
+    let ub: Vec<f64> = d
+        .upper_bounds_rad
+        .iter()
+        .map(|u| if u.is_finite() { *u } else { 0.0 })
+        .collect();
+    let wc = e.worst_case_with_extra(&m, &n, &ub, &bounds).expect("runs");
+    for (o, a) in wc.iter().zip(e.accuracies()) {
+        // solver tolerance: 1e-6 of the accuracy
+        assert!(
+            o.linear_bound <= a * (1.0 + 1e-6),
+            "{} > {a}",
+            o.linear_bound
+        );
+    }
+    let settings = e2e_verify::McSettings::new(3000, 7);
+    let first = e
+        .meeting_count_with_extra(&ub, &lb, &bounds, &settings)
+        .expect("runs");
+    let again = e
+        .meeting_count_with_extra(&ub, &lb, &bounds, &settings)
+        .expect("runs");
+    assert_eq!(first, again);
+    for (mx, o) in first.1.iter().zip(&wc) {
+        assert!(*mx <= o.exact_at_vertex.max(o.linear_bound) * (1.0 + 1e-3));
+    }
+}

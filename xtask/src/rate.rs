@@ -1,0 +1,250 @@
+//! Rate steps in the commands (issue 23): the bounds a vendor's sheet gives the errors only
+//! rotation exposes (translations in `[tolerances_mm]`, a turning joint's rate accuracy and
+//! ripple in `[tolerances_ppm]`), and `check-turntable`'s answer with both boxes.
+//!
+//! A study with rate steps has, besides the angular errors, the extra errors of
+//! [`e2e_verify::rate`]; the orientation requirement of eq 15-16 is a static concept (one
+//! orientation error at every test position), so commands that use it say so and use the
+//! direct allocation.
+
+use crate::InputError;
+use anyhow::Result;
+use e2e_verify::{EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings};
+use serde_json::{Value, json};
+use study::fmt::num;
+use study::{Study, Tolerances};
+
+/// The line every command prints for a study with rate steps.
+pub const STATIC_REQUIREMENT_NOTE: &str = "the study has rate steps: the orientation requirement (eq 15-16) is a static concept (one orientation error at every test position), so the two-step allocation against it is not made; the direct allocation against every output's accuracy is the answer";
+
+/// The note `end-to-end` and `calibration-error` print for a study with rate steps (JSON
+/// `requirement_note`): the requirement is static, and the errors only rotation exposes are
+/// held at zero.
+#[must_use]
+pub fn rate_steps_note(e2e: &EndToEnd) -> String {
+    format!(
+        "{STATIC_REQUIREMENT_NOTE}; the errors only rotation exposes ({}) are held at zero here (an ideal rate table): `check-turntable` bounds them by a vendor's sheet",
+        e2e.extra_names().join(", ")
+    )
+}
+
+/// The bound of every extra error from the sheet (m, relative), in the order of
+/// [`EndToEnd::extra_errors`].
+///
+/// # Errors
+/// An [`InputError`] naming the sheet's key when the study has rate steps and the sheet
+/// bounds a translation or a turning joint's rate accuracy or ripple not at all.
+pub fn extra_bounds(e2e: &EndToEnd, tol: &Tolerances) -> Result<Vec<f64>, InputError> {
+    let t = e2e.turntable();
+    e2e.extra_errors()
+        .iter()
+        .map(|x| {
+            let (value, key) = match *x {
+                ExtraError::Translation(i) => (
+                    tol.translations_m[i],
+                    format!("tolerances_mm.{}", t.translation_errors()[i].name),
+                ),
+                ExtraError::RateAccuracy(j) => (
+                    tol.rate_accuracy[j],
+                    format!("tolerances_ppm.{}_rate_accuracy", t.joints()[j].name),
+                ),
+                ExtraError::RippleCos(j) | ExtraError::RippleSin(j) => (
+                    tol.rate_ripple[j],
+                    format!("tolerances_ppm.{}_rate_ripple", t.joints()[j].name),
+                ),
+            };
+            value.ok_or_else(|| {
+                InputError::new(
+                    format!("{}: key `{key}`", tol.path),
+                    "the study has rate steps: at a rate step this error acts, so the sheet must bound it",
+                )
+            })
+        })
+        .collect()
+}
+
+/// A bound or share of an extra error in the sheet's unit: mm or ppm.
+fn in_sheet_units(x: &ExtraError, v: f64) -> (f64, &'static str) {
+    if x.is_translation() {
+        (v * 1e3, "mm")
+    } else {
+        (v * 1e6, "ppm")
+    }
+}
+
+/// `check-turntable`'s answer with rate steps: the worst case over the angular box and the
+/// extra errors' box, each extra error's part, and the yield over both boxes.
+#[derive(Debug, Clone)]
+pub struct RateCheck {
+    /// The extra errors' bounds (m, relative).
+    pub bounds: Vec<f64>,
+    /// Per output.
+    pub outputs: Vec<ExtraOutputWorstCase>,
+    /// Turntables of both boxes meeting every accuracy, of `samples`.
+    pub meets: u64,
+    /// Turntables drawn.
+    pub samples: u64,
+    /// The largest error drawn, per output.
+    pub max_drawn: Vec<f64>,
+}
+
+impl RateCheck {
+    /// Whether every output's worst case (linear and exact) is within its accuracy.
+    #[must_use]
+    pub fn meets_every_accuracy(&self, e2e: &EndToEnd) -> bool {
+        self.outputs
+            .iter()
+            .zip(e2e.accuracies())
+            .all(|(o, a)| o.linear_bound <= a && o.exact_at_vertex <= a)
+    }
+}
+
+/// Compute the [`RateCheck`] of `e2e` (a study with rate steps) for the sheet.
+///
+/// # Errors
+/// As [`extra_bounds`]; a library error located in the study or the sheet.
+pub fn check(
+    s: &Study,
+    e2e: &EndToEnd,
+    tol: &Tolerances,
+    lb: &[f64],
+    settings: &McSettings,
+) -> Result<RateCheck> {
+    let bounds = extra_bounds(e2e, tol)?;
+    let outputs = e2e
+        .worst_case_with_extra(
+            &e2e.linearization(),
+            &e2e.extra_linearization(),
+            &tol.ub_rad,
+            &bounds,
+        )
+        .map_err(|e| crate::input::library_at(e, s, &tol.path))?;
+    let (meets, max_drawn) = e2e
+        .meeting_count_with_extra(&tol.ub_rad, lb, &bounds, settings)
+        .map_err(|e| crate::input::library_at(e, s, &tol.path))?;
+    Ok(RateCheck {
+        bounds,
+        outputs,
+        meets,
+        samples: settings.samples,
+        max_drawn,
+    })
+}
+
+/// The check as text.
+#[must_use]
+pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
+    let names = e2e.extra_names();
+    let mut s = format!(
+        "\nrate steps, reading {}: the angular box and the errors only rotation exposes together\n",
+        e2e.reading()
+    );
+    let bounds: Vec<String> = e2e
+        .extra_errors()
+        .iter()
+        .zip(&names)
+        .zip(&c.bounds)
+        .map(|((x, n), b)| {
+            let (v, unit) = in_sheet_units(x, *b);
+            format!("{n} {} {unit}", num(v))
+        })
+        .collect();
+    s.push_str(&format!("  bounds: {}\n", bounds.join(", ")));
+    let acc = e2e.accuracies();
+    for o in &c.outputs {
+        let out = &e2e.calibration().outputs()[o.output].output();
+        let top = o
+            .extra_parts
+            .iter()
+            .enumerate()
+            .fold((0, 0.0), |b, (i, v)| if *v > b.1 { (i, *v) } else { b });
+        s.push_str(&format!(
+            "  {}: worst case {} {} (angles {}, rate errors and translations {}; largest {} {}) at entry {}, exact {} against {}: {}\n",
+            out.name,
+            num(o.linear_bound),
+            out.unit,
+            num(o.angular_part),
+            num(o.extra_part()),
+            names.get(top.0).map_or("-", String::as_str),
+            num(top.1),
+            o.position,
+            num(o.exact_at_vertex),
+            num(acc[o.output]),
+            if o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output] {
+                "meets"
+            } else {
+                "does not meet"
+            }
+        ));
+    }
+    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
+    s.push_str(&format!(
+        "  yield over both boxes {}% [{}, {}] of {} turntables; verdict with the rate errors: {}\n",
+        num(100.0 * c.meets as f64 / c.samples as f64),
+        num(100.0 * lo),
+        num(100.0 * hi),
+        c.samples,
+        if c.meets_every_accuracy(e2e) {
+            "meets every accuracy"
+        } else {
+            "does not meet every accuracy"
+        }
+    ));
+    s
+}
+
+/// The check as JSON (`rate_steps`).
+#[must_use]
+pub fn json(e2e: &EndToEnd, c: &RateCheck) -> Value {
+    let names = e2e.extra_names();
+    let acc = e2e.accuracies();
+    let extra: Vec<Value> = e2e
+        .extra_errors()
+        .iter()
+        .zip(&names)
+        .zip(&c.bounds)
+        .map(|((x, n), b)| {
+            let (v, unit) = in_sheet_units(x, *b);
+            json!({"name": n, "bound": v, "unit": unit})
+        })
+        .collect();
+    let outputs: Vec<Value> = c
+        .outputs
+        .iter()
+        .map(|o| {
+            let parts: Vec<Value> = names
+                .iter()
+                .zip(&o.extra_parts)
+                .map(|(n, v)| json!({"error": n, "part": v}))
+                .collect();
+            let meets = o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output];
+            json!({
+                "output": e2e.calibration().outputs()[o.output].output().name,
+                "accuracy": acc[o.output],
+                "linear_bound": o.linear_bound,
+                "angular_part": o.angular_part,
+                "extra_part": o.extra_part(),
+                "extra_parts": parts,
+                "entry": o.position,
+                "exact_at_vertex": o.exact_at_vertex,
+                "meets": meets,
+            })
+        })
+        .collect();
+    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
+    let verdict = if c.meets_every_accuracy(e2e) {
+        "meets"
+    } else {
+        "does not meet"
+    };
+    json!({
+        "reading": e2e.reading().to_string(),
+        "extra_errors": extra,
+        "outputs": outputs,
+        "yield": c.meets as f64 / c.samples as f64,
+        "yield_interval_95": [lo, hi],
+        "samples": c.samples,
+        "max_drawn": c.max_drawn,
+        "verdict": verdict,
+    })
+}

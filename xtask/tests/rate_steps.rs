@@ -1,0 +1,127 @@
+//! Rate steps in the commands (issue 23): `end-to-end`, `check-turntable` and
+//! `calibration-error` take a study with rate steps; bad rate steps and bad rate tolerances
+//! exit 2 naming the key.
+
+mod common;
+
+use common::{assert_input_error, json, run, scratch, study, study_text, write};
+
+const STUDY: &str = "tactical-rate-table-example";
+const SHEET: &str = "studies/tolerances/tactical-rate-table-sheet.toml";
+
+/// The example with the first rate step's `key = value` line replaced.
+fn with_first_step(key: &str, value: &str) -> String {
+    let text = study_text(STUDY);
+    let start = text
+        .find("[[calibration.rate_steps]]")
+        .expect("a rate step");
+    let line_start = start + text[start..].find(&format!("\n{key} = ")).expect("the key") + 1;
+    let line_end = line_start + text[line_start..].find('\n').expect("a line");
+    format!(
+        "{}{key} = {value}{}",
+        &text[..line_start],
+        &text[line_end..]
+    )
+}
+
+#[test]
+fn bad_rate_steps_exit_2_naming_the_key() {
+    let dir = scratch("rate-steps", "bad");
+    for (key, value, needle) in [
+        (
+            "rate_deg_per_s",
+            "0.0",
+            "calibration.rate_steps[0].rate_deg_per_s",
+        ),
+        (
+            "rate_deg_per_s",
+            "301.0",
+            "calibration.rate_steps[0].rate_deg_per_s",
+        ),
+        ("joint", "\"phi_q\"", "calibration.rate_steps[0].joint"),
+        (
+            "revolutions",
+            "1.5",
+            "calibration.rate_steps[0].revolutions",
+        ),
+    ] {
+        let p = write(&dir, "s.toml", &with_first_step(key, value));
+        let o = run(&["end-to-end", "--study", p.to_str().expect("utf-8")]);
+        assert_input_error(&o, &[needle]);
+    }
+}
+
+#[test]
+fn negative_or_missing_rate_tolerances_exit_2_naming_the_key() {
+    let dir = scratch("rate-steps", "sheet");
+    let sheet = std::fs::read_to_string(common::root().join(SHEET)).expect("sheet");
+    let bad = write(
+        &dir,
+        "neg.toml",
+        &sheet.replace("phi_m_rate_accuracy = 100", "phi_m_rate_accuracy = -5"),
+    );
+    let o = run(&[
+        "check-turntable",
+        "--study",
+        &study(STUDY),
+        "--tolerances",
+        bad.to_str().expect("utf-8"),
+    ]);
+    assert_input_error(&o, &["tolerances_ppm.phi_m_rate_accuracy"]);
+    let missing = write(
+        &dir,
+        "missing.toml",
+        &sheet.replace("phi_i_rate_ripple = 1000\n", ""),
+    );
+    let o = run(&[
+        "check-turntable",
+        "--study",
+        &study(STUDY),
+        "--tolerances",
+        missing.to_str().expect("utf-8"),
+    ]);
+    assert_input_error(&o, &["tolerances_ppm.phi_i_rate_ripple"]);
+}
+
+/// `check-turntable` with rate steps: the rate accuracy of 100 ppm leaves 100 ppm of the
+/// 60 deg/s steps (21.6 deg/h) on the gyros, which fails their 10 deg/h; the verdict and each
+/// extra error's part are in the JSON.
+#[test]
+fn check_turntable_counts_the_rate_accuracy_at_rate_steps() {
+    let v = json(&[
+        "check-turntable",
+        "--study",
+        &study(STUDY),
+        "--tolerances",
+        SHEET,
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    let r = &v["rate_steps"][0];
+    assert_eq!(r["verdict"], "does not meet");
+    let gx = &r["outputs"][0];
+    assert_eq!(gx["output"], "gx");
+    // 60 deg/s = 216,000 deg/h times 1e-4, to first order (the angles add 1e-4 of it)
+    let extra = common::num(&gx["extra_part"]);
+    approx::assert_relative_eq!(extra, 21.6, max_relative = 1e-3);
+    assert!(common::num(&gx["linear_bound"]) >= extra);
+}
+
+/// `end-to-end` with rate steps: no two-step allocation (the requirement is static), a note
+/// saying so, the direct allocation.
+#[test]
+fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        &study(STUDY),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    assert!(v["two_step_objective"].is_null());
+    let note = v["requirement_note"].as_str().expect("a note");
+    assert!(note.contains("static"), "{note}");
+    assert!(common::num(&v["direct_objective"]) > 0.0);
+}
