@@ -46,6 +46,8 @@ struct RawAxis {
     positioning: Option<String>,
     orthogonality_arcsec: Option<f64>,
     orthogonality: Option<Vec<String>>,
+    intersection_mm: Option<f64>,
+    intersection: Option<Vec<String>>,
 }
 
 /// How a sheet's value bounds its error (`convention`, per value `[conventions]`): a $\pm$
@@ -183,6 +185,7 @@ impl Tolerances {
                                     ax.positioning_accuracy_arcsec.is_some()
                                 }
                                 "orthogonality_arcsec" => ax.orthogonality_arcsec.is_some(),
+                                "intersection_mm" => ax.intersection_mm.is_some(),
                                 _ => false,
                             })
                     })
@@ -196,6 +199,8 @@ impl Tolerances {
         }
         let mut ub = vec![None; turntable.n_rotation_errors()];
         let mut implied = vec![None; turntable.n_rotation_errors()];
+        // (joint index, `axes.<joint>`, factor range of the errors before it) per axis given
+        let mut axis_intersections: Vec<(usize, String, usize, usize)> = Vec::new();
         let mut discs = Vec::new();
         for (name, &v) in &raw.tolerances_arcmin {
             let key = format!("tolerances_arcmin.{name}");
@@ -367,6 +372,7 @@ impl Tolerances {
                     });
                 }
             }
+            axis_intersections.push((j, jkey.clone(), prev, jf));
         }
         let missing: Vec<&str> = turntable
             .rotation_error_names()
@@ -399,6 +405,87 @@ impl Tolerances {
                 })?;
             let (lo, hi) = limits::TRANSLATION_TOLERANCE_MM;
             translations_m[i] = Some(in_range(&at, &key, v, lo, hi, false, "mm")? * 1e-3);
+        }
+        // a vendor's axis intersection (the distance between this axis and the previous one):
+        // each named translation between the two joints gets the bound (with two components,
+        // the square around the disc: translations act only at rate steps, whose worst case
+        // takes boxes)
+        let axes = raw.axes.as_ref();
+        for (j, jkey, prev, jf) in axis_intersections {
+            let ax = &axes
+                .and_then(|a| a.get(&jkey["axes.".len()..]))
+                .unwrap_or_else(|| unreachable!("collected from the sheet's axes"));
+            let (vkey, list_key) = (
+                format!("{jkey}.intersection_mm"),
+                format!("{jkey}.intersection"),
+            );
+            let (value, errors) = match (ax.intersection_mm, &ax.intersection) {
+                (None, None) => continue,
+                (Some(v), Some(e)) => (v, e),
+                (None, Some(_)) => {
+                    return Err(StudyError::new(
+                        at(&list_key),
+                        format!("names the errors of `{vkey}`, which is not given"),
+                    ));
+                }
+                (Some(_), None) => {
+                    return Err(StudyError::new(
+                        at(&list_key),
+                        format!(
+                            "`{vkey}` needs the description's translations it bounds (`{list_key}`)"
+                        ),
+                    ));
+                }
+            };
+            if !(1..=2).contains(&errors.len()) {
+                return Err(StudyError::new(
+                    at(&list_key),
+                    format!(
+                        "an intersection bounds 1 or 2 translations, found {}",
+                        errors.len()
+                    ),
+                ));
+            }
+            let (lo, hi) = limits::TRANSLATION_TOLERANCE_MM;
+            let bound =
+                in_range(&at, &vkey, value, lo, hi, false, "mm")? * 1e-3 * convention_of(&vkey)?;
+            for (k, e) in errors.iter().enumerate() {
+                let ekey = if errors.len() == 1 {
+                    list_key.clone()
+                } else {
+                    format!("{list_key}[{k}]")
+                };
+                let Some(i) = turntable
+                    .translation_error_names()
+                    .iter()
+                    .position(|n| n == e)
+                else {
+                    return Err(StudyError::new(
+                        at(&ekey),
+                        format!(
+                            "`{}` is not a translation error of the study's turntable",
+                            crate::fmt::visible(e)
+                        ),
+                    ));
+                };
+                let f = turntable.translation_errors()[i].factor;
+                if j == 0 || !(f > prev && f < jf) {
+                    return Err(StudyError::new(
+                        at(&ekey),
+                        format!(
+                            "`{e}` does not map onto the intersection of axis `{}`: it is not between the previous joint and this one in the chain",
+                            &jkey["axes.".len()..]
+                        ),
+                    ));
+                }
+                if translations_m[i].is_some() {
+                    return Err(StudyError::new(
+                        at(&ekey),
+                        format!("`{e}` is bounded twice (also by another value of this sheet)"),
+                    ));
+                }
+                translations_m[i] = Some(bound);
+            }
         }
         let mut rate_accuracy = vec![None; turntable.n_joints()];
         let mut rate_ripple = vec![None; turntable.n_joints()];

@@ -766,6 +766,20 @@ fn vendor_sheets_map_axis_quantities_onto_the_description_and_refuse_what_does_n
             joint: "phi_i".into()
         })
     );
+    // the axes' intersection bounds the translation between the previous joint and this one
+    let mm = |v: f64| v * 1e-3;
+    for name in ["deta_om", "deta_mi"] {
+        let k = t
+            .translation_error_names()
+            .iter()
+            .position(|n| *n == name)
+            .unwrap();
+        approx::assert_relative_eq!(
+            tol.translations_m[k].unwrap(),
+            mm(0.1),
+            max_relative = 1e-15
+        );
+    }
     let o = t.rotation_error_index("deps_mi_x").unwrap();
     assert_eq!(
         tol.implied[o],
@@ -807,6 +821,31 @@ fn vendor_sheets_map_axis_quantities_onto_the_description_and_refuse_what_does_n
             "convention = \"bound\"",
             "convention = \"2-sigma\"",
             "convention",
+        ),
+        (
+            "intersection = [\"deta_mi\"]",
+            "intersection = [\"dphi_i\"]",
+            "axes.phi_i.intersection",
+        ),
+        (
+            "intersection = [\"deta_mi\"]",
+            "intersection = [\"deta_om\"]",
+            "axes.phi_i.intersection",
+        ),
+        (
+            "intersection_mm = 0.1\nintersection = [\"deta_mi\"]",
+            "intersection_mm = -0.1\nintersection = [\"deta_mi\"]",
+            "axes.phi_i.intersection_mm",
+        ),
+        (
+            "intersection_mm = 0.1\nintersection = [\"deta_mi\"]",
+            "intersection = [\"deta_mi\"]",
+            "axes.phi_i.intersection",
+        ),
+        (
+            "intersection = [\"deta_mi\"]",
+            "intersection = [\"deta_mi\"]\n[tolerances_mm]\ndeta_mi = 0.2",
+            "axes.phi_i.intersection",
         ),
         (
             "wobble_arcsec = 3.0\nwobble = [\"dalpha_ix\", \"dalpha_iz\"]",
