@@ -62,6 +62,7 @@ impl EndToEnd {
     /// # Errors
     /// As [`EndToEnd::with_reading`].
     pub fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
+        self.static_only("the joint estimation of table errors")?;
         let lin = self.with_reading(EFFECT_READING)?.linearization();
         let n = self.len();
         Ok((0..self.n_outputs())
@@ -75,6 +76,7 @@ impl EndToEnd {
     /// # Errors
     /// As [`EndToEnd::table_effects`] and [`JointEstimability::new`].
     pub fn estimability(&self) -> Result<JointEstimability, E2eError> {
+        self.static_only("the joint estimation of table errors")?;
         let effects = self.table_effects()?;
         let acc = self.accuracies();
         let blocks: Vec<JointBlock<'_>> = self
@@ -106,6 +108,7 @@ impl EndToEnd {
     /// # Errors
     /// A length error when `est` is not of this turntable.
     pub fn linearization_joint(&self, est: &JointEstimability) -> Result<Linearization, E2eError> {
+        self.static_only("the joint estimation of table errors")?;
         tt_core::length("estimability errors", self.n_errors(), est.names().len())
             .map_err(|e| E2eError::Kinematics(e.into()))?;
         let lin = self.linearization();

@@ -137,3 +137,43 @@ fn report_shows_the_angle_dependent_allocation() {
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     check_angle_json(&v["angle_dependent"]);
 }
+
+/// Relative tolerance of a README figure printed to four or five significant digits.
+const README_FIGURE_REL: f64 = 1e-3;
+
+/// README "What we find" (issue 22, done means): the three-axis example with its outer and
+/// middle axes measured to 1 arcsec (`studies/three-axis-example-compensated.toml`): under the
+/// user's reading the unmeasured errors need J = 117.75 arcmin^-2 instead of 1,002.7 (first
+/// order), the measured ones keep only their uncertainty.
+#[test]
+fn three_axis_table_measured_and_compensated_is_looser_by_the_readme_figure() {
+    let e = json(&[
+        "allocate",
+        "--study",
+        "studies/three-axis-example-compensated.toml",
+        "--json",
+    ]);
+    let r = e["angle_dependent"]["readings"].as_array().unwrap();
+    let user = r
+        .iter()
+        .find(|x| x["reading"] == "actual/beta1/printed")
+        .unwrap();
+    let c = &user["compensated"];
+    assert_relative_eq!(
+        num(&c["objective_arcmin"]),
+        117.75,
+        max_relative = README_FIGURE_REL
+    );
+    assert_relative_eq!(
+        num(&user["unmeasured_before_objective_arcmin"]),
+        1002.7,
+        max_relative = README_FIGURE_REL
+    );
+    for measured in ["dphi_o", "dalpha_ox", "dalpha_mz"] {
+        assert_relative_eq!(
+            num(&c["upper_bounds_arcmin"][measured]),
+            0.0167,
+            max_relative = 1e-12
+        );
+    }
+}

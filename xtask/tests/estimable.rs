@@ -113,3 +113,43 @@ fn estimable_refuses_a_sheet_of_another_turntable() {
     ]);
     assert_input_error(&out, &["not_an_error"]);
 }
+
+/// The joint estimation is built on static positions (one orientation error each): a study
+/// with rate steps gets exit 2 naming `calibration.rate_steps` from `estimable`, and its report
+/// says the section was not evaluated instead of failing (found when the rate-step and the
+/// estimable work met).
+#[test]
+fn a_study_with_rate_steps_is_refused_by_estimable_and_noted_by_the_report() {
+    let rate = "studies/tactical-rate-table-example.toml";
+    let o = run(&["estimable", "--study", rate]);
+    assert_input_error(&o, &["calibration.rate_steps", "static positions only"]);
+    let dir = scratch("estimable", "rate-report");
+    let out = dir.join("report");
+    let o = run(&[
+        "report",
+        "--study",
+        rate,
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "1500",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let at = md
+        .find("## Table errors the calibration estimates itself")
+        .expect("the section is there");
+    assert!(
+        md[at..].contains("static positions only"),
+        "{}",
+        &md[at..at + 300]
+    );
+    let results: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert!(
+        results["estimable"]["note"]
+            .as_str()
+            .unwrap()
+            .contains("static positions only")
+    );
+}

@@ -138,7 +138,8 @@ pub struct Computed {
     pub paper: Option<PaperExtras>,
     /// Which table errors the calibration estimates itself (joint least squares, user's
     /// reading), at the vendor's sheet when given.
-    pub estimable: crate::estimable::Estimable,
+    /// `None` for a study with rate steps (the joint estimation takes static positions only).
+    pub estimable: Option<crate::estimable::Estimable>,
     /// The allocations under the study's angle-dependent model and after compensation
     /// (`None` when the study declares neither).
     pub angle_alloc: Option<crate::angle_alloc::AngleAllocations>,
@@ -577,8 +578,15 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         }
         None => None,
     };
-    let estimable =
-        crate::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.ub_rad.as_slice()))?;
+    // the joint estimation is built on static positions (one orientation error each)
+    let estimable = if e2e.has_rate_steps() {
+        None
+    } else {
+        Some(crate::estimable::compute(
+            s,
+            vendor.as_ref().map(|(tol, _)| tol.ub_rad.as_slice()),
+        )?)
+    };
     timing("estimable", started);
     let angle_alloc = crate::angle_alloc::compute(s, &e2e)?;
     timing("angle-dependent allocation", started);

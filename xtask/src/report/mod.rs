@@ -300,7 +300,10 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
     }
     m.insert(
         "estimable".into(),
-        crate::estimable::to_json(s, &c.estimable),
+        match &c.estimable {
+            Some(a) => crate::estimable::to_json(s, a),
+            None => serde_json::json!({ "note": ESTIMABLE_STATIC_ONLY }),
+        },
     );
     Value::Object(m)
 }
@@ -575,3 +578,6 @@ pub fn run_paper(args: &PaperArgs) -> Result<()> {
     let c = compute::compute(s, options)?;
     write(&c, &out, prepared, "reproduce-paper")
 }
+
+/// What the report says of the joint estimation for a study with rate steps.
+pub(crate) const ESTIMABLE_STATIC_ONLY: &str = "not evaluated: the joint estimation of table errors takes static positions only, and this study has rate steps";

@@ -1878,11 +1878,17 @@ impl<'a> Sections<'a> {
     /// sensor coefficients and the table errors (`cargo xtask estimable`).
     pub fn estimable(&mut self) {
         let c = self.c;
-        let a = &c.estimable;
-        let est = &a.est;
-        let names = c.study.turntable.rotation_error_names();
         self.doc
             .h(2, "Table errors the calibration estimates itself");
+        let Some(a) = &c.estimable else {
+            self.doc.p(format!(
+                "Joint estimation {}.",
+                super::ESTIMABLE_STATIC_ONLY
+            ));
+            return;
+        };
+        let est = &a.est;
+        let names = c.study.turntable.rotation_error_names();
         self.doc.p(format!(
             "A joint least squares of the sensor coefficients and the table errors from the same data (outputs simulated at the actual orientation, the user's reading): the joint Jacobian at zero table error has rank {} of {} ({} coefficients and {} errors; singular values of the table part counted above {} of the largest raw effect, rows weighted by 1/accuracy). {} combinations of the errors are estimable with the coefficients; {} are not: their effect lies in the sensor's columns, the calibration absorbs it.",
             est.rank(),
