@@ -269,19 +269,22 @@ impl<M: OrientationErrorModel> ScheduleErrorModel for AtPoses<M> {
         self.names.clone()
     }
     fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
-        let pose = self
-            .poses
-            .get(position)
-            .ok_or_else(|| tt_core::FieldError::OutOfRange {
-                field: "position".into(),
-                value: position as f64,
-                range: format!("0..{}", self.poses.len()),
-            })?;
         self.model.first_order(
-            pose,
+            pose_at(&self.poses, position)?,
             &TurntableErrors::zero(self.names.len(), self.n_translations),
         )
     }
+}
+
+/// The pose of schedule position `position`, or an error naming `position`.
+pub(crate) fn pose_at(poses: &[Pose], position: usize) -> Result<&Pose, KinematicsError> {
+    Ok(poses
+        .get(position)
+        .ok_or_else(|| tt_core::FieldError::OutOfRange {
+            field: "position".into(),
+            value: position as f64,
+            range: format!("0..{}", poses.len()),
+        })?)
 }
 
 /// How the exact chain turns $\Delta\mathbf R$ into three angles (NOTES item 7).

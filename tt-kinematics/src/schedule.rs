@@ -4,7 +4,7 @@
 
 use crate::error::KinematicsError;
 use crate::linear::LinearModel;
-use crate::model::ScheduleErrorModel;
+use crate::model::{ScheduleErrorModel, pose_at};
 use crate::turntable::{PoseFrames, Turntable};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use tt_core::Pose;
@@ -103,11 +103,12 @@ impl ScheduleErrorModel for TurntableSchedule {
     }
 
     fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
-        self.linear.coefficients(self.pose(position)?)
+        self.linear.coefficients(pose_at(&self.poses, position)?)
     }
 
     fn rotation_vectors(&self, position: usize) -> Result<Vec<Vector3<f64>>, KinematicsError> {
-        self.linear.rotation_vectors(self.pose(position)?)
+        self.linear
+            .rotation_vectors(pose_at(&self.poses, position)?)
     }
 
     /// $\sum_j \mathrm{UB}_j$ over the finite bounds: $\Delta\mathbf R$ is a product of
@@ -122,19 +123,6 @@ impl ScheduleErrorModel for TurntableSchedule {
 
     fn as_turntable_schedule(&self) -> Option<&TurntableSchedule> {
         Some(self)
-    }
-}
-
-impl TurntableSchedule {
-    fn pose(&self, position: usize) -> Result<&Pose, KinematicsError> {
-        Ok(self
-            .poses
-            .get(position)
-            .ok_or_else(|| tt_core::FieldError::OutOfRange {
-                field: "position".into(),
-                value: position as f64,
-                range: format!("0..{}", self.poses.len()),
-            })?)
     }
 }
 
