@@ -90,6 +90,30 @@ impl ValueConvention {
     }
 }
 
+/// A vendor quantity's value (`vkey`) and the list of the description's `what` it bounds
+/// (`list_key`): both or neither (`None`); one without the other names the list's key.
+fn value_with_list<L>(
+    at: &dyn Fn(&str) -> String,
+    vkey: &str,
+    list_key: &str,
+    value: Option<f64>,
+    list: Option<L>,
+    what: &str,
+) -> Result<Option<(f64, L)>, StudyError> {
+    match (value, list) {
+        (None, None) => Ok(None),
+        (Some(v), Some(l)) => Ok(Some((v, l))),
+        (None, Some(_)) => Err(StudyError::new(
+            at(list_key),
+            format!("names the errors of `{vkey}`, which is not given"),
+        )),
+        (Some(_), None) => Err(StudyError::new(
+            at(list_key),
+            format!("`{vkey}` needs the description's {what} it bounds (`{list_key}`)"),
+        )),
+    }
+}
+
 /// A vendor quantity of an axis: name, value, the errors it names, the factor range they must
 /// lie in, the model it implies.
 type Quantity<'a> = (
@@ -283,23 +307,10 @@ impl Tolerances {
                         q
                     }
                 );
-                let (value, errors) = match (value, errors) {
-                    (None, None) => continue,
-                    (Some(v), Some(e)) => (v, e),
-                    (None, Some(_)) => {
-                        return Err(StudyError::new(
-                            at(&list_key),
-                            format!("names the errors of `{vkey}`, which is not given"),
-                        ));
-                    }
-                    (Some(_), None) => {
-                        return Err(StudyError::new(
-                            at(&list_key),
-                            format!(
-                                "`{vkey}` needs the description's errors it bounds (`{list_key}`)"
-                            ),
-                        ));
-                    }
+                let Some((value, errors)) =
+                    value_with_list(&at, &vkey, &list_key, value, errors, "errors")?
+                else {
+                    continue;
                 };
                 let want = if q == "positioning_accuracy" { 1 } else { 2 };
                 if errors.len() != want {
@@ -419,23 +430,16 @@ impl Tolerances {
                 format!("{jkey}.intersection_mm"),
                 format!("{jkey}.intersection"),
             );
-            let (value, errors) = match (ax.intersection_mm, &ax.intersection) {
-                (None, None) => continue,
-                (Some(v), Some(e)) => (v, e),
-                (None, Some(_)) => {
-                    return Err(StudyError::new(
-                        at(&list_key),
-                        format!("names the errors of `{vkey}`, which is not given"),
-                    ));
-                }
-                (Some(_), None) => {
-                    return Err(StudyError::new(
-                        at(&list_key),
-                        format!(
-                            "`{vkey}` needs the description's translations it bounds (`{list_key}`)"
-                        ),
-                    ));
-                }
+            let Some((value, errors)) = value_with_list(
+                &at,
+                &vkey,
+                &list_key,
+                ax.intersection_mm,
+                ax.intersection.as_ref(),
+                "translations",
+            )?
+            else {
+                continue;
             };
             if !(1..=2).contains(&errors.len()) {
                 return Err(StudyError::new(
