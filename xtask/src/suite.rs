@@ -157,7 +157,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         }
     }
     let chromium = locate::find_chromium(None)?;
-    let root = crate::paths::workspace_root()?;
+    let root = ttalloc::paths::workspace_root()?;
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     eprintln!(
         "cargo xtask test: Chromium {}, fonts DejaVu and Liberation; cargo test --workspace {}",

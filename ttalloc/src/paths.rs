@@ -1,6 +1,7 @@
 //! Paths resolved at run time, never at compile time: a user's path resolves against the
 //! current directory; the defaults (the paper's study) against the workspace root found by
-//! walking up from the current directory, then from the executable. (`CARGO_MANIFEST_DIR`
+//! walking up from the current directory, then from the executable, and outside a clone (an
+//! installed `ttalloc`) the paper's study compiled into the program. (`CARGO_MANIFEST_DIR`
 //! is fixed at compile time and points at the wrong clone when a target directory is shared.)
 
 use crate::InputError;
@@ -41,14 +42,29 @@ pub fn workspace_root() -> Result<PathBuf, InputError> {
     ))
 }
 
-/// The study file to read: the user's (as given), or the paper's in the workspace root.
-///
-/// # Errors
-/// As [`workspace_root`] when no path is given.
-pub fn study_path(given: Option<&Path>) -> Result<PathBuf, InputError> {
+/// The paper's study as compiled into the program: the default study of an installed
+/// `ttalloc` run outside a clone of the project (the same file as [`PAPER_STUDY`]).
+pub const PAPER_STUDY_TEXT: &str = include_str!("../../studies/gyrowheel-2017.toml");
+
+/// Where the study comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum StudySource {
+    /// A file: the user's (as given), or the paper's in the workspace root.
+    File(PathBuf),
+    /// No study given and no workspace around: the paper's study compiled in
+    /// ([`PAPER_STUDY_TEXT`]).
+    BuiltIn,
+}
+
+/// The study to read: the user's file (as given), the paper's in the workspace root found
+/// from the current directory (or the executable), else the paper's compiled in.
+#[must_use]
+pub fn study_source(given: Option<&Path>) -> StudySource {
     match given {
-        Some(p) => Ok(p.to_path_buf()),
-        None => Ok(workspace_root()?.join(PAPER_STUDY)),
+        Some(p) => StudySource::File(p.to_path_buf()),
+        None => workspace_root().map_or(StudySource::BuiltIn, |r| {
+            StudySource::File(r.join(PAPER_STUDY))
+        }),
     }
 }
 

@@ -16,22 +16,24 @@ impl From<study::StudyError> for InputError {
     }
 }
 
-/// Read the study `given` (or the paper's from the workspace root), shown in reports as the
-/// user gave it.
+/// Read the study `given` (or the paper's: from the workspace root, else the copy compiled
+/// in), shown in reports as the user gave it.
 ///
 /// # Errors
 /// An [`InputError`] naming the file and key.
 pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
-    let path = paths::study_path(given)?;
     let text_path = paths::shown(given);
-    let mut s = Study::load(&path).map_err(|e| {
-        // name the file as the user gave it (or the workspace-relative default)
-        InputError::new(
-            e.location
-                .replacen(&path.display().to_string(), &text_path, 1),
-            e.reason,
-        )
-    })?;
+    let mut s = match paths::study_source(given) {
+        paths::StudySource::File(path) => Study::load(&path).map_err(|e| {
+            // name the file as the user gave it (or the workspace-relative default)
+            InputError::new(
+                e.location
+                    .replacen(&path.display().to_string(), &text_path, 1),
+                e.reason,
+            )
+        })?,
+        paths::StudySource::BuiltIn => Study::parse(&text_path, paths::PAPER_STUDY_TEXT)?,
+    };
     s.path = text_path;
     Ok(s)
 }
