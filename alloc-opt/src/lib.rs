@@ -123,6 +123,7 @@ mod equal;
 mod error;
 mod exact;
 mod model;
+#[cfg(feature = "paper")]
 pub mod paper;
 mod problem;
 pub mod solver;

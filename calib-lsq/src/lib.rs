@@ -45,6 +45,7 @@ mod calibration;
 mod error;
 pub mod joint;
 mod lsq;
+#[cfg(feature = "paper")]
 pub mod paper;
 mod requirement;
 mod schedule;

@@ -79,6 +79,7 @@ pub mod estimable;
 mod linear;
 pub mod montecarlo;
 pub mod noise;
+#[cfg(feature = "paper")]
 pub mod paper;
 pub mod rate;
 mod seam;

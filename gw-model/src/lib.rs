@@ -63,6 +63,7 @@
 
 mod error;
 pub mod noise;
+#[cfg(feature = "paper")]
 pub mod paper;
 mod sensor;
 mod site;

@@ -75,10 +75,12 @@
 #![doc = include_str!("../README.md")]
 #![deny(unsafe_code)]
 
+#[cfg(feature = "paper")]
 pub mod baseline;
 mod bounds;
 mod error;
 pub mod fast;
+#[cfg(feature = "paper")]
 pub mod paper;
 mod run;
 pub mod sampler;

@@ -69,6 +69,7 @@ mod error;
 pub mod groups;
 pub mod linear;
 mod model;
+#[cfg(feature = "paper")]
 pub mod paper;
 mod pose;
 pub mod rate;
