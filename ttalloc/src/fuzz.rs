@@ -2043,7 +2043,13 @@ impl FindingsDir {
 /// [`InputError`] for an existing findings path (checked before any case runs); an error
 /// naming the findings.
 pub fn run(args: &Args) -> Result<()> {
-    let root = crate::paths::workspace_root()?;
+    // the shipped studies and sheets are the seeds: a clone of the project is needed
+    let root = crate::paths::workspace_root().map_err(|_| {
+        InputError::new(
+            "fuzz",
+            "runs inside a clone of the project (its studies/ are the seeds); none found above the current directory or the program",
+        )
+    })?;
     let dir = findings_dir(args.findings.as_deref(), &root);
     check_findings_path(&dir)?;
     let mut out = FindingsDir {

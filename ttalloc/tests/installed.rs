@@ -126,3 +126,13 @@ fn the_help_names_the_program_as_installed() {
     assert!(text.contains("Usage: ttalloc"), "{text}");
     assert!(!text.contains("cargo xtask"), "{text}");
 }
+
+#[test]
+fn fuzzing_outside_a_clone_is_refused_naming_what_it_needs() {
+    let (dir, exe) = installed();
+    let o = run(&exe, dir.path(), &["fuzz", "--cases", "10"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("clone of the project"), "{err}");
+    assert!(o.stdout.is_empty());
+}
