@@ -38,6 +38,7 @@
 //! Y. Zhao, H. Zhao, X. Huo, Y. Yao, "Error Analysis and Error Allocation for Turntable Systems
 //! Used in GyroWheel Calibration Tests", Int. J. Aerospace Eng. 2017, 6524782,
 //! doi:10.1155/2017/6524782.
+#![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 
 pub mod analysis;
