@@ -91,6 +91,41 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
         assert!(dc <= sqc * (1.0 + 1e-12), "{dc} > {sqc}");
     }
     assert!(tighter);
+    // the discs in the allocation and the Monte Carlo: one tolerance per pair, the disc's J
+    // below the square's (both models; certified at least the direct), the yield over
+    // turntables drawn in the discs
+    for r in v["angle_dependent"]["readings"].as_array().unwrap() {
+        let d = &r["discs"];
+        let y = num(&d["yield"]);
+        assert!((0.0..=1.0).contains(&y), "{y}");
+        assert_eq!(d["samples"].as_u64(), Some(1500));
+        let a = &d["allocation"];
+        for model in ["constant", "angle_dependent"] {
+            let (jd, js) = (
+                num(&a[model]["disc"]["objective_arcmin"]),
+                num(&a[model]["square"]["objective_arcmin"]),
+            );
+            assert!(jd < js, "{model}: disc J {jd} >= square J {js}");
+            let b = &a[model]["disc"]["upper_bounds_arcmin"];
+            assert_eq!(b["dalpha_ox"], b["dalpha_oy"]);
+            assert_eq!(b["deps_mi_z"], b["deps_mi_x"]);
+        }
+        let ad = &a["angle_dependent"];
+        assert!(
+            num(&ad["disc_certified"]["objective_arcmin"]) >= num(&ad["disc"]["objective_arcmin"])
+        );
+        assert!(
+            num(&ad["disc_certified"]["objective_arcmin"])
+                <= num(&ad["square_certified"]["objective_arcmin"])
+        );
+        for (lo, up) in d["worst_case_linear_lower"].as_array().unwrap().iter().zip(
+            r["disc_worst_case_linear"]["angle_dependent"]
+                .as_array()
+                .unwrap(),
+        ) {
+            assert!(num(lo) <= num(up));
+        }
+    }
     let text = stdout(&run(&[
         "check-turntable",
         "--study",
