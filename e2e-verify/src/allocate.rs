@@ -353,6 +353,20 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         l1_budget_rad: Option<f64>,
     ) -> Result<DirectAllocation, E2eError> {
         let weights = self.combined_weights();
+        self.allocate_direct_weighted(&weights, linear, lower_bounds_rad, margins, l1_budget_rad)
+    }
+
+    /// [`EndToEnd::allocate_direct_with_margins`] with the objective's weights `weights` (one
+    /// per column of `linear`) in place of the combined weights: the paired allocation
+    /// ([`crate::disc`]) merges a pair's weights into one column.
+    pub(crate) fn allocate_direct_weighted(
+        &self,
+        weights: &[f64],
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        margins: &[f64],
+        l1_budget_rad: Option<f64>,
+    ) -> Result<DirectAllocation, E2eError> {
         let accuracies = self.accuracies();
         let names: Vec<&str> = self
             .calibration()
@@ -362,7 +376,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             .collect();
         DirectSetup {
             error_names: &self.error_names(),
-            weights: &weights,
+            weights,
             accuracies: &accuracies,
             output_names: &names,
         }
@@ -479,6 +493,22 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         extra: &[f64],
         params: &CertifyParams,
     ) -> Result<DirectAllocation, E2eError> {
+        let weights = self.combined_weights();
+        self.certified_weighted(&weights, linear, lower_bounds_rad, extra, params)
+    }
+
+    /// [`EndToEnd::certified_keeping`] with the objective's weights `weights` (see
+    /// [`EndToEnd::allocate_direct_weighted`]). The second-order bound is taken at the
+    /// $\ell_1$ size of the returned bounds, so a column standing for several errors must be
+    /// scaled by the caller to make its bound the largest sum of their magnitudes.
+    pub(crate) fn certified_weighted(
+        &self,
+        weights: &[f64],
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        extra: &[f64],
+        params: &CertifyParams,
+    ) -> Result<DirectAllocation, E2eError> {
         let acc = self.accuracies();
         let n = self.len();
         // the rotation angles of a box with l1 size S sum to at most gain * S (the model's
@@ -496,7 +526,8 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 })
                 .collect()
         };
-        let plain = self.allocate_direct_with_margins(linear, lower_bounds_rad, extra, None)?;
+        let plain =
+            self.allocate_direct_weighted(weights, linear, lower_bounds_rad, extra, None)?;
         let l1 = |ub: &[f64]| -> f64 { ub.iter().filter(|u| u.is_finite()).sum() };
         let admissible = |t: &[f64]| t.iter().zip(&acc).all(|(t, a)| *t <= params.max_margin * a);
         let mut s_hi = l1(&plain.upper_bounds_rad);
@@ -543,7 +574,13 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             if margins.iter().zip(&acc).any(|(t, a)| t >= a) {
                 return Ok(None);
             }
-            match self.allocate_direct_with_margins(linear, lower_bounds_rad, &margins, Some(s)) {
+            match self.allocate_direct_weighted(
+                weights,
+                linear,
+                lower_bounds_rad,
+                &margins,
+                Some(s),
+            ) {
                 Ok(d) if certified(&d)? => Ok(Some(d)),
                 Ok(_) | Err(E2eError::InfeasibleLowerBounds { .. } | E2eError::Alloc(_)) => {
                     Ok(None)

@@ -86,21 +86,11 @@ impl AngleYield {
 /// $\lVert(s_a, s_b)\rVert_2$; both `any` of the same joint, $\sum_{\text{angles}}
 /// \lVert(s_{a,k}, s_{b,k})\rVert_2$; otherwise the square's $d_a + d_b$ (the disc lies in the
 /// square, so this is a rigorous, conservative bound).
+/// (A harmonic pair is bounded tighter by [`crate::disc::PairModel`], which has the schedule's
+/// angles: [`crate::disc::disc_dual`].)
 #[must_use]
 pub fn disc_dual_norm(expansion: &Expansion, s: &[f64], a: usize, b: usize) -> f64 {
-    use tt_kinematics::GroupShape;
-    let (ga, gb) = (&expansion.groups()[a], &expansion.groups()[b]);
-    let sa = &s[ga.first..ga.first + ga.len()];
-    let sb = &s[gb.first..gb.first + gb.len()];
-    match (&ga.shape, &gb.shape) {
-        (GroupShape::Constant, GroupShape::Constant) => sa[0].hypot(sb[0]),
-        (GroupShape::Any { angles_rad: x, .. }, GroupShape::Any { angles_rad: y, .. })
-            if x == y =>
-        {
-            sa.iter().zip(sb).map(|(p, q)| p.hypot(*q)).sum()
-        }
-        _ => ga.dual_norm(sa) + gb.dual_norm(sb),
-    }
+    crate::disc::disc_dual(expansion, s, None, a, b).upper
 }
 
 /// The linearised worst case of every output (output unit) over the bounds `ub_rad` with the
@@ -391,6 +381,18 @@ impl EndToEnd {
         samples: u64,
         seed: u64,
     ) -> Result<AngleYield, E2eError> {
+        self.angle_yield_drawn(expansion, ub_rad, &[], samples, seed)
+    }
+
+    /// [`EndToEnd::angle_yield`] with magnitude bounds `discs` ([`Expansion::draw_with_discs`]).
+    pub(crate) fn angle_yield_drawn(
+        &self,
+        expansion: &Expansion,
+        ub_rad: &[f64],
+        discs: &[([usize; 2], f64)],
+        samples: u64,
+        seed: u64,
+    ) -> Result<AngleYield, E2eError> {
         use rayon::prelude::*;
         check_expansion(self, expansion)?;
         let acc = self.accuracies();
@@ -411,7 +413,7 @@ impl EndToEnd {
                 let count = ANGLE_CHUNK.min(samples - chunk * ANGLE_CHUNK);
                 let (mut meeting, mut worst) = (0, 0.0_f64);
                 for _ in 0..count {
-                    expansion.draw(&ub, &mut uniform, &mut c);
+                    expansion.draw_with_discs(&ub, discs, &mut uniform, &mut c);
                     self.delta_omega_varying_into(
                         |i, x| expansion.chi_at(&c, i, x),
                         &mut chi,

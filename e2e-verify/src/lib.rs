@@ -74,6 +74,7 @@ pub mod angle;
 mod answer;
 mod check;
 pub mod design;
+pub mod disc;
 mod error;
 pub mod estimable;
 mod linear;

@@ -102,5 +102,6 @@ pub use turntable::{
     TurntableDescription, is_valid_name, quat_conjugate_axis, quat_mul_axis, quat_readout,
 };
 pub use variation::{
-    BoundGroup, ErrorVariation, Expansion, GroupShape, on_shafts, validate_variations,
+    BoundGroup, ErrorVariation, Expansion, GroupShape, HarmonicDualNorm, draw_disc_pair, on_shafts,
+    validate_variations,
 };

@@ -295,6 +295,22 @@ impl BoundGroup {
         }
     }
 
+    /// The dual norm's bracket at the functional `s`: `upper` as [`BoundGroup::dual_norm`]
+    /// (rigorous), `lower` a value an error bounded by one over the revolution certainly
+    /// reaches (equal to `upper` for a constant or an `any` error; the program's certified
+    /// lower value for harmonics, [`harmonic_dual_norm`]).
+    #[must_use]
+    pub fn dual_norm_bracket(&self, s: &[f64]) -> HarmonicDualNorm {
+        debug_assert_eq!(s.len(), self.len());
+        match &self.shape {
+            GroupShape::Harmonics { orders, .. } => harmonic_dual_norm(orders, s, &self.angles),
+            _ => {
+                let d = self.dual_norm(s);
+                HarmonicDualNorm { upper: d, lower: d }
+            }
+        }
+    }
+
     /// Coefficients of an error bounded by one over the revolution at which the functional
     /// `s` reaches (or, for harmonics, comes within the certified bracket of) its dual norm:
     /// the worst error shape, to be scaled by the bound.
@@ -538,6 +554,28 @@ impl Expansion {
             .collect()
     }
 
+    /// [`Expansion::draw`] with magnitude bounds: every pair `discs[i] = (errors, w)` (rad)
+    /// is drawn by [`draw_disc_pair`]'s law inside its disc, the other errors as
+    /// [`Expansion::draw`] draws them (their stream first). With no disc it is
+    /// [`Expansion::draw`] exactly.
+    pub fn draw_with_discs(
+        &self,
+        ub: &[f64],
+        discs: &[([usize; 2], f64)],
+        mut uniform: impl FnMut() -> f64,
+        out: &mut [f64],
+    ) {
+        self.draw(ub, &mut uniform, out);
+        for &([a, b], w) in discs {
+            let (ga, gb) = (&self.groups[a], &self.groups[b]);
+            let mut ca = vec![0.0; ga.len()];
+            let mut cb = vec![0.0; gb.len()];
+            draw_disc_pair(ga, gb, w, &mut uniform, &mut ca, &mut cb);
+            out[ga.first..ga.first + ga.len()].copy_from_slice(&ca);
+            out[gb.first..gb.first + gb.len()].copy_from_slice(&cb);
+        }
+    }
+
     /// Coefficients of errors drawn inside the bounds `ub` (one per error) from the uniform
     /// numbers in $[0, 1)$ that `uniform` returns. The law: a constant is uniform in
     /// $[-\mathrm{UB}, \mathrm{UB}]$; an `any` error takes an independent uniform value in
@@ -577,6 +615,111 @@ impl Expansion {
                         c[2 + 2 * k] = r * sn;
                     }
                 }
+            }
+        }
+    }
+}
+
+/// Draws a pair of errors inside a magnitude (disc) bound $\sqrt{\chi_a(\phi)^2 +
+/// \chi_b(\phi)^2} \le w$ for every $\phi$, writing both groups' coefficients. The law,
+/// from the uniform numbers $u_1, u_2, \dots$ in $[0, 1)$ of `uniform`:
+///
+/// - both constant: uniform in the disc, $r = w\sqrt{u_1}$, $\theta = 2\pi u_2$,
+///   $(\chi_a, \chi_b) = r(\cos\theta, \sin\theta)$;
+/// - both `any` of the same joint (same angles): independently uniform in the disc at each
+///   angle, as above;
+/// - both harmonics of the same joint with the same orders: the vector polynomial
+///   $\mathbf v(\phi) = \mathbf c_0 + \sum_k \mathbf a_k\cos k\phi + \mathbf b_k\sin k\phi$
+///   ($\mathbf c_0, \mathbf a_k, \mathbf b_k \in \mathbb R^2$, component $a$ and $b$) gets an
+///   amplitude $A = w u$, split over the constant and the orders by weights uniform in $[0,
+///   1]$ normalised to sum one; $\mathbf c_0$ takes a uniform direction in the plane and
+///   $(\mathbf a_k, \mathbf b_k)$ a uniform direction on the sphere $S^3$ (Hopf coordinates:
+///   $\sin^2\eta$ uniform, two uniform phases). Then $\lvert\mathbf v(\phi)\rvert \le
+///   \lvert\mathbf c_0\rvert + \sum_k \sqrt{\lvert\mathbf a_k\rvert^2 + \lvert\mathbf
+///   b_k\rvert^2} = A \le w$ (Cauchy-Schwarz in $(\cos k\phi, \sin k\phi)$): inside the disc
+///   for every $\phi$;
+/// - any other pair: each error drawn by [`Expansion::draw`]'s law within $w/\sqrt2$ (the
+///   square inscribed in the disc), inside the disc, conservative.
+///
+/// # Panics
+/// Debug assertion on the lengths.
+pub fn draw_disc_pair(
+    ga: &BoundGroup,
+    gb: &BoundGroup,
+    w: f64,
+    mut uniform: impl FnMut() -> f64,
+    ca: &mut [f64],
+    cb: &mut [f64],
+) {
+    debug_assert_eq!(ca.len(), ga.len());
+    debug_assert_eq!(cb.len(), gb.len());
+    let tau = std::f64::consts::TAU;
+    let in_disc = |uniform: &mut dyn FnMut() -> f64| {
+        let r = w * uniform().sqrt();
+        let (s, c) = (tau * uniform()).sin_cos();
+        (r * c, r * s)
+    };
+    match (&ga.shape, &gb.shape) {
+        (GroupShape::Constant, GroupShape::Constant) => {
+            (ca[0], cb[0]) = in_disc(&mut uniform);
+        }
+        (
+            GroupShape::Any {
+                joint: ja,
+                angles_rad: x,
+            },
+            GroupShape::Any {
+                joint: jb,
+                angles_rad: y,
+            },
+        ) if ja == jb && x == y => {
+            for (a, b) in ca.iter_mut().zip(cb.iter_mut()) {
+                (*a, *b) = in_disc(&mut uniform);
+            }
+        }
+        (
+            GroupShape::Harmonics {
+                joint: ja,
+                orders: oa,
+            },
+            GroupShape::Harmonics {
+                joint: jb,
+                orders: ob,
+            },
+        ) if ja == jb && oa == ob => {
+            let amplitude = w * uniform();
+            let k = oa.len();
+            let weights: Vec<f64> = (0..=k).map(|_| uniform()).collect();
+            let total: f64 = weights.iter().sum();
+            let scale = if total > 0.0 { amplitude / total } else { 0.0 };
+            let (s, c) = (tau * uniform()).sin_cos();
+            ca[0] = weights[0] * scale * c;
+            cb[0] = weights[0] * scale * s;
+            for i in 0..k {
+                let r = weights[1 + i] * scale;
+                let eta = uniform().sqrt().asin();
+                let (s1, c1) = (tau * uniform()).sin_cos();
+                let (s2, c2) = (tau * uniform()).sin_cos();
+                let (ce, se) = (eta.cos(), eta.sin());
+                // (a_k, b_k) of component a, then of component b
+                ca[1 + 2 * i] = r * ce * c1;
+                ca[2 + 2 * i] = r * ce * s1;
+                cb[1 + 2 * i] = r * se * c2;
+                cb[2 + 2 * i] = r * se * s2;
+            }
+        }
+        _ => {
+            let inner = w / std::f64::consts::SQRT_2;
+            for (g, c) in [(ga, ca), (gb, cb)] {
+                let one = Expansion {
+                    groups: vec![BoundGroup {
+                        first: 0,
+                        ..g.clone()
+                    }],
+                    n_coefficients: g.len(),
+                    positions: g.basis.first().map_or(0, Vec::len),
+                };
+                one.draw(&[inner], &mut uniform, c);
             }
         }
     }

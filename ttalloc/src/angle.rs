@@ -9,7 +9,8 @@
 
 use anyhow::Result;
 use e2e_verify::angle::{AngleOutputWorstCase, AngleYield};
-use e2e_verify::{EndToEnd, TurntableCheck, Verdict};
+use e2e_verify::disc::{Pair, PairModel, PairShape};
+use e2e_verify::{DirectAllocation, EndToEnd, TurntableCheck, Verdict};
 use serde_json::{Value, json};
 use study::Study;
 use study::fmt::num;
@@ -28,14 +29,88 @@ pub struct ReadingAngle {
     pub disc: Option<DiscWorst>,
 }
 
-/// The linearised worst case per output (output unit) when the sheet's magnitudes bound a disc,
-/// not the square of the two components.
+/// The answers when the sheet's magnitudes bound a disc, not the square of the two
+/// components ([`e2e_verify::disc`]).
 #[derive(Debug, Clone)]
 pub struct DiscWorst {
-    /// Constant errors.
+    /// The linearised worst case per output (output unit), constant errors.
     pub constant: Vec<f64>,
-    /// Angle-dependent errors.
+    /// The same, angle-dependent errors (rigorous: exact for constant and `any` pairs, an
+    /// upper bound for harmonic pairs).
     pub angle: Vec<f64>,
+    /// A value the angle-dependent worst case certainly reaches per output (certified lower
+    /// dual norms; equal to `angle` unless a pair is harmonic).
+    pub angle_lower: Vec<f64>,
+    /// The Monte Carlo yield under the angle-dependent model with every pair drawn in its
+    /// disc (same samples and seed as the square's).
+    pub yield_: AngleYield,
+    /// The same with every error constant (the constant check's Monte Carlo draws the
+    /// square).
+    pub constant_yield: AngleYield,
+    /// The allocations with one tolerance per pair of the sheet; `None` for the compensated
+    /// check.
+    pub allocation: Option<DiscAllocation>,
+}
+
+/// The direct allocation with one tolerance per pair of the sheet (a wobble, a
+/// perpendicularity), the pair read as a disc or as the square around it, under both models.
+#[derive(Debug, Clone)]
+pub struct DiscAllocation {
+    /// Constant errors, discs.
+    pub constant_disc: DirectAllocation,
+    /// Constant errors, squares.
+    pub constant_square: DirectAllocation,
+    /// Angle-dependent errors, discs.
+    pub angle_disc: DirectAllocation,
+    /// Angle-dependent errors, squares.
+    pub angle_square: DirectAllocation,
+    /// Angle-dependent errors, discs, certified on the exact chain (or why not).
+    pub angle_disc_certified: std::result::Result<DirectAllocation, String>,
+    /// Angle-dependent errors, squares, certified (or why not).
+    pub angle_square_certified: std::result::Result<DirectAllocation, String>,
+}
+
+fn paired_allocations(
+    s: &Study,
+    e2e: &EndToEnd,
+    constant: &PairModel,
+    angle: &PairModel,
+    discs: &[Pair],
+) -> Result<DiscAllocation> {
+    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let lb = &s.lower_bounds_rad;
+    let square: Vec<Pair> = discs
+        .iter()
+        .map(|p| Pair {
+            errors: p.errors,
+            shape: PairShape::Square,
+        })
+        .collect();
+    let direct = |m: &PairModel, p: &[Pair]| {
+        e2e.allocate_direct_paired(&m.merged(p), lb, p, None)
+            .map_err(lib)
+    };
+    let certified =
+        |m: &PairModel, p: &[Pair]| -> Result<std::result::Result<DirectAllocation, String>> {
+            let params = e2e_verify::CertifyParams::default();
+            match e2e.allocate_direct_paired(&m.merged(p), lb, p, Some(&params)) {
+                Ok(d) => Ok(Ok(d)),
+                Err(
+                    e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
+                    | e2e_verify::E2eError::NoConvergence { .. }
+                    | e2e_verify::E2eError::MarginExceedsAccuracy { .. }),
+                ) => Ok(Err(e.to_string())),
+                Err(e) => Err(lib(e)),
+            }
+        };
+    Ok(DiscAllocation {
+        constant_disc: direct(constant, discs)?,
+        constant_square: direct(constant, &square)?,
+        angle_disc: direct(angle, discs)?,
+        angle_square: direct(angle, &square)?,
+        angle_disc_certified: certified(angle, discs)?,
+        angle_square_certified: certified(angle, &square)?,
+    })
 }
 
 /// The angle-dependent check of every reading (same order as the constant checks).
@@ -80,7 +155,8 @@ fn weakest(v: impl Iterator<Item = Verdict>) -> Verdict {
 }
 
 /// Check the bounds `ub_rad` under the angle-dependent model for every simulator of
-/// `checks`, with `samples` Monte Carlo turntables from `seed`.
+/// `checks`, with `samples` Monte Carlo turntables from `seed`; with the sheet's discs, their
+/// worst case, yield and (with `allocate`) the allocations with one tolerance per pair.
 ///
 /// # Errors
 /// A library error located in the study.
@@ -90,6 +166,7 @@ pub fn check(
     tol: &study::Tolerances,
     samples: u64,
     seed: u64,
+    allocate: bool,
 ) -> Result<AngleCheck> {
     let ub_rad = &tol.ub_rad[..];
     let (study_model, variations) = model_of(s, tol);
@@ -112,15 +189,53 @@ pub fn check(
         let disc = if discs.is_empty() {
             None
         } else {
+            let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
             let constant = Expansion::new(
                 e2e.turntable(),
                 &vec![ErrorVariation::Constant; e2e.n_errors()],
                 e2e.poses(),
             )
             .map_err(|e| crate::input::library(e, s))?;
+            let constant_model = e2e.pair_model(&constant).map_err(lib)?;
+            let angle_model = e2e.pair_model(&ex).map_err(lib)?;
+            let pairs: Vec<Pair> = discs
+                .iter()
+                .map(|(errors, _)| Pair {
+                    errors: *errors,
+                    shape: PairShape::Disc,
+                })
+                .collect();
+            let with_w: Vec<(Pair, f64)> = pairs
+                .iter()
+                .zip(&discs)
+                .map(|(p, (_, w))| (*p, *w))
+                .collect();
+            let (constant_wc, _) = constant_model.worst_case(ub_rad, &with_w);
+            let (angle_wc, angle_lower) = angle_model.worst_case(ub_rad, &with_w);
+            let yield_ = e2e
+                .angle_yield_with_discs(&ex, ub_rad, &discs, samples, seed)
+                .map_err(lib)?;
+            let constant_yield = e2e
+                .angle_yield_with_discs(&constant, ub_rad, &discs, samples, seed)
+                .map_err(lib)?;
+            let allocation = if allocate {
+                Some(paired_allocations(
+                    s,
+                    e2e,
+                    &constant_model,
+                    &angle_model,
+                    &pairs,
+                )?)
+            } else {
+                None
+            };
             Some(DiscWorst {
-                constant: e2e_verify::angle::disc_worst_case(&constant, &lin, ub_rad, &discs),
-                angle: e2e_verify::angle::disc_worst_case(&ex, &al.expanded, ub_rad, &discs),
+                constant: constant_wc,
+                angle: angle_wc,
+                angle_lower,
+                yield_,
+                constant_yield,
+                allocation,
             })
         };
         readings.push(ReadingAngle {
@@ -208,6 +323,23 @@ pub fn text(
             ));
         }
     }
+    if let Some(d) = &a.disc {
+        let (lo, hi) = d.yield_.interval_95;
+        let (clo, chi) = d.constant_yield.interval_95;
+        s.push_str(&format!(
+            "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables) with angle-dependent errors, {:.2}% ({:.2}%-{:.2}%) with constant errors\n",
+            100.0 * d.yield_.fraction(),
+            100.0 * lo,
+            100.0 * hi,
+            d.yield_.samples,
+            100.0 * d.constant_yield.fraction(),
+            100.0 * clo,
+            100.0 * chi,
+        ));
+        if let Some(al) = &d.allocation {
+            s.push_str(&disc_allocation_text(e2e, al));
+        }
+    }
     let names = e2e.turntable().rotation_error_names();
     for g in e2e.turntable().error_groups() {
         let models: Vec<&ErrorVariation> = g.errors.iter().map(|&i| &model.variations[i]).collect();
@@ -231,6 +363,201 @@ pub fn text(
     s
 }
 
+fn j_words(d: &DirectAllocation) -> String {
+    if d.no_bound_needed() {
+        "no bound needed".into()
+    } else {
+        format!("J = {}", study::fmt::sig(d.objective_arcmin(), 5))
+    }
+}
+
+fn certified_words(d: &std::result::Result<DirectAllocation, String>) -> String {
+    match d {
+        Ok(d) => format!("certified {}", j_words(d)),
+        Err(why) => format!("not certified: {why}"),
+    }
+}
+
+/// The text of the allocations with one tolerance per pair.
+pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> String {
+    let names = e2e.turntable().rotation_error_names();
+    let arcmin = |u: f64| {
+        if u.is_finite() {
+            study::fmt::sig(tt_core::units::rad_to_arcmin(u), 4)
+        } else {
+            "none".into()
+        }
+    };
+    let mut s = format!(
+        "    allocation with one tolerance per pair of the sheet (arcmin^-2): constant errors {} as discs, {} as squares; angle-dependent errors {} as discs ({}), {} as squares ({})\n",
+        j_words(&al.constant_disc),
+        j_words(&al.constant_square),
+        j_words(&al.angle_disc),
+        certified_words(&al.angle_disc_certified),
+        j_words(&al.angle_square),
+        certified_words(&al.angle_square_certified),
+    );
+    let mut seen = vec![false; names.len()];
+    let mut parts = Vec::new();
+    for (j, u) in al.angle_disc.upper_bounds_rad.iter().enumerate() {
+        if seen[j] {
+            continue;
+        }
+        let partner = (j + 1..names.len()).find(|&b| {
+            !seen[b]
+                && al.angle_disc.upper_bounds_rad[b].to_bits() == u.to_bits()
+                && al.angle_square.upper_bounds_rad[b].to_bits()
+                    == al.angle_square.upper_bounds_rad[j].to_bits()
+                && al.constant_disc.upper_bounds_rad[b].to_bits()
+                    == al.constant_disc.upper_bounds_rad[j].to_bits()
+        });
+        seen[j] = true;
+        let label = match partner {
+            Some(b) => {
+                seen[b] = true;
+                format!("{}/{}", names[j], names[b])
+            }
+            None => names[j].to_string(),
+        };
+        parts.push(format!(
+            "{label} {} (square {})",
+            arcmin(*u),
+            arcmin(al.angle_square.upper_bounds_rad[j])
+        ));
+    }
+    s.push_str(&format!(
+        "      angle-dependent bounds as discs (arcmin): {}\n",
+        parts.join(", ")
+    ));
+    s
+}
+
+fn allocation_json(names: &[&str], d: &DirectAllocation) -> Value {
+    json!({
+        "objective_arcmin": (!d.no_bound_needed()).then(|| d.objective_arcmin()),
+        "upper_bounds_arcmin": crate::out::arcmin_json(names, &d.upper_bounds_rad),
+    })
+}
+
+fn certified_json(names: &[&str], d: &std::result::Result<DirectAllocation, String>) -> Value {
+    match d {
+        Ok(d) => allocation_json(names, d),
+        Err(why) => json!({"not_certified": why}),
+    }
+}
+
+/// The allocations' JSON object (`constant` / `angle_dependent`, each `disc` / `square`
+/// with `objective_arcmin` and `upper_bounds_arcmin`; the angle-dependent model's certified
+/// ones as `disc_certified` / `square_certified`, or `{"not_certified": why}`).
+pub(crate) fn disc_allocation_json(e2e: &EndToEnd, al: &DiscAllocation) -> Value {
+    let names = e2e.turntable().rotation_error_names();
+    json!({
+        "constant": {
+            "disc": allocation_json(&names, &al.constant_disc),
+            "square": allocation_json(&names, &al.constant_square),
+        },
+        "angle_dependent": {
+            "disc": allocation_json(&names, &al.angle_disc),
+            "square": allocation_json(&names, &al.angle_square),
+            "disc_certified": certified_json(&names, &al.angle_disc_certified),
+            "square_certified": certified_json(&names, &al.angle_square_certified),
+        },
+    })
+}
+
+/// The allocations with one tolerance per pair of the sheet `tol` (its `[axes.<joint>]`
+/// wobbles and orthogonalities; the values are not used, only which errors pair up), for the
+/// study's reading and the user's when different; the angle-dependent model is
+/// [`model_of`]'s. Empty when the sheet states no pair.
+///
+/// # Errors
+/// A library error located in the study.
+pub fn sheet_allocations(
+    s: &Study,
+    e2e: &EndToEnd,
+    tol: &study::Tolerances,
+) -> Result<Vec<(EndToEnd, DiscAllocation)>> {
+    if tol.discs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let (_, variations) = model_of(s, tol);
+    let pairs: Vec<Pair> = tol
+        .discs
+        .iter()
+        .map(|d| Pair {
+            errors: d.errors,
+            shape: PairShape::Disc,
+        })
+        .collect();
+    let mut sims = vec![e2e.clone()];
+    if e2e.reading() != calib_lsq::Reading::USER {
+        sims.push(e2e.with_reading(calib_lsq::Reading::USER).map_err(lib)?);
+    }
+    sims.into_iter()
+        .map(|sim| {
+            let kin = |e: tt_kinematics::KinematicsError| crate::input::library(e, s);
+            let constant = Expansion::new(
+                sim.turntable(),
+                &vec![ErrorVariation::Constant; sim.n_errors()],
+                sim.poses(),
+            )
+            .map_err(kin)?;
+            let ex = Expansion::new(sim.turntable(), &variations, sim.poses()).map_err(kin)?;
+            let cm = sim.pair_model(&constant).map_err(lib)?;
+            let am = sim.pair_model(&ex).map_err(lib)?;
+            let al = paired_allocations(s, &sim, &cm, &am, &pairs)?;
+            Ok((sim, al))
+        })
+        .collect()
+}
+
+/// The sheet allocations' text block.
+#[must_use]
+pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> String {
+    if a.is_empty() {
+        return format!(
+            "\n{path} states no magnitude (wobble, orthogonality): no pair of errors to allocate one tolerance\n"
+        );
+    }
+    let mut t = format!(
+        "\nthe pairs of {path} (each wobble and orthogonality one tolerance, a magnitude sqrt(a_x^2 + a_y^2) <= w, beside the square around it):\n"
+    );
+    for (e2e, al) in a {
+        t.push_str(&format!("reading {}\n", e2e.reading()));
+        t.push_str(&disc_allocation_text(e2e, al));
+    }
+    t
+}
+
+/// The sheet allocations' JSON value (`disc_allocation`): `{"tolerances", "readings":
+/// [{"reading", ...[`disc_allocation_json`]}]}`.
+#[must_use]
+pub fn sheet_allocations_json(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> Value {
+    json!({
+        "tolerances": path,
+        "readings": a.iter().map(|(e2e, al)| {
+            let mut v = disc_allocation_json(e2e, al);
+            if let Value::Object(m) = &mut v {
+                m.insert("reading".into(), json!(e2e.reading().to_string()));
+            }
+            v
+        }).collect::<Vec<_>>(),
+    })
+}
+
+fn disc_json(e2e: &EndToEnd, d: &DiscWorst) -> Value {
+    json!({
+        "worst_case_linear_lower": d.angle_lower,
+        "yield": d.yield_.fraction(),
+        "yield_interval_95": [d.yield_.interval_95.0, d.yield_.interval_95.1],
+        "samples": d.yield_.samples,
+        "constant_yield": d.constant_yield.fraction(),
+        "constant_yield_interval_95": [d.constant_yield.interval_95.0, d.constant_yield.interval_95.1],
+        "allocation": d.allocation.as_ref().map(|al| disc_allocation_json(e2e, al)),
+    })
+}
+
 /// The JSON object of one reading.
 #[must_use]
 pub fn reading_json(e2e: &EndToEnd, a: &ReadingAngle) -> Value {
@@ -240,6 +567,7 @@ pub fn reading_json(e2e: &EndToEnd, a: &ReadingAngle) -> Value {
         "yield_interval_95": [a.yield_.interval_95.0, a.yield_.interval_95.1],
         "samples": a.yield_.samples,
         "disc_worst_case_linear": a.disc.as_ref().map(|d| json!({"constant": d.constant, "angle_dependent": d.angle})),
+        "discs": a.disc.as_ref().map(|d| disc_json(e2e, d)),
         "outputs": a.outputs.iter().map(|o| {
             let out = e2e.calibration().outputs()[o.output].output();
             json!({
@@ -322,7 +650,10 @@ pub fn compensated(
     }
     let mut t = tol.clone();
     t.ub_rad.clone_from(&ub_rad);
-    let angle = check(s, checks, &t, settings.samples, settings.seed)?;
+    // a measured error is bounded by its uncertainty, no longer by the sheet's disc
+    t.discs
+        .retain(|d| d.errors.iter().all(|&j| s.measured[j].is_none()));
+    let angle = check(s, checks, &t, settings.samples, settings.seed, false)?;
     Ok(Some(Compensated {
         ub_rad,
         checks: out,

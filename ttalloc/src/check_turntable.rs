@@ -389,7 +389,7 @@ pub fn run(args: &Args) -> Result<()> {
     if e2e.has_rate_steps() {
         return run_with_rate_steps(args, &s, &tol, &checks, &noisy, &lb, &settings);
     }
-    let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed)?;
+    let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed, true)?;
     let compensated = crate::angle::compensated(&s, &checks, &tol, &settings)?;
     if args.json {
         let mut v = to_json(&checks, &tol, &noisy);

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_input_error, json, num, run, scratch, stdout, study, write};
+use common::{assert_input_error, json, num, run, scratch, stderr, stdout, study, write};
 
 /// Relative agreement of two computations of the same linear worst case (dimensionless).
 const SAME_REL: f64 = 1e-12;
@@ -91,6 +91,43 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
         assert!(dc <= sqc * (1.0 + 1e-12), "{dc} > {sqc}");
     }
     assert!(tighter);
+    // the discs in the allocation and the Monte Carlo: one tolerance per pair, the disc's J
+    // below the square's (both models; certified at least the direct), the yield over
+    // turntables drawn in the discs
+    for r in v["angle_dependent"]["readings"].as_array().unwrap() {
+        let d = &r["discs"];
+        for key in ["yield", "constant_yield"] {
+            let y = num(&d[key]);
+            assert!((0.0..=1.0).contains(&y), "{key} {y}");
+        }
+        assert_eq!(d["samples"].as_u64(), Some(1500));
+        let a = &d["allocation"];
+        for model in ["constant", "angle_dependent"] {
+            let (jd, js) = (
+                num(&a[model]["disc"]["objective_arcmin"]),
+                num(&a[model]["square"]["objective_arcmin"]),
+            );
+            assert!(jd < js, "{model}: disc J {jd} >= square J {js}");
+            let b = &a[model]["disc"]["upper_bounds_arcmin"];
+            assert_eq!(b["dalpha_ox"], b["dalpha_oy"]);
+            assert_eq!(b["deps_mi_z"], b["deps_mi_x"]);
+        }
+        let ad = &a["angle_dependent"];
+        assert!(
+            num(&ad["disc_certified"]["objective_arcmin"]) >= num(&ad["disc"]["objective_arcmin"])
+        );
+        assert!(
+            num(&ad["disc_certified"]["objective_arcmin"])
+                <= num(&ad["square_certified"]["objective_arcmin"])
+        );
+        for (lo, up) in d["worst_case_linear_lower"].as_array().unwrap().iter().zip(
+            r["disc_worst_case_linear"]["angle_dependent"]
+                .as_array()
+                .unwrap(),
+        ) {
+            assert!(num(lo) <= num(up));
+        }
+    }
     let text = stdout(&run(&[
         "check-turntable",
         "--study",
@@ -117,6 +154,114 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
         bad.to_str().unwrap(),
     ]);
     assert_input_error(&o, &["axes.phi_x", "does not have"]);
+}
+
+/// `allocate --tolerances` and `end-to-end --tolerances` (issue 22): the sheet's pairs get one
+/// tolerance each, as a disc and as a square; the disc's J is below the square's and both
+/// commands give the same figures; a disc on an error the table does not have, or with a
+/// negative value, exits 2 naming the key.
+#[test]
+fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
+    let sheet = "studies/tolerances/three-axis-vendor-sheet.toml";
+    let three = study("three-axis-example");
+    let a = json(&[
+        "allocate",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--json",
+    ]);
+    let e = json(&[
+        "end-to-end",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--json",
+        "--samples",
+        "1500",
+    ]);
+    assert_eq!(a["disc_allocation"], e["disc_allocation"]);
+    let readings = a["disc_allocation"]["readings"].as_array().unwrap();
+    assert_eq!(readings.len(), 2);
+    for r in readings {
+        for model in ["constant", "angle_dependent"] {
+            let (jd, js) = (
+                num(&r[model]["disc"]["objective_arcmin"]),
+                num(&r[model]["square"]["objective_arcmin"]),
+            );
+            assert!(jd < js, "{model}: {jd} >= {js}");
+        }
+    }
+    // README "What we find": the figures as printed (5 significant digits, relative 1e-4)
+    let j = |r: usize, path: &[&str]| {
+        let mut v = &readings[r];
+        for p in path {
+            v = &v[*p];
+        }
+        num(&v["objective_arcmin"])
+    };
+    for (got, printed) in [
+        (j(1, &["angle_dependent", "disc"]), 5680.6),
+        (j(1, &["angle_dependent", "disc_certified"]), 5716.5),
+        (j(1, &["angle_dependent", "square_certified"]), 6204.2),
+        (j(1, &["constant", "disc"]), 3567.2),
+        (j(1, &["constant", "square"]), 4189.5),
+        (j(0, &["constant", "disc"]), 407.64),
+        (j(0, &["constant", "square"]), 490.07),
+    ] {
+        approx::assert_relative_eq!(got, printed, max_relative = 1e-4);
+    }
+    // the report's vendor section shows the same figures
+    let out = scratch("angle", "disc-report").join("out");
+    let o = run(&[
+        "report",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "1500",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let user = &readings[1];
+    let row = format!(
+        "| `actual/beta1/printed` | {} | {} |",
+        study::fmt::sig(num(&user["constant"]["disc"]["objective_arcmin"]), 5),
+        study::fmt::sig(num(&user["constant"]["square"]["objective_arcmin"]), 5)
+    );
+    assert!(md.contains(&row), "{row} not in the report");
+    let dir = scratch("angle", "bad-discs");
+    let text = std::fs::read_to_string(common::root().join(sheet)).unwrap();
+    for (from, to, key) in [
+        (
+            "wobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble = [\"dalpha_ix\", \"dalpha_nope\"]",
+            "axes.phi_i.wobble",
+        ),
+        (
+            "orthogonality_arcsec = 5.0\northogonality = [\"deps_mi_z\", \"deps_mi_x\"]",
+            "orthogonality_arcsec = -5.0\northogonality = [\"deps_mi_z\", \"deps_mi_x\"]",
+            "axes.phi_i.orthogonality_arcsec",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = write(&dir, "bad.toml", &text.replacen(from, to, 1));
+        for cmd in ["allocate", "end-to-end", "check-turntable"] {
+            let o = run(&[
+                cmd,
+                "--study",
+                &three,
+                "--tolerances",
+                bad.to_str().unwrap(),
+            ]);
+            assert_input_error(&o, &[key]);
+        }
+    }
 }
 
 /// Compensation in `check-turntable` (issue 22): a study that measures errors gets the verdict
@@ -162,4 +307,44 @@ fn check_turntable_reports_before_and_after_compensation() {
         "1500",
     ]);
     assert!(plain["compensated"].is_null());
+}
+
+/// Bad angle-dependent inputs at the command line (issue 22 "Bad input"): a harmonic order
+/// that is not a positive integer, harmonics of a joint the error does not follow, a measured
+/// value outside its physical range and a negative measurement uncertainty each exit 2 naming
+/// the key.
+#[test]
+fn bad_angle_dependent_inputs_exit_2_naming_the_key() {
+    let path = "studies/gyrowheel-2017-harmonic-errors.toml";
+    let text = std::fs::read_to_string(common::root().join(path)).unwrap();
+    let dir = scratch("angle", "bad-angle-inputs");
+    for (from, to, key) in [
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1, 2], of = "phi2" }"#,
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [0, 2], of = "phi2" }"#,
+            "harmonics[0]",
+        ),
+        (
+            r#"{ error = "dphi_y1", about = "y", harmonics = [1, 2], of = "phi1" }"#,
+            r#"{ error = "dphi_y1", about = "y", harmonics = [1, 2], of = "phi2" }"#,
+            ".of",
+        ),
+        (
+            "value_arcmin = 0.20",
+            "value_arcmin = 700.0",
+            "compensation.measured[0].value_arcmin",
+        ),
+        (
+            "uncertainty_arcmin = 0.05",
+            "uncertainty_arcmin = -0.05",
+            "compensation.measured[0].uncertainty_arcmin",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = write(&dir, "bad.toml", &text.replacen(from, to, 1));
+        for cmd in ["end-to-end", "allocate"] {
+            let o = run(&[cmd, "--study", bad.to_str().unwrap()]);
+            assert_input_error(&o, &[key]);
+        }
+    }
 }
