@@ -755,12 +755,19 @@ pub fn run(args: &Args) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     let angle = crate::angle_alloc::compute(&s, &e2e)?;
+    let rate = crate::rate::allocation(&s, &e2e)?;
     if args.json {
         let mut v = to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
         if let (Some(an), Value::Object(m)) = (&angle, &mut v) {
             m.insert(
                 "angle_dependent".into(),
                 crate::angle_alloc::to_json(&e2e, an),
+            );
+        }
+        if let (Some(r), Value::Object(m)) = (&rate, &mut v) {
+            m.insert(
+                "rate_allocation".into(),
+                crate::rate::allocation_json(&e2e, r),
             );
         }
         crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
@@ -771,6 +778,9 @@ pub fn run(args: &Args) -> Result<()> {
         }
         if let Some(an) = &angle {
             t.push_str(&crate::angle_alloc::to_text(&e2e, an));
+        }
+        if let Some(r) = &rate {
+            t.push_str(&crate::rate::allocation_text(&e2e, r));
         }
         if let Some(n) = crate::noise::note(&s) {
             t.push_str(&n);

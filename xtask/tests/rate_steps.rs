@@ -125,3 +125,57 @@ fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
     assert!(note.contains("static"), "{note}");
     assert!(common::num(&v["direct_objective"]) > 0.0);
 }
+
+/// `end-to-end` with rate steps allocates the rate tolerances with the angles (JSON
+/// `rate_allocation`): rate accuracy and ripple in ppm, translations in mm, every output
+/// within its accuracy on the exact chain at its worst vertex, and the rate accuracy within
+/// the closed form's limit (a gyro's accuracy over the step's rate: 10 deg/h over
+/// 216,000 deg/h is 46.3 ppm).
+#[test]
+fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        &study(STUDY),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    let r = &v["rate_allocation"];
+    assert_eq!(r["certified"], false);
+    assert!(
+        r["certified_note"]
+            .as_str()
+            .expect("a note")
+            .contains("not a certificate")
+    );
+    let j = common::num(&r["objective_arcmin"]);
+    assert!(j.is_finite() && j > 0.0);
+    let tols = r["tolerances"].as_array().expect("tolerances");
+    let unit_of = |name: &str| {
+        tols.iter()
+            .find(|t| t["name"] == name)
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    assert_eq!(unit_of("deta_om")["unit"], "mm");
+    assert_eq!(unit_of("phi_i_rate_ripple")["unit"], "ppm");
+    let closed_form_ppm = 10.0 / (60.0 * 3600.0) * 1e6;
+    for joint in ["phi_o", "phi_m", "phi_i"] {
+        let t = unit_of(&format!("{joint}_rate_accuracy"));
+        assert_eq!(t["unit"], "ppm");
+        let ppm = common::num(&t["bound"]);
+        // the scale factor (1 + k, |k| <= 3e-4) lets it exceed the plain quotient by 3e-4
+        assert!(
+            ppm > 0.0 && ppm <= closed_form_ppm * (1.0 + 3e-4),
+            "{joint}: {ppm}"
+        );
+    }
+    for o in r["outputs"].as_array().expect("outputs") {
+        let (acc, exact) = (
+            common::num(&o["accuracy"]),
+            common::num(&o["exact_at_vertex"]),
+        );
+        assert!(exact <= acc, "{}: {exact} > {acc}", o["output"]);
+        approx::assert_relative_eq!(common::num(&o["margin"]), acc - exact, max_relative = 1e-12);
+    }
+}
