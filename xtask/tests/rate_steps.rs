@@ -179,3 +179,84 @@ fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
         approx::assert_relative_eq!(common::num(&o["margin"]), acc - exact, max_relative = 1e-12);
     }
 }
+
+/// `design-schedule --rates-deg-per-s` chooses the rate of the study's rate steps among the
+/// candidates: the least J of the allocation with the rate tolerances at the designed
+/// positions, written by `--write-study` (each step's sign kept), and `end-to-end` on the
+/// written study answers with the same J.
+#[test]
+fn design_schedule_chooses_the_rate_with_the_least_j_and_writes_it() {
+    // J is printed with 17 significant digits in JSON; the two runs take the same path
+    const SAME_PATH_REL: f64 = 1e-9;
+    let dir = scratch("rate-steps", "design-rates");
+    let out = dir.join("designed.toml");
+    let v = json(&[
+        "design-schedule",
+        "--study",
+        &study(STUDY),
+        "--step-deg",
+        "90",
+        "--rates-deg-per-s",
+        "20,60",
+        "--write-study",
+        out.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    let r = &v["rates"];
+    let js: Vec<f64> = r["objective_arcmin"]
+        .as_array()
+        .expect("one J per candidate")
+        .iter()
+        .map(common::num)
+        .collect();
+    assert_eq!(js.len(), 2);
+    let least = if js[0] <= js[1] { 20.0 } else { 60.0 };
+    // the chosen values are copies of a candidate's: equal to any relative tolerance
+    approx::assert_relative_eq!(
+        common::num(&r["chosen_deg_per_s"]),
+        least,
+        max_relative = SAME_PATH_REL
+    );
+    let chosen_j = common::num(&r["chosen_objective_arcmin"]);
+    approx::assert_relative_eq!(chosen_j, js[0].min(js[1]), max_relative = SAME_PATH_REL);
+    let written = std::fs::read_to_string(&out).expect("written study");
+    let rate = format!("rate_deg_per_s = {least:?}");
+    let minus = format!("rate_deg_per_s = {:?}", -least);
+    assert_eq!(written.matches(&rate).count(), 3, "{written}");
+    assert_eq!(written.matches(&minus).count(), 3, "{written}");
+    let e = json(&[
+        "end-to-end",
+        "--study",
+        out.to_str().expect("utf-8"),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    approx::assert_relative_eq!(
+        common::num(&e["rate_allocation"]["objective_arcmin"]),
+        chosen_j,
+        max_relative = SAME_PATH_REL
+    );
+}
+
+/// Bad candidate rates exit 2 naming the flag: above a turning joint's limit, zero, and on a
+/// study without rate steps.
+#[test]
+fn bad_candidate_rates_exit_2_naming_the_flag() {
+    for (s, rates) in [
+        (study(STUDY), "60,400"),
+        (study(STUDY), "0"),
+        (study("imu-triad-example"), "60"),
+    ] {
+        let o = common::run(&[
+            "design-schedule",
+            "--study",
+            &s,
+            "--step-deg",
+            "90",
+            "--rates-deg-per-s",
+            rates,
+        ]);
+        assert_input_error(&o, &["--rates-deg-per-s"]);
+    }
+}
