@@ -755,7 +755,7 @@ pub fn run(args: &Args) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     let angle = crate::angle_alloc::compute(&s, &e2e)?;
-    let rate = crate::rate::allocation(&s, &e2e)?;
+    let rate = crate::rate::allocation(&s, &e2e, &e2e_verify::McSettings::new(samples, seed))?;
     if args.json {
         let mut v = to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
         if let (Some(an), Value::Object(m)) = (&angle, &mut v) {

@@ -281,12 +281,31 @@ pub fn tolerance_in_sheet_units(t: &RateTolerance, v: f64) -> (f64, &'static str
     }
 }
 
+/// The direct allocation of the angles and the rate tolerances together, with the Monte Carlo
+/// over both of its boxes (exact chain at random points: evidence beside the worst-vertex
+/// check, not a certificate).
+#[derive(Debug, Clone)]
+pub struct RateAllocated {
+    /// The allocation.
+    pub allocation: RateAllocation,
+    /// Turntables of both allocated boxes meeting every accuracy, of `samples`.
+    pub meets: u64,
+    /// Turntables drawn.
+    pub samples: u64,
+    /// The largest error drawn, per output.
+    pub max_drawn: Vec<f64>,
+}
+
 /// The direct allocation of the angles and the rate tolerances together for a study with
-/// rate steps (`None` for a static study).
+/// rate steps, and its Monte Carlo over both boxes (`None` for a static study).
 ///
 /// # Errors
 /// A library error located in the study.
-pub fn allocation(s: &Study, e2e: &EndToEnd) -> Result<Option<RateAllocation>> {
+pub fn allocation(
+    s: &Study,
+    e2e: &EndToEnd,
+    settings: &McSettings,
+) -> Result<Option<RateAllocated>> {
     if !e2e.has_rate_steps() {
         return Ok(None);
     }
@@ -297,12 +316,22 @@ pub fn allocation(s: &Study, e2e: &EndToEnd) -> Result<Option<RateAllocation>> {
             &s.lower_bounds_rad,
         )
         .map_err(|e| crate::input::library(e, s))?;
-    Ok(Some(a))
+    let extra = e2e.extra_bounds_of(a.tolerance_bounds());
+    let (meets, max_drawn) = e2e
+        .meeting_count_with_extra(a.angles_rad(), &s.lower_bounds_rad, &extra, settings)
+        .map_err(|e| crate::input::library(e, s))?;
+    Ok(Some(RateAllocated {
+        allocation: a,
+        meets,
+        samples: settings.samples,
+        max_drawn,
+    }))
 }
 
 /// The allocation with the rate tolerances as text.
 #[must_use]
-pub fn allocation_text(e2e: &EndToEnd, a: &RateAllocation) -> String {
+pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
+    let a = &r.allocation;
     let mut s = format!(
         "\ndirect allocation with the rate tolerances (reading {}): the angles, rate accuracy, ripple and translations allocated together, J = {} arcmin^-2\n",
         e2e.reading(),
@@ -350,6 +379,14 @@ pub fn allocation_text(e2e: &EndToEnd, a: &RateAllocation) -> String {
             num(acc[w.output])
         ));
     }
+    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
+    s.push_str(&format!(
+        "  yield over both allocated boxes {}% [{}, {}] of {} turntables (exact chain at random points)\n",
+        num(100.0 * r.meets as f64 / r.samples as f64),
+        num(100.0 * lo),
+        num(100.0 * hi),
+        r.samples
+    ));
     s.push_str(&format!(
         "  not certified: {}\n",
         e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS
@@ -359,7 +396,9 @@ pub fn allocation_text(e2e: &EndToEnd, a: &RateAllocation) -> String {
 
 /// The allocation with the rate tolerances as JSON (`rate_allocation`).
 #[must_use]
-pub fn allocation_json(e2e: &EndToEnd, a: &RateAllocation) -> Value {
+pub fn allocation_json(e2e: &EndToEnd, r: &RateAllocated) -> Value {
+    let a = &r.allocation;
+    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
     let names = e2e.turntable().rotation_error_names();
     let acc = e2e.accuracies();
     let tolerances: Vec<Value> = e2e
@@ -400,6 +439,10 @@ pub fn allocation_json(e2e: &EndToEnd, a: &RateAllocation) -> Value {
         "tolerances": tolerances,
         "outputs": outputs,
         "exact_rounds": a.exact_rounds,
+        "yield": r.meets as f64 / r.samples as f64,
+        "yield_interval_95": [lo, hi],
+        "samples": r.samples,
+        "max_drawn": r.max_drawn,
         "certified": false,
         "certified_note": e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
     })

@@ -170,13 +170,23 @@ fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
             "{joint}: {ppm}"
         );
     }
-    for o in r["outputs"].as_array().expect("outputs") {
+    // the Monte Carlo over both allocated boxes (exact chain at random points) never draws
+    // beyond an accuracy: the worst vertex keeps 1e-3 of each accuracy free
+    let drawn = r["max_drawn"].as_array().expect("max drawn");
+    // the margin is accuracy minus the exact value, computed once: rounding only
+    const MARGIN_REL: f64 = 1e-12;
+    for (o, d) in r["outputs"].as_array().expect("outputs").iter().zip(drawn) {
         let (acc, exact) = (
             common::num(&o["accuracy"]),
             common::num(&o["exact_at_vertex"]),
         );
         assert!(exact <= acc, "{}: {exact} > {acc}", o["output"]);
-        approx::assert_relative_eq!(common::num(&o["margin"]), acc - exact, max_relative = 1e-12);
+        assert!(common::num(d) <= acc, "{}: drawn {d} > {acc}", o["output"]);
+        approx::assert_relative_eq!(
+            common::num(&o["margin"]),
+            acc - exact,
+            max_relative = MARGIN_REL
+        );
     }
 }
 

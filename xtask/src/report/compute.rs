@@ -140,7 +140,7 @@ pub struct Computed {
     pub vendor_rate: Option<crate::rate::RateCheck>,
     /// The direct allocation of the angles and the rate tolerances together (study's
     /// reading), for a study with rate steps.
-    pub rate_alloc: Option<e2e_verify::RateAllocation>,
+    pub rate_alloc: Option<crate::rate::RateAllocated>,
     /// The paper's extras.
     pub paper: Option<PaperExtras>,
     /// Which table errors the calibration estimates itself (joint least squares, user's
@@ -599,7 +599,11 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         _ => None,
     };
     timing("vendor check with rate errors", started);
-    let rate_alloc = crate::rate::allocation(s, &e2e)?;
+    let rate_alloc = crate::rate::allocation(
+        s,
+        &e2e,
+        &e2e_verify::McSettings::new(options.samples, options.seed),
+    )?;
     timing("allocation with rate tolerances", started);
     // the joint estimation is built on static positions (one orientation error each)
     let estimable = if e2e.has_rate_steps() {

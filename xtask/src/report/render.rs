@@ -1818,7 +1818,8 @@ impl<'a> Sections<'a> {
     /// (rate accuracy, ripple, translations) allocated together (`crate::rate::allocation`).
     pub fn rate_allocation(&mut self) {
         let c = self.c;
-        let Some(a) = &c.rate_alloc else { return };
+        let Some(ra) = &c.rate_alloc else { return };
+        let a = &ra.allocation;
         let e2e = &c.e2e;
         let outs = self.outputs();
         self.doc.h(2, "Direct allocation with the rate tolerances");
@@ -1885,8 +1886,13 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
+        let (lo, hi) = e2e_verify::wilson_interval_95(ra.meets, ra.samples);
         self.doc.p(format!(
-            "Not a certificate: {}.",
+            "{:.2}% of {} random turntables within both allocated boxes meet every accuracy on the exact chain (95% interval {:.2}%-{:.2}%). Not a certificate: {}.",
+            100.0 * ra.meets as f64 / ra.samples as f64,
+            ra.samples,
+            100.0 * lo,
+            100.0 * hi,
             doc::text(e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS)
         ));
     }
