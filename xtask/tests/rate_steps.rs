@@ -270,3 +270,32 @@ fn bad_candidate_rates_exit_2_naming_the_flag() {
         assert_input_error(&o, &["--rates-deg-per-s"]);
     }
 }
+
+/// `allocate` on a study with rate steps prints, beside the two-step allocation, the direct
+/// allocation with the rate tolerances (JSON `rate_allocation`), the same as `end-to-end`'s.
+#[test]
+fn allocate_shows_the_rate_tolerances_like_end_to_end() {
+    // the same computation on the same study: rounding only
+    const SAME_PATH_REL: f64 = 1e-12;
+    let a = json(&["allocate", "--study", &study(STUDY), "--json"]);
+    let e = json(&[
+        "end-to-end",
+        "--study",
+        &study(STUDY),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    let (ra, re) = (&a["rate_allocation"], &e["rate_allocation"]);
+    approx::assert_relative_eq!(
+        common::num(&ra["objective_arcmin"]),
+        common::num(&re["objective_arcmin"]),
+        max_relative = SAME_PATH_REL
+    );
+    assert_eq!(ra["tolerances"], re["tolerances"]);
+    let text = common::stdout(&common::run(&["allocate", "--study", &study(STUDY)]));
+    assert!(
+        text.contains("phi_i_rate_accuracy 46.") && text.contains(" ppm") && text.contains(" mm"),
+        "{text}"
+    );
+}
