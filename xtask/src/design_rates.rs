@@ -2,11 +2,12 @@
 //! chosen among candidate rates, with the designed positions.
 //!
 //! For each candidate rate R every rate step of the study turns at R (its sign, joint, angles
-//! and revolutions kept), the static positions are the designed ones (the position search
-//! takes the static positions alone), and the schedule is answered by the direct allocation
+//! and revolutions kept), the static positions are the designed ones or the study's (the
+//! position search takes the static positions alone, so its design need not be the better one
+//! once the rate steps count), and each schedule is answered by the direct allocation
 //! of the angles and the rate tolerances together ([`e2e_verify::EndToEnd::allocate_direct_rate`],
 //! J over both, arcmin^-2, as `end-to-end --json` reports `rate_allocation.objective_arcmin`).
-//! The candidate with the least J is chosen and written by `--write-study`. The rate changes
+//! The pair (positions, rate) with the least J is chosen and written by `--write-study`. The rate changes
 //! how the rate accuracy, the ripple and the centripetal terms reach the outputs (the
 //! centripetal acceleration grows as the rate squared), so the best rate depends on the
 //! sensor, the table and the schedule.
@@ -34,8 +35,13 @@ pub fn rate(s: &str) -> Result<f64, String> {
 /// The choice among candidate rates.
 #[derive(Debug, Clone)]
 pub struct RateChoice {
-    /// Per candidate (deg/s): J (arcmin^-2), `None` when no table suffices at that rate.
+    /// Per candidate (deg/s): J (arcmin^-2) with the designed positions, `None` when no table
+    /// suffices at that rate.
     pub candidates: Vec<(f64, Option<f64>)>,
+    /// Per candidate: J (arcmin^-2) with the study's positions, as above.
+    pub study_positions: Vec<Option<f64>>,
+    /// Whether the chosen pair has the study's positions (else the designed ones).
+    pub chosen_study_positions: bool,
     /// The study's own rates with the same positions: J (arcmin^-2), `None` as above.
     pub study_rates_objective_arcmin: Option<f64>,
     /// The chosen rate (deg/s) and its J; `None` when no candidate has a table that suffices.
@@ -101,29 +107,54 @@ fn objective(s: &Study) -> Result<Option<f64>> {
         .map(|a| a.combined.objective_arcmin()))
 }
 
-/// Choose the rate among `rates` (deg/s) for the static positions `positions_deg`.
+/// Choose the rate among `rates` (deg/s) and the static positions between `designed_deg`
+/// and the study's (ties go to the designed positions, then to the earlier rate).
 ///
 /// # Errors
 /// As [`check`]; a library error located in the study.
-pub fn choose(s: &Study, positions_deg: &[Vec<f64>], rates: &[f64]) -> Result<RateChoice> {
+pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<RateChoice> {
     check(s, rates)?;
     let study = objective(
-        &s.with_positions_deg(positions_deg.to_vec())
+        &s.with_positions_deg(designed_deg.to_vec())
             .map_err(InputError::from)?,
     )?;
-    let candidates = rates
-        .iter()
-        .map(|&r| Ok((r, objective(&with_rate(s, positions_deg, r)?)?)))
-        .collect::<Result<Vec<_>>>()?;
-    let chosen = candidates
-        .iter()
-        .filter_map(|(r, j)| j.map(|j| (*r, j)))
-        .fold(None, |b: Option<(f64, f64)>, c| match b {
-            Some(b) if b.1 <= c.1 => Some(b),
-            _ => Some(c),
-        });
+    let at = |positions: &[Vec<f64>]| -> Result<Vec<(f64, Option<f64>)>> {
+        rates
+            .iter()
+            .map(|&r| Ok((r, objective(&with_rate(s, positions, r)?)?)))
+            .collect()
+    };
+    let candidates = at(designed_deg)?;
+    let study_positions: Vec<Option<f64>> = if designed_deg == s.positions_deg.as_slice() {
+        candidates.iter().map(|(_, j)| *j).collect()
+    } else {
+        at(&s.positions_deg)?.into_iter().map(|(_, j)| j).collect()
+    };
+    let best = |list: Vec<(f64, Option<f64>)>| {
+        list.into_iter()
+            .filter_map(|(r, j)| j.map(|j| (r, j)))
+            .fold(None, |b: Option<(f64, f64)>, c| match b {
+                Some(b) if b.1 <= c.1 => Some(b),
+                _ => Some(c),
+            })
+    };
+    let designed = best(candidates.clone());
+    let of_study = best(
+        rates
+            .iter()
+            .copied()
+            .zip(study_positions.iter().copied())
+            .collect(),
+    );
+    let (chosen, chosen_study_positions) = match (designed, of_study) {
+        (Some(d), Some(t)) if t.1 < d.1 => (Some(t), true),
+        (None, Some(t)) => (Some(t), true),
+        (d, _) => (d, false),
+    };
     Ok(RateChoice {
         candidates,
+        study_positions,
+        chosen_study_positions,
         study_rates_objective_arcmin: study,
         chosen,
     })
@@ -183,15 +214,25 @@ pub fn text(c: &RateChoice) -> String {
     let list: Vec<String> = c
         .candidates
         .iter()
-        .map(|(r, v)| format!("{} deg/s {}", num(*r), j(*v)))
+        .zip(&c.study_positions)
+        .map(|((r, v), t)| format!("{} deg/s {} (study's positions: {})", num(*r), j(*v), j(*t)))
         .collect();
     format!(
-        "\nrate of the rate steps, chosen among candidates with the designed positions (direct allocation of the angles and the rate tolerances together, arcmin^-2): {}; the study's rates: {}; chosen: {}\n",
+        "\nrate of the rate steps, chosen among candidates with the designed or the study's positions (direct allocation of the angles and the rate tolerances together, arcmin^-2): with the designed positions {}; the study's rates with the designed positions: {}; chosen: {}\n",
         list.join(", "),
         j(c.study_rates_objective_arcmin),
         c.chosen.map_or(
             "none (no candidate's table suffices)".into(),
-            |(r, v)| format!("{} deg/s (J = {})", num(r), num(v))
+            |(r, v)| format!(
+                "{} deg/s with the {} positions (J = {})",
+                num(r),
+                if c.chosen_study_positions {
+                    "study's"
+                } else {
+                    "designed"
+                },
+                num(v)
+            )
         )
     )
 }
@@ -202,7 +243,9 @@ pub fn json(c: &RateChoice) -> Value {
     json!({
         "candidates_deg_per_s": c.candidates.iter().map(|(r, _)| *r).collect::<Vec<_>>(),
         "objective_arcmin": c.candidates.iter().map(|(_, j)| *j).collect::<Vec<_>>(),
+        "study_positions_objective_arcmin": c.study_positions,
         "study_rates_objective_arcmin": c.study_rates_objective_arcmin,
+        "chosen_positions": c.chosen.map(|_| if c.chosen_study_positions { "study" } else { "designed" }),
         "chosen_deg_per_s": c.chosen.map(|(r, _)| r),
         "chosen_objective_arcmin": c.chosen.map(|(_, j)| j),
     })

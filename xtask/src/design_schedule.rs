@@ -223,7 +223,7 @@ fn noise_note(s: &Study) -> Option<&'static str> {
 /// designs the static positions, and its J values are those of the static positions alone.
 fn rate_steps_note(s: &Study) -> Option<&'static str> {
     s.has_rate_steps().then_some(
-        "the study has rate steps: the search designs the static positions only, and the J values below are those of the static positions alone (end-to-end on the written study answers with its rate steps); the rate steps are kept fixed and written unchanged with --write-study, unless --rates-deg-per-s gives candidate rates, of which the one with the least J of the allocation with the rate tolerances at the chosen positions is chosen and written",
+        "the study has rate steps: the search designs the static positions only, and the J values below are those of the static positions alone (end-to-end on the written study answers with its rate steps); the rate steps are kept fixed and written unchanged with --write-study, unless --rates-deg-per-s gives candidate rates: then the pair of a rate and the designed or the study's positions with the least J of the allocation with the rate tolerances is chosen and written",
     )
 }
 
@@ -800,7 +800,10 @@ pub fn run(args: &Args) -> Result<()> {
                 comment.push('\n');
                 comment.push_str(crate::design_rates::text(r).trim());
             }
-            let positions = if keep_study {
+            let rate_keeps_study = rates
+                .as_ref()
+                .is_some_and(|r| r.chosen.is_some() && r.chosen_study_positions);
+            let positions = if keep_study || rate_keeps_study {
                 &design.study.positions_deg
             } else {
                 &design.designed.positions_deg

@@ -191,9 +191,9 @@ fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
 }
 
 /// `design-schedule --rates-deg-per-s` chooses the rate of the study's rate steps among the
-/// candidates: the least J of the allocation with the rate tolerances at the designed
-/// positions, written by `--write-study` (each step's sign kept), and `end-to-end` on the
-/// written study answers with the same J.
+/// candidates and the static positions between the designed and the study's: the pair with
+/// the least J of the allocation with the rate tolerances, written by `--write-study` (each
+/// step's sign kept), and `end-to-end` on the written study answers with the same J.
 #[test]
 fn design_schedule_chooses_the_rate_with_the_least_j_and_writes_it() {
     // J is printed with 17 significant digits in JSON; the two runs take the same path
@@ -213,14 +213,32 @@ fn design_schedule_chooses_the_rate_with_the_least_j_and_writes_it() {
         "--json",
     ]);
     let r = &v["rates"];
-    let js: Vec<f64> = r["objective_arcmin"]
-        .as_array()
-        .expect("one J per candidate")
+    let list = |key: &str| -> Vec<f64> {
+        r[key]
+            .as_array()
+            .expect("one J per candidate")
+            .iter()
+            .map(common::num)
+            .collect()
+    };
+    // (J, rate, positions) of every pair; the least J wins, ties to the designed positions
+    // and the earlier rate
+    let mut pairs: Vec<(f64, f64, &str)> = Vec::new();
+    for (j, rate) in list("objective_arcmin").into_iter().zip([20.0, 60.0]) {
+        pairs.push((j, rate, "designed"));
+    }
+    for (j, rate) in list("study_positions_objective_arcmin")
+        .into_iter()
+        .zip([20.0, 60.0])
+    {
+        pairs.push((j, rate, "study"));
+    }
+    assert_eq!(pairs.len(), 4);
+    let best = pairs
         .iter()
-        .map(common::num)
-        .collect();
-    assert_eq!(js.len(), 2);
-    let least = if js[0] <= js[1] { 20.0 } else { 60.0 };
+        .fold(pairs[0], |b, c| if c.0 < b.0 { *c } else { b });
+    let least = best.1;
+    assert_eq!(r["chosen_positions"], best.2);
     // the chosen values are copies of a candidate's: equal to any relative tolerance
     approx::assert_relative_eq!(
         common::num(&r["chosen_deg_per_s"]),
@@ -228,7 +246,7 @@ fn design_schedule_chooses_the_rate_with_the_least_j_and_writes_it() {
         max_relative = SAME_PATH_REL
     );
     let chosen_j = common::num(&r["chosen_objective_arcmin"]);
-    approx::assert_relative_eq!(chosen_j, js[0].min(js[1]), max_relative = SAME_PATH_REL);
+    approx::assert_relative_eq!(chosen_j, best.0, max_relative = SAME_PATH_REL);
     let written = std::fs::read_to_string(&out).expect("written study");
     let rate = format!("rate_deg_per_s = {least:?}");
     let minus = format!("rate_deg_per_s = {:?}", -least);
