@@ -108,6 +108,6 @@ pub use noise::{
     CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
     NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
 };
-pub use rate::{EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase};
+pub use rate::{EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance};
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, RATE_DERIVATIVE_STEP, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

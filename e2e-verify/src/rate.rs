@@ -29,8 +29,10 @@ use crate::error::E2eError;
 
 /// Why a schedule with rate steps gets no certified allocation: the derived second-order
 /// bound ([`crate::EndToEnd::second_order_bound`]) assumes every entry's inputs are a rotation
-/// of the nominal ones (the earth's rate and 1 g), which a rate step's are not.
-pub const NOT_CERTIFIED_AT_RATE_STEPS: &str = "the schedule has rate steps: the second-order bound of the certificate is derived for static positions only (inputs a rotation of the earth's rate and 1 g), so the direct allocation is not certified on the exact chain; its worst vertex is checked on the exact chain instead";
+/// of the nominal ones (the earth's rate and 1 g), which a rate step's are not; what is
+/// checked instead ([`crate::EndToEnd::allocate_direct_rate`]) and why it is not a
+/// certificate.
+pub const NOT_CERTIFIED_AT_RATE_STEPS: &str = "the schedule has rate steps: the second-order bound of the certificate is derived for static positions only (inputs a rotation of the earth's rate and 1 g), and no bound of the second-order remainder of the revolution averages (which are smooth in the errors) is derived yet; the direct allocation is instead checked on the exact chain at each output's worst vertex, with the margin stated, which is not a certificate: the other vertices and the interior of the box are bounded to first order only";
 
 /// A table error beyond the angular errors $\chi$, appended to $\chi$ when the schedule has a
 /// rate step (see the [module](self)).
@@ -407,3 +409,311 @@ impl crate::EndToEnd {
 
 /// Draws per random stream of [`crate::EndToEnd::meeting_count_with_extra`].
 pub const EXTRA_MC_BLOCK: u64 = 4096;
+
+/// A tolerance of the errors only rotation exposes, as a rate table's sheet gives it: one per
+/// translation (m), and per turning joint its rate accuracy and its rate ripple (relative; the
+/// ripple's one bound holds both parts, cosine and sine, of the first harmonic).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RateTolerance {
+    /// The translation error of this index (m).
+    Translation(usize),
+    /// The rate accuracy of this joint (relative).
+    RateAccuracy(usize),
+    /// The rate ripple of this joint, each part of its first harmonic (relative).
+    Ripple(usize),
+}
+
+impl RateTolerance {
+    /// The tolerance an extra error is bounded by.
+    #[must_use]
+    pub fn of(x: ExtraError) -> Self {
+        match x {
+            ExtraError::Translation(i) => RateTolerance::Translation(i),
+            ExtraError::RateAccuracy(j) => RateTolerance::RateAccuracy(j),
+            ExtraError::RippleCos(j) | ExtraError::RippleSin(j) => RateTolerance::Ripple(j),
+        }
+    }
+
+    /// The sheet's key name: the translation's name, `<joint>_rate_accuracy`,
+    /// `<joint>_rate_ripple`.
+    #[must_use]
+    pub fn name(&self, turntable: &Turntable) -> String {
+        let joint = |j: usize| turntable.joints()[j].name.clone();
+        match *self {
+            RateTolerance::Translation(i) => turntable.translation_errors()[i].name.clone(),
+            RateTolerance::RateAccuracy(j) => format!("{}_rate_accuracy", joint(j)),
+            RateTolerance::Ripple(j) => format!("{}_rate_ripple", joint(j)),
+        }
+    }
+
+    /// Whether the tolerance is a translation (m); otherwise a relative rate error.
+    #[must_use]
+    pub fn is_translation(&self) -> bool {
+        matches!(self, RateTolerance::Translation(_))
+    }
+}
+
+/// The direct allocation of a study with rate steps: the angular errors and the rate
+/// tolerances ([`RateTolerance`]) allocated together ([`crate::EndToEnd::allocate_direct_rate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateAllocation {
+    /// The allocation over the joint vector $(\chi, T)$: `upper_bounds_rad` holds the angular
+    /// errors' bounds (rad) and then the tolerances' (m or relative, order of
+    /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
+    /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
+    /// `second_order_margins` the room kept for the exact chain at the worst vertex.
+    pub combined: crate::DirectAllocation,
+    /// The tolerances allocated, in order.
+    pub tolerances: Vec<RateTolerance>,
+    /// Their weights $w_t$ (unit of the tolerance per rad).
+    pub weights: Vec<f64>,
+    /// Per output, the worst case over both boxes (the angular box and every extra error
+    /// within its tolerance), linearised and on the exact chain at its worst vertex.
+    pub worst_cases: Vec<ExtraOutputWorstCase>,
+    /// Re-solves that kept room for the exact chain at the worst vertex (0: the first-order
+    /// allocation already met every accuracy there).
+    pub exact_rounds: usize,
+}
+
+impl RateAllocation {
+    /// The angular errors' bounds (rad; `+inf` for an error no output depends on).
+    #[must_use]
+    pub fn angles_rad(&self) -> &[f64] {
+        &self.combined.upper_bounds_rad
+            [..self.combined.upper_bounds_rad.len() - self.tolerances.len()]
+    }
+
+    /// The tolerances' bounds (m, relative; `+inf` for one no output depends on).
+    #[must_use]
+    pub fn tolerance_bounds(&self) -> &[f64] {
+        &self.combined.upper_bounds_rad
+            [self.combined.upper_bounds_rad.len() - self.tolerances.len()..]
+    }
+}
+
+/// Relative room kept below each accuracy when the exact chain at the worst vertex of the
+/// first-order allocation exceeds it: the second-order excess measured there is kept free,
+/// plus this share of the accuracy (dimensionless; the excess changes slightly with the
+/// re-solved box, 1e-3 covers that change for boxes whose second-order terms are small).
+pub const RATE_EXACT_ROOM_REL: f64 = 1e-3;
+
+/// Re-solves of [`crate::EndToEnd::allocate_direct_rate`] that keep room for the exact chain.
+pub const RATE_EXACT_ROUNDS: usize = 4;
+
+impl crate::EndToEnd {
+    /// The rate tolerances of the study's extra errors, in the order the extra errors first
+    /// name them (translations, then per turning joint its rate accuracy and ripple).
+    #[must_use]
+    pub fn rate_tolerances(&self) -> Vec<RateTolerance> {
+        let mut out: Vec<RateTolerance> = Vec::new();
+        for x in self.extra_errors() {
+            let t = RateTolerance::of(*x);
+            if !out.contains(&t) {
+                out.push(t);
+            }
+        }
+        out
+    }
+
+    /// The sheet's names of [`crate::EndToEnd::rate_tolerances`].
+    #[must_use]
+    pub fn rate_tolerance_names(&self) -> Vec<String> {
+        let t = self.turntable();
+        self.rate_tolerances().iter().map(|x| x.name(t)).collect()
+    }
+
+    /// The extra errors' bounds of the tolerances `bounds` (order of
+    /// [`crate::EndToEnd::rate_tolerances`]): each extra error within its tolerance; a
+    /// tolerance without a bound (`+inf`, no output depends on it) holds its errors at 0.
+    #[must_use]
+    pub fn extra_bounds_of(&self, bounds: &[f64]) -> Vec<f64> {
+        let tols = self.rate_tolerances();
+        self.extra_errors()
+            .iter()
+            .map(|x| {
+                let t = tols
+                    .iter()
+                    .position(|t| *t == RateTolerance::of(*x))
+                    .unwrap_or_default();
+                let b = bounds.get(t).copied().unwrap_or(0.0);
+                if b.is_finite() { b } else { 0.0 }
+            })
+            .collect()
+    }
+
+    /// The linearisation over $(\chi, T)$: $\mathbf M$ beside one column per rate tolerance,
+    /// $\sum_{e \in t} |N_{re}|$ (a tolerance bounding two errors, the ripple's parts, takes
+    /// both at its bound in the worst case: their parts add). Rows as $\mathbf M$'s.
+    #[must_use]
+    pub fn rate_linearization(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+    ) -> crate::Linearization {
+        let tols = self.rate_tolerances();
+        let (m, nx) = (linear.matrix(), extra_linear.matrix());
+        let (nm, nn) = (linear.rounding(), extra_linear.rounding());
+        let cols = m.ncols() + tols.len();
+        let mut a = nalgebra::DMatrix::zeros(m.nrows(), cols);
+        let mut noise = nalgebra::DMatrix::zeros(nm.nrows().max(linear.outputs()), cols);
+        a.view_mut((0, 0), (m.nrows(), m.ncols())).copy_from(m);
+        if nm.ncols() == m.ncols() && nm.nrows() == noise.nrows() {
+            noise.view_mut((0, 0), nm.shape()).copy_from(nm);
+        }
+        for (e, x) in self.extra_errors().iter().enumerate() {
+            let t = m.ncols()
+                + tols
+                    .iter()
+                    .position(|t| *t == RateTolerance::of(*x))
+                    .unwrap_or_default();
+            for r in 0..a.nrows() {
+                a[(r, t)] += nx[(r, e)].abs();
+            }
+            if nn.ncols() == nx.ncols() && nn.nrows() == noise.nrows() {
+                for k in 0..noise.nrows() {
+                    noise[(k, t)] += nn[(k, e)];
+                }
+            }
+        }
+        crate::Linearization::from_parts(a, linear.positions(), linear.outputs(), noise)
+    }
+
+    /// The weights of the rate tolerances in $J$, on the angles' scale ("like every other
+    /// error").
+    ///
+    /// # Choice
+    /// An error's end-to-end natural scale is
+    /// $c_j = \sqrt{\sum_k (\omega_{m,k}/\overline{|A_{kj}|})^2}$: per output $k$ the error
+    /// that, at its average sensitivity $\overline{|A_{kj}|}$ (over the entries where the error
+    /// acts: every entry for an angle, the rate steps for a rate tolerance), takes the whole
+    /// accuracy; the outputs combined as eq 28 combines the angles. It has the error's own
+    /// unit (rad, m, relative) whatever the outputs' units. The angles keep their eq-28
+    /// weights $w_j$ ([`crate::EndToEnd::combined_weights`]); a rate tolerance gets
+    /// $w_t = r\,c_t$ with $r$ the geometric mean over the angles of $w_j / c_j$
+    /// (rad$^{-1}$): a tolerance costs in $J$ what an angle of the same end-to-end influence
+    /// costs, and $w_t/T_t$ has the unit of $w_j/\mathrm{UB}_j$. No sheet's unit (ppm, mm)
+    /// enters: the allocation is the same in any unit. A tolerance no output depends on gets
+    /// weight 0 (no bound).
+    #[must_use]
+    pub fn rate_tolerance_weights(&self, combined: &crate::Linearization) -> Vec<f64> {
+        let n_angles = self.n_errors();
+        let acc = self.accuracies();
+        let a = combined.matrix();
+        let n = combined.positions();
+        let unconstrained = combined.unconstrained();
+        let scale = |j: usize| -> Option<f64> {
+            if unconstrained.contains(&j) {
+                return None;
+            }
+            let acting: Vec<usize> = (0..n)
+                .filter(|&i| (0..acc.len()).any(|k| a[(k * n + i, j)] != 0.0))
+                .collect();
+            if acting.is_empty() {
+                return None;
+            }
+            let mut sum = 0.0;
+            for (k, ak) in acc.iter().enumerate() {
+                let avg = acting.iter().map(|&i| a[(k * n + i, j)].abs()).sum::<f64>()
+                    / acting.len() as f64;
+                if avg > combined.rounding()[(k, j)] && avg > 0.0 {
+                    sum += (ak / avg).powi(2);
+                }
+            }
+            (sum > 0.0 && sum.is_finite()).then(|| sum.sqrt())
+        };
+        let w = self.combined_weights();
+        let logs: Vec<f64> = (0..n_angles)
+            .filter_map(|j| match (scale(j), w.get(j)) {
+                (Some(c), Some(&wj)) if wj > 0.0 && wj.is_finite() => Some((wj / c).ln()),
+                _ => None,
+            })
+            .collect();
+        // no angle to compare with: the tolerances' natural scales themselves
+        let r = if logs.is_empty() {
+            1.0
+        } else {
+            (logs.iter().sum::<f64>() / logs.len() as f64).exp()
+        };
+        (n_angles..a.ncols())
+            .map(|j| scale(j).map_or(0.0, |c| r * c))
+            .collect()
+    }
+
+    /// Direct allocation of the angular errors and the rate tolerances together (a study with
+    /// rate steps): $\min \sum_j w_j^2/\mathrm{UB}_j^2 + \sum_t w_t^2/T_t^2$ subject to every
+    /// row's worst case over both boxes, $\sum_j |M_{rj}|\,\mathrm{UB}_j +
+    /// \sum_t |A_{rt}|\,T_t \le \omega_{m,k}$ ([`crate::EndToEnd::rate_linearization`],
+    /// weights [`crate::EndToEnd::rate_tolerance_weights`]), $\mathrm{UB} \ge \mathrm{LB}$,
+    /// $T \ge 0$. The box is then checked on the exact chain at each output's worst vertex
+    /// ([`crate::EndToEnd::worst_case_with_extra`]); where the exact chain exceeds an
+    /// accuracy the excess plus [`RATE_EXACT_ROOM_REL`] of the accuracy is kept free and the
+    /// allocation solved again (at most [`RATE_EXACT_ROUNDS`] times). This is a check at the
+    /// worst vertex, not a certificate: see [`NOT_CERTIFIED_AT_RATE_STEPS`].
+    ///
+    /// # Errors
+    /// As [`crate::EndToEnd::allocate_direct`]; [`E2eError::NoConvergence`] when the exact
+    /// chain at the worst vertex still exceeds an accuracy after the re-solves.
+    pub fn allocate_direct_rate(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+    ) -> Result<RateAllocation, E2eError> {
+        crate::allocate::check_lower_bounds(self.turntable(), lower_bounds_rad)?;
+        let combined = self.rate_linearization(linear, extra_linear);
+        let tolerances = self.rate_tolerances();
+        let tol_weights = self.rate_tolerance_weights(&combined);
+        let mut weights = self.combined_weights();
+        weights.extend(&tol_weights);
+        let mut names = self.error_names();
+        names.extend(self.rate_tolerance_names());
+        let mut lb = lower_bounds_rad.to_vec();
+        lb.extend(std::iter::repeat_n(0.0, tolerances.len()));
+        let acc = self.accuracies();
+        let output_names: Vec<&str> = self
+            .calibration()
+            .outputs()
+            .iter()
+            .map(|o| o.output().name.as_str())
+            .collect();
+        let setup = crate::allocate::DirectSetup {
+            error_names: &names,
+            weights: &weights,
+            accuracies: &acc,
+            output_names: &output_names,
+        };
+        let n_angles = self.n_errors();
+        let mut margins = vec![0.0; acc.len()];
+        for round in 0..=RATE_EXACT_ROUNDS {
+            let d = setup.allocate(&combined, &lb, &margins, None)?;
+            let ub: Vec<f64> = d.upper_bounds_rad[..n_angles]
+                .iter()
+                .map(|u| if u.is_finite() { *u } else { 0.0 })
+                .collect();
+            let extra = self.extra_bounds_of(&d.upper_bounds_rad[n_angles..]);
+            let worst_cases = self.worst_case_with_extra(linear, extra_linear, &ub, &extra)?;
+            let mut over = false;
+            for w in &worst_cases {
+                let k = w.output;
+                if w.exact_at_vertex > acc[k] {
+                    over = true;
+                    margins[k] += w.exact_at_vertex - acc[k] + RATE_EXACT_ROOM_REL * acc[k];
+                }
+            }
+            if !over {
+                return Ok(RateAllocation {
+                    combined: d,
+                    tolerances,
+                    weights: tol_weights,
+                    worst_cases,
+                    exact_rounds: round,
+                });
+            }
+        }
+        Err(E2eError::NoConvergence {
+            what: "direct allocation with rate tolerances (the exact chain at the worst vertex exceeds an accuracy after keeping its excess free)",
+            iterations: RATE_EXACT_ROUNDS,
+            change: margins.iter().fold(0.0, |a: f64, b| a.max(*b)),
+        })
+    }
+}

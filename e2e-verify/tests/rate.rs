@@ -195,3 +195,91 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
         assert!(*mx <= o.exact_at_vertex.max(o.linear_bound) * (1.0 + 1e-3));
     }
 }
+
+/// Solver tolerance of the direct allocation's rows (relative to the accuracy).
+const SOLVER_REL: f64 = 1e-6;
+
+/// Issue 23: the direct allocation allocates the rate tolerances (rate accuracy and ripple per
+/// turning joint, the translations) together with the angles. Its box meets every accuracy on
+/// the first-order worst case over both boxes and on the exact chain at each output's worst
+/// vertex; every tolerance gets a finite positive bound.
+#[test]
+fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_worst_vertex() {
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let lb = vec![0.0; e.n_errors()];
+    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    let names = e.rate_tolerance_names();
+    assert_eq!(a.tolerances.len(), names.len());
+    for (t, name) in a.tolerance_bounds().iter().zip(&names) {
+        assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
+    }
+    assert!(a.combined.objective.is_finite() && a.combined.objective > 0.0);
+    let ub: Vec<f64> = a
+        .angles_rad()
+        .iter()
+        .map(|u| if u.is_finite() { *u } else { 0.0 })
+        .collect();
+    let extra = e.extra_bounds_of(a.tolerance_bounds());
+    let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
+    for (o, acc) in wc.iter().zip(e.accuracies()) {
+        assert!(
+            o.linear_bound <= acc * (1.0 + SOLVER_REL),
+            "output {}: first order {} > {acc}",
+            o.output,
+            o.linear_bound
+        );
+        assert!(
+            o.exact_at_vertex <= acc,
+            "output {}: exact chain {} > {acc}",
+            o.output,
+            o.exact_at_vertex
+        );
+    }
+    assert_eq!(a.worst_cases, wc, "the allocation reports the same check");
+}
+
+/// The rate-accuracy tolerance the direct allocation gives a turning joint agrees with the
+/// closed form: a rate accuracy e shifts the gyro's scale factor by e (1 + k), so at a
+/// 60 deg/s step (216,000 deg/h) it takes e (1 + k) 216,000 deg/h of that gyro's worst case,
+/// which with the other errors' parts fills the gyro's accuracy.
+#[test]
+fn direct_rate_allocation_rate_accuracy_agrees_with_the_closed_form() {
+    // the earth's rate (15 deg/h) against the step's 216,000 deg/h, and the scale factor
+    // (1 + k, |k| <= 3e-4) leave 1e-3 relative
+    const CLOSED_FORM_REL: f64 = 1e-3;
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let lb = vec![0.0; e.n_errors()];
+    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    let names = e.rate_tolerance_names();
+    let extra_names = e.extra_names();
+    let tol = |name: &str| a.tolerance_bounds()[names.iter().position(|n| n == name).unwrap()];
+    let step_deg_per_h = 60.0 * 3600.0;
+    let acc = e.accuracies();
+    // gy is the gyro about the inner axis (the study's steps turn phi_i about the sensor's y)
+    let eps = tol("phi_i_rate_accuracy");
+    let col = extra_names
+        .iter()
+        .position(|n| n == "phi_i_rate_accuracy")
+        .unwrap();
+    let (entry, per_unit) = (0..n.positions())
+        .map(|i| (i, n.row(1, i)[col].abs()))
+        .fold((0, 0.0), |b, c| if c.1 > b.1 { c } else { b });
+    let k_y = -2.0e-4; // sf_gy of the study
+    assert_relative_eq!(
+        per_unit,
+        step_deg_per_h * (1.0 + k_y),
+        max_relative = CLOSED_FORM_REL
+    );
+    // that entry's row over both boxes holds: the angles' part plus e (1 + k) 216,000 deg/h
+    // (and the other extra errors' parts) within the gyro's accuracy
+    let angles: f64 = m
+        .row(1, entry)
+        .iter()
+        .zip(a.angles_rad())
+        .map(|(c, u)| if u.is_finite() { c.abs() * u } else { 0.0 })
+        .sum();
+    assert!(angles + eps * per_unit <= acc[1] * (1.0 + SOLVER_REL));
+    assert!(eps > 0.0 && eps * per_unit <= acc[1]);
+}

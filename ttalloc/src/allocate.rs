@@ -313,6 +313,15 @@ pub fn run(args: &Args) -> Result<()> {
         .as_ref()
         .map(|(e2e, an)| crate::angle_alloc::to_text(e2e, an));
     let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
+    // rate steps: the direct allocation of the angles and the rate tolerances together
+    // (the two-step allocation above has no place for them)
+    let rate = if s.has_rate_steps() {
+        let e2e = crate::end_to_end::simulator(&s)?;
+        let settings = e2e_verify::McSettings::new(s.monte_carlo.samples, s.monte_carlo.seed);
+        crate::rate::allocation(&s, &e2e, &settings)?.map(|r| (e2e, r))
+    } else {
+        None
+    };
     let text_out = (!args.json).then(|| text(&s, &a, &v));
     if let (Some((e2e, an)), serde_json::Value::Object(m)) = (&angle, &mut v) {
         m.insert(
@@ -326,6 +335,12 @@ pub fn run(args: &Args) -> Result<()> {
             crate::angle::sheet_allocations_json(path, al),
         );
     }
+    if let (Some((e2e, r)), serde_json::Value::Object(m)) = (&rate, &mut v) {
+        m.insert(
+            "rate_allocation".into(),
+            crate::rate::allocation_json(e2e, r),
+        );
+    }
     match text_out {
         None => crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n")),
         Some(mut t) => {
@@ -334,6 +349,9 @@ pub fn run(args: &Args) -> Result<()> {
             }
             if let Some((path, al)) = &sheet {
                 t.push_str(&crate::angle::sheet_allocations_text(path, al));
+            }
+            if let Some((e2e, r)) = &rate {
+                t.push_str(&crate::rate::allocation_text(e2e, r));
             }
             crate::out::print(&t)
         }

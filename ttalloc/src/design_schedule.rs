@@ -75,6 +75,11 @@ pub struct Args {
     /// Write the Pareto front of `--time-budget-s` as an SVG figure to this new file.
     #[arg(long)]
     pub pareto_svg: Option<PathBuf>,
+    /// Candidate rates (deg/s, > 0, comma-separated) for the study's rate steps: the rate with
+    /// the least J of the allocation with the rate tolerances, at the designed positions, is
+    /// chosen (and written by `--write-study`; each step keeps its sign).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_parser = crate::design_rates::rate)]
+    pub rates_deg_per_s: Option<Vec<f64>>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -121,6 +126,8 @@ struct Outcome {
     seconds: f64,
     command: String,
     written: Option<String>,
+    /// With `--rates-deg-per-s`: the rate chosen among the candidates.
+    rates: Option<crate::design_rates::RateChoice>,
 }
 
 fn requirement_json(r: &ScheduleReport) -> Value {
@@ -216,7 +223,7 @@ fn noise_note(s: &Study) -> Option<&'static str> {
 /// designs the static positions, and its J values are those of the static positions alone.
 fn rate_steps_note(s: &Study) -> Option<&'static str> {
     s.has_rate_steps().then_some(
-        "the study has rate steps: they are kept fixed (and written unchanged with --write-study); the search designs the static positions only, and the J values below are those of the static positions alone (end-to-end on the written study answers with its rate steps)",
+        "the study has rate steps: the search designs the static positions only, and the J values below are those of the static positions alone (end-to-end on the written study answers with its rate steps); the rate steps are kept fixed and written unchanged with --write-study, unless --rates-deg-per-s gives candidate rates: then the pair of a rate and the designed or the study's positions with the least J of the allocation with the rate tolerances is chosen and written",
     )
 }
 
@@ -306,6 +313,9 @@ fn to_json(s: &Study, o: &Outcome) -> Value {
     m.insert("command".into(), json!(o.command));
     if let Some(n) = rate_steps_note(s) {
         m.insert("rate_steps_note".into(), json!(n));
+    }
+    if let Some(r) = &o.rates {
+        m.insert("rates".into(), crate::design_rates::json(r));
     }
     if let Some(n) = noise_note(s) {
         m.insert("noise_note".into(), json!(n));
@@ -501,6 +511,9 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     if let Some(n) = rate_steps_note(s) {
         t.push_str(&format!("note: {n}\n"));
     }
+    if let Some(r) = &o.rates {
+        t.push_str(&crate::design_rates::text(r));
+    }
     if let Some(n) = noise_note(s) {
         t.push_str(&format!("note: {n}\n"));
         if let Some(c) = &o.combined {
@@ -629,6 +642,9 @@ fn to_text(s: &Study, o: &Outcome) -> String {
 /// solver fails.
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::study::load(args.study.as_deref())?;
+    if let Some(rates) = &args.rates_deg_per_s {
+        crate::design_rates::check(&s, rates)?;
+    }
     if let Some(out) = &args.write_study {
         crate::newfile::check(out, "--write-study")?;
     }
@@ -676,6 +692,19 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     let combined = combined_choice(&s, &design)?;
+    let keep_study = combined.as_ref().is_some_and(|c| !c.designed_recommended);
+    let rates = match &args.rates_deg_per_s {
+        Some(r) => Some(crate::design_rates::choose(
+            &s,
+            if keep_study {
+                &design.study.positions_deg
+            } else {
+                &design.designed.positions_deg
+            },
+            r,
+        )?),
+        None => None,
+    };
     let budget = args
         .time_budget_s
         .map(|b| {
@@ -702,7 +731,7 @@ pub fn run(args: &Args) -> Result<()> {
         }
         _ => None,
     };
-    let command = format!(
+    let mut command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
         crate::paths::shell_quote(&s.path),
         positions,
@@ -710,6 +739,14 @@ pub fn run(args: &Args) -> Result<()> {
         num(args.max_condition),
         seed
     );
+    if let Some(r) = &args.rates_deg_per_s {
+        let list: Vec<String> = r.iter().map(|v| num(*v)).collect();
+        command.push_str(&format!(
+            " {} {}",
+            crate::design_rates::FLAG,
+            list.join(",")
+        ));
+    }
     let written = match &args.write_study {
         Some(out) => {
             let certified = design.designed.certified.as_ref().map_or_else(
@@ -739,7 +776,6 @@ pub fn run(args: &Args) -> Result<()> {
                         .join(", ")
                 },
             );
-            let keep_study = combined.as_ref().is_some_and(|c| !c.designed_recommended);
             let mut comment = format!(
                 "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.\nTolerances certified on the exact chain for these positions (arcmin, rounded down):\n{certified}.",
                 num(design.designed.allocation.objective_arcmin()),
@@ -760,7 +796,14 @@ pub fn run(args: &Args) -> Result<()> {
                 comment.push('\n');
                 comment.push_str(combined_text(c).trim_end());
             }
-            let positions = if keep_study {
+            if let Some(r) = &rates {
+                comment.push('\n');
+                comment.push_str(crate::design_rates::text(r).trim());
+            }
+            let rate_keeps_study = rates
+                .as_ref()
+                .is_some_and(|r| r.chosen.is_some() && r.chosen_study_positions);
+            let positions = if keep_study || rate_keeps_study {
                 &design.study.positions_deg
             } else {
                 &design.designed.positions_deg
@@ -768,6 +811,10 @@ pub fn run(args: &Args) -> Result<()> {
             let text = s
                 .text_with_positions(positions, &comment)
                 .map_err(InputError::from)?;
+            let text = match rates.as_ref().and_then(|r| r.chosen) {
+                Some((rate, _)) => crate::design_rates::text_with_rate(&s, &text, rate)?,
+                None => text,
+            };
             let shown = out.display().to_string();
             let back = Study::parse(&shown, &text)
                 .map_err(|e| anyhow::anyhow!("internal: the written study does not parse: {e}"))?;
@@ -804,6 +851,7 @@ pub fn run(args: &Args) -> Result<()> {
         seconds,
         command,
         written,
+        rates,
     };
     if args.json {
         crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &outcome))? + "\n"))

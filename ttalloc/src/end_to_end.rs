@@ -761,6 +761,7 @@ pub fn run(args: &Args) -> Result<()> {
     let speed = throughput(&e2e, &a, seed)?;
     let angle = crate::angle_alloc::compute(&s, &e2e)?;
     let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
+    let rate = crate::rate::allocation(&s, &e2e, &e2e_verify::McSettings::new(samples, seed))?;
     if args.json {
         let mut v = to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
         if let (Some(an), Value::Object(m)) = (&angle, &mut v) {
@@ -775,6 +776,12 @@ pub fn run(args: &Args) -> Result<()> {
                 crate::angle::sheet_allocations_json(path, al),
             );
         }
+        if let (Some(r), Value::Object(m)) = (&rate, &mut v) {
+            m.insert(
+                "rate_allocation".into(),
+                crate::rate::allocation_json(&e2e, r),
+            );
+        }
         crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
     } else {
         let mut t = to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed);
@@ -786,6 +793,9 @@ pub fn run(args: &Args) -> Result<()> {
         }
         if let Some((path, al)) = &sheet {
             t.push_str(&crate::angle::sheet_allocations_text(path, al));
+        }
+        if let Some(r) = &rate {
+            t.push_str(&crate::rate::allocation_text(&e2e, r));
         }
         if let Some(n) = crate::noise::note(&s) {
             t.push_str(&n);

@@ -22,6 +22,7 @@ mod calibration_error;
 mod check_turntable;
 mod csvio;
 mod design_budget;
+mod design_rates;
 mod design_schedule;
 mod end_to_end;
 mod estimable;

@@ -9,7 +9,9 @@
 
 use crate::InputError;
 use anyhow::Result;
-use e2e_verify::{EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings};
+use e2e_verify::{
+    EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, RateAllocation, RateTolerance,
+};
 use serde_json::{Value, json};
 use study::fmt::num;
 use study::{Study, Tolerances};
@@ -23,7 +25,7 @@ pub const STATIC_REQUIREMENT_NOTE: &str = "the study has rate steps: the orienta
 #[must_use]
 pub fn rate_steps_note(e2e: &EndToEnd) -> String {
     format!(
-        "{STATIC_REQUIREMENT_NOTE}; the errors only rotation exposes ({}) are held at zero here (an ideal rate table): `check-turntable` bounds them by a vendor's sheet",
+        "{STATIC_REQUIREMENT_NOTE}; the errors only rotation exposes ({}) are held at zero in the allocations above (an ideal rate table); the direct allocation with the rate tolerances (JSON `rate_allocation`) allocates them with the angles, and `check-turntable` bounds them by a vendor's sheet",
         e2e.extra_names().join(", ")
     )
 }
@@ -64,7 +66,8 @@ pub fn extra_bounds(e2e: &EndToEnd, tol: &Tolerances) -> Result<Vec<f64>, InputE
 }
 
 /// A bound or share of an extra error in the sheet's unit: mm or ppm.
-fn in_sheet_units(x: &ExtraError, v: f64) -> (f64, &'static str) {
+#[must_use]
+pub fn in_sheet_units(x: &ExtraError, v: f64) -> (f64, &'static str) {
     if x.is_translation() {
         (v * 1e3, "mm")
     } else {
@@ -193,6 +196,25 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
     s
 }
 
+/// The verdict over both boxes as a sentence (Markdown): whether every output's worst case
+/// (linear and at the worst vertex on the exact chain) is within its accuracy, and the yield.
+#[must_use]
+pub fn verdict_sentence(e2e: &EndToEnd, c: &RateCheck) -> String {
+    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
+    let verdict = if c.meets_every_accuracy(e2e) {
+        "these tolerances **meet** every accuracy with the rate errors and translations at their bounds (the worst turntable of both boxes, linearised and on the exact chain at its vertex)"
+    } else {
+        "these tolerances do **not** meet every accuracy with the rate errors and translations at their bounds (a turntable within both boxes misses)"
+    };
+    format!(
+        "{verdict}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%)",
+        100.0 * c.meets as f64 / c.samples as f64,
+        c.samples,
+        100.0 * lo,
+        100.0 * hi
+    )
+}
+
 /// The check as JSON (`rate_steps`).
 #[must_use]
 pub fn json(e2e: &EndToEnd, c: &RateCheck) -> Value {
@@ -246,5 +268,182 @@ pub fn json(e2e: &EndToEnd, c: &RateCheck) -> Value {
         "samples": c.samples,
         "max_drawn": c.max_drawn,
         "verdict": verdict,
+    })
+}
+
+/// A rate tolerance's bound in the sheet's unit: mm or ppm.
+#[must_use]
+pub fn tolerance_in_sheet_units(t: &RateTolerance, v: f64) -> (f64, &'static str) {
+    if t.is_translation() {
+        (v * 1e3, "mm")
+    } else {
+        (v * 1e6, "ppm")
+    }
+}
+
+/// The direct allocation of the angles and the rate tolerances together, with the Monte Carlo
+/// over both of its boxes (exact chain at random points: evidence beside the worst-vertex
+/// check, not a certificate).
+#[derive(Debug, Clone)]
+pub struct RateAllocated {
+    /// The allocation.
+    pub allocation: RateAllocation,
+    /// Turntables of both allocated boxes meeting every accuracy, of `samples`.
+    pub meets: u64,
+    /// Turntables drawn.
+    pub samples: u64,
+    /// The largest error drawn, per output.
+    pub max_drawn: Vec<f64>,
+}
+
+/// The direct allocation of the angles and the rate tolerances together for a study with
+/// rate steps, and its Monte Carlo over both boxes (`None` for a static study).
+///
+/// # Errors
+/// A library error located in the study.
+pub fn allocation(
+    s: &Study,
+    e2e: &EndToEnd,
+    settings: &McSettings,
+) -> Result<Option<RateAllocated>> {
+    if !e2e.has_rate_steps() {
+        return Ok(None);
+    }
+    let a = e2e
+        .allocate_direct_rate(
+            &e2e.linearization(),
+            &e2e.extra_linearization(),
+            &s.lower_bounds_rad,
+        )
+        .map_err(|e| crate::input::library(e, s))?;
+    let extra = e2e.extra_bounds_of(a.tolerance_bounds());
+    let (meets, max_drawn) = e2e
+        .meeting_count_with_extra(a.angles_rad(), &s.lower_bounds_rad, &extra, settings)
+        .map_err(|e| crate::input::library(e, s))?;
+    Ok(Some(RateAllocated {
+        allocation: a,
+        meets,
+        samples: settings.samples,
+        max_drawn,
+    }))
+}
+
+/// The allocation with the rate tolerances as text.
+#[must_use]
+pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
+    let a = &r.allocation;
+    let mut s = format!(
+        "\ndirect allocation with the rate tolerances (reading {}): the angles, rate accuracy, ripple and translations allocated together, J = {} arcmin^-2\n",
+        e2e.reading(),
+        num(a.combined.objective_arcmin())
+    );
+    let names = e2e.turntable().rotation_error_names();
+    let angles: Vec<String> = names
+        .iter()
+        .zip(a.angles_rad())
+        .map(|(n, u)| {
+            if u.is_finite() {
+                format!("{n} {} arcmin", num(tt_core::units::rad_to_arcmin(*u)))
+            } else {
+                format!("{n} no bound")
+            }
+        })
+        .collect();
+    s.push_str(&format!("  angles: {}\n", angles.join(", ")));
+    let tols: Vec<String> = e2e
+        .rate_tolerance_names()
+        .iter()
+        .zip(&a.tolerances)
+        .zip(a.tolerance_bounds())
+        .map(|((n, t), b)| {
+            if b.is_finite() {
+                let (v, unit) = tolerance_in_sheet_units(t, *b);
+                format!("{n} {} {unit}", num(v))
+            } else {
+                format!("{n} no bound")
+            }
+        })
+        .collect();
+    s.push_str(&format!("  rate tolerances: {}\n", tols.join(", ")));
+    let acc = e2e.accuracies();
+    for w in &a.worst_cases {
+        let out = e2e.calibration().outputs()[w.output].output();
+        s.push_str(&format!(
+            "  {}: worst case over both boxes {} {} (first order), exact chain at its worst vertex {} (entry {}), margin {} against {}\n",
+            out.name,
+            num(w.linear_bound),
+            out.unit,
+            num(w.exact_at_vertex),
+            w.position,
+            num(acc[w.output] - w.exact_at_vertex),
+            num(acc[w.output])
+        ));
+    }
+    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
+    s.push_str(&format!(
+        "  yield over both allocated boxes {}% [{}, {}] of {} turntables (exact chain at random points)\n",
+        num(100.0 * r.meets as f64 / r.samples as f64),
+        num(100.0 * lo),
+        num(100.0 * hi),
+        r.samples
+    ));
+    s.push_str(&format!(
+        "  not certified: {}\n",
+        e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS
+    ));
+    s
+}
+
+/// The allocation with the rate tolerances as JSON (`rate_allocation`).
+#[must_use]
+pub fn allocation_json(e2e: &EndToEnd, r: &RateAllocated) -> Value {
+    let a = &r.allocation;
+    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
+    let names = e2e.turntable().rotation_error_names();
+    let acc = e2e.accuracies();
+    let tolerances: Vec<Value> = e2e
+        .rate_tolerance_names()
+        .iter()
+        .zip(&a.tolerances)
+        .zip(a.tolerance_bounds())
+        .zip(&a.weights)
+        .map(|(((n, t), b), w)| {
+            let (v, unit) = tolerance_in_sheet_units(t, *b);
+            json!({
+                "name": n,
+                "bound": b.is_finite().then_some(v),
+                "unit": unit,
+                "weight_si_per_rad": w,
+            })
+        })
+        .collect();
+    let outputs: Vec<Value> = a
+        .worst_cases
+        .iter()
+        .map(|w| {
+            json!({
+                "output": e2e.calibration().outputs()[w.output].output().name,
+                "accuracy": acc[w.output],
+                "linear_bound": w.linear_bound,
+                "exact_at_vertex": w.exact_at_vertex,
+                "entry": w.position,
+                "margin": acc[w.output] - w.exact_at_vertex,
+                "second_order_room": a.combined.second_order_margins[w.output],
+            })
+        })
+        .collect();
+    json!({
+        "reading": e2e.reading().to_string(),
+        "objective_arcmin": a.combined.objective_arcmin(),
+        "bounds_arcmin": crate::out::arcmin_json(&names, a.angles_rad()),
+        "tolerances": tolerances,
+        "outputs": outputs,
+        "exact_rounds": a.exact_rounds,
+        "yield": r.meets as f64 / r.samples as f64,
+        "yield_interval_95": [lo, hi],
+        "samples": r.samples,
+        "max_drawn": r.max_drawn,
+        "certified": false,
+        "certified_note": e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
     })
 }

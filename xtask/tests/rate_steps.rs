@@ -125,3 +125,195 @@ fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
     assert!(note.contains("static"), "{note}");
     assert!(common::num(&v["direct_objective"]) > 0.0);
 }
+
+/// `end-to-end` with rate steps allocates the rate tolerances with the angles (JSON
+/// `rate_allocation`): rate accuracy and ripple in ppm, translations in mm, every output
+/// within its accuracy on the exact chain at its worst vertex, and the rate accuracy within
+/// the closed form's limit (a gyro's accuracy over the step's rate: 10 deg/h over
+/// 216,000 deg/h is 46.3 ppm).
+#[test]
+fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        &study(STUDY),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    let r = &v["rate_allocation"];
+    assert_eq!(r["certified"], false);
+    assert!(
+        r["certified_note"]
+            .as_str()
+            .expect("a note")
+            .contains("not a certificate")
+    );
+    let j = common::num(&r["objective_arcmin"]);
+    assert!(j.is_finite() && j > 0.0);
+    let tols = r["tolerances"].as_array().expect("tolerances");
+    let unit_of = |name: &str| {
+        tols.iter()
+            .find(|t| t["name"] == name)
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    assert_eq!(unit_of("deta_om")["unit"], "mm");
+    assert_eq!(unit_of("phi_i_rate_ripple")["unit"], "ppm");
+    let closed_form_ppm = 10.0 / (60.0 * 3600.0) * 1e6;
+    for joint in ["phi_o", "phi_m", "phi_i"] {
+        let t = unit_of(&format!("{joint}_rate_accuracy"));
+        assert_eq!(t["unit"], "ppm");
+        let ppm = common::num(&t["bound"]);
+        // the scale factor (1 + k, |k| <= 3e-4) lets it exceed the plain quotient by 3e-4
+        assert!(
+            ppm > 0.0 && ppm <= closed_form_ppm * (1.0 + 3e-4),
+            "{joint}: {ppm}"
+        );
+    }
+    // the Monte Carlo over both allocated boxes (exact chain at random points) never draws
+    // beyond an accuracy: the worst vertex keeps 1e-3 of each accuracy free
+    let drawn = r["max_drawn"].as_array().expect("max drawn");
+    // the margin is accuracy minus the exact value, computed once: rounding only
+    const MARGIN_REL: f64 = 1e-12;
+    for (o, d) in r["outputs"].as_array().expect("outputs").iter().zip(drawn) {
+        let (acc, exact) = (
+            common::num(&o["accuracy"]),
+            common::num(&o["exact_at_vertex"]),
+        );
+        assert!(exact <= acc, "{}: {exact} > {acc}", o["output"]);
+        assert!(common::num(d) <= acc, "{}: drawn {d} > {acc}", o["output"]);
+        approx::assert_relative_eq!(
+            common::num(&o["margin"]),
+            acc - exact,
+            max_relative = MARGIN_REL
+        );
+    }
+}
+
+/// `design-schedule --rates-deg-per-s` chooses the rate of the study's rate steps among the
+/// candidates and the static positions between the designed and the study's: the pair with
+/// the least J of the allocation with the rate tolerances, written by `--write-study` (each
+/// step's sign kept), and `end-to-end` on the written study answers with the same J.
+#[test]
+fn design_schedule_chooses_the_rate_with_the_least_j_and_writes_it() {
+    // J is printed with 17 significant digits in JSON; the two runs take the same path
+    const SAME_PATH_REL: f64 = 1e-9;
+    let dir = scratch("rate-steps", "design-rates");
+    let out = dir.join("designed.toml");
+    let v = json(&[
+        "design-schedule",
+        "--study",
+        &study(STUDY),
+        "--step-deg",
+        "90",
+        "--rates-deg-per-s",
+        "20,60",
+        "--write-study",
+        out.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    let r = &v["rates"];
+    let list = |key: &str| -> Vec<f64> {
+        r[key]
+            .as_array()
+            .expect("one J per candidate")
+            .iter()
+            .map(common::num)
+            .collect()
+    };
+    // (J, rate, positions) of every pair; the least J wins, ties to the designed positions
+    // and the earlier rate
+    let mut pairs: Vec<(f64, f64, &str)> = Vec::new();
+    for (j, rate) in list("objective_arcmin").into_iter().zip([20.0, 60.0]) {
+        pairs.push((j, rate, "designed"));
+    }
+    for (j, rate) in list("study_positions_objective_arcmin")
+        .into_iter()
+        .zip([20.0, 60.0])
+    {
+        pairs.push((j, rate, "study"));
+    }
+    assert_eq!(pairs.len(), 4);
+    let best = pairs
+        .iter()
+        .fold(pairs[0], |b, c| if c.0 < b.0 { *c } else { b });
+    let least = best.1;
+    assert_eq!(r["chosen_positions"], best.2);
+    // the chosen values are copies of a candidate's: equal to any relative tolerance
+    approx::assert_relative_eq!(
+        common::num(&r["chosen_deg_per_s"]),
+        least,
+        max_relative = SAME_PATH_REL
+    );
+    let chosen_j = common::num(&r["chosen_objective_arcmin"]);
+    approx::assert_relative_eq!(chosen_j, best.0, max_relative = SAME_PATH_REL);
+    let written = std::fs::read_to_string(&out).expect("written study");
+    let rate = format!("rate_deg_per_s = {least:?}");
+    let minus = format!("rate_deg_per_s = {:?}", -least);
+    assert_eq!(written.matches(&rate).count(), 3, "{written}");
+    assert_eq!(written.matches(&minus).count(), 3, "{written}");
+    let e = json(&[
+        "end-to-end",
+        "--study",
+        out.to_str().expect("utf-8"),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    approx::assert_relative_eq!(
+        common::num(&e["rate_allocation"]["objective_arcmin"]),
+        chosen_j,
+        max_relative = SAME_PATH_REL
+    );
+}
+
+/// Bad candidate rates exit 2 naming the flag: above a turning joint's limit, zero, and on a
+/// study without rate steps.
+#[test]
+fn bad_candidate_rates_exit_2_naming_the_flag() {
+    for (s, rates) in [
+        (study(STUDY), "60,400"),
+        (study(STUDY), "0"),
+        (study("imu-triad-example"), "60"),
+    ] {
+        let o = common::run(&[
+            "design-schedule",
+            "--study",
+            &s,
+            "--step-deg",
+            "90",
+            "--rates-deg-per-s",
+            rates,
+        ]);
+        assert_input_error(&o, &["--rates-deg-per-s"]);
+    }
+}
+
+/// `allocate` on a study with rate steps prints, beside the two-step allocation, the direct
+/// allocation with the rate tolerances (JSON `rate_allocation`), the same as `end-to-end`'s.
+#[test]
+fn allocate_shows_the_rate_tolerances_like_end_to_end() {
+    // the same computation on the same study: rounding only
+    const SAME_PATH_REL: f64 = 1e-12;
+    let a = json(&["allocate", "--study", &study(STUDY), "--json"]);
+    let e = json(&[
+        "end-to-end",
+        "--study",
+        &study(STUDY),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    let (ra, re) = (&a["rate_allocation"], &e["rate_allocation"]);
+    approx::assert_relative_eq!(
+        common::num(&ra["objective_arcmin"]),
+        common::num(&re["objective_arcmin"]),
+        max_relative = SAME_PATH_REL
+    );
+    assert_eq!(ra["tolerances"], re["tolerances"]);
+    let text = common::stdout(&common::run(&["allocate", "--study", &study(STUDY)]));
+    assert!(
+        text.contains("phi_i_rate_accuracy 46.") && text.contains(" ppm") && text.contains(" mm"),
+        "{text}"
+    );
+}

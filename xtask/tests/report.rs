@@ -756,3 +756,89 @@ fn report_with_a_sheet_answers_with_its_verdict_first_and_treats_groups_as_one()
         "the paper's direct allocation misses by 0.0100025 on the exact chain"
     );
 }
+
+/// Issue 23: the report's vendor section of a study with rate steps shows the rate errors
+/// and translations like every other error (bound, part of the worst case, verdict and yield
+/// over both boxes), the numbers of `check-turntable`'s `rate_steps` (one computation).
+#[test]
+fn report_vendor_section_shows_the_rate_errors_with_their_bounds_parts_and_verdict() {
+    // parts and bounds are printed with 4 significant digits
+    const PRINTED_RELATIVE: f64 = 1e-3;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let sheet = "studies/tolerances/tactical-rate-table-sheet.toml";
+    let o = run(&[
+        "report",
+        "--study",
+        "studies/tactical-rate-table-example.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--tolerances",
+        sheet,
+    ]);
+    ok(&o);
+    let md = read(&out, "report.md");
+    let start = md
+        .find("### Rate errors and translations at the rate steps")
+        .expect("the rate errors' subsection");
+    let section = &md[start..];
+    for needle in [
+        "`phi_o_rate_accuracy` | 100 ppm",
+        "`phi_m_rate_ripple_cos` | 1000 ppm",
+        "`deta_om` | 0.1 mm",
+        "Verdict with the rate errors and translations: these tolerances do **not** meet",
+        "random turntables over both boxes",
+    ] {
+        assert!(section.contains(needle), "{needle} in:\n{section}");
+    }
+    // the direct allocation with the rate tolerances, in ppm and mm
+    let alloc = &md[md
+        .find("## Direct allocation with the rate tolerances")
+        .expect("the allocation with the rate tolerances")..];
+    for needle in [
+        "`phi_i_rate_accuracy` | 46.",
+        " ppm",
+        " mm",
+        "Not a certificate",
+    ] {
+        assert!(alloc.contains(needle), "{needle} in:\n{alloc}");
+    }
+    assert!(v_has_rate_allocation(&json(&out)));
+    assert!(
+        md.contains("The study has rate steps, and with the sheet's rate errors and translations"),
+        "the answer names the verdict with the rate errors"
+    );
+    // the report's JSON carries check-turntable's rate_steps, the same numbers
+    let v = json(&out);
+    let r = &v["vendor"]["rate_steps"];
+    assert_eq!(r["verdict"], "does not meet");
+    let c = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args([
+            "check-turntable",
+            "--study",
+            "studies/tactical-rate-table-example.toml",
+            "--tolerances",
+            sheet,
+            "--samples",
+            "2000",
+            "--json",
+        ])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    ok(&c);
+    let ct: Value = serde_json::from_slice(&c.stdout).unwrap();
+    assert_eq!(r, &ct["rate_steps"][0], "one computation, one answer");
+    // gx: 100 ppm of the 60 deg/s steps (216,000 deg/h), to first order
+    let extra = r["outputs"][0]["extra_part"].as_f64().unwrap();
+    approx::assert_relative_eq!(extra, 21.6, max_relative = PRINTED_RELATIVE);
+}
+
+/// Whether the report's JSON carries the allocation with the rate tolerances.
+fn v_has_rate_allocation(v: &Value) -> bool {
+    v["rate_allocation"]["tolerances"]
+        .as_array()
+        .is_some_and(|t| !t.is_empty())
+}

@@ -134,6 +134,13 @@ pub struct Computed {
     pub noise: Option<crate::end_to_end::NoisyAnswer>,
     /// The vendor check with the noise part (study's reading), when both are given.
     pub vendor_noise: Option<crate::check_turntable::NoisyCheck>,
+    /// The vendor check over the angular box and the sheet's rate errors and translations
+    /// together (study's reading; `check-turntable`'s `rate_steps`), for a study with rate
+    /// steps.
+    pub vendor_rate: Option<crate::rate::RateCheck>,
+    /// The direct allocation of the angles and the rate tolerances together (study's
+    /// reading), for a study with rate steps.
+    pub rate_alloc: Option<crate::rate::RateAllocated>,
     /// The paper's extras.
     pub paper: Option<PaperExtras>,
     /// Which table errors the calibration estimates itself (joint least squares, user's
@@ -582,6 +589,26 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         }
         None => None,
     };
+    let vendor_rate = match &vendor {
+        Some((tol, _)) if e2e.has_rate_steps() => {
+            let lb = crate::check_turntable::lower_bounds_within(s, tol);
+            Some(crate::rate::check(
+                s,
+                &e2e,
+                tol,
+                &lb,
+                &e2e_verify::McSettings::new(options.samples, options.seed),
+            )?)
+        }
+        _ => None,
+    };
+    timing("vendor check with rate errors", started);
+    let rate_alloc = crate::rate::allocation(
+        s,
+        &e2e,
+        &e2e_verify::McSettings::new(options.samples, options.seed),
+    )?;
+    timing("allocation with rate tolerances", started);
     // the joint estimation is built on static positions (one orientation error each)
     let estimable = if e2e.has_rate_steps() {
         None
@@ -607,6 +634,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         angle_alloc,
         noise,
         vendor_noise,
+        vendor_rate,
+        rate_alloc,
         study,
         options,
         requirement,

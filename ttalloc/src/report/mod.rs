@@ -250,6 +250,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                 "verdict": chk.verdict.name(),
                 "yield": f(chk.distribution.yield_fraction()),
                 "outputs": chk.outputs.iter().map(|o| json!({"output": outs[o.output], "verdict": o.verdict.name(), "worst_case": f(o.worst_case.exact_at_vertex), "accuracy": f(o.accuracy), "precision": f(o.worst_case.precision)})).collect::<Vec<_>>(),
+                "rate_steps": c.vendor_rate.as_ref().map(|r| crate::rate::json(&c.e2e, r)),
             }),
         );
     }
@@ -291,6 +292,12 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
             json!(e2e_verify::paper::registry::summary(&p.claims)),
         );
         m.insert("paper_versus_ours".into(), Value::Array(comparisons.iter().map(|r| json!({"quantity": r.quantity, "paper": f(r.paper), "ours": f(r.ours), "unit": r.unit, "reason": r.reason})).collect()));
+    }
+    if let Some(r) = &c.rate_alloc {
+        m.insert(
+            "rate_allocation".into(),
+            crate::rate::allocation_json(&c.e2e, r),
+        );
     }
     if let Some(a) = &c.angle_alloc {
         m.insert(
@@ -368,6 +375,7 @@ fn render(c: &Computed) -> Result<Rendered> {
     )?;
     sec.end_to_end()?;
     sec.noise()?;
+    sec.rate_allocation();
     sec.vendor();
     sec.designed();
     sec.angle_allocation();

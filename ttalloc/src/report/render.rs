@@ -314,7 +314,12 @@ impl<'a> Sections<'a> {
                         .as_ref()
                         .map_or(String::new(), |n| format!(" ({})", doc::text(n))),
                     upper_first(&sheet_verdict(chk))
-                )
+                ) + &c.vendor_rate.as_ref().map_or(String::new(), |r| {
+                    format!(
+                        ". The study has rate steps, and with the sheet's rate errors and translations: {}",
+                        crate::rate::verdict_sentence(&c.e2e, r)
+                    )
+                })
             }
             None => format!("**Answer.** {allocation_question}"),
         };
@@ -1807,6 +1812,7 @@ impl<'a> Sections<'a> {
         self.doc
             .callout(format!("Verdict: {}.", sheet_verdict(chk)));
         self.disc_allocation();
+        self.vendor_rate();
     }
 
     /// The sheet's pairs (wobble, orthogonality) allocated with one tolerance each, as a disc
@@ -1856,6 +1862,163 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
+    }
+
+    /// The direct allocation of a study with rate steps: the angles and the rate tolerances
+    /// (rate accuracy, ripple, translations) allocated together (`crate::rate::allocation`).
+    pub fn rate_allocation(&mut self) {
+        let c = self.c;
+        let Some(ra) = &c.rate_alloc else { return };
+        let a = &ra.allocation;
+        let e2e = &c.e2e;
+        let outs = self.outputs();
+        self.doc.h(2, "Direct allocation with the rate tolerances");
+        self.doc.p(format!(
+            "The study has rate steps, where the table's rate accuracy, its rate ripple and its translations (the axes' non-intersection) act besides the angles. The direct allocation gives them tolerances together with the angles (reading {}): every output's worst case over both boxes within its accuracy to first order, then checked on the exact chain at each output's worst vertex. A tolerance costs in J what an angle of the same end-to-end influence costs (the weights' choice is documented at `EndToEnd::rate_tolerance_weights`). J = {} arcmin⁻² over both.",
+            doc::code(&e2e.reading().to_string()),
+            sig(a.combined.objective_arcmin(), 5)
+        ));
+        let names = e2e.turntable().rotation_error_names();
+        let mut rows: Vec<Vec<String>> = names
+            .iter()
+            .zip(a.angles_rad())
+            .map(|(n, u)| {
+                vec![
+                    doc::code(n),
+                    if u.is_finite() {
+                        format!("{} arcmin", sig(rad_to_arcmin(*u), 4))
+                    } else {
+                        "no bound needed".into()
+                    },
+                ]
+            })
+            .collect();
+        rows.extend(
+            e2e.rate_tolerance_names()
+                .iter()
+                .zip(&a.tolerances)
+                .zip(a.tolerance_bounds())
+                .map(|((n, t), b)| {
+                    vec![
+                        doc::code(n),
+                        if b.is_finite() {
+                            let (v, unit) = crate::rate::tolerance_in_sheet_units(t, *b);
+                            format!("{} {unit}", sig(v, 4))
+                        } else {
+                            "no bound needed".into()
+                        },
+                    ]
+                }),
+        );
+        self.doc.table(&["error", "allocated bound"], rows);
+        let acc = e2e.accuracies();
+        let rows = a
+            .worst_cases
+            .iter()
+            .map(|w| {
+                let (n, u, _) = &outs[w.output];
+                vec![
+                    format!("`{n}`"),
+                    format!("{} {u}", num(acc[w.output])),
+                    format!("{} {u}", sig(w.linear_bound, 5)),
+                    format!("{} {u}", sig(w.exact_at_vertex, 5)),
+                    format!("{} {u}", sig(acc[w.output] - w.exact_at_vertex, 3)),
+                ]
+            })
+            .collect();
+        self.doc.table(
+            &[
+                "output",
+                "accuracy",
+                "worst case, both boxes (first order)",
+                "exact chain at the worst vertex",
+                "margin there",
+            ],
+            rows,
+        );
+        let (lo, hi) = e2e_verify::wilson_interval_95(ra.meets, ra.samples);
+        self.doc.p(format!(
+            "{:.2}% of {} random turntables within both allocated boxes meet every accuracy on the exact chain (95% interval {:.2}%-{:.2}%). Not a certificate: {}.",
+            100.0 * ra.meets as f64 / ra.samples as f64,
+            ra.samples,
+            100.0 * lo,
+            100.0 * hi,
+            doc::text(e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS)
+        ));
+    }
+
+    /// The vendor check of a study with rate steps over the angular box and the sheet's rate
+    /// errors and translations together (`check-turntable`'s `rate_steps`, computed once).
+    fn vendor_rate(&mut self) {
+        let c = self.c;
+        let Some(r) = &c.vendor_rate else { return };
+        let outs = self.outputs();
+        let e2e = &c.e2e;
+        self.doc
+            .h(3, "Rate errors and translations at the rate steps");
+        self.doc.p(format!(
+            "At a rate step the table's rate accuracy, its rate ripple (first harmonic, cosine and sine parts, each within the sheet's ripple) and its translations (the axes' non-intersection) act besides the angles; the table above holds them at zero. Here the sheet bounds them: the worst case over the angular box and their box together (reading {}, linearised, confirmed on the exact chain at the worst vertex), each one's part of it at the entry where it is reached, and the Monte Carlo yield over both boxes ({}).",
+            doc::code(&e2e.reading().to_string()),
+            doc::code("check-turntable --json: rate_steps")
+        ));
+        let names = e2e.extra_names();
+        let mut header: Vec<String> = vec!["error".into(), "bound".into()];
+        header.extend(
+            r.outputs
+                .iter()
+                .map(|o| format!("part for `{}` ({})", outs[o.output].0, outs[o.output].1)),
+        );
+        let rows = e2e
+            .extra_errors()
+            .iter()
+            .enumerate()
+            .map(|(i, x)| {
+                let (b, unit) = crate::rate::in_sheet_units(x, r.bounds[i]);
+                let mut row = vec![doc::code(&names[i]), format!("{} {unit}", num(b))];
+                row.extend(r.outputs.iter().map(|o| sig(o.extra_parts[i], 4)));
+                row
+            })
+            .collect();
+        let h: Vec<&str> = header.iter().map(String::as_str).collect();
+        self.doc.table(&h, rows);
+        let acc = e2e.accuracies();
+        let rows = r
+            .outputs
+            .iter()
+            .map(|o| {
+                let (n, u, _) = &outs[o.output];
+                let meets = o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output];
+                vec![
+                    format!("`{n}`"),
+                    format!("{} {u}", num(acc[o.output])),
+                    format!("{} {u}", sig(o.linear_bound, 5)),
+                    sig(o.angular_part, 4),
+                    sig(o.extra_part(), 4),
+                    o.position.to_string(),
+                    format!("{} {u}", sig(o.exact_at_vertex, 5)),
+                    format!("{} {u}", sig(r.max_drawn[o.output], 5)),
+                    yes_no(meets),
+                ]
+            })
+            .collect();
+        self.doc.table(
+            &[
+                "output",
+                "accuracy",
+                "worst case, both boxes",
+                "angles' part",
+                "rate errors' and translations' part",
+                "entry",
+                "exact chain at the worst vertex",
+                "largest error drawn",
+                "meets",
+            ],
+            rows,
+        );
+        self.doc.callout(format!(
+            "Verdict with the rate errors and translations: {}.",
+            crate::rate::verdict_sentence(e2e, r)
+        ));
     }
 
     /// The allocation when the study's errors vary with the shaft angle, and after its measured
