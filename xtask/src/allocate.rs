@@ -51,6 +51,11 @@ pub struct Args {
     /// second-order terms).
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_parser = parse_margin)]
     pub safety_margin: f64,
+    /// A vendor sheet whose magnitudes (`[axes.<joint>]` wobble, orthogonality) pair the
+    /// errors: adds the direct and certified allocation with one tolerance per pair, as a
+    /// disc and as a square (JSON `disc_allocation`).
+    #[arg(long)]
+    pub tolerances: Option<std::path::PathBuf>,
 }
 
 fn parse_margin(s: &str) -> Result<f64, String> {
@@ -307,6 +312,7 @@ pub fn run(args: &Args) -> Result<()> {
     let extra = angle
         .as_ref()
         .map(|(e2e, an)| crate::angle_alloc::to_text(e2e, an));
+    let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
     let text_out = (!args.json).then(|| text(&s, &a, &v));
     if let (Some((e2e, an)), serde_json::Value::Object(m)) = (&angle, &mut v) {
         m.insert(
@@ -314,11 +320,20 @@ pub fn run(args: &Args) -> Result<()> {
             crate::angle_alloc::to_json(e2e, an),
         );
     }
+    if let (Some((path, al)), serde_json::Value::Object(m)) = (&sheet, &mut v) {
+        m.insert(
+            "disc_allocation".into(),
+            crate::angle::sheet_allocations_json(path, al),
+        );
+    }
     match text_out {
         None => crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n")),
         Some(mut t) => {
             if let Some(x) = extra {
                 t.push_str(&x);
+            }
+            if let Some((path, al)) = &sheet {
+                t.push_str(&crate::angle::sheet_allocations_text(path, al));
             }
             crate::out::print(&t)
         }

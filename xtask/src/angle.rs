@@ -368,7 +368,7 @@ fn certified_words(d: &std::result::Result<DirectAllocation, String>) -> String 
 }
 
 /// The text of the allocations with one tolerance per pair.
-fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> String {
+pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> String {
     let names = e2e.turntable().rotation_error_names();
     let arcmin = |u: f64| {
         if u.is_finite() {
@@ -435,25 +435,113 @@ fn certified_json(names: &[&str], d: &std::result::Result<DirectAllocation, Stri
     }
 }
 
-fn disc_json(e2e: &EndToEnd, d: &DiscWorst) -> Value {
+/// The allocations' JSON object (`constant` / `angle_dependent`, each `disc` / `square`
+/// with `objective_arcmin` and `upper_bounds_arcmin`; the angle-dependent model's certified
+/// ones as `disc_certified` / `square_certified`, or `{"not_certified": why}`).
+pub(crate) fn disc_allocation_json(e2e: &EndToEnd, al: &DiscAllocation) -> Value {
     let names = e2e.turntable().rotation_error_names();
+    json!({
+        "constant": {
+            "disc": allocation_json(&names, &al.constant_disc),
+            "square": allocation_json(&names, &al.constant_square),
+        },
+        "angle_dependent": {
+            "disc": allocation_json(&names, &al.angle_disc),
+            "square": allocation_json(&names, &al.angle_square),
+            "disc_certified": certified_json(&names, &al.angle_disc_certified),
+            "square_certified": certified_json(&names, &al.angle_square_certified),
+        },
+    })
+}
+
+/// The allocations with one tolerance per pair of the sheet `tol` (its `[axes.<joint>]`
+/// wobbles and orthogonalities; the values are not used, only which errors pair up), for the
+/// study's reading and the user's when different; the angle-dependent model is
+/// [`model_of`]'s. Empty when the sheet states no pair.
+///
+/// # Errors
+/// A library error located in the study.
+pub fn sheet_allocations(
+    s: &Study,
+    e2e: &EndToEnd,
+    tol: &study::Tolerances,
+) -> Result<Vec<(EndToEnd, DiscAllocation)>> {
+    if tol.discs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let (_, variations) = model_of(s, tol);
+    let pairs: Vec<Pair> = tol
+        .discs
+        .iter()
+        .map(|d| Pair {
+            errors: d.errors,
+            shape: PairShape::Disc,
+        })
+        .collect();
+    let mut sims = vec![e2e.clone()];
+    if e2e.reading() != calib_lsq::Reading::USER {
+        sims.push(e2e.with_reading(calib_lsq::Reading::USER).map_err(lib)?);
+    }
+    sims.into_iter()
+        .map(|sim| {
+            let kin = |e: tt_kinematics::KinematicsError| crate::input::library(e, s);
+            let constant = Expansion::new(
+                sim.turntable(),
+                &vec![ErrorVariation::Constant; sim.n_errors()],
+                sim.poses(),
+            )
+            .map_err(kin)?;
+            let ex = Expansion::new(sim.turntable(), &variations, sim.poses()).map_err(kin)?;
+            let cm = sim.pair_model(&constant).map_err(lib)?;
+            let am = sim.pair_model(&ex).map_err(lib)?;
+            let al = paired_allocations(s, &sim, &cm, &am, &pairs)?;
+            Ok((sim, al))
+        })
+        .collect()
+}
+
+/// The sheet allocations' text block.
+#[must_use]
+pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> String {
+    if a.is_empty() {
+        return format!(
+            "\n{path} states no magnitude (wobble, orthogonality): no pair of errors to allocate one tolerance\n"
+        );
+    }
+    let mut t = format!(
+        "\nthe pairs of {path} (each wobble and orthogonality one tolerance, a magnitude sqrt(a_x^2 + a_y^2) <= w, beside the square around it):\n"
+    );
+    for (e2e, al) in a {
+        t.push_str(&format!("reading {}\n", e2e.reading()));
+        t.push_str(&disc_allocation_text(e2e, al));
+    }
+    t
+}
+
+/// The sheet allocations' JSON value (`disc_allocation`): `{"tolerances", "readings":
+/// [{"reading", ...[`disc_allocation_json`]}]}`.
+#[must_use]
+pub fn sheet_allocations_json(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> Value {
+    json!({
+        "tolerances": path,
+        "readings": a.iter().map(|(e2e, al)| {
+            let mut v = disc_allocation_json(e2e, al);
+            if let Value::Object(m) = &mut v {
+                m.insert("reading".into(), json!(e2e.reading().to_string()));
+            }
+            v
+        }).collect::<Vec<_>>(),
+    })
+}
+
+fn disc_json(e2e: &EndToEnd, d: &DiscWorst) -> Value {
     json!({
         "worst_case_linear_lower": d.angle_lower,
         "yield": d.yield_.fraction(),
         "yield_interval_95": [d.yield_.interval_95.0, d.yield_.interval_95.1],
         "samples": d.yield_.samples,
-        "allocation": d.allocation.as_ref().map(|al| json!({
-            "constant": {
-                "disc": allocation_json(&names, &al.constant_disc),
-                "square": allocation_json(&names, &al.constant_square),
-            },
-            "angle_dependent": {
-                "disc": allocation_json(&names, &al.angle_disc),
-                "square": allocation_json(&names, &al.angle_square),
-                "disc_certified": certified_json(&names, &al.angle_disc_certified),
-                "square_certified": certified_json(&names, &al.angle_square_certified),
-            },
-        })),
+        "allocation": d.allocation.as_ref().map(|al| disc_allocation_json(e2e, al)),
     })
 }
 

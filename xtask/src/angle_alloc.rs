@@ -261,3 +261,23 @@ pub fn to_text(e2e: &EndToEnd, a: &AngleAllocations) -> String {
     }
     t
 }
+
+/// A sheet's path as given and its allocations per reading ([`sheet`]).
+pub type SheetAllocations = (String, Vec<(EndToEnd, crate::angle::DiscAllocation)>);
+
+/// The allocations with one tolerance per pair of the vendor sheet at `path` (`--tolerances`
+/// of `allocate` and `end-to-end`, [`crate::angle::sheet_allocations`]), with the path as
+/// given; `None` without a sheet.
+///
+/// # Errors
+/// [`crate::InputError`] for a bad sheet (exit 2 naming the key); a library error located in
+/// the study.
+pub fn sheet(s: &Study, path: Option<&std::path::Path>) -> Result<Option<SheetAllocations>> {
+    let Some(path) = path else {
+        return Ok(None);
+    };
+    let tol = study::Tolerances::load(path, &s.turntable).map_err(crate::InputError::from)?;
+    let e2e = crate::end_to_end::simulator(s)?;
+    let al = crate::angle::sheet_allocations(s, &e2e, &tol)?;
+    Ok(Some((tol.path.clone(), al)))
+}

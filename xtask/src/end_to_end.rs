@@ -50,6 +50,11 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// A vendor sheet whose magnitudes (`[axes.<joint>]` wobble, orthogonality) pair the
+    /// errors: adds the direct and certified allocation with one tolerance per pair, as a
+    /// disc and as a square (JSON `disc_allocation`).
+    #[arg(long)]
+    pub tolerances: Option<std::path::PathBuf>,
 }
 
 /// The answer with the noise part: per reading (the order of the answer's readings) every
@@ -755,12 +760,19 @@ pub fn run(args: &Args) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let speed = throughput(&e2e, &a, seed)?;
     let angle = crate::angle_alloc::compute(&s, &e2e)?;
+    let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
     if args.json {
         let mut v = to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
         if let (Some(an), Value::Object(m)) = (&angle, &mut v) {
             m.insert(
                 "angle_dependent".into(),
                 crate::angle_alloc::to_json(&e2e, an),
+            );
+        }
+        if let (Some((path, al)), Value::Object(m)) = (&sheet, &mut v) {
+            m.insert(
+                "disc_allocation".into(),
+                crate::angle::sheet_allocations_json(path, al),
             );
         }
         crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
@@ -771,6 +783,9 @@ pub fn run(args: &Args) -> Result<()> {
         }
         if let Some(an) = &angle {
             t.push_str(&crate::angle_alloc::to_text(&e2e, an));
+        }
+        if let Some((path, al)) = &sheet {
+            t.push_str(&crate::angle::sheet_allocations_text(path, al));
         }
         if let Some(n) = crate::noise::note(&s) {
             t.push_str(&n);

@@ -154,6 +154,73 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
     assert_input_error(&o, &["axes.phi_x", "does not have"]);
 }
 
+/// `allocate --tolerances` and `end-to-end --tolerances` (issue 22): the sheet's pairs get one
+/// tolerance each, as a disc and as a square; the disc's J is below the square's and both
+/// commands give the same figures; a disc on an error the table does not have, or with a
+/// negative value, exits 2 naming the key.
+#[test]
+fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
+    let sheet = "studies/tolerances/three-axis-vendor-sheet.toml";
+    let three = study("three-axis-example");
+    let a = json(&[
+        "allocate",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--json",
+    ]);
+    let e = json(&[
+        "end-to-end",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--json",
+        "--samples",
+        "1500",
+    ]);
+    assert_eq!(a["disc_allocation"], e["disc_allocation"]);
+    let readings = a["disc_allocation"]["readings"].as_array().unwrap();
+    assert_eq!(readings.len(), 2);
+    for r in readings {
+        for model in ["constant", "angle_dependent"] {
+            let (jd, js) = (
+                num(&r[model]["disc"]["objective_arcmin"]),
+                num(&r[model]["square"]["objective_arcmin"]),
+            );
+            assert!(jd < js, "{model}: {jd} >= {js}");
+        }
+    }
+    let dir = scratch("angle", "bad-discs");
+    let text = std::fs::read_to_string(common::root().join(sheet)).unwrap();
+    for (from, to, key) in [
+        (
+            "wobble = [\"dalpha_ix\", \"dalpha_iz\"]",
+            "wobble = [\"dalpha_ix\", \"dalpha_nope\"]",
+            "axes.phi_i.wobble",
+        ),
+        (
+            "orthogonality_arcsec = 5.0\northogonality = [\"deps_mi_z\", \"deps_mi_x\"]",
+            "orthogonality_arcsec = -5.0\northogonality = [\"deps_mi_z\", \"deps_mi_x\"]",
+            "axes.phi_i.orthogonality_arcsec",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = write(&dir, "bad.toml", &text.replacen(from, to, 1));
+        for cmd in ["allocate", "end-to-end", "check-turntable"] {
+            let o = run(&[
+                cmd,
+                "--study",
+                &three,
+                "--tolerances",
+                bad.to_str().unwrap(),
+            ]);
+            assert_input_error(&o, &[key]);
+        }
+    }
+}
+
 /// Compensation in `check-turntable` (issue 22): a study that measures errors gets the verdict
 /// before and after; after compensation the measured errors' bound is their uncertainty, so
 /// the worst case cannot grow, and on the harmonic example Table 4 goes from failing to
