@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_input_error, json, num, run, scratch, stdout, study, write};
+use common::{assert_input_error, json, num, run, scratch, stderr, stdout, study, write};
 
 /// Relative agreement of two computations of the same linear worst case (dimensionless).
 const SAME_REL: f64 = 1e-12;
@@ -192,6 +192,28 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
             assert!(jd < js, "{model}: {jd} >= {js}");
         }
     }
+    // the report's vendor section shows the same figures
+    let out = scratch("angle", "disc-report").join("out");
+    let o = run(&[
+        "report",
+        "--study",
+        &three,
+        "--tolerances",
+        sheet,
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "1500",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let user = &readings[1];
+    let row = format!(
+        "| `actual/beta1/printed` | {} | {} |",
+        study::fmt::sig(num(&user["constant"]["disc"]["objective_arcmin"]), 5),
+        study::fmt::sig(num(&user["constant"]["square"]["objective_arcmin"]), 5)
+    );
+    assert!(md.contains(&row), "{row} not in the report");
     let dir = scratch("angle", "bad-discs");
     let text = std::fs::read_to_string(common::root().join(sheet)).unwrap();
     for (from, to, key) in [

@@ -143,6 +143,10 @@ pub struct Computed {
     /// The allocations under the study's angle-dependent model and after compensation
     /// (`None` when the study declares neither).
     pub angle_alloc: Option<crate::angle_alloc::AngleAllocations>,
+    /// The vendor sheet's pairs (wobble, orthogonality) allocated with one tolerance each, as
+    /// a disc and as a square, per reading ([`crate::angle::sheet_allocations`]; empty when
+    /// the sheet states no pair, `None` without a sheet or for a study with rate steps).
+    pub disc_alloc: Option<Vec<(EndToEnd, crate::angle::DiscAllocation)>>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -590,7 +594,15 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     timing("estimable", started);
     let angle_alloc = crate::angle_alloc::compute(s, &e2e)?;
     timing("angle-dependent allocation", started);
+    let disc_alloc = match &vendor {
+        Some((tol, _)) if !e2e.has_rate_steps() => {
+            Some(crate::angle::sheet_allocations(s, &e2e, tol)?)
+        }
+        _ => None,
+    };
+    timing("the sheet's discs allocated", started);
     Ok(Computed {
+        disc_alloc,
         estimable,
         angle_alloc,
         noise,

@@ -1806,6 +1806,56 @@ impl<'a> Sections<'a> {
         self.precision_note(&zeroed);
         self.doc
             .callout(format!("Verdict: {}.", sheet_verdict(chk)));
+        self.disc_allocation();
+    }
+
+    /// The sheet's pairs (wobble, orthogonality) allocated with one tolerance each, as a disc
+    /// and as a square ([`crate::angle::sheet_allocations`]).
+    fn disc_allocation(&mut self) {
+        let Some(al) = &self.c.disc_alloc else { return };
+        if al.is_empty() {
+            return;
+        }
+        self.doc.p("The sheet states magnitudes (a wobble, a perpendicularity: sqrt(a_x^2 + a_y^2) <= w on two errors). Allocated with one tolerance per pair, read as the disc the vendor means and as the square around it (each value copied into both components); the angle-dependent model is every error any function of its shaft's angle unless the study declares its own. J in arcmin^-2 (direct allocation; certified on the exact chain where the reading has the second-order bound).");
+        let j = |d: &e2e_verify::DirectAllocation| {
+            if d.no_bound_needed() {
+                "no bound needed".to_string()
+            } else {
+                sig(d.objective_arcmin(), 5)
+            }
+        };
+        let cert = |d: &std::result::Result<e2e_verify::DirectAllocation, String>| match d {
+            Ok(d) => j(d),
+            Err(_) => "-".into(),
+        };
+        let mut rows = Vec::new();
+        for (e2e, a) in al {
+            rows.push(vec![
+                format!("`{}`", e2e.reading()),
+                j(&a.constant_disc),
+                j(&a.constant_square),
+                format!(
+                    "{} (certified {})",
+                    j(&a.angle_disc),
+                    cert(&a.angle_disc_certified)
+                ),
+                format!(
+                    "{} (certified {})",
+                    j(&a.angle_square),
+                    cert(&a.angle_square_certified)
+                ),
+            ]);
+        }
+        self.doc.table(
+            &[
+                "reading",
+                "constant errors, discs",
+                "constant errors, squares",
+                "angle-dependent, discs",
+                "angle-dependent, squares",
+            ],
+            rows,
+        );
     }
 
     /// The allocation when the study's errors vary with the shaft angle, and after its measured
