@@ -192,6 +192,25 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
             assert!(jd < js, "{model}: {jd} >= {js}");
         }
     }
+    // README "What we find": the figures as printed (5 significant digits, relative 1e-4)
+    let j = |r: usize, path: &[&str]| {
+        let mut v = &readings[r];
+        for p in path {
+            v = &v[*p];
+        }
+        num(&v["objective_arcmin"])
+    };
+    for (got, printed) in [
+        (j(1, &["angle_dependent", "disc"]), 5680.6),
+        (j(1, &["angle_dependent", "disc_certified"]), 5716.5),
+        (j(1, &["angle_dependent", "square_certified"]), 6204.2),
+        (j(1, &["constant", "disc"]), 3567.2),
+        (j(1, &["constant", "square"]), 4189.5),
+        (j(0, &["constant", "disc"]), 407.64),
+        (j(0, &["constant", "square"]), 490.07),
+    ] {
+        approx::assert_relative_eq!(got, printed, max_relative = 1e-4);
+    }
     // the report's vendor section shows the same figures
     let out = scratch("angle", "disc-report").join("out");
     let o = run(&[
