@@ -306,3 +306,43 @@ fn check_turntable_reports_before_and_after_compensation() {
     ]);
     assert!(plain["compensated"].is_null());
 }
+
+/// Bad angle-dependent inputs at the command line (issue 22 "Bad input"): a harmonic order
+/// that is not a positive integer, harmonics of a joint the error does not follow, a measured
+/// value outside its physical range and a negative measurement uncertainty each exit 2 naming
+/// the key.
+#[test]
+fn bad_angle_dependent_inputs_exit_2_naming_the_key() {
+    let path = "studies/gyrowheel-2017-harmonic-errors.toml";
+    let text = std::fs::read_to_string(common::root().join(path)).unwrap();
+    let dir = scratch("angle", "bad-angle-inputs");
+    for (from, to, key) in [
+        (
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [1, 2], of = "phi2" }"#,
+            r#"{ error = "dalpha_y2", about = "y", harmonics = [0, 2], of = "phi2" }"#,
+            "harmonics[0]",
+        ),
+        (
+            r#"{ error = "dphi_y1", about = "y", harmonics = [1, 2], of = "phi1" }"#,
+            r#"{ error = "dphi_y1", about = "y", harmonics = [1, 2], of = "phi2" }"#,
+            ".of",
+        ),
+        (
+            "value_arcmin = 0.20",
+            "value_arcmin = 700.0",
+            "compensation.measured[0].value_arcmin",
+        ),
+        (
+            "uncertainty_arcmin = 0.05",
+            "uncertainty_arcmin = -0.05",
+            "compensation.measured[0].uncertainty_arcmin",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = write(&dir, "bad.toml", &text.replacen(from, to, 1));
+        for cmd in ["end-to-end", "allocate"] {
+            let o = run(&[cmd, "--study", bad.to_str().unwrap()]);
+            assert_input_error(&o, &[key]);
+        }
+    }
+}
