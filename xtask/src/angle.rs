@@ -44,6 +44,9 @@ pub struct DiscWorst {
     /// The Monte Carlo yield under the angle-dependent model with every pair drawn in its
     /// disc (same samples and seed as the square's).
     pub yield_: AngleYield,
+    /// The same with every error constant (the constant check's Monte Carlo draws the
+    /// square).
+    pub constant_yield: AngleYield,
     /// The allocations with one tolerance per pair of the sheet; `None` for the compensated
     /// check.
     pub allocation: Option<DiscAllocation>,
@@ -212,6 +215,9 @@ pub fn check(
             let yield_ = e2e
                 .angle_yield_with_discs(&ex, ub_rad, &discs, samples, seed)
                 .map_err(lib)?;
+            let constant_yield = e2e
+                .angle_yield_with_discs(&constant, ub_rad, &discs, samples, seed)
+                .map_err(lib)?;
             let allocation = if allocate {
                 Some(paired_allocations(
                     s,
@@ -228,6 +234,7 @@ pub fn check(
                 angle: angle_wc,
                 angle_lower,
                 yield_,
+                constant_yield,
                 allocation,
             })
         };
@@ -318,12 +325,16 @@ pub fn text(
     }
     if let Some(d) = &a.disc {
         let (lo, hi) = d.yield_.interval_95;
+        let (clo, chi) = d.constant_yield.interval_95;
         s.push_str(&format!(
-            "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables)\n",
+            "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables) with angle-dependent errors, {:.2}% ({:.2}%-{:.2}%) with constant errors\n",
             100.0 * d.yield_.fraction(),
             100.0 * lo,
             100.0 * hi,
-            d.yield_.samples
+            d.yield_.samples,
+            100.0 * d.constant_yield.fraction(),
+            100.0 * clo,
+            100.0 * chi,
         ));
         if let Some(al) = &d.allocation {
             s.push_str(&disc_allocation_text(e2e, al));
@@ -541,6 +552,8 @@ fn disc_json(e2e: &EndToEnd, d: &DiscWorst) -> Value {
         "yield": d.yield_.fraction(),
         "yield_interval_95": [d.yield_.interval_95.0, d.yield_.interval_95.1],
         "samples": d.yield_.samples,
+        "constant_yield": d.constant_yield.fraction(),
+        "constant_yield_interval_95": [d.constant_yield.interval_95.0, d.constant_yield.interval_95.1],
         "allocation": d.allocation.as_ref().map(|al| disc_allocation_json(e2e, al)),
     })
 }

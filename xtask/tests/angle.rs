@@ -96,8 +96,10 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
     // turntables drawn in the discs
     for r in v["angle_dependent"]["readings"].as_array().unwrap() {
         let d = &r["discs"];
-        let y = num(&d["yield"]);
-        assert!((0.0..=1.0).contains(&y), "{y}");
+        for key in ["yield", "constant_yield"] {
+            let y = num(&d[key]);
+            assert!((0.0..=1.0).contains(&y), "{key} {y}");
+        }
         assert_eq!(d["samples"].as_u64(), Some(1500));
         let a = &d["allocation"];
         for model in ["constant", "angle_dependent"] {
