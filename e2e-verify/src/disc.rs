@@ -107,11 +107,16 @@ fn dual_of(
 ) -> Option<f64> {
     match (&ga.shape, &gb.shape) {
         (GroupShape::Constant, GroupShape::Constant) => Some(sa[0].hypot(sb[0])),
-        (GroupShape::Any { angles_rad: x, .. }, GroupShape::Any { angles_rad: y, .. })
-            if x == y =>
-        {
-            Some(sa.iter().zip(sb).map(|(p, q)| p.hypot(*q)).sum())
-        }
+        (
+            GroupShape::Any {
+                joint: ja,
+                angles_rad: x,
+            },
+            GroupShape::Any {
+                joint: jb,
+                angles_rad: y,
+            },
+        ) if ja == jb && x == y => Some(sa.iter().zip(sb).map(|(p, q)| p.hypot(*q)).sum()),
         _ => None,
     }
 }

@@ -419,3 +419,38 @@ fn harmonic_disc_bound_lies_between_the_constant_disc_and_the_square_harmonic_bo
         }
     }
 }
+
+/// A "disc" on two errors that follow different joints bounds nothing per shaft angle (the
+/// two angles differ from position to position): the dual norm falls back to the square's,
+/// even where the two joints visit the same angles.
+#[test]
+fn disc_on_errors_of_different_joints_is_bounded_by_the_square() {
+    let (e2e, _) = three_axis_with_sheet();
+    let t = e2e.turntable();
+    let ex = expansion(
+        &e2e,
+        &tt_kinematics::on_shafts(t, |j| V::Any { joint: j.into() }),
+    );
+    let model = e2e.pair_model(&ex).unwrap();
+    let (a, b) = (
+        t.rotation_error_index("dalpha_ox").unwrap(),
+        t.rotation_error_index("dalpha_iz").unwrap(),
+    );
+    for r in 0..model.expanded().matrix().nrows() {
+        let disc = model.dual(
+            r,
+            Pair {
+                errors: [a, b],
+                shape: PairShape::Disc,
+            },
+        );
+        let square = model.dual(
+            r,
+            Pair {
+                errors: [a, b],
+                shape: PairShape::Square,
+            },
+        );
+        assert_relative_eq!(disc.upper, square.upper, max_relative = CLOSED_FORM_REL);
+    }
+}

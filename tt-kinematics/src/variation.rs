@@ -663,9 +663,16 @@ pub fn draw_disc_pair(
         (GroupShape::Constant, GroupShape::Constant) => {
             (ca[0], cb[0]) = in_disc(&mut uniform);
         }
-        (GroupShape::Any { angles_rad: x, .. }, GroupShape::Any { angles_rad: y, .. })
-            if x == y =>
-        {
+        (
+            GroupShape::Any {
+                joint: ja,
+                angles_rad: x,
+            },
+            GroupShape::Any {
+                joint: jb,
+                angles_rad: y,
+            },
+        ) if ja == jb && x == y => {
             for (a, b) in ca.iter_mut().zip(cb.iter_mut()) {
                 (*a, *b) = in_disc(&mut uniform);
             }
