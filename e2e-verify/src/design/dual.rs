@@ -32,11 +32,73 @@ const GAP_REL: f64 = 1e-9;
 /// touches then pulls every row that involves it to the top).
 const C_FLOOR: f64 = 1e-300;
 
+/// Working memory of [`bounds_with`], reused across calls (the screening runs the solver
+/// millions of times; reusing the buffers changes no arithmetic).
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Scratch {
+    mu: Vec<f64>,
+    cols: Vec<f64>,
+    c: Vec<f64>,
+    grad: Vec<f64>,
+    root: Vec<f64>,
+    dc: Vec<f64>,
+    d: Vec<f64>,
+    /// The last argument (bits) of the cube root per error and its value: the same argument
+    /// recurs (an error the step does not move keeps its $c_j$; a full step ends where the
+    /// line search evaluated), and the cube root is a pure function, so the value is reused.
+    memo_in: Vec<u64>,
+    memo_out: Vec<f64>,
+}
+
+/// $w_j^{2/3}$ as [`bounds_with`] takes it (computed once per problem).
+pub(crate) fn weights_23(weights: &[f64]) -> Vec<f64> {
+    // x^(2/3) = cbrt(x)^2 and x^(-1/3) = 1/cbrt(x): cube roots are several times cheaper
+    // than `powf`, which dominated the screening
+    weights.iter().map(|w| w.cbrt().powi(2)).collect()
+}
+
+/// The cube root of `x` through the memo of error `j` (bit-identical to `x.cbrt()`).
+#[inline]
+fn cbrt_memo(memo_in: &mut [u64], memo_out: &mut [f64], j: usize, x: f64) -> f64 {
+    let bits = x.to_bits();
+    if memo_in[j] == bits {
+        memo_out[j]
+    } else {
+        let r = x.cbrt();
+        memo_in[j] = bits;
+        memo_out[j] = r;
+        r
+    }
+}
+
 /// Bounds on $J$ (rad$^{-2}$) of the rows `rows` ($R \times m$): (lower, upper).
 /// `mu0` is the warm start (row, weight $\ge 0$); the iteration stops early once
 /// `lower >= stop_above` or `upper < stop_below`.
+#[cfg(test)]
 pub(crate) fn bounds(
     weights: &[f64],
+    rows: &[f64],
+    m: usize,
+    mu0: &[(usize, f64)],
+    stop_above: f64,
+    stop_below: f64,
+) -> (f64, f64) {
+    let w23 = weights_23(weights);
+    bounds_with(
+        &mut Scratch::default(),
+        &w23,
+        rows,
+        m,
+        mu0,
+        stop_above,
+        stop_below,
+    )
+}
+
+/// [`bounds`] with the weights as $w_j^{2/3}$ ([`weights_23`]) and reused working memory.
+pub(crate) fn bounds_with(
+    sc: &mut Scratch,
+    w23: &[f64],
     rows: &[f64],
     m: usize,
     mu0: &[(usize, f64)],
@@ -47,10 +109,22 @@ pub(crate) fn bounds(
     if n_rows == 0 {
         return (0.0, f64::INFINITY);
     }
-    // x^(2/3) = cbrt(x)^2 and x^(-1/3) = 1/cbrt(x): cube roots are several times cheaper
-    // than `powf`, which dominated the screening
-    let w23: Vec<f64> = weights.iter().map(|w| w.cbrt().powi(2)).collect();
-    let mut mu = vec![0.0; n_rows];
+    let Scratch {
+        mu,
+        cols,
+        c,
+        grad,
+        root,
+        dc,
+        d,
+        memo_in,
+        memo_out,
+    } = sc;
+    let reset = |v: &mut Vec<f64>, len: usize| {
+        v.clear();
+        v.resize(len, 0.0);
+    };
+    reset(mu, n_rows);
     let total: f64 = mu0.iter().map(|t| t.1.max(0.0)).sum();
     if total > 0.0 {
         for &(r, v) in mu0 {
@@ -62,14 +136,14 @@ pub(crate) fn bounds(
     // the rows by column (`cols[j * n_rows + r]`): the gradient below is then a sum over `j`
     // of whole columns, each row's terms added in the same order as a row-wise dot product
     // (so the same bits) but vectorised across rows
-    let mut cols = vec![0.0; rows.len()];
+    reset(cols, rows.len());
     for (r, row) in rows.chunks_exact(m).enumerate() {
         for (j, &a) in row.iter().enumerate() {
             cols[j * n_rows + r] = a;
         }
     }
     let floor_root = C_FLOOR.cbrt();
-    let mut c = vec![0.0; m];
+    reset(c, m);
     for (r, &v) in mu.iter().enumerate() {
         if v > 0.0 {
             for (cj, a) in c.iter_mut().zip(&rows[r * m..(r + 1) * m]) {
@@ -78,17 +152,22 @@ pub(crate) fn bounds(
         }
     }
     let (mut lower, mut upper): (f64, f64) = (0.0, f64::INFINITY);
-    let mut grad = vec![0.0; n_rows];
+    reset(grad, n_rows);
     // cbrt(max(c_j, C_FLOOR)) of the current c (shared by G, its gradient and the line
     // search's first step: one cube root per error per iteration fewer than recomputing)
-    let mut root = vec![0.0; m];
-    let mut dc = vec![0.0; m];
-    let mut d = vec![0.0; m];
+    reset(root, m);
+    reset(dc, m);
+    reset(d, m);
+    memo_in.clear();
+    // an argument never seen: a NaN pattern (the arguments are maxima with 0 or C_FLOOR,
+    // never NaN)
+    memo_in.resize(m, u64::MAX);
+    reset(memo_out, m);
     for _ in 0..MAX_ITERATIONS {
         let mut g = 0.0;
         for j in 0..m {
             let cz = c[j].max(0.0);
-            let r0 = cz.cbrt();
+            let r0 = cbrt_memo(memo_in, memo_out, j, cz);
             g += w23[j] * r0.powi(2);
             // c.max(C_FLOOR) is c itself when c >= C_FLOOR, else C_FLOOR
             root[j] = if cz >= C_FLOOR { r0 } else { floor_root };
@@ -110,7 +189,7 @@ pub(crate) fn bounds(
                 (0, f64::NEG_INFINITY),
                 |b, (r, v)| if v > b.1 { (r, v) } else { b },
             );
-        let inner: f64 = mu.iter().zip(&grad).map(|(m, g)| m * g).sum();
+        let inner: f64 = mu.iter().zip(grad.iter()).map(|(m, g)| m * g).sum();
         lower = lower.max(g * g * g);
         let gu = g + (gs - inner).max(0.0);
         if gu.is_finite() {
@@ -121,7 +200,7 @@ pub(crate) fn bounds(
         }
         let (v, _) = mu
             .iter()
-            .zip(&grad)
+            .zip(grad.iter())
             .enumerate()
             .filter(|(_, (m, _))| **m > 0.0)
             .fold((usize::MAX, f64::INFINITY), |b, (r, (_, &gv))| {
@@ -135,7 +214,7 @@ pub(crate) fn bounds(
             *dj = rows[s * m + j] - rows[v * m + j];
         }
         // phi(t) = G(c + t d) is concave: phi' decreases; safeguarded Newton on phi' = 0
-        let derivs = |t: f64| -> (f64, f64) {
+        let mut derivs = |t: f64| -> (f64, f64) {
             let (mut d1, mut d2) = (0.0, 0.0);
             for j in 0..m {
                 if d[j] == 0.0 {
@@ -145,7 +224,7 @@ pub(crate) fn bounds(
                 let r = if t == 0.0 {
                     root[j]
                 } else {
-                    (c[j] + t * d[j]).max(C_FLOOR).cbrt()
+                    cbrt_memo(memo_in, memo_out, j, (c[j] + t * d[j]).max(C_FLOOR))
                 };
                 d1 += (2.0 / 3.0) * w23[j] / r * d[j];
                 d2 -= (2.0 / 9.0) * w23[j] / (r * r * r * r) * d[j] * d[j];
@@ -344,10 +423,12 @@ mod tests {
     /// floating-point operations: [`bounds`] gives the same bits as the row-wise reference
     /// for random rows (with zero entries, so that errors no support row touches take the
     /// floor path), random warm starts and stopping levels, so the search's screening, its
-    /// order of exact evaluations and every answer of `design-schedule` are unchanged.
+    /// order of exact evaluations and every answer of `design-schedule` are unchanged; so
+    /// does [`bounds_with`] with its working memory and cube-root memo reused across cases.
     #[test]
     fn bounds_are_bit_identical_to_the_row_wise_formula() {
         let mut rng = ChaCha8Rng::seed_from_u64(21);
+        let mut scratch = Scratch::default();
         for case in 0..300 {
             let m = 1 + (rng.next_u32() % 13) as usize;
             let n_rows = 1 + (rng.next_u32() % 40) as usize;
@@ -375,6 +456,19 @@ mod tests {
             let got = bounds(&weights, &rows, m, &mu0, stop_above, 0.0);
             assert_eq!(want.0.to_bits(), got.0.to_bits(), "lower, case {case}");
             assert_eq!(want.1.to_bits(), got.1.to_bits(), "upper, case {case}");
+            // the working memory (and its cube-root memo) carried over from the other cases,
+            // with different sizes, changes nothing
+            let reused = bounds_with(
+                &mut scratch,
+                &weights_23(&weights),
+                &rows,
+                m,
+                &mu0,
+                stop_above,
+                0.0,
+            );
+            assert_eq!(want.0.to_bits(), reused.0.to_bits(), "lower, case {case}");
+            assert_eq!(want.1.to_bits(), reused.1.to_bits(), "upper, case {case}");
             assert!(reference_lower <= reference_upper, "case {case}");
         }
     }

@@ -54,6 +54,38 @@ pub(crate) struct Search<'a> {
     pub max_condition: f64,
     /// Whether every lower bound of the errors is zero (closed-form dual bound).
     zero_lower: bool,
+    /// $w_j^{2/3}$ for the screening solver ([`dual::weights_23`]).
+    w23: Vec<f64>,
+}
+
+/// Working memory of one screening thread, reused from swap to swap (no arithmetic changes).
+#[derive(Debug, Default)]
+struct SwapScratch {
+    /// $\mathbf H'$ of every output after the swap.
+    hs: Vec<Vec<f64>>,
+    /// The multiplier-weighted sum of the retained rows (the cheap bound's $c$).
+    cc: Vec<f64>,
+    /// Every row after the swap (`R x m`).
+    rows: Vec<f64>,
+    /// The right-hand sides of the Woodbury solve.
+    r1: Vec<f64>,
+    r2: Vec<f64>,
+    dual: dual::Scratch,
+}
+
+/// The parts of the screening shared by every swap of one slot.
+#[derive(Debug)]
+struct SlotScreen {
+    slot: usize,
+    /// $J(1 - \epsilon)$: a swap is kept when its lower bound is below this.
+    threshold: f64,
+    static_rows: bool,
+    /// The cheap bound of every swap with static rows.
+    static_lower: f64,
+    /// $\Lambda$ of the cheap bound (the retained rows' multipliers).
+    base_mu: f64,
+    /// The screening solver's warm start.
+    mu0: Vec<(usize, f64)>,
 }
 
 #[inline]
@@ -78,6 +110,7 @@ impl<'a> Search<'a> {
             p,
             max_condition,
             zero_lower: p.lower_bounds_rad.iter().all(|&l| l == 0.0),
+            w23: dual::weights_23(&p.weights),
         }
     }
 
@@ -298,6 +331,7 @@ impl<'a> Search<'a> {
         ci: usize,
         c: usize,
         out: &mut Vec<f64>,
+        (r1, r2): (&mut Vec<f64>, &mut Vec<f64>),
     ) -> Option<f64> {
         let o = &self.p.outputs[k];
         let f = &st.factors[k];
@@ -326,8 +360,10 @@ impl<'a> Search<'a> {
         // K = [[1 + dc, dic], [dic, -1 + di]]; solve K y = (a_c^T T, a_i^T T)
         let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
         let det = k11 * k22 - k12 * k12;
-        let mut r1 = vec![0.0; m];
-        let mut r2 = vec![0.0; m];
+        r1.clear();
+        r1.resize(m, 0.0);
+        r2.clear();
+        r2.resize(m, 0.0);
         for r in 0..pk {
             for jj in 0..m {
                 r1[jj] += ac[r] * out[r * m + jj];
@@ -344,30 +380,22 @@ impl<'a> Search<'a> {
         Some(ratio)
     }
 
-    /// Screen every swap of `slot` with every candidate not in the schedule: the dual lower
-    /// bound with the state's multipliers (the slot's rows dropped; the rows of the retained
-    /// positions recomputed for the new projection) and, where it does not prune, the
-    /// fixed-shape estimate $J\,L^2$ with $L$ the largest load of the new rows at the
-    /// current $\mathrm{UB}$.
-    pub(crate) fn screen_swaps(&self, st: &State, slot: usize) -> Vec<Screened> {
+    /// What the screening of every swap of `slot` shares: the threshold, the cheap bound's
+    /// parts that do not depend on the candidate and the solver's warm start.
+    fn slot_screen(&self, st: &State, slot: usize) -> SlotScreen {
         let p = self.p;
         let n = st.s.len();
         let m = p.errors;
-        let ci = st.s[slot];
-        let threshold = st.j * (1.0 - IMPROVEMENT_REL);
-        let outside: Vec<usize> = (0..p.n_candidates()).filter(|&c| !st.in_s[c]).collect();
         let static_rows = p.affine.is_static();
         // static rows: the bound without the slot's rows is the same for every candidate
         let mut base_c = vec![0.0; m];
         let mut base_mu = 0.0;
-        let mut max_other: f64 = 0.0;
         for k in 0..p.outputs.len() {
             for q in 0..n {
                 let r = k * n + q;
                 if q == slot {
                     continue;
                 }
-                max_other = max_other.max(st.loads[r]);
                 if st.mu[r] > 0.0 {
                     base_mu += st.mu[r];
                     for (b, v) in base_c.iter_mut().zip(&st.rows[r * m..(r + 1) * m]) {
@@ -377,91 +405,7 @@ impl<'a> Search<'a> {
             }
         }
         let static_lower = self.dual_bound(&base_c, base_mu);
-        outside
-            .par_iter()
-            .map(|&c| {
-                let mut hs: Vec<Vec<f64>> = vec![Vec::new(); p.outputs.len()];
-                for (k, h) in hs.iter_mut().enumerate() {
-                    if self.h_after_swap(st, k, ci, c, h).is_none() {
-                        return Screened {
-                            candidate: c,
-                            lower: f64::INFINITY,
-                            estimate: f64::INFINITY,
-                        };
-                    }
-                }
-                let mut row = vec![0.0; m];
-                let lower = if static_rows {
-                    static_lower
-                } else {
-                    let mut cc = vec![0.0; m];
-                    for (k, h) in hs.iter().enumerate() {
-                        for q in 0..n {
-                            let r = k * n + q;
-                            if q == slot || st.mu[r] <= 0.0 {
-                                continue;
-                            }
-                            self.row_after(k, st.s[q], h, &mut row);
-                            for (b, v) in cc.iter_mut().zip(&row) {
-                                *b += st.mu[r] * v.abs();
-                            }
-                        }
-                    }
-                    self.dual_bound(&cc, base_mu)
-                };
-                if lower >= threshold {
-                    return Screened {
-                        candidate: c,
-                        lower,
-                        estimate: f64::INFINITY,
-                    };
-                }
-                let rows = self.rows_after_swap(st, slot, c, &hs);
-                let (lower2, upper) = self.dual_bounds(st, slot, &rows, threshold);
-                let lower = lower.max(lower2);
-                let estimate = if upper.is_finite() {
-                    upper
-                } else {
-                    st.j * max_load(&rows, &st.x, m).powi(2)
-                };
-                Screened {
-                    candidate: c,
-                    lower,
-                    estimate,
-                }
-            })
-            .collect()
-    }
-
-    /// Every row of the schedule after the swap (slot's candidate replaced by `c`), in the
-    /// state's order $(k, q)$, normalised and in absolute value ($R \times m$).
-    fn rows_after_swap(&self, st: &State, slot: usize, c: usize, hs: &[Vec<f64>]) -> Vec<f64> {
-        let p = self.p;
-        let n = st.s.len();
-        let m = p.errors;
-        let mut rows = vec![0.0; p.outputs.len() * n * m];
-        for (k, h) in hs.iter().enumerate() {
-            for q in 0..n {
-                let cand = if q == slot { c } else { st.s[q] };
-                let out = &mut rows[(k * n + q) * m..(k * n + q + 1) * m];
-                self.row_after(k, cand, h, out);
-                for v in out.iter_mut() {
-                    *v = v.abs();
-                }
-            }
-        }
-        rows
-    }
-
-    /// Rigorous bounds on $J$ of a schedule with normalised rows `rows` (same layout as the
-    /// state's) from the dual screening solver warm-started at the state's multipliers
-    /// (except `slot`'s rows): (lower, upper). Only for zero lower bounds (the dual's closed
-    /// form); otherwise `(0, inf)`.
-    fn dual_bounds(&self, st: &State, slot: usize, rows: &[f64], threshold: f64) -> (f64, f64) {
-        if !self.zero_lower {
-            return (0.0, f64::INFINITY);
-        }
-        let n = st.s.len();
+        // the screening solver's warm start: the state's multipliers except the slot's rows
         let mu0: Vec<(usize, f64)> = st
             .mu
             .iter()
@@ -469,7 +413,149 @@ impl<'a> Search<'a> {
             .enumerate()
             .filter(|&(r, v)| v > 0.0 && r % n != slot)
             .collect();
-        dual::bounds(&self.p.weights, rows, self.p.errors, &mu0, threshold, 0.0)
+        SlotScreen {
+            slot,
+            threshold: st.j * (1.0 - IMPROVEMENT_REL),
+            static_rows,
+            static_lower,
+            base_mu,
+            mu0,
+        }
+    }
+
+    /// Whether row `r` of the state's order is computed for the cheap bound (and kept, signed,
+    /// for the solver's rows).
+    #[inline]
+    fn cheap_row(st: &State, ss: &SlotScreen, r: usize) -> bool {
+        !ss.static_rows && r % st.s.len() != ss.slot && st.mu[r] > 0.0
+    }
+
+    /// The cheap bound of swapping candidate `c` into the slot: the dual lower bound with the
+    /// state's multipliers (the slot's rows dropped; the rows of the retained positions
+    /// recomputed for the new projection); `+inf` when the swap makes an output
+    /// unidentifiable. Leaves $\mathbf H'$ and the rows it computed in `sc`.
+    fn screen_cheap(&self, st: &State, ss: &SlotScreen, c: usize, sc: &mut SwapScratch) -> f64 {
+        let p = self.p;
+        let n = st.s.len();
+        let m = p.errors;
+        let ci = st.s[ss.slot];
+        let SwapScratch {
+            hs,
+            cc,
+            rows,
+            r1,
+            r2,
+            ..
+        } = sc;
+        hs.resize_with(p.outputs.len(), Vec::new);
+        for (k, h) in hs.iter_mut().enumerate() {
+            if self.h_after_swap(st, k, ci, c, h, (r1, r2)).is_none() {
+                return f64::INFINITY;
+            }
+        }
+        rows.clear();
+        rows.resize(p.outputs.len() * n * m, 0.0);
+        if ss.static_rows {
+            return ss.static_lower;
+        }
+        cc.clear();
+        cc.resize(m, 0.0);
+        for (k, h) in hs.iter().enumerate() {
+            for q in 0..n {
+                let r = k * n + q;
+                if !Self::cheap_row(st, ss, r) {
+                    continue;
+                }
+                let out = &mut rows[r * m..(r + 1) * m];
+                self.row_after(k, st.s[q], h, out);
+                for (b, v) in cc.iter_mut().zip(out.iter()) {
+                    *b += st.mu[r] * v.abs();
+                }
+            }
+        }
+        self.dual_bound(cc, ss.base_mu)
+    }
+
+    /// The full screening of candidate `c` after [`Search::screen_cheap`] (which gave `lower`
+    /// and left its work in `sc`): where the cheap bound does not prune, the screening
+    /// solver's bounds on every row after the swap (rigorous lower bound and, as estimate,
+    /// rigorous upper bound; for nonzero lower bounds of the errors the fixed-shape estimate
+    /// $J\,L^2$ with $L$ the largest load of the new rows at the current $\mathrm{UB}$).
+    fn screen_rest(
+        &self,
+        st: &State,
+        ss: &SlotScreen,
+        c: usize,
+        lower: f64,
+        sc: &mut SwapScratch,
+    ) -> Screened {
+        if lower >= ss.threshold {
+            return Screened {
+                candidate: c,
+                lower,
+                estimate: f64::INFINITY,
+            };
+        }
+        let n = st.s.len();
+        let m = self.p.errors;
+        let SwapScratch {
+            hs,
+            rows,
+            dual: dual_scratch,
+            ..
+        } = sc;
+        // every row of the schedule after the swap, in the state's order (k, q),
+        // normalised and in absolute value
+        for (k, h) in hs.iter().enumerate() {
+            for q in 0..n {
+                let r = k * n + q;
+                let out = &mut rows[r * m..(r + 1) * m];
+                if !Self::cheap_row(st, ss, r) {
+                    let cand = if q == ss.slot { c } else { st.s[q] };
+                    self.row_after(k, cand, h, out);
+                }
+                for v in out.iter_mut() {
+                    *v = v.abs();
+                }
+            }
+        }
+        // rigorous bounds on J after the swap from the dual screening solver warm-started at
+        // the state's multipliers (except the slot's rows); only for zero lower bounds (the
+        // dual's closed form)
+        let (lower2, upper) = if self.zero_lower {
+            dual::bounds_with(dual_scratch, &self.w23, rows, m, &ss.mu0, ss.threshold, 0.0)
+        } else {
+            (0.0, f64::INFINITY)
+        };
+        let lower = lower.max(lower2);
+        let estimate = if upper.is_finite() {
+            upper
+        } else {
+            st.j * max_load(rows, &st.x, m).powi(2)
+        };
+        Screened {
+            candidate: c,
+            lower,
+            estimate,
+        }
+    }
+
+    /// Screen every swap of `slot` with every candidate not in the schedule: the dual lower
+    /// bound with the state's multipliers (the slot's rows dropped; the rows of the retained
+    /// positions recomputed for the new projection) and, where it does not prune, the
+    /// screening solver's bounds ([`Search::screen_rest`]).
+    pub(crate) fn screen_swaps(&self, st: &State, slot: usize) -> Vec<Screened> {
+        let ss = self.slot_screen(st, slot);
+        let outside: Vec<usize> = (0..self.p.n_candidates())
+            .filter(|&c| !st.in_s[c])
+            .collect();
+        outside
+            .par_iter()
+            .map_init(SwapScratch::default, |sc, &c| {
+                let lower = self.screen_cheap(st, &ss, c, sc);
+                self.screen_rest(st, &ss, c, lower, sc)
+            })
+            .collect()
     }
 
     /// Screen adding each candidate not in the schedule (greedy construction): the
