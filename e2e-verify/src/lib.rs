@@ -22,7 +22,9 @@
 //!   independent of the draw count; the yield with a Wilson interval; exact order statistics
 //!   ([`EndToEnd::ratio_quantile`]);
 //! - [`EndToEnd::allocate_direct`], [`EndToEnd::allocate_direct_certified`] and
-//!   [`EndToEnd::allocate_yield`]: allocations against every output's accuracy;
+//!   [`EndToEnd::allocate_yield`]: allocations against every output's accuracy (with rate
+//!   steps: [`EndToEnd::allocate_direct_rate`] and its certificate
+//!   [`EndToEnd::allocate_direct_rate_certified`]);
 //! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
 //!   contribution and a verdict;
 //! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`;
@@ -108,6 +110,9 @@ pub use noise::{
     CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
     NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
 };
-pub use rate::{EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance};
+pub use rate::{
+    CertifiedRateAllocation, EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase, RateAllocation,
+    RateTolerance,
+};
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, RATE_DERIVATIVE_STEP, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

@@ -526,7 +526,8 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// for another model: its [`ScheduleErrorModel::angle_sum_bound`]), or `None`
     /// for a reading it is not derived for (those with $\hat{\boldsymbol\beta}_2$,
     /// $\mathbf A\Delta\boldsymbol\beta$, or actual regressors with outputs at the actual
-    /// orientation).
+    /// orientation) and for a schedule with rate steps (see
+    /// [`EndToEnd::second_order_bound_with_extra`]).
     ///
     /// # Formula
     /// $\Delta\mathbf R$ is a product of rotations whose angles sum to at most $s$, so
@@ -576,7 +577,8 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             || reading.form == ErrorForm::DeltaBeta
             || self.has_rate_steps()
         {
-            // (a rate step's inputs are not a rotation of the nominal ones: not derived)
+            // (a rate step's inputs are not a rotation of the nominal ones: its bound needs the
+            // extra errors' box, EndToEnd::second_order_bound_with_extra)
             return Ok(None);
         }
         let rho = 0.5 * s * s * s.exp();

@@ -16,23 +16,23 @@
 //!   and of the earth's rate across the axis.
 //!
 //! Every evaluation of $\chi$ holds them at [`crate::EndToEnd::extra_values`] (zero: an ideal
-//! rate table); [`RateTolerances`] bound them like the angles, and the worst case, the
+//! rate table); [`RateTolerance`]s bound them like the angles, and the worst case, the
 //! allocation and the Monte Carlo of this module take both boxes at once. A study without
 //! rate steps has no extra error and keeps its answers exactly.
 
 use calib_lsq::Calibration;
 use gw_model::InputValues;
 use nalgebra::{Matrix3, Vector3};
-use tt_kinematics::{Pose, RateEnvironment, RateErrorValues, RateStep, RateStepFrames, Turntable};
+use tt_kinematics::{
+    Pose, RateEnvironment, RateErrorValues, RateStep, RateStepFrames, ScheduleErrorModel, Turntable,
+};
 
 use crate::error::E2eError;
 
-/// Why a schedule with rate steps gets no certified allocation: the derived second-order
-/// bound ([`crate::EndToEnd::second_order_bound`]) assumes every entry's inputs are a rotation
-/// of the nominal ones (the earth's rate and 1 g), which a rate step's are not; what is
-/// checked instead ([`crate::EndToEnd::allocate_direct_rate`]) and why it is not a
-/// certificate.
-pub const NOT_CERTIFIED_AT_RATE_STEPS: &str = "the schedule has rate steps: the second-order bound of the certificate is derived for static positions only (inputs a rotation of the earth's rate and 1 g), and no bound of the second-order remainder of the revolution averages (which are smooth in the errors) is derived yet; the direct allocation is instead checked on the exact chain at each output's worst vertex, with the margin stated, which is not a certificate: the other vertices and the interior of the box are bounded to first order only";
+/// What the direct allocation with the rate tolerances ([`crate::EndToEnd::allocate_direct_rate`])
+/// checks and why that is not a certificate; the certificate is
+/// [`crate::EndToEnd::allocate_direct_rate_certified`].
+pub const NOT_CERTIFIED_AT_RATE_STEPS: &str = "the direct allocation with the rate tolerances is checked on the exact chain at each output's worst vertex, with the margin stated, which is not a certificate (the other vertices and the interior of the box are bounded to first order only); the certified allocation keeps the derived second-order bound of the revolution averages free and is a certificate";
 
 /// A table error beyond the angular errors $\chi$, appended to $\chi$ when the schedule has a
 /// rate step (see the [module](self)).
@@ -648,7 +648,8 @@ impl crate::EndToEnd {
     /// ([`crate::EndToEnd::worst_case_with_extra`]); where the exact chain exceeds an
     /// accuracy the excess plus [`RATE_EXACT_ROOM_REL`] of the accuracy is kept free and the
     /// allocation solved again (at most [`RATE_EXACT_ROUNDS`] times). This is a check at the
-    /// worst vertex, not a certificate: see [`NOT_CERTIFIED_AT_RATE_STEPS`].
+    /// worst vertex, not a certificate: see [`NOT_CERTIFIED_AT_RATE_STEPS`] and
+    /// [`crate::EndToEnd::allocate_direct_rate_certified`].
     ///
     /// # Errors
     /// As [`crate::EndToEnd::allocate_direct`]; [`E2eError::NoConvergence`] when the exact
@@ -659,6 +660,27 @@ impl crate::EndToEnd {
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<RateAllocation, E2eError> {
+        self.with_rate_setup(
+            linear,
+            extra_linear,
+            lower_bounds_rad,
+            |setup, combined, lb| self.exact_rounds(linear, extra_linear, setup, combined, lb),
+        )
+    }
+
+    /// The allocation problem over $(\chi, T)$ of [`crate::EndToEnd::allocate_direct_rate`]
+    /// handed to `f` with the combined linearisation and the lower bounds.
+    fn with_rate_setup<T>(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        f: impl FnOnce(
+            &crate::allocate::DirectSetup<'_>,
+            &crate::Linearization,
+            &[f64],
+        ) -> Result<T, E2eError>,
+    ) -> Result<T, E2eError> {
         crate::allocate::check_lower_bounds(self.turntable(), lower_bounds_rad)?;
         let combined = self.rate_linearization(linear, extra_linear);
         let tolerances = self.rate_tolerances();
@@ -682,10 +704,26 @@ impl crate::EndToEnd {
             accuracies: &acc,
             output_names: &output_names,
         };
+        f(&setup, &combined, &lb)
+    }
+
+    /// The re-solves of [`crate::EndToEnd::allocate_direct_rate`] keeping room for the exact
+    /// chain at the worst vertex.
+    fn exact_rounds(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        setup: &crate::allocate::DirectSetup<'_>,
+        combined: &crate::Linearization,
+        lb: &[f64],
+    ) -> Result<RateAllocation, E2eError> {
+        let tolerances = self.rate_tolerances();
+        let tol_weights = self.rate_tolerance_weights(combined);
+        let acc = self.accuracies();
         let n_angles = self.n_errors();
         let mut margins = vec![0.0; acc.len()];
         for round in 0..=RATE_EXACT_ROUNDS {
-            let d = setup.allocate(&combined, &lb, &margins, None)?;
+            let d = setup.allocate(combined, lb, &margins, None)?;
             let ub: Vec<f64> = d.upper_bounds_rad[..n_angles]
                 .iter()
                 .map(|u| if u.is_finite() { *u } else { 0.0 })
@@ -714,6 +752,348 @@ impl crate::EndToEnd {
             what: "direct allocation with rate tolerances (the exact chain at the worst vertex exceeds an accuracy after keeping its excess free)",
             iterations: RATE_EXACT_ROUNDS,
             change: margins.iter().fold(0.0, |a: f64, b| a.max(*b)),
+        })
+    }
+}
+
+/// Re-solves of [`crate::EndToEnd::allocate_direct_rate_certified`] that keep the
+/// second-order bound free.
+pub const RATE_CERTIFY_ROUNDS: usize = 12;
+
+/// The certified direct allocation of a study with rate steps
+/// ([`crate::EndToEnd::allocate_direct_rate_certified`]): every turntable of the angular box
+/// with every extra error within its tolerance meets every accuracy on the exact chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CertifiedRateAllocation {
+    /// The allocation over $(\chi, T)$, as [`RateAllocation::combined`];
+    /// `second_order_margins` the room kept for the second-order bound.
+    pub combined: crate::DirectAllocation,
+    /// The tolerances allocated, in order.
+    pub tolerances: Vec<RateTolerance>,
+    /// Per output, the first-order worst case over both boxes (output unit).
+    pub linear_bounds: Vec<f64>,
+    /// Per output, the derived second-order bound $\tau_k$ of the box
+    /// ([`crate::EndToEnd::second_order_bound_with_extra`]; output unit).
+    pub second_order_bounds: Vec<f64>,
+    /// Re-solves that kept room for the bound (0: the direct allocation with the rate
+    /// tolerances was already certified).
+    pub rounds: usize,
+}
+
+impl CertifiedRateAllocation {
+    /// The certified bound of output `k`: first-order worst case plus $\tau_k$.
+    #[must_use]
+    pub fn certified_bound(&self, k: usize) -> f64 {
+        self.linear_bounds[k] + self.second_order_bounds[k]
+    }
+
+    /// The angular errors' bounds (rad; `+inf` for an error no output depends on).
+    #[must_use]
+    pub fn angles_rad(&self) -> &[f64] {
+        &self.combined.upper_bounds_rad
+            [..self.combined.upper_bounds_rad.len() - self.tolerances.len()]
+    }
+
+    /// The tolerances' bounds (m, relative; `+inf` for one no output depends on).
+    #[must_use]
+    pub fn tolerance_bounds(&self) -> &[f64] {
+        &self.combined.upper_bounds_rad
+            [self.combined.upper_bounds_rad.len() - self.tolerances.len()..]
+    }
+}
+
+/// The second-order remainder of one output's terms (known or estimated) at one entry:
+/// $\sum_t |\beta_t|\big(\mathrm{rem}_t(\mathbf m, \mathbf d) + \sum_j |\partial_j r_t|(\mathbf m)
+/// \,\rho_j\big)$ (see [`crate::EndToEnd::second_order_bound_with_extra`]).
+fn terms_remainder(
+    output: &gw_model::Output,
+    known: bool,
+    m: &[f64; 6],
+    d: &[f64; 6],
+    rho: &[f64; 6],
+) -> f64 {
+    output
+        .terms
+        .iter()
+        .filter(|t| t.known == known)
+        .map(|t| {
+            let r = &t.regressor;
+            let grad: f64 = gw_model::Input::ALL
+                .iter()
+                .enumerate()
+                .map(|(j, &inp)| {
+                    let p = r.power(inp);
+                    if p == 0 {
+                        return 0.0;
+                    }
+                    let mono: f64 = gw_model::Input::ALL
+                        .iter()
+                        .enumerate()
+                        .map(|(q, &iq)| {
+                            let e = if q == j { p - 1 } else { r.power(iq) };
+                            m[q].powi(i32::from(e))
+                        })
+                        .product();
+                    f64::from(p) * mono * rho[j]
+                })
+                .sum();
+            t.value.abs() * (r.remainder_bound(m, d) + grad)
+        })
+        .sum()
+}
+
+impl crate::EndToEnd {
+    /// The derived second-order bound $\tau_k$ (output unit) of a schedule with rate steps:
+    /// $\lVert\Delta\hat{\boldsymbol\omega}_k(\chi, x) - \mathbf M_k\chi - \mathbf N_k x
+    /// \rVert_\infty$ over every $\chi$ whose rotation angles sum to at most `angle_sum_rad`
+    /// ([`tt_kinematics::ScheduleErrorModel::angle_sum_bound`]) and every extra error
+    /// $|x_e| \le$ `extra_bounds[e]` ([`crate::EndToEnd::extra_errors`]); `None` for the
+    /// readings [`crate::EndToEnd::second_order_bound`] gives none for, or extra errors
+    /// held away from zero. For a static schedule it is
+    /// [`crate::EndToEnd::second_order_bound`].
+    ///
+    /// # Formula
+    /// The static bound's derivation, entry by entry: at entry $i$ the inputs move by at most
+    /// $d_{i,j}$ and leave a second-order remainder of at most $\rho_{i,j}$ (input $j$), about
+    /// nominal inputs of size $m_{i,j}$. At a static position $m = (1, 1, 1, \omega_e,
+    /// \omega_e, \omega_e)$, $d = s\,m$, $\rho = \tfrac12 s^2 e^s m$ (as
+    /// [`crate::EndToEnd::second_order_bound`]); at a rate step $m_{i,j} = |u_{0,j}|$ (the
+    /// nominal averages) and $d$, $\rho$ the change and remainder bounds of
+    /// [`tt_kinematics::RateStepFrames::remainder_bound`] over the box
+    /// ($s$; $L = \sum$ of the translations' bounds; $E$ the joint's rate-accuracy bound;
+    /// $Q = \sqrt{T_c^2 + T_s^2}$ of its ripple parts' bounds), the same for each component.
+    /// A term $\beta_t r_t$ leaves at most $|\beta_t|\big(\mathrm{rem}_t(m_i, d_i) +
+    /// \sum_j|\partial_j r_t|(m_i)\,\rho_{i,j}\big)$
+    /// ([`gw_model::Regressor::remainder_bound`]); the sums over the known and the estimated
+    /// terms give the vectors $r_e$, $r_g$ over the entries, and the reading maps them as the
+    /// static bound does with $\lVert\mathbf X\rVert_\infty r$ replaced by
+    /// $\max_i\sum_l|X_{il}|\,r_l$ (e.g. actual outputs, printed:
+    /// $\tau = \max_i \sum_l \big(|(\mathbf I-\mathbf P)_{il}|\,r_{g,l} +
+    /// |\mathbf P_{il}|\,r_{e,l}\big)$).
+    ///
+    /// The first-order part at the rate steps is the linearisation's, whose input derivatives
+    /// are central differences ([`crate::RATE_DERIVATIVE_STEP`]); their truncation and rounding
+    /// (about $10^{-10}$ of the inputs' size per unit of error, $10^{-9}$ deg/h for the
+    /// tactical study's boxes) are not part of $\tau$.
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] naming a bad bound (as [`crate::EndToEnd::second_order_bound`];
+    /// a ripple bound $Q \ge 1$) or a missing output.
+    pub fn second_order_bound_with_extra(
+        &self,
+        output: usize,
+        angle_sum_rad: f64,
+        extra_bounds: &[f64],
+    ) -> Result<Option<f64>, E2eError> {
+        use calib_lsq::{ErrorForm, Estimate, OutputsAt};
+        if !self.has_rate_steps() {
+            return self.second_order_bound(output, angle_sum_rad);
+        }
+        check_extra_bounds(self, extra_bounds)?;
+        let s = crate::error::finite("l1_norm_rad", angle_sum_rad)?;
+        if s < 0.0 {
+            return Err(tt_core::FieldError::NotPositive {
+                field: "l1_norm_rad".into(),
+                value: s,
+            }
+            .into());
+        }
+        let cal = self
+            .calibration()
+            .outputs()
+            .get(output)
+            .ok_or(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "output".into(),
+                value: output as f64,
+                range: "an output of the sensor".into(),
+            }))?;
+        let reading = self.reading();
+        if reading.estimate != Estimate::Beta1
+            || reading.form == ErrorForm::DeltaBeta
+            || self.extra_values().iter().any(|v| *v != 0.0)
+        {
+            return Ok(None);
+        }
+        let plan = self.rate_plan();
+        let table = self.turntable();
+        let n_tr = table.n_translation_errors();
+        let translation_sum: f64 = extra_bounds[..n_tr].iter().sum();
+        let we = tt_core::units::rad_per_s_to_deg_per_h(
+            self.calibration().site().earth_rate_rad_per_s(),
+        );
+        let sigma = 0.5 * s * s * s.exp();
+        let static_m = [1.0, 1.0, 1.0, we, we, we];
+        let identity = vec![Matrix3::identity(); table.n_rotation_errors()];
+        let zeros = vec![0.0; extra_bounds.len()];
+        let mut r_e = Vec::with_capacity(plan.entries.len());
+        let mut r_g = Vec::with_capacity(plan.entries.len());
+        for entry in &plan.entries {
+            let (m, d, rho) = match entry {
+                None => (
+                    static_m,
+                    static_m.map(|v| s * v),
+                    static_m.map(|v| sigma * v),
+                ),
+                Some(e) => {
+                    let k = e.rate_index;
+                    let b = tt_kinematics::RateErrorBox {
+                        angle_sum_rad: s,
+                        translation_sum_m: translation_sum,
+                        accuracy: extra_bounds[k],
+                        ripple: extra_bounds[k + 1].hypot(extra_bounds[k + 2]),
+                    };
+                    let rem = e.frames.remainder_bound(&b, &e.env)?;
+                    let u0 = plan.inputs(e, &identity, &zeros, n_tr)?;
+                    let to_dph = tt_core::units::rad_per_s_to_deg_per_h;
+                    let (df, dw) = (
+                        rem.specific_force_change_g,
+                        to_dph(rem.rate_change_rad_per_s),
+                    );
+                    let (rf, rw) = (rem.specific_force_g, to_dph(rem.rate_rad_per_s));
+                    (
+                        u0.0.map(f64::abs),
+                        [df, df, df, dw, dw, dw],
+                        [rf, rf, rf, rw, rw, rw],
+                    )
+                }
+            };
+            r_e.push(terms_remainder(cal.output(), true, &m, &d, &rho));
+            r_g.push(terms_remainder(cal.output(), false, &m, &d, &rho));
+        }
+        let a = cal.regression().matrix();
+        let p = a * cal.regression().pinv();
+        let i_minus_p = nalgebra::DMatrix::identity(p.nrows(), p.ncols()) - &p;
+        let map = |x: &nalgebra::DMatrix<f64>, r: &[f64]| -> Vec<f64> {
+            x.row_iter()
+                .map(|row| row.iter().zip(r).map(|(v, r)| v.abs() * r).sum())
+                .collect()
+        };
+        let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        let sum =
+            |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
+        let r_ge = sum(&r_g, &r_e);
+        Ok(match (reading.outputs, reading.form) {
+            (OutputsAt::Intended, ErrorForm::Printed) => Some(max(&r_e)),
+            (OutputsAt::Intended, ErrorForm::NominalRate) => Some(0.0),
+            (OutputsAt::Intended, ErrorForm::ActualRegressors) => Some(max(&r_ge)),
+            (OutputsAt::Intended, ErrorForm::ActualRegressorsNominalRate) => Some(max(&r_g)),
+            (OutputsAt::Actual, ErrorForm::Printed) => {
+                Some(max(&sum(&map(&i_minus_p, &r_g), &map(&p, &r_e))))
+            }
+            (OutputsAt::Actual, ErrorForm::NominalRate) => Some(max(&map(&i_minus_p, &r_ge))),
+            _ => None,
+        })
+    }
+
+    /// $\tau_k$ of every output for the box of angular bounds `ub_rad` (`+inf` held at 0)
+    /// and extra-error bounds `extra_bounds`.
+    fn rate_taus(&self, ub_rad: &[f64], extra_bounds: &[f64]) -> Result<Vec<f64>, E2eError> {
+        let ub: Vec<f64> = ub_rad
+            .iter()
+            .map(|u| if u.is_finite() { *u } else { 0.0 })
+            .collect();
+        let none = || E2eError::NoSecondOrderBound {
+            reading: self.reading().to_string(),
+        };
+        let s = self.model().angle_sum_bound(&ub).ok_or_else(none)?;
+        (0..self.n_outputs())
+            .map(|k| {
+                self.second_order_bound_with_extra(k, s, extra_bounds)?
+                    .ok_or_else(none)
+            })
+            .collect()
+    }
+
+    /// The certified direct allocation of the angular errors and the rate tolerances: the
+    /// allocation of [`crate::EndToEnd::allocate_direct_rate`] whose first-order worst case
+    /// over both boxes plus the derived second-order bound
+    /// ([`crate::EndToEnd::second_order_bound_with_extra`]) is within every accuracy (less
+    /// [`crate::CertifyParams::round_trip_rel`] of it), the certificate of
+    /// [`crate::EndToEnd::allocate_direct_certified`] with the extra errors in the box.
+    ///
+    /// # Method
+    /// Solve with each output's margin $\mu_k$ (from 0), compute $\tau_k$ of the box found;
+    /// while the box is not certified, raise $\mu_k$ to $\tau_k$ plus the round-trip share
+    /// (margins only grow; $\tau$ shrinks with the box) and solve again, at most
+    /// [`RATE_CERTIFY_ROUNDS`] times. The returned box is certified by the check, whatever
+    /// the rounds.
+    ///
+    /// # Errors
+    /// As [`crate::EndToEnd::allocate_direct_rate`]; [`E2eError::NoSecondOrderBound`] for a
+    /// reading without a bound; [`E2eError::NoConvergence`] when a margin would exceed
+    /// [`crate::CertifyParams::max_margin`] of the accuracy or the rounds run out.
+    pub fn allocate_direct_rate_certified(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+    ) -> Result<CertifiedRateAllocation, E2eError> {
+        let params = crate::CertifyParams::default();
+        if !self.has_rate_steps() {
+            // no rate tolerance: the static certificate itself
+            let d = self.allocate_direct_certified(linear, lower_bounds_rad)?;
+            let n = self.len();
+            let rows = linear.row_worst_cases(&d.upper_bounds_rad);
+            let linear_bounds: Vec<f64> = (0..self.n_outputs())
+                .map(|k| rows.rows(k * n, n).max())
+                .collect();
+            let taus = self.rate_taus(&d.upper_bounds_rad, &[])?;
+            return Ok(CertifiedRateAllocation {
+                combined: d,
+                tolerances: Vec::new(),
+                linear_bounds,
+                second_order_bounds: taus,
+                rounds: 0,
+            });
+        }
+        self.with_rate_setup(linear, extra_linear, lower_bounds_rad, |setup, combined, lb| {
+            let acc = self.accuracies();
+            let n = self.len();
+            let n_angles = self.n_errors();
+            let room = |k: usize| acc[k] * (1.0 - params.round_trip_rel);
+            let mut margins = vec![0.0; acc.len()];
+            for round in 0..=RATE_CERTIFY_ROUNDS {
+                let d = setup.allocate(combined, lb, &margins, None)?;
+                let extra = self.extra_bounds_of(&d.upper_bounds_rad[n_angles..]);
+                let taus = self.rate_taus(&d.upper_bounds_rad[..n_angles], &extra)?;
+                let rows = combined.row_worst_cases(&d.upper_bounds_rad);
+                let linear_bounds: Vec<f64> =
+                    (0..acc.len()).map(|k| rows.rows(k * n, n).max()).collect();
+                if (0..acc.len()).all(|k| linear_bounds[k] + taus[k] <= room(k)) {
+                    let mut combined_d = d;
+                    combined_d.second_order_margins.clone_from(&margins);
+                    return Ok(CertifiedRateAllocation {
+                        combined: combined_d,
+                        tolerances: self.rate_tolerances(),
+                        linear_bounds,
+                        second_order_bounds: taus,
+                        rounds: round,
+                    });
+                }
+                for k in 0..acc.len() {
+                    let excess = linear_bounds[k] + taus[k] - room(k);
+                    if excess > 0.0 {
+                        let want = taus[k] + acc[k] * params.round_trip_rel;
+                        margins[k] = if want > margins[k] {
+                            want
+                        } else {
+                            margins[k] + excess
+                        };
+                        if margins[k] >= params.max_margin * acc[k] {
+                            return Err(E2eError::NoConvergence {
+                                what: "certified direct allocation with rate tolerances (the second-order bound takes more than the largest margin of an accuracy)",
+                                iterations: round,
+                                change: margins[k],
+                            });
+                        }
+                    }
+                }
+            }
+            Err(E2eError::NoConvergence {
+                what: "certified direct allocation with rate tolerances (the box is not certified after keeping the second-order bound free)",
+                iterations: RATE_CERTIFY_ROUNDS,
+                change: margins.iter().fold(0.0, |a: f64, b| a.max(*b)),
+            })
         })
     }
 }

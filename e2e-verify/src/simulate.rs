@@ -397,6 +397,11 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         Ok(())
     }
 
+    /// The rate steps of the schedule ([`crate::rate`]).
+    pub(crate) fn rate_plan(&self) -> &crate::rate::RatePlan {
+        &self.rate
+    }
+
     /// Whether the schedule has a rate step.
     #[must_use]
     pub fn has_rate_steps(&self) -> bool {

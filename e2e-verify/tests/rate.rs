@@ -283,3 +283,171 @@ fn direct_rate_allocation_rate_accuracy_agrees_with_the_closed_form() {
     assert!(angles + eps * per_unit <= acc[1] * (1.0 + SOLVER_REL));
     assert!(eps > 0.0 && eps * per_unit <= acc[1]);
 }
+
+/// Rounding allowed on a remainder or a certified bound: the output's precision
+/// (`EndToEnd::precisions`, output unit: the rounding of the exact chain's error vector,
+/// of outputs of size 2e5 deg/h at the rate steps).
+fn rounding(e: &EndToEnd, k: usize) -> f64 {
+    e.precisions()[k]
+}
+
+/// Issue 23 (certificate at rate steps): the derived second-order bound with the extra errors
+/// (`second_order_bound_with_extra`) is at least the actual remainder, the exact chain's error
+/// vector minus its first-order value `M chi + N x`, at random points and at random corners of
+/// several boxes (the direct rate allocation's box scaled by 0.25 to 16) of the tactical
+/// study's rate steps.
+#[test]
+fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corners() {
+    use rand_core::{Rng, SeedableRng};
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let lb = vec![0.0; e.n_errors()];
+    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    let ub0: Vec<f64> = a
+        .angles_rad()
+        .iter()
+        .map(|u| if u.is_finite() { *u } else { 0.0 })
+        .collect();
+    let x0 = e.extra_bounds_of(a.tolerance_bounds());
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(23);
+    let mut largest_ratio = 0.0_f64;
+    for scale in [0.25, 1.0, 4.0, 16.0] {
+        let ub: Vec<f64> = ub0.iter().map(|u| u * scale).collect();
+        let xb: Vec<f64> = x0.iter().map(|t| t * scale).collect();
+        let s: f64 = ub.iter().sum();
+        let taus: Vec<f64> = (0..e.n_outputs())
+            .map(|k| {
+                e.second_order_bound_with_extra(k, s, &xb)
+                    .expect("valid box")
+                    .expect("a bound for the study's reading")
+            })
+            .collect();
+        for draw in 0..24 {
+            let (chi, x) = if draw % 3 == 0 {
+                // a corner
+                let sign = |rng: &mut rand_chacha::ChaCha8Rng, b: &f64| {
+                    if rng.next_u32() & 1 == 0 { *b } else { -b }
+                };
+                (
+                    ub.iter().map(|b| sign(&mut rng, b)).collect::<Vec<f64>>(),
+                    xb.iter().map(|b| sign(&mut rng, b)).collect::<Vec<f64>>(),
+                )
+            } else {
+                (
+                    common::random_chi(&mut rng, &ub),
+                    common::random_chi(&mut rng, &xb),
+                )
+            };
+            let run = e
+                .with_extra_values(&x)
+                .expect("finite")
+                .run(&chi)
+                .expect("runs");
+            for (k, tau) in taus.iter().enumerate() {
+                let actual = (0..e.len())
+                    .map(|i| {
+                        let first: f64 = m
+                            .row(k, i)
+                            .iter()
+                            .zip(&chi)
+                            .map(|(a, c)| a * c)
+                            .sum::<f64>()
+                            + n.row(k, i).iter().zip(&x).map(|(a, c)| a * c).sum::<f64>();
+                        (run.analyses[k].error_vector[i] - first).abs()
+                    })
+                    .fold(0.0, f64::max);
+                assert!(
+                    actual <= tau + rounding(&e, k),
+                    "scale {scale}, output {k}: remainder {actual} > bound {tau}"
+                );
+                if actual > rounding(&e, k) {
+                    largest_ratio = largest_ratio.max(actual / tau);
+                }
+            }
+        }
+    }
+    // the bound is not vacuous: somewhere the remainder is a visible share of it
+    assert!(
+        largest_ratio > 1e-3,
+        "largest remainder / bound {largest_ratio}"
+    );
+}
+
+/// Issue 23: the certified direct allocation with the rate tolerances: its certified bound
+/// (first-order worst case over both boxes plus the derived second-order bound) is within
+/// every accuracy, and the exact chain at each output's worst vertex is within the certified
+/// bound.
+#[test]
+fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_worst_vertex() {
+    let e = e2e();
+    let (m, n) = (e.linearization(), e.extra_linearization());
+    let lb = vec![0.0; e.n_errors()];
+    let c = e
+        .allocate_direct_rate_certified(&m, &n, &lb)
+        .expect("certifiable");
+    let direct = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    assert_eq!(c.tolerances, direct.tolerances);
+    for (t, name) in c.tolerance_bounds().iter().zip(e.rate_tolerance_names()) {
+        assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
+    }
+    // a certified box costs at least the first-order one (J grows as the box shrinks)
+    assert!(c.combined.objective >= direct.combined.objective * (1.0 - SOLVER_REL));
+    let ub: Vec<f64> = c
+        .angles_rad()
+        .iter()
+        .map(|u| if u.is_finite() { *u } else { 0.0 })
+        .collect();
+    let extra = e.extra_bounds_of(c.tolerance_bounds());
+    let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
+    for (k, acc) in e.accuracies().iter().enumerate() {
+        assert!(
+            c.second_order_bounds[k] > 0.0,
+            "output {k}: no remainder bound"
+        );
+        assert!(
+            c.certified_bound(k) <= *acc,
+            "output {k}: certified {} > {acc}",
+            c.certified_bound(k)
+        );
+        assert_relative_eq!(
+            wc[k].linear_bound,
+            c.linear_bounds[k],
+            max_relative = SOLVER_REL,
+            epsilon = rounding(&e, k)
+        );
+        assert!(
+            wc[k].exact_at_vertex <= c.certified_bound(k) + rounding(&e, k),
+            "output {k}: exact chain {} > certified {}",
+            wc[k].exact_at_vertex,
+            c.certified_bound(k)
+        );
+    }
+}
+
+/// Issue 23: a study without rate steps gets exactly today's certified answer from the rate
+/// allocation's certified variant, and the bound with (no) extra errors is the static one.
+#[test]
+fn certified_rate_allocation_of_a_static_study_is_todays_certified_allocation() {
+    let e = common::study_e2e("imu-triad-example", None);
+    assert!(!e.has_rate_steps());
+    let m = e.linearization();
+    let n = e.extra_linearization();
+    let lb = vec![0.0; e.n_errors()];
+    let today = e.allocate_direct_certified(&m, &lb).expect("certifiable");
+    let c = e
+        .allocate_direct_rate_certified(&m, &n, &lb)
+        .expect("certifiable");
+    assert!(c.tolerances.is_empty());
+    assert_eq!(c.combined, today);
+    let s: f64 = today
+        .upper_bounds_rad
+        .iter()
+        .filter(|u| u.is_finite())
+        .sum();
+    for k in 0..e.n_outputs() {
+        assert_eq!(
+            e.second_order_bound_with_extra(k, s, &[]).expect("valid"),
+            e.second_order_bound(k, s).expect("valid")
+        );
+    }
+}

@@ -91,8 +91,8 @@ pub use model::{
 };
 pub use pose::TurntableErrors;
 pub use rate::{
-    RateAverage, RateEnvironment, RateErrorValues, RateStep, RateStepFrames,
-    STANDARD_GRAVITY_M_PER_S2, ripple_averages,
+    RateAverage, RateEnvironment, RateErrorBox, RateErrorValues, RateRemainder, RateStep,
+    RateStepFrames, STANDARD_GRAVITY_M_PER_S2, ripple_averages,
 };
 pub use schedule::TurntableSchedule;
 /// The shared vocabulary this crate's API speaks ([`tt_core`]), re-exported.

@@ -397,3 +397,181 @@ impl Turntable {
         (p, s, t_s, u)
     }
 }
+
+/// The box of errors a rate step's remainder is bounded over
+/// ([`RateStepFrames::remainder_bound`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RateErrorBox {
+    /// $s$: the rotation angles of the angular errors sum to at most this (rad).
+    pub angle_sum_rad: f64,
+    /// $L$: the translation errors' absolute values sum to at most this (m; each acts along a
+    /// unit vector).
+    pub translation_sum_m: f64,
+    /// $E$: $|\varepsilon| \le E$ (relative).
+    pub accuracy: f64,
+    /// $Q$: $\rho = \sqrt{\rho_c^2+\rho_s^2} \le Q < 1$ (relative).
+    pub ripple: f64,
+}
+
+/// A bound of a rate step's averaged inputs' second-order remainder and change over a
+/// [`RateErrorBox`] ([`RateStepFrames::remainder_bound`]); Euclidean norms of the 3-vectors.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RateRemainder {
+    /// $|\langle\mathbf f\rangle - \mathbf f_0 - \mathrm d\mathbf f| \le$ this (g).
+    pub specific_force_g: f64,
+    /// $|\langle\boldsymbol\omega\rangle - \boldsymbol\omega_0 - \mathrm d\boldsymbol\omega|
+    /// \le$ this (rad/s).
+    pub rate_rad_per_s: f64,
+    /// $|\langle\mathbf f\rangle - \mathbf f_0| \le$ this (g).
+    pub specific_force_change_g: f64,
+    /// $|\langle\boldsymbol\omega\rangle - \boldsymbol\omega_0| \le$ this (rad/s).
+    pub rate_change_rad_per_s: f64,
+}
+
+/// One factor $\mathbf F = \mathbf F_0 + \mathbf L + \mathbf R$ of a multilinear term:
+/// $(|\mathbf F_0|, |\mathbf L + \mathbf R|, |\mathbf R|)$ bounds.
+type Factor3 = (f64, f64, f64);
+
+/// The multilinear lemma of [`RateStepFrames::remainder_bound`]: for factors
+/// $(a_k, b_k, c_k)$, the bound of the remainder
+/// $\sum_k c_k\prod_{l\ne k}a_l + \sum_{|K|\ge 2}\prod_{k\in K}b_k\prod_{l\notin K}a_l$ and of
+/// the change $\prod_k(a_k+b_k) - \prod_k a_k$ (every subset summed term by term: no
+/// cancellation).
+fn multilinear_remainder(f: &[Factor3]) -> (f64, f64) {
+    let n = f.len();
+    let (mut rem, mut change) = (0.0, 0.0);
+    for mask in 1_u32..(1 << n) {
+        let term: f64 = (0..n)
+            .map(|k| if mask & (1 << k) != 0 { f[k].1 } else { f[k].0 })
+            .product();
+        change += term;
+        if mask.count_ones() >= 2 {
+            rem += term;
+        }
+    }
+    for k in 0..n {
+        rem += f[k].2 * (0..n).filter(|&l| l != k).map(|l| f[l].0).product::<f64>();
+    }
+    (rem, change)
+}
+
+impl RateStepFrames {
+    /// A rigorous bound of the second-order remainder of the averaged inputs
+    /// ([`RateStepFrames::average`]) over every error of the box `b` (expanded about zero
+    /// errors), and of their change.
+    ///
+    /// # Formula
+    /// Conjugating the nominal factors through, $\mathbf P = \mathbf P_0\,\Delta\mathbf P$
+    /// and $\mathbf S = \mathbf S_0\,\Delta\mathbf S$, each $\Delta$ a product of rotations
+    /// whose angles sum to at most $s$, so (as for the static bound)
+    /// $\lVert\Delta - \mathbf I\rVert_2 \le s$ and
+    /// $\lVert\Delta - \mathbf I - [\boldsymbol\delta]_\times\rVert_2 \le e^s - 1 - s \le
+    /// \sigma = \tfrac12 s^2 e^s$. Every input of the [module](self)'s formula is a sum of
+    /// multilinear terms $B(\mathbf F_1, \dots, \mathbf F_n)$ with
+    /// $|B(\mathbf x_1,\dots)| \le \prod|\mathbf x_k|$, each factor
+    /// $\mathbf F_k = \mathbf F_{k0} + \mathbf L_k + \mathbf R_k$ (nominal, linear part,
+    /// remainder) with $|\mathbf F_{k0}| \le a_k$, $|\mathbf L_k + \mathbf R_k| \le b_k$,
+    /// $|\mathbf R_k| \le c_k$. Expanding, the term's remainder is at most
+    /// $$\sum_k c_k\prod_{l\ne k}a_l + \sum_{|K|\ge2}\ \prod_{k\in K}b_k\prod_{l\notin K}a_l,$$
+    /// and its change at most $\prod_k(a_k+b_k) - \prod_k a_k$ (a factor occurring twice,
+    /// $\Delta\mathbf S$ in $\mathbf S^T$ and in $\mathbf r$, is taken as two independent
+    /// factors: the bound covers the correlated case). The factors:
+    /// - $\Delta\mathbf S^T$, $\Delta\mathbf P^T$: $(1, s, \sigma)$;
+    /// - $1+\varepsilon$: $(1, E, 0)$ (the centripetal term's $(1+\varepsilon)^2$ as two);
+    /// - $\mathbf M = \hat u\hat u^T + \kappa(\rho_c(\mathbf I - \hat u\hat u^T) -
+    ///   \rho_s[\hat u]_\times)$, whose bracket has norm $\rho$, linear part $-\tfrac12$ of it:
+    ///   $(1, |\kappa|Q, Q(\tfrac12 - |\kappa|)) = (1, \frac{Q}{1+q},
+    ///   \frac{Q^3}{2(1+q)^2})$, $q = \sqrt{1-Q^2}$ (both grow with $Q$);
+    /// - $\langle\Omega^2\rangle/\langle\Omega\rangle^2 = 1/\sqrt{1-\rho^2}$, no linear part:
+    ///   $(1, \phi, \phi)$, $\phi = 1/q - 1 = Q^2/(q(1+q))$;
+    /// - $\mathbf r = \mathbf t + \mathbf S_0\Delta\mathbf S\,\mathbf l$ with
+    ///   $\mathbf t = \sum_i \mathbf S_{0,i}\Delta\mathbf S_i\,\mathbf d_i t_i$ (the partial
+    ///   products, again rotations of angle sum at most $s$):
+    ///   $(|\mathbf l|,\ L + s|\mathbf l|,\ \sigma|\mathbf l| + sL)$.
+    ///
+    /// The terms (the fixed unit vectors and projections have norm at most 1):
+    /// $\boldsymbol\omega$: $|\Omega_c|\,[\Delta\mathbf S^T, 1+\varepsilon]$ and
+    /// $|\boldsymbol\omega_e|\,[\Delta\mathbf S^T, \mathbf M, \Delta\mathbf P^T]$;
+    /// $\mathbf f$: $|\hat{\mathbf g}|\,[\Delta\mathbf S^T, \mathbf M, \Delta\mathbf P^T]$,
+    /// centripetal $\frac{\Omega_c^2}{g_0}[\Delta\mathbf S^T, 1+\varepsilon, 1+\varepsilon,
+    /// \phi, \mathbf r]$, Coriolis $\frac{2|\Omega_c||\boldsymbol\omega_e|}{g_0}
+    /// [\Delta\mathbf S^T, 1+\varepsilon, \Delta\mathbf P^T, \mathbf r]$. The bounds are the
+    /// sums over the terms.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Field`] naming the bound unless every bound is finite and
+    /// non-negative and $Q < 1$.
+    pub fn remainder_bound(
+        &self,
+        b: &RateErrorBox,
+        env: &RateEnvironment,
+    ) -> Result<RateRemainder, KinematicsError> {
+        for (name, v) in [
+            ("angle_sum_rad", b.angle_sum_rad),
+            ("translation_sum_m", b.translation_sum_m),
+            ("accuracy", b.accuracy),
+            ("ripple", b.ripple),
+        ] {
+            finite(name, v)?;
+            if v < 0.0 {
+                return Err(tt_core::FieldError::NotPositive {
+                    field: name.into(),
+                    value: v,
+                }
+                .into());
+            }
+        }
+        if b.ripple >= 1.0 {
+            return Err(tt_core::FieldError::OutOfRange {
+                field: "ripple".into(),
+                value: b.ripple,
+                range: "[0, 1): a relative rate ripple".into(),
+            }
+            .into());
+        }
+        let s = b.angle_sum_rad;
+        let sigma = 0.5 * s * s * s.exp();
+        let rot = (1.0, s, sigma);
+        let one_e = (1.0, b.accuracy, 0.0);
+        let q = (1.0 - b.ripple * b.ripple).sqrt();
+        let m = (
+            1.0,
+            b.ripple / (1.0 + q),
+            b.ripple.powi(3) / (2.0 * (1.0 + q) * (1.0 + q)),
+        );
+        let phi = b.ripple * b.ripple / (q * (1.0 + q));
+        let l = env.lever_arm_m.norm();
+        let r = (
+            l,
+            b.translation_sum_m + s * l,
+            sigma * l + s * b.translation_sum_m,
+        );
+        let omega = self.rate_rad_per_s.abs();
+        let we = env.earth_rate_base_rad_per_s.norm();
+        let g = env.specific_force_base_g.norm();
+        let terms = |list: &[(f64, &[Factor3])]| -> (f64, f64) {
+            list.iter().fold((0.0, 0.0), |(r0, c0), (coef, f)| {
+                let (r1, c1) = multilinear_remainder(f);
+                (r0 + coef * r1, c0 + coef * c1)
+            })
+        };
+        let (rate_rem, rate_change) = terms(&[(omega, &[rot, one_e]), (we, &[rot, m, rot])]);
+        let (f_rem, f_change) = terms(&[
+            (g, &[rot, m, rot]),
+            (
+                omega * omega / STANDARD_GRAVITY_M_PER_S2,
+                &[rot, one_e, one_e, (1.0, phi, phi), r],
+            ),
+            (
+                2.0 * omega * we / STANDARD_GRAVITY_M_PER_S2,
+                &[rot, one_e, rot, r],
+            ),
+        ]);
+        Ok(RateRemainder {
+            specific_force_g: f_rem,
+            rate_rad_per_s: rate_rem,
+            specific_force_change_g: f_change,
+            rate_change_rad_per_s: rate_change,
+        })
+    }
+}

@@ -283,11 +283,14 @@ pub fn tolerance_in_sheet_units(t: &RateTolerance, v: f64) -> (f64, &'static str
 
 /// The direct allocation of the angles and the rate tolerances together, with the Monte Carlo
 /// over both of its boxes (exact chain at random points: evidence beside the worst-vertex
-/// check, not a certificate).
+/// check, not a certificate) and the certified allocation.
 #[derive(Debug, Clone)]
 pub struct RateAllocated {
     /// The allocation.
     pub allocation: RateAllocation,
+    /// The certified allocation ([`EndToEnd::allocate_direct_rate_certified`]), or why there
+    /// is none.
+    pub certified: std::result::Result<e2e_verify::CertifiedRateAllocation, String>,
     /// Turntables of both allocated boxes meeting every accuracy, of `samples`.
     pub meets: u64,
     /// Turntables drawn.
@@ -320,8 +323,21 @@ pub fn allocation(
     let (meets, max_drawn) = e2e
         .meeting_count_with_extra(a.angles_rad(), &s.lower_bounds_rad, &extra, settings)
         .map_err(|e| crate::input::library(e, s))?;
+    let certified = match e2e.allocate_direct_rate_certified(
+        &e2e.linearization(),
+        &e2e.extra_linearization(),
+        &s.lower_bounds_rad,
+    ) {
+        Ok(c) => Ok(c),
+        Err(
+            e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
+            | e2e_verify::E2eError::NoConvergence { .. }),
+        ) => Err(e.to_string()),
+        Err(e) => return Err(crate::input::library(e, s)),
+    };
     Ok(Some(RateAllocated {
         allocation: a,
+        certified,
         meets,
         samples: settings.samples,
         max_drawn,
@@ -388,10 +404,77 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
         r.samples
     ));
     s.push_str(&format!(
-        "  not certified: {}\n",
+        "  {}\n",
         e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS
     ));
+    match &r.certified {
+        Ok(c) => {
+            s.push_str(&format!(
+                "certified allocation with the rate tolerances (first-order worst case plus the derived second-order bound within every accuracy), J = {} arcmin^-2\n",
+                num(c.combined.objective_arcmin())
+            ));
+            let tols: Vec<String> = e2e
+                .rate_tolerance_names()
+                .iter()
+                .zip(&c.tolerances)
+                .zip(c.tolerance_bounds())
+                .filter(|(_, b)| b.is_finite())
+                .map(|((n, t), b)| {
+                    let (v, unit) = tolerance_in_sheet_units(t, *b);
+                    format!("{n} {} {unit}", num(v))
+                })
+                .collect();
+            s.push_str(&format!("  rate tolerances: {}\n", tols.join(", ")));
+            for (k, a_k) in acc.iter().enumerate() {
+                let out = e2e.calibration().outputs()[k].output();
+                s.push_str(&format!(
+                    "  {}: certified {} {} = first order {} + second-order bound {}, against {}\n",
+                    out.name,
+                    num(c.certified_bound(k)),
+                    out.unit,
+                    num(c.linear_bounds[k]),
+                    num(c.second_order_bounds[k]),
+                    num(*a_k)
+                ));
+            }
+        }
+        Err(why) => s.push_str(&format!("  no certified allocation: {why}\n")),
+    }
     s
+}
+
+/// The certified allocation with the rate tolerances as JSON (`rate_allocation.certified`).
+fn certified_json(e2e: &EndToEnd, c: &e2e_verify::CertifiedRateAllocation) -> Value {
+    let names = e2e.turntable().rotation_error_names();
+    let acc = e2e.accuracies();
+    let tolerances: Vec<Value> = e2e
+        .rate_tolerance_names()
+        .iter()
+        .zip(&c.tolerances)
+        .zip(c.tolerance_bounds())
+        .map(|((n, t), b)| {
+            let (v, unit) = tolerance_in_sheet_units(t, *b);
+            json!({"name": n, "bound": b.is_finite().then_some(v), "unit": unit})
+        })
+        .collect();
+    let outputs: Vec<Value> = (0..acc.len())
+        .map(|k| {
+            json!({
+                "output": e2e.calibration().outputs()[k].output().name,
+                "accuracy": acc[k],
+                "linear_bound": c.linear_bounds[k],
+                "second_order_bound": c.second_order_bounds[k],
+                "certified_bound": c.certified_bound(k),
+            })
+        })
+        .collect();
+    json!({
+        "objective_arcmin": c.combined.objective_arcmin(),
+        "bounds_arcmin": crate::out::arcmin_json(&names, c.angles_rad()),
+        "tolerances": tolerances,
+        "outputs": outputs,
+        "rounds": c.rounds,
+    })
 }
 
 /// The allocation with the rate tolerances as JSON (`rate_allocation`).
@@ -443,7 +526,8 @@ pub fn allocation_json(e2e: &EndToEnd, r: &RateAllocated) -> Value {
         "yield_interval_95": [lo, hi],
         "samples": r.samples,
         "max_drawn": r.max_drawn,
-        "certified": false,
-        "certified_note": e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
+        "direct_note": e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
+        "certified": r.certified.as_ref().ok().map(|c| certified_json(e2e, c)),
+        "certified_note": r.certified.as_ref().err(),
     })
 }

@@ -142,13 +142,33 @@ fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
         "--json",
     ]);
     let r = &v["rate_allocation"];
-    assert_eq!(r["certified"], false);
     assert!(
-        r["certified_note"]
+        r["direct_note"]
             .as_str()
             .expect("a note")
             .contains("not a certificate")
     );
+    // the certified allocation: certified bound (first order + second-order bound) within
+    // every accuracy, and dearer than the direct one
+    assert!(r["certified_note"].is_null(), "{}", r["certified_note"]);
+    let c = &r["certified"];
+    assert!(common::num(&c["objective_arcmin"]) >= common::num(&r["objective_arcmin"]));
+    for o in c["outputs"].as_array().expect("outputs") {
+        let (lin, tau) = (
+            common::num(&o["linear_bound"]),
+            common::num(&o["second_order_bound"]),
+        );
+        assert!(tau > 0.0, "{o}");
+        assert!(
+            common::num(&o["certified_bound"]) <= common::num(&o["accuracy"]),
+            "{o}"
+        );
+        approx::assert_relative_eq!(
+            common::num(&o["certified_bound"]),
+            lin + tau,
+            max_relative = 1e-15
+        );
+    }
     let j = common::num(&r["objective_arcmin"]);
     assert!(j.is_finite() && j > 0.0);
     let tols = r["tolerances"].as_array().expect("tolerances");

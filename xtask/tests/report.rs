@@ -801,7 +801,8 @@ fn report_vendor_section_shows_the_rate_errors_with_their_bounds_parts_and_verdi
         "`phi_i_rate_accuracy` | 46.",
         " ppm",
         " mm",
-        "Not a certificate",
+        "not a certificate",
+        "Certified allocation with the rate tolerances",
     ] {
         assert!(alloc.contains(needle), "{needle} in:\n{alloc}");
     }

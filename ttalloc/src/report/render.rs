@@ -1938,13 +1938,29 @@ impl<'a> Sections<'a> {
         );
         let (lo, hi) = e2e_verify::wilson_interval_95(ra.meets, ra.samples);
         self.doc.p(format!(
-            "{:.2}% of {} random turntables within both allocated boxes meet every accuracy on the exact chain (95% interval {:.2}%-{:.2}%). Not a certificate: {}.",
+            "{:.2}% of {} random turntables within both allocated boxes meet every accuracy on the exact chain (95% interval {:.2}%-{:.2}%). Note: {}.",
             100.0 * ra.meets as f64 / ra.samples as f64,
             ra.samples,
             100.0 * lo,
             100.0 * hi,
             doc::text(e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS)
         ));
+        match &ra.certified {
+            Ok(c) => self.doc.p(format!(
+                "Certified allocation with the rate tolerances (first-order worst case over both boxes plus the derived second-order bound of the revolution averages within every accuracy): J = {} arcmin^-2 against the direct allocation's {}; largest certified bound / accuracy {}.",
+                sig(c.combined.objective_arcmin(), 5),
+                sig(a.combined.objective_arcmin(), 5),
+                sig(
+                    (0..acc.len())
+                        .map(|k| c.certified_bound(k) / acc[k])
+                        .fold(0.0, f64::max),
+                    4
+                )
+            )),
+            Err(why) => self
+                .doc
+                .p(format!("No certified allocation with the rate tolerances: {}.", doc::text(why))),
+        }
     }
 
     /// The vendor check of a study with rate steps over the angular box and the sheet's rate
