@@ -29,6 +29,11 @@ use tt_kinematics::{
 
 use crate::error::E2eError;
 
+/// Rounding allowance of one evaluation of a rate step's inputs in the certified bound,
+/// relative to the inputs' size: $2^{-40}$, about 80 times the rounding of the few dozen
+/// operations of the compiled chain ($\approx 100\,\epsilon$, $\epsilon = 2^{-53}$).
+const FD_ROUNDING_REL: f64 = 1.0 / (1u64 << 40) as f64;
+
 /// What the direct allocation with the rate tolerances ([`crate::EndToEnd::allocate_direct_rate`])
 /// checks and why that is not a certificate; the certificate is
 /// [`crate::EndToEnd::allocate_direct_rate_certified`].
@@ -872,9 +877,13 @@ impl crate::EndToEnd {
     /// |\mathbf P_{il}|\,r_{e,l}\big)$).
     ///
     /// The first-order part at the rate steps is the linearisation's, whose input derivatives
-    /// are central differences ([`crate::RATE_DERIVATIVE_STEP`]); their truncation and rounding
-    /// (about $10^{-10}$ of the inputs' size per unit of error, $10^{-9}$ deg/h for the
-    /// tactical study's boxes) are not part of $\tau$.
+    /// are central differences $D_h$ of step $h$ ([`crate::RATE_DERIVATIVE_STEP`]). Their
+    /// truncation is bounded by the same remainder: $u(\pm h\,e_j) = u_0 \pm h\,u'_j +
+    /// R_j(\pm h)$ with $|R_j| \le \rho_j(h)$, the remainder over the box of error $j$ alone at
+    /// size $h$, so $|D_h - u'_j| \le \rho_j(h)/h$; weighted by the box's bounds ($s$, $L$,
+    /// $E$ and the ripple parts' sum) it is added to $\rho$ at each rate step, with an
+    /// allowance for the rounding of the two evaluations of $2^{-40}$ of the inputs' size
+    /// each.
     ///
     /// # Errors
     /// [`E2eError::Field`] naming a bad bound (as [`crate::EndToEnd::second_order_bound`];
@@ -949,7 +958,35 @@ impl crate::EndToEnd {
                         rem.specific_force_change_g,
                         to_dph(rem.rate_change_rad_per_s),
                     );
-                    let (rf, rw) = (rem.specific_force_g, to_dph(rem.rate_rad_per_s));
+                    // The first-order part at a rate step is the linearisation's central
+                    // difference D_h of step h: u(+-h e_j) = u0 +- h u'_j + R_j(+-h) with
+                    // |R_j| <= rho_j(h), the remainder over the box of error j alone at size h,
+                    // so |D_h - u'_j| <= rho_j(h)/h. Weighted by the errors' bounds (the box's
+                    // sums) this joins the remainder, with a rounding allowance of the two
+                    // evaluations (FD_ROUNDING_REL of the inputs' size each).
+                    let h = crate::RATE_DERIVATIVE_STEP;
+                    let ripple_sum = extra_bounds[k + 1] + extra_bounds[k + 2];
+                    let alone = |i: usize| tt_kinematics::RateErrorBox {
+                        angle_sum_rad: if i == 0 { h } else { 0.0 },
+                        translation_sum_m: if i == 1 { h } else { 0.0 },
+                        accuracy: if i == 2 { h } else { 0.0 },
+                        ripple: if i == 3 { h } else { 0.0 },
+                    };
+                    let weights = [s, translation_sum, extra_bounds[k], ripple_sum];
+                    let (mut fd_f, mut fd_w) = (0.0, 0.0);
+                    for (i, w) in weights.iter().enumerate() {
+                        if *w > 0.0 {
+                            let r = e.frames.remainder_bound(&alone(i), &e.env)?;
+                            fd_f += w * r.specific_force_g / h;
+                            fd_w += w * r.rate_rad_per_s / h;
+                        }
+                    }
+                    let size = |v: &[f64]| v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                    let round = weights.iter().sum::<f64>() * FD_ROUNDING_REL / h;
+                    let (rf, rw) = (
+                        rem.specific_force_g + fd_f + round * size(&u0.0[..3]),
+                        to_dph(rem.rate_rad_per_s + fd_w) + round * size(&u0.0[3..]),
+                    );
                     (
                         u0.0.map(f64::abs),
                         [df, df, df, dw, dw, dw],
