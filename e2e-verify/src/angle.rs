@@ -188,6 +188,8 @@ impl EndToEnd {
 /// Draws per random stream of [`EndToEnd::angle_yield`] (chunk $c$ uses
 /// [`mc_verify::chunk_rng`]`(seed, c)`; fixed, so results do not depend on the thread count).
 pub const ANGLE_CHUNK: u64 = 1024;
+/// Chunks of the angle-dependent Monte Carlo evaluated per wave (memory: one wave's counts).
+const ANGLE_WAVE_CHUNKS: u64 = 64;
 
 fn check_expansion(e2e: &EndToEnd, e: &Expansion) -> Result<(), E2eError> {
     tt_core::length("expansion positions", e2e.len(), e.positions())
@@ -393,7 +395,6 @@ impl EndToEnd {
         samples: u64,
         seed: u64,
     ) -> Result<AngleYield, E2eError> {
-        use rayon::prelude::*;
         check_expansion(self, expansion)?;
         let acc = self.accuracies();
         let ub: Vec<f64> = ub_rad
@@ -401,43 +402,42 @@ impl EndToEnd {
             .map(|u| if u.is_finite() { *u } else { 0.0 })
             .collect();
         let chunks = samples.div_ceil(ANGLE_CHUNK);
-        let parts = (0..chunks)
-            .into_par_iter()
-            .map(|chunk| -> Result<(u64, u64, f64), E2eError> {
-                let mut rng = mc_verify::chunk_rng(seed, chunk);
-                let mut uniform =
-                    move || (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-                let mut work = self.work();
-                let mut c = vec![0.0; expansion.n_coefficients()];
-                let mut chi = vec![0.0; self.n_errors()];
-                let count = ANGLE_CHUNK.min(samples - chunk * ANGLE_CHUNK);
-                let (mut meeting, mut worst) = (0, 0.0_f64);
-                for _ in 0..count {
-                    expansion.draw_with_discs(&ub, discs, &mut uniform, &mut c);
-                    self.delta_omega_varying_into(
-                        |i, x| expansion.chi_at(&c, i, x),
-                        &mut chi,
-                        &mut work,
-                    )?;
-                    let ratio = work
-                        .delta_omega
-                        .iter()
-                        .zip(&acc)
-                        .map(|(v, a)| v / a)
-                        .fold(0.0, f64::max);
-                    if ratio <= 1.0 {
-                        meeting += 1;
-                    }
-                    worst = worst.max(ratio);
+        let chunk = |chunk: u64| -> Result<(u64, u64, f64), E2eError> {
+            let mut rng = mc_verify::chunk_rng(seed, chunk);
+            let mut uniform = move || (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+            let mut work = self.work();
+            let mut c = vec![0.0; expansion.n_coefficients()];
+            let mut chi = vec![0.0; self.n_errors()];
+            let count = ANGLE_CHUNK.min(samples - chunk * ANGLE_CHUNK);
+            let (mut meeting, mut worst) = (0, 0.0_f64);
+            for _ in 0..count {
+                expansion.draw_with_discs(&ub, discs, &mut uniform, &mut c);
+                self.delta_omega_varying_into(
+                    |i, x| expansion.chi_at(&c, i, x),
+                    &mut chi,
+                    &mut work,
+                )?;
+                let ratio = work
+                    .delta_omega
+                    .iter()
+                    .zip(&acc)
+                    .map(|(v, a)| v / a)
+                    .fold(0.0, f64::max);
+                if ratio <= 1.0 {
+                    meeting += 1;
                 }
-                Ok((count, meeting, worst))
-            })
-            // sums of counts and a maximum: exact in any order, so any thread count agrees
-            .try_reduce(
-                || (0, 0, 0.0),
-                |a, b| Ok((a.0 + b.0, a.1 + b.1, a.2.max(b.2))),
-            )?;
-        let (n, meeting, worst) = parts;
+                worst = worst.max(ratio);
+            }
+            Ok((count, meeting, worst))
+        };
+        // sums of counts and a maximum, merged in chunk order: any thread count agrees
+        let (mut n, mut meeting, mut worst) = (0, 0, 0.0_f64);
+        mc_verify::driver::run_chunks(chunks, ANGLE_WAVE_CHUNKS, chunk, |(c, m, w)| {
+            n += c;
+            meeting += m;
+            worst = worst.max(w);
+            Ok(())
+        })?;
         Ok(AngleYield {
             samples: n,
             meeting,

@@ -31,8 +31,8 @@
 use crate::error::{E2eError, positive};
 use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
+use mc_verify::driver::{chunk_len, run_chunks};
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
-use rayon::prelude::*;
 use tt_kinematics::ScheduleErrorModel;
 
 /// Standard normal quantile of 97.5% ($z$ of a two-sided 95% interval).
@@ -357,55 +357,46 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         let cs = u64::from(settings.chunk_size);
         let chunks = settings.samples.div_ceil(cs);
         let mut acc = new();
-        let mut start = 0;
-        while start < chunks {
-            let end = (start + WAVE_CHUNKS).min(chunks);
-            let parts: Vec<Result<P, E2eError>> = (start..end)
-                .into_par_iter()
-                .map(|c| {
-                    let mut part = new();
-                    let mut rng = chunk_rng(settings.seed, c);
-                    let mut remaining = cs.min(settings.samples - c * cs) as usize;
-                    let mut block = SampleBlock::new(&sampler);
-                    let mut work = self.work();
-                    let mut chi = vec![0.0; self.n_errors()];
-                    let mut index = c * cs;
-                    while remaining > 0 {
-                        let m = remaining.min(BLOCK_CAPACITY);
-                        sampler.fill_block(&mut rng, m, &mut block);
-                        for k in 0..m {
-                            block.chi_rad_into(k, &mut chi);
-                            self.delta_omega_into(&chi, &mut work)
-                                .map_err(|e| E2eError::Draw {
-                                    sample: index,
-                                    reason: e.to_string(),
-                                })?;
-                            if let Some((o, v)) = work
-                                .delta_omega
-                                .iter()
-                                .enumerate()
-                                .find(|(_, v)| !v.is_finite())
-                            {
-                                return Err(E2eError::Draw {
-                                    sample: index,
-                                    reason: format!(
-                                        "non-finite calibration error {v} on output {o}"
-                                    ),
-                                });
-                            }
-                            visit(&mut part, index, &chi, &work.delta_omega);
-                            index += 1;
-                        }
-                        remaining -= m;
+        let chunk = |c: u64| -> Result<P, E2eError> {
+            let mut part = new();
+            let mut rng = chunk_rng(settings.seed, c);
+            let mut remaining = chunk_len(settings.samples, cs, c);
+            let mut block = SampleBlock::new(&sampler);
+            let mut work = self.work();
+            let mut chi = vec![0.0; self.n_errors()];
+            let mut index = c * cs;
+            while remaining > 0 {
+                let m = remaining.min(BLOCK_CAPACITY);
+                sampler.fill_block(&mut rng, m, &mut block);
+                for k in 0..m {
+                    block.chi_rad_into(k, &mut chi);
+                    self.delta_omega_into(&chi, &mut work)
+                        .map_err(|e| E2eError::Draw {
+                            sample: index,
+                            reason: e.to_string(),
+                        })?;
+                    if let Some((o, v)) = work
+                        .delta_omega
+                        .iter()
+                        .enumerate()
+                        .find(|(_, v)| !v.is_finite())
+                    {
+                        return Err(E2eError::Draw {
+                            sample: index,
+                            reason: format!("non-finite calibration error {v} on output {o}"),
+                        });
                     }
-                    Ok(part)
-                })
-                .collect();
-            for p in parts {
-                merge(&mut acc, p?);
+                    visit(&mut part, index, &chi, &work.delta_omega);
+                    index += 1;
+                }
+                remaining -= m;
             }
-            start = end;
-        }
+            Ok(part)
+        };
+        run_chunks(chunks, WAVE_CHUNKS, chunk, |p| {
+            merge(&mut acc, p);
+            Ok(())
+        })?;
         Ok(acc)
     }
 

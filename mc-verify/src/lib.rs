@@ -78,6 +78,7 @@
 #[cfg(feature = "paper")]
 pub mod baseline;
 mod bounds;
+pub mod driver;
 mod error;
 pub mod fast;
 #[cfg(feature = "paper")]

@@ -432,15 +432,8 @@ impl MonteCarlo {
         F: Fn(u64) -> Result<Partial, McError> + Sync,
     {
         let mut acc = Partial::new(&self.half_range_rad, self.config.histogram_bins);
-        let n_chunks = self.chunks();
-        let mut start = 0;
-        while start < n_chunks {
-            let end = (start + self.wave_chunks()).min(n_chunks);
-            let parts: Vec<Result<Partial, McError>> =
-                (start..end).into_par_iter().map(&chunk).collect();
-            for p in parts {
-                acc.merge(&p?);
-            }
+        crate::driver::run_chunks(self.chunks(), self.wave_chunks(), chunk, |p| {
+            acc.merge(&p);
             if let Some((sample, axis, value)) = acc.non_finite {
                 return Err(McError::NonFiniteModelOutput {
                     sample,
@@ -449,8 +442,8 @@ impl MonteCarlo {
                 });
             }
             progress(acc.n);
-            start = end;
-        }
+            Ok(())
+        })?;
         Ok(self.finish(acc))
     }
 
@@ -660,23 +653,18 @@ impl MonteCarlo {
 
     fn draw(&self, decode: bool) -> u64 {
         let level = SimdLevel::detected();
-        let n_chunks = self.chunks();
         let mut drawn = 0u64;
-        let mut start = 0;
-        while start < n_chunks {
-            let end = (start + self.wave_chunks()).min(n_chunks);
-            drawn += (start..end)
-                .into_par_iter()
-                .map(|chunk| {
-                    if decode {
-                        run_at(level, DrawChunk::<true> { mc: self, chunk })
-                    } else {
-                        run_at(level, DrawChunk::<false> { mc: self, chunk })
-                    }
-                })
-                .sum::<u64>();
-            start = end;
-        }
+        let chunk = |chunk| {
+            Ok::<u64, std::convert::Infallible>(if decode {
+                run_at(level, DrawChunk::<true> { mc: self, chunk })
+            } else {
+                run_at(level, DrawChunk::<false> { mc: self, chunk })
+            })
+        };
+        let Ok(()) = crate::driver::run_chunks(self.chunks(), self.wave_chunks(), chunk, |n| {
+            drawn += n;
+            Ok(())
+        });
         drawn
     }
 
