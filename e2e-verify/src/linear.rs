@@ -587,37 +587,9 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         );
         let m = [1.0, 1.0, 1.0, we, we, we];
         let d = m.map(|v| s * v);
-        let remainder = |known: bool| -> f64 {
-            cal.output()
-                .terms
-                .iter()
-                .filter(|t| t.known == known)
-                .map(|t| {
-                    let r = &t.regressor;
-                    // gradient bound over the box |u_j| <= M_j, times rho |u|
-                    let grad: f64 = gw_model::Input::ALL
-                        .iter()
-                        .enumerate()
-                        .map(|(j, &inp)| {
-                            let p = r.power(inp);
-                            if p == 0 {
-                                return 0.0;
-                            }
-                            let mono: f64 = gw_model::Input::ALL
-                                .iter()
-                                .enumerate()
-                                .map(|(q, &iq)| {
-                                    let e = if q == j { p - 1 } else { r.power(iq) };
-                                    m[q].powi(i32::from(e))
-                                })
-                                .product();
-                            f64::from(p) * mono * rho * m[j]
-                        })
-                        .sum();
-                    t.value.abs() * (r.remainder_bound(&m, &d) + grad)
-                })
-                .sum()
-        };
+        // the gradient's part: rho |u| at each input (|u_j| <= M_j)
+        let rho_u = m.map(|v| rho * v);
+        let remainder = |known: bool| terms_remainder(cal.output(), known, &m, &d, &rho_u);
         let (r_e, r_g) = (remainder(true), remainder(false));
         let a = cal.regression().matrix();
         let p = a * cal.regression().pinv();
@@ -705,4 +677,45 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             outputs,
         })
     }
+}
+
+/// The second-order remainder of one output's terms (known or estimated) at one entry:
+/// $\sum_t |\beta_t|\big(\mathrm{rem}_t(\mathbf m, \mathbf d) + \sum_j |\partial_j r_t|(\mathbf m)
+/// \,\rho_j\big)$ (the static bound [`crate::EndToEnd::second_order_bound`] and, at rate steps,
+/// [`crate::EndToEnd::second_order_bound_with_extra`]).
+pub(crate) fn terms_remainder(
+    output: &gw_model::Output,
+    known: bool,
+    m: &[f64; 6],
+    d: &[f64; 6],
+    rho: &[f64; 6],
+) -> f64 {
+    output
+        .terms
+        .iter()
+        .filter(|t| t.known == known)
+        .map(|t| {
+            let r = &t.regressor;
+            let grad: f64 = gw_model::Input::ALL
+                .iter()
+                .enumerate()
+                .map(|(j, &inp)| {
+                    let p = r.power(inp);
+                    if p == 0 {
+                        return 0.0;
+                    }
+                    let mono: f64 = gw_model::Input::ALL
+                        .iter()
+                        .enumerate()
+                        .map(|(q, &iq)| {
+                            let e = if q == j { p - 1 } else { r.power(iq) };
+                            m[q].powi(i32::from(e))
+                        })
+                        .product();
+                    f64::from(p) * mono * rho[j]
+                })
+                .sum();
+            t.value.abs() * (r.remainder_bound(m, d) + grad)
+        })
+        .sum()
 }

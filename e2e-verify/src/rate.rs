@@ -28,6 +28,7 @@ use tt_kinematics::{
 };
 
 use crate::error::E2eError;
+use crate::linear::terms_remainder;
 
 /// Rounding allowance of one evaluation of a rate step's inputs in the certified bound,
 /// relative to the inputs' size: $2^{-40}$, about 80 times the rounding of the few dozen
@@ -805,46 +806,6 @@ impl CertifiedRateAllocation {
         &self.combined.upper_bounds_rad
             [self.combined.upper_bounds_rad.len() - self.tolerances.len()..]
     }
-}
-
-/// The second-order remainder of one output's terms (known or estimated) at one entry:
-/// $\sum_t |\beta_t|\big(\mathrm{rem}_t(\mathbf m, \mathbf d) + \sum_j |\partial_j r_t|(\mathbf m)
-/// \,\rho_j\big)$ (see [`crate::EndToEnd::second_order_bound_with_extra`]).
-fn terms_remainder(
-    output: &gw_model::Output,
-    known: bool,
-    m: &[f64; 6],
-    d: &[f64; 6],
-    rho: &[f64; 6],
-) -> f64 {
-    output
-        .terms
-        .iter()
-        .filter(|t| t.known == known)
-        .map(|t| {
-            let r = &t.regressor;
-            let grad: f64 = gw_model::Input::ALL
-                .iter()
-                .enumerate()
-                .map(|(j, &inp)| {
-                    let p = r.power(inp);
-                    if p == 0 {
-                        return 0.0;
-                    }
-                    let mono: f64 = gw_model::Input::ALL
-                        .iter()
-                        .enumerate()
-                        .map(|(q, &iq)| {
-                            let e = if q == j { p - 1 } else { r.power(iq) };
-                            m[q].powi(i32::from(e))
-                        })
-                        .product();
-                    f64::from(p) * mono * rho[j]
-                })
-                .sum();
-            t.value.abs() * (r.remainder_bound(m, d) + grad)
-        })
-        .sum()
 }
 
 impl crate::EndToEnd {
