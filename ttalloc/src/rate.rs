@@ -65,14 +65,20 @@ pub fn extra_bounds(e2e: &EndToEnd, tol: &Tolerances) -> Result<Vec<f64>, InputE
         .collect()
 }
 
-/// A bound or share of an extra error in the sheet's unit: mm or ppm.
+/// A value of a translation (m) or a relative rate error in the sheet's unit: mm or ppm.
 #[must_use]
-pub fn in_sheet_units(x: &ExtraError, v: f64) -> (f64, &'static str) {
-    if x.is_translation() {
+fn sheet_units(is_translation: bool, v: f64) -> (f64, &'static str) {
+    if is_translation {
         (v * 1e3, "mm")
     } else {
         (v * 1e6, "ppm")
     }
+}
+
+/// A bound or share of an extra error in the sheet's unit: mm or ppm.
+#[must_use]
+pub fn in_sheet_units(x: &ExtraError, v: f64) -> (f64, &'static str) {
+    sheet_units(x.is_translation(), v)
 }
 
 /// `check-turntable`'s answer with rate steps: the worst case over the angular box and the
@@ -274,11 +280,7 @@ pub fn json(e2e: &EndToEnd, c: &RateCheck) -> Value {
 /// A rate tolerance's bound in the sheet's unit: mm or ppm.
 #[must_use]
 pub fn tolerance_in_sheet_units(t: &RateTolerance, v: f64) -> (f64, &'static str) {
-    if t.is_translation() {
-        (v * 1e3, "mm")
-    } else {
-        (v * 1e6, "ppm")
-    }
+    sheet_units(t.is_translation(), v)
 }
 
 /// The direct allocation of the angles and the rate tolerances together, with the Monte Carlo
