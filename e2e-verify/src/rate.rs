@@ -501,10 +501,10 @@ impl RateAllocation {
 /// first-order allocation exceeds it: the second-order excess measured there is kept free,
 /// plus this share of the accuracy (dimensionless; the excess changes slightly with the
 /// re-solved box, 1e-3 covers that change for boxes whose second-order terms are small).
-pub const RATE_EXACT_ROOM_REL: f64 = 1e-3;
+const RATE_EXACT_ROOM_REL: f64 = 1e-3;
 
 /// Re-solves of [`crate::EndToEnd::allocate_direct_rate`] that keep room for the exact chain.
-pub const RATE_EXACT_ROUNDS: usize = 4;
+const RATE_EXACT_ROUNDS: usize = 4;
 
 impl crate::EndToEnd {
     /// The rate tolerances of the study's extra errors, in the order the extra errors first
@@ -652,8 +652,8 @@ impl crate::EndToEnd {
     /// weights [`crate::EndToEnd::rate_tolerance_weights`]), $\mathrm{UB} \ge \mathrm{LB}$,
     /// $T \ge 0$. The box is then checked on the exact chain at each output's worst vertex
     /// ([`crate::EndToEnd::worst_case_with_extra`]); where the exact chain exceeds an
-    /// accuracy the excess plus [`RATE_EXACT_ROOM_REL`] of the accuracy is kept free and the
-    /// allocation solved again (at most [`RATE_EXACT_ROUNDS`] times). This is a check at the
+    /// accuracy the excess plus $10^{-3}$ of the accuracy is kept free and the
+    /// allocation solved again (at most 4 times). This is a check at the
     /// worst vertex, not a certificate: see [`NOT_CERTIFIED_AT_RATE_STEPS`] and
     /// [`crate::EndToEnd::allocate_direct_rate_certified`].
     ///
@@ -764,7 +764,7 @@ impl crate::EndToEnd {
 
 /// Re-solves of [`crate::EndToEnd::allocate_direct_rate_certified`] that keep the
 /// second-order bound free.
-pub const RATE_CERTIFY_ROUNDS: usize = 12;
+const RATE_CERTIFY_ROUNDS: usize = 12;
 
 /// The certified direct allocation of a study with rate steps
 /// ([`crate::EndToEnd::allocate_direct_rate_certified`]): every turntable of the angular box
@@ -1013,7 +1013,7 @@ impl crate::EndToEnd {
     /// Solve with each output's margin $\mu_k$ (from 0), compute $\tau_k$ of the box found;
     /// while the box is not certified, raise $\mu_k$ to $\tau_k$ plus the round-trip share
     /// (margins only grow; $\tau$ shrinks with the box) and solve again, at most
-    /// [`RATE_CERTIFY_ROUNDS`] times. The returned box is certified by the check, whatever
+    /// 12 times. The returned box is certified by the check, whatever
     /// the rounds.
     ///
     /// # Errors
