@@ -555,23 +555,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         output: usize,
         l1_norm_rad: f64,
     ) -> Result<Option<f64>, E2eError> {
-        let s = finite("l1_norm_rad", l1_norm_rad)?;
-        if s < 0.0 {
-            return Err(tt_core::FieldError::NotPositive {
-                field: "l1_norm_rad".into(),
-                value: s,
-            }
-            .into());
-        }
-        let cal = self
-            .calibration()
-            .outputs()
-            .get(output)
-            .ok_or(E2eError::Field(tt_core::FieldError::OutOfRange {
-                field: "output".into(),
-                value: output as f64,
-                range: "an output of the sensor".into(),
-            }))?;
+        let (s, cal) = self.bound_arguments(output, l1_norm_rad)?;
         let reading = self.reading();
         if reading.estimate != Estimate::Beta1
             || reading.form == ErrorForm::DeltaBeta
@@ -676,6 +660,35 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             upper_bounds_rad: ub_rad.to_vec(),
             outputs,
         })
+    }
+}
+
+impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// The arguments of a second-order bound, checked: the angle sum $s$ (finite,
+    /// non-negative, named `l1_norm_rad`) and output `output`'s calibration.
+    pub(crate) fn bound_arguments(
+        &self,
+        output: usize,
+        l1_norm_rad: f64,
+    ) -> Result<(f64, &calib_lsq::OutputCalibration), E2eError> {
+        let s = finite("l1_norm_rad", l1_norm_rad)?;
+        if s < 0.0 {
+            return Err(tt_core::FieldError::NotPositive {
+                field: "l1_norm_rad".into(),
+                value: s,
+            }
+            .into());
+        }
+        let cal = self
+            .calibration()
+            .outputs()
+            .get(output)
+            .ok_or(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "output".into(),
+                value: output as f64,
+                range: "an output of the sensor".into(),
+            }))?;
+        Ok((s, cal))
     }
 }
 

@@ -860,23 +860,7 @@ impl crate::EndToEnd {
             return self.second_order_bound(output, angle_sum_rad);
         }
         check_extra_bounds(self, extra_bounds)?;
-        let s = crate::error::finite("l1_norm_rad", angle_sum_rad)?;
-        if s < 0.0 {
-            return Err(tt_core::FieldError::NotPositive {
-                field: "l1_norm_rad".into(),
-                value: s,
-            }
-            .into());
-        }
-        let cal = self
-            .calibration()
-            .outputs()
-            .get(output)
-            .ok_or(E2eError::Field(tt_core::FieldError::OutOfRange {
-                field: "output".into(),
-                value: output as f64,
-                range: "an output of the sensor".into(),
-            }))?;
+        let (s, cal) = self.bound_arguments(output, angle_sum_rad)?;
         let reading = self.reading();
         if reading.estimate != Estimate::Beta1
             || reading.form == ErrorForm::DeltaBeta
