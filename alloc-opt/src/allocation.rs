@@ -339,6 +339,38 @@ pub enum MethodDetails {
         /// at least one involved error).
         subproblems: Vec<Subproblem>,
     },
+    /// One problem over every quantity at once, each quantity held to its limit less a
+    /// margin (the direct allocation against every output's accuracy, e2e-verify's
+    /// `Direct` and `DirectCertified`).
+    Joint {
+        /// Per quantity, the part of its limit kept free besides it (the quantity's unit; the
+        /// certified method's second-order bound $\tau_k$, 0 for the plain method).
+        margins: Vec<f64>,
+        /// Sum of the Lagrange multipliers of the rows (units of $J$).
+        multiplier: f64,
+        /// Conic solves of the exchange method.
+        iterations: usize,
+    },
+    /// A shape scaled until a target fraction of boxes drawn in it meets every limit on the
+    /// exact model (the yield-based allocation, e2e-verify's `YieldBased`). Its certificate
+    /// may exceed a limit: the worst case is allowed to, a fraction of draws is not.
+    Scaled {
+        /// The shape (rad, the model's error order).
+        shape_rad: Vec<f64>,
+        /// The scale $s^*$ applied to it.
+        scale: f64,
+        /// The target fraction $p$.
+        target: f64,
+        /// Draws of the design Monte Carlo.
+        samples: u64,
+        /// Draws meeting every limit at $s^*$.
+        meeting: u64,
+        /// The 95% Wilson interval of the yield at $s^*$.
+        interval_95: (f64, f64),
+        /// The target is met even at the largest scale searched: the limits do not constrain
+        /// the errors, and the bounds are that cap.
+        capped: bool,
+    },
     /// A method defined outside this crate, with its own description.
     External {
         /// Free text (for printing).
@@ -458,7 +490,9 @@ impl ToleranceBox {
     pub fn subproblems(&self) -> &[Subproblem] {
         match &self.details {
             MethodDetails::TwoStep { subproblems } => subproblems,
-            MethodDetails::External { .. } => &[],
+            MethodDetails::Joint { .. }
+            | MethodDetails::Scaled { .. }
+            | MethodDetails::External { .. } => &[],
         }
     }
 

@@ -99,6 +99,18 @@ pub enum AllocError {
         /// The value.
         value: f64,
     },
+    /// A method's own failure, for an allocator outside this crate whose errors are its own
+    /// type: its message, and whether it is the caller's input (with the field) or internal
+    /// ([`tt_core::ErrorClass`]).
+    #[error("{method}: {message}")]
+    Method {
+        /// The allocator's name.
+        method: String,
+        /// Its error, as text.
+        message: String,
+        /// The input field at fault; `None` for an internal failure.
+        input_field: Option<String>,
+    },
     /// The kinematics library rejected an input (a pose or weight vector of the wrong length).
     #[error("kinematics: {0}")]
     Kinematics(#[from] KinematicsError),
@@ -131,6 +143,7 @@ impl tt_core::ErrorClass for AllocError {
                 Some("constraint_form")
             }
             AllocError::Kinematics(e) => tt_core::ErrorClass::input_field(e),
+            AllocError::Method { input_field, .. } => input_field.as_deref(),
             AllocError::Unbounded { .. }
             | AllocError::Solver { .. }
             | AllocError::NoConvergence { .. }

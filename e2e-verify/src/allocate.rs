@@ -486,7 +486,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         self.certified_keeping(linear, lower_bounds_rad, extra, &CertifyParams::default())
     }
 
-    fn certified_keeping(
+    pub(crate) fn certified_keeping(
         &self,
         linear: &Linearization,
         lower_bounds_rad: &[f64],

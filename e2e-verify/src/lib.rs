@@ -24,7 +24,10 @@
 //! - [`EndToEnd::allocate_direct`], [`EndToEnd::allocate_direct_certified`] and
 //!   [`EndToEnd::allocate_yield`]: allocations against every output's accuracy (with rate
 //!   steps: [`EndToEnd::allocate_direct_rate`] and its certificate
-//!   [`EndToEnd::allocate_direct_rate_certified`]);
+//!   [`EndToEnd::allocate_direct_rate_certified`]); the same three as alloc-opt
+//!   [`alloc_opt::Allocator`]s over the linearisation ([`Direct`], [`DirectCertified`],
+//!   [`YieldBased`], on [`EndToEnd::allocation_problem`]), returning alloc-opt's one
+//!   [`alloc_opt::ToleranceBox`];
 //! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
 //!   contribution and a verdict;
 //! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`;
@@ -72,6 +75,7 @@
 #![forbid(unsafe_code)]
 
 mod allocate;
+mod allocators;
 pub mod angle;
 mod answer;
 mod check;
@@ -94,6 +98,7 @@ pub use allocate::{
     CertifyParams, DEFAULT_YIELD_FRACTION, DirectAllocation, NO_BOUND_NEEDED, RowLoad,
     YieldAllocation, YieldParams, YieldVerdict, min_yield_samples,
 };
+pub use allocators::{Direct, DirectCertified, YieldBased};
 pub use answer::{
     BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
     answer_with_two_step,

@@ -19,6 +19,16 @@ pub struct Linearization {
     /// Per output and error: the rounding level of that output's entries of $\mathbf M$
     /// (output unit per rad), see [`rounding_level`]; zero when unknown.
     noise: DMatrix<f64>,
+    /// The errors' and the outputs' names; empty when not given
+    /// ([`Linearization::with_names`]).
+    names: Names,
+}
+
+/// The names a [`Linearization`] reports through alloc-opt's [`alloc_opt::LinearErrorModel`].
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Names {
+    errors: Vec<String>,
+    outputs: Vec<String>,
 }
 
 /// Rounding of the calibration's residual, in units of $\varepsilon\,\kappa$ (dimensionless):
@@ -53,7 +63,49 @@ impl Linearization {
             n,
             outputs,
             noise,
+            names: Names::default(),
         }
+    }
+
+    /// The same linearisation naming its errors (one per column) and its outputs, as
+    /// alloc-opt's [`alloc_opt::LinearErrorModel`] reports them (in a certificate, an error's
+    /// field); without names they are `chi{j}` and `output{k}`.
+    /// [`EndToEnd::linearization`] names them after the analysis.
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] (wrong length) naming `error_names` or `output_names`.
+    pub fn with_names(
+        mut self,
+        error_names: Vec<String>,
+        output_names: Vec<String>,
+    ) -> Result<Self, E2eError> {
+        tt_core::length("error_names", self.m.ncols(), error_names.len())?;
+        tt_core::length("output_names", self.outputs, output_names.len())?;
+        self.names = Names {
+            errors: error_names,
+            outputs: output_names,
+        };
+        Ok(self)
+    }
+
+    /// The name of error `j` (column `j`): its given name, else `chi{j}`.
+    #[must_use]
+    pub fn error_name(&self, j: usize) -> String {
+        self.names
+            .errors
+            .get(j)
+            .cloned()
+            .unwrap_or_else(|| format!("chi{j}"))
+    }
+
+    /// The name of output `k`: its given name, else `output{k}`.
+    #[must_use]
+    pub fn output_name(&self, k: usize) -> String {
+        self.names
+            .outputs
+            .get(k)
+            .cloned()
+            .unwrap_or_else(|| format!("output{k}"))
     }
 
     /// The rounding level of every output's column (outputs x errors, output unit per rad):
@@ -426,14 +478,19 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                     .collect()
             })
             .collect();
-        self.linearization_with(self.n_errors(), |i, j, u| {
+        let mut linear = self.linearization_with(self.n_errors(), |i, j, u| {
             rate_du[i][j].unwrap_or_else(|| {
                 let delta = vectors[i][j];
                 let da = u.specific_force_g().cross(&delta);
                 let dw = u.rate_deg_per_h().cross(&delta);
                 [da.x, da.y, da.z, dw.x, dw.y, dw.z]
             })
-        })
+        });
+        linear.names = Names {
+            errors: self.error_names(),
+            outputs: self.output_names(),
+        };
+        linear
     }
 
     /// The Jacobian of the error vectors with respect to `errors` errors whose first
@@ -478,6 +535,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             n,
             outputs,
             noise,
+            names: Names::default(),
         }
     }
 
@@ -517,6 +575,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             n,
             outputs,
             noise: DMatrix::zeros(outputs, self.n_errors()),
+            names: Names::default(),
         })
     }
 

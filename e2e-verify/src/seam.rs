@@ -20,14 +20,14 @@ impl LinearErrorModel for Linearization {
         self.outputs()
     }
 
-    /// `output{k}` (the linearisation does not carry the sensor's names).
+    /// [`Linearization::output_name`].
     fn quantity_name(&self, k: usize) -> String {
-        format!("output{k}")
+        self.output_name(k)
     }
 
-    /// `chi{j}` (the linearisation does not carry the errors' names).
+    /// [`Linearization::error_name`].
     fn error_name(&self, j: usize) -> String {
-        format!("chi{j}")
+        Linearization::error_name(self, j)
     }
 
     /// The errors output `k` depends on: some entry of its rows above both

@@ -296,6 +296,16 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         self.chain.error_names()
     }
 
+    /// The outputs' names, in the calibration's order.
+    #[must_use]
+    pub fn output_names(&self) -> Vec<String> {
+        self.calibration()
+            .outputs()
+            .iter()
+            .map(|o| o.output().name.clone())
+            .collect()
+    }
+
     /// The precision of every output's $\Delta\omega_k$ (output unit): a bound on the rounding
     /// error of its evaluation, so a computed $\Delta\omega_k$ at or below it cannot be told
     /// from 0 (a perfect turntable computes to about $10^{-14}$ deg/h on the paper's sensor, not

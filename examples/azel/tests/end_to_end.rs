@@ -139,3 +139,35 @@ fn a_callers_certify_params_keep_the_share_of_the_accuracy_it_asks_for() {
     assert!(certified <= 0.8 * 0.01, "{certified}");
     assert!(tight.objective > default.objective);
 }
+
+/// Issue 20 item 1 end to end: the mount's own end-to-end problem goes through alloc-opt's one
+/// `Allocator` seam with the library's direct and certified methods and our own
+/// `UniformBound`, all answering with a `ToleranceBox` whose certificate holds against the
+/// accuracy; the library's direct box is the cheapest of them (it minimises J, which the
+/// uniform bound does not).
+#[test]
+fn the_mounts_end_to_end_problem_goes_through_the_one_allocator_seam() {
+    use alloc_opt::Allocator;
+    let e2e = setup();
+    let problem = e2e
+        .allocation_problem(e2e.linearization(), vec![0.0; 4])
+        .unwrap();
+    let direct = e2e_verify::Direct::new(&e2e).allocate(&problem).unwrap();
+    let certified = e2e_verify::DirectCertified::new(&e2e)
+        .allocate(&problem)
+        .unwrap();
+    let uniform = azel::UniformBound.allocate(&problem).unwrap();
+    for b in [&direct, &certified, &uniform] {
+        assert!(b.certificate().lemma1_holds(), "{}", b.method());
+        // the azimuth non-perpendicularity needs no bound (see the certified test above)
+        assert!(b.upper_bounds_rad()[2].is_infinite(), "{}", b.method());
+        assert_eq!(b.error_names(), e2e.error_names().as_slice());
+    }
+    assert!(direct.objective() <= certified.objective());
+    assert!(direct.objective() <= uniform.objective());
+    // the direct box equals the crate's own direct allocation
+    let own = e2e
+        .allocate_direct(&e2e.linearization(), &[0.0; 4])
+        .unwrap();
+    assert_eq!(direct.upper_bounds_rad(), own.upper_bounds_rad.as_slice());
+}
