@@ -62,6 +62,7 @@ pub trait Allocator<M: LinearErrorModel = LinearModel> {
 /// the paper's table).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Subproblem {
     /// The quantity (problem) concerned: its index in the model.
     pub quantity: usize,
@@ -98,6 +99,7 @@ impl Subproblem {
 /// the joint ranges) and all admissible errors.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AxisCertificate {
     /// The quantity's index in the model (for a turntable: [`OrientationAxis::index`]).
     pub quantity: usize,
@@ -153,6 +155,7 @@ pub struct AxisCertificate {
 ///   [`crate::exact_chain_check`].
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Certificate {
     /// One per quantity, in the model's order ($\psi, \theta, \gamma$ for a turntable).
     pub axes: Vec<AxisCertificate>,
@@ -332,6 +335,11 @@ impl AxisCertificate {
 /// What a method adds to its [`ToleranceBox`].
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum MethodDetails {
     /// Per-quantity problems combined by rule (34) (sensitivity-weighted, equal effects).
     TwoStep {
@@ -381,9 +389,11 @@ pub enum MethodDetails {
 /// The one result of every [`Allocator`]: upper bounds $\mathrm{UB}_i$ with their
 /// objective, certificate and the method's details. (Formerly `Allocation`, which remains
 /// as an alias.) Read it through the accessors; the fields stay public for now for the
-/// sibling crates and will narrow.
+/// sibling crates and will narrow. With the `serde` feature it derives `Serialize` (radians,
+/// as the fields; serde_json writes an unconstrained error's `+inf` bound as `null`).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ToleranceBox {
     /// The allocator's name.
     pub method: String,

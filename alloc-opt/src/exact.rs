@@ -39,6 +39,7 @@ const MARGIN_ROUNDS: usize = 4;
 
 /// The exact chain's worst case found for one angle.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ExactAxisCheck {
     /// The angle.
     pub axis: OrientationAxis,

@@ -18,6 +18,7 @@ use tt_kinematics::{LinearModel, ScheduleErrorModel, Turntable};
 /// without the others: `let mut p = CertifyParams::default(); p.steps = 60;`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CertifyParams {
     /// Golden-section steps over the $\ell_1$ budget (default 40: relative resolution
     /// $0.618^{40} \approx 4\cdot10^{-9}$ of the log range).
@@ -51,6 +52,7 @@ impl Default for CertifyParams {
 /// [`Default`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct YieldParams {
     /// Bisection steps in $\log s$ on the scale (default 40: from a bracket of ratio 2,
     /// $\ln 2 / 2^{40} \approx 6\cdot10^{-13}$ relative).
@@ -118,6 +120,11 @@ pub fn min_yield_samples(target: f64) -> u64 {
 
 /// Whether a yield measured with a 95% interval reaches its target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum YieldVerdict {
     /// The whole interval is at or above the target.
     Meets,
@@ -166,6 +173,7 @@ pub(crate) fn check_yield_samples(samples: u64, target: f64) -> Result<(), E2eEr
 
 /// One row (output, position) of the direct allocation's constraints.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RowLoad {
     /// The output's index.
     pub output: usize,
@@ -177,6 +185,7 @@ pub struct RowLoad {
 
 /// The direct allocation's result.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DirectAllocation {
     /// $\mathrm{UB}$ (rad, order of $\chi$); `+inf` for an error no output depends on.
     pub upper_bounds_rad: Vec<f64>,
@@ -237,6 +246,7 @@ impl DirectAllocation {
 
 /// The yield-based allocation's result.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct YieldAllocation {
     /// $\mathrm{UB} = s^*\,\mathrm{UB}_{shape}$ (rad).
     pub upper_bounds_rad: Vec<f64>,

@@ -8,6 +8,11 @@ use crate::simulate::EndToEnd;
 
 /// How sure the answer is that every turntable within the tolerances meets an accuracy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum Verdict {
     /// Proven: the linearised worst case plus the derived second-order bound is within the
     /// accuracy, so every turntable of the box meets it on the exact chain.
@@ -37,6 +42,7 @@ impl Verdict {
 /// errors that act only together ([`tt_kinematics::ErrorGroup`]: one rotation to first order,
 /// so no check can split the share between them).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Contribution {
     /// The error's index in $\chi$ (the group's first error).
     pub error: usize,
@@ -55,6 +61,7 @@ pub struct Contribution {
 
 /// The check of one output.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OutputCheck {
     /// The output's index.
     pub output: usize,
@@ -72,6 +79,7 @@ pub struct OutputCheck {
 
 /// The check of a tolerance box against every output's accuracy.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TurntableCheck {
     /// The tolerances (rad).
     pub upper_bounds_rad: Vec<f64>,

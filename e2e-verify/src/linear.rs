@@ -187,6 +187,7 @@ impl Linearization {
 
 /// The worst case of one output over a tolerance box.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OutputWorstCase {
     /// The output's index.
     pub output: usize,
@@ -224,6 +225,7 @@ impl OutputWorstCase {
 
 /// The worst case of every output over a tolerance box.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstCase {
     /// The upper bounds of the box (rad, order of $\chi$).
     pub upper_bounds_rad: Vec<f64>,
@@ -281,6 +283,11 @@ pub const LINEAR_MEETS_REL: f64 = 1e-9;
 /// `to first order; no on the exact chain (+1.7%)`, `no (+1.7%)`, the percentage being the
 /// largest excess of the exact chain at the worst vertex over an accuracy.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum BoxMeets {
     /// The worst vertex meets every accuracy on the exact chain.
     Yes,

@@ -68,6 +68,7 @@ const WAVE_CHUNKS: u64 = 64;
 
 /// How many turntables to draw and from which random streams.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct McSettings {
     /// Number of turntables.
     pub samples: u64,
@@ -143,6 +144,7 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
 
 /// The turntable attaining a maximum.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstDraw {
     /// Global index of the draw.
     pub index: u64,
@@ -154,6 +156,7 @@ pub struct WorstDraw {
 
 /// A histogram on fixed edges $[0, H]$ plus an overflow count.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Histogram {
     /// Upper end $H$ of the binned range.
     pub range: f64,
@@ -213,6 +216,7 @@ impl Histogram {
 
 /// One quantile of the calibration errors.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateQuantile {
     /// Probability $p$.
     pub p: f64,
@@ -225,6 +229,7 @@ pub struct RateQuantile {
 
 /// The distribution of the end-to-end calibration errors over turntables drawn from a box.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateDistribution {
     /// Turntables drawn.
     pub samples: u64,

@@ -17,6 +17,7 @@ use tt_kinematics::{OrientationAxis, Pose};
 
 /// The sample that attains the largest $|\Delta|$ of one axis.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstSample {
     /// Global index of the sample in the run (see [`crate::chunk_rng`]).
     pub index: u64,
@@ -33,6 +34,7 @@ pub struct WorstSample {
 /// The edges are fixed before the run (from the bounds; see
 /// [`crate::MonteCarlo::histogram_half_range_rad`]), so merging partial histograms is exact.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Histogram {
     /// $H$, rad.
     pub half_range_rad: f64,
@@ -78,6 +80,7 @@ impl Histogram {
 
 /// Results for one orientation angle ($\Delta\psi$, $\Delta\theta$ or $\Delta\gamma$).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AxisSummary {
     /// Which angle.
     pub axis: OrientationAxis,

@@ -5,6 +5,11 @@ use std::fmt;
 
 /// A coordinate axis of a rotation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum Axis {
     /// The $x$ axis.
     X,
@@ -51,6 +56,7 @@ impl Axis {
 
 /// An axis of the current (moving) frame with a sign: `x`, `y`, `z`, `-x`, `-y`, `-z`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SignedAxis {
     /// The coordinate axis.
     pub axis: Axis,

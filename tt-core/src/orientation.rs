@@ -11,6 +11,11 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// One of the three orientation-error angles, in the order of eq 24-26.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum OrientationAxis {
     /// $\Delta\psi$, rotation error about $y$.
     Psi,
@@ -59,6 +64,11 @@ impl OrientationAxis {
 
 /// How a triple of orientation-error angles becomes a matrix $\Delta\mathbf R$.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum DeltaRKind {
     /// The printed small-angle matrix of eq 7, $I + [\boldsymbol\delta]_\times$ (not orthonormal).
     /// The default: it is what the paper uses.
@@ -97,6 +107,7 @@ impl DeltaRKind {
 /// # Ok::<(), tt_core::FieldError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OrientationError {
     /// $\Delta\psi$ (about $y$), rad.
     pub delta_psi_rad: f64,

@@ -17,6 +17,7 @@ use crate::units::RAD_PER_DEG;
 /// # Ok::<(), tt_core::FieldError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Pose {
     angles_rad: Vec<f64>,
 }

@@ -19,6 +19,7 @@ use crate::units::deg_to_rad;
 /// # Ok::<(), tt_core::FieldError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Requirement {
     rad: [Option<f64>; 3],
 }

@@ -64,6 +64,7 @@ pub const GROUP_AXIS_TOLERANCE: f64 = 1e-12;
 /// Only the combination $\sum_k s_k\chi_{e_k}$ reaches the orientation, so only it matters to
 /// any output, share or allocation.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ErrorGroup {
     /// The errors (indices in $\chi$, increasing).
     pub errors: Vec<usize>,
