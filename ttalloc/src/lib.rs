@@ -8,6 +8,9 @@
 //! One module per subcommand. Errors caused by the user's input (a malformed file, a bad
 //! flag value) are [`InputError`]s and exit with code 2 with nothing on standard output;
 //! anything else exits with code 1. A closed standard output (`| head`) ends quietly.
+//!
+//! The report is also a library: [`Report::compute`] then [`Report::files`], testable without
+//! the binary.
 
 use clap::{CommandFactory, FromArgMatches, Subcommand};
 use std::ffi::OsString;
@@ -39,10 +42,12 @@ mod outdir;
 pub mod paths;
 mod rate;
 mod report;
+mod report_api;
 mod requirement;
 mod study;
 
 pub use input::InputError;
+pub use report_api::{Report, ReportFile, ReportOptions};
 
 /// Commands of the turntable error-allocation project (Zhao et al. 2017, generalised).
 #[derive(Debug, clap::Parser)]

@@ -11,7 +11,7 @@
 //! This module parses, calls [`compute`] (the libraries), formats (`render`, `paper`) and
 //! writes; it computes no science.
 
-mod compute;
+pub(crate) mod compute;
 pub mod doc;
 pub mod figures;
 mod paper;
@@ -422,7 +422,7 @@ fn command(c: &Computed) -> String {
 
 /// The files of a report (name, bytes), checked: no NaN anywhere, every internal link
 /// resolves.
-fn files(c: &Computed) -> Result<Vec<(String, Vec<u8>)>> {
+pub(crate) fn files(c: &Computed) -> Result<Vec<(String, Vec<u8>)>> {
     NAN_SEEN.with(|x| x.set(false));
     let (title, doc, csv, json) = render(c)?;
     let md = doc.to_markdown();
