@@ -39,6 +39,7 @@ const MARGIN_ROUNDS: usize = 4;
 
 /// The exact chain's worst case found for one angle.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ExactAxisCheck {
     /// The angle.

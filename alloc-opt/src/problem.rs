@@ -146,6 +146,7 @@ pub(crate) fn error_names<M: LinearErrorModel + ?Sized>(model: &M) -> Vec<String
 /// (problems 31-33): a $q \times n$ matrix (one row per quantity: $\psi, \theta, \gamma$
 /// for a turntable; one column per error), zero where an error is not involved in an angle.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Weights {
     w: DMatrix<f64>,

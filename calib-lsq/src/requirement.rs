@@ -135,6 +135,7 @@ pub struct OutputRegion {
 
 /// The largest box of one output (in the angles it is sensitive to).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OutputBox {
     /// The output.
@@ -153,6 +154,7 @@ pub struct OutputBox {
 /// The requirement $|\Delta\psi| \le I_\psi$, $|\Delta\theta| \le I_\theta$,
 /// $|\Delta\gamma| \le I_\gamma$ (eq 15), radians.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OrientationRequirement {
     /// $(I_\psi, I_\theta, I_\gamma)$, rad; `None` where no output depends on the angle.

@@ -173,6 +173,7 @@ pub(crate) fn check_yield_samples(samples: u64, target: f64) -> Result<(), E2eEr
 
 /// One row (output, position) of the direct allocation's constraints.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RowLoad {
     /// The output's index.
@@ -185,6 +186,7 @@ pub struct RowLoad {
 
 /// The direct allocation's result.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DirectAllocation {
     /// $\mathrm{UB}$ (rad, order of $\chi$); `+inf` for an error no output depends on.
@@ -246,6 +248,7 @@ impl DirectAllocation {
 
 /// The yield-based allocation's result.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct YieldAllocation {
     /// $\mathrm{UB} = s^*\,\mathrm{UB}_{shape}$ (rad).

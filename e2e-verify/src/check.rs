@@ -42,6 +42,7 @@ impl Verdict {
 /// errors that act only together ([`tt_kinematics::ErrorGroup`]: one rotation to first order,
 /// so no check can split the share between them).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Contribution {
     /// The error's index in $\chi$ (the group's first error).
@@ -61,6 +62,7 @@ pub struct Contribution {
 
 /// The check of one output.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OutputCheck {
     /// The output's index.
@@ -79,6 +81,7 @@ pub struct OutputCheck {
 
 /// The check of a tolerance box against every output's accuracy.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TurntableCheck {
     /// The tolerances (rad).

@@ -144,6 +144,7 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
 
 /// The turntable attaining a maximum.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstDraw {
     /// Global index of the draw.
@@ -156,6 +157,7 @@ pub struct WorstDraw {
 
 /// A histogram on fixed edges $[0, H]$ plus an overflow count.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Histogram {
     /// Upper end $H$ of the binned range.
@@ -216,6 +218,7 @@ impl Histogram {
 
 /// One quantile of the calibration errors.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateQuantile {
     /// Probability $p$.
@@ -229,6 +232,7 @@ pub struct RateQuantile {
 
 /// The distribution of the end-to-end calibration errors over turntables drawn from a box.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateDistribution {
     /// Turntables drawn.

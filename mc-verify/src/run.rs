@@ -108,6 +108,7 @@ impl McConfig {
 
 /// The outcome of a run.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct McResult {
     /// Number of samples evaluated.

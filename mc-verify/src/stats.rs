@@ -17,6 +17,7 @@ use tt_kinematics::{OrientationAxis, Pose};
 
 /// The sample that attains the largest $|\Delta|$ of one axis.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstSample {
     /// Global index of the sample in the run (see [`crate::chunk_rng`]).
@@ -34,6 +35,7 @@ pub struct WorstSample {
 /// The edges are fixed before the run (from the bounds; see
 /// [`crate::MonteCarlo::histogram_half_range_rad`]), so merging partial histograms is exact.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Histogram {
     /// $H$, rad.
@@ -80,6 +82,7 @@ impl Histogram {
 
 /// Results for one orientation angle ($\Delta\psi$, $\Delta\theta$ or $\Delta\gamma$).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AxisSummary {
     /// Which angle.
