@@ -963,7 +963,7 @@ fn bisect_scale(
 ///
 /// # Errors
 /// The allocation's other errors (bad lower bounds, solver failure).
-pub(crate) fn certified_or_note(
+pub fn certified_or_note(
     sim: &EndToEnd,
     linear: &Linearization,
     lower_bounds_rad: &[f64],
@@ -995,10 +995,7 @@ pub(crate) fn certified_or_note(
 }
 
 /// Check lower bounds: one per angular error of `turntable`, finite and non-negative.
-pub(crate) fn check_lower_bounds(
-    turntable: &Turntable,
-    lower_bounds_rad: &[f64],
-) -> Result<(), E2eError> {
+pub fn check_lower_bounds(turntable: &Turntable, lower_bounds_rad: &[f64]) -> Result<(), E2eError> {
     check_lower_bounds_named(
         turntable
             .rotation_error_names()
@@ -1035,12 +1032,16 @@ pub(crate) fn objective_with(weights: &[f64], ub_rad: &[f64]) -> f64 {
 
 /// What the direct allocation needs besides $\mathbf M$: the errors' names (lower-bound
 /// checks, messages), the combined weights and every output's accuracy and name. Shared by
-/// [`EndToEnd::allocate_direct`] and the schedule designer ([`crate::design`]), so both give
+/// [`EndToEnd::allocate_direct`] and the schedule designer (the `schedule-design` crate), so both give
 /// the same $J$ for the same $\mathbf M$.
-pub(crate) struct DirectSetup<'a> {
+pub struct DirectSetup<'a> {
+    /// The errors' names, one per column of $\mathbf M$.
     pub error_names: &'a [String],
+    /// The objective's weights $w_j$, one per column.
     pub weights: &'a [f64],
+    /// Every output's accuracy $\omega_{m,k}$ (output unit).
     pub accuracies: &'a [f64],
+    /// Every output's name.
     pub output_names: &'a [&'a str],
 }
 
@@ -1048,7 +1049,7 @@ impl DirectSetup<'_> {
     /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
     /// of each accuracy free and, with `l1_budget_rad`, $\sum_j \mathrm{UB}_j$ within it (see
     /// [`EndToEnd::allocate_direct`] and [`EndToEnd::allocate_direct_certified`]).
-    pub(crate) fn allocate(
+    pub fn allocate(
         &self,
         linear: &Linearization,
         lower_bounds_rad: &[f64],

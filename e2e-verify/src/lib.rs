@@ -40,9 +40,8 @@
 //!   position averages) that checks the analytic noise answer;
 //! - [`estimable`]: which table errors a joint least squares of the sensor coefficients and
 //!   the table errors estimates from the same data, and the allocation of the rest;
-//! - [`design`]: the calibration schedule that lets the cheapest turntable meet every
-//!   accuracy (minimum direct-allocation objective), beside the D-optimal and random
-//!   baselines, used by `cargo xtask design-schedule`.
+//! - the calibration schedule that lets the cheapest turntable meet every accuracy is the
+//!   `schedule-design` crate's, built on this one.
 //!
 //! # Why a separate crate
 //! It needs calib-lsq (the calibration), alloc-opt (the allocation core) and mc-verify (the
@@ -79,10 +78,11 @@ mod allocators;
 pub mod angle;
 mod answer;
 mod check;
-pub mod design;
 pub mod disc;
 mod error;
 pub mod estimable;
+#[doc(hidden)]
+pub mod internals;
 mod linear;
 pub mod montecarlo;
 pub mod noise;

@@ -44,7 +44,7 @@ pub const ROUNDING_ULPS: f64 = 64.0;
 /// $\mathbf d_e, \mathbf d_g$ the raw first-order effects of the error on the outputs and
 /// regressors at each position (before the calibration absorbs them) and $\kappa$ the
 /// output's condition number. An entry below it is rounding, not an effect.
-pub(crate) fn rounding_level(de: &[f64], dg: &[f64], condition: f64) -> f64 {
+pub fn rounding_level(de: &[f64], dg: &[f64], condition: f64) -> f64 {
     let raw = de.iter().chain(dg).fold(0.0_f64, |m, v| m.max(v.abs()));
     ROUNDING_ULPS * f64::EPSILON * condition.max(1.0) * raw
 }
@@ -52,12 +52,8 @@ pub(crate) fn rounding_level(de: &[f64], dg: &[f64], condition: f64) -> f64 {
 impl Linearization {
     /// A linearisation from its matrix (rows output-major, `n` positions per output) and the
     /// rounding level of each output's column (outputs x errors, see [`rounding_level`]).
-    pub(crate) fn from_parts(
-        m: DMatrix<f64>,
-        n: usize,
-        outputs: usize,
-        noise: DMatrix<f64>,
-    ) -> Self {
+    #[doc(hidden)]
+    pub fn from_parts(m: DMatrix<f64>, n: usize, outputs: usize, noise: DMatrix<f64>) -> Self {
         Self {
             m,
             n,
@@ -360,8 +356,8 @@ impl std::fmt::Display for BoxMeets {
 /// First variations of the building blocks of eq 13 for one output and one error direction:
 /// the same dispatch ([`calib_lsq::Reading::error_vector`]) turns them into a column of
 /// $\mathbf M$. Used by [`EndToEnd::linearization`] and by the schedule designer
-/// ([`crate::design`]) with the regression of a candidate schedule.
-pub(crate) struct DerivativeTerms<'a> {
+/// (the `schedule-design` crate) with the regression of a candidate schedule.
+pub struct DerivativeTerms<'a> {
     /// The nominal regression matrix $\mathbf A$ ($n \times k$).
     pub a: &'a DMatrix<f64>,
     /// Its pseudo-inverse $\mathbf A^+$ ($k \times n$).
@@ -415,12 +411,7 @@ impl ReadingTerms for DerivativeTerms<'_> {
 
 /// $\sum_t \beta_t \nabla r_t(\mathbf u)\cdot d\mathbf u$ over the known (`known = true`) or the
 /// estimated terms of an output.
-pub(crate) fn directional(
-    o: &gw_model::Output,
-    known: bool,
-    u: &InputValues,
-    du: &[f64; 6],
-) -> f64 {
+pub fn directional(o: &gw_model::Output, known: bool, u: &InputValues, du: &[f64; 6]) -> f64 {
     o.terms
         .iter()
         .filter(|t| t.known == known)

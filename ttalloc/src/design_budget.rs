@@ -1,15 +1,15 @@
 //! `design-schedule --time-budget-s SECONDS [--pareto-svg PATH]`: the positions and the dwell
 //! chosen together under a total test-time budget with the noise counted
-//! ([`e2e_verify::design::design_with_budget`]); the Pareto front of total test time against
+//! ([`schedule_design::design_with_budget`]); the Pareto front of total test time against
 //! J as a table, JSON (`time_budget`, `pareto`) and a figure.
 
 use crate::InputError;
 use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
-use e2e_verify::design::{
+use e2e_verify::noise::DEFAULT_K_SIGMA;
+use schedule_design::{
     BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, design_with_budget,
 };
-use e2e_verify::noise::DEFAULT_K_SIGMA;
 use serde_json::{Value, json};
 use study::Study;
 use study::fmt::{num, sig};

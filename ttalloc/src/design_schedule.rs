@@ -22,7 +22,7 @@
 //! certified allocation of each schedule, the linearised one where none is certified).
 //!
 //! `--time-budget-s S` (finite, > 0) with noise in the study: the positions and the dwell
-//! chosen together with the noise counted ([`e2e_verify::design::design_with_budget`]; total
+//! chosen together with the noise counted ([`schedule_design::design_with_budget`]; total
 //! test time = positions x (dwell + move)), JSON `time_budget` (`budget_s`, `k_sigma`,
 //! `chosen`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
 //! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
@@ -32,12 +32,12 @@
 use crate::InputError;
 use anyhow::Result;
 use clap::Parser;
-use e2e_verify::design::{
+use e2e_verify::noise::DEFAULT_K_SIGMA;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use schedule_design::{
     DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, DesignInputs, DesignSettings, ScheduleDesign,
     ScheduleReport, StartKind, coarse_levels, design_on_grid,
 };
-use e2e_verify::noise::DEFAULT_K_SIGMA;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{Map, Value, json};
 use std::io::IsTerminal;
 use std::path::PathBuf;

@@ -4,10 +4,10 @@
 //! than the design of a coarser grid they contain.
 
 use calib_lsq::{Calibration, Reading};
-use e2e_verify::design::{
+use e2e_verify::{EndToEnd, McSettings, Verdict};
+use schedule_design::{
     DesignInputs, DesignSettings, ScheduleReport, StudyTolerances, design_on_grid,
 };
-use e2e_verify::{EndToEnd, McSettings, Verdict};
 use tt_core::DeltaRKind;
 use tt_kinematics::{Pose, paper};
 
@@ -47,7 +47,7 @@ fn simulator(positions_deg: &[Vec<f64>], reading: Reading) -> EndToEnd {
     EndToEnd::new(&table, &cal, &poses, reading).unwrap()
 }
 
-fn design(reading: Reading, step_deg: f64) -> e2e_verify::design::ScheduleDesign {
+fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {
     let table = paper::table3();
     let sensor = gw_model::paper::gyrowheel();
     let site = gw_model::paper::site();

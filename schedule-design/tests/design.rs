@@ -1,14 +1,14 @@
-//! The calibration schedule designer (`e2e_verify::design`): its exact evaluation equals the
+//! The calibration schedule designer (`schedule_design`): its exact evaluation equals the
 //! end-to-end path, its screening bounds are rigorous, the exchange never returns worse than
 //! its start, the D-optimal baseline is optimal on an enumerable case, bad inputs are typed
 //! errors, and the paper's study gets a cheaper turntable from a designed schedule.
 
 use approx::assert_relative_eq;
 use calib_lsq::{Calibration, Position, Reading, Schedule};
-use e2e_verify::design::{
+use e2e_verify::{E2eError, EndToEnd};
+use schedule_design::{
     DesignProblem, DesignSettings, candidates_with, design_schedule, grid_positions_deg,
 };
-use e2e_verify::{E2eError, EndToEnd};
 use tt_core::DeltaRKind;
 use tt_kinematics::{Pose, paper};
 

@@ -1,10 +1,11 @@
 //! The candidate set with everything precomputed, and the exact evaluation of a schedule.
 
 use super::Evaluation;
-use crate::allocate::DirectSetup;
-use crate::error::E2eError;
-use crate::linear::{DerivativeTerms, Linearization, directional};
 use calib_lsq::{CalibError, Reading, ReadingWork, Regression};
+use e2e_verify::E2eError;
+use e2e_verify::Linearization;
+use e2e_verify::internals::DirectSetup;
+use e2e_verify::internals::{DerivativeTerms, directional};
 use gw_model::{InputValues, SensorModel, Site};
 use nalgebra::{DMatrix, Vector3};
 use tt_kinematics::{LinearModel, Pose, Turntable};
@@ -125,7 +126,7 @@ impl DesignProblem {
                 range: "at most 50000 candidate positions".into(),
             }));
         }
-        crate::allocate::check_lower_bounds(turntable, lower_bounds_rad)?;
+        e2e_verify::internals::check_lower_bounds(turntable, lower_bounds_rad)?;
         let ranges = turntable.joint_ranges_rad();
         let model = LinearModel::new(turntable);
         let errors = turntable.n_rotation_errors();
@@ -283,7 +284,7 @@ impl DesignProblem {
     }
 
     /// $\mathbf M$ of schedule `s` from the precomputed derivative blocks, through the same
-    /// dispatch as [`crate::EndToEnd::linearization`] (bit-identical for the same schedule).
+    /// dispatch as [`e2e_verify::EndToEnd::linearization`] (bit-identical for the same schedule).
     pub(crate) fn linearization_with(&self, s: &[usize], regs: &[Regression]) -> Linearization {
         let n = s.len();
         let m = self.errors;
@@ -299,8 +300,11 @@ impl DesignProblem {
                     de: s.iter().map(|&c| o.de[c * m + j]).collect(),
                     dg: s.iter().map(|&c| o.dg[c * m + j]).collect(),
                 };
-                noise[(k, j)] =
-                    crate::linear::rounding_level(&terms.de, &terms.dg, reg.condition_number());
+                noise[(k, j)] = e2e_verify::internals::rounding_level(
+                    &terms.de,
+                    &terms.dg,
+                    reg.condition_number(),
+                );
                 self.reading.error_vector(&terms, &mut work, &mut col);
                 for (i, v) in col.iter().enumerate() {
                     mat[(k * n + i, j)] = *v;
@@ -324,7 +328,7 @@ impl DesignProblem {
     pub(crate) fn allocate(
         &self,
         linear: &Linearization,
-    ) -> Result<crate::DirectAllocation, E2eError> {
+    ) -> Result<e2e_verify::DirectAllocation, E2eError> {
         let names: Vec<&str> = self.output_names.iter().map(String::as_str).collect();
         let error_names: Vec<String> = self
             .turntable
@@ -372,7 +376,7 @@ impl DesignProblem {
 
     /// The exact evaluation of schedule `s` (candidate indices): identifiability and condition
     /// number of every output, $\mathbf M$ from the precomputed blocks and the direct
-    /// allocation by the shared core, so $J$ equals [`crate::EndToEnd::allocate_direct`] on the
+    /// allocation by the shared core, so $J$ equals [`e2e_verify::EndToEnd::allocate_direct`] on the
     /// same schedule.
     ///
     /// # Errors

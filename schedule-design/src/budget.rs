@@ -40,9 +40,9 @@
 //! one (single exchanges, noise parts held fixed within each exchange): not a global optimum.
 
 use super::DesignProblem;
-use crate::error::E2eError;
-use crate::simulate::EndToEnd;
 use calib_lsq::Timing;
+use e2e_verify::E2eError;
+use e2e_verify::EndToEnd;
 use gw_model::noise::NoiseModel;
 use rayon::prelude::*;
 
@@ -196,13 +196,13 @@ impl DesignProblem {
 /// One schedule's end-to-end simulator and linearisation, evaluated at dwells.
 struct Evaluator<'a> {
     e2e: EndToEnd,
-    linear: crate::Linearization,
+    linear: e2e_verify::Linearization,
     lower_bounds_rad: &'a [f64],
     budget: &'a TimeBudget<'a>,
 }
 
 impl Evaluator<'_> {
-    fn noise(&self, dwell_s: f64) -> Result<crate::noise::NoiseBudget, E2eError> {
+    fn noise(&self, dwell_s: f64) -> Result<e2e_verify::NoiseBudget, E2eError> {
         let timing = Timing::uniform(
             self.e2e.len(),
             dwell_s,
@@ -276,9 +276,9 @@ pub fn design_with_budget(
     max_condition: f64,
     b: &TimeBudget<'_>,
 ) -> Result<BudgetDesign, E2eError> {
-    let budget_s = crate::error::positive("budget_s", b.budget_s)?;
-    crate::error::positive("max_dwell_s", b.max_dwell_s)?;
-    let rate = crate::error::positive("sample_rate_hz", b.sample_rate_hz)?;
+    let budget_s = tt_core::positive("budget_s", b.budget_s)?;
+    tt_core::positive("max_dwell_s", b.max_dwell_s)?;
+    let rate = tt_core::positive("sample_rate_hz", b.sample_rate_hz)?;
     if !(b.move_s >= 0.0 && b.move_s.is_finite()) {
         return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
             field: "move_s".into(),
@@ -286,7 +286,7 @@ pub fn design_with_budget(
             range: "[0, inf) s".into(),
         }));
     }
-    crate::noise::check_k_sigma(b.k_sigma)?;
+    e2e_verify::check_k_sigma(b.k_sigma)?;
     // the shortest dwell holds one sample (a relative 1e-9 above, against rounding)
     let lo = (1.0 / rate * (1.0 + 1e-9)).min(b.max_dwell_s);
     let evaluator = |positions: &[Vec<f64>]| -> Result<Evaluator<'_>, E2eError> {

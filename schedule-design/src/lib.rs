@@ -2,15 +2,15 @@
 //! meet every output's accuracy.
 //!
 //! The paper takes the test positions as given, yet the schedule decides how much each
-//! turntable error matters. This module chooses $N$ positions from a candidate set (by default
+//! turntable error matters. This crate chooses $N$ positions from a candidate set (by default
 //! the joint-angle grid, [`grid_positions_deg`]) to minimise the objective $J$ of the direct
-//! allocation ([`crate::EndToEnd::allocate_direct`]): the cost of the loosest turntable that
+//! allocation ([`e2e_verify::EndToEnd::allocate_direct`]): the cost of the loosest turntable that
 //! meets every output's accuracy end to end, under the study's reading of eq 13, subject to
 //! every output being identifiable with a condition number at most $\kappa_{max}$.
 //!
 //! # Formula
 //! For a schedule $S$ (candidate indices) let $\mathbf A_k(S)$ be output $k$'s regression
-//! matrix and $\mathbf M(S)$ the first-order error rows ([`crate::Linearization`]):
+//! matrix and $\mathbf M(S)$ the first-order error rows ([`e2e_verify::Linearization`]):
 //! $$J(S) = \min_{\mathrm{UB} \ge \mathrm{LB}} \sum_j \frac{w_j^2}{\mathrm{UB}_j^2}
 //! \quad\text{s.t.}\quad \sum_j \frac{|M_{rj}(S)|}{\omega_{m,k}}\,\mathrm{UB}_j \le 1
 //! \ \ \forall r = (k, i),\ i \in S,$$
@@ -22,7 +22,7 @@
 //! The first-order rotation vector of every error $\mathbf v_{cj}$, the nominal inputs
 //! $\mathbf u_c$, the regressor rows $\mathbf a_{kc}$ and the derivative blocks
 //! $d\mathbf e_{kc}$, $d\mathbf g_{kc}$ (first variations of the known and estimated parts,
-//! see [`crate::EndToEnd::linearization`]). For every reading of eq 13 the error rows are
+//! see [`e2e_verify::EndToEnd::linearization`]). For every reading of eq 13 the error rows are
 //! affine in them:
 //! $$\mathbf M_k(S) = c_g\,d\mathbf G_k + c_e\,d\mathbf E_k + d\;\mathbf P_k\,(d\mathbf G_k +
 //! d\mathbf E_k),\qquad \mathbf P_k = \mathbf A_k\mathbf A_k^+,$$
@@ -36,7 +36,7 @@
 //! [`DesignProblem::evaluate`] factors $\mathbf A_k(S)$ exactly as
 //! [`calib_lsq::Calibration`] does (same matrix, QR, condition number by the SVD of
 //! $\mathbf R$), forms $\mathbf M(S)$ through the same dispatch as
-//! [`crate::EndToEnd::linearization`] and solves the allocation with the same core, so its
+//! [`e2e_verify::EndToEnd::linearization`] and solves the allocation with the same core, so its
 //! $J$ is bit-identical to `cargo xtask end-to-end`'s `direct_objective` on the same
 //! schedule. One evaluation costs one conic solve (about a millisecond).
 //!
@@ -136,14 +136,15 @@
 //! classical design); and the best of $K$ random schedules (uniform $N$-subsets, ChaCha8
 //! streams $(\text{seed}, 2^{33} + r)$) that meet the condition bound.
 //!
-//! # Why in e2e-verify
-//! The objective is the direct allocation of this crate on its linearisation $\mathbf M$;
-//! the designer reuses both (the dispatch of the readings and the allocation core), which a
-//! crate of its own would have to re-export or duplicate. It adds no dependency.
+//! # Why a crate of its own
+//! The objective is e2e-verify's direct allocation on its linearisation $\mathbf M$; the
+//! designer reuses both (the dispatch of the readings and the allocation core, through
+//! e2e-verify's hidden `internals` for the per-candidate pieces), while a project that only
+//! checks or allocates a turntable compiles none of the design.
 //!
 //! # Example
 //! ```
-//! use e2e_verify::design::{DesignProblem, grid_positions_deg};
+//! use schedule_design::{DesignProblem, grid_positions_deg};
 //! use calib_lsq::Reading;
 //! let table = tt_kinematics::paper::table3();
 //! let sensor = gw_model::paper::gyrowheel();
@@ -161,7 +162,9 @@
 //! algorithm and the determinant ratio of a rank-two update); R. D. Cook and C. J.
 //! Nachtsheim, "A comparison of algorithms for constructing exact D-optimal designs",
 //! Technometrics 22 (1980) 315-324 (the per-point exchange). The objective is the direct
-//! allocation of this crate, an extension of Zhao et al. 2017, problems (31)-(33).
+//! allocation of e2e-verify, an extension of Zhao et al. 2017, problems (31)-(33).
+#![doc = include_str!("../README.md")]
+#![forbid(unsafe_code)]
 
 mod budget;
 mod dopt;
@@ -176,11 +179,11 @@ pub use budget::{
 
 pub use problem::DesignProblem;
 
-use crate::allocate::DirectAllocation;
-use crate::error::E2eError;
-use crate::linear::{Linearization, OutputWorstCase};
-use crate::simulate::EndToEnd;
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};
+use e2e_verify::DirectAllocation;
+use e2e_verify::E2eError;
+use e2e_verify::EndToEnd;
+use e2e_verify::{Linearization, OutputWorstCase};
 use rand_core::Rng;
 use rayon::prelude::*;
 use search::Search;
@@ -987,8 +990,12 @@ impl DesignProblem {
         let calibration = e2e.calibration().clone();
         let linear = e2e.linearization();
         let allocation = e2e.allocate_direct(&linear, &self.lower_bounds_rad)?;
-        let (certified, certified_note) =
-            crate::allocate::certified_or_note(&e2e, &linear, &self.lower_bounds_rad, &allocation)?;
+        let (certified, certified_note) = e2e_verify::internals::certified_or_note(
+            &e2e,
+            &linear,
+            &self.lower_bounds_rad,
+            &allocation,
+        )?;
         let own = StudyTolerances::of(&allocation, certified.as_ref());
         let tolerances = study_tolerances.unwrap_or(&own);
         let with_study_tolerances = tolerances.worst_case(&e2e, &linear)?;

@@ -7,11 +7,11 @@ mod common;
 use approx::assert_relative_eq;
 use calib_lsq::Timing;
 use e2e_verify::E2eError;
-use e2e_verify::design::{
+use e2e_verify::noise::DEFAULT_K_SIGMA;
+use schedule_design::{
     BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, candidates_with, design_with_budget,
     grid_positions_deg, pareto_front, total_test_s,
 };
-use e2e_verify::noise::DEFAULT_K_SIGMA;
 use study::Study;
 
 /// Relative agreement of a front point's J with end-to-end's allocation for the same schedule

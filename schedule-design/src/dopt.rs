@@ -3,7 +3,7 @@
 
 use super::problem::DesignProblem;
 use super::{DOptimalOutcome, IMPROVEMENT_REL, SINGULAR_RATIO};
-use crate::error::E2eError;
+use e2e_verify::E2eError;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 

@@ -8,8 +8,8 @@ use super::{
     DUAL_SWEEPS, Evaluation, ExchangeOutcome, IMPROVEMENT_REL, MAX_EXCHANGES_PER_POSITION,
     SINGULAR_RATIO,
 };
-use crate::error::E2eError;
-use crate::linear::Linearization;
+use e2e_verify::E2eError;
+use e2e_verify::Linearization;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 

@@ -15,12 +15,12 @@
 //!   only swaps it cannot rule out are evaluated exactly.
 //!
 //! The figures to read are the ratios of elements per second within one run.
-//! Run: `cargo bench -p e2e-verify --bench schedule_design`.
+//! Run: `cargo bench -p schedule-design --bench schedule_design`.
 
 use calib_lsq::{Calibration, Position, Reading, Schedule};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use e2e_verify::EndToEnd;
-use e2e_verify::design::{DesignProblem, candidates_with, grid_positions_deg};
+use schedule_design::{DesignProblem, candidates_with, grid_positions_deg};
 use std::hint::black_box;
 use tt_kinematics::{Pose, paper};
 
