@@ -1,21 +1,37 @@
 //! Throughput of the time-domain simulator (issue 21, item 5): noise samples per second of a
 //! whole simulated calibration run (white + Gauss-Markov + quantization at every position,
-//! the estimator on the position averages) against the generator alone, in the same run on
-//! the same threads: the same number of normal pairs (ziggurat over ChaCha8, the simulator's
-//! draws: a white and a Gauss-Markov term per sample), the same by Box-Muller (the former
-//! generator) and the ChaCha8 words alone.
+//! the estimator on the position averages) against its generator alone, in the same run and
+//! on the same threads: the same draws per sample (two normals by the 32-bit ziggurat and one
+//! quantization uniform, from ChaCha8 words read a block at a time) and the ChaCha8 words
+//! alone (three per sample, what the fast path of those draws takes). Everything is measured
+//! twice: on all of rayon's threads and on one thread.
 //!
 //! `cargo run --release -p e2e-verify --example timedomain_throughput [CALIBRATIONS]`
 
 use calib_lsq::{Calibration, Reading, Timing};
-use e2e_verify::noise::standard_normal_pair;
-use e2e_verify::ziggurat::Ziggurat;
+use e2e_verify::ziggurat::{WordBlock, Ziggurat};
 use e2e_verify::{EndToEnd, McSettings};
 use gw_model::noise::{GaussMarkov, NoiseModel};
-use rand_core::Rng;
 use rayon::prelude::*;
 use std::time::Instant;
 use tt_kinematics::{Pose, paper};
+
+/// Samples per chunk of the generator-alone runs.
+const CHUNK: u64 = 1 << 20;
+
+/// Seconds to run `f` over `samples` samples in chunks of [`CHUNK`] on the current pool.
+fn timed(samples: u64, f: &(dyn Fn(&mut WordBlock<mc_verify::McRng>, u64) -> f64 + Sync)) -> f64 {
+    let t = Instant::now();
+    let sink: f64 = (0..samples.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut words = WordBlock::new(mc_verify::chunk_rng(1, c));
+            f(&mut words, CHUNK.min(samples - c * CHUNK))
+        })
+        .sum();
+    std::hint::black_box(sink);
+    t.elapsed().as_secs_f64()
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let calibrations: u64 = std::env::args()
@@ -42,74 +58,60 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ub = alloc_opt::paper::table4_rad();
     let bounds = e2e.box_of(&ub, &vec![0.0; e2e.n_errors()])?;
     let settings = McSettings::new(calibrations, 1);
-    let t = Instant::now();
-    let run = e2e.simulate_time_domain(&bounds, &noise, &timing, &settings)?;
-    let sim = t.elapsed().as_secs_f64();
-    // the generator alone: the same number of normal pairs, chunked the same way
-    let pairs = run.noise_samples;
-    let chunk = 1u64 << 20;
-    let timed = |f: &(dyn Fn(&mut mc_verify::McRng, u64) -> f64 + Sync)| {
-        let t = Instant::now();
-        let sink: f64 = (0..pairs.div_ceil(chunk))
-            .into_par_iter()
-            .map(|c| {
-                let mut rng = mc_verify::chunk_rng(1, c);
-                f(&mut rng, chunk.min(pairs - c * chunk))
-            })
-            .sum();
-        std::hint::black_box(sink);
-        t.elapsed().as_secs_f64()
-    };
-    let normals = timed(&|rng, n| {
-        let z = Ziggurat::get();
-        let mut s = 0.0;
-        for _ in 0..n {
-            s += z.sample(rng) + z.sample(rng);
+    let threads = rayon::current_num_threads();
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let mut pools = vec![(threads, None)];
+    if threads > 1 {
+        pools.push((1, Some(&one)));
+    }
+    for (n_threads, pool) in pools {
+        let measure = || -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+            let t = Instant::now();
+            let run = e2e.simulate_time_domain(&bounds, &noise, &timing, &settings)?;
+            let sim = t.elapsed().as_secs_f64();
+            let samples = run.noise_samples;
+            // the generator alone: the simulator's draws per sample, summed
+            let generator = timed(samples, &|words, n| {
+                let z = Ziggurat::get();
+                let mut s = 0.0;
+                for _ in 0..n {
+                    s += z.sample(words) + z.sample(words) + words.unit_32();
+                }
+                s
+            });
+            // ChaCha8 alone: three words per sample, from the same blocks
+            let chacha = timed(samples, &|words, n| {
+                let mut s = 0u32;
+                for _ in 0..n {
+                    s = s.wrapping_add(words.next_u32() ^ words.next_u32() ^ words.next_u32());
+                }
+                f64::from(s)
+            });
+            let rate = samples as f64 / sim;
+            let generator_rate = samples as f64 / generator;
+            let chacha_rate = samples as f64 / chacha;
+            println!(
+                "{n_threads} thread(s): time-domain simulator, {calibrations} calibrations, {samples} noise samples in {sim:.2} s: {rate:.3e} samples/s; yield {:.4}",
+                run.yield_fraction()
+            );
+            println!(
+                "  generator alone (ChaCha8 + 32-bit ziggurat: two normals and a uniform per sample): {generator_rate:.3e} samples/s; simulator / generator = {:.2}",
+                rate / generator_rate
+            );
+            println!(
+                "  ChaCha8 words alone (three per sample): {chacha_rate:.3e} samples/s ({:.3e} words/s); simulator / words = {:.2}, generator / words = {:.2}",
+                3.0 * chacha_rate,
+                rate / chacha_rate,
+                generator_rate / chacha_rate
+            );
+            Ok(())
+        };
+        match pool {
+            Some(p) => p
+                .install(measure)
+                .map_err(|e| e as Box<dyn std::error::Error>)?,
+            None => measure().map_err(|e| e as Box<dyn std::error::Error>)?,
         }
-        s
-    });
-    // the Box-Muller pairs the simulator drew before the ziggurat (two words, ln, sqrt, sin_cos)
-    let box_muller = timed(&|rng, n| {
-        let mut s = 0.0;
-        for _ in 0..n {
-            let (a, b) = standard_normal_pair(rng);
-            s += a + b;
-        }
-        s
-    });
-    // ChaCha8 alone: two words per sample, as the fast path of two ziggurat draws takes
-    let words = timed(&|rng, n| {
-        let mut s = 0u64;
-        for _ in 0..n {
-            s = s.wrapping_add(rng.next_u64() ^ rng.next_u64());
-        }
-        s as f64
-    });
-    let rate = run.noise_samples as f64 / sim;
-    let pair_rate = pairs as f64 / normals;
-    let word_rate = 2.0 * pairs as f64 / words;
-    let box_muller_rate = pairs as f64 / box_muller;
-    println!(
-        "time-domain simulator: {calibrations} calibrations, {} noise samples in {sim:.2} s: {rate:.3e} samples/s on {} threads",
-        run.noise_samples,
-        rayon::current_num_threads()
-    );
-    println!(
-        "normal generator alone (ChaCha8 + ziggurat, one normal pair per sample): {pair_rate:.3e} pairs/s; simulator / normal generator = {:.2}",
-        rate / pair_rate
-    );
-    println!(
-        "Box-Muller pairs (ChaCha8, the former generator): {box_muller_rate:.3e} pairs/s; ziggurat / Box-Muller = {:.2}",
-        pair_rate / box_muller_rate
-    );
-    println!(
-        "ChaCha8 alone: {word_rate:.3e} words/s ({:.3e} word pairs/s); simulator / ChaCha8 word pairs = {:.2}",
-        word_rate / 2.0,
-        rate / (word_rate / 2.0)
-    );
-    println!(
-        "yield over turntables and simulated noise: {:.4}",
-        run.yield_fraction()
-    );
+    }
     Ok(())
 }

@@ -13,8 +13,10 @@
 //!   stationary,
 //! - quantization, uniform on $[-q/2, q/2]$;
 //!
-//! (normal draws by the ziggurat, [`crate::ziggurat`], one per white and one per Gauss-Markov
-//! term of a sample);
+//! (normal draws by the 32-bit ziggurat, [`crate::ziggurat`], one per white and one per
+//! Gauss-Markov term of a sample, and the quantization's uniform from one more word: three
+//! 32-bit words per sample on the fast path, read from the stream a block at a time,
+//! [`WordBlock`]); every sample is drawn and summed, no shortcut of a position's average;
 //!
 //! the position averages $\boldsymbol\nu$; the estimator run on them (the calibration's own
 //! pseudo-inverse: the coefficients move by $\mathbf A^+\boldsymbol\nu$) and the rate error at
@@ -29,13 +31,12 @@
 use crate::error::E2eError;
 use crate::montecarlo::{McSettings, wilson_interval_95};
 use crate::simulate::EndToEnd;
-use crate::ziggurat::Ziggurat;
+use crate::ziggurat::{WordBlock, Ziggurat};
 use calib_lsq::Timing;
 use gw_model::noise::NoiseModel;
 use mc_verify::driver::{chunk_len, run_chunks};
 use mc_verify::{BLOCK_CAPACITY, ErrorBox, McRng, SampleBlock, TurntableSampler, chunk_rng};
 use nalgebra::{DMatrix, DVector};
-use rand_core::Rng;
 
 /// The bit that turns chunk $c$'s turntable stream into its time-domain noise stream.
 pub const TIME_DOMAIN_STREAM: u64 = 1 << 62;
@@ -165,8 +166,7 @@ impl Generator {
     }
 
     /// The position averages of one calibration into `avg`.
-    fn averages(&self, rng: &mut McRng, avg: &mut [f64]) {
-        const SCALE: f64 = 1.0 / (1u64 << 53) as f64;
+    fn averages(&self, words: &mut WordBlock<McRng>, avg: &mut [f64]) {
         let (sigma_b, tc) = self.bias.unwrap_or((0.0, 1.0));
         let phi = (-self.dt / tc).exp();
         let innovation = sigma_b * (1.0 - phi * phi).max(0.0).sqrt();
@@ -174,9 +174,8 @@ impl Generator {
         let has_white = self.white_sd > 0.0;
         let has_quantization = self.quantization > 0.0;
         let z = Ziggurat::get();
-        let standard_normal = |rng: &mut McRng| z.sample(rng);
         let mut b = if has_bias {
-            sigma_b * standard_normal(rng)
+            sigma_b * z.sample(words)
         } else {
             0.0
         };
@@ -184,21 +183,20 @@ impl Generator {
         for (a, &(start, n)) in avg.iter_mut().zip(&self.windows) {
             if has_bias && start > t {
                 let g = (-(start - t) / tc).exp();
-                b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * standard_normal(rng);
+                b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * z.sample(words);
             }
             let mut sum = 0.0;
             for _ in 0..n {
                 let mut x = 0.0;
                 if has_bias {
-                    b = phi * b + innovation * standard_normal(rng);
+                    b = phi * b + innovation * z.sample(words);
                     x = b;
                 }
                 if has_white {
-                    x += self.white_sd * standard_normal(rng);
+                    x += self.white_sd * z.sample(words);
                 }
                 if has_quantization {
-                    let u = (rng.next_u64() >> 11) as f64 * SCALE;
-                    x += self.quantization * (u - 0.5);
+                    x += self.quantization * (words.unit_32() - 0.5);
                 }
                 sum += x;
             }
@@ -259,7 +257,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         let chunk = |c: u64| -> Result<Part, E2eError> {
             let mut part = new_part();
             let mut rng = chunk_rng(settings.seed, c);
-            let mut noise_rng = chunk_rng(settings.seed, c | TIME_DOMAIN_STREAM);
+            let mut noise = WordBlock::new(chunk_rng(settings.seed, c | TIME_DOMAIN_STREAM));
             let mut remaining = chunk_len(settings.samples, cs, c);
             let mut block = SampleBlock::new(&sampler);
             let mut work = self.work();
@@ -281,7 +279,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
                     for k in 0..outputs {
                         let v = &mut vectors[k];
                         if let (Some(g), Some(mom)) = (&gens[k], &mut part.0[k]) {
-                            g.averages(&mut noise_rng, &mut avg);
+                            g.averages(&mut noise, &mut avg);
                             let (a, pinv) = regressions[k];
                             let dbeta = pinv * DVector::from_column_slice(&avg);
                             let e = a * &dbeta;

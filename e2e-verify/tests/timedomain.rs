@@ -132,5 +132,7 @@ fn time_domain_simulation_is_identical_for_any_thread_count() {
                     .unwrap()
             })
     };
-    assert_eq!(run(1), run(3));
+    let one = run(1);
+    assert_eq!(one, run(2));
+    assert_eq!(one, run(3));
 }
