@@ -66,10 +66,7 @@ pub use lsq::{
     RateErrorCovariance, Regression, jacobi_singular_values,
 };
 pub use requirement::{
-    BOUNDARY_CHECK_POINTS, DIRECTION_SCAN, DIRECTION_SCAN_3D, DIRECTION_TOL_3D_RAD,
-    DIRECTION_TOL_RAD, INSENSITIVE_REL, LINEAR_REGIME_RAD, OrientationRequirement, OutputBox,
-    OutputRegion, RADIUS_TOL_REL, RequirementProblem, SEARCH_LIMIT_RAD, SENSITIVITY_PROBE_RAD,
-    Surface,
+    OrientationRequirement, OutputBox, OutputRegion, RequirementParams, RequirementProblem, Surface,
 };
 pub use schedule::{Position, RateMotion, Schedule};
 pub use timing::Timing;

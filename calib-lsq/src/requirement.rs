@@ -17,12 +17,12 @@
 //! # Search
 //! Corners in direction $\hat u$ (in the positive orthant) at radius $\rho$: $\rho(\hat u)$ is the
 //! largest radius at which every corner meets the accuracy (from the first-order radius,
-//! doubled or halved until bracketed, then bisection to [`RADIUS_TOL_REL`] of the radius: the
+//! doubled or halved until bracketed, then bisection to [`RequirementParams::radius_tol_rel`] of the radius: the
 //! search is scale-free); the direction maximises the volume (two angles: a scan of
-//! [`DIRECTION_SCAN`] directions then golden sections to [`DIRECTION_TOL_RAD`]; three: a start
-//! from the log-barrier solution of the first-order problem (a [`DIRECTION_SCAN_3D`]² grid of
+//! [`RequirementParams::direction_scan`] directions then golden sections to [`RequirementParams::direction_tol_rad`]; three: a start
+//! from the log-barrier solution of the first-order problem (a [`RequirementParams::direction_scan_3d`]² grid of
 //! directions when the first-order problem is unbounded), refined by Nelder-Mead to
-//! [`DIRECTION_TOL_3D_RAD`]).
+//! [`RequirementParams::direction_tol_3d_rad`]).
 //! For a convex region (every first-order reading: $\Delta\omega$ is a maximum of absolute
 //! values of linear forms) the corners bound the whole box; the result records the largest
 //! $\Delta\omega/\omega_m$ found on its boundary.
@@ -34,48 +34,9 @@ use gw_model::InputValues;
 use std::f64::consts::FRAC_PI_2;
 use tt_core::{DeltaRKind, OrientationAxis, OrientationError, Requirement};
 
-/// Bisection stops when the bracket on the box's corner radius is narrower than this fraction
-/// of the radius (dimensionless): the search is scale-free, so the requirement scales with the
-/// accuracy at every accuracy (it is linear in $\omega_m$ to first order).
-pub const RADIUS_TOL_REL: f64 = 1e-12;
-
 /// Halvings of the starting radius at most before the search brackets the boundary from 0
 /// (the start is the first-order radius, so a few suffice).
 const MAX_HALVINGS: usize = 200;
-
-/// Below this first-order corner radius (rad, about 2 arcsec) an output's box is computed at
-/// the accuracy whose first-order radius is this ([`OutputRegion::linear_regime_accuracy`])
-/// and scaled to the output's accuracy, so the requirement is exactly proportional to
-/// $\omega_m$ below it. Why: $\Delta\omega$ comes from outputs that cancel, so a direct
-/// evaluation at corner radius $\rho$ resolves it only to a few ulp of the outputs' size, a
-/// relative error of about $5\times10^{-14}/\rho$ on the radius for the paper's sensor
-/// (measured: $10^{-4}$ at $\rho = 5\times10^{-10}$ rad); scaling instead neglects the
-/// second-order terms, a relative error of about $0.4\rho^2$ (measured for the exact
-/// $\Delta\mathbf R$). At $10^{-5}$ rad both are below $10^{-8}$.
-pub const LINEAR_REGIME_RAD: f64 = 1e-5;
-
-/// Golden-section search on a two-angle corner direction stops at this bracket width, rad.
-/// The area is flat (quadratic) at its optimum, so the half-sides are located to about
-/// $\rho \cdot$ `DIRECTION_TOL_RAD` $\approx 5\times10^{-13}$ rad.
-pub const DIRECTION_TOL_RAD: f64 = 1e-9;
-
-/// Directions scanned before the golden-section refinement (guards against a local optimum of
-/// a polygonal region).
-pub const DIRECTION_SCAN: usize = 64;
-
-/// Grid of directions per angle for three sensitive angles.
-pub const DIRECTION_SCAN_3D: usize = 8;
-
-/// Golden-section bracket of the three-angle refinement, rad (the volume is flat at its
-/// optimum: within $10^{-10}$ of the best, half-sides to about $\rho\cdot10^{-5}$).
-pub const DIRECTION_TOL_3D_RAD: f64 = 1e-5;
-
-/// Step of the central differences that linearise an output's error vector, rad.
-pub const LINEARIZATION_STEP_RAD: f64 = 1e-6;
-
-/// A column of the linearised rows below this fraction of the largest one leaves its angle
-/// unbounded to first order (the grid search is used instead).
-pub const UNBOUNDED_COLUMN_REL: f64 = 1e-6;
 
 /// Largest barrier parameter of the first-order box problem (duality gap ~ rows / t).
 const BARRIER_T_MAX: f64 = 1e13;
@@ -83,30 +44,85 @@ const BARRIER_T_MAX: f64 = 1e13;
 /// Newton steps per barrier parameter.
 const BARRIER_NEWTON_STEPS: usize = 50;
 
-/// Initial simplex size of the Nelder-Mead refinement of a three-angle direction, rad.
-pub const NELDER_MEAD_START_RAD: f64 = 0.02;
+/// The numerical knobs of the requirement search (eq 15-16), with [`Default`] (faer's
+/// convention): `let mut p = RequirementParams::default(); p.direction_scan = 128;` and
+/// [`RequirementProblem::params`]. The defaults are the values every answer of the project is
+/// computed with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct RequirementParams {
+    /// Bisection stops when the bracket on the box's corner radius is narrower than this fraction
+    /// of the radius (dimensionless): the search is scale-free, so the requirement scales with the
+    /// accuracy at every accuracy (it is linear in $\omega_m$ to first order).
+    pub radius_tol_rel: f64,
+    /// Below this first-order corner radius (rad, about 2 arcsec) an output's box is computed at
+    /// the accuracy whose first-order radius is this ([`OutputRegion::linear_regime_accuracy`])
+    /// and scaled to the output's accuracy, so the requirement is exactly proportional to
+    /// $\omega_m$ below it. Why: $\Delta\omega$ comes from outputs that cancel, so a direct
+    /// evaluation at corner radius $\rho$ resolves it only to a few ulp of the outputs' size, a
+    /// relative error of about $5\times10^{-14}/\rho$ on the radius for the paper's sensor
+    /// (measured: $10^{-4}$ at $\rho = 5\times10^{-10}$ rad); scaling instead neglects the
+    /// second-order terms, a relative error of about $0.4\rho^2$ (measured for the exact
+    /// $\Delta\mathbf R$). At $10^{-5}$ rad both are below $10^{-8}$.
+    pub linear_regime_rad: f64,
+    /// Golden-section search on a two-angle corner direction stops at this bracket width, rad.
+    /// The area is flat (quadratic) at its optimum, so the half-sides are located to about
+    /// $\rho \cdot$ `direction_tol_rad` $\approx 5\times10^{-13}$ rad.
+    pub direction_tol_rad: f64,
+    /// Directions scanned before the golden-section refinement (guards against a local optimum of
+    /// a polygonal region).
+    pub direction_scan: usize,
+    /// Grid of directions per angle for three sensitive angles.
+    pub direction_scan_3d: usize,
+    /// Golden-section bracket of the three-angle refinement, rad (the volume is flat at its
+    /// optimum: within $10^{-10}$ of the best, half-sides to about $\rho\cdot10^{-5}$).
+    pub direction_tol_3d_rad: f64,
+    /// Step of the central differences that linearise an output's error vector, rad.
+    pub linearization_step_rad: f64,
+    /// A column of the linearised rows below this fraction of the largest one leaves its angle
+    /// unbounded to first order (the grid search is used instead).
+    pub unbounded_column_rel: f64,
+    /// Initial simplex size of the Nelder-Mead refinement of a three-angle direction, rad.
+    pub nelder_mead_start_rad: f64,
+    /// Largest number of Nelder-Mead iterations.
+    pub nelder_mead_max_iter: usize,
+    /// Largest corner radius searched, rad (about 28.6 deg).
+    pub search_limit_rad: f64,
+    /// Points per edge at which a solved box's boundary is re-checked.
+    pub boundary_check_points: usize,
+    /// An output is insensitive to an angle when a probe of [`RequirementParams::sensitivity_probe_rad`] along it
+    /// gives less than this fraction of the largest probe response (dimensionless). Rounding of
+    /// the fit leaves ~1e-11 of the response; a dependence of second order only still gives
+    /// ~1e-3 (the probe size).
+    pub insensitive_rel: f64,
+    /// Size of the probe of the sensitivity test, rad.
+    pub sensitivity_probe_rad: f64,
+    /// Relative bisection tolerance on the corner radius while searching three-angle directions
+    /// (the chosen direction is then solved to [`RequirementParams::radius_tol_rel`]).
+    pub search_radius_rel: f64,
+}
 
-/// Largest number of Nelder-Mead iterations.
-pub const NELDER_MEAD_MAX_ITER: usize = 200;
-
-/// Largest corner radius searched, rad (about 28.6 deg).
-pub const SEARCH_LIMIT_RAD: f64 = 0.5;
-
-/// Points per edge at which a solved box's boundary is re-checked.
-pub const BOUNDARY_CHECK_POINTS: usize = 32;
-
-/// An output is insensitive to an angle when a probe of [`SENSITIVITY_PROBE_RAD`] along it
-/// gives less than this fraction of the largest probe response (dimensionless). Rounding of
-/// the fit leaves ~1e-11 of the response; a dependence of second order only still gives
-/// ~1e-3 (the probe size).
-pub const INSENSITIVE_REL: f64 = 1e-7;
-
-/// Size of the probe of the sensitivity test, rad.
-pub const SENSITIVITY_PROBE_RAD: f64 = 1e-3;
-
-/// Relative bisection tolerance on the corner radius while searching three-angle directions
-/// (the chosen direction is then solved to [`RADIUS_TOL_REL`]).
-pub const SEARCH_RADIUS_REL: f64 = 1e-7;
+impl Default for RequirementParams {
+    fn default() -> Self {
+        Self {
+            radius_tol_rel: 1e-12,
+            linear_regime_rad: 1e-5,
+            direction_tol_rad: 1e-9,
+            direction_scan: 64,
+            direction_scan_3d: 8,
+            direction_tol_3d_rad: 1e-5,
+            linearization_step_rad: 1e-6,
+            unbounded_column_rel: 1e-6,
+            nelder_mead_start_rad: 0.02,
+            nelder_mead_max_iter: 200,
+            search_limit_rad: 0.5,
+            boundary_check_points: 32,
+            insensitive_rel: 1e-7,
+            sensitivity_probe_rad: 1e-3,
+            search_radius_rel: 1e-7,
+        }
+    }
+}
 
 /// Everything the requirement of eq 15-16 depends on: the calibration (sensor with its
 /// accuracies, site, schedule), the reading of eq 13 and the matrix of eq 7.
@@ -118,6 +134,8 @@ pub struct RequirementProblem {
     pub reading: Reading,
     /// How the angles become $\Delta\mathbf R$ (eq 7 small-angle, or exact).
     pub delta_r_kind: DeltaRKind,
+    /// The search's knobs ([`RequirementParams::default`] unless changed).
+    pub params: RequirementParams,
 }
 
 /// The rate-sensing error of one output as a function of a constant orientation error.
@@ -126,6 +144,7 @@ pub struct OutputRegion {
     cal: OutputCalibration,
     reading: Reading,
     kind: DeltaRKind,
+    params: RequirementParams,
     accuracy: f64,
     sensitive: Vec<usize>,
     /// $\max_i\sum_j|\partial e_i/\partial\delta_j|$ over the sensitive angles (output unit
@@ -146,7 +165,7 @@ pub struct OutputBox {
     /// Volume (length, area or volume) of the box in its angles, rad^d.
     pub volume: f64,
     /// Largest $\Delta\omega/\omega_m$ found on the box's boundary (corners and
-    /// [`BOUNDARY_CHECK_POINTS`] points per edge): at most 1 up to the bisection tolerance
+    /// [`RequirementParams::boundary_check_points`] points per edge): at most 1 up to the bisection tolerance
     /// when the region is convex.
     pub boundary_max_ratio: f64,
 }
@@ -167,7 +186,7 @@ pub struct OrientationRequirement {
     pub combined_corner_ratio: Vec<f64>,
     /// Outputs that impose no requirement: insensitive to a constant orientation error, or
     /// meeting their accuracy for every constant orientation error up to
-    /// [`SEARCH_LIMIT_RAD`] (the calibration absorbs it, e.g. an accelerometer whose
+    /// [`RequirementParams::search_limit_rad`] (the calibration absorbs it, e.g. an accelerometer whose
     /// misalignments are estimated). Only a pose-dependent analysis (the end-to-end direct
     /// allocation) can account for them.
     pub unconstrained_outputs: Vec<String>,
@@ -196,6 +215,7 @@ impl RequirementProblem {
             calibration,
             reading,
             delta_r_kind,
+            params: RequirementParams::default(),
         }
     }
 
@@ -220,6 +240,7 @@ impl RequirementProblem {
             cal,
             reading: self.reading,
             kind: self.delta_r_kind,
+            params: self.params,
             accuracy,
             sensitive: Vec::new(),
             gain: None,
@@ -227,14 +248,14 @@ impl RequirementProblem {
         let mut probe = [0.0; 3];
         for (j, p) in probe.iter_mut().enumerate() {
             let mut d = [0.0; 3];
-            d[j] = SENSITIVITY_PROBE_RAD;
+            d[j] = self.params.sensitivity_probe_rad;
             let plus = region.rate_error(d)?;
-            d[j] = -SENSITIVITY_PROBE_RAD;
+            d[j] = -self.params.sensitivity_probe_rad;
             *p = plus.max(region.rate_error(d)?);
         }
         let top = probe.iter().copied().fold(0.0, f64::max);
         region.sensitive = (0..3)
-            .filter(|&j| top > 0.0 && probe[j] > INSENSITIVE_REL * top)
+            .filter(|&j| top > 0.0 && probe[j] > self.params.insensitive_rel * top)
             .collect();
         // the largest first-order change of the error vector at a unit corner
         let gain = region
@@ -392,12 +413,12 @@ impl OutputRegion {
         self.gain.map(|g| self.accuracy / g)
     }
 
-    /// The accuracy (output unit) whose first-order radius is [`LINEAR_REGIME_RAD`]: below
+    /// The accuracy (output unit) whose first-order radius is [`RequirementParams::linear_regime_rad`]: below
     /// it the box is computed at this accuracy and scaled (`None` without a first-order
     /// sensitivity). It does not depend on the output's own accuracy.
     #[must_use]
     pub fn linear_regime_accuracy(&self) -> Option<f64> {
-        self.gain.map(|g| LINEAR_REGIME_RAD * g)
+        self.gain.map(|g| self.params.linear_regime_rad * g)
     }
 
     /// The factor $f = \omega_{ref}/\omega_m > 1$ when the output's accuracy is in the linear
@@ -426,9 +447,9 @@ impl OutputRegion {
     }
 
     /// Largest radius $\rho$ such that `ok(ρ)`, to the relative tolerance `rel_tol` (0:
-    /// [`RADIUS_TOL_REL`]): from the first-order radius ([`OutputRegion::first_order_radius`]),
+    /// [`RequirementParams::radius_tol_rel`]): from the first-order radius ([`OutputRegion::first_order_radius`]),
     /// doubled or halved until the boundary is bracketed, then bisected. Every corner meeting
-    /// the accuracy at [`SEARCH_LIMIT_RAD`] makes the region unbounded.
+    /// the accuracy at [`RequirementParams::search_limit_rad`] makes the region unbounded.
     fn radius<F>(&self, direction: &[f64], rel_tol: f64, ok: F) -> Result<f64, CalibError>
     where
         F: Fn(f64) -> Result<bool, CalibError>,
@@ -436,23 +457,25 @@ impl OutputRegion {
         let tol = if rel_tol > 0.0 {
             rel_tol
         } else {
-            RADIUS_TOL_REL
+            self.params.radius_tol_rel
         };
         let start = self
             .first_order_radius()
-            .map_or(1e-3 * SEARCH_LIMIT_RAD, |r| r.min(SEARCH_LIMIT_RAD));
+            .map_or(1e-3 * self.params.search_limit_rad, |r| {
+                r.min(self.params.search_limit_rad)
+            });
         let (mut lo, mut hi);
         if ok(start)? {
             (lo, hi) = (start, start);
             loop {
-                if hi >= SEARCH_LIMIT_RAD {
+                if hi >= self.params.search_limit_rad {
                     return Err(CalibError::Unbounded {
                         output: self.output().to_string(),
                         direction: direction.to_vec(),
-                        limit_rad: SEARCH_LIMIT_RAD,
+                        limit_rad: self.params.search_limit_rad,
                     });
                 }
-                hi = (2.0 * hi).min(SEARCH_LIMIT_RAD);
+                hi = (2.0 * hi).min(self.params.search_limit_rad);
                 if !ok(hi)? {
                     break;
                 }
@@ -486,7 +509,7 @@ impl OutputRegion {
     }
 
     /// The half-sides of the largest box whose corner points along `dir` (unit, positive),
-    /// radius to the relative tolerance `rel_tol` (0: [`RADIUS_TOL_REL`]).
+    /// radius to the relative tolerance `rel_tol` (0: [`RequirementParams::radius_tol_rel`]).
     fn box_along(&self, dir: &[f64], rel_tol: f64) -> Result<(Vec<f64>, f64), CalibError> {
         let r = self.radius(dir, rel_tol, |r| {
             let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
@@ -500,17 +523,17 @@ impl OutputRegion {
     /// The largest-volume centred axis-aligned box inside $\Delta\omega \le \omega_m$ in the
     /// output's sensitive angles (Figure 5, "to maximize the areas of the two rectangles").
     /// Below [`OutputRegion::linear_regime_accuracy`] the box at that accuracy, scaled by
-    /// $\omega_m/\omega_{ref}$ (see [`LINEAR_REGIME_RAD`]): the requirement is proportional to
+    /// $\omega_m/\omega_{ref}$ (see [`RequirementParams::linear_regime_rad`]): the requirement is proportional to
     /// $\omega_m$ there, at every scale down to the smallest accepted accuracy.
     ///
     /// # Errors
-    /// [`CalibError::Unbounded`] if the region is not bounded within [`SEARCH_LIMIT_RAD`];
+    /// [`CalibError::Unbounded`] if the region is not bounded within [`RequirementParams::search_limit_rad`];
     /// [`CalibError::NoSensitivity`] for an output insensitive to every angle.
     pub fn max_box(&self) -> Result<OutputBox, CalibError> {
         let Some((f, reference)) = self.linear_scale() else {
             return self.max_box_direct();
         };
-        // the linear regime: the box at the reference accuracy, scaled (see LINEAR_REGIME_RAD)
+        // the linear regime: the box at the reference accuracy, scaled (see linear_regime_rad)
         let b = reference.max_box_direct()?;
         Ok(OutputBox {
             half_rad: b.half_rad.map(|h| h.map(|h| h / f)),
@@ -525,13 +548,20 @@ impl OutputRegion {
             1 => self.box_along(&[1.0], 0.0)?.0,
             2 => {
                 let at = |t: f64| self.box_along(&[t.cos(), t.sin()], 0.0);
-                golden_max(at, 0.0, FRAC_PI_2, DIRECTION_SCAN, DIRECTION_TOL_RAD)?.0
+                golden_max(
+                    at,
+                    0.0,
+                    FRAC_PI_2,
+                    self.params.direction_scan,
+                    self.params.direction_tol_rad,
+                )?
+                .0
             }
             _ => self.max_box_3d()?,
         };
         let volume = half.iter().map(|h| 2.0 * h).product();
         let mut boundary: f64 = 0.0;
-        let n = BOUNDARY_CHECK_POINTS;
+        let n = self.params.boundary_check_points;
         let d = half.len();
         // every edge of the box: one coordinate runs, the others sit at +-half
         for run in 0..d {
@@ -579,9 +609,9 @@ impl OutputRegion {
     }
 
     /// $|\partial e_i/\partial\delta_j|$ (output unit per rad) in the sensitive angles by
-    /// central differences of step [`LINEARIZATION_STEP_RAD`].
+    /// central differences of step [`RequirementParams::linearization_step_rad`].
     fn derivative_rows(&self) -> Result<Vec<Vec<f64>>, CalibError> {
-        let h = LINEARIZATION_STEP_RAD;
+        let h = self.params.linearization_step_rad;
         let n = self.cal.nominal_values().len();
         let mut cols = Vec::new();
         for &j in &self.sensitive {
@@ -605,18 +635,18 @@ impl OutputRegion {
         let dir = |t: f64, p: f64| [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
         let volume = |x: &[f64; 2]| -> Result<f64, CalibError> {
             let (t, p) = (x[0].clamp(0.0, FRAC_PI_2), x[1].clamp(0.0, FRAC_PI_2));
-            Ok(self.box_along(&dir(t, p), SEARCH_RADIUS_REL)?.1)
+            Ok(self.box_along(&dir(t, p), self.params.search_radius_rel)?.1)
         };
         // Start: the optimum of the first-order model (a convex problem) when it bounds every
         // angle, else the best of a grid of directions.
-        let start = match max_log_volume(&self.linear_rows()?) {
+        let start = match max_log_volume(&self.linear_rows()?, self.params.unbounded_column_rel) {
             Some(h) => {
                 let norm = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
                 let u = [h[0] / norm, h[1] / norm, h[2] / norm];
                 [u[2].clamp(-1.0, 1.0).acos(), u[1].atan2(u[0])]
             }
             None => {
-                let n = DIRECTION_SCAN_3D;
+                let n = self.params.direction_scan_3d;
                 let step = FRAC_PI_2 / n as f64;
                 let mut best = (f64::NEG_INFINITY, [0.0, 0.0]);
                 for i in 0..n {
@@ -631,7 +661,13 @@ impl OutputRegion {
                 best.1
             }
         };
-        let x = nelder_mead_max(volume, start, NELDER_MEAD_START_RAD, DIRECTION_TOL_3D_RAD)?;
+        let x = nelder_mead_max(
+            volume,
+            start,
+            self.params.nelder_mead_start_rad,
+            self.params.direction_tol_3d_rad,
+            self.params.nelder_mead_max_iter,
+        )?;
         let (t, p) = (x[0].clamp(0.0, FRAC_PI_2), x[1].clamp(0.0, FRAC_PI_2));
         Ok(self.box_along(&dir(t, p), 0.0)?.0)
     }
@@ -729,7 +765,7 @@ impl OutputRegion {
     /// $\Delta\omega$ first reaches $\omega_m$, as `[u, v]` in radians.
     ///
     /// # Errors
-    /// [`CalibError::Unbounded`] if a ray never reaches $\omega_m$ within [`SEARCH_LIMIT_RAD`].
+    /// [`CalibError::Unbounded`] if a ray never reaches $\omega_m$ within [`RequirementParams::search_limit_rad`].
     pub fn boundary(
         &self,
         angles: [usize; 2],
@@ -754,14 +790,15 @@ impl OutputRegion {
 /// $\max \sum_j \log h_j$ subject to $\sum_j a_{ij} h_j \le 1$ for every row $i$ ($a \ge 0$):
 /// the largest-volume box of a region $\{\delta : |L\delta| \le \omega_m\}$ (the first-order
 /// model: the worst corner of the box makes $\sum_j |L_{ij}| h_j$). A convex problem, solved by
-/// a log-barrier Newton method; `None` when the rows do not bound some angle.
-fn max_log_volume(rows: &[Vec<f64>]) -> Option<Vec<f64>> {
+/// a log-barrier Newton method; `None` when the rows do not bound some angle (a column below
+/// `unbounded_column_rel` of the largest).
+fn max_log_volume(rows: &[Vec<f64>], unbounded_column_rel: f64) -> Option<Vec<f64>> {
     let d = rows.first()?.len();
     let colmax: Vec<f64> = (0..d)
         .map(|j| rows.iter().map(|r| r[j]).fold(0.0, f64::max))
         .collect();
     let top = colmax.iter().copied().fold(0.0, f64::max);
-    if top <= 0.0 || colmax.iter().any(|&c| c <= UNBOUNDED_COLUMN_REL * top) {
+    if top <= 0.0 || colmax.iter().any(|&c| c <= unbounded_column_rel * top) {
         return None;
     }
     let mut h: Vec<f64> = colmax.iter().map(|c| 0.5 / (d as f64 * c)).collect();
@@ -827,8 +864,14 @@ fn max_log_volume(rows: &[Vec<f64>]) -> Option<Vec<f64>> {
 }
 
 /// Nelder-Mead maximisation of `f` over two variables from `start` with an initial simplex of
-/// size `size`, until the simplex is smaller than `tol` (or [`NELDER_MEAD_MAX_ITER`]).
-fn nelder_mead_max<F>(f: F, start: [f64; 2], size: f64, tol: f64) -> Result<[f64; 2], CalibError>
+/// size `size`, until the simplex is smaller than `tol` (or `max_iter` iterations).
+fn nelder_mead_max<F>(
+    f: F,
+    start: [f64; 2],
+    size: f64,
+    tol: f64,
+    max_iter: usize,
+) -> Result<[f64; 2], CalibError>
 where
     F: Fn(&[f64; 2]) -> Result<f64, CalibError>,
 {
@@ -838,7 +881,7 @@ where
         [start[0], start[1] + size],
     ];
     let mut vals = [f(&pts[0])?, f(&pts[1])?, f(&pts[2])?];
-    for _ in 0..NELDER_MEAD_MAX_ITER {
+    for _ in 0..max_iter {
         // order best (largest) first
         let mut idx = [0usize, 1, 2];
         idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));

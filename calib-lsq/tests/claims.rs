@@ -31,7 +31,7 @@ const OUTSIDE_STEP_REL: f64 = 1e-6;
 /// The requirement is linear in the accuracy (the paper's reading with eq 7's small-angle
 /// matrix makes the error vector linear in the angles): computed at two accuracies its ratio
 /// equals theirs to this, dimensionless. Measured: at most 3e-9 across the scale at which the
-/// search switches to the scaled reference box (`calib_lsq::LINEAR_REGIME_RAD`), exact to
+/// search switches to the scaled reference box (`calib_lsq::RequirementParams::linear_regime_rad`), exact to
 /// rounding below it and along the direct search above it.
 const REQUIREMENT_SCALING_REL: f64 = 1e-8;
 /// Decompositions that are exact given e and g (only A and P enter): rounding, relative to the
