@@ -199,6 +199,21 @@ pub enum E2eError {
         /// The smallest largest condition number met.
         best_condition: f64,
     },
+    /// A total test-time budget shorter than the fewest positions the sensor can be
+    /// calibrated with need (each a move and one sample).
+    #[error(
+        "time_budget_s = {budget_s} s is too short: the fewest positions that identify every output ({positions}, for output `{output}`) take {needed_s} s at one sample each (positions x (move_s + 1/sample_rate_hz))"
+    )]
+    BudgetTooShort {
+        /// The budget (s).
+        budget_s: f64,
+        /// The fewest positions that can identify every output.
+        positions: usize,
+        /// The output with the most coefficients.
+        output: String,
+        /// The shortest test of that many positions (s).
+        needed_s: f64,
+    },
     /// An iteration did not settle within its bound.
     #[error("{what} did not converge in {iterations} steps (last change {change})")]
     NoConvergence {
@@ -276,6 +291,7 @@ impl tt_core::ErrorClass for E2eError {
                 Some("positions")
             }
             E2eError::ConditionUnreachable { .. } => Some("max_condition"),
+            E2eError::BudgetTooShort { .. } => Some("time_budget_s"),
             E2eError::MarginExceedsAccuracy { .. }
             | E2eError::NoBoxToCertify
             | E2eError::Draw { .. }

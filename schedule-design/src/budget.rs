@@ -13,6 +13,21 @@
 //! $N\,(T + T_{move})$ (a move before every dwell).
 //!
 //! # The search
+//! ## The number of positions
+//! With [`TimeBudget::search_counts`] the number of positions is searched too: besides the
+//! table design's $N$, the counts [`budget_counts`] gives (the fewest that identify every
+//! output, $N_{min}$; the geometric mean of $N_{min}$ and $N$; the study's own count; and the
+//! count the budget affords at the study's dwell), each at most what the budget affords at one
+//! sample per dwell and at most [`BUDGET_MAX_COUNT_FACTOR`] times the larger of $N$ and the
+//! study's count. Each count gets a table design (the greedy construction and the exchange on
+//! the same candidates; a count whose construction does not meet the condition bound is
+//! skipped and reported) and one noise-aware search at the dwell that spends the budget on it.
+//! The front and the choice then run over every count. Fewer positions leave each a longer
+//! dwell (and less time moving); more positions give the least squares more equations: which
+//! wins depends on the noise, the move time and the reading, so the counts are searched, not
+//! assumed. A budget shorter than $N_{min}\,(T_{move} + 1/f_s)$ is
+//! [`E2eError::BudgetTooShort`], naming `time_budget_s`.
+//!
 //! The noise part depends on the schedule, so the search holds it fixed and updates it (a
 //! fixed point): for a dwell $T$, start from the best schedule known at $T$, take its noise
 //! parts $m_k = \kappa\sigma_k(S, T)$, and run the exchange ([`DesignProblem::exchange`],
@@ -27,7 +42,8 @@
 //! Every schedule found (the table's design, the study's schedule, every noise-aware design)
 //! is evaluated exactly at every dwell of a grid ([`BUDGET_DWELLS_PER_DECADE`] per decade in
 //! $\log T$ from one sample to the longest dwell, plus each schedule's dwell that spends the
-//! whole budget). The front is the set of $(N(T + T_{move}), J)$ not dominated by another:
+//! whole budget, and the study's own dwell). The front is the set of $(N(T + T_{move}), J)$
+//! not dominated by another:
 //! sorted by the total time, each point needs a strictly cheaper table than every point
 //! before it, so more time never needs a better table. The chosen point is the cheapest table
 //! within the budget (ties: the shorter test).
@@ -36,8 +52,13 @@
 //! Every point's $J$ is computed exactly (not estimated) on the same path as `end-to-end`
 //! (study positions to [`EndToEnd`], its linearisation, calib-lsq's covariance, the shared
 //! allocation core), and the schedules searched include the study's and the table's design,
-//! so the chosen point is never worse than either at the budget's dwell. The search is a local
-//! one (single exchanges, noise parts held fixed within each exchange): not a global optimum.
+//! so the chosen point is never worse than either at the budget's dwell, nor than the study's
+//! schedule at the study's own dwell ([`TimeBudget::study_dwell_s`]) when that test fits the
+//! budget. With the counts searched, the fixed-count design's searches run unchanged (at the
+//! same dwells, chosen among the fixed-count design's grid) and every schedule is evaluated
+//! at a superset of its dwells, so the choice is never worse than the fixed-count one. The
+//! search is a local one (single exchanges, noise parts held fixed within each exchange): not
+//! a global optimum.
 
 use super::DesignProblem;
 use calib_lsq::Timing;
@@ -56,6 +77,11 @@ pub const BUDGET_SEARCH_DWELLS: usize = 4;
 /// Updates of the noise part per searched dwell at most (the fixed point of the search).
 pub const BUDGET_FIXED_POINT_STEPS: usize = 2;
 
+/// The searched counts are at most this many times the larger of the table design's and the
+/// study's count (dimensionless): an exchange costs about the count times the candidates in
+/// screened swaps, so the count is bounded to keep the search within its time.
+pub const BUDGET_MAX_COUNT_FACTOR: usize = 2;
+
 /// The noise, timing and budget of a budget design.
 #[derive(Debug, Clone, Copy)]
 pub struct TimeBudget<'a> {
@@ -71,6 +97,13 @@ pub struct TimeBudget<'a> {
     pub budget_s: f64,
     /// The longest dwell per position considered (s).
     pub max_dwell_s: f64,
+    /// The study's own dwell per position (s), when it is one value: every schedule is also
+    /// evaluated there, so the choice never loses to the study's schedule at its own timing
+    /// when that fits the budget.
+    pub study_dwell_s: Option<f64>,
+    /// Whether the number of positions is searched too (see the [module](self)); else only
+    /// the table design's count (and the other schedules' own counts) are evaluated.
+    pub search_counts: bool,
 }
 
 /// Where a schedule of the budget design comes from.
@@ -133,6 +166,11 @@ pub struct BudgetDesign {
     /// The cheapest table within the budget; `None` when no evaluated point within it leaves
     /// the table room.
     pub chosen: Option<BudgetPoint>,
+    /// The numbers of positions designed for, ascending (the table design's among them).
+    pub counts: Vec<usize>,
+    /// The searched counts with no table design: the greedy construction did not meet the
+    /// condition bound (or the allocation failed at every candidate of a step).
+    pub counts_skipped: Vec<usize>,
 }
 
 /// The total test time of `n` positions with `dwell_s` each: $N(T + T_{move})$ (s).
@@ -249,6 +287,70 @@ fn dwell_grid(lo: f64, hi: f64, extra: &[f64]) -> Vec<f64> {
     out
 }
 
+/// The shortest test that can identify every output: the fewest positions that do
+/// ([`DesignProblem::min_positions`]) with one move and one sample each (s).
+#[must_use]
+pub fn shortest_test_s(problem: &DesignProblem, b: &TimeBudget<'_>) -> f64 {
+    total_test_s(problem.min_positions(), 1.0 / b.sample_rate_hz, b.move_s)
+}
+
+/// [`E2eError::BudgetTooShort`] when the budget is shorter than [`shortest_test_s`].
+///
+/// # Errors
+/// That error, naming `time_budget_s`.
+pub fn check_budget_affords(problem: &DesignProblem, b: &TimeBudget<'_>) -> Result<(), E2eError> {
+    let needed_s = shortest_test_s(problem, b);
+    if b.budget_s < needed_s {
+        let n = problem.min_positions();
+        let output = problem
+            .outputs
+            .iter()
+            .zip(&problem.output_names)
+            .find(|(o, _)| o.p == n)
+            .map(|(_, name)| name.clone())
+            .unwrap_or_default();
+        return Err(E2eError::BudgetTooShort {
+            budget_s: b.budget_s,
+            positions: n,
+            output,
+            needed_s,
+        });
+    }
+    Ok(())
+}
+
+/// The counts searched besides the table design's `n` (see the [module](self)): $N_{min}$,
+/// $\mathrm{round}\sqrt{N_{min} N}$, the study's count `n_study` and the count the budget
+/// affords at the study's dwell, each within $[N_{min}$, the count the budget affords at one
+/// sample per dwell$]$, at most [`BUDGET_MAX_COUNT_FACTOR`] $\max(N, N_{study})$ and the
+/// candidates; ascending, without `n` and repeats.
+#[must_use]
+pub fn budget_counts(
+    problem: &DesignProblem,
+    b: &TimeBudget<'_>,
+    n: usize,
+    n_study: usize,
+) -> Vec<usize> {
+    let n_min = problem.min_positions().max(1);
+    let per_position = b.move_s + 1.0 / b.sample_rate_hz;
+    let afford = (b.budget_s / per_position).floor().min(usize::MAX as f64) as usize;
+    let top = afford
+        .min(BUDGET_MAX_COUNT_FACTOR.saturating_mul(n.max(n_study)))
+        .min(problem.n_candidates());
+    let mut v = vec![
+        n_min,
+        ((n_min as f64) * (n as f64)).sqrt().round() as usize,
+        n_study,
+    ];
+    if let Some(t) = b.study_dwell_s {
+        v.push((b.budget_s / (t + b.move_s)).floor().min(usize::MAX as f64) as usize);
+    }
+    v.retain(|&c| c >= n_min && c <= top && c != n);
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
 /// The dwell that spends the whole budget on `n` positions, if it holds one sample and is
 /// within the longest dwell.
 fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
@@ -287,6 +389,7 @@ pub fn design_with_budget(
         }));
     }
     e2e_verify::check_k_sigma(b.k_sigma)?;
+    check_budget_affords(problem, b)?;
     // the shortest dwell holds one sample (a relative 1e-9 above, against rounding)
     let lo = (1.0 / rate * (1.0 + 1e-9)).min(b.max_dwell_s);
     let evaluator = |positions: &[Vec<f64>]| -> Result<Evaluator<'_>, E2eError> {
@@ -323,10 +426,58 @@ pub fn design_with_budget(
             schedules.push((origin, positions));
         }
     }
-    let extra: Vec<f64> = schedules
+    // the dwells of the fixed-count design: the searched dwells are chosen among them, so that
+    // the count search only adds to what the fixed-count design searches
+    let mut fixed_extra: Vec<f64> = schedules
         .iter()
         .filter_map(|(_, s)| budget_dwell(b, s.len(), lo))
         .collect();
+    fixed_extra.extend(b.study_dwell_s);
+    let fixed_dwells = dwell_grid(lo, b.max_dwell_s, &fixed_extra);
+    // the other counts: a table design each (in parallel; order kept)
+    let counts = if b.search_counts {
+        budget_counts(problem, b, n, study_positions_deg.len())
+    } else {
+        Vec::new()
+    };
+    let count_designs: Vec<Option<Vec<usize>>> = counts
+        .par_iter()
+        .map(|&c| {
+            let start = match problem.greedy(c, max_condition) {
+                Ok(e) => e,
+                Err(E2eError::NoConvergence { .. }) => return Ok(None),
+                Err(e) => return Err(e),
+            };
+            match problem.exchange(&start.schedule, max_condition) {
+                Ok(e) => Ok(Some(e.evaluation.schedule)),
+                Err(E2eError::ConditionUnreachable { .. }) => Ok(None),
+                Err(e) => Err(e),
+            }
+        })
+        .collect::<Result<_, E2eError>>()?;
+    let mut counts_done = vec![n];
+    let mut counts_skipped = Vec::new();
+    let mut count_tables: Vec<Vec<usize>> = Vec::new();
+    for (&c, design) in counts.iter().zip(count_designs) {
+        match design {
+            Some(s) => {
+                counts_done.push(c);
+                let positions = problem.positions_deg(&s);
+                if !schedules.iter().any(|(_, q)| same(q, &positions)) {
+                    schedules.push((ScheduleOrigin::Table, positions));
+                }
+                count_tables.push(s);
+            }
+            None => counts_skipped.push(c),
+        }
+    }
+    counts_done.sort_unstable();
+    let mut extra = fixed_extra;
+    extra.extend(
+        count_tables
+            .iter()
+            .filter_map(|s| budget_dwell(b, s.len(), lo)),
+    );
     let dwells = dwell_grid(lo, b.max_dwell_s, &extra);
     // J of every schedule at every dwell (in parallel over the schedules; order kept)
     let table_of = |positions: &[Vec<f64>]| -> Result<Vec<f64>, E2eError> {
@@ -343,7 +494,12 @@ pub fn design_with_budget(
         .filter(|&i| schedules[i].1.len() == n)
         .collect();
     let open: Vec<usize> = (0..dwells.len())
-        .filter(|&d| same_size.iter().any(|&i| objectives[i][d].is_finite()))
+        .filter(|&d| {
+            fixed_dwells
+                .iter()
+                .any(|t| t.to_bits() == dwells[d].to_bits())
+                && same_size.iter().any(|&i| objectives[i][d].is_finite())
+        })
         .collect();
     let mut searched: Vec<usize> = Vec::new();
     if let Some(t) = budget_dwell(b, n, lo) {
@@ -374,6 +530,7 @@ pub fn design_with_budget(
         known.push(s.to_vec());
     }
     known.extend(others.iter().map(|(_, s)| s.clone()));
+    known.extend(count_tables.iter().cloned());
     // every known schedule of the designed size that leaves the table room at a searched dwell
     // starts one noise-aware exchange there
     let mut jobs: Vec<(usize, Vec<usize>)> = Vec::new();
@@ -382,6 +539,20 @@ pub fn design_with_budget(
             if objectives[i][d].is_finite() {
                 if let Some(s) = index_of(&schedules[i].1) {
                     jobs.push((d, s));
+                }
+            }
+        }
+    }
+    // every other count's table design starts one at the dwell that spends the budget on it
+    for s in &count_tables {
+        let positions = problem.positions_deg(s);
+        let Some(i) = schedules.iter().position(|(_, q)| same(q, &positions)) else {
+            continue;
+        };
+        if let Some(t) = budget_dwell(b, s.len(), lo) {
+            if let Some(d) = dwells.iter().position(|&x| x.to_bits() == t.to_bits()) {
+                if objectives[i][d].is_finite() {
+                    jobs.push((d, s.clone()));
                 }
             }
         }
@@ -463,5 +634,7 @@ pub fn design_with_budget(
         schedules,
         pareto,
         chosen,
+        counts: counts_done,
+        counts_skipped,
     })
 }

@@ -173,8 +173,9 @@ mod problem;
 mod search;
 
 pub use budget::{
-    BUDGET_DWELLS_PER_DECADE, BUDGET_FIXED_POINT_STEPS, BUDGET_SEARCH_DWELLS, BudgetDesign,
-    BudgetPoint, ScheduleOrigin, TimeBudget, design_with_budget, pareto_front, total_test_s,
+    BUDGET_DWELLS_PER_DECADE, BUDGET_FIXED_POINT_STEPS, BUDGET_MAX_COUNT_FACTOR,
+    BUDGET_SEARCH_DWELLS, BudgetDesign, BudgetPoint, ScheduleOrigin, TimeBudget, budget_counts,
+    check_budget_affords, design_with_budget, pareto_front, shortest_test_s, total_test_s,
 };
 
 pub use problem::DesignProblem;

@@ -9,8 +9,8 @@ use calib_lsq::Timing;
 use e2e_verify::E2eError;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
-    BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, candidates_with, design_with_budget,
-    grid_positions_deg, pareto_front, total_test_s,
+    BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, budget_counts, candidates_with,
+    design_with_budget, grid_positions_deg, pareto_front, shortest_test_s, total_test_s,
 };
 use study::Study;
 
@@ -59,7 +59,41 @@ fn budget_of(s: &Study, budget_s: f64) -> TimeBudget<'_> {
         k_sigma: DEFAULT_K_SIGMA,
         budget_s,
         max_dwell_s: 86_400.0,
+        study_dwell_s: Some(t.dwell_s()[0]),
+        search_counts: true,
     }
+}
+
+/// $J$ (rad$^{-2}$) of `positions_deg` at `dwell_s` by end-to-end's path (direct allocation
+/// with the noise part kept free; `+inf` when no table suffices).
+fn objective_at(
+    s: &Study,
+    problem: &DesignProblem,
+    positions_deg: &[Vec<f64>],
+    dwell_s: f64,
+) -> f64 {
+    let timing = s.timing.as_ref().unwrap();
+    let e2e = problem.end_to_end(positions_deg).unwrap();
+    let noise = e2e
+        .noise_budget(
+            &s.noise,
+            &Timing::uniform(
+                positions_deg.len(),
+                dwell_s,
+                timing.move_s(),
+                timing.sample_rate_hz(),
+            )
+            .unwrap(),
+        )
+        .unwrap();
+    e2e.allocate_direct_with_noise(
+        &e2e.linearization(),
+        &s.lower_bounds_rad,
+        &noise,
+        DEFAULT_K_SIGMA,
+    )
+    .unwrap()
+    .map_or(f64::INFINITY, |d| d.objective)
 }
 
 /// On the paper's noisy copy: the front is ordered by total time with J strictly falling (more
@@ -138,12 +172,13 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
     );
 }
 
-/// A budget below the shortest test at which any table suffices chooses nothing; the front
-/// is unchanged by the budget (it depends on the budget only through the dwells added).
+/// A budget that affords the fewest positions but below the shortest test at which any table
+/// suffices chooses nothing, and the front starts above it.
 #[test]
 fn a_budget_too_short_for_any_table_chooses_nothing() {
     let (s, problem, table, study) = noisy_paper();
-    let b = budget_of(&s, 60.0);
+    let budget_s = 1.5 * shortest_test_s(&problem, &budget_of(&s, 1.0));
+    let b = budget_of(&s, budget_s);
     let d = design_with_budget(
         &problem,
         &table,
@@ -155,7 +190,130 @@ fn a_budget_too_short_for_any_table_chooses_nothing() {
     )
     .unwrap();
     assert!(d.chosen.is_none());
-    assert!(d.pareto.first().is_some_and(|p| p.total_s > 60.0));
+    assert!(d.pareto.first().is_some_and(|p| p.total_s > budget_s));
+}
+
+/// A budget shorter than the fewest positions that identify every output, at one move and one
+/// sample each, is a typed error naming `time_budget_s`, with the count and the time it needs;
+/// a budget of exactly that time is accepted.
+#[test]
+fn a_budget_too_short_for_the_fewest_positions_is_refused_naming_time_budget_s() {
+    let (s, problem, table, study) = noisy_paper();
+    let shortest = shortest_test_s(&problem, &budget_of(&s, 1.0));
+    let n_min = problem.min_positions();
+    // n_min moves of 60 s and one sample at 100 Hz each
+    assert_relative_eq!(shortest, n_min as f64 * 60.01, max_relative = 1e-15);
+    let run = |budget_s: f64| {
+        design_with_budget(
+            &problem,
+            &table,
+            study.as_deref(),
+            &s.positions_deg,
+            &[],
+            10.0,
+            &budget_of(&s, budget_s),
+        )
+    };
+    let e = run(0.99 * shortest).unwrap_err();
+    let E2eError::BudgetTooShort {
+        positions,
+        needed_s,
+        ..
+    } = &e
+    else {
+        panic!("{e:?}")
+    };
+    assert_eq!(*positions, n_min);
+    assert_relative_eq!(*needed_s, shortest, max_relative = 1e-15);
+    assert!(e.to_string().contains("time_budget_s"), "{e}");
+    let d = run(shortest).unwrap();
+    assert!(
+        d.chosen.is_none(),
+        "one sample per position suffices for no table"
+    );
+}
+
+/// With the number of positions searched: the counts are the table design's and those
+/// [`budget_counts`] derives from the budget (the fewest positions among them); the chosen
+/// count fits the budget (N (T + move) <= budget); the choice is at least as good as the
+/// fixed-count design's at the same budget (a budget affording more positions than the study
+/// uses), and never loses to the study's schedule at the study's own dwell.
+#[test]
+fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design() {
+    let (s, problem, table, study) = noisy_paper();
+    let timing = s.timing.as_ref().unwrap();
+    let n = table.len();
+    // twice the study's own test (32 x (600 + 60) s): room for more positions or longer dwells
+    let budget_s = 2.0 * total_test_s(n, timing.dwell_s()[0], timing.move_s());
+    let run = |search_counts: bool| {
+        let b = TimeBudget {
+            search_counts,
+            ..budget_of(&s, budget_s)
+        };
+        design_with_budget(
+            &problem,
+            &table,
+            study.as_deref(),
+            &s.positions_deg,
+            &[],
+            10.0,
+            &b,
+        )
+        .unwrap()
+    };
+    let fixed = run(false);
+    let searched = run(true);
+    assert_eq!(fixed.counts, vec![n]);
+    // the count search only adds: every schedule of the fixed-count design is searched too
+    for (_, positions) in &fixed.schedules {
+        assert!(
+            searched.schedules.iter().any(|(_, q)| q == positions),
+            "{positions:?}"
+        );
+    }
+    let want = budget_counts(&problem, &budget_of(&s, budget_s), n, s.positions_deg.len());
+    assert!(want.contains(&problem.min_positions()), "{want:?}");
+    // the study's dwell affords 64 positions in twice its time
+    assert!(want.contains(&(2 * n)), "{want:?}");
+    let mut all: Vec<usize> = searched
+        .counts
+        .iter()
+        .chain(&searched.counts_skipped)
+        .copied()
+        .collect();
+    all.sort_unstable();
+    let mut expected = want.clone();
+    expected.push(n);
+    expected.sort_unstable();
+    assert_eq!(all, expected);
+    assert!(searched.counts.len() > 1, "{:?}", searched.counts_skipped);
+    let chosen = searched.chosen.as_ref().expect("a table suffices");
+    let fixed_chosen = fixed.chosen.as_ref().expect("a table suffices");
+    assert!(chosen.total_s <= budget_s);
+    assert_relative_eq!(
+        chosen.total_s,
+        total_test_s(chosen.n_positions(), chosen.dwell_s, timing.move_s()),
+        max_relative = 1e-15
+    );
+    assert!(searched.counts.contains(&chosen.n_positions()));
+    assert!(
+        chosen.objective <= fixed_chosen.objective,
+        "{chosen:?} against {fixed_chosen:?}"
+    );
+    // every count's points are on the same path as end-to-end
+    assert_relative_eq!(
+        chosen.objective,
+        objective_at(&s, &problem, &chosen.positions_deg, chosen.dwell_s),
+        max_relative = SAME_PATH_REL
+    );
+    // the study's own test (32 x 600 s) fits the budget: the choice never loses to it
+    let study_j = objective_at(&s, &problem, &s.positions_deg, timing.dwell_s()[0]);
+    assert!(study_j.is_finite());
+    assert!(
+        chosen.objective <= study_j,
+        "{} against {study_j}",
+        chosen.objective
+    );
 }
 
 /// The front keeps exactly the undominated points: ordered by total time, each strictly

@@ -8,7 +8,8 @@ use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
-    BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, design_with_budget,
+    BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, check_budget_affords,
+    design_with_budget,
 };
 use serde_json::{Value, json};
 use study::Study;
@@ -60,6 +61,8 @@ pub fn run(
         k_sigma: DEFAULT_K_SIGMA,
         budget_s,
         max_dwell_s: study::limits::DWELL_S.1,
+        study_dwell_s: uniform_dwell(timing.dwell_s()),
+        search_counts: true,
     };
     let d = design_with_budget(
         problem,
@@ -72,6 +75,50 @@ pub fn run(
     )
     .map_err(|e| crate::input::library(e, s))?;
     Ok(Budgeted::Design(Box::new(d)))
+}
+
+/// The study's dwell when every position has the same one.
+fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
+    let first = *dwell_s.first()?;
+    dwell_s
+        .iter()
+        .all(|d| d.to_bits() == first.to_bits())
+        .then_some(first)
+}
+
+/// Before the (long) table search: a budget shorter than the fewest positions that identify
+/// every output, at one move and one sample each, is an input error naming `--time-budget-s`
+/// (checked again by the library). Nothing to check without noise or timing.
+///
+/// # Errors
+/// That [`InputError`].
+pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
+    let Some(timing) = &s.timing else {
+        return Ok(());
+    };
+    if s.noise.iter().all(Option::is_none) {
+        return Ok(());
+    }
+    let problem = DesignProblem::new(
+        &s.turntable,
+        &s.sensor,
+        &s.site,
+        s.reading,
+        &s.lower_bounds_rad,
+        s.positions_deg.clone(),
+    )
+    .map_err(|e| crate::input::library(e, s))?;
+    let b = TimeBudget {
+        noise: &s.noise,
+        move_s: timing.move_s(),
+        sample_rate_hz: timing.sample_rate_hz(),
+        k_sigma: DEFAULT_K_SIGMA,
+        budget_s,
+        max_dwell_s: study::limits::DWELL_S.1,
+        study_dwell_s: None,
+        search_counts: true,
+    };
+    check_budget_affords(&problem, &b).map_err(|e| crate::input::library(e, s))
 }
 
 fn origin(o: ScheduleOrigin) -> String {
@@ -110,6 +157,8 @@ pub fn json(b: &Budgeted) -> Vec<(&'static str, Value)> {
                     "schedules": d.schedules.len(),
                     "dwells": d.dwells_s.len(),
                     "evaluated": d.evaluated,
+                    "counts": d.counts,
+                    "counts_skipped": d.counts_skipped,
                     "chosen": d.chosen.as_ref().map(|p| {
                         let mut v = point_json(p);
                         v["positions_deg"] = json!(p.positions_deg);
@@ -141,6 +190,26 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
         d.schedules.len(),
         d.dwells_s.len()
     );
+    t.push_str(&format!(
+        "  numbers of positions designed for: {}{}\n",
+        d.counts
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(", "),
+        if d.counts_skipped.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (no schedule within the condition bound found for {})",
+                d.counts_skipped
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
+    ));
     match &d.chosen {
         Some(p) => t.push_str(&format!(
             "  within the budget: {} positions x {} s ({} s in all), J = {} arcmin^-2 ({})\n",

@@ -21,10 +21,11 @@
 //! `groups` (errors that act only together, with the bound of their combination under the
 //! certified allocation of each schedule, the linearised one where none is certified).
 //!
-//! `--time-budget-s S` (finite, > 0) with noise in the study: the positions and the dwell
-//! chosen together with the noise counted ([`schedule_design::design_with_budget`]; total
-//! test time = positions x (dwell + move)), JSON `time_budget` (`budget_s`, `k_sigma`,
-//! `chosen`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
+//! `--time-budget-s S` (finite, > 0) with noise in the study: the number of positions, the
+//! positions and the dwell chosen together with the noise counted
+//! ([`schedule_design::design_with_budget`]; total test time = positions x (dwell +
+//! move)), JSON `time_budget` (`budget_s`, `k_sigma`, `counts`, `counts_skipped`, `chosen`
+//! with its `n_positions`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
 //! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
 //! `--write-study`). Without noise the budget only changes the dwell: `time_budget.note` says
 //! so and the answer is unchanged.
@@ -215,7 +216,7 @@ fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
 /// says; the recommendation then counts the noise ([`CombinedChoice`]).
 fn noise_note(s: &Study) -> Option<&'static str> {
     s.noise.iter().any(Option::is_some).then_some(
-        "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of this search; --time-budget-s adds the search of positions and dwell together with the noise counted); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
+        "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of this search; --time-budget-s adds the search of the number of positions, the positions and the dwell together with the noise counted); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
     )
 }
 
@@ -655,6 +656,9 @@ pub fn run(args: &Args) -> Result<()> {
             );
         }
         crate::newfile::check(out, "--pareto-svg")?;
+    }
+    if let Some(b) = args.time_budget_s {
+        crate::design_budget::check_affords(&s, b)?;
     }
     let positions = args.positions.map_or(s.positions_deg.len(), |n| n as usize);
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);

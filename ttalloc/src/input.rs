@@ -130,7 +130,7 @@ fn located<E: LibraryError>(e: E, s: &Study, at: &str, box_name: &str) -> anyhow
 fn location(field: &str, s: &Study, at: &str) -> String {
     match field {
         "samples" | "chunk_size" | "yield_fraction" | "positions" | "max_condition"
-        | "constraint_form" => format!("--{}", field.replace('_', "-")),
+        | "constraint_form" | "time_budget_s" => format!("--{}", field.replace('_', "-")),
         "histogram_bins" => "--bins".into(),
         "safety_margin" | "1 - safety_margin" | "requirement_factor" => "--safety-margin".into(),
         "step_deg" | "candidates" => "--step-deg".into(),

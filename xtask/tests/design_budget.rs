@@ -51,6 +51,28 @@ fn bad_time_budgets_exit_2_naming_the_flag() {
     }
 }
 
+/// A budget too short for the fewest positions that identify every output (the paper's
+/// noisy copy: 60 s to move to each, so its 7 positions need 420 s) exits 2 before the search,
+/// naming the flag and the library's `time_budget_s`, with nothing on standard output.
+#[test]
+fn a_budget_too_short_for_the_fewest_positions_exits_2_naming_it() {
+    let r = xtask(&[
+        "design-schedule",
+        "--study",
+        NOISY,
+        "--step-deg",
+        "45",
+        "--time-budget-s",
+        "100",
+        "--json",
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(2), "{err}");
+    assert!(r.stdout.is_empty());
+    assert!(err.contains("--time-budget-s"), "{err}");
+    assert!(err.contains("time_budget_s = 100 s is too short"), "{err}");
+}
+
 /// Without noise the budget only changes the dwell: the answer is the one without a budget
 /// (the same designed positions and J), with a note saying so and no front.
 #[test]
@@ -110,6 +132,18 @@ fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
     }
     let chosen = &v["time_budget"]["chosen"];
     assert!(f(chosen, "total_s") <= budget, "{chosen}");
+    // the number of positions is searched: the chosen count is one of the counts designed for,
+    // and its test fits the budget
+    let counts: Vec<u64> = v["time_budget"]["counts"]
+        .as_array()
+        .expect("counts")
+        .iter()
+        .map(|c| c.as_u64().unwrap())
+        .collect();
+    assert!(counts.len() > 1, "{counts:?}");
+    let n = chosen["n_positions"].as_u64().unwrap();
+    assert!(counts.contains(&n), "{n} not in {counts:?}");
+    assert!(n as f64 * (f(chosen, "dwell_s") + 60.0) <= budget * (1.0 + 1e-12));
     assert!(front.iter().any(|p| p["total_s"] == chosen["total_s"]
         && p["objective_arcmin"] == chosen["objective_arcmin"]));
     let text = std::fs::read_to_string(&svg).expect("the figure is written");
