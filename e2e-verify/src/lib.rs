@@ -95,8 +95,8 @@ pub use allocate::{
     YieldAllocation, YieldParams, YieldVerdict, min_yield_samples,
 };
 pub use answer::{
-    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
-    answer_with_two_step,
+    AnswerAllocations, BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer,
+    answer, answer_allocations, answer_with_two_step,
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
