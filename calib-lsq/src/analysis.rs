@@ -53,7 +53,7 @@ use crate::calibration::{
     Calibration, OutputCalibration, design_matrix, known_vector, simulate_outputs,
 };
 use crate::error::CalibError;
-use crate::lsq::Regression;
+use crate::lsq::{QrSolve, Regression};
 use gw_model::{InputValues, Inputs};
 use nalgebra::{DVector, Matrix3};
 use std::fmt;
@@ -437,7 +437,7 @@ struct ActualTerms<'a> {
     b1_actual: &'a [f64],
     b2_actual: &'a [f64],
     /// $\mathbf A'$ factored, only for readings that need $\hat{\boldsymbol\beta}_2$.
-    a_prime: Option<Regression>,
+    a_prime: Option<QrSolve>,
     y: std::cell::RefCell<&'a mut Vec<f64>>,
 }
 
@@ -483,9 +483,7 @@ impl ReadingTerms for ActualTerms<'_> {
                     .a_prime
                     .as_ref()
                     .unwrap_or_else(|| unreachable!("factored when the reading needs beta2"));
-                let beta = r
-                    .estimate(&DVector::from_column_slice(&y))
-                    .unwrap_or_else(|_| unreachable!("lengths match"));
+                let beta = r.estimate(&DVector::from_column_slice(&y));
                 out.copy_from_slice(beta.as_slice());
             }
         }
@@ -557,9 +555,9 @@ impl OutputCalibration {
         }
         let a_prime = if reading.needs_beta_2() {
             let m = nalgebra::DMatrix::from_row_slice(n, k, &work.rows);
-            Some(Regression::new(
+            Some(QrSolve::new(
                 &self.output().name,
-                self.regression().names().to_vec(),
+                self.regression().names(),
                 m,
             )?)
         } else {

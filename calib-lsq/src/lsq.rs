@@ -84,41 +84,7 @@ impl Regression {
     /// the null space of $\mathbf A$; [`CalibError::Field`] (not finite) for a non-finite entry;
     /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one name per column.
     pub fn new(output: &str, names: Vec<String>, a: DMatrix<f64>) -> Result<Self, CalibError> {
-        for (k, v) in a.iter().enumerate() {
-            finite(format!("A[{}][{}]", k % a.nrows(), k / a.nrows()), *v)?;
-        }
-        let (n, k) = a.shape();
-        if names.len() != k || k == 0 {
-            return Err(CalibError::Field(tt_core::FieldError::Length {
-                field: "coefficient names".into(),
-                expected: k,
-                found: names.len(),
-            }));
-        }
-        // With fewer rows than columns pad with zero rows: the missing directions become null.
-        let padded = if n < k {
-            let mut p = DMatrix::zeros(k, k);
-            p.view_mut((0, 0), (n, k)).copy_from(&a);
-            p
-        } else {
-            a.clone()
-        };
-        let (rank, null_rows) = pivoted_rank_and_null_space(&padded);
-        if rank < k {
-            let coefficients = names
-                .iter()
-                .zip(null_rows)
-                .filter(|(_, share)| *share > NULL_COMPONENT_TOL)
-                .map(|(name, _)| name.clone())
-                .collect();
-            return Err(CalibError::Unidentifiable {
-                output: output.to_string(),
-                coefficients,
-                rank,
-                columns: k,
-                positions: n,
-            });
-        }
+        let rank = check_identifiable(output, &names, &a)?;
         let qr = a.clone().qr();
         let (q, r) = (qr.q(), qr.r());
         let sv = jacobi_singular_values(&r);
@@ -237,6 +203,83 @@ pub fn jacobi_singular_values(m: &DMatrix<f64>) -> Vec<f64> {
     crate::joint::jacobi_svd(m).0
 }
 
+/// The checks of [`Regression::new`]: every entry finite (the first non-finite one named),
+/// one name per column, full rank (else the unidentifiable coefficients named). Returns the
+/// rank. Nothing is formatted unless a check fails (this runs once per evaluation of a
+/// reading with $\hat{\boldsymbol\beta}_2$).
+fn check_identifiable(
+    output: &str,
+    names: &[String],
+    a: &DMatrix<f64>,
+) -> Result<usize, CalibError> {
+    if let Some((k, v)) = a.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        finite(format!("A[{}][{}]", k % a.nrows(), k / a.nrows()), *v)?;
+    }
+    let (n, k) = a.shape();
+    if names.len() != k || k == 0 {
+        return Err(CalibError::Field(tt_core::FieldError::Length {
+            field: "coefficient names".into(),
+            expected: k,
+            found: names.len(),
+        }));
+    }
+    // With fewer rows than columns pad with zero rows: the missing directions become null.
+    let (rank, null_rows) = if n < k {
+        let mut p = DMatrix::zeros(k, k);
+        p.view_mut((0, 0), (n, k)).copy_from(a);
+        pivoted_rank_and_null_space(&p)
+    } else {
+        pivoted_rank_and_null_space(a)
+    };
+    if rank < k {
+        let coefficients = names
+            .iter()
+            .zip(null_rows)
+            .filter(|(_, share)| *share > NULL_COMPONENT_TOL)
+            .map(|(name, _)| name.clone())
+            .collect();
+        return Err(CalibError::Unidentifiable {
+            output: output.to_string(),
+            coefficients,
+            rank,
+            columns: k,
+            positions: n,
+        });
+    }
+    Ok(rank)
+}
+
+/// The least-squares solve of a [`Regression`] without what only a report needs (names,
+/// condition number, singular values, pseudo-inverse): the factorisation of $\mathbf A'$ that
+/// readings with $\hat{\boldsymbol\beta}_2$ make at every evaluation. Same checks and the same
+/// arithmetic as [`Regression::new`] and [`Regression::estimate`], so the same estimate to the
+/// bit.
+#[derive(Debug, Clone)]
+pub(crate) struct QrSolve {
+    q: DMatrix<f64>,
+    r: DMatrix<f64>,
+}
+
+impl QrSolve {
+    /// Check and factor `a` as [`Regression::new`] does.
+    pub(crate) fn new(output: &str, names: &[String], a: DMatrix<f64>) -> Result<Self, CalibError> {
+        check_identifiable(output, names, &a)?;
+        let qr = a.qr();
+        Ok(Self {
+            q: qr.q(),
+            r: qr.r(),
+        })
+    }
+
+    /// $\hat{\boldsymbol\beta} = \mathbf R^{-1}\mathbf Q^T\mathbf y$ (`y` one value per row).
+    pub(crate) fn estimate(&self, y: &DVector<f64>) -> DVector<f64> {
+        let qty = self.q.transpose() * y;
+        self.r
+            .solve_upper_triangular(&qty)
+            .unwrap_or_else(|| unreachable!("full rank was checked"))
+    }
+}
+
 /// Numerical rank of `a` (square or tall) by column-pivoted QR, and for each column the norm
 /// of its row in a normalised null-space basis (zero for identifiable coefficients).
 fn pivoted_rank_and_null_space(a: &DMatrix<f64>) -> (usize, Vec<f64>) {
@@ -282,4 +325,58 @@ fn pivoted_rank_and_null_space(a: &DMatrix<f64>) -> (usize, Vec<f64>) {
         *s = q.row(j).norm();
     }
     (rank, shares)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bits(v: &DVector<f64>) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// The factorisation a reading with beta-hat-2 makes per evaluation (`QrSolve`) gives
+    /// `Regression`'s estimate to the bit, and the same errors: the first non-finite entry
+    /// named, a dependent column named unidentifiable, a name missing.
+    #[test]
+    fn qr_solve_is_the_regression_estimate_to_the_bit_with_the_same_errors() {
+        let a = DMatrix::from_fn(7, 3, |i, j| {
+            ((i * 3 + j) as f64 * 0.7).sin() + if i == j { 1.0 } else { 0.0 }
+        });
+        let names: Vec<String> = ["b", "k", "m"].map(String::from).to_vec();
+        let y = DVector::from_fn(7, |i, _| (i as f64 * 0.37).cos());
+        let r = Regression::new("out", names.clone(), a.clone()).unwrap();
+        let q = QrSolve::new("out", &names, a.clone()).unwrap();
+        assert_eq!(bits(&q.estimate(&y)), bits(&r.estimate(&y).unwrap()));
+
+        let mut bad = a.clone();
+        bad[(2, 1)] = f64::NAN;
+        bad[(5, 2)] = f64::INFINITY;
+        let e = QrSolve::new("out", &names, bad.clone()).unwrap_err();
+        assert!(e.to_string().contains("A[2][1]"), "{e}");
+        assert_eq!(
+            e.to_string(),
+            Regression::new("out", names.clone(), bad)
+                .unwrap_err()
+                .to_string()
+        );
+
+        let mut dependent = a.clone();
+        dependent.set_column(2, &(a.column(0) * 2.0));
+        let e = QrSolve::new("out", &names, dependent.clone()).unwrap_err();
+        assert!(
+            matches!(&e, CalibError::Unidentifiable { coefficients, rank: 2, .. } if coefficients.contains(&"m".to_string())),
+            "{e}"
+        );
+        assert_eq!(
+            e,
+            Regression::new("out", names.clone(), dependent).unwrap_err()
+        );
+
+        let e = QrSolve::new("out", &names[..2], a.clone()).unwrap_err();
+        assert_eq!(
+            e,
+            Regression::new("out", names[..2].to_vec(), a).unwrap_err()
+        );
+    }
 }

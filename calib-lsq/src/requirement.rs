@@ -31,6 +31,7 @@ use crate::analysis::{ErrorWork, OrientationErrorAnalysis, Reading};
 use crate::calibration::{Calibration, OutputCalibration};
 use crate::error::{CalibError, finite};
 use gw_model::InputValues;
+use rayon::prelude::*;
 use std::f64::consts::FRAC_PI_2;
 use tt_core::{DeltaRKind, OrientationAxis, OrientationError, Requirement};
 
@@ -286,17 +287,26 @@ impl RequirementProblem {
     /// (every output is insensitive to it or absorbs it; see
     /// [`OrientationRequirement::unconstrained_outputs`]).
     pub fn requirement(&self) -> Result<OrientationRequirement, CalibError> {
+        // Every output's region and box on its own thread (independent searches), then
+        // taken in output order: the same boxes, and the same first error, as one by one.
         let regions = (0..self.calibration.outputs().len())
+            .into_par_iter()
             .map(|k| self.region(k))
+            .collect::<Vec<_>>()
+            .into_iter()
             .collect::<Result<Vec<_>, _>>()?;
+        let found: Vec<Option<Result<OutputBox, CalibError>>> = regions
+            .par_iter()
+            .map(|r| (!r.sensitive.is_empty()).then(|| r.max_box()))
+            .collect();
         let mut boxes = Vec::new();
         let mut unconstrained_outputs = Vec::new();
-        for r in &regions {
-            if r.sensitive.is_empty() {
+        for (r, found) in regions.iter().zip(found) {
+            let Some(found) = found else {
                 unconstrained_outputs.push(r.output().to_string());
                 continue;
-            }
-            match r.max_box() {
+            };
+            match found {
                 Ok(b) => boxes.push(b),
                 Err(CalibError::Unbounded { .. }) => {
                     unconstrained_outputs.push(r.output().to_string())

@@ -130,20 +130,26 @@ pub struct BuyersAnswer {
 /// `inputs.samples` cannot resolve the yield target ([`crate::min_yield_samples`]); as the
 /// allocations and the Monte Carlo.
 pub fn answer(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<BuyersAnswer, E2eError> {
-    fraction("yield_fraction", inputs.yield_fraction)?;
-    McSettings::new(inputs.samples, inputs.seed).validate()?;
-    check_yield_samples(inputs.samples, inputs.yield_fraction)?;
-    let two_step = match inputs.two_step_requirement {
-        Some(req) => Some(
-            SensitivityWeighted::general().allocate(&AllocationProblem::new(
-                LinearModel::new(e2e.turntable()),
-                req,
-                inputs.lower_bounds_rad.clone(),
-            )?)?,
-        ),
-        None => None,
-    };
-    answer_with_two_step(e2e, inputs, two_step)
+    check_inputs(e2e, inputs)?;
+    // the two-step allocation and the allocations that do not need it, side by side
+    let (two_step, allocations) = rayon::join(
+        || -> Result<Option<Allocation>, E2eError> {
+            Ok(match inputs.two_step_requirement {
+                Some(req) => Some(SensitivityWeighted::general().allocate(
+                    &AllocationProblem::new(
+                        LinearModel::new(e2e.turntable()),
+                        req,
+                        inputs.lower_bounds_rad.clone(),
+                    )?,
+                )?),
+                None => None,
+            })
+        },
+        || allocations_checked(e2e, inputs),
+    );
+    let two_step = two_step?;
+    check_two_step(e2e, inputs, two_step.as_ref())?;
+    allocations?.answer(two_step)
 }
 
 /// [`answer()`] with the two-step allocation already computed (by the caller, for the same
@@ -158,100 +164,262 @@ pub fn answer_with_two_step(
     inputs: &EndToEndInputs,
     two_step: Option<Allocation>,
 ) -> Result<BuyersAnswer, E2eError> {
+    check_inputs(e2e, inputs)?;
+    check_two_step(e2e, inputs, two_step.as_ref())?;
+    allocations_checked(e2e, inputs)?.answer(two_step)
+}
+
+/// The part of the answer that does not depend on the two-step allocation: per reading the
+/// direct allocation, its certification, the yield-based allocation and their boxes. Computed
+/// by [`answer_allocations`] (for example while the caller allocates the two-step box, which
+/// takes seconds on a table with two or more free joints) and completed by
+/// [`AnswerAllocations::answer`]; together they give what [`answer_with_two_step`] gives.
+#[derive(Debug, Clone)]
+pub struct AnswerAllocations {
+    inputs: EndToEndInputs,
+    /// The simulator's reading first (never empty).
+    readings: Vec<ReadingAllocations>,
+}
+
+/// One reading's part of [`AnswerAllocations`], with its simulator and linearisation.
+#[derive(Debug, Clone)]
+struct ReadingAllocations {
+    sim: EndToEnd,
+    linear: Linearization,
+    direct: DirectAllocation,
+    direct_box: BoxAnswer,
+    direct_certified: Option<(DirectAllocation, WorstCase)>,
+    direct_certified_note: Option<String>,
+    yield_based: YieldAllocation,
+    yield_box: BoxAnswer,
+}
+
+/// The readings of the answer: the simulator's first, then [`Reading::USER`] (if different).
+fn readings_of(e2e: &EndToEnd) -> Vec<Reading> {
+    let mut readings = vec![e2e.reading()];
+    if e2e.reading() != Reading::USER {
+        readings.push(Reading::USER);
+    }
+    readings
+}
+
+/// The inputs' checks (before any heavy work): the yield target, the Monte Carlo settings and
+/// every extra box containing the lower bounds.
+fn check_inputs(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<(), E2eError> {
     fraction("yield_fraction", inputs.yield_fraction)?;
     McSettings::new(inputs.samples, inputs.seed).validate()?;
     check_yield_samples(inputs.samples, inputs.yield_fraction)?;
-    if let Some(a) = &two_step {
+    for (name, ub) in &inputs.extra_boxes {
+        check_box(e2e, inputs, name, ub)?;
+    }
+    Ok(())
+}
+
+/// The two-step allocation has the turntable's length and its box contains the lower bounds.
+fn check_two_step(
+    e2e: &EndToEnd,
+    inputs: &EndToEndInputs,
+    two_step: Option<&Allocation>,
+) -> Result<(), E2eError> {
+    if let Some(a) = two_step {
         tt_core::length(
             "two-step allocation",
             e2e.n_errors(),
             a.upper_bounds_rad.len(),
         )?;
+        check_box(e2e, inputs, "two-step", &a.upper_bounds_rad)?;
     }
-    let mut named: Vec<(String, Vec<f64>)> = Vec::new();
-    if let Some(a) = &two_step {
-        named.push(("two-step".into(), a.upper_bounds_rad.clone()));
-    }
-    named.extend(inputs.extra_boxes.iter().cloned());
-    // Every box must contain its lower bounds (named error before any heavy work).
-    for (name, ub) in &named {
-        e2e.box_of(ub, &inputs.lower_bounds_rad)
-            .map_err(|e| match e {
-                E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
-                    E2eError::LowerAboveBox {
-                        name: name.clone(),
-                        component,
-                        lb,
-                        ub,
-                    }
+    Ok(())
+}
+
+/// A named box must contain its lower bounds (a named error).
+fn check_box(
+    e2e: &EndToEnd,
+    inputs: &EndToEndInputs,
+    name: &str,
+    ub: &[f64],
+) -> Result<(), E2eError> {
+    e2e.box_of(ub, &inputs.lower_bounds_rad)
+        .map(|_| ())
+        .map_err(|e| match e {
+            E2eError::Bounds(mc_verify::McError::LowerAboveUpper { component, lb, ub }) => {
+                E2eError::LowerAboveBox {
+                    name: name.to_string(),
+                    component,
+                    lb,
+                    ub,
                 }
-                other => other,
-            })?;
-    }
-    let mut readings = vec![e2e.reading()];
-    if e2e.reading() != Reading::USER {
-        readings.push(Reading::USER);
-    }
+            }
+            other => other,
+        })
+}
+
+/// Worst case and distribution of one named box under `sim`.
+fn box_answer(
+    sim: &EndToEnd,
+    linear: &Linearization,
+    lower_bounds_rad: &[f64],
+    name: &str,
+    ub: &[f64],
+    settings: &McSettings,
+) -> Result<BoxAnswer, E2eError> {
+    Ok(BoxAnswer {
+        name: name.to_string(),
+        upper_bounds_rad: ub.to_vec(),
+        objective: sim.objective(ub),
+        worst_case: sim.worst_case(linear, ub)?,
+        distribution: sim.rate_distribution(
+            linear,
+            &sim.box_of(ub, lower_bounds_rad)?,
+            settings,
+        )?,
+    })
+}
+
+/// The allocations of every reading of [`answer()`] that do not need the two-step box: see
+/// [`AnswerAllocations`].
+///
+/// # Errors
+/// As [`answer()`] for the inputs, the allocations and their Monte Carlo.
+pub fn answer_allocations(
+    e2e: &EndToEnd,
+    inputs: &EndToEndInputs,
+) -> Result<AnswerAllocations, E2eError> {
+    check_inputs(e2e, inputs)?;
+    allocations_checked(e2e, inputs)
+}
+
+/// [`answer_allocations`] after the checks. The readings, and within a reading the
+/// certification, the yield-based allocation and the direct box, are independent: they run in
+/// parallel, each with its own seeded settings (the same numbers for any thread count), and
+/// the first error in the serial order is returned.
+fn allocations_checked(
+    e2e: &EndToEnd,
+    inputs: &EndToEndInputs,
+) -> Result<AnswerAllocations, E2eError> {
+    use rayon::prelude::*;
     let settings = McSettings::new(inputs.samples, inputs.seed);
-    let lb = &inputs.lower_bounds_rad;
-    let mut out = Vec::new();
-    for reading in readings {
+    let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
+    let recheck = McSettings::new(inputs.samples, inputs.seed.wrapping_add(2));
+    let lb = inputs.lower_bounds_rad.as_slice();
+    let one = |reading: Reading| -> Result<ReadingAllocations, E2eError> {
         let sim = if reading == e2e.reading() {
             e2e.clone()
         } else {
             e2e.with_reading(reading)?
         };
         let linear = sim.linearization();
-        let box_answer = |name: &str,
-                          ub: &[f64],
-                          s: &McSettings,
-                          linear: &Linearization|
-         -> Result<BoxAnswer, E2eError> {
-            Ok(BoxAnswer {
-                name: name.to_string(),
-                upper_bounds_rad: ub.to_vec(),
-                objective: sim.objective(ub),
-                worst_case: sim.worst_case(linear, ub)?,
-                distribution: sim.rate_distribution(linear, &sim.box_of(ub, lb)?, s)?,
-            })
-        };
-        let boxes = named
-            .iter()
-            .map(|(name, ub)| box_answer(name, ub, &settings, &linear))
-            .collect::<Result<Vec<_>, _>>()?;
         let direct = sim.allocate_direct(&linear, lb)?;
-        let (certified, direct_certified_note) =
-            crate::allocate::certified_or_note(&sim, &linear, lb, &direct)?;
-        let direct_certified = match certified {
-            Some(d) => {
-                let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
-                Some((d, wc))
-            }
-            None => None,
-        };
-        let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
-        let yield_based =
-            sim.allocate_yield(&direct.upper_bounds_rad, lb, inputs.yield_fraction, &design)?;
-        let recheck = McSettings::new(inputs.samples, inputs.seed.wrapping_add(2));
-        out.push(ReadingAnswer {
-            reading,
-            boxes,
-            direct_box: box_answer("direct", &direct.upper_bounds_rad, &settings, &linear)?,
-            yield_box: box_answer(
-                "yield-based",
-                &yield_based.upper_bounds_rad,
-                &recheck,
-                &linear,
-            )?,
+        let (certified, (yielded, direct_box)) = rayon::join(
+            || -> Result<_, E2eError> {
+                let (certified, note) =
+                    crate::allocate::certified_or_note(&sim, &linear, lb, &direct)?;
+                let certified = match certified {
+                    Some(d) => {
+                        let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;
+                        Some((d, wc))
+                    }
+                    None => None,
+                };
+                Ok((certified, note))
+            },
+            || {
+                rayon::join(
+                    || -> Result<(YieldAllocation, Result<BoxAnswer, E2eError>), E2eError> {
+                        let y = sim.allocate_yield(
+                            &direct.upper_bounds_rad,
+                            lb,
+                            inputs.yield_fraction,
+                            &design,
+                        )?;
+                        let b = box_answer(
+                            &sim,
+                            &linear,
+                            lb,
+                            "yield-based",
+                            &y.upper_bounds_rad,
+                            &recheck,
+                        );
+                        Ok((y, b))
+                    },
+                    || {
+                        box_answer(
+                            &sim,
+                            &linear,
+                            lb,
+                            "direct",
+                            &direct.upper_bounds_rad,
+                            &settings,
+                        )
+                    },
+                )
+            },
+        );
+        // the first error in the serial order: certification, yield allocation, direct box,
+        // yield box
+        let (direct_certified, direct_certified_note) = certified?;
+        let (yield_based, yield_box) = yielded?;
+        let direct_box = direct_box?;
+        let yield_box = yield_box?;
+        Ok(ReadingAllocations {
+            sim,
+            linear,
             direct,
+            direct_box,
             direct_certified,
             direct_certified_note,
             yield_based,
-        });
-    }
-    Ok(BuyersAnswer {
+            yield_box,
+        })
+    };
+    let found: Vec<Result<ReadingAllocations, E2eError>> =
+        readings_of(e2e).into_par_iter().map(one).collect();
+    Ok(AnswerAllocations {
         inputs: inputs.clone(),
-        two_step,
-        readings: out,
+        readings: found.into_iter().collect::<Result<Vec<_>, _>>()?,
     })
+}
+
+impl AnswerAllocations {
+    /// The answer with the two-step allocation (for the same turntable, requirement and lower
+    /// bounds as the inputs): the same answer as [`answer_with_two_step`].
+    ///
+    /// # Errors
+    /// As [`answer_with_two_step`] for the two-step allocation and the named boxes.
+    pub fn answer(self, two_step: Option<Allocation>) -> Result<BuyersAnswer, E2eError> {
+        use rayon::prelude::*;
+        let Self { inputs, readings } = self;
+        check_two_step(&readings[0].sim, &inputs, two_step.as_ref())?;
+        let mut named: Vec<(String, Vec<f64>)> = Vec::new();
+        if let Some(a) = &two_step {
+            named.push(("two-step".into(), a.upper_bounds_rad.clone()));
+        }
+        named.extend(inputs.extra_boxes.iter().cloned());
+        let settings = McSettings::new(inputs.samples, inputs.seed);
+        let lb = inputs.lower_bounds_rad.as_slice();
+        let found: Vec<Result<ReadingAnswer, E2eError>> = readings
+            .into_par_iter()
+            .map(|a| {
+                let boxes = named
+                    .iter()
+                    .map(|(name, ub)| box_answer(&a.sim, &a.linear, lb, name, ub, &settings))
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(ReadingAnswer {
+                    reading: a.sim.reading(),
+                    boxes,
+                    direct: a.direct,
+                    direct_box: a.direct_box,
+                    direct_certified: a.direct_certified,
+                    direct_certified_note: a.direct_certified_note,
+                    yield_based: a.yield_based,
+                    yield_box: a.yield_box,
+                })
+            })
+            .collect();
+        Ok(BuyersAnswer {
+            inputs,
+            two_step,
+            readings: found.into_iter().collect::<Result<Vec<_>, _>>()?,
+        })
+    }
 }

@@ -100,8 +100,8 @@ pub use allocate::{
 };
 pub use allocators::{Direct, DirectCertified, YieldBased};
 pub use answer::{
-    BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer, answer,
-    answer_with_two_step,
+    AnswerAllocations, BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer,
+    answer, answer_allocations, answer_with_two_step,
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;

@@ -891,3 +891,40 @@ fn box_meets_has_one_classification_and_one_wording() {
         "to first order; no on the exact chain (+0.025%)"
     );
 }
+
+/// The answer in two parts (the allocations that do not need the two-step box, computed while
+/// a caller allocates it, then the answer with it) and `answer()` (which computes both side by
+/// side) are exactly the answer of `answer_with_two_step`: every number to the bit, on the
+/// paper's study under its reading (two readings in the answer, so both run in parallel) with
+/// Table 4 as an extra box.
+#[test]
+fn answer_in_parts_equals_answer_with_two_step() {
+    let e2e = paper(Reading::PAPER);
+    let req = RequirementProblem::new(e2e.calibration().clone(), Reading::PAPER, DeltaRKind::Exact)
+        .requirement()
+        .expect("the paper's requirement")
+        .requirement;
+    let mut inputs = e2e_verify::EndToEndInputs::new(vec![0.0; 8], Some(req), 11);
+    inputs.samples = 2_000;
+    inputs.extra_boxes.push(("Table 4".into(), table4()));
+    let two_step = SensitivityWeighted::general()
+        .allocate(
+            &alloc_opt::AllocationProblem::new(
+                LinearModel::new(e2e.turntable()),
+                req,
+                vec![0.0; 8],
+            )
+            .expect("problem"),
+        )
+        .expect("two-step allocation");
+    let whole =
+        e2e_verify::answer_with_two_step(&e2e, &inputs, Some(two_step.clone())).expect("answer");
+    assert_eq!(whole.readings.len(), 2);
+    assert_eq!(whole.readings[0].boxes.len(), 2);
+    let parts = e2e_verify::answer_allocations(&e2e, &inputs)
+        .expect("allocations")
+        .answer(Some(two_step))
+        .expect("answer from the parts");
+    assert_eq!(parts, whole);
+    assert_eq!(e2e_verify::answer(&e2e, &inputs).expect("answer()"), whole);
+}

@@ -27,6 +27,7 @@ use crate::pose::TurntableErrors;
 use crate::rotation::rot_sc;
 use crate::turntable::{Factor, Turntable};
 use nalgebra::{DMatrix, Matrix3, Vector3};
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 use tt_core::Pose;
 use tt_core::{OrientationAxis, OrientationError};
@@ -401,40 +402,38 @@ impl LinearModel {
                 exact: true,
             });
         }
-        // Grid over the outer free joints.
+        // Grid over the outer free joints, the first outer joint fastest; the points are
+        // independent, so they are evaluated in parallel and kept in grid order (the same
+        // list, sort and winner as one by one, for any thread count).
         let per = grid_points_per_joint(outer.len());
-        let mut best: Vec<(f64, Vec<f64>)> = Vec::new();
-        let mut idx = vec![0usize; outer.len()];
-        loop {
-            for (k, &j) in outer.iter().enumerate() {
+        let count = (0..outer.len()).fold(1usize, |c, _| c * per);
+        let at_index = |mut flat: usize, pose: &mut [f64]| {
+            for &j in outer {
                 let [lo, hi] = ranges[j];
-                pose[j] = lo + (hi - lo) * (idx[k] as f64 + 0.5) / per as f64;
+                pose[j] = lo + (hi - lo) * ((flat % per) as f64 + 0.5) / per as f64;
+                flat /= per;
             }
-            let (v, phi) = self.inner_max(axis, w, abs, &pose, inner, ranges[inner]);
-            let mut p = pose.clone();
-            p[inner] = phi;
-            best.push((v, p));
-            let mut k = 0;
-            loop {
-                if k == outer.len() {
-                    break;
-                }
-                idx[k] += 1;
-                if idx[k] < per {
-                    break;
-                }
-                idx[k] = 0;
-                k += 1;
-            }
-            if k == outer.len() {
-                break;
-            }
-        }
+        };
+        let mut best: Vec<(f64, Vec<f64>)> = (0..count)
+            .into_par_iter()
+            .map(|flat| {
+                let mut p = pose.clone();
+                at_index(flat, &mut p);
+                let (v, phi) = self.inner_max(axis, w, abs, &p, inner, ranges[inner]);
+                p[inner] = phi;
+                (v, p)
+            })
+            .collect();
         best.sort_by(|a, b| b.0.total_cmp(&a.0));
         best.truncate(4);
+        // the last grid point: the pose kept should no candidate give a value
+        at_index(count - 1, &mut pose);
+        let refined: Vec<(f64, Vec<f64>)> = best
+            .into_par_iter()
+            .map(|(v0, p0)| self.refine(axis, w, abs, &ranges, outer, inner, v0, p0, per))
+            .collect();
         let mut winner = (f64::NEG_INFINITY, pose.clone());
-        for (v0, p0) in best {
-            let (v, p) = self.refine(axis, w, abs, &ranges, outer, inner, v0, p0, per);
+        for (v, p) in refined {
             if v > winner.0 {
                 winner = (v, p);
             }

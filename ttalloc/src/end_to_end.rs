@@ -20,6 +20,7 @@ use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, NoiseAnswer, NoisyDirect,
     ReadingAnswer, Tradeoff, YieldVerdict, answer,
 };
+use rayon::prelude::*;
 use serde_json::{Map, Value, json};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -83,29 +84,38 @@ pub fn noisy_answer(
     };
     let lb = &a.inputs.lower_bounds_rad;
     let settings = McSettings::new(a.inputs.samples, a.inputs.seed);
-    let mut readings = Vec::new();
-    for r in &a.readings {
-        let sim = if r.reading == e2e.reading() {
-            e2e.clone()
-        } else {
-            e2e.with_reading(r.reading)
-                .map_err(|e| crate::input::library(e, s))?
-        };
-        readings.push(
-            sim.noise_answer(r, lb, &budget, k_sigma, &settings)
-                .map_err(|e| crate::input::library(e, s))?,
-        );
-    }
-    let tradeoff = e2e
-        .tradeoff(
-            &e2e.linearization(),
-            lb,
-            &s.noise,
-            timing,
-            k_sigma,
-            (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
-        )
-        .map_err(|e| crate::input::library(e, s))?;
+    // every reading's answer and the trade-off are independent: in parallel, the first error
+    // in the serial order returned
+    let (readings, tradeoff) = rayon::join(
+        || {
+            a.readings
+                .par_iter()
+                .map(|r| {
+                    let sim = if r.reading == e2e.reading() {
+                        e2e.clone()
+                    } else {
+                        e2e.with_reading(r.reading)
+                            .map_err(|e| crate::input::library(e, s))?
+                    };
+                    sim.noise_answer(r, lb, &budget, k_sigma, &settings)
+                        .map_err(|e| crate::input::library(e, s))
+                })
+                .collect::<Vec<Result<_>>>()
+        },
+        || {
+            e2e.tradeoff(
+                &e2e.linearization(),
+                lb,
+                &s.noise,
+                timing,
+                k_sigma,
+                (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
+            )
+            .map_err(|e| crate::input::library(e, s))
+        },
+    );
+    let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
+    let tradeoff = tradeoff?;
     Ok(Some(NoisyAnswer { readings, tradeoff }))
 }
 

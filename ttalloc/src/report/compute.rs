@@ -15,6 +15,7 @@ use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem,
 use e2e_verify::paper::registry::{self, ClaimEvaluation, PaperRun};
 use e2e_verify::{BuyersAnswer, EndToEnd, TurntableCheck};
 use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo};
+use rayon::prelude::*;
 use std::time::Instant;
 use study::{Study, Tolerances};
 use tt_kinematics::LinearModel;
@@ -163,6 +164,7 @@ type AnswerPart = (
     BuyersAnswer,
     Option<(Tolerances, TurntableCheck)>,
     Option<(MonteCarlo, McResult)>,
+    Option<crate::end_to_end::NoisyAnswer>,
 );
 
 /// With `XTASK_TIMING` set, print how long a phase took (to standard error).
@@ -424,6 +426,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         BuyersAnswer,
         Option<(Tolerances, TurntableCheck)>,
         Option<(MonteCarlo, McResult)>,
+        Option<crate::end_to_end::NoisyAnswer>,
     );
     type Right = (
         Option<Allocation>,
@@ -438,15 +441,28 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     let (left, right): (Result<Left>, Result<Right>) = rayon::join(
         || {
             let t0 = Instant::now();
-            let ours = match &alloc_problem {
-                Some(p) => Some(
-                    SensitivityWeighted::general()
-                        .allocate(p)
-                        .map_err(|e| crate::input::library(e, s))?,
-                ),
-                None => None,
-            };
-            timing("two-step allocation", t0);
+            // the two-step allocation beside the end-to-end allocations that do not need it
+            let (ours, allocations) = rayon::join(
+                || -> Result<Option<Allocation>> {
+                    let ours = match &alloc_problem {
+                        Some(p) => Some(
+                            SensitivityWeighted::general()
+                                .allocate(p)
+                                .map_err(|e| crate::input::library(e, s))?,
+                        ),
+                        None => None,
+                    };
+                    timing("two-step allocation", t0);
+                    Ok(ours)
+                },
+                || {
+                    let a = e2e_verify::answer_allocations(&e2e, &inputs)
+                        .map_err(|e| crate::input::library(e, s));
+                    timing("end-to-end allocations", t0);
+                    a
+                },
+            );
+            let ours = ours?;
             // after the allocation: its Monte Carlo (and the exact-chain check) beside the
             // end-to-end answer that reuses it
             let (mc, rest) = rayon::join(
@@ -464,32 +480,55 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                     }
                 },
                 || -> Result<AnswerPart> {
-                    let answer = e2e_verify::answer_with_two_step(&e2e, &inputs, ours.clone())
+                    let answer = allocations?
+                        .answer(ours.clone())
                         .map_err(|e| crate::input::library(e, s))?;
                     timing("end-to-end answer", t0);
-                    let vendor = match &options.tolerances {
-                        Some(tol) => {
-                            let settings =
-                                e2e_verify::McSettings::new(options.samples, options.seed);
-                            let lb = crate::check_turntable::lower_bounds_within(s, tol);
-                            let c = e2e
-                                .check_tolerances(&e2e.linearization(), &tol.ub_rad, &lb, &settings)
-                                .map_err(|e| crate::input::library(e, s))?;
-                            Some((tol.clone(), c))
-                        }
-                        None => None,
-                    };
-                    let table4 = if options.paper {
-                        let mc = mc_config(&alloc_opt::paper::table4_rad())?;
-                        let r = mc.run();
-                        Some((mc, r))
-                    } else {
-                        None
-                    };
-                    Ok((answer, vendor, table4))
+                    // the noise part (it needs the answer) beside the vendor check and Table 4
+                    let (noise, rest) = rayon::join(
+                        || {
+                            let noise = crate::end_to_end::noisy_answer(
+                                s,
+                                &e2e,
+                                &answer,
+                                e2e_verify::DEFAULT_K_SIGMA,
+                            );
+                            timing("noise and test time", t0);
+                            noise
+                        },
+                        || -> Result<_> {
+                            let vendor = match &options.tolerances {
+                                Some(tol) => {
+                                    let settings =
+                                        e2e_verify::McSettings::new(options.samples, options.seed);
+                                    let lb = crate::check_turntable::lower_bounds_within(s, tol);
+                                    let c = e2e
+                                        .check_tolerances(
+                                            &e2e.linearization(),
+                                            &tol.ub_rad,
+                                            &lb,
+                                            &settings,
+                                        )
+                                        .map_err(|e| crate::input::library(e, s))?;
+                                    Some((tol.clone(), c))
+                                }
+                                None => None,
+                            };
+                            let table4 = if options.paper {
+                                let mc = mc_config(&alloc_opt::paper::table4_rad())?;
+                                let r = mc.run();
+                                Some((mc, r))
+                            } else {
+                                None
+                            };
+                            Ok((vendor, table4))
+                        },
+                    );
+                    let (vendor, table4) = rest?;
+                    Ok((answer, vendor, table4, noise?))
                 },
             );
-            let (answer, vendor, table4) = rest?;
+            let (answer, vendor, table4, noise) = rest?;
             let two_step = match (ours, &alloc_problem, mc?) {
                 (Some(ours), Some(p), Some((exact, monte_carlo, result))) => Some(TwoStep {
                     problem: p.clone(),
@@ -500,7 +539,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 }),
                 _ => None,
             };
-            Ok((two_step, answer, vendor, table4))
+            Ok((two_step, answer, vendor, table4, noise))
         },
         || {
             let t0 = Instant::now();
@@ -515,19 +554,23 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 _ => None,
             };
             timing("equal effects", t0);
+            // the other readings' requirements are independent: computed in parallel, kept
+            // in this order
             let mut readings = vec![(s.reading, requirement.computed.clone())];
-            for r in [Reading::PAPER, Reading::USER, Reading::AS_PRINTED] {
-                if r != s.reading {
-                    readings.push((
-                        r,
-                        RequirementProblem {
-                            reading: r,
-                            ..problem.clone()
-                        }
-                        .requirement(),
-                    ));
-                }
-            }
+            let others: Vec<Reading> = [Reading::PAPER, Reading::USER, Reading::AS_PRINTED]
+                .into_iter()
+                .filter(|r| *r != s.reading)
+                .collect();
+            readings.par_extend(others.into_par_iter().map(|r| {
+                (
+                    r,
+                    RequirementProblem {
+                        reading: r,
+                        ..problem.clone()
+                    }
+                    .requirement(),
+                )
+            }));
             timing("readings", t0);
             let planes = planes(s, &problem, requirement.computed.as_ref().ok())?;
             timing("planes", t0);
@@ -542,7 +585,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
             Ok((equal, readings, planes, sensitivity, designed))
         },
     );
-    let (two_step, answer, vendor, table4) = left?;
+    let (two_step, answer, vendor, table4, noise) = left?;
     let (equal, readings, planes, sensitivity, designed) = right?;
     let paper = match (table4, &two_step, &equal, &alloc_problem) {
         (Some((mc, result)), Some(t), Some(eq), Some(p)) => {
@@ -571,8 +614,6 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         }
         _ => None,
     };
-    let noise = crate::end_to_end::noisy_answer(s, &e2e, &answer, e2e_verify::DEFAULT_K_SIGMA)?;
-    timing("noise and test time", started);
     let vendor_noise = match &vendor {
         Some((tol, chk)) => {
             let lb = crate::check_turntable::lower_bounds_within(s, tol);
