@@ -196,12 +196,19 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         Weights::new(model, m)
     }
 
-    fn finish_direct(
+    /// A joint (direct) allocation of `problem` by `method`: `run` gets the problem's margins
+    /// (accuracy less limit, per output) and returns the allocation, which alloc-opt's
+    /// [`finish`] turns into the one [`ToleranceBox`].
+    fn joint(
         &self,
         problem: &AllocationProblem<Linearization>,
         method: &str,
-        d: DirectAllocation,
+        run: impl FnOnce(&[f64]) -> Result<DirectAllocation, E2eError>,
     ) -> Result<ToleranceBox, AllocError> {
+        let d = self
+            .margins_of(problem)
+            .and_then(|margins| run(&margins))
+            .map_err(|e| method_error(method, e))?;
         finish(
             problem,
             method,
@@ -238,16 +245,13 @@ impl<S: ScheduleErrorModel + Sync> Allocator<Linearization> for Direct<'_, S> {
         &self,
         problem: &AllocationProblem<Linearization>,
     ) -> Result<ToleranceBox, AllocError> {
-        let run = || -> Result<DirectAllocation, E2eError> {
-            let margins = self.analysis.margins_of(problem)?;
+        self.analysis.joint(problem, self.name(), |margins| {
             self.analysis.allocate_direct_keeping(
                 problem.model(),
                 problem.lower_bounds_rad(),
-                &margins,
+                margins,
             )
-        };
-        let d = run().map_err(|e| method_error(self.name(), e))?;
-        self.analysis.finish_direct(problem, self.name(), d)
+        })
     }
 }
 
@@ -260,17 +264,14 @@ impl<S: ScheduleErrorModel + Sync> Allocator<Linearization> for DirectCertified<
         &self,
         problem: &AllocationProblem<Linearization>,
     ) -> Result<ToleranceBox, AllocError> {
-        let run = || -> Result<DirectAllocation, E2eError> {
-            let margins = self.analysis.margins_of(problem)?;
+        self.analysis.joint(problem, self.name(), |margins| {
             self.analysis.certified_keeping(
                 problem.model(),
                 problem.lower_bounds_rad(),
-                &margins,
+                margins,
                 &self.params,
             )
-        };
-        let d = run().map_err(|e| method_error(self.name(), e))?;
-        self.analysis.finish_direct(problem, self.name(), d)
+        })
     }
 }
 
