@@ -297,7 +297,6 @@ fn allocations_checked(
     e2e: &EndToEnd,
     inputs: &EndToEndInputs,
 ) -> Result<AnswerAllocations, E2eError> {
-    use rayon::prelude::*;
     let settings = McSettings::new(inputs.samples, inputs.seed);
     let design = McSettings::new(inputs.samples, inputs.seed.wrapping_add(1));
     let recheck = McSettings::new(inputs.samples, inputs.seed.wrapping_add(2));
@@ -310,6 +309,9 @@ fn allocations_checked(
         };
         let linear = sim.linearization();
         let direct = sim.allocate_direct(&linear, lb)?;
+        // the certification (no Monte Carlo) beside the Monte Carlo runs; those run one at a
+        // time (each already uses every thread), so the memory of their chunk waves is that of
+        // one run whatever the sample count
         let (certified, (yielded, direct_box)) = rayon::join(
             || -> Result<_, E2eError> {
                 let (certified, note) =
@@ -324,8 +326,8 @@ fn allocations_checked(
                 Ok((certified, note))
             },
             || {
-                rayon::join(
-                    || -> Result<(YieldAllocation, Result<BoxAnswer, E2eError>), E2eError> {
+                let yielded =
+                    (|| -> Result<(YieldAllocation, Result<BoxAnswer, E2eError>), E2eError> {
                         let y = sim.allocate_yield(
                             &direct.upper_bounds_rad,
                             lb,
@@ -341,18 +343,16 @@ fn allocations_checked(
                             &recheck,
                         );
                         Ok((y, b))
-                    },
-                    || {
-                        box_answer(
-                            &sim,
-                            &linear,
-                            lb,
-                            "direct",
-                            &direct.upper_bounds_rad,
-                            &settings,
-                        )
-                    },
-                )
+                    })();
+                let direct_box = box_answer(
+                    &sim,
+                    &linear,
+                    lb,
+                    "direct",
+                    &direct.upper_bounds_rad,
+                    &settings,
+                );
+                (yielded, direct_box)
             },
         );
         // the first error in the serial order: certification, yield allocation, direct box,
@@ -372,8 +372,9 @@ fn allocations_checked(
             yield_box,
         })
     };
+    // the readings one after the other: each runs Monte Carlos (see above)
     let found: Vec<Result<ReadingAllocations, E2eError>> =
-        readings_of(e2e).into_par_iter().map(one).collect();
+        readings_of(e2e).into_iter().map(one).collect();
     Ok(AnswerAllocations {
         inputs: inputs.clone(),
         readings: found.into_iter().collect::<Result<Vec<_>, _>>()?,
@@ -387,7 +388,6 @@ impl AnswerAllocations {
     /// # Errors
     /// As [`answer_with_two_step`] for the two-step allocation and the named boxes.
     pub fn answer(self, two_step: Option<Allocation>) -> Result<BuyersAnswer, E2eError> {
-        use rayon::prelude::*;
         let Self { inputs, readings } = self;
         check_two_step(&readings[0].sim, &inputs, two_step.as_ref())?;
         let mut named: Vec<(String, Vec<f64>)> = Vec::new();
@@ -397,8 +397,10 @@ impl AnswerAllocations {
         named.extend(inputs.extra_boxes.iter().cloned());
         let settings = McSettings::new(inputs.samples, inputs.seed);
         let lb = inputs.lower_bounds_rad.as_slice();
+        // the readings one after the other: their boxes are Monte Carlo runs, each already on
+        // every thread (and one at a time keeps the memory of one run)
         let found: Vec<Result<ReadingAnswer, E2eError>> = readings
-            .into_par_iter()
+            .into_iter()
             .map(|a| {
                 let boxes = named
                     .iter()

@@ -54,16 +54,7 @@ pub fn run(
         .iter()
         .map(|p| problem.index_of(p))
         .collect();
-    let b = TimeBudget {
-        noise: &s.noise,
-        move_s: timing.move_s(),
-        sample_rate_hz: timing.sample_rate_hz(),
-        k_sigma: DEFAULT_K_SIGMA,
-        budget_s,
-        max_dwell_s: study::limits::DWELL_S.1,
-        study_dwell_s: uniform_dwell(timing.dwell_s()),
-        search_counts: true,
-    };
+    let b = time_budget(s, timing, budget_s, uniform_dwell(timing.dwell_s()));
     let d = design_with_budget(
         problem,
         table,
@@ -75,6 +66,26 @@ pub fn run(
     )
     .map_err(|e| crate::input::library(e, s))?;
     Ok(Budgeted::Design(Box::new(d)))
+}
+
+/// The budget of a study with noise and timing: its noise, move time and sample rate, the
+/// default $k\sigma$, dwells up to the study's limit, the counts searched.
+fn time_budget<'a>(
+    s: &'a Study,
+    timing: &calib_lsq::Timing,
+    budget_s: f64,
+    study_dwell_s: Option<f64>,
+) -> TimeBudget<'a> {
+    TimeBudget {
+        noise: &s.noise,
+        move_s: timing.move_s(),
+        sample_rate_hz: timing.sample_rate_hz(),
+        k_sigma: DEFAULT_K_SIGMA,
+        budget_s,
+        max_dwell_s: study::limits::DWELL_S.1,
+        study_dwell_s,
+        search_counts: true,
+    }
 }
 
 /// The study's dwell when every position has the same one.
@@ -108,16 +119,7 @@ pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
         s.positions_deg.clone(),
     )
     .map_err(|e| crate::input::library(e, s))?;
-    let b = TimeBudget {
-        noise: &s.noise,
-        move_s: timing.move_s(),
-        sample_rate_hz: timing.sample_rate_hz(),
-        k_sigma: DEFAULT_K_SIGMA,
-        budget_s,
-        max_dwell_s: study::limits::DWELL_S.1,
-        study_dwell_s: None,
-        search_counts: true,
-    };
+    let b = time_budget(s, timing, budget_s, None);
     check_budget_affords(&problem, &b).map_err(|e| crate::input::library(e, s))
 }
 

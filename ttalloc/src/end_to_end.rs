@@ -20,7 +20,6 @@ use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, NoiseAnswer, NoisyDirect,
     ReadingAnswer, Tradeoff, YieldVerdict, answer,
 };
-use rayon::prelude::*;
 use serde_json::{Map, Value, json};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -84,12 +83,13 @@ pub fn noisy_answer(
     };
     let lb = &a.inputs.lower_bounds_rad;
     let settings = McSettings::new(a.inputs.samples, a.inputs.seed);
-    // every reading's answer and the trade-off are independent: in parallel, the first error
-    // in the serial order returned
+    // the trade-off (allocations) beside the readings' answers; those run one after the other
+    // (each has a Monte Carlo already on every thread: one at a time keeps the memory of one
+    // run); the first error in the serial order returned
     let (readings, tradeoff) = rayon::join(
         || {
             a.readings
-                .par_iter()
+                .iter()
                 .map(|r| {
                     let sim = if r.reading == e2e.reading() {
                         e2e.clone()
