@@ -344,6 +344,47 @@ impl Partial {
 }
 
 impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
+    /// Draw the turntables of chunk `c` (chunks of `chunk_size`, `samples` in all; the
+    /// chunk's table stream [`chunk_rng`]`(seed, c)`) from `sampler`, compute each one's error
+    /// vectors (one per output, one entry per position) and give them to
+    /// `each(sample index, vectors)`: the per-chunk draw set-up of the Monte Carlos that add
+    /// noise to the table's part (combined yield, time-domain simulation).
+    ///
+    /// # Errors
+    /// [`E2eError::Draw`] naming the first turntable whose calibration fails; what `each`
+    /// returns.
+    pub(crate) fn for_each_draw(
+        &self,
+        sampler: &TurntableSampler,
+        (seed, samples, chunk_size): (u64, u64, u64),
+        c: u64,
+        mut each: impl FnMut(u64, &mut [Vec<f64>]) -> Result<(), E2eError>,
+    ) -> Result<(), E2eError> {
+        let mut rng = chunk_rng(seed, c);
+        let mut remaining = chunk_len(samples, chunk_size, c);
+        let mut block = SampleBlock::new(sampler);
+        let mut work = self.work();
+        let mut chi = vec![0.0; self.n_errors()];
+        let mut vectors = vec![vec![0.0; self.len()]; self.n_outputs()];
+        let mut index = c * chunk_size;
+        while remaining > 0 {
+            let m = remaining.min(BLOCK_CAPACITY);
+            sampler.fill_block(&mut rng, m, &mut block);
+            for s in 0..m {
+                block.chi_rad_into(s, &mut chi);
+                self.error_vectors_into(&chi, &mut work, &mut vectors)
+                    .map_err(|e| E2eError::Draw {
+                        sample: index,
+                        reason: e.to_string(),
+                    })?;
+                each(index, &mut vectors)?;
+                index += 1;
+            }
+            remaining -= m;
+        }
+        Ok(())
+    }
+
     /// Draw every turntable of `settings` from `bounds` and give each chunk's draws to `visit`
     /// (index, $\chi$, $\Delta\omega_k$ per output), folding chunk results with `merge` in
     /// chunk order: the one Monte Carlo driver of the crate (memory independent of the count).

@@ -38,8 +38,8 @@ use crate::simulate::EndToEnd;
 use crate::{DirectAllocation, answer::ReadingAnswer};
 use calib_lsq::Timing;
 use gw_model::noise::NoiseModel;
-use mc_verify::driver::{chunk_len, run_chunks};
-use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
+use mc_verify::driver::run_chunks;
+use mc_verify::{ErrorBox, TurntableSampler, chunk_rng};
 use nalgebra::{DMatrix, SymmetricEigen};
 use rand_core::Rng;
 
@@ -443,61 +443,40 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         let sampler = TurntableSampler::for_joint_ranges(bounds, &self.model().joint_ranges_rad());
         let acc = self.accuracies();
         let outputs = acc.len();
-        let n = self.len();
         let cs = u64::from(settings.chunk_size);
         let chunks = settings.samples.div_ceil(cs);
         let mut meeting = 0;
         let mut per_output = vec![0u64; outputs];
         let chunk = |c: u64| -> Result<(u64, Vec<u64>), E2eError> {
-            let mut rng = chunk_rng(settings.seed, c);
             let mut noise_rng = chunk_rng(settings.seed, c | NOISE_STREAM);
-            let mut remaining = chunk_len(settings.samples, cs, c);
-            let mut block = SampleBlock::new(&sampler);
-            let mut work = self.work();
-            let mut chi = vec![0.0; self.n_errors()];
-            let mut vectors = vec![vec![0.0; n]; outputs];
             let mut z = Vec::new();
             let (mut all, mut each) = (0u64, vec![0u64; outputs]);
-            let mut index = c * cs;
-            while remaining > 0 {
-                let m = remaining.min(BLOCK_CAPACITY);
-                sampler.fill_block(&mut rng, m, &mut block);
-                for s in 0..m {
-                    block.chi_rad_into(s, &mut chi);
-                    self.error_vectors_into(&chi, &mut work, &mut vectors)
-                        .map_err(|e| E2eError::Draw {
+            let draw = (settings.seed, settings.samples, cs);
+            self.for_each_draw(&sampler, draw, c, |index, vectors| {
+                let mut ok_all = true;
+                for (k, v) in vectors.iter_mut().enumerate() {
+                    if let Some(f) = &budget.factors[k] {
+                        normals(&mut noise_rng, f.ncols(), &mut z);
+                        add_product(f, &z, v);
+                    }
+                    let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                    if !worst.is_finite() {
+                        return Err(E2eError::Draw {
                             sample: index,
-                            reason: e.to_string(),
-                        })?;
-                    let mut ok_all = true;
-                    for k in 0..outputs {
-                        let v = &mut vectors[k];
-                        if let Some(f) = &budget.factors[k] {
-                            normals(&mut noise_rng, f.ncols(), &mut z);
-                            add_product(f, &z, v);
-                        }
-                        let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
-                        if !worst.is_finite() {
-                            return Err(E2eError::Draw {
-                                sample: index,
-                                reason: format!(
-                                    "non-finite calibration error {worst} on output {k}"
-                                ),
-                            });
-                        }
-                        if worst <= acc[k] {
-                            each[k] += 1;
-                        } else {
-                            ok_all = false;
-                        }
+                            reason: format!("non-finite calibration error {worst} on output {k}"),
+                        });
                     }
-                    if ok_all {
-                        all += 1;
+                    if worst <= acc[k] {
+                        each[k] += 1;
+                    } else {
+                        ok_all = false;
                     }
-                    index += 1;
                 }
-                remaining -= m;
-            }
+                if ok_all {
+                    all += 1;
+                }
+                Ok(())
+            })?;
             Ok((all, each))
         };
         run_chunks(chunks, WAVE_CHUNKS, chunk, |(all, each)| {

@@ -34,8 +34,8 @@ use crate::simulate::EndToEnd;
 use crate::ziggurat::{WordBlock, Ziggurat};
 use calib_lsq::Timing;
 use gw_model::noise::NoiseModel;
-use mc_verify::driver::{chunk_len, run_chunks};
-use mc_verify::{BLOCK_CAPACITY, ErrorBox, McRng, SampleBlock, TurntableSampler, chunk_rng};
+use mc_verify::driver::run_chunks;
+use mc_verify::{ErrorBox, McRng, TurntableSampler, chunk_rng};
 use nalgebra::{DMatrix, DVector};
 
 /// The bit that turns chunk $c$'s turntable stream into its time-domain noise stream.
@@ -256,56 +256,38 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         let mut acc_part = new_part();
         let chunk = |c: u64| -> Result<Part, E2eError> {
             let mut part = new_part();
-            let mut rng = chunk_rng(settings.seed, c);
             let mut noise = WordBlock::new(chunk_rng(settings.seed, c | TIME_DOMAIN_STREAM));
-            let mut remaining = chunk_len(settings.samples, cs, c);
-            let mut block = SampleBlock::new(&sampler);
-            let mut work = self.work();
-            let mut chi = vec![0.0; self.n_errors()];
-            let mut vectors = vec![vec![0.0; n]; outputs];
             let mut avg = vec![0.0; n];
-            let mut index = c * cs;
-            while remaining > 0 {
-                let m = remaining.min(BLOCK_CAPACITY);
-                sampler.fill_block(&mut rng, m, &mut block);
-                for s in 0..m {
-                    block.chi_rad_into(s, &mut chi);
-                    self.error_vectors_into(&chi, &mut work, &mut vectors)
-                        .map_err(|e| E2eError::Draw {
-                            sample: index,
-                            reason: e.to_string(),
-                        })?;
-                    let mut all = true;
-                    for k in 0..outputs {
-                        let v = &mut vectors[k];
-                        if let (Some(g), Some(mom)) = (&gens[k], &mut part.0[k]) {
-                            g.averages(&mut noise, &mut avg);
-                            let (a, pinv) = regressions[k];
-                            let dbeta = pinv * DVector::from_column_slice(&avg);
-                            let e = a * &dbeta;
-                            mom.n += 1;
-                            mom.sum += &dbeta;
-                            mom.sum_outer += &dbeta * dbeta.transpose();
-                            for (i, ei) in e.iter().enumerate() {
-                                mom.rate_sum[i] += ei;
-                                mom.rate_sum_sq[i] += ei * ei;
-                                v[i] += ei;
-                            }
-                        }
-                        let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
-                        if worst <= acc[k] {
-                            part.2[k] += 1;
-                        } else {
-                            all = false;
+            let draw = (settings.seed, settings.samples, cs);
+            self.for_each_draw(&sampler, draw, c, |_, vectors| {
+                let mut all = true;
+                for (k, v) in vectors.iter_mut().enumerate() {
+                    if let (Some(g), Some(mom)) = (&gens[k], &mut part.0[k]) {
+                        g.averages(&mut noise, &mut avg);
+                        let (a, pinv) = regressions[k];
+                        let dbeta = pinv * DVector::from_column_slice(&avg);
+                        let e = a * &dbeta;
+                        mom.n += 1;
+                        mom.sum += &dbeta;
+                        mom.sum_outer += &dbeta * dbeta.transpose();
+                        for (i, ei) in e.iter().enumerate() {
+                            mom.rate_sum[i] += ei;
+                            mom.rate_sum_sq[i] += ei * ei;
+                            v[i] += ei;
                         }
                     }
-                    if all {
-                        part.1 += 1;
+                    let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                    if worst <= acc[k] {
+                        part.2[k] += 1;
+                    } else {
+                        all = false;
                     }
-                    index += 1;
                 }
-                remaining -= m;
-            }
+                if all {
+                    part.1 += 1;
+                }
+                Ok(())
+            })?;
             Ok(part)
         };
         run_chunks(chunks, WAVE_CHUNKS, chunk, |p| {
