@@ -27,7 +27,7 @@ fn main() -> Result<(), AllocError> {
         "{:<10} {:>10} {:>10} {:>10}",
         "error", "ours'", "Table 4'", "equal'"
     );
-    for (i, name) in ours.error_names.iter().enumerate() {
+    for (i, name) in ours.error_names().iter().enumerate() {
         println!(
             "{:<10} {:>10.4} {:>10.4} {:>10.4}",
             name,

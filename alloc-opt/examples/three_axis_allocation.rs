@@ -46,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ours = SensitivityWeighted::general().allocate(&problem)?;
     let equal = EqualEffects.allocate(&problem)?;
     println!("{:<10} {:>10} {:>10}", "error", "ours'", "equal'");
-    for (k, name) in ours.error_names.iter().enumerate() {
+    for (k, name) in ours.error_names().iter().enumerate() {
         println!(
             "{:<10} {:>10.7} {:>10.7}",
             name,

@@ -388,17 +388,16 @@ pub enum MethodDetails {
 
 /// The one result of every [`Allocator`]: upper bounds $\mathrm{UB}_i$ with their
 /// objective, certificate and the method's details. (Formerly `Allocation`, which remains
-/// as an alias.) Read it through the accessors; the fields stay public for now for the
-/// sibling crates and will narrow. With the `serde` feature it derives `Serialize` (radians,
+/// as an alias.) Read it through the accessors (the fields are private). With the `serde` feature it derives `Serialize` (radians,
 /// as the fields; serde_json writes an unconstrained error's `+inf` bound as `null`).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ToleranceBox {
     /// The allocator's name.
-    pub method: String,
+    pub(crate) method: String,
     /// The names of the errors (the model's order).
-    pub error_names: Vec<String>,
+    pub(crate) error_names: Vec<String>,
     /// $\mathrm{UB}_i$ (rad, the model's error order); `+inf` exactly for the errors in
     /// [`ToleranceBox::unconstrained`], finite otherwise.
     pub upper_bounds_rad: Vec<f64>,

@@ -130,7 +130,7 @@ proptest! {
             let oracle = FiniteCuts::new(rows);
             let grid = solve_inverse_square(&InverseSquareProblem {
                 label: "grid".into(),
-                names: s.components.iter().map(|&i| a.error_names[i].clone()).collect(),
+                names: s.components.iter().map(|&i| a.error_names()[i].clone()).collect(),
                 weights: s.components.iter().map(|&i| a.weights.get(s.axis().unwrap(), i)).collect(),
                 lower: vec![0.0; s.components.len()],
                 initial_cuts: start,
@@ -289,7 +289,7 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
         &EqualEffects,
     ] {
         let a = allocator.allocate(&problem).unwrap();
-        assert_eq!(a.unconstrained_names(), ["dalpha_y2"], "{}", a.method);
+        assert_eq!(a.unconstrained_names(), ["dalpha_y2"], "{}", a.method());
         assert!(a.upper_bounds_rad[idx("dalpha_y2")].is_infinite());
         assert!(a.upper_bounds_rad[idx("dalpha_y2")] > 0.0);
         assert!(a.objective.is_finite());
@@ -305,7 +305,7 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
             assert!(k == idx("dalpha_y2") || u.is_finite());
         }
         // The gamma errors keep the bounds of problem (31) (psi gave the same ones before).
-        let full = if a.method == "equal-effects" {
+        let full = if a.method() == "equal-effects" {
             equal_allocation()
         } else {
             paper_allocation()

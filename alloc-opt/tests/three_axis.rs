@@ -214,7 +214,7 @@ fn three_axis_allocation_is_near_optimal_against_a_grid_relaxation() {
             names: s
                 .components
                 .iter()
-                .map(|&i| a.error_names[i].clone())
+                .map(|&i| a.error_names()[i].clone())
                 .collect(),
             weights: s
                 .components
