@@ -113,7 +113,8 @@ pub use montecarlo::{
 };
 pub use noise::{
     CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
-    NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffPoint, check_k_sigma,
+    NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffParams, TradeoffPoint,
+    check_k_sigma,
 };
 pub use rate::{
     CertifiedRateAllocation, EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase, RateAllocation,

@@ -54,18 +54,57 @@ pub const MAX_K_SIGMA: f64 = 10.0;
 /// `c` < $2^{63}$), so the turntables are exactly those of the table-only Monte Carlo.
 pub const NOISE_STREAM: u64 = 1 << 63;
 
-/// Bisection steps of the shortest dwell (on $\log T$; $2^{-48}$ of the bracket's log width).
-pub const MIN_DWELL_BISECTION_STEPS: usize = 48;
+/// The tuning of [`EndToEnd::tradeoff_with`]: how finely the shortest dwell is bracketed
+/// and where the time/table curve's points lie. `Default` gives the values `end-to-end` and
+/// the report use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct TradeoffParams {
+    /// Bisection steps of the shortest dwell (on $\log T$; default 48: $2^{-48}$ of the
+    /// bracket's log width).
+    pub min_dwell_bisection_steps: usize,
+    /// Points of the trade-off curve and of the noise curve (default 24, at least 2).
+    pub points: usize,
+    /// The curve spans this factor of dwell times above the shortest one (default 1000,
+    /// at least 1).
+    pub span: f64,
+    /// The curve's first point lies this factor above the shortest dwell (default 1.02; at
+    /// the shortest dwell itself the table's share is 0 and $J$ infinite), at least 1.
+    pub first: f64,
+}
 
-/// Points of the time/table trade-off curve.
-pub const TRADEOFF_POINTS: usize = 24;
+impl Default for TradeoffParams {
+    fn default() -> Self {
+        Self {
+            min_dwell_bisection_steps: 48,
+            points: 24,
+            span: 1000.0,
+            first: 1.02,
+        }
+    }
+}
 
-/// The trade-off curve spans this factor of dwell times above the shortest one.
-pub const TRADEOFF_SPAN: f64 = 1000.0;
-
-/// The curve's first point lies this factor above the shortest dwell (at the shortest dwell
-/// itself the table's share is 0 and $J$ infinite).
-pub const TRADEOFF_FIRST: f64 = 1.02;
+impl TradeoffParams {
+    /// Check the parameters.
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] naming `points` (fewer than 2), `span` or `first` (not finite or
+    /// below 1).
+    pub fn checked(self) -> Result<Self, E2eError> {
+        use std::ops::Bound::{Included, Unbounded};
+        if self.points < 2 {
+            return Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                field: "points".into(),
+                value: self.points as f64,
+                range: "at least 2".into(),
+            }));
+        }
+        for (field, v) in [("span", self.span), ("first", self.first)] {
+            tt_core::in_range(field, v, Included(1.0), Unbounded, "").map_err(E2eError::Field)?;
+        }
+        Ok(self)
+    }
+}
 
 /// Check a confidence multiplier $\kappa$: finite, in $(0,$ [`MAX_K_SIGMA`]$]$.
 ///
@@ -338,8 +377,8 @@ pub struct Tradeoff {
     pub knee_dwell_s: Option<f64>,
     /// $J$ with no noise (rad$^{-2}$), the curve's limit for long dwells.
     pub noiseless_objective: f64,
-    /// The noise part $\kappa\sigma_k$ of every output (output unit) on [`TRADEOFF_POINTS`]
-    /// dwells spread evenly in $\log T$ over the whole searched range: where it crosses the
+    /// The noise part $\kappa\sigma_k$ of every output (output unit) on
+    /// [`TradeoffParams::points`] dwells spread evenly in $\log T$ over the whole searched range: where it crosses the
     /// accuracy (less the lower bounds' table part) lies the shortest dwell.
     pub noise_curve: Vec<(f64, Vec<f64>)>,
 }
@@ -693,8 +732,9 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// The time/table trade-off for `noise` with `timing`'s shape (every dwell scaled alike,
     /// the move time and sample rate kept): the shortest dwell at which some table suffices
     /// (bisection on $\log T$ over `dwell_range_s`), and $J$ of the direct allocation with the
-    /// noise part kept free on [`TRADEOFF_POINTS`] dwells from [`TRADEOFF_FIRST`] to
-    /// [`TRADEOFF_SPAN`] times it (within the range), with the knee.
+    /// noise part kept free on [`TradeoffParams::points`] dwells from
+    /// [`TradeoffParams::first`] to [`TradeoffParams::span`] times it (within the range), with
+    /// the knee; [`TradeoffParams::default`]'s tuning (see [`EndToEnd::tradeoff_with`]).
     ///
     /// # Errors
     /// [`E2eError::Field`] for a bad range or `k_sigma`; as
@@ -708,6 +748,34 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         k_sigma: f64,
         dwell_range_s: (f64, f64),
     ) -> Result<Tradeoff, E2eError> {
+        self.tradeoff_with(
+            linear,
+            lower_bounds_rad,
+            noise,
+            timing,
+            k_sigma,
+            dwell_range_s,
+            &TradeoffParams::default(),
+        )
+    }
+
+    /// [`EndToEnd::tradeoff`] with its tuning given.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::tradeoff`]; [`E2eError::Field`] for bad `params`
+    /// ([`TradeoffParams::checked`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn tradeoff_with(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        noise: &[Option<NoiseModel>],
+        timing: &Timing,
+        k_sigma: f64,
+        dwell_range_s: (f64, f64),
+        params: &TradeoffParams,
+    ) -> Result<Tradeoff, E2eError> {
+        let params = params.checked()?;
         check_k_sigma(k_sigma)?;
         let mean = timing.dwell_s().iter().sum::<f64>() / timing.len() as f64;
         let shortest = timing
@@ -740,7 +808,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
             (None, false)
         } else {
             let (mut a, mut b) = (lo.ln(), hi.ln());
-            for _ in 0..MIN_DWELL_BISECTION_STEPS {
+            for _ in 0..params.min_dwell_bisection_steps {
                 let mid = 0.5 * (a + b);
                 if fits(mid.exp())? {
                     b = mid;
@@ -755,11 +823,11 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
             let first = if at_start {
                 t0
             } else {
-                (t0 * TRADEOFF_FIRST).min(hi)
+                (t0 * params.first).min(hi)
             };
-            let last = (t0 * TRADEOFF_SPAN).min(hi).max(first);
-            for i in 0..TRADEOFF_POINTS {
-                let f = i as f64 / (TRADEOFF_POINTS - 1) as f64;
+            let last = (t0 * params.span).min(hi).max(first);
+            for i in 0..params.points {
+                let f = i as f64 / (params.points - 1) as f64;
                 let t = (first.ln() + f * (last.ln() - first.ln())).exp();
                 let budget = at(t)?;
                 let objective = self
@@ -773,9 +841,9 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
                 });
             }
         }
-        let mut noise_curve = Vec::with_capacity(TRADEOFF_POINTS);
-        for i in 0..TRADEOFF_POINTS {
-            let f = i as f64 / (TRADEOFF_POINTS - 1) as f64;
+        let mut noise_curve = Vec::with_capacity(params.points);
+        for i in 0..params.points {
+            let f = i as f64 / (params.points - 1) as f64;
             let t = (lo.ln() + f * (hi.ln() - lo.ln())).exp().clamp(lo, hi);
             noise_curve.push((t, at(t)?.margins(k_sigma)));
         }

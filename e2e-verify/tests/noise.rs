@@ -8,7 +8,8 @@ mod common;
 use approx::assert_relative_eq;
 use calib_lsq::Timing;
 use e2e_verify::{
-    DEFAULT_K_SIGMA, Dominant, EndToEnd, McSettings, NoiseBudget, Verdict, check_k_sigma,
+    DEFAULT_K_SIGMA, Dominant, EndToEnd, McSettings, NoiseBudget, TradeoffParams, Verdict,
+    check_k_sigma,
 };
 use gw_model::noise::NoiseModel;
 
@@ -376,5 +377,71 @@ fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
             certified + 3.0 * budget.sigma()[k] <= *a,
             "output {k}: {certified} + noise exceeds {a}"
         );
+    }
+}
+
+#[test]
+fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
+    // the tuning is a parameter struct: its default gives `tradeoff`'s curve bit for bit, a
+    // coarser curve has the asked number of points over the same span, and bad values are
+    // typed errors naming the field
+    let e2e = common::study_e2e("three-axis-example", None);
+    let timing = Timing::uniform(e2e.len(), 10.0, 2.0, 100.0).unwrap();
+    let noise = white(&e2e, 0.05);
+    let linear = e2e.linearization();
+    let lb = vec![0.0; e2e.n_errors()];
+    let range = (1e-3, 86_400.0);
+    let plain = e2e
+        .tradeoff(&linear, &lb, &noise, &timing, 3.0, range)
+        .unwrap();
+    let default = e2e
+        .tradeoff_with(
+            &linear,
+            &lb,
+            &noise,
+            &timing,
+            3.0,
+            range,
+            &TradeoffParams::default(),
+        )
+        .unwrap();
+    assert_eq!(plain, default);
+    assert_eq!(plain.points.len(), TradeoffParams::default().points);
+    let mut coarse = TradeoffParams::default();
+    coarse.points = 5;
+    let c = e2e
+        .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &coarse)
+        .unwrap();
+    assert_eq!(c.points.len(), 5);
+    assert_eq!(c.noise_curve.len(), 5);
+    // same bisection: the same shortest dwell; same span: the same first and last dwells
+    assert_eq!(c.min_dwell_s, plain.min_dwell_s);
+    assert_eq!(c.points[0].dwell_s, plain.points[0].dwell_s);
+    assert_relative_eq!(
+        c.points[4].dwell_s,
+        plain.points.last().unwrap().dwell_s,
+        max_relative = 1e-12 // exp(ln) round trip of the log-spaced grid, relative
+    );
+    for (field, bad) in [
+        ("points", {
+            let mut p = TradeoffParams::default();
+            p.points = 1;
+            p
+        }),
+        ("span", {
+            let mut p = TradeoffParams::default();
+            p.span = 0.5;
+            p
+        }),
+        ("first", {
+            let mut p = TradeoffParams::default();
+            p.first = f64::NAN;
+            p
+        }),
+    ] {
+        let e = e2e
+            .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &bad)
+            .unwrap_err();
+        assert!(e.to_string().contains(field), "{field}: {e}");
     }
 }
