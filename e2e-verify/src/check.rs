@@ -79,6 +79,21 @@ pub struct OutputCheck {
     pub contributions: Vec<Contribution>,
 }
 
+impl OutputCheck {
+    /// The `n` contributions with the largest worst-case share, largest first (a stable sort:
+    /// ties keep the order in $\chi$), without those that do not contribute (share 0): the
+    /// dominant errors a check or a report names.
+    #[must_use]
+    pub fn dominant(&self, n: usize) -> Vec<&Contribution> {
+        let mut top: Vec<&Contribution> = self.contributions.iter().collect();
+        top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
+        top.into_iter()
+            .take(n)
+            .filter(|k| k.worst_share > 0.0)
+            .collect()
+    }
+}
+
 /// The check of a tolerance box against every output's accuracy.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]

@@ -37,7 +37,7 @@ const EFFECT_READING: Reading = Reading {
 
 /// Step of the central differences of the Gauss-Newton Jacobian (rad): the table part is
 /// smooth (rotations), so the truncation error $O(h^2)$ is about $10^{-14}$ relative.
-pub const JOINT_FD_STEP_RAD: f64 = 1e-7;
+pub(crate) const JOINT_FD_STEP_RAD: f64 = 1e-7;
 
 /// The result of [`EndToEnd::joint_estimate`].
 #[derive(Debug, Clone, PartialEq)]
@@ -168,7 +168,7 @@ impl EndToEnd {
     /// in the estimable subspace of `est` ($\chi = \mathbf E\mathbf z$), at most `iterations`
     /// steps or until a step in $\chi$ is below `tol_rad`. The coefficients' Jacobian at an
     /// iterate is $\mathbf A_k'$ exactly; the table's by central differences
-    /// ([`JOINT_FD_STEP_RAD`]); each step by [`joint_step`] with rows weighted by
+    /// (`JOINT_FD_STEP_RAD`); each step by [`joint_step`] with rows weighted by
     /// $1/\omega_{m,k}$.
     ///
     /// # Errors

@@ -105,11 +105,13 @@ pub use answer::{
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
-pub use linear::{BoxMeets, LINEAR_MEETS_REL, Linearization, OutputWorstCase, WorstCase};
+pub use linear::{BoxMeets, Linearization, OutputWorstCase, WorstCase};
+/// The one histogram of the workspace's Monte Carlos (mc-verify's), here on $[0, H)$ in the
+/// output unit.
+pub use mc_verify::Histogram;
 pub use montecarlo::{
-    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, Histogram, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS,
-    QUANTILE_COLLECT, QUANTILE_PASSES, REPORTED_QUANTILES, RateDistribution, RateQuantile,
-    WorstDraw, Z_95, wilson_interval_95,
+    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS,
+    REPORTED_QUANTILES, RateDistribution, RateQuantile, WorstDraw, Z_95, wilson_interval_95,
 };
 pub use noise::{
     CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
@@ -117,8 +119,7 @@ pub use noise::{
     check_k_sigma,
 };
 pub use rate::{
-    CertifiedRateAllocation, EXTRA_MC_BLOCK, ExtraError, ExtraOutputWorstCase, RateAllocation,
-    RateTolerance,
+    CertifiedRateAllocation, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance,
 };
-pub use simulate::{DrawWork, EndToEnd, EndToEndRun, RATE_DERIVATIVE_STEP, resolved};
+pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

@@ -37,9 +37,9 @@ struct Names {
 /// coefficients with a wide margin (an error the calibration absorbs exactly leaves
 /// $\sim 10^{-17}$ of its raw effect on the paper's schedule, against a threshold of
 /// $\sim 2\cdot10^{-14}$).
-pub const ROUNDING_ULPS: f64 = 64.0;
+pub(crate) const ROUNDING_ULPS: f64 = 64.0;
 
-/// The rounding level of an output's column of $\mathbf M$: [`ROUNDING_ULPS`]
+/// The rounding level of an output's column of $\mathbf M$: `ROUNDING_ULPS`
 /// $\cdot\,\varepsilon \cdot \max(1, \kappa) \cdot \max_i \max(|d_{e,i}|, |d_{g,i}|)$, with
 /// $\mathbf d_e, \mathbf d_g$ the raw first-order effects of the error on the outputs and
 /// regressors at each position (before the calibration absorbs them) and $\kappa$ the
@@ -272,7 +272,7 @@ impl WorstCase {
 /// A linearised worst case counts as meeting its accuracy within this relative rounding
 /// (dimensionless): the direct allocation puts the worst row's load exactly at 1, which the
 /// solver reaches to about $10^{-13}$ and the sum of a row's terms rounds at $10^{-16}$.
-pub const LINEAR_MEETS_REL: f64 = 1e-9;
+pub(crate) const LINEAR_MEETS_REL: f64 = 1e-9;
 
 /// Whether the worst turntable of a tolerance box meets every output's accuracy
 /// ([`WorstCase::meets`]). `Display` gives the words every output uses: `yes`,

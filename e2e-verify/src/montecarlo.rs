@@ -23,7 +23,7 @@
 //! histograms ([`QUANTILE_BINS`] bins; the exact maximum when the rank falls in the overflow),
 //! so they are upper bounds with a stated resolution; [`EndToEnd::ratio_quantile`] gives the
 //! exact order statistic by re-drawing the same turntables and narrowing the bin
-//! (at most [`QUANTILE_PASSES`] passes, then a sort of at most [`QUANTILE_COLLECT`] values).
+//! (at most `QUANTILE_PASSES` passes, then a sort of at most `QUANTILE_COLLECT` values).
 //! The largest values and quantiles at or below the computation's precision
 //! ([`EndToEnd::precisions`]) are reported as 0; counts and histograms use the values as
 //! computed.
@@ -32,7 +32,9 @@ use crate::error::{E2eError, positive};
 use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
 use mc_verify::driver::{chunk_len, run_chunks};
-use mc_verify::{BLOCK_CAPACITY, ErrorBox, SampleBlock, TurntableSampler, chunk_rng};
+use mc_verify::{
+    BLOCK_CAPACITY, ErrorBox, Histogram, SampleBlock, TurntableSampler, chunk_rng, quantile_rank,
+};
 use tt_kinematics::ScheduleErrorModel;
 
 /// Standard normal quantile of 97.5% ($z$ of a two-sided 95% interval).
@@ -58,10 +60,10 @@ pub const MAX_SAMPLES: u64 = 10_000_000_000;
 pub const REPORTED_QUANTILES: [f64; 6] = [0.5, 0.9, 0.99, 0.9973, 0.999, 1.0];
 
 /// Passes of the exact order statistic before it falls back to a bin edge.
-pub const QUANTILE_PASSES: usize = 6;
+pub(crate) const QUANTILE_PASSES: usize = 6;
 
 /// Values collected in the last pass of the exact order statistic.
-pub const QUANTILE_COLLECT: usize = 1 << 16;
+pub(crate) const QUANTILE_COLLECT: usize = 1 << 16;
 
 /// Chunks evaluated per wave (bounds the memory of the partial statistics held at once).
 const WAVE_CHUNKS: u64 = 64;
@@ -155,67 +157,6 @@ pub struct WorstDraw {
     pub chi_rad: Vec<f64>,
 }
 
-/// A histogram on fixed edges $[0, H]$ plus an overflow count.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Histogram {
-    /// Upper end $H$ of the binned range.
-    pub range: f64,
-    /// Counts per bin (bin $b$ covers $[bH/B, (b+1)H/B)$).
-    pub counts: Vec<u64>,
-    /// Values at or above $H$.
-    pub overflow: u64,
-}
-
-impl Histogram {
-    fn new(range: f64, bins: usize) -> Self {
-        Self {
-            range,
-            counts: vec![0; bins],
-            overflow: 0,
-        }
-    }
-
-    #[inline]
-    fn add(&mut self, v: f64) {
-        let b = (v / self.range * self.counts.len() as f64) as usize;
-        match self.counts.get_mut(b) {
-            Some(c) => *c += 1,
-            None => self.overflow += 1,
-        }
-    }
-
-    fn merge(&mut self, o: &Self) {
-        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
-            *a += b;
-        }
-        self.overflow += o.overflow;
-    }
-
-    /// The bin edges, `bins + 1` values from 0 to $H$.
-    #[must_use]
-    pub fn edges(&self) -> Vec<f64> {
-        let n = self.counts.len();
-        (0..=n).map(|b| self.range * b as f64 / n as f64).collect()
-    }
-
-    /// Upper bound of the empirical $p$-quantile ($\lceil pN\rceil$-th order statistic): the
-    /// upper edge of its bin, `max` when it falls in the overflow.
-    fn quantile_upper(&self, p: f64, n: u64, max: f64) -> f64 {
-        let k = quantile_rank(p, n);
-        let mut seen = 0;
-        let w = self.range / self.counts.len() as f64;
-        for (b, c) in self.counts.iter().enumerate() {
-            seen += c;
-            if seen >= k {
-                return ((b + 1) as f64 * w).min(max.max(0.0));
-            }
-        }
-        max
-    }
-}
-
 /// One quantile of the calibration errors.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -280,11 +221,6 @@ impl RateDistribution {
     }
 }
 
-/// Index (1-based) of the empirical $p$-quantile: the $\lceil pN\rceil$-th order statistic.
-pub(crate) fn quantile_rank(p: f64, n: u64) -> u64 {
-    ((p * n as f64).ceil() as u64).clamp(1, n)
-}
-
 /// Partial statistics of a chunk (merged in chunk order).
 #[derive(Debug, Clone)]
 struct Partial {
@@ -305,10 +241,13 @@ impl Partial {
             meeting_per_output: vec![0; ranges.len() - 1],
             worst: vec![None; ranges.len() - 1],
             worst_ratio: None,
-            hist: ranges.iter().map(|&r| Histogram::new(r, bins)).collect(),
+            hist: ranges
+                .iter()
+                .map(|&r| Histogram::new(0.0, r, bins))
+                .collect(),
             fine: ranges
                 .iter()
-                .map(|&r| Histogram::new(r, QUANTILE_BINS))
+                .map(|&r| Histogram::new(0.0, r, QUANTILE_BINS))
                 .collect(),
         }
     }
@@ -562,14 +501,11 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 p: q,
                 per_output: (0..outputs)
                     .map(|k| {
-                        crate::resolved(
-                            p.fine[k].quantile_upper(q, p.n, worst[k].value),
-                            precisions[k],
-                        )
+                        crate::resolved(p.fine[k].quantile_upper(q, worst[k].value), precisions[k])
                     })
                     .collect(),
                 ratio: crate::resolved(
-                    p.fine[outputs].quantile_upper(q, p.n, worst_ratio.value),
+                    p.fine[outputs].quantile_upper(q, worst_ratio.value),
                     ratio_precision,
                 ),
             })

@@ -25,7 +25,7 @@
 //! [`EndToEnd::rate_distribution`]) and a noise vector $\boldsymbol\nu_k = \mathbf A_k\mathbf
 //! L_k\mathbf z$ per output ($\mathbf L_k\mathbf L_k^T$ the coefficients' covariance, from its
 //! symmetric eigendecomposition; $\mathbf z$ standard normal from the same chunk's second
-//! ChaCha stream, [`NOISE_STREAM`]), the draw meets when
+//! ChaCha stream, `NOISE_STREAM`), the draw meets when
 //! $\max_i|t_{k,i} + \nu_{k,i}| \le \omega_{m,k}$ for every $k$. Chunks merge in chunk order:
 //! the count is identical for any thread count. Outputs' noises are independent of each
 //! other (separate sensors).
@@ -52,7 +52,7 @@ pub const MAX_K_SIGMA: f64 = 10.0;
 /// The bit that turns chunk $c$'s turntable stream into its noise stream: noise of chunk $c$
 /// is drawn from ChaCha stream `c | NOISE_STREAM` of the same key (turntable streams use
 /// `c` < $2^{63}$), so the turntables are exactly those of the table-only Monte Carlo.
-pub const NOISE_STREAM: u64 = 1 << 63;
+pub(crate) const NOISE_STREAM: u64 = 1 << 63;
 
 /// The tuning of [`EndToEnd::tradeoff_with`]: how finely the shortest dwell is bracketed
 /// and where the time/table curve's points lie. `Default` gives the values `end-to-end` and
@@ -104,6 +104,12 @@ impl TradeoffParams {
         }
         Ok(self)
     }
+}
+
+/// Point `i` of `points` spread evenly in $\log T$ from `first` to `last`.
+fn log_spaced(first: f64, last: f64, i: usize, points: usize) -> f64 {
+    let f = i as f64 / (points - 1) as f64;
+    (first.ln() + f * (last.ln() - first.ln())).exp()
 }
 
 /// Check a confidence multiplier $\kappa$: finite, in $(0,$ [`MAX_K_SIGMA`]$]$.
@@ -827,8 +833,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
             };
             let last = (t0 * params.span).min(hi).max(first);
             for i in 0..params.points {
-                let f = i as f64 / (params.points - 1) as f64;
-                let t = (first.ln() + f * (last.ln() - first.ln())).exp();
+                let t = log_spaced(first, last, i, params.points);
                 let budget = at(t)?;
                 let objective = self
                     .allocate_direct_with_noise(linear, lower_bounds_rad, &budget, k_sigma)?
@@ -843,8 +848,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         }
         let mut noise_curve = Vec::with_capacity(params.points);
         for i in 0..params.points {
-            let f = i as f64 / (params.points - 1) as f64;
-            let t = (lo.ln() + f * (hi.ln() - lo.ln())).exp().clamp(lo, hi);
+            let t = log_spaced(lo, hi, i, params.points).clamp(lo, hi);
             noise_curve.push((t, at(t)?.margins(k_sigma)));
         }
         Ok(Tradeoff {

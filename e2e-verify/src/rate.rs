@@ -352,7 +352,7 @@ impl crate::EndToEnd {
     /// $|\chi_j|$ uniform in $[\mathrm{LB}_j, \mathrm{UB}_j]$ and a fair random sign (the law of
     /// [`crate::EndToEnd::rate_distribution`]), each extra error uniform in $[-T_e, T_e]$;
     /// returns how many meet every accuracy and the largest $\Delta\omega_k$ seen. One
-    /// ChaCha8 stream per block of [`EXTRA_MC_BLOCK`] draws (seed, block), run in block
+    /// ChaCha8 stream per block of `EXTRA_MC_BLOCK` draws (seed, block), run in block
     /// order: the result does not depend on the thread count; memory does not grow with the
     /// count.
     ///
@@ -414,7 +414,7 @@ impl crate::EndToEnd {
 }
 
 /// Draws per random stream of [`crate::EndToEnd::meeting_count_with_extra`].
-pub const EXTRA_MC_BLOCK: u64 = 4096;
+pub(crate) const EXTRA_MC_BLOCK: u64 = 4096;
 
 /// A tolerance of the errors only rotation exposes, as a rate table's sheet gives it: one per
 /// translation (m), and per turning joint its rate accuracy and its rate ripple (relative; the
@@ -838,7 +838,7 @@ impl crate::EndToEnd {
     /// |\mathbf P_{il}|\,r_{e,l}\big)$).
     ///
     /// The first-order part at the rate steps is the linearisation's, whose input derivatives
-    /// are central differences $D_h$ of step $h$ ([`crate::RATE_DERIVATIVE_STEP`]). Their
+    /// are central differences $D_h$ of step $h$ (`RATE_DERIVATIVE_STEP`). Their
     /// truncation is bounded by the same remainder: $u(\pm h\,e_j) = u_0 \pm h\,u'_j +
     /// R_j(\pm h)$ with $|R_j| \le \rho_j(h)$, the remainder over the box of error $j$ alone at
     /// size $h$, so $|D_h - u'_j| \le \rho_j(h)/h$; weighted by the box's bounds ($s$, $L$,
@@ -909,7 +909,7 @@ impl crate::EndToEnd {
                     // so |D_h - u'_j| <= rho_j(h)/h. Weighted by the errors' bounds (the box's
                     // sums) this joins the remainder, with a rounding allowance of the two
                     // evaluations (FD_ROUNDING_REL of the inputs' size each).
-                    let h = crate::RATE_DERIVATIVE_STEP;
+                    let h = crate::simulate::RATE_DERIVATIVE_STEP;
                     let ripple_sum = extra_bounds[k + 1] + extra_bounds[k + 2];
                     let alone = |i: usize| tt_kinematics::RateErrorBox {
                         angle_sum_rad: if i == 0 { h } else { 0.0 },

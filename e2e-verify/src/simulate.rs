@@ -668,7 +668,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// errors at their values (g and deg/h per unit of the error), where it is not a rotation
     /// of the nominal inputs: `None` at a static position for an angular error (the analytic
     /// model applies there); zero at a static position for an extra error; central
-    /// differences of the compiled rate step at a rate step (step [`RATE_DERIVATIVE_STEP`] of
+    /// differences of the compiled rate step at a rate step (step `RATE_DERIVATIVE_STEP` of
     /// the error's unit: rad, m, relative).
     pub(crate) fn rate_input_derivative(
         &self,
@@ -816,4 +816,4 @@ impl<S: ScheduleErrorModel + Clone> EndToEnd<S> {
 /// The step of the central differences of a rate step's inputs (unit of the error: rad, m,
 /// relative): truncation $O(h^2) \approx 10^{-10}$ and rounding $\epsilon/h \approx
 /// 2\cdot10^{-11}$ of the inputs' size.
-pub const RATE_DERIVATIVE_STEP: f64 = 1e-5;
+pub(crate) const RATE_DERIVATIVE_STEP: f64 = 1e-5;

@@ -24,7 +24,7 @@
 //! Nothing here uses the covariance formulas: the agreement of
 //! [`TimeDomainRun::coefficient_covariance`] with calib-lsq's prediction is a test of both.
 //!
-//! Noise comes from ChaCha stream `chunk | `[`TIME_DOMAIN_STREAM`] of the run's key; chunks
+//! Noise comes from ChaCha stream `chunk | ``TIME_DOMAIN_STREAM` of the run's key; chunks
 //! run on rayon threads and their sums merge in chunk order, so every result is identical for
 //! any thread count; memory does not depend on the number of calibrations.
 
@@ -39,7 +39,7 @@ use mc_verify::{ErrorBox, McRng, TurntableSampler, chunk_rng};
 use nalgebra::{DMatrix, DVector};
 
 /// The bit that turns chunk $c$'s turntable stream into its time-domain noise stream.
-pub const TIME_DOMAIN_STREAM: u64 = 1 << 62;
+pub(crate) const TIME_DOMAIN_STREAM: u64 = 1 << 62;
 
 /// Chunks evaluated per wave (bounds the partial sums held at once).
 const WAVE_CHUNKS: u64 = 64;

@@ -618,8 +618,8 @@ fn wilson_interval_known_values() {
 
 /// The vendor check: Table 4 fails under the user's reading (a turntable within it misses
 /// omega_m on the exact chain) and the certified direct allocation is guaranteed; the
-/// contributions of the errors are shares that add up to 1, and the verdict's worst case is
-/// the worst case of the box.
+/// contributions of the errors are shares that add up to 1 (the dominant ones largest first),
+/// and the verdict's worst case is the worst case of the box.
 #[test]
 fn tolerance_check_verdicts_and_contributions() {
     let e2e = paper(Reading::USER);
@@ -634,6 +634,17 @@ fn tolerance_check_verdicts_and_contributions() {
         let v: f64 = o.contributions.iter().map(|c| c.variance_share).sum();
         assert_relative_eq!(w, 1.0, max_relative = 1e-12);
         assert_relative_eq!(v, 1.0, max_relative = 1e-12);
+        // the dominant errors: the largest shares, largest first, none that contributes 0
+        let top = o.dominant(3);
+        assert!(!top.is_empty() && top.len() <= 3);
+        assert!(top.windows(2).all(|p| p[0].worst_share >= p[1].worst_share));
+        assert!(top.iter().all(|c| c.worst_share > 0.0));
+        let largest = o
+            .contributions
+            .iter()
+            .map(|c| c.worst_share)
+            .fold(0.0, f64::max);
+        assert_eq!(top[0].worst_share.to_bits(), largest.to_bits()); // the same value, selected
     }
     assert!(check.distribution.yield_fraction() < 1.0);
     let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();

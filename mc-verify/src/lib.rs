@@ -96,4 +96,4 @@ pub use run::{
 };
 pub use sampler::{BLOCK_CAPACITY, McRng, SampleBlock, TurntableSampler, chunk_rng};
 pub use simd::SimdLevel;
-pub use stats::{AxisSummary, Histogram, WorstSample};
+pub use stats::{AxisSummary, Histogram, WorstSample, quantile_rank};

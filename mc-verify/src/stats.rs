@@ -30,7 +30,9 @@ pub struct WorstSample {
     pub chi_rad: Vec<f64>,
 }
 
-/// A histogram with fixed, uniform bins on $[-H, H]$ plus under- and overflow counts.
+/// A histogram with fixed, uniform bins on $[\ell, h)$ plus under- and overflow counts: the
+/// one histogram of the workspace's Monte Carlos (the orientation errors here, on
+/// $[-H, H)$ in rad; the calibration errors end to end, on $[0, H)$ in the output unit).
 ///
 /// The edges are fixed before the run (from the bounds; see
 /// [`crate::MonteCarlo::histogram_half_range_rad`]), so merging partial histograms is exact.
@@ -38,38 +40,85 @@ pub struct WorstSample {
 #[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Histogram {
-    /// $H$, rad.
-    pub half_range_rad: f64,
-    /// Counts per bin; bin $j$ covers $[-H + j w, -H + (j+1) w)$ with $w = 2H / \text{bins}$.
+    /// $\ell$, the lower end of the binned range (the values' unit: rad for the orientation
+    /// Monte Carlo).
+    pub lo: f64,
+    /// $h$, the upper end of the binned range (the values' unit).
+    pub hi: f64,
+    /// Counts per bin; bin $j$ covers $[\ell + j w, \ell + (j+1) w)$ with
+    /// $w = (h - \ell) / \text{bins}$.
     pub counts: Vec<u64>,
-    /// Values below $-H$.
+    /// Values below $\ell$ (and NaN).
     pub underflow: u64,
-    /// Values at or above $H$.
+    /// Values at or above $h$.
     pub overflow: u64,
 }
 
 impl Histogram {
-    /// Bin width, rad.
+    /// An empty histogram of `bins` uniform bins on $[\ell, h)$ (`bins` at least 1,
+    /// $\ell < h$, both finite: the Monte Carlos check their configuration before).
     #[must_use]
-    pub fn bin_width_rad(&self) -> f64 {
-        2.0 * self.half_range_rad / self.counts.len() as f64
+    pub fn new(lo: f64, hi: f64, bins: usize) -> Self {
+        Self {
+            lo,
+            hi,
+            counts: vec![0; bins],
+            underflow: 0,
+            overflow: 0,
+        }
     }
 
-    /// The `bins + 1` bin edges, rad.
+    /// Count one value.
+    #[inline]
+    pub fn add(&mut self, v: f64) {
+        // NaN is counted below the range
+        if v.is_nan() || v < self.lo {
+            self.underflow += 1;
+            return;
+        }
+        let b = ((v - self.lo) / (self.hi - self.lo) * self.counts.len() as f64) as usize;
+        match self.counts.get_mut(b) {
+            Some(c) => *c += 1,
+            None => self.overflow += 1,
+        }
+    }
+
+    /// Add another histogram's counts (the same edges).
+    pub fn merge(&mut self, o: &Self) {
+        debug_assert!(
+            self.counts.len() == o.counts.len()
+                && self.lo.to_bits() == o.lo.to_bits()
+                && self.hi.to_bits() == o.hi.to_bits(),
+            "merging histograms with different edges"
+        );
+        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
+            *a += b;
+        }
+        self.underflow += o.underflow;
+        self.overflow += o.overflow;
+    }
+
+    /// Bin width $w$ (the values' unit).
     #[must_use]
-    pub fn edges_rad(&self) -> Vec<f64> {
+    pub fn bin_width(&self) -> f64 {
+        (self.hi - self.lo) / self.counts.len() as f64
+    }
+
+    /// The `bins + 1` bin edges, $\ell$ to $h$.
+    #[must_use]
+    pub fn edges(&self) -> Vec<f64> {
         let n = self.counts.len();
         (0..=n)
-            .map(|j| self.half_range_rad * (2.0 * j as f64 / n as f64 - 1.0))
+            .map(|j| self.lo + (self.hi - self.lo) * j as f64 / n as f64)
             .collect()
     }
 
-    /// The bin centres, rad.
+    /// The bin centres.
     #[must_use]
-    pub fn centres_rad(&self) -> Vec<f64> {
+    pub fn centres(&self) -> Vec<f64> {
         let n = self.counts.len();
         (0..n)
-            .map(|j| self.half_range_rad * ((2.0 * j as f64 + 1.0) / n as f64 - 1.0))
+            .map(|j| self.lo + (self.hi - self.lo) * (j as f64 + 0.5) / n as f64)
             .collect()
     }
 
@@ -78,6 +127,38 @@ impl Histogram {
     pub fn total(&self) -> u64 {
         self.counts.iter().sum::<u64>() + self.underflow + self.overflow
     }
+
+    /// An upper bound of the empirical $p$-quantile of the values counted (the
+    /// $\lceil pN\rceil$-th order statistic, $N$ = [`Histogram::total`]): the upper edge of its
+    /// bin, at most `max` (the largest value counted, known to the caller); `max` when it
+    /// falls in the overflow. $\ell$ when it falls in the underflow.
+    #[must_use]
+    pub fn quantile_upper(&self, p: f64, max: f64) -> f64 {
+        let n = self.total();
+        if n == 0 {
+            return max;
+        }
+        let k = quantile_rank(p, n);
+        let mut seen = self.underflow;
+        if seen >= k {
+            return self.lo;
+        }
+        let w = self.bin_width();
+        for (b, c) in self.counts.iter().enumerate() {
+            seen += c;
+            if seen >= k {
+                return (self.lo + (b + 1) as f64 * w).min(max.max(self.lo));
+            }
+        }
+        max
+    }
+}
+
+/// Index (1-based) of the empirical $p$-quantile among $n \ge 1$ values: the
+/// $\lceil pn\rceil$-th order statistic, clamped to $[1, n]$.
+#[must_use]
+pub fn quantile_rank(p: f64, n: u64) -> u64 {
+    ((p * n as f64).ceil() as u64).clamp(1, n)
 }
 
 /// Results for one orientation angle ($\Delta\psi$, $\Delta\theta$ or $\Delta\gamma$).
@@ -317,7 +398,8 @@ impl Partial {
         let h = &self.hist[k];
         let bins = h.len() - 2;
         Histogram {
-            half_range_rad: self.half_range_rad[k],
+            lo: -self.half_range_rad[k],
+            hi: self.half_range_rad[k],
             counts: h[1..=bins].to_vec(),
             underflow: h[0],
             overflow: h[bins + 1],
@@ -353,6 +435,43 @@ mod tests {
     /// their differences (about spread / sqrt(128)), so for offset / spread up to 1e6 the M2
     /// agrees to about 1e-10 relative. A plain sum of squares would be off by ~1e-3 at 1e6.
     const MOMENT_REL: f64 = 1e-9;
+
+    /// The one histogram bins a one-sided range (end to end's $[0, H)$) and a symmetric one
+    /// (the orientation errors' $[-H, H)$) alike: each value in the bin its edges name, below
+    /// the range (and NaN) in the underflow, at or above it in the overflow; merging adds
+    /// counts; the quantile bound is the upper edge of the rank's bin, capped by the maximum.
+    #[test]
+    fn histogram_bins_one_sided_and_symmetric_ranges_and_bounds_quantiles() {
+        let mut h = Histogram::new(0.0, 4.0, 4);
+        for v in [0.0, 0.5, 1.0, 3.99, 4.0, 7.0, -0.1, f64::NAN] {
+            h.add(v);
+        }
+        assert_eq!(h.counts, [2, 1, 0, 1]);
+        assert_eq!((h.underflow, h.overflow, h.total()), (2, 2, 8));
+        assert_eq!(h.edges(), [0.0, 1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(h.centres(), [0.5, 1.5, 2.5, 3.5]);
+        let mut s = Histogram::new(-2.0, 2.0, 4);
+        for v in [-2.0, -0.5, 0.0, 1.999] {
+            s.add(v);
+        }
+        assert_eq!(s.counts, [1, 1, 1, 1]);
+        assert_eq!(s.edges(), [-2.0, -1.0, 0.0, 1.0, 2.0]);
+        let mut m = s.clone();
+        m.merge(&s);
+        assert_eq!(m.counts, [2, 2, 2, 2]);
+        // values 0.1, 0.2, 1.5, 2.5 on [0, 4): the median (2nd of 4) lies in bin 0, bound 1;
+        // the maximum (4th) in bin 2, bound 3 capped by the largest value 2.5
+        let mut q = Histogram::new(0.0, 4.0, 4);
+        for v in [0.1, 0.2, 1.5, 2.5] {
+            q.add(v);
+        }
+        // small integers and halves: every edge and bound is exact
+        const EXACT: f64 = 0.0;
+        approx::assert_abs_diff_eq!(q.quantile_upper(0.5, 2.5), 1.0, epsilon = EXACT);
+        approx::assert_abs_diff_eq!(q.quantile_upper(1.0, 2.5), 2.5, epsilon = EXACT);
+        assert_eq!(quantile_rank(0.5, 4), 2);
+        assert_eq!(quantile_rank(0.0, 4), 1);
+    }
 
     /// The one-pass shifted block moments and Chan's merge give the two-pass mean and M2,
     /// also for values far from zero relative to their spread (where a plain sum of squares

@@ -289,7 +289,7 @@ fn extreme_boxes_give_finite_results_and_keep_every_sample_in_the_histogram() {
                         "UB {:e}, {samples} samples: max {:e}, H {:e}",
                         b.ub_rad()[0],
                         a.max_abs_rad,
-                        a.histogram.half_range_rad
+                        a.histogram.hi
                     );
                     assert_eq!(a.histogram.total(), samples);
                 }

@@ -71,7 +71,7 @@ pub fn fingerprint(r: &McResult) -> Vec<u64> {
             a.within_requirement,
             a.worst.index,
             a.worst.value_rad.to_bits(),
-            a.histogram.half_range_rad.to_bits(),
+            a.histogram.hi.to_bits(),
             a.histogram.underflow,
             a.histogram.overflow,
         ]);

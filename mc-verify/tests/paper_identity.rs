@@ -39,7 +39,7 @@ fn legacy_fingerprint(r: &McResult) -> Vec<u64> {
             a.worst.value_rad.to_bits(),
             pose[0].to_bits(),
             pose[1].to_bits(),
-            a.histogram.half_range_rad.to_bits(),
+            a.histogram.hi.to_bits(),
             a.histogram.underflow,
             a.histogram.overflow,
         ]);

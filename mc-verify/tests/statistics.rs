@@ -56,7 +56,7 @@ fn theta_theory(bounds: &ErrorBox, seed: u64) {
     );
     // histogram: every bin against its binomial expectation
     let h = &theta.histogram;
-    let edges = h.edges_rad();
+    let edges = h.edges();
     let mut worst_z = 0.0_f64;
     for (j, &count) in h.counts.iter().enumerate() {
         let p = sum_of_uniforms_cdf(edges[j + 1], a, b) - sum_of_uniforms_cdf(edges[j], a, b);

@@ -201,12 +201,9 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
             s.push_str("    dominant errors: none (the output does not depend on these errors to first order)\n");
             continue;
         }
-        let mut top: Vec<_> = o.contributions.iter().collect();
-        top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
-        let dominant: Vec<String> = top
+        let dominant: Vec<String> = o
+            .dominant(3)
             .iter()
-            .take(3)
-            .filter(|k| k.worst_share > 0.0)
             .map(|k| {
                 format!(
                     "{} {:.0}% of the worst case, {:.0}% of the variance",

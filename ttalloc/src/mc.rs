@@ -231,7 +231,7 @@ pub fn report_json(
         "histogram_deg": axis_json(|a| {
             let h = &r.axis(a).histogram;
             json!({
-                "half_range_deg": rad_to_deg(h.half_range_rad),
+                "half_range_deg": rad_to_deg(h.hi),
                 "counts": h.counts,
                 "underflow": h.underflow,
                 "overflow": h.overflow,

@@ -1168,7 +1168,7 @@ impl<'a> Sections<'a> {
                 HistPanel {
                     title: format!("{} ({name})", d(k)),
                     x_label: format!("{} (deg)", d(k)),
-                    edges: h.edges_rad().iter().map(|v| rad_to_deg(*v)).collect(),
+                    edges: h.edges().iter().map(|v| rad_to_deg(*v)).collect(),
                     counts: h.counts.clone(),
                     limits,
                 }
@@ -1759,12 +1759,9 @@ impl<'a> Sections<'a> {
         let mut rows = Vec::new();
         for o in &chk.outputs {
             let (n, u, _) = &outs[o.output];
-            let mut top: Vec<_> = o.contributions.iter().collect();
-            top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
-            let dominant: Vec<String> = top
+            let dominant: Vec<String> = o
+                .dominant(3)
                 .iter()
-                .take(3)
-                .filter(|k| k.worst_share > 0.0)
                 .map(|k| {
                     format!(
                         "`{}` {}",
