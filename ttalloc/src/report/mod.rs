@@ -250,7 +250,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
                 "verdict": chk.verdict.name(),
                 "yield": f(chk.distribution.yield_fraction()),
                 "outputs": chk.outputs.iter().map(|o| json!({"output": outs[o.output], "verdict": o.verdict.name(), "worst_case": f(o.worst_case.exact_at_vertex), "accuracy": f(o.accuracy), "precision": f(o.worst_case.precision)})).collect::<Vec<_>>(),
-                "rate_steps": c.vendor_rate.as_ref().map(|r| crate::rate::json(&c.e2e, r)),
+                "rate_steps": c.vendor_rate.as_ref().map(|r| crate::rate::RateCheckJson::new(&c.e2e, r)),
             }),
         );
     }
@@ -296,13 +296,13 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
     if let Some(r) = &c.rate_alloc {
         m.insert(
             "rate_allocation".into(),
-            crate::rate::allocation_json(&c.e2e, r),
+            json!(crate::rate::RateAllocationJson::new(&c.e2e, r)),
         );
     }
     if let Some(a) = &c.angle_alloc {
         m.insert(
             "angle_dependent".into(),
-            crate::angle_alloc::to_json(&c.e2e, a),
+            json!(crate::angle_alloc::AngleDependentJson::new(&c.e2e, a)),
         );
     }
     m.insert(
