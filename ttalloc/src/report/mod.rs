@@ -308,7 +308,7 @@ fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
     m.insert(
         "estimable".into(),
         match &c.estimable {
-            Some(a) => crate::estimable::to_json(s, a),
+            Some(a) => json!(crate::estimable::to_json(s, a)),
             None => serde_json::json!({ "note": ESTIMABLE_STATIC_ONLY }),
         },
     );
