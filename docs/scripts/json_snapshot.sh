@@ -42,6 +42,10 @@ run gyrowheel-2017-noise-assumed.check check-turntable --study studies/gyrowheel
 run gyrowheel-2017-harmonic-errors.check check-turntable --study studies/gyrowheel-2017-harmonic-errors.toml --tolerances studies/tolerances/table4.toml --json --samples 2000
 run three-axis-compensated.check check-turntable --study studies/three-axis-example-compensated.toml --tolerances studies/tolerances/three-axis-vendor-sheet.toml --json --samples 2000
 run tactical-rate-table.check check-turntable --study studies/tactical-rate-table-example.toml --tolerances studies/tolerances/tactical-rate-table-sheet.toml --json --samples 2000
+# results.json with a vendor's sheet (vendor, its rate steps) and the paper's report (claims)
+run three-axis.report-sheet report --study studies/three-axis-example.toml --tolerances studies/tolerances/three-axis-vendor-sheet.toml --samples 2000 --out "$out/three-axis.report-sheet"
+run tactical-rate-table.report-sheet report --study studies/tactical-rate-table-example.toml --tolerances studies/tolerances/tactical-rate-table-sheet.toml --samples 2000 --out "$out/tactical-rate-table.report-sheet"
+run reproduce-paper reproduce-paper --samples 2000 --out "$out/reproduce-paper"
 # a vendor sheet's pairs (disc_allocation), the estimable errors, the Monte Carlo over a sheet
 run gyrowheel-2017.allocate-sheet allocate --study studies/gyrowheel-2017.toml --tolerances studies/tolerances/table4.toml --json
 run three-axis.allocate-sheet allocate --study studies/three-axis-example.toml --tolerances studies/tolerances/three-axis-vendor-sheet.toml --json
