@@ -57,6 +57,7 @@ done
 run three-axis.estimable-sheet estimable --study studies/three-axis-example.toml --tolerances studies/tolerances/three-axis-vendor-sheet.toml --json
 # schedule design with noise under a time budget, and the rate steps' rates (slow: once each)
 run gyrowheel-2017-noise-assumed.design-schedule-budget design-schedule --study studies/gyrowheel-2017-noise-assumed.toml --time-budget-s 1800 --json
+run gyrowheel-2017.design-schedule-budget-noiseless design-schedule --study studies/gyrowheel-2017.toml --time-budget-s 1800 --json
 run tactical-rate-table.design-schedule-rates design-schedule --study studies/tactical-rate-table-example.toml --step-deg 90 --rates-deg-per-s 20,60 --json
 # noise from a log (a seeded pseudo-random log: no study)
 awk 'BEGIN { x = 12345; print "t_s,gz_deg_per_s"; for (i = 0; i < 20000; i++) { s = 0; for (k = 0; k < 12; k++) { x = (1103515245 * x + 12345) % 2147483648; s += x / 2147483648 } printf "%.4f,%.9f\n", i / 100, 0.01 * (s - 6) + 1e-6 * i } }' > "$out/allan-log.csv"

@@ -879,7 +879,7 @@ impl<'a> AngleCheckJson<'a> {
                         ErrorVariation::Constant => (None, None),
                     };
                     ErrorModelJson {
-                        error: *n,
+                        error: n,
                         varies: v.name(),
                         of: joint,
                         harmonics: orders,

@@ -279,7 +279,7 @@ pub fn to_json<'a>(s: &'a Study, a: &'a Estimable) -> EstimableJson<'a> {
             .iter()
             .zip(a.est.identifiability())
             .map(|(n, st)| ErrorStatusJson {
-                name: *n,
+                name: n,
                 status: st.name(),
             })
             .collect(),

@@ -360,7 +360,7 @@ struct ComparisonJson<'a> {
 #[serde(untagged)]
 enum EstimableJson<'a> {
     /// The answer.
-    Answer(crate::estimable::EstimableJson<'a>),
+    Answer(Box<crate::estimable::EstimableJson<'a>>),
     /// None.
     Note {
         /// Why.
@@ -700,7 +700,7 @@ pub(super) fn results_json(
             .as_ref()
             .map(|a| crate::angle_alloc::AngleDependentJson::new(&c.e2e, a)),
         estimable: match &c.estimable {
-            Some(a) => EstimableJson::Answer(crate::estimable::to_json(s, a)),
+            Some(a) => EstimableJson::Answer(Box::new(crate::estimable::to_json(s, a))),
             None => EstimableJson::Note {
                 note: super::ESTIMABLE_STATIC_ONLY,
             },
