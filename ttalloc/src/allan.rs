@@ -32,7 +32,7 @@ use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan
 use anyhow::{Result, anyhow, bail};
 use clap::Parser;
 use plotters::prelude::*;
-use serde_json::{Value, json};
+use serde::Serialize;
 use std::path::PathBuf;
 use study::fmt::sig;
 
@@ -267,32 +267,79 @@ fn numbers(a: &Analysis) -> Vec<f64> {
     v
 }
 
-fn json_of(log: &Log, unit: Option<&str>) -> Result<Value> {
+/// `allan --json`: the noise of the log, in the log's unit (`unit`, else the log's column's).
+#[derive(Debug, Serialize)]
+struct AllanJson<'a> {
+    /// The log's name (its path, or standard input).
+    log: &'a str,
+    /// The column analysed.
+    column: &'a str,
+    /// `--unit`, else `null`.
+    unit: Option<&'a str>,
+    /// Samples in the log.
+    samples: u64,
+    /// The sampling rate, Hz.
+    rate_hz: f64,
+    /// The log's duration, s.
+    duration_s: f64,
+    /// The confidence of the bands (a fraction).
+    confidence: f64,
+    /// The overlap of the cluster times.
+    overlap: u64,
+    /// White noise N, the log's unit per sqrt(Hz).
+    white_noise_per_sqrt_hz: f64,
+    /// Its uncertainty (`null` when not estimated), same unit.
+    white_noise_uncertainty: Option<f64>,
+    /// Bias instability B, the log's unit.
+    bias_instability: f64,
+    /// Its uncertainty (`null` when not estimated), the log's unit.
+    bias_instability_uncertainty: Option<f64>,
+    /// The flicker floor's factor (B = floor / factor).
+    floor_factor: f64,
+    /// The floor's cluster time, s.
+    floor_tau_s: f64,
+    /// The floor's measured Allan deviation, the log's unit.
+    floor_adev: f64,
+    /// Whether the curve reached its floor.
+    floor_reached: bool,
+    /// Rate random walk (`null` when not fitted).
+    rate_random_walk: Option<f64>,
+    /// Its uncertainty (`null` when not estimated).
+    rate_random_walk_uncertainty: Option<f64>,
+    /// Quantization noise (`null` when not fitted).
+    quantization: Option<f64>,
+    /// Rate ramp (`null` when not fitted).
+    rate_ramp: Option<f64>,
+    /// The curve: the library's points as its `serde` feature writes them.
+    curve: &'a [allan::AllanPoint],
+}
+
+fn json_of<'a>(log: &'a Log, unit: Option<&'a str>) -> AllanJson<'a> {
     let a = &log.analysis;
     let f = &a.fit;
-    Ok(json!({
-        "log": log.name,
-        "column": log.column,
-        "unit": unit,
-        "samples": a.samples,
-        "rate_hz": a.rate_hz,
-        "duration_s": a.samples as f64 / a.rate_hz,
-        "confidence": a.confidence,
-        "overlap": a.overlap,
-        "white_noise_per_sqrt_hz": f.white_noise,
-        "white_noise_uncertainty": f.white_noise_uncertainty,
-        "bias_instability": f.bias_instability,
-        "bias_instability_uncertainty": f.bias_instability_uncertainty,
-        "floor_factor": FLICKER_FLOOR_FACTOR,
-        "floor_tau_s": f.floor_tau_s,
-        "floor_adev": f.floor_adev_measured,
-        "floor_reached": f.floor_reached,
-        "rate_random_walk": f.rate_random_walk,
-        "rate_random_walk_uncertainty": f.rate_random_walk_uncertainty,
-        "quantization": f.quantization,
-        "rate_ramp": f.rate_ramp,
-        "curve": serde_json::to_value(&a.points)?,
-    }))
+    AllanJson {
+        log: &log.name,
+        column: &log.column,
+        unit,
+        samples: a.samples,
+        rate_hz: a.rate_hz,
+        duration_s: a.samples as f64 / a.rate_hz,
+        confidence: a.confidence,
+        overlap: a.overlap,
+        white_noise_per_sqrt_hz: f.white_noise,
+        white_noise_uncertainty: f.white_noise_uncertainty,
+        bias_instability: f.bias_instability,
+        bias_instability_uncertainty: f.bias_instability_uncertainty,
+        floor_factor: FLICKER_FLOOR_FACTOR,
+        floor_tau_s: f.floor_tau_s,
+        floor_adev: f.floor_adev_measured,
+        floor_reached: f.floor_reached,
+        rate_random_walk: f.rate_random_walk,
+        rate_random_walk_uncertainty: f.rate_random_walk_uncertainty,
+        quantization: f.quantization,
+        rate_ramp: f.rate_ramp,
+        curve: &a.points,
+    }
 }
 
 fn text_of(log: &Log, unit: &str) -> String {
@@ -571,7 +618,10 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     let stdout = if args.json {
-        let mut s = serde_json::to_string_pretty(&json_of(&log, args.unit.as_deref())?)?;
+        let mut s = serde_json::to_string_pretty(&serde_json::to_value(json_of(
+            &log,
+            args.unit.as_deref(),
+        ))?)?;
         s.push('\n');
         s
     } else {

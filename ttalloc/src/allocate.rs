@@ -13,6 +13,7 @@
 //! `paper_table4_objective`.
 
 use crate::InputError;
+use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
 use crate::study as st;
 use alloc_opt::{
     Allocation, AllocationProblem, Allocator, Certificate, ConstraintForm, EqualEffects,
@@ -20,7 +21,8 @@ use alloc_opt::{
 };
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
-use serde_json::{Map, Value, json};
+use serde::Serialize;
+use std::collections::BTreeMap;
 use study::Study;
 use study::fmt::num;
 use tt_core::units::{RAD_PER_ARCMIN, rad_to_arcmin, rad_to_deg};
@@ -70,22 +72,45 @@ fn parse_margin(s: &str) -> Result<f64, String> {
     }
 }
 
-use crate::out::per_angle as per_axis;
+/// One angle's Lemma 1 certificate, degrees.
+#[derive(Debug, Serialize)]
+pub struct AxisCertificateJson {
+    /// The requirement, degrees (`null`: none).
+    requirement_deg: Option<f64>,
+    /// The largest worst case found, degrees.
+    worst_case_deg: f64,
+    /// A rigorous upper bound on it, degrees.
+    upper_bound_deg: f64,
+    /// Whether the worst case is exact (at most one free joint).
+    exact_search: bool,
+    /// A pose where it is reached, keyed by joint, degrees.
+    worst_pose_deg: BTreeMap<String, f64>,
+    /// `worst_case / requirement` (`null` without a requirement).
+    share: Option<f64>,
+    /// Whether the requirement is active.
+    requirement_active: bool,
+    /// Whether Lemma 1 holds for this angle.
+    lemma1: bool,
+}
 
-fn certificate_json(s: &Study, c: &Certificate) -> Value {
+fn certificate_json(s: &Study, c: &Certificate) -> PerAngle<AxisCertificateJson> {
     let joints = s.turntable.joint_names();
-    per_axis(|a| {
+    PerAngle::new(|a| {
         let x = c.get(a);
-        json!({
-            "requirement_deg": x.requirement_rad.map(rad_to_deg),
-            "worst_case_deg": rad_to_deg(x.worst_case_rad),
-            "upper_bound_deg": rad_to_deg(x.upper_bound_rad),
-            "exact_search": x.exact,
-            "worst_pose_deg": joints.iter().zip(&x.worst_pose_rad).map(|(j, v)| (j.to_string(), json!(rad_to_deg(*v)))).collect::<Map<_, _>>(),
-            "share": x.share,
-            "requirement_active": x.requirement_active,
-            "lemma1": x.satisfied,
-        })
+        AxisCertificateJson {
+            requirement_deg: x.requirement_rad.map(rad_to_deg),
+            worst_case_deg: rad_to_deg(x.worst_case_rad),
+            upper_bound_deg: rad_to_deg(x.upper_bound_rad),
+            exact_search: x.exact,
+            worst_pose_deg: joints
+                .iter()
+                .zip(&x.worst_pose_rad)
+                .map(|(j, v)| ((*j).to_string(), rad_to_deg(*v)))
+                .collect(),
+            share: x.share,
+            requirement_active: x.requirement_active,
+            lemma1: x.satisfied,
+        }
     })
 }
 
@@ -158,44 +183,111 @@ pub fn allocate(s: &Study, form: FormChoice, safety_margin: f64) -> Result<Alloc
     })
 }
 
-/// The JSON object printed by `--json`.
+/// `allocate --json`: the two-step allocation with its certificate.
+#[derive(Debug, Serialize)]
+pub struct AllocateJson<'a> {
+    /// The study's path.
+    study: &'a str,
+    /// The orientation requirement per angle, degrees (`null`: none).
+    requirement_deg: PerAngle<Option<f64>>,
+    /// The errors' lower bounds, arcmin.
+    lower_bounds_arcmin: ArcminBounds,
+    /// `paper` or `full-range`.
+    constraint_form: &'static str,
+    /// The safety margin, in [0, 1).
+    safety_margin: f64,
+    /// The sensitivity-weighted allocation's bounds, arcmin.
+    allocation_arcmin: ArcminBounds,
+    /// The errors no angle constrains.
+    unconstrained: Vec<&'a str>,
+    /// J of the allocation, arcmin^-2 (`objective_unit`).
+    objective: f64,
+    /// J's unit and definition, in words.
+    objective_unit: &'static str,
+    /// Lemma 1's certificate per angle.
+    certificate: PerAngle<AxisCertificateJson>,
+    /// Whether Lemma 1 holds over the full range.
+    lemma1_full_range: bool,
+    /// The equal-effects allocation's bounds, arcmin.
+    equal_effects_arcmin: ArcminBounds,
+    /// Its J, arcmin^-2.
+    equal_effects_objective: f64,
+    /// The exact chain's worst case per angle, degrees.
+    exact_chain_worst_deg: PerAngle<f64>,
+    /// By how much the exact chain exceeds the requirement per angle, rad (`null`: no
+    /// requirement).
+    exact_chain_excess_rad: PerAngle<Option<f64>>,
+    /// Why the requirement is not the study's, else `null`.
+    requirement_note: Option<String>,
+    /// Errors that act only together, with their combination's bound under each allocation.
+    groups: Vec<GroupJson>,
+    /// For the paper's table: Table 4's bounds, arcmin; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    paper_table4_arcmin: Option<ArcminBounds>,
+    /// For the paper's table: Table 4's J, arcmin^-2; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    paper_table4_objective: Option<f64>,
+    /// For the paper's table: Table 4's certificate; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    paper_table4_certificate: Option<PerAngle<AxisCertificateJson>>,
+    /// With errors that vary with the shaft angle or measured errors: the allocations under
+    /// the study's model; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
+    /// With `--tolerances`: the sheet's pairs allocated with one tolerance each; absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    disc_allocation: Option<crate::angle::SheetAllocationsJson<'a>>,
+    /// With rate steps in the study: the rate tolerances allocated with the angles; absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rate_allocation: Option<crate::rate::RateAllocationJson<'a>>,
+}
+
+/// The view printed by `--json`.
 ///
 /// # Errors
 /// As [`allocate`] and the exact-chain check.
-pub fn allocate_json(
-    s: &Study,
-    a: &Allocations,
+pub fn allocate_json<'a>(
+    s: &'a Study,
+    a: &'a Allocations,
     form: FormChoice,
     safety_margin: f64,
-) -> Result<Value> {
+) -> Result<AllocateJson<'a>> {
     let names = s.turntable.rotation_error_names();
     let exact = exact_chain_check(&a.problem, &a.ours).map_err(|e| crate::input::library(e, s))?;
     let req = a.problem.requirement();
-    let mut v = json!({
-        "study": s.path,
-        "requirement_deg": per_axis(|x| json!(req.get(x).map(rad_to_deg))),
-        "lower_bounds_arcmin": crate::out::arcmin_json(&names, a.problem.lower_bounds_rad()),
-        "constraint_form": match form { FormChoice::Paper => "paper", FormChoice::FullRange => "full-range" },
-        "safety_margin": safety_margin,
-        "allocation_arcmin": crate::out::arcmin_json(&names, &a.ours.upper_bounds_rad),
-        "unconstrained": a.ours.unconstrained_names(),
-        "objective": a.ours.objective_arcmin(),
-        "objective_unit": "arcmin^-2 (J_psi + J_theta + J_gamma, W = 1/average sensitivity)",
-        "certificate": certificate_json(s, &a.ours.certificate),
-        "lemma1_full_range": a.ours.certificate.lemma1_holds(),
-        "equal_effects_arcmin": crate::out::arcmin_json(&names, &a.equal.upper_bounds_rad),
-        "equal_effects_objective": a.equal.objective_arcmin(),
-        "exact_chain_worst_deg": per_axis(|x| json!(rad_to_deg(exact[x.index()].exact_worst_rad))),
-        "exact_chain_excess_rad": per_axis(|x| json!(exact[x.index()].excess_rad)),
-        "requirement_note": st::requirement(s)?.disagreement,
-    });
-    v["groups"] = crate::groups::json(&s.turntable, &group_boxes(a));
-    if let Some((t, cert, j)) = &a.table4 {
-        v["paper_table4_arcmin"] = crate::out::arcmin_json(&names, t);
-        v["paper_table4_objective"] = json!(j);
-        v["paper_table4_certificate"] = certificate_json(s, cert);
-    }
-    Ok(v)
+    Ok(AllocateJson {
+        study: &s.path,
+        requirement_deg: PerAngle::new(|x| req.get(x).map(rad_to_deg)),
+        lower_bounds_arcmin: arcmin_bounds(&names, a.problem.lower_bounds_rad()),
+        constraint_form: match form {
+            FormChoice::Paper => "paper",
+            FormChoice::FullRange => "full-range",
+        },
+        safety_margin,
+        allocation_arcmin: arcmin_bounds(&names, &a.ours.upper_bounds_rad),
+        unconstrained: a.ours.unconstrained_names(),
+        objective: a.ours.objective_arcmin(),
+        objective_unit: "arcmin^-2 (J_psi + J_theta + J_gamma, W = 1/average sensitivity)",
+        certificate: certificate_json(s, &a.ours.certificate),
+        lemma1_full_range: a.ours.certificate.lemma1_holds(),
+        equal_effects_arcmin: arcmin_bounds(&names, &a.equal.upper_bounds_rad),
+        equal_effects_objective: a.equal.objective_arcmin(),
+        exact_chain_worst_deg: PerAngle::new(|x| rad_to_deg(exact[x.index()].exact_worst_rad)),
+        exact_chain_excess_rad: PerAngle::new(|x| exact[x.index()].excess_rad),
+        requirement_note: st::requirement(s)?.disagreement,
+        groups: GroupJson::all(&s.turntable, &group_boxes(a)),
+        paper_table4_arcmin: a.table4.as_ref().map(|(t, _, _)| arcmin_bounds(&names, t)),
+        paper_table4_objective: a.table4.as_ref().map(|(_, _, j)| *j),
+        paper_table4_certificate: a
+            .table4
+            .as_ref()
+            .map(|(_, cert, _)| certificate_json(s, cert)),
+        angle_dependent: None,
+        disc_allocation: None,
+        rate_allocation: None,
+    })
 }
 
 /// The allocations' bounds by label, for the groups of errors that act only together.
@@ -210,7 +302,7 @@ fn group_boxes(a: &Allocations) -> Vec<(&'static str, &[f64])> {
     b
 }
 
-fn text(s: &Study, a: &Allocations, v: &Value) -> String {
+fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
     let names = s.turntable.rotation_error_names();
     let req = a.problem.requirement();
     let mut t = format!(
@@ -277,20 +369,21 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
             if c.satisfied { "holds" } else { "fails" }
         ));
     }
-    let ex = |k: &str| {
-        v["exact_chain_excess_rad"][k]
-            .as_f64()
+    let ex = |x: OrientationAxis| {
+        v.exact_chain_excess_rad
+            .get(x)
+            .filter(|e| e.is_finite())
             .map_or("-".into(), num)
     };
     let excess: Vec<String> = OrientationAxis::ALL
         .iter()
-        .map(|a| format!("{} {}", a.name(), ex(a.name())))
+        .map(|&a| format!("{} {}", a.name(), ex(a)))
         .collect();
     t.push_str(&format!(
         "exact chain over I (rad): {}\n",
         excess.join(", ")
     ));
-    if let Some(n) = v["requirement_note"].as_str() {
+    if let Some(n) = &v.requirement_note {
         t.push_str(n);
         t.push('\n');
     }
@@ -301,7 +394,6 @@ fn text(s: &Study, a: &Allocations, v: &Value) -> String {
 pub fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
     let a = allocate(&s, args.constraint_form, args.safety_margin)?;
-    let mut v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
     // errors that vary with the shaft angle: the direct allocations of the angle model
     let angle = if s.has_angle_dependent_errors() || s.measured.iter().any(Option::is_some) {
         let e2e = crate::end_to_end::simulator(&s)?;
@@ -322,38 +414,28 @@ pub fn run(args: &Args) -> Result<()> {
     } else {
         None
     };
-    let text_out = (!args.json).then(|| text(&s, &a, &v));
-    if let (Some((e2e, an)), serde_json::Value::Object(m)) = (&angle, &mut v) {
-        m.insert(
-            "angle_dependent".into(),
-            crate::angle_alloc::to_json(e2e, an),
-        );
+    let mut v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
+    if args.json {
+        v.angle_dependent = angle
+            .as_ref()
+            .map(|(e2e, an)| crate::angle_alloc::AngleDependentJson::new(e2e, an));
+        v.disc_allocation = sheet
+            .as_ref()
+            .map(|(path, al)| crate::angle::SheetAllocationsJson::new(path, al));
+        v.rate_allocation = rate
+            .as_ref()
+            .map(|(e2e, r)| crate::rate::RateAllocationJson::new(e2e, r));
+        return crate::json::print(&v);
     }
-    if let (Some((path, al)), serde_json::Value::Object(m)) = (&sheet, &mut v) {
-        m.insert(
-            "disc_allocation".into(),
-            crate::angle::sheet_allocations_json(path, al),
-        );
+    let mut t = text(&s, &a, &v);
+    if let Some(x) = extra {
+        t.push_str(&x);
     }
-    if let (Some((e2e, r)), serde_json::Value::Object(m)) = (&rate, &mut v) {
-        m.insert(
-            "rate_allocation".into(),
-            crate::rate::allocation_json(e2e, r),
-        );
+    if let Some((path, al)) = &sheet {
+        t.push_str(&crate::angle::sheet_allocations_text(path, al));
     }
-    match text_out {
-        None => crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n")),
-        Some(mut t) => {
-            if let Some(x) = extra {
-                t.push_str(&x);
-            }
-            if let Some((path, al)) = &sheet {
-                t.push_str(&crate::angle::sheet_allocations_text(path, al));
-            }
-            if let Some((e2e, r)) = &rate {
-                t.push_str(&crate::rate::allocation_text(e2e, r));
-            }
-            crate::out::print(&t)
-        }
+    if let Some((e2e, r)) = &rate {
+        t.push_str(&crate::rate::allocation_text(e2e, r));
     }
+    crate::out::print(&t)
 }

@@ -7,11 +7,12 @@
 //! revolution ("wobble <= 3 arcsec") and says nothing more. The constant model (the paper's)
 //! is supported only by a table whose errors are known not to vary with the angle.
 
+use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use e2e_verify::angle::{AngleOutputWorstCase, AngleYield};
 use e2e_verify::disc::{Pair, PairModel, PairShape};
 use e2e_verify::{DirectAllocation, EndToEnd, TurntableCheck, Verdict};
-use serde_json::{Value, json};
+use serde::Serialize;
 use study::Study;
 use study::fmt::num;
 use tt_kinematics::{ErrorVariation, Expansion};
@@ -432,39 +433,6 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
     s
 }
 
-fn allocation_json(names: &[&str], d: &DirectAllocation) -> Value {
-    json!({
-        "objective_arcmin": (!d.no_bound_needed()).then(|| d.objective_arcmin()),
-        "upper_bounds_arcmin": crate::out::arcmin_json(names, &d.upper_bounds_rad),
-    })
-}
-
-fn certified_json(names: &[&str], d: &std::result::Result<DirectAllocation, String>) -> Value {
-    match d {
-        Ok(d) => allocation_json(names, d),
-        Err(why) => json!({"not_certified": why}),
-    }
-}
-
-/// The allocations' JSON object (`constant` / `angle_dependent`, each `disc` / `square`
-/// with `objective_arcmin` and `upper_bounds_arcmin`; the angle-dependent model's certified
-/// ones as `disc_certified` / `square_certified`, or `{"not_certified": why}`).
-pub(crate) fn disc_allocation_json(e2e: &EndToEnd, al: &DiscAllocation) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    json!({
-        "constant": {
-            "disc": allocation_json(&names, &al.constant_disc),
-            "square": allocation_json(&names, &al.constant_square),
-        },
-        "angle_dependent": {
-            "disc": allocation_json(&names, &al.angle_disc),
-            "square": allocation_json(&names, &al.angle_square),
-            "disc_certified": certified_json(&names, &al.angle_disc_certified),
-            "square_certified": certified_json(&names, &al.angle_square_certified),
-        },
-    })
-}
-
 /// The allocations with one tolerance per pair of the sheet `tol` (its `[axes.<joint>]`
 /// wobbles and orthogonalities; the values are not used, only which errors pair up), for the
 /// study's reading and the user's when different; the angle-dependent model is
@@ -528,79 +496,6 @@ pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> S
         t.push_str(&disc_allocation_text(e2e, al));
     }
     t
-}
-
-/// The sheet allocations' JSON value (`disc_allocation`): `{"tolerances", "readings":
-/// [{"reading", ...[`disc_allocation_json`]}]}`.
-#[must_use]
-pub fn sheet_allocations_json(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> Value {
-    json!({
-        "tolerances": path,
-        "readings": a.iter().map(|(e2e, al)| {
-            let mut v = disc_allocation_json(e2e, al);
-            if let Value::Object(m) = &mut v {
-                m.insert("reading".into(), json!(e2e.reading().to_string()));
-            }
-            v
-        }).collect::<Vec<_>>(),
-    })
-}
-
-fn disc_json(e2e: &EndToEnd, d: &DiscWorst) -> Value {
-    json!({
-        "worst_case_linear_lower": d.angle_lower,
-        "yield": d.yield_.fraction(),
-        "yield_interval_95": [d.yield_.interval_95.0, d.yield_.interval_95.1],
-        "samples": d.yield_.samples,
-        "constant_yield": d.constant_yield.fraction(),
-        "constant_yield_interval_95": [d.constant_yield.interval_95.0, d.constant_yield.interval_95.1],
-        "allocation": d.allocation.as_ref().map(|al| disc_allocation_json(e2e, al)),
-    })
-}
-
-/// The JSON object of one reading.
-#[must_use]
-pub fn reading_json(e2e: &EndToEnd, a: &ReadingAngle) -> Value {
-    json!({
-        "verdict": a.verdict.name(),
-        "yield": a.yield_.fraction(),
-        "yield_interval_95": [a.yield_.interval_95.0, a.yield_.interval_95.1],
-        "samples": a.yield_.samples,
-        "disc_worst_case_linear": a.disc.as_ref().map(|d| json!({"constant": d.constant, "angle_dependent": d.angle})),
-        "discs": a.disc.as_ref().map(|d| disc_json(e2e, d)),
-        "outputs": a.outputs.iter().map(|o| {
-            let out = e2e.calibration().outputs()[o.output].output();
-            json!({
-                "name": out.name,
-                "worst_case_linear": o.linear_bound,
-                "worst_case_linear_constant_model": o.constant_linear_bound,
-                "worst_case_exact_at_worst": o.exact_at_worst,
-                "second_order_bound": o.second_order_bound,
-                "worst_position": o.position,
-                "verdict": o.verdict.name(),
-            })
-        }).collect::<Vec<_>>(),
-    })
-}
-
-/// The `angle_dependent` JSON key: the model and one object per reading (the study's, then the
-/// user's when different).
-#[must_use]
-pub fn json(checks: &[(EndToEnd, TurntableCheck)], a: &AngleCheck) -> Value {
-    let names = checks[0].0.turntable().rotation_error_names();
-    json!({
-        "model": if a.study_model { "study" } else { "any-on-shafts" },
-        "sheet_supports": if a.study_model { "study" } else { "angle-dependent" },
-        "errors": names.iter().zip(&a.variations).map(|(n, v)| {
-            let (joint, orders) = match v {
-                ErrorVariation::Harmonics { joint, orders } => (Some(joint.clone()), Some(orders.clone())),
-                ErrorVariation::Any { joint } => (Some(joint.clone()), None),
-                _ => (None, None),
-            };
-            json!({"error": n, "varies": v.name(), "of": joint, "harmonics": orders})
-        }).collect::<Vec<_>>(),
-        "readings": checks.iter().zip(&a.readings).map(|((e, _), r)| reading_json(e, r)).collect::<Vec<_>>(),
-    })
 }
 
 /// The check of the compensated table: the measured errors are known inputs of the chain, so
@@ -690,17 +585,360 @@ pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) 
     s
 }
 
-/// The `compensated` JSON key.
-#[must_use]
-pub fn compensated_json(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) -> Value {
-    let names = checks[0].0.turntable().rotation_error_names();
-    json!({
-        "tolerances_arcmin": crate::out::arcmin_json(&names, &c.ub_rad),
-        "readings": checks.iter().zip(&c.checks).zip(&c.angle.readings).map(|(((e2e, _), k), a)| json!({
-            "reading": e2e.reading().to_string(),
-            "verdict": k.verdict.name(),
-            "worst_case_linear": k.outputs.iter().map(|o| o.worst_case.linear_bound).collect::<Vec<_>>(),
-            "angle_dependent": reading_json(e2e, a),
-        })).collect::<Vec<_>>(),
-    })
+/// An allocation with one tolerance per pair (or per error).
+#[derive(Debug, Serialize)]
+pub struct AllocationJson {
+    /// J, arcmin^-2; `null` when no error needs a bound.
+    objective_arcmin: Option<f64>,
+    /// Its bounds, arcmin.
+    upper_bounds_arcmin: ArcminBounds,
+}
+
+impl AllocationJson {
+    fn new(names: &[&str], d: &DirectAllocation) -> Self {
+        Self {
+            objective_arcmin: (!d.no_bound_needed()).then(|| d.objective_arcmin()),
+            upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
+        }
+    }
+}
+
+/// A certified allocation, or why there is none.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum CertifiedJson<'a> {
+    /// The certified allocation.
+    Certified(AllocationJson),
+    /// None.
+    NotCertified {
+        /// Why, in words.
+        not_certified: &'a str,
+    },
+}
+
+impl<'a> CertifiedJson<'a> {
+    fn new(names: &[&str], d: &'a std::result::Result<DirectAllocation, String>) -> Self {
+        match d {
+            Ok(d) => Self::Certified(AllocationJson::new(names, d)),
+            Err(why) => Self::NotCertified { not_certified: why },
+        }
+    }
+}
+
+/// The constant model's allocations as discs and as squares.
+#[derive(Debug, Serialize)]
+pub struct ConstantPairsJson {
+    /// One tolerance per pair, a disc.
+    disc: AllocationJson,
+    /// One tolerance per error, a square.
+    square: AllocationJson,
+}
+
+/// The angle-dependent model's allocations as discs and squares, with their certified ones.
+#[derive(Debug, Serialize)]
+pub struct AnglePairsJson<'a> {
+    /// One tolerance per pair, a disc.
+    disc: AllocationJson,
+    /// One tolerance per error, a square.
+    square: AllocationJson,
+    /// The disc's certified allocation, or `{"not_certified": why}`.
+    disc_certified: CertifiedJson<'a>,
+    /// The square's certified allocation, or `{"not_certified": why}`.
+    square_certified: CertifiedJson<'a>,
+}
+
+/// The allocations with one tolerance per pair (`constant` / `angle_dependent`, each `disc` /
+/// `square`; the angle-dependent model's certified ones as `disc_certified` /
+/// `square_certified`, or `{"not_certified": why}`).
+#[derive(Debug, Serialize)]
+pub struct DiscAllocationJson<'a> {
+    /// Under the constant model.
+    constant: ConstantPairsJson,
+    /// Under the angle-dependent model.
+    angle_dependent: AnglePairsJson<'a>,
+}
+
+impl<'a> DiscAllocationJson<'a> {
+    /// The view of `al` for the table of `e2e`.
+    #[must_use]
+    pub fn new(e2e: &EndToEnd, al: &'a DiscAllocation) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        Self {
+            constant: ConstantPairsJson {
+                disc: AllocationJson::new(&names, &al.constant_disc),
+                square: AllocationJson::new(&names, &al.constant_square),
+            },
+            angle_dependent: AnglePairsJson {
+                disc: AllocationJson::new(&names, &al.angle_disc),
+                square: AllocationJson::new(&names, &al.angle_square),
+                disc_certified: CertifiedJson::new(&names, &al.angle_disc_certified),
+                square_certified: CertifiedJson::new(&names, &al.angle_square_certified),
+            },
+        }
+    }
+}
+
+/// One reading of the sheet allocations.
+#[derive(Debug, Serialize)]
+pub struct SheetReadingJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// Its allocations.
+    #[serde(flatten)]
+    allocation: DiscAllocationJson<'a>,
+}
+
+/// The sheet allocations (`disc_allocation`): the sheet's path and one entry per reading.
+#[derive(Debug, Serialize)]
+pub struct SheetAllocationsJson<'a> {
+    /// The sheet's path.
+    tolerances: &'a str,
+    /// Per reading.
+    readings: Vec<SheetReadingJson<'a>>,
+}
+
+impl<'a> SheetAllocationsJson<'a> {
+    /// The view of the allocations `a` with the sheet at `path`.
+    #[must_use]
+    pub fn new(path: &'a str, a: &'a [(EndToEnd, DiscAllocation)]) -> Self {
+        Self {
+            tolerances: path,
+            readings: a
+                .iter()
+                .map(|(e2e, al)| SheetReadingJson {
+                    reading: e2e.reading().to_string(),
+                    allocation: DiscAllocationJson::new(e2e, al),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Worst cases over the discs, per output, output's unit.
+#[derive(Debug, Serialize)]
+pub struct DiscWorstCaseJson<'a> {
+    /// Under the constant model.
+    constant: &'a [f64],
+    /// Under the angle-dependent model.
+    angle_dependent: &'a [f64],
+}
+
+/// The check with the sheet's pairs as discs.
+#[derive(Debug, Serialize)]
+pub struct DiscsJson<'a> {
+    /// A lower bound of the angle-dependent worst case per output, output's unit.
+    worst_case_linear_lower: &'a [f64],
+    /// Yield under the angle-dependent model, in [0, 1].
+    #[serde(rename = "yield")]
+    yield_fraction: f64,
+    /// Its 95% interval.
+    yield_interval_95: (f64, f64),
+    /// Turntables drawn.
+    samples: u64,
+    /// Yield under the constant model, in [0, 1].
+    constant_yield: f64,
+    /// Its 95% interval.
+    constant_yield_interval_95: (f64, f64),
+    /// The allocations with one tolerance per pair, `null` when not computed.
+    allocation: Option<DiscAllocationJson<'a>>,
+}
+
+/// One output's worst case under the angle-dependent model, output's unit.
+#[derive(Debug, Serialize)]
+pub struct AngleOutputJson<'a> {
+    /// The output's name.
+    name: &'a str,
+    /// The linearised worst case, output's unit.
+    worst_case_linear: f64,
+    /// The same under the constant model, output's unit.
+    worst_case_linear_constant_model: f64,
+    /// The exact chain at the worst errors, output's unit.
+    worst_case_exact_at_worst: f64,
+    /// The certified second-order bound (`null` when not computed), output's unit.
+    second_order_bound: Option<f64>,
+    /// The worst test position (index into the schedule).
+    worst_position: usize,
+    /// The output's verdict.
+    verdict: &'static str,
+}
+
+/// The angle-dependent check of one reading.
+#[derive(Debug, Serialize)]
+pub struct ReadingAngleJson<'a> {
+    /// The weakest output's verdict.
+    verdict: &'static str,
+    /// Yield, in [0, 1].
+    #[serde(rename = "yield")]
+    yield_fraction: f64,
+    /// Its 95% interval.
+    yield_interval_95: (f64, f64),
+    /// Turntables drawn.
+    samples: u64,
+    /// With the sheet's pairs: the worst cases over the discs, else `null`.
+    disc_worst_case_linear: Option<DiscWorstCaseJson<'a>>,
+    /// With the sheet's pairs: the check with discs, else `null`.
+    discs: Option<DiscsJson<'a>>,
+    /// Every output's worst case.
+    outputs: Vec<AngleOutputJson<'a>>,
+}
+
+impl<'a> ReadingAngleJson<'a> {
+    /// The view of the reading `a` of `e2e`.
+    #[must_use]
+    pub fn new(e2e: &'a EndToEnd, a: &'a ReadingAngle) -> Self {
+        Self {
+            verdict: a.verdict.name(),
+            yield_fraction: a.yield_.fraction(),
+            yield_interval_95: a.yield_.interval_95,
+            samples: a.yield_.samples,
+            disc_worst_case_linear: a.disc.as_ref().map(|d| DiscWorstCaseJson {
+                constant: &d.constant,
+                angle_dependent: &d.angle,
+            }),
+            discs: a.disc.as_ref().map(|d| DiscsJson {
+                worst_case_linear_lower: &d.angle_lower,
+                yield_fraction: d.yield_.fraction(),
+                yield_interval_95: d.yield_.interval_95,
+                samples: d.yield_.samples,
+                constant_yield: d.constant_yield.fraction(),
+                constant_yield_interval_95: d.constant_yield.interval_95,
+                allocation: d
+                    .allocation
+                    .as_ref()
+                    .map(|al| DiscAllocationJson::new(e2e, al)),
+            }),
+            outputs: a
+                .outputs
+                .iter()
+                .map(|o| AngleOutputJson {
+                    name: &e2e.calibration().outputs()[o.output].output().name,
+                    worst_case_linear: o.linear_bound,
+                    worst_case_linear_constant_model: o.constant_linear_bound,
+                    worst_case_exact_at_worst: o.exact_at_worst,
+                    second_order_bound: o.second_order_bound,
+                    worst_position: o.position,
+                    verdict: o.verdict.name(),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// One error's shaft-angle model.
+#[derive(Debug, Serialize)]
+pub struct ErrorModelJson<'a> {
+    /// The error's name.
+    error: &'a str,
+    /// `constant`, `harmonics` or `any` ([`ErrorVariation::name`]).
+    varies: &'static str,
+    /// The joint whose angle it varies with, `null` when constant.
+    of: Option<&'a str>,
+    /// The harmonics' orders, `null` unless `harmonics`.
+    harmonics: Option<&'a [u32]>,
+}
+
+/// The `angle_dependent` key of `check-turntable`: the model and one object per reading (the
+/// study's, then the user's when different).
+#[derive(Debug, Serialize)]
+pub struct AngleCheckJson<'a> {
+    /// `study` (the study's model) or `any-on-shafts`.
+    model: &'static str,
+    /// What the sheet supports: `study` or `angle-dependent`.
+    sheet_supports: &'static str,
+    /// Every error's model.
+    errors: Vec<ErrorModelJson<'a>>,
+    /// Per reading.
+    readings: Vec<ReadingAngleJson<'a>>,
+}
+
+impl<'a> AngleCheckJson<'a> {
+    /// The view of `a` for `checks`.
+    #[must_use]
+    pub fn new(checks: &'a [(EndToEnd, TurntableCheck)], a: &'a AngleCheck) -> Self {
+        let names = checks[0].0.turntable().rotation_error_names();
+        Self {
+            model: if a.study_model {
+                "study"
+            } else {
+                "any-on-shafts"
+            },
+            sheet_supports: if a.study_model {
+                "study"
+            } else {
+                "angle-dependent"
+            },
+            errors: names
+                .iter()
+                .zip(&a.variations)
+                .map(|(n, v)| {
+                    let (joint, orders) = match v {
+                        ErrorVariation::Harmonics { joint, orders } => {
+                            (Some(joint.as_str()), Some(orders.as_slice()))
+                        }
+                        ErrorVariation::Any { joint } => (Some(joint.as_str()), None),
+                        ErrorVariation::Constant => (None, None),
+                    };
+                    ErrorModelJson {
+                        error: n,
+                        varies: v.name(),
+                        of: joint,
+                        harmonics: orders,
+                    }
+                })
+                .collect(),
+            readings: checks
+                .iter()
+                .zip(&a.readings)
+                .map(|((e, _), r)| ReadingAngleJson::new(e, r))
+                .collect(),
+        }
+    }
+}
+
+/// One reading of the compensated check.
+#[derive(Debug, Serialize)]
+pub struct CompensatedReadingJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// The weakest output's verdict.
+    verdict: &'static str,
+    /// Every output's linearised worst case, output's unit.
+    worst_case_linear: Vec<f64>,
+    /// The angle-dependent check.
+    angle_dependent: ReadingAngleJson<'a>,
+}
+
+/// The `compensated` key of `check-turntable`.
+#[derive(Debug, Serialize)]
+pub struct CompensatedJson<'a> {
+    /// The box that matters (measured errors at their uncertainty), arcmin.
+    tolerances_arcmin: ArcminBounds,
+    /// Per reading.
+    readings: Vec<CompensatedReadingJson<'a>>,
+}
+
+impl<'a> CompensatedJson<'a> {
+    /// The view of `c` for `checks`.
+    #[must_use]
+    pub fn new(checks: &'a [(EndToEnd, TurntableCheck)], c: &'a Compensated) -> Self {
+        let names = checks[0].0.turntable().rotation_error_names();
+        Self {
+            tolerances_arcmin: arcmin_bounds(&names, &c.ub_rad),
+            readings: checks
+                .iter()
+                .zip(&c.checks)
+                .zip(&c.angle.readings)
+                .map(|(((e2e, _), k), a)| CompensatedReadingJson {
+                    reading: e2e.reading().to_string(),
+                    verdict: k.verdict.name(),
+                    worst_case_linear: k
+                        .outputs
+                        .iter()
+                        .map(|o| o.worst_case.linear_bound)
+                        .collect(),
+                    angle_dependent: ReadingAngleJson::new(e2e, a),
+                })
+                .collect(),
+        }
+    }
 }

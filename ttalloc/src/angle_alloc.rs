@@ -18,10 +18,12 @@
 //! {"objective_arcmin", "upper_bounds_arcmin"}, "certified": {...} | null, "certified_note",
 //! "unmeasured_before_objective_arcmin", "compensated": {...} | {"no_room"} | null}]`).
 
+use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use calib_lsq::Reading;
 use e2e_verify::{DirectAllocation, EndToEnd};
-use serde_json::{Value, json};
+use serde::Serialize;
+use std::collections::BTreeMap;
 use study::Study;
 use study::fmt::sig;
 use tt_kinematics::{ErrorVariation, Expansion};
@@ -152,13 +154,6 @@ fn objective(d: &DirectAllocation) -> Option<f64> {
     (!d.no_bound_needed()).then(|| d.objective_arcmin())
 }
 
-fn allocation_json(names: &[&str], d: &DirectAllocation) -> Value {
-    json!({
-        "objective_arcmin": objective(d),
-        "upper_bounds_arcmin": crate::out::arcmin_json(names, &d.upper_bounds_rad),
-    })
-}
-
 /// A model in words: `constant`, `harmonics [1, 2] of phi1`, `any of phi1`.
 #[must_use]
 pub fn model_name(v: &ErrorVariation) -> String {
@@ -169,25 +164,98 @@ pub fn model_name(v: &ErrorVariation) -> String {
     }
 }
 
+/// An allocation under the shaft-angle model.
+#[derive(Debug, Serialize)]
+pub struct AllocationJson {
+    /// J, arcmin^-2; `null` when no error needs a bound.
+    objective_arcmin: Option<f64>,
+    /// Its bounds, arcmin.
+    upper_bounds_arcmin: ArcminBounds,
+}
+
+impl AllocationJson {
+    fn new(names: &[&str], d: &DirectAllocation) -> Self {
+        Self {
+            objective_arcmin: objective(d),
+            upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
+        }
+    }
+}
+
+/// The allocation after compensation: the allocation, or why there is no room.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum CompensatedJson<'a> {
+    /// The unmeasured errors' allocation.
+    Allocated(AllocationJson),
+    /// The measured errors' uncertainty leaves no room.
+    NoRoom {
+        /// Why, in words.
+        no_room: &'a str,
+    },
+}
+
+/// One reading of `angle_dependent`.
+#[derive(Debug, Serialize)]
+pub struct AngleReadingJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// J of the constant model's direct allocation, arcmin^-2 (`null`: no bound needed).
+    constant_direct_objective_arcmin: Option<f64>,
+    /// The direct allocation under the study's model.
+    direct: AllocationJson,
+    /// The certified allocation under it, `null` when there is none (`certified_note`).
+    certified: Option<AllocationJson>,
+    /// Why there is no certified allocation, else `null`.
+    certified_note: Option<&'a str>,
+    /// With measured errors: J of the unmeasured errors before compensation, arcmin^-2.
+    unmeasured_before_objective_arcmin: Option<f64>,
+    /// With measured errors: the allocation after compensation, else `null`.
+    compensated: Option<CompensatedJson<'a>>,
+}
+
 /// The JSON value of `angle_dependent` (see the [module](self)).
-#[must_use]
-pub fn to_json(e2e: &EndToEnd, a: &AngleAllocations) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    json!({
-        "model": Value::Object(names.iter().zip(&a.variations).map(|(n, v)| ((*n).to_string(), json!(model_name(v)))).collect()),
-        "readings": a.readings.iter().map(|r| json!({
-            "reading": r.reading.to_string(),
-            "constant_direct_objective_arcmin": objective(&r.constant_direct),
-            "direct": allocation_json(&names, &r.direct),
-            "certified": r.certified.as_ref().ok().map(|d| allocation_json(&names, d)),
-            "certified_note": r.certified.as_ref().err(),
-            "unmeasured_before_objective_arcmin": r.unmeasured_before_arcmin,
-            "compensated": r.compensated.as_ref().map(|c| match c {
-                Ok(d) => allocation_json(&names, d),
-                Err(why) => json!({"no_room": why}),
-            }),
-        })).collect::<Vec<_>>(),
-    })
+#[derive(Debug, Serialize)]
+pub struct AngleDependentJson<'a> {
+    /// Each error's model in words (`constant`, `harmonics [1, 2] of phi1`, `any of phi1`).
+    model: BTreeMap<String, String>,
+    /// Per reading.
+    readings: Vec<AngleReadingJson<'a>>,
+}
+
+impl<'a> AngleDependentJson<'a> {
+    /// The view of `a` for the table of `e2e`.
+    #[must_use]
+    pub fn new(e2e: &EndToEnd, a: &'a AngleAllocations) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        Self {
+            model: names
+                .iter()
+                .zip(&a.variations)
+                .map(|(n, v)| ((*n).to_string(), model_name(v)))
+                .collect(),
+            readings: a
+                .readings
+                .iter()
+                .map(|r| AngleReadingJson {
+                    reading: r.reading.to_string(),
+                    constant_direct_objective_arcmin: objective(&r.constant_direct),
+                    direct: AllocationJson::new(&names, &r.direct),
+                    certified: r
+                        .certified
+                        .as_ref()
+                        .ok()
+                        .map(|d| AllocationJson::new(&names, d)),
+                    certified_note: r.certified.as_ref().err().map(String::as_str),
+                    unmeasured_before_objective_arcmin: r.unmeasured_before_arcmin,
+                    compensated: r.compensated.as_ref().map(|c| match c {
+                        Ok(d) => CompensatedJson::Allocated(AllocationJson::new(&names, d)),
+                        Err(why) => CompensatedJson::NoRoom { no_room: why },
+                    }),
+                })
+                .collect(),
+        }
+    }
 }
 
 fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {

@@ -17,11 +17,12 @@
 //! noise gets exactly today's answer.
 
 use crate::InputError;
+use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, Split, arcmin_bounds};
 use anyhow::Result;
 use calib_lsq::Reading;
 use clap::Parser;
 use e2e_verify::{CombinedOutput, CombinedYield, EndToEnd, McSettings, TurntableCheck, Verdict};
-use serde_json::{Value, json};
+use serde::Serialize;
 use std::path::PathBuf;
 use study::Tolerances;
 use study::fmt::num;
@@ -64,102 +65,197 @@ pub struct NoisyCheck {
     pub combined_yield: CombinedYield,
 }
 
-/// One reading's check as JSON; with the noise part, every output gets `table_part`,
-/// `noise_sigma` and `combined` (and the split's other keys), `verdict` counts the noise and
-/// `table_verdict` is the table's alone.
-fn check_json(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) -> Value {
-    let mut v = table_check_json(e2e, c);
-    let Some(n) = noisy else {
-        return v;
-    };
-    if let Value::Object(m) = &mut v {
-        m.insert("table_verdict".into(), json!(c.verdict.name()));
-        m.insert("verdict".into(), json!(n.verdict.name()));
-        m.insert(
-            "k_sigma".into(),
-            json!(n.outputs.first().map(|o| o.k_sigma)),
-        );
-        m.insert(
-            "combined_yield".into(),
-            crate::noise::yield_json(&n.combined_yield),
-        );
-        if let Some(Value::Array(outs)) = m.get_mut("outputs") {
-            for (o, co) in outs.iter_mut().zip(&n.outputs) {
-                if let Value::Object(om) = o {
-                    om.insert("table_verdict".into(), om["verdict"].clone());
-                    om.insert("verdict".into(), json!(co.verdict.name()));
-                    crate::noise::insert_output_json(om, co);
-                }
-            }
+/// One error's (or group's) contribution to an output's worst case.
+#[derive(Debug, Serialize)]
+struct ContributionJson<'a> {
+    /// The error's name, or its group's combination.
+    error: String,
+    /// The errors of the group (one when the error acts alone).
+    errors: Vec<&'a str>,
+    /// Its share of the linearised worst case, in [0, 1].
+    worst_case_share: f64,
+    /// Its share of the variance over the box, in [0, 1].
+    variance_share: f64,
+}
+
+/// One output's check (`outputs[]`), output's unit.
+#[derive(Debug, Serialize)]
+struct CheckOutputJson<'a> {
+    /// The output's name.
+    name: &'a str,
+    /// Its unit (the study's).
+    unit: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// Its verdict (with the noise part: counting both).
+    verdict: &'static str,
+    /// With the noise part: the table's verdict alone; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    table_verdict: Option<&'static str>,
+    /// The linearised worst case over the sheet's box, output's unit.
+    worst_case_linear: f64,
+    /// The exact chain at the worst vertex, output's unit.
+    worst_case_exact_at_vertex: f64,
+    /// The second-order bound (`null` when not computed), output's unit.
+    second_order_bound: Option<f64>,
+    /// The certified bound (`null` when not computed), output's unit.
+    certified_bound: Option<f64>,
+    /// The worst test position (index into the schedule).
+    worst_position: usize,
+    /// The computation's precision, output's unit.
+    precision: f64,
+    /// Fraction of the Monte Carlo turntables meeting this output's accuracy, in [0, 1].
+    meeting_fraction: f64,
+    /// Largest error over the Monte Carlo turntables, output's unit.
+    monte_carlo_max: f64,
+    /// Each error's (or group's) contribution.
+    contributions: Vec<ContributionJson<'a>>,
+    /// With the noise part: the split between the table and the noise; absent otherwise.
+    #[serde(flatten)]
+    split: Option<Split>,
+}
+
+/// One reading's check; with the noise part, every output gets the split, `verdict` counts
+/// the noise and `table_verdict` is the table's alone.
+#[derive(Debug, Serialize)]
+struct ReadingCheckJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// The verdict (with the noise part: counting both).
+    verdict: &'static str,
+    /// With the noise part: the table's verdict alone; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    table_verdict: Option<&'static str>,
+    /// Monte Carlo yield over the sheet's box, in [0, 1].
+    #[serde(rename = "yield")]
+    yield_fraction: f64,
+    /// Its 95% interval.
+    yield_interval_95: (f64, f64),
+    /// Turntables drawn.
+    samples: u64,
+    /// Seed of the random streams.
+    seed: u64,
+    /// Every output's check.
+    outputs: Vec<CheckOutputJson<'a>>,
+    /// With the noise part: its confidence multiplier (`null` without outputs); absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    k_sigma: Option<Option<f64>>,
+    /// With the noise part: the yield over turntables and noise; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    combined_yield: Option<CombinedYieldJson>,
+}
+
+impl<'a> ReadingCheckJson<'a> {
+    fn new(e2e: &'a EndToEnd, c: &'a TurntableCheck, noisy: Option<&NoisyCheck>) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        let d = &c.distribution;
+        Self {
+            reading: e2e.reading().to_string(),
+            verdict: noisy.map_or(c.verdict, |n| n.verdict).name(),
+            table_verdict: noisy.map(|_| c.verdict.name()),
+            yield_fraction: d.yield_fraction(),
+            yield_interval_95: d.yield_interval_95(),
+            samples: d.samples,
+            seed: d.seed,
+            outputs: c
+                .outputs
+                .iter()
+                .enumerate()
+                .map(|(i, o)| {
+                    let out = e2e.calibration().outputs()[o.output].output();
+                    let co = noisy.and_then(|n| n.outputs.get(i));
+                    CheckOutputJson {
+                        name: &out.name,
+                        unit: &out.unit,
+                        accuracy: o.accuracy,
+                        verdict: co.map_or(o.verdict, |co| co.verdict).name(),
+                        table_verdict: co.map(|_| o.verdict.name()),
+                        worst_case_linear: o.worst_case.linear_bound,
+                        worst_case_exact_at_vertex: o.worst_case.exact_at_vertex,
+                        second_order_bound: o.worst_case.second_order_bound,
+                        certified_bound: o.worst_case.certified_bound(),
+                        worst_position: o.worst_case.position,
+                        precision: o.worst_case.precision,
+                        meeting_fraction: d.meeting_per_output[o.output] as f64 / d.samples as f64,
+                        monte_carlo_max: d.worst[o.output].value,
+                        contributions: o
+                            .contributions
+                            .iter()
+                            .map(|k| ContributionJson {
+                                error: crate::groups::contribution_name(e2e.turntable(), &k.group),
+                                errors: k.group.names(&names),
+                                worst_case_share: k.worst_share,
+                                variance_share: k.variance_share,
+                            })
+                            .collect(),
+                        split: co.map(Split::from),
+                    }
+                })
+                .collect(),
+            k_sigma: noisy.map(|n| n.outputs.first().map(|o| o.k_sigma)),
+            combined_yield: noisy.map(|n| (&n.combined_yield).into()),
         }
     }
-    v
 }
 
-/// One reading's check as JSON, the table's part only.
-fn table_check_json(e2e: &EndToEnd, c: &TurntableCheck) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    let (lo, hi) = c.distribution.yield_interval_95();
-    json!({
-        "reading": e2e.reading().to_string(),
-        "verdict": c.verdict.name(),
-        "yield": c.distribution.yield_fraction(),
-        "yield_interval_95": [lo, hi],
-        "samples": c.distribution.samples,
-        "seed": c.distribution.seed,
-        "outputs": c.outputs.iter().map(|o| {
-            let out = &e2e.calibration().outputs()[o.output].output();
-            json!({
-                "name": out.name,
-                "unit": out.unit,
-                "accuracy": o.accuracy,
-                "verdict": o.verdict.name(),
-                "worst_case_linear": o.worst_case.linear_bound,
-                "worst_case_exact_at_vertex": o.worst_case.exact_at_vertex,
-                "second_order_bound": o.worst_case.second_order_bound,
-                "certified_bound": o.worst_case.certified_bound(),
-                "worst_position": o.worst_case.position,
-                "precision": o.worst_case.precision,
-                "meeting_fraction": c.distribution.meeting_per_output[o.output] as f64 / c.distribution.samples as f64,
-                "monte_carlo_max": c.distribution.worst[o.output].value,
-                "contributions": o.contributions.iter().map(|k| json!({
-                    "error": crate::groups::contribution_name(e2e.turntable(), &k.group),
-                    "errors": k.group.names(&names),
-                    "worst_case_share": k.worst_share,
-                    "variance_share": k.variance_share,
-                })).collect::<Vec<_>>(),
-            })
-        }).collect::<Vec<_>>(),
-    })
-}
-
-/// The check's JSON object: the study's reading at the top level (`verdict`, `yield`,
+/// `check-turntable --json`: the study's reading at the top level (`verdict`, `yield`,
 /// `outputs`, ...), and `user_reading`, the same for outputs simulated at the actual
 /// orientation when the study's reading is another one (else `null`).
-#[must_use]
-pub fn to_json(
-    checks: &[(EndToEnd, TurntableCheck)],
-    tol: &Tolerances,
-    noisy: &[NoisyCheck],
-) -> Value {
-    let (e2e, c) = &checks[0];
-    let names = e2e.turntable().rotation_error_names();
-    let mut v = check_json(e2e, c, noisy.first());
-    if let Value::Object(m) = &mut v {
-        m.insert("tolerances".into(), json!(tol.path));
-        m.insert(
-            "tolerances_arcmin".into(),
-            crate::out::arcmin_json(&names, &c.upper_bounds_rad),
-        );
-        m.insert("groups".into(), crate::groups::json(e2e.turntable(), &[]));
-        m.insert(
-            "user_reading".into(),
-            checks
+#[derive(Debug, Serialize)]
+pub struct CheckJson<'a> {
+    /// The study's reading's check (its keys at the top level).
+    #[serde(flatten)]
+    study_reading: ReadingCheckJson<'a>,
+    /// The sheet's path.
+    tolerances: &'a str,
+    /// The sheet's angular tolerances, arcmin.
+    tolerances_arcmin: ArcminBounds,
+    /// Errors that act only together.
+    groups: Vec<GroupJson>,
+    /// The user's reading's check, `null` when it is the study's.
+    user_reading: Option<ReadingCheckJson<'a>>,
+    /// Without rate steps: the check when the errors vary with the shaft angle; absent with
+    /// rate steps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    angle_dependent: Option<crate::angle::AngleCheckJson<'a>>,
+    /// Without rate steps: the check of the compensated table (`null` without measured
+    /// errors); absent with rate steps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    compensated: Option<Option<crate::angle::CompensatedJson<'a>>>,
+    /// With rate steps: what the angular check holds at zero; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rate_steps_note: Option<&'static str>,
+    /// With rate steps: per reading, the check with the errors only rotation exposes bounded
+    /// by the sheet; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rate_steps: Option<Vec<crate::rate::RateCheckJson<'a>>>,
+}
+
+impl<'a> CheckJson<'a> {
+    /// The check's view: `checks` per reading (the study's first), with their noise parts.
+    #[must_use]
+    pub fn new(
+        checks: &'a [(EndToEnd, TurntableCheck)],
+        tol: &'a Tolerances,
+        noisy: &'a [NoisyCheck],
+    ) -> Self {
+        let (e2e, c) = &checks[0];
+        let names = e2e.turntable().rotation_error_names();
+        Self {
+            study_reading: ReadingCheckJson::new(e2e, c, noisy.first()),
+            tolerances: &tol.path,
+            tolerances_arcmin: arcmin_bounds(&names, &c.upper_bounds_rad),
+            groups: GroupJson::all(e2e.turntable(), &[]),
+            user_reading: checks
                 .get(1)
-                .map_or(Value::Null, |(e, c)| check_json(e, c, noisy.get(1))),
-        );
+                .map(|(e, c)| ReadingCheckJson::new(e, c, noisy.get(1))),
+            angle_dependent: None,
+            compensated: None,
+            rate_steps_note: None,
+            rate_steps: None,
+        }
     }
-    v
 }
 
 /// Below this share of its accuracy an output's linearised worst case is rounding: the output
@@ -389,20 +485,14 @@ pub fn run(args: &Args) -> Result<()> {
     let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed, true)?;
     let compensated = crate::angle::compensated(&s, &checks, &tol, &settings)?;
     if args.json {
-        let mut v = to_json(&checks, &tol, &noisy);
-        if let Value::Object(m) = &mut v {
-            m.insert(
-                "angle_dependent".into(),
-                crate::angle::json(&checks, &angle),
-            );
-            m.insert(
-                "compensated".into(),
-                compensated
-                    .as_ref()
-                    .map_or(Value::Null, |c| crate::angle::compensated_json(&checks, c)),
-            );
-        }
-        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
+        let mut v = CheckJson::new(&checks, &tol, &noisy);
+        v.angle_dependent = Some(crate::angle::AngleCheckJson::new(&checks, &angle));
+        v.compensated = Some(
+            compensated
+                .as_ref()
+                .map(|c| crate::angle::CompensatedJson::new(&checks, c)),
+        );
+        crate::json::print(&v)
     } else {
         let mut text = to_text(&checks, &s.path, &tol, &noisy);
         if let Some(n) = crate::noise::note(&s) {
@@ -441,21 +531,16 @@ fn run_with_rate_steps(
         .collect::<Result<Vec<_>>>()?;
     const NOTE: &str = "the study has rate steps: the angular errors' check above holds the rate errors and translations at zero; the check below bounds them by the sheet; errors that vary with a shaft angle are modelled at static positions only (not checked here)";
     if args.json {
-        let mut v = to_json(checks, tol, noisy);
-        if let Value::Object(m) = &mut v {
-            m.insert("rate_steps_note".into(), json!(NOTE));
-            m.insert(
-                "rate_steps".into(),
-                Value::Array(
-                    checks
-                        .iter()
-                        .zip(&rate)
-                        .map(|((e2e, _), r)| crate::rate::json(e2e, r))
-                        .collect(),
-                ),
-            );
-        }
-        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
+        let mut v = CheckJson::new(checks, tol, noisy);
+        v.rate_steps_note = Some(NOTE);
+        v.rate_steps = Some(
+            checks
+                .iter()
+                .zip(&rate)
+                .map(|((e2e, _), r)| crate::rate::RateCheckJson::new(e2e, r))
+                .collect(),
+        );
+        crate::json::print(&v)
     } else {
         let mut text = to_text(checks, &s.path, tol, noisy);
         text.push_str(&format!("\n{NOTE}\n"));

@@ -11,7 +11,7 @@ use schedule_design::{
     BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, check_budget_affords,
     design_with_budget,
 };
-use serde_json::{Value, json};
+use serde::Serialize;
 use study::Study;
 use study::fmt::{num, sig};
 
@@ -132,47 +132,114 @@ fn origin(o: ScheduleOrigin) -> String {
     }
 }
 
-fn point_json(p: &BudgetPoint) -> Value {
-    json!({
-        "total_s": p.total_s,
-        "n_positions": p.n_positions(),
-        "dwell_s": p.dwell_s,
-        "objective_arcmin": p.objective_arcmin(),
-        "origin": origin(p.origin),
-    })
+/// A point of the Pareto front (the cheapest table for a total test time).
+#[derive(Debug, Serialize)]
+pub struct PointJson {
+    /// Total test time, s (positions x (dwell + move)).
+    total_s: f64,
+    /// Number of positions.
+    n_positions: usize,
+    /// Dwell per position, s.
+    dwell_s: f64,
+    /// J of the direct allocation with the noise part kept free, arcmin^-2.
+    objective_arcmin: f64,
+    /// The schedule's origin, in words.
+    origin: String,
 }
 
-/// The JSON keys: `time_budget` and, with noise, `pareto`.
-pub fn json(b: &Budgeted) -> Vec<(&'static str, Value)> {
+impl From<&BudgetPoint> for PointJson {
+    fn from(p: &BudgetPoint) -> Self {
+        Self {
+            total_s: p.total_s,
+            n_positions: p.n_positions(),
+            dwell_s: p.dwell_s,
+            objective_arcmin: p.objective_arcmin(),
+            origin: origin(p.origin),
+        }
+    }
+}
+
+/// The front's cheapest table within the budget, with its positions.
+#[derive(Debug, Serialize)]
+pub struct ChosenJson<'a> {
+    /// The point.
+    #[serde(flatten)]
+    point: PointJson,
+    /// Its positions, degrees (joint angles per position).
+    positions_deg: &'a [Vec<f64>],
+}
+
+/// `time_budget`.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum TimeBudgetJson<'a> {
+    /// The study gives no noise.
+    Noiseless {
+        /// The budget, s.
+        budget_s: f64,
+        /// Why the answer does not change.
+        note: &'static str,
+    },
+    /// The design under the budget.
+    Design {
+        /// The budget, s.
+        budget_s: f64,
+        /// The confidence multiplier of the noise part.
+        k_sigma: f64,
+        /// The total test time's definition.
+        total_time: &'static str,
+        /// Schedules evaluated.
+        schedules: usize,
+        /// Dwells evaluated.
+        dwells: usize,
+        /// (schedule, dwell) pairs evaluated.
+        evaluated: usize,
+        /// The numbers of positions designed for.
+        counts: &'a [usize],
+        /// The counts with no table design.
+        counts_skipped: &'a [usize],
+        /// The front's cheapest table within the budget, `null` when none fits.
+        chosen: Option<ChosenJson<'a>>,
+    },
+}
+
+/// The budget's keys of `design-schedule --json`: `time_budget` and, with noise, `pareto`.
+#[derive(Debug, Serialize)]
+pub struct BudgetJson<'a> {
+    /// The budget and the choice.
+    time_budget: TimeBudgetJson<'a>,
+    /// With noise: the Pareto front; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pareto: Option<Vec<PointJson>>,
+}
+
+/// The budget's view.
+pub fn json(b: &Budgeted) -> BudgetJson<'_> {
     match b {
-        Budgeted::Noiseless { budget_s } => vec![(
-            "time_budget",
-            json!({"budget_s": budget_s, "note": NOISELESS_NOTE}),
-        )],
-        Budgeted::Design(d) => vec![
-            (
-                "time_budget",
-                json!({
-                    "budget_s": d.budget_s,
-                    "k_sigma": d.k_sigma,
-                    "total_time": "n_positions x (dwell_s + move_s)",
-                    "schedules": d.schedules.len(),
-                    "dwells": d.dwells_s.len(),
-                    "evaluated": d.evaluated,
-                    "counts": d.counts,
-                    "counts_skipped": d.counts_skipped,
-                    "chosen": d.chosen.as_ref().map(|p| {
-                        let mut v = point_json(p);
-                        v["positions_deg"] = json!(p.positions_deg);
-                        v
-                    }),
+        Budgeted::Noiseless { budget_s } => BudgetJson {
+            time_budget: TimeBudgetJson::Noiseless {
+                budget_s: *budget_s,
+                note: NOISELESS_NOTE,
+            },
+            pareto: None,
+        },
+        Budgeted::Design(d) => BudgetJson {
+            time_budget: TimeBudgetJson::Design {
+                budget_s: d.budget_s,
+                k_sigma: d.k_sigma,
+                total_time: "n_positions x (dwell_s + move_s)",
+                schedules: d.schedules.len(),
+                dwells: d.dwells_s.len(),
+                evaluated: d.evaluated,
+                counts: &d.counts,
+                counts_skipped: &d.counts_skipped,
+                chosen: d.chosen.as_ref().map(|p| ChosenJson {
+                    point: p.into(),
+                    positions_deg: &p.positions_deg,
                 }),
-            ),
-            (
-                "pareto",
-                json!(d.pareto.iter().map(point_json).collect::<Vec<_>>()),
-            ),
-        ],
+            },
+            pareto: Some(d.pareto.iter().map(PointJson::from).collect()),
+        },
     }
 }
 

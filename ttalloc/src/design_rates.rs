@@ -14,7 +14,7 @@
 
 use crate::InputError;
 use anyhow::Result;
-use serde_json::{Value, json};
+use serde::Serialize;
 use study::Study;
 use study::fmt::num;
 
@@ -237,16 +237,41 @@ pub fn text(c: &RateChoice) -> String {
     )
 }
 
-/// The choice as JSON (`rates`).
+/// `design-schedule --rates-deg-per-s` (`rates`): the rate chosen among the candidates.
+#[derive(Debug, Serialize)]
+pub struct RatesJson<'a> {
+    /// The candidate rates, deg/s.
+    candidates_deg_per_s: Vec<f64>,
+    /// J with the designed positions at each candidate, arcmin^-2 (`null`: no allocation).
+    objective_arcmin: Vec<Option<f64>>,
+    /// J with the study's positions at each candidate, arcmin^-2 (`null`: no allocation).
+    study_positions_objective_arcmin: &'a [Option<f64>],
+    /// J of the study as written (its rates and positions), arcmin^-2.
+    study_rates_objective_arcmin: Option<f64>,
+    /// `designed` or `study`: the static positions chosen (`null`: none chosen).
+    chosen_positions: Option<&'static str>,
+    /// The rate chosen, deg/s (`null`: none).
+    chosen_deg_per_s: Option<f64>,
+    /// Its J, arcmin^-2.
+    chosen_objective_arcmin: Option<f64>,
+}
+
+/// The choice's view (`rates`).
 #[must_use]
-pub fn json(c: &RateChoice) -> Value {
-    json!({
-        "candidates_deg_per_s": c.candidates.iter().map(|(r, _)| *r).collect::<Vec<_>>(),
-        "objective_arcmin": c.candidates.iter().map(|(_, j)| *j).collect::<Vec<_>>(),
-        "study_positions_objective_arcmin": c.study_positions,
-        "study_rates_objective_arcmin": c.study_rates_objective_arcmin,
-        "chosen_positions": c.chosen.map(|_| if c.chosen_study_positions { "study" } else { "designed" }),
-        "chosen_deg_per_s": c.chosen.map(|(r, _)| r),
-        "chosen_objective_arcmin": c.chosen.map(|(_, j)| j),
-    })
+pub fn json(c: &RateChoice) -> RatesJson<'_> {
+    RatesJson {
+        candidates_deg_per_s: c.candidates.iter().map(|(r, _)| *r).collect(),
+        objective_arcmin: c.candidates.iter().map(|(_, j)| *j).collect(),
+        study_positions_objective_arcmin: &c.study_positions,
+        study_rates_objective_arcmin: c.study_rates_objective_arcmin,
+        chosen_positions: c.chosen.map(|_| {
+            if c.chosen_study_positions {
+                "study"
+            } else {
+                "designed"
+            }
+        }),
+        chosen_deg_per_s: c.chosen.map(|(r, _)| r),
+        chosen_objective_arcmin: c.chosen.map(|(_, j)| j),
+    }
 }

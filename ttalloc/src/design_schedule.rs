@@ -31,6 +31,7 @@
 //! so and the answer is unchanged.
 
 use crate::InputError;
+use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
@@ -39,7 +40,8 @@ use schedule_design::{
     DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, DesignInputs, DesignSettings, ScheduleDesign,
     ScheduleReport, StartKind, coarse_levels, design_on_grid,
 };
-use serde_json::{Map, Value, json};
+use serde::Serialize;
+use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -131,55 +133,128 @@ struct Outcome {
     rates: Option<crate::design_rates::RateChoice>,
 }
 
-fn requirement_json(r: &ScheduleReport) -> Value {
-    match &r.requirement {
-        Ok(q) => crate::out::deg3(&q.requirement.to_array()),
-        Err(_) => crate::out::per_angle(|_| Value::Null),
-    }
+/// One output's worst case under the study's tolerances, output's unit.
+#[derive(Debug, Serialize)]
+struct WithStudyOutputJson {
+    /// The linearised worst case, output's unit.
+    linear: f64,
+    /// The exact chain at the worst vertex, output's unit.
+    exact_at_vertex: f64,
+    /// The certified bound (`null` when not computed), output's unit.
+    certified_bound: Option<f64>,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The computation's precision, output's unit.
+    precision: f64,
+    /// The worst position (index into the schedule).
+    position: usize,
 }
 
-fn schedule_json(s: &Study, r: &ScheduleReport) -> Value {
+/// The schedule's worst case under the study's tolerances.
+#[derive(Debug, Serialize)]
+struct WithStudyJson<'a> {
+    /// `certified` or `linearised`: which tolerances.
+    tolerances: &'static str,
+    /// The errors with no bound.
+    unbounded_errors: Vec<&'a str>,
+    /// Per output (by name): its worst case, `null` when it is not bounded.
+    outputs: BTreeMap<String, Option<WithStudyOutputJson>>,
+}
+
+/// A schedule's certified direct allocation.
+#[derive(Debug, Serialize)]
+struct CertifiedJson {
+    /// J, arcmin^-2.
+    objective: f64,
+    /// Its bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// Per output (by name): the margin kept for the second-order terms, output's unit.
+    second_order_margins: BTreeMap<String, f64>,
+}
+
+/// One schedule's answer (`designed`, `study`, `d_optimal`, `random_best`).
+#[derive(Debug, Serialize)]
+struct ScheduleJson<'a> {
+    /// J of the direct allocation, arcmin^-2.
+    objective: f64,
+    /// The positions, degrees (joint angles per position).
+    positions_deg: &'a [Vec<f64>],
+    /// Per output (by name): the condition number of its regression.
+    condition_numbers: BTreeMap<String, f64>,
+    /// The orientation requirement, degrees (`null` per angle when it failed,
+    /// `requirement_note`).
+    requirement_deg: PerAngle<Option<f64>>,
+    /// Why there is no requirement, else `null`.
+    requirement_note: Option<String>,
+    /// The direct allocation's bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// Whether no error needs a bound.
+    no_bound_needed: bool,
+    /// log det of the information matrix.
+    log_det_information: f64,
+    /// The certified direct allocation, `null` when none (`certified_note`).
+    certified: Option<CertifiedJson>,
+    /// Why there is no certified allocation, else `null`.
+    certified_note: Option<&'a str>,
+    /// The worst case under the study's tolerances.
+    worst_case_with_study_tolerances: WithStudyJson<'a>,
+}
+
+fn schedule_json<'a>(s: &'a Study, r: &'a ScheduleReport) -> ScheduleJson<'a> {
     let outputs = s.sensor.outputs();
     let errors = s.turntable.rotation_error_names();
-    let by_output = |v: &[f64]| -> Value {
-        Value::Object(
-            outputs
-                .iter()
-                .zip(v)
-                .map(|(o, x)| (o.name.clone(), json!(x)))
-                .collect(),
-        )
+    let by_output = |v: &[f64]| -> BTreeMap<String, f64> {
+        outputs
+            .iter()
+            .zip(v)
+            .map(|(o, x)| (o.name.clone(), *x))
+            .collect()
     };
     let w = &r.with_study_tolerances;
-    let with_study = json!({
-        "tolerances": if w.certified { "certified" } else { "linearised" },
-        "unbounded_errors": w.unbounded.iter().map(|&j| errors[j]).collect::<Vec<_>>(),
-        "outputs": Value::Object(outputs.iter().zip(&w.outputs).map(|(out, o)| (out.name.clone(), o.as_ref().map_or(Value::Null, |o| json!({
-            "linear": o.linear_bound,
-            "exact_at_vertex": o.exact_at_vertex,
-            "certified_bound": o.certified_bound(),
-            "accuracy": out.accuracy,
-            "precision": o.precision,
-            "position": o.position,
-        })))).collect()),
-    });
-    json!({
-        "objective": r.allocation.objective_arcmin(),
-        "positions_deg": r.positions_deg,
-        "condition_numbers": by_output(&r.condition_numbers),
-        "requirement_deg": requirement_json(r),
-        "requirement_note": r.requirement.as_ref().err().map(ToString::to_string),
-        "bounds_arcmin": crate::out::arcmin_json(&errors, &r.allocation.upper_bounds_rad),
-        "no_bound_needed": r.allocation.no_bound_needed(),
-        "log_det_information": r.log_det_information,
-        "certified": r.certified.as_ref().map(|c| json!({
-            "objective": c.objective_arcmin(),
-            "bounds_arcmin": crate::out::arcmin_json(&errors, &c.upper_bounds_rad),
-            "second_order_margins": by_output(&c.second_order_margins),
-        })),
-        "certified_note": r.certified_note,
-        "worst_case_with_study_tolerances": with_study,
-    })
+    ScheduleJson {
+        objective: r.allocation.objective_arcmin(),
+        positions_deg: &r.positions_deg,
+        condition_numbers: by_output(&r.condition_numbers),
+        requirement_deg: match &r.requirement {
+            Ok(q) => crate::json::deg3(&q.requirement.to_array()),
+            Err(_) => PerAngle::new(|_| None),
+        },
+        requirement_note: r.requirement.as_ref().err().map(ToString::to_string),
+        bounds_arcmin: arcmin_bounds(&errors, &r.allocation.upper_bounds_rad),
+        no_bound_needed: r.allocation.no_bound_needed(),
+        log_det_information: r.log_det_information,
+        certified: r.certified.as_ref().map(|c| CertifiedJson {
+            objective: c.objective_arcmin(),
+            bounds_arcmin: arcmin_bounds(&errors, &c.upper_bounds_rad),
+            second_order_margins: by_output(&c.second_order_margins),
+        }),
+        certified_note: r.certified_note.as_deref(),
+        worst_case_with_study_tolerances: WithStudyJson {
+            tolerances: if w.certified {
+                "certified"
+            } else {
+                "linearised"
+            },
+            unbounded_errors: w.unbounded.iter().map(|&j| errors[j]).collect(),
+            outputs: outputs
+                .iter()
+                .zip(&w.outputs)
+                .map(|(out, o)| {
+                    (
+                        out.name.clone(),
+                        o.as_ref().map(|o| WithStudyOutputJson {
+                            linear: o.linear_bound,
+                            exact_at_vertex: o.exact_at_vertex,
+                            certified_bound: o.certified_bound(),
+                            accuracy: out.accuracy,
+                            precision: o.precision,
+                            position: o.position,
+                        }),
+                    )
+                })
+                .collect(),
+        },
+    }
 }
 
 fn start_name(k: StartKind) -> String {
@@ -299,86 +374,194 @@ fn combined_text(c: &CombinedChoice) -> String {
     )
 }
 
-fn to_json(s: &Study, o: &Outcome) -> Value {
+/// With noise and a timing: both schedules answered with the noise counted (`combined`).
+#[derive(Debug, Serialize)]
+struct CombinedJson {
+    /// The confidence multiplier of the noise part.
+    k_sigma: f64,
+    /// J of the study's schedule with the noise counted, arcmin^-2 (`null`: no table
+    /// suffices).
+    study_objective_arcmin: Option<f64>,
+    /// J of the designed schedule with the noise counted, arcmin^-2 (`null`: no table
+    /// suffices).
+    designed_objective_arcmin: Option<f64>,
+    /// `designed` or `study`: the schedule recommended (and written).
+    recommended: &'static str,
+}
+
+/// One output of the study.
+#[derive(Debug, Serialize)]
+struct OutputJson<'a> {
+    /// The output's name.
+    name: &'a str,
+    /// Its unit (the study's).
+    unit: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+}
+
+/// One restart of the search.
+#[derive(Debug, Serialize)]
+struct RestartJson {
+    /// Its start, in words.
+    start: String,
+    /// J of the start, arcmin^-2 (`null` when infeasible and repaired).
+    start_objective: Option<f64>,
+    /// J after the exchange, arcmin^-2 (`null`: no feasible start).
+    objective: Option<f64>,
+    /// Exchanges made.
+    exchanges: Option<usize>,
+    /// Exact evaluations.
+    exact_evaluations: Option<usize>,
+    /// Swaps screened.
+    screened_swaps: Option<usize>,
+    /// Swaps not evaluated.
+    unevaluated_swaps: Option<usize>,
+    /// Whether the exchange ended at a local optimum.
+    local_optimum: Option<bool>,
+}
+
+/// The design search.
+#[derive(Debug, Serialize)]
+struct SearchJson {
+    /// The restart that gave the design, in words.
+    best_restart: String,
+    /// Whether the design is a local optimum of the exchange.
+    local_optimum: bool,
+    /// Every restart.
+    restarts: Vec<RestartJson>,
+    /// log det of the D-optimal schedule's information matrix.
+    d_optimal_log_det: f64,
+    /// Random schedules drawn.
+    random_drawn: usize,
+    /// Of those, feasible.
+    random_feasible: usize,
+}
+
+/// `design-schedule --json`.
+#[derive(Debug, Serialize)]
+struct DesignJson<'a> {
+    /// The study's path.
+    study_path: &'a str,
+    /// The study's reading of eq 13.
+    reading: String,
+    /// Positions designed for.
+    positions: usize,
+    /// The candidates' grid step, degrees.
+    step_deg: f64,
+    /// The condition bound.
+    max_condition: f64,
+    /// Seed of the random starts.
+    seed: u64,
+    /// Candidate positions.
+    candidates: usize,
+    /// Time of the search, s.
+    seconds: f64,
+    /// The command that reproduces the run.
+    command: &'a str,
+    /// With rate steps in the study: what is designed; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rate_steps_note: Option<&'static str>,
+    /// With `--rates-deg-per-s`: the rate chosen; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rates: Option<crate::design_rates::RatesJson<'a>>,
+    /// With noise in the study: how it is counted; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise_note: Option<&'static str>,
+    /// With noise and a timing: both schedules with the noise counted; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    combined: Option<CombinedJson>,
+    /// The study's outputs.
+    outputs: Vec<OutputJson<'a>>,
+    /// The designed schedule.
+    designed: ScheduleJson<'a>,
+    /// The study's schedule.
+    study: ScheduleJson<'a>,
+    /// The D-optimal schedule.
+    d_optimal: ScheduleJson<'a>,
+    /// The best random schedule, `null` when none was feasible.
+    random_best: Option<ScheduleJson<'a>>,
+    /// The search.
+    search: SearchJson,
+    /// Errors that act only together, with their combination's bound under each schedule's
+    /// recommended tolerances.
+    groups: Vec<GroupJson>,
+    /// The study written by `--write-study`, else `null`.
+    written_study: Option<&'a str>,
+    /// With `--time-budget-s`: `time_budget` and `pareto` (at the top level); absent
+    /// otherwise.
+    #[serde(flatten)]
+    budget: Option<crate::design_budget::BudgetJson<'a>>,
+}
+
+fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
     let d = &o.design;
     let search = &d.search;
-    let mut m = Map::new();
-    m.insert("study_path".into(), json!(s.path));
-    m.insert("reading".into(), json!(s.reading.to_string()));
-    m.insert("positions".into(), json!(o.settings.positions));
-    m.insert("step_deg".into(), json!(o.step_deg));
-    m.insert("max_condition".into(), json!(o.settings.max_condition));
-    m.insert("seed".into(), json!(o.settings.seed));
-    m.insert("candidates".into(), json!(o.candidates));
-    m.insert("seconds".into(), json!(o.seconds));
-    m.insert("command".into(), json!(o.command));
-    if let Some(n) = rate_steps_note(s) {
-        m.insert("rate_steps_note".into(), json!(n));
-    }
-    if let Some(r) = &o.rates {
-        m.insert("rates".into(), crate::design_rates::json(r));
-    }
-    if let Some(n) = noise_note(s) {
-        m.insert("noise_note".into(), json!(n));
-    }
-    if let Some(c) = &o.combined {
-        m.insert(
-            "combined".into(),
-            json!({
-                "k_sigma": DEFAULT_K_SIGMA,
-                "study_objective_arcmin": c.study_objective_arcmin,
-                "designed_objective_arcmin": c.designed_objective_arcmin,
-                "recommended": if c.designed_recommended { "designed" } else { "study" },
-            }),
-        );
-    }
-    m.insert(
-        "outputs".into(),
-        json!(
-            s.sensor
-                .outputs()
+    DesignJson {
+        study_path: &s.path,
+        reading: s.reading.to_string(),
+        positions: o.settings.positions,
+        step_deg: o.step_deg,
+        max_condition: o.settings.max_condition,
+        seed: o.settings.seed,
+        candidates: o.candidates,
+        seconds: o.seconds,
+        command: &o.command,
+        rate_steps_note: rate_steps_note(s),
+        rates: o.rates.as_ref().map(crate::design_rates::json),
+        noise_note: noise_note(s),
+        combined: o.combined.as_ref().map(|c| CombinedJson {
+            k_sigma: DEFAULT_K_SIGMA,
+            study_objective_arcmin: c.study_objective_arcmin,
+            designed_objective_arcmin: c.designed_objective_arcmin,
+            recommended: if c.designed_recommended {
+                "designed"
+            } else {
+                "study"
+            },
+        }),
+        outputs: s
+            .sensor
+            .outputs()
+            .iter()
+            .map(|x| OutputJson {
+                name: &x.name,
+                unit: &x.unit,
+                accuracy: x.accuracy,
+            })
+            .collect(),
+        designed: schedule_json(s, &d.designed),
+        study: schedule_json(s, &d.study),
+        d_optimal: schedule_json(s, &d.d_optimal),
+        random_best: d.random_best.as_ref().map(|r| schedule_json(s, r)),
+        search: SearchJson {
+            best_restart: start_name(search.restarts[search.best_restart].start),
+            local_optimum: search.designed.local_optimum,
+            restarts: search
+                .restarts
                 .iter()
-                .map(|x| json!({"name": x.name, "unit": x.unit, "accuracy": x.accuracy}))
-                .collect::<Vec<_>>()
-        ),
-    );
-    m.insert("designed".into(), schedule_json(s, &d.designed));
-    m.insert("study".into(), schedule_json(s, &d.study));
-    m.insert("d_optimal".into(), schedule_json(s, &d.d_optimal));
-    m.insert(
-        "random_best".into(),
-        d.random_best
-            .as_ref()
-            .map_or(Value::Null, |r| schedule_json(s, r)),
-    );
-    m.insert("search".into(), json!({
-        "best_restart": start_name(search.restarts[search.best_restart].start),
-        "local_optimum": search.designed.local_optimum,
-        "restarts": search.restarts.iter().map(|r| json!({
-            "start": start_name(r.start),
-            "start_objective": if r.start_objective.is_finite() { json!(objective_to_arcmin(r.start_objective)) } else { Value::Null },
-            "objective": r.exchange.as_ref().map(|e| e.evaluation.objective_arcmin()),
-            "exchanges": r.exchange.as_ref().map(|e| e.exchanges),
-            "exact_evaluations": r.exchange.as_ref().map(|e| e.exact_evaluations),
-            "screened_swaps": r.exchange.as_ref().map(|e| e.screened_swaps),
-            "unevaluated_swaps": r.exchange.as_ref().map(|e| e.unevaluated_swaps),
-            "local_optimum": r.exchange.as_ref().map(|e| e.local_optimum),
-        })).collect::<Vec<_>>(),
-        "d_optimal_log_det": search.d_optimal.log_det,
-        "random_drawn": search.random_drawn,
-        "random_feasible": search.random_feasible,
-    }));
-    m.insert(
-        "groups".into(),
-        crate::groups::json(&s.turntable, &group_bounds(o)),
-    );
-    m.insert("written_study".into(), json!(o.written));
-    if let Some(b) = &o.budget {
-        for (k, v) in crate::design_budget::json(b) {
-            m.insert(k.into(), v);
-        }
+                .map(|r| RestartJson {
+                    start: start_name(r.start),
+                    start_objective: r
+                        .start_objective
+                        .is_finite()
+                        .then(|| objective_to_arcmin(r.start_objective)),
+                    objective: r.exchange.as_ref().map(|e| e.evaluation.objective_arcmin()),
+                    exchanges: r.exchange.as_ref().map(|e| e.exchanges),
+                    exact_evaluations: r.exchange.as_ref().map(|e| e.exact_evaluations),
+                    screened_swaps: r.exchange.as_ref().map(|e| e.screened_swaps),
+                    unevaluated_swaps: r.exchange.as_ref().map(|e| e.unevaluated_swaps),
+                    local_optimum: r.exchange.as_ref().map(|e| e.local_optimum),
+                })
+                .collect(),
+            d_optimal_log_det: search.d_optimal.log_det,
+            random_drawn: search.random_drawn,
+            random_feasible: search.random_feasible,
+        },
+        groups: GroupJson::all(&s.turntable, &group_bounds(o)),
+        written_study: o.written.as_deref(),
+        budget: o.budget.as_ref().map(crate::design_budget::json),
     }
-    Value::Object(m)
 }
 
 /// `v` rounded down to `digits` significant digits, printed: a tolerance read back from the
@@ -858,7 +1041,7 @@ pub fn run(args: &Args) -> Result<()> {
         rates,
     };
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &outcome))? + "\n"))
+        crate::json::print(&to_json(&s, &outcome))
     } else {
         crate::out::print(&to_text(&s, &outcome))
     }

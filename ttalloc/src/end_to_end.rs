@@ -13,6 +13,7 @@
 //! the reference path, measured in the same run).
 
 use crate::InputError;
+use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, PerAngle, Split, arcmin_bounds};
 use crate::study as st;
 use anyhow::Result;
 use clap::Parser;
@@ -20,7 +21,8 @@ use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, NoiseAnswer, NoisyDirect,
     ReadingAnswer, Tradeoff, YieldVerdict, answer,
 };
-use serde_json::{Map, Value, json};
+use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
@@ -117,82 +119,6 @@ pub fn noisy_answer(
     let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
     let tradeoff = tradeoff?;
     Ok(Some(NoisyAnswer { readings, tradeoff }))
-}
-
-/// The noise part of one reading as JSON.
-fn noise_reading_json(e2e: &EndToEnd, n: &NoiseAnswer) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    let out_name = |k: usize| e2e.calibration().outputs()[k].output().name.clone();
-    let combined = |b: &e2e_verify::CombinedBox| {
-        json!({
-            "name": b.name,
-            "verdict": b.verdict.name(),
-            "outputs": b.outputs.iter().map(|c| {
-                let mut m = Map::new();
-                m.insert("output".into(), json!(out_name(c.output)));
-                m.insert("accuracy".into(), json!(c.accuracy));
-                m.insert("verdict".into(), json!(c.verdict.name()));
-                crate::noise::insert_output_json(&mut m, c);
-                Value::Object(m)
-            }).collect::<Vec<_>>(),
-            "combined_yield": crate::noise::yield_json(&b.combined_yield),
-        })
-    };
-    json!({
-        "k_sigma": n.k_sigma,
-        "noise_sigma": n.sigma,
-        "boxes": n.boxes.iter().map(combined).collect::<Vec<_>>(),
-        "direct_with_noise": match &n.direct {
-            NoisyDirect::Allocated { allocation, answer } => json!({
-                "no_table_suffices": false,
-                "objective": allocation.objective_arcmin(),
-                "bounds_arcmin": crate::out::arcmin_json(&names, &allocation.upper_bounds_rad),
-                "noise_parts": allocation.second_order_margins,
-                "box": combined(answer),
-            }),
-            NoisyDirect::NoTableSuffices { outputs } => json!({
-                "no_table_suffices": true,
-                "outputs": outputs.iter().map(|o| json!({
-                    "output": out_name(o.output),
-                    "noise_part": o.noise_part,
-                    "lower_bounds_part": o.lower_bounds_part,
-                })).collect::<Vec<_>>(),
-            }),
-        },
-    })
-}
-
-/// The trade-off's JSON keys: `min_dwell_s`, `knee_dwell_s`, `tradeoff` (list of
-/// `{dwell_s, total_s, objective_arcmin}`, `null` where no table suffices) and
-/// `noiseless_objective_arcmin`.
-fn insert_tradeoff_json(m: &mut Map<String, Value>, t: &Tradeoff) {
-    m.insert("k_sigma".into(), json!(t.k_sigma));
-    m.insert("min_dwell_s".into(), json!(t.min_dwell_s));
-    m.insert(
-        "min_dwell_at_one_sample".into(),
-        json!(t.min_dwell_at_range_start),
-    );
-    m.insert("knee_dwell_s".into(), json!(t.knee_dwell_s));
-    m.insert("dwell_range_s".into(), json!([t.range_s.0, t.range_s.1]));
-    m.insert(
-        "noiseless_objective_arcmin".into(),
-        json!(objective_to_arcmin(t.noiseless_objective)),
-    );
-    m.insert(
-        "tradeoff".into(),
-        Value::Array(
-            t.points
-                .iter()
-                .map(|p| {
-                    json!({
-                        "dwell_s": p.dwell_s,
-                        "total_s": p.total_s,
-                        "objective_arcmin": p.objective.map(objective_to_arcmin),
-                    })
-                })
-                .collect(),
-        ),
-    );
 }
 
 /// The noise part of the text: per reading, every box's combined answer and the direct
@@ -418,90 +344,6 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
     })
 }
 
-fn box_json(e2e: &EndToEnd, b: &BoxAnswer) -> Value {
-    let d = &b.distribution;
-    let (lo, hi) = d.yield_interval_95();
-    let meets = b.worst_case.meets(&e2e.accuracies());
-    json!({
-        "name": b.name,
-        "meets": meets.name(),
-        "meets_text": meets.to_string(),
-        "meets_excess": meets.excess(),
-        "objective": objective_to_arcmin(b.objective),
-        "bounds_arcmin": crate::out::arcmin_json(&e2e.turntable().rotation_error_names(), &b.upper_bounds_rad),
-        "worst_case": b.worst_case.outputs.iter().map(|w| json!({
-            "output": e2e.calibration().outputs()[w.output].output().name,
-            "exact_at_vertex": w.exact_at_vertex,
-            "linear": w.linear_bound,
-            "second_order_bound": w.second_order_bound,
-            "position": w.position,
-            "per_position": w.per_position,
-        })).collect::<Vec<_>>(),
-        "yield": d.yield_fraction(),
-        "yield_interval_95": [lo, hi],
-        "meeting": d.meeting,
-        "samples": d.samples,
-        "seed": d.seed,
-        "max": d.max(),
-        "worst_ratio": d.worst_ratio.value,
-        "quantiles": d.quantiles.iter().map(|q| json!({"p": q.p, "per_output": q.per_output, "ratio": q.ratio})).collect::<Vec<_>>(),
-        "histograms": d.histograms.iter().map(|h| json!({"edges": h.edges(), "counts": h.counts, "overflow": h.overflow})).collect::<Vec<_>>(),
-    })
-}
-
-fn reading_json(e2e: &EndToEnd, r: &ReadingAnswer) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    let mut m = Map::new();
-    m.insert("reading".into(), json!(r.reading.to_string()));
-    m.insert(
-        "boxes".into(),
-        Value::Array(r.boxes.iter().map(|b| box_json(e2e, b)).collect()),
-    );
-    m.insert("direct".into(), json!({
-        "objective": r.direct.objective_arcmin(),
-        "bounds_arcmin": crate::out::arcmin_json(&names, &r.direct.upper_bounds_rad),
-        "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
-        "no_bound_needed": r.direct.no_bound_needed(),
-        "active_rows": r.direct.active_rows().iter().map(|row| json!({
-            "output": e2e.calibration().outputs()[row.output].output().name,
-            "position": row.position,
-            "joint_angles_deg": e2e.calibration().schedule().positions()[row.position].joint_angles_deg(),
-        })).collect::<Vec<_>>(),
-        "box": box_json(e2e, &r.direct_box),
-    }));
-    m.insert("direct_certified".into(), match &r.direct_certified {
-        Some((d, wc)) => json!({
-            "objective": d.objective_arcmin(),
-            "bounds_arcmin": crate::out::arcmin_json(&names, &d.upper_bounds_rad),
-            "second_order_margins": d.second_order_margins,
-            "worst_case_exact": wc.exact(),
-            "certified_bounds": wc.outputs.iter().map(|w| w.certified_bound()).collect::<Vec<_>>(),
-        }),
-        None => Value::Null,
-    });
-    m.insert(
-        "direct_certified_note".into(),
-        json!(r.direct_certified_note),
-    );
-    m.insert(
-        "yield_based".into(),
-        json!({
-            "objective": r.yield_based.objective_arcmin(),
-            "target": r.yield_based.target,
-            "scale": r.yield_based.scale,
-            "capped": r.yield_based.capped,
-            "design_yield": r.yield_based.yield_fraction(),
-            "design_interval_95": [r.yield_based.interval_95.0, r.yield_based.interval_95.1],
-            "design_verdict": r.yield_based.design_verdict().name(),
-            "verdict": r.yield_verdict().name(),
-            "min_samples": e2e_verify::min_yield_samples(r.yield_based.target),
-            "bounds_arcmin": crate::out::arcmin_json(&names, &r.yield_based.upper_bounds_rad),
-            "remeasured": box_json(e2e, &r.yield_box),
-        }),
-    );
-    Value::Object(m)
-}
-
 /// The direct allocations' bounds by label (`direct, <reading>`), for the groups of errors
 /// that act only together.
 fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
@@ -519,88 +361,636 @@ fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
         .collect()
 }
 
-/// The command's JSON object.
-#[must_use]
-pub fn to_json(
-    s: &Study,
-    e2e: &EndToEnd,
-    a: &BuyersAnswer,
-    note: Option<&String>,
-    seconds: f64,
-    speed: &Throughput,
-    noisy: Option<&NoisyAnswer>,
-) -> Value {
-    let mut v = table_json(s, e2e, a, note, seconds, speed);
-    if let (Some(n), Value::Object(m)) = (noisy, &mut v) {
-        insert_tradeoff_json(m, &n.tradeoff);
-        if let Some(Value::Array(rs)) = m.get_mut("readings") {
-            for (r, nr) in rs.iter_mut().zip(&n.readings) {
-                if let Value::Object(rm) = r {
-                    rm.insert("noise".into(), noise_reading_json(e2e, nr));
-                }
-            }
-        }
-    }
-    v
+/// One output of the calibration (`end-to-end --json` `outputs`).
+#[derive(Debug, Serialize)]
+struct OutputJson<'a> {
+    /// The output's name.
+    name: &'a str,
+    /// Its unit (the study's, e.g. `deg_per_h`).
+    unit: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The computation's precision for it ([`EndToEnd::precisions`]), output's unit.
+    precision: f64,
 }
 
-/// The command's JSON object, the table's part only.
-fn table_json(
-    s: &Study,
-    e2e: &EndToEnd,
-    a: &BuyersAnswer,
-    note: Option<&String>,
+/// One output's worst case over a box (`worst_case[]`), output's unit.
+#[derive(Debug, Serialize)]
+struct WorstCaseJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// The exact chain at the worst vertex, output's unit.
+    exact_at_vertex: f64,
+    /// The linearised worst case, output's unit.
+    linear: f64,
+    /// The certified second-order bound (`null` when not computed), output's unit.
+    second_order_bound: Option<f64>,
+    /// The worst test position (index into the schedule).
+    position: usize,
+    /// The linearised worst case at every position, output's unit.
+    per_position: &'a [f64],
+}
+
+/// A quantile of the Monte Carlo distribution.
+#[derive(Debug, Serialize)]
+struct QuantileJson<'a> {
+    /// The probability, in (0, 1).
+    p: f64,
+    /// Each output's quantile, output's unit.
+    per_output: &'a [f64],
+    /// The quantile of the worst ratio to the accuracy (dimensionless).
+    ratio: f64,
+}
+
+/// A histogram of one output's Monte Carlo distribution.
+#[derive(Debug, Serialize)]
+struct HistogramJson<'a> {
+    /// Bin edges, output's unit.
+    edges: Vec<f64>,
+    /// Counts per bin.
+    counts: &'a [u64],
+    /// Draws beyond the last edge.
+    overflow: u64,
+}
+
+/// One box's answer: worst case, verdict and Monte Carlo yield.
+#[derive(Debug, Serialize)]
+struct BoxJson<'a> {
+    /// The box's name.
+    name: &'a str,
+    /// `meets`, `does_not_meet`, ... ([`e2e_verify::BoxMeets::name`]).
+    meets: &'static str,
+    /// The same in the words of the text and the report.
+    meets_text: String,
+    /// By how much it misses (dimensionless ratio), `null` when it meets.
+    meets_excess: Option<f64>,
+    /// J of the box, arcmin^-2.
+    objective: f64,
+    /// The box's bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// Every output's worst case.
+    worst_case: Vec<WorstCaseJson<'a>>,
+    /// Monte Carlo yield, in [0, 1].
+    #[serde(rename = "yield")]
+    yield_fraction: f64,
+    /// Its 95% interval.
+    yield_interval_95: (f64, f64),
+    /// Turntables meeting every accuracy.
+    meeting: u64,
+    /// Turntables drawn.
+    samples: u64,
+    /// Seed of the random streams.
+    seed: u64,
+    /// Largest error of each output over the draws, output's unit.
+    max: Vec<f64>,
+    /// Largest ratio of an output's error to its accuracy (dimensionless).
+    worst_ratio: f64,
+    /// Quantiles of the distribution.
+    quantiles: Vec<QuantileJson<'a>>,
+    /// One histogram per output.
+    histograms: Vec<HistogramJson<'a>>,
+}
+
+impl<'a> BoxJson<'a> {
+    fn new(e2e: &'a EndToEnd, b: &'a BoxAnswer) -> Self {
+        let d = &b.distribution;
+        let meets = b.worst_case.meets(&e2e.accuracies());
+        Self {
+            name: &b.name,
+            meets: meets.name(),
+            meets_text: meets.to_string(),
+            meets_excess: meets.excess(),
+            objective: objective_to_arcmin(b.objective),
+            bounds_arcmin: arcmin_bounds(
+                &e2e.turntable().rotation_error_names(),
+                &b.upper_bounds_rad,
+            ),
+            worst_case: b
+                .worst_case
+                .outputs
+                .iter()
+                .map(|w| WorstCaseJson {
+                    output: &e2e.calibration().outputs()[w.output].output().name,
+                    exact_at_vertex: w.exact_at_vertex,
+                    linear: w.linear_bound,
+                    second_order_bound: w.second_order_bound,
+                    position: w.position,
+                    per_position: &w.per_position,
+                })
+                .collect(),
+            yield_fraction: d.yield_fraction(),
+            yield_interval_95: d.yield_interval_95(),
+            meeting: d.meeting,
+            samples: d.samples,
+            seed: d.seed,
+            max: d.max(),
+            worst_ratio: d.worst_ratio.value,
+            quantiles: d
+                .quantiles
+                .iter()
+                .map(|q| QuantileJson {
+                    p: q.p,
+                    per_output: &q.per_output,
+                    ratio: q.ratio,
+                })
+                .collect(),
+            histograms: d
+                .histograms
+                .iter()
+                .map(|h| HistogramJson {
+                    edges: h.edges(),
+                    counts: &h.counts,
+                    overflow: h.overflow,
+                })
+                .collect(),
+        }
+    }
+}
+
+/// A row of the direct allocation that binds (`active_rows[]`).
+#[derive(Debug, Serialize)]
+struct ActiveRowJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// The test position (index into the schedule).
+    position: usize,
+    /// Its joint angles, degrees.
+    joint_angles_deg: &'a [f64],
+}
+
+/// The direct allocation of one reading.
+#[derive(Debug, Serialize)]
+struct DirectJson<'a> {
+    /// J, arcmin^-2.
+    objective: f64,
+    /// Its bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// The errors no output constrains.
+    unconstrained: Vec<&'a str>,
+    /// Whether no error needs a bound.
+    no_bound_needed: bool,
+    /// The binding rows.
+    active_rows: Vec<ActiveRowJson<'a>>,
+    /// Its box's answer.
+    #[serde(rename = "box")]
+    box_answer: BoxJson<'a>,
+}
+
+/// The certified direct allocation of one reading.
+#[derive(Debug, Serialize)]
+struct DirectCertifiedJson<'a> {
+    /// J, arcmin^-2.
+    objective: f64,
+    /// Its bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// Each output's margin kept for the second-order terms, output's unit.
+    second_order_margins: &'a [f64],
+    /// The exact chain's worst case per output, output's unit.
+    worst_case_exact: Vec<f64>,
+    /// The certified bound per output (`null` when not computed), output's unit.
+    certified_bounds: Vec<Option<f64>>,
+}
+
+/// The yield-based allocation of one reading.
+#[derive(Debug, Serialize)]
+struct YieldBasedJson<'a> {
+    /// J, arcmin^-2.
+    objective: f64,
+    /// The target yield, in (0, 1).
+    target: f64,
+    /// The scale of the direct shape that reaches it (dimensionless).
+    scale: f64,
+    /// Whether the scale hit its cap.
+    capped: bool,
+    /// The yield on the design draws, in [0, 1].
+    design_yield: f64,
+    /// Its 95% interval.
+    design_interval_95: (f64, f64),
+    /// The design draws' verdict against the target.
+    design_verdict: &'static str,
+    /// The re-measured verdict against the target.
+    verdict: &'static str,
+    /// The fewest draws that can show the target ([`e2e_verify::min_yield_samples`]).
+    min_samples: u64,
+    /// Its bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// The box re-measured on independent draws.
+    remeasured: BoxJson<'a>,
+}
+
+/// One reading's answer (`readings[]`).
+#[derive(Debug, Serialize)]
+struct ReadingJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// Every box's answer.
+    boxes: Vec<BoxJson<'a>>,
+    /// The direct allocation.
+    direct: DirectJson<'a>,
+    /// The certified direct allocation, `null` when there is none (`direct_certified_note`).
+    direct_certified: Option<DirectCertifiedJson<'a>>,
+    /// Why there is no certified allocation, else `null`.
+    direct_certified_note: Option<&'a str>,
+    /// The yield-based allocation.
+    yield_based: YieldBasedJson<'a>,
+    /// With noise in the study: the noise part of this reading; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise: Option<NoiseReadingJson<'a>>,
+}
+
+impl<'a> ReadingJson<'a> {
+    fn new(e2e: &'a EndToEnd, r: &'a ReadingAnswer, noise: Option<&'a NoiseAnswer>) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        Self {
+            reading: r.reading.to_string(),
+            boxes: r.boxes.iter().map(|b| BoxJson::new(e2e, b)).collect(),
+            direct: DirectJson {
+                objective: r.direct.objective_arcmin(),
+                bounds_arcmin: arcmin_bounds(&names, &r.direct.upper_bounds_rad),
+                unconstrained: r.direct.unconstrained.iter().map(|&j| names[j]).collect(),
+                no_bound_needed: r.direct.no_bound_needed(),
+                active_rows: r
+                    .direct
+                    .active_rows()
+                    .iter()
+                    .map(|row| ActiveRowJson {
+                        output: &e2e.calibration().outputs()[row.output].output().name,
+                        position: row.position,
+                        joint_angles_deg: e2e.calibration().schedule().positions()[row.position]
+                            .joint_angles_deg(),
+                    })
+                    .collect(),
+                box_answer: BoxJson::new(e2e, &r.direct_box),
+            },
+            direct_certified: r
+                .direct_certified
+                .as_ref()
+                .map(|(d, wc)| DirectCertifiedJson {
+                    objective: d.objective_arcmin(),
+                    bounds_arcmin: arcmin_bounds(&names, &d.upper_bounds_rad),
+                    second_order_margins: &d.second_order_margins,
+                    worst_case_exact: wc.exact(),
+                    certified_bounds: wc.outputs.iter().map(|w| w.certified_bound()).collect(),
+                }),
+            direct_certified_note: r.direct_certified_note.as_deref(),
+            yield_based: YieldBasedJson {
+                objective: r.yield_based.objective_arcmin(),
+                target: r.yield_based.target,
+                scale: r.yield_based.scale,
+                capped: r.yield_based.capped,
+                design_yield: r.yield_based.yield_fraction(),
+                design_interval_95: r.yield_based.interval_95,
+                design_verdict: r.yield_based.design_verdict().name(),
+                verdict: r.yield_verdict().name(),
+                min_samples: e2e_verify::min_yield_samples(r.yield_based.target),
+                bounds_arcmin: arcmin_bounds(&names, &r.yield_based.upper_bounds_rad),
+                remeasured: BoxJson::new(e2e, &r.yield_box),
+            },
+            noise: noise.map(|n| NoiseReadingJson::new(e2e, n)),
+        }
+    }
+}
+
+/// One output of a box with the noise part (`noise.boxes[].outputs[]`).
+#[derive(Debug, Serialize)]
+struct CombinedOutputJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The verdict counting the noise.
+    verdict: &'static str,
+    /// The split between the table and the noise.
+    #[serde(flatten)]
+    split: Split,
+}
+
+/// A box's answer with the noise part.
+#[derive(Debug, Serialize)]
+struct CombinedBoxJson<'a> {
+    /// The box's name.
+    name: &'a str,
+    /// The weakest output's verdict counting the noise.
+    verdict: &'static str,
+    /// Every output's split.
+    outputs: Vec<CombinedOutputJson<'a>>,
+    /// The yield over turntables and noise.
+    combined_yield: CombinedYieldJson,
+}
+
+impl<'a> CombinedBoxJson<'a> {
+    fn new(e2e: &'a EndToEnd, b: &'a e2e_verify::CombinedBox) -> Self {
+        Self {
+            name: &b.name,
+            verdict: b.verdict.name(),
+            outputs: b
+                .outputs
+                .iter()
+                .map(|c| CombinedOutputJson {
+                    output: &e2e.calibration().outputs()[c.output].output().name,
+                    accuracy: c.accuracy,
+                    verdict: c.verdict.name(),
+                    split: c.into(),
+                })
+                .collect(),
+            combined_yield: (&b.combined_yield).into(),
+        }
+    }
+}
+
+/// An output that leaves no room for the table (`direct_with_noise.outputs[]`), output's unit.
+#[derive(Debug, Serialize)]
+struct NoRoomJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// k sigma of the noise, output's unit.
+    noise_part: f64,
+    /// The part the errors' lower bounds take, output's unit.
+    lower_bounds_part: f64,
+}
+
+/// The direct allocation with the noise part kept free.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+enum DirectWithNoiseJson<'a> {
+    /// A table suffices.
+    Allocated {
+        /// `false`.
+        no_table_suffices: bool,
+        /// J, arcmin^-2.
+        objective: f64,
+        /// Its bounds, arcmin.
+        bounds_arcmin: ArcminBounds,
+        /// Each output's noise part kept free, output's unit.
+        noise_parts: &'a [f64],
+        /// Its box with the noise part.
+        #[serde(rename = "box")]
+        box_answer: CombinedBoxJson<'a>,
+    },
+    /// No table suffices at this dwell.
+    NoTableSuffices {
+        /// `true`.
+        no_table_suffices: bool,
+        /// The outputs whose noise leaves no room.
+        outputs: Vec<NoRoomJson<'a>>,
+    },
+}
+
+/// The noise part of one reading (`readings[].noise`).
+#[derive(Debug, Serialize)]
+struct NoiseReadingJson<'a> {
+    /// The confidence multiplier.
+    k_sigma: f64,
+    /// Each output's noise sigma, output's unit.
+    noise_sigma: &'a [f64],
+    /// Every box with the noise part.
+    boxes: Vec<CombinedBoxJson<'a>>,
+    /// The direct allocation with the noise part kept free.
+    direct_with_noise: DirectWithNoiseJson<'a>,
+}
+
+impl<'a> NoiseReadingJson<'a> {
+    fn new(e2e: &'a EndToEnd, n: &'a NoiseAnswer) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        Self {
+            k_sigma: n.k_sigma,
+            noise_sigma: &n.sigma,
+            boxes: n
+                .boxes
+                .iter()
+                .map(|b| CombinedBoxJson::new(e2e, b))
+                .collect(),
+            direct_with_noise: match &n.direct {
+                NoisyDirect::Allocated { allocation, answer } => DirectWithNoiseJson::Allocated {
+                    no_table_suffices: false,
+                    objective: allocation.objective_arcmin(),
+                    bounds_arcmin: arcmin_bounds(&names, &allocation.upper_bounds_rad),
+                    noise_parts: &allocation.second_order_margins,
+                    box_answer: CombinedBoxJson::new(e2e, answer),
+                },
+                NoisyDirect::NoTableSuffices { outputs } => DirectWithNoiseJson::NoTableSuffices {
+                    no_table_suffices: true,
+                    outputs: outputs
+                        .iter()
+                        .map(|o| NoRoomJson {
+                            output: &e2e.calibration().outputs()[o.output].output().name,
+                            noise_part: o.noise_part,
+                            lower_bounds_part: o.lower_bounds_part,
+                        })
+                        .collect(),
+                },
+            },
+        }
+    }
+}
+
+/// A point of the time/table trade-off.
+#[derive(Debug, Serialize)]
+struct TradeoffPointJson {
+    /// Dwell per position, s.
+    dwell_s: f64,
+    /// Total test time, s.
+    total_s: f64,
+    /// J of the direct allocation with the noise part kept free, arcmin^-2; `null` where no
+    /// table suffices.
+    objective_arcmin: Option<f64>,
+}
+
+/// The time/table trade-off (top-level keys, with noise in the study).
+#[derive(Debug, Serialize)]
+struct TradeoffJson {
+    /// The confidence multiplier.
+    k_sigma: f64,
+    /// The shortest dwell at which some table suffices, s (`null`: none in the range).
+    min_dwell_s: Option<f64>,
+    /// Whether that shortest dwell is the range's start (one sample).
+    min_dwell_at_one_sample: bool,
+    /// The dwell past which a longer one buys little, s.
+    knee_dwell_s: Option<f64>,
+    /// The dwells searched, s.
+    dwell_range_s: (f64, f64),
+    /// J without noise, arcmin^-2.
+    noiseless_objective_arcmin: f64,
+    /// The trade-off's points.
+    tradeoff: Vec<TradeoffPointJson>,
+}
+
+impl From<&Tradeoff> for TradeoffJson {
+    fn from(t: &Tradeoff) -> Self {
+        Self {
+            k_sigma: t.k_sigma,
+            min_dwell_s: t.min_dwell_s,
+            min_dwell_at_one_sample: t.min_dwell_at_range_start,
+            knee_dwell_s: t.knee_dwell_s,
+            dwell_range_s: t.range_s,
+            noiseless_objective_arcmin: objective_to_arcmin(t.noiseless_objective),
+            tradeoff: t
+                .points
+                .iter()
+                .map(|p| TradeoffPointJson {
+                    dwell_s: p.dwell_s,
+                    total_s: p.total_s,
+                    objective_arcmin: p.objective.map(objective_to_arcmin),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// The throughput measured in the same run (`throughput`).
+#[derive(Debug, Serialize)]
+struct ThroughputJson {
+    /// Fast path, all threads, turntables/s.
+    fast_path_turntables_per_s: f64,
+    /// Fast path, one thread, turntables/s.
+    fast_path_one_thread_turntables_per_s: f64,
+    /// Reference path, one thread, turntables/s.
+    reference_path_turntables_per_s: f64,
+    /// The two one-thread rates' ratio (dimensionless).
+    one_thread_ratio_fast_over_reference: f64,
+    /// Threads of the fast path.
+    threads: usize,
+    /// Draws timed on the fast path.
+    fast_draws: u64,
+    /// Draws timed on the reference path.
+    reference_draws: u64,
+}
+
+/// `end-to-end --json`: the command's whole answer.
+#[derive(Debug, Serialize)]
+pub struct EndToEndJson<'a> {
+    /// The study's path.
+    study: &'a str,
+    /// The study's reading of eq 13.
+    reading: String,
+    /// Monte Carlo turntables per box.
+    samples: u64,
+    /// Seed of the random streams.
+    seed: u64,
+    /// Time of the answer, s.
     seconds: f64,
-    speed: &Throughput,
-) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    let r0 = &a.readings[0];
-    let mut bounds = Map::new();
-    for b in &r0.boxes {
+    /// The calibration's outputs.
+    outputs: Vec<OutputJson<'a>>,
+    /// The table's error names.
+    errors: Vec<&'a str>,
+    /// Errors that act only together, with their combination's bound under each direct
+    /// allocation.
+    groups: Vec<GroupJson>,
+    /// The two-step allocation's orientation requirement, degrees (`null` without one).
+    two_step_requirement_deg: Option<PerAngle<Option<f64>>>,
+    /// Why the requirement is not the study's, or the rate steps' note; else `null`.
+    requirement_note: Option<&'a str>,
+    /// J of the two-step allocation, arcmin^-2 (`null` without one).
+    two_step_objective: Option<f64>,
+    /// J of the direct allocation under the study's reading, arcmin^-2.
+    direct_objective: f64,
+    /// Every box's bounds under the study's reading (the boxes by name, `direct`,
+    /// `direct_certified`, `yield_based`), arcmin.
+    bounds_arcmin: BTreeMap<String, ArcminBounds>,
+    /// Per reading: every box's answer and the allocations.
+    readings: Vec<ReadingJson<'a>>,
+    /// Turntables per second measured in the same run.
+    throughput: ThroughputJson,
+    /// With noise in the study: the time/table trade-off (its keys at the top level).
+    #[serde(flatten)]
+    tradeoff: Option<TradeoffJson>,
+    /// With errors that vary with the shaft angle or measured errors: the allocations under
+    /// the study's model; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
+    /// With `--tolerances`: the sheet's pairs allocated with one tolerance each; absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    disc_allocation: Option<crate::angle::SheetAllocationsJson<'a>>,
+    /// With rate steps in the study: the rate tolerances allocated with the angles; absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rate_allocation: Option<crate::rate::RateAllocationJson<'a>>,
+}
+
+impl<'a> EndToEndJson<'a> {
+    /// The command's JSON view of the answer `a` of `e2e` for study `s`.
+    #[must_use]
+    pub fn new(
+        s: &'a Study,
+        e2e: &'a EndToEnd,
+        a: &'a BuyersAnswer,
+        note: Option<&'a String>,
+        seconds: f64,
+        speed: &Throughput,
+        noisy: Option<&'a NoisyAnswer>,
+    ) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        let r0 = &a.readings[0];
+        let mut bounds: BTreeMap<String, ArcminBounds> = r0
+            .boxes
+            .iter()
+            .map(|b| (b.name.clone(), arcmin_bounds(&names, &b.upper_bounds_rad)))
+            .collect();
         bounds.insert(
-            b.name.clone(),
-            crate::out::arcmin_json(&names, &b.upper_bounds_rad),
+            "direct".into(),
+            arcmin_bounds(&names, &r0.direct.upper_bounds_rad),
         );
-    }
-    bounds.insert(
-        "direct".into(),
-        crate::out::arcmin_json(&names, &r0.direct.upper_bounds_rad),
-    );
-    if let Some((d, _)) = &r0.direct_certified {
+        if let Some((d, _)) = &r0.direct_certified {
+            bounds.insert(
+                "direct_certified".into(),
+                arcmin_bounds(&names, &d.upper_bounds_rad),
+            );
+        }
         bounds.insert(
-            "direct_certified".into(),
-            crate::out::arcmin_json(&names, &d.upper_bounds_rad),
+            "yield_based".into(),
+            arcmin_bounds(&names, &r0.yield_based.upper_bounds_rad),
         );
+        Self {
+            study: &s.path,
+            reading: e2e.reading().to_string(),
+            samples: a.inputs.samples,
+            seed: a.inputs.seed,
+            seconds,
+            outputs: e2e
+                .calibration()
+                .outputs()
+                .iter()
+                .zip(e2e.precisions())
+                .map(|(o, p)| OutputJson {
+                    name: &o.output().name,
+                    unit: &o.output().unit,
+                    accuracy: o.output().accuracy,
+                    precision: *p,
+                })
+                .collect(),
+            errors: names.clone(),
+            groups: GroupJson::all(e2e.turntable(), &direct_bounds(a)),
+            two_step_requirement_deg: a
+                .inputs
+                .two_step_requirement
+                .map(|r| crate::json::deg3(&r.to_array())),
+            requirement_note: note.map(String::as_str),
+            two_step_objective: a.two_step.as_ref().map(|t| t.objective_arcmin()),
+            direct_objective: r0.direct.objective_arcmin(),
+            bounds_arcmin: bounds,
+            readings: a
+                .readings
+                .iter()
+                .enumerate()
+                .map(|(i, r)| ReadingJson::new(e2e, r, noisy.and_then(|n| n.readings.get(i))))
+                .collect(),
+            throughput: ThroughputJson {
+                fast_path_turntables_per_s: speed.fast_per_s,
+                fast_path_one_thread_turntables_per_s: speed.fast_one_thread_per_s,
+                reference_path_turntables_per_s: speed.reference_per_s,
+                one_thread_ratio_fast_over_reference: speed.fast_one_thread_per_s
+                    / speed.reference_per_s,
+                threads: speed.threads,
+                fast_draws: speed.fast_draws,
+                reference_draws: speed.reference_draws,
+            },
+            tradeoff: noisy.map(|n| (&n.tradeoff).into()),
+            angle_dependent: None,
+            disc_allocation: None,
+            rate_allocation: None,
+        }
     }
-    bounds.insert(
-        "yield_based".into(),
-        crate::out::arcmin_json(&names, &r0.yield_based.upper_bounds_rad),
-    );
-    json!({
-        "study": s.path,
-        "reading": e2e.reading().to_string(),
-        "samples": a.inputs.samples,
-        "seed": a.inputs.seed,
-        "seconds": seconds,
-        "outputs": e2e.calibration().outputs().iter().zip(e2e.precisions()).map(|(o, p)| json!({"name": o.output().name, "unit": o.output().unit, "accuracy": o.output().accuracy, "precision": p})).collect::<Vec<_>>(),
-        "errors": names,
-        "groups": crate::groups::json(e2e.turntable(), &direct_bounds(a)),
-        "two_step_requirement_deg": a.inputs.two_step_requirement.map(|r| crate::out::deg3(&r.to_array())),
-        "requirement_note": note,
-        "two_step_objective": a.two_step.as_ref().map(|t| t.objective_arcmin()),
-        "direct_objective": r0.direct.objective_arcmin(),
-        "bounds_arcmin": bounds,
-        "readings": a.readings.iter().map(|r| reading_json(e2e, r)).collect::<Vec<_>>(),
-        "throughput": {
-            "fast_path_turntables_per_s": speed.fast_per_s,
-            "fast_path_one_thread_turntables_per_s": speed.fast_one_thread_per_s,
-            "reference_path_turntables_per_s": speed.reference_per_s,
-            "one_thread_ratio_fast_over_reference": speed.fast_one_thread_per_s / speed.reference_per_s,
-            "threads": speed.threads,
-            "fast_draws": speed.fast_draws,
-            "reference_draws": speed.reference_draws,
-        },
-    })
 }
 
 /// The yield-based box against its target: the re-measured yield's 95% interval and the
@@ -773,26 +1163,17 @@ pub fn run(args: &Args) -> Result<()> {
     let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
     let rate = crate::rate::allocation(&s, &e2e, &e2e_verify::McSettings::new(samples, seed))?;
     if args.json {
-        let mut v = to_json(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
-        if let (Some(an), Value::Object(m)) = (&angle, &mut v) {
-            m.insert(
-                "angle_dependent".into(),
-                crate::angle_alloc::to_json(&e2e, an),
-            );
-        }
-        if let (Some((path, al)), Value::Object(m)) = (&sheet, &mut v) {
-            m.insert(
-                "disc_allocation".into(),
-                crate::angle::sheet_allocations_json(path, al),
-            );
-        }
-        if let (Some(r), Value::Object(m)) = (&rate, &mut v) {
-            m.insert(
-                "rate_allocation".into(),
-                crate::rate::allocation_json(&e2e, r),
-            );
-        }
-        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))
+        let mut v = EndToEndJson::new(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
+        v.angle_dependent = angle
+            .as_ref()
+            .map(|an| crate::angle_alloc::AngleDependentJson::new(&e2e, an));
+        v.disc_allocation = sheet
+            .as_ref()
+            .map(|(path, al)| crate::angle::SheetAllocationsJson::new(path, al));
+        v.rate_allocation = rate
+            .as_ref()
+            .map(|r| crate::rate::RateAllocationJson::new(&e2e, r));
+        crate::json::print(&v)
     } else {
         let mut t = to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed);
         if let Some(n) = &noisy {

@@ -22,12 +22,14 @@
 //! "accuracy", "ordinary", "joint"}]`).
 
 use crate::InputError;
+use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use calib_lsq::Reading;
 use calib_lsq::joint::{Combination, JOINT_RANK_RTOL, JointEstimability};
 use clap::Parser;
 use e2e_verify::{DirectAllocation, EndToEnd};
-use serde_json::{Value, json};
+use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use study::Study;
 use study::fmt::{num, sig};
@@ -128,55 +130,184 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
     })
 }
 
-fn combination_json(c: &Combination) -> Value {
-    json!({
-        "combination": c.to_string(),
-        "terms": Value::Object(c.terms.iter().map(|(n, v)| (n.clone(), json!(v))).collect()),
-    })
+/// A combination of errors, in words and by term.
+#[derive(Debug, Serialize)]
+pub struct CombinationJson {
+    /// In words (`0.71 dphi_y1 - 0.71 deps_y`).
+    combination: String,
+    /// Each error's coefficient (dimensionless).
+    terms: BTreeMap<String, f64>,
 }
 
-fn allocation_json(names: &[&str], d: &DirectAllocation) -> Value {
-    json!({
-        "objective_arcmin": (!d.no_bound_needed()).then(|| d.objective_arcmin()),
-        "upper_bounds_arcmin": crate::out::arcmin_json(names, &d.upper_bounds_rad),
-        "no_bound_needed": d.no_bound_needed(),
-    })
+impl From<&Combination> for CombinationJson {
+    fn from(c: &Combination) -> Self {
+        Self {
+            combination: c.to_string(),
+            terms: c.terms.iter().cloned().collect(),
+        }
+    }
 }
 
-/// The answer as JSON (see the [module](self)).
+/// A direct allocation (first order).
+#[derive(Debug, Serialize)]
+pub struct AllocationJson {
+    /// J, arcmin^-2; `null` when no error needs a bound.
+    objective_arcmin: Option<f64>,
+    /// Its bounds, arcmin.
+    upper_bounds_arcmin: ArcminBounds,
+    /// Whether no error needs a bound.
+    no_bound_needed: bool,
+}
+
+impl AllocationJson {
+    fn new(names: &[&str], d: &DirectAllocation) -> Self {
+        Self {
+            objective_arcmin: (!d.no_bound_needed()).then(|| d.objective_arcmin()),
+            upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
+            no_bound_needed: d.no_bound_needed(),
+        }
+    }
+}
+
+/// The direct allocation with the ordinary calibration and with the estimable combinations
+/// estimated.
+#[derive(Debug, Serialize)]
+pub struct AllocationsJson {
+    /// With the ordinary calibration.
+    ordinary: AllocationJson,
+    /// With the joint estimator.
+    joint: AllocationJson,
+}
+
+/// One error's status.
+#[derive(Debug, Serialize)]
+pub struct ErrorStatusJson<'a> {
+    /// The error's name.
+    name: &'a str,
+    /// `alone`, `combined` or `invisible`.
+    status: &'static str,
+}
+
+/// One output's rate error at the box's worst turntable, output's unit.
+#[derive(Debug, Serialize)]
+pub struct BoxOutputJson<'a> {
+    /// The output's name.
+    name: &'a str,
+    /// Its unit (the study's).
+    unit: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// With the ordinary calibration, output's unit.
+    ordinary: f64,
+    /// With the joint estimator, output's unit.
+    joint: f64,
+}
+
+/// The worst turntable's rate errors.
+#[derive(Debug, Serialize)]
+pub struct BoxJson<'a> {
+    /// `tolerances` or `direct-allocation`: whose box.
+    source: &'static str,
+    /// Every output's rate error.
+    outputs: Vec<BoxOutputJson<'a>>,
+}
+
+/// `estimable --json` (see the [module](self)).
+#[derive(Debug, Serialize)]
+pub struct EstimableJson<'a> {
+    /// The study's path.
+    study: &'a str,
+    /// The reading (the user's: outputs at the actual orientation).
+    reading: String,
+    /// The joint Jacobian's rank.
+    rank: usize,
+    /// Its columns (coefficients and table errors).
+    columns: usize,
+    /// The sensor coefficients.
+    coefficients: usize,
+    /// The rank the table's errors add.
+    table_rank: usize,
+    /// The relative tolerance of the rank.
+    rank_rtol: f64,
+    /// The singular values relative to the largest raw effect.
+    singular_values_relative: Vec<f64>,
+    /// The estimable combinations.
+    estimable: Vec<CombinationJson>,
+    /// The invisible combinations.
+    invisible: Vec<CombinationJson>,
+    /// Every error's status.
+    errors: Vec<ErrorStatusJson<'a>>,
+    /// The direct allocations.
+    allocation: AllocationsJson,
+    /// The worst turntable's rate errors.
+    #[serde(rename = "box")]
+    at_box: BoxJson<'a>,
+}
+
+/// The answer's view (see the [module](self)).
 #[must_use]
-pub fn to_json(s: &Study, a: &Estimable) -> Value {
+pub fn to_json<'a>(s: &'a Study, a: &'a Estimable) -> EstimableJson<'a> {
     let names = a.e2e.turntable().rotation_error_names();
     let reference = a.est.reference();
-    let outputs: Vec<Value> = a
-        .e2e
-        .calibration()
-        .outputs()
-        .iter()
-        .zip(&a.at_box.rates)
-        .map(|(oc, (p, j))| {
-            let o = oc.output();
-            json!({"name": o.name, "unit": o.unit, "accuracy": o.accuracy, "ordinary": p, "joint": j})
-        })
-        .collect();
-    json!({
-        "study": s.path,
-        "reading": Reading::USER.to_string(),
-        "rank": a.est.rank(),
-        "columns": a.est.columns(),
-        "coefficients": a.est.coefficients(),
-        "table_rank": a.est.table_rank(),
-        "rank_rtol": JOINT_RANK_RTOL,
-        "singular_values_relative": a.est.singular_values().iter().map(|v| if reference > 0.0 { v / reference } else { 0.0 }).collect::<Vec<_>>(),
-        "estimable": a.est.estimable_combinations().iter().map(combination_json).collect::<Vec<_>>(),
-        "invisible": a.est.invisible_combinations().iter().map(combination_json).collect::<Vec<_>>(),
-        "errors": names.iter().zip(a.est.identifiability()).map(|(n, st)| json!({"name": n, "status": st.name()})).collect::<Vec<_>>(),
-        "allocation": {
-            "ordinary": allocation_json(&names, &a.ordinary),
-            "joint": allocation_json(&names, &a.joint),
+    EstimableJson {
+        study: &s.path,
+        reading: Reading::USER.to_string(),
+        rank: a.est.rank(),
+        columns: a.est.columns(),
+        coefficients: a.est.coefficients(),
+        table_rank: a.est.table_rank(),
+        rank_rtol: JOINT_RANK_RTOL,
+        singular_values_relative: a
+            .est
+            .singular_values()
+            .iter()
+            .map(|v| if reference > 0.0 { v / reference } else { 0.0 })
+            .collect(),
+        estimable: a
+            .est
+            .estimable_combinations()
+            .iter()
+            .map(CombinationJson::from)
+            .collect(),
+        invisible: a
+            .est
+            .invisible_combinations()
+            .iter()
+            .map(CombinationJson::from)
+            .collect(),
+        errors: names
+            .iter()
+            .zip(a.est.identifiability())
+            .map(|(n, st)| ErrorStatusJson {
+                name: n,
+                status: st.name(),
+            })
+            .collect(),
+        allocation: AllocationsJson {
+            ordinary: AllocationJson::new(&names, &a.ordinary),
+            joint: AllocationJson::new(&names, &a.joint),
         },
-        "box": {"source": a.at_box.source, "outputs": outputs},
-    })
+        at_box: BoxJson {
+            source: a.at_box.source,
+            outputs: a
+                .e2e
+                .calibration()
+                .outputs()
+                .iter()
+                .zip(&a.at_box.rates)
+                .map(|(oc, (p, j))| {
+                    let o = oc.output();
+                    BoxOutputJson {
+                        name: &o.name,
+                        unit: &o.unit,
+                        accuracy: o.accuracy,
+                        ordinary: *p,
+                        joint: *j,
+                    }
+                })
+                .collect(),
+        },
+    }
 }
 
 fn allocation_line(names: &[&str], d: &DirectAllocation) -> String {
@@ -292,7 +423,7 @@ pub fn run(args: &Args) -> Result<()> {
         .transpose()?;
     let a = compute(&s, tol.as_ref().map(|t| t.ub_rad.as_slice()))?;
     if args.json {
-        crate::out::print(&(serde_json::to_string_pretty(&to_json(&s, &a))? + "\n"))
+        crate::json::print(&to_json(&s, &a))
     } else {
         let mut t = format!("study {}\n{}", s.path, to_text(&a));
         if s.noise.iter().any(Option::is_some) {

@@ -1,8 +1,7 @@
 //! Errors that act only together ([`tt_kinematics::Turntable::proportional_groups`]: one
 //! rotation to first order, so no output can tell them apart): the one sentence every command
-//! and the report print per group, and the JSON `groups` key.
+//! and the report print per group (the JSON `groups` key: [`crate::json::GroupJson`]).
 
-use serde_json::{Map, Value, json};
 use study::fmt::sig;
 use tt_core::units::rad_to_arcmin;
 use tt_kinematics::{ErrorGroup, Turntable};
@@ -67,42 +66,6 @@ pub fn text(t: &Turntable, bounds: &[(&str, &[f64])], indent: &str) -> String {
         .collect()
 }
 
-/// The JSON `groups` key: one object per group of errors that act only together, with its
-/// `errors`, their `signs` relative to the first, the `combination` that matters and, for
-/// every labelled box of `bounds`, the combination's bound (`combined_bound_arcmin`; `null`
-/// when unbounded).
-#[must_use]
-pub fn json(t: &Turntable, bounds: &[(&str, &[f64])]) -> Value {
-    let names = t.rotation_error_names();
-    Value::Array(
-        t.proportional_groups()
-            .iter()
-            .map(|g| {
-                let mut m = Map::new();
-                m.insert("errors".into(), json!(g.names(&names)));
-                m.insert("signs".into(), json!(g.signs));
-                m.insert("combination".into(), json!(g.combination(&names)));
-                if !bounds.is_empty() {
-                    let per_box: Map<String, Value> = bounds
-                        .iter()
-                        .map(|(label, ub)| {
-                            let b = g.combined_bound(ub);
-                            let v = if b.is_finite() {
-                                json!(rad_to_arcmin(b))
-                            } else {
-                                Value::Null
-                            };
-                            ((*label).to_string(), v)
-                        })
-                        .collect();
-                    m.insert("combined_bound_arcmin".into(), Value::Object(per_box));
-                }
-                Value::Object(m)
-            })
-            .collect(),
-    )
-}
-
 /// The name of a contribution in a share table: the error's, or its group's combination.
 #[must_use]
 pub fn contribution_name(t: &Turntable, g: &ErrorGroup) -> String {
@@ -122,9 +85,9 @@ mod tests {
             sentence(&t, g, &[("direct", &ub)]),
             "dphi_y1 and deps_y act as one rotation (first order, every pose): only their combination dphi_y1 + deps_y matters; its bound is the sum of theirs: 0.5 arcmin (direct)"
         );
-        let v = json(&t, &[("direct", &ub)]);
-        assert_eq!(v.as_array().map(Vec::len), Some(3));
-        assert_eq!(v[1]["errors"], json!(["dphi_z2", "dalpha_z1"]));
+        let v = crate::json::GroupJson::all(&t, &[("direct", &ub)]);
+        assert_eq!(v.len(), 3);
+        assert_eq!(v[1].errors, ["dphi_z2", "dalpha_z1"]);
         assert_eq!(and_list(&["a", "b", "c"]), "a, b and c");
     }
 }

@@ -32,6 +32,7 @@ mod estimable;
 mod fuzz;
 mod groups;
 mod input;
+mod json;
 mod mc;
 mod newfile;
 mod noise;

@@ -23,20 +23,23 @@
 //! the throughput ratios. The result does not depend on `--threads` (nor on the SIMD level).
 
 use crate::InputError;
+use crate::json::PerAngle;
 use crate::study as st;
 use alloc_opt::{AllocationProblem, Allocator, SensitivityWeighted};
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo, SimdLevel};
-use serde_json::{Value, json};
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::num;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
-use tt_kinematics::{ExactChain, LinearModel, OrientationAxis};
+use tt_kinematics::{ExactChain, LinearModel};
 
 /// Which tolerance box to verify.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -164,80 +167,232 @@ pub fn monte_carlo(args: &Args, s: &Study) -> Result<(String, MonteCarlo)> {
     Ok((name, mc))
 }
 
-fn axis_json<T: Into<Value>>(f: impl Fn(OrientationAxis) -> T) -> Value {
-    Value::Object(
-        OrientationAxis::ALL
-            .iter()
-            .map(|&a| (a.name().to_string(), f(a).into()))
-            .collect(),
-    )
+/// Per error, keyed `<error>_arcmin`: a box's bound in arcminutes.
+fn errors_arcmin(names: &[&str], rad: &[f64]) -> BTreeMap<String, f64> {
+    names
+        .iter()
+        .zip(rad)
+        .map(|(n, v)| (format!("{n}_arcmin"), rad_to_arcmin(*v)))
+        .collect()
 }
 
-fn errors_json(names: &[&str], rad: &[f64]) -> Value {
-    Value::Object(
-        names
-            .iter()
-            .zip(rad)
-            .map(|(n, v)| (format!("{n}_arcmin"), json!(rad_to_arcmin(*v))))
-            .collect(),
-    )
+/// The worst sample of one angle.
+#[derive(Debug, Serialize)]
+struct WorstJson {
+    /// The sample's index in the run.
+    index: u64,
+    /// Its angle error, degrees.
+    value_deg: f64,
+    /// Its pose, keyed `<joint>_deg`, degrees.
+    pose_deg: BTreeMap<String, f64>,
+    /// Its errors, keyed `<error>_arcmin`, arcminutes.
+    chi: BTreeMap<String, f64>,
 }
 
-/// The JSON report of a run.
-#[must_use]
-pub fn report_json(
-    s: &Study,
-    name: &str,
-    mc: &MonteCarlo,
-    r: &McResult,
+/// The histogram of one angle's error.
+#[derive(Debug, Serialize)]
+struct HistogramJson<'a> {
+    /// Half the histogram's range, degrees.
+    half_range_deg: f64,
+    /// Counts per bin.
+    counts: &'a [u64],
+    /// Samples below the range.
+    underflow: u64,
+    /// Samples above the range.
+    overflow: u64,
+}
+
+/// `mc --json`: the run's summary.
+#[derive(Debug, Serialize)]
+pub struct McJson<'a> {
+    /// The study's path.
+    study: &'a str,
+    /// Turntables drawn.
+    samples: u64,
+    /// Seed of the random streams.
+    seed: u64,
+    /// Threads of the run.
     threads: usize,
+    /// Time of the run, s.
     seconds: f64,
-) -> Value {
-    let std = r.std_rad();
-    let names = s.turntable.rotation_error_names();
-    let joints = s.turntable.joint_names();
-    let linear = LinearModel::new(&s.turntable);
-    json!({
-        "study": s.path,
-        "samples": r.samples,
-        "seed": r.seed,
-        "threads": threads,
-        "seconds": seconds,
-        "samples_per_sec": r.samples as f64 / seconds,
-        "bounds": name,
-        "chunk_size": r.chunk_size,
-        "evaluator": "exact chain, eq-24 read-out (fast quaternion plan)",
-        "simd_level": SimdLevel::detected().name(),
-        "lb_arcmin": errors_json(&names, mc.bounds().lb_rad()),
-        "ub_arcmin": errors_json(&names, mc.bounds().ub_rad()),
-        "requirement_deg": axis_json(|a| r.requirement.get(a).map(rad_to_deg)),
-        "max_abs_deg": axis_json(|a| rad_to_deg(r.axis(a).max_abs_rad)),
-        "linear_worst_case_deg": axis_json(|a| linear
-            .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
-            .map_or(Value::Null, |w| json!(rad_to_deg(w.upper_bound)))),
-        "mean_deg": axis_json(|a| rad_to_deg(r.axis(a).mean_rad)),
-        "std_deg": axis_json(|a| rad_to_deg(std[a.index()])),
-        "within_requirement_fraction": r.within_requirement_fraction(),
-        "within_requirement_fraction_per_axis": axis_json(|a| r.axis(a).within_requirement as f64 / r.samples as f64),
-        "worst": axis_json(|a| {
-            let w = &r.axis(a).worst;
-            json!({
-                "index": w.index,
-                "value_deg": rad_to_deg(w.value_rad),
-                "pose_deg": joints.iter().zip(w.pose.angles_rad()).map(|(j, v)| (format!("{j}_deg"), json!(rad_to_deg(*v)))).collect::<serde_json::Map<_, _>>(),
-                "chi": errors_json(&names, &w.chi_rad),
-            })
-        }),
-        "histogram_deg": axis_json(|a| {
-            let h = &r.axis(a).histogram;
-            json!({
-                "half_range_deg": rad_to_deg(h.hi),
-                "counts": h.counts,
-                "underflow": h.underflow,
-                "overflow": h.overflow,
-            })
-        }),
-    })
+    /// Turntables per second.
+    samples_per_sec: f64,
+    /// The box's name (`two-step`, `table4`, the sheet's path).
+    bounds: &'a str,
+    /// Samples per chunk of the parallel run.
+    chunk_size: u32,
+    /// The evaluator, in words.
+    evaluator: &'static str,
+    /// The SIMD level chosen at run time.
+    simd_level: &'static str,
+    /// The box's lower bounds, keyed `<error>_arcmin`, arcminutes.
+    lb_arcmin: BTreeMap<String, f64>,
+    /// The box's upper bounds, keyed `<error>_arcmin`, arcminutes.
+    ub_arcmin: BTreeMap<String, f64>,
+    /// The study's orientation requirement per angle, degrees (`null`: none).
+    requirement_deg: PerAngle<Option<f64>>,
+    /// The largest |error| drawn per angle, degrees.
+    max_abs_deg: PerAngle<f64>,
+    /// The certified linearised worst case per angle, degrees (`null` when not certified).
+    linear_worst_case_deg: PerAngle<Option<f64>>,
+    /// The mean error per angle, degrees.
+    mean_deg: PerAngle<f64>,
+    /// The standard deviation per angle, degrees.
+    std_deg: PerAngle<f64>,
+    /// Fraction of samples inside the requirement on all three angles, in [0, 1].
+    within_requirement_fraction: f64,
+    /// The same per angle.
+    within_requirement_fraction_per_axis: PerAngle<f64>,
+    /// The worst sample per angle.
+    worst: PerAngle<WorstJson>,
+    /// The histogram per angle.
+    histogram_deg: PerAngle<HistogramJson<'a>>,
+    /// Why the requirement is not the study's, else `null`.
+    requirement_note: Option<&'a str>,
+    /// With `--baselines`: the same-run baselines and throughput ratios; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    baselines: Option<Baselines>,
+}
+
+impl<'a> McJson<'a> {
+    /// The view of the run `r` of `mc` (box `name`) for study `s`.
+    #[must_use]
+    pub fn new(
+        s: &'a Study,
+        name: &'a str,
+        mc: &MonteCarlo,
+        r: &'a McResult,
+        threads: usize,
+        seconds: f64,
+    ) -> Self {
+        let std = r.std_rad();
+        let names = s.turntable.rotation_error_names();
+        let joints = s.turntable.joint_names();
+        let linear = LinearModel::new(&s.turntable);
+        Self {
+            study: &s.path,
+            samples: r.samples,
+            seed: r.seed,
+            threads,
+            seconds,
+            samples_per_sec: r.samples as f64 / seconds,
+            bounds: name,
+            chunk_size: r.chunk_size,
+            evaluator: "exact chain, eq-24 read-out (fast quaternion plan)",
+            simd_level: SimdLevel::detected().name(),
+            lb_arcmin: errors_arcmin(&names, mc.bounds().lb_rad()),
+            ub_arcmin: errors_arcmin(&names, mc.bounds().ub_rad()),
+            requirement_deg: PerAngle::new(|a| r.requirement.get(a).map(rad_to_deg)),
+            max_abs_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).max_abs_rad)),
+            linear_worst_case_deg: PerAngle::new(|a| {
+                linear
+                    .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
+                    .ok()
+                    .map(|w| rad_to_deg(w.upper_bound))
+            }),
+            mean_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).mean_rad)),
+            std_deg: PerAngle::new(|a| rad_to_deg(std[a.index()])),
+            within_requirement_fraction: r.within_requirement_fraction(),
+            within_requirement_fraction_per_axis: PerAngle::new(|a| {
+                r.axis(a).within_requirement as f64 / r.samples as f64
+            }),
+            worst: PerAngle::new(|a| {
+                let w = &r.axis(a).worst;
+                WorstJson {
+                    index: w.index,
+                    value_deg: rad_to_deg(w.value_rad),
+                    pose_deg: joints
+                        .iter()
+                        .zip(w.pose.angles_rad())
+                        .map(|(j, v)| (format!("{j}_deg"), rad_to_deg(*v)))
+                        .collect(),
+                    chi: errors_arcmin(&names, &w.chi_rad),
+                }
+            }),
+            histogram_deg: PerAngle::new(|a| {
+                let h = &r.axis(a).histogram;
+                HistogramJson {
+                    half_range_deg: rad_to_deg(h.hi),
+                    counts: &h.counts,
+                    underflow: h.underflow,
+                    overflow: h.overflow,
+                }
+            }),
+            requirement_note: None,
+            baselines: None,
+        }
+    }
+}
+
+/// One interleaved round of the baselines, samples per second.
+#[derive(Debug, Serialize)]
+struct RoundJson {
+    /// The fast path.
+    fast: f64,
+    /// The generator alone (drawn and decoded).
+    generator_alone: f64,
+    /// The generator's raw words only.
+    generator_words_only: f64,
+    /// The portable SIMD level.
+    portable_simd: f64,
+}
+
+/// `mc --baselines`: the same-run baselines and throughput ratios (rates in samples per
+/// second, ratios dimensionless).
+#[derive(Debug, Serialize)]
+pub struct Baselines {
+    /// Samples per timing in the interleaved rounds.
+    interleaved_samples: u64,
+    /// Every round's rates.
+    interleaved_rounds: Vec<RoundJson>,
+    /// The fast path's best rate over the rounds.
+    fast_best_samples_per_sec: f64,
+    /// The generator alone, best rate.
+    generator_alone_samples_per_sec: f64,
+    /// The generator's raw words only, best rate.
+    generator_words_only_samples_per_sec: f64,
+    /// The portable SIMD level, best rate.
+    portable_simd_samples_per_sec: f64,
+    /// Samples of the plain dense-matrix chain.
+    plain_chain_samples: u64,
+    /// Its rate.
+    plain_chain_samples_per_sec: f64,
+    /// The NumPy baseline's own JSON as it printed it, or `{"error": why}`.
+    numpy: Numpy,
+    /// Fast path over the generator alone.
+    ratio_fast_over_generator_alone: f64,
+    /// Fast path over the generator's raw words.
+    ratio_fast_over_generator_words_only: f64,
+    /// Fast path over the portable SIMD level.
+    ratio_fast_over_portable_simd: f64,
+    /// The main run over the plain chain.
+    ratio_fast_over_plain_chain: f64,
+    /// The main run over NumPy, `null` without its rate.
+    ratio_fast_over_numpy: Option<f64>,
+}
+
+/// The NumPy baseline's answer.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+enum Numpy {
+    /// The script's own JSON, passed through as it printed it (an external program's schema,
+    /// not this command's).
+    Output(Value),
+    /// Why there is none.
+    Error {
+        /// In words.
+        error: String,
+    },
+}
+
+impl Numpy {
+    /// The script's samples per second, if it printed them.
+    fn samples_per_sec(&self) -> Option<f64> {
+        match self {
+            Self::Output(v) => v.get("samples_per_sec").and_then(Value::as_f64),
+            Self::Error { .. } => None,
+        }
+    }
 }
 
 fn progress_bar(samples: u64) -> Option<ProgressBar> {
@@ -265,9 +420,11 @@ fn numpy_script() -> Option<PathBuf> {
 /// Samples of the NumPy baseline run (its own default scale: 2e6).
 const NUMPY_SAMPLES: &str = "2e6";
 
-fn run_numpy(seed: u64) -> Value {
+fn run_numpy(seed: u64) -> Numpy {
     let Some(script) = numpy_script() else {
-        return json!({"error": "shared/bench/numpy_mc_anchor.py not found beside the workspace"});
+        return Numpy::Error {
+            error: "shared/bench/numpy_mc_anchor.py not found beside the workspace".into(),
+        };
     };
     match std::process::Command::new("python3")
         .arg(&script)
@@ -275,11 +432,18 @@ fn run_numpy(seed: u64) -> Value {
         .arg(seed.to_string())
         .output()
     {
-        Ok(out) if out.status.success() => {
-            serde_json::from_slice(&out.stdout).unwrap_or_else(|e| json!({"error": e.to_string()}))
-        }
-        Ok(out) => json!({"error": String::from_utf8_lossy(&out.stderr).to_string()}),
-        Err(e) => json!({"error": e.to_string()}),
+        Ok(out) if out.status.success() => serde_json::from_slice(&out.stdout).map_or_else(
+            |e| Numpy::Error {
+                error: e.to_string(),
+            },
+            Numpy::Output,
+        ),
+        Ok(out) => Numpy::Error {
+            error: String::from_utf8_lossy(&out.stderr).to_string(),
+        },
+        Err(e) => Numpy::Error {
+            error: e.to_string(),
+        },
     }
 }
 
@@ -302,7 +466,7 @@ fn baselines(
     mc: &MonteCarlo,
     pool: &rayon::ThreadPool,
     fast_rate: f64,
-) -> Result<Value> {
+) -> Result<Baselines> {
     let samples = mc.config().samples;
     let rate_of = |f: &(dyn Fn() -> u64 + Sync)| {
         let t = Instant::now();
@@ -335,30 +499,35 @@ fn baselines(
     let numpy = if s.turntable == tt_kinematics::paper::table3() {
         run_numpy(mc.config().seed)
     } else {
-        json!({"error": "the NumPy baseline models the paper's table only"})
+        Numpy::Error {
+            error: "the NumPy baseline models the paper's table only".into(),
+        }
     };
-    let numpy_rate = numpy.get("samples_per_sec").and_then(Value::as_f64);
-    Ok(json!({
-        "interleaved_samples": sub.config().samples,
-        "interleaved_rounds": rounds.iter().map(|r| json!({
-            "fast": r[0],
-            "generator_alone": r[1],
-            "generator_words_only": r[2],
-            "portable_simd": r[3],
-        })).collect::<Vec<_>>(),
-        "fast_best_samples_per_sec": fast_best,
-        "generator_alone_samples_per_sec": gen_rate,
-        "generator_words_only_samples_per_sec": words_rate,
-        "portable_simd_samples_per_sec": portable_rate,
-        "plain_chain_samples": plain.samples,
-        "plain_chain_samples_per_sec": plain_rate,
-        "numpy": numpy,
-        "ratio_fast_over_generator_alone": fast_best / gen_rate,
-        "ratio_fast_over_generator_words_only": fast_best / words_rate,
-        "ratio_fast_over_portable_simd": fast_best / portable_rate,
-        "ratio_fast_over_plain_chain": fast_rate / plain_rate,
-        "ratio_fast_over_numpy": numpy_rate.map(|r| fast_rate / r),
-    }))
+    let numpy_rate = numpy.samples_per_sec();
+    Ok(Baselines {
+        interleaved_samples: sub.config().samples,
+        interleaved_rounds: rounds
+            .iter()
+            .map(|r| RoundJson {
+                fast: r[0],
+                generator_alone: r[1],
+                generator_words_only: r[2],
+                portable_simd: r[3],
+            })
+            .collect(),
+        fast_best_samples_per_sec: fast_best,
+        generator_alone_samples_per_sec: gen_rate,
+        generator_words_only_samples_per_sec: words_rate,
+        portable_simd_samples_per_sec: portable_rate,
+        plain_chain_samples: plain.samples,
+        plain_chain_samples_per_sec: plain_rate,
+        numpy,
+        ratio_fast_over_generator_alone: fast_best / gen_rate,
+        ratio_fast_over_generator_words_only: fast_best / words_rate,
+        ratio_fast_over_portable_simd: fast_best / portable_rate,
+        ratio_fast_over_plain_chain: fast_rate / plain_rate,
+        ratio_fast_over_numpy: numpy_rate.map(|r| fast_rate / r),
+    })
 }
 
 /// Run the command.
@@ -388,13 +557,13 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(pb) = pb {
         pb.finish_and_clear();
     }
-    let mut report = report_json(&s, &name, &mc, &r, threads, seconds);
-    report["requirement_note"] = json!(note);
+    let mut report = McJson::new(&s, &name, &mc, &r, threads, seconds);
+    report.requirement_note = note.as_deref();
     if args.baselines {
-        report["baselines"] = baselines(&s, &mc, &pool, r.samples as f64 / seconds)?;
+        report.baselines = Some(baselines(&s, &mc, &pool, r.samples as f64 / seconds)?);
     }
     if args.json {
-        return crate::out::print(&(serde_json::to_string_pretty(&report)? + "\n"));
+        return crate::json::print(&report);
     }
     let mut t = format!(
         "{} samples, seed {}, {} threads ({}), bounds {}, study {}: {:.3} s, {} samples/s\n",
@@ -426,14 +595,14 @@ pub fn run(args: &Args) -> Result<()> {
         r.samples,
         study::fmt::sig(r.within_requirement_fraction(), 9)
     ));
-    if let Some(n) = note {
-        t.push_str(&n);
+    if let Some(n) = &note {
+        t.push_str(n);
         t.push('\n');
     }
-    if let Some(b) = report.get("baselines") {
+    if let Some(b) = &report.baselines {
         t.push_str(&format!(
             "baselines: {}\n",
-            serde_json::to_string_pretty(b)?
+            serde_json::to_string_pretty(&serde_json::to_value(b)?)?
         ));
     }
     crate::out::print(&t)

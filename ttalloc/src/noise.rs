@@ -1,11 +1,10 @@
 //! The noise part of every command's answer (issue 21): the study's noise and timing turned
-//! into e2e-verify's [`NoiseBudget`], and the words and JSON keys every command uses for the
+//! into e2e-verify's [`NoiseBudget`], and the words every command uses for the
 //! split between the table's part and the noise's ("table 0.0061, noise 0.0047 at 3
 //! sigma"). No science here: the covariance is calib-lsq's, the combination e2e-verify's.
 
 use anyhow::Result;
 use e2e_verify::{CombinedOutput, CombinedYield, EndToEnd, NoiseBudget};
-use serde_json::{Map, Value, json};
 use study::Study;
 use study::fmt::num;
 
@@ -53,32 +52,6 @@ pub fn split_text(c: &CombinedOutput, unit: &str) -> String {
         num(c.combined),
         c.dominant.name()
     )
-}
-
-/// The per-output keys of the split, in the output's unit: `table_part`, `noise_sigma`,
-/// `combined` (beside `k_sigma`, `table_certified`, `dominant`, `combined_meets`).
-pub fn insert_output_json(m: &mut Map<String, Value>, c: &CombinedOutput) {
-    m.insert("table_part".into(), json!(c.table_part));
-    m.insert("table_certified".into(), json!(c.table_certified));
-    m.insert("noise_sigma".into(), json!(c.noise_sigma));
-    m.insert("k_sigma".into(), json!(c.k_sigma));
-    m.insert("combined".into(), json!(c.combined));
-    m.insert("combined_meets".into(), json!(c.meets()));
-    m.insert("dominant".into(), json!(c.dominant.name()));
-}
-
-/// The combined yield as JSON.
-#[must_use]
-pub fn yield_json(y: &CombinedYield) -> Value {
-    let (lo, hi) = y.yield_interval_95();
-    json!({
-        "yield": y.yield_fraction(),
-        "yield_interval_95": [lo, hi],
-        "meeting": y.meeting,
-        "meeting_per_output": y.meeting_per_output,
-        "samples": y.samples,
-        "seed": y.seed,
-    })
 }
 
 /// The combined yield in words.

@@ -2,7 +2,6 @@
 //! quietly, as Unix tools do.
 
 use std::io::Write;
-use tt_core::OrientationAxis;
 
 /// Marks an error as "the reader closed standard output": the program ends quietly.
 #[derive(Debug)]
@@ -50,26 +49,6 @@ pub fn csv_field(s: &str) -> String {
     }
 }
 
-/// Bounds in arcminutes keyed by error name, for JSON: a non-finite bound (an error with no
-/// bound) is `null`.
-#[must_use]
-pub fn arcmin_json(names: &[&str], ub_rad: &[f64]) -> serde_json::Value {
-    serde_json::Value::Object(
-        names
-            .iter()
-            .zip(ub_rad)
-            .map(|(n, u)| {
-                let v = if u.is_finite() {
-                    serde_json::json!(tt_core::units::rad_to_arcmin(*u))
-                } else {
-                    serde_json::Value::Null
-                };
-                ((*n).to_string(), v)
-            })
-            .collect(),
-    )
-}
-
 /// The note for values printed as 0 because they lie at or below the computation's precision
 /// ([`e2e_verify::EndToEnd::precisions`]): `None` when no output in `zeroed` (name, unit,
 /// precision) had one.
@@ -85,21 +64,4 @@ pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
                 .join(", ")
         )
     })
-}
-
-/// A JSON object with one entry per orientation angle, keyed by its one spelling
-/// ([`OrientationAxis::name`]: `psi`, `theta`, `gamma`).
-pub fn per_angle(f: impl Fn(OrientationAxis) -> serde_json::Value) -> serde_json::Value {
-    serde_json::Value::Object(
-        OrientationAxis::ALL
-            .iter()
-            .map(|&a| (a.name().to_string(), f(a)))
-            .collect(),
-    )
-}
-
-/// A requirement-like triple (psi, theta, gamma; `None` where an angle has none) in degrees,
-/// as [`per_angle`] JSON.
-pub fn deg3(r: &[Option<f64>; 3]) -> serde_json::Value {
-    per_angle(|a| serde_json::json!(r[a.index()].map(f64::to_degrees)))
 }

@@ -8,11 +8,12 @@
 //! direct allocation.
 
 use crate::InputError;
+use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use e2e_verify::{
     EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, RateAllocation, RateTolerance,
 };
-use serde_json::{Value, json};
+use serde::Serialize;
 use study::fmt::num;
 use study::{Study, Tolerances};
 
@@ -221,62 +222,6 @@ pub fn verdict_sentence(e2e: &EndToEnd, c: &RateCheck) -> String {
     )
 }
 
-/// The check as JSON (`rate_steps`).
-#[must_use]
-pub fn json(e2e: &EndToEnd, c: &RateCheck) -> Value {
-    let names = e2e.extra_names();
-    let acc = e2e.accuracies();
-    let extra: Vec<Value> = e2e
-        .extra_errors()
-        .iter()
-        .zip(&names)
-        .zip(&c.bounds)
-        .map(|((x, n), b)| {
-            let (v, unit) = in_sheet_units(x, *b);
-            json!({"name": n, "bound": v, "unit": unit})
-        })
-        .collect();
-    let outputs: Vec<Value> = c
-        .outputs
-        .iter()
-        .map(|o| {
-            let parts: Vec<Value> = names
-                .iter()
-                .zip(&o.extra_parts)
-                .map(|(n, v)| json!({"error": n, "part": v}))
-                .collect();
-            let meets = o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output];
-            json!({
-                "output": e2e.calibration().outputs()[o.output].output().name,
-                "accuracy": acc[o.output],
-                "linear_bound": o.linear_bound,
-                "angular_part": o.angular_part,
-                "extra_part": o.extra_part(),
-                "extra_parts": parts,
-                "entry": o.position,
-                "exact_at_vertex": o.exact_at_vertex,
-                "meets": meets,
-            })
-        })
-        .collect();
-    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
-    let verdict = if c.meets_every_accuracy(e2e) {
-        "meets"
-    } else {
-        "does not meet"
-    };
-    json!({
-        "reading": e2e.reading().to_string(),
-        "extra_errors": extra,
-        "outputs": outputs,
-        "yield": c.meets as f64 / c.samples as f64,
-        "yield_interval_95": [lo, hi],
-        "samples": c.samples,
-        "max_drawn": c.max_drawn,
-        "verdict": verdict,
-    })
-}
-
 /// A rate tolerance's bound in the sheet's unit: mm or ppm.
 #[must_use]
 pub fn tolerance_in_sheet_units(t: &RateTolerance, v: f64) -> (f64, &'static str) {
@@ -445,91 +390,311 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
     s
 }
 
-/// The certified allocation with the rate tolerances as JSON (`rate_allocation.certified`).
-fn certified_json(e2e: &EndToEnd, c: &e2e_verify::CertifiedRateAllocation) -> Value {
-    let names = e2e.turntable().rotation_error_names();
-    let acc = e2e.accuracies();
-    let tolerances: Vec<Value> = e2e
-        .rate_tolerance_names()
-        .iter()
-        .zip(&c.tolerances)
-        .zip(c.tolerance_bounds())
-        .map(|((n, t), b)| {
-            let (v, unit) = tolerance_in_sheet_units(t, *b);
-            json!({"name": n, "bound": b.is_finite().then_some(v), "unit": unit})
-        })
-        .collect();
-    let outputs: Vec<Value> = (0..acc.len())
-        .map(|k| {
-            json!({
-                "output": e2e.calibration().outputs()[k].output().name,
-                "accuracy": acc[k],
-                "linear_bound": c.linear_bounds[k],
-                "second_order_bound": c.second_order_bounds[k],
-                "certified_bound": c.certified_bound(k),
-            })
-        })
-        .collect();
-    json!({
-        "objective_arcmin": c.combined.objective_arcmin(),
-        "bounds_arcmin": crate::out::arcmin_json(&names, c.angles_rad()),
-        "tolerances": tolerances,
-        "outputs": outputs,
-        "rounds": c.rounds,
-    })
+/// A rate error or translation bounded by the sheet (`extra_errors[]`), in the sheet's unit.
+#[derive(Debug, Serialize)]
+pub struct ExtraErrorJson {
+    /// The error's name.
+    name: String,
+    /// Its bound, `unit`.
+    bound: f64,
+    /// `mm` or `ppm`.
+    unit: &'static str,
 }
 
-/// The allocation with the rate tolerances as JSON (`rate_allocation`).
-#[must_use]
-pub fn allocation_json(e2e: &EndToEnd, r: &RateAllocated) -> Value {
-    let a = &r.allocation;
-    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
-    let names = e2e.turntable().rotation_error_names();
-    let acc = e2e.accuracies();
-    let tolerances: Vec<Value> = e2e
-        .rate_tolerance_names()
-        .iter()
-        .zip(&a.tolerances)
-        .zip(a.tolerance_bounds())
-        .zip(&a.weights)
-        .map(|(((n, t), b), w)| {
-            let (v, unit) = tolerance_in_sheet_units(t, *b);
-            json!({
-                "name": n,
-                "bound": b.is_finite().then_some(v),
-                "unit": unit,
-                "weight_si_per_rad": w,
-            })
-        })
-        .collect();
-    let outputs: Vec<Value> = a
-        .worst_cases
-        .iter()
-        .map(|w| {
-            json!({
-                "output": e2e.calibration().outputs()[w.output].output().name,
-                "accuracy": acc[w.output],
-                "linear_bound": w.linear_bound,
-                "exact_at_vertex": w.exact_at_vertex,
-                "entry": w.position,
-                "margin": acc[w.output] - w.exact_at_vertex,
-                "second_order_room": a.combined.second_order_margins[w.output],
-            })
-        })
-        .collect();
-    json!({
-        "reading": e2e.reading().to_string(),
-        "objective_arcmin": a.combined.objective_arcmin(),
-        "bounds_arcmin": crate::out::arcmin_json(&names, a.angles_rad()),
-        "tolerances": tolerances,
-        "outputs": outputs,
-        "exact_rounds": a.exact_rounds,
-        "yield": r.meets as f64 / r.samples as f64,
-        "yield_interval_95": [lo, hi],
-        "samples": r.samples,
-        "max_drawn": r.max_drawn,
-        "direct_note": e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
-        "certified": r.certified.as_ref().ok().map(|c| certified_json(e2e, c)),
-        "certified_note": r.certified.as_ref().err(),
-    })
+/// One error's part of an output's worst case, output's unit.
+#[derive(Debug, Serialize)]
+pub struct ExtraPartJson {
+    /// The error's name.
+    error: String,
+    /// Its part, output's unit.
+    part: f64,
+}
+
+/// One output's worst case over both boxes, output's unit.
+#[derive(Debug, Serialize)]
+pub struct RateOutputJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The linearised worst case over both boxes, output's unit.
+    linear_bound: f64,
+    /// The angular errors' part, output's unit.
+    angular_part: f64,
+    /// The rate errors' and translations' part, output's unit.
+    extra_part: f64,
+    /// Each such error's part.
+    extra_parts: Vec<ExtraPartJson>,
+    /// The worst schedule entry (index).
+    entry: usize,
+    /// The exact chain at the worst vertex, output's unit.
+    exact_at_vertex: f64,
+    /// Whether both are within the accuracy.
+    meets: bool,
+}
+
+/// The check with the errors only rotation exposes (`rate_steps[]`).
+#[derive(Debug, Serialize)]
+pub struct RateCheckJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// The sheet's rate errors and translations.
+    extra_errors: Vec<ExtraErrorJson>,
+    /// Every output's worst case.
+    outputs: Vec<RateOutputJson<'a>>,
+    /// Monte Carlo yield over both boxes, in [0, 1].
+    #[serde(rename = "yield")]
+    yield_fraction: f64,
+    /// Its 95% interval.
+    yield_interval_95: (f64, f64),
+    /// Turntables drawn.
+    samples: u64,
+    /// Largest error of each output over the draws, output's unit.
+    max_drawn: &'a [f64],
+    /// `meets` or `does not meet`.
+    verdict: &'static str,
+}
+
+impl<'a> RateCheckJson<'a> {
+    /// The view of the check `c` of `e2e`.
+    #[must_use]
+    pub fn new(e2e: &'a EndToEnd, c: &'a RateCheck) -> Self {
+        let names = e2e.extra_names();
+        let acc = e2e.accuracies();
+        Self {
+            reading: e2e.reading().to_string(),
+            extra_errors: e2e
+                .extra_errors()
+                .iter()
+                .zip(&names)
+                .zip(&c.bounds)
+                .map(|((x, n), b)| {
+                    let (bound, unit) = in_sheet_units(x, *b);
+                    ExtraErrorJson {
+                        name: n.clone(),
+                        bound,
+                        unit,
+                    }
+                })
+                .collect(),
+            outputs: c
+                .outputs
+                .iter()
+                .map(|o| RateOutputJson {
+                    output: &e2e.calibration().outputs()[o.output].output().name,
+                    accuracy: acc[o.output],
+                    linear_bound: o.linear_bound,
+                    angular_part: o.angular_part,
+                    extra_part: o.extra_part(),
+                    extra_parts: names
+                        .iter()
+                        .zip(&o.extra_parts)
+                        .map(|(n, v)| ExtraPartJson {
+                            error: n.clone(),
+                            part: *v,
+                        })
+                        .collect(),
+                    entry: o.position,
+                    exact_at_vertex: o.exact_at_vertex,
+                    meets: o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output],
+                })
+                .collect(),
+            yield_fraction: c.meets as f64 / c.samples as f64,
+            yield_interval_95: e2e_verify::wilson_interval_95(c.meets, c.samples),
+            samples: c.samples,
+            max_drawn: &c.max_drawn,
+            verdict: if c.meets_every_accuracy(e2e) {
+                "meets"
+            } else {
+                "does not meet"
+            },
+        }
+    }
+}
+
+/// A rate tolerance allocated (`tolerances[]`), in the sheet's unit.
+#[derive(Debug, Serialize)]
+pub struct ToleranceJson {
+    /// The tolerance's name.
+    name: String,
+    /// Its bound, `unit`; `null` when unbounded.
+    bound: Option<f64>,
+    /// `mm` or `ppm`.
+    unit: &'static str,
+    /// Its weight in J, SI unit per rad (absent in the certified allocation).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    weight_si_per_rad: Option<f64>,
+}
+
+/// One output of the certified allocation with the rate tolerances, output's unit.
+#[derive(Debug, Serialize)]
+pub struct CertifiedOutputJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The linearised worst case, output's unit.
+    linear_bound: f64,
+    /// The second-order bound, output's unit.
+    second_order_bound: f64,
+    /// The certified bound, output's unit.
+    certified_bound: f64,
+}
+
+/// The certified allocation with the rate tolerances (`rate_allocation.certified`).
+#[derive(Debug, Serialize)]
+pub struct CertifiedRateJson<'a> {
+    /// J, arcmin^-2.
+    objective_arcmin: f64,
+    /// The angular bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// The rate tolerances.
+    tolerances: Vec<ToleranceJson>,
+    /// Every output's bounds.
+    outputs: Vec<CertifiedOutputJson<'a>>,
+    /// Rounds of the certification.
+    rounds: usize,
+}
+
+impl<'a> CertifiedRateJson<'a> {
+    fn new(e2e: &'a EndToEnd, c: &e2e_verify::CertifiedRateAllocation) -> Self {
+        let names = e2e.turntable().rotation_error_names();
+        let acc = e2e.accuracies();
+        Self {
+            objective_arcmin: c.combined.objective_arcmin(),
+            bounds_arcmin: arcmin_bounds(&names, c.angles_rad()),
+            tolerances: e2e
+                .rate_tolerance_names()
+                .into_iter()
+                .zip(&c.tolerances)
+                .zip(c.tolerance_bounds())
+                .map(|((name, t), b)| {
+                    let (v, unit) = tolerance_in_sheet_units(t, *b);
+                    ToleranceJson {
+                        name,
+                        bound: b.is_finite().then_some(v),
+                        unit,
+                        weight_si_per_rad: None,
+                    }
+                })
+                .collect(),
+            outputs: (0..acc.len())
+                .map(|k| CertifiedOutputJson {
+                    output: &e2e.calibration().outputs()[k].output().name,
+                    accuracy: acc[k],
+                    linear_bound: c.linear_bounds[k],
+                    second_order_bound: c.second_order_bounds[k],
+                    certified_bound: c.certified_bound(k),
+                })
+                .collect(),
+            rounds: c.rounds,
+        }
+    }
+}
+
+/// One output of the allocation with the rate tolerances, output's unit.
+#[derive(Debug, Serialize)]
+pub struct AllocatedOutputJson<'a> {
+    /// The output's name.
+    output: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The linearised worst case, output's unit.
+    linear_bound: f64,
+    /// The exact chain at the worst vertex, output's unit.
+    exact_at_vertex: f64,
+    /// The worst schedule entry (index).
+    entry: usize,
+    /// `accuracy - exact_at_vertex`, output's unit.
+    margin: f64,
+    /// The room kept for the second-order terms, output's unit.
+    second_order_room: f64,
+}
+
+/// The allocation with the rate tolerances (`rate_allocation`).
+#[derive(Debug, Serialize)]
+pub struct RateAllocationJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// J, arcmin^-2.
+    objective_arcmin: f64,
+    /// The angular bounds, arcmin.
+    bounds_arcmin: ArcminBounds,
+    /// The rate tolerances.
+    tolerances: Vec<ToleranceJson>,
+    /// Every output's worst case.
+    outputs: Vec<AllocatedOutputJson<'a>>,
+    /// Rounds of the exact-chain check.
+    exact_rounds: usize,
+    /// Monte Carlo yield over both boxes, in [0, 1].
+    #[serde(rename = "yield")]
+    yield_fraction: f64,
+    /// Its 95% interval.
+    yield_interval_95: (f64, f64),
+    /// Turntables drawn.
+    samples: u64,
+    /// Largest error of each output over the draws, output's unit.
+    max_drawn: &'a [f64],
+    /// Why the direct allocation is not certified at rate steps.
+    direct_note: &'static str,
+    /// The certified allocation, `null` when there is none (`certified_note`).
+    certified: Option<CertifiedRateJson<'a>>,
+    /// Why there is no certified allocation, else `null`.
+    certified_note: Option<&'a str>,
+}
+
+impl<'a> RateAllocationJson<'a> {
+    /// The view of `r` for `e2e`.
+    #[must_use]
+    pub fn new(e2e: &'a EndToEnd, r: &'a RateAllocated) -> Self {
+        let a = &r.allocation;
+        let names = e2e.turntable().rotation_error_names();
+        let acc = e2e.accuracies();
+        Self {
+            reading: e2e.reading().to_string(),
+            objective_arcmin: a.combined.objective_arcmin(),
+            bounds_arcmin: arcmin_bounds(&names, a.angles_rad()),
+            tolerances: e2e
+                .rate_tolerance_names()
+                .into_iter()
+                .zip(&a.tolerances)
+                .zip(a.tolerance_bounds())
+                .zip(&a.weights)
+                .map(|(((name, t), b), w)| {
+                    let (v, unit) = tolerance_in_sheet_units(t, *b);
+                    ToleranceJson {
+                        name,
+                        bound: b.is_finite().then_some(v),
+                        unit,
+                        weight_si_per_rad: Some(*w),
+                    }
+                })
+                .collect(),
+            outputs: a
+                .worst_cases
+                .iter()
+                .map(|w| AllocatedOutputJson {
+                    output: &e2e.calibration().outputs()[w.output].output().name,
+                    accuracy: acc[w.output],
+                    linear_bound: w.linear_bound,
+                    exact_at_vertex: w.exact_at_vertex,
+                    entry: w.position,
+                    margin: acc[w.output] - w.exact_at_vertex,
+                    second_order_room: a.combined.second_order_margins[w.output],
+                })
+                .collect(),
+            exact_rounds: a.exact_rounds,
+            yield_fraction: r.meets as f64 / r.samples as f64,
+            yield_interval_95: e2e_verify::wilson_interval_95(r.meets, r.samples),
+            samples: r.samples,
+            max_drawn: &r.max_drawn,
+            direct_note: e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
+            certified: r
+                .certified
+                .as_ref()
+                .ok()
+                .map(|c| CertifiedRateJson::new(e2e, c)),
+            certified_note: r.certified.as_ref().err().map(String::as_str),
+        }
+    }
 }

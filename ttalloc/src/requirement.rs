@@ -11,7 +11,7 @@ use crate::study as st;
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem};
 use clap::Parser;
-use serde_json::{Value, json};
+use serde::Serialize;
 use study::fmt::num;
 use tt_core::OrientationAxis;
 
@@ -33,39 +33,101 @@ pub struct Args {
     pub all_readings: bool,
 }
 
-use crate::out::deg3;
+use crate::json::{PerAngle, deg3};
 
-/// The JSON object of one requirement.
+/// One output's requirement box.
+#[derive(Debug, Serialize)]
+pub struct RequirementOutputJson<'a> {
+    /// The output's name.
+    name: &'a str,
+    /// Its unit (the study's).
+    unit: &'a str,
+    /// Its accuracy, output's unit.
+    accuracy: f64,
+    /// The angles it is sensitive to (`null` when the requirement failed).
+    sensitive_angles: Option<Vec<&'static str>>,
+    /// The half sides of its largest box, degrees (`null` where unconstrained, or when the
+    /// requirement failed).
+    half_sides_deg: Option<PerAngle<Option<f64>>>,
+}
+
+/// The requirement under one reading (`requirement --all-readings --json` prints a list).
+#[derive(Debug, Serialize)]
+pub struct RequirementJson<'a> {
+    /// The reading of eq 13.
+    reading: String,
+    /// Its formula.
+    reading_formula: String,
+    /// The Delta-R kind.
+    delta_r: String,
+    /// Test positions.
+    schedule_positions: usize,
+    /// I_psi, I_theta, I_gamma, degrees (`null` where no output constrains the angle; the
+    /// whole `null` when the requirement failed, `note`).
+    orientation_requirement_deg: Option<PerAngle<Option<f64>>>,
+    /// Every output's box.
+    outputs: Vec<RequirementOutputJson<'a>>,
+    /// The outputs that constrain no angle.
+    unconstrained_outputs: Vec<String>,
+    /// Why there is no requirement, else `null`.
+    note: Option<String>,
+}
+
+/// The view of one requirement.
 #[must_use]
-pub fn requirement_json(
-    p: &RequirementProblem,
+pub fn requirement_json<'a>(
+    p: &'a RequirementProblem,
     r: &Result<OrientationRequirement, CalibError>,
-) -> Value {
-    let outputs: Vec<Value> = p
-        .calibration
-        .outputs()
-        .iter()
-        .map(|o| {
-            let b = r.as_ref().ok().and_then(|r| r.boxes.iter().find(|b| b.output == o.output().name));
-            json!({
-                "name": o.output().name,
-                "unit": o.output().unit,
-                "accuracy": o.output().accuracy,
-                "sensitive_angles": b.map(|b| (0..3).filter(|&j| b.half_rad[j].is_some()).map(|j| OrientationAxis::ALL[j].name()).collect::<Vec<_>>()),
-                "half_sides_deg": b.map(|b| deg3(&b.half_rad)),
+) -> RequirementJson<'a> {
+    RequirementJson {
+        reading: p.reading.to_string(),
+        reading_formula: p.reading.formula().to_string(),
+        delta_r: p.delta_r_kind.name().to_string(),
+        schedule_positions: p.calibration.schedule().len(),
+        orientation_requirement_deg: r.as_ref().ok().map(|r| deg3(&r.requirement.to_array())),
+        outputs: p
+            .calibration
+            .outputs()
+            .iter()
+            .map(|o| {
+                let b = r
+                    .as_ref()
+                    .ok()
+                    .and_then(|r| r.boxes.iter().find(|b| b.output == o.output().name));
+                RequirementOutputJson {
+                    name: &o.output().name,
+                    unit: &o.output().unit,
+                    accuracy: o.output().accuracy,
+                    sensitive_angles: b.map(|b| {
+                        (0..3)
+                            .filter(|&j| b.half_rad[j].is_some())
+                            .map(|j| OrientationAxis::ALL[j].name())
+                            .collect()
+                    }),
+                    half_sides_deg: b.map(|b| deg3(&b.half_rad)),
+                }
             })
-        })
-        .collect();
-    json!({
-        "reading": p.reading.to_string(),
-        "reading_formula": p.reading.formula(),
-        "delta_r": p.delta_r_kind.name(),
-        "schedule_positions": p.calibration.schedule().len(),
-        "orientation_requirement_deg": r.as_ref().ok().map(|r| deg3(&r.requirement.to_array())),
-        "outputs": outputs,
-        "unconstrained_outputs": r.as_ref().map(|r| r.unconstrained_outputs.clone()).unwrap_or_default(),
-        "note": r.as_ref().err().map(ToString::to_string),
-    })
+            .collect(),
+        unconstrained_outputs: r
+            .as_ref()
+            .map(|r| r.unconstrained_outputs.clone())
+            .unwrap_or_default(),
+        note: r.as_ref().err().map(ToString::to_string),
+    }
+}
+
+/// `requirement --json`: the study's requirement under its reading (or `--reading`).
+#[derive(Debug, Serialize)]
+pub struct StudyRequirementJson<'a> {
+    /// The requirement (its keys at the top level).
+    #[serde(flatten)]
+    requirement: RequirementJson<'a>,
+    /// The study's path.
+    study: &'a str,
+    /// The requirement the study gives, degrees (`null`: computed).
+    given_requirement_deg: Option<PerAngle<Option<f64>>>,
+    /// How the given requirement disagrees with the computed one, else `null`.
+    disagreement: Option<String>,
 }
 
 fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
@@ -126,7 +188,7 @@ pub fn run(args: &Args) -> Result<()> {
         study::RequirementSource::Computed => None,
     };
     if args.all_readings {
-        let rows: Vec<(Reading, Value)> = Reading::all()
+        let problems: Vec<(RequirementProblem, _)> = Reading::all()
             .into_iter()
             .map(|reading| {
                 let p = RequirementProblem {
@@ -134,25 +196,30 @@ pub fn run(args: &Args) -> Result<()> {
                     ..problem.clone()
                 };
                 let r = p.requirement();
-                (reading, requirement_json(&p, &r))
+                (p, r)
             })
             .collect();
+        let rows: Vec<(Reading, RequirementJson<'_>)> = problems
+            .iter()
+            .map(|(p, r)| (p.reading, requirement_json(p, r)))
+            .collect();
         if args.json {
-            let v: Vec<Value> = rows.into_iter().map(|(_, v)| v).collect();
-            crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))?;
+            let v: Vec<&RequirementJson<'_>> = rows.iter().map(|(_, v)| v).collect();
+            crate::json::print(&v)?;
         } else {
             let mut t = format!(
                 "study {} ({})\nreading | error vector | I_psi (deg) | I_theta (deg) | I_gamma (deg)\n",
                 s.name, s.path
             );
             for (reading, v) in rows {
-                let req = &v["orientation_requirement_deg"];
-                let f = |k: &str| {
-                    req[k]
-                        .as_f64()
+                let f = |a: OrientationAxis| {
+                    v.orientation_requirement_deg
+                        .as_ref()
+                        .and_then(|req| *req.get(a))
+                        .filter(|d| d.is_finite())
                         .map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7))
                 };
-                let [psi, theta, gamma] = OrientationAxis::ALL.map(|a| f(a.name()));
+                let [psi, theta, gamma] = OrientationAxis::ALL.map(f);
                 t.push_str(&format!(
                     "{reading} | {} | {psi} | {theta} | {gamma}\n",
                     reading.formula(),
@@ -164,11 +231,12 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let r = problem.requirement();
     if args.json {
-        let mut v = requirement_json(&problem, &r);
-        v["study"] = json!(s.path);
-        v["given_requirement_deg"] = given.map_or(Value::Null, |g| deg3(&g));
-        v["disagreement"] = json!(resolved.disagreement);
-        crate::out::print(&(serde_json::to_string_pretty(&v)? + "\n"))?;
+        crate::json::print(&StudyRequirementJson {
+            requirement: requirement_json(&problem, &r),
+            study: &s.path,
+            given_requirement_deg: given.map(|g| deg3(&g)),
+            disagreement: resolved.disagreement,
+        })?;
     } else {
         let mut t = format!(
             "orientation requirement (eq 15-16), study {} ({}), {} positions, {} Delta-R\nreading: {} ({})\n",

@@ -16,18 +16,18 @@ pub mod doc;
 pub mod figures;
 mod paper;
 mod render;
+mod results;
 
 use crate::InputError;
 use anyhow::{Result, bail};
 use clap::Parser;
 use compute::{Computed, Options};
 use render::Sections;
-use serde_json::{Map, Value, json};
+use serde_json::Value;
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use study::Tolerances;
 use tt_core::units::objective_to_arcmin;
-use tt_core::units::{rad_to_arcmin, rad_to_deg};
 
 /// Arguments of `report`.
 #[derive(Debug, Parser)]
@@ -67,252 +67,6 @@ pub struct PaperArgs {
     /// Monte Carlo turntables per box (default: the study's, the paper's 10,000).
     #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
     pub samples: Option<u64>,
-}
-
-thread_local! {
-    /// Set when a NaN was put into `results.json` (an internal error: nothing is written).
-    static NAN_SEEN: Cell<bool> = const { Cell::new(false) };
-}
-
-/// A JSON number; `null` for an infinite bound (no bound); a NaN is recorded and fails the
-/// run.
-fn f(v: f64) -> Value {
-    if v.is_nan() {
-        NAN_SEEN.with(|c| c.set(true));
-        Value::Null
-    } else if v.is_finite() {
-        json!(v)
-    } else {
-        Value::Null
-    }
-}
-
-fn deg3(r: &[Option<f64>; 3]) -> Value {
-    crate::out::per_angle(|a| json!(r[a.index()].map(|v| f(rad_to_deg(v)))))
-}
-
-fn arcmin_map(names: &[&str], ub_rad: &[f64]) -> Value {
-    Value::Object(
-        names
-            .iter()
-            .zip(ub_rad)
-            .map(|(n, u)| ((*n).to_string(), f(rad_to_arcmin(*u))))
-            .collect(),
-    )
-}
-
-/// `results.json`: every number of the report at full precision.
-fn results_json(c: &Computed, comparisons: &[paper::Comparison]) -> Value {
-    let s = &c.study;
-    let names = s.turntable.rotation_error_names();
-    let outs: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();
-    let mut m = Map::new();
-    m.insert("study".into(), json!(s.path));
-    m.insert("study_name".into(), json!(s.name));
-    m.insert("seed".into(), json!(c.options.seed));
-    m.insert("samples".into(), json!(c.options.samples));
-    m.insert("seconds".into(), f(c.seconds));
-    m.insert("reading".into(), json!(s.reading.to_string()));
-    m.insert(
-        "requirement".into(),
-        json!({
-            "given": c.requirement.given,
-            "used_deg": c.requirement.used.map(|r| deg3(&r.to_array())),
-            "computed_deg": c.requirement.computed.as_ref().ok().map(|r| deg3(&r.requirement.to_array())),
-            "computed_note": c.requirement.computed.as_ref().err().map(ToString::to_string),
-            "unconstrained_outputs": c.requirement.computed.as_ref().map(|r| r.unconstrained_outputs.clone()).unwrap_or_default(),
-            "disagreement": c.requirement.disagreement,
-            "readings": c.readings.iter().map(|(r, q)| json!({"reading": r.to_string(), "requirement_deg": q.as_ref().ok().map(|q| deg3(&q.requirement.to_array())), "note": q.as_ref().err().map(ToString::to_string)})).collect::<Vec<_>>(),
-        }),
-    );
-    m.insert(
-        "calibration".into(),
-        Value::Array(
-            s.calibration
-                .outputs()
-                .iter()
-                .map(|o| json!({"output": o.output().name, "coefficients": o.regression().names(), "rank": o.regression().rank(), "condition_number": f(o.regression().condition_number())}))
-                .collect(),
-        ),
-    );
-    m.insert("groups".into(), crate::groups::json(&s.turntable, &[]));
-    m.insert(
-        "average_sensitivity".into(),
-        Value::Object(
-            names
-                .iter()
-                .enumerate()
-                .map(|(i, n)| {
-                    (
-                        (*n).to_string(),
-                        crate::out::per_angle(|a| f(c.sensitivity[i][a.index()])),
-                    )
-                })
-                .collect(),
-        ),
-    );
-    if let Some(t) = &c.two_step {
-        m.insert(
-            "two_step".into(),
-            json!({
-                "requirement_deg": deg3(&t.problem.requirement().to_array()),
-                "bounds_arcmin": arcmin_map(&names, &t.ours.upper_bounds_rad),
-                "objective_arcmin": f(t.ours.objective_arcmin()),
-                "certificate": t.ours.certificate.axes.iter().map(|a| json!({
-                    "angle": a.name,
-                    "worst_case_deg": f(rad_to_deg(a.worst_case_rad)),
-                    "proven_bound_deg": f(rad_to_deg(a.upper_bound_rad)),
-                    "share": a.share.map(f),
-                    "lemma1": a.satisfied,
-                })).collect::<Vec<_>>(),
-                "exact_chain_excess_rad": t.exact.iter().map(|e| e.excess_rad.map(f)).collect::<Vec<_>>(),
-                "monte_carlo": {
-                    "samples": t.result.samples,
-                    "max_abs_deg": t.result.max_abs_rad().map(|v| f(rad_to_deg(v))),
-                    "proven_bound_deg": t.monte_carlo.half_range_rad().map(|v| f(rad_to_deg(v))),
-                    "within_requirement_fraction": f(t.result.within_requirement_fraction()),
-                },
-            }),
-        );
-    }
-    if let Some(e) = &c.equal {
-        m.insert("equal_effects".into(), json!({"bounds_arcmin": arcmin_map(&names, &e.upper_bounds_rad), "objective_arcmin": f(e.objective_arcmin())}));
-    }
-    let accuracies = c.e2e.accuracies();
-    let boxj = |b: &e2e_verify::BoxAnswer| {
-        let (lo, hi) = b.distribution.yield_interval_95();
-        let meets = b.worst_case.meets(&accuracies);
-        json!({
-            "name": b.name,
-            "meets": meets.name(),
-            "meets_text": meets.to_string(),
-            "meets_excess": meets.excess().map(f),
-            "objective_arcmin": f(objective_to_arcmin(b.objective)),
-            "bounds_arcmin": arcmin_map(&names, &b.upper_bounds_rad),
-            "worst_case": b.worst_case.outputs.iter().map(|w| json!({"output": outs[w.output], "exact_at_vertex": f(w.exact_at_vertex), "linear": f(w.linear_bound), "certified": w.certified_bound().map(f), "precision": f(w.precision)})).collect::<Vec<_>>(),
-            "yield": f(b.distribution.yield_fraction()),
-            "yield_interval_95": [f(lo), f(hi)],
-        })
-    };
-    if let Some(n) = &c.noise {
-        let t = &n.tradeoff;
-        let r0 = &n.readings[0];
-        m.insert(
-            "noise".into(),
-            json!({
-                "k_sigma": f(t.k_sigma),
-                "noise_sigma": r0.sigma.iter().map(|v| f(*v)).collect::<Vec<_>>(),
-                "boxes": r0.boxes.iter().map(|b| json!({
-                    "name": b.name,
-                    "verdict": b.verdict.name(),
-                    "table_part": b.outputs.iter().map(|o| f(o.table_part)).collect::<Vec<_>>(),
-                    "combined": b.outputs.iter().map(|o| f(o.combined)).collect::<Vec<_>>(),
-                    "combined_yield": f(b.combined_yield.yield_fraction()),
-                })).collect::<Vec<_>>(),
-                "direct_with_noise_objective_arcmin": match &r0.direct {
-                    e2e_verify::NoisyDirect::Allocated { allocation, .. } => json!(f(allocation.objective_arcmin())),
-                    e2e_verify::NoisyDirect::NoTableSuffices { .. } => Value::Null,
-                },
-                "min_dwell_s": t.min_dwell_s.map(f),
-                "knee_dwell_s": t.knee_dwell_s.map(f),
-                "tradeoff": t.points.iter().map(|p| json!({"dwell_s": f(p.dwell_s), "total_s": f(p.total_s), "objective_arcmin": p.objective.map(|j| f(tt_core::units::objective_to_arcmin(j)))})).collect::<Vec<_>>(),
-            }),
-        );
-    }
-    m.insert(
-        "end_to_end".into(),
-        Value::Array(
-            c.answer
-                .readings
-                .iter()
-                .map(|r| {
-                    json!({
-                        "reading": r.reading.to_string(),
-                        "boxes": r.boxes.iter().map(boxj).collect::<Vec<_>>(),
-                        "direct": boxj(&r.direct_box),
-                        "unconstrained": r.direct.unconstrained.iter().map(|&j| names[j]).collect::<Vec<_>>(),
-                        "no_bound_needed": r.direct.no_bound_needed(),
-                        "yield_based": boxj(&r.yield_box),
-                        "yield_target": f(r.yield_based.target),
-                        "yield_verdict": r.yield_verdict().name(),
-                        "direct_certified": r.direct_certified.as_ref().map(|(dc, _)| json!({"objective_arcmin": f(dc.objective_arcmin()), "bounds_arcmin": arcmin_map(&names, &dc.upper_bounds_rad)})),
-                        "direct_certified_note": r.direct_certified_note,
-                    })
-                })
-                .collect(),
-        ),
-    );
-    if let Some((tol, chk)) = &c.vendor {
-        m.insert(
-            "vendor".into(),
-            json!({
-                "tolerances": tol.path,
-                "verdict": chk.verdict.name(),
-                "yield": f(chk.distribution.yield_fraction()),
-                "outputs": chk.outputs.iter().map(|o| json!({"output": outs[o.output], "verdict": o.verdict.name(), "worst_case": f(o.worst_case.exact_at_vertex), "accuracy": f(o.accuracy), "precision": f(o.worst_case.precision)})).collect::<Vec<_>>(),
-                "rate_steps": c.vendor_rate.as_ref().map(|r| crate::rate::json(&c.e2e, r)),
-            }),
-        );
-    }
-    if let Some(ds) = &c.designed {
-        m.insert(
-            "designed".into(),
-            Value::Array(
-                ds.iter()
-                    .map(|x| json!({"study": x.path, "positions": x.positions, "direct_objective_arcmin": f(x.direct_objective_arcmin), "condition_numbers": x.conditions.iter().map(|v| f(*v)).collect::<Vec<_>>(), "requirement_deg": x.requirement.as_ref().ok().map(|r| deg3(&r.requirement.to_array()))}))
-                    .collect(),
-            ),
-        );
-    }
-    if let Some(p) = &c.paper {
-        m.insert(
-            "claims".into(),
-            Value::Array(
-                p.claims
-                    .iter()
-                    .map(|x| {
-                        json!({
-                            "id": x.info.id,
-                            "section": x.info.section,
-                            "statement": x.info.statement,
-                            "function": x.info.function,
-                            "test": x.info.test.to_string(),
-                            "test_command": x.info.test.command(),
-                            "holds_paper_reading": x.paper.holds,
-                            "evidence_paper_reading": x.paper.evidence,
-                            "holds_user_reading": x.user.as_ref().map(|u| u.holds),
-                            "evidence_user_reading": x.user.as_ref().map(|u| u.evidence.clone()),
-                        })
-                    })
-                    .collect(),
-            ),
-        );
-        m.insert(
-            "claims_summary".into(),
-            json!(e2e_verify::paper::registry::summary(&p.claims)),
-        );
-        m.insert("paper_versus_ours".into(), Value::Array(comparisons.iter().map(|r| json!({"quantity": r.quantity, "paper": f(r.paper), "ours": f(r.ours), "unit": r.unit, "reason": r.reason})).collect()));
-    }
-    if let Some(r) = &c.rate_alloc {
-        m.insert(
-            "rate_allocation".into(),
-            crate::rate::allocation_json(&c.e2e, r),
-        );
-    }
-    if let Some(a) = &c.angle_alloc {
-        m.insert(
-            "angle_dependent".into(),
-            crate::angle_alloc::to_json(&c.e2e, a),
-        );
-    }
-    m.insert(
-        "estimable".into(),
-        match &c.estimable {
-            Some(a) => crate::estimable::to_json(s, a),
-            None => serde_json::json!({ "note": ESTIMABLE_STATIC_ONLY }),
-        },
-    );
-    Value::Object(m)
 }
 
 /// A rendered report: title, document, CSV files (name, text), `results.json`.
@@ -392,7 +146,7 @@ fn render(c: &Computed) -> Result<Rendered> {
     };
     sec.doc.h(2, "Reproduce");
     sec.doc.code(format!("{}\ncargo xtask test", command(c)));
-    let json = results_json(c, &comparisons);
+    let json = results::results_json(c, &comparisons)?;
     Ok((title, sec.doc, sec.csv, json))
 }
 
@@ -423,11 +177,13 @@ fn command(c: &Computed) -> String {
 /// The files of a report (name, bytes), checked: no NaN anywhere, every internal link
 /// resolves.
 pub(crate) fn files(c: &Computed) -> Result<Vec<(String, Vec<u8>)>> {
-    NAN_SEEN.with(|x| x.set(false));
+    results::NAN_SEEN.with(|x| x.set(false));
     let (title, doc, csv, json) = render(c)?;
     let md = doc.to_markdown();
     let html = doc.to_html(&title);
-    if NAN_SEEN.with(Cell::get) || md.contains("NaN") || csv.iter().any(|(_, t)| t.contains("NaN"))
+    if results::NAN_SEEN.with(Cell::get)
+        || md.contains("NaN")
+        || csv.iter().any(|(_, t)| t.contains("NaN"))
     {
         bail!(
             "internal error: a NaN reached the report of {}; nothing was written",
