@@ -8,8 +8,8 @@ use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
-    BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, check_budget_affords,
-    design_with_budget,
+    BudgetDesign, BudgetParams, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget,
+    check_budget_affords, design_with_budget,
 };
 use serde_json::{Value, json};
 use study::Study;
@@ -147,6 +147,7 @@ fn time_budget<'a>(
         max_dwell_s: study::limits::DWELL_S.1,
         study_dwell_s,
         search_counts: true,
+        params: BudgetParams::default(),
     }
 }
 
@@ -223,6 +224,7 @@ pub fn json(b: &Budgeted) -> Vec<(&'static str, Value)> {
                     "evaluated": d.evaluated,
                     "counts": d.counts,
                     "counts_skipped": d.counts_skipped,
+                    "counts_refined": d.counts_refined,
                     "chosen": d.chosen.as_ref().map(|p| {
                         let mut v = point_json(p);
                         v["positions_deg"] = json!(p.positions_deg);
