@@ -773,7 +773,9 @@ fn best_count(
         for (&t, &j) in dwells.iter().zip(js) {
             if j.is_finite()
                 && total_test_s(s.len(), t, b.move_s) <= b.budget_s
-                && best.is_none_or(|(bj, bc)| j < bj || (j == bj && s.len() < bc))
+                && best.is_none_or(|(bj, bc)| {
+                    j.total_cmp(&bj).then(s.len().cmp(&bc)) == std::cmp::Ordering::Less
+                })
             {
                 best = Some((j, s.len()));
             }
