@@ -213,9 +213,10 @@ fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
     ]
 }
 
-/// With noise in the study: the positions are searched for the table's part alone (a time
-/// budget choosing positions and dwell times together is not built yet), which the output
-/// says; the recommendation then counts the noise ([`CombinedChoice`]).
+/// With noise in the study: the positions are searched for the table's part alone (with
+/// `--time-budget-s` the count, the positions and the dwell are then chosen together, see
+/// [`crate::design_budget`]), which the output says; the recommendation then counts the noise
+/// ([`CombinedChoice`]).
 fn noise_note(s: &Study) -> Option<&'static str> {
     s.noise.iter().any(Option::is_some).then_some(
         "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of this search; --time-budget-s adds the search of the number of positions, the positions and the dwell together with the noise counted); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
