@@ -73,7 +73,7 @@ use e2e_verify::EndToEnd;
 use gw_model::noise::NoiseModel;
 use rayon::prelude::*;
 
-/// The budget search's knobs (see the [module](self)); [`BudgetParams::default`] gives the
+/// The budget search's knobs (see [`design_with_budget`]); [`BudgetParams::default`] gives the
 /// documented values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BudgetParams {
@@ -127,7 +127,7 @@ pub struct TimeBudget<'a> {
     /// evaluated there, so the choice never loses to the study's schedule at its own timing
     /// when that fits the budget.
     pub study_dwell_s: Option<f64>,
-    /// Whether the number of positions is searched too (see the [module](self)); else only
+    /// Whether the number of positions is searched too (see [`design_with_budget`]); else only
     /// the table design's count (and the other schedules' own counts) are evaluated.
     pub search_counts: bool,
     /// The search's knobs.
@@ -350,7 +350,7 @@ pub fn check_budget_affords(problem: &DesignProblem, b: &TimeBudget<'_>) -> Resu
     Ok(())
 }
 
-/// The counts searched besides the table design's `n` (see the [module](self)): $N_{min}$,
+/// The counts searched besides the table design's `n` (see [`design_with_budget`]): $N_{min}$,
 /// $\mathrm{round}\sqrt{N_{min} N}$, the study's count `n_study` and the count the budget
 /// affords at the study's dwell, each within $[N_{min}$, the count the budget affords at one
 /// sample per dwell$]$, at most [`BudgetParams::max_count_factor`] $\max(N, N_{study})$ and the
@@ -395,8 +395,9 @@ fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
     (t >= lo && t <= b.max_dwell_s).then_some(t)
 }
 
-/// Positions and dwell chosen together under a total test-time budget (see the
-/// [module](self)): `table` is the design for the table's part alone, `study` the study's
+/// Positions and dwell chosen together under a total test-time budget (the objective, the
+/// count search with its refinement by bisection, the front and the guarantees are described
+/// in `src/budget.rs`'s module docs and the crate README): `table` is the design for the table's part alone, `study` the study's
 /// schedule (candidate indices of `problem`, if all its positions are candidates) and
 /// `others` more schedules (e.g. the D-optimal one), each a start of the noise-aware search
 /// when it has the designed size; the study's schedule (`study_positions_deg`) is evaluated in
