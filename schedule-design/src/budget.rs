@@ -18,14 +18,20 @@
 //! table design's $N$, the counts [`budget_counts`] gives (the fewest that identify every
 //! output, $N_{min}$; the geometric mean of $N_{min}$ and $N$; the study's own count; and the
 //! count the budget affords at the study's dwell), each at most what the budget affords at one
-//! sample per dwell and at most [`BUDGET_MAX_COUNT_FACTOR`] times the larger of $N$ and the
-//! study's count. Each count gets a table design (the greedy construction and the exchange on
+//! sample per dwell and at most [`BudgetParams::max_count_factor`] times the larger of $N$ and
+//! the study's count. Each count gets a table design (the greedy construction and the exchange on
 //! the same candidates; a count whose construction does not meet the condition bound is
 //! skipped and reported) and one noise-aware search at the dwell that spends the budget on it.
 //! The front and the choice then run over every count. Fewer positions leave each a longer
 //! dwell (and less time moving); more positions give the least squares more equations: which
 //! wins depends on the noise, the move time and the reading, so the counts are searched, not
-//! assumed. A budget shorter than $N_{min}\,(T_{move} + 1/f_s)$ is
+//! assumed. The coarse counts are then refined by bisection: the count halfway between the
+//! best count at the budget (least $J$ within it) and each tried neighbour (the nearest tried
+//! count below and above) gets a design and a search the same way, and the step repeats on the
+//! new best, at most [`BudgetParams::count_refinements`] designs in all; when it ends with
+//! designs to spare, the best count's tried neighbours are the adjacent counts (a local optimum
+//! over the tried neighbours). Each refined count's budget dwell joins the grid (evaluated for
+//! every schedule). A budget shorter than $N_{min}\,(T_{move} + 1/f_s)$ is
 //! [`E2eError::BudgetTooShort`], naming `time_budget_s`.
 //!
 //! The noise part depends on the schedule, so the search holds it fixed and updates it (a
@@ -34,13 +40,13 @@
 //! the table's search with every bound and screening unchanged) on the problem whose
 //! accuracies are $\omega_{m,k} - m_k$: its $J$ is exactly $J(S', T)$ for any $S'$ with the
 //! same noise parts. The result's own noise parts are then computed and the step repeated
-//! (at most [`BUDGET_FIXED_POINT_STEPS`] times, or until the schedule stops changing). This
-//! runs at [`BUDGET_SEARCH_DWELLS`] dwells: the budget's own and dwells spread over those at
+//! (at most [`BudgetParams::fixed_point_steps`] times, or until the schedule stops changing).
+//! This runs at [`BudgetParams::search_dwells`] dwells: the budget's own and dwells spread over those at
 //! which some known schedule leaves the table room.
 //!
 //! # The Pareto front
 //! Every schedule found (the table's design, the study's schedule, every noise-aware design)
-//! is evaluated exactly at every dwell of a grid ([`BUDGET_DWELLS_PER_DECADE`] per decade in
+//! is evaluated exactly at every dwell of a grid ([`BudgetParams::dwells_per_decade`] per decade in
 //! $\log T$ from one sample to the longest dwell, plus each schedule's dwell that spends the
 //! whole budget, and the study's own dwell). The front is the set of $(N(T + T_{move}), J)$
 //! not dominated by another:
@@ -67,20 +73,40 @@ use e2e_verify::EndToEnd;
 use gw_model::noise::NoiseModel;
 use rayon::prelude::*;
 
-/// Dwells of the evaluation grid per decade of $T$ (dimensionless): the front's resolution
-/// in test time (a factor $10^{1/4} \approx 1.78$ between neighbours).
-pub const BUDGET_DWELLS_PER_DECADE: usize = 4;
+/// The budget search's knobs (see [`design_with_budget`]); [`BudgetParams::default`] gives the
+/// documented values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BudgetParams {
+    /// Dwells of the evaluation grid per decade of $T$ (dimensionless; default 4): the front's
+    /// resolution in test time (a factor $10^{1/4} \approx 1.78$ between neighbours).
+    pub dwells_per_decade: usize,
+    /// Dwells at which the noise-aware search runs, the budget's own first (default 4).
+    pub search_dwells: usize,
+    /// Updates of the noise part per searched dwell at most (the fixed point of the search;
+    /// default 2).
+    pub fixed_point_steps: usize,
+    /// The searched counts are at most this many times the larger of the table design's and
+    /// the study's count (dimensionless; default 2): an exchange costs about the count times
+    /// the candidates in screened swaps, so the count is bounded to keep the search within
+    /// its time.
+    pub max_count_factor: usize,
+    /// Extra counts the refinement may design at most (default 8; 0: no refinement): after
+    /// the coarse counts, the count halfway between the best count at the budget and each
+    /// tried neighbour, repeated on the new best (a bisection on the count).
+    pub count_refinements: usize,
+}
 
-/// Dwells at which the noise-aware search runs (the budget's own first).
-pub const BUDGET_SEARCH_DWELLS: usize = 4;
-
-/// Updates of the noise part per searched dwell at most (the fixed point of the search).
-pub const BUDGET_FIXED_POINT_STEPS: usize = 2;
-
-/// The searched counts are at most this many times the larger of the table design's and the
-/// study's count (dimensionless): an exchange costs about the count times the candidates in
-/// screened swaps, so the count is bounded to keep the search within its time.
-pub const BUDGET_MAX_COUNT_FACTOR: usize = 2;
+impl Default for BudgetParams {
+    fn default() -> Self {
+        Self {
+            dwells_per_decade: 4,
+            search_dwells: 4,
+            fixed_point_steps: 2,
+            max_count_factor: 2,
+            count_refinements: 8,
+        }
+    }
+}
 
 /// The noise, timing and budget of a budget design.
 #[derive(Debug, Clone, Copy)]
@@ -101,9 +127,11 @@ pub struct TimeBudget<'a> {
     /// evaluated there, so the choice never loses to the study's schedule at its own timing
     /// when that fits the budget.
     pub study_dwell_s: Option<f64>,
-    /// Whether the number of positions is searched too (see the [module](self)); else only
+    /// Whether the number of positions is searched too (see [`design_with_budget`]); else only
     /// the table design's count (and the other schedules' own counts) are evaluated.
     pub search_counts: bool,
+    /// The search's knobs.
+    pub params: BudgetParams,
 }
 
 /// Where a schedule of the budget design comes from.
@@ -171,6 +199,9 @@ pub struct BudgetDesign {
     /// The searched counts with no table design: the greedy construction did not meet the
     /// condition bound (or the allocation failed at every candidate of a step).
     pub counts_skipped: Vec<usize>,
+    /// The counts the refinement tried, in the order tried (among `counts` or
+    /// `counts_skipped`).
+    pub counts_refined: Vec<usize>,
 }
 
 /// The total test time of `n` positions with `dwell_s` each: $N(T + T_{move})$ (s).
@@ -265,11 +296,11 @@ impl Evaluator<'_> {
     }
 }
 
-/// The dwell grid: [`BUDGET_DWELLS_PER_DECADE`] per decade from one sample to `max_dwell_s`,
-/// with `extra` dwells in that range merged in, ascending, without repeats.
-fn dwell_grid(lo: f64, hi: f64, extra: &[f64]) -> Vec<f64> {
+/// The dwell grid: `per_decade` dwells per decade from one sample to `max_dwell_s`, with
+/// `extra` dwells in that range merged in, ascending, without repeats.
+fn dwell_grid(lo: f64, hi: f64, extra: &[f64], per_decade: usize) -> Vec<f64> {
     let decades = (hi / lo).log10().max(0.0);
-    let steps = (decades * BUDGET_DWELLS_PER_DECADE as f64).ceil() as usize;
+    let steps = (decades * per_decade as f64).ceil() as usize;
     let mut out: Vec<f64> = (0..=steps)
         .map(|i| {
             if steps == 0 {
@@ -319,10 +350,10 @@ pub fn check_budget_affords(problem: &DesignProblem, b: &TimeBudget<'_>) -> Resu
     Ok(())
 }
 
-/// The counts searched besides the table design's `n` (see the [module](self)): $N_{min}$,
+/// The counts searched besides the table design's `n` (see [`design_with_budget`]): $N_{min}$,
 /// $\mathrm{round}\sqrt{N_{min} N}$, the study's count `n_study` and the count the budget
 /// affords at the study's dwell, each within $[N_{min}$, the count the budget affords at one
-/// sample per dwell$]$, at most [`BUDGET_MAX_COUNT_FACTOR`] $\max(N, N_{study})$ and the
+/// sample per dwell$]$, at most [`BudgetParams::max_count_factor`] $\max(N, N_{study})$ and the
 /// candidates; ascending, without `n` and repeats.
 #[must_use]
 pub fn budget_counts(
@@ -332,11 +363,7 @@ pub fn budget_counts(
     n_study: usize,
 ) -> Vec<usize> {
     let n_min = problem.min_positions().max(1);
-    let per_position = b.move_s + 1.0 / b.sample_rate_hz;
-    let afford = (b.budget_s / per_position).floor().min(usize::MAX as f64) as usize;
-    let top = afford
-        .min(BUDGET_MAX_COUNT_FACTOR.saturating_mul(n.max(n_study)))
-        .min(problem.n_candidates());
+    let top = count_limit(problem, b, n, n_study);
     let mut v = vec![
         n_min,
         ((n_min as f64) * (n as f64)).sqrt().round() as usize,
@@ -351,6 +378,16 @@ pub fn budget_counts(
     v
 }
 
+/// The largest count searched: what the budget affords at one sample per dwell, at most
+/// [`BudgetParams::max_count_factor`] $\max(N, N_{study})$ and the candidates.
+fn count_limit(problem: &DesignProblem, b: &TimeBudget<'_>, n: usize, n_study: usize) -> usize {
+    let per_position = b.move_s + 1.0 / b.sample_rate_hz;
+    let afford = (b.budget_s / per_position).floor().min(usize::MAX as f64) as usize;
+    afford
+        .min(b.params.max_count_factor.saturating_mul(n.max(n_study)))
+        .min(problem.n_candidates())
+}
+
 /// The dwell that spends the whole budget on `n` positions, if it holds one sample and is
 /// within the longest dwell.
 fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
@@ -358,8 +395,9 @@ fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
     (t >= lo && t <= b.max_dwell_s).then_some(t)
 }
 
-/// Positions and dwell chosen together under a total test-time budget (see the
-/// [module](self)): `table` is the design for the table's part alone, `study` the study's
+/// Positions and dwell chosen together under a total test-time budget (the objective, the
+/// count search with its refinement by bisection, the front and the guarantees are described
+/// in `src/budget.rs`'s module docs and the crate README): `table` is the design for the table's part alone, `study` the study's
 /// schedule (candidate indices of `problem`, if all its positions are candidates) and
 /// `others` more schedules (e.g. the D-optimal one), each a start of the noise-aware search
 /// when it has the designed size; the study's schedule (`study_positions_deg`) is evaluated in
@@ -433,27 +471,30 @@ pub fn design_with_budget(
         .filter_map(|(_, s)| budget_dwell(b, s.len(), lo))
         .collect();
     fixed_extra.extend(b.study_dwell_s);
-    let fixed_dwells = dwell_grid(lo, b.max_dwell_s, &fixed_extra);
+    let fixed_dwells = dwell_grid(lo, b.max_dwell_s, &fixed_extra, b.params.dwells_per_decade);
     // the other counts: a table design each (in parallel; order kept)
     let counts = if b.search_counts {
         budget_counts(problem, b, n, study_positions_deg.len())
     } else {
         Vec::new()
     };
+    // a table design of `c` positions: the greedy construction and the exchange (`None`: the
+    // condition bound is not met)
+    let design_count = |c: usize| -> Result<Option<Vec<usize>>, E2eError> {
+        let start = match problem.greedy(c, max_condition) {
+            Ok(e) => e,
+            Err(E2eError::NoConvergence { .. }) => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        match problem.exchange(&start.schedule, max_condition) {
+            Ok(e) => Ok(Some(e.evaluation.schedule)),
+            Err(E2eError::ConditionUnreachable { .. }) => Ok(None),
+            Err(e) => Err(e),
+        }
+    };
     let count_designs: Vec<Option<Vec<usize>>> = counts
         .par_iter()
-        .map(|&c| {
-            let start = match problem.greedy(c, max_condition) {
-                Ok(e) => e,
-                Err(E2eError::NoConvergence { .. }) => return Ok(None),
-                Err(e) => return Err(e),
-            };
-            match problem.exchange(&start.schedule, max_condition) {
-                Ok(e) => Ok(Some(e.evaluation.schedule)),
-                Err(E2eError::ConditionUnreachable { .. }) => Ok(None),
-                Err(e) => Err(e),
-            }
-        })
+        .map(|&c| design_count(c))
         .collect::<Result<_, E2eError>>()?;
     let mut counts_done = vec![n];
     let mut counts_skipped = Vec::new();
@@ -478,15 +519,15 @@ pub fn design_with_budget(
             .iter()
             .filter_map(|s| budget_dwell(b, s.len(), lo)),
     );
-    let dwells = dwell_grid(lo, b.max_dwell_s, &extra);
+    let mut dwells = dwell_grid(lo, b.max_dwell_s, &extra, b.params.dwells_per_decade);
     // J of every schedule at every dwell (in parallel over the schedules; order kept)
-    let table_of = |positions: &[Vec<f64>]| -> Result<Vec<f64>, E2eError> {
+    let table_at = |positions: &[Vec<f64>], dwells: &[f64]| -> Result<Vec<f64>, E2eError> {
         let ev = evaluator(positions)?;
         dwells.iter().map(|&t| ev.objective(t)).collect()
     };
     let mut objectives: Vec<Vec<f64>> = schedules
         .par_iter()
-        .map(|(_, s)| table_of(s))
+        .map(|(_, s)| table_at(s, &dwells))
         .collect::<Result<_, _>>()?;
     // the searched dwells: the budget's own, then spread over those where a schedule of the
     // designed size leaves room
@@ -507,7 +548,7 @@ pub fn design_with_budget(
             searched.push(d);
         }
     }
-    let spread = BUDGET_SEARCH_DWELLS.saturating_sub(searched.len());
+    let spread = b.params.search_dwells.saturating_sub(searched.len());
     for i in 0..spread {
         if open.is_empty() {
             break;
@@ -557,30 +598,31 @@ pub fn design_with_budget(
             }
         }
     }
+    // the noise-aware search from `s` at dwell `t`: the schedules of the fixed point's steps
+    let noise_search = |t: f64, mut s: Vec<usize>| -> Result<Vec<Vec<usize>>, E2eError> {
+        let mut out = Vec::new();
+        for _ in 0..b.params.fixed_point_steps {
+            let ev = evaluator(&problem.positions_deg(&s))?;
+            let margins = ev.noise(t)?.margins(b.k_sigma);
+            let Some(reduced) = problem.with_margins(&margins) else {
+                break;
+            };
+            let next = match reduced.exchange(&s, max_condition) {
+                Ok(e) => e.evaluation.schedule,
+                Err(E2eError::ConditionUnreachable { .. }) => break,
+                Err(e) => return Err(e),
+            };
+            if next == s {
+                break;
+            }
+            out.push(next.clone());
+            s = next;
+        }
+        Ok(out)
+    };
     let found: Vec<(usize, Vec<Vec<usize>>)> = jobs
         .into_par_iter()
-        .map(|(d, mut s)| {
-            let t = dwells[d];
-            let mut out = Vec::new();
-            for _ in 0..BUDGET_FIXED_POINT_STEPS {
-                let ev = evaluator(&problem.positions_deg(&s))?;
-                let margins = ev.noise(t)?.margins(b.k_sigma);
-                let Some(reduced) = problem.with_margins(&margins) else {
-                    break;
-                };
-                let next = match reduced.exchange(&s, max_condition) {
-                    Ok(e) => e.evaluation.schedule,
-                    Err(E2eError::ConditionUnreachable { .. }) => break,
-                    Err(e) => return Err(e),
-                };
-                if next == s {
-                    break;
-                }
-                out.push(next.clone());
-                s = next;
-            }
-            Ok((d, out))
-        })
+        .map(|(d, s)| Ok((d, noise_search(dwells[d], s)?)))
         .collect::<Result<_, E2eError>>()?;
     let mut new: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> = Vec::new();
     for (d, list) in found {
@@ -600,10 +642,89 @@ pub fn design_with_budget(
     }
     let more: Vec<Vec<f64>> = new
         .par_iter()
-        .map(|(_, s)| table_of(s))
+        .map(|(_, s)| table_at(s, &dwells))
         .collect::<Result<_, _>>()?;
     schedules.extend(new);
     objectives.extend(more);
+    // the refinement of the count: bisection between the best count at the budget and its
+    // tried neighbours
+    let mut counts_refined: Vec<usize> = Vec::new();
+    if b.search_counts {
+        let n_min = problem.min_positions().max(1);
+        let top = count_limit(problem, b, n, study_positions_deg.len());
+        while counts_refined.len() < b.params.count_refinements {
+            let mut tried: Vec<usize> =
+                counts_done.iter().chain(&counts_skipped).copied().collect();
+            tried.sort_unstable();
+            tried.dedup();
+            let Some(best) = best_count(&schedules, &objectives, &dwells, b) else {
+                break;
+            };
+            let below = tried.iter().rev().find(|&&c| c < best).copied();
+            let above = tried.iter().find(|&&c| c > best).copied();
+            let mut mids: Vec<usize> = below
+                .map(|l| l + (best - l) / 2)
+                .into_iter()
+                .chain(above.map(|u| best + (u - best).div_ceil(2)))
+                .filter(|c| !tried.contains(c) && *c >= n_min && *c <= top)
+                .collect();
+            mids.dedup();
+            mids.truncate(b.params.count_refinements - counts_refined.len());
+            if mids.is_empty() {
+                break;
+            }
+            let designs: Vec<Option<Vec<usize>>> = mids
+                .par_iter()
+                .map(|&c| design_count(c))
+                .collect::<Result<_, E2eError>>()?;
+            for (&c, design) in mids.iter().zip(designs) {
+                counts_refined.push(c);
+                let Some(sched) = design else {
+                    counts_skipped.push(c);
+                    continue;
+                };
+                counts_done.push(c);
+                // its budget dwell joins the grid, evaluated for every schedule
+                if let Some(t) = budget_dwell(b, c, lo) {
+                    if let Err(at) = dwells.binary_search_by(|x| x.total_cmp(&t)) {
+                        dwells.insert(at, t);
+                        let column: Vec<f64> = schedules
+                            .par_iter()
+                            .map(|(_, q)| evaluator(q)?.objective(t))
+                            .collect::<Result<_, _>>()?;
+                        for (row, j) in objectives.iter_mut().zip(column) {
+                            row.insert(at, j);
+                        }
+                    }
+                }
+                let mut added: Vec<(ScheduleOrigin, Vec<usize>)> =
+                    vec![(ScheduleOrigin::Table, sched.clone())];
+                if let Some(t) = budget_dwell(b, c, lo) {
+                    for s in noise_search(t, sched)? {
+                        added.push((ScheduleOrigin::Noise(t), s));
+                    }
+                }
+                for (origin, s) in added {
+                    let mut sorted = s.clone();
+                    sorted.sort_unstable();
+                    let seen = known.iter().any(|k| {
+                        let mut k = k.clone();
+                        k.sort_unstable();
+                        k == sorted
+                    });
+                    if seen {
+                        continue;
+                    }
+                    known.push(s.clone());
+                    let positions = problem.positions_deg(&s);
+                    objectives.push(table_at(&positions, &dwells)?);
+                    schedules.push((origin, positions));
+                }
+            }
+        }
+        counts_done.sort_unstable();
+        counts_skipped.sort_unstable();
+    }
     let mut points = Vec::new();
     for ((origin, s), js) in schedules.iter().zip(&objectives) {
         for (&t, &j) in dwells.iter().zip(js) {
@@ -636,5 +757,30 @@ pub fn design_with_budget(
         chosen,
         counts: counts_done,
         counts_skipped,
+        counts_refined,
     })
+}
+
+/// The count of the best point within the budget (least $J$, then the fewer positions) over
+/// the evaluated schedules and dwells; `None` when no table suffices within the budget.
+fn best_count(
+    schedules: &[(ScheduleOrigin, Vec<Vec<f64>>)],
+    objectives: &[Vec<f64>],
+    dwells: &[f64],
+    b: &TimeBudget<'_>,
+) -> Option<usize> {
+    let mut best: Option<(f64, usize)> = None;
+    for ((_, s), js) in schedules.iter().zip(objectives) {
+        for (&t, &j) in dwells.iter().zip(js) {
+            if j.is_finite()
+                && total_test_s(s.len(), t, b.move_s) <= b.budget_s
+                && best.is_none_or(|(bj, bc)| {
+                    j.total_cmp(&bj).then(s.len().cmp(&bc)) == std::cmp::Ordering::Less
+                })
+            {
+                best = Some((j, s.len()));
+            }
+        }
+    }
+    best.map(|(_, c)| c)
 }

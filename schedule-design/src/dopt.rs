@@ -2,7 +2,7 @@
 //! the same candidates, by greedy construction and Fedorov's exchange.
 
 use super::problem::DesignProblem;
-use super::{DOptimalOutcome, IMPROVEMENT_REL, SINGULAR_RATIO};
+use super::{DOptimalOutcome, SINGULAR_RATIO};
 use e2e_verify::E2eError;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -201,12 +201,12 @@ pub(crate) fn exchange_d(
                         if better(b, a) { b } else { a }
                     },
                 );
-            if best.1 > IMPROVEMENT_REL {
+            if best.1 > p.search.improvement_rel {
                 let mut trial = s.clone();
                 trial[slot] = best.0;
                 let v = log_det(p, &trial);
                 // accept only a real improvement of the criterion recomputed from scratch
-                if v > value + IMPROVEMENT_REL {
+                if v > value + p.search.improvement_rel {
                     in_s[ci] = false;
                     in_s[best.0] = true;
                     s = trial;

@@ -25,7 +25,7 @@ const LINE_STEPS: usize = 30;
 const LINE_TOL_REL: f64 = 1e-6;
 
 /// Stop when the relative gap $(\mathrm{upper} - \mathrm{lower})/\mathrm{upper}$ is below
-/// this (far below [`super::IMPROVEMENT_REL`]).
+/// this (far below [`crate::SearchParams::improvement_rel`]).
 const GAP_REL: f64 = 1e-9;
 
 /// Smallest $c_j$ used in the gradient $\propto c_j^{-1/3}$ (a variable no support row

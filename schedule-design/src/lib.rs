@@ -49,7 +49,7 @@
 //! \mathbf c_{1c}^T - \mathbf G\mathbf a_i\mathbf c_{1i}^T$ and $\mathbf K = \mathbf D^{-1} +
 //! \mathbf U^T\mathbf G\mathbf U$ in $O(pm)$; a row is then $\mathbf c_{0q} + \mathbf a_q^T
 //! \mathbf H'$, and $-\det\mathbf K = (1 + d_{cc})(1 - d_{ii}) + d_{ic}^2$ is Fedorov's
-//! determinant ratio (a swap that makes it $\le$ [`SINGULAR_RATIO`] is rank deficient).
+//! determinant ratio (a swap that makes it $\le 10^{-10}$ is rank deficient).
 //!
 //! Bounds on $J(S')$ then come from the Lagrangian dual of the allocation. For multipliers
 //! $\mu_r \ge 0$ on rows of $S'$, with $c_j = \sum_r \mu_r |M_{rj}(S')|/\omega$ and
@@ -66,7 +66,7 @@
 //! 2. for static rows, $J(S') \ge J(S \setminus \{i\})$: one solve per slot rules out every
 //!    swap of a slot whose position is not needed;
 //! 3. pairwise Frank-Wolfe steps on the dual from those multipliers (at most
-//!    [`MAX_DUAL_ITERATIONS`], stopping as soon as the lower bound rules the swap out or the
+//!    200, stopping as soon as the lower bound rules the swap out or the
 //!    gap is $10^{-9}$): bounds tight enough to rank the remaining swaps.
 //!
 //! Every bound is rigorous up to rounding (the tests check that it brackets the exact $J$ of
@@ -87,7 +87,7 @@
 //!   (repaired afterwards): neither dominates the other on the shipped studies.
 //! - **Exchange** ([`DesignProblem::exchange`], after Fedorov 1972 and Cook and Nachtsheim
 //!   1980): for each slot in turn, screen all $C - N$ swaps, drop those whose lower bound is
-//!   not below $J(1 - \epsilon)$ ($\epsilon$ = [`IMPROVEMENT_REL`]), evaluate the rest exactly
+//!   not below $J(1 - \epsilon)$ ($\epsilon$ = [`SearchParams::improvement_rel`]), evaluate the rest exactly
 //!   in the order of their upper bound and take the first that meets the condition bound and
 //!   improves $J$ by more than $\epsilon$. A pass over every slot without an exchange ends
 //!   the search.
@@ -127,7 +127,7 @@
 //! - It is **not** a global optimum: the problem is combinatorial ($\binom{C}{N}$
 //!   schedules, $10^{52}$ for the paper's 15 deg grid) and nonconvex; restarts only make a poor local
 //!   optimum less likely. The exchange also stops (without the local-optimality claim) after
-//!   [`MAX_EXCHANGES_PER_POSITION`] $\times N$ exchanges.
+//!   [`SearchParams::max_exchanges_per_position`] $\times N$ exchanges.
 //!
 //! # Baselines
 //! Computed over the same candidates with the same $N$: the study's schedule; the
@@ -173,11 +173,11 @@ mod problem;
 mod search;
 
 pub use budget::{
-    BUDGET_DWELLS_PER_DECADE, BUDGET_FIXED_POINT_STEPS, BUDGET_MAX_COUNT_FACTOR,
-    BUDGET_SEARCH_DWELLS, BudgetDesign, BudgetPoint, ScheduleOrigin, TimeBudget, budget_counts,
-    check_budget_affords, design_with_budget, pareto_front, shortest_test_s, total_test_s,
+    BudgetDesign, BudgetPoint, ScheduleOrigin, TimeBudget, budget_counts, check_budget_affords,
+    design_with_budget, pareto_front, shortest_test_s, total_test_s,
 };
 
+pub use budget::BudgetParams;
 pub use problem::DesignProblem;
 
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};
@@ -203,36 +203,48 @@ pub const DEFAULT_MAX_CONDITION: f64 = 10.0;
 /// grid's design), the two greedy constructions, the level set, the rest seeded random
 /// feasible schedules. (On the shipped studies the random restarts never gave the best
 /// schedule and cost most of the time on large grids: two are kept as a check.)
-pub const DEFAULT_RESTARTS: usize = 7;
+const DEFAULT_RESTARTS: usize = 7;
 
 /// Random schedules of the random baseline by default.
-pub const DEFAULT_RANDOM_SCHEDULES: usize = 256;
+const DEFAULT_RANDOM_SCHEDULES: usize = 256;
 
 /// Starts of the D-optimal exchange by default (the greedy construction, then random).
-pub const DEFAULT_D_OPTIMAL_RESTARTS: usize = 8;
-
-/// An exchange is taken only when it lowers $J$ by more than this fraction (dimensionless):
-/// far above the allocation's accuracy ($\sim 10^{-12}$ relative), far below any saving worth
-/// a turntable.
-pub const IMPROVEMENT_REL: f64 = 1e-6;
-
-/// The exchange stops after this many exchanges per position of the schedule (then without
-/// the local-optimality claim).
-pub const MAX_EXCHANGES_PER_POSITION: usize = 20;
+const DEFAULT_D_OPTIMAL_RESTARTS: usize = 8;
 
 /// A swap whose determinant ratio $\det\mathbf A'^T\mathbf A'/\det\mathbf A^T\mathbf A$ is at
 /// most this is treated as rank deficient (dimensionless; a feasible schedule's ratio is of
 /// order $\kappa_{max}^{-2p}$ at worst).
-pub const SINGULAR_RATIO: f64 = 1e-10;
+const SINGULAR_RATIO: f64 = 1e-10;
 
 /// Sweeps of the coordinate descent fitting the rows' multipliers to the KKT conditions.
-pub const DUAL_SWEEPS: usize = 500;
+const DUAL_SWEEPS: usize = 500;
 
-/// Pairwise Frank-Wolfe iterations of the dual screening at most per swap.
-pub const MAX_DUAL_ITERATIONS: usize = dual::MAX_ITERATIONS;
+/// The exchange's knobs (see the [crate] docs, "The search"); [`SearchParams::default`] gives
+/// the documented values. Set on a problem with [`DesignProblem::with_search_params`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchParams {
+    /// An exchange is taken only when it lowers $J$ by more than this fraction
+    /// (dimensionless; default $10^{-6}$): far above the allocation's accuracy
+    /// ($\sim 10^{-12}$ relative), far below any saving worth a turntable. The D-optimal
+    /// exchange takes a swap when it raises $\sum_k \ln\det$ by more than this.
+    pub improvement_rel: f64,
+    /// The exchange stops after this many exchanges per position of the schedule (then
+    /// without the local-optimality claim; default 20).
+    pub max_exchanges_per_position: usize,
+    /// Random draws tried for a feasible random start before repairing one (default 200;
+    /// restart $r$'s draw $t$ comes from ChaCha8 stream $2^{32} + 200 r + t$ at the default).
+    pub random_start_draws: usize,
+}
 
-/// Random draws tried for a feasible random start before repairing one.
-pub const RANDOM_START_DRAWS: usize = 200;
+impl Default for SearchParams {
+    fn default() -> Self {
+        Self {
+            improvement_rel: 1e-6,
+            max_exchanges_per_position: 20,
+            random_start_draws: 200,
+        }
+    }
+}
 
 /// Largest candidate set accepted: the precomputed blocks take about
 /// $4 \cdot 8\,\text{bytes} \times$ candidates $\times$ outputs $\times$ errors (130 MB for
@@ -243,11 +255,11 @@ pub const MAX_CANDIDATES: usize = 50_000;
 /// ChaCha8 stream offsets: restart $r$ draws from stream `STREAM_RESTARTS + r`, random
 /// schedule $r$ of the baseline from `STREAM_RANDOM + r`, D-optimal start $r$ from
 /// `STREAM_D_OPTIMAL + r`.
-pub const STREAM_RESTARTS: u64 = 1 << 32;
+const STREAM_RESTARTS: u64 = 1 << 32;
 /// See [`STREAM_RESTARTS`].
-pub const STREAM_RANDOM: u64 = 1 << 33;
+const STREAM_RANDOM: u64 = 1 << 33;
 /// See [`STREAM_RESTARTS`].
-pub const STREAM_D_OPTIMAL: u64 = 3 << 32;
+const STREAM_D_OPTIMAL: u64 = 3 << 32;
 
 /// The joint-angle grid with step `step_deg` over every joint's range (deg, joint order,
 /// the last joint varying fastest): $\min, \min + s, \dots \le \max$; for a full turn the end
@@ -444,7 +456,7 @@ pub struct ExchangeOutcome {
     pub unevaluated_swaps: usize,
     /// Whether it ended by a full pass without an exchange in which every swap was bounded
     /// or evaluated: then no single exchange gives a feasible schedule better by more than
-    /// [`IMPROVEMENT_REL`].
+    /// [`SearchParams::improvement_rel`].
     pub local_optimum: bool,
 }
 
@@ -459,7 +471,8 @@ pub struct DOptimalOutcome {
     pub exchanges: usize,
     /// Passes over the slots.
     pub passes: usize,
-    /// Whether no single exchange raises the criterion by more than [`IMPROVEMENT_REL`].
+    /// Whether no single exchange raises the criterion by more than
+    /// [`SearchParams::improvement_rel`].
     pub local_optimum: bool,
 }
 
@@ -479,7 +492,8 @@ pub enum StartKind {
     GreedyUnconstrained,
     /// The level set's greedy D-optimal schedule (meets the condition bound by construction).
     LevelSet,
-    /// A seeded random feasible schedule (ChaCha8 stream [`STREAM_RESTARTS`] + the index).
+    /// A seeded random feasible schedule (ChaCha8 streams from $2^{32}$,
+    /// [`SearchParams::random_start_draws`] per restart).
     Random(u64),
 }
 
@@ -516,8 +530,11 @@ pub struct DesignSettings {
 }
 
 impl DesignSettings {
-    /// Settings with the defaults: [`DEFAULT_MAX_CONDITION`], [`DEFAULT_RESTARTS`],
-    /// [`DEFAULT_RANDOM_SCHEDULES`], [`DEFAULT_D_OPTIMAL_RESTARTS`].
+    /// Settings with the defaults: [`DEFAULT_MAX_CONDITION`], 7 restarts (the given starts,
+    /// the two greedy constructions, the level set, the rest seeded random feasible
+    /// schedules; on the shipped studies the random restarts never gave the best schedule and
+    /// cost most of the time on large grids: two are kept as a check), 256 random schedules
+    /// and 8 D-optimal starts (the greedy construction, then random).
     #[must_use]
     pub fn new(positions: usize, seed: u64) -> Self {
         Self {
@@ -694,19 +711,20 @@ impl DesignProblem {
             ..DesignSettings::new(n, seed)
         })?;
         let never = |_: &[usize]| false;
+        let draws = self.search.random_start_draws as u64;
         let outcomes: Vec<Option<DOptimalOutcome>> = (0..restarts.max(1))
             .into_par_iter()
             .map(|r| {
                 let start = if r == 0 {
                     Some(dopt::greedy_d(self, n))
                 } else {
-                    (0..RANDOM_START_DRAWS as u64)
+                    (0..draws)
                         .map(|t| {
                             random_schedule(
                                 self.n_candidates(),
                                 n,
                                 seed,
-                                STREAM_D_OPTIMAL + r as u64 * RANDOM_START_DRAWS as u64 + t,
+                                STREAM_D_OPTIMAL + r as u64 * draws + t,
                             )
                         })
                         .find(|s| dopt::log_det(self, s).is_finite())
@@ -759,12 +777,13 @@ impl DesignProblem {
             StartKind::Random(r) => {
                 let mut first_identifiable = None;
                 let mut found = None;
-                for t in 0..RANDOM_START_DRAWS as u64 {
+                let draws = self.search.random_start_draws as u64;
+                for t in 0..draws {
                     let s = random_schedule(
                         self.n_candidates(),
                         n,
                         settings.seed,
-                        STREAM_RESTARTS + r * RANDOM_START_DRAWS as u64 + t,
+                        STREAM_RESTARTS + r * draws + t,
                     );
                     let Some(e) = self.evaluate_or_skip(&s, settings.max_condition)? else {
                         continue;

@@ -95,6 +95,7 @@ pub struct DesignProblem {
     pub(crate) errors: usize,
     pub(crate) outputs: Vec<OutputData>,
     pub(crate) affine: Affine,
+    pub(crate) search: crate::SearchParams,
 }
 
 impl DesignProblem {
@@ -218,7 +219,21 @@ impl DesignProblem {
             errors,
             outputs,
             affine,
+            search: crate::SearchParams::default(),
         })
+    }
+
+    /// The same problem searched with `params` instead of [`crate::SearchParams::default`].
+    #[must_use]
+    pub fn with_search_params(mut self, params: crate::SearchParams) -> Self {
+        self.search = params;
+        self
+    }
+
+    /// The exchange's knobs of this problem.
+    #[must_use]
+    pub fn search_params(&self) -> &crate::SearchParams {
+        &self.search
     }
 
     /// The candidates (joint angles, deg), in index order.

@@ -4,10 +4,7 @@
 
 use super::dual;
 use super::problem::DesignProblem;
-use super::{
-    DUAL_SWEEPS, Evaluation, ExchangeOutcome, IMPROVEMENT_REL, MAX_EXCHANGES_PER_POSITION,
-    SINGULAR_RATIO,
-};
+use super::{DUAL_SWEEPS, Evaluation, ExchangeOutcome, SINGULAR_RATIO};
 use e2e_verify::E2eError;
 use e2e_verify::Linearization;
 use nalgebra::DMatrix;
@@ -415,7 +412,7 @@ impl<'a> Search<'a> {
             .collect();
         SlotScreen {
             slot,
-            threshold: st.j * (1.0 - IMPROVEMENT_REL),
+            threshold: st.j * (1.0 - self.p.search.improvement_rel),
             static_rows,
             static_lower,
             base_mu,
@@ -650,12 +647,12 @@ impl<'a> Search<'a> {
     /// in the order of their estimate and take the first that is feasible and improves $J$ by
     /// more than $\epsilon$ (relative); stop after a full pass without an exchange (then no
     /// feasible single exchange improves $J$ by more than $\epsilon$) or at
-    /// [`MAX_EXCHANGES_PER_POSITION`] $\times N$ exchanges.
+    /// [`crate::SearchParams::max_exchanges_per_position`] $\times N$ exchanges.
     pub(crate) fn exchange(&self, start: Evaluation) -> Result<ExchangeOutcome, E2eError> {
         let start_objective = start.objective;
         let mut st = self.state(start)?;
         let n = st.s.len();
-        let max_exchanges = MAX_EXCHANGES_PER_POSITION * n;
+        let max_exchanges = self.p.search.max_exchanges_per_position * n;
         let (mut exchanges, mut exact, mut screened, mut passes, mut unevaluated) = (0, 0, 0, 0, 0);
         let mut certified = false;
         'outer: loop {
@@ -666,7 +663,7 @@ impl<'a> Search<'a> {
                 if exchanges >= max_exchanges {
                     break 'outer;
                 }
-                let threshold = st.j * (1.0 - IMPROVEMENT_REL);
+                let threshold = st.j * (1.0 - self.p.search.improvement_rel);
                 if self.p.affine.is_static() {
                     // rows are fixed: J(swap) >= J(schedule without the slot) for every swap
                     if let Some((j_minus, _)) = self.without_slot(&st, slot)? {

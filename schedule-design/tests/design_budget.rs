@@ -10,8 +10,9 @@ use calib_lsq::Timing;
 use e2e_verify::E2eError;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
-    BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, budget_counts, candidates_with,
-    design_with_budget, grid_positions_deg, pareto_front, shortest_test_s, total_test_s,
+    BudgetDesign, BudgetParams, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget,
+    budget_counts, candidates_with, design_with_budget, grid_positions_deg, pareto_front,
+    shortest_test_s, total_test_s,
 };
 use study::Study;
 
@@ -62,7 +63,20 @@ fn budget_of(s: &Study, budget_s: f64) -> TimeBudget<'_> {
         max_dwell_s: 86_400.0,
         study_dwell_s: Some(t.dwell_s()[0]),
         search_counts: true,
+        params: BudgetParams::default(),
     }
+}
+
+/// The budget design of the paper's noisy copy ([`noisy_paper`]) under `b`, with the table
+/// design and the study's schedule, no other schedules, condition bound 10.
+fn design(
+    s: &Study,
+    problem: &DesignProblem,
+    table: &[usize],
+    study: Option<&[usize]>,
+    b: &TimeBudget<'_>,
+) -> Result<BudgetDesign, E2eError> {
+    design_with_budget(problem, table, study, &s.positions_deg, &[], 10.0, b)
 }
 
 /// $J$ (rad$^{-2}$) of `positions_deg` at `dwell_s` by end-to-end's path (direct allocation
@@ -106,16 +120,7 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
     let (s, problem, table, study) = noisy_paper();
     let budget_s = 25_000.0;
     let b = budget_of(&s, budget_s);
-    let d = design_with_budget(
-        &problem,
-        &table,
-        study.as_deref(),
-        &s.positions_deg,
-        &[],
-        10.0,
-        &b,
-    )
-    .unwrap();
+    let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
     assert!(d.pareto.len() >= 3, "{:?}", d.pareto);
     for w in d.pareto.windows(2) {
         assert!(w[1].total_s > w[0].total_s, "{w:?}");
@@ -180,16 +185,7 @@ fn a_budget_too_short_for_any_table_chooses_nothing() {
     let (s, problem, table, study) = noisy_paper();
     let budget_s = 1.5 * shortest_test_s(&problem, &budget_of(&s, 1.0));
     let b = budget_of(&s, budget_s);
-    let d = design_with_budget(
-        &problem,
-        &table,
-        study.as_deref(),
-        &s.positions_deg,
-        &[],
-        10.0,
-        &b,
-    )
-    .unwrap();
+    let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
     assert!(d.chosen.is_none());
     assert!(d.pareto.first().is_some_and(|p| p.total_s > budget_s));
 }
@@ -205,13 +201,11 @@ fn a_budget_too_short_for_the_fewest_positions_is_refused_naming_time_budget_s()
     // n_min moves of 60 s and one sample at 100 Hz each
     assert_relative_eq!(shortest, n_min as f64 * 60.01, max_relative = 1e-15);
     let run = |budget_s: f64| {
-        design_with_budget(
+        design(
+            &s,
             &problem,
             &table,
             study.as_deref(),
-            &s.positions_deg,
-            &[],
-            10.0,
             &budget_of(&s, budget_s),
         )
     };
@@ -251,16 +245,7 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
             search_counts,
             ..budget_of(&s, budget_s)
         };
-        design_with_budget(
-            &problem,
-            &table,
-            study.as_deref(),
-            &s.positions_deg,
-            &[],
-            10.0,
-            &b,
-        )
-        .unwrap()
+        design(&s, &problem, &table, study.as_deref(), &b).unwrap()
     };
     let fixed = run(false);
     let searched = run(true);
@@ -285,6 +270,7 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
     all.sort_unstable();
     let mut expected = want.clone();
     expected.push(n);
+    expected.extend(&searched.counts_refined);
     expected.sort_unstable();
     assert_eq!(all, expected);
     assert!(searched.counts.len() > 1, "{:?}", searched.counts_skipped);
@@ -354,30 +340,114 @@ fn bad_budgets_are_refused_naming_the_field() {
         (f64::INFINITY, "budget_s"),
     ] {
         let b = budget_of(&s, budget_s);
-        let e = design_with_budget(
-            &problem,
-            &table,
-            study.as_deref(),
-            &s.positions_deg,
-            &[],
-            10.0,
-            &b,
-        )
-        .unwrap_err();
+        let e = design(&s, &problem, &table, study.as_deref(), &b).unwrap_err();
         assert!(matches!(e, E2eError::Field(_)), "{e:?}");
         assert!(e.to_string().contains(field), "{e}");
     }
     let mut b = budget_of(&s, 1000.0);
     b.sample_rate_hz = 0.0;
-    let e = design_with_budget(
-        &problem,
-        &table,
-        study.as_deref(),
-        &s.positions_deg,
-        &[],
-        10.0,
-        &b,
-    )
-    .unwrap_err();
+    let e = design(&s, &problem, &table, study.as_deref(), &b).unwrap_err();
     assert!(e.to_string().contains("sample_rate_hz"), "{e}");
+}
+
+/// The tried counts (designed or skipped) nearest below and above `count`.
+fn neighbours(d: &BudgetDesign, count: usize) -> (Option<usize>, Option<usize>) {
+    let tried: Vec<usize> = d.counts.iter().chain(&d.counts_skipped).copied().collect();
+    (
+        tried.iter().filter(|&&c| c < count).max().copied(),
+        tried.iter().filter(|&&c| c > count).min().copied(),
+    )
+}
+
+/// The refinement of the count (bisection between the best count and its tried neighbours):
+/// on the paper's noisy copy at twice its test time, it tries a count strictly between the
+/// coarse search's best count and each neighbour a gap separates it from; the chosen point's
+/// J is at most that of every schedule evaluated (every tried count) at every dwell within the
+/// budget (recomputed on end-to-end's path), and at most the coarse search's choice; with
+/// designs to spare (four times the default), the chosen count's tried neighbours are
+/// adjacent counts (a local optimum over the tried neighbours).
+#[test]
+fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all_tried() {
+    let (s, problem, table, study) = noisy_paper();
+    let timing = s.timing.as_ref().unwrap();
+    let budget_s = 2.0 * total_test_s(table.len(), timing.dwell_s()[0], timing.move_s());
+    let run = |count_refinements: usize| {
+        let mut b = budget_of(&s, budget_s);
+        b.params.count_refinements = count_refinements;
+        design(&s, &problem, &table, study.as_deref(), &b).unwrap()
+    };
+    let coarse = run(0);
+    assert!(coarse.counts_refined.is_empty());
+    let refined = run(BudgetParams::default().count_refinements);
+    let c0 = coarse
+        .chosen
+        .as_ref()
+        .expect("a table suffices")
+        .n_positions();
+    let (below, above) = neighbours(&coarse, c0);
+    for nb in [below, above].into_iter().flatten() {
+        if nb.abs_diff(c0) > 1 {
+            let (lo, hi) = (nb.min(c0), nb.max(c0));
+            assert!(
+                refined.counts_refined.iter().any(|&c| c > lo && c < hi),
+                "nothing tried between {c0} and {nb}: {:?}",
+                refined.counts_refined
+            );
+        }
+    }
+    let chosen = refined.chosen.as_ref().expect("a table suffices");
+    assert!(chosen.total_s <= budget_s);
+    assert!(chosen.objective <= coarse.chosen.as_ref().unwrap().objective);
+    for (_, positions) in &refined.schedules {
+        let e2e = problem.end_to_end(positions).unwrap();
+        let linear = e2e.linearization();
+        for &t in &refined.dwells_s {
+            if total_test_s(positions.len(), t, timing.move_s()) > budget_s {
+                continue;
+            }
+            let noise = e2e
+                .noise_budget(
+                    &s.noise,
+                    &Timing::uniform(positions.len(), t, timing.move_s(), timing.sample_rate_hz())
+                        .unwrap(),
+                )
+                .unwrap();
+            let j = e2e
+                .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA)
+                .unwrap()
+                .map_or(f64::INFINITY, |d| d.objective);
+            assert!(
+                chosen.objective <= j * (1.0 + SAME_PATH_REL),
+                "{} positions at {t} s: {j} below the chosen {}",
+                positions.len(),
+                chosen.objective
+            );
+        }
+    }
+    // with designs to spare the bisection ends at adjacent neighbours
+    let spare = 4 * BudgetParams::default().count_refinements;
+    let converged = run(spare);
+    assert!(converged.counts_refined.len() < spare);
+    let best = converged.chosen.as_ref().expect("a table suffices");
+    assert!(best.objective <= chosen.objective);
+    let c = best.n_positions();
+    let (below, above) = neighbours(&converged, c);
+    assert!(below.is_none_or(|b| b + 1 == c), "{below:?} {c}");
+    assert!(above.is_none_or(|a| a == c + 1), "{above:?} {c}");
+    println!(
+        "coarse counts {:?} (skipped {:?}) chose {} x {} s, J = {} arcmin^-2; refined tried {:?}, chose {} x {} s, J = {} arcmin^-2; with designs to spare tried {:?}, chose {} x {} s, J = {} arcmin^-2",
+        coarse.counts,
+        coarse.counts_skipped,
+        c0,
+        coarse.chosen.as_ref().unwrap().dwell_s,
+        coarse.chosen.as_ref().unwrap().objective_arcmin(),
+        refined.counts_refined,
+        chosen.n_positions(),
+        chosen.dwell_s,
+        chosen.objective_arcmin(),
+        converged.counts_refined,
+        c,
+        best.dwell_s,
+        best.objective_arcmin()
+    );
 }

@@ -731,6 +731,47 @@ impl Study {
         positions_deg: &[Vec<f64>],
         comment: &str,
     ) -> Result<String, StudyError> {
+        self.text_with(positions_deg, None, comment)
+    }
+
+    /// The study's text with `calibration.positions_deg` replaced by `positions_deg` and
+    /// `calibration.timing.dwell_s` by the one number `dwell_s` (s, the same dwell at every
+    /// position), every comment and every other value kept (the comments above and beside
+    /// `dwell_s` included), `comment` placed above the positions as in
+    /// [`Study::text_with_positions`]. A per-position dwell list of any length is replaced.
+    ///
+    /// # Errors
+    /// A [`StudyError`] naming `calibration.timing` when the study has no timing, or
+    /// `calibration.timing.dwell_s` when `dwell_s` is outside [`crate::limits::DWELL_S`]; one
+    /// naming the file if the text no longer parses.
+    pub fn text_with_dwell(
+        &self,
+        positions_deg: &[Vec<f64>],
+        dwell_s: f64,
+        comment: &str,
+    ) -> Result<String, StudyError> {
+        let (lo, hi) = crate::limits::DWELL_S;
+        if !(dwell_s.is_finite() && dwell_s > lo && dwell_s <= hi) {
+            return Err(StudyError::new(
+                format!("{}: key `calibration.timing.dwell_s`", self.path),
+                format!("{dwell_s} s is outside ({lo}, {hi}] s"),
+            ));
+        }
+        if self.timing.is_none() {
+            return Err(StudyError::new(
+                format!("{}: key `calibration.timing`", self.path),
+                "the study has no [calibration.timing] to write a dwell into",
+            ));
+        }
+        self.text_with(positions_deg, Some(dwell_s), comment)
+    }
+
+    fn text_with(
+        &self,
+        positions_deg: &[Vec<f64>],
+        dwell_s: Option<f64>,
+        comment: &str,
+    ) -> Result<String, StudyError> {
         let mut doc: toml_edit::DocumentMut = self
             .text
             .parse()
@@ -750,7 +791,27 @@ impl Study {
             .get_mut("calibration")
             .and_then(|c| c.as_table_like_mut())
             .ok_or_else(|| StudyError::new(&self.path, "no [calibration] table"))?;
-        if let Some(list) = calibration
+        if let Some(t) = dwell_s {
+            let timing = calibration
+                .get_mut("timing")
+                .and_then(|t| t.as_table_like_mut())
+                .ok_or_else(|| {
+                    StudyError::new(
+                        format!("{}: key `calibration.timing`", self.path),
+                        "no [calibration.timing] table",
+                    )
+                })?;
+            // the new value keeps the old one's comments (before and after it)
+            let decor = timing
+                .get("dwell_s")
+                .and_then(|d| d.as_value())
+                .map(|v| v.decor().clone());
+            let mut value = toml_edit::Value::from(t);
+            if let Some(d) = decor {
+                *value.decor_mut() = d;
+            }
+            timing.insert("dwell_s", toml_edit::Item::Value(value));
+        } else if let Some(list) = calibration
             .get("timing")
             .and_then(|t| t.get("dwell_s"))
             .and_then(|d| d.as_array())

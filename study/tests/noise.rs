@@ -421,3 +421,62 @@ fn per_position_dwell_does_not_carry_over_to_another_count() {
         "{e}"
     );
 }
+
+/// A study written with other positions and a chosen dwell (`text_with_dwell`, as
+/// `design-schedule --time-budget-s --write-study` writes it) parses back to exactly those
+/// positions and that dwell at every position (one number replaces a per-position list of
+/// any length), keeps the comment beside the dwell and every other timing value, and a dwell
+/// outside its range or a study without timing is refused naming the key.
+#[test]
+fn text_with_dwell_parses_back_to_the_same_positions_and_dwell() {
+    let fewer: Vec<Vec<f64>> = Study::parse("s.toml", PAPER).unwrap().positions_deg[..24]
+        .iter()
+        .rev()
+        .cloned()
+        .collect();
+    // a dwell that is not a round number: it must come back bit for bit
+    let dwell = 1_234.567_890_123_4_f64;
+    let list: Vec<String> = (0..32).map(|i| format!("{}", 30 + i)).collect();
+    for timing in [
+        "dwell_s = 600 # ten minutes\nsample_rate_hz = 100\nmove_s = 60".to_string(),
+        format!(
+            "dwell_s = [{}] # per position\nsample_rate_hz = 100\nmove_s = 60",
+            list.join(", ")
+        ),
+    ] {
+        let s = Study::parse("s.toml", &paper_with("", &timing)).unwrap();
+        let text = s.text_with_dwell(&fewer, dwell, "chosen by test").unwrap();
+        assert!(text.contains("# chosen by test\npositions_deg"), "{text}");
+        assert!(text.contains("# Table 1, D(x)_xy"));
+        let back = Study::parse("s.toml", &text).unwrap();
+        assert_eq!(back.positions_deg, fewer);
+        let t = back.timing.expect("the timing is kept");
+        assert_eq!(t.dwell_s(), vec![dwell; fewer.len()].as_slice());
+        assert_eq!(t.sample_rate_hz().to_bits(), 100.0_f64.to_bits());
+        assert_eq!(t.move_s().to_bits(), 60.0_f64.to_bits());
+        assert_eq!(back.sensor, s.sensor);
+    }
+    let s = Study::parse(
+        "s.toml",
+        &paper_with("", "dwell_s = 600 # ten minutes\nsample_rate_hz = 100"),
+    )
+    .unwrap();
+    let text = s.text_with_dwell(&fewer, dwell, "chosen").unwrap();
+    assert!(
+        text.contains("dwell_s = 1234.5678901234 # ten minutes"),
+        "{text}"
+    );
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e6] {
+        let e = s.text_with_dwell(&fewer, bad, "c").unwrap_err().to_string();
+        assert!(
+            e.starts_with("s.toml: key `calibration.timing.dwell_s`"),
+            "{bad}: {e}"
+        );
+    }
+    let plain = Study::parse("s.toml", PAPER).unwrap();
+    let e = plain
+        .text_with_dwell(&fewer, dwell, "c")
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("s.toml: key `calibration.timing`"), "{e}");
+}

@@ -8,8 +8,8 @@ use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
-    BudgetDesign, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget, check_budget_affords,
-    design_with_budget,
+    BudgetDesign, BudgetParams, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget,
+    check_budget_affords, design_with_budget,
 };
 use serde::Serialize;
 use study::Study;
@@ -20,7 +20,62 @@ pub enum Budgeted {
     /// The study gives no noise: the budget only changes the dwell.
     Noiseless { budget_s: f64 },
     /// The design under the budget.
-    Design(Box<BudgetDesign>),
+    Design(Box<Designed>),
+}
+
+/// The budget design with the chosen point certified on the exact chain.
+pub struct Designed {
+    /// The library's answer.
+    pub design: BudgetDesign,
+    /// J (arcmin^-2) of the chosen point's direct allocation with the noise part kept free,
+    /// certified on the exact chain (as `end-to-end`'s `direct_with_noise.objective` on the
+    /// study written with the chosen positions and dwell); `None` without a chosen point or
+    /// when no certified table suffices. The budget's own J is the linearised allocation.
+    pub chosen_certified_arcmin: Option<f64>,
+}
+
+impl std::ops::Deref for Designed {
+    type Target = BudgetDesign;
+    fn deref(&self) -> &BudgetDesign {
+        &self.design
+    }
+}
+
+/// The study with `p`'s positions and its one dwell at each (the study's move time and
+/// sample rate kept), as `--write-study` writes it.
+///
+/// # Errors
+/// As [`Study::with_positions_deg`] (the positions were candidates, so only internal).
+pub fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Study> {
+    let mut s2 = s.clone();
+    s2.timing = Some(calib_lsq::Timing::uniform(
+        s.positions_deg.len(),
+        p.dwell_s,
+        timing.move_s(),
+        timing.sample_rate_hz(),
+    )?);
+    Ok(s2
+        .with_positions_deg(p.positions_deg.clone())
+        .map_err(InputError::from)?)
+}
+
+/// J (arcmin^-2) of the certified direct allocation with the noise part kept free at the
+/// chosen point (`None`: no table suffices on the exact chain).
+fn certified_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Option<f64>> {
+    let s2 = study_at(s, timing, p)?;
+    let e2e = crate::end_to_end::simulator(&s2)?;
+    let Some(noise) = crate::noise::budget(&s2, &e2e)? else {
+        return Ok(None);
+    };
+    let answer = e2e
+        .allocate_direct_with_noise_certified(
+            &e2e.linearization(),
+            &s2.lower_bounds_rad,
+            &noise,
+            DEFAULT_K_SIGMA,
+        )
+        .map_err(|e| crate::input::library(e, &s2))?;
+    Ok(answer.ok().map(|d| d.objective_arcmin()))
 }
 
 /// Why a noiseless study's answer does not change with the budget.
@@ -65,7 +120,14 @@ pub fn run(
         &b,
     )
     .map_err(|e| crate::input::library(e, s))?;
-    Ok(Budgeted::Design(Box::new(d)))
+    let chosen_certified_arcmin = match &d.chosen {
+        Some(p) => certified_at(s, timing, p)?,
+        None => None,
+    };
+    Ok(Budgeted::Design(Box::new(Designed {
+        design: d,
+        chosen_certified_arcmin,
+    })))
 }
 
 /// The budget of a study with noise and timing: its noise, move time and sample rate, the
@@ -85,6 +147,7 @@ fn time_budget<'a>(
         max_dwell_s: study::limits::DWELL_S.1,
         study_dwell_s,
         search_counts: true,
+        params: BudgetParams::default(),
     }
 }
 
@@ -167,6 +230,10 @@ pub struct ChosenJson<'a> {
     point: PointJson,
     /// Its positions, degrees (joint angles per position).
     positions_deg: &'a [Vec<f64>],
+    /// Its J certified on the exact chain (arcmin^-2; `end-to-end`'s `direct_with_noise`
+    /// objective on the study `--write-study` writes), `null` when no certified table
+    /// suffices.
+    certified_objective_arcmin: Option<f64>,
 }
 
 /// `time_budget`.
@@ -198,6 +265,8 @@ pub enum TimeBudgetJson<'a> {
         counts: &'a [usize],
         /// The counts with no table design.
         counts_skipped: &'a [usize],
+        /// The counts the refinement added (bisection around the best count).
+        counts_refined: &'a [usize],
         /// The front's cheapest table within the budget, `null` when none fits.
         chosen: Option<ChosenJson<'a>>,
     },
@@ -233,14 +302,35 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
                 evaluated: d.evaluated,
                 counts: &d.counts,
                 counts_skipped: &d.counts_skipped,
+                counts_refined: &d.counts_refined,
                 chosen: d.chosen.as_ref().map(|p| ChosenJson {
                     point: p.into(),
                     positions_deg: &p.positions_deg,
+                    certified_objective_arcmin: d.chosen_certified_arcmin,
                 }),
             },
             pareto: Some(d.pareto.iter().map(PointJson::from).collect()),
         },
     }
+}
+
+/// The lines `--write-study` puts above the positions the budget chose (`p`, chosen in `d`).
+pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
+    format!(
+        "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The J, condition numbers and tolerances\nabove are those of the table's design.",
+        num(d.budget_s),
+        p.n_positions(),
+        origin(p.origin),
+        num(p.dwell_s),
+        sig(p.total_s, 6),
+        num(p.objective_arcmin()),
+        num(d.k_sigma),
+        d.chosen_certified_arcmin
+            .map_or("no table suffices".to_string(), |j| format!(
+                "J = {}",
+                num(j)
+            )),
+    )
 }
 
 /// The budget's answer in words, with the Pareto front as a table.
@@ -281,12 +371,14 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
     ));
     match &d.chosen {
         Some(p) => t.push_str(&format!(
-            "  within the budget: {} positions x {} s ({} s in all), J = {} arcmin^-2 ({})\n",
+            "  within the budget: {} positions x {} s ({} s in all), J = {} arcmin^-2 ({}); certified on the exact chain: {}\n",
             p.n_positions(),
             sig(p.dwell_s, 4),
             sig(p.total_s, 4),
             sig(p.objective_arcmin(), 6),
-            origin(p.origin)
+            origin(p.origin),
+            d.chosen_certified_arcmin
+                .map_or("no table suffices".to_string(), |j| format!("J = {}", sig(j, 6)))
         )),
         None => t.push_str(&match d.pareto.first() {
             Some(p) => format!(

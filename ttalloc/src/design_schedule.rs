@@ -27,8 +27,10 @@
 //! move)), JSON `time_budget` (`budget_s`, `k_sigma`, `counts`, `counts_skipped`, `chosen`
 //! with its `n_positions`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
 //! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
-//! `--write-study`). Without noise the budget only changes the dwell: `time_budget.note` says
-//! so and the answer is unchanged.
+//! `--write-study`). With `--write-study` the written study has the chosen point's positions
+//! and its one dwell (`calibration.timing.dwell_s`), so `end-to-end` on it answers the
+//! chosen J (`direct_with_noise`) and its combined answer. Without noise the budget only
+//! changes the dwell: `time_budget.note` says so and the answer is unchanged.
 
 use crate::InputError;
 use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
@@ -286,9 +288,10 @@ fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
     ]
 }
 
-/// With noise in the study: the positions are searched for the table's part alone (a time
-/// budget choosing positions and dwell times together is not built yet), which the output
-/// says; the recommendation then counts the noise ([`CombinedChoice`]).
+/// With noise in the study: the positions are searched for the table's part alone (with
+/// `--time-budget-s` the count, the positions and the dwell are then chosen together, see
+/// [`crate::design_budget`]), which the output says; the recommendation then counts the noise
+/// ([`CombinedChoice`]).
 fn noise_note(s: &Study) -> Option<&'static str> {
     s.noise.iter().any(Option::is_some).then_some(
         "the study gives noise: the positions are searched for the table's part alone (dwell times and the noise part are not part of this search; --time-budget-s adds the search of the number of positions, the positions and the dwell together with the noise counted); the designed and the study's schedule are then compared with the noise counted, and the designed one is recommended only if it does not lose",
@@ -990,14 +993,36 @@ pub fn run(args: &Args) -> Result<()> {
             let rate_keeps_study = rates
                 .as_ref()
                 .is_some_and(|r| r.chosen.is_some() && r.chosen_study_positions);
-            let positions = if keep_study || rate_keeps_study {
-                &design.study.positions_deg
-            } else {
-                &design.designed.positions_deg
+            // with a time budget and noise: the count, positions and dwell it chose
+            let chosen = match &budget {
+                Some(crate::design_budget::Budgeted::Design(d)) => {
+                    d.chosen.as_ref().map(|p| (d, p))
+                }
+                _ => None,
             };
-            let text = s
-                .text_with_positions(positions, &comment)
-                .map_err(InputError::from)?;
+            if let Some((d, p)) = chosen {
+                comment.push('\n');
+                comment.push_str(&crate::design_budget::chosen_comment(d, p));
+            }
+            if let Some(crate::design_budget::Budgeted::Design(d)) = &budget {
+                if d.chosen.is_none() {
+                    comment.push_str(&format!(
+                        "\nWith --time-budget-s {}: no table suffices within the budget (the noise fills an accuracy),\nso the positions below are the table's design and the study's dwell is kept.",
+                        num(d.budget_s)
+                    ));
+                }
+            }
+            let chosen = chosen.map(|(_, p)| p);
+            let positions = match chosen {
+                Some(p) => &p.positions_deg,
+                None if keep_study || rate_keeps_study => &design.study.positions_deg,
+                None => &design.designed.positions_deg,
+            };
+            let text = match chosen {
+                Some(p) => s.text_with_dwell(positions, p.dwell_s, &comment),
+                None => s.text_with_positions(positions, &comment),
+            }
+            .map_err(InputError::from)?;
             let text = match rates.as_ref().and_then(|r| r.chosen) {
                 Some((rate, _)) => crate::design_rates::text_with_rate(&s, &text, rate)?,
                 None => text,
@@ -1009,6 +1034,15 @@ pub fn run(args: &Args) -> Result<()> {
                 anyhow::bail!(
                     "internal: the written study's positions differ from the designed ones"
                 );
+            }
+            if let Some(p) = chosen {
+                let dwells = back.timing.as_ref().map(calib_lsq::Timing::dwell_s);
+                if !dwells.is_some_and(|d| d.iter().all(|t| t.to_bits() == p.dwell_s.to_bits())) {
+                    anyhow::bail!(
+                        "internal: the written study's dwell differs from the chosen {} s",
+                        p.dwell_s
+                    );
+                }
             }
             Some((shown, crate::newfile::stage(out, text.as_bytes())?))
         }

@@ -1,10 +1,12 @@
 //! `design-schedule --time-budget-s` through the built binary (issue 21 item 4): bad values
 //! exit 2 naming the flag with nothing on standard output, a study without noise keeps its
 //! answer and says why, and with noise the Pareto front (JSON `pareto`) is monotone, the
-//! chosen point fits the budget and `--pareto-svg` writes a new figure, never over a file.
+//! chosen point fits the budget and `--pareto-svg` writes a new figure, never over a file;
+//! `--write-study` writes the chosen positions and dwell, which `end-to-end` answers.
 
 mod common;
 
+use approx::assert_relative_eq;
 use common::{root, scratch};
 use serde_json::Value;
 use std::process::{Command, Output};
@@ -162,4 +164,77 @@ fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
     assert_eq!(again.status.code(), Some(2));
     assert!(again.stdout.is_empty());
     assert_eq!(std::fs::read_to_string(&svg).unwrap(), text);
+}
+
+/// The same certified allocation computed by two commands on the same positions and dwell
+/// (the written dwell is the chosen one bit for bit): JSON at full precision, one conversion
+/// to arcmin^-2 each, so only rounding may differ (dimensionless, relative).
+const SAME_ALLOCATION_REL: f64 = 1e-9;
+
+/// The budget's J is the linearised direct allocation, `end-to-end`'s `direct_with_noise` the
+/// one certified on the exact chain: on the paper's study they differ by a few percent (the
+/// noiseless designed schedule: 12.144 against 12.45, 2.5%); this bounds that gap
+/// (dimensionless, relative).
+const LINEARISATION_GAP_REL: f64 = 0.05;
+
+/// With a budget and noise, `--write-study` writes the chosen point: its positions and its one
+/// dwell (`calibration.timing.dwell_s`), the study's move time and sample rate kept; and
+/// `end-to-end` on the written file answers that point: its certified direct allocation with
+/// the noise kept free is the chosen point's `certified_objective_arcmin`, within the
+/// linearisation's gap of the chosen (linearised) J, and the table it allocates meets every
+/// output's accuracy with the noise counted.
+#[test]
+fn written_study_holds_the_chosen_point_and_end_to_end_answers_its_j() {
+    let dir = scratch("design-budget", "write-study");
+    let out = dir.join("chosen.toml");
+    let out_arg = out.to_str().unwrap();
+    let v = json_of(&xtask(&[
+        "design-schedule",
+        "--study",
+        NOISY,
+        "--step-deg",
+        "45",
+        "--time-budget-s",
+        "25000",
+        "--write-study",
+        out_arg,
+        "--json",
+    ]));
+    let chosen = &v["time_budget"]["chosen"];
+    let dwell = chosen["dwell_s"].as_f64().expect("a chosen point");
+    let positions: Vec<Vec<f64>> = serde_json::from_value(chosen["positions_deg"].clone()).unwrap();
+    let text = std::fs::read_to_string(&out).expect("the study is written");
+    let written = study::Study::parse(out_arg, &text).expect("the written study parses");
+    assert_eq!(written.positions_deg, positions);
+    let timing = written.timing.as_ref().expect("the timing is kept");
+    assert!(
+        timing
+            .dwell_s()
+            .iter()
+            .all(|t| t.to_bits() == dwell.to_bits()),
+        "{:?} against {dwell}",
+        timing.dwell_s()
+    );
+    assert_eq!(timing.move_s().to_bits(), 60.0_f64.to_bits());
+    assert_eq!(timing.sample_rate_hz().to_bits(), 100.0_f64.to_bits());
+    assert!(text.contains("With --time-budget-s 25000"), "{text}");
+    let e2e = json_of(&xtask(&[
+        "end-to-end",
+        "--study",
+        out_arg,
+        "--samples",
+        "2000",
+        "--json",
+    ]));
+    let direct = &e2e["readings"][0]["noise"]["direct_with_noise"];
+    assert_eq!(direct["no_table_suffices"], false, "{direct}");
+    let e2e_j = direct["objective"].as_f64().unwrap();
+    let certified = chosen["certified_objective_arcmin"].as_f64().unwrap();
+    assert_relative_eq!(e2e_j, certified, max_relative = SAME_ALLOCATION_REL);
+    let linearised = chosen["objective_arcmin"].as_f64().unwrap();
+    assert_relative_eq!(e2e_j, linearised, max_relative = LINEARISATION_GAP_REL);
+    // the combined answer of the allocated table: every output meets its accuracy
+    for o in direct["box"]["outputs"].as_array().expect("outputs") {
+        assert_eq!(o["combined_meets"], true, "{o}");
+    }
 }
