@@ -608,6 +608,36 @@ impl OutputCalibration {
     }
 }
 
+/// Positions whose sums [`position_sums`] advances side by side.
+const POSITION_LANES: usize = 4;
+
+/// $\mathbf A'\boldsymbol\beta$ and $\mathbf b_2'$ at `L` positions (`vs`, exactly `L`), each
+/// summed term by term from $-0$ in column order (the generic path's order, so the same bits);
+/// the `L` sums advance side by side.
+#[inline(always)]
+fn position_sums<const L: usize>(
+    q: &QuadraticTerms,
+    beta: &[f64],
+    vs: &[InputValues],
+) -> ([f64; L], [f64; L]) {
+    let e: [[f64; 7]; L] = std::array::from_fn(|l| extended(&vs[l].0));
+    let mut est = [-0.0; L];
+    for (&[a, b], c) in q.estimated.iter().zip(beta) {
+        let (a, b) = (usize::from(a), usize::from(b));
+        for (s, e) in est.iter_mut().zip(&e) {
+            *s += e[a] * e[b] * c;
+        }
+    }
+    let mut known = [-0.0; L];
+    for &(c, [a, b]) in &q.known {
+        let (a, b) = (usize::from(a), usize::from(b));
+        for (s, e) in known.iter_mut().zip(&e) {
+            *s += c * (e[a] * e[b]);
+        }
+    }
+    (est, known)
+}
+
 impl OutputCalibration {
     /// [`OutputCalibration::error_vector_at`] for the user's reading ([`Reading::USER`]: outputs
     /// at the actual orientation, $\hat{\boldsymbol\beta}_1$, eq 13 as printed) of an output
@@ -628,16 +658,16 @@ impl OutputCalibration {
         let b2 = self.b2().as_slice();
         work.b1_actual.clear();
         work.b2_actual.clear();
-        for v in actual {
-            let e = extended(&v.0);
-            let mut est = -0.0;
-            for (&[a, b], c) in q.estimated.iter().zip(beta) {
-                est += e[usize::from(a)] * e[usize::from(b)] * c;
+        let mut blocks = actual.chunks_exact(POSITION_LANES);
+        for block in &mut blocks {
+            let (est, known) = position_sums::<POSITION_LANES>(q, beta, block);
+            for (e, k) in est.iter().zip(&known) {
+                work.b2_actual.push(*k);
+                work.b1_actual.push(k + e);
             }
-            let mut known = -0.0;
-            for &(c, [a, b]) in &q.known {
-                known += c * (e[usize::from(a)] * e[usize::from(b)]);
-            }
+        }
+        for v in blocks.remainder() {
+            let ([est], [known]) = position_sums::<1>(q, beta, std::slice::from_ref(v));
             work.b2_actual.push(known);
             work.b1_actual.push(known + est);
         }
@@ -883,15 +913,27 @@ mod tests {
 
     /// The user's reading's path for outputs of degree at most 2 performs the generic path's
     /// operations in the same order: the same bits, on perturbed inputs at every position of
-    /// the paper's study (both outputs).
+    /// the paper's schedule (32 positions, a whole number of lanes) and of a 3 x 7 grid (21,
+    /// one position past the lanes), both outputs.
     #[test]
     fn user_reading_quadratic_path_equals_the_generic_path_bit_for_bit() {
+        let grid = crate::paper::grid(
+            &[0.0, 90.0, 180.0],
+            &[0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0],
+        )
+        .expect("a valid grid");
+        for schedule in [crate::paper::schedule(), grid] {
+            check_user_reading_paths(&schedule);
+        }
+    }
+
+    fn check_user_reading_paths(schedule: &crate::Schedule) {
         let cal = Calibration::new(
             &gw_model::paper::gyrowheel(),
             &gw_model::paper::site(),
-            &crate::paper::schedule(),
+            schedule,
         )
-        .expect("the paper's study is identifiable");
+        .expect("the schedule identifies every coefficient");
         for (k, o) in cal.outputs().iter().enumerate() {
             assert!(o.fast.quadratic.is_some(), "the GyroWheel is quadratic");
             let actual: Vec<InputValues> = o
