@@ -680,13 +680,23 @@ impl OutputCalibration {
                 *acc += p * y;
             }
         }
-        for (i, ((o, b1), b2)) in out
-            .iter_mut()
-            .zip(&work.b1_actual)
-            .zip(&work.b2_actual)
-            .enumerate()
-        {
-            *o = b1 - dot(&self.fast.a_rows[i * k..(i + 1) * k], beta_hat) - b2;
+        // A beta-hat-1 for four positions side by side, each sum in dot's order
+        let a_rows = &self.fast.a_rows;
+        let lanes = out.len() / POSITION_LANES * POSITION_LANES;
+        for i in (0..lanes).step_by(POSITION_LANES) {
+            let mut pred = [-0.0; POSITION_LANES];
+            for (j, b) in beta_hat.iter().enumerate() {
+                for (l, p) in pred.iter_mut().enumerate() {
+                    *p += a_rows[(i + l) * k + j] * b;
+                }
+            }
+            for (l, p) in pred.iter().enumerate() {
+                out[i + l] = work.b1_actual[i + l] - p - work.b2_actual[i + l];
+            }
+        }
+        for i in lanes..out.len() {
+            out[i] =
+                work.b1_actual[i] - dot(&a_rows[i * k..(i + 1) * k], beta_hat) - work.b2_actual[i];
         }
     }
 }
