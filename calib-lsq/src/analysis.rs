@@ -50,7 +50,8 @@
 //! dispatch gives the value and the derivative.
 
 use crate::calibration::{
-    Calibration, OutputCalibration, design_matrix, known_vector, simulate_outputs,
+    Calibration, OutputCalibration, QuadraticTerms, design_matrix, extended, known_vector,
+    simulate_outputs,
 };
 use crate::error::CalibError;
 use crate::lsq::{QrSolve, Regression};
@@ -523,6 +524,29 @@ impl OutputCalibration {
             tt_core::length(what, n, len)?;
         }
         let f = &self.fast;
+        if let (Some(q), OutputsAt::Actual, Estimate::Beta1, ErrorForm::Printed) = (
+            &f.quadratic,
+            reading.outputs,
+            reading.estimate,
+            reading.form,
+        ) {
+            self.actual_beta1_error_vector(q, actual, work, out);
+            return Ok(());
+        }
+        self.error_vector_generic(reading, actual, work, out)
+    }
+
+    /// [`OutputCalibration::error_vector_at`] for any reading and any output (lengths checked
+    /// by the caller).
+    fn error_vector_generic(
+        &self,
+        reading: Reading,
+        actual: &[InputValues],
+        work: &mut ErrorWork,
+        out: &mut [f64],
+    ) -> Result<(), CalibError> {
+        let n = self.b2().len();
+        let f = &self.fast;
         let k = f.estimated.len();
         let need_b1 = reading.needs_actual_outputs();
         let need_rows = need_b1
@@ -581,6 +605,99 @@ impl OutputCalibration {
         };
         reading.error_vector(&terms, rw, out);
         Ok(())
+    }
+}
+
+/// Positions whose sums [`position_sums`] advances side by side.
+const POSITION_LANES: usize = 4;
+
+/// $\mathbf A'\boldsymbol\beta$ and $\mathbf b_2'$ at `L` positions (`vs`, exactly `L`), each
+/// summed term by term from $-0$ in column order (the generic path's order, so the same bits);
+/// the `L` sums advance side by side.
+#[inline(always)]
+fn position_sums<const L: usize>(
+    q: &QuadraticTerms,
+    beta: &[f64],
+    vs: &[InputValues],
+) -> ([f64; L], [f64; L]) {
+    let e: [[f64; 7]; L] = std::array::from_fn(|l| extended(&vs[l].0));
+    let mut est = [-0.0; L];
+    for (&[a, b], c) in q.estimated.iter().zip(beta) {
+        let (a, b) = (usize::from(a), usize::from(b));
+        for (s, e) in est.iter_mut().zip(&e) {
+            *s += e[a] * e[b] * c;
+        }
+    }
+    let mut known = [-0.0; L];
+    for &(c, [a, b]) in &q.known {
+        let (a, b) = (usize::from(a), usize::from(b));
+        for (s, e) in known.iter_mut().zip(&e) {
+            *s += c * (e[a] * e[b]);
+        }
+    }
+    (est, known)
+}
+
+impl OutputCalibration {
+    /// [`OutputCalibration::error_vector_at`] for the user's reading ([`Reading::USER`]: outputs
+    /// at the actual orientation, $\hat{\boldsymbol\beta}_1$, eq 13 as printed) of an output
+    /// whose monomials all have degree at most 2: the same operations in the same order as
+    /// the generic path (so the same bits), without the regressor rows it does not need
+    /// ($\mathbf b_1 = \mathbf A'\boldsymbol\beta + \mathbf b_2'$ summed per position), with
+    /// branch-free monomials and the $k$ sums of $\hat{\boldsymbol\beta}_1 = \mathbf
+    /// A^+(\mathbf b_1 - \mathbf b_2)$ advanced side by side.
+    fn actual_beta1_error_vector(
+        &self,
+        q: &QuadraticTerms,
+        actual: &[InputValues],
+        work: &mut ErrorWork,
+        out: &mut [f64],
+    ) {
+        let k = q.estimated.len();
+        let beta = self.beta().as_slice();
+        let b2 = self.b2().as_slice();
+        work.b1_actual.clear();
+        work.b2_actual.clear();
+        let mut blocks = actual.chunks_exact(POSITION_LANES);
+        for block in &mut blocks {
+            let (est, known) = position_sums::<POSITION_LANES>(q, beta, block);
+            for (e, k) in est.iter().zip(&known) {
+                work.b2_actual.push(*k);
+                work.b1_actual.push(k + e);
+            }
+        }
+        for v in blocks.remainder() {
+            let ([est], [known]) = position_sums::<1>(q, beta, std::slice::from_ref(v));
+            work.b2_actual.push(known);
+            work.b1_actual.push(known + est);
+        }
+        let beta_hat = &mut work.y;
+        beta_hat.clear();
+        beta_hat.resize(k, -0.0);
+        for (i, (b1, b2)) in work.b1_actual.iter().zip(b2).enumerate() {
+            let y = b1 - b2;
+            for (acc, p) in beta_hat.iter_mut().zip(&q.pinv_cols[i * k..(i + 1) * k]) {
+                *acc += p * y;
+            }
+        }
+        // A beta-hat-1 for four positions side by side, each sum in dot's order
+        let a_rows = &self.fast.a_rows;
+        let lanes = out.len() / POSITION_LANES * POSITION_LANES;
+        for i in (0..lanes).step_by(POSITION_LANES) {
+            let mut pred = [-0.0; POSITION_LANES];
+            for (j, b) in beta_hat.iter().enumerate() {
+                for (l, p) in pred.iter_mut().enumerate() {
+                    *p += a_rows[(i + l) * k + j] * b;
+                }
+            }
+            for (l, p) in pred.iter().enumerate() {
+                out[i + l] = work.b1_actual[i + l] - p - work.b2_actual[i + l];
+            }
+        }
+        for i in lanes..out.len() {
+            out[i] =
+                work.b1_actual[i] - dot(&a_rows[i * k..(i + 1) * k], beta_hat) - work.b2_actual[i];
+        }
     }
 }
 
@@ -797,5 +914,60 @@ impl OrientationErrorAnalysis {
     ) -> Result<ErrorAnalysis, CalibError> {
         let m = angles.delta_r(kind);
         self.analyze(&vec![m; self.positions()])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The user's reading's path for outputs of degree at most 2 performs the generic path's
+    /// operations in the same order: the same bits, on perturbed inputs at every position of
+    /// the paper's schedule (32 positions, a whole number of lanes) and of a 3 x 7 grid (21,
+    /// one position past the lanes), both outputs.
+    #[test]
+    fn user_reading_quadratic_path_equals_the_generic_path_bit_for_bit() {
+        let grid = crate::paper::grid(
+            &[0.0, 90.0, 180.0],
+            &[0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0],
+        )
+        .expect("a valid grid");
+        for schedule in [crate::paper::schedule(), grid] {
+            check_user_reading_paths(&schedule);
+        }
+    }
+
+    fn check_user_reading_paths(schedule: &crate::Schedule) {
+        let cal = Calibration::new(
+            &gw_model::paper::gyrowheel(),
+            &gw_model::paper::site(),
+            schedule,
+        )
+        .expect("the schedule identifies every coefficient");
+        for (k, o) in cal.outputs().iter().enumerate() {
+            assert!(o.fast.quadratic.is_some(), "the GyroWheel is quadratic");
+            let actual: Vec<InputValues> = o
+                .nominal_values()
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let mut u = v.0;
+                    for (q, x) in u.iter_mut().enumerate() {
+                        *x += 1e-4 * ((i * 7 + q * 3 + k) as f64).sin();
+                    }
+                    InputValues(u)
+                })
+                .collect();
+            let n = actual.len();
+            let (mut fast, mut generic) = (vec![0.0; n], vec![0.0; n]);
+            let mut work = ErrorWork::default();
+            o.error_vector_at(Reading::USER, &actual, &mut work, &mut fast)
+                .expect("lengths match");
+            o.error_vector_generic(Reading::USER, &actual, &mut work, &mut generic)
+                .expect("lengths match");
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&fast), bits(&generic), "output {k}");
+            assert!(fast.iter().any(|&x| x != 0.0), "a non-trivial error vector");
+        }
     }
 }

@@ -39,6 +39,38 @@ impl Mono {
         }
         out
     }
+
+    /// The monomial as a product of two entries of $(1, \mathbf v)$ (indices into
+    /// [`extended`]), when its degree is at most 2: evaluates to the same bits as
+    /// [`Mono::eval`] ($1\cdot x = x$ exactly).
+    fn pair(&self) -> Option<[u8; 2]> {
+        let i = |q: usize| self.idx[q] + 1;
+        match self.len {
+            0 => Some([0, 0]),
+            1 => Some([i(0), 0]),
+            2 => Some([i(0), i(1)]),
+            _ => None,
+        }
+    }
+}
+
+/// $(1, \mathbf v)$: the entries the monomial pairs of [`QuadraticTerms`] index.
+#[inline(always)]
+pub(crate) fn extended(v: &[f64; 6]) -> [f64; 7] {
+    [1.0, v[0], v[1], v[2], v[3], v[4], v[5]]
+}
+
+/// An output whose every monomial has degree at most 2, compiled for the branch-free fast
+/// path of the readings with outputs at the actual orientation and $\hat{\boldsymbol\beta}_1$
+/// (the user's reading): each monomial a product of two entries of [`extended`].
+#[derive(Debug, Clone)]
+pub(crate) struct QuadraticTerms {
+    /// The estimated terms' monomials, in column order.
+    pub estimated: Vec<[u8; 2]>,
+    /// The known terms: value and monomial.
+    pub known: Vec<(f64, [u8; 2])>,
+    /// $\mathbf A^+$ position-major ($n \times k$: entry $(i, j)$ at $ik + j$).
+    pub pinv_cols: Vec<f64>,
 }
 
 /// Row-major copies and compiled terms of an output for the fast path (no lookups, contiguous
@@ -55,6 +87,8 @@ pub(crate) struct FastOutput {
     pub known: Vec<(f64, Mono)>,
     /// $\mathbf A\boldsymbol\beta + \mathbf b_2$: the outputs at the intended orientation.
     pub b1_intended: Vec<f64>,
+    /// The compiled terms when every monomial has degree at most 2.
+    pub quadratic: Option<QuadraticTerms>,
 }
 
 /// One output of a prepared calibration: its nominal regression and the true quantities.
@@ -188,6 +222,24 @@ impl Calibration {
                 let a_beta = regression.matrix() * &beta;
                 let b2 = known_vector(o, &nominal);
                 let (n, k) = regression.matrix().shape();
+                let estimated: Vec<Mono> = o.estimated().map(|t| Mono::new(&t.regressor)).collect();
+                let known: Vec<(f64, Mono)> = o
+                    .known_terms()
+                    .map(|t| (t.value, Mono::new(&t.regressor)))
+                    .collect();
+                let quadratic = (|| {
+                    Some(QuadraticTerms {
+                        estimated: estimated.iter().map(Mono::pair).collect::<Option<_>>()?,
+                        known: known
+                            .iter()
+                            .map(|(c, m)| Some((*c, m.pair()?)))
+                            .collect::<Option<_>>()?,
+                        pinv_cols: (0..n)
+                            .flat_map(|i| (0..k).map(move |j| (j, i)))
+                            .map(|(j, i)| regression.pinv()[(j, i)])
+                            .collect(),
+                    })
+                })();
                 let fast = FastOutput {
                     a_rows: (0..n)
                         .flat_map(|i| (0..k).map(move |j| (i, j)))
@@ -197,12 +249,10 @@ impl Calibration {
                         .flat_map(|j| (0..n).map(move |i| (j, i)))
                         .map(|(j, i)| regression.pinv()[(j, i)])
                         .collect(),
-                    estimated: o.estimated().map(|t| Mono::new(&t.regressor)).collect(),
-                    known: o
-                        .known_terms()
-                        .map(|t| (t.value, Mono::new(&t.regressor)))
-                        .collect(),
+                    estimated,
+                    known,
                     b1_intended: (&a_beta + &b2).iter().copied().collect(),
+                    quadratic,
                 };
                 Ok(OutputCalibration {
                     nominal: nominal.iter().map(InputValues::from_inputs).collect(),

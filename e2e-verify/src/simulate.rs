@@ -724,9 +724,18 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         work: &mut DrawWork,
         out: &mut [Vec<f64>],
     ) -> Result<(), E2eError> {
-        self.delta_omega_into(chi_rad, work)?;
-        for (o, v) in self.calibration.outputs().iter().zip(out.iter_mut()) {
+        self.check_chi(chi_rad)?;
+        self.actual_into(chi_rad, &self.extra_values, work)?;
+        // each output's error vector once: Delta omega_k from it as finish_draw takes it
+        for (k, (o, v)) in self
+            .calibration
+            .outputs()
+            .iter()
+            .zip(out.iter_mut())
+            .enumerate()
+        {
             o.error_vector_at(self.reading, &work.actual, &mut work.work, v)?;
+            work.delta_omega[k] = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
         }
         Ok(())
     }

@@ -786,9 +786,14 @@ pub fn max_harmonic_sum(h: &[[f64; 3]], w: &[f64], abs: bool, lo: f64, hi: f64) 
             best = (v, phi);
         }
     };
-    for pair in cuts.windows(2) {
+    let mut stationary = Vec::new();
+    for (window, pair) in cuts.windows(2).enumerate() {
         let (p, q) = (pair[0], pair[1]);
-        consider(p);
+        // a later window's p is the previous window's q: considered already, with the same
+        // value (so considering it again changes nothing)
+        if window == 0 {
+            consider(p);
+        }
         consider(q);
         if q <= p {
             continue;
@@ -806,9 +811,9 @@ pub fn max_harmonic_sum(h: &[[f64; 3]], w: &[f64], abs: bool, lo: f64, hi: f64) 
             big_b += s * wi * b;
         }
         if big_a != 0.0 || big_b != 0.0 {
-            let mut stationary = Vec::new();
+            stationary.clear();
             push_periodic(&mut stationary, big_b.atan2(big_a), p, q);
-            for phi in stationary {
+            for &phi in &stationary {
                 consider(phi);
             }
         }
