@@ -627,14 +627,7 @@ pub fn design_with_budget(
     let mut new: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> = Vec::new();
     for (d, list) in found {
         for s in list {
-            let mut sorted = s.clone();
-            sorted.sort_unstable();
-            let seen = known.iter().any(|k| {
-                let mut k = k.clone();
-                k.sort_unstable();
-                k == sorted
-            });
-            if !seen {
+            if !is_known(&known, &s) {
                 known.push(s.clone());
                 new.push((ScheduleOrigin::Noise(dwells[d]), problem.positions_deg(&s)));
             }
@@ -705,14 +698,7 @@ pub fn design_with_budget(
                     }
                 }
                 for (origin, s) in added {
-                    let mut sorted = s.clone();
-                    sorted.sort_unstable();
-                    let seen = known.iter().any(|k| {
-                        let mut k = k.clone();
-                        k.sort_unstable();
-                        k == sorted
-                    });
-                    if seen {
+                    if is_known(&known, &s) {
                         continue;
                     }
                     known.push(s.clone());
@@ -783,4 +769,16 @@ fn best_count(
         }
     }
     best.map(|(_, c)| c)
+}
+
+/// Whether schedule `s` (candidate indices) is among `known`, compared as sets of positions
+/// (the search keeps one visiting order of each set).
+fn is_known(known: &[Vec<usize>], s: &[usize]) -> bool {
+    let mut sorted = s.to_vec();
+    sorted.sort_unstable();
+    known.iter().any(|k| {
+        let mut k = k.clone();
+        k.sort_unstable();
+        k == sorted
+    })
 }

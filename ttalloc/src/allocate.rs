@@ -230,18 +230,10 @@ pub struct AllocateJson<'a> {
     /// For the paper's table: Table 4's certificate; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     paper_table4_certificate: Option<PerAngle<AxisCertificateJson>>,
-    /// With errors that vary with the shaft angle or measured errors: the allocations under
-    /// the study's model; absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
-    /// With `--tolerances`: the sheet's pairs allocated with one tolerance each; absent
-    /// otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    disc_allocation: Option<crate::angle::SheetAllocationsJson<'a>>,
-    /// With rate steps in the study: the rate tolerances allocated with the angles; absent
-    /// otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    rate_allocation: Option<crate::rate::RateAllocationJson<'a>>,
+    /// `angle_dependent`, `disc_allocation` and `rate_allocation` (each absent when it does
+    /// not apply).
+    #[serde(flatten)]
+    extras: crate::json::ExtrasJson<'a>,
 }
 
 /// The view printed by `--json`.
@@ -284,9 +276,7 @@ pub fn allocate_json<'a>(
             .table4
             .as_ref()
             .map(|(_, cert, _)| certificate_json(s, cert)),
-        angle_dependent: None,
-        disc_allocation: None,
-        rate_allocation: None,
+        extras: crate::json::ExtrasJson::default(),
     })
 }
 
@@ -416,13 +406,13 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let mut v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
     if args.json {
-        v.angle_dependent = angle
+        v.extras.angle_dependent = angle
             .as_ref()
             .map(|(e2e, an)| crate::angle_alloc::AngleDependentJson::new(e2e, an));
-        v.disc_allocation = sheet
+        v.extras.disc_allocation = sheet
             .as_ref()
             .map(|(path, al)| crate::angle::SheetAllocationsJson::new(path, al));
-        v.rate_allocation = rate
+        v.extras.rate_allocation = rate
             .as_ref()
             .map(|(e2e, r)| crate::rate::RateAllocationJson::new(e2e, r));
         return crate::json::print(&v);

@@ -585,7 +585,7 @@ pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) 
     s
 }
 
-/// An allocation with one tolerance per pair (or per error).
+/// An allocation with one tolerance per pair (or per error), or under the shaft-angle model.
 #[derive(Debug, Serialize)]
 pub struct AllocationJson {
     /// J, arcmin^-2; `null` when no error needs a bound.
@@ -595,9 +595,10 @@ pub struct AllocationJson {
 }
 
 impl AllocationJson {
-    fn new(names: &[&str], d: &DirectAllocation) -> Self {
+    /// The view of `d` (errors named `names`).
+    pub(crate) fn new(names: &[&str], d: &DirectAllocation) -> Self {
         Self {
-            objective_arcmin: (!d.no_bound_needed()).then(|| d.objective_arcmin()),
+            objective_arcmin: crate::angle_alloc::objective(d),
             upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
         }
     }

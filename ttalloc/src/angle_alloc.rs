@@ -18,7 +18,6 @@
 //! {"objective_arcmin", "upper_bounds_arcmin"}, "certified": {...} | null, "certified_note",
 //! "unmeasured_before_objective_arcmin", "compensated": {...} | {"no_room"} | null}]`).
 
-use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use calib_lsq::Reading;
 use e2e_verify::{DirectAllocation, EndToEnd};
@@ -150,7 +149,8 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
     }))
 }
 
-fn objective(d: &DirectAllocation) -> Option<f64> {
+/// J (arcmin^-2) of `d`, `None` when no error needs a bound.
+pub(crate) fn objective(d: &DirectAllocation) -> Option<f64> {
     (!d.no_bound_needed()).then(|| d.objective_arcmin())
 }
 
@@ -164,30 +164,12 @@ pub fn model_name(v: &ErrorVariation) -> String {
     }
 }
 
-/// An allocation under the shaft-angle model.
-#[derive(Debug, Serialize)]
-pub struct AllocationJson {
-    /// J, arcmin^-2; `null` when no error needs a bound.
-    objective_arcmin: Option<f64>,
-    /// Its bounds, arcmin.
-    upper_bounds_arcmin: ArcminBounds,
-}
-
-impl AllocationJson {
-    fn new(names: &[&str], d: &DirectAllocation) -> Self {
-        Self {
-            objective_arcmin: objective(d),
-            upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
-        }
-    }
-}
-
 /// The allocation after compensation: the allocation, or why there is no room.
 #[derive(Debug, Serialize)]
 #[serde(untagged)]
 pub enum CompensatedJson<'a> {
     /// The unmeasured errors' allocation.
-    Allocated(AllocationJson),
+    Allocated(crate::angle::AllocationJson),
     /// The measured errors' uncertainty leaves no room.
     NoRoom {
         /// Why, in words.
@@ -203,9 +185,9 @@ pub struct AngleReadingJson<'a> {
     /// J of the constant model's direct allocation, arcmin^-2 (`null`: no bound needed).
     constant_direct_objective_arcmin: Option<f64>,
     /// The direct allocation under the study's model.
-    direct: AllocationJson,
+    direct: crate::angle::AllocationJson,
     /// The certified allocation under it, `null` when there is none (`certified_note`).
-    certified: Option<AllocationJson>,
+    certified: Option<crate::angle::AllocationJson>,
     /// Why there is no certified allocation, else `null`.
     certified_note: Option<&'a str>,
     /// With measured errors: J of the unmeasured errors before compensation, arcmin^-2.
@@ -240,16 +222,18 @@ impl<'a> AngleDependentJson<'a> {
                 .map(|r| AngleReadingJson {
                     reading: r.reading.to_string(),
                     constant_direct_objective_arcmin: objective(&r.constant_direct),
-                    direct: AllocationJson::new(&names, &r.direct),
+                    direct: crate::angle::AllocationJson::new(&names, &r.direct),
                     certified: r
                         .certified
                         .as_ref()
                         .ok()
-                        .map(|d| AllocationJson::new(&names, d)),
+                        .map(|d| crate::angle::AllocationJson::new(&names, d)),
                     certified_note: r.certified.as_ref().err().map(String::as_str),
                     unmeasured_before_objective_arcmin: r.unmeasured_before_arcmin,
                     compensated: r.compensated.as_ref().map(|c| match c {
-                        Ok(d) => CompensatedJson::Allocated(AllocationJson::new(&names, d)),
+                        Ok(d) => {
+                            CompensatedJson::Allocated(crate::angle::AllocationJson::new(&names, d))
+                        }
                         Err(why) => CompensatedJson::NoRoom { no_room: why },
                     }),
                 })

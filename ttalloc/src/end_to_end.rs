@@ -894,18 +894,10 @@ pub struct EndToEndJson<'a> {
     /// With noise in the study: the time/table trade-off (its keys at the top level).
     #[serde(flatten)]
     tradeoff: Option<TradeoffJson>,
-    /// With errors that vary with the shaft angle or measured errors: the allocations under
-    /// the study's model; absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
-    /// With `--tolerances`: the sheet's pairs allocated with one tolerance each; absent
-    /// otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    disc_allocation: Option<crate::angle::SheetAllocationsJson<'a>>,
-    /// With rate steps in the study: the rate tolerances allocated with the angles; absent
-    /// otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    rate_allocation: Option<crate::rate::RateAllocationJson<'a>>,
+    /// `angle_dependent`, `disc_allocation` and `rate_allocation` (each absent when it does
+    /// not apply).
+    #[serde(flatten)]
+    extras: crate::json::ExtrasJson<'a>,
 }
 
 impl<'a> EndToEndJson<'a> {
@@ -986,9 +978,7 @@ impl<'a> EndToEndJson<'a> {
                 reference_draws: speed.reference_draws,
             },
             tradeoff: noisy.map(|n| (&n.tradeoff).into()),
-            angle_dependent: None,
-            disc_allocation: None,
-            rate_allocation: None,
+            extras: crate::json::ExtrasJson::default(),
         }
     }
 }
@@ -1164,13 +1154,13 @@ pub fn run(args: &Args) -> Result<()> {
     let rate = crate::rate::allocation(&s, &e2e, &e2e_verify::McSettings::new(samples, seed))?;
     if args.json {
         let mut v = EndToEndJson::new(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
-        v.angle_dependent = angle
+        v.extras.angle_dependent = angle
             .as_ref()
             .map(|an| crate::angle_alloc::AngleDependentJson::new(&e2e, an));
-        v.disc_allocation = sheet
+        v.extras.disc_allocation = sheet
             .as_ref()
             .map(|(path, al)| crate::angle::SheetAllocationsJson::new(path, al));
-        v.rate_allocation = rate
+        v.extras.rate_allocation = rate
             .as_ref()
             .map(|r| crate::rate::RateAllocationJson::new(&e2e, r));
         crate::json::print(&v)

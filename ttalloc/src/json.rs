@@ -198,3 +198,19 @@ impl GroupJson {
             .collect()
     }
 }
+
+/// The keys `allocate --json` and `end-to-end --json` both add (flattened into their
+/// objects), each absent when it does not apply.
+#[derive(Debug, Default, Serialize)]
+pub struct ExtrasJson<'a> {
+    /// With errors that vary with the shaft angle or measured errors: the allocations under
+    /// the study's model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
+    /// With `--tolerances`: the sheet's pairs allocated with one tolerance each.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub disc_allocation: Option<crate::angle::SheetAllocationsJson<'a>>,
+    /// With rate steps in the study: the rate tolerances allocated with the angles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rate_allocation: Option<crate::rate::RateAllocationJson<'a>>,
+}
