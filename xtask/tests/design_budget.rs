@@ -104,18 +104,7 @@ fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
     let svg = dir.join("front.svg");
     let svg_arg = svg.to_str().unwrap();
     let budget = 25_000.0;
-    let v = json_of(&xtask(&[
-        "design-schedule",
-        "--study",
-        NOISY,
-        "--step-deg",
-        "45",
-        "--time-budget-s",
-        "25000",
-        "--pareto-svg",
-        svg_arg,
-        "--json",
-    ]));
+    let v = noisy_budget_json(&["--pareto-svg", svg_arg]);
     let front = v["pareto"].as_array().expect("a front");
     assert!(front.len() >= 3, "{front:?}");
     let f = |p: &Value, k: &str| p[k].as_f64().unwrap();
@@ -188,18 +177,7 @@ fn written_study_holds_the_chosen_point_and_end_to_end_answers_its_j() {
     let dir = scratch("design-budget", "write-study");
     let out = dir.join("chosen.toml");
     let out_arg = out.to_str().unwrap();
-    let v = json_of(&xtask(&[
-        "design-schedule",
-        "--study",
-        NOISY,
-        "--step-deg",
-        "45",
-        "--time-budget-s",
-        "25000",
-        "--write-study",
-        out_arg,
-        "--json",
-    ]));
+    let v = noisy_budget_json(&["--write-study", out_arg]);
     let chosen = &v["time_budget"]["chosen"];
     let dwell = chosen["dwell_s"].as_f64().expect("a chosen point");
     let positions: Vec<Vec<f64>> = serde_json::from_value(chosen["positions_deg"].clone()).unwrap();
@@ -237,4 +215,21 @@ fn written_study_holds_the_chosen_point_and_end_to_end_answers_its_j() {
     for o in direct["box"]["outputs"].as_array().expect("outputs") {
         assert_eq!(o["combined_meets"], true, "{o}");
     }
+}
+
+/// `design-schedule --json` on the noisy paper study at the 45 deg grid under a 25,000 s
+/// budget, with `extra` arguments.
+fn noisy_budget_json(extra: &[&str]) -> Value {
+    let mut args = vec![
+        "design-schedule",
+        "--study",
+        NOISY,
+        "--step-deg",
+        "45",
+        "--time-budget-s",
+        "25000",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    json_of(&xtask(&args))
 }
