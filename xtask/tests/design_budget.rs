@@ -139,17 +139,7 @@ fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
         && p["objective_arcmin"] == chosen["objective_arcmin"]));
     let text = std::fs::read_to_string(&svg).expect("the figure is written");
     assert!(text.contains("<svg"), "{}", &text[..text.len().min(200)]);
-    let again = xtask(&[
-        "design-schedule",
-        "--study",
-        NOISY,
-        "--step-deg",
-        "45",
-        "--time-budget-s",
-        "25000",
-        "--pareto-svg",
-        svg_arg,
-    ]);
+    let again = noisy_budget(&["--pareto-svg", svg_arg]);
     assert_eq!(again.status.code(), Some(2));
     assert!(again.stdout.is_empty());
     assert_eq!(std::fs::read_to_string(&svg).unwrap(), text);
@@ -217,9 +207,9 @@ fn written_study_holds_the_chosen_point_and_end_to_end_answers_its_j() {
     }
 }
 
-/// `design-schedule --json` on the noisy paper study at the 45 deg grid under a 25,000 s
-/// budget, with `extra` arguments.
-fn noisy_budget_json(extra: &[&str]) -> Value {
+/// `design-schedule` on the noisy paper study at the 45 deg grid under a 25,000 s budget,
+/// with `extra` arguments.
+fn noisy_budget(extra: &[&str]) -> Output {
     let mut args = vec![
         "design-schedule",
         "--study",
@@ -228,8 +218,14 @@ fn noisy_budget_json(extra: &[&str]) -> Value {
         "45",
         "--time-budget-s",
         "25000",
-        "--json",
     ];
     args.extend_from_slice(extra);
-    json_of(&xtask(&args))
+    xtask(&args)
+}
+
+/// [`noisy_budget`] with `--json`, its output parsed.
+fn noisy_budget_json(extra: &[&str]) -> Value {
+    let mut args = extra.to_vec();
+    args.push("--json");
+    json_of(&noisy_budget(&args))
 }
