@@ -43,23 +43,23 @@ fn main() -> Result<(), AllocError> {
         table4_j,
         equal.objective_arcmin()
     );
-    let share = |c: &Certificate, k: usize| c.axes[k].share.unwrap_or(f64::NAN);
+    let share = |c: &Certificate, k: usize| c.axes()[k].share().unwrap_or(f64::NAN);
     for (k, name) in ["psi", "theta", "gamma"].iter().enumerate() {
         println!(
             "share {:<4} {:>10.4} {:>10.4} {:>10.4}",
             name,
-            share(&ours.certificate, k),
+            share(ours.certificate(), k),
             share(&table4_cert, k),
-            share(&equal.certificate, k)
+            share(equal.certificate(), k)
         );
     }
     for c in exact_chain_check(&problem, &ours)? {
         println!(
             "exact chain {:?}: worst {:.6e} rad, requirement {:.6e} rad, excess {:+.3e} rad",
-            c.axis,
-            c.exact_worst_rad,
-            c.requirement_rad.unwrap_or(f64::NAN),
-            c.excess_rad.unwrap_or(f64::NAN)
+            c.axis(),
+            c.exact_worst_rad(),
+            c.requirement_rad().unwrap_or(f64::NAN),
+            c.excess_rad().unwrap_or(f64::NAN)
         );
     }
     let safe = allocate_with_exact_margin(&SensitivityWeighted::paper(), &problem)?;
@@ -71,7 +71,10 @@ fn main() -> Result<(), AllocError> {
     for s in ours.subproblems() {
         println!(
             "problem {:?}: worst pose {:.6?} rad, load {:.15}, {} conic solves",
-            s.name, s.worst_pose_rad, s.load, s.iterations
+            s.name(),
+            s.worst_pose_rad(),
+            s.load(),
+            s.iterations()
         );
     }
     Ok(())

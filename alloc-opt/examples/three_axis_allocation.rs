@@ -59,37 +59,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ours.objective_arcmin(),
         equal.objective_arcmin()
     );
-    println!("safety scale (psi, theta, gamma): {:?}", ours.safety_scale);
-    for c in &ours.certificate.axes {
+    println!(
+        "safety scale (psi, theta, gamma): {:?}",
+        ours.safety_scale()
+    );
+    for c in ours.certificate().axes() {
         println!(
             "{:<5} worst found {:.7}' at pose {:.6?} rad, rigorous bound {:.7}' (gap {:.2e}), \
              share {:.9}, active {}, Lemma 1 {}",
-            c.name,
-            c.worst_case_rad / RAD_PER_ARCMIN,
-            c.worst_pose_rad,
-            c.upper_bound_rad / RAD_PER_ARCMIN,
-            c.upper_bound_rad / c.worst_case_rad - 1.0,
-            c.share.unwrap_or(f64::NAN),
-            c.requirement_active,
-            c.satisfied
+            c.name(),
+            c.worst_case_rad() / RAD_PER_ARCMIN,
+            c.worst_pose_rad(),
+            c.upper_bound_rad() / RAD_PER_ARCMIN,
+            c.upper_bound_rad() / c.worst_case_rad() - 1.0,
+            c.share().unwrap_or(f64::NAN),
+            c.requirement_active(),
+            c.satisfied()
         );
     }
     for s in ours.subproblems() {
         println!(
             "problem {:<5}: {} conic solves, load {:.15}, multiplier {:.6e}",
-            s.name,
-            s.iterations,
-            s.load,
-            s.multiplier.unwrap_or(f64::NAN)
+            s.name(),
+            s.iterations(),
+            s.load(),
+            s.multiplier().unwrap_or(f64::NAN)
         );
     }
     for c in exact_chain_check(&problem, &ours)? {
         println!(
             "exact chain {:<5}: worst found {:.9e} rad, excess {:+.3e} rad ({} evaluations)",
-            c.axis.name(),
-            c.exact_worst_rad,
-            c.excess_rad.unwrap_or(f64::NAN),
-            c.evaluations
+            c.axis().name(),
+            c.exact_worst_rad(),
+            c.excess_rad().unwrap_or(f64::NAN),
+            c.evaluations()
         );
     }
     Ok(())

@@ -65,25 +65,88 @@ pub trait Allocator<M: LinearErrorModel = LinearModel> {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Subproblem {
     /// The quantity (problem) concerned: its index in the model.
-    pub quantity: usize,
+    pub(crate) quantity: usize,
     /// Its name (`gamma`, ...).
-    pub name: String,
+    pub(crate) name: String,
     /// Its errors (indices into $\chi$; $\chi_\gamma$, $\chi_\theta$, $\chi_\psi$ of eq 27).
-    pub components: Vec<usize>,
+    pub(crate) components: Vec<usize>,
     /// The optimal $\chi_k^*$ (rad), one per component.
-    pub bounds_rad: Vec<f64>,
+    pub(crate) bounds_rad: Vec<f64>,
     /// $J_k(\chi_k^*)$ (rad$^{-2}$); `None` for the equal-effects allocator.
-    pub objective: Option<f64>,
+    pub(crate) objective: Option<f64>,
     /// A point of the domain (a pose, rad, every joint) where the constraint is tight.
-    pub worst_pose_rad: Vec<f64>,
+    pub(crate) worst_pose_rad: Vec<f64>,
     /// The constraint's load at the optimum (1 = the whole requirement used).
-    pub load: f64,
+    pub(crate) load: f64,
     /// The requirement's Lagrange multiplier (units of $J$); `None` when not computed.
-    pub multiplier: Option<f64>,
+    pub(crate) multiplier: Option<f64>,
     /// Conic solves done by the exchange method (0 when none was needed).
-    pub iterations: usize,
+    pub(crate) iterations: usize,
     /// Whether the worst-case oracle of this problem is exact (at most one free joint).
-    pub exact_oracle: bool,
+    pub(crate) exact_oracle: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Subproblem {
+    /// The quantity (problem) concerned: its index in the model.
+    #[must_use]
+    pub fn quantity(&self) -> usize {
+        self.quantity
+    }
+
+    /// Its name (`gamma`, ...).
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Its errors (indices into $\chi$; $\chi_\gamma$, $\chi_\theta$, $\chi_\psi$ of eq 27).
+    #[must_use]
+    pub fn components(&self) -> &[usize] {
+        &self.components
+    }
+
+    /// The optimal $\chi_k^*$ (rad), one per component.
+    #[must_use]
+    pub fn bounds_rad(&self) -> &[f64] {
+        &self.bounds_rad
+    }
+
+    /// $J_k(\chi_k^*)$ (rad$^{-2}$); `None` for the equal-effects allocator.
+    #[must_use]
+    pub fn objective(&self) -> Option<f64> {
+        self.objective
+    }
+
+    /// A point of the domain (a pose, rad, every joint) where the constraint is tight.
+    #[must_use]
+    pub fn worst_pose_rad(&self) -> &[f64] {
+        &self.worst_pose_rad
+    }
+
+    /// The constraint's load at the optimum (1 = the whole requirement used).
+    #[must_use]
+    pub fn load(&self) -> f64 {
+        self.load
+    }
+
+    /// The requirement's Lagrange multiplier (units of $J$); `None` when not computed.
+    #[must_use]
+    pub fn multiplier(&self) -> Option<f64> {
+        self.multiplier
+    }
+
+    /// Conic solves done by the exchange method (0 when none was needed).
+    #[must_use]
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// Whether the worst-case oracle of this problem is exact (at most one free joint).
+    #[must_use]
+    pub fn exact_oracle(&self) -> bool {
+        self.exact_oracle
+    }
 }
 
 impl Subproblem {
@@ -102,39 +165,124 @@ impl Subproblem {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AxisCertificate {
     /// The quantity's index in the model (for a turntable: [`OrientationAxis::index`]).
-    pub quantity: usize,
+    pub(crate) quantity: usize,
     /// Its name (`psi`, `theta`, `gamma` for a turntable).
-    pub name: String,
+    pub(crate) name: String,
     /// $I_k$ (rad); `None` when the quantity carries no requirement.
-    pub requirement_rad: Option<f64>,
+    pub(crate) requirement_rad: Option<f64>,
     /// The largest worst case found,
     /// $\max_{\phi} \max_{\mathrm{LB} \le |\chi| \le \mathrm{UB}} |f_k(\phi,\chi)|
     /// = \max_{\phi} \sum_i \mathrm{UB}_i |c_{ki}(\phi)|$ (rad), over the errors with a
     /// finite bound. Exact when [`AxisCertificate::exact`].
-    pub worst_case_rad: f64,
+    pub(crate) worst_case_rad: f64,
     /// A point where it is reached (for a turntable a pose, rad, every joint; joints that
     /// cancel sit at the lower end of their range).
-    pub worst_pose_rad: Vec<f64>,
+    pub(crate) worst_pose_rad: Vec<f64>,
     /// A rigorous upper bound on the worst case (rad): equal to `worst_case_rad` when exact,
     /// the branch-and-bound bound of [`LinearModel::worst_pose_certified`] otherwise.
-    pub upper_bound_rad: f64,
+    pub(crate) upper_bound_rad: f64,
     /// Whether the worst case is exact (at most one free joint).
-    pub exact: bool,
+    pub(crate) exact: bool,
     /// `worst_case_rad / requirement_rad`: the share of the requirement used (`None` without
     /// a requirement).
-    pub share: Option<f64>,
+    pub(crate) share: Option<f64>,
     /// The requirement is active: share $\ge 1 -$ [`TIGHT_REL`] when exact; when searched,
     /// `upper_bound_rad` $\ge (1 -$ [`SEARCHED_TIGHT_REL`]$)\,I_k$.
-    pub requirement_active: bool,
+    pub(crate) requirement_active: bool,
     /// The requirement holds (Lemma 1 for this quantity): `upper_bound_rad` $\le (1 +$
     /// [`SATISFIED_REL`]$)\,I_k$; true for a quantity without a requirement.
-    pub satisfied: bool,
+    pub(crate) satisfied: bool,
     /// Involved errors (indices) whose upper bound equals their positive lower bound.
-    pub active_lower_bounds: Vec<usize>,
+    pub(crate) active_lower_bounds: Vec<usize>,
     /// Involved errors (indices) with an infinite upper bound (only for a quantity without a
     /// requirement): its true worst case is then unbounded, and the numbers above are
     /// those of the bounded errors.
-    pub unbounded: Vec<usize>,
+    pub(crate) unbounded: Vec<usize>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl AxisCertificate {
+    /// The quantity's index in the model (for a turntable: [`OrientationAxis::index`]).
+    #[must_use]
+    pub fn quantity(&self) -> usize {
+        self.quantity
+    }
+
+    /// Its name (`psi`, `theta`, `gamma` for a turntable).
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// $I_k$ (rad); `None` when the quantity carries no requirement.
+    #[must_use]
+    pub fn requirement_rad(&self) -> Option<f64> {
+        self.requirement_rad
+    }
+
+    /// The largest worst case found,
+    /// $\max_{\phi} \max_{\mathrm{LB} \le |\chi| \le \mathrm{UB}} |f_k(\phi,\chi)|
+    /// = \max_{\phi} \sum_i \mathrm{UB}_i |c_{ki}(\phi)|$ (rad), over the errors with a
+    /// finite bound. Exact when [`AxisCertificate::exact`].
+    #[must_use]
+    pub fn worst_case_rad(&self) -> f64 {
+        self.worst_case_rad
+    }
+
+    /// A point where it is reached (for a turntable a pose, rad, every joint; joints that
+    /// cancel sit at the lower end of their range).
+    #[must_use]
+    pub fn worst_pose_rad(&self) -> &[f64] {
+        &self.worst_pose_rad
+    }
+
+    /// A rigorous upper bound on the worst case (rad): equal to `worst_case_rad` when exact,
+    /// the branch-and-bound bound of [`LinearModel::worst_pose_certified`] otherwise.
+    #[must_use]
+    pub fn upper_bound_rad(&self) -> f64 {
+        self.upper_bound_rad
+    }
+
+    /// Whether the worst case is exact (at most one free joint).
+    #[must_use]
+    pub fn exact(&self) -> bool {
+        self.exact
+    }
+
+    /// `worst_case_rad / requirement_rad`: the share of the requirement used (`None` without
+    /// a requirement).
+    #[must_use]
+    pub fn share(&self) -> Option<f64> {
+        self.share
+    }
+
+    /// The requirement is active: share $\ge 1 -$ [`TIGHT_REL`] when exact; when searched,
+    /// `upper_bound_rad` $\ge (1 -$ [`SEARCHED_TIGHT_REL`]$)\,I_k$.
+    #[must_use]
+    pub fn requirement_active(&self) -> bool {
+        self.requirement_active
+    }
+
+    /// The requirement holds (Lemma 1 for this quantity): `upper_bound_rad` $\le (1 +$
+    /// [`SATISFIED_REL`]$)\,I_k$; true for a quantity without a requirement.
+    #[must_use]
+    pub fn satisfied(&self) -> bool {
+        self.satisfied
+    }
+
+    /// Involved errors (indices) whose upper bound equals their positive lower bound.
+    #[must_use]
+    pub fn active_lower_bounds(&self) -> &[usize] {
+        &self.active_lower_bounds
+    }
+
+    /// Involved errors (indices) with an infinite upper bound (only for a quantity without a
+    /// requirement): its true worst case is then unbounded, and the numbers above are
+    /// those of the bounded errors.
+    #[must_use]
+    pub fn unbounded(&self) -> &[usize] {
+        &self.unbounded
+    }
 }
 
 /// Lemma 1's certificate for every quantity of the model (the three angles of a turntable).
@@ -158,7 +306,16 @@ pub struct AxisCertificate {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Certificate {
     /// One per quantity, in the model's order ($\psi, \theta, \gamma$ for a turntable).
-    pub axes: Vec<AxisCertificate>,
+    pub(crate) axes: Vec<AxisCertificate>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Certificate {
+    /// One per quantity, in the model's order ($\psi, \theta, \gamma$ for a turntable).
+    #[must_use]
+    pub fn axes(&self) -> &[AxisCertificate] {
+        &self.axes
+    }
 }
 
 impl Certificate {
@@ -400,28 +557,28 @@ pub struct ToleranceBox {
     pub(crate) error_names: Vec<String>,
     /// $\mathrm{UB}_i$ (rad, the model's error order); `+inf` exactly for the errors in
     /// [`ToleranceBox::unconstrained`], finite otherwise.
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// The lower bounds used (rad).
-    pub lower_bounds_rad: Vec<f64>,
+    pub(crate) lower_bounds_rad: Vec<f64>,
     /// The limit of each quantity used (rad; `None`: no requirement).
-    pub limits: Vec<Option<f64>>,
+    pub(crate) limits: Vec<Option<f64>>,
     /// $J(\mathrm{UB}) = \sum_k J_k$ (rad$^{-2}$) under [`ToleranceBox::weights`]
     /// (unconstrained errors contribute 0).
-    pub objective: f64,
+    pub(crate) objective: f64,
     /// The weights the objective is computed with (the paper's inverse average sensitivities
     /// unless the allocator was given others).
-    pub weights: Weights,
+    pub(crate) weights: Weights,
     /// Worst cases over the model's domain (Lemma 1).
-    pub certificate: Certificate,
+    pub(crate) certificate: Certificate,
     /// Errors (indices) that no quantity with a requirement depends on: their bound is `+inf`.
-    pub unconstrained: Vec<usize>,
+    pub(crate) unconstrained: Vec<usize>,
     /// Per quantity, the factor by which the free bounds of its errors were shrunk after the
     /// combination (34) so that the rigorous worst-case bound is within the requirement (an
     /// error shared by several such quantities is shrunk by the smallest of their factors);
     /// 1 when the worst case is exact.
-    pub safety_scale: Vec<f64>,
+    pub(crate) safety_scale: Vec<f64>,
     /// What the method adds.
-    pub details: MethodDetails,
+    pub(crate) details: MethodDetails,
 }
 
 /// The former name of [`ToleranceBox`].

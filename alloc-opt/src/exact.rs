@@ -43,23 +43,76 @@ const MARGIN_ROUNDS: usize = 4;
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ExactAxisCheck {
     /// The angle.
-    pub axis: OrientationAxis,
+    pub(crate) axis: OrientationAxis,
     /// $I_k$ (rad) of the problem checked against; `None` without a requirement.
-    pub requirement_rad: Option<f64>,
+    pub(crate) requirement_rad: Option<f64>,
     /// The linear model's worst case (the certificate's, rad).
-    pub linear_worst_rad: f64,
+    pub(crate) linear_worst_rad: f64,
     /// The largest $|f_k|$ of the exact chain found (rad).
-    pub exact_worst_rad: f64,
+    pub(crate) exact_worst_rad: f64,
     /// `exact_worst_rad - requirement_rad` (rad): positive means the exact chain exceeds
     /// $I_k$; `None` without a requirement.
-    pub excess_rad: Option<f64>,
+    pub(crate) excess_rad: Option<f64>,
     /// The pose (rad, every joint) of that worst case.
-    pub pose_rad: Vec<f64>,
+    pub(crate) pose_rad: Vec<f64>,
     /// The error vertex $\chi$ (rad) of that worst case: $\pm\mathrm{UB}_i$, and 0 for the
     /// unconstrained errors (infinite bound).
-    pub chi_rad: Vec<f64>,
+    pub(crate) chi_rad: Vec<f64>,
     /// Exact-chain evaluations done for this angle.
-    pub evaluations: usize,
+    pub(crate) evaluations: usize,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ExactAxisCheck {
+    /// The angle.
+    #[must_use]
+    pub fn axis(&self) -> OrientationAxis {
+        self.axis
+    }
+
+    /// $I_k$ (rad) of the problem checked against; `None` without a requirement.
+    #[must_use]
+    pub fn requirement_rad(&self) -> Option<f64> {
+        self.requirement_rad
+    }
+
+    /// The linear model's worst case (the certificate's, rad).
+    #[must_use]
+    pub fn linear_worst_rad(&self) -> f64 {
+        self.linear_worst_rad
+    }
+
+    /// The largest $|f_k|$ of the exact chain found (rad).
+    #[must_use]
+    pub fn exact_worst_rad(&self) -> f64 {
+        self.exact_worst_rad
+    }
+
+    /// `exact_worst_rad - requirement_rad` (rad): positive means the exact chain exceeds
+    /// $I_k$; `None` without a requirement.
+    #[must_use]
+    pub fn excess_rad(&self) -> Option<f64> {
+        self.excess_rad
+    }
+
+    /// The pose (rad, every joint) of that worst case.
+    #[must_use]
+    pub fn pose_rad(&self) -> &[f64] {
+        &self.pose_rad
+    }
+
+    /// The error vertex $\chi$ (rad) of that worst case: $\pm\mathrm{UB}_i$, and 0 for the
+    /// unconstrained errors (infinite bound).
+    #[must_use]
+    pub fn chi_rad(&self) -> &[f64] {
+        &self.chi_rad
+    }
+
+    /// Exact-chain evaluations done for this angle.
+    #[must_use]
+    pub fn evaluations(&self) -> usize {
+        self.evaluations
+    }
 }
 
 /// Hunt the exact chain's worst case (finite rotations, eq 17-24 for the paper's table) of

@@ -84,8 +84,8 @@
 //! assert!((x2 - 0.3062).abs() < 1e-4);
 //! assert!(x2 < paper::TABLE4_ARCMIN[0]);
 //! // Lemma 1, with the whole requirement used.
-//! assert!(a.certificate.lemma1_holds());
-//! assert!(a.certificate.get(OrientationAxis::Gamma).share.unwrap() > 1.0 - 1e-9);
+//! assert!(a.certificate().lemma1_holds());
+//! assert!(a.certificate().get(OrientationAxis::Gamma).share().unwrap() > 1.0 - 1e-9);
 //! # Ok::<(), alloc_opt::AllocError>(())
 //! ```
 //!
@@ -107,8 +107,8 @@
 //! let i = 1.0_f64.to_radians() / 60.0;
 //! let problem = AllocationProblem::new(model, Requirement::new(i, i, i)?, vec![0.0; n])?;
 //! let a = SensitivityWeighted::general().allocate(&problem)?;
-//! assert!(a.certificate.lemma1_holds());
-//! assert!(a.upper_bounds_rad.iter().all(|u| u.is_finite() && *u > 0.0));
+//! assert!(a.certificate().lemma1_holds());
+//! assert!(a.upper_bounds_rad().iter().all(|u| u.is_finite() && *u > 0.0));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!

@@ -263,11 +263,11 @@ proptest! {
             &EqualEffects,
         ] {
             if let Ok(a) = allocator.allocate(&problem) {
-                prop_assert!(a.certificate.lemma1_holds());
-                prop_assert!(a.objective.is_finite());
-                for (i, (u, l)) in a.upper_bounds_rad.iter().zip(&lb).enumerate() {
+                prop_assert!(a.certificate().lemma1_holds());
+                prop_assert!(a.objective().is_finite());
+                for (i, (u, l)) in a.upper_bounds_rad().iter().zip(&lb).enumerate() {
                     prop_assert!(u >= l);
-                    prop_assert!(u.is_finite() || a.unconstrained.contains(&i));
+                    prop_assert!(u.is_finite() || a.unconstrained().contains(&i));
                 }
             }
         }

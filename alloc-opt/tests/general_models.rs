@@ -107,18 +107,18 @@ proptest! {
         prop_assert_eq!(model.free_joints(), &[1]);
         let problem = AllocationProblem::new(model.clone(), requirement(), vec![0.0; n]).unwrap();
         let a = SensitivityWeighted::general().allocate(&problem).unwrap();
-        prop_assert!(a.certificate.lemma1_holds());
-        prop_assert!(a.certificate.exact());
-        prop_assert!(a.unconstrained.is_empty());
-        prop_assert!(a.upper_bounds_rad.iter().all(|u| u.is_finite() && *u > 0.0));
+        prop_assert!(a.certificate().lemma1_holds());
+        prop_assert!(a.certificate().exact());
+        prop_assert!(a.unconstrained().is_empty());
+        prop_assert!(a.upper_bounds_rad().iter().all(|u| u.is_finite() && *u > 0.0));
         for s in a.subproblems() {
-            prop_assert!(s.load <= 1.0 && s.load >= 1.0 - TIGHT_REL, "load {}", s.load);
+            prop_assert!(s.load() <= 1.0 && s.load() >= 1.0 - TIGHT_REL, "load {}", s.load());
             let rows: Vec<Cut> = (0..GRID_POSES)
                 .map(|j| {
                     let phi = TAU * j as f64 / GRID_POSES as f64;
                     let c = model.coefficients(&Pose::new(vec![0.0, phi]).unwrap()).unwrap();
                     Cut {
-                        coefficients: s.components.iter()
+                        coefficients: s.components().iter()
                             .map(|&i| c[(s.axis().unwrap().index(), i)].abs()).collect(),
                         bound: problem.requirement().get(s.axis().unwrap()).unwrap(),
                         tag: j as f64,
@@ -130,19 +130,19 @@ proptest! {
             let oracle = FiniteCuts::new(rows);
             let grid = solve_inverse_square(&InverseSquareProblem {
                 label: "grid".into(),
-                names: s.components.iter().map(|&i| a.error_names()[i].clone()).collect(),
-                weights: s.components.iter().map(|&i| a.weights.get(s.axis().unwrap(), i)).collect(),
-                lower: vec![0.0; s.components.len()],
+                names: s.components().iter().map(|&i| a.error_names()[i].clone()).collect(),
+                weights: s.components().iter().map(|&i| a.weights().get(s.axis().unwrap(), i)).collect(),
+                lower: vec![0.0; s.components().len()],
                 initial_cuts: start,
                 oracle: &oracle,
             }).unwrap();
-            let ours = s.objective.unwrap();
+            let ours = s.objective().unwrap();
             prop_assert!(grid.objective <= ours * (1.0 + OBJECTIVE_REL));
             prop_assert!(ours <= grid.objective * (1.0 + GRID_GAP_REL),
                 "exact {} grid {}", ours, grid.objective);
         }
         let e = EqualEffects.allocate(&problem).unwrap();
-        prop_assert!(e.certificate.lemma1_holds());
+        prop_assert!(e.certificate().lemma1_holds());
     }
 }
 
@@ -174,25 +174,25 @@ fn quarter_ranges_can_miss_lemma1_on_another_model_and_the_certificate_says_so()
     let model = LinearModel::new(&phase_shifted_table());
     let problem = AllocationProblem::new(model, requirement(), vec![0.0; 8]).unwrap();
     let paper = SensitivityWeighted::paper().allocate(&problem).unwrap();
-    assert!(!paper.certificate.lemma1_holds());
-    let psi = paper.certificate.get(A::Psi);
-    assert!(!psi.satisfied);
-    assert!(psi.exact);
-    assert!(psi.share.unwrap() > 1.05, "{:?}", psi.share);
+    assert!(!paper.certificate().lemma1_holds());
+    let psi = paper.certificate().get(A::Psi);
+    assert!(!psi.satisfied());
+    assert!(psi.exact());
+    assert!(psi.share().unwrap() > 1.05, "{:?}", psi.share());
     let full = SensitivityWeighted {
         form: ConstraintForm::FullRange,
         ..SensitivityWeighted::paper()
     }
     .allocate(&problem)
     .unwrap();
-    assert!(full.certificate.lemma1_holds());
+    assert!(full.certificate().lemma1_holds());
     for axis in A::ALL {
         assert_relative_eq!(
             full.subproblems()
                 .iter()
                 .find(|s| s.axis().unwrap() == axis)
                 .unwrap()
-                .load,
+                .load(),
             1.0,
             max_relative = TIGHT_REL
         );
@@ -230,7 +230,7 @@ fn unbounded_component_is_reported_by_name() {
         other => panic!("expected Unbounded, got {other:?}"),
     }
     let full = SensitivityWeighted::general().allocate(&problem).unwrap();
-    assert!(full.certificate.lemma1_holds());
+    assert!(full.certificate().lemma1_holds());
 }
 
 /// Rows whose coefficients cancel along a direction (x - y <= 1 and y - x <= 1: both errors
@@ -290,18 +290,18 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
     ] {
         let a = allocator.allocate(&problem).unwrap();
         assert_eq!(a.unconstrained_names(), ["dalpha_y2"], "{}", a.method());
-        assert!(a.upper_bounds_rad[idx("dalpha_y2")].is_infinite());
-        assert!(a.upper_bounds_rad[idx("dalpha_y2")] > 0.0);
-        assert!(a.objective.is_finite());
+        assert!(a.upper_bounds_rad()[idx("dalpha_y2")].is_infinite());
+        assert!(a.upper_bounds_rad()[idx("dalpha_y2")] > 0.0);
+        assert!(a.objective().is_finite());
         assert_eq!(a.subproblems().len(), 2);
-        let psi = a.certificate.get(A::Psi);
-        assert_eq!(psi.requirement_rad, None);
-        assert_eq!(psi.share, None);
-        assert!(psi.satisfied && !psi.requirement_active);
-        assert_eq!(psi.unbounded, vec![idx("dalpha_y2")]);
-        assert!(psi.worst_case_rad.is_finite() && psi.upper_bound_rad.is_finite());
-        assert!(a.certificate.lemma1_holds());
-        for (k, u) in a.upper_bounds_rad.iter().enumerate() {
+        let psi = a.certificate().get(A::Psi);
+        assert_eq!(psi.requirement_rad(), None);
+        assert_eq!(psi.share(), None);
+        assert!(psi.satisfied() && !psi.requirement_active());
+        assert_eq!(psi.unbounded(), vec![idx("dalpha_y2")]);
+        assert!(psi.worst_case_rad().is_finite() && psi.upper_bound_rad().is_finite());
+        assert!(a.certificate().lemma1_holds());
+        for (k, u) in a.upper_bounds_rad().iter().enumerate() {
             assert!(k == idx("dalpha_y2") || u.is_finite());
         }
         // The gamma errors keep the bounds of problem (31) (psi gave the same ones before).
@@ -319,8 +319,8 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
             "dphi_z2",
         ] {
             assert_relative_eq!(
-                a.upper_bounds_rad[idx(c)],
-                full.upper_bounds_rad[idx(c)],
+                a.upper_bounds_rad()[idx(c)],
+                full.upper_bounds_rad()[idx(c)],
                 max_relative = OPTIMUM_REL
             );
         }
@@ -332,10 +332,10 @@ fn an_angle_without_requirement_imposes_no_constraint_and_never_gives_nan() {
     )
     .unwrap();
     let a = SensitivityWeighted::paper().allocate(&none).unwrap();
-    assert_eq!(a.unconstrained, (0..8).collect::<Vec<_>>());
+    assert_eq!(a.unconstrained(), (0..8).collect::<Vec<_>>());
     assert!(a.subproblems().is_empty());
-    approx::assert_abs_diff_eq!(a.objective, 0.0);
-    assert!(a.certificate.lemma1_holds());
+    approx::assert_abs_diff_eq!(a.objective(), 0.0);
+    assert!(a.certificate().lemma1_holds());
     // The paper's example is unaffected by the option type.
     assert_eq!(
         paper_problem().requirement().to_array(),

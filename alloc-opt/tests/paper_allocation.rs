@@ -100,7 +100,7 @@ fn paper_allocations_equal_the_pre_change_values() {
         }
     };
     let ours = paper_allocation();
-    check(&ours.upper_bounds_rad, &PRE_CHANGE_PAPER_UB_RAD);
+    check(ours.upper_bounds_rad(), &PRE_CHANGE_PAPER_UB_RAD);
     assert_relative_eq!(
         ours.objective_arcmin(),
         PRE_CHANGE_PAPER_J_ARCMIN,
@@ -109,9 +109,9 @@ fn paper_allocations_equal_the_pre_change_values() {
     let full = SensitivityWeighted::general()
         .allocate(&paper_problem())
         .unwrap();
-    check(&full.upper_bounds_rad, &PRE_CHANGE_FULL_RANGE_UB_RAD);
+    check(full.upper_bounds_rad(), &PRE_CHANGE_FULL_RANGE_UB_RAD);
     let equal = equal_allocation();
-    check(&equal.upper_bounds_rad, &PRE_CHANGE_EQUAL_UB_RAD);
+    check(equal.upper_bounds_rad(), &PRE_CHANGE_EQUAL_UB_RAD);
     assert_relative_eq!(
         equal.objective_arcmin(),
         PRE_CHANGE_EQUAL_J_ARCMIN,
@@ -126,7 +126,7 @@ fn paper_allocations_equal_the_pre_change_values() {
     )
     .unwrap();
     let a = SensitivityWeighted::paper().allocate(&problem).unwrap();
-    check(&a.upper_bounds_rad, &PRE_CHANGE_LB035_UB_RAD);
+    check(a.upper_bounds_rad(), &PRE_CHANGE_LB035_UB_RAD);
     assert_relative_eq!(
         a.objective_arcmin(),
         PRE_CHANGE_LB035_J_ARCMIN,
@@ -134,15 +134,15 @@ fn paper_allocations_equal_the_pre_change_values() {
     );
     // Nothing is unconstrained and nothing had to be made safe (the search is exact).
     for a in [ours, &full, equal, &a] {
-        assert!(a.unconstrained.is_empty());
+        assert!(a.unconstrained().is_empty());
         assert_eq!(
-            a.safety_scale
+            a.safety_scale()
                 .iter()
                 .map(|s| s.to_bits())
                 .collect::<Vec<_>>(),
             [1.0_f64.to_bits(); 3]
         );
-        assert!(a.certificate.exact());
+        assert!(a.certificate().exact());
     }
 }
 
@@ -173,9 +173,13 @@ fn eq28_weights_are_half_pi_for_harmonic_terms_and_one_for_constants() {
     for c in ["dphi_z2", "dalpha_z1", "dalpha_x2", "dalpha_y2"] {
         assert_relative_eq!(combined[idx(c)], 1.0, max_relative = FORMULA_REL);
     }
-    let ub = &paper_allocation().upper_bounds_rad;
+    let ub = &paper_allocation().upper_bounds_rad().to_vec();
     let j: f64 = combined.iter().zip(ub).map(|(w, u)| (w / u).powi(2)).sum();
-    assert_relative_eq!(j, paper_allocation().objective, max_relative = FORMULA_REL);
+    assert_relative_eq!(
+        j,
+        paper_allocation().objective(),
+        max_relative = FORMULA_REL
+    );
 }
 
 /// Problems (31)-(33) with I = 0.027 deg, LB = 0 have a closed-form optimum:
@@ -215,16 +219,16 @@ fn problems_31_to_33_match_their_closed_form_optimum() {
 fn worst_poses_of_problems_31_and_33_are_the_quarter_diagonals() {
     let a = paper_allocation();
     for s in a.subproblems() {
-        assert_eq!(s.worst_pose_rad.len(), 2);
+        assert_eq!(s.worst_pose_rad().len(), 2);
         match s.axis().unwrap() {
             A::Gamma => assert_relative_eq!(
-                s.worst_pose_rad[1],
+                s.worst_pose_rad()[1],
                 FRAC_PI_4,
                 max_relative = WORST_POSE_REL
             ),
             A::Psi => {
                 assert_relative_eq!(
-                    s.worst_pose_rad[1],
+                    s.worst_pose_rad()[1],
                     7.0 * FRAC_PI_4,
                     max_relative = WORST_POSE_REL
                 );
@@ -240,10 +244,10 @@ fn worst_poses_of_problems_31_and_33_are_the_quarter_diagonals() {
 fn tightness_each_requirement_is_reached_by_some_pose_and_error() {
     let a = paper_allocation();
     for axis in A::ALL {
-        let cert = a.certificate.get(axis);
-        let pose = &cert.worst_pose_rad;
+        let cert = a.certificate().get(axis);
+        let pose = cert.worst_pose_rad();
         let chi: Vec<f64> = (0..8)
-            .map(|i| a.upper_bounds_rad[i] * coefficient(axis, i, pose).signum())
+            .map(|i| a.upper_bounds_rad()[i] * coefficient(axis, i, pose).signum())
             .collect();
         let errors = TurntableErrors::new(chi, vec![0.0]).unwrap();
         let f = ClosedForm
@@ -255,9 +259,9 @@ fn tightness_each_requirement_is_reached_by_some_pose_and_error() {
             deg_to_rad(paper::REQUIREMENT_DEG),
             max_relative = TIGHT_REL
         );
-        assert!(cert.requirement_active, "{axis:?} not active");
-        assert!(cert.exact);
-        assert_abs_diff_eq!(cert.upper_bound_rad, cert.worst_case_rad);
+        assert!(cert.requirement_active(), "{axis:?} not active");
+        assert!(cert.exact());
+        assert_abs_diff_eq!(cert.upper_bound_rad(), cert.worst_case_rad());
     }
 }
 
@@ -270,12 +274,12 @@ fn optimality_kkt_stationarity_holds_with_the_active_constraint_multiplier() {
     let i_rad = deg_to_rad(paper::REQUIREMENT_DEG);
     for s in a.subproblems() {
         let lambdas: Vec<f64> = s
-            .components
+            .components()
             .iter()
-            .zip(&s.bounds_rad)
+            .zip(s.bounds_rad())
             .map(|(&c, &x)| {
-                let w = a.weights.get(s.axis().unwrap(), c);
-                let coef = coefficient(s.axis().unwrap(), c, &s.worst_pose_rad);
+                let w = a.weights().get(s.axis().unwrap(), c);
+                let coef = coefficient(s.axis().unwrap(), c, s.worst_pose_rad());
                 2.0 * w * w / x.powi(3) * i_rad / coef
             })
             .collect();
@@ -284,7 +288,7 @@ fn optimality_kkt_stationarity_holds_with_the_active_constraint_multiplier() {
             assert_relative_eq!(*l, lambdas[0], max_relative = OPTIMUM_REL);
         }
         assert_relative_eq!(
-            s.multiplier.unwrap(),
+            s.multiplier().unwrap(),
             lambdas[0],
             max_relative = OPTIMUM_REL
         );
@@ -311,19 +315,19 @@ fn optimality_kkt_with_an_active_lower_bound() {
         0.35,
         max_relative = FORMULA_REL
     );
-    let g = a.certificate.get(A::Gamma);
-    assert_eq!(g.active_lower_bounds, vec![idx("dalpha_x2")]);
-    assert!(g.requirement_active);
+    let g = a.certificate().get(A::Gamma);
+    assert_eq!(g.active_lower_bounds(), vec![idx("dalpha_x2")]);
+    assert!(g.requirement_active());
     let s = a
         .subproblems()
         .iter()
         .find(|s| s.axis().unwrap() == A::Gamma)
         .unwrap();
-    let multiplier = s.multiplier.unwrap();
+    let multiplier = s.multiplier().unwrap();
     let mut lambda_free = Vec::new();
-    for (&c, &x) in s.components.iter().zip(&s.bounds_rad) {
-        let w = a.weights.get(A::Gamma, c);
-        let coef = coefficient(A::Gamma, c, &s.worst_pose_rad);
+    for (&c, &x) in s.components().iter().zip(s.bounds_rad()) {
+        let w = a.weights().get(A::Gamma, c);
+        let coef = coefficient(A::Gamma, c, s.worst_pose_rad());
         let grad = 2.0 * w * w / x.powi(3);
         if c == idx("dalpha_x2") {
             let mu = multiplier * coef / i_rad - grad;
@@ -335,7 +339,7 @@ fn optimality_kkt_with_an_active_lower_bound() {
     for l in &lambda_free {
         assert_relative_eq!(*l, multiplier, max_relative = OPTIMUM_REL);
     }
-    assert!(a.certificate.lemma1_holds());
+    assert!(a.certificate().lemma1_holds());
 }
 
 fn gamma_objective(x: &[f64; 5]) -> f64 {
@@ -381,7 +385,7 @@ proptest! {
     ) {
         let a = paper_allocation();
         let s = a.subproblems().iter().find(|s| s.axis().unwrap() == A::Gamma).unwrap();
-        let opt: [f64; 5] = std::array::from_fn(|k| s.bounds_rad[k]);
+        let opt: [f64; 5] = std::array::from_fn(|k| s.bounds_rad()[k]);
         let v = v.map(|u| u * 1e-4);
         let scale = 1.0 / gamma_load(&v);
         let x = v.map(|u| u * scale);
@@ -398,7 +402,7 @@ proptest! {
     ) {
         let a = paper_allocation();
         let s = a.subproblems().iter().find(|s| s.axis().unwrap() == A::Gamma).unwrap();
-        let opt: [f64; 5] = std::array::from_fn(|k| s.bounds_rad[k]);
+        let opt: [f64; 5] = std::array::from_fn(|k| s.bounds_rad()[k]);
         let moved: [f64; 5] = std::array::from_fn(|k| opt[k] * (1.0 + eps * d[k]));
         let scale = 1.0 / gamma_load(&moved);
         let x = moved.map(|u| u * scale);
@@ -422,9 +426,9 @@ proptest! {
     ) {
         let axis = A::ALL[axis];
         let a = if with_lower { lower_bounded_allocation() } else { paper_allocation() };
-        let ub = &a.upper_bounds_rad;
-        let cert = a.certificate.get(axis);
-        let pose = vec![phi1, cert.worst_pose_rad[1] + offset];
+        let ub = a.upper_bounds_rad();
+        let cert = a.certificate().get(axis);
+        let pose = vec![phi1, cert.worst_pose_rad()[1] + offset];
         let vertex: Vec<f64> = (0..8)
             .map(|i| {
                 let c = coefficient(axis, i, &pose);
@@ -464,7 +468,7 @@ proptest! {
 #[test]
 fn lemma1_certificate_holds_and_full_range_form_gives_the_same_optimum_for_eq26() {
     let paper = paper_allocation();
-    assert!(paper.certificate.lemma1_holds());
+    assert!(paper.certificate().lemma1_holds());
     let full = SensitivityWeighted {
         form: ConstraintForm::FullRange,
         ..SensitivityWeighted::paper()
@@ -478,16 +482,20 @@ fn lemma1_certificate_holds_and_full_range_form_gives_the_same_optimum_for_eq26(
             .allocate(&paper_problem())
             .unwrap()
     );
-    assert!(full.certificate.lemma1_holds());
+    assert!(full.certificate().lemma1_holds());
     for i in 0..8 {
         assert_relative_eq!(
-            full.upper_bounds_rad[i],
-            paper.upper_bounds_rad[i],
+            full.upper_bounds_rad()[i],
+            paper.upper_bounds_rad()[i],
             max_relative = OPTIMUM_REL
         );
     }
-    assert_relative_eq!(full.objective, paper.objective, max_relative = OPTIMUM_REL);
-    assert!(lower_bounded_allocation().certificate.lemma1_holds());
+    assert_relative_eq!(
+        full.objective(),
+        paper.objective(),
+        max_relative = OPTIMUM_REL
+    );
+    assert!(lower_bounded_allocation().certificate().lemma1_holds());
 }
 
 /// Conclusion 2 (§5): at the same guarantee (both satisfy Lemma 1 and use 100% of every
@@ -497,12 +505,12 @@ fn conclusion2_proposed_allocation_beats_equal_effects_at_the_same_guarantee() {
     let ours = paper_allocation();
     let equal = equal_allocation();
     for a in [ours, equal] {
-        assert!(a.certificate.lemma1_holds());
+        assert!(a.certificate().lemma1_holds());
         for s in a.shares() {
             assert_relative_eq!(s.unwrap(), 1.0, max_relative = TIGHT_REL);
         }
     }
-    assert!(ours.objective < equal.objective);
+    assert!(ours.objective() < equal.objective());
     // Numbers quoted in the README (arcmin^-2).
     assert_relative_eq!(
         ours.objective_arcmin(),
@@ -552,7 +560,7 @@ fn conclusion2_proposed_allocation_beats_equal_effects_at_the_same_guarantee() {
 /// tightest (the orientation error is most sensitive to them).
 #[test]
 fn conclusion1_inner_axis_wobbles_get_the_tightest_bounds() {
-    let ub = &paper_allocation().upper_bounds_rad;
+    let ub = &paper_allocation().upper_bounds_rad().to_vec();
     let mut order: Vec<usize> = (0..8).collect();
     order.sort_by(|a, b| ub[*a].total_cmp(&ub[*b]));
     let mut two = [order[0], order[1]];
@@ -585,23 +593,23 @@ fn table4_is_feasible_but_not_the_optimum_of_problems_31_to_34() {
     .unwrap();
     assert!(cert.lemma1_holds());
     assert_abs_diff_eq!(
-        cert.get(A::Psi).share.unwrap(),
+        cert.get(A::Psi).share().unwrap(),
         0.9136,
         epsilon = SHARE_QUOTE
     );
     assert_abs_diff_eq!(
-        cert.get(A::Theta).share.unwrap(),
+        cert.get(A::Theta).share().unwrap(),
         0.9630,
         epsilon = SHARE_QUOTE
     );
     assert_abs_diff_eq!(
-        cert.get(A::Gamma).share.unwrap(),
+        cert.get(A::Gamma).share().unwrap(),
         0.9136,
         epsilon = SHARE_QUOTE
     );
     // Worst cases in arcmin: 1.4800 (psi), 1.56 (theta), 1.4801 (gamma).
     assert_abs_diff_eq!(
-        cert.get(A::Gamma).worst_case_rad / RAD_PER_ARCMIN,
+        cert.get(A::Gamma).worst_case_rad() / RAD_PER_ARCMIN,
         1.4801,
         epsilon = TABLE4_PRINT_ARCMIN
     );
@@ -637,7 +645,7 @@ fn table4_scaled_to_the_full_requirement_is_near_optimal() {
             } else {
                 A::Gamma
             };
-            table[i] / cert.get(axis).share.unwrap()
+            table[i] / cert.get(axis).share().unwrap()
         })
         .collect();
     let weights = Weights::inverse_average_sensitivity(problem.model());

@@ -51,7 +51,7 @@ fn table4_claim_s4_3_table4_is_not_the_optimum_of_problems_31_to_34() {
 #[test]
 fn lemma1_claim_s4_2_every_pose_and_admissible_error_meets_the_requirement() {
     let problem = paper_problem();
-    let ours = paper_allocation().upper_bounds_rad.clone();
+    let ours = paper_allocation().upper_bounds_rad().to_vec();
     let table4 = paper::table4_rad();
     let e = claims::lemma1_every_pose_and_admissible_error_meets_the_requirement(
         &problem,

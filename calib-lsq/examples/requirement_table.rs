@@ -52,7 +52,7 @@ fn main() -> Result<(), CalibError> {
             Ok(r) => println!(
                 "| `{reading}` | `{}` | {} | {sx} | {sy} |",
                 reading.formula(),
-                fmt(&r.requirement.deg())
+                fmt(&r.requirement().deg())
             ),
             Err(CalibError::Unbounded { .. } | CalibError::NoSensitivity) => println!(
                 "| `{reading}` | `{}` | unbounded | unbounded | unbounded | {sx} | {sy} |",
@@ -70,7 +70,7 @@ fn main() -> Result<(), CalibError> {
     ] {
         let s = Site::from_deg(lat, site.earth_rate_rad_per_s())?;
         let r = problem(&s, &schedule, Reading::PAPER)?.requirement()?;
-        println!("| {lat} | {} |", fmt(&r.requirement.deg()));
+        println!("| {lat} | {} |", fmt(&r.requirement().deg()));
     }
 
     println!("\n## Sensitivity to the schedule (paper's reading, Harbin)\n");
@@ -96,7 +96,7 @@ fn main() -> Result<(), CalibError> {
         println!(
             "| {s1} x {s2} | {} | {} |",
             sched.len(),
-            fmt(&r.requirement.deg())
+            fmt(&r.requirement().deg())
         );
     }
     Ok(())

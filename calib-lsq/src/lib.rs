@@ -28,7 +28,7 @@
 //! let cal = Calibration::new(&gw_model::paper::gyrowheel(), &gw_model::paper::site(), &paper::schedule())?;
 //! let req = RequirementProblem::new(cal, Reading::PAPER, DeltaRKind::SmallAngle).requirement()?;
 //! // Eq 16: 0.027 deg for all three angles (rounded).
-//! for i in req.requirement.deg() {
+//! for i in req.requirement().deg() {
 //!     assert!((i.unwrap() - 0.027).abs() < 0.0005);
 //! }
 //! # Ok::<(), calib_lsq::CalibError>(())

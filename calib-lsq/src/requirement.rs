@@ -159,16 +159,46 @@ pub struct OutputRegion {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OutputBox {
     /// The output.
-    pub output: String,
+    pub(crate) output: String,
     /// Half-sides per angle ($\psi, \theta, \gamma$), rad; `None` for an angle the output is
     /// insensitive to.
-    pub half_rad: [Option<f64>; 3],
+    pub(crate) half_rad: [Option<f64>; 3],
     /// Volume (length, area or volume) of the box in its angles, rad^d.
-    pub volume: f64,
+    pub(crate) volume: f64,
     /// Largest $\Delta\omega/\omega_m$ found on the box's boundary (corners and
     /// [`RequirementParams::boundary_check_points`] points per edge): at most 1 up to the bisection tolerance
     /// when the region is convex.
-    pub boundary_max_ratio: f64,
+    pub(crate) boundary_max_ratio: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl OutputBox {
+    /// The output.
+    #[must_use]
+    pub fn output(&self) -> &str {
+        &self.output
+    }
+
+    /// Half-sides per angle ($\psi, \theta, \gamma$), rad; `None` for an angle the output is
+    /// insensitive to.
+    #[must_use]
+    pub fn half_rad(&self) -> [Option<f64>; 3] {
+        self.half_rad
+    }
+
+    /// Volume (length, area or volume) of the box in its angles, rad^d.
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        self.volume
+    }
+
+    /// Largest $\Delta\omega/\omega_m$ found on the box's boundary (corners and
+    /// [`RequirementParams::boundary_check_points`] points per edge): at most 1 up to the bisection tolerance
+    /// when the region is convex.
+    #[must_use]
+    pub fn boundary_max_ratio(&self) -> f64 {
+        self.boundary_max_ratio
+    }
 }
 
 /// The requirement $|\Delta\psi| \le I_\psi$, $|\Delta\theta| \le I_\theta$,
@@ -178,19 +208,52 @@ pub struct OutputBox {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OrientationRequirement {
     /// $(I_\psi, I_\theta, I_\gamma)$, rad; `None` where no output depends on the angle.
-    pub requirement: Requirement,
+    pub(crate) requirement: Requirement,
     /// Each output's box.
-    pub boxes: Vec<OutputBox>,
+    pub(crate) boxes: Vec<OutputBox>,
     /// For each output, the largest $\Delta\omega/\omega_m$ at the corners of the combined
     /// box (all three angles at once): at most 1 (to the bisection tolerance) when the
     /// combination is sound.
-    pub combined_corner_ratio: Vec<f64>,
+    pub(crate) combined_corner_ratio: Vec<f64>,
     /// Outputs that impose no requirement: insensitive to a constant orientation error, or
     /// meeting their accuracy for every constant orientation error up to
     /// [`RequirementParams::search_limit_rad`] (the calibration absorbs it, e.g. an accelerometer whose
     /// misalignments are estimated). Only a pose-dependent analysis (the end-to-end direct
     /// allocation) can account for them.
-    pub unconstrained_outputs: Vec<String>,
+    pub(crate) unconstrained_outputs: Vec<String>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl OrientationRequirement {
+    /// $(I_\psi, I_\theta, I_\gamma)$, rad; `None` where no output depends on the angle.
+    #[must_use]
+    pub fn requirement(&self) -> Requirement {
+        self.requirement
+    }
+
+    /// Each output's box.
+    #[must_use]
+    pub fn boxes(&self) -> &[OutputBox] {
+        &self.boxes
+    }
+
+    /// For each output, the largest $\Delta\omega/\omega_m$ at the corners of the combined
+    /// box (all three angles at once): at most 1 (to the bisection tolerance) when the
+    /// combination is sound.
+    #[must_use]
+    pub fn combined_corner_ratio(&self) -> &[f64] {
+        &self.combined_corner_ratio
+    }
+
+    /// Outputs that impose no requirement: insensitive to a constant orientation error, or
+    /// meeting their accuracy for every constant orientation error up to
+    /// [`RequirementParams::search_limit_rad`] (the calibration absorbs it, e.g. an accelerometer whose
+    /// misalignments are estimated). Only a pose-dependent analysis (the end-to-end direct
+    /// allocation) can account for them.
+    #[must_use]
+    pub fn unconstrained_outputs(&self) -> &[String] {
+        &self.unconstrained_outputs
+    }
 }
 
 /// Grid data of a surface $\Gamma$ (Figure 4): one output's $\Delta\omega$ over two angles.

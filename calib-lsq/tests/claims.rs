@@ -64,7 +64,7 @@ fn paper_requirement() -> &'static OrientationRequirement {
 }
 
 fn deg(r: &OrientationRequirement) -> [f64; 3] {
-    r.requirement
+    r.requirement()
         .deg()
         .map(|d| d.expect("every angle constrained"))
 }
@@ -175,9 +175,9 @@ fn claim4_requirement_is_0_027_deg_for_all_three_angles_eq16() {
         assert_abs_diff_eq!(i, 0.026_938_0, epsilon = 1e-7);
     }
     // x depends on (psi, theta), y on (theta, gamma): the paper's two rectangles
-    assert_eq!(r.boxes.len(), 2);
-    assert!(r.boxes[0].half_rad[2].is_none() && r.boxes[1].half_rad[0].is_none());
-    for ratio in &r.combined_corner_ratio {
+    assert_eq!(r.boxes().len(), 2);
+    assert!(r.boxes()[0].half_rad()[2].is_none() && r.boxes()[1].half_rad()[0].is_none());
+    for ratio in r.combined_corner_ratio() {
         assert!(*ratio <= 1.0 + 1e-9, "{ratio}");
     }
 }
@@ -274,9 +274,9 @@ fn requirement_met_on_rectangle_boundary_and_violated_just_outside() {
     for (k, [i0, i1]) in PLANES.into_iter().enumerate() {
         let region = p.region(k).unwrap();
         let omega_m = region.accuracy();
-        let b = &r.boxes[k];
-        assert!(b.boundary_max_ratio <= 1.0);
-        let (a, c) = (b.half_rad[i0].unwrap(), b.half_rad[i1].unwrap());
+        let b = &r.boxes()[k];
+        assert!(b.boundary_max_ratio() <= 1.0);
+        let (a, c) = (b.half_rad()[i0].unwrap(), b.half_rad()[i1].unwrap());
         let at = |u, v| region.rate_error(plane_point(k, u, v)).unwrap();
         for i in 0..=20 {
             let s = -1.0 + 0.1 * f64::from(i);

@@ -33,10 +33,10 @@ fn a_callers_requirement_params_take_effect() {
     denser.params.direction_scan = 128;
     let r = denser.requirement().unwrap();
     for (a, b) in reference
-        .requirement
+        .requirement()
         .to_array()
         .iter()
-        .zip(r.requirement.to_array())
+        .zip(r.requirement().to_array())
     {
         match (a, b) {
             (Some(a), Some(b)) => {

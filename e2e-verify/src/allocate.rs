@@ -177,11 +177,32 @@ pub(crate) fn check_yield_samples(samples: u64, target: f64) -> Result<(), E2eEr
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RowLoad {
     /// The output's index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// Position index in the schedule.
-    pub position: usize,
+    pub(crate) position: usize,
     /// $\sum_j |M_{rj}|\,\mathrm{UB}_j / \omega_{m,k}$ (1 = the whole accuracy used).
-    pub load: f64,
+    pub(crate) load: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl RowLoad {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// Position index in the schedule.
+    #[must_use]
+    pub fn position(&self) -> usize {
+        self.position
+    }
+
+    /// $\sum_j |M_{rj}|\,\mathrm{UB}_j / \omega_{m,k}$ (1 = the whole accuracy used).
+    #[must_use]
+    pub fn load(&self) -> f64 {
+        self.load
+    }
 }
 
 /// The direct allocation's result.
@@ -190,25 +211,84 @@ pub struct RowLoad {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DirectAllocation {
     /// $\mathrm{UB}$ (rad, order of $\chi$); `+inf` for an error no output depends on.
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// The errors no output depends on (no bound).
-    pub unconstrained: Vec<usize>,
+    pub(crate) unconstrained: Vec<usize>,
     /// The lower bounds used (rad).
-    pub lower_bounds_rad: Vec<f64>,
+    pub(crate) lower_bounds_rad: Vec<f64>,
     /// Every output's accuracy $\omega_{m,k}$ (output unit).
-    pub accuracies: Vec<f64>,
+    pub(crate) accuracies: Vec<f64>,
     /// $J$ (rad$^{-2}$), see [`EndToEnd::objective`].
-    pub objective: f64,
+    pub(crate) objective: f64,
     /// The load of every row, output-major.
-    pub loads: Vec<RowLoad>,
+    pub(crate) loads: Vec<RowLoad>,
     /// Sum of the Lagrange multipliers of the rows (units of $J$).
-    pub multiplier: f64,
+    pub(crate) multiplier: f64,
     /// Conic solves of the exchange method.
-    pub iterations: usize,
+    pub(crate) iterations: usize,
     /// Room kept for the exact chain's second-order terms per output (output unit): the rows
     /// are constrained to $\omega_{m,k} - $ this (0 for [`EndToEnd::allocate_direct`]; the
     /// derived bound $\tau_k$ for [`EndToEnd::allocate_direct_certified`]).
-    pub second_order_margins: Vec<f64>,
+    pub(crate) second_order_margins: Vec<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl DirectAllocation {
+    /// $\mathrm{UB}$ (rad, order of $\chi$); `+inf` for an error no output depends on.
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// The errors no output depends on (no bound).
+    #[must_use]
+    pub fn unconstrained(&self) -> &[usize] {
+        &self.unconstrained
+    }
+
+    /// The lower bounds used (rad).
+    #[must_use]
+    pub fn lower_bounds_rad(&self) -> &[f64] {
+        &self.lower_bounds_rad
+    }
+
+    /// Every output's accuracy $\omega_{m,k}$ (output unit).
+    #[must_use]
+    pub fn accuracies(&self) -> &[f64] {
+        &self.accuracies
+    }
+
+    /// $J$ (rad$^{-2}$), see [`EndToEnd::objective`].
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
+
+    /// The load of every row, output-major.
+    #[must_use]
+    pub fn loads(&self) -> &[RowLoad] {
+        &self.loads
+    }
+
+    /// Sum of the Lagrange multipliers of the rows (units of $J$).
+    #[must_use]
+    pub fn multiplier(&self) -> f64 {
+        self.multiplier
+    }
+
+    /// Conic solves of the exchange method.
+    #[must_use]
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// Room kept for the exact chain's second-order terms per output (output unit): the rows
+    /// are constrained to $\omega_{m,k} - $ this (0 for [`EndToEnd::allocate_direct`]; the
+    /// derived bound $\tau_k$ for [`EndToEnd::allocate_direct_certified`]).
+    #[must_use]
+    pub fn second_order_margins(&self) -> &[f64] {
+        &self.second_order_margins
+    }
 }
 
 impl DirectAllocation {
@@ -252,28 +332,94 @@ impl DirectAllocation {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct YieldAllocation {
     /// $\mathrm{UB} = s^*\,\mathrm{UB}_{shape}$ (rad).
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// The shape (rad): the direct allocation's bounds.
-    pub shape_rad: Vec<f64>,
+    pub(crate) shape_rad: Vec<f64>,
     /// The scale $s^*$.
-    pub scale: f64,
+    pub(crate) scale: f64,
     /// The target fraction $p$.
-    pub target: f64,
+    pub(crate) target: f64,
     /// $J$ (rad$^{-2}$).
-    pub objective: f64,
+    pub(crate) objective: f64,
     /// Design draws.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Seed of the design draws.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Design draws meeting every accuracy at $s^*$ (re-evaluated on the exact chain).
-    pub meeting: u64,
+    pub(crate) meeting: u64,
     /// The 95% Wilson interval of the yield at $s^*$ (from the design draws): the stated
     /// confidence of the allocation.
-    pub interval_95: (f64, f64),
+    pub(crate) interval_95: (f64, f64),
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
     /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
     /// errors, and the bounds are that cap, not a limit.
-    pub capped: bool,
+    pub(crate) capped: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl YieldAllocation {
+    /// $\mathrm{UB} = s^*\,\mathrm{UB}_{shape}$ (rad).
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// The shape (rad): the direct allocation's bounds.
+    #[must_use]
+    pub fn shape_rad(&self) -> &[f64] {
+        &self.shape_rad
+    }
+
+    /// The scale $s^*$.
+    #[must_use]
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// The target fraction $p$.
+    #[must_use]
+    pub fn target(&self) -> f64 {
+        self.target
+    }
+
+    /// $J$ (rad$^{-2}$).
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
+
+    /// Design draws.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Seed of the design draws.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Design draws meeting every accuracy at $s^*$ (re-evaluated on the exact chain).
+    #[must_use]
+    pub fn meeting(&self) -> u64 {
+        self.meeting
+    }
+
+    /// The 95% Wilson interval of the yield at $s^*$ (from the design draws): the stated
+    /// confidence of the allocation.
+    #[must_use]
+    pub fn interval_95(&self) -> (f64, f64) {
+        self.interval_95
+    }
+
+    /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
+    /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
+    /// errors, and the bounds are that cap, not a limit.
+    #[must_use]
+    pub fn capped(&self) -> bool {
+        self.capped
+    }
 }
 
 impl YieldAllocation {

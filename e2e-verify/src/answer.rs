@@ -225,9 +225,9 @@ fn check_two_step(
         tt_core::length(
             "two-step allocation",
             e2e.n_errors(),
-            a.upper_bounds_rad.len(),
+            a.upper_bounds_rad().len(),
         )?;
-        check_box(e2e, inputs, "two-step", &a.upper_bounds_rad)?;
+        check_box(e2e, inputs, "two-step", a.upper_bounds_rad())?;
     }
     Ok(())
 }
@@ -392,7 +392,7 @@ impl AnswerAllocations {
         check_two_step(&readings[0].sim, &inputs, two_step.as_ref())?;
         let mut named: Vec<(String, Vec<f64>)> = Vec::new();
         if let Some(a) = &two_step {
-            named.push(("two-step".into(), a.upper_bounds_rad.clone()));
+            named.push(("two-step".into(), a.upper_bounds_rad().to_vec()));
         }
         named.extend(inputs.extra_boxes.iter().cloned());
         let settings = McSettings::new(inputs.samples, inputs.seed);

@@ -46,18 +46,50 @@ impl Verdict {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Contribution {
     /// The error's index in $\chi$ (the group's first error).
-    pub error: usize,
+    pub(crate) error: usize,
     /// The group of errors that act only together, [`Contribution::error`] first (one error
     /// when it acts alone).
-    pub group: tt_kinematics::ErrorGroup,
+    pub(crate) group: tt_kinematics::ErrorGroup,
     /// Share of the linearised worst case at the worst row:
     /// $|M_{rj}|\mathrm{UB}_j / \sum_i |M_{ri}|\mathrm{UB}_i$, summed over the group.
-    pub worst_share: f64,
+    pub(crate) worst_share: f64,
     /// Share of the variance of the linearised error at the worst row for errors drawn as the
     /// Monte Carlo draws them ($|\chi_j|$ uniform on $[\mathrm{LB}_j, \mathrm{UB}_j]$, random
     /// sign: $E\chi_j^2 = (\mathrm{UB}^3 - \mathrm{LB}^3)/(3(\mathrm{UB} - \mathrm{LB}))$),
     /// summed over the group.
-    pub variance_share: f64,
+    pub(crate) variance_share: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Contribution {
+    /// The error's index in $\chi$ (the group's first error).
+    #[must_use]
+    pub fn error(&self) -> usize {
+        self.error
+    }
+
+    /// The group of errors that act only together, [`Contribution::error`] first (one error
+    /// when it acts alone).
+    #[must_use]
+    pub fn group(&self) -> &tt_kinematics::ErrorGroup {
+        &self.group
+    }
+
+    /// Share of the linearised worst case at the worst row:
+    /// $|M_{rj}|\mathrm{UB}_j / \sum_i |M_{ri}|\mathrm{UB}_i$, summed over the group.
+    #[must_use]
+    pub fn worst_share(&self) -> f64 {
+        self.worst_share
+    }
+
+    /// Share of the variance of the linearised error at the worst row for errors drawn as the
+    /// Monte Carlo draws them ($|\chi_j|$ uniform on $[\mathrm{LB}_j, \mathrm{UB}_j]$, random
+    /// sign: $E\chi_j^2 = (\mathrm{UB}^3 - \mathrm{LB}^3)/(3(\mathrm{UB} - \mathrm{LB}))$),
+    /// summed over the group.
+    #[must_use]
+    pub fn variance_share(&self) -> f64 {
+        self.variance_share
+    }
 }
 
 /// The check of one output.
@@ -66,17 +98,52 @@ pub struct Contribution {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct OutputCheck {
     /// The output's index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// Its accuracy (output unit).
-    pub accuracy: f64,
+    pub(crate) accuracy: f64,
     /// The worst case over the tolerance box.
-    pub worst_case: OutputWorstCase,
+    pub(crate) worst_case: OutputWorstCase,
     /// The verdict for this output.
-    pub verdict: Verdict,
+    pub(crate) verdict: Verdict,
     /// Every group's contribution ([`tt_kinematics::Turntable::error_groups`]: one per error
     /// that acts alone, one per group of errors that act only together), in the order of
     /// their first error in $\chi$.
-    pub contributions: Vec<Contribution>,
+    pub(crate) contributions: Vec<Contribution>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl OutputCheck {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// Its accuracy (output unit).
+    #[must_use]
+    pub fn accuracy(&self) -> f64 {
+        self.accuracy
+    }
+
+    /// The worst case over the tolerance box.
+    #[must_use]
+    pub fn worst_case(&self) -> &OutputWorstCase {
+        &self.worst_case
+    }
+
+    /// The verdict for this output.
+    #[must_use]
+    pub fn verdict(&self) -> Verdict {
+        self.verdict
+    }
+
+    /// Every group's contribution ([`tt_kinematics::Turntable::error_groups`]: one per error
+    /// that acts alone, one per group of errors that act only together), in the order of
+    /// their first error in $\chi$.
+    #[must_use]
+    pub fn contributions(&self) -> &[Contribution] {
+        &self.contributions
+    }
 }
 
 impl OutputCheck {
@@ -100,13 +167,40 @@ impl OutputCheck {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TurntableCheck {
     /// The tolerances (rad).
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// One per output.
-    pub outputs: Vec<OutputCheck>,
+    pub(crate) outputs: Vec<OutputCheck>,
     /// The Monte Carlo over the box: yield with its 95% interval.
-    pub distribution: RateDistribution,
+    pub(crate) distribution: RateDistribution,
     /// The overall verdict: the weakest of the outputs'.
-    pub verdict: Verdict,
+    pub(crate) verdict: Verdict,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl TurntableCheck {
+    /// The tolerances (rad).
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// One per output.
+    #[must_use]
+    pub fn outputs(&self) -> &[OutputCheck] {
+        &self.outputs
+    }
+
+    /// The Monte Carlo over the box: yield with its 95% interval.
+    #[must_use]
+    pub fn distribution(&self) -> &RateDistribution {
+        &self.distribution
+    }
+
+    /// The overall verdict: the weakest of the outputs'.
+    #[must_use]
+    pub fn verdict(&self) -> Verdict {
+        self.verdict
+    }
 }
 
 impl EndToEnd {

@@ -150,11 +150,32 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstDraw {
     /// Global index of the draw.
-    pub index: u64,
+    pub(crate) index: u64,
     /// Its value (output unit, or the ratio for the ratio's worst draw).
-    pub value: f64,
+    pub(crate) value: f64,
     /// Its errors $\chi$, rad.
-    pub chi_rad: Vec<f64>,
+    pub(crate) chi_rad: Vec<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl WorstDraw {
+    /// Global index of the draw.
+    #[must_use]
+    pub fn index(&self) -> u64 {
+        self.index
+    }
+
+    /// Its value (output unit, or the ratio for the ratio's worst draw).
+    #[must_use]
+    pub fn value(&self) -> f64 {
+        self.value
+    }
+
+    /// Its errors $\chi$, rad.
+    #[must_use]
+    pub fn chi_rad(&self) -> &[f64] {
+        &self.chi_rad
+    }
 }
 
 /// One quantile of the calibration errors.
@@ -163,12 +184,34 @@ pub struct WorstDraw {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateQuantile {
     /// Probability $p$.
-    pub p: f64,
+    pub(crate) p: f64,
     /// Upper bounds of the empirical $p$-quantiles of every output's $\Delta\omega_k$ (output
     /// unit), resolution one [`QUANTILE_BINS`]-th of the histogram range.
-    pub per_output: Vec<f64>,
+    pub(crate) per_output: Vec<f64>,
     /// The same for the ratio $\max_k \Delta\omega_k/\omega_{m,k}$.
-    pub ratio: f64,
+    pub(crate) ratio: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl RateQuantile {
+    /// Probability $p$.
+    #[must_use]
+    pub fn p(&self) -> f64 {
+        self.p
+    }
+
+    /// Upper bounds of the empirical $p$-quantiles of every output's $\Delta\omega_k$ (output
+    /// unit), resolution one [`QUANTILE_BINS`]-th of the histogram range.
+    #[must_use]
+    pub fn per_output(&self) -> &[f64] {
+        &self.per_output
+    }
+
+    /// The same for the ratio $\max_k \Delta\omega_k/\omega_{m,k}$.
+    #[must_use]
+    pub fn ratio(&self) -> f64 {
+        self.ratio
+    }
 }
 
 /// The distribution of the end-to-end calibration errors over turntables drawn from a box.
@@ -177,28 +220,98 @@ pub struct RateQuantile {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateDistribution {
     /// Turntables drawn.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Seed of the streams.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Every output's accuracy (output unit).
-    pub accuracies: Vec<f64>,
+    pub(crate) accuracies: Vec<f64>,
     /// Turntables meeting every output's accuracy.
-    pub meeting: u64,
+    pub(crate) meeting: u64,
     /// Turntables meeting each output's accuracy.
-    pub meeting_per_output: Vec<u64>,
+    pub(crate) meeting_per_output: Vec<u64>,
     /// Largest $\Delta\omega_k$ drawn per output, with its turntable.
-    pub worst: Vec<WorstDraw>,
+    pub(crate) worst: Vec<WorstDraw>,
     /// Largest ratio $\max_k \Delta\omega_k/\omega_{m,k}$ drawn, with its turntable.
-    pub worst_ratio: WorstDraw,
+    pub(crate) worst_ratio: WorstDraw,
     /// Quantiles at [`REPORTED_QUANTILES`].
-    pub quantiles: Vec<RateQuantile>,
+    pub(crate) quantiles: Vec<RateQuantile>,
     /// Figure histograms per output ($\Delta\omega_k$, output unit).
-    pub histograms: Vec<Histogram>,
+    pub(crate) histograms: Vec<Histogram>,
     /// Figure histogram of the ratio.
-    pub ratio_histogram: Histogram,
+    pub(crate) ratio_histogram: Histogram,
     /// Every output's precision ([`EndToEnd::precisions`], output unit): the largest values
     /// and quantiles at or below it are reported as 0 (the ratio's when every output's are).
-    pub precisions: Vec<f64>,
+    pub(crate) precisions: Vec<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl RateDistribution {
+    /// Turntables drawn.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Seed of the streams.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Every output's accuracy (output unit).
+    #[must_use]
+    pub fn accuracies(&self) -> &[f64] {
+        &self.accuracies
+    }
+
+    /// Turntables meeting every output's accuracy.
+    #[must_use]
+    pub fn meeting(&self) -> u64 {
+        self.meeting
+    }
+
+    /// Turntables meeting each output's accuracy.
+    #[must_use]
+    pub fn meeting_per_output(&self) -> &[u64] {
+        &self.meeting_per_output
+    }
+
+    /// Largest $\Delta\omega_k$ drawn per output, with its turntable.
+    #[must_use]
+    pub fn worst(&self) -> &[WorstDraw] {
+        &self.worst
+    }
+
+    /// Largest ratio $\max_k \Delta\omega_k/\omega_{m,k}$ drawn, with its turntable.
+    #[must_use]
+    pub fn worst_ratio(&self) -> &WorstDraw {
+        &self.worst_ratio
+    }
+
+    /// Quantiles at [`REPORTED_QUANTILES`].
+    #[must_use]
+    pub fn quantiles(&self) -> &[RateQuantile] {
+        &self.quantiles
+    }
+
+    /// Figure histograms per output ($\Delta\omega_k$, output unit).
+    #[must_use]
+    pub fn histograms(&self) -> &[Histogram] {
+        &self.histograms
+    }
+
+    /// Figure histogram of the ratio.
+    #[must_use]
+    pub fn ratio_histogram(&self) -> &Histogram {
+        &self.ratio_histogram
+    }
+
+    /// Every output's precision ([`EndToEnd::precisions`], output unit): the largest values
+    /// and quantiles at or below it are reported as 0 (the ratio's when every output's are).
+    #[must_use]
+    pub fn precisions(&self) -> &[f64] {
+        &self.precisions
+    }
 }
 
 impl RateDistribution {

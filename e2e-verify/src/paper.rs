@@ -503,7 +503,7 @@ pub mod registry {
         let e = al::lemma1_every_pose_and_admissible_error_meets_the_requirement(
             run.allocation_problem,
             &[
-                ("optimum", &run.proposed.upper_bounds_rad),
+                ("optimum", run.proposed.upper_bounds_rad()),
                 (TABLE4_BOX, &table4),
             ],
         )?;

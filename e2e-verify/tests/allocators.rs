@@ -41,15 +41,19 @@ fn direct_allocator_gives_the_direct_allocation_with_a_holding_certificate() {
         let problem = e2e.allocation_problem(linear, lb).unwrap();
         let tb = Direct::new(&e2e).allocate(&problem).unwrap();
         assert_eq!(tb.method(), "direct");
-        assert_eq!(tb.upper_bounds_rad(), own.upper_bounds_rad.as_slice());
-        assert_relative_eq!(tb.objective(), own.objective, max_relative = OBJECTIVE_REL);
+        assert_eq!(tb.upper_bounds_rad(), own.upper_bounds_rad());
+        assert_relative_eq!(
+            tb.objective(),
+            own.objective(),
+            max_relative = OBJECTIVE_REL
+        );
         assert!(tb.certificate().lemma1_holds());
         assert_eq!(tb.error_names(), e2e.error_names().as_slice());
         let outputs: Vec<String> = tb
             .certificate()
-            .axes
+            .axes()
             .iter()
-            .map(|a| a.name.clone())
+            .map(|a| a.name().to_string())
             .collect();
         assert_eq!(outputs, e2e.output_names());
         // the weights of the errors with a bound are the analysis's (an unbounded error
@@ -67,7 +71,7 @@ fn direct_allocator_gives_the_direct_allocation_with_a_holding_certificate() {
                 ..
             } => {
                 assert!(margins.iter().all(|&m| m == 0.0));
-                assert_eq!(*iterations, own.iterations);
+                assert_eq!(*iterations, own.iterations());
             }
             other => panic!("direct details: {other:?}"),
         }
@@ -85,11 +89,11 @@ fn certified_allocator_gives_the_certified_allocation_and_its_margins() {
     let problem = e2e.allocation_problem(linear, lb).unwrap();
     let tb = DirectCertified::new(&e2e).allocate(&problem).unwrap();
     assert_eq!(tb.method(), "direct-certified");
-    assert_eq!(tb.upper_bounds_rad(), own.upper_bounds_rad.as_slice());
+    assert_eq!(tb.upper_bounds_rad(), own.upper_bounds_rad());
     assert!(tb.certificate().lemma1_holds());
     match tb.details() {
         MethodDetails::Joint { margins, .. } => {
-            assert_eq!(margins, &own.second_order_margins);
+            assert_eq!(margins, &own.second_order_margins());
             assert!(margins.iter().all(|&m| m > 0.0));
         }
         other => panic!("certified details: {other:?}"),
@@ -104,13 +108,17 @@ fn yield_allocator_gives_the_yield_allocation_and_states_its_yield() {
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let settings = McSettings::new(2_000, 11);
-    let shape = e2e.allocate_direct(&linear, &lb).unwrap().upper_bounds_rad;
+    let shape = e2e
+        .allocate_direct(&linear, &lb)
+        .unwrap()
+        .upper_bounds_rad()
+        .to_vec();
     let own = e2e.allocate_yield(&shape, &lb, 0.9973, &settings).unwrap();
     let problem = e2e.allocation_problem(linear, lb).unwrap();
     let tb = YieldBased::new(&e2e, 0.9973, settings)
         .allocate(&problem)
         .unwrap();
-    assert_eq!(tb.upper_bounds_rad(), own.upper_bounds_rad.as_slice());
+    assert_eq!(tb.upper_bounds_rad(), own.upper_bounds_rad());
     match tb.details() {
         MethodDetails::Scaled {
             scale,
@@ -121,17 +129,17 @@ fn yield_allocator_gives_the_yield_allocation_and_states_its_yield() {
         } => {
             assert_eq!(
                 scale.to_bits(),
-                own.scale.to_bits(),
+                own.scale().to_bits(),
                 "same scale bit for bit"
             );
-            assert_eq!((*meeting, *samples), (own.meeting, own.samples));
+            assert_eq!((*meeting, *samples), (own.meeting(), own.samples()));
             assert_eq!(shape_rad, &shape);
             assert!(*meeting as f64 >= 0.9973 * *samples as f64);
         }
         other => panic!("yield details: {other:?}"),
     }
     // the yield box is larger than the worst-case one: its certificate exceeds an accuracy
-    assert!(own.scale > 1.0);
+    assert!(own.scale() > 1.0);
     assert!(!tb.certificate().lemma1_holds());
 }
 

@@ -371,10 +371,14 @@ fn compensated_allocation_holds_measured_errors_at_their_uncertainty_and_meets_e
         .allocate_direct_compensated(&lin, &lb, &fixed)
         .unwrap()
         .unwrap();
-    assert_eq!(d.upper_bounds_rad[0].to_bits(), u.to_bits());
-    assert_eq!(d.upper_bounds_rad[6].to_bits(), u.to_bits());
-    assert!(d.upper_bounds_rad.iter().all(|v| v.is_finite() && *v > 0.0));
-    let rows = lin.row_worst_cases(&d.upper_bounds_rad);
+    assert_eq!(d.upper_bounds_rad()[0].to_bits(), u.to_bits());
+    assert_eq!(d.upper_bounds_rad()[6].to_bits(), u.to_bits());
+    assert!(
+        d.upper_bounds_rad()
+            .iter()
+            .all(|v| v.is_finite() && *v > 0.0)
+    );
+    let rows = lin.row_worst_cases(d.upper_bounds_rad());
     let acc = e2e.accuracies();
     let n = e2e.len();
     for (r, v) in rows.iter().enumerate() {

@@ -118,35 +118,35 @@ fn disc_allocation_is_looser_than_the_square_allocation_and_meets_every_accuracy
             .allocate_direct_paired(&model.merged(&square_pairs), &lb, &square_pairs, None)
             .unwrap();
         assert!(
-            disc.objective <= square.objective * (1.0 + SOLVER_REL),
+            disc.objective() <= square.objective() * (1.0 + SOLVER_REL),
             "disc J {} > square J {}",
-            disc.objective,
-            square.objective
+            disc.objective(),
+            square.objective()
         );
         assert!(
-            disc.objective < square.objective * (1.0 - 1e-3),
+            disc.objective() < square.objective() * (1.0 - 1e-3),
             "the discs bind: J {} vs {}",
-            disc.objective,
-            square.objective
+            disc.objective(),
+            square.objective()
         );
         for p in &disc_pairs {
             let [a, b] = p.errors;
             // one radius per pair, bit for bit
             assert_eq!(
-                disc.upper_bounds_rad[a].to_bits(),
-                disc.upper_bounds_rad[b].to_bits()
+                disc.upper_bounds_rad()[a].to_bits(),
+                disc.upper_bounds_rad()[b].to_bits()
             );
             assert_eq!(
-                square.upper_bounds_rad[a].to_bits(),
-                square.upper_bounds_rad[b].to_bits()
+                square.upper_bounds_rad()[a].to_bits(),
+                square.upper_bounds_rad()[b].to_bits()
             );
         }
         // every row of the disc box within its accuracy, first order, discs as discs
         let with_radius: Vec<(Pair, f64)> = disc_pairs
             .iter()
-            .map(|p| (*p, disc.upper_bounds_rad[p.errors[0]]))
+            .map(|p| (*p, disc.upper_bounds_rad()[p.errors[0]]))
             .collect();
-        let (worst, _) = model.worst_case(&disc.upper_bounds_rad, &with_radius);
+        let (worst, _) = model.worst_case(disc.upper_bounds_rad(), &with_radius);
         for (k, w) in worst.iter().enumerate() {
             assert!(
                 *w <= acc[k] * (1.0 + SOLVER_REL),
@@ -158,9 +158,9 @@ fn disc_allocation_is_looser_than_the_square_allocation_and_meets_every_accuracy
         // is at most its J (checked above) and the square's worst case is above the disc's
         let sq_radius: Vec<(Pair, f64)> = square_pairs
             .iter()
-            .map(|p| (*p, square.upper_bounds_rad[p.errors[0]]))
+            .map(|p| (*p, square.upper_bounds_rad()[p.errors[0]]))
             .collect();
-        let (sq_worst, _) = model.worst_case(&square.upper_bounds_rad, &sq_radius);
+        let (sq_worst, _) = model.worst_case(square.upper_bounds_rad(), &sq_radius);
         let as_disc: Vec<(Pair, f64)> = sq_radius
             .iter()
             .map(|(p, w)| {
@@ -173,7 +173,7 @@ fn disc_allocation_is_looser_than_the_square_allocation_and_meets_every_accuracy
                 )
             })
             .collect();
-        let (sq_as_disc, _) = model.worst_case(&square.upper_bounds_rad, &as_disc);
+        let (sq_as_disc, _) = model.worst_case(square.upper_bounds_rad(), &as_disc);
         for k in 0..acc.len() {
             assert!(sq_as_disc[k] <= sq_worst[k] * (1.0 + NESTING_REL));
             assert!(sq_worst[k] <= acc[k] * (1.0 + SOLVER_REL));
@@ -204,12 +204,12 @@ fn certified_disc_allocation_meets_every_accuracy_with_the_second_order_bound() 
             Some(&params),
         )
         .unwrap();
-    assert!(disc.objective <= square.objective * (1.0 + SOLVER_REL));
+    assert!(disc.objective() <= square.objective() * (1.0 + SOLVER_REL));
     let with_radius: Vec<(Pair, f64)> = disc_pairs
         .iter()
-        .map(|p| (*p, disc.upper_bounds_rad[p.errors[0]]))
+        .map(|p| (*p, disc.upper_bounds_rad()[p.errors[0]]))
         .collect();
-    let (worst, _) = model.worst_case(&disc.upper_bounds_rad, &with_radius);
+    let (worst, _) = model.worst_case(disc.upper_bounds_rad(), &with_radius);
     // the l1 size of the disc box: sqrt(2) r per pair, UB for the rest
     let mut in_pair = vec![false; e2e.n_errors()];
     let mut s = 0.0;
@@ -219,7 +219,7 @@ fn certified_disc_allocation_meets_every_accuracy_with_the_second_order_bound() 
         s += std::f64::consts::SQRT_2 * r;
     }
     s += disc
-        .upper_bounds_rad
+        .upper_bounds_rad()
         .iter()
         .zip(&in_pair)
         .filter(|(u, p)| !**p && u.is_finite())

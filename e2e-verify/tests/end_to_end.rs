@@ -61,7 +61,8 @@ fn two_step_ub() -> Vec<f64> {
     SensitivityWeighted::paper()
         .allocate(&alloc_opt::paper::example_problem().expect("paper problem"))
         .expect("paper allocation")
-        .upper_bounds_rad
+        .upper_bounds_rad()
+        .to_vec()
 }
 
 fn table4() -> Vec<f64> {
@@ -368,23 +369,23 @@ fn direct_allocation_meets_omega_m_with_equality_on_active_positions() {
         let d = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
         let active = d.active_rows();
         assert!(!active.is_empty());
-        assert!(active.len() < d.loads.len());
-        for r in &d.loads {
-            assert!(r.load <= 1.0 + FEASIBLE_REL, "{r:?}");
+        assert!(active.len() < d.loads().len());
+        for r in d.loads() {
+            assert!(r.load() <= 1.0 + FEASIBLE_REL, "{r:?}");
         }
-        let wc = e2e.worst_case(&lin, &d.upper_bounds_rad).unwrap();
+        let wc = e2e.worst_case(&lin, d.upper_bounds_rad()).unwrap();
         for o in &wc.outputs {
             assert_relative_eq!(o.linear_bound, OMEGA_M_DEG_PER_H, max_relative = ACTIVE_REL);
             assert!(o.exact_at_vertex <= OMEGA_M_DEG_PER_H + o.second_order_bound.unwrap());
         }
-        assert_relative_eq!(d.objective, e2e.objective(&d.upper_bounds_rad));
+        assert_relative_eq!(d.objective(), e2e.objective(d.upper_bounds_rad()));
     }
     let e2e = paper(Reading::PAPER);
     let d = e2e
         .allocate_direct(&e2e.linearization(), &[0.0; 8])
         .unwrap();
-    assert!(d.objective < e2e.objective(&two_step_ub()));
-    assert!(d.objective < e2e.objective(&table4()));
+    assert!(d.objective() < e2e.objective(&two_step_ub()));
+    assert!(d.objective() < e2e.objective(&table4()));
 }
 
 /// The certified direct allocation leaves room for the derived second-order term per output:
@@ -397,20 +398,20 @@ fn certified_direct_allocation_meets_omega_m_on_exact_chain() {
         let lin = e2e.linearization();
         let plain = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
         let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();
-        let wc = e2e.worst_case(&lin, &cert.upper_bounds_rad).unwrap();
-        for (o, tau) in wc.outputs.iter().zip(&cert.second_order_margins) {
+        let wc = e2e.worst_case(&lin, cert.upper_bounds_rad()).unwrap();
+        for (o, tau) in wc.outputs.iter().zip(cert.second_order_margins()) {
             assert!(*tau > 0.0);
             let t = o.second_order_bound.unwrap();
             assert!(o.linear_bound + t <= OMEGA_M_DEG_PER_H * (1.0 + FEASIBLE_REL));
             assert!(o.exact_at_vertex <= OMEGA_M_DEG_PER_H);
         }
-        assert!(cert.objective > plain.objective);
+        assert!(cert.objective() > plain.objective());
         let tau_max = cert
-            .second_order_margins
+            .second_order_margins()
             .iter()
             .copied()
             .fold(0.0, f64::max);
-        assert!(cert.objective < plain.objective * (1.0 + 20.0 * tau_max / OMEGA_M_DEG_PER_H));
+        assert!(cert.objective() < plain.objective() * (1.0 + 20.0 * tau_max / OMEGA_M_DEG_PER_H));
     }
 }
 
@@ -440,7 +441,7 @@ fn direct_allocation_is_optimal_under_feasible_perturbations() {
     for _ in 0..300 {
         let f = random_chi(&mut rng, &[1e-3; 8]);
         let x: Vec<f64> = d
-            .upper_bounds_rad
+            .upper_bounds_rad()
             .iter()
             .zip(&f)
             .map(|(u, f)| u * f.exp())
@@ -448,7 +449,11 @@ fn direct_allocation_is_optimal_under_feasible_perturbations() {
         let load = lin.row_worst_cases(&x).max() / OMEGA_M_DEG_PER_H;
         let x: Vec<f64> = x.iter().map(|v| v / load.max(1.0)).collect();
         let j = e2e.objective(&x);
-        assert!(j >= d.objective * (1.0 - 1e-10), "{j} < {}", d.objective);
+        assert!(
+            j >= d.objective() * (1.0 - 1e-10),
+            "{j} < {}",
+            d.objective()
+        );
     }
 }
 
@@ -462,28 +467,32 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
     let d = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
     let y = e2e
         .allocate_yield(
-            &d.upper_bounds_rad,
+            d.upper_bounds_rad(),
             &[0.0; 8],
             0.9973,
             &McSettings::new(20_000, 1),
         )
         .unwrap();
-    let (lo, hi) = y.interval_95;
+    let (lo, hi) = y.interval_95();
     assert!(lo <= 0.9973 && 0.9973 <= hi, "{lo} {hi}");
     // At least ceil(p N) design draws meet every accuracy, and not many more (the scale is the
     // largest: the quantile draw sits on the accuracy).
-    assert!(y.meeting >= 19_946 && y.meeting <= 19_948, "{}", y.meeting);
+    assert!(
+        y.meeting() >= 19_946 && y.meeting() <= 19_948,
+        "{}",
+        y.meeting()
+    );
     let again = e2e
         .rate_distribution(
             &lin,
-            &e2e.box_of(&y.upper_bounds_rad, &[0.0; 8]).unwrap(),
+            &e2e.box_of(y.upper_bounds_rad(), &[0.0; 8]).unwrap(),
             &McSettings::new(40_000, 99),
         )
         .unwrap();
     let f = again.yield_fraction();
     assert!(lo <= f && f <= hi, "{f} outside [{lo}, {hi}]");
-    assert!(y.scale > 1.0);
-    assert!(y.objective < d.objective);
+    assert!(y.scale() > 1.0);
+    assert!(y.objective() < d.objective());
 }
 
 /// With positive lower bounds the scale is bisected with common random numbers: the design
@@ -496,13 +505,13 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     let d = e2e.allocate_direct(&lin, &lb).unwrap();
     let settings = McSettings::new(2_000, 3);
     let y = e2e
-        .allocate_yield(&d.upper_bounds_rad, &lb, 0.99, &settings)
+        .allocate_yield(d.upper_bounds_rad(), &lb, 0.99, &settings)
         .unwrap();
     assert!(y.yield_fraction() >= 0.99);
-    for (u, l) in y.upper_bounds_rad.iter().zip(&lb) {
+    for (u, l) in y.upper_bounds_rad().iter().zip(&lb) {
         assert!(u >= l);
     }
-    let bigger: Vec<f64> = y.upper_bounds_rad.iter().map(|v| v * 1.02).collect();
+    let bigger: Vec<f64> = y.upper_bounds_rad().iter().map(|v| v * 1.02).collect();
     let dist = e2e
         .rate_distribution(&lin, &e2e.box_of(&bigger, &lb).unwrap(), &settings)
         .unwrap();
@@ -544,10 +553,10 @@ fn monte_carlo_reuses_mc_verify_streams_and_is_thread_count_independent() {
     let one = pool(1).install(|| e2e.rate_distribution(&lin, &bounds, &settings).unwrap());
     let three = pool(3).install(|| e2e.rate_distribution(&lin, &bounds, &settings).unwrap());
     assert_eq!(format!("{one:?}"), format!("{three:?}"));
-    for w in &one.worst {
-        let dw = e2e.delta_omega(&chis[w.index as usize]).unwrap();
-        assert_eq!(bits(&w.chi_rad), bits(&chis[w.index as usize]));
-        assert!(dw.iter().any(|v| v.to_bits() == w.value.to_bits()));
+    for w in one.worst() {
+        let dw = e2e.delta_omega(&chis[w.index() as usize]).unwrap();
+        assert_eq!(bits(w.chi_rad()), bits(&chis[w.index() as usize]));
+        assert!(dw.iter().any(|v| v.to_bits() == w.value().to_bits()));
     }
 }
 
@@ -573,7 +582,7 @@ fn rate_distribution_summary_matches_the_draws() {
         .iter()
         .filter(|r| r.iter().zip(&acc).all(|(v, a)| v <= a))
         .count() as u64;
-    assert_eq!(dist.meeting, meeting);
+    assert_eq!(dist.meeting(), meeting);
     let mut ratios: Vec<f64> = rates
         .iter()
         .map(|r| r.iter().zip(&acc).fold(0.0_f64, |m, (v, a)| m.max(v / a)))
@@ -582,19 +591,22 @@ fn rate_distribution_summary_matches_the_draws() {
     for k in 0..2 {
         let max = rates.iter().map(|r| r[k]).fold(0.0, f64::max);
         assert_eq!(dist.max()[k].to_bits(), max.to_bits());
-        let h = &dist.histograms[k];
-        assert_eq!(h.counts.iter().sum::<u64>() + h.overflow, 3_000);
+        let h = &dist.histograms()[k];
+        assert_eq!(h.counts().iter().sum::<u64>() + h.overflow(), 3_000);
     }
-    for w in dist.quantiles.windows(2) {
-        assert!(w[0].ratio <= w[1].ratio);
+    for w in dist.quantiles().windows(2) {
+        assert!(w[0].ratio() <= w[1].ratio());
     }
-    for q in &dist.quantiles {
-        let rank = ((q.p * 3_000.0).ceil() as usize).clamp(1, 3_000);
-        assert!(q.ratio >= ratios[rank - 1], "p {}", q.p);
-        let exact = e2e.ratio_quantile(&bounds, &settings, q.p).unwrap();
-        assert_eq!(exact.to_bits(), ratios[rank - 1].to_bits(), "p {}", q.p);
+    for q in dist.quantiles() {
+        let rank = ((q.p() * 3_000.0).ceil() as usize).clamp(1, 3_000);
+        assert!(q.ratio() >= ratios[rank - 1], "p {}", q.p());
+        let exact = e2e.ratio_quantile(&bounds, &settings, q.p()).unwrap();
+        assert_eq!(exact.to_bits(), ratios[rank - 1].to_bits(), "p {}", q.p());
     }
-    assert_eq!(dist.worst_ratio.value.to_bits(), ratios[2_999].to_bits());
+    assert_eq!(
+        dist.worst_ratio().value().to_bits(),
+        ratios[2_999].to_bits()
+    );
     let wc = e2e.worst_case(&lin, &table4()).unwrap();
     for (k, o) in wc.outputs.iter().enumerate() {
         assert!(dist.max()[k] <= o.certified_bound().unwrap());
@@ -628,31 +640,34 @@ fn tolerance_check_verdicts_and_contributions() {
     let check = e2e
         .check_tolerances(&lin, &table4(), &[0.0; 8], &settings)
         .unwrap();
-    assert_eq!(check.verdict, e2e_verify::Verdict::Fails);
-    for o in &check.outputs {
-        let w: f64 = o.contributions.iter().map(|c| c.worst_share).sum();
-        let v: f64 = o.contributions.iter().map(|c| c.variance_share).sum();
+    assert_eq!(check.verdict(), e2e_verify::Verdict::Fails);
+    for o in check.outputs() {
+        let w: f64 = o.contributions().iter().map(|c| c.worst_share()).sum();
+        let v: f64 = o.contributions().iter().map(|c| c.variance_share()).sum();
         assert_relative_eq!(w, 1.0, max_relative = 1e-12);
         assert_relative_eq!(v, 1.0, max_relative = 1e-12);
         // the dominant errors: the largest shares, largest first, none that contributes 0
         let top = o.dominant(3);
         assert!(!top.is_empty() && top.len() <= 3);
-        assert!(top.windows(2).all(|p| p[0].worst_share >= p[1].worst_share));
-        assert!(top.iter().all(|c| c.worst_share > 0.0));
+        assert!(
+            top.windows(2)
+                .all(|p| p[0].worst_share() >= p[1].worst_share())
+        );
+        assert!(top.iter().all(|c| c.worst_share() > 0.0));
         let largest = o
-            .contributions
+            .contributions()
             .iter()
-            .map(|c| c.worst_share)
+            .map(|c| c.worst_share())
             .fold(0.0, f64::max);
-        assert_eq!(top[0].worst_share.to_bits(), largest.to_bits()); // the same value, selected
+        assert_eq!(top[0].worst_share().to_bits(), largest.to_bits()); // the same value, selected
     }
-    assert!(check.distribution.yield_fraction() < 1.0);
+    assert!(check.distribution().yield_fraction() < 1.0);
     let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();
     let ok = e2e
-        .check_tolerances(&lin, &cert.upper_bounds_rad, &[0.0; 8], &settings)
+        .check_tolerances(&lin, cert.upper_bounds_rad(), &[0.0; 8], &settings)
         .unwrap();
-    assert_eq!(ok.verdict, e2e_verify::Verdict::Guaranteed);
-    assert_eq!(ok.distribution.meeting, 2_000);
+    assert_eq!(ok.verdict(), e2e_verify::Verdict::Guaranteed);
+    assert_eq!(ok.distribution().meeting(), 2_000);
 }
 
 /// Errors that act only together (one rotation to first order: in the three-axis example
@@ -685,24 +700,24 @@ fn tolerance_check_gives_one_share_per_group_of_errors_that_act_together() {
     let check = e2e
         .check_tolerances(&lin, &ub, &vec![0.0; ub.len()], &McSettings::new(200, 1))
         .unwrap();
-    for o in &check.outputs {
-        assert_eq!(o.contributions.len(), t.error_groups().len());
+    for o in check.outputs() {
+        assert_eq!(o.contributions().len(), t.error_groups().len());
         let mut seen: Vec<usize> = o
-            .contributions
+            .contributions()
             .iter()
-            .flat_map(|c| c.group.errors.clone())
+            .flat_map(|c| c.group().errors.clone())
             .collect();
         seen.sort_unstable();
         assert_eq!(seen, (0..t.n_rotation_errors()).collect::<Vec<_>>());
         for g in &groups {
             let c = o
-                .contributions
+                .contributions()
                 .iter()
-                .find(|c| c.error == g.errors[0])
+                .find(|c| c.error() == g.errors[0])
                 .expect("one contribution per group");
-            assert_eq!(&c.group, g);
+            assert_eq!(c.group(), g);
         }
-        let w: f64 = o.contributions.iter().map(|c| c.worst_share).sum();
+        let w: f64 = o.contributions().iter().map(|c| c.worst_share()).sum();
         assert_relative_eq!(w, 1.0, max_relative = 1e-12);
     }
 }
@@ -719,7 +734,7 @@ fn example_studies_answer_the_buyers_question() {
         let lin = e2e.linearization();
         let lb = s.lower_bounds_rad.clone();
         let cert = e2e.allocate_direct_certified(&lin, &lb).unwrap();
-        let wc = e2e.worst_case(&lin, &cert.upper_bounds_rad).unwrap();
+        let wc = e2e.worst_case(&lin, cert.upper_bounds_rad()).unwrap();
         let acc = e2e.accuracies();
         for (o, a) in wc.outputs.iter().zip(&acc) {
             assert!(
@@ -731,8 +746,8 @@ fn example_studies_answer_the_buyers_question() {
             assert!(o.certified_bound().unwrap() <= a * (1.0 + FEASIBLE_REL));
         }
         let plain = e2e.allocate_direct(&lin, &lb).unwrap();
-        assert!(cert.objective >= plain.objective, "{name}");
-        assert!(cert.upper_bounds_rad.iter().all(|u| *u > 0.0));
+        assert!(cert.objective() >= plain.objective(), "{name}");
+        assert!(cert.upper_bounds_rad().iter().all(|u| *u > 0.0));
     }
 }
 
@@ -893,7 +908,7 @@ fn box_meets_has_one_classification_and_one_wording() {
     let lin = e2e.linearization();
     let direct = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
     let m = e2e
-        .worst_case(&lin, &direct.upper_bounds_rad)
+        .worst_case(&lin, direct.upper_bounds_rad())
         .unwrap()
         .meets(&e2e.accuracies());
     assert_eq!(m.name(), "first-order-only");
@@ -914,7 +929,7 @@ fn answer_in_parts_equals_answer_with_two_step() {
     let req = RequirementProblem::new(e2e.calibration().clone(), Reading::PAPER, DeltaRKind::Exact)
         .requirement()
         .expect("the paper's requirement")
-        .requirement;
+        .requirement();
     let mut inputs = e2e_verify::EndToEndInputs::new(vec![0.0; 8], Some(req), 11);
     inputs.samples = 2_000;
     inputs.extra_boxes.push(("Table 4".into(), table4()));

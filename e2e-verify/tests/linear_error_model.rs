@@ -23,14 +23,14 @@ fn alloc_opts_certificate_of_a_linearization_is_the_end_to_end_linear_worst_case
         let limits: Vec<Option<f64>> = e2e.accuracies().into_iter().map(Some).collect();
         let cert = Certificate::compute(&lin, &limits, &[0.0; 8], &ub).unwrap();
         let wc = e2e.worst_case(&lin, &ub).unwrap();
-        for (c, o) in cert.axes.iter().zip(&wc.outputs) {
+        for (c, o) in cert.axes().iter().zip(&wc.outputs) {
             assert_relative_eq!(
-                c.worst_case_rad,
+                c.worst_case_rad(),
                 o.linear_bound,
                 max_relative = SAME_SUM_REL
             );
             // the maximiser is a worst position (ties between positions are common)
-            let i = c.worst_pose_rad[0] as usize;
+            let i = c.worst_pose_rad()[0] as usize;
             assert_relative_eq!(
                 o.per_position[i],
                 o.linear_bound,
@@ -54,7 +54,7 @@ fn equal_effects_on_a_linearization_meets_every_accuracy_with_a_certificate() {
     let b = EqualEffects.allocate(&problem).unwrap();
     assert!(b.certificate().lemma1_holds());
     // the errors no output depends on are the linearisation's own
-    assert_eq!(b.unconstrained(), lin.unconstrained().as_slice());
+    assert_eq!(b.unconstrained(), lin.unconstrained());
     // the box, checked by the end-to-end worst case, uses an output's whole accuracy
     let wc = e2e.worst_case(&lin, b.upper_bounds_rad()).unwrap();
     let top = wc

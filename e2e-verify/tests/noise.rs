@@ -39,7 +39,7 @@ fn direct_box(e2e: &EndToEnd) -> Vec<f64> {
     let d = e2e
         .allocate_direct(&e2e.linearization(), &vec![0.0; e2e.n_errors()])
         .expect("direct allocation");
-    d.upper_bounds_rad
+    d.upper_bounds_rad()
         .iter()
         .map(|u| if u.is_finite() { *u } else { 1e-5 })
         .collect()
@@ -85,17 +85,17 @@ fn a_study_without_noise_keeps_every_answer() {
             &settings,
         )
         .unwrap();
-    for (c, o) in comb.outputs.iter().zip(&check.outputs) {
-        assert_eq!(c.verdict, o.verdict);
+    for (c, o) in comb.outputs.iter().zip(check.outputs()) {
+        assert_eq!(c.verdict, o.verdict());
         assert_eq!(c.noise_sigma.to_bits(), 0.0_f64.to_bits());
         assert_eq!(c.combined.to_bits(), c.table_part.to_bits());
         assert_eq!(c.dominant, Dominant::Table);
     }
-    assert_eq!(comb.verdict, check.verdict);
-    assert_eq!(comb.combined_yield.meeting, check.distribution.meeting);
+    assert_eq!(comb.verdict, check.verdict());
+    assert_eq!(comb.combined_yield.meeting, check.distribution().meeting());
     assert_eq!(
         comb.combined_yield.meeting_per_output,
-        check.distribution.meeting_per_output
+        check.distribution().meeting_per_output()
     );
 }
 
@@ -238,9 +238,12 @@ fn direct_allocation_with_noise_gives_the_table_what_the_noise_leaves() {
         .unwrap()
         .expect("a table suffices");
     let plain = e2e.allocate_direct(&linear, &lb).unwrap();
-    assert!(d.objective > plain.objective, "a tighter table costs more");
+    assert!(
+        d.objective() > plain.objective(),
+        "a tighter table costs more"
+    );
     let n = e2e.len();
-    let rows = linear.row_worst_cases(&d.upper_bounds_rad);
+    let rows = linear.row_worst_cases(d.upper_bounds_rad());
     for (k, a) in acc.iter().enumerate() {
         let worst = rows.rows(k * n, n).max();
         assert!(
@@ -363,10 +366,14 @@ fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
         .allocate_direct_with_noise_certified(&linear, &lb, &budget, 3.0)
         .unwrap()
         .expect("a table suffices");
-    assert!(cert.objective >= first.objective);
+    assert!(cert.objective() >= first.objective());
     let n = e2e.len();
-    let rows = linear.row_worst_cases(&cert.upper_bounds_rad);
-    let s: f64 = cert.upper_bounds_rad.iter().filter(|u| u.is_finite()).sum();
+    let rows = linear.row_worst_cases(cert.upper_bounds_rad());
+    let s: f64 = cert
+        .upper_bounds_rad()
+        .iter()
+        .filter(|u| u.is_finite())
+        .sum();
     for (k, a) in acc.iter().enumerate() {
         let tau = e2e
             .second_order_bound(k, s)

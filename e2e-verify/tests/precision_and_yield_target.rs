@@ -56,14 +56,14 @@ fn a_perfect_turntable_has_zero_worst_case_within_the_stated_precision() {
             assert_eq!(w.certified_bound(), Some(0.0), "{name} {k}");
             assert_eq!(w.precision.to_bits(), p[k].to_bits());
             assert_eq!(
-                dist.worst[k].value.to_bits(),
+                dist.worst()[k].value().to_bits(),
                 0.0_f64.to_bits(),
                 "{name} {k}"
             );
-            assert!(dist.quantiles.iter().all(|q| q.per_output[k] == 0.0));
+            assert!(dist.quantiles().iter().all(|q| q.per_output()[k] == 0.0));
         }
-        assert_eq!(dist.worst_ratio.value.to_bits(), 0.0_f64.to_bits());
-        assert_eq!(dist.precisions, p);
+        assert_eq!(dist.worst_ratio().value().to_bits(), 0.0_f64.to_bits());
+        assert_eq!(dist.precisions(), p);
     }
 }
 
@@ -88,23 +88,23 @@ fn imu_ay_worst_case_and_monte_carlo_maximum_are_rounding_reported_as_zero() {
         .unwrap();
     let names: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();
     let ay = names.iter().position(|n| *n == "ay").unwrap();
-    let o = &check.outputs[ay];
-    assert_eq!(o.worst_case.exact_at_vertex.to_bits(), 0.0_f64.to_bits());
+    let o = &check.outputs()[ay];
+    assert_eq!(o.worst_case().exact_at_vertex.to_bits(), 0.0_f64.to_bits());
     assert_eq!(
-        check.distribution.worst[ay].value.to_bits(),
+        check.distribution().worst()[ay].value().to_bits(),
         0.0_f64.to_bits()
     );
     // what the exact chain computes for ay at the worst draw is nonzero rounding within it
     let raw = e2e
-        .delta_omega(&check.distribution.worst[ay].chi_rad)
+        .delta_omega(check.distribution().worst()[ay].chi_rad())
         .unwrap()[ay];
-    assert!(raw > 0.0 && raw <= o.worst_case.precision, "{raw}");
-    for (k, out) in check.outputs.iter().enumerate() {
+    assert!(raw > 0.0 && raw <= o.worst_case().precision, "{raw}");
+    for (k, out) in check.outputs().iter().enumerate() {
         if names[k] == "ay" {
             continue;
         }
-        assert!(out.worst_case.exact_at_vertex > 10.0 * out.worst_case.precision);
-        assert!(check.distribution.worst[k].value > out.worst_case.precision);
+        assert!(out.worst_case().exact_at_vertex > 10.0 * out.worst_case().precision);
+        assert!(check.distribution().worst()[k].value() > out.worst_case().precision);
     }
 }
 
@@ -133,7 +133,7 @@ fn yield_allocation_refuses_draw_counts_that_cannot_resolve_its_target() {
     for samples in [1, 100, 1418] {
         let err = e2e
             .allocate_yield(
-                &d.upper_bounds_rad,
+                d.upper_bounds_rad(),
                 &[0.0; 8],
                 0.9973,
                 &McSettings::new(samples, 1),

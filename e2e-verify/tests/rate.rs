@@ -170,7 +170,7 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
         .allocate_direct_with_extra(&m, &n, &lb, &bounds)
         .expect("feasible");
     let ub: Vec<f64> = d
-        .upper_bounds_rad
+        .upper_bounds_rad()
         .iter()
         .map(|u| if u.is_finite() { *u } else { 0.0 })
         .collect();
@@ -214,7 +214,7 @@ fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_wors
     for (t, name) in a.tolerance_bounds().iter().zip(&names) {
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
     }
-    assert!(a.combined.objective.is_finite() && a.combined.objective > 0.0);
+    assert!(a.combined.objective().is_finite() && a.combined.objective() > 0.0);
     let ub: Vec<f64> = a
         .angles_rad()
         .iter()
@@ -391,7 +391,7 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
     }
     // a certified box costs at least the first-order one (J grows as the box shrinks)
-    assert!(c.combined.objective >= direct.combined.objective * (1.0 - SOLVER_REL));
+    assert!(c.combined.objective() >= direct.combined.objective() * (1.0 - SOLVER_REL));
     let ub: Vec<f64> = c
         .angles_rad()
         .iter()
@@ -440,7 +440,7 @@ fn certified_rate_allocation_of_a_static_study_is_todays_certified_allocation() 
     assert!(c.tolerances.is_empty());
     assert_eq!(c.combined, today);
     let s: f64 = today
-        .upper_bounds_rad
+        .upper_bounds_rad()
         .iter()
         .filter(|u| u.is_finite())
         .sum();

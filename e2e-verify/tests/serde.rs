@@ -23,9 +23,9 @@ fn the_buyers_check_and_the_direct_box_serialise_their_verdicts_and_numbers() {
         .unwrap();
     let v: Value = serde_json::to_value(&check).unwrap();
     let outputs = v["outputs"].as_array().unwrap();
-    assert_eq!(outputs.len(), check.outputs.len());
-    for (o, c) in outputs.iter().zip(&check.outputs) {
-        assert_eq!(o["verdict"], c.verdict.name());
+    assert_eq!(outputs.len(), check.outputs().len());
+    for (o, c) in outputs.iter().zip(check.outputs()) {
+        assert_eq!(o["verdict"], c.verdict().name());
     }
     assert!(outputs.iter().any(|o| o["verdict"] == "fails"));
     assert_eq!(v["distribution"]["samples"], 2_000);

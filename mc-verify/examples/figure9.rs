@@ -31,32 +31,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seconds = t.elapsed().as_secs_f64();
     println!(
         "{} samples (seed {}, tier {}) in {seconds:.3} s: {:.3e} samples/s",
-        r.samples,
-        r.seed,
+        r.samples(),
+        r.seed(),
         mc.tier().name(),
-        r.samples as f64 / seconds
+        r.samples() as f64 / seconds
     );
     let model = LinearModel::new(&table);
     let bound = mc.half_range_rad();
     let std = r.std_rad();
-    for ((a, sd), h) in r.axes.iter().zip(std).zip(bound) {
-        let worst = model.worst_pose_certified(a.axis, mc.bounds().ub_rad(), true, None)?;
+    for ((a, sd), h) in r.axes().iter().zip(std).zip(bound) {
+        let worst = model.worst_pose_certified(a.axis(), mc.bounds().ub_rad(), true, None)?;
         println!(
             "{:>6}: max |.| = {:.6} deg = {:.4} of the linear worst case {:.6} deg (rigorous bound {:.6} deg, eq 16: {EQ16_DEG}), mean = {:+.2e} deg, std = {:.6} deg",
-            a.axis.name(),
-            rad_to_deg(a.max_abs_rad),
-            a.max_abs_rad / worst.value,
+            a.axis().name(),
+            rad_to_deg(a.max_abs_rad()),
+            a.max_abs_rad() / worst.value,
             rad_to_deg(worst.value),
             rad_to_deg(h),
-            rad_to_deg(a.mean_rad),
+            rad_to_deg(a.mean_rad()),
             rad_to_deg(sd),
         );
         println!(
             "        worst sample #{} at pose {:.2?} deg, chi = {:.4?} arcmin",
-            a.worst.index,
-            a.worst.pose.angles_deg(),
-            a.worst
-                .chi_rad
+            a.worst().index(),
+            a.worst().pose().angles_deg(),
+            a.worst()
+                .chi_rad()
                 .iter()
                 .map(|&x| rad_to_arcmin(x))
                 .collect::<Vec<_>>(),

@@ -35,7 +35,7 @@
 //! let i = tt_core::Requirement::uniform_deg(0.027)?;
 //! let mc = MonteCarlo::new(&table, bounds, McConfig::new(100_000, 42, i))?;
 //! let result = mc.run();
-//! assert_eq!(result.within_requirement_all, 100_000);
+//! assert_eq!(result.within_requirement_all(), 100_000);
 //! // never beyond the rigorous bound (certified linear worst case + remainder)
 //! let h = MonteCarlo::histogram_half_range_rad(&table, mc.bounds())?;
 //! assert!(result.max_abs_rad().iter().zip(h).all(|(&m, h)| m <= h));
@@ -63,8 +63,8 @@
 //! // a requirement on theta only
 //! let cfg = McConfig::new(50_000, 7, tt_core::Requirement::from_options([None, Some(2e-4), None])?);
 //! let r = MonteCarlo::new(&table, bounds, cfg)?.run();
-//! assert_eq!(r.axes[0].within_requirement, 50_000); // no requirement on psi
-//! assert_eq!(r.axes[0].worst.pose.len(), 3); // every joint, the cancelling outer one too
+//! assert_eq!(r.axes()[0].within_requirement(), 50_000); // no requirement on psi
+//! assert_eq!(r.axes()[0].worst().pose().len(), 3); // every joint, the cancelling outer one too
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!

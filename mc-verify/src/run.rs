@@ -112,17 +112,56 @@ impl McConfig {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct McResult {
     /// Number of samples evaluated.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// The seed.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// The chunk size used.
-    pub chunk_size: u32,
+    pub(crate) chunk_size: u32,
     /// The requirement $I$, rad.
-    pub requirement: Requirement,
+    pub(crate) requirement: Requirement,
     /// Per-axis results, in the order $\Delta\psi, \Delta\theta, \Delta\gamma$.
-    pub axes: [AxisSummary; 3],
+    pub(crate) axes: [AxisSummary; 3],
     /// Samples with all three angles inside the requirement.
-    pub within_requirement_all: u64,
+    pub(crate) within_requirement_all: u64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl McResult {
+    /// Number of samples evaluated.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// The seed.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The chunk size used.
+    #[must_use]
+    pub fn chunk_size(&self) -> u32 {
+        self.chunk_size
+    }
+
+    /// The requirement $I$, rad.
+    #[must_use]
+    pub fn requirement(&self) -> Requirement {
+        self.requirement
+    }
+
+    /// Per-axis results, in the order $\Delta\psi, \Delta\theta, \Delta\gamma$.
+    #[must_use]
+    pub fn axes(&self) -> &[AxisSummary; 3] {
+        &self.axes
+    }
+
+    /// Samples with all three angles inside the requirement.
+    #[must_use]
+    pub fn within_requirement_all(&self) -> u64 {
+        self.within_requirement_all
+    }
 }
 
 impl McResult {

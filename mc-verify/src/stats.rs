@@ -21,13 +21,40 @@ use tt_kinematics::{OrientationAxis, Pose};
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WorstSample {
     /// Global index of the sample in the run (see [`crate::chunk_rng`]).
-    pub index: u64,
+    pub(crate) index: u64,
     /// The signed orientation error at that sample, rad.
-    pub value_rad: f64,
+    pub(crate) value_rad: f64,
     /// Its pose (every joint, including those that cancel).
-    pub pose: Pose,
+    pub(crate) pose: Pose,
     /// Its angular errors $\chi$, rad, order of $\chi$ (eq 25 for the paper's table).
-    pub chi_rad: Vec<f64>,
+    pub(crate) chi_rad: Vec<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl WorstSample {
+    /// Global index of the sample in the run (see [`crate::chunk_rng`]).
+    #[must_use]
+    pub fn index(&self) -> u64 {
+        self.index
+    }
+
+    /// The signed orientation error at that sample, rad.
+    #[must_use]
+    pub fn value_rad(&self) -> f64 {
+        self.value_rad
+    }
+
+    /// Its pose (every joint, including those that cancel).
+    #[must_use]
+    pub fn pose(&self) -> &Pose {
+        &self.pose
+    }
+
+    /// Its angular errors $\chi$, rad, order of $\chi$ (eq 25 for the paper's table).
+    #[must_use]
+    pub fn chi_rad(&self) -> &[f64] {
+        &self.chi_rad
+    }
 }
 
 /// A histogram with fixed, uniform bins on $[\ell, h)$ plus under- and overflow counts: the
@@ -42,16 +69,51 @@ pub struct WorstSample {
 pub struct Histogram {
     /// $\ell$, the lower end of the binned range (the values' unit: rad for the orientation
     /// Monte Carlo).
-    pub lo: f64,
+    pub(crate) lo: f64,
     /// $h$, the upper end of the binned range (the values' unit).
-    pub hi: f64,
+    pub(crate) hi: f64,
     /// Counts per bin; bin $j$ covers $[\ell + j w, \ell + (j+1) w)$ with
     /// $w = (h - \ell) / \text{bins}$.
-    pub counts: Vec<u64>,
+    pub(crate) counts: Vec<u64>,
     /// Values below $\ell$ (and NaN).
-    pub underflow: u64,
+    pub(crate) underflow: u64,
     /// Values at or above $h$.
-    pub overflow: u64,
+    pub(crate) overflow: u64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Histogram {
+    /// $\ell$, the lower end of the binned range (the values' unit: rad for the orientation
+    /// Monte Carlo).
+    #[must_use]
+    pub fn lo(&self) -> f64 {
+        self.lo
+    }
+
+    /// $h$, the upper end of the binned range (the values' unit).
+    #[must_use]
+    pub fn hi(&self) -> f64 {
+        self.hi
+    }
+
+    /// Counts per bin; bin $j$ covers $[\ell + j w, \ell + (j+1) w)$ with
+    /// $w = (h - \ell) / \text{bins}$.
+    #[must_use]
+    pub fn counts(&self) -> &[u64] {
+        &self.counts
+    }
+
+    /// Values below $\ell$ (and NaN).
+    #[must_use]
+    pub fn underflow(&self) -> u64 {
+        self.underflow
+    }
+
+    /// Values at or above $h$.
+    #[must_use]
+    pub fn overflow(&self) -> u64 {
+        self.overflow
+    }
 }
 
 impl Histogram {
@@ -167,20 +229,66 @@ pub fn quantile_rank(p: f64, n: u64) -> u64 {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AxisSummary {
     /// Which angle.
-    pub axis: OrientationAxis,
+    pub(crate) axis: OrientationAxis,
     /// $\max |\Delta|$ over the run, rad.
-    pub max_abs_rad: f64,
+    pub(crate) max_abs_rad: f64,
     /// The first sample (lowest index) attaining it.
-    pub worst: WorstSample,
+    pub(crate) worst: WorstSample,
     /// Sample mean, rad.
-    pub mean_rad: f64,
+    pub(crate) mean_rad: f64,
     /// Sum of squared deviations from the mean, rad² ($M_2$; variance $= M_2/(n-1)$).
-    pub m2_rad2: f64,
+    pub(crate) m2_rad2: f64,
     /// Samples with $|\Delta| \le I$ for this axis (every sample when the axis has no
     /// requirement).
-    pub within_requirement: u64,
+    pub(crate) within_requirement: u64,
     /// The histogram (the data of one panel of Figure 9).
-    pub histogram: Histogram,
+    pub(crate) histogram: Histogram,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl AxisSummary {
+    /// Which angle.
+    #[must_use]
+    pub fn axis(&self) -> OrientationAxis {
+        self.axis
+    }
+
+    /// $\max |\Delta|$ over the run, rad.
+    #[must_use]
+    pub fn max_abs_rad(&self) -> f64 {
+        self.max_abs_rad
+    }
+
+    /// The first sample (lowest index) attaining it.
+    #[must_use]
+    pub fn worst(&self) -> &WorstSample {
+        &self.worst
+    }
+
+    /// Sample mean, rad.
+    #[must_use]
+    pub fn mean_rad(&self) -> f64 {
+        self.mean_rad
+    }
+
+    /// Sum of squared deviations from the mean, rad² ($M_2$; variance $= M_2/(n-1)$).
+    #[must_use]
+    pub fn m2_rad2(&self) -> f64 {
+        self.m2_rad2
+    }
+
+    /// Samples with $|\Delta| \le I$ for this axis (every sample when the axis has no
+    /// requirement).
+    #[must_use]
+    pub fn within_requirement(&self) -> u64 {
+        self.within_requirement
+    }
+
+    /// The histogram (the data of one panel of Figure 9).
+    #[must_use]
+    pub fn histogram(&self) -> &Histogram {
+        &self.histogram
+    }
 }
 
 impl AxisSummary {

@@ -52,7 +52,7 @@ fn a_models_default_histogram_range_comes_from_its_own_first_order() {
         let first = th - (s.exp_m1() - s);
         approx::assert_relative_eq!(h, 1.05 * first + (s.exp_m1() - s), max_relative = 1e-12);
         assert_eq!(
-            r.axes[k].histogram.overflow + r.axes[k].histogram.underflow,
+            r.axes()[k].histogram().overflow() + r.axes()[k].histogram().underflow(),
             0
         );
     }

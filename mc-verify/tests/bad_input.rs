@@ -237,9 +237,9 @@ fn values_outside_a_caller_histogram_range_are_counted_not_lost() {
     let r = MonteCarlo::new(&paper_table(), table4(), cfg)
         .unwrap()
         .run();
-    for a in &r.axes {
-        assert!(a.histogram.underflow > 0 && a.histogram.overflow > 0);
-        assert_eq!(a.histogram.total(), 10_000);
+    for a in r.axes() {
+        assert!(a.histogram().underflow() > 0 && a.histogram().overflow() > 0);
+        assert_eq!(a.histogram().total(), 10_000);
     }
 }
 
@@ -254,11 +254,11 @@ fn an_angle_without_requirement_counts_every_sample_as_within() {
     let r = MonteCarlo::new(&paper_table(), table4(), cfg)
         .unwrap()
         .run();
-    assert_eq!(r.axes[0].within_requirement, 20_000);
-    assert_eq!(r.axes[2].within_requirement, 20_000);
-    assert!(r.axes[1].within_requirement < 20_000);
-    assert_eq!(r.within_requirement_all, r.axes[1].within_requirement);
-    assert_eq!(r.requirement.to_array(), [None, Some(1e-4), None]);
+    assert_eq!(r.axes()[0].within_requirement(), 20_000);
+    assert_eq!(r.axes()[2].within_requirement(), 20_000);
+    assert!(r.axes()[1].within_requirement() < 20_000);
+    assert_eq!(r.within_requirement_all(), r.axes()[1].within_requirement());
+    assert_eq!(r.requirement().to_array(), [None, Some(1e-4), None]);
 }
 
 /// Huge and degenerate boxes still give finite results (no NaN reaches a result): errors of
@@ -279,19 +279,19 @@ fn extreme_boxes_give_finite_results_and_keep_every_sample_in_the_histogram() {
             let h = mc.half_range_rad();
             assert!(h.iter().all(|h| h.is_finite() && *h > 0.0), "{h:?}");
             for r in [mc.run(), mc.run_model(&ExactChain::new(&t)).unwrap()] {
-                for (a, std) in r.axes.iter().zip(r.std_rad()) {
-                    assert!(a.max_abs_rad.is_finite() && a.mean_rad.is_finite());
-                    assert!(a.m2_rad2.is_finite() && std.is_finite());
-                    assert!(a.worst.chi_rad.iter().all(|x| x.is_finite()));
+                for (a, std) in r.axes().iter().zip(r.std_rad()) {
+                    assert!(a.max_abs_rad().is_finite() && a.mean_rad().is_finite());
+                    assert!(a.m2_rad2().is_finite() && std.is_finite());
+                    assert!(a.worst().chi_rad().iter().all(|x| x.is_finite()));
                     assert_eq!(
-                        a.histogram.underflow + a.histogram.overflow,
+                        a.histogram().underflow() + a.histogram().overflow(),
                         0,
                         "UB {:e}, {samples} samples: max {:e}, H {:e}",
                         b.ub_rad()[0],
-                        a.max_abs_rad,
-                        a.histogram.hi
+                        a.max_abs_rad(),
+                        a.histogram().hi()
                     );
-                    assert_eq!(a.histogram.total(), samples);
+                    assert_eq!(a.histogram().total(), samples);
                 }
                 assert!(r.within_requirement_fraction().is_finite());
             }

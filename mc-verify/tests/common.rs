@@ -53,31 +53,31 @@ pub fn three_axis_box() -> ErrorBox {
 /// Every number of a result as bits (floats by `to_bits`), for bit-identity checks.
 pub fn fingerprint(r: &McResult) -> Vec<u64> {
     let mut v = vec![
-        r.samples,
-        r.seed,
-        u64::from(r.chunk_size),
-        r.within_requirement_all,
+        r.samples(),
+        r.seed(),
+        u64::from(r.chunk_size()),
+        r.within_requirement_all(),
     ];
     v.extend(
-        r.requirement
+        r.requirement()
             .to_array()
             .map(|i| i.map_or(u64::MAX, f64::to_bits)),
     );
-    for a in &r.axes {
+    for a in r.axes() {
         v.extend([
-            a.max_abs_rad.to_bits(),
-            a.mean_rad.to_bits(),
-            a.m2_rad2.to_bits(),
-            a.within_requirement,
-            a.worst.index,
-            a.worst.value_rad.to_bits(),
-            a.histogram.hi.to_bits(),
-            a.histogram.underflow,
-            a.histogram.overflow,
+            a.max_abs_rad().to_bits(),
+            a.mean_rad().to_bits(),
+            a.m2_rad2().to_bits(),
+            a.within_requirement(),
+            a.worst().index(),
+            a.worst().value_rad().to_bits(),
+            a.histogram().hi().to_bits(),
+            a.histogram().underflow(),
+            a.histogram().overflow(),
         ]);
-        v.extend(a.worst.pose.angles_rad().iter().map(|x| x.to_bits()));
-        v.extend(a.worst.chi_rad.iter().map(|x| x.to_bits()));
-        v.extend(&a.histogram.counts);
+        v.extend(a.worst().pose().angles_rad().iter().map(|x| x.to_bits()));
+        v.extend(a.worst().chi_rad().iter().map(|x| x.to_bits()));
+        v.extend(a.histogram().counts());
     }
     v
 }

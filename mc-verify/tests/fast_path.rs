@@ -261,15 +261,15 @@ fn fast_run_matches_plain_run(t: &Turntable, b: ErrorBox, samples: u64, tol: f64
     }
     let fast = mc.run();
     let plain = mc.run_model(&chain).unwrap();
-    assert_eq!(fast.samples, plain.samples);
-    for (f, p) in fast.axes.iter().zip(&plain.axes) {
-        assert_abs_diff_eq!(f.max_abs_rad, p.max_abs_rad, epsilon = tol);
-        assert_eq!(f.worst.index, p.worst.index, "{:?}", f.axis);
-        assert_eq!(f.worst.chi_rad, p.worst.chi_rad);
-        assert_eq!(f.worst.pose, p.worst.pose);
-        assert_abs_diff_eq!(f.mean_rad, p.mean_rad, epsilon = tol);
-        assert_eq!(f.histogram.counts, p.histogram.counts);
-        assert_eq!(f.within_requirement, p.within_requirement);
+    assert_eq!(fast.samples(), plain.samples());
+    for (f, p) in fast.axes().iter().zip(plain.axes()) {
+        assert_abs_diff_eq!(f.max_abs_rad(), p.max_abs_rad(), epsilon = tol);
+        assert_eq!(f.worst().index(), p.worst().index(), "{:?}", f.axis());
+        assert_eq!(f.worst().chi_rad(), p.worst().chi_rad());
+        assert_eq!(f.worst().pose(), p.worst().pose());
+        assert_abs_diff_eq!(f.mean_rad(), p.mean_rad(), epsilon = tol);
+        assert_eq!(f.histogram().counts(), p.histogram().counts());
+        assert_eq!(f.within_requirement(), p.within_requirement());
     }
 }
 
@@ -327,18 +327,23 @@ fn worst_sample_reproduces_its_maximum_through_the_plain_chain() {
         (three_axis(), common::three_axis_box()),
     ] {
         let r = MonteCarlo::new(&t, b, config(50_000, 5)).unwrap().run();
-        for a in &r.axes {
-            let errors =
-                TurntableErrors::new(a.worst.chi_rad.clone(), vec![0.0; t.n_translation_errors()])
-                    .unwrap();
+        for a in r.axes() {
+            let errors = TurntableErrors::new(
+                a.worst().chi_rad().to_vec(),
+                vec![0.0; t.n_translation_errors()],
+            )
+            .unwrap();
             let v = ExactChain::new(&t)
-                .orientation_error(&a.worst.pose, &errors)
+                .orientation_error(a.worst().pose(), &errors)
                 .unwrap()
-                .get(a.axis);
-            assert_abs_diff_eq!(v, a.worst.value_rad, epsilon = FAST_VS_PLAIN_ABS_RAD);
-            assert_eq!(a.worst.value_rad.abs().to_bits(), a.max_abs_rad.to_bits());
-            assert!(a.worst.index < 50_000);
-            assert_eq!(a.worst.pose.len(), t.n_joints());
+                .get(a.axis());
+            assert_abs_diff_eq!(v, a.worst().value_rad(), epsilon = FAST_VS_PLAIN_ABS_RAD);
+            assert_eq!(
+                a.worst().value_rad().abs().to_bits(),
+                a.max_abs_rad().to_bits()
+            );
+            assert!(a.worst().index() < 50_000);
+            assert_eq!(a.worst().pose().len(), t.n_joints());
         }
     }
 }

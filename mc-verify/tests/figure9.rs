@@ -55,29 +55,33 @@ fn figure9_table4_maximum_of_a_million_samples_approaches_and_never_exceeds_the_
     let req = EQ16_REQUIREMENT_DEG.to_radians();
     let worst = linear_worst_cases(&t, table4().ub_rad());
     let bound = MonteCarlo::histogram_half_range_rad(&t, &table4()).unwrap();
-    assert_eq!(r.samples, 1_000_000);
-    assert_eq!(r.within_requirement_all, r.samples);
-    for (a, ((value, upper), h)) in r.axes.iter().zip(worst.into_iter().zip(bound)) {
-        let name = a.axis.name();
+    assert_eq!(r.samples(), 1_000_000);
+    assert_eq!(r.within_requirement_all(), r.samples());
+    for (a, ((value, upper), h)) in r.axes().iter().zip(worst.into_iter().zip(bound)) {
+        let name = a.axis().name();
         // one free joint: the linear worst case is exact
         assert_eq!(value.to_bits(), upper.to_bits(), "{name}");
-        assert!(a.max_abs_rad <= h, "{name}: {} > bound {h}", a.max_abs_rad);
+        assert!(
+            a.max_abs_rad() <= h,
+            "{name}: {} > bound {h}",
+            a.max_abs_rad()
+        );
         assert!(h < req, "{name}: the rigorous bound itself meets eq 16");
-        let close = if a.axis == OrientationAxis::Theta {
+        let close = if a.axis() == OrientationAxis::Theta {
             THETA_CLOSE_REL
         } else {
             PSI_GAMMA_CLOSE_REL
         };
         assert!(
-            a.max_abs_rad >= (1.0 - close) * value,
+            a.max_abs_rad() >= (1.0 - close) * value,
             "{name}: max {} vs linear worst case {value}",
-            a.max_abs_rad
+            a.max_abs_rad()
         );
-        assert_eq!(a.within_requirement, r.samples);
+        assert_eq!(a.within_requirement(), r.samples());
         // the histogram range is the rigorous bound: nothing falls outside
-        assert_eq!(a.histogram.hi.to_bits(), h.to_bits());
-        assert_eq!(a.histogram.underflow + a.histogram.overflow, 0);
-        assert_eq!(a.histogram.total(), r.samples);
+        assert_eq!(a.histogram().hi().to_bits(), h.to_bits());
+        assert_eq!(a.histogram().underflow() + a.histogram().overflow(), 0);
+        assert_eq!(a.histogram().total(), r.samples());
     }
     let theta_share = worst[1].0 / req;
     assert!((theta_share - TABLE4_WORST_OVER_REQUIREMENT).abs() < PRINTED_PERCENT_ABS);
@@ -99,15 +103,15 @@ fn three_axis_maximum_never_exceeds_the_certified_bound() {
     .run();
     let bound = MonteCarlo::histogram_half_range_rad(&t, &b).unwrap();
     let worst = linear_worst_cases(&t, b.ub_rad());
-    for (a, ((value, upper), h)) in r.axes.iter().zip(worst.into_iter().zip(bound)) {
+    for (a, ((value, upper), h)) in r.axes().iter().zip(worst.into_iter().zip(bound)) {
         assert!(value <= upper && upper < h);
         assert!(
-            a.max_abs_rad <= h,
+            a.max_abs_rad() <= h,
             "{}: {} > {h}",
-            a.axis.name(),
-            a.max_abs_rad
+            a.axis().name(),
+            a.max_abs_rad()
         );
-        assert_eq!(a.histogram.underflow + a.histogram.overflow, 0);
+        assert_eq!(a.histogram().underflow() + a.histogram().overflow(), 0);
     }
 }
 
@@ -121,9 +125,9 @@ fn a_tighter_requirement_is_violated_by_some_samples() {
     let r = MonteCarlo::new(&paper_table(), table4(), cfg)
         .unwrap()
         .run();
-    assert!(r.within_requirement_all < r.samples);
-    assert!(r.within_requirement_all > 0);
-    for a in &r.axes {
-        assert!(a.within_requirement >= r.within_requirement_all);
+    assert!(r.within_requirement_all() < r.samples());
+    assert!(r.within_requirement_all() > 0);
+    for a in r.axes() {
+        assert!(a.within_requirement() >= r.within_requirement_all());
     }
 }

@@ -18,33 +18,33 @@ use mc_verify::{
 /// worst sample, eight chi), so that pinned hashes can be compared.
 fn legacy_fingerprint(r: &McResult) -> Vec<u64> {
     let mut v = vec![
-        r.samples,
-        r.seed,
-        u64::from(r.chunk_size),
-        r.within_requirement_all,
+        r.samples(),
+        r.seed(),
+        u64::from(r.chunk_size()),
+        r.within_requirement_all(),
     ];
     v.extend(
-        r.requirement
+        r.requirement()
             .to_array()
             .map(|i| i.expect("eq 16 on every axis").to_bits()),
     );
-    for a in &r.axes {
-        let pose = a.worst.pose.angles_rad();
+    for a in r.axes() {
+        let pose = a.worst().pose().angles_rad();
         v.extend([
-            a.max_abs_rad.to_bits(),
-            a.mean_rad.to_bits(),
-            a.m2_rad2.to_bits(),
-            a.within_requirement,
-            a.worst.index,
-            a.worst.value_rad.to_bits(),
+            a.max_abs_rad().to_bits(),
+            a.mean_rad().to_bits(),
+            a.m2_rad2().to_bits(),
+            a.within_requirement(),
+            a.worst().index(),
+            a.worst().value_rad().to_bits(),
             pose[0].to_bits(),
             pose[1].to_bits(),
-            a.histogram.hi.to_bits(),
-            a.histogram.underflow,
-            a.histogram.overflow,
+            a.histogram().hi().to_bits(),
+            a.histogram().underflow(),
+            a.histogram().overflow(),
         ]);
-        v.extend(a.worst.chi_rad.iter().map(|x| x.to_bits()));
-        v.extend(&a.histogram.counts);
+        v.extend(a.worst().chi_rad().iter().map(|x| x.to_bits()));
+        v.extend(a.histogram().counts());
     }
     v
 }
@@ -138,7 +138,7 @@ fn general_plan_reproduces_values_pinned_from_the_specialised_kernel() {
         ]
     );
     assert_eq!(
-        r.axes.each_ref().map(|a| a.worst.index),
+        r.axes().each_ref().map(|a| a.worst().index()),
         [221_236, 391_133, 313_346]
     );
 }

@@ -43,9 +43,9 @@ fn theta_theory(bounds: &ErrorBox, seed: u64) {
     let mu4 = (a.powi(4) + b.powi(4)) / 5.0 + 6.0 * (a * a / 3.0) * (b * b / 3.0);
     // mean: standard error sqrt(s2 / n)
     assert!(
-        theta.mean_rad.abs() <= SIGMAS * (s2 / n).sqrt(),
+        theta.mean_rad().abs() <= SIGMAS * (s2 / n).sqrt(),
         "mean {} rad",
-        theta.mean_rad
+        theta.mean_rad()
     );
     // variance: standard error of the sample variance sqrt((mu4 - s2^2) / n)
     let var = theta.variance_rad2(SAMPLES);
@@ -55,10 +55,10 @@ fn theta_theory(bounds: &ErrorBox, seed: u64) {
         "variance {var} vs theory {s2} (se {se_var})"
     );
     // histogram: every bin against its binomial expectation
-    let h = &theta.histogram;
+    let h = &theta.histogram();
     let edges = h.edges();
     let mut worst_z = 0.0_f64;
-    for (j, &count) in h.counts.iter().enumerate() {
+    for (j, &count) in h.counts().iter().enumerate() {
         let p = sum_of_uniforms_cdf(edges[j + 1], a, b) - sum_of_uniforms_cdf(edges[j], a, b);
         let expected = n * p;
         let sd = (n * p * (1.0 - p)).sqrt().max(1.0);
@@ -200,8 +200,8 @@ fn joint_angles_are_uniform_inside_their_ranges() {
     // the run evaluates this table too (ranged joints through the table reduction), and its
     // worst samples carry every joint, the cancelling one included
     let r = MonteCarlo::new(&t, b, config(20_000, 2)).unwrap().run();
-    for a in &r.axes {
-        let pose = a.worst.pose.angles_rad();
+    for a in r.axes() {
+        let pose = a.worst().pose().angles_rad();
         assert_eq!(pose.len(), 5);
         assert!(
             pose.iter()

@@ -76,7 +76,7 @@ fn bench(c: &mut Criterion) {
                 black_box(
                     e2e.allocate_direct(&linear, &[0.0; 8])
                         .expect("allocation")
-                        .objective,
+                        .objective(),
                 )
             });
         });

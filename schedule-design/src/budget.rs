@@ -292,7 +292,7 @@ impl Evaluator<'_> {
                 &noise,
                 self.budget.k_sigma,
             )?
-            .map_or(f64::INFINITY, |d| d.objective))
+            .map_or(f64::INFINITY, |d| d.objective()))
     }
 }
 

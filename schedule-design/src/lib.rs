@@ -1156,11 +1156,11 @@ impl StudyTolerances {
     pub fn of(direct: &DirectAllocation, certified: Option<&DirectAllocation>) -> Self {
         match certified {
             Some(c) => Self {
-                upper_bounds_rad: c.upper_bounds_rad.clone(),
+                upper_bounds_rad: c.upper_bounds_rad().to_vec(),
                 certified: true,
             },
             None => Self {
-                upper_bounds_rad: direct.upper_bounds_rad.clone(),
+                upper_bounds_rad: direct.upper_bounds_rad().to_vec(),
                 certified: false,
             },
         }

@@ -448,7 +448,7 @@ impl DesignProblem {
             schedule: s.to_vec(),
             condition_numbers,
             unidentifiable: None,
-            objective: allocation.as_ref().map_or(f64::INFINITY, |a| a.objective),
+            objective: allocation.as_ref().map_or(f64::INFINITY, |a| a.objective()),
             allocation,
             linear: Some(linear),
         })

@@ -138,7 +138,7 @@ impl<'a> Search<'a> {
             rows.extend(row.iter().map(|v| v.abs() * w));
         }
         let (j, x) = match &eval.allocation {
-            Some(a) => (a.objective, a.upper_bounds_rad.clone()),
+            Some(a) => (a.objective(), a.upper_bounds_rad().to_vec()),
             None => (f64::INFINITY, vec![f64::INFINITY; m]),
         };
         let loads: Vec<f64> = rows.chunks(m).map(|r| load(r, &x)).collect();
@@ -629,7 +629,7 @@ impl<'a> Search<'a> {
             return Ok(None);
         };
         match self.p.allocate(&linear) {
-            Ok(a) => Ok(Some((a.objective, a.upper_bounds_rad))),
+            Ok(a) => Ok(Some((a.objective(), a.upper_bounds_rad().to_vec()))),
             Err(E2eError::InfeasibleLowerBounds { .. }) => Ok(None),
             Err(e) => Err(e),
         }

@@ -69,7 +69,7 @@ fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {
 /// The vendor check of a schedule's recommended (certified) tolerances on that schedule.
 fn check_certified(r: &ScheduleReport, reading: Reading) -> e2e_verify::TurntableCheck {
     let e2e = simulator(&r.positions_deg, reading);
-    let ub = &r.certified.as_ref().expect("certified").upper_bounds_rad;
+    let ub = &r.certified.as_ref().expect("certified").upper_bounds_rad();
     e2e.check_tolerances(
         &e2e.linearization(),
         ub,
@@ -92,19 +92,24 @@ fn recommended_tolerances_are_certified_and_pass_the_vendor_check() {
             .certified
             .as_ref()
             .expect("certifiable under the paper's reading");
-        assert!(c.objective > r.allocation.objective, "{what}");
+        assert!(c.objective() > r.allocation.objective(), "{what}");
         let check = check_certified(r, Reading::PAPER);
-        for o in &check.outputs {
-            assert_eq!(o.verdict, Verdict::Guaranteed, "{what} output {}", o.output);
-            assert!(o.worst_case.exact_at_vertex <= o.accuracy);
+        for o in check.outputs() {
+            assert_eq!(
+                o.verdict(),
+                Verdict::Guaranteed,
+                "{what} output {}",
+                o.output()
+            );
+            assert!(o.worst_case().exact_at_vertex <= o.accuracy());
         }
-        assert_eq!(check.verdict, Verdict::Guaranteed, "{what}");
+        assert_eq!(check.verdict(), Verdict::Guaranteed, "{what}");
     }
     // the linearised allocation of the designed schedule is what failed the check
     let e2e = simulator(&d.designed.positions_deg, Reading::PAPER);
     let lin = e2e.linearization();
     let wc = e2e
-        .worst_case(&lin, &d.designed.allocation.upper_bounds_rad)
+        .worst_case(&lin, d.designed.allocation.upper_bounds_rad())
         .unwrap();
     assert!(
         wc.outputs
@@ -136,7 +141,13 @@ fn worst_case_with_study_tolerances_is_a_number_wherever_one_exists() {
     // leave each error free in turn: exactly the outputs that depend on it lose their number
     let e2e = simulator(&d.designed.positions_deg, Reading::PAPER);
     let lin = e2e.linearization();
-    let base = d.study.certified.as_ref().unwrap().upper_bounds_rad.clone();
+    let base = d
+        .study
+        .certified
+        .as_ref()
+        .unwrap()
+        .upper_bounds_rad()
+        .to_vec();
     let small = 1e-12 * lin.matrix().amax();
     for j in 0..8 {
         let mut ub = base.clone();
@@ -163,7 +174,7 @@ fn worst_case_with_study_tolerances_is_a_number_wherever_one_exists() {
 fn a_finer_grid_is_never_worse_than_a_coarser_grid_it_contains() {
     let j: Vec<(f64, f64)> = [15.0, 30.0, 45.0]
         .iter()
-        .map(|&s| (s, design(Reading::USER, s).designed.allocation.objective))
+        .map(|&s| (s, design(Reading::USER, s).designed.allocation.objective()))
         .collect();
     for &(fine, jf) in &j {
         for &(coarse, jc) in &j {

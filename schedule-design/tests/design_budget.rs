@@ -108,7 +108,7 @@ fn objective_at(
         DEFAULT_K_SIGMA,
     )
     .unwrap()
-    .map_or(f64::INFINITY, |d| d.objective)
+    .map_or(f64::INFINITY, |d| d.objective())
 }
 
 /// On the paper's noisy copy: the front is ordered by total time with J strictly falling (more
@@ -155,7 +155,7 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
             )
             .unwrap()
             .expect("a table suffices on the front")
-            .objective;
+            .objective();
         assert_relative_eq!(p.objective, j, max_relative = SAME_PATH_REL);
     }
     let chosen = d
@@ -415,7 +415,7 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
             let j = e2e
                 .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA)
                 .unwrap()
-                .map_or(f64::INFINITY, |d| d.objective);
+                .map_or(f64::INFINITY, |d| d.objective());
             assert!(
                 chosen.objective <= j * (1.0 + SAME_PATH_REL),
                 "{} positions at {t} s: {j} below the chosen {}",

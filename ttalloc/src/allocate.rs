@@ -98,18 +98,18 @@ fn certificate_json(s: &Study, c: &Certificate) -> PerAngle<AxisCertificateJson>
     PerAngle::new(|a| {
         let x = c.get(a);
         AxisCertificateJson {
-            requirement_deg: x.requirement_rad.map(rad_to_deg),
-            worst_case_deg: rad_to_deg(x.worst_case_rad),
-            upper_bound_deg: rad_to_deg(x.upper_bound_rad),
-            exact_search: x.exact,
+            requirement_deg: x.requirement_rad().map(rad_to_deg),
+            worst_case_deg: rad_to_deg(x.worst_case_rad()),
+            upper_bound_deg: rad_to_deg(x.upper_bound_rad()),
+            exact_search: x.exact(),
             worst_pose_deg: joints
                 .iter()
-                .zip(&x.worst_pose_rad)
+                .zip(x.worst_pose_rad())
                 .map(|(j, v)| ((*j).to_string(), rad_to_deg(*v)))
                 .collect(),
-            share: x.share,
-            requirement_active: x.requirement_active,
-            lemma1: x.satisfied,
+            share: x.share(),
+            requirement_active: x.requirement_active(),
+            lemma1: x.satisfied(),
         }
     })
 }
@@ -258,16 +258,16 @@ pub fn allocate_json<'a>(
             FormChoice::FullRange => "full-range",
         },
         safety_margin,
-        allocation_arcmin: arcmin_bounds(&names, &a.ours.upper_bounds_rad),
+        allocation_arcmin: arcmin_bounds(&names, a.ours.upper_bounds_rad()),
         unconstrained: a.ours.unconstrained_names(),
         objective: a.ours.objective_arcmin(),
         objective_unit: "arcmin^-2 (J_psi + J_theta + J_gamma, W = 1/average sensitivity)",
-        certificate: certificate_json(s, &a.ours.certificate),
-        lemma1_full_range: a.ours.certificate.lemma1_holds(),
-        equal_effects_arcmin: arcmin_bounds(&names, &a.equal.upper_bounds_rad),
+        certificate: certificate_json(s, a.ours.certificate()),
+        lemma1_full_range: a.ours.certificate().lemma1_holds(),
+        equal_effects_arcmin: arcmin_bounds(&names, a.equal.upper_bounds_rad()),
         equal_effects_objective: a.equal.objective_arcmin(),
-        exact_chain_worst_deg: PerAngle::new(|x| rad_to_deg(exact[x.index()].exact_worst_rad)),
-        exact_chain_excess_rad: PerAngle::new(|x| exact[x.index()].excess_rad),
+        exact_chain_worst_deg: PerAngle::new(|x| rad_to_deg(exact[x.index()].exact_worst_rad())),
+        exact_chain_excess_rad: PerAngle::new(|x| exact[x.index()].excess_rad()),
         requirement_note: st::requirement(s)?.disagreement,
         groups: GroupJson::all(&s.turntable, &group_boxes(a)),
         paper_table4_arcmin: a.table4.as_ref().map(|(t, _, _)| arcmin_bounds(&names, t)),
@@ -283,8 +283,8 @@ pub fn allocate_json<'a>(
 /// The allocations' bounds by label, for the groups of errors that act only together.
 fn group_boxes(a: &Allocations) -> Vec<(&'static str, &[f64])> {
     let mut b: Vec<(&'static str, &[f64])> = vec![
-        ("ours", &a.ours.upper_bounds_rad),
-        ("equal effects", &a.equal.upper_bounds_rad),
+        ("ours", a.ours.upper_bounds_rad()),
+        ("equal effects", a.equal.upper_bounds_rad()),
     ];
     if let Some((t, _, _)) = &a.table4 {
         b.push(("Table 4", t));
@@ -327,8 +327,8 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
         let mut row = format!(
             "{:<width$} {:>12} {:>14}",
             n,
-            cell(a.ours.upper_bounds_rad[i]),
-            cell(a.equal.upper_bounds_rad[i])
+            cell(a.ours.upper_bounds_rad()[i]),
+            cell(a.equal.upper_bounds_rad()[i])
         );
         if let Some((tb, _, _)) = &a.table4 {
             row.push_str(&format!(" {:>12}", cell(tb[i])));
@@ -349,14 +349,15 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
     t.push_str("   (arcmin^-2)\n");
     t.push_str(&crate::groups::text(&s.turntable, &group_boxes(a), ""));
     for x in OrientationAxis::ALL {
-        let c = a.ours.certificate.get(x);
+        let c = a.ours.certificate().get(x);
         t.push_str(&format!(
             "{:<6} worst case {} deg (bound {}), share {}, Lemma 1 {}\n",
             x.name(),
-            num(rad_to_deg(c.worst_case_rad)),
-            num(rad_to_deg(c.upper_bound_rad)),
-            c.share.map_or("-".into(), |v| format!("{:.4}%", 100.0 * v)),
-            if c.satisfied { "holds" } else { "fails" }
+            num(rad_to_deg(c.worst_case_rad())),
+            num(rad_to_deg(c.upper_bound_rad())),
+            c.share()
+                .map_or("-".into(), |v| format!("{:.4}%", 100.0 * v)),
+            if c.satisfied() { "holds" } else { "fails" }
         ));
     }
     let ex = |x: OrientationAxis| {

@@ -303,7 +303,7 @@ pub fn text(
     let (lo, hi) = a.yield_.interval_95;
     s.push_str(&format!(
         "    verdict: constant errors {}, angle-dependent errors {}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables)\n",
-        constant.verdict.name(),
+        constant.verdict().name(),
         a.verdict.name(),
         100.0 * a.yield_.fraction(),
         100.0 * lo,
@@ -317,7 +317,7 @@ pub fn text(
                 "    output {}, the sheet's magnitudes as discs (sqrt(a_x^2 + a_y^2) <= w), not squares: linearised worst case {} {u} with constant errors (square {}), {} {u} with angle-dependent errors (square {})\n",
                 out.name,
                 num(d.constant[o.output]),
-                num(constant.outputs[o.output].worst_case.linear_bound),
+                num(constant.outputs()[o.output].worst_case().linear_bound),
                 num(d.angle[o.output]),
                 num(o.linear_bound),
                 u = out.unit,
@@ -400,17 +400,17 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
     );
     let mut seen = vec![false; names.len()];
     let mut parts = Vec::new();
-    for (j, u) in al.angle_disc.upper_bounds_rad.iter().enumerate() {
+    for (j, u) in al.angle_disc.upper_bounds_rad().iter().enumerate() {
         if seen[j] {
             continue;
         }
         let partner = (j + 1..names.len()).find(|&b| {
             !seen[b]
-                && al.angle_disc.upper_bounds_rad[b].to_bits() == u.to_bits()
-                && al.angle_square.upper_bounds_rad[b].to_bits()
-                    == al.angle_square.upper_bounds_rad[j].to_bits()
-                && al.constant_disc.upper_bounds_rad[b].to_bits()
-                    == al.constant_disc.upper_bounds_rad[j].to_bits()
+                && al.angle_disc.upper_bounds_rad()[b].to_bits() == u.to_bits()
+                && al.angle_square.upper_bounds_rad()[b].to_bits()
+                    == al.angle_square.upper_bounds_rad()[j].to_bits()
+                && al.constant_disc.upper_bounds_rad()[b].to_bits()
+                    == al.constant_disc.upper_bounds_rad()[j].to_bits()
         });
         seen[j] = true;
         let label = match partner {
@@ -423,7 +423,7 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
         parts.push(format!(
             "{label} {} (square {})",
             arcmin(*u),
-            arcmin(al.angle_square.upper_bounds_rad[j])
+            arcmin(al.angle_square.upper_bounds_rad()[j])
         ));
     }
     s.push_str(&format!(
@@ -564,21 +564,21 @@ pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) 
     );
     for (((e2e, before), after), aa) in checks.iter().zip(&c.checks).zip(&c.angle.readings) {
         s.push_str(&format!("reading {}\n", e2e.reading()));
-        for (o, a) in before.outputs.iter().zip(&after.outputs) {
-            let out = e2e.calibration().outputs()[o.output].output();
+        for (o, a) in before.outputs().iter().zip(after.outputs()) {
+            let out = e2e.calibration().outputs()[o.output()].output();
             s.push_str(&format!(
                 "  output {}: worst case linearised {} {u} before, {} {u} after compensation (constant errors); {} {u} after (angle-dependent errors)\n",
                 out.name,
-                num(o.worst_case.linear_bound),
-                num(a.worst_case.linear_bound),
-                num(aa.outputs[o.output].linear_bound),
+                num(o.worst_case().linear_bound),
+                num(a.worst_case().linear_bound),
+                num(aa.outputs[o.output()].linear_bound),
                 u = out.unit,
             ));
         }
         s.push_str(&format!(
             "  verdict before: {}; after compensation: {} (constant errors), {} (angle-dependent errors)\n",
-            before.verdict.name(),
-            after.verdict.name(),
+            before.verdict().name(),
+            after.verdict().name(),
             aa.verdict.name()
         ));
     }
@@ -599,7 +599,7 @@ impl AllocationJson {
     pub(crate) fn new(names: &[&str], d: &DirectAllocation) -> Self {
         Self {
             objective_arcmin: crate::angle_alloc::objective(d),
-            upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
+            upper_bounds_arcmin: arcmin_bounds(names, d.upper_bounds_rad()),
         }
     }
 }
@@ -931,11 +931,11 @@ impl<'a> CompensatedJson<'a> {
                 .zip(&c.angle.readings)
                 .map(|(((e2e, _), k), a)| CompensatedReadingJson {
                     reading: e2e.reading().to_string(),
-                    verdict: k.verdict.name(),
+                    verdict: k.verdict().name(),
                     worst_case_linear: k
-                        .outputs
+                        .outputs()
                         .iter()
-                        .map(|o| o.worst_case.linear_bound)
+                        .map(|o| o.worst_case().linear_bound)
                         .collect(),
                     angle_dependent: ReadingAngleJson::new(e2e, a),
                 })

@@ -126,7 +126,7 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
         };
         let unmeasured_before_arcmin = compensated.is_some().then(|| {
             let ub: Vec<f64> = direct
-                .upper_bounds_rad
+                .upper_bounds_rad()
                 .iter()
                 .zip(&measured)
                 .map(|(u, m)| if m.is_some() { f64::INFINITY } else { *u })
@@ -245,7 +245,7 @@ impl<'a> AngleDependentJson<'a> {
 fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {
     names
         .iter()
-        .zip(&d.upper_bounds_rad)
+        .zip(d.upper_bounds_rad())
         .map(|(n, u)| {
             if u.is_finite() {
                 format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 4))

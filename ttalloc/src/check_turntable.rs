@@ -149,44 +149,45 @@ struct ReadingCheckJson<'a> {
 impl<'a> ReadingCheckJson<'a> {
     fn new(e2e: &'a EndToEnd, c: &'a TurntableCheck, noisy: Option<&NoisyCheck>) -> Self {
         let names = e2e.turntable().rotation_error_names();
-        let d = &c.distribution;
+        let d = &c.distribution();
         Self {
             reading: e2e.reading().to_string(),
-            verdict: noisy.map_or(c.verdict, |n| n.verdict).name(),
-            table_verdict: noisy.map(|_| c.verdict.name()),
+            verdict: noisy.map_or(c.verdict(), |n| n.verdict).name(),
+            table_verdict: noisy.map(|_| c.verdict().name()),
             yield_fraction: d.yield_fraction(),
             yield_interval_95: d.yield_interval_95(),
-            samples: d.samples,
-            seed: d.seed,
+            samples: d.samples(),
+            seed: d.seed(),
             outputs: c
-                .outputs
+                .outputs()
                 .iter()
                 .enumerate()
                 .map(|(i, o)| {
-                    let out = e2e.calibration().outputs()[o.output].output();
+                    let out = e2e.calibration().outputs()[o.output()].output();
                     let co = noisy.and_then(|n| n.outputs.get(i));
                     CheckOutputJson {
                         name: &out.name,
                         unit: &out.unit,
-                        accuracy: o.accuracy,
-                        verdict: co.map_or(o.verdict, |co| co.verdict).name(),
-                        table_verdict: co.map(|_| o.verdict.name()),
-                        worst_case_linear: o.worst_case.linear_bound,
-                        worst_case_exact_at_vertex: o.worst_case.exact_at_vertex,
-                        second_order_bound: o.worst_case.second_order_bound,
-                        certified_bound: o.worst_case.certified_bound(),
-                        worst_position: o.worst_case.position,
-                        precision: o.worst_case.precision,
-                        meeting_fraction: d.meeting_per_output[o.output] as f64 / d.samples as f64,
-                        monte_carlo_max: d.worst[o.output].value,
+                        accuracy: o.accuracy(),
+                        verdict: co.map_or(o.verdict(), |co| co.verdict).name(),
+                        table_verdict: co.map(|_| o.verdict().name()),
+                        worst_case_linear: o.worst_case().linear_bound,
+                        worst_case_exact_at_vertex: o.worst_case().exact_at_vertex,
+                        second_order_bound: o.worst_case().second_order_bound,
+                        certified_bound: o.worst_case().certified_bound(),
+                        worst_position: o.worst_case().position,
+                        precision: o.worst_case().precision,
+                        meeting_fraction: d.meeting_per_output()[o.output()] as f64
+                            / d.samples() as f64,
+                        monte_carlo_max: d.worst()[o.output()].value(),
                         contributions: o
-                            .contributions
+                            .contributions()
                             .iter()
                             .map(|k| ContributionJson {
-                                error: crate::groups::contribution_name(e2e.turntable(), &k.group),
-                                errors: k.group.names(&names),
-                                worst_case_share: k.worst_share,
-                                variance_share: k.variance_share,
+                                error: crate::groups::contribution_name(e2e.turntable(), k.group()),
+                                errors: k.group().names(&names),
+                                worst_case_share: k.worst_share(),
+                                variance_share: k.variance_share(),
                             })
                             .collect(),
                         split: co.map(Split::from),
@@ -245,7 +246,7 @@ impl<'a> CheckJson<'a> {
         Self {
             study_reading: ReadingCheckJson::new(e2e, c, noisy.first()),
             tolerances: &tol.path,
-            tolerances_arcmin: arcmin_bounds(&names, &c.upper_bounds_rad),
+            tolerances_arcmin: arcmin_bounds(&names, c.upper_bounds_rad()),
             groups: GroupJson::all(e2e.turntable(), &[]),
             user_reading: checks
                 .get(1)
@@ -264,23 +265,23 @@ const INSENSITIVE_SHARE: f64 = 1e-9;
 
 fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) -> String {
     let mut s = String::new();
-    for o in &c.outputs {
-        let split = noisy.map(|n| &n.outputs[o.output]);
-        let out = e2e.calibration().outputs()[o.output].output();
-        let w = &o.worst_case;
+    for o in c.outputs() {
+        let split = noisy.map(|n| &n.outputs[o.output()]);
+        let out = e2e.calibration().outputs()[o.output()].output();
+        let w = &o.worst_case();
         s.push_str(&format!(
             "  output {}: accuracy {} {u}; worst case {} {u} (linearised {}{}), Monte Carlo max {} {u}, {:.2}% meet it: {}\n",
             out.name,
-            num(o.accuracy),
+            num(o.accuracy()),
             num(w.exact_at_vertex),
             num(w.linear_bound),
             w.second_order_bound.map_or(String::new(), |t| format!(", proven below {}", num(w.linear_bound + t))),
-            num(c.distribution.worst[o.output].value),
-            100.0 * c.distribution.meeting_per_output[o.output] as f64 / c.distribution.samples as f64,
-            o.verdict.name(),
+            num(c.distribution().worst()[o.output()].value()),
+            100.0 * c.distribution().meeting_per_output()[o.output()] as f64 / c.distribution().samples() as f64,
+            o.verdict().name(),
             u = out.unit
         ));
-        let max = c.distribution.worst[o.output].value;
+        let max = c.distribution().worst()[o.output()].value();
         if w.exact_at_vertex == 0.0 || max == 0.0 {
             if let Some(n) = crate::out::precision_note(&[(&out.name, &out.unit, w.precision)]) {
                 s.push_str(&format!("    ({n})\n"));
@@ -293,7 +294,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
                 if co.meets() { "meets" } else { "does NOT meet" }
             ));
         }
-        if w.linear_bound <= INSENSITIVE_SHARE * o.accuracy {
+        if w.linear_bound <= INSENSITIVE_SHARE * o.accuracy() {
             s.push_str("    dominant errors: none (the output does not depend on these errors to first order)\n");
             continue;
         }
@@ -303,15 +304,15 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
             .map(|k| {
                 format!(
                     "{} {:.0}% of the worst case, {:.0}% of the variance",
-                    crate::groups::contribution_name(e2e.turntable(), &k.group),
-                    100.0 * k.worst_share,
-                    100.0 * k.variance_share
+                    crate::groups::contribution_name(e2e.turntable(), k.group()),
+                    100.0 * k.worst_share(),
+                    100.0 * k.variance_share()
                 )
             })
             .collect();
         s.push_str(&format!("    dominant errors: {}\n", dominant.join("; ")));
     }
-    let (lo, hi) = c.distribution.yield_interval_95();
+    let (lo, hi) = c.distribution().yield_interval_95();
     if let Some(n) = noisy {
         let verdict = match n.verdict {
             Verdict::Guaranteed => {
@@ -324,15 +325,15 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
         };
         s.push_str(&format!(
             "  verdict: {verdict} (table alone: {}); {}; table alone: Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%)\n",
-            c.verdict.name(),
+            c.verdict().name(),
             crate::noise::yield_text(&n.combined_yield),
-            100.0 * c.distribution.yield_fraction(),
+            100.0 * c.distribution().yield_fraction(),
             100.0 * lo,
             100.0 * hi,
         ));
         return s;
     }
-    let verdict = match c.verdict {
+    let verdict = match c.verdict() {
         Verdict::Guaranteed => {
             "MEETS every accuracy: proven for every turntable within these tolerances"
         }
@@ -345,11 +346,11 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
     };
     s.push_str(&format!(
         "  verdict: {verdict}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables, seed {})\n",
-        100.0 * c.distribution.yield_fraction(),
+        100.0 * c.distribution().yield_fraction(),
         100.0 * lo,
         100.0 * hi,
-        c.distribution.samples,
-        c.distribution.seed
+        c.distribution().samples(),
+        c.distribution().seed()
     ));
     s
 }
@@ -386,7 +387,7 @@ pub fn to_text(
             e2e.reading().formula()
         ));
         s.push_str(&reading_text(e2e, c, noisy.get(i)));
-        let verdict = |i: usize| noisy.get(i).map_or(checks[i].1.verdict, |n| n.verdict);
+        let verdict = |i: usize| noisy.get(i).map_or(checks[i].1.verdict(), |n| n.verdict);
         if i == 0 && checks.len() > 1 && verdict(0) != verdict(1) {
             s.push_str(
                 "  (the verdict depends on the reading of eq 13: see the user's reading below)\n",
@@ -433,9 +434,11 @@ pub fn noisy_checks(
         .iter()
         .map(|(sim, c)| {
             let outputs: Vec<CombinedOutput> = c
-                .outputs
+                .outputs()
                 .iter()
-                .map(|o| CombinedOutput::of(&o.worst_case, o.accuracy, sigma[o.output], k_sigma))
+                .map(|o| {
+                    CombinedOutput::of(o.worst_case(), o.accuracy(), sigma[o.output()], k_sigma)
+                })
                 .collect();
             let combined_yield = sim
                 .combined_yield(&bounds, &budget, settings)

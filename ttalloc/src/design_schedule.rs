@@ -218,17 +218,17 @@ fn schedule_json<'a>(s: &'a Study, r: &'a ScheduleReport) -> ScheduleJson<'a> {
         positions_deg: &r.positions_deg,
         condition_numbers: by_output(&r.condition_numbers),
         requirement_deg: match &r.requirement {
-            Ok(q) => crate::json::deg3(&q.requirement.to_array()),
+            Ok(q) => crate::json::deg3(&q.requirement().to_array()),
             Err(_) => PerAngle::new(|_| None),
         },
         requirement_note: r.requirement.as_ref().err().map(ToString::to_string),
-        bounds_arcmin: arcmin_bounds(&errors, &r.allocation.upper_bounds_rad),
+        bounds_arcmin: arcmin_bounds(&errors, r.allocation.upper_bounds_rad()),
         no_bound_needed: r.allocation.no_bound_needed(),
         log_det_information: r.log_det_information,
         certified: r.certified.as_ref().map(|c| CertifiedJson {
             objective: c.objective_arcmin(),
-            bounds_arcmin: arcmin_bounds(&errors, &c.upper_bounds_rad),
-            second_order_margins: by_output(&c.second_order_margins),
+            bounds_arcmin: arcmin_bounds(&errors, c.upper_bounds_rad()),
+            second_order_margins: by_output(c.second_order_margins()),
         }),
         certified_note: r.certified_note.as_deref(),
         worst_case_with_study_tolerances: WithStudyJson {
@@ -278,7 +278,7 @@ fn start_name(k: StartKind) -> String {
 fn recommended_bounds(r: &ScheduleReport) -> &[f64] {
     r.certified
         .as_ref()
-        .map_or(&r.allocation.upper_bounds_rad, |c| &c.upper_bounds_rad)
+        .map_or(r.allocation.upper_bounds_rad(), |c| c.upper_bounds_rad())
 }
 
 fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
@@ -609,7 +609,7 @@ fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
         Some(c) => format!(
             "tolerances (arcmin) the {what} schedule allows, certified on the exact chain (J = {}; rounded down; every turntable within them meets every accuracy: `check-turntable` proves them): {}\n",
             sig(c.objective_arcmin(), 6),
-            list(&c.upper_bounds_rad, &|v| sig_down(v, 3))
+            list(c.upper_bounds_rad(), &|v| sig_down(v, 3))
         ),
         None => format!(
             "tolerances (arcmin) the {what} schedule allows, certified on the exact chain: none ({})\n",
@@ -619,7 +619,7 @@ fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
     t.push_str(&format!(
         "  linearised (J = {}, the design objective; not proven on the exact chain): {}\n",
         sig(r.allocation.objective_arcmin(), 6),
-        list(&r.allocation.upper_bounds_rad, &|v| sig(v, 3))
+        list(r.allocation.upper_bounds_rad(), &|v| sig(v, 3))
     ));
     t
 }
@@ -727,7 +727,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     let line = |label: &str, r: &ScheduleReport| -> String {
         let req = match &r.requirement {
             Ok(q) => q
-                .requirement
+                .requirement()
                 .deg()
                 .iter()
                 .map(|v| v.map_or("-".into(), |x| sig(x, 3)))
@@ -874,7 +874,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     // the report's J comes from the same path as `end-to-end`; the search's must agree
     let searched = design.search.designed.evaluation.objective;
-    let reported = design.designed.allocation.objective;
+    let reported = design.designed.allocation.objective();
     let agree = (searched - reported).abs() <= 1e-9 * reported;
     if !agree {
         anyhow::bail!(
@@ -954,7 +954,7 @@ pub fn run(args: &Args) -> Result<()> {
                     s.turntable
                         .rotation_error_names()
                         .iter()
-                        .zip(&c.upper_bounds_rad)
+                        .zip(c.upper_bounds_rad())
                         .map(|(n, u)| {
                             if u.is_finite() {
                                 format!("{n} {}", sig_down(rad_to_arcmin(*u), 3))

@@ -312,7 +312,7 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
     let r = &a.readings[0];
     let lb = &a.inputs.lower_bounds_rad;
     let bounds = e2e
-        .box_of(&r.direct.upper_bounds_rad, lb)
+        .box_of(r.direct.upper_bounds_rad(), lb)
         .map_err(anyhow::Error::new)?;
     let linear = e2e.linearization();
     let t = Instant::now();
@@ -356,7 +356,7 @@ fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
             } else {
                 "direct, user's reading"
             };
-            (label, r.direct.upper_bounds_rad.as_slice())
+            (label, r.direct.upper_bounds_rad())
         })
         .collect()
 }
@@ -480,27 +480,27 @@ impl<'a> BoxJson<'a> {
                 .collect(),
             yield_fraction: d.yield_fraction(),
             yield_interval_95: d.yield_interval_95(),
-            meeting: d.meeting,
-            samples: d.samples,
-            seed: d.seed,
+            meeting: d.meeting(),
+            samples: d.samples(),
+            seed: d.seed(),
             max: d.max(),
-            worst_ratio: d.worst_ratio.value,
+            worst_ratio: d.worst_ratio().value(),
             quantiles: d
-                .quantiles
+                .quantiles()
                 .iter()
                 .map(|q| QuantileJson {
-                    p: q.p,
-                    per_output: &q.per_output,
-                    ratio: q.ratio,
+                    p: q.p(),
+                    per_output: q.per_output(),
+                    ratio: q.ratio(),
                 })
                 .collect(),
             histograms: d
-                .histograms
+                .histograms()
                 .iter()
                 .map(|h| HistogramJson {
                     edges: h.edges(),
-                    counts: &h.counts,
-                    overflow: h.overflow,
+                    counts: h.counts(),
+                    overflow: h.overflow(),
                 })
                 .collect(),
         }
@@ -606,17 +606,17 @@ impl<'a> ReadingJson<'a> {
             boxes: r.boxes.iter().map(|b| BoxJson::new(e2e, b)).collect(),
             direct: DirectJson {
                 objective: r.direct.objective_arcmin(),
-                bounds_arcmin: arcmin_bounds(&names, &r.direct.upper_bounds_rad),
-                unconstrained: r.direct.unconstrained.iter().map(|&j| names[j]).collect(),
+                bounds_arcmin: arcmin_bounds(&names, r.direct.upper_bounds_rad()),
+                unconstrained: r.direct.unconstrained().iter().map(|&j| names[j]).collect(),
                 no_bound_needed: r.direct.no_bound_needed(),
                 active_rows: r
                     .direct
                     .active_rows()
                     .iter()
                     .map(|row| ActiveRowJson {
-                        output: &e2e.calibration().outputs()[row.output].output().name,
-                        position: row.position,
-                        joint_angles_deg: e2e.calibration().schedule().positions()[row.position]
+                        output: &e2e.calibration().outputs()[row.output()].output().name,
+                        position: row.position(),
+                        joint_angles_deg: e2e.calibration().schedule().positions()[row.position()]
                             .joint_angles_deg(),
                     })
                     .collect(),
@@ -627,23 +627,23 @@ impl<'a> ReadingJson<'a> {
                 .as_ref()
                 .map(|(d, wc)| DirectCertifiedJson {
                     objective: d.objective_arcmin(),
-                    bounds_arcmin: arcmin_bounds(&names, &d.upper_bounds_rad),
-                    second_order_margins: &d.second_order_margins,
+                    bounds_arcmin: arcmin_bounds(&names, d.upper_bounds_rad()),
+                    second_order_margins: d.second_order_margins(),
                     worst_case_exact: wc.exact(),
                     certified_bounds: wc.outputs.iter().map(|w| w.certified_bound()).collect(),
                 }),
             direct_certified_note: r.direct_certified_note.as_deref(),
             yield_based: YieldBasedJson {
                 objective: r.yield_based.objective_arcmin(),
-                target: r.yield_based.target,
-                scale: r.yield_based.scale,
-                capped: r.yield_based.capped,
+                target: r.yield_based.target(),
+                scale: r.yield_based.scale(),
+                capped: r.yield_based.capped(),
                 design_yield: r.yield_based.yield_fraction(),
-                design_interval_95: r.yield_based.interval_95,
+                design_interval_95: r.yield_based.interval_95(),
                 design_verdict: r.yield_based.design_verdict().name(),
                 verdict: r.yield_verdict().name(),
-                min_samples: e2e_verify::min_yield_samples(r.yield_based.target),
-                bounds_arcmin: arcmin_bounds(&names, &r.yield_based.upper_bounds_rad),
+                min_samples: e2e_verify::min_yield_samples(r.yield_based.target()),
+                bounds_arcmin: arcmin_bounds(&names, r.yield_based.upper_bounds_rad()),
                 remeasured: BoxJson::new(e2e, &r.yield_box),
             },
             noise: noise.map(|n| NoiseReadingJson::new(e2e, n)),
@@ -764,8 +764,8 @@ impl<'a> NoiseReadingJson<'a> {
                 NoisyDirect::Allocated { allocation, answer } => DirectWithNoiseJson::Allocated {
                     no_table_suffices: false,
                     objective: allocation.objective_arcmin(),
-                    bounds_arcmin: arcmin_bounds(&names, &allocation.upper_bounds_rad),
-                    noise_parts: &allocation.second_order_margins,
+                    bounds_arcmin: arcmin_bounds(&names, allocation.upper_bounds_rad()),
+                    noise_parts: allocation.second_order_margins(),
                     box_answer: CombinedBoxJson::new(e2e, answer),
                 },
                 NoisyDirect::NoTableSuffices { outputs } => DirectWithNoiseJson::NoTableSuffices {
@@ -921,17 +921,17 @@ impl<'a> EndToEndJson<'a> {
             .collect();
         bounds.insert(
             "direct".into(),
-            arcmin_bounds(&names, &r0.direct.upper_bounds_rad),
+            arcmin_bounds(&names, r0.direct.upper_bounds_rad()),
         );
         if let Some((d, _)) = &r0.direct_certified {
             bounds.insert(
                 "direct_certified".into(),
-                arcmin_bounds(&names, &d.upper_bounds_rad),
+                arcmin_bounds(&names, d.upper_bounds_rad()),
             );
         }
         bounds.insert(
             "yield_based".into(),
-            arcmin_bounds(&names, &r0.yield_based.upper_bounds_rad),
+            arcmin_bounds(&names, r0.yield_based.upper_bounds_rad()),
         );
         Self {
             study: &s.path,
@@ -990,8 +990,8 @@ fn yield_text(r: &ReadingAnswer) -> String {
     format!(
         "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% (95% interval {:.2}-{:.2}%): {}\n",
         "",
-        num(100.0 * r.yield_based.target),
-        r.yield_box.distribution.samples,
+        num(100.0 * r.yield_based.target()),
+        r.yield_box.distribution.samples(),
         100.0 * r.yield_box.distribution.yield_fraction(),
         100.0 * lo,
         100.0 * hi,
@@ -1016,7 +1016,7 @@ fn zeroed_outputs<'a>(e2e: &'a EndToEnd, r: &ReadingAnswer) -> Vec<(&'a str, &'a
         .filter(|(k, _)| {
             boxes.iter().any(|b| {
                 b.worst_case.outputs[*k].exact_at_vertex == 0.0
-                    || b.distribution.worst[*k].value == 0.0
+                    || b.distribution.worst()[*k].value() == 0.0
             })
         })
         .map(|(k, o)| {

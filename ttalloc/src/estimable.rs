@@ -101,7 +101,7 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
         .map_err(|e| crate::input::library(e, s))?;
     let (source, ub) = match ub_rad {
         Some(u) => ("tolerances", u.to_vec()),
-        None => ("direct-allocation", ordinary.upper_bounds_rad.clone()),
+        None => ("direct-allocation", ordinary.upper_bounds_rad().to_vec()),
     };
     let wc = e2e
         .worst_case(&e2e.linearization(), &ub)
@@ -163,7 +163,7 @@ impl AllocationJson {
     fn new(names: &[&str], d: &DirectAllocation) -> Self {
         Self {
             objective_arcmin: (!d.no_bound_needed()).then(|| d.objective_arcmin()),
-            upper_bounds_arcmin: arcmin_bounds(names, &d.upper_bounds_rad),
+            upper_bounds_arcmin: arcmin_bounds(names, d.upper_bounds_rad()),
             no_bound_needed: d.no_bound_needed(),
         }
     }
@@ -316,7 +316,7 @@ fn allocation_line(names: &[&str], d: &DirectAllocation) -> String {
     }
     let bounds: Vec<String> = names
         .iter()
-        .zip(&d.upper_bounds_rad)
+        .zip(d.upper_bounds_rad())
         .map(|(n, u)| {
             if u.is_finite() {
                 format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 4))

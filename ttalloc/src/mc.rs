@@ -137,7 +137,7 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
                 )
                 .map_err(|e| crate::input::library(e, s))?;
             let ub: Vec<f64> = a
-                .upper_bounds_rad
+                .upper_bounds_rad()
                 .iter()
                 .zip(&lb)
                 .map(|(u, l)| if u.is_finite() { *u } else { *l })
@@ -271,51 +271,51 @@ impl<'a> McJson<'a> {
         let linear = LinearModel::new(&s.turntable);
         Self {
             study: &s.path,
-            samples: r.samples,
-            seed: r.seed,
+            samples: r.samples(),
+            seed: r.seed(),
             threads,
             seconds,
-            samples_per_sec: r.samples as f64 / seconds,
+            samples_per_sec: r.samples() as f64 / seconds,
             bounds: name,
-            chunk_size: r.chunk_size,
+            chunk_size: r.chunk_size(),
             evaluator: "exact chain, eq-24 read-out (fast quaternion plan)",
             simd_level: SimdLevel::detected().name(),
             lb_arcmin: errors_arcmin(&names, mc.bounds().lb_rad()),
             ub_arcmin: errors_arcmin(&names, mc.bounds().ub_rad()),
-            requirement_deg: PerAngle::new(|a| r.requirement.get(a).map(rad_to_deg)),
-            max_abs_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).max_abs_rad)),
+            requirement_deg: PerAngle::new(|a| r.requirement().get(a).map(rad_to_deg)),
+            max_abs_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).max_abs_rad())),
             linear_worst_case_deg: PerAngle::new(|a| {
                 linear
                     .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
                     .ok()
                     .map(|w| rad_to_deg(w.upper_bound))
             }),
-            mean_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).mean_rad)),
+            mean_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).mean_rad())),
             std_deg: PerAngle::new(|a| rad_to_deg(std[a.index()])),
             within_requirement_fraction: r.within_requirement_fraction(),
             within_requirement_fraction_per_axis: PerAngle::new(|a| {
-                r.axis(a).within_requirement as f64 / r.samples as f64
+                r.axis(a).within_requirement() as f64 / r.samples() as f64
             }),
             worst: PerAngle::new(|a| {
-                let w = &r.axis(a).worst;
+                let w = r.axis(a).worst();
                 WorstJson {
-                    index: w.index,
-                    value_deg: rad_to_deg(w.value_rad),
+                    index: w.index(),
+                    value_deg: rad_to_deg(w.value_rad()),
                     pose_deg: joints
                         .iter()
-                        .zip(w.pose.angles_rad())
+                        .zip(w.pose().angles_rad())
                         .map(|(j, v)| (format!("{j}_deg"), rad_to_deg(*v)))
                         .collect(),
-                    chi: errors_arcmin(&names, &w.chi_rad),
+                    chi: errors_arcmin(&names, w.chi_rad()),
                 }
             }),
             histogram_deg: PerAngle::new(|a| {
-                let h = &r.axis(a).histogram;
+                let h = &r.axis(a).histogram();
                 HistogramJson {
-                    half_range_deg: rad_to_deg(h.hi),
-                    counts: &h.counts,
-                    underflow: h.underflow,
-                    overflow: h.overflow,
+                    half_range_deg: rad_to_deg(h.hi()),
+                    counts: h.counts(),
+                    underflow: h.underflow(),
+                    overflow: h.overflow(),
                 }
             }),
             requirement_note: None,
@@ -479,12 +479,12 @@ fn baselines(
     let mut rounds = Vec::with_capacity(RATIO_ROUNDS);
     for _ in 0..RATIO_ROUNDS {
         rounds.push([
-            rate_of(&|| sub.run().samples),
+            rate_of(&|| sub.run().samples()),
             rate_of(&|| sub.draw_only()),
             rate_of(&|| sub.draw_words_only()),
             rate_of(&|| {
                 sub.run_with_simd(SimdLevel::Portable)
-                    .map_or(0, |r| r.samples)
+                    .map_or(0, |r| r.samples())
             }),
         ]);
     }
@@ -495,7 +495,7 @@ fn baselines(
     let plain_mc = MonteCarlo::new(&s.turntable, mc.bounds().clone(), cfg)?;
     let t = Instant::now();
     let plain = pool.install(|| plain_mc.run_model(&ExactChain::new(&s.turntable)))?;
-    let plain_rate = plain.samples as f64 / t.elapsed().as_secs_f64();
+    let plain_rate = plain.samples() as f64 / t.elapsed().as_secs_f64();
     let numpy = if s.turntable == tt_kinematics::paper::table3() {
         run_numpy(mc.config().seed)
     } else {
@@ -519,7 +519,7 @@ fn baselines(
         generator_alone_samples_per_sec: gen_rate,
         generator_words_only_samples_per_sec: words_rate,
         portable_simd_samples_per_sec: portable_rate,
-        plain_chain_samples: plain.samples,
+        plain_chain_samples: plain.samples(),
         plain_chain_samples_per_sec: plain_rate,
         numpy,
         ratio_fast_over_generator_alone: fast_best / gen_rate,
@@ -560,39 +560,39 @@ pub fn run(args: &Args) -> Result<()> {
     let mut report = McJson::new(&s, &name, &mc, &r, threads, seconds);
     report.requirement_note = note.as_deref();
     if args.baselines {
-        report.baselines = Some(baselines(&s, &mc, &pool, r.samples as f64 / seconds)?);
+        report.baselines = Some(baselines(&s, &mc, &pool, r.samples() as f64 / seconds)?);
     }
     if args.json {
         return crate::json::print(&report);
     }
     let mut t = format!(
         "{} samples, seed {}, {} threads ({}), bounds {}, study {}: {:.3} s, {} samples/s\n",
-        r.samples,
-        r.seed,
+        r.samples(),
+        r.seed(),
         threads,
         SimdLevel::detected().name(),
         name,
         s.path,
         seconds,
-        num(r.samples as f64 / seconds)
+        num(r.samples() as f64 / seconds)
     );
     let std = r.std_rad();
-    for a in &r.axes {
-        let k = a.axis.index();
+    for a in r.axes() {
+        let k = a.axis().index();
         t.push_str(&format!(
             "{:>6}: max |.| {} deg (requirement {}), mean {} deg, std {} deg, worst sample #{}\n",
-            a.axis.name(),
-            num(rad_to_deg(a.max_abs_rad)),
-            r.requirement.to_array()[k].map_or("none".into(), |v| num(rad_to_deg(v))),
-            num(rad_to_deg(a.mean_rad)),
+            a.axis().name(),
+            num(rad_to_deg(a.max_abs_rad())),
+            r.requirement().to_array()[k].map_or("none".into(), |v| num(rad_to_deg(v))),
+            num(rad_to_deg(a.mean_rad())),
             num(rad_to_deg(std[k])),
-            a.worst.index,
+            a.worst().index(),
         ));
     }
     t.push_str(&format!(
         "inside the requirement (all three angles): {} of {} = {}\n",
-        r.within_requirement_all,
-        r.samples,
+        r.within_requirement_all(),
+        r.samples(),
         study::fmt::sig(r.within_requirement_fraction(), 9)
     ));
     if let Some(n) = &note {

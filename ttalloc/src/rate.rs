@@ -680,7 +680,7 @@ impl<'a> RateAllocationJson<'a> {
                     exact_at_vertex: w.exact_at_vertex,
                     entry: w.position,
                     margin: acc[w.output] - w.exact_at_vertex,
-                    second_order_room: a.combined.second_order_margins[w.output],
+                    second_order_room: a.combined.second_order_margins()[w.output],
                 })
                 .collect(),
             exact_rounds: a.exact_rounds,

@@ -84,7 +84,7 @@ pub fn requirement_json<'a>(
         reading_formula: p.reading.formula().to_string(),
         delta_r: p.delta_r_kind.name().to_string(),
         schedule_positions: p.calibration.schedule().len(),
-        orientation_requirement_deg: r.as_ref().ok().map(|r| deg3(&r.requirement.to_array())),
+        orientation_requirement_deg: r.as_ref().ok().map(|r| deg3(&r.requirement().to_array())),
         outputs: p
             .calibration
             .outputs()
@@ -93,24 +93,24 @@ pub fn requirement_json<'a>(
                 let b = r
                     .as_ref()
                     .ok()
-                    .and_then(|r| r.boxes.iter().find(|b| b.output == o.output().name));
+                    .and_then(|r| r.boxes().iter().find(|b| b.output() == o.output().name));
                 RequirementOutputJson {
                     name: &o.output().name,
                     unit: &o.output().unit,
                     accuracy: o.output().accuracy,
                     sensitive_angles: b.map(|b| {
                         (0..3)
-                            .filter(|&j| b.half_rad[j].is_some())
+                            .filter(|&j| b.half_rad()[j].is_some())
                             .map(|j| OrientationAxis::ALL[j].name())
                             .collect()
                     }),
-                    half_sides_deg: b.map(|b| deg3(&b.half_rad)),
+                    half_sides_deg: b.map(|b| deg3(&b.half_rad())),
                 }
             })
             .collect(),
         unconstrained_outputs: r
             .as_ref()
-            .map(|r| r.unconstrained_outputs.clone())
+            .map(|r| r.unconstrained_outputs().to_vec())
             .unwrap_or_default(),
         note: r.as_ref().err().map(ToString::to_string),
     }
@@ -136,7 +136,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
         Ok(r) => {
             for axis in OrientationAxis::ALL {
                 let name = axis.name();
-                match r.requirement.get(axis) {
+                match r.requirement().get(axis) {
                     Some(v) => s.push_str(&format!(
                         "I_{name:<5} = {} deg\n",
                         study::fmt::sig(v.to_degrees(), 8)
@@ -144,10 +144,10 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
                     None => s.push_str(&format!("I_{name:<5} : none (no output constrains it)\n")),
                 }
             }
-            for b in &r.boxes {
+            for b in r.boxes() {
                 let sides: Vec<String> = (0..3)
                     .filter_map(|j| {
-                        b.half_rad[j].map(|h| {
+                        b.half_rad()[j].map(|h| {
                             format!(
                                 "{} {} deg",
                                 OrientationAxis::ALL[j].name(),
@@ -158,11 +158,11 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
                     .collect();
                 s.push_str(&format!(
                     "  output {}: largest box {}\n",
-                    b.output,
+                    b.output(),
                     sides.join(", ")
                 ));
             }
-            for o in &r.unconstrained_outputs {
+            for o in r.unconstrained_outputs() {
                 s.push_str(&format!(
                     "  output {o}: no requirement (it meets its accuracy under every constant orientation error; only the end-to-end allocation bounds the turntable for it)\n"
                 ));

@@ -98,7 +98,7 @@ fn requirement_of(s: &Study) -> anyhow::Result<StudyRequirement> {
     let computed = requirement_problem(s).requirement();
     match s.requirement {
         RequirementSource::Computed => {
-            let used = computed.as_ref().ok().map(|r| r.requirement);
+            let used = computed.as_ref().ok().map(|r| r.requirement());
             Ok(StudyRequirement {
                 used,
                 computed,
@@ -116,7 +116,7 @@ fn requirement_of(s: &Study) -> anyhow::Result<StudyRequirement> {
                         .iter()
                         .filter_map(|axis| {
                             let (g, n) = (rad[axis.index()], axis.name());
-                            match c.requirement.get(*axis) {
+                            match c.requirement().get(*axis) {
                                 Some(v) if ((g - v) / v).abs() > DISAGREE_REL => Some(format!(
                                     "{n} {} deg given vs {} deg computed ({:+.2}%)",
                                     study::fmt::num(g.to_degrees()),

@@ -36,7 +36,7 @@ fn requirement_json_is_the_library_requirement_for_every_study() {
         let v = json(&["requirement", "--study", &study(name), "--json"]);
         for (k, angle) in ["psi", "theta", "gamma"].iter().enumerate() {
             let printed = &v["orientation_requirement_deg"][angle];
-            match lib.requirement.to_array()[k] {
+            match lib.requirement().to_array()[k] {
                 Some(r) => {
                     assert_relative_eq!(num(printed), r.to_degrees(), max_relative = JSON_REL)
                 }

@@ -189,7 +189,7 @@ fn planes(
         let region = problem.region(k).map_err(|e| calib(s, e))?;
         let sensitive = region.sensitive_angles().to_vec();
         let name = region.output().to_string();
-        let bx = req.and_then(|r| r.boxes.iter().find(|b| b.output == name));
+        let bx = req.and_then(|r| r.boxes().iter().find(|b| b.output() == name));
         let plane = match sensitive.len() {
             0 | 1 => None,
             2 => Some([sensitive[0], sensitive[1]]),
@@ -198,9 +198,9 @@ fn planes(
                 let mut by: Vec<usize> = sensitive.clone();
                 if let Some(b) = bx {
                     by.sort_by(|a, c| {
-                        b.half_rad[*a]
+                        b.half_rad()[*a]
                             .unwrap_or(f64::INFINITY)
-                            .total_cmp(&b.half_rad[*c].unwrap_or(f64::INFINITY))
+                            .total_cmp(&b.half_rad()[*c].unwrap_or(f64::INFINITY))
                     });
                 }
                 let mut two = [by[0], by[1]];
@@ -209,7 +209,12 @@ fn planes(
             }
         };
         let half_box = bx
-            .map(|b| b.half_rad.iter().flatten().fold(0.0_f64, |m, v| m.max(*v)))
+            .map(|b| {
+                b.half_rad()
+                    .iter()
+                    .flatten()
+                    .fold(0.0_f64, |m, v| m.max(*v))
+            })
             .filter(|h| *h > 0.0);
         let Some(half_box) = half_box else {
             out.push(OutputPlane {
@@ -471,7 +476,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                         (Some(p), Some(a)) => {
                             let exact =
                                 exact_chain_check(p, a).map_err(|e| crate::input::library(e, s))?;
-                            let monte_carlo = mc_config(&a.upper_bounds_rad)?;
+                            let monte_carlo = mc_config(a.upper_bounds_rad())?;
                             let result = monte_carlo.run();
                             timing("two-step Monte Carlo", t0);
                             Ok(Some((exact.to_vec(), monte_carlo, result)))

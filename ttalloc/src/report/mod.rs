@@ -116,7 +116,7 @@ fn render(c: &Computed) -> Result<Rendered> {
             Some((
                 alloc_opt::paper::TABLE4_ARCMIN.to_vec(),
                 objective_to_arcmin(w.objective(&t4)),
-                [0, 1, 2].map(|k| cert.axes[k].share),
+                [0, 1, 2].map(|k| cert.axes()[k].share()),
             ))
         }
         _ => None,

@@ -34,7 +34,7 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
     let s = &c.study;
     if let Ok(r) = &c.requirement.computed {
         for k in 0..3 {
-            if let Some(v) = r.requirement.to_array()[k] {
+            if let Some(v) = r.requirement().to_array()[k] {
                 out.push(Comparison {
                     quantity: format!("eq 16: I_{}", greek(k)),
                     paper: alloc_opt::paper::REQUIREMENT_DEG,
@@ -80,9 +80,12 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
             &t4,
         )
         .map(|cert| {
-            cert.axes
+            cert.axes()
                 .iter()
-                .map(|a| a.share.map_or("-".into(), |v| format!("{:.1}%", 100.0 * v)))
+                .map(|a| {
+                    a.share()
+                        .map_or("-".into(), |v| format!("{:.1}%", 100.0 * v))
+                })
                 .collect::<Vec<_>>()
                 .join(" / ")
         })
@@ -107,7 +110,7 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
     }
     let bound = x.table4_monte_carlo.half_range_rad();
     for (k, b) in bound.iter().enumerate() {
-        if let Some(i) = x.table4_result.requirement.to_array()[k] {
+        if let Some(i) = x.table4_result.requirement().to_array()[k] {
             out.push(Comparison {
                 quantity: format!("Figure 9: bound on |{}| of Table 4 turntables", d(k)),
                 paper: rad_to_deg(i),
@@ -116,8 +119,8 @@ pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
                 reason: format!(
                     "the paper shows every sample inside ±I; ours is the proven worst case over the whole box ({:.1}% of I); our largest of {} draws is {} deg",
                     100.0 * b / i,
-                    x.table4_result.samples,
-                    sig(rad_to_deg(x.table4_result.axes[k].max_abs_rad), 5)
+                    x.table4_result.samples(),
+                    sig(rad_to_deg(x.table4_result.axes()[k].max_abs_rad()), 5)
                 ),
             });
         }

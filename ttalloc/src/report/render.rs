@@ -138,8 +138,8 @@ fn group_list(doc: &mut Doc, t: &tt_kinematics::Turntable, bounds: &[(&str, &[f6
 /// The verdict on a vendor's sheet with its Monte Carlo yield: one wording for the answer at
 /// the top and the vendor section.
 fn sheet_verdict(chk: &e2e_verify::TurntableCheck) -> String {
-    let (lo, hi) = chk.distribution.yield_interval_95();
-    let verdict = match chk.verdict {
+    let (lo, hi) = chk.distribution().yield_interval_95();
+    let verdict = match chk.verdict() {
         Verdict::Guaranteed => {
             "these tolerances **meet** every accuracy: proven for every turntable within them"
         }
@@ -152,8 +152,8 @@ fn sheet_verdict(chk: &e2e_verify::TurntableCheck) -> String {
     };
     format!(
         "{verdict}; {:.2}% of {} random turntables meet every accuracy (95% interval {:.2}%-{:.2}%)",
-        100.0 * chk.distribution.yield_fraction(),
-        chk.distribution.samples,
+        100.0 * chk.distribution().yield_fraction(),
+        chk.distribution().samples(),
         100.0 * lo,
         100.0 * hi
     )
@@ -599,12 +599,12 @@ impl<'a> Sections<'a> {
             reading_words(c.study.reading)
         ));
         let mut rows = Vec::new();
-        let boxes = c.requirement.computed.as_ref().ok().map(|r| &r.boxes);
+        let boxes = c.requirement.computed.as_ref().ok().map(|r| r.boxes());
         for (k, (name, u, acc)) in outs.iter().enumerate() {
             let p = &c.planes[k];
-            let b = boxes.and_then(|b| b.iter().find(|b| &b.output == name));
+            let b = boxes.and_then(|b| b.iter().find(|b| b.output() == name));
             let sides = match b {
-                Some(b) => (0..3).map(|j| b.half_rad[j].map_or("-".into(), |h| num(rad_to_deg(h)))).collect::<Vec<_>>().join(" / "),
+                Some(b) => (0..3).map(|j| b.half_rad()[j].map_or("-".into(), |h| num(rad_to_deg(h)))).collect::<Vec<_>>().join(" / "),
                 None => "no requirement: it meets its accuracy under every constant orientation error (only the end-to-end allocation bounds the turntable for it)".into(),
             };
             rows.push(vec![
@@ -630,7 +630,7 @@ impl<'a> Sections<'a> {
         match &c.requirement.computed {
             Ok(r) => self.doc.p(format!(
                 "Requirement computed from the study: {}.",
-                requirement_text(&r.requirement.to_array())
+                requirement_text(&r.requirement().to_array())
             )),
             Err(e) => self.doc.p(format!("No requirement can be computed: {e}.")),
         }
@@ -643,7 +643,7 @@ impl<'a> Sections<'a> {
                 let cell = match req {
                     Ok(q) => (0..3)
                         .map(|k| {
-                            q.requirement.to_array()[k]
+                            q.requirement().to_array()[k]
                                 .map_or("none".into(), |v| num(rad_to_deg(v)))
                         })
                         .collect::<Vec<_>>()
@@ -706,8 +706,8 @@ impl<'a> Sections<'a> {
                 rectangle: req
                     .map(|r| {
                         (
-                            r.requirement.to_array()[a].map_or(0.0, rad_to_deg),
-                            r.requirement.to_array()[b].map_or(0.0, rad_to_deg),
+                            r.requirement().to_array()[a].map_or(0.0, rad_to_deg),
+                            r.requirement().to_array()[b].map_or(0.0, rad_to_deg),
                         )
                     })
                     .filter(|(x, y)| *x > 0.0 && *y > 0.0),
@@ -802,7 +802,7 @@ impl<'a> Sections<'a> {
         for p in &plotted {
             let (name, _, _) = &outs[p.output];
             let Some([a, b]) = p.plane else { continue };
-            let bx = req.and_then(|r| r.boxes.iter().find(|x| &x.output == name));
+            let bx = req.and_then(|r| r.boxes().iter().find(|x| x.output() == name));
             let mut series = Vec::new();
             match &p.boundary {
                 Ok(pts) => {
@@ -822,7 +822,7 @@ impl<'a> Sections<'a> {
                 Err(e) => notes.push(format!("`{name}`: no closed line ({e})")),
             }
             if let Some(bx) = bx {
-                if let (Some(ha), Some(hb)) = (bx.half_rad[a], bx.half_rad[b]) {
+                if let (Some(ha), Some(hb)) = (bx.half_rad()[a], bx.half_rad()[b]) {
                     let (x, y) = (rad_to_deg(ha), rad_to_deg(hb));
                     series.push(Series {
                         label: "largest box of the output".into(),
@@ -833,7 +833,7 @@ impl<'a> Sections<'a> {
             }
             if let Some(r) = req {
                 if let (Some(ia), Some(ib)) =
-                    (r.requirement.to_array()[a], r.requirement.to_array()[b])
+                    (r.requirement().to_array()[a], r.requirement().to_array()[b])
                 {
                     let (x, y) = (rad_to_deg(ia), rad_to_deg(ib));
                     series.push(Series {
@@ -1017,9 +1017,9 @@ impl<'a> Sections<'a> {
         rows.push(jrow);
         self.doc.table(&header, rows);
         self.csv.push(("allocation.csv".into(), csv));
-        let mut group_bounds: Vec<(&str, &[f64])> = vec![("two-step", &t.ours.upper_bounds_rad)];
+        let mut group_bounds: Vec<(&str, &[f64])> = vec![("two-step", t.ours.upper_bounds_rad())];
         if let Some(e) = &c.equal {
-            group_bounds.push(("equal effects", &e.upper_bounds_rad));
+            group_bounds.push(("equal effects", e.upper_bounds_rad()));
         }
         let t4_rad = table4.map(|(t4, _, _)| {
             t4.iter()
@@ -1030,7 +1030,7 @@ impl<'a> Sections<'a> {
             group_bounds.push(("Table 4", t4));
         }
         group_list(&mut self.doc, &c.study.turntable, &group_bounds);
-        if !t.ours.unconstrained.is_empty() {
+        if !t.ours.unconstrained().is_empty() {
             self.doc.p(format!(
                 "No angle with a requirement depends on {}: no bound (held at the lower bound in the Monte Carlo).",
                 t.ours.unconstrained_names().iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
@@ -1044,26 +1044,26 @@ impl<'a> Sections<'a> {
                 .collect::<Vec<_>>()
                 .join(" / ")
         };
-        for a in &t.ours.certificate.axes {
-            let k = a.quantity;
+        for a in t.ours.certificate().axes() {
+            let k = a.quantity();
             rows.push(vec![
                 d(k),
-                a.requirement_rad
+                a.requirement_rad()
                     .map_or("none".into(), |v| num(rad_to_deg(v))),
-                num(rad_to_deg(a.worst_case_rad)),
-                num(rad_to_deg(a.upper_bound_rad)),
-                a.share.map_or("-".into(), pct),
+                num(rad_to_deg(a.worst_case_rad())),
+                num(rad_to_deg(a.upper_bound_rad())),
+                a.share().map_or("-".into(), pct),
                 format!(
                     "({})",
                     jn.iter()
-                        .zip(&a.worst_pose_rad)
+                        .zip(a.worst_pose_rad())
                         .map(|(j, v)| format!("{j} {}", num(rad_to_deg(*v))))
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
-                yes_no(a.satisfied),
+                yes_no(a.satisfied()),
                 t.exact.get(k).map_or("-".into(), |e| {
-                    e.excess_rad.map_or("-".into(), |x| {
+                    e.excess_rad().map_or("-".into(), |x| {
                         format!("{} arcmin", sig(rad_to_arcmin(x), 3))
                     })
                 }),
@@ -1071,7 +1071,7 @@ impl<'a> Sections<'a> {
         }
         self.doc.p(format!(
             "Lemma 1 certificate of the two-step allocation: the worst case of each angle over every pose and every admissible χ ({}), a rigorous upper bound on it, the share of the requirement used, and the exact chain's excess over the requirement at the worst vertices found (second order; negative: within).",
-            if t.ours.certificate.exact() { "exact: at most one free joint" } else { "searched over the free joints, bounded by branch and bound" }
+            if t.ours.certificate().exact() { "exact: at most one free joint" } else { "searched over the free joints, bounded by branch and bound" }
         ));
         self.doc.table(
             &[
@@ -1122,11 +1122,11 @@ impl<'a> Sections<'a> {
                 rows.push(vec![
                     (*name).to_string(),
                     d(k),
-                    sig(rad_to_deg(r.axes[k].max_abs_rad), 5),
+                    sig(rad_to_deg(r.axes()[k].max_abs_rad()), 5),
                     sig(rad_to_deg(bound[k]), 5),
-                    r.requirement.to_array()[k].map_or("none".into(), |i| sig(rad_to_deg(i), 5)),
+                    r.requirement().to_array()[k].map_or("none".into(), |i| sig(rad_to_deg(i), 5)),
                     sig(rad_to_deg(sd[k]), 4),
-                    pct(r.axes[k].within_requirement as f64 / r.samples as f64),
+                    pct(r.axes()[k].within_requirement() as f64 / r.samples() as f64),
                 ]);
             }
         }
@@ -1150,9 +1150,9 @@ impl<'a> Sections<'a> {
             .iter()
             .map(|a| {
                 let k = a.index();
-                let h = &r.axes[k].histogram;
+                let h = &r.axes()[k].histogram();
                 let mut limits = Vec::new();
-                if let Some(i) = r.requirement.to_array()[k] {
+                if let Some(i) = r.requirement().to_array()[k] {
                     limits.push((
                         "±I (requirement)".to_string(),
                         rad_to_deg(i),
@@ -1169,7 +1169,7 @@ impl<'a> Sections<'a> {
                     title: format!("{} ({name})", d(k)),
                     x_label: format!("{} (deg)", d(k)),
                     edges: h.edges().iter().map(|v| rad_to_deg(*v)).collect(),
-                    counts: h.counts.clone(),
+                    counts: h.counts().to_vec(),
                     limits,
                 }
             })
@@ -1177,7 +1177,7 @@ impl<'a> Sections<'a> {
         let svg = figures::histogram_figure(
             &format!(
                 "Orientation error of {} random turntables of the {name} box",
-                r.samples
+                r.samples()
             ),
             &panels,
             "draws per bin",
@@ -1214,7 +1214,7 @@ impl<'a> Sections<'a> {
                 "direct" => "direct (against every accuracy)".to_string(),
                 "yield-based" => format!(
                     "yield-based ({}% of turntables)",
-                    num(100.0 * r.yield_based.target)
+                    num(100.0 * r.yield_based.target())
                 ),
                 other => other.to_string(),
             };
@@ -1409,7 +1409,7 @@ impl<'a> Sections<'a> {
         let group_bounds: Vec<(&str, &[f64])> = labels
             .iter()
             .zip(&readings)
-            .map(|(l, r)| (l.as_str(), r.direct.upper_bounds_rad.as_slice()))
+            .map(|(l, r)| (l.as_str(), r.direct.upper_bounds_rad()))
             .collect();
         group_list(&mut self.doc, &c.study.turntable, &group_bounds);
 
@@ -1757,29 +1757,29 @@ impl<'a> Sections<'a> {
                 .map_or(String::new(), |n| format!(" ({})", doc::text(n)))
         ));
         let mut rows = Vec::new();
-        for o in &chk.outputs {
-            let (n, u, _) = &outs[o.output];
+        for o in chk.outputs() {
+            let (n, u, _) = &outs[o.output()];
             let dominant: Vec<String> = o
                 .dominant(3)
                 .iter()
                 .map(|k| {
                     format!(
                         "`{}` {}",
-                        crate::groups::contribution_name(&c.study.turntable, &k.group),
-                        pct(k.worst_share)
+                        crate::groups::contribution_name(&c.study.turntable, k.group()),
+                        pct(k.worst_share())
                     )
                 })
                 .collect();
             rows.push(vec![
                 format!("`{n}`"),
-                format!("{} {u}", num(o.accuracy)),
-                format!("{} {u}", sig(o.worst_case.exact_at_vertex, 5)),
-                o.worst_case
+                format!("{} {u}", num(o.accuracy())),
+                format!("{} {u}", sig(o.worst_case().exact_at_vertex, 5)),
+                o.worst_case()
                     .certified_bound()
                     .map_or("-".into(), |v| sig(v, 5)),
-                pct(chk.distribution.meeting_per_output[o.output] as f64
-                    / chk.distribution.samples as f64),
-                match o.verdict {
+                pct(chk.distribution().meeting_per_output()[o.output()] as f64
+                    / chk.distribution().samples() as f64),
+                match o.verdict() {
                     Verdict::Guaranteed => "**yes** (proven)".into(),
                     Verdict::Likely => "likely (not proven)".into(),
                     Verdict::Fails => "**no**".into(),
@@ -1800,10 +1800,10 @@ impl<'a> Sections<'a> {
             rows,
         );
         let zeroed: Vec<usize> = chk
-            .outputs
+            .outputs()
             .iter()
-            .filter(|o| o.worst_case.exact_at_vertex == 0.0)
-            .map(|o| o.output)
+            .filter(|o| o.worst_case().exact_at_vertex == 0.0)
+            .map(|o| o.output())
             .collect();
         self.precision_note(&zeroed);
         self.doc
@@ -2199,28 +2199,28 @@ impl<'a> Sections<'a> {
         let outs = self.outputs();
         let t = &self.c.study.turntable;
         let per: Vec<String> = chk
-            .outputs
+            .outputs()
             .iter()
             .map(|o| {
-                let (n, u, _) = &outs[o.output];
+                let (n, u, _) = &outs[o.output()];
                 let top = o
-                    .contributions
+                    .contributions()
                     .iter()
-                    .filter(|k| k.worst_share > 0.0)
-                    .max_by(|a, b| a.worst_share.total_cmp(&b.worst_share));
+                    .filter(|k| k.worst_share() > 0.0)
+                    .max_by(|a, b| a.worst_share().total_cmp(&b.worst_share()));
                 format!(
                     "`{n}` {} {u} against {} {u} ({}{})",
-                    sig(o.worst_case.exact_at_vertex, 4),
-                    num(o.accuracy),
-                    match o.verdict {
+                    sig(o.worst_case().exact_at_vertex, 4),
+                    num(o.accuracy()),
+                    match o.verdict() {
                         Verdict::Guaranteed => "**yes**, proven",
                         Verdict::Likely => "likely, not proven",
                         Verdict::Fails => "**no**",
                     },
                     top.map_or(String::new(), |k| format!(
                         "; dominant `{}` {}",
-                        crate::groups::contribution_name(t, &k.group),
-                        pct(k.worst_share)
+                        crate::groups::contribution_name(t, k.group()),
+                        pct(k.worst_share())
                     ))
                 )
             })
@@ -2244,7 +2244,9 @@ impl<'a> Sections<'a> {
         ));
         let req = |r: &Result<OrientationRequirement, CalibError>| match r {
             Ok(q) => (0..3)
-                .map(|k| q.requirement.to_array()[k].map_or("none".into(), |v| num(rad_to_deg(v))))
+                .map(|k| {
+                    q.requirement().to_array()[k].map_or("none".into(), |v| num(rad_to_deg(v)))
+                })
                 .collect::<Vec<_>>()
                 .join(" / "),
             Err(e) => format!("none ({e})"),

@@ -489,7 +489,7 @@ pub(super) fn results_json(
                 .computed
                 .as_ref()
                 .ok()
-                .map(|r| deg3(&r.requirement.to_array())),
+                .map(|r| deg3(&r.requirement().to_array())),
             computed_note: c
                 .requirement
                 .computed
@@ -500,7 +500,7 @@ pub(super) fn results_json(
                 .requirement
                 .computed
                 .as_ref()
-                .map(|r| r.unconstrained_outputs.clone())
+                .map(|r| r.unconstrained_outputs().to_vec())
                 .unwrap_or_default(),
             disagreement: c.requirement.disagreement.as_deref(),
             readings: c
@@ -508,7 +508,7 @@ pub(super) fn results_json(
                 .iter()
                 .map(|(r, q)| ReadingRequirementJson {
                     reading: r.to_string(),
-                    requirement_deg: q.as_ref().ok().map(|q| deg3(&q.requirement.to_array())),
+                    requirement_deg: q.as_ref().ok().map(|q| deg3(&q.requirement().to_array())),
                     note: q.as_ref().err().map(ToString::to_string),
                 })
                 .collect(),
@@ -537,31 +537,31 @@ pub(super) fn results_json(
             .collect(),
         two_step: c.two_step.as_ref().map(|t| TwoStepJson {
             requirement_deg: deg3(&t.problem.requirement().to_array()),
-            bounds_arcmin: arcmin_map(&names, &t.ours.upper_bounds_rad),
+            bounds_arcmin: arcmin_map(&names, t.ours.upper_bounds_rad()),
             objective_arcmin: f(t.ours.objective_arcmin()),
             certificate: t
                 .ours
-                .certificate
-                .axes
+                .certificate()
+                .axes()
                 .iter()
                 .map(|a| CertificateJson {
-                    angle: &a.name,
-                    worst_case_deg: f(rad_to_deg(a.worst_case_rad)),
-                    proven_bound_deg: f(rad_to_deg(a.upper_bound_rad)),
-                    share: a.share.map(f),
-                    lemma1: a.satisfied,
+                    angle: a.name(),
+                    worst_case_deg: f(rad_to_deg(a.worst_case_rad())),
+                    proven_bound_deg: f(rad_to_deg(a.upper_bound_rad())),
+                    share: a.share().map(f),
+                    lemma1: a.satisfied(),
                 })
                 .collect(),
-            exact_chain_excess_rad: t.exact.iter().map(|e| e.excess_rad.map(f)).collect(),
+            exact_chain_excess_rad: t.exact.iter().map(|e| e.excess_rad().map(f)).collect(),
             monte_carlo: TwoStepMonteCarloJson {
-                samples: t.result.samples,
+                samples: t.result.samples(),
                 max_abs_deg: t.result.max_abs_rad().map(|v| f(rad_to_deg(v))),
                 proven_bound_deg: t.monte_carlo.half_range_rad().map(|v| f(rad_to_deg(v))),
                 within_requirement_fraction: f(t.result.within_requirement_fraction()),
             },
         }),
         equal_effects: c.equal.as_ref().map(|e| EqualEffectsJson {
-            bounds_arcmin: arcmin_map(&names, &e.upper_bounds_rad),
+            bounds_arcmin: arcmin_map(&names, e.upper_bounds_rad()),
             objective_arcmin: f(e.objective_arcmin()),
         }),
         noise: c.noise.as_ref().map(|n| {
@@ -608,34 +608,34 @@ pub(super) fn results_json(
                 reading: r.reading.to_string(),
                 boxes: r.boxes.iter().map(boxj).collect(),
                 direct: boxj(&r.direct_box),
-                unconstrained: r.direct.unconstrained.iter().map(|&j| names[j]).collect(),
+                unconstrained: r.direct.unconstrained().iter().map(|&j| names[j]).collect(),
                 no_bound_needed: r.direct.no_bound_needed(),
                 yield_based: boxj(&r.yield_box),
-                yield_target: f(r.yield_based.target),
+                yield_target: f(r.yield_based.target()),
                 yield_verdict: r.yield_verdict().name(),
                 direct_certified: r
                     .direct_certified
                     .as_ref()
                     .map(|(dc, _)| DirectCertifiedJson {
                         objective_arcmin: f(dc.objective_arcmin()),
-                        bounds_arcmin: arcmin_map(&names, &dc.upper_bounds_rad),
+                        bounds_arcmin: arcmin_map(&names, dc.upper_bounds_rad()),
                     }),
                 direct_certified_note: r.direct_certified_note.as_deref(),
             })
             .collect(),
         vendor: c.vendor.as_ref().map(|(tol, chk)| VendorJson {
             tolerances: &tol.path,
-            verdict: chk.verdict.name(),
-            yield_fraction: f(chk.distribution.yield_fraction()),
+            verdict: chk.verdict().name(),
+            yield_fraction: f(chk.distribution().yield_fraction()),
             outputs: chk
-                .outputs
+                .outputs()
                 .iter()
                 .map(|o| VendorOutputJson {
-                    output: outs[o.output],
-                    verdict: o.verdict.name(),
-                    worst_case: f(o.worst_case.exact_at_vertex),
-                    accuracy: f(o.accuracy),
-                    precision: f(o.worst_case.precision),
+                    output: outs[o.output()],
+                    verdict: o.verdict().name(),
+                    worst_case: f(o.worst_case().exact_at_vertex),
+                    accuracy: f(o.accuracy()),
+                    precision: f(o.worst_case().precision),
                 })
                 .collect(),
             rate_steps: c
@@ -654,7 +654,7 @@ pub(super) fn results_json(
                         .requirement
                         .as_ref()
                         .ok()
-                        .map(|r| deg3(&r.requirement.to_array())),
+                        .map(|r| deg3(&r.requirement().to_array())),
                 })
                 .collect()
         }),
