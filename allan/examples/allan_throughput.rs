@@ -59,8 +59,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "streamed {long} samples (generated on the fly) in {secs:.2} s ({:.3e}/s), {} cluster times, N = {:.6e} per sqrt(Hz) (0.01 expected), peak RSS {} KiB",
         long as f64 / secs,
-        r.points.len(),
-        r.fit.white_noise,
+        r.points().len(),
+        r.fit().white_noise(),
         peak_rss_kib().map_or("?".into(), |k| k.to_string())
     );
     // in memory: 2^22 samples, three interleaved rounds

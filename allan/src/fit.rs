@@ -49,15 +49,39 @@ pub const EXPONENTS: [i32; 5] = [-2, -1, 0, 1, 2];
 
 /// The least-squares fit of the power terms.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct PowerFit {
     /// $C_n$ for $n = -2 \dots 2$ ([`EXPONENTS`]), log unit$^2$ s$^{-n}$; zero when a term is
     /// not in the fitted subset.
-    pub coefficients: [f64; 5],
+    pub(crate) coefficients: [f64; 5],
     /// Conservative standard uncertainty of each $C_n$ (0 for a term not fitted).
-    pub uncertainty: [f64; 5],
+    pub(crate) uncertainty: [f64; 5],
     /// Per point $i$: $\partial C_n / \partial \hat\sigma_i^2$ times the standard deviation
     /// of $\hat\sigma_i^2$ (the linear estimator on standardized points).
-    pub sensitivity: Vec<[f64; 5]>,
+    pub(crate) sensitivity: Vec<[f64; 5]>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl PowerFit {
+    /// $C_n$ for $n = -2 \dots 2$ ([`EXPONENTS`]), log unit$^2$ s$^{-n}$; zero when a term is
+    /// not in the fitted subset.
+    #[must_use]
+    pub fn coefficients(&self) -> [f64; 5] {
+        self.coefficients
+    }
+
+    /// Conservative standard uncertainty of each $C_n$ (0 for a term not fitted).
+    #[must_use]
+    pub fn uncertainty(&self) -> [f64; 5] {
+        self.uncertainty
+    }
+
+    /// Per point $i$: $\partial C_n / \partial \hat\sigma_i^2$ times the standard deviation
+    /// of $\hat\sigma_i^2$ (the linear estimator on standardized points).
+    #[must_use]
+    pub fn sensitivity(&self) -> &[[f64; 5]] {
+        &self.sensitivity
+    }
 }
 
 impl PowerFit {

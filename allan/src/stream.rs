@@ -116,79 +116,259 @@ impl Settings {
 /// One cluster time of the curve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct AllanPoint {
     /// Cluster size $m$, samples.
-    pub cluster: u64,
+    pub(crate) cluster: u64,
     /// Cluster time $\tau = m / f_s$, s.
-    pub tau_s: f64,
+    pub(crate) tau_s: f64,
     /// Overlapping Allan deviation, log unit.
-    pub adev: f64,
+    pub(crate) adev: f64,
     /// Lower end of the confidence band, log unit.
-    pub lower: f64,
+    pub(crate) lower: f64,
     /// Upper end of the confidence band, log unit.
-    pub upper: f64,
+    pub(crate) upper: f64,
     /// Equivalent degrees of freedom of the estimate.
-    pub edf: f64,
+    pub(crate) edf: f64,
     /// Number of second differences averaged ($M$).
-    pub terms: u64,
+    pub(crate) terms: u64,
     /// Samples between evaluations $s$ (1: fully overlapping).
-    pub stride: u64,
+    pub(crate) stride: u64,
     /// Noise type the degrees of freedom assume.
-    pub noise: PowerLaw,
+    pub(crate) noise: PowerLaw,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl AllanPoint {
+    /// Cluster size $m$, samples.
+    #[must_use]
+    pub fn cluster(&self) -> u64 {
+        self.cluster
+    }
+
+    /// Cluster time $\tau = m / f_s$, s.
+    #[must_use]
+    pub fn tau_s(&self) -> f64 {
+        self.tau_s
+    }
+
+    /// Overlapping Allan deviation, log unit.
+    #[must_use]
+    pub fn adev(&self) -> f64 {
+        self.adev
+    }
+
+    /// Lower end of the confidence band, log unit.
+    #[must_use]
+    pub fn lower(&self) -> f64 {
+        self.lower
+    }
+
+    /// Upper end of the confidence band, log unit.
+    #[must_use]
+    pub fn upper(&self) -> f64 {
+        self.upper
+    }
+
+    /// Equivalent degrees of freedom of the estimate.
+    #[must_use]
+    pub fn edf(&self) -> f64 {
+        self.edf
+    }
+
+    /// Number of second differences averaged ($M$).
+    #[must_use]
+    pub fn terms(&self) -> u64 {
+        self.terms
+    }
+
+    /// Samples between evaluations $s$ (1: fully overlapping).
+    #[must_use]
+    pub fn stride(&self) -> u64 {
+        self.stride
+    }
+
+    /// Noise type the degrees of freedom assume.
+    #[must_use]
+    pub fn noise(&self) -> PowerLaw {
+        self.noise
+    }
 }
 
 /// The noise parameters read from the curve (see [`crate::fit`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct NoiseFit {
     /// White noise density $N$, log unit $/\sqrt{\mathrm{Hz}}$ (log unit $\cdot\sqrt{\mathrm s}$):
     /// the Allan deviation of the white part at $\tau = 1$ s (0 when the fit has no white
     /// term).
-    pub white_noise: f64,
+    pub(crate) white_noise: f64,
     /// Conservative standard uncertainty of `white_noise`, same unit (`None` when 0).
-    pub white_noise_uncertainty: Option<f64>,
+    pub(crate) white_noise_uncertainty: Option<f64>,
     /// Bias instability $B$: the floor (minimum) of the fitted Allan deviation at the
     /// measured cluster times divided by [`FLICKER_FLOOR_FACTOR`], log unit.
-    pub bias_instability: f64,
+    pub(crate) bias_instability: f64,
     /// Conservative standard uncertainty of `bias_instability`, log unit (`None` when 0).
-    pub bias_instability_uncertainty: Option<f64>,
+    pub(crate) bias_instability_uncertainty: Option<f64>,
     /// The measured Allan deviation at the floor's cluster time, log unit.
-    pub floor_adev_measured: f64,
+    pub(crate) floor_adev_measured: f64,
     /// Cluster time of the floor, s: a heuristic correlation time for a first-order
     /// Gauss-Markov bias model.
-    pub floor_tau_s: f64,
+    pub(crate) floor_tau_s: f64,
     /// Whether the curve turns: false when the floor is the longest cluster time, so that
     /// `bias_instability` is an upper bound.
-    pub floor_reached: bool,
+    pub(crate) floor_reached: bool,
     /// Rate random walk $K$, log unit $\cdot\sqrt{\mathrm{Hz}}$ (log unit / $\sqrt{\mathrm s}$),
     /// when the fit has a $+1/2$ term.
-    pub rate_random_walk: Option<f64>,
+    pub(crate) rate_random_walk: Option<f64>,
     /// Conservative standard uncertainty of `rate_random_walk`.
-    pub rate_random_walk_uncertainty: Option<f64>,
+    pub(crate) rate_random_walk_uncertainty: Option<f64>,
     /// Quantization $Q$, log unit $\cdot$ s, when the fit has a $-1$ term.
-    pub quantization: Option<f64>,
+    pub(crate) quantization: Option<f64>,
     /// Rate ramp $R$, log unit / s, when the fit has a $+1$ term.
-    pub rate_ramp: Option<f64>,
+    pub(crate) rate_ramp: Option<f64>,
     /// The fitted power terms $C_n$, $n = -2 \dots 2$ (log unit$^2$ s$^{-n}$).
-    pub coefficients: [f64; 5],
+    pub(crate) coefficients: [f64; 5],
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl NoiseFit {
+    /// White noise density $N$, log unit $/\sqrt{\mathrm{Hz}}$ (log unit $\cdot\sqrt{\mathrm s}$):
+    /// the Allan deviation of the white part at $\tau = 1$ s (0 when the fit has no white
+    /// term).
+    #[must_use]
+    pub fn white_noise(&self) -> f64 {
+        self.white_noise
+    }
+
+    /// Conservative standard uncertainty of `white_noise`, same unit (`None` when 0).
+    #[must_use]
+    pub fn white_noise_uncertainty(&self) -> Option<f64> {
+        self.white_noise_uncertainty
+    }
+
+    /// Bias instability $B$: the floor (minimum) of the fitted Allan deviation at the
+    /// measured cluster times divided by [`FLICKER_FLOOR_FACTOR`], log unit.
+    #[must_use]
+    pub fn bias_instability(&self) -> f64 {
+        self.bias_instability
+    }
+
+    /// Conservative standard uncertainty of `bias_instability`, log unit (`None` when 0).
+    #[must_use]
+    pub fn bias_instability_uncertainty(&self) -> Option<f64> {
+        self.bias_instability_uncertainty
+    }
+
+    /// The measured Allan deviation at the floor's cluster time, log unit.
+    #[must_use]
+    pub fn floor_adev_measured(&self) -> f64 {
+        self.floor_adev_measured
+    }
+
+    /// Cluster time of the floor, s: a heuristic correlation time for a first-order
+    /// Gauss-Markov bias model.
+    #[must_use]
+    pub fn floor_tau_s(&self) -> f64 {
+        self.floor_tau_s
+    }
+
+    /// Whether the curve turns: false when the floor is the longest cluster time, so that
+    /// `bias_instability` is an upper bound.
+    #[must_use]
+    pub fn floor_reached(&self) -> bool {
+        self.floor_reached
+    }
+
+    /// Rate random walk $K$, log unit $\cdot\sqrt{\mathrm{Hz}}$ (log unit / $\sqrt{\mathrm s}$),
+    /// when the fit has a $+1/2$ term.
+    #[must_use]
+    pub fn rate_random_walk(&self) -> Option<f64> {
+        self.rate_random_walk
+    }
+
+    /// Conservative standard uncertainty of `rate_random_walk`.
+    #[must_use]
+    pub fn rate_random_walk_uncertainty(&self) -> Option<f64> {
+        self.rate_random_walk_uncertainty
+    }
+
+    /// Quantization $Q$, log unit $\cdot$ s, when the fit has a $-1$ term.
+    #[must_use]
+    pub fn quantization(&self) -> Option<f64> {
+        self.quantization
+    }
+
+    /// Rate ramp $R$, log unit / s, when the fit has a $+1$ term.
+    #[must_use]
+    pub fn rate_ramp(&self) -> Option<f64> {
+        self.rate_ramp
+    }
+
+    /// The fitted power terms $C_n$, $n = -2 \dots 2$ (log unit$^2$ s$^{-n}$).
+    #[must_use]
+    pub fn coefficients(&self) -> [f64; 5] {
+        self.coefficients
+    }
 }
 
 /// The result of an analysis.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct Analysis {
     /// Samples analysed.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Sample rate, Hz.
-    pub rate_hz: f64,
+    pub(crate) rate_hz: f64,
     /// Confidence of the bands.
-    pub confidence: f64,
+    pub(crate) confidence: f64,
     /// The overlap factor $R$ (clusters longer than $R$ samples are evaluated every $m/R$).
-    pub overlap: u64,
+    pub(crate) overlap: u64,
     /// The curve, by increasing cluster time ($m = 1, 2, 4, \dots$, $3m \le N$).
-    pub points: Vec<AllanPoint>,
+    pub(crate) points: Vec<AllanPoint>,
     /// The fitted noise parameters.
-    pub fit: NoiseFit,
+    pub(crate) fit: NoiseFit,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Analysis {
+    /// Samples analysed.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Sample rate, Hz.
+    #[must_use]
+    pub fn rate_hz(&self) -> f64 {
+        self.rate_hz
+    }
+
+    /// Confidence of the bands.
+    #[must_use]
+    pub fn confidence(&self) -> f64 {
+        self.confidence
+    }
+
+    /// The overlap factor $R$ (clusters longer than $R$ samples are evaluated every $m/R$).
+    #[must_use]
+    pub fn overlap(&self) -> u64 {
+        self.overlap
+    }
+
+    /// The curve, by increasing cluster time ($m = 1, 2, 4, \dots$, $3m \le N$).
+    #[must_use]
+    pub fn points(&self) -> &[AllanPoint] {
+        &self.points
+    }
+
+    /// The fitted noise parameters.
+    #[must_use]
+    pub fn fit(&self) -> NoiseFit {
+        self.fit
+    }
 }
 
 /// A level of decimated evaluation: phase samples every `stride` samples in a ring.
@@ -209,7 +389,7 @@ struct Ring {
 /// }
 /// let r = a.analyse()?;
 /// // alternating samples: every second difference at m = 1 is +-0.2
-/// assert!((r.points[0].adev - (0.04f64 / 2.0).sqrt()).abs() < 1e-12);
+/// assert!((r.points()[0].adev() - (0.04f64 / 2.0).sqrt()).abs() < 1e-12);
 /// # Ok::<(), allan::AllanError>(())
 /// ```
 #[derive(Debug, Clone)]

@@ -26,22 +26,22 @@ fn coverage(settings: Settings, samples: u64) -> Vec<(u64, f64, u64)> {
         let y = recipe.collect(samples, 1000 + seed);
         let r = allan::analyse(&y, settings).unwrap();
         if hits.is_empty() {
-            hits = vec![0; r.points.len()];
+            hits = vec![0; r.points().len()];
             first = Some(r.clone());
         }
-        for (h, p) in hits.iter_mut().zip(&r.points) {
-            let truth = recipe.avar(p.cluster).sqrt();
-            if p.lower <= truth && truth <= p.upper {
+        for (h, p) in hits.iter_mut().zip(r.points()) {
+            let truth = recipe.avar(p.cluster()).sqrt();
+            if p.lower() <= truth && truth <= p.upper() {
                 *h += 1;
             }
         }
     }
     let first = first.unwrap();
     first
-        .points
+        .points()
         .iter()
         .zip(hits)
-        .map(|(p, h)| (p.cluster, p.edf, h))
+        .map(|(p, h)| (p.cluster(), p.edf(), h))
         .collect()
 }
 
@@ -121,15 +121,15 @@ fn predicted_degrees_of_freedom_match_the_scatter_of_the_estimate() {
             let y = recipe.collect(samples, 50_000 + seed);
             let r = allan::analyse(&y, settings).unwrap();
             if sums.is_empty() {
-                sums = vec![(0.0, 0.0); r.points.len()];
+                sums = vec![(0.0, 0.0); r.points().len()];
                 edfs = r
-                    .points
+                    .points()
                     .iter()
-                    .map(|p| (p.cluster, p.stride, p.edf))
+                    .map(|p| (p.cluster(), p.stride(), p.edf()))
                     .collect();
             }
-            for (s, p) in sums.iter_mut().zip(&r.points) {
-                let v = p.adev * p.adev;
+            for (s, p) in sums.iter_mut().zip(r.points()) {
+                let v = p.adev() * p.adev();
                 s.0 += v;
                 s.1 += v * v;
             }

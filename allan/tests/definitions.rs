@@ -33,8 +33,8 @@ fn analyse(
     let mut a = StreamingAllan::new(settings).unwrap();
     recipe.generate(samples, seed, |y| a.push(y).unwrap());
     let r = a.analyse().unwrap();
-    assert_eq!(r.samples, samples);
-    assert!((r.rate_hz - rate_hz).abs() == 0.0);
+    assert_eq!(r.samples(), samples);
+    assert!((r.rate_hz() - rate_hz).abs() == 0.0);
     r
 }
 
@@ -50,30 +50,32 @@ fn white_noise_adev_is_n_over_sqrt_tau_ieee952_eq_c4() {
         .confidence(WIDE_CONFIDENCE)
         .noise(NoiseModel::Fixed(PowerLaw::White));
     let r = analyse(&recipe, 1 << 18, rate, 11, settings);
-    assert!(r.points.len() >= 15, "{} points", r.points.len());
-    for p in &r.points {
-        let exact = n_true / p.tau_s.sqrt();
+    assert!(r.points().len() >= 15, "{} points", r.points().len());
+    for p in r.points() {
+        let exact = n_true / p.tau_s().sqrt();
         assert!(
-            p.lower <= exact && exact <= p.upper,
+            p.lower() <= exact && exact <= p.upper(),
             "tau {} s: N/sqrt(tau) = {exact} outside [{}, {}]",
-            p.tau_s,
-            p.lower,
-            p.upper
+            p.tau_s(),
+            p.lower(),
+            p.upper()
         );
     }
-    let fit = r.fit;
-    let u = fit.white_noise_uncertainty.expect("white noise is fitted");
+    let fit = r.fit();
+    let u = fit
+        .white_noise_uncertainty()
+        .expect("white noise is fitted");
     assert!(u < MAX_RELATIVE_UNCERTAINTY * n_true, "uncertainty {u}");
     assert!(
-        (fit.white_noise - n_true).abs() <= SIGMAS * u,
+        (fit.white_noise() - n_true).abs() <= SIGMAS * u,
         "N = {} +- {u}, known {n_true}",
-        fit.white_noise
+        fit.white_noise()
     );
     // the curve only falls: no floor, B is an upper bound at the longest cluster time
-    assert!(!fit.floor_reached);
+    assert!(!fit.floor_reached());
     assert_eq!(
-        fit.floor_tau_s.to_bits(),
-        r.points.last().unwrap().tau_s.to_bits()
+        fit.floor_tau_s().to_bits(),
+        r.points().last().unwrap().tau_s().to_bits()
     );
 }
 
@@ -96,49 +98,49 @@ fn rate_random_walk_and_white_noise_recovered_ieee952_eq_c12() {
         Settings::new(rate).confidence(WIDE_CONFIDENCE),
     );
     // the exact curve of this discrete process inside every (wide) band
-    for p in &r.points {
-        let exact = recipe.avar(p.cluster).sqrt();
+    for p in r.points() {
+        let exact = recipe.avar(p.cluster()).sqrt();
         assert!(
-            p.lower <= exact && exact <= p.upper,
+            p.lower() <= exact && exact <= p.upper(),
             "tau {}: exact {exact} outside [{}, {}] ({})",
-            p.tau_s,
-            p.lower,
-            p.upper,
-            p.noise
+            p.tau_s(),
+            p.lower(),
+            p.upper(),
+            p.noise()
         );
     }
-    let fit = r.fit;
-    let un = fit.white_noise_uncertainty.unwrap();
-    let k = fit.rate_random_walk.expect("a +1/2 slope is fitted");
-    let uk = fit.rate_random_walk_uncertainty.unwrap();
+    let fit = r.fit();
+    let un = fit.white_noise_uncertainty().unwrap();
+    let k = fit.rate_random_walk().expect("a +1/2 slope is fitted");
+    let uk = fit.rate_random_walk_uncertainty().unwrap();
     assert!(
         un < MAX_RELATIVE_UNCERTAINTY * n_true && uk < 2.0 * MAX_RELATIVE_UNCERTAINTY * k_true,
         "N {} +- {un}, K {k} +- {uk}",
-        fit.white_noise
+        fit.white_noise()
     );
     assert!(
-        (fit.white_noise - n_true).abs() <= SIGMAS * un,
+        (fit.white_noise() - n_true).abs() <= SIGMAS * un,
         "N {} +- {un} vs {n_true}",
-        fit.white_noise
+        fit.white_noise()
     );
     assert!(
         (k - k_true).abs() <= SIGMAS * uk,
         "K {k} +- {uk} vs {k_true}"
     );
     let bend = (2.0 * n_true * k_true / 3f64.sqrt()).sqrt();
-    let ub = fit.bias_instability_uncertainty.unwrap();
+    let ub = fit.bias_instability_uncertainty().unwrap();
     assert!(
-        (fit.bias_instability - bend / FLICKER_FLOOR_FACTOR).abs() <= SIGMAS * ub,
+        (fit.bias_instability() - bend / FLICKER_FLOOR_FACTOR).abs() <= SIGMAS * ub,
         "B {} +- {ub} vs bend {}",
-        fit.bias_instability,
+        fit.bias_instability(),
         bend / FLICKER_FLOOR_FACTOR
     );
-    assert!(fit.floor_reached);
+    assert!(fit.floor_reached());
     let tau_bend = 3f64.sqrt() * n_true / k_true;
     assert!(
-        fit.floor_tau_s > tau_bend / 2.5 && fit.floor_tau_s < tau_bend * 2.5,
+        fit.floor_tau_s() > tau_bend / 2.5 && fit.floor_tau_s() < tau_bend * 2.5,
         "floor at {} s, bend at {tau_bend} s",
-        fit.floor_tau_s
+        fit.floor_tau_s()
     );
 }
 
@@ -186,29 +188,29 @@ fn flicker_floor_is_0664_b_ieee952_eq_c9() {
         13,
         Settings::new(rate).confidence(WIDE_CONFIDENCE),
     );
-    for p in &r.points {
-        let exact = recipe.avar(p.cluster).sqrt();
+    for p in r.points() {
+        let exact = recipe.avar(p.cluster()).sqrt();
         assert!(
-            p.lower <= exact && exact <= p.upper,
+            p.lower() <= exact && exact <= p.upper(),
             "tau {}: {exact} outside [{}, {}]",
-            p.tau_s,
-            p.lower,
-            p.upper
+            p.tau_s(),
+            p.lower(),
+            p.upper()
         );
     }
-    let fit = r.fit;
-    let ub = fit.bias_instability_uncertainty.unwrap();
+    let fit = r.fit();
+    let ub = fit.bias_instability_uncertainty().unwrap();
     assert!(ub < MAX_RELATIVE_UNCERTAINTY * b, "uncertainty {ub}");
     assert!(
-        (fit.bias_instability - b).abs() <= SIGMAS * ub + FLICKER_RIPPLE * b,
+        (fit.bias_instability() - b).abs() <= SIGMAS * ub + FLICKER_RIPPLE * b,
         "B {} +- {ub} vs {b}",
-        fit.bias_instability
+        fit.bias_instability()
     );
     let n_true = sigma / f64::sqrt(rate);
-    let un = fit.white_noise_uncertainty.unwrap();
+    let un = fit.white_noise_uncertainty().unwrap();
     assert!(
-        (fit.white_noise - n_true).abs() <= SIGMAS * un,
+        (fit.white_noise() - n_true).abs() <= SIGMAS * un,
         "N {} +- {un} vs {n_true}",
-        fit.white_noise
+        fit.white_noise()
     );
 }

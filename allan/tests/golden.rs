@@ -88,14 +88,14 @@ fn check_log(y: &[f64], first: &[f64], rate: f64, oadev: &[f64], strided: &[f64]
         );
     }
     let full = allan::analyse(y, Settings::new(rate).overlap(1 << 16)).unwrap();
-    assert_eq!(full.points.len(), oadev.len());
-    for (p, g) in full.points.iter().zip(oadev) {
-        assert_relative_eq!(p.adev, *g, max_relative = ADEV_AGREEMENT);
+    assert_eq!(full.points().len(), oadev.len());
+    for (p, g) in full.points().iter().zip(oadev) {
+        assert_relative_eq!(p.adev(), *g, max_relative = ADEV_AGREEMENT);
     }
     let dec = allan::analyse(y, Settings::new(rate).overlap(16)).unwrap();
-    for (p, g) in dec.points.iter().zip(strided) {
-        assert_eq!(p.stride, (p.cluster / 16).max(1));
-        assert_relative_eq!(p.adev, *g, max_relative = ADEV_AGREEMENT);
+    for (p, g) in dec.points().iter().zip(strided) {
+        assert_eq!(p.stride(), (p.cluster() / 16).max(1));
+        assert_relative_eq!(p.adev(), *g, max_relative = ADEV_AGREEMENT);
     }
 }
 
@@ -176,11 +176,11 @@ fn confidence_intervals_match_allantools() {
         Settings::new(1.0).noise(NoiseModel::Fixed(PowerLaw::White)),
     )
     .unwrap();
-    for p in &r.points {
-        let (l, h) = allan::chi2::interval(p.adev, p.edf, allan::chi2::ONE_SIGMA);
+    for p in r.points() {
+        let (l, h) = allan::chi2::interval(p.adev(), p.edf(), allan::chi2::ONE_SIGMA);
         assert_eq!(
             (l.to_bits(), h.to_bits()),
-            (p.lower.to_bits(), p.upper.to_bits())
+            (p.lower().to_bits(), p.upper().to_bits())
         );
     }
 }

@@ -45,14 +45,14 @@ fn streaming_equals_direct_overlapping_adev_to_rounding() {
     let settings = Settings::new(rate).overlap(1 << 16);
     let r = allan::analyse(&y, settings).unwrap();
     let expected_levels = (0..).take_while(|k| 3 * (1usize << k) <= y.len()).count();
-    assert_eq!(r.points.len(), expected_levels);
-    assert_eq!(r.points[0].cluster, 1);
-    for p in &r.points {
-        assert_eq!(p.stride, 1, "m = {} is fully overlapping", p.cluster);
-        assert_eq!(p.terms, y.len() as u64 - 2 * p.cluster + 1);
-        assert_relative_eq!(p.tau_s, p.cluster as f64 / rate, max_relative = 1e-15);
-        let direct = direct_oadev(&y, p.cluster as usize);
-        assert_relative_eq!(p.adev, direct, max_relative = ROUNDING);
+    assert_eq!(r.points().len(), expected_levels);
+    assert_eq!(r.points()[0].cluster(), 1);
+    for p in r.points() {
+        assert_eq!(p.stride(), 1, "m = {} is fully overlapping", p.cluster());
+        assert_eq!(p.terms(), y.len() as u64 - 2 * p.cluster() + 1);
+        assert_relative_eq!(p.tau_s(), p.cluster() as f64 / rate, max_relative = 1e-15);
+        let direct = direct_oadev(&y, p.cluster() as usize);
+        assert_relative_eq!(p.adev(), direct, max_relative = ROUNDING);
     }
 }
 
@@ -63,12 +63,12 @@ fn decimated_levels_equal_the_direct_strided_estimator() {
     let (_, y) = log();
     let r = allan::analyse(&y, Settings::new(1.0).overlap(8)).unwrap();
     let mut decimated = 0;
-    for p in &r.points {
-        let expected_stride = (p.cluster / 8).max(1);
-        assert_eq!(p.stride, expected_stride);
-        let direct = direct_strided(&y, p.cluster as usize, p.stride as usize);
-        assert_relative_eq!(p.adev, direct, max_relative = ROUNDING);
-        if p.stride > 1 {
+    for p in r.points() {
+        let expected_stride = (p.cluster() / 8).max(1);
+        assert_eq!(p.stride(), expected_stride);
+        let direct = direct_strided(&y, p.cluster() as usize, p.stride() as usize);
+        assert_relative_eq!(p.adev(), direct, max_relative = ROUNDING);
+        if p.stride() > 1 {
             decimated += 1;
         }
     }
@@ -106,14 +106,14 @@ fn analysing_part_way_then_continuing_loses_nothing() {
     let mut a = StreamingAllan::new(settings).unwrap();
     a.extend(&y[..33_333]).unwrap();
     let early = a.analyse().unwrap();
-    assert_eq!(early.samples, 33_333);
+    assert_eq!(early.samples(), 33_333);
     a.extend(&y[33_333..]).unwrap();
     let late = a.analyse().unwrap();
     let once = allan::analyse(&y, settings).unwrap();
-    assert_eq!(late.points.len(), once.points.len());
-    for (p, q) in late.points.iter().zip(&once.points) {
-        assert_eq!(p.terms, q.terms);
-        assert_relative_eq!(p.adev, q.adev, max_relative = ROUNDING);
+    assert_eq!(late.points().len(), once.points().len());
+    for (p, q) in late.points().iter().zip(once.points()) {
+        assert_eq!(p.terms(), q.terms());
+        assert_relative_eq!(p.adev(), q.adev(), max_relative = ROUNDING);
     }
 }
 
@@ -126,7 +126,7 @@ fn a_constant_offset_leaves_the_curve_unchanged() {
     let shifted: Vec<f64> = y.iter().map(|v| v + 1e4).collect();
     let a = allan::analyse(&y, Settings::new(1.0)).unwrap();
     let b = allan::analyse(&shifted, Settings::new(1.0)).unwrap();
-    for (p, q) in a.points.iter().zip(&b.points) {
-        assert_relative_eq!(p.adev, q.adev, max_relative = 1e-8);
+    for (p, q) in a.points().iter().zip(b.points()) {
+        assert_relative_eq!(p.adev(), q.adev(), max_relative = 1e-8);
     }
 }

@@ -65,8 +65,8 @@ fn main() -> Result<(), AllocError> {
     let safe = allocate_with_exact_margin(&SensitivityWeighted::paper(), &problem)?;
     println!(
         "exact-chain-safe allocation: margin {:.3e}, bounds (arcmin) {:.5?}",
-        safe.margin,
-        safe.allocation.upper_bounds_arcmin()
+        safe.margin(),
+        safe.allocation().upper_bounds_arcmin()
     );
     for s in ours.subproblems() {
         println!(

@@ -295,13 +295,35 @@ fn pose_grid(turntable: &Turntable) -> Vec<Vec<f64>> {
 /// An allocation whose exact-chain worst case (as found by [`exact_chain_check`]) is within
 /// the original requirement, with the relative safety margin that achieved it.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct ExactSafeAllocation {
     /// The allocation (its `requirement` is the shrunk one).
-    pub allocation: Allocation,
+    pub(crate) allocation: Allocation,
     /// The relative margin $m$: the allocation was made for $(1-m)I$.
-    pub margin: f64,
+    pub(crate) margin: f64,
     /// The exact-chain check against the original requirement.
-    pub check: [ExactAxisCheck; 3],
+    pub(crate) check: [ExactAxisCheck; 3],
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ExactSafeAllocation {
+    /// The allocation (its `requirement` is the shrunk one).
+    #[must_use]
+    pub fn allocation(&self) -> &Allocation {
+        &self.allocation
+    }
+
+    /// The relative margin $m$: the allocation was made for $(1-m)I$.
+    #[must_use]
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+
+    /// The exact-chain check against the original requirement.
+    #[must_use]
+    pub fn check(&self) -> &[ExactAxisCheck; 3] {
+        &self.check
+    }
 }
 
 /// Allocate, hunt the exact chain's excess, and shrink every requirement by the largest

@@ -9,23 +9,74 @@ use tt_kinematics::{LinearModel, OrientationAxis, Pose, WorstPose};
 /// The worst point of a weighted coefficient sum $\sum_j w_j\,|c_{kj}(p)|$ (or, for a
 /// method's own constraint family, the signed sum) over a model's domain.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct WorstRow {
     /// The largest value found (unit of the weights: rad for error bounds).
-    pub value: f64,
+    pub(crate) value: f64,
     /// A rigorous upper bound on the maximum (`value` when the search is exact).
-    pub upper_bound: f64,
+    pub(crate) upper_bound: f64,
     /// Whether `value` is the exact maximum.
-    pub exact: bool,
+    pub(crate) exact: bool,
     /// The maximiser's coordinates (for a turntable: every joint angle, rad).
-    pub point: Vec<f64>,
+    pub(crate) point: Vec<f64>,
     /// A scalar label of the maximiser (for a turntable: the angle of its last free joint).
-    pub tag: f64,
+    pub(crate) tag: f64,
     /// The coefficients at the maximiser, one per error ($|c_{kj}(p)|$ for the worst case;
     /// the method's own row for a constraint search): the cut of the exchange method.
-    pub row: Vec<f64>,
+    pub(crate) row: Vec<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl WorstRow {
+    /// Whether `value` is the exact maximum (else only `upper_bound` is rigorous).
+    #[must_use]
+    pub fn is_exact(&self) -> bool {
+        self.exact
+    }
 }
 
 impl WorstRow {
+    /// The largest value found (unit of the weights: rad for error bounds).
+    #[must_use]
+    pub fn value(&self) -> f64 {
+        self.value
+    }
+
+    /// A rigorous upper bound on the maximum (`value` when the search is exact).
+    #[must_use]
+    pub fn upper_bound(&self) -> f64 {
+        self.upper_bound
+    }
+
+    /// The maximiser's coordinates (for a turntable: every joint angle, rad).
+    #[must_use]
+    pub fn point(&self) -> &[f64] {
+        &self.point
+    }
+
+    /// A scalar label of the maximiser (for a turntable: the angle of its last free joint).
+    #[must_use]
+    pub fn tag(&self) -> f64 {
+        self.tag
+    }
+
+    /// The coefficients at the maximiser, one per error ($|c_{kj}(p)|$ for the worst case;
+    /// the method's own row for a constraint search): the cut of the exchange method.
+    #[must_use]
+    pub fn row(&self) -> &[f64] {
+        &self.row
+    }
+}
+
+impl WorstRow {
+    /// The same row with the scalar label `tag` (for a turntable: the angle of its last free
+    /// joint; a position index for a schedule's rows).
+    #[must_use]
+    pub fn with_tag(mut self, tag: f64) -> Self {
+        self.tag = tag;
+        self
+    }
+
     /// An exact maximum `value` at `point` with coefficient row `row` (tag 0).
     #[must_use]
     pub fn exact(value: f64, point: Vec<f64>, row: Vec<f64>) -> Self {
@@ -151,12 +202,12 @@ fn turntable_row(model: &LinearModel, k: usize, pose: &[f64], abs: bool) -> (Vec
 }
 
 fn to_row(model: &LinearModel, k: usize, wp: WorstPose, abs: bool) -> WorstRow {
-    let (row, tag) = turntable_row(model, k, &wp.pose_rad, abs);
+    let (row, tag) = turntable_row(model, k, wp.pose_rad(), abs);
     WorstRow {
-        value: wp.value,
-        upper_bound: wp.upper_bound,
-        exact: wp.exact,
-        point: wp.pose_rad,
+        value: wp.value(),
+        upper_bound: wp.upper_bound(),
+        exact: wp.exact(),
+        point: wp.pose_rad().to_vec(),
         tag,
         row,
     }

@@ -173,29 +173,91 @@ impl std::fmt::Debug for InverseSquareProblem<'_> {
 
 /// The optimum of an [`InverseSquareProblem`] and how it was reached.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct InverseSquareSolution {
     /// The optimal $x$ (feasible for the exact row family).
-    pub x: Vec<f64>,
+    pub(crate) x: Vec<f64>,
     /// $J(x) = \sum w_i^2/x_i^2$.
-    pub objective: f64,
+    pub(crate) objective: f64,
     /// The most loaded row at `x` (its `tag` labels the worst pose).
-    pub worst: Cut,
+    pub(crate) worst: Cut,
     /// Its load $\max_t a(t)^T x/b(t)$, in $[1 - 10^{-13}, 1]$ when the constraint is active.
-    pub load: f64,
+    pub(crate) load: f64,
     /// Sum of the conic solver's multipliers of the rows, in units of $J$ (for the
     /// dimensionless constraint $a^T x / b \le 1$): the KKT condition reads
     /// $2 w_i^2 / x_i^3 = \lambda\, a_i / b$ for a free component with one active row.
-    pub multiplier: f64,
+    pub(crate) multiplier: f64,
     /// Which components sit at their (positive) lower bound.
-    pub at_lower_bound: Vec<bool>,
+    pub(crate) at_lower_bound: Vec<bool>,
     /// Exchange iterations (conic solves).
-    pub iterations: usize,
+    pub(crate) iterations: usize,
     /// Rows in the last conic problem.
-    pub cuts: usize,
+    pub(crate) cuts: usize,
     /// Whether a KKT polish (one active row, or an active set of rows refined by the oracle)
     /// replaced the interior-point point (it is kept only when exact and not worse;
     /// otherwise the conic solution is returned).
-    pub polished: bool,
+    pub(crate) polished: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl InverseSquareSolution {
+    /// The optimal $x$ (feasible for the exact row family).
+    #[must_use]
+    pub fn x(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// $J(x) = \sum w_i^2/x_i^2$.
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
+
+    /// The most loaded row at `x` (its `tag` labels the worst pose).
+    #[must_use]
+    pub fn worst(&self) -> &Cut {
+        &self.worst
+    }
+
+    /// Its load $\max_t a(t)^T x/b(t)$, in $[1 - 10^{-13}, 1]$ when the constraint is active.
+    #[must_use]
+    pub fn load(&self) -> f64 {
+        self.load
+    }
+
+    /// Sum of the conic solver's multipliers of the rows, in units of $J$ (for the
+    /// dimensionless constraint $a^T x / b \le 1$): the KKT condition reads
+    /// $2 w_i^2 / x_i^3 = \lambda\, a_i / b$ for a free component with one active row.
+    #[must_use]
+    pub fn multiplier(&self) -> f64 {
+        self.multiplier
+    }
+
+    /// Which components sit at their (positive) lower bound.
+    #[must_use]
+    pub fn at_lower_bound(&self) -> &[bool] {
+        &self.at_lower_bound
+    }
+
+    /// Exchange iterations (conic solves).
+    #[must_use]
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// Rows in the last conic problem.
+    #[must_use]
+    pub fn cuts(&self) -> usize {
+        self.cuts
+    }
+
+    /// Whether a KKT polish (one active row, or an active set of rows refined by the oracle)
+    /// replaced the interior-point point (it is kept only when exact and not worse;
+    /// otherwise the conic solution is returned).
+    #[must_use]
+    pub fn polished(&self) -> bool {
+        self.polished
+    }
 }
 
 /// Solve an [`InverseSquareProblem`] to the optimum (see the module documentation).

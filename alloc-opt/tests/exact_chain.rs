@@ -58,13 +58,13 @@ fn exact_chain_exceeds_a_linear_tight_allocation_by_a_second_order_amount() {
 fn exact_margin_option_keeps_the_exact_chain_within_the_requirement() {
     let safe = allocate_with_exact_margin(&SensitivityWeighted::paper(), &paper_problem()).unwrap();
     assert!(
-        safe.margin > 0.0 && safe.margin < 1e-3,
+        safe.margin() > 0.0 && safe.margin() < 1e-3,
         "margin {}",
-        safe.margin
+        safe.margin()
     );
-    for c in &safe.check {
+    for c in safe.check() {
         let excess = c.excess_rad().unwrap();
         assert!(excess <= 0.0, "{:?}: {}", c.axis(), excess);
     }
-    assert!(safe.allocation.certificate().lemma1_holds());
+    assert!(safe.allocation().certificate().lemma1_holds());
 }

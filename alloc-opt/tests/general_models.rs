@@ -137,9 +137,9 @@ proptest! {
                 oracle: &oracle,
             }).unwrap();
             let ours = s.objective().unwrap();
-            prop_assert!(grid.objective <= ours * (1.0 + OBJECTIVE_REL));
-            prop_assert!(ours <= grid.objective * (1.0 + GRID_GAP_REL),
-                "exact {} grid {}", ours, grid.objective);
+            prop_assert!(grid.objective() <= ours * (1.0 + OBJECTIVE_REL));
+            prop_assert!(ours <= grid.objective() * (1.0 + GRID_GAP_REL),
+                "exact {} grid {}", ours, grid.objective());
         }
         let e = EqualEffects.allocate(&problem).unwrap();
         prop_assert!(e.certificate().lemma1_holds());
@@ -363,6 +363,6 @@ fn finite_row_set_matches_its_closed_form() {
     })
     .unwrap();
     let x = 1.0 / (1.0 + 4.0_f64.cbrt());
-    assert_relative_eq!(s.x[0], x, max_relative = OPTIMUM_REL);
-    assert_relative_eq!(s.x[1], 4.0_f64.cbrt() * x, max_relative = OPTIMUM_REL);
+    assert_relative_eq!(s.x()[0], x, max_relative = OPTIMUM_REL);
+    assert_relative_eq!(s.x()[1], 4.0_f64.cbrt() * x, max_relative = OPTIMUM_REL);
 }

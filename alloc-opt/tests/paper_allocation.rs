@@ -359,7 +359,7 @@ fn gamma_load(x: &[f64; 5]) -> f64 {
     paper_model()
         .max_signed_weighted(A::Gamma, &w, Some(&[[0.0, TAU], [0.0, FRAC_PI_2]]))
         .unwrap()
-        .value
+        .value()
         / deg_to_rad(paper::REQUIREMENT_DEG)
 }
 

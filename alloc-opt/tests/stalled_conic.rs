@@ -142,22 +142,22 @@ fn direct_allocations_that_stalled_the_conic_solver_are_solved_and_verified_opti
             oracle: &oracle,
         };
         let sol = solve_inverse_square(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let worst = f.rows.iter().map(|r| r.load(&sol.x)).fold(0.0, f64::max);
+        let worst = f.rows.iter().map(|r| r.load(sol.x())).fold(0.0, f64::max);
         assert!(
             worst <= 1.0 + LOAD_SLACK,
             "{name}: a row is loaded to {worst}"
         );
-        let bound = kkt_multipliers(&f, &sol.x)
+        let bound = kkt_multipliers(&f, sol.x())
             .iter()
             .map(|mu| dual_bound(&f, mu))
             .fold(0.0, f64::max);
         assert!(
-            sol.objective <= bound * (1.0 + OPTIMALITY_GAP_REL),
+            sol.objective() <= bound * (1.0 + OPTIMALITY_GAP_REL),
             "{name}: J = {} above the Lagrangian lower bound {bound}",
-            sol.objective
+            sol.objective()
         );
         assert!(
-            sol.objective >= bound * (1.0 - OPTIMALITY_GAP_REL),
+            sol.objective() >= bound * (1.0 - OPTIMALITY_GAP_REL),
             "{name}: weak duality"
         );
     }

@@ -233,18 +233,18 @@ fn three_axis_allocation_is_near_optimal_against_a_grid_relaxation() {
         let ours = s.objective().unwrap();
         assert!(!s.exact_oracle());
         assert!(
-            grid.objective <= ours * (1.0 + OBJECTIVE_REL),
+            grid.objective() <= ours * (1.0 + OBJECTIVE_REL),
             "{:?}: grid {} above ours {}",
             s.name(),
-            grid.objective,
+            grid.objective(),
             ours
         );
         assert!(
-            ours <= grid.objective * (1.0 + RELAXATION_GAP_REL),
+            ours <= grid.objective() * (1.0 + RELAXATION_GAP_REL),
             "{:?}: ours {} vs grid {}",
             s.name(),
             ours,
-            grid.objective
+            grid.objective()
         );
     }
 }

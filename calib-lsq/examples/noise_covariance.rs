@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let all = cal.noise_covariances(&[Some(noise.clone()), Some(noise.clone())], &timing)?;
     for (out, cov) in cal.outputs().iter().zip(&all) {
         let cov = cov.as_ref().expect("every output has noise here");
-        let c = &cov.coefficients;
+        let c = cov.coefficients();
         println!("output {} (deg/h per regressor unit):", out.output().name);
         for (j, name) in c.names().iter().enumerate() {
             println!(
@@ -30,7 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 c.correlated_sigma()[j]
             );
         }
-        let (i, s) = cov.rate_error.max_sigma();
+        let (i, s) = cov.rate_error().max_sigma();
         println!("  largest rate-error sigma {s:.5} deg/h at position {i}");
         // The same positions, phi1 varying fastest: only the correlated part changes.
         // (Reversing an order changes nothing: the Gauss-Markov process is time-reversible.)
@@ -40,8 +40,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let r = out.noise_covariance_in_order(&noise, &timing, &by_phi2)?;
         println!(
             "  phi1 fastest: bias sigma {:.5}, correlated {:.5} (schedule order {:.5}, {:.5})",
-            r.coefficients.sigma()[0],
-            r.coefficients.correlated_sigma()[0],
+            r.coefficients().sigma()[0],
+            r.coefficients().correlated_sigma()[0],
             c.sigma()[0],
             c.correlated_sigma()[0]
         );

@@ -703,24 +703,77 @@ impl OutputCalibration {
 
 /// The full result of eq 7-14 for one output.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct ErrorAnalysis {
     /// The output's name.
-    pub output: String,
+    pub(crate) output: String,
     /// The reading used.
-    pub reading: Reading,
+    pub(crate) reading: Reading,
     /// Simulated outputs $\mathbf b_1$ (as the reading says).
-    pub b1: DVector<f64>,
+    pub(crate) b1: DVector<f64>,
     /// $\hat{\boldsymbol\beta}_1$ (eq 6).
-    pub beta_hat_1: DVector<f64>,
+    pub(crate) beta_hat_1: DVector<f64>,
     /// $\hat{\boldsymbol\beta}_2$ (eq 11).
-    pub beta_hat_2: DVector<f64>,
+    pub(crate) beta_hat_2: DVector<f64>,
     /// $\Delta\boldsymbol\beta = \hat{\boldsymbol\beta}_1 - \hat{\boldsymbol\beta}_2$ (eq 12).
-    pub delta_beta: DVector<f64>,
+    pub(crate) delta_beta: DVector<f64>,
     /// $\Delta\hat{\boldsymbol\omega}$ (eq 13 in the chosen reading), one per position, in the
     /// output's unit.
-    pub error_vector: DVector<f64>,
+    pub(crate) error_vector: DVector<f64>,
     /// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$ (eq 14), output unit.
-    pub delta_omega: f64,
+    pub(crate) delta_omega: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ErrorAnalysis {
+    /// The output's name.
+    #[must_use]
+    pub fn output(&self) -> &str {
+        &self.output
+    }
+
+    /// The reading used.
+    #[must_use]
+    pub fn reading(&self) -> Reading {
+        self.reading
+    }
+
+    /// Simulated outputs $\mathbf b_1$ (as the reading says).
+    #[must_use]
+    pub fn b1(&self) -> &DVector<f64> {
+        &self.b1
+    }
+
+    /// $\hat{\boldsymbol\beta}_1$ (eq 6).
+    #[must_use]
+    pub fn beta_hat_1(&self) -> &DVector<f64> {
+        &self.beta_hat_1
+    }
+
+    /// $\hat{\boldsymbol\beta}_2$ (eq 11).
+    #[must_use]
+    pub fn beta_hat_2(&self) -> &DVector<f64> {
+        &self.beta_hat_2
+    }
+
+    /// $\Delta\boldsymbol\beta = \hat{\boldsymbol\beta}_1 - \hat{\boldsymbol\beta}_2$ (eq 12).
+    #[must_use]
+    pub fn delta_beta(&self) -> &DVector<f64> {
+        &self.delta_beta
+    }
+
+    /// $\Delta\hat{\boldsymbol\omega}$ (eq 13 in the chosen reading), one per position, in the
+    /// output's unit.
+    #[must_use]
+    pub fn error_vector(&self) -> &DVector<f64> {
+        &self.error_vector
+    }
+
+    /// $\Delta\omega = \lVert\Delta\hat{\boldsymbol\omega}\rVert_\infty$ (eq 14), output unit.
+    #[must_use]
+    pub fn delta_omega(&self) -> f64 {
+        self.delta_omega
+    }
 }
 
 /// A prepared orientation-error analysis of one output: true coefficients, schedule, site and

@@ -143,14 +143,37 @@ impl OutputCalibration {
 
 /// The result of calibrating one output: its estimated coefficients and the fit's quality.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct CalibrationResult {
     /// The output's name.
-    pub output: String,
+    pub(crate) output: String,
     /// The estimated coefficients' names (study order).
-    pub names: Vec<String>,
+    pub(crate) names: Vec<String>,
     /// The least-squares solution (estimate $\hat{\boldsymbol\beta}_1$, residuals, rank,
     /// condition number).
-    pub solution: LsqSolution,
+    pub(crate) solution: LsqSolution,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl CalibrationResult {
+    /// The output's name.
+    #[must_use]
+    pub fn output(&self) -> &str {
+        &self.output
+    }
+
+    /// The estimated coefficients' names (study order).
+    #[must_use]
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The least-squares solution (estimate $\hat{\boldsymbol\beta}_1$, residuals, rank,
+    /// condition number).
+    #[must_use]
+    pub fn solution(&self) -> &LsqSolution {
+        &self.solution
+    }
 }
 
 /// A sensor, a site and a schedule, checked to identify every output's coefficients; the

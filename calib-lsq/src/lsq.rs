@@ -25,17 +25,51 @@ pub(crate) const JACOBI_MAX_SWEEPS: usize = 60;
 
 /// A least-squares solution with its quality: residuals, rank, condition number.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct LsqSolution {
     /// The estimate $\hat{\boldsymbol\beta}$ (one value per estimated coefficient).
-    pub beta: DVector<f64>,
+    pub(crate) beta: DVector<f64>,
     /// Residuals $\mathbf y - \mathbf A\hat{\boldsymbol\beta}$, one per position.
-    pub residuals: DVector<f64>,
+    pub(crate) residuals: DVector<f64>,
     /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]).
-    pub rank: usize,
+    pub(crate) rank: usize,
     /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
-    pub condition_number: f64,
+    pub(crate) condition_number: f64,
     /// Singular values of $\mathbf A$, descending.
-    pub singular_values: DVector<f64>,
+    pub(crate) singular_values: DVector<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl LsqSolution {
+    /// The estimate $\hat{\boldsymbol\beta}$ (one value per estimated coefficient).
+    #[must_use]
+    pub fn beta(&self) -> &DVector<f64> {
+        &self.beta
+    }
+
+    /// Residuals $\mathbf y - \mathbf A\hat{\boldsymbol\beta}$, one per position.
+    #[must_use]
+    pub fn residuals(&self) -> &DVector<f64> {
+        &self.residuals
+    }
+
+    /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]).
+    #[must_use]
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
+    #[must_use]
+    pub fn condition_number(&self) -> f64 {
+        self.condition_number
+    }
+
+    /// Singular values of $\mathbf A$, descending.
+    #[must_use]
+    pub fn singular_values(&self) -> &DVector<f64> {
+        &self.singular_values
+    }
 }
 
 impl LsqSolution {

@@ -258,17 +258,51 @@ impl OrientationRequirement {
 
 /// Grid data of a surface $\Gamma$ (Figure 4): one output's $\Delta\omega$ over two angles.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Surface {
     /// The output.
-    pub output: String,
+    pub(crate) output: String,
     /// The two plane angles (indices into $\psi, \theta, \gamma$).
-    pub angles: [usize; 2],
+    pub(crate) angles: [usize; 2],
     /// Grid values of the first angle, rad.
-    pub u_rad: Vec<f64>,
+    pub(crate) u_rad: Vec<f64>,
     /// Grid values of the second angle, rad.
-    pub v_rad: Vec<f64>,
+    pub(crate) v_rad: Vec<f64>,
     /// $\Delta\omega$ (output unit) at `(u_rad[i], v_rad[j])`, indexed `[j][i]`.
-    pub delta_omega: Vec<Vec<f64>>,
+    pub(crate) delta_omega: Vec<Vec<f64>>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Surface {
+    /// The output.
+    #[must_use]
+    pub fn output(&self) -> &str {
+        &self.output
+    }
+
+    /// The two plane angles (indices into $\psi, \theta, \gamma$).
+    #[must_use]
+    pub fn angles(&self) -> [usize; 2] {
+        self.angles
+    }
+
+    /// Grid values of the first angle, rad.
+    #[must_use]
+    pub fn u_rad(&self) -> &[f64] {
+        &self.u_rad
+    }
+
+    /// Grid values of the second angle, rad.
+    #[must_use]
+    pub fn v_rad(&self) -> &[f64] {
+        &self.v_rad
+    }
+
+    /// $\Delta\omega$ (output unit) at `(u_rad[i], v_rad[j])`, indexed `[j][i]`.
+    #[must_use]
+    pub fn delta_omega(&self) -> &[Vec<f64>] {
+        &self.delta_omega
+    }
 }
 
 impl RequirementProblem {

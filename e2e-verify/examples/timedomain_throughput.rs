@@ -69,7 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let t = Instant::now();
             let run = e2e.simulate_time_domain(&bounds, &noise, &timing, &settings)?;
             let sim = t.elapsed().as_secs_f64();
-            let samples = run.noise_samples;
+            let samples = run.noise_samples();
             // the generator alone: the simulator's draws per sample, summed
             let generator = timed(samples, &|words, n| {
                 let z = Ziggurat::get();

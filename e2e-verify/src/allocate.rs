@@ -1285,7 +1285,7 @@ impl DirectSetup<'_> {
         let mut ub = vec![f64::INFINITY; n_errors];
         for (k, &j) in free.iter().enumerate() {
             // the solver meets UB >= LB to rounding; make it exact so the box is valid
-            ub[j] = crate::error::finite(format!("upper_bounds.{}", names[j]), sol.x[k])?
+            ub[j] = crate::error::finite(format!("upper_bounds.{}", names[j]), sol.x()[k])?
                 .max(lower_bounds_rad[j]);
         }
         let loads = linear
@@ -1305,8 +1305,8 @@ impl DirectSetup<'_> {
             lower_bounds_rad: lower_bounds_rad.to_vec(),
             accuracies: acc,
             loads,
-            multiplier: sol.multiplier,
-            iterations: sol.iterations,
+            multiplier: sol.multiplier(),
+            iterations: sol.iterations(),
             second_order_margins: margins.to_vec(),
         })
     }

@@ -39,38 +39,120 @@ pub struct AngleLinearization {
 
 /// The worst case of one output over the bounds under the angle-dependent model.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct AngleOutputWorstCase {
     /// The output's index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// $\max_r \sum_j \mathrm{UB}_j\,d_j$ over the output's rows (output unit): rigorous
     /// for the linearised model (harmonic dual norms are certified upper bounds).
-    pub linear_bound: f64,
+    pub(crate) linear_bound: f64,
     /// The same with every error constant (the paper's model) and the same bounds.
-    pub constant_linear_bound: f64,
+    pub(crate) constant_linear_bound: f64,
     /// Position of the worst row.
-    pub position: usize,
+    pub(crate) position: usize,
     /// The worst coefficients found (rad; the expansion's order).
-    pub worst_coefficients: Vec<f64>,
+    pub(crate) worst_coefficients: Vec<f64>,
     /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst coefficients (the
     /// larger): a turntable within the bounds, so a lower bound of the exact worst case.
-    pub exact_at_worst: f64,
+    pub(crate) exact_at_worst: f64,
     /// $\tau$ ([`EndToEnd::second_order_bound`]); `None` for readings without one.
-    pub second_order_bound: Option<f64>,
+    pub(crate) second_order_bound: Option<f64>,
     /// The verdict against the output's accuracy, as [`crate::Verdict`].
-    pub verdict: crate::Verdict,
+    pub(crate) verdict: crate::Verdict,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl AngleOutputWorstCase {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// $\max_r \sum_j \mathrm{UB}_j\,d_j$ over the output's rows (output unit): rigorous
+    /// for the linearised model (harmonic dual norms are certified upper bounds).
+    #[must_use]
+    pub fn linear_bound(&self) -> f64 {
+        self.linear_bound
+    }
+
+    /// The same with every error constant (the paper's model) and the same bounds.
+    #[must_use]
+    pub fn constant_linear_bound(&self) -> f64 {
+        self.constant_linear_bound
+    }
+
+    /// Position of the worst row.
+    #[must_use]
+    pub fn position(&self) -> usize {
+        self.position
+    }
+
+    /// The worst coefficients found (rad; the expansion's order).
+    #[must_use]
+    pub fn worst_coefficients(&self) -> &[f64] {
+        &self.worst_coefficients
+    }
+
+    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst coefficients (the
+    /// larger): a turntable within the bounds, so a lower bound of the exact worst case.
+    #[must_use]
+    pub fn exact_at_worst(&self) -> f64 {
+        self.exact_at_worst
+    }
+
+    /// $\tau$ ([`EndToEnd::second_order_bound`]); `None` for readings without one.
+    #[must_use]
+    pub fn second_order_bound(&self) -> Option<f64> {
+        self.second_order_bound
+    }
+
+    /// The verdict against the output's accuracy, as [`crate::Verdict`].
+    #[must_use]
+    pub fn verdict(&self) -> crate::Verdict {
+        self.verdict
+    }
 }
 
 /// The yield of a Monte Carlo over turntables with angle-dependent errors.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct AngleYield {
     /// Turntables drawn.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Those meeting every output's accuracy.
-    pub meeting: u64,
+    pub(crate) meeting: u64,
     /// Largest $\max_k \Delta\omega_k/\omega_{m,k}$ drawn.
-    pub worst_ratio: f64,
+    pub(crate) worst_ratio: f64,
     /// Wilson 95% interval of the yield.
-    pub interval_95: (f64, f64),
+    pub(crate) interval_95: (f64, f64),
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl AngleYield {
+    /// Turntables drawn.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Those meeting every output's accuracy.
+    #[must_use]
+    pub fn meeting(&self) -> u64 {
+        self.meeting
+    }
+
+    /// Largest $\max_k \Delta\omega_k/\omega_{m,k}$ drawn.
+    #[must_use]
+    pub fn worst_ratio(&self) -> f64 {
+        self.worst_ratio
+    }
+
+    /// Wilson 95% interval of the yield.
+    #[must_use]
+    pub fn interval_95(&self) -> (f64, f64) {
+        self.interval_95
+    }
 }
 
 impl AngleYield {

@@ -56,44 +56,136 @@ impl EndToEndInputs {
 
 /// Worst case and Monte Carlo distribution of one tolerance box.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct BoxAnswer {
     /// The box's name (`two-step`, `Table 4`, `direct`, `yield-based`).
-    pub name: String,
+    pub(crate) name: String,
     /// The upper bounds (rad).
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// $J$ of these bounds (rad$^{-2}$).
-    pub objective: f64,
+    pub(crate) objective: f64,
     /// Worst case per output (linearised vertex, exact confirmation, second-order bound).
-    pub worst_case: WorstCase,
+    pub(crate) worst_case: WorstCase,
     /// Distribution and yield over turntables drawn from the box.
-    pub distribution: RateDistribution,
+    pub(crate) distribution: RateDistribution,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl BoxAnswer {
+    /// The box's name (`two-step`, `Table 4`, `direct`, `yield-based`).
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The upper bounds (rad).
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// $J$ of these bounds (rad$^{-2}$).
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
+
+    /// Worst case per output (linearised vertex, exact confirmation, second-order bound).
+    #[must_use]
+    pub fn worst_case(&self) -> &WorstCase {
+        &self.worst_case
+    }
+
+    /// Distribution and yield over turntables drawn from the box.
+    #[must_use]
+    pub fn distribution(&self) -> &RateDistribution {
+        &self.distribution
+    }
 }
 
 /// The answer under one reading.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct ReadingAnswer {
     /// The reading.
-    pub reading: Reading,
+    pub(crate) reading: Reading,
     /// The two-step allocation's box (if a requirement exists) and the extra boxes.
-    pub boxes: Vec<BoxAnswer>,
+    pub(crate) boxes: Vec<BoxAnswer>,
     /// The direct allocation against every output's accuracy.
-    pub direct: DirectAllocation,
+    pub(crate) direct: DirectAllocation,
     /// The direct allocation's box (worst case and yield).
-    pub direct_box: BoxAnswer,
+    pub(crate) direct_box: BoxAnswer,
     /// The direct allocation certified on the exact chain
     /// ([`EndToEnd::allocate_direct_certified`]) with its worst case; `None` for a reading
     /// without a derived second-order bound, or when the certification cannot be had (see
     /// [`ReadingAnswer::direct_certified_note`]).
-    pub direct_certified: Option<(DirectAllocation, WorstCase)>,
+    pub(crate) direct_certified: Option<(DirectAllocation, WorstCase)>,
     /// Why [`ReadingAnswer::direct_certified`] is `None`: the reading has no derived bound, the
     /// second-order margin exceeds an output's accuracy (the derived bound is too coarse for
     /// this table and sensor), or the certification did not settle in
     /// [`crate::CertifyParams::steps`] solves. The direct allocation itself is unaffected.
-    pub direct_certified_note: Option<String>,
+    pub(crate) direct_certified_note: Option<String>,
     /// The yield-based allocation (shape of the direct one).
-    pub yield_based: YieldAllocation,
+    pub(crate) yield_based: YieldAllocation,
     /// The yield-based box re-measured with an independent seed (`seed + 2`).
-    pub yield_box: BoxAnswer,
+    pub(crate) yield_box: BoxAnswer,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ReadingAnswer {
+    /// The reading.
+    #[must_use]
+    pub fn reading(&self) -> Reading {
+        self.reading
+    }
+
+    /// The two-step allocation's box (if a requirement exists) and the extra boxes.
+    #[must_use]
+    pub fn boxes(&self) -> &[BoxAnswer] {
+        &self.boxes
+    }
+
+    /// The direct allocation against every output's accuracy.
+    #[must_use]
+    pub fn direct(&self) -> &DirectAllocation {
+        &self.direct
+    }
+
+    /// The direct allocation's box (worst case and yield).
+    #[must_use]
+    pub fn direct_box(&self) -> &BoxAnswer {
+        &self.direct_box
+    }
+
+    /// The direct allocation certified on the exact chain
+    /// ([`EndToEnd::allocate_direct_certified`]) with its worst case; `None` for a reading
+    /// without a derived second-order bound, or when the certification cannot be had (see
+    /// [`ReadingAnswer::direct_certified_note`]).
+    #[must_use]
+    pub fn direct_certified(&self) -> &Option<(DirectAllocation, WorstCase)> {
+        &self.direct_certified
+    }
+
+    /// Why [`ReadingAnswer::direct_certified`] is `None`: the reading has no derived bound, the
+    /// second-order margin exceeds an output's accuracy (the derived bound is too coarse for
+    /// this table and sensor), or the certification did not settle in
+    /// [`crate::CertifyParams::steps`] solves. The direct allocation itself is unaffected.
+    #[must_use]
+    pub fn direct_certified_note(&self) -> Option<&str> {
+        self.direct_certified_note.as_deref()
+    }
+
+    /// The yield-based allocation (shape of the direct one).
+    #[must_use]
+    pub fn yield_based(&self) -> &YieldAllocation {
+        &self.yield_based
+    }
+
+    /// The yield-based box re-measured with an independent seed (`seed + 2`).
+    #[must_use]
+    pub fn yield_box(&self) -> &BoxAnswer {
+        &self.yield_box
+    }
 }
 
 impl ReadingAnswer {
@@ -112,15 +204,39 @@ impl ReadingAnswer {
 
 /// The full answer.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct BuyersAnswer {
     /// The inputs.
-    pub inputs: EndToEndInputs,
+    pub(crate) inputs: EndToEndInputs,
     /// The two-step allocation (alloc-opt, sensitivity-weighted, full-range constraint)
     /// against the requirement; `None` without a requirement.
-    pub two_step: Option<Allocation>,
+    pub(crate) two_step: Option<Allocation>,
     /// One answer per reading: the simulator's reading first, then [`Reading::USER`] (if
     /// different).
-    pub readings: Vec<ReadingAnswer>,
+    pub(crate) readings: Vec<ReadingAnswer>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl BuyersAnswer {
+    /// The inputs.
+    #[must_use]
+    pub fn inputs(&self) -> &EndToEndInputs {
+        &self.inputs
+    }
+
+    /// The two-step allocation (alloc-opt, sensitivity-weighted, full-range constraint)
+    /// against the requirement; `None` without a requirement.
+    #[must_use]
+    pub fn two_step(&self) -> &Option<Allocation> {
+        &self.two_step
+    }
+
+    /// One answer per reading: the simulator's reading first, then [`Reading::USER`] (if
+    /// different).
+    #[must_use]
+    pub fn readings(&self) -> &[ReadingAnswer] {
+        &self.readings
+    }
 }
 
 /// Answer the buyer's question for the simulator `e2e` (its reading first, then the user's).

@@ -41,17 +41,47 @@ pub(crate) const JOINT_FD_STEP_RAD: f64 = 1e-7;
 
 /// The result of [`EndToEnd::joint_estimate`].
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct JointEstimate {
     /// The estimated table errors (rad, order of $\chi$), in the estimable subspace.
-    pub chi_rad: Vec<f64>,
+    pub(crate) chi_rad: Vec<f64>,
     /// The estimated coefficients of every output (the estimated terms' order).
-    pub coefficients: Vec<DVector<f64>>,
+    pub(crate) coefficients: Vec<DVector<f64>>,
     /// The size of every Gauss-Newton step in the table errors, $\lVert\Delta\chi\rVert_2$
     /// (rad), first to last.
-    pub steps_rad: Vec<f64>,
+    pub(crate) steps_rad: Vec<f64>,
     /// Weighted residual norm at the end, $\lVert[(\mathbf b_{1,k} - \mathbf f_k)/\omega_{m,k}]_k
     /// \rVert_2$ (dimensionless).
-    pub residual: f64,
+    pub(crate) residual: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl JointEstimate {
+    /// The estimated table errors (rad, order of $\chi$), in the estimable subspace.
+    #[must_use]
+    pub fn chi_rad(&self) -> &[f64] {
+        &self.chi_rad
+    }
+
+    /// The estimated coefficients of every output (the estimated terms' order).
+    #[must_use]
+    pub fn coefficients(&self) -> &[DVector<f64>] {
+        &self.coefficients
+    }
+
+    /// The size of every Gauss-Newton step in the table errors, $\lVert\Delta\chi\rVert_2$
+    /// (rad), first to last.
+    #[must_use]
+    pub fn steps_rad(&self) -> &[f64] {
+        &self.steps_rad
+    }
+
+    /// Weighted residual norm at the end, $\lVert[(\mathbf b_{1,k} - \mathbf f_k)/\omega_{m,k}]_k
+    /// \rVert_2$ (dimensionless).
+    #[must_use]
+    pub fn residual(&self) -> f64 {
+        self.residual
+    }
 }
 
 impl EndToEnd {

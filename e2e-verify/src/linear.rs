@@ -184,31 +184,91 @@ impl Linearization {
 /// The worst case of one output over a tolerance box.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[non_exhaustive]
 pub struct OutputWorstCase {
     /// The output's index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit): the
     /// exact worst case of the linearised model (a maximum of absolute linear forms peaks at
     /// a vertex).
-    pub linear_bound: f64,
+    pub(crate) linear_bound: f64,
     /// The position (index in the schedule) of the worst row.
-    pub position: usize,
+    pub(crate) position: usize,
     /// The worst vertex $\chi_j = \operatorname{sign}(M_{rj})\,\mathrm{UB}_j$ (rad).
-    pub worst_chi_rad: Vec<f64>,
+    pub(crate) worst_chi_rad: Vec<f64>,
     /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst vertex (the
     /// larger): a point of the box, so a lower bound on the exact worst case.
-    pub exact_at_vertex: f64,
+    pub(crate) exact_at_vertex: f64,
     /// The derived bound $\tau$ on $|\Delta\hat\omega_{exact} - \mathbf M\chi|$ over the box
     /// (output unit; see [`EndToEnd::second_order_bound`]); `None` for readings without one.
     /// The exact worst case lies in `exact_at_vertex ..= linear_bound + tau`.
-    pub second_order_bound: Option<f64>,
+    pub(crate) second_order_bound: Option<f64>,
     /// Linearised worst case of every position (output unit), the data of the per-position
     /// figure.
-    pub per_position: Vec<f64>,
+    pub(crate) per_position: Vec<f64>,
     /// The computation's precision for this output ([`EndToEnd::precisions`], output unit):
     /// `linear_bound`, `exact_at_vertex` and `per_position` values at or below it are
     /// reported as 0 ([`crate::resolved`]).
-    pub precision: f64,
+    pub(crate) precision: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl OutputWorstCase {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit): the
+    /// exact worst case of the linearised model (a maximum of absolute linear forms peaks at
+    /// a vertex).
+    #[must_use]
+    pub fn linear_bound(&self) -> f64 {
+        self.linear_bound
+    }
+
+    /// The position (index in the schedule) of the worst row.
+    #[must_use]
+    pub fn position(&self) -> usize {
+        self.position
+    }
+
+    /// The worst vertex $\chi_j = \operatorname{sign}(M_{rj})\,\mathrm{UB}_j$ (rad).
+    #[must_use]
+    pub fn worst_chi_rad(&self) -> &[f64] {
+        &self.worst_chi_rad
+    }
+
+    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst vertex (the
+    /// larger): a point of the box, so a lower bound on the exact worst case.
+    #[must_use]
+    pub fn exact_at_vertex(&self) -> f64 {
+        self.exact_at_vertex
+    }
+
+    /// The derived bound $\tau$ on $|\Delta\hat\omega_{exact} - \mathbf M\chi|$ over the box
+    /// (output unit; see [`EndToEnd::second_order_bound`]); `None` for readings without one.
+    /// The exact worst case lies in `exact_at_vertex ..= linear_bound + tau`.
+    #[must_use]
+    pub fn second_order_bound(&self) -> Option<f64> {
+        self.second_order_bound
+    }
+
+    /// Linearised worst case of every position (output unit), the data of the per-position
+    /// figure.
+    #[must_use]
+    pub fn per_position(&self) -> &[f64] {
+        &self.per_position
+    }
+
+    /// The computation's precision for this output ([`EndToEnd::precisions`], output unit):
+    /// `linear_bound`, `exact_at_vertex` and `per_position` values at or below it are
+    /// reported as 0 ([`crate::resolved`]).
+    #[must_use]
+    pub fn precision(&self) -> f64 {
+        self.precision
+    }
 }
 
 impl OutputWorstCase {
@@ -222,11 +282,27 @@ impl OutputWorstCase {
 /// The worst case of every output over a tolerance box.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[non_exhaustive]
 pub struct WorstCase {
     /// The upper bounds of the box (rad, order of $\chi$).
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// One per output.
-    pub outputs: Vec<OutputWorstCase>,
+    pub(crate) outputs: Vec<OutputWorstCase>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl WorstCase {
+    /// The upper bounds of the box (rad, order of $\chi$).
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// One per output.
+    #[must_use]
+    pub fn outputs(&self) -> &[OutputWorstCase] {
+        &self.outputs
+    }
 }
 
 impl WorstCase {
@@ -563,7 +639,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             chi[j] = -step_rad;
             let minus = self.run(&chi)?;
             for k in 0..outputs {
-                let col = (&plus.analyses[k].error_vector - &minus.analyses[k].error_vector)
+                let col = (plus.analyses[k].error_vector() - minus.analyses[k].error_vector())
                     / (2.0 * step_rad);
                 m.view_mut((k * n, j), (n, 1)).copy_from(&col);
             }
@@ -788,4 +864,50 @@ pub(crate) fn terms_remainder(
             t.value.abs() * (r.remainder_bound(m, d) + grad)
         })
         .sum()
+}
+
+#[cfg(test)]
+mod box_meets_tests {
+    use super::{BoxMeets, OutputWorstCase, WorstCase};
+
+    /// Issue 19 §5: one classification and one wording of "does the box's worst turntable
+    /// meet every accuracy" for every output (`end-to-end`'s text and JSON, the report): `yes`,
+    /// `to first order; no on the exact chain (+x%)`, `no (+x%)`, with the largest excess.
+    #[test]
+    fn box_meets_has_one_classification_and_one_wording() {
+        let w = |output: usize, linear: f64, exact: f64| OutputWorstCase {
+            output,
+            linear_bound: linear,
+            position: 0,
+            worst_chi_rad: vec![],
+            exact_at_vertex: exact,
+            second_order_bound: None,
+            per_position: vec![],
+            precision: 1e-12,
+        };
+        let wc = |outputs| WorstCase {
+            upper_bounds_rad: vec![],
+            outputs,
+        };
+        let acc = [0.5, 0.1];
+        let yes = wc(vec![w(0, 0.49, 0.5), w(1, 0.05, 0.05)]).meets(&acc);
+        assert_eq!(yes, BoxMeets::Yes);
+        assert!(yes.holds() && yes.excess().is_none());
+        assert_eq!(yes.to_string(), "yes");
+        // the issue's IMU case: gx 0.508 against 0.5, linearised at the accuracy
+        let first = wc(vec![w(0, 0.5, 0.5085), w(1, 0.05, 0.05)]).meets(&acc);
+        assert!(matches!(first, BoxMeets::FirstOrderOnly { .. }) && !first.holds());
+        assert_eq!(
+            first.to_string(),
+            "to first order; no on the exact chain (+1.7%)"
+        );
+        let no = wc(vec![w(0, 0.4, 0.4), w(1, 0.2, 0.2)]).meets(&acc);
+        assert_eq!(no.to_string(), "no (+100.0%)");
+        assert_eq!(no.name(), "no");
+        let tiny = wc(vec![w(0, 0.5, 0.500_021), w(1, 0.0, 0.0)]).meets(&acc);
+        assert_eq!(
+            tiny.to_string(),
+            "to first order; no on the exact chain (+0.0042%)"
+        );
+    }
 }

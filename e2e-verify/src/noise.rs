@@ -141,15 +141,32 @@ pub fn standard_normal_pair<R: Rng + ?Sized>(rng: &mut R) -> (f64, f64) {
 /// The noise of every output's calibration for one timing: the standard deviation of the rate
 /// error at each test position (calib-lsq's covariance) and the factor that draws it.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct NoiseBudget {
     /// The timing it was computed for.
-    pub timing: Timing,
+    pub(crate) timing: Timing,
     /// Per output: the rate error's standard deviation at every position (output unit; empty
     /// for an output without noise).
-    pub per_position: Vec<Vec<f64>>,
+    pub(crate) per_position: Vec<Vec<f64>>,
     /// Per output: $\mathbf A_k\mathbf L_k$ ($n\times p_k$, noise at the positions =
     /// this times a standard normal vector); `None` without noise.
     factors: Vec<Option<DMatrix<f64>>>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl NoiseBudget {
+    /// The timing it was computed for.
+    #[must_use]
+    pub fn timing(&self) -> &Timing {
+        &self.timing
+    }
+
+    /// Per output: the rate error's standard deviation at every position (output unit; empty
+    /// for an output without noise).
+    #[must_use]
+    pub fn per_position(&self) -> &[Vec<f64>] {
+        &self.per_position
+    }
 }
 
 impl NoiseBudget {
@@ -198,26 +215,85 @@ impl Dominant {
 
 /// One output's answer for both error sources.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct CombinedOutput {
     /// The output's index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// Its accuracy (output unit).
-    pub accuracy: f64,
+    pub(crate) accuracy: f64,
     /// The table part (output unit): the certified worst case over the box when a
     /// second-order bound is derived, else the exact chain at the worst vertex.
-    pub table_part: f64,
+    pub(crate) table_part: f64,
     /// Whether [`CombinedOutput::table_part`] is certified (a rigorous bound).
-    pub table_certified: bool,
+    pub(crate) table_certified: bool,
     /// $\sigma_k$ (output unit).
-    pub noise_sigma: f64,
+    pub(crate) noise_sigma: f64,
     /// $\kappa$.
-    pub k_sigma: f64,
+    pub(crate) k_sigma: f64,
     /// `table_part + k_sigma * noise_sigma` (output unit).
-    pub combined: f64,
+    pub(crate) combined: f64,
     /// The verdict with the noise part added (see the [module](self)).
-    pub verdict: Verdict,
+    pub(crate) verdict: Verdict,
     /// Which part dominates.
-    pub dominant: Dominant,
+    pub(crate) dominant: Dominant,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl CombinedOutput {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// Its accuracy (output unit).
+    #[must_use]
+    pub fn accuracy(&self) -> f64 {
+        self.accuracy
+    }
+
+    /// The table part (output unit): the certified worst case over the box when a
+    /// second-order bound is derived, else the exact chain at the worst vertex.
+    #[must_use]
+    pub fn table_part(&self) -> f64 {
+        self.table_part
+    }
+
+    /// Whether [`CombinedOutput::table_part`] is certified (a rigorous bound).
+    #[must_use]
+    pub fn table_certified(&self) -> bool {
+        self.table_certified
+    }
+
+    /// $\sigma_k$ (output unit).
+    #[must_use]
+    pub fn noise_sigma(&self) -> f64 {
+        self.noise_sigma
+    }
+
+    /// $\kappa$.
+    #[must_use]
+    pub fn k_sigma(&self) -> f64 {
+        self.k_sigma
+    }
+
+    /// `table_part + k_sigma * noise_sigma` (output unit).
+    #[must_use]
+    pub fn combined(&self) -> f64 {
+        self.combined
+    }
+
+    /// The verdict with the noise part added (see the [module](self)).
+    #[must_use]
+    pub fn verdict(&self) -> Verdict {
+        self.verdict
+    }
+
+    /// Which part dominates.
+    #[must_use]
+    pub fn dominant(&self) -> Dominant {
+        self.dominant
+    }
 }
 
 impl CombinedOutput {
@@ -277,15 +353,43 @@ pub fn weakest(verdicts: impl IntoIterator<Item = Verdict>) -> Verdict {
 
 /// The yield over random turntables in a box and random noise.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct CombinedYield {
     /// Calibrations drawn.
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Seed of the streams.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Calibrations meeting every accuracy.
-    pub meeting: u64,
+    pub(crate) meeting: u64,
     /// Calibrations meeting each output's accuracy.
-    pub meeting_per_output: Vec<u64>,
+    pub(crate) meeting_per_output: Vec<u64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl CombinedYield {
+    /// Calibrations drawn.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Seed of the streams.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Calibrations meeting every accuracy.
+    #[must_use]
+    pub fn meeting(&self) -> u64 {
+        self.meeting
+    }
+
+    /// Calibrations meeting each output's accuracy.
+    #[must_use]
+    pub fn meeting_per_output(&self) -> &[u64] {
+        &self.meeting_per_output
+    }
 }
 
 impl CombinedYield {
@@ -304,15 +408,43 @@ impl CombinedYield {
 
 /// A box's answer for both error sources.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct CombinedBox {
     /// The box's name.
-    pub name: String,
+    pub(crate) name: String,
     /// One per output.
-    pub outputs: Vec<CombinedOutput>,
+    pub(crate) outputs: Vec<CombinedOutput>,
     /// The weakest of the outputs' verdicts.
-    pub verdict: Verdict,
+    pub(crate) verdict: Verdict,
     /// The yield over turntables and noise.
-    pub combined_yield: CombinedYield,
+    pub(crate) combined_yield: CombinedYield,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl CombinedBox {
+    /// The box's name.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// One per output.
+    #[must_use]
+    pub fn outputs(&self) -> &[CombinedOutput] {
+        &self.outputs
+    }
+
+    /// The weakest of the outputs' verdicts.
+    #[must_use]
+    pub fn verdict(&self) -> Verdict {
+        self.verdict
+    }
+
+    /// The yield over turntables and noise.
+    #[must_use]
+    pub fn combined_yield(&self) -> &CombinedYield {
+        &self.combined_yield
+    }
 }
 
 /// The direct allocation with the noise part kept free, or why no table suffices.
@@ -335,13 +467,35 @@ pub enum NoisyDirect {
 
 /// An output whose accuracy the noise part (with the lower bounds' table part) fills.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct NoRoom {
     /// The output's index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// Its noise part $\kappa\sigma_k$ (output unit).
-    pub noise_part: f64,
+    pub(crate) noise_part: f64,
     /// What the lower bounds' table alone takes (the linearised worst row, output unit).
-    pub lower_bounds_part: f64,
+    pub(crate) lower_bounds_part: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl NoRoom {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// Its noise part $\kappa\sigma_k$ (output unit).
+    #[must_use]
+    pub fn noise_part(&self) -> f64 {
+        self.noise_part
+    }
+
+    /// What the lower bounds' table alone takes (the linearised worst row, output unit).
+    #[must_use]
+    pub fn lower_bounds_part(&self) -> f64 {
+        self.lower_bounds_part
+    }
 }
 
 /// The direct allocation with the noise part kept free, or the outputs that leave no room.
@@ -349,44 +503,127 @@ pub type NoisyAllocation = Result<DirectAllocation, Vec<NoRoom>>;
 
 /// One point of the time/table trade-off.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct TradeoffPoint {
     /// Dwell per position (s; the mean dwell for a per-position timing, every dwell scaled
     /// alike).
-    pub dwell_s: f64,
+    pub(crate) dwell_s: f64,
     /// Total test time (s).
-    pub total_s: f64,
+    pub(crate) total_s: f64,
     /// $J$ of the direct allocation with the noise part kept free (rad$^{-2}$); `None` when no
     /// table suffices.
-    pub objective: Option<f64>,
+    pub(crate) objective: Option<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl TradeoffPoint {
+    /// Dwell per position (s; the mean dwell for a per-position timing, every dwell scaled
+    /// alike).
+    #[must_use]
+    pub fn dwell_s(&self) -> f64 {
+        self.dwell_s
+    }
+
+    /// Total test time (s).
+    #[must_use]
+    pub fn total_s(&self) -> f64 {
+        self.total_s
+    }
+
+    /// $J$ of the direct allocation with the noise part kept free (rad$^{-2}$); `None` when no
+    /// table suffices.
+    #[must_use]
+    pub fn objective(&self) -> Option<f64> {
+        self.objective
+    }
 }
 
 /// The time/table trade-off: the table's $J$ against the dwell, the knee and the shortest
 /// dwell at which some table suffices.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Tradeoff {
     /// $\kappa$.
-    pub k_sigma: f64,
+    pub(crate) k_sigma: f64,
     /// The shortest dwell (s) at which some table suffices (noise alone, with the lower
     /// bounds' table part, leaves room in every accuracy), found by bisection; `None` when
     /// no dwell in the searched range does.
-    pub min_dwell_s: Option<f64>,
+    pub(crate) min_dwell_s: Option<f64>,
     /// Whether the shortest dwell is the range's lower end (one sample per position already
     /// suffices).
-    pub min_dwell_at_range_start: bool,
+    pub(crate) min_dwell_at_range_start: bool,
     /// The searched range of dwells (s).
-    pub range_s: (f64, f64),
+    pub(crate) range_s: (f64, f64),
     /// The curve, dwell ascending.
-    pub points: Vec<TradeoffPoint>,
+    pub(crate) points: Vec<TradeoffPoint>,
     /// The knee: the dwell at which $d\ln J/d\ln T = -1$ (below it a longer dwell saves
     /// relatively more $J$ than it costs in time, above it less); interpolated on the curve,
     /// `None` when the curve does not cross $-1$.
-    pub knee_dwell_s: Option<f64>,
+    pub(crate) knee_dwell_s: Option<f64>,
     /// $J$ with no noise (rad$^{-2}$), the curve's limit for long dwells.
-    pub noiseless_objective: f64,
+    pub(crate) noiseless_objective: f64,
     /// The noise part $\kappa\sigma_k$ of every output (output unit) on
     /// [`TradeoffParams::points`] dwells spread evenly in $\log T$ over the whole searched range: where it crosses the
     /// accuracy (less the lower bounds' table part) lies the shortest dwell.
-    pub noise_curve: Vec<(f64, Vec<f64>)>,
+    pub(crate) noise_curve: Vec<(f64, Vec<f64>)>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Tradeoff {
+    /// $\kappa$.
+    #[must_use]
+    pub fn k_sigma(&self) -> f64 {
+        self.k_sigma
+    }
+
+    /// The shortest dwell (s) at which some table suffices (noise alone, with the lower
+    /// bounds' table part, leaves room in every accuracy), found by bisection; `None` when
+    /// no dwell in the searched range does.
+    #[must_use]
+    pub fn min_dwell_s(&self) -> Option<f64> {
+        self.min_dwell_s
+    }
+
+    /// Whether the shortest dwell is the range's lower end (one sample per position already
+    /// suffices).
+    #[must_use]
+    pub fn min_dwell_at_range_start(&self) -> bool {
+        self.min_dwell_at_range_start
+    }
+
+    /// The searched range of dwells (s).
+    #[must_use]
+    pub fn range_s(&self) -> (f64, f64) {
+        self.range_s
+    }
+
+    /// The curve, dwell ascending.
+    #[must_use]
+    pub fn points(&self) -> &[TradeoffPoint] {
+        &self.points
+    }
+
+    /// The knee: the dwell at which $d\ln J/d\ln T = -1$ (below it a longer dwell saves
+    /// relatively more $J$ than it costs in time, above it less); interpolated on the curve,
+    /// `None` when the curve does not cross $-1$.
+    #[must_use]
+    pub fn knee_dwell_s(&self) -> Option<f64> {
+        self.knee_dwell_s
+    }
+
+    /// $J$ with no noise (rad$^{-2}$), the curve's limit for long dwells.
+    #[must_use]
+    pub fn noiseless_objective(&self) -> f64 {
+        self.noiseless_objective
+    }
+
+    /// The noise part $\kappa\sigma_k$ of every output (output unit) on
+    /// [`TradeoffParams::points`] dwells spread evenly in $\log T$ over the whole searched range: where it crosses the
+    /// accuracy (less the lower bounds' table part) lies the shortest dwell.
+    #[must_use]
+    pub fn noise_curve(&self) -> &[(f64, Vec<f64>)] {
+        &self.noise_curve
+    }
 }
 
 impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
@@ -412,8 +649,8 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
                     factors.push(None);
                 }
                 Some(c) => {
-                    per_position.push(c.rate_error.sigma().iter().copied().collect());
-                    let eig = SymmetricEigen::new(c.coefficients.total());
+                    per_position.push(c.rate_error().sigma().iter().copied().collect());
+                    let eig = SymmetricEigen::new(c.coefficients().total());
                     let mut l = eig.eigenvectors;
                     for (j, lambda) in eig.eigenvalues.iter().enumerate() {
                         let s = lambda.max(0.0).sqrt();
@@ -897,16 +1134,45 @@ fn knee(points: &[TradeoffPoint]) -> Option<f64> {
 
 /// One reading's answer for both error sources.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct NoiseAnswer {
     /// $\kappa$.
-    pub k_sigma: f64,
+    pub(crate) k_sigma: f64,
     /// $\sigma_k$ per output (output unit).
-    pub sigma: Vec<f64>,
+    pub(crate) sigma: Vec<f64>,
     /// Every box of the reading (the named boxes, then `direct`, then `yield-based`) combined
     /// with the noise.
-    pub boxes: Vec<CombinedBox>,
+    pub(crate) boxes: Vec<CombinedBox>,
     /// The direct allocation with the noise part kept free.
-    pub direct: NoisyDirect,
+    pub(crate) direct: NoisyDirect,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl NoiseAnswer {
+    /// $\kappa$.
+    #[must_use]
+    pub fn k_sigma(&self) -> f64 {
+        self.k_sigma
+    }
+
+    /// $\sigma_k$ per output (output unit).
+    #[must_use]
+    pub fn sigma(&self) -> &[f64] {
+        &self.sigma
+    }
+
+    /// Every box of the reading (the named boxes, then `direct`, then `yield-based`) combined
+    /// with the noise.
+    #[must_use]
+    pub fn boxes(&self) -> &[CombinedBox] {
+        &self.boxes
+    }
+
+    /// The direct allocation with the noise part kept free.
+    #[must_use]
+    pub fn direct(&self) -> &NoisyDirect {
+        &self.direct
+    }
 }
 
 /// `m` standard normal draws into `z`.

@@ -596,26 +596,85 @@ pub mod registry {
 /// `studies/gyrowheel-2017.toml`): Table 1, Harbin, the 32-position schedule, the paper's
 /// reading and small-angle $\Delta\mathbf R$, Table 3, eq 16 as printed, LB = 0.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct PaperComputation {
     /// See [`registry::PaperRun::requirement`].
-    pub requirement: RequirementProblem,
+    pub(crate) requirement: RequirementProblem,
     /// Table 3.
-    pub turntable: Turntable,
+    pub(crate) turntable: Turntable,
     /// The paper's allocation problem ([`alloc_opt::paper::example_problem`]).
-    pub allocation_problem: AllocationProblem,
+    pub(crate) allocation_problem: AllocationProblem,
     /// The proposed allocation (full-range form: the same optimum as the paper's quarter
     /// ranges for eq 26).
-    pub proposed: Allocation,
+    pub(crate) proposed: Allocation,
     /// The equal-effects allocation.
-    pub equal_effects: Allocation,
+    pub(crate) equal_effects: Allocation,
     /// The Monte Carlo of Table 4.
-    pub monte_carlo: MonteCarlo,
+    pub(crate) monte_carlo: MonteCarlo,
     /// Its result.
-    pub monte_carlo_result: McResult,
+    pub(crate) monte_carlo_result: McResult,
     /// The end-to-end simulator (paper's reading).
-    pub end_to_end: EndToEnd,
+    pub(crate) end_to_end: EndToEnd,
     /// Its answer, with the box [`TABLE4_BOX`].
-    pub answer: BuyersAnswer,
+    pub(crate) answer: BuyersAnswer,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl PaperComputation {
+    /// See [`registry::PaperRun::requirement`].
+    #[must_use]
+    pub fn requirement(&self) -> &RequirementProblem {
+        &self.requirement
+    }
+
+    /// Table 3.
+    #[must_use]
+    pub fn turntable(&self) -> &Turntable {
+        &self.turntable
+    }
+
+    /// The paper's allocation problem ([`alloc_opt::paper::example_problem`]).
+    #[must_use]
+    pub fn allocation_problem(&self) -> &AllocationProblem {
+        &self.allocation_problem
+    }
+
+    /// The proposed allocation (full-range form: the same optimum as the paper's quarter
+    /// ranges for eq 26).
+    #[must_use]
+    pub fn proposed(&self) -> &Allocation {
+        &self.proposed
+    }
+
+    /// The equal-effects allocation.
+    #[must_use]
+    pub fn equal_effects(&self) -> &Allocation {
+        &self.equal_effects
+    }
+
+    /// The Monte Carlo of Table 4.
+    #[must_use]
+    pub fn monte_carlo(&self) -> &MonteCarlo {
+        &self.monte_carlo
+    }
+
+    /// Its result.
+    #[must_use]
+    pub fn monte_carlo_result(&self) -> &McResult {
+        &self.monte_carlo_result
+    }
+
+    /// The end-to-end simulator (paper's reading).
+    #[must_use]
+    pub fn end_to_end(&self) -> &EndToEnd {
+        &self.end_to_end
+    }
+
+    /// Its answer, with the box [`TABLE4_BOX`].
+    #[must_use]
+    pub fn answer(&self) -> &BuyersAnswer {
+        &self.answer
+    }
 }
 
 impl PaperComputation {

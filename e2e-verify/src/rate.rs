@@ -195,22 +195,65 @@ impl RatePlan {
 /// The worst case of one output over the angular box and the extra errors' box together
 /// ([`crate::EndToEnd::worst_case_with_extra`]).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct ExtraOutputWorstCase {
     /// Output index.
-    pub output: usize,
+    pub(crate) output: usize,
     /// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit):
     /// exact for the linearised model.
-    pub linear_bound: f64,
+    pub(crate) linear_bound: f64,
     /// The entry (position or rate step) where it is reached.
-    pub position: usize,
+    pub(crate) position: usize,
     /// The angular errors' part of it there.
-    pub angular_part: f64,
+    pub(crate) angular_part: f64,
     /// Each extra error's part of it there, $|N_{ie}|\,T_e$ (order of
     /// [`crate::EndToEnd::extra_errors`]).
-    pub extra_parts: Vec<f64>,
+    pub(crate) extra_parts: Vec<f64>,
     /// $\Delta\omega_k$ on the exact chain at the worst vertex (the larger of it and its
     /// negative).
-    pub exact_at_vertex: f64,
+    pub(crate) exact_at_vertex: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ExtraOutputWorstCase {
+    /// Output index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit):
+    /// exact for the linearised model.
+    #[must_use]
+    pub fn linear_bound(&self) -> f64 {
+        self.linear_bound
+    }
+
+    /// The entry (position or rate step) where it is reached.
+    #[must_use]
+    pub fn position(&self) -> usize {
+        self.position
+    }
+
+    /// The angular errors' part of it there.
+    #[must_use]
+    pub fn angular_part(&self) -> f64 {
+        self.angular_part
+    }
+
+    /// Each extra error's part of it there, $|N_{ie}|\,T_e$ (order of
+    /// [`crate::EndToEnd::extra_errors`]).
+    #[must_use]
+    pub fn extra_parts(&self) -> &[f64] {
+        &self.extra_parts
+    }
+
+    /// $\Delta\omega_k$ on the exact chain at the worst vertex (the larger of it and its
+    /// negative).
+    #[must_use]
+    pub fn exact_at_vertex(&self) -> f64 {
+        self.exact_at_vertex
+    }
 }
 
 impl ExtraOutputWorstCase {
@@ -462,23 +505,63 @@ impl RateTolerance {
 /// The direct allocation of a study with rate steps: the angular errors and the rate
 /// tolerances ([`RateTolerance`]) allocated together ([`crate::EndToEnd::allocate_direct_rate`]).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct RateAllocation {
     /// The allocation over the joint vector $(\chi, T)$: `upper_bounds_rad` holds the angular
     /// errors' bounds (rad) and then the tolerances' (m or relative, order of
     /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
     /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
     /// `second_order_margins` the room kept for the exact chain at the worst vertex.
-    pub combined: crate::DirectAllocation,
+    pub(crate) combined: crate::DirectAllocation,
     /// The tolerances allocated, in order.
-    pub tolerances: Vec<RateTolerance>,
+    pub(crate) tolerances: Vec<RateTolerance>,
     /// Their weights $w_t$ (unit of the tolerance per rad).
-    pub weights: Vec<f64>,
+    pub(crate) weights: Vec<f64>,
     /// Per output, the worst case over both boxes (the angular box and every extra error
     /// within its tolerance), linearised and on the exact chain at its worst vertex.
-    pub worst_cases: Vec<ExtraOutputWorstCase>,
+    pub(crate) worst_cases: Vec<ExtraOutputWorstCase>,
     /// Re-solves that kept room for the exact chain at the worst vertex (0: the first-order
     /// allocation already met every accuracy there).
-    pub exact_rounds: usize,
+    pub(crate) exact_rounds: usize,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl RateAllocation {
+    /// The allocation over the joint vector $(\chi, T)$: `upper_bounds_rad` holds the angular
+    /// errors' bounds (rad) and then the tolerances' (m or relative, order of
+    /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
+    /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
+    /// `second_order_margins` the room kept for the exact chain at the worst vertex.
+    #[must_use]
+    pub fn combined(&self) -> &crate::DirectAllocation {
+        &self.combined
+    }
+
+    /// The tolerances allocated, in order.
+    #[must_use]
+    pub fn tolerances(&self) -> &[RateTolerance] {
+        &self.tolerances
+    }
+
+    /// Their weights $w_t$ (unit of the tolerance per rad).
+    #[must_use]
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// Per output, the worst case over both boxes (the angular box and every extra error
+    /// within its tolerance), linearised and on the exact chain at its worst vertex.
+    #[must_use]
+    pub fn worst_cases(&self) -> &[ExtraOutputWorstCase] {
+        &self.worst_cases
+    }
+
+    /// Re-solves that kept room for the exact chain at the worst vertex (0: the first-order
+    /// allocation already met every accuracy there).
+    #[must_use]
+    pub fn exact_rounds(&self) -> usize {
+        self.exact_rounds
+    }
 }
 
 impl RateAllocation {
@@ -770,20 +853,57 @@ const RATE_CERTIFY_ROUNDS: usize = 12;
 /// ([`crate::EndToEnd::allocate_direct_rate_certified`]): every turntable of the angular box
 /// with every extra error within its tolerance meets every accuracy on the exact chain.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct CertifiedRateAllocation {
     /// The allocation over $(\chi, T)$, as [`RateAllocation::combined`];
     /// `second_order_margins` the room kept for the second-order bound.
-    pub combined: crate::DirectAllocation,
+    pub(crate) combined: crate::DirectAllocation,
     /// The tolerances allocated, in order.
-    pub tolerances: Vec<RateTolerance>,
+    pub(crate) tolerances: Vec<RateTolerance>,
     /// Per output, the first-order worst case over both boxes (output unit).
-    pub linear_bounds: Vec<f64>,
+    pub(crate) linear_bounds: Vec<f64>,
     /// Per output, the derived second-order bound $\tau_k$ of the box
     /// ([`crate::EndToEnd::second_order_bound_with_extra`]; output unit).
-    pub second_order_bounds: Vec<f64>,
+    pub(crate) second_order_bounds: Vec<f64>,
     /// Re-solves that kept room for the bound (0: the direct allocation with the rate
     /// tolerances was already certified).
-    pub rounds: usize,
+    pub(crate) rounds: usize,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl CertifiedRateAllocation {
+    /// The allocation over $(\chi, T)$, as [`RateAllocation::combined`];
+    /// `second_order_margins` the room kept for the second-order bound.
+    #[must_use]
+    pub fn combined(&self) -> &crate::DirectAllocation {
+        &self.combined
+    }
+
+    /// The tolerances allocated, in order.
+    #[must_use]
+    pub fn tolerances(&self) -> &[RateTolerance] {
+        &self.tolerances
+    }
+
+    /// Per output, the first-order worst case over both boxes (output unit).
+    #[must_use]
+    pub fn linear_bounds(&self) -> &[f64] {
+        &self.linear_bounds
+    }
+
+    /// Per output, the derived second-order bound $\tau_k$ of the box
+    /// ([`crate::EndToEnd::second_order_bound_with_extra`]; output unit).
+    #[must_use]
+    pub fn second_order_bounds(&self) -> &[f64] {
+        &self.second_order_bounds
+    }
+
+    /// Re-solves that kept room for the bound (0: the direct allocation with the rate
+    /// tolerances was already certified).
+    #[must_use]
+    pub fn rounds(&self) -> usize {
+        self.rounds
+    }
 }
 
 impl CertifiedRateAllocation {

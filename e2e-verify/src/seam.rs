@@ -65,9 +65,7 @@ impl LinearErrorModel for Linearization {
             .into_iter()
             .map(f64::abs)
             .collect::<Vec<_>>();
-        let mut r = WorstRow::exact(best.1, vec![best.0 as f64], row);
-        r.tag = best.0 as f64;
-        Ok(r)
+        Ok(WorstRow::exact(best.1, vec![best.0 as f64], row).with_tag(best.0 as f64))
     }
 
     /// The mean over the positions of $|M_{(k,i),j}|$.
@@ -87,9 +85,7 @@ impl LinearErrorModel for Linearization {
         (0..self.positions())
             .map(|i| {
                 let row = self.row(k, i).into_iter().map(f64::abs).collect();
-                let mut r = WorstRow::exact(f64::NAN, vec![i as f64], row);
-                r.tag = i as f64;
-                r
+                WorstRow::exact(f64::NAN, vec![i as f64], row).with_tag(i as f64)
             })
             .collect()
     }

@@ -91,18 +91,34 @@ fn precisions(calibration: &Calibration) -> Vec<f64> {
 
 /// The result of one simulated calibration run (reference path through calib-lsq).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct EndToEndRun {
     /// $\Delta\mathbf R_i$ of every position (exact matrix chain).
-    pub delta_r: Vec<Matrix3<f64>>,
+    pub(crate) delta_r: Vec<Matrix3<f64>>,
     /// The full eq 7-14 analysis of every output.
-    pub analyses: Vec<ErrorAnalysis>,
+    pub(crate) analyses: Vec<ErrorAnalysis>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl EndToEndRun {
+    /// $\Delta\mathbf R_i$ of every position (exact matrix chain).
+    #[must_use]
+    pub fn delta_r(&self) -> &[Matrix3<f64>] {
+        &self.delta_r
+    }
+
+    /// The full eq 7-14 analysis of every output.
+    #[must_use]
+    pub fn analyses(&self) -> &[ErrorAnalysis] {
+        &self.analyses
+    }
 }
 
 impl EndToEndRun {
     /// $\Delta\omega_k$ of every output (output unit).
     #[must_use]
     pub fn delta_omega(&self) -> Vec<f64> {
-        self.analyses.iter().map(|a| a.delta_omega).collect()
+        self.analyses.iter().map(|a| a.delta_omega()).collect()
     }
 }
 
@@ -798,8 +814,8 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             .iter()
             .zip(self.calibration.outputs())
             .flat_map(|(r, o)| {
-                r.solution
-                    .beta
+                r.solution()
+                    .beta()
                     .iter()
                     .zip(o.beta().iter())
                     .map(|(est, truth)| est - truth)

@@ -46,17 +46,51 @@ const WAVE_CHUNKS: u64 = 64;
 
 /// Streaming sums of one output's simulated errors.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct OutputMoments {
     /// Calibrations.
-    pub n: u64,
+    pub(crate) n: u64,
     /// $\sum\delta\boldsymbol\beta$ (coefficient errors from the noise).
-    pub sum: DVector<f64>,
+    pub(crate) sum: DVector<f64>,
     /// $\sum\delta\boldsymbol\beta\,\delta\boldsymbol\beta^T$.
-    pub sum_outer: DMatrix<f64>,
+    pub(crate) sum_outer: DMatrix<f64>,
     /// $\sum e_i$ per position (noise part of the rate error).
-    pub rate_sum: Vec<f64>,
+    pub(crate) rate_sum: Vec<f64>,
     /// $\sum e_i^2$ per position.
-    pub rate_sum_sq: Vec<f64>,
+    pub(crate) rate_sum_sq: Vec<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl OutputMoments {
+    /// Calibrations.
+    #[must_use]
+    pub fn n(&self) -> u64 {
+        self.n
+    }
+
+    /// $\sum\delta\boldsymbol\beta$ (coefficient errors from the noise).
+    #[must_use]
+    pub fn sum(&self) -> &DVector<f64> {
+        &self.sum
+    }
+
+    /// $\sum\delta\boldsymbol\beta\,\delta\boldsymbol\beta^T$.
+    #[must_use]
+    pub fn sum_outer(&self) -> &DMatrix<f64> {
+        &self.sum_outer
+    }
+
+    /// $\sum e_i$ per position (noise part of the rate error).
+    #[must_use]
+    pub fn rate_sum(&self) -> &[f64] {
+        &self.rate_sum
+    }
+
+    /// $\sum e_i^2$ per position.
+    #[must_use]
+    pub fn rate_sum_sq(&self) -> &[f64] {
+        &self.rate_sum_sq
+    }
 }
 
 impl OutputMoments {
@@ -103,19 +137,59 @@ impl OutputMoments {
 
 /// The result of a time-domain run.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct TimeDomainRun {
     /// Calibrations simulated.
-    pub calibrations: u64,
+    pub(crate) calibrations: u64,
     /// Seed.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Per output with noise, its streaming sums.
-    pub outputs: Vec<Option<OutputMoments>>,
+    pub(crate) outputs: Vec<Option<OutputMoments>>,
     /// Calibrations meeting every accuracy (table error plus simulated noise).
-    pub meeting: u64,
+    pub(crate) meeting: u64,
     /// Calibrations meeting each output's accuracy.
-    pub meeting_per_output: Vec<u64>,
+    pub(crate) meeting_per_output: Vec<u64>,
     /// Noise samples generated.
-    pub noise_samples: u64,
+    pub(crate) noise_samples: u64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl TimeDomainRun {
+    /// Calibrations simulated.
+    #[must_use]
+    pub fn calibrations(&self) -> u64 {
+        self.calibrations
+    }
+
+    /// Seed.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Per output with noise, its streaming sums.
+    #[must_use]
+    pub fn outputs(&self) -> &[Option<OutputMoments>] {
+        &self.outputs
+    }
+
+    /// Calibrations meeting every accuracy (table error plus simulated noise).
+    #[must_use]
+    pub fn meeting(&self) -> u64 {
+        self.meeting
+    }
+
+    /// Calibrations meeting each output's accuracy.
+    #[must_use]
+    pub fn meeting_per_output(&self) -> &[u64] {
+        &self.meeting_per_output
+    }
+
+    /// Noise samples generated.
+    #[must_use]
+    pub fn noise_samples(&self) -> u64 {
+        self.noise_samples
+    }
 }
 
 impl TimeDomainRun {

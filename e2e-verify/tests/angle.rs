@@ -60,10 +60,13 @@ fn constant_expansion_reproduces_the_constant_model_exactly() {
             let ub = alloc_opt::paper::table4_rad();
             let today = e2e.worst_case(&lin, &ub).unwrap();
             let angle = e2e.angle_worst_case(&ex, &al, &lin, &ub).unwrap();
-            for (t, a) in today.outputs.iter().zip(&angle) {
-                assert_eq!(t.linear_bound.to_bits(), a.linear_bound.to_bits());
-                assert_eq!(t.linear_bound.to_bits(), a.constant_linear_bound.to_bits());
-                assert_eq!(t.exact_at_vertex.to_bits(), a.exact_at_worst.to_bits());
+            for (t, a) in today.outputs().iter().zip(&angle) {
+                assert_eq!(t.linear_bound().to_bits(), a.linear_bound().to_bits());
+                assert_eq!(
+                    t.linear_bound().to_bits(),
+                    a.constant_linear_bound().to_bits()
+                );
+                assert_eq!(t.exact_at_vertex().to_bits(), a.exact_at_worst().to_bits());
             }
             let lb = vec![0.0; ub.len()];
             let d0 = e2e.allocate_direct(&lin, &lb).unwrap();
@@ -160,7 +163,7 @@ fn worst_case_under_any_is_at_least_harmonics_which_is_at_least_constant_end_to_
             e2e.angle_worst_case(&ex, &al, &lin, &ub)
                 .unwrap()
                 .iter()
-                .map(|o| o.linear_bound)
+                .map(|o| o.linear_bound())
                 .collect::<Vec<_>>()
         };
         let c = wc(follow(&|_| V::Constant));
@@ -202,16 +205,19 @@ fn angle_yield_is_deterministic_and_within_the_worst_case() {
     let a = e2e.angle_yield(&ex, &ub, 3000, 7).unwrap();
     let b = e2e.angle_yield(&ex, &ub, 3000, 7).unwrap();
     assert_eq!(a, b);
-    assert_eq!(a.samples, 3000);
+    assert_eq!(a.samples(), 3000);
     let lin = e2e.linearization();
     let al = e2e.angle_linearization(&ex).unwrap();
     let wc = e2e.angle_worst_case(&ex, &al, &lin, &ub).unwrap();
     let acc = e2e.accuracies();
     let bound = wc
         .iter()
-        .map(|o| (o.linear_bound + o.second_order_bound.unwrap_or(o.linear_bound)) / acc[o.output])
+        .map(|o| {
+            (o.linear_bound() + o.second_order_bound().unwrap_or(o.linear_bound()))
+                / acc[o.output()]
+        })
         .fold(0.0, f64::max);
-    assert!(a.worst_ratio <= bound, "{} > {bound}", a.worst_ratio);
+    assert!(a.worst_ratio() <= bound, "{} > {bound}", a.worst_ratio());
 }
 
 /// A magnitude bound sqrt(a^2 + b^2) <= w lies between the square of side w/sqrt(2) inside it

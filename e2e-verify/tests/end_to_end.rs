@@ -136,13 +136,13 @@ fn fast_path_equals_calib_lsq_analysis_for_every_reading() {
             let chi = random_chi(&mut rng, &ub);
             let fast = e2e.error_vectors(&chi).unwrap();
             let run = e2e.run(&chi).unwrap();
-            for (f, a) in fast.iter().zip(&run.analyses) {
-                for (x, y) in f.iter().zip(a.error_vector.iter()) {
+            for (f, a) in fast.iter().zip(run.analyses()) {
+                for (x, y) in f.iter().zip(a.error_vector().iter()) {
                     assert_abs_diff_eq!(*x, *y, epsilon = tol);
                 }
             }
-            for (d, a) in e2e.delta_omega(&chi).unwrap().iter().zip(&run.analyses) {
-                assert_abs_diff_eq!(*d, a.delta_omega, epsilon = tol);
+            for (d, a) in e2e.delta_omega(&chi).unwrap().iter().zip(run.analyses()) {
+                assert_abs_diff_eq!(*d, a.delta_omega(), epsilon = tol);
             }
         }
     }
@@ -164,8 +164,8 @@ fn fast_path_equals_reference_on_the_example_studies() {
                 let fast = e2e.error_vectors(&chi).unwrap();
                 let run = e2e.run(&chi).unwrap();
                 assert_eq!(fast.len(), e2e.n_outputs());
-                for (f, a) in fast.iter().zip(&run.analyses) {
-                    for (x, y) in f.iter().zip(a.error_vector.iter()) {
+                for (f, a) in fast.iter().zip(run.analyses()) {
+                    for (x, y) in f.iter().zip(a.error_vector().iter()) {
                         assert_abs_diff_eq!(*x, *y, epsilon = tol);
                     }
                 }
@@ -276,17 +276,17 @@ fn exact_worst_case_within_second_order_term_of_linear_vertex_bound() {
         let ten: Vec<f64> = table4().iter().map(|v| 10.0 * v).collect();
         for (ub, tau_share) in [(table4(), 0.05), (two_step_ub(), 0.05), (ten, 0.5)] {
             let wc = e2e.worst_case(&lin, &ub).unwrap();
-            for o in &wc.outputs {
-                let tau = o.second_order_bound.unwrap();
-                assert!(tau < tau_share * o.linear_bound, "tau {tau}");
-                assert!(o.exact_at_vertex <= o.linear_bound + tau);
-                assert!(o.exact_at_vertex >= o.linear_bound - tau);
-                let row = lin.row(o.output, o.position);
-                let v: f64 = row.iter().zip(&o.worst_chi_rad).map(|(m, c)| m * c).sum();
-                assert_relative_eq!(v.abs(), o.linear_bound, max_relative = 1e-12);
+            for o in wc.outputs() {
+                let tau = o.second_order_bound().unwrap();
+                assert!(tau < tau_share * o.linear_bound(), "tau {tau}");
+                assert!(o.exact_at_vertex() <= o.linear_bound() + tau);
+                assert!(o.exact_at_vertex() >= o.linear_bound() - tau);
+                let row = lin.row(o.output(), o.position());
+                let v: f64 = row.iter().zip(o.worst_chi_rad()).map(|(m, c)| m * c).sum();
+                assert_relative_eq!(v.abs(), o.linear_bound(), max_relative = 1e-12);
                 assert_relative_eq!(
-                    o.per_position.iter().copied().fold(0.0, f64::max),
-                    o.linear_bound
+                    o.per_position().iter().copied().fold(0.0, f64::max),
+                    o.linear_bound()
                 );
             }
         }
@@ -339,11 +339,11 @@ fn table4_meets_omega_m_in_paper_reading_but_not_in_user_reading() {
             }
         }
         for k in 0..2 {
-            let o = &wc.outputs[k];
-            assert_relative_eq!(o.linear_bound, linear[k], max_relative = LINEAR_REL);
+            let o = &wc.outputs()[k];
+            assert_relative_eq!(o.linear_bound(), linear[k], max_relative = LINEAR_REL);
             assert_relative_eq!(every[k], vertices[k], max_relative = EXACT_REL);
-            assert!(o.exact_at_vertex <= every[k]);
-            assert!(o.exact_at_vertex >= o.linear_bound - o.second_order_bound.unwrap());
+            assert!(o.exact_at_vertex() <= every[k]);
+            assert!(o.exact_at_vertex() >= o.linear_bound() - o.second_order_bound().unwrap());
         }
         if reading == Reading::PAPER {
             assert!(every.iter().all(|&v| v < OMEGA_M_DEG_PER_H));
@@ -374,9 +374,13 @@ fn direct_allocation_meets_omega_m_with_equality_on_active_positions() {
             assert!(r.load() <= 1.0 + FEASIBLE_REL, "{r:?}");
         }
         let wc = e2e.worst_case(&lin, d.upper_bounds_rad()).unwrap();
-        for o in &wc.outputs {
-            assert_relative_eq!(o.linear_bound, OMEGA_M_DEG_PER_H, max_relative = ACTIVE_REL);
-            assert!(o.exact_at_vertex <= OMEGA_M_DEG_PER_H + o.second_order_bound.unwrap());
+        for o in wc.outputs() {
+            assert_relative_eq!(
+                o.linear_bound(),
+                OMEGA_M_DEG_PER_H,
+                max_relative = ACTIVE_REL
+            );
+            assert!(o.exact_at_vertex() <= OMEGA_M_DEG_PER_H + o.second_order_bound().unwrap());
         }
         assert_relative_eq!(d.objective(), e2e.objective(d.upper_bounds_rad()));
     }
@@ -399,11 +403,11 @@ fn certified_direct_allocation_meets_omega_m_on_exact_chain() {
         let plain = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
         let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();
         let wc = e2e.worst_case(&lin, cert.upper_bounds_rad()).unwrap();
-        for (o, tau) in wc.outputs.iter().zip(cert.second_order_margins()) {
+        for (o, tau) in wc.outputs().iter().zip(cert.second_order_margins()) {
             assert!(*tau > 0.0);
-            let t = o.second_order_bound.unwrap();
-            assert!(o.linear_bound + t <= OMEGA_M_DEG_PER_H * (1.0 + FEASIBLE_REL));
-            assert!(o.exact_at_vertex <= OMEGA_M_DEG_PER_H);
+            let t = o.second_order_bound().unwrap();
+            assert!(o.linear_bound() + t <= OMEGA_M_DEG_PER_H * (1.0 + FEASIBLE_REL));
+            assert!(o.exact_at_vertex() <= OMEGA_M_DEG_PER_H);
         }
         assert!(cert.objective() > plain.objective());
         let tau_max = cert
@@ -608,7 +612,7 @@ fn rate_distribution_summary_matches_the_draws() {
         ratios[2_999].to_bits()
     );
     let wc = e2e.worst_case(&lin, &table4()).unwrap();
-    for (k, o) in wc.outputs.iter().enumerate() {
+    for (k, o) in wc.outputs().iter().enumerate() {
         assert!(dist.max()[k] <= o.certified_bound().unwrap());
     }
     assert!(dist.max()[0] > OMEGA_M_DEG_PER_H);
@@ -736,12 +740,12 @@ fn example_studies_answer_the_buyers_question() {
         let cert = e2e.allocate_direct_certified(&lin, &lb).unwrap();
         let wc = e2e.worst_case(&lin, cert.upper_bounds_rad()).unwrap();
         let acc = e2e.accuracies();
-        for (o, a) in wc.outputs.iter().zip(&acc) {
+        for (o, a) in wc.outputs().iter().zip(&acc) {
             assert!(
-                o.exact_at_vertex <= *a,
+                o.exact_at_vertex() <= *a,
                 "{name}: output {} {} > {a}",
-                o.output,
-                o.exact_at_vertex
+                o.output(),
+                o.exact_at_vertex()
             );
             assert!(o.certified_bound().unwrap() <= a * (1.0 + FEASIBLE_REL));
         }
@@ -862,48 +866,11 @@ fn unbounded_errors_are_held_at_their_lower_bound() {
     let _ = ErrorBox::new(e2e.turntable(), vec![0.0; 8], table4()).unwrap();
 }
 
-/// Issue 19 §5: one classification and one wording of "does the box's worst turntable meet
-/// every accuracy" for every output (`end-to-end`'s text and JSON, the report): `yes`, `to
-/// first order; no on the exact chain (+x%)`, `no (+x%)`, with the largest excess. The paper's
-/// direct allocation meets 0.01 deg/h to first order and misses by 0.025% on the exact chain.
+/// Issue 19 §5: the paper's direct allocation meets 0.01 deg/h to first order and misses by
+/// 0.025% on the exact chain (the classification itself is unit-tested in `linear.rs`, where a
+/// worst case can be built by hand).
 #[test]
 fn box_meets_has_one_classification_and_one_wording() {
-    use e2e_verify::{BoxMeets, OutputWorstCase, WorstCase};
-    let w = |output: usize, linear: f64, exact: f64| OutputWorstCase {
-        output,
-        linear_bound: linear,
-        position: 0,
-        worst_chi_rad: vec![],
-        exact_at_vertex: exact,
-        second_order_bound: None,
-        per_position: vec![],
-        precision: 1e-12,
-    };
-    let wc = |outputs| WorstCase {
-        upper_bounds_rad: vec![],
-        outputs,
-    };
-    let acc = [0.5, 0.1];
-    let yes = wc(vec![w(0, 0.49, 0.5), w(1, 0.05, 0.05)]).meets(&acc);
-    assert_eq!(yes, BoxMeets::Yes);
-    assert!(yes.holds() && yes.excess().is_none());
-    assert_eq!(yes.to_string(), "yes");
-    // the issue's IMU case: gx 0.508 against 0.5, linearised at the accuracy
-    let first = wc(vec![w(0, 0.5, 0.5085), w(1, 0.05, 0.05)]).meets(&acc);
-    assert!(matches!(first, BoxMeets::FirstOrderOnly { .. }) && !first.holds());
-    assert_eq!(
-        first.to_string(),
-        "to first order; no on the exact chain (+1.7%)"
-    );
-    let no = wc(vec![w(0, 0.4, 0.4), w(1, 0.2, 0.2)]).meets(&acc);
-    assert_eq!(no.to_string(), "no (+100.0%)");
-    assert_eq!(no.name(), "no");
-    let tiny = wc(vec![w(0, 0.5, 0.500_021), w(1, 0.0, 0.0)]).meets(&acc);
-    assert_eq!(
-        tiny.to_string(),
-        "to first order; no on the exact chain (+0.0042%)"
-    );
-
     let e2e = paper(Reading::PAPER);
     let lin = e2e.linearization();
     let direct = e2e.allocate_direct(&lin, &[0.0; 8]).unwrap();
@@ -945,8 +912,8 @@ fn answer_in_parts_equals_answer_with_two_step() {
         .expect("two-step allocation");
     let whole =
         e2e_verify::answer_with_two_step(&e2e, &inputs, Some(two_step.clone())).expect("answer");
-    assert_eq!(whole.readings.len(), 2);
-    assert_eq!(whole.readings[0].boxes.len(), 2);
+    assert_eq!(whole.readings().len(), 2);
+    assert_eq!(whole.readings()[0].boxes().len(), 2);
     let parts = e2e_verify::answer_allocations(&e2e, &inputs)
         .expect("allocations")
         .answer(Some(two_step))

@@ -23,17 +23,17 @@ fn alloc_opts_certificate_of_a_linearization_is_the_end_to_end_linear_worst_case
         let limits: Vec<Option<f64>> = e2e.accuracies().into_iter().map(Some).collect();
         let cert = Certificate::compute(&lin, &limits, &[0.0; 8], &ub).unwrap();
         let wc = e2e.worst_case(&lin, &ub).unwrap();
-        for (c, o) in cert.axes().iter().zip(&wc.outputs) {
+        for (c, o) in cert.axes().iter().zip(wc.outputs()) {
             assert_relative_eq!(
                 c.worst_case_rad(),
-                o.linear_bound,
+                o.linear_bound(),
                 max_relative = SAME_SUM_REL
             );
             // the maximiser is a worst position (ties between positions are common)
             let i = c.worst_pose_rad()[0] as usize;
             assert_relative_eq!(
-                o.per_position[i],
-                o.linear_bound,
+                o.per_position()[i],
+                o.linear_bound(),
                 max_relative = SAME_SUM_REL
             );
         }
@@ -58,10 +58,10 @@ fn equal_effects_on_a_linearization_meets_every_accuracy_with_a_certificate() {
     // the box, checked by the end-to-end worst case, uses an output's whole accuracy
     let wc = e2e.worst_case(&lin, b.upper_bounds_rad()).unwrap();
     let top = wc
-        .outputs
+        .outputs()
         .iter()
         .zip(&acc)
-        .map(|(o, a)| o.linear_bound / a)
+        .map(|(o, a)| o.linear_bound() / a)
         .fold(0.0_f64, f64::max);
     assert_relative_eq!(top, 1.0, max_relative = EQUAL_EFFECTS_LOAD_REL);
 }

@@ -55,7 +55,7 @@ fn noise_sigma_is_calib_lsq_rate_error_sigma_at_the_worst_position() {
         .unwrap();
     for (k, c) in covs.iter().enumerate() {
         let c = c.as_ref().expect("every IMU output has noise");
-        let expected = c.rate_error.max_sigma().1;
+        let expected = c.rate_error().max_sigma().1;
         assert_relative_eq!(b.sigma()[k], expected, max_relative = ROUNDING_REL);
     }
 }
@@ -85,16 +85,19 @@ fn a_study_without_noise_keeps_every_answer() {
             &settings,
         )
         .unwrap();
-    for (c, o) in comb.outputs.iter().zip(check.outputs()) {
-        assert_eq!(c.verdict, o.verdict());
-        assert_eq!(c.noise_sigma.to_bits(), 0.0_f64.to_bits());
-        assert_eq!(c.combined.to_bits(), c.table_part.to_bits());
-        assert_eq!(c.dominant, Dominant::Table);
+    for (c, o) in comb.outputs().iter().zip(check.outputs()) {
+        assert_eq!(c.verdict(), o.verdict());
+        assert_eq!(c.noise_sigma().to_bits(), 0.0_f64.to_bits());
+        assert_eq!(c.combined().to_bits(), c.table_part().to_bits());
+        assert_eq!(c.dominant(), Dominant::Table);
     }
-    assert_eq!(comb.verdict, check.verdict());
-    assert_eq!(comb.combined_yield.meeting, check.distribution().meeting());
+    assert_eq!(comb.verdict(), check.verdict());
     assert_eq!(
-        comb.combined_yield.meeting_per_output,
+        comb.combined_yield().meeting(),
+        check.distribution().meeting()
+    );
+    assert_eq!(
+        comb.combined_yield().meeting_per_output(),
         check.distribution().meeting_per_output()
     );
 }
@@ -133,23 +136,23 @@ fn noise_that_takes_the_accuracy_fails_a_box_the_table_alone_meets() {
     let acc = e2e.accuracies();
 
     let mut noise_dominated = 0;
-    for (c, w) in comb.iter().zip(&wc.outputs) {
-        let k = c.output;
+    for (c, w) in comb.iter().zip(wc.outputs()) {
+        let k = c.output();
         assert_relative_eq!(
-            c.combined,
-            c.table_part + 3.0 * budget.sigma()[k],
+            c.combined(),
+            c.table_part() + 3.0 * budget.sigma()[k],
             max_relative = ROUNDING_REL
         );
-        assert!(c.table_part >= w.exact_at_vertex);
+        assert!(c.table_part() >= w.exact_at_vertex());
         if 3.0 * budget.sigma()[k] > acc[k] {
-            assert_eq!(c.verdict, Verdict::Fails);
+            assert_eq!(c.verdict(), Verdict::Fails);
             assert!(!c.meets());
             noise_dominated += 1;
         }
-        if 3.0 * budget.sigma()[k] > c.table_part {
-            assert_eq!(c.dominant, Dominant::Noise);
+        if 3.0 * budget.sigma()[k] > c.table_part() {
+            assert_eq!(c.dominant(), Dominant::Noise);
         } else {
-            assert_eq!(c.dominant, Dominant::Table);
+            assert_eq!(c.dominant(), Dominant::Table);
         }
     }
     assert!(
@@ -161,7 +164,7 @@ fn noise_that_takes_the_accuracy_fails_a_box_the_table_alone_meets() {
         .allocate_direct_with_noise(&linear, &lb, &budget, DEFAULT_K_SIGMA)
         .unwrap();
     let blocked = d.expect_err("no table suffices at 60 s");
-    assert!(blocked.iter().all(|b| b.noise_part >= acc[b.output]));
+    assert!(blocked.iter().all(|b| b.noise_part() >= acc[b.output()]));
 }
 
 #[test]
@@ -182,13 +185,13 @@ fn combined_yield_of_a_perfect_table_is_the_gaussian_probability_of_the_noise() 
     let settings = McSettings::new(20_000, 3);
     let y = e2e.combined_yield(&bounds, &budget, &settings).unwrap();
     let erf_tail = |x: f64| libm_erfc(x / std::f64::consts::SQRT_2);
-    let sig = &budget.per_position[0];
+    let sig = &budget.per_position()[0];
     let upper = sig
         .iter()
         .map(|s| 1.0 - erf_tail(acc[0] / s))
         .fold(1.0, f64::min);
     let lower = 1.0 - sig.iter().map(|s| erf_tail(acc[0] / s)).sum::<f64>();
-    let (lo, hi) = e2e_verify::wilson_interval_95(y.meeting_per_output[0], y.samples);
+    let (lo, hi) = e2e_verify::wilson_interval_95(y.meeting_per_output()[0], y.samples());
     assert!(
         hi >= lower.max(0.0),
         "{hi} below the Bonferroni bound {lower}"
@@ -275,7 +278,7 @@ fn shortest_dwell_for_white_noise_is_the_closed_form() {
     let tr = e2e
         .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, 86_400.0))
         .unwrap();
-    let t = tr.min_dwell_s.expect("a dwell within a day suffices");
+    let t = tr.min_dwell_s().expect("a dwell within a day suffices");
     assert!(
         expected > 0.01,
         "the closed form lies inside the range: {expected}"
@@ -283,12 +286,12 @@ fn shortest_dwell_for_white_noise_is_the_closed_form() {
     // bisection to 2^-48 of the log width, sigma rounding 1e-12
     assert_relative_eq!(t, expected, max_relative = 1e-9);
     // the curve: J falls with the dwell towards the noiseless J, every point feasible
-    let js: Vec<f64> = tr.points.iter().map(|p| p.objective.unwrap()).collect();
+    let js: Vec<f64> = tr.points().iter().map(|p| p.objective().unwrap()).collect();
     assert!(js.windows(2).all(|w| w[1] < w[0]));
-    assert!(*js.last().unwrap() > tr.noiseless_objective);
-    assert!(*js.last().unwrap() < 1.2 * tr.noiseless_objective);
-    let knee = tr.knee_dwell_s.expect("the curve crosses slope -1");
-    assert!(knee > tr.points[0].dwell_s && knee < tr.points.last().unwrap().dwell_s);
+    assert!(*js.last().unwrap() > tr.noiseless_objective());
+    assert!(*js.last().unwrap() < 1.2 * tr.noiseless_objective());
+    let knee = tr.knee_dwell_s().expect("the curve crosses slope -1");
+    assert!(knee > tr.points()[0].dwell_s() && knee < tr.points().last().unwrap().dwell_s());
 }
 
 #[test]
@@ -299,8 +302,8 @@ fn shortest_dwell_is_none_when_no_dwell_in_the_range_suffices() {
     let tr = e2e
         .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, 60.0))
         .unwrap();
-    assert_eq!(tr.min_dwell_s, None);
-    assert!(tr.points.is_empty());
+    assert_eq!(tr.min_dwell_s(), None);
+    assert!(tr.points().is_empty());
 }
 
 #[test]
@@ -334,7 +337,7 @@ fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
             (f64::MIN_POSITIVE, 86_400.0),
         )
         .unwrap();
-    assert!(tr.min_dwell_at_range_start);
+    assert!(tr.min_dwell_at_range_start());
     let shortest = timing
         .dwell_s()
         .iter()
@@ -342,7 +345,7 @@ fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
         .fold(f64::INFINITY, f64::min);
     let mean = timing.dwell_s().iter().sum::<f64>() / timing.len() as f64;
     assert_relative_eq!(
-        tr.min_dwell_s.unwrap(),
+        tr.min_dwell_s().unwrap(),
         mean / shortest / 3.0,
         max_relative = 1e-8
     );
@@ -413,23 +416,23 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
         )
         .unwrap();
     assert_eq!(plain, default);
-    assert_eq!(plain.points.len(), TradeoffParams::default().points);
+    assert_eq!(plain.points().len(), TradeoffParams::default().points);
     let mut coarse = TradeoffParams::default();
     coarse.points = 5;
     let c = e2e
         .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &coarse)
         .unwrap();
-    assert_eq!(c.points.len(), 5);
-    assert_eq!(c.noise_curve.len(), 5);
+    assert_eq!(c.points().len(), 5);
+    assert_eq!(c.noise_curve().len(), 5);
     // same bisection: the same shortest dwell; same span: the same first and last dwells
-    assert_eq!(c.min_dwell_s, plain.min_dwell_s);
+    assert_eq!(c.min_dwell_s(), plain.min_dwell_s());
     assert_eq!(
-        c.points[0].dwell_s.to_bits(),
-        plain.points[0].dwell_s.to_bits()
+        c.points()[0].dwell_s().to_bits(),
+        plain.points()[0].dwell_s().to_bits()
     );
     assert_relative_eq!(
-        c.points[4].dwell_s,
-        plain.points.last().unwrap().dwell_s,
+        c.points()[4].dwell_s(),
+        plain.points().last().unwrap().dwell_s(),
         max_relative = 1e-12 // exp(ln) round trip of the log-spaced grid, relative
     );
     for (field, bad) in [

@@ -31,7 +31,8 @@ fn run() -> &'static PaperComputation {
 #[test]
 fn e2e_claim_table4_calibrates_to_omega_m_under_the_paper_reading_but_not_the_users() {
     let c = run();
-    let e = claims::table4_calibrates_the_sensor_to_its_accuracy(&c.end_to_end, &c.answer).unwrap();
+    let e =
+        claims::table4_calibrates_the_sensor_to_its_accuracy(c.end_to_end(), c.answer()).unwrap();
     assert_eq!(e.holds_under(Reading::PAPER), Some(true));
     assert_eq!(e.holds_under(Reading::USER), Some(false));
     let paper = e.under(Reading::PAPER).unwrap();

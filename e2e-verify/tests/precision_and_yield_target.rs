@@ -50,11 +50,15 @@ fn a_perfect_turntable_has_zero_worst_case_within_the_stated_precision() {
                 &McSettings::new(200, 1),
             )
             .unwrap();
-        for (k, w) in wc.outputs.iter().enumerate() {
-            assert_eq!(w.exact_at_vertex.to_bits(), 0.0_f64.to_bits(), "{name} {k}");
-            assert_eq!(w.linear_bound.to_bits(), 0.0_f64.to_bits(), "{name} {k}");
+        for (k, w) in wc.outputs().iter().enumerate() {
+            assert_eq!(
+                w.exact_at_vertex().to_bits(),
+                0.0_f64.to_bits(),
+                "{name} {k}"
+            );
+            assert_eq!(w.linear_bound().to_bits(), 0.0_f64.to_bits(), "{name} {k}");
             assert_eq!(w.certified_bound(), Some(0.0), "{name} {k}");
-            assert_eq!(w.precision.to_bits(), p[k].to_bits());
+            assert_eq!(w.precision().to_bits(), p[k].to_bits());
             assert_eq!(
                 dist.worst()[k].value().to_bits(),
                 0.0_f64.to_bits(),
@@ -89,7 +93,10 @@ fn imu_ay_worst_case_and_monte_carlo_maximum_are_rounding_reported_as_zero() {
     let names: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();
     let ay = names.iter().position(|n| *n == "ay").unwrap();
     let o = &check.outputs()[ay];
-    assert_eq!(o.worst_case().exact_at_vertex.to_bits(), 0.0_f64.to_bits());
+    assert_eq!(
+        o.worst_case().exact_at_vertex().to_bits(),
+        0.0_f64.to_bits()
+    );
     assert_eq!(
         check.distribution().worst()[ay].value().to_bits(),
         0.0_f64.to_bits()
@@ -98,13 +105,13 @@ fn imu_ay_worst_case_and_monte_carlo_maximum_are_rounding_reported_as_zero() {
     let raw = e2e
         .delta_omega(check.distribution().worst()[ay].chi_rad())
         .unwrap()[ay];
-    assert!(raw > 0.0 && raw <= o.worst_case().precision, "{raw}");
+    assert!(raw > 0.0 && raw <= o.worst_case().precision(), "{raw}");
     for (k, out) in check.outputs().iter().enumerate() {
         if names[k] == "ay" {
             continue;
         }
-        assert!(out.worst_case().exact_at_vertex > 10.0 * out.worst_case().precision);
-        assert!(check.distribution().worst()[k].value() > out.worst_case().precision);
+        assert!(out.worst_case().exact_at_vertex() > 10.0 * out.worst_case().precision());
+        assert!(check.distribution().worst()[k].value() > out.worst_case().precision());
     }
 }
 
@@ -178,12 +185,12 @@ fn yield_based_box_is_judged_against_its_target_by_its_interval() {
     let mut inputs = EndToEndInputs::new(vec![0.0; 8], None, 5);
     inputs.samples = 2_000;
     let a = answer(&e2e, &inputs).unwrap();
-    for r in &a.readings {
-        let interval = r.yield_box.distribution.yield_interval_95();
+    for r in a.readings() {
+        let interval = r.yield_box().distribution().yield_interval_95();
         assert_eq!(r.yield_verdict(), YieldVerdict::of(interval, 0.9973));
         // the design draws reach the target (at least ceil(p N) meet) but 2000 draws cannot
         // place the yield on one side of it
-        assert!(r.yield_based.yield_fraction() >= 0.9973);
-        assert_eq!(r.yield_based.design_verdict(), YieldVerdict::CannotTell);
+        assert!(r.yield_based().yield_fraction() >= 0.9973);
+        assert_eq!(r.yield_based().design_verdict(), YieldVerdict::CannotTell);
     }
 }

@@ -125,8 +125,8 @@ fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
     let zero = vec![0.0; e.extra_errors().len()];
     let alone = e.worst_case(&m, &ub).expect("runs");
     let both = e.worst_case_with_extra(&m, &n, &ub, &zero).expect("runs");
-    for (a, b) in alone.outputs.iter().zip(&both) {
-        assert_relative_eq!(a.linear_bound, b.linear_bound, max_relative = 1e-12);
+    for (a, b) in alone.outputs().iter().zip(&both) {
+        assert_relative_eq!(a.linear_bound(), b.linear_bound(), max_relative = 1e-12);
     }
     let t = 1e-4;
     let bounds: Vec<f64> = e
@@ -145,7 +145,7 @@ fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
         // (1 + k) of the scale factor and the earth's rate: 1e-3 of it
         assert_relative_eq!(o.extra_part(), t * 216_000.0, max_relative = 1e-3);
         // the exact chain at the vertex: second order in 1e-5 rad and 1e-4
-        assert_relative_eq!(o.exact_at_vertex, o.linear_bound, max_relative = 1e-3);
+        assert_relative_eq!(o.exact_at_vertex(), o.linear_bound(), max_relative = 1e-3);
     }
 }
 
@@ -178,9 +178,9 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
     for (o, a) in wc.iter().zip(e.accuracies()) {
         // solver tolerance: 1e-6 of the accuracy
         assert!(
-            o.linear_bound <= a * (1.0 + 1e-6),
+            o.linear_bound() <= a * (1.0 + 1e-6),
             "{} > {a}",
-            o.linear_bound
+            o.linear_bound()
         );
     }
     let settings = e2e_verify::McSettings::new(3000, 7);
@@ -192,7 +192,7 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
         .expect("runs");
     assert_eq!(first, again);
     for (mx, o) in first.1.iter().zip(&wc) {
-        assert!(*mx <= o.exact_at_vertex.max(o.linear_bound) * (1.0 + 1e-3));
+        assert!(*mx <= o.exact_at_vertex().max(o.linear_bound()) * (1.0 + 1e-3));
     }
 }
 
@@ -210,11 +210,11 @@ fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_wors
     let lb = vec![0.0; e.n_errors()];
     let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
     let names = e.rate_tolerance_names();
-    assert_eq!(a.tolerances.len(), names.len());
+    assert_eq!(a.tolerances().len(), names.len());
     for (t, name) in a.tolerance_bounds().iter().zip(&names) {
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
     }
-    assert!(a.combined.objective().is_finite() && a.combined.objective() > 0.0);
+    assert!(a.combined().objective().is_finite() && a.combined().objective() > 0.0);
     let ub: Vec<f64> = a
         .angles_rad()
         .iter()
@@ -224,19 +224,19 @@ fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_wors
     let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
     for (o, acc) in wc.iter().zip(e.accuracies()) {
         assert!(
-            o.linear_bound <= acc * (1.0 + SOLVER_REL),
+            o.linear_bound() <= acc * (1.0 + SOLVER_REL),
             "output {}: first order {} > {acc}",
-            o.output,
-            o.linear_bound
+            o.output(),
+            o.linear_bound()
         );
         assert!(
-            o.exact_at_vertex <= acc,
+            o.exact_at_vertex() <= acc,
             "output {}: exact chain {} > {acc}",
-            o.output,
-            o.exact_at_vertex
+            o.output(),
+            o.exact_at_vertex()
         );
     }
-    assert_eq!(a.worst_cases, wc, "the allocation reports the same check");
+    assert_eq!(a.worst_cases(), wc, "the allocation reports the same check");
 }
 
 /// The rate-accuracy tolerance the direct allocation gives a turning joint agrees with the
@@ -353,7 +353,7 @@ fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corne
                             .map(|(a, c)| a * c)
                             .sum::<f64>()
                             + n.row(k, i).iter().zip(&x).map(|(a, c)| a * c).sum::<f64>();
-                        (run.analyses[k].error_vector[i] - first).abs()
+                        (run.analyses()[k].error_vector()[i] - first).abs()
                     })
                     .fold(0.0, f64::max);
                 assert!(
@@ -386,12 +386,12 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certifiable");
     let direct = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
-    assert_eq!(c.tolerances, direct.tolerances);
+    assert_eq!(c.tolerances(), direct.tolerances());
     for (t, name) in c.tolerance_bounds().iter().zip(e.rate_tolerance_names()) {
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
     }
     // a certified box costs at least the first-order one (J grows as the box shrinks)
-    assert!(c.combined.objective() >= direct.combined.objective() * (1.0 - SOLVER_REL));
+    assert!(c.combined().objective() >= direct.combined().objective() * (1.0 - SOLVER_REL));
     let ub: Vec<f64> = c
         .angles_rad()
         .iter()
@@ -401,7 +401,7 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
     let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
     for (k, acc) in e.accuracies().iter().enumerate() {
         assert!(
-            c.second_order_bounds[k] > 0.0,
+            c.second_order_bounds()[k] > 0.0,
             "output {k}: no remainder bound"
         );
         assert!(
@@ -410,15 +410,15 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
             c.certified_bound(k)
         );
         assert_relative_eq!(
-            wc[k].linear_bound,
-            c.linear_bounds[k],
+            wc[k].linear_bound(),
+            c.linear_bounds()[k],
             max_relative = SOLVER_REL,
             epsilon = rounding(&e, k)
         );
         assert!(
-            wc[k].exact_at_vertex <= c.certified_bound(k) + rounding(&e, k),
+            wc[k].exact_at_vertex() <= c.certified_bound(k) + rounding(&e, k),
             "output {k}: exact chain {} > certified {}",
-            wc[k].exact_at_vertex,
+            wc[k].exact_at_vertex(),
             c.certified_bound(k)
         );
     }
@@ -437,8 +437,8 @@ fn certified_rate_allocation_of_a_static_study_is_todays_certified_allocation() 
     let c = e
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certifiable");
-    assert!(c.tolerances.is_empty());
-    assert_eq!(c.combined, today);
+    assert!(c.tolerances().is_empty());
+    assert_eq!(c.combined(), &today);
     let s: f64 = today
         .upper_bounds_rad()
         .iter()

@@ -42,10 +42,10 @@ fn check_against_prediction(e2e: &EndToEnd, model: NoiseModel) {
     let predicted = e2e.calibration().outputs()[0]
         .noise_covariance(&model, &t)
         .unwrap();
-    let m = run.outputs[0].as_ref().unwrap();
+    let m = run.outputs()[0].as_ref().unwrap();
     let sim = m.coefficient_covariance();
     let tol = VARIANCE_SE * (2.0 / (CALIBRATIONS as f64 - 1.0)).sqrt();
-    let p = predicted.coefficients.total();
+    let p = predicted.coefficients().total();
     for j in 0..p.nrows() {
         let r = sim[(j, j)] / p[(j, j)] - 1.0;
         assert!(
@@ -53,13 +53,13 @@ fn check_against_prediction(e2e: &EndToEnd, model: NoiseModel) {
             "coefficient {j}: simulated/predicted - 1 = {r} (tol {tol})"
         );
     }
-    let ps = predicted.rate_error.sigma();
+    let ps = predicted.rate_error().sigma();
     for (i, s) in m.rate_sigma().iter().enumerate() {
         // a standard deviation's relative error is half the variance's
         let r = (s / ps[i]).powi(2) - 1.0;
         assert!(r.abs() < tol, "position {i}: {r}");
     }
-    assert_eq!(run.noise_samples, CALIBRATIONS * 50 * e2e.len() as u64);
+    assert_eq!(run.noise_samples(), CALIBRATIONS * 50 * e2e.len() as u64);
 }
 
 #[test]

@@ -585,11 +585,27 @@ pub struct NoiseModel {
 /// and its correlated part (the Gauss-Markov bias). Output unit squared, $n\times n$, in the
 /// order of the windows given.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct WindowCovariance {
     /// White noise and quantization.
-    pub white: DMatrix<f64>,
+    pub(crate) white: DMatrix<f64>,
     /// The Gauss-Markov bias instability.
-    pub correlated: DMatrix<f64>,
+    pub(crate) correlated: DMatrix<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl WindowCovariance {
+    /// White noise and quantization.
+    #[must_use]
+    pub fn white(&self) -> &DMatrix<f64> {
+        &self.white
+    }
+
+    /// The Gauss-Markov bias instability.
+    #[must_use]
+    pub fn correlated(&self) -> &DMatrix<f64> {
+        &self.correlated
+    }
 }
 
 impl WindowCovariance {

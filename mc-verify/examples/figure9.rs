@@ -45,8 +45,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{:>6}: max |.| = {:.6} deg = {:.4} of the linear worst case {:.6} deg (rigorous bound {:.6} deg, eq 16: {EQ16_DEG}), mean = {:+.2e} deg, std = {:.6} deg",
             a.axis().name(),
             rad_to_deg(a.max_abs_rad()),
-            a.max_abs_rad() / worst.value,
-            rad_to_deg(worst.value),
+            a.max_abs_rad() / worst.value(),
+            rad_to_deg(worst.value()),
             rad_to_deg(h),
             rad_to_deg(a.mean_rad()),
             rad_to_deg(sd),
@@ -69,7 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             * rad_to_deg(
                 model
                     .worst_pose_certified(OrientationAxis::Theta, mc.bounds().ub_rad(), true, None)?
-                    .value
+                    .value()
             )
             / EQ16_DEG
     );

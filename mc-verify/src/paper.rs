@@ -115,7 +115,7 @@ pub mod claims {
                 axis,
                 requirement_rad: result.requirement.get(axis),
                 max_abs_rad: result.axis(axis).max_abs_rad,
-                linear_worst_rad: w.value,
+                linear_worst_rad: w.value(),
                 rigorous_bound_rad: bound[axis.index()],
             });
         }

@@ -378,7 +378,7 @@ impl MonteCarlo {
             .map(|&axis| {
                 let w = model.worst_pose_certified(axis, ub, true, None)?;
                 // |c_ki| <= 1 (components of unit vectors): sum UB is a bound too
-                Ok(w.upper_bound.min(s))
+                Ok(w.upper_bound().min(s))
             })
             .collect();
         let mut h = [0.0; 3];

@@ -39,7 +39,7 @@ fn linear_worst_cases(t: &Turntable, ub: &[f64]) -> [(f64, f64); 3] {
     let model = LinearModel::new(t);
     OrientationAxis::ALL.map(|axis| {
         let w = model.worst_pose_certified(axis, ub, true, None).unwrap();
-        (w.value, w.upper_bound)
+        (w.value(), w.upper_bound())
     })
 }
 

@@ -120,7 +120,7 @@ fn bench(c: &mut Criterion) {
                     problem
                         .evaluate(black_box(&s))
                         .expect("evaluation")
-                        .objective,
+                        .objective(),
                 )
             });
         });

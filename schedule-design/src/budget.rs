@@ -149,17 +149,71 @@ pub enum ScheduleOrigin {
 
 /// One schedule at one dwell, evaluated exactly.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct BudgetPoint {
     /// Where the schedule comes from.
-    pub origin: ScheduleOrigin,
+    pub(crate) origin: ScheduleOrigin,
     /// The positions (joint angles, deg).
-    pub positions_deg: Vec<Vec<f64>>,
+    pub(crate) positions_deg: Vec<Vec<f64>>,
     /// The dwell at every position (s).
-    pub dwell_s: f64,
+    pub(crate) dwell_s: f64,
     /// The total test time $N(T + T_{move})$ (s).
-    pub total_s: f64,
+    pub(crate) total_s: f64,
     /// $J$ (rad$^{-2}$) of the direct allocation with the noise part kept free.
-    pub objective: f64,
+    pub(crate) objective: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl BudgetPoint {
+    /// A point of the front: the schedule from `origin` with `positions_deg` (joint angles,
+    /// deg), dwell `dwell_s` (s) at every position, total test time `total_s` (s) and the
+    /// table's $J$ `objective` (rad$^{-2}$).
+    #[must_use]
+    pub fn new(
+        origin: ScheduleOrigin,
+        positions_deg: Vec<Vec<f64>>,
+        dwell_s: f64,
+        total_s: f64,
+        objective: f64,
+    ) -> Self {
+        Self {
+            origin,
+            positions_deg,
+            dwell_s,
+            total_s,
+            objective,
+        }
+    }
+
+    /// Where the schedule comes from.
+    #[must_use]
+    pub fn origin(&self) -> ScheduleOrigin {
+        self.origin
+    }
+
+    /// The positions (joint angles, deg).
+    #[must_use]
+    pub fn positions_deg(&self) -> &[Vec<f64>] {
+        &self.positions_deg
+    }
+
+    /// The dwell at every position (s).
+    #[must_use]
+    pub fn dwell_s(&self) -> f64 {
+        self.dwell_s
+    }
+
+    /// The total test time $N(T + T_{move})$ (s).
+    #[must_use]
+    pub fn total_s(&self) -> f64 {
+        self.total_s
+    }
+
+    /// $J$ (rad$^{-2}$) of the direct allocation with the noise part kept free.
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
 }
 
 impl BudgetPoint {
@@ -178,30 +232,97 @@ impl BudgetPoint {
 
 /// The budget design's result.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct BudgetDesign {
     /// The budget (s).
-    pub budget_s: f64,
+    pub(crate) budget_s: f64,
     /// $\kappa$ of the noise part.
-    pub k_sigma: f64,
+    pub(crate) k_sigma: f64,
     /// The evaluation grid of dwells (s), ascending.
-    pub dwells_s: Vec<f64>,
+    pub(crate) dwells_s: Vec<f64>,
     /// Every schedule evaluated, with its origin.
-    pub schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)>,
+    pub(crate) schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)>,
     /// Schedule-dwell pairs evaluated.
-    pub evaluated: usize,
+    pub(crate) evaluated: usize,
     /// The Pareto front, by ascending total time (and strictly descending $J$).
-    pub pareto: Vec<BudgetPoint>,
+    pub(crate) pareto: Vec<BudgetPoint>,
     /// The cheapest table within the budget; `None` when no evaluated point within it leaves
     /// the table room.
-    pub chosen: Option<BudgetPoint>,
+    pub(crate) chosen: Option<BudgetPoint>,
     /// The numbers of positions designed for, ascending (the table design's among them).
-    pub counts: Vec<usize>,
+    pub(crate) counts: Vec<usize>,
     /// The searched counts with no table design: the greedy construction did not meet the
     /// condition bound (or the allocation failed at every candidate of a step).
-    pub counts_skipped: Vec<usize>,
+    pub(crate) counts_skipped: Vec<usize>,
     /// The counts the refinement tried, in the order tried (among `counts` or
     /// `counts_skipped`).
-    pub counts_refined: Vec<usize>,
+    pub(crate) counts_refined: Vec<usize>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl BudgetDesign {
+    /// The budget (s).
+    #[must_use]
+    pub fn budget_s(&self) -> f64 {
+        self.budget_s
+    }
+
+    /// $\kappa$ of the noise part.
+    #[must_use]
+    pub fn k_sigma(&self) -> f64 {
+        self.k_sigma
+    }
+
+    /// The evaluation grid of dwells (s), ascending.
+    #[must_use]
+    pub fn dwells_s(&self) -> &[f64] {
+        &self.dwells_s
+    }
+
+    /// Every schedule evaluated, with its origin.
+    #[must_use]
+    pub fn schedules(&self) -> &[(ScheduleOrigin, Vec<Vec<f64>>)] {
+        &self.schedules
+    }
+
+    /// Schedule-dwell pairs evaluated.
+    #[must_use]
+    pub fn evaluated(&self) -> usize {
+        self.evaluated
+    }
+
+    /// The Pareto front, by ascending total time (and strictly descending $J$).
+    #[must_use]
+    pub fn pareto(&self) -> &[BudgetPoint] {
+        &self.pareto
+    }
+
+    /// The cheapest table within the budget; `None` when no evaluated point within it leaves
+    /// the table room.
+    #[must_use]
+    pub fn chosen(&self) -> &Option<BudgetPoint> {
+        &self.chosen
+    }
+
+    /// The numbers of positions designed for, ascending (the table design's among them).
+    #[must_use]
+    pub fn counts(&self) -> &[usize] {
+        &self.counts
+    }
+
+    /// The searched counts with no table design: the greedy construction did not meet the
+    /// condition bound (or the allocation failed at every candidate of a step).
+    #[must_use]
+    pub fn counts_skipped(&self) -> &[usize] {
+        &self.counts_skipped
+    }
+
+    /// The counts the refinement tried, in the order tried (among `counts` or
+    /// `counts_skipped`).
+    #[must_use]
+    pub fn counts_refined(&self) -> &[usize] {
+        &self.counts_refined
+    }
 }
 
 /// The total test time of `n` positions with `dwell_s` each: $N(T + T_{move})$ (s).

@@ -152,8 +152,8 @@
 //! let grid = grid_positions_deg(&table, 60.0)?;
 //! let problem = DesignProblem::new(&table, &sensor, &gw_model::paper::site(), Reading::PAPER, &[0.0; 8], grid)?;
 //! let start = problem.greedy(10, 100.0)?;
-//! let out = problem.exchange(&start.schedule, 100.0)?;
-//! assert!(out.evaluation.objective <= start.objective); // never worse than its start
+//! let out = problem.exchange(&start.schedule(), 100.0)?;
+//! assert!(out.evaluation().objective() <= start.objective()); // never worse than its start
 //! # Ok::<(), e2e_verify::E2eError>(())
 //! ```
 //!
@@ -383,20 +383,61 @@ pub fn candidates_with(grid: Vec<Vec<f64>>, extra: &[Vec<f64>]) -> Vec<Vec<f64>>
 
 /// The exact evaluation of one schedule ([`DesignProblem::evaluate`]).
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Evaluation {
     /// The schedule (candidate indices, in order).
-    pub schedule: Vec<usize>,
+    pub(crate) schedule: Vec<usize>,
     /// Every output's condition number (`+inf` when the schedule does not identify it).
-    pub condition_numbers: Vec<f64>,
+    pub(crate) condition_numbers: Vec<f64>,
     /// The first output the schedule does not identify, with its coefficients.
-    pub unidentifiable: Option<(String, Vec<String>)>,
+    pub(crate) unidentifiable: Option<(String, Vec<String>)>,
     /// $J$ of the direct allocation (rad$^{-2}$); `+inf` when unidentifiable or when the
     /// lower bounds alone break an accuracy.
-    pub objective: f64,
+    pub(crate) objective: f64,
     /// The direct allocation, when it exists.
-    pub allocation: Option<DirectAllocation>,
+    pub(crate) allocation: Option<DirectAllocation>,
     /// $\mathbf M$, when the schedule identifies every output.
-    pub linear: Option<Linearization>,
+    pub(crate) linear: Option<Linearization>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Evaluation {
+    /// The schedule (candidate indices, in order).
+    #[must_use]
+    pub fn schedule(&self) -> &[usize] {
+        &self.schedule
+    }
+
+    /// Every output's condition number (`+inf` when the schedule does not identify it).
+    #[must_use]
+    pub fn condition_numbers(&self) -> &[f64] {
+        &self.condition_numbers
+    }
+
+    /// The first output the schedule does not identify, with its coefficients.
+    #[must_use]
+    pub fn unidentified_output(&self) -> Option<&(String, Vec<String>)> {
+        self.unidentifiable.as_ref()
+    }
+
+    /// $J$ of the direct allocation (rad$^{-2}$); `+inf` when unidentifiable or when the
+    /// lower bounds alone break an accuracy.
+    #[must_use]
+    pub fn objective(&self) -> f64 {
+        self.objective
+    }
+
+    /// The direct allocation, when it exists.
+    #[must_use]
+    pub fn allocation(&self) -> &Option<DirectAllocation> {
+        &self.allocation
+    }
+
+    /// $\mathbf M$, when the schedule identifies every output.
+    #[must_use]
+    pub fn linear(&self) -> &Option<Linearization> {
+        &self.linear
+    }
 }
 
 impl Evaluation {
@@ -439,41 +480,130 @@ impl Evaluation {
 
 /// The result of one exchange run.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct ExchangeOutcome {
     /// $J$ of the start (rad$^{-2}$).
-    pub start_objective: f64,
+    pub(crate) start_objective: f64,
     /// The final schedule, evaluated exactly ($J$ never above `start_objective`).
-    pub evaluation: Evaluation,
+    pub(crate) evaluation: Evaluation,
     /// Exchanges taken.
-    pub exchanges: usize,
+    pub(crate) exchanges: usize,
     /// Passes over the slots.
-    pub passes: usize,
+    pub(crate) passes: usize,
     /// Exact evaluations (conic solves) of candidate swaps.
-    pub exact_evaluations: usize,
+    pub(crate) exact_evaluations: usize,
     /// Swaps screened (bounds computed).
-    pub screened_swaps: usize,
+    pub(crate) screened_swaps: usize,
     /// Swaps the allocation core could not solve (conic solver failure): never taken.
-    pub unevaluated_swaps: usize,
+    pub(crate) unevaluated_swaps: usize,
     /// Whether it ended by a full pass without an exchange in which every swap was bounded
     /// or evaluated: then no single exchange gives a feasible schedule better by more than
     /// [`SearchParams::improvement_rel`].
-    pub local_optimum: bool,
+    pub(crate) local_optimum: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ExchangeOutcome {
+    /// $J$ of the start (rad$^{-2}$).
+    #[must_use]
+    pub fn start_objective(&self) -> f64 {
+        self.start_objective
+    }
+
+    /// The final schedule, evaluated exactly ($J$ never above `start_objective`).
+    #[must_use]
+    pub fn evaluation(&self) -> &Evaluation {
+        &self.evaluation
+    }
+
+    /// Exchanges taken.
+    #[must_use]
+    pub fn exchanges(&self) -> usize {
+        self.exchanges
+    }
+
+    /// Passes over the slots.
+    #[must_use]
+    pub fn passes(&self) -> usize {
+        self.passes
+    }
+
+    /// Exact evaluations (conic solves) of candidate swaps.
+    #[must_use]
+    pub fn exact_evaluations(&self) -> usize {
+        self.exact_evaluations
+    }
+
+    /// Swaps screened (bounds computed).
+    #[must_use]
+    pub fn screened_swaps(&self) -> usize {
+        self.screened_swaps
+    }
+
+    /// Swaps the allocation core could not solve (conic solver failure): never taken.
+    #[must_use]
+    pub fn unevaluated_swaps(&self) -> usize {
+        self.unevaluated_swaps
+    }
+
+    /// Whether it ended by a full pass without an exchange in which every swap was bounded
+    /// or evaluated: then no single exchange gives a feasible schedule better by more than
+    /// [`SearchParams::improvement_rel`].
+    #[must_use]
+    pub fn local_optimum(&self) -> bool {
+        self.local_optimum
+    }
 }
 
 /// The D-optimal exchange's result.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct DOptimalOutcome {
     /// The schedule (candidate indices).
-    pub schedule: Vec<usize>,
+    pub(crate) schedule: Vec<usize>,
     /// $\sum_k \ln\det(\mathbf A_k^T\mathbf A_k)$.
-    pub log_det: f64,
+    pub(crate) log_det: f64,
     /// Exchanges taken.
-    pub exchanges: usize,
+    pub(crate) exchanges: usize,
     /// Passes over the slots.
-    pub passes: usize,
+    pub(crate) passes: usize,
     /// Whether no single exchange raises the criterion by more than
     /// [`SearchParams::improvement_rel`].
-    pub local_optimum: bool,
+    pub(crate) local_optimum: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl DOptimalOutcome {
+    /// The schedule (candidate indices).
+    #[must_use]
+    pub fn schedule(&self) -> &[usize] {
+        &self.schedule
+    }
+
+    /// $\sum_k \ln\det(\mathbf A_k^T\mathbf A_k)$.
+    #[must_use]
+    pub fn log_det(&self) -> f64 {
+        self.log_det
+    }
+
+    /// Exchanges taken.
+    #[must_use]
+    pub fn exchanges(&self) -> usize {
+        self.exchanges
+    }
+
+    /// Passes over the slots.
+    #[must_use]
+    pub fn passes(&self) -> usize {
+        self.passes
+    }
+
+    /// Whether no single exchange raises the criterion by more than
+    /// [`SearchParams::improvement_rel`].
+    #[must_use]
+    pub fn local_optimum(&self) -> bool {
+        self.local_optimum
+    }
 }
 
 /// How a restart started.
@@ -499,17 +629,47 @@ pub enum StartKind {
 
 /// One restart of the design search.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct RestartOutcome {
     /// Its start.
-    pub start: StartKind,
+    pub(crate) start: StartKind,
     /// $J$ of the start (rad$^{-2}$; `+inf` when the start was infeasible and repaired).
-    pub start_objective: f64,
+    pub(crate) start_objective: f64,
     /// The exchange, or `None` when no feasible start could be made.
-    pub exchange: Option<ExchangeOutcome>,
+    pub(crate) exchange: Option<ExchangeOutcome>,
     /// The smallest largest condition number of the identifiable schedules this restart met
     /// (its start and the start's repair; `+inf` when none was identifiable): what the
     /// search could reach when no restart meets the bound.
-    pub best_condition: f64,
+    pub(crate) best_condition: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl RestartOutcome {
+    /// Its start.
+    #[must_use]
+    pub fn start(&self) -> StartKind {
+        self.start
+    }
+
+    /// $J$ of the start (rad$^{-2}$; `+inf` when the start was infeasible and repaired).
+    #[must_use]
+    pub fn start_objective(&self) -> f64 {
+        self.start_objective
+    }
+
+    /// The exchange, or `None` when no feasible start could be made.
+    #[must_use]
+    pub fn exchange(&self) -> &Option<ExchangeOutcome> {
+        &self.exchange
+    }
+
+    /// The smallest largest condition number of the identifiable schedules this restart met
+    /// (its start and the start's repair; `+inf` when none was identifiable): what the
+    /// search could reach when no restart meets the bound.
+    #[must_use]
+    pub fn best_condition(&self) -> f64 {
+        self.best_condition
+    }
 }
 
 /// Settings of the design search.
@@ -556,21 +716,67 @@ impl DesignSettings {
 
 /// The whole search: the best exchange, every restart, the baselines.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct DesignSearch {
     /// The designed schedule: the best restart's result.
-    pub designed: ExchangeOutcome,
+    pub(crate) designed: ExchangeOutcome,
     /// Index of the best restart in `restarts`.
-    pub best_restart: usize,
+    pub(crate) best_restart: usize,
     /// Every restart, in order.
-    pub restarts: Vec<RestartOutcome>,
+    pub(crate) restarts: Vec<RestartOutcome>,
     /// The D-optimal baseline (best of its starts).
-    pub d_optimal: DOptimalOutcome,
+    pub(crate) d_optimal: DOptimalOutcome,
     /// The best feasible random schedule, if any.
-    pub random_best: Option<Evaluation>,
+    pub(crate) random_best: Option<Evaluation>,
     /// Random schedules drawn.
-    pub random_drawn: usize,
+    pub(crate) random_drawn: usize,
     /// Of those, feasible (identifiable, condition bound, allocation exists).
-    pub random_feasible: usize,
+    pub(crate) random_feasible: usize,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl DesignSearch {
+    /// The designed schedule: the best restart's result.
+    #[must_use]
+    pub fn designed(&self) -> &ExchangeOutcome {
+        &self.designed
+    }
+
+    /// Index of the best restart in `restarts`.
+    #[must_use]
+    pub fn best_restart(&self) -> usize {
+        self.best_restart
+    }
+
+    /// Every restart, in order.
+    #[must_use]
+    pub fn restarts(&self) -> &[RestartOutcome] {
+        &self.restarts
+    }
+
+    /// The D-optimal baseline (best of its starts).
+    #[must_use]
+    pub fn d_optimal(&self) -> &DOptimalOutcome {
+        &self.d_optimal
+    }
+
+    /// The best feasible random schedule, if any.
+    #[must_use]
+    pub fn random_best(&self) -> &Option<Evaluation> {
+        &self.random_best
+    }
+
+    /// Random schedules drawn.
+    #[must_use]
+    pub fn random_drawn(&self) -> usize {
+        self.random_drawn
+    }
+
+    /// Of those, feasible (identifiable, condition bound, allocation exists).
+    #[must_use]
+    pub fn random_feasible(&self) -> usize {
+        self.random_feasible
+    }
 }
 
 fn random_schedule(n_candidates: usize, n: usize, seed: u64, stream: u64) -> Vec<usize> {
@@ -1061,15 +1267,39 @@ impl DesignProblem {
 
 /// One screened swap of [`Neighbourhood::screen`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct SwapBound {
     /// The candidate that would replace the slot's position.
-    pub candidate: usize,
+    pub(crate) candidate: usize,
     /// A rigorous lower bound on $J$ after the swap (rad$^{-2}$; `+inf` when the swap makes
     /// an output unidentifiable), up to rounding.
-    pub lower: f64,
+    pub(crate) lower: f64,
     /// An estimate of $J$ after the swap (rad$^{-2}$): a rigorous upper bound when every lower
     /// bound of the errors is zero; `+inf` when the lower bound already rules the swap out.
-    pub estimate: f64,
+    pub(crate) estimate: f64,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl SwapBound {
+    /// The candidate that would replace the slot's position.
+    #[must_use]
+    pub fn candidate(&self) -> usize {
+        self.candidate
+    }
+
+    /// A rigorous lower bound on $J$ after the swap (rad$^{-2}$; `+inf` when the swap makes
+    /// an output unidentifiable), up to rounding.
+    #[must_use]
+    pub fn lower(&self) -> f64 {
+        self.lower
+    }
+
+    /// An estimate of $J$ after the swap (rad$^{-2}$): a rigorous upper bound when every lower
+    /// bound of the errors is zero; `+inf` when the lower bound already rules the swap out.
+    #[must_use]
+    pub fn estimate(&self) -> f64 {
+        self.estimate
+    }
 }
 
 /// The single-exchange neighbourhood of a schedule, ready to screen: the schedule's exact
@@ -1115,39 +1345,122 @@ impl Neighbourhood<'_> {
 
 /// One schedule as every command sees it.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct ScheduleReport {
     /// The positions (joint angles, deg).
-    pub positions_deg: Vec<Vec<f64>>,
+    pub(crate) positions_deg: Vec<Vec<f64>>,
     /// Its own direct allocation ($J$, bounds, active rows): the linearised design objective.
     /// Its worst case on the exact chain may exceed an accuracy (by the second-order terms);
     /// see `certified` for tolerances that are proven.
-    pub allocation: DirectAllocation,
+    pub(crate) allocation: DirectAllocation,
     /// Its direct allocation certified on the exact chain
     /// ([`EndToEnd::allocate_direct_certified`], as `end-to-end`'s `direct_certified`): every
     /// turntable within these tolerances meets every accuracy, so they pass
     /// `check-turntable` on this schedule. `None` when not certifiable (`certified_note`).
-    pub certified: Option<DirectAllocation>,
+    pub(crate) certified: Option<DirectAllocation>,
     /// Why `certified` is `None`.
-    pub certified_note: Option<String>,
+    pub(crate) certified_note: Option<String>,
     /// Every output's condition number.
-    pub condition_numbers: Vec<f64>,
+    pub(crate) condition_numbers: Vec<f64>,
     /// $\sum_k\ln\det(\mathbf A_k^T\mathbf A_k)$.
-    pub log_det_information: f64,
+    pub(crate) log_det_information: f64,
     /// The worst case of every output over the study schedule's tolerances (what the table
     /// one would buy for the study's schedule gives with this schedule).
-    pub with_study_tolerances: StudyTolerancesWorstCase,
+    pub(crate) with_study_tolerances: StudyTolerancesWorstCase,
     /// The orientation requirement of eq 15-16 for this schedule, or why there is none.
-    pub requirement: Result<OrientationRequirement, CalibError>,
+    pub(crate) requirement: Result<OrientationRequirement, CalibError>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ScheduleReport {
+    /// The positions (joint angles, deg).
+    #[must_use]
+    pub fn positions_deg(&self) -> &[Vec<f64>] {
+        &self.positions_deg
+    }
+
+    /// Its own direct allocation ($J$, bounds, active rows): the linearised design objective.
+    /// Its worst case on the exact chain may exceed an accuracy (by the second-order terms);
+    /// see `certified` for tolerances that are proven.
+    #[must_use]
+    pub fn allocation(&self) -> &DirectAllocation {
+        &self.allocation
+    }
+
+    /// Its direct allocation certified on the exact chain
+    /// ([`EndToEnd::allocate_direct_certified`], as `end-to-end`'s `direct_certified`): every
+    /// turntable within these tolerances meets every accuracy, so they pass
+    /// `check-turntable` on this schedule. `None` when not certifiable (`certified_note`).
+    #[must_use]
+    pub fn certified(&self) -> &Option<DirectAllocation> {
+        &self.certified
+    }
+
+    /// Why `certified` is `None`.
+    #[must_use]
+    pub fn certified_note(&self) -> Option<&str> {
+        self.certified_note.as_deref()
+    }
+
+    /// Every output's condition number.
+    #[must_use]
+    pub fn condition_numbers(&self) -> &[f64] {
+        &self.condition_numbers
+    }
+
+    /// $\sum_k\ln\det(\mathbf A_k^T\mathbf A_k)$.
+    #[must_use]
+    pub fn log_det_information(&self) -> f64 {
+        self.log_det_information
+    }
+
+    /// The worst case of every output over the study schedule's tolerances (what the table
+    /// one would buy for the study's schedule gives with this schedule).
+    #[must_use]
+    pub fn with_study_tolerances(&self) -> &StudyTolerancesWorstCase {
+        &self.with_study_tolerances
+    }
+
+    /// The orientation requirement of eq 15-16 for this schedule, or why there is none.
+    pub fn requirement(&self) -> &Result<OrientationRequirement, CalibError> {
+        &self.requirement
+    }
 }
 
 /// The tolerances one would buy for the study's schedule: its certified allocation when it has
 /// one, else its (linearised) direct allocation.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct StudyTolerances {
     /// The upper bounds (rad; `+inf` for an error the study's schedule needs no bound on).
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// Whether they are the certified allocation (else the linearised one).
-    pub certified: bool,
+    pub(crate) certified: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl StudyTolerances {
+    /// Tolerances `upper_bounds_rad` (rad, the table's rotation errors in order; `+inf` for an
+    /// error left free), `certified` when they are a certified allocation.
+    #[must_use]
+    pub fn new(upper_bounds_rad: Vec<f64>, certified: bool) -> Self {
+        Self {
+            upper_bounds_rad,
+            certified,
+        }
+    }
+
+    /// The upper bounds (rad; `+inf` for an error the study's schedule needs no bound on).
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// Whether they are the certified allocation (else the linearised one).
+    #[must_use]
+    pub fn certified(&self) -> bool {
+        self.certified
+    }
 }
 
 impl StudyTolerances {
@@ -1197,10 +1510,11 @@ impl StudyTolerances {
         // as Linearization::unconstrained: an entry below 1e-12 of the largest is no dependence
         let small = 1e-12 * linear.matrix().amax();
         let outputs = wc
-            .outputs
-            .into_iter()
+            .outputs()
+            .iter()
+            .cloned()
             .map(|o| {
-                let k = o.output;
+                let k = o.output();
                 let reached = (0..n).any(|i| {
                     let row = linear.row(k, i);
                     unbounded.iter().any(|&j| row[j].abs() > small)
@@ -1219,33 +1533,98 @@ impl StudyTolerances {
 
 /// The worst case of a schedule's outputs over [`StudyTolerances`].
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct StudyTolerancesWorstCase {
     /// Whether the tolerances are the study schedule's certified allocation (else its
     /// linearised direct allocation, when it has no certified one).
-    pub certified: bool,
+    pub(crate) certified: bool,
     /// The tolerances (rad).
-    pub upper_bounds_rad: Vec<f64>,
+    pub(crate) upper_bounds_rad: Vec<f64>,
     /// Per output its worst case (linearised, exact at the worst vertex, second-order bound),
     /// or `None` when the output depends to first order on an error in `unbounded`.
-    pub outputs: Vec<Option<OutputWorstCase>>,
+    pub(crate) outputs: Vec<Option<OutputWorstCase>>,
     /// The errors the tolerances leave free (the study's schedule needs no bound on them)
     /// that this schedule depends on.
-    pub unbounded: Vec<usize>,
+    pub(crate) unbounded: Vec<usize>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl StudyTolerancesWorstCase {
+    /// Whether the tolerances are the study schedule's certified allocation (else its
+    /// linearised direct allocation, when it has no certified one).
+    #[must_use]
+    pub fn certified(&self) -> bool {
+        self.certified
+    }
+
+    /// The tolerances (rad).
+    #[must_use]
+    pub fn upper_bounds_rad(&self) -> &[f64] {
+        &self.upper_bounds_rad
+    }
+
+    /// Per output its worst case (linearised, exact at the worst vertex, second-order bound),
+    /// or `None` when the output depends to first order on an error in `unbounded`.
+    #[must_use]
+    pub fn outputs(&self) -> &[Option<OutputWorstCase>] {
+        &self.outputs
+    }
+
+    /// The errors the tolerances leave free (the study's schedule needs no bound on them)
+    /// that this schedule depends on.
+    #[must_use]
+    pub fn unbounded(&self) -> &[usize] {
+        &self.unbounded
+    }
 }
 
 /// The designed schedule and the baselines, each as a [`ScheduleReport`].
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct ScheduleDesign {
     /// The designed schedule.
-    pub designed: ScheduleReport,
+    pub(crate) designed: ScheduleReport,
     /// The study's own schedule.
-    pub study: ScheduleReport,
+    pub(crate) study: ScheduleReport,
     /// The D-optimal schedule of the same size over the same candidates.
-    pub d_optimal: ScheduleReport,
+    pub(crate) d_optimal: ScheduleReport,
     /// The best of the random schedules (`None` when none was feasible).
-    pub random_best: Option<ScheduleReport>,
+    pub(crate) random_best: Option<ScheduleReport>,
     /// The search behind them.
-    pub search: DesignSearch,
+    pub(crate) search: DesignSearch,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ScheduleDesign {
+    /// The designed schedule.
+    #[must_use]
+    pub fn designed(&self) -> &ScheduleReport {
+        &self.designed
+    }
+
+    /// The study's own schedule.
+    #[must_use]
+    pub fn study(&self) -> &ScheduleReport {
+        &self.study
+    }
+
+    /// The D-optimal schedule of the same size over the same candidates.
+    #[must_use]
+    pub fn d_optimal(&self) -> &ScheduleReport {
+        &self.d_optimal
+    }
+
+    /// The best of the random schedules (`None` when none was feasible).
+    #[must_use]
+    pub fn random_best(&self) -> &Option<ScheduleReport> {
+        &self.random_best
+    }
+
+    /// The search behind them.
+    #[must_use]
+    pub fn search(&self) -> &DesignSearch {
+        &self.search
+    }
 }
 
 /// Design a schedule for a problem whose candidates contain the study's positions

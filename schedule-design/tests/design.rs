@@ -135,8 +135,12 @@ fn precomputed_evaluation_equals_the_end_to_end_path_for_every_reading() {
             e2e.allocate_direct(&theirs, &[0.0; 8]),
         ) {
             (Ok(e), Ok(direct)) => {
-                assert_relative_eq!(e.objective, direct.objective(), max_relative = ROUNDING_REL);
-                assert_eq!(e.condition_numbers, e2e.calibration().condition_numbers());
+                assert_relative_eq!(
+                    e.objective(),
+                    direct.objective(),
+                    max_relative = ROUNDING_REL
+                );
+                assert_eq!(e.condition_numbers(), e2e.calibration().condition_numbers());
             }
             (Err(a), Err(b)) => assert_eq!(a, b, "{reading}"),
             (a, b) => panic!("{reading}: {a:?} vs {b:?}"),
@@ -160,12 +164,12 @@ fn screening_bounds_bracket_the_exact_objective_of_every_swap() {
         for slot in [0, 5, 11] {
             for b in hood.screen(slot).unwrap() {
                 let mut t = s.clone();
-                t[slot] = b.candidate;
+                t[slot] = b.candidate();
                 let e = problem.evaluate(&t).unwrap();
-                if e.unidentifiable.is_some() {
+                if e.unidentified_output().is_some() {
                     continue;
                 }
-                if b.lower.is_infinite() {
+                if b.lower().is_infinite() {
                     // screened as (nearly) rank deficient: determinant ratio below 1e-10
                     assert!(
                         e.max_condition() > 1e3,
@@ -175,18 +179,18 @@ fn screening_bounds_bracket_the_exact_objective_of_every_swap() {
                     continue;
                 }
                 assert!(
-                    b.lower <= e.objective * (1.0 + BOUND_SLACK_REL),
+                    b.lower() <= e.objective() * (1.0 + BOUND_SLACK_REL),
                     "{reading} slot {slot} candidate {}: lower {} > J {}",
-                    b.candidate,
-                    b.lower,
-                    e.objective
+                    b.candidate(),
+                    b.lower(),
+                    e.objective()
                 );
                 assert!(
-                    b.estimate >= e.objective * (1.0 - BOUND_SLACK_REL),
+                    b.estimate() >= e.objective() * (1.0 - BOUND_SLACK_REL),
                     "{reading} slot {slot} candidate {}: upper {} < J {}",
-                    b.candidate,
-                    b.estimate,
-                    e.objective
+                    b.candidate(),
+                    b.estimate(),
+                    e.objective()
                 );
                 checked += 1;
             }
@@ -228,23 +232,23 @@ fn exchange_never_returns_a_schedule_worse_than_its_start() {
             let before = problem.evaluate(&start).unwrap();
             let out = problem.exchange(&start, MAX_CONDITION).unwrap();
             assert_relative_eq!(
-                out.start_objective,
-                before.objective,
+                out.start_objective(),
+                before.objective(),
                 max_relative = ROUNDING_REL
             );
             assert!(
-                out.evaluation.objective <= before.objective,
+                out.evaluation().objective() <= before.objective(),
                 "{reading}: {} > {}",
-                out.evaluation.objective,
-                before.objective
+                out.evaluation().objective(),
+                before.objective()
             );
-            assert!(out.evaluation.is_feasible(MAX_CONDITION));
-            assert_eq!(out.evaluation.schedule.len(), start.len());
+            assert!(out.evaluation().is_feasible(MAX_CONDITION));
+            assert_eq!(out.evaluation().schedule().len(), start.len());
             // its J is what a fresh evaluation gives
-            let again = problem.evaluate(&out.evaluation.schedule).unwrap();
+            let again = problem.evaluate(out.evaluation().schedule()).unwrap();
             assert_relative_eq!(
-                again.objective,
-                out.evaluation.objective,
+                again.objective(),
+                out.evaluation().objective(),
                 max_relative = ROUNDING_REL
             );
         }
@@ -316,13 +320,13 @@ fn d_optimal_baseline_equals_the_enumeration_optimum_on_a_small_case() {
         .fold(f64::NEG_INFINITY, f64::max);
     assert!(best.is_finite());
     let d = problem.d_optimal(5, 2017, 4, &|| {}).unwrap();
-    assert_relative_eq!(d.log_det, best, max_relative = ROUNDING_REL);
+    assert_relative_eq!(d.log_det(), best, max_relative = ROUNDING_REL);
     assert_relative_eq!(
-        problem.log_det_information(&d.schedule),
+        problem.log_det_information(d.schedule()),
         best,
         max_relative = ROUNDING_REL
     );
-    assert!(d.local_optimum);
+    assert!(d.local_optimum());
 }
 
 /// Candidates at a single inner-axis angle leave the specific force in the x-z plane of the
@@ -462,9 +466,9 @@ fn designed_schedule_beats_the_study_and_d_optimal_schedules_for_the_paper_study
     )
     .unwrap();
     let (designed, study, dopt) = (
-        d.designed.allocation.objective(),
-        d.study.allocation.objective(),
-        d.d_optimal.allocation.objective(),
+        d.designed().allocation().objective(),
+        d.study().allocation().objective(),
+        d.d_optimal().allocation().objective(),
     );
     assert!(
         designed < study && designed < dopt,
@@ -472,34 +476,34 @@ fn designed_schedule_beats_the_study_and_d_optimal_schedules_for_the_paper_study
     );
     // the paper study's direct allocation (end-to-end, reading intended/beta1/printed)
     assert_relative_eq!(
-        d.study.allocation.objective_arcmin(),
+        d.study().allocation().objective_arcmin(),
         54.652_234_256_453_7,
         max_relative = 1e-9
     );
     assert!(
-        d.designed
-            .condition_numbers
+        d.designed()
+            .condition_numbers()
             .iter()
             .all(|&k| k <= settings.max_condition)
     );
-    assert_eq!(d.designed.positions_deg.len(), 32);
+    assert_eq!(d.designed().positions_deg().len(), 32);
     // the same path from the same positions: bit-identical
     assert_eq!(
-        d.designed.allocation.objective().to_bits(),
-        d.search.designed.evaluation.objective.to_bits()
+        d.designed().allocation().objective().to_bits(),
+        d.search().designed().evaluation().objective().to_bits()
     );
     // the study's schedule was a start, so the best restart is at least as good
-    assert!(d.search.designed.local_optimum);
-    if let Some(r) = &d.random_best {
-        assert!(designed < r.allocation.objective());
+    assert!(d.search().designed().local_optimum());
+    if let Some(r) = &d.random_best() {
+        assert!(designed < r.allocation().objective());
     }
     // with the study's tolerances (its certified allocation) the designed schedule meets every
     // accuracy with room to spare
-    let wc = &d.designed.with_study_tolerances;
-    assert!(wc.certified && wc.unbounded.is_empty());
-    for o in &wc.outputs {
+    let wc = &d.designed().with_study_tolerances();
+    assert!(wc.certified() && wc.unbounded().is_empty());
+    for o in wc.outputs() {
         let o = o.as_ref().unwrap();
-        assert!(o.linear_bound < 0.01, "{}", o.linear_bound);
+        assert!(o.linear_bound() < 0.01, "{}", o.linear_bound());
     }
 }
 
@@ -522,17 +526,18 @@ fn same_seed_same_design_for_one_and_four_threads() {
         };
         let (one, four) = (run(1), run(4));
         assert_eq!(
-            one.designed.evaluation.schedule, four.designed.evaluation.schedule,
+            one.designed().evaluation().schedule(),
+            four.designed().evaluation().schedule(),
             "{reading}"
         );
         assert_eq!(
-            one.designed.evaluation.objective.to_bits(),
-            four.designed.evaluation.objective.to_bits()
+            one.designed().evaluation().objective().to_bits(),
+            four.designed().evaluation().objective().to_bits()
         );
-        assert_eq!(one.d_optimal.schedule, four.d_optimal.schedule);
+        assert_eq!(one.d_optimal().schedule(), four.d_optimal().schedule());
         assert_eq!(
-            one.random_best.map(|e| e.schedule),
-            four.random_best.map(|e| e.schedule)
+            one.random_best().as_ref().map(|e| e.schedule()),
+            four.random_best().as_ref().map(|e| e.schedule())
         );
         // and another seed draws other random starts
         let mut other = settings.clone();
@@ -540,10 +545,10 @@ fn same_seed_same_design_for_one_and_four_threads() {
         let third = problem.design(&other, &[], &|| {}).unwrap();
         assert!(
             third
-                .restarts
+                .restarts()
                 .iter()
-                .zip(&one.restarts)
-                .any(|(a, b)| a.start_objective.to_bits() != b.start_objective.to_bits())
+                .zip(one.restarts())
+                .any(|(a, b)| a.start_objective().to_bits() != b.start_objective().to_bits())
         );
     }
 }

@@ -68,8 +68,12 @@ fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {
 
 /// The vendor check of a schedule's recommended (certified) tolerances on that schedule.
 fn check_certified(r: &ScheduleReport, reading: Reading) -> e2e_verify::TurntableCheck {
-    let e2e = simulator(&r.positions_deg, reading);
-    let ub = &r.certified.as_ref().expect("certified").upper_bounds_rad();
+    let e2e = simulator(r.positions_deg(), reading);
+    let ub = &r
+        .certified()
+        .as_ref()
+        .expect("certified")
+        .upper_bounds_rad();
     e2e.check_tolerances(
         &e2e.linearization(),
         ub,
@@ -87,12 +91,12 @@ fn check_certified(r: &ScheduleReport, reading: Reading) -> e2e_verify::Turntabl
 #[test]
 fn recommended_tolerances_are_certified_and_pass_the_vendor_check() {
     let d = design(Reading::PAPER, 15.0);
-    for (what, r) in [("designed", &d.designed), ("study", &d.study)] {
+    for (what, r) in [("designed", &d.designed()), ("study", &d.study())] {
         let c = r
-            .certified
+            .certified()
             .as_ref()
             .expect("certifiable under the paper's reading");
-        assert!(c.objective() > r.allocation.objective(), "{what}");
+        assert!(c.objective() > r.allocation().objective(), "{what}");
         let check = check_certified(r, Reading::PAPER);
         for o in check.outputs() {
             assert_eq!(
@@ -101,20 +105,20 @@ fn recommended_tolerances_are_certified_and_pass_the_vendor_check() {
                 "{what} output {}",
                 o.output()
             );
-            assert!(o.worst_case().exact_at_vertex <= o.accuracy());
+            assert!(o.worst_case().exact_at_vertex() <= o.accuracy());
         }
         assert_eq!(check.verdict(), Verdict::Guaranteed, "{what}");
     }
     // the linearised allocation of the designed schedule is what failed the check
-    let e2e = simulator(&d.designed.positions_deg, Reading::PAPER);
+    let e2e = simulator(d.designed().positions_deg(), Reading::PAPER);
     let lin = e2e.linearization();
     let wc = e2e
-        .worst_case(&lin, d.designed.allocation.upper_bounds_rad())
+        .worst_case(&lin, d.designed().allocation().upper_bounds_rad())
         .unwrap();
     assert!(
-        wc.outputs
+        wc.outputs()
             .iter()
-            .any(|o| o.exact_at_vertex > o.linear_bound),
+            .any(|o| o.exact_at_vertex() > o.linear_bound()),
         "the exact chain exceeds the linearised worst case somewhere"
     );
 }
@@ -125,25 +129,25 @@ fn recommended_tolerances_are_certified_and_pass_the_vendor_check() {
 #[test]
 fn worst_case_with_study_tolerances_is_a_number_wherever_one_exists() {
     let d = design(Reading::PAPER, 30.0);
-    for r in [&d.designed, &d.study, &d.d_optimal] {
-        let w = &r.with_study_tolerances;
-        assert!(w.certified);
-        assert!(w.unbounded.is_empty());
-        assert!(w.outputs.iter().all(|o| {
+    for r in [&d.designed(), &d.study(), &d.d_optimal()] {
+        let w = &r.with_study_tolerances();
+        assert!(w.certified());
+        assert!(w.unbounded().is_empty());
+        assert!(w.outputs().iter().all(|o| {
             o.as_ref()
-                .is_some_and(|o| o.exact_at_vertex.is_finite() && o.exact_at_vertex > 0.0)
+                .is_some_and(|o| o.exact_at_vertex().is_finite() && o.exact_at_vertex() > 0.0)
         }));
     }
     // the study's own schedule over its own certified tolerances meets every accuracy
-    for o in d.study.with_study_tolerances.outputs.iter().flatten() {
+    for o in d.study().with_study_tolerances().outputs().iter().flatten() {
         assert!(o.certified_bound().unwrap() <= 0.01);
     }
     // leave each error free in turn: exactly the outputs that depend on it lose their number
-    let e2e = simulator(&d.designed.positions_deg, Reading::PAPER);
+    let e2e = simulator(d.designed().positions_deg(), Reading::PAPER);
     let lin = e2e.linearization();
     let base = d
-        .study
-        .certified
+        .study()
+        .certified()
         .as_ref()
         .unwrap()
         .upper_bounds_rad()
@@ -152,14 +156,11 @@ fn worst_case_with_study_tolerances_is_a_number_wherever_one_exists() {
     for j in 0..8 {
         let mut ub = base.clone();
         ub[j] = f64::INFINITY;
-        let w = StudyTolerances {
-            upper_bounds_rad: ub,
-            certified: true,
-        }
-        .worst_case(&e2e, &lin)
-        .unwrap();
-        assert_eq!(w.unbounded, vec![j]);
-        for (k, o) in w.outputs.iter().enumerate() {
+        let w = StudyTolerances::new(ub, true)
+            .worst_case(&e2e, &lin)
+            .unwrap();
+        assert_eq!(w.unbounded(), vec![j]);
+        for (k, o) in w.outputs().iter().enumerate() {
             let reached = (0..lin.positions()).any(|i| lin.row(k, i)[j].abs() > small);
             assert_eq!(o.is_none(), reached, "error {j}, output {k}");
         }
@@ -174,7 +175,12 @@ fn worst_case_with_study_tolerances_is_a_number_wherever_one_exists() {
 fn a_finer_grid_is_never_worse_than_a_coarser_grid_it_contains() {
     let j: Vec<(f64, f64)> = [15.0, 30.0, 45.0]
         .iter()
-        .map(|&s| (s, design(Reading::USER, s).designed.allocation.objective()))
+        .map(|&s| {
+            (
+                s,
+                design(Reading::USER, s).designed().allocation().objective(),
+            )
+        })
         .collect();
     for &(fine, jf) in &j {
         for &(coarse, jc) in &j {

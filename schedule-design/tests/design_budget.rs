@@ -40,10 +40,11 @@ fn noisy_paper() -> (Study, DesignProblem, Vec<usize>, Option<Vec<usize>>) {
     let n = s.positions_deg.len();
     let start = problem.greedy(n, 10.0).unwrap();
     let table = problem
-        .exchange(&start.schedule, 10.0)
+        .exchange(start.schedule(), 10.0)
         .unwrap()
-        .evaluation
-        .schedule;
+        .evaluation()
+        .schedule()
+        .to_vec();
     let study: Option<Vec<usize>> = s
         .positions_deg
         .iter()
@@ -121,25 +122,25 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
     let budget_s = 25_000.0;
     let b = budget_of(&s, budget_s);
     let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
-    assert!(d.pareto.len() >= 3, "{:?}", d.pareto);
-    for w in d.pareto.windows(2) {
-        assert!(w[1].total_s > w[0].total_s, "{w:?}");
-        assert!(w[1].objective < w[0].objective, "{w:?}");
+    assert!(d.pareto().len() >= 3, "{:?}", d.pareto());
+    for w in d.pareto().windows(2) {
+        assert!(w[1].total_s() > w[0].total_s(), "{w:?}");
+        assert!(w[1].objective() < w[0].objective(), "{w:?}");
     }
     let timing = s.timing.as_ref().unwrap();
-    for p in &d.pareto {
+    for p in d.pareto() {
         assert_relative_eq!(
-            p.total_s,
-            total_test_s(p.n_positions(), p.dwell_s, timing.move_s()),
+            p.total_s(),
+            total_test_s(p.n_positions(), p.dwell_s(), timing.move_s()),
             max_relative = 1e-15
         );
-        let e2e = problem.end_to_end(&p.positions_deg).unwrap();
+        let e2e = problem.end_to_end(p.positions_deg()).unwrap();
         let noise = e2e
             .noise_budget(
                 &s.noise,
                 &Timing::uniform(
                     p.n_positions(),
-                    p.dwell_s,
+                    p.dwell_s(),
                     timing.move_s(),
                     timing.sample_rate_hz(),
                 )
@@ -156,23 +157,31 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
             .unwrap()
             .expect("a table suffices on the front")
             .objective();
-        assert_relative_eq!(p.objective, j, max_relative = SAME_PATH_REL);
+        assert_relative_eq!(p.objective(), j, max_relative = SAME_PATH_REL);
     }
     let chosen = d
-        .chosen
+        .chosen()
         .as_ref()
         .expect("a table suffices within the budget");
-    assert!(chosen.total_s <= budget_s);
+    assert!(chosen.total_s() <= budget_s);
     // nothing on the front within the budget is cheaper, and the next point is over it
-    let i = d.pareto.iter().position(|p| p == chosen).unwrap();
-    assert!(d.pareto[..i].iter().all(|p| p.objective > chosen.objective));
-    if let Some(next) = d.pareto.get(i + 1) {
-        assert!(next.total_s > budget_s);
+    let i = d.pareto().iter().position(|p| p == chosen).unwrap();
+    assert!(
+        d.pareto()[..i]
+            .iter()
+            .all(|p| p.objective() > chosen.objective())
+    );
+    if let Some(next) = d.pareto().get(i + 1) {
+        assert!(next.total_s() > budget_s);
     }
     // the study's and the table's schedules are among those evaluated
-    assert!(d.schedules.iter().any(|(o, _)| *o == ScheduleOrigin::Table));
     assert!(
-        d.schedules
+        d.schedules()
+            .iter()
+            .any(|(o, _)| *o == ScheduleOrigin::Table)
+    );
+    assert!(
+        d.schedules()
             .iter()
             .any(|(_, p)| p.as_slice() == s.positions_deg.as_slice())
     );
@@ -186,8 +195,8 @@ fn a_budget_too_short_for_any_table_chooses_nothing() {
     let budget_s = 1.5 * shortest_test_s(&problem, &budget_of(&s, 1.0));
     let b = budget_of(&s, budget_s);
     let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
-    assert!(d.chosen.is_none());
-    assert!(d.pareto.first().is_some_and(|p| p.total_s > budget_s));
+    assert!(d.chosen().is_none());
+    assert!(d.pareto().first().is_some_and(|p| p.total_s() > budget_s));
 }
 
 /// A budget shorter than the fewest positions that identify every output, at one move and one
@@ -223,7 +232,7 @@ fn a_budget_too_short_for_the_fewest_positions_is_refused_naming_time_budget_s()
     assert!(e.to_string().contains("time_budget_s"), "{e}");
     let d = run(shortest).unwrap();
     assert!(
-        d.chosen.is_none(),
+        d.chosen().is_none(),
         "one sample per position suffices for no table"
     );
 }
@@ -249,11 +258,11 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
     };
     let fixed = run(false);
     let searched = run(true);
-    assert_eq!(fixed.counts, vec![n]);
+    assert_eq!(fixed.counts(), vec![n]);
     // the count search only adds: every schedule of the fixed-count design is searched too
-    for (_, positions) in &fixed.schedules {
+    for (_, positions) in fixed.schedules() {
         assert!(
-            searched.schedules.iter().any(|(_, q)| q == positions),
+            searched.schedules().iter().any(|(_, q)| q == positions),
             "{positions:?}"
         );
     }
@@ -262,44 +271,48 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
     // the study's dwell affords 64 positions in twice its time
     assert!(want.contains(&(2 * n)), "{want:?}");
     let mut all: Vec<usize> = searched
-        .counts
+        .counts()
         .iter()
-        .chain(&searched.counts_skipped)
+        .chain(searched.counts_skipped())
         .copied()
         .collect();
     all.sort_unstable();
     let mut expected = want.clone();
     expected.push(n);
-    expected.extend(&searched.counts_refined);
+    expected.extend(searched.counts_refined());
     expected.sort_unstable();
     assert_eq!(all, expected);
-    assert!(searched.counts.len() > 1, "{:?}", searched.counts_skipped);
-    let chosen = searched.chosen.as_ref().expect("a table suffices");
-    let fixed_chosen = fixed.chosen.as_ref().expect("a table suffices");
-    assert!(chosen.total_s <= budget_s);
+    assert!(
+        searched.counts().len() > 1,
+        "{:?}",
+        searched.counts_skipped()
+    );
+    let chosen = searched.chosen().as_ref().expect("a table suffices");
+    let fixed_chosen = fixed.chosen().as_ref().expect("a table suffices");
+    assert!(chosen.total_s() <= budget_s);
     assert_relative_eq!(
-        chosen.total_s,
-        total_test_s(chosen.n_positions(), chosen.dwell_s, timing.move_s()),
+        chosen.total_s(),
+        total_test_s(chosen.n_positions(), chosen.dwell_s(), timing.move_s()),
         max_relative = 1e-15
     );
-    assert!(searched.counts.contains(&chosen.n_positions()));
+    assert!(searched.counts().contains(&chosen.n_positions()));
     assert!(
-        chosen.objective <= fixed_chosen.objective,
+        chosen.objective() <= fixed_chosen.objective(),
         "{chosen:?} against {fixed_chosen:?}"
     );
     // every count's points are on the same path as end-to-end
     assert_relative_eq!(
-        chosen.objective,
-        objective_at(&s, &problem, &chosen.positions_deg, chosen.dwell_s),
+        chosen.objective(),
+        objective_at(&s, &problem, chosen.positions_deg(), chosen.dwell_s()),
         max_relative = SAME_PATH_REL
     );
     // the study's own test (32 x 600 s) fits the budget: the choice never loses to it
     let study_j = objective_at(&s, &problem, &s.positions_deg, timing.dwell_s()[0]);
     assert!(study_j.is_finite());
     assert!(
-        chosen.objective <= study_j,
+        chosen.objective() <= study_j,
         "{} against {study_j}",
-        chosen.objective
+        chosen.objective()
     );
 }
 
@@ -308,12 +321,14 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
 /// so is a point without a table).
 #[test]
 fn pareto_front_drops_dominated_points() {
-    let p = |total_s: f64, objective: f64| BudgetPoint {
-        origin: ScheduleOrigin::Table,
-        positions_deg: vec![vec![0.0]],
-        dwell_s: total_s,
-        total_s,
-        objective,
+    let p = |total_s: f64, objective: f64| {
+        BudgetPoint::new(
+            ScheduleOrigin::Table,
+            vec![vec![0.0]],
+            total_s,
+            total_s,
+            objective,
+        )
     };
     let front = pareto_front(&[
         p(3.0, 5.0),
@@ -324,7 +339,7 @@ fn pareto_front_drops_dominated_points() {
         p(5.0, 1.0),
         p(1.0, 12.0),
     ]);
-    let got: Vec<(f64, f64)> = front.iter().map(|q| (q.total_s, q.objective)).collect();
+    let got: Vec<(f64, f64)> = front.iter().map(|q| (q.total_s(), q.objective())).collect();
     assert_eq!(got, vec![(1.0, 10.0), (3.0, 5.0), (5.0, 1.0)]);
 }
 
@@ -352,7 +367,12 @@ fn bad_budgets_are_refused_naming_the_field() {
 
 /// The tried counts (designed or skipped) nearest below and above `count`.
 fn neighbours(d: &BudgetDesign, count: usize) -> (Option<usize>, Option<usize>) {
-    let tried: Vec<usize> = d.counts.iter().chain(&d.counts_skipped).copied().collect();
+    let tried: Vec<usize> = d
+        .counts()
+        .iter()
+        .chain(d.counts_skipped())
+        .copied()
+        .collect();
     (
         tried.iter().filter(|&&c| c < count).max().copied(),
         tried.iter().filter(|&&c| c > count).min().copied(),
@@ -377,10 +397,10 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
         design(&s, &problem, &table, study.as_deref(), &b).unwrap()
     };
     let coarse = run(0);
-    assert!(coarse.counts_refined.is_empty());
+    assert!(coarse.counts_refined().is_empty());
     let refined = run(BudgetParams::default().count_refinements);
     let c0 = coarse
-        .chosen
+        .chosen()
         .as_ref()
         .expect("a table suffices")
         .n_positions();
@@ -389,19 +409,19 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
         if nb.abs_diff(c0) > 1 {
             let (lo, hi) = (nb.min(c0), nb.max(c0));
             assert!(
-                refined.counts_refined.iter().any(|&c| c > lo && c < hi),
+                refined.counts_refined().iter().any(|&c| c > lo && c < hi),
                 "nothing tried between {c0} and {nb}: {:?}",
-                refined.counts_refined
+                refined.counts_refined()
             );
         }
     }
-    let chosen = refined.chosen.as_ref().expect("a table suffices");
-    assert!(chosen.total_s <= budget_s);
-    assert!(chosen.objective <= coarse.chosen.as_ref().unwrap().objective);
-    for (_, positions) in &refined.schedules {
+    let chosen = refined.chosen().as_ref().expect("a table suffices");
+    assert!(chosen.total_s() <= budget_s);
+    assert!(chosen.objective() <= coarse.chosen().as_ref().unwrap().objective());
+    for (_, positions) in refined.schedules() {
         let e2e = problem.end_to_end(positions).unwrap();
         let linear = e2e.linearization();
-        for &t in &refined.dwells_s {
+        for &t in refined.dwells_s() {
             if total_test_s(positions.len(), t, timing.move_s()) > budget_s {
                 continue;
             }
@@ -417,37 +437,37 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
                 .unwrap()
                 .map_or(f64::INFINITY, |d| d.objective());
             assert!(
-                chosen.objective <= j * (1.0 + SAME_PATH_REL),
+                chosen.objective() <= j * (1.0 + SAME_PATH_REL),
                 "{} positions at {t} s: {j} below the chosen {}",
                 positions.len(),
-                chosen.objective
+                chosen.objective()
             );
         }
     }
     // with designs to spare the bisection ends at adjacent neighbours
     let spare = 4 * BudgetParams::default().count_refinements;
     let converged = run(spare);
-    assert!(converged.counts_refined.len() < spare);
-    let best = converged.chosen.as_ref().expect("a table suffices");
-    assert!(best.objective <= chosen.objective);
+    assert!(converged.counts_refined().len() < spare);
+    let best = converged.chosen().as_ref().expect("a table suffices");
+    assert!(best.objective() <= chosen.objective());
     let c = best.n_positions();
     let (below, above) = neighbours(&converged, c);
     assert!(below.is_none_or(|b| b + 1 == c), "{below:?} {c}");
     assert!(above.is_none_or(|a| a == c + 1), "{above:?} {c}");
     println!(
         "coarse counts {:?} (skipped {:?}) chose {} x {} s, J = {} arcmin^-2; refined tried {:?}, chose {} x {} s, J = {} arcmin^-2; with designs to spare tried {:?}, chose {} x {} s, J = {} arcmin^-2",
-        coarse.counts,
-        coarse.counts_skipped,
+        coarse.counts(),
+        coarse.counts_skipped(),
         c0,
-        coarse.chosen.as_ref().unwrap().dwell_s,
-        coarse.chosen.as_ref().unwrap().objective_arcmin(),
-        refined.counts_refined,
+        coarse.chosen().as_ref().unwrap().dwell_s(),
+        coarse.chosen().as_ref().unwrap().objective_arcmin(),
+        refined.counts_refined(),
         chosen.n_positions(),
-        chosen.dwell_s,
+        chosen.dwell_s(),
         chosen.objective_arcmin(),
-        converged.counts_refined,
+        converged.counts_refined(),
         c,
-        best.dwell_s,
+        best.dwell_s(),
         best.objective_arcmin()
     );
 }

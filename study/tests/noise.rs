@@ -94,9 +94,9 @@ fn imu_example_has_the_stim300_noise_and_a_timing() {
     let cov = s.calibration.noise_covariances(&s.noise, t).unwrap();
     for (o, c) in s.sensor.outputs().iter().zip(&cov).take(3) {
         let c = c.as_ref().unwrap();
-        assert_eq!(c.coefficients.names()[0], o.estimated_names()[0]);
+        assert_eq!(c.coefficients().names()[0], o.estimated_names()[0]);
         assert_relative_eq!(
-            c.coefficients.white_sigma()[0],
+            c.coefficients().white_sigma()[0],
             9.0 / (24.0_f64 * 60.0).sqrt(),
             max_relative = PRODUCT_REL
         );

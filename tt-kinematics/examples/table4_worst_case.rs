@@ -53,8 +53,8 @@ fn main() -> Result<(), tt_kinematics::KinematicsError> {
         println!(
             "  {:<6} {:.5}' at phi2 = {:.2} deg",
             axis.name(),
-            rad_to_arcmin(w.value),
-            w.pose_rad[1].to_degrees()
+            rad_to_arcmin(w.value()),
+            w.pose_rad()[1].to_degrees()
         );
     }
 
@@ -86,10 +86,10 @@ fn main() -> Result<(), tt_kinematics::KinematicsError> {
         println!(
             "  {:<6} {:.5}' (bound {:.5}') at middle {:.1} deg, inner {:.1} deg",
             axis.name(),
-            rad_to_arcmin(w.value),
-            rad_to_arcmin(w.upper_bound),
-            w.pose_rad[1].to_degrees(),
-            w.pose_rad[2].to_degrees()
+            rad_to_arcmin(w.value()),
+            rad_to_arcmin(w.upper_bound()),
+            w.pose_rad()[1].to_degrees(),
+            w.pose_rad()[2].to_degrees()
         );
     }
     Ok(())

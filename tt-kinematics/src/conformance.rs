@@ -111,12 +111,29 @@ impl Default for Tolerances {
 
 /// A failed check: which one, and the case and numbers that broke it.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Failure {
     /// The check (`zero`, `first-order`, `odd`, `leading-joints`, `translations`,
     /// `evaluation`).
-    pub check: &'static str,
+    pub(crate) check: &'static str,
     /// What was found.
-    pub detail: String,
+    pub(crate) detail: String,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Failure {
+    /// The check (`zero`, `first-order`, `odd`, `leading-joints`, `translations`,
+    /// `evaluation`).
+    #[must_use]
+    pub fn check(&self) -> &'static str {
+        self.check
+    }
+
+    /// What was found.
+    #[must_use]
+    pub fn detail(&self) -> &str {
+        &self.detail
+    }
 }
 
 impl fmt::Display for Failure {

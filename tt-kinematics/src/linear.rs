@@ -57,19 +57,51 @@ pub const AVERAGE_GRID_POINTS: usize = 512;
 
 /// The worst pose of a weighted coefficient sum and its value.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct WorstPose {
     /// The largest value found (in the unit of the weights, radians for error bounds); it is
     /// reached at [`WorstPose::pose_rad`].
-    pub value: f64,
+    pub(crate) value: f64,
     /// A pose (every joint, rad) where it is reached; joints that cancel sit at their range's
     /// lower end.
-    pub pose_rad: Vec<f64>,
+    pub(crate) pose_rad: Vec<f64>,
     /// A rigorous upper bound on the maximum: equal to `value` when the search is exact (at
     /// most one free joint), the branch-and-bound bound of
     /// [`LinearModel::worst_pose_certified`] otherwise, and `+inf` when not computed.
-    pub upper_bound: f64,
+    pub(crate) upper_bound: f64,
     /// Whether `value` is the exact maximum (at most one free joint).
-    pub exact: bool,
+    pub(crate) exact: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl WorstPose {
+    /// The largest value found (in the unit of the weights, radians for error bounds); it is
+    /// reached at [`WorstPose::pose_rad`].
+    #[must_use]
+    pub fn value(&self) -> f64 {
+        self.value
+    }
+
+    /// A pose (every joint, rad) where it is reached; joints that cancel sit at their range's
+    /// lower end.
+    #[must_use]
+    pub fn pose_rad(&self) -> &[f64] {
+        &self.pose_rad
+    }
+
+    /// A rigorous upper bound on the maximum: equal to `value` when the search is exact (at
+    /// most one free joint), the branch-and-bound bound of
+    /// [`LinearModel::worst_pose_certified`] otherwise, and `+inf` when not computed.
+    #[must_use]
+    pub fn upper_bound(&self) -> f64 {
+        self.upper_bound
+    }
+
+    /// Whether `value` is the exact maximum (at most one free joint).
+    #[must_use]
+    pub fn exact(&self) -> bool {
+        self.exact
+    }
 }
 
 /// The first-order orientation-error model of a turntable (see the [module](self)).

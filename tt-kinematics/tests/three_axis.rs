@@ -119,7 +119,7 @@ fn three_axis_worst_pose_beats_a_dense_grid_and_is_certified() {
             let c = m.coefficients(&Pose::new(pose.to_vec()).unwrap()).unwrap();
             (0..13).map(|i| w[i] * c[(axis.index(), i)].abs()).sum()
         };
-        assert!((value(&found.pose_rad) - found.value).abs() <= 1e-15);
+        assert!((value(found.pose_rad()) - found.value()).abs() <= 1e-15);
         let mut grid_max = f64::NEG_INFINITY;
         for a in 0..n {
             for b in 0..n {
@@ -132,21 +132,21 @@ fn three_axis_worst_pose_beats_a_dense_grid_and_is_certified() {
             }
         }
         assert!(
-            found.value >= grid_max - 1e-15,
+            found.value() >= grid_max - 1e-15,
             "{}: found {} < grid {}",
             axis.name(),
-            found.value,
+            found.value(),
             grid_max
         );
-        assert!(found.upper_bound >= found.value);
+        assert!(found.upper_bound() >= found.value());
         // the second-order cell bound closes the gap to the target (1e-9), not only to the
         // evaluation budget
         assert!(
-            found.upper_bound <= found.value * (1.0 + 2.0 * tt_kinematics::CERTIFY_REL_GAP),
+            found.upper_bound() <= found.value() * (1.0 + 2.0 * tt_kinematics::CERTIFY_REL_GAP),
             "{}: bound {} too loose for {}",
             axis.name(),
-            found.upper_bound,
-            found.value
+            found.upper_bound(),
+            found.value()
         );
     }
 }
@@ -176,8 +176,8 @@ fn joint_ranges_bound_the_worst_pose_search() {
         let part = LinearModel::new(&narrow)
             .max_abs_weighted(axis, &w, None)
             .unwrap();
-        assert!(part.value <= full.value + 1e-15);
-        assert!(part.pose_rad[1] >= 0.1 - 1e-12 && part.pose_rad[1] <= 0.4 + 1e-12);
+        assert!(part.value() <= full.value() + 1e-15);
+        assert!(part.pose_rad()[1] >= 0.1 - 1e-12 && part.pose_rad()[1] <= 0.4 + 1e-12);
     }
 }
 

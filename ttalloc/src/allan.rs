@@ -239,30 +239,30 @@ fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
 
 /// Every number of the analysis, for the no-NaN check.
 fn numbers(a: &Analysis) -> Vec<f64> {
-    let f = &a.fit;
+    let f = &a.fit();
     let mut v = vec![
-        a.rate_hz,
-        a.confidence,
-        f.white_noise,
-        f.bias_instability,
-        f.floor_tau_s,
-        f.floor_adev_measured,
+        a.rate_hz(),
+        a.confidence(),
+        f.white_noise(),
+        f.bias_instability(),
+        f.floor_tau_s(),
+        f.floor_adev_measured(),
     ];
     v.extend(
         [
-            f.white_noise_uncertainty,
-            f.bias_instability_uncertainty,
-            f.rate_random_walk,
-            f.rate_random_walk_uncertainty,
-            f.quantization,
-            f.rate_ramp,
+            f.white_noise_uncertainty(),
+            f.bias_instability_uncertainty(),
+            f.rate_random_walk(),
+            f.rate_random_walk_uncertainty(),
+            f.quantization(),
+            f.rate_ramp(),
         ]
         .into_iter()
         .flatten(),
     );
-    v.extend(f.coefficients);
-    for p in &a.points {
-        v.extend([p.tau_s, p.adev, p.lower, p.upper, p.edf]);
+    v.extend(f.coefficients());
+    for p in a.points() {
+        v.extend([p.tau_s(), p.adev(), p.lower(), p.upper(), p.edf()]);
     }
     v
 }
@@ -316,56 +316,56 @@ struct AllanJson<'a> {
 
 fn json_of<'a>(log: &'a Log, unit: Option<&'a str>) -> AllanJson<'a> {
     let a = &log.analysis;
-    let f = &a.fit;
+    let f = &a.fit();
     AllanJson {
         log: &log.name,
         column: &log.column,
         unit,
-        samples: a.samples,
-        rate_hz: a.rate_hz,
-        duration_s: a.samples as f64 / a.rate_hz,
-        confidence: a.confidence,
-        overlap: a.overlap,
-        white_noise_per_sqrt_hz: f.white_noise,
-        white_noise_uncertainty: f.white_noise_uncertainty,
-        bias_instability: f.bias_instability,
-        bias_instability_uncertainty: f.bias_instability_uncertainty,
+        samples: a.samples(),
+        rate_hz: a.rate_hz(),
+        duration_s: a.samples() as f64 / a.rate_hz(),
+        confidence: a.confidence(),
+        overlap: a.overlap(),
+        white_noise_per_sqrt_hz: f.white_noise(),
+        white_noise_uncertainty: f.white_noise_uncertainty(),
+        bias_instability: f.bias_instability(),
+        bias_instability_uncertainty: f.bias_instability_uncertainty(),
         floor_factor: FLICKER_FLOOR_FACTOR,
-        floor_tau_s: f.floor_tau_s,
-        floor_adev: f.floor_adev_measured,
-        floor_reached: f.floor_reached,
-        rate_random_walk: f.rate_random_walk,
-        rate_random_walk_uncertainty: f.rate_random_walk_uncertainty,
-        quantization: f.quantization,
-        rate_ramp: f.rate_ramp,
-        curve: &a.points,
+        floor_tau_s: f.floor_tau_s(),
+        floor_adev: f.floor_adev_measured(),
+        floor_reached: f.floor_reached(),
+        rate_random_walk: f.rate_random_walk(),
+        rate_random_walk_uncertainty: f.rate_random_walk_uncertainty(),
+        quantization: f.quantization(),
+        rate_ramp: f.rate_ramp(),
+        curve: a.points(),
     }
 }
 
 fn text_of(log: &Log, unit: &str) -> String {
     let a = &log.analysis;
-    let f = &a.fit;
+    let f = &a.fit();
     let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" (+- {})", sig(u, 2)));
     let mut t = format!(
         "Allan deviation of {}, column `{}`: {} samples at {} Hz ({} s); bands at {} % confidence\n",
         log.name.escape_debug(),
         log.column.escape_debug(),
-        a.samples,
-        sig(a.rate_hz, 6),
-        sig(a.samples as f64 / a.rate_hz, 4),
-        sig(100.0 * a.confidence, 3)
+        a.samples(),
+        sig(a.rate_hz(), 6),
+        sig(a.samples() as f64 / a.rate_hz(), 4),
+        sig(100.0 * a.confidence(), 3)
     );
     t.push_str(&format!(
         "white noise N        {} {unit}/sqrt(Hz){}: the -1/2 line at tau = 1 s\n",
-        sig(f.white_noise, 4),
-        pm(f.white_noise_uncertainty)
+        sig(f.white_noise(), 4),
+        pm(f.white_noise_uncertainty())
     ));
     t.push_str(&format!(
         "bias instability B   {} {unit}{}: the floor {} {unit} / 0.664{}\n",
-        sig(f.bias_instability, 4),
-        pm(f.bias_instability_uncertainty),
-        sig(f.bias_instability * FLICKER_FLOOR_FACTOR, 4),
-        if f.floor_reached {
+        sig(f.bias_instability(), 4),
+        pm(f.bias_instability_uncertainty()),
+        sig(f.bias_instability() * FLICKER_FLOOR_FACTOR, 4),
+        if f.floor_reached() {
             ""
         } else {
             " (an upper bound: the curve still falls at the longest cluster time)"
@@ -373,28 +373,28 @@ fn text_of(log: &Log, unit: &str) -> String {
     ));
     t.push_str(&format!(
         "floor cluster time   {} s (a correlation time to try for a Gauss-Markov bias model)\n",
-        sig(f.floor_tau_s, 4)
+        sig(f.floor_tau_s(), 4)
     ));
-    if let Some(k) = f.rate_random_walk {
+    if let Some(k) = f.rate_random_walk() {
         t.push_str(&format!(
             "rate random walk K   {} {unit}*sqrt(Hz){}: the +1/2 line at tau = 3 s\n",
             sig(k, 4),
-            pm(f.rate_random_walk_uncertainty)
+            pm(f.rate_random_walk_uncertainty())
         ));
     }
     t.push_str(&format!(
         "\n{:>12} {:>12} {:>12} {:>12} {:>10}  noise (for the band)\n",
         "tau (s)", "adev", "lower", "upper", "edf"
     ));
-    for p in &a.points {
+    for p in a.points() {
         t.push_str(&format!(
             "{:>12} {:>12} {:>12} {:>12} {:>10}  {}\n",
-            sig(p.tau_s, 4),
-            sig(p.adev, 4),
-            sig(p.lower, 4),
-            sig(p.upper, 4),
-            sig(p.edf, 3),
-            p.noise
+            sig(p.tau_s(), 4),
+            sig(p.adev(), 4),
+            sig(p.lower(), 4),
+            sig(p.upper(), 4),
+            sig(p.edf(), 3),
+            p.noise()
         ));
     }
     t
@@ -402,7 +402,7 @@ fn text_of(log: &Log, unit: &str) -> String {
 
 fn noise_toml(log: &Log, unit: &str) -> String {
     let a = &log.analysis;
-    let f = &a.fit;
+    let f = &a.fit();
     format!(
         "# Noise of column `{}` of {}: {} samples at {} Hz, by `cargo xtask allan` (IEEE Std 952\n\
          # Annex C: white noise from the -1/2 slope, bias instability = floor / 0.664).\n\
@@ -415,53 +415,53 @@ fn noise_toml(log: &Log, unit: &str) -> String {
          bias_correlation_s = {:?}\n",
         log.column.escape_debug(),
         log.name.escape_debug(),
-        a.samples,
-        sig(a.rate_hz, 17),
+        a.samples(),
+        sig(a.rate_hz(), 17),
         unit,
         unit,
         unit,
-        if f.floor_reached {
+        if f.floor_reached() {
             ""
         } else {
             "; the curve still falls at the longest cluster time: bias_instability is an upper bound"
         },
-        f.white_noise,
-        f.bias_instability,
-        f.floor_tau_s,
+        f.white_noise(),
+        f.bias_instability(),
+        f.floor_tau_s(),
     )
 }
 
 /// The log-log figure: the curve with its band, the fitted -1/2 line and the floor.
 fn figure_svg(log: &Log, unit: &str) -> Result<String> {
     let a = &log.analysis;
-    let f = &a.fit;
+    let f = &a.fit();
     let what = "Allan deviation figure";
     finite(what, numbers(a))?;
-    if let Some(p) = a.points.iter().find(|p| p.lower <= 0.0) {
+    if let Some(p) = a.points().iter().find(|p| p.lower() <= 0.0) {
         return Err(InputError::new(
             "--figure",
             format!(
                 "the Allan deviation (or its band) is zero at tau = {} s: nothing to draw on a log scale",
-                sig(p.tau_s, 4)
+                sig(p.tau_s(), 4)
             ),
         )
         .into());
     }
-    let x0 = a.points[0].tau_s;
-    let x1 = a.points[a.points.len() - 1].tau_s;
+    let x0 = a.points()[0].tau_s();
+    let x1 = a.points()[a.points().len() - 1].tau_s();
     let (x0, x1) = (x0 / 1.5, x1 * 1.5);
     let mut y0 = a
-        .points
+        .points()
         .iter()
-        .map(|p| p.lower)
+        .map(|p| p.lower())
         .fold(f64::INFINITY, f64::min);
-    let y1 = a.points.iter().map(|p| p.upper).fold(0.0, f64::max);
-    let floor = f.bias_instability * FLICKER_FLOOR_FACTOR;
+    let y1 = a.points().iter().map(|p| p.upper()).fold(0.0, f64::max);
+    let floor = f.bias_instability() * FLICKER_FLOOR_FACTOR;
     if floor > 0.0 {
         y0 = y0.min(floor);
     }
     let (y0, y1) = (y0 / 2.0, y1 * 2.0);
-    let white = |t: f64| f.white_noise / t.sqrt();
+    let white = |t: f64| f.white_noise() / t.sqrt();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, 640)).into_drawing_area();
@@ -470,8 +470,8 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
             "Allan deviation of {}, column {} ({} samples at {} Hz)",
             log.name.escape_debug(),
             log.column.escape_debug(),
-            a.samples,
-            sig(a.rate_hz, 6)
+            a.samples(),
+            sig(a.rate_hz(), 6)
         );
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 19))
@@ -494,22 +494,22 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
             .draw()
             .map_err(|e| anyhow!("{what}: {e:?}"))?;
         let band: Vec<(f64, f64)> = a
-            .points
+            .points()
             .iter()
-            .map(|p| (p.tau_s, p.upper))
-            .chain(a.points.iter().rev().map(|p| (p.tau_s, p.lower)))
+            .map(|p| (p.tau_s(), p.upper()))
+            .chain(a.points().iter().rev().map(|p| (p.tau_s(), p.lower())))
             .collect();
         let c = colour(0);
         chart
             .draw_series(std::iter::once(Polygon::new(band, c.mix(0.18).filled())))
             .map_err(|e| anyhow!("{what}: {e:?}"))?
-            .label(format!("{} % band", sig(100.0 * a.confidence, 3)))
+            .label(format!("{} % band", sig(100.0 * a.confidence(), 3)))
             .legend(move |(x, y)| {
                 Rectangle::new([(x, y - 6), (x + 20, y + 6)], c.mix(0.18).filled())
             });
         chart
             .draw_series(LineSeries::new(
-                a.points.iter().map(|p| (p.tau_s, p.adev)),
+                a.points().iter().map(|p| (p.tau_s(), p.adev())),
                 c.stroke_width(2),
             ))
             .map_err(|e| anyhow!("{what}: {e:?}"))?
@@ -517,12 +517,12 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
         chart
             .draw_series(
-                a.points
+                a.points()
                     .iter()
-                    .map(|p| Circle::new((p.tau_s, p.adev), 3, c.filled())),
+                    .map(|p| Circle::new((p.tau_s(), p.adev()), 3, c.filled())),
             )
             .map_err(|e| anyhow!("{what}: {e:?}"))?;
-        if f.white_noise > 0.0 {
+        if f.white_noise() > 0.0 {
             let w = colour(1);
             // the -1/2 line where it lies inside the plot
             let pts: Vec<(f64, f64)> = (0..=64)
@@ -535,7 +535,7 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
                 .map_err(|e| anyhow!("{what}: {e:?}"))?
                 .label(format!(
                     "white noise N / sqrt(tau), N = {} {unit}/sqrt(Hz)",
-                    sig(f.white_noise, 3)
+                    sig(f.white_noise(), 3)
                 ))
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], w.stroke_width(2))
@@ -550,8 +550,8 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
                 .map_err(|e| anyhow!("{what}: {e:?}"))?
                 .label(format!(
                     "floor 0.664 B, B = {} {unit} (at tau = {} s)",
-                    sig(f.bias_instability, 3),
-                    sig(f.floor_tau_s, 3)
+                    sig(f.bias_instability(), 3),
+                    sig(f.floor_tau_s(), 3)
                 ))
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], LIMIT.stroke_width(2))

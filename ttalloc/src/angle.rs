@@ -186,7 +186,7 @@ pub fn check(
         let yield_ = e2e
             .angle_yield(&ex, ub_rad, samples, seed)
             .map_err(|e| crate::input::library(e, s))?;
-        let verdict = weakest(outputs.iter().map(|o| o.verdict));
+        let verdict = weakest(outputs.iter().map(|o| o.verdict()));
         let disc = if discs.is_empty() {
             None
         } else {
@@ -279,12 +279,12 @@ pub fn text(
 ) -> String {
     let mut s = format!("  angle-dependent errors ({}):\n", model_words(model));
     for o in &a.outputs {
-        let out = e2e.calibration().outputs()[o.output].output();
-        let ratio = if o.constant_linear_bound > 0.0 {
+        let out = e2e.calibration().outputs()[o.output()].output();
+        let ratio = if o.constant_linear_bound() > 0.0 {
             format!(
                 " ({:.2}x the constant model's {})",
-                o.linear_bound / o.constant_linear_bound,
-                num(o.constant_linear_bound)
+                o.linear_bound() / o.constant_linear_bound(),
+                num(o.constant_linear_bound())
             )
         } else {
             String::new()
@@ -292,15 +292,15 @@ pub fn text(
         s.push_str(&format!(
             "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {}\n",
             out.name,
-            num(o.linear_bound),
-            num(o.exact_at_worst),
-            o.second_order_bound
-                .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound + t))),
-            o.verdict.name(),
+            num(o.linear_bound()),
+            num(o.exact_at_worst()),
+            o.second_order_bound()
+                .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound() + t))),
+            o.verdict().name(),
             u = out.unit,
         ));
     }
-    let (lo, hi) = a.yield_.interval_95;
+    let (lo, hi) = a.yield_.interval_95();
     s.push_str(&format!(
         "    verdict: constant errors {}, angle-dependent errors {}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables)\n",
         constant.verdict().name(),
@@ -308,31 +308,31 @@ pub fn text(
         100.0 * a.yield_.fraction(),
         100.0 * lo,
         100.0 * hi,
-        a.yield_.samples
+        a.yield_.samples()
     ));
     if let Some(d) = &a.disc {
         for o in &a.outputs {
-            let out = e2e.calibration().outputs()[o.output].output();
+            let out = e2e.calibration().outputs()[o.output()].output();
             s.push_str(&format!(
                 "    output {}, the sheet's magnitudes as discs (sqrt(a_x^2 + a_y^2) <= w), not squares: linearised worst case {} {u} with constant errors (square {}), {} {u} with angle-dependent errors (square {})\n",
                 out.name,
-                num(d.constant[o.output]),
-                num(constant.outputs()[o.output].worst_case().linear_bound),
-                num(d.angle[o.output]),
-                num(o.linear_bound),
+                num(d.constant[o.output()]),
+                num(constant.outputs()[o.output()].worst_case().linear_bound()),
+                num(d.angle[o.output()]),
+                num(o.linear_bound()),
                 u = out.unit,
             ));
         }
     }
     if let Some(d) = &a.disc {
-        let (lo, hi) = d.yield_.interval_95;
-        let (clo, chi) = d.constant_yield.interval_95;
+        let (lo, hi) = d.yield_.interval_95();
+        let (clo, chi) = d.constant_yield.interval_95();
         s.push_str(&format!(
             "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables) with angle-dependent errors, {:.2}% ({:.2}%-{:.2}%) with constant errors\n",
             100.0 * d.yield_.fraction(),
             100.0 * lo,
             100.0 * hi,
-            d.yield_.samples,
+            d.yield_.samples(),
             100.0 * d.constant_yield.fraction(),
             100.0 * clo,
             100.0 * chi,
@@ -569,9 +569,9 @@ pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) 
             s.push_str(&format!(
                 "  output {}: worst case linearised {} {u} before, {} {u} after compensation (constant errors); {} {u} after (angle-dependent errors)\n",
                 out.name,
-                num(o.worst_case().linear_bound),
-                num(a.worst_case().linear_bound),
-                num(aa.outputs[o.output()].linear_bound),
+                num(o.worst_case().linear_bound()),
+                num(a.worst_case().linear_bound()),
+                num(aa.outputs[o.output()].linear_bound()),
                 u = out.unit,
             ));
         }
@@ -790,8 +790,8 @@ impl<'a> ReadingAngleJson<'a> {
         Self {
             verdict: a.verdict.name(),
             yield_fraction: a.yield_.fraction(),
-            yield_interval_95: a.yield_.interval_95,
-            samples: a.yield_.samples,
+            yield_interval_95: a.yield_.interval_95(),
+            samples: a.yield_.samples(),
             disc_worst_case_linear: a.disc.as_ref().map(|d| DiscWorstCaseJson {
                 constant: &d.constant,
                 angle_dependent: &d.angle,
@@ -799,10 +799,10 @@ impl<'a> ReadingAngleJson<'a> {
             discs: a.disc.as_ref().map(|d| DiscsJson {
                 worst_case_linear_lower: &d.angle_lower,
                 yield_fraction: d.yield_.fraction(),
-                yield_interval_95: d.yield_.interval_95,
-                samples: d.yield_.samples,
+                yield_interval_95: d.yield_.interval_95(),
+                samples: d.yield_.samples(),
                 constant_yield: d.constant_yield.fraction(),
-                constant_yield_interval_95: d.constant_yield.interval_95,
+                constant_yield_interval_95: d.constant_yield.interval_95(),
                 allocation: d
                     .allocation
                     .as_ref()
@@ -812,13 +812,13 @@ impl<'a> ReadingAngleJson<'a> {
                 .outputs
                 .iter()
                 .map(|o| AngleOutputJson {
-                    name: &e2e.calibration().outputs()[o.output].output().name,
-                    worst_case_linear: o.linear_bound,
-                    worst_case_linear_constant_model: o.constant_linear_bound,
-                    worst_case_exact_at_worst: o.exact_at_worst,
-                    second_order_bound: o.second_order_bound,
-                    worst_position: o.position,
-                    verdict: o.verdict.name(),
+                    name: &e2e.calibration().outputs()[o.output()].output().name,
+                    worst_case_linear: o.linear_bound(),
+                    worst_case_linear_constant_model: o.constant_linear_bound(),
+                    worst_case_exact_at_worst: o.exact_at_worst(),
+                    second_order_bound: o.second_order_bound(),
+                    worst_position: o.position(),
+                    verdict: o.verdict().name(),
                 })
                 .collect(),
         }
@@ -935,7 +935,7 @@ impl<'a> CompensatedJson<'a> {
                     worst_case_linear: k
                         .outputs()
                         .iter()
-                        .map(|o| o.worst_case().linear_bound)
+                        .map(|o| o.worst_case().linear_bound())
                         .collect(),
                     angle_dependent: ReadingAngleJson::new(e2e, a),
                 })

@@ -114,7 +114,7 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
                             if blocked.len() > 1 { "s" } else { "" },
                             blocked
                                 .iter()
-                                .map(|b| sim.calibration().outputs()[b.output]
+                                .map(|b| sim.calibration().outputs()[b.output()]
                                     .output()
                                     .name
                                     .clone())

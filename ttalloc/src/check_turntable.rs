@@ -169,14 +169,14 @@ impl<'a> ReadingCheckJson<'a> {
                         name: &out.name,
                         unit: &out.unit,
                         accuracy: o.accuracy(),
-                        verdict: co.map_or(o.verdict(), |co| co.verdict).name(),
+                        verdict: co.map_or(o.verdict(), |co| co.verdict()).name(),
                         table_verdict: co.map(|_| o.verdict().name()),
-                        worst_case_linear: o.worst_case().linear_bound,
-                        worst_case_exact_at_vertex: o.worst_case().exact_at_vertex,
-                        second_order_bound: o.worst_case().second_order_bound,
+                        worst_case_linear: o.worst_case().linear_bound(),
+                        worst_case_exact_at_vertex: o.worst_case().exact_at_vertex(),
+                        second_order_bound: o.worst_case().second_order_bound(),
                         certified_bound: o.worst_case().certified_bound(),
-                        worst_position: o.worst_case().position,
-                        precision: o.worst_case().precision,
+                        worst_position: o.worst_case().position(),
+                        precision: o.worst_case().precision(),
                         meeting_fraction: d.meeting_per_output()[o.output()] as f64
                             / d.samples() as f64,
                         monte_carlo_max: d.worst()[o.output()].value(),
@@ -194,7 +194,7 @@ impl<'a> ReadingCheckJson<'a> {
                     }
                 })
                 .collect(),
-            k_sigma: noisy.map(|n| n.outputs.first().map(|o| o.k_sigma)),
+            k_sigma: noisy.map(|n| n.outputs.first().map(|o| o.k_sigma())),
             combined_yield: noisy.map(|n| (&n.combined_yield).into()),
         }
     }
@@ -273,17 +273,17 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
             "  output {}: accuracy {} {u}; worst case {} {u} (linearised {}{}), Monte Carlo max {} {u}, {:.2}% meet it: {}\n",
             out.name,
             num(o.accuracy()),
-            num(w.exact_at_vertex),
-            num(w.linear_bound),
-            w.second_order_bound.map_or(String::new(), |t| format!(", proven below {}", num(w.linear_bound + t))),
+            num(w.exact_at_vertex()),
+            num(w.linear_bound()),
+            w.second_order_bound().map_or(String::new(), |t| format!(", proven below {}", num(w.linear_bound() + t))),
             num(c.distribution().worst()[o.output()].value()),
             100.0 * c.distribution().meeting_per_output()[o.output()] as f64 / c.distribution().samples() as f64,
             o.verdict().name(),
             u = out.unit
         ));
         let max = c.distribution().worst()[o.output()].value();
-        if w.exact_at_vertex == 0.0 || max == 0.0 {
-            if let Some(n) = crate::out::precision_note(&[(&out.name, &out.unit, w.precision)]) {
+        if w.exact_at_vertex() == 0.0 || max == 0.0 {
+            if let Some(n) = crate::out::precision_note(&[(&out.name, &out.unit, w.precision())]) {
                 s.push_str(&format!("    ({n})\n"));
             }
         }
@@ -294,7 +294,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
                 if co.meets() { "meets" } else { "does NOT meet" }
             ));
         }
-        if w.linear_bound <= INSENSITIVE_SHARE * o.accuracy() {
+        if w.linear_bound() <= INSENSITIVE_SHARE * o.accuracy() {
             s.push_str("    dominant errors: none (the output does not depend on these errors to first order)\n");
             continue;
         }
@@ -372,7 +372,7 @@ pub fn to_text(
     if let Some(n) = noisy.first() {
         s.push_str(&format!(
             "  noise: the study's noise over its timing, noise part at {} sigma (calib-lsq's covariance of the calibration)\n",
-            num(n.outputs.first().map_or(0.0, |o| o.k_sigma))
+            num(n.outputs.first().map_or(0.0, |o| o.k_sigma()))
         ));
     }
     for (i, (e2e, c)) in checks.iter().enumerate() {
@@ -444,7 +444,7 @@ pub fn noisy_checks(
                 .combined_yield(&bounds, &budget, settings)
                 .map_err(|e| crate::input::library(e, s))?;
             Ok(NoisyCheck {
-                verdict: e2e_verify::noise::weakest(outputs.iter().map(|o| o.verdict)),
+                verdict: e2e_verify::noise::weakest(outputs.iter().map(|o| o.verdict())),
                 outputs,
                 combined_yield,
             })

@@ -50,12 +50,12 @@ pub fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Resul
     let mut s2 = s.clone();
     s2.timing = Some(calib_lsq::Timing::uniform(
         s.positions_deg.len(),
-        p.dwell_s,
+        p.dwell_s(),
         timing.move_s(),
         timing.sample_rate_hz(),
     )?);
     Ok(s2
-        .with_positions_deg(p.positions_deg.clone())
+        .with_positions_deg(p.positions_deg().to_vec())
         .map_err(InputError::from)?)
 }
 
@@ -120,7 +120,7 @@ pub fn run(
         &b,
     )
     .map_err(|e| crate::input::library(e, s))?;
-    let chosen_certified_arcmin = match &d.chosen {
+    let chosen_certified_arcmin = match &d.chosen() {
         Some(p) => certified_at(s, timing, p)?,
         None => None,
     };
@@ -213,11 +213,11 @@ pub struct PointJson {
 impl From<&BudgetPoint> for PointJson {
     fn from(p: &BudgetPoint) -> Self {
         Self {
-            total_s: p.total_s,
+            total_s: p.total_s(),
             n_positions: p.n_positions(),
-            dwell_s: p.dwell_s,
+            dwell_s: p.dwell_s(),
             objective_arcmin: p.objective_arcmin(),
-            origin: origin(p.origin),
+            origin: origin(p.origin()),
         }
     }
 }
@@ -294,22 +294,22 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
         },
         Budgeted::Design(d) => BudgetJson {
             time_budget: TimeBudgetJson::Design {
-                budget_s: d.budget_s,
-                k_sigma: d.k_sigma,
+                budget_s: d.budget_s(),
+                k_sigma: d.k_sigma(),
                 total_time: "n_positions x (dwell_s + move_s)",
-                schedules: d.schedules.len(),
-                dwells: d.dwells_s.len(),
-                evaluated: d.evaluated,
-                counts: &d.counts,
-                counts_skipped: &d.counts_skipped,
-                counts_refined: &d.counts_refined,
-                chosen: d.chosen.as_ref().map(|p| ChosenJson {
+                schedules: d.schedules().len(),
+                dwells: d.dwells_s().len(),
+                evaluated: d.evaluated(),
+                counts: d.counts(),
+                counts_skipped: d.counts_skipped(),
+                counts_refined: d.counts_refined(),
+                chosen: d.chosen().as_ref().map(|p| ChosenJson {
                     point: p.into(),
-                    positions_deg: &p.positions_deg,
+                    positions_deg: p.positions_deg(),
                     certified_objective_arcmin: d.chosen_certified_arcmin,
                 }),
             },
-            pareto: Some(d.pareto.iter().map(PointJson::from).collect()),
+            pareto: Some(d.pareto().iter().map(PointJson::from).collect()),
         },
     }
 }
@@ -318,13 +318,13 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
 pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
     format!(
         "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The J, condition numbers and tolerances\nabove are those of the table's design.",
-        num(d.budget_s),
+        num(d.budget_s()),
         p.n_positions(),
-        origin(p.origin),
-        num(p.dwell_s),
-        sig(p.total_s, 6),
+        origin(p.origin()),
+        num(p.dwell_s()),
+        sig(p.total_s(), 6),
         num(p.objective_arcmin()),
-        num(d.k_sigma),
+        num(d.k_sigma()),
         d.chosen_certified_arcmin
             .map_or("no table suffices".to_string(), |j| format!(
                 "J = {}",
@@ -343,25 +343,25 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
     };
     let mut t = format!(
         "time budget {} s ({} h; total = positions x (dwell + move)), noise counted at {} sigma: {} schedules at {} dwells each (J of the direct allocation with the noise part kept free, as end-to-end's trade-off)\n",
-        num(d.budget_s),
-        sig(d.budget_s / 3600.0, 4),
-        num(d.k_sigma),
-        d.schedules.len(),
-        d.dwells_s.len()
+        num(d.budget_s()),
+        sig(d.budget_s() / 3600.0, 4),
+        num(d.k_sigma()),
+        d.schedules().len(),
+        d.dwells_s().len()
     );
     t.push_str(&format!(
         "  numbers of positions designed for: {}{}\n",
-        d.counts
+        d.counts()
             .iter()
             .map(ToString::to_string)
             .collect::<Vec<_>>()
             .join(", "),
-        if d.counts_skipped.is_empty() {
+        if d.counts_skipped().is_empty() {
             String::new()
         } else {
             format!(
                 " (no schedule within the condition bound found for {})",
-                d.counts_skipped
+                d.counts_skipped()
                     .iter()
                     .map(ToString::to_string)
                     .collect::<Vec<_>>()
@@ -369,23 +369,23 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
             )
         }
     ));
-    match &d.chosen {
+    match &d.chosen() {
         Some(p) => t.push_str(&format!(
             "  within the budget: {} positions x {} s ({} s in all), J = {} arcmin^-2 ({}); certified on the exact chain: {}\n",
             p.n_positions(),
-            sig(p.dwell_s, 4),
-            sig(p.total_s, 4),
+            sig(p.dwell_s(), 4),
+            sig(p.total_s(), 4),
             sig(p.objective_arcmin(), 6),
-            origin(p.origin),
+            origin(p.origin()),
             d.chosen_certified_arcmin
                 .map_or("no table suffices".to_string(), |j| format!("J = {}", sig(j, 6)))
         )),
-        None => t.push_str(&match d.pareto.first() {
+        None => t.push_str(&match d.pareto().first() {
             Some(p) => format!(
                 "  within the budget no table suffices (the noise fills an accuracy); the shortest test at which one does: {} s ({} positions x {} s)\n",
-                sig(p.total_s, 4),
+                sig(p.total_s(), 4),
                 p.n_positions(),
-                sig(p.dwell_s, 4)
+                sig(p.dwell_s(), 4)
             ),
             None => format!(
                 "  no table suffices at any dwell up to {} s per position: the noise fills an accuracy\n",
@@ -393,7 +393,7 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
             ),
         }),
     }
-    if !d.pareto.is_empty() {
+    if !d.pareto().is_empty() {
         t.push_str(&format!(
             "  Pareto front (the cheapest table for each total test time; outputs {}):\n",
             s.sensor
@@ -407,15 +407,15 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
             "  {:>12} {:>10} {:>12} {:>14}  {}\n",
             "total (s)", "positions", "dwell (s)", "J (arcmin^-2)", "schedule"
         ));
-        for p in &d.pareto {
+        for p in d.pareto() {
             t.push_str(&format!(
                 "  {:>12} {:>10} {:>12} {:>14}  {}{}\n",
-                sig(p.total_s, 4),
+                sig(p.total_s(), 4),
                 p.n_positions(),
-                sig(p.dwell_s, 4),
+                sig(p.dwell_s(), 4),
                 sig(p.objective_arcmin(), 5),
-                origin(p.origin),
-                if p.total_s <= d.budget_s {
+                origin(p.origin()),
+                if p.total_s() <= d.budget_s() {
                     ""
                 } else {
                     " (over the budget)"
@@ -433,20 +433,20 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
 /// # Errors
 /// When the front is empty (nothing to draw) or a value is not plottable.
 pub fn svg(d: &BudgetDesign) -> Result<String> {
-    if d.pareto.is_empty() {
+    if d.pareto().is_empty() {
         anyhow::bail!("--pareto-svg: no table suffices at any dwell, the front is empty");
     }
-    let xy = |p: &BudgetPoint| ((p.total_s / 3600.0).log10(), p.objective_arcmin().log10());
+    let xy = |p: &BudgetPoint| ((p.total_s() / 3600.0).log10(), p.objective_arcmin().log10());
     let mut series = vec![Series {
         label: "Pareto front: the cheapest table for each total test time".into(),
-        points: d.pareto.iter().map(xy).collect(),
+        points: d.pareto().iter().map(xy).collect(),
         mark: Mark::Line(colour(0), false),
     }];
-    if let Some(p) = &d.chosen {
+    if let Some(p) = &d.chosen() {
         series.push(Series {
             label: format!(
                 "chosen within the budget ({} h)",
-                sig(d.budget_s / 3600.0, 3)
+                sig(d.budget_s() / 3600.0, 3)
             ),
             points: vec![xy(p)],
             mark: Mark::Dots(LIMIT),

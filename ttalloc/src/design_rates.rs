@@ -104,7 +104,7 @@ fn objective(s: &Study) -> Result<Option<f64>> {
             &s.lower_bounds_rad,
         )
         .ok()
-        .map(|a| a.combined.objective_arcmin()))
+        .map(|a| a.combined().objective_arcmin()))
 }
 
 /// Choose the rate among `rates` (deg/s) and the static positions between `designed_deg`

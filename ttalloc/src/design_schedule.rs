@@ -212,45 +212,45 @@ fn schedule_json<'a>(s: &'a Study, r: &'a ScheduleReport) -> ScheduleJson<'a> {
             .map(|(o, x)| (o.name.clone(), *x))
             .collect()
     };
-    let w = &r.with_study_tolerances;
+    let w = &r.with_study_tolerances();
     ScheduleJson {
-        objective: r.allocation.objective_arcmin(),
-        positions_deg: &r.positions_deg,
-        condition_numbers: by_output(&r.condition_numbers),
-        requirement_deg: match &r.requirement {
+        objective: r.allocation().objective_arcmin(),
+        positions_deg: r.positions_deg(),
+        condition_numbers: by_output(r.condition_numbers()),
+        requirement_deg: match &r.requirement() {
             Ok(q) => crate::json::deg3(&q.requirement().to_array()),
             Err(_) => PerAngle::new(|_| None),
         },
-        requirement_note: r.requirement.as_ref().err().map(ToString::to_string),
-        bounds_arcmin: arcmin_bounds(&errors, r.allocation.upper_bounds_rad()),
-        no_bound_needed: r.allocation.no_bound_needed(),
-        log_det_information: r.log_det_information,
-        certified: r.certified.as_ref().map(|c| CertifiedJson {
+        requirement_note: r.requirement().as_ref().err().map(ToString::to_string),
+        bounds_arcmin: arcmin_bounds(&errors, r.allocation().upper_bounds_rad()),
+        no_bound_needed: r.allocation().no_bound_needed(),
+        log_det_information: r.log_det_information(),
+        certified: r.certified().as_ref().map(|c| CertifiedJson {
             objective: c.objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&errors, c.upper_bounds_rad()),
             second_order_margins: by_output(c.second_order_margins()),
         }),
-        certified_note: r.certified_note.as_deref(),
+        certified_note: r.certified_note(),
         worst_case_with_study_tolerances: WithStudyJson {
-            tolerances: if w.certified {
+            tolerances: if w.certified() {
                 "certified"
             } else {
                 "linearised"
             },
-            unbounded_errors: w.unbounded.iter().map(|&j| errors[j]).collect(),
+            unbounded_errors: w.unbounded().iter().map(|&j| errors[j]).collect(),
             outputs: outputs
                 .iter()
-                .zip(&w.outputs)
+                .zip(w.outputs())
                 .map(|(out, o)| {
                     (
                         out.name.clone(),
                         o.as_ref().map(|o| WithStudyOutputJson {
-                            linear: o.linear_bound,
-                            exact_at_vertex: o.exact_at_vertex,
+                            linear: o.linear_bound(),
+                            exact_at_vertex: o.exact_at_vertex(),
                             certified_bound: o.certified_bound(),
                             accuracy: out.accuracy,
-                            precision: o.precision,
-                            position: o.position,
+                            precision: o.precision(),
+                            position: o.position(),
                         }),
                     )
                 })
@@ -276,15 +276,15 @@ fn start_name(k: StartKind) -> String {
 /// The bounds behind each schedule's recommended tolerances: the certified allocation, or the
 /// linearised one where none is certified.
 fn recommended_bounds(r: &ScheduleReport) -> &[f64] {
-    r.certified
+    r.certified()
         .as_ref()
-        .map_or(r.allocation.upper_bounds_rad(), |c| c.upper_bounds_rad())
+        .map_or(r.allocation().upper_bounds_rad(), |c| c.upper_bounds_rad())
 }
 
 fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
     [
-        ("designed", recommended_bounds(&o.design.designed)),
-        ("study's", recommended_bounds(&o.design.study)),
+        ("designed", recommended_bounds(o.design.designed())),
+        ("study's", recommended_bounds(o.design.study())),
     ]
 }
 
@@ -341,10 +341,10 @@ fn combined_objective(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<Op
 
 /// [`CombinedChoice`] of a design, `None` without noise or timing.
 fn combined_choice(s: &Study, d: &ScheduleDesign) -> Result<Option<CombinedChoice>> {
-    let Some(study) = combined_objective(s, &d.study.positions_deg)? else {
+    let Some(study) = combined_objective(s, d.study().positions_deg())? else {
         return Ok(None);
     };
-    let designed = combined_objective(s, &d.designed.positions_deg)?.flatten();
+    let designed = combined_objective(s, d.designed().positions_deg())?.flatten();
     let designed_recommended = match (designed, study) {
         (Some(a), Some(b)) => a <= b,
         (Some(_), None) | (None, None) => true,
@@ -499,7 +499,7 @@ struct DesignJson<'a> {
 
 fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
     let d = &o.design;
-    let search = &d.search;
+    let search = &d.search();
     DesignJson {
         study_path: &s.path,
         reading: s.reading.to_string(),
@@ -533,33 +533,36 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
                 accuracy: x.accuracy,
             })
             .collect(),
-        designed: schedule_json(s, &d.designed),
-        study: schedule_json(s, &d.study),
-        d_optimal: schedule_json(s, &d.d_optimal),
-        random_best: d.random_best.as_ref().map(|r| schedule_json(s, r)),
+        designed: schedule_json(s, d.designed()),
+        study: schedule_json(s, d.study()),
+        d_optimal: schedule_json(s, d.d_optimal()),
+        random_best: d.random_best().as_ref().map(|r| schedule_json(s, r)),
         search: SearchJson {
-            best_restart: start_name(search.restarts[search.best_restart].start),
-            local_optimum: search.designed.local_optimum,
+            best_restart: start_name(search.restarts()[search.best_restart()].start()),
+            local_optimum: search.designed().local_optimum(),
             restarts: search
-                .restarts
+                .restarts()
                 .iter()
                 .map(|r| RestartJson {
-                    start: start_name(r.start),
+                    start: start_name(r.start()),
                     start_objective: r
-                        .start_objective
+                        .start_objective()
                         .is_finite()
-                        .then(|| objective_to_arcmin(r.start_objective)),
-                    objective: r.exchange.as_ref().map(|e| e.evaluation.objective_arcmin()),
-                    exchanges: r.exchange.as_ref().map(|e| e.exchanges),
-                    exact_evaluations: r.exchange.as_ref().map(|e| e.exact_evaluations),
-                    screened_swaps: r.exchange.as_ref().map(|e| e.screened_swaps),
-                    unevaluated_swaps: r.exchange.as_ref().map(|e| e.unevaluated_swaps),
-                    local_optimum: r.exchange.as_ref().map(|e| e.local_optimum),
+                        .then(|| objective_to_arcmin(r.start_objective())),
+                    objective: r
+                        .exchange()
+                        .as_ref()
+                        .map(|e| e.evaluation().objective_arcmin()),
+                    exchanges: r.exchange().as_ref().map(|e| e.exchanges()),
+                    exact_evaluations: r.exchange().as_ref().map(|e| e.exact_evaluations()),
+                    screened_swaps: r.exchange().as_ref().map(|e| e.screened_swaps()),
+                    unevaluated_swaps: r.exchange().as_ref().map(|e| e.unevaluated_swaps()),
+                    local_optimum: r.exchange().as_ref().map(|e| e.local_optimum()),
                 })
                 .collect(),
-            d_optimal_log_det: search.d_optimal.log_det,
-            random_drawn: search.random_drawn,
-            random_feasible: search.random_feasible,
+            d_optimal_log_det: search.d_optimal().log_det(),
+            random_drawn: search.random_drawn(),
+            random_feasible: search.random_feasible(),
         },
         groups: GroupJson::all(&s.turntable, &group_bounds(o)),
         written_study: o.written.as_deref(),
@@ -605,7 +608,7 @@ fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let mut t = match &r.certified {
+    let mut t = match &r.certified() {
         Some(c) => format!(
             "tolerances (arcmin) the {what} schedule allows, certified on the exact chain (J = {}; rounded down; every turntable within them meets every accuracy: `check-turntable` proves them): {}\n",
             sig(c.objective_arcmin(), 6),
@@ -613,13 +616,13 @@ fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
         ),
         None => format!(
             "tolerances (arcmin) the {what} schedule allows, certified on the exact chain: none ({})\n",
-            r.certified_note.as_deref().unwrap_or("not certifiable")
+            r.certified_note().unwrap_or("not certifiable")
         ),
     };
     t.push_str(&format!(
         "  linearised (J = {}, the design objective; not proven on the exact chain): {}\n",
-        sig(r.allocation.objective_arcmin(), 6),
-        list(r.allocation.upper_bounds_rad(), &|v| sig(v, 3))
+        sig(r.allocation().objective_arcmin(), 6),
+        list(r.allocation().upper_bounds_rad(), &|v| sig(v, 3))
     ));
     t
 }
@@ -628,10 +631,10 @@ fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
 fn study_tolerances_note(s: &Study, d: &ScheduleDesign) -> String {
     let outputs = s.sensor.outputs();
     let errs = s.turntable.rotation_error_names();
-    let w = &d.study.with_study_tolerances;
+    let w = &d.study().with_study_tolerances();
     let mut t = format!(
         "  worst case with the study's tolerances: per output, on the exact chain at the worst vertex, over the tolerances {} for the study's schedule (what one would buy for it)",
-        if w.certified {
+        if w.certified() {
             "certified on the exact chain"
         } else {
             "of the linearised direct allocation (not certifiable here)"
@@ -640,23 +643,23 @@ fn study_tolerances_note(s: &Study, d: &ScheduleDesign) -> String {
     let mut unbounded: Vec<usize> = Vec::new();
     let mut zeroed: Vec<(&str, &str, f64)> = Vec::new();
     for r in [
-        Some(&d.designed),
-        Some(&d.study),
-        Some(&d.d_optimal),
-        d.random_best.as_ref(),
+        Some(d.designed()),
+        Some(d.study()),
+        Some(d.d_optimal()),
+        d.random_best().as_ref(),
     ]
     .into_iter()
     .flatten()
     {
-        for &j in &r.with_study_tolerances.unbounded {
+        for &j in r.with_study_tolerances().unbounded() {
             if !unbounded.contains(&j) {
                 unbounded.push(j);
             }
         }
-        for (k, o) in r.with_study_tolerances.outputs.iter().enumerate() {
+        for (k, o) in r.with_study_tolerances().outputs().iter().enumerate() {
             if let Some(o) = o {
-                if o.exact_at_vertex == 0.0 && !zeroed.iter().any(|z| z.0 == outputs[k].name) {
-                    zeroed.push((&outputs[k].name, &outputs[k].unit, o.precision));
+                if o.exact_at_vertex() == 0.0 && !zeroed.iter().any(|z| z.0 == outputs[k].name) {
+                    zeroed.push((&outputs[k].name, &outputs[k].unit, o.precision()));
                 }
             }
         }
@@ -711,7 +714,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     if let Some(b) = &o.budget {
         t.push_str(&crate::design_budget::text(s, b));
     }
-    let study_j = d.study.allocation.objective_arcmin();
+    let study_j = d.study().allocation().objective_arcmin();
     let head = [
         "schedule",
         "J (arcmin^-2)",
@@ -725,7 +728,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         head[0], head[1], head[2], head[3], head[4], head[5]
     ));
     let line = |label: &str, r: &ScheduleReport| -> String {
-        let req = match &r.requirement {
+        let req = match &r.requirement() {
             Ok(q) => q
                 .requirement()
                 .deg()
@@ -736,18 +739,18 @@ fn to_text(s: &Study, o: &Outcome) -> String {
             Err(_) => "none".into(),
         };
         let wc = r
-            .with_study_tolerances
-            .outputs
+            .with_study_tolerances()
+            .outputs()
             .iter()
             .map(|x| {
                 x.as_ref()
-                    .map_or("unbounded".into(), |x| sig(x.exact_at_vertex, 3))
+                    .map_or("unbounded".into(), |x| sig(x.exact_at_vertex(), 3))
             })
             .collect::<Vec<_>>()
             .join(", ");
-        let j = r.allocation.objective_arcmin();
+        let j = r.allocation().objective_arcmin();
         let cond = r
-            .condition_numbers
+            .condition_numbers()
             .iter()
             .map(|c| sig(*c, 3))
             .collect::<Vec<_>>()
@@ -763,20 +766,20 @@ fn to_text(s: &Study, o: &Outcome) -> String {
             sig(j, 6)
         )
     };
-    t.push_str(&line("designed", &d.designed));
-    t.push_str(&line("study", &d.study));
-    t.push_str(&line("D-optimal", &d.d_optimal));
-    match &d.random_best {
+    t.push_str(&line("designed", d.designed()));
+    t.push_str(&line("study", d.study()));
+    t.push_str(&line("D-optimal", d.d_optimal()));
+    match &d.random_best() {
         Some(r) => t.push_str(&line("random best", r)),
         None => t.push_str("random best  none of the random schedules meets the condition bound\n"),
     }
     t.push_str(&format!(
         "  outputs {names}; accuracies {}; random best: best of {} random schedules ({} meet the condition bound)\n",
         outputs.iter().map(|x| format!("{} {}", num(x.accuracy), x.unit)).collect::<Vec<_>>().join(", "),
-        d.search.random_drawn,
-        d.search.random_feasible
+        d.search().random_drawn(),
+        d.search().random_feasible()
     ));
-    if d.designed.allocation.no_bound_needed() {
+    if d.designed().allocation().no_bound_needed() {
         t.push_str(&format!(
             "  the designed schedule: {}\n",
             e2e_verify::NO_BOUND_NEEDED
@@ -784,7 +787,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     }
     t.push_str(&study_tolerances_note(s, d));
     t.push('\n');
-    for (what, r) in [("designed", &d.designed), ("study's", &d.study)] {
+    for (what, r) in [("designed", &d.designed()), ("study's", &d.study())] {
         t.push_str(&tolerance_lines(s, what, r));
     }
     t.push_str(&crate::groups::text(&s.turntable, &group_bounds(o), ""));
@@ -792,7 +795,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
         "\ndesigned positions [{}] deg:\n",
         s.turntable.joint_names().join(", ")
     ));
-    for chunk in d.designed.positions_deg.chunks(8) {
+    for chunk in d.designed().positions_deg().chunks(8) {
         let row: Vec<String> = chunk
             .iter()
             .map(|p| {
@@ -804,12 +807,12 @@ fn to_text(s: &Study, o: &Outcome) -> String {
             .collect();
         t.push_str(&format!("  {}\n", row.join(", ")));
     }
-    let search = &d.search;
+    let search = &d.search();
     t.push_str(&format!(
         "\nsearch: {} restarts, best from {}; {}; {:.1} s\n",
-        search.restarts.len(),
-        start_name(search.restarts[search.best_restart].start),
-        if search.designed.local_optimum {
+        search.restarts().len(),
+        start_name(search.restarts()[search.best_restart()].start()),
+        if search.designed().local_optimum() {
             "no single exchange of a position for a candidate improves J (a local optimum, not proven global)"
         } else {
             "stopped before proving local optimality"
@@ -873,8 +876,8 @@ pub fn run(args: &Args) -> Result<()> {
         pb.finish_and_clear();
     }
     // the report's J comes from the same path as `end-to-end`; the search's must agree
-    let searched = design.search.designed.evaluation.objective;
-    let reported = design.designed.allocation.objective();
+    let searched = design.search().designed().evaluation().objective();
+    let reported = design.designed().allocation().objective();
     let agree = (searched - reported).abs() <= 1e-9 * reported;
     if !agree {
         anyhow::bail!(
@@ -887,9 +890,9 @@ pub fn run(args: &Args) -> Result<()> {
         Some(r) => Some(crate::design_rates::choose(
             &s,
             if keep_study {
-                &design.study.positions_deg
+                design.study().positions_deg()
             } else {
-                &design.designed.positions_deg
+                design.designed().positions_deg()
             },
             r,
         )?),
@@ -901,8 +904,8 @@ pub fn run(args: &Args) -> Result<()> {
             crate::design_budget::run(
                 &s,
                 &problem,
-                &design.search.designed.evaluation.schedule,
-                &design.search.d_optimal.schedule,
+                design.search().designed().evaluation().schedule(),
+                design.search().d_optimal().schedule(),
                 args.max_condition,
                 b,
             )
@@ -939,14 +942,13 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let written = match &args.write_study {
         Some(out) => {
-            let certified = design.designed.certified.as_ref().map_or_else(
+            let certified = design.designed().certified().as_ref().map_or_else(
                 || {
                     format!(
                         "none ({})",
                         design
-                            .designed
-                            .certified_note
-                            .as_deref()
+                            .designed()
+                            .certified_note()
                             .unwrap_or("not certifiable")
                     )
                 },
@@ -968,18 +970,18 @@ pub fn run(args: &Args) -> Result<()> {
             );
             let mut comment = format!(
                 "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.\nTolerances certified on the exact chain for these positions (arcmin, rounded down):\n{certified}.",
-                num(design.designed.allocation.objective_arcmin()),
+                num(design.designed().allocation().objective_arcmin()),
                 s.reading,
-                num(design.study.allocation.objective_arcmin()),
-                num(design.d_optimal.allocation.objective_arcmin()),
+                num(design.study().allocation().objective_arcmin()),
+                num(design.d_optimal().allocation().objective_arcmin()),
                 s.sensor
                     .outputs()
                     .iter()
-                    .zip(&design.designed.condition_numbers)
+                    .zip(design.designed().condition_numbers())
                     .map(|(o, c)| format!("{} {}", o.name, num(*c)))
                     .collect::<Vec<_>>()
                     .join(", "),
-                design.search.restarts.len(),
+                design.search().restarts().len(),
                 problem.n_candidates()
             );
             if let Some(c) = &combined {
@@ -996,7 +998,7 @@ pub fn run(args: &Args) -> Result<()> {
             // with a time budget and noise: the count, positions and dwell it chose
             let chosen = match &budget {
                 Some(crate::design_budget::Budgeted::Design(d)) => {
-                    d.chosen.as_ref().map(|p| (d, p))
+                    d.chosen().as_ref().map(|p| (d, p))
                 }
                 _ => None,
             };
@@ -1005,21 +1007,21 @@ pub fn run(args: &Args) -> Result<()> {
                 comment.push_str(&crate::design_budget::chosen_comment(d, p));
             }
             if let Some(crate::design_budget::Budgeted::Design(d)) = &budget {
-                if d.chosen.is_none() {
+                if d.chosen().is_none() {
                     comment.push_str(&format!(
                         "\nWith --time-budget-s {}: no table suffices within the budget (the noise fills an accuracy),\nso the positions below are the table's design and the study's dwell is kept.",
-                        num(d.budget_s)
+                        num(d.budget_s())
                     ));
                 }
             }
             let chosen = chosen.map(|(_, p)| p);
             let positions = match chosen {
-                Some(p) => &p.positions_deg,
-                None if keep_study || rate_keeps_study => &design.study.positions_deg,
-                None => &design.designed.positions_deg,
+                Some(p) => &p.positions_deg(),
+                None if keep_study || rate_keeps_study => &design.study().positions_deg(),
+                None => &design.designed().positions_deg(),
             };
             let text = match chosen {
-                Some(p) => s.text_with_dwell(positions, p.dwell_s, &comment),
+                Some(p) => s.text_with_dwell(positions, p.dwell_s(), &comment),
                 None => s.text_with_positions(positions, &comment),
             }
             .map_err(InputError::from)?;
@@ -1037,10 +1039,10 @@ pub fn run(args: &Args) -> Result<()> {
             }
             if let Some(p) = chosen {
                 let dwells = back.timing.as_ref().map(calib_lsq::Timing::dwell_s);
-                if !dwells.is_some_and(|d| d.iter().all(|t| t.to_bits() == p.dwell_s.to_bits())) {
+                if !dwells.is_some_and(|d| d.iter().all(|t| t.to_bits() == p.dwell_s().to_bits())) {
                     anyhow::bail!(
                         "internal: the written study's dwell differs from the chosen {} s",
-                        p.dwell_s
+                        p.dwell_s()
                     );
                 }
             }

@@ -83,20 +83,20 @@ pub fn noisy_answer(
     let (Some(budget), Some(timing)) = (crate::noise::budget(s, e2e)?, &s.timing) else {
         return Ok(None);
     };
-    let lb = &a.inputs.lower_bounds_rad;
-    let settings = McSettings::new(a.inputs.samples, a.inputs.seed);
+    let lb = &a.inputs().lower_bounds_rad;
+    let settings = McSettings::new(a.inputs().samples, a.inputs().seed);
     // the trade-off (allocations) beside the readings' answers; those run one after the other
     // (each has a Monte Carlo already on every thread: one at a time keeps the memory of one
     // run); the first error in the serial order returned
     let (readings, tradeoff) = rayon::join(
         || {
-            a.readings
+            a.readings()
                 .iter()
                 .map(|r| {
-                    let sim = if r.reading == e2e.reading() {
+                    let sim = if r.reading() == e2e.reading() {
                         e2e.clone()
                     } else {
-                        e2e.with_reading(r.reading)
+                        e2e.with_reading(r.reading())
                             .map_err(|e| crate::input::library(e, s))?
                     };
                     sim.noise_answer(r, lb, &budget, k_sigma, &settings)
@@ -127,10 +127,10 @@ pub fn noisy_answer(
 pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
     let mut t = String::new();
     let outputs = e2e.calibration().outputs();
-    let sigma = &n.readings[0].sigma;
+    let sigma = n.readings[0].sigma();
     t.push_str(&format!(
         "\nwith the sensor's noise (calib-lsq's covariance of the calibration, the study's timing), noise part at {} sigma:\n",
-        num(n.tradeoff.k_sigma)
+        num(n.tradeoff.k_sigma())
     ));
     for (o, s) in outputs.iter().zip(sigma) {
         t.push_str(&format!(
@@ -140,17 +140,17 @@ pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
             o.output().unit
         ));
     }
-    for (r, nr) in a.readings.iter().zip(&n.readings) {
-        t.push_str(&format!("reading {} with noise\n", r.reading));
-        for b in &nr.boxes {
+    for (r, nr) in a.readings().iter().zip(&n.readings) {
+        t.push_str(&format!("reading {} with noise\n", r.reading()));
+        for b in nr.boxes() {
             t.push_str(&format!(
                 "  {:<14} verdict {}; {}\n",
-                b.name,
-                b.verdict.name(),
-                crate::noise::yield_text(&b.combined_yield)
+                b.name(),
+                b.verdict().name(),
+                crate::noise::yield_text(b.combined_yield())
             ));
-            for c in &b.outputs {
-                let out = outputs[c.output].output();
+            for c in b.outputs() {
+                let out = outputs[c.output()].output();
                 t.push_str(&format!(
                     "    {}: {}\n",
                     out.name,
@@ -158,24 +158,24 @@ pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
                 ));
             }
         }
-        match &nr.direct {
+        match &nr.direct() {
             NoisyDirect::Allocated { allocation, answer } => t.push_str(&format!(
                 "  {:<14} J = {} arcmin^-2 (the table gets what the noise leaves; {} without noise); verdict {}; {}\n",
                 "direct, noise",
                 num(allocation.objective_arcmin()),
-                num(r.direct.objective_arcmin()),
-                answer.verdict.name(),
-                crate::noise::yield_text(&answer.combined_yield)
+                num(r.direct().objective_arcmin()),
+                answer.verdict().name(),
+                crate::noise::yield_text(answer.combined_yield())
             )),
             NoisyDirect::NoTableSuffices { outputs: blocked } => {
                 let what: Vec<String> = blocked
                     .iter()
                     .map(|b| {
-                        let out = outputs[b.output].output();
+                        let out = outputs[b.output()].output();
                         format!(
                             "{} noise part {} of {} {}",
                             out.name,
-                            num(b.noise_part),
+                            num(b.noise_part()),
                             num(out.accuracy),
                             out.unit
                         )
@@ -197,26 +197,26 @@ pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
 #[must_use]
 pub fn tradeoff_text(tr: &Tradeoff) -> String {
     let mut t = String::new();
-    match tr.min_dwell_s {
+    match tr.min_dwell_s() {
         None => t.push_str(&format!(
             "time/table trade-off: no dwell up to {} s per position lets any table meet every accuracy (noise alone exceeds one)\n",
-            num(tr.range_s.1)
+            num(tr.range_s().1)
         )),
         Some(d) => {
             t.push_str(&format!(
                 "time/table trade-off: the shortest dwell at which some table meets every accuracy is {} s per position{}; the knee (d ln J / d ln T = -1) {}; without noise J = {} arcmin^-2\n",
                 num(d),
-                if tr.min_dwell_at_range_start { " (one sample per position already suffices)" } else { "" },
-                tr.knee_dwell_s.map_or("is not on the curve".into(), |k| format!("at {} s", num(k))),
-                num(objective_to_arcmin(tr.noiseless_objective))
+                if tr.min_dwell_at_range_start() { " (one sample per position already suffices)" } else { "" },
+                tr.knee_dwell_s().map_or("is not on the curve".into(), |k| format!("at {} s", num(k))),
+                num(objective_to_arcmin(tr.noiseless_objective()))
             ));
             t.push_str("  dwell (s)     total test time (s)   J (arcmin^-2)\n");
-            for p in &tr.points {
+            for p in tr.points() {
                 t.push_str(&format!(
                     "  {:<13} {:<21} {}\n",
-                    num(p.dwell_s),
-                    num(p.total_s),
-                    p.objective.map_or("none".into(), |j| num(objective_to_arcmin(j)))
+                    num(p.dwell_s()),
+                    num(p.total_s()),
+                    p.objective().map_or("none".into(), |j| num(objective_to_arcmin(j)))
                 ));
             }
         }
@@ -309,10 +309,10 @@ pub struct Throughput {
 pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Throughput> {
     const FAST: u64 = 200_000;
     const REFERENCE: u64 = 400;
-    let r = &a.readings[0];
-    let lb = &a.inputs.lower_bounds_rad;
+    let r = &a.readings()[0];
+    let lb = &a.inputs().lower_bounds_rad;
     let bounds = e2e
-        .box_of(r.direct.upper_bounds_rad(), lb)
+        .box_of(r.direct().upper_bounds_rad(), lb)
         .map_err(anyhow::Error::new)?;
     let linear = e2e.linearization();
     let t = Instant::now();
@@ -347,7 +347,7 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
 /// The direct allocations' bounds by label (`direct, <reading>`), for the groups of errors
 /// that act only together.
 fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
-    a.readings
+    a.readings()
         .iter()
         .enumerate()
         .map(|(i, r)| {
@@ -356,7 +356,7 @@ fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
             } else {
                 "direct, user's reading"
             };
-            (label, r.direct.upper_bounds_rad())
+            (label, r.direct().upper_bounds_rad())
         })
         .collect()
 }
@@ -453,29 +453,29 @@ struct BoxJson<'a> {
 
 impl<'a> BoxJson<'a> {
     fn new(e2e: &'a EndToEnd, b: &'a BoxAnswer) -> Self {
-        let d = &b.distribution;
-        let meets = b.worst_case.meets(&e2e.accuracies());
+        let d = &b.distribution();
+        let meets = b.worst_case().meets(&e2e.accuracies());
         Self {
-            name: &b.name,
+            name: b.name(),
             meets: meets.name(),
             meets_text: meets.to_string(),
             meets_excess: meets.excess(),
-            objective: objective_to_arcmin(b.objective),
+            objective: objective_to_arcmin(b.objective()),
             bounds_arcmin: arcmin_bounds(
                 &e2e.turntable().rotation_error_names(),
-                &b.upper_bounds_rad,
+                b.upper_bounds_rad(),
             ),
             worst_case: b
-                .worst_case
-                .outputs
+                .worst_case()
+                .outputs()
                 .iter()
                 .map(|w| WorstCaseJson {
-                    output: &e2e.calibration().outputs()[w.output].output().name,
-                    exact_at_vertex: w.exact_at_vertex,
-                    linear: w.linear_bound,
-                    second_order_bound: w.second_order_bound,
-                    position: w.position,
-                    per_position: &w.per_position,
+                    output: &e2e.calibration().outputs()[w.output()].output().name,
+                    exact_at_vertex: w.exact_at_vertex(),
+                    linear: w.linear_bound(),
+                    second_order_bound: w.second_order_bound(),
+                    position: w.position(),
+                    per_position: w.per_position(),
                 })
                 .collect(),
             yield_fraction: d.yield_fraction(),
@@ -602,15 +602,20 @@ impl<'a> ReadingJson<'a> {
     fn new(e2e: &'a EndToEnd, r: &'a ReadingAnswer, noise: Option<&'a NoiseAnswer>) -> Self {
         let names = e2e.turntable().rotation_error_names();
         Self {
-            reading: r.reading.to_string(),
-            boxes: r.boxes.iter().map(|b| BoxJson::new(e2e, b)).collect(),
+            reading: r.reading().to_string(),
+            boxes: r.boxes().iter().map(|b| BoxJson::new(e2e, b)).collect(),
             direct: DirectJson {
-                objective: r.direct.objective_arcmin(),
-                bounds_arcmin: arcmin_bounds(&names, r.direct.upper_bounds_rad()),
-                unconstrained: r.direct.unconstrained().iter().map(|&j| names[j]).collect(),
-                no_bound_needed: r.direct.no_bound_needed(),
+                objective: r.direct().objective_arcmin(),
+                bounds_arcmin: arcmin_bounds(&names, r.direct().upper_bounds_rad()),
+                unconstrained: r
+                    .direct()
+                    .unconstrained()
+                    .iter()
+                    .map(|&j| names[j])
+                    .collect(),
+                no_bound_needed: r.direct().no_bound_needed(),
                 active_rows: r
-                    .direct
+                    .direct()
                     .active_rows()
                     .iter()
                     .map(|row| ActiveRowJson {
@@ -620,31 +625,31 @@ impl<'a> ReadingJson<'a> {
                             .joint_angles_deg(),
                     })
                     .collect(),
-                box_answer: BoxJson::new(e2e, &r.direct_box),
+                box_answer: BoxJson::new(e2e, r.direct_box()),
             },
             direct_certified: r
-                .direct_certified
+                .direct_certified()
                 .as_ref()
                 .map(|(d, wc)| DirectCertifiedJson {
                     objective: d.objective_arcmin(),
                     bounds_arcmin: arcmin_bounds(&names, d.upper_bounds_rad()),
                     second_order_margins: d.second_order_margins(),
                     worst_case_exact: wc.exact(),
-                    certified_bounds: wc.outputs.iter().map(|w| w.certified_bound()).collect(),
+                    certified_bounds: wc.outputs().iter().map(|w| w.certified_bound()).collect(),
                 }),
-            direct_certified_note: r.direct_certified_note.as_deref(),
+            direct_certified_note: r.direct_certified_note(),
             yield_based: YieldBasedJson {
-                objective: r.yield_based.objective_arcmin(),
-                target: r.yield_based.target(),
-                scale: r.yield_based.scale(),
-                capped: r.yield_based.capped(),
-                design_yield: r.yield_based.yield_fraction(),
-                design_interval_95: r.yield_based.interval_95(),
-                design_verdict: r.yield_based.design_verdict().name(),
+                objective: r.yield_based().objective_arcmin(),
+                target: r.yield_based().target(),
+                scale: r.yield_based().scale(),
+                capped: r.yield_based().capped(),
+                design_yield: r.yield_based().yield_fraction(),
+                design_interval_95: r.yield_based().interval_95(),
+                design_verdict: r.yield_based().design_verdict().name(),
                 verdict: r.yield_verdict().name(),
-                min_samples: e2e_verify::min_yield_samples(r.yield_based.target()),
-                bounds_arcmin: arcmin_bounds(&names, r.yield_based.upper_bounds_rad()),
-                remeasured: BoxJson::new(e2e, &r.yield_box),
+                min_samples: e2e_verify::min_yield_samples(r.yield_based().target()),
+                bounds_arcmin: arcmin_bounds(&names, r.yield_based().upper_bounds_rad()),
+                remeasured: BoxJson::new(e2e, r.yield_box()),
             },
             noise: noise.map(|n| NoiseReadingJson::new(e2e, n)),
         }
@@ -681,19 +686,19 @@ struct CombinedBoxJson<'a> {
 impl<'a> CombinedBoxJson<'a> {
     fn new(e2e: &'a EndToEnd, b: &'a e2e_verify::CombinedBox) -> Self {
         Self {
-            name: &b.name,
-            verdict: b.verdict.name(),
+            name: b.name(),
+            verdict: b.verdict().name(),
             outputs: b
-                .outputs
+                .outputs()
                 .iter()
                 .map(|c| CombinedOutputJson {
-                    output: &e2e.calibration().outputs()[c.output].output().name,
-                    accuracy: c.accuracy,
-                    verdict: c.verdict.name(),
+                    output: &e2e.calibration().outputs()[c.output()].output().name,
+                    accuracy: c.accuracy(),
+                    verdict: c.verdict().name(),
                     split: c.into(),
                 })
                 .collect(),
-            combined_yield: (&b.combined_yield).into(),
+            combined_yield: b.combined_yield().into(),
         }
     }
 }
@@ -753,14 +758,14 @@ impl<'a> NoiseReadingJson<'a> {
     fn new(e2e: &'a EndToEnd, n: &'a NoiseAnswer) -> Self {
         let names = e2e.turntable().rotation_error_names();
         Self {
-            k_sigma: n.k_sigma,
-            noise_sigma: &n.sigma,
+            k_sigma: n.k_sigma(),
+            noise_sigma: n.sigma(),
             boxes: n
-                .boxes
+                .boxes()
                 .iter()
                 .map(|b| CombinedBoxJson::new(e2e, b))
                 .collect(),
-            direct_with_noise: match &n.direct {
+            direct_with_noise: match &n.direct() {
                 NoisyDirect::Allocated { allocation, answer } => DirectWithNoiseJson::Allocated {
                     no_table_suffices: false,
                     objective: allocation.objective_arcmin(),
@@ -773,9 +778,9 @@ impl<'a> NoiseReadingJson<'a> {
                     outputs: outputs
                         .iter()
                         .map(|o| NoRoomJson {
-                            output: &e2e.calibration().outputs()[o.output].output().name,
-                            noise_part: o.noise_part,
-                            lower_bounds_part: o.lower_bounds_part,
+                            output: &e2e.calibration().outputs()[o.output()].output().name,
+                            noise_part: o.noise_part(),
+                            lower_bounds_part: o.lower_bounds_part(),
                         })
                         .collect(),
                 },
@@ -818,19 +823,19 @@ struct TradeoffJson {
 impl From<&Tradeoff> for TradeoffJson {
     fn from(t: &Tradeoff) -> Self {
         Self {
-            k_sigma: t.k_sigma,
-            min_dwell_s: t.min_dwell_s,
-            min_dwell_at_one_sample: t.min_dwell_at_range_start,
-            knee_dwell_s: t.knee_dwell_s,
-            dwell_range_s: t.range_s,
-            noiseless_objective_arcmin: objective_to_arcmin(t.noiseless_objective),
+            k_sigma: t.k_sigma(),
+            min_dwell_s: t.min_dwell_s(),
+            min_dwell_at_one_sample: t.min_dwell_at_range_start(),
+            knee_dwell_s: t.knee_dwell_s(),
+            dwell_range_s: t.range_s(),
+            noiseless_objective_arcmin: objective_to_arcmin(t.noiseless_objective()),
             tradeoff: t
-                .points
+                .points()
                 .iter()
                 .map(|p| TradeoffPointJson {
-                    dwell_s: p.dwell_s,
-                    total_s: p.total_s,
-                    objective_arcmin: p.objective.map(objective_to_arcmin),
+                    dwell_s: p.dwell_s(),
+                    total_s: p.total_s(),
+                    objective_arcmin: p.objective().map(objective_to_arcmin),
                 })
                 .collect(),
         }
@@ -913,17 +918,22 @@ impl<'a> EndToEndJson<'a> {
         noisy: Option<&'a NoisyAnswer>,
     ) -> Self {
         let names = e2e.turntable().rotation_error_names();
-        let r0 = &a.readings[0];
+        let r0 = &a.readings()[0];
         let mut bounds: BTreeMap<String, ArcminBounds> = r0
-            .boxes
+            .boxes()
             .iter()
-            .map(|b| (b.name.clone(), arcmin_bounds(&names, &b.upper_bounds_rad)))
+            .map(|b| {
+                (
+                    b.name().to_string(),
+                    arcmin_bounds(&names, b.upper_bounds_rad()),
+                )
+            })
             .collect();
         bounds.insert(
             "direct".into(),
-            arcmin_bounds(&names, r0.direct.upper_bounds_rad()),
+            arcmin_bounds(&names, r0.direct().upper_bounds_rad()),
         );
-        if let Some((d, _)) = &r0.direct_certified {
+        if let Some((d, _)) = &r0.direct_certified() {
             bounds.insert(
                 "direct_certified".into(),
                 arcmin_bounds(&names, d.upper_bounds_rad()),
@@ -931,13 +941,13 @@ impl<'a> EndToEndJson<'a> {
         }
         bounds.insert(
             "yield_based".into(),
-            arcmin_bounds(&names, r0.yield_based.upper_bounds_rad()),
+            arcmin_bounds(&names, r0.yield_based().upper_bounds_rad()),
         );
         Self {
             study: &s.path,
             reading: e2e.reading().to_string(),
-            samples: a.inputs.samples,
-            seed: a.inputs.seed,
+            samples: a.inputs().samples,
+            seed: a.inputs().seed,
             seconds,
             outputs: e2e
                 .calibration()
@@ -954,15 +964,15 @@ impl<'a> EndToEndJson<'a> {
             errors: names.clone(),
             groups: GroupJson::all(e2e.turntable(), &direct_bounds(a)),
             two_step_requirement_deg: a
-                .inputs
+                .inputs()
                 .two_step_requirement
                 .map(|r| crate::json::deg3(&r.to_array())),
             requirement_note: note.map(String::as_str),
-            two_step_objective: a.two_step.as_ref().map(|t| t.objective_arcmin()),
-            direct_objective: r0.direct.objective_arcmin(),
+            two_step_objective: a.two_step().as_ref().map(|t| t.objective_arcmin()),
+            direct_objective: r0.direct().objective_arcmin(),
             bounds_arcmin: bounds,
             readings: a
-                .readings
+                .readings()
                 .iter()
                 .enumerate()
                 .map(|(i, r)| ReadingJson::new(e2e, r, noisy.and_then(|n| n.readings.get(i))))
@@ -986,13 +996,13 @@ impl<'a> EndToEndJson<'a> {
 /// The yield-based box against its target: the re-measured yield's 95% interval and the
 /// verdict, one line.
 fn yield_text(r: &ReadingAnswer) -> String {
-    let (lo, hi) = r.yield_box.distribution.yield_interval_95();
+    let (lo, hi) = r.yield_box().distribution().yield_interval_95();
     format!(
         "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% (95% interval {:.2}-{:.2}%): {}\n",
         "",
-        num(100.0 * r.yield_based.target()),
-        r.yield_box.distribution.samples(),
-        100.0 * r.yield_box.distribution.yield_fraction(),
+        num(100.0 * r.yield_based().target()),
+        r.yield_box().distribution().samples(),
+        100.0 * r.yield_box().distribution().yield_fraction(),
         100.0 * lo,
         100.0 * hi,
         match r.yield_verdict() {
@@ -1006,17 +1016,17 @@ fn yield_text(r: &ReadingAnswer) -> String {
 /// The outputs (name, unit, precision) with a worst case or Monte Carlo maximum shown as 0 in
 /// this reading's boxes: at or below the computation's precision.
 fn zeroed_outputs<'a>(e2e: &'a EndToEnd, r: &ReadingAnswer) -> Vec<(&'a str, &'a str, f64)> {
-    let mut boxes: Vec<&BoxAnswer> = r.boxes.iter().collect();
-    boxes.push(&r.direct_box);
-    boxes.push(&r.yield_box);
+    let mut boxes: Vec<&BoxAnswer> = r.boxes().iter().collect();
+    boxes.push(r.direct_box());
+    boxes.push(r.yield_box());
     e2e.calibration()
         .outputs()
         .iter()
         .enumerate()
         .filter(|(k, _)| {
             boxes.iter().any(|b| {
-                b.worst_case.outputs[*k].exact_at_vertex == 0.0
-                    || b.distribution.worst()[*k].value() == 0.0
+                b.worst_case().outputs()[*k].exact_at_vertex() == 0.0
+                    || b.distribution().worst()[*k].value() == 0.0
             })
         })
         .map(|(k, o)| {
@@ -1041,7 +1051,10 @@ pub fn to_text(
 ) -> String {
     let mut t = format!(
         "end to end: study {} ({}), {} turntables per box, seed {}\n",
-        s.name, s.path, a.inputs.samples, a.inputs.seed
+        s.name,
+        s.path,
+        a.inputs().samples,
+        a.inputs().seed
     );
     for o in e2e.calibration().outputs() {
         t.push_str(&format!(
@@ -1060,56 +1073,56 @@ pub fn to_text(
         &direct_bounds(a),
         "  ",
     ));
-    for r in &a.readings {
+    for r in a.readings() {
         t.push_str(&format!(
             "\nreading {} ({})\n",
-            r.reading,
-            r.reading.formula()
+            r.reading(),
+            r.reading().formula()
         ));
         let line = |b: &BoxAnswer| -> String {
             let worst: Vec<String> = b
-                .worst_case
-                .outputs
+                .worst_case()
+                .outputs()
                 .iter()
                 .map(|w| {
                     format!(
                         "{} {}",
-                        e2e.calibration().outputs()[w.output].output().name,
-                        num(w.exact_at_vertex)
+                        e2e.calibration().outputs()[w.output()].output().name,
+                        num(w.exact_at_vertex())
                     )
                 })
                 .collect();
-            let (lo, hi) = b.distribution.yield_interval_95();
+            let (lo, hi) = b.distribution().yield_interval_95();
             format!(
                 "  {:<14} J = {:>9} arcmin^-2  worst case {} (meets every accuracy: {})  yield {:.2}% [{:.2}, {:.2}]\n",
-                b.name,
-                num(objective_to_arcmin(b.objective)),
+                b.name(),
+                num(objective_to_arcmin(b.objective())),
                 worst.join(", "),
-                b.worst_case.meets(&e2e.accuracies()),
-                100.0 * b.distribution.yield_fraction(),
+                b.worst_case().meets(&e2e.accuracies()),
+                100.0 * b.distribution().yield_fraction(),
                 100.0 * lo,
                 100.0 * hi
             )
         };
-        for b in &r.boxes {
+        for b in r.boxes() {
             t.push_str(&line(b));
         }
-        t.push_str(&line(&r.direct_box));
-        if let Some((d, wc)) = &r.direct_certified {
+        t.push_str(&line(r.direct_box()));
+        if let Some((d, wc)) = &r.direct_certified() {
             t.push_str(&format!(
                 "  {:<14} J = {:>9} arcmin^-2  proven worst case {}\n",
                 "certified",
                 num(d.objective_arcmin()),
-                wc.outputs
+                wc.outputs()
                     .iter()
                     .map(|w| w.certified_bound().map_or("-".into(), num))
                     .collect::<Vec<_>>()
                     .join(", ")
             ));
-        } else if let Some(n) = &r.direct_certified_note {
+        } else if let Some(n) = &r.direct_certified_note() {
             t.push_str(&format!("  {:<14} none: {n}\n", "certified"));
         }
-        t.push_str(&line(&r.yield_box));
+        t.push_str(&line(r.yield_box()));
         t.push_str(&yield_text(r));
         let zeroed = zeroed_outputs(e2e, r);
         if let Some(n) = crate::out::precision_note(&zeroed) {

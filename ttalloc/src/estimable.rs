@@ -107,11 +107,12 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
         .worst_case(&e2e.linearization(), &ub)
         .map_err(|e| crate::input::library(e, s))?;
     let rates = wc
-        .outputs
+        .outputs()
         .iter()
         .map(|o| {
-            let plain = e2e.delta_omega(&o.worst_chi_rad)?[o.output];
-            let joint = e2e.joint_delta_omega(&o.worst_chi_rad, &est, JOINT_ITERATIONS)?[o.output];
+            let plain = e2e.delta_omega(o.worst_chi_rad())?[o.output()];
+            let joint =
+                e2e.joint_delta_omega(o.worst_chi_rad(), &est, JOINT_ITERATIONS)?[o.output()];
             Ok((plain, joint))
         })
         .collect::<Result<Vec<_>, e2e_verify::E2eError>>()

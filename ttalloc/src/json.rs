@@ -107,13 +107,13 @@ pub struct Split {
 impl From<&CombinedOutput> for Split {
     fn from(c: &CombinedOutput) -> Self {
         Self {
-            table_part: c.table_part,
-            table_certified: c.table_certified,
-            noise_sigma: c.noise_sigma,
-            k_sigma: c.k_sigma,
-            combined: c.combined,
+            table_part: c.table_part(),
+            table_certified: c.table_certified(),
+            noise_sigma: c.noise_sigma(),
+            k_sigma: c.k_sigma(),
+            combined: c.combined(),
             combined_meets: c.meets(),
-            dominant: c.dominant.name(),
+            dominant: c.dominant().name(),
         }
     }
 }
@@ -141,10 +141,10 @@ impl From<&CombinedYield> for CombinedYieldJson {
         Self {
             yield_fraction: y.yield_fraction(),
             yield_interval_95: y.yield_interval_95(),
-            meeting: y.meeting,
-            meeting_per_output: y.meeting_per_output.clone(),
-            samples: y.samples,
-            seed: y.seed,
+            meeting: y.meeting(),
+            meeting_per_output: y.meeting_per_output().to_vec(),
+            samples: y.samples(),
+            seed: y.seed(),
         }
     }
 }

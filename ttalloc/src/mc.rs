@@ -288,7 +288,7 @@ impl<'a> McJson<'a> {
                 linear
                     .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
                     .ok()
-                    .map(|w| rad_to_deg(w.upper_bound))
+                    .map(|w| rad_to_deg(w.upper_bound()))
             }),
             mean_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).mean_rad())),
             std_deg: PerAngle::new(|a| rad_to_deg(std[a.index()])),

@@ -40,17 +40,17 @@ pub fn note(s: &Study) -> Option<String> {
 pub fn split_text(c: &CombinedOutput, unit: &str) -> String {
     format!(
         "table {}{}, noise {} at {} sigma (sigma {}), combined {} {unit} ({} dominates)",
-        num(c.table_part),
-        if c.table_certified {
+        num(c.table_part()),
+        if c.table_certified() {
             ""
         } else {
             " (not certified)"
         },
-        num(c.k_sigma * c.noise_sigma),
-        num(c.k_sigma),
-        num(c.noise_sigma),
-        num(c.combined),
-        c.dominant.name()
+        num(c.k_sigma() * c.noise_sigma()),
+        num(c.k_sigma()),
+        num(c.noise_sigma()),
+        num(c.combined()),
+        c.dominant().name()
     )
 }
 
@@ -63,7 +63,7 @@ pub fn yield_text(y: &CombinedYield) -> String {
         100.0 * y.yield_fraction(),
         100.0 * lo,
         100.0 * hi,
-        y.samples,
-        y.seed
+        y.samples(),
+        y.seed()
     )
 }

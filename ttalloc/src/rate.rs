@@ -105,7 +105,7 @@ impl RateCheck {
         self.outputs
             .iter()
             .zip(e2e.accuracies())
-            .all(|(o, a)| o.linear_bound <= a && o.exact_at_vertex <= a)
+            .all(|(o, a)| o.linear_bound() <= a && o.exact_at_vertex() <= a)
     }
 }
 
@@ -162,25 +162,25 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
     s.push_str(&format!("  bounds: {}\n", bounds.join(", ")));
     let acc = e2e.accuracies();
     for o in &c.outputs {
-        let out = &e2e.calibration().outputs()[o.output].output();
+        let out = &e2e.calibration().outputs()[o.output()].output();
         let top = o
-            .extra_parts
+            .extra_parts()
             .iter()
             .enumerate()
             .fold((0, 0.0), |b, (i, v)| if *v > b.1 { (i, *v) } else { b });
         s.push_str(&format!(
             "  {}: worst case {} {} (angles {}, rate errors and translations {}; largest {} {}) at entry {}, exact {} against {}: {}\n",
             out.name,
-            num(o.linear_bound),
+            num(o.linear_bound()),
             out.unit,
-            num(o.angular_part),
+            num(o.angular_part()),
             num(o.extra_part()),
             names.get(top.0).map_or("-", String::as_str),
             num(top.1),
-            o.position,
-            num(o.exact_at_vertex),
-            num(acc[o.output]),
-            if o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output] {
+            o.position(),
+            num(o.exact_at_vertex()),
+            num(acc[o.output()]),
+            if o.linear_bound() <= acc[o.output()] && o.exact_at_vertex() <= acc[o.output()] {
                 "meets"
             } else {
                 "does not meet"
@@ -298,7 +298,7 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
     let mut s = format!(
         "\ndirect allocation with the rate tolerances (reading {}): the angles, rate accuracy, ripple and translations allocated together, J = {} arcmin^-2\n",
         e2e.reading(),
-        num(a.combined.objective_arcmin())
+        num(a.combined().objective_arcmin())
     );
     let names = e2e.turntable().rotation_error_names();
     let angles: Vec<String> = names
@@ -316,7 +316,7 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
     let tols: Vec<String> = e2e
         .rate_tolerance_names()
         .iter()
-        .zip(&a.tolerances)
+        .zip(a.tolerances())
         .zip(a.tolerance_bounds())
         .map(|((n, t), b)| {
             if b.is_finite() {
@@ -329,17 +329,17 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
         .collect();
     s.push_str(&format!("  rate tolerances: {}\n", tols.join(", ")));
     let acc = e2e.accuracies();
-    for w in &a.worst_cases {
-        let out = e2e.calibration().outputs()[w.output].output();
+    for w in a.worst_cases() {
+        let out = e2e.calibration().outputs()[w.output()].output();
         s.push_str(&format!(
             "  {}: worst case over both boxes {} {} (first order), exact chain at its worst vertex {} (entry {}), margin {} against {}\n",
             out.name,
-            num(w.linear_bound),
+            num(w.linear_bound()),
             out.unit,
-            num(w.exact_at_vertex),
-            w.position,
-            num(acc[w.output] - w.exact_at_vertex),
-            num(acc[w.output])
+            num(w.exact_at_vertex()),
+            w.position(),
+            num(acc[w.output()] - w.exact_at_vertex()),
+            num(acc[w.output()])
         ));
     }
     let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
@@ -358,12 +358,12 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
         Ok(c) => {
             s.push_str(&format!(
                 "certified allocation with the rate tolerances (first-order worst case plus the derived second-order bound within every accuracy), J = {} arcmin^-2\n",
-                num(c.combined.objective_arcmin())
+                num(c.combined().objective_arcmin())
             ));
             let tols: Vec<String> = e2e
                 .rate_tolerance_names()
                 .iter()
-                .zip(&c.tolerances)
+                .zip(c.tolerances())
                 .zip(c.tolerance_bounds())
                 .filter(|(_, b)| b.is_finite())
                 .map(|((n, t), b)| {
@@ -379,8 +379,8 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
                     out.name,
                     num(c.certified_bound(k)),
                     out.unit,
-                    num(c.linear_bounds[k]),
-                    num(c.second_order_bounds[k]),
+                    num(c.linear_bounds()[k]),
+                    num(c.second_order_bounds()[k]),
                     num(*a_k)
                 ));
             }
@@ -481,22 +481,23 @@ impl<'a> RateCheckJson<'a> {
                 .outputs
                 .iter()
                 .map(|o| RateOutputJson {
-                    output: &e2e.calibration().outputs()[o.output].output().name,
-                    accuracy: acc[o.output],
-                    linear_bound: o.linear_bound,
-                    angular_part: o.angular_part,
+                    output: &e2e.calibration().outputs()[o.output()].output().name,
+                    accuracy: acc[o.output()],
+                    linear_bound: o.linear_bound(),
+                    angular_part: o.angular_part(),
                     extra_part: o.extra_part(),
                     extra_parts: names
                         .iter()
-                        .zip(&o.extra_parts)
+                        .zip(o.extra_parts())
                         .map(|(n, v)| ExtraPartJson {
                             error: n.clone(),
                             part: *v,
                         })
                         .collect(),
-                    entry: o.position,
-                    exact_at_vertex: o.exact_at_vertex,
-                    meets: o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output],
+                    entry: o.position(),
+                    exact_at_vertex: o.exact_at_vertex(),
+                    meets: o.linear_bound() <= acc[o.output()]
+                        && o.exact_at_vertex() <= acc[o.output()],
                 })
                 .collect(),
             yield_fraction: c.meets as f64 / c.samples as f64,
@@ -561,12 +562,12 @@ impl<'a> CertifiedRateJson<'a> {
         let names = e2e.turntable().rotation_error_names();
         let acc = e2e.accuracies();
         Self {
-            objective_arcmin: c.combined.objective_arcmin(),
+            objective_arcmin: c.combined().objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&names, c.angles_rad()),
             tolerances: e2e
                 .rate_tolerance_names()
                 .into_iter()
-                .zip(&c.tolerances)
+                .zip(c.tolerances())
                 .zip(c.tolerance_bounds())
                 .map(|((name, t), b)| {
                     let (v, unit) = tolerance_in_sheet_units(t, *b);
@@ -582,12 +583,12 @@ impl<'a> CertifiedRateJson<'a> {
                 .map(|k| CertifiedOutputJson {
                     output: &e2e.calibration().outputs()[k].output().name,
                     accuracy: acc[k],
-                    linear_bound: c.linear_bounds[k],
-                    second_order_bound: c.second_order_bounds[k],
+                    linear_bound: c.linear_bounds()[k],
+                    second_order_bound: c.second_order_bounds()[k],
                     certified_bound: c.certified_bound(k),
                 })
                 .collect(),
-            rounds: c.rounds,
+            rounds: c.rounds(),
         }
     }
 }
@@ -652,14 +653,14 @@ impl<'a> RateAllocationJson<'a> {
         let acc = e2e.accuracies();
         Self {
             reading: e2e.reading().to_string(),
-            objective_arcmin: a.combined.objective_arcmin(),
+            objective_arcmin: a.combined().objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&names, a.angles_rad()),
             tolerances: e2e
                 .rate_tolerance_names()
                 .into_iter()
-                .zip(&a.tolerances)
+                .zip(a.tolerances())
                 .zip(a.tolerance_bounds())
-                .zip(&a.weights)
+                .zip(a.weights())
                 .map(|(((name, t), b), w)| {
                     let (v, unit) = tolerance_in_sheet_units(t, *b);
                     ToleranceJson {
@@ -671,19 +672,19 @@ impl<'a> RateAllocationJson<'a> {
                 })
                 .collect(),
             outputs: a
-                .worst_cases
+                .worst_cases()
                 .iter()
                 .map(|w| AllocatedOutputJson {
-                    output: &e2e.calibration().outputs()[w.output].output().name,
-                    accuracy: acc[w.output],
-                    linear_bound: w.linear_bound,
-                    exact_at_vertex: w.exact_at_vertex,
-                    entry: w.position,
-                    margin: acc[w.output] - w.exact_at_vertex,
-                    second_order_room: a.combined.second_order_margins()[w.output],
+                    output: &e2e.calibration().outputs()[w.output()].output().name,
+                    accuracy: acc[w.output()],
+                    linear_bound: w.linear_bound(),
+                    exact_at_vertex: w.exact_at_vertex(),
+                    entry: w.position(),
+                    margin: acc[w.output()] - w.exact_at_vertex(),
+                    second_order_room: a.combined().second_order_margins()[w.output()],
                 })
                 .collect(),
-            exact_rounds: a.exact_rounds,
+            exact_rounds: a.exact_rounds(),
             yield_fraction: r.meets as f64 / r.samples as f64,
             yield_interval_95: e2e_verify::wilson_interval_95(r.meets, r.samples),
             samples: r.samples,

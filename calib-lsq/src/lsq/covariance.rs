@@ -175,11 +175,27 @@ impl RateErrorCovariance {
 
 /// Both covariances of one output under noise.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct NoiseCovariance {
     /// Of the estimated coefficients.
-    pub coefficients: CoefficientCovariance,
+    pub(crate) coefficients: CoefficientCovariance,
     /// Of the rate error at the test positions.
-    pub rate_error: RateErrorCovariance,
+    pub(crate) rate_error: RateErrorCovariance,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl NoiseCovariance {
+    /// Of the estimated coefficients.
+    #[must_use]
+    pub fn coefficients(&self) -> &CoefficientCovariance {
+        &self.coefficients
+    }
+
+    /// Of the rate error at the test positions.
+    #[must_use]
+    pub fn rate_error(&self) -> &RateErrorCovariance {
+        &self.rate_error
+    }
 }
 
 fn diag_sqrt(m: &DMatrix<f64>) -> DVector<f64> {
@@ -280,7 +296,7 @@ impl Regression {
         positions: &WindowCovariance,
     ) -> Result<CoefficientCovariance, CalibError> {
         let n = self.a.nrows();
-        for m in [&positions.white, &positions.correlated] {
+        for m in [&positions.white(), &positions.correlated()] {
             if m.shape() != (n, n) {
                 return Err(CalibError::Field(tt_core::FieldError::Length {
                     field: "position covariance (rows and columns)".into(),
@@ -292,8 +308,8 @@ impl Regression {
         let pt = self.pinv.transpose();
         Ok(CoefficientCovariance {
             names: self.names.clone(),
-            white: sandwich_symmetric(&pt, &positions.white),
-            correlated: sandwich_symmetric(&pt, &positions.correlated),
+            white: sandwich_symmetric(&pt, positions.white()),
+            correlated: sandwich_symmetric(&pt, positions.correlated()),
         })
     }
 

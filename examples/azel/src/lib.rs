@@ -183,7 +183,7 @@ impl<M: LinearErrorModel> Allocator<M> for UniformBound {
             for j in model.involved(k) {
                 ones[j] = 1.0;
             }
-            let worst = model.worst_case(k, &ones)?.upper_bound;
+            let worst = model.worst_case(k, &ones)?.upper_bound();
             if worst > 0.0 {
                 u = u.min(limit / worst);
             }

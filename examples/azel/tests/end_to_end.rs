@@ -104,14 +104,14 @@ fn the_certified_direct_box_meets_the_accuracy_on_the_exact_chain_and_in_the_mon
     }
     assert!(ub[2].is_infinite(), "{ub:?}");
     let worst = e2e.worst_case(&linear, ub).unwrap();
-    let out = &worst.outputs[0];
+    let out = &worst.outputs()[0];
     let certified = out
         .certified_bound()
         .expect("the mount declares its angle-sum bound");
     assert!(certified <= 0.01, "certified {certified}");
-    assert!(out.exact_at_vertex <= certified, "{out:?}");
+    assert!(out.exact_at_vertex() <= certified, "{out:?}");
     // the linear worst case is the active constraint of the allocation (to its margin)
-    assert!(out.linear_bound >= 0.5 * 0.01, "{out:?}");
+    assert!(out.linear_bound() >= 0.5 * 0.01, "{out:?}");
     // every drawn mount of the box meets the accuracy, and none exceeds the certified bound
     let bounds = e2e.box_of(ub, &[0.0; 4]).unwrap();
     let mc = e2e
@@ -135,7 +135,7 @@ fn a_callers_certify_params_keep_the_share_of_the_accuracy_it_asks_for() {
         .allocate_direct_certified_with(&linear, &[0.0; 4], &params)
         .unwrap();
     let worst = e2e.worst_case(&linear, tight.upper_bounds_rad()).unwrap();
-    let certified = worst.outputs[0].certified_bound().unwrap();
+    let certified = worst.outputs()[0].certified_bound().unwrap();
     assert!(certified <= 0.8 * 0.01, "{certified}");
     assert!(tight.objective() > default.objective());
 }

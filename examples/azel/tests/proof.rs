@@ -218,7 +218,7 @@ fn the_linear_error_model_agrees_with_the_orientation_model_everywhere_sampled()
                 best = best.max(v);
             }
         }
-        assert_relative_eq!(row.value, best, max_relative = 1e-12);
+        assert_relative_eq!(row.value(), best, max_relative = 1e-12);
     }
 }
 

@@ -227,39 +227,39 @@ impl<'a> Sections<'a> {
         let outs = self.outputs();
         let two = c.two_step.as_ref().map(|t| t.ours.objective_arcmin());
         let mut items = Vec::new();
-        for (i, r) in c.answer.readings.iter().enumerate() {
+        for (i, r) in c.answer.readings().iter().enumerate() {
             let mut s = format!(
                 "Reading `{}`{} ({}): ",
-                r.reading,
+                r.reading(),
                 if i == 0 { ", the study's" } else { "" },
-                reading_words(r.reading)
+                reading_words(r.reading())
             );
-            if let Some(b) = r.boxes.iter().find(|b| b.name == "two-step") {
-                let ok = b.worst_case.meets(&acc).holds();
+            if let Some(b) = r.boxes().iter().find(|b| b.name() == "two-step") {
+                let ok = b.worst_case().meets(&acc).holds();
                 let worst: Vec<String> = b
-                    .worst_case
-                    .outputs
+                    .worst_case()
+                    .outputs()
                     .iter()
                     .map(|w| {
                         format!(
                             "{} {} {}",
-                            outs[w.output].0,
-                            sig(w.exact_at_vertex, 4),
-                            outs[w.output].1
+                            outs[w.output()].0,
+                            sig(w.exact_at_vertex(), 4),
+                            outs[w.output()].1
                         )
                     })
                     .collect();
                 let _ = write!(
                     s,
                     "the two-step allocation (J = {:.2} arcmin⁻²) {} every output's accuracy (worst turntable {}; {} of random turntables meet them); ",
-                    objective_to_arcmin(b.objective),
+                    objective_to_arcmin(b.objective()),
                     if ok { "**meets**" } else { "**does not meet**" },
                     worst.join(", "),
-                    pct(b.distribution.yield_fraction())
+                    pct(b.distribution().yield_fraction())
                 );
             }
-            let j = r.direct.objective_arcmin();
-            if r.direct.no_bound_needed() {
+            let j = r.direct().objective_arcmin();
+            if r.direct().no_bound_needed() {
                 s.push_str(e2e_verify::NO_BOUND_NEEDED);
             } else {
                 let _ = write!(
@@ -267,7 +267,7 @@ impl<'a> Sections<'a> {
                     "the direct allocation against every accuracy needs J = {j:.2} arcmin⁻²"
                 );
             }
-            if let (Some(t), false) = (two, r.direct.no_bound_needed()) {
+            if let (Some(t), false) = (two, r.direct().no_bound_needed()) {
                 let ratio = t / j;
                 if ratio >= 1.0 {
                     let _ = write!(
@@ -698,9 +698,9 @@ impl<'a> Sections<'a> {
                 title: format!("Δω_{name} over ({}, {})", d(a), d(b)),
                 x_label: format!("{} (deg)", d(a)),
                 y_label: format!("{} (deg)", d(b)),
-                xs: s.u_rad.iter().map(|v| rad_to_deg(*v)).collect(),
-                ys: s.v_rad.iter().map(|v| rad_to_deg(*v)).collect(),
-                z: s.delta_omega.clone(),
+                xs: s.u_rad().iter().map(|v| rad_to_deg(*v)).collect(),
+                ys: s.v_rad().iter().map(|v| rad_to_deg(*v)).collect(),
+                z: s.delta_omega().to_vec(),
                 z_label: format!("Δω_{name} ({})", doc::plain(u)),
                 level: Some(*acc),
                 rectangle: req
@@ -1197,30 +1197,29 @@ impl<'a> Sections<'a> {
         let acc = c.e2e.accuracies();
         let outs = self.outputs();
         let mut rows = Vec::new();
-        let mut boxes: Vec<(&str, &BoxAnswer)> =
-            r.boxes.iter().map(|b| (b.name.as_str(), b)).collect();
-        boxes.push(("direct", &r.direct_box));
-        boxes.push(("yield-based", &r.yield_box));
+        let mut boxes: Vec<(&str, &BoxAnswer)> = r.boxes().iter().map(|b| (b.name(), b)).collect();
+        boxes.push(("direct", r.direct_box()));
+        boxes.push(("yield-based", r.yield_box()));
         for (name, b) in boxes {
             let worst: Vec<String> = b
-                .worst_case
-                .outputs
+                .worst_case()
+                .outputs()
                 .iter()
-                .map(|w| format!("{} {}", outs[w.output].0, sig(w.exact_at_vertex, 5)))
+                .map(|w| format!("{} {}", outs[w.output()].0, sig(w.exact_at_vertex(), 5)))
                 .collect();
-            let (lo, hi) = b.distribution.yield_interval_95();
+            let (lo, hi) = b.distribution().yield_interval_95();
             let label = match name {
                 "two-step" => "two-step (requirement, then turntable)".to_string(),
                 "direct" => "direct (against every accuracy)".to_string(),
                 "yield-based" => format!(
                     "yield-based ({}% of turntables)",
-                    num(100.0 * r.yield_based.target())
+                    num(100.0 * r.yield_based().target())
                 ),
                 other => other.to_string(),
             };
             let mut yield_cell = format!(
                 "{:.2}% [{:.2}, {:.2}]",
-                100.0 * b.distribution.yield_fraction(),
+                100.0 * b.distribution().yield_fraction(),
                 100.0 * lo,
                 100.0 * hi
             );
@@ -1238,28 +1237,28 @@ impl<'a> Sections<'a> {
             }
             rows.push(vec![
                 label,
-                format!("{:.2}", objective_to_arcmin(b.objective)),
+                format!("{:.2}", objective_to_arcmin(b.objective())),
                 worst.join(", "),
-                meets_md(b.worst_case.meets(&acc)),
+                meets_md(b.worst_case().meets(&acc)),
                 yield_cell,
             ]);
         }
-        if let Some((dc, wc)) = &r.direct_certified {
+        if let Some((dc, wc)) = &r.direct_certified() {
             let proven: Vec<String> = wc
-                .outputs
+                .outputs()
                 .iter()
                 .map(|w| {
                     format!(
                         "{} ≤ {}",
-                        outs[w.output].0,
+                        outs[w.output()].0,
                         w.certified_bound().map_or("-".into(), |v| sig(v, 6))
                     )
                 })
                 .collect();
             let ok = wc
-                .outputs
+                .outputs()
                 .iter()
-                .all(|w| w.certified_bound().is_some_and(|v| v <= acc[w.output]));
+                .all(|w| w.certified_bound().is_some_and(|v| v <= acc[w.output()]));
             rows.push(vec![
                 "direct, certified on the exact chain".into(),
                 format!("{:.2}", dc.objective_arcmin()),
@@ -1278,16 +1277,16 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
-        if let Some(n) = &r.direct_certified_note {
+        if let Some(n) = &r.direct_certified_note() {
             self.doc.p(format!(
                 "The direct allocation could not be certified on the exact chain here: {n}."
             ));
         }
         let mut zeroed: Vec<usize> = Vec::new();
-        for b in r.boxes.iter().chain([&r.direct_box, &r.yield_box]) {
-            for w in &b.worst_case.outputs {
-                if w.exact_at_vertex == 0.0 && !zeroed.contains(&w.output) {
-                    zeroed.push(w.output);
+        for b in r.boxes().iter().chain([r.direct_box(), r.yield_box()]) {
+            for w in b.worst_case().outputs() {
+                if w.exact_at_vertex() == 0.0 && !zeroed.contains(&w.output()) {
+                    zeroed.push(w.output());
                 }
             }
         }
@@ -1323,20 +1322,20 @@ impl<'a> Sections<'a> {
             c.options.seed,
             outs.iter().map(|(n, u, a)| format!("`{n}` {} {u}", num(*a))).collect::<Vec<_>>().join(", ")
         ));
-        let readings = c.answer.readings.clone();
+        let readings = c.answer.readings().to_vec();
         for (i, r) in readings.iter().enumerate() {
             self.doc.h(
                 3,
                 format!(
                     "Reading `{}`{}",
-                    r.reading,
+                    r.reading(),
                     if i == 0 { " (the study's)" } else { "" }
                 ),
             );
             self.doc.p(format!(
                 "{}; error vector `{}`.",
-                reading_words(r.reading),
-                r.reading.formula()
+                reading_words(r.reading()),
+                r.reading().formula()
             ));
             self.reading_table(r);
         }
@@ -1348,12 +1347,12 @@ impl<'a> Sections<'a> {
         let mut cols: Vec<(String, Vec<f64>)> = Vec::new();
         for r in &readings {
             cols.push((
-                format!("direct, {} (arcmin)", short_reading(r.reading)),
-                r.direct.upper_bounds_arcmin(),
+                format!("direct, {} (arcmin)", short_reading(r.reading())),
+                r.direct().upper_bounds_arcmin(),
             ));
-            if let Some((dc, _)) = &r.direct_certified {
+            if let Some((dc, _)) = &r.direct_certified() {
                 cols.push((
-                    format!("certified, {}", short_reading(r.reading)),
+                    format!("certified, {}", short_reading(r.reading())),
                     dc.upper_bounds_arcmin(),
                 ));
             }
@@ -1398,18 +1397,18 @@ impl<'a> Sections<'a> {
         let h: Vec<&str> = header.iter().map(String::as_str).collect();
         self.doc.p(format!(
             "The direct allocation bounds the turntable against every output's accuracy at every position (no square requirement in between): one linear constraint per output and position on the linearised errors, the same objective J; \"certified\" keeps room for the exact chain's second-order terms. Its bounds beside the two-step allocation's (none: no output depends on the error). Readings: {}. Written to `end_to_end.csv`.",
-            readings.iter().map(|r| format!("{} = `{}`", short_reading(r.reading), r.reading)).collect::<Vec<_>>().join(", ")
+            readings.iter().map(|r| format!("{} = `{}`", short_reading(r.reading()), r.reading())).collect::<Vec<_>>().join(", ")
         ));
         self.doc.table(&h, rows);
         self.csv.push(("end_to_end.csv".into(), csv));
         let labels: Vec<String> = readings
             .iter()
-            .map(|r| format!("direct, {}", short_reading(r.reading)))
+            .map(|r| format!("direct, {}", short_reading(r.reading())))
             .collect();
         let group_bounds: Vec<(&str, &[f64])> = labels
             .iter()
             .zip(&readings)
-            .map(|(l, r)| (l.as_str(), r.direct.upper_bounds_rad()))
+            .map(|(l, r)| (l.as_str(), r.direct().upper_bounds_rad()))
             .collect();
         group_list(&mut self.doc, &c.study.turntable, &group_bounds);
 
@@ -1419,16 +1418,16 @@ impl<'a> Sections<'a> {
             for (k, (name, u, acc)) in outs.iter().enumerate() {
                 let mut series = Vec::new();
                 let mut boxes: Vec<(&str, &BoxAnswer)> =
-                    r.boxes.iter().map(|b| (b.name.as_str(), b)).collect();
-                boxes.push(("direct", &r.direct_box));
+                    r.boxes().iter().map(|b| (b.name(), b)).collect();
+                boxes.push(("direct", r.direct_box()));
                 for (j, (bn, b)) in boxes.iter().enumerate() {
-                    let Some(w) = b.worst_case.outputs.iter().find(|w| w.output == k) else {
+                    let Some(w) = b.worst_case().outputs().iter().find(|w| w.output() == k) else {
                         continue;
                     };
                     series.push(Series {
                         label: (*bn).to_string(),
                         points: w
-                            .per_position
+                            .per_position()
                             .iter()
                             .enumerate()
                             .map(|(i, v)| ((i + 1) as f64, *v))
@@ -1437,7 +1436,7 @@ impl<'a> Sections<'a> {
                     });
                 }
                 panels.push(LinePanel {
-                    title: format!("Δω_{name}, `{}`", r.reading).replace('`', ""),
+                    title: format!("Δω_{name}, `{}`", r.reading()).replace('`', ""),
                     x_label: "test position".into(),
                     y_label: format!("worst Δω_{name} ({})", doc::plain(u)),
                     series,
@@ -1476,7 +1475,7 @@ impl<'a> Sections<'a> {
         };
         let outs = self.outputs();
         let tr = &n.tradeoff;
-        let k = tr.k_sigma;
+        let k = tr.k_sigma();
         let nr = &n.readings[0];
         let timing = c.study.timing.as_ref();
         self.doc
@@ -1493,23 +1492,23 @@ impl<'a> Sections<'a> {
             )),
             num(k),
             outs.iter()
-                .zip(&nr.sigma)
+                .zip(nr.sigma())
                 .map(|((name, u, _), s)| format!("{} {} {u}", doc::code(name), sig(*s, 4)))
                 .collect::<Vec<_>>()
                 .join(", ")
         ));
-        let reading = c.answer.readings[0].reading;
+        let reading = c.answer.readings()[0].reading();
         let mut rows = Vec::new();
-        for b in &nr.boxes {
-            for o in &b.outputs {
-                let (name, u, acc) = &outs[o.output];
+        for b in nr.boxes() {
+            for o in b.outputs() {
+                let (name, u, acc) = &outs[o.output()];
                 rows.push(vec![
-                    doc::text(&b.name),
+                    doc::text(b.name()),
                     doc::code(name),
                     format!(
                         "{}{}",
-                        sig(o.table_part, 4),
-                        if o.table_certified {
+                        sig(o.table_part(), 4),
+                        if o.table_certified() {
                             ""
                         } else {
                             " (not certified)"
@@ -1517,13 +1516,13 @@ impl<'a> Sections<'a> {
                     ),
                     format!(
                         "{} ({} σ)",
-                        sig(o.k_sigma * o.noise_sigma, 4),
-                        num(o.k_sigma)
+                        sig(o.k_sigma() * o.noise_sigma(), 4),
+                        num(o.k_sigma())
                     ),
-                    format!("{} {u}", sig(o.combined, 4)),
+                    format!("{} {u}", sig(o.combined(), 4)),
                     format!("{} {u}", sig(*acc, 4)),
-                    o.dominant.name().to_string(),
-                    verdict_md(o.verdict),
+                    o.dominant().name().to_string(),
+                    verdict_md(o.verdict()),
                 ]);
             }
         }
@@ -1545,14 +1544,14 @@ impl<'a> Sections<'a> {
             rows,
         );
         let yields: Vec<String> = nr
-            .boxes
+            .boxes()
             .iter()
             .map(|b| {
-                let (lo, hi) = b.combined_yield.yield_interval_95();
+                let (lo, hi) = b.combined_yield().yield_interval_95();
                 format!(
                     "{} {:.2}% [{:.2}, {:.2}]",
-                    doc::text(&b.name),
-                    100.0 * b.combined_yield.yield_fraction(),
+                    doc::text(b.name()),
+                    100.0 * b.combined_yield().yield_fraction(),
                     100.0 * lo,
                     100.0 * hi
                 )
@@ -1562,25 +1561,25 @@ impl<'a> Sections<'a> {
             "Yield over turntables and noise [95% interval]: {}.",
             yields.join("; ")
         ));
-        match &nr.direct {
+        match &nr.direct() {
             e2e_verify::NoisyDirect::Allocated { allocation, answer } => {
                 self.doc.p(format!(
                     "The direct allocation with the noise part kept free (each output's rows held to ω_m − {} σ: the table gets what the noise leaves) needs J = {} arcmin⁻² against {} without noise; its verdict with the noise: {}.",
                     num(k),
                     sig(allocation.objective_arcmin(), 5),
-                    sig(c.answer.readings[0].direct.objective_arcmin(), 5),
-                    verdict_md(answer.verdict)
+                    sig(c.answer.readings()[0].direct().objective_arcmin(), 5),
+                    verdict_md(answer.verdict())
                 ));
             }
             e2e_verify::NoisyDirect::NoTableSuffices { outputs } => {
                 let what: Vec<String> = outputs
                     .iter()
                     .map(|b| {
-                        let (name, u, acc) = &outs[b.output];
+                        let (name, u, acc) = &outs[b.output()];
                         format!(
                             "{}: noise part {} of {} {u}",
                             doc::code(name),
-                            sig(b.noise_part, 4),
+                            sig(b.noise_part(), 4),
                             sig(*acc, 4)
                         )
                     })
@@ -1596,14 +1595,14 @@ impl<'a> Sections<'a> {
                 .outputs
                 .iter()
                 .map(|o| {
-                    let (name, u, _) = &outs[o.output];
+                    let (name, u, _) = &outs[o.output()];
                     format!(
                         "{} table {}, noise {} at {} σ, combined {} {u}",
                         doc::code(name),
-                        sig(o.table_part, 3),
-                        sig(o.k_sigma * o.noise_sigma, 3),
-                        num(o.k_sigma),
-                        sig(o.combined, 3)
+                        sig(o.table_part(), 3),
+                        sig(o.k_sigma() * o.noise_sigma(), 3),
+                        num(o.k_sigma()),
+                        sig(o.combined(), 3)
                     )
                 })
                 .collect();
@@ -1620,17 +1619,17 @@ impl<'a> Sections<'a> {
         // the trade-off
         self.doc
             .h(3, "How long to dwell, and how good the table must be");
-        match tr.min_dwell_s {
+        match tr.min_dwell_s() {
             Some(d) => self.doc.p(format!(
                 "The shortest dwell at which some table meets every accuracy (noise part plus the lower bounds' table part within ω_m, found by bisection): **{} s per position**{}. Above it the table's J falls towards its noiseless value {} arcmin⁻²; the knee (where a longer dwell stops paying: d ln J / d ln T = −1) {}. Written to `tradeoff.csv`.",
                 sig(d, 4),
-                if tr.min_dwell_at_range_start { " (one sample per position already suffices)" } else { "" },
-                sig(objective_to_arcmin(tr.noiseless_objective), 5),
-                tr.knee_dwell_s.map_or("is not on the curve".into(), |v| format!("lies at {} s", sig(v, 3)))
+                if tr.min_dwell_at_range_start() { " (one sample per position already suffices)" } else { "" },
+                sig(objective_to_arcmin(tr.noiseless_objective()), 5),
+                tr.knee_dwell_s().map_or("is not on the curve".into(), |v| format!("lies at {} s", sig(v, 3)))
             )),
             None => {
                 let last: Vec<String> = tr
-                    .noise_curve
+                    .noise_curve()
                     .last()
                     .map(|(_, m)| {
                         outs.iter()
@@ -1641,7 +1640,7 @@ impl<'a> Sections<'a> {
                     .unwrap_or_default();
                 self.doc.p(format!(
                     "**No dwell up to {} s per position** lets any table meet every accuracy: the noise part alone exceeds one even then ({} σ at that dwell: {}). Written to `tradeoff.csv`.",
-                    num(tr.range_s.1),
+                    num(tr.range_s().1),
                     num(k),
                     last.join(", ")
                 ));
@@ -1649,18 +1648,18 @@ impl<'a> Sections<'a> {
         }
         let mut csv = String::from("dwell_s,total_s,objective_arcmin\n");
         let mut rows = Vec::new();
-        for p in &tr.points {
-            let j = p.objective.map(objective_to_arcmin);
+        for p in tr.points() {
+            let j = p.objective().map(objective_to_arcmin);
             let _ = writeln!(
                 csv,
                 "{},{},{}",
-                exact(p.dwell_s),
-                exact(p.total_s),
+                exact(p.dwell_s()),
+                exact(p.total_s()),
                 j.map_or(String::new(), exact)
             );
             rows.push(vec![
-                sig(p.dwell_s, 4),
-                sig(p.total_s, 4),
+                sig(p.dwell_s(), 4),
+                sig(p.total_s(), 4),
                 j.map_or("none".into(), |v| sig(v, 5)),
             ]);
         }
@@ -1682,11 +1681,11 @@ impl<'a> Sections<'a> {
         let series: Vec<Series> = outs
             .iter()
             .enumerate()
-            .filter(|(o, _)| tr.noise_curve.iter().all(|(_, m)| m[*o] > 0.0))
+            .filter(|(o, _)| tr.noise_curve().iter().all(|(_, m)| m[*o] > 0.0))
             .map(|(o, (name, _, acc))| Series {
                 label: format!("{name}: {} σ / ω_m", num(k)),
                 points: tr
-                    .noise_curve
+                    .noise_curve()
                     .iter()
                     .map(|(t, m)| (t.log10(), (m[o] / acc).log10()))
                     .collect(),
@@ -1703,11 +1702,11 @@ impl<'a> Sections<'a> {
             y_from_zero: false,
         });
         let curve: Vec<(f64, f64)> = tr
-            .points
+            .points()
             .iter()
             .filter_map(|p| {
-                p.objective
-                    .map(|j| (p.dwell_s.log10(), objective_to_arcmin(j)))
+                p.objective()
+                    .map(|j| (p.dwell_s().log10(), objective_to_arcmin(j)))
             })
             .collect();
         if !curve.is_empty() {
@@ -1722,7 +1721,7 @@ impl<'a> Sections<'a> {
                 }],
                 hlines: vec![(
                     "J without noise".into(),
-                    objective_to_arcmin(tr.noiseless_objective),
+                    objective_to_arcmin(tr.noiseless_objective()),
                     Mark::Line(LIMIT, true),
                 )],
                 x_integer: false,
@@ -1773,7 +1772,7 @@ impl<'a> Sections<'a> {
             rows.push(vec![
                 format!("`{n}`"),
                 format!("{} {u}", num(o.accuracy())),
-                format!("{} {u}", sig(o.worst_case().exact_at_vertex, 5)),
+                format!("{} {u}", sig(o.worst_case().exact_at_vertex(), 5)),
                 o.worst_case()
                     .certified_bound()
                     .map_or("-".into(), |v| sig(v, 5)),
@@ -1802,7 +1801,7 @@ impl<'a> Sections<'a> {
         let zeroed: Vec<usize> = chk
             .outputs()
             .iter()
-            .filter(|o| o.worst_case().exact_at_vertex == 0.0)
+            .filter(|o| o.worst_case().exact_at_vertex() == 0.0)
             .map(|o| o.output())
             .collect();
         self.precision_note(&zeroed);
@@ -1873,7 +1872,7 @@ impl<'a> Sections<'a> {
         self.doc.p(format!(
             "The study has rate steps, where the table's rate accuracy, its rate ripple and its translations (the axes' non-intersection) act besides the angles. The direct allocation gives them tolerances together with the angles (reading {}): every output's worst case over both boxes within its accuracy to first order, then checked on the exact chain at each output's worst vertex. A tolerance costs in J what an angle of the same end-to-end influence costs (the weights' choice is documented at `EndToEnd::rate_tolerance_weights`). J = {} arcmin⁻² over both.",
             doc::code(&e2e.reading().to_string()),
-            sig(a.combined.objective_arcmin(), 5)
+            sig(a.combined().objective_arcmin(), 5)
         ));
         let names = e2e.turntable().rotation_error_names();
         let mut rows: Vec<Vec<String>> = names
@@ -1893,7 +1892,7 @@ impl<'a> Sections<'a> {
         rows.extend(
             e2e.rate_tolerance_names()
                 .iter()
-                .zip(&a.tolerances)
+                .zip(a.tolerances())
                 .zip(a.tolerance_bounds())
                 .map(|((n, t), b)| {
                     vec![
@@ -1910,16 +1909,16 @@ impl<'a> Sections<'a> {
         self.doc.table(&["error", "allocated bound"], rows);
         let acc = e2e.accuracies();
         let rows = a
-            .worst_cases
+            .worst_cases()
             .iter()
             .map(|w| {
-                let (n, u, _) = &outs[w.output];
+                let (n, u, _) = &outs[w.output()];
                 vec![
                     format!("`{n}`"),
-                    format!("{} {u}", num(acc[w.output])),
-                    format!("{} {u}", sig(w.linear_bound, 5)),
-                    format!("{} {u}", sig(w.exact_at_vertex, 5)),
-                    format!("{} {u}", sig(acc[w.output] - w.exact_at_vertex, 3)),
+                    format!("{} {u}", num(acc[w.output()])),
+                    format!("{} {u}", sig(w.linear_bound(), 5)),
+                    format!("{} {u}", sig(w.exact_at_vertex(), 5)),
+                    format!("{} {u}", sig(acc[w.output()] - w.exact_at_vertex(), 3)),
                 ]
             })
             .collect();
@@ -1945,8 +1944,8 @@ impl<'a> Sections<'a> {
         match &ra.certified {
             Ok(c) => self.doc.p(format!(
                 "Certified allocation with the rate tolerances (first-order worst case over both boxes plus the derived second-order bound of the revolution averages within every accuracy): J = {} arcmin^-2 against the direct allocation's {}; largest certified bound / accuracy {}.",
-                sig(c.combined.objective_arcmin(), 5),
-                sig(a.combined.objective_arcmin(), 5),
+                sig(c.combined().objective_arcmin(), 5),
+                sig(a.combined().objective_arcmin(), 5),
                 sig(
                     (0..acc.len())
                         .map(|k| c.certified_bound(k) / acc[k])
@@ -1979,7 +1978,7 @@ impl<'a> Sections<'a> {
         header.extend(
             r.outputs
                 .iter()
-                .map(|o| format!("part for `{}` ({})", outs[o.output].0, outs[o.output].1)),
+                .map(|o| format!("part for `{}` ({})", outs[o.output()].0, outs[o.output()].1)),
         );
         let rows = e2e
             .extra_errors()
@@ -1988,7 +1987,7 @@ impl<'a> Sections<'a> {
             .map(|(i, x)| {
                 let (b, unit) = crate::rate::in_sheet_units(x, r.bounds[i]);
                 let mut row = vec![doc::code(&names[i]), format!("{} {unit}", num(b))];
-                row.extend(r.outputs.iter().map(|o| sig(o.extra_parts[i], 4)));
+                row.extend(r.outputs.iter().map(|o| sig(o.extra_parts()[i], 4)));
                 row
             })
             .collect();
@@ -1999,17 +1998,18 @@ impl<'a> Sections<'a> {
             .outputs
             .iter()
             .map(|o| {
-                let (n, u, _) = &outs[o.output];
-                let meets = o.linear_bound <= acc[o.output] && o.exact_at_vertex <= acc[o.output];
+                let (n, u, _) = &outs[o.output()];
+                let meets =
+                    o.linear_bound() <= acc[o.output()] && o.exact_at_vertex() <= acc[o.output()];
                 vec![
                     format!("`{n}`"),
-                    format!("{} {u}", num(acc[o.output])),
-                    format!("{} {u}", sig(o.linear_bound, 5)),
-                    sig(o.angular_part, 4),
+                    format!("{} {u}", num(acc[o.output()])),
+                    format!("{} {u}", sig(o.linear_bound(), 5)),
+                    sig(o.angular_part(), 4),
                     sig(o.extra_part(), 4),
-                    o.position.to_string(),
-                    format!("{} {u}", sig(o.exact_at_vertex, 5)),
-                    format!("{} {u}", sig(r.max_drawn[o.output], 5)),
+                    o.position().to_string(),
+                    format!("{} {u}", sig(o.exact_at_vertex(), 5)),
+                    format!("{} {u}", sig(r.max_drawn[o.output()], 5)),
                     yes_no(meets),
                 ]
             })
@@ -2210,7 +2210,7 @@ impl<'a> Sections<'a> {
                     .max_by(|a, b| a.worst_share().total_cmp(&b.worst_share()));
                 format!(
                     "`{n}` {} {u} against {} {u} ({}{})",
-                    sig(o.worst_case().exact_at_vertex, 4),
+                    sig(o.worst_case().exact_at_vertex(), 4),
                     num(o.accuracy()),
                     match o.verdict() {
                         Verdict::Guaranteed => "**yes**, proven",

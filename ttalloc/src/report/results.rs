@@ -435,28 +435,28 @@ fn box_json<'a>(
     outs: &[&'a str],
     accuracies: &[f64],
 ) -> BoxJson<'a> {
-    let (lo, hi) = b.distribution.yield_interval_95();
-    let meets = b.worst_case.meets(accuracies);
+    let (lo, hi) = b.distribution().yield_interval_95();
+    let meets = b.worst_case().meets(accuracies);
     BoxJson {
-        name: &b.name,
+        name: b.name(),
         meets: meets.name(),
         meets_text: meets.to_string(),
         meets_excess: meets.excess().map(f),
-        objective_arcmin: f(objective_to_arcmin(b.objective)),
-        bounds_arcmin: arcmin_map(names, &b.upper_bounds_rad),
+        objective_arcmin: f(objective_to_arcmin(b.objective())),
+        bounds_arcmin: arcmin_map(names, b.upper_bounds_rad()),
         worst_case: b
-            .worst_case
-            .outputs
+            .worst_case()
+            .outputs()
             .iter()
             .map(|w| WorstCaseJson {
-                output: outs[w.output],
-                exact_at_vertex: f(w.exact_at_vertex),
-                linear: f(w.linear_bound),
+                output: outs[w.output()],
+                exact_at_vertex: f(w.exact_at_vertex()),
+                linear: f(w.linear_bound()),
                 certified: w.certified_bound().map(f),
-                precision: f(w.precision),
+                precision: f(w.precision()),
             })
             .collect(),
-        yield_fraction: f(b.distribution.yield_fraction()),
+        yield_fraction: f(b.distribution().yield_fraction()),
         yield_interval_95: [f(lo), f(hi)],
     }
 }
@@ -568,59 +568,63 @@ pub(super) fn results_json(
             let t = &n.tradeoff;
             let r0 = &n.readings[0];
             NoiseJson {
-                k_sigma: f(t.k_sigma),
-                noise_sigma: r0.sigma.iter().map(|v| f(*v)).collect(),
+                k_sigma: f(t.k_sigma()),
+                noise_sigma: r0.sigma().iter().map(|v| f(*v)).collect(),
                 boxes: r0
-                    .boxes
+                    .boxes()
                     .iter()
                     .map(|b| NoiseBoxJson {
-                        name: &b.name,
-                        verdict: b.verdict.name(),
-                        table_part: b.outputs.iter().map(|o| f(o.table_part)).collect(),
-                        combined: b.outputs.iter().map(|o| f(o.combined)).collect(),
-                        combined_yield: f(b.combined_yield.yield_fraction()),
+                        name: b.name(),
+                        verdict: b.verdict().name(),
+                        table_part: b.outputs().iter().map(|o| f(o.table_part())).collect(),
+                        combined: b.outputs().iter().map(|o| f(o.combined())).collect(),
+                        combined_yield: f(b.combined_yield().yield_fraction()),
                     })
                     .collect(),
-                direct_with_noise_objective_arcmin: match &r0.direct {
+                direct_with_noise_objective_arcmin: match &r0.direct() {
                     e2e_verify::NoisyDirect::Allocated { allocation, .. } => {
                         Some(f(allocation.objective_arcmin()))
                     }
                     e2e_verify::NoisyDirect::NoTableSuffices { .. } => None,
                 },
-                min_dwell_s: t.min_dwell_s.map(f),
-                knee_dwell_s: t.knee_dwell_s.map(f),
+                min_dwell_s: t.min_dwell_s().map(f),
+                knee_dwell_s: t.knee_dwell_s().map(f),
                 tradeoff: t
-                    .points
+                    .points()
                     .iter()
                     .map(|p| TradeoffPointJson {
-                        dwell_s: f(p.dwell_s),
-                        total_s: f(p.total_s),
-                        objective_arcmin: p.objective.map(|j| f(objective_to_arcmin(j))),
+                        dwell_s: f(p.dwell_s()),
+                        total_s: f(p.total_s()),
+                        objective_arcmin: p.objective().map(|j| f(objective_to_arcmin(j))),
                     })
                     .collect(),
             }
         }),
         end_to_end: c
             .answer
-            .readings
+            .readings()
             .iter()
             .map(|r| EndToEndJson {
-                reading: r.reading.to_string(),
-                boxes: r.boxes.iter().map(boxj).collect(),
-                direct: boxj(&r.direct_box),
-                unconstrained: r.direct.unconstrained().iter().map(|&j| names[j]).collect(),
-                no_bound_needed: r.direct.no_bound_needed(),
-                yield_based: boxj(&r.yield_box),
-                yield_target: f(r.yield_based.target()),
+                reading: r.reading().to_string(),
+                boxes: r.boxes().iter().map(boxj).collect(),
+                direct: boxj(r.direct_box()),
+                unconstrained: r
+                    .direct()
+                    .unconstrained()
+                    .iter()
+                    .map(|&j| names[j])
+                    .collect(),
+                no_bound_needed: r.direct().no_bound_needed(),
+                yield_based: boxj(r.yield_box()),
+                yield_target: f(r.yield_based().target()),
                 yield_verdict: r.yield_verdict().name(),
-                direct_certified: r
-                    .direct_certified
-                    .as_ref()
-                    .map(|(dc, _)| DirectCertifiedJson {
+                direct_certified: r.direct_certified().as_ref().map(|(dc, _)| {
+                    DirectCertifiedJson {
                         objective_arcmin: f(dc.objective_arcmin()),
                         bounds_arcmin: arcmin_map(&names, dc.upper_bounds_rad()),
-                    }),
-                direct_certified_note: r.direct_certified_note.as_deref(),
+                    }
+                }),
+                direct_certified_note: r.direct_certified_note(),
             })
             .collect(),
         vendor: c.vendor.as_ref().map(|(tol, chk)| VendorJson {
@@ -633,9 +637,9 @@ pub(super) fn results_json(
                 .map(|o| VendorOutputJson {
                     output: outs[o.output()],
                     verdict: o.verdict().name(),
-                    worst_case: f(o.worst_case().exact_at_vertex),
+                    worst_case: f(o.worst_case().exact_at_vertex()),
                     accuracy: f(o.accuracy()),
-                    precision: f(o.worst_case().precision),
+                    precision: f(o.worst_case().precision()),
                 })
                 .collect(),
             rate_steps: c
