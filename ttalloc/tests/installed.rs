@@ -26,12 +26,21 @@ fn installed() -> (tempfile::TempDir, PathBuf) {
     (dir, exe)
 }
 
+/// Runs the copied binary. A freshly written executable can be "busy" (ETXTBSY) for a moment:
+/// while this test wrote it, another test thread may have forked a child that still held the
+/// write descriptor until its own exec. That is the test harness's race, not the program's,
+/// so the start is retried a few times.
 fn run(exe: &Path, cwd: &Path, args: &[&str]) -> Output {
-    Command::new(exe)
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("ttalloc runs")
+    let mut tries = 0;
+    loop {
+        match Command::new(exe).args(args).current_dir(cwd).output() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && tries < 50 => {
+                tries += 1;
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            r => return r.expect("ttalloc runs"),
+        }
+    }
 }
 
 fn stdout(o: &Output) -> String {

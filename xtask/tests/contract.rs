@@ -318,19 +318,19 @@ fn default_study_resolves_from_the_current_directory() {
     let dir = tempfile::tempdir().unwrap();
     let exe = dir.path().join("xtask-copy");
     std::fs::copy(env!("CARGO_BIN_EXE_xtask"), &exe).unwrap();
-    let o = Command::new(&exe)
-        .args(["requirement", "--json"])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let o = common::output_of_fresh_copy(
+        Command::new(&exe)
+            .args(["requirement", "--json"])
+            .current_dir(dir.path()),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(stdout(&o), inside);
     let copy = write(dir.path(), "mine.toml", &study_text("gyrowheel-2017"));
-    let o = Command::new(&exe)
-        .args(["requirement", "--study", "mine.toml"])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let o = common::output_of_fresh_copy(
+        Command::new(&exe)
+            .args(["requirement", "--study", "mine.toml"])
+            .current_dir(dir.path()),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("mine.toml"));
     assert!(copy.exists());

@@ -98,3 +98,20 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).expect("scratch directory");
     dir
 }
+
+/// `cmd.output()` for a binary this test just copied: a freshly written executable can be
+/// "busy" (ETXTBSY) for a moment, because another test thread may have forked a child that
+/// still held the copy's write descriptor until its own exec. That is the test harness's race,
+/// not the program's, so the start is retried a few times.
+pub fn output_of_fresh_copy(cmd: &mut Command) -> Output {
+    let mut tries = 0;
+    loop {
+        match cmd.output() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && tries < 50 => {
+                tries += 1;
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            r => return r.expect("the copied binary runs"),
+        }
+    }
+}
