@@ -668,6 +668,10 @@ impl OutputCalibration {
 /// four independent two-lane chains (four gave two, latency-bound).
 pub(crate) const POSITION_LANES: usize = 8;
 
+/// Estimated coefficients whose sums $\hat{\boldsymbol\beta}_1 = \mathbf A^+\mathbf y$
+/// advance in fixed-size accumulators (outputs with more take the slice path).
+pub(crate) const COEFFICIENT_LANES: usize = 8;
+
 /// $\mathbf A'\boldsymbol\beta$ and $\mathbf b_2'$ at `L` positions (`vs`, exactly `L`), each
 /// summed term by term from $-0$ in column order (the generic path's order, so the same bits);
 /// the `L` sums advance side by side.
@@ -735,12 +739,26 @@ impl OutputCalibration {
         }
         let beta_hat = &mut work.y;
         beta_hat.clear();
-        beta_hat.resize(k, -0.0);
-        for (i, (b1, b2)) in work.b1_actual.iter().zip(b2).enumerate() {
-            let y = b1 - b2;
-            for (acc, p) in beta_hat.iter_mut().zip(&q.pinv_cols[i * k..(i + 1) * k]) {
-                *acc += p * y;
+        if q.pinv_lanes.is_empty() {
+            beta_hat.resize(k, -0.0);
+            for (i, (b1, b2)) in work.b1_actual.iter().zip(b2).enumerate() {
+                let y = b1 - b2;
+                for (acc, p) in beta_hat.iter_mut().zip(&q.pinv_cols[i * k..(i + 1) * k]) {
+                    *acc += p * y;
+                }
             }
+        } else {
+            // the same sums in fixed-size accumulators the compiler keeps in registers (the
+            // padding lanes k.. sum zeros and are dropped)
+            let mut acc = [-0.0; COEFFICIENT_LANES];
+            let rows = q.pinv_lanes.chunks_exact(COEFFICIENT_LANES);
+            for ((b1, b2), p) in work.b1_actual.iter().zip(b2).zip(rows) {
+                let y = b1 - b2;
+                for (a, p) in acc.iter_mut().zip(p) {
+                    *a += p * y;
+                }
+            }
+            beta_hat.extend_from_slice(acc.get(..k).unwrap_or_default());
         }
         // A beta-hat-1 for POSITION_LANES positions side by side, each sum in dot's order,
         // the rows of A laid out lane-contiguous (QuadraticTerms::a_lanes)

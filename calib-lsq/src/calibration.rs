@@ -80,6 +80,10 @@ pub(crate) struct QuadraticTerms {
     pub known: Vec<(f64, [u8; 2])>,
     /// $\mathbf A^+$ position-major ($n \times k$: entry $(i, j)$ at $ik + j$).
     pub pinv_cols: Vec<f64>,
+    /// $\mathbf A^+$ position-major with rows padded by zeros to
+    /// [`crate::analysis::COEFFICIENT_LANES`] entries ($n \times 8$), empty when $k$ exceeds
+    /// it.
+    pub pinv_lanes: Vec<f64>,
     /// $\mathbf A$ in blocks of [`crate::analysis::POSITION_LANES`] positions ($L$), the
     /// positions of a block contiguous: entry $(bL + l, j)$ at $bLk + jL + l$, whole blocks
     /// only (the remaining rows are read from [`FastOutput::a_rows`]).
@@ -257,6 +261,22 @@ impl Calibration {
                             .flat_map(|i| (0..k).map(move |j| (j, i)))
                             .map(|(j, i)| regression.pinv()[(j, i)])
                             .collect(),
+                        pinv_lanes: if k <= crate::analysis::COEFFICIENT_LANES {
+                            (0..n)
+                                .flat_map(|i| {
+                                    (0..crate::analysis::COEFFICIENT_LANES).map(move |j| (j, i))
+                                })
+                                .map(|(j, i)| {
+                                    if j < k {
+                                        regression.pinv()[(j, i)]
+                                    } else {
+                                        0.0
+                                    }
+                                })
+                                .collect()
+                        } else {
+                            Vec::new()
+                        },
                         a_lanes: {
                             let lanes = crate::analysis::POSITION_LANES;
                             (0..n / lanes)
