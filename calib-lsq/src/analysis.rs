@@ -50,8 +50,8 @@
 //! dispatch gives the value and the derivative.
 
 use crate::calibration::{
-    Calibration, OutputCalibration, QuadraticTerms, design_matrix, extended, known_vector,
-    simulate_outputs,
+    Calibration, FastOutput, OutputCalibration, QuadraticTerms, design_matrix, extended,
+    known_vector, simulate_outputs,
 };
 use crate::error::CalibError;
 use crate::lsq::{QrSolve, Regression};
@@ -447,6 +447,27 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// $\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}_1$ at the intended orientation
+/// ([`FastOutput::intended_residual`]) for an output with $k$ estimated coefficients and known
+/// part `b2` ($\mathbf b_2$): $y_i = b_{1,i} - b_{2,i}$, $\hat\beta_j = \sum_i A^+_{ji}y_i$,
+/// entry $i$ = $b_{1,i} - \sum_j A_{ij}\hat\beta_j$, each step as [`ActualTerms`] and
+/// [`Reading::error_vector`] take it (same operations in the same order, so the same bits).
+pub(crate) fn intended_residual(fast: &FastOutput, b2: &[f64], k: usize) -> Vec<f64> {
+    let b1 = &fast.b1_intended;
+    let n = b1.len();
+    let y: Vec<f64> = b1.iter().zip(b2).map(|(b, k)| b - k).collect();
+    let row = |m: &'_ [f64], i: usize, len: usize| -> Vec<f64> {
+        m.get(i * len..(i + 1) * len).unwrap_or_default().to_vec()
+    };
+    let beta: Vec<f64> = (0..k)
+        .map(|j| dot(&row(&fast.pinv_rows, j, n), &y))
+        .collect();
+    b1.iter()
+        .enumerate()
+        .map(|(i, b)| b - dot(&row(&fast.a_rows, i, k), &beta))
+        .collect()
+}
+
 impl ReadingTerms for ActualTerms<'_> {
     fn positions(&self) -> usize {
         self.cal.fast.b1_intended.len()
@@ -524,6 +545,16 @@ impl OutputCalibration {
             tt_core::length(what, n, len)?;
         }
         let f = &self.fast;
+        if let (OutputsAt::Intended, Estimate::Beta1, ErrorForm::Printed) =
+            (reading.outputs, reading.estimate, reading.form)
+        {
+            // b1 and beta-hat-1 do not depend on the actual inputs: only b2' does
+            for ((o, c), v) in out.iter_mut().zip(&f.intended_residual).zip(actual) {
+                let known: f64 = f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum();
+                *o = c - known;
+            }
+            return Ok(());
+        }
         if let (Some(q), OutputsAt::Actual, Estimate::Beta1, ErrorForm::Printed) = (
             &f.quadratic,
             reading.outputs,
@@ -534,6 +565,30 @@ impl OutputCalibration {
             return Ok(());
         }
         self.error_vector_generic(reading, actual, work, out)
+    }
+
+    /// Which of the six input values ($a_x, a_y, a_z, \omega_x, \omega_y, \omega_z$)
+    /// [`OutputCalibration::error_vector_at`] reads under `reading`: those of the known terms
+    /// for the readings with outputs at the intended orientation, $\hat{\boldsymbol\beta}_1$
+    /// and eq 13 as printed (only $\mathbf b_2'$ depends on the actual inputs there), those
+    /// of every term otherwise. A caller may leave the others unset.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn inputs_used(&self, reading: Reading) -> [bool; 6] {
+        let mut used = [false; 6];
+        let known_only = matches!(
+            (reading.outputs, reading.estimate, reading.form),
+            (OutputsAt::Intended, Estimate::Beta1, ErrorForm::Printed)
+        );
+        for (_, m) in &self.fast.known {
+            m.mark_inputs(&mut used);
+        }
+        if !known_only {
+            for m in &self.fast.estimated {
+                m.mark_inputs(&mut used);
+            }
+        }
+        used
     }
 
     /// [`OutputCalibration::error_vector_at`] for any reading and any output (lengths checked
@@ -609,7 +664,13 @@ impl OutputCalibration {
 }
 
 /// Positions whose sums [`position_sums`] advances side by side.
-const POSITION_LANES: usize = 4;
+/// Eight: each sum is a chain of dependent additions, and eight positions give the processor
+/// four independent two-lane chains (four gave two, latency-bound).
+pub(crate) const POSITION_LANES: usize = 8;
+
+/// Estimated coefficients whose sums $\hat{\boldsymbol\beta}_1 = \mathbf A^+\mathbf y$
+/// advance in fixed-size accumulators (outputs with more take the slice path).
+pub(crate) const COEFFICIENT_LANES: usize = 8;
 
 /// $\mathbf A'\boldsymbol\beta$ and $\mathbf b_2'$ at `L` positions (`vs`, exactly `L`), each
 /// summed term by term from $-0$ in column order (the generic path's order, so the same bits);
@@ -620,7 +681,10 @@ fn position_sums<const L: usize>(
     beta: &[f64],
     vs: &[InputValues],
 ) -> ([f64; L], [f64; L]) {
-    let e: [[f64; 7]; L] = std::array::from_fn(|l| extended(&vs[l].0));
+    let mut e = [[0.0; 7]; L];
+    for (e, v) in e.iter_mut().zip(vs) {
+        *e = extended(&v.0);
+    }
     let mut est = [-0.0; L];
     for (&[a, b], c) in q.estimated.iter().zip(beta) {
         let (a, b) = (usize::from(a), usize::from(b));
@@ -658,6 +722,8 @@ impl OutputCalibration {
         let b2 = self.b2().as_slice();
         work.b1_actual.clear();
         work.b2_actual.clear();
+        work.b1_actual.reserve(actual.len());
+        work.b2_actual.reserve(actual.len());
         let mut blocks = actual.chunks_exact(POSITION_LANES);
         for block in &mut blocks {
             let (est, known) = position_sums::<POSITION_LANES>(q, beta, block);
@@ -673,25 +739,45 @@ impl OutputCalibration {
         }
         let beta_hat = &mut work.y;
         beta_hat.clear();
-        beta_hat.resize(k, -0.0);
-        for (i, (b1, b2)) in work.b1_actual.iter().zip(b2).enumerate() {
-            let y = b1 - b2;
-            for (acc, p) in beta_hat.iter_mut().zip(&q.pinv_cols[i * k..(i + 1) * k]) {
-                *acc += p * y;
-            }
-        }
-        // A beta-hat-1 for four positions side by side, each sum in dot's order
-        let a_rows = &self.fast.a_rows;
-        let lanes = out.len() / POSITION_LANES * POSITION_LANES;
-        for i in (0..lanes).step_by(POSITION_LANES) {
-            let mut pred = [-0.0; POSITION_LANES];
-            for (j, b) in beta_hat.iter().enumerate() {
-                for (l, p) in pred.iter_mut().enumerate() {
-                    *p += a_rows[(i + l) * k + j] * b;
+        if q.pinv_lanes.is_empty() {
+            beta_hat.resize(k, -0.0);
+            for (i, (b1, b2)) in work.b1_actual.iter().zip(b2).enumerate() {
+                let y = b1 - b2;
+                for (acc, p) in beta_hat.iter_mut().zip(&q.pinv_cols[i * k..(i + 1) * k]) {
+                    *acc += p * y;
                 }
             }
-            for (l, p) in pred.iter().enumerate() {
-                out[i + l] = work.b1_actual[i + l] - p - work.b2_actual[i + l];
+        } else {
+            // the same sums in fixed-size accumulators the compiler keeps in registers (the
+            // padding lanes k.. sum zeros and are dropped)
+            let mut acc = [-0.0; COEFFICIENT_LANES];
+            let rows = q.pinv_lanes.chunks_exact(COEFFICIENT_LANES);
+            for ((b1, b2), p) in work.b1_actual.iter().zip(b2).zip(rows) {
+                let y = b1 - b2;
+                for (a, p) in acc.iter_mut().zip(p) {
+                    *a += p * y;
+                }
+            }
+            beta_hat.extend_from_slice(acc.get(..k).unwrap_or_default());
+        }
+        // A beta-hat-1 for POSITION_LANES positions side by side, each sum in dot's order,
+        // the rows of A laid out lane-contiguous (QuadraticTerms::a_lanes)
+        let a_rows = &self.fast.a_rows;
+        let lanes = out.len() / POSITION_LANES * POSITION_LANES;
+        let blocks = out[..lanes]
+            .chunks_exact_mut(POSITION_LANES)
+            .zip(work.b1_actual.chunks_exact(POSITION_LANES))
+            .zip(work.b2_actual.chunks_exact(POSITION_LANES))
+            .zip(q.a_lanes.chunks_exact((k * POSITION_LANES).max(1)));
+        for (((out, b1), b2), a) in blocks {
+            let mut pred = [-0.0; POSITION_LANES];
+            for (b, a) in beta_hat.iter().zip(a.chunks_exact(POSITION_LANES)) {
+                for (p, a) in pred.iter_mut().zip(a) {
+                    *p += a * b;
+                }
+            }
+            for (((o, p), b1), b2) in out.iter_mut().zip(&pred).zip(b1).zip(b2) {
+                *o = b1 - p - b2;
             }
         }
         for i in lanes..out.len() {
@@ -974,10 +1060,11 @@ impl OrientationErrorAnalysis {
 mod tests {
     use super::*;
 
-    /// The user's reading's path for outputs of degree at most 2 performs the generic path's
-    /// operations in the same order: the same bits, on perturbed inputs at every position of
-    /// the paper's schedule (32 positions, a whole number of lanes) and of a 3 x 7 grid (21,
-    /// one position past the lanes), both outputs.
+    /// The user's reading's path for outputs of degree at most 2, and the paper's reading's
+    /// (precomputed residual), perform the generic path's operations in the same order: the
+    /// same bits, on perturbed inputs at every position of the paper's schedule (32
+    /// positions, a whole number of lanes) and of a 3 x 7 grid (21, five positions past the
+    /// lanes), both outputs.
     #[test]
     fn user_reading_quadratic_path_equals_the_generic_path_bit_for_bit() {
         let grid = crate::paper::grid(
@@ -1012,15 +1099,19 @@ mod tests {
                 })
                 .collect();
             let n = actual.len();
-            let (mut fast, mut generic) = (vec![0.0; n], vec![0.0; n]);
-            let mut work = ErrorWork::default();
-            o.error_vector_at(Reading::USER, &actual, &mut work, &mut fast)
-                .expect("lengths match");
-            o.error_vector_generic(Reading::USER, &actual, &mut work, &mut generic)
-                .expect("lengths match");
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&fast), bits(&generic), "output {k}");
-            assert!(fast.iter().any(|&x| x != 0.0), "a non-trivial error vector");
+            // the user's reading (compiled quadratic terms) and the paper's (the residual at
+            // the intended orientation precomputed, only b2' per draw)
+            for reading in [Reading::USER, Reading::PAPER] {
+                let (mut fast, mut generic) = (vec![0.0; n], vec![0.0; n]);
+                let mut work = ErrorWork::default();
+                o.error_vector_at(reading, &actual, &mut work, &mut fast)
+                    .expect("lengths match");
+                o.error_vector_generic(reading, &actual, &mut work, &mut generic)
+                    .expect("lengths match");
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&fast), bits(&generic), "output {k}, {reading}");
+                assert!(fast.iter().any(|&x| x != 0.0), "a non-trivial error vector");
+            }
         }
     }
 }

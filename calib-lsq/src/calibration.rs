@@ -40,6 +40,15 @@ impl Mono {
         out
     }
 
+    /// Mark the inputs (indices into the six input values) the monomial multiplies.
+    pub(crate) fn mark_inputs(&self, used: &mut [bool; 6]) {
+        for &i in &self.idx[..usize::from(self.len)] {
+            if let Some(u) = used.get_mut(usize::from(i)) {
+                *u = true;
+            }
+        }
+    }
+
     /// The monomial as a product of two entries of $(1, \mathbf v)$ (indices into
     /// [`extended`]), when its degree is at most 2: evaluates to the same bits as
     /// [`Mono::eval`] ($1\cdot x = x$ exactly).
@@ -71,6 +80,14 @@ pub(crate) struct QuadraticTerms {
     pub known: Vec<(f64, [u8; 2])>,
     /// $\mathbf A^+$ position-major ($n \times k$: entry $(i, j)$ at $ik + j$).
     pub pinv_cols: Vec<f64>,
+    /// $\mathbf A^+$ position-major with rows padded by zeros to
+    /// [`crate::analysis::COEFFICIENT_LANES`] entries ($n \times 8$), empty when $k$ exceeds
+    /// it.
+    pub pinv_lanes: Vec<f64>,
+    /// $\mathbf A$ in blocks of [`crate::analysis::POSITION_LANES`] positions ($L$), the
+    /// positions of a block contiguous: entry $(bL + l, j)$ at $bLk + jL + l$, whole blocks
+    /// only (the remaining rows are read from [`FastOutput::a_rows`]).
+    pub a_lanes: Vec<f64>,
 }
 
 /// Row-major copies and compiled terms of an output for the fast path (no lookups, contiguous
@@ -89,6 +106,12 @@ pub(crate) struct FastOutput {
     pub b1_intended: Vec<f64>,
     /// The compiled terms when every monomial has degree at most 2.
     pub quadratic: Option<QuadraticTerms>,
+    /// $\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}_1$ with the outputs at the intended
+    /// orientation ($\mathbf b_1 = \mathbf A\boldsymbol\beta + \mathbf b_2$,
+    /// $\hat{\boldsymbol\beta}_1 = \mathbf A^+(\mathbf b_1 - \mathbf b_2)$): the part of
+    /// [`crate::Reading::PAPER`]'s error vector that does not depend on the actual inputs,
+    /// computed once with the fast path's operations ([`crate::analysis`]).
+    pub intended_residual: Vec<f64>,
 }
 
 /// One output of a prepared calibration: its nominal regression and the true quantities.
@@ -261,9 +284,36 @@ impl Calibration {
                             .flat_map(|i| (0..k).map(move |j| (j, i)))
                             .map(|(j, i)| regression.pinv()[(j, i)])
                             .collect(),
+                        pinv_lanes: if k <= crate::analysis::COEFFICIENT_LANES {
+                            (0..n)
+                                .flat_map(|i| {
+                                    (0..crate::analysis::COEFFICIENT_LANES).map(move |j| (j, i))
+                                })
+                                .map(|(j, i)| {
+                                    if j < k {
+                                        regression.pinv()[(j, i)]
+                                    } else {
+                                        0.0
+                                    }
+                                })
+                                .collect()
+                        } else {
+                            Vec::new()
+                        },
+                        a_lanes: {
+                            let lanes = crate::analysis::POSITION_LANES;
+                            (0..n / lanes)
+                                .flat_map(|b| {
+                                    (0..k).flat_map(move |j| {
+                                        (0..lanes).map(move |l| (b * lanes + l, j))
+                                    })
+                                })
+                                .map(|(i, j)| regression.matrix()[(i, j)])
+                                .collect()
+                        },
                     })
                 })();
-                let fast = FastOutput {
+                let mut fast = FastOutput {
                     a_rows: (0..n)
                         .flat_map(|i| (0..k).map(move |j| (i, j)))
                         .map(|(i, j)| regression.matrix()[(i, j)])
@@ -276,7 +326,10 @@ impl Calibration {
                     known,
                     b1_intended: (&a_beta + &b2).iter().copied().collect(),
                     quadratic,
+                    intended_residual: Vec::new(),
                 };
+                fast.intended_residual =
+                    crate::analysis::intended_residual(&fast, b2.as_slice(), k);
                 Ok(OutputCalibration {
                     nominal: nominal.iter().map(InputValues::from_inputs).collect(),
                     a_beta,

@@ -83,6 +83,7 @@ mod error;
 pub mod estimable;
 #[doc(hidden)]
 pub mod internals;
+mod kernel;
 mod linear;
 pub mod montecarlo;
 pub mod noise;

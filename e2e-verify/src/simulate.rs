@@ -40,6 +40,9 @@ pub struct EndToEnd<S = TurntableSchedule> {
     /// The fast path of a turntable: $\mathbf B_1\mathbf a_i$ and $\mathbf B_1\boldsymbol\omega_i$
     /// per position ([`ScheduleErrorModel::as_turntable_schedule`]).
     pre: Option<Vec<[Vector3<f64>; 2]>>,
+    /// The static positions of a turntable laid out side by side (a turntable's schedule
+    /// without rate steps only; [`crate::kernel`]).
+    kernel: Option<crate::kernel::StaticChain>,
     analyses: Vec<OrientationErrorAnalysis>,
     /// The first-order rotation vectors $\mathbf v_{ij}$ of every position $i$ and error $j$
     /// ([`ScheduleErrorModel::rotation_vectors`]), once.
@@ -246,7 +249,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             .map(InputValues::from_inputs)
             .map(|v| [v.specific_force_g(), v.rate_deg_per_h()])
             .collect();
-        let pre = chain.as_turntable_schedule().map(|t| {
+        let pre: Option<Vec<[Vector3<f64>; 2]>> = chain.as_turntable_schedule().map(|t| {
             t.frames()
                 .iter()
                 .zip(&nominal)
@@ -279,7 +282,20 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 Ok(v)
             })
             .collect::<Result<Vec<_>, tt_kinematics::KinematicsError>>()?;
+        let kernel = match (chain.as_turntable_schedule(), &pre) {
+            (Some(t), Some(pre)) if !rate.is_active() => {
+                let used = calibration
+                    .outputs()
+                    .iter()
+                    .map(|o| o.inputs_used(reading))
+                    .fold([false; 6], |a, b| std::array::from_fn(|q| a[q] || b[q]));
+                let need = [used[..3].contains(&true), used[3..].contains(&true)];
+                crate::kernel::StaticChain::new(t, pre, need)
+            }
+            _ => None,
+        };
         Ok(Self {
+            kernel,
             extra_values: vec![0.0; rate.extra.len()],
             rate,
             vectors,
@@ -640,6 +656,11 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             (Some(t), Some(pre)) => {
                 let table = t.turntable();
                 table.segment_rotations(chi, &mut work.segments)?;
+                if let Some(kernel) = &self.kernel {
+                    work.actual.resize(self.len(), InputValues([0.0; 6]));
+                    kernel.actual_into(&work.segments, &mut work.actual);
+                    return Ok(());
+                }
                 if self.rate.is_active() {
                     table.error_rotations(chi, &mut work.rotations)?;
                 }

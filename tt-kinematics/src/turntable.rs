@@ -304,6 +304,15 @@ impl PoseFrames {
         w
     }
 
+    /// $\mathbf A_s^T$ after each error segment $s$ (`None` where the block is the identity
+    /// and [`PoseFrames::delta_r_transpose_times_pre`] skips it): for kernels that lay several
+    /// poses out side by side.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn blocks_t(&self) -> &[Option<Matrix3<f64>>] {
+        &self.blocks_t
+    }
+
     /// $\Delta\mathbf R = \mathbf B_1^T\mathbf E_1\mathbf A_1\cdots\mathbf E_m\mathbf A_m$.
     #[must_use]
     pub fn delta_r(&self, e: &[Matrix3<f64>]) -> Matrix3<f64> {
