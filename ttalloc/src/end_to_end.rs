@@ -266,21 +266,8 @@ pub fn simulator(s: &Study) -> Result<EndToEnd> {
 /// The inputs of the answer for a study: its lower bounds and requirement, the paper's
 /// Table 4 as an extra box when the study's turntable is the paper's.
 ///
-/// # Errors
-/// An [`InputError`] naming the key.
-pub fn inputs(s: &Study, samples: u64, seed: u64, yield_fraction: f64) -> Result<EndToEndInputs> {
-    Ok(inputs_with(
-        s,
-        &st::requirement(s)?,
-        samples,
-        seed,
-        yield_fraction,
-    ))
-}
-
-/// [`inputs`] with the study's requirement already resolved (`req` is
-/// [`st::requirement`]`(s)`: computing it is a box search per output, so a caller that needs
-/// it too resolves it once).
+/// `req` is the study's resolved requirement ([`st::requirement`]): a box search per output,
+/// so the caller, which needs it too, resolves it once.
 #[must_use]
 pub fn inputs_with(
     s: &Study,
