@@ -29,6 +29,7 @@ use crate::turntable::{Factor, Turntable};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
+use std::sync::{Arc, Mutex, OnceLock};
 use tt_core::Pose;
 use tt_core::{OrientationAxis, OrientationError};
 
@@ -72,10 +73,65 @@ pub struct WorstPose {
     pub exact: bool,
 }
 
+/// Grids of inner-joint harmonics a [`LinearModel`] keeps (one per axis and set of joint
+/// ranges searched; the oldest is dropped beyond this).
+const GRID_CACHE_ENTRIES: usize = 12;
+
+/// The harmonic parts in the inner free joint at every point of the worst-pose search's grid
+/// of outer joints, for one axis and set of ranges: they do not depend on the weights, so
+/// every search of an allocation's cutting-plane loop shares them.
+struct GridHarmonics {
+    axis: usize,
+    /// The ranges' bits (the grid's points and the other joints' angles follow from them).
+    ranges: Vec<[u64; 2]>,
+    harmonics: Arc<Vec<Vec<[f64; 3]>>>,
+}
+
 /// The first-order orientation-error model of a turntable (see the [module](self)).
-#[derive(Debug, Clone, PartialEq)]
 pub struct LinearModel {
     turntable: Turntable,
+    /// [`LinearModel::average_abs_coefficients`], computed on first use (a function of the
+    /// turntable alone; every weighted allocation asks for it again).
+    average: OnceLock<DMatrix<f64>>,
+    /// The worst-pose search's grids ([`GridHarmonics`]), computed on first use.
+    grids: Mutex<Vec<GridHarmonics>>,
+}
+
+impl Clone for LinearModel {
+    fn clone(&self) -> Self {
+        let grids = self.grids.lock().map_or_else(
+            |_| Vec::new(),
+            |g| {
+                g.iter()
+                    .map(|e| GridHarmonics {
+                        axis: e.axis,
+                        ranges: e.ranges.clone(),
+                        harmonics: Arc::clone(&e.harmonics),
+                    })
+                    .collect()
+            },
+        );
+        Self {
+            turntable: self.turntable.clone(),
+            average: self.average.clone(),
+            grids: Mutex::new(grids),
+        }
+    }
+}
+
+// The cache is not part of the model: equality and `Debug` are the turntable's.
+impl PartialEq for LinearModel {
+    fn eq(&self, other: &Self) -> bool {
+        self.turntable == other.turntable
+    }
+}
+
+impl std::fmt::Debug for LinearModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LinearModel")
+            .field("turntable", &self.turntable)
+            .finish()
+    }
 }
 
 impl LinearModel {
@@ -84,6 +140,8 @@ impl LinearModel {
     pub fn new(turntable: &Turntable) -> Self {
         Self {
             turntable: turntable.clone(),
+            average: OnceLock::new(),
+            grids: Mutex::new(Vec::new()),
         }
     }
 
@@ -359,18 +417,21 @@ impl LinearModel {
     /// Component `k` (0, 1, 2 for $\psi, \theta, \gamma$) of every coefficient $c_{ki}$ for
     /// joint sines and cosines `sc`, written to `out` (length [`LinearModel::n_errors`]).
     ///
-    /// The same walk and the same operations as [`LinearModel::vectors_sc`] (each
-    /// $\mathbf v_i = \mathbf S^T\hat e$ computed whole, then its component taken), so the
-    /// values are bit for bit those of [`LinearModel::coefficients_sc`]; only the vectors it
-    /// allocates are avoided (this runs for every point of the worst-pose search).
+    /// The same walk as [`LinearModel::vectors_sc`], with the same products $\mathbf S$; of
+    /// $\mathbf v_i = \mathbf S^T(\sigma\mathbf e_a)$ only the component needed is taken,
+    /// $\sigma S_{ac}$ ($c$ = y, z, x for $\psi, \theta, \gamma$). The full product sums
+    /// $\sigma S_{ac}$ (exact: $\sigma = \pm1$) and two products with a zero, so the values
+    /// are bit for bit those of [`LinearModel::coefficients_sc`] except perhaps the sign of a
+    /// zero, which [`LinearModel::inner_max`] snaps away (this runs for every point of the
+    /// worst-pose search).
     fn axis_coefficients_into(&self, sc: &[(f64, f64)], k: usize, out: &mut [f64]) {
         out.fill(0.0);
+        let c = [1, 2, 0][k];
         let mut s = Matrix3::identity();
         for f in self.turntable.factors().iter().rev() {
             match *f {
                 Factor::Rotation { error, about } => {
-                    let v: Vector3<f64> = s.transpose() * about.unit();
-                    out[error] = [v.y, v.z, v.x][k];
+                    out[error] = about.sign() * s[(about.axis.index(), c)];
                 }
                 Factor::Joint { joint, about } => {
                     let (sj, cj) = sc[joint];
@@ -388,8 +449,9 @@ impl LinearModel {
     ///
     /// The harmonic parts are those of [`LinearModel::harmonics_in`] (the same formula on the
     /// same values, bit for bit: $c = (f_0 + f_{180})/2$, $a = (f_0 - f_{180})/2$,
-    /// $b = f_{90} - c$, each snapped at [`STRUCTURAL_ZERO`]), computed without the
-    /// intermediate vectors.
+    /// $b = f_{90} - c$, each snapped at [`STRUCTURAL_ZERO`], which also makes every zero
+    /// $+0$ whatever the signs of the zeros it came from), computed without the intermediate
+    /// vectors.
     fn inner_max(
         &self,
         axis: OrientationAxis,
@@ -399,6 +461,12 @@ impl LinearModel {
         inner: usize,
         range: [f64; 2],
     ) -> (f64, f64) {
+        let h = self.inner_harmonics(axis, pose, inner);
+        max_harmonic_sum(&h, w, abs, range[0], range[1])
+    }
+
+    /// The harmonic parts of [`LinearModel::inner_max`] at `pose`.
+    fn inner_harmonics(&self, axis: OrientationAxis, pose: &[f64], inner: usize) -> Vec<[f64; 3]> {
         let mut sc = Self::sc_of(pose);
         let n = self.n_errors();
         let k = axis.index();
@@ -412,15 +480,64 @@ impl LinearModel {
         }
         let [f0, f90, f180] = &f;
         let snap = |x: f64| if x.abs() < STRUCTURAL_ZERO { 0.0 } else { x };
-        let h: Vec<[f64; 3]> = (0..n)
+        (0..n)
             .map(|i| {
                 let c = 0.5 * (f0[i] + f180[i]);
                 let a = 0.5 * (f0[i] - f180[i]);
                 let b = f90[i] - c;
                 [snap(a), snap(b), snap(c)]
             })
+            .collect()
+    }
+
+    /// The inner harmonics ([`LinearModel::inner_harmonics`]) at every grid point `flat` of
+    /// `0..count` (`at_index` places the outer joints of `base`), kept per axis and ranges:
+    /// the same values as computed at each point, so a search that uses them finds the same
+    /// bits.
+    #[allow(clippy::too_many_arguments)]
+    fn grid_harmonics(
+        &self,
+        axis: OrientationAxis,
+        ranges: &[[f64; 2]],
+        base: &[f64],
+        inner: usize,
+        count: usize,
+        at_index: &(dyn Fn(usize, &mut [f64]) + Sync),
+    ) -> Arc<Vec<Vec<[f64; 3]>>> {
+        let key: Vec<[u64; 2]> = ranges
+            .iter()
+            .map(|r| [r[0].to_bits(), r[1].to_bits()])
             .collect();
-        max_harmonic_sum(&h, w, abs, range[0], range[1])
+        let found = self.grids.lock().ok().and_then(|g| {
+            g.iter()
+                .find(|e| e.axis == axis.index() && e.ranges == key)
+                .map(|e| Arc::clone(&e.harmonics))
+        });
+        if let Some(h) = found {
+            return h;
+        }
+        let h: Arc<Vec<Vec<[f64; 3]>>> = Arc::new(
+            (0..count)
+                .into_par_iter()
+                .map(|flat| {
+                    let mut p = base.to_vec();
+                    at_index(flat, &mut p);
+                    self.inner_harmonics(axis, &p, inner)
+                })
+                .collect(),
+        );
+        // (a poisoned lock only costs the cache)
+        if let Ok(mut g) = self.grids.lock() {
+            if g.len() >= GRID_CACHE_ENTRIES {
+                g.remove(0);
+            }
+            g.push(GridHarmonics {
+                axis: axis.index(),
+                ranges: key,
+                harmonics: Arc::clone(&h),
+            });
+        }
+        h
     }
 
     fn search(
@@ -501,13 +618,21 @@ impl LinearModel {
                 flat /= per;
             }
         };
+        // the grid's harmonics do not depend on the weights: shared by every search
+        let grid =
+            (!long_way).then(|| self.grid_harmonics(axis, &ranges, &pose, inner, count, &at_index));
         let mut best: Vec<(f64, Vec<f64>)> = (0..count)
             .into_par_iter()
             .map(|flat| {
                 let mut p = pose.clone();
                 at_index(flat, &mut p);
-                let (v, phi) =
-                    self.inner_max_with(axis, w, abs, &p, inner, ranges[inner], long_way);
+                let (v, phi) = match &grid {
+                    Some(h) => {
+                        let [lo, hi] = ranges[inner];
+                        max_harmonic_sum(&h[flat], w, abs, lo, hi)
+                    }
+                    None => self.inner_max_with(axis, w, abs, &p, inner, ranges[inner], long_way),
+                };
                 p[inner] = phi;
                 (v, p)
             })
@@ -763,8 +888,16 @@ impl LinearModel {
     /// $\tfrac{2}{\pi}(\sqrt{R^2-c^2} + c\arcsin(c/R))$ otherwise: $2/\pi$ for every
     /// $\sin\phi_2$/$\cos\phi_2$ term of eq 26 and 1 for a constant. Other free joints: the
     /// midpoint rule with [`AVERAGE_GRID_POINTS`] points each.
+    ///
+    /// Computed once per model (the same matrix, bit for bit, on every later call).
     #[must_use]
     pub fn average_abs_coefficients(&self) -> DMatrix<f64> {
+        self.average
+            .get_or_init(|| self.average_abs_coefficients_uncached())
+            .clone()
+    }
+
+    fn average_abs_coefficients_uncached(&self) -> DMatrix<f64> {
         let ranges = self.turntable.joint_ranges_rad();
         let n = self.n_errors();
         let mut out = DMatrix::zeros(3, n);
@@ -1097,6 +1230,22 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The cached average sensitivities are those computed afresh, bit for bit, on every call
+    /// and on clones.
+    #[test]
+    fn cached_average_equals_a_fresh_computation() {
+        let m = LinearModel::new(&crate::conformance::three_axis());
+        let fresh = m.average_abs_coefficients_uncached();
+        let bits = |a: &DMatrix<f64>| a.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for a in [
+            m.average_abs_coefficients(),
+            m.average_abs_coefficients(),
+            m.clone().average_abs_coefficients(),
+        ] {
+            assert_eq!(bits(&a), bits(&fresh));
         }
     }
 }
