@@ -32,6 +32,7 @@ use crate::calibration::{Calibration, OutputCalibration};
 use crate::error::{CalibError, finite};
 use gw_model::InputValues;
 use rayon::prelude::*;
+use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 use tt_core::{DeltaRKind, OrientationAxis, OrientationError, Requirement};
 
@@ -151,6 +152,10 @@ pub struct OutputRegion {
     /// $\max_i\sum_j|\partial e_i/\partial\delta_j|$ over the sensitive angles (output unit
     /// per rad; `None` without a first-order sensitivity): independent of $\omega_m$.
     gain: Option<f64>,
+    /// The box search without its shortcuts (the corner that failed last tried first, the
+    /// direction scan's bisections stopped once they cannot win): the tests check that the
+    /// shortcuts change no bit of the box.
+    long_way: bool,
 }
 
 /// The largest box of one output (in the angles it is sensitive to).
@@ -342,6 +347,7 @@ impl RequirementProblem {
             accuracy,
             sensitive: Vec::new(),
             gain: None,
+            long_way: false,
         };
         let mut probe = [0.0; 3];
         for (j, p) in probe.iter_mut().enumerate() {
@@ -491,9 +497,20 @@ impl OutputRegion {
         d
     }
 
-    fn corners_ok(&self, half: &[f64]) -> Result<bool, CalibError> {
+    /// Whether every corner of the box with half-sides `half` meets the accuracy.
+    ///
+    /// The answer does not depend on the order the corners are tried in, so the corner that
+    /// failed last (`first`, updated here) is tried first: along a bisection the same corner
+    /// usually binds, and a failing box then costs one evaluation instead of up to $2^d$.
+    /// (Only which error is reported could differ, should two corners both fail to
+    /// evaluate or one fail to evaluate and another exceed the accuracy.)
+    fn corners_ok(&self, half: &[f64], first: &Cell<u32>) -> Result<bool, CalibError> {
         let d = half.len();
-        for signs in 0..(1u32 << d) {
+        let n = 1u32 << d;
+        let start = if self.long_way { 0 } else { first.get() % n };
+        // `start`, then every other corner in order
+        let order = std::iter::once(start).chain((0..n).filter(move |&c| c != start));
+        for signs in order {
             let c: Vec<f64> = (0..d)
                 .map(|i| {
                     if signs & (1 << i) == 0 {
@@ -504,6 +521,7 @@ impl OutputRegion {
                 })
                 .collect();
             if self.rate_error(self.point(&c))? > self.accuracy {
+                first.set(signs);
                 return Ok(false);
             }
         }
@@ -561,6 +579,27 @@ impl OutputRegion {
     where
         F: Fn(f64) -> Result<bool, CalibError>,
     {
+        // `give_up` never holds, so the search always finds its radius
+        Ok(self
+            .radius_unless(direction, rel_tol, ok, |_| false)?
+            .unwrap_or(0.0))
+    }
+
+    /// [`OutputRegion::radius`], abandoned (`None`) as soon as `give_up(hi)` holds for the
+    /// bisection's upper end `hi` (checked once the boundary is bracketed, before each
+    /// bisection step). Every later step keeps the radius found below `hi`, so a caller that
+    /// gives up when even `hi` could not matter loses nothing.
+    fn radius_unless<F, G>(
+        &self,
+        direction: &[f64],
+        rel_tol: f64,
+        ok: F,
+        give_up: G,
+    ) -> Result<Option<f64>, CalibError>
+    where
+        F: Fn(f64) -> Result<bool, CalibError>,
+        G: Fn(f64) -> bool,
+    {
         let tol = if rel_tol > 0.0 {
             rel_tol
         } else {
@@ -602,6 +641,9 @@ impl OutputRegion {
             }
         }
         while hi - lo > tol * hi {
+            if give_up(hi) {
+                return Ok(None);
+            }
             let mid = 0.5 * (lo + hi);
             if mid <= lo || mid >= hi {
                 break;
@@ -612,19 +654,55 @@ impl OutputRegion {
                 hi = mid;
             }
         }
-        Ok(lo)
+        Ok(Some(lo))
     }
 
     /// The half-sides of the largest box whose corner points along `dir` (unit, positive),
     /// radius to the relative tolerance `rel_tol` (0: [`RequirementParams::radius_tol_rel`]).
     fn box_along(&self, dir: &[f64], rel_tol: f64) -> Result<(Vec<f64>, f64), CalibError> {
+        let first = Cell::new(0);
         let r = self.radius(dir, rel_tol, |r| {
             let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
-            self.corners_ok(&half)
+            self.corners_ok(&half, &first)
         })?;
+        Ok(Self::box_at(dir, r))
+    }
+
+    /// The half-sides and volume of the box of corner radius `r` along `dir`.
+    fn box_at(dir: &[f64], r: f64) -> (Vec<f64>, f64) {
         let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
         let volume = half.iter().map(|h| 2.0 * h).product();
-        Ok((half, volume))
+        (half, volume)
+    }
+
+    /// The volume of [`OutputRegion::box_along`]`(dir, rel_tol)`, or `None` when it is at
+    /// most `beat` (then the search stops early).
+    ///
+    /// # Why stopping early is exact
+    /// The box's volume $V(r) = \prod_k 2\,(r\,d_k)$ is computed by the same rounded
+    /// operations as in [`OutputRegion::box_along`]; each is monotone (non-decreasing) in its
+    /// argument for $d_k \ge 0$, so $V$ is non-decreasing in $r$. The bisection keeps a radius
+    /// that meets the accuracy strictly below its upper end `hi`, and returns one, so the
+    /// volume it would find is at most $V(\mathit{hi})$: once $V(\mathit{hi}) \le$ `beat`,
+    /// the finished search could not exceed `beat` either. (It may skip evaluations that would
+    /// have failed with an error.)
+    fn volume_along_unless(
+        &self,
+        dir: &[f64],
+        rel_tol: f64,
+        beat: f64,
+    ) -> Result<Option<f64>, CalibError> {
+        let first = Cell::new(0);
+        let r = self.radius_unless(
+            dir,
+            rel_tol,
+            |r| {
+                let half: Vec<f64> = dir.iter().map(|d| r * d).collect();
+                self.corners_ok(&half, &first)
+            },
+            |hi| !self.long_way && Self::box_at(dir, hi).1 <= beat,
+        )?;
+        Ok(r.map(|r| Self::box_at(dir, r).1))
     }
 
     /// The largest-volume centred axis-aligned box inside $\Delta\omega \le \omega_m$ in the
@@ -655,8 +733,12 @@ impl OutputRegion {
             1 => self.box_along(&[1.0], 0.0)?.0,
             2 => {
                 let at = |t: f64| self.box_along(&[t.cos(), t.sin()], 0.0);
+                // the scan only compares each direction's volume with the best so far
+                let scan_at =
+                    |t: f64, beat: f64| self.volume_along_unless(&[t.cos(), t.sin()], 0.0, beat);
                 golden_max(
                     at,
+                    scan_at,
                     0.0,
                     FRAC_PI_2,
                     self.params.direction_scan,
@@ -744,6 +826,12 @@ impl OutputRegion {
             let (t, p) = (x[0].clamp(0.0, FRAC_PI_2), x[1].clamp(0.0, FRAC_PI_2));
             Ok(self.box_along(&dir(t, p), self.params.search_radius_rel)?.1)
         };
+        // the same volume, or `None` when it is at most `beat` (the direction's components are
+        // non-negative on the clamped angles, as `volume_along_unless` needs)
+        let volume_unless = |x: &[f64; 2], beat: f64| -> Result<Option<f64>, CalibError> {
+            let (t, p) = (x[0].clamp(0.0, FRAC_PI_2), x[1].clamp(0.0, FRAC_PI_2));
+            self.volume_along_unless(&dir(t, p), self.params.search_radius_rel, beat)
+        };
         // Start: the optimum of the first-order model (a convex problem) when it bounds every
         // angle, else the best of a grid of directions.
         let start = match max_log_volume(&self.linear_rows()?, self.params.unbounded_column_rel) {
@@ -770,6 +858,7 @@ impl OutputRegion {
         };
         let x = nelder_mead_max(
             volume,
+            volume_unless,
             start,
             self.params.nelder_mead_start_rad,
             self.params.direction_tol_3d_rad,
@@ -972,8 +1061,15 @@ fn max_log_volume(rows: &[Vec<f64>], unbounded_column_rel: f64) -> Option<Vec<f6
 
 /// Nelder-Mead maximisation of `f` over two variables from `start` with an initial simplex of
 /// size `size`, until the simplex is smaller than `tol` (or `max_iter` iterations).
-fn nelder_mead_max<F>(
+///
+/// The trial points (reflection, expansion, contraction) are evaluated with
+/// `f_unless(x, beat)`: `f(x)`, or `None` when `f(x)` is at most `beat`. Each trial's value is
+/// kept only when it beats a value already known (the reflection the second best, the
+/// expansion the reflection, the contraction the worst), and otherwise only compared, so
+/// asking for it with that value as `beat` takes the same steps as evaluating it in full.
+fn nelder_mead_max<F, U>(
     f: F,
+    f_unless: U,
     start: [f64; 2],
     size: f64,
     tol: f64,
@@ -981,6 +1077,7 @@ fn nelder_mead_max<F>(
 ) -> Result<[f64; 2], CalibError>
 where
     F: Fn(&[f64; 2]) -> Result<f64, CalibError>,
+    U: Fn(&[f64; 2], f64) -> Result<Option<f64>, CalibError>,
 {
     let mut pts = [
         start,
@@ -1007,22 +1104,29 @@ where
         let c = [(pts[0][0] + pts[1][0]) / 2.0, (pts[0][1] + pts[1][1]) / 2.0];
         let at = |s: f64| [c[0] + s * (pts[2][0] - c[0]), c[1] + s * (pts[2][1] - c[1])];
         let r = at(-1.0);
-        let fr = f(&r)?;
-        if fr > vals[0] {
-            let e = at(-2.0);
-            let fe = f(&e)?;
-            (pts[2], vals[2]) = if fe > fr { (e, fe) } else { (r, fr) };
-        } else if fr > vals[1] {
-            (pts[2], vals[2]) = (r, fr);
-        } else {
-            let k = at(0.5);
-            let fk = f(&k)?;
-            if fk > vals[2] {
-                (pts[2], vals[2]) = (k, fk);
-            } else {
-                for i in 1..3 {
-                    pts[i] = [(pts[i][0] + pts[0][0]) / 2.0, (pts[i][1] + pts[0][1]) / 2.0];
-                    vals[i] = f(&pts[i])?;
+        // `None`: the reflection is at most the second best (so at most the best: vals is
+        // sorted), where its value is not kept
+        match f_unless(&r, vals[1])? {
+            Some(fr) if fr > vals[0] => {
+                let e = at(-2.0);
+                // `None`: the expansion is at most the reflection, which is kept
+                (pts[2], vals[2]) = match f_unless(&e, fr)? {
+                    Some(fe) if fe > fr => (e, fe),
+                    _ => (r, fr),
+                };
+            }
+            Some(fr) if fr > vals[1] => (pts[2], vals[2]) = (r, fr),
+            _ => {
+                let k = at(0.5);
+                // `None`: the contraction is at most the worst: shrink
+                match f_unless(&k, vals[2])? {
+                    Some(fk) if fk > vals[2] => (pts[2], vals[2]) = (k, fk),
+                    _ => {
+                        for i in 1..3 {
+                            pts[i] = [(pts[i][0] + pts[0][0]) / 2.0, (pts[i][1] + pts[0][1]) / 2.0];
+                            vals[i] = f(&pts[i])?;
+                        }
+                    }
                 }
             }
         }
@@ -1033,17 +1137,30 @@ where
 
 /// Maximise `f(x).1` over $[lo, hi]$: a scan of `scan` midpoints, then a golden section on the
 /// best cell to bracket width `tol`. Returns the argument's result and the maximiser.
-fn golden_max<T, F>(f: F, lo: f64, hi: f64, scan: usize, tol: f64) -> Result<(T, f64), CalibError>
+///
+/// The scan calls `scan_f(x, beat)` instead: `f(x).1`, or `None` when that value is at most
+/// `beat` (the best so far), which cannot replace the best (it must be larger), so the scan
+/// picks the cell a scan of `f` would.
+fn golden_max<T, F, S>(
+    f: F,
+    scan_f: S,
+    lo: f64,
+    hi: f64,
+    scan: usize,
+    tol: f64,
+) -> Result<(T, f64), CalibError>
 where
     F: Fn(f64) -> Result<(T, f64), CalibError>,
+    S: Fn(f64, f64) -> Result<Option<f64>, CalibError>,
 {
     let step = (hi - lo) / scan as f64;
     let mut best = (0usize, f64::NEG_INFINITY);
     if scan > 1 {
         for k in 0..scan {
-            let v = f(lo + (k as f64 + 0.5) * step)?.1;
-            if v > best.1 {
-                best = (k, v);
+            if let Some(v) = scan_f(lo + (k as f64 + 0.5) * step, best.1)? {
+                if v > best.1 {
+                    best = (k, v);
+                }
             }
         }
     }
@@ -1075,4 +1192,125 @@ where
     }
     let x = 0.5 * (a + b);
     Ok((f(x)?.0, x))
+}
+
+#[cfg(all(test, feature = "paper"))]
+mod tests {
+    use super::*;
+
+    /// The box search's shortcuts (the corner that failed last tried first; the direction
+    /// scan's bisections stopped once their upper end cannot beat the best volume) give bit
+    /// for bit the boxes of the long way: the paper's sensor under three readings, both
+    /// $\Delta\mathbf R$ kinds, at its accuracies (the linear regime, a scaled reference box)
+    /// and at 300 and 30,000 times them (searched directly, where the region's curvature
+    /// shows).
+    fn same_boxes(problem: &RequirementProblem) -> usize {
+        let bits = |b: &OutputBox| {
+            (
+                b.half_rad.map(|h| h.map(f64::to_bits)),
+                b.volume.to_bits(),
+                b.boundary_max_ratio.to_bits(),
+            )
+        };
+        let mut three = 0;
+        for k in 0..problem.calibration.outputs().len() {
+            let short = problem.region(k).unwrap();
+            if short.sensitive_angles().is_empty() {
+                continue;
+            }
+            three += usize::from(short.sensitive_angles().len() == 3);
+            let mut long = short.clone();
+            long.long_way = true;
+            match (short.max_box(), long.max_box()) {
+                (Ok(a), Ok(b)) => assert_eq!(bits(&a), bits(&b)),
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+                (a, b) => panic!("{a:?} vs {b:?}"),
+            }
+        }
+        three
+    }
+
+    /// The shortcuts on outputs sensitive to all three angles (the Nelder-Mead search of the
+    /// corner direction, whose rejected trial points stop early): an IMU's gyros and
+    /// accelerometers (calib-lsq's noise-covariance benchmark sensor) at 32 positions of a
+    /// three-axis table, under the readings where its boxes have three sides.
+    #[test]
+    fn three_angle_box_search_shortcuts_equal_the_long_way() {
+        use gw_model::{Output, Regressor, SensorModel, Term};
+        use nalgebra::{Rotation3, Vector3};
+        let term = |c: &str, r: &str, value: f64, known: bool| Term {
+            coefficient: c.into(),
+            regressor: Regressor::parse(r).unwrap(),
+            value,
+            known,
+        };
+        let gyro = |axis: &str, w: &str| Output {
+            name: format!("g{axis}"),
+            unit: "deg_per_h".into(),
+            accuracy: 0.1,
+            terms: vec![
+                term(&format!("omega_{axis}"), w, 1.0, true),
+                term(&format!("bg_{axis}"), "1", 0.6, false),
+                term(&format!("gs_{axis}x"), "a_x", 0.3, false),
+                term(&format!("gs_{axis}y"), "a_y", -0.2, false),
+                term(&format!("gs_{axis}z"), "a_z", 0.15, false),
+            ],
+        };
+        let acc = |axis: &str, own: &str, others: [&str; 2]| Output {
+            name: format!("a{axis}"),
+            unit: "mg".into(),
+            accuracy: 0.1,
+            terms: vec![
+                term(&format!("ba_{axis}"), "1", 0.8, false),
+                term(&format!("sf_{axis}"), own, 1000.3, false),
+                term(&format!("mis_{axis}1"), others[0], 0.5, false),
+                term(&format!("mis_{axis}2"), others[1], -0.3, false),
+                term(&format!("k2_{axis}"), &format!("{own}^2"), 0.02, false),
+            ],
+        };
+        let sensor = SensorModel::new(vec![
+            gyro("x", "w_x"),
+            gyro("y", "w_y"),
+            acc("x", "a_x", ["a_y", "a_z"]),
+            acc("z", "a_z", ["a_x", "a_y"]),
+        ])
+        .unwrap();
+        let mut positions = Vec::new();
+        for m in 0..4 {
+            for i in 0..8 {
+                let (m, i) = (f64::from(m) * 90.0 + 10.0, f64::from(i) * 45.0);
+                let r = Rotation3::from_axis_angle(&Vector3::x_axis(), m.to_radians())
+                    * Rotation3::from_axis_angle(&Vector3::y_axis(), i.to_radians());
+                positions.push(crate::Position::new(*r.matrix(), vec![0.0, m, i]).unwrap());
+            }
+        }
+        let schedule = crate::Schedule::new(positions).unwrap();
+        let cal = Calibration::new(&sensor, &gw_model::paper::site(), &schedule).unwrap();
+        let mut three = 0;
+        for reading in [Reading::PAPER, Reading::USER, Reading::AS_PRINTED] {
+            three += same_boxes(&RequirementProblem::new(
+                cal.clone(),
+                reading,
+                DeltaRKind::Exact,
+            ));
+        }
+        assert!(three > 0, "no output with three sensitive angles");
+    }
+
+    #[test]
+    fn box_search_shortcuts_equal_the_long_way() {
+        for scale in [1.0, 300.0, 3e4] {
+            let sensor = gw_model::paper::gyrowheel()
+                .with_accuracy_scaled(scale)
+                .unwrap();
+            let cal =
+                Calibration::new(&sensor, &gw_model::paper::site(), &crate::paper::schedule())
+                    .unwrap();
+            for reading in [Reading::PAPER, Reading::USER, Reading::AS_PRINTED] {
+                for kind in [DeltaRKind::SmallAngle, DeltaRKind::Exact] {
+                    same_boxes(&RequirementProblem::new(cal.clone(), reading, kind));
+                }
+            }
+        }
+    }
 }

@@ -11,7 +11,7 @@ use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::rad_to_arcmin;
-use tt_kinematics::{LinearModel, ScheduleErrorModel, Turntable};
+use tt_kinematics::{ScheduleErrorModel, Turntable};
 
 /// Tuning of the certified direct allocation ([`EndToEnd::allocate_direct_certified_with`]):
 /// a parameter struct with [`Default`] (faer's convention), so a caller changes one knob
@@ -485,7 +485,8 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     pub fn combined_weights(&self) -> Vec<f64> {
         match self.model().as_turntable_schedule() {
             Some(t) => {
-                Weights::inverse_average_sensitivity(&LinearModel::new(t.turntable())).combined()
+                // the schedule's own model: its average sensitivities are computed once
+                Weights::inverse_average_sensitivity(t.linear_model()).combined()
             }
             None => Weights::inverse_average_sensitivity(&self.linearization()).combined(),
         }

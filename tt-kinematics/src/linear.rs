@@ -29,6 +29,7 @@ use crate::turntable::{Factor, Turntable};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
+use std::sync::{Arc, Mutex, OnceLock};
 use tt_core::Pose;
 use tt_core::{OrientationAxis, OrientationError};
 
@@ -104,10 +105,65 @@ impl WorstPose {
     }
 }
 
+/// Grids of inner-joint harmonics a [`LinearModel`] keeps (one per axis and set of joint
+/// ranges searched; the oldest is dropped beyond this).
+const GRID_CACHE_ENTRIES: usize = 12;
+
+/// The harmonic parts in the inner free joint at every point of the worst-pose search's grid
+/// of outer joints, for one axis and set of ranges: they do not depend on the weights, so
+/// every search of an allocation's cutting-plane loop shares them.
+struct GridHarmonics {
+    axis: usize,
+    /// The ranges' bits (the grid's points and the other joints' angles follow from them).
+    ranges: Vec<[u64; 2]>,
+    harmonics: Arc<Vec<Vec<[f64; 3]>>>,
+}
+
 /// The first-order orientation-error model of a turntable (see the [module](self)).
-#[derive(Debug, Clone, PartialEq)]
 pub struct LinearModel {
     turntable: Turntable,
+    /// [`LinearModel::average_abs_coefficients`], computed on first use (a function of the
+    /// turntable alone; every weighted allocation asks for it again).
+    average: OnceLock<DMatrix<f64>>,
+    /// The worst-pose search's grids ([`GridHarmonics`]), computed on first use.
+    grids: Mutex<Vec<GridHarmonics>>,
+}
+
+impl Clone for LinearModel {
+    fn clone(&self) -> Self {
+        let grids = self.grids.lock().map_or_else(
+            |_| Vec::new(),
+            |g| {
+                g.iter()
+                    .map(|e| GridHarmonics {
+                        axis: e.axis,
+                        ranges: e.ranges.clone(),
+                        harmonics: Arc::clone(&e.harmonics),
+                    })
+                    .collect()
+            },
+        );
+        Self {
+            turntable: self.turntable.clone(),
+            average: self.average.clone(),
+            grids: Mutex::new(grids),
+        }
+    }
+}
+
+// The cache is not part of the model: equality and `Debug` are the turntable's.
+impl PartialEq for LinearModel {
+    fn eq(&self, other: &Self) -> bool {
+        self.turntable == other.turntable
+    }
+}
+
+impl std::fmt::Debug for LinearModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LinearModel")
+            .field("turntable", &self.turntable)
+            .finish()
+    }
 }
 
 impl LinearModel {
@@ -116,6 +172,8 @@ impl LinearModel {
     pub fn new(turntable: &Turntable) -> Self {
         Self {
             turntable: turntable.clone(),
+            average: OnceLock::new(),
+            grids: Mutex::new(Vec::new()),
         }
     }
 
@@ -388,7 +446,44 @@ impl LinearModel {
         Ok(())
     }
 
+    /// Component `k` (0, 1, 2 for $\psi, \theta, \gamma$) of every coefficient $c_{ki}$ for
+    /// joint sines and cosines `sc`, written to `out` (length [`LinearModel::n_errors`]).
+    ///
+    /// The same walk as [`LinearModel::vectors_sc`], with the same products $\mathbf S$; of
+    /// $\mathbf v_i = \mathbf S^T(\sigma\mathbf e_a)$ only the component needed is taken,
+    /// $\sigma S_{ac}$ ($c$ = y, z, x for $\psi, \theta, \gamma$). The full product sums
+    /// $\sigma S_{ac}$ (exact: $\sigma = \pm1$) and two products with a zero, so the values
+    /// are bit for bit those of [`LinearModel::coefficients_sc`] except perhaps the sign of a
+    /// zero, which [`LinearModel::inner_max`] snaps away (this runs for every point of the
+    /// worst-pose search).
+    fn axis_coefficients_into(&self, sc: &[(f64, f64)], k: usize, out: &mut [f64]) {
+        out.fill(0.0);
+        let c = [1, 2, 0][k];
+        let mut s = Matrix3::identity();
+        for f in self.turntable.factors().iter().rev() {
+            match *f {
+                Factor::Rotation { error, about } => {
+                    out[error] = about.sign() * s[(about.axis.index(), c)];
+                }
+                Factor::Joint { joint, about } => {
+                    let (sj, cj) = sc[joint];
+                    s = rot_sc(about.axis, about.sign() * sj, cj) * s;
+                }
+                Factor::Fixed { angle_rad, about } => {
+                    s = crate::rotation::rot_signed(about, angle_rad) * s;
+                }
+                Factor::Translation { .. } => {}
+            }
+        }
+    }
+
     /// Exact maximum over the last free joint for fixed other angles `pose`.
+    ///
+    /// The harmonic parts are those of [`LinearModel::harmonics_in`] (the same formula on the
+    /// same values, bit for bit: $c = (f_0 + f_{180})/2$, $a = (f_0 - f_{180})/2$,
+    /// $b = f_{90} - c$, each snapped at [`STRUCTURAL_ZERO`], which also makes every zero
+    /// $+0$ whatever the signs of the zeros it came from), computed without the intermediate
+    /// vectors.
     fn inner_max(
         &self,
         axis: OrientationAxis,
@@ -398,9 +493,83 @@ impl LinearModel {
         inner: usize,
         range: [f64; 2],
     ) -> (f64, f64) {
-        let sc = Self::sc_of(pose);
-        let h = self.harmonics_in(axis, inner, &sc);
+        let h = self.inner_harmonics(axis, pose, inner);
         max_harmonic_sum(&h, w, abs, range[0], range[1])
+    }
+
+    /// The harmonic parts of [`LinearModel::inner_max`] at `pose`.
+    fn inner_harmonics(&self, axis: OrientationAxis, pose: &[f64], inner: usize) -> Vec<[f64; 3]> {
+        let mut sc = Self::sc_of(pose);
+        let n = self.n_errors();
+        let k = axis.index();
+        let mut f = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        for (q, (s, c)) in [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            sc[inner] = (s, c);
+            self.axis_coefficients_into(&sc, k, &mut f[q]);
+        }
+        let [f0, f90, f180] = &f;
+        let snap = |x: f64| if x.abs() < STRUCTURAL_ZERO { 0.0 } else { x };
+        (0..n)
+            .map(|i| {
+                let c = 0.5 * (f0[i] + f180[i]);
+                let a = 0.5 * (f0[i] - f180[i]);
+                let b = f90[i] - c;
+                [snap(a), snap(b), snap(c)]
+            })
+            .collect()
+    }
+
+    /// The inner harmonics ([`LinearModel::inner_harmonics`]) at every grid point `flat` of
+    /// `0..count` (`at_index` places the outer joints of `base`), kept per axis and ranges:
+    /// the same values as computed at each point, so a search that uses them finds the same
+    /// bits.
+    #[allow(clippy::too_many_arguments)]
+    fn grid_harmonics(
+        &self,
+        axis: OrientationAxis,
+        ranges: &[[f64; 2]],
+        base: &[f64],
+        inner: usize,
+        count: usize,
+        at_index: &(dyn Fn(usize, &mut [f64]) + Sync),
+    ) -> Arc<Vec<Vec<[f64; 3]>>> {
+        let key: Vec<[u64; 2]> = ranges
+            .iter()
+            .map(|r| [r[0].to_bits(), r[1].to_bits()])
+            .collect();
+        let found = self.grids.lock().ok().and_then(|g| {
+            g.iter()
+                .find(|e| e.axis == axis.index() && e.ranges == key)
+                .map(|e| Arc::clone(&e.harmonics))
+        });
+        if let Some(h) = found {
+            return h;
+        }
+        let h: Arc<Vec<Vec<[f64; 3]>>> = Arc::new(
+            (0..count)
+                .into_par_iter()
+                .map(|flat| {
+                    let mut p = base.to_vec();
+                    at_index(flat, &mut p);
+                    self.inner_harmonics(axis, &p, inner)
+                })
+                .collect(),
+        );
+        // (a poisoned lock only costs the cache)
+        if let Ok(mut g) = self.grids.lock() {
+            if g.len() >= GRID_CACHE_ENTRIES {
+                g.remove(0);
+            }
+            g.push(GridHarmonics {
+                axis: axis.index(),
+                ranges: key,
+                harmonics: Arc::clone(&h),
+            });
+        }
+        h
     }
 
     fn search(
@@ -409,6 +578,41 @@ impl LinearModel {
         w: &[f64],
         abs: bool,
         ranges: Option<&[[f64; 2]]>,
+    ) -> Result<WorstPose, KinematicsError> {
+        self.search_with(axis, w, abs, ranges, false)
+    }
+
+    /// Inner maximum at `pose`: [`LinearModel::inner_max`], or with `long_way` the plain
+    /// formula on [`LinearModel::harmonics_in`] (the tests check they agree bit for bit).
+    #[allow(clippy::too_many_arguments)]
+    fn inner_max_with(
+        &self,
+        axis: OrientationAxis,
+        w: &[f64],
+        abs: bool,
+        pose: &[f64],
+        inner: usize,
+        range: [f64; 2],
+        long_way: bool,
+    ) -> (f64, f64) {
+        if long_way {
+            let h = self.harmonics_in(axis, inner, &Self::sc_of(pose));
+            max_harmonic_sum(&h, w, abs, range[0], range[1])
+        } else {
+            self.inner_max(axis, w, abs, pose, inner, range)
+        }
+    }
+
+    /// The search; `long_way` turns off the shortcuts (the allocation-free inner maximum, the
+    /// reuse of the golden section's last two points and the stop after a sweep that changes
+    /// nothing) so the tests can check they change no bit of the result.
+    fn search_with(
+        &self,
+        axis: OrientationAxis,
+        w: &[f64],
+        abs: bool,
+        ranges: Option<&[[f64; 2]]>,
+        long_way: bool,
     ) -> Result<WorstPose, KinematicsError> {
         self.check_inputs(w, ranges)?;
         let ranges = self.ranges(ranges);
@@ -425,7 +629,7 @@ impl LinearModel {
             });
         };
         if outer.is_empty() {
-            let (v, phi) = self.inner_max(axis, w, abs, &pose, inner, ranges[inner]);
+            let (v, phi) = self.inner_max_with(axis, w, abs, &pose, inner, ranges[inner], long_way);
             pose[inner] = phi;
             return Ok(WorstPose {
                 value: v,
@@ -446,12 +650,21 @@ impl LinearModel {
                 flat /= per;
             }
         };
+        // the grid's harmonics do not depend on the weights: shared by every search
+        let grid =
+            (!long_way).then(|| self.grid_harmonics(axis, &ranges, &pose, inner, count, &at_index));
         let mut best: Vec<(f64, Vec<f64>)> = (0..count)
             .into_par_iter()
             .map(|flat| {
                 let mut p = pose.clone();
                 at_index(flat, &mut p);
-                let (v, phi) = self.inner_max(axis, w, abs, &p, inner, ranges[inner]);
+                let (v, phi) = match &grid {
+                    Some(h) => {
+                        let [lo, hi] = ranges[inner];
+                        max_harmonic_sum(&h[flat], w, abs, lo, hi)
+                    }
+                    None => self.inner_max_with(axis, w, abs, &p, inner, ranges[inner], long_way),
+                };
                 p[inner] = phi;
                 (v, p)
             })
@@ -462,7 +675,7 @@ impl LinearModel {
         at_index(count - 1, &mut pose);
         let refined: Vec<(f64, Vec<f64>)> = best
             .into_par_iter()
-            .map(|(v0, p0)| self.refine(axis, w, abs, &ranges, outer, inner, v0, p0, per))
+            .map(|(v0, p0)| self.refine(axis, w, abs, &ranges, outer, inner, v0, p0, per, long_way))
             .collect();
         let mut winner = (f64::NEG_INFINITY, pose.clone());
         for (v, p) in refined {
@@ -491,11 +704,20 @@ impl LinearModel {
         v0: f64,
         p0: Vec<f64>,
         per: usize,
+        long_way: bool,
     ) -> (f64, Vec<f64>) {
         let mut best = (v0, p0);
-        let eval =
-            |p: &[f64]| -> (f64, f64) { self.inner_max(axis, w, abs, p, inner, ranges[inner]) };
+        let eval = |p: &[f64]| -> (f64, f64) {
+            self.inner_max_with(axis, w, abs, p, inner, ranges[inner], long_way)
+        };
         for _sweep in 0..3 {
+            // A sweep is a function of `best` alone (value and pose; the inner joint's entry
+            // is overwritten by every evaluation), so a sweep that leaves `best` bit for bit
+            // unchanged would be repeated identically by every later one: stop there.
+            let before = (
+                best.0.to_bits(),
+                best.1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            );
             for &j in outer {
                 let [rlo, rhi] = ranges[j];
                 let cell = (rhi - rlo) / per as f64;
@@ -506,33 +728,50 @@ impl LinearModel {
                     p[j] = x;
                     eval(p)
                 };
+                // (value, inner angle) at x1 and x2: the final candidates reuse them instead of
+                // evaluating the same points again
                 let mut x1 = hi - g * (hi - lo);
                 let mut x2 = lo + g * (hi - lo);
-                let mut f1 = at(x1, &mut p).0;
-                let mut f2 = at(x2, &mut p).0;
+                let mut f1 = at(x1, &mut p);
+                let mut f2 = at(x2, &mut p);
                 for _ in 0..POSE_REFINE_STEPS {
-                    if f1 < f2 {
+                    if f1.0 < f2.0 {
                         lo = x1;
                         x1 = x2;
                         f1 = f2;
                         x2 = lo + g * (hi - lo);
-                        f2 = at(x2, &mut p).0;
+                        f2 = at(x2, &mut p);
                     } else {
                         hi = x2;
                         x2 = x1;
                         f2 = f1;
                         x1 = hi - g * (hi - lo);
-                        f1 = at(x1, &mut p).0;
+                        f1 = at(x1, &mut p);
                     }
                 }
-                for x in [x1, x2, 0.5 * (lo + hi)] {
-                    let (v, phi) = at(x, &mut p);
+                let mid = 0.5 * (lo + hi);
+                if long_way {
+                    f1 = at(x1, &mut p);
+                    f2 = at(x2, &mut p);
+                }
+                let fm = at(mid, &mut p);
+                for (x, (v, phi)) in [(x1, f1), (x2, f2), (mid, fm)] {
                     if v > best.0 {
                         let mut q = p.clone();
+                        q[j] = x;
                         q[inner] = phi;
                         best = (v, q);
                     }
                 }
+            }
+            let unchanged = best.0.to_bits() == before.0
+                && best
+                    .1
+                    .iter()
+                    .map(|x| x.to_bits())
+                    .eq(before.1.iter().copied());
+            if unchanged && !long_way {
+                break;
             }
         }
         best
@@ -681,8 +920,16 @@ impl LinearModel {
     /// $\tfrac{2}{\pi}(\sqrt{R^2-c^2} + c\arcsin(c/R))$ otherwise: $2/\pi$ for every
     /// $\sin\phi_2$/$\cos\phi_2$ term of eq 26 and 1 for a constant. Other free joints: the
     /// midpoint rule with [`AVERAGE_GRID_POINTS`] points each.
+    ///
+    /// Computed once per model (the same matrix, bit for bit, on every later call).
     #[must_use]
     pub fn average_abs_coefficients(&self) -> DMatrix<f64> {
+        self.average
+            .get_or_init(|| self.average_abs_coefficients_uncached())
+            .clone()
+    }
+
+    fn average_abs_coefficients_uncached(&self) -> DMatrix<f64> {
         let ranges = self.turntable.joint_ranges_rad();
         let n = self.n_errors();
         let mut out = DMatrix::zeros(3, n);
@@ -938,6 +1185,99 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// The search's shortcuts (the allocation-free inner maximum, the reuse of the golden
+    /// section's last two points, the stop after a refinement sweep that changes nothing) give
+    /// bit for bit the result of the long way, on the three-axis conformance table and a
+    /// four-joint chain (more outer free joints), for absolute and signed sums, mixed weights
+    /// and partial ranges.
+    #[test]
+    fn search_shortcuts_equal_the_long_way() {
+        use crate::{FactorSpec, SignedAxis, Turntable, TurntableDescription};
+        let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
+        let j = FactorSpec::joint;
+        let e = FactorSpec::error;
+        let four = Turntable::new(&TurntableDescription::new(vec![
+            j("a", z),
+            e("ea", x),
+            e("ea2", y),
+            j("b", x),
+            e("eb", z),
+            FactorSpec::Fixed {
+                angle_rad: 7f64.to_radians(),
+                about: z,
+            },
+            j("c", y),
+            e("ec", x),
+            e("ec2", z),
+            j("d", z),
+            e("ed", y),
+            e("ed2", x),
+        ]))
+        .unwrap();
+        for t in [crate::conformance::three_axis(), four] {
+            let m = LinearModel::new(&t);
+            let n = m.n_errors();
+            let full = t.joint_ranges_rad();
+            let part: Vec<[f64; 2]> = (0..t.n_joints())
+                .map(|k| [-0.3 - 0.1 * k as f64, 1.1 + 0.2 * k as f64])
+                .collect();
+            for case in 0..6 {
+                let w: Vec<f64> = (0..n)
+                    .map(|i| {
+                        let v = 1e-4 * (1.0 + ((i * 7 + case * 3) % 5) as f64);
+                        if case % 3 == 2 && i % 4 == 1 { -v } else { v }
+                    })
+                    .collect();
+                for axis in OrientationAxis::ALL {
+                    for abs in [true, false] {
+                        for ranges in [None, Some(part.as_slice())] {
+                            let short = m.search_with(axis, &w, abs, ranges, false).unwrap();
+                            let long = m.search_with(axis, &w, abs, ranges, true).unwrap();
+                            assert_eq!(short.value.to_bits(), long.value.to_bits());
+                            assert_eq!(short.exact, long.exact);
+                            assert!(
+                                short
+                                    .pose_rad
+                                    .iter()
+                                    .zip(&long.pose_rad)
+                                    .all(|(a, b)| a.to_bits() == b.to_bits())
+                            );
+                            // the inner maximum itself, at scattered poses
+                            let free = m.free_joints().to_vec();
+                            let Some(&inner) = free.last() else { continue };
+                            let r = ranges.map_or(full[inner], |r| r[inner]);
+                            for k in 0..5 {
+                                let pose: Vec<f64> = (0..t.n_joints())
+                                    .map(|q| 0.41 * (k * 3 + q + case) as f64 - 1.0)
+                                    .collect();
+                                let a = m.inner_max_with(axis, &w, abs, &pose, inner, r, false);
+                                let b = m.inner_max_with(axis, &w, abs, &pose, inner, r, true);
+                                assert_eq!(a.0.to_bits(), b.0.to_bits());
+                                assert_eq!(a.1.to_bits(), b.1.to_bits());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The cached average sensitivities are those computed afresh, bit for bit, on every call
+    /// and on clones.
+    #[test]
+    fn cached_average_equals_a_fresh_computation() {
+        let m = LinearModel::new(&crate::conformance::three_axis());
+        let fresh = m.average_abs_coefficients_uncached();
+        let bits = |a: &DMatrix<f64>| a.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for a in [
+            m.average_abs_coefficients(),
+            m.average_abs_coefficients(),
+            m.clone().average_abs_coefficients(),
+        ] {
+            assert_eq!(bits(&a), bits(&fresh));
         }
     }
 }

@@ -56,6 +56,13 @@ impl TurntableSchedule {
         &self.turntable
     }
 
+    /// The turntable's first-order model (one per schedule, so what it computes once, such as
+    /// its average sensitivities, is shared by every user of the schedule).
+    #[must_use]
+    pub fn linear_model(&self) -> &LinearModel {
+        &self.linear
+    }
+
     /// The poses, one per position.
     #[must_use]
     pub fn poses(&self) -> &[Pose] {

@@ -266,10 +266,16 @@ pub fn simulator(s: &Study) -> Result<EndToEnd> {
 /// The inputs of the answer for a study: its lower bounds and requirement, the paper's
 /// Table 4 as an extra box when the study's turntable is the paper's.
 ///
-/// # Errors
-/// An [`InputError`] naming the key.
-pub fn inputs(s: &Study, samples: u64, seed: u64, yield_fraction: f64) -> Result<EndToEndInputs> {
-    let req = st::requirement(s)?;
+/// `req` is the study's resolved requirement ([`st::requirement`]): a box search per output,
+/// so the caller, which needs it too, resolves it once.
+#[must_use]
+pub fn inputs_with(
+    s: &Study,
+    req: &st::StudyRequirement,
+    samples: u64,
+    seed: u64,
+    yield_fraction: f64,
+) -> EndToEndInputs {
     // the requirement of eq 15-16 is static: no two-step allocation with rate steps
     let used = if s.has_rate_steps() { None } else { req.used };
     let mut inputs = EndToEndInputs::new(s.lower_bounds_rad.clone(), used, seed);
@@ -280,7 +286,7 @@ pub fn inputs(s: &Study, samples: u64, seed: u64, yield_fraction: f64) -> Result
             .extra_boxes
             .push(("Table 4".into(), alloc_opt::paper::table4_rad()));
     }
-    Ok(inputs)
+    inputs
 }
 
 /// Turntables per second of the fast path (all threads and one) and of the reference path
@@ -1151,11 +1157,13 @@ pub fn run(args: &Args) -> Result<()> {
     let samples = args.samples.unwrap_or(s.monte_carlo.samples);
     let seed = args.seed.unwrap_or(s.monte_carlo.seed);
     check_yield_samples(samples, args.samples.is_some(), args.yield_fraction, &s)?;
-    let inputs = inputs(&s, samples, seed, args.yield_fraction)?;
+    // the requirement (a box search per output) once, for the inputs and the note
+    let req = st::requirement(&s)?;
+    let inputs = inputs_with(&s, &req, samples, seed, args.yield_fraction);
     let note = if s.has_rate_steps() {
         Some(crate::rate::rate_steps_note(&e2e))
     } else {
-        st::requirement(&s)?.disagreement
+        req.disagreement
     };
     let t0 = Instant::now();
     let a = answer(&e2e, &inputs).map_err(|e| crate::input::library(e, &s))?;
