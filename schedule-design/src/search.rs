@@ -559,7 +559,7 @@ impl<'a> Search<'a> {
             lower,
             estimate,
         };
-        (screened, !(upper < stop_below))
+        (screened, upper >= stop_below)
     }
 
     /// Screen every swap of `slot` with every candidate not in the schedule: the dual lower
