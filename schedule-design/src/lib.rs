@@ -90,7 +90,12 @@
 //!   not below $J(1 - \epsilon)$ ($\epsilon$ = [`SearchParams::improvement_rel`]), evaluate the rest exactly
 //!   in the order of their upper bound and take the first that meets the condition bound and
 //!   improves $J$ by more than $\epsilon$. A pass over every slot without an exchange ends
-//!   the search.
+//!   the search. The order is found lazily: the screening stops a swap's solver once its
+//!   upper bound is below $J(1 - \epsilon)$ (the swap is kept whatever follows), and the
+//!   solver runs on to its final upper bound only when the swap could be evaluated next (its
+//!   lower bound, which the final upper bound is at least, not above the smallest final
+//!   upper bound known): the same order, and a slot whose first evaluations find an
+//!   exchange ranks only a few swaps.
 //! - **Restarts** ([`DesignProblem::restarts`]): the given starts (the study's schedule),
 //!   the greedy construction, the level set and seeded random feasible schedules (ChaCha8
 //!   streams $(\text{seed}, 2^{32} + r)$), each exchanged; restarts run in parallel and the

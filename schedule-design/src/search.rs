@@ -478,6 +478,10 @@ impl<'a> Search<'a> {
     /// solver's bounds on every row after the swap (rigorous lower bound and, as estimate,
     /// rigorous upper bound; for nonzero lower bounds of the errors the fixed-shape estimate
     /// $J\,L^2$ with $L$ the largest load of the new rows at the current $\mathrm{UB}$).
+    ///
+    /// With `until_kept` the solver also stops once its upper bound is below the threshold
+    /// (the swap is then kept whatever the remaining iterations give): the estimate is not
+    /// final then, and the second value is `false` ([`Search::resolve`] gives the final one).
     fn screen_rest(
         &self,
         st: &State,
@@ -485,13 +489,15 @@ impl<'a> Search<'a> {
         c: usize,
         lower: f64,
         sc: &mut SwapScratch,
-    ) -> Screened {
+        until_kept: bool,
+    ) -> (Screened, bool) {
         if lower >= ss.threshold {
-            return Screened {
+            let pruned = Screened {
                 candidate: c,
                 lower,
                 estimate: f64::INFINITY,
             };
+            return (pruned, true);
         }
         let n = st.s.len();
         let m = self.p.errors;
@@ -519,22 +525,41 @@ impl<'a> Search<'a> {
         // rigorous bounds on J after the swap from the dual screening solver warm-started at
         // the state's multipliers (except the slot's rows); only for zero lower bounds (the
         // dual's closed form)
+        let stop_below = if until_kept { ss.threshold } else { 0.0 };
         let (lower2, upper) = if self.zero_lower {
-            dual::bounds_with(dual_scratch, &self.w23, rows, m, &ss.mu0, ss.threshold, 0.0)
+            dual::bounds_with(
+                dual_scratch,
+                &self.w23,
+                rows,
+                m,
+                &ss.mu0,
+                ss.threshold,
+                stop_below,
+            )
         } else {
             (0.0, f64::INFINITY)
         };
         let lower = lower.max(lower2);
+        if lower >= ss.threshold {
+            // pruned by the solver's lower bound (which stops before its last upper bound)
+            let pruned = Screened {
+                candidate: c,
+                lower,
+                estimate: f64::INFINITY,
+            };
+            return (pruned, true);
+        }
         let estimate = if upper.is_finite() {
             upper
         } else {
             st.j * max_load(rows, &st.x, m).powi(2)
         };
-        Screened {
+        let screened = Screened {
             candidate: c,
             lower,
             estimate,
-        }
+        };
+        (screened, upper >= stop_below)
     }
 
     /// Screen every swap of `slot` with every candidate not in the schedule: the dual lower
@@ -542,17 +567,39 @@ impl<'a> Search<'a> {
     /// positions recomputed for the new projection) and, where it does not prune, the
     /// screening solver's bounds ([`Search::screen_rest`]).
     pub(crate) fn screen_swaps(&self, st: &State, slot: usize) -> Vec<Screened> {
-        let ss = self.slot_screen(st, slot);
+        self.screen_swaps_with(st, &self.slot_screen(st, slot), false)
+            .into_iter()
+            .map(|t| t.0)
+            .collect()
+    }
+
+    /// [`Search::screen_swaps`], with `until_kept` stopping the solver of a kept swap as soon
+    /// as its upper bound is below the threshold (`false` beside such a swap: its estimate is
+    /// not final; [`Search::resolve`]).
+    fn screen_swaps_with(
+        &self,
+        st: &State,
+        ss: &SlotScreen,
+        until_kept: bool,
+    ) -> Vec<(Screened, bool)> {
         let outside: Vec<usize> = (0..self.p.n_candidates())
             .filter(|&c| !st.in_s[c])
             .collect();
         outside
             .par_iter()
             .map_init(SwapScratch::default, |sc, &c| {
-                let lower = self.screen_cheap(st, &ss, c, sc);
-                self.screen_rest(st, &ss, c, lower, sc)
+                let lower = self.screen_cheap(st, ss, c, sc);
+                self.screen_rest(st, ss, c, lower, sc, until_kept)
             })
             .collect()
+    }
+
+    /// The final screening of one swap whose estimate [`Search::screen_swaps_with`] left
+    /// unresolved: the same computation as [`Search::screen_swaps`] for that candidate (the
+    /// solver is deterministic and runs from the same warm start), so the same bits.
+    fn resolve(&self, st: &State, ss: &SlotScreen, c: usize, sc: &mut SwapScratch) -> Screened {
+        let lower = self.screen_cheap(st, ss, c, sc);
+        self.screen_rest(st, ss, c, lower, sc, false).0
     }
 
     /// Screen adding each candidate not in the schedule (greedy construction): the
@@ -672,18 +719,16 @@ impl<'a> Search<'a> {
                         }
                     }
                 }
-                let mut list: Vec<Screened> = self.screen_swaps(&st, slot);
+                let ss = self.slot_screen(&st, slot);
+                let mut list = self.screen_swaps_with(&st, &ss, true);
                 screened += list.len();
-                list.retain(|s| s.lower < threshold);
+                list.retain(|s| s.0.lower < threshold);
                 if list.is_empty() {
                     continue;
                 }
-                list.sort_by(|a, b| {
-                    a.estimate
-                        .total_cmp(&b.estimate)
-                        .then(a.candidate.cmp(&b.candidate))
-                });
-                for cand in list {
+                let mut order = LazyOrder::new(list, threshold);
+                let mut sc = SwapScratch::default();
+                while let Some(cand) = order.next(|c| self.resolve(&st, &ss, c, &mut sc)) {
                     exact += 1;
                     let Some(e) = self.p.evaluate_or_skip(
                         &Self::swapped(&st, slot, cand.candidate),
@@ -899,6 +944,79 @@ impl<'a> Search<'a> {
     }
 }
 
+/// The kept swaps of one slot in increasing order of (estimate, candidate), the order of
+/// their exact evaluations, with the estimates that the screening left unresolved computed
+/// only when they could come next.
+///
+/// An unresolved swap's solver stopped at a lower bound $\ell$ with its upper bound below the
+/// threshold; its final estimate (the solver's upper bound at convergence) is at least $J^*
+/// \ge \ell$. So a resolved swap with estimate $E$ comes before every unresolved one whose
+/// key $\ell(1 - 10^{-12})$ (the margin far above the rounding of the solver's sums) exceeds
+/// $E$; otherwise the unresolved swap with the smallest key is resolved first. The order is
+/// then that of sorting the final estimates of every kept swap, while a slot whose first
+/// evaluations find an exchange resolves only a few.
+struct LazyOrder {
+    /// Resolved swaps, by decreasing (estimate, candidate): the next one is last.
+    ready: Vec<Screened>,
+    /// Unresolved swaps by decreasing key: the next one to resolve is last.
+    pending: Vec<(f64, usize)>,
+    /// $J(1 - \epsilon)$: a resolved swap whose lower bound is not below it is dropped (as
+    /// the screening's list drops it).
+    threshold: f64,
+}
+
+/// The relative margin of [`LazyOrder`]'s keys below the solver's lower bounds.
+const LAZY_KEY_MARGIN: f64 = 1e-12;
+
+impl LazyOrder {
+    fn new(list: Vec<(Screened, bool)>, threshold: f64) -> Self {
+        let mut ready = Vec::new();
+        let mut pending = Vec::new();
+        for (s, resolved) in list {
+            if resolved {
+                ready.push(s);
+            } else {
+                pending.push((s.lower * (1.0 - LAZY_KEY_MARGIN), s.candidate));
+            }
+        }
+        ready.sort_by(|a, b| Self::cmp(b, a));
+        pending.sort_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)));
+        Self {
+            ready,
+            pending,
+            threshold,
+        }
+    }
+
+    fn cmp(a: &Screened, b: &Screened) -> std::cmp::Ordering {
+        a.estimate
+            .total_cmp(&b.estimate)
+            .then(a.candidate.cmp(&b.candidate))
+    }
+
+    /// The next swap in order, resolving with `resolve` (candidate to its final screening)
+    /// the unresolved swaps that could come before it.
+    fn next(&mut self, mut resolve: impl FnMut(usize) -> Screened) -> Option<Screened> {
+        while let Some(&(key, c)) = self.pending.last() {
+            let before = self
+                .ready
+                .last()
+                .is_none_or(|r| key.total_cmp(&r.estimate).is_le());
+            if !before {
+                break;
+            }
+            self.pending.pop();
+            let s = resolve(c);
+            if s.lower >= self.threshold {
+                continue;
+            }
+            let at = self.ready.partition_point(|r| Self::cmp(r, &s).is_gt());
+            self.ready.insert(at, s);
+        }
+        self.ready.pop()
+    }
+}
+
 /// The largest load of the rows (`R x m`) at `x`.
 fn max_load(rows: &[f64], x: &[f64], m: usize) -> f64 {
     rows.chunks(m).map(|r| load(r, x)).fold(0.0, f64::max)
@@ -911,4 +1029,70 @@ fn abs_load(row: &[f64], x: &[f64]) -> f64 {
         .zip(x)
         .map(|(a, u)| if *a == 0.0 { 0.0 } else { a.abs() * u })
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand_chacha::ChaCha8Rng;
+    use rand_core::{Rng, SeedableRng};
+
+    /// [`LazyOrder`] gives the kept swaps in the order of sorting their final estimates (ties:
+    /// candidate), as the exchange evaluated them before, on seeded random lists: resolved
+    /// and unresolved swaps mixed, final estimates at least the unresolved swaps' lower bounds
+    /// (equal ones, ties of estimates, and resolutions whose lower bound reaches the threshold
+    /// included), for every prefix the exchange may stop after.
+    #[test]
+    fn lazy_order_is_the_sorted_order_of_the_final_estimates() {
+        let mut rng = ChaCha8Rng::seed_from_u64(21);
+        let threshold = 100.0;
+        for case in 0..500 {
+            let len = 1 + (rng.next_u32() % 40) as usize;
+            // (screened as the lazy screening returns it, resolved?, final screening)
+            let mut swaps = Vec::new();
+            for c in 0..len {
+                let lower = f64::from(rng.next_u32() % 50);
+                // few distinct values: ties of estimates and of keys
+                let estimate = lower + f64::from(rng.next_u32() % 8) * 5.0;
+                let resolved = rng.next_u32() % 3 == 0;
+                let final_lower = if rng.next_u32() % 20 == 0 {
+                    threshold
+                } else {
+                    lower
+                };
+                let fin = Screened {
+                    candidate: c,
+                    lower: final_lower,
+                    estimate,
+                };
+                let early = Screened {
+                    candidate: c,
+                    lower,
+                    estimate: if resolved { estimate } else { estimate + 7.0 },
+                };
+                swaps.push((early, resolved, fin));
+            }
+            let mut want: Vec<Screened> = swaps
+                .iter()
+                .filter(|t| t.1 || t.2.lower < threshold)
+                .map(|t| if t.1 { t.0 } else { t.2 })
+                .collect();
+            want.sort_by(LazyOrder::cmp);
+            let stop = (rng.next_u32() as usize) % (want.len() + 1);
+            let mut order = LazyOrder::new(swaps.iter().map(|t| (t.0, t.1)).collect(), threshold);
+            let mut got = Vec::new();
+            while got.len() < stop {
+                let Some(s) = order.next(|c| swaps[c].2) else {
+                    break;
+                };
+                got.push(s);
+            }
+            let key = |s: &Screened| (s.estimate.to_bits(), s.candidate, s.lower.to_bits());
+            assert_eq!(
+                got.iter().map(key).collect::<Vec<_>>(),
+                want[..stop].iter().map(key).collect::<Vec<_>>(),
+                "case {case}"
+            );
+        }
+    }
 }
