@@ -162,8 +162,8 @@ impl ReadingAnswer {
     /// without a derived second-order bound, or when the certification cannot be had (see
     /// [`ReadingAnswer::direct_certified_note`]).
     #[must_use]
-    pub fn direct_certified(&self) -> &Option<(DirectAllocation, WorstCase)> {
-        &self.direct_certified
+    pub fn direct_certified(&self) -> Option<&(DirectAllocation, WorstCase)> {
+        self.direct_certified.as_ref()
     }
 
     /// Why [`ReadingAnswer::direct_certified`] is `None`: the reading has no derived bound, the
@@ -227,8 +227,8 @@ impl BuyersAnswer {
     /// The two-step allocation (alloc-opt, sensitivity-weighted, full-range constraint)
     /// against the requirement; `None` without a requirement.
     #[must_use]
-    pub fn two_step(&self) -> &Option<Allocation> {
-        &self.two_step
+    pub fn two_step(&self) -> Option<&Allocation> {
+        self.two_step.as_ref()
     }
 
     /// One answer per reading: the simulator's reading first, then [`Reading::USER`] (if

@@ -300,8 +300,8 @@ impl BudgetDesign {
     /// The cheapest table within the budget; `None` when no evaluated point within it leaves
     /// the table room.
     #[must_use]
-    pub fn chosen(&self) -> &Option<BudgetPoint> {
-        &self.chosen
+    pub fn chosen(&self) -> Option<&BudgetPoint> {
+        self.chosen.as_ref()
     }
 
     /// The numbers of positions designed for, ascending (the table design's among them).

@@ -434,14 +434,14 @@ impl Evaluation {
 
     /// The direct allocation, when it exists.
     #[must_use]
-    pub fn allocation(&self) -> &Option<DirectAllocation> {
-        &self.allocation
+    pub fn allocation(&self) -> Option<&DirectAllocation> {
+        self.allocation.as_ref()
     }
 
     /// $\mathbf M$, when the schedule identifies every output.
     #[must_use]
-    pub fn linear(&self) -> &Option<Linearization> {
-        &self.linear
+    pub fn linear(&self) -> Option<&Linearization> {
+        self.linear.as_ref()
     }
 }
 
@@ -664,8 +664,8 @@ impl RestartOutcome {
 
     /// The exchange, or `None` when no feasible start could be made.
     #[must_use]
-    pub fn exchange(&self) -> &Option<ExchangeOutcome> {
-        &self.exchange
+    pub fn exchange(&self) -> Option<&ExchangeOutcome> {
+        self.exchange.as_ref()
     }
 
     /// The smallest largest condition number of the identifiable schedules this restart met
@@ -767,8 +767,8 @@ impl DesignSearch {
 
     /// The best feasible random schedule, if any.
     #[must_use]
-    pub fn random_best(&self) -> &Option<Evaluation> {
-        &self.random_best
+    pub fn random_best(&self) -> Option<&Evaluation> {
+        self.random_best.as_ref()
     }
 
     /// Random schedules drawn.
@@ -1397,8 +1397,8 @@ impl ScheduleReport {
     /// turntable within these tolerances meets every accuracy, so they pass
     /// `check-turntable` on this schedule. `None` when not certifiable (`certified_note`).
     #[must_use]
-    pub fn certified(&self) -> &Option<DirectAllocation> {
-        &self.certified
+    pub fn certified(&self) -> Option<&DirectAllocation> {
+        self.certified.as_ref()
     }
 
     /// Why `certified` is `None`.
@@ -1621,8 +1621,8 @@ impl ScheduleDesign {
 
     /// The best of the random schedules (`None` when none was feasible).
     #[must_use]
-    pub fn random_best(&self) -> &Option<ScheduleReport> {
-        &self.random_best
+    pub fn random_best(&self) -> Option<&ScheduleReport> {
+        self.random_best.as_ref()
     }
 
     /// The search behind them.

@@ -536,8 +536,8 @@ fn same_seed_same_design_for_one_and_four_threads() {
         );
         assert_eq!(one.d_optimal().schedule(), four.d_optimal().schedule());
         assert_eq!(
-            one.random_best().as_ref().map(|e| e.schedule()),
-            four.random_best().as_ref().map(|e| e.schedule())
+            one.random_best().map(|e| e.schedule()),
+            four.random_best().map(|e| e.schedule())
         );
         // and another seed draws other random starts
         let mut other = settings.clone();

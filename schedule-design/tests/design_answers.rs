@@ -69,11 +69,7 @@ fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {
 /// The vendor check of a schedule's recommended (certified) tolerances on that schedule.
 fn check_certified(r: &ScheduleReport, reading: Reading) -> e2e_verify::TurntableCheck {
     let e2e = simulator(r.positions_deg(), reading);
-    let ub = &r
-        .certified()
-        .as_ref()
-        .expect("certified")
-        .upper_bounds_rad();
+    let ub = &r.certified().expect("certified").upper_bounds_rad();
     e2e.check_tolerances(
         &e2e.linearization(),
         ub,
@@ -94,7 +90,6 @@ fn recommended_tolerances_are_certified_and_pass_the_vendor_check() {
     for (what, r) in [("designed", &d.designed()), ("study", &d.study())] {
         let c = r
             .certified()
-            .as_ref()
             .expect("certifiable under the paper's reading");
         assert!(c.objective() > r.allocation().objective(), "{what}");
         let check = check_certified(r, Reading::PAPER);
@@ -145,13 +140,7 @@ fn worst_case_with_study_tolerances_is_a_number_wherever_one_exists() {
     // leave each error free in turn: exactly the outputs that depend on it lose their number
     let e2e = simulator(d.designed().positions_deg(), Reading::PAPER);
     let lin = e2e.linearization();
-    let base = d
-        .study()
-        .certified()
-        .as_ref()
-        .unwrap()
-        .upper_bounds_rad()
-        .to_vec();
+    let base = d.study().certified().unwrap().upper_bounds_rad().to_vec();
     let small = 1e-12 * lin.matrix().amax();
     for j in 0..8 {
         let mut ub = base.clone();

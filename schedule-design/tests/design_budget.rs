@@ -159,10 +159,7 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
             .objective();
         assert_relative_eq!(p.objective(), j, max_relative = SAME_PATH_REL);
     }
-    let chosen = d
-        .chosen()
-        .as_ref()
-        .expect("a table suffices within the budget");
+    let chosen = d.chosen().expect("a table suffices within the budget");
     assert!(chosen.total_s() <= budget_s);
     // nothing on the front within the budget is cheaper, and the next point is over it
     let i = d.pareto().iter().position(|p| p == chosen).unwrap();
@@ -287,8 +284,8 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
         "{:?}",
         searched.counts_skipped()
     );
-    let chosen = searched.chosen().as_ref().expect("a table suffices");
-    let fixed_chosen = fixed.chosen().as_ref().expect("a table suffices");
+    let chosen = searched.chosen().expect("a table suffices");
+    let fixed_chosen = fixed.chosen().expect("a table suffices");
     assert!(chosen.total_s() <= budget_s);
     assert_relative_eq!(
         chosen.total_s(),
@@ -399,11 +396,7 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
     let coarse = run(0);
     assert!(coarse.counts_refined().is_empty());
     let refined = run(BudgetParams::default().count_refinements);
-    let c0 = coarse
-        .chosen()
-        .as_ref()
-        .expect("a table suffices")
-        .n_positions();
+    let c0 = coarse.chosen().expect("a table suffices").n_positions();
     let (below, above) = neighbours(&coarse, c0);
     for nb in [below, above].into_iter().flatten() {
         if nb.abs_diff(c0) > 1 {
@@ -415,9 +408,9 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
             );
         }
     }
-    let chosen = refined.chosen().as_ref().expect("a table suffices");
+    let chosen = refined.chosen().expect("a table suffices");
     assert!(chosen.total_s() <= budget_s);
-    assert!(chosen.objective() <= coarse.chosen().as_ref().unwrap().objective());
+    assert!(chosen.objective() <= coarse.chosen().unwrap().objective());
     for (_, positions) in refined.schedules() {
         let e2e = problem.end_to_end(positions).unwrap();
         let linear = e2e.linearization();
@@ -448,7 +441,7 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
     let spare = 4 * BudgetParams::default().count_refinements;
     let converged = run(spare);
     assert!(converged.counts_refined().len() < spare);
-    let best = converged.chosen().as_ref().expect("a table suffices");
+    let best = converged.chosen().expect("a table suffices");
     assert!(best.objective() <= chosen.objective());
     let c = best.n_positions();
     let (below, above) = neighbours(&converged, c);
@@ -459,8 +452,8 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
         coarse.counts(),
         coarse.counts_skipped(),
         c0,
-        coarse.chosen().as_ref().unwrap().dwell_s(),
-        coarse.chosen().as_ref().unwrap().objective_arcmin(),
+        coarse.chosen().unwrap().dwell_s(),
+        coarse.chosen().unwrap().objective_arcmin(),
         refined.counts_refined(),
         chosen.n_positions(),
         chosen.dwell_s(),

@@ -303,7 +303,7 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
                 counts: d.counts(),
                 counts_skipped: d.counts_skipped(),
                 counts_refined: d.counts_refined(),
-                chosen: d.chosen().as_ref().map(|p| ChosenJson {
+                chosen: d.chosen().map(|p| ChosenJson {
                     point: p.into(),
                     positions_deg: p.positions_deg(),
                     certified_objective_arcmin: d.chosen_certified_arcmin,

@@ -225,7 +225,7 @@ fn schedule_json<'a>(s: &'a Study, r: &'a ScheduleReport) -> ScheduleJson<'a> {
         bounds_arcmin: arcmin_bounds(&errors, r.allocation().upper_bounds_rad()),
         no_bound_needed: r.allocation().no_bound_needed(),
         log_det_information: r.log_det_information(),
-        certified: r.certified().as_ref().map(|c| CertifiedJson {
+        certified: r.certified().map(|c| CertifiedJson {
             objective: c.objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&errors, c.upper_bounds_rad()),
             second_order_margins: by_output(c.second_order_margins()),
@@ -277,7 +277,6 @@ fn start_name(k: StartKind) -> String {
 /// linearised one where none is certified.
 fn recommended_bounds(r: &ScheduleReport) -> &[f64] {
     r.certified()
-        .as_ref()
         .map_or(r.allocation().upper_bounds_rad(), |c| c.upper_bounds_rad())
 }
 
@@ -536,7 +535,7 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
         designed: schedule_json(s, d.designed()),
         study: schedule_json(s, d.study()),
         d_optimal: schedule_json(s, d.d_optimal()),
-        random_best: d.random_best().as_ref().map(|r| schedule_json(s, r)),
+        random_best: d.random_best().map(|r| schedule_json(s, r)),
         search: SearchJson {
             best_restart: start_name(search.restarts()[search.best_restart()].start()),
             local_optimum: search.designed().local_optimum(),
@@ -549,15 +548,12 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
                         .start_objective()
                         .is_finite()
                         .then(|| objective_to_arcmin(r.start_objective())),
-                    objective: r
-                        .exchange()
-                        .as_ref()
-                        .map(|e| e.evaluation().objective_arcmin()),
-                    exchanges: r.exchange().as_ref().map(|e| e.exchanges()),
-                    exact_evaluations: r.exchange().as_ref().map(|e| e.exact_evaluations()),
-                    screened_swaps: r.exchange().as_ref().map(|e| e.screened_swaps()),
-                    unevaluated_swaps: r.exchange().as_ref().map(|e| e.unevaluated_swaps()),
-                    local_optimum: r.exchange().as_ref().map(|e| e.local_optimum()),
+                    objective: r.exchange().map(|e| e.evaluation().objective_arcmin()),
+                    exchanges: r.exchange().map(|e| e.exchanges()),
+                    exact_evaluations: r.exchange().map(|e| e.exact_evaluations()),
+                    screened_swaps: r.exchange().map(|e| e.screened_swaps()),
+                    unevaluated_swaps: r.exchange().map(|e| e.unevaluated_swaps()),
+                    local_optimum: r.exchange().map(|e| e.local_optimum()),
                 })
                 .collect(),
             d_optimal_log_det: search.d_optimal().log_det(),
@@ -646,7 +642,7 @@ fn study_tolerances_note(s: &Study, d: &ScheduleDesign) -> String {
         Some(d.designed()),
         Some(d.study()),
         Some(d.d_optimal()),
-        d.random_best().as_ref(),
+        d.random_best(),
     ]
     .into_iter()
     .flatten()
@@ -942,7 +938,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let written = match &args.write_study {
         Some(out) => {
-            let certified = design.designed().certified().as_ref().map_or_else(
+            let certified = design.designed().certified().map_or_else(
                 || {
                     format!(
                         "none ({})",
@@ -997,9 +993,7 @@ pub fn run(args: &Args) -> Result<()> {
                 .is_some_and(|r| r.chosen.is_some() && r.chosen_study_positions);
             // with a time budget and noise: the count, positions and dwell it chose
             let chosen = match &budget {
-                Some(crate::design_budget::Budgeted::Design(d)) => {
-                    d.chosen().as_ref().map(|p| (d, p))
-                }
+                Some(crate::design_budget::Budgeted::Design(d)) => d.chosen().map(|p| (d, p)),
                 _ => None,
             };
             if let Some((d, p)) = chosen {

@@ -633,16 +633,13 @@ impl<'a> ReadingJson<'a> {
                     .collect(),
                 box_answer: BoxJson::new(e2e, r.direct_box()),
             },
-            direct_certified: r
-                .direct_certified()
-                .as_ref()
-                .map(|(d, wc)| DirectCertifiedJson {
-                    objective: d.objective_arcmin(),
-                    bounds_arcmin: arcmin_bounds(&names, d.upper_bounds_rad()),
-                    second_order_margins: d.second_order_margins(),
-                    worst_case_exact: wc.exact(),
-                    certified_bounds: wc.outputs().iter().map(|w| w.certified_bound()).collect(),
-                }),
+            direct_certified: r.direct_certified().map(|(d, wc)| DirectCertifiedJson {
+                objective: d.objective_arcmin(),
+                bounds_arcmin: arcmin_bounds(&names, d.upper_bounds_rad()),
+                second_order_margins: d.second_order_margins(),
+                worst_case_exact: wc.exact(),
+                certified_bounds: wc.outputs().iter().map(|w| w.certified_bound()).collect(),
+            }),
             direct_certified_note: r.direct_certified_note(),
             yield_based: YieldBasedJson {
                 objective: r.yield_based().objective_arcmin(),
@@ -974,7 +971,7 @@ impl<'a> EndToEndJson<'a> {
                 .two_step_requirement
                 .map(|r| crate::json::deg3(&r.to_array())),
             requirement_note: note.map(String::as_str),
-            two_step_objective: a.two_step().as_ref().map(|t| t.objective_arcmin()),
+            two_step_objective: a.two_step().map(|t| t.objective_arcmin()),
             direct_objective: r0.direct().objective_arcmin(),
             bounds_arcmin: bounds,
             readings: a

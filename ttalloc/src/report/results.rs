@@ -618,11 +618,9 @@ pub(super) fn results_json(
                 yield_based: boxj(r.yield_box()),
                 yield_target: f(r.yield_based().target()),
                 yield_verdict: r.yield_verdict().name(),
-                direct_certified: r.direct_certified().as_ref().map(|(dc, _)| {
-                    DirectCertifiedJson {
-                        objective_arcmin: f(dc.objective_arcmin()),
-                        bounds_arcmin: arcmin_map(&names, dc.upper_bounds_rad()),
-                    }
+                direct_certified: r.direct_certified().map(|(dc, _)| DirectCertifiedJson {
+                    objective_arcmin: f(dc.objective_arcmin()),
+                    bounds_arcmin: arcmin_map(&names, dc.upper_bounds_rad()),
                 }),
                 direct_certified_note: r.direct_certified_note(),
             })
