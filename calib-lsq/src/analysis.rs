@@ -685,18 +685,40 @@ fn position_sums<const L: usize>(
     for (e, v) in e.iter_mut().zip(vs) {
         *e = extended(&v.0);
     }
+    // a factor 1 (entry 0 of `extended`, the second index of every monomial of degree below
+    // 2) is not multiplied: x * 1 = x exactly, so the sums keep their bits
     let mut est = [-0.0; L];
-    for (&[a, b], c) in q.estimated.iter().zip(beta) {
+    for (&[a, b], &c) in q.estimated.iter().zip(beta) {
         let (a, b) = (usize::from(a), usize::from(b));
-        for (s, e) in est.iter_mut().zip(&e) {
-            *s += e[a] * e[b] * c;
+        match (a, b) {
+            (0, 0) => est.iter_mut().for_each(|s| *s += c),
+            (a, 0) => {
+                for (s, e) in est.iter_mut().zip(&e) {
+                    *s += e[a] * c;
+                }
+            }
+            (a, b) => {
+                for (s, e) in est.iter_mut().zip(&e) {
+                    *s += e[a] * e[b] * c;
+                }
+            }
         }
     }
     let mut known = [-0.0; L];
     for &(c, [a, b]) in &q.known {
         let (a, b) = (usize::from(a), usize::from(b));
-        for (s, e) in known.iter_mut().zip(&e) {
-            *s += c * (e[a] * e[b]);
+        match (a, b) {
+            (0, 0) => known.iter_mut().for_each(|s| *s += c),
+            (a, 0) => {
+                for (s, e) in known.iter_mut().zip(&e) {
+                    *s += c * e[a];
+                }
+            }
+            (a, b) => {
+                for (s, e) in known.iter_mut().zip(&e) {
+                    *s += c * (e[a] * e[b]);
+                }
+            }
         }
     }
     (est, known)

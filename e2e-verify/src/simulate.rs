@@ -651,16 +651,17 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         extra: &[f64],
         work: &mut DrawWork,
     ) -> Result<(), E2eError> {
-        work.actual.clear();
         match (self.chain.as_turntable_schedule(), &self.pre) {
             (Some(t), Some(pre)) => {
                 let table = t.turntable();
                 table.segment_rotations(chi, &mut work.segments)?;
                 if let Some(kernel) = &self.kernel {
+                    // the kernel writes every entry: sized once, not cleared per draw
                     work.actual.resize(self.len(), InputValues([0.0; 6]));
                     kernel.actual_into(&work.segments, &mut work.actual);
                     return Ok(());
                 }
+                work.actual.clear();
                 if self.rate.is_active() {
                     table.error_rotations(chi, &mut work.rotations)?;
                 }
@@ -677,6 +678,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 }
             }
             _ => {
+                work.actual.clear();
                 self.chain.delta_r_into(chi, &mut work.delta_r)?;
                 for (d, [a, w]) in work.delta_r.iter().zip(&self.nominal) {
                     let t = d.transpose();
