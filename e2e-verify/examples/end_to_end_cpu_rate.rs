@@ -5,9 +5,12 @@
 //!
 //! Run: `cargo run --release -p e2e-verify --example end_to_end_cpu_rate [samples] [rounds]`
 
-use calib_lsq::{Calibration, Reading};
-use e2e_verify::{EndToEnd, McSettings};
-use tt_kinematics::{Pose, paper};
+use calib_lsq::Reading;
+use e2e_verify::McSettings;
+
+/// The paper's simulator, shared with the tests.
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 /// CPU time of the calling thread, seconds.
 fn thread_cpu_s() -> Option<f64> {
@@ -17,24 +20,12 @@ fn thread_cpu_s() -> Option<f64> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let table = paper::table3();
-    let cal = Calibration::new(
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        &calib_lsq::paper::schedule(),
-    )?;
-    let poses: Vec<Pose> = cal
-        .schedule()
-        .positions()
-        .iter()
-        .map(|p| Pose::from_deg(p.joint_angles_deg()))
-        .collect::<Result<_, _>>()?;
     let mut args = std::env::args().skip(1);
     let n: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(200_000);
     let rounds: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(3);
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     for reading in [Reading::PAPER, Reading::USER] {
-        let e2e = EndToEnd::new(&table, &cal, &poses, reading)?;
+        let e2e = common::paper(reading);
         let linear = e2e.linearization();
         let bounds = e2e.box_of(&alloc_opt::paper::table4_rad(), &[0.0; 8])?;
         let mut best = 0.0f64;

@@ -4,30 +4,21 @@
 //!
 //! Run: `cargo run --release -p e2e-verify --example end_to_end_throughput`
 
-use calib_lsq::{Calibration, Reading};
-use e2e_verify::{EndToEnd, McSettings};
+use calib_lsq::Reading;
+use e2e_verify::McSettings;
 use std::time::Instant;
-use tt_kinematics::{Pose, paper};
+
+/// The paper's simulator, shared with the tests.
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let table = paper::table3();
-    let cal = Calibration::new(
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        &calib_lsq::paper::schedule(),
-    )?;
-    let poses: Vec<Pose> = cal
-        .schedule()
-        .positions()
-        .iter()
-        .map(|p| Pose::from_deg(p.joint_angles_deg()))
-        .collect::<Result<_, _>>()?;
     let n: u64 = std::env::args()
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(1_000_000);
     for reading in [Reading::PAPER, Reading::USER] {
-        let e2e = EndToEnd::new(&table, &cal, &poses, reading)?;
+        let e2e = common::paper(reading);
         let linear = e2e.linearization();
         let bounds = e2e.box_of(&alloc_opt::paper::table4_rad(), &[0.0; 8])?;
         let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;

@@ -8,13 +8,16 @@
 //!
 //! `cargo run --release -p e2e-verify --example timedomain_throughput [CALIBRATIONS]`
 
-use calib_lsq::{Calibration, Reading, Timing};
+use calib_lsq::{Reading, Timing};
+use e2e_verify::McSettings;
 use e2e_verify::ziggurat::{WordBlock, Ziggurat};
-use e2e_verify::{EndToEnd, McSettings};
 use gw_model::noise::{GaussMarkov, NoiseModel};
 use rayon::prelude::*;
 use std::time::Instant;
-use tt_kinematics::{Pose, paper};
+
+/// The paper's simulator, shared with the tests.
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 /// Samples per chunk of the generator-alone runs.
 const CHUNK: u64 = 1 << 20;
@@ -39,18 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.parse())
         .transpose()?
         .unwrap_or(2_000);
-    let cal = Calibration::new(
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        &calib_lsq::paper::schedule(),
-    )?;
-    let poses: Vec<Pose> = cal
-        .schedule()
-        .positions()
-        .iter()
-        .map(|p| Pose::from_deg(p.joint_angles_deg()))
-        .collect::<Result<_, _>>()?;
-    let e2e = EndToEnd::new(&paper::table3(), &cal, &poses, Reading::USER)?;
+    let e2e = common::paper(Reading::USER);
     // 32 positions x 10 s at 100 Hz: 32,000 samples per output and calibration
     let timing = Timing::uniform(e2e.len(), 10.0, 2.0, 100.0)?;
     let m = NoiseModel::new(0.004, Some(GaussMarkov::new(0.001, 600.0)?), 0.001)?;
