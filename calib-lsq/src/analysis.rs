@@ -50,8 +50,7 @@
 //! dispatch gives the value and the derivative.
 
 use crate::calibration::{
-    Calibration, FastOutput, OutputCalibration, QuadraticTerms, design_matrix, extended,
-    known_vector, simulate_outputs,
+    Calibration, FastOutput, OutputCalibration, design_matrix, known_vector, simulate_outputs,
 };
 use crate::error::CalibError;
 use crate::lsq::{QrSolve, Regression};
@@ -424,9 +423,13 @@ pub struct ErrorWork {
     reading: ReadingWork,
     /// Actual regressor rows, row-major $n \times k$ (when the reading needs them).
     rows: Vec<f64>,
-    b1_actual: Vec<f64>,
-    b2_actual: Vec<f64>,
-    y: Vec<f64>,
+    pub(crate) b1_actual: Vec<f64>,
+    pub(crate) b2_actual: Vec<f64>,
+    pub(crate) y: Vec<f64>,
+    /// The actual inputs as columns (the fast readings from input values).
+    columns: crate::columns::InputColumns,
+    /// The actual inputs as values (the other readings from columns).
+    pub(crate) values: Vec<InputValues>,
 }
 
 /// The building blocks at given actual input values, with the precomputed row-major
@@ -544,25 +547,13 @@ impl OutputCalibration {
         for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
             tt_core::length(what, n, len)?;
         }
-        let f = &self.fast;
-        if let (OutputsAt::Intended, Estimate::Beta1, ErrorForm::Printed) =
-            (reading.outputs, reading.estimate, reading.form)
-        {
-            // b1 and beta-hat-1 do not depend on the actual inputs: only b2' does
-            for ((o, c), v) in out.iter_mut().zip(&f.intended_residual).zip(actual) {
-                let known: f64 = f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum();
-                *o = c - known;
-            }
-            return Ok(());
-        }
-        if let (Some(q), OutputsAt::Actual, Estimate::Beta1, ErrorForm::Printed) = (
-            &f.quadratic,
-            reading.outputs,
-            reading.estimate,
-            reading.form,
-        ) {
-            self.actual_beta1_error_vector(q, actual, work, out);
-            return Ok(());
+        if self.reads_columns(reading) {
+            // the fast readings have one implementation, on columns
+            let mut columns = std::mem::take(&mut work.columns);
+            columns.set_values(actual);
+            let r = self.error_vector_columns(reading, &columns, work, out);
+            work.columns = columns;
+            return r;
         }
         self.error_vector_generic(reading, actual, work, out)
     }
@@ -593,7 +584,7 @@ impl OutputCalibration {
 
     /// [`OutputCalibration::error_vector_at`] for any reading and any output (lengths checked
     /// by the caller).
-    fn error_vector_generic(
+    pub(crate) fn error_vector_generic(
         &self,
         reading: Reading,
         actual: &[InputValues],
@@ -648,6 +639,7 @@ impl OutputCalibration {
             b1_actual,
             b2_actual,
             y,
+            ..
         } = work;
         let terms = ActualTerms {
             cal: self,
@@ -660,152 +652,6 @@ impl OutputCalibration {
         };
         reading.error_vector(&terms, rw, out);
         Ok(())
-    }
-}
-
-/// Positions whose sums [`position_sums`] advances side by side.
-/// Eight: each sum is a chain of dependent additions, and eight positions give the processor
-/// four independent two-lane chains (four gave two, latency-bound).
-pub(crate) const POSITION_LANES: usize = 8;
-
-/// Estimated coefficients whose sums $\hat{\boldsymbol\beta}_1 = \mathbf A^+\mathbf y$
-/// advance in fixed-size accumulators (outputs with more take the slice path).
-pub(crate) const COEFFICIENT_LANES: usize = 8;
-
-/// $\mathbf A'\boldsymbol\beta$ and $\mathbf b_2'$ at `L` positions (`vs`, exactly `L`), each
-/// summed term by term from $-0$ in column order (the generic path's order, so the same bits);
-/// the `L` sums advance side by side.
-#[inline(always)]
-fn position_sums<const L: usize>(
-    q: &QuadraticTerms,
-    beta: &[f64],
-    vs: &[InputValues],
-) -> ([f64; L], [f64; L]) {
-    let mut e = [[0.0; 7]; L];
-    for (e, v) in e.iter_mut().zip(vs) {
-        *e = extended(&v.0);
-    }
-    // a factor 1 (entry 0 of `extended`, the second index of every monomial of degree below
-    // 2) is not multiplied: x * 1 = x exactly, so the sums keep their bits
-    let mut est = [-0.0; L];
-    for (&[a, b], &c) in q.estimated.iter().zip(beta) {
-        let (a, b) = (usize::from(a), usize::from(b));
-        match (a, b) {
-            (0, 0) => est.iter_mut().for_each(|s| *s += c),
-            (a, 0) => {
-                for (s, e) in est.iter_mut().zip(&e) {
-                    *s += e[a] * c;
-                }
-            }
-            (a, b) => {
-                for (s, e) in est.iter_mut().zip(&e) {
-                    *s += e[a] * e[b] * c;
-                }
-            }
-        }
-    }
-    let mut known = [-0.0; L];
-    for &(c, [a, b]) in &q.known {
-        let (a, b) = (usize::from(a), usize::from(b));
-        match (a, b) {
-            (0, 0) => known.iter_mut().for_each(|s| *s += c),
-            (a, 0) => {
-                for (s, e) in known.iter_mut().zip(&e) {
-                    *s += c * e[a];
-                }
-            }
-            (a, b) => {
-                for (s, e) in known.iter_mut().zip(&e) {
-                    *s += c * (e[a] * e[b]);
-                }
-            }
-        }
-    }
-    (est, known)
-}
-
-impl OutputCalibration {
-    /// [`OutputCalibration::error_vector_at`] for the user's reading ([`Reading::USER`]: outputs
-    /// at the actual orientation, $\hat{\boldsymbol\beta}_1$, eq 13 as printed) of an output
-    /// whose monomials all have degree at most 2: the same operations in the same order as
-    /// the generic path (so the same bits), without the regressor rows it does not need
-    /// ($\mathbf b_1 = \mathbf A'\boldsymbol\beta + \mathbf b_2'$ summed per position), with
-    /// branch-free monomials and the $k$ sums of $\hat{\boldsymbol\beta}_1 = \mathbf
-    /// A^+(\mathbf b_1 - \mathbf b_2)$ advanced side by side.
-    fn actual_beta1_error_vector(
-        &self,
-        q: &QuadraticTerms,
-        actual: &[InputValues],
-        work: &mut ErrorWork,
-        out: &mut [f64],
-    ) {
-        let k = q.estimated.len();
-        let beta = self.beta().as_slice();
-        let b2 = self.b2().as_slice();
-        work.b1_actual.clear();
-        work.b2_actual.clear();
-        work.b1_actual.reserve(actual.len());
-        work.b2_actual.reserve(actual.len());
-        let mut blocks = actual.chunks_exact(POSITION_LANES);
-        for block in &mut blocks {
-            let (est, known) = position_sums::<POSITION_LANES>(q, beta, block);
-            for (e, k) in est.iter().zip(&known) {
-                work.b2_actual.push(*k);
-                work.b1_actual.push(k + e);
-            }
-        }
-        for v in blocks.remainder() {
-            let ([est], [known]) = position_sums::<1>(q, beta, std::slice::from_ref(v));
-            work.b2_actual.push(known);
-            work.b1_actual.push(known + est);
-        }
-        let beta_hat = &mut work.y;
-        beta_hat.clear();
-        if q.pinv_lanes.is_empty() {
-            beta_hat.resize(k, -0.0);
-            for (i, (b1, b2)) in work.b1_actual.iter().zip(b2).enumerate() {
-                let y = b1 - b2;
-                for (acc, p) in beta_hat.iter_mut().zip(&q.pinv_cols[i * k..(i + 1) * k]) {
-                    *acc += p * y;
-                }
-            }
-        } else {
-            // the same sums in fixed-size accumulators the compiler keeps in registers (the
-            // padding lanes k.. sum zeros and are dropped)
-            let mut acc = [-0.0; COEFFICIENT_LANES];
-            let rows = q.pinv_lanes.chunks_exact(COEFFICIENT_LANES);
-            for ((b1, b2), p) in work.b1_actual.iter().zip(b2).zip(rows) {
-                let y = b1 - b2;
-                for (a, p) in acc.iter_mut().zip(p) {
-                    *a += p * y;
-                }
-            }
-            beta_hat.extend_from_slice(acc.get(..k).unwrap_or_default());
-        }
-        // A beta-hat-1 for POSITION_LANES positions side by side, each sum in dot's order,
-        // the rows of A laid out lane-contiguous (QuadraticTerms::a_lanes)
-        let a_rows = &self.fast.a_rows;
-        let lanes = out.len() / POSITION_LANES * POSITION_LANES;
-        let blocks = out[..lanes]
-            .chunks_exact_mut(POSITION_LANES)
-            .zip(work.b1_actual.chunks_exact(POSITION_LANES))
-            .zip(work.b2_actual.chunks_exact(POSITION_LANES))
-            .zip(q.a_lanes.chunks_exact((k * POSITION_LANES).max(1)));
-        for (((out, b1), b2), a) in blocks {
-            let mut pred = [-0.0; POSITION_LANES];
-            for (b, a) in beta_hat.iter().zip(a.chunks_exact(POSITION_LANES)) {
-                for (p, a) in pred.iter_mut().zip(a) {
-                    *p += a * b;
-                }
-            }
-            for (((o, p), b1), b2) in out.iter_mut().zip(&pred).zip(b1).zip(b2) {
-                *o = b1 - p - b2;
-            }
-        }
-        for i in lanes..out.len() {
-            out[i] =
-                work.b1_actual[i] - dot(&a_rows[i * k..(i + 1) * k], beta_hat) - work.b2_actual[i];
-        }
     }
 }
 

@@ -40,6 +40,12 @@ impl Mono {
         out
     }
 
+    /// The input indices of the factors, in input order (a power repeats its index).
+    #[inline(always)]
+    pub(crate) fn factors(&self) -> &[u8] {
+        self.idx.get(..usize::from(self.len)).unwrap_or_default()
+    }
+
     /// Mark the inputs (indices into the six input values) the monomial multiplies.
     pub(crate) fn mark_inputs(&self, used: &mut [bool; 6]) {
         for &i in &self.idx[..usize::from(self.len)] {
@@ -50,7 +56,7 @@ impl Mono {
     }
 
     /// The monomial as a product of two entries of $(1, \mathbf v)$ (indices into
-    /// [`extended`]), when its degree is at most 2: evaluates to the same bits as
+    /// $(1, \mathbf v)$, index 0 the 1), when its degree is at most 2: evaluates to the same bits as
     /// [`Mono::eval`] ($1\cdot x = x$ exactly).
     fn pair(&self) -> Option<[u8; 2]> {
         let i = |q: usize| self.idx[q] + 1;
@@ -63,15 +69,9 @@ impl Mono {
     }
 }
 
-/// $(1, \mathbf v)$: the entries the monomial pairs of [`QuadraticTerms`] index.
-#[inline(always)]
-pub(crate) fn extended(v: &[f64; 6]) -> [f64; 7] {
-    [1.0, v[0], v[1], v[2], v[3], v[4], v[5]]
-}
-
 /// An output whose every monomial has degree at most 2, compiled for the branch-free fast
 /// path of the readings with outputs at the actual orientation and $\hat{\boldsymbol\beta}_1$
-/// (the user's reading): each monomial a product of two entries of [`extended`].
+/// (the user's reading): each monomial a product of two entries of $(1, \mathbf v)$ (index 0 the 1).
 #[derive(Debug, Clone)]
 pub(crate) struct QuadraticTerms {
     /// The estimated terms' monomials, in column order.
@@ -81,10 +81,10 @@ pub(crate) struct QuadraticTerms {
     /// $\mathbf A^+$ position-major ($n \times k$: entry $(i, j)$ at $ik + j$).
     pub pinv_cols: Vec<f64>,
     /// $\mathbf A^+$ position-major with rows padded by zeros to
-    /// [`crate::analysis::COEFFICIENT_LANES`] entries ($n \times 8$), empty when $k$ exceeds
+    /// [`crate::columns::COEFFICIENT_LANES`] entries ($n \times 8$), empty when $k$ exceeds
     /// it.
     pub pinv_lanes: Vec<f64>,
-    /// $\mathbf A$ in blocks of [`crate::analysis::POSITION_LANES`] positions ($L$), the
+    /// $\mathbf A$ in blocks of [`crate::columns::POSITION_LANES`] positions ($L$), the
     /// positions of a block contiguous: entry $(bL + l, j)$ at $bLk + jL + l$, whole blocks
     /// only (the remaining rows are read from [`FastOutput::a_rows`]).
     pub a_lanes: Vec<f64>,
@@ -284,10 +284,10 @@ impl Calibration {
                             .flat_map(|i| (0..k).map(move |j| (j, i)))
                             .map(|(j, i)| regression.pinv()[(j, i)])
                             .collect(),
-                        pinv_lanes: if k <= crate::analysis::COEFFICIENT_LANES {
+                        pinv_lanes: if k <= crate::columns::COEFFICIENT_LANES {
                             (0..n)
                                 .flat_map(|i| {
-                                    (0..crate::analysis::COEFFICIENT_LANES).map(move |j| (j, i))
+                                    (0..crate::columns::COEFFICIENT_LANES).map(move |j| (j, i))
                                 })
                                 .map(|(j, i)| {
                                     if j < k {
@@ -301,7 +301,7 @@ impl Calibration {
                             Vec::new()
                         },
                         a_lanes: {
-                            let lanes = crate::analysis::POSITION_LANES;
+                            let lanes = crate::columns::POSITION_LANES;
                             (0..n / lanes)
                                 .flat_map(|b| {
                                     (0..k).flat_map(move |j| {

@@ -43,6 +43,7 @@
 
 pub mod analysis;
 mod calibration;
+mod columns;
 mod error;
 pub mod joint;
 mod lsq;
@@ -60,6 +61,8 @@ pub use calibration::{
     Calibration, CalibrationResult, OutputCalibration, design_matrix, known_vector,
     simulate_outputs,
 };
+#[doc(hidden)]
+pub use columns::InputColumns;
 pub use error::CalibError;
 pub use lsq::{
     CoefficientCovariance, LsqSolution, NULL_COMPONENT_TOL, NoiseCovariance, RANK_RTOL,

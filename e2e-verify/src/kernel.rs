@@ -10,20 +10,24 @@
 //! not the identity, $\mathbf w \leftarrow \mathbf A_{s,i}^T\mathbf w$. The segment rotations
 //! $\mathbf E_s(\chi)$ are the same at every position, the blocks differ: here the positions
 //! are the lanes of fixed-size arrays (structure of arrays), so the compiler evaluates
-//! [`LANES`] positions with vector instructions.
+//! [`LANES`] positions with vector instructions, and writes them straight into the columns
+//! ([`calib_lsq::InputColumns`]) the calibration reads. [`crate::EndToEnd`] runs the chain
+//! and the calibration inside `mc_verify::simd`'s dispatch: with AVX2, where the processor
+//! has it, the four lanes are one instruction.
 //!
 //! # Same bits as the per-position chain
 //! Every component is evaluated as nalgebra evaluates it:
 //! $(\mathbf M^T\mathbf w)_r = (m_{0r}w_0 + m_{1r}w_1) + m_{2r}w_2$ (`tr_mul`, a dot product
 //! per column) and $(\mathbf M\mathbf w)_r = (m_{r0}w_0 + m_{r1}w_1) + m_{r2}w_2$ (`gemv`,
 //! one column at a time from the first; IEEE addition is commutative), with no fused
-//! multiply-add (Rust never contracts). Only the lanes change, so the results are the same
-//! bits (tested against the per-position chain).
+//! multiply-add (Rust never contracts, whatever the vector width). Only the lanes change, so
+//! the results are the same bits (tested against the per-position chain, and per SIMD level
+//! in `tests/simd_levels.rs`).
 //!
 //! A vector no output reads ([`calib_lsq::OutputCalibration::inputs_used`]: the paper's
 //! reading reads the rate only) is not evaluated.
 
-use gw_model::InputValues;
+use calib_lsq::InputColumns;
 use nalgebra::{Matrix3, Vector3};
 use tt_kinematics::TurntableSchedule;
 
@@ -45,7 +49,7 @@ struct Group {
     blocks: Vec<Option<[Lanes; 9]>>,
 }
 
-/// The static positions of a turntable's schedule compiled for [`StaticChain::actual_into`].
+/// The static positions of a turntable's schedule compiled for [`StaticChain::columns_into`].
 #[derive(Debug, Clone)]
 pub(crate) struct StaticChain {
     groups: Vec<Group>,
@@ -103,19 +107,38 @@ impl StaticChain {
     }
 
     /// The actual inputs $\Delta\mathbf R_i^T\mathbf a_i$ and
-    /// $\Delta\mathbf R_i^T\boldsymbol\omega_i$ of every position into `out` (one per
-    /// position) for the segment rotations `segments` ($\mathbf E_s$, from
-    /// [`tt_kinematics::Turntable::segment_rotations`]); a vector not needed is written as 0.
-    pub(crate) fn actual_into(&self, segments: &[Matrix3<f64>], out: &mut [InputValues]) {
-        for (group, out) in self.groups.iter().zip(out.chunks_mut(LANES)) {
-            let [a, w] = match self.need {
-                [true, true] => chain(group, segments, group.pre),
-                [false, true] => [[[0.0; LANES]; 3], chain(group, segments, [group.pre[1]])[0]],
-                [true, false] => [chain(group, segments, [group.pre[0]])[0], [[0.0; LANES]; 3]],
-                [false, false] => [[[0.0; LANES]; 3]; 2],
+    /// $\Delta\mathbf R_i^T\boldsymbol\omega_i$ of every position into the columns `out`
+    /// (sized for the positions) for the segment rotations `segments` ($\mathbf E_s$, from
+    /// [`tt_kinematics::Turntable::segment_rotations`]): a group's lanes are a contiguous run
+    /// of each column. The columns of a vector not needed are not written (they keep their
+    /// zeros); the lanes past the last position hold a repeat of it (padding no one reads).
+    ///
+    /// Inlined into the caller, so that a caller's loop compiled for wider vectors
+    /// (`mc_verify::simd`) compiles the chain for them too.
+    #[inline(always)]
+    pub(crate) fn columns_into(&self, segments: &[Matrix3<f64>], out: &mut InputColumns) {
+        let mut columns = out.columns_mut();
+        for (g, group) in self.groups.iter().enumerate() {
+            let at = g * LANES;
+            let mut write = |first: usize, v: &Vec3| {
+                for (column, lanes) in columns.iter_mut().skip(first).zip(v) {
+                    if let Some(dst) = column
+                        .get_mut(at..)
+                        .and_then(<[f64]>::first_chunk_mut::<LANES>)
+                    {
+                        *dst = *lanes;
+                    }
+                }
             };
-            for (l, o) in out.iter_mut().enumerate() {
-                o.0 = [a[0][l], a[1][l], a[2][l], w[0][l], w[1][l], w[2][l]];
+            match self.need {
+                [true, true] => {
+                    let [a, w] = chain(group, segments, group.pre);
+                    write(0, &a);
+                    write(3, &w);
+                }
+                [false, true] => write(3, &chain(group, segments, [group.pre[1]])[0]),
+                [true, false] => write(0, &chain(group, segments, [group.pre[0]])[0]),
+                [false, false] => {}
             }
         }
     }
@@ -169,6 +192,7 @@ fn mul(m: &[Lanes; 9], w: &Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gw_model::InputValues;
     use tt_kinematics::{Pose, paper};
 
     /// The lanes give the per-position chain's bits, for every choice of vectors and a last
@@ -192,7 +216,6 @@ mod tests {
             })
             .collect();
         let mut segments = vec![Matrix3::identity(); table.n_segments()];
-        let mut out = vec![InputValues([f64::NAN; 6]); poses.len()];
         for draw in 0..20 {
             let chi: Vec<f64> = (0..table.n_rotation_errors())
                 .map(|j| 1e-4 * ((draw * 7 + j * 3) % 11) as f64 - 5e-4)
@@ -200,13 +223,15 @@ mod tests {
             table.segment_rotations(&chi, &mut segments).unwrap();
             for need in [[true, true], [false, true], [true, false]] {
                 let k = StaticChain::new(&schedule, &pre, need).unwrap();
-                k.actual_into(&segments, &mut out);
-                for ((o, f), [a, w]) in out.iter().zip(schedule.frames()).zip(&pre) {
+                let mut out = InputColumns::new(poses.len());
+                k.columns_into(&segments, &mut out);
+                for (i, (f, [a, w])) in schedule.frames().iter().zip(&pre).enumerate() {
                     let a = f.delta_r_transpose_times_pre(&segments, a);
                     let w = f.delta_r_transpose_times_pre(&segments, w);
                     let expected = InputValues::new(&a, &w).0;
-                    for (q, (got, want)) in o.0.iter().zip(expected).enumerate() {
+                    for (q, want) in expected.into_iter().enumerate() {
                         let want = if need[q / 3] { want } else { 0.0 };
+                        let got = out.value(i).0[q];
                         assert_eq!(got.to_bits(), want.to_bits(), "input {q}, need {need:?}");
                     }
                 }

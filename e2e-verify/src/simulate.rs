@@ -5,6 +5,7 @@
 use crate::error::{E2eError, finite};
 use calib_lsq::{Calibration, ErrorAnalysis, ErrorWork, OrientationErrorAnalysis, Reading};
 use gw_model::InputValues;
+use mc_verify::simd::{HotLoop, SimdLevel, run_at};
 use nalgebra::{Matrix3, Vector3};
 use tt_kinematics::{
     ChainKind, Pose, ScheduleErrorModel, Turntable, TurntableErrors, TurntableSchedule,
@@ -134,10 +135,97 @@ pub struct DrawWork {
     /// Every angular error's rotation (rate steps only).
     rotations: Vec<Matrix3<f64>>,
     actual: Vec<InputValues>,
+    /// The actual inputs as columns (a turntable's static positions, [`crate::kernel`]).
+    columns: calib_lsq::InputColumns,
     error: Vec<f64>,
     work: ErrorWork,
     /// $\Delta\omega_k$ of every output after [`EndToEnd::delta_omega_into`] (output unit).
     pub delta_omega: Vec<f64>,
+    /// The instruction set the chain and the calibration are compiled for.
+    level: SimdLevel,
+}
+
+impl DrawWork {
+    /// The same scratch space with the per-draw chain and calibration compiled for `level`
+    /// instead of the widest level of the CPU ([`SimdLevel::detected`], the default). The
+    /// results are bit-identical on every level (see `mc_verify::simd`); this exists to prove
+    /// it and to measure the levels against each other.
+    ///
+    /// # Errors
+    /// [`E2eError::Bounds`] ([`mc_verify::McError::SimdUnavailable`]) if the CPU lacks
+    /// `level`.
+    pub fn with_simd_level(self, level: SimdLevel) -> Result<Self, E2eError> {
+        Ok(Self {
+            level: level.check()?,
+            ..self
+        })
+    }
+
+    /// The instruction set the chain and the calibration are compiled for.
+    #[must_use]
+    pub fn simd_level(&self) -> SimdLevel {
+        self.level
+    }
+}
+
+/// One draw's inputs and calibration ([`EndToEnd::inputs_into`], then the error vectors),
+/// compiled for the work's [`SimdLevel`]: `vectors` `None` keeps only $\Delta\omega_k$
+/// ([`EndToEnd::delta_omega_into`]), `Some` also writes each output's error vector.
+struct Draw<'a, S: ScheduleErrorModel> {
+    e2e: &'a EndToEnd<S>,
+    chi: &'a [f64],
+    extra: &'a [f64],
+    work: &'a mut DrawWork,
+    vectors: Option<&'a mut [Vec<f64>]>,
+}
+
+impl<S: ScheduleErrorModel> HotLoop for Draw<'_, S> {
+    type Output = Result<(), E2eError>;
+
+    #[inline(always)]
+    fn run(self) -> Self::Output {
+        let Draw {
+            e2e,
+            chi,
+            extra,
+            work,
+            vectors,
+        } = self;
+        let columns = e2e.inputs_into(chi, extra, work)?;
+        match vectors {
+            None => e2e.finish_draw(work, columns),
+            Some(out) => {
+                for (k, v) in out.iter_mut().enumerate().take(e2e.n_outputs()) {
+                    e2e.error_vector_into(k, columns, work, v)?;
+                    work.delta_omega[k] = max_abs(v);
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// [`Draw`] at the work's level.
+    fn draw(
+        &self,
+        chi: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+        vectors: Option<&mut [Vec<f64>]>,
+    ) -> Result<(), E2eError> {
+        let level = work.level;
+        run_at(
+            level,
+            Draw {
+                e2e: self,
+                chi,
+                extra,
+                work,
+                vectors,
+            },
+        )
+    }
 }
 
 impl EndToEnd {
@@ -208,7 +296,6 @@ impl EndToEnd {
     ) -> Result<(), E2eError> {
         self.static_only("errors that vary with a shaft angle")?;
         let pre = self.pre.as_deref().unwrap_or_default();
-        work.actual.clear();
         for (i, (f, [a, w])) in self.chain.frames().iter().zip(pre).enumerate() {
             chi_at(i, chi);
             self.check_chi(chi)?;
@@ -216,9 +303,13 @@ impl EndToEnd {
                 .segment_rotations(chi, &mut work.segments)?;
             let a = f.delta_r_transpose_times_pre(&work.segments, a);
             let w = f.delta_r_transpose_times_pre(&work.segments, w);
-            work.actual.push(InputValues::new(&a, &w));
+            for (q, v) in InputValues::new(&a, &w).0.into_iter().enumerate() {
+                if let Some(c) = work.columns.column_mut(q).get_mut(i) {
+                    *c = v;
+                }
+            }
         }
-        self.finish_draw(work)
+        self.finish_draw(work, true)
     }
 }
 
@@ -494,9 +585,11 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 Vec::new()
             },
             actual: Vec::with_capacity(self.len()),
+            columns: calib_lsq::InputColumns::new(self.len()),
             error: vec![0.0; self.len()],
             work: ErrorWork::default(),
             delta_omega: vec![0.0; self.n_outputs()],
+            level: SimdLevel::detected(),
         }
     }
 
@@ -620,8 +713,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// reading that needs $\hat{\boldsymbol\beta}_2$ meets a rank-deficient $\mathbf A'$.
     pub fn delta_omega_into(&self, chi_rad: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
-        self.actual_into(chi_rad, &self.extra_values, work)?;
-        self.finish_draw(work)
+        self.draw(chi_rad, &self.extra_values, work, None)
     }
 
     /// [`EndToEnd::delta_omega_into`] with the extra errors at `extra` (one per
@@ -637,29 +729,29 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     ) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
         self.check_extra(extra)?;
-        self.actual_into(chi_rad, extra, work)?;
-        self.finish_draw(work)
+        self.draw(chi_rad, extra, work, None)
     }
 
     /// The actual inputs at every position for the (checked) angular errors `chi` and extra
-    /// errors `extra` into `work.actual`: for a turntable, static positions by the segmented
-    /// chain and rate steps by their compiled revolution averages ([`crate::rate`]); for any
-    /// other model $\Delta\mathbf R_i^T$ of the nominal inputs.
-    pub(crate) fn actual_into(
+    /// errors `extra`: for a turntable whose positions are all static, by the compiled chain
+    /// ([`crate::kernel`]) into `work.columns` (returns `true`); otherwise into `work.actual`
+    /// (returns `false`): for a turntable, static positions by the segmented chain and rate
+    /// steps by their compiled revolution averages ([`crate::rate`]); for any other model
+    /// $\Delta\mathbf R_i^T$ of the nominal inputs.
+    #[inline(always)]
+    fn inputs_into(
         &self,
         chi: &[f64],
         extra: &[f64],
         work: &mut DrawWork,
-    ) -> Result<(), E2eError> {
+    ) -> Result<bool, E2eError> {
         match (self.chain.as_turntable_schedule(), &self.pre) {
             (Some(t), Some(pre)) => {
                 let table = t.turntable();
                 table.segment_rotations(chi, &mut work.segments)?;
                 if let Some(kernel) = &self.kernel {
-                    // the kernel writes every entry: sized once, not cleared per draw
-                    work.actual.resize(self.len(), InputValues([0.0; 6]));
-                    kernel.actual_into(&work.segments, &mut work.actual);
-                    return Ok(());
+                    kernel.columns_into(&work.segments, &mut work.columns);
+                    return Ok(true);
                 }
                 work.actual.clear();
                 if self.rate.is_active() {
@@ -685,6 +777,35 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                     work.actual.push(InputValues::new(&(t * a), &(t * w)));
                 }
             }
+        }
+        Ok(false)
+    }
+
+    /// [`EndToEnd::inputs_into`], always into `work.actual`.
+    fn actual_into(&self, chi: &[f64], extra: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
+        if self.inputs_into(chi, extra, work)? {
+            work.actual.clear();
+            work.actual
+                .extend((0..work.columns.len()).map(|i| work.columns.value(i)));
+        }
+        Ok(())
+    }
+
+    /// Output `k`'s error vector into `out` from the inputs [`EndToEnd::inputs_into`] left in
+    /// `work` (`columns` as it returned).
+    #[inline(always)]
+    fn error_vector_into(
+        &self,
+        k: usize,
+        columns: bool,
+        work: &mut DrawWork,
+        out: &mut [f64],
+    ) -> Result<(), E2eError> {
+        let o = &self.calibration.outputs()[k];
+        if columns {
+            o.error_vector_columns(self.reading, &work.columns, &mut work.work, out)?;
+        } else {
+            o.error_vector_at(self.reading, &work.actual, &mut work.work, out)?;
         }
         Ok(())
     }
@@ -742,12 +863,20 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         }))
     }
 
-    /// The reading's $\Delta\omega_k$ of every output from `work.actual`.
-    fn finish_draw(&self, work: &mut DrawWork) -> Result<(), E2eError> {
-        for (k, o) in self.calibration.outputs().iter().enumerate() {
-            o.error_vector_at(self.reading, &work.actual, &mut work.work, &mut work.error)?;
-            work.delta_omega[k] = work.error.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    /// The reading's $\Delta\omega_k$ of every output from the inputs
+    /// [`EndToEnd::inputs_into`] left in `work` (`columns` as it returned).
+    #[inline(always)]
+    fn finish_draw(&self, work: &mut DrawWork, columns: bool) -> Result<(), E2eError> {
+        let mut error = std::mem::take(&mut work.error);
+        for k in 0..self.n_outputs() {
+            let r = self.error_vector_into(k, columns, work, &mut error);
+            if let Err(e) = r {
+                work.error = error;
+                return Err(e);
+            }
+            work.delta_omega[k] = max_abs(&error);
         }
+        work.error = error;
         Ok(())
     }
 
@@ -764,18 +893,8 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         out: &mut [Vec<f64>],
     ) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
-        self.actual_into(chi_rad, &self.extra_values, work)?;
         // each output's error vector once: Delta omega_k from it as finish_draw takes it
-        for (k, (o, v)) in self
-            .calibration
-            .outputs()
-            .iter()
-            .zip(out.iter_mut())
-            .enumerate()
-        {
-            o.error_vector_at(self.reading, &work.actual, &mut work.work, v)?;
-            work.delta_omega[k] = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
-        }
+        self.draw(chi_rad, &self.extra_values, work, Some(out))?;
         Ok(())
     }
 
@@ -797,16 +916,9 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// As [`EndToEnd::delta_omega_into`].
     pub fn error_vectors(&self, chi_rad: &[f64]) -> Result<Vec<Vec<f64>>, E2eError> {
         let mut w = self.work();
-        self.delta_omega_into(chi_rad, &mut w)?;
-        self.calibration
-            .outputs()
-            .iter()
-            .map(|o| {
-                let mut out = vec![0.0; self.len()];
-                o.error_vector_at(self.reading, &w.actual, &mut w.work, &mut out)?;
-                Ok(out)
-            })
-            .collect()
+        let mut out = vec![vec![0.0; self.len()]; self.n_outputs()];
+        self.error_vectors_into(chi_rad, &mut w, &mut out)?;
+        Ok(out)
     }
 
     /// The estimated coefficients minus their true values, every estimated coefficient in
@@ -860,6 +972,31 @@ impl<S: ScheduleErrorModel + Clone> EndToEnd<S> {
         })
     }
 }
+
+/// $\lVert\mathbf v\rVert_\infty$, a NaN entry skipped as [`f64::max`] skips it (the caller
+/// tests the result for finiteness). A compare and a select per entry in [`MAX_LANES`]
+/// running maxima, which the compiler vectorises; the largest of exact values does not
+/// depend on the order, so the result is the sequential fold's.
+#[inline(always)]
+fn max_abs(v: &[f64]) -> f64 {
+    let larger = |m: f64, x: f64| if x > m { x } else { m };
+    let mut lanes = [0.0; MAX_LANES];
+    let mut chunks = v.chunks_exact(MAX_LANES);
+    for c in &mut chunks {
+        for (m, x) in lanes.iter_mut().zip(c) {
+            *m = larger(*m, x.abs());
+        }
+    }
+    chunks
+        .remainder()
+        .iter()
+        .map(|x| x.abs())
+        .chain(lanes)
+        .fold(0.0, larger)
+}
+
+/// Running maxima of [`max_abs`].
+const MAX_LANES: usize = 8;
 
 /// The step of the central differences of a rate step's inputs (unit of the error: rad, m,
 /// relative): truncation $O(h^2) \approx 10^{-10}$ and rounding $\epsilon/h \approx

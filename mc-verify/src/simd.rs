@@ -1,7 +1,8 @@
 //! Runtime choice of the instruction set of the hot loop: the only `unsafe` of the workspace.
 //!
 //! The Monte Carlo kernel is a branch-free loop over a block of samples, which the compiler
-//! vectorises. A portable build targets x86-64 v1 (SSE2, two `f64` lanes); the ChaCha
+//! vectorises; so are the end-to-end Monte Carlo's per-turntable chain and calibration
+//! (e2e-verify, through [`HotLoop`] and [`run_at`]). A portable build targets x86-64 v1 (SSE2, two `f64` lanes); the ChaCha
 //! generator already picks AVX2 at run time (`ppv-lite86`), so without the same for the
 //! kernel the evaluation, not the generator, would bound a run. [`SimdLevel::detected`] picks
 //! the widest level the CPU has, and the loop is compiled once per level (the same Rust
@@ -85,7 +86,10 @@ impl SimdLevel {
     }
 
     /// `Ok(self)` if available, else the typed error naming it.
-    pub(crate) fn check(self) -> Result<Self, McError> {
+    ///
+    /// # Errors
+    /// [`McError::SimdUnavailable`] if the CPU lacks the level.
+    pub fn check(self) -> Result<Self, McError> {
         if self.is_available() {
             Ok(self)
         } else {
@@ -96,8 +100,9 @@ impl SimdLevel {
 
 /// A piece of hot code to compile once per level; its `run` must be `#[inline(always)]`
 /// (with everything it calls in the loop) so that it is compiled inside the level's
-/// `#[target_feature]` function.
-pub(crate) trait HotLoop {
+/// `#[target_feature]` function. Public so that a caller's own hot loop (e2e-verify's
+/// per-turntable chain and calibration) takes the same dispatch, with no `unsafe` of its own.
+pub trait HotLoop {
     /// What the loop returns.
     type Output;
     /// Run it.
@@ -108,7 +113,7 @@ pub(crate) trait HotLoop {
 /// [`SimdLevel::detected`] or [`SimdLevel::check`]; an unavailable level falls back to
 /// [`SimdLevel::Portable`] (never executes an instruction the CPU lacks).
 #[inline]
-pub(crate) fn run_at<H: HotLoop>(level: SimdLevel, hot: H) -> H::Output {
+pub fn run_at<H: HotLoop>(level: SimdLevel, hot: H) -> H::Output {
     #[cfg(target_arch = "x86_64")]
     if level == SimdLevel::Avx2 && level.is_available() {
         // SAFETY: `is_available` has just confirmed AVX2 (`is_x86_feature_detected!`), the
