@@ -3,7 +3,9 @@
 //! Linux), so the figure holds on a loaded host where wall-clock rates do not. Prints
 //! nothing where that file is absent.
 //!
-//! Run: `cargo run --release -p e2e-verify --example end_to_end_cpu_rate [samples] [rounds]`
+//! Run: `cargo run --release -p e2e-verify --example end_to_end_cpu_rate [samples] [rounds]
+//! [reading]` (a reading such as `actual/beta1/printed` measures that one only, e.g. to
+//! profile it).
 
 use calib_lsq::Reading;
 use e2e_verify::McSettings;
@@ -24,7 +26,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(200_000);
     let rounds: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(3);
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let only: Option<Reading> = args.next().map(|r| r.parse()).transpose()?;
     for reading in [Reading::PAPER, Reading::USER] {
+        if only.is_some_and(|o| o != reading) {
+            continue;
+        }
         let e2e = common::paper(reading);
         let linear = e2e.linearization();
         let bounds = e2e.box_of(&alloc_opt::paper::table4_rad(), &[0.0; 8])?;
