@@ -270,38 +270,16 @@ impl OutputCalibration {
             sums.clear();
             sums.resize(actual.stride(), -0.0);
         }
-        for (&[a, b], &c) in q.estimated.iter().zip(beta) {
-            let (x, y) = (actual.extended(a), actual.extended(b));
-            match (a, b) {
-                (0, 0) => b1_actual.iter_mut().for_each(|s| *s += c),
-                (_, 0) => {
-                    for (s, x) in b1_actual.iter_mut().zip(x) {
-                        *s += x * c;
-                    }
-                }
-                _ => {
-                    for ((s, x), y) in b1_actual.iter_mut().zip(x).zip(y) {
-                        *s += x * y * c;
-                    }
-                }
-            }
-        }
-        for &(c, [a, b]) in &q.known {
-            let (x, y) = (actual.extended(a), actual.extended(b));
-            match (a, b) {
-                (0, 0) => b2_actual.iter_mut().for_each(|s| *s += c),
-                (_, 0) => {
-                    for (s, x) in b2_actual.iter_mut().zip(x) {
-                        *s += c * x;
-                    }
-                }
-                _ => {
-                    for ((s, x), y) in b2_actual.iter_mut().zip(x).zip(y) {
-                        *s += c * (x * y);
-                    }
-                }
-            }
-        }
+        add_terms(
+            b1_actual,
+            actual,
+            q.estimated.iter().copied().zip(beta.iter().copied()),
+        );
+        add_terms(
+            b2_actual,
+            actual,
+            q.known.iter().map(|&(c, pair)| (pair, c)),
+        );
         for (b1, b2) in b1_actual.iter_mut().zip(b2_actual.iter()) {
             // b1 = b2' + A' beta (IEEE addition commutes: the generic path's bits)
             *b1 += b2;
@@ -363,6 +341,29 @@ impl OutputCalibration {
             let row = a_rows.get(i * k..(i + 1) * k).unwrap_or_default();
             let p: f64 = row.iter().zip(beta_hat.iter()).map(|(a, b)| a * b).sum();
             *o = b1 - p - b2;
+        }
+    }
+}
+
+/// Add $c\,m(\mathbf v)$ to `sums` at every position for each (monomial pair, value $c$) of
+/// `terms`, term by term: the generic path's $(x y) c$ and $c (x y)$ are the same bits (IEEE
+/// multiplication commutes), and a factor 1 is not multiplied ($x \cdot 1 = x$ exactly).
+#[inline(always)]
+fn add_terms(sums: &mut [f64], actual: &InputColumns, terms: impl Iterator<Item = ([u8; 2], f64)>) {
+    for ([a, b], c) in terms {
+        let (x, y) = (actual.extended(a), actual.extended(b));
+        match (a, b) {
+            (0, 0) => sums.iter_mut().for_each(|s| *s += c),
+            (_, 0) => {
+                for (s, x) in sums.iter_mut().zip(x) {
+                    *s += x * c;
+                }
+            }
+            _ => {
+                for ((s, x), y) in sums.iter_mut().zip(x).zip(y) {
+                    *s += x * y * c;
+                }
+            }
         }
     }
 }
