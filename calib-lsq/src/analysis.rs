@@ -543,10 +543,7 @@ impl OutputCalibration {
         work: &mut ErrorWork,
         out: &mut [f64],
     ) -> Result<(), CalibError> {
-        let n = self.b2().len();
-        for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
-            tt_core::length(what, n, len)?;
-        }
+        self.check_lengths(actual.len(), out.len())?;
         if self.reads_columns(reading) {
             // the fast readings have one implementation, on columns
             let mut columns = std::mem::take(&mut work.columns);
@@ -556,6 +553,19 @@ impl OutputCalibration {
             return r;
         }
         self.error_vector_generic(reading, actual, work, out)
+    }
+
+    /// The number of positions $n$, after checking that there are `actual` input values and
+    /// `out` error-vector entries, one per position.
+    ///
+    /// # Errors
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) naming the one that differs.
+    pub(crate) fn check_lengths(&self, actual: usize, out: usize) -> Result<usize, CalibError> {
+        let n = self.b2().len();
+        for (what, len) in [("actual inputs", actual), ("error vector", out)] {
+            tt_core::length(what, n, len)?;
+        }
+        Ok(n)
     }
 
     /// Which of the six input values ($a_x, a_y, a_z, \omega_x, \omega_y, \omega_z$)

@@ -178,10 +178,7 @@ impl OutputCalibration {
         work: &mut ErrorWork,
         out: &mut [f64],
     ) -> Result<(), CalibError> {
-        let n = self.b2().len();
-        for (what, len) in [("actual inputs", actual.len()), ("error vector", out.len())] {
-            tt_core::length(what, n, len)?;
-        }
+        let n = self.check_lengths(actual.len(), out.len())?;
         match (
             reading.outputs,
             reading.estimate,
