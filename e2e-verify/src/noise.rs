@@ -741,7 +741,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
                         normals(&mut noise_rng, f.ncols(), &mut z);
                         add_product(f, &z, v);
                     }
-                    let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                    let worst = crate::simulate::max_abs(v);
                     if !worst.is_finite() {
                         return Err(E2eError::Draw {
                             sample: index,

@@ -1046,7 +1046,7 @@ impl crate::EndToEnd {
                             fd_w += w * r.rate_rad_per_s / h;
                         }
                     }
-                    let size = |v: &[f64]| v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                    let size = crate::simulate::max_abs;
                     let round = weights.iter().sum::<f64>() * FD_ROUNDING_REL / h;
                     let (rf, rw) = (
                         rem.specific_force_g + fd_f + round * size(&u0.0[..3]),

@@ -978,7 +978,7 @@ impl<S: ScheduleErrorModel + Clone> EndToEnd<S> {
 /// running maxima, which the compiler vectorises; the largest of exact values does not
 /// depend on the order, so the result is the sequential fold's.
 #[inline(always)]
-fn max_abs(v: &[f64]) -> f64 {
+pub(crate) fn max_abs(v: &[f64]) -> f64 {
     let larger = |m: f64, x: f64| if x > m { x } else { m };
     let mut lanes = [0.0; MAX_LANES];
     let mut chunks = v.chunks_exact(MAX_LANES);

@@ -350,7 +350,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
                             v[i] += ei;
                         }
                     }
-                    let worst = v.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                    let worst = crate::simulate::max_abs(v);
                     if worst <= acc[k] {
                         part.2[k] += 1;
                     } else {
