@@ -110,8 +110,9 @@ impl StaticChain {
     /// $\Delta\mathbf R_i^T\boldsymbol\omega_i$ of every position into the columns `out`
     /// (sized for the positions) for the segment rotations `segments` ($\mathbf E_s$, from
     /// [`tt_kinematics::Turntable::segment_rotations`]): a group's lanes are a contiguous run
-    /// of each column. The columns of a vector not needed are not written (they keep their
-    /// zeros); the lanes past the last position hold a repeat of it (padding no one reads).
+    /// of each column. The columns of a vector not needed are not written (no output reads
+    /// them, [`calib_lsq::OutputCalibration::inputs_used`]); the lanes past the last position
+    /// hold a repeat of it (padding no one reads).
     ///
     /// Inlined into the caller, so that a caller's loop compiled for wider vectors
     /// (`mc_verify::simd`) compiles the chain for them too.
