@@ -74,14 +74,14 @@ impl InputColumns {
     /// The length of every column: the number of positions rounded up to a whole number of
     /// [`POSITION_LANES`] (a multiple of 4 and of 8).
     #[must_use]
-    pub fn stride(&self) -> usize {
+    pub(crate) fn stride(&self) -> usize {
         self.stride
     }
 
     /// Column `q` (input value `q` of every position, then the padding), [`Self::stride`]
     /// long; empty for `q` >= 6.
     #[must_use]
-    pub fn column(&self, q: usize) -> &[f64] {
+    pub(crate) fn column(&self, q: usize) -> &[f64] {
         if q < 6 {
             self.extended(q as u8 + 1)
         } else {
@@ -110,7 +110,7 @@ impl InputColumns {
     }
 
     /// Lay out `values` (one per position), resizing for their number.
-    pub fn set_values(&mut self, values: &[InputValues]) {
+    pub(crate) fn set_values(&mut self, values: &[InputValues]) {
         if self.n != values.len() {
             *self = Self::new(values.len());
         }
