@@ -1,0 +1,12 @@
+#![doc = include_str!("../README.md")]
+
+pub mod budget;
+mod error;
+pub mod input;
+pub mod special;
+
+pub use budget::{
+    Budget, BudgetResult, BudgetRow, BudgetSettings, OutputUncertainty, coverage_factor,
+};
+pub use error::MetrologyError;
+pub use input::{Distribution, Input};
