@@ -3,6 +3,7 @@
 pub mod budget;
 mod error;
 pub mod input;
+pub mod montecarlo;
 pub mod special;
 
 pub use budget::{
