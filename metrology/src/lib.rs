@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod budget;
+pub mod decision;
 mod error;
 pub mod input;
 pub mod montecarlo;
