@@ -237,6 +237,8 @@ impl Budget {
             None => &cd * cd.transpose(),
         };
         let mut outputs = Vec::with_capacity(m);
+        // coverage factors by degrees of freedom: truncated dof repeat across outputs
+        let mut factors: Vec<(u64, f64)> = Vec::new();
         for (j, name) in output_names.iter().enumerate() {
             let contributions: Vec<f64> = cd.row(j).iter().map(|v| v.abs()).collect();
             let combined = covariance[(j, j)].max(0.0).sqrt();
@@ -255,7 +257,14 @@ impl Budget {
             } else {
                 dof_eff
             };
-            let k = coverage_factor(dof_used, self.settings.coverage)?;
+            let k = match factors.iter().find(|(bits, _)| *bits == dof_used.to_bits()) {
+                Some(&(_, k)) => k,
+                None => {
+                    let k = coverage_factor(dof_used, self.settings.coverage)?;
+                    factors.push((dof_used.to_bits(), k));
+                    k
+                }
+            };
             outputs.push(OutputUncertainty {
                 name: name.as_ref().to_string(),
                 sensitivities: c.row(j).iter().copied().collect(),

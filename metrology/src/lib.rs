@@ -5,6 +5,7 @@ pub mod decision;
 mod error;
 pub mod input;
 pub mod montecarlo;
+pub mod plan;
 pub mod special;
 
 pub use budget::{

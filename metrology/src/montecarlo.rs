@@ -222,14 +222,9 @@ pub fn run<M: Model>(
         }
     }
     .min(mb - 1);
-    // 0-based start of the symmetric interval: r - 1 of JCGM 101 7.7.2
-    let sym_start = if (mb - q) % 2 == 0 {
-        (mb - q) / 2
-    } else {
-        (mb - q + 1) / 2
-    }
-    .max(1)
-        - 1;
+    // 0-based start of the symmetric interval: r - 1 of JCGM 101 7.7.2, with r = (M - q)/2
+    // when even, (M - q + 1)/2 when odd: the ceiling of (M - q)/2 either way
+    let sym_start = (mb - q).div_ceil(2).max(1) - 1;
 
     let components: usize = inputs.iter().map(Input::components).sum();
     let mut values = vec![0.0; mb * m_out]; // trial-major: values[t * m_out + j]
