@@ -232,8 +232,7 @@ impl DecisionRule {
         let upper = tol.upper.map(|h| h - w);
         let empty = matches!((lower, upper), (Some(l), Some(h)) if l > h);
         Acceptance {
-            lower,
-            upper,
+            interval: Tolerance { lower, upper },
             guard_band: w,
             empty,
         }
@@ -291,23 +290,16 @@ impl fmt::Display for DecisionRule {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Acceptance {
-    lower: Option<f64>,
-    upper: Option<f64>,
+    interval: Tolerance,
     guard_band: f64,
     empty: bool,
 }
 
 impl Acceptance {
-    /// $A_L$, if any.
+    /// The limits $A_L$, $A_U$ (those the tolerance has; $A_L > A_U$ when empty).
     #[must_use]
-    pub fn lower_limit(&self) -> Option<f64> {
-        self.lower
-    }
-
-    /// $A_U$, if any.
-    #[must_use]
-    pub fn upper_limit(&self) -> Option<f64> {
-        self.upper
+    pub fn interval(&self) -> &Tolerance {
+        &self.interval
     }
 
     /// $w$ (infinite when no value can be accepted at the stated risk).
@@ -325,7 +317,7 @@ impl Acceptance {
     /// Whether `y` is accepted.
     #[must_use]
     pub fn contains(&self, y: f64) -> bool {
-        !self.empty && self.lower.is_none_or(|l| y >= l) && self.upper.is_none_or(|u| y <= u)
+        !self.empty && self.interval.contains(y)
     }
 
     /// $P_A(\eta) = \Pr[Y_m \in A \mid Y = \eta]$ for $Y_m \sim N(\eta, u_m^2)$.
@@ -342,7 +334,7 @@ impl Acceptance {
                 0.0
             }
         };
-        self.upper.map_or(1.0, cdf) - self.lower.map_or(0.0, cdf)
+        self.interval.upper.map_or(1.0, cdf) - self.interval.lower.map_or(0.0, cdf)
     }
 }
 
@@ -395,8 +387,14 @@ impl fmt::Display for Decision {
         } else {
             ("reject", "outside", "false reject")
         };
-        let lo = a.lower.map_or("-inf".to_string(), |v| format!("{v}"));
-        let hi = a.upper.map_or("inf".to_string(), |v| format!("{v}"));
+        let lo = a
+            .interval
+            .lower
+            .map_or("-inf".to_string(), |v| format!("{v}"));
+        let hi = a
+            .interval
+            .upper
+            .map_or("inf".to_string(), |v| format!("{v}"));
         write!(
             f,
             "{verdict}: measured {} (U = {}) {place} the acceptance interval [{lo}, {hi}] by {}; specific probability of {risk} {:.3} %",
@@ -569,7 +567,8 @@ pub fn global_risks(
     };
     // break points: the limits of C and A inside the range
     let mut cuts = vec![lo, hi];
-    for v in [tol.lower, tol.upper, acceptance.lower, acceptance.upper]
+    let a = &acceptance.interval;
+    for v in [tol.lower, tol.upper, a.lower, a.upper]
         .into_iter()
         .flatten()
     {

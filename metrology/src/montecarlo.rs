@@ -11,9 +11,10 @@
 //! y_{(M)}$, $q = pM$ rounded half up; symmetric $[y_{(r)}, y_{(r+q)}]$ with $r = (M-q)/2$, or
 //! $\lfloor (M - q + 1)/2 \rfloor$ when that is not an integer; shortest: the $r$ of the least
 //! $y_{(r+q)} - y_{(r)}$). After $h \ge 2$ blocks, with $s_z$ the standard deviation of the
-//! average of the $h$ block values of each of these six quantities $z$,
+//! average of the $h$ block values of each quantity $z$,
 //! $s_z^2 = \frac{1}{h(h-1)} \sum_r (z^{(r)} - \bar z)^2$, the run has stabilized when
-//! $2 s_z \le \delta$ for all of them and every output. The numerical tolerance $\delta$ of
+//! $2 s_z \le \delta$ for $y$, $u(y)$ and both endpoints of the interval stabilized
+//! ([`McSettings::interval`], symmetric by default), for every output. The numerical tolerance $\delta$ of
 //! $u(y)$ (7.9.2) writes $u(y) = c \times 10^{\ell}$ with $c$ an integer of $n_{\mathrm{dig}}$
 //! digits (the significant digits asked, default 2) and is $\delta = \tfrac12 10^{\ell}$.
 //!
@@ -94,6 +95,11 @@ pub struct McSettings {
     /// At most this many trials (rounded up to whole blocks): the run stops there unstabilized
     /// ([`McResult::stabilized`] false). Default $10^8$.
     pub max_trials: u64,
+    /// The coverage interval whose endpoints the run stabilizes (both are reported).
+    /// Default [`IntervalKind::Symmetric`]: the shortest interval's endpoints of a symmetric
+    /// distribution wander along its flat optimum (the length is stable, the position is
+    /// not), so stabilize on it only where it is the interval reported.
+    pub interval: IntervalKind,
 }
 
 impl Default for McSettings {
@@ -103,6 +109,7 @@ impl Default for McSettings {
             significant_digits: 2,
             seed: 1,
             max_trials: 100_000_000,
+            interval: IntervalKind::Symmetric,
         }
     }
 }
@@ -262,9 +269,16 @@ pub fn run<M: Model>(
             total[j].merge(&mo);
         }
         if h >= 2 {
+            // y, u(y) and the stabilized interval's endpoints
+            let ends = match settings.interval {
+                IntervalKind::Symmetric => [2, 3],
+                IntervalKind::Shortest => [4, 5],
+            };
             let done = (0..m_out).all(|j| {
                 let delta = numerical_tolerance(total[j].sd(), settings.significant_digits);
-                blocks[j].iter().all(|b| 2.0 * b.sd_of_mean() <= delta)
+                [0, 1, ends[0], ends[1]]
+                    .iter()
+                    .all(|&k| 2.0 * blocks[j][k].sd_of_mean() <= delta)
             });
             if done {
                 break true;
@@ -284,7 +298,7 @@ pub fn run<M: Model>(
                 symmetric: (b[2].mean, b[3].mean),
                 shortest: (b[4].mean, b[5].mean),
                 tolerance: numerical_tolerance(u, settings.significant_digits),
-                block_sd: std::array::from_fn(|k| b[k].sd_of_mean()),
+                block_sd: (h >= 2).then(|| std::array::from_fn(|k| b[k].sd_of_mean())),
             }
         })
         .collect();
@@ -360,7 +374,7 @@ pub struct McOutput {
     pub(crate) symmetric: (f64, f64),
     pub(crate) shortest: (f64, f64),
     pub(crate) tolerance: f64,
-    pub(crate) block_sd: [f64; QUANTITIES],
+    pub(crate) block_sd: Option<[f64; QUANTITIES]>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -398,9 +412,9 @@ impl McOutput {
 
     /// The standard deviations $s_z$ of the averages of the block values of $y$, $u(y)$, the
     /// symmetric and the shortest interval's endpoints (in that order): the run stabilized
-    /// when twice each is at most $\delta$.
+    /// when twice those of $y$, $u(y)$ and the stabilized interval are at most $\delta$. `None` after a single block (no spread yet).
     #[must_use]
-    pub fn block_sd(&self) -> [f64; 6] {
+    pub fn block_sd(&self) -> Option<[f64; 6]> {
         self.block_sd
     }
 }
@@ -457,7 +471,7 @@ impl McResult {
     }
 }
 
-/// Which Monte Carlo interval a GUM interval is compared with.
+/// A Monte Carlo coverage interval: the one stabilized, or compared with a GUM interval.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub enum IntervalKind {

@@ -44,7 +44,11 @@ fn guard_band_w_equals_u_at_95_percent_caps_the_false_accept_risk_at_2_5_percent
     let m = Measured::new(10.0 - 0.4, 0.4, K95).unwrap(); // on the acceptance limit
     let d = decide(DecisionRule::GuardBandExpanded, &tol, &m);
     assert!(d.accepted());
-    assert_relative_eq!(d.acceptance().upper_limit().unwrap(), 9.6, epsilon = 1e-12);
+    assert_relative_eq!(
+        d.acceptance().interval().upper_limit().unwrap(),
+        9.6,
+        epsilon = 1e-12
+    );
     assert_relative_eq!(d.specific_risk(), 0.025, epsilon = RISK_ABS);
     // just above: rejected, with the probability that it conforms after all
     let m = Measured::new(9.7, 0.4, K95).unwrap();
@@ -74,7 +78,7 @@ fn guard_band_for_a_stated_risk_puts_that_risk_on_the_acceptance_limit() {
         0.1 * 2.326_347_874_040_841,
         max_relative = 1e-12
     );
-    let at_limit = Measured::new(a.lower_limit().unwrap(), 0.2, 2.0).unwrap();
+    let at_limit = Measured::new(a.interval().lower_limit().unwrap(), 0.2, 2.0).unwrap();
     assert_relative_eq!(
         probability_outside(&tol, &at_limit, None),
         0.01,
@@ -84,7 +88,7 @@ fn guard_band_for_a_stated_risk_puts_that_risk_on_the_acceptance_limit() {
     // two limits close together: both tails count
     let tol = Tolerance::two_sided(-0.3, 0.3).unwrap();
     let a = rule.acceptance(&tol, 0.1, 0.2);
-    let at_limit = Measured::new(a.upper_limit().unwrap(), 0.2, 2.0).unwrap();
+    let at_limit = Measured::new(a.interval().upper_limit().unwrap(), 0.2, 2.0).unwrap();
     assert_relative_eq!(
         probability_outside(&tol, &at_limit, None),
         0.01,
@@ -204,8 +208,8 @@ fn global_risks_of_a_two_sided_tolerance_balance_the_acceptance_probability() {
         let a = rule.acceptance(&tol, um, 2.0 * um);
         let r = global_risks(&tol, &a, &prior, um).unwrap();
         let sm = (0.49_f64 + um * um).sqrt();
-        let accept = normal_cdf((a.upper_limit().unwrap() - 0.2) / sm)
-            - normal_cdf((a.lower_limit().unwrap() - 0.2) / sm);
+        let accept = normal_cdf((a.interval().upper_limit().unwrap() - 0.2) / sm)
+            - normal_cdf((a.interval().lower_limit().unwrap() - 0.2) / sm);
         assert_relative_eq!(
             r.conforming() - r.false_reject() + r.false_accept(),
             accept,

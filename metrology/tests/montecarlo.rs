@@ -213,6 +213,14 @@ fn memory_is_one_block_whatever_the_number_of_trials() {
     .unwrap();
     assert_eq!(wide.block_trials(), 100_000);
     assert!(!wide.stabilized() && wide.trials() == 100_000);
+    // one block: no spread of block averages yet (never a NaN)
+    assert_eq!(wide.outputs()[0].block_sd(), None);
+    let sd = long.outputs()[0].block_sd().unwrap();
+    // y, u(y) and the symmetric interval stabilized
+    assert!(long.stabilized());
+    for k in [0, 1, 2, 3] {
+        assert!(2.0 * sd[k] <= long.outputs()[0].tolerance(), "{sd:?}");
+    }
 }
 
 #[test]
