@@ -10,7 +10,7 @@
 //!   specific probability of false accept at most $1 - \Phi(k)$, 2.5 % for $k = 1.96$), or
 //!   the $w$ for which the specific probability of false accept at the acceptance limit is a
 //!   stated maximum $\alpha$ ([`DecisionRule::GuardBandRisk`]: $w = z_{1-\alpha} u$ at one
-//!   limit; at two limits the $w$ with $\Pr[Y \notin C \mid y = A_U] = \alpha$, both tails
+//!   limit; at two limits the $w$ with $\Pr(Y \notin C \mid y = A_U) = \alpha$, both tails
 //!   counted);
 //! - **non-binary with guard band $w = U$** (4.2.3): pass ($y$ in $A$), conditional pass
 //!   ($y$ in $C$, not in $A$), conditional fail ($y$ outside $C$ by at most $w$), fail.
@@ -18,8 +18,8 @@
 //! # Risks (JCGM 106 9)
 //! With a normal measurement $Y_m \mid Y = \eta \sim N(\eta, u_m^2)$:
 //! - the **specific** risk of one decision (JCGM 106 9.3, flat prior): if accepted, the
-//!   probability of false accept $\Pr[Y \notin C \mid y] = \Phi((T_L - y)/u) + 1 -
-//!   \Phi((T_U - y)/u)$; if rejected, the probability of false reject $\Pr[Y \in C \mid y]$;
+//!   probability of false accept $\Pr(Y \notin C \mid y) = \Phi((T_L - y)/u) + 1 -
+//!   \Phi((T_U - y)/u)$; if rejected, the probability of false reject $\Pr(Y \in C \mid y)$;
 //!   with a normal prior $N(y_0, u_0^2)$ of the units the same with the posterior
 //!   $N\big(\frac{y u_0^2 + y_0 u_m^2}{u_0^2 + u_m^2}, \frac{u_0^2 u_m^2}{u_0^2 + u_m^2}\big)$;
 //! - the **global** risks over the units (JCGM 106 9.5) for a prior $N(y_0, u_0^2)$: the
@@ -112,7 +112,7 @@ impl Tolerance {
         self.lower.is_none_or(|l| y >= l) && self.upper.is_none_or(|u| y <= u)
     }
 
-    /// $\Pr[Y \notin C]$ for $Y \sim N(\mu, \sigma^2)$ ($\sigma = 0$: 0 or 1).
+    /// $\Pr(Y \notin C)$ for $Y \sim N(\mu, \sigma^2)$ ($\sigma = 0$: 0 or 1).
     fn outside(&self, mu: f64, sigma: f64) -> f64 {
         if sigma <= 0.0 {
             return if self.contains(mu) { 0.0 } else { 1.0 };
@@ -320,7 +320,7 @@ impl Acceptance {
         !self.empty && self.interval.contains(y)
     }
 
-    /// $P_A(\eta) = \Pr[Y_m \in A \mid Y = \eta]$ for $Y_m \sim N(\eta, u_m^2)$.
+    /// $P_A(\eta) = \Pr(Y_m \in A \mid Y = \eta)$ for $Y_m \sim N(\eta, u_m^2)$.
     fn probability_accept(&self, eta: f64, um: f64) -> f64 {
         if self.empty {
             return 0.0;
@@ -529,7 +529,7 @@ impl GlobalRisk {
         self.false_reject
     }
 
-    /// $\Pr[Y \in C]$: the prior probability of conformity.
+    /// $\Pr(Y \in C)$: the prior probability of conformity.
     #[must_use]
     pub fn conforming(&self) -> f64 {
         self.conforming

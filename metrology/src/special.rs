@@ -8,7 +8,7 @@
 //!   (full precision in both tails).
 //! - $\Phi^{-1}(p)$: Abramowitz and Stegun 26.2.23 (absolute error below $4.5\cdot10^{-4}$) as
 //!   the start, then Halley steps on $\Phi$ to the last bit.
-//! - $t$: the tail $\Pr[T > t] = \tfrac12 I_{\nu/(\nu + t^2)}(\nu/2, 1/2)$ (Abramowitz and
+//! - $t$: the tail $\Pr(T > t) = \tfrac12 I_{\nu/(\nu + t^2)}(\nu/2, 1/2)$ (Abramowitz and
 //!   Stegun 26.7.1, 26.5.27), the incomplete beta function by its continued fraction (modified
 //!   Lentz); the quantile by safeguarded Newton steps on the tail, $\nu = 1$ and $\nu = 2$ in
 //!   closed form, and for $\nu \ge 10^5$ (and $\nu = \infty$) the Cornish-Fisher expansion
@@ -183,7 +183,7 @@ pub fn beta_quantile(a: f64, b: f64, p: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// $\Pr[T_\nu > t]$ for $t \ge 0$.
+/// $\Pr(T_\nu > t)$ for $t \ge 0$.
 fn t_upper_tail(t: f64, nu: f64) -> f64 {
     if t <= 0.0 {
         return 0.5;
@@ -206,7 +206,7 @@ fn t_pdf(t: f64, nu: f64) -> f64 {
         .exp()
 }
 
-/// Student's $t$ distribution function $\Pr[T_\nu \le t]$, $\nu > 0$ (real; infinite: the
+/// Student's $t$ distribution function $\Pr(T_\nu \le t)$, $\nu > 0$ (real; infinite: the
 /// normal).
 ///
 /// ```
@@ -239,7 +239,7 @@ fn t_cornish_fisher(z: f64, nu: f64) -> f64 {
     z + (g1 + (g2 + (g3 + g4 / nu) / nu) / nu) / nu
 }
 
-/// Student's $t$ quantile: the $t$ with $\Pr[T_\nu \le t] = p$, $0 < p < 1$, $\nu > 0$ real or
+/// Student's $t$ quantile: the $t$ with $\Pr(T_\nu \le t) = p$, $0 < p < 1$, $\nu > 0$ real or
 /// infinite (the normal quantile). NaN outside.
 ///
 /// ```
@@ -273,7 +273,7 @@ pub fn student_t_quantile(p: f64, nu: f64) -> f64 {
     sign * t
 }
 
-/// The $t > 0$ with $\Pr[T_\nu > t] = q$, $0 < q < 1/2$: bracket, then Newton steps kept
+/// The $t > 0$ with $\Pr(T_\nu > t) = q$, $0 < q < 1/2$: bracket, then Newton steps kept
 /// inside the bracket (bisection where a step leaves it).
 fn t_solve_tail(q: f64, nu: f64) -> f64 {
     let start = t_cornish_fisher(normal_quantile(1.0 - q), nu.max(1.0)).max(1e-3);
