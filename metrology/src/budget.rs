@@ -217,7 +217,8 @@ impl Budget {
     ///
     /// # Errors
     /// `output_names` not one per row; `sensitivities` of the wrong size or with a
-    /// non-finite entry.
+    /// non-finite entry; a covariance that overflows (reported as entry (row, col) of the
+    /// outputs' covariance, `sensitivities[j, l]`: rescale the units).
     pub fn evaluate<S: AsRef<str>>(
         &self,
         output_names: &[S],
@@ -236,6 +237,15 @@ impl Budget {
             Some(r) => &cd * r * cd.transpose(),
             None => &cd * cd.transpose(),
         };
+        // finite sensitivities and uncertainties can still overflow a double
+        if let Some((k, v)) = covariance.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(MetrologyError::NonFiniteEntry {
+                field: "sensitivities",
+                row: k % m,
+                col: k / m,
+                value: *v,
+            });
+        }
         let mut outputs = Vec::with_capacity(m);
         // coverage factors by degrees of freedom: truncated dof repeat across outputs
         let mut factors: Vec<(u64, f64)> = Vec::new();

@@ -276,6 +276,12 @@ fn bad_budget_input_names_the_field_and_value() {
     let e = budget.evaluate(&["out"], &c).unwrap_err();
     assert!(e.to_string().starts_with("sensitivities[0, 1]"), "{e}");
 
+    // finite, but the covariance overflows: an error, never an infinite or NaN budget
+    let e = budget
+        .evaluate(&["out"], &DMatrix::from_row_slice(1, 2, &[1e300, 1e300]))
+        .unwrap_err();
+    assert_eq!(e.input_field(), Some("sensitivities"));
+
     let not_psd = DMatrix::from_row_slice(2, 2, &[1.0, 1.5, 1.5, 1.0]);
     let e = Budget::new(two(), BudgetSettings::default())
         .unwrap()
