@@ -42,11 +42,15 @@
 //! JCGM 101:2008, *Evaluation of measurement data - Supplement 1 to the GUM - Propagation of
 //! distributions using a Monte Carlo method*, 6.4, 7.2, 7.6, 7.7, 7.9, 8.2.
 
-use crate::error::{MetrologyError, probability};
+use crate::error::MetrologyError;
 use crate::input::Input;
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
 use rayon::prelude::*;
+
+/// The largest coverage probability of a Monte Carlo run: its blocks of $100/(1-p)$ trials
+/// hold $10^7$ values per output.
+pub const MAX_MC_COVERAGE: f64 = 0.999_99;
 
 /// Trials per chunk (the unit of parallel work and of a ChaCha stream).
 pub const CHUNK_TRIALS: usize = 512;
@@ -201,7 +205,7 @@ const QUANTITIES: usize = 6;
 /// ```
 ///
 /// # Errors
-/// `coverage` outside (0, 1), `significant_digits` outside 1..=6, `max_trials` zero, no
+/// `coverage` outside (0, [`MAX_MC_COVERAGE`]], `significant_digits` outside 1..=6, `max_trials` zero, no
 /// inputs or no outputs, or a model value that is not finite
 /// ([`MetrologyError::NonFiniteModelValue`]).
 pub fn run<M: Model>(
@@ -209,7 +213,14 @@ pub fn run<M: Model>(
     model: &M,
     settings: &McSettings,
 ) -> Result<McResult, MetrologyError> {
-    let p = probability("coverage", settings.coverage)?;
+    // blocks of 100 / (1 - p) trials: p <= 1 - 1e-5 keeps a block within 1e7 values per output
+    let p = tt_core::in_range(
+        "coverage",
+        settings.coverage,
+        std::ops::Bound::Excluded(0.0),
+        std::ops::Bound::Included(MAX_MC_COVERAGE),
+        "",
+    )?;
     tt_core::count(
         "significant_digits",
         u64::from(settings.significant_digits),
