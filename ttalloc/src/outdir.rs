@@ -3,27 +3,37 @@
 //! killed run are recovered or removed by the next one.
 //!
 //! - `--out DIR` is checked before any work ([`Prepared::new`]): a missing or empty `DIR`, or
-//!   one holding exactly a previous report of ours (regular files with the names in its
-//!   [`MANIFEST`], every name one this program writes, [`is_report_file`]), is accepted;
-//!   anything else (a foreign file, a directory or a symbolic link where `report.md` was, a
-//!   manifest listing `../x` or `/etc/x`) is refused with exit code 2 and nothing is touched.
-//!   `DIR` naming a file is refused the same way.
+//!   one holding exactly a previous report of ours (regular files listed in its [`MANIFEST`],
+//!   every name one this program writes, [`is_report_file`], each with the SHA-256 of its
+//!   content: a file whose content differs is the user's), is accepted; anything else (a
+//!   foreign file, a report file edited since, a directory or a symbolic link where `report.md`
+//!   was, a manifest of an older version without hashes, a manifest listing `../x` or `/etc/x`)
+//!   is refused with exit code 2 and nothing is touched. `DIR` naming a file, ending in `.` or
+//!   `..`, or being a mount point (none can be exchanged) is refused the same way.
+//! - An existing `DIR` is replaced keeping its mode and owner, so it must be one the user may
+//!   read, write and search (`faccessat` with the effective ids) and own, its group one of the
+//!   user's; as root, who may write anywhere, the owner's write bit decides (a `555` directory
+//!   is refused).
 //! - A symbolic link to a directory as `DIR` is followed: the report replaces the directory it
 //!   points to (which must pass the same check); the link itself is kept. A link to a file or a
 //!   dangling link is refused (exit 2, saying what it points to).
-//! - The parent of `DIR` must be writable: the lock `.<tag>.lock` (with the process id) is
-//!   created there before the work, and its failure (an unwritable or read-only parent) is an
-//!   input error (exit 2 naming the directory). A second run into the same `DIR` finds the lock
-//!   and stops at once; a lock whose process is gone is taken over.
+//! - The parent of `DIR` must be writable: the lock `.<tag>.lock` (a signature line, the process
+//!   id and a random token) is created there before the work, and its failure (an unwritable or
+//!   read-only parent) is an input error (exit 2 naming the directory). A second run into the
+//!   same `DIR` finds the lock and stops at once; a lock of ours whose process is gone is taken
+//!   over; a file at that name without the signature (another program's) is refused, never
+//!   removed. A run removes its lock only while it holds the text it wrote.
 //! - The report is built in `.<tag>.tmp-<pid>-<n>` beside `DIR`, its manifest written first (so
 //!   that even a half-written one is recognisably ours), then swapped with `DIR` in one atomic
 //!   `renameat2(RENAME_EXCHANGE)`: there is no moment without `DIR`. Where the file system
 //!   cannot exchange, `DIR` is renamed to `.<tag>.old-<pid>-<n>` and the new report into place.
-//!   The previous report is then removed file by file (only the names its manifest lists).
+//!   The previous report is then removed file by file (only the files its manifest lists with
+//!   their content's hash).
 //! - `<tag>` is `DIR`'s name when it is at most 64 bytes of printable UTF-8, else `~` and a
 //!   64-bit hash of it, so that temporary names stay short for any `DIR`.
 //! - Recovery, under the lock, at the start of every run: a `.<tag>.tmp-*` or `.<tag>.old-*`
-//!   directory of ours (only our manifest and the files it lists, or empty) is removed; if
+//!   directory of ours (only our manifest and the files it lists with matching hashes, or
+//!   empty) is removed (one holding a file cut short by a kill is left, with a note); if
 //!   `DIR` is missing, the newest complete `.<tag>.old-*` is renamed back to `DIR` first (a run
 //!   killed between its two renames). A directory of that name that is not ours is left alone.
 

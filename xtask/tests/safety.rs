@@ -22,8 +22,16 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// The manifest's signature line (the file format of a report directory).
-const SIGNATURE: &str =
-    "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
+const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
+
+/// The SHA-256 of `bytes` in lowercase hex (a manifest line's first field).
+fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
 
 fn ok(o: &Output) {
     assert!(
@@ -35,13 +43,16 @@ fn ok(o: &Output) {
     );
 }
 
-/// A report directory of ours at `dir` (manifest listing `listed`, holding `present`).
+/// A report directory of ours at `dir` (manifest listing `listed` with the hash of `old
+/// <name>`, holding `present` with that content).
 fn fake_report(dir: &Path, listed: &[&str], present: &[&str]) {
     std::fs::create_dir_all(dir).unwrap();
     let mut m = format!("{SIGNATURE}\n");
     for l in listed {
-        m.push_str(l);
-        m.push('\n');
+        m.push_str(&format!(
+            "{}  {l}\n",
+            sha256_hex(format!("old {l}").as_bytes())
+        ));
     }
     std::fs::write(dir.join(".report-manifest"), m).unwrap();
     for p in present {
@@ -76,7 +87,19 @@ fn assert_new_report(out: &Path) {
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["samples"], 1500);
     let manifest = std::fs::read_to_string(out.join(".report-manifest")).unwrap();
-    let mut listed: Vec<String> = manifest.lines().skip(1).map(String::from).collect();
+    let mut listed: Vec<String> = manifest
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let (hash, name) = l.split_once("  ").unwrap();
+            assert_eq!(
+                sha256_hex(&std::fs::read(out.join(name)).unwrap()),
+                hash,
+                "{name}"
+            );
+            name.to_string()
+        })
+        .collect();
     listed.push(".report-manifest".into());
     listed.sort();
     assert_eq!(names(out), listed);
