@@ -17,7 +17,7 @@ fn dir_of(out: &Path) -> &Path {
 
 /// A free temporary name beside `out`, short whatever `out`'s length, created empty with
 /// mode `0666` (the umask applies).
-fn create_temporary(dir: &Path) -> std::io::Result<(std::path::PathBuf, std::fs::File)> {
+pub(crate) fn create_temporary(dir: &Path) -> std::io::Result<(std::path::PathBuf, std::fs::File)> {
     let mut last = None;
     for n in 0..100 {
         let p = dir.join(format!(".xtask-{}-{n}.tmp", std::process::id()));
@@ -112,7 +112,7 @@ pub fn check_all(outputs: &[(&str, &Path)]) -> Result<(), InputError> {
 /// Move `tmp` to `out` unless `out` exists (`renameat2(RENAME_NOREPLACE)`, or a hard link
 /// where the file system cannot do that). Returns whether the name `tmp` still exists (the
 /// hard-link case).
-fn link_new(tmp: &Path, out: &Path) -> std::io::Result<bool> {
+pub(crate) fn link_new(tmp: &Path, out: &Path) -> std::io::Result<bool> {
     use rustix::fs::{CWD, RenameFlags, renameat_with};
     match renameat_with(CWD, tmp, CWD, out, RenameFlags::NOREPLACE) {
         Ok(()) => Ok(false),

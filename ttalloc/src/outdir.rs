@@ -564,28 +564,34 @@ fn lock(t: &Target) -> Result<Lock> {
     let path = t.parent.join(format!(".{}.lock", t.tag));
     let shown_path = || visible(&path);
     let text = lock_text();
-    for _ in 0..2 {
-        match std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&path)
-        {
-            Ok(mut f) => {
-                use std::io::Write;
-                if let Err(e) = f.write_all(text.as_bytes()) {
-                    // created by this run a moment ago: ours to remove
-                    let _ = std::fs::remove_file(&path);
-                    return Err(
-                        anyhow::Error::new(e).context(format!("writing the lock {}", shown_path()))
-                    );
-                }
+    for _ in 0..3 {
+        // written whole beside it, then linked into place without replacing anything: another
+        // run never sees a lock half written
+        let placed = crate::newfile::create_temporary(&t.parent).and_then(|(tmp, mut f)| {
+            use std::io::Write;
+            let linked = f
+                .write_all(text.as_bytes())
+                .and_then(|()| crate::newfile::link_new(&tmp, &path));
+            if !matches!(linked, Ok(false)) {
+                // still at its temporary name (not linked, or linked as a second name)
+                let _ = std::fs::remove_file(&tmp);
+            }
+            linked
+        });
+        match placed {
+            Ok(_) => {
                 return Ok(Lock {
                     path: path.clone(),
                     text,
                 });
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let found = std::fs::read_to_string(&path).unwrap_or_default();
+                let found = match std::fs::read_to_string(&path) {
+                    Ok(found) => found,
+                    // released meanwhile: try again
+                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                    Err(_) => String::new(),
+                };
                 let Some(pid) = lock_pid(&found) else {
                     return Err(InputError::new(
                         shown_path(),
