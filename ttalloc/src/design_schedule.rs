@@ -924,7 +924,7 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let mut command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
-        crate::paths::shell_quote(&s.path),
+        crate::paths::shell_quote(&crate::paths::shown(args.study.as_deref())),
         positions,
         num(args.step_deg),
         num(args.max_condition),

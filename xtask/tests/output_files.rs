@@ -212,7 +212,8 @@ fn bash_words(line: &str) -> Vec<String> {
 }
 
 /// Issue 32 §1: paths reach the terminal escaped. An `--out` holding a line feed and a forged
-/// verdict, and a study path holding one, print as one visible line each (`\n`); the "open"
+/// verdict, and a study path holding one (in `report`, `requirement`, `allocate` and an error),
+/// print as one visible line each (`\n`); the "open"
 /// hint is one shell word that bash reads back as the report's path, even with a quote and a
 /// command substitution in it (nothing is run). An error naming such a path is one line too.
 /// (Before: the forged verdict printed as a line of its own; the hint was the raw path.)
@@ -269,6 +270,23 @@ fn paths_print_as_one_visible_line_and_the_open_hint_is_one_shell_word() {
         !text.lines().any(|l| l.starts_with("verdict")),
         "a forged line: {text}"
     );
+
+    for args in [
+        vec!["requirement", "--study", study.to_str().unwrap()],
+        vec!["allocate", "--study", study.to_str().unwrap()],
+    ] {
+        let o = run(&args);
+        ok(&o);
+        assert!(
+            !stdout(&o).lines().any(|l| l.starts_with("verdict")),
+            "{args:?}: a forged line: {}",
+            stdout(&o)
+        );
+    }
+    let missing = dir.path().join("nope\nverdict: MEETS.toml");
+    let o = run(&["end-to-end", "--study", missing.to_str().unwrap()]);
+    assert_input_error(&o, &["nope\\nverdict: MEETS.toml"]);
+    assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
 
     let file = write(dir.path(), "f\nverdict: MEETS", "mine");
     let o = paper_into(&file);
