@@ -12,10 +12,10 @@
 
 mod common;
 
-use common::{assert_input_error, run, stderr, stdout, write};
+use common::{assert_input_error, names, ok, paper_into, run, sha256_hex, stderr, stdout, write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 /// The first line of a manifest of this version (with hashes).
 const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
@@ -23,45 +23,6 @@ const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable p
 /// The first line of a manifest of the versions before (names only).
 const OLD_SIGNATURE: &str =
     "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
-
-fn ok(o: &Output) {
-    assert!(
-        o.status.success(),
-        "exit {:?}\nstderr: {}\nstdout: {}",
-        o.status.code(),
-        stderr(o),
-        String::from_utf8_lossy(&o.stdout)
-    );
-}
-
-fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::Digest;
-    sha2::Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
-
-/// The names in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
-/// A paper report into `out` (few samples).
-fn paper_into(out: &Path) -> Output {
-    run(&[
-        "reproduce-paper",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
-        "1500",
-    ])
-}
 
 /// The permission bits of `p` (with set-id and sticky bits).
 fn mode(p: &Path) -> u32 {

@@ -17,31 +17,15 @@
 
 mod common;
 
-use common::{assert_input_error, root, run, stderr, stdout, study_text, write};
+use common::{
+    assert_input_error, names, ok, paper_into, root, run, sha256_hex, stderr, stdout, study_text,
+    write,
+};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 /// The manifest's signature line (the file format of a report directory).
 const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
-
-/// The SHA-256 of `bytes` in lowercase hex (a manifest line's first field).
-fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::Digest;
-    sha2::Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
-
-fn ok(o: &Output) {
-    assert!(
-        o.status.success(),
-        "exit {:?}\nstderr: {}\nstdout: {}",
-        o.status.code(),
-        stderr(o),
-        String::from_utf8_lossy(&o.stdout)
-    );
-}
 
 /// A report directory of ours at `dir` (manifest listing `listed` with the hash of `old
 /// <name>`, holding `present` with that content).
@@ -58,27 +42,6 @@ fn fake_report(dir: &Path, listed: &[&str], present: &[&str]) {
     for p in present {
         std::fs::write(dir.join(p), format!("old {p}")).unwrap();
     }
-}
-
-/// The names in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
-/// A fresh paper report into `out` (few samples).
-fn paper_into(out: &Path) -> Output {
-    run(&[
-        "reproduce-paper",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
-        "1500",
-    ])
 }
 
 /// The report in `out` is a complete new one (1500 samples) and nothing but it.
