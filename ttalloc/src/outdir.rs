@@ -935,6 +935,63 @@ mod tests {
     }
 
     #[test]
+    fn a_manifest_lists_each_file_with_the_sha256_of_its_content() {
+        let text = manifest_text([("report.md", b"abc".as_slice()), ("a.svg", b"".as_slice())]);
+        assert_eq!(
+            manifest_entries(&text).unwrap(),
+            [
+                (
+                    "report.md".to_string(),
+                    // FIPS 180-2's example "abc"
+                    "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad".to_string()
+                ),
+                (
+                    "a.svg".to_string(),
+                    "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855".to_string()
+                ),
+            ]
+        );
+        for bad in [
+            "report.md",
+            "ba7816bf  report.md",
+            "BA7816BF8F01CFEA414140DE5DAE2223B00361A396177A9CB410FF61F20015AD  report.md",
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad  ../x.md",
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad report.md",
+        ] {
+            assert_eq!(
+                manifest_entries(&format!("{SIGNATURE}\n{bad}\n")),
+                Err(bad.to_string())
+            );
+        }
+    }
+
+    #[test]
+    fn only_a_lock_with_the_signature_is_ours() {
+        let text = lock_text();
+        assert_eq!(lock_pid(&text), Some(std::process::id()));
+        assert_ne!(text, lock_text(), "a new token per lock");
+        for foreign in [
+            "1234\n".to_string(),
+            String::new(),
+            format!("{LOCK_SIGNATURE}\npid 1234\n"),
+            format!("{text}more\n"),
+            text.replace("pid ", "pid x"),
+        ] {
+            assert_eq!(lock_pid(&foreign), None, "{foreign:?}");
+        }
+    }
+
+    #[test]
+    fn an_out_ending_in_a_dot_component_is_recognised() {
+        for dot in ["od/.", "od/./", "od/..", "od/..//", ".", "..", "/a/b/."] {
+            assert!(ends_in_dot(Path::new(dot)), "{dot}");
+        }
+        for name in ["od", "od.", "od/.x", "od/..x", "./od", "../od", "/"] {
+            assert!(!ends_in_dot(Path::new(name)), "{name}");
+        }
+    }
+
+    #[test]
     fn temporary_names_stay_short_for_any_directory_name() {
         assert_eq!(tag(std::ffi::OsStr::new("paper")), "paper");
         let long = "a".repeat(245);
