@@ -33,7 +33,7 @@ use anyhow::{Result, anyhow, bail};
 use clap::Parser;
 use plotters::prelude::*;
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use study::fmt::sig;
 
 /// Arguments of `allan`.
@@ -592,21 +592,14 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
 /// [`InputError`] for bad input (exit 2, nothing on standard output); other errors for a
 /// failing disk.
 pub fn run(args: &Args) -> Result<()> {
-    let outputs: Vec<(&str, &PathBuf)> = [
+    let outputs: Vec<(&str, &Path)> = [
         ("--figure", &args.figure),
         ("--write-noise", &args.write_noise),
     ]
     .into_iter()
-    .filter_map(|(f, p)| p.as_ref().map(|p| (f, p)))
+    .filter_map(|(f, p)| p.as_deref().map(|p| (f, p)))
     .collect();
-    for (flag, p) in &outputs {
-        crate::newfile::check(p, flag)?;
-    }
-    if let [(_, a), (_, b)] = outputs.as_slice() {
-        if a == b {
-            return Err(InputError::new("--write-noise", "the same path as --figure").into());
-        }
-    }
+    crate::newfile::check_all(&outputs)?;
     let source = Source::from_arg(args.log.as_deref());
     let log = read_log(&source, args)?;
     let unit = args.unit.as_deref().unwrap_or("log unit");
@@ -646,10 +639,7 @@ pub fn run(args: &Args) -> Result<()> {
     for (flag, tmp, p) in staged {
         tmp.commit(flag)?;
         if !args.json {
-            written.push_str(&format!(
-                "wrote {}\n",
-                p.display().to_string().escape_debug()
-            ));
+            written.push_str(&format!("wrote {}\n", crate::paths::visible(p)));
         }
     }
     crate::out::print(&(stdout + &written))

@@ -831,17 +831,19 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(rates) = &args.rates_deg_per_s {
         crate::design_rates::check(&s, rates)?;
     }
-    if let Some(out) = &args.write_study {
-        crate::newfile::check(out, "--write-study")?;
+    if args.pareto_svg.is_some() && args.time_budget_s.is_none() {
+        return Err(
+            InputError::new("--pareto-svg", "the Pareto front needs --time-budget-s").into(),
+        );
     }
-    if let Some(out) = &args.pareto_svg {
-        if args.time_budget_s.is_none() {
-            return Err(
-                InputError::new("--pareto-svg", "the Pareto front needs --time-budget-s").into(),
-            );
-        }
-        crate::newfile::check(out, "--pareto-svg")?;
-    }
+    let outputs: Vec<(&str, &std::path::Path)> = [
+        ("--write-study", args.write_study.as_deref()),
+        ("--pareto-svg", args.pareto_svg.as_deref()),
+    ]
+    .into_iter()
+    .filter_map(|(f, p)| p.map(|p| (f, p)))
+    .collect();
+    crate::newfile::check_all(&outputs)?;
     if let Some(b) = args.time_budget_s {
         crate::design_budget::check_affords(&s, b)?;
     }
@@ -922,7 +924,7 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let mut command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
-        crate::paths::shell_quote(&s.path),
+        crate::paths::shell_quote(&crate::paths::shown(args.study.as_deref())),
         positions,
         num(args.step_deg),
         num(args.max_condition),

@@ -70,7 +70,9 @@
 
 use crate::InputError;
 use crate::csvio::for_each_row_in;
-use crate::outdir::{MANIFEST, SIGNATURE, is_report_file, manifest_text};
+use crate::outdir::{
+    MANIFEST, OLD_SIGNATURE, SIGNATURE, is_report_file, manifest_text, sha256_hex,
+};
 use anyhow::{Context, Result};
 use clap::Parser;
 use rand_chacha::ChaCha8Rng;
@@ -1130,12 +1132,28 @@ fn vacant(p: &Path) -> bool {
 /// A previous report of ours in `dir`: its manifest and the first one to four of [`PREVIOUS`].
 fn previous_report(rng: &mut ChaCha8Rng, dir: &Path) -> std::io::Result<()> {
     std::fs::create_dir(dir)?;
-    let names = &PREVIOUS[..1 + below(rng, PREVIOUS.len())];
-    std::fs::write(dir.join(MANIFEST), manifest_text(names.iter().copied()))?;
-    for n in names {
-        std::fs::write(dir.join(n), format!("previous {n}\n"))?;
+    let files: Vec<(&str, Vec<u8>)> = PREVIOUS[..1 + below(rng, PREVIOUS.len())]
+        .iter()
+        .map(|n| (*n, previous_content(n)))
+        .collect();
+    std::fs::write(
+        dir.join(MANIFEST),
+        manifest_text(files.iter().map(|(n, b)| (*n, b.as_slice()))),
+    )?;
+    for (n, b) in &files {
+        std::fs::write(dir.join(n), b)?;
     }
     Ok(())
+}
+
+/// What a previous report of ours holds in its file `name`.
+fn previous_content(name: &str) -> Vec<u8> {
+    format!("previous {name}\n").into_bytes()
+}
+
+/// The name in a manifest line (`<sha256>  <name>`; the whole line when it has no hash).
+fn line_name(line: &str) -> &str {
+    line.split_once("  ").map_or(line, |(_, n)| n)
 }
 
 /// The manifest's lines (none when it is missing, not a file or not text).
@@ -1255,8 +1273,9 @@ fn user_entry(rng: &mut ChaCha8Rng, dir: &Path) -> std::io::Result<String> {
     use std::os::unix::ffi::OsStrExt;
     std::fs::create_dir_all(dir)?;
     let listed: Vec<String> = manifest_lines(dir)
-        .into_iter()
+        .iter()
         .skip(1)
+        .map(|l| line_name(l).to_string())
         .filter(|n| is_report_file(n))
         .collect();
     let listed = if listed.is_empty() {
@@ -1385,7 +1404,14 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
     };
     Ok(match below(rng, 10) {
         0 | 1 => {
-            let line = crafted_line(rng, base, dir);
+            let name = crafted_line(rng, base, dir);
+            // the hash of what a previous report holds there, of a user's file, or none
+            let line = match below(rng, 4) {
+                0 => name,
+                1 => format!("{}  {name}", sha256_hex(&previous_content(&name))),
+                2 => format!("{}  {name}", sha256_hex(b"the user's notes\n")),
+                _ => format!("{}  {name}", "0".repeat(64)),
+            };
             let mut lines = with_signature(dir);
             let at = 1 + below(rng, lines.len());
             lines.insert(at, line.clone());
@@ -1394,10 +1420,14 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
         }
         2 => {
             let mut lines = with_signature(dir);
-            let what = match below(rng, 6) {
+            let what = match below(rng, 7) {
                 0 => {
                     lines.remove(0);
                     "removed"
+                }
+                6 => {
+                    lines[0] = OLD_SIGNATURE.to_string();
+                    "of the older format (names without hashes)"
                 }
                 1 => {
                     lines[0] = SIGNATURE.replacen("files", "fi1es", 1);
@@ -1442,8 +1472,9 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
         }
         5 => {
             let listed: Vec<String> = manifest_lines(dir)
-                .into_iter()
+                .iter()
                 .skip(1)
+                .map(|l| line_name(l).to_string())
                 .filter(|n| is_report_file(n))
                 .collect();
             if listed.is_empty() {
@@ -1471,7 +1502,10 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
                 1 => {
                     let _ = std::fs::remove_file(&m);
                     let copy = base.join("manifest_copy.txt");
-                    std::fs::write(&copy, manifest_text(["report.md"]))?;
+                    std::fs::write(
+                        &copy,
+                        manifest_text([("report.md", previous_content("report.md").as_slice())]),
+                    )?;
                     std::os::unix::fs::symlink(&copy, &m)?;
                     "manifest replaced by a link to a valid manifest outside out".into()
                 }
@@ -1486,7 +1520,7 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
                     "manifest empty".into()
                 }
                 _ => {
-                    std::fs::write(&m, manifest_text([]))?;
+                    std::fs::write(&m, manifest_text(std::iter::empty()))?;
                     "manifest holding only the signature".into()
                 }
             }
@@ -1506,7 +1540,14 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
                 ],
             );
             let mut lines = with_signature(dir);
-            lines.push(name.to_string());
+            // listed by name, with the hash of a previous report's file there (not this
+            // content), or with the hash of this very content (a manifest crafted so)
+            let hash = if below(rng, 4) == 0 {
+                sha256_hex(text.as_bytes())
+            } else {
+                sha256_hex(&previous_content(name))
+            };
+            lines.push(format!("{hash}  {name}"));
             write_manifest(dir, &lines)?;
             if vacant(&dir.join(name)) {
                 std::fs::write(dir.join(name), text)?;
@@ -1551,9 +1592,10 @@ fn lay_out(
     Ok((log, real))
 }
 
-/// The names a manifest of ours in `dir` lists: its first line the signature, every other line
-/// the name of a report file ([`is_report_file`]); `None` for anything else.
-fn valid_manifest(tree: &Tree, dir: &Path) -> Option<Vec<String>> {
+/// The (name, SHA-256) a manifest of ours in `dir` lists: its first line the signature, every
+/// other line 64 lowercase hex digits, two spaces and the name of a report file
+/// ([`is_report_file`]); `None` for anything else.
+fn valid_manifest(tree: &Tree, dir: &Path) -> Option<Vec<(String, String)>> {
     let Some(Entry::File(bytes)) = tree.get(&dir.join(MANIFEST)) else {
         return None;
     };
@@ -1562,8 +1604,20 @@ fn valid_manifest(tree: &Tree, dir: &Path) -> Option<Vec<String>> {
     if lines.next() != Some(SIGNATURE) {
         return None;
     }
-    let listed: Vec<String> = lines.map(String::from).collect();
-    listed.iter().all(|n| is_report_file(n)).then_some(listed)
+    lines
+        .map(|l| {
+            let (h, n) = l.split_once("  ")?;
+            let hex = h.len() == 64 && h.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
+            (hex && is_report_file(n)).then(|| (n.to_string(), h.to_string()))
+        })
+        .collect()
+}
+
+/// Whether a valid manifest's `listed` (name, SHA-256) has `name` with the hash of `bytes`:
+/// a file provably written by the program.
+fn listed_as(listed: &[(String, String)], name: &str, bytes: &[u8]) -> bool {
+    let hash = sha256_hex(bytes);
+    listed.iter().any(|(n, h)| n == name && *h == hash)
 }
 
 /// The entries directly inside `dir`.
@@ -1572,19 +1626,19 @@ fn children<'t>(tree: &'t Tree, dir: &'t Path) -> impl Iterator<Item = (&'t Path
 }
 
 /// Whether the entry at `p` may be removed or changed: a regular file named like a report file
-/// and listed by a valid manifest of ours in its directory, that manifest, or a directory
-/// directly beside `out` all of whose entries may be removed.
+/// and listed by a valid manifest of ours in its directory with the SHA-256 of its content,
+/// that manifest, or a directory directly beside `out` all of whose entries may be removed.
 fn may_change(before: &Tree, p: &Path) -> bool {
     let Some(dir) = p.parent() else {
         return false;
     };
     match before.get(p) {
-        Some(Entry::File(_)) => {
+        Some(Entry::File(bytes)) => {
             let Some(listed) = valid_manifest(before, dir) else {
                 return false;
             };
             let name = p.file_name().and_then(OsStr::to_str).unwrap_or_default();
-            name == MANIFEST || (is_report_file(name) && listed.iter().any(|n| n == name))
+            name == MANIFEST || (is_report_file(name) && listed_as(&listed, name, bytes))
         }
         Some(Entry::Dir) => {
             dir.as_os_str().is_empty()
@@ -1598,7 +1652,8 @@ fn may_change(before: &Tree, p: &Path) -> bool {
 }
 
 /// Whether the report directory `real` held nothing but a previous report of ours: missing,
-/// empty, or regular files only, each the manifest or a name a valid manifest lists.
+/// empty, or regular files only, each the manifest or a name a valid manifest lists with the
+/// SHA-256 of its content.
 fn held_only_ours(before: &Tree, real: &Path) -> bool {
     match before.get(real) {
         None => true,
@@ -1612,8 +1667,12 @@ fn held_only_ours(before: &Tree, real: &Path) -> bool {
             };
             kids.all(|(p, e)| {
                 let name = p.file_name().and_then(OsStr::to_str);
-                matches!(e, Entry::File(_))
-                    && name.is_some_and(|n| n == MANIFEST || listed.iter().any(|l| l == n))
+                match e {
+                    Entry::File(b) => {
+                        name.is_some_and(|n| n == MANIFEST || listed_as(&listed, n, b))
+                    }
+                    _ => false,
+                }
             })
         }
         _ => false,
@@ -1665,7 +1724,10 @@ fn judge(
                 .collect();
             expected.insert(
                 real.join(MANIFEST),
-                Entry::File(manifest_text(files.iter().map(|(n, _)| n.as_str())).into_bytes()),
+                Entry::File(
+                    manifest_text(files.iter().map(|(n, b)| (n.as_str(), b.as_slice())))
+                        .into_bytes(),
+                ),
             );
             let got: Tree = after
                 .iter()
@@ -2453,7 +2515,7 @@ mod tests {
     fn write_trusting_the_manifest(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
         if let Ok(t) = std::fs::read_to_string(out.join(MANIFEST)) {
             for line in t.lines().skip(1).filter(|l| !l.is_empty()) {
-                let _ = std::fs::remove_file(out.join(line));
+                let _ = std::fs::remove_file(out.join(line_name(line)));
             }
         }
         std::fs::create_dir_all(out)?;
@@ -2462,9 +2524,42 @@ mod tests {
         }
         std::fs::write(
             out.join(MANIFEST),
-            manifest_text(files.iter().map(|(n, _)| n.as_str())),
+            manifest_text(files.iter().map(|(n, b)| (n.as_str(), b.as_slice()))),
         )?;
         Ok(())
+    }
+
+    /// A planted bug (issue 32): the real writer's checks, but a listed report file counts as
+    /// ours by its name alone: the previous report's files whose hashes are not checked are
+    /// removed, then the report written.
+    fn write_trusting_the_names(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
+        if let Ok(t) = std::fs::read_to_string(out.join(MANIFEST)) {
+            if t.lines().next() == Some(SIGNATURE) {
+                for line in t.lines().skip(1) {
+                    if is_report_file(line_name(line)) {
+                        let _ = std::fs::remove_file(out.join(line_name(line)));
+                    }
+                }
+            }
+        }
+        crate::outdir::Prepared::new(out)?.write(files)
+    }
+
+    /// The manifests property catches a writer that removes a listed file whose content is not
+    /// what the manifest's hash says (the user's `my_notes.md` listed by name).
+    #[test]
+    fn a_writer_that_trusts_the_listed_names_is_caught() {
+        let hooks = Hooks {
+            write_report: write_trusting_the_names,
+            ..Hooks::REAL
+        };
+        let found = findings_of(Target::Manifests, 400, hooks);
+        assert!(
+            found
+                .iter()
+                .any(|f| f.contains("out/my_notes.md was removed")),
+            "{found:?}"
+        );
     }
 
     /// A planted bug: a report writer that replaces `out` whatever it holds.
@@ -2477,7 +2572,7 @@ mod tests {
         }
         std::fs::write(
             dir.join(MANIFEST),
-            manifest_text(files.iter().map(|(n, _)| n.as_str())),
+            manifest_text(files.iter().map(|(n, b)| (n.as_str(), b.as_slice()))),
         )?;
         Ok(())
     }

@@ -17,7 +17,7 @@ fn dir_of(out: &Path) -> &Path {
 
 /// A free temporary name beside `out`, short whatever `out`'s length, created empty with
 /// mode `0666` (the umask applies).
-fn create_temporary(dir: &Path) -> std::io::Result<(std::path::PathBuf, std::fs::File)> {
+pub(crate) fn create_temporary(dir: &Path) -> std::io::Result<(std::path::PathBuf, std::fs::File)> {
     let mut last = None;
     for n in 0..100 {
         let p = dir.join(format!(".xtask-{}-{n}.tmp", std::process::id()));
@@ -42,7 +42,7 @@ fn create_temporary(dir: &Path) -> std::io::Result<(std::path::PathBuf, std::fs:
 /// # Errors
 /// An [`InputError`] naming `out` (or its directory) and `flag`.
 pub fn check(out: &Path, flag: &str) -> Result<(), InputError> {
-    let shown = out.display().to_string();
+    let shown = crate::paths::visible(out);
     if out.symlink_metadata().is_ok() {
         return Err(InputError::new(
             &shown,
@@ -67,16 +67,52 @@ pub fn check(out: &Path, flag: &str) -> Result<(), InputError> {
             Ok(())
         }
         Err(e) => Err(InputError::new(
-            dir.display().to_string(),
+            crate::paths::visible(dir),
             format!("{flag} {shown}: cannot create a file in this directory ({e})"),
         )),
     }
 }
 
+/// Where `out` (whose directory exists) is, spelled one way: its directory resolved
+/// (`.`, `..` and symbolic links), then its name; `None` when the directory cannot be resolved.
+fn where_is(out: &Path) -> Option<std::path::PathBuf> {
+    Some(
+        std::fs::canonicalize(dir_of(out))
+            .ok()?
+            .join(out.file_name()?),
+    )
+}
+
+/// [`check`] each of a command's new files (flag, path), after refusing two flags that name the
+/// same file however spelled (`s.svg` and `./s.svg`, a path through a link to the same
+/// directory): all before any work, so that nothing is written when one is refused.
+///
+/// # Errors
+/// An [`InputError`] naming both flags and paths, or [`check`]'s.
+pub fn check_all(outputs: &[(&str, &Path)]) -> Result<(), InputError> {
+    for (i, (flag_a, a)) in outputs.iter().enumerate() {
+        for (flag_b, b) in &outputs[i + 1..] {
+            if a == b || where_is(a).is_some_and(|w| Some(w) == where_is(b)) {
+                return Err(InputError::new(
+                    format!("{flag_b} {}", crate::paths::visible(b)),
+                    format!(
+                        "names the same file as {flag_a} {}: give each output its own path (nothing was written)",
+                        crate::paths::visible(a)
+                    ),
+                ));
+            }
+        }
+    }
+    for (flag, p) in outputs {
+        check(p, flag)?;
+    }
+    Ok(())
+}
+
 /// Move `tmp` to `out` unless `out` exists (`renameat2(RENAME_NOREPLACE)`, or a hard link
 /// where the file system cannot do that). Returns whether the name `tmp` still exists (the
 /// hard-link case).
-fn link_new(tmp: &Path, out: &Path) -> std::io::Result<bool> {
+pub(crate) fn link_new(tmp: &Path, out: &Path) -> std::io::Result<bool> {
     use rustix::fs::{CWD, RenameFlags, renameat_with};
     match renameat_with(CWD, tmp, CWD, out, RenameFlags::NOREPLACE) {
         Ok(()) => Ok(false),
@@ -104,8 +140,12 @@ pub struct Staged {
 /// I/O errors creating or writing the temporary file (it is removed).
 pub fn stage(out: &Path, bytes: &[u8]) -> Result<Staged> {
     let dir = dir_of(out);
-    let (tmp, mut f) = create_temporary(dir)
-        .with_context(|| format!("creating a temporary file in {}", dir.display()))?;
+    let (tmp, mut f) = create_temporary(dir).with_context(|| {
+        format!(
+            "creating a temporary file in {}",
+            crate::paths::visible(dir)
+        )
+    })?;
     let staged = Staged {
         tmp,
         out: out.to_path_buf(),
@@ -113,7 +153,7 @@ pub fn stage(out: &Path, bytes: &[u8]) -> Result<Staged> {
     };
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
-        .with_context(|| format!("writing {}", staged.tmp.display()))?;
+        .with_context(|| format!("writing {}", crate::paths::visible(&staged.tmp)))?;
     Ok(staged)
 }
 
@@ -128,11 +168,12 @@ impl Staged {
         let tmp_remains = link_new(&self.tmp, &self.out).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AlreadyExists {
                 anyhow::Error::new(InputError::new(
-                    self.out.display().to_string(),
+                    crate::paths::visible(&self.out),
                     format!("{flag}: the file appeared meanwhile; not overwritten"),
                 ))
             } else {
-                anyhow::Error::new(e).context(format!("writing {}", self.out.display()))
+                anyhow::Error::new(e)
+                    .context(format!("writing {}", crate::paths::visible(&self.out)))
             }
         })?;
         // After a rename the temporary name is gone (and may not be removed: it could be

@@ -3,40 +3,56 @@
 //! killed run are recovered or removed by the next one.
 //!
 //! - `--out DIR` is checked before any work ([`Prepared::new`]): a missing or empty `DIR`, or
-//!   one holding exactly a previous report of ours (regular files with the names in its
-//!   [`MANIFEST`], every name one this program writes, [`is_report_file`]), is accepted;
-//!   anything else (a foreign file, a directory or a symbolic link where `report.md` was, a
-//!   manifest listing `../x` or `/etc/x`) is refused with exit code 2 and nothing is touched.
-//!   `DIR` naming a file is refused the same way.
+//!   one holding exactly a previous report of ours (regular files listed in its [`MANIFEST`],
+//!   every name one this program writes, [`is_report_file`], each with the SHA-256 of its
+//!   content: a file whose content differs is the user's), is accepted; anything else (a
+//!   foreign file, a report file edited since, a directory or a symbolic link where `report.md`
+//!   was, a manifest of an older version without hashes, a manifest listing `../x` or `/etc/x`)
+//!   is refused with exit code 2 and nothing is touched. `DIR` naming a file, ending in `.` or
+//!   `..`, or being a mount point (none can be exchanged) is refused the same way.
+//! - An existing `DIR` is replaced keeping its mode and owner, so it must be one the user may
+//!   read, write and search (`faccessat` with the effective ids) and own, its group one of the
+//!   user's; as root, who may write anywhere, the owner's write bit decides (a `555` directory
+//!   is refused).
 //! - A symbolic link to a directory as `DIR` is followed: the report replaces the directory it
 //!   points to (which must pass the same check); the link itself is kept. A link to a file or a
 //!   dangling link is refused (exit 2, saying what it points to).
-//! - The parent of `DIR` must be writable: the lock `.<tag>.lock` (with the process id) is
-//!   created there before the work, and its failure (an unwritable or read-only parent) is an
-//!   input error (exit 2 naming the directory). A second run into the same `DIR` finds the lock
-//!   and stops at once; a lock whose process is gone is taken over.
+//! - The parent of `DIR` must be writable: the lock `.<tag>.lock` (a signature line, the process
+//!   id and a random token) is created there before the work, and its failure (an unwritable or
+//!   read-only parent) is an input error (exit 2 naming the directory). A second run into the
+//!   same `DIR` finds the lock and stops at once; a lock of ours whose process is gone is taken
+//!   over; a file at that name without the signature (another program's) is refused, never
+//!   removed. A run removes its lock only while it holds the text it wrote.
 //! - The report is built in `.<tag>.tmp-<pid>-<n>` beside `DIR`, its manifest written first (so
 //!   that even a half-written one is recognisably ours), then swapped with `DIR` in one atomic
 //!   `renameat2(RENAME_EXCHANGE)`: there is no moment without `DIR`. Where the file system
 //!   cannot exchange, `DIR` is renamed to `.<tag>.old-<pid>-<n>` and the new report into place.
-//!   The previous report is then removed file by file (only the names its manifest lists).
+//!   The previous report is then removed file by file (only the files its manifest lists with
+//!   their content's hash).
 //! - `<tag>` is `DIR`'s name when it is at most 64 bytes of printable UTF-8, else `~` and a
 //!   64-bit hash of it, so that temporary names stay short for any `DIR`.
 //! - Recovery, under the lock, at the start of every run: a `.<tag>.tmp-*` or `.<tag>.old-*`
-//!   directory of ours (only our manifest and the files it lists, or empty) is removed; if
+//!   directory of ours (only our manifest and the files it lists with matching hashes, or
+//!   empty) is removed (one holding a file cut short by a kill is left, with a note); if
 //!   `DIR` is missing, the newest complete `.<tag>.old-*` is renamed back to `DIR` first (a run
 //!   killed between its two renames). A directory of that name that is not ours is left alone.
 
 use crate::InputError;
+use crate::paths::visible;
 use anyhow::{Context, Result};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-/// The manifest file of a report directory: a signature line, then one written file per line.
+/// The manifest file of a report directory: a signature line, then one line per written
+/// file: its SHA-256 (64 lowercase hex digits), two spaces and its name (`sha256sum`'s format).
 pub const MANIFEST: &str = ".report-manifest";
 
 /// The manifest's first line.
-pub(crate) const SIGNATURE: &str =
+pub(crate) const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
+
+/// The first line of a manifest written before the hashes (names only): such a report's files
+/// cannot be proven ours, so a directory holding one is refused, never emptied.
+pub(crate) const OLD_SIGNATURE: &str =
     "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
 
 /// The extensions of the files a report holds.
@@ -48,7 +64,7 @@ const MAX_TAG_BYTES: usize = 64;
 /// Whether `name` is the name of a file this program writes into a report directory:
 /// `[a-z0-9][a-z0-9_]*` (at most 100 characters) and one of the extensions `md`, `html`, `svg`,
 /// `csv`, `json`. No `/`, no `..`, no NUL, never absolute, never hidden: the only names a
-/// manifest may make this program remove.
+/// manifest may make this program remove (and then only while the content matches its hash).
 #[must_use]
 pub fn is_report_file(name: &str) -> bool {
     let Some((stem, ext)) = name.rsplit_once('.') else {
@@ -62,15 +78,54 @@ pub fn is_report_file(name: &str) -> bool {
             .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
 }
 
-/// The text of the manifest of a report made of the files `names`: the [`SIGNATURE`] line, then
-/// one name per line (what a report directory's [`MANIFEST`] holds).
-pub(crate) fn manifest_text<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
+/// The SHA-256 of `bytes`, 64 lowercase hex digits.
+pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    hex(&sha2::Sha256::digest(bytes))
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The SHA-256 of the file at `path`, read in blocks (memory does not grow with its size).
+fn file_sha256(path: &Path) -> std::io::Result<String> {
+    use sha2::Digest;
+    let mut h = sha2::Sha256::new();
+    std::io::copy(&mut std::fs::File::open(path)?, &mut h)?;
+    Ok(hex(&h.finalize()))
+}
+
+/// The text of the manifest of a report made of `files` (name, content): the [`SIGNATURE`]
+/// line, then `<sha256>  <name>` per file (what a report directory's [`MANIFEST`] holds).
+pub(crate) fn manifest_text<'a>(files: impl IntoIterator<Item = (&'a str, &'a [u8])>) -> String {
     let mut text = format!("{SIGNATURE}\n");
-    for name in names {
+    for (name, bytes) in files {
+        text.push_str(&sha256_hex(bytes));
+        text.push_str("  ");
         text.push_str(name);
         text.push('\n');
     }
     text
+}
+
+/// The (name, SHA-256) lines of a manifest's text after its signature; `Err` with the first
+/// line that is not `<64 lowercase hex digits>  <report file name>`.
+fn manifest_entries(text: &str) -> Result<Vec<(String, String)>, String> {
+    text.lines()
+        .skip(1)
+        .map(|line| {
+            line.split_once("  ")
+                .filter(|(h, n)| {
+                    h.len() == 64
+                        && h.bytes()
+                            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+                        && is_report_file(n)
+                })
+                .map(|(h, n)| (n.to_string(), h.to_string()))
+                .ok_or_else(|| line.to_string())
+        })
+        .collect()
 }
 
 /// FNV-1a, 64 bit: a stable short name for a long directory name.
@@ -135,30 +190,39 @@ fn contents(dir: &Path) -> std::io::Result<Contents> {
         some.join(", ")
     };
     let manifest_is_file = entries.iter().any(|(n, t)| n == MANIFEST && t.is_file());
-    let listed: Option<Vec<String>> = if manifest_is_file {
-        std::fs::read_to_string(dir.join(MANIFEST))
-            .ok()
-            .filter(|t| t.lines().next() == Some(SIGNATURE))
-            .map(|t| t.lines().skip(1).map(String::from).collect())
+    let text = if manifest_is_file {
+        std::fs::read_to_string(dir.join(MANIFEST)).ok()
     } else {
         None
     };
-    let Some(listed) = listed else {
+    let first = text
+        .as_deref()
+        .and_then(|t| t.lines().next())
+        .map(str::to_string);
+    if first.as_deref() == Some(OLD_SIGNATURE) {
+        return Ok(Contents::Foreign(format!(
+            "its {MANIFEST} is of an older version of this program (names without content hashes), so its files cannot be proven to be what this program wrote"
+        )));
+    }
+    let Some(text) = text.filter(|_| first.as_deref() == Some(SIGNATURE)) else {
         let names: Vec<&str> = entries.iter().map(|(n, _)| n.as_str()).collect();
         return Ok(Contents::Foreign(format!(
             "it holds files this program did not write ({})",
             shown(&names)
         )));
     };
-    if let Some(bad) = listed.iter().find(|n| !is_report_file(n)) {
-        return Ok(Contents::Foreign(format!(
-            "its {MANIFEST} lists `{}`, which is not a file this program writes (a crafted or damaged manifest is never trusted)",
-            ::study::fmt::visible(bad)
-        )));
-    }
+    let listed = match manifest_entries(&text) {
+        Ok(l) => l,
+        Err(bad) => {
+            return Ok(Contents::Foreign(format!(
+                "its {MANIFEST} has the line `{}`, which is not `<sha256>  <name of a file this program writes>` (a crafted or damaged manifest is never trusted)",
+                ::study::fmt::visible(&bad)
+            )));
+        }
+    };
     let foreign: Vec<&str> = entries
         .iter()
-        .filter(|(n, _)| n != MANIFEST && !listed.contains(n))
+        .filter(|(n, _)| n != MANIFEST && !listed.iter().any(|(l, _)| l == n))
         .map(|(n, _)| n.as_str())
         .collect();
     if !foreign.is_empty() {
@@ -183,7 +247,17 @@ fn contents(dir: &Path) -> std::io::Result<Contents> {
         .map(|(n, _)| n)
         .filter(|n| n != MANIFEST)
         .collect();
-    let complete = listed.iter().all(|n| present.contains(n));
+    // a name proves nothing: only a file whose content is what this program wrote is ours
+    for name in &present {
+        let want = listed.iter().find(|(l, _)| l == name).map(|(_, h)| h);
+        if want != Some(&file_sha256(&dir.join(name))?) {
+            return Ok(Contents::Foreign(format!(
+                "{} is listed in its {MANIFEST} but its content is not what this program wrote there (changed since, or not ours)",
+                ::study::fmt::visible(name)
+            )));
+        }
+    }
+    let complete = listed.iter().all(|(n, _)| present.contains(n));
     Ok(Contents::Ours { present, complete })
 }
 
@@ -213,21 +287,39 @@ struct Target {
     parent: PathBuf,
     /// The tag of its name in temporary names.
     tag: String,
+    /// Whether `--out` is a symbolic link (to `dir`).
+    linked: bool,
+}
+
+/// Whether `out` as written ends in a `.` or `..` component (`od/.`, `od/..`, `od/./`): such a
+/// name cannot be exchanged with a new directory (the kernel says "busy"), so it is refused.
+fn ends_in_dot(out: &Path) -> bool {
+    use std::os::unix::ffi::OsStrExt;
+    let mut b = out.as_os_str().as_bytes();
+    while b.len() > 1 && b.ends_with(b"/") {
+        b = &b[..b.len() - 1];
+    }
+    let last = b.rsplit(|c| *c == b'/').next().unwrap_or_default();
+    last == b"." || last == b".."
 }
 
 fn resolve(out: &Path) -> Result<Target, InputError> {
-    let shown = out.display().to_string();
+    let shown = visible(out);
     let refuse = |why: String| InputError::new(&shown, why);
+    if ends_in_dot(out) {
+        return Err(refuse(
+            "--out ends in `.` or `..`: a report replaces its directory, which needs the directory's own name (write it without the `.` or `..`)".into(),
+        ));
+    }
     let dir = match std::fs::symlink_metadata(out) {
         Ok(m) if m.file_type().is_symlink() => {
-            let link =
-                std::fs::read_link(out).map_or_else(|_| "?".into(), |l| l.display().to_string());
+            let link = std::fs::read_link(out).map_or_else(|_| "?".into(), |l| visible(&l));
             match std::fs::canonicalize(out) {
                 Ok(real) if real.is_dir() => real,
                 Ok(real) => {
                     return Err(refuse(format!(
                         "is a symbolic link to {}, which is not a directory; choose another --out",
-                        real.display()
+                        visible(&real)
                     )));
                 }
                 Err(e) => {
@@ -255,7 +347,16 @@ fn resolve(out: &Path) -> Result<Target, InputError> {
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    if let (Ok(d), Ok(p)) = (std::fs::metadata(&dir), std::fs::metadata(&parent)) {
+        use std::os::unix::fs::MetadataExt;
+        if d.dev() != p.dev() {
+            return Err(refuse(
+                "is a mount point: a report replaces its directory, which cannot be done to a mount point; choose a directory inside it".into(),
+            ));
+        }
+    }
     Ok(Target {
+        linked: dir != out,
         shown,
         tag: tag(&name),
         dir,
@@ -263,12 +364,67 @@ fn resolve(out: &Path) -> Result<Target, InputError> {
     })
 }
 
+/// Refuse an existing `dir` that the report could not replace keeping its mode and owner: one
+/// the user cannot read, write and search (`faccessat` with the effective ids; as root, which
+/// may write anywhere, the owner's write bit decides: a `555` directory is refused), one owned
+/// by another user, or (not as root) one whose group is not one of the user's.
+fn check_keepable(t: &Target) -> Result<(), InputError> {
+    use rustix::fs::{Access, AtFlags, CWD, accessat};
+    use std::os::unix::fs::MetadataExt;
+    let m = match std::fs::metadata(&t.dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => {
+            return Err(InputError::new(
+                &t.shown,
+                format!("cannot look at the output directory: {e}"),
+            ));
+        }
+        Ok(m) => m,
+    };
+    let euid = rustix::process::geteuid();
+    let refuse = |why: String| {
+        InputError::new(
+            &t.shown,
+            format!(
+                "{why}; a report replaces the directory keeping its mode and owner, so nothing was written: choose another --out"
+            ),
+        )
+    };
+    let access = Access::READ_OK | Access::WRITE_OK | Access::EXEC_OK;
+    if euid.is_root() {
+        if m.mode() & 0o200 == 0 {
+            return Err(refuse(format!(
+                "its owner may not write it (mode {:o}; as root, the owner's write bit decides)",
+                m.mode() & 0o7777
+            )));
+        }
+    } else if let Err(e) = accessat(CWD, &t.dir, access, AtFlags::EACCESS) {
+        return Err(refuse(format!(
+            "you may not read and write it (mode {:o}: {e})",
+            m.mode() & 0o7777
+        )));
+    } else if m.uid() != euid.as_raw() {
+        return Err(refuse(format!(
+            "it belongs to another user (uid {})",
+            m.uid()
+        )));
+    } else if m.gid() != rustix::process::getegid().as_raw()
+        && !rustix::process::getgroups().is_ok_and(|g| g.iter().any(|g| g.as_raw() == m.gid()))
+    {
+        return Err(refuse(format!(
+            "its group (gid {}) is not one of yours",
+            m.gid()
+        )));
+    }
+    Ok(())
+}
+
 /// Check that `dir` may be replaced: missing, empty or a report of ours.
 fn check_replaceable(t: &Target) -> Result<(), InputError> {
-    let shown = if t.dir.as_os_str() == std::ffi::OsStr::new(&t.shown) {
-        t.shown.clone()
+    let shown = if t.linked {
+        format!("{} (a link to {})", t.shown, visible(&t.dir))
     } else {
-        format!("{} (a link to {})", t.shown, t.dir.display())
+        t.shown.clone()
     };
     match std::fs::symlink_metadata(&t.dir) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
@@ -347,62 +503,134 @@ fn our_process_alive(pid: u32) -> bool {
     !cmdline.is_empty() && (me.is_empty() || exe(&cmdline) == exe(&me))
 }
 
-/// The lock file (removed when dropped).
-struct Lock(PathBuf);
+/// The first line of a lock of ours; the next two are `pid <process id>` and
+/// `token <32 hex digits>` (random: which run wrote it).
+const LOCK_SIGNATURE: &str =
+    "# lock of a `cargo xtask` report run (gyrowheel turntable project); removed by that run";
+
+/// A lock file's text for this run: the [`LOCK_SIGNATURE`], the process id, a random token.
+fn lock_text() -> String {
+    use std::io::Read;
+    let mut seed = [0_u8; 16];
+    let random = std::fs::File::open("/dev/urandom").and_then(|mut f| f.read_exact(&mut seed));
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    // without /dev/urandom: the process id and the time to the nanosecond, hashed
+    let token = sha256_hex(
+        format!(
+            "{:?} {} {} {:?}",
+            random.map(|()| seed),
+            std::process::id(),
+            now.as_nanos(),
+            std::thread::current().id()
+        )
+        .as_bytes(),
+    );
+    format!(
+        "{LOCK_SIGNATURE}\npid {}\ntoken {}\n",
+        std::process::id(),
+        &token[..32]
+    )
+}
+
+/// The process id in a lock of ours; `None` when `text` is not one (no signature, or not
+/// exactly the three lines [`lock_text`] writes).
+fn lock_pid(text: &str) -> Option<u32> {
+    let mut lines = text.lines();
+    (lines.next() == Some(LOCK_SIGNATURE)).then_some(())?;
+    let pid = lines.next()?.strip_prefix("pid ")?.parse::<u32>().ok()?;
+    let token = lines.next()?.strip_prefix("token ")?;
+    (token.len() == 32 && token.bytes().all(|b| b.is_ascii_hexdigit()) && lines.next().is_none())
+        .then_some(pid)
+}
+
+/// The lock file, with the text this run wrote in it: removed when dropped, only while it still
+/// holds that text (never another run's lock or another program's file).
+struct Lock {
+    path: PathBuf,
+    text: String,
+}
 
 impl Drop for Lock {
     fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
+        if std::fs::read_to_string(&self.path).is_ok_and(|t| t == self.text) {
+            let _ = std::fs::remove_file(&self.path);
+        }
     }
 }
 
 fn lock(t: &Target) -> Result<Lock> {
     let path = t.parent.join(format!(".{}.lock", t.tag));
-    for _ in 0..2 {
-        match std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&path)
-        {
-            Ok(mut f) => {
-                use std::io::Write;
-                writeln!(f, "{}", std::process::id())
-                    .with_context(|| format!("writing the lock {}", path.display()))?;
-                return Ok(Lock(path));
+    let shown_path = || visible(&path);
+    let text = lock_text();
+    for _ in 0..3 {
+        // written whole beside it, then linked into place without replacing anything: another
+        // run never sees a lock half written
+        let placed = crate::newfile::create_temporary(&t.parent).and_then(|(tmp, mut f)| {
+            use std::io::Write;
+            let linked = f
+                .write_all(text.as_bytes())
+                .and_then(|()| crate::newfile::link_new(&tmp, &path));
+            if !matches!(linked, Ok(false)) {
+                // still at its temporary name (not linked, or linked as a second name)
+                let _ = std::fs::remove_file(&tmp);
+            }
+            linked
+        });
+        match placed {
+            Ok(_) => {
+                return Ok(Lock {
+                    path: path.clone(),
+                    text,
+                });
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let pid = std::fs::read_to_string(&path)
-                    .ok()
-                    .and_then(|t| t.trim().parse::<u32>().ok());
-                let alive = pid.is_some_and(our_process_alive);
-                if alive || pid.is_none() {
+                let found = match std::fs::read_to_string(&path) {
+                    Ok(found) => found,
+                    // released meanwhile: try again
+                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                    Err(_) => String::new(),
+                };
+                let Some(pid) = lock_pid(&found) else {
                     return Err(InputError::new(
-                        &t.shown,
+                        shown_path(),
                         format!(
-                            "another run is writing this report (lock file {}{}); wait for it to finish",
-                            path.display(),
-                            pid.map_or(String::new(), |p| format!(", process {p}"))
+                            "the lock of --out {} has this name, but this file is not a lock of this program (it lacks its signature); it was not touched: move it away if no run is writing the report, or choose another --out",
+                            t.shown
+                        ),
+                    )
+                    .into());
+                };
+                if our_process_alive(pid) {
+                    return Err(InputError::new(
+                        t.shown.clone(),
+                        format!(
+                            "another run is writing this report (lock file {}, process {pid}); wait for it to finish",
+                            shown_path()
                         ),
                     )
                     .into());
                 }
-                // a lock of ours whose process is gone: stale
-                std::fs::remove_file(&path)
-                    .with_context(|| format!("removing the stale lock {}", path.display()))?;
+                // a lock of ours whose process is gone: stale (removed only while unchanged)
+                if std::fs::read_to_string(&path).is_ok_and(|t| t == found) {
+                    std::fs::remove_file(&path)
+                        .with_context(|| format!("removing the stale lock {}", shown_path()))?;
+                }
             }
             Err(e) => {
                 return Err(InputError::new(
-                    t.parent.display().to_string(),
+                    visible(&t.parent),
                     format!(
                         "cannot write in the output's parent directory (creating the lock {} failed: {e}); choose another --out",
-                        path.display()
+                        shown_path()
                     ),
                 )
                 .into());
             }
         }
     }
-    Err(InputError::new(&t.shown, "could not take the output lock").into())
+    Err(InputError::new(t.shown.clone(), "could not take the output lock").into())
 }
 
 /// The leftovers `.<tag>.tmp-*` and `.<tag>.old-*` in the parent (any kind of entry).
@@ -441,7 +669,7 @@ fn recover(t: &Target) -> Vec<String> {
             }
             _ => notes.push(format!(
                 "left {} alone: it is named like a leftover of this program but is not one",
-                path.display()
+                visible(&path)
             )),
         }
     }
@@ -462,8 +690,8 @@ fn recover(t: &Target) -> Vec<String> {
             if std::fs::rename(&p, &t.dir).is_ok() {
                 notes.push(format!(
                     "recovered the previous report {} from {} (a run was stopped while replacing it)",
-                    t.dir.display(),
-                    p.display()
+                    visible(&t.dir),
+                    visible(&p)
                 ));
             }
         }
@@ -472,7 +700,7 @@ fn recover(t: &Target) -> Vec<String> {
         if let Err(e) = remove_ours(&p, &present) {
             notes.push(format!(
                 "could not remove the leftover {}: {e}",
-                p.display()
+                visible(&p)
             ));
         }
     }
@@ -510,9 +738,10 @@ impl Prepared {
     pub fn new(out: &Path) -> Result<Self> {
         let target = resolve(out)?;
         check_replaceable(&target)?;
+        check_keepable(&target)?;
         let created = create_dirs(&target.parent).map_err(|e| {
             InputError::new(
-                target.parent.display().to_string(),
+                visible(&target.parent),
                 format!("cannot create the output's parent directory: {e}"),
             )
         })?;
@@ -526,6 +755,7 @@ impl Prepared {
         p.notes = recover(&p.target);
         // re-check under the lock: another run or the recovery may have changed it
         check_replaceable(&p.target)?;
+        check_keepable(&p.target)?;
         Ok(p)
     }
 
@@ -559,7 +789,7 @@ impl Prepared {
                 format!(
                     "creating a temporary directory beside {} in {}",
                     t.shown,
-                    t.parent.display()
+                    visible(&t.parent)
                 )
             })?;
         let result = build_and_swap(t, &tmp, files);
@@ -580,9 +810,9 @@ impl Prepared {
 /// previous report.
 fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
     use std::io::Write;
-    let manifest = manifest_text(files.iter().map(|(file, _)| file.as_str()));
+    let manifest = manifest_text(files.iter().map(|(file, b)| (file.as_str(), b.as_slice())));
     std::fs::write(tmp.join(MANIFEST), manifest)
-        .with_context(|| format!("writing {}", tmp.join(MANIFEST).display()))?;
+        .with_context(|| format!("writing {}", visible(&tmp.join(MANIFEST))))?;
     for (file, bytes) in files {
         let mut f = std::fs::OpenOptions::new()
             .write(true)
@@ -595,7 +825,17 @@ fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result
     // the directory may have changed while we computed
     check_replaceable(t)?;
     let exists = std::fs::symlink_metadata(&t.dir).is_ok();
-    if !exists {
+    if exists {
+        // the new directory takes the mode and owner of the one it replaces (checked possible
+        // before the work, by `check_keepable`)
+        use std::os::unix::fs::{MetadataExt, PermissionsExt};
+        let m = std::fs::metadata(&t.dir).with_context(|| format!("looking at {}", t.shown))?;
+        std::os::unix::fs::chown(tmp, Some(m.uid()), Some(m.gid()))
+            .and_then(|()| {
+                std::fs::set_permissions(tmp, std::fs::Permissions::from_mode(m.mode() & 0o7777))
+            })
+            .with_context(|| format!("giving the new report the mode and owner of {}", t.shown))?;
+    } else {
         return std::fs::rename(tmp, &t.dir)
             .with_context(|| format!("moving the report into {}", t.shown));
     }
@@ -637,7 +877,7 @@ fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result
             ::study::fmt::terminal(&format!(
                 "the new report is in {}; the previous one, moved to {}, was not removed: {why}",
                 t.shown,
-                old.display()
+                visible(&old)
             ))
         );
     }
@@ -691,6 +931,63 @@ mod tests {
             "-x.md",
         ] {
             assert!(!is_report_file(bad), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn a_manifest_lists_each_file_with_the_sha256_of_its_content() {
+        let text = manifest_text([("report.md", b"abc".as_slice()), ("a.svg", b"".as_slice())]);
+        assert_eq!(
+            manifest_entries(&text).unwrap(),
+            [
+                (
+                    "report.md".to_string(),
+                    // FIPS 180-2's example "abc"
+                    "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad".to_string()
+                ),
+                (
+                    "a.svg".to_string(),
+                    "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855".to_string()
+                ),
+            ]
+        );
+        for bad in [
+            "report.md",
+            "ba7816bf  report.md",
+            "BA7816BF8F01CFEA414140DE5DAE2223B00361A396177A9CB410FF61F20015AD  report.md",
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad  ../x.md",
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad report.md",
+        ] {
+            assert_eq!(
+                manifest_entries(&format!("{SIGNATURE}\n{bad}\n")),
+                Err(bad.to_string())
+            );
+        }
+    }
+
+    #[test]
+    fn only_a_lock_with_the_signature_is_ours() {
+        let text = lock_text();
+        assert_eq!(lock_pid(&text), Some(std::process::id()));
+        assert_ne!(text, lock_text(), "a new token per lock");
+        for foreign in [
+            "1234\n".to_string(),
+            String::new(),
+            format!("{LOCK_SIGNATURE}\npid 1234\n"),
+            format!("{text}more\n"),
+            text.replace("pid ", "pid x"),
+        ] {
+            assert_eq!(lock_pid(&foreign), None, "{foreign:?}");
+        }
+    }
+
+    #[test]
+    fn an_out_ending_in_a_dot_component_is_recognised() {
+        for dot in ["od/.", "od/./", "od/..", "od/..//", ".", "..", "/a/b/."] {
+            assert!(ends_in_dot(Path::new(dot)), "{dot}");
+        }
+        for name in ["od", "od.", "od/.x", "od/..x", "./od", "../od", "/"] {
+            assert!(!ends_in_dot(Path::new(name)), "{name}");
         }
     }
 

@@ -22,7 +22,9 @@ impl From<study::StudyError> for InputError {
 /// # Errors
 /// An [`InputError`] naming the file and key.
 pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
-    let text_path = paths::shown(given);
+    // the path as every output shows it: one visible line (a line feed in a file name cannot
+    // forge a line of output); a shell line quotes the path as given instead
+    let text_path = ::study::fmt::visible(&paths::shown(given)).into_owned();
     let mut s = match paths::study_source(given) {
         paths::StudySource::File(path) => Study::load(&path).map_err(|e| {
             // name the file as the user gave it (or the workspace-relative default)

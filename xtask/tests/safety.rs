@@ -17,57 +17,31 @@
 
 mod common;
 
-use common::{assert_input_error, root, run, stderr, stdout, study_text, write};
+use common::{
+    assert_input_error, names, ok, paper_into, root, run, sha256_hex, stderr, stdout, study_text,
+    write,
+};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 /// The manifest's signature line (the file format of a report directory).
-const SIGNATURE: &str =
-    "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
+const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
 
-fn ok(o: &Output) {
-    assert!(
-        o.status.success(),
-        "exit {:?}\nstderr: {}\nstdout: {}",
-        o.status.code(),
-        stderr(o),
-        String::from_utf8_lossy(&o.stdout)
-    );
-}
-
-/// A report directory of ours at `dir` (manifest listing `listed`, holding `present`).
+/// A report directory of ours at `dir` (manifest listing `listed` with the hash of `old
+/// <name>`, holding `present` with that content).
 fn fake_report(dir: &Path, listed: &[&str], present: &[&str]) {
     std::fs::create_dir_all(dir).unwrap();
     let mut m = format!("{SIGNATURE}\n");
     for l in listed {
-        m.push_str(l);
-        m.push('\n');
+        m.push_str(&format!(
+            "{}  {l}\n",
+            sha256_hex(format!("old {l}").as_bytes())
+        ));
     }
     std::fs::write(dir.join(".report-manifest"), m).unwrap();
     for p in present {
         std::fs::write(dir.join(p), format!("old {p}")).unwrap();
     }
-}
-
-/// The names in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
-/// A fresh paper report into `out` (few samples).
-fn paper_into(out: &Path) -> Output {
-    run(&[
-        "reproduce-paper",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
-        "1500",
-    ])
 }
 
 /// The report in `out` is a complete new one (1500 samples) and nothing but it.
@@ -76,7 +50,19 @@ fn assert_new_report(out: &Path) {
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["samples"], 1500);
     let manifest = std::fs::read_to_string(out.join(".report-manifest")).unwrap();
-    let mut listed: Vec<String> = manifest.lines().skip(1).map(String::from).collect();
+    let mut listed: Vec<String> = manifest
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let (hash, name) = l.split_once("  ").unwrap();
+            assert_eq!(
+                sha256_hex(&std::fs::read(out.join(name)).unwrap()),
+                hash,
+                "{name}"
+            );
+            name.to_string()
+        })
+        .collect();
     listed.push(".report-manifest".into());
     listed.sort();
     assert_eq!(names(out), listed);

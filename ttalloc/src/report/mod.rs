@@ -233,19 +233,20 @@ fn write(c: &Computed, out: &Path, prepared: crate::outdir::Prepared, what: &str
     let notes = prepared.notes.clone();
     let dir = prepared.dir().to_path_buf();
     prepared.write(&files)?;
+    // every path printed as one visible line; the hint to copy as one shell word
     let linked = if dir == out {
         String::new()
     } else {
-        format!(" (a link to {})", dir.display())
+        format!(" (a link to {})", crate::paths::visible(&dir))
     };
     let mut t = format!(
         "{what}: study {} ({}), seed {}, {} samples: wrote {} files to {}{linked} in {:.1} s\n",
         c.study.name,
-        c.study.path,
+        study::fmt::visible(&c.study.path),
         c.options.seed,
         c.options.samples,
         files.len() + 1,
-        out.display(),
+        crate::paths::visible(out),
         c.seconds
     );
     for n in &notes {
@@ -260,7 +261,10 @@ fn write(c: &Computed, out: &Path, prepared: crate::outdir::Prepared, what: &str
     if let Some(n) = &c.requirement.disagreement {
         t.push_str(&format!("  {n}\n"));
     }
-    t.push_str(&format!("  open {}\n", out.join("report.html").display()));
+    t.push_str(&format!(
+        "  open {}\n",
+        crate::paths::shell_quote(&out.join("report.html").display().to_string())
+    ));
     crate::out::print(&t)
 }
 

@@ -115,3 +115,44 @@ pub fn output_of_fresh_copy(cmd: &mut Command) -> Output {
         }
     }
 }
+
+/// Assert success, showing the exit code and both outputs otherwise.
+pub fn ok(o: &Output) {
+    assert!(
+        o.status.success(),
+        "exit {:?}\nstderr: {}\nstdout: {}",
+        o.status.code(),
+        stderr(o),
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
+/// The SHA-256 of `bytes` in lowercase hex (a report manifest line's first field).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The names in `dir`, sorted.
+pub fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// A paper report into `out` (1500 samples: few, fast).
+pub fn paper_into(out: &Path) -> Output {
+    run(&[
+        "reproduce-paper",
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "1500",
+    ])
+}
