@@ -6,6 +6,7 @@
 use crate::InputError;
 use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
+use e2e_verify::E2eError;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
     BudgetDesign, BudgetParams, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget,
@@ -13,7 +14,7 @@ use schedule_design::{
 };
 use serde::Serialize;
 use study::Study;
-use study::fmt::{num, sig};
+use study::fmt::{exact, num, sig};
 
 /// What the budget answers for a study.
 pub enum Budgeted {
@@ -97,13 +98,7 @@ pub fn run(
     if s.noise.iter().all(Option::is_none) {
         return Ok(Budgeted::Noiseless { budget_s });
     }
-    let Some(timing) = &s.timing else {
-        return Err(InputError::new(
-            "--time-budget-s",
-            "the study gives noise but no [calibration.timing]: the budget needs its sample_rate_hz and move_s",
-        )
-        .into());
-    };
+    let timing = timing_of(s)?;
     let study: Option<Vec<usize>> = s
         .positions_deg
         .iter()
@@ -160,19 +155,31 @@ fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
         .then_some(first)
 }
 
-/// Before the (long) table search: a budget shorter than the fewest positions that identify
-/// every output, at one move and one sample each, is an input error naming `--time-budget-s`
-/// (checked again by the library). Nothing to check without noise or timing.
+/// The timing of a study with noise: the budget needs its sample rate and move time.
+///
+/// # Errors
+/// An [`InputError`] naming `--time-budget-s` when the study has no `[calibration.timing]`.
+fn timing_of(s: &Study) -> Result<&calib_lsq::Timing, InputError> {
+    s.timing.as_ref().ok_or_else(|| {
+        InputError::new(
+            "--time-budget-s",
+            "the study gives noise but no [calibration.timing]: the budget needs its sample_rate_hz and move_s",
+        )
+    })
+}
+
+/// Before the (long) table search: a study with noise but no timing, and a budget shorter
+/// than the fewest positions that identify every output (at one move and one sample each),
+/// are input errors naming `--time-budget-s` (the second checked again by the library; the
+/// budget quoted as given, [`study::fmt::exact`]). Nothing to check without noise.
 ///
 /// # Errors
 /// That [`InputError`].
 pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
-    let Some(timing) = &s.timing else {
-        return Ok(());
-    };
     if s.noise.iter().all(Option::is_none) {
         return Ok(());
     }
+    let timing = timing_of(s)?;
     let problem = DesignProblem::new(
         &s.turntable,
         &s.sensor,
@@ -183,7 +190,23 @@ pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
     )
     .map_err(|e| crate::input::library(e, s))?;
     let b = time_budget(s, timing, budget_s, None);
-    check_budget_affords(&problem, &b).map_err(|e| crate::input::library(e, s))
+    check_budget_affords(&problem, &b).map_err(|e| match e {
+        E2eError::BudgetTooShort {
+            positions,
+            output,
+            needed_s,
+            ..
+        } => InputError::new(
+            "--time-budget-s",
+            format!(
+                "time_budget_s = {} s is too short: the fewest positions that identify every output ({positions}, for output `{output}`) take {} s at one sample each (positions x (move_s + 1/sample_rate_hz))",
+                exact(budget_s),
+                num(needed_s)
+            ),
+        )
+        .into(),
+        e => crate::input::library(e, s),
+    })
 }
 
 fn origin(o: ScheduleOrigin) -> String {
@@ -427,14 +450,19 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
     t
 }
 
+/// Why `--pareto-svg` writes no figure when the front is empty (an answer, not an error).
+pub const EMPTY_FRONT_NOTE: &str =
+    "not written: the Pareto front is empty (no table suffices at any dwell), nothing to draw";
+
 /// The Pareto front as a figure in the report's style (the report's line-figure code):
-/// J against the total test time, both log10, with the chosen point.
+/// J against the total test time, both log10, with the chosen point; `None` when the front is
+/// empty (no table suffices at any dwell: nothing to draw, [`EMPTY_FRONT_NOTE`]).
 ///
 /// # Errors
-/// When the front is empty (nothing to draw) or a value is not plottable.
-pub fn svg(d: &BudgetDesign) -> Result<String> {
+/// When a value is not plottable.
+pub fn svg(d: &BudgetDesign) -> Result<Option<String>> {
     if d.pareto().is_empty() {
-        anyhow::bail!("--pareto-svg: no table suffices at any dwell, the front is empty");
+        return Ok(None);
     }
     let xy = |p: &BudgetPoint| ((p.total_s() / 3600.0).log10(), p.objective_arcmin().log10());
     let mut series = vec![Series {
@@ -461,5 +489,5 @@ pub fn svg(d: &BudgetDesign) -> Result<String> {
         x_integer: false,
         y_from_zero: false,
     };
-    figures::line_figure("Test time and the table", &[panel], 1)
+    figures::line_figure("Test time and the table", &[panel], 1).map(Some)
 }

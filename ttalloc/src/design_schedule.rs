@@ -27,7 +27,8 @@
 //! move)), JSON `time_budget` (`budget_s`, `k_sigma`, `counts`, `counts_skipped`, `chosen`
 //! with its `n_positions`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
 //! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
-//! `--write-study`). With `--write-study` the written study has the chosen point's positions
+//! `--write-study`; an empty front, no table at any dwell, is an answer: no figure, and the
+//! text and JSON `pareto_svg_note` say so). With `--write-study` the written study has the chosen point's positions
 //! and its one dwell (`calibration.timing.dwell_s`), so `end-to-end` on it answers the
 //! chosen J (`direct_with_noise`) and its combined answer. Without noise the budget only
 //! changes the dwell: `time_budget.note` says so and the answer is unchanged.
@@ -131,6 +132,8 @@ struct Outcome {
     seconds: f64,
     command: String,
     written: Option<String>,
+    /// With `--pareto-svg` and an empty front: why no figure was written.
+    pareto_svg_note: Option<String>,
     /// With `--rates-deg-per-s`: the rate chosen among the candidates.
     rates: Option<crate::design_rates::RateChoice>,
 }
@@ -490,6 +493,9 @@ struct DesignJson<'a> {
     groups: Vec<GroupJson>,
     /// The study written by `--write-study`, else `null`.
     written_study: Option<&'a str>,
+    /// With `--pareto-svg` and an empty front: why no figure was written; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pareto_svg_note: Option<&'a str>,
     /// With `--time-budget-s`: `time_budget` and `pareto` (at the top level); absent
     /// otherwise.
     #[serde(flatten)]
@@ -562,6 +568,7 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
         },
         groups: GroupJson::all(&s.turntable, &group_bounds(o)),
         written_study: o.written.as_deref(),
+        pareto_svg_note: o.pareto_svg_note.as_deref(),
         budget: o.budget.as_ref().map(crate::design_budget::json),
     }
 }
@@ -818,6 +825,9 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     if let Some(w) = &o.written {
         t.push_str(&format!("wrote {w}\n"));
     }
+    if let Some(n) = &o.pareto_svg_note {
+        t.push_str(&format!("{n}\n"));
+    }
     t
 }
 
@@ -907,9 +917,19 @@ pub fn run(args: &Args) -> Result<()> {
             )
         })
         .transpose()?;
+    // an empty front is an answer: no figure, and the output says so
+    let mut pareto_svg_note = None;
     let svg = match (&args.pareto_svg, &budget) {
         (Some(out), Some(crate::design_budget::Budgeted::Design(d))) => {
-            Some((out, crate::design_budget::svg(d)?))
+            let figure = crate::design_budget::svg(d)?;
+            if figure.is_none() {
+                pareto_svg_note = Some(format!(
+                    "--pareto-svg {}: {}",
+                    out.display(),
+                    crate::design_budget::EMPTY_FRONT_NOTE
+                ));
+            }
+            figure.map(|text| (out, text))
         }
         (Some(_), Some(crate::design_budget::Budgeted::Noiseless { .. })) => {
             return Err(InputError::new(
@@ -1068,6 +1088,7 @@ pub fn run(args: &Args) -> Result<()> {
         seconds,
         command,
         written,
+        pareto_svg_note,
         rates,
     };
     if args.json {

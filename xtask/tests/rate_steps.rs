@@ -309,6 +309,31 @@ fn bad_candidate_rates_exit_2_naming_the_flag() {
     }
 }
 
+/// A candidate rate the study file would refuse (5e-324 deg/s is zero in rad/s) exits 2
+/// naming the flag before the search (issue 32): `--max-condition 1` makes the search itself
+/// fail, so an error naming `--rates-deg-per-s` proves the rate was refused first; a rate
+/// above the limit is quoted as given (`300.0000001`, not `300`).
+#[test]
+fn a_candidate_rate_the_study_refuses_exits_2_before_the_search_quoted_as_given() {
+    for (rates, needle) in [
+        ("5e-324", "5e-324 deg/s"),
+        ("300.0000001", "300.0000001 deg/s is above the rate limit"),
+    ] {
+        let o = common::run(&[
+            "design-schedule",
+            "--study",
+            &study(STUDY),
+            "--step-deg",
+            "90",
+            "--max-condition",
+            "1",
+            "--rates-deg-per-s",
+            rates,
+        ]);
+        assert_input_error(&o, &["--rates-deg-per-s", needle]);
+    }
+}
+
 /// `allocate` on a study with rate steps prints, beside the two-step allocation, the direct
 /// allocation with the rate tolerances (JSON `rate_allocation`), the same as `end-to-end`'s.
 #[test]
