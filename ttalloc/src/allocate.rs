@@ -11,6 +11,10 @@
 //! check, `groups` (errors that act only together, with the bound of their combination under
 //! each allocation) and, for the paper's table, `paper_table4_arcmin` and
 //! `paper_table4_objective`.
+//!
+//! For a study with rate steps the two-step allocation is not made (the orientation
+//! requirement is a static concept): the text says so and gives the direct allocation with
+//! the rate tolerances (JSON `rate_allocation`) as the answer.
 
 use crate::InputError;
 use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
@@ -293,6 +297,16 @@ fn group_boxes(a: &Allocations) -> Vec<(&'static str, &[f64])> {
 }
 
 fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
+    if s.has_rate_steps() {
+        // the two-step allocation is not made for a study with rate steps: only the note
+        // saying so, then the direct allocation with the rate tolerances (printed by `run`)
+        return format!(
+            "two-step allocation, study {} ({}): not made\nnote: {}\n\n",
+            s.name,
+            s.path,
+            crate::rate::STATIC_REQUIREMENT_NOTE
+        );
+    }
     let names = s.turntable.rotation_error_names();
     let req = a.problem.requirement();
     let mut t = format!(

@@ -225,7 +225,14 @@ impl<'a> Sections<'a> {
         let c = self.c;
         let acc = c.e2e.accuracies();
         let outs = self.outputs();
-        let two = c.two_step.as_ref().map(|t| t.ours.objective_arcmin());
+        // a study with rate steps: the two-step allocation is not made (the requirement is a
+        // static concept), so the answer never states its verdict
+        let rate_steps = c.study.has_rate_steps();
+        let two = c
+            .two_step
+            .as_ref()
+            .filter(|_| !rate_steps)
+            .map(|t| t.ours.objective_arcmin());
         let mut items = Vec::new();
         for (i, r) in c.answer.readings().iter().enumerate() {
             let mut s = format!(
@@ -234,7 +241,11 @@ impl<'a> Sections<'a> {
                 if i == 0 { ", the study's" } else { "" },
                 reading_words(r.reading())
             );
-            if let Some(b) = r.boxes().iter().find(|b| b.name() == "two-step") {
+            if let Some(b) = r
+                .boxes()
+                .iter()
+                .find(|b| b.name() == "two-step" && !rate_steps)
+            {
                 let ok = b.worst_case().meets(&acc).holds();
                 let worst: Vec<String> = b
                     .worst_case()
@@ -286,6 +297,13 @@ impl<'a> Sections<'a> {
             s.push('.');
             items.push(s);
         }
+        if let Some(ra) = &c.rate_alloc {
+            items.push(format!(
+                "With the rate steps' own errors (reading `{}`): the direct allocation with the rate tolerances (the angles, the rate accuracy, the rate ripple and the translations together) needs J = {:.2} arcmin⁻² over both.",
+                c.e2e.reading(),
+                ra.allocation.combined().objective_arcmin()
+            ));
+        }
         if c.vendor.is_some() {
             // the allocations answer another question than the sheet's: a comparison
             for i in &mut items {
@@ -308,19 +326,21 @@ impl<'a> Sections<'a> {
             Some((tol, chk)) => {
                 items.insert(0, self.sheet_outputs(chk));
                 format!(
-                    "**Answer.** Do the tolerances of {}{} deliver every output's accuracy? {}.",
+                    "**Answer.** Do the tolerances of {}{} deliver every output's accuracy? {}.{}",
                     doc::code(&tol.path),
                     tol.name
                         .as_ref()
                         .map_or(String::new(), |n| format!(" ({})", doc::text(n))),
-                    upper_first(&sheet_verdict(chk))
-                ) + &c.vendor_rate.as_ref().map_or(String::new(), |r| {
-                    format!(
-                        ". The study has rate steps, and with the sheet's rate errors and translations: {}",
-                        crate::rate::verdict_sentence(&c.e2e, r)
-                    )
-                })
+                    upper_first(&sheet_verdict(chk)),
+                    c.vendor_rate.as_ref().map_or(String::new(), |r| {
+                        format!(
+                            " The study has rate steps, and with the sheet's rate errors and translations: {}.",
+                            crate::rate::verdict_sentence(&c.e2e, r)
+                        )
+                    })
+                )
             }
+            None if rate_steps => "**Answer.** What does the direct allocation against every output's accuracy ask of the table (J: lower is a looser, cheaper table)? The study has rate steps, so the two-step allocation (an orientation requirement first) is not made.".into(),
             None => format!("**Answer.** {allocation_question}"),
         };
         self.doc.callout_list(lead, items);
@@ -2282,12 +2302,24 @@ impl<'a> Sections<'a> {
             rows,
         );
         let ratio = a.direct_objective_arcmin / b.direct_objective_arcmin;
-        self.doc.p(format!(
-            "The designed schedule's turntable is {} demanding: J {} vs {} ({}×).",
-            if ratio >= 1.0 { "less" } else { "more" },
-            format_args!("{:.3}", b.direct_objective_arcmin),
-            format_args!("{:.3}", a.direct_objective_arcmin),
-            sig(if ratio >= 1.0 { ratio } else { 1.0 / ratio }, 3)
-        ));
+        let (jb, ja) = (
+            format!("{:.3}", b.direct_objective_arcmin),
+            format!("{:.3}", a.direct_objective_arcmin),
+        );
+        self.doc.p(if a.positions_deg == b.positions_deg {
+            format!(
+                "The designed file has the study's own positions: the same turntable, J {ja} for both."
+            )
+        } else if ja == jb {
+            format!(
+                "The designed schedule's turntable is as demanding as the study's: J {ja} for both (to the digits shown)."
+            )
+        } else {
+            format!(
+                "The designed schedule's turntable is {} demanding: J {jb} vs {ja} ({}×).",
+                if ratio >= 1.0 { "less" } else { "more" },
+                sig(if ratio >= 1.0 { ratio } else { 1.0 / ratio }, 3)
+            )
+        });
     }
 }
