@@ -147,7 +147,7 @@ fn time_budget<'a>(
 }
 
 /// The study's dwell when every position has the same one.
-fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
+pub(crate) fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
     let first = *dwell_s.first()?;
     dwell_s
         .iter()

@@ -1639,9 +1639,16 @@ impl<'a> Sections<'a> {
         // the trade-off
         self.doc
             .h(3, "How long to dwell, and how good the table must be");
+        let list = n.scanned.list_words();
+        if let Some(w) = &list {
+            self.doc.p(format!(
+                "Scanned: {w}; a dwell below is the mean dwell per position."
+            ));
+        }
         match tr.min_dwell_s() {
             Some(d) => self.doc.p(format!(
-                "The shortest dwell at which some table meets every accuracy (noise part plus the lower bounds' table part within ω_m, found by bisection): **{} s per position**{}. Above it the table's J falls towards its noiseless value {} arcmin⁻²; the knee (where a longer dwell stops paying: d ln J / d ln T = −1) {}. Written to `tradeoff.csv`.",
+                "The shortest {}dwell at which some table meets every accuracy (noise part plus the lower bounds' table part within ω_m, found by bisection): **{} s per position**{}. Above it the table's J falls towards its noiseless value {} arcmin⁻²; the knee (where a longer dwell stops paying: d ln J / d ln T = −1) {}. Written to `tradeoff.csv`.",
+                if list.is_some() { "mean " } else { "" },
                 sig(d, 4),
                 if tr.min_dwell_at_range_start() { " (one sample per position already suffices)" } else { "" },
                 sig(objective_to_arcmin(tr.noiseless_objective()), 5),
@@ -1658,12 +1665,20 @@ impl<'a> Sections<'a> {
                             .collect()
                     })
                     .unwrap_or_default();
-                self.doc.p(format!(
-                    "**No dwell up to {} s per position** lets any table meet every accuracy: the noise part alone exceeds one even then ({} σ at that dwell: {}). Written to `tradeoff.csv`.",
-                    num(tr.range_s().1),
-                    num(k),
-                    last.join(", ")
-                ));
+                self.doc.p(if list.is_some() {
+                    format!(
+                        "**At no scale of the study's dwells** does any table meet every accuracy: the noise part alone exceeds one even at the longest ({} σ there: {}). Written to `tradeoff.csv`.",
+                        num(k),
+                        last.join(", ")
+                    )
+                } else {
+                    format!(
+                        "**No dwell up to {} s per position** lets any table meet every accuracy: the noise part alone exceeds one even then ({} σ at that dwell: {}). Written to `tradeoff.csv`.",
+                        num(tr.range_s().1),
+                        num(k),
+                        last.join(", ")
+                    )
+                });
             }
         }
         let mut csv = String::from("dwell_s,total_s,objective_arcmin\n");
