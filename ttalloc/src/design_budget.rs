@@ -28,11 +28,21 @@ pub enum Budgeted {
 pub struct Designed {
     /// The library's answer.
     pub design: BudgetDesign,
-    /// J (arcmin^-2) of the chosen point's direct allocation with the noise part kept free,
-    /// certified on the exact chain (as `end-to-end`'s `direct_with_noise.objective` on the
-    /// study written with the chosen positions and dwell); `None` without a chosen point or
-    /// when no certified table suffices. The budget's own J is the linearised allocation.
-    pub chosen_certified_arcmin: Option<f64>,
+    /// The chosen point's direct allocation with the noise part kept free, certified on the
+    /// exact chain (as `end-to-end`'s `direct_with_noise` on the study written with the
+    /// chosen positions and dwell); `None` without a chosen point. The budget's own J is the
+    /// linearised allocation.
+    pub(crate) chosen_counted: Option<crate::design_schedule::NoiseCounted>,
+}
+
+impl Designed {
+    /// J (arcmin^-2) of [`Designed::chosen_counted`]; `None` without a chosen point or when
+    /// no table suffices on the exact chain.
+    pub fn chosen_certified_arcmin(&self) -> Option<f64> {
+        self.chosen_counted
+            .as_ref()
+            .and_then(crate::design_schedule::NoiseCounted::objective_arcmin)
+    }
 }
 
 impl std::ops::Deref for Designed {
@@ -58,25 +68,6 @@ pub fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Resul
     Ok(s2
         .with_positions_deg(p.positions_deg().to_vec())
         .map_err(InputError::from)?)
-}
-
-/// J (arcmin^-2) of the certified direct allocation with the noise part kept free at the
-/// chosen point (`None`: no table suffices on the exact chain).
-fn certified_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Option<f64>> {
-    let s2 = study_at(s, timing, p)?;
-    let e2e = crate::end_to_end::simulator(&s2)?;
-    let Some(noise) = crate::noise::budget(&s2, &e2e)? else {
-        return Ok(None);
-    };
-    let answer = e2e
-        .allocate_direct_with_noise_certified(
-            &e2e.linearization(),
-            &s2.lower_bounds_rad,
-            &noise,
-            DEFAULT_K_SIGMA,
-        )
-        .map_err(|e| crate::input::library(e, &s2))?;
-    Ok(answer.ok().map(|d| d.objective_arcmin()))
 }
 
 /// Why a noiseless study's answer does not change with the budget.
@@ -115,13 +106,14 @@ pub fn run(
         &b,
     )
     .map_err(|e| crate::input::library(e, s))?;
-    let chosen_certified_arcmin = match &d.chosen() {
-        Some(p) => certified_at(s, timing, p)?,
+    // the chosen point as `--write-study` writes it, with the noise counted
+    let chosen_counted = match &d.chosen() {
+        Some(p) => crate::design_schedule::noise_counted(&study_at(s, timing, p)?)?,
         None => None,
     };
     Ok(Budgeted::Design(Box::new(Designed {
         design: d,
-        chosen_certified_arcmin,
+        chosen_counted,
     })))
 }
 
@@ -329,7 +321,7 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
                 chosen: d.chosen().map(|p| ChosenJson {
                     point: p.into(),
                     positions_deg: p.positions_deg(),
-                    certified_objective_arcmin: d.chosen_certified_arcmin,
+                    certified_objective_arcmin: d.chosen_certified_arcmin(),
                 }),
             },
             pareto: Some(d.pareto().iter().map(PointJson::from).collect()),
@@ -340,7 +332,7 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
 /// The lines `--write-study` puts above the positions the budget chose (`p`, chosen in `d`).
 pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
     format!(
-        "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The J, condition numbers and tolerances\nabove are those of the table's design.",
+        "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The dwell_s of [calibration.timing] below is\nthis one; the comments there describe the study's original timing.",
         num(d.budget_s()),
         p.n_positions(),
         origin(p.origin()),
@@ -348,7 +340,7 @@ pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
         sig(p.total_s(), 6),
         num(p.objective_arcmin()),
         num(d.k_sigma()),
-        d.chosen_certified_arcmin
+        d.chosen_certified_arcmin()
             .map_or("no table suffices".to_string(), |j| format!(
                 "J = {}",
                 num(j)
@@ -400,7 +392,7 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
             sig(p.total_s(), 4),
             sig(p.objective_arcmin(), 6),
             origin(p.origin()),
-            d.chosen_certified_arcmin
+            d.chosen_certified_arcmin()
                 .map_or("no table suffices".to_string(), |j| format!("J = {}", sig(j, 6)))
         )),
         None => t.push_str(&match d.pareto().first() {
