@@ -112,7 +112,7 @@ fn end_to_end_on_the_written_study_reproduces_the_designed_objective() {
         "the input study's comments are kept"
     );
     assert!(text.contains(
-        "# both axes.\n# The positions below replace the schedule described above. Designed by\n"
+        "# both axes.\n# The positions below replace the schedule described above. Made by\n"
     ));
     assert!(text.contains("--seed 2017`"), "the seed is in the comment");
     let e2e = json_of(&xtask(&[
