@@ -160,7 +160,11 @@ fn readme_noise_budget_figures_are_the_binarys() {
         thousands(n(&p["dwell_s"]))
     );
     assert!(text.contains(&mid), "README lacks `{mid}`");
-    assert_eq!(n(&last["dwell_s"]), 86_400.0, "the front ends at a day");
+    assert_eq!(
+        n(&last["dwell_s"]).to_bits(),
+        86_400.0_f64.to_bits(),
+        "the front ends at a day"
+    );
     let end = format!(
         "and {} positions at a day each\nJ = {:.1};",
         last["n_positions"],
