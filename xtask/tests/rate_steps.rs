@@ -358,6 +358,16 @@ fn allocate_shows_the_rate_tolerances_like_end_to_end() {
         max_relative = SAME_PATH_REL
     );
     assert_eq!(ra["tolerances"], re["tolerances"]);
+    let why = a["two_step_allocation"].as_str().expect("why no two-step");
+    assert!(why.starts_with("not made: "), "{why}");
+    for key in [
+        "objective",
+        "allocation_arcmin",
+        "certificate",
+        "equal_effects_arcmin",
+    ] {
+        assert!(a.get(key).is_none(), "`{key}` in {a}");
+    }
     let text = common::stdout(&common::run(&["allocate", "--study", &study(STUDY)]));
     assert!(
         text.contains("phi_i_rate_accuracy 46.") && text.contains(" ppm") && text.contains(" mm"),
