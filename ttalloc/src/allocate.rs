@@ -11,6 +11,11 @@
 //! check, `groups` (errors that act only together, with the bound of their combination under
 //! each allocation) and, for the paper's table, `paper_table4_arcmin` and
 //! `paper_table4_objective`.
+//!
+//! For a study with rate steps the two-step allocation is not made (the orientation
+//! requirement is a static concept): the text says so and gives the direct allocation with
+//! the rate tolerances (JSON `rate_allocation`, beside `two_step_allocation` saying why the
+//! two-step keys are absent) as the answer.
 
 use crate::InputError;
 use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
@@ -381,9 +386,63 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
     t
 }
 
+/// `allocate --json` for a study with rate steps: the two-step allocation is not made, so
+/// only what is: the direct allocation with the rate tolerances (and a sheet's pairs).
+#[derive(Debug, Serialize)]
+struct RateStudyJson<'a> {
+    /// The study's path.
+    study: &'a str,
+    /// Why the two-step allocation is not made.
+    two_step_allocation: String,
+    /// `disc_allocation` and `rate_allocation` (each absent when it does not apply).
+    #[serde(flatten)]
+    extras: crate::json::ExtrasJson<'a>,
+}
+
+/// `allocate` on a study with rate steps: the two-step allocation is not made (the
+/// orientation requirement is a static concept); the answer is the direct allocation with the
+/// rate tolerances.
+fn run_rate_study(args: &Args, s: &Study) -> Result<()> {
+    let sheet = crate::angle_alloc::sheet(s, args.tolerances.as_deref())?;
+    let e2e = crate::end_to_end::simulator(s)?;
+    let settings = e2e_verify::McSettings::new(s.monte_carlo.samples, s.monte_carlo.seed);
+    let rate = crate::rate::allocation(s, &e2e, &settings)?;
+    let not_made = format!("not made: {}", crate::rate::STATIC_REQUIREMENT_NOTE);
+    if args.json {
+        let extras = crate::json::ExtrasJson {
+            disc_allocation: sheet
+                .as_ref()
+                .map(|(path, al)| crate::angle::SheetAllocationsJson::new(path, al)),
+            rate_allocation: rate
+                .as_ref()
+                .map(|r| crate::rate::RateAllocationJson::new(&e2e, r)),
+            ..crate::json::ExtrasJson::default()
+        };
+        return crate::json::print(&RateStudyJson {
+            study: &s.path,
+            two_step_allocation: not_made,
+            extras,
+        });
+    }
+    let mut t = format!(
+        "two-step allocation, study {} ({}): {not_made}\n",
+        s.name, s.path
+    );
+    if let Some((path, al)) = &sheet {
+        t.push_str(&crate::angle::sheet_allocations_text(path, al));
+    }
+    if let Some(r) = &rate {
+        t.push_str(&crate::rate::allocation_text(&e2e, r));
+    }
+    crate::out::print(&t)
+}
+
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
+    if s.has_rate_steps() {
+        return run_rate_study(args, &s);
+    }
     let a = allocate(&s, args.constraint_form, args.safety_margin)?;
     // errors that vary with the shaft angle: the direct allocations of the angle model
     let angle = if s.has_angle_dependent_errors() || s.measured.iter().any(Option::is_some) {
@@ -396,15 +455,6 @@ pub fn run(args: &Args) -> Result<()> {
         .as_ref()
         .map(|(e2e, an)| crate::angle_alloc::to_text(e2e, an));
     let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
-    // rate steps: the direct allocation of the angles and the rate tolerances together
-    // (the two-step allocation above has no place for them)
-    let rate = if s.has_rate_steps() {
-        let e2e = crate::end_to_end::simulator(&s)?;
-        let settings = e2e_verify::McSettings::new(s.monte_carlo.samples, s.monte_carlo.seed);
-        crate::rate::allocation(&s, &e2e, &settings)?.map(|r| (e2e, r))
-    } else {
-        None
-    };
     let mut v = allocate_json(&s, &a, args.constraint_form, args.safety_margin)?;
     if args.json {
         v.extras.angle_dependent = angle
@@ -413,9 +463,6 @@ pub fn run(args: &Args) -> Result<()> {
         v.extras.disc_allocation = sheet
             .as_ref()
             .map(|(path, al)| crate::angle::SheetAllocationsJson::new(path, al));
-        v.extras.rate_allocation = rate
-            .as_ref()
-            .map(|(e2e, r)| crate::rate::RateAllocationJson::new(e2e, r));
         return crate::json::print(&v);
     }
     let mut t = text(&s, &a, &v);
@@ -424,9 +471,6 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if let Some((path, al)) = &sheet {
         t.push_str(&crate::angle::sheet_allocations_text(path, al));
-    }
-    if let Some((e2e, r)) = &rate {
-        t.push_str(&crate::rate::allocation_text(e2e, r));
     }
     crate::out::print(&t)
 }

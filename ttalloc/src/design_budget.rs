@@ -6,6 +6,7 @@
 use crate::InputError;
 use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
+use e2e_verify::E2eError;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
     BudgetDesign, BudgetParams, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget,
@@ -13,7 +14,7 @@ use schedule_design::{
 };
 use serde::Serialize;
 use study::Study;
-use study::fmt::{num, sig};
+use study::fmt::{exact, num, sig};
 
 /// What the budget answers for a study.
 pub enum Budgeted {
@@ -27,11 +28,21 @@ pub enum Budgeted {
 pub struct Designed {
     /// The library's answer.
     pub design: BudgetDesign,
-    /// J (arcmin^-2) of the chosen point's direct allocation with the noise part kept free,
-    /// certified on the exact chain (as `end-to-end`'s `direct_with_noise.objective` on the
-    /// study written with the chosen positions and dwell); `None` without a chosen point or
-    /// when no certified table suffices. The budget's own J is the linearised allocation.
-    pub chosen_certified_arcmin: Option<f64>,
+    /// The chosen point's direct allocation with the noise part kept free, certified on the
+    /// exact chain (as `end-to-end`'s `direct_with_noise` on the study written with the
+    /// chosen positions and dwell); `None` without a chosen point. The budget's own J is the
+    /// linearised allocation.
+    pub(crate) chosen_counted: Option<crate::design_schedule::NoiseCounted>,
+}
+
+impl Designed {
+    /// J (arcmin^-2) of [`Designed::chosen_counted`]; `None` without a chosen point or when
+    /// no table suffices on the exact chain.
+    pub fn chosen_certified_arcmin(&self) -> Option<f64> {
+        self.chosen_counted
+            .as_ref()
+            .and_then(crate::design_schedule::NoiseCounted::objective_arcmin)
+    }
 }
 
 impl std::ops::Deref for Designed {
@@ -59,25 +70,6 @@ pub fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Resul
         .map_err(InputError::from)?)
 }
 
-/// J (arcmin^-2) of the certified direct allocation with the noise part kept free at the
-/// chosen point (`None`: no table suffices on the exact chain).
-fn certified_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Option<f64>> {
-    let s2 = study_at(s, timing, p)?;
-    let e2e = crate::end_to_end::simulator(&s2)?;
-    let Some(noise) = crate::noise::budget(&s2, &e2e)? else {
-        return Ok(None);
-    };
-    let answer = e2e
-        .allocate_direct_with_noise_certified(
-            &e2e.linearization(),
-            &s2.lower_bounds_rad,
-            &noise,
-            DEFAULT_K_SIGMA,
-        )
-        .map_err(|e| crate::input::library(e, &s2))?;
-    Ok(answer.ok().map(|d| d.objective_arcmin()))
-}
-
 /// Why a noiseless study's answer does not change with the budget.
 pub const NOISELESS_NOTE: &str = "the study gives no noise: the budget only changes the dwell (without noise the table's part does not depend on the dwell), so the positions are those designed for the table and the answer is the one without a budget";
 
@@ -97,13 +89,7 @@ pub fn run(
     if s.noise.iter().all(Option::is_none) {
         return Ok(Budgeted::Noiseless { budget_s });
     }
-    let Some(timing) = &s.timing else {
-        return Err(InputError::new(
-            "--time-budget-s",
-            "the study gives noise but no [calibration.timing]: the budget needs its sample_rate_hz and move_s",
-        )
-        .into());
-    };
+    let timing = timing_of(s)?;
     let study: Option<Vec<usize>> = s
         .positions_deg
         .iter()
@@ -120,13 +106,14 @@ pub fn run(
         &b,
     )
     .map_err(|e| crate::input::library(e, s))?;
-    let chosen_certified_arcmin = match &d.chosen() {
-        Some(p) => certified_at(s, timing, p)?,
+    // the chosen point as `--write-study` writes it, with the noise counted
+    let chosen_counted = match &d.chosen() {
+        Some(p) => crate::design_schedule::noise_counted(&study_at(s, timing, p)?)?,
         None => None,
     };
     Ok(Budgeted::Design(Box::new(Designed {
         design: d,
-        chosen_certified_arcmin,
+        chosen_counted,
     })))
 }
 
@@ -152,7 +139,7 @@ fn time_budget<'a>(
 }
 
 /// The study's dwell when every position has the same one.
-fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
+pub(crate) fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
     let first = *dwell_s.first()?;
     dwell_s
         .iter()
@@ -160,19 +147,31 @@ fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
         .then_some(first)
 }
 
-/// Before the (long) table search: a budget shorter than the fewest positions that identify
-/// every output, at one move and one sample each, is an input error naming `--time-budget-s`
-/// (checked again by the library). Nothing to check without noise or timing.
+/// The timing of a study with noise: the budget needs its sample rate and move time.
+///
+/// # Errors
+/// An [`InputError`] naming `--time-budget-s` when the study has no `[calibration.timing]`.
+fn timing_of(s: &Study) -> Result<&calib_lsq::Timing, InputError> {
+    s.timing.as_ref().ok_or_else(|| {
+        InputError::new(
+            "--time-budget-s",
+            "the study gives noise but no [calibration.timing]: the budget needs its sample_rate_hz and move_s",
+        )
+    })
+}
+
+/// Before the (long) table search: a study with noise but no timing, and a budget shorter
+/// than the fewest positions that identify every output (at one move and one sample each),
+/// are input errors naming `--time-budget-s` (the second checked again by the library; the
+/// budget quoted as given, [`study::fmt::exact`]). Nothing to check without noise.
 ///
 /// # Errors
 /// That [`InputError`].
 pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
-    let Some(timing) = &s.timing else {
-        return Ok(());
-    };
     if s.noise.iter().all(Option::is_none) {
         return Ok(());
     }
+    let timing = timing_of(s)?;
     let problem = DesignProblem::new(
         &s.turntable,
         &s.sensor,
@@ -183,7 +182,23 @@ pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
     )
     .map_err(|e| crate::input::library(e, s))?;
     let b = time_budget(s, timing, budget_s, None);
-    check_budget_affords(&problem, &b).map_err(|e| crate::input::library(e, s))
+    check_budget_affords(&problem, &b).map_err(|e| match e {
+        E2eError::BudgetTooShort {
+            positions,
+            output,
+            needed_s,
+            ..
+        } => InputError::new(
+            "--time-budget-s",
+            format!(
+                "time_budget_s = {} s is too short: the fewest positions that identify every output ({positions}, for output `{output}`) take {} s at one sample each (positions x (move_s + 1/sample_rate_hz))",
+                exact(budget_s),
+                num(needed_s)
+            ),
+        )
+        .into(),
+        e => crate::input::library(e, s),
+    })
 }
 
 fn origin(o: ScheduleOrigin) -> String {
@@ -306,7 +321,7 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
                 chosen: d.chosen().map(|p| ChosenJson {
                     point: p.into(),
                     positions_deg: p.positions_deg(),
-                    certified_objective_arcmin: d.chosen_certified_arcmin,
+                    certified_objective_arcmin: d.chosen_certified_arcmin(),
                 }),
             },
             pareto: Some(d.pareto().iter().map(PointJson::from).collect()),
@@ -317,7 +332,7 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
 /// The lines `--write-study` puts above the positions the budget chose (`p`, chosen in `d`).
 pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
     format!(
-        "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The J, condition numbers and tolerances\nabove are those of the table's design.",
+        "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The dwell_s of [calibration.timing] below is\nthis one; the comments there describe the study's original timing.",
         num(d.budget_s()),
         p.n_positions(),
         origin(p.origin()),
@@ -325,7 +340,7 @@ pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
         sig(p.total_s(), 6),
         num(p.objective_arcmin()),
         num(d.k_sigma()),
-        d.chosen_certified_arcmin
+        d.chosen_certified_arcmin()
             .map_or("no table suffices".to_string(), |j| format!(
                 "J = {}",
                 num(j)
@@ -377,7 +392,7 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
             sig(p.total_s(), 4),
             sig(p.objective_arcmin(), 6),
             origin(p.origin()),
-            d.chosen_certified_arcmin
+            d.chosen_certified_arcmin()
                 .map_or("no table suffices".to_string(), |j| format!("J = {}", sig(j, 6)))
         )),
         None => t.push_str(&match d.pareto().first() {
@@ -427,14 +442,19 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
     t
 }
 
+/// Why `--pareto-svg` writes no figure when the front is empty (an answer, not an error).
+pub const EMPTY_FRONT_NOTE: &str =
+    "not written: the Pareto front is empty (no table suffices at any dwell), nothing to draw";
+
 /// The Pareto front as a figure in the report's style (the report's line-figure code):
-/// J against the total test time, both log10, with the chosen point.
+/// J against the total test time, both log10, with the chosen point; `None` when the front is
+/// empty (no table suffices at any dwell: nothing to draw, [`EMPTY_FRONT_NOTE`]).
 ///
 /// # Errors
-/// When the front is empty (nothing to draw) or a value is not plottable.
-pub fn svg(d: &BudgetDesign) -> Result<String> {
+/// When a value is not plottable.
+pub fn svg(d: &BudgetDesign) -> Result<Option<String>> {
     if d.pareto().is_empty() {
-        anyhow::bail!("--pareto-svg: no table suffices at any dwell, the front is empty");
+        return Ok(None);
     }
     let xy = |p: &BudgetPoint| ((p.total_s() / 3600.0).log10(), p.objective_arcmin().log10());
     let mut series = vec![Series {
@@ -461,5 +481,5 @@ pub fn svg(d: &BudgetDesign) -> Result<String> {
         x_integer: false,
         y_from_zero: false,
     };
-    figures::line_figure("Test time and the table", &[panel], 1)
+    figures::line_figure("Test time and the table", &[panel], 1).map(Some)
 }

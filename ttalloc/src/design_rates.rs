@@ -16,7 +16,7 @@ use crate::InputError;
 use anyhow::Result;
 use serde::Serialize;
 use study::Study;
-use study::fmt::num;
+use study::fmt::{exact, num};
 
 /// The flag.
 pub const FLAG: &str = "--rates-deg-per-s";
@@ -48,8 +48,10 @@ pub struct RateChoice {
     pub chosen: Option<(f64, f64)>,
 }
 
-/// Check the candidates against the study: it must have rate steps, and every candidate must
-/// be within the rate limit of every joint the study's steps turn.
+/// Check the candidates against the study, before any work: it must have rate steps, every
+/// candidate must be within the rate limit of every joint the study's steps turn, and the
+/// study with its steps at each candidate must be one the study file accepts (a rate so
+/// small that it is zero in rad/s is refused here, not after the search).
 ///
 /// # Errors
 /// An [`InputError`] naming the flag.
@@ -71,13 +73,26 @@ pub fn check(s: &Study, rates: &[f64]) -> Result<(), InputError> {
                     FLAG,
                     format!(
                         "{} deg/s is above the rate limit of joint {} ({} deg/s, `turntable.max_rate_deg_per_s`)",
-                        num(*r),
+                        exact(*r),
                         joints[step.joint],
-                        num(limit)
+                        exact(limit)
                     ),
                 ));
             }
         }
+    }
+    for &r in rates {
+        with_rate(s, &s.positions_deg, r).map_err(|e| {
+            InputError::new(
+                FLAG,
+                format!(
+                    "{} deg/s: the study's rate steps at this rate are refused: {}: {}",
+                    exact(r),
+                    e.location,
+                    e.reason
+                ),
+            )
+        })?;
     }
     Ok(())
 }

@@ -11,7 +11,14 @@
 //! worst case of every output with the study's tolerances (the allocation certified on the
 //! exact chain for the study's schedule: what one would buy for it), then the tolerances each
 //! schedule allows: certified on the exact chain (as `end-to-end`'s `direct_certified`; these
-//! pass `check-turntable` on the schedule) and linearised (the design objective J).
+//! pass `check-turntable` on the schedule) and linearised (the design objective J). With noise
+//! and a timing in the study the recommended tolerances are the direct allocation with the
+//! noise part kept free, certified on the exact chain (as `end-to-end`'s `direct_with_noise`;
+//! JSON `combined.designed_bounds_arcmin`, `study_bounds_arcmin`): the table's part proven
+//! within each accuracy less the noise part at 3 sigma, which `check-turntable` accepts on
+//! the written study with the noise counted; the table-alone certified ones follow, marked as
+//! such. The written study's comment describes the positions written (designed, the study's
+//! kept, or the budget's choice) and the tolerances recommended for exactly them.
 //! `--write-study OUT.toml` writes the input study with the designed positions and a comment
 //! saying how they were made (refused if OUT exists or its directory is not writable, both checked before the search;
 //! written atomically, mode 0666 less the umask). `--json` prints an
@@ -27,7 +34,8 @@
 //! move)), JSON `time_budget` (`budget_s`, `k_sigma`, `counts`, `counts_skipped`, `chosen`
 //! with its `n_positions`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
 //! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
-//! `--write-study`). With `--write-study` the written study has the chosen point's positions
+//! `--write-study`; an empty front, no table at any dwell, is an answer: no figure, and the
+//! text and JSON `pareto_svg_note` say so). With `--write-study` the written study has the chosen point's positions
 //! and its one dwell (`calibration.timing.dwell_s`), so `end-to-end` on it answers the
 //! chosen J (`direct_with_noise`) and its combined answer. Without noise the budget only
 //! changes the dwell: `time_budget.note` says so and the answer is unchanged.
@@ -131,6 +139,8 @@ struct Outcome {
     seconds: f64,
     command: String,
     written: Option<String>,
+    /// With `--pareto-svg` and an empty front: why no figure was written.
+    pareto_svg_note: Option<String>,
     /// With `--rates-deg-per-s`: the rate chosen among the candidates.
     rates: Option<crate::design_rates::RateChoice>,
 }
@@ -275,15 +285,26 @@ fn start_name(k: StartKind) -> String {
 /// together.
 /// The bounds behind each schedule's recommended tolerances: the certified allocation, or the
 /// linearised one where none is certified.
-fn recommended_bounds(r: &ScheduleReport) -> &[f64] {
+fn recommended_bounds<'a>(r: &'a ScheduleReport, noise: Option<&'a NoiseCounted>) -> &'a [f64] {
+    // with noise in the study the recommendation is the allocation with the noise counted
+    if let Some(a) = noise.and_then(|n| n.allocation.as_ref()) {
+        return a.upper_bounds_rad();
+    }
     r.certified()
         .map_or(r.allocation().upper_bounds_rad(), |c| c.upper_bounds_rad())
 }
 
 fn group_bounds(o: &Outcome) -> [(&'static str, &[f64]); 2] {
+    let c = o.combined.as_ref();
     [
-        ("designed", recommended_bounds(o.design.designed())),
-        ("study's", recommended_bounds(o.design.study())),
+        (
+            "designed",
+            recommended_bounds(o.design.designed(), c.map(|c| &c.designed)),
+        ),
+        (
+            "study's",
+            recommended_bounds(o.design.study(), c.map(|c| &c.study)),
+        ),
     ]
 }
 
@@ -306,36 +327,81 @@ fn rate_steps_note(s: &Study) -> Option<&'static str> {
 }
 
 /// The study's and the designed schedule answered for both error sources (table + noise at
-/// [`DEFAULT_K_SIGMA`] sigma, the study's timing): the certified direct allocation's J with
-/// the noise part kept free (`None`: no table suffices at this dwell), and which schedule is
-/// recommended. The designed schedule is chosen for the table's part; with noise it must not
-/// lose to the study's on the combined answer, else the study's is recommended.
+/// [`DEFAULT_K_SIGMA`] sigma, the study's timing): the direct allocation with the noise part
+/// kept free, and which schedule is recommended. The designed schedule is chosen for the
+/// table's part; with noise it must not lose to the study's on the combined answer, else the
+/// study's is recommended.
 struct CombinedChoice {
-    study_objective_arcmin: Option<f64>,
-    designed_objective_arcmin: Option<f64>,
+    study: NoiseCounted,
+    designed: NoiseCounted,
     designed_recommended: bool,
 }
 
-/// J (arcmin^-2) of the certified direct allocation with the noise part kept free for `s` at
-/// `positions_deg`; `Ok(None)` when the study has no noise or no timing, `Ok(Some(None))`
-/// when no table suffices at the study's dwell.
-fn combined_objective(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<Option<f64>>> {
-    let s2 = s
-        .with_positions_deg(positions_deg.to_vec())
-        .map_err(InputError::from)?;
-    let e2e = crate::end_to_end::simulator(&s2)?;
-    let Some(budget) = crate::noise::budget(&s2, &e2e)? else {
+/// A schedule's direct allocation with the noise part kept free (the tolerances recommended
+/// when the study gives noise): `allocation` `None` when no table suffices at the dwell.
+pub(crate) struct NoiseCounted {
+    allocation: Option<e2e_verify::DirectAllocation>,
+    /// Whether it is certified on the exact chain (the table's part proven within each
+    /// accuracy less the noise part); else first order only (the reading has no derived
+    /// second-order bound, or none leaves room beside the noise).
+    certified: bool,
+}
+
+impl NoiseCounted {
+    /// J, arcmin^-2 (`None`: no table suffices).
+    pub(crate) fn objective_arcmin(&self) -> Option<f64> {
+        self.allocation
+            .as_ref()
+            .map(e2e_verify::DirectAllocation::objective_arcmin)
+    }
+}
+
+/// The direct allocation with the noise part kept free for `s` (its positions and timing),
+/// certified on the exact chain where the reading allows (as `end-to-end`'s
+/// `direct_with_noise`); `Ok(None)` when the study has no noise or no timing.
+pub(crate) fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
+    let e2e = crate::end_to_end::simulator(s)?;
+    let Some(budget) = crate::noise::budget(s, &e2e)? else {
         return Ok(None);
     };
+    let linear = e2e.linearization();
     let answer = e2e
         .allocate_direct_with_noise_certified(
-            &e2e.linearization(),
-            &s2.lower_bounds_rad,
+            &linear,
+            &s.lower_bounds_rad,
             &budget,
             DEFAULT_K_SIGMA,
         )
-        .map_err(|e| crate::input::library(e, &s2))?;
-    Ok(Some(answer.ok().map(|d| d.objective_arcmin())))
+        .map_err(|e| crate::input::library(e, s))?;
+    let Ok(allocation) = answer else {
+        return Ok(Some(NoiseCounted {
+            allocation: None,
+            certified: false,
+        }));
+    };
+    // the certified allocation falls back to the first-order one where it cannot certify:
+    // the same bounds as the first-order allocation mean it did
+    let first_order = e2e
+        .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &budget, DEFAULT_K_SIGMA)
+        .map_err(|e| crate::input::library(e, s))?;
+    let certified = first_order.is_ok_and(|f| {
+        f.upper_bounds_rad()
+            .iter()
+            .zip(allocation.upper_bounds_rad())
+            .any(|(a, b)| a.to_bits() != b.to_bits())
+    });
+    Ok(Some(NoiseCounted {
+        allocation: Some(allocation),
+        certified,
+    }))
+}
+
+/// [`noise_counted`] for `s` with the positions `positions_deg`.
+fn combined_objective(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<NoiseCounted>> {
+    let s2 = s
+        .with_positions_deg(positions_deg.to_vec())
+        .map_err(InputError::from)?;
+    noise_counted(&s2)
 }
 
 /// [`CombinedChoice`] of a design, `None` without noise or timing.
@@ -343,15 +409,17 @@ fn combined_choice(s: &Study, d: &ScheduleDesign) -> Result<Option<CombinedChoic
     let Some(study) = combined_objective(s, d.study().positions_deg())? else {
         return Ok(None);
     };
-    let designed = combined_objective(s, d.designed().positions_deg())?.flatten();
-    let designed_recommended = match (designed, study) {
+    let Some(designed) = combined_objective(s, d.designed().positions_deg())? else {
+        return Ok(None);
+    };
+    let designed_recommended = match (designed.objective_arcmin(), study.objective_arcmin()) {
         (Some(a), Some(b)) => a <= b,
         (Some(_), None) | (None, None) => true,
         (None, Some(_)) => false,
     };
     Ok(Some(CombinedChoice {
-        study_objective_arcmin: study,
-        designed_objective_arcmin: designed,
+        study,
+        designed,
         designed_recommended,
     }))
 }
@@ -366,8 +434,8 @@ fn combined_text(c: &CombinedChoice) -> String {
     format!(
         "with the noise counted ({} sigma, the study's timing; certified direct allocation with the noise part kept free): study's schedule {}, designed {}: {}\n",
         num(DEFAULT_K_SIGMA),
-        j(c.study_objective_arcmin),
-        j(c.designed_objective_arcmin),
+        j(c.study.objective_arcmin()),
+        j(c.designed.objective_arcmin()),
         if c.designed_recommended {
             "the designed schedule does not lose on the combined answer"
         } else {
@@ -389,6 +457,14 @@ struct CombinedJson {
     designed_objective_arcmin: Option<f64>,
     /// `designed` or `study`: the schedule recommended (and written).
     recommended: &'static str,
+    /// The tolerances recommended for the study's schedule with the noise counted, arcmin
+    /// (`null`: no table suffices).
+    study_bounds_arcmin: Option<ArcminBounds>,
+    /// The same for the designed schedule.
+    designed_bounds_arcmin: Option<ArcminBounds>,
+    /// Whether those are certified on the exact chain (the table's part proven within each
+    /// accuracy less the noise part), per schedule: `study`, `designed`.
+    certified_on_exact_chain: BTreeMap<&'static str, bool>,
 }
 
 /// One output of the study.
@@ -490,6 +566,9 @@ struct DesignJson<'a> {
     groups: Vec<GroupJson>,
     /// The study written by `--write-study`, else `null`.
     written_study: Option<&'a str>,
+    /// With `--pareto-svg` and an empty front: why no figure was written; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pareto_svg_note: Option<&'a str>,
     /// With `--time-budget-s`: `time_budget` and `pareto` (at the top level); absent
     /// otherwise.
     #[serde(flatten)]
@@ -514,8 +593,24 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
         noise_note: noise_note(s),
         combined: o.combined.as_ref().map(|c| CombinedJson {
             k_sigma: DEFAULT_K_SIGMA,
-            study_objective_arcmin: c.study_objective_arcmin,
-            designed_objective_arcmin: c.designed_objective_arcmin,
+            study_objective_arcmin: c.study.objective_arcmin(),
+            designed_objective_arcmin: c.designed.objective_arcmin(),
+            study_bounds_arcmin: c
+                .study
+                .allocation
+                .as_ref()
+                .map(|a| arcmin_bounds(&s.turntable.rotation_error_names(), a.upper_bounds_rad())),
+            designed_bounds_arcmin: c
+                .designed
+                .allocation
+                .as_ref()
+                .map(|a| arcmin_bounds(&s.turntable.rotation_error_names(), a.upper_bounds_rad())),
+            certified_on_exact_chain: [
+                ("study", c.study.certified),
+                ("designed", c.designed.certified),
+            ]
+            .into_iter()
+            .collect(),
             recommended: if c.designed_recommended {
                 "designed"
             } else {
@@ -562,8 +657,20 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
         },
         groups: GroupJson::all(&s.turntable, &group_bounds(o)),
         written_study: o.written.as_deref(),
+        pareto_svg_note: o.pareto_svg_note.as_deref(),
         budget: o.budget.as_ref().map(crate::design_budget::json),
     }
+}
+
+/// A schedule's condition numbers by output, for the written study's comment.
+fn condition_list(s: &Study, r: &ScheduleReport) -> String {
+    s.sensor
+        .outputs()
+        .iter()
+        .zip(r.condition_numbers())
+        .map(|(o, c)| format!("{} {}", o.name, num(*c)))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// `v` rounded down to `digits` significant digits, printed: a tolerance read back from the
@@ -583,42 +690,103 @@ fn sig_down(v: f64, digits: usize) -> String {
     }
 }
 
-/// The tolerances a schedule allows (arcmin): the certified allocation, the one to buy
-/// (rounded down), then the linearised direct allocation (the design objective, not proven on
-/// the exact chain).
-fn tolerance_lines(s: &Study, what: &str, r: &ScheduleReport) -> String {
-    let errs = s.turntable.rotation_error_names();
-    let list = |ub: &[f64], shown: &dyn Fn(f64) -> String| -> String {
-        errs.iter()
-            .zip(ub)
-            .map(|(n, u)| {
-                format!(
-                    "{n} {}",
-                    if u.is_finite() {
-                        shown(rad_to_arcmin(*u))
-                    } else {
-                        "free".into()
-                    }
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(", ")
+/// `ub` (rad) by error name in arcmin, `shown` formatting each finite bound; `free` where
+/// there is none.
+fn bound_list(s: &Study, ub: &[f64], shown: &dyn Fn(f64) -> String) -> String {
+    s.turntable
+        .rotation_error_names()
+        .iter()
+        .zip(ub)
+        .map(|(n, u)| {
+            format!(
+                "{n} {}",
+                if u.is_finite() {
+                    shown(rad_to_arcmin(*u))
+                } else {
+                    "free".into()
+                }
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The tolerances recommended with the noise counted (`n`) in words: what is proven (the
+/// table's part, on the exact chain) and what the noise adds; `None` for the bounds when no
+/// table suffices.
+fn noise_counted_words(n: &NoiseCounted) -> (String, Option<&[f64]>) {
+    let k = num(DEFAULT_K_SIGMA);
+    match &n.allocation {
+        None => (
+            format!(
+                "with the noise counted ({k} sigma, the study's timing): none: no table suffices at the study's dwell (the noise part alone fills an accuracy)"
+            ),
+            None,
+        ),
+        Some(a) if n.certified => (
+            format!(
+                "with the noise counted ({k} sigma, the study's timing), certified on the exact chain (J = {}; rounded down): every turntable within them is proven to stay within each accuracy less the noise part ({k} sigma of the calibration's noise, a statistical bound, not a proof), so table and noise together meet every accuracy at {k} sigma, as `check-turntable` on the written study finds",
+                sig(a.objective_arcmin(), 6)
+            ),
+            Some(a.upper_bounds_rad()),
+        ),
+        Some(a) => (
+            format!(
+                "with the noise counted ({k} sigma, the study's timing), first order only (J = {}; rounded down; not certifiable on the exact chain for this reading): the table's part within each accuracy less the noise part ({k} sigma) to first order, not proven",
+                sig(a.objective_arcmin(), 6)
+            ),
+            Some(a.upper_bounds_rad()),
+        ),
+    }
+}
+
+/// The tolerances a schedule allows (arcmin), the one to buy first (rounded down): with noise
+/// in the study (`noise`) the allocation with the noise counted, then the table's part alone;
+/// else the certified allocation; then the linearised direct allocation (the design
+/// objective, not proven on the exact chain).
+fn tolerance_lines(
+    s: &Study,
+    what: &str,
+    r: &ScheduleReport,
+    noise: Option<&NoiseCounted>,
+) -> String {
+    let down = |v: f64| sig_down(v, 3);
+    let mut t = String::new();
+    if let Some(n) = noise {
+        let (words, ub) = noise_counted_words(n);
+        t.push_str(&format!(
+            "tolerances (arcmin) the {what} schedule allows {words}{}\n",
+            ub.map_or(String::new(), |ub| format!(
+                ": {}",
+                bound_list(s, ub, &down)
+            ))
+        ));
+    }
+    let lead = if noise.is_some() {
+        "  the table's part alone (noise not counted: a turntable within these can miss once the noise is counted),".to_string()
+    } else {
+        format!("tolerances (arcmin) the {what} schedule allows,")
     };
-    let mut t = match &r.certified() {
+    t.push_str(&match &r.certified() {
         Some(c) => format!(
-            "tolerances (arcmin) the {what} schedule allows, certified on the exact chain (J = {}; rounded down; every turntable within them meets every accuracy: `check-turntable` proves them): {}\n",
+            "{lead} certified on the exact chain (J = {}; rounded down{}): {}\n",
             sig(c.objective_arcmin(), 6),
-            list(c.upper_bounds_rad(), &|v| sig_down(v, 3))
+            if noise.is_some() {
+                ""
+            } else {
+                "; every turntable within them meets every accuracy: `check-turntable` proves them"
+            },
+            bound_list(s, c.upper_bounds_rad(), &down)
         ),
         None => format!(
-            "tolerances (arcmin) the {what} schedule allows, certified on the exact chain: none ({})\n",
+            "{lead} certified on the exact chain: none ({})\n",
             r.certified_note().unwrap_or("not certifiable")
         ),
-    };
+    });
     t.push_str(&format!(
         "  linearised (J = {}, the design objective; not proven on the exact chain): {}\n",
         sig(r.allocation().objective_arcmin(), 6),
-        list(r.allocation().upper_bounds_rad(), &|v| sig(v, 3))
+        bound_list(s, r.allocation().upper_bounds_rad(), &|v| sig(v, 3))
     ));
     t
 }
@@ -783,8 +951,12 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     }
     t.push_str(&study_tolerances_note(s, d));
     t.push('\n');
-    for (what, r) in [("designed", &d.designed()), ("study's", &d.study())] {
-        t.push_str(&tolerance_lines(s, what, r));
+    let c = o.combined.as_ref();
+    for (what, r, n) in [
+        ("designed", &d.designed(), c.map(|c| &c.designed)),
+        ("study's", &d.study(), c.map(|c| &c.study)),
+    ] {
+        t.push_str(&tolerance_lines(s, what, r, n));
     }
     t.push_str(&crate::groups::text(&s.turntable, &group_bounds(o), ""));
     t.push_str(&format!(
@@ -817,6 +989,9 @@ fn to_text(s: &Study, o: &Outcome) -> String {
     ));
     if let Some(w) = &o.written {
         t.push_str(&format!("wrote {w}\n"));
+    }
+    if let Some(n) = &o.pareto_svg_note {
+        t.push_str(&format!("{n}\n"));
     }
     t
 }
@@ -909,9 +1084,19 @@ pub fn run(args: &Args) -> Result<()> {
             )
         })
         .transpose()?;
+    // an empty front is an answer: no figure, and the output says so
+    let mut pareto_svg_note = None;
     let svg = match (&args.pareto_svg, &budget) {
         (Some(out), Some(crate::design_budget::Budgeted::Design(d))) => {
-            Some((out, crate::design_budget::svg(d)?))
+            let figure = crate::design_budget::svg(d)?;
+            if figure.is_none() {
+                pareto_svg_note = Some(format!(
+                    "--pareto-svg {}: {}",
+                    out.display(),
+                    crate::design_budget::EMPTY_FRONT_NOTE
+                ));
+            }
+            figure.map(|text| (out, text))
         }
         (Some(_), Some(crate::design_budget::Budgeted::Noiseless { .. })) => {
             return Err(InputError::new(
@@ -930,8 +1115,11 @@ pub fn run(args: &Args) -> Result<()> {
         num(args.max_condition),
         seed
     );
+    if let Some(b) = args.time_budget_s {
+        command.push_str(&format!(" --time-budget-s {}", study::fmt::exact(b)));
+    }
     if let Some(r) = &args.rates_deg_per_s {
-        let list: Vec<String> = r.iter().map(|v| num(*v)).collect();
+        let list: Vec<String> = r.iter().map(|v| study::fmt::exact(*v)).collect();
         command.push_str(&format!(
             " {} {}",
             crate::design_rates::FLAG,
@@ -940,56 +1128,6 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let written = match &args.write_study {
         Some(out) => {
-            let certified = design.designed().certified().map_or_else(
-                || {
-                    format!(
-                        "none ({})",
-                        design
-                            .designed()
-                            .certified_note()
-                            .unwrap_or("not certifiable")
-                    )
-                },
-                |c| {
-                    s.turntable
-                        .rotation_error_names()
-                        .iter()
-                        .zip(c.upper_bounds_rad())
-                        .map(|(n, u)| {
-                            if u.is_finite() {
-                                format!("{n} {}", sig_down(rad_to_arcmin(*u), 3))
-                            } else {
-                                format!("{n} free")
-                            }
-                        })
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                },
-            );
-            let mut comment = format!(
-                "The positions below replace the schedule described above. Designed by\n`{command}`:\nJ = {} arcmin^-2 (direct allocation, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.\nTolerances certified on the exact chain for these positions (arcmin, rounded down):\n{certified}.",
-                num(design.designed().allocation().objective_arcmin()),
-                s.reading,
-                num(design.study().allocation().objective_arcmin()),
-                num(design.d_optimal().allocation().objective_arcmin()),
-                s.sensor
-                    .outputs()
-                    .iter()
-                    .zip(design.designed().condition_numbers())
-                    .map(|(o, c)| format!("{} {}", o.name, num(*c)))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                design.search().restarts().len(),
-                problem.n_candidates()
-            );
-            if let Some(c) = &combined {
-                comment.push('\n');
-                comment.push_str(combined_text(c).trim_end());
-            }
-            if let Some(r) = &rates {
-                comment.push('\n');
-                comment.push_str(crate::design_rates::text(r).trim());
-            }
             let rate_keeps_study = rates
                 .as_ref()
                 .is_some_and(|r| r.chosen.is_some() && r.chosen_study_positions);
@@ -998,24 +1136,98 @@ pub fn run(args: &Args) -> Result<()> {
                 Some(crate::design_budget::Budgeted::Design(d)) => d.chosen().map(|p| (d, p)),
                 _ => None,
             };
-            if let Some((d, p)) = chosen {
+            let study_kept = keep_study || rate_keeps_study;
+            // the comment describes what is written: which positions, their J and the
+            // tolerances recommended for exactly them (with the noise counted when the
+            // study gives noise)
+            let (positions, which, counted): (&[Vec<f64>], String, Option<&NoiseCounted>) =
+                match chosen {
+                    Some((d, p)) => (
+                        p.positions_deg(),
+                        crate::design_budget::chosen_comment(d, p),
+                        d.chosen_counted.as_ref(),
+                    ),
+                    None if study_kept => (
+                        design.study().positions_deg(),
+                        format!(
+                            "The study's own positions are kept ({}): J = {} arcmin^-2 (direct allocation, table alone, reading {}; designed: {}), condition numbers {}.",
+                            if keep_study {
+                                "the designed ones lose once the noise is counted"
+                            } else {
+                                "with the chosen rate they give the least J"
+                            },
+                            num(design.study().allocation().objective_arcmin()),
+                            s.reading,
+                            num(design.designed().allocation().objective_arcmin()),
+                            condition_list(&s, design.study())
+                        ),
+                        combined.as_ref().map(|c| &c.study),
+                    ),
+                    None => (
+                        design.designed().positions_deg(),
+                        format!(
+                            "Designed positions: J = {} arcmin^-2 (direct allocation, table alone, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.",
+                            num(design.designed().allocation().objective_arcmin()),
+                            s.reading,
+                            num(design.study().allocation().objective_arcmin()),
+                            num(design.d_optimal().allocation().objective_arcmin()),
+                            condition_list(&s, design.designed()),
+                            design.search().restarts().len(),
+                            problem.n_candidates()
+                        ),
+                        combined.as_ref().map(|c| &c.designed),
+                    ),
+                };
+            let tolerances = match counted {
+                Some(n) => {
+                    let (words, ub) = noise_counted_words(n);
+                    format!(
+                        "Tolerances for these positions (arcmin) {}{}.",
+                        words.replacen("the study's timing", "this file's timing", 1),
+                        ub.map_or(String::new(), |ub| format!(
+                            ":\n{}",
+                            bound_list(&s, ub, &|v| sig_down(v, 3))
+                        ))
+                    )
+                }
+                None => {
+                    let r = if study_kept {
+                        design.study()
+                    } else {
+                        design.designed()
+                    };
+                    match r.certified() {
+                        Some(c) => format!(
+                            "Tolerances certified on the exact chain for these positions (arcmin, rounded down; every turntable within them meets every accuracy: `check-turntable` proves them):\n{}.",
+                            bound_list(&s, c.upper_bounds_rad(), &|v| sig_down(v, 3))
+                        ),
+                        None => format!(
+                            "Tolerances certified on the exact chain for these positions: none ({}).",
+                            r.certified_note().unwrap_or("not certifiable")
+                        ),
+                    }
+                }
+            };
+            let mut comment = format!(
+                "The positions below replace the schedule described above. Made by\n`{command}`.\n{which}\n{tolerances}"
+            );
+            if let (Some(c), None) = (&combined, chosen) {
                 comment.push('\n');
-                comment.push_str(&crate::design_budget::chosen_comment(d, p));
+                comment.push_str(combined_text(c).trim_end());
+            }
+            if let Some(r) = &rates {
+                comment.push('\n');
+                comment.push_str(crate::design_rates::text(r).trim());
             }
             if let Some(crate::design_budget::Budgeted::Design(d)) = &budget {
                 if d.chosen().is_none() {
                     comment.push_str(&format!(
-                        "\nWith --time-budget-s {}: no table suffices within the budget (the noise fills an accuracy),\nso the positions below are the table's design and the study's dwell is kept.",
+                        "\nWith --time-budget-s {}: no table suffices within the budget (the noise fills an accuracy),\nso the positions below are those chosen without the budget, and the study's dwell is kept.",
                         num(d.budget_s())
                     ));
                 }
             }
             let chosen = chosen.map(|(_, p)| p);
-            let positions = match chosen {
-                Some(p) => &p.positions_deg(),
-                None if keep_study || rate_keeps_study => &design.study().positions_deg(),
-                None => &design.designed().positions_deg(),
-            };
             let text = match chosen {
                 Some(p) => s.text_with_dwell(positions, p.dwell_s(), &comment),
                 None => s.text_with_positions(positions, &comment),
@@ -1028,7 +1240,7 @@ pub fn run(args: &Args) -> Result<()> {
             let shown = out.display().to_string();
             let back = Study::parse(&shown, &text)
                 .map_err(|e| anyhow::anyhow!("internal: the written study does not parse: {e}"))?;
-            if &back.positions_deg != positions {
+            if back.positions_deg.as_slice() != positions {
                 anyhow::bail!(
                     "internal: the written study's positions differ from the designed ones"
                 );
@@ -1070,6 +1282,7 @@ pub fn run(args: &Args) -> Result<()> {
         seconds,
         command,
         written,
+        pareto_svg_note,
         rates,
     };
     if args.json {

@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
-use study::fmt::num;
+use study::fmt::{num, sig};
 use tt_core::units::objective_to_arcmin;
 
 /// Arguments of `end-to-end`.
@@ -68,6 +68,64 @@ pub struct NoisyAnswer {
     pub readings: Vec<NoiseAnswer>,
     /// The trade-off (study's reading).
     pub tradeoff: Tradeoff,
+    /// What the trade-off scanned.
+    pub scanned: Scanned,
+}
+
+/// What the time/table trade-off scanned: the study's dwells scaled alike (one factor for
+/// every position, the move time and sample rate kept), the factor over a range; with one
+/// dwell at every position that is the dwell itself, with a per-position list the list's mean.
+#[derive(Debug, Clone, Serialize)]
+pub struct Scanned {
+    /// Whether the study gives per-position dwells that differ (scaled alike, not each
+    /// searched).
+    per_position_list: bool,
+    /// The factors applied to the study's dwells.
+    scale_range: (f64, f64),
+    /// The mean dwell over the scan, s (the trade-off's `dwell_s`).
+    mean_dwell_range_s: (f64, f64),
+    /// The study's shortest dwell scaled over the scan, s.
+    shortest_dwell_range_s: (f64, f64),
+    /// The study's longest dwell scaled over the scan, s.
+    longest_dwell_range_s: (f64, f64),
+}
+
+impl Scanned {
+    /// What `tr` scanned for the study's `timing`.
+    #[must_use]
+    pub fn new(tr: &Tradeoff, timing: &calib_lsq::Timing) -> Self {
+        let d = timing.dwell_s();
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let (lo, hi) = tr.range_s();
+        let (f0, f1) = (lo / mean, hi / mean);
+        let shortest = d.iter().copied().fold(f64::INFINITY, f64::min);
+        let longest = d.iter().copied().fold(0.0, f64::max);
+        Self {
+            per_position_list: crate::design_budget::uniform_dwell(d).is_none(),
+            scale_range: (f0, f1),
+            mean_dwell_range_s: (lo, hi),
+            shortest_dwell_range_s: (shortest * f0, shortest * f1),
+            longest_dwell_range_s: (longest * f0, longest * f1),
+        }
+    }
+
+    /// With a per-position list: what was scanned, in words (the factor range applied to the
+    /// list and the resulting dwell range of its shortest and longest position); `None` for one
+    /// dwell at every position.
+    #[must_use]
+    pub fn list_words(&self) -> Option<String> {
+        let r = |(a, b): (f64, f64)| format!("{} to {} s", sig(a, 4), sig(b, 4));
+        self.per_position_list.then(|| {
+            format!(
+                "the study's per-position dwells scaled alike by x{} to x{} (mean dwell {}; its shortest position {}, its longest {}), not each dwell searched on its own",
+                sig(self.scale_range.0, 4),
+                sig(self.scale_range.1, 4),
+                r(self.mean_dwell_range_s),
+                r(self.shortest_dwell_range_s),
+                r(self.longest_dwell_range_s)
+            )
+        })
+    }
 }
 
 /// The answer for both error sources, when the study gives noise and a timing.
@@ -118,7 +176,12 @@ pub fn noisy_answer(
     );
     let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
     let tradeoff = tradeoff?;
-    Ok(Some(NoisyAnswer { readings, tradeoff }))
+    let scanned = Scanned::new(&tradeoff, timing);
+    Ok(Some(NoisyAnswer {
+        readings,
+        tradeoff,
+        scanned,
+    }))
 }
 
 /// The noise part of the text: per reading, every box's combined answer and the direct
@@ -189,28 +252,42 @@ pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
             }
         }
     }
-    t.push_str(&tradeoff_text(&n.tradeoff));
+    t.push_str(&tradeoff_text(&n.tradeoff, &n.scanned));
     t
 }
 
-/// The trade-off in words and as a table.
+/// The trade-off in words and as a table; with a per-position dwell list, what was scanned
+/// (the list scaled alike) and the dwells as means.
 #[must_use]
-pub fn tradeoff_text(tr: &Tradeoff) -> String {
+pub fn tradeoff_text(tr: &Tradeoff, scanned: &Scanned) -> String {
     let mut t = String::new();
+    let list = scanned.list_words();
+    let mean = if list.is_some() { "mean " } else { "" };
     match tr.min_dwell_s() {
-        None => t.push_str(&format!(
-            "time/table trade-off: no dwell up to {} s per position lets any table meet every accuracy (noise alone exceeds one)\n",
-            num(tr.range_s().1)
-        )),
+        None => t.push_str(&match &list {
+            None => format!(
+                "time/table trade-off: no dwell up to {} s per position lets any table meet every accuracy (noise alone exceeds one)\n",
+                num(tr.range_s().1)
+            ),
+            Some(w) => format!(
+                "time/table trade-off: no table meets every accuracy at any scale of the study's dwells (noise alone exceeds one); scanned: {w}\n"
+            ),
+        }),
         Some(d) => {
+            if let Some(w) = &list {
+                t.push_str(&format!("time/table trade-off, scanned: {w}\n"));
+            }
             t.push_str(&format!(
-                "time/table trade-off: the shortest dwell at which some table meets every accuracy is {} s per position{}; the knee (d ln J / d ln T = -1) {}; without noise J = {} arcmin^-2\n",
+                "time/table trade-off: the shortest {mean}dwell at which some table meets every accuracy is {} s per position{}; the knee (d ln J / d ln T = -1) {}; without noise J = {} arcmin^-2\n",
                 num(d),
                 if tr.min_dwell_at_range_start() { " (one sample per position already suffices)" } else { "" },
                 tr.knee_dwell_s().map_or("is not on the curve".into(), |k| format!("at {} s", num(k))),
                 num(objective_to_arcmin(tr.noiseless_objective()))
             ));
-            t.push_str("  dwell (s)     total test time (s)   J (arcmin^-2)\n");
+            t.push_str(&format!(
+                "  {:<13} total test time (s)   J (arcmin^-2)\n",
+                format!("{mean}dwell (s)")
+            ));
             for p in tr.points() {
                 t.push_str(&format!(
                     "  {:<13} {:<21} {}\n",
@@ -815,17 +892,23 @@ struct TradeoffJson {
     min_dwell_at_one_sample: bool,
     /// The dwell past which a longer one buys little, s.
     knee_dwell_s: Option<f64>,
-    /// The dwells searched, s.
+    /// The dwells searched, s (the mean dwell for a per-position list).
     dwell_range_s: (f64, f64),
+    /// What was scanned: the study's dwells scaled alike (`per_position_list`,
+    /// `scale_range`, `mean_dwell_range_s`, `shortest_dwell_range_s`,
+    /// `longest_dwell_range_s`).
+    dwell_scan: Scanned,
     /// J without noise, arcmin^-2.
     noiseless_objective_arcmin: f64,
     /// The trade-off's points.
     tradeoff: Vec<TradeoffPointJson>,
 }
 
-impl From<&Tradeoff> for TradeoffJson {
-    fn from(t: &Tradeoff) -> Self {
+impl From<&NoisyAnswer> for TradeoffJson {
+    fn from(n: &NoisyAnswer) -> Self {
+        let t = &n.tradeoff;
         Self {
+            dwell_scan: n.scanned.clone(),
             k_sigma: t.k_sigma(),
             min_dwell_s: t.min_dwell_s(),
             min_dwell_at_one_sample: t.min_dwell_at_range_start(),
@@ -990,7 +1073,7 @@ impl<'a> EndToEndJson<'a> {
                 fast_draws: speed.fast_draws,
                 reference_draws: speed.reference_draws,
             },
-            tradeoff: noisy.map(|n| (&n.tradeoff).into()),
+            tradeoff: noisy.map(Into::into),
             extras: crate::json::ExtrasJson::default(),
         }
     }

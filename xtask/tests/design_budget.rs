@@ -229,3 +229,91 @@ fn noisy_budget_json(extra: &[&str]) -> Value {
     args.push("--json");
     json_of(&noisy_budget(&args))
 }
+
+/// An empty front is an answer (issue 32): the IMU example's bias instability fills an
+/// accuracy at every dwell, so no table suffices within any budget; with `--pareto-svg` the
+/// command still answers with exit 0, says that no table suffices and that no figure was
+/// written (text and JSON `pareto_svg_note`), and leaves nothing in the directory.
+#[test]
+fn an_empty_front_answers_with_exit_0_and_writes_no_figure() {
+    let dir = scratch("design-budget", "empty-front");
+    let svg = dir.join("p.svg");
+    let svg_arg = svg.to_str().unwrap();
+    let args = [
+        "design-schedule",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--step-deg",
+        "90",
+        "--time-budget-s",
+        "5000",
+        "--pareto-svg",
+        svg_arg,
+    ];
+    let r = xtask(&args);
+    let text = String::from_utf8_lossy(&r.stdout);
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    assert!(text.contains("no table suffices at any dwell"), "{text}");
+    assert!(
+        text.contains(&format!("--pareto-svg {svg_arg}: not written")),
+        "{text}"
+    );
+    let mut with_json = args.to_vec();
+    with_json.push("--json");
+    let v = json_of(&xtask(&with_json));
+    assert_eq!(v["pareto"].as_array().map(Vec::len), Some(0), "{v}");
+    assert!(v["time_budget"]["chosen"].is_null());
+    let note = v["pareto_svg_note"].as_str().expect("a note");
+    assert!(note.contains("the Pareto front is empty"), "{note}");
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+/// The budget's refusals come before the search (issue 32) and quote the value as given:
+/// `--max-condition 1` makes the search itself fail (no schedule is that well conditioned),
+/// so an error naming `--time-budget-s` proves the budget was refused first. A study with
+/// noise but no `[calibration.timing]`, and a budget of 1e-300 s (quoted as `1e-300`, not as
+/// a 300-digit decimal).
+#[test]
+fn budget_refusals_come_before_the_search_and_quote_the_value_as_given() {
+    let dir = scratch("design-budget", "early");
+    let text = std::fs::read_to_string(root().join(NOISY)).unwrap();
+    let no_timing = text.replace(
+        "[calibration.timing]\ndwell_s = 600\nsample_rate_hz = 100\nmove_s = 60\n",
+        "",
+    );
+    assert_ne!(no_timing, text, "the timing block was removed");
+    let no_timing_path = dir.join("no-timing.toml");
+    std::fs::write(&no_timing_path, no_timing).unwrap();
+    for (study, budget, needle) in [
+        (NOISY, "1e-300", "time_budget_s = 1e-300 s is too short"),
+        (
+            no_timing_path.to_str().unwrap(),
+            "3600",
+            "no [calibration.timing]",
+        ),
+    ] {
+        let r = xtask(&[
+            "design-schedule",
+            "--study",
+            study,
+            "--step-deg",
+            "90",
+            "--max-condition",
+            "1",
+            "--time-budget-s",
+            budget,
+        ]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{err}");
+        assert!(r.stdout.is_empty());
+        assert!(err.contains("--time-budget-s"), "{err}");
+        assert!(err.contains(needle), "{err}");
+        assert!(!err.contains("0000000000"), "{err}");
+    }
+}

@@ -368,3 +368,92 @@ fn paper_study_with_assumed_noise_needs_405_s_per_position() {
         assert!(num(&o["combined"]) <= num(&o["accuracy"]), "{o}");
     }
 }
+
+/// A per-position dwell list is scanned as the list scaled alike (issue 32): with 31
+/// positions at 600 s and one at 0.01 s no scale up to a mean of 86,400 s lets a table meet
+/// (the short position reaches only 1.49 s), while one dwell of 405 s at every position does.
+/// `end-to-end` says what it scanned (the factor range and each end's dwell range) in text and
+/// JSON (`dwell_scan`), never "no dwell up to 86400 s", and the report says the same.
+#[test]
+fn a_dwell_list_is_scanned_scaled_alike_and_the_output_says_so() {
+    // the scan's ends are computed from the same sums: rounding only
+    const SAME_SUM_REL: f64 = 1e-9;
+    let dir = scratch("noise-answers", "dwell-list");
+    let text = common::study_text("gyrowheel-2017-noise-assumed");
+    let mut list = vec!["600"; 31];
+    list.push("0.01");
+    let listed = text.replacen(
+        "dwell_s = 600\n",
+        &format!("dwell_s = [{}]\n", list.join(", ")),
+        1,
+    );
+    assert_ne!(listed, text);
+    let p = write(&dir, "list.toml", &listed);
+    let p = p.to_str().unwrap();
+    let out = stdout(&run(&["end-to-end", "--study", p, "--samples", "2000"]));
+    assert!(!out.contains("no dwell up to"), "{out}");
+    assert!(
+        out.contains("scanned: the study's per-position dwells scaled alike by x"),
+        "{out}"
+    );
+    let v = json(&["end-to-end", "--study", p, "--samples", "2000", "--json"]);
+    let scan = &v["dwell_scan"];
+    assert_eq!(scan["per_position_list"], true, "{scan}");
+    let mean = (31.0 * 600.0 + 0.01) / 32.0;
+    let hi = 86_400.0 / mean;
+    assert_relative_eq!(
+        num(&scan["scale_range"][1]),
+        hi,
+        max_relative = SAME_SUM_REL
+    );
+    assert_relative_eq!(
+        num(&scan["mean_dwell_range_s"][1]),
+        86_400.0,
+        max_relative = SAME_SUM_REL
+    );
+    // the short position's range: one sample at 100 Hz to 0.01 s x 86400 / mean
+    assert_relative_eq!(
+        num(&scan["shortest_dwell_range_s"][0]),
+        0.01,
+        max_relative = 1e-6
+    );
+    assert_relative_eq!(
+        num(&scan["shortest_dwell_range_s"][1]),
+        0.01 * hi,
+        max_relative = SAME_SUM_REL
+    );
+    assert_relative_eq!(
+        num(&scan["longest_dwell_range_s"][1]),
+        600.0 * hi,
+        max_relative = SAME_SUM_REL
+    );
+    assert!(v["min_dwell_s"].is_null());
+    // one dwell at every position: the dwell itself is scanned
+    let uniform = json(&[
+        "end-to-end",
+        "--study",
+        "studies/gyrowheel-2017-noise-assumed.toml",
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    assert_eq!(uniform["dwell_scan"]["per_position_list"], false);
+    let report = dir.join("report");
+    let r = run(&[
+        "report",
+        "--study",
+        p,
+        "--samples",
+        "2000",
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(0), "{}", common::stderr(&r));
+    let md = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(!md.contains("No dwell up to"), "the report's trade-off");
+    assert!(md.contains("Scanned: the study's per-position dwells scaled alike by x"));
+    let results: Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("results.json")).unwrap())
+            .unwrap();
+    assert_eq!(results["noise"]["dwell_scan"]["per_position_list"], true);
+}

@@ -309,8 +309,35 @@ fn bad_candidate_rates_exit_2_naming_the_flag() {
     }
 }
 
-/// `allocate` on a study with rate steps prints, beside the two-step allocation, the direct
-/// allocation with the rate tolerances (JSON `rate_allocation`), the same as `end-to-end`'s.
+/// A candidate rate the study file would refuse (5e-324 deg/s is zero in rad/s) exits 2
+/// naming the flag before the search (issue 32): `--max-condition 1` makes the search itself
+/// fail, so an error naming `--rates-deg-per-s` proves the rate was refused first; a rate
+/// above the limit is quoted as given (`300.0000001`, not `300`).
+#[test]
+fn a_candidate_rate_the_study_refuses_exits_2_before_the_search_quoted_as_given() {
+    for (rates, needle) in [
+        ("5e-324", "5e-324 deg/s"),
+        ("300.0000001", "300.0000001 deg/s is above the rate limit"),
+    ] {
+        let o = common::run(&[
+            "design-schedule",
+            "--study",
+            &study(STUDY),
+            "--step-deg",
+            "90",
+            "--max-condition",
+            "1",
+            "--rates-deg-per-s",
+            rates,
+        ]);
+        assert_input_error(&o, &["--rates-deg-per-s", needle]);
+    }
+}
+
+/// `allocate` on a study with rate steps gives the direct allocation with the rate tolerances
+/// (JSON `rate_allocation`), the same as `end-to-end`'s, and in its text no two-step
+/// allocation: that is not made for a study with rate steps, and the text says so once
+/// (issue 32: it printed a full two-step table, J = 127072, then "not made").
 #[test]
 fn allocate_shows_the_rate_tolerances_like_end_to_end() {
     // the same computation on the same study: rounding only
@@ -331,9 +358,61 @@ fn allocate_shows_the_rate_tolerances_like_end_to_end() {
         max_relative = SAME_PATH_REL
     );
     assert_eq!(ra["tolerances"], re["tolerances"]);
+    let why = a["two_step_allocation"].as_str().expect("why no two-step");
+    assert!(why.starts_with("not made: "), "{why}");
+    for key in [
+        "objective",
+        "allocation_arcmin",
+        "certificate",
+        "equal_effects_arcmin",
+    ] {
+        assert!(a.get(key).is_none(), "`{key}` in {a}");
+    }
     let text = common::stdout(&common::run(&["allocate", "--study", &study(STUDY)]));
     assert!(
         text.contains("phi_i_rate_accuracy 46.") && text.contains(" ppm") && text.contains(" mm"),
         "{text}"
     );
+    assert!(text.contains("two-step allocation, study tactical-rate-table-example"));
+    assert_eq!(text.matches("is not made").count(), 1, "{text}");
+    for two_step in ["ours (')", "Lemma 1", "127072", "exact chain over I"] {
+        assert!(!text.contains(two_step), "`{two_step}` in {text}");
+    }
+}
+
+/// The report of a study with rate steps answers one question once (issue 32): its answer box
+/// never gives the two-step allocation's verdict (which is not made), gives the direct
+/// allocation with the rate tolerances, and with a vendor sheet joins the sheet's verdict and
+/// the rate verdict with one full stop (it printed "99.72%)..").
+#[test]
+fn the_rate_study_report_answers_without_the_two_step_verdict_and_stray_stops() {
+    let dir = scratch("rate-steps", "report");
+    let out = dir.join("r");
+    let o = common::run(&[
+        "report",
+        "--study",
+        &study(STUDY),
+        "--tolerances",
+        SHEET,
+        "--samples",
+        "2000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let answer: String = md
+        .lines()
+        .skip_while(|l| !l.starts_with("> **Answer.**"))
+        .take_while(|l| l.starts_with('>'))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(answer.contains("The study has rate steps"), "{answer}");
+    assert!(!answer.contains("the two-step allocation (J ="), "{answer}");
+    assert!(!answer.contains("than the two-step allocation"), "{answer}");
+    assert!(
+        answer.contains("the direct allocation with the rate tolerances"),
+        "{answer}"
+    );
+    assert!(!answer.contains(".."), "{answer}");
 }

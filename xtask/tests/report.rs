@@ -847,3 +847,68 @@ fn v_has_rate_allocation(v: &Value) -> bool {
         .as_array()
         .is_some_and(|t| !t.is_empty())
 }
+
+/// `--designed` takes a file that differs from the study in its schedule only (issue 32): a
+/// file whose errors vary with the shaft angle (the harmonic-errors study), whose sensor has
+/// noise (the noise-assumed study) or whose table has a measured error is refused with exit 2
+/// naming the key; and the study itself as the designed file is "the same", never "less
+/// demanding" by a factor of 1.
+#[test]
+fn report_designed_differs_only_in_the_schedule_and_equal_is_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let measured = dir.path().join("measured.toml");
+    std::fs::write(
+        &measured,
+        paper_with(&[])
+            + "\n[[compensation.measured]]\nerror = \"deps_x\"\nvalue_arcmin = 0.2\nuncertainty_arcmin = 0.05\n",
+    )
+    .unwrap();
+    let measured = measured.to_str().unwrap().to_string();
+    for (designed, key) in [
+        (
+            "studies/gyrowheel-2017-harmonic-errors.toml",
+            "key `turntable.factors[1]`",
+        ),
+        (
+            "studies/gyrowheel-2017-noise-assumed.toml",
+            "key `sensor.outputs[0].noise`",
+        ),
+        (measured.as_str(), "key `compensation.measured (deps_x)`"),
+    ] {
+        let out = dir.path().join("refused");
+        let o = run(&[
+            "report",
+            "--study",
+            "studies/gyrowheel-2017.toml",
+            "--out",
+            out.to_str().unwrap(),
+            "--designed",
+            designed,
+        ]);
+        assert_input_error(&o, key);
+        assert!(
+            text(&o.stderr).contains("--designed"),
+            "{}",
+            text(&o.stderr)
+        );
+        assert!(!out.exists());
+    }
+    let out = dir.path().join("same");
+    ok(&run(&[
+        "report",
+        "--study",
+        "studies/gyrowheel-2017.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--designed",
+        "studies/gyrowheel-2017.toml",
+    ]));
+    let md = read(&out, "report.md");
+    assert!(
+        md.contains("The designed file has the study's own positions: the same turntable, J 54.652 for both."),
+        "{md}"
+    );
+    assert!(!md.contains("less demanding") && !md.contains("more demanding"));
+}

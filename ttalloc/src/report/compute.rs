@@ -81,6 +81,8 @@ pub struct ScheduleFacts {
     pub path: String,
     /// Number of positions.
     pub positions: usize,
+    /// The static positions (joint angles, deg).
+    pub positions_deg: Vec<Vec<f64>>,
     /// $J$ of the direct allocation under the study's reading, arcmin$^{-2}$.
     pub direct_objective_arcmin: f64,
     /// Condition number per output.
@@ -272,6 +274,7 @@ fn schedule_facts(s: &Study) -> Result<ScheduleFacts> {
     Ok(ScheduleFacts {
         path: s.path.clone(),
         positions: s.positions_deg.len(),
+        positions_deg: s.positions_deg.clone(),
         direct_objective_arcmin: direct.objective_arcmin(),
         conditions: s.calibration.condition_numbers(),
         requirement: st::requirement_problem(s).requirement(),
@@ -339,20 +342,62 @@ fn differing_key(s: &Study, d: &Study) -> Option<String> {
         return Some("calibration.delta_r".into());
     }
     let names = s.turntable.rotation_error_names();
-    (0..names.len())
+    if let Some(j) = (0..names.len())
         .find(|&j| s.lower_bounds_rad[j].to_bits() != d.lower_bounds_rad[j].to_bits())
-        .map(|j| format!("{}.{}", crate::input::LOWER_BOUNDS_KEY, names[j]))
+    {
+        return Some(format!("{}.{}", crate::input::LOWER_BOUNDS_KEY, names[j]));
+    }
+    differing_model_key(s, d)
 }
 
-/// The designed study must describe the same turntable, sensor, site, reading and lower
-/// bounds; the error names the first key that differs.
+/// The first key at which the error models, the noise, the mounting, the requirement or the
+/// Monte Carlo settings of `d` differ from `s`'s (the turntable, sensor, site and reading
+/// being the same), or `None`.
+fn differing_model_key(s: &Study, d: &Study) -> Option<String> {
+    let names = s.turntable.rotation_error_names();
+    if let Some(j) = (0..names.len()).find(|&j| s.variations[j] != d.variations[j]) {
+        // the factor that declares the error's variation
+        let i = s.turntable.factors().iter().position(
+            |f| matches!(f, tt_kinematics::Factor::Rotation { error, .. } if *error == j),
+        );
+        // the factor's `varies`, `of` and `harmonics` keys
+        return Some(i.map_or_else(
+            || "turntable.factors".into(),
+            |i| format!("turntable.factors[{i}]"),
+        ));
+    }
+    if let Some(j) = (0..names.len()).find(|&j| s.measured[j] != d.measured[j]) {
+        return Some(format!("compensation.measured ({})", names[j]));
+    }
+    if let Some(i) = (0..s.noise.len()).find(|&i| s.noise[i] != d.noise[i]) {
+        return Some(format!("sensor.outputs[{i}].noise"));
+    }
+    if s.lever_arm_m.map(f64::to_bits) != d.lever_arm_m.map(f64::to_bits) {
+        return Some("sensor.lever_arm_m".into());
+    }
+    let joints = s.turntable.joint_names();
+    if let Some(j) = (0..joints.len()).find(|&j| {
+        s.max_rate_deg_per_s[j].map(f64::to_bits) != d.max_rate_deg_per_s[j].map(f64::to_bits)
+    }) {
+        return Some(format!("turntable.max_rate_deg_per_s.{}", joints[j]));
+    }
+    if s.requirement != d.requirement {
+        return Some("requirement".into());
+    }
+    (s.monte_carlo != d.monte_carlo).then(|| "monte_carlo".into())
+}
+
+/// The designed study must describe the same turntable (its error models included), sensor
+/// (its noise included), site, reading, lower bounds, requirement and Monte Carlo: only the
+/// schedule (positions, timing, rate steps), the name and the description may differ; the
+/// error names the first key that differs.
 fn check_designed(s: &Study, d: &Study) -> Result<(), InputError> {
     match differing_key(s, d) {
         None => Ok(()),
         Some(key) => Err(InputError::new(
             format!("--designed {}: key `{key}`", d.path),
             format!(
-                "differs from the study {}: the designed study must describe the same turntable, sensor, site, reading and lower bounds (only the schedule may differ)",
+                "differs from the study {}: the designed study must describe the same turntable (its error models included), sensor (its noise included), site, reading, lower bounds, requirement and Monte Carlo (only the schedule may differ: positions, timing, rate steps)",
                 s.path
             ),
         )),

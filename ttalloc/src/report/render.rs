@@ -225,7 +225,14 @@ impl<'a> Sections<'a> {
         let c = self.c;
         let acc = c.e2e.accuracies();
         let outs = self.outputs();
-        let two = c.two_step.as_ref().map(|t| t.ours.objective_arcmin());
+        // a study with rate steps: the two-step allocation is not made (the requirement is a
+        // static concept), so the answer never states its verdict
+        let rate_steps = c.study.has_rate_steps();
+        let two = c
+            .two_step
+            .as_ref()
+            .filter(|_| !rate_steps)
+            .map(|t| t.ours.objective_arcmin());
         let mut items = Vec::new();
         for (i, r) in c.answer.readings().iter().enumerate() {
             let mut s = format!(
@@ -234,7 +241,11 @@ impl<'a> Sections<'a> {
                 if i == 0 { ", the study's" } else { "" },
                 reading_words(r.reading())
             );
-            if let Some(b) = r.boxes().iter().find(|b| b.name() == "two-step") {
+            if let Some(b) = r
+                .boxes()
+                .iter()
+                .find(|b| b.name() == "two-step" && !rate_steps)
+            {
                 let ok = b.worst_case().meets(&acc).holds();
                 let worst: Vec<String> = b
                     .worst_case()
@@ -286,6 +297,13 @@ impl<'a> Sections<'a> {
             s.push('.');
             items.push(s);
         }
+        if let Some(ra) = &c.rate_alloc {
+            items.push(format!(
+                "With the rate steps' own errors (reading `{}`): the direct allocation with the rate tolerances (the angles, the rate accuracy, the rate ripple and the translations together) needs J = {:.2} arcmin⁻² over both.",
+                c.e2e.reading(),
+                ra.allocation.combined().objective_arcmin()
+            ));
+        }
         if c.vendor.is_some() {
             // the allocations answer another question than the sheet's: a comparison
             for i in &mut items {
@@ -308,19 +326,21 @@ impl<'a> Sections<'a> {
             Some((tol, chk)) => {
                 items.insert(0, self.sheet_outputs(chk));
                 format!(
-                    "**Answer.** Do the tolerances of {}{} deliver every output's accuracy? {}.",
+                    "**Answer.** Do the tolerances of {}{} deliver every output's accuracy? {}.{}",
                     doc::code(&tol.path),
                     tol.name
                         .as_ref()
                         .map_or(String::new(), |n| format!(" ({})", doc::text(n))),
-                    upper_first(&sheet_verdict(chk))
-                ) + &c.vendor_rate.as_ref().map_or(String::new(), |r| {
-                    format!(
-                        ". The study has rate steps, and with the sheet's rate errors and translations: {}",
-                        crate::rate::verdict_sentence(&c.e2e, r)
-                    )
-                })
+                    upper_first(&sheet_verdict(chk)),
+                    c.vendor_rate.as_ref().map_or(String::new(), |r| {
+                        format!(
+                            " The study has rate steps, and with the sheet's rate errors and translations: {}.",
+                            crate::rate::verdict_sentence(&c.e2e, r)
+                        )
+                    })
+                )
             }
+            None if rate_steps => "**Answer.** What does the direct allocation against every output's accuracy ask of the table (J: lower is a looser, cheaper table)? The study has rate steps, so the two-step allocation (an orientation requirement first) is not made.".into(),
             None => format!("**Answer.** {allocation_question}"),
         };
         self.doc.callout_list(lead, items);
@@ -1619,9 +1639,16 @@ impl<'a> Sections<'a> {
         // the trade-off
         self.doc
             .h(3, "How long to dwell, and how good the table must be");
+        let list = n.scanned.list_words();
+        if let Some(w) = &list {
+            self.doc.p(format!(
+                "Scanned: {w}; a dwell below is the mean dwell per position."
+            ));
+        }
         match tr.min_dwell_s() {
             Some(d) => self.doc.p(format!(
-                "The shortest dwell at which some table meets every accuracy (noise part plus the lower bounds' table part within ω_m, found by bisection): **{} s per position**{}. Above it the table's J falls towards its noiseless value {} arcmin⁻²; the knee (where a longer dwell stops paying: d ln J / d ln T = −1) {}. Written to `tradeoff.csv`.",
+                "The shortest {}dwell at which some table meets every accuracy (noise part plus the lower bounds' table part within ω_m, found by bisection): **{} s per position**{}. Above it the table's J falls towards its noiseless value {} arcmin⁻²; the knee (where a longer dwell stops paying: d ln J / d ln T = −1) {}. Written to `tradeoff.csv`.",
+                if list.is_some() { "mean " } else { "" },
                 sig(d, 4),
                 if tr.min_dwell_at_range_start() { " (one sample per position already suffices)" } else { "" },
                 sig(objective_to_arcmin(tr.noiseless_objective()), 5),
@@ -1638,12 +1665,20 @@ impl<'a> Sections<'a> {
                             .collect()
                     })
                     .unwrap_or_default();
-                self.doc.p(format!(
-                    "**No dwell up to {} s per position** lets any table meet every accuracy: the noise part alone exceeds one even then ({} σ at that dwell: {}). Written to `tradeoff.csv`.",
-                    num(tr.range_s().1),
-                    num(k),
-                    last.join(", ")
-                ));
+                self.doc.p(if list.is_some() {
+                    format!(
+                        "**At no scale of the study's dwells** does any table meet every accuracy: the noise part alone exceeds one even at the longest ({} σ there: {}). Written to `tradeoff.csv`.",
+                        num(k),
+                        last.join(", ")
+                    )
+                } else {
+                    format!(
+                        "**No dwell up to {} s per position** lets any table meet every accuracy: the noise part alone exceeds one even then ({} σ at that dwell: {}). Written to `tradeoff.csv`.",
+                        num(tr.range_s().1),
+                        num(k),
+                        last.join(", ")
+                    )
+                });
             }
         }
         let mut csv = String::from("dwell_s,total_s,objective_arcmin\n");
@@ -2282,12 +2317,24 @@ impl<'a> Sections<'a> {
             rows,
         );
         let ratio = a.direct_objective_arcmin / b.direct_objective_arcmin;
-        self.doc.p(format!(
-            "The designed schedule's turntable is {} demanding: J {} vs {} ({}×).",
-            if ratio >= 1.0 { "less" } else { "more" },
-            format_args!("{:.3}", b.direct_objective_arcmin),
-            format_args!("{:.3}", a.direct_objective_arcmin),
-            sig(if ratio >= 1.0 { ratio } else { 1.0 / ratio }, 3)
-        ));
+        let (jb, ja) = (
+            format!("{:.3}", b.direct_objective_arcmin),
+            format!("{:.3}", a.direct_objective_arcmin),
+        );
+        self.doc.p(if a.positions_deg == b.positions_deg {
+            format!(
+                "The designed file has the study's own positions: the same turntable, J {ja} for both."
+            )
+        } else if ja == jb {
+            format!(
+                "The designed schedule's turntable is as demanding as the study's: J {ja} for both (to the digits shown)."
+            )
+        } else {
+            format!(
+                "The designed schedule's turntable is {} demanding: J {jb} vs {ja} ({}×).",
+                if ratio >= 1.0 { "less" } else { "more" },
+                sig(if ratio >= 1.0 { ratio } else { 1.0 / ratio }, 3)
+            )
+        });
     }
 }

@@ -192,6 +192,8 @@ struct NoiseJson<'a> {
     min_dwell_s: Option<Num>,
     /// The trade-off's knee, s.
     knee_dwell_s: Option<Num>,
+    /// What the trade-off scanned (the study's dwells scaled alike).
+    dwell_scan: crate::end_to_end::Scanned,
     /// The trade-off.
     tradeoff: Vec<TradeoffPointJson>,
 }
@@ -589,6 +591,7 @@ pub(super) fn results_json(
                 },
                 min_dwell_s: t.min_dwell_s().map(f),
                 knee_dwell_s: t.knee_dwell_s().map(f),
+                dwell_scan: n.scanned.clone(),
                 tradeoff: t
                     .points()
                     .iter()
