@@ -385,6 +385,16 @@ fn numerical_window_covariance(
     sum / ((w1.1 - w1.0) * (w2.1 - w2.0))
 }
 
+/// Window pairs (ends, s) every closed form of a covariance of averages is checked on.
+const WINDOW_PAIRS: [((f64, f64), (f64, f64)); 6] = [
+    ((0.0, 60.0), (70.0, 130.0)), // disjoint, after
+    ((70.0, 130.0), (0.0, 60.0)), // disjoint, before
+    ((0.0, 60.0), (60.0, 120.0)), // adjacent
+    ((0.0, 60.0), (40.0, 100.0)), // overlapping
+    ((0.0, 100.0), (20.0, 50.0)), // nested
+    ((10.0, 70.0), (10.0, 70.0)), // identical
+];
+
 /// The closed forms of the Gauss-Markov covariance of window averages (disjoint in both
 /// orders, adjacent, overlapping, nested, identical; windows short and long against Tc) agree
 /// with an independent numerical double integral of the autocovariance.
@@ -393,17 +403,11 @@ fn gauss_markov_covariance_of_window_averages_matches_numerical_integration() {
     let (sigma, tc) = (0.7, 30.0);
     let gm = GaussMarkov::new(sigma, tc).unwrap();
     let cases = [
-        ((0.0, 60.0), (70.0, 130.0)),    // disjoint, after
-        ((70.0, 130.0), (0.0, 60.0)),    // disjoint, before
-        ((0.0, 60.0), (60.0, 120.0)),    // adjacent
-        ((0.0, 60.0), (40.0, 100.0)),    // overlapping
-        ((0.0, 100.0), (20.0, 50.0)),    // nested
-        ((10.0, 70.0), (10.0, 70.0)),    // identical
         ((0.0, 0.5), (3.0, 3.25)),       // short against Tc
         ((0.0, 400.0), (500.0, 1000.0)), // long against Tc
         ((0.0, 1.0), (0.5, 1.5)),        // short, overlapping
     ];
-    for (w1, w2) in cases {
+    for (w1, w2) in WINDOW_PAIRS.into_iter().chain(cases) {
         let expected = numerical_gm_covariance(sigma, tc, w1, w2);
         let a = Window::new(w1.0, w1.1 - w1.0).unwrap();
         let b = Window::new(w2.0, w2.1 - w2.0).unwrap();
@@ -630,18 +634,12 @@ fn rate_random_walk_and_ramp_covariances_match_numerical_integration() {
         .with_rate_ramp(R_PER_S)
         .unwrap();
     let cases = [
-        ((0.0, 60.0), (70.0, 130.0)),                  // disjoint, after
-        ((70.0, 130.0), (0.0, 60.0)),                  // disjoint, before
-        ((0.0, 60.0), (60.0, 120.0)),                  // adjacent
-        ((0.0, 60.0), (40.0, 100.0)),                  // overlapping
-        ((0.0, 100.0), (20.0, 50.0)),                  // nested
-        ((10.0, 70.0), (10.0, 70.0)),                  // identical
         ((5e4, 5e4 + 60.0), (5e4 + 30.0, 5e4 + 90.0)), // overlapping, late
         ((-30.0, 30.0), (-10.0, 50.0)),                // straddling the start
         ((-30.0, -10.0), (0.0, 50.0)),                 // before the start
     ];
     let clip = |t: f64| t.max(0.0);
-    for (w1, w2) in cases {
+    for (w1, w2) in WINDOW_PAIRS.into_iter().chain(cases) {
         let (a, b) = (window(w1), window(w2));
         let span = w1.1.max(w2.1) - w1.0.min(w2.0);
         // the kernels are polynomials of degree <= 2 between kinks: exact on any cell
