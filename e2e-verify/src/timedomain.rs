@@ -12,6 +12,11 @@
 //!   $b_{t+\Delta} = e^{-\Delta/T_c}b_t + \sigma_b\sqrt{1 - e^{-2\Delta/T_c}}\,w$, started
 //!   stationary,
 //! - quantization, uniform on $[-q/2, q/2]$;
+//! - the rate random walk $K\,W(t)$ from the test's start $t = 0$, each sample the mean of
+//!   $W$ over its interval $h$ drawn exactly with the step: $W(t + h) = W(t) + \sqrt h\,z_1$,
+//!   mean $W(t) + \sqrt h\,(z_1/2 + z_2/\sqrt{12})$, and $W$ carried across the moves;
+//! - the rate ramp $\rho\,t$, $\rho \sim N(0, R^2)$ drawn once per calibration, each sample
+//!   $\rho$ times its interval's midpoint;
 //!
 //! (normal draws by the 32-bit ziggurat, [`crate::ziggurat`], one per white and one per
 //! Gauss-Markov term of a sample, and the quantization's uniform from one more word: three
@@ -206,11 +211,19 @@ impl TimeDomainRun {
     }
 }
 
+/// $1/\sqrt{12}$: the standard deviation of a Wiener process's mean over a unit interval
+/// about the mean of its end points' line, dimensionless.
+const INV_SQRT_12: f64 = 0.288_675_134_594_812_9;
+
 /// One output's sample generator (its noise and the windows of the timing).
 struct Generator {
     white_sd: f64,
     quantization: f64,
     bias: Option<(f64, f64)>,
+    /// Rate random walk $K$, output unit per $\sqrt{\mathrm s}$ (0: none).
+    rate_random_walk: f64,
+    /// Rate ramp $R$, output unit per s (0: none).
+    rate_ramp: f64,
     /// (start, samples) per position in the schedule's order.
     windows: Vec<(f64, u64)>,
     dt: f64,
@@ -226,6 +239,8 @@ impl Generator {
                 .sqrt(),
             quantization: q,
             bias: noise.bias().map(|b| (b.sigma(), b.correlation_s())),
+            rate_random_walk: noise.rate_random_walk(),
+            rate_ramp: noise.rate_ramp(),
             windows: timing
                 .windows()
                 .iter()
@@ -253,18 +268,39 @@ impl Generator {
         } else {
             0.0
         };
+        let has_rrw = self.rate_random_walk > 0.0;
+        let sqrt_dt = self.dt.sqrt();
+        // the Wiener process of the rate random walk at time t (0 at the start) and the ramp
+        let mut wiener = 0.0;
+        let has_ramp = self.rate_ramp > 0.0;
+        let rho = if has_ramp {
+            self.rate_ramp * z.sample(words)
+        } else {
+            0.0
+        };
         let mut t = 0.0;
         for (a, &(start, n)) in avg.iter_mut().zip(&self.windows) {
             if has_bias && start > t {
                 let g = (-(start - t) / tc).exp();
                 b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * z.sample(words);
             }
+            if has_rrw && start > t {
+                wiener += (start - t).sqrt() * z.sample(words);
+            }
             let mut sum = 0.0;
-            for _ in 0..n {
+            for i in 0..n {
                 let mut x = 0.0;
                 if has_bias {
                     b = phi * b + innovation * z.sample(words);
                     x = b;
+                }
+                if has_rrw {
+                    let (z1, z2) = (z.sample(words), z.sample(words));
+                    x += self.rate_random_walk * (wiener + sqrt_dt * (0.5 * z1 + z2 * INV_SQRT_12));
+                    wiener += sqrt_dt * z1;
+                }
+                if has_ramp {
+                    x += rho * (start + (i as f64 + 0.5) * self.dt);
                 }
                 if has_white {
                     x += self.white_sd * z.sample(words);

@@ -458,3 +458,76 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
         assert!(e.to_string().contains(field), "{field}: {e}");
     }
 }
+
+/// Issue 35's rate random walk of a STIM300-class gyro, (deg/h)/sqrt(s).
+const STIM300_RRW_DEG_PER_H_PER_SQRT_S: f64 = 0.005;
+
+/// A rate random walk written as the study key `rate_random_walk` reaches the noise answer
+/// unchanged by e2e-verify: every gyro's noise part grows, the accelerometers' (no key) stay.
+/// With white noise N beside it alone, each output's noise part is the worst-position sigma
+/// computed here by hand from the closed form, C_ii = N^2/T + K^2 (t_i + T/3) and
+/// C_ij = K^2 (t_e + T_e/2) for the earlier window e, through the regression's A and A^+:
+/// max_p sqrt(a_p^T A^+ C A^+T a_p).
+#[test]
+fn rate_random_walk_from_the_study_key_enlarges_the_noise_part_by_its_closed_form() {
+    let text = include_str!("../../studies/imu-triad-example.toml").replace(
+        "bias_correlation_s = 3600   # s, assumption (the datasheet gives none)\n",
+        &format!(
+            "bias_correlation_s = 3600   # s, assumption (the datasheet gives none)\n\
+             rate_random_walk = {STIM300_RRW_DEG_PER_H_PER_SQRT_S}\n"
+        ),
+    );
+    let with_rrw = study::Study::parse("imu.toml", &text).unwrap();
+    let (e2e, noise, timing) = imu();
+    let plain = e2e.noise_budget(&noise, &timing).unwrap().sigma();
+    let drifting = e2e.noise_budget(&with_rrw.noise, &timing).unwrap().sigma();
+    let mut gyros = 0;
+    for (k, n) in with_rrw.noise.iter().enumerate() {
+        if n.as_ref().unwrap().rate_random_walk() > 0.0 {
+            gyros += 1;
+            assert!(drifting[k] > plain[k], "output {k}: {drifting:?} {plain:?}");
+        } else {
+            assert_relative_eq!(drifting[k], plain[k], max_relative = ROUNDING_REL);
+        }
+    }
+    assert_eq!(gyros, 3);
+
+    // white noise and rate random walk alone, against the hand covariance
+    let k_rrw = STIM300_RRW_DEG_PER_H_PER_SQRT_S;
+    let simple: Vec<Option<NoiseModel>> = noise
+        .iter()
+        .map(|n| {
+            let n = n.as_ref().unwrap();
+            Some(
+                NoiseModel::new(n.white_per_sqrt_hz(), None, 0.0)
+                    .and_then(|m| m.with_rate_random_walk(k_rrw))
+                    .unwrap(),
+            )
+        })
+        .collect();
+    let sigma = e2e.noise_budget(&simple, &timing).unwrap().sigma();
+    let windows = timing.windows();
+    let m = windows.len();
+    for (k, out) in e2e.calibration().outputs().iter().enumerate() {
+        let density = simple[k].as_ref().unwrap().white_per_sqrt_hz();
+        let c = nalgebra::DMatrix::from_fn(m, m, |i, j| {
+            let (wi, wj) = (&windows[i], &windows[j]);
+            if i == j {
+                density.powi(2) / wi.duration_s()
+                    + k_rrw.powi(2) * (wi.start_s() + wi.duration_s() / 3.0)
+            } else {
+                let e = if wi.start_s() < wj.start_s() { wi } else { wj };
+                k_rrw.powi(2) * (e.start_s() + 0.5 * e.duration_s())
+            }
+        });
+        let (a, p) = (out.regression().matrix(), out.regression().pinv());
+        let rate = a * p * c * p.transpose() * a.transpose();
+        let worst = (0..m).map(|i| rate[(i, i)]).fold(0.0, f64::max).sqrt();
+        assert_relative_eq!(sigma[k], worst, max_relative = HAND_REL);
+        assert!(sigma[k] > 0.0);
+    }
+}
+
+/// The noise part through calib-lsq's factored sandwich against the plain product
+/// A A^+ C A^+T A^T on 24 positions: a few thousand ulps, relative.
+const HAND_REL: f64 = 1e-10;

@@ -62,6 +62,20 @@ fn check_against_prediction(e2e: &EndToEnd, model: NoiseModel) {
     assert_eq!(run.noise_samples(), CALIBRATIONS * 50 * e2e.len() as u64);
 }
 
+/// Rate random walk (from the test's start) and rate ramp beside white noise: the drifts the
+/// simulator draws sample by sample agree with the closed-form covariance (gw-model) through
+/// the estimator.
+#[test]
+fn predicted_covariance_matches_the_time_domain_simulation_for_rate_random_walk_and_ramp() {
+    let e2e = common::paper(Reading::USER);
+    // white 0.004 (deg/h)/sqrt(Hz), rate random walk 0.002 (deg/h)/sqrt(s), ramp 1e-4 deg/h/s
+    let m = NoiseModel::new(0.004, None, 0.0)
+        .and_then(|m| m.with_rate_random_walk(0.002))
+        .and_then(|m| m.with_rate_ramp(1e-4))
+        .unwrap();
+    check_against_prediction(&e2e, m);
+}
+
 #[test]
 fn predicted_covariance_matches_the_time_domain_simulation_for_white_noise() {
     let e2e = common::paper(Reading::USER);

@@ -4,7 +4,7 @@
 //! # Model
 //! Around its value $y$ (the linear model of [`crate::Output`]) an output reads
 //! $$\tilde y(t) = y + w(t) + b(t) + \varepsilon_q(t),$$
-//! in the output's unit, with three independent zero-mean parts:
+//! in the output's unit, with independent zero-mean parts:
 //! - $w$, **white noise** of density $N$ (output unit per $\sqrt{\mathrm{Hz}}$): the angle
 //!   random walk of a gyro, the velocity random walk of an accelerometer;
 //! - $b$, the **bias instability** as a first-order Gauss-Markov process of stationary
@@ -13,7 +13,18 @@
 //!   $R_b(\Delta t) = \sigma_b^2 e^{-|\Delta t|/T_c}$ (Gelb, *Applied Optimal Estimation*, 1974,
 //!   Table 3.4-1);
 //! - $\varepsilon_q$, **quantization** of step $q$: an independent error uniform on
-//!   $[-q/2, q/2]$ per sample, variance $q^2/12$ (Widrow's model), white at the sample rate.
+//!   $[-q/2, q/2]$ per sample, variance $q^2/12$ (Widrow's model), white at the sample rate;
+//! - $b_K$, **rate random walk** of density $K$ (output unit per $\sqrt{\mathrm s}$): the
+//!   bias wanders as $b_K(t) = K\,W(t)$ from the test's start $t_0 = 0$ (the time origin of
+//!   the windows; $W$ a standard Wiener process, $W(0) = 0$: the bias at the start is the
+//!   constant bias the calibration estimates), autocovariance $K^2\min(s, r)$, Allan
+//!   deviation $\sigma(\tau) = K\sqrt{\tau/3}$ (IEEE Std 952-1997, Annex C, C.1.4);
+//! - $b_R$, **rate ramp** of size $R$ (output unit per s): $b_R(t) = \rho\,t$ with
+//!   $\rho \sim N(0, R^2)$ drawn once per test (a drift of unknown sign), covariance
+//!   $R^2 s r$, Allan deviation $\sigma(\tau) = R\tau/\sqrt2$ (ibid., C.1.5).
+//!
+//! Before $t_0$ both drifts are zero ($b_K(t) = K\,W(\max(t, 0))$), so a window that starts
+//! before the test sees only its part after $t_0$.
 //!
 //! # Samples and averages
 //! A calibration averages the samples of each position. We take each sample to be the mean of
@@ -27,6 +38,8 @@
 //! | white, density $N$ | $N^2/T$ | $N^2\,\lvert W_1\cap W_2\rvert / (T_1T_2)$ |
 //! | Gauss-Markov $(\sigma_b, T_c)$ | $\dfrac{2\sigma_b^2}{u^2}\left(u - 1 + e^{-u}\right)$, $u = T/T_c$ | below |
 //! | quantization $q$ | $\dfrac{q^2}{12 f_s T}$ | $\dfrac{q^2}{12 f_s}\,\lvert W_1\cap W_2\rvert/(T_1T_2)$ |
+//! | rate random walk $K$ | $K^2\left(t_0 + \dfrac T3\right)$ for $W = [t_0, t_0 + T]$ | $K^2 m_1$ for disjoint windows, $m_1$ the earlier window's midpoint; below |
+//! | rate ramp $R$ | $R^2 m^2$, $m$ the window's midpoint | $R^2 m_1 m_2$ |
 //!
 //! **White noise, continuous and sampled.** The density $N$ is defined by the variance of the
 //! average, $\mathrm{Var}\,\bar w_T = N^2/T$, which is also the Allan variance of white noise
@@ -59,6 +72,33 @@
 //! so the covariance of a window with every later one needs one exponential per gap
 //! ([`NoiseModel::window_covariance`] builds the $n\times n$ matrix with $O(n)$
 //! exponentials).
+//!
+//! **Rate random walk covariance of two windows** $W_1 = [a, b]$, $W_2 = [c, d]$ in
+//! $t \ge 0$:
+//! $$\mathrm{Cov}(\bar b_{W_1}, \bar b_{W_2}) = \frac{K^2}{T_1T_2}\int_a^b\!\!\int_c^d
+//!   \min(s, r)\,dr\,ds = \frac{K^2}{T_1T_2}\left[G(b, d) - G(a, d) - G(b, c) + G(a, c)\right],$$
+//! with $G(x, y) = \int_0^x\!\int_0^y \min(s, r)\,dr\,ds$: for $x \le y$,
+//! $G = \int_0^x \left(s^2/2 + s(y - s)\right)ds = x^2y/2 - x^3/6$, so
+//! $G(x, y) = \mu^2 M/2 - \mu^3/6$ with $\mu = \min(x, y)$, $M = \max(x, y)$. For
+//! disjoint windows ($c \ge b$) $\min(s, r) = s$ on the whole square, and the covariance is
+//! $K^2 (a + b)/2$: $K^2$ times the earlier window's midpoint, the same for every later
+//! window. For one window, $G(b, b) - 2G(a, b) + G(a, a) = aT^2 + T^3/3$ gives the variance
+//! $K^2(a + T/3)$: the bias wandered for $a$ seconds before the window and a third of it
+//! within. The Allan variance follows from the averages as
+//! $\sigma^2(\tau) = \frac12\left[\mathrm{Var}\,\bar b_{[0,\tau]} +
+//! \mathrm{Var}\,\bar b_{[\tau,2\tau]} - 2\,\mathrm{Cov}\right]
+//! = \frac{K^2}2\left[\frac\tau3 + \frac{4\tau}3 - \tau\right] = \frac{K^2\tau}3$, IEEE 952's
+//! value. Overlapping windows are evaluated with $G$ after shifting the origin to the earlier
+//! start $o$ ($\min(s, r) = o + \min(s - o, r - o)$), which keeps the terms of $G$ of the
+//! windows' size and avoids cancellation late in a long test.
+//!
+//! **Rate ramp.** The average of $\rho t$ over a window is $\rho m$, $m$ its midpoint, so
+//! $\mathrm{Cov} = R^2 m_1 m_2$, and the Allan variance is
+//! $\frac{R^2}{2}\left[(\tau/2)^2 + (3\tau/2)^2 - 2\cdot\frac{3\tau^2}{4}\right] = R^2\tau^2/2$.
+//!
+//! Both drifts grow with the time since the start: a position late in a long test carries a
+//! larger, and strongly correlated, bias error; the least-squares map decides how much of it
+//! reaches the coefficients (a bias-only estimate of constant bias absorbs the common part).
 //!
 //! # From the datasheet's bias instability to the Gauss-Markov process
 //! A datasheet's bias instability $B$ is the flat floor of the Allan deviation divided by
@@ -570,26 +610,28 @@ fn phi(v: f64) -> f64 {
     }
 }
 
-/// The noise of one output: white density $N$, an optional Gauss-Markov bias and a
-/// quantization step $q$ (0 for none), all in the output's unit (see the
-/// [module documentation](self)).
+/// The noise of one output: white density $N$, an optional Gauss-Markov bias, a
+/// quantization step $q$, a rate random walk $K$ and a rate ramp $R$ (0 for none), all in the
+/// output's unit (see the [module documentation](self)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct NoiseModel {
     white_per_sqrt_hz: f64,
     bias: Option<GaussMarkov>,
     quantization: f64,
+    rate_random_walk: f64,
+    rate_ramp: f64,
 }
 
 /// The covariance of an output's averages over $n$ windows, split into its white part (white
 /// noise and quantization: non-zero only where windows overlap, diagonal for a calibration)
-/// and its correlated part (the Gauss-Markov bias). Output unit squared, $n\times n$, in the
-/// order of the windows given.
+/// and its correlated part (the Gauss-Markov bias, the rate random walk and the rate ramp).
+/// Output unit squared, $n\times n$, in the order of the windows given.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct WindowCovariance {
     /// White noise and quantization.
     pub(crate) white: DMatrix<f64>,
-    /// The Gauss-Markov bias instability.
+    /// The Gauss-Markov bias instability, rate random walk and rate ramp.
     pub(crate) correlated: DMatrix<f64>,
 }
 
@@ -601,7 +643,7 @@ impl WindowCovariance {
         &self.white
     }
 
-    /// The Gauss-Markov bias instability.
+    /// The Gauss-Markov bias instability, rate random walk and rate ramp.
     #[must_use]
     pub fn correlated(&self) -> &DMatrix<f64> {
         &self.correlated
@@ -634,7 +676,64 @@ impl NoiseModel {
             white_per_sqrt_hz,
             bias,
             quantization,
+            rate_random_walk: 0.0,
+            rate_ramp: 0.0,
         })
+    }
+
+    /// The model with a rate random walk of density $K$ (output unit per $\sqrt{\mathrm s}$;
+    /// 0 for none): $\sigma(\tau) = K\sqrt{\tau/3}$.
+    ///
+    /// # Errors
+    /// [`ModelError::Field`] (not finite, negative) naming `rate_random_walk`.
+    pub fn with_rate_random_walk(mut self, k_per_sqrt_s: f64) -> Result<Self, ModelError> {
+        self.rate_random_walk = non_negative("rate_random_walk", k_per_sqrt_s)?;
+        Ok(self)
+    }
+
+    /// The model with a rate ramp of standard deviation $R$ (output unit per s; 0 for none):
+    /// $\sigma(\tau) = R\tau/\sqrt2$.
+    ///
+    /// # Errors
+    /// [`ModelError::Field`] (not finite, negative) naming `rate_ramp`.
+    pub fn with_rate_ramp(mut self, r_per_s: f64) -> Result<Self, ModelError> {
+        self.rate_ramp = non_negative("rate_ramp", r_per_s)?;
+        Ok(self)
+    }
+
+    /// Rate random walk density $K$, output unit per $\sqrt{\mathrm s}$ (0: none).
+    #[must_use]
+    pub fn rate_random_walk(&self) -> f64 {
+        self.rate_random_walk
+    }
+
+    /// Rate ramp $R$, output unit per s (0: none).
+    #[must_use]
+    pub fn rate_ramp(&self) -> f64 {
+        self.rate_ramp
+    }
+
+    /// Covariance of the drift parts (rate random walk and rate ramp) of two windows'
+    /// averages: $K^2\,\overline{\min}(W_1, W_2) + R^2 m_1 m_2$ (closed forms of the
+    /// [module documentation](self), time clipped at the start $t_0 = 0$), output unit
+    /// squared.
+    #[must_use]
+    pub fn drift_covariance_of_averages(&self, w1: &Window, w2: &Window) -> f64 {
+        let mut c = 0.0;
+        if self.rate_random_walk > 0.0 {
+            c += self.rate_random_walk.powi(2) * mean_min_over_windows(w1, w2);
+        }
+        if self.rate_ramp > 0.0 {
+            c += self.rate_ramp.powi(2) * mean_time_since_start(w1) * mean_time_since_start(w2);
+        }
+        c
+    }
+
+    /// Variance of the drift parts (rate random walk and rate ramp) of a window's average:
+    /// $K^2(t_0 + T/3) + R^2 m^2$ for a window in $t \ge 0$, output unit squared.
+    #[must_use]
+    pub fn drift_variance_of_average(&self, window: &Window) -> f64 {
+        self.drift_covariance_of_averages(window, window)
     }
 
     /// The noise model from datasheet values for an output whose unit label is `unit`: a
@@ -709,6 +808,7 @@ impl NoiseModel {
     pub fn variance_of_average(&self, window: &Window, sample_rate_hz: f64) -> f64 {
         self.white_variance_of_average(window, sample_rate_hz)
             + self.correlated_variance_of_average(window)
+            + self.drift_variance_of_average(window)
     }
 
     /// Covariance of the white parts of two windows' averages:
@@ -733,6 +833,7 @@ impl NoiseModel {
     pub fn covariance_of_averages(&self, w1: &Window, w2: &Window, sample_rate_hz: f64) -> f64 {
         self.white_covariance_of_averages(w1, w2, sample_rate_hz)
             + self.bias.map_or(0.0, |b| b.covariance_of_averages(w1, w2))
+            + self.drift_covariance_of_averages(w1, w2)
     }
 
     /// The covariance of the averages over `windows` at sample rate $f_s$, white and
@@ -744,7 +845,8 @@ impl NoiseModel {
     /// $C_{ij} = \sigma_b^2 h_i h_j e^{-(t_j - e_i)/T_c}$, $h = T_c(1-e^{-T/T_c})/T$, $e_i$
     /// the end of window $i$, and $e^{-(t_{j} - e_i)/T_c} = e^{-(t_{j-1} - e_i)/T_c}\,
     /// e^{-(t_j - t_{j-1})/T_c}$. Overlapping windows fall back to the general closed form
-    /// pair by pair.
+    /// pair by pair. The drifts (rate random walk, rate ramp) are added pair by pair from
+    /// their closed forms ($O(n^2)$ products, no transcendental function).
     ///
     /// # Errors
     /// [`ModelError::Field`] (not positive) naming `sample_rate_hz`.
@@ -776,6 +878,15 @@ impl NoiseModel {
                 }
             }
         }
+        if self.rate_random_walk > 0.0 || self.rate_ramp > 0.0 {
+            for i in 0..n {
+                for j in 0..=i {
+                    let c = self.drift_covariance_of_averages(&windows[i], &windows[j]);
+                    correlated[(i, j)] = c;
+                    correlated[(j, i)] = c;
+                }
+            }
+        }
         let Some(bias) = self.bias.filter(|b| b.sigma > 0.0) else {
             return Ok(WindowCovariance { white, correlated });
         };
@@ -783,8 +894,10 @@ impl NoiseModel {
             for i in 0..n {
                 for j in 0..=i {
                     let c = bias.covariance_of_averages(&windows[i], &windows[j]);
-                    correlated[(i, j)] = c;
-                    correlated[(j, i)] = c;
+                    correlated[(i, j)] += c;
+                    if i != j {
+                        correlated[(j, i)] += c;
+                    }
                 }
             }
             return Ok(WindowCovariance { white, correlated });
@@ -805,7 +918,7 @@ impl NoiseModel {
             })
             .collect();
         for (k, &i) in order.iter().enumerate() {
-            correlated[(i, i)] = bias.variance_of_average(&windows[i]);
+            correlated[(i, i)] += bias.variance_of_average(&windows[i]);
             if k + 1 == n {
                 break;
             }
@@ -819,10 +932,48 @@ impl NoiseModel {
                 }
                 let j = order[l];
                 let c = gain[k] * gain[l] * e;
-                correlated[(i, j)] = c;
-                correlated[(j, i)] = c;
+                correlated[(i, j)] += c;
+                correlated[(j, i)] += c;
             }
         }
         Ok(WindowCovariance { white, correlated })
     }
+}
+
+/// The window's part in $t \ge 0$ (the drifts start at $t_0 = 0$): `(start, end)`, empty
+/// (`start == end`) for a window wholly before the start.
+fn after_start(w: &Window) -> (f64, f64) {
+    (w.start_s.max(0.0), w.end_s().max(0.0))
+}
+
+/// $\frac{1}{T}\int_W \max(t, 0)\,dt$: the window's mean time since the start, s.
+fn mean_time_since_start(w: &Window) -> f64 {
+    let (a, b) = after_start(w);
+    (b - a) * 0.5 * (a + b) / w.duration_s
+}
+
+/// $\frac{1}{T_1T_2}\int_{W_1}\!\int_{W_2}\min(s^+, r^+)\,dr\,ds$, s: the covariance of the
+/// averages of a unit Wiener process started at $t_0 = 0$ (closed form of the
+/// [module documentation](self)).
+fn mean_min_over_windows(w1: &Window, w2: &Window) -> f64 {
+    let ((a, b), (c, d)) = (after_start(w1), after_start(w2));
+    let (l1, l2) = (b - a, d - c);
+    if l1 <= 0.0 || l2 <= 0.0 {
+        return 0.0;
+    }
+    let integral = if b <= c {
+        l2 * l1 * 0.5 * (a + b)
+    } else if d <= a {
+        l1 * l2 * 0.5 * (c + d)
+    } else {
+        // overlapping: shift the origin to the earlier start o, min(s, r) = o + min(s-o, r-o)
+        let o = a.min(c);
+        let g = |x: f64, y: f64| {
+            let (m, big) = if x <= y { (x, y) } else { (y, x) };
+            m * m * (0.5 * big - m / 6.0)
+        };
+        let (a, b, c, d) = (a - o, b - o, c - o, d - o);
+        l1 * l2 * o + (g(b, d) - g(a, d) - g(b, c) + g(a, c))
+    };
+    integral / (w1.duration_s * w2.duration_s)
 }

@@ -14,7 +14,7 @@
 //! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
 //! | tolerance (translation) | $[0, 1000]$ mm | a metre |
 //! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
-//! | noise: white density, bias instability, quantization | $[0, 10^{6}]$ in the key's unit (output unit, or the datasheet unit the key names) | non-negative; like the accuracy, beyond $10^6$ nothing is meaningful |
+//! | noise: white density, bias instability, quantization, rate random walk, rate ramp | $[0, 10^{6}]$ in the key's unit (output unit, or the datasheet unit the key names) | non-negative; like the accuracy, beyond $10^6$ nothing is meaningful |
 //! | bias correlation time | $(0, 10^{7}]$ s | about 4 months: longer is a constant bias |
 //! | dwell per position | $(0, 86\,400]$ s, and at least one sample ($f_s T \ge 1$) | a day per position |
 //! | move time | $[0, 86\,400]$ s | a day |
@@ -54,7 +54,8 @@ pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
 pub const MAX_POSITIONS: usize = 10_000;
 /// Largest study or tolerance file read, bytes (a study is a few kilobytes).
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
-/// Largest white-noise density, bias instability or quantization step, in the key's unit.
+/// Largest white-noise density, bias instability, quantization step, rate random walk or rate
+/// ramp, in the key's unit.
 pub const NOISE_MAX: f64 = 1e6;
 /// Bias correlation time range (exclusive lower end), s.
 pub const CORRELATION_S: (f64, f64) = (0.0, 1e7);

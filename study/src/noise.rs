@@ -12,6 +12,8 @@
 //! bias_instability = 0.5        # output unit, with bias_correlation_s (both or neither)
 //! bias_correlation_s = 3600
 //! quantization = 0.0            # output unit (optional)
+//! rate_random_walk = 0.005      # output unit per sqrt(s) (optional): sigma(tau) = K sqrt(tau/3)
+//! rate_ramp = 0.0               # output unit per s (optional): sigma(tau) = R tau / sqrt(2)
 //!
 //! [calibration.timing]
 //! dwell_s = 60                  # or one value per position
@@ -38,6 +40,8 @@ pub(crate) struct RawNoise {
     bias_instability: Option<f64>,
     bias_correlation_s: Option<f64>,
     quantization: Option<f64>,
+    rate_random_walk: Option<f64>,
+    rate_ramp: Option<f64>,
 }
 
 /// `[calibration.timing]` as written.
@@ -98,11 +102,13 @@ pub(crate) fn parse_output_noise(
         && raw.bias_instability.is_none()
         && raw.bias_correlation_s.is_none()
         && raw.quantization.is_none()
+        && raw.rate_random_walk.is_none()
+        && raw.rate_ramp.is_none()
     {
         return Err(StudyError::new(
             at(&key("")),
             format!(
-                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, or quantization (or remove the table)",
+                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, quantization, rate_random_walk or rate_ramp (or remove the table)",
                 WhiteDensity::KEYS.join(", ")
             ),
         ));
@@ -162,16 +168,27 @@ pub(crate) fn parse_output_noise(
             )
         })
         .transpose()?;
-    NoiseModel::from_datasheet(unit, white, bias, quantization).map_err(|e| {
-        let field = match &e {
-            ModelError::UnitFamilyMismatch { key, .. } | ModelError::UnknownUnit { key, .. } => {
-                key.clone()
-            }
-            ModelError::Field(f) => f.field().to_string(),
-            _ => String::new(),
-        };
-        StudyError::new(at(&key(&field)), e.to_string())
-    })
+    let per_sqrt_s = format!("({})/sqrt(s)", unit.escape_debug());
+    let per_s = format!("({})/s", unit.escape_debug());
+    let drift = |name: &str, v: Option<f64>, shown: &str| {
+        v.map_or(Ok(0.0), |v| {
+            in_range(at, &key(name), v, 0.0, limits::NOISE_MAX, false, shown)
+        })
+    };
+    let rate_random_walk = drift("rate_random_walk", raw.rate_random_walk, &per_sqrt_s)?;
+    let rate_ramp = drift("rate_ramp", raw.rate_ramp, &per_s)?;
+    NoiseModel::from_datasheet(unit, white, bias, quantization)
+        .and_then(|m| m.with_rate_random_walk(rate_random_walk))
+        .and_then(|m| m.with_rate_ramp(rate_ramp))
+        .map_err(|e| {
+            let field = match &e {
+                ModelError::UnitFamilyMismatch { key, .. }
+                | ModelError::UnknownUnit { key, .. } => key.clone(),
+                ModelError::Field(f) => f.field().to_string(),
+                _ => String::new(),
+            };
+            StudyError::new(at(&key(&field)), e.to_string())
+        })
 }
 
 /// Parse `[calibration.timing]` for a schedule of `n` positions.

@@ -191,6 +191,15 @@ fn bad_noise_is_an_error_naming_the_key() {
             ".bias_correlation_s",
             "must lie in",
         ),
+        (
+            "rate_random_walk = -0.005",
+            ".rate_random_walk",
+            "must lie in [0, ",
+        ),
+        ("rate_random_walk = nan", ".rate_random_walk", "found NaN"),
+        ("rate_random_walk = 1e7", ".rate_random_walk", "must lie in"),
+        ("rate_ramp = -inf", ".rate_ramp", "must lie in"),
+        ("rate_ramp = 2e6", ".rate_ramp", "must lie in"),
         ("bias_instability = 0.5", ".bias_correlation_s", "missing"),
         ("bias_correlation_s = 10", ".bias_instability", "missing"),
         (
@@ -479,4 +488,33 @@ fn text_with_dwell_parses_back_to_the_same_positions_and_dwell() {
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("s.toml: key `calibration.timing`"), "{e}");
+}
+
+/// `rate_random_walk` (output unit per sqrt(s)) and `rate_ramp` (output unit per s) reach the
+/// noise model unconverted, alone (a table with only a drift is not empty) or beside the
+/// other terms, and absent they are zero.
+#[test]
+fn rate_random_walk_and_ramp_keys_reach_the_noise_model() {
+    let parse = |lines: &str| {
+        Study::parse("s.toml", &paper_with(lines, ""))
+            .unwrap()
+            .noise[1]
+            .clone()
+            .unwrap()
+    };
+    let n = parse("white_deg_per_sqrt_h = 0.15\nrate_random_walk = 0.005\nrate_ramp = 1e-4");
+    assert_relative_eq!(n.white_per_sqrt_hz(), 9.0, max_relative = CONVERSION_REL);
+    assert_eq!(n.rate_random_walk().to_bits(), 0.005f64.to_bits());
+    assert_eq!(n.rate_ramp().to_bits(), 1e-4f64.to_bits());
+    let alone = parse("rate_random_walk = 0.005");
+    assert_eq!(alone.white_per_sqrt_hz().to_bits(), 0);
+    assert_eq!(alone.rate_random_walk().to_bits(), 0.005f64.to_bits());
+    let none = parse("white_deg_per_sqrt_h = 0.15");
+    assert_eq!(
+        (
+            none.rate_random_walk().to_bits(),
+            none.rate_ramp().to_bits()
+        ),
+        (0, 0)
+    );
 }
