@@ -547,7 +547,8 @@ pub struct Tradeoff {
     pub(crate) k_sigma: f64,
     /// The shortest dwell (s) at which some table suffices (noise alone, with the lower
     /// bounds' table part, leaves room in every accuracy), found by bisection; `None` when
-    /// no dwell in the searched range does.
+    /// no dwell in the searched range does (with a drift in the noise, whose part grows again
+    /// at long dwells: none of the range's ends and the curve's log-spaced dwells between).
     pub(crate) min_dwell_s: Option<f64>,
     /// Whether the shortest dwell is the range's lower end (one sample per position already
     /// suffices).
@@ -1047,19 +1048,42 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         let noiseless = self.allocate_direct(linear, lower_bounds_rad)?.objective;
         let (min_dwell_s, at_start) = if fits(lo)? {
             (Some(lo), true)
-        } else if !fits(hi)? {
-            (None, false)
         } else {
-            let (mut a, mut b) = (lo.ln(), hi.ln());
-            for _ in 0..params.min_dwell_bisection_steps {
-                let mid = 0.5 * (a + b);
-                if fits(mid.exp())? {
-                    b = mid;
-                } else {
-                    a = mid;
+            // A bracket [failing, fitting]. Without a drift the noise part falls with the
+            // dwell, so the longest dwell fitting makes [lo, hi] one. A drift (rate random
+            // walk, rate ramp) grows again at long dwells, so the longest may fail while a
+            // middle one fits: then the first of the curve's log-spaced dwells that fits
+            // closes the bracket (a fitting interval narrower than their spacing is missed).
+            let bracket = if fits(hi)? {
+                Some((lo, hi))
+            } else {
+                let mut below = lo;
+                let mut found = None;
+                for i in 1..params.points.saturating_sub(1) {
+                    let t = log_spaced(lo, hi, i, params.points).clamp(lo, hi);
+                    if fits(t)? {
+                        found = Some((below, t));
+                        break;
+                    }
+                    below = t;
+                }
+                found
+            };
+            match bracket {
+                None => (None, false),
+                Some((fail, fit)) => {
+                    let (mut a, mut b) = (fail.ln(), fit.ln());
+                    for _ in 0..params.min_dwell_bisection_steps {
+                        let mid = 0.5 * (a + b);
+                        if fits(mid.exp())? {
+                            b = mid;
+                        } else {
+                            a = mid;
+                        }
+                    }
+                    (Some(b.exp()), false)
                 }
             }
-            (Some(b.exp()), false)
         };
         let mut points = Vec::new();
         if let Some(t0) = min_dwell_s {

@@ -531,3 +531,62 @@ fn rate_random_walk_from_the_study_key_enlarges_the_noise_part_by_its_closed_for
 /// The noise part through calib-lsq's factored sandwich against the plain product
 /// A A^+ C A^+T A^T on 24 positions: a few thousand ulps, relative.
 const HAND_REL: f64 = 1e-10;
+
+/// With a rate random walk the noise part grows again at long dwells: the longest dwell of
+/// the range fails while shorter ones fit. The shortest dwell is still found (the first
+/// fitting dwell of the curve's grid closes the bisection's bracket), it fits, and a dwell
+/// slightly shorter does not; before, the failing longest dwell gave "no dwell suffices".
+#[test]
+fn shortest_dwell_is_found_when_a_drift_makes_the_longest_dwell_fail() {
+    let e2e = common::study_e2e("three-axis-example", None);
+    let acc = e2e.accuracies();
+    let (t0, hi) = (10.0, 86_400.0);
+    let timing = Timing::uniform(e2e.len(), t0, 2.0, 100.0).unwrap();
+    let density = 0.05;
+    // the rate random walk alone at the longest dwell, per unit density
+    let unit_rrw: Vec<Option<NoiseModel>> = (0..e2e.n_outputs())
+        .map(|_| {
+            Some(
+                NoiseModel::new(0.0, None, 0.0)
+                    .unwrap()
+                    .with_rate_random_walk(1.0)
+                    .unwrap(),
+            )
+        })
+        .collect();
+    let at_hi = Timing::uniform(e2e.len(), hi, 2.0, 100.0).unwrap();
+    let unit_sigma = e2e.noise_budget(&unit_rrw, &at_hi).unwrap().sigma();
+    // K such that 3 sigma of the walk alone is twice the tightest accuracy at the longest dwell
+    let k_rrw = unit_sigma
+        .iter()
+        .zip(&acc)
+        .map(|(s, a)| 2.0 * a / (3.0 * s))
+        .fold(f64::INFINITY, f64::min);
+    let noise: Vec<Option<NoiseModel>> = (0..e2e.n_outputs())
+        .map(|_| {
+            Some(
+                NoiseModel::new(density, None, 0.0)
+                    .and_then(|m| m.with_rate_random_walk(k_rrw))
+                    .unwrap(),
+            )
+        })
+        .collect();
+    let fits = |t: f64| {
+        let timing = Timing::uniform(e2e.len(), t, 2.0, 100.0).unwrap();
+        let sigma = e2e.noise_budget(&noise, &timing).unwrap().sigma();
+        sigma.iter().zip(&acc).all(|(s, a)| 3.0 * s <= *a)
+    };
+    assert!(!fits(hi), "the walk makes the longest dwell fail");
+    let linear = e2e.linearization();
+    let lb = vec![0.0; e2e.n_errors()];
+    let tr = e2e
+        .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, hi))
+        .unwrap();
+    let t = tr.min_dwell_s().expect("a dwell between the ends suffices");
+    assert!(t < hi);
+    assert!(fits(t), "the shortest dwell fits: {t} s");
+    assert!(
+        !fits(t * (1.0 - 1e-6)),
+        "a dwell 1e-6 shorter does not: {t} s"
+    );
+}
