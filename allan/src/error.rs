@@ -12,8 +12,8 @@ pub enum AllanError {
         /// The value given.
         value: f64,
     },
-    /// The sample rate is zero, negative or not finite.
-    #[error("rate_hz: the sample rate must be a positive finite number of Hz, got `{value}`")]
+    /// The sample rate is outside [`crate::RATE_HZ`] (or not finite).
+    #[error("rate_hz: `{value}` is outside the accepted sample rates, 1e-9 to 1e12 Hz")]
     InvalidRate {
         /// The value given.
         value: f64,
@@ -38,9 +38,30 @@ pub enum AllanError {
         /// Samples needed.
         needed: u64,
     },
-    /// The samples are so large that their squared differences overflow a double.
+    /// A listed cluster time the estimator cannot evaluate.
+    #[error("taus: `{tau_s}` s: {reason}")]
+    InvalidTau {
+        /// The cluster time given, s.
+        tau_s: f64,
+        /// Why, in words.
+        reason: String,
+    },
+    /// A listed cluster time longer than a third of the log.
     #[error(
-        "samples: the Allan variance at tau = {tau_s} s overflows (the samples are too large; rescale the log)"
+        "taus: `{tau_s}` s needs at least {needed} samples (three clusters), the log has {samples}"
+    )]
+    ClusterTooLong {
+        /// The cluster time given, s.
+        tau_s: f64,
+        /// Samples in the log.
+        samples: u64,
+        /// Samples needed.
+        needed: u64,
+    },
+    /// The samples are so large (or so small) that a variance or a noise parameter is not a
+    /// finite double.
+    #[error(
+        "samples: the Allan variance or a noise parameter at tau = {tau_s} s leaves the range of a double (the samples are too large or too small; rescale the log)"
     )]
     Overflow {
         /// The cluster time, s.
@@ -57,6 +78,7 @@ impl tt_core::ErrorClass for AllanError {
             | AllanError::TooFewSamples { .. }
             | AllanError::Overflow { .. } => Some("samples"),
             AllanError::InvalidRate { .. } => Some("rate_hz"),
+            AllanError::InvalidTau { .. } | AllanError::ClusterTooLong { .. } => Some("taus"),
             AllanError::InvalidSetting { field, .. } => Some(field),
         }
     }
