@@ -661,21 +661,21 @@ pub fn fit_gauss_markov(points: &[(f64, f64, f64)], power: &PowerFit) -> Option<
     } else {
         (None, None)
     };
-    let near_edge = |v: f64| (v - hi).abs() < 1e-9 || v > hi - (hi - lo) / (GM_GRID - 1) as f64;
-    let resolution = if !gm_seen {
-        Resolution::AtZero
-    } else if near_edge(best_log_u) || upper.is_none() {
-        Resolution::BeyondLog
-    } else if best_log_u < lo + (hi - lo) / (GM_GRID - 1) as f64 || lower.is_none() {
-        Resolution::BelowLog
-    } else if coef[4] < 2.0 * sd(4) {
-        Resolution::NotSignificant
-    } else {
-        Resolution::Resolved
-    };
     let tc_u = match (lower, upper) {
         (Some(l), Some(u)) => Some(tc * 0.5 * (u - l)),
         _ => None,
+    };
+    let step = (hi - lo) / (GM_GRID - 1) as f64;
+    let resolution = if !gm_seen {
+        Resolution::AtZero
+    } else if best_log_u > hi - step || upper.is_none() {
+        Resolution::BeyondLog
+    } else if best_log_u < lo + step || lower.is_none() {
+        Resolution::BelowLog
+    } else if coef[4] < 2.0 * sd(4) || tc_u.is_none_or(|u| 2.0 * u > tc) {
+        Resolution::NotSignificant
+    } else {
+        Resolution::Resolved
     };
     let sigma = term(coef[4], sd(4), 1.0, nz.var_scale, 1.0);
     let exps = [-2, -1, 1, 2];
