@@ -13,13 +13,13 @@ pub enum AllanError {
         value: f64,
     },
     /// The sample rate is outside [`crate::RATE_HZ`] (or not finite).
-    #[error("rate_hz: `{value}` is outside the accepted sample rates, 1e-9 to 1e12 Hz")]
+    #[error("rate_hz: `{}` is outside the accepted sample rates, 1e-9 to 1e12 Hz", short(*value))]
     InvalidRate {
         /// The value given.
         value: f64,
     },
     /// A setting is outside its range.
-    #[error("{field}: `{value}` is out of range; expected {expected}")]
+    #[error("{field}: `{}` is out of range; expected {expected}", short(*value))]
     InvalidSetting {
         /// The setting's name.
         field: &'static str,
@@ -39,7 +39,7 @@ pub enum AllanError {
         needed: u64,
     },
     /// A listed cluster time the estimator cannot evaluate.
-    #[error("taus: `{tau_s}` s: {reason}")]
+    #[error("taus: `{}` s: {reason}", short(*tau_s))]
     InvalidTau {
         /// The cluster time given, s.
         tau_s: f64,
@@ -48,7 +48,8 @@ pub enum AllanError {
     },
     /// A listed cluster time longer than a third of the log.
     #[error(
-        "taus: `{tau_s}` s needs at least {needed} samples (three clusters), the log has {samples}"
+        "taus: `{}` s needs at least {needed} samples (three clusters), the log has {samples}",
+        short(*tau_s)
     )]
     ClusterTooLong {
         /// The cluster time given, s.
@@ -61,7 +62,8 @@ pub enum AllanError {
     /// The samples are so large (or so small) that a variance or a noise parameter is not a
     /// finite double.
     #[error(
-        "samples: the Allan variance or a noise parameter at tau = {tau_s} s leaves the range of a double (the samples are too large or too small; rescale the log)"
+        "samples: the Allan variance or a noise parameter at tau = {} s leaves the range of a double (the samples are too large or too small; rescale the log)",
+        short(*tau_s)
     )]
     Overflow {
         /// The cluster time, s.
@@ -81,5 +83,15 @@ impl tt_core::ErrorClass for AllanError {
             AllanError::InvalidTau { .. } | AllanError::ClusterTooLong { .. } => Some("taus"),
             AllanError::InvalidSetting { field, .. } => Some(field),
         }
+    }
+}
+
+/// A number as a reader wants it: plain between 1e-6 and 1e15, else in exponent form (never
+/// three hundred digits).
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-6..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }

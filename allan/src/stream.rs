@@ -692,24 +692,16 @@ impl StreamingAllan {
             let first_t = (t0 + 1).max(3 * mu);
             if first_t <= last_t {
                 let start = (first_t - w0) as usize;
-                let w = &self.work;
-                let mut sum = 0.0;
-                for i in start..=(last_t - w0) as usize {
-                    let d = w[i] - 3.0 * w[i - m] + 3.0 * w[i - 2 * m] - w[i - 3 * m];
-                    sum += d * d;
-                }
-                level.sums.hdev.0 += sum;
+                let len = (last_t - first_t + 1) as usize;
+                level.sums.hdev.0 += sum_sq_third_diff(&self.work, start, len, m);
                 level.sums.hdev.1 += last_t - first_t + 1;
             }
             // modified Allan: running-sum ends e in [max(t0 + 2, 3m), last + 1]
             let first_e = (t0 + 2).max(3 * mu);
             if first_e <= last_t + 1 {
-                let mut sum = 0.0;
-                for e in (first_e - w0) as usize..=(last_t + 1 - w0) as usize {
-                    let d = pre[e] - 3.0 * pre[e - m] + 3.0 * pre[e - 2 * m] - pre[e - 3 * m];
-                    sum += d * d;
-                }
-                level.sums.mdev.0 += sum;
+                let start = (first_e - w0) as usize;
+                let len = (last_t + 2 - first_e) as usize;
+                level.sums.mdev.0 += sum_sq_third_diff(pre, start, len, m);
                 level.sums.mdev.1 += last_t + 2 - first_e;
             }
         }
@@ -845,6 +837,34 @@ struct Raw {
     stride: u64,
     /// Modified, Hadamard and total deviations.
     others: [f64; 3],
+}
+
+/// $\sum_i (v_i - 3 v_{i-m} + 3 v_{i-2m} - v_{i-3m})^2$ for $i$ = `start` .. `start + len`,
+/// in four lanes.
+fn sum_sq_third_diff(v: &[f64], start: usize, len: usize, m: usize) -> f64 {
+    let a = &v[start..start + len];
+    let b = &v[start - m..start - m + len];
+    let c = &v[start - 2 * m..start - 2 * m + len];
+    let d = &v[start - 3 * m..start - 3 * m + len];
+    let mut acc = [0.0f64; 4];
+    let n4 = len / 4 * 4;
+    for (((ca, cb), cc), cd) in a[..n4]
+        .chunks_exact(4)
+        .zip(b[..n4].chunks_exact(4))
+        .zip(c[..n4].chunks_exact(4))
+        .zip(d[..n4].chunks_exact(4))
+    {
+        for l in 0..4 {
+            let t = ca[l] - 3.0 * cb[l] + 3.0 * cc[l] - cd[l];
+            acc[l] += t * t;
+        }
+    }
+    let mut tail = 0.0;
+    for i in n4..len {
+        let t = a[i] - 3.0 * b[i] + 3.0 * c[i] - d[i];
+        tail += t * t;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// $\sum_i (a_i - 2 p_i + q_i)^2$ in four lanes.
