@@ -551,40 +551,35 @@ fn noise_file_never_holds_a_correlation_time_the_study_rejects() {
     let dir = tempfile::tempdir().unwrap();
     let log = write(dir.path(), "gm.csv", &gauss_markov_log(200_000, 7));
     let l = log.to_str().unwrap();
-    let fast = dir.path().join("fast.toml");
-    let o = run(&[
-        "allan",
-        l,
-        "--rate-hz",
-        "10",
-        "--write-noise",
-        fast.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let t: toml::Table = toml::from_str(&std::fs::read_to_string(&fast).unwrap()).unwrap();
+    // the noise file written at `rate`, parsed, and the run's standard error
+    let noise_at = |rate: &str| {
+        let out = dir.path().join(format!("noise-{rate}.toml"));
+        let o = run(&[
+            "allan",
+            l,
+            "--rate-hz",
+            rate,
+            "--write-noise",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let t: toml::Table = toml::from_str(&text).unwrap();
+        (t, text, stderr(&o))
+    };
+    let (t, _, _) = noise_at("10");
     let tc = t["sensor"]["outputs"]["noise"]["bias_correlation_s"]
         .as_float()
         .unwrap();
     assert!((15.0..25.0).contains(&tc), "Tc {tc} s, known 20 s");
-    let slow = dir.path().join("slow.toml");
-    let o = run(&[
-        "allan",
-        l,
-        "--rate-hz",
-        "1e-6",
-        "--write-noise",
-        slow.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&slow).unwrap();
-    let t: toml::Table = toml::from_str(&text).unwrap();
+    let (t, text, err) = noise_at("1e-6");
     let block = t["sensor"]["outputs"]["noise"].as_table().unwrap();
     assert!(block.contains_key("white_per_sqrt_hz"), "{text}");
     assert!(
         !block.contains_key("bias_correlation_s") && !block.contains_key("bias_instability"),
         "{text}"
     );
-    for s in [text.as_str(), stderr(&o).as_str()] {
+    for s in [text.as_str(), err.as_str()] {
         assert!(
             s.contains("Gauss-Markov correlation time (s) = ")
                 && s.contains("outside the study's limit (0, 1e7] s"),
