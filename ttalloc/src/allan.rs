@@ -484,7 +484,14 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
             uncertainty: n.uncertainty(),
             reason: format!("above the study's limit {}", study::fmt::num(noise_max)),
         });
-    } else if n.value() > 0.0 {
+    } else if n.value() == 0.0 {
+        not_written.push(NotWritten {
+            term: "white noise N",
+            value: 0.0,
+            uncertainty: None,
+            reason: n.resolution().explain().into(),
+        });
+    } else {
         written.insert(
             0,
             Written {
@@ -971,8 +978,7 @@ pub fn run(args: &Args) -> Result<()> {
             return Err(InputError::new(
                 "--write-noise",
                 format!(
-                    "the log gives no noise term a study accepts (white noise fitted at zero{}{}); nothing written",
-                    if why.is_empty() { "" } else { "; " },
+                    "the log gives no noise term a study accepts ({}); nothing written",
                     why.join("; ")
                 ),
             )

@@ -588,6 +588,36 @@ fn noise_file_never_holds_a_correlation_time_the_study_rejects() {
     }
 }
 
+/// A log in units so large that no term fits the study's limits (white noise 5e97 per
+/// sqrt(Hz), above 1e6): `--write-noise` refuses with exit 2 naming the flag and why, and
+/// writes nothing (before: white noise 0 was written, issue 32).
+#[test]
+fn noise_file_is_refused_when_no_term_fits_the_study() {
+    let dir = tempfile::tempdir().unwrap();
+    let (y, _) = samples(5_000, 9);
+    let csv: String = std::iter::once("g\n".to_string())
+        .chain(y.iter().map(|v| format!("{}\n", v * 1e100)))
+        .collect();
+    let log = write(dir.path(), "big.csv", &csv);
+    let out = dir.path().join("n.toml");
+    assert_input_error(
+        &run(&[
+            "allan",
+            log.to_str().unwrap(),
+            "--rate-hz",
+            "100",
+            "--write-noise",
+            out.to_str().unwrap(),
+        ]),
+        &[
+            "--write-noise",
+            "white noise N: above the study's limit 1e6",
+            "nothing written",
+        ],
+    );
+    only(dir.path(), &["big.csv"]);
+}
+
 /// `--json` carries every term with its uncertainty and resolution, the Gauss-Markov
 /// alternative and the four deviations of every point (positive, finite).
 #[test]
