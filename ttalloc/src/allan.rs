@@ -787,7 +787,26 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
         .iter()
         .map(|p| p.lower())
         .fold(f64::INFINITY, f64::min);
-    let y1 = a.points().iter().map(|p| p.upper()).fold(0.0, f64::max);
+    // the other deviations, drawn where every point is positive (a log scale)
+    type Dev = fn(&allan::AllanPoint) -> f64;
+    let others: Vec<(&str, Dev)> = [
+        ("modified Allan deviation", allan::AllanPoint::mdev as Dev),
+        (
+            "overlapping Hadamard deviation",
+            allan::AllanPoint::hdev as Dev,
+        ),
+        ("total deviation", allan::AllanPoint::totdev as Dev),
+    ]
+    .into_iter()
+    .filter(|(_, d)| a.points().iter().all(|p| d(p) > 0.0))
+    .collect();
+    for (_, d) in &others {
+        y0 = a.points().iter().map(d).fold(y0, f64::min);
+    }
+    let y1 = others.iter().fold(
+        a.points().iter().map(|p| p.upper()).fold(0.0, f64::max),
+        |m, (_, d)| a.points().iter().map(d).fold(m, f64::max),
+    );
     let floor = f.bias_instability() * FLICKER_FLOOR_FACTOR;
     if floor > 0.0 {
         y0 = y0.min(floor);
@@ -854,6 +873,19 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
                     .map(|p| Circle::new((p.tau_s(), p.adev()), 3, c.filled())),
             )
             .map_err(|e| anyhow!("{what}: {e:?}"))?;
+        for (k, (name, d)) in others.iter().enumerate() {
+            let oc = colour(2 + k);
+            chart
+                .draw_series(LineSeries::new(
+                    a.points().iter().map(|p| (p.tau_s(), d(p))),
+                    oc.stroke_width(1),
+                ))
+                .map_err(|e| anyhow!("{what}: {e:?}"))?
+                .label(*name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], oc.stroke_width(1))
+                });
+        }
         if f.white_noise() > 0.0 {
             let w = colour(1);
             // the -1/2 line where it lies inside the plot

@@ -225,6 +225,9 @@ fn figure_and_noise_file_are_written_whole() {
         "Allan deviation (deg/s)",
         "white noise",
         "floor 0.664 B",
+        "modified Allan deviation",
+        "overlapping Hadamard deviation",
+        "total deviation",
     ] {
         assert!(svg.contains(needle), "figure lacks `{needle}`");
     }
