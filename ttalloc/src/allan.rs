@@ -31,8 +31,9 @@
 //! lower, upper, edf, cluster, stride, terms, noise, mdev, hdev, totdev}`; full precision,
 //! never NaN.
 //!
-//! `--figure FILE.svg` draws the curve, its band and the fitted lines; `--write-noise
-//! FILE.toml` writes `[sensor.outputs.noise]` with the keys a study accepts:
+//! `--figure FILE.svg` draws the curve, its band, the other three deviations and the fitted
+//! lines; `--write-noise FILE.toml` writes `[sensor.outputs.noise]` with the keys a study
+//! accepts:
 //! `white_per_sqrt_hz`, and `bias_instability` with `bias_correlation_s` from the Gauss-Markov
 //! fit when the log resolves its correlation time inside the study's limits; a comment names
 //! the log, each value's uncertainty, and every term it could not write with its value and
