@@ -3,10 +3,12 @@
 //! allocated); then the throughput against baselines measured in the same run (a log of 2^22
 //! samples in memory, interleaved rounds, best of each).
 //!
-//! Run: `cargo run --release -p allan --example allan_throughput -- [SAMPLES]` (default 1e8 for the
-//! long log).
+//! Run: `cargo run --release -p allan --example allan_throughput -- [SAMPLES [GRID RATE_HZ]]`
+//! (default 1e8 samples at 100 Hz on the octave grid for the long log; GRID is `octave`,
+//! `decade` or `all`: `-- 2.88e6 all 400` is a 2 h log at 400 Hz with every cluster time of
+//! the `all` grid, each point carrying the four deviations).
 
-use allan::{Settings, StreamingAllan};
+use allan::{Settings, StreamingAllan, Taus};
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
 use std::hint::black_box;
@@ -38,9 +40,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.parse::<f64>().map(|v| v as u64))
         .transpose()?
         .unwrap_or(100_000_000);
+    let grid = match std::env::args().nth(2).as_deref() {
+        None | Some("octave") => Taus::Octave,
+        Some("decade") => Taus::Decade,
+        Some("all") => Taus::All,
+        Some(other) => return Err(format!("GRID: `{other}` is not octave, decade or all").into()),
+    };
+    let rate: f64 = std::env::args()
+        .nth(3)
+        .map(|s| s.parse::<f64>())
+        .transpose()?
+        .unwrap_or(100.0);
     // the long log, streamed from its generator
     let t = Instant::now();
-    let mut a = StreamingAllan::new(Settings::new(100.0))?;
+    let mut a = StreamingAllan::new(Settings::new(rate).taus(grid))?;
     let mut g = Gen(ChaCha8Rng::seed_from_u64(8));
     let mut block = Vec::with_capacity(1 << 16);
     let mut left = long;
@@ -57,10 +70,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let r = a.analyse()?;
     let secs = t.elapsed().as_secs_f64();
     println!(
-        "streamed {long} samples (generated on the fly) in {secs:.2} s ({:.3e}/s), {} cluster times, N = {:.6e} per sqrt(Hz) (0.01 expected), peak RSS {} KiB",
+        "streamed {long} samples (generated on the fly) in {secs:.2} s ({:.3e}/s), {} cluster times with four deviations and the fits, N = {:.6e} per sqrt(Hz) ({:.6e} expected), peak RSS {} KiB",
         long as f64 / secs,
         r.points().len(),
         r.fit().white_noise(),
+        0.1 / rate.sqrt(),
         peak_rss_kib().map_or("?".into(), |k| k.to_string())
     );
     // in memory: 2^22 samples, three interleaved rounds

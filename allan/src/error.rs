@@ -12,14 +12,14 @@ pub enum AllanError {
         /// The value given.
         value: f64,
     },
-    /// The sample rate is zero, negative or not finite.
-    #[error("rate_hz: the sample rate must be a positive finite number of Hz, got `{value}`")]
+    /// The sample rate is outside [`crate::RATE_HZ`] (or not finite).
+    #[error("rate_hz: `{}` is outside the accepted sample rates, 1e-9 to 1e12 Hz", short(*value))]
     InvalidRate {
         /// The value given.
         value: f64,
     },
     /// A setting is outside its range.
-    #[error("{field}: `{value}` is out of range; expected {expected}")]
+    #[error("{field}: `{}` is out of range; expected {expected}", short(*value))]
     InvalidSetting {
         /// The setting's name.
         field: &'static str,
@@ -38,9 +38,32 @@ pub enum AllanError {
         /// Samples needed.
         needed: u64,
     },
-    /// The samples are so large that their squared differences overflow a double.
+    /// A listed cluster time the estimator cannot evaluate.
+    #[error("taus: `{}` s: {reason}", short(*tau_s))]
+    InvalidTau {
+        /// The cluster time given, s.
+        tau_s: f64,
+        /// Why, in words.
+        reason: String,
+    },
+    /// A listed cluster time longer than a third of the log.
     #[error(
-        "samples: the Allan variance at tau = {tau_s} s overflows (the samples are too large; rescale the log)"
+        "taus: `{}` s needs at least {needed} samples (three clusters), the log has {samples}",
+        short(*tau_s)
+    )]
+    ClusterTooLong {
+        /// The cluster time given, s.
+        tau_s: f64,
+        /// Samples in the log.
+        samples: u64,
+        /// Samples needed.
+        needed: u64,
+    },
+    /// The samples are so large (or so small) that a variance or a noise parameter is not a
+    /// finite double.
+    #[error(
+        "samples: the Allan variance or a noise parameter at tau = {} s leaves the range of a double (the samples are too large or too small; rescale the log)",
+        short(*tau_s)
     )]
     Overflow {
         /// The cluster time, s.
@@ -57,7 +80,18 @@ impl tt_core::ErrorClass for AllanError {
             | AllanError::TooFewSamples { .. }
             | AllanError::Overflow { .. } => Some("samples"),
             AllanError::InvalidRate { .. } => Some("rate_hz"),
+            AllanError::InvalidTau { .. } | AllanError::ClusterTooLong { .. } => Some("taus"),
             AllanError::InvalidSetting { field, .. } => Some(field),
         }
+    }
+}
+
+/// A number as a reader wants it: plain between 1e-6 and 1e15, else in exponent form (never
+/// three hundred digits).
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-6..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }

@@ -3,15 +3,17 @@
 use crate::chi2;
 use crate::edf;
 use crate::error::AllanError;
-use crate::fit::{self, FLICKER_FLOOR_FACTOR};
+use crate::fit::{self, FLICKER_FLOOR_FACTOR, GaussMarkovFit, Resolution, Term};
+use crate::levels::{self, Level, Taus};
 use crate::noise::{NoiseModel, PowerLaw};
 
 /// Samples processed at a time (and averaged for the reference value removed from the
 /// phase).
 const BLOCK: usize = 4096;
 
-/// Levels $k$ kept: cluster sizes $m = 2^k$ up to $2^{61}$ (any `u64` sample count).
-const LEVELS: usize = 62;
+/// The sample rates accepted, Hz: from one sample in 31.7 years to 1 THz (the cluster times
+/// and the fit stay far inside a double's range).
+pub const RATE_HZ: (f64, f64) = (1e-9, 1e12);
 
 /// Largest overlap factor accepted.
 pub const MAX_OVERLAP: u64 = 1 << 16;
@@ -20,12 +22,13 @@ pub const MAX_OVERLAP: u64 = 1 << 16;
 pub const DEFAULT_OVERLAP: u64 = 256;
 
 /// Settings of an analysis.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     rate_hz: f64,
     confidence: f64,
     noise: NoiseModel,
     overlap: u64,
+    taus: Taus,
 }
 
 impl Settings {
@@ -39,7 +42,55 @@ impl Settings {
             confidence: chi2::ONE_SIGMA,
             noise: NoiseModel::Identify,
             overlap: DEFAULT_OVERLAP,
+            taus: Taus::Octave,
         }
+    }
+
+    /// The cluster times of the curve ([`Taus::Octave`] by default).
+    #[must_use]
+    pub fn taus(mut self, taus: Taus) -> Self {
+        self.taus = taus;
+        self
+    }
+
+    /// The cluster-time grid.
+    #[must_use]
+    pub fn tau_grid(&self) -> &Taus {
+        &self.taus
+    }
+
+    /// The cluster sizes of a listed grid (empty for the others), checked: each cluster time
+    /// a positive whole number of samples.
+    fn list_sizes(&self) -> Result<Vec<u64>, AllanError> {
+        let Taus::List(list) = &self.taus else {
+            return Ok(Vec::new());
+        };
+        if list.is_empty() {
+            return Err(AllanError::InvalidSetting {
+                field: "taus",
+                value: 0.0,
+                expected: "at least one cluster time",
+            });
+        }
+        list.iter()
+            .map(|&tau_s| {
+                let m = tau_s * self.rate_hz;
+                let whole = m.round();
+                let bad = |reason: String| AllanError::InvalidTau { tau_s, reason };
+                if !(tau_s.is_finite() && tau_s > 0.0) {
+                    return Err(bad("a cluster time is a positive finite number of seconds".into()));
+                }
+                if !(1.0..=(1u64 << 61) as f64).contains(&whole)
+                    || (m - whole).abs() > 1e-9 * whole
+                {
+                    return Err(bad(format!(
+                        "a cluster time is a whole number of samples from 1 to 2^61 (the sample interval is {} s); this one is {m} samples",
+                        1.0 / self.rate_hz
+                    )));
+                }
+                Ok(whole as u64)
+            })
+            .collect()
     }
 
     /// The confidence of the bands, in (0, 1).
@@ -56,9 +107,10 @@ impl Settings {
         self
     }
 
-    /// The overlap factor $R$, a power of two in $[2, 2^{16}]$: clusters of up to $R$ samples
-    /// are evaluated at every sample (fully overlapping), longer clusters $m$ every $m/R$
-    /// samples.
+    /// The overlap factor $R$, a power of two in $[1, 2^{16}]$: clusters of up to $R$ samples
+    /// are evaluated at every sample (fully overlapping), longer clusters $m$ every $m/r$
+    /// samples, $r$ the smallest divisor of $m$ from $R$ on ($R$ itself for the octaves;
+    /// $R = 1$: not overlapping, every cluster evaluated once per cluster time).
     #[must_use]
     pub fn overlap(mut self, overlap: u64) -> Self {
         self.overlap = overlap;
@@ -90,7 +142,7 @@ impl Settings {
     }
 
     fn validate(&self) -> Result<(), AllanError> {
-        if !(self.rate_hz.is_finite() && self.rate_hz > 0.0) {
+        if !(self.rate_hz.is_finite() && (RATE_HZ.0..=RATE_HZ.1).contains(&self.rate_hz)) {
             return Err(AllanError::InvalidRate {
                 value: self.rate_hz,
             });
@@ -102,11 +154,11 @@ impl Settings {
                 expected: "a probability in (0, 1 - 1e-9]",
             });
         }
-        if !(2..=MAX_OVERLAP).contains(&self.overlap) || !self.overlap.is_power_of_two() {
+        if !(1..=MAX_OVERLAP).contains(&self.overlap) || !self.overlap.is_power_of_two() {
             return Err(AllanError::InvalidSetting {
                 field: "overlap",
                 value: self.overlap as f64,
-                expected: "a power of two in [2, 65536]",
+                expected: "a power of two in [1, 65536] (1: not overlapping)",
             });
         }
         Ok(())
@@ -136,6 +188,12 @@ pub struct AllanPoint {
     pub(crate) stride: u64,
     /// Noise type the degrees of freedom assume.
     pub(crate) noise: PowerLaw,
+    /// Modified Allan deviation, log unit.
+    pub(crate) mdev: f64,
+    /// Overlapping Hadamard deviation, log unit.
+    pub(crate) hdev: f64,
+    /// Total deviation, log unit.
+    pub(crate) totdev: f64,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -193,6 +251,25 @@ impl AllanPoint {
     pub fn noise(&self) -> PowerLaw {
         self.noise
     }
+
+    /// Modified Allan deviation (NIST SP 1065 eq 14) at the same stride, log unit.
+    #[must_use]
+    pub fn mdev(&self) -> f64 {
+        self.mdev
+    }
+
+    /// Overlapping Hadamard deviation (NIST SP 1065 eq 18) at the same stride, log unit.
+    #[must_use]
+    pub fn hdev(&self) -> f64 {
+        self.hdev
+    }
+
+    /// Total deviation (NIST SP 1065 eq 25, the phase reflected at both ends; no bias
+    /// correction) at the same stride, log unit.
+    #[must_use]
+    pub fn totdev(&self) -> f64 {
+        self.totdev
+    }
 }
 
 /// The noise parameters read from the curve (see [`crate::fit`]).
@@ -230,6 +307,10 @@ pub struct NoiseFit {
     pub(crate) rate_ramp: Option<f64>,
     /// The fitted power terms $C_n$, $n = -2 \dots 2$ (log unit$^2$ s$^{-n}$).
     pub(crate) coefficients: [f64; 5],
+    /// $Q, N, B, K, R$ of the joint fit, each with its uncertainty and resolution.
+    pub(crate) terms: [Term; 5],
+    /// The Gauss-Markov alternative (`None` for an all-zero curve).
+    pub(crate) gauss_markov: Option<GaussMarkovFit>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -311,6 +392,45 @@ impl NoiseFit {
     pub fn coefficients(&self) -> [f64; 5] {
         self.coefficients
     }
+
+    /// Quantization $Q$ of the joint fit, log unit $\cdot$ s (angle quantization: slope $-1$).
+    #[must_use]
+    pub fn quantization_term(&self) -> Term {
+        self.terms[0]
+    }
+
+    /// White noise $N$ of the joint fit, log unit $/\sqrt{\mathrm{Hz}}$.
+    #[must_use]
+    pub fn white_term(&self) -> Term {
+        self.terms[1]
+    }
+
+    /// Bias instability $B$ as a flicker floor of the joint fit ($\sqrt{C_0}/0.664$), log
+    /// unit; [`Resolution::BeyondLog`] when the curve still falls at the longest cluster
+    /// time.
+    #[must_use]
+    pub fn flicker_term(&self) -> Term {
+        self.terms[2]
+    }
+
+    /// Rate random walk $K$ of the joint fit, log unit $\cdot\sqrt{\mathrm{Hz}}$.
+    #[must_use]
+    pub fn rate_random_walk_term(&self) -> Term {
+        self.terms[3]
+    }
+
+    /// Rate ramp $R$ of the joint fit, log unit / s.
+    #[must_use]
+    pub fn rate_ramp_term(&self) -> Term {
+        self.terms[4]
+    }
+
+    /// The Gauss-Markov alternative ($Q, N, K, R$ and a Gauss-Markov bias of fitted
+    /// correlation time; `None` for an all-zero curve).
+    #[must_use]
+    pub fn gauss_markov(&self) -> Option<GaussMarkovFit> {
+        self.gauss_markov
+    }
 }
 
 /// The result of an analysis.
@@ -371,15 +491,8 @@ impl Analysis {
     }
 }
 
-/// A level of decimated evaluation: phase samples every `stride` samples in a ring.
-#[derive(Debug, Clone)]
-struct Ring {
-    stride: u64,
-    data: Vec<f64>,
-    head: usize,
-}
-
-/// The streaming overlapping Allan deviation (see the crate documentation for the estimator).
+/// The streaming overlapping Allan deviation (see the crate documentation for the estimator)
+/// with, at the same cluster times, the modified, overlapping Hadamard and total deviations.
 ///
 /// ```
 /// use allan::{Settings, StreamingAllan};
@@ -401,38 +514,56 @@ pub struct StreamingAllan {
     pending: Vec<f64>,
     /// The value removed from every sample (the mean of the first block).
     reference: Option<f64>,
-    /// Phase history for the fully overlapping levels: the last `2R + 1` phases, ending with
-    /// the phase after `processed` samples, followed by room for a block.
+    /// Phase history for the stride-1 levels: the last `keep` phases, ending with the phase
+    /// after `processed` samples, followed by room for a block.
     work: Vec<f64>,
+    /// Phases kept in `work` between blocks: $3 m_1 + 2$, $m_1$ the largest stride-1 cluster.
+    keep: usize,
+    /// The first $2 m_1 + 1$ phases (the total deviation's reflection at the start).
+    head: Vec<f64>,
     /// Samples folded into the phase.
     processed: u64,
     /// The current phase (sum of the referenced samples).
     phase: f64,
-    /// Per level: sum of squared second differences and their count.
-    sum_sq: Vec<f64>,
-    count: Vec<u64>,
-    /// Decimated levels (index k - log2 R - 1).
-    rings: Vec<Ring>,
+    /// The cluster sizes, by increasing size.
+    levels: Vec<Level>,
+    /// Running sums of the block (scratch, reused).
+    scratch: Vec<f64>,
 }
 
 impl StreamingAllan {
     /// A new estimator.
     ///
     /// # Errors
-    /// [`AllanError::InvalidRate`] for a rate that is not positive and finite;
-    /// [`AllanError::InvalidSetting`] naming `confidence` or `overlap`.
+    /// [`AllanError::InvalidRate`] for a rate outside [`RATE_HZ`];
+    /// [`AllanError::InvalidSetting`] naming `confidence` or `overlap`;
+    /// [`AllanError::InvalidTau`] for a listed cluster time that is not a whole number of
+    /// samples or that the estimator cannot decimate in bounded memory.
     pub fn new(settings: Settings) -> Result<Self, AllanError> {
         settings.validate()?;
-        let r = settings.overlap;
-        let full_levels = r.trailing_zeros() as usize + 1;
-        let rings = (full_levels..LEVELS)
-            .map(|k| Ring {
-                stride: (1u64 << k) / r,
-                data: Vec::new(),
-                head: 0,
-            })
-            .collect();
-        let mut work = Vec::with_capacity(2 * r as usize + 1 + BLOCK);
+        let sizes = settings.list_sizes()?;
+        let pairs = levels::grid(&settings.taus, settings.overlap, &sizes).map_err(|i| {
+            let Taus::List(list) = &settings.taus else {
+                unreachable!("only a list has sizes")
+            };
+            AllanError::InvalidTau {
+                tau_s: list[i],
+                reason: format!(
+                    "{} samples has no divisor between the overlap factor {} and {}: the streaming estimator cannot evaluate it in bounded memory; choose a nearby cluster time",
+                    sizes[i],
+                    settings.overlap,
+                    levels::MAX_LIST_EVALUATIONS
+                ),
+            }
+        })?;
+        let m1 = pairs
+            .iter()
+            .filter(|p| p.1 == 1)
+            .map(|p| p.0)
+            .max()
+            .unwrap_or(1) as usize;
+        let keep = 3 * m1 + 2;
+        let mut work = Vec::with_capacity(keep + BLOCK + 1);
         work.push(0.0);
         Ok(Self {
             settings,
@@ -440,11 +571,12 @@ impl StreamingAllan {
             pending: Vec::with_capacity(BLOCK),
             reference: None,
             work,
+            keep,
+            head: vec![0.0],
             processed: 0,
             phase: 0.0,
-            sum_sq: vec![0.0; LEVELS],
-            count: vec![0; LEVELS],
-            rings,
+            levels: pairs.into_iter().map(|(m, s)| Level::new(m, s)).collect(),
+            scratch: Vec::with_capacity(BLOCK + 1),
         })
     }
 
@@ -513,9 +645,7 @@ impl StreamingAllan {
         let reference = *self
             .reference
             .get_or_insert_with(|| self.pending.iter().sum::<f64>() / self.pending.len() as f64);
-        let r = self.settings.overlap as usize;
-        let keep = 2 * r + 1;
-        // work = [history (<= 2R + 1 phases, the last one at index `base`)] + new phases
+        // work = [history (<= keep phases, the last one at index `base`)] + new phases
         let base = self.work.len() - 1;
         let mut x = self.phase;
         for &y in &self.pending {
@@ -525,57 +655,73 @@ impl StreamingAllan {
         self.phase = x;
         let b = self.pending.len();
         let t0 = self.processed; // global phase index of work[base]
-        // fully overlapping levels: m = 1, 2, ..., R
-        let mut k = 0;
-        let mut m = 1usize;
-        while m <= r {
-            // new phase indices t = t0 + 1 ..= t0 + b; a term needs t >= 2m
-            let first_t = (t0 + 1).max(2 * m as u64);
-            let last_t = t0 + b as u64;
+        let w0 = t0 - base as u64; // global phase index of work[0]
+        let head_cap = (self.keep - 2) / 3 * 2 + 1;
+        if self.head.len() < head_cap {
+            let more = (head_cap - self.head.len()).min(b);
+            self.head
+                .extend_from_slice(&self.work[base + 1..base + 1 + more]);
+        }
+        let last_t = t0 + b as u64;
+        // running sums of the whole work buffer, anchored at work[base] (the modified
+        // deviation's third differences of the running sum ignore the anchor)
+        let anchor = self.work[base];
+        let pre = &mut self.scratch;
+        pre.clear();
+        pre.push(0.0);
+        let mut acc = 0.0;
+        for v in &self.work {
+            acc += v - anchor;
+            pre.push(acc);
+        }
+        for level in self.levels.iter_mut().filter(|l| l.stride == 1) {
+            let m = level.m as usize;
+            let mu = m as u64;
+            // Allan: right ends t in [max(t0 + 1, 2m), last]
+            let first_t = (t0 + 1).max(2 * mu);
             if first_t <= last_t {
-                let start = base + (first_t - t0) as usize;
+                let start = (first_t - w0) as usize;
                 let len = (last_t - first_t + 1) as usize;
                 let a = &self.work[start..start + len];
                 let p = &self.work[start - m..start - m + len];
                 let q = &self.work[start - 2 * m..start - 2 * m + len];
-                self.sum_sq[k] += sum_sq_second_diff(a, p, q);
-                self.count[k] += len as u64;
+                level.sums.adev.0 += sum_sq_second_diff(a, p, q);
+                level.sums.adev.1 += len as u64;
             }
-            k += 1;
-            m *= 2;
+            // Hadamard: right ends t in [max(t0 + 1, 3m), last]
+            let first_t = (t0 + 1).max(3 * mu);
+            if first_t <= last_t {
+                let start = (first_t - w0) as usize;
+                let len = (last_t - first_t + 1) as usize;
+                level.sums.hdev.0 += sum_sq_third_diff(&self.work, start, len, m);
+                level.sums.hdev.1 += last_t - first_t + 1;
+            }
+            // modified Allan: running-sum ends e in [max(t0 + 2, 3m), last + 1]
+            let first_e = (t0 + 2).max(3 * mu);
+            if first_e <= last_t + 1 {
+                let start = (first_e - w0) as usize;
+                let len = (last_t + 2 - first_e) as usize;
+                level.sums.mdev.0 += sum_sq_third_diff(pre, start, len, m);
+                level.sums.mdev.1 += last_t + 2 - first_e;
+            }
         }
-        // decimated levels: phases at multiples of the stride
-        let cap = 2 * r + 1;
-        for (ring, level) in self.rings.iter_mut().zip(k..) {
-            let s = ring.stride;
-            // phase index 0 (before any sample) belongs to every level
-            let mut t = if t0 == 0 && ring.data.is_empty() {
-                0
-            } else {
-                (t0 / s + 1) * s
-            };
-            while t <= t0 + b as u64 {
-                let v = self.work[base + (t - t0) as usize];
-                if ring.data.len() < cap {
-                    ring.data.push(v);
-                } else {
-                    ring.data[ring.head] = v;
-                    ring.head = (ring.head + 1) % cap;
-                }
-                if ring.data.len() == cap {
-                    // oldest at head, newest just before it
-                    let newest = (ring.head + cap - 1) % cap;
-                    let mid = (ring.head + r) % cap;
-                    let d = ring.data[newest] - 2.0 * ring.data[mid] + ring.data[ring.head];
-                    self.sum_sq[level] += d * d;
-                    self.count[level] += 1;
-                }
-                t += s;
+        if self.levels.iter().any(|l| l.stride > 1) {
+            // running sums of x_{t0} ..= x_{last} (unanchored: a level's B sums span blocks)
+            pre.clear();
+            pre.push(0.0);
+            let mut acc = 0.0;
+            for v in &self.work[base..] {
+                acc += v;
+                pre.push(acc);
+            }
+            let phases = &self.work[base..];
+            for level in self.levels.iter_mut().filter(|l| l.stride > 1) {
+                level.take_strided(t0, phases, pre);
             }
         }
         self.processed += b as u64;
         self.pending.clear();
-        let drop = self.work.len().saturating_sub(keep);
+        let drop = self.work.len().saturating_sub(self.keep);
         self.work.drain(..drop);
     }
 
@@ -583,7 +729,8 @@ impl StreamingAllan {
     /// pushed afterwards.
     ///
     /// # Errors
-    /// [`AllanError::TooFewSamples`] below 3 samples; [`AllanError::Overflow`] when the
+    /// [`AllanError::TooFewSamples`] below 3 samples; [`AllanError::ClusterTooLong`] for a
+    /// listed cluster time longer than a third of the log; [`AllanError::Overflow`] when the
     /// samples are so large that a variance is not finite.
     pub fn analyse(&mut self) -> Result<Analysis, AllanError> {
         if self.samples < 3 {
@@ -595,62 +742,129 @@ impl StreamingAllan {
         self.process_pending();
         let n = self.samples;
         let rate = self.settings.rate_hz;
-        let r = self.settings.overlap;
+        let listed = matches!(self.settings.taus, Taus::List(_));
         // levels with at least three clusters: 3m <= N
         let mut raw = Vec::new();
-        for k in 0..LEVELS {
-            let m = 1u64 << k;
+        for level in &self.levels {
+            let m = level.m;
+            let tau_s = m as f64 / rate;
             if m.checked_mul(3).is_none_or(|t| t > n) {
+                if listed {
+                    return Err(AllanError::ClusterTooLong {
+                        tau_s,
+                        samples: n,
+                        needed: 3 * m,
+                    });
+                }
                 break;
             }
-            let stride = if m <= r { 1 } else { m / r };
-            let terms = self.count[k];
+            let stride = level.stride;
+            let mf = m as f64;
+            let (sum, terms) = level.sums.adev;
             debug_assert_eq!(terms, edf::terms(n, m, stride));
-            let avar = self.sum_sq[k] / (2.0 * (m as f64) * (m as f64) * terms as f64);
-            let tau_s = m as f64 / rate;
-            if !avar.is_finite() {
+            let avar = sum / (2.0 * mf * mf * terms as f64);
+            let (hsum, hterms) = level.sums.hdev;
+            let hvar = hsum / (6.0 * mf * mf * hterms as f64);
+            let (msum, mterms) = level.sums.mdev;
+            let mvar = msum / (2.0 * mf * mf * mf * mf * mterms as f64);
+            let (tsum, tterms) = if stride == 1 {
+                levels::total_sum(&self.head, &self.work, n, m, sum)
+            } else {
+                level.total_strided()
+            };
+            let tvar = tsum / (2.0 * mf * mf * tterms as f64);
+            if [avar, hvar, mvar, tvar].iter().any(|v| !v.is_finite()) {
                 return Err(AllanError::Overflow { tau_s });
             }
-            raw.push((m, tau_s, avar, terms, stride));
+            raw.push(Raw {
+                m,
+                tau_s,
+                avar,
+                terms,
+                stride,
+                others: [mvar.sqrt(), hvar.sqrt(), tvar.sqrt()],
+            });
         }
-        let adevs: Vec<f64> = raw.iter().map(|p| p.2.sqrt()).collect();
-        let taus: Vec<f64> = raw.iter().map(|p| p.1).collect();
+        let adevs: Vec<f64> = raw.iter().map(|p| p.avar.sqrt()).collect();
+        let taus: Vec<f64> = raw.iter().map(|p| p.tau_s).collect();
         let noises: Vec<PowerLaw> = match self.settings.noise {
             NoiseModel::Fixed(p) => vec![p; raw.len()],
             NoiseModel::Identify => identify(&taus, &adevs),
         };
         let mut points = Vec::with_capacity(raw.len());
-        for (i, &(m, tau_s, _, terms, stride)) in raw.iter().enumerate() {
+        for (i, p) in raw.iter().enumerate() {
             let noise = noises[i];
-            let nu = edf::edf(noise, n, m, stride);
+            let nu = edf::edf(noise, n, p.m, p.stride);
             let (lower, upper) = chi2::interval(adevs[i], nu, self.settings.confidence);
             for v in [lower, upper, nu] {
                 if !v.is_finite() {
-                    return Err(AllanError::Overflow { tau_s });
+                    return Err(AllanError::Overflow { tau_s: p.tau_s });
                 }
             }
             points.push(AllanPoint {
-                cluster: m,
-                tau_s,
+                cluster: p.m,
+                tau_s: p.tau_s,
                 adev: adevs[i],
                 lower,
                 upper,
                 edf: nu,
-                terms,
-                stride,
+                terms: p.terms,
+                stride: p.stride,
                 noise,
+                mdev: p.others[0],
+                hdev: p.others[1],
+                totdev: p.others[2],
             });
         }
-        let fit = noise_fit(&points);
+        let fit = noise_fit(&points)?;
         Ok(Analysis {
             samples: n,
             rate_hz: rate,
             confidence: self.settings.confidence,
-            overlap: r,
+            overlap: self.settings.overlap,
             points,
             fit,
         })
     }
+}
+
+/// One cluster time before its band.
+struct Raw {
+    m: u64,
+    tau_s: f64,
+    avar: f64,
+    terms: u64,
+    stride: u64,
+    /// Modified, Hadamard and total deviations.
+    others: [f64; 3],
+}
+
+/// $\sum_i (v_i - 3 v_{i-m} + 3 v_{i-2m} - v_{i-3m})^2$ for $i$ = `start` .. `start + len`,
+/// in four lanes.
+fn sum_sq_third_diff(v: &[f64], start: usize, len: usize, m: usize) -> f64 {
+    let a = &v[start..start + len];
+    let b = &v[start - m..start - m + len];
+    let c = &v[start - 2 * m..start - 2 * m + len];
+    let d = &v[start - 3 * m..start - 3 * m + len];
+    let mut acc = [0.0f64; 4];
+    let n4 = len / 4 * 4;
+    for (((ca, cb), cc), cd) in a[..n4]
+        .chunks_exact(4)
+        .zip(b[..n4].chunks_exact(4))
+        .zip(c[..n4].chunks_exact(4))
+        .zip(d[..n4].chunks_exact(4))
+    {
+        for l in 0..4 {
+            let t = ca[l] - 3.0 * cb[l] + 3.0 * cc[l] - cd[l];
+            acc[l] += t * t;
+        }
+    }
+    let mut tail = 0.0;
+    for i in n4..len {
+        let t = a[i] - 3.0 * b[i] + 3.0 * c[i] - d[i];
+        tail += t * t;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// $\sum_i (a_i - 2 p_i + q_i)^2$ in four lanes.
@@ -714,16 +928,19 @@ fn local_slope(taus: &[f64], adevs: &[f64], i: usize) -> f64 {
 }
 
 /// The noise parameters of a curve ([`crate::fit`]).
-fn noise_fit(points: &[AllanPoint]) -> NoiseFit {
+///
+/// # Errors
+/// [`AllanError::Overflow`] when a parameter is not a finite double (a log so large or so
+/// small that its coefficients leave the range of a double).
+fn noise_fit(points: &[AllanPoint]) -> Result<NoiseFit, AllanError> {
     let triples: Vec<(f64, f64, f64)> = points
         .iter()
         .map(|p| (p.tau_s, p.adev * p.adev, p.edf))
         .collect();
     let pf = fit::fit_power_terms(&triples);
-    let c = pf.coefficients;
-    let u = pf.uncertainty;
-    let white = c[1].sqrt();
-    let k_rw = (c[3] > 0.0).then(|| (3.0 * c[3]).sqrt());
+    let gm = fit::fit_gauss_markov(&triples, &pf);
+    let c = pf.coefficients();
+    let mut terms = pf.terms();
     // floor: the smallest fitted deviation at a measured cluster time (the first on ties)
     let fitted: Vec<f64> = points.iter().map(|p| pf.avar(p.tau_s).max(0.0)).collect();
     let fi = fitted
@@ -733,21 +950,61 @@ fn noise_fit(points: &[AllanPoint]) -> NoiseFit {
     let floor_avar = fitted[fi];
     let floor_sd = pf.avar_uncertainty(points[fi].tau_s);
     let floor_adev = floor_avar.sqrt();
-    NoiseFit {
-        white_noise: white,
-        white_noise_uncertainty: (white > 0.0).then(|| u[1] / (2.0 * white)),
+    let floor_reached = fi + 1 < points.len();
+    if !floor_reached && terms[2].value > 0.0 {
+        terms[2].resolution = Resolution::BeyondLog;
+    }
+    let [_, white, _, k_rw, _] = terms;
+    let fit = NoiseFit {
+        white_noise: white.value,
+        white_noise_uncertainty: white.uncertainty,
         bias_instability: floor_adev / FLICKER_FLOOR_FACTOR,
         bias_instability_uncertainty: (floor_adev > 0.0)
             .then(|| floor_sd / (2.0 * floor_adev) / FLICKER_FLOOR_FACTOR),
         floor_adev_measured: points[fi].adev,
         floor_tau_s: points[fi].tau_s,
-        floor_reached: fi + 1 < points.len(),
-        rate_random_walk: k_rw,
-        rate_random_walk_uncertainty: k_rw.map(|k| 3.0 * u[3] / (2.0 * k)),
-        quantization: (c[0] > 0.0).then(|| (c[0] / 3.0).sqrt()),
-        rate_ramp: (c[4] > 0.0).then(|| (2.0 * c[4]).sqrt()),
+        floor_reached,
+        rate_random_walk: (k_rw.value > 0.0).then_some(k_rw.value),
+        rate_random_walk_uncertainty: k_rw.uncertainty,
+        quantization: (terms[0].value > 0.0).then_some(terms[0].value),
+        rate_ramp: (terms[4].value > 0.0).then_some(terms[4].value),
         coefficients: c,
+        terms,
+        gauss_markov: gm,
+    };
+    let mut all: Vec<f64> = vec![
+        fit.white_noise,
+        fit.bias_instability,
+        fit.floor_adev_measured,
+        fit.floor_tau_s,
+    ];
+    all.extend(c);
+    for t in terms.iter().chain(
+        gm.iter()
+            .flat_map(|g| {
+                [
+                    g.sigma,
+                    g.correlation_s,
+                    g.quantization,
+                    g.white,
+                    g.rate_random_walk,
+                    g.rate_ramp,
+                ]
+            })
+            .collect::<Vec<_>>()
+            .iter(),
+    ) {
+        all.push(t.value);
+        all.extend(t.uncertainty);
     }
+    all.extend(fit.bias_instability_uncertainty);
+    if let Some(v) = all.iter().find(|v| !v.is_finite()) {
+        let _ = v;
+        return Err(AllanError::Overflow {
+            tau_s: points[points.len() - 1].tau_s,
+        });
+    }
+    Ok(fit)
 }
 
 /// The analysis of a whole log held in memory (the same estimator as [`StreamingAllan`]).

@@ -51,7 +51,7 @@ fn settings_out_of_range_are_refused_naming_them() {
             "{c}: {e:?}"
         );
     }
-    for r in [0u64, 1, 3, 100, 1 << 17] {
+    for r in [0u64, 3, 100, 1 << 17] {
         let e = StreamingAllan::new(Settings::new(1.0).overlap(r)).unwrap_err();
         assert!(
             matches!(

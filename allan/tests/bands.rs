@@ -24,7 +24,7 @@ fn coverage(settings: Settings, samples: u64) -> Vec<(u64, f64, u64)> {
     let mut first = None;
     for seed in 0..RUNS {
         let y = recipe.collect(samples, 1000 + seed);
-        let r = allan::analyse(&y, settings).unwrap();
+        let r = allan::analyse(&y, settings.clone()).unwrap();
         if hits.is_empty() {
             hits = vec![0; r.points().len()];
             first = Some(r.clone());
@@ -119,7 +119,7 @@ fn predicted_degrees_of_freedom_match_the_scatter_of_the_estimate() {
         let mut edfs = Vec::new();
         for seed in 0..runs {
             let y = recipe.collect(samples, 50_000 + seed);
-            let r = allan::analyse(&y, settings).unwrap();
+            let r = allan::analyse(&y, settings.clone()).unwrap();
             if sums.is_empty() {
                 sums = vec![(0.0, 0.0); r.points().len()];
                 edfs = r

@@ -81,7 +81,7 @@ fn decimated_levels_equal_the_direct_strided_estimator() {
 fn pushes_and_slices_of_any_size_give_identical_results() {
     let (_, y) = log();
     let settings = Settings::new(10.0).noise(NoiseModel::Fixed(PowerLaw::White));
-    let mut one = StreamingAllan::new(settings).unwrap();
+    let mut one = StreamingAllan::new(settings.clone()).unwrap();
     for &v in &y {
         one.push(v).unwrap();
     }
@@ -103,7 +103,7 @@ fn pushes_and_slices_of_any_size_give_identical_results() {
 fn analysing_part_way_then_continuing_loses_nothing() {
     let (_, y) = log();
     let settings = Settings::new(10.0);
-    let mut a = StreamingAllan::new(settings).unwrap();
+    let mut a = StreamingAllan::new(settings.clone()).unwrap();
     a.extend(&y[..33_333]).unwrap();
     let early = a.analyse().unwrap();
     assert_eq!(early.samples(), 33_333);

@@ -1,9 +1,12 @@
 //! `cargo xtask allan [LOG.csv] --rate-hz F [--column NAME] [--unit U] [--confidence P]
-//! [--json] [--figure FILE.svg] [--write-noise FILE.toml]`: the noise of a sensor from a log of
-//! its output (a rate or a specific force sampled at F Hz): the overlapping Allan deviation
-//! with its confidence bands, the fitted white noise and bias instability (IEEE Std 952 /
-//! 1293), a log-log figure and the noise block for a study (the `allan` crate does the
-//! science).
+//! [--taus octave|decade|all|T1,T2,...] [--json] [--figure FILE.svg] [--write-noise FILE.toml]`:
+//! the noise of a sensor from a log of its output (a rate or a specific force sampled at F Hz,
+//! 1e-9 to 1e12): the overlapping Allan deviation with its confidence bands, the modified,
+//! Hadamard and total deviations, the joint fit of the IEEE Std 952 / 1293 terms (quantization,
+//! white noise, flicker bias instability, rate random walk, rate ramp) each with its
+//! uncertainty and whether the log resolves it, a Gauss-Markov alternative with a fitted
+//! correlation time, a log-log figure and the noise block for a study (the `allan` crate does
+//! the science).
 //!
 //! The log is a CSV file, or standard input (`-` or nothing; a named pipe works too): a header
 //! line naming the columns, then one numeric row per sample (a UTF-8 byte-order mark is
@@ -11,24 +14,37 @@
 //! the only one, or `--column NAME`. The log is read once, streaming: memory does not grow
 //! with its length. Every problem exits with code 2 naming the flag, or the line and column.
 //!
+//! `--taus` chooses the cluster times: `octave` (default: 1, 2, 4, ... samples), `decade`
+//! (1, 10, 100, ...), `all` (every size to 64 samples, then 32 per octave) or a list of
+//! cluster times in s, each a whole number of samples and at most a third of the log.
+//!
 //! `--json` prints one object: `white_noise_per_sqrt_hz` (the log's unit per sqrt(Hz): the
 //! 1 s Allan deviation of the white part), `bias_instability` (the log's unit: the floor of
 //! the Allan deviation divided by sqrt(2 ln 2 / pi) = 0.664), their uncertainties,
 //! `floor_tau_s`, `floor_reached`, `rate_random_walk`, `quantization`, `rate_ramp` (null when
 //! not in the fit), `samples`, `rate_hz`, `duration_s`, `confidence`, `overlap`, `column`,
-//! `unit`, and `curve`, a list of `{tau_s, adev, lower, upper, edf, cluster, stride, terms,
-//! noise}`; full precision, never NaN.
+//! `unit`, `terms` (each of `quantization`, `white`, `flicker_bias_instability`,
+//! `rate_random_walk`, `rate_ramp`: `{value, uncertainty, resolution}`), `gauss_markov` (the
+//! alternative's `sigma`, `correlation_s`, `quantization`, `white`, `rate_random_walk`,
+//! `rate_ramp`, `rss`, `power_rss`), `noise_block` (what `--write-noise` writes, `written`,
+//! and what it cannot, `not_written` with the reason), and `curve`, a list of `{tau_s, adev,
+//! lower, upper, edf, cluster, stride, terms, noise, mdev, hdev, totdev}`; full precision,
+//! never NaN.
 //!
-//! `--figure FILE.svg` draws the curve, its band and the fitted lines; `--write-noise
-//! FILE.toml` writes `[sensor.outputs.noise]` with `white_per_sqrt_hz`, `bias_instability` and
-//! `bias_correlation_s` and a comment naming the log. Both refuse an existing path (exit 2)
+//! `--figure FILE.svg` draws the curve, its band, the other three deviations and the fitted
+//! lines; `--write-noise FILE.toml` writes `[sensor.outputs.noise]` with the keys a study
+//! accepts:
+//! `white_per_sqrt_hz`, and `bias_instability` with `bias_correlation_s` from the Gauss-Markov
+//! fit when the log resolves its correlation time inside the study's limits; a comment names
+//! the log, each value's uncertainty, and every term it could not write with its value and
+//! why (also on standard error). Both refuse an existing path (exit 2)
 //! and are written atomically (a temporary file renamed into place; nothing is left behind
 //! on failure).
 
 use crate::InputError;
 use crate::csvio::{Source, for_each_line_in};
 use crate::report::figures::{LIMIT, WIDTH, colour, finite};
-use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan};
+use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan, Taus, Term};
 use anyhow::{Result, anyhow, bail};
 use clap::Parser;
 use plotters::prelude::*;
@@ -53,6 +69,9 @@ pub struct Args {
     /// Confidence of the bands, a probability (default: 1 sigma, 0.6827).
     #[arg(long, default_value_t = allan::chi2::ONE_SIGMA, value_parser = confidence)]
     pub confidence: f64,
+    /// Cluster times: `octave` (default), `decade`, `all`, or a comma-separated list in s.
+    #[arg(long, value_parser = taus)]
+    pub taus: Option<Taus>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -65,7 +84,29 @@ pub struct Args {
 }
 
 fn rate(s: &str) -> Result<f64, String> {
-    crate::args::positive(s, 1e12)
+    let (lo, hi) = allan::RATE_HZ;
+    crate::args::number_in(s, lo, hi, "the sample rate (Hz)")
+}
+
+fn taus(s: &str) -> Result<Taus, String> {
+    match s.trim() {
+        "octave" => Ok(Taus::Octave),
+        "decade" => Ok(Taus::Decade),
+        "all" => Ok(Taus::All),
+        list => list
+            .split(',')
+            .map(|t| {
+                t.trim().parse::<f64>().ok().filter(|v| v.is_finite() && *v > 0.0).ok_or_else(|| {
+                    format!(
+                        "`{}`: expected octave, decade, all or a list of positive cluster times in s (1,10,100); `{}` is not one",
+                        s.escape_debug(),
+                        t.escape_debug()
+                    )
+                })
+            })
+            .collect::<Result<Vec<f64>, String>>()
+            .map(Taus::List),
+    }
 }
 
 fn confidence(s: &str) -> Result<f64, String> {
@@ -88,6 +129,12 @@ fn unit(s: &str) -> Result<String, String> {
         ));
     }
     Ok(s.to_string())
+}
+
+/// The library's message without its leading field name (the flag names it instead).
+fn without_field(e: &AllanError) -> String {
+    let m = e.to_string();
+    m.strip_prefix("taus: ").map_or(m.clone(), str::to_string)
 }
 
 /// What was read: the analysis and where it came from.
@@ -166,9 +213,13 @@ fn pick_column(
 /// Read the log once, line by line, into the estimator.
 fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
     let name = source.name();
-    let settings = Settings::new(args.rate_hz).confidence(args.confidence);
-    let mut est =
-        StreamingAllan::new(settings).map_err(|e| InputError::new("--rate-hz", e.to_string()))?;
+    let settings = Settings::new(args.rate_hz)
+        .confidence(args.confidence)
+        .taus(args.taus.clone().unwrap_or_default());
+    let mut est = StreamingAllan::new(settings).map_err(|e| match e {
+        AllanError::InvalidTau { .. } => InputError::new("--taus", without_field(&e)),
+        other => InputError::new("--rate-hz", other.to_string()),
+    })?;
     let reader = source.open()?;
     let mut layout: Option<(usize, usize, String)> = None;
     for_each_line_in(reader, &name, |line_no, line| {
@@ -228,6 +279,7 @@ fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
                 column.escape_debug()
             ),
         ),
+        AllanError::ClusterTooLong { .. } => InputError::new("--taus", without_field(&e)),
         other => InputError::new(name.clone(), other.to_string()),
     })?;
     Ok(Log {
@@ -261,10 +313,226 @@ fn numbers(a: &Analysis) -> Vec<f64> {
         .flatten(),
     );
     v.extend(f.coefficients());
+    for t in joint_terms(a)
+        .iter()
+        .map(|t| t.1)
+        .chain(gm_terms(a).iter().map(|t| t.1))
+    {
+        v.push(t.value());
+        v.extend(t.uncertainty());
+    }
     for p in a.points() {
-        v.extend([p.tau_s(), p.adev(), p.lower(), p.upper(), p.edf()]);
+        v.extend([
+            p.tau_s(),
+            p.adev(),
+            p.lower(),
+            p.upper(),
+            p.edf(),
+            p.mdev(),
+            p.hdev(),
+            p.totdev(),
+        ]);
     }
     v
+}
+
+/// The joint fit's terms, by JSON name.
+fn joint_terms(a: &Analysis) -> [(&'static str, Term); 5] {
+    let f = a.fit();
+    [
+        ("quantization", f.quantization_term()),
+        ("white", f.white_term()),
+        ("flicker_bias_instability", f.flicker_term()),
+        ("rate_random_walk", f.rate_random_walk_term()),
+        ("rate_ramp", f.rate_ramp_term()),
+    ]
+}
+
+/// The Gauss-Markov alternative's terms, by JSON name (empty for an all-zero curve).
+fn gm_terms(a: &Analysis) -> Vec<(&'static str, Term)> {
+    a.fit().gauss_markov().map_or_else(Vec::new, |g| {
+        vec![
+            ("sigma", g.sigma()),
+            ("correlation_s", g.correlation_s()),
+            ("quantization", g.quantization()),
+            ("white", g.white()),
+            ("rate_random_walk", g.rate_random_walk()),
+            ("rate_ramp", g.rate_ramp()),
+        ]
+    })
+}
+
+/// A key `--write-noise` writes.
+#[derive(Debug, Serialize)]
+struct Written {
+    /// The study's key.
+    key: &'static str,
+    /// Its value (the log's unit, or s).
+    value: f64,
+    /// Its standard uncertainty (the schema has no key for it).
+    uncertainty: Option<f64>,
+}
+
+/// A term `--write-noise` cannot write.
+#[derive(Debug, Serialize)]
+struct NotWritten {
+    /// The term, in words.
+    term: &'static str,
+    /// Its fitted value.
+    value: f64,
+    /// Its standard uncertainty.
+    uncertainty: Option<f64>,
+    /// Why it is not written.
+    reason: String,
+}
+
+/// What `--write-noise` writes and what it cannot, whether or not it is asked for.
+#[derive(Debug, Serialize)]
+struct NoiseBlock {
+    written: Vec<Written>,
+    not_written: Vec<NotWritten>,
+}
+
+/// The study's noise block of the analysis: only keys and values a study accepts
+/// (`study::limits`); every other term listed with its reason.
+fn noise_block(a: &Analysis) -> NoiseBlock {
+    use gw_model::noise::{FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA};
+    let f = a.fit();
+    let noise_max = study::limits::NOISE_MAX;
+    let (tc_lo, tc_hi) = study::limits::CORRELATION_S;
+    let mut written = Vec::new();
+    let mut not_written = Vec::new();
+    let gm = f.gauss_markov();
+    // the Gauss-Markov bias, when its correlation time is resolved and inside the limits
+    let mut bias_from_gm = false;
+    if let Some(g) = gm {
+        let (sigma, tc) = (g.sigma(), g.correlation_s());
+        let b = sigma.value() * GM_ADEV_PEAK_PER_SIGMA / FLICKER_FLOOR_PER_BIAS_INSTABILITY;
+        let b_u = sigma
+            .uncertainty()
+            .map(|u| u * GM_ADEV_PEAK_PER_SIGMA / FLICKER_FLOOR_PER_BIAS_INSTABILITY);
+        let why = if !tc.resolution().is_resolved() {
+            Some(format!(
+                "its correlation time is not resolved: {}",
+                tc.resolution().explain()
+            ))
+        } else if !(tc.value() > tc_lo && tc.value() <= tc_hi) {
+            Some(format!(
+                "bias_correlation_s = {} s is outside the study's limit ({}, {}] s",
+                sig(tc.value(), 6),
+                study::fmt::num(tc_lo),
+                study::fmt::num(tc_hi)
+            ))
+        } else if b > noise_max {
+            Some(format!(
+                "bias_instability = {} is above the study's limit {}",
+                sig(b, 6),
+                study::fmt::num(noise_max)
+            ))
+        } else {
+            None
+        };
+        match why {
+            None => {
+                bias_from_gm = true;
+                written.push(Written {
+                    key: "bias_instability",
+                    value: b,
+                    uncertainty: b_u,
+                });
+                written.push(Written {
+                    key: "bias_correlation_s",
+                    value: tc.value(),
+                    uncertainty: tc.uncertainty(),
+                });
+            }
+            Some(reason) if sigma.value() > 0.0 => {
+                not_written.push(NotWritten {
+                    term: "Gauss-Markov bias sigma",
+                    value: sigma.value(),
+                    uncertainty: sigma.uncertainty(),
+                    reason: reason.clone(),
+                });
+                not_written.push(NotWritten {
+                    term: "Gauss-Markov correlation time (s)",
+                    value: tc.value(),
+                    uncertainty: tc.uncertainty(),
+                    reason,
+                });
+            }
+            Some(_) => {}
+        }
+    }
+    // the terms of the model whose bias is written (the joint fit's otherwise)
+    let (q, n, k, r) = match gm.filter(|_| bias_from_gm) {
+        Some(g) => (
+            g.quantization(),
+            g.white(),
+            g.rate_random_walk(),
+            g.rate_ramp(),
+        ),
+        None => (
+            f.quantization_term(),
+            f.white_term(),
+            f.rate_random_walk_term(),
+            f.rate_ramp_term(),
+        ),
+    };
+    if n.value() > noise_max {
+        not_written.push(NotWritten {
+            term: "white noise N",
+            value: n.value(),
+            uncertainty: n.uncertainty(),
+            reason: format!("above the study's limit {}", study::fmt::num(noise_max)),
+        });
+    } else if n.value() == 0.0 {
+        not_written.push(NotWritten {
+            term: "white noise N",
+            value: 0.0,
+            uncertainty: None,
+            reason: n.resolution().explain().into(),
+        });
+    } else {
+        written.insert(
+            0,
+            Written {
+                key: "white_per_sqrt_hz",
+                value: n.value(),
+                uncertainty: n.uncertainty(),
+            },
+        );
+    }
+    let flicker = f.flicker_term();
+    if flicker.value() > 0.0 {
+        not_written.push(NotWritten {
+            term: "flicker bias instability B",
+            value: flicker.value(),
+            uncertainty: flicker.uncertainty(),
+            reason: "the study's bias is a Gauss-Markov term (bias_instability with bias_correlation_s); a flicker floor has no key yet".into(),
+        });
+    }
+    for (term, t) in [("rate random walk K", k), ("rate ramp R", r)] {
+        if t.value() > 0.0 {
+            not_written.push(NotWritten {
+                term,
+                value: t.value(),
+                uncertainty: t.uncertainty(),
+                reason: "the study schema has no key for it yet".into(),
+            });
+        }
+    }
+    if q.value() > 0.0 {
+        not_written.push(NotWritten {
+            term: "quantization Q",
+            value: q.value(),
+            uncertainty: q.uncertainty(),
+            reason: "the study's `quantization` is a step of the rate samples (white at the sample rate, inside white_per_sqrt_hz); angle quantization (slope -1) has no key yet".into(),
+        });
+    }
+    NoiseBlock {
+        written,
+        not_written,
+    }
 }
 
 /// `allan --json`: the noise of the log, in the log's unit (`unit`, else the log's column's).
@@ -310,6 +578,12 @@ struct AllanJson<'a> {
     quantization: Option<f64>,
     /// Rate ramp (`null` when not fitted).
     rate_ramp: Option<f64>,
+    /// The joint fit's terms, each `{value, uncertainty, resolution}`.
+    terms: serde_json::Map<String, serde_json::Value>,
+    /// The Gauss-Markov alternative (`null` for an all-zero curve).
+    gauss_markov: Option<allan::GaussMarkovFit>,
+    /// What `--write-noise` writes and what it cannot.
+    noise_block: NoiseBlock,
     /// The curve: the library's points as its `serde` feature writes them.
     curve: &'a [allan::AllanPoint],
 }
@@ -338,6 +612,12 @@ fn json_of<'a>(log: &'a Log, unit: Option<&'a str>) -> AllanJson<'a> {
         rate_random_walk_uncertainty: f.rate_random_walk_uncertainty(),
         quantization: f.quantization(),
         rate_ramp: f.rate_ramp(),
+        terms: joint_terms(a)
+            .iter()
+            .map(|(k, t)| (k.to_string(), serde_json::to_value(t).unwrap_or_default()))
+            .collect(),
+        gauss_markov: f.gauss_markov(),
+        noise_block: noise_block(a),
         curve: a.points(),
     }
 }
@@ -372,7 +652,7 @@ fn text_of(log: &Log, unit: &str) -> String {
         }
     ));
     t.push_str(&format!(
-        "floor cluster time   {} s (a correlation time to try for a Gauss-Markov bias model)\n",
+        "floor cluster time   {} s (not a correlation time: see the Gauss-Markov fit below)\n",
         sig(f.floor_tau_s(), 4)
     ));
     if let Some(k) = f.rate_random_walk() {
@@ -382,53 +662,106 @@ fn text_of(log: &Log, unit: &str) -> String {
             pm(f.rate_random_walk_uncertainty())
         ));
     }
+    let term_line = |name: &str, unit_of: &str, term: Term| {
+        let status = if term.resolution().is_resolved() {
+            String::new()
+        } else {
+            format!(": {}", term.resolution().explain())
+        };
+        format!(
+            "  {name:<30} {} {unit_of}{}{status}\n",
+            sig(term.value(), 4),
+            pm(term.uncertainty())
+        )
+    };
+    t.push_str("\njoint weighted fit of the IEEE 952 / 1293 terms (1-sigma uncertainties):\n");
+    for ((_, term), (name, unit_of)) in joint_terms(a).into_iter().zip([
+        ("quantization Q", format!("{unit}*s")),
+        ("white noise N", format!("{unit}/sqrt(Hz)")),
+        ("bias instability B (flicker)", unit.to_string()),
+        ("rate random walk K", format!("{unit}*sqrt(Hz)")),
+        ("rate ramp R", format!("{unit}/s")),
+    ]) {
+        t.push_str(&term_line(name, &unit_of, term));
+    }
+    if let Some(g) = f.gauss_markov() {
+        t.push_str("Gauss-Markov alternative (correlation time fitted, other terms profiled):\n");
+        t.push_str(&term_line("Gauss-Markov sigma", unit, g.sigma()));
+        t.push_str(&term_line("correlation time Tc", "s", g.correlation_s()));
+        t.push_str(&term_line(
+            "white noise N",
+            &format!("{unit}/sqrt(Hz)"),
+            g.white(),
+        ));
+        t.push_str(&format!(
+            "  weighted residual {} (power terms: {})\n",
+            sig(g.rss(), 4),
+            sig(g.power_rss(), 4)
+        ));
+    }
     t.push_str(&format!(
-        "\n{:>12} {:>12} {:>12} {:>12} {:>10}  noise (for the band)\n",
-        "tau (s)", "adev", "lower", "upper", "edf"
+        "\n{:>12} {:>12} {:>12} {:>12} {:>10}  {:<13} {:>12} {:>12} {:>12}\n",
+        "tau (s)", "adev", "lower", "upper", "edf", "noise (band)", "mdev", "hdev", "totdev"
     ));
     for p in a.points() {
         t.push_str(&format!(
-            "{:>12} {:>12} {:>12} {:>12} {:>10}  {}\n",
+            "{:>12} {:>12} {:>12} {:>12} {:>10}  {:<13} {:>12} {:>12} {:>12}\n",
             sig(p.tau_s(), 4),
             sig(p.adev(), 4),
             sig(p.lower(), 4),
             sig(p.upper(), 4),
             sig(p.edf(), 3),
-            p.noise()
+            p.noise().to_string(),
+            sig(p.mdev(), 4),
+            sig(p.hdev(), 4),
+            sig(p.totdev(), 4)
         ));
     }
     t
 }
 
-fn noise_toml(log: &Log, unit: &str) -> String {
+fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
     let a = &log.analysis;
-    let f = &a.fit();
-    format!(
+    let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" +- {}", sig(u, 3)));
+    let mut t = format!(
         "# Noise of column `{}` of {}: {} samples at {} Hz, by `cargo xtask allan` (IEEE Std 952\n\
-         # Annex C: white noise from the -1/2 slope, bias instability = floor / 0.664).\n\
-         # The values are in the log's unit ({}): white_per_sqrt_hz in {}/sqrt(Hz), bias_instability in\n\
-         # {}, bias_correlation_s in s (the floor's cluster time, a heuristic Gauss-Markov correlation\n\
-         # time{}). Convert them if the output's unit differs from the log's.\n\
-         [sensor.outputs.noise]\n\
-         white_per_sqrt_hz = {:?}\n\
-         bias_instability = {:?}\n\
-         bias_correlation_s = {:?}\n",
+         # Annex C: a joint weighted fit of the Allan variance; the bias is a first-order\n\
+         # Gauss-Markov term whose correlation time is fitted).\n\
+         # The values are in the log's unit ({unit}): white_per_sqrt_hz in {unit}/sqrt(Hz),\n\
+         # bias_instability in {unit}, bias_correlation_s in s. Convert them if the output's unit\n\
+         # differs from the log's.\n",
         log.column.escape_debug(),
         log.name.escape_debug(),
         a.samples(),
-        sig(a.rate_hz(), 17),
-        unit,
-        unit,
-        unit,
-        if f.floor_reached() {
-            ""
-        } else {
-            "; the curve still falls at the longest cluster time: bias_instability is an upper bound"
-        },
-        f.white_noise(),
-        f.bias_instability(),
-        f.floor_tau_s(),
-    )
+        sig(a.rate_hz(), 15),
+    );
+    t.push_str("# Standard uncertainties (the schema has no key for them):");
+    for w in &block.written {
+        t.push_str(&format!(
+            " {} = {}{};",
+            w.key,
+            sig(w.value, 4),
+            pm(w.uncertainty)
+        ));
+    }
+    t.push('\n');
+    if !block.not_written.is_empty() {
+        t.push_str("# Not written (the study cannot take them):\n");
+        for n in &block.not_written {
+            t.push_str(&format!(
+                "# - {} = {}{}: {}\n",
+                n.term,
+                sig(n.value, 4),
+                pm(n.uncertainty),
+                n.reason
+            ));
+        }
+    }
+    t.push_str("[sensor.outputs.noise]\n");
+    for w in &block.written {
+        t.push_str(&format!("{} = {:?}\n", w.key, w.value));
+    }
+    t
 }
 
 /// The log-log figure: the curve with its band, the fitted -1/2 line and the floor.
@@ -455,7 +788,26 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
         .iter()
         .map(|p| p.lower())
         .fold(f64::INFINITY, f64::min);
-    let y1 = a.points().iter().map(|p| p.upper()).fold(0.0, f64::max);
+    // the other deviations, drawn where every point is positive (a log scale)
+    type Dev = fn(&allan::AllanPoint) -> f64;
+    let others: Vec<(&str, Dev)> = [
+        ("modified Allan deviation", allan::AllanPoint::mdev as Dev),
+        (
+            "overlapping Hadamard deviation",
+            allan::AllanPoint::hdev as Dev,
+        ),
+        ("total deviation", allan::AllanPoint::totdev as Dev),
+    ]
+    .into_iter()
+    .filter(|(_, d)| a.points().iter().all(|p| d(p) > 0.0))
+    .collect();
+    for (_, d) in &others {
+        y0 = a.points().iter().map(d).fold(y0, f64::min);
+    }
+    let y1 = others.iter().fold(
+        a.points().iter().map(|p| p.upper()).fold(0.0, f64::max),
+        |m, (_, d)| a.points().iter().map(d).fold(m, f64::max),
+    );
     let floor = f.bias_instability() * FLICKER_FLOOR_FACTOR;
     if floor > 0.0 {
         y0 = y0.min(floor);
@@ -522,6 +874,19 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
                     .map(|p| Circle::new((p.tau_s(), p.adev()), 3, c.filled())),
             )
             .map_err(|e| anyhow!("{what}: {e:?}"))?;
+        for (k, (name, d)) in others.iter().enumerate() {
+            let oc = colour(2 + k);
+            chart
+                .draw_series(LineSeries::new(
+                    a.points().iter().map(|p| (p.tau_s(), d(p))),
+                    oc.stroke_width(1),
+                ))
+                .map_err(|e| anyhow!("{what}: {e:?}"))?
+                .label(*name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], oc.stroke_width(1))
+                });
+        }
         if f.white_noise() > 0.0 {
             let w = colour(1);
             // the -1/2 line where it lies inside the plot
@@ -629,9 +994,34 @@ pub fn run(args: &Args) -> Result<()> {
         ));
     }
     if let Some(p) = &args.write_noise {
+        let block = noise_block(&log.analysis);
+        if block.written.is_empty() {
+            let why: Vec<String> = block
+                .not_written
+                .iter()
+                .map(|n| format!("{}: {}", n.term, n.reason))
+                .collect();
+            return Err(InputError::new(
+                "--write-noise",
+                format!(
+                    "the log gives no noise term a study accepts ({}); nothing written",
+                    why.join("; ")
+                ),
+            )
+            .into());
+        }
+        for n in &block.not_written {
+            eprintln!(
+                "allan: not written to {}: {} = {}: {}",
+                p.display().to_string().escape_debug(),
+                n.term,
+                sig(n.value, 4),
+                n.reason
+            );
+        }
         staged.push((
             "--write-noise",
-            crate::newfile::stage(p, noise_toml(&log, unit).as_bytes())?,
+            crate::newfile::stage(p, noise_toml(&log, unit, &block).as_bytes())?,
             p,
         ));
     }

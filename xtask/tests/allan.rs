@@ -225,6 +225,9 @@ fn figure_and_noise_file_are_written_whole() {
         "Allan deviation (deg/s)",
         "white noise",
         "floor 0.664 B",
+        "modified Allan deviation",
+        "overlapping Hadamard deviation",
+        "total deviation",
     ] {
         assert!(svg.contains(needle), "figure lacks `{needle}`");
     }
@@ -235,17 +238,28 @@ fn figure_and_noise_file_are_written_whole() {
     );
     assert!(text.contains("in the log's unit (deg/s)"), "{text}");
     let t: toml::Table = toml::from_str(&text).unwrap();
-    let block = &t["sensor"]["outputs"]["noise"];
-    for (key, json_key) in [
-        ("white_per_sqrt_hz", "white_noise_per_sqrt_hz"),
-        ("bias_instability", "bias_instability"),
-        ("bias_correlation_s", "floor_tau_s"),
-    ] {
+    let block = t["sensor"]["outputs"]["noise"].as_table().unwrap();
+    // the file holds exactly the JSON's `noise_block.written`, and names every term not written
+    let written = j["noise_block"]["written"].as_array().unwrap();
+    assert_eq!(block.len(), written.len(), "{text}");
+    assert_eq!(written[0]["key"], "white_per_sqrt_hz");
+    for w in written {
+        let key = w["key"].as_str().unwrap();
         let v = block[key]
             .as_float()
             .unwrap_or_else(|| panic!("{key} is a float"));
-        assert_eq!(v.to_bits(), num(&j[json_key]).to_bits(), "{key}");
+        assert_eq!(v.to_bits(), num(&w["value"]).to_bits(), "{key}");
     }
+    for n in j["noise_block"]["not_written"].as_array().unwrap() {
+        let term = n["term"].as_str().unwrap();
+        assert!(text.contains(&format!("# - {term} = ")), "{term}: {text}");
+        assert!(stderr(&o).contains(term), "{term}: {}", stderr(&o));
+    }
+    // the log has a random walk: its K is said not to be written, with the reason
+    assert!(
+        text.contains("rate random walk K = ") && text.contains("no key for it yet"),
+        "{text}"
+    );
     let mut names: Vec<String> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -326,7 +340,9 @@ fn bad_input_exits_2_naming_the_flag_line_or_column() {
     let g = good.to_str().unwrap();
     // the rate
     assert_input_error(&run(&["allan", g, "--column", "a"]), &["--rate-hz"]);
-    for bad in ["0", "-1", "nan", "inf", "-inf", "x", "1e13"] {
+    for bad in [
+        "0", "-1", "nan", "inf", "-inf", "x", "1e13", "1e-310", "1e-305", "5e-324", "1e-10",
+    ] {
         assert_input_error(
             &run(&["allan", g, "--column", "a", "--rate-hz", bad]),
             &["--rate-hz"],
@@ -426,6 +442,18 @@ fn bad_input_exits_2_naming_the_flag_line_or_column() {
             &needles,
         );
     }
+    // cluster times: not a word or a list, not a whole number of samples, longer than a third
+    for (bad, needle) in [
+        ("weekly", "`weekly`"),
+        ("1,x", "`x` is not one"),
+        ("0.5", "`0.5` s"),
+        ("2", "`2` s needs at least 6 samples"),
+    ] {
+        assert_input_error(
+            &run(&["allan", g, "--column", "a", "--rate-hz", "1", "--taus", bad]),
+            &["--taus", needle],
+        );
+    }
     // too few samples, empty input, invalid UTF-8, a directory, a missing file
     let short = write(dir.path(), "short.csv", "b\n1\n2\n");
     assert_input_error(
@@ -496,4 +524,144 @@ fn figure_and_noise_files_respect_the_umask() {
         .filter(|n| n.starts_with('.'))
         .collect();
     assert!(hidden.is_empty(), "no temporary file left: {hidden:?}");
+}
+
+/// A seeded Gauss-Markov log (sd 0.05, correlation 200 samples) plus white noise (sd 0.1).
+fn gauss_markov_log(n: usize, seed: u64) -> String {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut u = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    let mut normal = move || {
+        let (a, b) = (u(), u());
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    };
+    let phi = (-1.0f64 / 200.0).exp();
+    let mut x = 0.0;
+    let mut csv = String::from("g\n");
+    for _ in 0..n {
+        x = phi * x + 0.05 * (1.0 - phi * phi).sqrt() * normal();
+        csv.push_str(&format!("{}\n", 0.1 * normal() + x));
+    }
+    csv
+}
+
+/// Issue 32: the bias correlation time comes from the Gauss-Markov fit, and one the study
+/// rejects is not written. At 10 Hz the fitted Tc (about 20 s) is written with the bias; the
+/// same log at 1e-6 Hz has Tc near 2e8 s, beyond the study's 1e7 s: white noise alone is
+/// written, and the file and standard error say the bias was not, with the value and why
+/// (before: `bias_correlation_s = 2048000000`, the floor's cluster time).
+#[test]
+fn noise_file_never_holds_a_correlation_time_the_study_rejects() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = write(dir.path(), "gm.csv", &gauss_markov_log(200_000, 7));
+    let l = log.to_str().unwrap();
+    // the noise file written at `rate`, parsed, and the run's standard error
+    let noise_at = |rate: &str| {
+        let out = dir.path().join(format!("noise-{rate}.toml"));
+        let o = run(&[
+            "allan",
+            l,
+            "--rate-hz",
+            rate,
+            "--write-noise",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let t: toml::Table = toml::from_str(&text).unwrap();
+        (t, text, stderr(&o))
+    };
+    let (t, _, _) = noise_at("10");
+    let tc = t["sensor"]["outputs"]["noise"]["bias_correlation_s"]
+        .as_float()
+        .unwrap();
+    assert!((15.0..25.0).contains(&tc), "Tc {tc} s, known 20 s");
+    let (t, text, err) = noise_at("1e-6");
+    let block = t["sensor"]["outputs"]["noise"].as_table().unwrap();
+    assert!(block.contains_key("white_per_sqrt_hz"), "{text}");
+    assert!(
+        !block.contains_key("bias_correlation_s") && !block.contains_key("bias_instability"),
+        "{text}"
+    );
+    for s in [text.as_str(), err.as_str()] {
+        assert!(
+            s.contains("Gauss-Markov correlation time (s) = ")
+                && s.contains("outside the study's limit (0, 1e7] s"),
+            "{s}"
+        );
+    }
+}
+
+/// A log in units so large that no term fits the study's limits (white noise 5e97 per
+/// sqrt(Hz), above 1e6): `--write-noise` refuses with exit 2 naming the flag and why, and
+/// writes nothing (before: white noise 0 was written, issue 32).
+#[test]
+fn noise_file_is_refused_when_no_term_fits_the_study() {
+    let dir = tempfile::tempdir().unwrap();
+    let (y, _) = samples(5_000, 9);
+    let csv: String = std::iter::once("g\n".to_string())
+        .chain(y.iter().map(|v| format!("{}\n", v * 1e100)))
+        .collect();
+    let log = write(dir.path(), "big.csv", &csv);
+    let out = dir.path().join("n.toml");
+    assert_input_error(
+        &run(&[
+            "allan",
+            log.to_str().unwrap(),
+            "--rate-hz",
+            "100",
+            "--write-noise",
+            out.to_str().unwrap(),
+        ]),
+        &[
+            "--write-noise",
+            "white noise N: above the study's limit 1e6",
+            "nothing written",
+        ],
+    );
+    only(dir.path(), &["big.csv"]);
+}
+
+/// `--json` carries every term with its uncertainty and resolution, the Gauss-Markov
+/// alternative and the four deviations of every point (positive, finite).
+#[test]
+fn json_has_every_term_and_four_deviations() {
+    let (_, csv) = samples(20_000, 8);
+    let o = run_with_stdin(
+        &[
+            "allan",
+            "--rate-hz",
+            "100",
+            "--column",
+            "gz_deg_per_s",
+            "--json",
+            "--taus",
+            "decade",
+        ],
+        csv.as_bytes(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for term in [
+        "quantization",
+        "white",
+        "flicker_bias_instability",
+        "rate_random_walk",
+        "rate_ramp",
+    ] {
+        let t = &j["terms"][term];
+        assert!(num(&t["value"]) >= 0.0, "{term}");
+        assert!(t["resolution"].is_string(), "{term}: {t}");
+    }
+    assert!(num(&j["gauss_markov"]["correlation_s"]["value"]) >= 0.0);
+    let curve = j["curve"].as_array().unwrap();
+    let clusters: Vec<u64> = curve
+        .iter()
+        .map(|p| p["cluster"].as_u64().unwrap())
+        .collect();
+    assert_eq!(clusters, [1, 10, 100, 1000]);
+    for p in curve {
+        for k in ["adev", "mdev", "hdev", "totdev"] {
+            assert!(num(&p[k]) > 0.0, "{k}: {p}");
+        }
+    }
 }

@@ -94,7 +94,8 @@ fn end_to_end_memory_does_not_grow_with_the_sample_count() {
 }
 
 /// `allan` streams its log: 15 times more samples (3e6 lines, 24 MB as doubles) take no more
-/// memory, from a file or from standard input.
+/// memory, from a file or from standard input, on the octave grid or with every cluster time
+/// of the `all` grid (four deviations each).
 #[test]
 fn allan_memory_does_not_grow_with_the_log_length() {
     let dir = tempfile::tempdir().unwrap();
@@ -129,10 +130,18 @@ fn allan_memory_does_not_grow_with_the_log_length() {
         &["allan".into(), "--rate-hz".into(), "100".into()],
         Some(&large),
     );
-    for (what, peak) in [("file", l), ("stdin", l_stdin)] {
+    // every cluster time of the `all` grid, four deviations each
+    let all = |p: &std::path::Path| [args(p), vec!["--taus".into(), "all".into()]].concat();
+    let s_all = run(&all(&small), None);
+    let l_all = run(&all(&large), None);
+    for (what, base, peak) in [
+        ("file", s, l),
+        ("stdin", s, l_stdin),
+        ("--taus all", s_all, l_all),
+    ] {
         assert!(
-            peak < s + 8 * 1024,
-            "{what}: 2e5 samples {s} KiB, 3e6 samples {peak} KiB"
+            peak < base + 8 * 1024,
+            "{what}: 2e5 samples {base} KiB, 3e6 samples {peak} KiB"
         );
     }
 }
