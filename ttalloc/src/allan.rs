@@ -511,13 +511,24 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
             reason: "the study's bias is a Gauss-Markov term (bias_instability with bias_correlation_s); a flicker floor has no key yet".into(),
         });
     }
-    for (term, t) in [("rate random walk K", k), ("rate ramp R", r)] {
-        if t.value() > 0.0 {
+    // the drifts: the study's `rate_random_walk` (unit/sqrt(s)) and `rate_ramp` (unit/s), the
+    // same definitions as the fit's (sigma^2 = K^2 tau / 3 and R^2 tau^2 / 2)
+    for (term, key, t) in [
+        ("rate random walk K", "rate_random_walk", k),
+        ("rate ramp R", "rate_ramp", r),
+    ] {
+        if t.value() > noise_max {
             not_written.push(NotWritten {
                 term,
                 value: t.value(),
                 uncertainty: t.uncertainty(),
-                reason: "the study schema has no key for it yet".into(),
+                reason: format!("above the study's limit {}", study::fmt::num(noise_max)),
+            });
+        } else if t.value() > 0.0 {
+            written.push(Written {
+                key,
+                value: t.value(),
+                uncertainty: t.uncertainty(),
             });
         }
     }
@@ -728,7 +739,8 @@ fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
          # Annex C: a joint weighted fit of the Allan variance; the bias is a first-order\n\
          # Gauss-Markov term whose correlation time is fitted).\n\
          # The values are in the log's unit ({unit}): white_per_sqrt_hz in {unit}/sqrt(Hz),\n\
-         # bias_instability in {unit}, bias_correlation_s in s. Convert them if the output's unit\n\
+         # bias_instability in {unit}, bias_correlation_s in s, rate_random_walk in\n\
+         # {unit}/sqrt(s), rate_ramp in {unit}/s. Convert them if the output's unit\n\
          # differs from the log's.\n",
         log.column.escape_debug(),
         log.name.escape_debug(),

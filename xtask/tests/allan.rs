@@ -255,9 +255,13 @@ fn figure_and_noise_file_are_written_whole() {
         assert!(text.contains(&format!("# - {term} = ")), "{term}: {text}");
         assert!(stderr(&o).contains(term), "{term}: {}", stderr(&o));
     }
-    // the log has a random walk: its K is said not to be written, with the reason
+    // the log has a random walk: its K is written as the study's `rate_random_walk` (the
+    // log's unit per sqrt(s)), a positive number, and not listed as left out
+    let k = block["rate_random_walk"].as_float().expect("K written");
+    assert!(k > 0.0, "{text}");
+    assert!(!text.contains("rate random walk K = "), "{text}");
     assert!(
-        text.contains("rate random walk K = ") && text.contains("no key for it yet"),
+        text.contains("rate_random_walk in\n# deg/s/sqrt(s)"),
         "{text}"
     );
     let mut names: Vec<String> = std::fs::read_dir(dir.path())
