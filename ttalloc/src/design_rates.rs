@@ -71,9 +71,9 @@ pub fn check(s: &Study, rates: &[f64]) -> Result<(), InputError> {
                     FLAG,
                     format!(
                         "{} deg/s is above the rate limit of joint {} ({} deg/s, `turntable.max_rate_deg_per_s`)",
-                        num(*r),
+                        study::fmt::exact(*r),
                         joints[step.joint],
-                        num(limit)
+                        study::fmt::exact(limit)
                     ),
                 ));
             }
