@@ -41,6 +41,9 @@ const EFFECT_READING: Reading = Reading {
 /// smooth (rotations), so the truncation error $O(h^2)$ is about $10^{-14}$ relative.
 pub(crate) const JOINT_FD_STEP_RAD: f64 = 1e-7;
 
+/// The rotations $\Delta\mathbf R_i$ of every test position for a parameter vector.
+type DeltaRFn<'a> = dyn Fn(&[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> + 'a;
+
 /// The result of [`EndToEnd::joint_estimate`].
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -372,7 +375,7 @@ impl EndToEnd {
     /// of `est`'s estimable basis) whose rotations at the test positions `delta_r` gives.
     fn joint_fit(
         &self,
-        delta_r: &dyn Fn(&[f64]) -> Result<Vec<Matrix3<f64>>, E2eError>,
+        delta_r: &DeltaRFn<'_>,
         b1: &[DVector<f64>],
         est: &JointEstimability,
         iterations: usize,
