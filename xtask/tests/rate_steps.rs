@@ -108,6 +108,42 @@ fn check_turntable_counts_the_rate_accuracy_at_rate_steps() {
     assert!(common::num(&gx["linear_bound"]) >= extra);
 }
 
+/// Issue 32 item 4: the rate check's yield interval was printed as "9.16% [8.6102, 9.74116]"
+/// (no unit, six digits); both ends now carry the percent and the yield's two decimals.
+/// Failed before the fix.
+#[test]
+fn the_rate_check_prints_its_yield_interval_in_percent_with_two_decimals() {
+    let o = common::run(&[
+        "check-turntable",
+        "--study",
+        &study(STUDY),
+        "--tolerances",
+        SHEET,
+        "--samples",
+        "2000",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let t = common::stdout(&o);
+    let line = t
+        .lines()
+        .find(|l| l.contains("yield over both boxes"))
+        .expect("the rate check's yield");
+    let interval = line
+        .split_once('[')
+        .and_then(|(_, r)| r.split_once(']'))
+        .map(|(i, _)| i)
+        .expect("an interval");
+    for end in interval.split(", ") {
+        let (digits, pct) = end.split_at(end.len() - 1);
+        assert_eq!(pct, "%", "{line}");
+        assert_eq!(
+            digits.split_once('.').map(|(_, d)| d.len()),
+            Some(2),
+            "{line}"
+        );
+    }
+}
+
 /// `end-to-end` with rate steps: no two-step allocation (the requirement is static), a note
 /// saying so, the direct allocation.
 #[test]
