@@ -456,23 +456,29 @@ fn harmonic_study_measuring_deps_x(value: &str, uncertainty: &str) -> String {
 #[test]
 fn a_measured_value_outside_the_sheet_is_refused_and_a_large_uncertainty_is_stated_and_bounded() {
     let dir = scratch("angle", "measured-vs-sheet");
-    let sheet = "studies/tolerances/table4.toml";
-    let far = write(
-        &dir,
-        "far.toml",
-        &harmonic_study_measuring_deps_x("600", "0.05"),
-    );
-    let o = run(&[
-        "check-turntable",
-        "--study",
-        far.to_str().unwrap(),
-        "--tolerances",
-        sheet,
-        "--samples",
-        "200",
-    ]);
+    // check-turntable of the study measuring deps_x at `value` within `uncertainty`
+    let check = |value: &str, uncertainty: &str, json: bool| {
+        let p = write(
+            &dir,
+            &format!("v{value}-u{uncertainty}.toml"),
+            &harmonic_study_measuring_deps_x(value, uncertainty),
+        );
+        let mut args = vec![
+            "check-turntable".to_string(),
+            "--study".into(),
+            p.to_str().unwrap().into(),
+            "--tolerances".into(),
+            "studies/tolerances/table4.toml".into(),
+            "--samples".into(),
+            "200".into(),
+        ];
+        if json {
+            args.push("--json".into());
+        }
+        run(&args.iter().map(String::as_str).collect::<Vec<_>>())
+    };
     assert_input_error(
-        &o,
+        &check("600", "0.05", false),
         &[
             "compensation.measured[0].value_arcmin",
             "= 600 arcmin",
@@ -482,21 +488,9 @@ fn a_measured_value_outside_the_sheet_is_refused_and_a_large_uncertainty_is_stat
         ],
     );
     let box_of = |value: &str| {
-        let p = write(
-            &dir,
-            &format!("u{value}.toml"),
-            &harmonic_study_measuring_deps_x(value, "600"),
-        );
-        let v = json(&[
-            "check-turntable",
-            "--study",
-            p.to_str().unwrap(),
-            "--tolerances",
-            sheet,
-            "--samples",
-            "200",
-            "--json",
-        ]);
+        let o = check(value, "600", true);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         let c = v["compensated"].clone();
         let notes = c["notes"].as_array().unwrap().clone();
         assert_eq!(notes.len(), 1, "{notes:?}");
@@ -519,20 +513,7 @@ fn a_measured_value_outside_the_sheet_is_refused_and_a_large_uncertainty_is_stat
     };
     approx::assert_relative_eq!(box_of("0.2"), 0.4234 + 0.2, max_relative = SAME_REL);
     approx::assert_relative_eq!(box_of("0.1"), 0.4234 + 0.1, max_relative = SAME_REL);
-    let p = write(
-        &dir,
-        "text.toml",
-        &harmonic_study_measuring_deps_x("0.2", "600"),
-    );
-    let o = run(&[
-        "check-turntable",
-        "--study",
-        p.to_str().unwrap(),
-        "--tolerances",
-        sheet,
-        "--samples",
-        "200",
-    ]);
+    let o = check("0.2", "600", false);
     assert!(o.status.success(), "{}", stderr(&o));
     let t = stdout(&o);
     let at = t.find("\ncompensated").expect("the compensated block");
