@@ -780,7 +780,7 @@ pub fn compensated_text(
     before_counted: &[Verdict],
 ) -> String {
     let mut s = String::from(
-        "\ncompensated (the study's measured errors are known inputs of the chain; the bound that matters is their measurement uncertainty):\n",
+        "\ncompensated (the study's measured errors are known inputs of the chain; the bound that matters is their measurement uncertainty, or the sheet's bound plus the measured value's magnitude when that is smaller):\n",
     );
     for n in &c.notes {
         s.push_str(&format!("  note: {n}\n"));
