@@ -273,7 +273,7 @@ pub const ANGLE_CHUNK: u64 = 1024;
 /// Chunks of the angle-dependent Monte Carlo evaluated per wave (memory: one wave's counts).
 const ANGLE_WAVE_CHUNKS: u64 = 64;
 
-fn check_expansion(e2e: &EndToEnd, e: &Expansion) -> Result<(), E2eError> {
+pub(crate) fn check_expansion(e2e: &EndToEnd, e: &Expansion) -> Result<(), E2eError> {
     tt_core::length("expansion positions", e2e.len(), e.positions())
         .and_then(|()| tt_core::length("expansion errors", e2e.n_errors(), e.groups().len()))
         .map_err(|err| E2eError::Kinematics(err.into()))
@@ -350,6 +350,16 @@ impl EndToEnd {
         expansion: &Expansion,
     ) -> Result<AngleLinearization, E2eError> {
         let expanded = self.linearization_expanded(expansion)?;
+        Ok(self.reduce_expanded(expansion, expanded))
+    }
+
+    /// The reduction of an expanded model to one column per error (dual norms; see
+    /// [`EndToEnd::angle_linearization`]).
+    pub(crate) fn reduce_expanded(
+        &self,
+        expansion: &Expansion,
+        expanded: Linearization,
+    ) -> AngleLinearization {
         let (rows, errors) = (expanded.matrix().nrows(), expansion.groups().len());
         let mut reduced = DMatrix::zeros(rows, errors);
         for r in 0..rows {
@@ -368,7 +378,7 @@ impl EndToEnd {
             }
         }
         let reduced = Linearization::from_parts(reduced, self.len(), self.n_outputs(), noise);
-        Ok(AngleLinearization { expanded, reduced })
+        AngleLinearization { expanded, reduced }
     }
 
     /// $\Delta\omega_k$ of every output (output unit) for the coefficients `c` of

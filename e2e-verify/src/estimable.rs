@@ -20,12 +20,14 @@
 //! \mathbf M\,\Pi_N\chi$ ([`EndToEnd::linearization_joint`]). An error with $\Pi_N\mathbf
 //! e_j = 0$ needs no bound; the direct allocation of the rest takes that matrix unchanged.
 
+use crate::angle::{AngleLinearization, check_expansion};
 use crate::error::E2eError;
 use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
 use calib_lsq::joint::{JointBlock, JointEstimability, joint_step};
 use calib_lsq::{ErrorForm, Estimate, OutputsAt, Reading, design_matrix, known_vector};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix3};
+use tt_kinematics::{ChainKind, Expansion};
 
 /// The reading whose error vector is exactly the table's effect on the outputs,
 /// $(\mathbf b_1 - \mathbf A\hat{\boldsymbol\beta}_2) - \mathbf b_2 = \mathbf g + \mathbf e$.
@@ -38,6 +40,9 @@ const EFFECT_READING: Reading = Reading {
 /// Step of the central differences of the Gauss-Newton Jacobian (rad): the table part is
 /// smooth (rotations), so the truncation error $O(h^2)$ is about $10^{-14}$ relative.
 pub(crate) const JOINT_FD_STEP_RAD: f64 = 1e-7;
+
+/// The rotations $\Delta\mathbf R_i$ of every test position for a parameter vector.
+type DeltaRFn<'a> = dyn Fn(&[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> + 'a;
 
 /// The result of [`EndToEnd::joint_estimate`].
 #[derive(Debug, Clone, PartialEq)]
@@ -93,11 +98,33 @@ impl EndToEnd {
     /// As [`EndToEnd::with_reading`].
     pub fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
         self.static_only("the joint estimation of table errors")?;
-        let lin = self.with_reading(EFFECT_READING)?.linearization();
+        Ok(self.split_outputs(&self.with_reading(EFFECT_READING)?.linearization()))
+    }
+
+    /// [`EndToEnd::table_effects`] with the errors expanded into the coefficients of
+    /// `expansion` (errors that vary with a shaft angle, [`crate::angle`]): one column per
+    /// coefficient, the error's effect at each position scaled by the coefficient's basis
+    /// value there. With every error constant it is [`EndToEnd::table_effects`].
+    ///
+    /// # Errors
+    /// As [`EndToEnd::table_effects`] and [`EndToEnd::linearization_expanded`].
+    pub fn table_effects_expanded(
+        &self,
+        expansion: &Expansion,
+    ) -> Result<Vec<DMatrix<f64>>, E2eError> {
+        self.static_only("the joint estimation of table errors")?;
+        let lin = self
+            .with_reading(EFFECT_READING)?
+            .linearization_expanded(expansion)?;
+        Ok(self.split_outputs(&lin))
+    }
+
+    /// Every output's rows of a first-order model (rows output-major).
+    fn split_outputs(&self, lin: &Linearization) -> Vec<DMatrix<f64>> {
         let n = self.len();
-        Ok((0..self.n_outputs())
+        (0..self.n_outputs())
             .map(|k| lin.matrix().rows(k * n, n).clone_owned())
-            .collect())
+            .collect()
     }
 
     /// The estimability of the angular errors together with the sensor coefficients (the
@@ -106,14 +133,42 @@ impl EndToEnd {
     /// # Errors
     /// As [`EndToEnd::table_effects`] and [`JointEstimability::new`].
     pub fn estimability(&self) -> Result<JointEstimability, E2eError> {
+        let names: Vec<String> = self
+            .turntable()
+            .rotation_error_names()
+            .into_iter()
+            .map(String::from)
+            .collect();
+        self.estimability_of(&self.table_effects()?, &names)
+    }
+
+    /// The estimability of the coefficients of `expansion` (the study's model of errors that
+    /// vary with a shaft angle: each error's constant and harmonic coefficients, or its value
+    /// at each angle) together with the sensor coefficients: [`EndToEnd::estimability`] with
+    /// the parameters named by [`Expansion::coefficient_names`].
+    ///
+    /// # Errors
+    /// As [`EndToEnd::table_effects_expanded`] and [`JointEstimability::new`].
+    pub fn estimability_expanded(
+        &self,
+        expansion: &Expansion,
+    ) -> Result<JointEstimability, E2eError> {
+        let effects = self.table_effects_expanded(expansion)?;
+        self.estimability_of(&effects, &expansion.coefficient_names())
+    }
+
+    fn estimability_of(
+        &self,
+        effects: &[DMatrix<f64>],
+        names: &[String],
+    ) -> Result<JointEstimability, E2eError> {
         self.static_only("the joint estimation of table errors")?;
-        let effects = self.table_effects()?;
         let acc = self.accuracies();
         let blocks: Vec<JointBlock<'_>> = self
             .calibration()
             .outputs()
             .iter()
-            .zip(&effects)
+            .zip(effects)
             .zip(&acc)
             .map(|((cal, d), a)| JointBlock {
                 regression: cal.regression(),
@@ -121,13 +176,7 @@ impl EndToEnd {
                 weight: 1.0 / a,
             })
             .collect();
-        let names: Vec<String> = self
-            .turntable()
-            .rotation_error_names()
-            .into_iter()
-            .map(String::from)
-            .collect();
-        Ok(JointEstimability::new(&names, &blocks)?)
+        Ok(JointEstimability::new(names, &blocks)?)
     }
 
     /// The first-order model of this simulator's reading when the estimable errors are
@@ -153,6 +202,35 @@ impl EndToEnd {
         ))
     }
 
+    /// [`EndToEnd::linearization_joint`] for errors expanded into the coefficients of
+    /// `expansion` (`est` from [`EndToEnd::estimability_expanded`]): the expanded model
+    /// $\mathbf M_c\,\Pi_N$ and its reduction to one column per error by the dual norms of
+    /// each error's bound set ([`EndToEnd::angle_linearization`]), which the direct allocation
+    /// takes unchanged.
+    ///
+    /// # Errors
+    /// A length error when `est` is not of this expansion; as
+    /// [`EndToEnd::linearization_expanded`].
+    pub fn linearization_joint_expanded(
+        &self,
+        expansion: &Expansion,
+        est: &JointEstimability,
+    ) -> Result<AngleLinearization, E2eError> {
+        self.static_only("the joint estimation of table errors")?;
+        tt_core::length(
+            "estimability coefficients",
+            expansion.n_coefficients(),
+            est.names().len(),
+        )
+        .map_err(|e| E2eError::Kinematics(e.into()))?;
+        let lin = self.linearization_expanded(expansion)?;
+        let pi = est.invisible_projector();
+        let m = lin.matrix() * &pi;
+        let noise = lin.rounding() * pi.abs();
+        let joint = Linearization::from_parts(m, self.len(), self.n_outputs(), noise);
+        Ok(self.reduce_expanded(expansion, joint))
+    }
+
     /// The outputs $\mathbf f_k = \mathbf A_k'\boldsymbol\beta_k + \mathbf b_{2,k}'$ of a sensor
     /// with the estimated terms' coefficients `coefficients[k]` (the study's known terms) on
     /// the turntable with errors `chi_rad`, at the actual orientation of every position (exact
@@ -165,11 +243,52 @@ impl EndToEnd {
         chi_rad: &[f64],
         coefficients: &[DVector<f64>],
     ) -> Result<Vec<DVector<f64>>, E2eError> {
+        self.outputs_at_dr(&self.delta_r_reference(chi_rad)?, coefficients)
+    }
+
+    /// [`EndToEnd::outputs_at`] for the coefficients `c` of `expansion` (errors that vary
+    /// with a shaft angle: the exact chain at $\chi(\phi_i)$ at every position).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::outputs_at`]; an expansion not of this schedule.
+    pub fn outputs_at_expanded(
+        &self,
+        expansion: &Expansion,
+        c: &[f64],
+        coefficients: &[DVector<f64>],
+    ) -> Result<Vec<DVector<f64>>, E2eError> {
+        self.outputs_at_dr(&self.delta_r_expanded(expansion, c)?, coefficients)
+    }
+
+    /// $\Delta\mathbf R_i$ of every position for the coefficients `c` of `expansion` (exact
+    /// chain at $\chi(\phi_i)$).
+    fn delta_r_expanded(
+        &self,
+        expansion: &Expansion,
+        c: &[f64],
+    ) -> Result<Vec<Matrix3<f64>>, E2eError> {
+        check_expansion(self, expansion)?;
+        let zero = vec![0.0; self.turntable().n_translation_errors()];
+        Ok(self
+            .poses()
+            .iter()
+            .enumerate()
+            .map(|(i, pose)| {
+                let x = expansion.errors_at(c, i, &zero)?;
+                self.turntable().delta_r(pose, &x, ChainKind::Exact)
+            })
+            .collect::<Result<Vec<_>, tt_kinematics::KinematicsError>>()?)
+    }
+
+    fn outputs_at_dr(
+        &self,
+        dr: &[Matrix3<f64>],
+        coefficients: &[DVector<f64>],
+    ) -> Result<Vec<DVector<f64>>, E2eError> {
         let cal = self.calibration();
         tt_core::length("coefficients", self.n_outputs(), coefficients.len())
             .map_err(|e| E2eError::Kinematics(e.into()))?;
-        let dr = self.delta_r_reference(chi_rad)?;
-        let actual = cal.schedule().actual_inputs(cal.site(), &dr)?;
+        let actual = cal.schedule().actual_inputs(cal.site(), dr)?;
         cal.outputs()
             .iter()
             .zip(coefficients)
@@ -210,10 +329,60 @@ impl EndToEnd {
         iterations: usize,
         tol_rad: f64,
     ) -> Result<JointEstimate, E2eError> {
-        let e = est.estimable_basis();
-        let (m, r) = e.shape();
-        tt_core::length("estimability errors", self.n_errors(), m)
+        tt_core::length("estimability errors", self.n_errors(), est.names().len())
             .map_err(|err| E2eError::Kinematics(err.into()))?;
+        self.joint_fit(
+            &|chi| self.delta_r_reference(chi),
+            b1,
+            est,
+            iterations,
+            tol_rad,
+        )
+    }
+
+    /// [`EndToEnd::joint_estimate`] for errors expanded into the coefficients of `expansion`
+    /// (`est` from [`EndToEnd::estimability_expanded`]): the estimated parameters
+    /// ([`JointEstimate::chi_rad`]) are the expansion's coefficients (rad), in its estimable
+    /// subspace.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::joint_estimate`]; an expansion not of this schedule.
+    pub fn joint_estimate_expanded(
+        &self,
+        expansion: &Expansion,
+        b1: &[DVector<f64>],
+        est: &JointEstimability,
+        iterations: usize,
+        tol_rad: f64,
+    ) -> Result<JointEstimate, E2eError> {
+        check_expansion(self, expansion)?;
+        tt_core::length(
+            "estimability coefficients",
+            expansion.n_coefficients(),
+            est.names().len(),
+        )
+        .map_err(|err| E2eError::Kinematics(err.into()))?;
+        self.joint_fit(
+            &|c| self.delta_r_expanded(expansion, c),
+            b1,
+            est,
+            iterations,
+            tol_rad,
+        )
+    }
+
+    /// Gauss-Newton of [`EndToEnd::joint_estimate`] for parameters $\mathbf x$ (one per row
+    /// of `est`'s estimable basis) whose rotations at the test positions `delta_r` gives.
+    fn joint_fit(
+        &self,
+        delta_r: &DeltaRFn<'_>,
+        b1: &[DVector<f64>],
+        est: &JointEstimability,
+        iterations: usize,
+        tol_rad: f64,
+    ) -> Result<JointEstimate, E2eError> {
+        let e = est.estimable_basis();
+        let r = e.ncols();
         let cal = self.calibration();
         let acc = self.accuracies();
         let mut z = DVector::zeros(r);
@@ -232,10 +401,12 @@ impl EndToEnd {
             .collect::<Result<_, E2eError>>()?;
         let mut steps = Vec::new();
         let chi_of = |z: &DVector<f64>| -> Vec<f64> { (e * z).iter().copied().collect() };
+        let f_of = |z: &DVector<f64>, beta: &[DVector<f64>]| {
+            self.outputs_at_dr(&delta_r(&chi_of(z))?, beta)
+        };
         for _ in 0..iterations {
-            let chi = chi_of(&z);
-            let f = self.outputs_at(&chi, &beta)?;
-            let dr = self.delta_r_reference(&chi)?;
+            let dr = delta_r(&chi_of(&z))?;
+            let f = self.outputs_at_dr(&dr, &beta)?;
             let actual = cal.schedule().actual_inputs(cal.site(), &dr)?;
             let a: Vec<DMatrix<f64>> = cal
                 .outputs()
@@ -249,8 +420,8 @@ impl EndToEnd {
                 zp[c] += h;
                 let mut zm = z.clone();
                 zm[c] -= h;
-                let fp = self.outputs_at(&chi_of(&zp), &beta)?;
-                let fm = self.outputs_at(&chi_of(&zm), &beta)?;
+                let fp = f_of(&zp, &beta)?;
+                let fm = f_of(&zm, &beta)?;
                 for (k, dk) in d.iter_mut().enumerate() {
                     dk.set_column(c, &((&fp[k] - &fm[k]) / (2.0 * h)));
                 }
@@ -274,7 +445,7 @@ impl EndToEnd {
             }
         }
         let chi = chi_of(&z);
-        let f = self.outputs_at(&chi, &beta)?;
+        let f = f_of(&z, &beta)?;
         let res: Vec<DVector<f64>> = b1.iter().zip(&f).map(|(b, fk)| b - fk).collect();
         let residual = weighted_norm(&res, &acc);
         Ok(JointEstimate {
@@ -302,18 +473,51 @@ impl EndToEnd {
         est: &JointEstimability,
         iterations: usize,
     ) -> Result<Vec<f64>, E2eError> {
-        let cal = self.calibration();
         let beta = self.true_coefficients();
         let b1 = self.outputs_at(chi_rad, &beta)?;
         let j = self.joint_estimate(&b1, est, iterations, 0.0)?;
         let dr = self.delta_r_reference(chi_rad)?;
-        let actual = cal.schedule().actual_inputs(cal.site(), &dr)?;
         let dr_hat = self.delta_r_reference(&j.chi_rad)?;
-        let estimated = cal.schedule().actual_inputs(cal.site(), &dr_hat)?;
+        self.joint_rate_errors(&b1, &dr, &dr_hat, &j)
+    }
+
+    /// [`EndToEnd::joint_delta_omega`] for a turntable whose errors are the coefficients `c`
+    /// of `expansion` (errors that vary with a shaft angle), the joint estimator fitting the
+    /// expansion's coefficients ([`EndToEnd::joint_estimate_expanded`]).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::joint_estimate_expanded`].
+    pub fn joint_delta_omega_expanded(
+        &self,
+        expansion: &Expansion,
+        c: &[f64],
+        est: &JointEstimability,
+        iterations: usize,
+    ) -> Result<Vec<f64>, E2eError> {
+        let beta = self.true_coefficients();
+        let dr = self.delta_r_expanded(expansion, c)?;
+        let b1 = self.outputs_at_dr(&dr, &beta)?;
+        let j = self.joint_estimate_expanded(expansion, &b1, est, iterations, 0.0)?;
+        let dr_hat = self.delta_r_expanded(expansion, &j.chi_rad)?;
+        self.joint_rate_errors(&b1, &dr, &dr_hat, &j)
+    }
+
+    /// $\Delta\omega_k$ of every output of the joint estimate `j` from the outputs `b1` of
+    /// the table whose rotations are `dr`, evaluated at the estimated rotations `dr_hat`.
+    fn joint_rate_errors(
+        &self,
+        b1: &[DVector<f64>],
+        dr: &[Matrix3<f64>],
+        dr_hat: &[Matrix3<f64>],
+        j: &JointEstimate,
+    ) -> Result<Vec<f64>, E2eError> {
+        let cal = self.calibration();
+        let actual = cal.schedule().actual_inputs(cal.site(), dr)?;
+        let estimated = cal.schedule().actual_inputs(cal.site(), dr_hat)?;
         Ok(cal
             .outputs()
             .iter()
-            .zip(&b1)
+            .zip(b1)
             .zip(&j.coefficients)
             .map(|((oc, b), bh)| {
                 let o = oc.output();

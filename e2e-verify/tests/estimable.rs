@@ -212,3 +212,70 @@ fn joint_estimator_removes_table4s_first_order_error_on_the_exact_chain() {
         assert!(joint[o.output()] < 0.01 * plain[o.output()]);
     }
 }
+
+/// Agreement of two computations of the same first-order matrix by different paths
+/// (dimensionless, relative to the matrix's largest entry).
+const SAME_MATRIX_REL: f64 = 1e-12;
+
+/// Issue 32 item 1: the joint estimation under a study's angle-dependent model. With every
+/// error constant the expanded path is the constant one (same rank, same joint model); with
+/// the harmonic-errors study's model the joint estimator recovers coefficients in the
+/// estimable subspace on the exact chain with a noiseless sensor.
+#[test]
+fn joint_estimation_of_harmonic_coefficients_recovers_them_and_reduces_to_the_constant_case() {
+    let name = "gyrowheel-2017-harmonic-errors";
+    let s = study(name);
+    let e2e = users(name);
+    let constant = tt_kinematics::Expansion::new(
+        e2e.turntable(),
+        &vec![tt_kinematics::ErrorVariation::Constant; e2e.n_errors()],
+        e2e.poses(),
+    )
+    .unwrap();
+    let est = e2e.estimability().unwrap();
+    let est_c = e2e.estimability_expanded(&constant).unwrap();
+    assert_eq!(est_c.rank(), est.rank());
+    assert_eq!(est_c.table_rank(), est.table_rank());
+    let joint = e2e.linearization_joint(&est).unwrap();
+    let joint_c = e2e.linearization_joint_expanded(&constant, &est_c).unwrap();
+    let scale = joint
+        .matrix()
+        .amax()
+        .max(e2e.linearization().matrix().amax());
+    assert!(
+        (joint_c.reduced.matrix() - joint.matrix().abs()).amax() <= SAME_MATRIX_REL * scale,
+        "the constant expansion's joint model differs from the constant one"
+    );
+    let ex = tt_kinematics::Expansion::new(e2e.turntable(), &s.variations, e2e.poses()).unwrap();
+    let est_h = e2e.estimability_expanded(&ex).unwrap();
+    assert_eq!(est_h.names().len(), ex.n_coefficients());
+    assert!(est_h.table_rank() > est.table_rank());
+    let e = est_h.estimable_basis();
+    let z = DVector::from_fn(e.ncols(), |i, _| 1e-5 * (1.0 - 0.03 * i as f64));
+    let c: Vec<f64> = (e * &z).iter().copied().collect();
+    let b1 = e2e
+        .outputs_at_expanded(&ex, &c, &e2e.true_coefficients())
+        .unwrap();
+    let j = e2e
+        .joint_estimate_expanded(&ex, &b1, &est_h, ITERATIONS, 1e-15)
+        .unwrap();
+    let err = j
+        .chi_rad()
+        .iter()
+        .zip(&c)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(
+        err <= RECOVERED_REL * z.norm(),
+        "error {err:e} of {:e}",
+        z.norm()
+    );
+    // at that turntable the joint calibration leaves rounding, the ordinary one does not
+    let dw = e2e
+        .joint_delta_omega_expanded(&ex, &c, &est_h, ITERATIONS)
+        .unwrap();
+    for (k, d) in dw.iter().enumerate() {
+        assert!(*d <= 1e-6 * e2e.accuracies()[k], "output {k}: {d:e}");
+    }
+}

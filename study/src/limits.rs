@@ -41,6 +41,10 @@ pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
 /// Rate limit of a joint (`turntable.max_rate_deg_per_s.<joint>`), deg/s: rate tables reach
 /// a few thousand deg/s, centrifuges more.
 pub const MAX_RATE_DEG_PER_S: (f64, f64) = (0.0, 1e5);
+/// Smallest magnitude of a rate step's rate (`calibration.rate_steps[i].rate_deg_per_s`),
+/// deg/s: one revolution in about 11 years; below it a rate is zero to the computation
+/// (5e-324 deg/s is 0 rad/s).
+pub const MIN_RATE_STEP_DEG_PER_S: f64 = 1e-6;
 /// Revolutions of a rate step.
 pub const MAX_REVOLUTIONS: u64 = 1_000_000;
 /// Largest lever-arm component (`sensor.lever_arm_m`), m.

@@ -22,6 +22,7 @@
 //! ```
 
 use crate::error::StudyError;
+use crate::fmt::{exact, num};
 use crate::limits;
 use crate::schema::in_range;
 use calib_lsq::Timing;
@@ -251,6 +252,18 @@ pub(crate) fn parse_timing(
         "s",
     )?;
     let uniform = !matches!(raw.dwell_s, toml::Value::Array(_));
+    // a rate at which even the longest accepted dwell holds no sample is the rate's fault
+    if fs * hi < 1.0 {
+        return Err(StudyError::new(
+            at("calibration.timing.sample_rate_hz"),
+            format!(
+                "{} Hz gives less than one sample in any dwell up to the longest accepted ({} s): sample at least at {} Hz",
+                exact(fs),
+                num(hi),
+                num(1.0 / hi)
+            ),
+        ));
+    }
     for (i, &t) in dwell_s.iter().enumerate() {
         if t * fs < 1.0 {
             let key = if uniform {
@@ -261,8 +274,10 @@ pub(crate) fn parse_timing(
             return Err(StudyError::new(
                 at(&key),
                 format!(
-                    "{t} s at sample_rate_hz = {fs} holds less than one sample: dwell at least {} s",
-                    1.0 / fs
+                    "{} s at sample_rate_hz = {} Hz holds less than one sample: dwell at least {} s",
+                    exact(t),
+                    exact(fs),
+                    num(1.0 / fs)
                 ),
             ));
         }

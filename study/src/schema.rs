@@ -62,6 +62,13 @@ pub struct Measured {
     pub coefficients_rad: Vec<f64>,
     /// The measurement uncertainty $u$ (rad), a bound over the revolution.
     pub uncertainty_rad: f64,
+    /// The key of the measured values as written (`compensation.measured[0].value_arcmin`
+    /// or `...coefficients_arcmin`), for messages.
+    pub key: String,
+    /// The measured values as written (arcmin), for messages.
+    pub written_arcmin: Vec<f64>,
+    /// The uncertainty as written (arcmin), for messages.
+    pub uncertainty_arcmin: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -1038,6 +1045,12 @@ fn parse_measured(
                 ));
             }
         };
+        let value_key = if m.value_arcmin.is_some() {
+            key("value_arcmin")
+        } else {
+            key("coefficients_arcmin")
+        };
+        let written_arcmin: Vec<f64> = values.iter().map(|(_, v)| *v).collect();
         let mut coefficients_rad = Vec::with_capacity(n);
         for (vkey, v) in values {
             coefficients_rad
@@ -1055,6 +1068,9 @@ fn parse_measured(
         out[i] = Some(Measured {
             coefficients_rad,
             uncertainty_rad,
+            key: value_key,
+            written_arcmin,
+            uncertainty_arcmin: m.uncertainty_arcmin,
         });
     }
     Ok(out)
@@ -1378,12 +1394,14 @@ fn parse_rate_steps(
                 ));
             };
             let rate = r.rate_deg_per_s;
-            if !rate.is_finite() || rate == 0.0 || rate.abs() > limit {
+            let min = limits::MIN_RATE_STEP_DEG_PER_S;
+            if !rate.is_finite() || rate.abs() < min || rate.abs() > limit {
                 return Err(StudyError::new(
                     at(&key("rate_deg_per_s")),
                     format!(
-                        "must be non-zero with |rate| <= {} deg/s (the rate limit of `{}`), found {}",
-                        num(limit),
+                        "must have {} <= |rate| <= {} deg/s (the least rate that turns a revolution in a test's time; the rate limit of `{}`), found {}",
+                        num(min),
+                        exact(limit),
                         r.joint,
                         exact(rate)
                     ),

@@ -14,6 +14,7 @@
 //! ```
 
 use crate::error::StudyError;
+use crate::fmt::{exact, num};
 use crate::limits;
 use crate::schema::{in_range, one_line, read_text_file, toml_error};
 use serde::Deserialize;
@@ -71,6 +72,16 @@ impl ValueConvention {
             ValueConvention::Bound => 1.0,
             ValueConvention::OneSigma => 3.0,
             ValueConvention::PeakToPeak => 0.5,
+        }
+    }
+
+    /// The name a sheet writes (`bound`, `one-sigma`, `peak-to-peak`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            ValueConvention::Bound => "bound",
+            ValueConvention::OneSigma => "one-sigma",
+            ValueConvention::PeakToPeak => "peak-to-peak",
         }
     }
 
@@ -188,13 +199,32 @@ impl Tolerances {
             None => ValueConvention::Bound,
         };
         let conventions = raw.conventions.clone().unwrap_or_default();
-        let convention_of = |key: &str| -> Result<f64, StudyError> {
-            match conventions.get(key) {
-                Some(c) => {
-                    Ok(ValueConvention::parse(&at, &format!("conventions.{key}"), c)?.factor())
-                }
-                None => Ok(default.factor()),
+        // the value of `key` (its unit `unit`, limits `(lo, hi)`) checked as written, then the
+        // bound its convention makes of it checked against the same documented maximum
+        // (`[conventions]` names a value by `name`)
+        let bound_of = |key: &str, name: &str, v: f64, (lo, hi): (f64, f64), unit: &str| {
+            let v = in_range(&at, key, v, lo, hi, false, unit)?;
+            let (convention, ckey) = match conventions.get(name) {
+                Some(c) => (
+                    ValueConvention::parse(&at, &format!("conventions.{name}"), c)?,
+                    format!("conventions.{name}"),
+                ),
+                None => (default, "convention".to_string()),
+            };
+            let bound = v * convention.factor();
+            if bound > hi {
+                return Err(StudyError::new(
+                    at(key),
+                    format!(
+                        "{} {unit} read as `{ckey}` = \"{}\" bounds the error by {} {unit}, above the largest bound accepted ({} {unit})",
+                        exact(v),
+                        convention.name(),
+                        num(bound),
+                        num(hi)
+                    ),
+                ));
             }
+            Ok(bound)
         };
         for key in conventions.keys() {
             let known = raw.tolerances_arcmin.contains_key(key)
@@ -239,11 +269,8 @@ impl Tolerances {
                 };
                 StudyError::new(at(&key), why)
             })?;
-            let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
             ub[i] = Some(
-                in_range(&at, &key, v, lo, hi, false, "arcmin")?
-                    * RAD_PER_ARCMIN
-                    * convention_of(name)?,
+                bound_of(&key, name, v, limits::ANGLE_TOLERANCE_ARCMIN, "arcmin")? * RAD_PER_ARCMIN,
             );
         }
         for (joint, ax) in raw.axes.iter().flatten() {
@@ -323,10 +350,8 @@ impl Tolerances {
                     ));
                 }
                 let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
-                let bound = in_range(&at, &vkey, value, lo * 60.0, hi * 60.0, false, "arcsec")?
-                    / 60.0
-                    * RAD_PER_ARCMIN
-                    * convention_of(&format!("{jkey}.{q}_arcsec"))?;
+                let bound = bound_of(&vkey, &vkey, value, (lo * 60.0, hi * 60.0), "arcsec")? / 60.0
+                    * RAD_PER_ARCMIN;
                 let mut idx = Vec::with_capacity(want);
                 for (k, e) in errors.iter().enumerate() {
                     let ekey = format!("{list_key}[{k}]");
@@ -450,9 +475,8 @@ impl Tolerances {
                     ),
                 ));
             }
-            let (lo, hi) = limits::TRANSLATION_TOLERANCE_MM;
             let bound =
-                in_range(&at, &vkey, value, lo, hi, false, "mm")? * 1e-3 * convention_of(&vkey)?;
+                bound_of(&vkey, &vkey, value, limits::TRANSLATION_TOLERANCE_MM, "mm")? * 1e-3;
             for (k, e) in errors.iter().enumerate() {
                 let ekey = if errors.len() == 1 {
                     list_key.clone()

@@ -915,3 +915,34 @@ fn measured_errors_are_read_and_bad_ones_name_the_key() {
         assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
     }
 }
+
+/// Issue 32 item 4: a convention could lift a bound past the documented maximum (a one-sigma
+/// 36,000" became a 30 degree bound, the limit being 10 degrees). The bound after the
+/// convention is checked against the same limit, naming the value's key and the convention's.
+/// Failed before the fix (the sheet was accepted).
+#[test]
+fn a_convention_cannot_lift_a_sheet_bound_past_the_documented_maximum() {
+    let three = Study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/three-axis-example.toml"
+    )))
+    .unwrap();
+    let sheet = include_str!("../../studies/tolerances/three-axis-vendor-sheet.toml");
+    let lifted = sheet.replacen("wobble_arcsec = 3.0", "wobble_arcsec = 36000", 1);
+    // as a bound, 36,000" (600') is the largest accepted
+    assert!(Tolerances::parse("v.toml", &lifted, &three.turntable).is_ok());
+    let one_sigma = lifted.replace(
+        "convention = \"bound\"",
+        "convention = \"bound\"\n[conventions]\n\"axes.phi_o.wobble_arcsec\" = \"one-sigma\"",
+    );
+    let err = Tolerances::parse("v.toml", &one_sigma, &three.turntable)
+        .unwrap_err()
+        .to_string();
+    for needle in [
+        "axes.phi_o.wobble_arcsec",
+        "36000 arcsec read as `conventions.axes.phi_o.wobble_arcsec` = \"one-sigma\" bounds the error by 108000 arcsec",
+        "36000 arcsec)",
+    ] {
+        assert!(err.contains(needle), "`{needle}` not in: {err}");
+    }
+}

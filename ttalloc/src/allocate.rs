@@ -323,7 +323,7 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
     t.push('\n');
     let cell = |u: f64| {
         if u.is_finite() {
-            format!("{:.4}", rad_to_arcmin(u))
+            study::fmt::sig(rad_to_arcmin(u), 4)
         } else {
             "none".into()
         }

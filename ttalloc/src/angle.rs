@@ -24,10 +24,59 @@ pub struct ReadingAngle {
     pub outputs: Vec<AngleOutputWorstCase>,
     /// The Monte Carlo yield under the model.
     pub yield_: AngleYield,
-    /// The weakest of the outputs' verdicts.
+    /// The weakest of the outputs' verdicts, every modelled source counted (with the
+    /// study's noise: the table's part and the noise's, [`NoisePart`]).
     pub verdict: Verdict,
+    /// Every output's verdict, every modelled source counted (as `verdict`).
+    pub output_verdicts: Vec<Verdict>,
+    /// With the study's noise: the weakest verdict of the table's part alone.
+    pub table_verdict: Option<Verdict>,
     /// With the sheet's magnitude bounds (discs): the linearised worst case per output.
     pub disc: Option<DiscWorst>,
+}
+
+/// The study's noise part of every output (calib-lsq's covariance over the study's timing):
+/// what each verdict adds to the table's part, `k_sigma` times `sigma`.
+#[derive(Debug, Clone)]
+pub struct NoisePart {
+    /// The noise's standard deviation of every output's rate error (output's unit).
+    pub sigma: Vec<f64>,
+    /// The confidence multiplier (`--k-sigma`).
+    pub k_sigma: f64,
+}
+
+impl NoisePart {
+    /// The noise part of output `k` (output's unit): `k_sigma` times its sigma.
+    #[must_use]
+    pub fn margin(&self, k: usize) -> f64 {
+        self.k_sigma * self.sigma[k]
+    }
+
+    /// The rule of a verdict that counts it, in words.
+    #[must_use]
+    pub fn rule(&self) -> String {
+        format!(
+            "table and noise counted: the table's worst case plus {} sigma of the noise against the accuracy",
+            num(self.k_sigma)
+        )
+    }
+}
+
+/// The verdict of an angle-dependent worst case with the noise part `margin` added (output's
+/// unit, 0 without noise), as [`e2e_verify::CombinedOutput::of`] gives the constant model's:
+/// fails when the exact chain at the worst errors found plus the noise misses the accuracy,
+/// guaranteed when the linear bound plus the second-order bound plus the noise meets it,
+/// likely otherwise.
+#[must_use]
+pub fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
+    if o.exact_at_worst() + margin > accuracy {
+        Verdict::Fails
+    } else {
+        match o.second_order_bound() {
+            Some(t) if o.linear_bound() + t + margin <= accuracy => Verdict::Guaranteed,
+            _ => Verdict::Likely,
+        }
+    }
 }
 
 /// The answers when the sheet's magnitudes bound a disc, not the square of the two
@@ -123,6 +172,8 @@ pub struct AngleCheck {
     pub variations: Vec<ErrorVariation>,
     /// Per reading.
     pub readings: Vec<ReadingAngle>,
+    /// The study's noise part, counted by every verdict; `None` without noise.
+    pub noise: Option<NoisePart>,
 }
 
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
@@ -168,6 +219,7 @@ pub fn check(
     samples: u64,
     seed: u64,
     allocate: bool,
+    noise: Option<&NoisePart>,
 ) -> Result<AngleCheck> {
     let ub_rad = &tol.ub_rad[..];
     let (study_model, variations) = model_of(s, tol);
@@ -186,7 +238,16 @@ pub fn check(
         let yield_ = e2e
             .angle_yield(&ex, ub_rad, samples, seed)
             .map_err(|e| crate::input::library(e, s))?;
-        let verdict = weakest(outputs.iter().map(|o| o.verdict()));
+        let acc = e2e.accuracies();
+        let output_verdicts: Vec<Verdict> = outputs
+            .iter()
+            .map(|o| {
+                let margin = noise.map_or(0.0, |n| n.margin(o.output()));
+                counted_verdict(o, acc[o.output()], margin)
+            })
+            .collect();
+        let verdict = weakest(output_verdicts.iter().copied());
+        let table_verdict = noise.map(|_| weakest(outputs.iter().map(|o| o.verdict())));
         let disc = if discs.is_empty() {
             None
         } else {
@@ -243,6 +304,8 @@ pub fn check(
             outputs,
             yield_,
             verdict,
+            output_verdicts,
+            table_verdict,
             disc,
         });
     }
@@ -250,6 +313,7 @@ pub fn check(
         study_model,
         variations,
         readings,
+        noise: noise.cloned(),
     })
 }
 
@@ -274,11 +338,12 @@ fn model_words(a: &AngleCheck) -> &'static str {
 pub fn text(
     e2e: &EndToEnd,
     constant: &TurntableCheck,
+    constant_counted: Verdict,
     a: &ReadingAngle,
     model: &AngleCheck,
 ) -> String {
     let mut s = format!("  angle-dependent errors ({}):\n", model_words(model));
-    for o in &a.outputs {
+    for (o, counted) in a.outputs.iter().zip(&a.output_verdicts) {
         let out = e2e.calibration().outputs()[o.output()].output();
         let ratio = if o.constant_linear_bound() > 0.0 {
             format!(
@@ -289,27 +354,55 @@ pub fn text(
         } else {
             String::new()
         };
+        let verdict = match &model.noise {
+            Some(n) => format!(
+                "table alone {}; with the noise part {} {u} ({} sigma) added: {}",
+                o.verdict().name(),
+                num(n.margin(o.output())),
+                num(n.k_sigma),
+                counted.name(),
+                u = out.unit,
+            ),
+            None => counted.name().to_string(),
+        };
         s.push_str(&format!(
-            "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {}\n",
+            "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {verdict}\n",
             out.name,
             num(o.linear_bound()),
             num(o.exact_at_worst()),
             o.second_order_bound()
                 .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound() + t))),
-            o.verdict().name(),
             u = out.unit,
         ));
     }
     let (lo, hi) = a.yield_.interval_95();
-    s.push_str(&format!(
-        "    verdict: constant errors {}, angle-dependent errors {}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables)\n",
-        constant.verdict().name(),
-        a.verdict.name(),
+    let yield_words = format!(
+        "Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables{})",
         100.0 * a.yield_.fraction(),
         100.0 * lo,
         100.0 * hi,
-        a.yield_.samples()
-    ));
+        a.yield_.samples(),
+        if model.noise.is_some() {
+            "; the table's part alone, no noise drawn"
+        } else {
+            ""
+        }
+    );
+    match (&model.noise, a.table_verdict) {
+        (Some(n), Some(table)) => s.push_str(&format!(
+            "    verdict ({}): constant errors {}, angle-dependent errors {}; table alone: constant errors {}, angle-dependent errors {}; {yield_words}\n",
+            n.rule(),
+            constant_counted.name(),
+            a.verdict.name(),
+            constant.verdict().name(),
+            table.name(),
+        )),
+        _ => s.push_str(&format!(
+            "    verdict: constant errors {}, angle-dependent errors {}; {yield_words}\n",
+            constant_counted.name(),
+            a.verdict.name(),
+        )),
+    }
     if let Some(d) = &a.disc {
         for o in &a.outputs {
             let out = e2e.calibration().outputs()[o.output()].output();
@@ -508,6 +601,112 @@ pub struct Compensated {
     pub checks: Vec<TurntableCheck>,
     /// The angle-dependent check.
     pub angle: AngleCheck,
+    /// One sentence per measured error whose uncertainty exceeds the sheet's bound
+    /// ([`measured_against_sheet`]).
+    pub notes: Vec<String>,
+}
+
+/// The box that matters after compensation against a sheet, and what the measurements say
+/// about it.
+#[derive(Debug, Clone)]
+pub struct MeasuredAgainstSheet {
+    /// Each error's bound after compensation (rad, order of chi): an unmeasured error keeps
+    /// the sheet's; a measured one, whose residual $\chi - m$ the compensated calibration sees,
+    /// is bounded by its uncertainty and, since the table is within the sheet
+    /// ($\lvert\chi\rvert \le \mathrm{UB}$), by $\mathrm{UB} + \max_\phi\lvert m(\phi)\rvert$:
+    /// the smaller.
+    pub ub_rad: Vec<f64>,
+    /// One sentence per measured error whose uncertainty exceeds the sheet's bound.
+    pub notes: Vec<String>,
+}
+
+/// Points per harmonic order at which a measured harmonic error is evaluated to find its
+/// largest magnitude (a value it certainly reaches: a lower bound of its maximum).
+const MEASURED_GRID_PER_ORDER: usize = 720;
+
+/// The measured errors of the study against the sheet `tol` (issue 32 item 3).
+///
+/// A measured value is the table's own error: one whose magnitude somewhere on the revolution
+/// exceeds the sheet's bound says the table is outside its specification, which contradicts
+/// the check's premise (a table within the sheet): refused naming both keys. An uncertainty
+/// above the sheet's bound is allowed and noted: the residual is then bounded by the sheet
+/// and the measured value, $\mathrm{UB} + \max\lvert m\rvert$, so the measured value counts.
+///
+/// # Errors
+/// An [`crate::InputError`] (exit 2) naming the measurement's key and the sheet's bound.
+pub fn measured_against_sheet(s: &Study, tol: &study::Tolerances) -> Result<MeasuredAgainstSheet> {
+    use tt_core::units::rad_to_arcmin;
+    let names = s.turntable.rotation_error_names();
+    let mut ub_rad = tol.ub_rad.clone();
+    let mut notes = Vec::new();
+    for (j, m) in s.measured.iter().enumerate() {
+        let Some(m) = m else { continue };
+        let ub = tol.ub_rad[j];
+        let sheet_key = if tol.implied[j].is_none() {
+            format!("`tolerances_arcmin.{}`", names[j])
+        } else {
+            format!("the bound of `{}` its `[axes]` entry gives", names[j])
+        };
+        let sheet = format!(
+            "{sheet_key} = {} arcmin of {}",
+            study::fmt::num(rad_to_arcmin(ub)),
+            study::fmt::visible(&tol.path)
+        );
+        let (reached, sup_upper) = match &s.variations[j] {
+            ErrorVariation::Harmonics { orders, .. } => {
+                let k = orders.iter().copied().max().unwrap_or(1).max(1) as usize;
+                let points = MEASURED_GRID_PER_ORDER * k;
+                let reached = (0..points)
+                    .map(|i| {
+                        let phi = std::f64::consts::TAU * i as f64 / points as f64;
+                        tt_kinematics::variation::harmonic_value(orders, &m.coefficients_rad, phi)
+                            .abs()
+                    })
+                    .fold(0.0, f64::max);
+                (
+                    reached,
+                    tt_kinematics::variation::sup_norm_upper(orders, &m.coefficients_rad),
+                )
+            }
+            _ => {
+                let v = m.coefficients_rad.first().map_or(0.0, |v| v.abs());
+                (v, v)
+            }
+        };
+        if reached > ub {
+            let written: Vec<String> = m
+                .written_arcmin
+                .iter()
+                .map(|v| study::fmt::exact(*v))
+                .collect();
+            let value = if written.len() == 1 {
+                written[0].clone()
+            } else {
+                format!("[{}]", written.join(", "))
+            };
+            return Err(crate::InputError::new(
+                format!("{}: key `{}`", s.path, m.key),
+                format!(
+                    "the measured `{}` = {value} arcmin reaches {} arcmin, above the sheet's {sheet}: the measured table is outside its specification, which the check assumes it meets; check the measurement, or check a sheet that bounds this table",
+                    names[j],
+                    study::fmt::num(rad_to_arcmin(reached)),
+                ),
+            )
+            .into());
+        }
+        let residual = m.uncertainty_rad.min(ub + sup_upper);
+        ub_rad[j] = residual;
+        if m.uncertainty_rad > ub {
+            notes.push(format!(
+                "the measurement uncertainty of `{}` ({} arcmin) exceeds the sheet's {sheet}: compensation cannot bound it better than the sheet and the measured value do, {} arcmin (the sheet's bound plus the measured error's largest magnitude {} arcmin), the bound used after compensation",
+                names[j],
+                study::fmt::exact(m.uncertainty_arcmin),
+                study::fmt::num(rad_to_arcmin(residual)),
+                study::fmt::num(rad_to_arcmin(sup_upper)),
+            ));
+        }
+    }
+    Ok(MeasuredAgainstSheet { ub_rad, notes })
 }
 
 /// The compensated check when the study measures errors (`[[compensation.measured]]`), else
@@ -520,16 +719,12 @@ pub fn compensated(
     checks: &[(EndToEnd, TurntableCheck)],
     tol: &study::Tolerances,
     settings: &e2e_verify::McSettings,
+    noise: Option<&NoisePart>,
 ) -> Result<Option<Compensated>> {
     if s.measured.iter().all(Option::is_none) {
         return Ok(None);
     }
-    let u: Vec<Option<f64>> = s
-        .measured
-        .iter()
-        .map(|m| m.as_ref().map(|m| m.uncertainty_rad))
-        .collect();
-    let ub_rad = e2e_verify::angle::compensated_box(&tol.ub_rad, &u);
+    let MeasuredAgainstSheet { ub_rad, notes } = measured_against_sheet(s, tol)?;
     let lb: Vec<f64> = s
         .lower_bounds_rad
         .iter()
@@ -548,21 +743,55 @@ pub fn compensated(
     // a measured error is bounded by its uncertainty, no longer by the sheet's disc
     t.discs
         .retain(|d| d.errors.iter().all(|&j| s.measured[j].is_none()));
-    let angle = check(s, checks, &t, settings.samples, settings.seed, false)?;
+    let angle = check(s, checks, &t, settings.samples, settings.seed, false, noise)?;
     Ok(Some(Compensated {
         ub_rad,
         checks: out,
         angle,
+        notes,
     }))
 }
 
-/// The compensated block of the text: per reading, the verdicts before and after.
+/// The verdict of a constant-model check with the noise part counted (as
+/// [`e2e_verify::CombinedOutput::of`]); the table's verdict without noise.
 #[must_use]
-pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) -> String {
+pub fn constant_counted(check: &TurntableCheck, noise: Option<&NoisePart>) -> Verdict {
+    match noise {
+        Some(n) => weakest(check.outputs().iter().map(|o| {
+            e2e_verify::CombinedOutput::of(
+                o.worst_case(),
+                o.accuracy(),
+                n.sigma[o.output()],
+                n.k_sigma,
+            )
+            .verdict()
+        })),
+        None => check.verdict(),
+    }
+}
+
+/// The compensated block of the text: per reading, the verdicts before and after, every
+/// modelled source counted (`before_counted`: the main check's verdict of each reading, the
+/// noise counted).
+#[must_use]
+pub fn compensated_text(
+    checks: &[(EndToEnd, TurntableCheck)],
+    c: &Compensated,
+    before_counted: &[Verdict],
+) -> String {
     let mut s = String::from(
-        "\ncompensated (the study's measured errors are known inputs of the chain; the bound that matters is their measurement uncertainty):\n",
+        "\ncompensated (the study's measured errors are known inputs of the chain; the bound that matters is their measurement uncertainty, or the sheet's bound plus the measured value's magnitude when that is smaller):\n",
     );
-    for (((e2e, before), after), aa) in checks.iter().zip(&c.checks).zip(&c.angle.readings) {
+    for n in &c.notes {
+        s.push_str(&format!("  note: {n}\n"));
+    }
+    let noise = c.angle.noise.as_ref();
+    for ((((e2e, before), after), aa), counted) in checks
+        .iter()
+        .zip(&c.checks)
+        .zip(&c.angle.readings)
+        .zip(before_counted)
+    {
         s.push_str(&format!("reading {}\n", e2e.reading()));
         for (o, a) in before.outputs().iter().zip(after.outputs()) {
             let out = e2e.calibration().outputs()[o.output()].output();
@@ -575,12 +804,24 @@ pub fn compensated_text(checks: &[(EndToEnd, TurntableCheck)], c: &Compensated) 
                 u = out.unit,
             ));
         }
-        s.push_str(&format!(
-            "  verdict before: {}; after compensation: {} (constant errors), {} (angle-dependent errors)\n",
-            before.verdict().name(),
-            after.verdict().name(),
-            aa.verdict.name()
-        ));
+        match (noise, aa.table_verdict) {
+            (Some(n), Some(table)) => s.push_str(&format!(
+                "  verdict ({}): before {}; after compensation: {} (constant errors), {} (angle-dependent errors); table alone: before {}, after {} (constant errors), {} (angle-dependent errors)\n",
+                n.rule(),
+                counted.name(),
+                constant_counted(after, noise).name(),
+                aa.verdict.name(),
+                before.verdict().name(),
+                after.verdict().name(),
+                table.name(),
+            )),
+            _ => s.push_str(&format!(
+                "  verdict before: {}; after compensation: {} (constant errors), {} (angle-dependent errors)\n",
+                counted.name(),
+                after.verdict().name(),
+                aa.verdict.name()
+            )),
+        }
     }
     s
 }
@@ -759,15 +1000,22 @@ pub struct AngleOutputJson<'a> {
     second_order_bound: Option<f64>,
     /// The worst test position (index into the schedule).
     worst_position: usize,
-    /// The output's verdict.
+    /// The output's verdict, every modelled source counted.
     verdict: &'static str,
+    /// With the study's noise: the table's part alone; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    table_verdict: Option<&'static str>,
 }
 
 /// The angle-dependent check of one reading.
 #[derive(Debug, Serialize)]
 pub struct ReadingAngleJson<'a> {
-    /// The weakest output's verdict.
+    /// The weakest output's verdict, every modelled source counted (with the study's noise:
+    /// the table's part plus the noise's).
     verdict: &'static str,
+    /// With the study's noise: the table's part alone; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    table_verdict: Option<&'static str>,
     /// Yield, in [0, 1].
     #[serde(rename = "yield")]
     yield_fraction: f64,
@@ -789,6 +1037,7 @@ impl<'a> ReadingAngleJson<'a> {
     pub fn new(e2e: &'a EndToEnd, a: &'a ReadingAngle) -> Self {
         Self {
             verdict: a.verdict.name(),
+            table_verdict: a.table_verdict.map(Verdict::name),
             yield_fraction: a.yield_.fraction(),
             yield_interval_95: a.yield_.interval_95(),
             samples: a.yield_.samples(),
@@ -811,14 +1060,16 @@ impl<'a> ReadingAngleJson<'a> {
             outputs: a
                 .outputs
                 .iter()
-                .map(|o| AngleOutputJson {
+                .zip(&a.output_verdicts)
+                .map(|(o, counted)| AngleOutputJson {
                     name: &e2e.calibration().outputs()[o.output()].output().name,
                     worst_case_linear: o.linear_bound(),
                     worst_case_linear_constant_model: o.constant_linear_bound(),
                     worst_case_exact_at_worst: o.exact_at_worst(),
                     second_order_bound: o.second_order_bound(),
                     worst_position: o.position(),
-                    verdict: o.verdict().name(),
+                    verdict: counted.name(),
+                    table_verdict: a.table_verdict.map(|_| o.verdict().name()),
                 })
                 .collect(),
         }
@@ -901,8 +1152,11 @@ impl<'a> AngleCheckJson<'a> {
 pub struct CompensatedReadingJson<'a> {
     /// The reading of eq 13.
     reading: String,
-    /// The weakest output's verdict.
+    /// The weakest output's verdict (constant errors), every modelled source counted.
     verdict: &'static str,
+    /// With the study's noise: the table's part alone; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    table_verdict: Option<&'static str>,
     /// Every output's linearised worst case, output's unit.
     worst_case_linear: Vec<f64>,
     /// The angle-dependent check.
@@ -912,8 +1166,11 @@ pub struct CompensatedReadingJson<'a> {
 /// The `compensated` key of `check-turntable`.
 #[derive(Debug, Serialize)]
 pub struct CompensatedJson<'a> {
-    /// The box that matters (measured errors at their uncertainty), arcmin.
+    /// The box that matters (measured errors at their uncertainty, or at the sheet's bound
+    /// plus the measured value's largest magnitude when smaller), arcmin.
     tolerances_arcmin: ArcminBounds,
+    /// One sentence per measured error whose uncertainty exceeds the sheet's bound.
+    notes: &'a [String],
     /// Per reading.
     readings: Vec<CompensatedReadingJson<'a>>,
 }
@@ -925,13 +1182,15 @@ impl<'a> CompensatedJson<'a> {
         let names = checks[0].0.turntable().rotation_error_names();
         Self {
             tolerances_arcmin: arcmin_bounds(&names, &c.ub_rad),
+            notes: &c.notes,
             readings: checks
                 .iter()
                 .zip(&c.checks)
                 .zip(&c.angle.readings)
                 .map(|(((e2e, _), k), a)| CompensatedReadingJson {
                     reading: e2e.reading().to_string(),
-                    verdict: k.verdict().name(),
+                    verdict: constant_counted(k, c.angle.noise.as_ref()).name(),
+                    table_verdict: c.angle.noise.as_ref().map(|_| k.verdict().name()),
                     worst_case_linear: k
                         .outputs()
                         .iter()

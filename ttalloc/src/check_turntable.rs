@@ -13,8 +13,10 @@
 //! and the noise's ("table 0.0061, noise 0.0047 at 3 sigma", `--k-sigma`, default 3): the
 //! verdict counts both (JSON `verdict`; `table_verdict` is the table's alone), every output
 //! gets `table_part`, `noise_sigma` and `combined` (the unit of `accuracy`), and the yield
-//! over turntables and noise is given with its interval (`combined_yield`). A study without
-//! noise gets exactly today's answer.
+//! over turntables and noise is given with its interval (`combined_yield`). The
+//! angle-dependent and the compensated sections count the same noise part in their verdicts
+//! (the rule stated in the verdict's sentence; JSON `verdict`, with `table_verdict` the
+//! table's alone). A study without noise gets exactly today's answer.
 
 use crate::InputError;
 use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, Split, arcmin_bounds};
@@ -459,6 +461,8 @@ pub fn noisy_checks(
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::study::load(args.study.as_deref())?;
     let tol = Tolerances::load(&args.tolerances, &s.turntable).map_err(InputError::from)?;
+    // a measured table outside the sheet is refused before any computation
+    crate::angle::measured_against_sheet(&s, &tol)?;
     let e2e = crate::end_to_end::simulator(&s)?;
     let settings = McSettings::new(
         args.samples.unwrap_or(s.monte_carlo.samples),
@@ -485,8 +489,25 @@ pub fn run(args: &Args) -> Result<()> {
     if e2e.has_rate_steps() {
         return run_with_rate_steps(args, &s, &tol, &checks, &noisy, &lb, &settings);
     }
-    let angle = crate::angle::check(&s, &checks, &tol, settings.samples, settings.seed, true)?;
-    let compensated = crate::angle::compensated(&s, &checks, &tol, &settings)?;
+    let noise = noisy.first().map(|n| crate::angle::NoisePart {
+        sigma: n.outputs.iter().map(CombinedOutput::noise_sigma).collect(),
+        k_sigma: args.k_sigma,
+    });
+    let angle = crate::angle::check(
+        &s,
+        &checks,
+        &tol,
+        settings.samples,
+        settings.seed,
+        true,
+        noise.as_ref(),
+    )?;
+    let compensated = crate::angle::compensated(&s, &checks, &tol, &settings, noise.as_ref())?;
+    let counted: Vec<Verdict> = checks
+        .iter()
+        .enumerate()
+        .map(|(i, (_, c))| noisy.get(i).map_or(c.verdict(), |n| n.verdict))
+        .collect();
     if args.json {
         let mut v = CheckJson::new(&checks, &tol, &noisy);
         v.angle_dependent = Some(crate::angle::AngleCheckJson::new(&checks, &angle));
@@ -505,12 +526,12 @@ pub fn run(args: &Args) -> Result<()> {
         text.push_str(
             "\nerrors that vary with the shaft angle, same tolerances over the whole revolution:\n",
         );
-        for ((e2e, c), a) in checks.iter().zip(&angle.readings) {
+        for (((e2e, c), a), v) in checks.iter().zip(&angle.readings).zip(&counted) {
             text.push_str(&format!("reading {}\n", e2e.reading()));
-            text.push_str(&crate::angle::text(e2e, c, a, &angle));
+            text.push_str(&crate::angle::text(e2e, c, *v, a, &angle));
         }
         if let Some(c) = &compensated {
-            text.push_str(&crate::angle::compensated_text(&checks, c));
+            text.push_str(&crate::angle::compensated_text(&checks, c, &counted));
         }
         crate::out::print(&text)
     }

@@ -1180,7 +1180,7 @@ pub fn to_text(
                 .collect();
             let (lo, hi) = b.distribution().yield_interval_95();
             format!(
-                "  {:<14} J = {:>9} arcmin^-2  worst case {} (meets every accuracy: {})  yield {:.2}% [{:.2}, {:.2}]\n",
+                "  {:<14} J = {:>9} arcmin^-2  worst case {} (meets every accuracy: {})  yield {:.2}% [{:.2}%, {:.2}%]\n",
                 b.name(),
                 num(objective_to_arcmin(b.objective())),
                 worst.join(", "),

@@ -13,7 +13,14 @@
 //! ordinary calibration and with the joint estimator (Gauss-Newton on the exact chain from
 //! noiseless outputs).
 //!
-//! JSON: `reading`, `rank`, `columns`, `coefficients`, `table_rank`, `rank_rtol`,
+//! When the study's errors vary with a shaft angle (`turntable.factors[i].varies`), every
+//! answer is of the study's model, as `end-to-end` allocates it: the joint parameters are the
+//! coefficients of each error's expansion (`dphi_y1.c0`, `dphi_y1.a1`, `dphi_y1.b1`, ...), the
+//! allocations bound each error over the whole revolution and the box's worst turntable is the
+//! model's worst coefficients; the text names the model.
+//!
+//! JSON: `reading`, `model` (`{error: "constant" | "harmonics [1, 2] of phi1" | ...}`),
+//! `parameters` (`errors` or `coefficients`: what `errors` and the combinations name), `rank`, `columns`, `coefficients`, `table_rank`, `rank_rtol`,
 //! `singular_values_relative`, `estimable` and `invisible` (`[{"combination", "terms":
 //! {error: coefficient}}]`), `errors` (`[{"name", "status"}]`, status `alone`, `combined` or
 //! `invisible`), `allocation` (`ordinary` and `joint`: `objective_arcmin` (`null` when no
@@ -33,6 +40,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use study::Study;
 use study::fmt::{num, sig};
+use tt_kinematics::{ErrorVariation, Expansion};
 
 /// Gauss-Newton steps of the joint estimator at the box's worst turntable (it converges
 /// quadratically: 1e-4 rad to rounding in about four).
@@ -68,7 +76,11 @@ pub struct BoxRates {
 pub struct Estimable {
     /// The user's-reading simulator.
     pub e2e: EndToEnd,
-    /// The estimability.
+    /// The study's model of errors that vary with a shaft angle (`turntable.factors[i].varies`),
+    /// `None` when every error is constant: the joint parameters are then its coefficients
+    /// and every allocation and worst case is of that model.
+    pub model: Option<Vec<ErrorVariation>>,
+    /// The estimability (parameters: the errors, or the model's coefficients).
     pub est: JointEstimability,
     /// The direct allocation, ordinary calibration.
     pub ordinary: DirectAllocation,
@@ -84,28 +96,32 @@ pub struct Estimable {
 /// An [`InputError`] naming the study for what its data make impossible (infeasible lower
 /// bounds); a library failure otherwise.
 pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
+    if s.has_rate_steps() {
+        return Err(InputError::new(
+            format!("{}: key `calibration.rate_steps`", s.path),
+            format!(
+                "the study has {} rate step{}, and the joint estimation of table errors takes static positions only: ask it of a copy of the study without `[[calibration.rate_steps]]`",
+                s.rate_steps.len(),
+                if s.rate_steps.len() == 1 { "" } else { "s" }
+            ),
+        )
+        .into());
+    }
     let e2e = crate::end_to_end::simulator(s)?
         .with_reading(Reading::USER)
         .map_err(|e| crate::input::library(e, s))?;
-    let est = e2e
-        .estimability()
-        .map_err(|e| crate::input::library(e, s))?;
+    if s.has_angle_dependent_errors() {
+        return compute_angle(s, e2e, ub_rad);
+    }
+    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let est = e2e.estimability().map_err(lib)?;
     let ordinary = e2e
         .allocate_direct(&e2e.linearization(), &s.lower_bounds_rad)
-        .map_err(|e| crate::input::library(e, s))?;
-    let lj = e2e
-        .linearization_joint(&est)
-        .map_err(|e| crate::input::library(e, s))?;
-    let joint = e2e
-        .allocate_direct(&lj, &s.lower_bounds_rad)
-        .map_err(|e| crate::input::library(e, s))?;
-    let (source, ub) = match ub_rad {
-        Some(u) => ("tolerances", u.to_vec()),
-        None => ("direct-allocation", ordinary.upper_bounds_rad().to_vec()),
-    };
-    let wc = e2e
-        .worst_case(&e2e.linearization(), &ub)
-        .map_err(|e| crate::input::library(e, s))?;
+        .map_err(lib)?;
+    let lj = e2e.linearization_joint(&est).map_err(lib)?;
+    let joint = e2e.allocate_direct(&lj, &s.lower_bounds_rad).map_err(lib)?;
+    let ub = box_of(ub_rad, &ordinary);
+    let wc = e2e.worst_case(&e2e.linearization(), &ub.1).map_err(lib)?;
     let rates = wc
         .outputs()
         .iter()
@@ -116,7 +132,28 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
             Ok((plain, joint))
         })
         .collect::<Result<Vec<_>, e2e_verify::E2eError>>()
-        .map_err(|e| crate::input::library(e, s))?;
+        .map_err(lib)?;
+    finish(e2e, None, est, ordinary, joint, ub.0, rates)
+}
+
+/// The box whose worst turntable is calibrated both ways: the sheet's, else the ordinary
+/// direct allocation's.
+fn box_of(ub_rad: Option<&[f64]>, ordinary: &DirectAllocation) -> (&'static str, Vec<f64>) {
+    match ub_rad {
+        Some(u) => ("tolerances", u.to_vec()),
+        None => ("direct-allocation", ordinary.upper_bounds_rad().to_vec()),
+    }
+}
+
+fn finish(
+    e2e: EndToEnd,
+    model: Option<Vec<ErrorVariation>>,
+    est: JointEstimability,
+    ordinary: DirectAllocation,
+    joint: DirectAllocation,
+    source: &'static str,
+    rates: Vec<(f64, f64)>,
+) -> Result<Estimable> {
     for (p, j) in &rates {
         if !(p.is_finite() && j.is_finite()) {
             anyhow::bail!("the joint estimator gave a non-finite rate error");
@@ -124,11 +161,73 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
     }
     Ok(Estimable {
         e2e,
+        model,
         est,
         ordinary,
         joint,
         at_box: BoxRates { source, rates },
     })
+}
+
+/// [`compute`] under the study's angle-dependent model: the joint parameters are the
+/// coefficients of its expansion (each error's constant and harmonic coefficients, or its
+/// value at each angle of the schedule), the allocations are of that model (each error bounded
+/// over the whole revolution, as `end-to-end` allocates it) and the box's worst turntable is
+/// the model's worst coefficients.
+fn compute_angle(s: &Study, e2e: EndToEnd, ub_rad: Option<&[f64]>) -> Result<Estimable> {
+    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let ex = Expansion::new(e2e.turntable(), &s.variations, e2e.poses())
+        .map_err(|e| crate::input::library(e, s))?;
+    let est = e2e.estimability_expanded(&ex).map_err(lib)?;
+    let al = e2e.angle_linearization(&ex).map_err(lib)?;
+    let lb = &s.lower_bounds_rad;
+    let ordinary = e2e.allocate_direct(&al.reduced, lb).map_err(lib)?;
+    let lj = e2e.linearization_joint_expanded(&ex, &est).map_err(lib)?;
+    let joint = e2e.allocate_direct(&lj.reduced, lb).map_err(lib)?;
+    let ub = box_of(ub_rad, &ordinary);
+    let wc = e2e
+        .angle_worst_case(&ex, &al, &e2e.linearization(), &ub.1)
+        .map_err(lib)?;
+    let rates = wc
+        .iter()
+        .map(|o| {
+            let joint = e2e.joint_delta_omega_expanded(
+                &ex,
+                o.worst_coefficients(),
+                &est,
+                JOINT_ITERATIONS,
+            )?[o.output()];
+            Ok((o.exact_at_worst(), joint))
+        })
+        .collect::<Result<Vec<_>, e2e_verify::E2eError>>()
+        .map_err(lib)?;
+    finish(
+        e2e,
+        Some(s.variations.clone()),
+        est,
+        ordinary,
+        joint,
+        ub.0,
+        rates,
+    )
+}
+
+/// The study's error model in words when it is not every error constant: `the study's
+/// angle-dependent model (dphi_y1 harmonics [1, 2] of phi1, ..., deps_x constant)`.
+#[must_use]
+pub fn model_words(a: &Estimable) -> Option<String> {
+    let model = a.model.as_ref()?;
+    let names = a.e2e.turntable().rotation_error_names();
+    let each: Vec<String> = names
+        .iter()
+        .zip(model)
+        .map(|(n, v)| format!("{n} {}", crate::angle_alloc::model_name(v)))
+        .collect();
+    Some(format!(
+        "the study's angle-dependent model ({}; each error bounded over the whole revolution): the joint parameters are its {} coefficients (c0 the constant, a_k and b_k the order-k cosine and sine)",
+        each.join(", "),
+        a.est.names().len()
+    ))
 }
 
 /// A combination of errors, in words and by term.
@@ -220,6 +319,13 @@ pub struct EstimableJson<'a> {
     study: &'a str,
     /// The reading (the user's: outputs at the actual orientation).
     reading: String,
+    /// Each error's model in words (`constant`, `harmonics [1, 2] of phi1`, `any of phi1`):
+    /// the study's; every answer below is of that model.
+    model: BTreeMap<String, String>,
+    /// `errors` (every error constant: one parameter per error) or `coefficients` (the
+    /// study's angle-dependent model: the parameters are its coefficients, named
+    /// `error.c0`, `error.a1`, `error.b1`, ...).
+    parameters: &'static str,
     /// The joint Jacobian's rank.
     rank: usize,
     /// Its columns (coefficients and table errors).
@@ -236,7 +342,8 @@ pub struct EstimableJson<'a> {
     estimable: Vec<CombinationJson>,
     /// The invisible combinations.
     invisible: Vec<CombinationJson>,
-    /// Every error's status.
+    /// Every parameter's status (each error's, or each coefficient's of the study's
+    /// angle-dependent model).
     errors: Vec<ErrorStatusJson<'a>>,
     /// The direct allocations.
     allocation: AllocationsJson,
@@ -253,6 +360,16 @@ pub fn to_json<'a>(s: &'a Study, a: &'a Estimable) -> EstimableJson<'a> {
     EstimableJson {
         study: &s.path,
         reading: Reading::USER.to_string(),
+        model: names
+            .iter()
+            .zip(&s.variations)
+            .map(|(n, v)| ((*n).to_string(), crate::angle_alloc::model_name(v)))
+            .collect(),
+        parameters: if a.model.is_some() {
+            "coefficients"
+        } else {
+            "errors"
+        },
         rank: a.est.rank(),
         columns: a.est.columns(),
         coefficients: a.est.coefficients(),
@@ -276,7 +393,9 @@ pub fn to_json<'a>(s: &'a Study, a: &'a Estimable) -> EstimableJson<'a> {
             .iter()
             .map(CombinationJson::from)
             .collect(),
-        errors: names
+        errors: a
+            .est
+            .names()
             .iter()
             .zip(a.est.identifiability())
             .map(|(n, st)| ErrorStatusJson {
@@ -339,16 +458,22 @@ pub fn to_text(a: &Estimable) -> String {
     let names = a.e2e.turntable().rotation_error_names();
     let est = &a.est;
     let reference = est.reference();
+    let params = est.names().len();
     let mut t = String::new();
     t.push_str("joint least squares of the sensor coefficients and the table errors (outputs at the actual orientation: the user's reading)\n");
+    let what = match model_words(a) {
+        Some(m) => {
+            t.push_str(&format!("error model: {m}\n"));
+            format!("{params} coefficients of {} table errors", names.len())
+        }
+        None => format!("{params} table errors"),
+    };
     t.push_str(&format!(
-        "rank of the joint Jacobian: {} of {} ({} sensor coefficients + {} table errors; table part {} of {})\n",
+        "rank of the joint Jacobian: {} of {} ({} sensor coefficients + {what}; table part {} of {params})\n",
         est.rank(),
         est.columns(),
         est.coefficients(),
-        names.len(),
         est.table_rank(),
-        names.len()
     ));
     let sv: Vec<String> = est
         .singular_values()
@@ -373,17 +498,24 @@ pub fn to_text(a: &Estimable) -> String {
     for c in &n {
         t.push_str(&format!("  {c}\n"));
     }
-    let status: Vec<String> = names
+    let status: Vec<String> = est
+        .names()
         .iter()
         .zip(est.identifiability())
         .map(|(n, s)| format!("{n} {}", s.name()))
         .collect();
+    let model = if a.model.is_some() {
+        "the study's angle-dependent model, "
+    } else {
+        ""
+    };
     t.push_str(&format!(
-        "each error (alone: estimable by itself; combined: only in a combination; invisible: not at all): {}\n",
+        "each {} (alone: estimable by itself; combined: only in a combination; invisible: not at all): {}\n",
+        if a.model.is_some() { "coefficient" } else { "error" },
         status.join(", ")
     ));
     t.push_str(&format!(
-        "direct allocation (user's reading, first order), ordinary calibration: {}\n",
+        "direct allocation (user's reading, {model}first order), ordinary calibration: {}\n",
         allocation_line(&names, &a.ordinary)
     ));
     t.push_str(&format!(
@@ -395,7 +527,7 @@ pub fn to_text(a: &Estimable) -> String {
         _ => "the ordinary direct allocation's",
     };
     t.push_str(&format!(
-        "at {what} worst turntable (exact chain, noiseless sensor; joint: Gauss-Newton, {JOINT_ITERATIONS} steps):\n"
+        "at {what} worst turntable ({model}exact chain, noiseless sensor; joint: Gauss-Newton, {JOINT_ITERATIONS} steps):\n"
     ));
     for (oc, (p, j)) in a.e2e.calibration().outputs().iter().zip(&a.at_box.rates) {
         let o = oc.output();

@@ -189,10 +189,10 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
     }
     let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
     s.push_str(&format!(
-        "  yield over both boxes {}% [{}, {}] of {} turntables; verdict with the rate errors: {}\n",
-        num(100.0 * c.meets as f64 / c.samples as f64),
-        num(100.0 * lo),
-        num(100.0 * hi),
+        "  yield over both boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables; verdict with the rate errors: {}\n",
+        100.0 * c.meets as f64 / c.samples as f64,
+        100.0 * lo,
+        100.0 * hi,
         c.samples,
         if c.meets_every_accuracy(e2e) {
             "meets every accuracy"
@@ -344,10 +344,10 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
     }
     let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
     s.push_str(&format!(
-        "  yield over both allocated boxes {}% [{}, {}] of {} turntables (exact chain at random points)\n",
-        num(100.0 * r.meets as f64 / r.samples as f64),
-        num(100.0 * lo),
-        num(100.0 * hi),
+        "  yield over both allocated boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables (exact chain at random points)\n",
+        100.0 * r.meets as f64 / r.samples as f64,
+        100.0 * lo,
+        100.0 * hi,
         r.samples
     ));
     s.push_str(&format!(

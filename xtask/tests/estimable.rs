@@ -153,3 +153,58 @@ fn a_study_with_rate_steps_is_refused_by_estimable_and_noted_by_the_report() {
             .contains("static positions only")
     );
 }
+
+/// Relative agreement of two runs of one computation (the same direct allocation of the same
+/// reduced model in two commands; dimensionless).
+const SAME_COMPUTATION_RTOL: f64 = 1e-12;
+
+/// Issue 32 item 1: on the harmonic-errors study `estimable` answered with the constant model
+/// (J = 310.7, "no bound needed") while `end-to-end` allocates under the study's harmonic
+/// model (597.92). The joint parameters are now the model's coefficients (32 of 8 errors),
+/// the ordinary direct allocation is `end-to-end`'s under the user's reading, the JSON and
+/// the text name the model. Failed before the fix (`model` absent, J 310.7).
+#[test]
+fn estimable_on_the_harmonic_study_uses_the_study_s_harmonic_model_as_end_to_end_does() {
+    let study = "studies/gyrowheel-2017-harmonic-errors.toml";
+    let v = json(&["estimable", "--study", study, "--json"]);
+    assert_eq!(v["model"]["dphi_y1"], "harmonics [1, 2] of phi1");
+    assert_eq!(v["model"]["deps_x"], "constant");
+    assert_eq!(v["parameters"], "coefficients");
+    let errors = v["errors"].as_array().unwrap();
+    // six errors with orders 1 and 2 (c0, a1, b1, a2, b2) and two constants
+    assert_eq!(errors.len(), 6 * 5 + 2);
+    assert_eq!(errors[0]["name"], "dphi_y1.c0");
+    assert_eq!(v["columns"], 14 + 32);
+    let e2e = json(&[
+        "end-to-end",
+        "--study",
+        study,
+        "--samples",
+        "1500",
+        "--json",
+    ]);
+    let user = e2e["angle_dependent"]["readings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["reading"] == "actual/beta1/printed")
+        .expect("the user's reading");
+    let j_e2e = num(&user["direct"]["objective_arcmin"]);
+    let j_est = num(&v["allocation"]["ordinary"]["objective_arcmin"]);
+    approx::assert_relative_eq!(j_est, j_e2e, max_relative = SAME_COMPUTATION_RTOL);
+    assert!(j_e2e > 590.0 && j_e2e < 600.0, "{j_e2e}");
+    let out = run(&["estimable", "--study", study]);
+    assert!(out.status.success());
+    let t = stdout(&out);
+    assert!(
+        t.contains(
+            "error model: the study's angle-dependent model (dphi_y1 harmonics [1, 2] of phi1"
+        ),
+        "{t}"
+    );
+    assert!(
+        t.contains("ordinary calibration: J = 597.92 arcmin^-2"),
+        "{t}"
+    );
+    assert!(!t.contains("310.7"), "{t}");
+}

@@ -370,3 +370,148 @@ fn colliding_calibration_error_columns_are_refused() {
         ],
     );
 }
+
+/// The longest number a message may show (characters): `1.7976931348623157e308` and a sign.
+const LONGEST_NUMBER_CHARS: usize = 24;
+
+/// Whether `text` holds a run of digits longer than any number written in shortest form.
+fn has_a_long_number(text: &str) -> bool {
+    text.split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .any(|w| w.len() > LONGEST_NUMBER_CHARS)
+}
+
+/// `text` with the first line starting with `key =` replaced by `key = value`.
+fn with_key(text: &str, key: &str, value: &str) -> String {
+    let mut done = false;
+    let out: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if !done && l.trim_start().starts_with(&format!("{key} =")) {
+                done = true;
+                format!("{key} = {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    assert!(done, "{key} not found");
+    out.join("\n") + "\n"
+}
+
+/// Issue 32 item 4, timing: `dwell_s = 1e-300` printed a 300-digit number, and
+/// `sample_rate_hz = 1e-300` blamed `dwell_s` with two 300-digit numbers. Now the values are
+/// quoted as written, and a sample rate at which no accepted dwell holds a sample is blamed
+/// on `sample_rate_hz`. Failed before the fix.
+#[test]
+fn timing_messages_quote_the_values_as_written_and_blame_the_right_key() {
+    let dir = scratch("timing-messages");
+    let text = study_text("gyrowheel-2017-noise-assumed");
+    let dwell = common::write(&dir, "dwell.toml", &with_key(&text, "dwell_s", "1e-300"));
+    let o = run(&["end-to-end", "--study", dwell.to_str().unwrap()]);
+    assert_input_error(
+        &o,
+        &[
+            "calibration.timing.dwell_s",
+            "1e-300 s",
+            "sample_rate_hz = 100 Hz",
+        ],
+    );
+    assert!(!has_a_long_number(&stderr(&o)), "{}", stderr(&o));
+    let rate = common::write(
+        &dir,
+        "rate.toml",
+        &with_key(&text, "sample_rate_hz", "1e-300"),
+    );
+    let o = run(&["end-to-end", "--study", rate.to_str().unwrap()]);
+    assert_input_error(&o, &["calibration.timing.sample_rate_hz", "1e-300 Hz"]);
+    assert!(!stderr(&o).contains("dwell_s`"), "{}", stderr(&o));
+    assert!(!has_a_long_number(&stderr(&o)), "{}", stderr(&o));
+}
+
+/// Issue 32 item 4, rate steps: `rate_deg_per_s = 5e-324` named `angles_deg` and said
+/// "rate_rad_per_s = 0 is outside non-zero"; a rate above the limit quoted the limit rounded
+/// (`300.00000000000006 deg/s is above the rate limit (300 deg/s)` where the limit was
+/// written otherwise); `estimable` on a rate study said "calibration.rate_steps = 6 is outside
+/// no rate step". Each now names the key with the value as written in a sentence. Failed
+/// before the fix.
+#[test]
+fn rate_step_messages_name_the_rate_as_written_in_clear_sentences() {
+    let dir = scratch("rate-messages");
+    let text = study_text("tactical-rate-table-example");
+    let tiny = common::write(
+        &dir,
+        "tiny.toml",
+        &with_key(&text, "rate_deg_per_s", "5e-324"),
+    );
+    let o = run(&["end-to-end", "--study", tiny.to_str().unwrap()]);
+    assert_input_error(
+        &o,
+        &["calibration.rate_steps[0].rate_deg_per_s", "found 5e-324"],
+    );
+    assert!(!stderr(&o).contains("angles_deg"), "{}", stderr(&o));
+    let limit = text.replace("phi_o = 300.0,", "phi_o = 299.9999999999999,");
+    assert_ne!(limit, text);
+    let o = run(&[
+        "design-schedule",
+        "--study",
+        common::write(&dir, "limit.toml", &limit).to_str().unwrap(),
+        "--rates-deg-per-s",
+        "299.99999999999994",
+    ]);
+    assert_input_error(
+        &o,
+        &["299.99999999999994 deg/s", "(299.9999999999999 deg/s"],
+    );
+    let o = run(&[
+        "estimable",
+        "--study",
+        "studies/tactical-rate-table-example.toml",
+    ]);
+    assert_input_error(
+        &o,
+        &[
+            "calibration.rate_steps",
+            "the study has 6 rate steps",
+            "static positions only",
+        ],
+    );
+    assert!(!stderr(&o).contains("is outside"), "{}", stderr(&o));
+}
+
+/// Issue 32 item 4, sheets: `convention = "one-sigma"` made 36,000" a 30 degree bound, beyond
+/// the documented 10 degrees. The bound after the convention is checked, naming the key and
+/// the convention. Failed before the fix (exit 0).
+#[test]
+fn a_sheet_convention_cannot_lift_a_bound_past_the_documented_maximum() {
+    let dir = scratch("convention");
+    let sheet = common::write(
+        &dir,
+        "s.toml",
+        "convention = \"one-sigma\"\n[tolerances_arcmin]\ndphi_y1 = 600\ndphi_z2 = 0.78\ndalpha_x1 = 0.4234\ndalpha_z1 = 0.78\ndalpha_x2 = 0.2825\ndalpha_y2 = 0.2824\ndeps_x = 0.4234\ndeps_y = 0.4233\n",
+    );
+    let o = run(&["check-turntable", "--tolerances", sheet.to_str().unwrap()]);
+    assert_input_error(
+        &o,
+        &[
+            "tolerances_arcmin.dphi_y1",
+            "600 arcmin read as `convention` = \"one-sigma\" bounds the error by 1800 arcmin",
+            "600 arcmin",
+        ],
+    );
+}
+
+/// Issue 32 item 4, numbers: `allocate --safety-margin 0.9999999999999999` printed `0.0000`
+/// for bounds of 1e-16 arcmin; bounds are printed with significant digits. Failed before the
+/// fix.
+#[test]
+fn allocate_prints_tiny_bounds_with_significant_digits() {
+    let o = run(&["allocate", "--safety-margin", "0.9999999999999999"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = stdout(&o);
+    let row = t
+        .lines()
+        .find(|l| l.starts_with("dphi_y1 "))
+        .expect("the bounds' table");
+    assert!(!row.contains("0.0000"), "{row}");
+    assert!(row.contains("e-"), "{row}");
+}

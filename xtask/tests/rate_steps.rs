@@ -83,12 +83,9 @@ fn negative_or_missing_rate_tolerances_exit_2_naming_the_key() {
     assert_input_error(&o, &["tolerances_ppm.phi_i_rate_ripple"]);
 }
 
-/// `check-turntable` with rate steps: the rate accuracy of 100 ppm leaves 100 ppm of the
-/// 60 deg/s steps (21.6 deg/h) on the gyros, which fails their 10 deg/h; the verdict and each
-/// extra error's part are in the JSON.
-#[test]
-fn check_turntable_counts_the_rate_accuracy_at_rate_steps() {
-    let v = json(&[
+/// `check-turntable` of the rate study against its sheet (2,000 turntables), text or JSON.
+fn check_args(json: bool) -> Vec<String> {
+    let mut a: Vec<String> = [
         "check-turntable",
         "--study",
         &study(STUDY),
@@ -96,8 +93,26 @@ fn check_turntable_counts_the_rate_accuracy_at_rate_steps() {
         SHEET,
         "--samples",
         "2000",
-        "--json",
-    ]);
+    ]
+    .map(String::from)
+    .to_vec();
+    if json {
+        a.push("--json".into());
+    }
+    a
+}
+
+/// `check-turntable` with rate steps: the rate accuracy of 100 ppm leaves 100 ppm of the
+/// 60 deg/s steps (21.6 deg/h) on the gyros, which fails their 10 deg/h; the verdict and each
+/// extra error's part are in the JSON.
+#[test]
+fn check_turntable_counts_the_rate_accuracy_at_rate_steps() {
+    let v = json(
+        &check_args(true)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
     let r = &v["rate_steps"][0];
     assert_eq!(r["verdict"], "does not meet");
     let gx = &r["outputs"][0];
@@ -106,6 +121,39 @@ fn check_turntable_counts_the_rate_accuracy_at_rate_steps() {
     let extra = common::num(&gx["extra_part"]);
     approx::assert_relative_eq!(extra, 21.6, max_relative = 1e-3);
     assert!(common::num(&gx["linear_bound"]) >= extra);
+}
+
+/// Issue 32 item 4: the rate check's yield interval was printed as "9.16% [8.6102, 9.74116]"
+/// (no unit, six digits); both ends now carry the percent and the yield's two decimals.
+/// Failed before the fix.
+#[test]
+fn the_rate_check_prints_its_yield_interval_in_percent_with_two_decimals() {
+    let o = common::run(
+        &check_args(false)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let t = common::stdout(&o);
+    let line = t
+        .lines()
+        .find(|l| l.contains("yield over both boxes"))
+        .expect("the rate check's yield");
+    let interval = line
+        .split_once('[')
+        .and_then(|(_, r)| r.split_once(']'))
+        .map(|(i, _)| i)
+        .expect("an interval");
+    for end in interval.split(", ") {
+        let (digits, pct) = end.split_at(end.len() - 1);
+        assert_eq!(pct, "%", "{line}");
+        assert_eq!(
+            digits.split_once('.').map(|(_, d)| d.len()),
+            Some(2),
+            "{line}"
+        );
+    }
 }
 
 /// `end-to-end` with rate steps: no two-step allocation (the requirement is static), a note

@@ -2149,9 +2149,15 @@ impl<'a> Sections<'a> {
             return;
         };
         let est = &a.est;
-        let names = c.study.turntable.rotation_error_names();
+        let names = est.names();
+        if let Some(m) = crate::estimable::model_words(a) {
+            self.doc.p(format!(
+                "Error model: {}; every answer below is of this model.",
+                doc::text(&m)
+            ));
+        }
         self.doc.p(format!(
-            "A joint least squares of the sensor coefficients and the table errors from the same data (outputs simulated at the actual orientation, the user's reading): the joint Jacobian at zero table error has rank {} of {} ({} coefficients and {} errors; singular values of the table part counted above {} of the largest raw effect, rows weighted by 1/accuracy). {} combinations of the errors are estimable with the coefficients; {} are not: their effect lies in the sensor's columns, the calibration absorbs it.",
+            "A joint least squares of the sensor coefficients and the table errors from the same data (outputs simulated at the actual orientation, the user's reading): the joint Jacobian at zero table error has rank {} of {} ({} coefficients and {} table parameters; singular values of the table part counted above {} of the largest raw effect, rows weighted by 1/accuracy). {} combinations of the errors are estimable with the coefficients; {} are not: their effect lies in the sensor's columns, the calibration absorbs it.",
             est.rank(),
             est.columns(),
             est.coefficients(),
