@@ -165,6 +165,37 @@ impl Regression {
         &self.pinv
     }
 
+    /// The weighted absolute row sums of the projector $\mathbf P = \mathbf A\mathbf A^+$ and
+    /// of $\mathbf I - \mathbf P$: for every row $i$, $\sum_j \lvert P_{ij}\rvert\,w_j$ and
+    /// $\sum_j \lvert\delta_{ij} - P_{ij}\rvert\,v_j$ (`w`, `v` one weight per row of
+    /// $\mathbf A$). Row by row, $P_{ij} = \mathbf a_i\cdot\mathbf A^+_{:,j}$: memory linear
+    /// in the positions (the $n \times n$ projector is never formed), time $O(n^2 k)$.
+    ///
+    /// # Panics
+    /// Debug assertion on the weights' lengths.
+    #[must_use]
+    pub fn projector_row_sums(&self, w: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (n, k) = self.a.shape();
+        debug_assert!(w.len() == n && v.len() == n);
+        let mut row = vec![0.0; k];
+        let (mut p_sums, mut ip_sums) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        for i in 0..n {
+            for (c, r) in row.iter_mut().enumerate() {
+                *r = self.a[(i, c)];
+            }
+            let (mut sp, mut sip) = (0.0, 0.0);
+            for (j, col) in self.pinv.column_iter().enumerate() {
+                let p: f64 = row.iter().zip(col.iter()).map(|(x, y)| x * y).sum();
+                sp += p.abs() * w[j];
+                let delta = if i == j { 1.0 } else { 0.0 };
+                sip += (delta - p).abs() * v[j];
+            }
+            p_sums.push(sp);
+            ip_sums.push(sip);
+        }
+        (p_sums, ip_sums)
+    }
+
     /// Numerical rank (always the column count for a constructed `Regression`).
     #[must_use]
     pub fn rank(&self) -> usize {
