@@ -107,6 +107,9 @@ pub struct Regression {
     rank: usize,
     condition_number: f64,
     singular_values: DVector<f64>,
+    /// $\lVert\mathbf P\rVert_\infty$ and $\lVert\mathbf I - \mathbf P\rVert_\infty$, computed
+    /// at the first use ([`Regression::projector_norms`]).
+    projector_norms: std::sync::OnceLock<(f64, f64)>,
 }
 
 impl Regression {
@@ -137,6 +140,20 @@ impl Regression {
             rank,
             condition_number,
             singular_values,
+            projector_norms: std::sync::OnceLock::new(),
+        })
+    }
+
+    /// $\lVert\mathbf P\rVert_\infty$ and $\lVert\mathbf I - \mathbf P\rVert_\infty$ of the
+    /// projector $\mathbf P = \mathbf A\mathbf A^+$ ([`Regression::projector_row_sums`] with
+    /// unit weights, their largest entries): $O(n^2 k)$ once per regression, then a look-up.
+    #[must_use]
+    pub fn projector_norms(&self) -> (f64, f64) {
+        *self.projector_norms.get_or_init(|| {
+            let ones = vec![1.0; self.a.nrows()];
+            let (p, ip) = self.projector_row_sums(&ones, &ones);
+            let max = |x: Vec<f64>| x.into_iter().fold(0.0, f64::max);
+            (max(p), max(ip))
         })
     }
 

@@ -708,13 +708,9 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         let rho_u = m.map(|v| rho * v);
         let remainder = |known: bool| terms_remainder(cal.output(), known, &m, &d, &rho_u);
         let (r_e, r_g) = (remainder(true), remainder(false));
-        // the infinity norms of P = A A^+ and I - P, row by row (never the n x n projector)
-        let norms = || {
-            let ones = vec![1.0; cal.regression().matrix().nrows()];
-            let (p, ip) = cal.regression().projector_row_sums(&ones, &ones);
-            let max = |x: Vec<f64>| x.into_iter().fold(0.0, f64::max);
-            (max(p), max(ip))
-        };
+        // the infinity norms of P = A A^+ and I - P, row by row (never the n x n projector),
+        // once per regression
+        let norms = || cal.regression().projector_norms();
         Ok(match (reading.outputs, reading.form) {
             (OutputsAt::Intended, ErrorForm::Printed) => Some(r_e),
             (OutputsAt::Intended, ErrorForm::NominalRate) => Some(0.0),
