@@ -459,6 +459,41 @@ impl Expansion {
         })
     }
 
+    /// The number of coefficients [`Expansion::new`] would give, counted without forming
+    /// the basis (an `any` error's is one value per position and distinct angle): a caller
+    /// refuses a model too large before it is built.
+    ///
+    /// # Errors
+    /// As [`Expansion::new`].
+    pub fn count_coefficients(
+        turntable: &Turntable,
+        variations: &[ErrorVariation],
+        poses: &[Pose],
+    ) -> Result<usize, KinematicsError> {
+        validate_variations(turntable, variations)?;
+        let mut total = 0usize;
+        for v in variations {
+            total += match v {
+                ErrorVariation::Constant => 1,
+                ErrorVariation::Harmonics { orders, .. } => 1 + 2 * orders.len(),
+                ErrorVariation::Any { joint } => {
+                    let j = turntable
+                        .joint_index(joint)
+                        .unwrap_or_else(|| unreachable!("validated"));
+                    let mut a = Vec::with_capacity(poses.len());
+                    for p in poses {
+                        crate::error::length("pose", turntable.n_joints(), p.angles_rad().len())?;
+                        a.push(wrap(p.angles_rad()[j]));
+                    }
+                    a.sort_by(f64::total_cmp);
+                    a.dedup_by(|x, y| (*x - *y).abs() <= SAME_ANGLE_RAD);
+                    a.len()
+                }
+            };
+        }
+        Ok(total)
+    }
+
     /// The groups, order of $\chi$.
     #[must_use]
     pub fn groups(&self) -> &[BoundGroup] {

@@ -133,9 +133,12 @@ pub struct AngleCheck {
 /// # Errors
 /// The refusal; a library error located in the study.
 pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Result<Expansion> {
-    let ex = Expansion::new(sim.turntable(), variations, sim.poses())
+    let coefficients = Expansion::count_coefficients(sim.turntable(), variations, sim.poses())
         .map_err(|e| crate::input::library(e, s))?;
-    let values = sim.expanded_values(&ex);
+    let values = sim
+        .n_outputs()
+        .saturating_mul(sim.len())
+        .saturating_mul(coefficients);
     let max = e2e_verify::angle::MAX_EXPANDED_VALUES;
     if values > max {
         return Err(crate::input::InputError::new(
@@ -143,15 +146,16 @@ pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Re
             format!(
                 "{} test positions give the angle-dependent model {} coefficients (one per distinct angle of each shaft for an `any` error): {} outputs x {} x {} = {values} values, at most {max} are accepted; repeat the shafts' angles (a grid) or use fewer positions",
                 sim.len(),
-                ex.n_coefficients(),
+                coefficients,
                 sim.n_outputs(),
                 sim.len(),
-                ex.n_coefficients(),
+                coefficients,
             ),
         )
         .into());
     }
-    Ok(ex)
+    Expansion::new(sim.turntable(), variations, sim.poses())
+        .map_err(|e| crate::input::library(e, s))
 }
 
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor

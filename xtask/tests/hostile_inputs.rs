@@ -405,3 +405,51 @@ fn a_sample_count_above_the_limit_is_refused_at_once_by_the_key_written() {
         assert_input_error(&o, &["--samples", "from 1 to 1e10"]);
     }
 }
+
+/// An angle-dependent model too large for its limit is refused at once, naming the positions
+/// key, the count and the limit (issue 32: `check-turntable` with 400 positions at distinct
+/// angles ran past 120 s; its `any` model holds a coefficient per distinct shaft angle, so it
+/// grows as positions times distinct angles).
+#[test]
+fn a_schedule_at_too_many_distinct_angles_is_refused_by_check_turntable() {
+    let text = study_text("gyrowheel-2017");
+    let start = text.find("positions_deg = [").unwrap();
+    let end = start + text[start..].find("\n]\n").unwrap() + 3;
+    let positions: Vec<String> = (0..2000)
+        .map(|k| {
+            format!(
+                "[{}, {}]",
+                0.18 * f64::from(k),
+                (137.5 * f64::from(k)) % 360.0
+            )
+        })
+        .collect();
+    let study = format!(
+        "{}positions_deg = [{}]\n{}",
+        &text[..start],
+        positions.join(","),
+        &text[end..]
+    );
+    let dir = scratch("distinct");
+    let path = common::write(&dir, "distinct.toml", &study);
+    let o = run_within(
+        &[
+            "check-turntable",
+            "--study",
+            path.to_str().unwrap(),
+            "--tolerances",
+            "studies/tolerances/table4.toml",
+            "--samples",
+            "1500",
+        ],
+        PROMPT_S,
+    );
+    assert_input_error(
+        &o,
+        &[
+            "key `calibration.positions_deg`",
+            "2000 test positions",
+            "at most 25000000",
+        ],
+    );
+}
