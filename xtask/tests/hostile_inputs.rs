@@ -412,9 +412,6 @@ fn a_sample_count_above_the_limit_is_refused_at_once_by_the_key_written() {
 /// grows as positions times distinct angles).
 #[test]
 fn a_schedule_at_too_many_distinct_angles_is_refused_by_check_turntable() {
-    let text = study_text("gyrowheel-2017");
-    let start = text.find("positions_deg = [").unwrap();
-    let end = start + text[start..].find("\n]\n").unwrap() + 3;
     let positions: Vec<String> = (0..2000)
         .map(|k| {
             format!(
@@ -424,12 +421,7 @@ fn a_schedule_at_too_many_distinct_angles_is_refused_by_check_turntable() {
             )
         })
         .collect();
-    let study = format!(
-        "{}positions_deg = [{}]\n{}",
-        &text[..start],
-        positions.join(","),
-        &text[end..]
-    );
+    let study = common::paper_study_with_positions(&positions);
     let dir = scratch("distinct");
     let path = common::write(&dir, "distinct.toml", &study);
     let o = run_within(

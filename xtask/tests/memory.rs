@@ -177,9 +177,6 @@ fn fuzz_memory_does_not_grow_with_the_case_count() {
 /// The paper's study with `n` test positions on a grid of its two shafts (about the square
 /// root of `n` angles each), written to `dir`.
 fn grid_study(dir: &Path, n: usize) -> std::path::PathBuf {
-    let text = common::study_text("gyrowheel-2017");
-    let start = text.find("positions_deg = [").unwrap();
-    let end = start + text[start..].find("\n]\n").unwrap() + 3;
     let a = (n as f64).sqrt() as usize;
     let b = n.div_ceil(a);
     let positions: Vec<String> = (0..n)
@@ -192,12 +189,7 @@ fn grid_study(dir: &Path, n: usize) -> std::path::PathBuf {
             )
         })
         .collect();
-    let text = format!(
-        "{}positions_deg = [{}]\n{}",
-        &text[..start],
-        positions.join(","),
-        &text[end..]
-    );
+    let text = common::paper_study_with_positions(&positions);
     common::write(dir, &format!("grid-{n}.toml"), &text)
 }
 
