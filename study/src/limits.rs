@@ -20,7 +20,7 @@
 //! | move time | $[0, 86\,400]$ s | a day |
 //! | sample rate | $(0, 10^{6}]$ Hz | inertial sensors sample at up to a few kHz |
 //! | study `name` | 1 to 64 of `A-Z a-z 0-9 . _ -`, first a letter or digit | it names the report directory (`target/report/<name>`): one safe path component on every system |
-//! | test positions | $[1, 10\,000]$ | a lab's schedule has tens to hundreds; every command's memory grows linearly with the count (measured at 10,000 on two shared cores: `requirement` 23 s 63 MB, `allocate` 24 s 56 MB, `mc` 37 s 55 MB, `estimable` 35 s 106 MB); the Monte Carlo commands (`end-to-end`, `check-turntable`, `report`) take time in samples times positions; the angle-dependent model at most `e2e_verify::angle::MAX_EXPANDED_VALUES` values (positions times distinct shaft angles, refused beyond naming `calibration.positions_deg`) |
+//! | test positions | $[1, 10\,000]$ | a lab's schedule has tens to hundreds; every command's memory grows linearly with the count (measured at 10,000 on two shared cores: `requirement` 23 s 63 MB, `allocate` 24 s 56 MB, `mc` 37 s 55 MB, `estimable` 35 s 106 MB); the Monte Carlo commands (`end-to-end`, `check-turntable`, `report`) take time in samples times positions (`end-to-end --samples 1500`: 8 s and 32 MB at 1,000 positions, 25 s and 64 MB at 3,000, about 5 µs per sample and position); the angle-dependent model at most `e2e_verify::angle::MAX_EXPANDED_VALUES` values (positions times distinct shaft angles, refused beyond naming `calibration.positions_deg`) |
 
 /// Latitude range, deg.
 pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
