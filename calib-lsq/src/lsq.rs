@@ -107,6 +107,9 @@ pub struct Regression {
     rank: usize,
     condition_number: f64,
     singular_values: DVector<f64>,
+    /// $\lVert\mathbf P\rVert_\infty$ and $\lVert\mathbf I - \mathbf P\rVert_\infty$, computed
+    /// at the first use ([`Regression::projector_norms`]).
+    projector_norms: std::sync::OnceLock<(f64, f64)>,
 }
 
 impl Regression {
@@ -137,6 +140,20 @@ impl Regression {
             rank,
             condition_number,
             singular_values,
+            projector_norms: std::sync::OnceLock::new(),
+        })
+    }
+
+    /// $\lVert\mathbf P\rVert_\infty$ and $\lVert\mathbf I - \mathbf P\rVert_\infty$ of the
+    /// projector $\mathbf P = \mathbf A\mathbf A^+$ ([`Regression::projector_row_sums`] with
+    /// unit weights, their largest entries): $O(n^2 k)$ once per regression, then a look-up.
+    #[must_use]
+    pub fn projector_norms(&self) -> (f64, f64) {
+        *self.projector_norms.get_or_init(|| {
+            let ones = vec![1.0; self.a.nrows()];
+            let (p, ip) = self.projector_row_sums(&ones, &ones);
+            let max = |x: Vec<f64>| x.into_iter().fold(0.0, f64::max);
+            (max(p), max(ip))
         })
     }
 
@@ -163,6 +180,37 @@ impl Regression {
     #[must_use]
     pub fn pinv(&self) -> &DMatrix<f64> {
         &self.pinv
+    }
+
+    /// The weighted absolute row sums of the projector $\mathbf P = \mathbf A\mathbf A^+$ and
+    /// of $\mathbf I - \mathbf P$: for every row $i$, $\sum_j \lvert P_{ij}\rvert\,w_j$ and
+    /// $\sum_j \lvert\delta_{ij} - P_{ij}\rvert\,v_j$ (`w`, `v` one weight per row of
+    /// $\mathbf A$). Row by row, $P_{ij} = \mathbf a_i\cdot\mathbf A^+_{:,j}$: memory linear
+    /// in the positions (the $n \times n$ projector is never formed), time $O(n^2 k)$.
+    ///
+    /// # Panics
+    /// Debug assertion on the weights' lengths.
+    #[must_use]
+    pub fn projector_row_sums(&self, w: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (n, k) = self.a.shape();
+        debug_assert!(w.len() == n && v.len() == n);
+        let mut row = vec![0.0; k];
+        let (mut p_sums, mut ip_sums) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        for i in 0..n {
+            for (c, r) in row.iter_mut().enumerate() {
+                *r = self.a[(i, c)];
+            }
+            let (mut sp, mut sip) = (0.0, 0.0);
+            for (j, col) in self.pinv.column_iter().enumerate() {
+                let p: f64 = row.iter().zip(col.iter()).map(|(x, y)| x * y).sum();
+                sp += p.abs() * w[j];
+                let delta = if i == j { 1.0 } else { 0.0 };
+                sip += (delta - p).abs() * v[j];
+            }
+            p_sums.push(sp);
+            ip_sums.push(sip);
+        }
+        (p_sums, ip_sums)
     }
 
     /// Numerical rank (always the column count for a constructed `Regression`).

@@ -273,6 +273,13 @@ pub const ANGLE_CHUNK: u64 = 1024;
 /// Chunks of the angle-dependent Monte Carlo evaluated per wave (memory: one wave's counts).
 const ANGLE_WAVE_CHUNKS: u64 = 64;
 
+/// Largest first-order model in the coefficients ([`EndToEnd::expanded_values`]): $2.5\times
+/// 10^7$ values, 200 MB. An `any` error has one coefficient per distinct angle of its shaft,
+/// so the model grows as positions times distinct angles: 10,000 positions on a grid of 100
+/// angles per shaft fit (the paper's table: $2 \times 10^4 \times 602$), about 1,400 at
+/// distinct angles.
+pub const MAX_EXPANDED_VALUES: usize = 25_000_000;
+
 pub(crate) fn check_expansion(e2e: &EndToEnd, e: &Expansion) -> Result<(), E2eError> {
     tt_core::length("expansion positions", e2e.len(), e.positions())
         .and_then(|()| tt_core::length("expansion errors", e2e.n_errors(), e.groups().len()))
@@ -280,6 +287,16 @@ pub(crate) fn check_expansion(e2e: &EndToEnd, e: &Expansion) -> Result<(), E2eEr
 }
 
 impl EndToEnd {
+    /// The values of the first-order model in the coefficients of `expansion`
+    /// ([`EndToEnd::linearization_expanded`]): outputs times positions times coefficients
+    /// (at most [`MAX_EXPANDED_VALUES`] is meant to be formed).
+    #[must_use]
+    pub fn expanded_values(&self, expansion: &Expansion) -> usize {
+        self.n_outputs()
+            .saturating_mul(self.len())
+            .saturating_mul(expansion.n_coefficients())
+    }
+
     /// The Jacobian $\mathbf M_c$ of the error vectors with respect to the coefficients of
     /// `expansion` at zero: column $(j, c)$ is the analytic column of error $j$
     /// ([`EndToEnd::linearization`]) with the error's first-order effect at position $i$

@@ -708,23 +708,19 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         let rho_u = m.map(|v| rho * v);
         let remainder = |known: bool| terms_remainder(cal.output(), known, &m, &d, &rho_u);
         let (r_e, r_g) = (remainder(true), remainder(false));
-        let a = cal.regression().matrix();
-        let p = a * cal.regression().pinv();
-        let i_minus_p = DMatrix::identity(p.nrows(), p.ncols()) - &p;
-        let norm = |x: &DMatrix<f64>| {
-            x.row_iter()
-                .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-                .fold(0.0, f64::max)
-        };
+        // the infinity norms of P = A A^+ and I - P, row by row (never the n x n projector),
+        // once per regression
+        let norms = || cal.regression().projector_norms();
         Ok(match (reading.outputs, reading.form) {
             (OutputsAt::Intended, ErrorForm::Printed) => Some(r_e),
             (OutputsAt::Intended, ErrorForm::NominalRate) => Some(0.0),
             (OutputsAt::Intended, ErrorForm::ActualRegressors) => Some(r_g + r_e),
             (OutputsAt::Intended, ErrorForm::ActualRegressorsNominalRate) => Some(r_g),
             (OutputsAt::Actual, ErrorForm::Printed) => {
-                Some(norm(&i_minus_p) * r_g + norm(&p) * r_e)
+                let (p, ip) = norms();
+                Some(ip * r_g + p * r_e)
             }
-            (OutputsAt::Actual, ErrorForm::NominalRate) => Some(norm(&i_minus_p) * (r_g + r_e)),
+            (OutputsAt::Actual, ErrorForm::NominalRate) => Some(norms().1 * (r_g + r_e)),
             _ => None,
         })
     }

@@ -1062,27 +1062,24 @@ impl crate::EndToEnd {
             r_e.push(terms_remainder(cal.output(), true, &m, &d, &rho));
             r_g.push(terms_remainder(cal.output(), false, &m, &d, &rho));
         }
-        let a = cal.regression().matrix();
-        let p = a * cal.regression().pinv();
-        let i_minus_p = nalgebra::DMatrix::identity(p.nrows(), p.ncols()) - &p;
-        let map = |x: &nalgebra::DMatrix<f64>, r: &[f64]| -> Vec<f64> {
-            x.row_iter()
-                .map(|row| row.iter().zip(r).map(|(v, r)| v.abs() * r).sum())
-                .collect()
-        };
         let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
         let sum =
             |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
         let r_ge = sum(&r_g, &r_e);
+        // |P| r and |I - P| r row by row (never the n x n projector P = A A^+)
+        let reg = cal.regression();
         Ok(match (reading.outputs, reading.form) {
             (OutputsAt::Intended, ErrorForm::Printed) => Some(max(&r_e)),
             (OutputsAt::Intended, ErrorForm::NominalRate) => Some(0.0),
             (OutputsAt::Intended, ErrorForm::ActualRegressors) => Some(max(&r_ge)),
             (OutputsAt::Intended, ErrorForm::ActualRegressorsNominalRate) => Some(max(&r_g)),
             (OutputsAt::Actual, ErrorForm::Printed) => {
-                Some(max(&sum(&map(&i_minus_p, &r_g), &map(&p, &r_e))))
+                let (p_re, ip_rg) = reg.projector_row_sums(&r_e, &r_g);
+                Some(max(&sum(&ip_rg, &p_re)))
             }
-            (OutputsAt::Actual, ErrorForm::NominalRate) => Some(max(&map(&i_minus_p, &r_ge))),
+            (OutputsAt::Actual, ErrorForm::NominalRate) => {
+                Some(max(&reg.projector_row_sums(&r_ge, &r_ge).1))
+            }
             _ => None,
         })
     }

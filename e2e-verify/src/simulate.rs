@@ -83,9 +83,14 @@ fn precisions(calibration: &Calibration) -> Vec<f64> {
                 })
                 .fold(0.0, f64::max);
             let (a, pinv) = (o.regression().matrix(), o.regression().pinv());
-            let amplification = (a.abs() * pinv.abs())
+            // the row sums of |A| |A^+| as |A| (|A^+| 1): never the n x n product
+            let pinv_sums: Vec<f64> = pinv
                 .row_iter()
-                .map(|r| r.sum())
+                .map(|r| r.iter().map(|v| v.abs()).sum())
+                .collect();
+            let amplification = a
+                .row_iter()
+                .map(|r| r.iter().zip(&pinv_sums).map(|(v, s)| v.abs() * s).sum())
                 .fold(0.0, f64::max);
             let operations = (out.terms.len() + 3 + n + out.n_estimated()) as f64;
             operations * f64::EPSILON * (1.0 + amplification) * size

@@ -13,14 +13,14 @@
 //! | given requirement | $[10^{-9}, 10]$ deg | the first-order theory of §2-4 holds for small angles only; $10^{-9}$ deg (3.6 micro-arcseconds) is a thousand times below the best angle metrology, and the exact chain's rounding ($\sim10^{-16}$ rad) stays $10^{-7}$ of it (the objective $J \propto I^{-2}$ overflows below $\sim10^{-140}$ deg) |
 //! | lower bound, tolerance (angle) | $[0, 600]$ arcmin | 10 deg, far beyond any turntable |
 //! | tolerance (translation) | $[0, 1000]$ mm | a metre |
-//! | Monte Carlo samples | $[1, 10^{12}]$ | 10^12 samples take about 4 hours on two cores |
+//! | Monte Carlo samples | $[1, 10^{10}]$ | one limit for every command that takes a count (`monte_carlo.samples`, `--samples`): the end-to-end draws about $10^6$ turntables per second on two cores, so $10^{10}$ take about three hours |
 //! | noise: white density, bias instability, quantization, rate random walk, rate ramp | $[0, 10^{6}]$ in the key's unit (output unit, or the datasheet unit the key names) | non-negative; like the accuracy, beyond $10^6$ nothing is meaningful |
 //! | bias correlation time | $(0, 10^{7}]$ s | about 4 months: longer is a constant bias |
 //! | dwell per position | $(0, 86\,400]$ s, and at least one sample ($f_s T \ge 1$) | a day per position |
 //! | move time | $[0, 86\,400]$ s | a day |
 //! | sample rate | $(0, 10^{6}]$ Hz | inertial sensors sample at up to a few kHz |
 //! | study `name` | 1 to 64 of `A-Z a-z 0-9 . _ -`, first a letter or digit | it names the report directory (`target/report/<name>`): one safe path component on every system |
-//! | test positions | $[1, 10\,000]$ | a lab's schedule has tens to hundreds; every command's cost grows linearly with the count (the requirement of eq 15-16 about 1.3 ms and 4 KB per position: 10,000 take about 13 s and 40 MB) |
+//! | test positions | $[1, 10\,000]$ | a lab's schedule has tens to hundreds; every command's memory grows linearly with the count (measured at 10,000 on two shared cores: `requirement` 23 s 63 MB, `allocate` 24 s 56 MB, `mc` 37 s 55 MB, `estimable` 35 s 106 MB); the Monte Carlo commands (`end-to-end`, `check-turntable`, `report`) take time in samples times positions (`end-to-end --samples 1500`: 8 s and 32 MB at 1,000 positions, 25 s and 64 MB at 3,000, about 5 µs per sample and position); the angle-dependent model at most `e2e_verify::angle::MAX_EXPANDED_VALUES` values (positions times distinct shaft angles, refused beyond naming `calibration.positions_deg`) |
 
 /// Latitude range, deg.
 pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
@@ -51,8 +51,10 @@ pub const MAX_REVOLUTIONS: u64 = 1_000_000;
 pub const LEVER_ARM_ABS_MAX_M: f64 = 10.0;
 /// Rate tolerances (rate accuracy, ripple), ppm.
 pub const RATE_TOLERANCE_PPM: (f64, f64) = (0.0, 1e5);
-/// Largest Monte Carlo sample count.
-pub const MAX_SAMPLES: u64 = 1_000_000_000_000;
+/// Largest Monte Carlo sample count, of a study (`monte_carlo.samples`) and of `--samples`
+/// alike: the end-to-end verification's limit (`e2e_verify::MAX_SAMPLES`), so that every
+/// command refuses a larger count before any work, naming the key the user wrote.
+pub const MAX_SAMPLES: u64 = 10_000_000_000;
 /// Largest number of test positions in a schedule (`calibration.positions_deg`, and
 /// `design-schedule --positions`).
 pub const MAX_POSITIONS: usize = 10_000;

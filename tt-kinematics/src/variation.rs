@@ -220,6 +220,10 @@ pub struct BoundGroup {
     pub basis: Vec<Vec<f64>>,
     /// Schedule angles of the group's joint (rad, one per position; empty for a constant).
     angles: Vec<f64>,
+    /// For an `any` error, the coefficient of each test position (its angle's index in
+    /// `angles_rad`): the error's value at a position is one look-up, not a sum over every
+    /// angle of the schedule. Empty otherwise.
+    slot: Vec<usize>,
 }
 
 fn wrap(phi: f64) -> f64 {
@@ -326,7 +330,11 @@ impl BoundGroup {
     /// The error's value at test position `p` for the group's coefficients `c`.
     #[must_use]
     pub fn value_at(&self, c: &[f64], p: usize) -> f64 {
-        self.basis.iter().zip(c).map(|(b, v)| b[p] * v).sum()
+        match self.slot.get(p) {
+            // the basis is one at the position's angle and zero at every other
+            Some(&a) => c[a],
+            None => self.basis.iter().zip(c).map(|(b, v)| b[p] * v).sum(),
+        }
     }
 }
 
@@ -365,15 +373,27 @@ impl Expansion {
                     .joint_index(j)
                     .unwrap_or_else(|| unreachable!("validated"))
             };
+            let mut slot = Vec::new();
             let (shape, basis, angles) = match v {
                 ErrorVariation::Constant => {
                     (GroupShape::Constant, vec![vec![1.0; poses.len()]], vec![])
                 }
                 ErrorVariation::Harmonics { joint, orders } => {
                     let j = joint_of(joint);
-                    let angles: Vec<f64> = poses.iter().map(|p| p.angles_rad()[j]).collect();
+                    let all: Vec<f64> = poses.iter().map(|p| p.angles_rad()[j]).collect();
                     let mut basis = vec![Vec::with_capacity(poses.len()); 1 + 2 * orders.len()];
-                    for &phi in &angles {
+                    // the dual-norm program takes each distinct angle once (first seen)
+                    let mut angles: Vec<f64> = Vec::new();
+                    let mut seen: Vec<f64> = Vec::new();
+                    for &phi in &all {
+                        let w = wrap(phi);
+                        let at = seen.partition_point(|d| *d < w - SAME_ANGLE_RAD);
+                        if seen.get(at).is_none_or(|d| (d - w).abs() > SAME_ANGLE_RAD) {
+                            seen.insert(at, w);
+                            angles.push(phi);
+                        }
+                    }
+                    for &phi in &all {
                         harmonic_basis(orders, phi, &mut buf);
                         for (b, v) in basis.iter_mut().zip(&buf) {
                             b.push(*v);
@@ -395,6 +415,15 @@ impl Expansion {
                         }
                     }
                     distinct.sort_by(f64::total_cmp);
+                    slot = angles
+                        .iter()
+                        .map(|a| {
+                            let at = distinct.partition_point(|d| *d < a - SAME_ANGLE_RAD);
+                            (at..distinct.len())
+                                .find(|&i| (distinct[i] - a).abs() <= SAME_ANGLE_RAD)
+                                .unwrap_or_else(|| unreachable!("every angle has its own"))
+                        })
+                        .collect();
                     let basis = distinct
                         .iter()
                         .map(|d| {
@@ -418,6 +447,7 @@ impl Expansion {
                 shape,
                 basis,
                 angles,
+                slot,
             };
             first += g.len();
             groups.push(g);
@@ -427,6 +457,41 @@ impl Expansion {
             n_coefficients: first,
             positions: poses.len(),
         })
+    }
+
+    /// The number of coefficients [`Expansion::new`] would give, counted without forming
+    /// the basis (an `any` error's is one value per position and distinct angle): a caller
+    /// refuses a model too large before it is built.
+    ///
+    /// # Errors
+    /// As [`Expansion::new`].
+    pub fn count_coefficients(
+        turntable: &Turntable,
+        variations: &[ErrorVariation],
+        poses: &[Pose],
+    ) -> Result<usize, KinematicsError> {
+        validate_variations(turntable, variations)?;
+        let mut total = 0usize;
+        for v in variations {
+            total += match v {
+                ErrorVariation::Constant => 1,
+                ErrorVariation::Harmonics { orders, .. } => 1 + 2 * orders.len(),
+                ErrorVariation::Any { joint } => {
+                    let j = turntable
+                        .joint_index(joint)
+                        .unwrap_or_else(|| unreachable!("validated"));
+                    let mut a = Vec::with_capacity(poses.len());
+                    for p in poses {
+                        crate::error::length("pose", turntable.n_joints(), p.angles_rad().len())?;
+                        a.push(wrap(p.angles_rad()[j]));
+                    }
+                    a.sort_by(f64::total_cmp);
+                    a.dedup_by(|x, y| (*x - *y).abs() <= SAME_ANGLE_RAD);
+                    a.len()
+                }
+            };
+        }
+        Ok(total)
     }
 
     /// The groups, order of $\chi$.
@@ -779,7 +844,10 @@ pub struct HarmonicDualNorm {
 pub fn harmonic_worst_shape(orders: &[u32], s: &[f64], extra: &[f64]) -> Vec<f64> {
     let mut best = vec![0.0; s.len()];
     best[0] = if s[0] < 0.0 { -1.0 } else { 1.0 };
-    if orders.is_empty() || s[1..].iter().all(|v| *v == 0.0) {
+    if orders.is_empty()
+        || s[1..].iter().all(|v| *v == 0.0)
+        || harmonic_program_work(orders, extra) > MAX_PROGRAM_WORK
+    {
         return best;
     }
     let (rows, factor) = lp_rows(orders, extra, s.len());
@@ -798,6 +866,70 @@ pub fn harmonic_worst_shape(orders: &[u32], s: &[f64], extra: &[f64]) -> Vec<f64
         }
     }
     best
+}
+
+/// Largest size of the dual-norm program of one functional ([`harmonic_program_work`]):
+/// first and second harmonics take $(256 + D) \cdot 25$, orders 1 to 4 about $42\,000$ for
+/// $D = 8$ schedule angles. Beyond it [`harmonic_dual_norm`] bounds the functional through the
+/// schedule's angles alone ([`schedule_dual_bound`]), so the work of a dual norm never
+/// exceeds this size whatever the orders (up to [`MAX_HARMONIC_ORDER`]).
+pub const MAX_PROGRAM_WORK: usize = 50_000;
+
+/// The size of the dual-norm program of a functional of `orders` with the schedule's angles
+/// `extra` (rad; each distinct angle counted once): its rows ($M$ grid points plus the
+/// distinct schedule angles) times the square of its coefficients $1 + 2\lvert K\rvert$, the
+/// work of one interior-point iteration of the dense program. A program above
+/// [`MAX_PROGRAM_WORK`] is not solved.
+#[must_use]
+pub fn harmonic_program_work(orders: &[u32], extra: &[f64]) -> usize {
+    let (m, _) = grid_size(orders);
+    let n = 1 + 2 * orders.len();
+    let mut seen: Vec<f64> = extra.iter().map(|a| wrap(*a)).collect();
+    seen.sort_by(f64::total_cmp);
+    seen.dedup_by(|a, b| (*a - *b).abs() <= SAME_ANGLE_RAD);
+    (m + seen.len()).saturating_mul(n * n)
+}
+
+/// A rigorous upper bound of the harmonic dual norm at `s` through the schedule's angles
+/// `extra` alone, for programs above [`MAX_PROGRAM_WORK`]: with multipliers $y$ on those
+/// angles only (least squares of $\mathbf B_D^T y = s$, $\mathbf B_D$ the basis at the $D$
+/// angles) and the residual $r = s - \mathbf B_D^T y$, weak duality gives $\lVert y\rVert_1 +
+/// \lvert r_0\rvert + 2\sum_{k\ge1}\lvert r_k\rvert$ as [`harmonic_dual_norm`] does. For a
+/// functional of the values at those angles (every row of a calibration) and a basis of full
+/// rank $D$ this is $\sum_a \lvert w_a\rvert$, the `any` dual norm: once the orders
+/// outnumber the schedule's angles they alias there, and the harmonic set seen by the
+/// calibration approaches the `any` set. Work $O(D\,n^2 + n^3)$ with $n$ coefficients.
+#[must_use]
+pub fn schedule_dual_bound(orders: &[u32], s: &[f64], extra: &[f64]) -> f64 {
+    let n = s.len();
+    let mut angles: Vec<f64> = extra.iter().map(|a| wrap(*a)).collect();
+    angles.sort_by(f64::total_cmp);
+    angles.dedup_by(|a, b| (*a - *b).abs() <= SAME_ANGLE_RAD);
+    let d = angles.len();
+    // B_D: one row per angle, one column per coefficient
+    let mut b = nalgebra::DMatrix::zeros(d, n);
+    let mut buf = Vec::with_capacity(n);
+    for (i, &phi) in angles.iter().enumerate() {
+        harmonic_basis(orders, phi, &mut buf);
+        for (j, v) in buf.iter().enumerate() {
+            b[(i, j)] = *v;
+        }
+    }
+    let sv = nalgebra::DVector::from_column_slice(s);
+    // y minimising |B_D^T y - s| (minimum norm when D > n): solved on the smaller Gram matrix
+    let y = if d <= n {
+        (&b * b.transpose()).lu().solve(&(&b * &sv))
+    } else {
+        (b.transpose() * &b).lu().solve(&sv).map(|z| &b * z)
+    };
+    let y = y
+        .filter(|y| y.iter().all(|v| v.is_finite()))
+        .unwrap_or_else(|| nalgebra::DVector::zeros(d));
+    let r = &sv - b.transpose() * &y;
+    let dual = y.iter().map(|v| v.abs()).sum::<f64>()
+        + r[0].abs()
+        + 2.0 * r.iter().skip(1).map(|v| v.abs()).sum::<f64>();
+    (dual * (1.0 + 4.0 * f64::EPSILON)).max(s[0].abs())
 }
 
 fn lp_rows(orders: &[u32], extra: &[f64], n: usize) -> (Vec<Vec<f64>>, f64) {
@@ -847,6 +979,13 @@ pub fn harmonic_dual_norm(orders: &[u32], s: &[f64], extra: &[f64]) -> HarmonicD
     if orders.is_empty() || s[1..].iter().all(|v| *v == 0.0) {
         return HarmonicDualNorm {
             upper: s0,
+            lower: s0,
+        };
+    }
+    if harmonic_program_work(orders, extra) > MAX_PROGRAM_WORK {
+        // the constant +-1 reaches |s_0|; the schedule's angles bound the rest
+        return HarmonicDualNorm {
+            upper: schedule_dual_bound(orders, s, extra),
             lower: s0,
         };
     }

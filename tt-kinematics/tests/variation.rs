@@ -311,3 +311,65 @@ fn bad_variations_name_the_key() {
     );
     assert!(validate_variations(&t, &with(10, h("phi_i", &[1, 64]))).is_ok());
 }
+
+/// The functional of the calibration of a schedule at the `angles` (rad) with weights `w`:
+/// $s = \mathbf B_D^T w$ over the coefficients of `orders`.
+fn schedule_functional(orders: &[u32], angles: &[f64], w: &[f64]) -> Vec<f64> {
+    let mut s = vec![0.0; 1 + 2 * orders.len()];
+    for (&phi, &wa) in angles.iter().zip(w) {
+        s[0] += wa;
+        for (i, &k) in orders.iter().enumerate() {
+            let (sn, c) = (f64::from(k) * phi).sin_cos();
+            s[1 + 2 * i] += wa * c;
+            s[2 + 2 * i] += wa * sn;
+        }
+    }
+    s
+}
+
+/// The dual-norm work is bounded by a count whatever the orders (issue 32: a study with
+/// `harmonics = [1, ..., 64]` ran past 120 s in `check-turntable`, `end-to-end` and
+/// `allocate`, one program of 8,200 rows and 129 coefficients per row of the calibration):
+/// the shipped first and second harmonics stay on the program (their answers unchanged);
+/// orders 1 to 64 are bounded through the schedule's eight angles, where they alias, by the
+/// `any` dual norm, which is rigorous (above the program's value where both are computed).
+#[test]
+fn the_harmonic_dual_norm_work_is_bounded_by_a_count_for_every_order() {
+    use tt_kinematics::variation::{MAX_PROGRAM_WORK, harmonic_program_work, schedule_dual_bound};
+    let angles: Vec<f64> = (0..8).map(|a| f64::from(a) * 45f64.to_radians()).collect();
+    // the schedule repeats its angles (four positions each): counted once
+    let schedule: Vec<f64> = angles.iter().cycle().take(32).copied().collect();
+    let shipped = harmonic_program_work(&[1, 2], &schedule);
+    assert_eq!(shipped, (256 + 8) * 25);
+    assert!(shipped <= MAX_PROGRAM_WORK);
+    let all: Vec<u32> = (1..=tt_kinematics::variation::MAX_HARMONIC_ORDER).collect();
+    assert_eq!(
+        harmonic_program_work(&all, &schedule),
+        (8192 + 8) * 129 * 129
+    );
+    assert!(harmonic_program_work(&all, &schedule) > MAX_PROGRAM_WORK);
+    let w = [0.3, -1.2, 0.7, 0.05, -0.4, 2.0, -0.9, 0.6];
+    let any: f64 = w.iter().map(|v: &f64| v.abs()).sum();
+    // orders 1..64: not the program; the bound is the schedule's, the `any` norm
+    let s = schedule_functional(&all, &angles, &w);
+    let d = harmonic_dual_norm(&all, &s, &schedule);
+    // the same bits: the schedule's bound, not the program
+    assert_eq!(
+        d.upper.to_bits(),
+        schedule_dual_bound(&all, &s, &schedule).to_bits()
+    );
+    assert_relative_eq!(d.upper, any, max_relative = NESTING_REL_TOL);
+    assert!(d.lower <= d.upper && d.lower >= s[0].abs());
+    // rigorous: above the program's certified value where the program is solved
+    for orders in [&[1u32, 2][..], &[1, 2, 3, 4], &[2, 5]] {
+        assert!(harmonic_program_work(orders, &schedule) <= MAX_PROGRAM_WORK);
+        let s = schedule_functional(orders, &angles, &w);
+        let program = harmonic_dual_norm(orders, &s, &schedule);
+        let bound = schedule_dual_bound(orders, &s, &schedule);
+        assert!(
+            bound >= program.lower * (1.0 - NESTING_REL_TOL),
+            "{orders:?}: {bound} below the reached {}",
+            program.lower
+        );
+    }
+}

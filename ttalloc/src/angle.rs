@@ -176,6 +176,39 @@ pub struct AngleCheck {
     pub noise: Option<NoisePart>,
 }
 
+/// The expansion of `variations` on `sim`'s schedule, refused (exit 2, naming
+/// `calibration.positions_deg`, the count and the limit) when its first-order model would
+/// exceed [`e2e_verify::angle::MAX_EXPANDED_VALUES`]: an `any` error has one coefficient per
+/// distinct angle of its shaft, so the model grows as positions times distinct angles.
+///
+/// # Errors
+/// The refusal; a library error located in the study.
+pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Result<Expansion> {
+    let coefficients = Expansion::count_coefficients(sim.turntable(), variations, sim.poses())
+        .map_err(|e| crate::input::library(e, s))?;
+    let values = sim
+        .n_outputs()
+        .saturating_mul(sim.len())
+        .saturating_mul(coefficients);
+    let max = e2e_verify::angle::MAX_EXPANDED_VALUES;
+    if values > max {
+        return Err(crate::input::InputError::new(
+            format!("{}: key `calibration.positions_deg`", s.path),
+            format!(
+                "{} test positions give the angle-dependent model {} coefficients (one per distinct angle of each shaft for an `any` error): {} outputs x {} x {} = {values} values, at most {max} are accepted; repeat the shafts' angles (a grid) or use fewer positions",
+                sim.len(),
+                coefficients,
+                sim.n_outputs(),
+                sim.len(),
+                coefficients,
+            ),
+        )
+        .into());
+    }
+    Expansion::new(sim.turntable(), variations, sim.poses())
+        .map_err(|e| crate::input::library(e, s))
+}
+
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
 /// quantities imply (an orthogonality is a constant).
 #[must_use]
@@ -226,8 +259,7 @@ pub fn check(
     let discs: Vec<([usize; 2], f64)> = tol.discs.iter().map(|d| (d.errors, d.bound_rad)).collect();
     let mut readings = Vec::with_capacity(checks.len());
     for (e2e, _) in checks {
-        let ex = Expansion::new(e2e.turntable(), &variations, e2e.poses())
-            .map_err(|e| crate::input::library(e, s))?;
+        let ex = expansion(s, e2e, &variations)?;
         let lin = e2e.linearization();
         let al = e2e
             .angle_linearization(&ex)
@@ -564,7 +596,7 @@ pub fn sheet_allocations(
                 sim.poses(),
             )
             .map_err(kin)?;
-            let ex = Expansion::new(sim.turntable(), &variations, sim.poses()).map_err(kin)?;
+            let ex = expansion(s, &sim, &variations)?;
             let cm = sim.pair_model(&constant).map_err(lib)?;
             let am = sim.pair_model(&ex).map_err(lib)?;
             let al = paired_allocations(s, &sim, &cm, &am, &pairs)?;

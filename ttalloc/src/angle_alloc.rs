@@ -25,7 +25,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use study::Study;
 use study::fmt::sig;
-use tt_kinematics::{ErrorVariation, Expansion};
+use tt_kinematics::ErrorVariation;
 
 /// One reading's allocations under the angle-dependent model.
 #[derive(Debug, Clone)]
@@ -83,8 +83,7 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
     }
     let mut readings = Vec::with_capacity(sims.len());
     for sim in &sims {
-        let ex = Expansion::new(sim.turntable(), &s.variations, sim.poses())
-            .map_err(|e| crate::input::library(e, s))?;
+        let ex = crate::angle::expansion(s, sim, &s.variations)?;
         let al = sim.angle_linearization(&ex).map_err(lib)?;
         let lb = &s.lower_bounds_rad;
         let constant_direct = sim.allocate_direct(&sim.linearization(), lb).map_err(lib)?;

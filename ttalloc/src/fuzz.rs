@@ -126,7 +126,7 @@ pub const DEFAULT_FINDINGS: &str = "target/fuzz-findings";
 #[derive(Debug, Parser)]
 pub struct Args {
     /// Number of cases (accepts `1e5`, `100000`, `100_000`; up to 1e12).
-    #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = crate::args::samples)]
+    #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = crate::args::cases)]
     pub cases: u64,
     /// Seed of the mutations.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1, value_parser = crate::args::seed)]

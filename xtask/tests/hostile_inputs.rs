@@ -214,7 +214,7 @@ fn numeric_flags_are_range_checked_by_name() {
         ),
         (
             vec!["mc", "--samples", "-1"],
-            vec!["--samples", "from 1 to 1e12"],
+            vec!["--samples", "from 1 to 1e10"],
         ),
         (
             vec!["end-to-end", "--yield-fraction", "-0.5"],
@@ -514,4 +514,79 @@ fn allocate_prints_tiny_bounds_with_significant_digits() {
         .expect("the bounds' table");
     assert!(!row.contains("0.0000"), "{row}");
     assert!(row.contains("e-"), "{row}");
+}
+
+/// One sample limit for every command that takes a count (issue 32: `report` on a study with
+/// `monte_carlo.samples = 1e12` ran past 120 s where `end-to-end` refused naming `--samples`,
+/// a flag the user did not give): the study's count is refused when the study is read, naming
+/// the key in the file; the flag's by the flag.
+#[test]
+fn a_sample_count_above_the_limit_is_refused_at_once_by_the_key_written() {
+    let text =
+        study_text("gyrowheel-2017").replace("samples = 10000 #", "samples = 1000000000000 #");
+    let dir = scratch("samples");
+    let path = common::write(&dir, "many.toml", &text);
+    let p = path.to_str().unwrap();
+    let out = dir.join("report");
+    let tol = "studies/tolerances/table4.toml";
+    for args in [
+        vec!["report", "--study", p, "--out", out.to_str().unwrap()],
+        vec!["end-to-end", "--study", p],
+        vec!["check-turntable", "--study", p, "--tolerances", tol],
+        vec!["mc", "--study", p],
+    ] {
+        let o = run_within(&args, PROMPT_S);
+        assert_input_error(&o, &["key `monte_carlo.samples`", "at most 10000000000"]);
+        assert!(
+            !stderr(&o).contains("--samples"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+    assert!(!out.exists(), "a refused report wrote its directory");
+    let study = common::study("gyrowheel-2017");
+    for cmd in ["report", "end-to-end", "mc"] {
+        let o = run_within(&[cmd, "--study", &study, "--samples", "2e10"], PROMPT_S);
+        assert_input_error(&o, &["--samples", "from 1 to 1e10"]);
+    }
+}
+
+/// An angle-dependent model too large for its limit is refused at once, naming the positions
+/// key, the count and the limit (issue 32: `check-turntable` with 400 positions at distinct
+/// angles ran past 120 s; its `any` model holds a coefficient per distinct shaft angle, so it
+/// grows as positions times distinct angles).
+#[test]
+fn a_schedule_at_too_many_distinct_angles_is_refused_by_check_turntable() {
+    let positions: Vec<String> = (0..2000)
+        .map(|k| {
+            format!(
+                "[{}, {}]",
+                0.18 * f64::from(k),
+                (137.5 * f64::from(k)) % 360.0
+            )
+        })
+        .collect();
+    let study = common::paper_study_with_positions(&positions);
+    let dir = scratch("distinct");
+    let path = common::write(&dir, "distinct.toml", &study);
+    let o = run_within(
+        &[
+            "check-turntable",
+            "--study",
+            path.to_str().unwrap(),
+            "--tolerances",
+            "studies/tolerances/table4.toml",
+            "--samples",
+            "1500",
+        ],
+        PROMPT_S,
+    );
+    assert_input_error(
+        &o,
+        &[
+            "key `calibration.positions_deg`",
+            "2000 test positions",
+            "at most 25000000",
+        ],
+    );
 }

@@ -182,3 +182,41 @@ fn fuzz_memory_does_not_grow_with_the_case_count() {
     );
     assert!(!dir.exists(), "no finding, no directory");
 }
+
+/// The paper's study with `n` test positions on a grid of its two shafts (about the square
+/// root of `n` angles each), written to `dir`.
+fn grid_study(dir: &Path, n: usize) -> std::path::PathBuf {
+    let a = (n as f64).sqrt() as usize;
+    let b = n.div_ceil(a);
+    let positions: Vec<String> = (0..n)
+        .map(|k| {
+            let (i, j) = (k / b, k % b);
+            format!(
+                "[{}, {}]",
+                360.0 * i as f64 / a as f64,
+                360.0 * j as f64 / b as f64
+            )
+        })
+        .collect();
+    let text = common::paper_study_with_positions(&positions);
+    common::write(dir, &format!("grid-{n}.toml"), &text)
+}
+
+/// Memory grows linearly with the test positions, never with their square (issue 32:
+/// `estimable` peaked at 38 MB for 1,000 positions, 177 MB for 3,000 and 1.66 GB for 10,000:
+/// the n x n projector of the second-order bound and |A| |A^+| of the precisions). Four
+/// times the positions take less than five times the memory (the square would take sixteen
+/// times the part that grows).
+#[test]
+fn memory_grows_linearly_with_the_test_positions() {
+    let dir = tempfile::tempdir().unwrap();
+    let (small, large) = (grid_study(dir.path(), 1000), grid_study(dir.path(), 4000));
+    for cmd in ["estimable", "requirement"] {
+        let s = peak_kib(&[cmd, "--study", small.to_str().unwrap()], None);
+        let l = peak_kib(&[cmd, "--study", large.to_str().unwrap()], None);
+        assert!(
+            l < 5 * s,
+            "{cmd}: 1,000 positions {s} KiB, 4,000 positions {l} KiB"
+        );
+    }
+}

@@ -78,6 +78,20 @@ pub fn study_text(name: &str) -> String {
     std::fs::read_to_string(root().join(study(name))).expect("study file")
 }
 
+/// The paper's study with its test positions replaced by `positions` (each `[phi1, phi2]`,
+/// deg, as written in the file).
+pub fn paper_study_with_positions(positions: &[String]) -> String {
+    let text = study_text("gyrowheel-2017");
+    let start = text.find("positions_deg = [").unwrap();
+    let end = start + text[start..].find("\n]\n").unwrap() + 3;
+    format!(
+        "{}positions_deg = [{}]\n{}",
+        &text[..start],
+        positions.join(","),
+        &text[end..]
+    )
+}
+
 /// Write `text` to `dir/name` and return its path.
 pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
