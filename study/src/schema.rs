@@ -323,7 +323,7 @@ fn name_error(name: &str) -> String {
 /// Read a user file (study, tolerances): a regular file of at most
 /// [`limits::MAX_FILE_BYTES`], UTF-8, a leading byte-order mark removed.
 pub(crate) fn read_text_file(path: &Path, what: &str) -> Result<String, StudyError> {
-    let shown = path.display().to_string();
+    let shown = crate::fmt::visible(&path.display().to_string()).into_owned();
     let meta = std::fs::metadata(path)
         .map_err(|e| StudyError::new(&shown, format!("cannot read {what}: {e}")))?;
     if !meta.is_file() {
@@ -455,7 +455,7 @@ impl Study {
     /// A [`StudyError`] naming the file (and key) for any problem.
     pub fn load(path: &Path) -> Result<Self, StudyError> {
         let text = read_text_file(path, "study file")?;
-        Self::parse(&path.display().to_string(), &text)
+        Self::parse(&crate::fmt::visible(&path.display().to_string()), &text)
     }
 
     /// Parse and validate study text; `source` names it in errors and reports.

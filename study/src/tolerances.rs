@@ -180,7 +180,13 @@ impl Tolerances {
     /// A [`StudyError`] naming the file and key.
     pub fn load(path: &Path, turntable: &Turntable) -> Result<Self, StudyError> {
         let text = read_text_file(path, "tolerance file")?;
-        Self::parse(&path.display().to_string(), &text, turntable)
+        // named in messages and outputs as one visible line (a line feed in the name cannot
+        // forge a line)
+        Self::parse(
+            &crate::fmt::visible(&path.display().to_string()),
+            &text,
+            turntable,
+        )
     }
 
     /// Parse tolerance text for `turntable`; `source` names it in errors.

@@ -176,7 +176,7 @@ mod tests {
         assert!(
             samples("100000000000000000")
                 .unwrap_err()
-                .contains("from 1 to 1e12")
+                .contains("from 1 to 1e10")
         );
     }
 }

@@ -1594,7 +1594,7 @@ fn lay_out(
 
 /// The (name, SHA-256) a manifest of ours in `dir` lists: its first line the signature, every
 /// other line 64 lowercase hex digits, two spaces and the name of a report file
-/// ([`is_report_file`]); `None` for anything else.
+/// ([`is_report_file`]), each name once; `None` for anything else.
 fn valid_manifest(tree: &Tree, dir: &Path) -> Option<Vec<(String, String)>> {
     let Some(Entry::File(bytes)) = tree.get(&dir.join(MANIFEST)) else {
         return None;
@@ -1604,13 +1604,19 @@ fn valid_manifest(tree: &Tree, dir: &Path) -> Option<Vec<(String, String)>> {
     if lines.next() != Some(SIGNATURE) {
         return None;
     }
-    lines
+    let listed: Vec<(String, String)> = lines
         .map(|l| {
             let (h, n) = l.split_once("  ")?;
             let hex = h.len() == 64 && h.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
             (hex && is_report_file(n)).then(|| (n.to_string(), h.to_string()))
         })
-        .collect()
+        .collect::<Option<_>>()?;
+    // the program lists each file once: a name listed twice is no manifest of ours
+    let unique = listed
+        .iter()
+        .enumerate()
+        .all(|(i, (n, _))| listed[..i].iter().all(|(m, _)| m != n));
+    unique.then_some(listed)
 }
 
 /// Whether a valid manifest's `listed` (name, SHA-256) has `name` with the hash of `bytes`:

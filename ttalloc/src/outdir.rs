@@ -109,23 +109,36 @@ pub(crate) fn manifest_text<'a>(files: impl IntoIterator<Item = (&'a str, &'a [u
     text
 }
 
-/// The (name, SHA-256) lines of a manifest's text after its signature; `Err` with the first
-/// line that is not `<64 lowercase hex digits>  <report file name>`.
+/// The (name, SHA-256) lines of a manifest's text after its signature; `Err` with why the
+/// first line that is not `<64 lowercase hex digits>  <report file name>`, or that lists a name
+/// again, is not ours (this program lists each file once, so a name listed twice, even with
+/// one matching hash, proves nothing).
 fn manifest_entries(text: &str) -> Result<Vec<(String, String)>, String> {
-    text.lines()
-        .skip(1)
-        .map(|line| {
-            line.split_once("  ")
-                .filter(|(h, n)| {
-                    h.len() == 64
-                        && h.bytes()
-                            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
-                        && is_report_file(n)
-                })
-                .map(|(h, n)| (n.to_string(), h.to_string()))
-                .ok_or_else(|| line.to_string())
-        })
-        .collect()
+    let mut entries: Vec<(String, String)> = Vec::new();
+    for line in text.lines().skip(1) {
+        let (h, n) = line
+            .split_once("  ")
+            .filter(|(h, n)| {
+                h.len() == 64
+                    && h.bytes()
+                        .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+                    && is_report_file(n)
+            })
+            .ok_or_else(|| {
+                format!(
+                    "has the line `{}`, which is not `<sha256>  <name of a file this program writes>`",
+                    ::study::fmt::visible(line)
+                )
+            })?;
+        if entries.iter().any(|(m, _)| m == n) {
+            return Err(format!(
+                "lists {} twice (this program lists each file once)",
+                ::study::fmt::visible(n)
+            ));
+        }
+        entries.push((n.to_string(), h.to_string()));
+    }
+    Ok(entries)
 }
 
 /// FNV-1a, 64 bit: a stable short name for a long directory name.
@@ -213,10 +226,9 @@ fn contents(dir: &Path) -> std::io::Result<Contents> {
     };
     let listed = match manifest_entries(&text) {
         Ok(l) => l,
-        Err(bad) => {
+        Err(why) => {
             return Ok(Contents::Foreign(format!(
-                "its {MANIFEST} has the line `{}`, which is not `<sha256>  <name of a file this program writes>` (a crafted or damaged manifest is never trusted)",
-                ::study::fmt::visible(&bad)
+                "its {MANIFEST} {why} (a crafted or damaged manifest is never trusted)"
             )));
         }
     };
@@ -958,11 +970,13 @@ mod tests {
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad  ../x.md",
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad report.md",
         ] {
-            assert_eq!(
-                manifest_entries(&format!("{SIGNATURE}\n{bad}\n")),
-                Err(bad.to_string())
-            );
+            let why = manifest_entries(&format!("{SIGNATURE}\n{bad}\n")).unwrap_err();
+            assert!(why.contains(&format!("`{bad}`")), "{why}");
         }
+        // a name listed twice proves nothing, even when one of its hashes matches
+        let twice = format!("{text}{}", text.lines().nth(1).unwrap());
+        let why = manifest_entries(&twice).unwrap_err();
+        assert!(why.contains("lists report.md twice"), "{why}");
     }
 
     #[test]

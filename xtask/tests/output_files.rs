@@ -321,3 +321,32 @@ fn one_file_named_by_two_flags_is_refused_before_anything_is_written() {
         assert!(names(&d).is_empty(), "nothing written");
     }
 }
+
+/// Issue 32 §1, the same for a tolerance sheet's path: a line feed in it cannot forge a line
+/// of `check-turntable`'s output or of its error (the sheet is named as one visible line).
+#[test]
+fn a_tolerance_sheet_path_prints_as_one_visible_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let sheet = write(
+        dir.path(),
+        "t\nverdict: MEETS every accuracy.toml",
+        &std::fs::read_to_string(common::root().join("studies/tolerances/table4.toml")).unwrap(),
+    );
+    let o = run(&[
+        "check-turntable",
+        "--tolerances",
+        sheet.to_str().unwrap(),
+        "--samples",
+        "2000",
+    ]);
+    ok(&o);
+    let text = stdout(&o);
+    assert!(
+        !text.lines().any(|l| l.starts_with("verdict")),
+        "a forged line: {text}"
+    );
+    let missing = dir.path().join("nope\nverdict: MEETS.toml");
+    let o = run(&["check-turntable", "--tolerances", missing.to_str().unwrap()]);
+    assert_input_error(&o, &["nope\\nverdict: MEETS.toml"]);
+    assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
+}
