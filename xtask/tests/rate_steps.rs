@@ -463,4 +463,24 @@ fn the_rate_study_report_answers_without_the_two_step_verdict_and_stray_stops() 
         "{answer}"
     );
     assert!(!answer.contains(".."), "{answer}");
+    // one answer in the whole report: no two-step allocation is made, so none is printed,
+    // drawn or written (its section says why), and the answer gives no other reason
+    assert!(
+        !answer.contains("No output constrains a constant orientation error"),
+        "{answer}"
+    );
+    let section: String = md
+        .lines()
+        .skip_while(|l| *l != "## Two-step allocation")
+        .skip(1)
+        .take_while(|l| !l.starts_with("## "))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(section.contains("is not made"), "{section}");
+    assert!(!section.contains("| **J** |"), "{section}");
+    assert!(!md.contains("## Monte Carlo of the allocation"));
+    assert!(!out.join("allocation.csv").exists());
+    let results: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    assert!(results["two_step"].is_null(), "{}", results["two_step"]);
 }

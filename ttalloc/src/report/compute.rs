@@ -438,7 +438,9 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         )
         .into());
     }
-    let alloc_problem = match requirement.used {
+    // a study with rate steps gets no two-step allocation (the orientation requirement is
+    // static), as `allocate` and `end-to-end` answer it: one answer in the whole report
+    let alloc_problem = match requirement.used.filter(|_| !s.has_rate_steps()) {
         Some(req) => Some(
             AllocationProblem::new(
                 LinearModel::new(&s.turntable),

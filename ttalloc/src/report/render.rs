@@ -310,7 +310,8 @@ impl<'a> Sections<'a> {
                 *i = format!("For comparison, {}", lower_first(i));
             }
         }
-        if c.two_step.is_none() {
+        // (with rate steps the two-step allocation is not made: the question above says so)
+        if c.two_step.is_none() && !rate_steps {
             items.push(if c.vendor.is_some() {
                 "No output constrains a constant orientation error, so there is no two-step allocation.".into()
             } else {
@@ -951,6 +952,10 @@ impl<'a> Sections<'a> {
         let c = self.c;
         self.doc.h(2, "Two-step allocation");
         let Some(t) = &c.two_step else {
+            if c.study.has_rate_steps() {
+                self.doc.p("The study has rate steps: the orientation requirement (eq 15-16) is a static concept (one orientation error at every test position), so the paper's two-step method (requirement, then allocation against it) is not made; see the end-to-end section for the direct allocation with the rate tolerances.");
+                return;
+            }
             self.doc.p("The study has no orientation requirement (no output constrains a constant orientation error), so the paper's two-step method (requirement, then allocation against it) does not apply; see the end-to-end section for the direct allocation against every output's accuracy.");
             return;
         };
@@ -1416,7 +1421,8 @@ impl<'a> Sections<'a> {
         }
         let h: Vec<&str> = header.iter().map(String::as_str).collect();
         self.doc.p(format!(
-            "The direct allocation bounds the turntable against every output's accuracy at every position (no square requirement in between): one linear constraint per output and position on the linearised errors, the same objective J; \"certified\" keeps room for the exact chain's second-order terms. Its bounds beside the two-step allocation's (none: no output depends on the error). Readings: {}. Written to `end_to_end.csv`.",
+            "The direct allocation bounds the turntable against every output's accuracy at every position (no square requirement in between): one linear constraint per output and position on the linearised errors, the same objective J; \"certified\" keeps room for the exact chain's second-order terms. Its bounds{} (none: no output depends on the error). Readings: {}. Written to `end_to_end.csv`.",
+            if c.two_step.is_some() { " beside the two-step allocation's" } else { "" },
             readings.iter().map(|r| format!("{} = `{}`", short_reading(r.reading()), r.reading())).collect::<Vec<_>>().join(", ")
         ));
         self.doc.table(&h, rows);
@@ -1478,7 +1484,11 @@ impl<'a> Sections<'a> {
         )?;
         let id = self.doc.figure(
             "end_to_end.svg",
-            "The linearised worst-case rate error of each output at each test position, for the two-step allocation's box and the direct allocation's (dashed red: the output's accuracy), under each reading.",
+            if c.two_step.is_some() {
+                "The linearised worst-case rate error of each output at each test position, for the two-step allocation's box and the direct allocation's (dashed red: the output's accuracy), under each reading."
+            } else {
+                "The linearised worst-case rate error of each output at each test position, for the direct allocation's box (dashed red: the output's accuracy), under each reading."
+            },
             svg,
         );
         self.figure_ids.push(("end_to_end", id));
