@@ -6,7 +6,12 @@ mod common;
 use common::{run, stdout};
 
 fn readme() -> String {
-    std::fs::read_to_string(common::root().join("README.md")).expect("README.md")
+    page("README.md")
+}
+
+/// A documentation page (`docs/...`) or the README, by its path from the repository root.
+fn page(path: &str) -> String {
+    std::fs::read_to_string(common::root().join(path)).expect(path)
 }
 
 /// The subcommands `cargo xtask --help` lists.
@@ -27,7 +32,8 @@ fn subcommands() -> Vec<String> {
 #[test]
 fn readme_shows_the_main_job_and_the_test_command() {
     let r = readme();
-    let quick = &r[r.find("## Quick start").unwrap()..r.find("## What we find").unwrap()];
+    let start = r.find("## Quick start").unwrap();
+    let quick = &r[start..start + 3 + r[start + 3..].find("\n## ").unwrap()];
     assert!(quick.contains("cargo xtask reproduce-paper"));
     assert!(quick.contains("cargo xtask test"));
     assert!(quick.contains("fonts-dejavu-core fonts-liberation"));
@@ -38,18 +44,18 @@ fn readme_shows_the_main_job_and_the_test_command() {
     );
 }
 
-/// Every subcommand has a row in the README's commands table naming every long flag of its
-/// `--help`.
+/// Every subcommand has a row in the commands table (docs/commands.md) naming every long flag
+/// of its `--help`.
 #[test]
 fn readme_commands_table_lists_every_command_and_flag() {
-    let r = readme();
+    let r = page("docs/commands.md");
     let commands = subcommands();
     assert!(commands.len() >= 10, "{commands:?}");
     for c in commands {
         let row = r
             .lines()
             .find(|l| l.starts_with(&format!("| `cargo xtask {c}")))
-            .unwrap_or_else(|| panic!("README has no commands-table row for `{c}`"));
+            .unwrap_or_else(|| panic!("docs/commands.md has no commands-table row for `{c}`"));
         let help = stdout(&run(&[&c, "--help"]));
         for flag in help
             .split_whitespace()
@@ -65,7 +71,7 @@ fn readme_commands_table_lists_every_command_and_flag() {
         {
             assert!(
                 row.contains(&flag),
-                "README row for `{c}` lacks `{flag}`: {row}"
+                "docs/commands.md row for `{c}` lacks `{flag}`: {row}"
             );
         }
     }
@@ -121,13 +127,13 @@ fn thousands(v: f64) -> String {
     out
 }
 
-/// The README's noise-budget paragraph (issue 32: it said 21,120 s buys J = 365.0 where the
+/// The noise-budget paragraph of docs/findings.md (issue 32: it said 21,120 s buys J = 365.0 where the
 /// binary finds 21 positions x 945.7 s at J = 201.09): the study's own test time
 /// (32 x (600 + 60) s), its choice, its certified J, the designed schedule at the study's
 /// dwell, the front's shortest test, its 14.7 h point and its last, as the binary prints them.
 #[test]
 fn readme_noise_budget_figures_are_the_binarys() {
-    let text = readme();
+    let text = page("docs/findings.md");
     let v = budget_design("21120");
     let c = &v["time_budget"]["chosen"];
     let n = |x: &serde_json::Value| x.as_f64().expect("a number");
@@ -139,7 +145,7 @@ fn readme_noise_budget_figures_are_the_binarys() {
         n(&c["certified_objective_arcmin"]),
         n(&v["combined"]["designed_objective_arcmin"])
     );
-    assert!(text.contains(&chosen), "README lacks `{chosen}`");
+    assert!(text.contains(&chosen), "docs/findings.md lacks `{chosen}`");
     let front = v["pareto"].as_array().expect("a front");
     let (first, last) = (&front[0], &front[front.len() - 1]);
     let shortest = format!(
@@ -149,7 +155,10 @@ fn readme_noise_budget_figures_are_the_binarys() {
         n(&first["dwell_s"]),
         thousands(n(&first["objective_arcmin"]))
     );
-    assert!(text.contains(&shortest), "README lacks `{shortest}`");
+    assert!(
+        text.contains(&shortest),
+        "docs/findings.md lacks `{shortest}`"
+    );
     let p = front
         .iter()
         .find(|p| p["n_positions"] == 32 && format!("{:.1}", n(&p["total_s"]) / 3600.0) == "14.7")
@@ -159,7 +168,7 @@ fn readme_noise_budget_figures_are_the_binarys() {
         n(&p["objective_arcmin"]),
         thousands(n(&p["dwell_s"]))
     );
-    assert!(text.contains(&mid), "README lacks `{mid}`");
+    assert!(text.contains(&mid), "docs/findings.md lacks `{mid}`");
     assert_eq!(
         n(&last["dwell_s"]).to_bits(),
         86_400.0_f64.to_bits(),
@@ -170,7 +179,7 @@ fn readme_noise_budget_figures_are_the_binarys() {
         last["n_positions"],
         n(&last["objective_arcmin"])
     );
-    assert!(text.contains(&end), "README lacks `{end}`");
+    assert!(text.contains(&end), "docs/findings.md lacks `{end}`");
     // twice the study's time: the counts refined and the choice
     let v = budget_design("42240");
     let tb = &v["time_budget"];
@@ -189,5 +198,5 @@ fn readme_noise_budget_figures_are_the_binarys() {
         n(&tb["chosen"]["objective_arcmin"]),
         n(&tb["chosen"]["certified_objective_arcmin"])
     );
-    assert!(text.contains(&twice), "README lacks `{twice}`");
+    assert!(text.contains(&twice), "docs/findings.md lacks `{twice}`");
 }

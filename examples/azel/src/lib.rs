@@ -270,3 +270,8 @@ impl ScheduleErrorModel for AzElSchedule {
         Some(ub_rad.iter().filter(|u| u.is_finite()).sum())
     }
 }
+
+/// The reuse tutorial's code, compiled and run with the crates' default features (no `paper`).
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/tutorials/reuse-a-crate.md")]
+pub struct ReuseTutorial;
