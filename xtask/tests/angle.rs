@@ -194,7 +194,7 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
             assert!(jd < js, "{model}: {jd} >= {js}");
         }
     }
-    // README "What we find": the figures as printed (5 significant digits, relative 1e-4)
+    // docs/findings.md: the figures as printed (5 significant digits, relative 1e-4)
     let j = |r: usize, path: &[&str]| {
         let mut v = &readings[r];
         for p in path {

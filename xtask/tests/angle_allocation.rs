@@ -138,10 +138,10 @@ fn report_shows_the_angle_dependent_allocation() {
     check_angle_json(&v["angle_dependent"]);
 }
 
-/// Relative tolerance of a README figure printed to four or five significant digits.
+/// Relative tolerance of a figure of docs/findings.md printed to four or five significant digits.
 const README_FIGURE_REL: f64 = 1e-3;
 
-/// README "What we find" (issue 22, done means): the three-axis example with its outer and
+/// docs/findings.md (issue 22, done means): the three-axis example with its outer and
 /// middle axes measured to 1 arcsec (`studies/three-axis-example-compensated.toml`): under the
 /// user's reading the unmeasured errors need J = 117.75 arcmin^-2 instead of 1,002.7 (first
 /// order), the measured ones keep only their uncertainty.

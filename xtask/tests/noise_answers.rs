@@ -324,13 +324,13 @@ fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
 /// axis, 32 positions x 600 s): the noise sigma at the worst position is the closed form
 /// sqrt(0.12^2 / 600 * 5/16) deg/h (5/16 the leverage x^T (A^T A)^-1 x of the worst position
 /// of the 32-position schedule), the shortest dwell at which some table meets 0.01 deg/h is the
-/// README's 405 s per position, and the paper's noiseless answers (J = 54.65 direct) stay the
+/// 405 s per position of docs/findings.md, and the paper's noiseless answers (J = 54.65 direct) stay the
 /// study's noiseless J.
 #[test]
 fn paper_study_with_assumed_noise_needs_405_s_per_position() {
     /// JSON keeps full precision; the covariance is a few hundred roundings (relative).
     const SIGMA_REL: f64 = 1e-9;
-    /// The README states the dwell to 3 significant digits (relative).
+    /// docs/findings.md states the dwell to 3 significant digits (relative).
     const README_REL: f64 = 5e-3;
     let v = json(&[
         "end-to-end",
