@@ -428,6 +428,30 @@ fn every_manual_sh_block_names_existing_commands_flags_examples_and_benches() {
     assert!(checked >= 5, "only {checked} manual lines checked");
 }
 
+/// Every subcommand has a row in the commands table of docs/commands.md naming every long flag
+/// of its `--help` (moved here with the table from the README).
+#[test]
+fn commands_page_table_lists_every_command_and_flag() {
+    let page = read(Path::new("docs/commands.md"));
+    let commands = subcommands();
+    assert!(commands.len() >= 10, "{commands:?}");
+    for c in commands {
+        let row = page
+            .lines()
+            .find(|l| l.starts_with(&format!("| `cargo xtask {c}")))
+            .unwrap_or_else(|| panic!("docs/commands.md has no commands-table row for `{c}`"));
+        for flag in flags_of(&c)
+            .into_iter()
+            .filter(|f| f != "--help" && f.len() > 2)
+        {
+            assert!(
+                row.contains(&flag),
+                "docs/commands.md row for `{c}` lacks `{flag}`: {row}"
+            );
+        }
+    }
+}
+
 /// GitHub's anchor of a heading: lower case, punctuation dropped, spaces to `-`.
 fn slug(heading: &str) -> String {
     heading

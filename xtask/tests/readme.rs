@@ -1,9 +1,7 @@
-//! The README is the newcomer's contract: its two commands, and a commands table that lists
-//! every subcommand of the CLI with every flag it takes (checked against `--help`).
+//! The README is the newcomer's contract: its two commands (the commands table that lists
+//! every subcommand with every flag it takes is on docs/commands.md, tested in docs_pages.rs).
 
 mod common;
-
-use common::{run, stdout};
 
 fn readme() -> String {
     page("README.md")
@@ -12,18 +10,6 @@ fn readme() -> String {
 /// A documentation page (`docs/...`) or the README, by its path from the repository root.
 fn page(path: &str) -> String {
     std::fs::read_to_string(common::root().join(path)).expect(path)
-}
-
-/// The subcommands `cargo xtask --help` lists.
-fn subcommands() -> Vec<String> {
-    let help = stdout(&run(&["--help"]));
-    help.lines()
-        .skip_while(|l| !l.starts_with("Commands:"))
-        .skip(1)
-        .take_while(|l| l.starts_with("  "))
-        .filter_map(|l| l.split_whitespace().next().map(String::from))
-        .filter(|c| c != "help")
-        .collect()
 }
 
 /// The README's quick start shows the two commands a newcomer needs: the main job and the
@@ -42,39 +28,6 @@ fn readme_shows_the_main_job_and_the_test_command() {
         ci.lines().any(|l| l.trim() == "cargo xtask test"),
         ".ci/run must run the README's test command"
     );
-}
-
-/// Every subcommand has a row in the commands table (docs/commands.md) naming every long flag
-/// of its `--help`.
-#[test]
-fn readme_commands_table_lists_every_command_and_flag() {
-    let r = page("docs/commands.md");
-    let commands = subcommands();
-    assert!(commands.len() >= 10, "{commands:?}");
-    for c in commands {
-        let row = r
-            .lines()
-            .find(|l| l.starts_with(&format!("| `cargo xtask {c}")))
-            .unwrap_or_else(|| panic!("docs/commands.md has no commands-table row for `{c}`"));
-        let help = stdout(&run(&[&c, "--help"]));
-        for flag in help
-            .split_whitespace()
-            .filter(|w| w.starts_with("--") && w.len() > 2)
-            .map(|w| {
-                w.trim_end_matches([',', '.', ')', '`', ';'])
-                    .split(['=', '<'])
-                    .next()
-                    .unwrap_or("")
-                    .to_string()
-            })
-            .filter(|f| f != "--help" && f.len() > 2)
-        {
-            assert!(
-                row.contains(&flag),
-                "docs/commands.md row for `{c}` lacks `{flag}`: {row}"
-            );
-        }
-    }
 }
 
 /// Issue 19 §1: the README's test command never skips its browser test silently: when the
