@@ -14,6 +14,8 @@
 //! quantization = 0.0            # output unit (optional)
 //! rate_random_walk = 0.005      # output unit per sqrt(s) (optional): sigma(tau) = K sqrt(tau/3)
 //! rate_ramp = 0.0               # output unit per s (optional): sigma(tau) = R tau / sqrt(2)
+//! flicker_bias_instability = 0.5 # output unit (optional): flicker floor sigma = 0.6643 B
+//! angle_quantization = 0.0      # output unit times s (optional): sigma(tau) = sqrt(3) Q / tau
 //!
 //! [calibration.timing]
 //! dwell_s = 60                  # or one value per position
@@ -43,6 +45,8 @@ pub(crate) struct RawNoise {
     quantization: Option<f64>,
     rate_random_walk: Option<f64>,
     rate_ramp: Option<f64>,
+    flicker_bias_instability: Option<f64>,
+    angle_quantization: Option<f64>,
 }
 
 /// `[calibration.timing]` as written.
@@ -105,11 +109,13 @@ pub(crate) fn parse_output_noise(
         && raw.quantization.is_none()
         && raw.rate_random_walk.is_none()
         && raw.rate_ramp.is_none()
+        && raw.flicker_bias_instability.is_none()
+        && raw.angle_quantization.is_none()
     {
         return Err(StudyError::new(
             at(&key("")),
             format!(
-                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, quantization, rate_random_walk or rate_ramp (or remove the table)",
+                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, flicker_bias_instability, quantization, angle_quantization, rate_random_walk or rate_ramp (or remove the table)",
                 WhiteDensity::KEYS.join(", ")
             ),
         ));
@@ -178,9 +184,18 @@ pub(crate) fn parse_output_noise(
     };
     let rate_random_walk = drift("rate_random_walk", raw.rate_random_walk, &per_sqrt_s)?;
     let rate_ramp = drift("rate_ramp", raw.rate_ramp, &per_s)?;
+    let flicker = drift(
+        "flicker_bias_instability",
+        raw.flicker_bias_instability,
+        &shown_unit,
+    )?;
+    let times_s = format!("({}) s", unit.escape_debug());
+    let angle_quantization = drift("angle_quantization", raw.angle_quantization, &times_s)?;
     NoiseModel::from_datasheet(unit, white, bias, quantization)
         .and_then(|m| m.with_rate_random_walk(rate_random_walk))
         .and_then(|m| m.with_rate_ramp(rate_ramp))
+        .and_then(|m| m.with_flicker(flicker))
+        .and_then(|m| m.with_angle_quantization(angle_quantization))
         .map_err(|e| {
             let field = match &e {
                 ModelError::UnitFamilyMismatch { key, .. }
