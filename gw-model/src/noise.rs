@@ -762,6 +762,69 @@ pub struct NoiseModel {
     rate_ramp: f64,
     flicker: f64,
     angle_quantization: f64,
+    /// Standard uncertainty of each parameter, in the order of [`NoiseParameter::ALL`]
+    /// (0: none given).
+    uncertainty: [f64; NoiseParameter::ALL.len()],
+}
+
+/// A parameter of a [`NoiseModel`], for its uncertainty and the answers' sensitivity to it.
+/// Values in the model's units: output unit per $\sqrt{\mathrm{Hz}}$ (white), output unit
+/// (the Gauss-Markov $\sigma_b$, flicker $B$, quantization step), s (correlation time),
+/// output unit times s (angle quantization), per $\sqrt{\mathrm s}$ (rate random walk), per s
+/// (rate ramp).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum NoiseParameter {
+    /// White density $N$.
+    White,
+    /// The Gauss-Markov bias's stationary standard deviation $\sigma_b$.
+    BiasSigma,
+    /// The Gauss-Markov bias's correlation time $T_c$.
+    BiasCorrelation,
+    /// The flicker coefficient $B$.
+    Flicker,
+    /// The quantization step $q$ of the samples.
+    Quantization,
+    /// Angle quantization $Q$.
+    AngleQuantization,
+    /// Rate random walk $K$.
+    RateRandomWalk,
+    /// Rate ramp $R$.
+    RateRamp,
+}
+
+impl NoiseParameter {
+    /// Every parameter.
+    pub const ALL: [NoiseParameter; 8] = [
+        NoiseParameter::White,
+        NoiseParameter::BiasSigma,
+        NoiseParameter::BiasCorrelation,
+        NoiseParameter::Flicker,
+        NoiseParameter::Quantization,
+        NoiseParameter::AngleQuantization,
+        NoiseParameter::RateRandomWalk,
+        NoiseParameter::RateRamp,
+    ];
+
+    /// A short name: `white`, `bias_sigma`, `bias_correlation_s`, `flicker_bias_instability`,
+    /// `quantization`, `angle_quantization`, `rate_random_walk`, `rate_ramp`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseParameter::White => "white",
+            NoiseParameter::BiasSigma => "bias_sigma",
+            NoiseParameter::BiasCorrelation => "bias_correlation_s",
+            NoiseParameter::Flicker => "flicker_bias_instability",
+            NoiseParameter::Quantization => "quantization",
+            NoiseParameter::AngleQuantization => "angle_quantization",
+            NoiseParameter::RateRandomWalk => "rate_random_walk",
+            NoiseParameter::RateRamp => "rate_ramp",
+        }
+    }
+
+    fn index(self) -> usize {
+        Self::ALL.iter().position(|p| *p == self).unwrap_or(0)
+    }
 }
 
 /// The covariance of an output's averages over $n$ windows, split into its white part (white
@@ -831,7 +894,78 @@ impl NoiseModel {
             rate_ramp: 0.0,
             flicker: 0.0,
             angle_quantization: 0.0,
+            uncertainty: [0.0; NoiseParameter::ALL.len()],
         })
+    }
+
+    /// The value of parameter `p` (0 for a term the model does not have), in the model's
+    /// units ([`NoiseParameter`]).
+    #[must_use]
+    pub fn value(&self, p: NoiseParameter) -> f64 {
+        match p {
+            NoiseParameter::White => self.white_per_sqrt_hz,
+            NoiseParameter::BiasSigma => self.bias.map_or(0.0, |b| b.sigma),
+            NoiseParameter::BiasCorrelation => self.bias.map_or(0.0, |b| b.correlation_s),
+            NoiseParameter::Flicker => self.flicker,
+            NoiseParameter::Quantization => self.quantization,
+            NoiseParameter::AngleQuantization => self.angle_quantization,
+            NoiseParameter::RateRandomWalk => self.rate_random_walk,
+            NoiseParameter::RateRamp => self.rate_ramp,
+        }
+    }
+
+    /// The standard uncertainty of parameter `p` (0: none given), in its unit.
+    #[must_use]
+    pub fn uncertainty(&self, p: NoiseParameter) -> f64 {
+        self.uncertainty[p.index()]
+    }
+
+    /// The model with the standard uncertainty `u` of parameter `p`, in its unit.
+    ///
+    /// # Errors
+    /// [`ModelError::Field`] (not finite, negative) naming `<name>_uncertainty`
+    /// ([`NoiseParameter::name`]).
+    pub fn with_uncertainty(mut self, p: NoiseParameter, u: f64) -> Result<Self, ModelError> {
+        let field = format!("{}_uncertainty", p.name());
+        self.uncertainty[p.index()] = non_negative(&field, u)?;
+        Ok(self)
+    }
+
+    /// The model with parameter `p` moved by `k` standard uncertainties (others unchanged),
+    /// clipped at 0 (a correlation time at a thousandth of its value); `None` when `p` has
+    /// no uncertainty or the model has no such term.
+    #[must_use]
+    pub fn perturbed(&self, p: NoiseParameter, k: f64) -> Option<Self> {
+        let u = self.uncertainty(p);
+        let v = self.value(p);
+        let has_term = match p {
+            NoiseParameter::BiasSigma | NoiseParameter::BiasCorrelation => self.bias.is_some(),
+            _ => true,
+        };
+        if !(u > 0.0 && has_term && k.is_finite()) {
+            return None;
+        }
+        let moved = (v + k * u).max(0.0);
+        let mut m = self.clone();
+        match p {
+            NoiseParameter::White => m.white_per_sqrt_hz = moved,
+            NoiseParameter::BiasSigma => {
+                if let Some(b) = m.bias.as_mut() {
+                    b.sigma = moved;
+                }
+            }
+            NoiseParameter::BiasCorrelation => {
+                if let Some(b) = m.bias.as_mut() {
+                    b.correlation_s = moved.max(1e-3 * v);
+                }
+            }
+            NoiseParameter::Flicker => m.flicker = moved,
+            NoiseParameter::Quantization => m.quantization = moved,
+            NoiseParameter::AngleQuantization => m.angle_quantization = moved,
+            NoiseParameter::RateRandomWalk => m.rate_random_walk = moved,
+            NoiseParameter::RateRamp => m.rate_ramp = moved,
+        }
+        Some(m)
     }
 
     /// The model with a flicker (1/f) bias instability of coefficient $B$ (output unit; 0 for

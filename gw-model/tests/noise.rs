@@ -655,6 +655,52 @@ fn angle_quantization_gives_the_allan_variance_three_q2_over_tau2() {
     );
 }
 
+/// A parameter moved by k standard uncertainties: only that parameter moves, clipped at
+/// zero; no uncertainty (or no such term) gives `None`; a bad uncertainty names its field.
+#[test]
+fn perturbed_noise_moves_one_parameter_by_its_uncertainty() {
+    use gw_model::noise::NoiseParameter as P;
+    let m = NoiseModel::new(2.0, Some(GaussMarkov::new(0.5, 60.0).unwrap()), 0.0)
+        .unwrap()
+        .with_flicker(0.3)
+        .unwrap()
+        .with_uncertainty(P::White, 0.5)
+        .unwrap()
+        .with_uncertainty(P::BiasCorrelation, 20.0)
+        .unwrap()
+        .with_uncertainty(P::Flicker, 0.4)
+        .unwrap();
+    let up = m.perturbed(P::White, 1.0).unwrap();
+    assert_relative_eq!(up.white_per_sqrt_hz(), 2.5, max_relative = 1e-15);
+    assert_eq!(up.flicker().to_bits(), 0.3f64.to_bits());
+    let tc = m.perturbed(P::BiasCorrelation, -1.0).unwrap();
+    assert_relative_eq!(
+        tc.bias().unwrap().correlation_s(),
+        40.0,
+        max_relative = 1e-15
+    );
+    assert_eq!(tc.bias().unwrap().sigma().to_bits(), 0.5f64.to_bits());
+    // clipped at zero
+    assert_eq!(
+        m.perturbed(P::Flicker, -1.0).unwrap().flicker().to_bits(),
+        0
+    );
+    assert!(m.perturbed(P::RateRamp, 1.0).is_none());
+    assert!(
+        NoiseModel::new(1.0, None, 0.0)
+            .unwrap()
+            .with_uncertainty(P::BiasSigma, 0.1)
+            .unwrap()
+            .perturbed(P::BiasSigma, 1.0)
+            .is_none()
+    );
+    let field = match m.clone().with_uncertainty(P::RateRamp, -1.0).unwrap_err() {
+        ModelError::Field(f) => f.field().to_string(),
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(field, "rate_ramp_uncertainty");
+}
+
 // ---------------------------------------------------------------- bad input
 
 /// Negative, non-finite and zero-where-positive values are typed errors naming the field.

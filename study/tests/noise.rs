@@ -576,3 +576,52 @@ fn flicker_and_angle_quantization_keys_reach_the_noise_model() {
         (0, 0)
     );
 }
+
+/// `[sensor.outputs.noise.uncertainty]`: each standard uncertainty under its term's key and
+/// unit, converted as the term (0.01 deg/sqrt(h) is 0.6 (deg/h)/sqrt(Hz); a bias
+/// instability's is the Gauss-Markov sigma's times 1.0760); an uncertainty of a term the
+/// table does not give, or a negative one, is an error naming the key.
+#[test]
+fn noise_uncertainties_reach_the_model_converted_as_their_terms() {
+    use gw_model::noise::{
+        FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA, NoiseParameter as P,
+    };
+    let n = Study::parse(
+        "s.toml",
+        &paper_with(
+            "white_deg_per_sqrt_h = 0.15\nbias_instability = 0.5\nbias_correlation_s = 60\nflicker_bias_instability = 0.2\n[sensor.outputs.noise.uncertainty]\nwhite_deg_per_sqrt_h = 0.01\nbias_instability = 0.1\nbias_correlation_s = 20\nflicker_bias_instability = 0.05",
+            "",
+        ),
+    )
+    .unwrap()
+    .noise[1]
+        .clone()
+        .unwrap();
+    assert_relative_eq!(n.uncertainty(P::White), 0.6, max_relative = CONVERSION_REL);
+    assert_relative_eq!(
+        n.uncertainty(P::BiasSigma),
+        0.1 * FLICKER_FLOOR_PER_BIAS_INSTABILITY / GM_ADEV_PEAK_PER_SIGMA,
+        max_relative = CONVERSION_REL
+    );
+    assert_eq!(n.uncertainty(P::BiasCorrelation).to_bits(), 20f64.to_bits());
+    assert_eq!(n.uncertainty(P::Flicker).to_bits(), 0.05f64.to_bits());
+    assert_eq!(n.uncertainty(P::RateRamp).to_bits(), 0);
+    for (lines, k, reason) in [
+        (
+            "white_deg_per_sqrt_h = 0.15\n[sensor.outputs.noise.uncertainty]\nrate_ramp = 1e-4",
+            ".uncertainty.rate_ramp",
+            "does not give",
+        ),
+        (
+            "white_deg_per_sqrt_h = 0.15\n[sensor.outputs.noise.uncertainty]\nwhite_deg_per_sqrt_h = -0.01",
+            ".uncertainty.white_deg_per_sqrt_h",
+            "must lie in [0, ",
+        ),
+    ] {
+        let e = err(&paper_with(lines, ""));
+        assert!(
+            e.contains(&format!("noise{k}")) && e.contains(reason),
+            "{lines:?}: {e}"
+        );
+    }
+}

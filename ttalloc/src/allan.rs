@@ -41,8 +41,9 @@
 //! fits the curve better (a lower weighted residual): then `bias_instability` with
 //! `bias_correlation_s`, and the other terms of that model. A comment names the log, the
 //! bias model, each value's uncertainty, the written terms the log cannot resolve, and every
-//! term it could not write with its value and
-//! why (also on standard error). Both refuse an existing path (exit 2)
+//! term it could not write with its value and why (also on standard error); the
+//! uncertainties are also written as `[sensor.outputs.noise.uncertainty]` (end-to-end gives
+//! its answers at each +- 1 of them). Both refuse an existing path (exit 2)
 //! and are written atomically (a temporary file renamed into place; nothing is left behind
 //! on failure).
 
@@ -830,6 +831,28 @@ fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
     t.push_str("[sensor.outputs.noise]\n");
     for w in &block.written {
         t.push_str(&format!("{} = {:?}\n", w.key, w.value));
+    }
+    // the standard uncertainties the study accepts, for end-to-end's sensitivity
+    let (_, tc_hi) = study::limits::CORRELATION_S;
+    let u: Vec<(&str, f64)> = block
+        .written
+        .iter()
+        .filter_map(|w| {
+            let hi = if w.key == "bias_correlation_s" {
+                tc_hi
+            } else {
+                study::limits::NOISE_MAX
+            };
+            w.uncertainty
+                .filter(|u| u.is_finite() && *u >= 0.0 && *u <= hi)
+                .map(|u| (w.key, u))
+        })
+        .collect();
+    if !u.is_empty() {
+        t.push_str("[sensor.outputs.noise.uncertainty]\n");
+        for (key, u) in u {
+            t.push_str(&format!("{key} = {u:?}\n"));
+        }
     }
     t
 }

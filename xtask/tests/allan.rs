@@ -240,8 +240,13 @@ fn figure_and_noise_file_are_written_whole() {
     let t: toml::Table = toml::from_str(&text).unwrap();
     let block = t["sensor"]["outputs"]["noise"].as_table().unwrap();
     // the file holds exactly the JSON's `noise_block.written`, and names every term not written
+    // (and the uncertainties of the written terms, under the same keys in the `uncertainty`
+    // sub-table the study reads)
     let written = j["noise_block"]["written"].as_array().unwrap();
-    assert_eq!(block.len(), written.len(), "{text}");
+    let u = block["uncertainty"]
+        .as_table()
+        .expect("uncertainties written");
+    assert_eq!(block.len(), written.len() + 1, "{text}");
     assert_eq!(written[0]["key"], "white_per_sqrt_hz");
     for w in written {
         let key = w["key"].as_str().unwrap();
@@ -249,6 +254,9 @@ fn figure_and_noise_file_are_written_whole() {
             .as_float()
             .unwrap_or_else(|| panic!("{key} is a float"));
         assert_eq!(v.to_bits(), num(&w["value"]).to_bits(), "{key}");
+        if let Some(uw) = w["uncertainty"].as_f64() {
+            assert_eq!(u[key].as_float().unwrap().to_bits(), uw.to_bits(), "{key}");
+        }
     }
     for n in j["noise_block"]["not_written"].as_array().unwrap() {
         let term = n["term"].as_str().unwrap();
