@@ -385,7 +385,7 @@ fn noise_standing(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<NoiseS
             &s2.noise,
             timing,
             DEFAULT_K_SIGMA,
-            (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
+            crate::end_to_end::DWELL_SEARCH_S,
         )
         .map_err(|e| crate::input::library(e, &s2))?
         .min_dwell_s();

@@ -131,6 +131,10 @@ impl Scanned {
     }
 }
 
+/// The dwells the time/table trade-off searches, s: from one sample per position to the
+/// study's longest accepted dwell.
+pub(crate) const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
+
 /// The answer for both error sources, when the study gives noise and a timing.
 ///
 /// # Errors
@@ -172,7 +176,7 @@ pub fn noisy_answer(
                 &s.noise,
                 timing,
                 k_sigma,
-                (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
+                DWELL_SEARCH_S,
             )
             .map_err(|e| crate::input::library(e, s))
         },
@@ -187,7 +191,7 @@ pub fn noisy_answer(
             &s.noise,
             timing,
             k_sigma,
-            (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
+            DWELL_SEARCH_S,
         )
         .map_err(|e| crate::input::library(e, s))?;
     Ok(Some(NoisyAnswer {
