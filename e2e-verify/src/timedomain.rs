@@ -225,10 +225,6 @@ const INV_SQRT_12: f64 = 0.288_675_134_594_812_9;
 /// $\sqrt{12}$: the width of a uniform error of unit standard deviation, dimensionless.
 const SQRT_12: f64 = 3.464_101_615_137_754_6;
 
-/// Two reading times closer than this, relative to their size (at least 1 s), are one
-/// reading (gw-model's rule for angle quantization). Dimensionless.
-const SAME_READING_S: f64 = 1e-9;
-
 /// One output's sample generator (its noise and the windows of the timing).
 struct Generator {
     white_sd: f64,
@@ -413,7 +409,12 @@ impl Generator {
                 // ended as this one starts
                 let mut reading = || q_step * (words.unit_32() - 0.5);
                 let e_start = match last_reading {
-                    Some((at, e)) if (at - start).abs() <= SAME_READING_S * at.abs().max(1.0) => e,
+                    Some((at, e))
+                        if (at - start).abs()
+                            <= gw_model::noise::SAME_READING_RELATIVE * at.abs().max(1.0) =>
+                    {
+                        e
+                    }
                     _ => reading(),
                 };
                 let e_end = reading();

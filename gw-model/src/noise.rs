@@ -211,8 +211,9 @@ const SERIES_BELOW: f64 = 0.5;
 const CORRELATION_UNDERFLOW: f64 = 1e-300;
 
 /// Two reading times closer than this, relative to their size (at least 1 s), are one
-/// reading of the integrated output (angle quantization). Dimensionless.
-const SAME_READING_RELATIVE: f64 = 1e-9;
+/// reading of the integrated output (angle quantization): windows that share a reading.
+/// Dimensionless.
+pub const SAME_READING_RELATIVE: f64 = 1e-9;
 
 /// The physical family of an output's unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
