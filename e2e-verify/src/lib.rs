@@ -91,6 +91,7 @@ pub mod noise;
 pub mod paper;
 pub mod rate;
 mod seam;
+pub mod sensitivity;
 mod simulate;
 pub mod timedomain;
 pub mod ziggurat;
@@ -122,5 +123,6 @@ pub use noise::{
 pub use rate::{
     CertifiedRateAllocation, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance,
 };
+pub use sensitivity::{NoiseSensitivity, ParameterSpread};
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

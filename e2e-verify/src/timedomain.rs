@@ -17,6 +17,13 @@
 //!   mean $W(t) + \sqrt h\,(z_1/2 + z_2/\sqrt{12})$, and $W$ carried across the moves;
 //! - the rate ramp $\rho\,t$, $\rho \sim N(0, R^2)$ drawn once per calibration, each sample
 //!   $\rho$ times its interval's midpoint;
+//! - the flicker bias instability as gw-model's [`gw_model::noise::FlickerBank`] over the
+//!   timing's windows: every Gauss-Markov term of the bank, each sample its exact mean over
+//!   the sample interval (two normals per term and sample from the process's conditional
+//!   law, started stationary, carried across the moves);
+//! - angle quantization $Q$: an error uniform of standard deviation $Q$ in the integrated
+//!   output at each window's first and last reading (one reading where a window starts as
+//!   the previous one ends), the position average moved by $(e_{end} - e_{start})/T$;
 //!
 //! (normal draws by the 32-bit ziggurat, [`crate::ziggurat`], one per white and one per
 //! Gauss-Markov term of a sample, and the quantization's uniform from one more word: three
@@ -215,6 +222,9 @@ impl TimeDomainRun {
 /// about the mean of its end points' line, dimensionless.
 const INV_SQRT_12: f64 = 0.288_675_134_594_812_9;
 
+/// $\sqrt{12}$: the width of a uniform error of unit standard deviation, dimensionless.
+const SQRT_12: f64 = 3.464_101_615_137_754_6;
+
 /// One output's sample generator (its noise and the windows of the timing).
 struct Generator {
     white_sd: f64,
@@ -224,9 +234,60 @@ struct Generator {
     rate_random_walk: f64,
     /// Rate ramp $R$, output unit per s (0: none).
     rate_ramp: f64,
+    /// The flicker bank's terms, each drawn as its exact average over every sample interval.
+    flicker: Vec<IntegratedGm>,
+    /// Angle quantization $Q$, output unit times s (0: none).
+    angle_quantization: f64,
     /// (start, samples) per position in the schedule's order.
     windows: Vec<(f64, u64)>,
     dt: f64,
+}
+
+/// One Gauss-Markov term $(\sigma, T_c)$ drawn exactly over a sample interval $h$: from the
+/// state $b_0$, the state $b_h = \varphi b_0 + \varepsilon_1$ and the interval's mean
+/// $\bar b = g b_0 + \varepsilon_2$, $\varphi = e^{-h/T_c}$, $g = T_c(1 - \varphi)/h$,
+/// with $\mathrm{Var}\,\varepsilon_1 = \sigma^2(1 - \varphi^2)$,
+/// $\mathrm{Var}\,\varepsilon_2 = V_h - \sigma^2 g^2$ ($V_h$ the stationary variance of an
+/// $h$-second mean) and $\mathrm{Cov}(\varepsilon_1, \varepsilon_2) = \sigma^2 g(1 - \varphi)$
+/// (the conditional covariances of the Ornstein-Uhlenbeck process given $b_0$).
+struct IntegratedGm {
+    sigma: f64,
+    tc: f64,
+    phi: f64,
+    gain: f64,
+    /// $\sqrt{\mathrm{Var}\,\varepsilon_1}$.
+    s1: f64,
+    /// $\mathrm{Cov}/s_1$: the part of $\varepsilon_2$ along $\varepsilon_1$'s normal.
+    along: f64,
+    /// The rest of $\varepsilon_2$'s standard deviation.
+    rest: f64,
+}
+
+impl IntegratedGm {
+    fn new(term: &gw_model::noise::GaussMarkov, dt: f64) -> Self {
+        let (sigma, tc) = (term.sigma(), term.correlation_s());
+        let phi = (-dt / tc).exp();
+        let gain = -tc * (-dt / tc).exp_m1() / dt;
+        let v_mean = term.variance_of_average(
+            &gw_model::noise::Window::new(0.0, dt)
+                .unwrap_or_else(|_| unreachable!("a sample interval is positive and finite")),
+        );
+        let s1 = sigma * (1.0 - phi * phi).max(0.0).sqrt();
+        let cov = sigma * sigma * gain * (1.0 - phi);
+        let along = if s1 > 0.0 { cov / s1 } else { 0.0 };
+        let rest = (v_mean - sigma * sigma * gain * gain - along * along)
+            .max(0.0)
+            .sqrt();
+        Self {
+            sigma,
+            tc,
+            phi,
+            gain,
+            s1,
+            along,
+            rest,
+        }
+    }
 }
 
 impl Generator {
@@ -241,6 +302,15 @@ impl Generator {
             bias: noise.bias().map(|b| (b.sigma(), b.correlation_s())),
             rate_random_walk: noise.rate_random_walk(),
             rate_ramp: noise.rate_ramp(),
+            flicker: noise
+                .flicker_bank(&timing.windows())
+                .map_or_else(Vec::new, |bank| {
+                    bank.terms()
+                        .iter()
+                        .map(|t| IntegratedGm::new(t, 1.0 / fs))
+                        .collect()
+                }),
+            angle_quantization: noise.angle_quantization(),
             windows: timing
                 .windows()
                 .iter()
@@ -278,11 +348,27 @@ impl Generator {
         } else {
             0.0
         };
+        // the flicker bank's states, started stationary
+        let mut flicker: Vec<f64> = self
+            .flicker
+            .iter()
+            .map(|f| f.sigma * z.sample(words))
+            .collect();
+        let has_flicker = !flicker.is_empty();
+        // angle quantization: the integrated output's error at the last reading, and its time
+        let q_step = self.angle_quantization * SQRT_12;
+        let mut last_reading: Option<(f64, f64)> = None;
         let mut t = 0.0;
         for (a, &(start, n)) in avg.iter_mut().zip(&self.windows) {
             if has_bias && start > t {
                 let g = (-(start - t) / tc).exp();
                 b = g * b + sigma_b * (1.0 - g * g).max(0.0).sqrt() * z.sample(words);
+            }
+            if has_flicker && start > t {
+                for (f, x) in self.flicker.iter().zip(&mut flicker) {
+                    let g = (-(start - t) / f.tc).exp();
+                    *x = g * *x + f.sigma * (1.0 - g * g).max(0.0).sqrt() * z.sample(words);
+                }
             }
             if has_rrw && start > t {
                 wiener += (start - t).sqrt() * z.sample(words);
@@ -302,6 +388,12 @@ impl Generator {
                 if has_ramp {
                     x += rho * (start + (i as f64 + 0.5) * self.dt);
                 }
+                for (f, state) in self.flicker.iter().zip(&mut flicker) {
+                    let z1 = z.sample(words);
+                    let z2 = z.sample(words);
+                    x += f.gain * *state + f.along * z1 + f.rest * z2;
+                    *state = f.phi * *state + f.s1 * z1;
+                }
                 if has_white {
                     x += self.white_sd * z.sample(words);
                 }
@@ -312,6 +404,23 @@ impl Generator {
             }
             *a = sum / n as f64;
             t = start + n as f64 * self.dt;
+            if q_step > 0.0 {
+                // the readings at the window's ends: shared with the previous window where it
+                // ended as this one starts
+                let mut reading = || q_step * (words.unit_32() - 0.5);
+                let e_start = match last_reading {
+                    Some((at, e))
+                        if (at - start).abs()
+                            <= gw_model::noise::SAME_READING_RELATIVE * at.abs().max(1.0) =>
+                    {
+                        e
+                    }
+                    _ => reading(),
+                };
+                let e_end = reading();
+                *a += (e_end - e_start) / (t - start);
+                last_reading = Some((t, e_end));
+            }
         }
     }
 }

@@ -23,6 +23,16 @@
 //!   $\rho \sim N(0, R^2)$ drawn once per test (a drift of unknown sign), covariance
 //!   $R^2 s r$, Allan deviation $\sigma(\tau) = R\tau/\sqrt2$ (ibid., C.1.5).
 //!
+//! - $b_F$, a **flicker bias instability** of coefficient $B$ (two-sided PSD
+//!   $B^2/(2\pi f)$, Allan floor $0.6643\,B$, ibid., C.1.3), entered over a schedule as the
+//!   [`FlickerBank`] of Gauss-Markov terms that reproduces the floor over the schedule's time
+//!   scales, its fit error stated;
+//! - $\varepsilon_Q$, **angle (velocity) quantization** $Q$ (output unit times s): an error
+//!   of standard deviation $Q$ in the integrated output at each reading, independent from
+//!   reading to reading; a window's average $(\theta(b) - \theta(a))/T$ carries
+//!   $(e_b - e_a)/T$: variance $2Q^2/T^2$, covariance $-Q^2/(T_1T_2)$ with the window that
+//!   starts where it ends, Allan variance $3Q^2/\tau^2$ (ibid., C.1.1).
+//!
 //! Before $t_0$ both drifts are zero ($b_K(t) = K\,W(\max(t, 0))$), so a window that starts
 //! before the test sees only its part after $t_0$.
 //!
@@ -199,6 +209,11 @@ const SERIES_BELOW: f64 = 0.5;
 /// when the matrix is built (its exponential has underflowed into subnormals, which slow
 /// the loop and carry nothing). Dimensionless.
 const CORRELATION_UNDERFLOW: f64 = 1e-300;
+
+/// Two reading times closer than this, relative to their size (at least 1 s), are one
+/// reading of the integrated output (angle quantization): windows that share a reading.
+/// Dimensionless.
+pub const SAME_READING_RELATIVE: f64 = 1e-9;
 
 /// The physical family of an output's unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -594,6 +609,132 @@ impl GaussMarkov {
     }
 }
 
+/// The ratio of successive correlation times in a [`FlickerBank`]: $\sqrt{10}$, two terms
+/// per decade. Dimensionless.
+pub const FLICKER_BANK_RATIO: f64 = 3.162_277_660_168_379_5;
+
+/// How far a [`FlickerBank`]'s correlation times reach beyond the time scales it stands for:
+/// from the shortest over this factor to the longest times it. Dimensionless; with
+/// [`FLICKER_BANK_RATIO`] the bank's Allan deviation is within 0.4% of the flicker floor
+/// over those time scales (the truncated tails, $2/u$ and $2u/3$ of
+/// $\int a(u)\,d\ln u = 2\ln 2$, and the ripple of the geometric spacing).
+pub const FLICKER_BANK_REACH: f64 = 100.0;
+
+/// Points per decade at which a [`FlickerBank`]'s Allan deviation is compared with the
+/// flicker floor to state its fit error.
+const FLICKER_CHECK_PER_DECADE: f64 = 16.0;
+
+/// A flicker (1/f) bias instability of coefficient $B$ entered as a bank of first-order
+/// Gauss-Markov terms over stated time scales $[\tau_{lo}, \tau_{hi}]$ (a schedule's
+/// shortest dwell and its span), with the fit error stated.
+///
+/// Flicker noise has the two-sided power spectral density $B^2/(2\pi f)$ and the flat Allan
+/// deviation $\sqrt{2\ln2/\pi}\,B$ (IEEE Std 952-1997, Annex C, C.1.3); its variance
+/// diverges at low frequencies, so any covariance of window averages needs a stated cut.
+/// A Gauss-Markov term $(\sigma^2, T_c)$ has the Allan variance $\sigma^2 a(\tau/T_c)$,
+/// $a(u) = (2u - 3 + 4e^{-u} - e^{-2u})/u^2$, and $\int_0^\infty a(u)\,du/u = 2\ln 2$. Terms
+/// of equal variance at correlation times spaced by the ratio $r$ in $\ln T_c$ therefore sum
+/// to the Allan variance $\sigma^2\,2\ln2/\ln r$ wherever $\tau$ lies well inside their
+/// range, which is the flicker floor $2\ln2\,B^2/\pi$ for
+/// $$\sigma^2 = \frac{B^2 \ln r}{\pi}$$
+/// (their spectra sum to $B^2/(2\pi f)$ over the same band). The bank spaces $T_c$ by
+/// [`FLICKER_BANK_RATIO`] from $\tau_{lo}/$[`FLICKER_BANK_REACH`] to
+/// $\tau_{hi}\cdot$[`FLICKER_BANK_REACH`]; below $1/(2\pi T_{c,\max})$ it has no power
+/// (the cut: slower wander looks like a constant bias and a ramp over the test).
+/// [`max_relative_adev_error`](Self::max_relative_adev_error) is the largest
+/// $|\sigma_{bank}(\tau)/\sigma_{floor} - 1|$ over $[\tau_{lo}, \tau_{hi}]$, 16 points per
+/// decade.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlickerBank {
+    bias_instability: f64,
+    terms: Vec<GaussMarkov>,
+    time_scales_s: (f64, f64),
+    max_relative_adev_error: f64,
+}
+
+impl FlickerBank {
+    /// The bank of a flicker coefficient $B$ (output unit, $\ge 0$) over the time scales
+    /// from `shortest_s` to `longest_s` (positive, finite; swapped if given the other way).
+    #[must_use]
+    pub fn new(bias_instability: f64, shortest_s: f64, longest_s: f64) -> Self {
+        let (lo, hi) = if shortest_s <= longest_s {
+            (shortest_s, longest_s)
+        } else {
+            (longest_s, shortest_s)
+        };
+        let r = FLICKER_BANK_RATIO;
+        let tc_min = lo / FLICKER_BANK_REACH;
+        let tc_max = hi * FLICKER_BANK_REACH;
+        let count = ((tc_max / tc_min).ln() / r.ln()).ceil().max(0.0) as usize + 1;
+        let sigma = bias_instability * (r.ln() / std::f64::consts::PI).sqrt();
+        let terms: Vec<GaussMarkov> = (0..count)
+            .map(|i| GaussMarkov {
+                sigma,
+                correlation_s: tc_min * r.powi(i as i32),
+            })
+            .collect();
+        let mut bank = Self {
+            bias_instability,
+            terms,
+            time_scales_s: (lo, hi),
+            max_relative_adev_error: 0.0,
+        };
+        if bias_instability > 0.0 {
+            let floor = bias_instability * FLICKER_FLOOR_PER_BIAS_INSTABILITY;
+            let points = ((hi / lo).log10() * FLICKER_CHECK_PER_DECADE)
+                .ceil()
+                .max(1.0) as usize;
+            let mut worst: f64 = 0.0;
+            for k in 0..=points {
+                let tau = lo * (hi / lo).powf(k as f64 / points as f64);
+                worst = worst.max((bank.allan_variance(tau).sqrt() / floor - 1.0).abs());
+            }
+            bank.max_relative_adev_error = worst;
+        }
+        bank
+    }
+
+    /// The flicker coefficient $B$, output unit.
+    #[must_use]
+    pub fn bias_instability(&self) -> f64 {
+        self.bias_instability
+    }
+
+    /// The Gauss-Markov terms, by increasing correlation time.
+    #[must_use]
+    pub fn terms(&self) -> &[GaussMarkov] {
+        &self.terms
+    }
+
+    /// The time scales the bank stands for, `(shortest, longest)`, s.
+    #[must_use]
+    pub fn time_scales_s(&self) -> (f64, f64) {
+        self.time_scales_s
+    }
+
+    /// The largest relative error of the bank's Allan deviation against the flicker floor
+    /// over its time scales (the fit error; 0 for $B = 0$). Dimensionless.
+    #[must_use]
+    pub fn max_relative_adev_error(&self) -> f64 {
+        self.max_relative_adev_error
+    }
+
+    /// The bank's Allan variance at cluster time $\tau$, output unit squared.
+    #[must_use]
+    pub fn allan_variance(&self, tau_s: f64) -> f64 {
+        self.terms.iter().map(|t| t.allan_variance(tau_s)).sum()
+    }
+
+    /// Covariance of the bank's averages over two windows, output unit squared.
+    #[must_use]
+    pub fn covariance_of_averages(&self, w1: &Window, w2: &Window) -> f64 {
+        self.terms
+            .iter()
+            .map(|t| t.covariance_of_averages(w1, w2))
+            .sum()
+    }
+}
+
 /// $\varphi(v) = e^{-v} - 1 + v$ for $v \ge 0$, by its series below [`SERIES_BELOW`] (the
 /// closed form cancels there).
 fn phi(v: f64) -> f64 {
@@ -620,6 +761,71 @@ pub struct NoiseModel {
     quantization: f64,
     rate_random_walk: f64,
     rate_ramp: f64,
+    flicker: f64,
+    angle_quantization: f64,
+    /// Standard uncertainty of each parameter, in the order of [`NoiseParameter::ALL`]
+    /// (0: none given).
+    uncertainty: [f64; NoiseParameter::ALL.len()],
+}
+
+/// A parameter of a [`NoiseModel`], for its uncertainty and the answers' sensitivity to it.
+/// Values in the model's units: output unit per $\sqrt{\mathrm{Hz}}$ (white), output unit
+/// (the Gauss-Markov $\sigma_b$, flicker $B$, quantization step), s (correlation time),
+/// output unit times s (angle quantization), per $\sqrt{\mathrm s}$ (rate random walk), per s
+/// (rate ramp).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum NoiseParameter {
+    /// White density $N$.
+    White,
+    /// The Gauss-Markov bias's stationary standard deviation $\sigma_b$.
+    BiasSigma,
+    /// The Gauss-Markov bias's correlation time $T_c$.
+    BiasCorrelation,
+    /// The flicker coefficient $B$.
+    Flicker,
+    /// The quantization step $q$ of the samples.
+    Quantization,
+    /// Angle quantization $Q$.
+    AngleQuantization,
+    /// Rate random walk $K$.
+    RateRandomWalk,
+    /// Rate ramp $R$.
+    RateRamp,
+}
+
+impl NoiseParameter {
+    /// Every parameter.
+    pub const ALL: [NoiseParameter; 8] = [
+        NoiseParameter::White,
+        NoiseParameter::BiasSigma,
+        NoiseParameter::BiasCorrelation,
+        NoiseParameter::Flicker,
+        NoiseParameter::Quantization,
+        NoiseParameter::AngleQuantization,
+        NoiseParameter::RateRandomWalk,
+        NoiseParameter::RateRamp,
+    ];
+
+    /// A short name: `white`, `bias_sigma`, `bias_correlation_s`, `flicker_bias_instability`,
+    /// `quantization`, `angle_quantization`, `rate_random_walk`, `rate_ramp`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseParameter::White => "white",
+            NoiseParameter::BiasSigma => "bias_sigma",
+            NoiseParameter::BiasCorrelation => "bias_correlation_s",
+            NoiseParameter::Flicker => "flicker_bias_instability",
+            NoiseParameter::Quantization => "quantization",
+            NoiseParameter::AngleQuantization => "angle_quantization",
+            NoiseParameter::RateRandomWalk => "rate_random_walk",
+            NoiseParameter::RateRamp => "rate_ramp",
+        }
+    }
+
+    fn index(self) -> usize {
+        Self::ALL.iter().position(|p| *p == self).unwrap_or(0)
+    }
 }
 
 /// The covariance of an output's averages over $n$ windows, split into its white part (white
@@ -631,8 +837,10 @@ pub struct NoiseModel {
 pub struct WindowCovariance {
     /// White noise and quantization.
     pub(crate) white: DMatrix<f64>,
-    /// The Gauss-Markov bias instability, rate random walk and rate ramp.
+    /// The Gauss-Markov bias instability, the flicker bank, rate random walk and rate ramp.
     pub(crate) correlated: DMatrix<f64>,
+    /// The bank that stands for the flicker term, with its fit error (`None`: no flicker).
+    pub(crate) flicker: Option<FlickerBank>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -643,10 +851,17 @@ impl WindowCovariance {
         &self.white
     }
 
-    /// The Gauss-Markov bias instability, rate random walk and rate ramp.
+    /// The Gauss-Markov bias instability, the flicker bank, rate random walk and rate ramp.
     #[must_use]
     pub fn correlated(&self) -> &DMatrix<f64> {
         &self.correlated
+    }
+
+    /// The Gauss-Markov bank the flicker term was entered as, with its fit error (`None`
+    /// without a flicker term).
+    #[must_use]
+    pub fn flicker(&self) -> Option<&FlickerBank> {
+        self.flicker.as_ref()
     }
 }
 
@@ -678,7 +893,163 @@ impl NoiseModel {
             quantization,
             rate_random_walk: 0.0,
             rate_ramp: 0.0,
+            flicker: 0.0,
+            angle_quantization: 0.0,
+            uncertainty: [0.0; NoiseParameter::ALL.len()],
         })
+    }
+
+    /// The value of parameter `p` (0 for a term the model does not have), in the model's
+    /// units ([`NoiseParameter`]).
+    #[must_use]
+    pub fn value(&self, p: NoiseParameter) -> f64 {
+        match p {
+            NoiseParameter::White => self.white_per_sqrt_hz,
+            NoiseParameter::BiasSigma => self.bias.map_or(0.0, |b| b.sigma),
+            NoiseParameter::BiasCorrelation => self.bias.map_or(0.0, |b| b.correlation_s),
+            NoiseParameter::Flicker => self.flicker,
+            NoiseParameter::Quantization => self.quantization,
+            NoiseParameter::AngleQuantization => self.angle_quantization,
+            NoiseParameter::RateRandomWalk => self.rate_random_walk,
+            NoiseParameter::RateRamp => self.rate_ramp,
+        }
+    }
+
+    /// The standard uncertainty of parameter `p` (0: none given), in its unit.
+    #[must_use]
+    pub fn uncertainty(&self, p: NoiseParameter) -> f64 {
+        self.uncertainty[p.index()]
+    }
+
+    /// The model with the standard uncertainty `u` of parameter `p`, in its unit.
+    ///
+    /// # Errors
+    /// [`ModelError::Field`] (not finite, negative) naming `<name>_uncertainty`
+    /// ([`NoiseParameter::name`]).
+    pub fn with_uncertainty(mut self, p: NoiseParameter, u: f64) -> Result<Self, ModelError> {
+        let field = format!("{}_uncertainty", p.name());
+        self.uncertainty[p.index()] = non_negative(&field, u)?;
+        Ok(self)
+    }
+
+    /// The model with parameter `p` moved by `k` standard uncertainties (others unchanged),
+    /// clipped at 0 (a correlation time at a thousandth of its value); `None` when `p` has
+    /// no uncertainty or the model has no such term.
+    #[must_use]
+    pub fn perturbed(&self, p: NoiseParameter, k: f64) -> Option<Self> {
+        let u = self.uncertainty(p);
+        let v = self.value(p);
+        let has_term = match p {
+            NoiseParameter::BiasSigma | NoiseParameter::BiasCorrelation => self.bias.is_some(),
+            _ => true,
+        };
+        if !(u > 0.0 && has_term && k.is_finite()) {
+            return None;
+        }
+        let moved = (v + k * u).max(0.0);
+        let mut m = self.clone();
+        match p {
+            NoiseParameter::White => m.white_per_sqrt_hz = moved,
+            NoiseParameter::BiasSigma => {
+                if let Some(b) = m.bias.as_mut() {
+                    b.sigma = moved;
+                }
+            }
+            NoiseParameter::BiasCorrelation => {
+                if let Some(b) = m.bias.as_mut() {
+                    b.correlation_s = moved.max(1e-3 * v);
+                }
+            }
+            NoiseParameter::Flicker => m.flicker = moved,
+            NoiseParameter::Quantization => m.quantization = moved,
+            NoiseParameter::AngleQuantization => m.angle_quantization = moved,
+            NoiseParameter::RateRandomWalk => m.rate_random_walk = moved,
+            NoiseParameter::RateRamp => m.rate_ramp = moved,
+        }
+        Some(m)
+    }
+
+    /// The model with a flicker (1/f) bias instability of coefficient $B$ (output unit; 0 for
+    /// none): the flat Allan-deviation floor $\sigma(\tau) = 0.6643\,B$ of IEEE Std 952,
+    /// entered into [`window_covariance`](Self::window_covariance) as the [`FlickerBank`]
+    /// over the schedule's time scales.
+    ///
+    /// # Errors
+    /// [`ModelError::Field`] (not finite, negative) naming `flicker_bias_instability`.
+    pub fn with_flicker(mut self, bias_instability: f64) -> Result<Self, ModelError> {
+        self.flicker = non_negative("flicker_bias_instability", bias_instability)?;
+        Ok(self)
+    }
+
+    /// The model with an angle (velocity) quantization $Q$ (output unit times s; 0 for none):
+    /// the standard deviation of the integrated output's error at each reading, independent
+    /// from one reading to the next, $\sigma(\tau) = \sqrt3\,Q/\tau$ (IEEE Std 952-1997,
+    /// Annex C, C.1.1).
+    ///
+    /// # Errors
+    /// [`ModelError::Field`] (not finite, negative) naming `angle_quantization`.
+    pub fn with_angle_quantization(mut self, q_times_s: f64) -> Result<Self, ModelError> {
+        self.angle_quantization = non_negative("angle_quantization", q_times_s)?;
+        Ok(self)
+    }
+
+    /// The flicker coefficient $B$, output unit (0: none).
+    #[must_use]
+    pub fn flicker(&self) -> f64 {
+        self.flicker
+    }
+
+    /// Angle quantization $Q$, output unit times s (0: none).
+    #[must_use]
+    pub fn angle_quantization(&self) -> f64 {
+        self.angle_quantization
+    }
+
+    /// The Gauss-Markov bank that stands for the flicker term over the time scales of
+    /// `windows` (shortest window to the span from the first start to the last end), `None`
+    /// without a flicker term or windows.
+    #[must_use]
+    pub fn flicker_bank(&self, windows: &[Window]) -> Option<FlickerBank> {
+        if self.flicker <= 0.0 || windows.is_empty() {
+            return None;
+        }
+        let shortest = windows
+            .iter()
+            .map(|w| w.duration_s)
+            .fold(f64::INFINITY, f64::min);
+        let first = windows
+            .iter()
+            .map(|w| w.start_s)
+            .fold(f64::INFINITY, f64::min);
+        let last = windows
+            .iter()
+            .map(Window::end_s)
+            .fold(f64::NEG_INFINITY, f64::max);
+        Some(FlickerBank::new(
+            self.flicker,
+            shortest,
+            (last - first).max(shortest),
+        ))
+    }
+
+    /// Covariance of the angle-quantization parts of two windows' averages:
+    /// $Q^2[\delta(b,d) - \delta(b,c) - \delta(a,d) + \delta(a,c)]/(T_1T_2)$ for
+    /// $W_1 = [a, b]$, $W_2 = [c, d]$, $\delta$ one where two readings coincide: $2Q^2/T^2$
+    /// for one window, $-Q^2/(T_1T_2)$ where one window ends as the other starts, output
+    /// unit squared.
+    #[must_use]
+    pub fn angle_quantization_covariance_of_averages(&self, w1: &Window, w2: &Window) -> f64 {
+        if self.angle_quantization <= 0.0 {
+            return 0.0;
+        }
+        let same = |x: f64, y: f64| {
+            let scale = x.abs().max(y.abs()).max(1.0);
+            (x - y).abs() <= SAME_READING_RELATIVE * scale
+        };
+        let d = |x: f64, y: f64| if same(x, y) { 1.0 } else { 0.0 };
+        let (a, b, c, e) = (w1.start_s, w1.end_s(), w2.start_s, w2.end_s());
+        self.angle_quantization.powi(2) * (d(b, e) - d(b, c) - d(a, e) + d(a, c))
+            / (w1.duration_s * w2.duration_s)
     }
 
     /// The model with a rate random walk of density $K$ (output unit per $\sqrt{\mathrm s}$;
@@ -782,11 +1153,13 @@ impl NoiseModel {
         self.white_per_sqrt_hz.powi(2) * sample_rate_hz + self.quantization.powi(2) / 12.0
     }
 
-    /// Variance of the white part (white noise and quantization) of the average over a
-    /// window at sample rate $f_s$: $N^2/T + q^2/(12 f_s T)$, output unit squared.
+    /// Variance of the white part (white noise, quantization and angle quantization) of the
+    /// average over a window at sample rate $f_s$: $N^2/T + q^2/(12 f_s T) + 2Q^2/T^2$,
+    /// output unit squared.
     #[must_use]
     pub fn white_variance_of_average(&self, window: &Window, sample_rate_hz: f64) -> f64 {
         self.white_sample_variance(sample_rate_hz) / (sample_rate_hz * window.duration_s)
+            + 2.0 * (self.angle_quantization / window.duration_s).powi(2)
     }
 
     /// Variance of the quantization part alone of a window's average: $q^2/(12 f_s T)$,
@@ -803,7 +1176,9 @@ impl NoiseModel {
         self.bias.map_or(0.0, |b| b.variance_of_average(window))
     }
 
-    /// Variance of a window's average, every part, output unit squared.
+    /// Variance of a window's average, every part but flicker (whose bank depends on the
+    /// schedule's time scales: [`flicker_bank`](Self::flicker_bank),
+    /// [`window_covariance`](Self::window_covariance)), output unit squared.
     #[must_use]
     pub fn variance_of_average(&self, window: &Window, sample_rate_hz: f64) -> f64 {
         self.white_variance_of_average(window, sample_rate_hz)
@@ -812,7 +1187,9 @@ impl NoiseModel {
     }
 
     /// Covariance of the white parts of two windows' averages:
-    /// $(N^2 + q^2/(12 f_s))\,|W_1\cap W_2|/(T_1T_2)$, output unit squared.
+    /// $(N^2 + q^2/(12 f_s))\,|W_1\cap W_2|/(T_1T_2)$ plus the angle quantization's
+    /// ([`angle_quantization_covariance_of_averages`](Self::angle_quantization_covariance_of_averages)),
+    /// output unit squared.
     #[must_use]
     pub fn white_covariance_of_averages(
         &self,
@@ -821,14 +1198,17 @@ impl NoiseModel {
         sample_rate_hz: f64,
     ) -> f64 {
         let overlap = w1.overlap_s(w2);
+        let q = self.angle_quantization_covariance_of_averages(w1, w2);
         if overlap <= 0.0 {
-            return 0.0;
+            return q;
         }
         self.white_sample_variance(sample_rate_hz) / sample_rate_hz * overlap
             / (w1.duration_s * w2.duration_s)
+            + q
     }
 
-    /// Covariance of two windows' averages, every part, output unit squared.
+    /// Covariance of two windows' averages, every part but flicker (see
+    /// [`variance_of_average`](Self::variance_of_average)), output unit squared.
     #[must_use]
     pub fn covariance_of_averages(&self, w1: &Window, w2: &Window, sample_rate_hz: f64) -> f64 {
         self.white_covariance_of_averages(w1, w2, sample_rate_hz)
@@ -878,6 +1258,15 @@ impl NoiseModel {
                 }
             }
         }
+        if disjoint && self.angle_quantization > 0.0 {
+            // between windows that share a reading: one ends where the next starts
+            for p in order.windows(2) {
+                let (i, j) = (p[0], p[1]);
+                let c = self.angle_quantization_covariance_of_averages(&windows[i], &windows[j]);
+                white[(i, j)] += c;
+                white[(j, i)] += c;
+            }
+        }
         if self.rate_random_walk > 0.0 || self.rate_ramp > 0.0 {
             for i in 0..n {
                 for j in 0..=i {
@@ -887,56 +1276,74 @@ impl NoiseModel {
                 }
             }
         }
-        let Some(bias) = self.bias.filter(|b| b.sigma > 0.0) else {
-            return Ok(WindowCovariance { white, correlated });
-        };
-        if !disjoint {
-            for i in 0..n {
-                for j in 0..=i {
-                    let c = bias.covariance_of_averages(&windows[i], &windows[j]);
-                    correlated[(i, j)] += c;
-                    if i != j {
-                        correlated[(j, i)] += c;
-                    }
+        let flicker = self.flicker_bank(windows);
+        let bank = flicker.as_ref().map_or(&[][..], |f| f.terms.as_slice());
+        for bias in self.bias.iter().chain(bank).filter(|b| b.sigma > 0.0) {
+            add_gauss_markov(bias, windows, &order, disjoint, &mut correlated);
+        }
+        Ok(WindowCovariance {
+            white,
+            correlated,
+            flicker,
+        })
+    }
+}
+
+/// Add the covariance of a Gauss-Markov term's averages over `windows` (`order`: their
+/// indices in time order; `disjoint`: no two overlap) to `correlated`.
+fn add_gauss_markov(
+    bias: &GaussMarkov,
+    windows: &[Window],
+    order: &[usize],
+    disjoint: bool,
+    correlated: &mut DMatrix<f64>,
+) {
+    let n = windows.len();
+    if !disjoint {
+        for i in 0..n {
+            for j in 0..=i {
+                let c = bias.covariance_of_averages(&windows[i], &windows[j]);
+                correlated[(i, j)] += c;
+                if i != j {
+                    correlated[(j, i)] += c;
                 }
             }
-            return Ok(WindowCovariance { white, correlated });
         }
-        let tc = bias.correlation_s;
-        let gain: Vec<f64> = order
-            .iter()
-            .map(|&i| bias.sigma * bias.average_gain(&windows[i]))
-            .collect();
-        // step[k] = exp(-(t_k - t_{k-1}) / Tc) in time order; gap[k] = exp(-(t_{k+1} - e_k) / Tc).
-        let step: Vec<f64> = (0..n)
-            .map(|k| {
-                if k == 0 {
-                    1.0
-                } else {
-                    (-(windows[order[k]].start_s - windows[order[k - 1]].start_s) / tc).exp()
-                }
-            })
-            .collect();
-        for (k, &i) in order.iter().enumerate() {
-            correlated[(i, i)] += bias.variance_of_average(&windows[i]);
-            if k + 1 == n {
+        return;
+    }
+    let tc = bias.correlation_s;
+    let gain: Vec<f64> = order
+        .iter()
+        .map(|&i| bias.sigma * bias.average_gain(&windows[i]))
+        .collect();
+    // step[k] = exp(-(t_k - t_{k-1}) / Tc) in time order; gap[k] = exp(-(t_{k+1} - e_k) / Tc).
+    let step: Vec<f64> = (0..n)
+        .map(|k| {
+            if k == 0 {
+                1.0
+            } else {
+                (-(windows[order[k]].start_s - windows[order[k - 1]].start_s) / tc).exp()
+            }
+        })
+        .collect();
+    for (k, &i) in order.iter().enumerate() {
+        correlated[(i, i)] += bias.variance_of_average(&windows[i]);
+        if k + 1 == n {
+            break;
+        }
+        let mut e = (-(windows[order[k + 1]].start_s - windows[i].end_s()) / tc).exp();
+        for l in (k + 1)..n {
+            if l > k + 1 {
+                e *= step[l];
+            }
+            if e < CORRELATION_UNDERFLOW {
                 break;
             }
-            let mut e = (-(windows[order[k + 1]].start_s - windows[i].end_s()) / tc).exp();
-            for l in (k + 1)..n {
-                if l > k + 1 {
-                    e *= step[l];
-                }
-                if e < CORRELATION_UNDERFLOW {
-                    break;
-                }
-                let j = order[l];
-                let c = gain[k] * gain[l] * e;
-                correlated[(i, j)] += c;
-                correlated[(j, i)] += c;
-            }
+            let j = order[l];
+            let c = gain[k] * gain[l] * e;
+            correlated[(i, j)] += c;
+            correlated[(j, i)] += c;
         }
-        Ok(WindowCovariance { white, correlated })
     }
 }
 

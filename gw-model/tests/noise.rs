@@ -6,9 +6,9 @@
 use approx::assert_relative_eq;
 use gw_model::ModelError;
 use gw_model::noise::{
-    FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA, GM_ADEV_PEAK_TAU_PER_TC,
-    GaussMarkov, NoiseModel, OUTPUT_UNITS, OutputUnit, STANDARD_GRAVITY_M_PER_S2, UnitFamily,
-    WhiteDensity, Window,
+    FLICKER_BANK_RATIO, FLICKER_FLOOR_PER_BIAS_INSTABILITY, FlickerBank, GM_ADEV_PEAK_PER_SIGMA,
+    GM_ADEV_PEAK_TAU_PER_TC, GaussMarkov, NoiseModel, OUTPUT_UNITS, OutputUnit,
+    STANDARD_GRAVITY_M_PER_S2, UnitFamily, WhiteDensity, Window,
 };
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
@@ -527,6 +527,180 @@ fn window_covariance_matrix_equals_pairwise_closed_forms_in_any_order() {
     assert!(c.total().iter().all(|v| v.is_finite()));
 }
 
+// ---------------------------------------------------------------- flicker and angle quantization
+
+/// The stated fit error of the flicker bank: its Allan deviation within 0.5% of the flicker
+/// floor 0.6643 B over the time scales it stands for, dimensionless.
+const FLICKER_FIT_REL: f64 = 5e-3;
+
+/// The Allan variance of the averages of two adjacent windows $[0,\tau]$, $[\tau, 2\tau]$
+/// from a covariance matrix: $\frac12(V_1 + V_2 - 2C)$.
+fn allan_from(c: &nalgebra::DMatrix<f64>) -> f64 {
+    0.5 * (c[(0, 0)] + c[(1, 1)] - 2.0 * c[(0, 1)])
+}
+
+/// The bank's terms have the variance $B^2\ln r/\pi$ (whose Allan variances sum to the
+/// floor $2\ln 2 B^2/\pi$), reach two decades beyond the time scales, and its Allan
+/// deviation stays within its stated fit error, itself below 0.5%, of the flicker floor from
+/// a 60 s dwell to a 3.5-day test.
+#[test]
+fn flicker_bank_reproduces_the_flicker_floor_within_its_stated_error() {
+    let b = 0.5;
+    let bank = FlickerBank::new(b, 60.0, 3e5);
+    let floor = b * FLICKER_FLOOR_PER_BIAS_INSTABILITY;
+    assert!(bank.max_relative_adev_error() > 0.0);
+    assert!(bank.max_relative_adev_error() < FLICKER_FIT_REL);
+    let sigma2 = b * b * FLICKER_BANK_RATIO.ln() / std::f64::consts::PI;
+    for t in bank.terms() {
+        assert_relative_eq!(t.sigma().powi(2), sigma2, max_relative = 1e-12);
+    }
+    assert!(bank.terms()[0].correlation_s() <= 0.6 + 1e-9);
+    assert!(bank.terms().last().unwrap().correlation_s() >= 3e7 - 1e-3);
+    for tau in [60.0, 100.0, 1e3, 7e3, 5e4, 3e5] {
+        let adev = bank.allan_variance(tau).sqrt();
+        assert!(
+            (adev / floor - 1.0).abs() <= bank.max_relative_adev_error() + 1e-12,
+            "tau {tau}: {adev} vs floor {floor}"
+        );
+    }
+    // outside the time scales the floor is not promised: far beyond, the bank falls off
+    assert!(bank.allan_variance(3e9).sqrt() < 0.5 * floor);
+}
+
+/// Through `window_covariance`, a flicker term is the floor as the Allan data show it: two
+/// adjacent windows' averages give the Allan variance $(0.6643 B)^2$ within the stated fit
+/// error, at 1 s and at 10^4 s, and the matrix names the bank it used.
+#[test]
+fn window_covariance_of_flicker_has_the_flat_allan_floor() {
+    let b = 0.5;
+    let noise = NoiseModel::new(0.0, None, 0.0)
+        .unwrap()
+        .with_flicker(b)
+        .unwrap();
+    let floor2 = (b * FLICKER_FLOOR_PER_BIAS_INSTABILITY).powi(2);
+    for tau in [1.0, 1e4] {
+        let ws = [
+            Window::new(0.0, tau).unwrap(),
+            Window::new(tau, tau).unwrap(),
+        ];
+        let c = noise.window_covariance(&ws, 100.0).unwrap();
+        let bank = c.flicker().expect("a flicker term has its bank");
+        assert_relative_eq!(bank.time_scales_s().0, tau, max_relative = 1e-12);
+        assert_relative_eq!(bank.time_scales_s().1, 2.0 * tau, max_relative = 1e-12);
+        let err = bank.max_relative_adev_error();
+        let avar = allan_from(c.correlated());
+        assert!(
+            (avar.sqrt() / floor2.sqrt() - 1.0).abs() <= err + 1e-9,
+            "tau {tau}: {avar} vs {floor2} (fit error {err})"
+        );
+        assert!(c.white().iter().all(|v| v.abs() < 1e-300));
+    }
+    assert!(
+        NoiseModel::new(1.0, None, 0.0)
+            .unwrap()
+            .window_covariance(&[Window::new(0.0, 1.0).unwrap()], 1.0)
+            .unwrap()
+            .flicker()
+            .is_none()
+    );
+}
+
+/// Angle quantization $Q$: a window's average carries $2Q^2/T^2$, a window that starts
+/// where the other ends $-Q^2/(T_1T_2)$ (they share a reading), a window after a gap
+/// nothing; two adjacent windows give IEEE 952's Allan variance $3Q^2/\tau^2$.
+#[test]
+fn angle_quantization_gives_the_allan_variance_three_q2_over_tau2() {
+    let q = 0.02;
+    let noise = NoiseModel::new(0.0, None, 0.0)
+        .unwrap()
+        .with_angle_quantization(q)
+        .unwrap();
+    let tau = 4.0;
+    let ws = [
+        Window::new(0.0, tau).unwrap(),
+        Window::new(tau, tau).unwrap(),
+        Window::new(3.0 * tau, 2.0 * tau).unwrap(),
+    ];
+    let c = noise.window_covariance(&ws, 50.0).unwrap();
+    let w = c.white();
+    assert_relative_eq!(w[(0, 0)], 2.0 * q * q / (tau * tau), max_relative = 1e-12);
+    assert_relative_eq!(w[(0, 1)], -q * q / (tau * tau), max_relative = 1e-12);
+    assert_relative_eq!(w[(1, 0)], w[(0, 1)], max_relative = 1e-12);
+    assert_eq!(w[(1, 2)].to_bits(), 0);
+    assert_relative_eq!(
+        w[(2, 2)],
+        2.0 * q * q / (4.0 * tau * tau),
+        max_relative = 1e-12
+    );
+    assert_relative_eq!(
+        allan_from(w),
+        3.0 * q * q / (tau * tau),
+        max_relative = 1e-12
+    );
+    // the pairwise form agrees with the matrix, also for overlapping windows
+    let over = [
+        Window::new(0.0, tau).unwrap(),
+        Window::new(0.0, 2.0 * tau).unwrap(),
+    ];
+    let c = noise.window_covariance(&over, 50.0).unwrap();
+    assert_relative_eq!(
+        c.white()[(0, 1)],
+        q * q / (2.0 * tau * tau),
+        max_relative = 1e-12
+    );
+    assert_relative_eq!(
+        noise.white_covariance_of_averages(&ws[0], &ws[1], 50.0),
+        -q * q / (tau * tau),
+        max_relative = 1e-12
+    );
+}
+
+/// A parameter moved by k standard uncertainties: only that parameter moves, clipped at
+/// zero; no uncertainty (or no such term) gives `None`; a bad uncertainty names its field.
+#[test]
+fn perturbed_noise_moves_one_parameter_by_its_uncertainty() {
+    use gw_model::noise::NoiseParameter as P;
+    let m = NoiseModel::new(2.0, Some(GaussMarkov::new(0.5, 60.0).unwrap()), 0.0)
+        .unwrap()
+        .with_flicker(0.3)
+        .unwrap()
+        .with_uncertainty(P::White, 0.5)
+        .unwrap()
+        .with_uncertainty(P::BiasCorrelation, 20.0)
+        .unwrap()
+        .with_uncertainty(P::Flicker, 0.4)
+        .unwrap();
+    let up = m.perturbed(P::White, 1.0).unwrap();
+    assert_relative_eq!(up.white_per_sqrt_hz(), 2.5, max_relative = 1e-15);
+    assert_eq!(up.flicker().to_bits(), 0.3f64.to_bits());
+    let tc = m.perturbed(P::BiasCorrelation, -1.0).unwrap();
+    assert_relative_eq!(
+        tc.bias().unwrap().correlation_s(),
+        40.0,
+        max_relative = 1e-15
+    );
+    assert_eq!(tc.bias().unwrap().sigma().to_bits(), 0.5f64.to_bits());
+    // clipped at zero
+    assert_eq!(
+        m.perturbed(P::Flicker, -1.0).unwrap().flicker().to_bits(),
+        0
+    );
+    assert!(m.perturbed(P::RateRamp, 1.0).is_none());
+    assert!(
+        NoiseModel::new(1.0, None, 0.0)
+            .unwrap()
+            .with_uncertainty(P::BiasSigma, 0.1)
+            .unwrap()
+            .perturbed(P::BiasSigma, 1.0)
+            .is_none()
+    );
+    let field = match m.clone().with_uncertainty(P::RateRamp, -1.0).unwrap_err() {
+        ModelError::Field(f) => f.field().to_string(),
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(field, "rate_ramp_uncertainty");
+}
+
 // ---------------------------------------------------------------- bad input
 
 /// Negative, non-finite and zero-where-positive values are typed errors naming the field.
@@ -584,6 +758,14 @@ fn bad_noise_values_are_errors_naming_the_field() {
         "sample_rate_hz"
     );
     for bad in [-1e-3, f64::NAN, f64::INFINITY] {
+        assert_eq!(
+            field(noise.clone().with_flicker(bad).unwrap_err()),
+            "flicker_bias_instability"
+        );
+        assert_eq!(
+            field(noise.clone().with_angle_quantization(bad).unwrap_err()),
+            "angle_quantization"
+        );
         assert_eq!(
             field(noise.clone().with_rate_random_walk(bad).unwrap_err()),
             "rate_random_walk"

@@ -14,6 +14,12 @@
 //! quantization = 0.0            # output unit (optional)
 //! rate_random_walk = 0.005      # output unit per sqrt(s) (optional): sigma(tau) = K sqrt(tau/3)
 //! rate_ramp = 0.0               # output unit per s (optional): sigma(tau) = R tau / sqrt(2)
+//! flicker_bias_instability = 0.5 # output unit (optional): flicker floor sigma = 0.6643 B
+//! angle_quantization = 0.0      # output unit times s (optional): sigma(tau) = sqrt(3) Q / tau
+//!
+//! [sensor.outputs.noise.uncertainty] # optional: standard uncertainties, each under its
+//! white_deg_per_sqrt_h = 0.01        # term's key and in its unit (what `allan` prints);
+//! bias_instability = 0.1             # the answers are given at each value +- 1 of them
 //!
 //! [calibration.timing]
 //! dwell_s = 60                  # or one value per position
@@ -41,6 +47,27 @@ pub(crate) struct RawNoise {
     bias_instability: Option<f64>,
     bias_correlation_s: Option<f64>,
     quantization: Option<f64>,
+    rate_random_walk: Option<f64>,
+    rate_ramp: Option<f64>,
+    flicker_bias_instability: Option<f64>,
+    angle_quantization: Option<f64>,
+    uncertainty: Option<RawNoiseUncertainty>,
+}
+
+/// `[sensor.outputs.noise.uncertainty]` as written: the standard uncertainty of each term,
+/// under the term's key and in its unit.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawNoiseUncertainty {
+    white_deg_per_sqrt_h: Option<f64>,
+    white_ug_per_sqrt_hz: Option<f64>,
+    white_m_per_s_per_sqrt_h: Option<f64>,
+    white_per_sqrt_hz: Option<f64>,
+    bias_instability: Option<f64>,
+    bias_correlation_s: Option<f64>,
+    flicker_bias_instability: Option<f64>,
+    quantization: Option<f64>,
+    angle_quantization: Option<f64>,
     rate_random_walk: Option<f64>,
     rate_ramp: Option<f64>,
 }
@@ -105,11 +132,13 @@ pub(crate) fn parse_output_noise(
         && raw.quantization.is_none()
         && raw.rate_random_walk.is_none()
         && raw.rate_ramp.is_none()
+        && raw.flicker_bias_instability.is_none()
+        && raw.angle_quantization.is_none()
     {
         return Err(StudyError::new(
             at(&key("")),
             format!(
-                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, quantization, rate_random_walk or rate_ramp (or remove the table)",
+                "an empty noise table: give one of {}, or bias_instability with bias_correlation_s, flicker_bias_instability, quantization, angle_quantization, rate_random_walk or rate_ramp (or remove the table)",
                 WhiteDensity::KEYS.join(", ")
             ),
         ));
@@ -178,9 +207,18 @@ pub(crate) fn parse_output_noise(
     };
     let rate_random_walk = drift("rate_random_walk", raw.rate_random_walk, &per_sqrt_s)?;
     let rate_ramp = drift("rate_ramp", raw.rate_ramp, &per_s)?;
-    NoiseModel::from_datasheet(unit, white, bias, quantization)
+    let flicker = drift(
+        "flicker_bias_instability",
+        raw.flicker_bias_instability,
+        &shown_unit,
+    )?;
+    let times_s = format!("({}) s", unit.escape_debug());
+    let angle_quantization = drift("angle_quantization", raw.angle_quantization, &times_s)?;
+    let mut model = NoiseModel::from_datasheet(unit, white, bias, quantization)
         .and_then(|m| m.with_rate_random_walk(rate_random_walk))
         .and_then(|m| m.with_rate_ramp(rate_ramp))
+        .and_then(|m| m.with_flicker(flicker))
+        .and_then(|m| m.with_angle_quantization(angle_quantization))
         .map_err(|e| {
             let field = match &e {
                 ModelError::UnitFamilyMismatch { key, .. }
@@ -189,7 +227,137 @@ pub(crate) fn parse_output_noise(
                 _ => String::new(),
             };
             StudyError::new(at(&key(&field)), e.to_string())
-        })
+        })?;
+    if let Some(u) = &raw.uncertainty {
+        model = with_uncertainties(at, &key, unit, raw, u, model)?;
+    }
+    Ok(model)
+}
+
+/// The noise model with the uncertainties of `[sensor.outputs.noise.uncertainty]`, each
+/// converted as its term (a white density to the output's unit, a bias instability to the
+/// Gauss-Markov sigma); an uncertainty of a term the table does not give is an error naming
+/// it.
+fn with_uncertainties(
+    at: &dyn Fn(&str) -> String,
+    key: &dyn Fn(&str) -> String,
+    unit: &str,
+    raw: &RawNoise,
+    u: &RawNoiseUncertainty,
+    mut model: NoiseModel,
+) -> Result<NoiseModel, StudyError> {
+    use gw_model::noise::{
+        FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA, NoiseParameter as P,
+    };
+    let shown_unit = format!("({})", unit.escape_debug());
+    let entries: [(&str, Option<f64>, bool, P, &str); 11] = [
+        (
+            "white_deg_per_sqrt_h",
+            u.white_deg_per_sqrt_h,
+            raw.white_deg_per_sqrt_h.is_some(),
+            P::White,
+            "deg/sqrt(h)",
+        ),
+        (
+            "white_ug_per_sqrt_hz",
+            u.white_ug_per_sqrt_hz,
+            raw.white_ug_per_sqrt_hz.is_some(),
+            P::White,
+            "ug/sqrt(Hz)",
+        ),
+        (
+            "white_m_per_s_per_sqrt_h",
+            u.white_m_per_s_per_sqrt_h,
+            raw.white_m_per_s_per_sqrt_h.is_some(),
+            P::White,
+            "(m/s)/sqrt(h)",
+        ),
+        (
+            "white_per_sqrt_hz",
+            u.white_per_sqrt_hz,
+            raw.white_per_sqrt_hz.is_some(),
+            P::White,
+            "(output unit)/sqrt(Hz)",
+        ),
+        (
+            "bias_instability",
+            u.bias_instability,
+            raw.bias_instability.is_some(),
+            P::BiasSigma,
+            &shown_unit,
+        ),
+        (
+            "bias_correlation_s",
+            u.bias_correlation_s,
+            raw.bias_correlation_s.is_some(),
+            P::BiasCorrelation,
+            "s",
+        ),
+        (
+            "flicker_bias_instability",
+            u.flicker_bias_instability,
+            raw.flicker_bias_instability.is_some(),
+            P::Flicker,
+            &shown_unit,
+        ),
+        (
+            "quantization",
+            u.quantization,
+            raw.quantization.is_some(),
+            P::Quantization,
+            &shown_unit,
+        ),
+        (
+            "angle_quantization",
+            u.angle_quantization,
+            raw.angle_quantization.is_some(),
+            P::AngleQuantization,
+            "(output unit) s",
+        ),
+        (
+            "rate_random_walk",
+            u.rate_random_walk,
+            raw.rate_random_walk.is_some(),
+            P::RateRandomWalk,
+            "(output unit)/sqrt(s)",
+        ),
+        (
+            "rate_ramp",
+            u.rate_ramp,
+            raw.rate_ramp.is_some(),
+            P::RateRamp,
+            "(output unit)/s",
+        ),
+    ];
+    for (name, value, given, p, shown) in entries {
+        let Some(v) = value else { continue };
+        let k = key(&format!("uncertainty.{name}"));
+        if !given {
+            return Err(StudyError::new(
+                at(&k),
+                format!("an uncertainty of {name}, which the noise table does not give"),
+            ));
+        }
+        let hi = if p == P::BiasCorrelation {
+            limits::CORRELATION_S.1
+        } else {
+            limits::NOISE_MAX
+        };
+        let v = in_range(at, &k, v, 0.0, hi, false, shown)?;
+        // converted as the term's value is
+        let converted = match name {
+            "white_deg_per_sqrt_h" => WhiteDensity::DegPerSqrtH(v).in_output_unit(unit),
+            "white_ug_per_sqrt_hz" => WhiteDensity::UgPerSqrtHz(v).in_output_unit(unit),
+            "white_m_per_s_per_sqrt_h" => WhiteDensity::MPerSPerSqrtH(v).in_output_unit(unit),
+            "bias_instability" => {
+                Ok(v * FLICKER_FLOOR_PER_BIAS_INSTABILITY / GM_ADEV_PEAK_PER_SIGMA)
+            }
+            _ => Ok(v),
+        }
+        .and_then(|c| model.clone().with_uncertainty(p, c));
+        model = converted.map_err(|e| StudyError::new(at(&k), e.to_string()))?;
+    }
+    Ok(model)
 }
 
 /// Parse `[calibration.timing]` for a schedule of `n` positions.

@@ -200,6 +200,26 @@ fn bad_noise_is_an_error_naming_the_key() {
         ("rate_random_walk = 1e7", ".rate_random_walk", "must lie in"),
         ("rate_ramp = -inf", ".rate_ramp", "must lie in"),
         ("rate_ramp = 2e6", ".rate_ramp", "must lie in"),
+        (
+            "flicker_bias_instability = -0.5",
+            ".flicker_bias_instability",
+            "must lie in [0, ",
+        ),
+        (
+            "flicker_bias_instability = nan",
+            ".flicker_bias_instability",
+            "found NaN",
+        ),
+        (
+            "angle_quantization = inf",
+            ".angle_quantization",
+            "must lie in",
+        ),
+        (
+            "angle_quantization = -1",
+            ".angle_quantization",
+            "must lie in",
+        ),
         ("bias_instability = 0.5", ".bias_correlation_s", "missing"),
         ("bias_correlation_s = 10", ".bias_instability", "missing"),
         (
@@ -517,4 +537,91 @@ fn rate_random_walk_and_ramp_keys_reach_the_noise_model() {
         ),
         (0, 0)
     );
+}
+
+/// `flicker_bias_instability` (output unit) and `angle_quantization` (output unit times s)
+/// reach the noise model unconverted, alone (a table with only one of them is not empty) or
+/// beside the other terms, and absent they are zero.
+#[test]
+fn flicker_and_angle_quantization_keys_reach_the_noise_model() {
+    let parse = |lines: &str| {
+        Study::parse("s.toml", &paper_with(lines, ""))
+            .unwrap()
+            .noise[1]
+            .clone()
+            .unwrap()
+    };
+    let n = parse(
+        "white_deg_per_sqrt_h = 0.15\nflicker_bias_instability = 0.5\nangle_quantization = 0.01",
+    );
+    assert_relative_eq!(n.white_per_sqrt_hz(), 9.0, max_relative = CONVERSION_REL);
+    assert_eq!(n.flicker().to_bits(), 0.5f64.to_bits());
+    assert_eq!(n.angle_quantization().to_bits(), 0.01f64.to_bits());
+    assert_eq!(
+        parse("flicker_bias_instability = 0.5").flicker().to_bits(),
+        0.5f64.to_bits()
+    );
+    assert_eq!(
+        parse("angle_quantization = 0.01")
+            .angle_quantization()
+            .to_bits(),
+        0.01f64.to_bits()
+    );
+    let none = parse("white_deg_per_sqrt_h = 0.15");
+    assert_eq!(
+        (
+            none.flicker().to_bits(),
+            none.angle_quantization().to_bits()
+        ),
+        (0, 0)
+    );
+}
+
+/// `[sensor.outputs.noise.uncertainty]`: each standard uncertainty under its term's key and
+/// unit, converted as the term (0.01 deg/sqrt(h) is 0.6 (deg/h)/sqrt(Hz); a bias
+/// instability's is the Gauss-Markov sigma's times 1.0760); an uncertainty of a term the
+/// table does not give, or a negative one, is an error naming the key.
+#[test]
+fn noise_uncertainties_reach_the_model_converted_as_their_terms() {
+    use gw_model::noise::{
+        FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA, NoiseParameter as P,
+    };
+    let n = Study::parse(
+        "s.toml",
+        &paper_with(
+            "white_deg_per_sqrt_h = 0.15\nbias_instability = 0.5\nbias_correlation_s = 60\nflicker_bias_instability = 0.2\n[sensor.outputs.noise.uncertainty]\nwhite_deg_per_sqrt_h = 0.01\nbias_instability = 0.1\nbias_correlation_s = 20\nflicker_bias_instability = 0.05",
+            "",
+        ),
+    )
+    .unwrap()
+    .noise[1]
+        .clone()
+        .unwrap();
+    assert_relative_eq!(n.uncertainty(P::White), 0.6, max_relative = CONVERSION_REL);
+    assert_relative_eq!(
+        n.uncertainty(P::BiasSigma),
+        0.1 * FLICKER_FLOOR_PER_BIAS_INSTABILITY / GM_ADEV_PEAK_PER_SIGMA,
+        max_relative = CONVERSION_REL
+    );
+    assert_eq!(n.uncertainty(P::BiasCorrelation).to_bits(), 20f64.to_bits());
+    assert_eq!(n.uncertainty(P::Flicker).to_bits(), 0.05f64.to_bits());
+    assert_eq!(n.uncertainty(P::RateRamp).to_bits(), 0);
+    for (lines, k, reason) in [
+        (
+            "white_deg_per_sqrt_h = 0.15\n[sensor.outputs.noise.uncertainty]\nrate_ramp = 1e-4",
+            ".uncertainty.rate_ramp",
+            "does not give",
+        ),
+        (
+            "white_deg_per_sqrt_h = 0.15\n[sensor.outputs.noise.uncertainty]\nwhite_deg_per_sqrt_h = -0.01",
+            ".uncertainty.white_deg_per_sqrt_h",
+            "must lie in [0, ",
+        ),
+    ] {
+        let e = err(&paper_with(lines, ""));
+        assert!(
+            e.contains(&format!("noise{k}")) && e.contains(reason),
+            "{lines:?}: {e}"
+        );
+    }
 }

@@ -26,18 +26,24 @@
 //! `unit`, `terms` (each of `quantization`, `white`, `flicker_bias_instability`,
 //! `rate_random_walk`, `rate_ramp`: `{value, uncertainty, resolution}`), `gauss_markov` (the
 //! alternative's `sigma`, `correlation_s`, `quantization`, `white`, `rate_random_walk`,
-//! `rate_ramp`, `rss`, `power_rss`), `noise_block` (what `--write-noise` writes, `written`,
-//! and what it cannot, `not_written` with the reason), and `curve`, a list of `{tau_s, adev,
+//! `rate_ramp`, `rss`, `power_rss`), `noise_block` (what `--write-noise` writes, `written`
+//! with each key's uncertainty and `not_resolved`, `bias_model`, and what it cannot,
+//! `not_written` with the reason), and `curve`, a list of `{tau_s, adev,
 //! lower, upper, edf, cluster, stride, terms, noise, mdev, hdev, totdev}`; full precision,
 //! never NaN.
 //!
 //! `--figure FILE.svg` draws the curve, its band, the other three deviations and the fitted
 //! lines; `--write-noise FILE.toml` writes `[sensor.outputs.noise]` with the keys a study
-//! accepts:
-//! `white_per_sqrt_hz`, and `bias_instability` with `bias_correlation_s` from the Gauss-Markov
-//! fit when the log resolves its correlation time inside the study's limits; a comment names
-//! the log, each value's uncertainty, and every term it could not write with its value and
-//! why (also on standard error). Both refuse an existing path (exit 2)
+//! accepts, every term of one model: `white_per_sqrt_hz`, the bias, `rate_random_walk`,
+//! `rate_ramp` and `angle_quantization` (the fit's Q). The bias is the joint fit's flicker
+//! floor, `flicker_bias_instability`, unless the Gauss-Markov alternative resolves its
+//! correlation time (fitted, never the floor's cluster time) inside the study's limits and
+//! fits the curve better (a lower weighted residual): then `bias_instability` with
+//! `bias_correlation_s`, and the other terms of that model. A comment names the log, the
+//! bias model, each value's uncertainty, the written terms the log cannot resolve, and every
+//! term it could not write with its value and why (also on standard error); the
+//! uncertainties are also written as `[sensor.outputs.noise.uncertainty]` (end-to-end gives
+//! its answers at each +- 1 of them). Both refuse an existing path (exit 2)
 //! and are written atomically (a temporary file renamed into place; nothing is left behind
 //! on failure).
 
@@ -371,6 +377,19 @@ struct Written {
     value: f64,
     /// Its standard uncertainty (the schema has no key for it).
     uncertainty: Option<f64>,
+    /// `null` when the log resolves the term, else why not (written as fitted).
+    not_resolved: Option<&'static str>,
+}
+
+impl Written {
+    fn of(key: &'static str, t: Term) -> Self {
+        Self {
+            key,
+            value: t.value(),
+            uncertainty: t.uncertainty(),
+            not_resolved: (!t.resolution().is_resolved()).then(|| t.resolution().explain()),
+        }
+    }
 }
 
 /// A term `--write-noise` cannot write.
@@ -389,12 +408,19 @@ struct NotWritten {
 /// What `--write-noise` writes and what it cannot, whether or not it is asked for.
 #[derive(Debug, Serialize)]
 struct NoiseBlock {
+    /// The bias model written: `flicker` (the joint fit's floor) or `gauss_markov`.
+    bias_model: &'static str,
     written: Vec<Written>,
     not_written: Vec<NotWritten>,
 }
 
 /// The study's noise block of the analysis: only keys and values a study accepts
-/// (`study::limits`); every other term listed with its reason.
+/// (`study::limits`); every other term listed with its reason. The bias is the joint fit's
+/// flicker floor (`flicker_bias_instability`), or the Gauss-Markov alternative
+/// (`bias_instability` with its fitted `bias_correlation_s`) when its correlation time is
+/// resolved inside the study's limits and it fits the curve better (a lower weighted
+/// residual); never both (they model the same wander). The other terms come from the model
+/// whose bias is written.
 fn noise_block(a: &Analysis) -> NoiseBlock {
     use gw_model::noise::{FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA};
     let f = a.fit();
@@ -402,8 +428,11 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
     let (tc_lo, tc_hi) = study::limits::CORRELATION_S;
     let mut written = Vec::new();
     let mut not_written = Vec::new();
+    let above = || format!("above the study's limit {}", study::fmt::num(noise_max));
     let gm = f.gauss_markov();
-    // the Gauss-Markov bias, when its correlation time is resolved and inside the limits
+    let flicker = f.flicker_term();
+    // the Gauss-Markov bias, when its correlation time is resolved and inside the limits and
+    // it fits better than the flicker floor
     let mut bias_from_gm = false;
     if let Some(g) = gm {
         let (sigma, tc) = (g.sigma(), g.correlation_s());
@@ -429,6 +458,12 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
                 sig(b, 6),
                 study::fmt::num(noise_max)
             ))
+        } else if flicker.value() > 0.0 && g.rss() >= g.power_rss() {
+            Some(format!(
+                "the joint fit's flicker floor fits the curve as well or better (weighted residual {} against {}); both would count the same wander twice",
+                sig(g.power_rss(), 4),
+                sig(g.rss(), 4)
+            ))
         } else {
             None
         };
@@ -439,12 +474,10 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
                     key: "bias_instability",
                     value: b,
                     uncertainty: b_u,
+                    not_resolved: (!sigma.resolution().is_resolved())
+                        .then(|| sigma.resolution().explain()),
                 });
-                written.push(Written {
-                    key: "bias_correlation_s",
-                    value: tc.value(),
-                    uncertainty: tc.uncertainty(),
-                });
+                written.push(Written::of("bias_correlation_s", tc));
             }
             Some(reason) if sigma.value() > 0.0 => {
                 not_written.push(NotWritten {
@@ -461,6 +494,31 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
                 });
             }
             Some(_) => {}
+        }
+    }
+    if flicker.value() > 0.0 {
+        if bias_from_gm {
+            not_written.push(NotWritten {
+                term: "flicker bias instability B",
+                value: flicker.value(),
+                uncertainty: flicker.uncertainty(),
+                reason: gm.map_or_else(String::new, |g| {
+                    format!(
+                        "the Gauss-Markov alternative fits the curve better (weighted residual {} against {}) and is written instead; both would count the same wander twice",
+                        sig(g.rss(), 4),
+                        sig(g.power_rss(), 4)
+                    )
+                }),
+            });
+        } else if flicker.value() > noise_max {
+            not_written.push(NotWritten {
+                term: "flicker bias instability B",
+                value: flicker.value(),
+                uncertainty: flicker.uncertainty(),
+                reason: above(),
+            });
+        } else {
+            written.push(Written::of("flicker_bias_instability", flicker));
         }
     }
     // the terms of the model whose bias is written (the joint fit's otherwise)
@@ -483,7 +541,7 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
             term: "white noise N",
             value: n.value(),
             uncertainty: n.uncertainty(),
-            reason: format!("above the study's limit {}", study::fmt::num(noise_max)),
+            reason: above(),
         });
     } else if n.value() == 0.0 {
         not_written.push(NotWritten {
@@ -493,54 +551,33 @@ fn noise_block(a: &Analysis) -> NoiseBlock {
             reason: n.resolution().explain().into(),
         });
     } else {
-        written.insert(
-            0,
-            Written {
-                key: "white_per_sqrt_hz",
-                value: n.value(),
-                uncertainty: n.uncertainty(),
-            },
-        );
+        written.insert(0, Written::of("white_per_sqrt_hz", n));
     }
-    let flicker = f.flicker_term();
-    if flicker.value() > 0.0 {
-        not_written.push(NotWritten {
-            term: "flicker bias instability B",
-            value: flicker.value(),
-            uncertainty: flicker.uncertainty(),
-            reason: "the study's bias is a Gauss-Markov term (bias_instability with bias_correlation_s); a flicker floor has no key yet".into(),
-        });
-    }
-    // the drifts: the study's `rate_random_walk` (unit/sqrt(s)) and `rate_ramp` (unit/s), the
-    // same definitions as the fit's (sigma^2 = K^2 tau / 3 and R^2 tau^2 / 2)
+    // the drifts: the study's `rate_random_walk` (unit/sqrt(s)) and `rate_ramp` (unit/s), and
+    // the angle quantization (unit*s), the same definitions as the fit's (sigma^2 = K^2 tau /
+    // 3, R^2 tau^2 / 2, 3 Q^2 / tau^2)
     for (term, key, t) in [
         ("rate random walk K", "rate_random_walk", k),
         ("rate ramp R", "rate_ramp", r),
+        ("quantization Q", "angle_quantization", q),
     ] {
         if t.value() > noise_max {
             not_written.push(NotWritten {
                 term,
                 value: t.value(),
                 uncertainty: t.uncertainty(),
-                reason: format!("above the study's limit {}", study::fmt::num(noise_max)),
+                reason: above(),
             });
         } else if t.value() > 0.0 {
-            written.push(Written {
-                key,
-                value: t.value(),
-                uncertainty: t.uncertainty(),
-            });
+            written.push(Written::of(key, t));
         }
     }
-    if q.value() > 0.0 {
-        not_written.push(NotWritten {
-            term: "quantization Q",
-            value: q.value(),
-            uncertainty: q.uncertainty(),
-            reason: "the study's `quantization` is a step of the rate samples (white at the sample rate, inside white_per_sqrt_hz); angle quantization (slope -1) has no key yet".into(),
-        });
-    }
     NoiseBlock {
+        bias_model: if bias_from_gm {
+            "gauss_markov"
+        } else {
+            "flicker"
+        },
         written,
         not_written,
     }
@@ -734,14 +771,21 @@ fn text_of(log: &Log, unit: &str) -> String {
 fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
     let a = &log.analysis;
     let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" +- {}", sig(u, 3)));
+    let bias = if block.bias_model == "gauss_markov" {
+        "the bias is the first-order\n\
+         # Gauss-Markov alternative, whose correlation time is fitted and whose fit is better"
+    } else {
+        "the bias is the flicker floor\n\
+         # of the joint fit (the Gauss-Markov alternative, if any, fits no better)"
+    };
     let mut t = format!(
         "# Noise of column `{}` of {}: {} samples at {} Hz, by `cargo xtask allan` (IEEE Std 952\n\
-         # Annex C: a joint weighted fit of the Allan variance; the bias is a first-order\n\
-         # Gauss-Markov term whose correlation time is fitted).\n\
+         # Annex C: a joint weighted fit of the Allan variance; {bias}).\n\
          # The values are in the log's unit ({unit}): white_per_sqrt_hz in {unit}/sqrt(Hz),\n\
          # bias_instability in {unit}, bias_correlation_s in s, rate_random_walk in\n\
-         # {unit}/sqrt(s), rate_ramp in {unit}/s. Convert them if the output's unit\n\
-         # differs from the log's.\n",
+         # {unit}/sqrt(s), rate_ramp in {unit}/s, flicker_bias_instability in {unit},\n\
+         # angle_quantization in {unit}*s. Convert them if the output's unit differs from the\n\
+         # log's.\n",
         log.column.escape_debug(),
         log.name.escape_debug(),
         a.samples(),
@@ -757,6 +801,21 @@ fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
         ));
     }
     t.push('\n');
+    let unresolved: Vec<&Written> = block
+        .written
+        .iter()
+        .filter(|w| w.not_resolved.is_some())
+        .collect();
+    if !unresolved.is_empty() {
+        t.push_str("# Written as fitted, but the log cannot resolve them:\n");
+        for w in unresolved {
+            t.push_str(&format!(
+                "# - {}: {}\n",
+                w.key,
+                w.not_resolved.unwrap_or_default()
+            ));
+        }
+    }
     if !block.not_written.is_empty() {
         t.push_str("# Not written (the study cannot take them):\n");
         for n in &block.not_written {
@@ -772,6 +831,28 @@ fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
     t.push_str("[sensor.outputs.noise]\n");
     for w in &block.written {
         t.push_str(&format!("{} = {:?}\n", w.key, w.value));
+    }
+    // the standard uncertainties the study accepts, for end-to-end's sensitivity
+    let (_, tc_hi) = study::limits::CORRELATION_S;
+    let u: Vec<(&str, f64)> = block
+        .written
+        .iter()
+        .filter_map(|w| {
+            let hi = if w.key == "bias_correlation_s" {
+                tc_hi
+            } else {
+                study::limits::NOISE_MAX
+            };
+            w.uncertainty
+                .filter(|u| u.is_finite() && *u >= 0.0 && *u <= hi)
+                .map(|u| (w.key, u))
+        })
+        .collect();
+    if !u.is_empty() {
+        t.push_str("[sensor.outputs.noise.uncertainty]\n");
+        for (key, u) in u {
+            t.push_str(&format!("{key} = {u:?}\n"));
+        }
     }
     t
 }

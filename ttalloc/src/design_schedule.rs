@@ -335,6 +335,64 @@ struct CombinedChoice {
     study: NoiseCounted,
     designed: NoiseCounted,
     designed_recommended: bool,
+    /// When no table suffices with either schedule at the study's dwell: how each one
+    /// stands on the noise alone (`study`, `designed`).
+    both_fail: Option<(NoiseStanding, NoiseStanding)>,
+}
+
+/// A schedule's noise alone, for the comparison where neither leaves room for a table.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub(crate) struct NoiseStanding {
+    /// The largest k sigma / accuracy over the outputs at the study's dwell (above 1: the
+    /// noise alone exceeds an accuracy).
+    noise_over_accuracy: f64,
+    /// The shortest dwell (s) at which some table suffices (`None`: none up to the study's
+    /// longest accepted dwell).
+    min_dwell_s: Option<f64>,
+}
+
+impl NoiseStanding {
+    /// Whether `self` is at least as good as `other` on both: the noise part against the
+    /// accuracies and the shortest dwell (none counts as infinitely long).
+    fn no_worse_than(&self, other: &NoiseStanding) -> bool {
+        let dwell = |d: Option<f64>| d.unwrap_or(f64::INFINITY);
+        self.noise_over_accuracy <= other.noise_over_accuracy
+            && dwell(self.min_dwell_s) <= dwell(other.min_dwell_s)
+    }
+}
+
+/// [`NoiseStanding`] of `s` with the positions `positions_deg` (its noise and timing).
+fn noise_standing(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<NoiseStanding>> {
+    let s2 = s
+        .with_positions_deg(positions_deg.to_vec())
+        .map_err(InputError::from)?;
+    let Some(timing) = &s2.timing else {
+        return Ok(None);
+    };
+    let e2e = crate::end_to_end::simulator(&s2)?;
+    let sigma = e2e
+        .worst_noise_sigma(&s2.noise, timing)
+        .map_err(|e| crate::input::library(e, &s2))?;
+    let noise_over_accuracy = sigma
+        .iter()
+        .zip(e2e.accuracies())
+        .filter_map(|(sg, a)| sg.map(|sg| DEFAULT_K_SIGMA * sg / a))
+        .fold(0.0, f64::max);
+    let min_dwell_s = e2e
+        .tradeoff(
+            &e2e.linearization(),
+            &s2.lower_bounds_rad,
+            &s2.noise,
+            timing,
+            DEFAULT_K_SIGMA,
+            crate::end_to_end::DWELL_SEARCH_S,
+        )
+        .map_err(|e| crate::input::library(e, &s2))?
+        .min_dwell_s();
+    Ok(Some(NoiseStanding {
+        noise_over_accuracy,
+        min_dwell_s,
+    }))
 }
 
 /// A schedule's direct allocation with the noise part kept free (the tolerances recommended
@@ -412,15 +470,31 @@ fn combined_choice(s: &Study, d: &ScheduleDesign) -> Result<Option<CombinedChoic
     let Some(designed) = combined_objective(s, d.designed().positions_deg())? else {
         return Ok(None);
     };
+    let mut both_fail = None;
     let designed_recommended = match (designed.objective_arcmin(), study.objective_arcmin()) {
         (Some(a), Some(b)) => a <= b,
-        (Some(_), None) | (None, None) => true,
+        (Some(_), None) => true,
         (None, Some(_)) => false,
+        // neither leaves room for a table at the study's dwell: the designed schedule must
+        // not lose on the noise part nor on the shortest dwell at which some table suffices
+        (None, None) => {
+            match (
+                noise_standing(s, d.study().positions_deg())?,
+                noise_standing(s, d.designed().positions_deg())?,
+            ) {
+                (Some(st), Some(de)) => {
+                    both_fail = Some((st, de));
+                    de.no_worse_than(&st)
+                }
+                _ => false,
+            }
+        }
     };
     Ok(Some(CombinedChoice {
         study,
         designed,
         designed_recommended,
+        both_fail,
     }))
 }
 
@@ -431,8 +505,22 @@ fn combined_text(c: &CombinedChoice) -> String {
             format!("J = {}", num(v))
         })
     };
+    let standing = c.both_fail.map_or(String::new(), |(st, de)| {
+        let dwell = |d: Option<f64>| {
+            d.map_or("none up to the longest accepted dwell".to_string(), |d| {
+                format!("{} s", num(d))
+            })
+        };
+        format!(
+            " (neither leaves room for a table at the study's dwell: largest noise part / accuracy {} for the study's schedule, {} designed; shortest dwell at which some table suffices {} for the study's, {} designed)",
+            num(st.noise_over_accuracy),
+            num(de.noise_over_accuracy),
+            dwell(st.min_dwell_s),
+            dwell(de.min_dwell_s)
+        )
+    });
     format!(
-        "with the noise counted ({} sigma, the study's timing; certified direct allocation with the noise part kept free): study's schedule {}, designed {}: {}\n",
+        "with the noise counted ({} sigma, the study's timing; certified direct allocation with the noise part kept free): study's schedule {}, designed {}{standing}: {}\n",
         num(DEFAULT_K_SIGMA),
         j(c.study.objective_arcmin()),
         j(c.designed.objective_arcmin()),
@@ -465,6 +553,9 @@ struct CombinedJson {
     /// Whether those are certified on the exact chain (the table's part proven within each
     /// accuracy less the noise part), per schedule: `study`, `designed`.
     certified_on_exact_chain: BTreeMap<&'static str, bool>,
+    /// When neither schedule leaves room for a table: each one's noise alone (`study`,
+    /// `designed`: `noise_over_accuracy`, `min_dwell_s`); `null` otherwise.
+    both_fail: Option<BTreeMap<&'static str, NoiseStanding>>,
 }
 
 /// One output of the study.
@@ -616,6 +707,9 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
             } else {
                 "study"
             },
+            both_fail: c
+                .both_fail
+                .map(|(st, de)| [("study", st), ("designed", de)].into_iter().collect()),
         }),
         outputs: s
             .sensor

@@ -70,6 +70,9 @@ pub struct NoisyAnswer {
     pub tradeoff: Tradeoff,
     /// What the trade-off scanned.
     pub scanned: Scanned,
+    /// The answers at the noise parameters' +- 1 standard uncertainty (`None`: the study
+    /// gives no uncertainty, `[sensor.outputs.noise.uncertainty]`).
+    pub sensitivity: Option<e2e_verify::NoiseSensitivity>,
 }
 
 /// What the time/table trade-off scanned: the study's dwells scaled alike (one factor for
@@ -128,6 +131,10 @@ impl Scanned {
     }
 }
 
+/// The dwells the time/table trade-off searches, s: from one sample per position to the
+/// study's longest accepted dwell.
+pub(crate) const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
+
 /// The answer for both error sources, when the study gives noise and a timing.
 ///
 /// # Errors
@@ -169,7 +176,7 @@ pub fn noisy_answer(
                 &s.noise,
                 timing,
                 k_sigma,
-                (f64::MIN_POSITIVE, study::limits::DWELL_S.1),
+                DWELL_SEARCH_S,
             )
             .map_err(|e| crate::input::library(e, s))
         },
@@ -177,10 +184,21 @@ pub fn noisy_answer(
     let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
     let tradeoff = tradeoff?;
     let scanned = Scanned::new(&tradeoff, timing);
+    let sensitivity = e2e
+        .noise_sensitivity(
+            &e2e.linearization(),
+            lb,
+            &s.noise,
+            timing,
+            k_sigma,
+            DWELL_SEARCH_S,
+        )
+        .map_err(|e| crate::input::library(e, s))?;
     Ok(Some(NoisyAnswer {
         readings,
         tradeoff,
         scanned,
+        sensitivity,
     }))
 }
 
@@ -253,6 +271,67 @@ pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
         }
     }
     t.push_str(&tradeoff_text(&n.tradeoff, &n.scanned));
+    if let Some(sens) = &n.sensitivity {
+        t.push_str(&sensitivity_text(e2e, sens, &n.tradeoff));
+    }
+    t
+}
+
+/// The answers at the noise parameters' +- 1 standard uncertainty, per output the parameter
+/// its noise sigma depends on most, and the shortest dwell at the two corners.
+#[must_use]
+pub fn sensitivity_text(
+    e2e: &EndToEnd,
+    sens: &e2e_verify::NoiseSensitivity,
+    tr: &Tradeoff,
+) -> String {
+    let outputs = e2e.calibration().outputs();
+    let mut t = String::from(
+        "sensitivity to the noise model (each parameter at its value -+ 1 standard uncertainty, the others at their values; worst-position noise sigma):\n",
+    );
+    for sp in sens.spreads() {
+        let out = outputs[sp.output()].output();
+        t.push_str(&format!(
+            "  {} {} = {} +- {}: noise sigma {} .. {} {}\n",
+            out.name,
+            sp.parameter().name(),
+            num(sp.value()),
+            num(sp.uncertainty()),
+            num(sp.sigma_minus()),
+            num(sp.sigma_plus()),
+            out.unit
+        ));
+    }
+    for (k, o) in outputs.iter().enumerate() {
+        let (Some(d), Some(nom), Some(lo), Some(hi)) = (
+            sens.dominant(k),
+            sens.nominal_sigma()[k],
+            sens.optimistic_sigma()[k],
+            sens.pessimistic_sigma()[k],
+        ) else {
+            continue;
+        };
+        t.push_str(&format!(
+            "  output {}: noise sigma {} {} ({} at the optimistic corner, {} at the pessimistic); it depends most on {}\n",
+            o.output().name,
+            num(nom),
+            o.output().unit,
+            num(lo),
+            num(hi),
+            d.parameter().name()
+        ));
+    }
+    let dwell = |d: Option<f64>| {
+        d.map_or("none up to the range's end".to_string(), |d| {
+            format!("{} s", num(d))
+        })
+    };
+    t.push_str(&format!(
+        "  shortest dwell at which some table suffices: {} at the parameters' values, {} at the optimistic corner, {} at the pessimistic corner (every parameter moved by one uncertainty towards less or more noise)\n",
+        dwell(tr.min_dwell_s()),
+        dwell(sens.min_dwell_optimistic_s()),
+        dwell(sens.min_dwell_pessimistic_s())
+    ));
     t
 }
 

@@ -363,3 +363,54 @@ fn every_tolerance_recommended_with_noise_passes_check_turntable_on_the_written_
         assert_eq!(v["table_verdict"], "guaranteed", "{name}");
     }
 }
+
+/// Issue 35 item 4: where neither schedule leaves room for a table at the study's dwell (the
+/// IMU example: the gyros' noise alone exceeds 0.1 deg/h at 60 s), design-schedule compares
+/// them on the noise alone, the largest 3 sigma / accuracy and the shortest dwell at which
+/// some table suffices, and recommends the designed schedule only if it loses on neither
+/// (before: "no table suffices" on both sides counted as "does not lose", and the designed
+/// schedule was recommended and written whatever its noise). The study's figure is
+/// end-to-end's worst-position noise sigma of the same study (an independent command).
+#[test]
+fn with_no_table_on_either_side_the_designed_schedule_must_not_lose_on_the_noise() {
+    /// JSON full precision; the same covariance computed twice: relative.
+    const SAME_REL: f64 = 1e-12;
+    let v = json_of(&xtask(&[
+        "design-schedule",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--step-deg",
+        "45",
+        "--json",
+    ]));
+    let c = &v["combined"];
+    assert!(c["study_objective_arcmin"].is_null() && c["designed_objective_arcmin"].is_null());
+    let b = &c["both_fail"];
+    let ratio = |k: &str| b[k]["noise_over_accuracy"].as_f64().unwrap();
+    let dwell = |k: &str| b[k]["min_dwell_s"].as_f64().unwrap_or(f64::INFINITY);
+    let e2e = json_of(&xtask(&[
+        "end-to-end",
+        "--study",
+        "studies/imu-triad-example.toml",
+        "--samples",
+        "2000",
+        "--yield-fraction",
+        "0.9",
+        "--json",
+    ]));
+    let sigma = e2e["readings"][0]["noise"]["noise_sigma"]
+        .as_array()
+        .unwrap();
+    let expected = sigma
+        .iter()
+        .zip(e2e["outputs"].as_array().unwrap())
+        .map(|(s, o)| 3.0 * s.as_f64().unwrap() / o["accuracy"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    assert_relative_eq!(ratio("study"), expected, max_relative = SAME_REL);
+    let no_worse = ratio("designed") <= ratio("study") && dwell("designed") <= dwell("study");
+    assert_eq!(
+        c["recommended"],
+        if no_worse { "designed" } else { "study" },
+        "{c}"
+    );
+}

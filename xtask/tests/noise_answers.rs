@@ -457,3 +457,77 @@ fn a_dwell_list_is_scanned_scaled_alike_and_the_output_says_so() {
             .unwrap();
     assert_eq!(results["noise"]["dwell_scan"]["per_position_list"], true);
 }
+
+/// The first number of `text` after `label`.
+fn number_after(text: &str, label: &str) -> f64 {
+    let at = text
+        .find(label)
+        .unwrap_or_else(|| panic!("no `{label}` in {text}"));
+    text[at + label.len()..]
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == 'e' || c == '-'))
+        .find(|s| !s.is_empty())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no number after `{label}`"))
+}
+
+/// Issue 35 item 2: the uncertainty of the noise parameters carried into the answers. The
+/// gyros' white noise 0.15 +- 0.015 deg/sqrt(h) (`[sensor.outputs.noise.uncertainty]`, 10%):
+/// with white noise alone sigma scales as N and the shortest dwell as N^2, so end-to-end
+/// prints each gyro's noise sigma at 0.9 N and 1.1 N and the shortest dwell at the
+/// optimistic and pessimistic corners 0.81 and 1.21 times the nominal one, and names white
+/// noise as what the gyros depend on most (before: the uncertainty had no key).
+#[test]
+fn end_to_end_gives_the_answers_at_the_noise_parameters_plus_minus_one_uncertainty() {
+    /// `num` prints 6 significant digits: relative.
+    const PRINTED_REL: f64 = 1e-5;
+    let text: String = imu_white_only()
+        .lines()
+        .flat_map(|l| {
+            let mut v = vec![l.to_string()];
+            if l.trim_start().starts_with("white_deg_per_sqrt_h") {
+                v.push("[sensor.outputs.noise.uncertainty]".into());
+                v.push("white_deg_per_sqrt_h = 0.015".into());
+            }
+            v
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n";
+    let dir = scratch("noise", "uncertainty");
+    let p = write(&dir, "imu-white-u.toml", &text);
+    let o = run(&[
+        "end-to-end",
+        "--study",
+        p.to_str().unwrap(),
+        "--samples",
+        "2000",
+        "--yield-fraction",
+        "0.9",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let out = stdout(&o);
+    let line = out
+        .lines()
+        .find(|l| {
+            l.trim_start()
+                .starts_with("gx white = 9 +- 0.9: noise sigma ")
+        })
+        .unwrap_or_else(|| panic!("no gx white line: {out}"));
+    let (lo, hi) = {
+        let rest = line.split("noise sigma ").nth(1).unwrap();
+        let mut w = rest.split_whitespace();
+        let lo: f64 = w.next().unwrap().parse().unwrap();
+        assert_eq!(w.next(), Some(".."), "{line}");
+        (lo, w.next().unwrap().parse::<f64>().unwrap())
+    };
+    assert_relative_eq!(hi / lo, 1.1 / 0.9, max_relative = PRINTED_REL);
+    assert!(
+        out.contains("output gx: noise sigma") && out.contains("it depends most on white"),
+        "{out}"
+    );
+    let d = number_after(&out, "shortest dwell at which some table suffices: ");
+    let opt = number_after(&out, "s at the parameters' values, ");
+    let pes = number_after(&out, "s at the optimistic corner, ");
+    assert_relative_eq!(opt / d, 0.81, max_relative = PRINTED_REL);
+    assert_relative_eq!(pes / d, 1.21, max_relative = PRINTED_REL);
+}
