@@ -627,7 +627,8 @@ pub fn calibrate<R: Read>(
     // Segments: (entry, kind, acc, allan fits if static)
     let mut raw: Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)> = Vec::new();
     let segments_source;
-    let mut static_fits: Vec<StaticAcc> = Vec::new();
+    let pooled;
+    let static_samples;
     match mode {
         Mode::Waiting => unreachable!("read_rows returns at least two rows"),
         Mode::File { specs, done, .. } => {
@@ -640,6 +641,7 @@ pub fn calibrate<R: Read>(
                     ),
                 });
             }
+            let mut static_fits = Vec::new();
             for (spec, acc) in done {
                 if spec.kind == SegmentKind::Static {
                     raw.push((spec.entry, spec.kind, acc.acc.clone(), None));
@@ -648,26 +650,27 @@ pub fn calibrate<R: Read>(
                     raw.push((spec.entry, spec.kind, acc.acc, None));
                 }
             }
+            (pooled, static_samples) = pool(&mut static_fits, n_out);
         }
         Mode::Detect(d) => {
             segments_source = "detected";
-            let det = d.finish()?;
-            let (r, w, fits) = match_schedule(
+            let mut det = d.finish()?;
+            (pooled, static_samples) = pool(&mut det.statics, n_out);
+            let (r, w) = match_schedule(
                 study,
                 det,
                 n_static,
                 n_rate,
                 summary.angles_logged,
                 rate_hz,
-                &noise_pool_fn,
+                &pooled,
             )?;
             raw = r;
             warnings.extend(w);
-            static_fits = fits;
         }
     }
     // measured noise per output, pooled over the static segments
-    let noise = measured_noise(study, &static_fits, n_out);
+    let noise = measured_noise(study, &pooled, static_samples);
     // per segment inputs
     let schedule = study.calibration.schedule();
     let site = &study.site;
@@ -789,45 +792,48 @@ pub fn calibrate<R: Read>(
     })
 }
 
-/// Placeholder hook for the matching's same-pose test (noise pooled from the fits).
-fn noise_pool_fn(fits: &[StaticAcc], k: usize) -> (f64, f64) {
-    pool(fits, k)
-}
-
-/// Pooled white density and floor of output `k` over the static fits.
-fn pool(fits: &[StaticAcc], k: usize) -> (f64, f64) {
-    let (mut n2, mut f2, mut w) = (0.0, 0.0, 0.0);
-    for s in fits {
-        let mut a = s.allan[k].clone();
-        if let Ok(an) = a.analyse() {
-            let fit = an.fit();
-            let n = s.acc.n as f64;
-            n2 += n * fit.white_noise().powi(2);
-            if fit.floor_reached() {
-                f2 += n * fit.floor_adev_measured().powi(2);
+/// Pooled white density and floor of every output over the static intervals' Allan fits
+/// (each analysed once), and the samples analysed.
+fn pool(fits: &mut [StaticAcc], n_out: usize) -> (Vec<(f64, f64)>, u64) {
+    let (mut n2, mut f2, mut w) = (vec![0.0; n_out], vec![0.0; n_out], vec![0.0; n_out]);
+    let mut samples = 0;
+    for s in fits.iter_mut() {
+        let n = s.acc.n as f64;
+        samples += s.acc.n;
+        for k in 0..n_out {
+            if let Ok(an) = s.allan[k].analyse() {
+                let fit = an.fit();
+                n2[k] += n * fit.white_noise().powi(2);
+                if fit.floor_reached() {
+                    f2[k] += n * fit.floor_adev_measured().powi(2);
+                }
+                w[k] += n;
             }
-            w += n;
         }
     }
-    if w > 0.0 {
-        ((n2 / w).sqrt(), (f2 / w).sqrt())
-    } else {
-        (0.0, 0.0)
-    }
+    let pooled = (0..n_out)
+        .map(|k| {
+            if w[k] > 0.0 {
+                ((n2[k] / w[k]).sqrt(), (f2[k] / w[k]).sqrt())
+            } else {
+                (0.0, 0.0)
+            }
+        })
+        .collect();
+    (pooled, samples)
 }
 
-fn measured_noise(study: &Study, fits: &[StaticAcc], n_out: usize) -> Vec<MeasuredNoise> {
-    (0..n_out)
-        .map(|k| {
-            let (white, floor) = pool(fits, k);
-            MeasuredNoise {
-                white_per_sqrt_hz: white,
-                floor,
-                samples: fits.iter().map(|s| s.acc.n).sum(),
-                study_white_per_sqrt_hz: study.noise[k]
-                    .as_ref()
-                    .map(gw_model::noise::NoiseModel::white_per_sqrt_hz),
-            }
+fn measured_noise(study: &Study, pooled: &[(f64, f64)], samples: u64) -> Vec<MeasuredNoise> {
+    pooled
+        .iter()
+        .enumerate()
+        .map(|(k, &(white, floor))| MeasuredNoise {
+            white_per_sqrt_hz: white,
+            floor,
+            samples,
+            study_white_per_sqrt_hz: study.noise[k]
+                .as_ref()
+                .map(gw_model::noise::NoiseModel::white_per_sqrt_hz),
         })
         .collect()
 }
@@ -835,7 +841,6 @@ fn measured_noise(study: &Study, fits: &[StaticAcc], n_out: usize) -> Vec<Measur
 type Matched = (
     Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)>,
     Vec<String>,
-    Vec<StaticAcc>,
 );
 
 /// Match detected intervals to the schedule (module docs of [`crate::segments`]).
@@ -846,7 +851,7 @@ fn match_schedule(
     n_rate: usize,
     logged: bool,
     rate_hz: f64,
-    pool_fn: &dyn Fn(&[StaticAcc], usize) -> (f64, f64),
+    pooled: &[(f64, f64)],
 ) -> Result<Matched, RunError> {
     let mut warnings = Vec::new();
     for (a, b, d) in &det.dropped {
@@ -874,7 +879,6 @@ fn match_schedule(
         });
     }
     let n_out = study.sensor.n_outputs();
-    let pooled: Vec<(f64, f64)> = (0..n_out).map(|k| pool_fn(&det.statics, k)).collect();
     let mut out = Vec::new();
     let mut rate_left: Vec<usize> = (n_static..n_static + n_rate).collect();
     rate_left.reverse();
@@ -932,16 +936,15 @@ fn match_schedule(
             det.statics[n_static].acc.first_line, det.statics[n_static].acc.last_line
         ));
     }
-    let mut statics = det.statics;
-    let rest: Vec<StaticAcc> = statics.drain(n_static..).collect();
-    drop(rest);
-    let mut all: Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)> = statics
+    let mut all: Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)> = det
+        .statics
         .iter()
+        .take(n_static)
         .enumerate()
         .map(|(e, s)| (e, SegmentKind::Static, s.acc.clone(), None))
         .collect();
     all.extend(out);
-    Ok((all, warnings, statics))
+    Ok((all, warnings))
 }
 
 struct Fit {
