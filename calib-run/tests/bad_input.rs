@@ -54,7 +54,10 @@ fn a_nan_cell_is_rejected_by_line_and_column() {
         c.join(",")
     });
     let e = err(&s, &bad, &CalibrateOptions::default()).to_string();
-    assert!(e.starts_with("log.csv:7 (column `ay`)") && e.contains("not a finite number"), "{e}");
+    assert!(
+        e.starts_with("log.csv:7 (column `ay`)") && e.contains("not a finite number"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -74,7 +77,10 @@ fn time_that_goes_back_and_a_gap_are_named_by_line() {
         c.join(",")
     });
     let e = err(&s, &back, &CalibrateOptions::default()).to_string();
-    assert!(e.starts_with("log.csv:30 (column `t_s`)") && e.contains("does not increase"), "{e}");
+    assert!(
+        e.starts_with("log.csv:30 (column `t_s`)") && e.contains("does not increase"),
+        "{e}"
+    );
     // drop ten rows: a gap
     let gap: String = text(&rec)
         .lines()
@@ -83,7 +89,10 @@ fn time_that_goes_back_and_a_gap_are_named_by_line() {
         .map(|(_, l)| format!("{l}\n"))
         .collect();
     let e = err(&s, gap.as_bytes(), &CalibrateOptions::default()).to_string();
-    assert!(e.starts_with("log.csv:101 (column `t_s`)") && e.contains("gap"), "{e}");
+    assert!(
+        e.starts_with("log.csv:101 (column `t_s`)") && e.contains("gap"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -91,15 +100,25 @@ fn a_row_of_the_wrong_length_is_named_by_line() {
     let (s, rec) = six();
     let bad = with_line(&rec, 12, |l| format!("{l},7"));
     let e = err(&s, &bad, &CalibrateOptions::default()).to_string();
-    assert!(e.starts_with("log.csv:12") && e.contains("fields where the header has"), "{e}");
+    assert!(
+        e.starts_with("log.csv:12") && e.contains("fields where the header has"),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_recording_cut_short_has_fewer_segments_than_the_schedule_needs() {
     let (s, rec) = six();
-    let cut: String = text(&rec).lines().take(1500).map(|l| format!("{l}\n")).collect();
+    let cut: String = text(&rec)
+        .lines()
+        .take(1500)
+        .map(|l| format!("{l}\n"))
+        .collect();
     match err(&s, cut.as_bytes(), &CalibrateOptions::default()) {
-        RunError::Segments { reason } => assert!(reason.contains("fewer segments than the schedule needs"), "{reason}"),
+        RunError::Segments { reason } => assert!(
+            reason.contains("fewer segments than the schedule needs"),
+            "{reason}"
+        ),
         other => panic!("{other}"),
     }
 }
@@ -111,23 +130,47 @@ fn saturated_samples_are_a_stated_warning_naming_the_column() {
     // the accelerometers read up to ~1000 mg: a 990 mg range saturates the +1 g faces
     o.recording.range = Some(990.0);
     let run = calibrate(&s, rec.as_slice(), "log.csv", &o).expect("still estimated");
-    assert!(run.warnings().iter().any(|w| w.contains("column `az`") && w.contains("saturated")), "{:?}", run.warnings());
-    assert!(run.warnings().iter().any(|w| w.contains("segment of entry 0") && w.contains("saturated")));
+    assert!(
+        run.warnings()
+            .iter()
+            .any(|w| w.contains("column `az`") && w.contains("saturated")),
+        "{:?}",
+        run.warnings()
+    );
+    assert!(
+        run.warnings()
+            .iter()
+            .any(|w| w.contains("segment of entry 0") && w.contains("saturated"))
+    );
 }
 
 #[test]
 fn segments_files_with_overlaps_bad_kinds_and_missing_entries_are_named() {
     let overlap = "start,end,entry\n0,100,0\n50,150,1\n";
-    let e = parse_segments(overlap.as_bytes(), "seg.csv", 2, 0).expect_err("overlap").to_string();
-    assert!(e.starts_with("seg.csv:3 (column `start`)") && e.contains("overlaps the segment of line 2"), "{e}");
+    let e = parse_segments(overlap.as_bytes(), "seg.csv", 2, 0)
+        .expect_err("overlap")
+        .to_string();
+    assert!(
+        e.starts_with("seg.csv:3 (column `start`)") && e.contains("overlaps the segment of line 2"),
+        "{e}"
+    );
     let kind = "start,end,entry,kind\n0,100,0,rotation\n";
-    let e = parse_segments(kind.as_bytes(), "seg.csv", 1, 1).expect_err("kind").to_string();
-    assert!(e.starts_with("seg.csv:2") && e.contains("is a static position but the kind is rotation"), "{e}");
+    let e = parse_segments(kind.as_bytes(), "seg.csv", 1, 1)
+        .expect_err("kind")
+        .to_string();
+    assert!(
+        e.starts_with("seg.csv:2") && e.contains("is a static position but the kind is rotation"),
+        "{e}"
+    );
     let missing = "start,end,entry\n0,100,0\n";
-    let e = parse_segments(missing.as_bytes(), "seg.csv", 2, 1).expect_err("missing").to_string();
+    let e = parse_segments(missing.as_bytes(), "seg.csv", 2, 1)
+        .expect_err("missing")
+        .to_string();
     assert!(e.contains("no segment for entries 1, 2"), "{e}");
     let range = "start,end,entry\n0,100,5\n";
-    let e = parse_segments(range.as_bytes(), "seg.csv", 2, 0).expect_err("range").to_string();
+    let e = parse_segments(range.as_bytes(), "seg.csv", 2, 0)
+        .expect_err("range")
+        .to_string();
     assert!(e.contains("entry 5 is outside the schedule"), "{e}");
 }
 
@@ -137,12 +180,18 @@ fn a_segment_beyond_the_recording_is_out_of_range() {
     let mut specs = String::from("start,end,entry\n");
     for e in 0..9 {
         let start = e * 600;
-        specs.push_str(&format!("{start},{},{e}\n", start + 500 + if e == 8 { 1_000_000 } else { 0 }));
+        specs.push_str(&format!(
+            "{start},{},{e}\n",
+            start + 500 + if e == 8 { 1_000_000 } else { 0 }
+        ));
     }
     let mut o = CalibrateOptions::default();
     o.segments = Some(parse_segments(specs.as_bytes(), "seg.csv", 6, 3).expect("parsed"));
     match err(&s, &rec, &o) {
-        RunError::Segments { reason } => assert!(reason.contains("line 10") && reason.contains("out of range"), "{reason}"),
+        RunError::Segments { reason } => assert!(
+            reason.contains("line 10") && reason.contains("out of range"),
+            "{reason}"
+        ),
         other => panic!("{other}"),
     }
 }
@@ -163,7 +212,11 @@ fn the_calibration_file_is_never_overwritten() {
     // a new name is written, and reads back
     let fresh = dir.path().join("new.json");
     calib_run::file::write_new(&fresh, &file).expect("written");
-    let back = calib_run::file::CalibrationFile::parse("new.json", &std::fs::read_to_string(&fresh).expect("read")).expect("parsed");
+    let back = calib_run::file::CalibrationFile::parse(
+        "new.json",
+        &std::fs::read_to_string(&fresh).expect("read"),
+    )
+    .expect("parsed");
     assert_eq!(back, file);
 }
 
@@ -175,9 +228,23 @@ fn apply_recovers_the_inputs_of_a_simulated_recording() {
     let run = calibrate(&s, rec.as_slice(), "log.csv", &CalibrateOptions::default()).expect("ok");
     let file = calib_run::file::CalibrationFile::of(&run);
     let mut out = Vec::new();
-    let summary = calib_run::file::apply(&file, "cal.json", rec.as_slice(), "log.csv", &Default::default(), &mut out).expect("applied");
+    let summary = calib_run::file::apply(
+        &file,
+        "cal.json",
+        rec.as_slice(),
+        "log.csv",
+        &Default::default(),
+        &mut out,
+    )
+    .expect("applied");
     assert_eq!(summary.columns.len(), 6);
-    let first = text(&out).lines().nth(1).expect("row").split(',').map(|v| v.parse::<f64>().expect("num")).collect::<Vec<_>>();
+    let first = text(&out)
+        .lines()
+        .nth(1)
+        .expect("row")
+        .split(',')
+        .map(|v| v.parse::<f64>().expect("num"))
+        .collect::<Vec<_>>();
     // a_z within 3 sigma of one sample's noise (0.4 mg/sqrt(Hz) at 50 Hz: 2.8 mg) of 1 g
     assert!((first[3] - 1.0).abs() < 0.01, "{first:?}");
     assert!(summary.max_mismatch < 1e-9);
