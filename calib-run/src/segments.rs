@@ -408,6 +408,14 @@ impl StaticAcc {
             let _ = a.push(v);
         }
     }
+
+    /// Push a block given per output (`columns[k]`: output k's samples in order).
+    pub fn extend_columns(&mut self, columns: &[Vec<f64>]) {
+        for (a, c) in self.allan.iter_mut().zip(columns) {
+            // finite by the reader's check
+            let _ = a.extend(c);
+        }
+    }
 }
 
 /// How each block is judged at rest.
@@ -466,8 +474,8 @@ pub(crate) struct Detector {
     rate_hz: f64,
     outputs: usize,
     block: Acc,
-    block_values: Vec<f64>,
-    held: Option<(Acc, Vec<f64>)>,
+    block_values: Vec<Vec<f64>>,
+    held: Option<(Acc, Vec<Vec<f64>>)>,
     run_len: u64,
     seg: Option<StaticAcc>,
     turn: Acc,
@@ -490,7 +498,7 @@ impl Detector {
             rate_hz,
             outputs,
             block: Acc::default(),
-            block_values: Vec::with_capacity(block_n as usize * outputs),
+            block_values: vec![Vec::with_capacity(block_n as usize); outputs],
             held: None,
             run_len: 0,
             seg: None,
@@ -505,7 +513,9 @@ impl Detector {
 
     pub fn push(&mut self, row: &Row<'_>) -> Result<(), RunError> {
         self.block.push(row);
-        self.block_values.extend_from_slice(row.values);
+        for (c, &v) in self.block_values.iter_mut().zip(row.values) {
+            c.push(v);
+        }
         if self.block.n == self.block_n {
             self.finish_block()?;
         }
@@ -516,7 +526,7 @@ impl Detector {
         let block = std::mem::take(&mut self.block);
         let values = std::mem::replace(
             &mut self.block_values,
-            Vec::with_capacity(self.block_n as usize * self.outputs),
+            vec![Vec::with_capacity(self.block_n as usize); self.outputs],
         );
         if block.n == self.block_n && self.test.rests(&block) {
             self.run_len += 1;
@@ -537,9 +547,7 @@ impl Detector {
                     }
                     let s = self.seg.as_mut().expect("opened above");
                     s.acc.merge(&h);
-                    for row in hv.chunks(self.outputs) {
-                        s.push_values(row);
-                    }
+                    s.extend_columns(&hv);
                 }
                 self.held = Some((block, values));
             }
