@@ -438,11 +438,12 @@ fn rate_channels(study: &Study) -> Vec<(usize, usize, f64)> {
     for (k, o) in study.sensor.outputs().iter().enumerate() {
         for t in &o.terms {
             for (q, input) in [Input::Wx, Input::Wy, Input::Wz].into_iter().enumerate() {
-                if t.regressor.degree() == 1 && t.regressor.power(input) == 1 && t.value.abs() > 0.0
+                if t.regressor.degree() == 1
+                    && t.regressor.power(input) == 1
+                    && t.value.abs() > 0.0
+                    && best[q].is_none_or(|(_, c)| t.value.abs() > c.abs())
                 {
-                    if best[q].is_none_or(|(_, c)| t.value.abs() > c.abs()) {
-                        best[q] = Some((k, t.value));
-                    }
+                    best[q] = Some((k, t.value));
                 }
             }
         }
@@ -491,7 +492,7 @@ enum Mode {
     File {
         specs: Vec<SegmentSpec>,
         next: usize,
-        current: Option<StaticAcc>,
+        current: Option<Box<StaticAcc>>,
         done: Vec<(SegmentSpec, StaticAcc)>,
     },
     Detect(Box<Detector>),
@@ -584,7 +585,7 @@ pub fn calibrate<R: Read>(
                 done,
             } => {
                 if *next < specs.len() && row.index == specs[*next].start {
-                    *current = Some(StaticAcc::new(n_out, rate)?);
+                    *current = Some(Box::new(StaticAcc::new(n_out, rate)?));
                 }
                 if let Some(c) = current.as_mut() {
                     c.acc.push(row);
@@ -592,7 +593,7 @@ pub fn calibrate<R: Read>(
                         c.push_values(row.values);
                     }
                     if row.index + 1 == specs[*next].end {
-                        done.push((specs[*next].clone(), current.take().expect("open")));
+                        done.push((specs[*next].clone(), *current.take().expect("open")));
                         *next += 1;
                     }
                 }
@@ -1280,7 +1281,7 @@ fn table_sensitivities(
     let mut cols = Vec::new();
     for (e, nm) in names.iter().enumerate() {
         let b = tol.ub_rad[e];
-        if !(b > 0.0) {
+        if b.is_nan() || b <= 0.0 {
             continue;
         }
         let mut dy = DVector::zeros(used.len());

@@ -147,7 +147,7 @@ impl CalibrationFile {
         if f.format != FORMAT {
             return Err(bad(format!("format `{}`, expected `{FORMAT}`", f.format)));
         }
-        f.model().map_err(|e| bad(e))?;
+        f.model().map_err(bad)?;
         Ok(f)
     }
 

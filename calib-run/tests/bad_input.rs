@@ -185,8 +185,10 @@ fn a_segment_beyond_the_recording_is_out_of_range() {
             start + 500 + if e == 8 { 1_000_000 } else { 0 }
         ));
     }
-    let mut o = CalibrateOptions::default();
-    o.segments = Some(parse_segments(specs.as_bytes(), "seg.csv", 6, 3).expect("parsed"));
+    let o = CalibrateOptions {
+        segments: Some(parse_segments(specs.as_bytes(), "seg.csv", 6, 3).expect("parsed")),
+        ..CalibrateOptions::default()
+    };
     match err(&s, &rec, &o) {
         RunError::Segments { reason } => assert!(
             reason.contains("line 10") && reason.contains("out of range"),
