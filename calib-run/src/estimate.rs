@@ -267,6 +267,12 @@ impl OutputResult {
     pub fn noise(&self) -> &MeasuredNoise {
         &self.noise
     }
+    /// What the processing did that a reader must know (segments not used, what the robust
+    /// fit down-weighted).
+    #[must_use]
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
     /// $\chi^2$ of the weighted residuals and its degrees of freedom.
     #[must_use]
     pub fn chi2(&self) -> (f64, usize) {

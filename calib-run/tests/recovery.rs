@@ -140,3 +140,64 @@ fn the_table_part_predicts_what_table_errors_do_to_the_estimates() {
         "the table errors move some estimate beyond the noise"
     );
 }
+
+#[test]
+fn a_corrupted_segment_is_flagged_and_the_robust_fit_says_what_it_changed() {
+    // position 5's ax samples shifted by 5 mg (a bumped fixture): the ordinary fit flags the
+    // segment, the robust fit down-weights it, names it and moves ba_x toward the truth
+    let s = study("imu-triad-example.toml");
+    let t = truth(&s, shift);
+    let rec = record(&s, &t, &settings(&s, 50.0, 20.0, 21));
+    let text = String::from_utf8(rec).expect("utf8");
+    let per = (22.0 * 50.0) as usize; // dwell + move, samples
+    let (lo, hi) = (5 * per, 5 * per + 1000);
+    let bumped: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i >= lo + 1 && i < hi + 1 {
+                let mut c: Vec<String> = l.split(',').map(str::to_string).collect();
+                c[4] = (c[4].parse::<f64>().expect("num") + 5.0).to_string();
+                c.join(",") + "\n"
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let ordinary = calibrate(&s, bumped.as_bytes(), "sim.csv", &options()).expect("processed");
+    let ax = &ordinary.outputs()[3];
+    assert!(
+        ax.residuals()
+            .iter()
+            .any(|r| r.outlier && ordinary.segments()[r.segment].entry() == 5)
+    );
+    let mut o = options();
+    o.robust = true;
+    let robust = calibrate(&s, bumped.as_bytes(), "sim.csv", &o).expect("processed");
+    let rx = &robust.outputs()[3];
+    let w5 = rx
+        .residuals()
+        .iter()
+        .find(|r| robust.segments()[r.segment].entry() == 5)
+        .expect("entry 5");
+    assert!(
+        w5.robust_weight < 0.5,
+        "down-weighted: {}",
+        w5.robust_weight
+    );
+    let truth_b = t.outputs()[3].estimated().next().expect("ba_x").value;
+    let (ord_b, rob_b) = (ax.coefficients()[0].value(), rx.coefficients()[0].value());
+    assert!(
+        (rob_b - truth_b).abs() < (ord_b - truth_b).abs(),
+        "robust {rob_b} ordinary {ord_b} truth {truth_b}"
+    );
+    assert!(
+        rx.notes()
+            .iter()
+            .any(|n| n.starts_with("robust fit: entry 5")),
+        "{:?}",
+        rx.notes()
+    );
+    let change = rx.coefficients()[0].robust_change().expect("reported");
+    assert!(change.abs() > 0.0);
+}
