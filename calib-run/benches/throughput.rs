@@ -33,23 +33,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let file = format!("{root}/target/calib-run-bench-{hours}h.csv");
     if std::fs::metadata(&file).is_err() {
         let settings = SimSettings {
-            sample_rate_hz: rate_hz,
-            dwell_s,
             move_s,
-            rest_s: 3.0,
-            rotation_s: 8.0,
-            white_per_sqrt_hz: s
-                .noise
-                .iter()
-                .map(|n| {
-                    n.as_ref()
-                        .map_or(0.0, gw_model::noise::NoiseModel::white_per_sqrt_hz)
-                })
-                .collect(),
-            table_errors_rad: None,
-            log_angles: false,
-            seed: 1,
-            repeats: 1,
+            ..SimSettings::for_study(&s, rate_hz, dwell_s, 1)
         };
         let tmp = format!("{file}.partial");
         let mut w = BufWriter::new(std::fs::File::create(&tmp)?);

@@ -18,25 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let text = std::fs::read_to_string(&args[1])?;
     let s = study::Study::parse(&args[1], &text)?;
     let num = |i: usize, d: f64| args.get(i).map_or(Ok(d), |v| v.parse::<f64>());
-    let settings = SimSettings {
-        sample_rate_hz: num(3, 100.0)?,
-        dwell_s: num(4, 20.0)?,
-        move_s: 2.0,
-        rest_s: 3.0,
-        rotation_s: 8.0,
-        white_per_sqrt_hz: s
-            .noise
-            .iter()
-            .map(|n| {
-                n.as_ref()
-                    .map_or(0.0, gw_model::noise::NoiseModel::white_per_sqrt_hz)
-            })
-            .collect(),
-        table_errors_rad: None,
-        log_angles: false,
-        seed: num(5, 1.0)? as u64,
-        repeats: 1,
-    };
+    let settings = SimSettings::for_study(&s, num(3, 100.0)?, num(4, 20.0)?, num(5, 1.0)? as u64);
     let f = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)

@@ -46,6 +46,34 @@ pub struct SimSettings {
     pub repeats: u32,
 }
 
+impl SimSettings {
+    /// A recording of `study` at `sample_rate_hz` with `dwell_s` at each position, 2 s moves,
+    /// 3 s rests around 8 s rotations, the study's white noise densities (0 where it gives
+    /// none), a perfect table, no logged angles, one pass.
+    #[must_use]
+    pub fn for_study(study: &Study, sample_rate_hz: f64, dwell_s: f64, seed: u64) -> Self {
+        SimSettings {
+            sample_rate_hz,
+            dwell_s,
+            move_s: 2.0,
+            rest_s: 3.0,
+            rotation_s: 8.0,
+            white_per_sqrt_hz: study
+                .noise
+                .iter()
+                .map(|n| {
+                    n.as_ref()
+                        .map_or(0.0, gw_model::noise::NoiseModel::white_per_sqrt_hz)
+                })
+                .collect(),
+            table_errors_rad: None,
+            log_angles: false,
+            seed,
+            repeats: 1,
+        }
+    }
+}
+
 struct Writer<'a, W: Write> {
     out: W,
     study: &'a Study,

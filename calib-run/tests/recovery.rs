@@ -155,7 +155,7 @@ fn a_corrupted_segment_is_flagged_and_the_robust_fit_says_what_it_changed() {
         .lines()
         .enumerate()
         .map(|(i, l)| {
-            if i >= lo + 1 && i < hi + 1 {
+            if i > lo && i <= hi {
                 let mut c: Vec<String> = l.split(',').map(str::to_string).collect();
                 c[4] = (c[4].parse::<f64>().expect("num") + 5.0).to_string();
                 c.join(",") + "\n"

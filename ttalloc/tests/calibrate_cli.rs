@@ -16,25 +16,7 @@ fn recording(dir: &Path) -> std::path::PathBuf {
     let path = study_path();
     let s =
         study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
-    let settings = calib_run::simulate::SimSettings {
-        sample_rate_hz: 50.0,
-        dwell_s: 10.0,
-        move_s: 2.0,
-        rest_s: 3.0,
-        rotation_s: 8.0,
-        white_per_sqrt_hz: s
-            .noise
-            .iter()
-            .map(|n| {
-                n.as_ref()
-                    .map_or(0.0, gw_model::noise::NoiseModel::white_per_sqrt_hz)
-            })
-            .collect(),
-        table_errors_rad: None,
-        log_angles: false,
-        seed: 4,
-        repeats: 1,
-    };
+    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
     let mut buf = Vec::new();
     calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut buf).expect("simulated");
     let out = dir.join("run.csv");

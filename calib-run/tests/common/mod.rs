@@ -44,16 +44,5 @@ pub fn record(s: &Study, truth: &SensorModel, settings: &SimSettings) -> Vec<u8>
 }
 
 pub fn settings(s: &Study, rate_hz: f64, dwell_s: f64, seed: u64) -> SimSettings {
-    SimSettings {
-        sample_rate_hz: rate_hz,
-        dwell_s,
-        move_s: 2.0,
-        rest_s: 3.0,
-        rotation_s: 8.0,
-        white_per_sqrt_hz: white(s),
-        table_errors_rad: None,
-        log_angles: false,
-        seed,
-        repeats: 1,
-    }
+    SimSettings::for_study(s, rate_hz, dwell_s, seed)
 }
