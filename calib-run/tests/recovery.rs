@@ -201,3 +201,40 @@ fn a_corrupted_segment_is_flagged_and_the_robust_fit_says_what_it_changed() {
     let change = rx.coefficients()[0].robust_change().expect("reported");
     assert!(change.abs() > 0.0);
 }
+
+#[test]
+fn logged_table_angles_find_the_rotations_and_give_the_same_estimates() {
+    // the six-face and three-rotation recording with the table's angles logged: rest and
+    // rotations come from the angles, the rotations' angle from the log
+    let s = study("imu-six-face-three-rotation.toml");
+    let mut sim = settings(&s, 50.0, 10.0, 8);
+    let plain = calibrate(
+        &s,
+        record(&s, &s.sensor, &sim).as_slice(),
+        "sim.csv",
+        &CalibrateOptions::default(),
+    )
+    .expect("processed");
+    sim.log_angles = true;
+    let logged = calibrate(
+        &s,
+        record(&s, &s.sensor, &sim).as_slice(),
+        "sim.csv",
+        &CalibrateOptions::default(),
+    )
+    .expect("processed");
+    assert!(logged.recording().angles_logged);
+    assert_eq!(logged.segments().len(), 9);
+    for (a, b) in plain.outputs().iter().zip(logged.outputs()) {
+        for (ca, cb) in a.coefficients().iter().zip(b.coefficients()) {
+            // the same samples' noise (same seed): the two estimates agree within U
+            assert!(
+                (ca.value() - cb.value()).abs() <= ca.expanded().0,
+                "{}: {} vs {}",
+                ca.name(),
+                ca.value(),
+                cb.value()
+            );
+        }
+    }
+}
