@@ -20,7 +20,9 @@ mod allan;
 mod allocate;
 mod angle;
 mod angle_alloc;
+mod apply;
 mod args;
+mod calibrate;
 mod calibration_error;
 mod check_turntable;
 mod csvio;
@@ -86,6 +88,10 @@ enum Command {
     DesignSchedule(design_schedule::Args),
     /// Noise from a log: overlapping Allan deviation, white noise, bias instability (IEEE 952).
     Allan(allan::Args),
+    /// Process the recording of the planned calibration: coefficients with uncertainties, residuals, verdicts, the calibration file.
+    Calibrate(calibrate::Args),
+    /// Correct a recording with a calibration file (the inputs the calibrated model maps to the outputs), streamed.
+    Apply(apply::Args),
 }
 
 /// The command line's definition, shown as `bin_name` in help and usage lines (`ttalloc`,
@@ -131,6 +137,8 @@ pub fn run_with(cmd: clap::Command, args: impl IntoIterator<Item = OsString>) ->
         Command::ReproducePaper(a) => report::run_paper(&a),
         Command::DesignSchedule(a) => design_schedule::run(&a),
         Command::Allan(a) => allan::run(&a),
+        Command::Calibrate(a) => calibrate::run(&a),
+        Command::Apply(a) => apply::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

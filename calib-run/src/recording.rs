@@ -1,0 +1,370 @@
+//! Reading a recording: a CSV file (or any reader) with a header line, streamed once; memory
+//! does not depend on its length.
+//!
+//! Columns: a time column (`t_s` or `time_s` in seconds, or `sample` / `index`, a sample
+//! index that needs the sample rate), one column per study output (named as the output, or
+//! mapped with [`RecordingOptions::columns`]), and optionally the table's logged angles, one
+//! column `<joint>_deg` per joint (all of them or none). Other columns are ignored.
+//!
+//! Every data cell used must be a finite number; time must increase by a steady step (a step
+//! more than [`GAP_FACTOR`] times the first, or less than 1 / [`GAP_FACTOR`] of it, is a gap
+//! or an irregular sample). Each problem is a [`RunError::Input`] naming the line and the
+//! column.
+
+use crate::error::RunError;
+use sha2::{Digest, Sha256};
+use std::io::Read;
+
+/// A time step more than this many times the first step (or less than its inverse) is a gap.
+pub const GAP_FACTOR: f64 = 1.5;
+
+/// How to read a recording's columns.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RecordingOptions {
+    /// The time column's header (default: the first of `t_s`, `time_s`, `sample`, `index`).
+    pub time_column: Option<String>,
+    /// Output name to column header, for outputs whose column is not named as the output.
+    pub columns: Vec<(String, String)>,
+    /// The sample rate, Hz: needed with a sample-index time column (default: the study's
+    /// timing), else checked against the time column's step.
+    pub sample_rate_hz: Option<f64>,
+    /// The outputs' measuring range: a value with a magnitude at or above it is saturated
+    /// (counted and flagged; a segment holding one is flagged).
+    pub range: Option<f64>,
+    /// The sample rate a sample-index time column assumes when `sample_rate_hz` is not given
+    /// (the study's timing), Hz.
+    pub index_sample_rate_hz: Option<f64>,
+}
+
+/// One data row.
+#[derive(Debug, Clone, Copy)]
+pub struct Row<'a> {
+    /// 1-based line in the source.
+    pub line: u64,
+    /// 0-based sample index (data rows only).
+    pub index: u64,
+    /// Time, s.
+    pub t_s: f64,
+    /// The outputs, study order, each in its unit.
+    pub values: &'a [f64],
+    /// The table's logged angles, deg, joint order.
+    pub angles_deg: Option<&'a [f64]>,
+    /// Whether any output is saturated in this row.
+    pub saturated: bool,
+}
+
+/// Saturated samples of one column.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Saturation {
+    /// The column's header.
+    pub column: String,
+    /// Saturated samples.
+    pub count: u64,
+    /// The first one's line.
+    pub first_line: u64,
+}
+
+/// What reading the whole recording found.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RecordingSummary {
+    /// The source's name as given.
+    pub source: String,
+    /// SHA-256 of the bytes read, hex.
+    pub sha256: String,
+    /// Data rows.
+    pub samples: u64,
+    /// The sample interval, s.
+    pub dt_s: f64,
+    /// First to last sample plus one interval, s.
+    pub duration_s: f64,
+    /// Whether the table's angles were logged.
+    pub angles_logged: bool,
+    /// Saturated samples per output column (empty without a range).
+    pub saturated: Vec<Saturation>,
+}
+
+struct HashRead<'h, R> {
+    inner: R,
+    hasher: &'h mut Sha256,
+}
+
+impl<R: Read> Read for HashRead<'_, R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.hasher.update(&buf[..n]);
+        Ok(n)
+    }
+}
+
+/// SHA-256 of bytes, hex.
+#[must_use]
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    hex(&Sha256::digest(bytes))
+}
+
+fn hex(d: &[u8]) -> String {
+    d.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn parse_cell(source: &str, line: u64, header: &str, cell: &[u8]) -> Result<f64, RunError> {
+    let text = std::str::from_utf8(cell)
+        .map_err(|_| RunError::input(source, Some(line), Some(header), "not UTF-8"))?
+        .trim();
+    let v: f64 = text.parse().map_err(|_| {
+        RunError::input(
+            source,
+            Some(line),
+            Some(header),
+            if text.is_empty() {
+                "empty cell: a number is required".to_string()
+            } else {
+                format!("`{text}` is not a number")
+            },
+        )
+    })?;
+    if !v.is_finite() {
+        return Err(RunError::input(
+            source,
+            Some(line),
+            Some(header),
+            format!("`{text}` is not a finite number"),
+        ));
+    }
+    Ok(v)
+}
+
+/// Read `reader` once, row by row, handing each row to `visit`: `outputs` are the study's
+/// output names (their columns found by name or by `options.columns`), `joints` the table's
+/// joint names (columns `<joint>_deg`, optional as a whole).
+///
+/// # Errors
+/// [`RunError::Input`] naming the line and column: a missing column, a cell that is not a
+/// finite number, a row of the wrong length, time that does not increase, a gap, an
+/// irregular step, a time step that disagrees with `options.sample_rate_hz`;
+/// [`RunError::Option`] for a mapping naming an unknown output; whatever `visit` returns.
+pub fn read_rows<R, F>(
+    reader: R,
+    source: &str,
+    outputs: &[&str],
+    joints: &[&str],
+    options: &RecordingOptions,
+    mut visit: F,
+) -> Result<RecordingSummary, RunError>
+where
+    R: Read,
+    F: FnMut(&Row<'_>) -> Result<(), RunError>,
+{
+    for (out, _) in &options.columns {
+        if !outputs.contains(&out.as_str()) {
+            return Err(RunError::option(
+                "--column",
+                format!(
+                    "`{out}` is not an output of the study (outputs: {})",
+                    outputs.join(", ")
+                ),
+            ));
+        }
+    }
+    let mut hasher = Sha256::new();
+    let mut csv = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(HashRead {
+            inner: reader,
+            hasher: &mut hasher,
+        });
+    let headers = csv
+        .byte_headers()
+        .map_err(|e| csv_error(source, &e))?
+        .iter()
+        .map(|h| {
+            String::from_utf8_lossy(h)
+                .trim_start_matches('\u{feff}')
+                .to_string()
+        })
+        .collect::<Vec<_>>();
+    let find = |name: &str| headers.iter().position(|h| h == name);
+    let missing = |what: String| RunError::input(source, Some(1), None, what);
+    let (time, time_is_index) = match &options.time_column {
+        Some(t) => (
+            find(t).ok_or_else(|| missing(format!("no column `{t}` (given as the time column)")))?,
+            t == "sample" || t == "index",
+        ),
+        None => ["t_s", "time_s", "sample", "index"]
+            .iter()
+            .find_map(|n| find(n).map(|i| (i, *n == "sample" || *n == "index")))
+            .ok_or_else(|| {
+                missing("no time column: name one `t_s` (seconds) or `sample` (index), or give the time column".into())
+            })?,
+    };
+    let output_cols = outputs
+        .iter()
+        .map(|o| {
+            let col = options
+                .columns
+                .iter()
+                .find(|(n, _)| n == o)
+                .map_or(*o, |(_, c)| c.as_str());
+            find(col).ok_or_else(|| {
+                missing(format!(
+                    "no column `{col}` for output `{o}` (name a column as the output, or map it)"
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let angle_names: Vec<String> = joints.iter().map(|j| format!("{j}_deg")).collect();
+    let found: Vec<Option<usize>> = angle_names.iter().map(|n| find(n)).collect();
+    let angle_cols = if found.iter().all(Option::is_some) && !found.is_empty() {
+        Some(
+            found
+                .iter()
+                .map(|c| c.unwrap_or_default())
+                .collect::<Vec<_>>(),
+        )
+    } else if found.iter().any(Option::is_some) {
+        let absent: Vec<&str> = angle_names
+            .iter()
+            .zip(&found)
+            .filter(|(_, f)| f.is_none())
+            .map(|(n, _)| n.as_str())
+            .collect();
+        return Err(missing(format!(
+            "the table's angles are logged for some joints only: no column {}",
+            absent.join(", ")
+        )));
+    } else {
+        None
+    };
+    let rate = if time_is_index {
+        options.sample_rate_hz.or(options.index_sample_rate_hz)
+    } else {
+        options.sample_rate_hz
+    };
+    if time_is_index && rate.is_none() {
+        return Err(RunError::option(
+            "--sample-rate-hz",
+            "a sample-index time column needs the sample rate (the study has no timing)",
+        ));
+    }
+    let mut values = vec![0.0; outputs.len()];
+    let mut angles = vec![0.0; angle_cols.as_ref().map_or(0, Vec::len)];
+    let mut saturated: Vec<Saturation> = output_cols
+        .iter()
+        .map(|&c| Saturation {
+            column: headers[c].clone(),
+            count: 0,
+            first_line: 0,
+        })
+        .collect();
+    let mut record = csv::ByteRecord::new();
+    let (mut n, mut t0, mut t_prev, mut dt) = (0u64, 0.0, 0.0, 0.0);
+    loop {
+        match csv.read_byte_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(csv_error(source, &e)),
+        }
+        let line = record.position().map_or(0, csv::Position::line);
+        let cell = |c: usize| parse_cell(source, line, &headers[c], &record[c]);
+        let raw_t = cell(time)?;
+        let t = if time_is_index {
+            raw_t / rate.unwrap_or(1.0)
+        } else {
+            raw_t
+        };
+        let bad_time =
+            |reason: String| RunError::input(source, Some(line), Some(&headers[time]), reason);
+        if n == 0 {
+            t0 = t;
+        } else {
+            let step = t - t_prev;
+            if step <= 0.0 {
+                return Err(bad_time(format!(
+                    "time does not increase ({t_prev} then {t} s)"
+                )));
+            }
+            if n == 1 {
+                dt = step;
+                if let Some(f) = rate {
+                    if !time_is_index && (dt * f - 1.0).abs() > 0.01 {
+                        return Err(bad_time(format!(
+                            "the time step {dt} s disagrees with the sample rate {f} Hz"
+                        )));
+                    }
+                }
+            } else if step > GAP_FACTOR * dt {
+                return Err(bad_time(format!(
+                    "a gap of {} s after {t_prev} s (the step is {dt} s): samples are missing",
+                    step - dt
+                )));
+            } else if step < dt / GAP_FACTOR {
+                return Err(bad_time(format!(
+                    "an irregular step of {step} s (the step is {dt} s)"
+                )));
+            }
+        }
+        t_prev = t;
+        let mut sat = false;
+        for (k, &c) in output_cols.iter().enumerate() {
+            let v = cell(c)?;
+            if let Some(r) = options.range {
+                if v.abs() >= r {
+                    sat = true;
+                    let s = &mut saturated[k];
+                    if s.count == 0 {
+                        s.first_line = line;
+                    }
+                    s.count += 1;
+                }
+            }
+            values[k] = v;
+        }
+        if let Some(cols) = &angle_cols {
+            for (j, &c) in cols.iter().enumerate() {
+                angles[j] = cell(c)?;
+            }
+        }
+        visit(&Row {
+            line,
+            index: n,
+            t_s: t,
+            values: &values,
+            angles_deg: angle_cols.as_ref().map(|_| angles.as_slice()),
+            saturated: sat,
+        })?;
+        n += 1;
+    }
+    drop(csv);
+    if n < 2 {
+        return Err(RunError::input(
+            source,
+            None,
+            None,
+            format!("{n} data rows: a recording has at least two"),
+        ));
+    }
+    Ok(RecordingSummary {
+        source: source.to_string(),
+        sha256: hex(&hasher.finalize()),
+        samples: n,
+        dt_s: dt,
+        duration_s: t_prev - t0 + dt,
+        angles_logged: angle_cols.is_some(),
+        saturated: saturated.into_iter().filter(|s| s.count > 0).collect(),
+    })
+}
+
+fn csv_error(source: &str, e: &csv::Error) -> RunError {
+    let line = e.position().map(csv::Position::line);
+    let reason = match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => {
+            format!("{len} fields where the header has {expected_len}")
+        }
+        csv::ErrorKind::Io(io) => format!("cannot read: {io}"),
+        _ => e.to_string(),
+    };
+    RunError::input(source, line, None, reason)
+}

@@ -1,0 +1,239 @@
+//! `ttalloc calibrate --study S [LOG.csv] [--segments FILE] [--out CAL.json] [--json] ...`:
+//! process the recording of the calibration the study planned (the `calib-run` crate does the
+//! work, one call): the coefficients of every output with their expanded uncertainties, the
+//! measured noise, the residuals per segment with outlier flags, the plan's predicted
+//! uncertainty beside the run's, and verdicts on `--spec NAME=LIMIT` under a named decision
+//! rule. `--out` writes the calibration file (JSON), never over an existing file. The log is a
+//! CSV file or standard input (`-` or nothing), streamed. See docs/calibrate.md.
+//!
+//! Bad input (a cell, a missing column, a gap, segments that do not fit the schedule) exits
+//! with code 2 naming the line, the column or the segment, and nothing is written.
+
+use crate::InputError;
+use crate::csvio::Source;
+use crate::study as st;
+use anyhow::Result;
+use calib_run::segments::{DetectSettings, parse_segments};
+use calib_run::{CalibrateOptions, Spec, calibrate, verdicts};
+use clap::Parser;
+use metrology::decision::DecisionRule;
+use std::path::PathBuf;
+use study::fmt::sig;
+
+/// Arguments of `calibrate`.
+#[derive(Debug, Parser)]
+pub struct Args {
+    /// Study file that planned the calibration (default: `studies/gyrowheel-2017.toml`).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// The recording: a CSV file with a header line, or `-` (or nothing) for standard input.
+    pub log: Option<PathBuf>,
+    /// Segments file (CSV `start,end,entry[,kind]`); default: detected.
+    #[arg(long)]
+    pub segments: Option<PathBuf>,
+    /// Write the calibration file (JSON) here; it must not exist.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// An output's column when not named as the output: `OUTPUT=HEADER` (repeatable).
+    #[arg(long = "column", value_name = "OUTPUT=HEADER")]
+    pub columns: Vec<String>,
+    /// The time column (default: `t_s`, `time_s`, `sample` or `index`).
+    #[arg(long)]
+    pub time_column: Option<String>,
+    /// Sample rate, Hz (needed with a sample-index column when the study has no timing).
+    #[arg(long, value_parser = |s: &str| crate::args::positive(s, 1e12))]
+    pub sample_rate_hz: Option<f64>,
+    /// The outputs' range: values at or above it in magnitude are flagged saturated.
+    #[arg(long, value_parser = |s: &str| crate::args::positive(s, f64::MAX))]
+    pub range: Option<f64>,
+    /// The table's tolerance sheet (its part of the uncertainty budget).
+    #[arg(long)]
+    pub tolerances: Option<PathBuf>,
+    /// Also fit robustly (Huber) and report what it changed; the robust estimate is the one
+    /// written.
+    #[arg(long)]
+    pub robust: bool,
+    /// A specification `COEFFICIENT=LIMIT` (|value| <= LIMIT, the coefficient's unit;
+    /// repeatable), judged with the ILAC-G8 guard band w = U.
+    #[arg(long = "spec", value_name = "COEFFICIENT=LIMIT")]
+    pub specs: Vec<String>,
+    /// Detection: block length, s.
+    #[arg(long, default_value_t = 0.5, value_parser = |s: &str| crate::args::positive(s, 1e6))]
+    pub block_s: f64,
+    /// Detection: shortest static interval used, s (default: half the study's shortest dwell,
+    /// else 1 s).
+    #[arg(long, value_parser = |s: &str| crate::args::positive(s, 1e9))]
+    pub min_static_s: Option<f64>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn pair<'a>(flag: &str, s: &'a str) -> Result<(&'a str, &'a str), InputError> {
+    s.split_once('=')
+        .filter(|(a, b)| !a.is_empty() && !b.is_empty())
+        .ok_or_else(|| InputError::new(flag, format!("`{s}` is not NAME=VALUE")))
+}
+
+/// A library error as the command's: input errors exit 2.
+pub(crate) fn run_error(e: calib_run::RunError) -> anyhow::Error {
+    use tt_core::ErrorClass;
+    match &e {
+        calib_run::RunError::Input { at, reason } => {
+            InputError::new(at.to_string(), reason.clone()).into()
+        }
+        _ if e.is_input() => {
+            InputError::new(e.input_field().unwrap_or_default(), e.to_string()).into()
+        }
+        _ => anyhow::Error::new(e),
+    }
+}
+
+/// Run `calibrate`.
+///
+/// # Errors
+/// [`InputError`] for bad input (exit 2); others.
+pub fn run(args: &Args) -> Result<()> {
+    let s = st::load(args.study.as_deref())?;
+    if let Some(out) = &args.out {
+        crate::newfile::check(out, "--out")?;
+    }
+    let mut opts = CalibrateOptions::default();
+    for c in &args.columns {
+        let (o, h) = pair("--column", c)?;
+        opts.recording.columns.push((o.into(), h.into()));
+    }
+    opts.recording.time_column.clone_from(&args.time_column);
+    opts.recording.sample_rate_hz = args.sample_rate_hz;
+    opts.recording.range = args.range;
+    opts.robust = args.robust;
+    opts.detect = DetectSettings {
+        block_s: args.block_s,
+        min_static_s: args.min_static_s,
+        ..DetectSettings::default()
+    };
+    if let Some(t) = &args.tolerances {
+        opts.tolerances = Some(study::Tolerances::load(t, &s.turntable).map_err(InputError::from)?);
+    }
+    let specs = args
+        .specs
+        .iter()
+        .map(|x| {
+            let (c, l) = pair("--spec", x)?;
+            let limit: f64 = l
+                .parse()
+                .map_err(|_| InputError::new("--spec", format!("`{l}` is not a number")))?;
+            Ok(Spec {
+                coefficient: c.into(),
+                limit,
+                unit: None,
+            })
+        })
+        .collect::<Result<Vec<_>, InputError>>()?;
+    if let Some(p) = &args.segments {
+        let name = p.display().to_string();
+        let f = std::fs::File::open(p)
+            .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;
+        opts.segments = Some(
+            parse_segments(f, &name, s.positions_deg.len(), s.rate_steps.len())
+                .map_err(run_error)?,
+        );
+    }
+    let source = Source::from_arg(args.log.as_deref());
+    let reader = source.open()?;
+    let run = calibrate(&s, reader, &source.name(), &opts).map_err(run_error)?;
+    let rule = DecisionRule::GuardBandExpanded;
+    let verdicts = verdicts(&run, &specs, rule).map_err(run_error)?;
+    if let Some(out) = &args.out {
+        calib_run::file::write_new(out, &calib_run::file::CalibrationFile::of(&run))
+            .map_err(run_error)?;
+    }
+    if args.json {
+        #[derive(serde::Serialize)]
+        struct J<'a> {
+            run: &'a calib_run::Run,
+            verdicts: &'a [calib_run::Verdict],
+            calibration_file: Option<String>,
+        }
+        return crate::json::print(&J {
+            run: &run,
+            verdicts: &verdicts,
+            calibration_file: args.out.as_ref().map(|p| p.display().to_string()),
+        });
+    }
+    crate::out::print(&text(&run, &verdicts, args.out.as_ref()))
+}
+
+fn text(run: &calib_run::Run, verdicts: &[calib_run::Verdict], out: Option<&PathBuf>) -> String {
+    use std::fmt::Write;
+    let mut t = String::new();
+    let r = run.recording();
+    let _ = writeln!(
+        t,
+        "recording {}: {} samples, {} s at {} Hz, sha256 {}",
+        r.source,
+        r.samples,
+        sig(r.duration_s, 6),
+        sig(1.0 / r.dt_s, 6),
+        r.sha256
+    );
+    let _ = writeln!(t, "segments: {}", run.segments().len());
+    for w in run.warnings() {
+        let _ = writeln!(t, "warning: {w}");
+    }
+    for o in run.outputs() {
+        let n = o.noise();
+        let _ = writeln!(
+            t,
+            "\noutput {}: measured white noise {} per sqrt(Hz) (study {}), chi2 {} with {} dof",
+            o.name(),
+            sig(n.white_per_sqrt_hz, 4),
+            n.study_white_per_sqrt_hz
+                .map_or("not given".into(), |v| sig(v, 4)),
+            sig(o.chi2().0, 4),
+            o.chi2().1
+        );
+        for c in o.coefficients() {
+            let (u, k) = c.expanded();
+            let _ = writeln!(
+                t,
+                "  {} = {} +- {} {} (k = {}); u: noise {}, residuals {}, table {}; plan predicted {}{}",
+                c.name(),
+                sig(c.value(), 6),
+                sig(u, 3),
+                c.unit(),
+                sig(k, 3),
+                sig(c.u_measured_noise(), 3),
+                c.u_residuals().map_or("-".into(), |v| sig(v, 3)),
+                sig(c.u_table(), 3),
+                c.predicted_u().map_or("-".into(), |v| sig(v, 3)),
+                c.robust_change().map_or(String::new(), |d| format!(
+                    "; robust moved it by {}",
+                    sig(d, 3)
+                ))
+            );
+        }
+        let outliers: Vec<String> = o
+            .residuals()
+            .iter()
+            .filter(|r| r.outlier)
+            .map(|r| {
+                format!(
+                    "entry {} (z = {})",
+                    run.segments()[r.segment].entry(),
+                    sig(r.standardized, 3)
+                )
+            })
+            .collect();
+        if !outliers.is_empty() {
+            let _ = writeln!(t, "  outliers: {}", outliers.join(", "));
+        }
+    }
+    for v in verdicts {
+        let _ = writeln!(t, "{}", v.statement);
+    }
+    if let Some(p) = out {
+        let _ = writeln!(t, "calibration file written: {}", crate::paths::visible(p));
+    }
+    t
+}

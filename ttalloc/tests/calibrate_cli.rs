@@ -1,0 +1,136 @@
+//! `ttalloc calibrate` and `ttalloc apply` on a simulated six-face and three-rotation
+//! recording: the loop runs, bad input exits 2 naming the line and column with nothing
+//! written, and no file is ever overwritten.
+
+use std::path::Path;
+use std::process::Command;
+
+fn study_path() -> String {
+    format!(
+        "{}/../studies/imu-six-face-three-rotation.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+fn recording(dir: &Path) -> std::path::PathBuf {
+    let path = study_path();
+    let s =
+        study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
+    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
+    let mut buf = Vec::new();
+    calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut buf).expect("simulated");
+    let out = dir.join("run.csv");
+    std::fs::write(&out, buf).expect("written");
+    out
+}
+
+fn ttalloc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
+        .args(args)
+        .output()
+        .expect("ran")
+}
+
+#[test]
+fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let cal = dir.path().join("cal.json");
+    let study = study_path();
+    let out = ttalloc(&[
+        "calibrate",
+        "--study",
+        &study,
+        log.to_str().expect("utf8"),
+        "--out",
+        cal.to_str().expect("utf8"),
+        "--spec",
+        "bg_x=100",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["run"]["segments"].as_array().expect("segments").len(), 9);
+    assert_eq!(v["verdicts"][0]["meets"], true);
+    assert!(
+        v["verdicts"][0]["rule"]
+            .as_str()
+            .expect("rule")
+            .contains("ILAC-G8")
+    );
+    let written = std::fs::read_to_string(&cal).expect("calibration file");
+    // a second run refuses the existing file: exit 2, the file as it was
+    let again = ttalloc(&[
+        "calibrate",
+        "--study",
+        &study,
+        log.to_str().expect("utf8"),
+        "--out",
+        cal.to_str().expect("utf8"),
+    ]);
+    assert_eq!(again.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("never overwritten"));
+    assert_eq!(std::fs::read_to_string(&cal).expect("still there"), written);
+    // apply
+    let corrected = dir.path().join("corrected.csv");
+    let out = ttalloc(&[
+        "apply",
+        "--calibration",
+        cal.to_str().expect("utf8"),
+        log.to_str().expect("utf8"),
+        "--out",
+        corrected.to_str().expect("utf8"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&corrected).expect("corrected");
+    assert_eq!(
+        text.lines().next(),
+        Some("t_s,a_x_g,a_y_g,a_z_g,w_x_deg_per_h,w_y_deg_per_h,w_z_deg_per_h")
+    );
+}
+
+#[test]
+fn a_bad_cell_exits_2_naming_line_and_column_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let text = std::fs::read_to_string(&log).expect("log");
+    let bad: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 19 {
+                l.replacen(',', ",oops,", 1).replacen(",oops,", ",oops", 1) + "\n"
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    // line 20: the gx cell reads `oops<number>`
+    let bad_path = dir.path().join("bad.csv");
+    std::fs::write(&bad_path, bad).expect("written");
+    let cal = dir.path().join("cal.json");
+    let out = ttalloc(&[
+        "calibrate",
+        "--study",
+        &study_path(),
+        bad_path.to_str().expect("utf8"),
+        "--out",
+        cal.to_str().expect("utf8"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(":20 (column `gx`)") && err.contains("is not a number"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+    assert!(!cal.exists(), "nothing written on error");
+}
