@@ -122,6 +122,7 @@ mod allocation;
 mod equal;
 mod error;
 mod exact;
+mod linearised;
 mod model;
 #[cfg(feature = "paper")]
 pub mod paper;
@@ -136,9 +137,10 @@ pub use allocation::{
 pub use equal::EqualEffects;
 pub use error::AllocError;
 pub use exact::{
-    ExactAxisCheck, ExactSafeAllocation, FULL_ENUMERATION_MAX_ERRORS, allocate_with_exact_margin,
-    exact_chain_check,
+    ExactAxisCheck, ExactChainModel, ExactSafeAllocation, FULL_ENUMERATION_MAX_ERRORS,
+    allocate_with_exact_margin, exact_chain_check,
 };
+pub use linearised::{LINEARISED_MAX_POSES, Linearised};
 pub use model::{LinearErrorModel, WorstRow};
 pub use problem::{AllocationProblem, Weights};
 /// The requirement of eq 15-16 ([`tt_core::Requirement`]), re-exported.

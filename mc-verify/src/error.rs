@@ -93,6 +93,19 @@ pub enum McError {
         /// The bounds' error name there (empty if the bounds have fewer).
         found: String,
     },
+    /// A box (or $\chi$) does not have the model's error count
+    /// ([`tt_kinematics::OrientationErrorModel::n_errors`]).
+    #[error(
+        "the error box has {found} errors, the model has {expected} ({names}): one bound per error of the model"
+    )]
+    ModelErrorCount {
+        /// The model's error count.
+        expected: usize,
+        /// The box's.
+        found: usize,
+        /// The model's error names, comma separated.
+        names: String,
+    },
     /// A histogram half-range was not a positive finite angle (large enough for a finite
     /// inverse bin width).
     #[error(
@@ -156,7 +169,9 @@ impl tt_core::ErrorClass for McError {
             | McError::NonFiniteBound { kind, .. }
             | McError::NegativeBound { kind, .. } => Some(bound(kind)),
             McError::LowerAboveUpper { .. } => Some("lower_bounds"),
-            McError::BoundsForAnotherTurntable { .. } => Some("bounds"),
+            McError::BoundsForAnotherTurntable { .. } | McError::ModelErrorCount { .. } => {
+                Some("bounds")
+            }
             McError::HistogramRange { .. } => Some("histogram_half_range"),
             McError::SimdUnavailable { .. } => Some("simd"),
             McError::Kinematics(e) => tt_core::ErrorClass::input_field(e),

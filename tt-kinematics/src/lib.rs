@@ -86,8 +86,8 @@ pub use linear::{
     POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum, mean_abs_harmonic,
 };
 pub use model::{
-    AtPoses, ExactChain, FIRST_ORDER_STEP_RAD, LinearChain, OrientationErrorModel, ReadOut,
-    ScheduleErrorModel, SmallAngleChain,
+    AtPoses, DERIVED_FIRST_ORDER_TOLERANCE, ExactChain, FIRST_ORDER_STEP_RAD, LinearChain,
+    OrientationErrorModel, ReadOut, ScheduleErrorModel, SmallAngleChain, derived_first_order,
 };
 pub use pose::TurntableErrors;
 pub use rate::{

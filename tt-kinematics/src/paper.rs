@@ -138,6 +138,25 @@ impl ClosedForm {
 }
 
 impl OrientationErrorModel for ClosedForm {
+    fn error_names(&self) -> Vec<String> {
+        table3()
+            .rotation_error_names()
+            .into_iter()
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// The rotation of eq 26's angles (stated fallback: eq 26 is first order).
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<nalgebra::Matrix3<f64>, KinematicsError> {
+        Ok(self
+            .orientation_error(pose, errors)?
+            .delta_r(tt_core::DeltaRKind::Exact))
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,
