@@ -145,7 +145,7 @@ pub enum McError {
     /// case of the histogram range).
     #[error("turntable: {0}")]
     Kinematics(#[from] KinematicsError),
-    /// The specialised paper kernel ([`crate::baseline`]) was asked to run another turntable.
+    /// The specialised paper kernel (`baseline`) was asked to run another turntable.
     #[error("the specialised paper kernel applies only to the paper's Table 3 turntable")]
     NotThePaperTable,
 }

@@ -59,7 +59,7 @@
 //!
 //! For the paper's table every sample gets exactly the operations of the crate's earlier
 //! hand-written kernel, in the same order, so the results are bit-identical to it (tested
-//! against a kept copy, [`crate::baseline`], in every tier and with zero bounds, and against
+//! against a kept copy, `baseline`, in every tier and with zero bounds, and against
 //! values pinned from it). The result equals the plain
 //! chain ([`tt_kinematics::ExactChain`] with the eq-24 read-out) to rounding; the tests check
 //! $10^{-15}$ rad per sample on the paper's and a three-axis table, in every tier.
