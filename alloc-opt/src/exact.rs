@@ -181,29 +181,15 @@ impl<M: OrientationErrorModel + Clone> ExactChainModel for Linearised<M> {
         let lin = problem.model();
         let model = lin.model();
         let n = lin.n_errors();
-        length("upper_bounds", n, allocation.upper_bounds_rad.len())?;
-        let ub: Vec<f64> = allocation
-            .upper_bounds_rad
-            .iter()
-            .map(|&u| if u.is_finite() { u } else { 0.0 })
-            .collect();
-        let boxed: Vec<usize> = (0..n).filter(|&i| ub[i] > 0.0).collect();
+        let (ub, boxed) = finite_box(n, allocation)?;
         let ranges = lin.joint_ranges_rad();
         let moving: Vec<usize> = (0..ranges.len())
             .filter(|&j| ranges[j][1] > ranges[j][0])
             .collect();
         let grid = pose_grid_in(ranges, &moving);
         let full = boxed.len() <= FULL_ENUMERATION_MAX_ERRORS;
-        let vertices: Vec<Vec<f64>> = if full {
-            (0u32..(1 << boxed.len()))
-                .map(|signs| {
-                    let mut chi = vec![0.0; n];
-                    for (b, &i) in boxed.iter().enumerate() {
-                        chi[i] = if signs & (1 << b) == 0 { ub[i] } else { -ub[i] };
-                    }
-                    chi
-                })
-                .collect()
+        let vertices = if full {
+            all_vertices(&ub, &boxed)
         } else {
             Vec::new()
         };
@@ -289,23 +275,14 @@ fn turntable_check(
     let model = problem.model();
     let turntable = model.turntable();
     let n = model.n_errors();
-    length("upper_bounds", n, allocation.upper_bounds_rad.len())?;
-    let ub: Vec<f64> = allocation
-        .upper_bounds_rad
-        .iter()
-        .map(|&u| if u.is_finite() { u } else { 0.0 })
-        .collect();
-    let boxed: Vec<usize> = (0..n).filter(|&i| ub[i] > 0.0).collect();
+    let (ub, boxed) = finite_box(n, allocation)?;
     let grid = pose_grid(turntable);
     let full = boxed.len() <= FULL_ENUMERATION_MAX_ERRORS;
     // Every vertex's error-segment rotations, once (they do not depend on the pose).
     let vertices: Vec<(Vec<f64>, Vec<Matrix3<f64>>)> = if full {
-        (0u32..(1 << boxed.len()))
-            .map(|signs| {
-                let mut chi = vec![0.0; n];
-                for (b, &i) in boxed.iter().enumerate() {
-                    chi[i] = if signs & (1 << b) == 0 { ub[i] } else { -ub[i] };
-                }
+        all_vertices(&ub, &boxed)
+            .into_iter()
+            .map(|chi| {
                 let e = segments(turntable, &chi)?;
                 Ok((chi, e))
             })
@@ -363,6 +340,33 @@ fn turntable_check(
         ));
     }
     Ok(three(out))
+}
+
+/// The allocation's bounds checked against `n` errors, with every unconstrained error
+/// (infinite bound) held at 0, and the errors with a positive bound.
+fn finite_box(n: usize, allocation: &Allocation) -> Result<(Vec<f64>, Vec<usize>), AllocError> {
+    length("upper_bounds", n, allocation.upper_bounds_rad.len())?;
+    let ub: Vec<f64> = allocation
+        .upper_bounds_rad
+        .iter()
+        .map(|&u| if u.is_finite() { u } else { 0.0 })
+        .collect();
+    let boxed = (0..n).filter(|&i| ub[i] > 0.0).collect();
+    Ok((ub, boxed))
+}
+
+/// Every sign vertex $\chi_i = \pm\mathrm{UB}_i$ of the `boxed` errors (others 0), the bit
+/// order of the enumeration as before.
+fn all_vertices(ub: &[f64], boxed: &[usize]) -> Vec<Vec<f64>> {
+    (0u32..(1 << boxed.len()))
+        .map(|signs| {
+            let mut chi = vec![0.0; ub.len()];
+            for (b, &i) in boxed.iter().enumerate() {
+                chi[i] = if signs & (1 << b) == 0 { ub[i] } else { -ub[i] };
+            }
+            chi
+        })
+        .collect()
 }
 
 /// The error-segment rotations of the exact chain for $\chi$.

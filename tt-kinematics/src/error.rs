@@ -31,7 +31,7 @@ pub enum KinematicsError {
     /// (it keeps the default [`crate::OrientationErrorModel::delta_r`]) where the exact rotation
     /// is needed (a schedule's $\Delta\mathbf R_i$, the conformance suite's rotation checks).
     #[error(
-        "the orientation-error model gives no delta_r of its own: implement OrientationErrorModel::delta_r (the exact rotation R_d^T R_t), or return orientation_error(..)?.delta_r(DeltaRKind::Exact) there to accept the rotation of its angles (equal to first order only)"
+        "the orientation-error model gives no delta_r of its own: implement OrientationErrorModel::delta_r (the exact rotation R_d^T R_t), or return tt_kinematics::delta_r_of_angles(self, pose, errors) there to accept the rotation of its angles (equal to first order only)"
     )]
     NoDeltaR,
 }

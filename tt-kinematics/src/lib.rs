@@ -87,7 +87,8 @@ pub use linear::{
 };
 pub use model::{
     AtPoses, DERIVED_FIRST_ORDER_TOLERANCE, ExactChain, FIRST_ORDER_STEP_RAD, LinearChain,
-    OrientationErrorModel, ReadOut, ScheduleErrorModel, SmallAngleChain, derived_first_order,
+    OrientationErrorModel, ReadOut, ScheduleErrorModel, SmallAngleChain, delta_r_of_angles,
+    derived_first_order,
 };
 pub use pose::TurntableErrors;
 pub use rate::{

@@ -58,6 +58,23 @@ pub fn derived_first_order<M: OrientationErrorModel + ?Sized>(
     Ok(out)
 }
 
+/// The stated fallback for a model that knows only its angles: the rotation whose rotation
+/// vector is its [`OrientationErrorModel::orientation_error`] ([`DeltaRKind::Exact`]), equal to
+/// the true $\Delta\mathbf R$ to first order only. A model opts in by returning it from its
+/// [`OrientationErrorModel::delta_r`]; nothing calls it silently.
+///
+/// # Errors
+/// As [`OrientationErrorModel::orientation_error`].
+pub fn delta_r_of_angles<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    pose: &Pose,
+    errors: &TurntableErrors,
+) -> Result<Matrix3<f64>, KinematicsError> {
+    Ok(model
+        .orientation_error(pose, errors)?
+        .delta_r(DeltaRKind::Exact))
+}
+
 /// Maps a turntable pose and its geometric errors to the orientation error of the platform.
 ///
 /// Implemented for any turntable by [`ExactChain`], [`SmallAngleChain`] and [`LinearChain`],
@@ -124,9 +141,8 @@ pub trait OrientationErrorModel {
     /// There is no silent default: a model that does not implement it gives
     /// [`KinematicsError::NoDeltaR`] where the exact rotation is needed (a schedule's
     /// $\Delta\mathbf R_i$ through [`AtPoses`], the conformance suite's rotation checks). A
-    /// model that knows only its angles may opt in to their rotation,
-    /// `Ok(self.orientation_error(pose, errors)?.delta_r(DeltaRKind::Exact))`, which equals the
-    /// true $\Delta\mathbf R$ to first order only.
+    /// model that knows only its angles may opt in to their rotation, [`delta_r_of_angles`],
+    /// which equals the true $\Delta\mathbf R$ to first order only.
     ///
     /// # Errors
     /// As [`OrientationErrorModel::orientation_error`]; [`KinematicsError::NoDeltaR`] by
@@ -509,9 +525,7 @@ impl OrientationErrorModel for SmallAngleChain {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<Matrix3<f64>, KinematicsError> {
-        Ok(self
-            .orientation_error(pose, errors)?
-            .delta_r(DeltaRKind::Exact))
+        delta_r_of_angles(self, pose, errors)
     }
 
     fn orientation_error(
@@ -559,9 +573,7 @@ impl OrientationErrorModel for LinearChain {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<Matrix3<f64>, KinematicsError> {
-        Ok(self
-            .orientation_error(pose, errors)?
-            .delta_r(DeltaRKind::Exact))
+        delta_r_of_angles(self, pose, errors)
     }
 
     fn first_order(

@@ -152,9 +152,7 @@ impl OrientationErrorModel for ClosedForm {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<nalgebra::Matrix3<f64>, KinematicsError> {
-        Ok(self
-            .orientation_error(pose, errors)?
-            .delta_r(tt_core::DeltaRKind::Exact))
+        crate::delta_r_of_angles(self, pose, errors)
     }
 
     fn orientation_error(
