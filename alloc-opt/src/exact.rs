@@ -14,11 +14,15 @@
 
 use crate::allocation::{Allocation, Allocator};
 use crate::error::{AllocError, length};
+use crate::linearised::Linearised;
+use crate::model::LinearErrorModel;
 use crate::problem::AllocationProblem;
 use nalgebra::Matrix3;
 use std::f64::consts::TAU;
 use tt_kinematics::LinearModel;
-use tt_kinematics::{OrientationAxis, OrientationError, Pose, Turntable};
+use tt_kinematics::{
+    OrientationAxis, OrientationError, OrientationErrorModel, Pose, Turntable, TurntableErrors,
+};
 
 /// Poses per free joint scanned besides each angle's linear worst pose: every 2.5 degrees for
 /// one free joint (the paper's table).
@@ -135,30 +139,150 @@ impl ExactAxisCheck {
 /// # Errors
 /// [`AllocError::Field`] (wrong length) when the allocation does not fit the problem's turntable;
 /// [`AllocError::Kinematics`] if the chain rejects an input.
-pub fn exact_chain_check(
+pub fn exact_chain_check<L: ExactChainModel>(
+    problem: &AllocationProblem<L>,
+    allocation: &Allocation,
+) -> Result<[ExactAxisCheck; 3], AllocError> {
+    L::hunt_exact_chain(problem, allocation)
+}
+
+/// A first-order model with an exact chain behind it, which [`exact_chain_check`] hunts and
+/// [`allocate_with_exact_margin`] keeps room for: a turntable's [`LinearModel`] (its exact
+/// chain, evaluated by segments) and any model written once ([`Linearised`], its
+/// [`OrientationErrorModel::orientation_error`]).
+pub trait ExactChainModel: LinearErrorModel + Clone + Sized {
+    /// The hunt of [`exact_chain_check`] on this model.
+    ///
+    /// # Errors
+    /// As [`exact_chain_check`].
+    fn hunt_exact_chain(
+        problem: &AllocationProblem<Self>,
+        allocation: &Allocation,
+    ) -> Result<[ExactAxisCheck; 3], AllocError>;
+}
+
+impl ExactChainModel for LinearModel {
+    fn hunt_exact_chain(
+        problem: &AllocationProblem<Self>,
+        allocation: &Allocation,
+    ) -> Result<[ExactAxisCheck; 3], AllocError> {
+        turntable_check(problem, allocation)
+    }
+}
+
+/// The hunt on any model's exact orientation error: the same poses (the certificate's worst
+/// pose and a grid over the moving joints) and sign vertices as a turntable's, each
+/// evaluated by the model (translations zero).
+impl<M: OrientationErrorModel + Clone> ExactChainModel for Linearised<M> {
+    fn hunt_exact_chain(
+        problem: &AllocationProblem<Self>,
+        allocation: &Allocation,
+    ) -> Result<[ExactAxisCheck; 3], AllocError> {
+        let lin = problem.model();
+        let model = lin.model();
+        let n = lin.n_errors();
+        let (ub, boxed) = finite_box(n, allocation)?;
+        let ranges = lin.joint_ranges_rad();
+        let moving: Vec<usize> = (0..ranges.len())
+            .filter(|&j| ranges[j][1] > ranges[j][0])
+            .collect();
+        let grid = pose_grid_in(ranges, &moving);
+        let full = boxed.len() <= FULL_ENUMERATION_MAX_ERRORS;
+        let vertices = if full {
+            all_vertices(&ub, &boxed)
+        } else {
+            Vec::new()
+        };
+        let n_tr = model.n_translation_errors();
+        let mut out = Vec::with_capacity(3);
+        for axis in OrientationAxis::ALL {
+            let cert = allocation.certificate.get(axis);
+            let mut poses = vec![cert.worst_pose_rad.clone()];
+            poses.extend(grid.iter().cloned());
+            let mut best = (f64::NEG_INFINITY, poses[0].clone(), vec![0.0; n]);
+            let mut evaluations = 0;
+            for pose in &poses {
+                let pose_v = Pose::new(pose.clone())?;
+                let tried = if full {
+                    vertices.clone()
+                } else {
+                    let c = model.first_order(&pose_v, &TurntableErrors::zero(n, n_tr))?;
+                    let s: Vec<f64> = (0..n)
+                        .map(|i| {
+                            if c[(axis.index(), i)] < 0.0 {
+                                -1.0
+                            } else {
+                                1.0
+                            }
+                        })
+                        .collect();
+                    adversarial_vertices(&ub, &boxed, &s)
+                };
+                for chi in tried {
+                    let errors = TurntableErrors::new(chi, vec![0.0; n_tr])?;
+                    let f = model.orientation_error(&pose_v, &errors)?.get(axis).abs();
+                    evaluations += 1;
+                    if f > best.0 {
+                        best = (f, pose.clone(), errors.chi_rad().to_vec());
+                    }
+                }
+            }
+            out.push(axis_check(
+                problem,
+                axis,
+                cert.worst_case_rad,
+                best,
+                evaluations,
+            ));
+        }
+        Ok(three(out))
+    }
+}
+
+/// One angle's result of a hunt: `best` is (largest |f|, its pose, its chi).
+fn axis_check<L: LinearErrorModel>(
+    problem: &AllocationProblem<L>,
+    axis: OrientationAxis,
+    linear_worst_rad: f64,
+    best: (f64, Vec<f64>, Vec<f64>),
+    evaluations: usize,
+) -> ExactAxisCheck {
+    let requirement_rad = problem.requirement().get(axis);
+    ExactAxisCheck {
+        axis,
+        requirement_rad,
+        linear_worst_rad,
+        exact_worst_rad: best.0,
+        excess_rad: requirement_rad.map(|i| best.0 - i),
+        pose_rad: best.1,
+        chi_rad: best.2,
+        evaluations,
+    }
+}
+
+fn three(out: Vec<ExactAxisCheck>) -> [ExactAxisCheck; 3] {
+    let [psi, theta, gamma]: [ExactAxisCheck; 3] = out
+        .try_into()
+        .unwrap_or_else(|_| unreachable!("three angles"));
+    [psi, theta, gamma]
+}
+
+/// [`exact_chain_check`] of a turntable's linear model, by segments.
+fn turntable_check(
     problem: &AllocationProblem,
     allocation: &Allocation,
 ) -> Result<[ExactAxisCheck; 3], AllocError> {
     let model = problem.model();
     let turntable = model.turntable();
     let n = model.n_errors();
-    length("upper_bounds", n, allocation.upper_bounds_rad.len())?;
-    let ub: Vec<f64> = allocation
-        .upper_bounds_rad
-        .iter()
-        .map(|&u| if u.is_finite() { u } else { 0.0 })
-        .collect();
-    let boxed: Vec<usize> = (0..n).filter(|&i| ub[i] > 0.0).collect();
+    let (ub, boxed) = finite_box(n, allocation)?;
     let grid = pose_grid(turntable);
     let full = boxed.len() <= FULL_ENUMERATION_MAX_ERRORS;
     // Every vertex's error-segment rotations, once (they do not depend on the pose).
     let vertices: Vec<(Vec<f64>, Vec<Matrix3<f64>>)> = if full {
-        (0u32..(1 << boxed.len()))
-            .map(|signs| {
-                let mut chi = vec![0.0; n];
-                for (b, &i) in boxed.iter().enumerate() {
-                    chi[i] = if signs & (1 << b) == 0 { ub[i] } else { -ub[i] };
-                }
+        all_vertices(&ub, &boxed)
+            .into_iter()
+            .map(|chi| {
                 let e = segments(turntable, &chi)?;
                 Ok((chi, e))
             })
@@ -207,22 +331,42 @@ pub fn exact_chain_check(
                 }
             }
         }
-        let requirement_rad = problem.requirement().get(axis);
-        out.push(ExactAxisCheck {
+        out.push(axis_check(
+            problem,
             axis,
-            requirement_rad,
-            linear_worst_rad: cert.worst_case_rad,
-            exact_worst_rad: best.0,
-            excess_rad: requirement_rad.map(|i| best.0 - i),
-            pose_rad: best.1,
-            chi_rad: best.2,
+            cert.worst_case_rad,
+            best,
             evaluations,
-        });
+        ));
     }
-    let [psi, theta, gamma]: [ExactAxisCheck; 3] = out
-        .try_into()
-        .unwrap_or_else(|_| unreachable!("three angles"));
-    Ok([psi, theta, gamma])
+    Ok(three(out))
+}
+
+/// The allocation's bounds checked against `n` errors, with every unconstrained error
+/// (infinite bound) held at 0, and the errors with a positive bound.
+fn finite_box(n: usize, allocation: &Allocation) -> Result<(Vec<f64>, Vec<usize>), AllocError> {
+    length("upper_bounds", n, allocation.upper_bounds_rad.len())?;
+    let ub: Vec<f64> = allocation
+        .upper_bounds_rad
+        .iter()
+        .map(|&u| if u.is_finite() { u } else { 0.0 })
+        .collect();
+    let boxed = (0..n).filter(|&i| ub[i] > 0.0).collect();
+    Ok((ub, boxed))
+}
+
+/// Every sign vertex $\chi_i = \pm\mathrm{UB}_i$ of the `boxed` errors (others 0), the bit
+/// order of the enumeration as before.
+fn all_vertices(ub: &[f64], boxed: &[usize]) -> Vec<Vec<f64>> {
+    (0u32..(1 << boxed.len()))
+        .map(|signs| {
+            let mut chi = vec![0.0; ub.len()];
+            for (b, &i) in boxed.iter().enumerate() {
+                chi[i] = if signs & (1 << b) == 0 { ub[i] } else { -ub[i] };
+            }
+            chi
+        })
+        .collect()
 }
 
 /// The error-segment rotations of the exact chain for $\chi$.
@@ -261,8 +405,11 @@ fn adversarial_vertices(ub: &[f64], boxed: &[usize], s: &[f64]) -> Vec<Vec<f64>>
 
 /// The scan grid over the free joints (other joints at the lower end of their range).
 fn pose_grid(turntable: &Turntable) -> Vec<Vec<f64>> {
-    let ranges = turntable.joint_ranges_rad();
-    let free = turntable.free_joints().to_vec();
+    pose_grid_in(&turntable.joint_ranges_rad(), turntable.free_joints())
+}
+
+/// The scan grid over the joints `free` of `ranges` (the others at the lower end).
+fn pose_grid_in(ranges: &[[f64; 2]], free: &[usize]) -> Vec<Vec<f64>> {
     let per = match free.len() {
         0 => 1,
         1 => SCAN_POSES_ONE_JOINT,
@@ -275,7 +422,7 @@ fn pose_grid(turntable: &Turntable) -> Vec<Vec<f64>> {
         .map(|cell| {
             let mut pose = base.clone();
             let mut rest = cell;
-            for &j in &free {
+            for &j in free {
                 let [lo, hi] = ranges[j];
                 let k = (rest % per) as f64;
                 rest /= per;
@@ -333,9 +480,9 @@ impl ExactSafeAllocation {
 /// # Errors
 /// Those of the allocator and of [`exact_chain_check`]; [`AllocError::NoConvergence`] if four
 /// rounds do not suffice.
-pub fn allocate_with_exact_margin(
-    allocator: &dyn Allocator<LinearModel>,
-    problem: &AllocationProblem,
+pub fn allocate_with_exact_margin<L: ExactChainModel>(
+    allocator: &dyn Allocator<L>,
+    problem: &AllocationProblem<L>,
 ) -> Result<ExactSafeAllocation, AllocError> {
     let mut margin = 0.0_f64;
     let mut last_violation = f64::NAN;

@@ -55,7 +55,7 @@
 //!   [`AllocationProblem::with_safety_margin`] keep room for it.
 //!
 //! # Lower bounds
-//! The paper gives none (NOTES item 11). [`paper::example_problem`] uses $\mathrm{LB} = 0$
+//! The paper gives none (NOTES item 11). `paper::example_problem` uses $\mathrm{LB} = 0$
 //! (as does the NumPy Monte Carlo anchor); given bounds are honoured, and bounds that alone
 //! violate a requirement give [`AllocError::InfeasibleLowerBounds`] naming the problem and the
 //! errors.
@@ -67,7 +67,7 @@
 //! $x_3 = I/(1+\sqrt2(2\sqrt2\pi^2)^{1/3}) = 0.3062'$ ($\Delta\alpha_{x2}$, $\Delta\alpha_{y2}$),
 //! $0.4645'$ for the four shared errors, and $0.81'$ for $\Delta\phi_{z2}, \Delta\alpha_{z1}$,
 //! each using 100% of its requirement ($J = 115.867$ arcmin$^{-2}$; equal effects 124.458).
-//! Table 4 ([`paper::TABLE4_ARCMIN`]) prints 0.4235/0.2825 and 0.78, which use 91.4% ($\psi$,
+//! Table 4 (`paper::TABLE4_ARCMIN`) prints 0.4235/0.2825 and 0.78, which use 91.4% ($\psi$,
 //! $\gamma$) and 96.3% ($\theta$) of the requirement, so they are not the optimum of the
 //! stated problem: scaling them up to the requirement lowers $J$. See the crate README for the
 //! numbers and the hypotheses tested.
@@ -122,6 +122,7 @@ mod allocation;
 mod equal;
 mod error;
 mod exact;
+mod linearised;
 mod model;
 #[cfg(feature = "paper")]
 pub mod paper;
@@ -136,9 +137,10 @@ pub use allocation::{
 pub use equal::EqualEffects;
 pub use error::AllocError;
 pub use exact::{
-    ExactAxisCheck, ExactSafeAllocation, FULL_ENUMERATION_MAX_ERRORS, allocate_with_exact_margin,
-    exact_chain_check,
+    ExactAxisCheck, ExactChainModel, ExactSafeAllocation, FULL_ENUMERATION_MAX_ERRORS,
+    allocate_with_exact_margin, exact_chain_check,
 };
+pub use linearised::{LINEARISED_MAX_POSES, Linearised};
 pub use model::{LinearErrorModel, WorstRow};
 pub use problem::{AllocationProblem, Weights};
 /// The requirement of eq 15-16 ([`tt_core::Requirement`]), re-exported.

@@ -273,7 +273,7 @@ pub fn answer(e2e: &EndToEnd, inputs: &EndToEndInputs) -> Result<BuyersAnswer, E
 /// or more free joints takes seconds, and a report that also prints it need not pay twice.
 ///
 /// # Errors
-/// As [`answer()`]; [`E2eError::Alloc`] ([`alloc_opt::AllocError::Length`]) when the
+/// As [`answer()`]; [`E2eError::Alloc`] ([`alloc_opt::AllocError::Field`], wrong length) when the
 /// allocation's length is not the turntable's error count.
 pub fn answer_with_two_step(
     e2e: &EndToEnd,

@@ -8,7 +8,7 @@
 //! effect of each error on the outputs at the test positions, $\mathbf D_k = d\mathbf g +
 //! d\mathbf e$ ([`EndToEnd::table_effects`]: the linearisation of the reading whose error
 //! vector is exactly $\mathbf g + \mathbf e$). calib-lsq's
-//! [`JointEstimability`](calib_lsq::joint::JointEstimability) gives the rank, the estimable
+//! [`JointEstimability`] gives the rank, the estimable
 //! and the invisible combinations (rows weighted by $1/\omega_{m,k}$).
 //!
 //! # The allocation when the estimable errors are estimated

@@ -742,7 +742,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         self.check_bounds(linear, ub_rad)?;
         let rows = linear.row_worst_cases(ub_rad);
         let n = self.len();
-        let s = self.model().angle_sum_bound(ub_rad);
+        let s = self.angle_sum(ub_rad)?;
         let mut work = self.work();
         let mut outputs = Vec::with_capacity(self.n_outputs());
         for k in 0..self.n_outputs() {
@@ -793,6 +793,29 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
 }
 
 impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// The model's angle-sum bound ([`ScheduleErrorModel::angle_sum_bound`]) of the box
+    /// `ub_rad` with every unbounded error (`+inf`) held at 0, as the worst-case vertex holds
+    /// it: the model's hook never sees an infinite bound.
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] naming `angle_sum_bound` (the model's hook) when the model answers a
+    /// non-finite or negative sum.
+    pub(crate) fn angle_sum(&self, ub_rad: &[f64]) -> Result<Option<f64>, E2eError> {
+        let held: Vec<f64> = ub_rad
+            .iter()
+            .map(|u| if u.is_finite() { *u } else { 0.0 })
+            .collect();
+        match self.model().angle_sum_bound(&held) {
+            Some(s) if !(s.is_finite() && s >= 0.0) => Err(tt_core::FieldError::OutOfRange {
+                field: "angle_sum_bound".into(),
+                value: s,
+                range: "finite and non-negative (the table model's angle-sum bound)".into(),
+            }
+            .into()),
+            s => Ok(s),
+        }
+    }
+
     /// The arguments of a second-order bound, checked: the angle sum $s$ (finite,
     /// non-negative, named `l1_norm_rad`) and output `output`'s calibration.
     pub(crate) fn bound_arguments(

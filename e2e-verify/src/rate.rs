@@ -23,9 +23,7 @@
 use calib_lsq::Calibration;
 use gw_model::InputValues;
 use nalgebra::{Matrix3, Vector3};
-use tt_kinematics::{
-    Pose, RateEnvironment, RateErrorValues, RateStep, RateStepFrames, ScheduleErrorModel, Turntable,
-};
+use tt_kinematics::{Pose, RateEnvironment, RateErrorValues, RateStep, RateStepFrames, Turntable};
 
 use crate::error::E2eError;
 use crate::linear::terms_remainder;
@@ -1087,14 +1085,10 @@ impl crate::EndToEnd {
     /// $\tau_k$ of every output for the box of angular bounds `ub_rad` (`+inf` held at 0)
     /// and extra-error bounds `extra_bounds`.
     fn rate_taus(&self, ub_rad: &[f64], extra_bounds: &[f64]) -> Result<Vec<f64>, E2eError> {
-        let ub: Vec<f64> = ub_rad
-            .iter()
-            .map(|u| if u.is_finite() { *u } else { 0.0 })
-            .collect();
         let none = || E2eError::NoSecondOrderBound {
             reading: self.reading().to_string(),
         };
-        let s = self.model().angle_sum_bound(&ub).ok_or_else(none)?;
+        let s = self.angle_sum(ub_rad)?.ok_or_else(none)?;
         (0..self.n_outputs())
             .map(|k| {
                 self.second_order_bound_with_extra(k, s, extra_bounds)?

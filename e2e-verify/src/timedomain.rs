@@ -34,7 +34,7 @@
 //! pseudo-inverse: the coefficients move by $\mathbf A^+\boldsymbol\nu$) and the rate error at
 //! the test positions, the table's error vector plus $\mathbf A\mathbf A^+\boldsymbol\nu$.
 //! Nothing here uses the covariance formulas: the agreement of
-//! [`TimeDomainRun::coefficient_covariance`] with calib-lsq's prediction is a test of both.
+//! [`OutputMoments::coefficient_covariance`] with calib-lsq's prediction is a test of both.
 //!
 //! Noise comes from ChaCha stream `chunk | ``TIME_DOMAIN_STREAM` of the run's key; chunks
 //! run on rayon threads and their sums merge in chunk order, so every result is identical for

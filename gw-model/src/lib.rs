@@ -1,7 +1,7 @@
 //! Sensors as data: any sensor whose outputs are linear in their coefficients, the inputs it
 //! feels on a turntable at a test site, with or without an orientation error. The GyroWheel
 //! of Zhao, Zhao, Huo and Yao 2017 (§2.1, eq 1, 3, 7-8, Table 1) is one instance
-//! ([`paper::gyrowheel`]).
+//! (`paper::gyrowheel`).
 //!
 //! - [`SensorModel`]: outputs, each $y = \sum_t \beta_t r_t(\mathbf a, \boldsymbol\omega)$ with
 //!   regressors $r_t$ that are $1$ or monomials of the specific force (g) and the angular rate

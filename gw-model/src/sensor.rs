@@ -1,6 +1,6 @@
 //! Sensors as data: outputs linear in their coefficients, regressors as products of the
 //! inputs in the sensor frame. Eq 1 of the paper (the GyroWheel) is one instance
-//! ([`crate::paper::gyrowheel`]).
+//! (`paper::gyrowheel`).
 //!
 //! # Formula
 //! Output $k$ at inputs $(\mathbf a, \boldsymbol\omega)$ in the sensor frame is

@@ -93,6 +93,19 @@ pub enum McError {
         /// The bounds' error name there (empty if the bounds have fewer).
         found: String,
     },
+    /// A box (or $\chi$) does not have the model's error count
+    /// ([`tt_kinematics::OrientationErrorModel::n_errors`]).
+    #[error(
+        "the error box has {found} errors, the model has {expected} ({names}): one bound per error of the model"
+    )]
+    ModelErrorCount {
+        /// The model's error count.
+        expected: usize,
+        /// The box's.
+        found: usize,
+        /// The model's error names, comma separated.
+        names: String,
+    },
     /// A histogram half-range was not a positive finite angle (large enough for a finite
     /// inverse bin width).
     #[error(
@@ -132,7 +145,7 @@ pub enum McError {
     /// case of the histogram range).
     #[error("turntable: {0}")]
     Kinematics(#[from] KinematicsError),
-    /// The specialised paper kernel ([`crate::baseline`]) was asked to run another turntable.
+    /// The specialised paper kernel (`baseline`) was asked to run another turntable.
     #[error("the specialised paper kernel applies only to the paper's Table 3 turntable")]
     NotThePaperTable,
 }
@@ -156,7 +169,9 @@ impl tt_core::ErrorClass for McError {
             | McError::NonFiniteBound { kind, .. }
             | McError::NegativeBound { kind, .. } => Some(bound(kind)),
             McError::LowerAboveUpper { .. } => Some("lower_bounds"),
-            McError::BoundsForAnotherTurntable { .. } => Some("bounds"),
+            McError::BoundsForAnotherTurntable { .. } | McError::ModelErrorCount { .. } => {
+                Some("bounds")
+            }
             McError::HistogramRange { .. } => Some("histogram_half_range"),
             McError::SimdUnavailable { .. } => Some("simd"),
             McError::Kinematics(e) => tt_core::ErrorClass::input_field(e),

@@ -59,7 +59,7 @@
 //!
 //! For the paper's table every sample gets exactly the operations of the crate's earlier
 //! hand-written kernel, in the same order, so the results are bit-identical to it (tested
-//! against a kept copy, [`crate::baseline`], in every tier and with zero bounds, and against
+//! against a kept copy, `baseline`, in every tier and with zero bounds, and against
 //! values pinned from it). The result equals the plain
 //! chain ([`tt_kinematics::ExactChain`] with the eq-24 read-out) to rounding; the tests check
 //! $10^{-15}$ rad per sample on the paper's and a three-axis table, in every tier.
@@ -1009,6 +1009,7 @@ impl<const TIER: u8> BlockKernel for PlanKernel<'_, TIER> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct FastChain {
     plan: CompiledPlan,
+    names: Vec<String>,
     n_chi: usize,
     n_translations: usize,
 }
@@ -1019,6 +1020,11 @@ impl FastChain {
     pub fn new(turntable: &Turntable) -> Self {
         Self {
             plan: CompiledPlan::new(turntable),
+            names: turntable
+                .rotation_error_names()
+                .into_iter()
+                .map(str::to_string)
+                .collect(),
             n_chi: turntable.n_rotation_errors(),
             n_translations: turntable.n_translation_errors(),
         }
@@ -1026,6 +1032,10 @@ impl FastChain {
 }
 
 impl OrientationErrorModel for FastChain {
+    fn error_names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,

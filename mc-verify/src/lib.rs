@@ -21,7 +21,7 @@
 //!   ([`SimdLevel`]), with bit-identical results on every level;
 //! - [`McResult`]: extremes with their worst samples, mean and spread, histograms (the data
 //!   of Figure 9) and the fraction inside the requirement;
-//! - [`baseline`]: the earlier kernel specialised to the paper's table, kept as a reference
+//! - `baseline`: the earlier kernel specialised to the paper's table, kept as a reference
 //!   (the general path reproduces it bit for bit) and as a benchmark baseline.
 //!
 //! # Example: the paper's Table 4

@@ -295,8 +295,10 @@ impl MonteCarlo {
     /// (never lost); give [`McConfig::histogram_half_range_rad`] to fix it.
     ///
     /// # Errors
-    /// As [`MonteCarlo::new`] for the configuration; [`McError::Model`] (sample 0) when the
-    /// model rejects a pose of these ranges or a $\chi$ of the box's length;
+    /// As [`MonteCarlo::new`] for the configuration; [`McError::ModelErrorCount`] (both sizes)
+    /// or [`McError::BoundsForAnotherTurntable`] when the box does not have the model's error
+    /// count or names ([`OrientationErrorModel::error_names`]); [`McError::Model`] (sample 0)
+    /// when the model rejects a pose of these ranges;
     /// [`McError::Kinematics`] naming `joint_ranges` for a non-finite or reversed range.
     pub fn for_model<M: OrientationErrorModel + Send + Sync + 'static>(
         model: M,
@@ -305,6 +307,7 @@ impl MonteCarlo {
         config: McConfig,
     ) -> Result<Self, McError> {
         check_config(&config)?;
+        check_model_fit(&model, &bounds)?;
         for (j, &[lo, hi]) in joint_ranges_rad.iter().enumerate() {
             if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
                 return Err(McError::Kinematics(
@@ -652,8 +655,10 @@ impl MonteCarlo {
     /// orientation errors only).
     ///
     /// # Errors
-    /// [`McError::Model`] if the model returns an error, [`McError::NonFiniteModelOutput`]
-    /// if it returns a non-finite angle, each naming the first such sample (and the axis).
+    /// [`McError::ModelErrorCount`] or [`McError::BoundsForAnotherTurntable`] when the box
+    /// does not have the model's error count or names; [`McError::Model`] if the model returns
+    /// an error, [`McError::NonFiniteModelOutput`] if it returns a non-finite angle, each
+    /// naming the first such sample (and the axis).
     pub fn run_model<M: OrientationErrorModel + Sync + ?Sized>(
         &self,
         model: &M,
@@ -670,6 +675,7 @@ impl MonteCarlo {
         model: &M,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<McResult, McError> {
+        check_model_fit(model, &self.bounds)?;
         self.drive(progress, |c| self.model_chunk(model, c))
     }
 
@@ -843,7 +849,30 @@ fn model_half_range_rad<M: OrientationErrorModel + ?Sized>(
 
 /// [`McError::BoundsForAnotherTurntable`] unless the box's error names are the turntable's.
 fn check_fit(turntable: &Turntable, bounds: &ErrorBox) -> Result<(), McError> {
-    let expected = turntable.rotation_error_names();
+    check_names(&turntable.rotation_error_names(), bounds)
+}
+
+/// `bounds` against a model's errors: its count first (naming both sizes), then its names.
+fn check_model_fit<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    bounds: &ErrorBox,
+) -> Result<(), McError> {
+    let names = model.error_names();
+    if names.len() != bounds.len() {
+        return Err(McError::ModelErrorCount {
+            expected: names.len(),
+            found: bounds.len(),
+            names: names.join(", "),
+        });
+    }
+    check_names(
+        &names.iter().map(String::as_str).collect::<Vec<_>>(),
+        bounds,
+    )
+}
+
+/// The box's error names against `expected`, position by position.
+fn check_names(expected: &[&str], bounds: &ErrorBox) -> Result<(), McError> {
     let found = bounds.names();
     for position in 0..expected.len().max(found.len()) {
         let (e, f) = (

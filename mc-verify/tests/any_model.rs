@@ -62,6 +62,9 @@ fn a_models_default_histogram_range_comes_from_its_own_first_order() {
 struct Refuses;
 
 impl OrientationErrorModel for Refuses {
+    fn error_names(&self) -> Vec<String> {
+        vec!["a".into()]
+    }
     fn orientation_error(
         &self,
         _pose: &Pose,
@@ -93,4 +96,50 @@ fn a_failing_model_is_a_typed_error_naming_the_sample_and_bad_ranges_are_refused
     ));
     let e = MonteCarlo::for_model(Refuses, vec![[1.0, 0.0]], named, config(100, 1)).unwrap_err();
     assert!(e.to_string().contains("joint_ranges[0]"), "{e}");
+}
+
+/// A box of the wrong size for the model (the paper's 8 errors for the three-axis table's
+/// 13): a typed error naming both sizes and the model's errors, never an index out of
+/// bounds (it panicked in the histogram-range estimate before the model owned its count).
+#[test]
+fn a_box_of_the_wrong_size_is_a_typed_error_naming_both_sizes_not_a_panic() {
+    let t = three_axis();
+    let b = table4();
+    let named =
+        ErrorBox::with_names(b.names().to_vec(), b.lb_rad().to_vec(), b.ub_rad().to_vec()).unwrap();
+    let e = MonteCarlo::for_model(
+        ExactChain::new(&t),
+        t.joint_ranges_rad(),
+        named.clone(),
+        config(100, 1),
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        McError::ModelErrorCount {
+            expected: 13,
+            found: 8,
+            names: t.rotation_error_names().join(", "),
+        }
+    );
+    let text = e.to_string();
+    assert!(text.contains("13") && text.contains("has 8"), "{text}");
+    // the right count with other names: the first differing name
+    let renamed = ErrorBox::with_names(
+        (0..8).map(|j| format!("e{j}")).collect(),
+        vec![0.0; 8],
+        b.ub_rad().to_vec(),
+    )
+    .unwrap();
+    let e = MonteCarlo::for_model(
+        ExactChain::new(&paper_table()),
+        paper_table().joint_ranges_rad(),
+        renamed,
+        config(100, 1),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, McError::BoundsForAnotherTurntable { position: 0, .. }),
+        "{e}"
+    );
 }

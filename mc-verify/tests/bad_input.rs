@@ -177,6 +177,9 @@ fn bad_requirement_histogram_bins_and_range_are_rejected() {
 struct NanAbovePi;
 
 impl OrientationErrorModel for NanAbovePi {
+    fn error_names(&self) -> Vec<String> {
+        table4().names().to_vec()
+    }
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -208,24 +211,23 @@ fn non_finite_model_output_is_an_error_naming_the_sample_and_axis() {
     assert!(sample < 1_000);
 }
 
-/// A model of another turntable fails on the first sample; the error names it and carries
-/// the model's own error.
+/// A model of another turntable (13 errors against the paper's box of 8) is refused before
+/// any sample: a typed error naming both sizes.
 #[test]
-fn model_errors_are_typed_errors_naming_the_sample() {
+fn a_model_of_another_error_count_is_a_typed_error_naming_both_sizes() {
     let mc = MonteCarlo::new(&paper_table(), table4(), config(1_000, 1)).unwrap();
     let e = mc.run_model(&ExactChain::new(&three_axis())).unwrap_err();
-    assert_eq!(
-        e,
-        McError::Model {
-            sample: 0,
-            source: KinematicsError::Field(tt_core::FieldError::Length {
-                field: "pose".into(),
-                expected: 3,
-                found: 2
-            })
-        }
+    let McError::ModelErrorCount {
+        expected, found, ..
+    } = &e
+    else {
+        panic!("{e}")
+    };
+    assert_eq!((*expected, *found), (13, 8));
+    assert!(
+        e.to_string().contains("13") && e.to_string().contains('8'),
+        "{e}"
     );
-    assert!(e.to_string().contains("sample 0"), "{e}");
 }
 
 /// A histogram range the caller chose too small: values land in the overflow counts, not

@@ -19,6 +19,7 @@
 //! assert_eq!(s.calibration.schedule().len(), 32);
 //! # Ok::<(), study::StudyError>(())
 //! ```
+#![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 
 pub mod csv;

@@ -8,12 +8,18 @@
 //!    $|f - J\chi| \le K S^2$ with $S = \sum_i |\chi_i|$ (the exact chain's remainder is at most
 //!    $e^S - 1 - S \le S^2$ for $S \le \ln 2$, hence the default $K = 1$);
 //! 3. be odd in $\chi$ to first order: $|f(\chi) + f(-\chi)| \le 2KS^2$;
+//! 4. have first-order coefficients equal to those derived from its orientation error
+//!    ([`check_derived_first_order`]: an analytic first order is checked, not trusted);
+//! 5. obey the physics of any orientation error ([`check_rotation`]): its
+//!    $\Delta\mathbf R$ is a rotation and its angles are read off it, to second order (a
+//!    model with wrong physics fails here even with the default, derived first order);
+//! 6. name as many errors as every case carries (check `error-count`);
 //!
 //! ([`check_model_general`], for any model, with [`cases_in`] over its joint ranges); and a
 //! model of a described [`Turntable`] ([`check_model`]) must also
-//! 4. not depend on the joints that come before the first error (they cancel from
+//! 7. not depend on the joints that come before the first error (they cancel from
 //!    $\mathbf R_d^T\mathbf R_t$);
-//! 5. not depend on the error translations (the claim under eq 25).
+//! 8. not depend on the error translations (the claim under eq 25).
 //!
 //! ```
 //! use tt_kinematics::conformance::{cases, check_model, Tolerances};
@@ -25,7 +31,7 @@
 //! ```
 
 use crate::linear::LinearModel;
-use crate::model::OrientationErrorModel;
+use crate::model::{DERIVED_FIRST_ORDER_TOLERANCE, OrientationErrorModel, derived_first_order};
 use crate::pose::TurntableErrors;
 use crate::rotation::SignedAxis;
 use crate::turntable::{FactorSpec, Turntable, TurntableDescription};
@@ -113,8 +119,8 @@ impl Default for Tolerances {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Failure {
-    /// The check (`zero`, `first-order`, `odd`, `leading-joints`, `translations`,
-    /// `evaluation`).
+    /// The check (`zero`, `first-order`, `odd`, `derived-first-order`, `rotation`, `readout`,
+    /// `error-count`, `leading-joints`, `translations`, `evaluation`).
     pub(crate) check: &'static str,
     /// What was found.
     pub(crate) detail: String,
@@ -122,8 +128,8 @@ pub struct Failure {
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl Failure {
-    /// The check (`zero`, `first-order`, `odd`, `leading-joints`, `translations`,
-    /// `evaluation`).
+    /// The check (`zero`, `first-order`, `odd`, `derived-first-order`, `rotation`, `readout`,
+    /// `error-count`, `leading-joints`, `translations`, `evaluation`).
     #[must_use]
     pub fn check(&self) -> &'static str {
         self.check
@@ -201,9 +207,10 @@ pub fn cases_in(
         .collect()
 }
 
-/// Run the three general checks of the [module](self) on any `model` at `cases`: zero for
-/// a perfect table (errors shaped as `zero`), agreement with the model's own
-/// [`OrientationErrorModel::first_order`] to second order, oddness.
+/// Run the general checks of the [module](self) (1 to 6) on any `model` at `cases`: the error
+/// count, the model's first order against the derived one, the physics of its
+/// $\Delta\mathbf R$, zero for a perfect table (errors shaped as `zero`), agreement with the
+/// model's own [`OrientationErrorModel::first_order`] to second order, oddness.
 ///
 /// # Errors
 /// The first [`Failure`].
@@ -222,6 +229,20 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
                 detail: err.to_string(),
             })
     };
+    let n = model.n_errors();
+    for (what, len) in std::iter::once(("zero", zero.chi_rad().len()))
+        .chain(cases.iter().map(|c| ("a case", c.errors.chi_rad().len())))
+    {
+        if len != n {
+            return Err(Failure {
+                check: "error-count",
+                detail: format!(
+                    "{what} has {len} errors, the model names {n} ({:?})",
+                    model.error_names()
+                ),
+            });
+        }
+    }
     for case in cases {
         let at = |what: &str| {
             format!(
@@ -230,6 +251,14 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
                 case.errors.chi_rad()
             )
         };
+        check_derived_first_order(model, &case.pose, zero, tol).map_err(|f| Failure {
+            detail: at(&f.detail),
+            ..f
+        })?;
+        check_rotation(model, case, tol).map_err(|f| Failure {
+            detail: at(&f.detail),
+            ..f
+        })?;
         let f0 = eval(&case.pose, zero)?;
         if f0.iter().any(|v| v.abs() > tol.rounding_rad) {
             return Err(Failure {
@@ -278,6 +307,107 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
         }
     }
     Ok(())
+}
+
+/// Check `model`'s own first order ([`OrientationErrorModel::first_order`], the analytic one
+/// when the model supplies it) against the one derived from its orientation error
+/// ([`derived_first_order`]) at `pose`, within [`DERIVED_FIRST_ORDER_TOLERANCE`] (plus
+/// `tol.rounding_rad`): check `derived-first-order`.
+///
+/// # Errors
+/// The [`Failure`] naming the coefficient and both values.
+pub fn check_derived_first_order<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    pose: &Pose,
+    zero: &TurntableErrors,
+    tol: &Tolerances,
+) -> Result<(), Failure> {
+    let evaluation = |err: crate::KinematicsError| Failure {
+        check: "evaluation",
+        detail: err.to_string(),
+    };
+    let own = model.first_order(pose, zero).map_err(evaluation)?;
+    let derived =
+        derived_first_order(model, pose, zero.translations_m().len()).map_err(evaluation)?;
+    let names = model.error_names();
+    let bound = DERIVED_FIRST_ORDER_TOLERANCE + tol.rounding_rad;
+    for k in 0..3 {
+        for j in 0..derived.ncols() {
+            let (a, d) = (own[(k, j)], derived[(k, j)]);
+            if exceeds((a - d).abs(), bound) {
+                return Err(Failure {
+                    check: "derived-first-order",
+                    detail: format!(
+                        "coefficient of {} in angle {k}: the model's first order {a}, derived from its orientation error {d}, bound {bound}",
+                        names.get(j).map_or("?", String::as_str)
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Physics any orientation error obeys, checked on the model's own
+/// [`OrientationErrorModel::delta_r`] at `case` (skipped for a model without one,
+/// [`crate::KinematicsError::NoDeltaR`]): $\Delta\mathbf R$ is a rotation to second order
+/// ($\lVert\Delta\mathbf R^T\Delta\mathbf R - \mathbf I\rVert_{\max} \le 2KS^2$, check
+/// `rotation`; a shear or a scale is no rotation), and the angles are read off it (eq 24's
+/// elements, to second order: $|f - (\Delta R_{13}, \Delta R_{21}, \Delta R_{32})| \le KS^2$,
+/// check `readout`). So a model with wrong physics is caught even when it keeps the default
+/// (derived) first order.
+///
+/// # Errors
+/// The first [`Failure`].
+pub fn check_rotation<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    case: &Case,
+    tol: &Tolerances,
+) -> Result<(), Failure> {
+    let evaluation = |err: crate::KinematicsError| Failure {
+        check: "evaluation",
+        detail: err.to_string(),
+    };
+    let dr = match model.delta_r(&case.pose, &case.errors) {
+        Ok(dr) => dr,
+        Err(crate::KinematicsError::NoDeltaR) => return Ok(()),
+        Err(err) => return Err(evaluation(err)),
+    };
+    let s = case.errors.l1_rad();
+    let bound = tol.second_order * s * s + tol.rounding_rad;
+    let gram = dr.transpose() * dr - nalgebra::Matrix3::identity();
+    let off = gram.amax();
+    if exceeds(off, 2.0 * bound) {
+        return Err(Failure {
+            check: "rotation",
+            detail: format!(
+                "delta_r is no rotation: |delta_r^T delta_r - I| = {off}, bound {}",
+                2.0 * bound
+            ),
+        });
+    }
+    let f = model
+        .orientation_error(&case.pose, &case.errors)
+        .map_err(evaluation)?
+        .to_array();
+    let read = tt_core::OrientationError::from_matrix_elements(&dr).to_array();
+    for k in 0..3 {
+        if exceeds((f[k] - read[k]).abs(), bound) {
+            return Err(Failure {
+                check: "readout",
+                detail: format!(
+                    "angle {k}: orientation_error {} rad, read off delta_r {} rad, bound {bound} rad",
+                    f[k], read[k]
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Whether `x` exceeds `bound` or is NaN.
+fn exceeds(x: f64, bound: f64) -> bool {
+    x.is_nan() || x > bound
 }
 
 /// Run the checks of the [module](self) on `model` of the described `turntable` at `cases`:

@@ -27,6 +27,13 @@ pub enum KinematicsError {
         /// What it applies to.
         applies_to: &'static str,
     },
+    /// A caller-supplied [`crate::OrientationErrorModel`] gives no $\Delta\mathbf R$ of its own
+    /// (it keeps the default [`crate::OrientationErrorModel::delta_r`]) where the exact rotation
+    /// is needed (a schedule's $\Delta\mathbf R_i$, the conformance suite's rotation checks).
+    #[error(
+        "the orientation-error model gives no delta_r of its own: implement OrientationErrorModel::delta_r (the exact rotation R_d^T R_t), or return tt_kinematics::delta_r_of_angles(self, pose, errors) there to accept the rotation of its angles (equal to first order only)"
+    )]
+    NoDeltaR,
 }
 
 pub(crate) use tt_core::{finite, length};
@@ -45,7 +52,7 @@ impl tt_core::ErrorClass for KinematicsError {
         match self {
             KinematicsError::Field(e) => Some(e.field()),
             KinematicsError::Description { key, .. } => Some(key),
-            KinematicsError::WrongTurntable { .. } => Some("model"),
+            KinematicsError::WrongTurntable { .. } | KinematicsError::NoDeltaR => Some("model"),
         }
     }
 }

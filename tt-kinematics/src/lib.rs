@@ -1,6 +1,6 @@
 //! Geometric error model of any serial turntable (one, two or three axes), described as data;
 //! the paper's two-axis table (Zhao, Zhao, Huo and Yao 2017, §3) is one instance
-//! ([`paper`]).
+//! (module `paper`, behind the `paper` feature).
 //!
 //! A turntable orients a sensor through joints. Its geometric errors (position errors,
 //! wobbles, orthogonality and intersection errors; Table 2 of the paper for a two-axis table)
@@ -14,7 +14,7 @@
 //!   ([`Turntable::jacobian`]) and a flat evaluation plan for hot loops ([`Turntable::plan`]);
 //! - [`OrientationErrorModel`]: pose and errors to $(\Delta\psi, \Delta\theta, \Delta\gamma)$,
 //!   implemented by [`ExactChain`], [`SmallAngleChain`], [`LinearChain`] and the paper's
-//!   [`paper::ClosedForm`] (eq 26); its conformance suite is library code
+//!   `paper::ClosedForm` (eq 26); its conformance suite is library code
 //!   (`conformance` feature) so another implementation can run it;
 //! - [`LinearModel`]: the first-order model of any description, its worst case over the poses
 //!   (Lemma 1's quantity) and its average sensitivities (eq 28, Figure 8);
@@ -86,8 +86,9 @@ pub use linear::{
     POSE_REFINE_STEPS, STRUCTURAL_ZERO, WorstPose, max_harmonic_sum, mean_abs_harmonic,
 };
 pub use model::{
-    AtPoses, ExactChain, FIRST_ORDER_STEP_RAD, LinearChain, OrientationErrorModel, ReadOut,
-    ScheduleErrorModel, SmallAngleChain,
+    AtPoses, DERIVED_FIRST_ORDER_TOLERANCE, ExactChain, FIRST_ORDER_STEP_RAD, LinearChain,
+    OrientationErrorModel, ReadOut, ScheduleErrorModel, SmallAngleChain, delta_r_of_angles,
+    derived_first_order,
 };
 pub use pose::TurntableErrors;
 pub use rate::{

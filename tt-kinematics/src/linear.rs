@@ -9,7 +9,7 @@
 //! $\boldsymbol\delta = \sum_i \chi_i\mathbf v_i(\phi)$, and eq 24 reads
 //! $$f_k(\phi, \chi) = \sum_i c_{ki}(\phi)\,\chi_i,\qquad (c_{\psi i}, c_{\theta i}, c_{\gamma i}) =
 //! (v_{i,y}, v_{i,z}, v_{i,x}).$$
-//! For the paper's Table 3 this is eq 26 ([`crate::paper::ClosedForm`]).
+//! For the paper's Table 3 this is eq 26 (`paper::ClosedForm`).
 //!
 //! # Structure in the joint angles
 //! $\mathbf S_j$ holds each later joint rotation once, so $c_{ki}$ is a first harmonic

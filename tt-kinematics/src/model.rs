@@ -8,24 +8,102 @@ use crate::turntable::{ChainKind, Turntable};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use tt_core::{DeltaRKind, OrientationError, Pose};
 
-/// Step (rad) of the central differences of [`OrientationErrorModel::first_order`]'s default:
-/// the truncation error of a smooth model is $O(h^2) \approx 10^{-12}$ relative, the
-/// rounding $\epsilon/h \approx 2\cdot10^{-10}$ relative to the coefficients (of order 1).
+/// Step (rad) of the central differences of [`derived_first_order`] (the default
+/// [`OrientationErrorModel::first_order`]): the truncation error of a smooth model is
+/// $h^2|f^{(3)}|/6 \approx 2\cdot10^{-13}$, the rounding $\epsilon/h \approx 2\cdot10^{-10}$
+/// relative to the coefficients (of order 1).
 pub const FIRST_ORDER_STEP_RAD: f64 = 1e-6;
+
+/// Bound (rad per rad, on every coefficient) on the error of [`derived_first_order`] for a
+/// model whose angles come from unit-size rotation-matrix entries: rounding of a few ulps of 1
+/// over the difference's width $2h$ ($\approx 10^{-9}$) plus truncation $h^2|f^{(3)}|/6$ with
+/// $|f^{(3)}| \le 1$ for products of rotations by the errors ($\approx 2\cdot10^{-13}$), with a
+/// factor 10 to spare. Measured: at most $1.4\cdot10^{-10}$ against the analytic coefficients
+/// of the paper's table and the three-axis reference table (test
+/// `derived_first_order_is_within_its_stated_bound_of_the_analytic_coefficients`) and of the
+/// az/el example (test `the_derived_first_order_is_the_closed_form_within_its_stated_bound`). The conformance suite checks a model's
+/// own [`OrientationErrorModel::first_order`] against the derived one within it.
+pub const DERIVED_FIRST_ORDER_TOLERANCE: f64 = 1e-8;
+
+/// The $3 \times n$ first-order coefficients of `model` at `pose` derived from its exact
+/// orientation error alone ($n$ = [`OrientationErrorModel::n_errors`], `n_translations`
+/// translations held at zero): central differences of step [`FIRST_ORDER_STEP_RAD`] at
+/// $\chi = 0$, accurate to [`DERIVED_FIRST_ORDER_TOLERANCE`]. A model written once (its
+/// [`OrientationErrorModel::orientation_error`]) gets its first order, linear model and worst
+/// case from this; a model that supplies an analytic first order is checked against it by
+/// the conformance suite.
+///
+/// # Errors
+/// As [`OrientationErrorModel::orientation_error`].
+pub fn derived_first_order<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    pose: &Pose,
+    n_translations: usize,
+) -> Result<DMatrix<f64>, KinematicsError> {
+    let n = model.n_errors();
+    let base = TurntableErrors::zero(n, n_translations);
+    let h = FIRST_ORDER_STEP_RAD;
+    let mut out = DMatrix::zeros(3, n);
+    for j in 0..n {
+        let plus = model
+            .orientation_error(pose, &base.clone().with_chi(j, h)?)?
+            .to_array();
+        let minus = model
+            .orientation_error(pose, &base.clone().with_chi(j, -h)?)?
+            .to_array();
+        for k in 0..3 {
+            out[(k, j)] = (plus[k] - minus[k]) / (2.0 * h);
+        }
+    }
+    Ok(out)
+}
+
+/// The stated fallback for a model that knows only its angles: the rotation whose rotation
+/// vector is its [`OrientationErrorModel::orientation_error`] ([`DeltaRKind::Exact`]), equal to
+/// the true $\Delta\mathbf R$ to first order only. A model opts in by returning it from its
+/// [`OrientationErrorModel::delta_r`]; nothing calls it silently.
+///
+/// # Errors
+/// As [`OrientationErrorModel::orientation_error`].
+pub fn delta_r_of_angles<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    pose: &Pose,
+    errors: &TurntableErrors,
+) -> Result<Matrix3<f64>, KinematicsError> {
+    Ok(model
+        .orientation_error(pose, errors)?
+        .delta_r(DeltaRKind::Exact))
+}
 
 /// Maps a turntable pose and its geometric errors to the orientation error of the platform.
 ///
 /// Implemented for any turntable by [`ExactChain`], [`SmallAngleChain`] and [`LinearChain`],
-/// and for the paper's table by [`crate::paper::ClosedForm`] (eq 26); all agree to first order
-/// in the errors (the conformance suite, `crate::conformance` with the `conformance`
-/// feature, checks it for any implementation).
+/// and for the paper's table by `paper::ClosedForm` (eq 26, `paper` feature); all agree to
+/// first order in the errors (the conformance suite, `crate::conformance` with the
+/// `conformance` feature, checks it for any implementation).
+///
+/// # One definition
+/// A model of its own (a mount that is no [`Turntable`]) implements three methods: its
+/// [`OrientationErrorModel::error_names`] (the error count is their number, checked at every
+/// entry of the workspace's analyses), its exact [`OrientationErrorModel::delta_r`] and
+/// [`OrientationErrorModel::orientation_error`] (the angles read off it, for example by
+/// eq 24). Its first order ([`derived_first_order`]), the linear model, its worst case and the
+/// certificate (`alloc_opt::Linearised`) follow; an analytic first order may be supplied and
+/// is then checked against the derived one by the conformance suite. `examples/azel` in the
+/// repository is a complete model defined outside the library crates, taken through Monte
+/// Carlo, allocation, the exact-chain margin, end to end and the conformance suite.
 ///
 /// ```
-/// use tt_kinematics::{paper, ExactChain, OrientationErrorModel, Pose, TurntableErrors};
-/// let table = paper::table3();
-/// let chi = TurntableErrors::from_arcmin(&[0.0, 1.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0], &[0.0])?;
+/// use tt_kinematics::{ExactChain, FactorSpec, OrientationErrorModel, Pose, SignedAxis,
+///     Turntable, TurntableDescription, TurntableErrors};
+/// let table = Turntable::new(&TurntableDescription::new(vec![
+///     FactorSpec::joint("outer", SignedAxis::Y), FactorSpec::error("d_outer", SignedAxis::Z),
+///     FactorSpec::joint("inner", SignedAxis::Z), FactorSpec::error("d_inner", SignedAxis::Z),
+/// ]))?;
+/// assert_eq!(ExactChain::new(&table).error_names(), ["d_outer", "d_inner"]);
+/// let chi = TurntableErrors::from_arcmin(&[1.0, 0.5], &[])?;
 /// let e = ExactChain::new(&table).orientation_error(&Pose::from_deg(&[0.0, 0.0])?, &chi)?;
-/// // eq 26: delta_theta = dphi_z2 + dalpha_z1, to second order
+/// // the two errors about z add, to second order
 /// assert!((e.delta_theta_rad - 1.5_f64.to_radians() / 60.0).abs() < 1e-9);
 /// # Ok::<(), tt_kinematics::KinematicsError>(())
 /// ```
@@ -41,58 +119,72 @@ pub trait OrientationErrorModel {
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError>;
 
+    /// The names of the angular errors $\chi_j$, one per error in the order of $\chi$ (lower
+    /// case, as every name of the workspace). Their number is the model's error count
+    /// ([`OrientationErrorModel::n_errors`]): the analyses check every box and $\chi$ against
+    /// it and name both sizes when they differ.
+    fn error_names(&self) -> Vec<String>;
+
+    /// Number of angular errors $\chi_j$: the length of
+    /// [`OrientationErrorModel::error_names`].
+    fn n_errors(&self) -> usize {
+        self.error_names().len()
+    }
+
     /// Number of translation errors the model's [`TurntableErrors`] carry (0 by default; a
     /// described turntable's chains return the turntable's).
     fn n_translation_errors(&self) -> usize {
         0
     }
 
-    /// $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ (eq 23) at `pose` for `errors`. Default:
-    /// the rotation of [`OrientationErrorModel::orientation_error`]'s angles read as a
-    /// rotation vector ([`DeltaRKind::Exact`]), equal to the model's own $\Delta\mathbf R$ to
-    /// first order; [`ExactChain`] returns its exact matrix.
+    /// $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ (eq 23) at `pose` for `errors`, exactly.
+    /// There is no silent default: a model that does not implement it gives
+    /// [`KinematicsError::NoDeltaR`] where the exact rotation is needed (a schedule's
+    /// $\Delta\mathbf R_i$ through [`AtPoses`], the conformance suite's rotation checks). A
+    /// model that knows only its angles may opt in to their rotation, [`delta_r_of_angles`],
+    /// which equals the true $\Delta\mathbf R$ to first order only.
     ///
     /// # Errors
-    /// As [`OrientationErrorModel::orientation_error`].
+    /// As [`OrientationErrorModel::orientation_error`]; [`KinematicsError::NoDeltaR`] by
+    /// default.
     fn delta_r(
         &self,
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<Matrix3<f64>, KinematicsError> {
-        Ok(self
-            .orientation_error(pose, errors)?
-            .delta_r(DeltaRKind::Exact))
+        let _ = (pose, errors);
+        Err(KinematicsError::NoDeltaR)
     }
 
     /// The $3 \times n$ first-order coefficients $\partial(\Delta\psi, \Delta\theta,
     /// \Delta\gamma)/\partial\chi_j$ at $\chi = 0$ and `pose` (rows $\psi, \theta, \gamma$), for
     /// errors shaped as `zero` (its values are ignored: the derivative is taken at zero).
-    /// Default: central differences with step [`FIRST_ORDER_STEP_RAD`]; a model that knows its
-    /// coefficients returns them (the conformance suite checks the model against this).
+    /// Default: [`derived_first_order`] (central differences of the exact orientation error);
+    /// a model that knows its coefficients returns them, and the conformance suite checks them
+    /// against the derived ones.
     ///
     /// # Errors
-    /// As [`OrientationErrorModel::orientation_error`].
+    /// As [`OrientationErrorModel::orientation_error`]; [`KinematicsError::Field`]
+    /// ([`tt_core::FieldError::Length`], naming `chi` with both sizes) when `zero` does not
+    /// have the model's error count.
     fn first_order(
         &self,
         pose: &Pose,
         zero: &TurntableErrors,
     ) -> Result<DMatrix<f64>, KinematicsError> {
-        let n = zero.chi_rad().len();
-        let base = TurntableErrors::zero(n, zero.translations_m().len());
-        let h = FIRST_ORDER_STEP_RAD;
-        let mut out = DMatrix::zeros(3, n);
-        for j in 0..n {
-            let plus = self
-                .orientation_error(pose, &base.clone().with_chi(j, h)?)?
-                .to_array();
-            let minus = self
-                .orientation_error(pose, &base.clone().with_chi(j, -h)?)?
-                .to_array();
-            for k in 0..3 {
-                out[(k, j)] = (plus[k] - minus[k]) / (2.0 * h);
-            }
-        }
-        Ok(out)
+        tt_core::length("chi", self.n_errors(), zero.chi_rad().len())?;
+        derived_first_order(self, pose, zero.translations_m().len())
+    }
+
+    /// A bound on the sum of the rotation angles whose product is
+    /// [`OrientationErrorModel::delta_r`], at every pose and for every $|\chi_j| \le
+    /// \mathrm{UB}_j$ (`ub_rad`, rad; the library passes finite bounds only, an unbounded error
+    /// held at 0 as 0), or `None` when the model does not know one (the default). It must be a
+    /// gauge of the bounds as [`ScheduleErrorModel::angle_sum_bound`] says; [`AtPoses`] passes
+    /// it on, so the end-to-end analysis derives its second-order bound.
+    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
+        let _ = ub_rad;
+        None
     }
 }
 
@@ -228,6 +320,14 @@ impl<M: OrientationErrorModel> AtPoses<M> {
         }
     }
 
+    /// `model` at `poses`, with the model's own error names
+    /// ([`OrientationErrorModel::error_names`]) and translation count.
+    #[must_use]
+    pub fn of(model: M, poses: Vec<Pose>) -> Self {
+        let (names, n_translations) = (model.error_names(), model.n_translation_errors());
+        Self::new(model, poses, names, n_translations)
+    }
+
     /// The model.
     #[must_use]
     pub fn model(&self) -> &M {
@@ -241,6 +341,7 @@ impl<M: OrientationErrorModel> AtPoses<M> {
     }
 
     fn errors(&self, chi_rad: &[f64]) -> Result<TurntableErrors, KinematicsError> {
+        tt_core::length("error_names", self.model.n_errors(), self.names.len())?;
         tt_core::length("chi", self.names.len(), chi_rad.len())?;
         TurntableErrors::new(chi_rad.to_vec(), vec![0.0; self.n_translations])
     }
@@ -271,9 +372,18 @@ impl<M: OrientationErrorModel> ScheduleErrorModel for AtPoses<M> {
     fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
         self.model.first_order(
             pose_at(&self.poses, position)?,
-            &TurntableErrors::zero(self.names.len(), self.n_translations),
+            &self.errors(&vec![0.0; self.names.len()])?,
         )
     }
+    /// The model's own ([`OrientationErrorModel::angle_sum_bound`]).
+    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
+        self.model.angle_sum_bound(ub_rad)
+    }
+}
+
+/// Owned copies of borrowed names.
+fn owned(names: Vec<&str>) -> Vec<String> {
+    names.into_iter().map(str::to_string).collect()
 }
 
 /// The pose of schedule position `position`, or an error naming `position`.
@@ -326,8 +436,18 @@ impl ExactChain {
 }
 
 impl OrientationErrorModel for ExactChain {
+    fn error_names(&self) -> Vec<String> {
+        owned(self.turntable.rotation_error_names())
+    }
+
     fn n_translation_errors(&self) -> usize {
         self.turntable.n_translation_errors()
+    }
+
+    /// $\sum_j \mathrm{UB}_j$ over the finite bounds: $\Delta\mathbf R$ is a product of
+    /// rotations by the errors themselves (conjugated).
+    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
+        Some(ub_rad.iter().filter(|u| u.is_finite()).sum())
     }
 
     fn delta_r(
@@ -390,8 +510,22 @@ impl SmallAngleChain {
 }
 
 impl OrientationErrorModel for SmallAngleChain {
+    fn error_names(&self) -> Vec<String> {
+        owned(self.turntable.rotation_error_names())
+    }
+
     fn n_translation_errors(&self) -> usize {
         self.turntable.n_translation_errors()
+    }
+
+    /// The rotation of its angles (stated fallback: the small-angle chain's own matrix is
+    /// not a rotation).
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        delta_r_of_angles(self, pose, errors)
     }
 
     fn orientation_error(
@@ -424,8 +558,22 @@ impl LinearChain {
 }
 
 impl OrientationErrorModel for LinearChain {
+    fn error_names(&self) -> Vec<String> {
+        owned(self.model.turntable().rotation_error_names())
+    }
+
     fn n_translation_errors(&self) -> usize {
         self.model.turntable().n_translation_errors()
+    }
+
+    /// The rotation of its (first-order) angles: a first-order model has no exact
+    /// $\Delta\mathbf R$ (stated fallback).
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        delta_r_of_angles(self, pose, errors)
     }
 
     fn first_order(

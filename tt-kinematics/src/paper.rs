@@ -138,6 +138,23 @@ impl ClosedForm {
 }
 
 impl OrientationErrorModel for ClosedForm {
+    fn error_names(&self) -> Vec<String> {
+        table3()
+            .rotation_error_names()
+            .into_iter()
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// The rotation of eq 26's angles (stated fallback: eq 26 is first order).
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<nalgebra::Matrix3<f64>, KinematicsError> {
+        crate::delta_r_of_angles(self, pose, errors)
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,

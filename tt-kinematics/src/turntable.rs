@@ -15,7 +15,7 @@
 //! # Rotation order
 //! Post-multiplication, base to platform, exactly the order of the list: the first factor acts
 //! in the base frame, each next one about an axis of the frame the previous ones produced.
-//! This is the order of the paper's Table 3 (see [`crate::paper::table3_description`]).
+//! This is the order of the paper's Table 3 (see `paper::table3_description`).
 //!
 //! # The evaluation plan
 //! Group the factors into nominal blocks $\mathbf A_s$ (joints and fixed rotations) and error

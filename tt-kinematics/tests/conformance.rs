@@ -51,6 +51,13 @@ fn every_model_passes_the_conformance_suite_on_a_three_axis_table() {
 struct Transposed(Turntable);
 
 impl OrientationErrorModel for Transposed {
+    fn error_names(&self) -> Vec<String> {
+        self.0
+            .rotation_error_names()
+            .into_iter()
+            .map(str::to_string)
+            .collect()
+    }
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -67,6 +74,13 @@ impl OrientationErrorModel for Transposed {
 struct NoRdTranspose(Turntable);
 
 impl OrientationErrorModel for NoRdTranspose {
+    fn error_names(&self) -> Vec<String> {
+        self.0
+            .rotation_error_names()
+            .into_iter()
+            .map(str::to_string)
+            .collect()
+    }
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -90,10 +104,11 @@ fn the_suite_rejects_wrong_models() {
         let f = check_model(&NoRdTranspose(t.clone()), &t, &c, &Tolerances::default()).unwrap_err();
         assert_eq!(f.check(), "zero", "{f}");
     }
-    // eq 26 is a model of the paper's table only: a typed error, reported by the suite
+    // eq 26 is a model of the paper's table only (8 errors): the suite names both counts
     let t = three_axis();
     let f = check_model(&ClosedForm, &t, &cases(&t, 3, 1e-4), &Tolerances::default()).unwrap_err();
-    assert_eq!(f.check(), "evaluation", "{f}");
+    assert_eq!(f.check(), "error-count", "{f}");
+    assert!(f.detail().contains("13 errors, the model names 8"), "{f}");
 }
 
 /// A correct model whose declared first-order coefficients are doubled: the general suite,
@@ -101,6 +116,9 @@ fn the_suite_rejects_wrong_models() {
 struct DoubledCoefficients(ExactChain);
 
 impl OrientationErrorModel for DoubledCoefficients {
+    fn error_names(&self) -> Vec<String> {
+        self.0.error_names()
+    }
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -140,7 +158,7 @@ fn the_general_suite_checks_a_model_against_its_own_first_order() {
             &Tolerances::default(),
         )
         .unwrap_err();
-        assert_eq!(f.check(), "first-order", "{f}");
+        assert_eq!(f.check(), "derived-first-order", "{f}");
     }
 }
 
@@ -203,4 +221,133 @@ fn at_poses_gives_the_models_delta_r_and_first_order_at_each_position() {
     // wrong lengths are typed errors naming the field
     let e = s.delta_r_into(&chi[1..], &mut dr).unwrap_err();
     assert!(e.to_string().contains("chi"), "{e}");
+}
+
+/// A mount whose "flexure" stretches the platform instead of turning it (wrong physics:
+/// $\Delta\mathbf R = \mathbf I + [\boldsymbol\delta]_\times + \chi_1\,\mathrm{diag}(1, 0, 0)$
+/// composed with the exact chain), with the angles read off it by eq 24 and the default
+/// (derived) first order: self-consistent, so the checks against its own first order pass;
+/// the physics checks (a rotation) reject it.
+struct Stretching(ExactChain);
+
+impl OrientationErrorModel for Stretching {
+    fn error_names(&self) -> Vec<String> {
+        self.0.error_names()
+    }
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<nalgebra::Matrix3<f64>, KinematicsError> {
+        let stretch = nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(
+            1.0 + errors.chi_rad()[1],
+            1.0,
+            1.0,
+        ));
+        Ok(self.0.delta_r(pose, errors)? * stretch)
+    }
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        Ok(OrientationError::from_matrix_elements(
+            &self.delta_r(pose, errors)?,
+        ))
+    }
+}
+
+/// The exact chain with the sign of psi flipped in its angles but not in its delta_r.
+struct FlippedPsi(ExactChain);
+
+impl OrientationErrorModel for FlippedPsi {
+    fn error_names(&self) -> Vec<String> {
+        self.0.error_names()
+    }
+    fn delta_r(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<nalgebra::Matrix3<f64>, KinematicsError> {
+        self.0.delta_r(pose, errors)
+    }
+    fn orientation_error(
+        &self,
+        pose: &Pose,
+        errors: &TurntableErrors,
+    ) -> Result<OrientationError, KinematicsError> {
+        let mut e = self.0.orientation_error(pose, errors)?;
+        e.delta_psi_rad = -e.delta_psi_rad;
+        Ok(e)
+    }
+}
+
+/// Before the physics checks the general suite compared a model only with its own first
+/// order, so both models passed it (checked by removing `check_rotation` from the suite).
+#[test]
+fn a_model_with_wrong_physics_and_the_default_first_order_fails_conformance() {
+    for t in [table3(), three_axis()] {
+        let zero = t.zero_errors();
+        let c = cases(&t, 50, MAX_ERROR_RAD);
+        let tol = Tolerances::default();
+        let f = check_model_general(&Stretching(ExactChain::new(&t)), &zero, &c, &tol).unwrap_err();
+        assert_eq!(f.check(), "rotation", "{f}");
+        let f = check_model_general(&FlippedPsi(ExactChain::new(&t)), &zero, &c, &tol).unwrap_err();
+        assert_eq!(f.check(), "readout", "{f}");
+        // and the right physics passes, with its analytic first order checked
+        check_model_general(&ExactChain::new(&t), &zero, &c, &tol).unwrap();
+    }
+}
+
+/// The derived first order (central differences, h = 1e-6 rad) against the described
+/// turntables' analytic coefficients: within its stated bound, and the measured error is
+/// printed (`--nocapture`).
+#[test]
+fn derived_first_order_is_within_its_stated_bound_of_the_analytic_coefficients() {
+    use tt_kinematics::{DERIVED_FIRST_ORDER_TOLERANCE, derived_first_order};
+    for t in [table3(), three_axis()] {
+        let mut worst = 0.0_f64;
+        for case in cases(&t, 100, MAX_ERROR_RAD) {
+            let analytic = tt_kinematics::LinearModel::new(&t)
+                .coefficients(&case.pose)
+                .unwrap();
+            let derived =
+                derived_first_order(&ExactChain::new(&t), &case.pose, t.n_translation_errors())
+                    .unwrap();
+            for (a, d) in analytic.iter().zip(derived.iter()) {
+                worst = worst.max((a - d).abs());
+            }
+        }
+        println!(
+            "{} joints: derived first order within {worst:e} of the analytic one",
+            t.n_joints()
+        );
+        assert!(worst <= DERIVED_FIRST_ORDER_TOLERANCE, "{worst}");
+    }
+}
+
+/// A model without its own delta_r is a typed error where the exact rotation is needed, never
+/// a silent rebuild from its angles.
+#[test]
+fn a_model_without_delta_r_is_a_typed_error_at_poses() {
+    use tt_kinematics::{AtPoses, ScheduleErrorModel};
+    let t = table3();
+    let s = AtPoses::of(
+        Transposed(t.clone()),
+        vec![Pose::from_deg(&[0.0, 30.0]).unwrap()],
+    );
+    let mut dr = vec![nalgebra::Matrix3::identity(); 1];
+    let e = s.delta_r_into(&[0.0; 8], &mut dr).unwrap_err();
+    assert_eq!(e, KinematicsError::NoDeltaR);
+    assert!(e.to_string().contains("delta_r"), "{e}");
+    // the names and the count come from the model; a chi of another size names both
+    assert_eq!(s.error_names(), Transposed(t.clone()).error_names());
+    assert_eq!(
+        s.delta_r_into(&[0.0; 7], &mut dr).unwrap_err(),
+        KinematicsError::Field(tt_core::FieldError::Length {
+            field: "chi".into(),
+            expected: 8,
+            found: 7
+        })
+    );
 }

@@ -24,21 +24,37 @@
 //! $\theta = \delta_z$, $\gamma = \delta_x$)
 //! $$c_\psi = (-\sin a,\ 1,\ 0,\ \cos e),\quad c_\theta = (\sin e\cos a,\ 0,\ \sin e,\ 0),\quad
 //!   c_\gamma = (\cos e\cos a,\ 0,\ \cos e,\ 0).$$
-//! The worst cases over the domain are closed forms ($w \ge 0$):
-//! $\max\sum_j w_j|c_{\psi j}| = w_0 + w_1 + w_3$ at $(\pi/2, 0)$,
+//! The library derives these from the exact $\Delta\mathbf R$ (central differences,
+//! `tt_kinematics::derived_first_order`); they are kept here as closed forms only for the
+//! tests to check the derivation against. The worst cases over the domain are then
+//! ($w \ge 0$): $\max\sum_j w_j|c_{\psi j}| = w_0 + w_1 + w_3$ at $(\pi/2, 0)$,
 //! $\max\sum_j w_j|c_{\theta j}| = w_0 + w_2$ at $(0, \pi/2)$,
 //! $\max\sum_j w_j|c_{\gamma j}| = w_0 + w_2$ at $(0, 0)$; the averages of $|c|$ are
 //! $2/\pi$ for $|\sin a|$, $|\cos a|$, $\sin e$, $\cos e$ and $4/\pi^2$ for their products.
+//!
+//! # One definition
+//! [`AzElMount`] implements [`OrientationErrorModel`] once: its error names, its exact
+//! $\Delta\mathbf R$, the angles read off it and the one fact the end-to-end second-order
+//! bound needs (its angle-sum bound). Everything else comes from the library:
+//! - the first order: `tt_kinematics::derived_first_order` (the trait's default);
+//! - the linear model, its proven worst case, the allocators and their certificate:
+//!   [`alloc_opt::Linearised`] ([`linearised`]);
+//! - the exact-chain check and margin: [`alloc_opt::exact_chain_check`],
+//!   [`alloc_opt::allocate_with_exact_margin`] on that model;
+//! - the Monte Carlo: `mc_verify::MonteCarlo::for_model`;
+//! - end to end: the mount at a schedule's poses, [`tt_kinematics::AtPoses`] ([`at_poses`]),
+//!   into `e2e_verify::EndToEnd::for_model`;
+//! - the conformance suite: `tt_kinematics::conformance::check_model_general`.
 
 use alloc_opt::{
-    AllocError, AllocationProblem, Allocator, LinearErrorModel, MethodDetails, ToleranceBox,
-    Weights, WorstRow, finish,
+    AllocError, AllocationProblem, Allocator, LinearErrorModel, Linearised, MethodDetails,
+    ToleranceBox, Weights, finish,
 };
-use nalgebra::{DMatrix, Matrix3};
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use nalgebra::Matrix3;
+use std::f64::consts::{FRAC_PI_2, TAU};
 use tt_core::{Axis, OrientationError, Pose};
 use tt_kinematics::rotation::rot;
-use tt_kinematics::{KinematicsError, OrientationErrorModel, ScheduleErrorModel, TurntableErrors};
+use tt_kinematics::{AtPoses, KinematicsError, OrientationErrorModel, TurntableErrors};
 
 /// The errors' names, lower case.
 pub const ERROR_NAMES: [&str; 4] = ["az_tilt", "el_offset", "non_perp", "flexure"];
@@ -54,12 +70,6 @@ impl AzElMount {
         vec![[0.0, TAU], [0.0, FRAC_PI_2]]
     }
 
-    /// The names of the errors, as owned strings.
-    #[must_use]
-    pub fn error_names(&self) -> Vec<String> {
-        ERROR_NAMES.iter().map(|n| n.to_string()).collect()
-    }
-
     /// $\Delta\mathbf R$ exactly.
     fn exact_delta_r(pose: &[f64], chi: &[f64]) -> Matrix3<f64> {
         let (a, e) = (pose[0], pose[1]);
@@ -71,7 +81,8 @@ impl AzElMount {
         rd.transpose() * rt
     }
 
-    /// The first-order coefficients at $(a, e)$ (rows $\psi, \theta, \gamma$).
+    /// The first-order coefficients at $(a, e)$ (rows $\psi, \theta, \gamma$) in closed form:
+    /// not used by the model (its first order is derived), kept for the tests.
     #[must_use]
     pub fn coefficients(a: f64, e: f64) -> [[f64; 4]; 3] {
         [
@@ -89,6 +100,10 @@ impl AzElMount {
 }
 
 impl OrientationErrorModel for AzElMount {
+    fn error_names(&self) -> Vec<String> {
+        ERROR_NAMES.iter().map(|n| n.to_string()).collect()
+    }
+
     fn orientation_error(
         &self,
         pose: &Pose,
@@ -108,56 +123,44 @@ impl OrientationErrorModel for AzElMount {
         Ok(Self::exact_delta_r(pose.angles_rad(), errors.chi_rad()))
     }
 
-    fn first_order(
-        &self,
-        pose: &Pose,
-        zero: &TurntableErrors,
-    ) -> Result<DMatrix<f64>, KinematicsError> {
-        Self::check(pose, zero)?;
-        let c = Self::coefficients(pose.angles_rad()[0], pose.angles_rad()[1]);
-        Ok(DMatrix::from_fn(3, 4, |k, j| c[k][j]))
+    /// $\Delta\mathbf R = R_y(-e)R_z(-a)R_x(\chi_0)R_z(a)R_y(e)\cdot R_y(-e)R_x(\chi_2)R_y(e)
+    /// \cdot R_y(\chi_1 + \chi_3\cos e)$ is a product of rotations by $\chi_0$, $\chi_2$ and
+    /// $\chi_1 + \chi_3\cos e$, whose angles sum to at most $\sum_j \mathrm{UB}_j$ (the
+    /// library passes finite bounds only).
+    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
+        Some(ub_rad.iter().sum())
     }
 }
 
-impl LinearErrorModel for AzElMount {
-    fn n_errors(&self) -> usize {
-        4
-    }
-    fn n_quantities(&self) -> usize {
-        3
-    }
-    fn quantity_name(&self, k: usize) -> String {
-        ["psi", "theta", "gamma"][k].to_string()
-    }
-    fn error_name(&self, j: usize) -> String {
-        ERROR_NAMES[j].to_string()
-    }
-    fn involved(&self, k: usize) -> Vec<usize> {
-        match k {
-            0 => vec![0, 1, 3],
-            _ => vec![0, 2],
-        }
-    }
-    fn worst_case(&self, k: usize, w: &[f64]) -> Result<WorstRow, AllocError> {
-        tt_core::length("weights", 4, w.len())?;
-        let (point, value) = match k {
-            0 => ([FRAC_PI_2, 0.0], w[0] + w[1] + w[3]),
-            1 => ([0.0, FRAC_PI_2], w[0] + w[2]),
-            _ => ([0.0, 0.0], w[0] + w[2]),
-        };
-        let row = Self::coefficients(point[0], point[1])[k]
-            .map(f64::abs)
-            .to_vec();
-        Ok(WorstRow::exact(value, point.to_vec(), row))
-    }
-    fn average_abs_coefficients(&self) -> DMatrix<f64> {
-        let h = 2.0 / PI;
-        DMatrix::from_row_slice(
-            3,
-            4,
-            &[h, 1.0, 0.0, h, h * h, 0.0, h, 0.0, h * h, 0.0, h, 0.0],
-        )
-    }
+/// The mount's first-order model over its joint ranges, derived by the library: what the
+/// allocators, the certificate and the exact-chain margin take.
+///
+/// # Errors
+/// As [`Linearised::new`].
+pub fn linearised() -> Result<Linearised<AzElMount>, AllocError> {
+    Linearised::new(AzElMount, AzElMount.joint_ranges_rad())
+}
+
+/// The mount at the positions of a calibration schedule, `poses` (azimuth, elevation, rad):
+/// what the end-to-end analysis takes (`e2e_verify::EndToEnd::for_model`).
+///
+/// # Errors
+/// [`KinematicsError`] for a non-finite angle.
+pub fn at_poses(poses: &[[f64; 2]]) -> Result<AtPoses<AzElMount>, KinematicsError> {
+    let poses = poses
+        .iter()
+        .map(|p| Pose::new(p.to_vec()))
+        .collect::<Result<_, _>>()?;
+    Ok(AtPoses::of(AzElMount, poses))
+}
+
+/// The intended orientation $\mathbf R_d = R_z(a)R_y(e)$ (sensor to base) of every pose.
+#[must_use]
+pub fn base_from_sensor(poses: &[[f64; 2]]) -> Vec<Matrix3<f64>> {
+    poses
+        .iter()
+        .map(|[a, e]| rot(Axis::Z, *a) * rot(Axis::Y, *e))
+        .collect()
 }
 
 /// An allocator of our own, generic over any [`LinearErrorModel`]: every constrained error gets
@@ -202,72 +205,6 @@ impl<M: LinearErrorModel> Allocator<M> for UniformBound {
                 description: format!("one bound for every error: {u:e} rad"),
             },
         )
-    }
-}
-
-/// The mount at the positions of a calibration schedule: what the end-to-end analysis takes
-/// (`e2e_verify::EndToEnd::for_model`). $\Delta\mathbf R_i$ exactly, the first order in closed
-/// form, and the one fact the second-order bound needs: $\Delta\mathbf R = R_y(-e)R_z(-a)
-/// R_x(\chi_0)R_z(a)\,R_y(-e)^{-1}\cdots$ is a product of rotations by $\chi_0$, $\chi_2$ and
-/// $\chi_1 + \chi_3\cos e$, whose angles sum to at most $\lVert\chi\rVert_1$.
-#[derive(Debug, Clone, PartialEq)]
-pub struct AzElSchedule {
-    poses: Vec<[f64; 2]>,
-}
-
-impl AzElSchedule {
-    /// The mount at `poses` (azimuth, elevation), rad.
-    #[must_use]
-    pub fn new(poses: Vec<[f64; 2]>) -> Self {
-        Self { poses }
-    }
-
-    /// The intended orientation $\mathbf R_d = R_z(a)R_y(e)$ (sensor to base) of every position.
-    #[must_use]
-    pub fn base_from_sensor(&self) -> Vec<Matrix3<f64>> {
-        self.poses
-            .iter()
-            .map(|[a, e]| rot(Axis::Z, *a) * rot(Axis::Y, *e))
-            .collect()
-    }
-}
-
-impl ScheduleErrorModel for AzElSchedule {
-    fn n_errors(&self) -> usize {
-        4
-    }
-    fn n_positions(&self) -> usize {
-        self.poses.len()
-    }
-    fn delta_r_into(
-        &self,
-        chi_rad: &[f64],
-        out: &mut [Matrix3<f64>],
-    ) -> Result<(), KinematicsError> {
-        tt_core::length("chi", 4, chi_rad.len())?;
-        tt_core::length("delta_r", self.poses.len(), out.len())?;
-        for (o, p) in out.iter_mut().zip(&self.poses) {
-            *o = AzElMount::exact_delta_r(p, chi_rad);
-        }
-        Ok(())
-    }
-    fn error_names(&self) -> Vec<String> {
-        AzElMount.error_names()
-    }
-    fn first_order(&self, position: usize) -> Result<DMatrix<f64>, KinematicsError> {
-        let [a, e] = *self
-            .poses
-            .get(position)
-            .ok_or_else(|| tt_core::FieldError::OutOfRange {
-                field: "position".into(),
-                value: position as f64,
-                range: format!("0..{}", self.poses.len()),
-            })?;
-        let c = AzElMount::coefficients(a, e);
-        Ok(DMatrix::from_fn(3, 4, |k, j| c[k][j]))
-    }
-    fn angle_sum_bound(&self, ub_rad: &[f64]) -> Option<f64> {
-        Some(ub_rad.iter().filter(|u| u.is_finite()).sum())
     }
 }
 
