@@ -75,6 +75,18 @@ impl ToleranceDistribution {
     /// The names accepted in `tolerance_distribution`.
     pub const NAMES: [&'static str; 3] = ["rectangular", "triangular", "arcsine"];
 
+    /// The input quantity `name` of tolerance $\pm$`a` (>= 0) with this law, estimate 0.
+    ///
+    /// # Errors
+    /// `NAME.half_width` or `NAME.amplitude` when `a` is negative or not finite.
+    pub fn input(self, name: &str, a: f64) -> Result<metrology::Input, metrology::MetrologyError> {
+        match self {
+            ToleranceDistribution::Rectangular => metrology::Input::rectangular(name, 0.0, a),
+            ToleranceDistribution::Triangular => metrology::Input::triangular(name, 0.0, a),
+            ToleranceDistribution::Arcsine => metrology::Input::arcsine(name, 0.0, a),
+        }
+    }
+
     /// Its name as written in a study.
     #[must_use]
     pub fn name(self) -> &'static str {
