@@ -285,3 +285,93 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             .collect()
     }
 }
+
+/// The rule of a plan's verdict against specifications, in words (printed with every
+/// verdict).
+pub const PLAN_RULE: &str = "a specification is met when the expanded uncertainty U of its quantity at its coverage probability is within it (U / limit <= 1; GUM budget of the table's tolerances and the modelled noise, no guard band)";
+
+/// The rule when a study gives no specification: each output's accuracy (eq 14).
+pub const ACCURACY_RULE: &str = "no [[specifications]] in the study: each output's accuracy (eq 14) against the worst case over the tolerance box (the table's part; proven only where a second-order bound certifies it), with the noise at k sigma at the worst position where the study models noise";
+
+/// A plan's verdict against every specification: each specification's budget, and the
+/// errors with no tolerance (an infinite bound) that move its quantity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanVerdict {
+    budgets: Vec<SpecificationBudget>,
+    unbounded: Vec<Vec<String>>,
+}
+
+impl PlanVerdict {
+    /// One budget per specification, in their order.
+    #[must_use]
+    pub fn budgets(&self) -> &[SpecificationBudget] {
+        &self.budgets
+    }
+
+    /// Per specification: the table's errors without a finite tolerance whose sensitivity is
+    /// not zero (its U is then not bounded).
+    #[must_use]
+    pub fn unbounded(&self) -> &[Vec<String>] {
+        &self.unbounded
+    }
+
+    /// Whether specification `i` is met: $U \le$ limit and no unbounded error moves it.
+    #[must_use]
+    pub fn meets(&self, i: usize) -> bool {
+        self.unbounded[i].is_empty() && self.budgets[i].check().meets()
+    }
+
+    /// Whether every specification is met.
+    #[must_use]
+    pub fn meets_all(&self) -> bool {
+        (0..self.budgets.len()).all(|i| self.meets(i))
+    }
+
+    /// Whether every specified output's noise is in its budget.
+    #[must_use]
+    pub fn noise_modelled_everywhere(&self) -> bool {
+        self.budgets.iter().all(SpecificationBudget::noise_modelled)
+    }
+}
+
+impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// The verdict of a plan (this schedule, the tolerances `tolerances_rad` of the angular
+    /// errors with the law `law`, the noise and timing) against `specs` by [`PLAN_RULE`]. An
+    /// infinite tolerance enters as zero and the specification whose quantity it moves is
+    /// not met ([`PlanVerdict::unbounded`]).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::specification_budgets`]; `law`'s error for a tolerance.
+    pub fn plan_verdict(
+        &self,
+        specs: &[Specification],
+        tolerances_rad: &[f64],
+        law: impl Fn(&str, f64) -> Result<Input, metrology::MetrologyError>,
+        noise: &[Option<NoiseModel>],
+        timing: Option<&Timing>,
+    ) -> Result<PlanVerdict, E2eError> {
+        tt_core::length("tolerances", self.n_errors(), tolerances_rad.len())?;
+        let names = self.error_names();
+        let table = names
+            .iter()
+            .zip(tolerances_rad)
+            .map(|(n, &a)| law(n, if a.is_finite() { a } else { 0.0 }))
+            .collect::<Result<Vec<_>, _>>()?;
+        let budgets = self.specification_budgets(specs, &table, noise, timing)?;
+        let unbounded = budgets
+            .iter()
+            .map(|b| {
+                let c = &b.output().sensitivities()[..b.table_rows()];
+                let scale = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                names
+                    .iter()
+                    .zip(tolerances_rad)
+                    .zip(c)
+                    .filter(|((_, a), c)| !a.is_finite() && c.abs() > 1e-9 * scale)
+                    .map(|((n, _), _)| n.clone())
+                    .collect()
+            })
+            .collect();
+        Ok(PlanVerdict { budgets, unbounded })
+    }
+}

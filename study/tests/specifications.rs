@@ -6,14 +6,21 @@ use gw_model::spec::{CoefficientKind, Resolved};
 use study::Study;
 use study::spec::ToleranceDistribution;
 
-const IMU: &str = include_str!("../../studies/imu-triad-example.toml");
+const IMU_FILE: &str = include_str!("../../studies/imu-triad-example.toml");
+
+/// The IMU example without its own specifications (the tests add theirs).
+fn imu_bare() -> &'static str {
+    &IMU_FILE[..IMU_FILE
+        .find("# Specifications per calibrated quantity")
+        .expect("the IMU example's specifications")]
+}
 
 /// Unit conversions are exact up to a few ulps (relative).
 const CONVERSION_REL: f64 = 1e-14;
 
 /// The IMU example with `extra` appended (its own tables at the end of the file).
 fn imu_with(extra: &str) -> Result<Study, study::StudyError> {
-    Study::parse("s.toml", &format!("{IMU}\n{extra}\n"))
+    Study::parse("s.toml", &format!("{}\n{extra}\n", imu_bare()))
 }
 
 fn err(extra: &str) -> String {
@@ -187,4 +194,53 @@ fn malformed_specifications_name_their_key() {
         let e = err(&extra);
         assert!(e.contains(&format!("key `{key}`")), "{key}: {e}");
     }
+}
+
+/// The STIM300-class study states a test plan's specifications on every output: gyro bias in
+/// deg/h, g-sensitivity in deg/h/g, accelerometer bias in ug, scale factor in ppm,
+/// misalignment in urad, and one eq 14 accuracy, each converted to the model's units.
+#[test]
+fn the_stim300_class_study_specifies_every_kind_in_its_unit() {
+    let s = Study::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../studies/stim300-class-example.toml"
+    )))
+    .unwrap();
+    assert_eq!(s.specifications.len(), 16);
+    let kinds: Vec<Option<CoefficientKind>> = s
+        .specifications
+        .iter()
+        .map(|p| match p.resolved() {
+            Resolved::Coefficient { kind, .. } => Some(*kind),
+            _ => None,
+        })
+        .collect();
+    use CoefficientKind::{Bias, GSensitivity, Misalignment, ScaleFactor};
+    let gyro = [Some(Bias), Some(GSensitivity)];
+    let acc = [Some(Bias), Some(ScaleFactor), Some(Misalignment)];
+    let want: Vec<Option<CoefficientKind>> = gyro
+        .iter()
+        .cycle()
+        .take(6)
+        .chain(acc.iter().cycle().take(9))
+        .copied()
+        .chain([None])
+        .collect();
+    assert_eq!(kinds, want);
+    // 300 ppm of 1 g/g = 0.3 mg/g; 1000 urad = 1 mg/g; 50 ug = 0.05 mg
+    assert_relative_eq!(
+        s.specifications[7].limit(),
+        0.3,
+        max_relative = CONVERSION_REL
+    );
+    assert_relative_eq!(
+        s.specifications[8].limit(),
+        1.0,
+        max_relative = CONVERSION_REL
+    );
+    assert_relative_eq!(
+        s.specifications[6].limit(),
+        0.05,
+        max_relative = CONVERSION_REL
+    );
 }
