@@ -49,6 +49,9 @@ pub enum E2eError {
     /// `samples`, `yield_fraction`, `step_deg`).
     #[error(transparent)]
     Field(#[from] tt_core::FieldError),
+    /// An uncertainty budget's input was rejected (a tolerance, a coverage probability).
+    #[error(transparent)]
+    Metrology(#[from] metrology::MetrologyError),
     /// The derived second-order bound of an output is at least its accuracy: the direct
     /// allocation cannot be certified on the exact chain for this turntable and sensor.
     #[error(
@@ -277,6 +280,7 @@ impl tt_core::ErrorClass for E2eError {
             E2eError::Alloc(e) => e.input_field(),
             E2eError::Bounds(e) => e.input_field(),
             E2eError::Field(e) => Some(e.field()),
+            E2eError::Metrology(e) => e.input_field(),
             E2eError::LowerAboveBox { .. }
             | E2eError::InfeasibleLowerBounds { .. }
             | E2eError::YieldUnreachable { .. } => Some("lower_bounds"),

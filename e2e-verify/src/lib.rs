@@ -77,6 +77,7 @@ mod allocate;
 mod allocators;
 pub mod angle;
 mod answer;
+pub mod budget;
 mod check;
 pub mod disc;
 mod error;

@@ -543,8 +543,20 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// Eq 8-13, eq 26 generalised.
     #[must_use]
     pub fn linearization(&self) -> Linearization {
+        let mut linear = self.linearization_with(self.n_errors(), self.angular_input_variation());
+        linear.names = Names {
+            errors: self.error_names(),
+            outputs: self.output_names(),
+        };
+        linear
+    }
+
+    /// The first variation of the actual inputs at position `i` for a unit change of angular
+    /// error `j` at the nominal inputs `u` (g and deg/h per rad): $\mathbf u \times
+    /// \mathbf v_{ij}$ at a static position (eq 8), central differences of the compiled rate
+    /// step at a rate step (its inputs are not a rotation of the nominal ones).
+    fn angular_input_variation(&self) -> impl Fn(usize, usize, &InputValues) -> [f64; 6] + '_ {
         let vectors = self.rotation_vectors();
-        // a rate step's inputs are not a rotation of the nominal ones: central differences
         let rate_du: Vec<Vec<Option<[f64; 6]>>> = (0..self.len())
             .map(|i| {
                 (0..self.n_errors())
@@ -552,19 +564,59 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                     .collect()
             })
             .collect();
-        let mut linear = self.linearization_with(self.n_errors(), |i, j, u| {
+        move |i, j, u| {
             rate_du[i][j].unwrap_or_else(|| {
                 let delta = vectors[i][j];
                 let da = u.specific_force_g().cross(&delta);
                 let dw = u.rate_deg_per_h().cross(&delta);
                 [da.x, da.y, da.z, dw.x, dw.y, dw.z]
             })
-        });
-        linear.names = Names {
-            errors: self.error_names(),
-            outputs: self.output_names(),
-        };
-        linear
+        }
+    }
+
+    /// The first variations $d\mathbf e$ (known part) and $d\mathbf g$ (estimated part) of
+    /// output `cal`'s outputs at every position for error `j`.
+    fn output_variations(
+        cal: &calib_lsq::OutputCalibration,
+        j: usize,
+        du: &impl Fn(usize, usize, &InputValues) -> [f64; 6],
+    ) -> (Vec<f64>, Vec<f64>) {
+        let o = cal.output();
+        cal.nominal_values()
+            .iter()
+            .enumerate()
+            .map(|(i, u)| {
+                let du = du(i, j, u);
+                (directional(o, true, u, &du), directional(o, false, u, &du))
+            })
+            .unzip()
+    }
+
+    /// The Jacobian of the user's estimated coefficients with respect to $\chi$ at
+    /// $\chi = 0$, one matrix per output (its estimated coefficients x the angular errors,
+    /// coefficient unit per rad): outputs at the actual orientation, calibrated with the
+    /// intended inputs (eq 6), $d\hat{oldsymboleta}_1 = \mathbf A^+(d\mathbf g +
+    /// d\mathbf e)$, the first-order model of [`EndToEnd::coefficient_errors`] whatever the
+    /// study's reading (the coefficients the calibrating engineer gets).
+    #[must_use]
+    pub fn coefficient_linearization(&self) -> Vec<DMatrix<f64>> {
+        let du = self.angular_input_variation();
+        self.calibration()
+            .outputs()
+            .iter()
+            .map(|cal| {
+                let pinv = cal.regression().pinv();
+                let mut jac = DMatrix::zeros(pinv.nrows(), self.n_errors());
+                for j in 0..self.n_errors() {
+                    let (de, dg) = Self::output_variations(cal, j, &du);
+                    let db1: Vec<f64> = de.iter().zip(&dg).map(|(e, g)| e + g).collect();
+                    for t in 0..pinv.nrows() {
+                        jac[(t, j)] = pinv.row(t).iter().zip(&db1).map(|(p, v)| p * v).sum();
+                    }
+                }
+                jac
+            })
+            .collect()
     }
 
     /// The Jacobian of the error vectors with respect to `errors` errors whose first
@@ -583,14 +635,8 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         let mut work = ReadingWork::default();
         let mut col = vec![0.0; n];
         for (k, cal) in self.calibration().outputs().iter().enumerate() {
-            let o = cal.output();
             for j in 0..errors {
-                let (mut de, mut dg) = (Vec::with_capacity(n), Vec::with_capacity(n));
-                for (i, u) in cal.nominal_values().iter().enumerate() {
-                    let du = du(i, j, u);
-                    de.push(directional(o, true, u, &du));
-                    dg.push(directional(o, false, u, &du));
-                }
+                let (de, dg) = Self::output_variations(cal, j, &du);
                 noise[(k, j)] = rounding_level(&de, &dg, cal.regression().condition_number());
                 let terms = DerivativeTerms {
                     a: cal.regression().matrix(),

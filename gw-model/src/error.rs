@@ -23,6 +23,15 @@ pub enum ModelError {
         /// Why it was rejected.
         reason: String,
     },
+    /// A specification ([`crate::spec::Specification`]) is invalid; `key` is its field
+    /// (`coefficient`, `unit`, `coverage`, `limit`, `range`, `range_unit`, `output`).
+    #[error("{key}: {reason}")]
+    Specification {
+        /// The field.
+        key: String,
+        /// Why it was rejected (naming the value as written).
+        reason: String,
+    },
     /// A white-noise density was given in a unit of one family (an angular rate's angle
     /// random walk) for an output of the other (a specific force in mg); `unit` is the
     /// output's unit label as written (shown escaped).
@@ -61,7 +70,7 @@ impl tt_core::ErrorClass for ModelError {
         match self {
             ModelError::Field(e) => Some(e.field()),
             ModelError::LatitudeOutOfRange { .. } => Some("latitude"),
-            ModelError::Sensor { key, .. } => Some(key),
+            ModelError::Sensor { key, .. } | ModelError::Specification { key, .. } => Some(key),
             ModelError::UnitFamilyMismatch { key, .. } | ModelError::UnknownUnit { key, .. } => {
                 Some(key)
             }

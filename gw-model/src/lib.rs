@@ -68,6 +68,7 @@ pub mod noise;
 pub mod paper;
 mod sensor;
 mod site;
+pub mod spec;
 
 pub use error::ModelError;
 pub use sensor::{Input, InputValues, MAX_REGRESSOR_DEGREE, Output, Regressor, SensorModel, Term};

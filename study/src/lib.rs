@@ -28,6 +28,7 @@ pub mod fmt;
 pub mod limits;
 mod noise;
 mod schema;
+pub mod spec;
 mod tolerances;
 
 pub use error::StudyError;

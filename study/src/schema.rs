@@ -35,6 +35,8 @@ struct RawStudy {
     allocation: Option<RawAllocation>,
     monte_carlo: RawMonteCarlo,
     compensation: Option<RawCompensation>,
+    uncertainty: Option<crate::spec::RawUncertainty>,
+    specifications: Option<Vec<crate::spec::RawSpecification>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -262,6 +264,13 @@ pub struct Study {
     /// Each joint's rate limit (`turntable.max_rate_deg_per_s`), deg/s; `None` where not
     /// given.
     pub max_rate_deg_per_s: Vec<Option<f64>>,
+    /// The coverage probability and the laws of the table's tolerances in an uncertainty
+    /// budget (`[uncertainty]`; 95 % and rectangular when not given).
+    pub uncertainty: crate::spec::Uncertainty,
+    /// The specifications per calibrated quantity (`[[specifications]]`), study order; empty
+    /// when the study gives none (then each output's `accuracy` is the one specification,
+    /// eq 14).
+    pub specifications: Vec<gw_model::spec::Specification>,
 }
 
 /// Whether `name` is a valid study `name`: a file-name-safe slug of 1 to
@@ -598,6 +607,13 @@ impl Study {
                     in_range(at, &key, v, lo, hi, false, "arcmin")? * RAD_PER_ARCMIN;
             }
         }
+        let uncertainty = crate::spec::parse_uncertainty(at, raw.uncertainty.as_ref())?;
+        let specifications = crate::spec::parse_specifications(
+            at,
+            raw.specifications.as_deref().unwrap_or_default(),
+            &sensor,
+            &uncertainty,
+        )?;
         let monte_carlo = MonteCarloSettings {
             samples: count(
                 at,
@@ -629,6 +645,8 @@ impl Study {
             rate_steps,
             lever_arm_m,
             max_rate_deg_per_s,
+            uncertainty,
+            specifications,
         })
     }
 

@@ -233,6 +233,9 @@ pub struct CheckJson<'a> {
     /// by the sheet; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     rate_steps: Option<Vec<crate::rate::RateCheckJson<'a>>>,
+    /// The decision rule and the verdict against the study's specifications per quantity
+    /// (the GUM budget of each over the sheet's tolerances); the accuracy rule without.
+    decision: Option<crate::spec_verdict::SpecVerdictJson>,
 }
 
 impl<'a> CheckJson<'a> {
@@ -257,6 +260,7 @@ impl<'a> CheckJson<'a> {
             compensated: None,
             rate_steps_note: None,
             rate_steps: None,
+            decision: None,
         }
     }
 }
@@ -318,7 +322,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
     if let Some(n) = noisy {
         let verdict = match n.verdict {
             Verdict::Guaranteed => {
-                "MEETS every accuracy with the noise counted: proven for every turntable within these tolerances"
+                "MEETS every accuracy with the noise counted: the table's part is proven for every turntable within these tolerances, the noise counted at k sigma at the worst position (not a probability)"
             }
             Verdict::Likely => {
                 "likely meets every accuracy with the noise counted: the worst vertex does, but no bound proves it for the whole box"
@@ -337,7 +341,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
     }
     let verdict = match c.verdict() {
         Verdict::Guaranteed => {
-            "MEETS every accuracy: proven for every turntable within these tolerances"
+            "MEETS every accuracy: proven for every turntable within these tolerances (the table's errors only: no noise is modelled)"
         }
         Verdict::Likely => {
             "likely meets every accuracy: the worst vertex does, but no bound proves it for the whole box"
@@ -503,6 +507,7 @@ pub fn run(args: &Args) -> Result<()> {
         noise.as_ref(),
     )?;
     let compensated = crate::angle::compensated(&s, &checks, &tol, &settings, noise.as_ref())?;
+    let decision = crate::spec_verdict::compute(&s, &e2e, &tol.ub_rad)?;
     let counted: Vec<Verdict> = checks
         .iter()
         .enumerate()
@@ -516,6 +521,10 @@ pub fn run(args: &Args) -> Result<()> {
                 .as_ref()
                 .map(|c| crate::angle::CompensatedJson::new(&checks, c)),
         );
+        v.decision = Some(crate::spec_verdict::SpecVerdictJson::new(
+            &s,
+            decision.as_ref(),
+        ));
         crate::json::print(&v)
     } else {
         let mut text = to_text(&checks, &s.path, &tol, &noisy);
@@ -533,6 +542,11 @@ pub fn run(args: &Args) -> Result<()> {
         if let Some(c) = &compensated {
             text.push_str(&crate::angle::compensated_text(&checks, c, &counted));
         }
+        text.push_str(&crate::spec_verdict::text(
+            &s,
+            decision.as_ref(),
+            "over these tolerances",
+        ));
         crate::out::print(&text)
     }
 }
@@ -549,6 +563,8 @@ fn run_with_rate_steps(
     lb: &[f64],
     settings: &McSettings,
 ) -> Result<()> {
+    let decision = crate::spec_verdict::compute(s, &checks[0].0, &tol.ub_rad)?;
+    let decision = decision.as_ref();
     let rate = checks
         .iter()
         .map(|(e2e, _)| crate::rate::check(s, e2e, tol, lb, settings))
@@ -564,6 +580,7 @@ fn run_with_rate_steps(
                 .map(|((e2e, _), r)| crate::rate::RateCheckJson::new(e2e, r))
                 .collect(),
         );
+        v.decision = Some(crate::spec_verdict::SpecVerdictJson::new(s, decision));
         crate::json::print(&v)
     } else {
         let mut text = to_text(checks, &s.path, tol, noisy);
@@ -571,6 +588,11 @@ fn run_with_rate_steps(
         for ((e2e, _), r) in checks.iter().zip(&rate) {
             text.push_str(&crate::rate::text(e2e, r));
         }
+        text.push_str(&crate::spec_verdict::text(
+            s,
+            decision,
+            "over these tolerances",
+        ));
         crate::out::print(&text)
     }
 }

@@ -1068,6 +1068,10 @@ pub struct EndToEndJson<'a> {
     /// not apply).
     #[serde(flatten)]
     extras: crate::json::ExtrasJson<'a>,
+    /// The decision rule and the verdict against the study's specifications per quantity
+    /// (the GUM budget of each over the direct allocation's box, study's reading); the
+    /// accuracy rule without.
+    decision: Option<crate::spec_verdict::SpecVerdictJson>,
 }
 
 impl<'a> EndToEndJson<'a> {
@@ -1154,6 +1158,7 @@ impl<'a> EndToEndJson<'a> {
             },
             tradeoff: noisy.map(Into::into),
             extras: crate::json::ExtrasJson::default(),
+            decision: None,
         }
     }
 }
@@ -1332,6 +1337,8 @@ pub fn run(args: &Args) -> Result<()> {
     let angle = crate::angle_alloc::compute(&s, &e2e)?;
     let sheet = crate::angle_alloc::sheet(&s, args.tolerances.as_deref())?;
     let rate = crate::rate::allocation(&s, &e2e, &e2e_verify::McSettings::new(samples, seed))?;
+    let decision =
+        crate::spec_verdict::compute(&s, &e2e, a.readings()[0].direct().upper_bounds_rad())?;
     if args.json {
         let mut v = EndToEndJson::new(&s, &e2e, &a, note.as_ref(), seconds, &speed, noisy.as_ref());
         v.extras.angle_dependent = angle
@@ -1343,6 +1350,10 @@ pub fn run(args: &Args) -> Result<()> {
         v.extras.rate_allocation = rate
             .as_ref()
             .map(|r| crate::rate::RateAllocationJson::new(&e2e, r));
+        v.decision = Some(crate::spec_verdict::SpecVerdictJson::new(
+            &s,
+            decision.as_ref(),
+        ));
         crate::json::print(&v)
     } else {
         let mut t = to_text(&s, &e2e, &a, note.as_ref(), seconds, &speed);
@@ -1362,6 +1373,11 @@ pub fn run(args: &Args) -> Result<()> {
             t.push_str(&n);
             t.push('\n');
         }
+        t.push_str(&crate::spec_verdict::text(
+            &s,
+            decision.as_ref(),
+            "over the direct allocation's box (the study's reading)",
+        ));
         crate::out::print(&t)
     }
 }

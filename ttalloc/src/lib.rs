@@ -47,6 +47,7 @@ mod rate;
 mod report;
 mod report_api;
 mod requirement;
+mod spec_verdict;
 mod study;
 
 pub use input::InputError;

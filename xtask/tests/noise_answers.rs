@@ -142,6 +142,12 @@ fn a_study_without_noise_answers_exactly_as_before() {
         );
     }
     strip_noise(&mut noisy);
+    // the study's specifications are answered by budgets that count the noise where it is
+    // modelled (xtask/tests/specifications.rs): compared apart from this
+    let mut plain = plain;
+    for v in [&mut noisy, &mut plain] {
+        v.as_object_mut().unwrap().remove("decision");
+    }
     assert_eq!(noisy, plain);
 }
 

@@ -1,0 +1,252 @@
+//! The verdict against the study's specifications per quantity (issue 34): one library call
+//! ([`e2e_verify::EndToEnd::plan_verdict`]) and its printing, shared by `check-turntable`
+//! (the sheet's tolerances) and `end-to-end` (the direct allocation's box). Every verdict
+//! names its rule; where an output's noise is not modelled the same sentence says so.
+
+use anyhow::Result;
+use e2e_verify::EndToEnd;
+use e2e_verify::budget::{ACCURACY_RULE, EvaluatedAt, PLAN_RULE, PlanVerdict};
+use serde::Serialize;
+use study::Study;
+use study::fmt::num;
+
+/// The plan's verdict against the study's specifications for the tolerances `ub_rad`
+/// (`None` when the study gives none).
+///
+/// # Errors
+/// As [`EndToEnd::plan_verdict`] (reported as the study's input).
+pub fn compute(s: &Study, e2e: &EndToEnd, ub_rad: &[f64]) -> Result<Option<PlanVerdict>> {
+    if s.specifications.is_empty() {
+        return Ok(None);
+    }
+    let law = s.uncertainty.tolerance_distribution;
+    e2e.plan_verdict(
+        &s.specifications,
+        ub_rad,
+        |n, a| law.input(n, a),
+        &s.noise,
+        s.timing.as_ref(),
+    )
+    .map(Some)
+    .map_err(|e| crate::input::library(e, s))
+}
+
+/// Where a quantity was evaluated, in words.
+fn at_text(at: EvaluatedAt) -> String {
+    match at {
+        EvaluatedAt::Coefficient => String::new(),
+        EvaluatedAt::RangeEnd { positive } => {
+            format!(" (at the {} end)", if positive { "+" } else { "-" })
+        }
+        EvaluatedAt::Position(i) => format!(" (at test position {i})"),
+    }
+}
+
+/// The outputs whose noise is not in the budgets, by name.
+fn unmodelled(s: &Study, v: &PlanVerdict) -> Vec<String> {
+    let mut names: Vec<String> = v
+        .budgets()
+        .iter()
+        .filter(|b| !b.noise_modelled())
+        .map(|b| {
+            s.sensor.outputs()[s.specifications[b.spec()].output()]
+                .name
+                .clone()
+        })
+        .collect();
+    names.dedup();
+    names
+}
+
+/// The verdict as text: one line per specification, then the headline with the rule
+/// (`what` names the tolerances: "these tolerances", "the direct allocation's box").
+#[must_use]
+pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
+    let Some(v) = v else {
+        return format!("  decision rule: {ACCURACY_RULE}\n");
+    };
+    let mut t = format!("\nspecifications of the study, {what}:\n");
+    for (b, sp) in v.budgets().iter().zip(&s.specifications) {
+        let f = sp.to_written();
+        let o = b.output();
+        let dominant = o.dominant().map_or(String::new(), |d| {
+            let share = o.contributions()[d].powi(2) / o.combined().powi(2);
+            format!(
+                "; dominant: {} ({:.0}% of the variance)",
+                b.result().rows()[d].name(),
+                100.0 * share
+            )
+        });
+        let unbounded = &v.unbounded()[b.spec()];
+        let verdict = if !unbounded.is_empty() {
+            format!(
+                "does NOT meet: not bounded ({} has no tolerance and moves it)",
+                unbounded.join(", ")
+            )
+        } else if b.check().meets() {
+            "meets".to_string()
+        } else {
+            "does NOT meet".to_string()
+        };
+        let noise = if b.noise_modelled() {
+            String::new()
+        } else {
+            "; noise not modelled for this output: the table's errors only".to_string()
+        };
+        t.push_str(&format!(
+            "  {}{}: U = {} {u} (u_c {}, k = {}, p = {}%) against {} {u}, ratio {}: {verdict}{dominant}{noise}\n",
+            sp.label(&s.sensor),
+            at_text(b.at()),
+            num(o.expanded() * f),
+            num(o.combined() * f),
+            num(o.coverage_factor()),
+            num(100.0 * sp.coverage()),
+            num(sp.written_limit()),
+            num(b.check().ratio()),
+            u = sp.unit(),
+        ));
+    }
+    let missing = unmodelled(s, v);
+    let noise = if missing.is_empty() {
+        "the noise modelled for every specified output".to_string()
+    } else {
+        format!(
+            "noise not modelled for {} (no noise model or no [calibration.timing]): the table's errors only there",
+            missing.join(", ")
+        )
+    };
+    t.push_str(&format!(
+        "  verdict: {} every specification ({} of {} met); {noise}; rule: {PLAN_RULE}\n",
+        if v.meets_all() {
+            "MEETS"
+        } else {
+            "does NOT meet"
+        },
+        (0..v.budgets().len()).filter(|&i| v.meets(i)).count(),
+        v.budgets().len(),
+    ));
+    t
+}
+
+/// One row of a budget (`specifications[].budget[]`).
+#[derive(Debug, Serialize)]
+struct RowJson {
+    /// The input quantity (a table error, rad; or a noise term, output unit).
+    name: String,
+    /// Its law.
+    distribution: &'static str,
+    /// Its standard uncertainty, in its unit (rad for a table error, the model's output unit
+    /// for a noise term).
+    standard_uncertainty: f64,
+    /// Its sensitivity coefficient (the specification's unit per the input's unit).
+    sensitivity: f64,
+    /// Its contribution |c| u, the specification's unit.
+    contribution: f64,
+}
+
+/// One specification's verdict (`specifications[]`), in the specification's unit.
+#[derive(Debug, Serialize)]
+struct SpecJson {
+    /// `output coefficient (kind)`, `output error over +-R unit`, `output accuracy (eq 14)`.
+    quantity: String,
+    /// The unit of every figure (as written in the study).
+    unit: String,
+    /// The limit.
+    limit: f64,
+    /// The coverage probability.
+    coverage: f64,
+    /// The combined standard uncertainty.
+    combined_standard_uncertainty: f64,
+    /// The effective degrees of freedom (`null`: infinite).
+    dof_eff: Option<f64>,
+    /// The coverage factor.
+    coverage_factor: f64,
+    /// The expanded uncertainty.
+    expanded: f64,
+    /// U / limit.
+    ratio: f64,
+    /// Whether met by the rule.
+    meets: bool,
+    /// Whether the output's noise is in the budget.
+    noise_modelled: bool,
+    /// Errors without a finite tolerance that move the quantity.
+    unbounded: Vec<String>,
+    /// The test position evaluated (eq 14's accuracy), else `null`.
+    position: Option<usize>,
+    /// The budget's rows.
+    budget: Vec<RowJson>,
+}
+
+/// The verdict against the specifications (`specifications` of `--json`).
+#[derive(Debug, Serialize)]
+pub struct SpecVerdictJson {
+    /// The decision rule in words.
+    rule: &'static str,
+    /// Whether every specification is met (`null` without specifications).
+    meets: Option<bool>,
+    /// The law of a tolerance (`rectangular`, ...).
+    tolerance_distribution: &'static str,
+    /// One per specification (empty without).
+    specifications: Vec<SpecJson>,
+}
+
+impl SpecVerdictJson {
+    /// The JSON view of `v` (the accuracy rule without specifications).
+    #[must_use]
+    pub fn new(s: &Study, v: Option<&PlanVerdict>) -> Self {
+        let Some(v) = v else {
+            return Self {
+                rule: ACCURACY_RULE,
+                meets: None,
+                tolerance_distribution: s.uncertainty.tolerance_distribution.name(),
+                specifications: Vec::new(),
+            };
+        };
+        let specifications = v
+            .budgets()
+            .iter()
+            .zip(&s.specifications)
+            .map(|(b, sp)| {
+                let f = sp.to_written();
+                let o = b.output();
+                SpecJson {
+                    quantity: sp.label(&s.sensor),
+                    unit: sp.unit().to_string(),
+                    limit: sp.written_limit(),
+                    coverage: sp.coverage(),
+                    combined_standard_uncertainty: o.combined() * f,
+                    dof_eff: o.dof_eff().is_finite().then(|| o.dof_eff()),
+                    coverage_factor: o.coverage_factor(),
+                    expanded: o.expanded() * f,
+                    ratio: b.check().ratio(),
+                    meets: v.meets(b.spec()),
+                    noise_modelled: b.noise_modelled(),
+                    unbounded: v.unbounded()[b.spec()].clone(),
+                    position: match b.at() {
+                        EvaluatedAt::Position(i) => Some(i),
+                        _ => None,
+                    },
+                    budget: b
+                        .result()
+                        .rows()
+                        .iter()
+                        .zip(o.sensitivities().iter().zip(o.contributions()))
+                        .map(|(r, (c, u))| RowJson {
+                            name: r.name().to_string(),
+                            distribution: r.distribution(),
+                            standard_uncertainty: r.standard_uncertainty(),
+                            sensitivity: c * f,
+                            contribution: u.abs() * f,
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        Self {
+            rule: PLAN_RULE,
+            meets: Some(v.meets_all()),
+            tolerance_distribution: s.uncertainty.tolerance_distribution.name(),
+            specifications,
+        }
+    }
+}
