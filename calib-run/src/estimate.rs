@@ -397,44 +397,114 @@ pub fn verdicts(run: &Run, specs: &[Spec], rule: DecisionRule) -> Result<Vec<Ver
                     ));
                 }
             }
-            let bad = |e: metrology::MetrologyError| {
-                RunError::option("--spec", format!("{}: {e}", s.coefficient))
-            };
-            if !(s.limit.is_finite() && s.limit > 0.0) {
-                return Err(RunError::option(
-                    "--spec",
-                    format!(
-                        "{}: the limit must be positive, got {}",
-                        s.coefficient, s.limit
-                    ),
-                ));
-            }
-            let tol = Tolerance::two_sided(-s.limit, s.limit).map_err(bad)?;
-            let m = Measured::new(c.value, c.expanded, c.k).map_err(bad)?;
-            let d = decide(rule, &tol, &m);
-            let meets = d.accepted();
-            Ok(Verdict {
-                coefficient: s.coefficient.clone(),
-                unit: c.unit.clone(),
-                value: c.value,
-                expanded: c.expanded,
-                k: c.k,
-                limit: s.limit,
-                meets,
-                rule: rule.to_string(),
-                statement: format!(
-                    "{} = {} +- {} {} (k = {}); specification {}: {} ({rule})",
-                    s.coefficient,
-                    study::fmt::sig(c.value, 4),
-                    study::fmt::sig(c.expanded, 2),
-                    c.unit,
-                    study::fmt::sig(c.k, 3),
-                    study::fmt::sig(s.limit, 4),
-                    if meets { "meets" } else { "does not meet" }
-                ),
-            })
+            judge("--spec", &s.coefficient, c, s.limit, 1.0, &c.unit, rule)
         })
         .collect()
+}
+
+/// The verdicts on the study's own `[[specifications]]` that this run can judge: each
+/// specification of an estimated coefficient, in the unit it was written in (deg/h, ppm,
+/// arcsec, ...), under `rule`. A specification of an error over a range or of eq 14's accuracy
+/// is a specification of the plan (`end-to-end` answers it from the study's budget), not of one
+/// run's estimates: it is named in the returned notes, never dropped in silence. A
+/// specification at another coverage than the run's expanded uncertainties is noted too.
+///
+/// # Errors
+/// [`RunError::Option`] (`specifications`) when a specified coefficient is not in the run.
+pub fn study_verdicts(
+    run: &Run,
+    study: &Study,
+    rule: DecisionRule,
+) -> Result<(Vec<Verdict>, Vec<String>), RunError> {
+    let outputs = study.sensor.outputs();
+    let mut verdicts = Vec::new();
+    let mut notes = Vec::new();
+    for spec in &study.specifications {
+        let label = spec.label(&study.sensor);
+        let gw_model::spec::Resolved::Coefficient { index, .. } = spec.resolved() else {
+            notes.push(format!(
+                "{label}: a specification of the plan, answered by end-to-end, not by one run"
+            ));
+            continue;
+        };
+        let output = &outputs[spec.output()];
+        let name = output.estimated_names()[*index];
+        let c = run
+            .outputs()
+            .iter()
+            .filter(|o| o.name() == output.name)
+            .flat_map(|o| o.coefficients())
+            .find(|c| c.name == name)
+            .ok_or_else(|| {
+                RunError::option(
+                    "specifications",
+                    format!("{label}: `{name}` is not estimated by this run"),
+                )
+            })?;
+        if (spec.coverage() - run.coverage()).abs() > COVERAGE_MATCH {
+            notes.push(format!(
+                "{label}: specified at coverage {}, judged with the run's expanded uncertainty at {}",
+                spec.coverage(),
+                run.coverage()
+            ));
+        }
+        verdicts.push(judge(
+            "specifications",
+            &label,
+            c,
+            spec.limit(),
+            spec.to_written(),
+            spec.unit(),
+            rule,
+        )?);
+    }
+    Ok((verdicts, notes))
+}
+
+/// Two coverage probabilities closer than this are the same statement (dimensionless; the
+/// study and the run write them with at most a few digits).
+const COVERAGE_MATCH: f64 = 1e-9;
+
+/// One coefficient against $|\beta| \le$ `limit` (model unit) under `rule`, stated in the
+/// written unit (`scale` written units per model unit).
+fn judge(
+    key: &str,
+    label: &str,
+    c: &CoefficientResult,
+    limit: f64,
+    scale: f64,
+    unit: &str,
+    rule: DecisionRule,
+) -> Result<Verdict, RunError> {
+    let bad = |e: metrology::MetrologyError| RunError::option(key, format!("{label}: {e}"));
+    if !(limit.is_finite() && limit > 0.0) {
+        return Err(RunError::option(
+            key,
+            format!("{label}: the limit must be positive, got {limit}"),
+        ));
+    }
+    let tol = Tolerance::two_sided(-limit, limit).map_err(bad)?;
+    let m = Measured::new(c.value, c.expanded, c.k).map_err(bad)?;
+    let meets = decide(rule, &tol, &m).accepted();
+    let (value, expanded, limit) = (c.value * scale, c.expanded * scale, limit * scale);
+    Ok(Verdict {
+        coefficient: label.to_owned(),
+        unit: unit.to_owned(),
+        value,
+        expanded,
+        k: c.k,
+        limit,
+        meets,
+        rule: rule.to_string(),
+        statement: format!(
+            "{label} = {} +- {} {unit} (k = {}); specification {}: {} ({rule})",
+            study::fmt::sig(value, 4),
+            study::fmt::sig(expanded, 2),
+            study::fmt::sig(c.k, 3),
+            study::fmt::sig(limit, 4),
+            if meets { "meets" } else { "does not meet" }
+        ),
+    })
 }
 
 /// The regression's view of one output's rate inputs: (output, rate input 0..3, coefficient

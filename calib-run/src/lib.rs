@@ -11,7 +11,8 @@
 //!   segment with outlier flags, a robust (Huber) option, expanded uncertainties by a GUM
 //!   budget (`metrology`: the noise as measured, the table's part from a tolerance sheet),
 //!   the plan's predicted uncertainty beside the run's;
-//! - [`verdicts`]: coefficients against specifications under a named decision rule;
+//! - [`study_verdicts`] and [`verdicts`]: coefficients against the study's specifications (in
+//!   their written units) and `--spec` limits, under a named decision rule;
 //! - [`file`]: the calibration file (JSON, never overwritten) and [`file::apply`];
 //! - [`simulate`]: recordings with known truth, for tests and benchmarks.
 #![forbid(unsafe_code)]
@@ -26,5 +27,5 @@ pub mod simulate;
 pub use error::{At, RunError};
 pub use estimate::{
     CalibrateOptions, CoefficientResult, HUBER_C, MeasuredNoise, OUTLIER_Z, OutputResult,
-    ResidualRow, Run, Segment, Spec, Verdict, calibrate, verdicts,
+    ResidualRow, Run, Segment, Spec, Verdict, calibrate, study_verdicts, verdicts,
 };

@@ -14,7 +14,7 @@ use crate::csvio::Source;
 use crate::study as st;
 use anyhow::Result;
 use calib_run::segments::{DetectSettings, parse_segments};
-use calib_run::{CalibrateOptions, Spec, calibrate, verdicts};
+use calib_run::{CalibrateOptions, Spec, calibrate, verdicts as verdicts_of_flags};
 use clap::Parser;
 use metrology::decision::DecisionRule;
 use std::path::PathBuf;
@@ -107,6 +107,7 @@ pub fn run(args: &Args) -> Result<()> {
     opts.recording.sample_rate_hz = args.sample_rate_hz;
     opts.recording.range = args.range;
     opts.robust = args.robust;
+    opts.coverage = s.uncertainty.coverage;
     opts.detect = DetectSettings {
         block_s: args.block_s,
         min_static_s: args.min_static_s,
@@ -143,7 +144,9 @@ pub fn run(args: &Args) -> Result<()> {
     let reader = source.open()?;
     let run = calibrate(&s, reader, &source.name(), &opts).map_err(run_error)?;
     let rule = DecisionRule::GuardBandExpanded;
-    let verdicts = verdicts(&run, &specs, rule).map_err(run_error)?;
+    let (mut verdicts, spec_notes) =
+        calib_run::study_verdicts(&run, &s, rule).map_err(run_error)?;
+    verdicts.extend(verdicts_of_flags(&run, &specs, rule).map_err(run_error)?);
     if let Some(out) = &args.out {
         calib_run::file::write_new(out, &calib_run::file::CalibrationFile::of(&run))
             .map_err(run_error)?;
@@ -153,18 +156,25 @@ pub fn run(args: &Args) -> Result<()> {
         struct J<'a> {
             run: &'a calib_run::Run,
             verdicts: &'a [calib_run::Verdict],
+            specification_notes: &'a [String],
             calibration_file: Option<String>,
         }
         return crate::json::print(&J {
             run: &run,
             verdicts: &verdicts,
+            specification_notes: &spec_notes,
             calibration_file: args.out.as_ref().map(|p| p.display().to_string()),
         });
     }
-    crate::out::print(&text(&run, &verdicts, args.out.as_ref()))
+    crate::out::print(&text(&run, &verdicts, &spec_notes, args.out.as_ref()))
 }
 
-fn text(run: &calib_run::Run, verdicts: &[calib_run::Verdict], out: Option<&PathBuf>) -> String {
+fn text(
+    run: &calib_run::Run,
+    verdicts: &[calib_run::Verdict],
+    spec_notes: &[String],
+    out: Option<&PathBuf>,
+) -> String {
     use std::fmt::Write;
     let mut t = String::new();
     let r = run.recording();
@@ -231,6 +241,9 @@ fn text(run: &calib_run::Run, verdicts: &[calib_run::Verdict], out: Option<&Path
     }
     for v in verdicts {
         let _ = writeln!(t, "{}", v.statement);
+    }
+    for n in spec_notes {
+        let _ = writeln!(t, "specification not judged here: {n}");
     }
     if let Some(p) = out {
         let _ = writeln!(t, "calibration file written: {}", crate::paths::visible(p));

@@ -134,3 +134,65 @@ fn a_bad_cell_exits_2_naming_line_and_column_and_writes_nothing() {
     assert!(out.stdout.is_empty());
     assert!(!cal.exists(), "nothing written on error");
 }
+
+/// Issue 36 item 5: the study's own `[[specifications]]` are judged on the run in the unit they
+/// were written in (a bias of an output in mg specified in ug), under the named rule; a
+/// specification of the plan (an error over a range) is named as not judged by one run, never
+/// dropped in silence.
+#[test]
+fn the_studys_specifications_are_judged_in_their_written_unit_and_plan_ones_are_named() {
+    /// ug per mg (exact).
+    const UG_PER_MG: f64 = 1000.0;
+    /// The verdict restates the run's figure times an exact unit factor: a few ulps, relative.
+    const REL_TOL: f64 = 1e-12;
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let mut text = std::fs::read_to_string(study_path()).expect("study");
+    text.push_str(
+        "\n[[specifications]]\noutput = \"ax\"\ncoefficient = \"ba_x\"\nlimit = 5000\nunit = \"ug\"\n\n\
+         [[specifications]]\noutput = \"gx\"\nquantity = \"error_over_range\"\nrange = 300\nrange_unit = \"deg/s\"\nlimit = 360\nunit = \"deg_per_h\"\n",
+    );
+    let study = dir.path().join("with-specs.toml");
+    std::fs::write(&study, text).expect("study written");
+    let out = ttalloc(&[
+        "calibrate",
+        "--study",
+        study.to_str().expect("utf8"),
+        log.to_str().expect("utf8"),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let verdicts = v["verdicts"].as_array().expect("verdicts");
+    assert_eq!(verdicts.len(), 1, "{verdicts:?}");
+    let bias = &verdicts[0];
+    assert_eq!(bias["unit"], "ug");
+    assert!(bias["coefficient"].as_str().expect("label").contains("ba_x"));
+    assert!(bias["rule"].as_str().expect("rule").contains("ILAC-G8"));
+    let run_value = v["run"]["outputs"]
+        .as_array()
+        .expect("outputs")
+        .iter()
+        .flat_map(|o| o["coefficients"].as_array().expect("coefficients"))
+        .find(|c| c["name"] == "ba_x")
+        .expect("ba_x")["value"]
+        .as_f64()
+        .expect("value");
+    approx::assert_relative_eq!(
+        bias["value"].as_f64().expect("value"),
+        run_value * UG_PER_MG,
+        max_relative = REL_TOL
+    );
+    approx::assert_relative_eq!(
+        bias["limit"].as_f64().expect("limit"),
+        5000.0,
+        max_relative = REL_TOL
+    );
+    let notes = v["specification_notes"].as_array().expect("notes");
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(notes[0].as_str().expect("note").contains("error over"));
+}
