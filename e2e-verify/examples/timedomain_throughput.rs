@@ -16,8 +16,7 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// The paper's simulator, shared with the tests.
-#[path = "../tests/common/mod.rs"]
-mod common;
+use testkit::e2e as common;
 
 /// Samples per chunk of the generator-alone runs.
 const CHUNK: u64 = 1 << 20;
