@@ -83,7 +83,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let chacha_rate = samples as f64 / chacha;
             println!(
                 "{n_threads} thread(s): time-domain simulator, {calibrations} calibrations, {samples} noise samples in {sim:.2} s: {rate:.3e} samples/s; yield {:.4}",
-                run.yield_fraction()
+                run.count().fraction()
             );
             println!(
                 "  generator alone (ChaCha8 + 32-bit ziggurat: two normals and a uniform per sample): {generator_rate:.3e} samples/s; simulator / generator = {:.2}",
