@@ -7,11 +7,37 @@
 //!   schedule-design's tests).
 //! - [`peak_kib`]: the peak resident memory of a command while it runs (the memory tests of
 //!   `ttalloc` and of `cargo xtask fuzz`).
+//! - [`output_within`]: a command's output, the test failed when it does not end in time (the
+//!   inputs that must be refused at once).
 
 pub mod e2e;
 
-use std::process::{Command, Stdio};
-use std::time::Duration;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The output of `cmd` (standard input empty, both outputs captured), killed and the test
+/// failed when it does not end within `limit`. `what` names the run in that message.
+///
+/// # Panics
+/// When the command cannot start, or runs longer than `limit`.
+pub fn output_within(mut cmd: Command, limit: Duration, what: &str) -> Output {
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let start = Instant::now();
+    while child.try_wait().expect("the command's status").is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what} still running after {} s", limit.as_secs_f64());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("the command's output")
+}
 
 /// Peak resident set of `cmd` in KiB: the largest `VmHWM` of `/proc/<pid>/status` (Linux)
 /// seen while polling every 5 ms. Standard output is discarded; standard error is kept for the

@@ -7,8 +7,8 @@ mod common;
 use common::{assert_input_error, run, run_with_stdin, stderr, stdout, study_text};
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 /// A command that must refuse its input at once takes at most this (s): far above the
 /// milliseconds it takes, far below the minutes (or the abort) of the old behaviour.
@@ -30,26 +30,9 @@ fn csv() -> String {
 /// Run `cargo xtask <args>` from the workspace root, killed (and the test failed) when it
 /// does not end within `limit_s`.
 fn run_within(args: &[&str], limit_s: u64) -> std::process::Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .current_dir(common::root())
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            return child.wait_with_output().unwrap();
-        }
-        if start.elapsed() > Duration::from_secs(limit_s) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("{args:?} still running after {limit_s} s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let mut c = Command::new(env!("CARGO_BIN_EXE_ttalloc"));
+    c.args(args).current_dir(common::root());
+    testkit::output_within(c, Duration::from_secs(limit_s), &format!("{args:?}"))
 }
 
 /// The expected output of [`csv`]: the same whether read from a file, a FIFO or a pipe.

@@ -4,8 +4,8 @@
 //! unit tests of `xtask/src/fuzz.rs`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output};
+use std::time::Duration;
 
 /// A command that must refuse its input at once takes at most this (s): far above the
 /// milliseconds it takes, far below the minutes (or the abort) of the old behaviour.
@@ -22,22 +22,11 @@ fn xtask(args: &[&str]) -> Command {
 /// Run `cargo xtask <args>`, killed (and the test failed) when it does not end within
 /// [`PROMPT_S`].
 fn run_promptly(args: &[&str]) -> Output {
-    let mut child = xtask(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(PROMPT_S) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("{args:?} still running after {PROMPT_S} s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
+    testkit::output_within(
+        xtask(args),
+        Duration::from_secs(PROMPT_S),
+        &format!("{args:?}"),
+    )
 }
 
 /// Exit code 2, nothing on standard output, and a message with every needle, no panic.
