@@ -14,7 +14,7 @@
 //! process group, and is killed and its profile removed whatever happens.
 
 mod cdp;
-mod locate;
+pub mod locate;
 
 use std::collections::HashMap;
 use std::fs;
@@ -25,7 +25,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
-pub use locate::{BROWSER_PACKAGES, FONT_FILES, INSTALL_HINT, find_chromium, install_command};
+use locate::find_chromium;
 
 /// Settings of one check. `Default` gives 1280x800, 60 s, screenshots in
 /// `./browser-check-screenshots`.

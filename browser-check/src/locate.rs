@@ -2,8 +2,8 @@
 //! usual Debian paths, `PATH`) and the Debian packages the set-up installs (Chromium, its
 //! driver, and the two font families every report and fixture names first).
 //!
-//! Only `std` and `anyhow`: `xtask` includes this file (`cargo xtask test` does the set-up
-//! before the tests) without depending on the browser client.
+//! Public for `cargo xtask test`, which does this set-up before the tests (xtask depends on
+//! this crate for it).
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -76,6 +76,7 @@ fn bench(c: &mut Criterion) {
                     black_box(
                         e2e.rate_distribution(&linear, &bounds, &settings)
                             .expect("valid settings")
+                            .count()
                             .samples(),
                     )
                 })

@@ -11,8 +11,7 @@ use calib_lsq::Reading;
 use e2e_verify::McSettings;
 
 /// The paper's simulator, shared with the tests.
-#[path = "../tests/common/mod.rs"]
-mod common;
+use testkit::e2e as common;
 
 /// CPU time of the calling thread, seconds.
 fn thread_cpu_s() -> Option<f64> {

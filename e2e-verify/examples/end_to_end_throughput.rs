@@ -9,8 +9,7 @@ use e2e_verify::McSettings;
 use std::time::Instant;
 
 /// The paper's simulator, shared with the tests.
-#[path = "../tests/common/mod.rs"]
-mod common;
+use testkit::e2e as common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: u64 = std::env::args()

@@ -16,8 +16,7 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// The paper's simulator, shared with the tests.
-#[path = "../tests/common/mod.rs"]
-mod common;
+use testkit::e2e as common;
 
 /// Samples per chunk of the generator-alone runs.
 const CHUNK: u64 = 1 << 20;
@@ -84,7 +83,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let chacha_rate = samples as f64 / chacha;
             println!(
                 "{n_threads} thread(s): time-domain simulator, {calibrations} calibrations, {samples} noise samples in {sim:.2} s: {rate:.3e} samples/s; yield {:.4}",
-                run.yield_fraction()
+                run.count().fraction()
             );
             println!(
                 "  generator alone (ChaCha8 + 32-bit ziggurat: two normals and a uniform per sample): {generator_rate:.3e} samples/s; simulator / generator = {:.2}",

@@ -4,7 +4,7 @@
 
 use crate::error::{E2eError, fraction};
 use crate::linear::Linearization;
-use crate::montecarlo::{McSettings, wilson_interval_95};
+use crate::montecarlo::{McSettings, YieldCount, wilson_interval_95};
 use crate::simulate::EndToEnd;
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
@@ -341,15 +341,11 @@ pub struct YieldAllocation {
     pub(crate) target: f64,
     /// $J$ (rad$^{-2}$).
     pub(crate) objective: f64,
-    /// Design draws.
-    pub(crate) samples: u64,
-    /// Seed of the design draws.
-    pub(crate) seed: u64,
-    /// Design draws meeting every accuracy at $s^*$ (re-evaluated on the exact chain).
-    pub(crate) meeting: u64,
-    /// The 95% Wilson interval of the yield at $s^*$ (from the design draws): the stated
-    /// confidence of the allocation.
-    pub(crate) interval_95: (f64, f64),
+    /// The design draws and those meeting every accuracy at $s^*$ (re-evaluated on the exact
+    /// chain), with their seed; its 95% Wilson interval is the stated confidence of the
+    /// allocation.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub(crate) count: YieldCount,
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
     /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
     /// errors, and the bounds are that cap, not a limit.
@@ -388,29 +384,12 @@ impl YieldAllocation {
         self.objective
     }
 
-    /// Design draws.
+    /// The design draws and those meeting every accuracy at $s^*$ (re-evaluated on the exact
+    /// chain), with their seed; its 95% Wilson interval ([`YieldCount::interval_95`]) is the
+    /// stated confidence of the allocation.
     #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// Seed of the design draws.
-    #[must_use]
-    pub fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    /// Design draws meeting every accuracy at $s^*$ (re-evaluated on the exact chain).
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
-    }
-
-    /// The 95% Wilson interval of the yield at $s^*$ (from the design draws): the stated
-    /// confidence of the allocation.
-    #[must_use]
-    pub fn interval_95(&self) -> (f64, f64) {
-        self.interval_95
+    pub fn count(&self) -> &YieldCount {
+        &self.count
     }
 
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
@@ -438,16 +417,10 @@ impl YieldAllocation {
         objective_to_arcmin(self.objective)
     }
 
-    /// The design yield at $s^*$.
-    #[must_use]
-    pub fn yield_fraction(&self) -> f64 {
-        self.meeting as f64 / self.samples as f64
-    }
-
     /// The design draws' 95% interval against the target.
     #[must_use]
     pub fn design_verdict(&self) -> YieldVerdict {
-        YieldVerdict::of(self.interval_95, self.target)
+        YieldVerdict::of(self.count.interval_95(), self.target)
     }
 }
 
@@ -966,10 +939,12 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             shape_rad: shape_rad.to_vec(),
             scale: Self::check_positive("yield scale", scale)?,
             target: p,
-            samples: settings.samples,
-            seed: settings.seed,
-            meeting,
-            interval_95: wilson_interval_95(meeting, settings.samples),
+            count: YieldCount {
+                samples: settings.samples,
+                seed: settings.seed,
+                meeting,
+                meeting_per_output: Vec::new(),
+            },
             capped,
         })
     }

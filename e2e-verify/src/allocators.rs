@@ -314,9 +314,9 @@ impl<S: ScheduleErrorModel + Sync> Allocator<Linearization> for YieldBased<'_, S
                 shape_rad: y.shape_rad,
                 scale: y.scale,
                 target: y.target,
-                samples: y.samples,
-                meeting: y.meeting,
-                interval_95: y.interval_95,
+                samples: y.count.samples,
+                meeting: y.count.meeting,
+                interval_95: y.count.interval_95(),
                 capped: y.capped,
             },
         )

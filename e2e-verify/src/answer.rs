@@ -196,7 +196,7 @@ impl ReadingAnswer {
     #[must_use]
     pub fn yield_verdict(&self) -> YieldVerdict {
         YieldVerdict::of(
-            self.yield_box.distribution.yield_interval_95(),
+            self.yield_box.distribution.count.interval_95(),
             self.yield_based.target,
         )
     }

@@ -114,12 +114,12 @@ pub use linear::{BoxMeets, Linearization, OutputWorstCase, WorstCase};
 pub use mc_verify::Histogram;
 pub use montecarlo::{
     DEFAULT_BINS, DEFAULT_CHUNK_SIZE, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS,
-    REPORTED_QUANTILES, RateDistribution, RateQuantile, WorstDraw, Z_95, wilson_interval_95,
+    REPORTED_QUANTILES, RateDistribution, RateQuantile, WorstDraw, YieldCount, Z_95,
+    wilson_interval_95,
 };
 pub use noise::{
-    CombinedBox, CombinedOutput, CombinedYield, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
-    NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffParams, TradeoffPoint,
-    check_k_sigma,
+    CombinedBox, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer, NoiseBudget,
+    NoisyAllocation, NoisyDirect, Tradeoff, TradeoffParams, TradeoffPoint, check_k_sigma,
 };
 pub use rate::{
     CertifiedRateAllocation, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance,

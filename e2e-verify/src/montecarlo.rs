@@ -144,6 +144,68 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
     ((centre - half).max(0.0), (centre + half).min(1.0))
 }
 
+/// The count of a seeded Monte Carlo yield: the draws, their seed, those meeting every
+/// accuracy and those meeting each output's. The one count every yield of this crate reports:
+/// [`RateDistribution::count`] (turntables from a box), [`crate::NoiseAnswer`]'s combined
+/// yield (turntables and noise), [`crate::TimeDomainRun::count`] (simulated calibrations) and
+/// [`crate::YieldAllocation::count`] (its design draws).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct YieldCount {
+    /// Draws.
+    pub(crate) samples: u64,
+    /// Seed of the streams.
+    pub(crate) seed: u64,
+    /// Draws meeting every output's accuracy.
+    pub(crate) meeting: u64,
+    /// Draws meeting each output's accuracy (empty where only all outputs together are
+    /// counted: a yield allocation's design draws).
+    pub(crate) meeting_per_output: Vec<u64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl YieldCount {
+    /// Draws.
+    #[must_use]
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Seed of the streams.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Draws meeting every output's accuracy.
+    #[must_use]
+    pub fn meeting(&self) -> u64 {
+        self.meeting
+    }
+
+    /// Draws meeting each output's accuracy (empty where only all outputs together are
+    /// counted: a yield allocation's design draws).
+    #[must_use]
+    pub fn meeting_per_output(&self) -> &[u64] {
+        &self.meeting_per_output
+    }
+}
+
+impl YieldCount {
+    /// The yield: the fraction of draws meeting every accuracy.
+    #[must_use]
+    pub fn fraction(&self) -> f64 {
+        self.meeting as f64 / self.samples as f64
+    }
+
+    /// Its 95% Wilson interval ([`wilson_interval_95`]).
+    #[must_use]
+    pub fn interval_95(&self) -> (f64, f64) {
+        wilson_interval_95(self.meeting, self.samples)
+    }
+}
+
 /// The turntable attaining a maximum.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -219,16 +281,11 @@ impl RateQuantile {
 #[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateDistribution {
-    /// Turntables drawn.
-    pub(crate) samples: u64,
-    /// Seed of the streams.
-    pub(crate) seed: u64,
+    /// Turntables drawn and meeting the accuracies, with the seed.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub(crate) count: YieldCount,
     /// Every output's accuracy (output unit).
     pub(crate) accuracies: Vec<f64>,
-    /// Turntables meeting every output's accuracy.
-    pub(crate) meeting: u64,
-    /// Turntables meeting each output's accuracy.
-    pub(crate) meeting_per_output: Vec<u64>,
     /// Largest $\Delta\omega_k$ drawn per output, with its turntable.
     pub(crate) worst: Vec<WorstDraw>,
     /// Largest ratio $\max_k \Delta\omega_k/\omega_{m,k}$ drawn, with its turntable.
@@ -246,34 +303,16 @@ pub struct RateDistribution {
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl RateDistribution {
-    /// Turntables drawn.
+    /// Turntables drawn and meeting the accuracies, with the seed.
     #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// Seed of the streams.
-    #[must_use]
-    pub fn seed(&self) -> u64 {
-        self.seed
+    pub fn count(&self) -> &YieldCount {
+        &self.count
     }
 
     /// Every output's accuracy (output unit).
     #[must_use]
     pub fn accuracies(&self) -> &[f64] {
         &self.accuracies
-    }
-
-    /// Turntables meeting every output's accuracy.
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
-    }
-
-    /// Turntables meeting each output's accuracy.
-    #[must_use]
-    pub fn meeting_per_output(&self) -> &[u64] {
-        &self.meeting_per_output
     }
 
     /// Largest $\Delta\omega_k$ drawn per output, with its turntable.
@@ -315,18 +354,6 @@ impl RateDistribution {
 }
 
 impl RateDistribution {
-    /// The yield: fraction of turntables meeting every accuracy.
-    #[must_use]
-    pub fn yield_fraction(&self) -> f64 {
-        self.meeting as f64 / self.samples as f64
-    }
-
-    /// 95% Wilson interval of the yield.
-    #[must_use]
-    pub fn yield_interval_95(&self) -> (f64, f64) {
-        wilson_interval_95(self.meeting, self.samples)
-    }
-
     /// Largest $\Delta\omega_k$ drawn per output (output unit).
     #[must_use]
     pub fn max(&self) -> Vec<f64> {
@@ -628,11 +655,13 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             .pop()
             .unwrap_or_else(|| unreachable!("ratio histogram"));
         Ok(RateDistribution {
-            samples: p.n,
-            seed: settings.seed,
+            count: YieldCount {
+                samples: p.n,
+                seed: settings.seed,
+                meeting: p.meeting,
+                meeting_per_output: p.meeting_per_output,
+            },
             accuracies: acc,
-            meeting: p.meeting,
-            meeting_per_output: p.meeting_per_output,
             worst,
             worst_ratio,
             quantiles,

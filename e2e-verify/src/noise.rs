@@ -33,7 +33,7 @@
 use crate::check::Verdict;
 use crate::error::E2eError;
 use crate::linear::{Linearization, OutputWorstCase, WorstCase};
-use crate::montecarlo::{McSettings, wilson_interval_95};
+use crate::montecarlo::{McSettings, YieldCount};
 use crate::simulate::EndToEnd;
 use crate::{DirectAllocation, answer::ReadingAnswer};
 use calib_lsq::Timing;
@@ -351,61 +351,6 @@ pub fn weakest(verdicts: impl IntoIterator<Item = Verdict>) -> Verdict {
     out
 }
 
-/// The yield over random turntables in a box and random noise.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct CombinedYield {
-    /// Calibrations drawn.
-    pub(crate) samples: u64,
-    /// Seed of the streams.
-    pub(crate) seed: u64,
-    /// Calibrations meeting every accuracy.
-    pub(crate) meeting: u64,
-    /// Calibrations meeting each output's accuracy.
-    pub(crate) meeting_per_output: Vec<u64>,
-}
-
-/// Read access to the fields (crate-private, so the type can grow without breaking callers).
-impl CombinedYield {
-    /// Calibrations drawn.
-    #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// Seed of the streams.
-    #[must_use]
-    pub fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    /// Calibrations meeting every accuracy.
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
-    }
-
-    /// Calibrations meeting each output's accuracy.
-    #[must_use]
-    pub fn meeting_per_output(&self) -> &[u64] {
-        &self.meeting_per_output
-    }
-}
-
-impl CombinedYield {
-    /// The fraction meeting every accuracy.
-    #[must_use]
-    pub fn yield_fraction(&self) -> f64 {
-        self.meeting as f64 / self.samples as f64
-    }
-
-    /// Its 95% Wilson interval.
-    #[must_use]
-    pub fn yield_interval_95(&self) -> (f64, f64) {
-        wilson_interval_95(self.meeting, self.samples)
-    }
-}
-
 /// A box's answer for both error sources.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -417,7 +362,7 @@ pub struct CombinedBox {
     /// The weakest of the outputs' verdicts.
     pub(crate) verdict: Verdict,
     /// The yield over turntables and noise.
-    pub(crate) combined_yield: CombinedYield,
+    pub(crate) combined_yield: YieldCount,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -442,7 +387,7 @@ impl CombinedBox {
 
     /// The yield over turntables and noise.
     #[must_use]
-    pub fn combined_yield(&self) -> &CombinedYield {
+    pub fn combined_yield(&self) -> &YieldCount {
         &self.combined_yield
     }
 }
@@ -720,7 +665,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         bounds: &ErrorBox,
         budget: &NoiseBudget,
         settings: &McSettings,
-    ) -> Result<CombinedYield, E2eError> {
+    ) -> Result<YieldCount, E2eError> {
         settings.validate()?;
         const WAVE_CHUNKS: u64 = 64;
         let sampler = TurntableSampler::for_joint_ranges(bounds, &self.model().joint_ranges_rad());
@@ -769,7 +714,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
             }
             Ok(())
         })?;
-        Ok(CombinedYield {
+        Ok(YieldCount {
             samples: settings.samples,
             seed: settings.seed,
             meeting,

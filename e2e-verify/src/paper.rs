@@ -158,9 +158,9 @@ pub mod claims {
                             }
                         })
                         .collect(),
-                    yield_fraction: b.distribution.yield_fraction(),
-                    yield_interval_95: b.distribution.yield_interval_95(),
-                    samples: b.distribution.samples,
+                    yield_fraction: b.distribution.count.fraction(),
+                    yield_interval_95: b.distribution.count.interval_95(),
+                    samples: b.distribution.count.samples,
                 })
             })
             .collect::<Result<Vec<_>, E2eError>>()?;

@@ -41,7 +41,7 @@
 //! any thread count; memory does not depend on the number of calibrations.
 
 use crate::error::E2eError;
-use crate::montecarlo::{McSettings, wilson_interval_95};
+use crate::montecarlo::{McSettings, YieldCount};
 use crate::simulate::EndToEnd;
 use crate::ziggurat::{WordBlock, Ziggurat};
 use calib_lsq::Timing;
@@ -151,32 +151,22 @@ impl OutputMoments {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct TimeDomainRun {
-    /// Calibrations simulated.
-    pub(crate) calibrations: u64,
-    /// Seed.
-    pub(crate) seed: u64,
+    /// Calibrations simulated and meeting every accuracy (table error plus simulated noise),
+    /// with the seed.
+    pub(crate) count: YieldCount,
     /// Per output with noise, its streaming sums.
     pub(crate) outputs: Vec<Option<OutputMoments>>,
-    /// Calibrations meeting every accuracy (table error plus simulated noise).
-    pub(crate) meeting: u64,
-    /// Calibrations meeting each output's accuracy.
-    pub(crate) meeting_per_output: Vec<u64>,
     /// Noise samples generated.
     pub(crate) noise_samples: u64,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl TimeDomainRun {
-    /// Calibrations simulated.
+    /// Calibrations simulated and meeting every accuracy (table error plus simulated noise),
+    /// with the seed.
     #[must_use]
-    pub fn calibrations(&self) -> u64 {
-        self.calibrations
-    }
-
-    /// Seed.
-    #[must_use]
-    pub fn seed(&self) -> u64 {
-        self.seed
+    pub fn count(&self) -> &YieldCount {
+        &self.count
     }
 
     /// Per output with noise, its streaming sums.
@@ -185,36 +175,10 @@ impl TimeDomainRun {
         &self.outputs
     }
 
-    /// Calibrations meeting every accuracy (table error plus simulated noise).
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
-    }
-
-    /// Calibrations meeting each output's accuracy.
-    #[must_use]
-    pub fn meeting_per_output(&self) -> &[u64] {
-        &self.meeting_per_output
-    }
-
     /// Noise samples generated.
     #[must_use]
     pub fn noise_samples(&self) -> u64 {
         self.noise_samples
-    }
-}
-
-impl TimeDomainRun {
-    /// The fraction of calibrations meeting every accuracy.
-    #[must_use]
-    pub fn yield_fraction(&self) -> f64 {
-        self.meeting as f64 / self.calibrations as f64
-    }
-
-    /// Its 95% Wilson interval.
-    #[must_use]
-    pub fn yield_interval_95(&self) -> (f64, f64) {
-        wilson_interval_95(self.meeting, self.calibrations)
     }
 }
 
@@ -522,11 +486,13 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
             Ok(())
         })?;
         Ok(TimeDomainRun {
-            calibrations: settings.samples,
-            seed: settings.seed,
+            count: YieldCount {
+                samples: settings.samples,
+                seed: settings.seed,
+                meeting: acc_part.1,
+                meeting_per_output: acc_part.2,
+            },
             outputs: acc_part.0,
-            meeting: acc_part.1,
-            meeting_per_output: acc_part.2,
             noise_samples: samples_per_calibration * settings.samples,
         })
     }

@@ -132,7 +132,10 @@ fn yield_allocator_gives_the_yield_allocation_and_states_its_yield() {
                 own.scale().to_bits(),
                 "same scale bit for bit"
             );
-            assert_eq!((*meeting, *samples), (own.meeting(), own.samples()));
+            assert_eq!(
+                (*meeting, *samples),
+                (own.count().meeting(), own.count().samples())
+            );
             assert_eq!(shape_rad, &shape);
             assert!(*meeting as f64 >= 0.9973 * *samples as f64);
         }

@@ -477,14 +477,14 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
             &McSettings::new(20_000, 1),
         )
         .unwrap();
-    let (lo, hi) = y.interval_95();
+    let (lo, hi) = y.count().interval_95();
     assert!(lo <= 0.9973 && 0.9973 <= hi, "{lo} {hi}");
     // At least ceil(p N) design draws meet every accuracy, and not many more (the scale is the
     // largest: the quantile draw sits on the accuracy).
     assert!(
-        y.meeting() >= 19_946 && y.meeting() <= 19_948,
+        y.count().meeting() >= 19_946 && y.count().meeting() <= 19_948,
         "{}",
-        y.meeting()
+        y.count().meeting()
     );
     let again = e2e
         .rate_distribution(
@@ -493,7 +493,7 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
             &McSettings::new(40_000, 99),
         )
         .unwrap();
-    let f = again.yield_fraction();
+    let f = again.count().fraction();
     assert!(lo <= f && f <= hi, "{f} outside [{lo}, {hi}]");
     assert!(y.scale() > 1.0);
     assert!(y.objective() < d.objective());
@@ -511,7 +511,7 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     let y = e2e
         .allocate_yield(d.upper_bounds_rad(), &lb, 0.99, &settings)
         .unwrap();
-    assert!(y.yield_fraction() >= 0.99);
+    assert!(y.count().fraction() >= 0.99);
     for (u, l) in y.upper_bounds_rad().iter().zip(&lb) {
         assert!(u >= l);
     }
@@ -519,7 +519,7 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     let dist = e2e
         .rate_distribution(&lin, &e2e.box_of(&bigger, &lb).unwrap(), &settings)
         .unwrap();
-    assert!(dist.yield_fraction() < 0.99);
+    assert!(dist.count().fraction() < 0.99);
 }
 
 /// The Monte Carlo draws are mc-verify's: chunk `c` is `chunk_rng(seed, c)` drawn by
@@ -586,7 +586,7 @@ fn rate_distribution_summary_matches_the_draws() {
         .iter()
         .filter(|r| r.iter().zip(&acc).all(|(v, a)| v <= a))
         .count() as u64;
-    assert_eq!(dist.meeting(), meeting);
+    assert_eq!(dist.count().meeting(), meeting);
     let mut ratios: Vec<f64> = rates
         .iter()
         .map(|r| r.iter().zip(&acc).fold(0.0_f64, |m, (v, a)| m.max(v / a)))
@@ -665,13 +665,13 @@ fn tolerance_check_verdicts_and_contributions() {
             .fold(0.0, f64::max);
         assert_eq!(top[0].worst_share().to_bits(), largest.to_bits()); // the same value, selected
     }
-    assert!(check.distribution().yield_fraction() < 1.0);
+    assert!(check.distribution().count().fraction() < 1.0);
     let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();
     let ok = e2e
         .check_tolerances(&lin, cert.upper_bounds_rad(), &[0.0; 8], &settings)
         .unwrap();
     assert_eq!(ok.verdict(), e2e_verify::Verdict::Guaranteed);
-    assert_eq!(ok.distribution().meeting(), 2_000);
+    assert_eq!(ok.distribution().count().meeting(), 2_000);
 }
 
 /// Errors that act only together (one rotation to first order: in the three-axis example

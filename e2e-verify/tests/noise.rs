@@ -94,11 +94,11 @@ fn a_study_without_noise_keeps_every_answer() {
     assert_eq!(comb.verdict(), check.verdict());
     assert_eq!(
         comb.combined_yield().meeting(),
-        check.distribution().meeting()
+        check.distribution().count().meeting()
     );
     assert_eq!(
         comb.combined_yield().meeting_per_output(),
-        check.distribution().meeting_per_output()
+        check.distribution().count().meeting_per_output()
     );
 }
 

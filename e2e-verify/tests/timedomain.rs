@@ -156,7 +156,7 @@ fn combined_yield_matches_the_time_domain_simulation() {
         .simulate_time_domain(&bounds, &noise, &t, &settings)
         .unwrap();
     let table_only = e2e.meeting_count(&bounds, &settings).unwrap();
-    let (pa, ps) = (analytic.yield_fraction(), sim.yield_fraction());
+    let (pa, ps) = (analytic.fraction(), sim.count().fraction());
     assert!(
         pa < table_only as f64 / CALIBRATIONS as f64 - 0.02,
         "the noise must matter: {pa} vs the table alone"

@@ -280,43 +280,57 @@ pub(crate) fn bounds_with(
             }
             (d1, d2)
         };
-        let t = if derivs(gmax).0 >= 0.0 {
-            gmax
-        } else {
-            let (mut lo, mut hi) = (0.0, gmax);
-            let mut t = 0.0;
-            for _ in 0..LINE_STEPS {
-                let (d1, d2) = derivs(t);
-                if d1 > 0.0 {
-                    lo = t;
-                } else {
-                    hi = t;
-                }
-                let newton = if d2 < 0.0 { t - d1 / d2 } else { f64::NAN };
-                t = if newton > lo && newton < hi {
-                    newton
-                } else {
-                    0.5 * (lo + hi)
-                };
-                if hi - lo <= LINE_TOL_REL * gmax {
-                    break;
-                }
-            }
-            lo.max(t.min(hi))
-        };
+        let t = line_step(gmax, &mut derivs);
         if t <= 0.0 {
             break;
         }
-        mu[v] -= t;
-        if mu[v] < 1e-300 {
-            mu[v] = 0.0;
-        }
-        mu[s] += t;
-        for j in 0..m {
-            c[j] = (c[j] + t * d[j]).max(0.0);
-        }
+        take_step(mu, c, d, (v, s), t);
     }
     (lower, upper)
+}
+
+/// The step `t` in `[0, gmax]` that maximises the concave `phi(t) = G(c + t d)` along a swap
+/// direction, given `derivs(t) = (phi'(t), phi''(t))`: the whole step when `phi'` is still
+/// non-negative at `gmax`, else a safeguarded Newton iteration on `phi' = 0` (a bisection of
+/// the bracket where Newton's step leaves it) to [`LINE_TOL_REL`] of `gmax`, at most
+/// [`LINE_STEPS`] steps.
+fn line_step(gmax: f64, mut derivs: impl FnMut(f64) -> (f64, f64)) -> f64 {
+    if derivs(gmax).0 >= 0.0 {
+        return gmax;
+    }
+    let (mut lo, mut hi) = (0.0, gmax);
+    let mut t = 0.0;
+    for _ in 0..LINE_STEPS {
+        let (d1, d2) = derivs(t);
+        if d1 > 0.0 {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let newton = if d2 < 0.0 { t - d1 / d2 } else { f64::NAN };
+        t = if newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= LINE_TOL_REL * gmax {
+            break;
+        }
+    }
+    lo.max(t.min(hi))
+}
+
+/// Move weight `t` from row `v` to row `s` (`(v, s)`): `mu[v] -= t` (flushed to zero below
+/// 1e-300), `mu[s] += t`, and `c += t d` (clamped at zero).
+fn take_step(mu: &mut [f64], c: &mut [f64], d: &[f64], (v, s): (usize, usize), t: f64) {
+    mu[v] -= t;
+    if mu[v] < 1e-300 {
+        mu[v] = 0.0;
+    }
+    mu[s] += t;
+    for (cj, dj) in c.iter_mut().zip(d) {
+        *cj = (*cj + t * dj).max(0.0);
+    }
 }
 
 #[cfg(test)]
@@ -463,41 +477,11 @@ mod tests {
                 }
                 (d1, d2)
             };
-            let t = if derivs(gmax).0 >= 0.0 {
-                gmax
-            } else {
-                let (mut lo, mut hi) = (0.0, gmax);
-                let mut t = 0.0;
-                for _ in 0..LINE_STEPS {
-                    let (d1, d2) = derivs(t);
-                    if d1 > 0.0 {
-                        lo = t;
-                    } else {
-                        hi = t;
-                    }
-                    let newton = if d2 < 0.0 { t - d1 / d2 } else { f64::NAN };
-                    t = if newton > lo && newton < hi {
-                        newton
-                    } else {
-                        0.5 * (lo + hi)
-                    };
-                    if hi - lo <= LINE_TOL_REL * gmax {
-                        break;
-                    }
-                }
-                lo.max(t.min(hi))
-            };
+            let t = line_step(gmax, derivs);
             if t <= 0.0 {
                 break;
             }
-            mu[v] -= t;
-            if mu[v] < 1e-300 {
-                mu[v] = 0.0;
-            }
-            mu[s] += t;
-            for j in 0..m {
-                c[j] = (c[j] + t * d[j]).max(0.0);
-            }
+            take_step(&mut mu, &mut c, &d, (v, s), t);
         }
         (lower, upper)
     }

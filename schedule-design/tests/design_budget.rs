@@ -2,8 +2,7 @@
 //! the Pareto front is monotone, every point is end-to-end's J for its schedule and dwell,
 //! the chosen point is within the budget and bad budgets are refused naming the field.
 
-#[path = "../../e2e-verify/tests/common/mod.rs"]
-mod common;
+use testkit::e2e as common;
 
 use approx::assert_relative_eq;
 use calib_lsq::Timing;

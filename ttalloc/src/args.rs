@@ -36,14 +36,6 @@ pub fn samples(s: &str) -> Result<u64, String> {
     count(s, study::limits::MAX_SAMPLES)
 }
 
-/// A fuzzing case count (up to 10^12: cases stream, memory does not grow with them).
-///
-/// # Errors
-/// As [`count`].
-pub fn cases(s: &str) -> Result<u64, String> {
-    count(s, 1_000_000_000_000)
-}
-
 /// A number of test positions (up to [`study::limits::MAX_POSITIONS`], the limit of a
 /// study's schedule).
 ///

@@ -23,7 +23,7 @@ use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, Split, arcmin_boun
 use anyhow::Result;
 use calib_lsq::Reading;
 use clap::Parser;
-use e2e_verify::{CombinedOutput, CombinedYield, EndToEnd, McSettings, TurntableCheck, Verdict};
+use e2e_verify::{CombinedOutput, EndToEnd, McSettings, TurntableCheck, Verdict, YieldCount};
 use serde::Serialize;
 use std::path::PathBuf;
 use study::Tolerances;
@@ -64,7 +64,7 @@ pub struct NoisyCheck {
     /// The weakest of the outputs' combined verdicts.
     pub verdict: Verdict,
     /// The yield over turntables in the box and random noise.
-    pub combined_yield: CombinedYield,
+    pub combined_yield: YieldCount,
 }
 
 /// One error's (or group's) contribution to an output's worst case.
@@ -156,10 +156,10 @@ impl<'a> ReadingCheckJson<'a> {
             reading: e2e.reading().to_string(),
             verdict: noisy.map_or(c.verdict(), |n| n.verdict).name(),
             table_verdict: noisy.map(|_| c.verdict().name()),
-            yield_fraction: d.yield_fraction(),
-            yield_interval_95: d.yield_interval_95(),
-            samples: d.samples(),
-            seed: d.seed(),
+            yield_fraction: d.count().fraction(),
+            yield_interval_95: d.count().interval_95(),
+            samples: d.count().samples(),
+            seed: d.count().seed(),
             outputs: c
                 .outputs()
                 .iter()
@@ -179,8 +179,8 @@ impl<'a> ReadingCheckJson<'a> {
                         certified_bound: o.worst_case().certified_bound(),
                         worst_position: o.worst_case().position(),
                         precision: o.worst_case().precision(),
-                        meeting_fraction: d.meeting_per_output()[o.output()] as f64
-                            / d.samples() as f64,
+                        meeting_fraction: d.count().meeting_per_output()[o.output()] as f64
+                            / d.count().samples() as f64,
                         monte_carlo_max: d.worst()[o.output()].value(),
                         contributions: o
                             .contributions()
@@ -283,7 +283,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
             num(w.linear_bound()),
             w.second_order_bound().map_or(String::new(), |t| format!(", proven below {}", num(w.linear_bound() + t))),
             num(c.distribution().worst()[o.output()].value()),
-            100.0 * c.distribution().meeting_per_output()[o.output()] as f64 / c.distribution().samples() as f64,
+            100.0 * c.distribution().count().meeting_per_output()[o.output()] as f64 / c.distribution().count().samples() as f64,
             o.verdict().name(),
             u = out.unit
         ));
@@ -318,7 +318,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
             .collect();
         s.push_str(&format!("    dominant errors: {}\n", dominant.join("; ")));
     }
-    let (lo, hi) = c.distribution().yield_interval_95();
+    let (lo, hi) = c.distribution().count().interval_95();
     if let Some(n) = noisy {
         let verdict = match n.verdict {
             Verdict::Guaranteed => {
@@ -333,7 +333,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
             "  verdict: {verdict} (table alone: {}); {}; table alone: Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%)\n",
             c.verdict().name(),
             crate::noise::yield_text(&n.combined_yield),
-            100.0 * c.distribution().yield_fraction(),
+            100.0 * c.distribution().count().fraction(),
             100.0 * lo,
             100.0 * hi,
         ));
@@ -352,11 +352,11 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
     };
     s.push_str(&format!(
         "  verdict: {verdict}; Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables, seed {})\n",
-        100.0 * c.distribution().yield_fraction(),
+        100.0 * c.distribution().count().fraction(),
         100.0 * lo,
         100.0 * hi,
-        c.distribution().samples(),
-        c.distribution().seed()
+        c.distribution().count().samples(),
+        c.distribution().count().seed()
     ));
     s
 }

@@ -640,11 +640,11 @@ impl<'a> BoxJson<'a> {
                     per_position: w.per_position(),
                 })
                 .collect(),
-            yield_fraction: d.yield_fraction(),
-            yield_interval_95: d.yield_interval_95(),
-            meeting: d.meeting(),
-            samples: d.samples(),
-            seed: d.seed(),
+            yield_fraction: d.count().fraction(),
+            yield_interval_95: d.count().interval_95(),
+            meeting: d.count().meeting(),
+            samples: d.count().samples(),
+            seed: d.count().seed(),
             max: d.max(),
             worst_ratio: d.worst_ratio().value(),
             quantiles: d
@@ -802,8 +802,8 @@ impl<'a> ReadingJson<'a> {
                 target: r.yield_based().target(),
                 scale: r.yield_based().scale(),
                 capped: r.yield_based().capped(),
-                design_yield: r.yield_based().yield_fraction(),
-                design_interval_95: r.yield_based().interval_95(),
+                design_yield: r.yield_based().count().fraction(),
+                design_interval_95: r.yield_based().count().interval_95(),
                 design_verdict: r.yield_based().design_verdict().name(),
                 verdict: r.yield_verdict().name(),
                 min_samples: e2e_verify::min_yield_samples(r.yield_based().target()),
@@ -1166,13 +1166,13 @@ impl<'a> EndToEndJson<'a> {
 /// The yield-based box against its target: the re-measured yield's 95% interval and the
 /// verdict, one line.
 fn yield_text(r: &ReadingAnswer) -> String {
-    let (lo, hi) = r.yield_box().distribution().yield_interval_95();
+    let (lo, hi) = r.yield_box().distribution().count().interval_95();
     format!(
         "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% (95% interval {:.2}-{:.2}%): {}\n",
         "",
         num(100.0 * r.yield_based().target()),
-        r.yield_box().distribution().samples(),
-        100.0 * r.yield_box().distribution().yield_fraction(),
+        r.yield_box().distribution().count().samples(),
+        100.0 * r.yield_box().distribution().count().fraction(),
         100.0 * lo,
         100.0 * hi,
         match r.yield_verdict() {
@@ -1262,14 +1262,14 @@ pub fn to_text(
                     )
                 })
                 .collect();
-            let (lo, hi) = b.distribution().yield_interval_95();
+            let (lo, hi) = b.distribution().count().interval_95();
             format!(
                 "  {:<14} J = {:>9} arcmin^-2  worst case {} (meets every accuracy: {})  yield {:.2}% [{:.2}%, {:.2}%]\n",
                 b.name(),
                 num(objective_to_arcmin(b.objective())),
                 worst.join(", "),
                 b.worst_case().meets(&e2e.accuracies()),
-                100.0 * b.distribution().yield_fraction(),
+                100.0 * b.distribution().count().fraction(),
                 100.0 * lo,
                 100.0 * hi
             )

@@ -11,7 +11,7 @@
 //! (`skip_serializing_if`) is a key absent from the output, an `Option` serialised as `None`
 //! is `null`, and a non-finite number is `null` (serde_json's rule).
 
-use e2e_verify::{CombinedOutput, CombinedYield};
+use e2e_verify::{CombinedOutput, YieldCount};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use tt_core::OrientationAxis;
@@ -136,11 +136,11 @@ pub struct CombinedYieldJson {
     pub seed: u64,
 }
 
-impl From<&CombinedYield> for CombinedYieldJson {
-    fn from(y: &CombinedYield) -> Self {
+impl From<&YieldCount> for CombinedYieldJson {
+    fn from(y: &YieldCount) -> Self {
         Self {
-            yield_fraction: y.yield_fraction(),
-            yield_interval_95: y.yield_interval_95(),
+            yield_fraction: y.fraction(),
+            yield_interval_95: y.interval_95(),
             meeting: y.meeting(),
             meeting_per_output: y.meeting_per_output().to_vec(),
             samples: y.samples(),

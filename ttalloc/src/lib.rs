@@ -31,7 +31,6 @@ mod design_rates;
 mod design_schedule;
 mod end_to_end;
 mod estimable;
-mod fuzz;
 mod groups;
 mod input;
 mod json;
@@ -51,6 +50,22 @@ mod spec_verdict;
 mod study;
 
 pub use input::InputError;
+
+/// What the mutation fuzzer (`cargo xtask fuzz`, in the repository's `xtask` crate) drives and
+/// checks, exposed for it alone: not an API for other uses, and not stable. The fuzzer lives
+/// outside the user's binary; these are the input layer and the report writer it attacks, the
+/// manifest format it judges the writer by, and the flag and output conventions it shares with
+/// every command.
+pub mod fuzzing {
+    pub use crate::args::{count, seed};
+    pub use crate::csvio::for_each_row_in;
+    pub use crate::out::print;
+    pub use crate::outdir::{
+        MANIFEST, OLD_SIGNATURE, Prepared, SIGNATURE, is_report_file, manifest_text, sha256_hex,
+    };
+    pub use crate::paths::workspace_root;
+    pub use crate::report::default_report_dir;
+}
 pub use report_api::{Report, ReportFile, ReportOptions};
 
 /// Commands of the turntable error-allocation project (Zhao et al. 2017, generalised).
@@ -79,8 +94,6 @@ enum Command {
     OrientationError(orientation_error::Args),
     /// Calibration error (coefficients and eq 14) of turntables given as CSV rows.
     CalibrationError(calibration_error::Args),
-    /// Mutation fuzzing of the study, tolerance and CSV parsers (no panic, no hang, located errors).
-    Fuzz(fuzz::Args),
     /// The report of a study (md, self-contained html, SVG figures, CSV tables, results.json).
     Report(report::Args),
     /// The report of the paper's study with the paper's printed values beside ours and its claims.
@@ -133,7 +146,6 @@ pub fn run_with(cmd: clap::Command, args: impl IntoIterator<Item = OsString>) ->
         Command::CheckTurntable(a) => check_turntable::run(&a),
         Command::OrientationError(a) => orientation_error::run(&a),
         Command::CalibrationError(a) => calibration_error::run(&a),
-        Command::Fuzz(a) => fuzz::run(&a),
         Command::Report(a) => report::run(&a),
         Command::ReproducePaper(a) => report::run_paper(&a),
         Command::DesignSchedule(a) => design_schedule::run(&a),
@@ -141,6 +153,14 @@ pub fn run_with(cmd: clap::Command, args: impl IntoIterator<Item = OsString>) ->
         Command::Calibrate(a) => calibrate::run(&a),
         Command::Apply(a) => apply::run(&a),
     };
+    finish(result)
+}
+
+/// The exit code of a command's `result`, its error (if any) printed to standard error,
+/// escaped: the rule of [`run`] (0 on success and on a closed standard output, 2 for an
+/// [`InputError`], 1 otherwise), for the commands a caller adds to [`command`] (`cargo xtask
+/// fuzz`).
+pub fn finish(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) if err.downcast_ref::<out::BrokenPipe>().is_some() => ExitCode::SUCCESS,

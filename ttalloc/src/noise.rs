@@ -4,7 +4,7 @@
 //! sigma"). No science here: the covariance is calib-lsq's, the combination e2e-verify's.
 
 use anyhow::Result;
-use e2e_verify::{CombinedOutput, CombinedYield, EndToEnd, NoiseBudget};
+use e2e_verify::{CombinedOutput, EndToEnd, NoiseBudget, YieldCount};
 use study::Study;
 use study::fmt::num;
 
@@ -56,11 +56,11 @@ pub fn split_text(c: &CombinedOutput, unit: &str) -> String {
 
 /// The combined yield in words.
 #[must_use]
-pub fn yield_text(y: &CombinedYield) -> String {
-    let (lo, hi) = y.yield_interval_95();
+pub fn yield_text(y: &YieldCount) -> String {
+    let (lo, hi) = y.interval_95();
     format!(
         "yield over turntables and noise {:.2}% (95% interval {:.2}%-{:.2}%, {} calibrations, seed {})",
-        100.0 * y.yield_fraction(),
+        100.0 * y.fraction(),
         100.0 * lo,
         100.0 * hi,
         y.samples(),

@@ -48,11 +48,11 @@ use std::path::{Path, PathBuf};
 pub const MANIFEST: &str = ".report-manifest";
 
 /// The manifest's first line.
-pub(crate) const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
+pub const SIGNATURE: &str = "# files written by `cargo xtask` (gyrowheel turntable project) with their SHA-256; a file is replaced only while it matches";
 
 /// The first line of a manifest written before the hashes (names only): such a report's files
 /// cannot be proven ours, so a directory holding one is refused, never emptied.
-pub(crate) const OLD_SIGNATURE: &str =
+pub const OLD_SIGNATURE: &str =
     "# files written by `cargo xtask` (gyrowheel turntable project); safe to replace as a whole";
 
 /// The extensions of the files a report holds.
@@ -79,7 +79,7 @@ pub fn is_report_file(name: &str) -> bool {
 }
 
 /// The SHA-256 of `bytes`, 64 lowercase hex digits.
-pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
+pub fn sha256_hex(bytes: &[u8]) -> String {
     use sha2::Digest;
     hex(&sha2::Sha256::digest(bytes))
 }
@@ -98,7 +98,7 @@ fn file_sha256(path: &Path) -> std::io::Result<String> {
 
 /// The text of the manifest of a report made of `files` (name, content): the [`SIGNATURE`]
 /// line, then `<sha256>  <name>` per file (what a report directory's [`MANIFEST`] holds).
-pub(crate) fn manifest_text<'a>(files: impl IntoIterator<Item = (&'a str, &'a [u8])>) -> String {
+pub fn manifest_text<'a>(files: impl IntoIterator<Item = (&'a str, &'a [u8])>) -> String {
     let mut text = format!("{SIGNATURE}\n");
     for (name, bytes) in files {
         text.push_str(&sha256_hex(bytes));

@@ -136,12 +136,15 @@ fn the_help_names_the_program_as_installed() {
     assert!(!text.contains("cargo xtask"), "{text}");
 }
 
+/// The fuzzer is automation (`cargo xtask fuzz`), not a command of the user's binary.
 #[test]
-fn fuzzing_outside_a_clone_is_refused_naming_what_it_needs() {
+fn the_installed_program_has_no_fuzz_command() {
     let (dir, exe) = installed();
     let o = run(&exe, dir.path(), &["fuzz", "--cases", "10"]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("clone of the project"), "{err}");
+    assert!(err.contains("unrecognized subcommand 'fuzz'"), "{err}");
     assert!(o.stdout.is_empty());
+    let help = stdout(&run(&exe, dir.path(), &["--help"]));
+    assert!(!help.contains("fuzz"), "{help}");
 }

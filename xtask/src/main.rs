@@ -1,12 +1,15 @@
 //! Repository automation, in the rust-analyzer xtask shape: `cargo xtask <command>`.
 //!
 //! `cargo xtask test` is the README's test command (the set-up the tests need on a fresh
-//! machine, then `cargo test --workspace`); every other command is the `ttalloc` command line
-//! ([`ttalloc::run_with`]), run from the repository (`cargo xtask reproduce-paper`).
+//! machine, then `cargo test --workspace`); `cargo xtask fuzz` is the mutation fuzzer of the
+//! input layer and the report writer ([`fuzz`]: automation, not in the user's binary); every
+//! other command is the `ttalloc` command line ([`ttalloc::run_with`]), run from the
+//! repository (`cargo xtask reproduce-paper`).
 
-use clap::CommandFactory;
+use clap::{CommandFactory, FromArgMatches};
 use std::process::ExitCode;
 
+mod fuzz;
 mod suite;
 
 fn main() -> ExitCode {
@@ -29,10 +32,29 @@ fn main() -> ExitCode {
             }
         };
     }
-    let cmd = ttalloc::command("cargo xtask").subcommand(
-        suite::Args::command().name("test").about(
-            "The test suite on any machine: installs Chromium and the report fonts when missing (as root), then cargo test --workspace.",
-        ),
-    );
+    let mut cmd = ttalloc::command("cargo xtask")
+        .subcommand(
+            suite::Args::command().name("test").about(
+                "The test suite on any machine: installs Chromium and the report fonts when missing (as root), then cargo test --workspace.",
+            ),
+        )
+        .subcommand(fuzz::Args::command().name("fuzz").about(
+            "Mutation fuzzing of the study, tolerance and CSV parsers and the report writer (no panic, no hang, located errors, nothing of the user's touched).",
+        ));
+    if argv.get(1).is_some_and(|a| a == "fuzz") {
+        // parsed by the whole command line, so that usage errors name `cargo xtask fuzz`
+        let matches = match cmd.try_get_matches_from_mut(&argv) {
+            Ok(m) => m,
+            Err(e) => e.exit(),
+        };
+        let sub = matches
+            .subcommand_matches("fuzz")
+            .expect("the fuzz subcommand");
+        let args = match fuzz::Args::from_arg_matches(sub) {
+            Ok(a) => a,
+            Err(e) => e.format(&mut cmd).exit(),
+        };
+        return ttalloc::finish(fuzz::run(&args));
+    }
     ttalloc::run_with(cmd, argv)
 }

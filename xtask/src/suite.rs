@@ -15,11 +15,8 @@
 //! Nothing is skipped: a browser test that cannot start its browser fails with the same
 //! instruction.
 
-// The browser-finding code of browser-check, shared without depending on the browser client.
-#[path = "../../browser-check/src/locate.rs"]
-mod locate;
-
 use anyhow::{Context, Result, bail};
+use browser_check::locate;
 use clap::Parser;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};

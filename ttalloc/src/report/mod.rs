@@ -222,7 +222,7 @@ fn target_dir() -> PathBuf {
 /// The directory `report` writes a study's report to without `--out`: `<target>/report/<name>`.
 /// The study's `name` is a file-name-safe slug (checked when the study is read), so this is one
 /// entry directly inside `<target>/report` (the fuzz harness checks it for hostile names).
-pub(crate) fn default_report_dir(target: &Path, study_name: &str) -> PathBuf {
+pub fn default_report_dir(target: &Path, study_name: &str) -> PathBuf {
     target.join("report").join(study_name)
 }
 

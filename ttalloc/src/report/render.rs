@@ -138,7 +138,7 @@ fn group_list(doc: &mut Doc, t: &tt_kinematics::Turntable, bounds: &[(&str, &[f6
 /// The verdict on a vendor's sheet with its Monte Carlo yield: one wording for the answer at
 /// the top and the vendor section.
 fn sheet_verdict(chk: &e2e_verify::TurntableCheck) -> String {
-    let (lo, hi) = chk.distribution().yield_interval_95();
+    let (lo, hi) = chk.distribution().count().interval_95();
     let verdict = match chk.verdict() {
         Verdict::Guaranteed => {
             "these tolerances **meet** every accuracy: proven for every turntable within them"
@@ -152,8 +152,8 @@ fn sheet_verdict(chk: &e2e_verify::TurntableCheck) -> String {
     };
     format!(
         "{verdict}; {:.2}% of {} random turntables meet every accuracy (95% interval {:.2}%-{:.2}%)",
-        100.0 * chk.distribution().yield_fraction(),
-        chk.distribution().samples(),
+        100.0 * chk.distribution().count().fraction(),
+        chk.distribution().count().samples(),
         100.0 * lo,
         100.0 * hi
     )
@@ -266,7 +266,7 @@ impl<'a> Sections<'a> {
                     objective_to_arcmin(b.objective()),
                     if ok { "**meets**" } else { "**does not meet**" },
                     worst.join(", "),
-                    pct(b.distribution().yield_fraction())
+                    pct(b.distribution().count().fraction())
                 );
             }
             let j = r.direct().objective_arcmin();
@@ -1232,7 +1232,7 @@ impl<'a> Sections<'a> {
                 .iter()
                 .map(|w| format!("{} {}", outs[w.output()].0, sig(w.exact_at_vertex(), 5)))
                 .collect();
-            let (lo, hi) = b.distribution().yield_interval_95();
+            let (lo, hi) = b.distribution().count().interval_95();
             let label = match name {
                 "two-step" => "two-step (requirement, then turntable)".to_string(),
                 "direct" => "direct (against every accuracy)".to_string(),
@@ -1244,7 +1244,7 @@ impl<'a> Sections<'a> {
             };
             let mut yield_cell = format!(
                 "{:.2}% [{:.2}, {:.2}]",
-                100.0 * b.distribution().yield_fraction(),
+                100.0 * b.distribution().count().fraction(),
                 100.0 * lo,
                 100.0 * hi
             );
@@ -1577,11 +1577,11 @@ impl<'a> Sections<'a> {
             .boxes()
             .iter()
             .map(|b| {
-                let (lo, hi) = b.combined_yield().yield_interval_95();
+                let (lo, hi) = b.combined_yield().interval_95();
                 format!(
                     "{} {:.2}% [{:.2}, {:.2}]",
                     doc::text(b.name()),
-                    100.0 * b.combined_yield().yield_fraction(),
+                    100.0 * b.combined_yield().fraction(),
                     100.0 * lo,
                     100.0 * hi
                 )
@@ -1636,12 +1636,12 @@ impl<'a> Sections<'a> {
                     )
                 })
                 .collect();
-            let (lo, hi) = nc.combined_yield.yield_interval_95();
+            let (lo, hi) = nc.combined_yield.interval_95();
             self.doc.p(format!(
                 "The vendor's sheet with the noise counted: {}; verdict {}; yield over turntables and noise {:.2}% [{:.2}, {:.2}].",
                 parts.join("; "),
                 verdict_md(nc.verdict),
-                100.0 * nc.combined_yield.yield_fraction(),
+                100.0 * nc.combined_yield.fraction(),
                 100.0 * lo,
                 100.0 * hi
             ));
@@ -1821,8 +1821,10 @@ impl<'a> Sections<'a> {
                 o.worst_case()
                     .certified_bound()
                     .map_or("-".into(), |v| sig(v, 5)),
-                pct(chk.distribution().meeting_per_output()[o.output()] as f64
-                    / chk.distribution().samples() as f64),
+                pct(
+                    chk.distribution().count().meeting_per_output()[o.output()] as f64
+                        / chk.distribution().count().samples() as f64,
+                ),
                 match o.verdict() {
                     Verdict::Guaranteed => "**yes** (proven)".into(),
                     Verdict::Likely => "likely (not proven)".into(),

@@ -437,7 +437,7 @@ fn box_json<'a>(
     outs: &[&'a str],
     accuracies: &[f64],
 ) -> BoxJson<'a> {
-    let (lo, hi) = b.distribution().yield_interval_95();
+    let (lo, hi) = b.distribution().count().interval_95();
     let meets = b.worst_case().meets(accuracies);
     BoxJson {
         name: b.name(),
@@ -458,7 +458,7 @@ fn box_json<'a>(
                 precision: f(w.precision()),
             })
             .collect(),
-        yield_fraction: f(b.distribution().yield_fraction()),
+        yield_fraction: f(b.distribution().count().fraction()),
         yield_interval_95: [f(lo), f(hi)],
     }
 }
@@ -580,7 +580,7 @@ pub(super) fn results_json(
                         verdict: b.verdict().name(),
                         table_part: b.outputs().iter().map(|o| f(o.table_part())).collect(),
                         combined: b.outputs().iter().map(|o| f(o.combined())).collect(),
-                        combined_yield: f(b.combined_yield().yield_fraction()),
+                        combined_yield: f(b.combined_yield().fraction()),
                     })
                     .collect(),
                 direct_with_noise_objective_arcmin: match &r0.direct() {
@@ -631,7 +631,7 @@ pub(super) fn results_json(
         vendor: c.vendor.as_ref().map(|(tol, chk)| VendorJson {
             tolerances: &tol.path,
             verdict: chk.verdict().name(),
-            yield_fraction: f(chk.distribution().yield_fraction()),
+            yield_fraction: f(chk.distribution().count().fraction()),
             outputs: chk
                 .outputs()
                 .iter()

@@ -466,7 +466,7 @@ fn write_study_respects_the_umask() {
         let o = Command::new("sh")
             .arg("-c")
             .arg(format!("umask {umask}; exec \"$0\" \"$@\""))
-            .arg(env!("CARGO_BIN_EXE_xtask"))
+            .arg(env!("CARGO_BIN_EXE_ttalloc"))
             .args(["design-schedule", "--write-study"])
             .arg(&written)
             .current_dir(root())

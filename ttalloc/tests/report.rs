@@ -17,7 +17,7 @@ fn root() -> PathBuf {
 }
 
 fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_xtask"))
+    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(args)
         .current_dir(root())
         .output()
@@ -535,7 +535,7 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
     let out = dir.path().join("same");
     for round in 0..3 {
         let spawn = |samples: &str| {
-            Command::new(env!("CARGO_BIN_EXE_xtask"))
+            Command::new(env!("CARGO_BIN_EXE_ttalloc"))
                 .args([
                     "report",
                     "--study",
@@ -819,7 +819,7 @@ fn report_vendor_section_shows_the_rate_errors_with_their_bounds_parts_and_verdi
     let v = json(&out);
     let r = &v["vendor"]["rate_steps"];
     assert_eq!(r["verdict"], "does not meet");
-    let c = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let c = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args([
             "check-turntable",
             "--study",

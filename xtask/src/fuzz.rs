@@ -42,7 +42,7 @@
 //!   the user's files), the signature altered or missing, duplicated or dropped lines, a
 //!   listed file missing, the manifest replaced (a directory, a link, not UTF-8, empty), the
 //!   user's files, directories and links in `out`, look-alike leftovers of a killed run
-//!   beside it. `report`'s writer ([`crate::outdir::Prepared`]) then writes a tiny report
+//!   beside it. `report`'s writer ([`ttalloc::fuzzing::Prepared`]) then writes a tiny report
 //!   into `out`. Nothing may be removed or changed but a regular file that a manifest of ours
 //!   (signature first, every line a report file name) lists and that is named like a report
 //!   file, that manifest, and a directory beside `out` that held only such files; nothing may
@@ -68,11 +68,6 @@
 //! faulty version and see the property fail. The blocks, the counters (per target too) and
 //! the findings are shared.
 
-use crate::InputError;
-use crate::csvio::for_each_row_in;
-use crate::outdir::{
-    MANIFEST, OLD_SIGNATURE, SIGNATURE, is_report_file, manifest_text, sha256_hex,
-};
 use anyhow::{Context, Result};
 use clap::Parser;
 use rand_chacha::ChaCha8Rng;
@@ -87,6 +82,10 @@ use study::csv::JointColumns;
 use study::fmt::{is_unsafe_char, visible};
 use study::{Study, StudyError, Tolerances};
 use tt_kinematics::Turntable;
+use ttalloc::InputError;
+use ttalloc::fuzzing::{
+    MANIFEST, OLD_SIGNATURE, SIGNATURE, for_each_row_in, is_report_file, manifest_text, sha256_hex,
+};
 
 /// The most CPU time a single case may take (its own thread's user and system time, so a
 /// loaded or shared machine does not turn slow scheduling into findings; a case runs on one
@@ -126,10 +125,10 @@ pub const DEFAULT_FINDINGS: &str = "target/fuzz-findings";
 #[derive(Debug, Parser)]
 pub struct Args {
     /// Number of cases (accepts `1e5`, `100000`, `100_000`; up to 1e12).
-    #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = crate::args::cases)]
+    #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = cases)]
     pub cases: u64,
     /// Seed of the mutations.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1, value_parser = crate::args::seed)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1, value_parser = ttalloc::fuzzing::seed)]
     pub seed: u64,
     /// A new directory for the inputs of findings (default: `target/fuzz-findings` of the
     /// workspace; refused if it exists; created at the first finding).
@@ -139,6 +138,11 @@ pub struct Args {
     /// position limit, long CSV files). It bounds the memory of one case, and so of the run.
     #[arg(long, default_value_t = REPEAT_KIB, value_parser = repeat_kib)]
     pub repeat_kib: usize,
+}
+
+/// `--cases`: a count up to 10^12 (cases stream, memory does not grow with them).
+fn cases(s: &str) -> std::result::Result<u64, String> {
+    ttalloc::fuzzing::count(s, 1_000_000_000_000)
 }
 
 /// `--repeat-kib`: a whole number of KiB in 1..=4096.
@@ -348,9 +352,9 @@ impl Hooks {
 }
 
 /// `report`'s writer: the output directory checked, locked and recovered
-/// ([`crate::outdir::Prepared::new`]), then the files written and swapped into place.
+/// ([`ttalloc::fuzzing::Prepared::new`]), then the files written and swapped into place.
 fn write_report(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    crate::outdir::Prepared::new(out)?.write(files)
+    ttalloc::fuzzing::Prepared::new(out)?.write(files)
 }
 
 /// What a run does besides its case count and seed.
@@ -928,11 +932,11 @@ fn toml_string(rng: &mut ChaCha8Rng, s: &str) -> String {
 }
 
 /// Whether the directory `report` derives from a study named `name` (its own function,
-/// [`crate::report::default_report_dir`]) is one entry directly inside `<target>/report`,
+/// [`ttalloc::fuzzing::default_report_dir`]) is one entry directly inside `<target>/report`,
 /// named `name`, that the system can create (no NUL, at most 255 bytes).
 fn report_dir_stays_inside(name: &str) -> bool {
     let target = Path::new("/workspace/target");
-    let dir = crate::report::default_report_dir(target, name);
+    let dir = ttalloc::fuzzing::default_report_dir(target, name);
     let Ok(rest) = dir.strip_prefix(target.join("report")) else {
         return false;
     };
@@ -1043,7 +1047,7 @@ fn check_names(slot: &Slot, value: &str, text: &str, study: &Study, hooks: &Hook
                 "`name` = \"{}\" accepted, and its default report directory {} is not one entry inside target/report",
                 visible(value),
                 visible(
-                    &crate::report::default_report_dir(Path::new("target"), value)
+                    &ttalloc::fuzzing::default_report_dir(Path::new("target"), value)
                         .display()
                         .to_string()
                 )
@@ -2112,7 +2116,7 @@ impl FindingsDir {
 /// naming the findings.
 pub fn run(args: &Args) -> Result<()> {
     // the shipped studies and sheets are the seeds: a clone of the project is needed
-    let root = crate::paths::workspace_root().map_err(|_| {
+    let root = ttalloc::fuzzing::workspace_root().map_err(|_| {
         InputError::new(
             "fuzz",
             "runs inside a clone of the project (its studies/ are the seeds); none found above the current directory or the program",
@@ -2156,10 +2160,10 @@ pub fn run(args: &Args) -> Result<()> {
                 out.dir.join("findings.txt").display()
             ));
         }
-        crate::out::print(&text)?;
+        ttalloc::fuzzing::print(&text)?;
         anyhow::bail!("{} findings; inputs in {}", sum.findings, out.dir.display());
     }
-    crate::out::print(&text)
+    ttalloc::fuzzing::print(&text)
 }
 
 #[cfg(test)]
@@ -2548,7 +2552,7 @@ mod tests {
                 }
             }
         }
-        crate::outdir::Prepared::new(out)?.write(files)
+        ttalloc::fuzzing::Prepared::new(out)?.write(files)
     }
 
     /// The manifests property catches a writer that removes a listed file whose content is not

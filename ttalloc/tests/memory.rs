@@ -5,49 +5,17 @@ mod common;
 
 use std::io::Write;
 use std::path::Path;
-use std::process::{Command, Stdio};
-use std::time::Duration;
+use std::process::Command;
 
-/// Peak resident set of `cmd` in KiB (the largest `VmHWM` seen while polling every 5 ms), with
-/// `stdin` fed from a file; stdout discarded. Panics unless the command succeeds.
+/// Peak resident set of the command in KiB ([`testkit::peak_kib`]), with `stdin` fed from a
+/// file; stdout discarded. Panics unless the command succeeds.
 fn peak_kib(args: &[&str], stdin: Option<&std::path::Path>) -> u64 {
-    peak_kib_with(args, stdin, &[])
-}
-
-/// [`peak_kib`] with extra environment variables.
-fn peak_kib_with(args: &[&str], stdin: Option<&std::path::Path>, env: &[(&str, &str)]) -> u64 {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_xtask"));
-    c.envs(env.iter().copied());
-    c.args(args)
-        .current_dir(common::root())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped());
+    let mut c = Command::new(env!("CARGO_BIN_EXE_ttalloc"));
+    c.args(args).current_dir(common::root());
     if let Some(p) = stdin {
         c.stdin(std::fs::File::open(p).unwrap());
     }
-    let mut child = c.spawn().unwrap();
-    let status_path = format!("/proc/{}/status", child.id());
-    let mut peak = 0;
-    loop {
-        if let Ok(text) = std::fs::read_to_string(&status_path) {
-            if let Some(v) = text.lines().find_map(|l| l.strip_prefix("VmHWM:")) {
-                peak = peak.max(
-                    v.trim()
-                        .trim_end_matches("kB")
-                        .trim()
-                        .parse::<u64>()
-                        .unwrap_or(0),
-                );
-            }
-        }
-        if let Some(status) = child.try_wait().unwrap() {
-            let mut err = String::new();
-            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
-            assert!(status.success(), "{args:?}: {err}");
-            return peak;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    testkit::peak_kib(c, &format!("{args:?}"))
 }
 
 /// A 65 MB turntable CSV goes through `orientation-error` (as a file and on standard input)
@@ -144,43 +112,6 @@ fn allan_memory_does_not_grow_with_the_log_length() {
             "{what}: 2e5 samples {base} KiB, 3e6 samples {peak} KiB"
         );
     }
-}
-
-/// The fuzz harness streams its cases (issue 19: `--cases 1e12` aborted on a 72 TB
-/// allocation; 10^5 cases kept 14 MB of results): 16 times more cases take no more memory.
-/// One worker thread, so that the peak is the same case's whatever the scheduling (before:
-/// +3.8 MB from 5,000 to 60,000 cases on one thread). The largest single case grows the peak
-/// too (a line repeated up to `--repeat-kib`: a schedule of thousands of positions costs some
-/// MB to parse), and more cases meet larger ones; with repeats held to 8 KiB every case is
-/// small, and what is left is what a run keeps per case.
-#[test]
-fn fuzz_memory_does_not_grow_with_the_case_count() {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("memory-fuzz-findings");
-    let _ = std::fs::remove_dir_all(&dir);
-    let findings = dir.to_str().unwrap();
-    let one = [("RAYON_NUM_THREADS", "1")];
-    let run = |cases: &str| {
-        peak_kib_with(
-            &[
-                "fuzz",
-                "--cases",
-                cases,
-                "--repeat-kib",
-                "8",
-                "--findings",
-                findings,
-            ],
-            None,
-            &one,
-        )
-    };
-    let small = run("5000");
-    let large = run("80000");
-    assert!(
-        large < small + 2 * 1024,
-        "5,000 cases: {small} KiB, 80,000 cases: {large} KiB"
-    );
-    assert!(!dir.exists(), "no finding, no directory");
 }
 
 /// The paper's study with `n` test positions on a grid of its two shafts (about the square

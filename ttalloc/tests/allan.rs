@@ -516,7 +516,7 @@ fn figure_and_noise_files_respect_the_umask() {
         let o = std::process::Command::new("sh")
             .arg("-c")
             .arg(format!("umask {umask}; exec \"$0\" \"$@\""))
-            .arg(env!("CARGO_BIN_EXE_xtask"))
+            .arg(env!("CARGO_BIN_EXE_ttalloc"))
             .args(["allan", log.to_str().unwrap(), "--rate-hz", "100"])
             .args(["--column", "gz_deg_per_s", "--figure"])
             .arg(&fig)

@@ -12,7 +12,7 @@ pub fn root() -> PathBuf {
 
 /// Run `cargo xtask <args>` (the built binary) in the workspace root with `stdin`.
 pub fn run_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(args)
         .current_dir(root())
         .stdin(Stdio::piped())

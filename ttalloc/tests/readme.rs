@@ -1,58 +1,12 @@
-//! The README is the newcomer's contract: its two commands (the commands table that lists
-//! every subcommand with every flag it takes is on docs/commands.md, tested in docs_pages.rs).
+//! Figures the documentation quotes are the binary's (the README's two commands are checked
+//! with xtask's own `test` command in xtask/tests/test_command.rs; the commands table that
+//! lists every subcommand with every flag is on docs/commands.md, tested in docs_pages.rs).
 
 mod common;
-
-fn readme() -> String {
-    page("README.md")
-}
 
 /// A documentation page (`docs/...`) or the README, by its path from the repository root.
 fn page(path: &str) -> String {
     std::fs::read_to_string(common::root().join(path)).expect(path)
-}
-
-/// The README's quick start shows the two commands a newcomer needs: the main job and the
-/// test command that does its own set-up on a fresh machine (`cargo xtask test`), which
-/// `.ci/run` runs too (issue 19 §1: `cargo test --workspace` alone failed on a fresh machine).
-#[test]
-fn readme_shows_the_main_job_and_the_test_command() {
-    let r = readme();
-    let start = r.find("## Quick start").unwrap();
-    let quick = &r[start..start + 3 + r[start + 3..].find("\n## ").unwrap()];
-    assert!(quick.contains("cargo xtask reproduce-paper"));
-    assert!(quick.contains("cargo xtask test"));
-    assert!(quick.contains("fonts-dejavu-core fonts-liberation"));
-    let ci = std::fs::read_to_string(common::root().join(".ci/run")).unwrap();
-    assert!(
-        ci.lines().any(|l| l.trim() == "cargo xtask test"),
-        ".ci/run must run the README's test command"
-    );
-}
-
-/// Issue 19 §1: the README's test command never skips its browser test silently: when the
-/// browser it is told to use is missing (`$CHROMIUM` naming nothing) it stops at once, before
-/// running cargo, with exit 1 and the instruction (what to install, or to unset `CHROMIUM`).
-#[test]
-fn test_command_stops_at_once_with_the_instruction_when_the_browser_is_missing() {
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_xtask"))
-        .arg("test")
-        .env("CHROMIUM", "/nonexistent/chromium")
-        .current_dir(common::root())
-        .output()
-        .unwrap();
-    let err = common::stderr(&o);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("/nonexistent/chromium"), "{err}");
-    assert!(err.contains("unset CHROMIUM"), "{err}");
-    assert!(
-        err.contains("apt-get install -y --no-install-recommends chromium chromium-driver fonts-dejavu-core fonts-liberation"),
-        "{err}"
-    );
-    assert!(
-        !err.contains("cargo xtask test: Chromium"),
-        "cargo was not run: {err}"
-    );
 }
 
 /// `design-schedule --time-budget-s BUDGET --json` on the noise-assumed paper study.

@@ -20,7 +20,7 @@ fn root() -> PathBuf {
 }
 
 fn xtask(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_xtask"))
+    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(args)
         .current_dir(root())
         .output()

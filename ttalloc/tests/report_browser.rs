@@ -31,7 +31,7 @@ fn scratch() -> PathBuf {
 }
 
 fn write_report(args: &[&str]) {
-    let o = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let o = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(args)
         .current_dir(root())
         .output()
@@ -56,7 +56,7 @@ fn check(html: &Path, shots: &Path) -> BrowserReport {
 #[test]
 fn every_report_fits_1280_px_loads_its_figures_and_resolves_its_links_in_chromium() {
     // first: is there a browser (fail at once, saying how to install it)
-    if let Err(e) = browser_check::find_chromium(None) {
+    if let Err(e) = browser_check::locate::find_chromium(None) {
         panic!("this test needs Chromium: {e:#}");
     }
     let dir = scratch();

@@ -7,8 +7,8 @@ mod common;
 use common::{assert_input_error, run, run_with_stdin, stderr, stdout, study_text};
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 /// A command that must refuse its input at once takes at most this (s): far above the
 /// milliseconds it takes, far below the minutes (or the abort) of the old behaviour.
@@ -30,26 +30,9 @@ fn csv() -> String {
 /// Run `cargo xtask <args>` from the workspace root, killed (and the test failed) when it
 /// does not end within `limit_s`.
 fn run_within(args: &[&str], limit_s: u64) -> std::process::Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
-        .args(args)
-        .current_dir(common::root())
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            return child.wait_with_output().unwrap();
-        }
-        if start.elapsed() > Duration::from_secs(limit_s) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("{args:?} still running after {limit_s} s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let mut c = Command::new(env!("CARGO_BIN_EXE_ttalloc"));
+    c.args(args).current_dir(common::root());
+    testkit::output_within(c, Duration::from_secs(limit_s), &format!("{args:?}"))
 }
 
 /// The expected output of [`csv`]: the same whether read from a file, a FIFO or a pipe.
@@ -220,10 +203,6 @@ fn numeric_flags_are_range_checked_by_name() {
             vec!["end-to-end", "--yield-fraction", "-0.5"],
             vec!["--yield-fraction", "must lie in (0, 1)"],
         ),
-        (
-            vec!["fuzz", "--cases", "-3"],
-            vec!["--cases", "from 1 to 1e12"],
-        ),
     ] {
         let o = run(&args);
         let n: Vec<&str> = needles.clone();
@@ -295,42 +274,6 @@ fn a_lower_bound_above_table_4_names_table_4() {
             "exceeds the upper bound 0.4235 arcmin of Table 4",
         ],
     );
-}
-
-/// `fuzz --findings` refuses an existing path before any case runs (before: after all of
-/// them; `--cases 1e12` aborted on a 72 TB allocation first) and a dangling symbolic link
-/// with exit 2 naming it (before: exit 1 without a path). Nothing is created or changed.
-#[test]
-fn fuzz_findings_paths_are_checked_before_any_case() {
-    let dir = scratch("findings");
-    let existing = dir.join("mine");
-    std::fs::create_dir(&existing).unwrap();
-    std::fs::write(existing.join("notes.txt"), "mine").unwrap();
-    let dangling = dir.join("dangling");
-    std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
-    for p in [&existing, &dangling] {
-        let o = run_within(
-            &["fuzz", "--cases", "1e12", "--findings", p.to_str().unwrap()],
-            PROMPT_S,
-        );
-        assert_input_error(&o, &[&format!("--findings {}", p.display()), "exists"]);
-    }
-    assert_eq!(
-        std::fs::read_to_string(existing.join("notes.txt")).unwrap(),
-        "mine"
-    );
-    assert!(!dir.join("nowhere").exists());
-    // a clean run creates nothing
-    let fresh = dir.join("fresh");
-    let o = run(&[
-        "fuzz",
-        "--cases",
-        "200",
-        "--findings",
-        fresh.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(!fresh.exists());
 }
 
 /// `requirement --all-readings --reading X` is refused (before: `--reading` was ignored).

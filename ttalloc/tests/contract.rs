@@ -278,7 +278,7 @@ fn closed_standard_output_ends_quietly() {
         .unwrap();
     }
     drop(f);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(["orientation-error", path.to_str().unwrap()])
         .current_dir(common::root())
         .stdout(Stdio::piped())
@@ -303,7 +303,7 @@ fn closed_standard_output_ends_quietly() {
 /// against the current directory.
 #[test]
 fn default_study_resolves_from_the_current_directory() {
-    let o = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let o = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(["requirement", "--json"])
         .current_dir(common::root().join("xtask/src"))
         .output()
@@ -317,7 +317,7 @@ fn default_study_resolves_from_the_current_directory() {
     // runs outside the repository).
     let dir = tempfile::tempdir().unwrap();
     let exe = dir.path().join("xtask-copy");
-    std::fs::copy(env!("CARGO_BIN_EXE_xtask"), &exe).unwrap();
+    std::fs::copy(env!("CARGO_BIN_EXE_ttalloc"), &exe).unwrap();
     let o = common::output_of_fresh_copy(
         Command::new(&exe)
             .args(["requirement", "--json"])

@@ -12,7 +12,7 @@ use serde_json::Value;
 use std::process::{Command, Output};
 
 fn xtask(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_xtask"))
+    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(args)
         .current_dir(root())
         .output()

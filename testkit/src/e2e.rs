@@ -1,0 +1,74 @@
+//! Shared set-up of the end-to-end tests: the paper's simulator built from the paper modules
+//! (no file), and the shipped example studies loaded through the study crate.
+
+use calib_lsq::{Calibration, Reading};
+use e2e_verify::EndToEnd;
+use std::path::Path;
+use study::Study;
+use tt_kinematics::{Pose, paper};
+
+/// The paper's simulator: Table 3's turntable, eq 1 / Table 1's sensor, the paper's site and
+/// schedule, under `reading`.
+pub fn paper(reading: Reading) -> EndToEnd {
+    let cal = Calibration::new(
+        &gw_model::paper::gyrowheel(),
+        &gw_model::paper::site(),
+        &calib_lsq::paper::schedule(),
+    )
+    .expect("the paper's schedule identifies every coefficient");
+    let poses = poses_of(&cal);
+    EndToEnd::new(&paper::table3(), &cal, &poses, reading).expect("paper simulator")
+}
+
+/// The turntable poses of a calibration's positions.
+pub fn poses_of(cal: &Calibration) -> Vec<Pose> {
+    cal.schedule()
+        .positions()
+        .iter()
+        .map(|p| Pose::from_deg(p.joint_angles_deg()))
+        .collect::<Result<_, _>>()
+        .expect("finite joint angles")
+}
+
+/// A shipped study (`studies/<name>.toml`).
+pub fn study(name: &str) -> Study {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../studies")
+        .join(format!("{name}.toml"));
+    Study::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// The simulator of a shipped study under `reading` (`None`: the study's reading).
+pub fn study_e2e(name: &str, reading: Option<Reading>) -> EndToEnd {
+    let s = study(name);
+    let poses = poses_of(&s.calibration);
+    EndToEnd::new(
+        &s.turntable,
+        &s.calibration,
+        &poses,
+        reading.unwrap_or(s.reading),
+    )
+    .expect("study simulator")
+}
+
+/// The largest |value| of any term of the sensor (output unit per regressor unit): the scale
+/// of the outputs, against which rounding is measured.
+pub fn output_scale(e2e: &EndToEnd) -> f64 {
+    e2e.calibration()
+        .sensor()
+        .outputs()
+        .iter()
+        .flat_map(|o| o.terms.iter().map(|t| t.value.abs()))
+        .fold(1.0, f64::max)
+}
+
+/// Errors drawn uniformly in `[-ub, ub]` (component-wise) from a seeded stream.
+pub fn random_chi(rng: &mut rand_chacha::ChaCha8Rng, ub: &[f64]) -> Vec<f64> {
+    use rand_core::Rng;
+    ub.iter()
+        .map(|u| {
+            let v = f64::from(rng.next_u32()) / f64::from(u32::MAX);
+            (2.0 * v - 1.0) * u
+        })
+        .collect()
+}
