@@ -33,6 +33,7 @@ mod fuzz;
 mod groups;
 mod input;
 mod json;
+mod loaded;
 mod mc;
 mod newfile;
 mod noise;
@@ -45,7 +46,6 @@ mod rate;
 mod report;
 mod report_api;
 mod requirement;
-mod study;
 
 pub use input::InputError;
 pub use report_api::{Report, ReportFile, ReportOptions};
