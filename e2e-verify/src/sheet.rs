@@ -359,6 +359,25 @@ impl ToleranceSheet {
         &self.entries.implied
     }
 
+    /// How each error varies with a shaft angle as far as the sheet says (order of $\chi$):
+    /// the model a vendor quantity implies (a wobble or a positioning accuracy bounds an
+    /// error over the revolution of its axis, `any` of the joint; an orthogonality is a
+    /// constant), else `any` function of the angle of the shaft the error rides on
+    /// ([`tt_kinematics::on_shafts`]): what a sheet that bounds each error over the whole
+    /// revolution supports and nothing more.
+    #[must_use]
+    pub fn supported_model(&self, turntable: &Turntable) -> Vec<ErrorVariation> {
+        let mut v = tt_kinematics::on_shafts(turntable, |j| ErrorVariation::Any {
+            joint: j.to_string(),
+        });
+        for (x, i) in v.iter_mut().zip(&self.entries.implied) {
+            if let Some(i) = i {
+                x.clone_from(i);
+            }
+        }
+        v
+    }
+
     /// Translation bounds (m, turntable's order), `None` when not given.
     #[must_use]
     pub fn translations_m(&self) -> &[Option<f64>] {

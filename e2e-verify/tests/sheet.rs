@@ -281,3 +281,19 @@ fn checking_a_sheet_checks_its_bounds_with_its_clamped_lower_bounds() {
         );
     }
 }
+
+#[test]
+fn the_model_a_sheet_supports_is_any_on_each_shaft_unless_a_vendor_quantity_implies_one() {
+    let table = paper::table3();
+    let n = table.n_rotation_errors();
+    let mut e = entries();
+    e.implied[0] = Some(ErrorVariation::Constant);
+    let model = sheet(e, 0.0, vec![None; n])
+        .unwrap()
+        .supported_model(&table);
+    let any = tt_kinematics::on_shafts(&table, |j| ErrorVariation::Any {
+        joint: j.to_string(),
+    });
+    assert_eq!(model[0], ErrorVariation::Constant);
+    assert_eq!(model[1..], any[1..]);
+}

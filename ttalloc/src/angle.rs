@@ -217,15 +217,7 @@ pub fn model_of(s: &Study, sheet: &ToleranceSheet) -> (bool, Vec<ErrorVariation>
     if s.has_angle_dependent_errors() {
         (true, s.variations.clone())
     } else {
-        let mut v = tt_kinematics::on_shafts(&s.turntable, |j| ErrorVariation::Any {
-            joint: j.to_string(),
-        });
-        for (x, i) in v.iter_mut().zip(sheet.implied()) {
-            if let Some(i) = i {
-                *x = i.clone();
-            }
-        }
-        (false, v)
+        (false, sheet.supported_model(&s.turntable))
     }
 }
 
