@@ -69,7 +69,8 @@ pub use lsq::{
     RateErrorCovariance, Regression, jacobi_singular_values,
 };
 pub use requirement::{
-    OrientationRequirement, OutputBox, OutputRegion, RequirementParams, RequirementProblem, Surface,
+    AxisDisagreement, DISAGREE_REL, OrientationRequirement, OutputBox, OutputRegion,
+    RequirementParams, RequirementProblem, Surface,
 };
 pub use schedule::{Position, RateMotion, Schedule};
 pub use timing::Timing;

@@ -259,6 +259,60 @@ impl OrientationRequirement {
     pub fn unconstrained_outputs(&self) -> &[String] {
         &self.unconstrained_outputs
     }
+
+    /// Where a given requirement `given_rad` ($\psi, \theta, \gamma$, rad) disagrees with
+    /// this computed one, axis by axis in the order $\psi, \theta, \gamma$: a relative
+    /// difference above [`DISAGREE_REL`], or a given value where no output constrains the
+    /// axis. Empty when they agree.
+    #[must_use]
+    pub fn disagreement(&self, given_rad: [f64; 3]) -> Vec<AxisDisagreement> {
+        OrientationAxis::ALL
+            .iter()
+            .filter_map(|&axis| {
+                let given_rad = given_rad[axis.index()];
+                match self.requirement.get(axis) {
+                    Some(computed_rad)
+                        if ((given_rad - computed_rad) / computed_rad).abs() > DISAGREE_REL =>
+                    {
+                        Some(AxisDisagreement::Differs {
+                            axis,
+                            given_rad,
+                            computed_rad,
+                        })
+                    }
+                    None => Some(AxisDisagreement::NoneComputed { axis, given_rad }),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Relative difference above which a given requirement is said to disagree with the computed
+/// one ([`OrientationRequirement::disagreement`]; dimensionless: the computation is accurate
+/// to 1e-9).
+pub const DISAGREE_REL: f64 = 1e-6;
+
+/// One axis where a given requirement disagrees with the computed one
+/// ([`OrientationRequirement::disagreement`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AxisDisagreement {
+    /// Both exist and differ by more than [`DISAGREE_REL`] of the computed one.
+    Differs {
+        /// The axis.
+        axis: OrientationAxis,
+        /// The given value, rad.
+        given_rad: f64,
+        /// The computed value, rad.
+        computed_rad: f64,
+    },
+    /// A value is given where no output constrains the axis (none computed).
+    NoneComputed {
+        /// The axis.
+        axis: OrientationAxis,
+        /// The given value, rad.
+        given_rad: f64,
+    },
 }
 
 /// Grid data of a surface $\Gamma$ (Figure 4): one output's $\Delta\omega$ over two angles.

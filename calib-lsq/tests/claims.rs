@@ -583,3 +583,28 @@ fn per_position_delta_r_and_exact_rotation_agree_with_small_angle_analysis() {
         assert_abs_diff_eq!(*e, s, epsilon = 1e-8);
     }
 }
+
+/// A given requirement is compared with the computed one axis by axis: equal values agree, a
+/// relative change above `DISAGREE_REL` on one axis names that axis alone with both values.
+#[test]
+fn a_given_requirement_disagrees_with_the_computed_one_only_on_the_axes_that_differ() {
+    use calib_lsq::{AxisDisagreement, DISAGREE_REL};
+    use tt_core::OrientationAxis;
+    let r = paper_requirement();
+    let computed = r.requirement().to_array().map(|v| v.expect("constrained"));
+    assert!(r.disagreement(computed).is_empty());
+    // within the threshold: agrees
+    let mut close = computed;
+    close[0] *= 1.0 + 0.5 * DISAGREE_REL;
+    assert!(r.disagreement(close).is_empty());
+    let mut given = computed;
+    given[1] *= 1.01;
+    assert_eq!(
+        r.disagreement(given),
+        [AxisDisagreement::Differs {
+            axis: OrientationAxis::ALL[1],
+            given_rad: given[1],
+            computed_rad: computed[1],
+        }]
+    );
+}

@@ -4,6 +4,7 @@
 use crate::error::E2eError;
 use crate::linear::{Linearization, OutputWorstCase};
 use crate::montecarlo::{McSettings, RateDistribution};
+use crate::sheet::ToleranceSheet;
 use crate::simulate::EndToEnd;
 
 /// How sure the answer is that every turntable within the tolerances meets an accuracy.
@@ -204,6 +205,24 @@ impl TurntableCheck {
 }
 
 impl EndToEnd {
+    /// Check a vendor's sheet: [`EndToEnd::check_tolerances`] of its bounds with its lower
+    /// bounds, on this simulator's linearisation.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::check_tolerances`].
+    pub fn check_sheet(
+        &self,
+        sheet: &ToleranceSheet,
+        settings: &McSettings,
+    ) -> Result<TurntableCheck, E2eError> {
+        self.check_tolerances(
+            &self.linearization(),
+            sheet.upper_bounds_rad(),
+            sheet.lower_bounds_rad(),
+            settings,
+        )
+    }
+
     /// Check tolerances `ub_rad` (with lower bounds `lower_bounds_rad`) against every output's
     /// accuracy: the worst case per output (linearised, confirmed on the exact chain at the
     /// worst vertex, with its second-order bound), each error's contribution (one per group of

@@ -227,6 +227,46 @@ pub enum E2eError {
         /// The last relative change or violation.
         change: f64,
     },
+    /// A magnitude bound of a tolerance sheet names an error the turntable does not have, or
+    /// an error twice ([`crate::sheet::ToleranceSheet::new`]).
+    #[error("{key}: {reason}")]
+    SheetDisc {
+        /// The sheet's key of the magnitude (`axes.phi2.wobble_arcsec`).
+        key: String,
+        /// What is wrong, in words.
+        reason: String,
+    },
+    /// A measured error's coefficients do not fit its model (or it varies as `any`, which a
+    /// measurement cannot give).
+    #[error(
+        "{key}: `{error}` has {coefficients} measured coefficient(s), its model needs {}",
+        expected.map_or_else(|| "a constant or harmonics (it varies as `any`)".to_string(), |n| n.to_string())
+    )]
+    MeasuredModel {
+        /// The measurement's key.
+        key: String,
+        /// The error measured.
+        error: String,
+        /// Coefficients given.
+        coefficients: usize,
+        /// Coefficients its model has (`None`: an `any` error, which cannot be measured).
+        expected: Option<usize>,
+    },
+    /// A measured error reaches, somewhere on the revolution, a magnitude above the sheet's
+    /// bound: the measured table is outside the sheet, which a check of the sheet assumes.
+    #[error(
+        "{key}: the measured `{error}` reaches {reached_rad} rad, above the sheet's bound {bound_rad} rad: the measured table is outside its specification"
+    )]
+    MeasuredOutsideSheet {
+        /// The measurement's key.
+        key: String,
+        /// The error measured.
+        error: String,
+        /// The magnitude it reaches (rad).
+        reached_rad: f64,
+        /// The sheet's bound (rad).
+        bound_rad: f64,
+    },
 }
 
 /// The message of [`E2eError::ConditionUnreachable`].
@@ -267,7 +307,8 @@ pub(crate) fn fraction(field: &str, value: f64) -> Result<f64, E2eError> {
 
 impl tt_core::ErrorClass for E2eError {
     /// Input: the fields, the parts of the calibration, turntable, allocation and box that
-    /// are the caller's input, lower bounds above a box or infeasible, a reading without a
+    /// are the caller's input, a tolerance sheet's entries (the key named), lower bounds
+    /// above a box or infeasible, a reading without a
     /// second-order bound (`reading`), too few draws for a yield target (`samples`), a yield
     /// no scale reaches (`lower_bounds`), the schedule design's settings and candidates.
     /// Internal: a margin at least the accuracy, a failed draw, a missing part of an answer,
@@ -296,6 +337,9 @@ impl tt_core::ErrorClass for E2eError {
             }
             E2eError::ConditionUnreachable { .. } => Some("max_condition"),
             E2eError::BudgetTooShort { .. } => Some("time_budget_s"),
+            E2eError::SheetDisc { key, .. }
+            | E2eError::MeasuredModel { key, .. }
+            | E2eError::MeasuredOutsideSheet { key, .. } => Some(key),
             E2eError::MarginExceedsAccuracy { .. }
             | E2eError::NoBoxToCertify
             | E2eError::Draw { .. }

@@ -29,7 +29,9 @@
 //!   [`YieldBased`], on [`EndToEnd::allocation_problem`]), returning alloc-opt's one
 //!   [`alloc_opt::ToleranceBox`];
 //! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
-//!   contribution and a verdict;
+//!   contribution and a verdict; [`EndToEnd::check_sheet`] the same of a vendor's
+//!   [`ToleranceSheet`] (bounds, lower bounds, discs, rate and translation bounds, measured
+//!   errors, validated once; [`sheet`]);
 //! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`;
 //! - [`noise`]: one answer for both error sources, the table's worst case and the sensor's
 //!   noise (calib-lsq's covariance) at a stated confidence, with the combined yield, the
@@ -93,6 +95,7 @@ pub mod paper;
 pub mod rate;
 mod seam;
 pub mod sensitivity;
+pub mod sheet;
 mod simulate;
 pub mod timedomain;
 pub mod ziggurat;
@@ -125,5 +128,6 @@ pub use rate::{
     CertifiedRateAllocation, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance,
 };
 pub use sensitivity::{NoiseSensitivity, ParameterSpread};
+pub use sheet::ToleranceSheet;
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
 pub use timedomain::{OutputMoments, TimeDomainRun};

@@ -36,4 +36,4 @@ pub use schema::{
     DEFAULT_DELTA_R, DEFAULT_READING, Measured, MonteCarloSettings, RequirementSource, Study,
     StudyRateStep, is_name_slug,
 };
-pub use tolerances::{DiscBound, Tolerances, ValueConvention};
+pub use tolerances::{DiscBound, Tolerances, ValueConvention, sheet_bound_words};

@@ -13,10 +13,13 @@
 //! phi1_rate_ripple = 1000    # first-harmonic ripple over the revolution, each component
 //! ```
 
+use crate::Study;
 use crate::error::StudyError;
 use crate::fmt::{exact, num};
 use crate::limits;
 use crate::schema::{in_range, one_line, read_text_file, toml_error};
+use e2e_verify::E2eError;
+use e2e_verify::sheet::{MeasuredError, SheetEntries, ToleranceSheet};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -135,19 +138,12 @@ type Quantity<'a> = (
     Option<tt_kinematics::ErrorVariation>,
 );
 
-/// A magnitude (disc) bound on two angular errors: $\sqrt{\chi_a^2 + \chi_b^2} \le w$ (a
-/// vendor's wobble or perpendicularity, the magnitude of a tilt with two components).
-#[derive(Debug, Clone, PartialEq)]
-pub struct DiscBound {
-    /// The sheet's key (`axes.phi2.wobble_arcsec`).
-    pub key: String,
-    /// The two errors' indices in $\chi$.
-    pub errors: [usize; 2],
-    /// $w$, rad.
-    pub bound_rad: f64,
-}
+/// A magnitude (disc) bound on two angular errors (e2e-verify's, which the sheet holds).
+pub use e2e_verify::sheet::DiscBound;
 
-/// A turntable's tolerances: $|\chi_i| \le \mathrm{UB}_i$ for every angular error.
+/// A turntable's tolerances as the file gives them: $|\chi_i| \le \mathrm{UB}_i$ for every
+/// angular error. A check takes the [`ToleranceSheet`] a study makes of them
+/// ([`Tolerances::sheet`], [`Study::load_sheet`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tolerances {
     /// The path as the user gave it.
@@ -562,5 +558,122 @@ impl Tolerances {
             discs,
             implied,
         })
+    }
+}
+
+impl Tolerances {
+    /// The sheet's entries as e2e-verify's [`SheetEntries`].
+    #[must_use]
+    pub fn entries(&self) -> SheetEntries {
+        SheetEntries {
+            name: self.name.clone(),
+            upper_bounds_rad: self.ub_rad.clone(),
+            translations_m: self.translations_m.clone(),
+            discs: self.discs.clone(),
+            implied: self.implied.clone(),
+            rate_accuracy: self.rate_accuracy.clone(),
+            rate_ripple: self.rate_ripple.clone(),
+        }
+    }
+
+    /// The [`ToleranceSheet`] of these tolerances for the study `s`: with its lower bounds
+    /// (held within the sheet's) and its measured errors
+    /// (`[[compensation.measured]]`).
+    ///
+    /// # Errors
+    /// A [`StudyError`] naming the measurement's key and the sheet's bound when a measured
+    /// error reaches, somewhere on the revolution, a magnitude above the sheet's bound (the
+    /// measured table is outside its specification, which a check assumes it meets); naming
+    /// the sheet otherwise.
+    pub fn sheet(&self, s: &Study) -> Result<ToleranceSheet, StudyError> {
+        let measured = s
+            .measured
+            .iter()
+            .zip(&s.variations)
+            .map(|(m, v)| {
+                m.as_ref().map(|m| MeasuredError {
+                    key: m.key.clone(),
+                    variation: v.clone(),
+                    coefficients_rad: m.coefficients_rad.clone(),
+                    uncertainty_rad: m.uncertainty_rad,
+                })
+            })
+            .collect();
+        ToleranceSheet::new(
+            &s.turntable,
+            &self.path,
+            self.entries(),
+            &s.lower_bounds_rad,
+            measured,
+        )
+        .map_err(|e| match e {
+            E2eError::MeasuredOutsideSheet {
+                reached_rad, error, ..
+            } => {
+                let j = s
+                    .turntable
+                    .rotation_error_index(&error)
+                    .unwrap_or_else(|| unreachable!("named by the sheet's turntable"));
+                let m = s.measured[j]
+                    .as_ref()
+                    .unwrap_or_else(|| unreachable!("a measured error"));
+                let written: Vec<String> = m.written_arcmin.iter().map(|v| exact(*v)).collect();
+                let value = if written.len() == 1 {
+                    written[0].clone()
+                } else {
+                    format!("[{}]", written.join(", "))
+                };
+                StudyError::new(
+                    format!("{}: key `{}`", s.path, m.key),
+                    format!(
+                        "the measured `{error}` = {value} arcmin reaches {} arcmin, above the sheet's {}: the measured table is outside its specification, which the check assumes it meets; check the measurement, or check a sheet that bounds this table",
+                        num(tt_core::units::rad_to_arcmin(reached_rad)),
+                        bound_words(s, self.implied[j].is_none(), &self.path, j, self.ub_rad[j]),
+                    ),
+                )
+            }
+            other => StudyError::new(&self.path, other.to_string()),
+        })
+    }
+}
+
+/// The sheet's bound of error `j` in words, as messages and notes name it: its key
+/// (`` `tolerances_arcmin.<error>` `` when `plain`, else the bound its `[axes]` entry gives),
+/// value in arcmin and the sheet's path.
+fn bound_words(s: &Study, plain: bool, path: &str, j: usize, ub_rad: f64) -> String {
+    let name = s.turntable.rotation_error_names()[j];
+    let key = if plain {
+        format!("`tolerances_arcmin.{name}`")
+    } else {
+        format!("the bound of `{name}` its `[axes]` entry gives")
+    };
+    format!(
+        "{key} = {} arcmin of {}",
+        num(tt_core::units::rad_to_arcmin(ub_rad)),
+        crate::fmt::visible(path)
+    )
+}
+
+/// The sheet's bound of error `j` of `sheet` in words (its key, value in arcmin and path),
+/// as a note about a measured error names it.
+#[must_use]
+pub fn sheet_bound_words(s: &Study, sheet: &ToleranceSheet, j: usize) -> String {
+    bound_words(
+        s,
+        sheet.implied()[j].is_none(),
+        sheet.source(),
+        j,
+        sheet.upper_bounds_rad()[j],
+    )
+}
+
+impl Study {
+    /// Read the tolerance file at `path` and make its [`ToleranceSheet`] for this study
+    /// ([`Tolerances::load`], [`Tolerances::sheet`]).
+    ///
+    /// # Errors
+    /// As [`Tolerances::load`] and [`Tolerances::sheet`].
+    pub fn load_sheet(&self, path: &Path) -> Result<ToleranceSheet, StudyError> {
+        Tolerances::load(path, &self.turntable)?.sheet(self)
     }
 }

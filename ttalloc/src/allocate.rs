@@ -19,7 +19,7 @@
 
 use crate::InputError;
 use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
-use crate::study as st;
+use crate::loaded as st;
 use alloc_opt::{
     Allocation, AllocationProblem, Allocator, Certificate, ConstraintForm, EqualEffects,
     SensitivityWeighted, Weights, exact_chain_check,

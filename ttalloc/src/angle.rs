@@ -11,7 +11,8 @@ use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use e2e_verify::angle::{AngleOutputWorstCase, AngleYield};
 use e2e_verify::disc::{Pair, PairModel, PairShape};
-use e2e_verify::{DirectAllocation, EndToEnd, TurntableCheck, Verdict};
+use e2e_verify::noise::weakest;
+use e2e_verify::{DirectAllocation, EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use serde::Serialize;
 use study::Study;
 use study::fmt::num;
@@ -212,34 +213,15 @@ pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Re
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
 /// quantities imply (an orthogonality is a constant).
 #[must_use]
-pub fn model_of(s: &Study, tol: &study::Tolerances) -> (bool, Vec<ErrorVariation>) {
+pub fn model_of(s: &Study, sheet: &ToleranceSheet) -> (bool, Vec<ErrorVariation>) {
     if s.has_angle_dependent_errors() {
         (true, s.variations.clone())
     } else {
-        let mut v = tt_kinematics::on_shafts(&s.turntable, |j| ErrorVariation::Any {
-            joint: j.to_string(),
-        });
-        for (x, i) in v.iter_mut().zip(&tol.implied) {
-            if let Some(i) = i {
-                *x = i.clone();
-            }
-        }
-        (false, v)
+        (false, sheet.supported_model(&s.turntable))
     }
 }
 
-fn weakest(v: impl Iterator<Item = Verdict>) -> Verdict {
-    let v: Vec<Verdict> = v.collect();
-    if v.contains(&Verdict::Fails) {
-        Verdict::Fails
-    } else if v.iter().all(|x| *x == Verdict::Guaranteed) {
-        Verdict::Guaranteed
-    } else {
-        Verdict::Likely
-    }
-}
-
-/// Check the bounds `ub_rad` under the angle-dependent model for every simulator of
+/// Check the sheet's bounds under the angle-dependent model for every simulator of
 /// `checks`, with `samples` Monte Carlo turntables from `seed`; with the sheet's discs, their
 /// worst case, yield and (with `allocate`) the allocations with one tolerance per pair.
 ///
@@ -248,15 +230,15 @@ fn weakest(v: impl Iterator<Item = Verdict>) -> Verdict {
 pub fn check(
     s: &Study,
     checks: &[(EndToEnd, TurntableCheck)],
-    tol: &study::Tolerances,
+    sheet: &ToleranceSheet,
     samples: u64,
     seed: u64,
     allocate: bool,
     noise: Option<&NoisePart>,
 ) -> Result<AngleCheck> {
-    let ub_rad = &tol.ub_rad[..];
-    let (study_model, variations) = model_of(s, tol);
-    let discs: Vec<([usize; 2], f64)> = tol.discs.iter().map(|d| (d.errors, d.bound_rad)).collect();
+    let ub_rad = sheet.upper_bounds_rad();
+    let (study_model, variations) = model_of(s, sheet);
+    let discs = sheet.disc_bounds();
     let mut readings = Vec::with_capacity(checks.len());
     for (e2e, _) in checks {
         let ex = expansion(s, e2e, &variations)?;
@@ -558,7 +540,7 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
     s
 }
 
-/// The allocations with one tolerance per pair of the sheet `tol` (its `[axes.<joint>]`
+/// The allocations with one tolerance per pair of the sheet (its `[axes.<joint>]`
 /// wobbles and orthogonalities; the values are not used, only which errors pair up), for the
 /// study's reading and the user's when different; the angle-dependent model is
 /// [`model_of`]'s. Empty when the sheet states no pair.
@@ -568,15 +550,15 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
 pub fn sheet_allocations(
     s: &Study,
     e2e: &EndToEnd,
-    tol: &study::Tolerances,
+    sheet: &ToleranceSheet,
 ) -> Result<Vec<(EndToEnd, DiscAllocation)>> {
-    if tol.discs.is_empty() {
+    if sheet.discs().is_empty() {
         return Ok(Vec::new());
     }
     let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
-    let (_, variations) = model_of(s, tol);
-    let pairs: Vec<Pair> = tol
-        .discs
+    let (_, variations) = model_of(s, sheet);
+    let pairs: Vec<Pair> = sheet
+        .discs()
         .iter()
         .map(|d| Pair {
             errors: d.errors,
@@ -624,121 +606,18 @@ pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> S
 }
 
 /// The check of the compensated table: the measured errors are known inputs of the chain, so
-/// their bound is their measurement uncertainty (the rest of the sheet unchanged).
+/// their bound is what the measurement leaves ([`ToleranceSheet::compensated`]; the rest of
+/// the sheet unchanged).
 #[derive(Debug, Clone)]
 pub struct Compensated {
-    /// The box that matters (rad, order of chi).
-    pub ub_rad: Vec<f64>,
+    /// The compensated sheet: the box that matters.
+    pub sheet: ToleranceSheet,
     /// The constant-model check of every reading.
     pub checks: Vec<TurntableCheck>,
     /// The angle-dependent check.
     pub angle: AngleCheck,
-    /// One sentence per measured error whose uncertainty exceeds the sheet's bound
-    /// ([`measured_against_sheet`]).
-    pub notes: Vec<String>,
-}
-
-/// The box that matters after compensation against a sheet, and what the measurements say
-/// about it.
-#[derive(Debug, Clone)]
-pub struct MeasuredAgainstSheet {
-    /// Each error's bound after compensation (rad, order of chi): an unmeasured error keeps
-    /// the sheet's; a measured one, whose residual $\chi - m$ the compensated calibration sees,
-    /// is bounded by its uncertainty and, since the table is within the sheet
-    /// ($\lvert\chi\rvert \le \mathrm{UB}$), by $\mathrm{UB} + \max_\phi\lvert m(\phi)\rvert$:
-    /// the smaller.
-    pub ub_rad: Vec<f64>,
     /// One sentence per measured error whose uncertainty exceeds the sheet's bound.
     pub notes: Vec<String>,
-}
-
-/// Points per harmonic order at which a measured harmonic error is evaluated to find its
-/// largest magnitude (a value it certainly reaches: a lower bound of its maximum).
-const MEASURED_GRID_PER_ORDER: usize = 720;
-
-/// The measured errors of the study against the sheet `tol` (issue 32 item 3).
-///
-/// A measured value is the table's own error: one whose magnitude somewhere on the revolution
-/// exceeds the sheet's bound says the table is outside its specification, which contradicts
-/// the check's premise (a table within the sheet): refused naming both keys. An uncertainty
-/// above the sheet's bound is allowed and noted: the residual is then bounded by the sheet
-/// and the measured value, $\mathrm{UB} + \max\lvert m\rvert$, so the measured value counts.
-///
-/// # Errors
-/// An [`crate::InputError`] (exit 2) naming the measurement's key and the sheet's bound.
-pub fn measured_against_sheet(s: &Study, tol: &study::Tolerances) -> Result<MeasuredAgainstSheet> {
-    use tt_core::units::rad_to_arcmin;
-    let names = s.turntable.rotation_error_names();
-    let mut ub_rad = tol.ub_rad.clone();
-    let mut notes = Vec::new();
-    for (j, m) in s.measured.iter().enumerate() {
-        let Some(m) = m else { continue };
-        let ub = tol.ub_rad[j];
-        let sheet_key = if tol.implied[j].is_none() {
-            format!("`tolerances_arcmin.{}`", names[j])
-        } else {
-            format!("the bound of `{}` its `[axes]` entry gives", names[j])
-        };
-        let sheet = format!(
-            "{sheet_key} = {} arcmin of {}",
-            study::fmt::num(rad_to_arcmin(ub)),
-            study::fmt::visible(&tol.path)
-        );
-        let (reached, sup_upper) = match &s.variations[j] {
-            ErrorVariation::Harmonics { orders, .. } => {
-                let k = orders.iter().copied().max().unwrap_or(1).max(1) as usize;
-                let points = MEASURED_GRID_PER_ORDER * k;
-                let reached = (0..points)
-                    .map(|i| {
-                        let phi = std::f64::consts::TAU * i as f64 / points as f64;
-                        tt_kinematics::variation::harmonic_value(orders, &m.coefficients_rad, phi)
-                            .abs()
-                    })
-                    .fold(0.0, f64::max);
-                (
-                    reached,
-                    tt_kinematics::variation::sup_norm_upper(orders, &m.coefficients_rad),
-                )
-            }
-            _ => {
-                let v = m.coefficients_rad.first().map_or(0.0, |v| v.abs());
-                (v, v)
-            }
-        };
-        if reached > ub {
-            let written: Vec<String> = m
-                .written_arcmin
-                .iter()
-                .map(|v| study::fmt::exact(*v))
-                .collect();
-            let value = if written.len() == 1 {
-                written[0].clone()
-            } else {
-                format!("[{}]", written.join(", "))
-            };
-            return Err(crate::InputError::new(
-                format!("{}: key `{}`", s.path, m.key),
-                format!(
-                    "the measured `{}` = {value} arcmin reaches {} arcmin, above the sheet's {sheet}: the measured table is outside its specification, which the check assumes it meets; check the measurement, or check a sheet that bounds this table",
-                    names[j],
-                    study::fmt::num(rad_to_arcmin(reached)),
-                ),
-            )
-            .into());
-        }
-        let residual = m.uncertainty_rad.min(ub + sup_upper);
-        ub_rad[j] = residual;
-        if m.uncertainty_rad > ub {
-            notes.push(format!(
-                "the measurement uncertainty of `{}` ({} arcmin) exceeds the sheet's {sheet}: compensation cannot bound it better than the sheet and the measured value do, {} arcmin (the sheet's bound plus the measured error's largest magnitude {} arcmin), the bound used after compensation",
-                names[j],
-                study::fmt::exact(m.uncertainty_arcmin),
-                study::fmt::num(rad_to_arcmin(residual)),
-                study::fmt::num(rad_to_arcmin(sup_upper)),
-            ));
-        }
-    }
-    Ok(MeasuredAgainstSheet { ub_rad, notes })
 }
 
 /// The compensated check when the study measures errors (`[[compensation.measured]]`), else
@@ -749,35 +628,50 @@ pub fn measured_against_sheet(s: &Study, tol: &study::Tolerances) -> Result<Meas
 pub fn compensated(
     s: &Study,
     checks: &[(EndToEnd, TurntableCheck)],
-    tol: &study::Tolerances,
+    sheet: &ToleranceSheet,
     settings: &e2e_verify::McSettings,
     noise: Option<&NoisePart>,
 ) -> Result<Option<Compensated>> {
-    if s.measured.iter().all(Option::is_none) {
+    use tt_core::units::rad_to_arcmin;
+    let Some((compensated, above)) = sheet.compensated() else {
         return Ok(None);
-    }
-    let MeasuredAgainstSheet { ub_rad, notes } = measured_against_sheet(s, tol)?;
-    let lb: Vec<f64> = s
-        .lower_bounds_rad
+    };
+    let names = s.turntable.rotation_error_names();
+    let notes = above
         .iter()
-        .zip(&ub_rad)
-        .map(|(l, u)| l.min(*u))
+        .map(|a| {
+            let j = a.error();
+            let uncertainty = s.measured[j]
+                .as_ref()
+                .map_or(0.0, |m| m.uncertainty_arcmin);
+            format!(
+                "the measurement uncertainty of `{}` ({} arcmin) exceeds the sheet's {}: compensation cannot bound it better than the sheet and the measured value do, {} arcmin (the sheet's bound plus the measured error's largest magnitude {} arcmin), the bound used after compensation",
+                names[j],
+                study::fmt::exact(uncertainty),
+                study::sheet_bound_words(s, sheet, j),
+                study::fmt::num(rad_to_arcmin(a.residual_rad())),
+                study::fmt::num(rad_to_arcmin(a.largest_measured_rad())),
+            )
+        })
         .collect();
     let mut out = Vec::with_capacity(checks.len());
     for (e2e, _) in checks {
         out.push(
-            e2e.check_tolerances(&e2e.linearization(), &ub_rad, &lb, settings)
+            e2e.check_sheet(&compensated, settings)
                 .map_err(|e| crate::input::library(e, s))?,
         );
     }
-    let mut t = tol.clone();
-    t.ub_rad.clone_from(&ub_rad);
-    // a measured error is bounded by its uncertainty, no longer by the sheet's disc
-    t.discs
-        .retain(|d| d.errors.iter().all(|&j| s.measured[j].is_none()));
-    let angle = check(s, checks, &t, settings.samples, settings.seed, false, noise)?;
+    let angle = check(
+        s,
+        checks,
+        &compensated,
+        settings.samples,
+        settings.seed,
+        false,
+        noise,
+    )?;
     Ok(Some(Compensated {
-        ub_rad,
+        sheet: compensated,
         checks: out,
         angle,
         notes,
@@ -1213,7 +1107,7 @@ impl<'a> CompensatedJson<'a> {
     pub fn new(checks: &'a [(EndToEnd, TurntableCheck)], c: &'a Compensated) -> Self {
         let names = checks[0].0.turntable().rotation_error_names();
         Self {
-            tolerances_arcmin: arcmin_bounds(&names, &c.ub_rad),
+            tolerances_arcmin: arcmin_bounds(&names, c.sheet.upper_bounds_rad()),
             notes: &c.notes,
             readings: checks
                 .iter()

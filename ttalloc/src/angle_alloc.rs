@@ -327,8 +327,8 @@ pub fn sheet(s: &Study, path: Option<&std::path::Path>) -> Result<Option<SheetAl
     let Some(path) = path else {
         return Ok(None);
     };
-    let tol = study::Tolerances::load(path, &s.turntable).map_err(crate::InputError::from)?;
+    let sheet = s.load_sheet(path).map_err(crate::InputError::from)?;
     let e2e = crate::end_to_end::simulator(s)?;
-    let al = crate::angle::sheet_allocations(s, &e2e, &tol)?;
-    Ok(Some((tol.path.clone(), al)))
+    let al = crate::angle::sheet_allocations(s, &e2e, &sheet)?;
+    Ok(Some((sheet.source().to_string(), al)))
 }

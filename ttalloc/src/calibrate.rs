@@ -11,7 +11,7 @@
 
 use crate::InputError;
 use crate::csvio::Source;
-use crate::study as st;
+use crate::loaded as st;
 use anyhow::Result;
 use calib_run::segments::{DetectSettings, parse_segments};
 use calib_run::{CalibrateOptions, Spec, calibrate, verdicts as verdicts_of_flags};

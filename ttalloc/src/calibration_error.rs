@@ -44,11 +44,11 @@ pub fn header(e2e: &EndToEnd) -> String {
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::study::load(args.study.as_deref())?;
+    let s = crate::loaded::load(args.study.as_deref())?;
     let e2e = EndToEnd::new(
         &s.turntable,
         &s.calibration,
-        &crate::study::poses(&s)?,
+        &crate::loaded::poses(&s)?,
         s.reading,
     )
     .map_err(|e| crate::input::library(e, &s))?;

@@ -23,10 +23,11 @@ use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, Split, arcmin_boun
 use anyhow::Result;
 use calib_lsq::Reading;
 use clap::Parser;
-use e2e_verify::{CombinedOutput, EndToEnd, McSettings, TurntableCheck, Verdict, YieldCount};
+use e2e_verify::{
+    CombinedOutput, EndToEnd, McSettings, ToleranceSheet, TurntableCheck, Verdict, YieldCount,
+};
 use serde::Serialize;
 use std::path::PathBuf;
-use study::Tolerances;
 use study::fmt::num;
 
 /// Arguments of `check-turntable`.
@@ -243,14 +244,14 @@ impl<'a> CheckJson<'a> {
     #[must_use]
     pub fn new(
         checks: &'a [(EndToEnd, TurntableCheck)],
-        tol: &'a Tolerances,
+        sheet: &'a ToleranceSheet,
         noisy: &'a [NoisyCheck],
     ) -> Self {
         let (e2e, c) = &checks[0];
         let names = e2e.turntable().rotation_error_names();
         Self {
             study_reading: ReadingCheckJson::new(e2e, c, noisy.first()),
-            tolerances: &tol.path,
+            tolerances: sheet.source(),
             tolerances_arcmin: arcmin_bounds(&names, c.upper_bounds_rad()),
             groups: GroupJson::all(e2e.turntable(), &[]),
             user_reading: checks
@@ -366,12 +367,12 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
 pub fn to_text(
     checks: &[(EndToEnd, TurntableCheck)],
     study_path: &str,
-    tol: &Tolerances,
+    sheet: &ToleranceSheet,
     noisy: &[NoisyCheck],
 ) -> String {
     let mut s = format!(
         "check of {} against the study {}\n",
-        tol.name.clone().unwrap_or_else(|| tol.path.clone()),
+        sheet.title(),
         study_path
     );
     s.push_str(&crate::groups::text(checks[0].0.turntable(), &[], "  "));
@@ -403,20 +404,9 @@ pub fn to_text(
     s
 }
 
-/// The study's lower bounds, each held within the sheet's tolerance (a vendor's tolerance
-/// below the study's manufacturing capability is the vendor's claim to check, not an error).
-#[must_use]
-pub fn lower_bounds_within(s: &study::Study, tol: &Tolerances) -> Vec<f64> {
-    s.lower_bounds_rad
-        .iter()
-        .zip(&tol.ub_rad)
-        .map(|(l, u)| l.min(*u))
-        .collect()
-}
-
 /// The checks with the noise part, one per check (empty when the study gives no noise or no
 /// timing): every output's combined answer, the verdict counting both and the yield over
-/// turntables in the box `ub_rad` and noise.
+/// turntables in the sheet's box and noise.
 ///
 /// # Errors
 /// As [`e2e_verify::EndToEnd::noise_budget`] and [`e2e_verify::EndToEnd::combined_yield`].
@@ -424,8 +414,7 @@ pub fn noisy_checks(
     s: &study::Study,
     e2e: &EndToEnd,
     checks: &[(EndToEnd, TurntableCheck)],
-    ub_rad: &[f64],
-    lb: &[f64],
+    sheet: &ToleranceSheet,
     settings: &McSettings,
     k_sigma: f64,
 ) -> Result<Vec<NoisyCheck>> {
@@ -434,7 +423,7 @@ pub fn noisy_checks(
     };
     let sigma = budget.sigma();
     let bounds = e2e
-        .box_of(ub_rad, lb)
+        .box_of(sheet.upper_bounds_rad(), sheet.lower_bounds_rad())
         .map_err(|e| crate::input::library(e, s))?;
     checks
         .iter()
@@ -463,16 +452,14 @@ pub fn noisy_checks(
 /// # Errors
 /// [`InputError`] for a bad study, tolerance file or flag; other errors if a computation fails.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::study::load(args.study.as_deref())?;
-    let tol = Tolerances::load(&args.tolerances, &s.turntable).map_err(InputError::from)?;
+    let s = crate::loaded::load(args.study.as_deref())?;
     // a measured table outside the sheet is refused before any computation
-    crate::angle::measured_against_sheet(&s, &tol)?;
+    let sheet = s.load_sheet(&args.tolerances).map_err(InputError::from)?;
     let e2e = crate::end_to_end::simulator(&s)?;
     let settings = McSettings::new(
         args.samples.unwrap_or(s.monte_carlo.samples),
         args.seed.unwrap_or(s.monte_carlo.seed),
     );
-    let lb = lower_bounds_within(&s, &tol);
     let mut sims = vec![e2e.clone()];
     if e2e.reading() != Reading::USER {
         sims.push(
@@ -484,14 +471,14 @@ pub fn run(args: &Args) -> Result<()> {
         .into_iter()
         .map(|sim| {
             let c = sim
-                .check_tolerances(&sim.linearization(), &tol.ub_rad, &lb, &settings)
+                .check_sheet(&sheet, &settings)
                 .map_err(|e| crate::input::library(e, &s))?;
             Ok((sim, c))
         })
         .collect::<Result<Vec<_>>>()?;
-    let noisy = noisy_checks(&s, &e2e, &checks, &tol.ub_rad, &lb, &settings, args.k_sigma)?;
+    let noisy = noisy_checks(&s, &e2e, &checks, &sheet, &settings, args.k_sigma)?;
     if e2e.has_rate_steps() {
-        return run_with_rate_steps(args, &s, &tol, &checks, &noisy, &lb, &settings);
+        return run_with_rate_steps(args, &s, &sheet, &checks, &noisy, &settings);
     }
     let noise = noisy.first().map(|n| crate::angle::NoisePart {
         sigma: n.outputs.iter().map(CombinedOutput::noise_sigma).collect(),
@@ -500,21 +487,21 @@ pub fn run(args: &Args) -> Result<()> {
     let angle = crate::angle::check(
         &s,
         &checks,
-        &tol,
+        &sheet,
         settings.samples,
         settings.seed,
         true,
         noise.as_ref(),
     )?;
-    let compensated = crate::angle::compensated(&s, &checks, &tol, &settings, noise.as_ref())?;
-    let decision = crate::spec_verdict::compute(&s, &e2e, &tol.ub_rad)?;
+    let compensated = crate::angle::compensated(&s, &checks, &sheet, &settings, noise.as_ref())?;
+    let decision = crate::spec_verdict::compute(&s, &e2e, sheet.upper_bounds_rad())?;
     let counted: Vec<Verdict> = checks
         .iter()
         .enumerate()
         .map(|(i, (_, c))| noisy.get(i).map_or(c.verdict(), |n| n.verdict))
         .collect();
     if args.json {
-        let mut v = CheckJson::new(&checks, &tol, &noisy);
+        let mut v = CheckJson::new(&checks, &sheet, &noisy);
         v.angle_dependent = Some(crate::angle::AngleCheckJson::new(&checks, &angle));
         v.compensated = Some(
             compensated
@@ -527,7 +514,7 @@ pub fn run(args: &Args) -> Result<()> {
         ));
         crate::json::print(&v)
     } else {
-        let mut text = to_text(&checks, &s.path, &tol, &noisy);
+        let mut text = to_text(&checks, &s.path, &sheet, &noisy);
         if let Some(n) = crate::noise::note(&s) {
             text.push_str(&n);
             text.push('\n');
@@ -557,21 +544,20 @@ pub fn run(args: &Args) -> Result<()> {
 fn run_with_rate_steps(
     args: &Args,
     s: &study::Study,
-    tol: &Tolerances,
+    sheet: &ToleranceSheet,
     checks: &[(EndToEnd, TurntableCheck)],
     noisy: &[NoisyCheck],
-    lb: &[f64],
     settings: &McSettings,
 ) -> Result<()> {
-    let decision = crate::spec_verdict::compute(s, &checks[0].0, &tol.ub_rad)?;
+    let decision = crate::spec_verdict::compute(s, &checks[0].0, sheet.upper_bounds_rad())?;
     let decision = decision.as_ref();
     let rate = checks
         .iter()
-        .map(|(e2e, _)| crate::rate::check(s, e2e, tol, lb, settings))
+        .map(|(e2e, _)| crate::rate::check(s, e2e, sheet, settings))
         .collect::<Result<Vec<_>>>()?;
     const NOTE: &str = "the study has rate steps: the angular errors' check above holds the rate errors and translations at zero; the check below bounds them by the sheet; errors that vary with a shaft angle are modelled at static positions only (not checked here)";
     if args.json {
-        let mut v = CheckJson::new(checks, tol, noisy);
+        let mut v = CheckJson::new(checks, sheet, noisy);
         v.rate_steps_note = Some(NOTE);
         v.rate_steps = Some(
             checks
@@ -583,7 +569,7 @@ fn run_with_rate_steps(
         v.decision = Some(crate::spec_verdict::SpecVerdictJson::new(s, decision));
         crate::json::print(&v)
     } else {
-        let mut text = to_text(checks, &s.path, tol, noisy);
+        let mut text = to_text(checks, &s.path, sheet, noisy);
         text.push_str(&format!("\n{NOTE}\n"));
         for ((e2e, _), r) in checks.iter().zip(&rate) {
             text.push_str(&crate::rate::text(e2e, r));

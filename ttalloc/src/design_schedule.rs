@@ -1096,7 +1096,7 @@ fn to_text(s: &Study, o: &Outcome) -> String {
 /// [`InputError`] for bad inputs (exit 2, nothing on standard output); other errors if a
 /// solver fails.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::study::load(args.study.as_deref())?;
+    let s = crate::loaded::load(args.study.as_deref())?;
     if let Some(rates) = &args.rates_deg_per_s {
         crate::design_rates::check(&s, rates)?;
     }

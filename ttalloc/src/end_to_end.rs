@@ -14,7 +14,7 @@
 
 use crate::InputError;
 use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, PerAngle, Split, arcmin_bounds};
-use crate::study as st;
+use crate::loaded as st;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::{

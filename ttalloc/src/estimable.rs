@@ -548,13 +548,17 @@ pub fn to_text(a: &Estimable) -> String {
 /// # Errors
 /// An [`InputError`] (exit 2) for a bad study or sheet; others exit 1.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::study::load(args.study.as_deref())?;
+    let s = crate::loaded::load(args.study.as_deref())?;
     let tol = args
         .tolerances
         .as_ref()
-        .map(|p| study::Tolerances::load(p, &s.turntable).map_err(InputError::from))
+        .map(|p| s.load_sheet(p).map_err(InputError::from))
         .transpose()?;
-    let a = compute(&s, tol.as_ref().map(|t| t.ub_rad.as_slice()))?;
+    let a = compute(
+        &s,
+        tol.as_ref()
+            .map(e2e_verify::ToleranceSheet::upper_bounds_rad),
+    )?;
     if args.json {
         crate::json::print(&to_json(&s, &a))
     } else {

@@ -34,6 +34,7 @@ mod estimable;
 mod groups;
 mod input;
 mod json;
+mod loaded;
 mod mc;
 mod newfile;
 mod noise;
@@ -47,7 +48,6 @@ mod report;
 mod report_api;
 mod requirement;
 mod spec_verdict;
-mod study;
 
 pub use input::InputError;
 

@@ -24,7 +24,7 @@
 
 use crate::InputError;
 use crate::json::PerAngle;
-use crate::study as st;
+use crate::loaded as st;
 use alloc_opt::{AllocationProblem, Allocator, SensitivityWeighted};
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
@@ -102,10 +102,10 @@ pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
             .map_err(|e| crate::input::library_at(e, s, what))
     };
     if let Some(path) = &args.tolerances {
-        let tol = study::Tolerances::load(path, &s.turntable).map_err(InputError::from)?;
+        let sheet = s.load_sheet(path).map_err(InputError::from)?;
         return Ok((
-            format!("tolerances {}", tol.path),
-            boxed(tol.ub_rad, &tol.path)?,
+            format!("tolerances {}", sheet.source()),
+            boxed(sheet.upper_bounds_rad().to_vec(), sheet.source())?,
         ));
     }
     match args.bounds {

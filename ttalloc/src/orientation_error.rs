@@ -50,7 +50,7 @@ pub struct Args {
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::study::load(args.study.as_deref())?;
+    let s = crate::loaded::load(args.study.as_deref())?;
     let t = &s.turntable;
     let model: Box<dyn OrientationErrorModel> = match args.model {
         ModelChoice::Exact => Box::new(ExactChain::new(t)),

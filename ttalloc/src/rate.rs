@@ -12,10 +12,11 @@ use crate::json::{ArcminBounds, arcmin_bounds};
 use anyhow::Result;
 use e2e_verify::{
     EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, RateAllocation, RateTolerance,
+    ToleranceSheet,
 };
 use serde::Serialize;
+use study::Study;
 use study::fmt::num;
-use study::{Study, Tolerances};
 
 /// The line every command prints for a study with rate steps.
 pub const STATIC_REQUIREMENT_NOTE: &str = "the study has rate steps: the orientation requirement (eq 15-16) is a static concept (one orientation error at every test position), so the two-step allocation against it is not made; the direct allocation against every output's accuracy is the answer";
@@ -37,28 +38,28 @@ pub fn rate_steps_note(e2e: &EndToEnd) -> String {
 /// # Errors
 /// An [`InputError`] naming the sheet's key when the study has rate steps and the sheet
 /// bounds a translation or a turning joint's rate accuracy or ripple not at all.
-pub fn extra_bounds(e2e: &EndToEnd, tol: &Tolerances) -> Result<Vec<f64>, InputError> {
+pub fn extra_bounds(e2e: &EndToEnd, sheet: &ToleranceSheet) -> Result<Vec<f64>, InputError> {
     let t = e2e.turntable();
     e2e.extra_errors()
         .iter()
         .map(|x| {
             let (value, key) = match *x {
                 ExtraError::Translation(i) => (
-                    tol.translations_m[i],
+                    sheet.translations_m()[i],
                     format!("tolerances_mm.{}", t.translation_errors()[i].name),
                 ),
                 ExtraError::RateAccuracy(j) => (
-                    tol.rate_accuracy[j],
+                    sheet.rate_accuracy()[j],
                     format!("tolerances_ppm.{}_rate_accuracy", t.joints()[j].name),
                 ),
                 ExtraError::RippleCos(j) | ExtraError::RippleSin(j) => (
-                    tol.rate_ripple[j],
+                    sheet.rate_ripple()[j],
                     format!("tolerances_ppm.{}_rate_ripple", t.joints()[j].name),
                 ),
             };
             value.ok_or_else(|| {
                 InputError::new(
-                    format!("{}: key `{key}`", tol.path),
+                    format!("{}: key `{key}`", sheet.source()),
                     "the study has rate steps: at a rate step this error acts, so the sheet must bound it",
                 )
             })
@@ -116,22 +117,26 @@ impl RateCheck {
 pub fn check(
     s: &Study,
     e2e: &EndToEnd,
-    tol: &Tolerances,
-    lb: &[f64],
+    sheet: &ToleranceSheet,
     settings: &McSettings,
 ) -> Result<RateCheck> {
-    let bounds = extra_bounds(e2e, tol)?;
+    let bounds = extra_bounds(e2e, sheet)?;
     let outputs = e2e
         .worst_case_with_extra(
             &e2e.linearization(),
             &e2e.extra_linearization(),
-            &tol.ub_rad,
+            sheet.upper_bounds_rad(),
             &bounds,
         )
-        .map_err(|e| crate::input::library_at(e, s, &tol.path))?;
+        .map_err(|e| crate::input::library_at(e, s, sheet.source()))?;
     let (meets, max_drawn) = e2e
-        .meeting_count_with_extra(&tol.ub_rad, lb, &bounds, settings)
-        .map_err(|e| crate::input::library_at(e, s, &tol.path))?;
+        .meeting_count_with_extra(
+            sheet.upper_bounds_rad(),
+            sheet.lower_bounds_rad(),
+            &bounds,
+            settings,
+        )
+        .map_err(|e| crate::input::library_at(e, s, sheet.source()))?;
     Ok(RateCheck {
         bounds,
         outputs,

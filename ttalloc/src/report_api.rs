@@ -15,7 +15,8 @@
 
 use crate::report::compute::{self, Computed, Options};
 use anyhow::Result;
-use study::{Study, Tolerances};
+use e2e_verify::ToleranceSheet;
+use study::Study;
 
 /// What a report computes besides the study; [`Default`]: the study's own Monte Carlo seed and
 /// sample count, no vendor sheet, no designed schedule, no paper extras.
@@ -27,9 +28,8 @@ pub struct ReportOptions {
     /// Monte Carlo turntables per box (`None`: the study's); at least enough to resolve the
     /// yield target ([`e2e_verify::min_yield_samples`]).
     pub samples: Option<u64>,
-    /// A vendor's tolerances to check (read with [`Tolerances::load`] against the study's
-    /// turntable).
-    pub tolerances: Option<Tolerances>,
+    /// A vendor's tolerance sheet to check (read with [`Study::load_sheet`] for the study).
+    pub tolerances: Option<ToleranceSheet>,
     /// A second study with a designed schedule, shown beside the study's.
     pub designed: Option<Study>,
     /// The paper's extras (Table 4, the claims): for the paper's study, as `reproduce-paper`.

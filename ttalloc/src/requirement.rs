@@ -7,7 +7,7 @@
 //! "unconstrained_outputs": [...], "given_requirement_deg", "note"}`.
 
 use crate::InputError;
-use crate::study as st;
+use crate::loaded as st;
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem};
 use clap::Parser;

@@ -171,7 +171,12 @@ fn the_studys_specifications_are_judged_in_their_written_unit_and_plan_ones_are_
     assert_eq!(verdicts.len(), 1, "{verdicts:?}");
     let bias = &verdicts[0];
     assert_eq!(bias["unit"], "ug");
-    assert!(bias["coefficient"].as_str().expect("label").contains("ba_x"));
+    assert!(
+        bias["coefficient"]
+            .as_str()
+            .expect("label")
+            .contains("ba_x")
+    );
     assert!(bias["rule"].as_str().expect("rule").contains("ILAC-G8"));
     let run_value = v["run"]["outputs"]
         .as_array()

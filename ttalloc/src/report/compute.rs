@@ -5,19 +5,20 @@
 //! schedule's comparison and, for the paper, the claims.
 
 use crate::InputError;
-use crate::study::{self as st, StudyRequirement};
+use crate::loaded::{self as st, StudyRequirement};
 use alloc_opt::{
     Allocation, AllocationProblem, Allocator, EqualEffects, ExactAxisCheck, SensitivityWeighted,
     exact_chain_check,
 };
 use anyhow::{Context, Result};
 use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem, Surface};
+use e2e_verify::ToleranceSheet;
 use e2e_verify::paper::registry::{self, ClaimEvaluation, PaperRun};
 use e2e_verify::{BuyersAnswer, EndToEnd, TurntableCheck};
 use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo};
 use rayon::prelude::*;
 use std::time::Instant;
-use study::{Study, Tolerances};
+use study::Study;
 use tt_kinematics::LinearModel;
 
 /// Grid points per side of a rate-error surface.
@@ -37,7 +38,7 @@ pub struct Options {
     /// The paper's extras: Table 4 and the claims.
     pub paper: bool,
     /// A vendor's tolerances to check.
-    pub tolerances: Option<Tolerances>,
+    pub tolerances: Option<ToleranceSheet>,
     /// A second study with a designed schedule.
     pub designed: Option<Study>,
 }
@@ -129,7 +130,7 @@ pub struct Computed {
     /// Its answer (the study's reading, then the user's).
     pub answer: BuyersAnswer,
     /// The vendor check.
-    pub vendor: Option<(Tolerances, TurntableCheck)>,
+    pub vendor: Option<(ToleranceSheet, TurntableCheck)>,
     /// The study's schedule beside the designed one.
     pub designed: Option<[ScheduleFacts; 2]>,
     /// The answer for both error sources (the study's noise over its timing, 3 sigma), when
@@ -164,7 +165,7 @@ pub struct Computed {
 /// The end-to-end answer, the vendor check and (for the paper) Table 4's Monte Carlo.
 type AnswerPart = (
     BuyersAnswer,
-    Option<(Tolerances, TurntableCheck)>,
+    Option<(ToleranceSheet, TurntableCheck)>,
     Option<(MonteCarlo, McResult)>,
     Option<crate::end_to_end::NoisyAnswer>,
 );
@@ -478,7 +479,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     type Left = (
         Option<TwoStep>,
         BuyersAnswer,
-        Option<(Tolerances, TurntableCheck)>,
+        Option<(ToleranceSheet, TurntableCheck)>,
         Option<(MonteCarlo, McResult)>,
         Option<crate::end_to_end::NoisyAnswer>,
     );
@@ -555,14 +556,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                                 Some(tol) => {
                                     let settings =
                                         e2e_verify::McSettings::new(options.samples, options.seed);
-                                    let lb = crate::check_turntable::lower_bounds_within(s, tol);
                                     let c = e2e
-                                        .check_tolerances(
-                                            &e2e.linearization(),
-                                            &tol.ub_rad,
-                                            &lb,
-                                            &settings,
-                                        )
+                                        .check_sheet(tol, &settings)
                                         .map_err(|e| crate::input::library(e, s))?;
                                     Some((tol.clone(), c))
                                 }
@@ -669,32 +664,24 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         _ => None,
     };
     let vendor_noise = match &vendor {
-        Some((tol, chk)) => {
-            let lb = crate::check_turntable::lower_bounds_within(s, tol);
-            crate::check_turntable::noisy_checks(
-                s,
-                &e2e,
-                &[(e2e.clone(), chk.clone())],
-                &tol.ub_rad,
-                &lb,
-                &e2e_verify::McSettings::new(options.samples, options.seed),
-                e2e_verify::DEFAULT_K_SIGMA,
-            )?
-            .pop()
-        }
+        Some((tol, chk)) => crate::check_turntable::noisy_checks(
+            s,
+            &e2e,
+            &[(e2e.clone(), chk.clone())],
+            tol,
+            &e2e_verify::McSettings::new(options.samples, options.seed),
+            e2e_verify::DEFAULT_K_SIGMA,
+        )?
+        .pop(),
         None => None,
     };
     let vendor_rate = match &vendor {
-        Some((tol, _)) if e2e.has_rate_steps() => {
-            let lb = crate::check_turntable::lower_bounds_within(s, tol);
-            Some(crate::rate::check(
-                s,
-                &e2e,
-                tol,
-                &lb,
-                &e2e_verify::McSettings::new(options.samples, options.seed),
-            )?)
-        }
+        Some((tol, _)) if e2e.has_rate_steps() => Some(crate::rate::check(
+            s,
+            &e2e,
+            tol,
+            &e2e_verify::McSettings::new(options.samples, options.seed),
+        )?),
         _ => None,
     };
     timing("vendor check with rate errors", started);
@@ -710,7 +697,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     } else {
         Some(crate::estimable::compute(
             s,
-            vendor.as_ref().map(|(tol, _)| tol.ub_rad.as_slice()),
+            vendor.as_ref().map(|(tol, _)| tol.upper_bounds_rad()),
         )?)
     };
     timing("estimable", started);

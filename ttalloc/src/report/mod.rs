@@ -26,7 +26,6 @@ use render::Sections;
 use serde_json::Value;
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
-use study::Tolerances;
 use tt_core::units::objective_to_arcmin;
 
 /// Arguments of `report`.
@@ -166,7 +165,7 @@ fn command(c: &Computed) -> String {
         c.options.samples
     );
     if let Some((t, _)) = &c.vendor {
-        s.push_str(&format!(" --tolerances {}", q(&t.path)));
+        s.push_str(&format!(" --tolerances {}", q(t.source())));
     }
     if let Some([_, dsg]) = &c.designed {
         s.push_str(&format!(" --designed {}", q(&dsg.path)));
@@ -280,14 +279,14 @@ fn inputs(
     designed: Option<&Path>,
     paper: bool,
 ) -> Result<(study::Study, Options)> {
-    let s = crate::study::load(study)?;
+    let s = crate::loaded::load(study)?;
     let tolerances = match tolerances {
-        Some(p) => Some(Tolerances::load(p, &s.turntable).map_err(InputError::from)?),
+        Some(p) => Some(s.load_sheet(p).map_err(InputError::from)?),
         None => None,
     };
     let designed = match designed {
         Some(p) => Some(
-            crate::study::load(Some(p))
+            crate::loaded::load(Some(p))
                 .map_err(|e| InputError::new(format!("--designed {}", e.location), e.reason))?,
         ),
         None => None,

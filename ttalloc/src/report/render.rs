@@ -328,9 +328,8 @@ impl<'a> Sections<'a> {
                 items.insert(0, self.sheet_outputs(chk));
                 format!(
                     "**Answer.** Do the tolerances of {}{} deliver every output's accuracy? {}.{}",
-                    doc::code(&tol.path),
-                    tol.name
-                        .as_ref()
+                    doc::code(tol.source()),
+                    tol.name()
                         .map_or(String::new(), |n| format!(" ({})", doc::text(n))),
                     upper_first(&sheet_verdict(chk)),
                     c.vendor_rate.as_ref().map_or(String::new(), |r| {
@@ -1795,9 +1794,8 @@ impl<'a> Sections<'a> {
         self.doc.h(2, "Vendor tolerances");
         self.doc.p(format!(
             "The tolerances of {}{} checked end to end under the study's reading: for every output the worst turntable within them (linearised, confirmed on the exact chain, with the derived second-order bound where the reading has one), the Monte Carlo yield, and each error's share of the worst case and of the variance (one share per group of errors that act only together).",
-            doc::code(&tol.path),
-            tol.name
-                .as_ref()
+            doc::code(tol.source()),
+            tol.name()
                 .map_or(String::new(), |n| format!(" ({})", doc::text(n)))
         ));
         let mut rows = Vec::new();

@@ -629,7 +629,7 @@ pub(super) fn results_json(
             })
             .collect(),
         vendor: c.vendor.as_ref().map(|(tol, chk)| VendorJson {
-            tolerances: &tol.path,
+            tolerances: tol.source(),
             verdict: chk.verdict().name(),
             yield_fraction: f(chk.distribution().count().fraction()),
             outputs: chk

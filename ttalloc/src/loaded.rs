@@ -5,10 +5,10 @@
 use crate::InputError;
 use crate::paths;
 use alloc_opt::Requirement;
-use calib_lsq::{CalibError, OrientationRequirement, RequirementProblem};
+use calib_lsq::{AxisDisagreement, CalibError, OrientationRequirement, RequirementProblem};
 use std::path::Path;
 use study::{RequirementSource, Study};
-use tt_core::{OrientationAxis, Pose};
+use tt_core::Pose;
 
 impl From<study::StudyError> for InputError {
     fn from(e: study::StudyError) -> Self {
@@ -24,7 +24,7 @@ impl From<study::StudyError> for InputError {
 pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
     // the path as every output shows it: one visible line (a line feed in a file name cannot
     // forge a line of output); a shell line quotes the path as given instead
-    let text_path = ::study::fmt::visible(&paths::shown(given)).into_owned();
+    let text_path = study::fmt::visible(&paths::shown(given)).into_owned();
     let mut s = match paths::study_source(given) {
         paths::StudySource::File(path) => Study::load(&path).map_err(|e| {
             // name the file as the user gave it (or the workspace-relative default)
@@ -72,10 +72,6 @@ pub struct StudyRequirement {
     pub disagreement: Option<String>,
 }
 
-/// Relative difference above which a given requirement is said to disagree with the computed
-/// one (dimensionless; the computation is accurate to 1e-9).
-pub const DISAGREE_REL: f64 = 1e-6;
-
 /// Resolve the study's requirement.
 ///
 /// # Errors
@@ -114,23 +110,26 @@ fn requirement_of(s: &Study) -> anyhow::Result<StudyRequirement> {
             })?;
             let disagreement = match &computed {
                 Ok(c) => {
-                    let parts: Vec<String> = OrientationAxis::ALL
+                    let parts: Vec<String> = c
+                        .disagreement(rad)
                         .iter()
-                        .filter_map(|axis| {
-                            let (g, n) = (rad[axis.index()], axis.name());
-                            match c.requirement().get(*axis) {
-                                Some(v) if ((g - v) / v).abs() > DISAGREE_REL => Some(format!(
-                                    "{n} {} deg given vs {} deg computed ({:+.2}%)",
-                                    study::fmt::num(g.to_degrees()),
-                                    study::fmt::num(v.to_degrees()),
-                                    100.0 * (g / v - 1.0)
-                                )),
-                                None => Some(format!(
-                                    "{n} {} deg given, none computed (no output constrains it)",
-                                    study::fmt::num(g.to_degrees())
-                                )),
-                                _ => None,
-                            }
+                        .map(|d| match *d {
+                            AxisDisagreement::Differs {
+                                axis,
+                                given_rad: g,
+                                computed_rad: v,
+                            } => format!(
+                                "{} {} deg given vs {} deg computed ({:+.2}%)",
+                                axis.name(),
+                                study::fmt::num(g.to_degrees()),
+                                study::fmt::num(v.to_degrees()),
+                                100.0 * (g / v - 1.0)
+                            ),
+                            AxisDisagreement::NoneComputed { axis, given_rad: g } => format!(
+                                "{} {} deg given, none computed (no output constrains it)",
+                                axis.name(),
+                                study::fmt::num(g.to_degrees())
+                            ),
                         })
                         .collect();
                     (!parts.is_empty()).then(|| {
