@@ -1,4 +1,4 @@
-//! The six-face and three-rotation recording (studies/imu-six-face-three-rotation.toml)
+//! The six-face and three-rotation recording (calib-run/studies/imu-six-face-three-rotation.toml)
 //! processed by `calibrate` gives the accelerometer and gyro triads' biases and matrices that
 //! an independent implementation of the Ferraris method (Ferraris, Grimaldi and Parvis 1995)
 //! gives on the same recording, within the run's expanded uncertainty.

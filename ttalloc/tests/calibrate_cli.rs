@@ -7,7 +7,7 @@ use std::process::Command;
 
 fn study_path() -> String {
     format!(
-        "{}/../studies/imu-six-face-three-rotation.toml",
+        "{}/../calib-run/studies/imu-six-face-three-rotation.toml",
         env!("CARGO_MANIFEST_DIR")
     )
 }

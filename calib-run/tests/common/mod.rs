@@ -6,7 +6,13 @@ use gw_model::SensorModel;
 use study::Study;
 
 pub fn study(name: &str) -> Study {
-    let path = format!("{}/../studies/{name}", env!("CARGO_MANIFEST_DIR"));
+    // calib-run's own example studies first (the six-face recording), then the shipped ones
+    let own = format!("{}/studies/{name}", env!("CARGO_MANIFEST_DIR"));
+    let path = if std::path::Path::new(&own).exists() {
+        own
+    } else {
+        format!("{}/../studies/{name}", env!("CARGO_MANIFEST_DIR"))
+    };
     let text = std::fs::read_to_string(&path).expect("shipped study");
     Study::parse(&path, &text).expect("valid study")
 }
