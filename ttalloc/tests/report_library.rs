@@ -133,7 +133,7 @@ fn the_specifications_section_states_the_library_budget_of_every_specification()
         assert!(md.contains(&format!("### {label}")), "{label}");
     }
     assert!(md.contains("## Specifications: uncertainty budgets and the decision rule"));
-    assert!(md.contains("specification-contributions.svg"));
+    assert!(md.contains("specification_contributions.svg"));
     assert!(md.contains("rule: "), "the headline states the rule");
     assert!(md.contains("bg\\_x"), "the coefficient's name escaped");
     let mut html = String::new();
@@ -143,7 +143,7 @@ fn the_specifications_section_states_the_library_budget_of_every_specification()
     assert!(
         files
             .iter()
-            .any(|f| f.name == "specification-contributions.svg")
+            .any(|f| f.name == "specification_contributions.svg")
     );
 }
 

@@ -1899,7 +1899,7 @@ impl<'a> Sections<'a> {
             "share of u_c² (%)",
         )?;
         let id = self.doc.figure(
-            "specification-contributions.svg",
+            "specification_contributions.svg",
             "Each input's contribution to the combined variance of every specification's budget, (|c| u(x))² / u_c² in percent: the inputs that dominate each verdict.",
             svg,
         );
