@@ -139,12 +139,16 @@ fn the_specifications_section_states_the_library_budget_of_every_specification()
     let mut html = String::new();
     pulldown_cmark::html::push_html(&mut html, pulldown_cmark::Parser::new(&md));
     assert!(html.contains("gx bg_x (bias)"), "rendered as written");
+    // every file, the new figure included, is one the report writer accepts
     let files = report.files().unwrap();
     assert!(
         files
             .iter()
             .any(|f| f.name == "specification_contributions.svg")
     );
+    for f in &files {
+        assert!(ttalloc::fuzzing::is_report_file(&f.name), "{}", f.name);
+    }
 }
 
 /// A study without specifications gets no such section and no `specifications` in its
