@@ -58,54 +58,54 @@ fn unmodelled(s: &Study, v: &PlanVerdict) -> Vec<String> {
     names
 }
 
-/// The verdict as text: one line per specification, then the headline with the rule
-/// (`what` names the tolerances: "these tolerances", "the direct allocation's box").
-#[must_use]
-pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
-    let Some(v) = v else {
-        return format!("  decision rule: {ACCURACY_RULE}\n");
+/// The verdict line of specification `i` of `v` (plain text, the study's names unescaped):
+/// the quantity, U, u_c, k, p, the limit, the ratio, the verdict, the dominant input and
+/// whether the output's noise is modelled.
+pub(crate) fn spec_line(s: &Study, v: &PlanVerdict, i: usize) -> String {
+    let b = &v.budgets()[i];
+    let sp = &s.specifications[b.spec()];
+    let f = sp.to_written();
+    let o = b.output();
+    let dominant = o.dominant().map_or(String::new(), |d| {
+        let share = o.contributions()[d].powi(2) / o.combined().powi(2);
+        format!(
+            "; dominant: {} ({:.0}% of the variance)",
+            b.result().rows()[d].name(),
+            100.0 * share
+        )
+    });
+    let unbounded = &v.unbounded()[b.spec()];
+    let verdict = if !unbounded.is_empty() {
+        format!(
+            "does NOT meet: not bounded ({} has no tolerance and moves it)",
+            unbounded.join(", ")
+        )
+    } else if b.check().meets() {
+        "meets".to_string()
+    } else {
+        "does NOT meet".to_string()
     };
-    let mut t = format!("\nspecifications of the study, {what}:\n");
-    for (b, sp) in v.budgets().iter().zip(&s.specifications) {
-        let f = sp.to_written();
-        let o = b.output();
-        let dominant = o.dominant().map_or(String::new(), |d| {
-            let share = o.contributions()[d].powi(2) / o.combined().powi(2);
-            format!(
-                "; dominant: {} ({:.0}% of the variance)",
-                b.result().rows()[d].name(),
-                100.0 * share
-            )
-        });
-        let unbounded = &v.unbounded()[b.spec()];
-        let verdict = if !unbounded.is_empty() {
-            format!(
-                "does NOT meet: not bounded ({} has no tolerance and moves it)",
-                unbounded.join(", ")
-            )
-        } else if b.check().meets() {
-            "meets".to_string()
-        } else {
-            "does NOT meet".to_string()
-        };
-        let noise = if b.noise_modelled() {
-            String::new()
-        } else {
-            "; noise not modelled for this output: the table's errors only".to_string()
-        };
-        t.push_str(&format!(
-            "  {}{}: U = {} {u} (u_c {}, k = {}, p = {}%) against {} {u}, ratio {}: {verdict}{dominant}{noise}\n",
-            sp.label(&s.sensor),
-            at_text(b.at()),
-            num(o.expanded() * f),
-            num(o.combined() * f),
-            num(o.coverage_factor()),
-            num(100.0 * sp.coverage()),
-            num(sp.written_limit()),
-            num(b.check().ratio()),
-            u = sp.unit(),
-        ));
-    }
+    let noise = if b.noise_modelled() {
+        String::new()
+    } else {
+        "; noise not modelled for this output: the table's errors only".to_string()
+    };
+    format!(
+        "{}{}: U = {} {u} (u_c {}, k = {}, p = {}%) against {} {u}, ratio {}: {verdict}{dominant}{noise}",
+        sp.label(&s.sensor),
+        at_text(b.at()),
+        num(o.expanded() * f),
+        num(o.combined() * f),
+        num(o.coverage_factor()),
+        num(100.0 * sp.coverage()),
+        num(sp.written_limit()),
+        num(b.check().ratio()),
+        u = sp.unit(),
+    )
+}
+
+/// The headline of `v` (plain text): met or not, how many, the noise and the rule.
+pub(crate) fn headline(s: &Study, v: &PlanVerdict) -> String {
     let missing = unmodelled(s, v);
     let noise = if missing.is_empty() {
         "the noise modelled for every specified output".to_string()
@@ -115,8 +115,8 @@ pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
             missing.join(", ")
         )
     };
-    t.push_str(&format!(
-        "  verdict: {} every specification ({} of {} met); {noise}; rule: {PLAN_RULE}\n",
+    format!(
+        "verdict: {} every specification ({} of {} met); {noise}; rule: {PLAN_RULE}",
         if v.meets_all() {
             "MEETS"
         } else {
@@ -124,70 +124,86 @@ pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
         },
         (0..v.budgets().len()).filter(|&i| v.meets(i)).count(),
         v.budgets().len(),
-    ));
+    )
+}
+
+/// The verdict as text: one line per specification, then the headline with the rule
+/// (`what` names the tolerances: "these tolerances", "the direct allocation's box").
+#[must_use]
+pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
+    let Some(v) = v else {
+        return format!("  decision rule: {ACCURACY_RULE}\n");
+    };
+    let mut t = format!("\nspecifications of the study, {what}:\n");
+    for i in 0..v.budgets().len() {
+        t.push_str(&format!("  {}\n", spec_line(s, v, i)));
+    }
+    t.push_str(&format!("  {}\n", headline(s, v)));
     t
 }
 
 /// One row of a budget (`specifications[].budget[]`).
 #[derive(Debug, Serialize)]
-struct RowJson {
+pub(crate) struct RowJson {
     /// The input quantity (a table error, rad; or a noise term, output unit).
-    name: String,
+    pub(crate) name: String,
     /// Its law.
-    distribution: &'static str,
+    pub(crate) distribution: &'static str,
     /// Its standard uncertainty, in its unit (rad for a table error, the model's output unit
     /// for a noise term).
-    standard_uncertainty: f64,
+    pub(crate) standard_uncertainty: f64,
     /// Its sensitivity coefficient (the specification's unit per the input's unit).
-    sensitivity: f64,
+    pub(crate) sensitivity: f64,
     /// Its contribution |c| u, the specification's unit.
-    contribution: f64,
+    pub(crate) contribution: f64,
+    /// Its degrees of freedom (`null`: infinite).
+    pub(crate) dof: Option<f64>,
 }
 
 /// One specification's verdict (`specifications[]`), in the specification's unit.
 #[derive(Debug, Serialize)]
-struct SpecJson {
+pub(crate) struct SpecJson {
     /// `output coefficient (kind)`, `output error over +-R unit`, `output accuracy (eq 14)`.
-    quantity: String,
+    pub(crate) quantity: String,
     /// The unit of every figure (as written in the study).
-    unit: String,
+    pub(crate) unit: String,
     /// The limit.
-    limit: f64,
+    pub(crate) limit: f64,
     /// The coverage probability.
-    coverage: f64,
+    pub(crate) coverage: f64,
     /// The combined standard uncertainty.
-    combined_standard_uncertainty: f64,
+    pub(crate) combined_standard_uncertainty: f64,
     /// The effective degrees of freedom (`null`: infinite).
-    dof_eff: Option<f64>,
+    pub(crate) dof_eff: Option<f64>,
     /// The coverage factor.
-    coverage_factor: f64,
+    pub(crate) coverage_factor: f64,
     /// The expanded uncertainty.
-    expanded: f64,
+    pub(crate) expanded: f64,
     /// U / limit.
-    ratio: f64,
+    pub(crate) ratio: f64,
     /// Whether met by the rule.
-    meets: bool,
+    pub(crate) meets: bool,
     /// Whether the output's noise is in the budget.
-    noise_modelled: bool,
+    pub(crate) noise_modelled: bool,
     /// Errors without a finite tolerance that move the quantity.
-    unbounded: Vec<String>,
+    pub(crate) unbounded: Vec<String>,
     /// The test position evaluated (eq 14's accuracy), else `null`.
-    position: Option<usize>,
+    pub(crate) position: Option<usize>,
     /// The budget's rows.
-    budget: Vec<RowJson>,
+    pub(crate) budget: Vec<RowJson>,
 }
 
 /// The verdict against the specifications (`specifications` of `--json`).
 #[derive(Debug, Serialize)]
 pub struct SpecVerdictJson {
     /// The decision rule in words.
-    rule: &'static str,
+    pub(crate) rule: &'static str,
     /// Whether every specification is met (`null` without specifications).
-    meets: Option<bool>,
+    pub(crate) meets: Option<bool>,
     /// The law of a tolerance (`rectangular`, ...).
-    tolerance_distribution: &'static str,
+    pub(crate) tolerance_distribution: &'static str,
     /// One per specification (empty without).
-    specifications: Vec<SpecJson>,
+    pub(crate) specifications: Vec<SpecJson>,
 }
 
 impl SpecVerdictJson {
@@ -237,6 +253,7 @@ impl SpecVerdictJson {
                             standard_uncertainty: r.standard_uncertainty(),
                             sensitivity: c * f,
                             contribution: u.abs() * f,
+                            dof: r.dof().is_finite().then(|| r.dof()),
                         })
                         .collect(),
                 }

@@ -601,10 +601,13 @@ fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() 
     let ax = t[..t.find("name = \"ax\"").unwrap()]
         .rfind("[[sensor.outputs]]")
         .unwrap();
+    // the accelerometer's specifications only (the gyro's name an output no longer there)
+    let specs = t.find("[[specifications]]").unwrap();
+    let ax_specs = t.find("[[specifications]]\noutput = \"ax\"").unwrap();
     let study = dir.path().join("accel.toml");
     std::fs::write(
         &study,
-        format!("{}{}", &t[..first], &t[ax..])
+        format!("{}{}{}", &t[..first], &t[ax..specs], &t[ax_specs..])
             .replace("name = \"imu-triad-example\"", "name = \"accel\""),
     )
     .unwrap();
@@ -634,6 +637,16 @@ fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() 
         .unwrap();
     assert!(j.is_finite() && j > 0.0);
     assert!(!out.join("monte_carlo.svg").exists() && out.join("end_to_end.svg").exists());
+    // its specifications answered without a requirement: the section and its figure
+    assert!(md.contains("## Specifications: uncertainty budgets and the decision rule"));
+    assert_eq!(
+        v["specifications"]["specifications"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    assert!(out.join("specification_contributions.svg").exists());
 }
 
 /// The plain text of Markdown inline markup: `**`, `` ` `` removed.

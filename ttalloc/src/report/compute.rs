@@ -158,6 +158,10 @@ pub struct Computed {
     /// a disc and as a square, per reading ([`crate::angle::sheet_allocations`]; empty when
     /// the sheet states no pair, `None` without a sheet or for a study with rate steps).
     pub disc_alloc: Option<Vec<(EndToEnd, crate::angle::DiscAllocation)>>,
+    /// The verdict against the study's `[[specifications]]` (a GUM budget each) over the
+    /// direct allocation's box under the study's reading, as `end-to-end` states it, with the
+    /// tolerances it was evaluated at (rad); `None` without specifications.
+    pub decision: Option<(Vec<f64>, e2e_verify::budget::PlanVerdict)>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -710,7 +714,11 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         _ => None,
     };
     timing("the sheet's discs allocated", started);
+    let bounds = answer.readings()[0].direct().upper_bounds_rad().to_vec();
+    let decision = crate::spec_verdict::compute(s, &e2e, &bounds)?.map(|v| (bounds, v));
+    timing("the specifications' budgets", started);
     Ok(Computed {
+        decision,
         disc_alloc,
         estimable,
         angle_alloc,

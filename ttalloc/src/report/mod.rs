@@ -128,6 +128,7 @@ fn render(c: &Computed) -> Result<Rendered> {
     )?;
     sec.end_to_end()?;
     sec.noise()?;
+    sec.specifications()?;
     sec.rate_allocation();
     sec.vendor();
     sec.designed();

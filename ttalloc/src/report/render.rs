@@ -1786,6 +1786,127 @@ impl<'a> Sections<'a> {
         Ok(())
     }
 
+    /// The verdict against the study's `[[specifications]]` (absent without): per
+    /// specification its verdict line with the rule (as `end-to-end` prints it) and its GUM
+    /// budget table, then one figure of every input's share of u_c² per specification. Every
+    /// figure is the library's ([`e2e_verify::EndToEnd::plan_verdict`] through
+    /// [`crate::spec_verdict`]), in the specification's unit.
+    pub fn specifications(&mut self) -> Result<()> {
+        let c = self.c;
+        let Some((_, v)) = &c.decision else {
+            return Ok(());
+        };
+        let s = &c.study;
+        let j = crate::spec_verdict::SpecVerdictJson::new(s, Some(v));
+        self.doc.h(
+            2,
+            "Specifications: uncertainty budgets and the decision rule",
+        );
+        self.doc.p(format!(
+            "Every specification of the study is answered by a GUM uncertainty budget (JCGM 100) over the direct allocation's box under the study's reading `{}` (as `ttalloc end-to-end` states it): one row per input quantity (each turntable error, {} on its tolerance; each noise term of the output where the study models it), with its standard uncertainty u(x) in its own unit (rad for a table error, the output's unit for a noise term), its sensitivity coefficient c in the specification's unit per the input's unit, its contribution |c| u(x) and its degrees of freedom; then the combined standard uncertainty u_c, the effective degrees of freedom ν_eff (Welch-Satterthwaite; ∞ when every input's are), the coverage factor k, the expanded uncertainty U = k u_c, the limit and U / limit. Decision rule: {}.",
+            c.answer.readings()[0].reading(),
+            j.tolerance_distribution,
+            doc::text(j.rule),
+        ));
+        let dof = |d: Option<f64>| d.map_or_else(|| "∞".to_string(), |d| sig(d, 3));
+        let mut categories: Vec<String> = Vec::new();
+        for sp in &j.specifications {
+            for r in &sp.budget {
+                if !categories.contains(&r.name) {
+                    categories.push(r.name.clone());
+                }
+            }
+        }
+        let mut series = Vec::new();
+        for (i, sp) in j.specifications.iter().enumerate() {
+            self.doc.h(3, doc::text(&sp.quantity));
+            self.doc
+                .p(doc::text(&crate::spec_verdict::spec_line(s, v, i)));
+            let u = doc::text(&sp.unit);
+            let mut rows: Vec<Vec<String>> = sp
+                .budget
+                .iter()
+                .map(|r| {
+                    vec![
+                        doc::code(&r.name),
+                        r.distribution.to_string(),
+                        sig(r.standard_uncertainty, 4),
+                        sig(r.sensitivity, 4),
+                        format!("{} {u}", sig(r.contribution, 4)),
+                        dof(r.dof),
+                    ]
+                })
+                .collect();
+            let blank = || "".to_string();
+            for (what, value) in [
+                (
+                    "u_c",
+                    format!("{} {u}", sig(sp.combined_standard_uncertainty, 4)),
+                ),
+                ("ν_eff", dof(sp.dof_eff)),
+                ("k", num(sp.coverage_factor)),
+                (
+                    "U",
+                    format!(
+                        "{} {u} (p = {}%)",
+                        sig(sp.expanded, 4),
+                        num(100.0 * sp.coverage)
+                    ),
+                ),
+                ("limit", format!("{} {u}", num(sp.limit))),
+                ("U / limit", sig(sp.ratio, 4)),
+            ] {
+                rows.push(vec![
+                    format!("**{what}**"),
+                    blank(),
+                    blank(),
+                    blank(),
+                    value,
+                    blank(),
+                ]);
+            }
+            self.doc.table(
+                &[
+                    "input",
+                    "distribution",
+                    "u(x)",
+                    "c",
+                    "contribution |c| u(x)",
+                    "dof",
+                ],
+                rows,
+            );
+            // each input's share of u_c² (the library's contributions, squared over u_c²)
+            let share: Vec<f64> = categories
+                .iter()
+                .map(|n| {
+                    sp.budget
+                        .iter()
+                        .find(|r| &r.name == n)
+                        .filter(|_| sp.combined_standard_uncertainty > 0.0)
+                        .map_or(0.0, |r| {
+                            100.0 * (r.contribution / sp.combined_standard_uncertainty).powi(2)
+                        })
+                })
+                .collect();
+            series.push((sp.quantity.clone(), share));
+        }
+        self.doc.p(doc::text(&crate::spec_verdict::headline(s, v)));
+        let svg = figures::hbar_figure(
+            "Contributions to the combined variance u_c² per specification",
+            &categories,
+            &series,
+            "share of u_c² (%)",
+        )?;
+        let id = self.doc.figure(
+            "specification_contributions.svg",
+            "Each input's contribution to the combined variance of every specification's budget, (|c| u(x))² / u_c² in percent: the inputs that dominate each verdict.",
+            svg,
+        );
+        self.figure_ids.push(("specifications", id));
+        Ok(())
+    }
+
     /// The vendor's tolerances.
     pub fn vendor(&mut self) {
         let c = self.c;

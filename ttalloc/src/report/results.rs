@@ -428,6 +428,22 @@ struct ResultsJson<'a> {
     angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
     /// The table errors the calibration estimates itself, or why not.
     estimable: EstimableJson<'a>,
+    /// With `[[specifications]]`: the verdict and GUM budget of each over the direct
+    /// allocation's box under the study's reading (as `end-to-end --json`'s `decision`);
+    /// absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    specifications: Option<SpecificationsJson>,
+}
+
+/// The verdict against the study's specifications and the tolerances it was evaluated at.
+#[derive(Debug, Serialize)]
+struct SpecificationsJson {
+    /// The tolerances the budgets take (the direct allocation's box, study's reading), rad per
+    /// error (`null`: no bound).
+    tolerances_rad: BTreeMap<String, Num>,
+    /// The verdict, rule and budgets.
+    #[serde(flatten)]
+    verdict: crate::spec_verdict::SpecVerdictJson,
 }
 
 /// One box's answer.
@@ -710,6 +726,14 @@ pub(super) fn results_json(
                 note: super::ESTIMABLE_STATIC_ONLY,
             },
         },
+        specifications: c.decision.as_ref().map(|(ub, v)| SpecificationsJson {
+            tolerances_rad: names
+                .iter()
+                .zip(ub)
+                .map(|(n, b)| ((*n).to_string(), f(*b)))
+                .collect(),
+            verdict: crate::spec_verdict::SpecVerdictJson::new(s, Some(v)),
+        }),
     };
     serde_json::to_value(r)
 }
