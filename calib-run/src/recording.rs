@@ -127,8 +127,8 @@ fn parse_cell(source: &str, line: u64, header: &str, cell: &[u8]) -> Result<f64,
 /// output names (their columns found by name or by `options.columns`), `joints` the table's
 /// joint names (columns `<joint>_deg`, optional as a whole).
 ///
-/// Two threads: this one reads and hashes the bytes and calls `visit`; a second one parses
-/// the CSV and checks every cell and time step. They pass bounded blocks (at most
+/// Two threads: this one reads the bytes and calls `visit`; a second one hashes the bytes,
+/// parses the CSV and checks every cell and time step. They pass bounded blocks (at most
 /// [`CHUNKS_IN_FLIGHT`] chunks of [`CHUNK_BYTES`] bytes one way, [`BLOCKS_IN_FLIGHT`] blocks
 /// of [`BLOCK_ROWS`] rows the other), so memory does not depend on the recording's length;
 /// `visit` sees the rows in order, and an error is returned after the rows before it, as one
@@ -162,25 +162,36 @@ where
             ));
         }
     }
-    let mut hasher = Sha256::new();
     let (byte_tx, byte_rx) = mpsc::sync_channel::<std::io::Result<Vec<u8>>>(CHUNKS_IN_FLIGHT);
     let (block_tx, block_rx) = mpsc::sync_channel::<Block>(BLOCKS_IN_FLIGHT);
+    // used chunks and visited blocks go back to be filled again (no allocation per chunk or
+    // block; their number is bounded by the ones in flight)
+    let (chunk_back_tx, chunk_back_rx) = mpsc::channel::<Vec<u8>>();
+    let (block_back_tx, block_back_rx) = mpsc::channel::<Block>();
     let n_out = outputs.len();
     std::thread::scope(|scope| {
         let worker = scope.spawn(move || {
-            let pending = Rc::new(RefCell::new(Block::default()));
+            let pending = Rc::new(Pending {
+                rows: RefCell::new(Block::default()),
+                spare: block_back_rx,
+                hasher: RefCell::new(Sha256::new()),
+            });
             let input = ChannelRead {
                 rx: byte_rx,
+                back: chunk_back_tx,
                 chunk: Vec::new(),
                 pos: 0,
                 pending: Rc::clone(&pending),
                 tx: block_tx.clone(),
             };
             let parsed = parse_rows(input, source, outputs, joints, options, |row| {
-                let mut b = pending.borrow_mut();
-                b.push(row);
-                if b.line.len() >= BLOCK_ROWS {
-                    let full = std::mem::take(&mut *b);
+                let full = {
+                    let mut b = pending.rows.borrow_mut();
+                    b.push(row);
+                    b.line.len() >= BLOCK_ROWS
+                };
+                if full {
+                    let full = pending.take();
                     // the reading thread stopped (its visit failed, its error is returned):
                     // stop parsing
                     block_tx.send(full).map_err(|_| {
@@ -189,19 +200,21 @@ where
                 }
                 Ok(())
             });
-            let rest = std::mem::take(&mut *pending.borrow_mut());
+            let rest = pending.take();
             if parsed.is_ok() || !rest.line.is_empty() {
                 // rows before an error are still visited; a closed channel is the reader's
                 // own error, returned there
                 let _ = block_tx.send(rest);
             }
-            parsed
+            let hash = pending.hasher.replace(Sha256::new());
+            parsed.map(|p| (p, hex(&hash.finalize())))
         });
         let pumped = pump(
             &mut reader,
-            &mut hasher,
             byte_tx,
             &block_rx,
+            &chunk_back_rx,
+            &block_back_tx,
             n_out,
             &mut visit,
         );
@@ -210,10 +223,10 @@ where
             .join()
             .unwrap_or_else(|p| std::panic::resume_unwind(p));
         pumped?;
-        let p = parsed?;
+        let (p, sha256) = parsed?;
         Ok(RecordingSummary {
             source: source.to_string(),
-            sha256: hex(&hasher.finalize()),
+            sha256,
             samples: p.samples,
             dt_s: p.dt_s,
             duration_s: p.duration_s,
@@ -231,6 +244,22 @@ pub const CHUNKS_IN_FLIGHT: usize = 8;
 pub const BLOCK_ROWS: usize = 1024;
 /// Blocks parsed and not yet visited, at most.
 pub const BLOCKS_IN_FLIGHT: usize = 4;
+
+/// The parsing thread's rows not yet handed over, and the visited blocks to fill again.
+struct Pending {
+    rows: RefCell<Block>,
+    spare: mpsc::Receiver<Block>,
+    /// SHA-256 of the bytes parsed.
+    hasher: RefCell<Sha256>,
+}
+
+impl Pending {
+    /// The rows so far, replaced by an empty block (a visited one if there is one).
+    fn take(&self) -> Block {
+        let fresh = self.spare.try_recv().unwrap_or_default();
+        std::mem::replace(&mut *self.rows.borrow_mut(), fresh)
+    }
+}
 
 /// Parsed rows, flat.
 #[derive(Default)]
@@ -257,6 +286,17 @@ impl Block {
         self.saturated.push(r.saturated);
     }
 
+    fn clear(&mut self) {
+        self.line.clear();
+        self.index.clear();
+        self.t_s.clear();
+        self.values.clear();
+        if let Some(a) = self.angles.as_mut() {
+            a.clear();
+        }
+        self.saturated.clear();
+    }
+
     fn visit<F>(&self, n_out: usize, visit: &mut F) -> Result<(), RunError>
     where
         F: FnMut(&Row<'_>) -> Result<(), RunError>,
@@ -281,9 +321,10 @@ impl Block {
 /// chunk it hands over the rows parsed so far (the reading thread may be waiting for them).
 struct ChannelRead {
     rx: mpsc::Receiver<std::io::Result<Vec<u8>>>,
+    back: mpsc::Sender<Vec<u8>>,
     chunk: Vec<u8>,
     pos: usize,
-    pending: Rc<RefCell<Block>>,
+    pending: Rc<Pending>,
     tx: mpsc::SyncSender<Block>,
 }
 
@@ -293,7 +334,7 @@ impl Read for ChannelRead {
             let next = match self.rx.try_recv() {
                 Ok(c) => Some(c),
                 Err(mpsc::TryRecvError::Empty) => {
-                    let rows = std::mem::take(&mut *self.pending.borrow_mut());
+                    let rows = self.pending.take();
                     if self.tx.send(rows).is_err() {
                         return Ok(0);
                     }
@@ -304,7 +345,11 @@ impl Read for ChannelRead {
             match next {
                 None => return Ok(0),
                 Some(c) => {
-                    self.chunk = c?;
+                    let c = c?;
+                    self.pending.hasher.borrow_mut().update(&c);
+                    let used = std::mem::replace(&mut self.chunk, c);
+                    // the reading thread may have stopped: then the chunk is dropped here
+                    let _ = self.back.send(used);
                     self.pos = 0;
                 }
             }
@@ -316,13 +361,14 @@ impl Read for ChannelRead {
     }
 }
 
-/// The reading thread: read, hash and send chunks; visit the parsed blocks as they come (and
+/// The reading thread: read and send chunks; visit the parsed blocks as they come (and
 /// whenever the chunk channel is full); after the end, visit the rest.
 fn pump<R, F>(
     reader: &mut R,
-    hasher: &mut Sha256,
     byte_tx: mpsc::SyncSender<std::io::Result<Vec<u8>>>,
     block_rx: &mpsc::Receiver<Block>,
+    chunk_back: &mpsc::Receiver<Vec<u8>>,
+    block_back: &mpsc::Sender<Block>,
     n_out: usize,
     visit: &mut F,
 ) -> Result<(), RunError>
@@ -331,12 +377,12 @@ where
     F: FnMut(&Row<'_>) -> Result<(), RunError>,
 {
     'read: loop {
-        let mut buf = vec![0u8; CHUNK_BYTES];
+        let mut buf = chunk_back.try_recv().unwrap_or_default();
+        buf.resize(CHUNK_BYTES, 0);
         let mut msg = match reader.read(&mut buf) {
             Ok(0) => break,
             Ok(n) => {
                 buf.truncate(n);
-                hasher.update(&buf);
                 Ok(buf)
             }
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
@@ -349,7 +395,7 @@ where
                 Err(mpsc::TrySendError::Full(m)) => {
                     msg = m;
                     match block_rx.recv() {
-                        Ok(b) => b.visit(n_out, visit)?,
+                        Ok(b) => visit_block(b, n_out, visit, block_back)?,
                         Err(_) => break 'read,
                     }
                 }
@@ -362,8 +408,25 @@ where
     }
     drop(byte_tx);
     for b in block_rx {
-        b.visit(n_out, visit)?;
+        visit_block(b, n_out, visit, block_back)?;
     }
+    Ok(())
+}
+
+/// Visit a block's rows and send it back to be filled again.
+fn visit_block<F>(
+    mut b: Block,
+    n_out: usize,
+    visit: &mut F,
+    back: &mpsc::Sender<Block>,
+) -> Result<(), RunError>
+where
+    F: FnMut(&Row<'_>) -> Result<(), RunError>,
+{
+    b.visit(n_out, visit)?;
+    b.clear();
+    // the parsing thread may have ended: then the block is dropped here
+    let _ = back.send(b);
     Ok(())
 }
 
