@@ -3,8 +3,9 @@
 //!
 //! `cargo bench -p calib-run --bench throughput [-- HOURS]` (default 2 h). The recording is
 //! written once to `target/calib-run-bench-<hours>h.csv` (kept for later runs). Prints the
-//! samples, the CPU and wall seconds of each pass and the ratio of their CPU times (one
-//! thread: the CPU time is what a free core takes).
+//! samples, the CPU (both threads of the reader) and wall seconds of each pass, the ratio of
+//! their CPU times, and the SHA-256 of the calibration file written (its estimates' fingerprint:
+//! a speed-up leaves it unchanged).
 
 use calib_run::recording::{RecordingOptions, read_rows};
 use calib_run::simulate::{SimSettings, simulate_recording};
@@ -81,9 +82,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let full_s = t1.elapsed().as_secs_f64();
     let full_cpu = cpu_s() - c1;
+    // the estimates' fingerprint: equal before and after a speed-up
+    let written = calib_run::recording::sha256_hex(&std::fs::read(&out)?);
     std::fs::remove_file(&out)?;
     println!(
-        "{} samples x {} outputs ({} values, {:.0} MB), {} segments: read alone {:.2} s CPU ({:.2} s wall), segmented + estimated + written {:.2} s CPU ({:.2} s wall), ratio {:.2} (checksum {sum:.3e})",
+        "{} samples x {} outputs ({} values, {:.0} MB), {} segments: read alone {:.2} s CPU ({:.2} s wall), segmented + estimated + written {:.2} s CPU ({:.2} s wall), ratio {:.2} (checksum {sum:.3e}, calibration file sha256 {written})",
         summary.samples,
         names.len(),
         summary.samples * names.len() as u64,

@@ -13,7 +13,10 @@
 
 use crate::error::RunError;
 use sha2::{Digest, Sha256};
+use std::cell::RefCell;
 use std::io::Read;
+use std::rc::Rc;
+use std::sync::mpsc;
 
 /// A time step more than this many times the first step (or less than its inverse) is a gap.
 pub const GAP_FACTOR: f64 = 1.5;
@@ -83,19 +86,6 @@ pub struct RecordingSummary {
     pub saturated: Vec<Saturation>,
 }
 
-struct HashRead<'h, R> {
-    inner: R,
-    hasher: &'h mut Sha256,
-}
-
-impl<R: Read> Read for HashRead<'_, R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.hasher.update(&buf[..n]);
-        Ok(n)
-    }
-}
-
 /// SHA-256 of bytes, hex.
 #[must_use]
 pub fn sha256_hex(bytes: &[u8]) -> String {
@@ -137,13 +127,20 @@ fn parse_cell(source: &str, line: u64, header: &str, cell: &[u8]) -> Result<f64,
 /// output names (their columns found by name or by `options.columns`), `joints` the table's
 /// joint names (columns `<joint>_deg`, optional as a whole).
 ///
+/// Two threads: this one reads the bytes and calls `visit`; a second one hashes the bytes,
+/// parses the CSV and checks every cell and time step. They pass bounded blocks (at most
+/// [`CHUNKS_IN_FLIGHT`] chunks of [`CHUNK_BYTES`] bytes one way, [`BLOCKS_IN_FLIGHT`] blocks
+/// of [`BLOCK_ROWS`] rows the other), so memory does not depend on the recording's length;
+/// `visit` sees the rows in order, and an error is returned after the rows before it, as one
+/// thread would.
+///
 /// # Errors
 /// [`RunError::Input`] naming the line and column: a missing column, a cell that is not a
 /// finite number, a row of the wrong length, time that does not increase, a gap, an
 /// irregular step, a time step that disagrees with `options.sample_rate_hz`;
 /// [`RunError::Option`] for a mapping naming an unknown output; whatever `visit` returns.
 pub fn read_rows<R, F>(
-    reader: R,
+    mut reader: R,
     source: &str,
     outputs: &[&str],
     joints: &[&str],
@@ -165,15 +162,302 @@ where
             ));
         }
     }
-    let mut hasher = Sha256::new();
+    let (byte_tx, byte_rx) = mpsc::sync_channel::<std::io::Result<Vec<u8>>>(CHUNKS_IN_FLIGHT);
+    let (block_tx, block_rx) = mpsc::sync_channel::<Block>(BLOCKS_IN_FLIGHT);
+    // used chunks and visited blocks go back to be filled again (no allocation per chunk or
+    // block; their number is bounded by the ones in flight)
+    let (chunk_back_tx, chunk_back_rx) = mpsc::channel::<Vec<u8>>();
+    let (block_back_tx, block_back_rx) = mpsc::channel::<Block>();
+    let n_out = outputs.len();
+    std::thread::scope(|scope| {
+        let worker = scope.spawn(move || {
+            let pending = Rc::new(Pending {
+                rows: RefCell::new(Block::default()),
+                spare: block_back_rx,
+                hasher: RefCell::new(Sha256::new()),
+            });
+            let input = ChannelRead {
+                rx: byte_rx,
+                back: chunk_back_tx,
+                chunk: Vec::new(),
+                pos: 0,
+                pending: Rc::clone(&pending),
+                tx: block_tx.clone(),
+            };
+            let parsed = parse_rows(input, source, outputs, joints, options, |row| {
+                let full = {
+                    let mut b = pending.rows.borrow_mut();
+                    b.push(row);
+                    b.line.len() >= BLOCK_ROWS
+                };
+                if full {
+                    let full = pending.take();
+                    // the reading thread stopped (its visit failed, its error is returned):
+                    // stop parsing
+                    block_tx.send(full).map_err(|_| {
+                        RunError::input(source, None, None, "the reading thread stopped")
+                    })?;
+                }
+                Ok(())
+            });
+            let rest = pending.take();
+            if parsed.is_ok() || !rest.line.is_empty() {
+                // rows before an error are still visited; a closed channel is the reader's
+                // own error, returned there
+                let _ = block_tx.send(rest);
+            }
+            let hash = pending.hasher.replace(Sha256::new());
+            parsed.map(|p| (p, hex(&hash.finalize())))
+        });
+        let pumped = pump(
+            &mut reader,
+            byte_tx,
+            &block_rx,
+            &chunk_back_rx,
+            &block_back_tx,
+            n_out,
+            &mut visit,
+        );
+        drop(block_rx);
+        let parsed = worker
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        pumped?;
+        let (p, sha256) = parsed?;
+        Ok(RecordingSummary {
+            source: source.to_string(),
+            sha256,
+            samples: p.samples,
+            dt_s: p.dt_s,
+            duration_s: p.duration_s,
+            angles_logged: p.angles_logged,
+            saturated: p.saturated,
+        })
+    })
+}
+
+/// Bytes the reading thread reads at a time.
+pub const CHUNK_BYTES: usize = 1 << 16;
+/// Chunks read and not yet parsed, at most.
+pub const CHUNKS_IN_FLIGHT: usize = 8;
+/// Rows the parsing thread hands over at a time.
+pub const BLOCK_ROWS: usize = 1024;
+/// Blocks parsed and not yet visited, at most.
+pub const BLOCKS_IN_FLIGHT: usize = 4;
+
+/// The parsing thread's rows not yet handed over, and the visited blocks to fill again.
+struct Pending {
+    rows: RefCell<Block>,
+    spare: mpsc::Receiver<Block>,
+    /// SHA-256 of the bytes parsed.
+    hasher: RefCell<Sha256>,
+}
+
+impl Pending {
+    /// The rows so far, replaced by an empty block (a visited one if there is one).
+    fn take(&self) -> Block {
+        let fresh = self.spare.try_recv().unwrap_or_default();
+        std::mem::replace(&mut *self.rows.borrow_mut(), fresh)
+    }
+}
+
+/// Parsed rows, flat.
+#[derive(Default)]
+struct Block {
+    line: Vec<u64>,
+    index: Vec<u64>,
+    t_s: Vec<f64>,
+    values: Vec<f64>,
+    angles: Option<Vec<f64>>,
+    saturated: Vec<bool>,
+}
+
+impl Block {
+    fn push(&mut self, r: &Row<'_>) {
+        self.line.push(r.line);
+        self.index.push(r.index);
+        self.t_s.push(r.t_s);
+        self.values.extend_from_slice(r.values);
+        if let Some(a) = r.angles_deg {
+            self.angles
+                .get_or_insert_with(Vec::new)
+                .extend_from_slice(a);
+        }
+        self.saturated.push(r.saturated);
+    }
+
+    fn clear(&mut self) {
+        self.line.clear();
+        self.index.clear();
+        self.t_s.clear();
+        self.values.clear();
+        if let Some(a) = self.angles.as_mut() {
+            a.clear();
+        }
+        self.saturated.clear();
+    }
+
+    fn visit<F>(&self, n_out: usize, visit: &mut F) -> Result<(), RunError>
+    where
+        F: FnMut(&Row<'_>) -> Result<(), RunError>,
+    {
+        let n = self.line.len();
+        let n_ang = self.angles.as_ref().map_or(0, |a| a.len() / n.max(1));
+        for i in 0..n {
+            visit(&Row {
+                line: self.line[i],
+                index: self.index[i],
+                t_s: self.t_s[i],
+                values: &self.values[i * n_out..(i + 1) * n_out],
+                angles_deg: self.angles.as_ref().map(|a| &a[i * n_ang..(i + 1) * n_ang]),
+                saturated: self.saturated[i],
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// The parsing thread's input: the chunks the reading thread sends. Before it waits for a
+/// chunk it hands over the rows parsed so far (the reading thread may be waiting for them).
+struct ChannelRead {
+    rx: mpsc::Receiver<std::io::Result<Vec<u8>>>,
+    back: mpsc::Sender<Vec<u8>>,
+    chunk: Vec<u8>,
+    pos: usize,
+    pending: Rc<Pending>,
+    tx: mpsc::SyncSender<Block>,
+}
+
+impl Read for ChannelRead {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        while self.pos == self.chunk.len() {
+            let next = match self.rx.try_recv() {
+                Ok(c) => Some(c),
+                Err(mpsc::TryRecvError::Empty) => {
+                    let rows = self.pending.take();
+                    if self.tx.send(rows).is_err() {
+                        return Ok(0);
+                    }
+                    self.rx.recv().ok()
+                }
+                Err(mpsc::TryRecvError::Disconnected) => None,
+            };
+            match next {
+                None => return Ok(0),
+                Some(c) => {
+                    let c = c?;
+                    self.pending.hasher.borrow_mut().update(&c);
+                    let used = std::mem::replace(&mut self.chunk, c);
+                    // the reading thread may have stopped: then the chunk is dropped here
+                    let _ = self.back.send(used);
+                    self.pos = 0;
+                }
+            }
+        }
+        let n = buf.len().min(self.chunk.len() - self.pos);
+        buf[..n].copy_from_slice(&self.chunk[self.pos..self.pos + n]);
+        self.pos += n;
+        Ok(n)
+    }
+}
+
+/// The reading thread: read and send chunks; visit the parsed blocks as they come (and
+/// whenever the chunk channel is full); after the end, visit the rest.
+fn pump<R, F>(
+    reader: &mut R,
+    byte_tx: mpsc::SyncSender<std::io::Result<Vec<u8>>>,
+    block_rx: &mpsc::Receiver<Block>,
+    chunk_back: &mpsc::Receiver<Vec<u8>>,
+    block_back: &mpsc::Sender<Block>,
+    n_out: usize,
+    visit: &mut F,
+) -> Result<(), RunError>
+where
+    R: Read,
+    F: FnMut(&Row<'_>) -> Result<(), RunError>,
+{
+    'read: loop {
+        let mut buf = chunk_back.try_recv().unwrap_or_default();
+        buf.resize(CHUNK_BYTES, 0);
+        let mut msg = match reader.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => {
+                buf.truncate(n);
+                Ok(buf)
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => Err(e),
+        };
+        let failed = msg.is_err();
+        loop {
+            match byte_tx.try_send(msg) {
+                Ok(()) => break,
+                Err(mpsc::TrySendError::Full(m)) => {
+                    msg = m;
+                    match block_rx.recv() {
+                        Ok(b) => visit_block(b, n_out, visit, block_back)?,
+                        Err(_) => break 'read,
+                    }
+                }
+                Err(mpsc::TrySendError::Disconnected(_)) => break 'read,
+            }
+        }
+        if failed {
+            break;
+        }
+    }
+    drop(byte_tx);
+    for b in block_rx {
+        visit_block(b, n_out, visit, block_back)?;
+    }
+    Ok(())
+}
+
+/// Visit a block's rows and send it back to be filled again.
+fn visit_block<F>(
+    mut b: Block,
+    n_out: usize,
+    visit: &mut F,
+    back: &mpsc::Sender<Block>,
+) -> Result<(), RunError>
+where
+    F: FnMut(&Row<'_>) -> Result<(), RunError>,
+{
+    b.visit(n_out, visit)?;
+    b.clear();
+    // the parsing thread may have ended: then the block is dropped here
+    let _ = back.send(b);
+    Ok(())
+}
+
+/// What the parsing thread found.
+struct Parsed {
+    samples: u64,
+    dt_s: f64,
+    duration_s: f64,
+    angles_logged: bool,
+    saturated: Vec<Saturation>,
+}
+
+/// Parse and check the CSV from `reader`, handing each row to `visit` (the body of
+/// [`read_rows`] on the parsing thread).
+fn parse_rows<R, F>(
+    reader: R,
+    source: &str,
+    outputs: &[&str],
+    joints: &[&str],
+    options: &RecordingOptions,
+    mut visit: F,
+) -> Result<Parsed, RunError>
+where
+    R: Read,
+    F: FnMut(&Row<'_>) -> Result<(), RunError>,
+{
     let mut csv = csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
-        .from_reader(HashRead {
-            inner: reader,
-            hasher: &mut hasher,
-        });
+        .from_reader(reader);
     let headers = csv
         .byte_headers()
         .map_err(|e| csv_error(source, &e))?
@@ -344,9 +628,7 @@ where
             format!("{n} data rows: a recording has at least two"),
         ));
     }
-    Ok(RecordingSummary {
-        source: source.to_string(),
-        sha256: hex(&hasher.finalize()),
+    Ok(Parsed {
         samples: n,
         dt_s: dt,
         duration_s: t_prev - t0 + dt,
