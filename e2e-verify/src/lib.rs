@@ -80,6 +80,7 @@ mod allocators;
 pub mod angle;
 mod answer;
 pub mod budget;
+pub mod budget_mc;
 mod check;
 pub mod disc;
 mod error;
