@@ -1168,6 +1168,39 @@ pub struct DirectSetup<'a> {
 }
 
 impl DirectSetup<'_> {
+    /// `d` with the bound of each error `j` of `ceilings` (`(j, c)`) above `c` lowered to
+    /// `c`, its loads and objective recomputed over `linear`: a tighter bound keeps every row
+    /// within its accuracy, so the box still meets what it met (the others keep their
+    /// bounds: the capped error's unused share of the accuracies is left free).
+    pub(crate) fn capped(
+        &self,
+        mut d: DirectAllocation,
+        ceilings: &[(usize, f64)],
+        linear: &Linearization,
+    ) -> DirectAllocation {
+        let mut changed = false;
+        for &(j, c) in ceilings {
+            if d.upper_bounds_rad[j] > c {
+                d.upper_bounds_rad[j] = c.max(d.lower_bounds_rad[j]);
+                changed = true;
+            }
+        }
+        if changed {
+            let n = linear.positions();
+            let acc = self.accuracies;
+            for (load, v) in d
+                .loads
+                .iter_mut()
+                .zip(linear.row_worst_cases(&d.upper_bounds_rad).iter())
+            {
+                load.load = v / acc[load.output];
+            }
+            debug_assert!(d.loads.iter().all(|l| l.position < n));
+            d.objective = objective_with(self.weights, &d.upper_bounds_rad);
+        }
+        d
+    }
+
     /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
     /// of each accuracy free and, with `l1_budget_rad`, $\sum_j \mathrm{UB}_j$ within it (see
     /// [`EndToEnd::allocate_direct`] and [`EndToEnd::allocate_direct_certified`]).

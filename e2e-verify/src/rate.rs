@@ -578,6 +578,22 @@ impl RateAllocation {
     }
 }
 
+/// The largest relative rate accuracy or ripple an allocation hands out: where the outputs
+/// barely depend on one (a ripple averaged over whole revolutions), the first-order
+/// allocation would give it far beyond the rate-step model's domain (a ripple of 1 stops the
+/// table); such a tolerance is lowered to this ceiling, which no precision rate table comes
+/// near (their sheets state 1e-3 to 1e-6), so it reads "not limiting up to 1 %". A tighter
+/// bound keeps every accuracy met; the exact chain is then evaluated inside its domain.
+pub const RATE_TOLERANCE_CEILING: f64 = 0.01;
+
+/// The largest angular tolerance the allocation with rate tolerances hands out (rad, 1 deg):
+/// an error the outputs barely depend on to first order (a rotation about the vertical for
+/// an accelerometer, a joint's zero offset under a revolution's average) would get tens of
+/// degrees, where the second order of the chain dominates and the exact chain at the worst
+/// vertex fails every accuracy whatever the margins. Held here it reads "not limiting up to
+/// 1 deg"; no precision turntable's sheet comes near it (arcseconds to arcminutes).
+pub const ANGLE_TOLERANCE_CEILING_RAD: f64 = std::f64::consts::PI / 180.0;
+
 /// Relative room kept below each accuracy when the exact chain at the worst vertex of the
 /// first-order allocation exceeds it: the second-order excess measured there is kept free,
 /// plus this share of the accuracy (dimensionless; the excess changes slightly with the
@@ -600,6 +616,23 @@ impl crate::EndToEnd {
             }
         }
         out
+    }
+
+    /// The columns of the combined linearisation over $(\chi, T)$ with a ceiling: every
+    /// angle at [`ANGLE_TOLERANCE_CEILING_RAD`], every relative rate tolerance at
+    /// [`RATE_TOLERANCE_CEILING`]; translations have none.
+    fn rate_ceilings(&self) -> Vec<(usize, f64)> {
+        let n = self.n_errors();
+        (0..n)
+            .map(|j| (j, ANGLE_TOLERANCE_CEILING_RAD))
+            .chain(
+                self.rate_tolerances()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, t)| !t.is_translation())
+                    .map(|(i, _)| (n + i, RATE_TOLERANCE_CEILING)),
+            )
+            .collect()
     }
 
     /// The sheet's names of [`crate::EndToEnd::rate_tolerances`].
@@ -731,7 +764,9 @@ impl crate::EndToEnd {
     /// row's worst case over both boxes, $\sum_j |M_{rj}|\,\mathrm{UB}_j +
     /// \sum_t |A_{rt}|\,T_t \le \omega_{m,k}$ ([`crate::EndToEnd::rate_linearization`],
     /// weights [`crate::EndToEnd::rate_tolerance_weights`]), $\mathrm{UB} \ge \mathrm{LB}$,
-    /// $T \ge 0$. The box is then checked on the exact chain at each output's worst vertex
+    /// $T \ge 0$; a bound above its ceiling ([`ANGLE_TOLERANCE_CEILING_RAD`],
+    /// [`RATE_TOLERANCE_CEILING`]: an error the outputs barely see, "not limiting") is held at
+    /// it. The box is then checked on the exact chain at each output's worst vertex
     /// ([`crate::EndToEnd::worst_case_with_extra`]); where the exact chain exceeds an
     /// accuracy the excess plus $10^{-3}$ of the accuracy is kept free and the
     /// allocation solved again (at most 4 times). This is a check at the
@@ -809,8 +844,13 @@ impl crate::EndToEnd {
         let acc = self.accuracies();
         let n_angles = self.n_errors();
         let mut margins = vec![0.0; acc.len()];
+        let ceilings = self.rate_ceilings();
         for round in 0..=RATE_EXACT_ROUNDS {
-            let d = setup.allocate(combined, lb, &margins, None)?;
+            let d = setup.capped(
+                setup.allocate(combined, lb, &margins, None)?,
+                &ceilings,
+                combined,
+            );
             let ub: Vec<f64> = d.upper_bounds_rad[..n_angles]
                 .iter()
                 .map(|u| if u.is_finite() { *u } else { 0.0 })
@@ -842,6 +882,14 @@ impl crate::EndToEnd {
         })
     }
 }
+
+/// Decades below [`ANGLE_TOLERANCE_CEILING_RAD`] the certified allocation with rate
+/// tolerances searches for an angle ceiling whose box it can certify (down to 1e-6 deg).
+const CEILING_SEARCH_DECADES: f64 = 6.0;
+
+/// Bisection steps of that search (on the logarithm: 2^-20 of 6 decades, about 1.3e-5
+/// relative on the ceiling).
+const CEILING_SEARCH_STEPS: usize = 20;
 
 /// Re-solves of [`crate::EndToEnd::allocate_direct_rate_certified`] that keep the
 /// second-order bound free.
@@ -1108,8 +1156,12 @@ impl crate::EndToEnd {
     /// Solve with each output's margin $\mu_k$ (from 0), compute $\tau_k$ of the box found;
     /// while the box is not certified, raise $\mu_k$ to $\tau_k$ plus the round-trip share
     /// (margins only grow; $\tau$ shrinks with the box) and solve again, at most
-    /// 12 times. The returned box is certified by the check, whatever
-    /// the rounds.
+    /// 12 times. Every angle is held at [`ANGLE_TOLERANCE_CEILING_RAD`] and every relative
+    /// rate tolerance at [`RATE_TOLERANCE_CEILING`]; when a margin would exceed its largest
+    /// share, the angles' ceiling is lowered by bisection on its logarithm (down to six
+    /// decades below) to the largest one whose box is certified, as the static certificate
+    /// lowers its $\ell_1$ budget. The returned box is certified by the check, whatever the
+    /// rounds.
     ///
     /// # Errors
     /// As [`crate::EndToEnd::allocate_direct_rate`]; [`E2eError::NoSecondOrderBound`] for a
@@ -1121,7 +1173,6 @@ impl crate::EndToEnd {
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<CertifiedRateAllocation, E2eError> {
-        let params = crate::CertifyParams::default();
         if !self.has_rate_steps() {
             // no rate tolerance: the static certificate itself
             let d = self.allocate_direct_certified(linear, lower_bounds_rad)?;
@@ -1139,14 +1190,80 @@ impl crate::EndToEnd {
                 rounds: 0,
             });
         }
-        self.with_rate_setup(linear, extra_linear, lower_bounds_rad, |setup, combined, lb| {
+        self.with_rate_setup(
+            linear,
+            extra_linear,
+            lower_bounds_rad,
+            |setup, combined, lb| {
+                // the angles' ceiling: 1 deg, lowered by bisection (on its logarithm) while the
+                // second-order bound of the box takes more than an accuracy's largest margin,
+                // as the static certificate lowers its l1 budget
+                let first =
+                    self.certified_rate_rounds(setup, combined, lb, ANGLE_TOLERANCE_CEILING_RAD);
+                if !matches!(first, Err(E2eError::NoConvergence { .. })) {
+                    return first;
+                }
+                let (mut lo, mut hi) = (
+                    ANGLE_TOLERANCE_CEILING_RAD.ln() - CEILING_SEARCH_DECADES * 10f64.ln(),
+                    ANGLE_TOLERANCE_CEILING_RAD.ln(),
+                );
+                let mut best = None;
+                for _ in 0..CEILING_SEARCH_STEPS {
+                    let mid = 0.5 * (lo + hi);
+                    match self.certified_rate_rounds(setup, combined, lb, mid.exp()) {
+                        Ok(a) => {
+                            best = Some(a);
+                            lo = mid;
+                        }
+                        Err(E2eError::NoConvergence { .. }) => hi = mid,
+                        Err(e) => return Err(e),
+                    }
+                }
+                match best {
+                    Some(a) => Ok(a),
+                    None => self.certified_rate_rounds(setup, combined, lb, lo.exp()),
+                }
+            },
+        )
+    }
+
+    /// The re-solves of [`crate::EndToEnd::allocate_direct_rate_certified`] with every angle
+    /// held at `angle_ceiling_rad` (and the relative rate tolerances at
+    /// [`RATE_TOLERANCE_CEILING`]).
+    fn certified_rate_rounds(
+        &self,
+        setup: &crate::allocate::DirectSetup<'_>,
+        combined: &crate::Linearization,
+        lb: &[f64],
+        angle_ceiling_rad: f64,
+    ) -> Result<CertifiedRateAllocation, E2eError> {
+        let params = crate::CertifyParams::default();
+        {
             let acc = self.accuracies();
             let n = self.len();
             let n_angles = self.n_errors();
             let room = |k: usize| acc[k] * (1.0 - params.round_trip_rel);
             let mut margins = vec![0.0; acc.len()];
+            let ceilings: Vec<(usize, f64)> = self
+                .rate_ceilings()
+                .into_iter()
+                .map(|(j, c)| {
+                    (
+                        j,
+                        if j < n_angles {
+                            angle_ceiling_rad.max(lb[j])
+                        } else {
+                            c
+                        },
+                    )
+                })
+                .collect();
             for round in 0..=RATE_CERTIFY_ROUNDS {
-                let d = setup.allocate(combined, lb, &margins, None)?;
+                let d = setup.capped(
+                    setup.allocate(combined, lb, &margins, None)?,
+                    &ceilings,
+                    combined,
+                );
                 let extra = self.extra_bounds_of(&d.upper_bounds_rad[n_angles..]);
                 let taus = self.rate_taus(&d.upper_bounds_rad[..n_angles], &extra)?;
                 let rows = combined.row_worst_cases(&d.upper_bounds_rad);
@@ -1187,6 +1304,6 @@ impl crate::EndToEnd {
                 iterations: RATE_CERTIFY_ROUNDS,
                 change: margins.iter().fold(0.0, |a: f64, b| a.max(*b)),
             })
-        })
+        }
     }
 }
