@@ -2,8 +2,9 @@
 //! linked SVG files) and as one self-contained HTML page (figures inline as data URIs, a
 //! table of contents, tables that fit a 1280 px window).
 //!
-//! Inline markup in text: `` `code` ``, `**bold**`, internal links `[text](#id)` and
-//! CommonMark's backslash escapes (`\*` is a literal `*`); everything else is escaped in HTML.
+//! Inline markup in text is CommonMark's (`` `code` ``, `**bold**`, links `[text](#id)`,
+//! backslash escapes: `\*` is a literal `*`), parsed and written to HTML by pulldown-cmark;
+//! raw HTML in a text is shown as text, never let through.
 //! Text from a file (a study's description, units, paths, a tolerance sheet's name) enters a
 //! document only through [`text`] or [`code`]: it then shows literally in both renderings, never
 //! as markup, raw HTML or a raw control character.
