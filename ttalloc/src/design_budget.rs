@@ -481,5 +481,9 @@ pub fn svg(d: &BudgetDesign) -> Result<Option<String>> {
         x_integer: false,
         y_from_zero: false,
     };
-    figures::line_figure("Test time and the table", &[panel], 1).map(Some)
+    Ok(Some(figures::line_figure(
+        "Test time and the table",
+        &[panel],
+        1,
+    )?))
 }

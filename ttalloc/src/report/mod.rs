@@ -12,8 +12,6 @@
 //! writes; it computes no science.
 
 pub(crate) mod compute;
-pub mod doc;
-pub mod figures;
 mod paper;
 mod render;
 mod results;
@@ -27,6 +25,9 @@ use serde_json::Value;
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use tt_core::units::objective_to_arcmin;
+use tt_report::doc;
+/// The figures, for the other commands that draw one (allan, design-schedule).
+pub(crate) use tt_report::figures;
 
 /// Arguments of `report`.
 #[derive(Debug, Parser)]

@@ -4,13 +4,13 @@
 //! paper's site, its printed numbers and its tables.
 
 use super::compute::{Computed, PaperExtras};
-use super::doc::Doc;
 use super::render::{Sections, d, greek};
 use e2e_verify::paper::registry;
 use serde::Serialize;
 use study::fmt::{num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::rad_to_deg;
+use tt_report::Doc;
 
 /// One printed number of the paper beside ours.
 #[derive(Debug, Clone, Serialize)]

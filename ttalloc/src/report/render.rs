@@ -2,8 +2,6 @@
 //! (no science here: every number comes from a library result).
 
 use super::compute::{Computed, OutputPlane};
-use super::doc::{self, Doc};
-use super::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
 use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict};
@@ -12,6 +10,8 @@ use study::fmt::{exact, num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{Factor, OrientationAxis};
+use tt_report::doc::{self, Doc};
+use tt_report::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 
 /// Greek letter of angle `k` (ψ, θ, γ).
 #[must_use]
@@ -747,7 +747,7 @@ impl<'a> Sections<'a> {
             ),
             (
                 "requirement box ±I (dashed)".to_string(),
-                Mark::Line(plotters::style::colors::BLACK, true),
+                Mark::Line(figures::BLACK, true),
             ),
         ];
         let svg = figures::heat_figure(
@@ -804,7 +804,7 @@ impl<'a> Sections<'a> {
             .collect();
         legend.push((
             "dotted: an angle the output ignores".into(),
-            Mark::Dots(plotters::style::colors::BLACK),
+            Mark::Dots(figures::BLACK),
         ));
         legend.push(("accuracy ω_m".into(), Mark::Line(LIMIT, true)));
         let svg = figures::line_figure_with_legend(
@@ -1187,7 +1187,7 @@ impl<'a> Sections<'a> {
                 limits.push((
                     "± proven worst case".to_string(),
                     rad_to_deg(mc.half_range_rad()[k]),
-                    Mark::Line(plotters::style::colors::BLACK, true),
+                    Mark::Line(figures::BLACK, true),
                 ));
                 HistPanel {
                     title: format!("{} ({name})", d(k)),

@@ -8,9 +8,13 @@
 //! over the data; heat maps carry a colour bar; axes that count things get integer ticks;
 //! every axis names its unit.
 
-use anyhow::{Result, anyhow, bail};
+use crate::{Error, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+
+pub use plotters::style::RGBColor;
+/// Black (the requirement's rectangle, reference marks).
+pub const BLACK: RGBColor = RGBColor(0, 0, 0);
 
 /// Figure width, px (the page column is 1180 px; figures scale down with it).
 pub const WIDTH: u32 = 1120;
@@ -39,8 +43,8 @@ const GRID: RGBColor = RGBColor(225, 225, 225);
 /// Colour of limits (a requirement, an accuracy).
 pub const LIMIT: RGBColor = RGBColor(200, 30, 30);
 
-fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing a figure failed: {e:?}")
+fn err<E: std::fmt::Debug>(e: E) -> Error {
+    Error::Drawing(format!("{e:?}"))
 }
 
 /// The colour of series `i`.
@@ -67,7 +71,10 @@ pub enum Mark {
 pub fn finite(what: &str, values: impl IntoIterator<Item = f64>) -> Result<()> {
     for v in values {
         if !v.is_finite() || v.abs() > MAX_PLOT_ABS {
-            bail!("{what}: cannot plot the value {v} (not finite or beyond ±{MAX_PLOT_ABS:e})");
+            return Err(Error::NotPlottable {
+                figure: what.to_string(),
+                value: v,
+            });
         }
     }
     Ok(())
@@ -543,7 +550,11 @@ pub fn heat_figure(title: &str, panels: &[HeatPanel], legend: &[(String, Mark)])
                     || p.xs.len() < 2
                     || p.ys.len() < 2
                 {
-                    bail!("{what}: the grid is not {} x {}", p.xs.len(), p.ys.len());
+                    return Err(Error::Grid {
+                        figure: what,
+                        nx: p.xs.len(),
+                        ny: p.ys.len(),
+                    });
                 }
                 let (x0, x1) = span(&what, p.xs.iter().copied())?;
                 let (y0, y1) = span(&what, p.ys.iter().copied())?;
@@ -701,11 +712,11 @@ pub fn histogram_figure(title: &str, panels: &[HistPanel], fill_label: &str) -> 
             for (p, area) in panels.iter().zip(&areas) {
                 let what = format!("{title}: {}", p.title);
                 if p.edges.len() != p.counts.len() + 1 {
-                    bail!(
-                        "{what}: {} edges for {} bins",
-                        p.edges.len(),
-                        p.counts.len()
-                    );
+                    return Err(Error::HistogramEdges {
+                        figure: what,
+                        edges: p.edges.len(),
+                        bins: p.counts.len(),
+                    });
                 }
                 let (mut x0, mut x1) = span(&what, p.edges.iter().copied())?;
                 finite(&what, p.limits.iter().map(|l| l.1))?;
@@ -806,11 +817,12 @@ pub fn hbar_figure(
         };
         for (l, v) in series {
             if v.len() != categories.len() {
-                bail!(
-                    "{title}: series {l} has {} values for {} categories",
-                    v.len(),
-                    categories.len()
-                );
+                return Err(Error::RaggedSeries {
+                    figure: title.to_string(),
+                    series: l.clone(),
+                    values: v.len(),
+                    categories: categories.len(),
+                });
             }
             finite(title, v.iter().copied())?;
         }

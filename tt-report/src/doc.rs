@@ -2,13 +2,16 @@
 //! linked SVG files) and as one self-contained HTML page (figures inline as data URIs, a
 //! table of contents, tables that fit a 1280 px window).
 //!
-//! Inline markup in text: `` `code` ``, `**bold**`, internal links `[text](#id)` and
-//! CommonMark's backslash escapes (`\*` is a literal `*`); everything else is escaped in HTML.
+//! Inline markup in text is CommonMark's (`` `code` ``, `**bold**`, links `[text](#id)`,
+//! backslash escapes: `\*` is a literal `*`), parsed and written to HTML by pulldown-cmark;
+//! raw HTML in a text is shown as text, never let through.
 //! Text from a file (a study's description, units, paths, a tolerance sheet's name) enters a
 //! document only through [`text`] or [`code`]: it then shows literally in both renderings, never
 //! as markup, raw HTML or a raw control character.
 
+use pulldown_cmark::{Event, Options, Parser, Tag, TagEnd};
 use std::fmt::Write as _;
+use std::ops::Range;
 
 /// One block of the report.
 #[derive(Debug, Clone)]
@@ -48,15 +51,6 @@ pub struct Doc {
     ids: Vec<String>,
 }
 
-/// First of the private-use characters that stand for escaped ASCII punctuation while inline
-/// markup is parsed (`\*` becomes `ESCAPED + '*'`); [`text`] shows any such character of a file
-/// escaped, so they never come from outside.
-const ESCAPED: u32 = 0xE000;
-
-fn is_placeholder(c: char) -> bool {
-    (ESCAPED..ESCAPED + 0x80).contains(&u32::from(c))
-}
-
 /// The characters [`text`] escapes anywhere: Markdown's inline markup, raw HTML and entities.
 /// (`|` is escaped by the table renderer, which knows where it matters.)
 const MD_ACTIVE: &[char] = &['\\', '`', '*', '_', '[', ']', '<', '>', '&', '~', '#'];
@@ -73,10 +67,6 @@ pub fn text(s: &str) -> String {
     let mut out = String::with_capacity(shown.len() + 8);
     let digits = shown.chars().take_while(char::is_ascii_digit).count();
     for (i, c) in shown.chars().enumerate() {
-        if is_placeholder(c) {
-            out.push_str(&format!("\\\\u{{{:x}}}", u32::from(c)));
-            continue;
-        }
         let line_start = i == 0 && matches!(c, '-' | '+' | '=');
         let list_marker = i == digits && digits > 0 && matches!(c, '.' | ')');
         if MD_ACTIVE.contains(&c) || line_start || list_marker {
@@ -92,52 +82,52 @@ pub fn text(s: &str) -> String {
 #[must_use]
 pub fn code(s: &str) -> String {
     let shown = study::fmt::visible(s);
-    if shown.contains('`') || shown.chars().any(is_placeholder) || shown.is_empty() {
+    if shown.contains('`') || shown.is_empty() {
         text(&shown)
     } else {
         format!("`{shown}`")
     }
 }
 
-/// Replace every backslash escape outside code spans by its placeholder, so that the
-/// markup parsers below see only real markup.
-fn protect(t: &str) -> String {
-    let mut out = String::with_capacity(t.len());
-    let mut in_code = false;
-    let mut chars = t.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '\\' if !in_code => match chars.peek() {
-                Some(&n) if n.is_ascii_punctuation() => {
-                    chars.next();
-                    out.push(char::from_u32(ESCAPED + u32::from(n)).unwrap_or(n));
+/// A no-break space put before a text while it is parsed: CommonMark reads it as white space
+/// (delimiters after it open as at a line's start) but never as indentation, so a text is
+/// parsed as inline content only (a leading `-`, `#`, `1.` or `>` is text, not a block).
+const INLINE_ONLY: char = '\u{a0}';
+
+/// The CommonMark inline content of one document text, with each event's source range (in
+/// `src`, which is the text behind [`INLINE_ONLY`]). Raw HTML is never let through: it comes
+/// back as text. Block structure (only possible after a line break) is dropped.
+fn inline_events(src: &str) -> impl Iterator<Item = (Event<'_>, Range<usize>)> {
+    let mut first = true;
+    Parser::new_ext(src, Options::empty())
+        .into_offset_iter()
+        .filter_map(move |(e, r)| {
+            let e = match e {
+                Event::Text(t) if first => {
+                    first = false;
+                    let t = t.strip_prefix(INLINE_ONLY).unwrap_or(&t).to_string();
+                    if t.is_empty() {
+                        return None;
+                    }
+                    Event::Text(t.into())
                 }
-                _ => out.push(c),
-            },
-            '`' => {
-                in_code = !in_code;
-                out.push(c);
-            }
-            _ => out.push(c),
-        }
-    }
-    out
+                Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+                Event::Start(Tag::Strong | Tag::Emphasis | Tag::Link { .. })
+                | Event::End(TagEnd::Strong | TagEnd::Emphasis | TagEnd::Link)
+                | Event::Text(_)
+                | Event::Code(_)
+                | Event::SoftBreak
+                | Event::HardBreak => e,
+                // paragraphs, images (their text stays), blocks after a line break
+                _ => return None,
+            };
+            Some((e, r))
+        })
 }
 
-/// The placeholders of [`protect`] back as literal characters (`md`: as Markdown escapes).
-fn unprotect(t: &str, md: bool) -> String {
-    let mut out = String::with_capacity(t.len());
-    for c in t.chars() {
-        if is_placeholder(c) {
-            if md {
-                out.push('\\');
-            }
-            out.push(char::from_u32(u32::from(c) - ESCAPED).unwrap_or(c));
-        } else {
-            out.push(c);
-        }
-    }
-    out
+/// `t` behind [`INLINE_ONLY`], for [`inline_events`].
+fn inline_source(t: &str) -> String {
+    format!("{INLINE_ONLY}{t}")
 }
 
 /// A GitHub-style anchor: lower case, letters, digits, `-` and `_` kept, spaces to `-`,
@@ -159,46 +149,43 @@ pub fn slug(text: &str) -> String {
 /// for anchors, attributes and figure labels.
 #[must_use]
 pub fn plain(text: &str) -> String {
-    unprotect(&strip(&protect(text)), false)
-}
-
-/// [`plain`] for Markdown: the markup removed, backslash escapes kept (a link's label).
-fn plain_md(text: &str) -> String {
-    unprotect(&strip(&protect(text)), true)
-}
-
-/// Remove code, bold and link markup from protected text.
-fn strip(text: &str) -> String {
-    let mut out = String::new();
-    let mut rest = text;
-    while let Some(i) = rest.find('[') {
-        out.push_str(&rest[..i]);
-        let after = &rest[i..];
-        match link_at(after) {
-            Some((label, _, len)) => {
-                out.push_str(label);
-                rest = &after[len..];
-            }
-            None => {
-                out.push('[');
-                rest = &after[1..];
-            }
+    let src = inline_source(text);
+    let mut out = String::with_capacity(text.len());
+    for (e, _) in inline_events(&src) {
+        match e {
+            Event::Text(t) | Event::Code(t) => out.push_str(&t),
+            Event::SoftBreak | Event::HardBreak => out.push(' '),
+            _ => {}
         }
     }
-    out.push_str(rest);
-    out.replace(['`'], "").replace("**", "")
+    out
 }
 
-/// `[label](#id)` at the start of `s`: (label, id, length).
-fn link_at(s: &str) -> Option<(&str, &str, usize)> {
-    let close = s.find("](#")?;
-    let label = &s[1..close];
-    if label.contains('[') || label.contains(']') {
-        return None;
+/// [`plain`] for Markdown: the markup removed, backslash escapes and entities kept as written
+/// (a link's label).
+fn plain_md(text: &str) -> String {
+    let src = inline_source(text);
+    let mut out = String::with_capacity(text.len());
+    for (e, r) in inline_events(&src) {
+        match e {
+            Event::Text(t) => {
+                let written = src.get(r.clone()).unwrap_or_default();
+                if r.start > 0 && src.as_bytes()[r.start - 1] == b'\\' {
+                    // a backslash escape: the parser's range starts after the backslash
+                    out.push('\\');
+                    out.push_str(written);
+                } else if written.starts_with(INLINE_ONLY) {
+                    out.push_str(&t);
+                } else {
+                    out.push_str(written);
+                }
+            }
+            Event::Code(t) => out.push_str(&t),
+            Event::SoftBreak | Event::HardBreak => out.push(' '),
+            _ => {}
+        }
     }
-    let end = s[close..].find(')')? + close;
-    let id = &s[close + 3..end];
-    (!id.is_empty() && !id.contains(' ')).then_some((label, id, end + 1))
+    out
 }
 
 impl Doc {
@@ -316,19 +303,20 @@ impl Doc {
                     // leading spaces would make an indented code block
                     let _ = writeln!(s, "{}\n", t.trim_start());
                 }
+                // leading spaces would make an indented code block here too
                 Block::Callout(t, items) => {
-                    let _ = writeln!(s, "> {t}");
+                    let _ = writeln!(s, "> {}", t.trim_start());
                     if !items.is_empty() {
                         s.push_str(">\n");
                     }
                     for i in items {
-                        let _ = writeln!(s, "> - {i}");
+                        let _ = writeln!(s, "> - {}", i.trim_start());
                     }
                     s.push('\n');
                 }
                 Block::List(items) => {
                     for i in items {
-                        let _ = writeln!(s, "- {i}");
+                        let _ = writeln!(s, "- {}", i.trim_start());
                     }
                     s.push('\n');
                 }
@@ -449,8 +437,8 @@ impl Doc {
                     let _ = writeln!(
                         s,
                         "<figure id=\"{id}\"><img src=\"data:image/svg+xml;base64,{}\" width=\"{w}\" height=\"{h}\" alt=\"{}\"><figcaption>{}</figcaption></figure>",
-                        base64(svg.as_bytes()),
-                        escape(&plain(caption)).replace('"', "&quot;"),
+                        data_encoding::BASE64.encode(svg.as_bytes()),
+                        attribute(&plain(caption)),
                         inline(caption)
                     );
                 }
@@ -535,85 +523,60 @@ fn svg_size(svg: &str) -> (u32, u32) {
     (attr("width"), attr("height"))
 }
 
-/// Standard base64 (RFC 4648) with padding.
-fn base64(bytes: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for c in bytes.chunks(3) {
-        let n = (u32::from(c[0]) << 16)
-            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
-            | u32::from(*c.get(2).unwrap_or(&0));
-        for k in 0..4 {
-            if k <= c.len() {
-                out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
-/// HTML-escape text (`&`, `<`, `>`; escaped characters of [`protect`] as themselves).
+/// HTML-escape text of the page's own making after [`plain`] (`&`, `<`, `>`; as the
+/// CommonMark renderer escapes text).
 fn escape(t: &str) -> String {
-    unprotect(t, false)
-        .replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
-/// Escape, then turn `code`, **bold** and [text](#id) into HTML. `**no**` and `**yes**`
-/// (verdicts) get a colour.
-fn inline(t: &str) -> String {
-    let t = protect(t);
-    let mut out = String::new();
-    for (k, part) in t.split('`').enumerate() {
-        if k % 2 == 1 {
-            // long identifiers may break anywhere; short ones never
-            let class = if part.chars().count() > LONG_CODE {
-                " class=\"long\""
-            } else {
-                ""
-            };
-            let _ = write!(out, "<code{class}>{}</code>", escape(part));
-            continue;
-        }
-        for (j, q) in part.split("**").enumerate() {
-            let q = links(q);
-            if j % 2 == 1 {
-                let class = match q.as_str() {
-                    s if s.starts_with("no") => " class=\"no\"",
-                    s if s.starts_with("yes") => " class=\"yes\"",
-                    _ => "",
-                };
-                let _ = write!(out, "<b{class}>{q}</b>");
-            } else {
-                out.push_str(&q);
-            }
-        }
-    }
+    let mut out = String::with_capacity(t.len());
+    // writing into a String cannot fail
+    let _ = pulldown_cmark_escape::escape_html_body_text(&mut out, t);
     out
 }
 
-/// Escape text and turn `[label](#id)` into links.
-fn links(t: &str) -> String {
-    let mut out = String::new();
-    let mut rest = t;
-    while let Some(i) = rest.find('[') {
-        out.push_str(&escape(&rest[..i]));
-        let after = &rest[i..];
-        match link_at(after) {
-            Some((label, id, len)) => {
-                let _ = write!(out, "<a href=\"#{}\">{}</a>", escape(id), escape(label));
-                rest = &after[len..];
+/// An attribute value (`&`, `<`, `>`, `"`, `'` escaped).
+fn attribute(t: &str) -> String {
+    let mut out = String::with_capacity(t.len());
+    let _ = pulldown_cmark_escape::escape_html(&mut out, t);
+    out
+}
+
+/// The inline markup of a document text as HTML, by the CommonMark renderer: `code`,
+/// **bold** (`**no**` and `**yes**`, verdicts, get a colour), links, and the text escaped; raw
+/// HTML shows as text. Code spans longer than [`LONG_CODE`] characters may wrap.
+fn inline(t: &str) -> String {
+    let src = inline_source(t);
+    let mut events: Vec<Event<'_>> = inline_events(&src).map(|(e, _)| e).collect();
+    for k in 0..events.len() {
+        let class = match &events[k] {
+            Event::Start(Tag::Strong) => match events.get(k + 1) {
+                Some(Event::Text(t)) if t.starts_with("no") => " class=\"no\"",
+                Some(Event::Text(t)) if t.starts_with("yes") => " class=\"yes\"",
+                _ => "",
+            },
+            Event::End(TagEnd::Strong) => {
+                events[k] = Event::InlineHtml("</b>".into());
+                continue;
             }
-            None => {
-                out.push('[');
-                rest = &after[1..];
+            // the target as written (the renderer would percent-encode a non-ASCII anchor)
+            Event::Start(Tag::Link { dest_url, .. }) => {
+                events[k] =
+                    Event::InlineHtml(format!("<a href=\"{}\">", attribute(dest_url)).into());
+                continue;
             }
-        }
+            Event::End(TagEnd::Link) => {
+                events[k] = Event::InlineHtml("</a>".into());
+                continue;
+            }
+            Event::Code(c) if c.chars().count() > LONG_CODE => {
+                events[k] =
+                    Event::InlineHtml(format!("<code class=\"long\">{}</code>", escape(c)).into());
+                continue;
+            }
+            _ => continue,
+        };
+        events[k] = Event::InlineHtml(format!("<b{class}>").into());
     }
-    out.push_str(&escape(rest));
+    let mut out = String::with_capacity(t.len() + 16);
+    pulldown_cmark::html::push_html(&mut out, events.into_iter());
     out
 }
 
@@ -678,7 +641,7 @@ mod tests {
         for h in hostile {
             let t = text(h);
             let flat = h.replace("\r\n", " ").replace(['\n', '\t'], " ");
-            let shown = study::fmt::visible(&flat).replace('\u{e02a}', "\\u{e02a}");
+            let shown = study::fmt::visible(&flat);
             assert_eq!(plain(&t), shown, "{h:?}");
             assert_eq!(inline(&t), escape(&shown), "{h:?}");
             assert!(!t.chars().any(study::fmt::is_unsafe_char), "{t:?}");
@@ -703,20 +666,5 @@ mod tests {
                 .contains("<title>Report: my_study</title>")
         );
         assert!(d.to_markdown().starts_with("# Report: my\\_study"));
-    }
-
-    #[test]
-    fn base64_matches_rfc4648_vectors() {
-        for (i, o) in [
-            ("", ""),
-            ("f", "Zg=="),
-            ("fo", "Zm8="),
-            ("foo", "Zm9v"),
-            ("foob", "Zm9vYg=="),
-            ("fooba", "Zm9vYmE="),
-            ("foobar", "Zm9vYmFy"),
-        ] {
-            assert_eq!(base64(i.as_bytes()), o);
-        }
     }
 }

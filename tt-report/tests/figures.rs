@@ -1,0 +1,230 @@
+//! The SVG figures: each is well-formed XML with its title, one path per line series, its
+//! axes' labels and a legend entry per label; a value that cannot be plotted is a typed error
+//! naming the figure and panel, never a hang or a wrong picture.
+
+use tt_report::Error;
+use tt_report::figures::{
+    self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour, hbar_figure, heat_figure,
+    histogram_figure, line_figure,
+};
+
+fn series(label: &str, i: usize, ys: &[f64]) -> Series {
+    Series {
+        label: label.into(),
+        points: ys
+            .iter()
+            .enumerate()
+            .map(|(k, y)| ((k + 1) as f64, *y))
+            .collect(),
+        mark: Mark::Line(colour(i), i == 1),
+    }
+}
+
+fn panel(title: &str, ys: &[f64]) -> LinePanel {
+    LinePanel {
+        title: title.into(),
+        x_label: "test position (count)".into(),
+        y_label: "Δω (deg/h)".into(),
+        series: vec![series("two-step", 0, ys), series("direct", 2, &[0.002; 4])],
+        hlines: vec![("ω_m".into(), 0.01, Mark::Line(LIMIT, true))],
+        x_integer: true,
+        y_from_zero: true,
+    }
+}
+
+/// Every `<text>` of a parsed SVG.
+fn texts(svg: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).expect("the figure is well-formed XML");
+    assert_eq!(doc.root_element().tag_name().name(), "svg");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or("").trim().to_string())
+        .collect()
+}
+
+/// Paths (polylines) stroked with `c`, as plotters writes them.
+fn polylines_of(svg: &str, c: figures::RGBColor) -> usize {
+    let stroke = format!("stroke=\"#{:02X}{:02X}{:02X}\"", c.0, c.1, c.2);
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .filter(|n| {
+            n.attribute("stroke")
+                .is_some_and(|s| stroke.contains(&format!("\"{s}\"")))
+        })
+        .count()
+}
+
+#[test]
+fn a_line_figure_is_xml_with_its_title_axes_legend_and_one_polyline_per_series() {
+    let svg = line_figure(
+        "Worst case per position",
+        &[
+            panel("Δψ", &[0.001, 0.004, 0.003, 0.006]),
+            panel("Δθ", &[0.002, 0.001, 0.005, 0.002]),
+        ],
+        2,
+    )
+    .unwrap();
+    let t = texts(&svg);
+    let count = |s: &str| t.iter().filter(|x| *x == s).count();
+    assert_eq!(count("Worst case per position"), 1);
+    // each panel: its title and both axis labels
+    assert_eq!(count("Δψ"), 1);
+    assert_eq!(count("Δθ"), 1);
+    assert_eq!(count("test position (count)"), 2);
+    assert_eq!(count("Δω (deg/h)"), 2);
+    // the legend: each label once for both panels
+    assert_eq!(count("two-step"), 1);
+    assert_eq!(count("direct"), 1);
+    assert_eq!(count("ω_m"), 1);
+    // the solid series: one polyline per panel and its legend mark
+    assert_eq!(polylines_of(&svg, colour(0)), 2 + 1);
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let root = doc.root_element();
+    assert_eq!(root.attribute("width"), Some(&*figures::WIDTH.to_string()));
+}
+
+#[test]
+fn histogram_bar_and_heat_figures_are_xml_with_their_labels() {
+    let h = histogram_figure(
+        "Monte Carlo",
+        &[HistPanel {
+            title: "Δψ".into(),
+            x_label: "orientation error (deg)".into(),
+            edges: vec![-0.02, -0.01, 0.0, 0.01, 0.02],
+            counts: vec![3, 10, 12, 2],
+            limits: vec![("±I".into(), 0.027, Mark::Line(LIMIT, false))],
+        }],
+        "turntables",
+    )
+    .unwrap();
+    let t = texts(&h);
+    for label in [
+        "Monte Carlo",
+        "Δψ",
+        "orientation error (deg)",
+        "turntables (count)",
+        "±I",
+        "turntables",
+    ] {
+        assert!(t.iter().any(|x| x == label), "{label}: {t:?}");
+    }
+    let b = hbar_figure(
+        "Sensitivities",
+        &["δx".into(), "δy".into(), "δz".into()],
+        &[
+            ("Δψ".into(), vec![1.0, 0.5, 0.0]),
+            ("Δθ".into(), vec![0.2, 0.9, 0.4]),
+        ],
+        "average sensitivity (1)",
+    )
+    .unwrap();
+    let t = texts(&b);
+    for label in [
+        "Sensitivities",
+        "δx",
+        "δy",
+        "δz",
+        "Δψ",
+        "Δθ",
+        "average sensitivity (1)",
+    ] {
+        assert!(t.iter().any(|x| x == label), "{label}: {t:?}");
+    }
+    let g = vec![-1.0, 0.0, 1.0];
+    let m = heat_figure(
+        "Surfaces",
+        &[HeatPanel {
+            title: "Δω_x".into(),
+            x_label: "Δψ (deg)".into(),
+            y_label: "Δθ (deg)".into(),
+            xs: g.clone(),
+            ys: g.clone(),
+            z: g.iter()
+                .map(|y| g.iter().map(|x| x * x + y * y).collect())
+                .collect(),
+            z_label: "Δω (deg/h)".into(),
+            level: Some(0.5),
+            rectangle: Some((0.3, 0.3)),
+        }],
+        &[(
+            "Δω = ω_m".into(),
+            Mark::Line(figures::CONTOUR_LEGEND, false),
+        )],
+    )
+    .unwrap();
+    let t = texts(&m);
+    for label in [
+        "Surfaces",
+        "Δω_x",
+        "Δψ (deg)",
+        "Δθ (deg)",
+        "Δω (deg/h)",
+        "Δω = ω_m",
+    ] {
+        assert!(t.iter().any(|x| x == label), "{label}: {t:?}");
+    }
+}
+
+#[test]
+fn values_that_cannot_be_plotted_are_typed_errors_naming_the_figure_and_panel() {
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e300] {
+        let e = line_figure("Worst case", &[panel("Δψ", &[0.001, bad])], 1).unwrap_err();
+        assert!(
+            matches!(&e, Error::NotPlottable { figure, value }
+                if figure == "Worst case: Δψ" && (value.is_nan() == bad.is_nan())),
+            "{e:?}"
+        );
+        assert!(
+            e.to_string()
+                .starts_with("Worst case: Δψ: cannot plot the value"),
+            "{e}"
+        );
+    }
+    let e = histogram_figure(
+        "H",
+        &[HistPanel {
+            title: "h".into(),
+            x_label: "deg".into(),
+            edges: vec![0.0, 1.0],
+            counts: vec![1, 2],
+            limits: vec![],
+        }],
+        "n",
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        Error::HistogramEdges {
+            figure: "H: h".into(),
+            edges: 2,
+            bins: 2
+        }
+    );
+    let e = hbar_figure(
+        "B",
+        &["a".into(), "b".into()],
+        &[("s".into(), vec![1.0])],
+        "x",
+    )
+    .unwrap_err();
+    assert_eq!(e.to_string(), "B: series s has 1 values for 2 categories");
+    let e = heat_figure(
+        "M",
+        &[HeatPanel {
+            title: "m".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            xs: vec![0.0, 1.0, 2.0],
+            ys: vec![0.0, 1.0],
+            z: vec![vec![0.0, 1.0], vec![1.0, 1.0]],
+            z_label: "z".into(),
+            level: None,
+            rectangle: None,
+        }],
+        &[],
+    )
+    .unwrap_err();
+    assert_eq!(e.to_string(), "M: m: the grid is not 3 x 2");
+}
