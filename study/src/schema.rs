@@ -725,7 +725,8 @@ impl Study {
     /// The same study with other test positions (joint angles, deg), validated as the file's
     /// would be (count per position, ranges, identifiability), named `calibration.positions_deg`.
     /// A timing with one dwell for every position carries over to any number of positions; a
-    /// per-position dwell list only to as many positions as it has values.
+    /// per-position dwell list only to as many positions as it has values. The rate steps'
+    /// windows are their turning times at the steps' current rates and revolutions.
     ///
     /// # Errors
     /// A [`StudyError`] naming the position and the reason, or
@@ -756,6 +757,10 @@ impl Study {
             })?),
             other => other.clone(),
         };
+        // the rate steps' windows from the steps as they are now (a caller may change a rate)
+        let timing = timing
+            .map(|t| crate::noise::with_rate_steps(&at, t, &self.rate_steps))
+            .transpose()?;
         Ok(Self {
             positions_deg,
             calibration,
