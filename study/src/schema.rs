@@ -178,11 +178,12 @@ impl StudyRateStep {
 /// one, so that the step averages its noise at least as long as a position does and the
 /// table's angle-dependent errors over whole turns.
 #[must_use]
-pub fn default_revolutions(rate_deg_per_s: f64, dwell_s: f64) -> f64 {
-    // (a relative 1e-12 below: a dwell that is a whole number of turns is that number)
+pub fn default_revolutions(rate_deg_per_s: f64, dwell_s: f64) -> u64 {
+    // (a relative 1e-12 below: a dwell that is a whole number of turns is that number; the
+    // cast saturates, and the count is checked against the limit as a given one is)
     (dwell_s * rate_deg_per_s.abs() / 360.0 * (1.0 - 1e-12))
         .ceil()
-        .max(1.0)
+        .max(1.0) as u64
 }
 
 #[derive(Debug, Deserialize)]
@@ -1453,7 +1454,7 @@ fn parse_rate_steps(
             }
             let revs = match (r.revolutions, dwell_s) {
                 (Some(n), _) => n,
-                (None, Some(t)) => default_revolutions(rate, t),
+                (None, Some(t)) => default_revolutions(rate, t) as f64,
                 (None, None) => {
                     return Err(StudyError::new(
                         at(&key("revolutions")),

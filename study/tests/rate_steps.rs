@@ -89,9 +89,9 @@ fn rate_steps_without_revolutions_turn_at_least_the_static_dwell() {
         assert!((w - 302.4).abs() < 1e-9, "{w}");
     }
     // a dwell of exactly whole turns is those turns; never below one
-    assert_eq!(study::default_revolutions(100.0, 36.0), 10.0);
-    assert_eq!(study::default_revolutions(-100.0, 36.1), 11.0);
-    assert_eq!(study::default_revolutions(600.0, 0.01), 1.0);
+    assert_eq!(study::default_revolutions(100.0, 36.0), 10);
+    assert_eq!(study::default_revolutions(-100.0, 36.1), 11);
+    assert_eq!(study::default_revolutions(600.0, 0.01), 1);
 }
 
 /// Without a timing the revolutions are required (nothing sets them); a rate step shorter than
