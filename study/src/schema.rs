@@ -271,7 +271,9 @@ pub struct Study {
     /// The noise model of each output (study order; `None` where the study gives none,
     /// `[sensor.outputs.noise]`), in the output's unit.
     pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
-    /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
+    /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given; with
+    /// rate steps also each step's window, its turning time ([`StudyRateStep::duration_s`]),
+    /// after the positions.
     pub timing: Option<calib_lsq::Timing>,
     /// The measured errors (order of $\chi$; `[[compensation.measured]]`), `None` where not
     /// measured.

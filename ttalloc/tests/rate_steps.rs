@@ -177,7 +177,8 @@ fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
 /// A rate-step study with noise (issue 35; exit 2 before, "a study with rate steps has no
 /// timing yet"): `end-to-end` gives every output's noise sigma over the static positions and
 /// the rate steps' windows, the combined answer and the shortest dwell; `check-turntable`
-/// the combined table + noise answer per output. At the study's 300 s the accelerometers'
+/// the combined table + noise answer per output; `report` the windows in its noise section.
+/// At the study's 300 s the accelerometers'
 /// noise part (3 sigma) exceeds their 0.1 mg, so no table suffices there and the shortest
 /// dwell is longer.
 #[test]
@@ -224,6 +225,25 @@ fn rate_step_study_with_noise_gets_the_noise_answer_and_the_shortest_dwell() {
         );
     }
     assert!(c["combined_yield"]["yield"].is_number());
+    // the report's noise section states the windows: 24 static dwells of 300 s, then the six
+    // steps of 84 revolutions at 100 deg/s (302.4 s each, 1814.4 s in all)
+    let dir = scratch("rate-steps", "noise-report");
+    let out = dir.join("r");
+    let o = run(&[
+        "report",
+        "--study",
+        &study(NOISY),
+        "--samples",
+        "2000",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    assert!(
+        md.contains("24 positions, mean dwell 300 s, then 6 rate steps each averaged over its whole revolutions (1814.4 s in all)"),
+        "{md}"
+    );
 }
 
 /// `end-to-end` with rate steps allocates the rate tolerances with the angles (JSON
