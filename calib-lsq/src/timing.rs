@@ -8,6 +8,16 @@
 //! visited $r$-th is averaged over
 //! $$W_{o_r} = \Big[\sum_{s<r}(T_{o_s} + t_m),\ \sum_{s<r}(T_{o_s} + t_m) + T_{o_r}\Big],$$
 //! $T_k$ being position $k$'s dwell (a dwell belongs to its position, whatever the order).
+//!
+//! # Rate steps
+//! A schedule with rate steps ([`crate::RateMotion`]) holds them after its static positions
+//! (the regression's rows are the positions, then the rate steps). Each rate step's output is
+//! averaged over its turning time, its whole revolutions ([`Timing::with_rate_steps`]): a
+//! window like a position's dwell, placed in the same time order (positions first, then the
+//! rate steps, each followed by a move), so the correlated noise between a rate step's average
+//! and a position's is counted as between two positions'. [`Timing::dwell_s`] and what acts on
+//! it ([`Timing::with_dwell_s`], [`Timing::with_len`], [`Timing::is_uniform`]) concern the
+//! static positions only; a rate step's window is fixed by its revolutions.
 
 use crate::error::{CalibError, finite, positive};
 use gw_model::noise::Window;
@@ -16,6 +26,7 @@ use gw_model::noise::Window;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Timing {
     dwell_s: Vec<f64>,
+    rate_step_s: Vec<f64>,
     move_s: f64,
     sample_rate_hz: f64,
 }
@@ -60,9 +71,51 @@ impl Timing {
         finite("total test time", total)?;
         Ok(Self {
             dwell_s,
+            rate_step_s: Vec::new(),
             move_s,
             sample_rate_hz,
         })
+    }
+
+    /// The same timing with the rate steps' averaging windows after the static positions:
+    /// `rate_step_s[j]` is rate step $j$'s turning time (s; its whole revolutions over its
+    /// rate), replacing any the timing had.
+    ///
+    /// # Errors
+    /// [`CalibError::Field`] (not finite, not positive) naming `rate_step_s[j]`;
+    /// [`CalibError::Timing`] naming `rate_step_s[j]` when it holds less than one sample, or
+    /// `total test time` when the whole test is not finite.
+    pub fn with_rate_steps(self, rate_step_s: Vec<f64>) -> Result<Self, CalibError> {
+        for (j, &t) in rate_step_s.iter().enumerate() {
+            let field = format!("rate_step_s[{j}]");
+            positive(&field, t)?;
+            if t * self.sample_rate_hz < 1.0 {
+                return Err(CalibError::Timing {
+                    field,
+                    reason: format!(
+                        "{t} s at {} Hz holds less than one sample; turn at least {} s",
+                        self.sample_rate_hz,
+                        1.0 / self.sample_rate_hz
+                    ),
+                });
+            }
+        }
+        let out = Self {
+            rate_step_s,
+            ..self
+        };
+        finite("total test time", out.total_s())?;
+        Ok(out)
+    }
+
+    /// The same timing with other static dwells (`dwell_s[k]` for position $k$), the rate
+    /// steps' windows, move time and sample rate kept.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn with_dwell_s(&self, dwell_s: Vec<f64>) -> Result<Self, CalibError> {
+        Self::new(dwell_s, self.move_s, self.sample_rate_hz)?
+            .with_rate_steps(self.rate_step_s.clone())
     }
 
     /// The same dwell at each of `n` positions.
@@ -78,10 +131,23 @@ impl Timing {
         Self::new(vec![dwell_s; n], move_s, sample_rate_hz)
     }
 
-    /// Dwell per position (schedule order), s.
+    /// Dwell per static position (schedule order), s.
     #[must_use]
     pub fn dwell_s(&self) -> &[f64] {
         &self.dwell_s
+    }
+
+    /// Each rate step's averaging window (its turning time), s, in schedule order (empty
+    /// without rate steps).
+    #[must_use]
+    pub fn rate_step_s(&self) -> &[f64] {
+        &self.rate_step_s
+    }
+
+    /// Number of static positions.
+    #[must_use]
+    pub fn positions(&self) -> usize {
+        self.dwell_s.len()
     }
 
     /// Time between two dwells, s.
@@ -96,19 +162,20 @@ impl Timing {
         self.sample_rate_hz
     }
 
-    /// Number of positions.
+    /// Number of averaging windows: the static positions, then the rate steps (the
+    /// regression's rows).
     #[must_use]
     pub fn len(&self) -> usize {
-        self.dwell_s.len()
+        self.dwell_s.len() + self.rate_step_s.len()
     }
 
-    /// Whether there are no positions (never true for a constructed timing).
+    /// Whether there are no windows (never true for a constructed timing).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.dwell_s.is_empty()
+        self.len() == 0
     }
 
-    /// Whether every position has the same dwell.
+    /// Whether every static position has the same dwell.
     #[must_use]
     pub fn is_uniform(&self) -> bool {
         self.dwell_s
@@ -116,8 +183,9 @@ impl Timing {
             .all(|&t| t.to_bits() == self.dwell_s[0].to_bits())
     }
 
-    /// The same timing for `n` positions, if every dwell is the same (`None` otherwise: a
-    /// per-position dwell does not carry over to other positions).
+    /// The same timing for `n` static positions, if every dwell is the same (`None` otherwise:
+    /// a per-position dwell does not carry over to other positions); the rate steps' windows
+    /// kept.
     #[must_use]
     pub fn with_len(&self, n: usize) -> Option<Self> {
         (self.is_uniform() && n > 0).then(|| Self {
@@ -126,21 +194,32 @@ impl Timing {
         })
     }
 
-    /// Total test time: every dwell and the moves between them, s.
+    /// Total test time: every dwell and rate step and the moves between them, s.
     #[must_use]
     pub fn total_s(&self) -> f64 {
-        self.dwell_s.iter().sum::<f64>() + self.move_s * (self.len() - 1) as f64
+        self.dwell_s.iter().chain(&self.rate_step_s).sum::<f64>()
+            + self.move_s * (self.len() - 1) as f64
     }
 
-    /// Each position's averaging window when visited in the schedule's order.
+    /// Entry $k$'s averaging time: a position's dwell or a rate step's turning time, s.
+    fn window_s(&self, k: usize) -> f64 {
+        self.dwell_s
+            .get(k)
+            .copied()
+            .unwrap_or_else(|| self.rate_step_s[k - self.dwell_s.len()])
+    }
+
+    /// Each entry's averaging window (static positions, then rate steps) when visited in the
+    /// schedule's order.
     #[must_use]
     pub fn windows(&self) -> Vec<Window> {
         let order: Vec<usize> = (0..self.len()).collect();
         self.windows_unchecked(&order)
     }
 
-    /// Each position's averaging window (indexed by position, schedule order) when the
-    /// positions are visited in `order` (`order[r]` is the position visited $r$-th).
+    /// Each entry's averaging window (indexed by entry, schedule order: static positions, then
+    /// rate steps) when the entries are visited in `order` (`order[r]` is the entry visited
+    /// $r$-th).
     ///
     /// # Errors
     /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless `order` is a permutation of `0..n`.
@@ -168,7 +247,7 @@ impl Timing {
         let mut out = vec![None; self.len()];
         let mut t = 0.0;
         for &k in order {
-            let dwell = self.dwell_s[k];
+            let dwell = self.window_s(k);
             out[k] =
                 Some(Window::new(t, dwell).unwrap_or_else(|_| {
                     unreachable!("dwell and total time checked finite, positive")

@@ -408,6 +408,46 @@ fn windows_follow_dwell_and_move_times_in_the_visiting_order() {
     assert_eq!(u.with_len(5).unwrap().dwell_s(), [60.0; 5]);
 }
 
+/// Rate steps' windows come after the static positions in the schedule's time order (each
+/// followed by a move), may be visited in any order with the positions, and stay what they
+/// are when the static dwells change (`with_dwell_s`, `with_len`); a window holding less than
+/// one sample is an error naming it.
+#[test]
+fn rate_step_windows_follow_the_positions_in_schedule_order() {
+    let t = Timing::new(vec![10.0, 20.0], 5.0, 100.0)
+        .unwrap()
+        .with_rate_steps(vec![30.0])
+        .unwrap();
+    assert_eq!((t.len(), t.positions()), (3, 2));
+    let spans: Vec<(f64, f64)> = t
+        .windows()
+        .iter()
+        .map(|w| (w.start_s(), w.end_s()))
+        .collect();
+    assert_eq!(spans, [(0.0, 10.0), (15.0, 35.0), (40.0, 70.0)]);
+    assert_eq!(t.total_s().to_bits(), 70f64.to_bits());
+    // the rate step first, then the two positions
+    let spans: Vec<(f64, f64)> = t
+        .windows_in_order(&[2, 0, 1])
+        .unwrap()
+        .iter()
+        .map(|w| (w.start_s(), w.end_s()))
+        .collect();
+    assert_eq!(spans, [(35.0, 45.0), (50.0, 70.0), (0.0, 30.0)]);
+    let longer = t.with_dwell_s(vec![40.0, 40.0, 40.0]).unwrap();
+    assert_eq!(longer.dwell_s(), [40.0; 3]);
+    assert_eq!(longer.rate_step_s(), [30.0]);
+    assert!(longer.is_uniform());
+    assert_eq!(longer.with_len(5).unwrap().rate_step_s(), [30.0]);
+    match Timing::uniform(2, 10.0, 5.0, 100.0)
+        .unwrap()
+        .with_rate_steps(vec![30.0, 0.001])
+    {
+        Err(CalibError::Timing { field, .. }) => assert_eq!(field, "rate_step_s[1]"),
+        other => panic!("{other:?}"),
+    }
+}
+
 /// Bad timings and mismatched sizes are typed errors naming the field.
 #[test]
 fn bad_timing_is_an_error_naming_the_field() {

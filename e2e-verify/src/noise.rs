@@ -613,8 +613,9 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         })
     }
 
-    /// [`EndToEnd::noise_budget`] with every dwell of `timing` scaled alike so that their
-    /// mean is `dwell_s` (the move time and sample rate kept).
+    /// [`EndToEnd::noise_budget`] with every static dwell of `timing` scaled alike so that
+    /// their mean is `dwell_s` (the move time, sample rate and rate steps' windows kept: a rate
+    /// step turns its whole revolutions whatever the dwell).
     ///
     /// # Errors
     /// As [`Timing::new`] (a dwell holding less than one sample) and
@@ -625,15 +626,13 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         timing: &Timing,
         dwell_s: f64,
     ) -> Result<NoiseBudget, E2eError> {
-        let mean = timing.dwell_s().iter().sum::<f64>() / timing.len() as f64;
-        let scaled = Timing::new(
+        let mean = timing.dwell_s().iter().sum::<f64>() / timing.positions() as f64;
+        let scaled = timing.with_dwell_s(
             timing
                 .dwell_s()
                 .iter()
                 .map(|d| d * dwell_s / mean)
                 .collect(),
-            timing.move_s(),
-            timing.sample_rate_hz(),
         )?;
         self.noise_budget(noise, &scaled)
     }
@@ -966,7 +965,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     ) -> Result<Tradeoff, E2eError> {
         let params = params.checked()?;
         check_k_sigma(k_sigma)?;
-        let mean = timing.dwell_s().iter().sum::<f64>() / timing.len() as f64;
+        let mean = timing.dwell_s().iter().sum::<f64>() / timing.positions() as f64;
         let shortest = timing
             .dwell_s()
             .iter()

@@ -34,6 +34,6 @@ mod tolerances;
 pub use error::StudyError;
 pub use schema::{
     DEFAULT_DELTA_R, DEFAULT_READING, Measured, MonteCarloSettings, RequirementSource, Study,
-    StudyRateStep, is_name_slug,
+    StudyRateStep, default_revolutions, is_name_slug,
 };
 pub use tolerances::{DiscBound, Tolerances, ValueConvention, sheet_bound_words};

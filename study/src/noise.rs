@@ -462,3 +462,36 @@ pub(crate) fn parse_timing(
         StudyError::new(at(&key), e.to_string())
     })
 }
+
+/// The static timing `timing` with each rate step's averaging window (its turning time) after
+/// the positions.
+pub(crate) fn with_rate_steps(
+    at: &dyn Fn(&str) -> String,
+    timing: Timing,
+    steps: &[crate::schema::StudyRateStep],
+) -> Result<Timing, StudyError> {
+    timing
+        .with_rate_steps(
+            steps
+                .iter()
+                .map(crate::schema::StudyRateStep::duration_s)
+                .collect(),
+        )
+        .map_err(|e| match &e {
+            calib_lsq::CalibError::Timing { field, reason } => {
+                match field
+                    .strip_prefix("rate_step_s[")
+                    .and_then(|r| r.strip_suffix(']'))
+                {
+                    Some(j) => StudyError::new(
+                        at(&format!("calibration.rate_steps[{j}].revolutions")),
+                        format!(
+                            "the step's turning time (revolutions x 360 / |rate_deg_per_s|): {reason}"
+                        ),
+                    ),
+                    None => StudyError::new(at("calibration.timing"), e.to_string()),
+                }
+            }
+            _ => StudyError::new(at("calibration.timing"), e.to_string()),
+        })
+}

@@ -145,12 +145,14 @@ struct RawRateStep {
     joint: String,
     rate_deg_per_s: f64,
     angles_deg: Vec<f64>,
-    revolutions: f64,
+    revolutions: Option<f64>,
 }
 
 /// A rate step of a study (`[[calibration.rate_steps]]`): joint `joint` turns at
 /// `rate_deg_per_s` for `revolutions` whole revolutions from `angles_deg`; the schedule holds
-/// it after the static positions.
+/// it after the static positions. Its output is averaged over those revolutions
+/// ([`StudyRateStep::duration_s`]); without `revolutions` in the file (allowed with a
+/// `[calibration.timing]`) they are [`default_revolutions`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct StudyRateStep {
     /// Index of the turning joint (pose order).
@@ -161,6 +163,27 @@ pub struct StudyRateStep {
     pub angles_deg: Vec<f64>,
     /// Whole revolutions.
     pub revolutions: u32,
+}
+
+impl StudyRateStep {
+    /// The turning time, the rate step's averaging window: $360 N / |\Omega_c|$ s.
+    #[must_use]
+    pub fn duration_s(&self) -> f64 {
+        360.0 * f64::from(self.revolutions) / self.rate_deg_per_s.abs()
+    }
+}
+
+/// The revolutions of a rate step that does not give them: the fewest whole revolutions at
+/// `rate_deg_per_s` that last at least `dwell_s` (the study's longest static dwell), at least
+/// one, so that the step averages its noise at least as long as a position does and the
+/// table's angle-dependent errors over whole turns.
+#[must_use]
+pub fn default_revolutions(rate_deg_per_s: f64, dwell_s: f64) -> u64 {
+    // (a relative 1e-12 below: a dwell that is a whole number of turns is that number; the
+    // cast saturates, and the count is checked against the limit as a given one is)
+    (dwell_s * rate_deg_per_s.abs() / 360.0 * (1.0 - 1e-12))
+        .ceil()
+        .max(1.0) as u64
 }
 
 #[derive(Debug, Deserialize)]
@@ -248,7 +271,9 @@ pub struct Study {
     /// The noise model of each output (study order; `None` where the study gives none,
     /// `[sensor.outputs.noise]`), in the output's unit.
     pub noise: Vec<Option<gw_model::noise::NoiseModel>>,
-    /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given.
+    /// Dwell per position, move time and sample rate (`[calibration.timing]`), if given; with
+    /// rate steps also each step's window, its turning time ([`StudyRateStep::duration_s`]),
+    /// after the positions.
     pub timing: Option<calib_lsq::Timing>,
     /// The measured errors (order of $\chi$; `[[compensation.measured]]`), `None` where not
     /// measured.
@@ -543,26 +568,30 @@ impl Study {
         let positions_deg = raw.calibration.positions_deg.clone();
         let max_rate_deg_per_s = parse_max_rates(at, &raw.turntable, &turntable)?;
         let lever_arm_m = parse_lever_arm(at, raw.sensor.lever_arm_m.as_deref())?;
+        let static_timing = raw
+            .calibration
+            .timing
+            .as_ref()
+            .map(|t| crate::noise::parse_timing(at, t, positions_deg.len()))
+            .transpose()?;
         let rate_steps = parse_rate_steps(
             at,
             raw.calibration.rate_steps.as_deref().unwrap_or_default(),
             &turntable,
             &max_rate_deg_per_s,
+            static_timing
+                .as_ref()
+                .map(|t| t.dwell_s().iter().copied().fold(0.0, f64::max)),
         )?;
-        if !rate_steps.is_empty() {
-            if variations.iter().any(tt_kinematics::ErrorVariation::varies) {
-                return Err(StudyError::new(
-                    at("calibration.rate_steps"),
-                    "errors that vary with a shaft angle (`turntable.factors[i].varies`) are modelled at static positions only: a rate step takes constant errors",
-                ));
-            }
-            if raw.calibration.timing.is_some() {
-                return Err(StudyError::new(
-                    at("calibration.rate_steps"),
-                    "the noise timing (`[calibration.timing]`) covers static positions only: a study with rate steps has no timing yet",
-                ));
-            }
+        if !rate_steps.is_empty() && variations.iter().any(tt_kinematics::ErrorVariation::varies) {
+            return Err(StudyError::new(
+                at("calibration.rate_steps"),
+                "errors that vary with a shaft angle (`turntable.factors[i].varies`) are modelled at static positions only: a rate step takes constant errors",
+            ));
         }
+        let timing = static_timing
+            .map(|t| crate::noise::with_rate_steps(at, t, &rate_steps))
+            .transpose()?;
         let calibration = calibration_for(
             at,
             &turntable,
@@ -574,12 +603,6 @@ impl Study {
                 lever_arm_m,
             },
         )?;
-        let timing = raw
-            .calibration
-            .timing
-            .as_ref()
-            .map(|t| crate::noise::parse_timing(at, t, positions_deg.len()))
-            .transpose()?;
         let requirement = match &raw.requirement {
             None => RequirementSource::Computed,
             Some(r) => parse_requirement(at, r)?,
@@ -705,7 +728,8 @@ impl Study {
     /// The same study with other test positions (joint angles, deg), validated as the file's
     /// would be (count per position, ranges, identifiability), named `calibration.positions_deg`.
     /// A timing with one dwell for every position carries over to any number of positions; a
-    /// per-position dwell list only to as many positions as it has values.
+    /// per-position dwell list only to as many positions as it has values. The rate steps'
+    /// windows are their turning times at the steps' current rates and revolutions.
     ///
     /// # Errors
     /// A [`StudyError`] naming the position and the reason, or
@@ -725,17 +749,21 @@ impl Study {
         )?;
         let n = positions_deg.len();
         let timing = match &self.timing {
-            Some(t) if t.len() != n => Some(t.with_len(n).ok_or_else(|| {
+            Some(t) if t.positions() != n => Some(t.with_len(n).ok_or_else(|| {
                 StudyError::new(
                     at("calibration.timing.dwell_s"),
                     format!(
                         "one dwell per position: {} values, but the new schedule has {n} positions (give one number for all)",
-                        t.len()
+                        t.positions()
                     ),
                 )
             })?),
             other => other.clone(),
         };
+        // the rate steps' windows from the steps as they are now (a caller may change a rate)
+        let timing = timing
+            .map(|t| crate::noise::with_rate_steps(&at, t, &self.rate_steps))
+            .transpose()?;
         Ok(Self {
             positions_deg,
             calibration,
@@ -1386,6 +1414,7 @@ fn parse_rate_steps(
     raw: &[RawRateStep],
     turntable: &Turntable,
     max_rates: &[Option<f64>],
+    dwell_s: Option<f64>,
 ) -> Result<Vec<StudyRateStep>, StudyError> {
     let names = turntable.joint_names();
     raw.iter()
@@ -1425,7 +1454,16 @@ fn parse_rate_steps(
                     ),
                 ));
             }
-            let revs = r.revolutions;
+            let revs = match (r.revolutions, dwell_s) {
+                (Some(n), _) => n,
+                (None, Some(t)) => default_revolutions(rate, t) as f64,
+                (None, None) => {
+                    return Err(StudyError::new(
+                        at(&key("revolutions")),
+                        "missing: give the whole revolutions the step turns (they may be left out only with a [calibration.timing], whose longest dwell sets them)",
+                    ));
+                }
+            };
             if !(revs.is_finite()
                 && revs >= 1.0
                 && revs.fract() == 0.0

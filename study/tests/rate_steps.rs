@@ -70,6 +70,58 @@ fn rate_step_on_a_joint_that_does_not_exist_is_refused_naming_the_key() {
     assert!(msg.contains("calibration.rate_steps[0].joint"), "{msg}");
 }
 
+/// With a `[calibration.timing]` a rate step may leave out `revolutions`: it turns the fewest
+/// whole revolutions lasting at least the longest static dwell, and that turning time is its
+/// averaging window after the static positions (the shipped STIM300 rate-table example: 84
+/// revolutions at 100 deg/s for a 300 s dwell, 302.4 s).
+#[test]
+fn rate_steps_without_revolutions_turn_at_least_the_static_dwell() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../studies/stim300-rate-table-example.toml"),
+    )
+    .expect("the example study");
+    let s = Study::parse("s.toml", &text).expect("valid");
+    let t = s.timing.as_ref().expect("a timing");
+    assert_eq!((t.positions(), t.len()), (24, 30));
+    for (step, &w) in s.rate_steps.iter().zip(t.rate_step_s()) {
+        assert_eq!(step.revolutions, 84);
+        assert_eq!(w.to_bits(), step.duration_s().to_bits());
+        assert!((w - 302.4).abs() < 1e-9, "{w}");
+    }
+    // a dwell of exactly whole turns is those turns; never below one
+    assert_eq!(study::default_revolutions(100.0, 36.0), 10);
+    assert_eq!(study::default_revolutions(-100.0, 36.1), 11);
+    assert_eq!(study::default_revolutions(600.0, 0.01), 1);
+}
+
+/// Without a timing the revolutions are required (nothing sets them); a rate step shorter than
+/// one sample is refused naming its revolutions.
+#[test]
+fn missing_revolutions_without_timing_and_a_step_shorter_than_a_sample_are_refused() {
+    let text = example();
+    let line = "\nrevolutions = 10\n";
+    let start = text.find(line).expect("revolutions");
+    let without = format!("{}\n{}", &text[..start], &text[start + line.len()..]);
+    let msg = refused(&without);
+    assert!(
+        msg.contains("calibration.rate_steps[0].revolutions"),
+        "{msg}"
+    );
+    assert!(msg.contains("missing"), "{msg}");
+    // one revolution at 60 deg/s is 6 s: at 0.1 Hz no sample
+    let one_rev = with_first_step("revolutions", "1");
+    let timed = format!(
+        "{}\n[calibration.timing]\ndwell_s = 20\nsample_rate_hz = 0.1\n",
+        &one_rev[..one_rev.find("[monte_carlo]").expect("monte_carlo")]
+    ) + &one_rev[one_rev.find("[monte_carlo]").expect("monte_carlo")..];
+    let msg = refused(&timed);
+    assert!(
+        msg.contains("calibration.rate_steps[0].revolutions"),
+        "{msg}"
+    );
+    assert!(msg.contains("less than one sample"), "{msg}");
+}
+
 #[test]
 fn non_whole_revolutions_are_refused_naming_the_key() {
     for bad in ["2.5", "0", "-1"] {

@@ -52,19 +52,14 @@ impl std::ops::Deref for Designed {
     }
 }
 
-/// The study with `p`'s positions and its one dwell at each (the study's move time and
-/// sample rate kept), as `--write-study` writes it.
+/// The study with `p`'s positions and its one dwell at each (the study's move time, sample
+/// rate and rate steps' windows kept), as `--write-study` writes it.
 ///
 /// # Errors
 /// As [`Study::with_positions_deg`] (the positions were candidates, so only internal).
 pub fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Study> {
     let mut s2 = s.clone();
-    s2.timing = Some(calib_lsq::Timing::uniform(
-        s.positions_deg.len(),
-        p.dwell_s(),
-        timing.move_s(),
-        timing.sample_rate_hz(),
-    )?);
+    s2.timing = Some(timing.with_dwell_s(vec![p.dwell_s(); s.positions_deg.len()])?);
     Ok(s2
         .with_positions_deg(p.positions_deg().to_vec())
         .map_err(InputError::from)?)

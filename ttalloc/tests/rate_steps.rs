@@ -174,6 +174,78 @@ fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
     assert!(common::num(&v["direct_objective"]) > 0.0);
 }
 
+/// A rate-step study with noise (issue 35; exit 2 before, "a study with rate steps has no
+/// timing yet"): `end-to-end` gives every output's noise sigma over the static positions and
+/// the rate steps' windows, the combined answer and the shortest dwell; `check-turntable`
+/// the combined table + noise answer per output; `report` the windows in its noise section.
+/// At the study's 300 s the accelerometers'
+/// noise part (3 sigma) exceeds their 0.1 mg, so no table suffices there and the shortest
+/// dwell is longer.
+#[test]
+fn rate_step_study_with_noise_gets_the_noise_answer_and_the_shortest_dwell() {
+    const NOISY: &str = "stim300-rate-table-example";
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        &study(NOISY),
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    let noise = &v["readings"][0]["noise"];
+    let sigma: Vec<f64> = noise["noise_sigma"]
+        .as_array()
+        .expect("noise_sigma")
+        .iter()
+        .map(common::num)
+        .collect();
+    assert_eq!(sigma.len(), 6);
+    assert!(sigma.iter().all(|&s| s > 0.0), "{sigma:?}");
+    assert!(3.0 * sigma[3] > 0.1, "{sigma:?}");
+    assert_eq!(noise["direct_with_noise"]["no_table_suffices"], true);
+    let dwell = common::num(&v["min_dwell_s"]);
+    assert!(dwell > 300.0 && dwell < 86_400.0, "{dwell}");
+    let c = json(&[
+        "check-turntable",
+        "--study",
+        &study(NOISY),
+        "--tolerances",
+        SHEET,
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    for (o, s) in c["outputs"].as_array().expect("outputs").iter().zip(&sigma) {
+        assert_eq!(common::num(&o["noise_sigma"]).to_bits(), s.to_bits());
+        // JSON round trip of the sum: equal to the last bits
+        approx::assert_relative_eq!(
+            common::num(&o["combined"]),
+            common::num(&o["table_part"]) + 3.0 * s,
+            max_relative = 1e-12
+        );
+    }
+    assert!(c["combined_yield"]["yield"].is_number());
+    // the report's noise section states the windows: 24 static dwells of 300 s, then the six
+    // steps of 84 revolutions at 100 deg/s (302.4 s each, 1814.4 s in all)
+    let dir = scratch("rate-steps", "noise-report");
+    let out = dir.join("r");
+    let o = run(&[
+        "report",
+        "--study",
+        &study(NOISY),
+        "--samples",
+        "2000",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    assert!(
+        md.contains("24 positions, mean dwell 300 s, then 6 rate steps each averaged over its whole revolutions (1814.4 s in all)"),
+        "{md}"
+    );
+}
+
 /// `end-to-end` with rate steps allocates the rate tolerances with the angles (JSON
 /// `rate_allocation`): rate accuracy and ripple in ppm, translations in mm, every output
 /// within its accuracy on the exact chain at its worst vertex, and the rate accuracy within

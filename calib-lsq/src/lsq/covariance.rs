@@ -399,7 +399,7 @@ impl OutputCalibration {
             Ok(())
         } else {
             Err(CalibError::Field(tt_core::FieldError::Length {
-                field: "dwell times (one per position)".into(),
+                field: "averaging windows (one per position and rate step)".into(),
                 expected: n,
                 found: timing.len(),
             }))

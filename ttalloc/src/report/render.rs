@@ -1512,9 +1512,17 @@ impl<'a> Sections<'a> {
         self.doc.p(format!(
             "The sensor's noise, averaged over the dwell at each position, adds a random part to every output's calibration error: its standard deviation σ at the worst test position comes from the covariance of the least-squares calibration (white noise and the Gauss-Markov bias instability, positions in the schedule's order{}). The answer per output is the table's part (the certified worst case over the box where a second-order bound is derived) plus {} σ; it meets the accuracy only when the sum does. Noise σ: {}.",
             timing.map_or(String::new(), |t| format!(
-                "; {} positions, mean dwell {} s, {} Hz, move {} s, total {} s",
-                t.len(),
-                num(t.dwell_s().iter().sum::<f64>() / t.len() as f64),
+                "; {} positions, mean dwell {} s{}, {} Hz, move {} s, total {} s",
+                t.positions(),
+                num(t.dwell_s().iter().sum::<f64>() / t.positions() as f64),
+                match t.rate_step_s() {
+                    [] => String::new(),
+                    r => format!(
+                        ", then {} rate steps each averaged over its whole revolutions ({} s in all)",
+                        r.len(),
+                        num(r.iter().sum::<f64>())
+                    ),
+                },
                 num(t.sample_rate_hz()),
                 num(t.move_s()),
                 num(t.total_s())
