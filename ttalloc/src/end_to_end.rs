@@ -415,8 +415,7 @@ pub fn check_yield_samples(
 /// # Errors
 /// An [`InputError`] naming the study.
 pub fn simulator(s: &Study) -> Result<EndToEnd> {
-    EndToEnd::new(&s.turntable, &s.calibration, &st::poses(s)?, s.reading)
-        .map_err(|e| crate::input::library(e, s))
+    tt_lab::loaded::simulator(s).map_err(crate::input::lab)
 }
 
 /// The inputs of the answer for a study: its lower bounds and requirement, the paper's

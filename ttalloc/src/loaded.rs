@@ -1,154 +1,22 @@
-//! Loading the study a command works on, and what every command derives from it the same way
-//! (the requirement handed to the two-step allocation and the line that says when a given
-//! requirement disagrees with the computed one).
+//! The study a command works on, loaded by the study-level library ([`tt_lab::loaded`]), its
+//! errors as the command's.
 
-use crate::InputError;
-use crate::paths;
-use alloc_opt::Requirement;
-use calib_lsq::{AxisDisagreement, CalibError, OrientationRequirement, RequirementProblem};
-use std::path::Path;
-use study::{RequirementSource, Study};
+use study::Study;
 use tt_core::Pose;
+pub use tt_lab::loaded::{StudyRequirement, load, requirement_problem};
 
-impl From<study::StudyError> for InputError {
-    fn from(e: study::StudyError) -> Self {
-        InputError::new(e.location, e.reason)
-    }
-}
-
-/// Read the study `given` (or the paper's: from the workspace root, else the copy compiled
-/// in), shown in reports as the user gave it.
+/// [`tt_lab::loaded::poses`] as the command's result.
 ///
 /// # Errors
-/// An [`InputError`] naming the file and key.
-pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
-    // the path as every output shows it: one visible line (a line feed in a file name cannot
-    // forge a line of output); a shell line quotes the path as given instead
-    let text_path = study::fmt::visible(&paths::shown(given)).into_owned();
-    let mut s = match paths::study_source(given) {
-        paths::StudySource::File(path) => Study::load(&path).map_err(|e| {
-            // name the file as the user gave it (or the workspace-relative default)
-            InputError::new(
-                e.location
-                    .replacen(&path.display().to_string(), &text_path, 1),
-                e.reason,
-            )
-        })?,
-        paths::StudySource::BuiltIn => Study::parse(&text_path, paths::PAPER_STUDY_TEXT)?,
-    };
-    s.path = text_path;
-    Ok(s)
-}
-
-/// The turntable pose of every schedule entry of a study (the test positions, then where
-/// each rate step starts).
-///
-/// # Errors
-/// Never for a parsed study (positions were validated); an [`InputError`] otherwise.
+/// An [`crate::InputError`] naming the study.
 pub fn poses(s: &Study) -> anyhow::Result<Vec<Pose>> {
-    s.schedule_angles_deg()
-        .iter()
-        .map(|p| Pose::from_deg(p).map_err(|e| crate::input::library(e, s)))
-        .collect()
+    tt_lab::loaded::poses(s).map_err(crate::input::lab)
 }
 
-/// The requirement problem (eq 15-16) of a study.
-#[must_use]
-pub fn requirement_problem(s: &Study) -> RequirementProblem {
-    RequirementProblem::new(s.calibration.clone(), s.reading, s.delta_r_kind)
-}
-
-/// The requirement a study hands to the two-step allocation, the computed one (if it exists)
-/// and, when a given requirement disagrees with the computed one, the line that says so.
-#[derive(Debug, Clone)]
-pub struct StudyRequirement {
-    /// The requirement used by the two-step allocation (`None`: none exists).
-    pub used: Option<Requirement>,
-    /// The computed requirement (eq 15-16), or why there is none.
-    pub computed: Result<OrientationRequirement, CalibError>,
-    /// Whether the study gives its requirement.
-    pub given: bool,
-    /// One line for every command and report when given and computed disagree.
-    pub disagreement: Option<String>,
-}
-
-/// Resolve the study's requirement.
+/// [`tt_lab::loaded::requirement`] as the command's result.
 ///
 /// # Errors
-/// An [`InputError`] naming `requirement` when a given value is invalid for the allocation.
+/// An [`crate::InputError`] naming `requirement`.
 pub fn requirement(s: &Study) -> anyhow::Result<StudyRequirement> {
-    let mut r = requirement_of(s)?;
-    if s.has_rate_steps() {
-        // every command and report that prints the requirement's note says it is static
-        let note = format!(
-            "note: {}; here it is computed over every schedule entry, a rate step's averaged inputs as if they were a static position's",
-            crate::rate::STATIC_REQUIREMENT_NOTE
-        );
-        r.disagreement = Some(match r.disagreement {
-            Some(d) => format!("{note}\n{d}"),
-            None => note,
-        });
-    }
-    Ok(r)
-}
-
-fn requirement_of(s: &Study) -> anyhow::Result<StudyRequirement> {
-    let computed = requirement_problem(s).requirement();
-    match s.requirement {
-        RequirementSource::Computed => {
-            let used = computed.as_ref().ok().map(|r| r.requirement());
-            Ok(StudyRequirement {
-                used,
-                computed,
-                given: false,
-                disagreement: None,
-            })
-        }
-        RequirementSource::Given { rad } => {
-            let used = Requirement::new(rad[0], rad[1], rad[2]).map_err(|e| {
-                crate::input::library_at(e, s, &format!("{}: key `requirement`", s.path))
-            })?;
-            let disagreement = match &computed {
-                Ok(c) => {
-                    let parts: Vec<String> = c
-                        .disagreement(rad)
-                        .iter()
-                        .map(|d| match *d {
-                            AxisDisagreement::Differs {
-                                axis,
-                                given_rad: g,
-                                computed_rad: v,
-                            } => format!(
-                                "{} {} deg given vs {} deg computed ({:+.2}%)",
-                                axis.name(),
-                                study::fmt::num(g.to_degrees()),
-                                study::fmt::num(v.to_degrees()),
-                                100.0 * (g / v - 1.0)
-                            ),
-                            AxisDisagreement::NoneComputed { axis, given_rad: g } => format!(
-                                "{} {} deg given, none computed (no output constrains it)",
-                                axis.name(),
-                                study::fmt::num(g.to_degrees())
-                            ),
-                        })
-                        .collect();
-                    (!parts.is_empty()).then(|| {
-                        format!(
-                            "note: the requirement given in the study differs from the one computed from its calibration inputs: {}; the allocation uses the given one",
-                            parts.join(", ")
-                        )
-                    })
-                }
-                Err(e) => Some(format!(
-                    "note: the study gives a requirement, but none can be computed from its calibration inputs ({e})"
-                )),
-            };
-            Ok(StudyRequirement {
-                used: Some(used),
-                computed,
-                given: true,
-                disagreement,
-            })
-        }
-    }
+    tt_lab::loaded::requirement(s).map_err(crate::input::lab)
 }

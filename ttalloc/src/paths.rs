@@ -1,72 +1,9 @@
-//! Paths resolved at run time, never at compile time: a user's path resolves against the
-//! current directory; the defaults (the paper's study) against the workspace root found by
-//! walking up from the current directory, then from the executable, and outside a clone (an
-//! installed `ttalloc`) the paper's study compiled into the program. (`CARGO_MANIFEST_DIR`
-//! is fixed at compile time and points at the wrong clone when a target directory is shared.)
+//! Paths as the command line shows them, and (re-exported from [`tt_lab::paths`]) where the
+//! study comes from: a user's path resolves against the current directory; the defaults (the
+//! paper's study) against the workspace root, and outside a clone the copy compiled in.
 
-use crate::InputError;
-use std::path::{Path, PathBuf};
-
-/// The paper's study, relative to the workspace root.
-pub const PAPER_STUDY: &str = "studies/gyrowheel-2017.toml";
-
-/// Whether `dir` is this project's workspace root: a `Cargo.toml` with a `[workspace]`
-/// table and the paper's study beside it.
-fn is_root(dir: &Path) -> bool {
-    dir.join(PAPER_STUDY).is_file()
-        && std::fs::read_to_string(dir.join("Cargo.toml")).is_ok_and(|t| t.contains("[workspace]"))
-}
-
-/// The workspace root: the first ancestor of the current directory (then of the executable)
-/// that is the project's root.
-///
-/// # Errors
-/// An [`InputError`] when neither is inside a clone of the project.
-pub fn workspace_root() -> Result<PathBuf, InputError> {
-    let starts = [
-        std::env::current_dir().ok(),
-        std::env::current_exe()
-            .ok()
-            .and_then(|e| e.parent().map(Path::to_path_buf)),
-    ];
-    for start in starts.into_iter().flatten() {
-        if let Some(root) = start.ancestors().find(|d| is_root(d)) {
-            return Ok(root.to_path_buf());
-        }
-    }
-    Err(InputError::new(
-        "--study",
-        format!(
-            "no study given and no project workspace (with {PAPER_STUDY}) found above the current directory; pass --study FILE"
-        ),
-    ))
-}
-
-/// The paper's study as compiled into the program: the default study of an installed
-/// `ttalloc` run outside a clone of the project (the same file as [`PAPER_STUDY`]).
-pub const PAPER_STUDY_TEXT: &str = include_str!("../../studies/gyrowheel-2017.toml");
-
-/// Where the study comes from.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum StudySource {
-    /// A file: the user's (as given), or the paper's in the workspace root.
-    File(PathBuf),
-    /// No study given and no workspace around: the paper's study compiled in
-    /// ([`PAPER_STUDY_TEXT`]).
-    BuiltIn,
-}
-
-/// The study to read: the user's file (as given), the paper's in the workspace root found
-/// from the current directory (or the executable), else the paper's compiled in.
-#[must_use]
-pub fn study_source(given: Option<&Path>) -> StudySource {
-    match given {
-        Some(p) => StudySource::File(p.to_path_buf()),
-        None => workspace_root().map_or(StudySource::BuiltIn, |r| {
-            StudySource::File(r.join(PAPER_STUDY))
-        }),
-    }
-}
+use std::path::Path;
+pub use tt_lab::paths::{PAPER_STUDY, PAPER_STUDY_TEXT, StudySource, study_source, workspace_root};
 
 /// How to show a path in reports: as the user gave it; the default study as its workspace
 /// path (never an absolute path of the machine).

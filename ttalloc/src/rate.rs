@@ -19,7 +19,7 @@ use study::Study;
 use study::fmt::num;
 
 /// The line every command prints for a study with rate steps.
-pub const STATIC_REQUIREMENT_NOTE: &str = "the study has rate steps: the orientation requirement (eq 15-16) is a static concept (one orientation error at every test position), so the two-step allocation against it is not made; the direct allocation against every output's accuracy is the answer";
+pub use tt_lab::loaded::STATIC_REQUIREMENT_NOTE;
 
 /// The note `end-to-end` and `calibration-error` print for a study with rate steps (JSON
 /// `requirement_note`): the requirement is static, and the errors only rotation exposes are
