@@ -1,72 +1,27 @@
-//! The study-level questions the Python functions answer, on the library crates directly, until
-//! the study-level library (`tt-lab`, issue 33 section 1) answers them: one function per
-//! question, each returning the answer as the command line's `--json` prints it (the same
-//! keys, a subset where noted). When `tt-lab` lands, each function here is replaced by the
-//! `tt-lab` call of the same name and its answer's serialisation; the Python layer
+//! The study-level questions the Python functions answer, until the study-level library
+//! (`tt-lab`, issue 33 section 1) answers each of them: one function per question, each
+//! returning the answer as the command line's `--json` prints it (the same keys, a subset
+//! where noted). The study, its requirement, its simulator and the errors are `tt-lab`'s
+//! already; when `tt-lab` answers a question (`allocate`, `end_to_end`, `check_turntable`),
+//! its function here becomes that call and its answer's serialisation, and the Python layer
 //! (`lib.rs`) does not change.
 //!
 //! Nothing here decides anything: every number is a library call's; this module resolves the
-//! study's inputs the way the command line does (`ttalloc/src/loaded.rs`, `allocate.rs`,
+//! study's inputs the way the command line does (`ttalloc/src/allocate.rs`,
 //! `end_to_end.rs`, `check_turntable.rs`) and names the keys.
 
 use alloc_opt::{
-    AllocationProblem, Allocator, Certificate, EqualEffects, Requirement, SensitivityWeighted,
-    Weights,
+    AllocationProblem, Allocator, Certificate, EqualEffects, SensitivityWeighted, Weights,
 };
-use calib_lsq::RequirementProblem;
 use e2e_verify::{EndToEnd, EndToEndInputs, McSettings};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use study::{RequirementSource, Study};
+use tt_core::OrientationAxis;
 use tt_core::units::{RAD_PER_ARCMIN, rad_to_arcmin, rad_to_deg};
-use tt_core::{ErrorClass, OrientationAxis, Pose};
 use tt_kinematics::LinearModel;
-
-/// An error of a question: the input's (a location as the command line names it, and why) or
-/// the library's own failure.
-#[derive(Debug)]
-pub enum Failure {
-    /// The input is wrong: where (a file and key, a keyword argument) and why.
-    Input {
-        /// Where.
-        location: String,
-        /// Why.
-        reason: String,
-    },
-    /// The computation failed (not the input's fault).
-    Internal(String),
-}
-
-impl From<study::StudyError> for Failure {
-    fn from(e: study::StudyError) -> Self {
-        Self::Input {
-            location: e.location,
-            reason: e.reason,
-        }
-    }
-}
-
-/// A library error located the command line's way: a field that is a command-line flag is
-/// named by the keyword argument of the same name (`samples`, `seed`, `yield_fraction`), the
-/// lower bounds by the study key, anything else by `at` (the study file, a tolerance file).
-pub fn library<E: ErrorClass + std::fmt::Display>(e: E, s: &Study, at: &str) -> Failure {
-    match e.input_field() {
-        Some(field) => {
-            let location = match field {
-                "samples" | "seed" | "yield_fraction" | "safety_margin" => field.to_string(),
-                f if f == "lower_bounds" || f.starts_with("lower_bounds.") => {
-                    format!("{}: key `allocation.lower_bounds_arcmin`", s.path)
-                }
-                _ => at.to_string(),
-            };
-            Failure::Input {
-                location,
-                reason: e.to_string(),
-            }
-        }
-        None => Failure::Internal(e.to_string()),
-    }
-}
+use tt_lab::error::{InputError, LabError, library, library_at};
+use tt_lab::loaded::{requirement_problem, simulator};
 
 fn per_angle<T: Into<Value>>(f: impl Fn(OrientationAxis) -> T) -> Value {
     let mut m = serde_json::Map::new();
@@ -91,28 +46,11 @@ fn arcmin_bounds(names: &[&str], ub_rad: &[f64]) -> Value {
     json!(m)
 }
 
-/// The study's requirement as the command line resolves it: the given one, else the
-/// computed one (`None`: no output constrains an angle).
-fn used_requirement(s: &Study) -> Result<Option<Requirement>, Failure> {
-    match s.requirement {
-        RequirementSource::Given { rad } => Requirement::new(rad[0], rad[1], rad[2])
-            .map(Some)
-            .map_err(|e| library(e, s, &format!("{}: key `requirement`", s.path))),
-        RequirementSource::Computed => Ok(requirement_problem(s)
-            .requirement()
-            .ok()
-            .map(|r| r.requirement())),
-    }
-}
-
-fn requirement_problem(s: &Study) -> RequirementProblem {
-    RequirementProblem::new(s.calibration.clone(), s.reading, s.delta_r_kind)
-}
-
 /// `requirement --json` (eq 15-16): `study`, `reading`, `reading_formula`, `delta_r`,
 /// `schedule_positions`, `orientation_requirement_deg`, `outputs`, `unconstrained_outputs`,
-/// `note`, `given_requirement_deg`.
-pub fn requirement(s: &Study) -> Result<Value, Failure> {
+/// `note`, `given_requirement_deg`, `disagreement`.
+pub fn requirement(s: &Study) -> Result<Value, LabError> {
+    let resolved = tt_lab::loaded::requirement(s)?;
     let p = requirement_problem(s);
     let r = p.requirement();
     let outputs: Vec<Value> = p
@@ -150,6 +88,7 @@ pub fn requirement(s: &Study) -> Result<Value, Failure> {
             RequirementSource::Given { rad } => Some(deg3(&rad.map(Some))),
             RequirementSource::Computed => None,
         },
+        "disagreement": resolved.disagreement,
     }))
 }
 
@@ -181,18 +120,24 @@ fn certificate(s: &Study, c: &Certificate) -> Value {
 /// `equal_effects_arcmin`, `equal_effects_objective`, and for the paper's table
 /// `paper_table4_arcmin`, `paper_table4_objective` (the exact-chain check, the groups and the
 /// angle-dependent extras are not bound yet).
-pub fn allocate(s: &Study, safety_margin: f64) -> Result<Value, Failure> {
+pub fn allocate(s: &Study, safety_margin: f64) -> Result<Value, LabError> {
     if s.has_rate_steps() {
-        return Err(Failure::Input {
-            location: format!("{}: key `calibration.rate_steps`", s.path),
-            reason: "the two-step allocation is not made for a study with rate steps (the orientation requirement is a static concept): use end_to_end()".into(),
-        });
+        return Err(InputError::new(
+            format!("{}: key `calibration.rate_steps`", s.path),
+            format!(
+                "{}: use end_to_end()",
+                tt_lab::loaded::STATIC_REQUIREMENT_NOTE
+            ),
+        )
+        .into());
     }
-    let req = used_requirement(s)?.ok_or_else(|| Failure::Input {
-        location: format!("{}: key `requirement`", s.path),
-        reason: "the study has no orientation requirement: no output constrains a constant orientation error (see requirement()); give one in [requirement] or use end_to_end(), which allocates against the outputs' accuracies directly".into(),
+    let req = tt_lab::loaded::requirement(s)?.used.ok_or_else(|| {
+        InputError::new(
+            format!("{}: key `requirement`", s.path),
+            "the study has no orientation requirement: no output constrains a constant orientation error (see requirement()); give one in [requirement] or use end_to_end(), which allocates against the outputs' accuracies directly",
+        )
     })?;
-    let lib = |e| library(e, s, &s.path);
+    let lib = |e| library(e, s);
     let problem = AllocationProblem::new(
         LinearModel::new(&s.turntable),
         req,
@@ -230,17 +175,6 @@ pub fn allocate(s: &Study, safety_margin: f64) -> Result<Value, Failure> {
         v["paper_table4_objective"] = json!(j);
     }
     Ok(v)
-}
-
-/// The end-to-end simulator of a study (its schedule's poses, its reading).
-pub fn simulator(s: &Study) -> Result<EndToEnd, Failure> {
-    let poses = s
-        .schedule_angles_deg()
-        .iter()
-        .map(|p| Pose::from_deg(p).map_err(|e| library(e, s, &s.path)))
-        .collect::<Result<Vec<_>, _>>()?;
-    EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading)
-        .map_err(|e| library(e, s, &s.path))
 }
 
 fn objective_arcmin(j_rad: f64) -> f64 {
@@ -292,12 +226,12 @@ pub fn end_to_end(
     samples: Option<u64>,
     seed: Option<u64>,
     yield_fraction: Option<f64>,
-) -> Result<Value, Failure> {
+) -> Result<Value, LabError> {
     let e2e = simulator(s)?;
     let used = if s.has_rate_steps() {
         None
     } else {
-        used_requirement(s)?
+        tt_lab::loaded::requirement(s)?.used
     };
     let mut inputs = EndToEndInputs::new(
         s.lower_bounds_rad.clone(),
@@ -313,7 +247,7 @@ pub fn end_to_end(
             .extra_boxes
             .push(("Table 4".into(), alloc_opt::paper::table4_rad()));
     }
-    let a = e2e_verify::answer(&e2e, &inputs).map_err(|e| library(e, s, &s.path))?;
+    let a = e2e_verify::answer(&e2e, &inputs).map_err(|e| library(e, s))?;
     let names = e2e.turntable().rotation_error_names();
     let readings: Vec<Value> = a
         .readings()
@@ -361,8 +295,8 @@ pub fn check_turntable(
     tolerances: &std::path::Path,
     samples: Option<u64>,
     seed: Option<u64>,
-) -> Result<Value, Failure> {
-    let sheet = s.load_sheet(tolerances)?;
+) -> Result<Value, LabError> {
+    let sheet = s.load_sheet(tolerances).map_err(InputError::from)?;
     let e2e = simulator(s)?;
     let settings = McSettings::new(
         samples.unwrap_or(s.monte_carlo.samples),
@@ -372,7 +306,7 @@ pub fn check_turntable(
     if e2e.reading() != calib_lsq::Reading::USER {
         sims.push(
             e2e.with_reading(calib_lsq::Reading::USER)
-                .map_err(|e| library(e, s, &s.path))?,
+                .map_err(|e| library(e, s))?,
         );
     }
     let names = e2e.turntable().rotation_error_names();
@@ -380,7 +314,7 @@ pub fn check_turntable(
     for sim in &sims {
         let c = sim
             .check_sheet(&sheet, &settings)
-            .map_err(|e| library(e, s, sheet.source()))?;
+            .map_err(|e| library_at(e, s, sheet.source()))?;
         let d = c.distribution();
         let outputs: Vec<Value> = c
             .outputs()

@@ -1,7 +1,7 @@
 //! `ttalloc-py`: the Python package `ttalloc` (pyo3, abi3, built by maturin: see
 //! `python/README.md`). Each Python function is one Rust function here that converts its
-//! arguments, calls the library (through [`interim`] until the study-level library `tt-lab`
-//! answers the question) and converts the answer; no science lives here.
+//! arguments, calls the study-level library `tt-lab` (through [`interim`] for the questions
+//! `tt-lab` does not answer yet) and converts the answer; no science lives here.
 //!
 //! Errors: an input error raises `ttalloc.InputError` (a `ValueError`) whose message names the
 //! location as the command line does (``file: key `x` ``, a keyword argument); anything else
@@ -9,13 +9,13 @@
 
 pub mod interim;
 
-use interim::Failure;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::PathBuf;
+use tt_lab::LabError;
 
 create_exception!(
     ttalloc,
@@ -27,10 +27,10 @@ create_exception!(
 /// The source name of a study given as a dict (errors and answers name it).
 pub const DICT_SOURCE: &str = "<study dict>";
 
-fn to_py(f: Failure) -> PyErr {
-    match f {
-        Failure::Input { location, reason } => InputError::new_err(format!("{location}: {reason}")),
-        Failure::Internal(m) => PyRuntimeError::new_err(m),
+fn to_py(e: LabError) -> PyErr {
+    match e.input() {
+        Some(i) => InputError::new_err(i.to_string()),
+        None => PyRuntimeError::new_err(e.to_string()),
     }
 }
 
@@ -200,7 +200,7 @@ impl Study {
 #[pyfunction]
 fn load_study(py: Python<'_>, path: PathBuf) -> PyResult<Study> {
     let inner = py
-        .detach(|| study::Study::load(&path))
+        .detach(|| tt_lab::loaded::load(Some(&path)))
         .map_err(|e| to_py(e.into()))?;
     Ok(Study { inner })
 }
@@ -216,7 +216,7 @@ impl Answer {
     fn of(
         _py: Python<'_>,
         question: &'static str,
-        r: Result<serde_json::Value, Failure>,
+        r: Result<serde_json::Value, LabError>,
     ) -> PyResult<Self> {
         r.map(|value| Self { question, value }).map_err(to_py)
     }

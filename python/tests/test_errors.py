@@ -70,10 +70,11 @@ def test_missing_files_name_the_path(paper, tmp_path):
         paper.check_turntable(tmp_path / "no-sheet.toml")
 
 
-def test_bad_keyword_values_name_the_keyword(paper):
-    with pytest.raises(ttalloc.InputError, match="^samples: "):
+def test_bad_keyword_values_name_the_command_line_flag(paper):
+    # the command line's location of the same value (tt-lab's one rule): its flag
+    with pytest.raises(ttalloc.InputError, match="^--samples: "):
         paper.check_turntable(TABLE4_SHEET, samples=0)
-    with pytest.raises(ttalloc.InputError, match="safety_margin"):
+    with pytest.raises(ttalloc.InputError, match="^--safety-margin: "):
         paper.allocate(safety_margin=1.5)
 
 
