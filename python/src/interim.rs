@@ -288,8 +288,8 @@ pub fn end_to_end(
 /// `worst_case_exact_at_vertex`, `second_order_bound`, `certified_bound`, `worst_position`,
 /// `precision`, `meeting_fraction`, `monte_carlo_max`, `contributions[]`), `tolerances`,
 /// `tolerances_arcmin` and `user_reading` (the same for the user's reading, `null` when it
-/// is the study's). Not bound yet: the noise split, the angle-dependent, compensated and
-/// rate-step sections, the decision.
+/// is the study's), `decision` (the specifications' budgets and verdict). Not bound yet: the
+/// noise split, the angle-dependent, compensated and rate-step sections.
 pub fn check_turntable(
     s: &Study,
     tolerances: &std::path::Path,
@@ -368,5 +368,92 @@ pub fn check_turntable(
     let mut v = checks.swap_remove(0);
     v["tolerances"] = json!(sheet.source());
     v["user_reading"] = json!(user);
+    v["decision"] = decision(s, &e2e, sheet.upper_bounds_rad())?;
     Ok(v)
+}
+
+/// The decision against the study's specifications (issue 34) for the tolerances `ub_rad`:
+/// the `decision` of `check-turntable --json` (`rule`, `meets`, `tolerance_distribution`,
+/// `specifications[]` with each GUM budget: `quantity`, `unit`, `limit`, `coverage`,
+/// `combined_standard_uncertainty`, `dof_eff`, `coverage_factor`, `expanded`, `ratio`,
+/// `meets`, `noise_modelled`, `unbounded`, `position`, `budget[]`). Without specifications:
+/// the accuracy rule, `meets` `null`, no specification.
+fn decision(s: &Study, e2e: &EndToEnd, ub_rad: &[f64]) -> Result<Value, LabError> {
+    use e2e_verify::budget::{ACCURACY_RULE, EvaluatedAt, PLAN_RULE};
+    let law = s.uncertainty.tolerance_distribution;
+    if s.specifications.is_empty() {
+        return Ok(json!({
+            "rule": ACCURACY_RULE,
+            "meets": null,
+            "tolerance_distribution": law.name(),
+            "specifications": [],
+        }));
+    }
+    let v = e2e
+        .plan_verdict(
+            &s.specifications,
+            ub_rad,
+            |n, a| law.input(n, a),
+            &s.noise,
+            s.timing.as_ref(),
+        )
+        .map_err(|e| library(e, s))?;
+    let finite = |x: f64| x.is_finite().then_some(x);
+    let specifications: Vec<Value> = v
+        .budgets()
+        .iter()
+        .zip(&s.specifications)
+        .map(|(b, sp)| {
+            let f = sp.to_written();
+            let o = b.output();
+            let rows: Vec<Value> = b
+                .result()
+                .rows()
+                .iter()
+                .zip(o.sensitivities().iter().zip(o.contributions()))
+                .map(|(r, (c, u))| {
+                    json!({
+                        "name": r.name(),
+                        "distribution": r.distribution(),
+                        "standard_uncertainty": r.standard_uncertainty(),
+                        "sensitivity": c * f,
+                        "contribution": u.abs() * f,
+                        "dof": finite(r.dof()),
+                    })
+                })
+                .collect();
+            json!({
+                "quantity": sp.label(&s.sensor),
+                "unit": sp.unit().to_string(),
+                "limit": sp.written_limit(),
+                "coverage": sp.coverage(),
+                "combined_standard_uncertainty": o.combined() * f,
+                "dof_eff": finite(o.dof_eff()),
+                "coverage_factor": o.coverage_factor(),
+                "expanded": o.expanded() * f,
+                "ratio": b.check().ratio(),
+                "meets": v.meets(b.spec()),
+                "noise_modelled": b.noise_modelled(),
+                "unbounded": v.unbounded()[b.spec()],
+                "position": match b.at() {
+                    EvaluatedAt::Position(i) => Some(i),
+                    _ => None,
+                },
+                "budget": rows,
+            })
+        })
+        .collect();
+    Ok(json!({
+        "rule": PLAN_RULE,
+        "meets": v.meets_all(),
+        "tolerance_distribution": law.name(),
+        "specifications": specifications,
+    }))
+}
+
+/// The GUM budget and decision of every specification of the study (issue 34) over a
+/// tolerance sheet's box: `check-turntable --json`'s `decision`.
+pub fn specification_budgets(s: &Study, tolerances: &std::path::Path) -> Result<Value, LabError> {
+    let sheet = s.load_sheet(tolerances).map_err(InputError::from)?;
+    decision(s, &simulator(s)?, sheet.upper_bounds_rad())
 }

@@ -188,6 +188,18 @@ impl Study {
         )
     }
 
+    /// The GUM budget and the decision of every specification of the study (issue 34) over a
+    /// tolerance sheet's box: `check-turntable --json`'s `decision` (without specifications:
+    /// the accuracy rule, `meets` `None`).
+    fn specification_budgets(&self, py: Python<'_>, tolerances: PathBuf) -> PyResult<Answer> {
+        let s = &self.inner;
+        Answer::of(
+            py,
+            "specification_budgets",
+            py.detach(|| interim::specification_budgets(s, &tolerances)),
+        )
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Study(name={:?}, path={:?})",

@@ -46,6 +46,7 @@ class Study:
         samples: Optional[int] = None,
         seed: Optional[int] = None,
     ) -> Answer: ...
+    def specification_budgets(self, tolerances: _Path) -> Answer: ...
 
 class AllanResult:
     """The overlapping Allan deviation of a log and its fitted noise (IEEE 952)."""
