@@ -10,6 +10,7 @@ use clap::{CommandFactory, FromArgMatches};
 use std::process::ExitCode;
 
 mod fuzz;
+mod python;
 mod suite;
 
 fn main() -> ExitCode {
@@ -35,7 +36,7 @@ fn main() -> ExitCode {
     let mut cmd = ttalloc::command("cargo xtask")
         .subcommand(
             suite::Args::command().name("test").about(
-                "The test suite on any machine: installs Chromium and the report fonts when missing (as root), then cargo test --workspace.",
+                "The test suite on any machine: installs Chromium and the report fonts when missing (as root), then cargo test --workspace, then the Python package's wheel built, installed in a fresh venv and tested with pytest.",
             ),
         )
         .subcommand(fuzz::Args::command().name("fuzz").about(

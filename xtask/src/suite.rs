@@ -14,6 +14,10 @@
 //!
 //! Nothing is skipped: a browser test that cannot start its browser fails with the same
 //! instruction.
+//!
+//! Then the Python package ([`crate::python`]): its wheel is built, installed in a fresh
+//! virtual environment and tested with pytest after the Rust suite passes; a machine without
+//! Python 3 and its `venv` module is told what to install before anything runs.
 
 use anyhow::{Context, Result, bail};
 use browser_check::locate;
@@ -126,11 +130,14 @@ fn apt_get(args: &[&str]) -> Result<()> {
     Ok(())
 }
 
-/// Run the command: set up, then `cargo test --workspace ARGS...`.
+/// Run the command: set up, then `cargo test --workspace ARGS...`, then the Python package's
+/// tests.
 ///
 /// # Errors
 /// When the set-up cannot be done (with the command to run), or cargo cannot be started.
 pub fn run(args: &Args) -> Result<ExitCode> {
+    let python = crate::python::interpreter();
+    crate::python::check(&python)?;
     let before = machine();
     match plan(&before) {
         Plan::Ready => {}
@@ -168,11 +175,13 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         .current_dir(&root)
         .status()
         .with_context(|| format!("starting {}", Path::new(&cargo).display()))?;
-    Ok(match status.code() {
-        Some(0) => ExitCode::SUCCESS,
-        Some(c) => ExitCode::from(u8::try_from(c).unwrap_or(1)),
-        None => ExitCode::FAILURE,
-    })
+    match status.code() {
+        Some(0) => {}
+        Some(c) => return Ok(ExitCode::from(u8::try_from(c).unwrap_or(1))),
+        None => return Ok(ExitCode::FAILURE),
+    }
+    crate::python::run(&root, &python)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 #[cfg(test)]

@@ -55,3 +55,36 @@ fn test_command_stops_at_once_with_the_instruction_when_the_browser_is_missing()
         "cargo was not run: {err}"
     );
 }
+
+/// Issue 37: the README's test command also builds the Python package's wheel, installs it in
+/// a fresh virtual environment and runs pytest; without a usable Python it stops at once,
+/// before running cargo, with exit 1 naming the interpreter and what to install.
+#[test]
+fn test_command_includes_the_python_package_and_says_what_is_missing_without_python() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .arg("test")
+        .env("PYTHON", "/nonexistent/python3")
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("/nonexistent/python3"), "{err}");
+    assert!(
+        err.contains("apt-get install -y python3 python3-venv"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("cargo xtask test: Chromium"),
+        "cargo was not run: {err}"
+    );
+    let help = std::process::Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .arg("--help")
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(
+        String::from_utf8_lossy(&help.stdout).contains("Python package"),
+        "the help line of `test` names the Python step"
+    );
+}

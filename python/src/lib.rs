@@ -1,0 +1,485 @@
+//! `ttalloc-py`: the Python package `ttalloc` (pyo3, abi3, built by maturin: see
+//! `python/README.md`). Each Python function is one Rust function here that converts its
+//! arguments, calls the study-level library `tt-lab` (through [`interim`] for the questions
+//! `tt-lab` does not answer yet) and converts the answer; no science lives here.
+//!
+//! Errors: an input error raises `ttalloc.InputError` (a `ValueError`) whose message names the
+//! location as the command line does (``file: key `x` ``, a keyword argument); anything else
+//! raises `RuntimeError`. Long computations release the GIL.
+
+pub mod interim;
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use std::path::PathBuf;
+use tt_lab::LabError;
+
+create_exception!(
+    ttalloc,
+    InputError,
+    PyValueError,
+    "The input is wrong: the message names where (a file and key, a keyword argument) and why, as the command line does."
+);
+
+/// The source name of a study given as a dict (errors and answers name it).
+pub const DICT_SOURCE: &str = "<study dict>";
+
+fn to_py(e: LabError) -> PyErr {
+    match e.input() {
+        Some(i) => InputError::new_err(i.to_string()),
+        None => PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+/// A JSON answer as Python objects (dicts, lists, floats; `None` for `null`).
+fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(v).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// One Python value of a study dict as TOML (`at`: its key path, for the error).
+fn py_to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
+    let bad = |what: &str| {
+        InputError::new_err(format!(
+            "{DICT_SOURCE}: key `{at}`: {what} has no form in a study file (give a str, int, float, bool, list or dict)"
+        ))
+    };
+    if v.is_instance_of::<PyBool>() {
+        return Ok(toml::Value::Boolean(v.extract()?));
+    }
+    if v.is_instance_of::<PyInt>() {
+        return v
+            .extract::<i64>()
+            .map(toml::Value::Integer)
+            .map_err(|_| bad("an integer beyond 64 bits"));
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(toml::Value::Float(v.extract()?));
+    }
+    if v.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(v.extract()?));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut t = toml::Table::new();
+        for (k, x) in d.iter() {
+            let key: String = k
+                .extract()
+                .map_err(|_| bad("a dict whose key is not a str"))?;
+            let path = if at.is_empty() {
+                key.clone()
+            } else {
+                format!("{at}.{key}")
+            };
+            t.insert(key, py_to_toml(&x, &path)?);
+        }
+        return Ok(toml::Value::Table(t));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items = v
+            .try_iter()?
+            .enumerate()
+            .map(|(i, x)| py_to_toml(&x?, &format!("{at}[{i}]")))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(toml::Value::Array(items));
+    }
+    if v.is_none() {
+        return Err(bad("None"));
+    }
+    Err(bad(&format!("a {}", v.get_type().name()?)))
+}
+
+/// A validated study (turntable, sensor, site, schedule, requirement), from a file
+/// ([`load_study`]) or a dict ([`Study::from_dict`]).
+#[pyclass(frozen, module = "ttalloc")]
+pub struct Study {
+    inner: study::Study,
+}
+
+#[pymethods]
+impl Study {
+    /// A study from a dict in the study file's schema (the same keys and tables as the TOML
+    /// file): refused exactly as the same file would be (an unknown key, a value out of range).
+    #[staticmethod]
+    fn from_dict(d: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let value = py_to_toml(d.as_any(), "")?;
+        let text = toml::to_string(&value)
+            .map_err(|e| InputError::new_err(format!("{DICT_SOURCE}: not a study table: {e}")))?;
+        let inner = study::Study::parse(DICT_SOURCE, &text).map_err(|e| to_py(e.into()))?;
+        Ok(Self { inner })
+    }
+
+    /// The study's name (`name`).
+    #[getter]
+    fn name(&self) -> &str {
+        &self.inner.name
+    }
+
+    /// Where the study came from, as errors and answers name it (the path as given, or
+    /// `<study dict>`).
+    #[getter]
+    fn path(&self) -> &str {
+        &self.inner.path
+    }
+
+    /// The names of the sensor's calibrated outputs, in study order.
+    #[getter]
+    fn outputs(&self) -> Vec<String> {
+        self.inner
+            .calibration
+            .outputs()
+            .iter()
+            .map(|o| o.output().name.clone())
+            .collect()
+    }
+
+    /// The orientation requirement (eq 15-16): `requirement --json`.
+    fn requirement(&self, py: Python<'_>) -> PyResult<Answer> {
+        let s = &self.inner;
+        Answer::of(py, "requirement", py.detach(|| interim::requirement(s)))
+    }
+
+    /// The two-step allocation (problems 31-34, full-range constraint): `allocate --json`.
+    #[pyo3(signature = (safety_margin = 0.0))]
+    fn allocate(&self, py: Python<'_>, safety_margin: f64) -> PyResult<Answer> {
+        let s = &self.inner;
+        Answer::of(
+            py,
+            "allocate",
+            py.detach(|| interim::allocate(s, safety_margin)),
+        )
+    }
+
+    /// The end-to-end answer per output (the two-step box, the direct and yield-based
+    /// allocations, per reading): `end-to-end --json`.
+    #[pyo3(signature = (samples = None, seed = None, yield_fraction = None))]
+    fn end_to_end(
+        &self,
+        py: Python<'_>,
+        samples: Option<u64>,
+        seed: Option<u64>,
+        yield_fraction: Option<f64>,
+    ) -> PyResult<Answer> {
+        let s = &self.inner;
+        Answer::of(
+            py,
+            "end_to_end",
+            py.detach(|| interim::end_to_end(s, samples, seed, yield_fraction)),
+        )
+    }
+
+    /// The vendor check of a tolerance sheet (a TOML file): the verdict per output, the worst
+    /// case and the Monte Carlo yield: `check-turntable --json`.
+    #[pyo3(signature = (tolerances, samples = None, seed = None))]
+    fn check_turntable(
+        &self,
+        py: Python<'_>,
+        tolerances: PathBuf,
+        samples: Option<u64>,
+        seed: Option<u64>,
+    ) -> PyResult<Answer> {
+        let s = &self.inner;
+        Answer::of(
+            py,
+            "check_turntable",
+            py.detach(|| interim::check_turntable(s, &tolerances, samples, seed)),
+        )
+    }
+
+    /// The GUM budget and the decision of every specification of the study (issue 34) over a
+    /// tolerance sheet's box: `check-turntable --json`'s `decision` (without specifications:
+    /// the accuracy rule, `meets` `None`).
+    fn specification_budgets(&self, py: Python<'_>, tolerances: PathBuf) -> PyResult<Answer> {
+        let s = &self.inner;
+        Answer::of(
+            py,
+            "specification_budgets",
+            py.detach(|| interim::specification_budgets(s, &tolerances)),
+        )
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Study(name={:?}, path={:?})",
+            self.inner.name, self.inner.path
+        )
+    }
+}
+
+/// Read and validate a study file.
+#[pyfunction]
+fn load_study(py: Python<'_>, path: PathBuf) -> PyResult<Study> {
+    let inner = py
+        .detach(|| tt_lab::loaded::load(Some(&path)))
+        .map_err(|e| to_py(e.into()))?;
+    Ok(Study { inner })
+}
+
+/// The answer to one question: its keys are the command line's `--json` keys.
+#[pyclass(frozen, module = "ttalloc")]
+pub struct Answer {
+    question: &'static str,
+    value: serde_json::Value,
+}
+
+impl Answer {
+    fn of(
+        _py: Python<'_>,
+        question: &'static str,
+        r: Result<serde_json::Value, LabError>,
+    ) -> PyResult<Self> {
+        r.map(|value| Self { question, value }).map_err(to_py)
+    }
+}
+
+#[pymethods]
+impl Answer {
+    /// The question answered (`requirement`, `allocate`, `end_to_end`, `check_turntable`).
+    #[getter]
+    fn question(&self) -> &str {
+        self.question
+    }
+
+    /// The answer as plain Python objects (the command line's JSON, `null` as `None`).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_to_py(py, &self.value)
+    }
+
+    /// The top-level keys.
+    fn keys(&self) -> Vec<String> {
+        self.value
+            .as_object()
+            .map(|m| m.keys().cloned().collect())
+            .unwrap_or_default()
+    }
+
+    fn __getitem__<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        match self.value.get(key) {
+            Some(v) => json_to_py(py, v),
+            None => Err(pyo3::exceptions::PyKeyError::new_err(key.to_string())),
+        }
+    }
+
+    fn __contains__(&self, key: &str) -> bool {
+        self.value.get(key).is_some()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Answer({}, keys={:?})", self.question, self.keys())
+    }
+}
+
+/// The overlapping Allan deviation of a log and its fitted noise (IEEE 952).
+#[pyclass(frozen, module = "ttalloc")]
+pub struct AllanResult {
+    analysis: allan::Analysis,
+}
+
+fn column<'py>(
+    py: Python<'py>,
+    a: &allan::Analysis,
+    f: impl Fn(&allan::AllanPoint) -> f64,
+) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_vec(py, a.points().iter().map(f).collect())
+}
+
+#[pymethods]
+impl AllanResult {
+    /// Cluster times, s (a new array).
+    #[getter]
+    fn tau_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        column(py, &self.analysis, allan::AllanPoint::tau_s)
+    }
+
+    /// Overlapping Allan deviation at each cluster time, the samples' unit (a new array).
+    #[getter]
+    fn adev<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        column(py, &self.analysis, allan::AllanPoint::adev)
+    }
+
+    /// Lower end of each point's confidence band (a new array).
+    #[getter]
+    fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        column(py, &self.analysis, allan::AllanPoint::lower)
+    }
+
+    /// Upper end of each point's confidence band (a new array).
+    #[getter]
+    fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        column(py, &self.analysis, allan::AllanPoint::upper)
+    }
+
+    /// Samples analysed.
+    #[getter]
+    fn samples(&self) -> u64 {
+        self.analysis.samples()
+    }
+
+    /// Sample rate, Hz.
+    #[getter]
+    fn rate_hz(&self) -> f64 {
+        self.analysis.rate_hz()
+    }
+
+    /// White noise N (angle random walk), unit/sqrt(Hz): the -1/2 line at tau = 1 s.
+    #[getter]
+    fn white_noise_per_sqrt_hz(&self) -> f64 {
+        self.analysis.fit().white_noise()
+    }
+
+    /// Bias instability B, the samples' unit.
+    #[getter]
+    fn bias_instability(&self) -> f64 {
+        self.analysis.fit().bias_instability()
+    }
+
+    /// The `allan --json` keys (scalars) and `curve`, a dict of arrays (`tau_s`, `adev`,
+    /// `lower`, `upper`, `edf`) where the command line prints a list of points.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let a = &self.analysis;
+        let f = a.fit();
+        let d = PyDict::new(py);
+        d.set_item("samples", a.samples())?;
+        d.set_item("rate_hz", a.rate_hz())?;
+        d.set_item("duration_s", a.samples() as f64 / a.rate_hz())?;
+        d.set_item("confidence", a.confidence())?;
+        d.set_item("overlap", a.overlap())?;
+        d.set_item("white_noise_per_sqrt_hz", f.white_noise())?;
+        d.set_item("white_noise_uncertainty", f.white_noise_uncertainty())?;
+        d.set_item("bias_instability", f.bias_instability())?;
+        d.set_item(
+            "bias_instability_uncertainty",
+            f.bias_instability_uncertainty(),
+        )?;
+        d.set_item("floor_tau_s", f.floor_tau_s())?;
+        d.set_item("floor_adev", f.floor_adev_measured())?;
+        d.set_item("floor_reached", f.floor_reached())?;
+        d.set_item("rate_random_walk", f.rate_random_walk())?;
+        d.set_item("quantization", f.quantization())?;
+        d.set_item("rate_ramp", f.rate_ramp())?;
+        let curve = PyDict::new(py);
+        curve.set_item("tau_s", self.tau_s(py))?;
+        curve.set_item("adev", self.adev(py))?;
+        curve.set_item("lower", self.lower(py))?;
+        curve.set_item("upper", self.upper(py))?;
+        curve.set_item("edf", column(py, a, allan::AllanPoint::edf))?;
+        d.set_item("curve", curve)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "AllanResult(samples={}, rate_hz={}, points={})",
+            self.analysis.samples(),
+            self.analysis.rate_hz(),
+            self.analysis.points().len()
+        )
+    }
+}
+
+/// The samples of `samples` read in place: a C-contiguous 1-D float64 NumPy array (nothing
+/// else is accepted, so nothing is ever copied).
+fn samples_in_place<'py>(
+    samples: &Bound<'py, PyAny>,
+) -> PyResult<numpy::PyReadonlyArray1<'py, f64>> {
+    let refuse = |why: &str| {
+        InputError::new_err(format!(
+            "samples: {why}: pass a C-contiguous 1-D float64 NumPy array (np.ascontiguousarray(x, dtype=np.float64)); it is read in place, never copied"
+        ))
+    };
+    let array = samples
+        .cast::<PyArray1<f64>>()
+        .map_err(|_| refuse("not a 1-D float64 NumPy array"))?;
+    let ro = array
+        .try_readonly()
+        .map_err(|_| refuse("the array is mutably borrowed"))?;
+    if ro.as_slice().is_err() {
+        return Err(refuse("the array is not contiguous"));
+    }
+    Ok(ro)
+}
+
+/// The overlapping Allan deviation of `samples` (a C-contiguous 1-D float64 array, read in
+/// place) at `rate_hz`, with the fitted noise terms; the GIL is released meanwhile.
+#[pyfunction]
+#[pyo3(name = "allan")]
+fn allan_deviation(
+    py: Python<'_>,
+    samples: &Bound<'_, PyAny>,
+    rate_hz: f64,
+) -> PyResult<AllanResult> {
+    let ro = samples_in_place(samples)?;
+    let ys = ro
+        .as_slice()
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let analysis = py
+        .detach(|| allan::analyse(ys, allan::Settings::new(rate_hz)))
+        .map_err(|e| allan_error(&e))?;
+    Ok(AllanResult { analysis })
+}
+
+fn allan_error(e: &allan::AllanError) -> PyErr {
+    use tt_core::ErrorClass;
+    match e.input_field() {
+        Some(field) => InputError::new_err(format!("{field}: {e}")),
+        None => PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+/// Seconds of the library call alone behind [`allan_deviation`] (`allan::analyse` on the same slice,
+/// no conversion), for `python/bench/bench_allan.py`'s ratio in the same run.
+#[pyfunction]
+fn _library_seconds_allan(
+    py: Python<'_>,
+    samples: &Bound<'_, PyAny>,
+    rate_hz: f64,
+) -> PyResult<f64> {
+    let ro = samples_in_place(samples)?;
+    let ys = ro
+        .as_slice()
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    py.detach(|| {
+        let t0 = std::time::Instant::now();
+        let a = allan::analyse(ys, allan::Settings::new(rate_hz));
+        let s = t0.elapsed().as_secs_f64();
+        std::hint::black_box(a).map(|_| s)
+    })
+    .map_err(|e| allan_error(&e))
+}
+
+/// Seconds of the library calls alone behind [`Study::check_turntable`] (the same
+/// computation without converting the answer to Python objects).
+#[pyfunction]
+#[pyo3(signature = (study, tolerances, samples = None, seed = None))]
+fn _library_seconds_check_turntable(
+    py: Python<'_>,
+    study: &Study,
+    tolerances: PathBuf,
+    samples: Option<u64>,
+    seed: Option<u64>,
+) -> PyResult<f64> {
+    let s = &study.inner;
+    py.detach(|| {
+        let t0 = std::time::Instant::now();
+        let v = interim::check_turntable(s, &tolerances, samples, seed);
+        let secs = t0.elapsed().as_secs_f64();
+        std::hint::black_box(v).map(|_| secs)
+    })
+    .map_err(to_py)
+}
+
+/// The native module (`ttalloc._native`); `ttalloc/__init__.py` re-exports it.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("InputError", m.py().get_type::<InputError>())?;
+    m.add_class::<Study>()?;
+    m.add_class::<Answer>()?;
+    m.add_class::<AllanResult>()?;
+    m.add_function(wrap_pyfunction!(load_study, m)?)?;
+    m.add_function(wrap_pyfunction!(allan_deviation, m)?)?;
+    m.add_function(wrap_pyfunction!(_library_seconds_allan, m)?)?;
+    m.add_function(wrap_pyfunction!(_library_seconds_check_turntable, m)?)?;
+    Ok(())
+}
