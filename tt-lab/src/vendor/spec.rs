@@ -3,12 +3,10 @@
 //! (the sheet's tolerances) and `end-to-end` (the direct allocation's box). Every verdict
 //! names its rule; where an output's noise is not modelled the same sentence says so.
 
-use anyhow::Result;
+use crate::Result;
 use e2e_verify::EndToEnd;
 use e2e_verify::budget::{ACCURACY_RULE, EvaluatedAt, PLAN_RULE, PlanVerdict};
-use serde::Serialize;
 use study::Study;
-use study::fmt::num;
 
 /// The plan's verdict against the study's specifications for the tolerances `ub_rad`
 /// (`None` when the study gives none).
@@ -28,182 +26,74 @@ pub fn compute(s: &Study, e2e: &EndToEnd, ub_rad: &[f64]) -> Result<Option<PlanV
         s.timing.as_ref(),
     )
     .map(Some)
-    .map_err(|e| crate::input::library(e, s))
-}
-
-/// Where a quantity was evaluated, in words.
-fn at_text(at: EvaluatedAt) -> String {
-    match at {
-        EvaluatedAt::Coefficient => String::new(),
-        EvaluatedAt::RangeEnd { positive } => {
-            format!(" (at the {} end)", if positive { "+" } else { "-" })
-        }
-        EvaluatedAt::Position(i) => format!(" (at test position {i})"),
-    }
-}
-
-/// The outputs whose noise is not in the budgets, by name.
-fn unmodelled(s: &Study, v: &PlanVerdict) -> Vec<String> {
-    let mut names: Vec<String> = v
-        .budgets()
-        .iter()
-        .filter(|b| !b.noise_modelled())
-        .map(|b| {
-            s.sensor.outputs()[s.specifications[b.spec()].output()]
-                .name
-                .clone()
-        })
-        .collect();
-    names.dedup();
-    names
-}
-
-/// The verdict line of specification `i` of `v` (plain text, the study's names unescaped):
-/// the quantity, U, u_c, k, p, the limit, the ratio, the verdict, the dominant input and
-/// whether the output's noise is modelled.
-pub(crate) fn spec_line(s: &Study, v: &PlanVerdict, i: usize) -> String {
-    let b = &v.budgets()[i];
-    let sp = &s.specifications[b.spec()];
-    let f = sp.to_written();
-    let o = b.output();
-    let dominant = o.dominant().map_or(String::new(), |d| {
-        let share = o.contributions()[d].powi(2) / o.combined().powi(2);
-        format!(
-            "; dominant: {} ({:.0}% of the variance)",
-            b.result().rows()[d].name(),
-            100.0 * share
-        )
-    });
-    let unbounded = &v.unbounded()[b.spec()];
-    let verdict = if !unbounded.is_empty() {
-        format!(
-            "does NOT meet: not bounded ({} has no tolerance and moves it)",
-            unbounded.join(", ")
-        )
-    } else if b.check().meets() {
-        "meets".to_string()
-    } else {
-        "does NOT meet".to_string()
-    };
-    let noise = if b.noise_modelled() {
-        String::new()
-    } else {
-        "; noise not modelled for this output: the table's errors only".to_string()
-    };
-    format!(
-        "{}{}: U = {} {u} (u_c {}, k = {}, p = {}%) against {} {u}, ratio {}: {verdict}{dominant}{noise}",
-        sp.label(&s.sensor),
-        at_text(b.at()),
-        num(o.expanded() * f),
-        num(o.combined() * f),
-        num(o.coverage_factor()),
-        num(100.0 * sp.coverage()),
-        num(sp.written_limit()),
-        num(b.check().ratio()),
-        u = sp.unit(),
-    )
-}
-
-/// The headline of `v` (plain text): met or not, how many, the noise and the rule.
-pub(crate) fn headline(s: &Study, v: &PlanVerdict) -> String {
-    let missing = unmodelled(s, v);
-    let noise = if missing.is_empty() {
-        "the noise modelled for every specified output".to_string()
-    } else {
-        format!(
-            "noise not modelled for {} (no noise model or no [calibration.timing]): the table's errors only there",
-            missing.join(", ")
-        )
-    };
-    format!(
-        "verdict: {} every specification ({} of {} met); {noise}; rule: {PLAN_RULE}",
-        if v.meets_all() {
-            "MEETS"
-        } else {
-            "does NOT meet"
-        },
-        (0..v.budgets().len()).filter(|&i| v.meets(i)).count(),
-        v.budgets().len(),
-    )
-}
-
-/// The verdict as text: one line per specification, then the headline with the rule
-/// (`what` names the tolerances: "these tolerances", "the direct allocation's box").
-#[must_use]
-pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
-    let Some(v) = v else {
-        return format!("  decision rule: {ACCURACY_RULE}\n");
-    };
-    let mut t = format!("\nspecifications of the study, {what}:\n");
-    for i in 0..v.budgets().len() {
-        t.push_str(&format!("  {}\n", spec_line(s, v, i)));
-    }
-    t.push_str(&format!("  {}\n", headline(s, v)));
-    t
+    .map_err(|e| crate::error::library(e, s))
 }
 
 /// One row of a budget (`specifications[].budget[]`).
-#[derive(Debug, Serialize)]
-pub(crate) struct RowJson {
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RowJson {
     /// The input quantity (a table error, rad; or a noise term, output unit).
-    pub(crate) name: String,
+    pub name: String,
     /// Its law.
-    pub(crate) distribution: &'static str,
+    pub distribution: &'static str,
     /// Its standard uncertainty, in its unit (rad for a table error, the model's output unit
     /// for a noise term).
-    pub(crate) standard_uncertainty: f64,
+    pub standard_uncertainty: f64,
     /// Its sensitivity coefficient (the specification's unit per the input's unit).
-    pub(crate) sensitivity: f64,
+    pub sensitivity: f64,
     /// Its contribution |c| u, the specification's unit.
-    pub(crate) contribution: f64,
+    pub contribution: f64,
     /// Its degrees of freedom (`null`: infinite).
-    pub(crate) dof: Option<f64>,
+    pub dof: Option<f64>,
 }
 
 /// One specification's verdict (`specifications[]`), in the specification's unit.
-#[derive(Debug, Serialize)]
-pub(crate) struct SpecJson {
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SpecJson {
     /// `output coefficient (kind)`, `output error over +-R unit`, `output accuracy (eq 14)`.
-    pub(crate) quantity: String,
+    pub quantity: String,
     /// The unit of every figure (as written in the study).
-    pub(crate) unit: String,
+    pub unit: String,
     /// The limit.
-    pub(crate) limit: f64,
+    pub limit: f64,
     /// The coverage probability.
-    pub(crate) coverage: f64,
+    pub coverage: f64,
     /// The combined standard uncertainty.
-    pub(crate) combined_standard_uncertainty: f64,
+    pub combined_standard_uncertainty: f64,
     /// The effective degrees of freedom (`null`: infinite).
-    pub(crate) dof_eff: Option<f64>,
+    pub dof_eff: Option<f64>,
     /// The coverage factor.
-    pub(crate) coverage_factor: f64,
+    pub coverage_factor: f64,
     /// The expanded uncertainty.
-    pub(crate) expanded: f64,
+    pub expanded: f64,
     /// U / limit.
-    pub(crate) ratio: f64,
+    pub ratio: f64,
     /// Whether met by the rule.
-    pub(crate) meets: bool,
+    pub meets: bool,
     /// Whether the output's noise is in the budget.
-    pub(crate) noise_modelled: bool,
+    pub noise_modelled: bool,
     /// Errors without a finite tolerance that move the quantity.
-    pub(crate) unbounded: Vec<String>,
+    pub unbounded: Vec<String>,
     /// The test position evaluated (eq 14's accuracy), else `null`.
-    pub(crate) position: Option<usize>,
+    pub position: Option<usize>,
     /// The budget's rows.
-    pub(crate) budget: Vec<RowJson>,
+    pub budget: Vec<RowJson>,
 }
 
 /// The verdict against the specifications (`specifications` of `--json`).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SpecVerdictJson {
     /// The decision rule in words.
-    pub(crate) rule: &'static str,
+    pub rule: &'static str,
     /// Whether every specification is met (`null` without specifications).
-    pub(crate) meets: Option<bool>,
+    pub meets: Option<bool>,
     /// The law of a tolerance (`rectangular`, ...).
-    pub(crate) tolerance_distribution: &'static str,
+    pub tolerance_distribution: &'static str,
     /// One per specification (empty without).
-    pub(crate) specifications: Vec<SpecJson>,
+    pub specifications: Vec<SpecJson>,
 }
 
 impl SpecVerdictJson {
