@@ -218,6 +218,8 @@ pub fn inputs_with(
     let mut inputs = EndToEndInputs::new(s.lower_bounds_rad.clone(), used, seed);
     inputs.samples = samples;
     inputs.yield_fraction = yield_fraction;
+    // the paper's named box beside the answer (the `paper` feature)
+    #[cfg(feature = "paper")]
     if s.turntable == tt_kinematics::paper::table3() {
         inputs
             .extra_boxes

@@ -92,12 +92,14 @@ fn end_to_end_of_the_paper_study_finds_table4_worst_case_under_the_users_reading
     let readings = v["readings"].as_array().unwrap();
     assert_eq!(readings.len(), 2);
     assert_eq!(readings[1]["reading"], "actual/beta1/printed");
+    #[cfg(feature = "paper")]
     let table4 = readings[1]["boxes"]
         .as_array()
         .unwrap()
         .iter()
         .find(|b| b["name"] == "Table 4")
         .unwrap();
+    #[cfg(feature = "paper")]
     assert_relative_eq!(
         num(&table4["worst_case"][0]["exact_at_vertex"]),
         0.015936,

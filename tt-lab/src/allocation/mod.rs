@@ -23,12 +23,12 @@ use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
 use crate::loaded as st;
 use alloc_opt::{
     Allocation, AllocationProblem, Allocator, Certificate, ConstraintForm, EqualEffects,
-    SensitivityWeighted, Weights, exact_chain_check,
+    SensitivityWeighted, exact_chain_check,
 };
 use e2e_verify::EndToEnd;
 use std::collections::BTreeMap;
 use study::Study;
-use tt_core::units::{RAD_PER_ARCMIN, rad_to_deg};
+use tt_core::units::rad_to_deg;
 use tt_kinematics::LinearModel;
 
 pub mod angle;
@@ -120,7 +120,23 @@ pub fn allocate(s: &Study, form: ConstraintForm, safety_margin: f64) -> Result<A
     let equal = EqualEffects
         .allocate(&problem)
         .map_err(|e| crate::error::library(e, s))?;
-    let table4 = if s.turntable == tt_kinematics::paper::table3() {
+    let table4 = paper_table4(s, &problem)?;
+    Ok(Allocations {
+        problem,
+        ours,
+        equal,
+        table4,
+    })
+}
+
+/// The paper's Table 4 with its certificate and objective (arcmin^-2) when the study's table
+/// is the paper's (the `paper` feature).
+#[cfg(feature = "paper")]
+fn paper_table4(
+    s: &Study,
+    problem: &AllocationProblem,
+) -> Result<Option<(Vec<f64>, Certificate, f64)>> {
+    Ok(if s.turntable == tt_kinematics::paper::table3() {
         let t = alloc_opt::paper::table4_rad();
         let cert = Certificate::compute(
             problem.model(),
@@ -129,19 +145,22 @@ pub fn allocate(s: &Study, form: ConstraintForm, safety_margin: f64) -> Result<A
             &t,
         )
         .map_err(|e| crate::error::library(e, s))?;
-        let j = Weights::inverse_average_sensitivity(problem.model()).objective(&t)
-            * RAD_PER_ARCMIN
-            * RAD_PER_ARCMIN;
+        let j = alloc_opt::Weights::inverse_average_sensitivity(problem.model()).objective(&t)
+            * tt_core::units::RAD_PER_ARCMIN
+            * tt_core::units::RAD_PER_ARCMIN;
         Some((t, cert, j))
     } else {
         None
-    };
-    Ok(Allocations {
-        problem,
-        ours,
-        equal,
-        table4,
     })
+}
+
+/// Without the paper compiled in, no table is the paper's.
+#[cfg(not(feature = "paper"))]
+fn paper_table4(
+    _s: &Study,
+    _problem: &AllocationProblem,
+) -> Result<Option<(Vec<f64>, Certificate, f64)>> {
+    Ok(None)
 }
 
 /// `allocate --json`: the two-step allocation with its certificate.
