@@ -1,5 +1,5 @@
-//! `cargo xtask end-to-end [--study FILE] [--samples N] [--seed S] [--yield-fraction P]
-//! [--json]`: does the allocated turntable deliver every output's calibration accuracy?
+//! The end-to-end question ([`end_to_end`], the command line's `end-to-end`): does the
+//! allocated turntable deliver every output's calibration accuracy?
 //!
 //! For the study's reading of eq 13 and for the user's reading (outputs at the actual
 //! orientation): the worst case and Monte Carlo yield of the two-step allocation (and of the

@@ -1,5 +1,5 @@
-//! `cargo xtask estimable [--study FILE] [--tolerances FILE] [--json]`: which table errors the
-//! calibration can estimate itself (issue 22 item 4).
+//! Which table errors the calibration can estimate itself ([`estimable`], the command line's
+//! `estimable`; issue 22 item 4).
 //!
 //! A joint least squares of the sensor coefficients and the turntable's angular errors from
 //! the same schedule data, with the outputs simulated at the actual orientation (the user's

@@ -1,5 +1,5 @@
-//! `cargo xtask allocate [--study FILE] [--json] [--constraint-form paper|full-range]
-//! [--safety-margin M]`: the two-step turntable error allocation (paper §4.2-4.3, problems
+//! The allocation of a study's tolerances ([`allocate_study`], the command line's
+//! `allocate`): the two-step turntable error allocation (paper §4.2-4.3, problems
 //! 31-34) for the study's turntable and requirement, beside the equal-effects allocation (and
 //! the paper's Table 4 when the study's turntable is the paper's).
 //!

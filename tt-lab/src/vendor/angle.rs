@@ -1,4 +1,4 @@
-//! Errors that vary with the shaft angle (issue 22) in the commands: a tolerance box checked
+//! Errors that vary with the shaft angle (issue 22) in the vendor check and the allocations: a tolerance box checked
 //! under the angle-dependent model beside the constant one.
 //!
 //! The model: the study's (`turntable.factors[i].varies`) when it declares one; otherwise

@@ -1,6 +1,5 @@
-//! `cargo xtask check-turntable [--study FILE] --tolerances FILE.toml [--samples N] [--seed S]
-//! [--k-sigma K] [--json]`: "the vendor's sheet says these tolerances: will my calibration meet its
-//! accuracy, and which error dominates?"
+//! The vendor check ([`check`], the command line's `check-turntable`): "the vendor's sheet
+//! says these tolerances: will my calibration meet its accuracy, and which error dominates?"
 //!
 //! For every output: the end-to-end worst case over the tolerance box (linearised, confirmed
 //! on the exact chain at the worst vertex, with the derived second-order bound when the

@@ -1,4 +1,4 @@
-//! Rate steps in the commands (issue 23): the bounds a vendor's sheet gives the errors only
+//! Rate steps in the vendor check and the allocation (issue 23): the bounds a vendor's sheet gives the errors only
 //! rotation exposes (translations in `[tolerances_mm]`, a turning joint's rate accuracy and
 //! ripple in `[tolerances_ppm]`), and `check-turntable`'s answer with both boxes.
 //!

@@ -1,5 +1,5 @@
 //! The verdict against the study's specifications per quantity (issue 34): one library call
-//! ([`e2e_verify::EndToEnd::plan_verdict`]) and its printing, shared by `check-turntable`
+//! ([`e2e_verify::EndToEnd::plan_verdict`]) and its JSON view, shared by `check-turntable`
 //! (the sheet's tolerances) and `end-to-end` (the direct allocation's box). Every verdict
 //! names its rule; where an output's noise is not modelled the same sentence says so.
 
