@@ -551,7 +551,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                                 &e2e,
                                 &answer,
                                 e2e_verify::DEFAULT_K_SIGMA,
-                            );
+                            )
+                            .map_err(crate::input::lab);
                             timing("noise and test time", t0);
                             noise
                         },
@@ -675,17 +676,21 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
             tol,
             &e2e_verify::McSettings::new(options.samples, options.seed),
             e2e_verify::DEFAULT_K_SIGMA,
-        )?
+        )
+        .map_err(crate::input::lab)?
         .pop(),
         None => None,
     };
     let vendor_rate = match &vendor {
-        Some((tol, _)) if e2e.has_rate_steps() => Some(crate::rate::check(
-            s,
-            &e2e,
-            tol,
-            &e2e_verify::McSettings::new(options.samples, options.seed),
-        )?),
+        Some((tol, _)) if e2e.has_rate_steps() => Some(
+            crate::rate::check(
+                s,
+                &e2e,
+                tol,
+                &e2e_verify::McSettings::new(options.samples, options.seed),
+            )
+            .map_err(crate::input::lab)?,
+        ),
         _ => None,
     };
     timing("vendor check with rate errors", started);
@@ -693,29 +698,32 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         s,
         &e2e,
         &e2e_verify::McSettings::new(options.samples, options.seed),
-    )?;
+    )
+    .map_err(crate::input::lab)?;
     timing("allocation with rate tolerances", started);
     // the joint estimation is built on static positions (one orientation error each)
     let estimable = if e2e.has_rate_steps() {
         None
     } else {
-        Some(crate::estimable::compute(
-            s,
-            vendor.as_ref().map(|(tol, _)| tol.upper_bounds_rad()),
-        )?)
+        Some(
+            crate::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.upper_bounds_rad()))
+                .map_err(crate::input::lab)?,
+        )
     };
     timing("estimable", started);
-    let angle_alloc = crate::angle_alloc::compute(s, &e2e)?;
+    let angle_alloc = crate::angle_alloc::compute(s, &e2e).map_err(crate::input::lab)?;
     timing("angle-dependent allocation", started);
     let disc_alloc = match &vendor {
         Some((tol, _)) if !e2e.has_rate_steps() => {
-            Some(crate::angle::sheet_allocations(s, &e2e, tol)?)
+            Some(crate::angle::sheet_allocations(s, &e2e, tol).map_err(crate::input::lab)?)
         }
         _ => None,
     };
     timing("the sheet's discs allocated", started);
     let bounds = answer.readings()[0].direct().upper_bounds_rad().to_vec();
-    let decision = crate::spec_verdict::compute(s, &e2e, &bounds)?.map(|v| (bounds, v));
+    let decision = crate::spec_verdict::compute(s, &e2e, &bounds)
+        .map_err(crate::input::lab)?
+        .map(|v| (bounds, v));
     timing("the specifications' budgets", started);
     Ok(Computed {
         decision,

@@ -1,29 +1,19 @@
-//! The noise part of every command's answer (issue 21): the study's noise and timing turned
-//! into e2e-verify's [`NoiseBudget`], and the words every command uses for the
-//! split between the table's part and the noise's ("table 0.0061, noise 0.0047 at 3
-//! sigma"). No science here: the covariance is calib-lsq's, the combination e2e-verify's.
+//! The words every command uses for the noise part: the split between the table's part and
+//! the noise's ("table 0.0061, noise 0.0047 at 3 sigma"), the combined yield, the note when
+//! the study gives noise but no timing. The budget: [`tt_lab::end_to_end::noise_budget`].
 
 use anyhow::Result;
 use e2e_verify::{CombinedOutput, EndToEnd, NoiseBudget, YieldCount};
 use study::Study;
 use study::fmt::num;
 
-/// The noise of a study's calibration for its timing: `None` when no output has noise or the
-/// study gives no `[calibration.timing]` (see [`note`]).
+/// The noise of a study's calibration for its timing ([`tt_lab::end_to_end::noise_budget`]),
+/// as the command's result (for the commands that still call it here).
 ///
 /// # Errors
 /// An input error naming the study for a noise or timing the calibration refuses.
 pub fn budget(s: &Study, e2e: &EndToEnd) -> Result<Option<NoiseBudget>> {
-    if s.noise.iter().all(Option::is_none) {
-        return Ok(None);
-    }
-    let Some(timing) = &s.timing else {
-        return Ok(None);
-    };
-    Ok(Some(
-        e2e.noise_budget(&s.noise, timing)
-            .map_err(|e| crate::input::library(e, s))?,
-    ))
+    tt_lab::end_to_end::noise_budget(s, e2e).map_err(crate::input::lab)
 }
 
 /// One line when the study gives noise but no timing: the noise part needs the dwell.

@@ -18,13 +18,11 @@
 //! {"objective_arcmin", "upper_bounds_arcmin"}, "certified": {...} | null, "certified_note",
 //! "unmeasured_before_objective_arcmin", "compensated": {...} | {"no_room"} | null}]`).
 
-use anyhow::Result;
+use crate::Result;
 use calib_lsq::Reading;
 use e2e_verify::{DirectAllocation, EndToEnd};
-use serde::Serialize;
 use std::collections::BTreeMap;
 use study::Study;
-use study::fmt::sig;
 use tt_kinematics::ErrorVariation;
 
 /// One reading's allocations under the angle-dependent model.
@@ -76,14 +74,14 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
     if !varies && measured.iter().all(Option::is_none) {
         return Ok(None);
     }
-    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let lib = |e: e2e_verify::E2eError| crate::error::library(e, s);
     let mut sims = vec![e2e.clone()];
     if e2e.reading() != Reading::USER {
         sims.push(e2e.with_reading(Reading::USER).map_err(lib)?);
     }
     let mut readings = Vec::with_capacity(sims.len());
     for sim in &sims {
-        let ex = crate::angle::expansion(s, sim, &s.variations)?;
+        let ex = crate::vendor::angle::expansion(s, sim, &s.variations)?;
         let al = sim.angle_linearization(&ex).map_err(lib)?;
         let lb = &s.lower_bounds_rad;
         let constant_direct = sim.allocate_direct(&sim.linearization(), lb).map_err(lib)?;
@@ -149,7 +147,7 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
 }
 
 /// J (arcmin^-2) of `d`, `None` when no error needs a bound.
-pub(crate) fn objective(d: &DirectAllocation) -> Option<f64> {
+pub fn objective(d: &DirectAllocation) -> Option<f64> {
     (!d.no_bound_needed()).then(|| d.objective_arcmin())
 }
 
@@ -164,11 +162,12 @@ pub fn model_name(v: &ErrorVariation) -> String {
 }
 
 /// The allocation after compensation: the allocation, or why there is no room.
-#[derive(Debug, Serialize)]
-#[serde(untagged)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
 pub enum CompensatedJson<'a> {
     /// The unmeasured errors' allocation.
-    Allocated(crate::angle::AllocationJson),
+    Allocated(crate::vendor::angle::AllocationJson),
     /// The measured errors' uncertainty leaves no room.
     NoRoom {
         /// Why, in words.
@@ -177,31 +176,33 @@ pub enum CompensatedJson<'a> {
 }
 
 /// One reading of `angle_dependent`.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AngleReadingJson<'a> {
     /// The reading of eq 13.
-    reading: String,
+    pub reading: String,
     /// J of the constant model's direct allocation, arcmin^-2 (`null`: no bound needed).
-    constant_direct_objective_arcmin: Option<f64>,
+    pub constant_direct_objective_arcmin: Option<f64>,
     /// The direct allocation under the study's model.
-    direct: crate::angle::AllocationJson,
+    pub direct: crate::vendor::angle::AllocationJson,
     /// The certified allocation under it, `null` when there is none (`certified_note`).
-    certified: Option<crate::angle::AllocationJson>,
+    pub certified: Option<crate::vendor::angle::AllocationJson>,
     /// Why there is no certified allocation, else `null`.
-    certified_note: Option<&'a str>,
+    pub certified_note: Option<&'a str>,
     /// With measured errors: J of the unmeasured errors before compensation, arcmin^-2.
-    unmeasured_before_objective_arcmin: Option<f64>,
+    pub unmeasured_before_objective_arcmin: Option<f64>,
     /// With measured errors: the allocation after compensation, else `null`.
-    compensated: Option<CompensatedJson<'a>>,
+    pub compensated: Option<CompensatedJson<'a>>,
 }
 
 /// The JSON value of `angle_dependent` (see the [module](self)).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AngleDependentJson<'a> {
     /// Each error's model in words (`constant`, `harmonics [1, 2] of phi1`, `any of phi1`).
-    model: BTreeMap<String, String>,
+    pub model: BTreeMap<String, String>,
     /// Per reading.
-    readings: Vec<AngleReadingJson<'a>>,
+    pub readings: Vec<AngleReadingJson<'a>>,
 }
 
 impl<'a> AngleDependentJson<'a> {
@@ -221,18 +222,18 @@ impl<'a> AngleDependentJson<'a> {
                 .map(|r| AngleReadingJson {
                     reading: r.reading.to_string(),
                     constant_direct_objective_arcmin: objective(&r.constant_direct),
-                    direct: crate::angle::AllocationJson::new(&names, &r.direct),
+                    direct: crate::vendor::angle::AllocationJson::new(&names, &r.direct),
                     certified: r
                         .certified
                         .as_ref()
                         .ok()
-                        .map(|d| crate::angle::AllocationJson::new(&names, d)),
+                        .map(|d| crate::vendor::angle::AllocationJson::new(&names, d)),
                     certified_note: r.certified.as_ref().err().map(String::as_str),
                     unmeasured_before_objective_arcmin: r.unmeasured_before_arcmin,
                     compensated: r.compensated.as_ref().map(|c| match c {
-                        Ok(d) => {
-                            CompensatedJson::Allocated(crate::angle::AllocationJson::new(&names, d))
-                        }
+                        Ok(d) => CompensatedJson::Allocated(
+                            crate::vendor::angle::AllocationJson::new(&names, d),
+                        ),
                         Err(why) => CompensatedJson::NoRoom { no_room: why },
                     }),
                 })
@@ -241,83 +242,14 @@ impl<'a> AngleDependentJson<'a> {
     }
 }
 
-fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {
-    names
-        .iter()
-        .zip(d.upper_bounds_rad())
-        .map(|(n, u)| {
-            if u.is_finite() {
-                format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 4))
-            } else {
-                format!("{n} none")
-            }
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-fn j_text(d: &DirectAllocation) -> String {
-    objective(d).map_or("no bound needed".into(), |j| {
-        format!("J = {} arcmin^-2", sig(j, 5))
-    })
-}
-
-/// The text block (empty lines excluded) for the terminal.
-#[must_use]
-pub fn to_text(e2e: &EndToEnd, a: &AngleAllocations) -> String {
-    let names = e2e.turntable().rotation_error_names();
-    let mut t = String::new();
-    if a.varies {
-        t.push_str(
-            "\nerrors that vary with the shaft angle (the study's model; each bound holds over the whole revolution): ",
-        );
-        t.push_str(
-            &names
-                .iter()
-                .zip(&a.variations)
-                .map(|(n, v)| format!("{n} {}", model_name(v)))
-                .collect::<Vec<_>>()
-                .join(", "),
-        );
-        t.push('\n');
-    } else {
-        t.push_str("\nwith the study's measured errors compensated:\n");
-    }
-    for r in &a.readings {
-        t.push_str(&format!(
-            "reading {}: direct allocation {} (constant model: {})\n  bounds (arcmin): {}\n",
-            r.reading,
-            j_text(&r.direct),
-            j_text(&r.constant_direct),
-            bounds_text(&names, &r.direct)
-        ));
-        match &r.certified {
-            Ok(d) => t.push_str(&format!(
-                "  certified on the exact chain: {}; bounds (arcmin): {}\n",
-                j_text(d),
-                bounds_text(&names, d)
-            )),
-            Err(why) => t.push_str(&format!("  not certified: {why}\n")),
-        }
-        match &r.compensated {
-            Some(Ok(d)) => t.push_str(&format!(
-                "  compensated (measured errors held at their uncertainty, first order): {} for the unmeasured errors (before: J = {}); bounds (arcmin): {}\n",
-                j_text(d),
-                r.unmeasured_before_arcmin.map_or("-".into(), |j| sig(j, 5)),
-                bounds_text(&names, d)
-            )),
-            Some(Err(why)) => t.push_str(&format!("  compensated: {why}\n")),
-            None => {}
-        }
-    }
-    t
-}
-
 /// A sheet's path as given and its allocations per reading ([`sheet`]).
-pub type SheetAllocations = (String, Vec<(EndToEnd, crate::angle::DiscAllocation)>);
+pub type SheetAllocations = (
+    String,
+    Vec<(EndToEnd, crate::vendor::angle::DiscAllocation)>,
+);
 
 /// The allocations with one tolerance per pair of the vendor sheet at `path` (`--tolerances`
-/// of `allocate` and `end-to-end`, [`crate::angle::sheet_allocations`]), with the path as
+/// of `allocate` and `end-to-end`, [`crate::vendor::angle::sheet_allocations`]), with the path as
 /// given; `None` without a sheet.
 ///
 /// # Errors
@@ -328,7 +260,7 @@ pub fn sheet(s: &Study, path: Option<&std::path::Path>) -> Result<Option<SheetAl
         return Ok(None);
     };
     let sheet = s.load_sheet(path).map_err(crate::InputError::from)?;
-    let e2e = crate::end_to_end::simulator(s)?;
-    let al = crate::angle::sheet_allocations(s, &e2e, &sheet)?;
+    let e2e = crate::loaded::simulator(s)?;
+    let al = crate::vendor::angle::sheet_allocations(s, &e2e, &sheet)?;
     Ok(Some((sheet.source().to_string(), al)))
 }

@@ -1,4 +1,4 @@
-//! Errors that vary with the shaft angle (issue 22) in the commands: a tolerance box checked
+//! Errors that vary with the shaft angle (issue 22) in the vendor check and the allocations: a tolerance box checked
 //! under the angle-dependent model beside the constant one.
 //!
 //! The model: the study's (`turntable.factors[i].varies`) when it declares one; otherwise
@@ -7,13 +7,12 @@
 //! revolution ("wobble <= 3 arcsec") and says nothing more. The constant model (the paper's)
 //! is supported only by a table whose errors are known not to vary with the angle.
 
+use crate::Result;
 use crate::json::{ArcminBounds, arcmin_bounds};
-use anyhow::Result;
 use e2e_verify::angle::{AngleOutputWorstCase, AngleYield};
 use e2e_verify::disc::{Pair, PairModel, PairShape};
 use e2e_verify::noise::weakest;
 use e2e_verify::{DirectAllocation, EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
-use serde::Serialize;
 use study::Study;
 use study::fmt::num;
 use tt_kinematics::{ErrorVariation, Expansion};
@@ -128,7 +127,7 @@ fn paired_allocations(
     angle: &PairModel,
     discs: &[Pair],
 ) -> Result<DiscAllocation> {
-    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let lib = |e: e2e_verify::E2eError| crate::error::library(e, s);
     let lb = &s.lower_bounds_rad;
     let square: Vec<Pair> = discs
         .iter()
@@ -186,14 +185,14 @@ pub struct AngleCheck {
 /// The refusal; a library error located in the study.
 pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Result<Expansion> {
     let coefficients = Expansion::count_coefficients(sim.turntable(), variations, sim.poses())
-        .map_err(|e| crate::input::library(e, s))?;
+        .map_err(|e| crate::error::library(e, s))?;
     let values = sim
         .n_outputs()
         .saturating_mul(sim.len())
         .saturating_mul(coefficients);
     let max = e2e_verify::angle::MAX_EXPANDED_VALUES;
     if values > max {
-        return Err(crate::input::InputError::new(
+        return Err(crate::InputError::new(
             format!("{}: key `calibration.positions_deg`", s.path),
             format!(
                 "{} test positions give the angle-dependent model {} coefficients (one per distinct angle of each shaft for an `any` error): {} outputs x {} x {} = {values} values, at most {max} are accepted; repeat the shafts' angles (a grid) or use fewer positions",
@@ -207,7 +206,7 @@ pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Re
         .into());
     }
     Expansion::new(sim.turntable(), variations, sim.poses())
-        .map_err(|e| crate::input::library(e, s))
+        .map_err(|e| crate::error::library(e, s))
 }
 
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
@@ -245,13 +244,13 @@ pub fn check(
         let lin = e2e.linearization();
         let al = e2e
             .angle_linearization(&ex)
-            .map_err(|e| crate::input::library(e, s))?;
+            .map_err(|e| crate::error::library(e, s))?;
         let outputs = e2e
             .angle_worst_case(&ex, &al, &lin, ub_rad)
-            .map_err(|e| crate::input::library(e, s))?;
+            .map_err(|e| crate::error::library(e, s))?;
         let yield_ = e2e
             .angle_yield(&ex, ub_rad, samples, seed)
-            .map_err(|e| crate::input::library(e, s))?;
+            .map_err(|e| crate::error::library(e, s))?;
         let acc = e2e.accuracies();
         let output_verdicts: Vec<Verdict> = outputs
             .iter()
@@ -265,13 +264,13 @@ pub fn check(
         let disc = if discs.is_empty() {
             None
         } else {
-            let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+            let lib = |e: e2e_verify::E2eError| crate::error::library(e, s);
             let constant = Expansion::new(
                 e2e.turntable(),
                 &vec![ErrorVariation::Constant; e2e.n_errors()],
                 e2e.poses(),
             )
-            .map_err(|e| crate::input::library(e, s))?;
+            .map_err(|e| crate::error::library(e, s))?;
             let constant_model = e2e.pair_model(&constant).map_err(lib)?;
             let angle_model = e2e.pair_model(&ex).map_err(lib)?;
             let pairs: Vec<Pair> = discs
@@ -331,215 +330,6 @@ pub fn check(
     })
 }
 
-fn describe(v: &ErrorVariation) -> String {
-    match v {
-        ErrorVariation::Constant => "constant".into(),
-        ErrorVariation::Harmonics { joint, orders } => format!("harmonics {:?} of {joint}", orders),
-        ErrorVariation::Any { joint } => format!("any function of {joint}"),
-    }
-}
-
-fn model_words(a: &AngleCheck) -> &'static str {
-    if a.study_model {
-        "the study's angle-dependent model"
-    } else {
-        "every error any function of its shaft's angle, bounded over the whole revolution (what a sheet that bounds each error over the revolution supports)"
-    }
-}
-
-/// The block printed after a reading's constant-model check.
-#[must_use]
-pub fn text(
-    e2e: &EndToEnd,
-    constant: &TurntableCheck,
-    constant_counted: Verdict,
-    a: &ReadingAngle,
-    model: &AngleCheck,
-) -> String {
-    let mut s = format!("  angle-dependent errors ({}):\n", model_words(model));
-    for (o, counted) in a.outputs.iter().zip(&a.output_verdicts) {
-        let out = e2e.calibration().outputs()[o.output()].output();
-        let ratio = if o.constant_linear_bound() > 0.0 {
-            format!(
-                " ({:.2}x the constant model's {})",
-                o.linear_bound() / o.constant_linear_bound(),
-                num(o.constant_linear_bound())
-            )
-        } else {
-            String::new()
-        };
-        let verdict = match &model.noise {
-            Some(n) => format!(
-                "table alone {}; with the noise part {} {u} ({} sigma) added: {}",
-                o.verdict().name(),
-                num(n.margin(o.output())),
-                num(n.k_sigma),
-                counted.name(),
-                u = out.unit,
-            ),
-            None => counted.name().to_string(),
-        };
-        s.push_str(&format!(
-            "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {verdict}\n",
-            out.name,
-            num(o.linear_bound()),
-            num(o.exact_at_worst()),
-            o.second_order_bound()
-                .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound() + t))),
-            u = out.unit,
-        ));
-    }
-    let (lo, hi) = a.yield_.interval_95();
-    let yield_words = format!(
-        "Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables{})",
-        100.0 * a.yield_.fraction(),
-        100.0 * lo,
-        100.0 * hi,
-        a.yield_.samples(),
-        if model.noise.is_some() {
-            "; the table's part alone, no noise drawn"
-        } else {
-            ""
-        }
-    );
-    match (&model.noise, a.table_verdict) {
-        (Some(n), Some(table)) => s.push_str(&format!(
-            "    verdict ({}): constant errors {}, angle-dependent errors {}; table alone: constant errors {}, angle-dependent errors {}; {yield_words}\n",
-            n.rule(),
-            constant_counted.name(),
-            a.verdict.name(),
-            constant.verdict().name(),
-            table.name(),
-        )),
-        _ => s.push_str(&format!(
-            "    verdict: constant errors {}, angle-dependent errors {}; {yield_words}\n",
-            constant_counted.name(),
-            a.verdict.name(),
-        )),
-    }
-    if let Some(d) = &a.disc {
-        for o in &a.outputs {
-            let out = e2e.calibration().outputs()[o.output()].output();
-            s.push_str(&format!(
-                "    output {}, the sheet's magnitudes as discs (sqrt(a_x^2 + a_y^2) <= w), not squares: linearised worst case {} {u} with constant errors (square {}), {} {u} with angle-dependent errors (square {})\n",
-                out.name,
-                num(d.constant[o.output()]),
-                num(constant.outputs()[o.output()].worst_case().linear_bound()),
-                num(d.angle[o.output()]),
-                num(o.linear_bound()),
-                u = out.unit,
-            ));
-        }
-    }
-    if let Some(d) = &a.disc {
-        let (lo, hi) = d.yield_.interval_95();
-        let (clo, chi) = d.constant_yield.interval_95();
-        s.push_str(&format!(
-            "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables) with angle-dependent errors, {:.2}% ({:.2}%-{:.2}%) with constant errors\n",
-            100.0 * d.yield_.fraction(),
-            100.0 * lo,
-            100.0 * hi,
-            d.yield_.samples(),
-            100.0 * d.constant_yield.fraction(),
-            100.0 * clo,
-            100.0 * chi,
-        ));
-        if let Some(al) = &d.allocation {
-            s.push_str(&disc_allocation_text(e2e, al));
-        }
-    }
-    let names = e2e.turntable().rotation_error_names();
-    for g in e2e.turntable().error_groups() {
-        let models: Vec<&ErrorVariation> = g.errors.iter().map(|&i| &model.variations[i]).collect();
-        if g.errors.len() > 1 && models.iter().any(|m| *m != models[0]) {
-            s.push_str(&format!(
-                "    {}: one rotation when the errors are constant, distinct once they vary with the shaft angle ({})\n",
-                g.names(&names).join(" and "),
-                g.errors
-                    .iter()
-                    .map(|&i| format!("{} {}", names[i], describe(&model.variations[i])))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-    }
-    s.push_str(if model.study_model {
-        "    the study declares how its errors vary: its model is the one to trust\n"
-    } else {
-        "    a sheet that bounds each error over the whole revolution supports the angle-dependent verdict; the constant one holds only for a table whose errors do not vary with the shaft angle\n"
-    });
-    s
-}
-
-fn j_words(d: &DirectAllocation) -> String {
-    if d.no_bound_needed() {
-        "no bound needed".into()
-    } else {
-        format!("J = {}", study::fmt::sig(d.objective_arcmin(), 5))
-    }
-}
-
-fn certified_words(d: &std::result::Result<DirectAllocation, String>) -> String {
-    match d {
-        Ok(d) => format!("certified {}", j_words(d)),
-        Err(why) => format!("not certified: {why}"),
-    }
-}
-
-/// The text of the allocations with one tolerance per pair.
-pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> String {
-    let names = e2e.turntable().rotation_error_names();
-    let arcmin = |u: f64| {
-        if u.is_finite() {
-            study::fmt::sig(tt_core::units::rad_to_arcmin(u), 4)
-        } else {
-            "none".into()
-        }
-    };
-    let mut s = format!(
-        "    allocation with one tolerance per pair of the sheet (arcmin^-2): constant errors {} as discs, {} as squares; angle-dependent errors {} as discs ({}), {} as squares ({})\n",
-        j_words(&al.constant_disc),
-        j_words(&al.constant_square),
-        j_words(&al.angle_disc),
-        certified_words(&al.angle_disc_certified),
-        j_words(&al.angle_square),
-        certified_words(&al.angle_square_certified),
-    );
-    let mut seen = vec![false; names.len()];
-    let mut parts = Vec::new();
-    for (j, u) in al.angle_disc.upper_bounds_rad().iter().enumerate() {
-        if seen[j] {
-            continue;
-        }
-        let partner = (j + 1..names.len()).find(|&b| {
-            !seen[b]
-                && al.angle_disc.upper_bounds_rad()[b].to_bits() == u.to_bits()
-                && al.angle_square.upper_bounds_rad()[b].to_bits()
-                    == al.angle_square.upper_bounds_rad()[j].to_bits()
-                && al.constant_disc.upper_bounds_rad()[b].to_bits()
-                    == al.constant_disc.upper_bounds_rad()[j].to_bits()
-        });
-        seen[j] = true;
-        let label = match partner {
-            Some(b) => {
-                seen[b] = true;
-                format!("{}/{}", names[j], names[b])
-            }
-            None => names[j].to_string(),
-        };
-        parts.push(format!(
-            "{label} {} (square {})",
-            arcmin(*u),
-            arcmin(al.angle_square.upper_bounds_rad()[j])
-        ));
-    }
-    s.push_str(&format!(
-        "      angle-dependent bounds as discs (arcmin): {}\n",
-        parts.join(", ")
-    ));
-    s
-}
-
 /// The allocations with one tolerance per pair of the sheet (its `[axes.<joint>]`
 /// wobbles and orthogonalities; the values are not used, only which errors pair up), for the
 /// study's reading and the user's when different; the angle-dependent model is
@@ -555,7 +345,7 @@ pub fn sheet_allocations(
     if sheet.discs().is_empty() {
         return Ok(Vec::new());
     }
-    let lib = |e: e2e_verify::E2eError| crate::input::library(e, s);
+    let lib = |e: e2e_verify::E2eError| crate::error::library(e, s);
     let (_, variations) = model_of(s, sheet);
     let pairs: Vec<Pair> = sheet
         .discs()
@@ -571,7 +361,7 @@ pub fn sheet_allocations(
     }
     sims.into_iter()
         .map(|sim| {
-            let kin = |e: tt_kinematics::KinematicsError| crate::input::library(e, s);
+            let kin = |e: tt_kinematics::KinematicsError| crate::error::library(e, s);
             let constant = Expansion::new(
                 sim.turntable(),
                 &vec![ErrorVariation::Constant; sim.n_errors()],
@@ -585,24 +375,6 @@ pub fn sheet_allocations(
             Ok((sim, al))
         })
         .collect()
-}
-
-/// The sheet allocations' text block.
-#[must_use]
-pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> String {
-    if a.is_empty() {
-        return format!(
-            "\n{path} states no magnitude (wobble, orthogonality): no pair of errors to allocate one tolerance\n"
-        );
-    }
-    let mut t = format!(
-        "\nthe pairs of {path} (each wobble and orthogonality one tolerance, a magnitude sqrt(a_x^2 + a_y^2) <= w, beside the square around it):\n"
-    );
-    for (e2e, al) in a {
-        t.push_str(&format!("reading {}\n", e2e.reading()));
-        t.push_str(&disc_allocation_text(e2e, al));
-    }
-    t
 }
 
 /// The check of the compensated table: the measured errors are known inputs of the chain, so
@@ -658,7 +430,7 @@ pub fn compensated(
     for (e2e, _) in checks {
         out.push(
             e2e.check_sheet(&compensated, settings)
-                .map_err(|e| crate::input::library(e, s))?,
+                .map_err(|e| crate::error::library(e, s))?,
         );
     }
     let angle = check(
@@ -696,84 +468,30 @@ pub fn constant_counted(check: &TurntableCheck, noise: Option<&NoisePart>) -> Ve
     }
 }
 
-/// The compensated block of the text: per reading, the verdicts before and after, every
-/// modelled source counted (`before_counted`: the main check's verdict of each reading, the
-/// noise counted).
-#[must_use]
-pub fn compensated_text(
-    checks: &[(EndToEnd, TurntableCheck)],
-    c: &Compensated,
-    before_counted: &[Verdict],
-) -> String {
-    let mut s = String::from(
-        "\ncompensated (the study's measured errors are known inputs of the chain; the bound that matters is their measurement uncertainty, or the sheet's bound plus the measured value's magnitude when that is smaller):\n",
-    );
-    for n in &c.notes {
-        s.push_str(&format!("  note: {n}\n"));
-    }
-    let noise = c.angle.noise.as_ref();
-    for ((((e2e, before), after), aa), counted) in checks
-        .iter()
-        .zip(&c.checks)
-        .zip(&c.angle.readings)
-        .zip(before_counted)
-    {
-        s.push_str(&format!("reading {}\n", e2e.reading()));
-        for (o, a) in before.outputs().iter().zip(after.outputs()) {
-            let out = e2e.calibration().outputs()[o.output()].output();
-            s.push_str(&format!(
-                "  output {}: worst case linearised {} {u} before, {} {u} after compensation (constant errors); {} {u} after (angle-dependent errors)\n",
-                out.name,
-                num(o.worst_case().linear_bound()),
-                num(a.worst_case().linear_bound()),
-                num(aa.outputs[o.output()].linear_bound()),
-                u = out.unit,
-            ));
-        }
-        match (noise, aa.table_verdict) {
-            (Some(n), Some(table)) => s.push_str(&format!(
-                "  verdict ({}): before {}; after compensation: {} (constant errors), {} (angle-dependent errors); table alone: before {}, after {} (constant errors), {} (angle-dependent errors)\n",
-                n.rule(),
-                counted.name(),
-                constant_counted(after, noise).name(),
-                aa.verdict.name(),
-                before.verdict().name(),
-                after.verdict().name(),
-                table.name(),
-            )),
-            _ => s.push_str(&format!(
-                "  verdict before: {}; after compensation: {} (constant errors), {} (angle-dependent errors)\n",
-                counted.name(),
-                after.verdict().name(),
-                aa.verdict.name()
-            )),
-        }
-    }
-    s
-}
-
 /// An allocation with one tolerance per pair (or per error), or under the shaft-angle model.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AllocationJson {
     /// J, arcmin^-2; `null` when no error needs a bound.
-    objective_arcmin: Option<f64>,
+    pub objective_arcmin: Option<f64>,
     /// Its bounds, arcmin.
-    upper_bounds_arcmin: ArcminBounds,
+    pub upper_bounds_arcmin: ArcminBounds,
 }
 
 impl AllocationJson {
     /// The view of `d` (errors named `names`).
-    pub(crate) fn new(names: &[&str], d: &DirectAllocation) -> Self {
+    pub fn new(names: &[&str], d: &DirectAllocation) -> Self {
         Self {
-            objective_arcmin: crate::angle_alloc::objective(d),
+            objective_arcmin: crate::allocation::angle::objective(d),
             upper_bounds_arcmin: arcmin_bounds(names, d.upper_bounds_rad()),
         }
     }
 }
 
 /// A certified allocation, or why there is none.
-#[derive(Debug, Serialize)]
-#[serde(untagged)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
 pub enum CertifiedJson<'a> {
     /// The certified allocation.
     Certified(AllocationJson),
@@ -794,36 +512,39 @@ impl<'a> CertifiedJson<'a> {
 }
 
 /// The constant model's allocations as discs and as squares.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ConstantPairsJson {
     /// One tolerance per pair, a disc.
-    disc: AllocationJson,
+    pub disc: AllocationJson,
     /// One tolerance per error, a square.
-    square: AllocationJson,
+    pub square: AllocationJson,
 }
 
 /// The angle-dependent model's allocations as discs and squares, with their certified ones.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AnglePairsJson<'a> {
     /// One tolerance per pair, a disc.
-    disc: AllocationJson,
+    pub disc: AllocationJson,
     /// One tolerance per error, a square.
-    square: AllocationJson,
+    pub square: AllocationJson,
     /// The disc's certified allocation, or `{"not_certified": why}`.
-    disc_certified: CertifiedJson<'a>,
+    pub disc_certified: CertifiedJson<'a>,
     /// The square's certified allocation, or `{"not_certified": why}`.
-    square_certified: CertifiedJson<'a>,
+    pub square_certified: CertifiedJson<'a>,
 }
 
 /// The allocations with one tolerance per pair (`constant` / `angle_dependent`, each `disc` /
 /// `square`; the angle-dependent model's certified ones as `disc_certified` /
 /// `square_certified`, or `{"not_certified": why}`).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DiscAllocationJson<'a> {
     /// Under the constant model.
-    constant: ConstantPairsJson,
+    pub constant: ConstantPairsJson,
     /// Under the angle-dependent model.
-    angle_dependent: AnglePairsJson<'a>,
+    pub angle_dependent: AnglePairsJson<'a>,
 }
 
 impl<'a> DiscAllocationJson<'a> {
@@ -847,22 +568,24 @@ impl<'a> DiscAllocationJson<'a> {
 }
 
 /// One reading of the sheet allocations.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SheetReadingJson<'a> {
     /// The reading of eq 13.
-    reading: String,
+    pub reading: String,
     /// Its allocations.
-    #[serde(flatten)]
-    allocation: DiscAllocationJson<'a>,
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub allocation: DiscAllocationJson<'a>,
 }
 
 /// The sheet allocations (`disc_allocation`): the sheet's path and one entry per reading.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SheetAllocationsJson<'a> {
     /// The sheet's path.
-    tolerances: &'a str,
+    pub tolerances: &'a str,
     /// Per reading.
-    readings: Vec<SheetReadingJson<'a>>,
+    pub readings: Vec<SheetReadingJson<'a>>,
 }
 
 impl<'a> SheetAllocationsJson<'a> {
@@ -883,78 +606,82 @@ impl<'a> SheetAllocationsJson<'a> {
 }
 
 /// Worst cases over the discs, per output, output's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DiscWorstCaseJson<'a> {
     /// Under the constant model.
-    constant: &'a [f64],
+    pub constant: &'a [f64],
     /// Under the angle-dependent model.
-    angle_dependent: &'a [f64],
+    pub angle_dependent: &'a [f64],
 }
 
 /// The check with the sheet's pairs as discs.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DiscsJson<'a> {
     /// A lower bound of the angle-dependent worst case per output, output's unit.
-    worst_case_linear_lower: &'a [f64],
+    pub worst_case_linear_lower: &'a [f64],
     /// Yield under the angle-dependent model, in [0, 1].
-    #[serde(rename = "yield")]
-    yield_fraction: f64,
+    #[cfg_attr(feature = "serde", serde(rename = "yield"))]
+    pub yield_fraction: f64,
     /// Its 95% interval.
-    yield_interval_95: (f64, f64),
+    pub yield_interval_95: (f64, f64),
     /// Turntables drawn.
-    samples: u64,
+    pub samples: u64,
     /// Yield under the constant model, in [0, 1].
-    constant_yield: f64,
+    pub constant_yield: f64,
     /// Its 95% interval.
-    constant_yield_interval_95: (f64, f64),
+    pub constant_yield_interval_95: (f64, f64),
     /// The allocations with one tolerance per pair, `null` when not computed.
-    allocation: Option<DiscAllocationJson<'a>>,
+    pub allocation: Option<DiscAllocationJson<'a>>,
 }
 
 /// One output's worst case under the angle-dependent model, output's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AngleOutputJson<'a> {
     /// The output's name.
-    name: &'a str,
+    pub name: &'a str,
     /// The linearised worst case, output's unit.
-    worst_case_linear: f64,
+    pub worst_case_linear: f64,
     /// The same under the constant model, output's unit.
-    worst_case_linear_constant_model: f64,
+    pub worst_case_linear_constant_model: f64,
     /// The exact chain at the worst errors, output's unit.
-    worst_case_exact_at_worst: f64,
+    pub worst_case_exact_at_worst: f64,
     /// The certified second-order bound (`null` when not computed), output's unit.
-    second_order_bound: Option<f64>,
+    pub second_order_bound: Option<f64>,
     /// The worst test position (index into the schedule).
-    worst_position: usize,
+    pub worst_position: usize,
     /// The output's verdict, every modelled source counted.
-    verdict: &'static str,
+    pub verdict: &'static str,
     /// With the study's noise: the table's part alone; absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    table_verdict: Option<&'static str>,
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub table_verdict: Option<&'static str>,
 }
 
 /// The angle-dependent check of one reading.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ReadingAngleJson<'a> {
     /// The weakest output's verdict, every modelled source counted (with the study's noise:
     /// the table's part plus the noise's).
-    verdict: &'static str,
+    pub verdict: &'static str,
     /// With the study's noise: the table's part alone; absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    table_verdict: Option<&'static str>,
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub table_verdict: Option<&'static str>,
     /// Yield, in [0, 1].
-    #[serde(rename = "yield")]
-    yield_fraction: f64,
+    #[cfg_attr(feature = "serde", serde(rename = "yield"))]
+    pub yield_fraction: f64,
     /// Its 95% interval.
-    yield_interval_95: (f64, f64),
+    pub yield_interval_95: (f64, f64),
     /// Turntables drawn.
-    samples: u64,
+    pub samples: u64,
     /// With the sheet's pairs: the worst cases over the discs, else `null`.
-    disc_worst_case_linear: Option<DiscWorstCaseJson<'a>>,
+    pub disc_worst_case_linear: Option<DiscWorstCaseJson<'a>>,
     /// With the sheet's pairs: the check with discs, else `null`.
-    discs: Option<DiscsJson<'a>>,
+    pub discs: Option<DiscsJson<'a>>,
     /// Every output's worst case.
-    outputs: Vec<AngleOutputJson<'a>>,
+    pub outputs: Vec<AngleOutputJson<'a>>,
 }
 
 impl<'a> ReadingAngleJson<'a> {
@@ -1003,30 +730,32 @@ impl<'a> ReadingAngleJson<'a> {
 }
 
 /// One error's shaft-angle model.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ErrorModelJson<'a> {
     /// The error's name.
-    error: &'a str,
+    pub error: &'a str,
     /// `constant`, `harmonics` or `any` ([`ErrorVariation::name`]).
-    varies: &'static str,
+    pub varies: &'static str,
     /// The joint whose angle it varies with, `null` when constant.
-    of: Option<&'a str>,
+    pub of: Option<&'a str>,
     /// The harmonics' orders, `null` unless `harmonics`.
-    harmonics: Option<&'a [u32]>,
+    pub harmonics: Option<&'a [u32]>,
 }
 
 /// The `angle_dependent` key of `check-turntable`: the model and one object per reading (the
 /// study's, then the user's when different).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AngleCheckJson<'a> {
     /// `study` (the study's model) or `any-on-shafts`.
-    model: &'static str,
+    pub model: &'static str,
     /// What the sheet supports: `study` or `angle-dependent`.
-    sheet_supports: &'static str,
+    pub sheet_supports: &'static str,
     /// Every error's model.
-    errors: Vec<ErrorModelJson<'a>>,
+    pub errors: Vec<ErrorModelJson<'a>>,
     /// Per reading.
-    readings: Vec<ReadingAngleJson<'a>>,
+    pub readings: Vec<ReadingAngleJson<'a>>,
 }
 
 impl<'a> AngleCheckJson<'a> {
@@ -1074,31 +803,33 @@ impl<'a> AngleCheckJson<'a> {
 }
 
 /// One reading of the compensated check.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CompensatedReadingJson<'a> {
     /// The reading of eq 13.
-    reading: String,
+    pub reading: String,
     /// The weakest output's verdict (constant errors), every modelled source counted.
-    verdict: &'static str,
+    pub verdict: &'static str,
     /// With the study's noise: the table's part alone; absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    table_verdict: Option<&'static str>,
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub table_verdict: Option<&'static str>,
     /// Every output's linearised worst case, output's unit.
-    worst_case_linear: Vec<f64>,
+    pub worst_case_linear: Vec<f64>,
     /// The angle-dependent check.
-    angle_dependent: ReadingAngleJson<'a>,
+    pub angle_dependent: ReadingAngleJson<'a>,
 }
 
 /// The `compensated` key of `check-turntable`.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CompensatedJson<'a> {
     /// The box that matters (measured errors at their uncertainty, or at the sheet's bound
     /// plus the measured value's largest magnitude when smaller), arcmin.
-    tolerances_arcmin: ArcminBounds,
+    pub tolerances_arcmin: ArcminBounds,
     /// One sentence per measured error whose uncertainty exceeds the sheet's bound.
-    notes: &'a [String],
+    pub notes: &'a [String],
     /// Per reading.
-    readings: Vec<CompensatedReadingJson<'a>>,
+    pub readings: Vec<CompensatedReadingJson<'a>>,
 }
 
 impl<'a> CompensatedJson<'a> {

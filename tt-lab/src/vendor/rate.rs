@@ -1,4 +1,4 @@
-//! Rate steps in the commands (issue 23): the bounds a vendor's sheet gives the errors only
+//! Rate steps in the vendor check and the allocation (issue 23): the bounds a vendor's sheet gives the errors only
 //! rotation exposes (translations in `[tolerances_mm]`, a turning joint's rate accuracy and
 //! ripple in `[tolerances_ppm]`), and `check-turntable`'s answer with both boxes.
 //!
@@ -8,18 +8,16 @@
 //! direct allocation.
 
 use crate::InputError;
+use crate::Result;
 use crate::json::{ArcminBounds, arcmin_bounds};
-use anyhow::Result;
 use e2e_verify::{
     EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, RateAllocation, RateTolerance,
     ToleranceSheet,
 };
-use serde::Serialize;
 use study::Study;
-use study::fmt::num;
 
 /// The line every command prints for a study with rate steps.
-pub use tt_lab::loaded::STATIC_REQUIREMENT_NOTE;
+pub use crate::loaded::STATIC_REQUIREMENT_NOTE;
 
 /// The note `end-to-end` and `calibration-error` print for a study with rate steps (JSON
 /// `requirement_note`): the requirement is static, and the errors only rotation exposes are
@@ -128,7 +126,7 @@ pub fn check(
             sheet.upper_bounds_rad(),
             &bounds,
         )
-        .map_err(|e| crate::input::library_at(e, s, sheet.source()))?;
+        .map_err(|e| crate::error::library_at(e, s, sheet.source()))?;
     let (meets, max_drawn) = e2e
         .meeting_count_with_extra(
             sheet.upper_bounds_rad(),
@@ -136,7 +134,7 @@ pub fn check(
             &bounds,
             settings,
         )
-        .map_err(|e| crate::input::library_at(e, s, sheet.source()))?;
+        .map_err(|e| crate::error::library_at(e, s, sheet.source()))?;
     Ok(RateCheck {
         bounds,
         outputs,
@@ -144,87 +142,6 @@ pub fn check(
         samples: settings.samples,
         max_drawn,
     })
-}
-
-/// The check as text.
-#[must_use]
-pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
-    let names = e2e.extra_names();
-    let mut s = format!(
-        "\nrate steps, reading {}: the angular box and the errors only rotation exposes together\n",
-        e2e.reading()
-    );
-    let bounds: Vec<String> = e2e
-        .extra_errors()
-        .iter()
-        .zip(&names)
-        .zip(&c.bounds)
-        .map(|((x, n), b)| {
-            let (v, unit) = in_sheet_units(x, *b);
-            format!("{n} {} {unit}", num(v))
-        })
-        .collect();
-    s.push_str(&format!("  bounds: {}\n", bounds.join(", ")));
-    let acc = e2e.accuracies();
-    for o in &c.outputs {
-        let out = &e2e.calibration().outputs()[o.output()].output();
-        let top = o
-            .extra_parts()
-            .iter()
-            .enumerate()
-            .fold((0, 0.0), |b, (i, v)| if *v > b.1 { (i, *v) } else { b });
-        s.push_str(&format!(
-            "  {}: worst case {} {} (angles {}, rate errors and translations {}; largest {} {}) at entry {}, exact {} against {}: {}\n",
-            out.name,
-            num(o.linear_bound()),
-            out.unit,
-            num(o.angular_part()),
-            num(o.extra_part()),
-            names.get(top.0).map_or("-", String::as_str),
-            num(top.1),
-            o.position(),
-            num(o.exact_at_vertex()),
-            num(acc[o.output()]),
-            if o.linear_bound() <= acc[o.output()] && o.exact_at_vertex() <= acc[o.output()] {
-                "meets"
-            } else {
-                "does not meet"
-            }
-        ));
-    }
-    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
-    s.push_str(&format!(
-        "  yield over both boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables; verdict with the rate errors: {}\n",
-        100.0 * c.meets as f64 / c.samples as f64,
-        100.0 * lo,
-        100.0 * hi,
-        c.samples,
-        if c.meets_every_accuracy(e2e) {
-            "meets every accuracy"
-        } else {
-            "does not meet every accuracy"
-        }
-    ));
-    s
-}
-
-/// The verdict over both boxes as a sentence (Markdown): whether every output's worst case
-/// (linear and at the worst vertex on the exact chain) is within its accuracy, and the yield.
-#[must_use]
-pub fn verdict_sentence(e2e: &EndToEnd, c: &RateCheck) -> String {
-    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
-    let verdict = if c.meets_every_accuracy(e2e) {
-        "these tolerances **meet** every accuracy with the rate errors and translations at their bounds (the worst turntable of both boxes, linearised and on the exact chain at its vertex)"
-    } else {
-        "these tolerances do **not** meet every accuracy with the rate errors and translations at their bounds (a turntable within both boxes misses)"
-    };
-    format!(
-        "{verdict}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%)",
-        100.0 * c.meets as f64 / c.samples as f64,
-        c.samples,
-        100.0 * lo,
-        100.0 * hi
-    )
 }
 
 /// A rate tolerance's bound in the sheet's unit: mm or ppm.
@@ -270,11 +187,11 @@ pub fn allocation(
             &e2e.extra_linearization(),
             &s.lower_bounds_rad,
         )
-        .map_err(|e| crate::input::library(e, s))?;
+        .map_err(|e| crate::error::library(e, s))?;
     let extra = e2e.extra_bounds_of(a.tolerance_bounds());
     let (meets, max_drawn) = e2e
         .meeting_count_with_extra(a.angles_rad(), &s.lower_bounds_rad, &extra, settings)
-        .map_err(|e| crate::input::library(e, s))?;
+        .map_err(|e| crate::error::library(e, s))?;
     let certified = match e2e.allocate_direct_rate_certified(
         &e2e.linearization(),
         &e2e.extra_linearization(),
@@ -285,7 +202,7 @@ pub fn allocation(
             e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
             | e2e_verify::E2eError::NoConvergence { .. }),
         ) => Err(e.to_string()),
-        Err(e) => return Err(crate::input::library(e, s)),
+        Err(e) => return Err(crate::error::library(e, s)),
     };
     Ok(Some(RateAllocated {
         allocation: a,
@@ -296,168 +213,73 @@ pub fn allocation(
     }))
 }
 
-/// The allocation with the rate tolerances as text.
-#[must_use]
-pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
-    let a = &r.allocation;
-    let mut s = format!(
-        "\ndirect allocation with the rate tolerances (reading {}): the angles, rate accuracy, ripple and translations allocated together, J = {} arcmin^-2\n",
-        e2e.reading(),
-        num(a.combined().objective_arcmin())
-    );
-    let names = e2e.turntable().rotation_error_names();
-    let angles: Vec<String> = names
-        .iter()
-        .zip(a.angles_rad())
-        .map(|(n, u)| {
-            if u.is_finite() {
-                format!("{n} {} arcmin", num(tt_core::units::rad_to_arcmin(*u)))
-            } else {
-                format!("{n} no bound")
-            }
-        })
-        .collect();
-    s.push_str(&format!("  angles: {}\n", angles.join(", ")));
-    let tols: Vec<String> = e2e
-        .rate_tolerance_names()
-        .iter()
-        .zip(a.tolerances())
-        .zip(a.tolerance_bounds())
-        .map(|((n, t), b)| {
-            if b.is_finite() {
-                let (v, unit) = tolerance_in_sheet_units(t, *b);
-                format!("{n} {} {unit}", num(v))
-            } else {
-                format!("{n} no bound")
-            }
-        })
-        .collect();
-    s.push_str(&format!("  rate tolerances: {}\n", tols.join(", ")));
-    let acc = e2e.accuracies();
-    for w in a.worst_cases() {
-        let out = e2e.calibration().outputs()[w.output()].output();
-        s.push_str(&format!(
-            "  {}: worst case over both boxes {} {} (first order), exact chain at its worst vertex {} (entry {}), margin {} against {}\n",
-            out.name,
-            num(w.linear_bound()),
-            out.unit,
-            num(w.exact_at_vertex()),
-            w.position(),
-            num(acc[w.output()] - w.exact_at_vertex()),
-            num(acc[w.output()])
-        ));
-    }
-    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
-    s.push_str(&format!(
-        "  yield over both allocated boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables (exact chain at random points)\n",
-        100.0 * r.meets as f64 / r.samples as f64,
-        100.0 * lo,
-        100.0 * hi,
-        r.samples
-    ));
-    s.push_str(&format!(
-        "  {}\n",
-        e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS
-    ));
-    match &r.certified {
-        Ok(c) => {
-            s.push_str(&format!(
-                "certified allocation with the rate tolerances (first-order worst case plus the derived second-order bound within every accuracy), J = {} arcmin^-2\n",
-                num(c.combined().objective_arcmin())
-            ));
-            let tols: Vec<String> = e2e
-                .rate_tolerance_names()
-                .iter()
-                .zip(c.tolerances())
-                .zip(c.tolerance_bounds())
-                .filter(|(_, b)| b.is_finite())
-                .map(|((n, t), b)| {
-                    let (v, unit) = tolerance_in_sheet_units(t, *b);
-                    format!("{n} {} {unit}", num(v))
-                })
-                .collect();
-            s.push_str(&format!("  rate tolerances: {}\n", tols.join(", ")));
-            for (k, a_k) in acc.iter().enumerate() {
-                let out = e2e.calibration().outputs()[k].output();
-                s.push_str(&format!(
-                    "  {}: certified {} {} = first order {} + second-order bound {}, against {}\n",
-                    out.name,
-                    num(c.certified_bound(k)),
-                    out.unit,
-                    num(c.linear_bounds()[k]),
-                    num(c.second_order_bounds()[k]),
-                    num(*a_k)
-                ));
-            }
-        }
-        Err(why) => s.push_str(&format!("  no certified allocation: {why}\n")),
-    }
-    s
-}
-
 /// A rate error or translation bounded by the sheet (`extra_errors[]`), in the sheet's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ExtraErrorJson {
     /// The error's name.
-    name: String,
+    pub name: String,
     /// Its bound, `unit`.
-    bound: f64,
+    pub bound: f64,
     /// `mm` or `ppm`.
-    unit: &'static str,
+    pub unit: &'static str,
 }
 
 /// One error's part of an output's worst case, output's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ExtraPartJson {
     /// The error's name.
-    error: String,
+    pub error: String,
     /// Its part, output's unit.
-    part: f64,
+    pub part: f64,
 }
 
 /// One output's worst case over both boxes, output's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateOutputJson<'a> {
     /// The output's name.
-    output: &'a str,
+    pub output: &'a str,
     /// Its accuracy, output's unit.
-    accuracy: f64,
+    pub accuracy: f64,
     /// The linearised worst case over both boxes, output's unit.
-    linear_bound: f64,
+    pub linear_bound: f64,
     /// The angular errors' part, output's unit.
-    angular_part: f64,
+    pub angular_part: f64,
     /// The rate errors' and translations' part, output's unit.
-    extra_part: f64,
+    pub extra_part: f64,
     /// Each such error's part.
-    extra_parts: Vec<ExtraPartJson>,
+    pub extra_parts: Vec<ExtraPartJson>,
     /// The worst schedule entry (index).
-    entry: usize,
+    pub entry: usize,
     /// The exact chain at the worst vertex, output's unit.
-    exact_at_vertex: f64,
+    pub exact_at_vertex: f64,
     /// Whether both are within the accuracy.
-    meets: bool,
+    pub meets: bool,
 }
 
 /// The check with the errors only rotation exposes (`rate_steps[]`).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateCheckJson<'a> {
     /// The reading of eq 13.
-    reading: String,
+    pub reading: String,
     /// The sheet's rate errors and translations.
-    extra_errors: Vec<ExtraErrorJson>,
+    pub extra_errors: Vec<ExtraErrorJson>,
     /// Every output's worst case.
-    outputs: Vec<RateOutputJson<'a>>,
+    pub outputs: Vec<RateOutputJson<'a>>,
     /// Monte Carlo yield over both boxes, in [0, 1].
-    #[serde(rename = "yield")]
-    yield_fraction: f64,
+    #[cfg_attr(feature = "serde", serde(rename = "yield"))]
+    pub yield_fraction: f64,
     /// Its 95% interval.
-    yield_interval_95: (f64, f64),
+    pub yield_interval_95: (f64, f64),
     /// Turntables drawn.
-    samples: u64,
+    pub samples: u64,
     /// Largest error of each output over the draws, output's unit.
-    max_drawn: &'a [f64],
+    pub max_drawn: &'a [f64],
     /// `meets` or `does not meet`.
-    verdict: &'static str,
+    pub verdict: &'static str,
 }
 
 impl<'a> RateCheckJson<'a> {
@@ -519,47 +341,50 @@ impl<'a> RateCheckJson<'a> {
 }
 
 /// A rate tolerance allocated (`tolerances[]`), in the sheet's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ToleranceJson {
     /// The tolerance's name.
-    name: String,
+    pub name: String,
     /// Its bound, `unit`; `null` when unbounded.
-    bound: Option<f64>,
+    pub bound: Option<f64>,
     /// `mm` or `ppm`.
-    unit: &'static str,
+    pub unit: &'static str,
     /// Its weight in J, SI unit per rad (absent in the certified allocation).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    weight_si_per_rad: Option<f64>,
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub weight_si_per_rad: Option<f64>,
 }
 
 /// One output of the certified allocation with the rate tolerances, output's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CertifiedOutputJson<'a> {
     /// The output's name.
-    output: &'a str,
+    pub output: &'a str,
     /// Its accuracy, output's unit.
-    accuracy: f64,
+    pub accuracy: f64,
     /// The linearised worst case, output's unit.
-    linear_bound: f64,
+    pub linear_bound: f64,
     /// The second-order bound, output's unit.
-    second_order_bound: f64,
+    pub second_order_bound: f64,
     /// The certified bound, output's unit.
-    certified_bound: f64,
+    pub certified_bound: f64,
 }
 
 /// The certified allocation with the rate tolerances (`rate_allocation.certified`).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CertifiedRateJson<'a> {
     /// J, arcmin^-2.
-    objective_arcmin: f64,
+    pub objective_arcmin: f64,
     /// The angular bounds, arcmin.
-    bounds_arcmin: ArcminBounds,
+    pub bounds_arcmin: ArcminBounds,
     /// The rate tolerances.
-    tolerances: Vec<ToleranceJson>,
+    pub tolerances: Vec<ToleranceJson>,
     /// Every output's bounds.
-    outputs: Vec<CertifiedOutputJson<'a>>,
+    pub outputs: Vec<CertifiedOutputJson<'a>>,
     /// Rounds of the certification.
-    rounds: usize,
+    pub rounds: usize,
 }
 
 impl<'a> CertifiedRateJson<'a> {
@@ -599,54 +424,56 @@ impl<'a> CertifiedRateJson<'a> {
 }
 
 /// One output of the allocation with the rate tolerances, output's unit.
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AllocatedOutputJson<'a> {
     /// The output's name.
-    output: &'a str,
+    pub output: &'a str,
     /// Its accuracy, output's unit.
-    accuracy: f64,
+    pub accuracy: f64,
     /// The linearised worst case, output's unit.
-    linear_bound: f64,
+    pub linear_bound: f64,
     /// The exact chain at the worst vertex, output's unit.
-    exact_at_vertex: f64,
+    pub exact_at_vertex: f64,
     /// The worst schedule entry (index).
-    entry: usize,
+    pub entry: usize,
     /// `accuracy - exact_at_vertex`, output's unit.
-    margin: f64,
+    pub margin: f64,
     /// The room kept for the second-order terms, output's unit.
-    second_order_room: f64,
+    pub second_order_room: f64,
 }
 
 /// The allocation with the rate tolerances (`rate_allocation`).
-#[derive(Debug, Serialize)]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RateAllocationJson<'a> {
     /// The reading of eq 13.
-    reading: String,
+    pub reading: String,
     /// J, arcmin^-2.
-    objective_arcmin: f64,
+    pub objective_arcmin: f64,
     /// The angular bounds, arcmin.
-    bounds_arcmin: ArcminBounds,
+    pub bounds_arcmin: ArcminBounds,
     /// The rate tolerances.
-    tolerances: Vec<ToleranceJson>,
+    pub tolerances: Vec<ToleranceJson>,
     /// Every output's worst case.
-    outputs: Vec<AllocatedOutputJson<'a>>,
+    pub outputs: Vec<AllocatedOutputJson<'a>>,
     /// Rounds of the exact-chain check.
-    exact_rounds: usize,
+    pub exact_rounds: usize,
     /// Monte Carlo yield over both boxes, in [0, 1].
-    #[serde(rename = "yield")]
-    yield_fraction: f64,
+    #[cfg_attr(feature = "serde", serde(rename = "yield"))]
+    pub yield_fraction: f64,
     /// Its 95% interval.
-    yield_interval_95: (f64, f64),
+    pub yield_interval_95: (f64, f64),
     /// Turntables drawn.
-    samples: u64,
+    pub samples: u64,
     /// Largest error of each output over the draws, output's unit.
-    max_drawn: &'a [f64],
+    pub max_drawn: &'a [f64],
     /// Why the direct allocation is not certified at rate steps.
-    direct_note: &'static str,
+    pub direct_note: &'static str,
     /// The certified allocation, `null` when there is none (`certified_note`).
-    certified: Option<CertifiedRateJson<'a>>,
+    pub certified: Option<CertifiedRateJson<'a>>,
     /// Why there is no certified allocation, else `null`.
-    certified_note: Option<&'a str>,
+    pub certified_note: Option<&'a str>,
 }
 
 impl<'a> RateAllocationJson<'a> {
