@@ -1,7 +1,11 @@
 #![doc = include_str!("../README.md")]
 
+pub mod calibrate;
 pub mod error;
 pub mod loaded;
 pub mod paths;
+pub mod requirement;
+pub mod rows;
+pub mod view;
 
 pub use error::{InputError, LabError, Result};
