@@ -3,6 +3,7 @@
 pub mod calibrate;
 pub mod error;
 pub mod loaded;
+pub mod monte_carlo;
 pub mod paths;
 pub mod requirement;
 pub mod rows;
