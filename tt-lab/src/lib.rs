@@ -4,6 +4,7 @@ pub mod calibrate;
 pub mod error;
 pub mod loaded;
 pub mod monte_carlo;
+pub mod noise_log;
 pub mod paths;
 pub mod requirement;
 pub mod rows;
