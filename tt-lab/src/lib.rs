@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod calibrate;
+pub mod design;
 pub mod error;
 pub mod loaded;
 pub mod monte_carlo;
