@@ -52,7 +52,6 @@ impl ReadingRequirement {
     }
 
     /// The requirement, or why none can be computed.
-    #[must_use]
     pub fn result(&self) -> &std::result::Result<OrientationRequirement, CalibError> {
         &self.result
     }
