@@ -1,12 +1,19 @@
 #![doc = include_str!("../README.md")]
 
 pub mod allocation;
+pub mod calibrate;
+pub mod design;
 pub mod end_to_end;
 pub mod error;
 pub mod estimable;
 pub mod json;
 pub mod loaded;
+pub mod monte_carlo;
+pub mod noise_log;
 pub mod paths;
+pub mod requirement;
+pub mod rows;
 pub mod vendor;
+pub mod view;
 
 pub use error::{InputError, LabError, Result};

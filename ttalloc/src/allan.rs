@@ -48,15 +48,15 @@
 //! on failure).
 
 use crate::InputError;
-use crate::csvio::{Source, for_each_line_in};
+use crate::csvio::Source;
 use crate::report::figures::{LIMIT, WIDTH, colour, finite};
-use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan, Taus, Term};
-use anyhow::{Result, anyhow, bail};
+use allan::{FLICKER_FLOOR_FACTOR, Taus, Term};
+use anyhow::{Result, anyhow};
 use clap::Parser;
 use plotters::prelude::*;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 use study::fmt::sig;
+use tt_lab::noise_log::{NoiseLog, Options, joint_terms, numbers};
 
 /// Arguments of `allan`.
 #[derive(Debug, Parser)]
@@ -137,547 +137,14 @@ fn unit(s: &str) -> Result<String, String> {
     Ok(s.to_string())
 }
 
-/// The library's message without its leading field name (the flag names it instead).
-fn without_field(e: &AllanError) -> String {
-    let m = e.to_string();
-    m.strip_prefix("taus: ").map_or(m.clone(), str::to_string)
-}
-
-/// What was read: the analysis and where it came from.
-struct Log {
-    name: String,
-    column: String,
-    analysis: Analysis,
-}
-
-/// The column to read, from the header line.
-fn pick_column(
-    name: &str,
-    line_no: usize,
-    header: &str,
-    wanted: Option<&str>,
-) -> Result<(usize, usize, String), InputError> {
-    let at = format!("{name}:{line_no}");
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let listed = || {
-        cols.iter()
-            .map(|c| format!("`{}`", c.escape_debug()))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    if let Some(first) = cols.first() {
-        if first.parse::<f64>().is_ok() {
-            return Err(InputError::new(
-                at,
-                format!(
-                    "the first line must name the columns, found the number `{}`; add a header line",
-                    first.escape_debug()
-                ),
-            ));
-        }
-    }
-    for (i, c) in cols.iter().enumerate() {
-        if c.is_empty() {
-            return Err(InputError::new(
-                format!("{at} column {}", i + 1),
-                "a column without a name in the header",
-            ));
-        }
-        if cols[..i].contains(c) {
-            return Err(InputError::new(
-                format!("{at} column {}", i + 1),
-                format!("column `{}` appears twice", c.escape_debug()),
-            ));
-        }
-    }
-    let index = match wanted {
-        Some(w) => cols.iter().position(|c| *c == w).ok_or_else(|| {
-            InputError::new(
-                "--column",
-                format!(
-                    "`{}` is not a column of {name}; its columns are {}",
-                    w.escape_debug(),
-                    listed()
-                ),
-            )
-        })?,
-        None if cols.len() == 1 => 0,
-        None => {
-            return Err(InputError::new(
-                "--column",
-                format!(
-                    "{name} has {} columns ({}); choose one with --column NAME",
-                    cols.len(),
-                    listed()
-                ),
-            ));
-        }
-    };
-    Ok((index, cols.len(), cols[index].to_string()))
-}
-
-/// Read the log once, line by line, into the estimator.
-fn read_log(source: &Source, args: &Args) -> Result<Log, InputError> {
-    let name = source.name();
-    let settings = Settings::new(args.rate_hz)
-        .confidence(args.confidence)
-        .taus(args.taus.clone().unwrap_or_default());
-    let mut est = StreamingAllan::new(settings).map_err(|e| match e {
-        AllanError::InvalidTau { .. } => InputError::new("--taus", without_field(&e)),
-        other => InputError::new("--rate-hz", other.to_string()),
-    })?;
-    let reader = source.open()?;
-    let mut layout: Option<(usize, usize, String)> = None;
-    for_each_line_in(reader, &name, |line_no, line| {
-        let Some((index, count, column)) = &layout else {
-            layout = Some(pick_column(&name, line_no, line, args.column.as_deref())?);
-            return Ok(());
-        };
-        let mut fields = 0usize;
-        let mut cell = "";
-        for (i, f) in line.split(',').enumerate() {
-            if i == *index {
-                cell = f.trim();
-            }
-            fields += 1;
-        }
-        if fields != *count {
-            return Err(InputError::new(
-                format!("{name}:{line_no}"),
-                format!("expected {count} columns, found {fields}"),
-            ));
-        }
-        let at = || format!("{name}:{line_no} column {}", index + 1);
-        let v: f64 = cell.parse().map_err(|_| {
-            InputError::new(
-                at(),
-                format!(
-                    "`{}`: `{}` is not a number",
-                    column.escape_debug(),
-                    cell.escape_debug()
-                ),
-            )
-        })?;
-        if !v.is_finite() {
-            return Err(InputError::new(
-                at(),
-                format!(
-                    "`{}`: `{}` is not a finite number",
-                    column.escape_debug(),
-                    cell.escape_debug()
-                ),
-            ));
-        }
-        est.push(v)
-            .map_err(|e| InputError::new(at(), e.to_string()))
-    })?;
-    let Some((_, _, column)) = layout else {
-        return Err(InputError::new(
-            name,
-            "empty input: expected a header line naming the columns, then one sample per line",
-        ));
-    };
-    let analysis = est.analyse().map_err(|e| match e {
-        AllanError::TooFewSamples { samples, needed } => InputError::new(
-            name.clone(),
-            format!(
-                "column `{}` has {samples} samples; the shortest cluster time (one sample) needs at least {needed} (three clusters)",
-                column.escape_debug()
-            ),
-        ),
-        AllanError::ClusterTooLong { .. } => InputError::new("--taus", without_field(&e)),
-        other => InputError::new(name.clone(), other.to_string()),
-    })?;
-    Ok(Log {
-        name,
-        column,
-        analysis,
-    })
-}
-
-/// Every number of the analysis, for the no-NaN check.
-fn numbers(a: &Analysis) -> Vec<f64> {
-    let f = &a.fit();
-    let mut v = vec![
-        a.rate_hz(),
-        a.confidence(),
-        f.white_noise(),
-        f.bias_instability(),
-        f.floor_tau_s(),
-        f.floor_adev_measured(),
-    ];
-    v.extend(
-        [
-            f.white_noise_uncertainty(),
-            f.bias_instability_uncertainty(),
-            f.rate_random_walk(),
-            f.rate_random_walk_uncertainty(),
-            f.quantization(),
-            f.rate_ramp(),
-        ]
-        .into_iter()
-        .flatten(),
-    );
-    v.extend(f.coefficients());
-    for t in joint_terms(a)
-        .iter()
-        .map(|t| t.1)
-        .chain(gm_terms(a).iter().map(|t| t.1))
-    {
-        v.push(t.value());
-        v.extend(t.uncertainty());
-    }
-    for p in a.points() {
-        v.extend([
-            p.tau_s(),
-            p.adev(),
-            p.lower(),
-            p.upper(),
-            p.edf(),
-            p.mdev(),
-            p.hdev(),
-            p.totdev(),
-        ]);
-    }
-    v
-}
-
-/// The joint fit's terms, by JSON name.
-fn joint_terms(a: &Analysis) -> [(&'static str, Term); 5] {
-    let f = a.fit();
-    [
-        ("quantization", f.quantization_term()),
-        ("white", f.white_term()),
-        ("flicker_bias_instability", f.flicker_term()),
-        ("rate_random_walk", f.rate_random_walk_term()),
-        ("rate_ramp", f.rate_ramp_term()),
-    ]
-}
-
-/// The Gauss-Markov alternative's terms, by JSON name (empty for an all-zero curve).
-fn gm_terms(a: &Analysis) -> Vec<(&'static str, Term)> {
-    a.fit().gauss_markov().map_or_else(Vec::new, |g| {
-        vec![
-            ("sigma", g.sigma()),
-            ("correlation_s", g.correlation_s()),
-            ("quantization", g.quantization()),
-            ("white", g.white()),
-            ("rate_random_walk", g.rate_random_walk()),
-            ("rate_ramp", g.rate_ramp()),
-        ]
-    })
-}
-
-/// A key `--write-noise` writes.
-#[derive(Debug, Serialize)]
-struct Written {
-    /// The study's key.
-    key: &'static str,
-    /// Its value (the log's unit, or s).
-    value: f64,
-    /// Its standard uncertainty (the schema has no key for it).
-    uncertainty: Option<f64>,
-    /// `null` when the log resolves the term, else why not (written as fitted).
-    not_resolved: Option<&'static str>,
-}
-
-impl Written {
-    fn of(key: &'static str, t: Term) -> Self {
-        Self {
-            key,
-            value: t.value(),
-            uncertainty: t.uncertainty(),
-            not_resolved: (!t.resolution().is_resolved()).then(|| t.resolution().explain()),
-        }
-    }
-}
-
-/// A term `--write-noise` cannot write.
-#[derive(Debug, Serialize)]
-struct NotWritten {
-    /// The term, in words.
-    term: &'static str,
-    /// Its fitted value.
-    value: f64,
-    /// Its standard uncertainty.
-    uncertainty: Option<f64>,
-    /// Why it is not written.
-    reason: String,
-}
-
-/// What `--write-noise` writes and what it cannot, whether or not it is asked for.
-#[derive(Debug, Serialize)]
-struct NoiseBlock {
-    /// The bias model written: `flicker` (the joint fit's floor) or `gauss_markov`.
-    bias_model: &'static str,
-    written: Vec<Written>,
-    not_written: Vec<NotWritten>,
-}
-
-/// The study's noise block of the analysis: only keys and values a study accepts
-/// (`study::limits`); every other term listed with its reason. The bias is the joint fit's
-/// flicker floor (`flicker_bias_instability`), or the Gauss-Markov alternative
-/// (`bias_instability` with its fitted `bias_correlation_s`) when its correlation time is
-/// resolved inside the study's limits and it fits the curve better (a lower weighted
-/// residual); never both (they model the same wander). The other terms come from the model
-/// whose bias is written.
-fn noise_block(a: &Analysis) -> NoiseBlock {
-    use gw_model::noise::{FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA};
-    let f = a.fit();
-    let noise_max = study::limits::NOISE_MAX;
-    let (tc_lo, tc_hi) = study::limits::CORRELATION_S;
-    let mut written = Vec::new();
-    let mut not_written = Vec::new();
-    let above = || format!("above the study's limit {}", study::fmt::num(noise_max));
-    let gm = f.gauss_markov();
-    let flicker = f.flicker_term();
-    // the Gauss-Markov bias, when its correlation time is resolved and inside the limits and
-    // it fits better than the flicker floor
-    let mut bias_from_gm = false;
-    if let Some(g) = gm {
-        let (sigma, tc) = (g.sigma(), g.correlation_s());
-        let b = sigma.value() * GM_ADEV_PEAK_PER_SIGMA / FLICKER_FLOOR_PER_BIAS_INSTABILITY;
-        let b_u = sigma
-            .uncertainty()
-            .map(|u| u * GM_ADEV_PEAK_PER_SIGMA / FLICKER_FLOOR_PER_BIAS_INSTABILITY);
-        let why = if !tc.resolution().is_resolved() {
-            Some(format!(
-                "its correlation time is not resolved: {}",
-                tc.resolution().explain()
-            ))
-        } else if !(tc.value() > tc_lo && tc.value() <= tc_hi) {
-            Some(format!(
-                "bias_correlation_s = {} s is outside the study's limit ({}, {}] s",
-                sig(tc.value(), 6),
-                study::fmt::num(tc_lo),
-                study::fmt::num(tc_hi)
-            ))
-        } else if b > noise_max {
-            Some(format!(
-                "bias_instability = {} is above the study's limit {}",
-                sig(b, 6),
-                study::fmt::num(noise_max)
-            ))
-        } else if flicker.value() > 0.0 && g.rss() >= g.power_rss() {
-            Some(format!(
-                "the joint fit's flicker floor fits the curve as well or better (weighted residual {} against {}); both would count the same wander twice",
-                sig(g.power_rss(), 4),
-                sig(g.rss(), 4)
-            ))
-        } else {
-            None
-        };
-        match why {
-            None => {
-                bias_from_gm = true;
-                written.push(Written {
-                    key: "bias_instability",
-                    value: b,
-                    uncertainty: b_u,
-                    not_resolved: (!sigma.resolution().is_resolved())
-                        .then(|| sigma.resolution().explain()),
-                });
-                written.push(Written::of("bias_correlation_s", tc));
-            }
-            Some(reason) if sigma.value() > 0.0 => {
-                not_written.push(NotWritten {
-                    term: "Gauss-Markov bias sigma",
-                    value: sigma.value(),
-                    uncertainty: sigma.uncertainty(),
-                    reason: reason.clone(),
-                });
-                not_written.push(NotWritten {
-                    term: "Gauss-Markov correlation time (s)",
-                    value: tc.value(),
-                    uncertainty: tc.uncertainty(),
-                    reason,
-                });
-            }
-            Some(_) => {}
-        }
-    }
-    if flicker.value() > 0.0 {
-        if bias_from_gm {
-            not_written.push(NotWritten {
-                term: "flicker bias instability B",
-                value: flicker.value(),
-                uncertainty: flicker.uncertainty(),
-                reason: gm.map_or_else(String::new, |g| {
-                    format!(
-                        "the Gauss-Markov alternative fits the curve better (weighted residual {} against {}) and is written instead; both would count the same wander twice",
-                        sig(g.rss(), 4),
-                        sig(g.power_rss(), 4)
-                    )
-                }),
-            });
-        } else if flicker.value() > noise_max {
-            not_written.push(NotWritten {
-                term: "flicker bias instability B",
-                value: flicker.value(),
-                uncertainty: flicker.uncertainty(),
-                reason: above(),
-            });
-        } else {
-            written.push(Written::of("flicker_bias_instability", flicker));
-        }
-    }
-    // the terms of the model whose bias is written (the joint fit's otherwise)
-    let (q, n, k, r) = match gm.filter(|_| bias_from_gm) {
-        Some(g) => (
-            g.quantization(),
-            g.white(),
-            g.rate_random_walk(),
-            g.rate_ramp(),
-        ),
-        None => (
-            f.quantization_term(),
-            f.white_term(),
-            f.rate_random_walk_term(),
-            f.rate_ramp_term(),
-        ),
-    };
-    if n.value() > noise_max {
-        not_written.push(NotWritten {
-            term: "white noise N",
-            value: n.value(),
-            uncertainty: n.uncertainty(),
-            reason: above(),
-        });
-    } else if n.value() == 0.0 {
-        not_written.push(NotWritten {
-            term: "white noise N",
-            value: 0.0,
-            uncertainty: None,
-            reason: n.resolution().explain().into(),
-        });
-    } else {
-        written.insert(0, Written::of("white_per_sqrt_hz", n));
-    }
-    // the drifts: the study's `rate_random_walk` (unit/sqrt(s)) and `rate_ramp` (unit/s), and
-    // the angle quantization (unit*s), the same definitions as the fit's (sigma^2 = K^2 tau /
-    // 3, R^2 tau^2 / 2, 3 Q^2 / tau^2)
-    for (term, key, t) in [
-        ("rate random walk K", "rate_random_walk", k),
-        ("rate ramp R", "rate_ramp", r),
-        ("quantization Q", "angle_quantization", q),
-    ] {
-        if t.value() > noise_max {
-            not_written.push(NotWritten {
-                term,
-                value: t.value(),
-                uncertainty: t.uncertainty(),
-                reason: above(),
-            });
-        } else if t.value() > 0.0 {
-            written.push(Written::of(key, t));
-        }
-    }
-    NoiseBlock {
-        bias_model: if bias_from_gm {
-            "gauss_markov"
-        } else {
-            "flicker"
-        },
-        written,
-        not_written,
-    }
-}
-
-/// `allan --json`: the noise of the log, in the log's unit (`unit`, else the log's column's).
-#[derive(Debug, Serialize)]
-struct AllanJson<'a> {
-    /// The log's name (its path, or standard input).
-    log: &'a str,
-    /// The column analysed.
-    column: &'a str,
-    /// `--unit`, else `null`.
-    unit: Option<&'a str>,
-    /// Samples in the log.
-    samples: u64,
-    /// The sampling rate, Hz.
-    rate_hz: f64,
-    /// The log's duration, s.
-    duration_s: f64,
-    /// The confidence of the bands (a fraction).
-    confidence: f64,
-    /// The overlap of the cluster times.
-    overlap: u64,
-    /// White noise N, the log's unit per sqrt(Hz).
-    white_noise_per_sqrt_hz: f64,
-    /// Its uncertainty (`null` when not estimated), same unit.
-    white_noise_uncertainty: Option<f64>,
-    /// Bias instability B, the log's unit.
-    bias_instability: f64,
-    /// Its uncertainty (`null` when not estimated), the log's unit.
-    bias_instability_uncertainty: Option<f64>,
-    /// The flicker floor's factor (B = floor / factor).
-    floor_factor: f64,
-    /// The floor's cluster time, s.
-    floor_tau_s: f64,
-    /// The floor's measured Allan deviation, the log's unit.
-    floor_adev: f64,
-    /// Whether the curve reached its floor.
-    floor_reached: bool,
-    /// Rate random walk (`null` when not fitted).
-    rate_random_walk: Option<f64>,
-    /// Its uncertainty (`null` when not estimated).
-    rate_random_walk_uncertainty: Option<f64>,
-    /// Quantization noise (`null` when not fitted).
-    quantization: Option<f64>,
-    /// Rate ramp (`null` when not fitted).
-    rate_ramp: Option<f64>,
-    /// The joint fit's terms, each `{value, uncertainty, resolution}`.
-    terms: serde_json::Map<String, serde_json::Value>,
-    /// The Gauss-Markov alternative (`null` for an all-zero curve).
-    gauss_markov: Option<allan::GaussMarkovFit>,
-    /// What `--write-noise` writes and what it cannot.
-    noise_block: NoiseBlock,
-    /// The curve: the library's points as its `serde` feature writes them.
-    curve: &'a [allan::AllanPoint],
-}
-
-fn json_of<'a>(log: &'a Log, unit: Option<&'a str>) -> AllanJson<'a> {
-    let a = &log.analysis;
-    let f = &a.fit();
-    AllanJson {
-        log: &log.name,
-        column: &log.column,
-        unit,
-        samples: a.samples(),
-        rate_hz: a.rate_hz(),
-        duration_s: a.samples() as f64 / a.rate_hz(),
-        confidence: a.confidence(),
-        overlap: a.overlap(),
-        white_noise_per_sqrt_hz: f.white_noise(),
-        white_noise_uncertainty: f.white_noise_uncertainty(),
-        bias_instability: f.bias_instability(),
-        bias_instability_uncertainty: f.bias_instability_uncertainty(),
-        floor_factor: FLICKER_FLOOR_FACTOR,
-        floor_tau_s: f.floor_tau_s(),
-        floor_adev: f.floor_adev_measured(),
-        floor_reached: f.floor_reached(),
-        rate_random_walk: f.rate_random_walk(),
-        rate_random_walk_uncertainty: f.rate_random_walk_uncertainty(),
-        quantization: f.quantization(),
-        rate_ramp: f.rate_ramp(),
-        terms: joint_terms(a)
-            .iter()
-            .map(|(k, t)| (k.to_string(), serde_json::to_value(t).unwrap_or_default()))
-            .collect(),
-        gauss_markov: f.gauss_markov(),
-        noise_block: noise_block(a),
-        curve: a.points(),
-    }
-}
-
-fn text_of(log: &Log, unit: &str) -> String {
-    let a = &log.analysis;
+fn text_of(log: &NoiseLog, unit: &str) -> String {
+    let a = log.analysis();
     let f = &a.fit();
     let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" (+- {})", sig(u, 2)));
     let mut t = format!(
         "Allan deviation of {}, column `{}`: {} samples at {} Hz ({} s); bands at {} % confidence\n",
-        log.name.escape_debug(),
-        log.column.escape_debug(),
+        log.name().escape_debug(),
+        log.column().escape_debug(),
         a.samples(),
         sig(a.rate_hz(), 6),
         sig(a.samples() as f64 / a.rate_hz(), 4),
@@ -768,98 +235,9 @@ fn text_of(log: &Log, unit: &str) -> String {
     t
 }
 
-fn noise_toml(log: &Log, unit: &str, block: &NoiseBlock) -> String {
-    let a = &log.analysis;
-    let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" +- {}", sig(u, 3)));
-    let bias = if block.bias_model == "gauss_markov" {
-        "the bias is the first-order\n\
-         # Gauss-Markov alternative, whose correlation time is fitted and whose fit is better"
-    } else {
-        "the bias is the flicker floor\n\
-         # of the joint fit (the Gauss-Markov alternative, if any, fits no better)"
-    };
-    let mut t = format!(
-        "# Noise of column `{}` of {}: {} samples at {} Hz, by `cargo xtask allan` (IEEE Std 952\n\
-         # Annex C: a joint weighted fit of the Allan variance; {bias}).\n\
-         # The values are in the log's unit ({unit}): white_per_sqrt_hz in {unit}/sqrt(Hz),\n\
-         # bias_instability in {unit}, bias_correlation_s in s, rate_random_walk in\n\
-         # {unit}/sqrt(s), rate_ramp in {unit}/s, flicker_bias_instability in {unit},\n\
-         # angle_quantization in {unit}*s. Convert them if the output's unit differs from the\n\
-         # log's.\n",
-        log.column.escape_debug(),
-        log.name.escape_debug(),
-        a.samples(),
-        sig(a.rate_hz(), 15),
-    );
-    t.push_str("# Standard uncertainties (the schema has no key for them):");
-    for w in &block.written {
-        t.push_str(&format!(
-            " {} = {}{};",
-            w.key,
-            sig(w.value, 4),
-            pm(w.uncertainty)
-        ));
-    }
-    t.push('\n');
-    let unresolved: Vec<&Written> = block
-        .written
-        .iter()
-        .filter(|w| w.not_resolved.is_some())
-        .collect();
-    if !unresolved.is_empty() {
-        t.push_str("# Written as fitted, but the log cannot resolve them:\n");
-        for w in unresolved {
-            t.push_str(&format!(
-                "# - {}: {}\n",
-                w.key,
-                w.not_resolved.unwrap_or_default()
-            ));
-        }
-    }
-    if !block.not_written.is_empty() {
-        t.push_str("# Not written (the study cannot take them):\n");
-        for n in &block.not_written {
-            t.push_str(&format!(
-                "# - {} = {}{}: {}\n",
-                n.term,
-                sig(n.value, 4),
-                pm(n.uncertainty),
-                n.reason
-            ));
-        }
-    }
-    t.push_str("[sensor.outputs.noise]\n");
-    for w in &block.written {
-        t.push_str(&format!("{} = {:?}\n", w.key, w.value));
-    }
-    // the standard uncertainties the study accepts, for end-to-end's sensitivity
-    let (_, tc_hi) = study::limits::CORRELATION_S;
-    let u: Vec<(&str, f64)> = block
-        .written
-        .iter()
-        .filter_map(|w| {
-            let hi = if w.key == "bias_correlation_s" {
-                tc_hi
-            } else {
-                study::limits::NOISE_MAX
-            };
-            w.uncertainty
-                .filter(|u| u.is_finite() && *u >= 0.0 && *u <= hi)
-                .map(|u| (w.key, u))
-        })
-        .collect();
-    if !u.is_empty() {
-        t.push_str("[sensor.outputs.noise.uncertainty]\n");
-        for (key, u) in u {
-            t.push_str(&format!("{key} = {u:?}\n"));
-        }
-    }
-    t
-}
-
 /// The log-log figure: the curve with its band, the fitted -1/2 line and the floor.
-fn figure_svg(log: &Log, unit: &str) -> Result<String> {
-    let a = &log.analysis;
+fn figure_svg(log: &NoiseLog, unit: &str) -> Result<String> {
+    let a = log.analysis();
     let f = &a.fit();
     let what = "Allan deviation figure";
     finite(what, numbers(a))?;
@@ -913,8 +291,8 @@ fn figure_svg(log: &Log, unit: &str) -> Result<String> {
         root.fill(&WHITE).map_err(|e| anyhow!("{what}: {e:?}"))?;
         let title = format!(
             "Allan deviation of {}, column {} ({} samples at {} Hz)",
-            log.name.escape_debug(),
-            log.column.escape_debug(),
+            log.name().escape_debug(),
+            log.column().escape_debug(),
             a.samples(),
             sig(a.rate_hz(), 6)
         );
@@ -1059,20 +437,16 @@ pub fn run(args: &Args) -> Result<()> {
     .collect();
     crate::newfile::check_all(&outputs)?;
     let source = Source::from_arg(args.log.as_deref());
-    let log = read_log(&source, args)?;
+    let mut opts = Options::at_rate_hz(args.rate_hz);
+    opts.column.clone_from(&args.column);
+    opts.confidence = args.confidence;
+    opts.taus = args.taus.clone().unwrap_or_default();
+    let log = tt_lab::noise_log::analyse(source.open()?, &source.name(), &opts)
+        .map_err(crate::input::lab)?;
     let unit = args.unit.as_deref().unwrap_or("log unit");
-    let nums = numbers(&log.analysis);
-    if nums.iter().any(|v| !v.is_finite()) {
-        bail!(
-            "internal: a non-finite number in the analysis of {}",
-            log.name
-        );
-    }
     let stdout = if args.json {
-        let mut s = serde_json::to_string_pretty(&serde_json::to_value(json_of(
-            &log,
-            args.unit.as_deref(),
-        ))?)?;
+        let mut s =
+            serde_json::to_string_pretty(&serde_json::to_value(log.view(args.unit.as_deref()))?)?;
         s.push('\n');
         s
     } else {
@@ -1087,12 +461,12 @@ pub fn run(args: &Args) -> Result<()> {
         ));
     }
     if let Some(p) = &args.write_noise {
-        let block = noise_block(&log.analysis);
-        if block.written.is_empty() {
+        let block = log.noise_block();
+        if block.written().is_empty() {
             let why: Vec<String> = block
-                .not_written
+                .not_written()
                 .iter()
-                .map(|n| format!("{}: {}", n.term, n.reason))
+                .map(|n| format!("{}: {}", n.term(), n.reason()))
                 .collect();
             return Err(InputError::new(
                 "--write-noise",
@@ -1103,18 +477,18 @@ pub fn run(args: &Args) -> Result<()> {
             )
             .into());
         }
-        for n in &block.not_written {
+        for n in block.not_written() {
             eprintln!(
                 "allan: not written to {}: {} = {}: {}",
                 p.display().to_string().escape_debug(),
-                n.term,
-                sig(n.value, 4),
-                n.reason
+                n.term(),
+                sig(n.value(), 4),
+                n.reason()
             );
         }
         staged.push((
             "--write-noise",
-            crate::newfile::stage(p, noise_toml(&log, unit, &block).as_bytes())?,
+            crate::newfile::stage(p, log.noise_toml(unit, &block).as_bytes())?,
             p,
         ));
     }

@@ -5,14 +5,14 @@
 //! whole or not at all) or to standard output.
 
 use crate::InputError;
-use crate::calibrate::run_error;
 use crate::csvio::Source;
+use crate::input::lab;
 use anyhow::Result;
-use calib_run::file::{CalibrationFile, apply};
 use calib_run::recording::RecordingOptions;
 use clap::Parser;
 use std::io::Write;
 use std::path::PathBuf;
+use tt_lab::calibrate::{apply, calibration_file};
 
 /// Arguments of `apply`.
 #[derive(Debug, Parser)]
@@ -44,7 +44,7 @@ pub fn run(args: &Args) -> Result<()> {
     let name = args.calibration.display().to_string();
     let text = std::fs::read_to_string(&args.calibration)
         .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;
-    let cal = CalibrationFile::parse(&name, &text).map_err(run_error)?;
+    let cal = calibration_file(&name, &text).map_err(lab)?;
     if let Some(out) = &args.out {
         crate::newfile::check(out, "--out")?;
     }
@@ -59,7 +59,7 @@ pub fn run(args: &Args) -> Result<()> {
         None => {
             let stdout = std::io::stdout();
             let w = std::io::BufWriter::new(stdout.lock());
-            apply(&cal, &name, reader, &source.name(), &opts, w).map_err(run_error)?;
+            apply(&cal, &name, reader, &source.name(), &opts, w).map_err(lab)?;
             Ok(())
         }
         Some(out) => {
@@ -70,7 +70,7 @@ pub fn run(args: &Args) -> Result<()> {
             let mut tmp = tempfile::NamedTempFile::new_in(&dir)?;
             let summary = {
                 let w = std::io::BufWriter::new(tmp.as_file_mut());
-                apply(&cal, &name, reader, &source.name(), &opts, w).map_err(run_error)?
+                apply(&cal, &name, reader, &source.name(), &opts, w).map_err(lab)?
             };
             tmp.as_file_mut().flush()?;
             tmp.as_file().sync_all()?;

@@ -11,14 +11,14 @@
 
 use crate::InputError;
 use crate::csvio::Source;
+use crate::input::lab;
 use crate::loaded as st;
 use anyhow::Result;
-use calib_run::segments::{DetectSettings, parse_segments};
-use calib_run::{CalibrateOptions, Spec, calibrate, verdicts as verdicts_of_flags};
+use calib_run::Spec;
 use clap::Parser;
-use metrology::decision::DecisionRule;
 use std::path::PathBuf;
 use study::fmt::sig;
+use tt_lab::calibrate::Options;
 
 /// Arguments of `calibrate`.
 #[derive(Debug, Parser)]
@@ -75,20 +75,6 @@ fn pair<'a>(flag: &str, s: &'a str) -> Result<(&'a str, &'a str), InputError> {
         .ok_or_else(|| InputError::new(flag, format!("`{s}` is not NAME=VALUE")))
 }
 
-/// A library error as the command's: input errors exit 2.
-pub(crate) fn run_error(e: calib_run::RunError) -> anyhow::Error {
-    use tt_core::ErrorClass;
-    match &e {
-        calib_run::RunError::Input { at, reason } => {
-            InputError::new(at.to_string(), reason.clone()).into()
-        }
-        _ if e.is_input() => {
-            InputError::new(e.input_field().unwrap_or_default(), e.to_string()).into()
-        }
-        _ => anyhow::Error::new(e),
-    }
-}
-
 /// Run `calibrate`.
 ///
 /// # Errors
@@ -98,7 +84,7 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(out) = &args.out {
         crate::newfile::check(out, "--out")?;
     }
-    let mut opts = CalibrateOptions::default();
+    let mut opts = Options::default();
     for c in &args.columns {
         let (o, h) = pair("--column", c)?;
         opts.recording.columns.push((o.into(), h.into()));
@@ -107,16 +93,12 @@ pub fn run(args: &Args) -> Result<()> {
     opts.recording.sample_rate_hz = args.sample_rate_hz;
     opts.recording.range = args.range;
     opts.robust = args.robust;
-    opts.coverage = s.uncertainty.coverage;
-    opts.detect = DetectSettings {
-        block_s: args.block_s,
-        min_static_s: args.min_static_s,
-        ..DetectSettings::default()
-    };
+    opts.block_s = args.block_s;
+    opts.min_static_s = args.min_static_s;
     if let Some(t) = &args.tolerances {
         opts.tolerances = Some(study::Tolerances::load(t, &s.turntable).map_err(InputError::from)?);
     }
-    let specs = args
+    opts.specs = args
         .specs
         .iter()
         .map(|x| {
@@ -135,38 +117,27 @@ pub fn run(args: &Args) -> Result<()> {
         let name = p.display().to_string();
         let f = std::fs::File::open(p)
             .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;
-        opts.segments = Some(
-            parse_segments(f, &name, s.positions_deg.len(), s.rate_steps.len())
-                .map_err(run_error)?,
-        );
+        opts.segments = Some(tt_lab::calibrate::segments(&s, f, &name).map_err(lab)?);
     }
     let source = Source::from_arg(args.log.as_deref());
     let reader = source.open()?;
-    let run = calibrate(&s, reader, &source.name(), &opts).map_err(run_error)?;
-    let rule = DecisionRule::GuardBandExpanded;
-    let (mut verdicts, spec_notes) =
-        calib_run::study_verdicts(&run, &s, rule).map_err(run_error)?;
-    verdicts.extend(verdicts_of_flags(&run, &specs, rule).map_err(run_error)?);
+    let answer = tt_lab::calibrate::calibrate(&s, reader, &source.name(), &opts).map_err(lab)?;
+    let run = answer.run();
     if let Some(out) = &args.out {
-        calib_run::file::write_new(out, &calib_run::file::CalibrationFile::of(&run))
-            .map_err(run_error)?;
+        calib_run::file::write_new(out, &calib_run::file::CalibrationFile::of(run))
+            .map_err(|e| lab(tt_lab::calibrate::run_error(e)))?;
     }
     if args.json {
-        #[derive(serde::Serialize)]
-        struct J<'a> {
-            run: &'a calib_run::Run,
-            verdicts: &'a [calib_run::Verdict],
-            specification_notes: &'a [String],
-            calibration_file: Option<String>,
-        }
-        return crate::json::print(&J {
-            run: &run,
-            verdicts: &verdicts,
-            specification_notes: &spec_notes,
-            calibration_file: args.out.as_ref().map(|p| p.display().to_string()),
-        });
+        return crate::json::print(
+            &answer.view(args.out.as_ref().map(|p| p.display().to_string())),
+        );
     }
-    crate::out::print(&text(&run, &verdicts, &spec_notes, args.out.as_ref()))
+    crate::out::print(&text(
+        run,
+        answer.verdicts(),
+        answer.specification_notes(),
+        args.out.as_ref(),
+    ))
 }
 
 fn text(

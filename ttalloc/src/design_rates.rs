@@ -12,17 +12,10 @@
 //! centripetal acceleration grows as the rate squared), so the best rate depends on the
 //! sensor, the table and the schedule.
 
-use crate::InputError;
 use anyhow::Result;
-use serde::Serialize;
 use study::Study;
-use study::fmt::{exact, num};
-
-/// The flag.
-pub const FLAG: &str = "--rates-deg-per-s";
-
-/// The largest candidate rate the flag accepts before the study's limits (deg/s).
-pub const MAX_RATE_DEG_PER_S: f64 = 1e5;
+use study::fmt::num;
+pub use tt_lab::design::rates::{FLAG, MAX_RATE_DEG_PER_S, RateChoice};
 
 /// One candidate rate, finite and in (0, [`MAX_RATE_DEG_PER_S`]] (deg/s).
 ///
@@ -30,149 +23,6 @@ pub const MAX_RATE_DEG_PER_S: f64 = 1e5;
 /// A message for clap (exit 2 naming the flag).
 pub fn rate(s: &str) -> Result<f64, String> {
     crate::args::positive(s, MAX_RATE_DEG_PER_S)
-}
-
-/// The choice among candidate rates.
-#[derive(Debug, Clone)]
-pub struct RateChoice {
-    /// Per candidate (deg/s): J (arcmin^-2) with the designed positions, `None` when no table
-    /// suffices at that rate.
-    pub candidates: Vec<(f64, Option<f64>)>,
-    /// Per candidate: J (arcmin^-2) with the study's positions, as above.
-    pub study_positions: Vec<Option<f64>>,
-    /// Whether the chosen pair has the study's positions (else the designed ones).
-    pub chosen_study_positions: bool,
-    /// The study's own rates with the same positions: J (arcmin^-2), `None` as above.
-    pub study_rates_objective_arcmin: Option<f64>,
-    /// The chosen rate (deg/s) and its J; `None` when no candidate has a table that suffices.
-    pub chosen: Option<(f64, f64)>,
-}
-
-/// Check the candidates against the study, before any work: it must have rate steps, every
-/// candidate must be within the rate limit of every joint the study's steps turn, and the
-/// study with its steps at each candidate must be one the study file accepts (a rate so
-/// small that it is zero in rad/s is refused here, not after the search).
-///
-/// # Errors
-/// An [`InputError`] naming the flag.
-pub fn check(s: &Study, rates: &[f64]) -> Result<(), InputError> {
-    if !s.has_rate_steps() {
-        return Err(InputError::new(
-            FLAG,
-            "the study has no rate steps (`calibration.rate_steps`): there is no rate to choose",
-        ));
-    }
-    if rates.is_empty() {
-        return Err(InputError::new(FLAG, "give at least one candidate rate"));
-    }
-    let joints = s.turntable.joint_names();
-    for step in &s.rate_steps {
-        if let Some(limit) = s.max_rate_deg_per_s.get(step.joint).copied().flatten() {
-            if let Some(r) = rates.iter().find(|r| **r > limit) {
-                return Err(InputError::new(
-                    FLAG,
-                    format!(
-                        "{} deg/s is above the rate limit of joint {} ({} deg/s, `turntable.max_rate_deg_per_s`)",
-                        exact(*r),
-                        joints[step.joint],
-                        exact(limit)
-                    ),
-                ));
-            }
-        }
-    }
-    for &r in rates {
-        with_rate(s, &s.positions_deg, r).map_err(|e| {
-            InputError::new(
-                FLAG,
-                format!(
-                    "{} deg/s: the study's rate steps at this rate are refused: {}: {}",
-                    exact(r),
-                    e.location,
-                    e.reason
-                ),
-            )
-        })?;
-    }
-    Ok(())
-}
-
-/// The study with the static positions `positions_deg` and every rate step at `rate` (deg/s,
-/// each step's sign kept).
-fn with_rate(s: &Study, positions_deg: &[Vec<f64>], rate: f64) -> Result<Study, InputError> {
-    let mut s2 = s.clone();
-    for step in &mut s2.rate_steps {
-        step.rate_deg_per_s = rate.copysign(step.rate_deg_per_s);
-    }
-    s2.with_positions_deg(positions_deg.to_vec())
-        .map_err(InputError::from)
-}
-
-/// J (arcmin^-2) of the allocation with the rate tolerances for `s`; `None` when no table
-/// suffices (the allocation is infeasible or its exact-chain check does not converge).
-fn objective(s: &Study) -> Result<Option<f64>> {
-    let e2e = crate::end_to_end::simulator(s)?;
-    Ok(e2e
-        .allocate_direct_rate(
-            &e2e.linearization(),
-            &e2e.extra_linearization(),
-            &s.lower_bounds_rad,
-        )
-        .ok()
-        .map(|a| a.combined().objective_arcmin()))
-}
-
-/// Choose the rate among `rates` (deg/s) and the static positions between `designed_deg`
-/// and the study's (ties go to the designed positions, then to the earlier rate).
-///
-/// # Errors
-/// As [`check`]; a library error located in the study.
-pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<RateChoice> {
-    check(s, rates)?;
-    let study = objective(
-        &s.with_positions_deg(designed_deg.to_vec())
-            .map_err(InputError::from)?,
-    )?;
-    let at = |positions: &[Vec<f64>]| -> Result<Vec<(f64, Option<f64>)>> {
-        rates
-            .iter()
-            .map(|&r| Ok((r, objective(&with_rate(s, positions, r)?)?)))
-            .collect()
-    };
-    let candidates = at(designed_deg)?;
-    let study_positions: Vec<Option<f64>> = if designed_deg == s.positions_deg.as_slice() {
-        candidates.iter().map(|(_, j)| *j).collect()
-    } else {
-        at(&s.positions_deg)?.into_iter().map(|(_, j)| j).collect()
-    };
-    let best = |list: Vec<(f64, Option<f64>)>| {
-        list.into_iter()
-            .filter_map(|(r, j)| j.map(|j| (r, j)))
-            .fold(None, |b: Option<(f64, f64)>, c| match b {
-                Some(b) if b.1 <= c.1 => Some(b),
-                _ => Some(c),
-            })
-    };
-    let designed = best(candidates.clone());
-    let of_study = best(
-        rates
-            .iter()
-            .copied()
-            .zip(study_positions.iter().copied())
-            .collect(),
-    );
-    let (chosen, chosen_study_positions) = match (designed, of_study) {
-        (Some(d), Some(t)) if t.1 < d.1 => (Some(t), true),
-        (None, Some(t)) => (Some(t), true),
-        (d, _) => (d, false),
-    };
-    Ok(RateChoice {
-        candidates,
-        study_positions,
-        chosen_study_positions,
-        study_rates_objective_arcmin: study,
-        chosen,
-    })
 }
 
 /// The study text `text` with every `[[calibration.rate_steps]]`'s `rate_deg_per_s` at `rate`
@@ -227,21 +77,21 @@ pub fn text_with_rate(s: &Study, text: &str, rate: f64) -> Result<String> {
 pub fn text(c: &RateChoice) -> String {
     let j = |v: Option<f64>| v.map_or("no table suffices".into(), |v| format!("J = {}", num(v)));
     let list: Vec<String> = c
-        .candidates
+        .candidates()
         .iter()
-        .zip(&c.study_positions)
+        .zip(c.study_positions())
         .map(|((r, v), t)| format!("{} deg/s {} (study's positions: {})", num(*r), j(*v), j(*t)))
         .collect();
     format!(
         "\nrate of the rate steps, chosen among candidates with the designed or the study's positions (direct allocation of the angles and the rate tolerances together, arcmin^-2): with the designed positions {}; the study's rates with the designed positions: {}; chosen: {}\n",
         list.join(", "),
-        j(c.study_rates_objective_arcmin),
-        c.chosen.map_or(
+        j(c.study_rates_objective_arcmin()),
+        c.chosen().map_or(
             "none (no candidate's table suffices)".into(),
             |(r, v)| format!(
                 "{} deg/s with the {} positions (J = {})",
                 num(r),
-                if c.chosen_study_positions {
+                if c.chosen_study_positions() {
                     "study's"
                 } else {
                     "designed"
@@ -252,41 +102,18 @@ pub fn text(c: &RateChoice) -> String {
     )
 }
 
-/// `design-schedule --rates-deg-per-s` (`rates`): the rate chosen among the candidates.
-#[derive(Debug, Serialize)]
-pub struct RatesJson<'a> {
-    /// The candidate rates, deg/s.
-    candidates_deg_per_s: Vec<f64>,
-    /// J with the designed positions at each candidate, arcmin^-2 (`null`: no allocation).
-    objective_arcmin: Vec<Option<f64>>,
-    /// J with the study's positions at each candidate, arcmin^-2 (`null`: no allocation).
-    study_positions_objective_arcmin: &'a [Option<f64>],
-    /// J of the study as written (its rates and positions), arcmin^-2.
-    study_rates_objective_arcmin: Option<f64>,
-    /// `designed` or `study`: the static positions chosen (`null`: none chosen).
-    chosen_positions: Option<&'static str>,
-    /// The rate chosen, deg/s (`null`: none).
-    chosen_deg_per_s: Option<f64>,
-    /// Its J, arcmin^-2.
-    chosen_objective_arcmin: Option<f64>,
+/// [`tt_lab::design::rates::choose`] as the command's result.
+///
+/// # Errors
+/// As the library's.
+pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<RateChoice> {
+    tt_lab::design::rates::choose(s, designed_deg, rates).map_err(crate::input::lab)
 }
 
-/// The choice's view (`rates`).
-#[must_use]
-pub fn json(c: &RateChoice) -> RatesJson<'_> {
-    RatesJson {
-        candidates_deg_per_s: c.candidates.iter().map(|(r, _)| *r).collect(),
-        objective_arcmin: c.candidates.iter().map(|(_, j)| *j).collect(),
-        study_positions_objective_arcmin: &c.study_positions,
-        study_rates_objective_arcmin: c.study_rates_objective_arcmin,
-        chosen_positions: c.chosen.map(|_| {
-            if c.chosen_study_positions {
-                "study"
-            } else {
-                "designed"
-            }
-        }),
-        chosen_deg_per_s: c.chosen.map(|(r, _)| r),
-        chosen_objective_arcmin: c.chosen.map(|(_, j)| j),
-    }
+/// [`tt_lab::design::rates::check`] as the command's result.
+///
+/// # Errors
+/// As the library's.
+pub fn check(s: &Study, rates: &[f64]) -> Result<()> {
+    Ok(tt_lab::design::rates::check(s, rates)?)
 }

@@ -633,7 +633,7 @@ struct DesignJson<'a> {
     rate_steps_note: Option<&'static str>,
     /// With `--rates-deg-per-s`: the rate chosen; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
-    rates: Option<crate::design_rates::RatesJson<'a>>,
+    rates: Option<tt_lab::design::rates::RatesJson<'a>>,
     /// With noise in the study: how it is counted; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     noise_note: Option<&'static str>,
@@ -680,7 +680,10 @@ fn to_json<'a>(s: &'a Study, o: &'a Outcome) -> DesignJson<'a> {
         seconds: o.seconds,
         command: &o.command,
         rate_steps_note: rate_steps_note(s),
-        rates: o.rates.as_ref().map(crate::design_rates::json),
+        rates: o
+            .rates
+            .as_ref()
+            .map(tt_lab::design::rates::RateChoice::view),
         noise_note: noise_note(s),
         combined: o.combined.as_ref().map(|c| CombinedJson {
             k_sigma: DEFAULT_K_SIGMA,
@@ -1224,7 +1227,7 @@ pub fn run(args: &Args) -> Result<()> {
         Some(out) => {
             let rate_keeps_study = rates
                 .as_ref()
-                .is_some_and(|r| r.chosen.is_some() && r.chosen_study_positions);
+                .is_some_and(|r| r.chosen().is_some() && r.chosen_study_positions());
             // with a time budget and noise: the count, positions and dwell it chose
             let chosen = match &budget {
                 Some(crate::design_budget::Budgeted::Design(d)) => d.chosen().map(|p| (d, p)),
@@ -1327,7 +1330,10 @@ pub fn run(args: &Args) -> Result<()> {
                 None => s.text_with_positions(positions, &comment),
             }
             .map_err(InputError::from)?;
-            let text = match rates.as_ref().and_then(|r| r.chosen) {
+            let text = match rates
+                .as_ref()
+                .and_then(tt_lab::design::rates::RateChoice::chosen)
+            {
                 Some((rate, _)) => crate::design_rates::text_with_rate(&s, &text, rate)?,
                 None => text,
             };

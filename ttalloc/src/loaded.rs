@@ -2,16 +2,7 @@
 //! errors as the command's.
 
 use study::Study;
-use tt_core::Pose;
 pub use tt_lab::loaded::{StudyRequirement, load, requirement_problem};
-
-/// [`tt_lab::loaded::poses`] as the command's result.
-///
-/// # Errors
-/// An [`crate::InputError`] naming the study.
-pub fn poses(s: &Study) -> anyhow::Result<Vec<Pose>> {
-    tt_lab::loaded::poses(s).map_err(crate::input::lab)
-}
 
 /// [`tt_lab::loaded::requirement`] as the command's result.
 ///

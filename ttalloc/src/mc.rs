@@ -22,24 +22,21 @@
 //! baseline (`shared/bench/numpy_mc_anchor.py` beside the workspace, if present), and reports
 //! the throughput ratios. The result does not depend on `--threads` (nor on the SIMD level).
 
-use crate::InputError;
-use crate::json::PerAngle;
 use crate::loaded as st;
-use alloc_opt::{AllocationProblem, Allocator, SensitivityWeighted};
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo, SimdLevel};
+use mc_verify::{MonteCarlo, SimdLevel};
 use serde::Serialize;
 use serde_json::Value;
-use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
 use study::Study;
 use study::fmt::num;
-use tt_core::units::{rad_to_arcmin, rad_to_deg};
-use tt_kinematics::{ExactChain, LinearModel};
+use tt_core::units::rad_to_deg;
+use tt_kinematics::ExactChain;
+use tt_lab::monte_carlo::{Bounds, McJson, Options};
 
 /// Which tolerance box to verify.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -91,237 +88,30 @@ fn parse_bins(s: &str) -> Result<usize, String> {
     crate::args::count(s, mc_verify::MAX_HISTOGRAM_BINS as u64).map(|v| v as usize)
 }
 
-/// The box and its name for the arguments.
-///
-/// # Errors
-/// An [`InputError`] naming the flag or key.
-pub fn bounds(args: &Args, s: &Study) -> Result<(String, ErrorBox)> {
-    let lb = s.lower_bounds_rad.clone();
-    let boxed = |ub: Vec<f64>, what: &str| -> Result<ErrorBox> {
-        ErrorBox::new(&s.turntable, lb.clone(), ub)
-            .map_err(|e| crate::input::library_at(e, s, what))
+/// The study-level options of the arguments.
+fn options(args: &Args) -> Options {
+    let mut o = Options::default();
+    o.samples = args.samples;
+    o.seed = args.seed;
+    o.chunk_size = args.chunk_size;
+    o.bins = args.bins;
+    o.bounds = match (&args.tolerances, args.bounds) {
+        (Some(p), _) => Bounds::Tolerances(p.clone()),
+        (None, BoundsChoice::TwoStep) => Bounds::TwoStep,
+        (None, BoundsChoice::Table4) => Bounds::Table4,
     };
-    if let Some(path) = &args.tolerances {
-        let sheet = s.load_sheet(path).map_err(InputError::from)?;
-        return Ok((
-            format!("tolerances {}", sheet.source()),
-            boxed(sheet.upper_bounds_rad().to_vec(), sheet.source())?,
-        ));
-    }
-    match args.bounds {
-        BoundsChoice::Table4 => {
-            if s.turntable != tt_kinematics::paper::table3() {
-                return Err(InputError::new(
-                    "--bounds",
-                    "table4 is the paper's Table 4: it applies only to the paper's turntable",
-                )
-                .into());
-            }
-            Ok((
-                "table4".into(),
-                boxed(alloc_opt::paper::table4_rad(), "Table 4 (--bounds table4)")?,
-            ))
-        }
-        BoundsChoice::TwoStep => {
-            let req = st::requirement(s)?;
-            let r = req.used.ok_or_else(|| {
-                InputError::new(
-                    "--bounds two-step",
-                    "the study has no orientation requirement (no output constrains a constant orientation error): give --tolerances, or use end-to-end",
-                )
-            })?;
-            let a = SensitivityWeighted::general()
-                .allocate(
-                    &AllocationProblem::new(LinearModel::new(&s.turntable), r, lb.clone())
-                        .map_err(|e| crate::input::library(e, s))?,
-                )
-                .map_err(|e| crate::input::library(e, s))?;
-            let ub: Vec<f64> = a
-                .upper_bounds_rad()
-                .iter()
-                .zip(&lb)
-                .map(|(u, l)| if u.is_finite() { *u } else { *l })
-                .collect();
-            Ok(("two-step".into(), boxed(ub, "the two-step allocation")?))
-        }
-    }
+    o
 }
 
-/// Build the run from the arguments; user-input problems are [`InputError`]s naming the flag.
-///
-/// # Errors
-/// As [`bounds`]; an [`InputError`] naming the flag for a bad configuration.
-pub fn monte_carlo(args: &Args, s: &Study) -> Result<(String, MonteCarlo)> {
-    let req = st::requirement(s)?;
-    let requirement = req.used.unwrap_or_else(tt_core::Requirement::none);
-    let mut cfg = McConfig::new(
-        args.samples.unwrap_or(s.monte_carlo.samples),
-        args.seed.unwrap_or(s.monte_carlo.seed),
-        requirement,
-    );
-    cfg.chunk_size = args.chunk_size;
-    cfg.histogram_bins = args.bins;
-    let (name, b) = bounds(args, s)?;
-    let mc =
-        MonteCarlo::new(&s.turntable, b, cfg).map_err(|e| crate::input::library_at(e, s, "mc"))?;
-    Ok((name, mc))
-}
-
-/// Per error, keyed `<error>_arcmin`: a box's bound in arcminutes.
-fn errors_arcmin(names: &[&str], rad: &[f64]) -> BTreeMap<String, f64> {
-    names
-        .iter()
-        .zip(rad)
-        .map(|(n, v)| (format!("{n}_arcmin"), rad_to_arcmin(*v)))
-        .collect()
-}
-
-/// The worst sample of one angle.
+/// `mc --json`: the run's view, with the baselines when measured.
 #[derive(Debug, Serialize)]
-struct WorstJson {
-    /// The sample's index in the run.
-    index: u64,
-    /// Its angle error, degrees.
-    value_deg: f64,
-    /// Its pose, keyed `<joint>_deg`, degrees.
-    pose_deg: BTreeMap<String, f64>,
-    /// Its errors, keyed `<error>_arcmin`, arcminutes.
-    chi: BTreeMap<String, f64>,
-}
-
-/// The histogram of one angle's error.
-#[derive(Debug, Serialize)]
-struct HistogramJson<'a> {
-    /// Half the histogram's range, degrees.
-    half_range_deg: f64,
-    /// Counts per bin.
-    counts: &'a [u64],
-    /// Samples below the range.
-    underflow: u64,
-    /// Samples above the range.
-    overflow: u64,
-}
-
-/// `mc --json`: the run's summary.
-#[derive(Debug, Serialize)]
-pub struct McJson<'a> {
-    /// The study's path.
-    study: &'a str,
-    /// Turntables drawn.
-    samples: u64,
-    /// Seed of the random streams.
-    seed: u64,
-    /// Threads of the run.
-    threads: usize,
-    /// Time of the run, s.
-    seconds: f64,
-    /// Turntables per second.
-    samples_per_sec: f64,
-    /// The box's name (`two-step`, `table4`, the sheet's path).
-    bounds: &'a str,
-    /// Samples per chunk of the parallel run.
-    chunk_size: u32,
-    /// The evaluator, in words.
-    evaluator: &'static str,
-    /// The SIMD level chosen at run time.
-    simd_level: &'static str,
-    /// The box's lower bounds, keyed `<error>_arcmin`, arcminutes.
-    lb_arcmin: BTreeMap<String, f64>,
-    /// The box's upper bounds, keyed `<error>_arcmin`, arcminutes.
-    ub_arcmin: BTreeMap<String, f64>,
-    /// The study's orientation requirement per angle, degrees (`null`: none).
-    requirement_deg: PerAngle<Option<f64>>,
-    /// The largest |error| drawn per angle, degrees.
-    max_abs_deg: PerAngle<f64>,
-    /// The certified linearised worst case per angle, degrees (`null` when not certified).
-    linear_worst_case_deg: PerAngle<Option<f64>>,
-    /// The mean error per angle, degrees.
-    mean_deg: PerAngle<f64>,
-    /// The standard deviation per angle, degrees.
-    std_deg: PerAngle<f64>,
-    /// Fraction of samples inside the requirement on all three angles, in [0, 1].
-    within_requirement_fraction: f64,
-    /// The same per angle.
-    within_requirement_fraction_per_axis: PerAngle<f64>,
-    /// The worst sample per angle.
-    worst: PerAngle<WorstJson>,
-    /// The histogram per angle.
-    histogram_deg: PerAngle<HistogramJson<'a>>,
-    /// Why the requirement is not the study's, else `null`.
-    requirement_note: Option<&'a str>,
+struct McOut<'a> {
+    /// The run (its keys at the top level).
+    #[serde(flatten)]
+    run: McJson<'a>,
     /// With `--baselines`: the same-run baselines and throughput ratios; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     baselines: Option<Baselines>,
-}
-
-impl<'a> McJson<'a> {
-    /// The view of the run `r` of `mc` (box `name`) for study `s`.
-    #[must_use]
-    pub fn new(
-        s: &'a Study,
-        name: &'a str,
-        mc: &MonteCarlo,
-        r: &'a McResult,
-        threads: usize,
-        seconds: f64,
-    ) -> Self {
-        let std = r.std_rad();
-        let names = s.turntable.rotation_error_names();
-        let joints = s.turntable.joint_names();
-        let linear = LinearModel::new(&s.turntable);
-        Self {
-            study: &s.path,
-            samples: r.samples(),
-            seed: r.seed(),
-            threads,
-            seconds,
-            samples_per_sec: r.samples() as f64 / seconds,
-            bounds: name,
-            chunk_size: r.chunk_size(),
-            evaluator: "exact chain, eq-24 read-out (fast quaternion plan)",
-            simd_level: SimdLevel::detected().name(),
-            lb_arcmin: errors_arcmin(&names, mc.bounds().lb_rad()),
-            ub_arcmin: errors_arcmin(&names, mc.bounds().ub_rad()),
-            requirement_deg: PerAngle::new(|a| r.requirement().get(a).map(rad_to_deg)),
-            max_abs_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).max_abs_rad())),
-            linear_worst_case_deg: PerAngle::new(|a| {
-                linear
-                    .worst_pose_certified(a, mc.bounds().ub_rad(), true, None)
-                    .ok()
-                    .map(|w| rad_to_deg(w.upper_bound()))
-            }),
-            mean_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).mean_rad())),
-            std_deg: PerAngle::new(|a| rad_to_deg(std[a.index()])),
-            within_requirement_fraction: r.within_requirement_fraction(),
-            within_requirement_fraction_per_axis: PerAngle::new(|a| {
-                r.axis(a).within_requirement() as f64 / r.samples() as f64
-            }),
-            worst: PerAngle::new(|a| {
-                let w = r.axis(a).worst();
-                WorstJson {
-                    index: w.index(),
-                    value_deg: rad_to_deg(w.value_rad()),
-                    pose_deg: joints
-                        .iter()
-                        .zip(w.pose().angles_rad())
-                        .map(|(j, v)| (format!("{j}_deg"), rad_to_deg(*v)))
-                        .collect(),
-                    chi: errors_arcmin(&names, w.chi_rad()),
-                }
-            }),
-            histogram_deg: PerAngle::new(|a| {
-                let h = &r.axis(a).histogram();
-                HistogramJson {
-                    half_range_deg: rad_to_deg(h.hi()),
-                    counts: h.counts(),
-                    underflow: h.underflow(),
-                    overflow: h.overflow(),
-                }
-            }),
-            requirement_note: None,
-            baselines: None,
-        }
-    }
 }
 
 /// One interleaved round of the baselines, samples per second.
@@ -533,8 +323,7 @@ fn baselines(
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
-    let note = st::requirement(&s)?.disagreement;
-    let (name, mc) = monte_carlo(args, &s)?;
+    let plan = tt_lab::monte_carlo::plan(&s, &options(args)).map_err(crate::input::lab)?;
     let threads = match args.threads {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, usize::from),
@@ -543,24 +332,30 @@ pub fn run(args: &Args) -> Result<()> {
         .num_threads(threads)
         .build()
         .context("building the thread pool")?;
-    let samples = mc.config().samples;
-    let pb = progress_bar(samples);
-    let t = Instant::now();
-    let r = pool.install(|| {
-        mc.run_with_progress(&|done| {
+    let pb = progress_bar(plan.monte_carlo().config().samples);
+    let answer = pool.install(|| {
+        plan.run(&|done| {
             if let Some(pb) = &pb {
                 pb.set_position(done);
             }
         })
     });
-    let seconds = t.elapsed().as_secs_f64();
     if let Some(pb) = pb {
         pb.finish_and_clear();
     }
-    let mut report = McJson::new(&s, &name, &mc, &r, threads, seconds);
-    report.requirement_note = note.as_deref();
+    let (r, seconds, name) = (answer.result(), answer.seconds(), answer.plan().name());
+    let note = answer.plan().requirement_note();
+    let mut report = McOut {
+        run: answer.view(&s, threads),
+        baselines: None,
+    };
     if args.baselines {
-        report.baselines = Some(baselines(&s, &mc, &pool, r.samples() as f64 / seconds)?);
+        report.baselines = Some(baselines(
+            &s,
+            answer.plan().monte_carlo(),
+            &pool,
+            r.samples() as f64 / seconds,
+        )?);
     }
     if args.json {
         return crate::json::print(&report);

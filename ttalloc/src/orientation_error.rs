@@ -8,19 +8,11 @@
 //! full precision. The whole input is checked before anything is written, so a bad row leaves
 //! standard output empty; memory does not grow with the input (see [`crate::csvio`]).
 
-use crate::InputError;
 use crate::csvio::Source;
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
 use std::path::PathBuf;
-use tt_core::units::rad_to_arcmin;
-use tt_kinematics::{
-    ExactChain, LinearChain, OrientationErrorModel, Pose, SmallAngleChain, TurntableErrors,
-    paper::ClosedForm,
-};
-
-/// The output header.
-pub const OUTPUT_HEADER: &str = "dpsi_arcmin,dtheta_arcmin,dgamma_arcmin";
+use tt_lab::rows::{Model, ORIENTATION_COLUMNS, OrientationOptions};
 
 /// Which orientation-error model to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -48,47 +40,32 @@ pub struct Args {
     pub file: Option<PathBuf>,
 }
 
+impl From<ModelChoice> for Model {
+    fn from(m: ModelChoice) -> Self {
+        match m {
+            ModelChoice::Exact => Model::Exact,
+            ModelChoice::SmallAngle => Model::SmallAngle,
+            ModelChoice::Linear => Model::Linear,
+            ModelChoice::ClosedForm => Model::ClosedForm,
+        }
+    }
+}
+
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::loaded::load(args.study.as_deref())?;
-    let t = &s.turntable;
-    let model: Box<dyn OrientationErrorModel> = match args.model {
-        ModelChoice::Exact => Box::new(ExactChain::new(t)),
-        ModelChoice::SmallAngle => Box::new(SmallAngleChain::new(t)),
-        ModelChoice::Linear => Box::new(LinearChain::new(t)),
-        ModelChoice::ClosedForm => {
-            if *t != tt_kinematics::paper::table3() {
-                return Err(InputError::new("--model", "closed-form is the paper's eq 26 and applies only to the paper's table; use `linear` for any table").into());
-            }
-            Box::new(ClosedForm)
-        }
-    };
+    let rows =
+        tt_lab::rows::orientation_rows(&s, &OrientationOptions::default().model(args.model.into()))
+            .map_err(crate::input::lab)?;
     let source = Source::from_arg(args.file.as_deref());
     let name = source.name();
-    let eval = |line: usize, row: study::csv::TurntableRow| -> Result<[f64; 3], InputError> {
-        let at = || format!("{name}:{line}");
-        let pose = Pose::new(row.pose_rad).map_err(|e| InputError::new(at(), e.to_string()))?;
-        let errors = TurntableErrors::new(row.chi_rad, row.translations_m)
-            .map_err(|e| InputError::new(at(), e.to_string()))?;
-        let e = model
-            .orientation_error(&pose, &errors)
-            .map_err(|e| InputError::new(at(), e.to_string()))?;
-        let v = e.to_array().map(rad_to_arcmin);
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(InputError::new(
-                at(),
-                "the model gave a non-finite orientation error",
-            ));
-        }
-        Ok(v)
-    };
     crate::csvio::run_rows(
         &source,
-        t,
+        &s.turntable,
         study::csv::JointColumns::Required,
-        OUTPUT_HEADER,
+        ORIENTATION_COLUMNS,
         |line, row| {
-            let v = eval(line, row)?;
+            let v = rows.row(&format!("{name}:{line}"), &row)?;
             Ok(v.map(study::fmt::exact).join(","))
         },
     )
