@@ -36,7 +36,7 @@ pub fn arcmin_bounds(names: &[&str], ub_rad: &[f64]) -> ArcminBounds {
 
 /// One value per orientation angle, keyed by its one spelling ([`OrientationAxis::name`]:
 /// `psi`, `theta`, `gamma`).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct PerAngle<T> {
     /// Delta psi, the rotation error about y.

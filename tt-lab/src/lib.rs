@@ -14,6 +14,5 @@ pub mod paths;
 pub mod requirement;
 pub mod rows;
 pub mod vendor;
-pub mod view;
 
 pub use error::{InputError, LabError, Result};

@@ -8,8 +8,8 @@
 //! rayon pool) nor on the SIMD level.
 
 use crate::error::{InputError, Result};
+use crate::json::PerAngle;
 use crate::loaded;
-use crate::view::PerAngle;
 use alloc_opt::{AllocationProblem, Allocator, SensitivityWeighted};
 use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo, SimdLevel};
 use std::collections::BTreeMap;

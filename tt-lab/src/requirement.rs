@@ -2,8 +2,8 @@
 //! reading of eq 13 or another, or under every reading side by side.
 
 use crate::Result;
+use crate::json::{PerAngle, deg3};
 use crate::loaded::{self, StudyRequirement};
-use crate::view::{PerAngle, deg3};
 use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem};
 use study::{RequirementSource, Study};
 use tt_core::OrientationAxis;
