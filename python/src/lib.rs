@@ -1,13 +1,11 @@
 //! `ttalloc-py`: the Python package `ttalloc` (pyo3, abi3, built by maturin: see
 //! `python/README.md`). Each Python function is one Rust function here that converts its
-//! arguments, calls the study-level library `tt-lab` (through [`interim`] for the questions
-//! `tt-lab` does not answer yet) and converts the answer; no science lives here.
+//! arguments, calls the study-level library `tt-lab` and converts its answer's JSON view (the command
+//! line's `--json` keys); no science and no view lives here.
 //!
 //! Errors: an input error raises `ttalloc.InputError` (a `ValueError`) whose message names the
 //! location as the command line does (``file: key `x` ``, a keyword argument); anything else
 //! raises `RuntimeError`. Long computations release the GIL.
-
-pub mod interim;
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::create_exception;
@@ -32,6 +30,49 @@ fn to_py(e: LabError) -> PyErr {
         Some(i) => InputError::new_err(i.to_string()),
         None => PyRuntimeError::new_err(e.to_string()),
     }
+}
+
+/// A tt-lab answer's JSON view (`--json`'s keys) as a JSON value.
+fn view<T: serde::Serialize>(v: &T) -> Result<serde_json::Value, LabError> {
+    serde_json::to_value(v).map_err(|e| LabError::Library(Box::new(e)))
+}
+
+fn vendor_options(samples: Option<u64>, seed: Option<u64>) -> tt_lab::vendor::Options {
+    let mut o = tt_lab::vendor::Options::default();
+    o.samples = samples;
+    o.seed = seed;
+    o
+}
+
+/// `allocate --json` with the full-range constraint: the two-step allocation's view, or for a
+/// study with rate steps the rate study's (the two-step allocation not made).
+fn allocate(s: &study::Study, safety_margin: f64) -> Result<serde_json::Value, LabError> {
+    let form = alloc_opt::ConstraintForm::FullRange;
+    let o = tt_lab::allocation::Options {
+        form,
+        safety_margin,
+        tolerances: None,
+    };
+    let r = tt_lab::allocation::allocate_study(s, &o)?;
+    let Some(a) = r.two_step() else {
+        let rate = r.rate().and_then(|(e2e, x)| {
+            x.as_ref()
+                .map(|x| tt_lab::vendor::rate::RateAllocationJson::new(e2e, x))
+        });
+        return view(&tt_lab::allocation::RateStudyJson {
+            study: &s.path,
+            two_step_allocation: format!("not made: {}", tt_lab::loaded::STATIC_REQUIREMENT_NOTE),
+            extras: tt_lab::json::ExtrasJson {
+                rate_allocation: rate,
+                ..tt_lab::json::ExtrasJson::default()
+            },
+        });
+    };
+    let mut v = tt_lab::allocation::allocate_json(s, a, form, safety_margin)?;
+    v.extras.angle_dependent = r
+        .angle()
+        .map(|(e2e, an)| tt_lab::allocation::angle::AngleDependentJson::new(e2e, an));
+    view(&v)
 }
 
 /// A JSON answer as Python objects (dicts, lists, floats; `None` for `null`).
@@ -138,22 +179,22 @@ impl Study {
     /// The orientation requirement (eq 15-16): `requirement --json`.
     fn requirement(&self, py: Python<'_>) -> PyResult<Answer> {
         let s = &self.inner;
-        Answer::of(py, "requirement", py.detach(|| interim::requirement(s)))
+        let opts = tt_lab::requirement::Options::default();
+        Answer::of(
+            "requirement",
+            py.detach(|| tt_lab::requirement::requirement(s, &opts).and_then(|a| view(&a.view()))),
+        )
     }
 
     /// The two-step allocation (problems 31-34, full-range constraint): `allocate --json`.
     #[pyo3(signature = (safety_margin = 0.0))]
     fn allocate(&self, py: Python<'_>, safety_margin: f64) -> PyResult<Answer> {
         let s = &self.inner;
-        Answer::of(
-            py,
-            "allocate",
-            py.detach(|| interim::allocate(s, safety_margin)),
-        )
+        Answer::of("allocate", py.detach(|| allocate(s, safety_margin)))
     }
 
     /// The end-to-end answer per output (the two-step box, the direct and yield-based
-    /// allocations, per reading): `end-to-end --json`.
+    /// allocations, the noise part, per reading): `end-to-end --json`.
     #[pyo3(signature = (samples = None, seed = None, yield_fraction = None))]
     fn end_to_end(
         &self,
@@ -163,10 +204,18 @@ impl Study {
         yield_fraction: Option<f64>,
     ) -> PyResult<Answer> {
         let s = &self.inner;
+        let mut o = tt_lab::end_to_end::Options::default();
+        o.samples = samples;
+        o.seed = seed;
+        if let Some(y) = yield_fraction {
+            o.yield_fraction = y;
+        }
         Answer::of(
-            py,
             "end_to_end",
-            py.detach(|| interim::end_to_end(s, samples, seed, yield_fraction)),
+            py.detach(|| {
+                let r = tt_lab::end_to_end::end_to_end(s, &o)?;
+                view(&tt_lab::end_to_end::EndToEndJson::of(s, &r))
+            }),
         )
     }
 
@@ -182,9 +231,11 @@ impl Study {
     ) -> PyResult<Answer> {
         let s = &self.inner;
         Answer::of(
-            py,
             "check_turntable",
-            py.detach(|| interim::check_turntable(s, &tolerances, samples, seed)),
+            py.detach(|| {
+                let v = tt_lab::vendor::check(s, &tolerances, &vendor_options(samples, seed))?;
+                view(&tt_lab::vendor::CheckJson::of(s, &v))
+            }),
         )
     }
 
@@ -194,9 +245,53 @@ impl Study {
     fn specification_budgets(&self, py: Python<'_>, tolerances: PathBuf) -> PyResult<Answer> {
         let s = &self.inner;
         Answer::of(
-            py,
             "specification_budgets",
-            py.detach(|| interim::specification_budgets(s, &tolerances)),
+            py.detach(|| {
+                let sheet = s
+                    .load_sheet(&tolerances)
+                    .map_err(tt_lab::InputError::from)?;
+                let e2e = tt_lab::loaded::simulator(s)?;
+                let v = tt_lab::vendor::spec::compute(s, &e2e, sheet.upper_bounds_rad())?;
+                view(&tt_lab::vendor::spec::SpecVerdictJson::new(s, v.as_ref()))
+            }),
+        )
+    }
+
+    /// Which table errors the calibration estimates itself, and what is left to allocate,
+    /// for a vendor's sheet (default: the direct allocation's box): `estimable --json`.
+    #[pyo3(signature = (tolerances = None))]
+    fn estimable(&self, py: Python<'_>, tolerances: Option<PathBuf>) -> PyResult<Answer> {
+        let s = &self.inner;
+        let mut o = tt_lab::estimable::Options::default();
+        o.tolerances = tolerances;
+        Answer::of(
+            "estimable",
+            py.detach(|| {
+                let a = tt_lab::estimable::estimable(s, &o)?;
+                view(&tt_lab::estimable::to_json(s, &a))
+            }),
+        )
+    }
+
+    /// The Monte Carlo check of the two-step allocation's box (`samples`, `seed`: default
+    /// the study's; same seed, same result for any thread count): `mc --json`.
+    #[pyo3(signature = (samples = None, seed = None))]
+    fn monte_carlo(
+        &self,
+        py: Python<'_>,
+        samples: Option<u64>,
+        seed: Option<u64>,
+    ) -> PyResult<Answer> {
+        let s = &self.inner;
+        let mut o = tt_lab::monte_carlo::Options::default();
+        o.samples = samples;
+        o.seed = seed;
+        Answer::of(
+            "monte_carlo",
+            py.detach(|| {
+                let a = tt_lab::monte_carlo::monte_carlo(s, &o, &|_| {})?;
+                view(&a.view(s, rayon::current_num_threads()))
+            }),
         )
     }
 
@@ -225,11 +320,7 @@ pub struct Answer {
 }
 
 impl Answer {
-    fn of(
-        _py: Python<'_>,
-        question: &'static str,
-        r: Result<serde_json::Value, LabError>,
-    ) -> PyResult<Self> {
+    fn of(question: &'static str, r: Result<serde_json::Value, LabError>) -> PyResult<Self> {
         r.map(|value| Self { question, value }).map_err(to_py)
     }
 }
@@ -463,11 +554,183 @@ fn _library_seconds_check_turntable(
     let s = &study.inner;
     py.detach(|| {
         let t0 = std::time::Instant::now();
-        let v = interim::check_turntable(s, &tolerances, samples, seed);
+        let v = tt_lab::vendor::check(s, &tolerances, &vendor_options(samples, seed));
         let secs = t0.elapsed().as_secs_f64();
         std::hint::black_box(v).map(|_| secs)
     })
     .map_err(to_py)
+}
+
+/// A recording's columns as CSV text, streamed a row at a time (nothing kept but one line).
+struct ColumnsCsv<'a> {
+    header: Vec<u8>,
+    columns: Vec<&'a [f64]>,
+    row: usize,
+    line: Vec<u8>,
+    at: usize,
+}
+
+impl std::io::Read for ColumnsCsv<'_> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        use std::io::Write;
+        if self.at == self.line.len() {
+            self.line.clear();
+            self.at = 0;
+            if !self.header.is_empty() {
+                std::mem::swap(&mut self.line, &mut self.header);
+            } else if self.columns.first().is_some_and(|c| self.row < c.len()) {
+                for (j, c) in self.columns.iter().enumerate() {
+                    let sep = if j == 0 { "" } else { "," };
+                    write!(self.line, "{sep}{}", c[self.row])?;
+                }
+                self.line.push(b'\n');
+                self.row += 1;
+            }
+        }
+        let n = out.len().min(self.line.len() - self.at);
+        out[..n].copy_from_slice(&self.line[self.at..self.at + n]);
+        self.at += n;
+        Ok(n)
+    }
+}
+
+/// One CSV header field, quoted when it holds a comma, a quote or a line break (RFC 4180).
+fn csv_field(name: &str) -> String {
+    if name.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", name.replace('"', "\"\""))
+    } else {
+        name.to_string()
+    }
+}
+
+/// The recording's columns: a dict of 1-D arrays (or sequences) or a pandas DataFrame, each
+/// column as a contiguous float64 array (NumPy converts only what is not one already).
+fn recording_columns<'py>(
+    recording: &Bound<'py, PyAny>,
+) -> PyResult<Vec<(String, numpy::PyReadonlyArray1<'py, f64>)>> {
+    let py = recording.py();
+    let np = py.import("numpy")?;
+    let names: Vec<Bound<'py, PyAny>> = if let Ok(d) = recording.cast::<PyDict>() {
+        d.keys().iter().collect()
+    } else if recording.hasattr("columns")? {
+        recording
+            .getattr("columns")?
+            .try_iter()?
+            .collect::<PyResult<_>>()?
+    } else {
+        return Err(InputError::new_err(
+            "recording: give a dict of column name to 1-D array, or a pandas DataFrame",
+        ));
+    };
+    let mut out = Vec::with_capacity(names.len());
+    for k in names {
+        let name: String = k
+            .extract()
+            .map_err(|_| InputError::new_err("recording: a column name is not a str"))?;
+        let bad = |why: String| InputError::new_err(format!("recording: column `{name}`: {why}"));
+        let array = np
+            .call_method1("ascontiguousarray", (recording.get_item(&k)?, "float64"))
+            .map_err(|e| bad(format!("not an array of numbers ({e})")))?;
+        let array = array
+            .cast_into::<PyArray1<f64>>()
+            .map_err(|_| bad("not one-dimensional".into()))?;
+        let ro = array
+            .try_readonly()
+            .map_err(|_| bad("the array is mutably borrowed".into()))?;
+        out.push((name, ro));
+    }
+    Ok(out)
+}
+
+/// Calibrate a recording of the calibration `study` planned (`calib-run`: segments detected,
+/// the coefficients fitted, the study's specifications and the caller's `specs` (coefficient
+/// name to limit, in the coefficient's unit) judged under ILAC-G8): `calibrate --json`.
+///
+/// `recording`: a dict of column name to 1-D array, or a pandas DataFrame, with a time
+/// column (`t_s`, `time_s`, `sample` or `index`) and one column per output named as the
+/// study names it. It is streamed to the library a row at a time; the GIL is released.
+#[pyfunction]
+#[pyo3(signature = (study, recording, specs = None, robust = false))]
+fn calibrate(
+    py: Python<'_>,
+    study: &Study,
+    recording: &Bound<'_, PyAny>,
+    specs: Option<std::collections::BTreeMap<String, f64>>,
+    robust: bool,
+) -> PyResult<Answer> {
+    let columns = recording_columns(recording)?;
+    let slices = columns
+        .iter()
+        .map(|(n, a)| {
+            a.as_slice().map_err(|_| {
+                InputError::new_err(format!("recording: column `{n}` is not contiguous"))
+            })
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    if let Some(((n0, _), first)) = columns.first().zip(slices.first()) {
+        for ((n, _), c) in columns.iter().zip(&slices) {
+            if c.len() != first.len() {
+                return Err(InputError::new_err(format!(
+                    "recording: column `{n}` has {} values, `{n0}` {}",
+                    c.len(),
+                    first.len()
+                )));
+            }
+        }
+    }
+    let header = columns
+        .iter()
+        .map(|(n, _)| csv_field(n))
+        .collect::<Vec<_>>()
+        .join(",")
+        + "\n";
+    let reader = ColumnsCsv {
+        header: header.into_bytes(),
+        columns: slices,
+        row: 0,
+        line: Vec::new(),
+        at: 0,
+    };
+    let mut o = tt_lab::calibrate::Options::default();
+    o.robust = robust;
+    o.specs = specs
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(coefficient, limit)| calib_run::Spec {
+            coefficient,
+            limit,
+            unit: None,
+        })
+        .collect();
+    let s = &study.inner;
+    Answer::of(
+        "calibrate",
+        py.detach(|| {
+            let a = tt_lab::calibrate::calibrate(s, reader, "recording", &o)?;
+            view(&a.view(None))
+        }),
+    )
+}
+
+/// A simulated recording of the calibration `study` plans, as CSV text (the tests' and the
+/// docs' recording: `calib_run::simulate` with the study's sensor as the truth).
+#[pyfunction]
+fn _simulate_recording(
+    py: Python<'_>,
+    study: &Study,
+    sample_rate_hz: f64,
+    dwell_s: f64,
+    seed: u64,
+) -> PyResult<String> {
+    let s = &study.inner;
+    py.detach(|| {
+        let settings =
+            calib_run::simulate::SimSettings::for_study(s, sample_rate_hz, dwell_s, seed);
+        let mut buf = Vec::new();
+        calib_run::simulate::simulate_recording(s, &s.sensor, &settings, &mut buf)
+            .map_err(|e| to_py(tt_lab::calibrate::run_error(e)))?;
+        String::from_utf8(buf).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    })
 }
 
 /// The native module (`ttalloc._native`); `ttalloc/__init__.py` re-exports it.
@@ -478,6 +741,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Answer>()?;
     m.add_class::<AllanResult>()?;
     m.add_function(wrap_pyfunction!(load_study, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate, m)?)?;
+    m.add_function(wrap_pyfunction!(_simulate_recording, m)?)?;
     m.add_function(wrap_pyfunction!(allan_deviation, m)?)?;
     m.add_function(wrap_pyfunction!(_library_seconds_allan, m)?)?;
     m.add_function(wrap_pyfunction!(_library_seconds_check_turntable, m)?)?;

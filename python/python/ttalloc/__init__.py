@@ -10,6 +10,7 @@ from ttalloc._native import (
     InputError,
     Study,
     allan,
+    calibrate,
     load_study,
 )
 
@@ -19,5 +20,6 @@ __all__ = [
     "InputError",
     "Study",
     "allan",
+    "calibrate",
     "load_study",
 ]

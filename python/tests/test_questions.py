@@ -1,0 +1,76 @@
+"""The questions bound after the first round (estimable, Monte Carlo, calibrate) through
+Python: the same golden values as tt-lab's Rust tests of the same studies."""
+
+import io
+
+import numpy as np
+import pytest
+
+import ttalloc
+from conftest import ROOT, TABLE4_SHEET
+
+SIX_FACE = ROOT / "calib-run" / "studies" / "imu-six-face-three-rotation.toml"
+
+
+def test_estimable_on_the_paper_study_finds_the_five_groups(paper):
+    # tt-lab/tests/questions.rs, estimable_on_the_paper_study_finds_the_five_groups
+    v = paper.estimable(TABLE4_SHEET).to_dict()
+    assert v["reading"] == "actual/beta1/printed"
+    assert v["rank"] == 19
+    assert v["columns"] == 22
+    assert v["table_rank"] == 5
+    assert len(v["estimable"]) == 5
+    assert v["allocation"]["joint"]["no_bound_needed"] is True
+    assert v["allocation"]["ordinary"]["no_bound_needed"] is False
+
+
+def test_monte_carlo_follows_the_study_and_its_seed(paper):
+    # tt-lab/tests/plan_questions.rs, monte_carlo_follows_the_study_and_its_seed
+    a = paper.monte_carlo().to_dict()
+    assert a["samples"] == 10_000
+    assert a["seed"] == 2017
+    assert a["bounds"] == "two-step"
+    one = paper.monte_carlo(samples=10_000, seed=7).to_dict()
+    two = paper.monte_carlo(samples=10_000, seed=7).to_dict()
+    assert one["seed"] == 7
+    assert one["worst"] == two["worst"]
+    assert one["worst"] != a["worst"]
+
+
+def simulated_recording(study: ttalloc.Study) -> dict:
+    """The six-face recording tt-lab's Rust test calibrates (50 Hz, 10 s dwell, seed 4), as a
+    dict of column name to array."""
+    text = ttalloc._native._simulate_recording(study, 50.0, 10.0, 4)
+    header = text.split("\n", 1)[0].split(",")
+    data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1)
+    return {name: np.ascontiguousarray(data[:, j]) for j, name in enumerate(header)}
+
+
+def test_calibrate_judges_a_simulated_recording():
+    # tt-lab/tests/plan_questions.rs, calibrate_judges_a_simulated_recording: nine segments,
+    # the caller's specification judged under the ILAC-G8 rule.
+    s = ttalloc.load_study(SIX_FACE)
+    a = ttalloc.calibrate(s, simulated_recording(s), specs={"bg_x": 100.0}).to_dict()
+    assert len(a["run"]["segments"]) == 9
+    last = a["verdicts"][-1]
+    assert last["meets"] is True
+    assert "ILAC-G8" in last["rule"]
+
+
+def test_calibrate_reads_a_dataframe_as_its_dict():
+    pd = pytest.importorskip("pandas")
+    s = ttalloc.load_study(SIX_FACE)
+    rec = simulated_recording(s)
+    assert (
+        ttalloc.calibrate(s, pd.DataFrame(rec)).to_dict()
+        == ttalloc.calibrate(s, rec).to_dict()
+    )
+
+
+def test_calibrate_names_the_short_column():
+    s = ttalloc.load_study(SIX_FACE)
+    rec = simulated_recording(s)
+    name = list(rec)[1]
+    rec[name] = rec[name][:-1]
+    with pytest.raises(ttalloc.InputError, match=f"column `{name}`"):
+        ttalloc.calibrate(s, rec)
