@@ -38,10 +38,11 @@ fn view<T: serde::Serialize>(v: &T) -> Result<serde_json::Value, LabError> {
 }
 
 fn vendor_options(samples: Option<u64>, seed: Option<u64>) -> tt_lab::vendor::Options {
-    let mut o = tt_lab::vendor::Options::default();
-    o.samples = samples;
-    o.seed = seed;
-    o
+    tt_lab::vendor::Options {
+        samples,
+        seed,
+        ..tt_lab::vendor::Options::default()
+    }
 }
 
 /// `allocate --json` with the full-range constraint: the two-step allocation's view, or for a
@@ -204,12 +205,13 @@ impl Study {
         yield_fraction: Option<f64>,
     ) -> PyResult<Answer> {
         let s = &self.inner;
-        let mut o = tt_lab::end_to_end::Options::default();
-        o.samples = samples;
-        o.seed = seed;
-        if let Some(y) = yield_fraction {
-            o.yield_fraction = y;
-        }
+        let d = tt_lab::end_to_end::Options::default();
+        let o = tt_lab::end_to_end::Options {
+            samples,
+            seed,
+            yield_fraction: yield_fraction.unwrap_or(d.yield_fraction),
+            ..d
+        };
         Answer::of(
             "end_to_end",
             py.detach(|| {
@@ -262,8 +264,7 @@ impl Study {
     #[pyo3(signature = (tolerances = None))]
     fn estimable(&self, py: Python<'_>, tolerances: Option<PathBuf>) -> PyResult<Answer> {
         let s = &self.inner;
-        let mut o = tt_lab::estimable::Options::default();
-        o.tolerances = tolerances;
+        let o = tt_lab::estimable::Options { tolerances };
         Answer::of(
             "estimable",
             py.detach(|| {
