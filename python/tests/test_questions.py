@@ -74,3 +74,19 @@ def test_calibrate_names_the_short_column():
     rec[name] = rec[name][:-1]
     with pytest.raises(ttalloc.InputError, match=f"column `{name}`"):
         ttalloc.calibrate(s, rec)
+
+
+def test_allocate_on_a_rate_study_gives_the_rate_tolerances_like_end_to_end():
+    # ttalloc/tests/rate_steps.rs, allocate_shows_the_rate_tolerances_like_end_to_end: the
+    # same computation on the same study, rounding only.
+    same_path_rel = 1e-12
+    s = ttalloc.load_study(ROOT / "studies" / "tactical-rate-table-example.toml")
+    a = s.allocate().to_dict()
+    e = s.end_to_end(samples=2000).to_dict()
+    assert a["two_step_allocation"].startswith("not made: ")
+    for key in ("objective", "allocation_arcmin", "certificate", "equal_effects_arcmin"):
+        assert key not in a
+    assert a["rate_allocation"]["objective_arcmin"] == pytest.approx(
+        e["rate_allocation"]["objective_arcmin"], rel=same_path_rel
+    )
+    assert a["rate_allocation"]["tolerances"] == e["rate_allocation"]["tolerances"]
