@@ -1,8 +1,8 @@
 """The cost of the Python layer: `ttalloc.allan` on a 1e7-sample array and the vendor check of
 the IMU example, each against the Rust library call alone timed in the same run (inside the
 native module, on the same inputs, no conversion). Interleaved rounds (alternating
-which call goes first), best of each. The library's time of the vendor check includes building
-its JSON tree (`python/src/interim.rs`), not the conversion to Python objects.
+which call goes first), best of each. The library's time of the vendor check is
+`tt_lab::vendor::check` alone; the Python call adds its JSON view and the conversion.
 
 Run from the repository's root with the wheel installed (release build):
     python python/bench/bench_allan.py [SAMPLES] [ROUNDS]
