@@ -1,5 +1,6 @@
-//! Schedule design for a study: the rate of its rate steps chosen among candidates
-//! ([`rates`]). The position search and the time-budget designer are still in the command
-//! line (`ttalloc`'s `design_schedule` and `design_budget`) and move here next.
+//! Schedule design for a study: the positions ([`schedule`]), the positions and dwell under a
+//! time budget ([`budget`]), the rate of its rate steps chosen among candidates ([`rates`]).
 
+pub mod budget;
 pub mod rates;
+pub mod schedule;

@@ -102,14 +102,6 @@ pub fn text(c: &RateChoice) -> String {
     )
 }
 
-/// [`tt_lab::design::rates::choose`] as the command's result.
-///
-/// # Errors
-/// As the library's.
-pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<RateChoice> {
-    tt_lab::design::rates::choose(s, designed_deg, rates).map_err(crate::input::lab)
-}
-
 /// [`tt_lab::design::rates::check`] as the command's result.
 ///
 /// # Errors

@@ -23,8 +23,8 @@ use study::Study;
 use study::fmt::num;
 use tt_core::units::objective_to_arcmin;
 pub use tt_lab::end_to_end::{
-    DWELL_SEARCH_S, EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples,
-    direct_bounds, inputs_with, noisy_answer,
+    EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples, direct_bounds,
+    inputs_with, noisy_answer,
 };
 
 /// Arguments of `end-to-end`.

@@ -44,7 +44,7 @@ mod report_api;
 mod requirement;
 mod text;
 // the text modules under their old paths, for the commands and the report that still use them
-use text::{angle, angle_alloc, groups, noise, rate, spec_verdict};
+use text::{angle, angle_alloc, groups, rate, spec_verdict};
 
 pub use input::InputError;
 

@@ -2,19 +2,9 @@
 //! the noise's ("table 0.0061, noise 0.0047 at 3 sigma"), the combined yield, the note when
 //! the study gives noise but no timing. The budget: [`tt_lab::end_to_end::noise_budget`].
 
-use anyhow::Result;
-use e2e_verify::{CombinedOutput, EndToEnd, NoiseBudget, YieldCount};
+use e2e_verify::{CombinedOutput, YieldCount};
 use study::Study;
 use study::fmt::num;
-
-/// The noise of a study's calibration for its timing ([`tt_lab::end_to_end::noise_budget`]),
-/// as the command's result (for the commands that still call it here).
-///
-/// # Errors
-/// An input error naming the study for a noise or timing the calibration refuses.
-pub fn budget(s: &Study, e2e: &EndToEnd) -> Result<Option<NoiseBudget>> {
-    tt_lab::end_to_end::noise_budget(s, e2e).map_err(crate::input::lab)
-}
 
 /// One line when the study gives noise but no timing: the noise part needs the dwell.
 #[must_use]
