@@ -24,7 +24,7 @@ use study::fmt::num;
 use tt_core::units::objective_to_arcmin;
 pub use tt_lab::end_to_end::{
     DWELL_SEARCH_S, EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples,
-    direct_bounds, inputs_with, noisy_answer,
+    direct_bounds,
 };
 
 /// Arguments of `end-to-end`.

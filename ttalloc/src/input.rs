@@ -5,7 +5,7 @@
 
 use study::Study;
 pub use tt_lab::InputError;
-pub use tt_lab::error::{LOWER_BOUNDS_KEY, LibraryError};
+pub use tt_lab::error::LibraryError;
 
 /// A study-level error as the command's error: an input error stays an [`InputError`] (exit 2).
 pub fn lab(e: tt_lab::LabError) -> anyhow::Error {
@@ -18,9 +18,4 @@ pub fn lab(e: tt_lab::LabError) -> anyhow::Error {
 /// [`tt_lab::error::library`] as the command's error.
 pub fn library<E: LibraryError>(e: E, s: &Study) -> anyhow::Error {
     lab(tt_lab::error::library(e, s))
-}
-
-/// [`tt_lab::error::library_at`] as the command's error.
-pub fn library_at<E: LibraryError>(e: E, s: &Study, at: &str) -> anyhow::Error {
-    lab(tt_lab::error::library_at(e, s, at))
 }
