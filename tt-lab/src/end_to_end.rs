@@ -1180,3 +1180,20 @@ impl<'a> EndToEndJson<'a> {
         v
     }
 }
+
+/// The note for values printed as 0 because they lie at or below the computation's precision
+/// ([`e2e_verify::EndToEnd::precisions`]): `None` when no output in `zeroed` (name, unit,
+/// precision) had one.
+#[must_use]
+pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
+    (!zeroed.is_empty()).then(|| {
+        format!(
+            "0 = at or below the computation's precision ({})",
+            zeroed
+                .iter()
+                .map(|(n, u, p)| format!("{n} {} {u}", study::fmt::sig(*p, 2)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}

@@ -426,3 +426,21 @@ pub fn estimable(s: &Study, o: &Options) -> Result<Estimable> {
             .map(e2e_verify::ToleranceSheet::upper_bounds_rad),
     )
 }
+
+/// The study's error model in words when it is not every error constant: `the study's
+/// angle-dependent model (dphi_y1 harmonics [1, 2] of phi1, ..., deps_x constant)`.
+#[must_use]
+pub fn model_words(a: &Estimable) -> Option<String> {
+    let model = a.model.as_ref()?;
+    let names = a.e2e.turntable().rotation_error_names();
+    let each: Vec<String> = names
+        .iter()
+        .zip(model)
+        .map(|(n, v)| format!("{n} {}", crate::allocation::angle::model_name(v)))
+        .collect();
+    Some(format!(
+        "the study's angle-dependent model ({}; each error bounded over the whole revolution): the joint parameters are its {} coefficients (c0 the constant, a_k and b_k the order-k cosine and sine)",
+        each.join(", "),
+        a.est.names().len()
+    ))
+}

@@ -6,6 +6,7 @@ pub mod design;
 pub mod end_to_end;
 pub mod error;
 pub mod estimable;
+pub mod groups;
 pub mod json;
 pub mod loaded;
 pub mod monte_carlo;

@@ -67,3 +67,31 @@ pub fn study_source(given: Option<&Path>) -> StudySource {
         }),
     }
 }
+
+/// `s` as one word of a POSIX shell command line, to copy and paste: as is when it holds only
+/// `A-Z a-z 0-9 _ - . / : = @ % + ,`; in single quotes otherwise (`'my study;echo x.toml'`,
+/// a quote as `'\''`); with a control character, in bash's `$'...'` form so that the line stays
+/// one visible line (`$'a\nb'`).
+#[must_use]
+pub fn shell_quote(s: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "_-./:=@%+,".contains(c);
+    if !s.is_empty() && s.chars().all(safe) {
+        return s.to_string();
+    }
+    if s.chars().any(study::fmt::is_unsafe_char) {
+        let mut out = String::from("$'");
+        for c in s.chars() {
+            match c {
+                '\\' => out.push_str("\\\\"),
+                '\'' => out.push_str("\\'"),
+                c if study::fmt::is_unsafe_char(c) => {
+                    out.push_str(&format!("\\U{:08x}", u32::from(c)));
+                }
+                c => out.push(c),
+            }
+        }
+        out.push('\'');
+        return out;
+    }
+    format!("'{}'", s.replace('\'', "'\\''"))
+}

@@ -2,9 +2,9 @@
 
 use crate::figures::MAX_PLOT_ABS;
 
-/// Why a figure could not be drawn. Every variant names the figure (its title, and the panel's
-/// after a colon), as the caller gave it.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+/// Why a report or a figure could not be made. Every figure variant names the figure (its
+/// title, and the panel's after a colon), as the caller gave it.
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
     /// A plotted value is not finite, or beyond ±[`MAX_PLOT_ABS`].
@@ -50,6 +50,23 @@ pub enum Error {
     /// The plotting backend failed (its message).
     #[error("drawing a figure failed: {0}")]
     Drawing(String),
+    /// A study-level question failed: its input errors ([`tt_lab::LabError::Input`]) name the
+    /// key or option, so that the command line exits with code 2 for them.
+    #[error(transparent)]
+    Lab(#[from] tt_lab::LabError),
+    /// `results.json` could not be written or read back.
+    #[error("results.json: {0}")]
+    Json(#[from] serde_json::Error),
+    /// The report failed its own check (a NaN, a broken internal link, a missing file): an
+    /// internal error, nothing should be written.
+    #[error("internal error: {0}")]
+    Internal(String),
+}
+
+impl From<tt_lab::InputError> for Error {
+    fn from(e: tt_lab::InputError) -> Self {
+        Self::Lab(tt_lab::LabError::Input(e))
+    }
 }
 
 /// The crate's result type.

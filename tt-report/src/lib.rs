@@ -1,9 +1,15 @@
 #![doc = include_str!("../README.md")]
 
+mod compute;
 mod error;
+mod paper;
+mod render;
+mod report;
+mod results;
 
 pub mod doc;
 pub mod figures;
 
 pub use doc::{Block, Doc};
 pub use error::{Error, Result};
+pub use report::{Report, ReportFile, ReportOptions};

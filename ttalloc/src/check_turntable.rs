@@ -24,7 +24,7 @@ use clap::Parser;
 use e2e_verify::{EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use std::path::PathBuf;
 use study::fmt::num;
-pub use tt_lab::vendor::{CheckJson, NoisyCheck, noisy_checks};
+pub use tt_lab::vendor::{CheckJson, NoisyCheck};
 
 /// Arguments of `check-turntable`.
 #[derive(Debug, Parser)]

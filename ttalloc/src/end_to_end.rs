@@ -24,7 +24,6 @@ use study::fmt::num;
 use tt_core::units::objective_to_arcmin;
 pub use tt_lab::end_to_end::{
     EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples, direct_bounds,
-    inputs_with, noisy_answer,
 };
 
 /// Arguments of `end-to-end`.
@@ -424,13 +423,4 @@ pub fn run(args: &Args) -> Result<()> {
         "over the direct allocation's box (the study's reading)",
     ));
     crate::out::print(&t)
-}
-
-/// The simulator of a study, as the command's result (for the commands that still call it
-/// here: the lead removes this after the merge).
-///
-/// # Errors
-/// An [`InputError`] naming the study.
-pub fn simulator(s: &Study) -> Result<EndToEnd> {
-    tt_lab::loaded::simulator(s).map_err(crate::input::lab)
 }

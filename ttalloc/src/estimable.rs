@@ -34,7 +34,7 @@ use clap::Parser;
 use e2e_verify::DirectAllocation;
 use std::path::PathBuf;
 use study::fmt::{num, sig};
-pub use tt_lab::estimable::{Estimable, EstimableJson, JOINT_ITERATIONS, compute, to_json};
+pub use tt_lab::estimable::{Estimable, JOINT_ITERATIONS, model_words, to_json};
 
 /// Arguments of `estimable`.
 #[derive(Debug, Parser)]
@@ -49,24 +49,6 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// The study's error model in words when it is not every error constant: `the study's
-/// angle-dependent model (dphi_y1 harmonics [1, 2] of phi1, ..., deps_x constant)`.
-#[must_use]
-pub fn model_words(a: &Estimable) -> Option<String> {
-    let model = a.model.as_ref()?;
-    let names = a.e2e.turntable().rotation_error_names();
-    let each: Vec<String> = names
-        .iter()
-        .zip(model)
-        .map(|(n, v)| format!("{n} {}", crate::text::angle_alloc::model_name(v)))
-        .collect();
-    Some(format!(
-        "the study's angle-dependent model ({}; each error bounded over the whole revolution): the joint parameters are its {} coefficients (c0 the constant, a_k and b_k the order-k cosine and sine)",
-        each.join(", "),
-        a.est.names().len()
-    ))
 }
 
 fn allocation_line(names: &[&str], d: &DirectAllocation) -> String {

@@ -3,9 +3,7 @@
 //! here a [`tt_lab::LabError`] becomes the command's error, its input errors still an
 //! [`InputError`] for the exit code.
 
-use study::Study;
 pub use tt_lab::InputError;
-pub use tt_lab::error::{LOWER_BOUNDS_KEY, LibraryError};
 
 /// A study-level error as the command's error: an input error stays an [`InputError`] (exit 2).
 pub fn lab(e: tt_lab::LabError) -> anyhow::Error {
@@ -13,14 +11,4 @@ pub fn lab(e: tt_lab::LabError) -> anyhow::Error {
         tt_lab::LabError::Input(i) => anyhow::Error::new(i),
         other => anyhow::Error::new(other),
     }
-}
-
-/// [`tt_lab::error::library`] as the command's error.
-pub fn library<E: LibraryError>(e: E, s: &Study) -> anyhow::Error {
-    lab(tt_lab::error::library(e, s))
-}
-
-/// [`tt_lab::error::library_at`] as the command's error.
-pub fn library_at<E: LibraryError>(e: E, s: &Study, at: &str) -> anyhow::Error {
-    lab(tt_lab::error::library_at(e, s, at))
 }

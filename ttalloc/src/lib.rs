@@ -40,11 +40,10 @@ mod outdir;
 #[doc(hidden)]
 pub mod paths;
 mod report;
-mod report_api;
 mod requirement;
 mod text;
 // the text modules under their old paths, for the commands and the report that still use them
-use text::{angle, angle_alloc, groups, rate, spec_verdict};
+use text::groups;
 
 pub use input::InputError;
 
@@ -63,7 +62,8 @@ pub mod fuzzing {
     pub use crate::paths::workspace_root;
     pub use crate::report::default_report_dir;
 }
-pub use report_api::{Report, ReportFile, ReportOptions};
+/// The report as a library (the `tt-report` crate), re-exported for the callers of `ttalloc::Report`.
+pub use tt_report::{Report, ReportFile, ReportOptions};
 
 /// Commands of the turntable error-allocation project (Zhao et al. 2017, generalised).
 #[derive(Debug, clap::Parser)]

@@ -37,31 +37,4 @@ pub fn print(text: &str) -> anyhow::Result<()> {
     out.flush().map_err(io)
 }
 
-/// A CSV field (RFC 4180) from a file's text (a unit): control characters shown escaped
-/// ([`study::fmt::visible`]), in double quotes when it holds a comma or a quote.
-#[must_use]
-pub fn csv_field(s: &str) -> String {
-    let v = study::fmt::visible(s);
-    if v.contains([',', '"']) {
-        format!("\"{}\"", v.replace('"', "\"\""))
-    } else {
-        v.into_owned()
-    }
-}
-
-/// The note for values printed as 0 because they lie at or below the computation's precision
-/// ([`e2e_verify::EndToEnd::precisions`]): `None` when no output in `zeroed` (name, unit,
-/// precision) had one.
-#[must_use]
-pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
-    (!zeroed.is_empty()).then(|| {
-        format!(
-            "0 = at or below the computation's precision ({})",
-            zeroed
-                .iter()
-                .map(|(n, u, p)| format!("{n} {} {u}", study::fmt::sig(*p, 2)))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )
-    })
-}
+pub use tt_lab::end_to_end::precision_note;

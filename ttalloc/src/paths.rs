@@ -3,7 +3,9 @@
 //! paper's study) against the workspace root, and outside a clone the copy compiled in.
 
 use std::path::Path;
-pub use tt_lab::paths::{PAPER_STUDY, PAPER_STUDY_TEXT, StudySource, study_source, workspace_root};
+pub use tt_lab::paths::{
+    PAPER_STUDY, PAPER_STUDY_TEXT, StudySource, shell_quote, study_source, workspace_root,
+};
 
 /// How to show a path in reports: as the user gave it; the default study as its workspace
 /// path (never an absolute path of the machine).
@@ -18,34 +20,6 @@ pub fn shown(given: Option<&Path>) -> String {
 #[must_use]
 pub fn visible(p: &Path) -> String {
     study::fmt::visible(&p.display().to_string()).into_owned()
-}
-
-/// `s` as one word of a POSIX shell command line, to copy and paste: as is when it holds only
-/// `A-Z a-z 0-9 _ - . / : = @ % + ,`; in single quotes otherwise (`'my study;echo x.toml'`,
-/// a quote as `'\''`); with a control character, in bash's `$'...'` form so that the line stays
-/// one visible line (`$'a\nb'`).
-#[must_use]
-pub fn shell_quote(s: &str) -> String {
-    let safe = |c: char| c.is_ascii_alphanumeric() || "_-./:=@%+,".contains(c);
-    if !s.is_empty() && s.chars().all(safe) {
-        return s.to_string();
-    }
-    if s.chars().any(study::fmt::is_unsafe_char) {
-        let mut out = String::from("$'");
-        for c in s.chars() {
-            match c {
-                '\\' => out.push_str("\\\\"),
-                '\'' => out.push_str("\\'"),
-                c if study::fmt::is_unsafe_char(c) => {
-                    out.push_str(&format!("\\U{:08x}", u32::from(c)));
-                }
-                c => out.push(c),
-            }
-        }
-        out.push('\'');
-        return out;
-    }
-    format!("'{}'", s.replace('\'', "'\\''"))
 }
 
 #[cfg(test)]

@@ -3,7 +3,8 @@
 
 pub mod angle;
 pub mod angle_alloc;
-pub mod groups;
+/// The groups' sentence, shared with the report: the study-level library's.
+pub use tt_lab::groups;
 pub mod noise;
 pub mod rate;
 pub mod spec_verdict;

@@ -68,25 +68,6 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
     s
 }
 
-/// The verdict over both boxes as a sentence (Markdown): whether every output's worst case
-/// (linear and at the worst vertex on the exact chain) is within its accuracy, and the yield.
-#[must_use]
-pub fn verdict_sentence(e2e: &EndToEnd, c: &RateCheck) -> String {
-    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
-    let verdict = if c.meets_every_accuracy(e2e) {
-        "these tolerances **meet** every accuracy with the rate errors and translations at their bounds (the worst turntable of both boxes, linearised and on the exact chain at its vertex)"
-    } else {
-        "these tolerances do **not** meet every accuracy with the rate errors and translations at their bounds (a turntable within both boxes misses)"
-    };
-    format!(
-        "{verdict}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%)",
-        100.0 * c.meets as f64 / c.samples as f64,
-        c.samples,
-        100.0 * lo,
-        100.0 * hi
-    )
-}
-
 /// The allocation with the rate tolerances as text.
 #[must_use]
 pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {

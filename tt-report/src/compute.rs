@@ -4,13 +4,11 @@
 //! certificates, the Monte Carlo, the end-to-end answer, the vendor check, the designed
 //! schedule's comparison and, for the paper, the claims.
 
-use crate::InputError;
-use crate::loaded::{self as st, StudyRequirement};
+use crate::{Error, Result};
 use alloc_opt::{
     Allocation, AllocationProblem, Allocator, EqualEffects, ExactAxisCheck, SensitivityWeighted,
     exact_chain_check,
 };
-use anyhow::{Context, Result};
 use calib_lsq::{CalibError, OrientationRequirement, Reading, RequirementProblem, Surface};
 use e2e_verify::ToleranceSheet;
 use e2e_verify::paper::registry::{self, ClaimEvaluation, PaperRun};
@@ -20,6 +18,8 @@ use rayon::prelude::*;
 use std::time::Instant;
 use study::Study;
 use tt_kinematics::LinearModel;
+use tt_lab::InputError;
+use tt_lab::loaded::{self as st, StudyRequirement};
 
 /// Grid points per side of a rate-error surface.
 pub const SURFACE_POINTS: usize = 41;
@@ -135,29 +135,29 @@ pub struct Computed {
     pub designed: Option<[ScheduleFacts; 2]>,
     /// The answer for both error sources (the study's noise over its timing, 3 sigma), when
     /// the study gives noise and a timing.
-    pub noise: Option<crate::end_to_end::NoisyAnswer>,
+    pub noise: Option<tt_lab::end_to_end::NoisyAnswer>,
     /// The vendor check with the noise part (study's reading), when both are given.
-    pub vendor_noise: Option<crate::check_turntable::NoisyCheck>,
+    pub vendor_noise: Option<tt_lab::vendor::NoisyCheck>,
     /// The vendor check over the angular box and the sheet's rate errors and translations
     /// together (study's reading; `check-turntable`'s `rate_steps`), for a study with rate
     /// steps.
-    pub vendor_rate: Option<crate::rate::RateCheck>,
+    pub vendor_rate: Option<tt_lab::vendor::rate::RateCheck>,
     /// The direct allocation of the angles and the rate tolerances together (study's
     /// reading), for a study with rate steps.
-    pub rate_alloc: Option<crate::rate::RateAllocated>,
+    pub rate_alloc: Option<tt_lab::vendor::rate::RateAllocated>,
     /// The paper's extras.
     pub paper: Option<PaperExtras>,
     /// Which table errors the calibration estimates itself (joint least squares, user's
     /// reading), at the vendor's sheet when given.
     /// `None` for a study with rate steps (the joint estimation takes static positions only).
-    pub estimable: Option<crate::estimable::Estimable>,
+    pub estimable: Option<tt_lab::estimable::Estimable>,
     /// The allocations under the study's angle-dependent model and after compensation
     /// (`None` when the study declares neither).
-    pub angle_alloc: Option<crate::angle_alloc::AngleAllocations>,
+    pub angle_alloc: Option<tt_lab::allocation::angle::AngleAllocations>,
     /// The vendor sheet's pairs (wobble, orthogonality) allocated with one tolerance each, as
-    /// a disc and as a square, per reading ([`crate::angle::sheet_allocations`]; empty when
+    /// a disc and as a square, per reading ([`tt_lab::vendor::angle::sheet_allocations`]; empty when
     /// the sheet states no pair, `None` without a sheet or for a study with rate steps).
-    pub disc_alloc: Option<Vec<(EndToEnd, crate::angle::DiscAllocation)>>,
+    pub disc_alloc: Option<Vec<(EndToEnd, tt_lab::vendor::angle::DiscAllocation)>>,
     /// The verdict against the study's `[[specifications]]` (a GUM budget each) over the
     /// direct allocation's box under the study's reading, as `end-to-end` states it, with the
     /// tolerances it was evaluated at (rad); `None` without specifications.
@@ -171,7 +171,7 @@ type AnswerPart = (
     BuyersAnswer,
     Option<(ToleranceSheet, TurntableCheck)>,
     Option<(MonteCarlo, McResult)>,
-    Option<crate::end_to_end::NoisyAnswer>,
+    Option<tt_lab::end_to_end::NoisyAnswer>,
 );
 
 /// With `XTASK_TIMING` set, print how long a phase took (to standard error).
@@ -181,8 +181,8 @@ fn timing(what: &str, since: Instant) {
     }
 }
 
-fn calib(s: &Study, e: CalibError) -> anyhow::Error {
-    crate::input::library(e, s)
+fn calib(s: &Study, e: CalibError) -> tt_lab::LabError {
+    tt_lab::error::library(e, s)
 }
 
 /// The planes, cuts and surfaces of every output.
@@ -271,11 +271,11 @@ fn planes(
 
 /// The facts of one study's schedule (for the designed-schedule comparison).
 fn schedule_facts(s: &Study) -> Result<ScheduleFacts> {
-    let e2e = crate::end_to_end::simulator(s)?;
+    let e2e = tt_lab::loaded::simulator(s)?;
     let linear = e2e.linearization();
     let direct = e2e
         .allocate_direct(&linear, &s.lower_bounds_rad)
-        .map_err(|e| crate::input::library(e, s))?;
+        .map_err(|e| tt_lab::error::library(e, s))?;
     Ok(ScheduleFacts {
         path: s.path.clone(),
         positions: s.positions_deg.len(),
@@ -350,7 +350,7 @@ fn differing_key(s: &Study, d: &Study) -> Option<String> {
     if let Some(j) = (0..names.len())
         .find(|&j| s.lower_bounds_rad[j].to_bits() != d.lower_bounds_rad[j].to_bits())
     {
-        return Some(format!("{}.{}", crate::input::LOWER_BOUNDS_KEY, names[j]));
+        return Some(format!("{}.{}", tt_lab::error::LOWER_BOUNDS_KEY, names[j]));
     }
     differing_model_key(s, d)
 }
@@ -422,9 +422,9 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     }
     let requirement = st::requirement(s)?;
     let problem = st::requirement_problem(s);
-    let e2e = crate::end_to_end::simulator(s)?;
+    let e2e = tt_lab::loaded::simulator(s)?;
     // the requirement above is the one `inputs` would compute again (a box search per output)
-    let mut inputs = crate::end_to_end::inputs_with(
+    let mut inputs = tt_lab::end_to_end::inputs_with(
         s,
         &requirement,
         options.samples,
@@ -452,7 +452,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 req,
                 s.lower_bounds_rad.clone(),
             )
-            .map_err(|e| crate::input::library(e, s))?,
+            .map_err(|e| tt_lab::error::library(e, s))?,
         ),
         None => None,
     };
@@ -465,8 +465,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
             .zip(lb)
             .map(|(u, l)| if u.is_finite() { *u } else { *l })
             .collect();
-        let b =
-            ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| crate::input::library(e, s))?;
+        let b = ErrorBox::new(&s.turntable, lb.clone(), ub)
+            .map_err(|e| tt_lab::error::library(e, s))?;
         let mut cfg = McConfig::new(
             options.samples,
             options.seed,
@@ -474,7 +474,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         );
         cfg.histogram_bins = bins;
         MonteCarlo::new(&s.turntable, b, cfg)
-            .map_err(|e| crate::input::library_at(e, s, "--samples"))
+            .map_err(|e| Error::from(tt_lab::error::library_at(e, s, "--samples")))
     };
 
     // Two independent branches on the two cores: (two-step, its Monte Carlo, the end-to-end
@@ -485,7 +485,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         BuyersAnswer,
         Option<(ToleranceSheet, TurntableCheck)>,
         Option<(MonteCarlo, McResult)>,
-        Option<crate::end_to_end::NoisyAnswer>,
+        Option<tt_lab::end_to_end::NoisyAnswer>,
     );
     type Right = (
         Option<Allocation>,
@@ -507,7 +507,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                         Some(p) => Some(
                             SensitivityWeighted::general()
                                 .allocate(p)
-                                .map_err(|e| crate::input::library(e, s))?,
+                                .map_err(|e| tt_lab::error::library(e, s))?,
                         ),
                         None => None,
                     };
@@ -516,7 +516,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 },
                 || {
                     let a = e2e_verify::answer_allocations(&e2e, &inputs)
-                        .map_err(|e| crate::input::library(e, s));
+                        .map_err(|e| tt_lab::error::library(e, s));
                     timing("end-to-end allocations", t0);
                     a
                 },
@@ -528,8 +528,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 || -> Result<Option<(Vec<alloc_opt::ExactAxisCheck>, MonteCarlo, McResult)>> {
                     match (&alloc_problem, &ours) {
                         (Some(p), Some(a)) => {
-                            let exact =
-                                exact_chain_check(p, a).map_err(|e| crate::input::library(e, s))?;
+                            let exact = exact_chain_check(p, a)
+                                .map_err(|e| tt_lab::error::library(e, s))?;
                             let monte_carlo = mc_config(a.upper_bounds_rad())?;
                             let result = monte_carlo.run();
                             timing("two-step Monte Carlo", t0);
@@ -541,18 +541,18 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 || -> Result<AnswerPart> {
                     let answer = allocations?
                         .answer(ours.clone())
-                        .map_err(|e| crate::input::library(e, s))?;
+                        .map_err(|e| tt_lab::error::library(e, s))?;
                     timing("end-to-end answer", t0);
                     // the noise part (it needs the answer) beside the vendor check and Table 4
                     let (noise, rest) = rayon::join(
                         || {
-                            let noise = crate::end_to_end::noisy_answer(
+                            let noise = tt_lab::end_to_end::noisy_answer(
                                 s,
                                 &e2e,
                                 &answer,
                                 e2e_verify::DEFAULT_K_SIGMA,
                             )
-                            .map_err(crate::input::lab);
+                            .map_err(crate::Error::from);
                             timing("noise and test time", t0);
                             noise
                         },
@@ -563,7 +563,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                                         e2e_verify::McSettings::new(options.samples, options.seed);
                                     let c = e2e
                                         .check_sheet(tol, &settings)
-                                        .map_err(|e| crate::input::library(e, s))?;
+                                        .map_err(|e| tt_lab::error::library(e, s))?;
                                     Some((tol.clone(), c))
                                 }
                                 None => None,
@@ -603,7 +603,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 Some(p) if options.paper || s.turntable.free_joints().len() <= 1 => Some(
                     EqualEffects
                         .allocate(p)
-                        .map_err(|e| crate::input::library(e, s))?,
+                        .map_err(|e| tt_lab::error::library(e, s))?,
                 ),
                 _ => None,
             };
@@ -652,7 +652,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
                 table4_monte_carlo: (&mc, &result),
                 end_to_end: (&e2e, &answer),
             };
-            let claims = registry::evaluate(&run).context("evaluating the paper's claims")?;
+            let claims = registry::evaluate(&run)
+                .map_err(|e| Error::Internal(format!("evaluating the paper's claims: {e}")))?;
             Some(PaperExtras {
                 table4_monte_carlo: mc,
                 table4_result: result,
@@ -669,7 +670,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         _ => None,
     };
     let vendor_noise = match &vendor {
-        Some((tol, chk)) => crate::check_turntable::noisy_checks(
+        Some((tol, chk)) => tt_lab::vendor::noisy_checks(
             s,
             &e2e,
             &[(e2e.clone(), chk.clone())],
@@ -677,52 +678,52 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
             &e2e_verify::McSettings::new(options.samples, options.seed),
             e2e_verify::DEFAULT_K_SIGMA,
         )
-        .map_err(crate::input::lab)?
+        .map_err(crate::Error::from)?
         .pop(),
         None => None,
     };
     let vendor_rate = match &vendor {
         Some((tol, _)) if e2e.has_rate_steps() => Some(
-            crate::rate::check(
+            tt_lab::vendor::rate::check(
                 s,
                 &e2e,
                 tol,
                 &e2e_verify::McSettings::new(options.samples, options.seed),
             )
-            .map_err(crate::input::lab)?,
+            .map_err(crate::Error::from)?,
         ),
         _ => None,
     };
     timing("vendor check with rate errors", started);
-    let rate_alloc = crate::rate::allocation(
+    let rate_alloc = tt_lab::vendor::rate::allocation(
         s,
         &e2e,
         &e2e_verify::McSettings::new(options.samples, options.seed),
     )
-    .map_err(crate::input::lab)?;
+    .map_err(crate::Error::from)?;
     timing("allocation with rate tolerances", started);
     // the joint estimation is built on static positions (one orientation error each)
     let estimable = if e2e.has_rate_steps() {
         None
     } else {
         Some(
-            crate::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.upper_bounds_rad()))
-                .map_err(crate::input::lab)?,
+            tt_lab::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.upper_bounds_rad()))
+                .map_err(crate::Error::from)?,
         )
     };
     timing("estimable", started);
-    let angle_alloc = crate::angle_alloc::compute(s, &e2e).map_err(crate::input::lab)?;
+    let angle_alloc = tt_lab::allocation::angle::compute(s, &e2e).map_err(crate::Error::from)?;
     timing("angle-dependent allocation", started);
     let disc_alloc = match &vendor {
-        Some((tol, _)) if !e2e.has_rate_steps() => {
-            Some(crate::angle::sheet_allocations(s, &e2e, tol).map_err(crate::input::lab)?)
-        }
+        Some((tol, _)) if !e2e.has_rate_steps() => Some(
+            tt_lab::vendor::angle::sheet_allocations(s, &e2e, tol).map_err(crate::Error::from)?,
+        ),
         _ => None,
     };
     timing("the sheet's discs allocated", started);
     let bounds = answer.readings()[0].direct().upper_bounds_rad().to_vec();
-    let decision = crate::spec_verdict::compute(s, &e2e, &bounds)
-        .map_err(crate::input::lab)?
+    let decision = tt_lab::vendor::spec::compute(s, &e2e, &bounds)
+        .map_err(crate::Error::from)?
         .map(|v| (bounds, v));
     timing("the specifications' budgets", started);
     Ok(Computed {

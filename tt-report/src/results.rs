@@ -1,16 +1,16 @@
 //! `results.json`: every number of the report at full precision, as typed view structs
 //! (`#[derive(Serialize)]`) built from [`Computed`]; each field's doc comment gives its unit.
 //! Keys come out in alphabetical order ([`serde_json::Value`]'s map, as every command's
-//! `--json`, [`crate::json`]).
+//! `--json`, [`tt_lab::json`]).
 
-use super::compute::Computed;
-use super::paper;
-use crate::json::{GroupJson, PerAngle};
+use crate::compute::Computed;
+use crate::paper;
 use serde::{Serialize, Serializer};
 use serde_json::Value;
 use std::cell::Cell;
 use std::collections::BTreeMap;
 use tt_core::units::{objective_to_arcmin, rad_to_arcmin, rad_to_deg};
+use tt_lab::json::{GroupJson, PerAngle};
 
 thread_local! {
     /// Set when a NaN was put into `results.json` (an internal error: nothing is written).
@@ -193,7 +193,7 @@ struct NoiseJson<'a> {
     /// The trade-off's knee, s.
     knee_dwell_s: Option<Num>,
     /// What the trade-off scanned (the study's dwells scaled alike).
-    dwell_scan: crate::end_to_end::Scanned,
+    dwell_scan: tt_lab::end_to_end::Scanned,
     /// The trade-off.
     tradeoff: Vec<TradeoffPointJson>,
 }
@@ -299,7 +299,7 @@ struct VendorJson<'a> {
     /// Every output.
     outputs: Vec<VendorOutputJson<'a>>,
     /// With rate steps: the check with the errors only rotation exposes (`null` otherwise).
-    rate_steps: Option<crate::rate::RateCheckJson<'a>>,
+    rate_steps: Option<tt_lab::vendor::rate::RateCheckJson<'a>>,
 }
 
 /// A schedule beside the study's (`--designed`).
@@ -362,7 +362,7 @@ struct ComparisonJson<'a> {
 #[serde(untagged)]
 enum EstimableJson<'a> {
     /// The answer.
-    Answer(Box<crate::estimable::EstimableJson<'a>>),
+    Answer(Box<tt_lab::estimable::EstimableJson<'a>>),
     /// None.
     Note {
         /// Why.
@@ -421,11 +421,11 @@ struct ResultsJson<'a> {
     paper_versus_ours: Option<Vec<ComparisonJson<'a>>>,
     /// With rate steps: the allocation with the rate tolerances; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
-    rate_allocation: Option<crate::rate::RateAllocationJson<'a>>,
+    rate_allocation: Option<tt_lab::vendor::rate::RateAllocationJson<'a>>,
     /// With errors that vary with the shaft angle: the allocations under its model; absent
     /// otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
-    angle_dependent: Option<crate::angle_alloc::AngleDependentJson<'a>>,
+    angle_dependent: Option<tt_lab::allocation::angle::AngleDependentJson<'a>>,
     /// The table errors the calibration estimates itself, or why not.
     estimable: EstimableJson<'a>,
     /// With `[[specifications]]`: the verdict and GUM budget of each over the direct
@@ -443,7 +443,7 @@ struct SpecificationsJson {
     tolerances_rad: BTreeMap<String, Num>,
     /// The verdict, rule and budgets.
     #[serde(flatten)]
-    verdict: crate::spec_verdict::SpecVerdictJson,
+    verdict: tt_lab::vendor::spec::SpecVerdictJson,
 }
 
 /// One box's answer.
@@ -662,7 +662,7 @@ pub(super) fn results_json(
             rate_steps: c
                 .vendor_rate
                 .as_ref()
-                .map(|r| crate::rate::RateCheckJson::new(&c.e2e, r)),
+                .map(|r| tt_lab::vendor::rate::RateCheckJson::new(&c.e2e, r)),
         }),
         designed: c.designed.as_ref().map(|ds| {
             ds.iter()
@@ -715,15 +715,15 @@ pub(super) fn results_json(
         rate_allocation: c
             .rate_alloc
             .as_ref()
-            .map(|r| crate::rate::RateAllocationJson::new(&c.e2e, r)),
+            .map(|r| tt_lab::vendor::rate::RateAllocationJson::new(&c.e2e, r)),
         angle_dependent: c
             .angle_alloc
             .as_ref()
-            .map(|a| crate::angle_alloc::AngleDependentJson::new(&c.e2e, a)),
+            .map(|a| tt_lab::allocation::angle::AngleDependentJson::new(&c.e2e, a)),
         estimable: match &c.estimable {
-            Some(a) => EstimableJson::Answer(Box::new(crate::estimable::to_json(s, a))),
+            Some(a) => EstimableJson::Answer(Box::new(tt_lab::estimable::to_json(s, a))),
             None => EstimableJson::Note {
-                note: super::ESTIMABLE_STATIC_ONLY,
+                note: crate::report::ESTIMABLE_STATIC_ONLY,
             },
         },
         specifications: c.decision.as_ref().map(|(ub, v)| SpecificationsJson {
@@ -732,7 +732,7 @@ pub(super) fn results_json(
                 .zip(ub)
                 .map(|(n, b)| ((*n).to_string(), f(*b)))
                 .collect(),
-            verdict: crate::spec_verdict::SpecVerdictJson::new(s, Some(v)),
+            verdict: tt_lab::vendor::spec::SpecVerdictJson::new(s, Some(v)),
         }),
     };
     serde_json::to_value(r)

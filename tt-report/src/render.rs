@@ -1,8 +1,10 @@
-//! The report's sections for any study: formatting of what [`super::compute`] computed
+//! The report's sections for any study: formatting of what [`crate::compute`] computed
 //! (no science here: every number comes from a library result).
 
-use super::compute::{Computed, OutputPlane};
-use anyhow::Result;
+use crate::Result;
+use crate::compute::{Computed, OutputPlane};
+use crate::doc::{self, Doc};
+use crate::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
 use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict};
 use std::fmt::Write as _;
@@ -10,8 +12,6 @@ use study::fmt::{exact, num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{Factor, OrientationAxis};
-use tt_report::doc::{self, Doc};
-use tt_report::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 
 /// Greek letter of angle `k` (ψ, θ, γ).
 #[must_use]
@@ -126,10 +126,10 @@ fn meets_md(m: BoxMeets) -> String {
     }
 }
 
-/// The groups of errors that act only together, one line each ([`crate::groups::sentence`]),
+/// The groups of errors that act only together, one line each ([`tt_lab::groups::sentence`]),
 /// with the bound of their combination under each labelled box; nothing when there is none.
 fn group_list(doc: &mut Doc, t: &tt_kinematics::Turntable, bounds: &[(&str, &[f64])]) {
-    let lines = crate::groups::lines(t, bounds);
+    let lines = tt_lab::groups::lines(t, bounds);
     if !lines.is_empty() {
         doc.list(lines);
     }
@@ -335,7 +335,7 @@ impl<'a> Sections<'a> {
                     c.vendor_rate.as_ref().map_or(String::new(), |r| {
                         format!(
                             " The study has rate steps, and with the sheet's rate errors and translations: {}.",
-                            crate::rate::verdict_sentence(&c.e2e, r)
+                            verdict_sentence(&c.e2e, r)
                         )
                     })
                 )
@@ -450,10 +450,10 @@ impl<'a> Sections<'a> {
                     t.coefficient,
                     t.regressor,
                     exact(t.value),
-                    crate::out::csv_field(&o.coefficient_unit(t)),
+                    csv_field(&o.coefficient_unit(t)),
                     !t.known,
                     exact(o.accuracy),
-                    crate::out::csv_field(&o.unit)
+                    csv_field(&o.unit)
                 );
             }
         }
@@ -1326,7 +1326,7 @@ impl<'a> Sections<'a> {
             .iter()
             .map(|&k| (outs[k].0.as_str(), outs[k].1.as_str(), p[k]))
             .collect();
-        if let Some(n) = crate::out::precision_note(&zeroed) {
+        if let Some(n) = tt_lab::end_to_end::precision_note(&zeroed) {
             self.doc.p(format!("Worst cases: {n}."));
         }
     }
@@ -1798,14 +1798,14 @@ impl<'a> Sections<'a> {
     /// specification its verdict line with the rule (as `end-to-end` prints it) and its GUM
     /// budget table, then one figure of every input's share of u_c² per specification. Every
     /// figure is the library's ([`e2e_verify::EndToEnd::plan_verdict`] through
-    /// [`crate::spec_verdict`]), in the specification's unit.
+    /// [`tt_lab::vendor::spec`]), in the specification's unit.
     pub fn specifications(&mut self) -> Result<()> {
         let c = self.c;
         let Some((_, v)) = &c.decision else {
             return Ok(());
         };
         let s = &c.study;
-        let j = crate::spec_verdict::SpecVerdictJson::new(s, Some(v));
+        let j = tt_lab::vendor::spec::SpecVerdictJson::new(s, Some(v));
         self.doc.h(
             2,
             "Specifications: uncertainty budgets and the decision rule",
@@ -1829,7 +1829,7 @@ impl<'a> Sections<'a> {
         for (i, sp) in j.specifications.iter().enumerate() {
             self.doc.h(3, doc::text(&sp.quantity));
             self.doc
-                .p(doc::text(&crate::spec_verdict::spec_line(s, v, i)));
+                .p(doc::text(&tt_lab::vendor::spec::spec_line(s, v, i)));
             let u = doc::text(&sp.unit);
             let mut rows: Vec<Vec<String>> = sp
                 .budget
@@ -1899,7 +1899,7 @@ impl<'a> Sections<'a> {
                 .collect();
             series.push((sp.quantity.clone(), share));
         }
-        self.doc.p(doc::text(&crate::spec_verdict::headline(s, v)));
+        self.doc.p(doc::text(&tt_lab::vendor::spec::headline(s, v)));
         let svg = figures::hbar_figure(
             "Contributions to the combined variance u_c² per specification",
             &categories,
@@ -1936,7 +1936,7 @@ impl<'a> Sections<'a> {
                 .map(|k| {
                     format!(
                         "`{}` {}",
-                        crate::groups::contribution_name(&c.study.turntable, k.group()),
+                        tt_lab::groups::contribution_name(&c.study.turntable, k.group()),
                         pct(k.worst_share())
                     )
                 })
@@ -1986,7 +1986,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The sheet's pairs (wobble, orthogonality) allocated with one tolerance each, as a disc
-    /// and as a square ([`crate::angle::sheet_allocations`]).
+    /// and as a square ([`tt_lab::vendor::angle::sheet_allocations`]).
     fn disc_allocation(&mut self) {
         let Some(al) = &self.c.disc_alloc else { return };
         if al.is_empty() {
@@ -2035,7 +2035,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The direct allocation of a study with rate steps: the angles and the rate tolerances
-    /// (rate accuracy, ripple, translations) allocated together (`crate::rate::allocation`).
+    /// (rate accuracy, ripple, translations) allocated together (`tt_lab::vendor::rate::allocation`).
     pub fn rate_allocation(&mut self) {
         let c = self.c;
         let Some(ra) = &c.rate_alloc else { return };
@@ -2072,7 +2072,7 @@ impl<'a> Sections<'a> {
                     vec![
                         doc::code(n),
                         if b.is_finite() {
-                            let (v, unit) = crate::rate::tolerance_in_sheet_units(t, *b);
+                            let (v, unit) = tt_lab::vendor::rate::tolerance_in_sheet_units(t, *b);
                             format!("{} {unit}", sig(v, 4))
                         } else {
                             "no bound needed".into()
@@ -2159,7 +2159,7 @@ impl<'a> Sections<'a> {
             .iter()
             .enumerate()
             .map(|(i, x)| {
-                let (b, unit) = crate::rate::in_sheet_units(x, r.bounds[i]);
+                let (b, unit) = tt_lab::vendor::rate::in_sheet_units(x, r.bounds[i]);
                 let mut row = vec![doc::code(&names[i]), format!("{} {unit}", num(b))];
                 row.extend(r.outputs.iter().map(|o| sig(o.extra_parts()[i], 4)));
                 row
@@ -2204,12 +2204,12 @@ impl<'a> Sections<'a> {
         );
         self.doc.callout(format!(
             "Verdict with the rate errors and translations: {}.",
-            crate::rate::verdict_sentence(e2e, r)
+            verdict_sentence(e2e, r)
         ));
     }
 
     /// The allocation when the study's errors vary with the shaft angle, and after its measured
-    /// errors are compensated (`crate::angle_alloc`).
+    /// errors are compensated (`tt_lab::allocation::angle`).
     pub fn angle_allocation(&mut self) {
         let Some(a) = &self.c.angle_alloc else { return };
         let names = self.c.study.turntable.rotation_error_names();
@@ -2223,7 +2223,7 @@ impl<'a> Sections<'a> {
                     format!(
                         "{} {}",
                         doc::code(n),
-                        doc::text(&crate::angle_alloc::model_name(v))
+                        doc::text(&tt_lab::allocation::angle::model_name(v))
                     )
                 })
                 .collect();
@@ -2283,13 +2283,13 @@ impl<'a> Sections<'a> {
         let Some(a) = &c.estimable else {
             self.doc.p(format!(
                 "Joint estimation {}.",
-                super::ESTIMABLE_STATIC_ONLY
+                crate::report::ESTIMABLE_STATIC_ONLY
             ));
             return;
         };
         let est = &a.est;
         let names = est.names();
-        if let Some(m) = crate::estimable::model_words(a) {
+        if let Some(m) = tt_lab::estimable::model_words(a) {
             self.doc.p(format!(
                 "Error model: {}; every answer below is of this model.",
                 doc::text(&m)
@@ -2399,7 +2399,7 @@ impl<'a> Sections<'a> {
                     },
                     top.map_or(String::new(), |k| format!(
                         "; dominant `{}` {}",
-                        crate::groups::contribution_name(t, k.group()),
+                        tt_lab::groups::contribution_name(t, k.group()),
                         pct(k.worst_share())
                     ))
                 )
@@ -2431,7 +2431,7 @@ impl<'a> Sections<'a> {
                 .join(" / "),
             Err(e) => format!("none ({e})"),
         };
-        let conds = |f: &super::compute::ScheduleFacts| {
+        let conds = |f: &crate::compute::ScheduleFacts| {
             f.conditions
                 .iter()
                 .zip(&outs)
@@ -2482,4 +2482,35 @@ impl<'a> Sections<'a> {
             )
         });
     }
+}
+
+/// A CSV field (RFC 4180) from a file's text (a unit): control characters shown escaped
+/// ([`study::fmt::visible`]), in double quotes when it holds a comma or a quote.
+#[must_use]
+fn csv_field(s: &str) -> String {
+    let v = study::fmt::visible(s);
+    if v.contains([',', '"']) {
+        format!("\"{}\"", v.replace('"', "\"\""))
+    } else {
+        v.into_owned()
+    }
+}
+
+/// The verdict over both boxes as a sentence (Markdown): whether every output's worst case
+/// (linear and at the worst vertex on the exact chain) is within its accuracy, and the yield.
+#[must_use]
+fn verdict_sentence(e2e: &e2e_verify::EndToEnd, c: &tt_lab::vendor::rate::RateCheck) -> String {
+    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
+    let verdict = if c.meets_every_accuracy(e2e) {
+        "these tolerances **meet** every accuracy with the rate errors and translations at their bounds (the worst turntable of both boxes, linearised and on the exact chain at its vertex)"
+    } else {
+        "these tolerances do **not** meet every accuracy with the rate errors and translations at their bounds (a turntable within both boxes misses)"
+    };
+    format!(
+        "{verdict}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%)",
+        100.0 * c.meets as f64 / c.samples as f64,
+        c.samples,
+        100.0 * lo,
+        100.0 * hi
+    )
 }

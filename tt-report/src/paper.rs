@@ -3,14 +3,14 @@
 //! verdict depends on it), and what the paper leaves open. Only this module speaks of the
 //! paper's site, its printed numbers and its tables.
 
-use super::compute::{Computed, PaperExtras};
-use super::render::{Sections, d, greek};
+use crate::Doc;
+use crate::compute::{Computed, PaperExtras};
+use crate::render::{Sections, d, greek};
 use e2e_verify::paper::registry;
 use serde::Serialize;
 use study::fmt::{num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::rad_to_deg;
-use tt_report::Doc;
 
 /// One printed number of the paper beside ours.
 #[derive(Debug, Clone, Serialize)]
