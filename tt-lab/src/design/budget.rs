@@ -223,6 +223,7 @@ pub fn origin(o: ScheduleOrigin) -> String {
 /// A point of the Pareto front (the cheapest table for a total test time).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct PointJson {
     /// Total test time, s (positions x (dwell + move)).
     total_s: f64,
@@ -251,6 +252,7 @@ impl From<&BudgetPoint> for PointJson {
 /// The front's cheapest table within the budget, with its positions.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct ChosenJson<'a> {
     /// The point.
     #[cfg_attr(feature = "serde", serde(flatten))]
@@ -303,6 +305,7 @@ pub enum TimeBudgetJson<'a> {
 /// The budget's keys of `design-schedule --json`: `time_budget` and, with noise, `pareto`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct BudgetJson<'a> {
     /// The budget and the choice.
     time_budget: TimeBudgetJson<'a>,

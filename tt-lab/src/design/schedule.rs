@@ -538,6 +538,7 @@ fn combined_choice(s: &Study, d: &ScheduleDesign) -> Result<Option<CombinedChoic
 /// One output's worst case under the study's tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct WithStudyOutputJson {
     /// The linearised worst case, output's unit.
     linear: f64,
@@ -556,6 +557,7 @@ pub struct WithStudyOutputJson {
 /// The schedule's worst case under the study's tolerances.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct WithStudyJson<'a> {
     /// `certified` or `linearised`: which tolerances.
     tolerances: &'static str,
@@ -568,6 +570,7 @@ pub struct WithStudyJson<'a> {
 /// A schedule's certified direct allocation.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct CertifiedJson {
     /// J, arcmin^-2.
     objective: f64,
@@ -580,6 +583,7 @@ pub struct CertifiedJson {
 /// One schedule's answer (`designed`, `study`, `d_optimal`, `random_best`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct ScheduleJson<'a> {
     /// J of the direct allocation, arcmin^-2.
     objective: f64,
@@ -666,6 +670,7 @@ fn schedule_json<'a>(s: &'a Study, r: &'a ScheduleReport) -> ScheduleJson<'a> {
 /// With noise and a timing: both schedules answered with the noise counted (`combined`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct CombinedJson {
     /// The confidence multiplier of the noise part.
     k_sigma: f64,
@@ -693,6 +698,7 @@ pub struct CombinedJson {
 /// One output of the study.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct OutputJson<'a> {
     /// The output's name.
     name: &'a str,
@@ -705,6 +711,7 @@ pub struct OutputJson<'a> {
 /// One restart of the search.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct RestartJson {
     /// Its start, in words.
     start: String,
@@ -727,6 +734,7 @@ pub struct RestartJson {
 /// The design search.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct SearchJson {
     /// The restart that gave the design, in words.
     best_restart: String,
@@ -745,6 +753,7 @@ pub struct SearchJson {
 /// `design-schedule --json`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 pub struct DesignJson<'a> {
     /// The study's path.
     study_path: &'a str,
