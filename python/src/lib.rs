@@ -296,6 +296,79 @@ impl Study {
         )
     }
 
+    /// The test positions designed so the cheapest turntable meets every accuracy (the
+    /// search over a grid of `step_deg`; with `time_budget_s` the positions and the dwell
+    /// chosen together; with `rates_deg_per_s` the rate steps' rate chosen among them):
+    /// `design-schedule --json`. `None`: the study's count and seed, the command line's
+    /// defaults.
+    #[pyo3(signature = (positions = None, step_deg = None, seed = None, time_budget_s = None, rates_deg_per_s = None))]
+    fn design_schedule(
+        &self,
+        py: Python<'_>,
+        positions: Option<usize>,
+        step_deg: Option<f64>,
+        seed: Option<u64>,
+        time_budget_s: Option<f64>,
+        rates_deg_per_s: Option<Vec<f64>>,
+    ) -> PyResult<Answer> {
+        let s = &self.inner;
+        let mut o = tt_lab::design::schedule::Options::default();
+        o.positions = positions;
+        if let Some(step) = step_deg {
+            o.step_deg = step;
+        }
+        o.seed = seed;
+        o.time_budget_s = time_budget_s;
+        o.rates_deg_per_s = rates_deg_per_s;
+        let command = format!(
+            "ttalloc.load_study(...).design_schedule(positions={positions:?}, step_deg={}, seed={seed:?}, time_budget_s={time_budget_s:?}, rates_deg_per_s={:?})",
+            o.step_deg, o.rates_deg_per_s
+        );
+        Answer::of(
+            "design_schedule",
+            py.detach(|| {
+                let a = tt_lab::design::schedule::design(s, &o, &|| {})?;
+                view(&a.view(
+                    s,
+                    tt_lab::design::schedule::RunView {
+                        command: &command,
+                        written_study: None,
+                        pareto_svg_note: None,
+                    },
+                ))
+            }),
+        )
+    }
+
+    /// The report of the study (`ttalloc report`), computed in memory: a dict of file name to
+    /// its bytes (report.md, report.html, the SVG figures, the CSV tables, results.json). The
+    /// package writes nothing: the caller decides where the files go. `tolerances`: a vendor's
+    /// sheet checked in the report; `samples`, `seed`: the Monte Carlo's (default the study's).
+    #[pyo3(signature = (tolerances = None, samples = None, seed = None))]
+    fn report(
+        &self,
+        py: Python<'_>,
+        tolerances: Option<PathBuf>,
+        samples: Option<u64>,
+        seed: Option<u64>,
+    ) -> PyResult<std::collections::BTreeMap<String, Vec<u8>>> {
+        let s = self.inner.clone();
+        let files = py.detach(|| -> Result<Vec<tt_report::ReportFile>, tt_report::Error> {
+            let mut o = tt_report::ReportOptions::default();
+            o.samples = samples;
+            o.seed = seed;
+            if let Some(p) = &tolerances {
+                o.tolerances = Some(s.load_sheet(p).map_err(tt_lab::InputError::from)?);
+            }
+            tt_report::Report::compute(s, o)?.files()
+        });
+        match files {
+            Ok(f) => Ok(f.into_iter().map(|f| (f.name, f.bytes)).collect()),
+            Err(tt_report::Error::Lab(e)) => Err(to_py(e)),
+            Err(e) => Err(PyRuntimeError::new_err(e.to_string())),
+        }
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Study(name={:?}, path={:?})",

@@ -2,6 +2,7 @@
 Python: the same golden values as tt-lab's Rust tests of the same studies."""
 
 import io
+import json
 
 import numpy as np
 import pytest
@@ -90,3 +91,40 @@ def test_allocate_on_a_rate_study_gives_the_rate_tolerances_like_end_to_end():
         e["rate_allocation"]["objective_arcmin"], rel=same_path_rel
     )
     assert a["rate_allocation"]["tolerances"] == e["rate_allocation"]["tolerances"]
+
+
+def test_design_schedule_on_the_three_axis_example_is_no_worse_than_its_schedule():
+    # tt-lab/tests/design_questions.rs: on the 45 deg grid (512 candidates) the three-axis
+    # example's 32 positions are designed within the condition bound and no worse than its own
+    s = ttalloc.load_study(ROOT / "studies" / "three-axis-example.toml")
+    v = s.design_schedule(step_deg=45.0).to_dict()
+    assert v["candidates"] == 512
+    assert v["positions"] == 32
+    for k in ("designed", "study", "d_optimal"):
+        assert len(v[k]["positions_deg"]) == 32
+    assert v["designed"]["objective"] <= v["study"]["objective"]
+    assert all(c <= v["max_condition"] for c in v["designed"]["condition_numbers"].values())
+    assert v.get("budget") is None and v.get("rates") is None
+
+
+def test_design_schedule_refuses_a_rate_for_a_study_without_rate_steps(paper):
+    with pytest.raises(ttalloc.InputError, match="rates-deg-per-s"):
+        paper.design_schedule(rates_deg_per_s=[30.0])
+
+
+def test_report_is_computed_in_memory_with_its_files(paper):
+    # the report's files as `ttalloc report` writes them (tt-report/tests/report_library.rs):
+    # report.md, the self-contained report.html, results.json; nothing written to disk
+    files = paper.report(samples=2000, seed=5)
+    assert {"report.md", "report.html", "results.json"} <= set(files)
+    assert all(isinstance(b, bytes) for b in files.values())
+    assert any(name.endswith(".svg") for name in files)
+    md = files["report.md"].decode()
+    assert md.startswith("# ")
+    results = json.loads(files["results.json"])
+    assert results["seed"] == 5
+
+
+def test_report_with_too_few_samples_names_the_flag(paper):
+    with pytest.raises(ttalloc.InputError, match="samples"):
+        paper.report(samples=10)

@@ -1,7 +1,7 @@
 """Type stubs of `ttalloc` (checked against the built module by tests/test_stubs.py)."""
 
 from os import PathLike
-from typing import Any, Optional, Union
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -53,6 +53,20 @@ class Study:
         samples: Optional[int] = None,
         seed: Optional[int] = None,
     ) -> Answer: ...
+    def design_schedule(
+        self,
+        positions: Optional[int] = None,
+        step_deg: Optional[float] = None,
+        seed: Optional[int] = None,
+        time_budget_s: Optional[float] = None,
+        rates_deg_per_s: Optional[Sequence[float]] = None,
+    ) -> Answer: ...
+    def report(
+        self,
+        tolerances: Optional[_Path] = None,
+        samples: Optional[int] = None,
+        seed: Optional[int] = None,
+    ) -> dict[str, bytes]: ...
 
 class AllanResult:
     """The overlapping Allan deviation of a log and its fitted noise (IEEE 952)."""
