@@ -132,6 +132,25 @@ impl Candidate {
     }
 }
 
+/// The weights $\mathbf w = (r_t(\pm R\,\mathbf e_{\text{axis}}))_t$ of an output's error
+/// at the end of its range (`positive`: $+R$) over its estimated terms: the error over a range
+/// as a combination of the coefficients' errors (the budget's and the Monte Carlo's quantity).
+pub(crate) fn range_end_weights(
+    output: &calib_lsq::OutputCalibration,
+    axis: usize,
+    range: f64,
+    positive: bool,
+) -> Vec<f64> {
+    let mut v = [0.0; 6];
+    v[axis] = if positive { range } else { -range };
+    let v = InputValues(v);
+    output
+        .output()
+        .estimated()
+        .map(|t| t.regressor.eval(&v))
+        .collect()
+}
+
 /// $\mathbf w^T\mathbf M\mathbf w$.
 fn quadratic(m: &DMatrix<f64>, w: &[f64]) -> f64 {
     let mut s = 0.0;
@@ -212,14 +231,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                     Resolved::ErrorOverRange { axis, range } => [true, false]
                         .into_iter()
                         .map(|positive| {
-                            let mut v = [0.0; 6];
-                            v[axis as usize] = if positive { range } else { -range };
-                            let v = InputValues(v);
-                            let w: Vec<f64> = outputs[k]
-                                .output()
-                                .estimated()
-                                .map(|t| t.regressor.eval(&v))
-                                .collect();
+                            let w = range_end_weights(&outputs[k], axis as usize, range, positive);
                             of_weights(EvaluatedAt::RangeEnd { positive }, &w)
                         })
                         .collect(),

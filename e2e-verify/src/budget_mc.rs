@@ -32,7 +32,6 @@
 use crate::budget::{EvaluatedAt, PlanVerdict, SpecificationBudget};
 use crate::error::E2eError;
 use crate::simulate::EndToEnd;
-use gw_model::InputValues;
 use gw_model::spec::{Resolved, Specification};
 use metrology::Input;
 use metrology::montecarlo::IntervalKind;
@@ -244,14 +243,8 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             }
             (Resolved::ErrorOverRange { axis, range }, at) => {
                 let positive = !matches!(at, EvaluatedAt::RangeEnd { positive: false });
-                let mut v = [0.0; 6];
-                v[*axis as usize] = if positive { *range } else { -*range };
-                let v = InputValues(v);
-                let weights = outputs[k]
-                    .output()
-                    .estimated()
-                    .map(|t| t.regressor.eval(&v))
-                    .collect();
+                let weights =
+                    crate::budget::range_end_weights(&outputs[k], *axis as usize, *range, positive);
                 Quantity::Coefficients { offset, weights }
             }
             (Resolved::Accuracy, at) => Quantity::Accuracy {
