@@ -191,9 +191,9 @@ fn the_segments_figure_shades_one_span_per_segment_per_output_and_the_residuals_
         .collect();
     for x in &segments {
         let e = x.entry().to_string();
-        assert_eq!(
+        // once per panel at least (a tick label may read the same number)
+        assert!(
             labels.iter().filter(|l| l.trim() == e).count() >= outputs,
-            true,
             "entry {e}: {labels:?}"
         );
     }
