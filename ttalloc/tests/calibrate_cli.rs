@@ -2,34 +2,9 @@
 //! recording: the loop runs, bad input exits 2 naming the line and column with nothing
 //! written, and no file is ever overwritten.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn study_path() -> String {
-    format!(
-        "{}/../calib-run/studies/imu-six-face-three-rotation.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
-
-fn recording(dir: &Path) -> std::path::PathBuf {
-    let path = study_path();
-    let s =
-        study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
-    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
-    let mut buf = Vec::new();
-    calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut buf).expect("simulated");
-    let out = dir.join("run.csv");
-    std::fs::write(&out, buf).expect("written");
-    out
-}
-
-fn ttalloc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .output()
-        .expect("ran")
-}
+use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
 
 #[test]
 fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
@@ -222,11 +197,7 @@ fn a_toml_calibration_file_equals_the_json_one_and_apply_corrects_identically() 
             "--out",
             cal.to_str().expect("utf8"),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ok(&out);
         let text = std::fs::read_to_string(&cal).expect("written");
         parsed.push(calib_run::file::CalibrationFile::parse(name, &text).expect("parsed"));
         let fixed = dir.path().join(format!("{name}.csv"));
@@ -238,11 +209,7 @@ fn a_toml_calibration_file_equals_the_json_one_and_apply_corrects_identically() 
             "--out",
             fixed.to_str().expect("utf8"),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ok(&out);
         corrected.push(std::fs::read(&fixed).expect("corrected"));
     }
     assert!(

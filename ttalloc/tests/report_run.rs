@@ -3,42 +3,16 @@
 //! naming its line and column and leaves no report directory; a recording flag without
 //! `--recording` is refused naming the flag.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn study_path() -> String {
-    format!(
-        "{}/../calib-run/studies/imu-six-face-three-rotation.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
+use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
+use std::path::Path;
 
-fn recording(dir: &Path) -> PathBuf {
-    let path = study_path();
-    let s =
-        study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
-    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
-    let mut buf = Vec::new();
-    calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut buf).expect("simulated");
-    let out = dir.join("run.csv");
-    std::fs::write(&out, buf).expect("written");
-    out
-}
-
-fn ttalloc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .output()
-        .expect("ran")
-}
-
-#[test]
-fn report_with_a_recording_writes_the_processed_run_section_and_its_figures() {
-    let dir = tempfile::tempdir().expect("dir");
-    let log = recording(dir.path());
-    let out = dir.path().join("report");
+/// `report` of the six-face study (2,000 Monte Carlo samples) into `out` with the recording
+/// `log` and `extra` flags.
+fn report(out: &Path, log: &Path, extra: &[&str]) -> std::process::Output {
     let study = study_path();
-    let o = ttalloc(&[
+    let mut args = vec![
         "report",
         "--study",
         &study,
@@ -48,11 +22,18 @@ fn report_with_a_recording_writes_the_processed_run_section_and_its_figures() {
         out.to_str().expect("utf8"),
         "--recording",
         log.to_str().expect("utf8"),
-        "--spec",
-        "bg_x=100",
-        "--robust",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    ];
+    args.extend_from_slice(extra);
+    ttalloc(&args)
+}
+
+#[test]
+fn report_with_a_recording_writes_the_processed_run_section_and_its_figures() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let out = dir.path().join("report");
+    let o = report(&out, &log, &["--spec", "bg_x=100", "--robust"]);
+    ok(&o);
     let md = std::fs::read_to_string(out.join("report.md")).expect("report.md");
     assert!(md.contains("## Processed run"), "no section");
     let sha = calib_run::recording::sha256_hex(&std::fs::read(&log).expect("log"));
@@ -101,17 +82,7 @@ fn report_with_a_bad_recording_exits_2_naming_line_and_column_and_writes_nothing
     let bad_path = dir.path().join("bad.csv");
     std::fs::write(&bad_path, bad).expect("written");
     let out = dir.path().join("report");
-    let o = ttalloc(&[
-        "report",
-        "--study",
-        &study_path(),
-        "--samples",
-        "2000",
-        "--out",
-        out.to_str().expect("utf8"),
-        "--recording",
-        bad_path.to_str().expect("utf8"),
-    ]);
+    let o = report(&out, &bad_path, &[]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
