@@ -58,6 +58,10 @@ impl Sections<'_> {
         let a = &pr.answer;
         let run = a.run();
         let r = run.recording();
+        let robust = run
+            .outputs()
+            .iter()
+            .any(|o| o.coefficients().iter().any(|k| k.robust_change().is_some()));
         self.doc.h(2, "Processed run");
         self.doc.p(format!(
             "The recording {} (SHA-256 {}): {} samples, {} s at {} Hz{}; {} segments matched to the schedule. Each output's coefficients by weighted least squares on the segment averages (the `calib-run` crate, as {}); the expanded uncertainty is a GUM budget at coverage {} (the noise as measured, the table's part from a tolerance sheet when one is given).",
@@ -85,7 +89,7 @@ impl Sections<'_> {
         for o in run.outputs() {
             for k in o.coefficients() {
                 let (u, kf) = k.expanded();
-                rows.push(vec![
+                let mut row = vec![
                     doc::code(o.name()),
                     doc::code(k.name()),
                     format!("{} {}", sig(k.value(), 6), doc::text(k.unit())),
@@ -95,24 +99,46 @@ impl Sections<'_> {
                     opt(k.u_residuals()),
                     sig(k.u_table(), 3),
                     sig(k.u_combined(), 3),
-                ]);
+                ];
+                if robust {
+                    row.push(opt(k.robust_change()));
+                }
+                rows.push(row);
             }
         }
         self.doc.p("Predicted against observed: the plan's standard uncertainty (the study's noise over its timing; `-` without a timing) beside the run's, from its measured noise and from its residuals (the Birge ratio times the first; `-` with no degrees of freedom), with the table's part and the combination.");
-        self.doc.table(
-            &[
-                "output",
-                "coefficient",
-                "estimate",
-                "expanded uncertainty U",
-                "predicted u (plan)",
-                "observed u (measured noise)",
-                "observed u (residuals)",
-                "u (table)",
-                "combined u",
-            ],
-            rows,
-        );
+        let mut header = vec![
+            "output",
+            "coefficient",
+            "estimate",
+            "expanded uncertainty U",
+            "predicted u (plan)",
+            "observed u (measured noise)",
+            "observed u (residuals)",
+            "u (table)",
+            "combined u",
+        ];
+        if robust {
+            header.push("robust fit moved it by");
+        }
+        self.doc.table(&header, rows);
+        let notes: Vec<String> = run
+            .outputs()
+            .iter()
+            .flat_map(|o| {
+                o.notes()
+                    .iter()
+                    .map(move |n| format!("{}: {}", doc::code(o.name()), doc::text(n)))
+            })
+            .collect();
+        if !notes.is_empty() {
+            self.doc.p(if robust {
+                "What the robust (Huber) fit changed, and other notes of the estimate:"
+            } else {
+                "Notes of the estimate:"
+            });
+            self.doc.list(notes);
+        }
         if a.verdicts().is_empty() {
             self.doc
                 .p("No specification judged on this run (none in the study, no `--spec`).");

@@ -224,3 +224,71 @@ fn a_report_without_a_recording_has_no_processed_run() {
             .any(|f| f.name.starts_with("fig_run_"))
     );
 }
+
+/// The recording with `offset` added to column `column` in data rows `rows` (0-based).
+fn bumped(rec: &[u8], column: &str, rows: std::ops::Range<usize>, offset: f64) -> Vec<u8> {
+    let text = String::from_utf8(rec.to_vec()).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let col = header.split(',').position(|h| h == column).unwrap();
+    let mut out = format!("{header}\n");
+    for (i, l) in lines.enumerate() {
+        let mut cells: Vec<String> = l.split(',').map(str::to_string).collect();
+        if rows.contains(&i) {
+            cells[col] = (cells[col].parse::<f64>().unwrap() + offset).to_string();
+        }
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    out.into_bytes()
+}
+
+/// A static segment bumped by 5 mg in `ax` (about 100 times its noise): the segment table names
+/// the outlier with its z, the residual figure marks it, and with `--robust` the table gains
+/// what the robust fit moved and the notes name the down-weighted entry.
+#[test]
+fn an_outlier_segment_is_named_in_the_table_and_marked_and_the_robust_fit_says_what_it_changed() {
+    let s = six_face();
+    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
+    let mut rec = Vec::new();
+    calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut rec).unwrap();
+    // the second static segment spans data rows 625..1075 (see the segment table above)
+    let rec = bumped(&rec, "ax", 700..1000, 5.0);
+    let mut o = tt_lab::calibrate::Options::default();
+    o.robust = true;
+    o.overview_buckets = Some(64);
+    let answer = tt_lab::calibrate::calibrate(&s, rec.as_slice(), "bumped.csv", &o).unwrap();
+    let (out_ax, _) = answer.run().coefficient("ba_x").unwrap();
+    let flagged: Vec<_> = out_ax.residuals().iter().filter(|r| r.outlier).collect();
+    assert!(!flagged.is_empty(), "the bump is an outlier");
+    let (_, ba_x) = answer.run().coefficient("ba_x").unwrap();
+    let moved = ba_x.robust_change().expect("robust");
+    let r = report(&s, ProcessedRun::new(answer.clone(), vec![]));
+    let md = r.markdown().unwrap();
+    let section = &md[md.find("## Processed run").unwrap()..];
+    assert!(section.contains("| robust fit moved it by |"), "{section}");
+    let row = section
+        .lines()
+        .find(|l| l.starts_with("| `ax` | `ba_x` |"))
+        .unwrap();
+    assert!(row.ends_with(&format!("| {} |", sig(moved, 3))), "{row}");
+    for z in &flagged {
+        let seg = z.segment + 1;
+        let line = section
+            .lines()
+            .find(|l| l.starts_with(&format!("| {seg} | ")))
+            .unwrap();
+        assert!(
+            line.contains(&format!("`ax` z = {}", sig(z.standardized, 3))),
+            "{line}"
+        );
+    }
+    assert!(section.contains("robust fit: entry"), "{section}");
+    let files = r.files().unwrap();
+    let res = files
+        .iter()
+        .find(|f| f.name == "fig_run_residuals.svg")
+        .unwrap();
+    let res = String::from_utf8(res.bytes.clone()).unwrap();
+    assert!(res.contains("outlier (|z| &gt; 3)") || res.contains("outlier (|z| > 3)"));
+}
