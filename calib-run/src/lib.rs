@@ -13,7 +13,7 @@
 //!   the plan's predicted uncertainty beside the run's;
 //! - [`study_verdicts`] and [`verdicts`]: coefficients against the study's specifications (in
 //!   their written units) and `--spec` limits, under a named decision rule;
-//! - [`file`]: the calibration file (JSON or TOML, never overwritten) and [`file::apply`];
+//! - [`file`](mod@file): the calibration file (JSON or TOML, never overwritten) and [`file::apply`];
 //! - [`overview`]: a recording's minima and maxima in a bounded number of buckets, for a figure;
 //! - [`simulate`]: recordings with known truth, for tests and benchmarks.
 #![forbid(unsafe_code)]
