@@ -580,12 +580,27 @@ enum Mode {
 /// # Errors
 /// [`RunError::Input`] for a bad recording (line and column named), [`RunError::Segments`]
 /// for segments that do not match the schedule, [`RunError::Option`] for a bad option.
-#[allow(clippy::too_many_lines)]
 pub fn calibrate<R: Read>(
     study: &Study,
     reader: R,
     source: &str,
     options: &CalibrateOptions,
+) -> Result<Run, RunError> {
+    calibrate_observed(study, reader, source, options, |_| {})
+}
+
+/// [`calibrate`], handing every row to `observe` too as the recording streams by (for an
+/// overview of the recording, [`crate::overview::Decimator`], without reading it twice).
+///
+/// # Errors
+/// As [`calibrate`].
+#[allow(clippy::too_many_lines)]
+pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
+    study: &Study,
+    reader: R,
+    source: &str,
+    options: &CalibrateOptions,
+    mut observe: O,
 ) -> Result<Run, RunError> {
     let sensor = &study.sensor;
     let out_names: Vec<&str> = sensor.outputs().iter().map(|o| o.name.as_str()).collect();
@@ -678,6 +693,7 @@ pub fn calibrate<R: Read>(
         }
     };
     let summary = read_rows(reader, source, &out_names, &joint_names, &rec_opts, |row| {
+        observe(row);
         if row.index == 0 {
             first = Some(OwnedRow::of(row));
             return Ok(());

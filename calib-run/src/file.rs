@@ -1,4 +1,5 @@
-//! The calibration file (JSON) and its application to a recording.
+//! The calibration file (JSON or TOML, by its extension: [`Format`]) and its application to a
+//! recording.
 //!
 //! The file holds every output's model (each term's coefficient, regressor, unit, whether it
 //! is known) with the estimated values and their standard and expanded uncertainties, and the
@@ -18,6 +19,48 @@ use std::path::Path;
 
 /// The format tag of a calibration file.
 pub const FORMAT: &str = "calib-run/1";
+
+/// The calibration file's format, chosen by its extension: `.json` or `.toml` (the same
+/// content either way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// JSON (`.json`).
+    Json,
+    /// TOML (`.toml`).
+    Toml,
+}
+
+impl Format {
+    /// The format of a file named `path` (its extension, case-insensitive); `flag` names
+    /// where the path was given (`--out`).
+    ///
+    /// # Errors
+    /// [`RunError::Option`] naming `flag` for any other extension.
+    pub fn of_path(path: &Path, flag: &str) -> Result<Self, RunError> {
+        Self::of_extension(path).ok_or_else(|| {
+            RunError::option(
+                flag,
+                format!(
+                    "`{}`: a calibration file is `.json` or `.toml` (the format is chosen by the extension)",
+                    study::fmt::visible(&path.display().to_string())
+                ),
+            )
+        })
+    }
+
+    fn of_extension(path: &Path) -> Option<Self> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("json") => Some(Self::Json),
+            Some("toml") => Some(Self::Toml),
+            _ => None,
+        }
+    }
+}
 
 /// Gauss-Newton iterations of [`apply`] at most per sample.
 const APPLY_MAX_ITER: usize = 20;
@@ -133,22 +176,45 @@ impl CalibrationFile {
         }
     }
 
-    /// Parse a calibration file's text (`path` names it in messages).
+    /// Parse a calibration file's text (`path` names it in messages; a path ending in `.toml`
+    /// is read as TOML, any other as JSON).
     ///
     /// # Errors
-    /// [`RunError::CalibrationFile`]: not JSON of this form, another format, a regressor
-    /// that does not parse, a non-finite value.
+    /// [`RunError::CalibrationFile`]: not JSON (TOML) of this form, another format, a
+    /// regressor that does not parse, a non-finite value.
     pub fn parse(path: &str, text: &str) -> Result<Self, RunError> {
         let bad = |reason: String| RunError::CalibrationFile {
             path: path.into(),
             reason,
         };
-        let f: CalibrationFile = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
+        let f: CalibrationFile = match Format::of_extension(Path::new(path)) {
+            Some(Format::Toml) => toml::from_str(text).map_err(|e| bad(e.to_string()))?,
+            _ => serde_json::from_str(text).map_err(|e| bad(e.to_string()))?,
+        };
         if f.format != FORMAT {
             return Err(bad(format!("format `{}`, expected `{FORMAT}`", f.format)));
         }
         f.model().map_err(bad)?;
         Ok(f)
+    }
+
+    /// The file's text in `format` (ending with a newline).
+    ///
+    /// # Errors
+    /// [`RunError::Internal`] when serialization fails (it does not for a file of a run).
+    pub fn to_text(&self, format: Format) -> Result<String, RunError> {
+        let mut text = match format {
+            Format::Json => {
+                serde_json::to_string_pretty(self).map_err(|e| RunError::Internal(e.to_string()))?
+            }
+            Format::Toml => {
+                toml::to_string_pretty(self).map_err(|e| RunError::Internal(e.to_string()))?
+            }
+        };
+        if !text.ends_with('\n') {
+            text.push('\n');
+        }
+        Ok(text)
     }
 
     /// The calibrated outputs as sensor-model outputs.
@@ -186,12 +252,15 @@ impl CalibrationFile {
     }
 }
 
-/// Write `file` to `path`, which must not exist.
+/// Write `file` to `path`, which must not exist, in the format of its extension
+/// ([`Format::of_path`]).
 ///
 /// # Errors
+/// [`RunError::Option`] naming `--out` for an extension other than `.json` or `.toml`;
 /// [`RunError::Exists`] when `path` exists (nothing is written); [`RunError::Io`] when the
 /// directory cannot be written.
 pub fn write_new(path: &Path, file: &CalibrationFile) -> Result<(), RunError> {
+    let format = Format::of_path(path, "--out")?;
     let shown = path.display().to_string();
     if path.symlink_metadata().is_ok() {
         return Err(RunError::Exists { path: shown });
@@ -205,9 +274,7 @@ pub fn write_new(path: &Path, file: &CalibrationFile) -> Result<(), RunError> {
         source: e,
     };
     let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(io)?;
-    let mut text =
-        serde_json::to_string_pretty(file).map_err(|e| RunError::Internal(e.to_string()))?;
-    text.push('\n');
+    let text = file.to_text(format)?;
     tmp.write_all(text.as_bytes()).map_err(io)?;
     tmp.as_file().sync_all().map_err(io)?;
     tmp.persist_noclobber(path).map_err(|e| {

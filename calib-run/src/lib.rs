@@ -13,13 +13,15 @@
 //!   the plan's predicted uncertainty beside the run's;
 //! - [`study_verdicts`] and [`verdicts`]: coefficients against the study's specifications (in
 //!   their written units) and `--spec` limits, under a named decision rule;
-//! - [`file`]: the calibration file (JSON, never overwritten) and [`file::apply`];
+//! - [`file`](mod@file): the calibration file (JSON or TOML, never overwritten) and [`file::apply`];
+//! - [`overview`]: a recording's minima and maxima in a bounded number of buckets, for a figure;
 //! - [`simulate`]: recordings with known truth, for tests and benchmarks.
 #![forbid(unsafe_code)]
 
 mod error;
 mod estimate;
 pub mod file;
+pub mod overview;
 pub mod recording;
 pub mod segments;
 pub mod simulate;
@@ -27,5 +29,6 @@ pub mod simulate;
 pub use error::{At, RunError};
 pub use estimate::{
     CalibrateOptions, CoefficientResult, HUBER_C, MeasuredNoise, OUTLIER_Z, OutputResult,
-    ResidualRow, Run, Segment, Spec, Verdict, calibrate, study_verdicts, verdicts,
+    ResidualRow, Run, Segment, Spec, Verdict, calibrate, calibrate_observed, study_verdicts,
+    verdicts,
 };

@@ -6,6 +6,7 @@
 
 use crate::error::{InputError, LabError, Result};
 use calib_run::file::{ApplySummary, CalibrationFile};
+use calib_run::overview::{Decimator, Overview};
 use calib_run::recording::RecordingOptions;
 use calib_run::segments::{DetectSettings, SegmentSpec, parse_segments};
 use calib_run::{CalibrateOptions, Run, RunError, Spec, Verdict};
@@ -36,6 +37,9 @@ pub struct Options {
     pub tolerances: Option<study::Tolerances>,
     /// The caller's specifications (|coefficient| <= limit), judged beside the study's.
     pub specs: Vec<Spec>,
+    /// Also keep an overview of the recording (every output's extremes in at most this many
+    /// buckets, built while it streams: [`calib_run::overview`]), for a figure; `None`: none.
+    pub overview_buckets: Option<usize>,
 }
 
 impl Default for Options {
@@ -48,17 +52,19 @@ impl Default for Options {
             robust: false,
             tolerances: None,
             specs: Vec::new(),
+            overview_buckets: None,
         }
     }
 }
 
 /// A processed recording and its verdicts.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 #[non_exhaustive]
 pub struct CalibrationAnswer {
     run: Run,
     verdicts: Vec<Verdict>,
     spec_notes: Vec<String>,
+    overview: Option<Overview>,
 }
 
 impl CalibrationAnswer {
@@ -79,6 +85,12 @@ impl CalibrationAnswer {
     #[must_use]
     pub fn specification_notes(&self) -> &[String] {
         &self.spec_notes
+    }
+
+    /// The recording's overview, when [`Options::overview_buckets`] asked for one.
+    #[must_use]
+    pub fn overview(&self) -> Option<&Overview> {
+        self.overview.as_ref()
     }
 
     /// The JSON view (`calibrate --json`); `calibration_file`: where the calibration file
@@ -155,7 +167,13 @@ pub fn calibrate<R: Read>(
         coverage: s.uncertainty.coverage,
         tolerances: o.tolerances.clone(),
     };
-    let run = calib_run::calibrate(s, log, log_name, &opts).map_err(run_error)?;
+    let mut decimator = o.overview_buckets.map(Decimator::new);
+    let run = calib_run::calibrate_observed(s, log, log_name, &opts, |row| {
+        if let Some(d) = decimator.as_mut() {
+            d.push(row.t_s, row.values);
+        }
+    })
+    .map_err(run_error)?;
     let (mut verdicts, spec_notes) =
         calib_run::study_verdicts(&run, s, DECISION_RULE).map_err(run_error)?;
     verdicts.extend(calib_run::verdicts(&run, &o.specs, DECISION_RULE).map_err(run_error)?);
@@ -163,6 +181,7 @@ pub fn calibrate<R: Read>(
         run,
         verdicts,
         spec_notes,
+        overview: decimator.map(Decimator::finish),
     })
 }
 

@@ -41,6 +41,8 @@ pub struct Options {
     pub tolerances: Option<ToleranceSheet>,
     /// A second study with a designed schedule.
     pub designed: Option<Study>,
+    /// A processed recording (its section).
+    pub run: Option<crate::ProcessedRun>,
 }
 
 /// One output's orientation-error plane: the data of the surfaces, lines and cuts.

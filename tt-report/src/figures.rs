@@ -10,7 +10,12 @@
 
 use crate::{Error, Result};
 use plotters::coord::Shift;
+
+mod run;
 use plotters::prelude::*;
+pub use run::{
+    Envelope, Residuals, STATIC_SHADE, Span, TURNING_SHADE, recording_figure, residual_figure,
+};
 
 pub use plotters::style::RGBColor;
 /// Black (the requirement's rectangle, reference marks).

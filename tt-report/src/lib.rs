@@ -3,6 +3,7 @@
 mod compute;
 mod error;
 mod paper;
+mod processed;
 mod render;
 mod report;
 mod results;
@@ -12,4 +13,5 @@ pub mod figures;
 
 pub use doc::{Block, Doc};
 pub use error::{Error, Result};
+pub use processed::ProcessedRun;
 pub use report::{Report, ReportFile, ReportOptions};

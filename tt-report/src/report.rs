@@ -39,6 +39,8 @@ pub struct ReportOptions {
     pub designed: Option<Study>,
     /// The paper's extras (Table 4, the claims): for the paper's study, as `reproduce-paper`.
     pub paper: bool,
+    /// A processed recording of the study's calibration: the report gains its section.
+    pub run: Option<crate::ProcessedRun>,
 }
 
 /// A computed report.
@@ -77,6 +79,7 @@ impl Report {
             paper: options.paper,
             tolerances: options.tolerances,
             designed: options.designed,
+            run: options.run,
         };
         Ok(Self {
             computed: compute::compute(study, options)?,
@@ -225,6 +228,7 @@ fn render(c: &Computed) -> Result<Rendered> {
     sec.designed();
     sec.angle_allocation();
     sec.estimable();
+    sec.processed_run()?;
     let comparisons = match &c.paper {
         Some(p) => {
             let rows = paper::comparisons(c, p);
@@ -261,6 +265,12 @@ fn command(c: &Computed) -> String {
     }
     if let Some([_, dsg]) = &c.designed {
         s.push_str(&format!(" --designed {}", q(&dsg.path)));
+    }
+    if let Some(r) = &c.options.run {
+        for f in r.flags() {
+            s.push(' ');
+            s.push_str(&q(f));
+        }
     }
     s
 }

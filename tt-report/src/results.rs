@@ -433,6 +433,12 @@ struct ResultsJson<'a> {
     /// absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     specifications: Option<SpecificationsJson>,
+    /// With `--recording`: the processed run, as `calibrate --json` prints it (the recording,
+    /// segments, warnings, per output the measured noise, every coefficient with its
+    /// uncertainties and the plan's predicted one, the residuals; the verdicts); absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    processed_run: Option<tt_lab::calibrate::CalibrationJson<'a>>,
 }
 
 /// The verdict against the study's specifications and the tolerances it was evaluated at.
@@ -734,6 +740,7 @@ pub(super) fn results_json(
                 .collect(),
             verdict: tt_lab::vendor::spec::SpecVerdictJson::new(s, Some(v)),
         }),
+        processed_run: c.options.run.as_ref().map(|r| r.answer.view(None)),
     };
     serde_json::to_value(r)
 }

@@ -3,7 +3,7 @@
 //! work, one call): the coefficients of every output with their expanded uncertainties, the
 //! measured noise, the residuals per segment with outlier flags, the plan's predicted
 //! uncertainty beside the run's, and verdicts on `--spec NAME=LIMIT` under a named decision
-//! rule. `--out` writes the calibration file (JSON), never over an existing file. The log is a
+//! rule. `--out` writes the calibration file (JSON or TOML, by its extension), never over an existing file. The log is a
 //! CSV file or standard input (`-` or nothing), streamed. See docs/calibrate.md.
 //!
 //! Bad input (a cell, a missing column, a gap, segments that do not fit the schedule) exits
@@ -28,12 +28,27 @@ pub struct Args {
     pub study: Option<PathBuf>,
     /// The recording: a CSV file with a header line, or `-` (or nothing) for standard input.
     pub log: Option<PathBuf>,
+    /// Write the calibration file here (`.json` or `.toml`, the format chosen by the
+    /// extension); it must not exist.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// The table's tolerance sheet (its part of the uncertainty budget).
+    #[arg(long)]
+    pub tolerances: Option<PathBuf>,
+    /// How the recording is read and processed.
+    #[command(flatten)]
+    pub recording: RecordingArgs,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// How a recording is read and processed (`calibrate`, and `report --recording`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct RecordingArgs {
     /// Segments file (CSV `start,end,entry[,kind]`); default: detected.
     #[arg(long)]
     pub segments: Option<PathBuf>,
-    /// Write the calibration file (JSON) here; it must not exist.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
     /// An output's column when not named as the output: `OUTPUT=HEADER` (repeatable).
     #[arg(long = "column", value_name = "OUTPUT=HEADER")]
     pub columns: Vec<String>,
@@ -46,9 +61,6 @@ pub struct Args {
     /// The outputs' range: values at or above it in magnitude are flagged saturated.
     #[arg(long, value_parser = |s: &str| crate::args::positive(s, f64::MAX))]
     pub range: Option<f64>,
-    /// The table's tolerance sheet (its part of the uncertainty budget).
-    #[arg(long)]
-    pub tolerances: Option<PathBuf>,
     /// Also fit robustly (Huber) and report what it changed; the robust estimate is the one
     /// written.
     #[arg(long)]
@@ -57,16 +69,120 @@ pub struct Args {
     /// repeatable), judged with the ILAC-G8 guard band w = U.
     #[arg(long = "spec", value_name = "COEFFICIENT=LIMIT")]
     pub specs: Vec<String>,
-    /// Detection: block length, s.
-    #[arg(long, default_value_t = 0.5, value_parser = |s: &str| crate::args::positive(s, 1e6))]
-    pub block_s: f64,
+    /// Detection: block length, s (default 0.5).
+    #[arg(long, value_parser = |s: &str| crate::args::positive(s, 1e6))]
+    pub block_s: Option<f64>,
     /// Detection: shortest static interval used, s (default: half the study's shortest dwell,
     /// else 1 s).
     #[arg(long, value_parser = |s: &str| crate::args::positive(s, 1e9))]
     pub min_static_s: Option<f64>,
-    /// Print JSON instead of text.
-    #[arg(long)]
-    pub json: bool,
+}
+
+impl RecordingArgs {
+    /// The first of these flags given (as the user writes it), if any: `report` refuses them
+    /// without `--recording`.
+    #[must_use]
+    pub fn first_given(&self) -> Option<&'static str> {
+        [
+            (self.segments.is_some(), "--segments"),
+            (!self.columns.is_empty(), "--column"),
+            (self.time_column.is_some(), "--time-column"),
+            (self.sample_rate_hz.is_some(), "--sample-rate-hz"),
+            (self.range.is_some(), "--range"),
+            (self.robust, "--robust"),
+            (!self.specs.is_empty(), "--spec"),
+            (self.block_s.is_some(), "--block-s"),
+            (self.min_static_s.is_some(), "--min-static-s"),
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+    }
+
+    /// The flags as given, for a command line that reproduces the run (unquoted).
+    #[must_use]
+    pub fn flags(&self) -> Vec<String> {
+        let mut f: Vec<String> = Vec::new();
+        let mut push = |flag: &str, v: String| {
+            f.push(flag.into());
+            f.push(v);
+        };
+        if let Some(p) = &self.segments {
+            push("--segments", p.display().to_string());
+        }
+        for c in &self.columns {
+            push("--column", c.clone());
+        }
+        if let Some(t) = &self.time_column {
+            push("--time-column", t.clone());
+        }
+        if let Some(v) = self.sample_rate_hz {
+            push("--sample-rate-hz", v.to_string());
+        }
+        if let Some(v) = self.range {
+            push("--range", v.to_string());
+        }
+        for x in &self.specs {
+            push("--spec", x.clone());
+        }
+        if let Some(v) = self.block_s {
+            push("--block-s", v.to_string());
+        }
+        if let Some(v) = self.min_static_s {
+            push("--min-static-s", v.to_string());
+        }
+        if self.robust {
+            f.push("--robust".into());
+        }
+        f
+    }
+
+    /// The processing options for study `s` (the segments file read against its schedule);
+    /// `tolerances`: the table's sheet of the budget, already read.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the flag or the segments file's line.
+    pub fn options(
+        &self,
+        s: &study::Study,
+        tolerances: Option<study::Tolerances>,
+    ) -> Result<Options> {
+        let mut opts = Options::default();
+        for c in &self.columns {
+            let (o, h) = pair("--column", c)?;
+            opts.recording.columns.push((o.into(), h.into()));
+        }
+        opts.recording.time_column.clone_from(&self.time_column);
+        opts.recording.sample_rate_hz = self.sample_rate_hz;
+        opts.recording.range = self.range;
+        opts.robust = self.robust;
+        if let Some(b) = self.block_s {
+            opts.block_s = b;
+        }
+        opts.min_static_s = self.min_static_s;
+        opts.tolerances = tolerances;
+        opts.specs = self
+            .specs
+            .iter()
+            .map(|x| {
+                let (c, l) = pair("--spec", x)?;
+                let limit: f64 = l
+                    .parse()
+                    .map_err(|_| InputError::new("--spec", format!("`{l}` is not a number")))?;
+                Ok(Spec {
+                    coefficient: c.into(),
+                    limit,
+                    unit: None,
+                })
+            })
+            .collect::<Result<Vec<_>, InputError>>()?;
+        if let Some(p) = &self.segments {
+            let name = p.display().to_string();
+            let f = std::fs::File::open(p)
+                .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;
+            opts.segments = Some(tt_lab::calibrate::segments(s, f, &name).map_err(lab)?);
+        }
+        Ok(opts)
+    }
 }
 
 fn pair<'a>(flag: &str, s: &'a str) -> Result<(&'a str, &'a str), InputError> {
@@ -82,43 +198,15 @@ fn pair<'a>(flag: &str, s: &'a str) -> Result<(&'a str, &'a str), InputError> {
 pub fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
     if let Some(out) = &args.out {
+        calib_run::file::Format::of_path(out, "--out")
+            .map_err(|e| lab(tt_lab::calibrate::run_error(e)))?;
         crate::newfile::check(out, "--out")?;
     }
-    let mut opts = Options::default();
-    for c in &args.columns {
-        let (o, h) = pair("--column", c)?;
-        opts.recording.columns.push((o.into(), h.into()));
-    }
-    opts.recording.time_column.clone_from(&args.time_column);
-    opts.recording.sample_rate_hz = args.sample_rate_hz;
-    opts.recording.range = args.range;
-    opts.robust = args.robust;
-    opts.block_s = args.block_s;
-    opts.min_static_s = args.min_static_s;
-    if let Some(t) = &args.tolerances {
-        opts.tolerances = Some(study::Tolerances::load(t, &s.turntable).map_err(InputError::from)?);
-    }
-    opts.specs = args
-        .specs
-        .iter()
-        .map(|x| {
-            let (c, l) = pair("--spec", x)?;
-            let limit: f64 = l
-                .parse()
-                .map_err(|_| InputError::new("--spec", format!("`{l}` is not a number")))?;
-            Ok(Spec {
-                coefficient: c.into(),
-                limit,
-                unit: None,
-            })
-        })
-        .collect::<Result<Vec<_>, InputError>>()?;
-    if let Some(p) = &args.segments {
-        let name = p.display().to_string();
-        let f = std::fs::File::open(p)
-            .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;
-        opts.segments = Some(tt_lab::calibrate::segments(&s, f, &name).map_err(lab)?);
-    }
+    let tolerances = match &args.tolerances {
+        Some(t) => Some(study::Tolerances::load(t, &s.turntable).map_err(InputError::from)?),
+        None => None,
+    };
+    let opts = args.recording.options(&s, tolerances)?;
     let source = Source::from_arg(args.log.as_deref());
     let reader = source.open()?;
     let answer = tt_lab::calibrate::calibrate(&s, reader, &source.name(), &opts).map_err(lab)?;

@@ -2,34 +2,9 @@
 //! recording: the loop runs, bad input exits 2 naming the line and column with nothing
 //! written, and no file is ever overwritten.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn study_path() -> String {
-    format!(
-        "{}/../calib-run/studies/imu-six-face-three-rotation.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
-
-fn recording(dir: &Path) -> std::path::PathBuf {
-    let path = study_path();
-    let s =
-        study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
-    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
-    let mut buf = Vec::new();
-    calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut buf).expect("simulated");
-    let out = dir.join("run.csv");
-    std::fs::write(&out, buf).expect("written");
-    out
-}
-
-fn ttalloc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .output()
-        .expect("ran")
-}
+use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
 
 #[test]
 fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
@@ -200,4 +175,70 @@ fn the_studys_specifications_are_judged_in_their_written_unit_and_plan_ones_are_
     let notes = v["specification_notes"].as_array().expect("notes");
     assert_eq!(notes.len(), 1, "{notes:?}");
     assert!(notes[0].as_str().expect("note").contains("error over"));
+}
+
+/// Issue 36 item 4: `--out cal.toml` writes the calibration file in TOML (the format chosen by
+/// the extension); it parses to the same calibration as the JSON file of the same run, and
+/// `apply` with either gives the same corrected recording, byte for byte.
+#[test]
+fn a_toml_calibration_file_equals_the_json_one_and_apply_corrects_identically() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let study = study_path();
+    let mut corrected = Vec::new();
+    let mut parsed = Vec::new();
+    for name in ["cal.json", "cal.toml"] {
+        let cal = dir.path().join(name);
+        let out = ttalloc(&[
+            "calibrate",
+            "--study",
+            &study,
+            log.to_str().expect("utf8"),
+            "--out",
+            cal.to_str().expect("utf8"),
+        ]);
+        ok(&out);
+        let text = std::fs::read_to_string(&cal).expect("written");
+        parsed.push(calib_run::file::CalibrationFile::parse(name, &text).expect("parsed"));
+        let fixed = dir.path().join(format!("{name}.csv"));
+        let out = ttalloc(&[
+            "apply",
+            "--calibration",
+            cal.to_str().expect("utf8"),
+            log.to_str().expect("utf8"),
+            "--out",
+            fixed.to_str().expect("utf8"),
+        ]);
+        ok(&out);
+        corrected.push(std::fs::read(&fixed).expect("corrected"));
+    }
+    assert!(
+        std::fs::read_to_string(dir.path().join("cal.toml"))
+            .expect("toml")
+            .starts_with("format = ")
+    );
+    assert_eq!(parsed[0], parsed[1]);
+    assert_eq!(corrected[0], corrected[1]);
+}
+
+/// A calibration file named neither `.json` nor `.toml` is refused before the recording is
+/// read: exit 2 naming `--out`, nothing written.
+#[test]
+fn a_calibration_file_of_another_extension_exits_2_naming_out() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let cal = dir.path().join("cal.yaml");
+    let out = ttalloc(&[
+        "calibrate",
+        "--study",
+        &study_path(),
+        log.to_str().expect("utf8"),
+        "--out",
+        cal.to_str().expect("utf8"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--out") && err.contains(".toml"), "{err}");
+    assert!(out.stdout.is_empty());
+    assert!(!cal.exists());
 }

@@ -12,12 +12,13 @@
 //! the study-level questions, rendered as files) and writes; it computes and formats nothing.
 
 use crate::InputError;
+use crate::calibrate::RecordingArgs;
 use anyhow::Result;
 use clap::Parser;
 use std::path::{Path, PathBuf};
 /// The figures, for the other commands that draw one (allan, design-schedule).
 pub(crate) use tt_report::figures;
-use tt_report::{Report, ReportOptions};
+use tt_report::{ProcessedRun, Report, ReportOptions};
 
 /// Arguments of `report`.
 #[derive(Debug, Parser)]
@@ -42,6 +43,13 @@ pub struct Args {
     /// A study with a designed schedule (same sensor and turntable) to compare side by side.
     #[arg(long)]
     pub designed: Option<PathBuf>,
+    /// The recording of the study's calibration (CSV, or `-` for standard input): the report
+    /// gains a "Processed run" section (as `calibrate`; `--tolerances` is its table part).
+    #[arg(long)]
+    pub recording: Option<PathBuf>,
+    /// How the recording is read and processed (as `calibrate`).
+    #[command(flatten)]
+    pub run: RecordingArgs,
 }
 
 /// Arguments of `reproduce-paper`.
@@ -166,7 +174,7 @@ fn inputs(
 /// # Errors
 /// As [`inputs`], [`Report::compute`] and the output directory.
 pub fn run(args: &Args) -> Result<()> {
-    let (s, options) = inputs(
+    let (s, mut options) = inputs(
         Some(&args.study),
         args.seed,
         args.samples,
@@ -174,6 +182,7 @@ pub fn run(args: &Args) -> Result<()> {
         args.designed.as_deref(),
         false,
     )?;
+    options.run = processed_run(&s, args)?;
     // the name is a file-name-safe slug (checked when the study was read): one component
     let out = args
         .out
@@ -182,6 +191,32 @@ pub fn run(args: &Args) -> Result<()> {
     let prepared = crate::outdir::Prepared::new(&out)?;
     let r = Report::compute(s, options).map_err(report_error)?;
     write(&r, &out, prepared, "report")
+}
+
+/// The recording of `--recording` processed (before the output directory is touched: a bad
+/// recording exits 2 and nothing is written), with an overview for the figure.
+///
+/// # Errors
+/// [`InputError`] naming the flag, the line, the column or the segment.
+fn processed_run(s: &study::Study, args: &Args) -> Result<Option<ProcessedRun>> {
+    let Some(log) = &args.recording else {
+        if let Some(flag) = args.run.first_given() {
+            return Err(InputError::new(flag, "applies to a recording: give `--recording`").into());
+        }
+        return Ok(None);
+    };
+    let tolerances = match &args.tolerances {
+        Some(t) => Some(study::Tolerances::load(t, &s.turntable).map_err(InputError::from)?),
+        None => None,
+    };
+    let mut opts = args.run.options(s, tolerances)?;
+    opts.overview_buckets = Some(calib_run::overview::DEFAULT_BUCKETS);
+    let source = crate::csvio::Source::from_arg(Some(log));
+    let answer = tt_lab::calibrate::calibrate(s, source.open()?, &source.name(), &opts)
+        .map_err(crate::input::lab)?;
+    let mut flags = vec!["--recording".to_string(), log.display().to_string()];
+    flags.extend(args.run.flags());
+    Ok(Some(ProcessedRun::new(answer, flags)))
 }
 
 /// Run `reproduce-paper`.

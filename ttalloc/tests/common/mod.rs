@@ -170,3 +170,25 @@ pub fn paper_into(out: &Path) -> Output {
         "1500",
     ])
 }
+
+/// calib-run's six-face and three-rotation study (an absolute path).
+pub fn six_face_study() -> String {
+    format!(
+        "{}/../calib-run/studies/imu-six-face-three-rotation.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// A recording of [`six_face_study`] simulated with its own coefficients (50 Hz, 10 s dwells,
+/// seed 4), written to `dir/run.csv`.
+pub fn six_face_recording(dir: &Path) -> PathBuf {
+    let path = six_face_study();
+    let s =
+        study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
+    let settings = calib_run::simulate::SimSettings::for_study(&s, 50.0, 10.0, 4);
+    let mut buf = Vec::new();
+    calib_run::simulate::simulate_recording(&s, &s.sensor, &settings, &mut buf).expect("simulated");
+    let out = dir.join("run.csv");
+    std::fs::write(&out, buf).expect("written");
+    out
+}

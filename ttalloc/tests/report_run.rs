@@ -1,0 +1,119 @@
+//! `ttalloc report --recording LOG.csv` (issue 36 item 5): the report gains a "Processed run"
+//! section from the recording, processed with calibrate's own flags; a bad recording exits 2
+//! naming its line and column and leaves no report directory; a recording flag without
+//! `--recording` is refused naming the flag.
+
+mod common;
+
+use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
+use std::path::Path;
+
+/// `report` of the six-face study (2,000 Monte Carlo samples) into `out` with the recording
+/// `log` and `extra` flags.
+fn report(out: &Path, log: &Path, extra: &[&str]) -> std::process::Output {
+    let study = study_path();
+    let mut args = vec![
+        "report",
+        "--study",
+        &study,
+        "--samples",
+        "2000",
+        "--out",
+        out.to_str().expect("utf8"),
+        "--recording",
+        log.to_str().expect("utf8"),
+    ];
+    args.extend_from_slice(extra);
+    ttalloc(&args)
+}
+
+#[test]
+fn report_with_a_recording_writes_the_processed_run_section_and_its_figures() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let out = dir.path().join("report");
+    let o = report(&out, &log, &["--spec", "bg_x=100", "--robust"]);
+    ok(&o);
+    let md = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    assert!(md.contains("## Processed run"), "no section");
+    let sha = calib_run::recording::sha256_hex(&std::fs::read(&log).expect("log"));
+    assert!(md.contains(&sha), "the recording's hash");
+    assert!(
+        md.contains("specification 100: meets"),
+        "the --spec verdict"
+    );
+    assert!(
+        md.contains("--spec bg_x=100 --robust"),
+        "the reproducing command"
+    );
+    for f in ["fig_run_segments.svg", "fig_run_residuals.svg"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).expect("json"))
+            .expect("parsed");
+    assert_eq!(
+        json["processed_run"]["run"]["segments"]
+            .as_array()
+            .expect("segments")
+            .len(),
+        9
+    );
+    assert_eq!(json["processed_run"]["run"]["robust"], true);
+}
+
+#[test]
+fn report_with_a_bad_recording_exits_2_naming_line_and_column_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("dir");
+    let log = recording(dir.path());
+    let text = std::fs::read_to_string(&log).expect("log");
+    let bad: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 19 {
+                let (t, rest) = l.split_once(',').expect("cells");
+                format!("{t},oops{rest}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let bad_path = dir.path().join("bad.csv");
+    std::fs::write(&bad_path, bad).expect("written");
+    let out = dir.path().join("report");
+    let o = report(&out, &bad_path, &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("bad.csv:20 (column `gx`)") && err.contains("is not a number"),
+        "{err}"
+    );
+    assert!(!out.exists(), "no report directory left behind");
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert_eq!(left.len(), 2, "only the two recordings: {left:?}");
+}
+
+#[test]
+fn a_recording_flag_without_a_recording_is_refused_naming_the_flag() {
+    let dir = tempfile::tempdir().expect("dir");
+    let out = dir.path().join("report");
+    let o = ttalloc(&[
+        "report",
+        "--study",
+        &study_path(),
+        "--out",
+        out.to_str().expect("utf8"),
+        "--robust",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--robust") && err.contains("--recording"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
