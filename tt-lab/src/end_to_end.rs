@@ -489,6 +489,9 @@ pub struct DirectJson<'a> {
     pub no_bound_needed: bool,
     /// The binding rows.
     pub active_rows: Vec<ActiveRowJson<'a>>,
+    /// The specifications whose rows bind it, `label (unit)` (empty without specifications;
+    /// [`e2e_verify::DirectAllocation::limited_by`]).
+    pub limited_by: Vec<&'a str>,
     /// Its box's answer.
     #[cfg_attr(feature = "serde", serde(rename = "box"))]
     pub box_answer: BoxJson<'a>,
@@ -586,6 +589,7 @@ impl<'a> ReadingJson<'a> {
                             .joint_angles_deg(),
                     })
                     .collect(),
+                limited_by: r.direct().limited_by(),
                 box_answer: BoxJson::new(e2e, r.direct_box()),
             },
             direct_certified: r.direct_certified().map(|(d, wc)| DirectCertifiedJson {

@@ -360,6 +360,10 @@ fn end_to_end_direct_allocation_meets_the_specifications_and_names_what_limits_i
         "{out}"
     );
     let v = json(&[&args[..], &["--json"]].concat());
+    assert_eq!(
+        v["readings"][0]["direct"]["limited_by"],
+        serde_json::json!(["ax ba_x (bias) (ug)", "ax mis_xy (misalignment) (arcsec)"])
+    );
     let specs = v["decision"]["specifications"].as_array().unwrap();
     let met: Vec<bool> = specs
         .iter()
