@@ -2,6 +2,7 @@
 //! $\Delta\omega_k$ over the box within $\omega_{m,k}$ at every position) and yield-based (a
 //! chosen fraction of the turntables in the box meet every accuracy).
 
+use crate::budget::SpecificationRow;
 use crate::error::{E2eError, fraction};
 use crate::linear::Linearization;
 use crate::montecarlo::{McSettings, YieldCount, wilson_interval_95};
@@ -205,6 +206,39 @@ impl RowLoad {
     }
 }
 
+/// One specification row of the direct allocation ([`crate::budget::SpecificationRow`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SpecLoad {
+    /// The specification's index.
+    pub(crate) spec: usize,
+    /// Its label (`gx bg_x (bias)`) and unit.
+    pub(crate) label: String,
+    /// The row's table part over what the noise leaves, $\sum_j f_j|c_j|\mathrm{UB}_j /
+    /// (L - k\,u_{\text{noise}})$ (1 = all of it used).
+    pub(crate) load: f64,
+}
+
+/// Read access to the fields.
+impl SpecLoad {
+    /// The specification's index.
+    #[must_use]
+    pub fn spec(&self) -> usize {
+        self.spec
+    }
+    /// Its label.
+    #[must_use]
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+    /// The row's table part over what the noise leaves (1 = all of it used).
+    #[must_use]
+    pub fn load(&self) -> f64 {
+        self.load
+    }
+}
+
 /// The direct allocation's result.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -230,10 +264,35 @@ pub struct DirectAllocation {
     /// are constrained to $\omega_{m,k} - $ this (0 for [`EndToEnd::allocate_direct`]; the
     /// derived bound $\tau_k$ for [`EndToEnd::allocate_direct_certified`]).
     pub(crate) second_order_margins: Vec<f64>,
+    /// The load of every specification row ([`EndToEnd::allocate_direct_specified`]; empty
+    /// without specifications).
+    pub(crate) spec_loads: Vec<SpecLoad>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl DirectAllocation {
+    /// The load of every specification row ([`EndToEnd::allocate_direct_specified`]; empty
+    /// without specifications), in the rows' order.
+    #[must_use]
+    pub fn spec_loads(&self) -> &[SpecLoad] {
+        &self.spec_loads
+    }
+
+    /// The specifications whose rows bound the allocation (load $\ge 1 -$ [`TIGHT_REL`]),
+    /// each label once, in the specifications' order.
+    #[must_use]
+    pub fn limited_by(&self) -> Vec<&str> {
+        let mut out: Vec<(usize, &str)> = self
+            .spec_loads
+            .iter()
+            .filter(|l| l.load >= 1.0 - TIGHT_REL)
+            .map(|l| (l.spec, l.label.as_str()))
+            .collect();
+        out.sort_by_key(|l| l.0);
+        out.dedup_by_key(|l| l.0);
+        out.into_iter().map(|l| l.1).collect()
+    }
+
     /// $\mathrm{UB}$ (rad, order of $\chi$); `+inf` for an error no output depends on.
     #[must_use]
     pub fn upper_bounds_rad(&self) -> &[f64] {
@@ -486,7 +545,14 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         l1_budget_rad: Option<f64>,
     ) -> Result<DirectAllocation, E2eError> {
         let weights = self.combined_weights();
-        self.allocate_direct_weighted(&weights, linear, lower_bounds_rad, margins, l1_budget_rad)
+        self.allocate_direct_weighted(
+            &weights,
+            linear,
+            lower_bounds_rad,
+            margins,
+            l1_budget_rad,
+            &[],
+        )
     }
 
     /// [`EndToEnd::allocate_direct_with_margins`] with the objective's weights `weights` (one
@@ -499,6 +565,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         lower_bounds_rad: &[f64],
         margins: &[f64],
         l1_budget_rad: Option<f64>,
+        spec_rows: &[SpecificationRow],
     ) -> Result<DirectAllocation, E2eError> {
         let accuracies = self.accuracies();
         let names: Vec<&str> = self
@@ -513,7 +580,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             accuracies: &accuracies,
             output_names: &names,
         }
-        .allocate(linear, lower_bounds_rad, margins, l1_budget_rad)
+        .allocate_with_rows(linear, lower_bounds_rad, margins, l1_budget_rad, spec_rows)
     }
 
     /// Direct allocation keeping `margins[k]` (output unit) of each accuracy free (the noise
@@ -556,6 +623,143 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             &vec![0.0; self.n_outputs()],
             None,
         )
+    }
+
+    /// [`EndToEnd::allocate_direct`] constrained by every specification as well: the rows
+    /// `spec_rows` ([`EndToEnd::specification_rows`]) beside the eq-14 rows, each
+    /// $\sum_j f_j|c_j|\,\mathrm{UB}_j \le L - k\,u_{\text{noise}}$, so that the table's
+    /// worst case plus the noise part, and the verdict's expanded uncertainty
+    /// ([`EndToEnd::plan_verdict`]), are within every limit to first order. Without rows it is
+    /// [`EndToEnd::allocate_direct`], bit for bit.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct`]; [`E2eError::NoTableSuffices`] naming a specification
+    /// whose noise part alone fills its limit.
+    pub fn allocate_direct_specified(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        spec_rows: &[SpecificationRow],
+    ) -> Result<DirectAllocation, E2eError> {
+        let weights = self.combined_weights();
+        self.allocate_direct_weighted(
+            &weights,
+            linear,
+            lower_bounds_rad,
+            &vec![0.0; self.n_outputs()],
+            None,
+            spec_rows,
+        )
+    }
+
+    /// [`EndToEnd::allocate_direct_certified`] constrained by every specification as well:
+    /// the certified search with `spec_rows` beside the eq-14 rows, then each specified
+    /// quantity evaluated on the exact chain ([`EndToEnd::coefficient_errors`], and
+    /// [`EndToEnd::error_vectors`] for eq 14's error at a position) at the box's vertex of each
+    /// row's sign pattern and its opposite; where one exceeds $L - k\,u_{\text{noise}}$ the
+    /// finite bounds are scaled down together by bisection ([`CertifyParams::bisection_steps`])
+    /// to the largest scale at which every one is within. Without rows it is
+    /// [`EndToEnd::allocate_direct_certified`].
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct_certified`] and
+    /// [`EndToEnd::allocate_direct_specified`].
+    pub fn allocate_direct_certified_specified(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        spec_rows: &[SpecificationRow],
+    ) -> Result<DirectAllocation, E2eError> {
+        let params = CertifyParams::default();
+        let weights = self.combined_weights();
+        let zeros = vec![0.0; self.n_outputs()];
+        let d = self.certified_weighted(
+            &weights,
+            linear,
+            lower_bounds_rad,
+            &zeros,
+            &params,
+            spec_rows,
+        )?;
+        if spec_rows.is_empty() {
+            return Ok(d);
+        }
+        self.shrink_to_exact(d, &weights, linear, lower_bounds_rad, spec_rows, &params)
+    }
+
+    /// `d` with its finite bounds scaled down together (never below the lower bounds) to the
+    /// largest scale at which every specification row's quantity on the exact chain, at the
+    /// row's worst vertex and its opposite, is within $L - k\,u_{\text{noise}}$ (less
+    /// [`CertifyParams::round_trip_rel`] of $L$); loads and objective recomputed.
+    fn shrink_to_exact(
+        &self,
+        mut d: DirectAllocation,
+        weights: &[f64],
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        spec_rows: &[SpecificationRow],
+        params: &CertifyParams,
+    ) -> Result<DirectAllocation, E2eError> {
+        let mut offsets = Vec::with_capacity(self.n_outputs());
+        let mut next = 0;
+        for o in self.calibration().outputs() {
+            offsets.push(next);
+            next += o.output().estimated().count();
+        }
+        let scaled = |s: f64| -> Vec<f64> {
+            d.upper_bounds_rad
+                .iter()
+                .zip(lower_bounds_rad)
+                .map(|(u, l)| if u.is_finite() { (s * u).max(*l) } else { *u })
+                .collect()
+        };
+        let within = |ub: &[f64]| -> Result<bool, E2eError> {
+            for r in spec_rows {
+                let room = r.room() - params.round_trip_rel * r.limit();
+                let chi = r.vertex(ub);
+                for sign in [1.0, -1.0] {
+                    let chi: Vec<f64> = chi.iter().map(|c| sign * c).collect();
+                    let coefficients = self.coefficient_errors(&chi)?;
+                    let errors = self.error_vectors(&chi)?;
+                    if r.exact(&coefficients, &offsets, &errors).abs() > room {
+                        return Ok(false);
+                    }
+                }
+            }
+            Ok(true)
+        };
+        if within(&d.upper_bounds_rad)? {
+            return Ok(d);
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..params.bisection_steps {
+            let mid = 0.5 * (lo + hi);
+            if within(&scaled(mid))? {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        if !within(&scaled(lo))? {
+            return Err(E2eError::NoConvergence {
+                what: "certified direct allocation (the lower bounds alone exceed a specification on the exact chain)",
+                iterations: params.bisection_steps,
+                change: lo,
+            });
+        }
+        let ub = scaled(lo);
+        let n = linear.positions();
+        let acc = self.accuracies();
+        for (load, v) in d.loads.iter_mut().zip(linear.row_worst_cases(&ub).iter()) {
+            load.load = v / acc[load.output];
+        }
+        debug_assert!(d.loads.iter().all(|l| l.position < n));
+        for (load, r) in d.spec_loads.iter_mut().zip(spec_rows) {
+            load.load = r.value(&ub) / r.room();
+        }
+        d.objective = objective_with(weights, &ub);
+        d.upper_bounds_rad = ub;
+        Ok(d)
     }
 
     /// Direct allocation certified on the exact chain: the cheapest allocation found whose
@@ -627,7 +831,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         params: &CertifyParams,
     ) -> Result<DirectAllocation, E2eError> {
         let weights = self.combined_weights();
-        self.certified_weighted(&weights, linear, lower_bounds_rad, extra, params)
+        self.certified_weighted(&weights, linear, lower_bounds_rad, extra, params, &[])
     }
 
     /// [`EndToEnd::certified_keeping`] with the objective's weights `weights` (see
@@ -641,6 +845,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         lower_bounds_rad: &[f64],
         extra: &[f64],
         params: &CertifyParams,
+        spec_rows: &[SpecificationRow],
     ) -> Result<DirectAllocation, E2eError> {
         let acc = self.accuracies();
         let n = self.len();
@@ -659,8 +864,14 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 })
                 .collect()
         };
-        let plain =
-            self.allocate_direct_weighted(weights, linear, lower_bounds_rad, extra, None)?;
+        let plain = self.allocate_direct_weighted(
+            weights,
+            linear,
+            lower_bounds_rad,
+            extra,
+            None,
+            spec_rows,
+        )?;
         let l1 = |ub: &[f64]| -> f64 { ub.iter().filter(|u| u.is_finite()).sum() };
         let admissible = |t: &[f64]| t.iter().zip(&acc).all(|(t, a)| *t <= params.max_margin * a);
         let mut s_hi = l1(&plain.upper_bounds_rad);
@@ -713,6 +924,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 lower_bounds_rad,
                 &margins,
                 Some(s),
+                spec_rows,
             ) {
                 Ok(d) if certified(&d)? => Ok(Some(d)),
                 Ok(_) | Err(E2eError::InfeasibleLowerBounds { .. } | E2eError::Alloc(_)) => {
@@ -1091,6 +1303,21 @@ pub fn certified_or_note(
     lower_bounds_rad: &[f64],
     plain: &DirectAllocation,
 ) -> Result<(Option<DirectAllocation>, Option<String>), E2eError> {
+    certified_or_note_specified(sim, linear, lower_bounds_rad, plain, &[])
+}
+
+/// [`certified_or_note`] with the specification rows `spec_rows`
+/// ([`EndToEnd::allocate_direct_certified_specified`]).
+///
+/// # Errors
+/// As [`certified_or_note`].
+pub fn certified_or_note_specified(
+    sim: &EndToEnd,
+    linear: &Linearization,
+    lower_bounds_rad: &[f64],
+    plain: &DirectAllocation,
+    spec_rows: &[SpecificationRow],
+) -> Result<(Option<DirectAllocation>, Option<String>), E2eError> {
     if plain.no_bound_needed() {
         return Ok((None, Some(E2eError::NoBoxToCertify.to_string())));
     }
@@ -1100,7 +1327,7 @@ pub fn certified_or_note(
             Some(crate::rate::NOT_CERTIFIED_AT_RATE_STEPS.to_string()),
         ));
     }
-    match sim.allocate_direct_certified(linear, lower_bounds_rad) {
+    match sim.allocate_direct_certified_specified(linear, lower_bounds_rad, spec_rows) {
         Ok(d) => Ok((Some(d), None)),
         // not certifiable for this reading, table and sensor: say why, keep the rest
         Err(E2eError::MarginExceedsAccuracy { output, value }) => Ok((
@@ -1211,6 +1438,51 @@ impl DirectSetup<'_> {
         margins: &[f64],
         l1_budget_rad: Option<f64>,
     ) -> Result<DirectAllocation, E2eError> {
+        self.allocate_with_rows(linear, lower_bounds_rad, margins, l1_budget_rad, &[])
+    }
+
+    /// [`DirectSetup::allocate`] with the specification rows `spec_rows` beside the accuracy
+    /// rows: $\sum_j f_j|c_j|\,\mathrm{UB}_j \le L - k\,u_{\text{noise}}$ each
+    /// ([`SpecificationRow`]).
+    ///
+    /// # Errors
+    /// As [`DirectSetup::allocate`]; [`E2eError::NoTableSuffices`] naming the first
+    /// specification whose noise part fills its limit; [`E2eError::InfeasibleLowerBounds`]
+    /// naming a specification the lower bounds alone exceed.
+    pub fn allocate_with_rows(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        margins: &[f64],
+        l1_budget_rad: Option<f64>,
+        spec_rows: &[SpecificationRow],
+    ) -> Result<DirectAllocation, E2eError> {
+        for row in spec_rows {
+            row.check_room()?;
+            let lb = row.value(lower_bounds_rad);
+            if lb > row.room() {
+                return Err(E2eError::InfeasibleLowerBounds {
+                    output: format!("{} (specification)", row.label()),
+                    position: 0,
+                    worst: lb,
+                    accuracy: row.limit(),
+                });
+            }
+        }
+        let spec_coefficients: Vec<Vec<f64>> = spec_rows
+            .iter()
+            .map(SpecificationRow::coefficients)
+            .collect();
+        let spec_loads = |ub: &[f64]| -> Vec<SpecLoad> {
+            spec_rows
+                .iter()
+                .map(|r| SpecLoad {
+                    spec: r.spec(),
+                    label: format!("{} ({})", r.label(), r.unit()),
+                    load: r.value(ub) / r.room(),
+                })
+                .collect()
+        };
         check_lower_bounds_named(self.error_names.to_vec(), lower_bounds_rad)?;
         let n = linear.positions();
         let n_errors = self.error_names.len();
@@ -1236,7 +1508,11 @@ impl DirectSetup<'_> {
                 });
             }
         }
-        let unconstrained = linear.unconstrained();
+        let unconstrained: Vec<usize> = linear
+            .unconstrained()
+            .into_iter()
+            .filter(|&j| spec_coefficients.iter().all(|c| c[j] == 0.0))
+            .collect();
         let free: Vec<usize> = (0..n_errors)
             .filter(|j| !unconstrained.contains(j))
             .collect();
@@ -1260,6 +1536,7 @@ impl DirectSetup<'_> {
                 multiplier: 0.0,
                 iterations: 0,
                 second_order_margins: margins.to_vec(),
+                spec_loads: spec_loads(&vec![0.0; n_errors]),
             });
         }
         let rows: Vec<Cut> = linear
@@ -1271,6 +1548,20 @@ impl DirectSetup<'_> {
                 bound: bound(r / n),
                 tag: r as f64,
             })
+            .collect();
+        let rows: Vec<Cut> = rows
+            .into_iter()
+            .chain(
+                spec_rows
+                    .iter()
+                    .zip(&spec_coefficients)
+                    .enumerate()
+                    .map(|(i, (r, c))| Cut {
+                        coefficients: free.iter().map(|&j| c[j]).collect(),
+                        bound: r.room(),
+                        tag: -2.0 - i as f64,
+                    }),
+            )
             .collect();
         let mut rows = undominated(rows);
         if let Some(budget) = l1_budget_rad {
@@ -1307,6 +1598,7 @@ impl DirectSetup<'_> {
                 load: v / acc[r / n],
             })
             .collect();
+        let spec_loaded = spec_loads(&ub);
         Ok(DirectAllocation {
             objective: objective_with(weights, &ub),
             upper_bounds_rad: ub,
@@ -1317,6 +1609,7 @@ impl DirectSetup<'_> {
             multiplier: sol.multiplier(),
             iterations: sol.iterations(),
             second_order_margins: margins.to_vec(),
+            spec_loads: spec_loaded,
         })
     }
 }

@@ -33,6 +33,9 @@ pub struct EndToEndInputs {
     pub seed: u64,
     /// Target yield of the yield-based allocation (default 0.9973).
     pub yield_fraction: f64,
+    /// The specifications the direct allocations hold beside every output's accuracy
+    /// ([`crate::EndToEnd::allocate_direct_specified`]); `None`: the accuracies only.
+    pub specifications: Option<crate::budget::SpecificationContext>,
 }
 
 impl EndToEndInputs {
@@ -50,6 +53,7 @@ impl EndToEndInputs {
             samples: DEFAULT_SAMPLES,
             seed,
             yield_fraction: DEFAULT_YIELD_FRACTION,
+            specifications: None,
         }
     }
 }
@@ -424,14 +428,19 @@ fn allocations_checked(
             e2e.with_reading(reading)?
         };
         let linear = sim.linearization();
-        let direct = sim.allocate_direct(&linear, lb)?;
+        let spec_rows = match &inputs.specifications {
+            Some(ctx) => sim.specification_rows(ctx)?,
+            None => Vec::new(),
+        };
+        let direct = sim.allocate_direct_specified(&linear, lb, &spec_rows)?;
         // the certification (no Monte Carlo) beside the Monte Carlo runs; those run one at a
         // time (each already uses every thread), so the memory of their chunk waves is that of
         // one run whatever the sample count
         let (certified, (yielded, direct_box)) = rayon::join(
             || -> Result<_, E2eError> {
-                let (certified, note) =
-                    crate::allocate::certified_or_note(&sim, &linear, lb, &direct)?;
+                let (certified, note) = crate::allocate::certified_or_note_specified(
+                    &sim, &linear, lb, &direct, &spec_rows,
+                )?;
                 let certified = match certified {
                     Some(d) => {
                         let wc = sim.worst_case(&linear, &d.upper_bounds_rad)?;

@@ -120,10 +120,16 @@ impl SpecificationBudget {
 /// uncertainties.
 struct Candidate {
     at: EvaluatedAt,
+    /// The quantity's weights over the output's estimated coefficients (`None` for eq 14's
+    /// error at a position).
+    weights: Option<Vec<f64>>,
     table: Vec<f64>,
     white: f64,
     correlated: f64,
 }
+
+/// Per specification its candidates, and per output its noise covariance.
+type SpecCandidates = (Vec<Vec<Candidate>>, Vec<Option<NoiseCovariance>>);
 
 impl Candidate {
     fn variance(&self, u: &[f64]) -> f64 {
@@ -190,67 +196,15 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             .into());
         }
         let u: Vec<f64> = table.iter().map(Input::standard_uncertainty).collect();
-        let covs: Vec<Option<NoiseCovariance>> = match timing {
-            Some(t) => self.calibration().noise_covariances(noise, t)?,
-            None => vec![None; self.n_outputs()],
-        };
-        let jac = self.coefficient_linearization();
-        let needs_m = specs.iter().any(|s| *s.resolved() == Resolved::Accuracy);
-        let m = needs_m.then(|| self.linearization());
+        let (all, covs) = self.spec_candidates(specs, noise, timing)?;
         let outputs = self.calibration().outputs();
         specs
             .iter()
+            .zip(all)
             .enumerate()
-            .map(|(index, spec)| {
+            .map(|(index, (spec, candidates))| {
                 let k = spec.output();
                 let cov = covs.get(k).and_then(Option::as_ref);
-                let of_weights = |at: EvaluatedAt, w: &[f64]| Candidate {
-                    at,
-                    table: (0..self.n_errors())
-                        .map(|j| {
-                            w.iter()
-                                .enumerate()
-                                .map(|(t, wt)| wt * jac[k][(t, j)])
-                                .sum()
-                        })
-                        .collect(),
-                    white: cov.map_or(0.0, |c| {
-                        quadratic(c.coefficients().white(), w).max(0.0).sqrt()
-                    }),
-                    correlated: cov.map_or(0.0, |c| {
-                        quadratic(c.coefficients().correlated(), w).max(0.0).sqrt()
-                    }),
-                };
-                let n_coef = jac[k].nrows();
-                let candidates: Vec<Candidate> = match *spec.resolved() {
-                    Resolved::Coefficient { index: t, .. } => {
-                        let mut w = vec![0.0; n_coef];
-                        w[t] = 1.0;
-                        vec![of_weights(EvaluatedAt::Coefficient, &w)]
-                    }
-                    Resolved::ErrorOverRange { axis, range } => [true, false]
-                        .into_iter()
-                        .map(|positive| {
-                            let w = range_end_weights(&outputs[k], axis as usize, range, positive);
-                            of_weights(EvaluatedAt::RangeEnd { positive }, &w)
-                        })
-                        .collect(),
-                    Resolved::Accuracy => {
-                        let m = m.as_ref().expect("computed when an accuracy is specified");
-                        let rate = cov.map(NoiseCovariance::rate_error);
-                        let (ws, cs) = rate.map_or((None, None), |r| {
-                            (Some(r.white_sigma()), Some(r.correlated_sigma()))
-                        });
-                        (0..self.len())
-                            .map(|i| Candidate {
-                                at: EvaluatedAt::Position(i),
-                                table: m.row(k, i),
-                                white: ws.as_ref().map_or(0.0, |s| s[i]),
-                                correlated: cs.as_ref().map_or(0.0, |s| s[i]),
-                            })
-                            .collect()
-                    }
-                };
                 let worst = candidates
                     .iter()
                     .reduce(|a, b| {
@@ -295,6 +249,84 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 })
             })
             .collect()
+    }
+}
+
+impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// Every specification's candidate quantities (a coefficient: one; an error over a range:
+    /// its two ends; eq 14's accuracy: every test position) with their table sensitivities and
+    /// noise standard uncertainties, and the outputs' noise covariances.
+    fn spec_candidates(
+        &self,
+        specs: &[Specification],
+        noise: &[Option<NoiseModel>],
+        timing: Option<&Timing>,
+    ) -> Result<SpecCandidates, E2eError> {
+        let covs: Vec<Option<NoiseCovariance>> = match timing {
+            Some(t) => self.calibration().noise_covariances(noise, t)?,
+            None => vec![None; self.n_outputs()],
+        };
+        let jac = self.coefficient_linearization();
+        let needs_m = specs.iter().any(|s| *s.resolved() == Resolved::Accuracy);
+        let m = needs_m.then(|| self.linearization());
+        let outputs = self.calibration().outputs();
+        let all = specs
+            .iter()
+            .map(|spec| {
+                let k = spec.output();
+                let cov = covs.get(k).and_then(Option::as_ref);
+                let of_weights = |at: EvaluatedAt, w: &[f64]| Candidate {
+                    at,
+                    weights: Some(w.to_vec()),
+                    table: (0..self.n_errors())
+                        .map(|j| {
+                            w.iter()
+                                .enumerate()
+                                .map(|(t, wt)| wt * jac[k][(t, j)])
+                                .sum()
+                        })
+                        .collect(),
+                    white: cov.map_or(0.0, |c| {
+                        quadratic(c.coefficients().white(), w).max(0.0).sqrt()
+                    }),
+                    correlated: cov.map_or(0.0, |c| {
+                        quadratic(c.coefficients().correlated(), w).max(0.0).sqrt()
+                    }),
+                };
+                let n_coef = jac[k].nrows();
+                match *spec.resolved() {
+                    Resolved::Coefficient { index: t, .. } => {
+                        let mut w = vec![0.0; n_coef];
+                        w[t] = 1.0;
+                        vec![of_weights(EvaluatedAt::Coefficient, &w)]
+                    }
+                    Resolved::ErrorOverRange { axis, range } => [true, false]
+                        .into_iter()
+                        .map(|positive| {
+                            let w = range_end_weights(&outputs[k], axis as usize, range, positive);
+                            of_weights(EvaluatedAt::RangeEnd { positive }, &w)
+                        })
+                        .collect(),
+                    Resolved::Accuracy => {
+                        let m = m.as_ref().expect("computed when an accuracy is specified");
+                        let rate = cov.map(NoiseCovariance::rate_error);
+                        let (ws, cs) = rate.map_or((None, None), |r| {
+                            (Some(r.white_sigma()), Some(r.correlated_sigma()))
+                        });
+                        (0..self.len())
+                            .map(|i| Candidate {
+                                at: EvaluatedAt::Position(i),
+                                weights: None,
+                                table: m.row(k, i),
+                                white: ws.as_ref().map_or(0.0, |s| s[i]),
+                                correlated: cs.as_ref().map_or(0.0, |s| s[i]),
+                            })
+                            .collect()
+                    }
+                }
+            })
+            .collect();
+        Ok((all, covs))
     }
 }
 
@@ -385,5 +417,248 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             })
             .collect();
         Ok(PlanVerdict { budgets, unbounded })
+    }
+}
+
+/// What the direct allocation needs to hold every specification ([`EndToEnd::specification_rows`]):
+/// the specifications, the standard uncertainty of each table error's law per unit tolerance,
+/// and the noise and timing the verdict's budget uses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpecificationContext {
+    specs: Vec<Specification>,
+    u_per_tolerance: Vec<f64>,
+    noise: Vec<Option<NoiseModel>>,
+    timing: Option<Timing>,
+}
+
+impl SpecificationContext {
+    /// The context of `specs` with the table errors `error_names` under the law `law` (the
+    /// verdict's, [`EndToEnd::plan_verdict`]), the noise per output and the timing (`None`: no
+    /// noise is modelled).
+    ///
+    /// # Errors
+    /// `law`'s error for a unit tolerance.
+    pub fn new(
+        specs: &[Specification],
+        error_names: &[String],
+        law: impl Fn(&str, f64) -> Result<Input, metrology::MetrologyError>,
+        noise: &[Option<NoiseModel>],
+        timing: Option<&Timing>,
+    ) -> Result<Self, E2eError> {
+        let u_per_tolerance = error_names
+            .iter()
+            .map(|n| Ok(law(n, 1.0)?.standard_uncertainty()))
+            .collect::<Result<Vec<f64>, E2eError>>()?;
+        Ok(Self {
+            specs: specs.to_vec(),
+            u_per_tolerance,
+            noise: noise.to_vec(),
+            timing: timing.cloned(),
+        })
+    }
+
+    /// The specifications.
+    #[must_use]
+    pub fn specifications(&self) -> &[Specification] {
+        &self.specs
+    }
+}
+
+/// One linear row of the direct allocation for a specification (per end of a range, per
+/// test position of eq 14's accuracy):
+/// $$\sum_j f_j\,|c_j|\,\mathrm{UB}_j \le L - k\,u_{\text{noise}},\qquad
+/// f_j = \max(1,\ k\,u_j/a_j),$$
+/// $c_j$ the budget's sensitivity of the quantity to error $j$ (model unit per rad), $L$ the
+/// limit, $k$ the coverage factor of the verdict at the specification's coverage (every input
+/// of the budget has infinite degrees of freedom), $u_{\text{noise}}$ the noise's standard
+/// uncertainty in the budget and $u_j/a_j$ the table law's standard uncertainty per unit
+/// tolerance ($1/\sqrt3$ rectangular). With $f_j \ge 1$ the table's worst case plus the noise
+/// part is within $L$; with $f_j \ge k u_j/a_j$ the verdict's expanded uncertainty
+/// $k\sqrt{u_t^2 + u_{\text{noise}}^2} \le k u_t + k u_{\text{noise}}$ is within $L$ too.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpecificationRow {
+    spec: usize,
+    output: usize,
+    weights: Option<Vec<f64>>,
+    label: String,
+    at: EvaluatedAt,
+    sensitivities: Vec<f64>,
+    factors: Vec<f64>,
+    limit: f64,
+    noise_part: f64,
+    coverage_factor: f64,
+    to_written: f64,
+    unit: String,
+}
+
+impl SpecificationRow {
+    /// The specification's index.
+    #[must_use]
+    pub fn spec(&self) -> usize {
+        self.spec
+    }
+    /// Its label (`gx bg_x (bias)`).
+    #[must_use]
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+    /// Where the quantity is evaluated.
+    #[must_use]
+    pub fn at(&self) -> EvaluatedAt {
+        self.at
+    }
+    /// $c_j$: the quantity's sensitivity to each table error (model unit per rad).
+    #[must_use]
+    pub fn sensitivities(&self) -> &[f64] {
+        &self.sensitivities
+    }
+    /// $f_j\,|c_j|$: the row's coefficients (model unit per rad).
+    #[must_use]
+    pub fn coefficients(&self) -> Vec<f64> {
+        self.sensitivities
+            .iter()
+            .zip(&self.factors)
+            .map(|(c, f)| f * c.abs())
+            .collect()
+    }
+    /// The limit $L$ (model unit).
+    #[must_use]
+    pub fn limit(&self) -> f64 {
+        self.limit
+    }
+    /// The noise part $k\,u_{\text{noise}}$ (model unit; 0 without noise).
+    #[must_use]
+    pub fn noise_part(&self) -> f64 {
+        self.noise_part
+    }
+    /// The coverage factor $k$.
+    #[must_use]
+    pub fn coverage_factor(&self) -> f64 {
+        self.coverage_factor
+    }
+    /// What the table may take: $L - k\,u_{\text{noise}}$ (model unit).
+    #[must_use]
+    pub fn room(&self) -> f64 {
+        self.limit - self.noise_part
+    }
+    /// The written unit's value per model unit.
+    #[must_use]
+    pub fn to_written(&self) -> f64 {
+        self.to_written
+    }
+    /// The unit as written.
+    #[must_use]
+    pub fn unit(&self) -> &str {
+        &self.unit
+    }
+    /// The row's value for bounds `ub_rad` (model unit; infinite bounds count 0 where the
+    /// sensitivity is 0).
+    #[must_use]
+    pub fn value(&self, ub_rad: &[f64]) -> f64 {
+        self.coefficients()
+            .iter()
+            .zip(ub_rad)
+            .filter(|(c, _)| **c != 0.0)
+            .map(|(c, u)| c * u)
+            .sum()
+    }
+    /// The quantity on the exact chain for table errors `chi_rad` (model unit):
+    /// `coefficients` are [`EndToEnd::coefficient_errors`] and `errors`
+    /// [`EndToEnd::error_vectors`] at `chi_rad`, `offsets[k]` the index of output `k`'s first
+    /// coefficient in `coefficients`.
+    pub(crate) fn exact(
+        &self,
+        coefficients: &[f64],
+        offsets: &[usize],
+        errors: &[Vec<f64>],
+    ) -> f64 {
+        match (&self.weights, self.at) {
+            (Some(w), _) => w
+                .iter()
+                .zip(&coefficients[offsets[self.output]..])
+                .map(|(w, c)| w * c)
+                .sum(),
+            (None, EvaluatedAt::Position(i)) => errors[self.output][i],
+            (None, _) => unreachable!("a coefficient or a range end has weights"),
+        }
+    }
+
+    /// The box's vertex that maximises the row's linear value: $\chi_j =
+    /// \mathrm{sign}(c_j)\,\mathrm{UB}_j$ (0 for an infinite bound).
+    pub(crate) fn vertex(&self, ub_rad: &[f64]) -> Vec<f64> {
+        self.sensitivities
+            .iter()
+            .zip(ub_rad)
+            .map(|(c, u)| {
+                if !u.is_finite() {
+                    0.0
+                } else if *c < 0.0 {
+                    -u
+                } else {
+                    *u
+                }
+            })
+            .collect()
+    }
+
+    /// [`E2eError::NoTableSuffices`] when the noise part alone fills the limit.
+    ///
+    /// # Errors
+    /// That error, in the specification's unit.
+    pub fn check_room(&self) -> Result<(), E2eError> {
+        if self.room() > 0.0 {
+            return Ok(());
+        }
+        Err(E2eError::NoTableSuffices {
+            spec: self.label.clone(),
+            noise: self.noise_part * self.to_written,
+            limit: self.limit * self.to_written,
+            unit: self.unit.clone(),
+        })
+    }
+}
+
+impl<S: ScheduleErrorModel> EndToEnd<S> {
+    /// The direct allocation's rows of every specification of `ctx` (see
+    /// [`SpecificationRow`]): one per candidate quantity of the budget (a coefficient, each end
+    /// of a range, each test position of eq 14's accuracy), with the same sensitivities and
+    /// noise as [`EndToEnd::specification_budgets`].
+    ///
+    /// # Errors
+    /// As [`EndToEnd::specification_budgets`]; a length error unless one law per error.
+    pub fn specification_rows(
+        &self,
+        ctx: &SpecificationContext,
+    ) -> Result<Vec<SpecificationRow>, E2eError> {
+        tt_core::length("table inputs", self.n_errors(), ctx.u_per_tolerance.len())?;
+        let (all, _) = self.spec_candidates(&ctx.specs, &ctx.noise, ctx.timing.as_ref())?;
+        let sensor = self.calibration().sensor();
+        let mut rows = Vec::new();
+        for (index, (spec, candidates)) in ctx.specs.iter().zip(all).enumerate() {
+            let k = metrology::coverage_factor(f64::INFINITY, spec.coverage())?;
+            let factors: Vec<f64> = ctx
+                .u_per_tolerance
+                .iter()
+                .map(|s| (k * s).max(1.0))
+                .collect();
+            let label = spec.label(sensor);
+            for c in candidates {
+                rows.push(SpecificationRow {
+                    spec: index,
+                    output: spec.output(),
+                    weights: c.weights,
+                    label: label.clone(),
+                    at: c.at,
+                    noise_part: k * c.white.hypot(c.correlated),
+                    sensitivities: c.table,
+                    factors: factors.clone(),
+                    limit: spec.limit(),
+                    coverage_factor: k,
+                    to_written: spec.to_written(),
+                    unit: spec.unit().to_string(),
+                });
+            }
+        }
+        Ok(rows)
     }
 }

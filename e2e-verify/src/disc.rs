@@ -386,8 +386,8 @@ impl EndToEnd {
         );
         let zeros = vec![0.0; self.n_outputs()];
         let mut d = match certify {
-            None => self.allocate_direct_weighted(&weights, &scaled, &lb, &zeros, None)?,
-            Some(params) => self.certified_weighted(&weights, &scaled, &lb, &zeros, params)?,
+            None => self.allocate_direct_weighted(&weights, &scaled, &lb, &zeros, None, &[])?,
+            Some(params) => self.certified_weighted(&weights, &scaled, &lb, &zeros, params, &[])?,
         };
         for (u, c) in d.upper_bounds_rad.iter_mut().zip(&scale) {
             *u /= c;

@@ -63,6 +63,22 @@ pub enum E2eError {
         /// Its accuracy minus its margin (output unit), not positive.
         value: f64,
     },
+    /// A specification's noise part alone (its coverage factor times the noise's standard
+    /// uncertainty at the study's dwell) reaches its limit: no turntable, however good, lets
+    /// the calibration meet it (figures in the specification's unit).
+    #[error(
+        "no table suffices for {spec}: noise alone is {noise:.6} {unit} >= the limit {limit} {unit}"
+    )]
+    NoTableSuffices {
+        /// The specification's label (`gx bg_x (bias)`).
+        spec: String,
+        /// Its noise part (its unit).
+        noise: f64,
+        /// Its limit (its unit).
+        limit: f64,
+        /// Its unit, as written.
+        unit: String,
+    },
     /// The reading has no derived second-order bound, so the allocation cannot be certified
     /// on the exact chain.
     #[error(
@@ -341,6 +357,7 @@ impl tt_core::ErrorClass for E2eError {
             | E2eError::MeasuredModel { key, .. }
             | E2eError::MeasuredOutsideSheet { key, .. } => Some(key),
             E2eError::MarginExceedsAccuracy { .. }
+            | E2eError::NoTableSuffices { .. }
             | E2eError::NoBoxToCertify
             | E2eError::Draw { .. }
             | E2eError::MissingInAnswer { .. }

@@ -102,7 +102,7 @@ pub mod timedomain;
 pub mod ziggurat;
 
 pub use allocate::{
-    CertifyParams, DEFAULT_YIELD_FRACTION, DirectAllocation, NO_BOUND_NEEDED, RowLoad,
+    CertifyParams, DEFAULT_YIELD_FRACTION, DirectAllocation, NO_BOUND_NEEDED, RowLoad, SpecLoad,
     YieldAllocation, YieldParams, YieldVerdict, min_yield_samples,
 };
 pub use allocators::{Direct, DirectCertified, YieldBased};

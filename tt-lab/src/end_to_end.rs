@@ -489,6 +489,9 @@ pub struct DirectJson<'a> {
     pub no_bound_needed: bool,
     /// The binding rows.
     pub active_rows: Vec<ActiveRowJson<'a>>,
+    /// The specifications whose rows bind it, `label (unit)` (empty without specifications;
+    /// [`e2e_verify::DirectAllocation::limited_by`]).
+    pub limited_by: Vec<&'a str>,
     /// Its box's answer.
     #[cfg_attr(feature = "serde", serde(rename = "box"))]
     pub box_answer: BoxJson<'a>,
@@ -586,6 +589,7 @@ impl<'a> ReadingJson<'a> {
                             .joint_angles_deg(),
                     })
                     .collect(),
+                limited_by: r.direct().limited_by(),
                 box_answer: BoxJson::new(e2e, r.direct_box()),
             },
             direct_certified: r.direct_certified().map(|(d, wc)| DirectCertifiedJson {
@@ -1047,6 +1051,7 @@ pub struct EndToEndAnswer {
     sheet: Option<crate::allocation::angle::SheetAllocations>,
     rate: Option<crate::vendor::rate::RateAllocated>,
     decision: Option<e2e_verify::budget::PlanVerdict>,
+    no_table_suffices: Vec<String>,
 }
 
 impl EndToEndAnswer {
@@ -1100,6 +1105,13 @@ impl EndToEndAnswer {
     pub fn decision(&self) -> Option<&e2e_verify::budget::PlanVerdict> {
         self.decision.as_ref()
     }
+    /// The specifications no table can meet (the noise part alone fills the limit), left out
+    /// of the direct allocation: "no table suffices for <spec>: noise alone is X >= the limit
+    /// L" (the study's names unescaped).
+    #[must_use]
+    pub fn no_table_suffices(&self) -> &[String] {
+        &self.no_table_suffices
+    }
 }
 
 /// Does the allocated turntable deliver every output's calibration accuracy? The study's
@@ -1115,7 +1127,10 @@ pub fn end_to_end(s: &Study, o: &Options) -> Result<EndToEndAnswer> {
     check_yield_samples(samples, o.samples.is_some(), o.yield_fraction, s)?;
     // the requirement (a box search per output) once, for the inputs and the note
     let req = st::requirement(s)?;
-    let inputs = inputs_with(s, &req, samples, seed, o.yield_fraction);
+    let mut inputs = inputs_with(s, &req, samples, seed, o.yield_fraction);
+    // the direct allocations hold every specification that leaves the table room
+    let specified = crate::allocation::spec::context(s, &e2e)?;
+    inputs.specifications = specified.context;
     let note = if s.has_rate_steps() {
         Some(crate::vendor::rate::rate_steps_note(&e2e))
     } else {
@@ -1143,6 +1158,7 @@ pub fn end_to_end(s: &Study, o: &Options) -> Result<EndToEndAnswer> {
         sheet,
         rate,
         decision,
+        no_table_suffices: specified.no_table_suffices,
     })
 }
 

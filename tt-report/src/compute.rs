@@ -433,6 +433,8 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         options.seed,
         e2e_verify::DEFAULT_YIELD_FRACTION,
     );
+    // the direct allocations hold the study's specifications, as `end-to-end`'s do
+    inputs.specifications = tt_lab::allocation::spec::context(s, &e2e)?.context;
     // `inputs` adds Table 4 for the paper's table; only the paper's reproduction shows it
     inputs
         .extra_boxes

@@ -422,5 +422,9 @@ pub fn run(args: &Args) -> Result<()> {
         r.decision(),
         "over the direct allocation's box (the study's reading)",
     ));
+    t.push_str(&crate::text::spec_verdict::limited_by(
+        a.readings()[0].direct(),
+        r.no_table_suffices(),
+    ));
     crate::out::print(&t)
 }

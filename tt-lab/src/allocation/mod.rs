@@ -32,6 +32,7 @@ use tt_core::units::rad_to_deg;
 use tt_kinematics::LinearModel;
 
 pub mod angle;
+pub mod spec;
 
 pub use crate::vendor::rate::{RateAllocated, allocation as rate_allocation};
 

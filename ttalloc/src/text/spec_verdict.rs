@@ -20,3 +20,26 @@ pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
     t.push_str(&format!("  {}\n", headline(s, v)));
     t
 }
+
+/// What bounds a direct allocation held against the specifications: "limited by: <spec>
+/// (<unit>)" for the specification rows at their limit, and each specification no table can
+/// meet (its noise part alone fills it). Empty when the allocation holds no specification.
+#[must_use]
+pub fn limited_by(d: &e2e_verify::DirectAllocation, no_table_suffices: &[String]) -> String {
+    let mut t = String::new();
+    if !d.spec_loads().is_empty() {
+        let binding = d.limited_by();
+        t.push_str(&format!(
+            "  the direct allocation holds every specification beside each output's accuracy; limited by: {}\n",
+            if binding.is_empty() {
+                "the outputs' accuracies (eq 14) only".to_string()
+            } else {
+                binding.join(", ")
+            }
+        ));
+    }
+    for n in no_table_suffices {
+        t.push_str(&format!("  {n} (left out of the direct allocation)\n"));
+    }
+    t
+}

@@ -1,0 +1,247 @@
+//! The direct allocation against the specifications (issue 34 item 6): one row per
+//! specified quantity beside the eq-14 rows, the table's part as a worst case within the
+//! limit less the budget's noise part; the verdict on the allocation's own box meets every
+//! specification; the certified variant holds on the exact chain; a study without
+//! specifications allocates exactly as before.
+
+mod common;
+
+use approx::assert_relative_eq;
+use e2e_verify::EndToEnd;
+use e2e_verify::budget::{EvaluatedAt, SpecificationContext, SpecificationRow};
+use gw_model::spec::Resolved;
+use study::Study;
+
+const IMU_FILE: &str = include_str!("../../studies/imu-triad-example.toml");
+
+/// The rows and the budget take the same sensitivities from the same matrix: equal to
+/// rounding (relative, dimensionless).
+const SAME_NUMBERS_REL: f64 = 1e-12;
+
+/// A row at its limit after the conic solve: the solver's tolerance (relative load).
+const TIGHT_LOAD: f64 = 1e-6;
+
+fn imu() -> Study {
+    Study::parse("imu.toml", IMU_FILE).unwrap()
+}
+
+fn e2e_of(s: &Study) -> EndToEnd {
+    let poses = common::poses_of(&s.calibration);
+    EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap()
+}
+
+fn context(s: &Study, e2e: &EndToEnd) -> SpecificationContext {
+    let law = s.uncertainty.tolerance_distribution;
+    SpecificationContext::new(
+        &s.specifications,
+        &e2e.error_names(),
+        |n, a| law.input(n, a),
+        &s.noise,
+        s.timing.as_ref(),
+    )
+    .unwrap()
+}
+
+/// The IMU example with the misalignment specified at 10 arcsec instead of 20 (the accuracy
+/// rows alone then give a box that misses it: U / limit 1.11 on the plain direct box), with
+/// only the specifications its noise leaves room for, and the messages of those it does not
+/// (noise part >= limit: no table suffices).
+fn imu_tight_misalignment() -> (Study, Vec<String>) {
+    let text = IMU_FILE.replace(
+        "coefficient = \"mis_xy\"\nlimit = 20\n",
+        "coefficient = \"mis_xy\"\nlimit = 10\n",
+    );
+    assert_ne!(text, IMU_FILE);
+    room_of(Study::parse("imu.toml", &text).unwrap())
+}
+
+fn room_of(mut s: Study) -> (Study, Vec<String>) {
+    let e2e = e2e_of(&s);
+    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let blocked: Vec<String> = rows
+        .iter()
+        .filter_map(|r| r.check_room().err().map(|e| e.to_string()))
+        .collect();
+    s.specifications = rows
+        .iter()
+        .zip(&s.specifications)
+        .filter(|(r, _)| r.check_room().is_ok())
+        .map(|(_, sp)| sp.clone())
+        .collect();
+    (s, blocked)
+}
+
+fn verdict(s: &Study, e2e: &EndToEnd, ub: &[f64]) -> e2e_verify::budget::PlanVerdict {
+    let law = s.uncertainty.tolerance_distribution;
+    e2e.plan_verdict(
+        &s.specifications,
+        ub,
+        |n, a| law.input(n, a),
+        &s.noise,
+        s.timing.as_ref(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn each_spec_row_has_the_budgets_sensitivities_and_noise_part() {
+    let s = imu();
+    let e2e = e2e_of(&s);
+    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    assert_eq!(rows.len(), s.specifications.len(), "one coefficient each");
+    let tol = vec![1e-5; e2e.n_errors()];
+    let v = verdict(&s, &e2e, &tol);
+    for (r, b) in rows.iter().zip(v.budgets()) {
+        assert_eq!(r.at(), EvaluatedAt::Coefficient);
+        let out = b.output();
+        let c = &out.sensitivities()[..b.table_rows()];
+        for (x, y) in r.sensitivities().iter().zip(c) {
+            assert_relative_eq!(*x, *y, max_relative = SAME_NUMBERS_REL, epsilon = 1e-300);
+        }
+        // the noise part: the verdict's coverage factor times the noise rows' combined u
+        let noise: f64 = out.contributions()[b.table_rows()..]
+            .iter()
+            .map(|c| c * c)
+            .sum::<f64>()
+            .sqrt();
+        assert_relative_eq!(
+            r.noise_part(),
+            out.coverage_factor() * noise,
+            max_relative = SAME_NUMBERS_REL
+        );
+        // rectangular at 95 %: f = max(1, 1.95996 / sqrt 3) = 1.1316 on every error
+        let f = out.coverage_factor() / 3f64.sqrt();
+        for (co, c) in r.coefficients().iter().zip(r.sensitivities()) {
+            assert_relative_eq!(*co, f * c.abs(), max_relative = SAME_NUMBERS_REL);
+        }
+    }
+}
+
+/// The IMU example's direct box: before, some specification fails on it; held against the
+/// specifications, every one meets by the plan rule, and the binding row is tight.
+#[test]
+fn the_direct_box_meets_every_specification_and_is_tight() {
+    let (s, blocked) = imu_tight_misalignment();
+    // the gyro's bias and g-sensitivity: their noise parts at the study's dwell alone exceed
+    // 0.1 deg/h and 0.1 deg/h/g (1.083 and 0.822 at k = 1.96)
+    assert_eq!(blocked.len(), 2, "{blocked:?}");
+    assert!(blocked[0].starts_with("no table suffices for gx bg_x (bias): noise alone is 1.083"));
+    assert!(
+        blocked[1]
+            .starts_with("no table suffices for gx gs_xx (g-sensitivity): noise alone is 0.82")
+    );
+    assert_eq!(s.specifications.len(), 3);
+    let e2e = e2e_of(&s);
+    let linear = e2e.linearization();
+    let lb = &s.lower_bounds_rad;
+    let before = e2e.allocate_direct(&linear, lb).unwrap();
+    let v0 = verdict(&s, &e2e, before.upper_bounds_rad());
+    let failing: Vec<usize> = (0..s.specifications.len())
+        .filter(|&i| !v0.meets(i))
+        .collect();
+    // before: the misalignment's U is 1.11 of its limit on the accuracy rows' box
+    assert_relative_eq!(v0.budgets()[2].check().ratio(), 1.1103, max_relative = 1e-4);
+    assert_eq!(
+        failing,
+        vec![2],
+        "the accuracy rows alone miss the misalignment"
+    );
+    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let after = e2e.allocate_direct_specified(&linear, lb, &rows).unwrap();
+    let v1 = verdict(&s, &e2e, after.upper_bounds_rad());
+    for i in 0..s.specifications.len() {
+        assert!(
+            v1.meets(i),
+            "spec {i}: ratio {}",
+            v1.budgets()[i].check().ratio()
+        );
+    }
+    // no output's accuracy is given up for it
+    assert!(after.loads().iter().all(|l| l.load() <= 1.0 + TIGHT_LOAD));
+    // tight: a binding row at its limit; 1 % more on its largest term breaks it
+    let binding: Vec<&str> = after.limited_by();
+    assert!(!binding.is_empty(), "a specification binds the IMU's box");
+    let (i, load) = after
+        .spec_loads()
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (i, l.load()))
+        .fold((0, 0.0), |b, c| if c.1 > b.1 { c } else { b });
+    assert_relative_eq!(load, 1.0, max_relative = TIGHT_LOAD);
+    let row: &SpecificationRow = &rows[i];
+    let ub = after.upper_bounds_rad();
+    let co = row.coefficients();
+    let j = (0..ub.len())
+        .filter(|&j| ub[j].is_finite())
+        .max_by(|&a, &b| (co[a] * ub[a]).total_cmp(&(co[b] * ub[b])))
+        .unwrap();
+    let mut larger = ub.to_vec();
+    larger[j] *= 1.01;
+    assert!(row.value(&larger) > row.room());
+    assert_eq!(
+        binding,
+        ["ax ba_x (bias) (ug)", "ax mis_xy (misalignment) (arcsec)"]
+    );
+    assert_eq!(e2e.error_names()[j], "deps_om_y");
+}
+
+/// The certified allocation against the specifications: on the exact chain every specified
+/// coefficient, at the vertices of its row's sign pattern, is within its limit less the
+/// noise part.
+#[test]
+fn the_certified_box_meets_every_specification_on_the_exact_chain() {
+    let (s, _) = imu_tight_misalignment();
+    let e2e = e2e_of(&s);
+    let linear = e2e.linearization();
+    let lb = &s.lower_bounds_rad;
+    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let d = e2e
+        .allocate_direct_certified_specified(&linear, lb, &rows)
+        .unwrap();
+    let ub = d.upper_bounds_rad();
+    let mut offsets = Vec::new();
+    let mut next = 0;
+    for o in e2e.calibration().outputs() {
+        offsets.push(next);
+        next += o.output().estimated().count();
+    }
+    for r in &rows {
+        let sp = &s.specifications[r.spec()];
+        let Resolved::Coefficient { index, .. } = *sp.resolved() else {
+            panic!("the IMU example specifies coefficients");
+        };
+        let chi: Vec<f64> = r
+            .sensitivities()
+            .iter()
+            .zip(ub)
+            .map(|(c, u)| if u.is_finite() { u * c.signum() } else { 0.0 })
+            .collect();
+        for sign in [1.0, -1.0] {
+            let x: Vec<f64> = chi.iter().map(|c| sign * c).collect();
+            let q = e2e.coefficient_errors(&x).unwrap()[offsets[sp.output()] + index];
+            assert!(
+                q.abs() + r.noise_part() <= sp.limit(),
+                "{}: {} + {} > {}",
+                r.label(),
+                q.abs(),
+                r.noise_part(),
+                sp.limit()
+            );
+        }
+    }
+    let v = verdict(&s, &e2e, ub);
+    assert!(v.meets_all());
+}
+
+/// Without specifications the allocations are today's, bit for bit.
+#[test]
+fn without_specifications_the_allocations_are_unchanged() {
+    let s = imu();
+    let e2e = e2e_of(&s);
+    let linear = e2e.linearization();
+    let lb = &s.lower_bounds_rad;
+    let plain = e2e.allocate_direct(&linear, lb).unwrap();
+    let none = e2e.allocate_direct_specified(&linear, lb, &[]).unwrap();
+    assert_eq!(plain, none);
+    assert!(none.spec_loads().is_empty());
+}
