@@ -29,6 +29,7 @@ pub struct Settings {
     noise: NoiseModel,
     overlap: u64,
     taus: Taus,
+    gauss_markov: bool,
 }
 
 impl Settings {
@@ -43,7 +44,18 @@ impl Settings {
             noise: NoiseModel::Identify,
             overlap: DEFAULT_OVERLAP,
             taus: Taus::Octave,
+            gauss_markov: true,
         }
+    }
+
+    /// Leave out the Gauss-Markov alternative fit ([`NoiseFit::gauss_markov`] is then
+    /// `None`): a caller that reads only the power-law terms (white noise, floor) saves its
+    /// grid search, about as long as the rest of an analysis; every other figure is
+    /// unchanged, bit for bit (the power-law fit does not depend on it).
+    #[must_use]
+    pub fn without_gauss_markov(mut self) -> Self {
+        self.gauss_markov = false;
+        self
     }
 
     /// The cluster times of the curve ([`Taus::Octave`] by default).
@@ -426,7 +438,8 @@ impl NoiseFit {
     }
 
     /// The Gauss-Markov alternative ($Q, N, K, R$ and a Gauss-Markov bias of fitted
-    /// correlation time; `None` for an all-zero curve).
+    /// correlation time; `None` for an all-zero curve, or when the settings leave it out:
+    /// [`Settings::without_gauss_markov`]).
     #[must_use]
     pub fn gauss_markov(&self) -> Option<GaussMarkovFit> {
         self.gauss_markov
@@ -816,7 +829,7 @@ impl StreamingAllan {
                 totdev: p.others[2],
             });
         }
-        let fit = noise_fit(&points)?;
+        let fit = noise_fit(&points, self.settings.gauss_markov)?;
         Ok(Analysis {
             samples: n,
             rate_hz: rate,
@@ -932,13 +945,17 @@ fn local_slope(taus: &[f64], adevs: &[f64], i: usize) -> f64 {
 /// # Errors
 /// [`AllanError::Overflow`] when a parameter is not a finite double (a log so large or so
 /// small that its coefficients leave the range of a double).
-fn noise_fit(points: &[AllanPoint]) -> Result<NoiseFit, AllanError> {
+fn noise_fit(points: &[AllanPoint], gauss_markov: bool) -> Result<NoiseFit, AllanError> {
     let triples: Vec<(f64, f64, f64)> = points
         .iter()
         .map(|p| (p.tau_s, p.adev * p.adev, p.edf))
         .collect();
     let pf = fit::fit_power_terms(&triples);
-    let gm = fit::fit_gauss_markov(&triples, &pf);
+    let gm = if gauss_markov {
+        fit::fit_gauss_markov(&triples, &pf)
+    } else {
+        None
+    };
     let c = pf.coefficients();
     let mut terms = pf.terms();
     // floor: the smallest fitted deviation at a measured cluster time (the first on ties)

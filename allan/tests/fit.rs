@@ -183,3 +183,42 @@ fn the_fit_does_not_depend_on_the_logs_scale_or_rate() {
         );
     }
 }
+
+/// Leaving out the Gauss-Markov alternative (`Settings::without_gauss_markov`, what a caller
+/// reading only the white density and the floor asks for) leaves it `None` and every other
+/// figure of the analysis equal, bit for bit.
+#[test]
+fn without_the_gauss_markov_fit_every_other_figure_is_bit_identical() {
+    let rate: f64 = 10.0;
+    let recipe = Recipe {
+        bias: 0.0,
+        white_sd: 0.1,
+        rw_step: 0.0,
+        gauss_markov: vec![(0.05, (-1.0 / (rate * 20.0)).exp())],
+    };
+    let y = recipe.collect(1 << 16, 23);
+    let with = allan::analyse(&y, Settings::new(rate)).unwrap();
+    let without = allan::analyse(&y, Settings::new(rate).without_gauss_markov()).unwrap();
+    assert!(with.fit().gauss_markov().is_some());
+    assert!(without.fit().gauss_markov().is_none());
+    assert_eq!(with.points(), without.points());
+    let (a, b) = (with.fit(), without.fit());
+    let bits = |f: &allan::NoiseFit| {
+        let mut v: Vec<u64> = [
+            f.white_noise(),
+            f.bias_instability(),
+            f.floor_adev_measured(),
+            f.floor_tau_s(),
+        ]
+        .iter()
+        .chain(f.coefficients().iter())
+        .map(|x| x.to_bits())
+        .collect();
+        v.push(u64::from(f.floor_reached()));
+        v
+    };
+    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(a.white_term(), b.white_term());
+    assert_eq!(a.flicker_term(), b.flicker_term());
+    assert_eq!(a.quantization_term(), b.quantization_term());
+}

@@ -220,7 +220,9 @@ impl CoefficientResult {
     pub fn expanded(&self) -> (f64, f64) {
         (self.expanded, self.k)
     }
-    /// The plan's predicted standard uncertainty (study noise and timing).
+    /// The plan's predicted standard uncertainty: the study's noise over the study's timing
+    /// windows, for the entries the run's fit uses ([`OutputResult::predicted_basis`] says
+    /// which, or why there is none).
     #[must_use]
     pub fn predicted_u(&self) -> Option<f64> {
         self.predicted_u
@@ -244,9 +246,16 @@ pub struct OutputResult {
     pub(crate) dof: usize,
     pub(crate) birge_ratio: Option<f64>,
     pub(crate) notes: Vec<String>,
+    pub(crate) predicted_basis: String,
 }
 
 impl OutputResult {
+    /// What the coefficients' predicted standard uncertainty
+    /// ([`CoefficientResult::predicted_u`]) is computed from, or why there is none.
+    #[must_use]
+    pub fn predicted_basis(&self) -> &str {
+        &self.predicted_basis
+    }
     /// Name.
     #[must_use]
     pub fn name(&self) -> &str {
@@ -839,28 +848,9 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
             pose,
         });
     }
-    // predicted (the plan)
-    let predicted: Vec<Option<DVector<f64>>> = match &study.timing {
-        Some(t) => match study.calibration.noise_covariances(&study.noise, t) {
-            Ok(v) => v
-                .into_iter()
-                .map(|c| c.map(|c| c.coefficients().sigma()))
-                .collect(),
-            Err(_) => vec![None; n_out],
-        },
-        None => vec![None; n_out],
-    };
     let mut outputs = Vec::with_capacity(n_out);
     for (k, o) in sensor.outputs().iter().enumerate() {
-        outputs.push(estimate_output(
-            study,
-            k,
-            o,
-            &segments,
-            &noise[k],
-            predicted[k].as_ref(),
-            options,
-        )?);
+        outputs.push(estimate_output(study, k, o, &segments, &noise[k], options)?);
     }
     Ok(Run {
         study: study.path.clone(),
@@ -1090,7 +1080,6 @@ fn estimate_output(
     o: &Output,
     segments: &[Segment],
     noise: &MeasuredNoise,
-    predicted: Option<&DVector<f64>>,
     options: &CalibrateOptions,
 ) -> Result<OutputResult, RunError> {
     let involves_rate = o.terms.iter().any(|t| t.regressor.involves_rate());
@@ -1104,6 +1093,12 @@ fn estimate_output(
     if used.len() < segments.len() {
         notes.push("rotation segments not used: the output has no rate term".into());
     }
+    let entries: Vec<usize> = used.iter().map(|&i| segments[i].entry).collect();
+    let (predicted, predicted_basis) = match predicted_sigma(study, k, &entries) {
+        Ok((sigma, basis)) => (Some(sigma), basis),
+        Err(why) => (None, format!("not computed: {why}")),
+    };
+    let predicted = predicted.as_ref();
     let names: Vec<String> = o
         .estimated_names()
         .iter()
@@ -1301,7 +1296,83 @@ fn estimate_output(
         dof,
         birge_ratio: birge,
         notes,
+        predicted_basis,
     })
+}
+
+/// The plan's predicted standard uncertainty of output `k`'s estimated coefficients
+/// (study order) for the schedule entries `entries` the run's fit of it uses, and a
+/// sentence saying what it is computed from; `Err` says why there is none.
+///
+/// The plan's covariance (calib-lsq, module `covariance`): ordinary least squares on the
+/// entries' nominal regressor rows, $\mathbf A^+\boldsymbol\Sigma\mathbf A^{+T}$, with
+/// $\boldsymbol\Sigma$ the study's noise model over the study's timing windows (a static
+/// position's dwell, a rate step's whole revolutions at its commanded rate; the study's
+/// sample rate). When the run uses every entry this is the end-to-end noise part's
+/// covariance of the coefficients; an output without a rate term leaves out the rate steps
+/// the run took as rotations (their specific force depends on the unknown rate profile), and
+/// the prediction leaves out their rows too.
+fn predicted_sigma(
+    study: &Study,
+    k: usize,
+    entries: &[usize],
+) -> Result<(DVector<f64>, String), String> {
+    let Some(timing) = &study.timing else {
+        return Err("the study gives no `[calibration.timing]` (the plan's windows)".into());
+    };
+    let Some(noise) = study.noise.get(k).and_then(Option::as_ref) else {
+        return Err("the study gives no noise for this output (`[sensor.outputs.noise]`)".into());
+    };
+    let plan = study.calibration.outputs()[k].regression();
+    let windows = timing.windows();
+    let mut rows = entries.to_vec();
+    rows.sort_unstable();
+    rows.dedup();
+    if rows.len() < entries.len() {
+        return Err("a schedule entry has more than one segment".into());
+    }
+    if rows
+        .iter()
+        .any(|&e| e >= windows.len() || e >= plan.matrix().nrows())
+    {
+        return Err("a segment's entry is not in the study's timing".into());
+    }
+    let a = DMatrix::from_fn(rows.len(), plan.matrix().ncols(), |r, c| {
+        plan.matrix()[(rows[r], c)]
+    });
+    let w: Vec<_> = rows.iter().map(|&e| windows[e]).collect();
+    let sigma = noise
+        .window_covariance(&w, timing.sample_rate_hz())
+        .map_err(|e| format!("the study's noise over its timing: {e}"))
+        .and_then(|positions| {
+            Regression::new(plan.output(), plan.names().to_vec(), a)
+                .and_then(|r| r.noise_covariance(&positions))
+                .map_err(|e| format!("the plan's rows used by the run: {e}"))
+        })?
+        .coefficients()
+        .sigma();
+    let n_static = timing.positions();
+    let statics = rows.iter().filter(|&&e| e < n_static).count();
+    let steps = rows.len() - statics;
+    let mut basis = format!(
+        "the study's noise and timing (its windows, not the run's): {statics} of {n_static} static positions' dwells"
+    );
+    if !timing.rate_step_s().is_empty() {
+        basis.push_str(&format!(
+            ", {steps} of {} rate steps over their whole revolutions",
+            timing.rate_step_s().len()
+        ));
+    }
+    basis.push_str(&format!(
+        " at {} Hz, ordinary least squares",
+        study::fmt::sig(timing.sample_rate_hz(), 6)
+    ));
+    if rows.len() < timing.len() {
+        basis.push_str(
+            "; the entries the run does not use for this output (rotations at an unknown rate, for an output without a rate term) left out",
+        );
+    }
+    Ok((sigma, basis))
 }
 
 type TableSens = (Vec<String>, Vec<f64>, DMatrix<f64>);

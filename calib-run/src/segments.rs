@@ -393,7 +393,8 @@ pub(crate) struct StaticAcc {
 impl StaticAcc {
     pub fn new(outputs: usize, rate_hz: f64) -> Result<Self, RunError> {
         let allan = (0..outputs)
-            .map(|_| StreamingAllan::new(Settings::new(rate_hz)))
+            // only the white density and the floor are read (`estimate::pool`)
+            .map(|_| StreamingAllan::new(Settings::new(rate_hz).without_gauss_markov()))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| RunError::Internal(format!("Allan deviation: {e}")))?;
         Ok(Self {

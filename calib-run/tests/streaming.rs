@@ -156,3 +156,29 @@ fn a_read_failure_midway_is_a_cannot_read_error_after_the_rows_read_before_it() 
         "{seen} rows visited, {whole_rows} whole rows read"
     );
 }
+
+/// Spaces and tabs around the headers and the cells are not part of them (the reader trims
+/// each cell itself rather than have the csv crate copy every row into a trimmed one): the
+/// same values, bit for bit, as without them.
+#[test]
+fn blanks_around_headers_and_cells_give_the_same_rows() {
+    let plain = recording(50, None);
+    let padded = String::from_utf8(plain.clone())
+        .unwrap()
+        .replace(',', " ,\t ")
+        .replace('\n', " \n");
+    let collect = |rec: &[u8]| {
+        let mut rows = Vec::new();
+        read(rec, |r| {
+            rows.push((
+                r.t_s.to_bits(),
+                r.values[0].to_bits(),
+                r.values[1].to_bits(),
+            ));
+            Ok(())
+        })
+        .expect("read");
+        rows
+    };
+    assert_eq!(collect(&plain), collect(padded.as_bytes()));
+}

@@ -262,6 +262,7 @@ fn text(
             sig(o.chi2().0, 4),
             o.chi2().1
         );
+        let _ = writeln!(t, "  plan predicted: {}", o.predicted_basis());
         for c in o.coefficients() {
             let (u, k) = c.expanded();
             let _ = writeln!(
