@@ -135,10 +135,11 @@ pub fn run(
 }
 
 /// The budget of a study with noise and timing: its noise, move time and sample rate, the
-/// default $k\sigma$, dwells up to the study's limit, the counts searched.
+/// default $k\sigma$, dwells up to the study's limit, the counts searched, and its rate steps
+/// with their windows after every schedule's static positions.
 fn time_budget<'a>(
     s: &'a Study,
-    timing: &calib_lsq::Timing,
+    timing: &'a calib_lsq::Timing,
     budget_s: f64,
     study_dwell_s: Option<f64>,
 ) -> TimeBudget<'a> {
@@ -152,6 +153,10 @@ fn time_budget<'a>(
         study_dwell_s,
         search_counts: true,
         params: BudgetParams::default(),
+        // the study's rate steps follow its static positions, with their whole-revolution
+        // windows whatever the static dwell
+        rate_steps: &s.calibration.schedule().positions()[s.positions_deg.len()..],
+        rate_step_s: timing.rate_step_s(),
     }
 }
 
