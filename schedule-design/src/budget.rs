@@ -94,7 +94,16 @@ pub struct BudgetParams {
     /// the coarse counts, the count halfway between the best count at the budget and each
     /// tried neighbour, repeated on the new best (a bisection on the count).
     pub count_refinements: usize,
+    /// Positions beyond the fewest that identify every output
+    /// ([`DesignProblem::min_positions`]) that every searched count and every point of the
+    /// front keeps at least (default [`DEFAULT_REDUNDANCY`]); the study's own schedule is
+    /// evaluated whatever its count.
+    pub redundancy: usize,
 }
+
+/// The default [`BudgetParams::redundancy`]: two positions beyond the fewest that identify
+/// every output, so no proposed test rests on an exactly determined fit (issue 35).
+pub const DEFAULT_REDUNDANCY: usize = 2;
 
 impl Default for BudgetParams {
     fn default() -> Self {
@@ -104,8 +113,16 @@ impl Default for BudgetParams {
             fixed_point_steps: 2,
             max_count_factor: 2,
             count_refinements: 8,
+            redundancy: DEFAULT_REDUNDANCY,
         }
     }
+}
+
+/// The fewest positions a searched count or a front point keeps: the fewest that identify
+/// every output plus [`BudgetParams::redundancy`].
+#[must_use]
+pub fn fewest_proposed(problem: &DesignProblem, b: &TimeBudget<'_>) -> usize {
+    problem.min_positions().max(1) + b.params.redundancy
 }
 
 /// The noise, timing and budget of a budget design.
@@ -516,7 +533,7 @@ pub fn budget_counts(
     n: usize,
     n_study: usize,
 ) -> Vec<usize> {
-    let n_min = problem.min_positions().max(1);
+    let n_min = fewest_proposed(problem, b);
     let top = count_limit(problem, b, n, n_study);
     let mut v = vec![
         n_min,
@@ -805,7 +822,7 @@ pub fn design_with_budget(
     // tried neighbours
     let mut counts_refined: Vec<usize> = Vec::new();
     if b.search_counts {
-        let n_min = problem.min_positions().max(1);
+        let n_min = fewest_proposed(problem, b);
         let top = count_limit(problem, b, n, study_positions_deg.len());
         while counts_refined.len() < b.params.count_refinements {
             let mut tried: Vec<usize> =
@@ -874,7 +891,12 @@ pub fn design_with_budget(
         counts_skipped.sort_unstable();
     }
     let mut points = Vec::new();
+    let fewest = fewest_proposed(problem, b);
     for ((origin, s), js) in schedules.iter().zip(&objectives) {
+        // fewer positions than the redundancy asks: not proposed (the study's own is kept)
+        if s.len() < fewest && *origin != ScheduleOrigin::Study {
+            continue;
+        }
         for (&t, &j) in dwells.iter().zip(js) {
             if j.is_finite() {
                 points.push(BudgetPoint {

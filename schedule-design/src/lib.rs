@@ -182,7 +182,7 @@ pub use budget::{
     design_with_budget, pareto_front, shortest_test_s, total_test_s,
 };
 
-pub use budget::BudgetParams;
+pub use budget::{BudgetParams, DEFAULT_REDUNDANCY, fewest_proposed};
 pub use problem::DesignProblem;
 
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};

@@ -265,7 +265,11 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
         );
     }
     let want = budget_counts(&problem, &budget_of(&s, budget_s), n, s.positions_deg.len());
-    assert!(want.contains(&problem.min_positions()), "{want:?}");
+    // the fewest positions that identify every output plus the default redundancy
+    assert!(
+        want.contains(&(problem.min_positions() + schedule_design::DEFAULT_REDUNDANCY)),
+        "{want:?}"
+    );
     // the study's dwell affords 64 positions in twice its time
     assert!(want.contains(&(2 * n)), "{want:?}");
     let mut all: Vec<usize> = searched
@@ -572,5 +576,40 @@ fn rate_steps_keep_their_whole_revolution_windows_in_the_time_budget() {
             t2.total_s() + t2.move_s(),
             max_relative = SAME_PATH_REL
         );
+    }
+}
+
+/// The front never proposes fewer positions than the fewest that identify every output plus
+/// the stated redundancy (issue 35: a front whose shortest point had exactly as many positions
+/// as unknowns): every searched count and every point not of the study's own schedule keeps
+/// at least `min_positions + redundancy` positions, for the default redundancy (2) and for 5.
+#[test]
+fn the_front_keeps_the_stated_redundancy_beyond_the_fewest_positions() {
+    let (s, problem, table, study) = noisy_paper();
+    let timing = s.timing.as_ref().unwrap();
+    let budget_s = 2.0 * total_test_s(table.len(), timing.dwell_s()[0], timing.move_s());
+    for redundancy in [schedule_design::DEFAULT_REDUNDANCY, 5] {
+        let b = TimeBudget {
+            params: BudgetParams {
+                redundancy,
+                ..BudgetParams::default()
+            },
+            ..budget_of(&s, budget_s)
+        };
+        let fewest = problem.min_positions() + redundancy;
+        assert_eq!(schedule_design::fewest_proposed(&problem, &b), fewest);
+        for c in budget_counts(&problem, &b, table.len(), s.positions_deg.len()) {
+            assert!(c >= fewest, "count {c} below {fewest}");
+        }
+        let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
+        assert!(!d.pareto().is_empty());
+        for p in d.pareto() {
+            assert!(
+                p.origin() == ScheduleOrigin::Study || p.n_positions() >= fewest,
+                "{} positions ({:?}) below {fewest}",
+                p.n_positions(),
+                p.origin()
+            );
+        }
     }
 }
