@@ -782,12 +782,66 @@ impl crate::EndToEnd {
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<RateAllocation, E2eError> {
+        let none = vec![0.0; self.n_outputs()];
         self.with_rate_setup(
             linear,
             extra_linear,
             lower_bounds_rad,
-            |setup, combined, lb| self.exact_rounds(linear, extra_linear, setup, combined, lb),
+            |setup, combined, lb| {
+                self.exact_rounds(linear, extra_linear, setup, combined, lb, &none)
+            },
         )
+    }
+
+    /// [`crate::EndToEnd::allocate_direct_rate`] with the noise part kept free (issue 35):
+    /// every row over both boxes held to $\omega_{m,k} - \kappa\sigma_k$ and the exact chain
+    /// at each output's worst vertex checked against the same, so the angles and the rate
+    /// tolerances get what the noise leaves; or the outputs whose noise part (with the lower
+    /// bounds' table part) leaves no room, as [`crate::EndToEnd::allocate_direct_with_noise`].
+    ///
+    /// # Errors
+    /// As [`crate::EndToEnd::allocate_direct_rate`]; [`E2eError::Field`] for a bad `k_sigma`.
+    pub fn allocate_direct_rate_with_noise(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        budget: &crate::NoiseBudget,
+        k_sigma: f64,
+    ) -> Result<Result<RateAllocation, Vec<crate::NoRoom>>, E2eError> {
+        let noise = self.rate_noise_margins(linear, lower_bounds_rad, budget, k_sigma)?;
+        let noise = match noise {
+            Ok(m) => m,
+            Err(blocked) => return Ok(Err(blocked)),
+        };
+        self.with_rate_setup(
+            linear,
+            extra_linear,
+            lower_bounds_rad,
+            |setup, combined, lb| {
+                self.exact_rounds(linear, extra_linear, setup, combined, lb, &noise)
+            },
+        )
+        .map(Ok)
+    }
+
+    /// The noise parts $\kappa\sigma_k$ of `budget`, or the outputs they leave no room.
+    fn rate_noise_margins(
+        &self,
+        linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        budget: &crate::NoiseBudget,
+        k_sigma: f64,
+    ) -> Result<Result<Vec<f64>, Vec<crate::NoRoom>>, E2eError> {
+        crate::noise::check_k_sigma(k_sigma)?;
+        crate::allocate::check_lower_bounds(self.turntable(), lower_bounds_rad)?;
+        let margins = budget.margins(k_sigma);
+        let blocked = self.no_room(linear, lower_bounds_rad, &margins);
+        Ok(if blocked.is_empty() {
+            Ok(margins)
+        } else {
+            Err(blocked)
+        })
     }
 
     /// The allocation problem over $(\chi, T)$ of [`crate::EndToEnd::allocate_direct_rate`]
@@ -838,12 +892,13 @@ impl crate::EndToEnd {
         setup: &crate::allocate::DirectSetup<'_>,
         combined: &crate::Linearization,
         lb: &[f64],
+        noise: &[f64],
     ) -> Result<RateAllocation, E2eError> {
         let tolerances = self.rate_tolerances();
         let tol_weights = self.rate_tolerance_weights(combined);
         let acc = self.accuracies();
         let n_angles = self.n_errors();
-        let mut margins = vec![0.0; acc.len()];
+        let mut margins = noise.to_vec();
         let ceilings = self.rate_ceilings();
         for round in 0..=RATE_EXACT_ROUNDS {
             let d = setup.capped(
@@ -860,9 +915,10 @@ impl crate::EndToEnd {
             let mut over = false;
             for w in &worst_cases {
                 let k = w.output;
-                if w.exact_at_vertex > acc[k] {
+                if w.exact_at_vertex + noise[k] > acc[k] {
                     over = true;
-                    margins[k] += w.exact_at_vertex - acc[k] + RATE_EXACT_ROOM_REL * acc[k];
+                    margins[k] +=
+                        w.exact_at_vertex + noise[k] - acc[k] + RATE_EXACT_ROOM_REL * acc[k];
                 }
             }
             if !over {
@@ -1173,9 +1229,56 @@ impl crate::EndToEnd {
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<CertifiedRateAllocation, E2eError> {
+        self.certified_rate_keeping(
+            linear,
+            extra_linear,
+            lower_bounds_rad,
+            &vec![0.0; self.n_outputs()],
+        )
+    }
+
+    /// [`crate::EndToEnd::allocate_direct_rate_certified`] with the noise part kept free
+    /// (issue 35): every turntable of the returned boxes has an exact-chain error within
+    /// $\omega_{m,k} - \kappa\sigma_k$ (a study with rate steps; a static study's answer is
+    /// [`crate::EndToEnd::allocate_direct_with_noise_certified`]); or the outputs whose noise
+    /// part leaves no room.
+    ///
+    /// # Errors
+    /// As [`crate::EndToEnd::allocate_direct_rate_certified`]; [`E2eError::Field`] for a bad
+    /// `k_sigma`.
+    pub fn allocate_direct_rate_certified_with_noise(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        budget: &crate::NoiseBudget,
+        k_sigma: f64,
+    ) -> Result<Result<CertifiedRateAllocation, Vec<crate::NoRoom>>, E2eError> {
+        match self.rate_noise_margins(linear, lower_bounds_rad, budget, k_sigma)? {
+            Ok(noise) => self
+                .certified_rate_keeping(linear, extra_linear, lower_bounds_rad, &noise)
+                .map(Ok),
+            Err(blocked) => Ok(Err(blocked)),
+        }
+    }
+
+    /// [`crate::EndToEnd::allocate_direct_rate_certified`] keeping `noise[k]` (output unit)
+    /// of each accuracy free besides the second-order bound.
+    fn certified_rate_keeping(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        noise: &[f64],
+    ) -> Result<CertifiedRateAllocation, E2eError> {
         if !self.has_rate_steps() {
             // no rate tolerance: the static certificate itself
-            let d = self.allocate_direct_certified(linear, lower_bounds_rad)?;
+            let d = self.certified_keeping(
+                linear,
+                lower_bounds_rad,
+                noise,
+                &crate::CertifyParams::default(),
+            )?;
             let n = self.len();
             let rows = linear.row_worst_cases(&d.upper_bounds_rad);
             let linear_bounds: Vec<f64> = (0..self.n_outputs())
@@ -1198,8 +1301,13 @@ impl crate::EndToEnd {
                 // the angles' ceiling: 1 deg, lowered by bisection (on its logarithm) while the
                 // second-order bound of the box takes more than an accuracy's largest margin,
                 // as the static certificate lowers its l1 budget
-                let first =
-                    self.certified_rate_rounds(setup, combined, lb, ANGLE_TOLERANCE_CEILING_RAD);
+                let first = self.certified_rate_rounds(
+                    setup,
+                    combined,
+                    lb,
+                    ANGLE_TOLERANCE_CEILING_RAD,
+                    noise,
+                );
                 if !matches!(first, Err(E2eError::NoConvergence { .. })) {
                     return first;
                 }
@@ -1210,7 +1318,7 @@ impl crate::EndToEnd {
                 let mut best = None;
                 for _ in 0..CEILING_SEARCH_STEPS {
                     let mid = 0.5 * (lo + hi);
-                    match self.certified_rate_rounds(setup, combined, lb, mid.exp()) {
+                    match self.certified_rate_rounds(setup, combined, lb, mid.exp(), noise) {
                         Ok(a) => {
                             best = Some(a);
                             lo = mid;
@@ -1221,7 +1329,7 @@ impl crate::EndToEnd {
                 }
                 match best {
                     Some(a) => Ok(a),
-                    None => self.certified_rate_rounds(setup, combined, lb, lo.exp()),
+                    None => self.certified_rate_rounds(setup, combined, lb, lo.exp(), noise),
                 }
             },
         )
@@ -1236,14 +1344,15 @@ impl crate::EndToEnd {
         combined: &crate::Linearization,
         lb: &[f64],
         angle_ceiling_rad: f64,
+        noise: &[f64],
     ) -> Result<CertifiedRateAllocation, E2eError> {
         let params = crate::CertifyParams::default();
         {
             let acc = self.accuracies();
             let n = self.len();
             let n_angles = self.n_errors();
-            let room = |k: usize| acc[k] * (1.0 - params.round_trip_rel);
-            let mut margins = vec![0.0; acc.len()];
+            let room = |k: usize| acc[k] * (1.0 - params.round_trip_rel) - noise[k];
+            let mut margins = noise.to_vec();
             let ceilings: Vec<(usize, f64)> = self
                 .rate_ceilings()
                 .into_iter()
@@ -1283,13 +1392,13 @@ impl crate::EndToEnd {
                 for k in 0..acc.len() {
                     let excess = linear_bounds[k] + taus[k] - room(k);
                     if excess > 0.0 {
-                        let want = taus[k] + acc[k] * params.round_trip_rel;
+                        let want = noise[k] + taus[k] + acc[k] * params.round_trip_rel;
                         margins[k] = if want > margins[k] {
                             want
                         } else {
                             margins[k] + excess
                         };
-                        if margins[k] >= params.max_margin * acc[k] {
+                        if margins[k] - noise[k] >= params.max_margin * (acc[k] - noise[k]) {
                             return Err(E2eError::NoConvergence {
                                 what: "certified direct allocation with rate tolerances (the second-order bound takes more than the largest margin of an accuracy)",
                                 iterations: round,

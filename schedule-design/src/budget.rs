@@ -94,7 +94,16 @@ pub struct BudgetParams {
     /// the coarse counts, the count halfway between the best count at the budget and each
     /// tried neighbour, repeated on the new best (a bisection on the count).
     pub count_refinements: usize,
+    /// Positions beyond the fewest that identify every output
+    /// ([`DesignProblem::min_positions`]) that every searched count and every point of the
+    /// front keeps at least (default [`DEFAULT_REDUNDANCY`]); the study's own schedule is
+    /// evaluated whatever its count.
+    pub redundancy: usize,
 }
+
+/// The default [`BudgetParams::redundancy`]: two positions beyond the fewest that identify
+/// every output, so no proposed test rests on an exactly determined fit (issue 35).
+pub const DEFAULT_REDUNDANCY: usize = 2;
 
 impl Default for BudgetParams {
     fn default() -> Self {
@@ -104,8 +113,16 @@ impl Default for BudgetParams {
             fixed_point_steps: 2,
             max_count_factor: 2,
             count_refinements: 8,
+            redundancy: DEFAULT_REDUNDANCY,
         }
     }
+}
+
+/// The fewest positions a searched count or a front point keeps: the fewest that identify
+/// every output plus [`BudgetParams::redundancy`].
+#[must_use]
+pub fn fewest_proposed(problem: &DesignProblem, b: &TimeBudget<'_>) -> usize {
+    problem.min_positions().max(1) + b.params.redundancy
 }
 
 /// The noise, timing and budget of a budget design.
@@ -132,6 +149,43 @@ pub struct TimeBudget<'a> {
     pub search_counts: bool,
     /// The search's knobs.
     pub params: BudgetParams,
+    /// The study's rate steps (schedule entries with a motion), run after every schedule's
+    /// static positions in this order; empty for a static study.
+    pub rate_steps: &'a [calib_lsq::Position],
+    /// Each rate step's averaging window, its whole revolutions' turning time (s; the study's
+    /// `Timing::rate_step_s`): kept whatever the static dwell.
+    pub rate_step_s: &'a [f64],
+}
+
+impl TimeBudget<'_> {
+    /// What the rate steps add to every test (s): their windows and one move before each.
+    #[must_use]
+    pub fn rate_steps_s(&self) -> f64 {
+        self.rate_step_s.iter().sum::<f64>() + self.move_s * self.rate_step_s.len() as f64
+    }
+
+    /// The total time of a test of `n` static positions at `dwell_s` each and the rate steps
+    /// ([`total_test_s`] plus [`TimeBudget::rate_steps_s`]), s.
+    #[must_use]
+    pub fn test_s(&self, n: usize, dwell_s: f64) -> f64 {
+        total_test_s(n, dwell_s, self.move_s) + self.rate_steps_s()
+    }
+
+    /// The budget left for the static positions (s).
+    fn static_budget_s(&self) -> f64 {
+        self.budget_s - self.rate_steps_s()
+    }
+
+    /// The timing of `n` static positions at `dwell_s` each, then the rate steps' windows.
+    ///
+    /// # Errors
+    /// As [`Timing::uniform`] and [`Timing::with_rate_steps`].
+    pub fn timing(&self, n: usize, dwell_s: f64) -> Result<Timing, E2eError> {
+        Ok(
+            Timing::uniform(n, dwell_s, self.move_s, self.sample_rate_hz)?
+                .with_rate_steps(self.rate_step_s.to_vec())?,
+        )
+    }
 }
 
 /// Where a schedule of the budget design comes from.
@@ -393,12 +447,8 @@ struct Evaluator<'a> {
 
 impl Evaluator<'_> {
     fn noise(&self, dwell_s: f64) -> Result<e2e_verify::NoiseBudget, E2eError> {
-        let timing = Timing::uniform(
-            self.e2e.len(),
-            dwell_s,
-            self.budget.move_s,
-            self.budget.sample_rate_hz,
-        )?;
+        let n = self.e2e.len() - self.budget.rate_steps.len();
+        let timing = self.budget.timing(n, dwell_s)?;
         self.e2e.noise_budget(self.budget.noise, &timing)
     }
 
@@ -443,7 +493,7 @@ fn dwell_grid(lo: f64, hi: f64, extra: &[f64], per_decade: usize) -> Vec<f64> {
 /// ([`DesignProblem::min_positions`]) with one move and one sample each (s).
 #[must_use]
 pub fn shortest_test_s(problem: &DesignProblem, b: &TimeBudget<'_>) -> f64 {
-    total_test_s(problem.min_positions(), 1.0 / b.sample_rate_hz, b.move_s)
+    b.test_s(problem.min_positions(), 1.0 / b.sample_rate_hz)
 }
 
 /// [`E2eError::BudgetTooShort`] when the budget is shorter than [`shortest_test_s`].
@@ -483,7 +533,7 @@ pub fn budget_counts(
     n: usize,
     n_study: usize,
 ) -> Vec<usize> {
-    let n_min = problem.min_positions().max(1);
+    let n_min = fewest_proposed(problem, b);
     let top = count_limit(problem, b, n, n_study);
     let mut v = vec![
         n_min,
@@ -491,7 +541,12 @@ pub fn budget_counts(
         n_study,
     ];
     if let Some(t) = b.study_dwell_s {
-        v.push((b.budget_s / (t + b.move_s)).floor().min(usize::MAX as f64) as usize);
+        v.push(
+            (b.static_budget_s() / (t + b.move_s))
+                .floor()
+                .max(0.0)
+                .min(usize::MAX as f64) as usize,
+        );
     }
     v.retain(|&c| c >= n_min && c <= top && c != n);
     v.sort_unstable();
@@ -503,7 +558,10 @@ pub fn budget_counts(
 /// [`BudgetParams::max_count_factor`] $\max(N, N_{study})$ and the candidates.
 fn count_limit(problem: &DesignProblem, b: &TimeBudget<'_>, n: usize, n_study: usize) -> usize {
     let per_position = b.move_s + 1.0 / b.sample_rate_hz;
-    let afford = (b.budget_s / per_position).floor().min(usize::MAX as f64) as usize;
+    let afford = (b.static_budget_s() / per_position)
+        .floor()
+        .max(0.0)
+        .min(usize::MAX as f64) as usize;
     afford
         .min(b.params.max_count_factor.saturating_mul(n.max(n_study)))
         .min(problem.n_candidates())
@@ -512,7 +570,7 @@ fn count_limit(problem: &DesignProblem, b: &TimeBudget<'_>, n: usize, n_study: u
 /// The dwell that spends the whole budget on `n` positions, if it holds one sample and is
 /// within the longest dwell.
 fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
-    let t = b.budget_s / n as f64 - b.move_s;
+    let t = b.static_budget_s() / n as f64 - b.move_s;
     (t >= lo && t <= b.max_dwell_s).then_some(t)
 }
 
@@ -552,7 +610,7 @@ pub fn design_with_budget(
     // the shortest dwell holds one sample (a relative 1e-9 above, against rounding)
     let lo = (1.0 / rate * (1.0 + 1e-9)).min(b.max_dwell_s);
     let evaluator = |positions: &[Vec<f64>]| -> Result<Evaluator<'_>, E2eError> {
-        let e2e = problem.end_to_end(positions)?;
+        let e2e = problem.end_to_end_with_rate_steps(positions, b.rate_steps)?;
         let linear = e2e.linearization();
         Ok(Evaluator {
             e2e,
@@ -764,7 +822,7 @@ pub fn design_with_budget(
     // tried neighbours
     let mut counts_refined: Vec<usize> = Vec::new();
     if b.search_counts {
-        let n_min = problem.min_positions().max(1);
+        let n_min = fewest_proposed(problem, b);
         let top = count_limit(problem, b, n, study_positions_deg.len());
         while counts_refined.len() < b.params.count_refinements {
             let mut tried: Vec<usize> =
@@ -833,14 +891,19 @@ pub fn design_with_budget(
         counts_skipped.sort_unstable();
     }
     let mut points = Vec::new();
+    let fewest = fewest_proposed(problem, b);
     for ((origin, s), js) in schedules.iter().zip(&objectives) {
+        // fewer positions than the redundancy asks: not proposed (the study's own is kept)
+        if s.len() < fewest && *origin != ScheduleOrigin::Study {
+            continue;
+        }
         for (&t, &j) in dwells.iter().zip(js) {
             if j.is_finite() {
                 points.push(BudgetPoint {
                     origin: *origin,
                     positions_deg: s.clone(),
                     dwell_s: t,
-                    total_s: total_test_s(s.len(), t, b.move_s),
+                    total_s: b.test_s(s.len(), t),
                     objective: j,
                 });
             }
@@ -880,7 +943,7 @@ fn best_count(
     for ((_, s), js) in schedules.iter().zip(objectives) {
         for (&t, &j) in dwells.iter().zip(js) {
             if j.is_finite()
-                && total_test_s(s.len(), t, b.move_s) <= b.budget_s
+                && b.test_s(s.len(), t) <= b.budget_s
                 && best.is_none_or(|(bj, bc)| {
                     j.total_cmp(&bj).then(s.len().cmp(&bc)) == std::cmp::Ordering::Less
                 })

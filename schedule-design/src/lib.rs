@@ -182,7 +182,7 @@ pub use budget::{
     design_with_budget, pareto_front, shortest_test_s, total_test_s,
 };
 
-pub use budget::BudgetParams;
+pub use budget::{BudgetParams, DEFAULT_REDUNDANCY, fewest_proposed};
 pub use problem::DesignProblem;
 
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};
@@ -1182,7 +1182,20 @@ impl DesignProblem {
     /// # Errors
     /// As [`Calibration::new`] and [`EndToEnd::new`].
     pub fn end_to_end(&self, positions_deg: &[Vec<f64>]) -> Result<EndToEnd, E2eError> {
-        let positions = positions_deg
+        self.end_to_end_with_rate_steps(positions_deg, &[])
+    }
+
+    /// [`DesignProblem::end_to_end`] with `rate_steps` (schedule entries with a motion, e.g. a
+    /// study's) after the static positions, in order.
+    ///
+    /// # Errors
+    /// As [`DesignProblem::end_to_end`].
+    pub fn end_to_end_with_rate_steps(
+        &self,
+        positions_deg: &[Vec<f64>],
+        rate_steps: &[calib_lsq::Position],
+    ) -> Result<EndToEnd, E2eError> {
+        let mut positions = positions_deg
             .iter()
             .map(|p| {
                 let pose = tt_kinematics::Pose::from_deg(p)?;
@@ -1192,10 +1205,13 @@ impl DesignProblem {
                 )?)
             })
             .collect::<Result<Vec<_>, E2eError>>()?;
+        positions.extend_from_slice(rate_steps);
         let calibration = Calibration::new(&self.sensor, &self.site, &Schedule::new(positions)?)?;
         let poses = positions_deg
             .iter()
-            .map(|p| tt_kinematics::Pose::from_deg(p))
+            .map(Vec::as_slice)
+            .chain(rate_steps.iter().map(calib_lsq::Position::joint_angles_deg))
+            .map(tt_kinematics::Pose::from_deg)
             .collect::<Result<Vec<_>, _>>()?;
         EndToEnd::new(&self.turntable, &calibration, &poses, self.reading)
     }

@@ -64,6 +64,8 @@ fn budget_of(s: &Study, budget_s: f64) -> TimeBudget<'_> {
         study_dwell_s: Some(t.dwell_s()[0]),
         search_counts: true,
         params: BudgetParams::default(),
+        rate_steps: &[],
+        rate_step_s: &[],
     }
 }
 
@@ -263,7 +265,11 @@ fn searching_the_count_fits_the_budget_and_never_loses_to_the_fixed_count_design
         );
     }
     let want = budget_counts(&problem, &budget_of(&s, budget_s), n, s.positions_deg.len());
-    assert!(want.contains(&problem.min_positions()), "{want:?}");
+    // the fewest positions that identify every output plus the default redundancy
+    assert!(
+        want.contains(&(problem.min_positions() + schedule_design::DEFAULT_REDUNDANCY)),
+        "{want:?}"
+    );
     // the study's dwell affords 64 positions in twice its time
     assert!(want.contains(&(2 * n)), "{want:?}");
     let mut all: Vec<usize> = searched
@@ -462,4 +468,148 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
         best.dwell_s(),
         best.objective_arcmin()
     );
+}
+
+/// Rate steps keep their whole-revolution windows in the time budget (issue 35): on the
+/// STIM300-class rate-table study (24 static positions of 300 s, then six steps of 84
+/// revolutions at 100 deg/s, 302.4 s each, kept whatever the static dwell) the budget's noise
+/// sigma for the study's schedule at 3000 s per static position equals end-to-end's for the
+/// study at that dwell, its total time is end-to-end's plus the one move the budget counts
+/// before the first entry (72,000 + 1,814.4 + 30 x 10 s = 74,114.4 s), and the budget
+/// design's front point at that dwell has end-to-end's J of the direct allocation with the
+/// noise kept free for the study with that point's positions. Before, the budget built the static positions alone
+/// (24 x 3010 s = 72,240 s, no rate step in the noise or the table).
+#[test]
+fn rate_steps_keep_their_whole_revolution_windows_in_the_time_budget() {
+    let s = common::study("stim300-rate-table-example");
+    let timing = s.timing.as_ref().expect("a timing");
+    let n = s.positions_deg.len();
+    let rate_steps = &s.calibration.schedule().positions()[n..];
+    assert_eq!(rate_steps.len(), 6);
+    let problem = DesignProblem::new(
+        &s.turntable,
+        &s.sensor,
+        &s.site,
+        s.reading,
+        &s.lower_bounds_rad,
+        candidates_with(
+            grid_positions_deg(&s.turntable, 90.0).unwrap(),
+            &s.positions_deg,
+        ),
+    )
+    .unwrap();
+    // past the study's shortest dwell (1,595 s), so a table suffices
+    let dwell = 3000.0;
+    let at_dwell = timing.with_dwell_s(vec![dwell; n]).unwrap();
+    let b = TimeBudget {
+        rate_steps,
+        rate_step_s: timing.rate_step_s(),
+        search_counts: false,
+        study_dwell_s: Some(dwell),
+        ..budget_of(&s, 100_000.0)
+    };
+    let poses: Vec<tt_core::Pose> = s
+        .schedule_angles_deg()
+        .iter()
+        .map(|p| tt_core::Pose::from_deg(p).unwrap())
+        .collect();
+    let study_e2e = e2e_verify::EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading)
+        .expect("the study's simulator");
+    let want = study_e2e.noise_budget(&s.noise, &at_dwell).unwrap();
+    let designed_e2e = problem
+        .end_to_end_with_rate_steps(&s.positions_deg, rate_steps)
+        .unwrap();
+    let got = designed_e2e
+        .noise_budget(&s.noise, &b.timing(n, dwell).unwrap())
+        .unwrap();
+    for (g, w) in got.sigma().iter().zip(want.sigma()) {
+        assert_relative_eq!(*g, w, max_relative = SAME_PATH_REL);
+    }
+    assert_relative_eq!(
+        b.test_s(n, dwell),
+        at_dwell.total_s() + timing.move_s(),
+        max_relative = SAME_PATH_REL
+    );
+    assert_relative_eq!(b.test_s(n, dwell), 74_114.4, max_relative = SAME_PATH_REL);
+    let study_idx: Vec<usize> = s
+        .positions_deg
+        .iter()
+        .map(|p| problem.index_of(p).expect("a candidate"))
+        .collect();
+    let d = design(&s, &problem, &study_idx, Some(&study_idx), &b).unwrap();
+    // every front point at 3000 s: J is end-to-end's for the study with that point's positions
+    // (the study loader's path: its schedule, rate steps and timing), total as above
+    let at: Vec<&BudgetPoint> = d
+        .pareto()
+        .iter()
+        .filter(|p| p.dwell_s().to_bits() == dwell.to_bits())
+        .collect();
+    assert_eq!(at.len(), 1);
+    for p in at {
+        let s2 = s.with_positions_deg(p.positions_deg().to_vec()).unwrap();
+        let poses: Vec<tt_core::Pose> = s2
+            .schedule_angles_deg()
+            .iter()
+            .map(|q| tt_core::Pose::from_deg(q).unwrap())
+            .collect();
+        let e2e =
+            e2e_verify::EndToEnd::new(&s2.turntable, &s2.calibration, &poses, s2.reading).unwrap();
+        let t2 = s2
+            .timing
+            .as_ref()
+            .unwrap()
+            .with_dwell_s(vec![dwell; p.n_positions()])
+            .unwrap();
+        let noise = e2e.noise_budget(&s2.noise, &t2).unwrap();
+        let a = e2e
+            .allocate_direct_with_noise(
+                &e2e.linearization(),
+                &s2.lower_bounds_rad,
+                &noise,
+                DEFAULT_K_SIGMA,
+            )
+            .unwrap()
+            .expect("a table suffices at 3000 s");
+        assert_relative_eq!(p.objective(), a.objective(), max_relative = SAME_PATH_REL);
+        assert_relative_eq!(
+            p.total_s(),
+            t2.total_s() + t2.move_s(),
+            max_relative = SAME_PATH_REL
+        );
+    }
+}
+
+/// The front never proposes fewer positions than the fewest that identify every output plus
+/// the stated redundancy (issue 35: a front whose shortest point had exactly as many positions
+/// as unknowns): every searched count and every point not of the study's own schedule keeps
+/// at least `min_positions + redundancy` positions, for the default redundancy (2) and for 5.
+#[test]
+fn the_front_keeps_the_stated_redundancy_beyond_the_fewest_positions() {
+    let (s, problem, table, study) = noisy_paper();
+    let timing = s.timing.as_ref().unwrap();
+    let budget_s = 2.0 * total_test_s(table.len(), timing.dwell_s()[0], timing.move_s());
+    for redundancy in [schedule_design::DEFAULT_REDUNDANCY, 5] {
+        let b = TimeBudget {
+            params: BudgetParams {
+                redundancy,
+                ..BudgetParams::default()
+            },
+            ..budget_of(&s, budget_s)
+        };
+        let fewest = problem.min_positions() + redundancy;
+        assert_eq!(schedule_design::fewest_proposed(&problem, &b), fewest);
+        for c in budget_counts(&problem, &b, table.len(), s.positions_deg.len()) {
+            assert!(c >= fewest, "count {c} below {fewest}");
+        }
+        let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
+        assert!(!d.pareto().is_empty());
+        for p in d.pareto() {
+            assert!(
+                p.origin() == ScheduleOrigin::Study || p.n_positions() >= fewest,
+                "{} positions ({:?}) below {fewest}",
+                p.n_positions(),
+                p.origin()
+            );
+        }
+    }
 }

@@ -1143,8 +1143,12 @@ pub fn end_to_end(s: &Study, o: &Options) -> Result<EndToEndAnswer> {
     let speed = throughput(&e2e, &a, seed)?;
     let angle = crate::allocation::angle::compute(s, &e2e)?;
     let sheet = crate::allocation::angle::sheet(s, o.tolerances.as_deref())?;
-    let rate =
-        crate::vendor::rate::allocation(s, &e2e, &e2e_verify::McSettings::new(samples, seed))?;
+    let rate = crate::vendor::rate::allocation_with_k(
+        s,
+        &e2e,
+        &e2e_verify::McSettings::new(samples, seed),
+        o.k_sigma,
+    )?;
     let decision =
         crate::vendor::spec::compute(s, &e2e, a.readings()[0].direct().upper_bounds_rad())?;
     Ok(EndToEndAnswer {

@@ -2506,8 +2506,13 @@ fn verdict_sentence(e2e: &e2e_verify::EndToEnd, c: &tt_lab::vendor::rate::RateCh
     } else {
         "these tolerances do **not** meet every accuracy with the rate errors and translations at their bounds (a turntable within both boxes misses)"
     };
+    let (rule, alone) = if c.noise.is_some() {
+        (format!(" (rule: {})", c.rule()), ", the table alone")
+    } else {
+        (String::new(), "")
+    };
     format!(
-        "{verdict}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%)",
+        "{verdict}{rule}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%{alone})",
         100.0 * c.meets as f64 / c.samples as f64,
         c.samples,
         100.0 * lo,

@@ -46,6 +46,16 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
         d.dwells_s().len()
     );
     t.push_str(&format!(
+        "  every proposed point keeps at least {} positions: the fewest that identify every output plus a redundancy of {} (--redundancy; the study's own schedule is evaluated whatever its count){}\n",
+        d.fewest_positions(),
+        d.redundancy(),
+        if s.has_rate_steps() {
+            "; every total counts the rate steps' whole-revolution windows and a move before each"
+        } else {
+            ""
+        }
+    ));
+    t.push_str(&format!(
         "  numbers of positions designed for: {}{}\n",
         d.counts()
             .iter()

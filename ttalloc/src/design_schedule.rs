@@ -82,6 +82,11 @@ pub struct Args {
     /// with the noise counted, and report the Pareto front of test time against J.
     #[arg(long, allow_negative_numbers = true, value_parser = budget)]
     pub time_budget_s: Option<f64>,
+    /// With `--time-budget-s`: positions beyond the fewest that identify every output that
+    /// every proposed point of the front keeps (the study's own schedule is evaluated
+    /// whatever its count).
+    #[arg(long, default_value_t = schedule_design::DEFAULT_REDUNDANCY)]
+    pub redundancy: usize,
     /// Write the Pareto front of `--time-budget-s` as an SVG figure to this new file.
     #[arg(long)]
     pub pareto_svg: Option<PathBuf>,
@@ -537,6 +542,7 @@ pub fn run(args: &Args) -> Result<()> {
     options.max_condition = args.max_condition;
     options.seed = args.seed;
     options.time_budget_s = args.time_budget_s;
+    options.redundancy = args.redundancy;
     options.rates_deg_per_s.clone_from(&args.rates_deg_per_s);
     check(args, &s, &options)?;
     let pb = progress_bar(options.work_units(&s));

@@ -32,6 +32,13 @@ pub enum Budgeted {
 #[non_exhaustive]
 pub struct Designed {
     design: BudgetDesign,
+    /// The fewest positions a proposed point keeps: the fewest that identify every output
+    /// plus the redundancy ([`schedule_design::fewest_proposed`]).
+    fewest_positions: usize,
+    /// Positions beyond the fewest that identify every output ([`Options`]'s `redundancy`).
+    redundancy: usize,
+    /// Whether the study has rate steps (their windows count in every total).
+    rate_steps: bool,
     /// The chosen point's direct allocation with the noise part kept free, certified on the
     /// exact chain (as `end-to-end`'s `direct_with_noise` on the study written with the
     /// chosen positions and dwell); `None` without a chosen point. The budget's own J is the
@@ -40,6 +47,20 @@ pub struct Designed {
 }
 
 impl Designed {
+    /// The fewest positions a proposed point keeps (the fewest that identify every output
+    /// plus the redundancy).
+    #[must_use]
+    pub fn fewest_positions(&self) -> usize {
+        self.fewest_positions
+    }
+
+    /// Positions beyond the fewest that identify every output that every proposed point
+    /// keeps.
+    #[must_use]
+    pub fn redundancy(&self) -> usize {
+        self.redundancy
+    }
+
     /// J (arcmin^-2) of [`Designed::chosen_counted`]; `None` without a chosen point or when
     /// no table suffices on the exact chain.
     #[must_use]
@@ -102,6 +123,7 @@ pub fn run(
     d_optimal: &[usize],
     max_condition: f64,
     budget_s: f64,
+    redundancy: usize,
 ) -> Result<Budgeted> {
     if s.noise.iter().all(Option::is_none) {
         return Ok(Budgeted::Noiseless { budget_s });
@@ -112,7 +134,8 @@ pub fn run(
         .iter()
         .map(|p| problem.index_of(p))
         .collect();
-    let b = time_budget(s, timing, budget_s, uniform_dwell(timing.dwell_s()));
+    let mut b = time_budget(s, timing, budget_s, uniform_dwell(timing.dwell_s()));
+    b.params.redundancy = redundancy;
     let d = design_with_budget(
         problem,
         table,
@@ -130,15 +153,19 @@ pub fn run(
     };
     Ok(Budgeted::Design(Box::new(Designed {
         design: d,
+        fewest_positions: schedule_design::fewest_proposed(problem, &b),
+        redundancy,
+        rate_steps: s.has_rate_steps(),
         chosen_counted,
     })))
 }
 
 /// The budget of a study with noise and timing: its noise, move time and sample rate, the
-/// default $k\sigma$, dwells up to the study's limit, the counts searched.
+/// default $k\sigma$, dwells up to the study's limit, the counts searched, and its rate steps
+/// with their windows after every schedule's static positions.
 fn time_budget<'a>(
     s: &'a Study,
-    timing: &calib_lsq::Timing,
+    timing: &'a calib_lsq::Timing,
     budget_s: f64,
     study_dwell_s: Option<f64>,
 ) -> TimeBudget<'a> {
@@ -152,6 +179,10 @@ fn time_budget<'a>(
         study_dwell_s,
         search_counts: true,
         params: BudgetParams::default(),
+        // the study's rate steps follow its static positions, with their whole-revolution
+        // windows whatever the static dwell
+        rate_steps: &s.calibration.schedule().positions()[s.positions_deg.len()..],
+        rate_step_s: timing.rate_step_s(),
     }
 }
 
@@ -285,6 +316,12 @@ pub enum TimeBudgetJson<'a> {
         k_sigma: f64,
         /// The total test time's definition.
         total_time: &'static str,
+        /// Positions beyond the fewest that identify every output that every proposed point
+        /// keeps (`--redundancy`).
+        redundancy: usize,
+        /// The fewest positions of a proposed point (the study's own schedule is evaluated
+        /// whatever its count).
+        fewest_positions: usize,
         /// Schedules evaluated.
         schedules: usize,
         /// Dwells evaluated.
@@ -328,7 +365,13 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
             time_budget: TimeBudgetJson::Design {
                 budget_s: d.budget_s(),
                 k_sigma: d.k_sigma(),
-                total_time: "n_positions x (dwell_s + move_s)",
+                total_time: if d.rate_steps {
+                    "n_positions x (dwell_s + move_s) + the rate steps' whole-revolution windows and a move before each"
+                } else {
+                    "n_positions x (dwell_s + move_s)"
+                },
+                redundancy: d.redundancy,
+                fewest_positions: d.fewest_positions,
                 schedules: d.schedules().len(),
                 dwells: d.dwells_s().len(),
                 evaluated: d.evaluated(),

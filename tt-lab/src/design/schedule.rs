@@ -39,6 +39,9 @@ pub struct Options {
     pub time_budget_s: Option<f64>,
     /// Candidate rates of the study's rate steps, deg/s.
     pub rates_deg_per_s: Option<Vec<f64>>,
+    /// With a time budget: positions beyond the fewest that identify every output that every
+    /// proposed point keeps (default [`schedule_design::DEFAULT_REDUNDANCY`]).
+    pub redundancy: usize,
 }
 
 impl Default for Options {
@@ -50,6 +53,7 @@ impl Default for Options {
             seed: None,
             time_budget_s: None,
             rates_deg_per_s: None,
+            redundancy: schedule_design::DEFAULT_REDUNDANCY,
         }
     }
 }
@@ -212,6 +216,7 @@ pub fn design(s: &Study, o: &Options, progress: &(dyn Fn() + Sync)) -> Result<Sc
                 design.search().d_optimal().schedule(),
                 o.max_condition,
                 b,
+                o.redundancy,
             )
         })
         .transpose()?;

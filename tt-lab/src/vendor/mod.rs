@@ -404,20 +404,20 @@ pub fn check(s: &study::Study, tolerances: &std::path::Path, o: &Options) -> Res
         rate: None,
         decision: None,
     };
+    let noise = v.noisy.first().map(|n| angle::NoisePart {
+        sigma: n.outputs.iter().map(CombinedOutput::noise_sigma).collect(),
+        k_sigma: o.k_sigma,
+    });
     if e2e.has_rate_steps() {
         v.decision = spec::compute(s, &v.checks[0].0, v.sheet.upper_bounds_rad())?;
         v.rate = Some(
             v.checks
                 .iter()
-                .map(|(sim, _)| rate::check(s, sim, &v.sheet, &settings))
+                .map(|(sim, _)| rate::check_with_noise(s, sim, &v.sheet, &settings, noise.clone()))
                 .collect::<Result<Vec<_>>>()?,
         );
         return Ok(v);
     }
-    let noise = v.noisy.first().map(|n| angle::NoisePart {
-        sigma: n.outputs.iter().map(CombinedOutput::noise_sigma).collect(),
-        k_sigma: o.k_sigma,
-    });
     v.angle = Some(angle::check(
         s,
         &v.checks,

@@ -10,11 +10,13 @@
 use crate::InputError;
 use crate::Result;
 use crate::json::{ArcminBounds, arcmin_bounds};
+pub use crate::vendor::angle::NoisePart;
 use e2e_verify::{
-    EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, RateAllocation, RateTolerance,
+    EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, NoRoom, RateAllocation, RateTolerance,
     ToleranceSheet,
 };
 use study::Study;
+use study::fmt::num;
 
 /// The line every command prints for a study with rate steps.
 pub use crate::loaded::STATIC_REQUIREMENT_NOTE;
@@ -95,17 +97,75 @@ pub struct RateCheck {
     pub samples: u64,
     /// The largest error drawn, per output.
     pub max_drawn: Vec<f64>,
+    /// The study's noise part of every output (its covariance over the study's timing, the
+    /// rate steps' windows included), counted by the verdict; `None` without noise or timing.
+    pub noise: Option<NoisePart>,
 }
 
 impl RateCheck {
-    /// Whether every output's worst case (linear and exact) is within its accuracy.
+    /// The table's part of output `o` over both boxes: the larger of its linearised worst case
+    /// and the exact chain at its worst vertex (output's unit).
+    #[must_use]
+    pub fn table_part(o: &ExtraOutputWorstCase) -> f64 {
+        o.linear_bound().max(o.exact_at_vertex())
+    }
+
+    /// The noise part of output `k` (`k_sigma` sigma; 0 without noise), output's unit.
+    #[must_use]
+    pub fn noise_part(&self, k: usize) -> f64 {
+        self.noise.as_ref().map_or(0.0, |n| n.margin(k))
+    }
+
+    /// Whether output `o`'s table part plus its noise part is within `accuracy`.
+    #[must_use]
+    pub fn output_meets(&self, o: &ExtraOutputWorstCase, accuracy: f64) -> bool {
+        Self::table_part(o) + self.noise_part(o.output()) <= accuracy
+    }
+
+    /// Whether every output's worst case (linear and exact) plus its noise part (with the
+    /// study's noise) is within its accuracy: every modelled source counted.
     #[must_use]
     pub fn meets_every_accuracy(&self, e2e: &EndToEnd) -> bool {
         self.outputs
             .iter()
             .zip(e2e.accuracies())
-            .all(|(o, a)| o.linear_bound() <= a && o.exact_at_vertex() <= a)
+            .all(|(o, a)| self.output_meets(o, a))
     }
+
+    /// Whether the table's part alone (both boxes, noise held at zero) is within every
+    /// accuracy.
+    #[must_use]
+    pub fn table_meets_every_accuracy(&self, e2e: &EndToEnd) -> bool {
+        self.outputs
+            .iter()
+            .zip(e2e.accuracies())
+            .all(|(o, a)| Self::table_part(o) <= a)
+    }
+
+    /// The rule of the verdict, in words (every source it counts).
+    #[must_use]
+    pub fn rule(&self) -> String {
+        let table = "the worst case over the angular box and the rate errors' and translations' box (linearised and on the exact chain at its worst vertex)";
+        match &self.noise {
+            Some(n) => format!(
+                "{table} plus {} sigma of the noise (static positions and rate steps' windows) against the accuracy",
+                num(n.k_sigma)
+            ),
+            None => format!("{table} against the accuracy (the study gives no noise)"),
+        }
+    }
+}
+
+/// The study's noise part of every output at `k_sigma` (the covariance over the study's
+/// timing, rate steps' windows included), `None` without noise or timing.
+///
+/// # Errors
+/// As [`crate::end_to_end::noise_budget`].
+pub fn noise_part(s: &Study, e2e: &EndToEnd, k_sigma: f64) -> Result<Option<NoisePart>> {
+    Ok(crate::end_to_end::noise_budget(s, e2e)?.map(|b| NoisePart {
+        sigma: b.sigma(),
+        k_sigma,
+    }))
 }
 
 /// Compute the [`RateCheck`] of `e2e` (a study with rate steps) for the sheet.
@@ -117,6 +177,21 @@ pub fn check(
     e2e: &EndToEnd,
     sheet: &ToleranceSheet,
     settings: &McSettings,
+) -> Result<RateCheck> {
+    let noise = noise_part(s, e2e, e2e_verify::DEFAULT_K_SIGMA)?;
+    check_with_noise(s, e2e, sheet, settings, noise)
+}
+
+/// [`check`] with the noise part `noise` counted by the verdict (`None`: the table alone).
+///
+/// # Errors
+/// As [`check`].
+pub fn check_with_noise(
+    s: &Study,
+    e2e: &EndToEnd,
+    sheet: &ToleranceSheet,
+    settings: &McSettings,
+    noise: Option<NoisePart>,
 ) -> Result<RateCheck> {
     let bounds = extra_bounds(e2e, sheet)?;
     let outputs = e2e
@@ -141,6 +216,7 @@ pub fn check(
         meets,
         samples: settings.samples,
         max_drawn,
+        noise,
     })
 }
 
@@ -166,10 +242,44 @@ pub struct RateAllocated {
     pub samples: u64,
     /// The largest error drawn, per output.
     pub max_drawn: Vec<f64>,
+    /// With the study's noise: the same allocation with the noise part kept free.
+    pub with_noise: Option<RateWithNoise>,
+}
+
+/// The direct allocation with the rate tolerances and the noise part kept free (issue 35):
+/// every output's rows over both boxes held to its accuracy less `k_sigma` sigma, so the
+/// angles and the rate tolerances share what the noise leaves.
+#[derive(Debug, Clone)]
+pub struct RateWithNoise {
+    /// The noise part counted.
+    pub noise: NoisePart,
+    /// The allocation, or the outputs whose noise part (with the lower bounds' table part)
+    /// leaves no room: no table suffices at this dwell.
+    pub allocation: std::result::Result<RateAllocation, Vec<NoRoom>>,
+    /// The certified allocation with the noise part kept free, or why there is none
+    /// (`None` when no table suffices).
+    pub certified: Option<std::result::Result<e2e_verify::CertifiedRateAllocation, String>>,
+}
+
+/// The certified allocation, or why there is none (a reading without a derived bound, no
+/// convergence); other errors are the library's.
+fn certified_or_why<T>(
+    s: &Study,
+    r: std::result::Result<T, e2e_verify::E2eError>,
+) -> Result<std::result::Result<T, String>> {
+    match r {
+        Ok(c) => Ok(Ok(c)),
+        Err(
+            e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
+            | e2e_verify::E2eError::NoConvergence { .. }),
+        ) => Ok(Err(e.to_string())),
+        Err(e) => Err(crate::error::library(e, s)),
+    }
 }
 
 /// The direct allocation of the angles and the rate tolerances together for a study with
-/// rate steps, and its Monte Carlo over both boxes (`None` for a static study).
+/// rate steps, and its Monte Carlo over both boxes (`None` for a static study); with the
+/// study's noise, also the allocation keeping its noise part (`DEFAULT_K_SIGMA` sigma) free.
 ///
 /// # Errors
 /// A library error located in the study.
@@ -177,6 +287,19 @@ pub fn allocation(
     s: &Study,
     e2e: &EndToEnd,
     settings: &McSettings,
+) -> Result<Option<RateAllocated>> {
+    allocation_with_k(s, e2e, settings, e2e_verify::DEFAULT_K_SIGMA)
+}
+
+/// [`allocation`] with the noise part at `k_sigma` sigma.
+///
+/// # Errors
+/// As [`allocation`].
+pub fn allocation_with_k(
+    s: &Study,
+    e2e: &EndToEnd,
+    settings: &McSettings,
+    k_sigma: f64,
 ) -> Result<Option<RateAllocated>> {
     if !e2e.has_rate_steps() {
         return Ok(None);
@@ -192,17 +315,17 @@ pub fn allocation(
     let (meets, max_drawn) = e2e
         .meeting_count_with_extra(a.angles_rad(), &s.lower_bounds_rad, &extra, settings)
         .map_err(|e| crate::error::library(e, s))?;
-    let certified = match e2e.allocate_direct_rate_certified(
-        &e2e.linearization(),
-        &e2e.extra_linearization(),
-        &s.lower_bounds_rad,
-    ) {
-        Ok(c) => Ok(c),
-        Err(
-            e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
-            | e2e_verify::E2eError::NoConvergence { .. }),
-        ) => Err(e.to_string()),
-        Err(e) => return Err(crate::error::library(e, s)),
+    let certified = certified_or_why(
+        s,
+        e2e.allocate_direct_rate_certified(
+            &e2e.linearization(),
+            &e2e.extra_linearization(),
+            &s.lower_bounds_rad,
+        ),
+    )?;
+    let with_noise = match crate::end_to_end::noise_budget(s, e2e)? {
+        Some(budget) => Some(with_noise(s, e2e, &budget, k_sigma)?),
+        None => None,
     };
     Ok(Some(RateAllocated {
         allocation: a,
@@ -210,7 +333,53 @@ pub fn allocation(
         meets,
         samples: settings.samples,
         max_drawn,
+        with_noise,
     }))
+}
+
+/// The allocation with the rate tolerances keeping `budget`'s noise part free, and its
+/// certified form.
+fn with_noise(
+    s: &Study,
+    e2e: &EndToEnd,
+    budget: &e2e_verify::NoiseBudget,
+    k_sigma: f64,
+) -> Result<RateWithNoise> {
+    let lib = |e| crate::error::library(e, s);
+    let (lin, extra) = (e2e.linearization(), e2e.extra_linearization());
+    let allocation = e2e
+        .allocate_direct_rate_with_noise(&lin, &extra, &s.lower_bounds_rad, budget, k_sigma)
+        .map_err(lib)?;
+    let certified = match &allocation {
+        Ok(_) => Some(
+            certified_or_why(
+                s,
+                e2e.allocate_direct_rate_certified_with_noise(
+                    &lin,
+                    &extra,
+                    &s.lower_bounds_rad,
+                    budget,
+                    k_sigma,
+                )
+                .and_then(|c| {
+                    c.map_err(|_| e2e_verify::E2eError::NoConvergence {
+                        what: "certified direct allocation with rate tolerances and noise (the noise leaves no room)",
+                        iterations: 0,
+                        change: 0.0,
+                    })
+                }),
+            )?,
+        ),
+        Err(_) => None,
+    };
+    Ok(RateWithNoise {
+        noise: NoisePart {
+            sigma: budget.sigma(),
+            k_sigma,
+        },
+        allocation,
+        certified,
+    })
 }
 
 /// A rate error or translation bounded by the sheet (`extra_errors[]`), in the sheet's unit.
@@ -255,8 +424,30 @@ pub struct RateOutputJson<'a> {
     pub entry: usize,
     /// The exact chain at the worst vertex, output's unit.
     pub exact_at_vertex: f64,
-    /// Whether both are within the accuracy.
+    /// Whether both are within the accuracy (with the study's noise: both plus the noise
+    /// part).
     pub meets: bool,
+    /// With the study's noise: the noise part counted; absent otherwise.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub noise: Option<RateNoiseSplitJson>,
+}
+
+/// One output's noise part in the rate check, output's unit.
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RateNoiseSplitJson {
+    /// The table's part: the larger of `linear_bound` and `exact_at_vertex`.
+    pub table_part: f64,
+    /// One standard deviation of the noise, output's unit.
+    pub noise_sigma: f64,
+    /// The confidence multiplier.
+    pub k_sigma: f64,
+    /// `k_sigma * noise_sigma`.
+    pub noise_part: f64,
+    /// `table_part + noise_part`.
+    pub combined: f64,
+    /// Whether the table's part alone is within the accuracy.
+    pub table_meets: bool,
 }
 
 /// The check with the errors only rotation exposes (`rate_steps[]`).
@@ -278,8 +469,19 @@ pub struct RateCheckJson<'a> {
     pub samples: u64,
     /// Largest error of each output over the draws, output's unit.
     pub max_drawn: &'a [f64],
-    /// `meets` or `does not meet`.
+    /// `meets` or `does not meet` (with the study's noise: table and noise counted).
     pub verdict: &'static str,
+    /// With the study's noise: the table's verdict alone; absent otherwise.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub table_verdict: Option<&'static str>,
+    /// With the study's noise: the verdict's rule, every source it counts; absent otherwise.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub rule: Option<String>,
+}
+
+/// `meets` or `does not meet`.
+fn meets_name(meets: bool) -> &'static str {
+    if meets { "meets" } else { "does not meet" }
 }
 
 impl<'a> RateCheckJson<'a> {
@@ -323,19 +525,30 @@ impl<'a> RateCheckJson<'a> {
                         .collect(),
                     entry: o.position(),
                     exact_at_vertex: o.exact_at_vertex(),
-                    meets: o.linear_bound() <= acc[o.output()]
-                        && o.exact_at_vertex() <= acc[o.output()],
+                    meets: c.output_meets(o, acc[o.output()]),
+                    noise: c.noise.as_ref().map(|n| {
+                        let table_part = RateCheck::table_part(o);
+                        RateNoiseSplitJson {
+                            table_part,
+                            noise_sigma: n.sigma[o.output()],
+                            k_sigma: n.k_sigma,
+                            noise_part: n.margin(o.output()),
+                            combined: table_part + n.margin(o.output()),
+                            table_meets: table_part <= acc[o.output()],
+                        }
+                    }),
                 })
                 .collect(),
             yield_fraction: c.meets as f64 / c.samples as f64,
             yield_interval_95: e2e_verify::wilson_interval_95(c.meets, c.samples),
             samples: c.samples,
             max_drawn: &c.max_drawn,
-            verdict: if c.meets_every_accuracy(e2e) {
-                "meets"
-            } else {
-                "does not meet"
-            },
+            verdict: meets_name(c.meets_every_accuracy(e2e)),
+            table_verdict: c
+                .noise
+                .as_ref()
+                .map(|_| meets_name(c.table_meets_every_accuracy(e2e))),
+            rule: c.noise.as_ref().map(|_| c.rule()),
         }
     }
 }
@@ -474,6 +687,166 @@ pub struct RateAllocationJson<'a> {
     pub certified: Option<CertifiedRateJson<'a>>,
     /// Why there is no certified allocation, else `null`.
     pub certified_note: Option<&'a str>,
+    /// With the study's noise: the allocation keeping the noise part free; absent otherwise.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub with_noise: Option<RateWithNoiseJson<'a>>,
+}
+
+/// One output of the allocation with the rate tolerances and the noise part kept free,
+/// output's unit.
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct NoisyAllocatedOutputJson<'a> {
+    /// The output's name.
+    pub output: &'a str,
+    /// Its accuracy, output's unit.
+    pub accuracy: f64,
+    /// `k_sigma` sigma of the noise kept free, output's unit.
+    pub noise_part: f64,
+    /// The linearised worst case of the table over both boxes, output's unit.
+    pub linear_bound: f64,
+    /// The exact chain at the worst vertex, output's unit.
+    pub exact_at_vertex: f64,
+    /// `exact_at_vertex + noise_part`, output's unit.
+    pub combined: f64,
+    /// `accuracy - combined`, output's unit.
+    pub margin: f64,
+}
+
+/// An output the noise leaves no room (`with_noise.no_room[]`), output's unit.
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RateNoRoomJson<'a> {
+    /// The output's name.
+    pub output: &'a str,
+    /// `k_sigma` sigma of the noise.
+    pub noise_part: f64,
+    /// The part the errors' lower bounds take.
+    pub lower_bounds_part: f64,
+}
+
+/// The allocation with the rate tolerances and the noise part kept free
+/// (`rate_allocation.with_noise`).
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RateWithNoiseJson<'a> {
+    /// The rule: what each output's accuracy is shared between.
+    pub rule: String,
+    /// The confidence multiplier.
+    pub k_sigma: f64,
+    /// Each output's noise sigma, output's unit.
+    pub noise_sigma: &'a [f64],
+    /// Whether the noise leaves no room for any table at this dwell.
+    pub no_table_suffices: bool,
+    /// The outputs the noise leaves no room (empty when a table suffices).
+    pub no_room: Vec<RateNoRoomJson<'a>>,
+    /// J, arcmin^-2 (`null` when no table suffices).
+    pub objective_arcmin: Option<f64>,
+    /// The angular bounds, arcmin (`null` when no table suffices).
+    pub bounds_arcmin: Option<ArcminBounds>,
+    /// The rate tolerances (empty when no table suffices).
+    pub tolerances: Vec<ToleranceJson>,
+    /// Every output's worst case with the noise part (empty when no table suffices).
+    pub outputs: Vec<NoisyAllocatedOutputJson<'a>>,
+    /// The certified allocation with the noise part kept free, else `null`.
+    pub certified: Option<CertifiedRateJson<'a>>,
+    /// Why there is no certified allocation, else `null`.
+    pub certified_note: Option<&'a str>,
+}
+
+/// The rule of the allocation with the rate tolerances and the noise part kept free.
+#[must_use]
+pub fn with_noise_rule(k_sigma: f64) -> String {
+    format!(
+        "every output's worst case over both boxes (linearised, and on the exact chain at its worst vertex) plus {} sigma of the noise (static positions and rate steps' windows) within its accuracy: the angles and the rate tolerances share what the noise leaves",
+        num(k_sigma)
+    )
+}
+
+impl<'a> RateWithNoiseJson<'a> {
+    fn new(e2e: &'a EndToEnd, w: &'a RateWithNoise) -> Self {
+        let acc = e2e.accuracies();
+        let name = |k: usize| e2e.calibration().outputs()[k].output().name.as_str();
+        let names = e2e.turntable().rotation_error_names();
+        let (objective_arcmin, bounds_arcmin, tolerances, outputs, no_room) = match &w.allocation {
+            Ok(a) => (
+                Some(a.combined().objective_arcmin()),
+                Some(arcmin_bounds(&names, a.angles_rad())),
+                tolerances_json(e2e, a),
+                a.worst_cases()
+                    .iter()
+                    .map(|c| {
+                        let k = c.output();
+                        let combined = c.exact_at_vertex() + w.noise.margin(k);
+                        NoisyAllocatedOutputJson {
+                            output: name(k),
+                            accuracy: acc[k],
+                            noise_part: w.noise.margin(k),
+                            linear_bound: c.linear_bound(),
+                            exact_at_vertex: c.exact_at_vertex(),
+                            combined,
+                            margin: acc[k] - combined,
+                        }
+                    })
+                    .collect(),
+                Vec::new(),
+            ),
+            Err(blocked) => (
+                None,
+                None,
+                Vec::new(),
+                Vec::new(),
+                blocked
+                    .iter()
+                    .map(|b| RateNoRoomJson {
+                        output: name(b.output()),
+                        noise_part: b.noise_part(),
+                        lower_bounds_part: b.lower_bounds_part(),
+                    })
+                    .collect(),
+            ),
+        };
+        Self {
+            rule: with_noise_rule(w.noise.k_sigma),
+            k_sigma: w.noise.k_sigma,
+            noise_sigma: &w.noise.sigma,
+            no_table_suffices: w.allocation.is_err(),
+            no_room,
+            objective_arcmin,
+            bounds_arcmin,
+            tolerances,
+            outputs,
+            certified: w
+                .certified
+                .as_ref()
+                .and_then(|c| c.as_ref().ok())
+                .map(|c| CertifiedRateJson::new(e2e, c)),
+            certified_note: w
+                .certified
+                .as_ref()
+                .and_then(|c| c.as_ref().err())
+                .map(String::as_str),
+        }
+    }
+}
+
+/// The rate tolerances of `a` with their weights, in the sheet's units.
+fn tolerances_json(e2e: &EndToEnd, a: &RateAllocation) -> Vec<ToleranceJson> {
+    e2e.rate_tolerance_names()
+        .into_iter()
+        .zip(a.tolerances())
+        .zip(a.tolerance_bounds())
+        .zip(a.weights())
+        .map(|(((name, t), b), w)| {
+            let (v, unit) = tolerance_in_sheet_units(t, *b);
+            ToleranceJson {
+                name,
+                bound: b.is_finite().then_some(v),
+                unit,
+                weight_si_per_rad: Some(*w),
+            }
+        })
+        .collect()
 }
 
 impl<'a> RateAllocationJson<'a> {
@@ -487,22 +860,7 @@ impl<'a> RateAllocationJson<'a> {
             reading: e2e.reading().to_string(),
             objective_arcmin: a.combined().objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&names, a.angles_rad()),
-            tolerances: e2e
-                .rate_tolerance_names()
-                .into_iter()
-                .zip(a.tolerances())
-                .zip(a.tolerance_bounds())
-                .zip(a.weights())
-                .map(|(((name, t), b), w)| {
-                    let (v, unit) = tolerance_in_sheet_units(t, *b);
-                    ToleranceJson {
-                        name,
-                        bound: b.is_finite().then_some(v),
-                        unit,
-                        weight_si_per_rad: Some(*w),
-                    }
-                })
-                .collect(),
+            tolerances: tolerances_json(e2e, a),
             outputs: a
                 .worst_cases()
                 .iter()
@@ -528,6 +886,10 @@ impl<'a> RateAllocationJson<'a> {
                 .ok()
                 .map(|c| CertifiedRateJson::new(e2e, c)),
             certified_note: r.certified.as_ref().err().map(String::as_str),
+            with_noise: r
+                .with_noise
+                .as_ref()
+                .map(|w| RateWithNoiseJson::new(e2e, w)),
         }
     }
 }

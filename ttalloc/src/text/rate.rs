@@ -2,7 +2,7 @@
 //! check with the errors only rotation exposes, and the direct allocation with the rate
 //! tolerances. The results and their JSON views: [`tt_lab::vendor::rate`].
 
-use e2e_verify::EndToEnd;
+use e2e_verify::{EndToEnd, RateTolerance};
 use study::fmt::num;
 pub use tt_lab::vendor::rate::*;
 
@@ -33,8 +33,17 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
             .iter()
             .enumerate()
             .fold((0, 0.0), |b, (i, v)| if *v > b.1 { (i, *v) } else { b });
+        let noise = c.noise.as_ref().map_or(String::new(), |n| {
+            format!(
+                ", noise {} ({} sigma of {}), table + noise {}",
+                num(n.margin(o.output())),
+                num(n.k_sigma),
+                num(n.sigma[o.output()]),
+                num(RateCheck::table_part(o) + n.margin(o.output()))
+            )
+        });
         s.push_str(&format!(
-            "  {}: worst case {} {} (angles {}, rate errors and translations {}; largest {} {}) at entry {}, exact {} against {}: {}\n",
+            "  {}: worst case {} {} (angles {}, rate errors and translations {}; largest {} {}) at entry {}, exact {}{noise} against {}: {}\n",
             out.name,
             num(o.linear_bound()),
             out.unit,
@@ -45,7 +54,7 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
             o.position(),
             num(o.exact_at_vertex()),
             num(acc[o.output()]),
-            if o.linear_bound() <= acc[o.output()] && o.exact_at_vertex() <= acc[o.output()] {
+            if c.output_meets(o, acc[o.output()]) {
                 "meets"
             } else {
                 "does not meet"
@@ -53,19 +62,113 @@ pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
         ));
     }
     let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
-    s.push_str(&format!(
-        "  yield over both boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables; verdict with the rate errors: {}\n",
-        100.0 * c.meets as f64 / c.samples as f64,
-        100.0 * lo,
-        100.0 * hi,
-        c.samples,
-        if c.meets_every_accuracy(e2e) {
+    let verdict = |m: bool| {
+        if m {
             "meets every accuracy"
         } else {
             "does not meet every accuracy"
         }
+    };
+    s.push_str(&format!(
+        "  yield over both boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables{}; verdict with the rate errors{}: {}\n",
+        100.0 * c.meets as f64 / c.samples as f64,
+        100.0 * lo,
+        100.0 * hi,
+        c.samples,
+        if c.noise.is_some() {
+            " (the table alone)"
+        } else {
+            ""
+        },
+        if c.noise.is_some() { " and the noise" } else { "" },
+        verdict(c.meets_every_accuracy(e2e))
     ));
+    if c.noise.is_some() {
+        s.push_str(&format!(
+            "  rule: {}; the table alone {}\n",
+            c.rule(),
+            verdict(c.table_meets_every_accuracy(e2e))
+        ));
+    }
     s
+}
+
+/// The allocation with the rate tolerances and the noise part kept free, as text.
+#[must_use]
+fn with_noise_text(e2e: &EndToEnd, w: &RateWithNoise) -> String {
+    let mut s = format!(
+        "direct allocation with the rate tolerances and the noise kept free ({})\n",
+        with_noise_rule(w.noise.k_sigma)
+    );
+    let acc = e2e.accuracies();
+    let name = |k: usize| e2e.calibration().outputs()[k].output();
+    match &w.allocation {
+        Err(blocked) => {
+            for b in blocked {
+                let out = name(b.output());
+                s.push_str(&format!(
+                    "  no table suffices at this dwell: {} noise part {} {} (with the lower bounds' {}) leaves no room in {}\n",
+                    out.name,
+                    num(b.noise_part()),
+                    out.unit,
+                    num(b.lower_bounds_part()),
+                    num(acc[b.output()])
+                ));
+            }
+        }
+        Ok(a) => {
+            s.push_str(&format!(
+                "  J = {} arcmin^-2; rate tolerances: {}\n",
+                num(a.combined().objective_arcmin()),
+                tolerances_text(e2e, a.tolerances(), a.tolerance_bounds())
+            ));
+            for c in a.worst_cases() {
+                let k = c.output();
+                let out = name(k);
+                s.push_str(&format!(
+                    "  {}: table {} {} (exact at its worst vertex) + noise {} = {} against {}\n",
+                    out.name,
+                    num(c.exact_at_vertex()),
+                    out.unit,
+                    num(w.noise.margin(k)),
+                    num(c.exact_at_vertex() + w.noise.margin(k)),
+                    num(acc[k])
+                ));
+            }
+            match &w.certified {
+                Some(Ok(c)) => s.push_str(&format!(
+                    "  certified with the noise kept free: J = {} arcmin^-2; rate tolerances: {}\n",
+                    num(c.combined().objective_arcmin()),
+                    tolerances_text(e2e, c.tolerances(), c.tolerance_bounds())
+                )),
+                Some(Err(why)) => {
+                    s.push_str(&format!(
+                        "  no certified allocation with the noise: {why}\n"
+                    ));
+                }
+                None => {}
+            }
+        }
+    }
+    s
+}
+
+/// The rate tolerances `bounds` as `name value unit` (or `no bound`), comma-separated.
+fn tolerances_text(e2e: &EndToEnd, tolerances: &[RateTolerance], bounds: &[f64]) -> String {
+    e2e.rate_tolerance_names()
+        .iter()
+        .zip(tolerances)
+        .zip(bounds)
+        .map(|((n, t), b)| {
+            if b.is_finite() {
+                let (v, unit) = tolerance_in_sheet_units(t, *b);
+                format!("{n} {} {unit}", num(v))
+            } else {
+                format!("{n} no bound")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The allocation with the rate tolerances as text.
@@ -90,21 +193,10 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
         })
         .collect();
     s.push_str(&format!("  angles: {}\n", angles.join(", ")));
-    let tols: Vec<String> = e2e
-        .rate_tolerance_names()
-        .iter()
-        .zip(a.tolerances())
-        .zip(a.tolerance_bounds())
-        .map(|((n, t), b)| {
-            if b.is_finite() {
-                let (v, unit) = tolerance_in_sheet_units(t, *b);
-                format!("{n} {} {unit}", num(v))
-            } else {
-                format!("{n} no bound")
-            }
-        })
-        .collect();
-    s.push_str(&format!("  rate tolerances: {}\n", tols.join(", ")));
+    s.push_str(&format!(
+        "  rate tolerances: {}\n",
+        tolerances_text(e2e, a.tolerances(), a.tolerance_bounds())
+    ));
     let acc = e2e.accuracies();
     for w in a.worst_cases() {
         let out = e2e.calibration().outputs()[w.output()].output();
@@ -163,6 +255,9 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
             }
         }
         Err(why) => s.push_str(&format!("  no certified allocation: {why}\n")),
+    }
+    if let Some(w) = &r.with_noise {
+        s.push_str(&with_noise_text(e2e, w));
     }
     s
 }
