@@ -560,6 +560,31 @@ fn gm_row(x: f64, u: f64) -> [f64; 5] {
     [x.powi(-2), x.powi(-1), x, x * x, gauss_markov_avar(x / u)]
 }
 
+/// Forty golden-section steps of `f` on `[a, b]`: the last two interior points with their
+/// values, `(c, f(c))` and `(d, f(d))`.
+fn golden_section(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> ((f64, f64), (f64, f64)) {
+    let (mut a, mut b) = (a, b);
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - phi * (b - a), a + phi * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..40 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - phi * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + phi * (b - a);
+            fd = f(d);
+        }
+    }
+    ((c, fc), (d, fd))
+}
+
 /// The Gauss-Markov alternative to `power` (fitted to the same points): $\sigma$ and $T_c$ by
 /// a search on $T_c$ with $Q, N, K, R, \sigma^2$ profiled out, with the power fit's weights.
 /// `None` when the points are all zero.
@@ -595,27 +620,13 @@ pub fn fit_gauss_markov(points: &[(f64, f64, f64)], power: &PowerFit) -> Option<
     let profile: Vec<f64> = grid.iter().map(|g| rss_at(*g)).collect();
     let ib = (0..GM_GRID).fold(0, |b, i| if profile[i] < profile[b] { i } else { b });
     // golden section between the neighbours
-    let (mut a, mut b) = (grid[ib.saturating_sub(1)], grid[(ib + 1).min(GM_GRID - 1)]);
-    let phi = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - phi * (b - a), a + phi * (b - a));
-    let (mut fc, mut fd) = (rss_at(c), rss_at(d));
-    for _ in 0..40 {
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - phi * (b - a);
-            fc = rss_at(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + phi * (b - a);
-            fd = rss_at(d);
-        }
-    }
+    let (left, right) = golden_section(
+        &rss_at,
+        grid[ib.saturating_sub(1)],
+        grid[(ib + 1).min(GM_GRID - 1)],
+    );
     let (mut best_log_u, mut best_rss) = (grid[ib], profile[ib]);
-    for (l, r) in [(c, fc), (d, fd)] {
+    for (l, r) in [left, right] {
         if r < best_rss {
             best_log_u = l;
             best_rss = r;

@@ -586,6 +586,7 @@ fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
 /// [`E2eError::Field`] naming `budget_s`, `max_dwell_s`, `sample_rate_hz` or `move_s` when
 /// not finite and positive (non-negative for the move); as [`EndToEnd::noise_budget`] and
 /// [`EndToEnd::allocate_direct_with_noise`].
+#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub fn design_with_budget(
     problem: &DesignProblem,
     table: &[usize],

@@ -6,6 +6,8 @@
 //!
 //! A UTF-8 byte-order mark before the header is accepted; blank lines are skipped; fields may
 //! be surrounded by spaces. Every problem is a [`StudyError`] at `file:line` (and column).
+//! A CSV reader that unquotes fields (RFC 4180, `tt_lab::rows::read_rows`) hands them over
+//! already split ([`TurntableColumns::from_header_fields`], [`TurntableColumns::parse_fields`]).
 
 use crate::error::StudyError;
 use crate::limits;
@@ -159,12 +161,28 @@ impl TurntableColumns {
         turntable: &Turntable,
         joints: JointColumns,
     ) -> Result<Self, StudyError> {
-        let at = format!("{source}:{line_no}");
         let header = header.strip_prefix('\u{feff}').unwrap_or(header);
+        let fields: Vec<&str> = header.split(',').collect();
+        Self::from_header_fields(source, line_no, &fields, turntable, joints)
+    }
+
+    /// Map a header's fields (already split, for example by a CSV reader that unquotes them)
+    /// with or without joint columns.
+    ///
+    /// # Errors
+    /// As [`TurntableColumns::from_header_for`].
+    pub fn from_header_fields(
+        source: &str,
+        line_no: usize,
+        fields: &[&str],
+        turntable: &Turntable,
+        joints: JointColumns,
+    ) -> Result<Self, StudyError> {
+        let at = format!("{source}:{line_no}");
         let mut slots = Vec::new();
         let mut names = Vec::new();
         let mut seen = std::collections::BTreeSet::new();
-        for (c, raw) in header.split(',').enumerate() {
+        for (c, raw) in fields.iter().enumerate() {
             let col = raw.trim();
             let slot = if let Some(j) = col
                 .strip_suffix("_deg")
@@ -250,7 +268,21 @@ impl TurntableColumns {
         line_no: usize,
         line: &str,
     ) -> Result<TurntableRow, StudyError> {
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let fields: Vec<&str> = line.split(',').collect();
+        self.parse_fields(source, line_no, &fields)
+    }
+
+    /// Parse one data record's fields (already split, for example by a CSV reader that
+    /// unquotes them; surrounding spaces are ignored).
+    ///
+    /// # Errors
+    /// As [`TurntableColumns::parse_row`].
+    pub fn parse_fields(
+        &self,
+        source: &str,
+        line_no: usize,
+        fields: &[&str],
+    ) -> Result<TurntableRow, StudyError> {
         if fields.len() != self.slots.len() {
             return Err(StudyError::new(
                 format!("{source}:{line_no}"),
@@ -270,6 +302,7 @@ impl TurntableColumns {
             fields.iter().zip(&self.slots).zip(&self.names).enumerate()
         {
             let at = || format!("{source}:{line_no} column {}", c + 1);
+            let field = field.trim();
             let x: f64 = field.parse().map_err(|_| {
                 StudyError::new(at(), format!("`{name}`: `{field}` is not a number"))
             })?;

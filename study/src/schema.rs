@@ -508,63 +508,10 @@ impl Study {
         let turntable = parse_turntable(at, &raw.turntable)?;
         let variations = parse_variations(at, &raw.turntable, &turntable)?;
         let measured = parse_measured(at, raw.compensation.as_ref(), &turntable, &variations)?;
-        let site = Site::from_deg(
-            in_range(
-                at,
-                "site.latitude_deg",
-                raw.site.latitude_deg,
-                limits::LATITUDE_DEG.0,
-                limits::LATITUDE_DEG.1,
-                false,
-                "deg",
-            )?,
-            in_range(
-                at,
-                "site.earth_rate_rad_per_s",
-                raw.site.earth_rate_rad_per_s,
-                limits::EARTH_RATE_RAD_PER_S.0,
-                limits::EARTH_RATE_RAD_PER_S.1,
-                false,
-                "rad/s",
-            )?,
-        )
-        .map_err(|e| StudyError::new(at("site"), e.to_string()))?;
+        let site = parse_site(at, &raw.site)?;
         let sensor = parse_sensor(at, &raw.sensor)?;
-        let noise = raw
-            .sensor
-            .outputs
-            .iter()
-            .enumerate()
-            .map(|(k, o)| {
-                o.noise
-                    .as_ref()
-                    .map(|n| crate::noise::parse_output_noise(at, k, &o.unit, n))
-                    .transpose()
-            })
-            .collect::<Result<Vec<_>, StudyError>>()?;
-        let reading_text = raw
-            .calibration
-            .reading
-            .as_deref()
-            .unwrap_or(DEFAULT_READING);
-        let reading: Reading = reading_text.parse().map_err(|e: calib_lsq::CalibError| {
-            StudyError::new(at("calibration.reading"), e.to_string())
-        })?;
-        let delta_r_kind = match raw
-            .calibration
-            .delta_r
-            .as_deref()
-            .unwrap_or(DEFAULT_DELTA_R)
-        {
-            "small-angle" => DeltaRKind::SmallAngle,
-            "exact" => DeltaRKind::Exact,
-            other => {
-                return Err(StudyError::new(
-                    at("calibration.delta_r"),
-                    format!("must be \"small-angle\" or \"exact\", found \"{other}\""),
-                ));
-            }
-        };
+        let noise = parse_noise(at, &raw.sensor)?;
+        let (reading, delta_r_kind) = parse_reading(at, &raw.calibration)?;
         let positions_deg = raw.calibration.positions_deg.clone();
         let max_rate_deg_per_s = parse_max_rates(at, &raw.turntable, &turntable)?;
         let lever_arm_m = parse_lever_arm(at, raw.sensor.lever_arm_m.as_deref())?;
@@ -607,29 +554,7 @@ impl Study {
             None => RequirementSource::Computed,
             Some(r) => parse_requirement(at, r)?,
         };
-        let mut lower_bounds_rad = vec![0.0; turntable.n_rotation_errors()];
-        if let Some(lb) = raw
-            .allocation
-            .as_ref()
-            .and_then(|a| a.lower_bounds_arcmin.as_ref())
-        {
-            for (name, &v) in lb {
-                let key = format!("allocation.lower_bounds_arcmin.{name}");
-                let Some(i) = turntable.rotation_error_index(name) else {
-                    let why = if turntable.translation_error_names().contains(&name.as_str()) {
-                        format!(
-                            "`{name}` is a translation: it has no effect on the orientation and gets no bound"
-                        )
-                    } else {
-                        format!("`{name}` is not an angular error of the turntable")
-                    };
-                    return Err(StudyError::new(at(&key), why));
-                };
-                let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
-                lower_bounds_rad[i] =
-                    in_range(at, &key, v, lo, hi, false, "arcmin")? * RAD_PER_ARCMIN;
-            }
-        }
+        let lower_bounds_rad = parse_lower_bounds(at, raw.allocation.as_ref(), &turntable)?;
         let uncertainty = crate::spec::parse_uncertainty(at, raw.uncertainty.as_ref())?;
         let specifications = crate::spec::parse_specifications(
             at,
@@ -1372,6 +1297,99 @@ fn parse_max_rates(
         out[j] = Some(in_range(at, &key, v, lo, hi, true, "deg/s")?);
     }
     Ok(out)
+}
+
+/// `[site]`: the latitude and the earth rate, checked.
+fn parse_site(at: &dyn Fn(&str) -> String, raw: &RawSite) -> Result<Site, StudyError> {
+    Site::from_deg(
+        in_range(
+            at,
+            "site.latitude_deg",
+            raw.latitude_deg,
+            limits::LATITUDE_DEG.0,
+            limits::LATITUDE_DEG.1,
+            false,
+            "deg",
+        )?,
+        in_range(
+            at,
+            "site.earth_rate_rad_per_s",
+            raw.earth_rate_rad_per_s,
+            limits::EARTH_RATE_RAD_PER_S.0,
+            limits::EARTH_RATE_RAD_PER_S.1,
+            false,
+            "rad/s",
+        )?,
+    )
+    .map_err(|e| StudyError::new(at("site"), e.to_string()))
+}
+
+/// Each output's `[sensor.outputs.noise]`, if given.
+fn parse_noise(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawSensor,
+) -> Result<Vec<Option<gw_model::noise::NoiseModel>>, StudyError> {
+    raw.outputs
+        .iter()
+        .enumerate()
+        .map(|(k, o)| {
+            o.noise
+                .as_ref()
+                .map(|n| crate::noise::parse_output_noise(at, k, &o.unit, n))
+                .transpose()
+        })
+        .collect()
+}
+
+/// `calibration.reading` and `calibration.delta_r` (their defaults when not given).
+fn parse_reading(
+    at: &dyn Fn(&str) -> String,
+    raw: &RawCalibration,
+) -> Result<(Reading, DeltaRKind), StudyError> {
+    let reading_text = raw.reading.as_deref().unwrap_or(DEFAULT_READING);
+    let reading: Reading = reading_text.parse().map_err(|e: calib_lsq::CalibError| {
+        StudyError::new(at("calibration.reading"), e.to_string())
+    })?;
+    let delta_r_kind = match raw.delta_r.as_deref().unwrap_or(DEFAULT_DELTA_R) {
+        "small-angle" => DeltaRKind::SmallAngle,
+        "exact" => DeltaRKind::Exact,
+        other => {
+            return Err(StudyError::new(
+                at("calibration.delta_r"),
+                format!("must be \"small-angle\" or \"exact\", found \"{other}\""),
+            ));
+        }
+    };
+    Ok((reading, delta_r_kind))
+}
+
+/// `allocation.lower_bounds_arcmin`, rad, in the turntable's order (zero when not given).
+fn parse_lower_bounds(
+    at: &dyn Fn(&str) -> String,
+    raw: Option<&RawAllocation>,
+    turntable: &Turntable,
+) -> Result<Vec<f64>, StudyError> {
+    let mut lower_bounds_rad = vec![0.0; turntable.n_rotation_errors()];
+    for (name, &v) in raw
+        .and_then(|a| a.lower_bounds_arcmin.as_ref())
+        .into_iter()
+        .flatten()
+    {
+        let key = format!("allocation.lower_bounds_arcmin.{name}");
+        let Some(i) = turntable.rotation_error_index(name) else {
+            let why = if turntable.translation_error_names().contains(&name.as_str()) {
+                format!(
+                    "`{name}` is a translation: it has no effect on the orientation and gets no bound"
+                )
+            } else {
+                format!("`{name}` is not an angular error of the turntable")
+            };
+            return Err(StudyError::new(at(&key), why));
+        };
+        let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
+        lower_bounds_rad[i] = in_range(at, &key, v, lo, hi, false, "arcmin")? * RAD_PER_ARCMIN;
+    }
+    Ok(lower_bounds_rad)
 }
 
 /// `sensor.lever_arm_m`: three components, m (zero when not given).

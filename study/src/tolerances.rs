@@ -200,35 +200,124 @@ impl Tolerances {
             Some(c) => ValueConvention::parse(&at, "convention", c)?,
             None => ValueConvention::Bound,
         };
-        let conventions = raw.conventions.clone().unwrap_or_default();
-        // the value of `key` (its unit `unit`, limits `(lo, hi)`) checked as written, then the
-        // bound its convention makes of it checked against the same documented maximum
-        // (`[conventions]` names a value by `name`)
-        let bound_of = |key: &str, name: &str, v: f64, (lo, hi): (f64, f64), unit: &str| {
-            let v = in_range(&at, key, v, lo, hi, false, unit)?;
-            let (convention, ckey) = match conventions.get(name) {
-                Some(c) => (
-                    ValueConvention::parse(&at, &format!("conventions.{name}"), c)?,
-                    format!("conventions.{name}"),
-                ),
-                None => (default, "convention".to_string()),
-            };
-            let bound = v * convention.factor();
-            if bound > hi {
-                return Err(StudyError::new(
-                    at(key),
-                    format!(
-                        "{} {unit} read as `{ckey}` = \"{}\" bounds the error by {} {unit}, above the largest bound accepted ({} {unit})",
-                        exact(v),
-                        convention.name(),
-                        num(bound),
-                        num(hi)
-                    ),
-                ));
-            }
-            Ok(bound)
+        let r = SheetReader {
+            source,
+            turntable,
+            default,
+            conventions: raw.conventions.clone().unwrap_or_default(),
         };
-        for key in conventions.keys() {
+        r.check_convention_keys(&raw)?;
+        let mut b = Bounds {
+            ub: vec![None; turntable.n_rotation_errors()],
+            implied: vec![None; turntable.n_rotation_errors()],
+            discs: Vec::new(),
+            translations_m: vec![None; turntable.n_translation_errors()],
+        };
+        r.angular_tolerances(&raw, &mut b)?;
+        let mut axis_intersections = Vec::new();
+        for (joint, ax) in raw.axes.iter().flatten() {
+            axis_intersections.push(r.axis_quantities(joint, ax, &mut b)?);
+        }
+        r.check_every_angle_bounded(&b.ub)?;
+        r.translation_tolerances(&raw, &mut b)?;
+        // a vendor's axis intersection (the distance between this axis and the previous one):
+        // each named translation between the two joints gets the bound (with two components,
+        // the square around the disc: translations act only at rate steps, whose worst case
+        // takes boxes)
+        let axes = raw.axes.as_ref();
+        for (j, jkey, prev, jf) in axis_intersections {
+            let ax = &axes
+                .and_then(|a| a.get(&jkey["axes.".len()..]))
+                .unwrap_or_else(|| unreachable!("collected from the sheet's axes"));
+            r.axis_intersection(j, &jkey, (prev, jf), ax, &mut b)?;
+        }
+        let (rate_accuracy, rate_ripple) = r.rate_tolerances(&raw)?;
+        Ok(Self {
+            rate_accuracy,
+            rate_ripple,
+            path: source.to_string(),
+            name: raw.name,
+            ub_rad: b
+                .ub
+                .into_iter()
+                .map(|u| u.unwrap_or_else(|| unreachable!("checked")))
+                .collect(),
+            translations_m: b.translations_m,
+            discs: b.discs,
+            implied: b.implied,
+        })
+    }
+}
+
+/// The reading of one tolerance sheet: where it comes from, the turntable it describes, its
+/// value conventions (`convention`, `[conventions]`).
+struct SheetReader<'a> {
+    source: &'a str,
+    turntable: &'a Turntable,
+    default: ValueConvention,
+    conventions: BTreeMap<String, String>,
+}
+
+/// The bounds a sheet gives, read so far (radians, metres), in the turntable's orders.
+struct Bounds {
+    ub: Vec<Option<f64>>,
+    implied: Vec<Option<tt_kinematics::ErrorVariation>>,
+    discs: Vec<DiscBound>,
+    translations_m: Vec<Option<f64>>,
+}
+
+/// An axis given in `[axes]`: its joint index, `axes.<joint>`, and the factor range of the
+/// errors between the previous joint and this one.
+type AxisIntersection = (usize, String, usize, usize);
+
+/// Each joint's rate accuracy and rate ripple bounds (relative), `None` when not given.
+type RateBounds = (Vec<Option<f64>>, Vec<Option<f64>>);
+
+impl SheetReader<'_> {
+    /// A key's location in messages.
+    fn at(&self, key: &str) -> String {
+        format!("{}: key `{key}`", self.source)
+    }
+
+    /// The value of `key` (its unit `unit`, limits `(lo, hi)`) checked as written, then the
+    /// bound its convention makes of it checked against the same documented maximum
+    /// (`[conventions]` names a value by `name`).
+    fn bound_of(
+        &self,
+        key: &str,
+        name: &str,
+        v: f64,
+        (lo, hi): (f64, f64),
+        unit: &str,
+    ) -> Result<f64, StudyError> {
+        let at = |k: &str| self.at(k);
+        let v = in_range(&at, key, v, lo, hi, false, unit)?;
+        let (convention, ckey) = match self.conventions.get(name) {
+            Some(c) => (
+                ValueConvention::parse(&at, &format!("conventions.{name}"), c)?,
+                format!("conventions.{name}"),
+            ),
+            None => (self.default, "convention".to_string()),
+        };
+        let bound = v * convention.factor();
+        if bound > hi {
+            return Err(StudyError::new(
+                at(key),
+                format!(
+                    "{} {unit} read as `{ckey}` = \"{}\" bounds the error by {} {unit}, above the largest bound accepted ({} {unit})",
+                    exact(v),
+                    convention.name(),
+                    num(bound),
+                    num(hi)
+                ),
+            ));
+        }
+        Ok(bound)
+    }
+
+    /// Every key of `[conventions]` names a value of the sheet.
+    fn check_convention_keys(&self, raw: &RawTolerances) -> Result<(), StudyError> {
+        for key in self.conventions.keys() {
             let known = raw.tolerances_arcmin.contains_key(key)
                 || key.strip_prefix("axes.").is_some_and(|rest| {
                     rest.rsplit_once('.').is_some_and(|(j, q)| {
@@ -248,16 +337,17 @@ impl Tolerances {
                 });
             if !known {
                 return Err(StudyError::new(
-                    at(&format!("conventions.{key}")),
+                    self.at(&format!("conventions.{key}")),
                     "names no value of this sheet (a [tolerances_arcmin] error or axes.<joint>.<quantity>)",
                 ));
             }
         }
-        let mut ub = vec![None; turntable.n_rotation_errors()];
-        let mut implied = vec![None; turntable.n_rotation_errors()];
-        // (joint index, `axes.<joint>`, factor range of the errors before it) per axis given
-        let mut axis_intersections: Vec<(usize, String, usize, usize)> = Vec::new();
-        let mut discs = Vec::new();
+        Ok(())
+    }
+
+    /// `[tolerances_arcmin]`: one bound per named angular error.
+    fn angular_tolerances(&self, raw: &RawTolerances, b: &mut Bounds) -> Result<(), StudyError> {
+        let turntable = self.turntable;
         for (name, &v) in &raw.tolerances_arcmin {
             let key = format!("tolerances_arcmin.{name}");
             let i = turntable.rotation_error_index(name).ok_or_else(|| {
@@ -269,169 +359,209 @@ impl Tolerances {
                         turntable.rotation_error_names().join(", ")
                     )
                 };
-                StudyError::new(at(&key), why)
+                StudyError::new(self.at(&key), why)
             })?;
-            ub[i] = Some(
-                bound_of(&key, name, v, limits::ANGLE_TOLERANCE_ARCMIN, "arcmin")? * RAD_PER_ARCMIN,
+            b.ub[i] = Some(
+                self.bound_of(&key, name, v, limits::ANGLE_TOLERANCE_ARCMIN, "arcmin")?
+                    * RAD_PER_ARCMIN,
             );
         }
-        for (joint, ax) in raw.axes.iter().flatten() {
-            let jkey = format!("axes.{joint}");
-            let Some(j) = turntable.joint_index(joint) else {
+        Ok(())
+    }
+
+    /// `[axes.<joint>]`: its wobble, positioning accuracy and orthogonality mapped onto the
+    /// errors they name; the axis returned for its intersection (read after the translations).
+    fn axis_quantities(
+        &self,
+        joint: &str,
+        ax: &RawAxis,
+        b: &mut Bounds,
+    ) -> Result<AxisIntersection, StudyError> {
+        let turntable = self.turntable;
+        let jkey = format!("axes.{joint}");
+        let Some(j) = turntable.joint_index(joint) else {
+            return Err(StudyError::new(
+                self.at(&jkey),
+                format!(
+                    "the sheet gives quantities of axis `{}`, which the study's turntable does not have (joints: {})",
+                    crate::fmt::visible(joint),
+                    turntable.joint_names().join(", ")
+                ),
+            ));
+        };
+        let jf = turntable.joints()[j].factor;
+        let next = turntable
+            .joints()
+            .get(j + 1)
+            .map_or(usize::MAX, |n| n.factor);
+        let prev = if j == 0 {
+            0
+        } else {
+            turntable.joints()[j - 1].factor
+        };
+        let any = || {
+            Some(tt_kinematics::ErrorVariation::Any {
+                joint: joint.to_string(),
+            })
+        };
+        // (quantity, value, errors, where they must sit, implied model)
+        let quantities: [Quantity<'_>; 3] = [
+            (
+                "wobble",
+                ax.wobble_arcsec,
+                ax.wobble.clone(),
+                (jf, next),
+                any(),
+            ),
+            (
+                "positioning_accuracy",
+                ax.positioning_accuracy_arcsec,
+                ax.positioning.clone().map(|p| vec![p]),
+                (jf, next),
+                any(),
+            ),
+            (
+                "orthogonality",
+                ax.orthogonality_arcsec,
+                ax.orthogonality.clone(),
+                (prev, jf),
+                Some(tt_kinematics::ErrorVariation::Constant),
+            ),
+        ];
+        for quantity in quantities {
+            self.axis_quantity(j, joint, &jkey, quantity, b)?;
+        }
+        Ok((j, jkey, prev, jf))
+    }
+
+    /// One quantity of axis `joint` (index `j`, key `jkey`): its bound on each error it names.
+    fn axis_quantity(
+        &self,
+        j: usize,
+        joint: &str,
+        jkey: &str,
+        (q, value, errors, (lo_f, hi_f), model): Quantity<'_>,
+        b: &mut Bounds,
+    ) -> Result<(), StudyError> {
+        let turntable = self.turntable;
+        let vkey = format!("{jkey}.{q}_arcsec");
+        let list_key = format!(
+            "{jkey}.{}",
+            if q == "positioning_accuracy" {
+                "positioning"
+            } else {
+                q
+            }
+        );
+        let at = |k: &str| self.at(k);
+        let Some((value, errors)) =
+            value_with_list(&at, &vkey, &list_key, value, errors, "errors")?
+        else {
+            return Ok(());
+        };
+        let want = if q == "positioning_accuracy" { 1 } else { 2 };
+        if errors.len() != want {
+            return Err(StudyError::new(
+                at(&list_key),
+                format!(
+                    "{q} bounds {want} error(s) of the axis, found {}",
+                    errors.len()
+                ),
+            ));
+        }
+        let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
+        let bound = self.bound_of(&vkey, &vkey, value, (lo * 60.0, hi * 60.0), "arcsec")? / 60.0
+            * RAD_PER_ARCMIN;
+        let mut idx = Vec::with_capacity(want);
+        for (k, e) in errors.iter().enumerate() {
+            let ekey = format!("{list_key}[{k}]");
+            let ekey = if want == 1 { list_key.clone() } else { ekey };
+            let Some(i) = turntable.rotation_error_index(e) else {
                 return Err(StudyError::new(
-                    at(&jkey),
+                    at(&ekey),
                     format!(
-                        "the sheet gives quantities of axis `{}`, which the study's turntable does not have (joints: {})",
-                        crate::fmt::visible(joint),
-                        turntable.joint_names().join(", ")
+                        "`{}` is not an angular error of the study's turntable",
+                        crate::fmt::visible(e)
                     ),
                 ));
             };
-            let jf = turntable.joints()[j].factor;
-            let next = turntable
-                .joints()
-                .get(j + 1)
-                .map_or(usize::MAX, |n| n.factor);
-            let prev = if j == 0 {
-                0
-            } else {
-                turntable.joints()[j - 1].factor
-            };
-            let any = || {
-                Some(tt_kinematics::ErrorVariation::Any {
-                    joint: joint.clone(),
-                })
-            };
-            // (quantity, value, errors, where they must sit, implied model)
-            let quantities: [Quantity<'_>; 3] = [
-                (
-                    "wobble",
-                    ax.wobble_arcsec,
-                    ax.wobble.clone(),
-                    (jf, next),
-                    any(),
-                ),
-                (
-                    "positioning_accuracy",
-                    ax.positioning_accuracy_arcsec,
-                    ax.positioning.clone().map(|p| vec![p]),
-                    (jf, next),
-                    any(),
-                ),
-                (
-                    "orthogonality",
-                    ax.orthogonality_arcsec,
-                    ax.orthogonality.clone(),
-                    (prev, jf),
-                    Some(tt_kinematics::ErrorVariation::Constant),
-                ),
-            ];
-            for (q, value, errors, (lo_f, hi_f), model) in quantities {
-                let vkey = format!("{jkey}.{q}_arcsec");
-                let list_key = format!(
-                    "{jkey}.{}",
-                    if q == "positioning_accuracy" {
-                        "positioning"
-                    } else {
-                        q
-                    }
-                );
-                let Some((value, errors)) =
-                    value_with_list(&at, &vkey, &list_key, value, errors, "errors")?
-                else {
-                    continue;
-                };
-                let want = if q == "positioning_accuracy" { 1 } else { 2 };
-                if errors.len() != want {
-                    return Err(StudyError::new(
-                        at(&list_key),
-                        format!(
-                            "{q} bounds {want} error(s) of the axis, found {}",
-                            errors.len()
-                        ),
-                    ));
-                }
-                let (lo, hi) = limits::ANGLE_TOLERANCE_ARCMIN;
-                let bound = bound_of(&vkey, &vkey, value, (lo * 60.0, hi * 60.0), "arcsec")? / 60.0
-                    * RAD_PER_ARCMIN;
-                let mut idx = Vec::with_capacity(want);
-                for (k, e) in errors.iter().enumerate() {
-                    let ekey = format!("{list_key}[{k}]");
-                    let ekey = if want == 1 { list_key.clone() } else { ekey };
-                    let Some(i) = turntable.rotation_error_index(e) else {
-                        return Err(StudyError::new(
-                            at(&ekey),
-                            format!(
-                                "`{}` is not an angular error of the study's turntable",
-                                crate::fmt::visible(e)
-                            ),
-                        ));
-                    };
-                    let f = turntable.rotation_errors()[i].factor;
-                    if !(f > lo_f && f < hi_f) || (q == "orthogonality" && j == 0) {
-                        return Err(StudyError::new(
-                            at(&ekey),
-                            format!(
-                                "`{e}` does not map onto the {q} of axis `{joint}`: it is not {} in the chain",
-                                if q == "orthogonality" {
-                                    "between the previous joint and this one"
-                                } else {
-                                    "between this joint and the next"
-                                }
-                            ),
-                        ));
-                    }
-                    if q == "positioning_accuracy"
-                        && turntable.rotation_errors()[i].axis.axis
-                            != turntable.joints()[j].about.axis
-                    {
-                        return Err(StudyError::new(
-                            at(&ekey),
-                            format!(
-                                "`{e}` does not turn about the axis of `{joint}`: it is not its position error"
-                            ),
-                        ));
-                    }
-                    if ub[i].is_some() {
-                        return Err(StudyError::new(
-                            at(&ekey),
-                            format!("`{e}` is bounded twice (also by another value of this sheet)"),
-                        ));
-                    }
-                    ub[i] = Some(bound);
-                    implied[i] = model.clone();
-                    idx.push(i);
-                }
-                if want == 2 {
-                    discs.push(DiscBound {
-                        key: vkey,
-                        errors: [idx[0], idx[1]],
-                        bound_rad: bound,
-                    });
-                }
+            let f = turntable.rotation_errors()[i].factor;
+            if !(f > lo_f && f < hi_f) || (q == "orthogonality" && j == 0) {
+                return Err(StudyError::new(
+                    at(&ekey),
+                    format!(
+                        "`{e}` does not map onto the {q} of axis `{joint}`: it is not {} in the chain",
+                        if q == "orthogonality" {
+                            "between the previous joint and this one"
+                        } else {
+                            "between this joint and the next"
+                        }
+                    ),
+                ));
             }
-            axis_intersections.push((j, jkey.clone(), prev, jf));
+            if q == "positioning_accuracy"
+                && turntable.rotation_errors()[i].axis.axis != turntable.joints()[j].about.axis
+            {
+                return Err(StudyError::new(
+                    at(&ekey),
+                    format!(
+                        "`{e}` does not turn about the axis of `{joint}`: it is not its position error"
+                    ),
+                ));
+            }
+            if b.ub[i].is_some() {
+                return Err(StudyError::new(
+                    at(&ekey),
+                    format!("`{e}` is bounded twice (also by another value of this sheet)"),
+                ));
+            }
+            b.ub[i] = Some(bound);
+            b.implied[i] = model.clone();
+            idx.push(i);
         }
-        let missing: Vec<&str> = turntable
+        if want == 2 {
+            b.discs.push(DiscBound {
+                key: vkey,
+                errors: [idx[0], idx[1]],
+                bound_rad: bound,
+            });
+        }
+        Ok(())
+    }
+
+    /// Every angular error has a bound.
+    fn check_every_angle_bounded(&self, ub: &[Option<f64>]) -> Result<(), StudyError> {
+        let missing: Vec<&str> = self
+            .turntable
             .rotation_error_names()
             .into_iter()
-            .zip(&ub)
+            .zip(ub)
             .filter(|(_, u)| u.is_none())
             .map(|(n, _)| n)
             .collect();
         if !missing.is_empty() {
             return Err(StudyError::new(
-                at("tolerances_arcmin"),
+                self.at("tolerances_arcmin"),
                 format!(
                     "every angular error needs a tolerance; missing: {}",
                     missing.join(", ")
                 ),
             ));
         }
-        let mut translations_m = vec![None; turntable.n_translation_errors()];
+        Ok(())
+    }
+
+    /// `[tolerances_mm]`: one bound per named translation error.
+    fn translation_tolerances(
+        &self,
+        raw: &RawTolerances,
+        b: &mut Bounds,
+    ) -> Result<(), StudyError> {
+        let at = |k: &str| self.at(k);
         for (name, &v) in raw.tolerances_mm.iter().flatten() {
             let key = format!("tolerances_mm.{name}");
-            let i = turntable
+            let i = self
+                .turntable
                 .translation_error_names()
                 .iter()
                 .position(|n| *n == name)
@@ -442,81 +572,93 @@ impl Tolerances {
                     )
                 })?;
             let (lo, hi) = limits::TRANSLATION_TOLERANCE_MM;
-            translations_m[i] = Some(in_range(&at, &key, v, lo, hi, false, "mm")? * 1e-3);
+            b.translations_m[i] = Some(in_range(&at, &key, v, lo, hi, false, "mm")? * 1e-3);
         }
-        // a vendor's axis intersection (the distance between this axis and the previous one):
-        // each named translation between the two joints gets the bound (with two components,
-        // the square around the disc: translations act only at rate steps, whose worst case
-        // takes boxes)
-        let axes = raw.axes.as_ref();
-        for (j, jkey, prev, jf) in axis_intersections {
-            let ax = &axes
-                .and_then(|a| a.get(&jkey["axes.".len()..]))
-                .unwrap_or_else(|| unreachable!("collected from the sheet's axes"));
-            let (vkey, list_key) = (
-                format!("{jkey}.intersection_mm"),
-                format!("{jkey}.intersection"),
-            );
-            let Some((value, errors)) = value_with_list(
-                &at,
-                &vkey,
-                &list_key,
-                ax.intersection_mm,
-                ax.intersection.as_ref(),
-                "translations",
-            )?
-            else {
-                continue;
+        Ok(())
+    }
+
+    /// `axes.<joint>.intersection_mm` of axis `j` (key `jkey`, the factor range `(prev, jf)`
+    /// of the errors before it): its bound on each translation it names.
+    fn axis_intersection(
+        &self,
+        j: usize,
+        jkey: &str,
+        (prev, jf): (usize, usize),
+        ax: &RawAxis,
+        b: &mut Bounds,
+    ) -> Result<(), StudyError> {
+        let turntable = self.turntable;
+        let at = |k: &str| self.at(k);
+        let (vkey, list_key) = (
+            format!("{jkey}.intersection_mm"),
+            format!("{jkey}.intersection"),
+        );
+        let Some((value, errors)) = value_with_list(
+            &at,
+            &vkey,
+            &list_key,
+            ax.intersection_mm,
+            ax.intersection.as_ref(),
+            "translations",
+        )?
+        else {
+            return Ok(());
+        };
+        if !(1..=2).contains(&errors.len()) {
+            return Err(StudyError::new(
+                at(&list_key),
+                format!(
+                    "an intersection bounds 1 or 2 translations, found {}",
+                    errors.len()
+                ),
+            ));
+        }
+        let bound =
+            self.bound_of(&vkey, &vkey, value, limits::TRANSLATION_TOLERANCE_MM, "mm")? * 1e-3;
+        for (k, e) in errors.iter().enumerate() {
+            let ekey = if errors.len() == 1 {
+                list_key.clone()
+            } else {
+                format!("{list_key}[{k}]")
             };
-            if !(1..=2).contains(&errors.len()) {
+            let Some(i) = turntable
+                .translation_error_names()
+                .iter()
+                .position(|n| n == e)
+            else {
                 return Err(StudyError::new(
-                    at(&list_key),
+                    at(&ekey),
                     format!(
-                        "an intersection bounds 1 or 2 translations, found {}",
-                        errors.len()
+                        "`{}` is not a translation error of the study's turntable",
+                        crate::fmt::visible(e)
+                    ),
+                ));
+            };
+            let f = turntable.translation_errors()[i].factor;
+            if j == 0 || !(f > prev && f < jf) {
+                return Err(StudyError::new(
+                    at(&ekey),
+                    format!(
+                        "`{e}` does not map onto the intersection of axis `{}`: it is not between the previous joint and this one in the chain",
+                        &jkey["axes.".len()..]
                     ),
                 ));
             }
-            let bound =
-                bound_of(&vkey, &vkey, value, limits::TRANSLATION_TOLERANCE_MM, "mm")? * 1e-3;
-            for (k, e) in errors.iter().enumerate() {
-                let ekey = if errors.len() == 1 {
-                    list_key.clone()
-                } else {
-                    format!("{list_key}[{k}]")
-                };
-                let Some(i) = turntable
-                    .translation_error_names()
-                    .iter()
-                    .position(|n| n == e)
-                else {
-                    return Err(StudyError::new(
-                        at(&ekey),
-                        format!(
-                            "`{}` is not a translation error of the study's turntable",
-                            crate::fmt::visible(e)
-                        ),
-                    ));
-                };
-                let f = turntable.translation_errors()[i].factor;
-                if j == 0 || !(f > prev && f < jf) {
-                    return Err(StudyError::new(
-                        at(&ekey),
-                        format!(
-                            "`{e}` does not map onto the intersection of axis `{}`: it is not between the previous joint and this one in the chain",
-                            &jkey["axes.".len()..]
-                        ),
-                    ));
-                }
-                if translations_m[i].is_some() {
-                    return Err(StudyError::new(
-                        at(&ekey),
-                        format!("`{e}` is bounded twice (also by another value of this sheet)"),
-                    ));
-                }
-                translations_m[i] = Some(bound);
+            if b.translations_m[i].is_some() {
+                return Err(StudyError::new(
+                    at(&ekey),
+                    format!("`{e}` is bounded twice (also by another value of this sheet)"),
+                ));
             }
+            b.translations_m[i] = Some(bound);
         }
+        Ok(())
+    }
+
+    /// `[tolerances_ppm]`: each joint's rate accuracy and rate ripple (relative).
+    fn rate_tolerances(&self, raw: &RawTolerances) -> Result<RateBounds, StudyError> {
+        let turntable = self.turntable;
+        let at = |k: &str| self.at(k);
         let mut rate_accuracy = vec![None; turntable.n_joints()];
         let mut rate_ripple = vec![None; turntable.n_joints()];
         for (name, &v) in raw.tolerances_ppm.iter().flatten() {
@@ -545,19 +687,7 @@ impl Tolerances {
                 rate_ripple[j] = Some(value);
             }
         }
-        Ok(Self {
-            rate_accuracy,
-            rate_ripple,
-            path: source.to_string(),
-            name: raw.name,
-            ub_rad: ub
-                .into_iter()
-                .map(|u| u.unwrap_or_else(|| unreachable!("checked")))
-                .collect(),
-            translations_m,
-            discs,
-            implied,
-        })
+        Ok((rate_accuracy, rate_ripple))
     }
 }
 

@@ -65,6 +65,7 @@ fn replace(from: &str, to: &str) -> String {
 
 /// Each malformed study names the file, the key (with the list index) and the reason.
 #[test]
+#[allow(clippy::too_many_lines, reason = "one table of cases")]
 fn bad_studies_name_the_key_and_the_reason() {
     let cases: Vec<(String, &str, &str)> = vec![
         (

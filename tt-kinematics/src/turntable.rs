@@ -361,6 +361,202 @@ pub fn is_valid_name(name: &str) -> bool {
         && chars.all(|c| matches!(c, 'a'..='z' | '0'..='9' | '_'))
 }
 
+/// The named factors of a description: each name's factor, the joints, the angular errors and
+/// the translations in order of appearance.
+struct Named<'d> {
+    seen: BTreeMap<&'d str, usize>,
+    joints: Vec<Joint>,
+    rotations: Vec<ErrorInfo>,
+    translations: Vec<ErrorInfo>,
+}
+
+/// Check every factor's name (valid, unique) and its fixed angle (finite); collect the joints
+/// and the errors in order of appearance.
+fn named_factors(factors: &[FactorSpec]) -> Result<Named<'_>, KinematicsError> {
+    let mut n = Named {
+        seen: BTreeMap::new(),
+        joints: Vec::new(),
+        rotations: Vec::new(),
+        translations: Vec::new(),
+    };
+    for (i, f) in factors.iter().enumerate() {
+        let (kind, name) = match f {
+            FactorSpec::Joint { name, .. } => ("joint", name),
+            FactorSpec::Error { name, .. } | FactorSpec::Translation { name, .. } => {
+                ("error", name)
+            }
+            FactorSpec::Fixed { angle_rad, .. } => {
+                finite(format!("factors[{i}].fixed"), *angle_rad).map_err(|_| {
+                    description(format!("factors[{i}].fixed_deg"), "must be finite")
+                })?;
+                continue;
+            }
+        };
+        let key = format!("factors[{i}].{kind}");
+        if !is_valid_name(name) {
+            return Err(description(
+                key,
+                format!(
+                    "`{name}` is not a valid name (lower-case letter, then lower-case letters, digits or `_`)"
+                ),
+            ));
+        }
+        if let Some(first) = n.seen.insert(name, i) {
+            return Err(description(
+                key,
+                format!("`{name}` is already the name of factors[{first}]"),
+            ));
+        }
+        match f {
+            FactorSpec::Joint { name, about } => n.joints.push(Joint {
+                name: name.clone(),
+                about: *about,
+                range_rad: [0.0, TAU],
+                factor: i,
+            }),
+            FactorSpec::Error { name, about } => n.rotations.push(ErrorInfo {
+                name: name.clone(),
+                axis: *about,
+                factor: i,
+            }),
+            FactorSpec::Translation { name, along } => {
+                n.translations.push(ErrorInfo {
+                    name: name.clone(),
+                    axis: *along,
+                    factor: i,
+                });
+            }
+            FactorSpec::Fixed { .. } => {}
+        }
+    }
+    Ok(n)
+}
+
+/// The angular errors and the translations in the order `error_order` gives (a permutation of
+/// all errors, checked).
+fn ordered_errors(
+    order: &[String],
+    rotations: &[ErrorInfo],
+    translations: &[ErrorInfo],
+    joints: &[Joint],
+) -> Result<(Vec<ErrorInfo>, Vec<ErrorInfo>), KinematicsError> {
+    let mut listed = BTreeSet::new();
+    let mut errors = Vec::new();
+    let mut ordered_translations = Vec::new();
+    for (k, name) in order.iter().enumerate() {
+        let key = format!("error_order[{k}]");
+        if !listed.insert(name.as_str()) {
+            return Err(description(key, format!("`{name}` is listed twice")));
+        }
+        if let Some(e) = rotations.iter().find(|e| &e.name == name) {
+            errors.push(e.clone());
+        } else if let Some(e) = translations.iter().find(|e| &e.name == name) {
+            ordered_translations.push(e.clone());
+        } else if joints.iter().any(|j| &j.name == name) {
+            return Err(description(
+                key,
+                format!("`{name}` is a joint, not an error"),
+            ));
+        } else {
+            return Err(description(
+                key,
+                format!("`{name}` is not an error of the factors"),
+            ));
+        }
+    }
+    let missing: Vec<&str> = rotations
+        .iter()
+        .chain(translations)
+        .map(|e| e.name.as_str())
+        .filter(|n| !listed.contains(n))
+        .collect();
+    if !missing.is_empty() {
+        return Err(description(
+            "error_order",
+            format!(
+                "must list every error once; missing: {}",
+                missing.join(", ")
+            ),
+        ));
+    }
+    Ok((errors, ordered_translations))
+}
+
+/// Each `joint_ranges_deg` entry checked (a joint, finite, min below max, at most one turn)
+/// and set on its joint.
+fn joint_ranges(
+    ranges: &[(String, [f64; 2])],
+    joints: &mut [Joint],
+) -> Result<(), KinematicsError> {
+    for (name, [lo, hi]) in ranges {
+        let key = format!("joint_ranges_deg.{name}");
+        let Some(j) = joints.iter_mut().find(|j| &j.name == name) else {
+            return Err(description(key, format!("`{name}` is not a joint")));
+        };
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Err(description(key, "min and max must be finite"));
+        }
+        if lo >= hi {
+            return Err(description(
+                key,
+                format!(
+                    "min must be below max, found [{}, {}] deg",
+                    lo.to_degrees(),
+                    hi.to_degrees()
+                ),
+            ));
+        }
+        if hi - lo > TAU * (1.0 + 1e-12) {
+            return Err(description(
+                key,
+                format!(
+                    "a range spans at most one turn (360 deg), found {} deg",
+                    (hi - lo).to_degrees()
+                ),
+            ));
+        }
+        j.range_rad = [*lo, *hi];
+    }
+    Ok(())
+}
+
+/// The compiled factors: each joint and error by its index in its (ordered) list.
+fn compile_factors(
+    specs: &[FactorSpec],
+    joints: &[Joint],
+    errors: &[ErrorInfo],
+    translations: &[ErrorInfo],
+) -> Vec<Factor> {
+    let index_of = |list: &[ErrorInfo], i: usize| list.iter().position(|e| e.factor == i);
+    specs
+        .iter()
+        .enumerate()
+        .map(|(i, f)| match f {
+            FactorSpec::Joint { about, .. } => Factor::Joint {
+                joint: joints
+                    .iter()
+                    .position(|j| j.factor == i)
+                    .unwrap_or_else(|| unreachable!("every joint was recorded")),
+                about: *about,
+            },
+            FactorSpec::Error { about, .. } => Factor::Rotation {
+                error: index_of(errors, i)
+                    .unwrap_or_else(|| unreachable!("every error was recorded")),
+                about: *about,
+            },
+            FactorSpec::Translation { along, .. } => Factor::Translation {
+                error: index_of(translations, i)
+                    .unwrap_or_else(|| unreachable!("every translation was recorded")),
+                along: *along,
+            },
+            FactorSpec::Fixed { angle_rad, about } => Factor::Fixed {
+                angle_rad: *angle_rad,
+                about: *about,
+            },
+        })
+        .collect()
+}
+
 impl Turntable {
     /// Validate and compile a description.
     ///
@@ -377,60 +573,12 @@ impl Turntable {
                 "a turntable needs at least one factor",
             ));
         }
-        let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
-        let mut joints = Vec::new();
-        let mut rotation_appearance = Vec::new();
-        let mut translation_appearance = Vec::new();
-        for (i, f) in d.factors.iter().enumerate() {
-            let (kind, name) = match f {
-                FactorSpec::Joint { name, .. } => ("joint", name),
-                FactorSpec::Error { name, .. } | FactorSpec::Translation { name, .. } => {
-                    ("error", name)
-                }
-                FactorSpec::Fixed { angle_rad, .. } => {
-                    finite(format!("factors[{i}].fixed"), *angle_rad).map_err(|_| {
-                        description(format!("factors[{i}].fixed_deg"), "must be finite")
-                    })?;
-                    continue;
-                }
-            };
-            let key = format!("factors[{i}].{kind}");
-            if !is_valid_name(name) {
-                return Err(description(
-                    key,
-                    format!(
-                        "`{name}` is not a valid name (lower-case letter, then lower-case letters, digits or `_`)"
-                    ),
-                ));
-            }
-            if let Some(first) = seen.insert(name, i) {
-                return Err(description(
-                    key,
-                    format!("`{name}` is already the name of factors[{first}]"),
-                ));
-            }
-            match f {
-                FactorSpec::Joint { name, about } => joints.push(Joint {
-                    name: name.clone(),
-                    about: *about,
-                    range_rad: [0.0, TAU],
-                    factor: i,
-                }),
-                FactorSpec::Error { name, about } => rotation_appearance.push(ErrorInfo {
-                    name: name.clone(),
-                    axis: *about,
-                    factor: i,
-                }),
-                FactorSpec::Translation { name, along } => {
-                    translation_appearance.push(ErrorInfo {
-                        name: name.clone(),
-                        axis: *along,
-                        factor: i,
-                    });
-                }
-                FactorSpec::Fixed { .. } => {}
-            }
-        }
+        let Named {
+            seen,
+            mut joints,
+            rotations,
+            translations,
+        } = named_factors(&d.factors)?;
         if joints.is_empty() {
             return Err(description(
                 "factors",
@@ -438,80 +586,10 @@ impl Turntable {
             ));
         }
         let (errors, translations) = match &d.error_order {
-            None => (rotation_appearance, translation_appearance),
-            Some(order) => {
-                let mut listed = BTreeSet::new();
-                let mut errors = Vec::new();
-                let mut translations = Vec::new();
-                for (k, name) in order.iter().enumerate() {
-                    let key = format!("error_order[{k}]");
-                    if !listed.insert(name.as_str()) {
-                        return Err(description(key, format!("`{name}` is listed twice")));
-                    }
-                    if let Some(e) = rotation_appearance.iter().find(|e| &e.name == name) {
-                        errors.push(e.clone());
-                    } else if let Some(e) = translation_appearance.iter().find(|e| &e.name == name)
-                    {
-                        translations.push(e.clone());
-                    } else if joints.iter().any(|j| &j.name == name) {
-                        return Err(description(
-                            key,
-                            format!("`{name}` is a joint, not an error"),
-                        ));
-                    } else {
-                        return Err(description(
-                            key,
-                            format!("`{name}` is not an error of the factors"),
-                        ));
-                    }
-                }
-                let missing: Vec<&str> = rotation_appearance
-                    .iter()
-                    .chain(&translation_appearance)
-                    .map(|e| e.name.as_str())
-                    .filter(|n| !listed.contains(n))
-                    .collect();
-                if !missing.is_empty() {
-                    return Err(description(
-                        "error_order",
-                        format!(
-                            "must list every error once; missing: {}",
-                            missing.join(", ")
-                        ),
-                    ));
-                }
-                (errors, translations)
-            }
+            None => (rotations, translations),
+            Some(order) => ordered_errors(order, &rotations, &translations, &joints)?,
         };
-        for (name, [lo, hi]) in &d.joint_ranges_rad {
-            let key = format!("joint_ranges_deg.{name}");
-            let Some(j) = joints.iter_mut().find(|j| &j.name == name) else {
-                return Err(description(key, format!("`{name}` is not a joint")));
-            };
-            if !(lo.is_finite() && hi.is_finite()) {
-                return Err(description(key, "min and max must be finite"));
-            }
-            if lo >= hi {
-                return Err(description(
-                    key,
-                    format!(
-                        "min must be below max, found [{}, {}] deg",
-                        lo.to_degrees(),
-                        hi.to_degrees()
-                    ),
-                ));
-            }
-            if hi - lo > TAU * (1.0 + 1e-12) {
-                return Err(description(
-                    key,
-                    format!(
-                        "a range spans at most one turn (360 deg), found {} deg",
-                        (hi - lo).to_degrees()
-                    ),
-                ));
-            }
-            j.range_rad = [*lo, *hi];
-        }
+        joint_ranges(&d.joint_ranges_rad, &mut joints)?;
         let mut descriptions = BTreeMap::new();
         for (name, text) in &d.descriptions {
             if !seen.contains_key(name.as_str()) {
@@ -522,35 +600,7 @@ impl Turntable {
             }
             descriptions.insert(name.clone(), text.clone());
         }
-        let index_of = |list: &[ErrorInfo], i: usize| list.iter().position(|e| e.factor == i);
-        let factors: Vec<Factor> = d
-            .factors
-            .iter()
-            .enumerate()
-            .map(|(i, f)| match f {
-                FactorSpec::Joint { about, .. } => Factor::Joint {
-                    joint: joints
-                        .iter()
-                        .position(|j| j.factor == i)
-                        .unwrap_or_else(|| unreachable!("every joint was recorded")),
-                    about: *about,
-                },
-                FactorSpec::Error { about, .. } => Factor::Rotation {
-                    error: index_of(&errors, i)
-                        .unwrap_or_else(|| unreachable!("every error was recorded")),
-                    about: *about,
-                },
-                FactorSpec::Translation { along, .. } => Factor::Translation {
-                    error: index_of(&translations, i)
-                        .unwrap_or_else(|| unreachable!("every translation was recorded")),
-                    along: *along,
-                },
-                FactorSpec::Fixed { angle_rad, about } => Factor::Fixed {
-                    angle_rad: *angle_rad,
-                    about: *about,
-                },
-            })
-            .collect();
+        let factors = compile_factors(&d.factors, &joints, &errors, &translations);
         let (plan, free_joints) = compile_plan(&factors);
         let segments = compile_segments(&factors);
         Ok(Self {

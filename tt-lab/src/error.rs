@@ -53,6 +53,37 @@ pub enum LabError {
     /// A library failed on an accepted input (not the caller's fault).
     #[error(transparent)]
     Library(Box<dyn std::error::Error + Send + Sync + 'static>),
+    /// Writing or reading the caller's output failed (`what` was being done).
+    #[error("{what}")]
+    Io {
+        /// What was being done (`writing <file>`), paths shown visibly.
+        what: String,
+        /// The system's error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// What was being done when an I/O operation failed, as a [`LabError::Io`] (or, for a missing
+/// value, a [`LabError::Library`] saying it).
+pub(crate) trait Context<T> {
+    /// The error with `what()` as its context.
+    fn with_context<F: FnOnce() -> String>(self, what: F) -> Result<T>;
+}
+
+impl<T> Context<T> for std::io::Result<T> {
+    fn with_context<F: FnOnce() -> String>(self, what: F) -> Result<T> {
+        self.map_err(|source| LabError::Io {
+            what: what(),
+            source,
+        })
+    }
+}
+
+impl<T> Context<T> for Option<T> {
+    fn with_context<F: FnOnce() -> String>(self, what: F) -> Result<T> {
+        self.ok_or_else(|| LabError::Library(what().into()))
+    }
 }
 
 impl LabError {
@@ -61,7 +92,7 @@ impl LabError {
     pub fn input(&self) -> Option<&InputError> {
         match self {
             Self::Input(i) => Some(i),
-            Self::Library(_) => None,
+            Self::Library(_) | Self::Io { .. } => None,
         }
     }
 

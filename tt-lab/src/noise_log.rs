@@ -7,15 +7,14 @@
 //!
 //! The log: a header line naming the columns, then one numeric row per sample (RFC 4180
 //! quoting, a UTF-8 byte-order mark accepted, blank lines skipped, fields may be surrounded
-//! by spaces, no line longer than [`MAX_LINE_BYTES`]).
+//! by spaces, no line longer than [`MAX_LINE_BYTES`]), read by [`crate::records`].
 
 use crate::error::{InputError, LabError, Result};
+pub use crate::records::MAX_LINE_BYTES;
+use crate::records::for_each_record;
 use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan, Taus, Term};
 use std::io::Read;
 use study::fmt::sig;
-
-/// Longest line of a log accepted, bytes.
-pub const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// How to analyse the log.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,46 +106,6 @@ fn without_field(e: &AllanError) -> String {
     m.strip_prefix("taus: ").map_or(m.clone(), str::to_string)
 }
 
-/// A reader that fails once a line grows longer than [`MAX_LINE_BYTES`]: the CSV reader's
-/// buffer stays bounded whatever the input.
-struct LineLimit<R> {
-    inner: R,
-    line: usize,
-}
-
-impl<R: Read> Read for LineLimit<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        for b in &buf[..n] {
-            if *b == b'\n' {
-                self.line = 0;
-            } else {
-                self.line += 1;
-                if self.line > MAX_LINE_BYTES {
-                    return Err(std::io::Error::other(format!(
-                        "line longer than {MAX_LINE_BYTES} bytes"
-                    )));
-                }
-            }
-        }
-        Ok(n)
-    }
-}
-
-/// A record's fields as text.
-fn fields<'r>(
-    name: &str,
-    line_no: usize,
-    r: &'r csv::ByteRecord,
-) -> Result<Vec<&'r str>, InputError> {
-    r.iter()
-        .map(|f| {
-            std::str::from_utf8(f)
-                .map_err(|_| InputError::new(format!("{name}:{line_no}"), "not valid UTF-8"))
-        })
-        .collect()
-}
-
 /// The cell of one sample, checked.
 fn sample(at: &str, column: &str, cell: &str) -> Result<f64, InputError> {
     let v: f64 = cell.parse().map_err(|_| {
@@ -185,56 +144,22 @@ pub fn analyse<R: Read>(log: R, name: &str, o: &Options) -> Result<NoiseLog> {
         AllanError::InvalidTau { .. } => InputError::new("--taus", without_field(&e)),
         other => InputError::new("--rate-hz", other.to_string()),
     })?;
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .trim(csv::Trim::All)
-        .from_reader(LineLimit {
-            inner: log,
-            line: 0,
-        });
-    let mut record = csv::ByteRecord::new();
     let mut layout: Option<(usize, usize, String)> = None;
-    let mut last_line = 0;
-    loop {
-        let more = reader.read_byte_record(&mut record).map_err(|e| {
-            let line = e.position().map_or(last_line + 1, |p| {
-                usize::try_from(p.line()).unwrap_or(usize::MAX)
-            });
-            let why = match e.kind() {
-                csv::ErrorKind::Io(io) => format!("cannot read: {io}"),
-                _ => e.to_string(),
-            };
-            InputError::new(format!("{name}:{line}"), why)
-        })?;
-        if !more {
-            break;
-        }
-        let line_no = record.position().map_or(last_line + 1, |p| {
-            usize::try_from(p.line()).unwrap_or(usize::MAX)
-        });
-        last_line = line_no;
-        let cells = fields(name, line_no, &record)?;
-        // a line of spaces is blank
-        if cells.len() == 1 && cells[0].is_empty() {
-            continue;
-        }
+    for_each_record(log, name, |line_no, cells| {
         let Some((index, count, column)) = &layout else {
-            layout = Some(pick_column(name, line_no, &cells, o.column.as_deref())?);
-            continue;
+            layout = Some(pick_column(name, line_no, cells, o.column.as_deref())?);
+            return Ok(());
         };
         if cells.len() != *count {
             return Err(InputError::new(
                 format!("{name}:{line_no}"),
                 format!("expected {count} columns, found {}", cells.len()),
-            )
-            .into());
+            ));
         }
         let at = format!("{name}:{line_no} column {}", index + 1);
         let v = sample(&at, column, cells[*index])?;
-        est.push(v)
-            .map_err(|e| InputError::new(at, e.to_string()))?;
-    }
+        est.push(v).map_err(|e| InputError::new(at, e.to_string()))
+    })?;
     let Some((_, _, column)) = layout else {
         return Err(InputError::new(
             name,
@@ -534,6 +459,42 @@ impl NotWritten {
     }
 }
 
+/// Why the Gauss-Markov bias `g` (its bias instability `b`) is not written, if it is not: its
+/// correlation time not resolved or outside the study's limits, `b` above the study's limit,
+/// or the joint fit's flicker floor fitting as well or better.
+fn gauss_markov_refusal(g: &allan::GaussMarkovFit, flicker: Term, b: f64) -> Option<String> {
+    let tc = g.correlation_s();
+    let noise_max = study::limits::NOISE_MAX;
+    let (tc_lo, tc_hi) = study::limits::CORRELATION_S;
+    if !tc.resolution().is_resolved() {
+        Some(format!(
+            "its correlation time is not resolved: {}",
+            tc.resolution().explain()
+        ))
+    } else if !(tc.value() > tc_lo && tc.value() <= tc_hi) {
+        Some(format!(
+            "bias_correlation_s = {} s is outside the study's limit ({}, {}] s",
+            sig(tc.value(), 6),
+            study::fmt::num(tc_lo),
+            study::fmt::num(tc_hi)
+        ))
+    } else if b > noise_max {
+        Some(format!(
+            "bias_instability = {} is above the study's limit {}",
+            sig(b, 6),
+            study::fmt::num(noise_max)
+        ))
+    } else if flicker.value() > 0.0 && g.rss() >= g.power_rss() {
+        Some(format!(
+            "the joint fit's flicker floor fits the curve as well or better (weighted residual {} against {}); both would count the same wander twice",
+            sig(g.power_rss(), 4),
+            sig(g.rss(), 4)
+        ))
+    } else {
+        None
+    }
+}
+
 /// The study's noise block of the analysis: only keys and values a study accepts
 /// (`study::limits`); every other term listed with its reason. The bias is the joint fit's
 /// flicker floor (`flicker_bias_instability`), or the Gauss-Markov alternative
@@ -545,7 +506,6 @@ pub fn noise_block(a: &Analysis) -> NoiseBlock {
     use gw_model::noise::{FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA};
     let f = a.fit();
     let noise_max = study::limits::NOISE_MAX;
-    let (tc_lo, tc_hi) = study::limits::CORRELATION_S;
     let mut written = Vec::new();
     let mut not_written = Vec::new();
     let above = || format!("above the study's limit {}", study::fmt::num(noise_max));
@@ -560,33 +520,7 @@ pub fn noise_block(a: &Analysis) -> NoiseBlock {
         let b_u = sigma
             .uncertainty()
             .map(|u| u * GM_ADEV_PEAK_PER_SIGMA / FLICKER_FLOOR_PER_BIAS_INSTABILITY);
-        let why = if !tc.resolution().is_resolved() {
-            Some(format!(
-                "its correlation time is not resolved: {}",
-                tc.resolution().explain()
-            ))
-        } else if !(tc.value() > tc_lo && tc.value() <= tc_hi) {
-            Some(format!(
-                "bias_correlation_s = {} s is outside the study's limit ({}, {}] s",
-                sig(tc.value(), 6),
-                study::fmt::num(tc_lo),
-                study::fmt::num(tc_hi)
-            ))
-        } else if b > noise_max {
-            Some(format!(
-                "bias_instability = {} is above the study's limit {}",
-                sig(b, 6),
-                study::fmt::num(noise_max)
-            ))
-        } else if flicker.value() > 0.0 && g.rss() >= g.power_rss() {
-            Some(format!(
-                "the joint fit's flicker floor fits the curve as well or better (weighted residual {} against {}); both would count the same wander twice",
-                sig(g.power_rss(), 4),
-                sig(g.rss(), 4)
-            ))
-        } else {
-            None
-        };
+        let why = gauss_markov_refusal(&g, flicker, b);
         match why {
             None => {
                 bias_from_gm = true;

@@ -68,6 +68,14 @@ pub fn study_source(given: Option<&Path>) -> StudySource {
     }
 }
 
+/// A path as a message or the terminal shows it: as given, every character of
+/// [`study::fmt::is_unsafe_char`] (a line feed too) escaped by [`study::fmt::visible`], so that
+/// a path always prints as one visible line.
+#[must_use]
+pub fn visible(p: &Path) -> String {
+    study::fmt::visible(&p.display().to_string()).into_owned()
+}
+
 /// `s` as one word of a POSIX shell command line, to copy and paste: as is when it holds only
 /// `A-Z a-z 0-9 _ - . / : = @ % + ,`; in single quotes otherwise (`'my study;echo x.toml'`,
 /// a quote as `'\''`); with a control character, in bash's `$'...'` form so that the line stays

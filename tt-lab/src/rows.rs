@@ -2,15 +2,18 @@
 //! (one turntable per row: a pose and its errors, [`study::csv::TurntableRow`]): a library
 //! call per row, or over an iterator of rows (streaming: nothing is kept between rows). Where
 //! the rows come from (a CSV file, standard input) is the caller's concern; each row carries
-//! its location (`file:line`) for the messages.
+//! its location (`file:line`) for the messages. [`read_rows`] reads them from CSV text
+//! (RFC 4180, streamed by [`crate::records`]: a header naming the columns, then one
+//! turntable per record).
 
 use crate::error::{InputError, Result};
 use e2e_verify::{EndToEnd, ExtraError};
 use study::Study;
-use study::csv::TurntableRow;
+use study::csv::{JointColumns, TurntableColumns, TurntableRow};
 use tt_core::units::rad_to_arcmin;
 use tt_kinematics::{
-    ExactChain, LinearChain, OrientationErrorModel, Pose, SmallAngleChain, TurntableErrors,
+    ExactChain, LinearChain, OrientationErrorModel, Pose, SmallAngleChain, Turntable,
+    TurntableErrors,
 };
 
 /// Which orientation-error model to evaluate.
@@ -214,4 +217,46 @@ where
 {
     let mut eval = calibration_rows(s)?;
     Ok(rows.into_iter().map(move |(at, r)| eval.row(&at, &r)))
+}
+
+/// Read turntables as CSV rows from `input` (named `name` in messages) once, streaming: the
+/// header maps the columns to `turntable`'s joints and errors ([`TurntableColumns`]), then
+/// every data record goes to `visit` with the line it starts on, in order. Stops at the first
+/// error.
+///
+/// # Errors
+/// An [`InputError`] at `name:line` (and column) for an unreadable input, a record longer than
+/// [`crate::records::MAX_LINE_BYTES`], malformed quoting, a field that is not UTF-8, a bad
+/// header or row, or an empty input; or the first error `visit` returns.
+pub fn read_rows<R, F>(
+    input: R,
+    name: &str,
+    turntable: &Turntable,
+    joints: JointColumns,
+    mut visit: F,
+) -> std::result::Result<(), InputError>
+where
+    R: std::io::Read,
+    F: FnMut(usize, TurntableRow) -> std::result::Result<(), InputError>,
+{
+    let mut columns: Option<TurntableColumns> = None;
+    crate::records::for_each_record(input, name, |line_no, fields| match &columns {
+        None => {
+            columns = Some(TurntableColumns::from_header_fields(
+                name, line_no, fields, turntable, joints,
+            )?);
+            Ok(())
+        }
+        Some(c) => visit(line_no, c.parse_fields(name, line_no, fields)?),
+    })?;
+    if columns.is_none() {
+        return Err(InputError::new(
+            name,
+            format!(
+                "empty input: expected a header line ({})",
+                study::csv::expected_header_for(turntable, joints)
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -416,6 +416,7 @@ fn check_designed(s: &Study, d: &Study) -> Result<(), InputError> {
 /// # Errors
 /// [`InputError`]s for inputs the libraries reject (exit 2), other errors when a solver
 /// fails.
+#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub fn compute(study: Study, options: Options) -> Result<Computed> {
     let started = Instant::now();
     let s = &study;

@@ -8,6 +8,7 @@ mod render;
 mod report;
 mod results;
 
+pub mod allan_figure;
 pub mod doc;
 pub mod figures;
 

@@ -347,6 +347,7 @@ impl<'a> Sections<'a> {
     }
 
     /// Inputs: site, reading, sensor, turntable, schedule.
+    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn inputs(&mut self) {
         let c = self.c;
         let s = &c.study;
@@ -697,6 +698,7 @@ impl<'a> Sections<'a> {
         self.requirement_figures()
     }
 
+    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     fn requirement_figures(&mut self) -> Result<()> {
         let c = self.c;
         let outs = self.outputs();
@@ -947,6 +949,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The two-step allocation with its certificate; `table4`: the paper's column.
+    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn allocation(&mut self, table4: Option<&PaperColumn>) {
         let c = self.c;
         self.doc.h(2, "Two-step allocation");
@@ -1332,6 +1335,7 @@ impl<'a> Sections<'a> {
     }
 
     /// End to end: both readings, the direct allocation.
+    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn end_to_end(&mut self) -> Result<()> {
         let c = self.c;
         let outs = self.outputs();
@@ -1497,6 +1501,7 @@ impl<'a> Sections<'a> {
     /// Noise and test time (issue 21): every box's answer split into the table's part and
     /// the noise's, the direct allocation that gives the table what the noise leaves, and the
     /// time/table trade-off with its figure. Nothing when the study gives no noise.
+    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn noise(&mut self) -> Result<()> {
         let c = self.c;
         let Some(n) = &c.noise else {

@@ -489,6 +489,7 @@ fn box_json<'a>(
 ///
 /// # Errors
 /// None in practice (every key is a string); serde_json's error type.
+#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub(super) fn results_json(
     c: &Computed,
     comparisons: &[paper::Comparison],

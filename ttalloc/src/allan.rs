@@ -49,14 +49,13 @@
 
 use crate::InputError;
 use crate::csvio::Source;
-use crate::report::figures::{LIMIT, WIDTH, colour, finite};
+use crate::input::lab;
 use allan::{FLICKER_FLOOR_FACTOR, Taus, Term};
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use clap::Parser;
-use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use study::fmt::sig;
-use tt_lab::noise_log::{NoiseLog, Options, joint_terms, numbers};
+use tt_lab::noise_log::{NoiseLog, Options, joint_terms};
 
 /// Arguments of `allan`.
 #[derive(Debug, Parser)]
@@ -235,193 +234,6 @@ fn text_of(log: &NoiseLog, unit: &str) -> String {
     t
 }
 
-/// The log-log figure: the curve with its band, the fitted -1/2 line and the floor.
-fn figure_svg(log: &NoiseLog, unit: &str) -> Result<String> {
-    let a = log.analysis();
-    let f = &a.fit();
-    let what = "Allan deviation figure";
-    finite(what, numbers(a))?;
-    if let Some(p) = a.points().iter().find(|p| p.lower() <= 0.0) {
-        return Err(InputError::new(
-            "--figure",
-            format!(
-                "the Allan deviation (or its band) is zero at tau = {} s: nothing to draw on a log scale",
-                sig(p.tau_s(), 4)
-            ),
-        )
-        .into());
-    }
-    let x0 = a.points()[0].tau_s();
-    let x1 = a.points()[a.points().len() - 1].tau_s();
-    let (x0, x1) = (x0 / 1.5, x1 * 1.5);
-    let mut y0 = a
-        .points()
-        .iter()
-        .map(|p| p.lower())
-        .fold(f64::INFINITY, f64::min);
-    // the other deviations, drawn where every point is positive (a log scale)
-    type Dev = fn(&allan::AllanPoint) -> f64;
-    let others: Vec<(&str, Dev)> = [
-        ("modified Allan deviation", allan::AllanPoint::mdev as Dev),
-        (
-            "overlapping Hadamard deviation",
-            allan::AllanPoint::hdev as Dev,
-        ),
-        ("total deviation", allan::AllanPoint::totdev as Dev),
-    ]
-    .into_iter()
-    .filter(|(_, d)| a.points().iter().all(|p| d(p) > 0.0))
-    .collect();
-    for (_, d) in &others {
-        y0 = a.points().iter().map(d).fold(y0, f64::min);
-    }
-    let y1 = others.iter().fold(
-        a.points().iter().map(|p| p.upper()).fold(0.0, f64::max),
-        |m, (_, d)| a.points().iter().map(d).fold(m, f64::max),
-    );
-    let floor = f.bias_instability() * FLICKER_FLOOR_FACTOR;
-    if floor > 0.0 {
-        y0 = y0.min(floor);
-    }
-    let (y0, y1) = (y0 / 2.0, y1 * 2.0);
-    let white = |t: f64| f.white_noise() / t.sqrt();
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (WIDTH, 640)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow!("{what}: {e:?}"))?;
-        let title = format!(
-            "Allan deviation of {}, column {} ({} samples at {} Hz)",
-            log.name().escape_debug(),
-            log.column().escape_debug(),
-            a.samples(),
-            sig(a.rate_hz(), 6)
-        );
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 19))
-            .margin(16)
-            .x_label_area_size(48)
-            .y_label_area_size(90)
-            .build_cartesian_2d(
-                (x0..x1).log_scale().with_key_points(log_ticks(x0, x1)),
-                (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
-            )
-            .map_err(|e| anyhow!("{what}: {e:?}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("cluster time tau (s)")
-            .y_desc(format!("Allan deviation ({unit})"))
-            .x_label_formatter(&|v| sig(*v, 3))
-            .y_label_formatter(&|v| sig(*v, 3))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(225, 225, 225))
-            .draw()
-            .map_err(|e| anyhow!("{what}: {e:?}"))?;
-        let band: Vec<(f64, f64)> = a
-            .points()
-            .iter()
-            .map(|p| (p.tau_s(), p.upper()))
-            .chain(a.points().iter().rev().map(|p| (p.tau_s(), p.lower())))
-            .collect();
-        let c = colour(0);
-        chart
-            .draw_series(std::iter::once(Polygon::new(band, c.mix(0.18).filled())))
-            .map_err(|e| anyhow!("{what}: {e:?}"))?
-            .label(format!("{} % band", sig(100.0 * a.confidence(), 3)))
-            .legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 20, y + 6)], c.mix(0.18).filled())
-            });
-        chart
-            .draw_series(LineSeries::new(
-                a.points().iter().map(|p| (p.tau_s(), p.adev())),
-                c.stroke_width(2),
-            ))
-            .map_err(|e| anyhow!("{what}: {e:?}"))?
-            .label("overlapping Allan deviation")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-        chart
-            .draw_series(
-                a.points()
-                    .iter()
-                    .map(|p| Circle::new((p.tau_s(), p.adev()), 3, c.filled())),
-            )
-            .map_err(|e| anyhow!("{what}: {e:?}"))?;
-        for (k, (name, d)) in others.iter().enumerate() {
-            let oc = colour(2 + k);
-            chart
-                .draw_series(LineSeries::new(
-                    a.points().iter().map(|p| (p.tau_s(), d(p))),
-                    oc.stroke_width(1),
-                ))
-                .map_err(|e| anyhow!("{what}: {e:?}"))?
-                .label(*name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], oc.stroke_width(1))
-                });
-        }
-        if f.white_noise() > 0.0 {
-            let w = colour(1);
-            // the -1/2 line where it lies inside the plot
-            let pts: Vec<(f64, f64)> = (0..=64)
-                .map(|i| x0 * (x1 / x0).powf(f64::from(i) / 64.0))
-                .map(|t| (t, white(t)))
-                .filter(|(_, v)| *v >= y0 && *v <= y1)
-                .collect();
-            chart
-                .draw_series(LineSeries::new(pts, w.stroke_width(2)))
-                .map_err(|e| anyhow!("{what}: {e:?}"))?
-                .label(format!(
-                    "white noise N / sqrt(tau), N = {} {unit}/sqrt(Hz)",
-                    sig(f.white_noise(), 3)
-                ))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], w.stroke_width(2))
-                });
-        }
-        if floor > 0.0 {
-            chart
-                .draw_series(LineSeries::new(
-                    [(x0, floor), (x1, floor)],
-                    LIMIT.stroke_width(2),
-                ))
-                .map_err(|e| anyhow!("{what}: {e:?}"))?
-                .label(format!(
-                    "floor 0.664 B, B = {} {unit} (at tau = {} s)",
-                    sig(f.bias_instability(), 3),
-                    sig(f.floor_tau_s(), 3)
-                ))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], LIMIT.stroke_width(2))
-                });
-        }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK.mix(0.3))
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| anyhow!("{what}: {e:?}"))?;
-        root.present().map_err(|e| anyhow!("{what}: {e:?}"))?;
-    }
-    Ok(svg)
-}
-
-/// Tick values of a log axis over `[lo, hi]`: 1, 2, 5 times the powers of ten, or the powers
-/// of ten alone over more than four decades.
-fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let first = lo.log10().floor() as i32;
-    let last = hi.log10().ceil() as i32;
-    let steps: &[f64] = if last - first > 4 {
-        &[1.0]
-    } else {
-        &[1.0, 2.0, 5.0]
-    };
-    (first..=last)
-        .flat_map(|e| steps.iter().map(move |s| s * 10f64.powi(e)))
-        .filter(|v| *v >= lo && *v <= hi)
-        .collect()
-}
-
 /// Run the command.
 ///
 /// # Errors
@@ -441,8 +253,7 @@ pub fn run(args: &Args) -> Result<()> {
     opts.column.clone_from(&args.column);
     opts.confidence = args.confidence;
     opts.taus = args.taus.clone().unwrap_or_default();
-    let log = tt_lab::noise_log::analyse(source.open()?, &source.name(), &opts)
-        .map_err(crate::input::lab)?;
+    let log = tt_lab::noise_log::analyse(source.open()?, &source.name(), &opts).map_err(lab)?;
     let unit = args.unit.as_deref().unwrap_or("log unit");
     let stdout = if args.json {
         let mut s =
@@ -456,7 +267,13 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(p) = &args.figure {
         staged.push((
             "--figure",
-            crate::newfile::stage(p, figure_svg(&log, unit)?.as_bytes())?,
+            crate::newfile::stage(
+                p,
+                tt_report::allan_figure::allan_figure_svg(&log, unit)
+                    .map_err(crate::report::report_error)?
+                    .as_bytes(),
+            )
+            .map_err(lab)?,
             p,
         ));
     }
@@ -488,13 +305,13 @@ pub fn run(args: &Args) -> Result<()> {
         }
         staged.push((
             "--write-noise",
-            crate::newfile::stage(p, log.noise_toml(unit, &block).as_bytes())?,
+            crate::newfile::stage(p, log.noise_toml(unit, &block).as_bytes()).map_err(lab)?,
             p,
         ));
     }
     let mut written = String::new();
     for (flag, tmp, p) in staged {
-        tmp.commit(flag)?;
+        tmp.commit(flag).map_err(lab)?;
         if !args.json {
             written.push_str(&format!("wrote {}\n", crate::paths::visible(p)));
         }

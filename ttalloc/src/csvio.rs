@@ -1,4 +1,4 @@
-//! Reading turntable CSV input (a file, a pipe or FIFO, or standard input, `-`) line by line
+//! Reading turntable CSV input (a file, a pipe or FIFO, or standard input, `-`) record by record
 //! with memory that does not grow with the input. Every input is read exactly once (a pipe,
 //! FIFO, `<(...)` or `/dev/stdin` cannot be read twice): each row is evaluated as it is read
 //! and its result line goes to an anonymous temporary file until the whole input is known to
@@ -7,11 +7,8 @@
 use crate::InputError;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
-use study::csv::{JointColumns, TurntableColumns, TurntableRow, decode_line};
+use study::csv::{JointColumns, TurntableRow};
 use tt_kinematics::Turntable;
-
-/// Longest line accepted, bytes.
-pub const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// Where the CSV comes from.
 #[derive(Debug, Clone)]
@@ -58,55 +55,13 @@ impl Source {
     }
 }
 
-/// The one line loop of every CSV input: read `reader` once, line by line (memory bounded by
-/// [`MAX_LINE_BYTES`]), decode each line as UTF-8 (a byte-order mark is accepted), skip blank
-/// lines and hand the others to `visit` with their 1-based line number. Stops at the first
-/// error.
-///
-/// # Errors
-/// An [`InputError`] at `name:line` for an unreadable input, invalid UTF-8 or a line longer
-/// than [`MAX_LINE_BYTES`]; or the first error `visit` returns.
-pub fn for_each_line_in<R, F>(mut reader: R, name: &str, mut visit: F) -> Result<(), InputError>
-where
-    R: BufRead,
-    F: FnMut(usize, &str) -> Result<(), InputError>,
-{
-    let mut buf = Vec::new();
-    let mut line_no = 0;
-    loop {
-        buf.clear();
-        let n = (&mut reader)
-            .take(MAX_LINE_BYTES as u64 + 1)
-            .read_until(b'\n', &mut buf)
-            .map_err(|e| {
-                InputError::new(
-                    format!("{name}:{}", line_no + 1),
-                    format!("cannot read: {e}"),
-                )
-            })?;
-        if n == 0 {
-            return Ok(());
-        }
-        line_no += 1;
-        if buf.len() > MAX_LINE_BYTES && !buf.ends_with(b"\n") {
-            return Err(InputError::new(
-                format!("{name}:{line_no}"),
-                format!("line longer than {MAX_LINE_BYTES} bytes"),
-            ));
-        }
-        let line = decode_line(name, line_no, &buf)?;
-        if !line.trim().is_empty() {
-            visit(line_no, line)?;
-        }
-    }
-}
-
 /// Visit every data row of the CSV (header mapped to `turntable`), in order, with its line
 /// number; blank lines are skipped. Stops at the first error.
 ///
 /// # Errors
 /// An [`InputError`] at `source:line` (and column) for an unreadable input, invalid UTF-8, a
-/// line longer than [`MAX_LINE_BYTES`], a bad header or row, or an empty input.
+/// record longer than [`tt_lab::records::MAX_LINE_BYTES`], malformed quoting, a bad header or
+/// row, or an empty input.
 pub fn for_each_row<F>(
     source: &Source,
     turntable: &Turntable,
@@ -120,43 +75,23 @@ where
     for_each_row_in(reader, &source.name(), turntable, joints, visit)
 }
 
-/// [`for_each_row`] on any reader (`name` names it in messages): the one CSV loop, also
-/// driven by the fuzz harness.
+/// [`for_each_row`] on any reader (`name` names it in messages): the one CSV loop
+/// ([`tt_lab::rows::read_rows`]), also driven by the fuzz harness.
 ///
 /// # Errors
 /// As [`for_each_row`].
 pub fn for_each_row_in<R, F>(
-    mut reader: R,
+    reader: R,
     name: &str,
     turntable: &Turntable,
     joints: JointColumns,
-    mut visit: F,
+    visit: F,
 ) -> Result<(), InputError>
 where
-    R: BufRead,
+    R: Read,
     F: FnMut(usize, TurntableRow) -> Result<(), InputError>,
 {
-    let name = name.to_string();
-    let mut columns: Option<TurntableColumns> = None;
-    for_each_line_in(&mut reader, &name, |line_no, line| match &columns {
-        None => {
-            columns = Some(TurntableColumns::from_header_for(
-                &name, line_no, line, turntable, joints,
-            )?);
-            Ok(())
-        }
-        Some(c) => visit(line_no, c.parse_row(&name, line_no, line)?),
-    })?;
-    if columns.is_none() {
-        return Err(InputError::new(
-            name,
-            format!(
-                "empty input: expected a header line ({})",
-                study::csv::expected_header_for(turntable, joints)
-            ),
-        ));
-    }
-    Ok(())
+    tt_lab::rows::read_rows(reader, name, turntable, joints, visit)
 }
 
 /// Evaluate every row and write `header` then one line per row to standard output, only

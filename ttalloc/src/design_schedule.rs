@@ -40,6 +40,7 @@
 //! chosen J (`direct_with_noise`) and its combined answer. Without noise the budget only
 
 use crate::InputError;
+use crate::input::lab;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
@@ -551,8 +552,7 @@ pub fn run(args: &Args) -> Result<()> {
             pb.inc(1);
         }
     };
-    let answer =
-        tt_lab::design::schedule::design(&s, &options, &tick).map_err(crate::input::lab)?;
+    let answer = tt_lab::design::schedule::design(&s, &options, &tick).map_err(lab)?;
     if let Some(pb) = &pb {
         pb.finish_and_clear();
     }
@@ -584,23 +584,26 @@ pub fn run(args: &Args) -> Result<()> {
         Some(out) => {
             let shown = out.display().to_string();
             let text = written_text(&s, &answer, &command, &shown)?;
-            Some((shown, crate::newfile::stage(out, text.as_bytes())?))
+            Some((
+                shown,
+                crate::newfile::stage(out, text.as_bytes()).map_err(lab)?,
+            ))
         }
         None => None,
     };
     // both files staged before either is linked into place
     let svg = svg
-        .map(|(out, text)| crate::newfile::stage(out, text.as_bytes()))
+        .map(|(out, text)| crate::newfile::stage(out, text.as_bytes()).map_err(lab))
         .transpose()?;
     let written = match written {
         Some((shown, staged)) => {
-            staged.commit("--write-study")?;
+            staged.commit("--write-study").map_err(lab)?;
             Some(shown)
         }
         None => None,
     };
     if let Some(staged) = svg {
-        staged.commit("--pareto-svg")?;
+        staged.commit("--pareto-svg").map_err(lab)?;
     }
     let outcome = Outcome {
         answer,
@@ -642,7 +645,7 @@ fn check(args: &Args, s: &Study, options: &Options) -> Result<()> {
     .filter_map(|(f, p)| p.map(|p| (f, p)))
     .collect();
     crate::newfile::check_all(&outputs)?;
-    tt_lab::design::schedule::check(s, options).map_err(crate::input::lab)
+    tt_lab::design::schedule::check(s, options).map_err(lab)
 }
 
 /// The command that reproduces the run.

@@ -55,21 +55,10 @@ fn allocation_line(names: &[&str], d: &DirectAllocation) -> String {
     if d.no_bound_needed() {
         return "no bound needed for any error (first order)".into();
     }
-    let bounds: Vec<String> = names
-        .iter()
-        .zip(d.upper_bounds_rad())
-        .map(|(n, u)| {
-            if u.is_finite() {
-                format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 4))
-            } else {
-                format!("{n} none")
-            }
-        })
-        .collect();
     format!(
         "J = {} arcmin^-2; bounds (arcmin): {}",
         sig(d.objective_arcmin(), 5),
-        bounds.join(", ")
+        crate::text::angle_alloc::bounds_text(names, d)
     )
 }
 

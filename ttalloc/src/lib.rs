@@ -33,10 +33,10 @@ mod input;
 mod json;
 mod loaded;
 mod mc;
-mod newfile;
+// the output files' safety, in the study-level library
+use tt_lab::{newfile, outdir};
 mod orientation_error;
 mod out;
-mod outdir;
 #[doc(hidden)]
 pub mod paths;
 mod report;
@@ -55,6 +55,7 @@ pub use input::InputError;
 pub mod fuzzing {
     pub use crate::args::{count, seed};
     pub use crate::csvio::for_each_row_in;
+    pub use crate::input::lab;
     pub use crate::out::print;
     pub use crate::outdir::{
         MANIFEST, OLD_SIGNATURE, Prepared, SIGNATURE, is_report_file, manifest_text, sha256_hex,

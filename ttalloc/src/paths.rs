@@ -4,7 +4,7 @@
 
 use std::path::Path;
 pub use tt_lab::paths::{
-    PAPER_STUDY, PAPER_STUDY_TEXT, StudySource, shell_quote, study_source, workspace_root,
+    PAPER_STUDY, PAPER_STUDY_TEXT, StudySource, shell_quote, study_source, visible, workspace_root,
 };
 
 /// How to show a path in reports: as the user gave it; the default study as its workspace
@@ -12,14 +12,6 @@ pub use tt_lab::paths::{
 #[must_use]
 pub fn shown(given: Option<&Path>) -> String {
     given.map_or_else(|| PAPER_STUDY.to_string(), |p| p.display().to_string())
-}
-
-/// A path as a message or the terminal shows it: as given, every character of
-/// [`study::fmt::is_unsafe_char`] (a line feed too) escaped by [`study::fmt::visible`], so that
-/// a path always prints as one visible line.
-#[must_use]
-pub fn visible(p: &Path) -> String {
-    study::fmt::visible(&p.display().to_string()).into_owned()
 }
 
 #[cfg(test)]

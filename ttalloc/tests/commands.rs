@@ -259,9 +259,10 @@ fn check_turntable_gives_both_readings_verdicts() {
 }
 
 /// `orientation-error` prints tt-kinematics' orientation error (eq 24) of each row, for a
-/// file, for `-` (standard input) and for input with a UTF-8 byte-order mark; full precision.
+/// file, for `-` (standard input), for input with a UTF-8 byte-order mark and for CRLF input
+/// with quoted fields; full precision.
 #[test]
-fn orientation_error_is_the_library_value_for_file_stdin_and_bom() {
+fn orientation_error_is_the_library_value_for_file_stdin_bom_and_quoted_crlf() {
     let s = load("gyrowheel-2017");
     let header = study::csv::expected_header(&s.turntable);
     let row = "30,45,0.4,0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1";
@@ -271,7 +272,14 @@ fn orientation_error_is_the_library_value_for_file_stdin_and_bom() {
     let from_file = run(&["orientation-error", file.to_str().unwrap()]);
     let from_dash = run_with_stdin(&["orientation-error", "-"], text.as_bytes());
     let with_bom = run_with_stdin(&["orientation-error"], format!("\u{feff}{text}").as_bytes());
-    for o in [&from_file, &from_dash, &with_bom] {
+    // RFC 4180: CRLF line ends and quoted fields read as their values (before: `"30"` was
+    // not a number, and the cells were split at every comma)
+    let quoted = format!(
+        "{}\r\n\"30\", 45 ,\"0.4\",0.78,0.42,0.78,0.28,0.28,0.42,0.42,0.1\r\n",
+        header.replacen("phi1_deg", "\"phi1_deg\"", 1)
+    );
+    let crlf_quoted = run_with_stdin(&["orientation-error"], quoted.as_bytes());
+    for o in [&from_file, &from_dash, &with_bom, &crlf_quoted] {
         assert!(o.status.success(), "{}", stderr(o));
         assert_eq!(stdout(o), stdout(&from_file));
     }

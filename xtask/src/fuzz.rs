@@ -354,7 +354,9 @@ impl Hooks {
 /// `report`'s writer: the output directory checked, locked and recovered
 /// ([`ttalloc::fuzzing::Prepared::new`]), then the files written and swapped into place.
 fn write_report(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    ttalloc::fuzzing::Prepared::new(out)?.write(files)
+    ttalloc::fuzzing::Prepared::new(out)
+        .and_then(|p| p.write(files))
+        .map_err(ttalloc::fuzzing::lab)
 }
 
 /// What a run does besides its case count and seed.
@@ -1397,15 +1399,95 @@ fn leftover(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<St
     ))
 }
 
+/// The manifest's lines in `dir`, with the signature line when there are none.
+fn with_signature(dir: &Path) -> Vec<String> {
+    let mut lines = manifest_lines(dir);
+    if lines.is_empty() {
+        lines.push(SIGNATURE.to_string());
+    }
+    lines
+}
+
+/// One random change to the manifest's signature line; what it did.
+fn change_signature(rng: &mut ChaCha8Rng, dir: &Path) -> std::io::Result<String> {
+    let mut lines = with_signature(dir);
+    let what = match below(rng, 7) {
+        0 => {
+            lines.remove(0);
+            "removed"
+        }
+        6 => {
+            lines[0] = OLD_SIGNATURE.to_string();
+            "of the older format (names without hashes)"
+        }
+        1 => {
+            lines[0] = SIGNATURE.replacen("files", "fi1es", 1);
+            "one letter changed"
+        }
+        2 => {
+            lines[0] = format!("{SIGNATURE} ");
+            "with a trailing space"
+        }
+        3 => {
+            lines[0] = format!("\u{feff}{SIGNATURE}");
+            "after a byte-order mark"
+        }
+        4 => {
+            lines[0] = SIGNATURE.to_uppercase();
+            "in upper case"
+        }
+        _ => {
+            lines[0] = SIGNATURE[..SIGNATURE.len() / 2].to_string();
+            "cut short"
+        }
+    };
+    write_manifest(dir, &lines)?;
+    Ok(format!("manifest signature {what}"))
+}
+
+/// The manifest replaced by a directory, a link, a file that is not UTF-8, an empty file or
+/// one holding only the signature; what it did.
+fn replace_manifest(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<String> {
+    std::fs::create_dir_all(dir)?;
+    let m = dir.join(MANIFEST);
+    if !std::fs::symlink_metadata(&m).is_ok_and(|t| t.is_file()) && !vacant(&m) {
+        return Ok("manifest already replaced".into());
+    }
+    Ok(match below(rng, 5) {
+        0 => {
+            let _ = std::fs::remove_file(&m);
+            std::fs::create_dir(&m)?;
+            "manifest replaced by a directory".into()
+        }
+        1 => {
+            let _ = std::fs::remove_file(&m);
+            let copy = base.join("manifest_copy.txt");
+            std::fs::write(
+                &copy,
+                manifest_text([("report.md", previous_content("report.md").as_slice())]),
+            )?;
+            std::os::unix::fs::symlink(&copy, &m)?;
+            "manifest replaced by a link to a valid manifest outside out".into()
+        }
+        2 => {
+            let mut bytes = format!("{SIGNATURE}\n").into_bytes();
+            bytes.extend_from_slice(b"r\xffport.md\n");
+            std::fs::write(&m, bytes)?;
+            "manifest not UTF-8".into()
+        }
+        3 => {
+            std::fs::write(&m, "")?;
+            "manifest empty".into()
+        }
+        _ => {
+            std::fs::write(&m, manifest_text(std::iter::empty()))?;
+            "manifest holding only the signature".into()
+        }
+    })
+}
+
 /// One random change to `dir` (the report directory `out` names) or beside it; what it did.
 fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<String> {
-    let with_signature = |dir: &Path| {
-        let mut lines = manifest_lines(dir);
-        if lines.is_empty() {
-            lines.push(SIGNATURE.to_string());
-        }
-        lines
-    };
     Ok(match below(rng, 10) {
         0 | 1 => {
             let name = crafted_line(rng, base, dir);
@@ -1422,41 +1504,7 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
             write_manifest(dir, &lines)?;
             format!("manifest line \"{}\"", visible(&line))
         }
-        2 => {
-            let mut lines = with_signature(dir);
-            let what = match below(rng, 7) {
-                0 => {
-                    lines.remove(0);
-                    "removed"
-                }
-                6 => {
-                    lines[0] = OLD_SIGNATURE.to_string();
-                    "of the older format (names without hashes)"
-                }
-                1 => {
-                    lines[0] = SIGNATURE.replacen("files", "fi1es", 1);
-                    "one letter changed"
-                }
-                2 => {
-                    lines[0] = format!("{SIGNATURE} ");
-                    "with a trailing space"
-                }
-                3 => {
-                    lines[0] = format!("\u{feff}{SIGNATURE}");
-                    "after a byte-order mark"
-                }
-                4 => {
-                    lines[0] = SIGNATURE.to_uppercase();
-                    "in upper case"
-                }
-                _ => {
-                    lines[0] = SIGNATURE[..SIGNATURE.len() / 2].to_string();
-                    "cut short"
-                }
-            };
-            write_manifest(dir, &lines)?;
-            format!("manifest signature {what}")
-        }
+        2 => change_signature(rng, dir)?,
         3 => {
             let mut lines = with_signature(dir);
             let i = below(rng, lines.len());
@@ -1491,44 +1539,7 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
             format!("listed file {n} missing")
         }
         6 => user_entry(rng, dir)?,
-        7 => {
-            std::fs::create_dir_all(dir)?;
-            let m = dir.join(MANIFEST);
-            if !std::fs::symlink_metadata(&m).is_ok_and(|t| t.is_file()) && !vacant(&m) {
-                return Ok("manifest already replaced".into());
-            }
-            match below(rng, 5) {
-                0 => {
-                    let _ = std::fs::remove_file(&m);
-                    std::fs::create_dir(&m)?;
-                    "manifest replaced by a directory".into()
-                }
-                1 => {
-                    let _ = std::fs::remove_file(&m);
-                    let copy = base.join("manifest_copy.txt");
-                    std::fs::write(
-                        &copy,
-                        manifest_text([("report.md", previous_content("report.md").as_slice())]),
-                    )?;
-                    std::os::unix::fs::symlink(&copy, &m)?;
-                    "manifest replaced by a link to a valid manifest outside out".into()
-                }
-                2 => {
-                    let mut bytes = format!("{SIGNATURE}\n").into_bytes();
-                    bytes.extend_from_slice(b"r\xffport.md\n");
-                    std::fs::write(&m, bytes)?;
-                    "manifest not UTF-8".into()
-                }
-                3 => {
-                    std::fs::write(&m, "")?;
-                    "manifest empty".into()
-                }
-                _ => {
-                    std::fs::write(&m, manifest_text(std::iter::empty()))?;
-                    "manifest holding only the signature".into()
-                }
-            }
-        }
+        7 => replace_manifest(rng, base, dir)?,
         8 => leftover(rng, base, dir)?,
         _ => {
             let (name, text) = *pick(
@@ -2552,7 +2563,9 @@ mod tests {
                 }
             }
         }
-        ttalloc::fuzzing::Prepared::new(out)?.write(files)
+        ttalloc::fuzzing::Prepared::new(out)
+            .and_then(|p| p.write(files))
+            .map_err(ttalloc::fuzzing::lab)
     }
 
     /// The manifests property catches a writer that removes a listed file whose content is not

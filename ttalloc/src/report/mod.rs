@@ -13,6 +13,7 @@
 
 use crate::InputError;
 use crate::calibrate::RecordingArgs;
+use crate::input::lab;
 use anyhow::Result;
 use clap::Parser;
 use std::path::{Path, PathBuf};
@@ -80,9 +81,9 @@ pub fn default_report_dir(target: &Path, study_name: &str) -> PathBuf {
 }
 
 /// A report's error as the command's: its input errors stay [`InputError`]s (exit 2).
-fn report_error(e: tt_report::Error) -> anyhow::Error {
+pub(crate) fn report_error(e: tt_report::Error) -> anyhow::Error {
     match e {
-        tt_report::Error::Lab(l) => crate::input::lab(l),
+        tt_report::Error::Lab(l) => lab(l),
         other => anyhow::Error::new(other),
     }
 }
@@ -98,7 +99,7 @@ fn write(r: &Report, out: &Path, prepared: crate::outdir::Prepared, what: &str) 
         .collect();
     let notes = prepared.notes.clone();
     let dir = prepared.dir().to_path_buf();
-    prepared.write(&files)?;
+    prepared.write(&files).map_err(lab)?;
     // every path printed as one visible line; the hint to copy as one shell word
     let linked = if dir == out {
         String::new()
@@ -188,7 +189,7 @@ pub fn run(args: &Args) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| default_report_dir(&target_dir(), &s.name));
-    let prepared = crate::outdir::Prepared::new(&out)?;
+    let prepared = crate::outdir::Prepared::new(&out).map_err(lab)?;
     let r = Report::compute(s, options).map_err(report_error)?;
     write(&r, &out, prepared, "report")
 }
@@ -229,7 +230,7 @@ pub fn run_paper(args: &PaperArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| target_dir().join("paper"));
-    let prepared = crate::outdir::Prepared::new(&out)?;
+    let prepared = crate::outdir::Prepared::new(&out).map_err(lab)?;
     let r = Report::compute(s, options).map_err(report_error)?;
     write(&r, &out, prepared, "reproduce-paper")
 }

@@ -5,7 +5,8 @@ use e2e_verify::{DirectAllocation, EndToEnd};
 use study::fmt::sig;
 pub use tt_lab::allocation::angle::*;
 
-fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {
+/// Each error's bound, arcmin, 4 significant digits (`none` for an unbounded one).
+pub(crate) fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {
     names
         .iter()
         .zip(d.upper_bounds_rad())

@@ -37,9 +37,8 @@
 //!   `DIR` is missing, the newest complete `.<tag>.old-*` is renamed back to `DIR` first (a run
 //!   killed between its two renames). A directory of that name that is not ours is left alone.
 
-use crate::InputError;
+use crate::error::{Context, InputError, LabError, Result};
 use crate::paths::visible;
-use anyhow::{Context, Result};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -785,10 +784,11 @@ impl Prepared {
     /// of the user's is touched.
     pub fn write(mut self, files: &[(String, Vec<u8>)]) -> Result<()> {
         for (name, _) in files {
-            anyhow::ensure!(
-                is_report_file(name),
-                "internal: bad report file name {name}"
-            );
+            if !is_report_file(name) {
+                return Err(LabError::Library(
+                    format!("internal: bad report file name {name}").into(),
+                ));
+            }
         }
         let t = &self.target;
         let tmp = (0..100)
@@ -862,15 +862,18 @@ fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result
                 .with_context(|| format!("moving the previous report {} aside", t.shown))?;
             if let Err(e) = std::fs::rename(tmp, &t.dir) {
                 let _ = std::fs::rename(&old, &t.dir);
-                return Err(anyhow::Error::new(e)
-                    .context(format!("moving the new report into {}", t.shown)));
+                return Err(LabError::Io {
+                    what: format!("moving the new report into {}", t.shown),
+                    source: e,
+                });
             }
             old
         }
         Err(e) => {
-            return Err(
-                anyhow::Error::new(e).context(format!("swapping the new report into {}", t.shown))
-            );
+            return Err(LabError::Io {
+                what: format!("swapping the new report into {}", t.shown),
+                source: e,
+            });
         }
     };
     // The new report is in place. Remove the previous one: only the files of ours it holds.

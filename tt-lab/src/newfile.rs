@@ -3,8 +3,8 @@
 //! otherwise), then written atomically, never replacing anything, with the permissions any
 //! other program gives a new file (`0666` less the umask).
 
-use crate::InputError;
-use anyhow::{Context, Result};
+use crate::error::{Context, InputError, LabError, Result};
+use crate::paths::visible;
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::Path;
@@ -42,7 +42,7 @@ pub(crate) fn create_temporary(dir: &Path) -> std::io::Result<(std::path::PathBu
 /// # Errors
 /// An [`InputError`] naming `out` (or its directory) and `flag`.
 pub fn check(out: &Path, flag: &str) -> Result<(), InputError> {
-    let shown = crate::paths::visible(out);
+    let shown = visible(out);
     if out.symlink_metadata().is_ok() {
         return Err(InputError::new(
             &shown,
@@ -67,7 +67,7 @@ pub fn check(out: &Path, flag: &str) -> Result<(), InputError> {
             Ok(())
         }
         Err(e) => Err(InputError::new(
-            crate::paths::visible(dir),
+            visible(dir),
             format!("{flag} {shown}: cannot create a file in this directory ({e})"),
         )),
     }
@@ -94,10 +94,10 @@ pub fn check_all(outputs: &[(&str, &Path)]) -> Result<(), InputError> {
         for (flag_b, b) in &outputs[i + 1..] {
             if a == b || where_is(a).is_some_and(|w| Some(w) == where_is(b)) {
                 return Err(InputError::new(
-                    format!("{flag_b} {}", crate::paths::visible(b)),
+                    format!("{flag_b} {}", visible(b)),
                     format!(
                         "names the same file as {flag_a} {}: give each output its own path (nothing was written)",
-                        crate::paths::visible(a)
+                        visible(a)
                     ),
                 ));
             }
@@ -140,12 +140,8 @@ pub struct Staged {
 /// I/O errors creating or writing the temporary file (it is removed).
 pub fn stage(out: &Path, bytes: &[u8]) -> Result<Staged> {
     let dir = dir_of(out);
-    let (tmp, mut f) = create_temporary(dir).with_context(|| {
-        format!(
-            "creating a temporary file in {}",
-            crate::paths::visible(dir)
-        )
-    })?;
+    let (tmp, mut f) = create_temporary(dir)
+        .with_context(|| format!("creating a temporary file in {}", visible(dir)))?;
     let staged = Staged {
         tmp,
         out: out.to_path_buf(),
@@ -153,7 +149,7 @@ pub fn stage(out: &Path, bytes: &[u8]) -> Result<Staged> {
     };
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
-        .with_context(|| format!("writing {}", crate::paths::visible(&staged.tmp)))?;
+        .with_context(|| format!("writing {}", visible(&staged.tmp)))?;
     Ok(staged)
 }
 
@@ -167,13 +163,15 @@ impl Staged {
     pub fn commit(mut self, flag: &str) -> Result<()> {
         let tmp_remains = link_new(&self.tmp, &self.out).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AlreadyExists {
-                anyhow::Error::new(InputError::new(
-                    crate::paths::visible(&self.out),
+                LabError::from(InputError::new(
+                    visible(&self.out),
                     format!("{flag}: the file appeared meanwhile; not overwritten"),
                 ))
             } else {
-                anyhow::Error::new(e)
-                    .context(format!("writing {}", crate::paths::visible(&self.out)))
+                LabError::Io {
+                    what: format!("writing {}", visible(&self.out)),
+                    source: e,
+                }
             }
         })?;
         // After a rename the temporary name is gone (and may not be removed: it could be
