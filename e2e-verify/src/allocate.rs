@@ -1457,18 +1457,7 @@ impl DirectSetup<'_> {
         l1_budget_rad: Option<f64>,
         spec_rows: &[SpecificationRow],
     ) -> Result<DirectAllocation, E2eError> {
-        for row in spec_rows {
-            row.check_room()?;
-            let lb = row.value(lower_bounds_rad);
-            if lb > row.room() {
-                return Err(E2eError::InfeasibleLowerBounds {
-                    output: format!("{} (specification)", row.label()),
-                    position: 0,
-                    worst: lb,
-                    accuracy: row.limit(),
-                });
-            }
-        }
+        check_spec_rows(spec_rows, lower_bounds_rad)?;
         let spec_coefficients: Vec<Vec<f64>> = spec_rows
             .iter()
             .map(SpecificationRow::coefficients)
@@ -1612,4 +1601,28 @@ impl DirectSetup<'_> {
             spec_loads: spec_loaded,
         })
     }
+}
+
+/// Every specification row leaves room beside its noise part, and the lower bounds alone fit
+/// in it.
+///
+/// # Errors
+/// [`E2eError::NoTableSuffices`] or [`E2eError::InfeasibleLowerBounds`] naming the row.
+fn check_spec_rows(
+    spec_rows: &[SpecificationRow],
+    lower_bounds_rad: &[f64],
+) -> Result<(), E2eError> {
+    for row in spec_rows {
+        row.check_room()?;
+        let lb = row.value(lower_bounds_rad);
+        if lb > row.room() {
+            return Err(E2eError::InfeasibleLowerBounds {
+                output: format!("{} (specification)", row.label()),
+                position: 0,
+                worst: lb,
+                accuracy: row.limit(),
+            });
+        }
+    }
+    Ok(())
 }
