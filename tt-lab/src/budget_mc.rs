@@ -115,7 +115,7 @@ pub fn compute(
         .into());
     }
     if o.max_trials == 0 {
-        return Err(InputError::new("--mc-max-trials", "0: at least one trial").into());
+        return Err(InputError::new("max_trials", "0: at least one trial").into());
     }
     let law = s.uncertainty.tolerance_distribution;
     let table = e2e
