@@ -1000,6 +1000,22 @@ mod tests {
         }
     }
 
+    /// The nominal inputs of output `k` with every value moved by up to 1e-4 (a fixed
+    /// pattern per position, input and output).
+    fn perturbed(o: &OutputCalibration, k: usize) -> Vec<InputValues> {
+        o.nominal_values()
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let mut u = v.0;
+                for (q, x) in u.iter_mut().enumerate() {
+                    *x += 1e-4 * ((i * 7 + q * 3 + k) as f64).sin();
+                }
+                InputValues(u)
+            })
+            .collect()
+    }
+
     fn check_user_reading_paths(schedule: &crate::Schedule) {
         let cal = Calibration::new(
             &gw_model::paper::gyrowheel(),
@@ -1009,18 +1025,7 @@ mod tests {
         .expect("the schedule identifies every coefficient");
         for (k, o) in cal.outputs().iter().enumerate() {
             assert!(o.fast.quadratic.is_some(), "the GyroWheel is quadratic");
-            let actual: Vec<InputValues> = o
-                .nominal_values()
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    let mut u = v.0;
-                    for (q, x) in u.iter_mut().enumerate() {
-                        *x += 1e-4 * ((i * 7 + q * 3 + k) as f64).sin();
-                    }
-                    InputValues(u)
-                })
-                .collect();
+            let actual = perturbed(o, k);
             let n = actual.len();
             // the user's reading (compiled quadratic terms) and the paper's (the residual at
             // the intended orientation precomputed, only b2' per draw)
@@ -1053,18 +1058,7 @@ mod tests {
         )
         .expect("the schedule identifies every coefficient");
         for (k, o) in cal.outputs().iter().enumerate() {
-            let actual: Vec<InputValues> = o
-                .nominal_values()
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    let mut u = v.0;
-                    for (q, x) in u.iter_mut().enumerate() {
-                        *x += 1e-4 * ((i * 5 + q * 3 + k) as f64).cos();
-                    }
-                    InputValues(u)
-                })
-                .collect();
+            let actual = perturbed(o, k);
             let b1: Vec<f64> = actual.iter().map(|v| o.output().value(v)).collect();
             let qr = cal.calibrate(k, &b1).expect("finite outputs");
             let mut fast = vec![0.0; o.beta().len()];
