@@ -13,12 +13,11 @@ use tt_lab::budget_mc::{Jcgm101, Jcgm101Json, Options};
 pub struct Flags {
     /// Also run the JCGM 101 Monte Carlo of the whole calibration for every specification
     /// (table errors drawn from their laws on the exact chain, noise drawn, the estimator run;
-    /// adaptive to --mc-digits significant digits of u(y); seeded by --seed): mean, u(y), the
-    /// symmetric and shortest coverage intervals, the GUM validation and its verdict.
+    /// adaptive to the significant digits of u(y) below, with the seed above): mean, u(y),
+    /// the symmetric and shortest coverage intervals, the GUM validation and its verdict.
     #[arg(long)]
     pub jcgm101: bool,
-    /// Significant digits of u(y) the JCGM 101 Monte Carlo stabilizes, 1 to 6 (with
-    /// --jcgm101).
+    /// Significant digits of u(y) the JCGM 101 Monte Carlo stabilizes, 1 to 6 (default 2).
     #[arg(long, default_value_t = 2, value_parser = crate::args::mc_digits)]
     pub mc_digits: u32,
 }
