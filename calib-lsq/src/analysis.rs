@@ -555,6 +555,51 @@ impl OutputCalibration {
         self.error_vector_generic(reading, actual, work, out)
     }
 
+    /// The estimated coefficients' errors $\hat{\boldsymbol\beta}_1 - \boldsymbol\beta$ (eq 6,
+    /// estimated-term order) when the outputs are the sensor's at the actual input values
+    /// `actual` (one per position, from eq 8) and the estimate uses the intended inputs:
+    /// $\mathbf A^+(\mathbf b_1' - \mathbf b_2) - \boldsymbol\beta$, with the regression's
+    /// pseudo-inverse computed once and the compiled monomials, nothing allocated once `work`
+    /// is sized. [`crate::Calibration::calibrate`] of the same outputs solves the same least
+    /// squares by QR (equal to rounding).
+    ///
+    /// # Errors
+    /// [`CalibError::Field`] ([`tt_core::FieldError::Length`]) unless there is one value per
+    /// position and one entry of `out` per estimated coefficient.
+    #[doc(hidden)]
+    pub fn coefficient_errors_at(
+        &self,
+        actual: &[InputValues],
+        work: &mut ErrorWork,
+        out: &mut [f64],
+    ) -> Result<(), CalibError> {
+        let f = &self.fast;
+        let n = self.b2().len();
+        tt_core::length("actual inputs", n, actual.len())?;
+        tt_core::length("coefficient errors", f.estimated.len(), out.len())?;
+        let beta = self.beta().as_slice();
+        work.y.clear();
+        work.y
+            .extend(actual.iter().zip(self.b2().iter()).map(|(v, b2)| {
+                let est: f64 = f
+                    .estimated
+                    .iter()
+                    .zip(beta)
+                    .map(|(m, b)| m.eval(&v.0) * b)
+                    .sum();
+                let known: f64 = f.known.iter().map(|(c, m)| c * m.eval(&v.0)).sum();
+                known + est - b2
+            }));
+        for ((o, p), b) in out
+            .iter_mut()
+            .zip(f.pinv_rows.chunks_exact(n.max(1)))
+            .zip(beta)
+        {
+            *o = dot(p, &work.y) - b;
+        }
+        Ok(())
+    }
+
     /// The number of positions $n$, after checking that there are `actual` input values and
     /// `out` error-vector entries, one per position.
     ///
@@ -955,6 +1000,22 @@ mod tests {
         }
     }
 
+    /// The nominal inputs of output `k` with every value moved by up to 1e-4 (a fixed
+    /// pattern per position, input and output).
+    fn perturbed(o: &OutputCalibration, k: usize) -> Vec<InputValues> {
+        o.nominal_values()
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let mut u = v.0;
+                for (q, x) in u.iter_mut().enumerate() {
+                    *x += 1e-4 * ((i * 7 + q * 3 + k) as f64).sin();
+                }
+                InputValues(u)
+            })
+            .collect()
+    }
+
     fn check_user_reading_paths(schedule: &crate::Schedule) {
         let cal = Calibration::new(
             &gw_model::paper::gyrowheel(),
@@ -964,18 +1025,7 @@ mod tests {
         .expect("the schedule identifies every coefficient");
         for (k, o) in cal.outputs().iter().enumerate() {
             assert!(o.fast.quadratic.is_some(), "the GyroWheel is quadratic");
-            let actual: Vec<InputValues> = o
-                .nominal_values()
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    let mut u = v.0;
-                    for (q, x) in u.iter_mut().enumerate() {
-                        *x += 1e-4 * ((i * 7 + q * 3 + k) as f64).sin();
-                    }
-                    InputValues(u)
-                })
-                .collect();
+            let actual = perturbed(o, k);
             let n = actual.len();
             // the user's reading (compiled quadratic terms) and the paper's (the residual at
             // the intended orientation precomputed, only b2' per draw)
@@ -990,6 +1040,55 @@ mod tests {
                 assert_eq!(bits(&fast), bits(&generic), "output {k}, {reading}");
                 assert!(fast.iter().any(|&x| x != 0.0), "a non-trivial error vector");
             }
+        }
+    }
+
+    /// The coefficients' errors through the precomputed pseudo-inverse equal those of the QR
+    /// solve of [`Calibration::calibrate`] on the outputs simulated at the same perturbed
+    /// inputs, minus the true coefficients, for every output of the paper's sensor and schedule.
+    #[test]
+    fn coefficient_errors_through_the_pseudo_inverse_equal_the_qr_calibration() {
+        // two solvers of the same least squares (condition number < 10 here) differ by
+        // rounding of the outputs (~1 in the output unit): 1e-12 of the largest coefficient
+        const SOLVERS_AGREE_REL: f64 = 1e-12;
+        let cal = Calibration::new(
+            &gw_model::paper::gyrowheel(),
+            &gw_model::paper::site(),
+            &crate::paper::schedule(),
+        )
+        .expect("the schedule identifies every coefficient");
+        for (k, o) in cal.outputs().iter().enumerate() {
+            let actual = perturbed(o, k);
+            let b1: Vec<f64> = actual.iter().map(|v| o.output().value(v)).collect();
+            let qr = cal.calibrate(k, &b1).expect("finite outputs");
+            let mut fast = vec![0.0; o.beta().len()];
+            o.coefficient_errors_at(&actual, &mut ErrorWork::default(), &mut fast)
+                .expect("lengths match");
+            let scale = o.beta().amax();
+            let moved = qr
+                .solution()
+                .beta()
+                .iter()
+                .zip(o.beta().iter())
+                .zip(&fast)
+                .map(|((est, truth), f)| {
+                    approx::assert_abs_diff_eq!(
+                        est - truth,
+                        *f,
+                        epsilon = SOLVERS_AGREE_REL * scale
+                    );
+                    f.abs()
+                })
+                .fold(0.0, f64::max);
+            assert!(
+                moved > 1e3 * SOLVERS_AGREE_REL * scale,
+                "output {k}: the perturbation moves the estimate"
+            );
+            let mut short = vec![0.0; o.beta().len() + 1];
+            assert!(
+                o.coefficient_errors_at(&actual, &mut ErrorWork::default(), &mut short)
+                    .is_err()
+            );
         }
     }
 }

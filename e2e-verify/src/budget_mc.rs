@@ -31,11 +31,12 @@
 
 use crate::budget::{EvaluatedAt, PlanVerdict, SpecificationBudget};
 use crate::error::E2eError;
-use crate::simulate::EndToEnd;
+use crate::simulate::{DrawWork, EndToEnd};
 use gw_model::spec::{Resolved, Specification};
 use metrology::Input;
 use metrology::montecarlo::IntervalKind;
 use metrology::montecarlo::{self, McOutput, McSettings, Model, Validation};
+use std::sync::Mutex;
 use tt_kinematics::ScheduleErrorModel;
 
 /// The rule of the Monte Carlo's verdict on a specification, in words.
@@ -121,6 +122,38 @@ struct CalibrationModel<'a, S: ScheduleErrorModel> {
     quantities: Vec<Quantity>,
     needs_vectors: bool,
     needs_coefficients: bool,
+    /// Scratch spaces, one per thread at a time (taken for a trial, given back after it):
+    /// nothing is allocated per trial, and their number is at most the number of threads.
+    scratch: Mutex<Vec<Scratch>>,
+}
+
+/// One trial's scratch space: the chain's and the least squares', and their results.
+struct Scratch {
+    work: DrawWork,
+    coefficients: Vec<f64>,
+    vectors: Vec<Vec<f64>>,
+}
+
+impl<S: ScheduleErrorModel> CalibrationModel<'_, S> {
+    fn take_scratch(&self) -> Scratch {
+        let pooled = self
+            .scratch
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pop();
+        pooled.unwrap_or_else(|| Scratch {
+            work: self.e2e.work(),
+            coefficients: vec![0.0; self.e2e.n_coefficients()],
+            vectors: vec![vec![0.0; self.e2e.len()]; self.e2e.n_outputs()],
+        })
+    }
+
+    fn give_back(&self, s: Scratch) {
+        self.scratch
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push(s);
+    }
 }
 
 impl<S: ScheduleErrorModel + Sync> Model for CalibrationModel<'_, S> {
@@ -131,34 +164,37 @@ impl<S: ScheduleErrorModel + Sync> Model for CalibrationModel<'_, S> {
     fn evaluate(&self, x: &[f64], y: &mut [f64]) {
         let n = self.e2e.n_errors();
         let chi = &x[..n];
+        let mut s = self.take_scratch();
         // an evaluation failure is a non-finite value: the run stops with a typed error
-        let coefficients = if self.needs_coefficients {
-            self.e2e.coefficient_errors(chi).ok()
-        } else {
-            None
-        };
-        let vectors = if self.needs_vectors {
-            self.e2e.error_vectors(chi).ok()
-        } else {
-            None
-        };
+        let coefficients_ok = self.needs_coefficients
+            && self
+                .e2e
+                .coefficient_errors_into(chi, &mut s.work, &mut s.coefficients)
+                .is_ok();
+        let vectors_ok = self.needs_vectors
+            && self
+                .e2e
+                .error_vectors_into(chi, &mut s.work, &mut s.vectors)
+                .is_ok();
         for (q, (yq, noise)) in self
             .quantities
             .iter()
             .zip(y.iter_mut().zip(x[n..].chunks_exact(2)))
         {
             let table = match q {
-                Quantity::Coefficients { offset, weights } => {
-                    coefficients.as_ref().map_or(f64::NAN, |c| {
-                        weights.iter().zip(&c[*offset..]).map(|(w, e)| w * e).sum()
-                    })
+                Quantity::Coefficients { offset, weights } if coefficients_ok => weights
+                    .iter()
+                    .zip(&s.coefficients[*offset..])
+                    .map(|(w, e)| w * e)
+                    .sum(),
+                Quantity::Accuracy { output, position } if vectors_ok => {
+                    s.vectors[*output][*position]
                 }
-                Quantity::Accuracy { output, position } => {
-                    vectors.as_ref().map_or(f64::NAN, |v| v[*output][*position])
-                }
+                _ => f64::NAN,
             };
             *yq = table + noise[0] + noise[1];
         }
+        self.give_back(s);
     }
 }
 
@@ -205,6 +241,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                     .iter()
                     .any(|q| matches!(q, Quantity::Coefficients { .. })),
                 quantities,
+                scratch: Mutex::new(Vec::new()),
             };
             let run_settings = McSettings {
                 coverage: p,

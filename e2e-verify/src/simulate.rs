@@ -929,39 +929,51 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// The estimated coefficients minus their true values, every estimated coefficient in
     /// study order, when the same errors $\chi$ act at every position, outputs are simulated at
     /// the actual orientation and calibrated at the intended one (eq 6, the user's estimate):
-    /// what a calibrating engineer's coefficients are off by.
+    /// what a calibrating engineer's coefficients are off by (allocating its scratch space:
+    /// use [`EndToEnd::coefficient_errors_into`] in loops).
     ///
     /// # Errors
-    /// As [`EndToEnd::delta_omega_into`] and [`Calibration::calibrate_simulated`].
+    /// As [`EndToEnd::delta_omega_into`].
     pub fn coefficient_errors(&self, chi_rad: &[f64]) -> Result<Vec<f64>, E2eError> {
-        self.check_chi(chi_rad)?;
-        let results = if self.has_rate_steps() {
-            let mut work = self.work();
-            self.actual_into(chi_rad, &self.extra_values, &mut work)?;
-            (0..self.n_outputs())
-                .map(|k| {
-                    let out = &self.calibration.outputs()[k];
-                    let b1: Vec<f64> = work.actual.iter().map(|u| out.output().value(u)).collect();
-                    self.calibration.calibrate(k, &b1)
-                })
-                .collect::<Result<Vec<_>, _>>()?
-        } else {
-            let mut dr = vec![Matrix3::identity(); self.len()];
-            self.chain.delta_r_into(chi_rad, &mut dr)?;
-            self.calibration.calibrate_simulated(&dr)?
-        };
-        Ok(results
+        let mut out = vec![0.0; self.n_coefficients()];
+        self.coefficient_errors_into(chi_rad, &mut self.work(), &mut out)?;
+        Ok(out)
+    }
+
+    /// The number of estimated coefficients of every output together (the length of
+    /// [`EndToEnd::coefficient_errors`]).
+    #[must_use]
+    pub fn n_coefficients(&self) -> usize {
+        self.calibration
+            .outputs()
             .iter()
-            .zip(self.calibration.outputs())
-            .flat_map(|(r, o)| {
-                r.solution()
-                    .beta()
-                    .iter()
-                    .zip(o.beta().iter())
-                    .map(|(est, truth)| est - truth)
-                    .collect::<Vec<_>>()
-            })
-            .collect())
+            .map(|o| o.beta().len())
+            .sum()
+    }
+
+    /// [`EndToEnd::coefficient_errors`] into `out` ([`EndToEnd::n_coefficients`] long) with
+    /// the scratch space `work` (nothing allocated once it is sized): the actual inputs by the
+    /// compiled chain where there is one, then each output's least squares through its
+    /// pseudo-inverse, computed once ([`calib_lsq::OutputCalibration::coefficient_errors_at`]).
+    ///
+    /// # Errors
+    /// As [`EndToEnd::delta_omega_into`]; [`E2eError::Field`] (length) for a wrong `out`.
+    pub fn coefficient_errors_into(
+        &self,
+        chi_rad: &[f64],
+        work: &mut DrawWork,
+        out: &mut [f64],
+    ) -> Result<(), E2eError> {
+        self.check_chi(chi_rad)?;
+        tt_core::length("coefficient errors", self.n_coefficients(), out.len())?;
+        self.actual_into(chi_rad, &self.extra_values, work)?;
+        let mut rest = out;
+        for o in self.calibration.outputs() {
+            let (head, tail) = rest.split_at_mut(o.beta().len());
+            o.coefficient_errors_at(&work.actual, &mut work.work, head)?;
+            rest = tail;
+        }
+        Ok(())
     }
 }
 

@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod allocation;
+pub mod budget_mc;
 pub mod calibrate;
 pub mod design;
 pub mod end_to_end;

@@ -45,6 +45,15 @@ pub fn positions(s: &str) -> Result<u64, String> {
     count(s, study::limits::MAX_POSITIONS as u64)
 }
 
+/// The significant digits of u(y) a JCGM 101 Monte Carlo stabilizes (1 to
+/// [`tt_lab::budget_mc::MAX_DIGITS`]).
+///
+/// # Errors
+/// As [`count`].
+pub fn mc_digits(s: &str) -> Result<u32, String> {
+    count(s, u64::from(tt_lab::budget_mc::MAX_DIGITS)).map(|v| v as u32)
+}
+
 /// A thread count (1 to 1024).
 ///
 /// # Errors

@@ -1,5 +1,5 @@
 //! `cargo xtask check-turntable [--study FILE] --tolerances FILE.toml [--samples N] [--seed S]
-//! [--k-sigma K] [--json]`: "the vendor's sheet says these tolerances: will my calibration meet its
+//! [--k-sigma K] [--jcgm101 [--mc-digits D]] [--json]`: "the vendor's sheet says these tolerances: will my calibration meet its
 //! accuracy, and which error dominates?"
 //!
 //! For every output: the end-to-end worst case over the tolerance box (linearised, confirmed
@@ -47,6 +47,9 @@ pub struct Args {
     /// used when the study gives noise and a timing.
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
     pub k_sigma: f64,
+    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`).
+    #[command(flatten)]
+    pub jcgm101: crate::text::jcgm101::Flags,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -206,8 +209,17 @@ pub fn run(args: &Args) -> Result<()> {
         k_sigma: args.k_sigma,
     };
     let v = tt_lab::vendor::check(&s, &args.tolerances, &options).map_err(crate::input::lab)?;
+    let mc = crate::text::jcgm101::run(
+        &args.jcgm101,
+        args.seed,
+        &s,
+        &v.checks()[0].0,
+        v.sheet().upper_bounds_rad(),
+        v.decision(),
+    )?;
     if args.json {
-        return crate::json::print(&CheckJson::of(&s, &v));
+        let view = crate::text::jcgm101::with_json(&CheckJson::of(&s, &v), &s, mc.as_ref())?;
+        return crate::json::print(&view);
     }
     let checks = v.checks();
     let mut text = to_text(checks, &s.path, v.sheet(), v.noisy());
@@ -241,5 +253,6 @@ pub fn run(args: &Args) -> Result<()> {
         v.decision(),
         "over these tolerances",
     ));
+    text.push_str(&crate::text::jcgm101::text(&args.jcgm101, &s, mc.as_ref()));
     crate::out::print(&text)
 }

@@ -1,5 +1,5 @@
 //! `cargo xtask end-to-end [--study FILE] [--samples N] [--seed S] [--yield-fraction P]
-//! [--json]`: does the allocated turntable deliver every output's calibration accuracy?
+//! [--jcgm101 [--mc-digits D]] [--json]`: does the allocated turntable deliver every output's calibration accuracy?
 //!
 //! For the study's reading of eq 13 and for the user's reading (outputs at the actual
 //! orientation): the worst case and Monte Carlo yield of the two-step allocation (and of the
@@ -46,6 +46,9 @@ pub struct Args {
     /// used when the study gives noise and a timing.
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
     pub k_sigma: f64,
+    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`).
+    #[command(flatten)]
+    pub jcgm101: crate::text::jcgm101::Flags,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -396,8 +399,17 @@ pub fn run(args: &Args) -> Result<()> {
         tolerances: args.tolerances.clone(),
     };
     let r = tt_lab::end_to_end::end_to_end(&s, &options).map_err(crate::input::lab)?;
+    let mc = crate::text::jcgm101::run(
+        &args.jcgm101,
+        args.seed,
+        &s,
+        r.simulator(),
+        r.answer().readings()[0].direct().upper_bounds_rad(),
+        r.decision(),
+    )?;
     if args.json {
-        return crate::json::print(&EndToEndJson::of(&s, &r));
+        let view = crate::text::jcgm101::with_json(&EndToEndJson::of(&s, &r), &s, mc.as_ref())?;
+        return crate::json::print(&view);
     }
     let (e2e, a) = (r.simulator(), r.answer());
     let mut t = to_text(&s, e2e, a, r.note(), r.seconds(), r.throughput());
@@ -426,5 +438,6 @@ pub fn run(args: &Args) -> Result<()> {
         a.readings()[0].direct(),
         r.no_table_suffices(),
     ));
+    t.push_str(&crate::text::jcgm101::text(&args.jcgm101, &s, mc.as_ref()));
     crate::out::print(&t)
 }

@@ -3,6 +3,7 @@
 
 pub mod angle;
 pub mod angle_alloc;
+pub mod jcgm101;
 /// The groups' sentence, shared with the report: the study-level library's.
 pub use tt_lab::groups;
 pub mod noise;

@@ -1,0 +1,204 @@
+//! `--jcgm101` of `check-turntable` and `end-to-end` (issue 34 item 3): the JCGM 101 Monte
+//! Carlo of every specification printed and in `--json` with the library's numbers, its rule
+//! named, the same answer for one thread and two, a bad `--mc-digits` refused with exit 2.
+
+mod common;
+
+use approx::assert_relative_eq;
+use common::{assert_input_error, json, num, run, stdout};
+use e2e_verify::EndToEnd;
+use e2e_verify::budget_mc::MC_RULE;
+use metrology::montecarlo::McSettings;
+use tt_kinematics::Pose;
+
+const STUDY: &str = "studies/imu-triad-example.toml";
+const SHEET: &str = "studies/tolerances/three-axis-navigation-grade.toml";
+
+/// The CLI prints the library's figures through JSON (shortest round-trip): equal to a few
+/// ulps after the unit conversion.
+const SAME_REL: f64 = 1e-12;
+
+fn check_args(extra: &[&'static str]) -> Vec<&'static str> {
+    let mut a = vec![
+        "check-turntable",
+        "--study",
+        STUDY,
+        "--tolerances",
+        SHEET,
+        "--samples",
+        "2000",
+        "--seed",
+        "5",
+        "--jcgm101",
+        "--mc-digits",
+        "1",
+    ];
+    a.extend_from_slice(extra);
+    a
+}
+
+#[test]
+fn check_turntable_jcgm101_gives_every_specification_the_librarys_monte_carlo() {
+    let v = json(&check_args(&["--json"]));
+    let mc = &v["jcgm101"];
+    assert_eq!(mc["rule"].as_str().unwrap(), MC_RULE);
+    assert_eq!(mc["seed"].as_u64().unwrap(), 5);
+    assert_eq!(mc["significant_digits"].as_u64().unwrap(), 1);
+    let specs = mc["specifications"].as_array().unwrap();
+    // the library's run over the same sheet, law, noise and seed
+    let s = study::Study::load(&common::root().join(STUDY)).unwrap();
+    let tol = study::Tolerances::load(&common::root().join(SHEET), &s.turntable).unwrap();
+    let poses: Vec<Pose> = s
+        .positions_deg
+        .iter()
+        .map(|p| Pose::from_deg(p).unwrap())
+        .collect();
+    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
+    let law = s.uncertainty.tolerance_distribution;
+    let verdict = e2e
+        .plan_verdict(
+            &s.specifications,
+            &tol.ub_rad,
+            |n, a| law.input(n, a),
+            &s.noise,
+            s.timing.as_ref(),
+        )
+        .unwrap();
+    let table: Vec<_> = e2e
+        .error_names()
+        .iter()
+        .zip(&tol.ub_rad)
+        .map(|(n, &a)| law.input(n, a).unwrap())
+        .collect();
+    let settings = McSettings {
+        significant_digits: 1,
+        seed: 5,
+        max_trials: tt_lab::budget_mc::DEFAULT_MAX_TRIALS,
+        ..McSettings::default()
+    };
+    let lib = e2e
+        .specification_monte_carlo(&s.specifications, &verdict, &table, &settings)
+        .unwrap();
+    assert_eq!(specs.len(), s.specifications.len());
+    for ((j, m), sp) in specs.iter().zip(&lib).zip(&s.specifications) {
+        let f = sp.to_written();
+        let o = m.output();
+        assert_relative_eq!(num(&j["mean"]), o.estimate() * f, max_relative = SAME_REL);
+        assert_relative_eq!(
+            num(&j["standard_uncertainty"]),
+            o.standard_uncertainty() * f,
+            max_relative = SAME_REL
+        );
+        for (key, (lo, hi)) in [
+            ("symmetric_interval", o.symmetric()),
+            ("shortest_interval", o.shortest()),
+        ] {
+            assert_relative_eq!(num(&j[key][0]), lo * f, max_relative = SAME_REL);
+            assert_relative_eq!(num(&j[key][1]), hi * f, max_relative = SAME_REL);
+        }
+        assert_eq!(j["trials"].as_u64().unwrap(), m.trials());
+        assert_eq!(j["stabilized"].as_bool().unwrap(), m.stabilized());
+        assert_eq!(
+            j["gum_validated"].as_bool().unwrap(),
+            m.validation().validated()
+        );
+        assert_eq!(j["meets"].as_bool().unwrap(), m.meets());
+        assert!(m.stabilized());
+    }
+    // the GUM verdict stays beside it
+    assert_eq!(
+        v["decision"]["specifications"].as_array().unwrap().len(),
+        specs.len()
+    );
+    // without the flag, no key and no run
+    let plain = json(&[
+        "check-turntable",
+        "--study",
+        STUDY,
+        "--tolerances",
+        SHEET,
+        "--samples",
+        "2000",
+        "--json",
+    ]);
+    assert!(plain.get("jcgm101").is_none());
+}
+
+/// The text of a run with `RAYON_NUM_THREADS` threads.
+fn text_on(threads: &str) -> String {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_ttalloc"))
+        .args(check_args(&[]))
+        .current_dir(common::root())
+        .env("RAYON_NUM_THREADS", threads)
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    stdout(&o)
+}
+
+#[test]
+fn jcgm101_text_names_its_rule_and_is_the_same_on_one_thread_and_two() {
+    let one = text_on("1");
+    assert_eq!(one, text_on("2"));
+    assert!(
+        one.contains("JCGM 101 Monte Carlo of each specification"),
+        "{one}"
+    );
+    assert!(one.contains(MC_RULE), "{one}");
+    let lines = one
+        .lines()
+        .filter(|l| l.contains("% symmetric [") && l.contains("shortest ["))
+        .count();
+    assert_eq!(lines, 5, "one line per specification of the example: {one}");
+    assert!(one.contains("stabilized"), "{one}");
+}
+
+#[test]
+fn jcgm101_digits_out_of_range_exit_2_naming_the_flag() {
+    for bad in ["0", "7", "two"] {
+        for cmd in ["check-turntable", "end-to-end"] {
+            let mut args = vec![cmd, "--study", STUDY, "--jcgm101", "--mc-digits", bad];
+            if cmd == "check-turntable" {
+                args.extend(["--tolerances", SHEET]);
+            }
+            assert_input_error(&run(&args), &["--mc-digits", bad]);
+        }
+    }
+}
+
+#[test]
+fn end_to_end_jcgm101_adds_the_monte_carlo_of_the_direct_allocations_box() {
+    let v = json(&[
+        "end-to-end",
+        "--study",
+        STUDY,
+        "--samples",
+        "2000",
+        "--jcgm101",
+        "--mc-digits",
+        "1",
+        "--json",
+    ]);
+    let mc = &v["jcgm101"];
+    assert_eq!(mc["rule"].as_str().unwrap(), MC_RULE);
+    let specs = mc["specifications"].as_array().unwrap();
+    assert_eq!(specs.len(), 5);
+    for j in specs {
+        let (lo, hi) = (
+            num(&j["symmetric_interval"][0]),
+            num(&j["symmetric_interval"][1]),
+        );
+        assert!(lo < hi, "{j}");
+        assert!(num(&j["standard_uncertainty"]) > 0.0, "{j}");
+        // the verdict is the rule's: the symmetric interval within +-limit
+        assert_eq!(
+            j["meets"].as_bool().unwrap(),
+            lo.abs().max(hi.abs()) <= num(&j["limit"]),
+            "{j}"
+        );
+    }
+    assert_eq!(
+        mc["meets"].as_bool().unwrap(),
+        specs.iter().all(|j| j["meets"].as_bool().unwrap())
+    );
+}
