@@ -58,6 +58,11 @@ pub(crate) struct StaticChain {
 }
 
 impl StaticChain {
+    /// Whether the specific force (`[0]`) and the rate (`[1]`) columns are written.
+    pub(crate) fn writes(&self) -> [bool; 2] {
+        self.need
+    }
+
     /// Lay out `table`'s positions with their $\mathbf B_1\mathbf a_i$ and
     /// $\mathbf B_1\boldsymbol\omega_i$ (`pre`, one pair per position), evaluating the specific
     /// force and the rate where `need` says. `None` for an empty schedule or when a position's

@@ -750,11 +750,25 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         extra: &[f64],
         work: &mut DrawWork,
     ) -> Result<bool, E2eError> {
+        self.inputs_into_with(chi, extra, work, true)
+    }
+
+    /// [`EndToEnd::inputs_into`], by the compiled chain only where `use_kernel` (a caller
+    /// that reads an input vector the kernel does not write, as the coefficient errors under
+    /// a reading whose error vector needs fewer inputs, passes `false`).
+    #[inline(always)]
+    fn inputs_into_with(
+        &self,
+        chi: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+        use_kernel: bool,
+    ) -> Result<bool, E2eError> {
         match (self.chain.as_turntable_schedule(), &self.pre) {
             (Some(t), Some(pre)) => {
                 let table = t.turntable();
                 table.segment_rotations(chi, &mut work.segments)?;
-                if let Some(kernel) = &self.kernel {
+                if let Some(kernel) = self.kernel.as_ref().filter(|_| use_kernel) {
                     kernel.columns_into(&work.segments, &mut work.columns);
                     return Ok(true);
                 }
@@ -786,9 +800,16 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
         Ok(false)
     }
 
-    /// [`EndToEnd::inputs_into`], always into `work.actual`.
-    fn actual_into(&self, chi: &[f64], extra: &[f64], work: &mut DrawWork) -> Result<(), E2eError> {
-        if self.inputs_into(chi, extra, work)? {
+    /// [`EndToEnd::inputs_into`], always into `work.actual`, by the compiled chain only
+    /// where `use_kernel` ([`EndToEnd::inputs_into_with`]).
+    fn actual_into_with(
+        &self,
+        chi: &[f64],
+        extra: &[f64],
+        work: &mut DrawWork,
+        use_kernel: bool,
+    ) -> Result<(), E2eError> {
+        if self.inputs_into_with(chi, extra, work, use_kernel)? {
             work.actual.clear();
             work.actual
                 .extend((0..work.columns.len()).map(|i| work.columns.value(i)));
@@ -966,7 +987,19 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     ) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
         tt_core::length("coefficient errors", self.n_coefficients(), out.len())?;
-        self.actual_into(chi_rad, &self.extra_values, work)?;
+        // the kernel writes only the input vectors the study's reading reads (the paper's
+        // reads the known terms' alone); the estimate reads every term's
+        let read = self
+            .calibration
+            .outputs()
+            .iter()
+            .map(|o| o.inputs_used(calib_lsq::Reading::USER))
+            .fold([false; 6], |a, b| std::array::from_fn(|q| a[q] || b[q]));
+        let use_kernel = self.kernel.as_ref().is_some_and(|k| {
+            let w = k.writes();
+            (w[0] || !read[..3].contains(&true)) && (w[1] || !read[3..].contains(&true))
+        });
+        self.actual_into_with(chi_rad, &self.extra_values, work, use_kernel)?;
         let mut rest = out;
         for o in self.calibration.outputs() {
             let (head, tail) = rest.split_at_mut(o.beta().len());
