@@ -185,7 +185,9 @@ impl Sections<'_> {
                         o.residuals()
                             .iter()
                             .find(|x| x.segment == i && x.outlier)
-                            .map(|x| format!("`{}` z = {}", o.name(), sig(x.standardized, 3)))
+                            .map(|x| {
+                                format!("{} z = {}", doc::code(o.name()), sig(x.standardized, 3))
+                            })
                     })
                     .collect();
                 vec![
