@@ -1,6 +1,7 @@
 //! `--jcgm101` of `check-turntable` and `end-to-end` (issue 34 item 3): the JCGM 101 Monte
 //! Carlo of every specification printed and in `--json` with the library's numbers, its rule
-//! named, the same answer for one thread and two, a bad `--mc-digits` refused with exit 2.
+//! named, the same answer for one thread and two, a bad `--mc-digits` (or one without
+//! `--jcgm101`) refused with exit 2.
 
 mod common;
 
@@ -163,6 +164,19 @@ fn jcgm101_digits_out_of_range_exit_2_naming_the_flag() {
             }
             assert_input_error(&run(&args), &["--mc-digits", bad]);
         }
+    }
+}
+
+/// `--mc-digits` tunes the Monte Carlo only: without `--jcgm101` it is refused (it was
+/// accepted and ignored), naming both flags.
+#[test]
+fn mc_digits_without_jcgm101_exits_2_naming_both_flags() {
+    for cmd in ["check-turntable", "end-to-end"] {
+        let mut args = vec![cmd, "--study", STUDY, "--mc-digits", "3"];
+        if cmd == "check-turntable" {
+            args.extend(["--tolerances", SHEET]);
+        }
+        assert_input_error(&run(&args), &["--mc-digits", "--jcgm101"]);
     }
 }
 

@@ -17,9 +17,10 @@ pub struct Flags {
     /// the symmetric and shortest coverage intervals, the GUM validation and its verdict.
     #[arg(long)]
     pub jcgm101: bool,
-    /// Significant digits of u(y) the JCGM 101 Monte Carlo stabilizes, 1 to 6 (default 2).
-    #[arg(long, default_value_t = 2, value_parser = crate::args::mc_digits)]
-    pub mc_digits: u32,
+    /// Significant digits of u(y) the JCGM 101 Monte Carlo stabilizes, 1 to 6 (default 2;
+    /// only with the Monte Carlo).
+    #[arg(long, value_parser = crate::args::mc_digits, requires = "jcgm101")]
+    pub mc_digits: Option<u32>,
 }
 
 /// The Monte Carlo of `verdict`'s specifications when `--jcgm101` is given and the study has
@@ -39,17 +40,20 @@ pub fn run(
     let (true, Some(verdict)) = (flags.jcgm101, verdict) else {
         return Ok(None);
     };
+    let digits = flags
+        .mc_digits
+        .unwrap_or(Options::default().significant_digits);
     let tell = std::io::stderr().is_terminal();
     if tell {
         eprintln!(
             "JCGM 101 Monte Carlo of {} specifications, adaptive to {} significant digits of u(y)...",
             verdict.budgets().len(),
-            flags.mc_digits
+            digits
         );
     }
     let t0 = std::time::Instant::now();
     let options = Options {
-        significant_digits: flags.mc_digits,
+        significant_digits: digits,
         seed,
         ..Options::default()
     };
