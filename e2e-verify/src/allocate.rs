@@ -1467,7 +1467,7 @@ impl DirectSetup<'_> {
                 .iter()
                 .map(|r| SpecLoad {
                     spec: r.spec(),
-                    label: format!("{} ({})", r.label(), r.unit()),
+                    label: format!("{} in {}", r.label(), r.unit()),
                     load: r.value(ub) / r.room(),
                 })
                 .collect()

@@ -180,7 +180,7 @@ fn the_direct_box_meets_every_specification_and_is_tight() {
     assert!(row.value(&larger) > row.room());
     assert_eq!(
         binding,
-        ["ax ba_x (bias) (ug)", "ax mis_xy (misalignment) (arcsec)"]
+        ["ax ba_x (bias) in ug", "ax mis_xy (misalignment) in arcsec"]
     );
     assert_eq!(e2e.error_names()[j], "deps_om_y");
 }

@@ -352,7 +352,7 @@ fn end_to_end_direct_allocation_meets_the_specifications_and_names_what_limits_i
     assert!(o.status.success(), "{}", stdout(&o));
     let out = stdout(&o);
     assert!(
-        out.contains("limited by: ax ba_x (bias) (ug), ax mis_xy (misalignment) (arcsec)"),
+        out.contains("limited by: ax ba_x (bias) in ug, ax mis_xy (misalignment) in arcsec"),
         "{out}"
     );
     assert!(
@@ -362,7 +362,7 @@ fn end_to_end_direct_allocation_meets_the_specifications_and_names_what_limits_i
     let v = json(&[&args[..], &["--json"]].concat());
     assert_eq!(
         v["readings"][0]["direct"]["limited_by"],
-        serde_json::json!(["ax ba_x (bias) (ug)", "ax mis_xy (misalignment) (arcsec)"])
+        serde_json::json!(["ax ba_x (bias) in ug", "ax mis_xy (misalignment) in arcsec"])
     );
     let specs = v["decision"]["specifications"].as_array().unwrap();
     let met: Vec<bool> = specs
