@@ -44,6 +44,9 @@ pub struct EndToEnd<S = TurntableSchedule> {
     /// The static positions of a turntable laid out side by side (a turntable's schedule
     /// without rate steps only; [`crate::kernel`]).
     kernel: Option<crate::kernel::StaticChain>,
+    /// Whether [`EndToEnd::kernel`] writes every input vector the coefficients' estimate reads
+    /// (it writes only those the study's reading reads: the paper's reads the known terms').
+    kernel_for_coefficients: bool,
     analyses: Vec<OrientationErrorAnalysis>,
     /// The first-order rotation vectors $\mathbf v_{ij}$ of every position $i$ and error $j$
     /// ([`ScheduleErrorModel::rotation_vectors`]), once.
@@ -380,18 +383,19 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             .collect::<Result<Vec<_>, tt_kinematics::KinematicsError>>()?;
         let kernel = match (chain.as_turntable_schedule(), &pre) {
             (Some(t), Some(pre)) if !rate.is_active() => {
-                let used = calibration
-                    .outputs()
-                    .iter()
-                    .map(|o| o.inputs_used(reading))
-                    .fold([false; 6], |a, b| std::array::from_fn(|q| a[q] || b[q]));
-                let need = [used[..3].contains(&true), used[3..].contains(&true)];
-                crate::kernel::StaticChain::new(t, pre, need)
+                crate::kernel::StaticChain::new(t, pre, vectors_read(calibration, reading))
             }
             _ => None,
         };
+        // the estimate reads every term's inputs, whatever the reading's error vector reads
+        let every = vectors_read(calibration, Reading::USER);
+        let kernel_for_coefficients = kernel.as_ref().is_some_and(|k| {
+            let w = k.writes();
+            (w[0] || !every[0]) && (w[1] || !every[1])
+        });
         Ok(Self {
             kernel,
+            kernel_for_coefficients,
             extra_values: vec![0.0; rate.extra.len()],
             rate,
             vectors,
@@ -987,19 +991,12 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     ) -> Result<(), E2eError> {
         self.check_chi(chi_rad)?;
         tt_core::length("coefficient errors", self.n_coefficients(), out.len())?;
-        // the kernel writes only the input vectors the study's reading reads (the paper's
-        // reads the known terms' alone); the estimate reads every term's
-        let read = self
-            .calibration
-            .outputs()
-            .iter()
-            .map(|o| o.inputs_used(calib_lsq::Reading::USER))
-            .fold([false; 6], |a, b| std::array::from_fn(|q| a[q] || b[q]));
-        let use_kernel = self.kernel.as_ref().is_some_and(|k| {
-            let w = k.writes();
-            (w[0] || !read[..3].contains(&true)) && (w[1] || !read[3..].contains(&true))
-        });
-        self.actual_into_with(chi_rad, &self.extra_values, work, use_kernel)?;
+        self.actual_into_with(
+            chi_rad,
+            &self.extra_values,
+            work,
+            self.kernel_for_coefficients,
+        )?;
         let mut rest = out;
         for o in self.calibration.outputs() {
             let (head, tail) = rest.split_at_mut(o.beta().len());
@@ -1052,3 +1049,14 @@ const MAX_LANES: usize = 8;
 /// relative): truncation $O(h^2) \approx 10^{-10}$ and rounding $\epsilon/h \approx
 /// 2\cdot10^{-11}$ of the inputs' size.
 pub(crate) const RATE_DERIVATIVE_STEP: f64 = 1e-5;
+
+/// Whether any output of `calibration` reads the specific force (`[0]`) and the rate (`[1]`)
+/// under `reading` ([`calib_lsq::OutputCalibration::inputs_used`]).
+fn vectors_read(calibration: &Calibration, reading: Reading) -> [bool; 2] {
+    let used = calibration
+        .outputs()
+        .iter()
+        .map(|o| o.inputs_used(reading))
+        .fold([false; 6], |a, b| std::array::from_fn(|q| a[q] || b[q]));
+    [used[..3].contains(&true), used[3..].contains(&true)]
+}
