@@ -43,6 +43,8 @@ pub struct Options {
     pub designed: Option<Study>,
     /// A processed recording (its section).
     pub run: Option<crate::ProcessedRun>,
+    /// The JCGM 101 Monte Carlo's options (`None`: not run).
+    pub jcgm101: Option<tt_lab::budget_mc::Options>,
 }
 
 /// One output's orientation-error plane: the data of the surfaces, lines and cuts.
@@ -164,6 +166,9 @@ pub struct Computed {
     /// direct allocation's box under the study's reading, as `end-to-end` states it, with the
     /// tolerances it was evaluated at (rad); `None` without specifications.
     pub decision: Option<(Vec<f64>, e2e_verify::budget::PlanVerdict)>,
+    /// The JCGM 101 Monte Carlo of the same specifications over the same tolerances
+    /// (`report --jcgm101`; `None` without it or without specifications).
+    pub jcgm101: Option<tt_lab::budget_mc::Jcgm101>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -731,7 +736,15 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         .map_err(crate::Error::from)?
         .map(|v| (bounds, v));
     timing("the specifications' budgets", started);
+    let jcgm101 = crate::jcgm101::compute(
+        s,
+        &e2e,
+        decision.as_ref(),
+        options.jcgm101.as_ref(),
+        options.seed,
+    )?;
     Ok(Computed {
+        jcgm101,
         decision,
         disc_alloc,
         estimable,
