@@ -43,6 +43,8 @@ pub struct Options {
     pub designed: Option<Study>,
     /// A processed recording (its section).
     pub run: Option<crate::ProcessedRun>,
+    /// The JCGM 101 Monte Carlo's options (`None`: not run).
+    pub jcgm101: Option<tt_lab::budget_mc::Options>,
 }
 
 /// One output's orientation-error plane: the data of the surfaces, lines and cuts.
@@ -164,6 +166,9 @@ pub struct Computed {
     /// direct allocation's box under the study's reading, as `end-to-end` states it, with the
     /// tolerances it was evaluated at (rad); `None` without specifications.
     pub decision: Option<(Vec<f64>, e2e_verify::budget::PlanVerdict)>,
+    /// The JCGM 101 Monte Carlo of the same specifications over the same tolerances
+    /// (`report --jcgm101`; `None` without it or without specifications).
+    pub jcgm101: Option<tt_lab::budget_mc::Jcgm101>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -455,6 +460,7 @@ struct Later {
     angle_alloc: Option<tt_lab::allocation::angle::AngleAllocations>,
     disc_alloc: Option<Vec<(EndToEnd, tt_lab::vendor::angle::DiscAllocation)>>,
     decision: Option<(Vec<f64>, e2e_verify::budget::PlanVerdict)>,
+    jcgm101: Option<tt_lab::budget_mc::Jcgm101>,
 }
 
 /// Compute the report of `study`.
@@ -488,6 +494,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         requirement, e2e, ..
     } = setup;
     Ok(Computed {
+        jcgm101: later.jcgm101,
         decision: later.decision,
         disc_alloc: later.disc_alloc,
         estimable: later.estimable,
@@ -852,7 +859,15 @@ fn later(
         .map_err(crate::Error::from)?
         .map(|v| (bounds, v));
     timing("the specifications' budgets", started);
+    let jcgm101 = crate::jcgm101::compute(
+        s,
+        e2e,
+        decision.as_ref(),
+        options.jcgm101.as_ref(),
+        options.seed,
+    )?;
     Ok(Later {
+        jcgm101,
         vendor_noise,
         vendor_rate,
         rate_alloc,

@@ -1908,8 +1908,8 @@ impl<'a> Sections<'a> {
                         doc::code(&r.name),
                         r.distribution.to_string(),
                         sig(r.standard_uncertainty, 4),
-                        sig(r.sensitivity, 4),
-                        format!("{} {u}", sig(r.contribution, 4)),
+                        sig(r.shown_sensitivity, 4),
+                        format!("{} {u}", sig(r.shown_contribution, 4)),
                         dof(r.dof),
                     ]
                 })

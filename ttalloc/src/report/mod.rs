@@ -1,5 +1,5 @@
 //! `cargo xtask report --study FILE [--out DIR] [--seed N] [--samples N] [--tolerances FILE]
-//! [--designed FILE]`: the report of any study, and `cargo xtask reproduce-paper [--out DIR]
+//! [--designed FILE] [--jcgm101 [--mc-digits D]]`: the report of any study, and `cargo xtask reproduce-paper [--out DIR]
 //! [--seed N] [--samples N]`: the same report for the paper's study with the paper's printed
 //! values beside ours and its claims.
 //!
@@ -51,6 +51,10 @@ pub struct Args {
     /// How the recording is read and processed (as `calibrate`).
     #[command(flatten)]
     pub run: RecordingArgs,
+    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`; as
+    /// `check-turntable` and `end-to-end`), seeded by `--seed`.
+    #[command(flatten)]
+    pub jcgm101: crate::text::jcgm101::Flags,
 }
 
 /// Arguments of `reproduce-paper`.
@@ -184,6 +188,7 @@ pub fn run(args: &Args) -> Result<()> {
         false,
     )?;
     options.run = processed_run(&s, args)?;
+    options.jcgm101 = args.jcgm101.options(None);
     // the name is a file-name-safe slug (checked when the study was read): one component
     let out = args
         .out
