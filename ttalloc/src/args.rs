@@ -1,4 +1,43 @@
-//! Flag value parsers shared by every command (one accepted form per kind of value).
+//! Flag value parsers shared by every command (one accepted form per kind of value), and the
+//! flag groups several commands share (`--study`, `--samples` and `--seed`).
+
+use std::path::{Path, PathBuf};
+
+/// `--study`: the study file of a command that defaults to the paper's.
+#[derive(Debug, clap::Args)]
+pub struct StudyFile {
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+}
+
+impl StudyFile {
+    /// The path given, if any.
+    pub fn path(&self) -> Option<&Path> {
+        self.study.as_deref()
+    }
+
+    /// The study read from it (the paper's without `--study`).
+    ///
+    /// # Errors
+    /// As [`crate::loaded::load`].
+    pub fn load(&self) -> Result<study::Study, crate::InputError> {
+        crate::loaded::load(self.path())
+    }
+}
+
+/// `--samples` and `--seed`: the Monte Carlo's size and seed, the study's `monte_carlo` values
+/// by default.
+#[derive(Debug, clap::Args)]
+pub struct Sampling {
+    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
+    /// `1e6`, `1000000`, `1_000_000`).
+    #[arg(long, allow_negative_numbers = true, value_parser = samples)]
+    pub samples: Option<u64>,
+    /// Seed of the random streams (default: the study's `monte_carlo.seed`).
+    #[arg(long, allow_negative_numbers = true, value_parser = seed)]
+    pub seed: Option<u64>,
+}
 
 /// A count: a whole number written as `1000000`, `1_000_000` or `1e6`, within `1..=max`.
 ///

@@ -7,7 +7,6 @@
 //! "unconstrained_outputs": [...], "given_requirement_deg", "note"}`.
 
 use crate::InputError;
-use crate::loaded as st;
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement};
 use clap::Parser;
@@ -18,9 +17,9 @@ use tt_lab::requirement::{Options, RequirementJson};
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`).
-    #[arg(long)]
-    pub study: Option<std::path::PathBuf>,
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: crate::args::StudyFile,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -78,7 +77,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let s = st::load(args.study.as_deref())?;
+    let s = args.study.load()?;
     let reading = match &args.reading {
         Some(r) => Some(
             r.parse()
