@@ -22,7 +22,7 @@ use alloc_opt::ConstraintForm;
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::OrientationAxis;
 use tt_lab::allocation::{AllocateJson, Allocations, RateStudyJson, StudyAllocation, group_boxes};
@@ -97,7 +97,7 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
     t.push('\n');
     let cell = |u: f64| {
         if u.is_finite() {
-            study::fmt::sig(rad_to_arcmin(u), 4)
+            tt_core::human::sig(rad_to_arcmin(u), 4)
         } else {
             "none".into()
         }

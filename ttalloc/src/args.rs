@@ -152,8 +152,8 @@ pub fn number_in(s: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
     } else {
         Err(format!(
             "`{s}`: {what} must lie in [{}, {}]",
-            study::fmt::num(lo),
-            study::fmt::num(hi)
+            tt_core::human::num(lo),
+            tt_core::human::num(hi)
         ))
     }
 }
@@ -170,7 +170,10 @@ pub fn positive(s: &str, max: f64) -> Result<f64, String> {
     if v.is_finite() && v > 0.0 && v <= max {
         Ok(v)
     } else {
-        Err(format!("`{s}`: must lie in (0, {}]", study::fmt::num(max)))
+        Err(format!(
+            "`{s}`: must lie in (0, {}]",
+            tt_core::human::num(max)
+        ))
     }
 }
 
@@ -187,7 +190,7 @@ pub fn k_sigma(s: &str) -> Result<f64, String> {
     e2e_verify::check_k_sigma(v).map_err(|_| {
         format!(
             "`{s}`: must lie in (0, {}]",
-            study::fmt::num(e2e_verify::noise::MAX_K_SIGMA)
+            tt_core::human::num(e2e_verify::noise::MAX_K_SIGMA)
         )
     })
 }

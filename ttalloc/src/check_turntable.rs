@@ -23,7 +23,7 @@ use calib_lsq::Reading;
 use clap::Parser;
 use e2e_verify::{EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use std::path::PathBuf;
-use study::fmt::num;
+use tt_core::human::num;
 pub use tt_lab::vendor::{CheckJson, NoisyCheck};
 
 /// Arguments of `check-turntable`.

@@ -7,7 +7,7 @@ use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use schedule_design::{BudgetDesign, BudgetPoint};
 use study::Study;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 use tt_lab::design::budget::{Budgeted, NOISELESS_NOTE, origin};
 
 /// The budget's answer in words, with the Pareto front as a table.

@@ -48,7 +48,7 @@ use schedule_design::{DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, ScheduleDesign, S
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use study::Study;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 use tt_lab::design::budget::Budgeted;
 use tt_lab::design::schedule::{
     CombinedChoice, NoiseCounted, Options, RunView, ScheduleAnswer, noise_note, rate_steps_note,
@@ -545,10 +545,10 @@ fn command_line(args: &Args, answer: &ScheduleAnswer) -> String {
         answer.settings().seed
     );
     if let Some(b) = args.time_budget_s {
-        command.push_str(&format!(" --time-budget-s {}", study::fmt::exact(b)));
+        command.push_str(&format!(" --time-budget-s {}", tt_core::human::exact(b)));
     }
     if let Some(r) = &args.rates_deg_per_s {
-        let list: Vec<String> = r.iter().map(|v| study::fmt::exact(*v)).collect();
+        let list: Vec<String> = r.iter().map(|v| tt_core::human::exact(*v)).collect();
         command.push_str(&format!(
             " {} {}",
             crate::design_rates::FLAG,

@@ -18,7 +18,7 @@ use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, NoisyDirect, ReadingAnswer, Tradeoff, YieldVerdict,
 };
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_core::units::objective_to_arcmin;
 pub use tt_lab::end_to_end::{
     EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples, direct_bounds,

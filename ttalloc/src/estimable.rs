@@ -33,7 +33,7 @@ use calib_lsq::joint::JOINT_RANK_RTOL;
 use clap::Parser;
 use e2e_verify::DirectAllocation;
 use std::path::PathBuf;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 pub use tt_lab::estimable::{Estimable, JOINT_ITERATIONS, model_words, to_json};
 
 /// Arguments of `estimable`.

@@ -170,7 +170,7 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
         Err(err) if err.downcast_ref::<out::BrokenPipe>().is_some() => ExitCode::SUCCESS,
         Err(err) => {
             // a message may quote a file's text: never a raw control character
-            eprintln!("error: {}", ::study::fmt::terminal(&format!("{err:#}")));
+            eprintln!("error: {}", ::tt_core::human::terminal(&format!("{err:#}")));
             if err.downcast_ref::<InputError>().is_some() {
                 ExitCode::from(2)
             } else {

@@ -28,7 +28,7 @@ use serde_json::Value;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_core::units::rad_to_deg;
 use tt_lab::monte_carlo::{Bounds, McJson, Options};
 
@@ -197,7 +197,7 @@ pub fn run_with(args: &Args, bench: Option<Bench<'_>>) -> Result<()> {
         "inside the requirement (all three angles): {} of {} = {}\n",
         r.within_requirement_all(),
         r.samples(),
-        study::fmt::sig(r.within_requirement_fraction(), 9)
+        tt_core::human::sig(r.within_requirement_fraction(), 9)
     ));
     if let Some(n) = &note {
         t.push_str(n);

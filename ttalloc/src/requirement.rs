@@ -10,8 +10,8 @@ use crate::InputError;
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement};
 use clap::Parser;
-use study::fmt::num;
 use tt_core::OrientationAxis;
+use tt_core::human::num;
 use tt_lab::requirement::{Options, RequirementJson};
 
 /// Arguments of `requirement`.
@@ -41,7 +41,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
                 match r.requirement().get(axis) {
                     Some(v) => s.push_str(&format!(
                         "I_{name:<5} = {} deg\n",
-                        study::fmt::sig(v.to_degrees(), 8)
+                        tt_core::human::sig(v.to_degrees(), 8)
                     )),
                     None => s.push_str(&format!("I_{name:<5} : none (no output constrains it)\n")),
                 }
@@ -102,7 +102,7 @@ pub fn run(args: &Args) -> Result<()> {
                     v.orientation_requirement_deg()
                         .and_then(|req| *req.get(a))
                         .filter(|d| d.is_finite())
-                        .map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7))
+                        .map_or_else(|| "-".to_string(), |d| tt_core::human::sig(d, 7))
                 };
                 let [psi, theta, gamma] = OrientationAxis::ALL.map(f);
                 t.push_str(&format!(

@@ -225,8 +225,8 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
     let user = &readings[1];
     let row = format!(
         "| `actual/beta1/printed` | {} | {} |",
-        study::fmt::sig(num(&user["constant"]["disc"]["objective_arcmin"]), 5),
-        study::fmt::sig(num(&user["constant"]["square"]["objective_arcmin"]), 5)
+        tt_core::human::sig(num(&user["constant"]["disc"]["objective_arcmin"]), 5),
+        tt_core::human::sig(num(&user["constant"]["square"]["objective_arcmin"]), 5)
     );
     assert!(md.contains(&row), "{row} not in the report");
     let dir = scratch("angle", "bad-discs");

@@ -10,16 +10,14 @@ use std::process::Output;
 
 /// `calibrate --study STUDY LOG --out CAL` followed by `extra`.
 fn calibrate(study: &str, log: &Path, cal: &Path, extra: &[&str]) -> Output {
-    let mut a = vec![
+    let (log, cal) = (log.to_str().expect("utf8"), cal.to_str().expect("utf8"));
+    let mut tail = vec![log, "--out", cal];
+    tail.extend_from_slice(extra);
+    ttalloc(&common::command_line(
         "calibrate",
-        "--study",
-        study,
-        log.to_str().expect("utf8"),
-        "--out",
-        cal.to_str().expect("utf8"),
-    ];
-    a.extend_from_slice(extra);
-    ttalloc(&a)
+        &[("--study", study)],
+        &tail,
+    ))
 }
 
 #[test]

@@ -9,7 +9,7 @@ mod common;
 use approx::assert_relative_eq;
 use common::{json_of, root, run as xtask, scratch};
 use serde_json::Value;
-use std::process::{Command, Output};
+use std::process::Output;
 
 const NOISY: &str = "studies/gyrowheel-2017-noise-assumed.toml";
 

@@ -5,10 +5,8 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{json_of, root, run as xtask, scratch};
+use common::{json_of, run as xtask, scratch};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// Relative agreement of J between the designer and `end-to-end` on the written study
 /// (dimensionless): both take the same path from the same positions, so only the printing

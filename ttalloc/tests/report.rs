@@ -8,7 +8,7 @@ mod common;
 
 use common::{ok, report_args, root, run};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn text(b: &[u8]) -> String {

@@ -11,7 +11,7 @@ use crate::error::{LabError, Result};
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{BudgetPoint, ScheduleReport};
 use study::Study;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 use tt_core::units::rad_to_arcmin;
 
 /// The combined comparison (the study's schedule against the designed one with the noise

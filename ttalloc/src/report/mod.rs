@@ -103,7 +103,7 @@ fn write(r: &Report, out: &Path, prepared: crate::outdir::Prepared, what: &str) 
     let mut t = format!(
         "{what}: study {} ({}), seed {}, {} samples: wrote {} files to {}{linked} in {:.1} s\n",
         s.name,
-        study::fmt::visible(&s.path),
+        tt_core::human::visible(&s.path),
         r.seed(),
         r.samples(),
         files.len() + 1,

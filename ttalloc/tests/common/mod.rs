@@ -53,6 +53,18 @@ pub fn json(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).expect("JSON on stdout")
 }
 
+/// Assert success (else show the exit code and standard error) and parse standard output as
+/// JSON.
+pub fn json_of(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "exit {:?}: {}",
+        out.status.code(),
+        stderr(out)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
+}
+
 /// Assert exit code 2, nothing on standard output, and a message containing every `needle`.
 pub fn assert_input_error(o: &Output, needles: &[&str]) {
     let err = stderr(o);
@@ -237,6 +249,20 @@ pub fn library_plan(study: &Path, sheet: &str) -> LibraryPlan {
     }
 }
 
+/// A command line: `cmd`, then each flag and its value, then `extra`.
+pub fn command_line<'a>(
+    cmd: &'a str,
+    flags: &[(&'a str, &'a str)],
+    extra: &[&'a str],
+) -> Vec<&'a str> {
+    let mut a = vec![cmd];
+    for (flag, value) in flags {
+        a.extend([*flag, *value]);
+    }
+    a.extend_from_slice(extra);
+    a
+}
+
 /// The arguments of `check-turntable --study STUDY --tolerances SHEET --samples SAMPLES`
 /// followed by `extra`.
 pub fn check_turntable<'a>(
@@ -245,17 +271,12 @@ pub fn check_turntable<'a>(
     samples: &'a str,
     extra: &[&'a str],
 ) -> Vec<&'a str> {
-    let mut a = vec![
-        "check-turntable",
-        "--study",
-        study,
-        "--tolerances",
-        sheet,
-        "--samples",
-        samples,
+    let flags = [
+        ("--study", study),
+        ("--tolerances", sheet),
+        ("--samples", samples),
     ];
-    a.extend_from_slice(extra);
-    a
+    command_line("check-turntable", &flags, extra)
 }
 
 /// The arguments of `report --study STUDY --out OUT --samples SAMPLES` followed by `extra`.
@@ -265,15 +286,7 @@ pub fn report_args<'a>(
     samples: &'a str,
     extra: &[&'a str],
 ) -> Vec<&'a str> {
-    let mut a = vec![
-        "report",
-        "--study",
-        study,
-        "--out",
-        out.to_str().expect("a UTF-8 path"),
-        "--samples",
-        samples,
-    ];
-    a.extend_from_slice(extra);
-    a
+    let out = out.to_str().expect("a UTF-8 path");
+    let flags = [("--study", study), ("--out", out), ("--samples", samples)];
+    command_line("report", &flags, extra)
 }
