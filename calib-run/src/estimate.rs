@@ -507,10 +507,10 @@ fn judge(
         rule: rule.to_string(),
         statement: format!(
             "{label} = {} +- {} {unit} (k = {}); specification {}: {} ({rule})",
-            study::fmt::sig(value, 4),
-            study::fmt::sig(expanded, 2),
-            study::fmt::sig(c.k, 3),
-            study::fmt::sig(limit, 4),
+            tt_core::human::sig(value, 4),
+            tt_core::human::sig(expanded, 2),
+            tt_core::human::sig(c.k, 3),
+            tt_core::human::sig(limit, 4),
             if meets { "meets" } else { "does not meet" }
         ),
     })
@@ -940,7 +940,7 @@ fn match_schedule(
     for (a, b, d) in &det.dropped {
         warnings.push(format!(
             "a static interval at lines {a}-{b} ({} s) is too short for a dwell: not used",
-            study::fmt::sig(*d, 3)
+            tt_core::human::sig(*d, 3)
         ));
     }
     let found = det.statics.len();
@@ -1164,7 +1164,7 @@ fn estimate_output(
                     s.entry,
                     s.first_line,
                     s.last_line,
-                    study::fmt::sig(hw, 3)
+                    tt_core::human::sig(hw, 3)
                 ));
             }
         }
@@ -1365,7 +1365,7 @@ fn predicted_sigma(
     }
     basis.push_str(&format!(
         " at {} Hz, ordinary least squares",
-        study::fmt::sig(timing.sample_rate_hz(), 6)
+        tt_core::human::sig(timing.sample_rate_hz(), 6)
     ));
     if rows.len() < timing.len() {
         basis.push_str(

@@ -114,7 +114,7 @@ fn tick(span: f64) -> impl Fn(&f64) -> String {
     let sci = span > 0.0 && span < 1e-4;
     move |v: &f64| {
         if sci {
-            study::fmt::sig(*v, 3)
+            tt_core::human::sig(*v, 3)
         } else {
             let s = format!("{v:.decimals$}");
             if s.trim_start_matches('-')

@@ -8,7 +8,7 @@ use crate::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series,
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
 use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict};
 use std::fmt::Write as _;
-use study::fmt::{exact, num, sig};
+use tt_core::human::{exact, num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{Factor, OrientationAxis};
@@ -2554,10 +2554,10 @@ impl<'a> Sections<'a> {
 }
 
 /// A CSV field (RFC 4180) from a file's text (a unit): control characters shown escaped
-/// ([`study::fmt::visible`]), in double quotes when it holds a comma or a quote.
+/// ([`tt_core::human::visible`]), in double quotes when it holds a comma or a quote.
 #[must_use]
 fn csv_field(s: &str) -> String {
-    let v = study::fmt::visible(s);
+    let v = tt_core::human::visible(s);
     if v.contains([',', '"']) {
         format!("\"{}\"", v.replace('"', "\"\""))
     } else {

@@ -7,27 +7,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{root, scratch};
+use common::{json_of, root, run as xtask, scratch};
 use serde_json::Value;
-use std::process::{Command, Output};
-
-fn xtask(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run xtask")
-}
-
-fn json_of(out: &Output) -> Value {
-    assert!(
-        out.status.success(),
-        "exit {:?}: {}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
-}
+use std::process::Output;
 
 const NOISY: &str = "studies/gyrowheel-2017-noise-assumed.toml";
 

@@ -6,11 +6,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, num, run, stdout};
-use e2e_verify::EndToEnd;
+use common::{assert_input_error, check_turntable, json, num, run, stdout};
 use e2e_verify::budget_mc::MC_RULE;
 use metrology::montecarlo::McSettings;
-use tt_kinematics::Pose;
 
 const STUDY: &str = "studies/imu-triad-example.toml";
 const SHEET: &str = "studies/tolerances/three-axis-navigation-grade.toml";
@@ -20,20 +18,12 @@ const SHEET: &str = "studies/tolerances/three-axis-navigation-grade.toml";
 const SAME_REL: f64 = 1e-12;
 
 fn check_args(extra: &[&'static str]) -> Vec<&'static str> {
-    let mut a = vec![
-        "check-turntable",
-        "--study",
+    let mut a = check_turntable(
         STUDY,
-        "--tolerances",
         SHEET,
-        "--samples",
         "2000",
-        "--seed",
-        "5",
-        "--jcgm101",
-        "--mc-digits",
-        "1",
-    ];
+        &["--seed", "5", "--jcgm101", "--mc-digits", "1"],
+    );
     a.extend_from_slice(extra);
     a
 }
@@ -47,24 +37,13 @@ fn check_turntable_jcgm101_gives_every_specification_the_librarys_monte_carlo() 
     assert_eq!(mc["significant_digits"].as_u64().unwrap(), 1);
     let specs = mc["specifications"].as_array().unwrap();
     // the library's run over the same sheet, law, noise and seed
-    let s = study::Study::load(&common::root().join(STUDY)).unwrap();
-    let tol = study::Tolerances::load(&common::root().join(SHEET), &s.turntable).unwrap();
-    let poses: Vec<Pose> = s
-        .positions_deg
-        .iter()
-        .map(|p| Pose::from_deg(p).unwrap())
-        .collect();
-    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
+    let common::LibraryPlan {
+        study: s,
+        tolerances: tol,
+        e2e,
+        verdict,
+    } = common::library_plan(std::path::Path::new(STUDY), SHEET);
     let law = s.uncertainty.tolerance_distribution;
-    let verdict = e2e
-        .plan_verdict(
-            &s.specifications,
-            &tol.ub_rad,
-            |n, a| law.input(n, a),
-            &s.noise,
-            s.timing.as_ref(),
-        )
-        .unwrap();
     let table: Vec<_> = e2e
         .error_names()
         .iter()
@@ -112,16 +91,7 @@ fn check_turntable_jcgm101_gives_every_specification_the_librarys_monte_carlo() 
         specs.len()
     );
     // without the flag, no key and no run
-    let plain = json(&[
-        "check-turntable",
-        "--study",
-        STUDY,
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let plain = json(&check_turntable(STUDY, SHEET, "2000", &["--json"]));
     assert!(plain.get("jcgm101").is_none());
 }
 

@@ -5,7 +5,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, num, run, scratch, stdout, write};
+use common::{
+    assert_input_error, check_turntable, json, num, report_args, run, scratch, stdout, write,
+};
 use serde_json::Value;
 
 /// JSON keeps full precision; the sum is one rounding (relative).
@@ -61,16 +63,12 @@ fn strip_noise(v: &mut Value) {
 
 #[test]
 fn check_turntable_splits_every_output_into_table_and_noise() {
-    let v = json(&[
-        "check-turntable",
-        "--study",
+    let v = json(&check_turntable(
         "studies/imu-triad-example.toml",
-        "--tolerances",
         TOL,
-        "--samples",
         "2000",
-        "--json",
-    ]);
+        &["--json"],
+    ));
     for o in v["outputs"].as_array().unwrap() {
         let (t, s, c) = (
             num(&o["table_part"]),
@@ -85,15 +83,12 @@ fn check_turntable_splits_every_output_into_table_and_noise() {
     assert_eq!(v["table_verdict"], "guaranteed");
     assert_eq!(v["verdict"], "fails");
     assert!(num(&v["combined_yield"]["yield"]) < 0.01);
-    let t = stdout(&run(&[
-        "check-turntable",
-        "--study",
+    let t = stdout(&run(&check_turntable(
         "studies/imu-triad-example.toml",
-        "--tolerances",
         TOL,
-        "--samples",
         "2000",
-    ]));
+        &[],
+    )));
     assert!(t.contains("with noise: table "), "{t}");
     assert!(t.contains(" at 3 sigma"), "{t}");
     assert!(
@@ -287,15 +282,12 @@ fn end_to_end_with_bias_instability_says_no_dwell_within_a_day_suffices() {
 fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
     let dir = scratch("noise", "report");
     let out = dir.join("imu");
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/imu-triad-example.toml",
-        "--samples",
+        &out,
         "2000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &[],
+    ));
     assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("## Noise and test time"), "noise section");
@@ -310,15 +302,12 @@ fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
     assert_eq!(results["noise"]["noise_sigma"].as_array().unwrap().len(), 6);
     // the three-axis example has no noise: no section, no figure
     let plain = dir.join("three-axis");
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/three-axis-example.toml",
-        "--samples",
+        &plain,
         "2000",
-        "--out",
-        plain.to_str().unwrap(),
-    ]);
+        &[],
+    ));
     assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(plain.join("report.md")).unwrap();
     assert!(!md.contains("Noise and test time"));
@@ -445,15 +434,7 @@ fn a_dwell_list_is_scanned_scaled_alike_and_the_output_says_so() {
     ]);
     assert_eq!(uniform["dwell_scan"]["per_position_list"], false);
     let report = dir.join("report");
-    let r = run(&[
-        "report",
-        "--study",
-        p,
-        "--samples",
-        "2000",
-        "--out",
-        report.to_str().unwrap(),
-    ]);
+    let r = run(&report_args(p, &report, "2000", &[]));
     assert_eq!(r.status.code(), Some(0), "{}", common::stderr(&r));
     let md = std::fs::read_to_string(report.join("report.md")).unwrap();
     assert!(!md.contains("No dwell up to"), "the report's trade-off");

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{assert_input_error, json, run, scratch, study, study_text, write};
+use common::{assert_input_error, check_turntable, json, run, scratch, study, study_text, write};
 
 const STUDY: &str = "tactical-rate-table-example";
 const SHEET: &str = "studies/tolerances/tactical-rate-table-sheet.toml";
@@ -60,46 +60,32 @@ fn negative_or_missing_rate_tolerances_exit_2_naming_the_key() {
         "neg.toml",
         &sheet.replace("phi_m_rate_accuracy = 100", "phi_m_rate_accuracy = -5"),
     );
-    let o = run(&[
-        "check-turntable",
-        "--study",
-        &study(STUDY),
-        "--tolerances",
-        bad.to_str().expect("utf-8"),
-    ]);
-    assert_input_error(&o, &["tolerances_ppm.phi_m_rate_accuracy"]);
+    let check = |sheet: &std::path::Path| {
+        run(&[
+            "check-turntable",
+            "--study",
+            &study(STUDY),
+            "--tolerances",
+            sheet.to_str().expect("utf-8"),
+        ])
+    };
+    assert_input_error(&check(&bad), &["tolerances_ppm.phi_m_rate_accuracy"]);
     let missing = write(
         &dir,
         "missing.toml",
         &sheet.replace("phi_i_rate_ripple = 1000\n", ""),
     );
-    let o = run(&[
-        "check-turntable",
-        "--study",
-        &study(STUDY),
-        "--tolerances",
-        missing.to_str().expect("utf-8"),
-    ]);
-    assert_input_error(&o, &["tolerances_ppm.phi_i_rate_ripple"]);
+    assert_input_error(&check(&missing), &["tolerances_ppm.phi_i_rate_ripple"]);
 }
 
 /// `check-turntable` of the rate study against its sheet (2,000 turntables), text or JSON.
 fn check_args(json: bool) -> Vec<String> {
-    let mut a: Vec<String> = [
-        "check-turntable",
-        "--study",
-        &study(STUDY),
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-    ]
-    .map(String::from)
-    .to_vec();
-    if json {
-        a.push("--json".into());
-    }
-    a
+    let study = study(STUDY);
+    let extra: &[&str] = if json { &["--json"] } else { &[] };
+    check_turntable(&study, SHEET, "2000", extra)
+        .into_iter()
+        .map(String::from)
+        .collect()
 }
 
 /// `check-turntable` with rate steps: the rate accuracy of 100 ppm leaves 100 ppm of the
@@ -205,16 +191,7 @@ fn rate_step_study_with_noise_gets_the_noise_answer_and_the_shortest_dwell() {
     assert_eq!(noise["direct_with_noise"]["no_table_suffices"], true);
     let dwell = common::num(&v["min_dwell_s"]);
     assert!(dwell > 300.0 && dwell < 86_400.0, "{dwell}");
-    let c = json(&[
-        "check-turntable",
-        "--study",
-        &study(NOISY),
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let c = json(&check_turntable(&study(NOISY), SHEET, "2000", &["--json"]));
     for (o, s) in c["outputs"].as_array().expect("outputs").iter().zip(&sigma) {
         assert_eq!(common::num(&o["noise_sigma"]).to_bits(), s.to_bits());
         // JSON round trip of the sum: equal to the last bits
@@ -570,16 +547,7 @@ const ROUND_TRIP_REL: f64 = 1e-12;
 #[test]
 fn rate_part_of_check_turntable_counts_the_noise_and_names_its_rule() {
     const NOISY: &str = "stim300-rate-table-example";
-    let c = json(&[
-        "check-turntable",
-        "--study",
-        &study(NOISY),
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "500",
-        "--json",
-    ]);
+    let c = json(&check_turntable(&study(NOISY), SHEET, "500", &["--json"]));
     let sigma: Vec<f64> = c["outputs"]
         .as_array()
         .expect("outputs")
@@ -617,15 +585,7 @@ fn rate_part_of_check_turntable_counts_the_noise_and_names_its_rule() {
     assert!(any_fails);
     assert_eq!(rate["verdict"], "does not meet");
     assert!(rate["table_verdict"].is_string());
-    let text = common::stdout(&run(&[
-        "check-turntable",
-        "--study",
-        &study(NOISY),
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "500",
-    ]));
+    let text = common::stdout(&run(&check_turntable(&study(NOISY), SHEET, "500", &[])));
     assert!(
         text.contains("verdict with the rate errors and the noise: does not meet every accuracy"),
         "{text}"
@@ -731,16 +691,7 @@ fn rate_allocation_keeps_the_noise_part_free_and_its_tolerances_shrink() {
 /// (linear and exact within the accuracy).
 #[test]
 fn rate_part_without_noise_has_no_noise_keys_and_the_tables_verdict() {
-    let c = json(&[
-        "check-turntable",
-        "--study",
-        &study(STUDY),
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let c = json(&check_turntable(&study(STUDY), SHEET, "2000", &["--json"]));
     let rate = &c["rate_steps"][0];
     let keys: Vec<&String> = rate.as_object().expect("object").keys().collect();
     assert_eq!(

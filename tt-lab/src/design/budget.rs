@@ -13,7 +13,7 @@ use schedule_design::{
     check_budget_affords, design_with_budget,
 };
 use study::Study;
-use study::fmt::{exact, num, sig};
+use tt_core::human::{exact, num, sig};
 
 /// What the budget answers for a study.
 #[derive(Debug)]
@@ -202,7 +202,7 @@ fn timing_of(s: &Study) -> Result<&calib_lsq::Timing, InputError> {
 /// Before the (long) table search: a study with noise but no timing, and a budget shorter
 /// than the fewest positions that identify every output (at one move and one sample each),
 /// are input errors naming `--time-budget-s` (the second checked again by the library; the
-/// budget quoted as given, [`study::fmt::exact`]). Nothing to check without noise.
+/// budget quoted as given, [`tt_core::human::exact`]). Nothing to check without noise.
 ///
 /// # Errors
 /// That [`InputError`].

@@ -14,7 +14,7 @@ use e2e_verify::disc::{Pair, PairModel, PairShape};
 use e2e_verify::noise::weakest;
 use e2e_verify::{DirectAllocation, EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_kinematics::{ErrorVariation, Expansion};
 
 /// The angle-dependent check of one reading.
@@ -419,10 +419,10 @@ pub fn compensated(
             format!(
                 "the measurement uncertainty of `{}` ({} arcmin) exceeds the sheet's {}: compensation cannot bound it better than the sheet and the measured value do, {} arcmin (the sheet's bound plus the measured error's largest magnitude {} arcmin), the bound used after compensation",
                 names[j],
-                study::fmt::exact(uncertainty),
+                tt_core::human::exact(uncertainty),
                 study::sheet_bound_words(s, sheet, j),
-                study::fmt::num(rad_to_arcmin(a.residual_rad())),
-                study::fmt::num(rad_to_arcmin(a.largest_measured_rad())),
+                tt_core::human::num(rad_to_arcmin(a.residual_rad())),
+                tt_core::human::num(rad_to_arcmin(a.largest_measured_rad())),
             )
         })
         .collect();

@@ -16,7 +16,7 @@ use e2e_verify::{
     ToleranceSheet,
 };
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 
 /// The line every command prints for a study with rate steps.
 pub use crate::loaded::STATIC_REQUIREMENT_NOTE;

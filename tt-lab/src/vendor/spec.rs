@@ -7,7 +7,7 @@ use crate::Result;
 use e2e_verify::EndToEnd;
 use e2e_verify::budget::{ACCURACY_RULE, EvaluatedAt, PLAN_RULE, PlanVerdict};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 
 /// The plan's verdict against the study's specifications for the tolerances `ub_rad`
 /// (`None` when the study gives none).

@@ -3,7 +3,7 @@
 //! allocated as discs. The results and their JSON views: [`tt_lab::vendor::angle`].
 
 use e2e_verify::{DirectAllocation, EndToEnd, TurntableCheck, Verdict};
-use study::fmt::num;
+use tt_core::human::num;
 use tt_kinematics::ErrorVariation;
 pub use tt_lab::vendor::angle::*;
 
@@ -151,7 +151,7 @@ fn j_words(d: &DirectAllocation) -> String {
     if d.no_bound_needed() {
         "no bound needed".into()
     } else {
-        format!("J = {}", study::fmt::sig(d.objective_arcmin(), 5))
+        format!("J = {}", tt_core::human::sig(d.objective_arcmin(), 5))
     }
 }
 
@@ -167,7 +167,7 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
     let names = e2e.turntable().rotation_error_names();
     let arcmin = |u: f64| {
         if u.is_finite() {
-            study::fmt::sig(tt_core::units::rad_to_arcmin(u), 4)
+            tt_core::human::sig(tt_core::units::rad_to_arcmin(u), 4)
         } else {
             "none".into()
         }

@@ -3,7 +3,7 @@
 //! tolerances. The results and their JSON views: [`tt_lab::vendor::rate`].
 
 use e2e_verify::{EndToEnd, RateTolerance};
-use study::fmt::num;
+use tt_core::human::num;
 pub use tt_lab::vendor::rate::*;
 
 /// The check as text.
