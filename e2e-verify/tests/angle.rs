@@ -66,7 +66,7 @@ fn constant_expansion_reproduces_the_constant_model_exactly() {
                     t.linear_bound().to_bits(),
                     a.constant_linear_bound().to_bits()
                 );
-                assert_eq!(t.exact_at_vertex().to_bits(), a.exact_at_worst().to_bits());
+                assert_eq!(t.exact_at_vertex().to_bits(), a.exact_at_vertex().to_bits());
             }
             let lb = vec![0.0; ub.len()];
             let d0 = e2e.allocate_direct(&lin, &lb).unwrap();

@@ -69,7 +69,7 @@ impl NoisePart {
 /// likely otherwise.
 #[must_use]
 pub fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
-    if o.exact_at_worst() + margin > accuracy {
+    if o.exact_at_vertex() + margin > accuracy {
         Verdict::Fails
     } else {
         match o.second_order_bound() {
@@ -718,7 +718,7 @@ impl<'a> ReadingAngleJson<'a> {
                     name: &e2e.calibration().outputs()[o.output()].output().name,
                     worst_case_linear: o.linear_bound(),
                     worst_case_linear_constant_model: o.constant_linear_bound(),
-                    worst_case_exact_at_worst: o.exact_at_worst(),
+                    worst_case_exact_at_worst: o.exact_at_vertex(),
                     second_order_bound: o.second_order_bound(),
                     worst_position: o.position(),
                     verdict: counted.name(),

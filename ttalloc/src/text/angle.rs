@@ -59,7 +59,7 @@ pub fn text(
             "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {verdict}\n",
             out.name,
             num(o.linear_bound()),
-            num(o.exact_at_worst()),
+            num(o.exact_at_vertex()),
             o.second_order_bound()
                 .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound() + t))),
             u = out.unit,
