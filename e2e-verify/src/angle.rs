@@ -21,7 +21,6 @@
 
 use crate::error::E2eError;
 use crate::linear::{DerivativeTerms, Linearization, directional, rounding_level};
-use crate::montecarlo::wilson_interval_95;
 use crate::simulate::EndToEnd;
 use calib_lsq::ReadingWork;
 use nalgebra::{DMatrix, Vector3};
@@ -87,52 +86,30 @@ impl AngleOutputWorstCase {
     }
 }
 
-/// The yield of a Monte Carlo over turntables with angle-dependent errors.
+/// The yield of a Monte Carlo over turntables with angle-dependent errors: its count (only
+/// all outputs together are counted) and the worst ratio drawn.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct AngleYield {
-    /// Turntables drawn.
-    pub(crate) samples: u64,
-    /// Those meeting every output's accuracy.
-    pub(crate) meeting: u64,
+    /// The turntables drawn, their seed and those meeting every output's accuracy.
+    pub(crate) count: crate::YieldCount,
     /// Largest $\max_k \Delta\omega_k/\omega_{m,k}$ drawn.
     pub(crate) worst_ratio: f64,
-    /// Wilson 95% interval of the yield.
-    pub(crate) interval_95: (f64, f64),
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl AngleYield {
-    /// Turntables drawn.
+    /// The turntables drawn, their seed and those meeting every output's accuracy (the
+    /// fraction and its 95% interval).
     #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// Those meeting every output's accuracy.
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
+    pub fn count(&self) -> &crate::YieldCount {
+        &self.count
     }
 
     /// Largest $\max_k \Delta\omega_k/\omega_{m,k}$ drawn.
     #[must_use]
     pub fn worst_ratio(&self) -> f64 {
         self.worst_ratio
-    }
-
-    /// Wilson 95% interval of the yield.
-    #[must_use]
-    pub fn interval_95(&self) -> (f64, f64) {
-        self.interval_95
-    }
-}
-
-impl AngleYield {
-    /// The fraction meeting every accuracy.
-    #[must_use]
-    pub fn fraction(&self) -> f64 {
-        self.meeting as f64 / self.samples.max(1) as f64
     }
 }
 
@@ -523,10 +500,13 @@ impl EndToEnd {
             Ok(())
         })?;
         Ok(AngleYield {
-            samples: n,
-            meeting,
+            count: crate::YieldCount {
+                samples: n,
+                seed,
+                meeting,
+                meeting_per_output: Vec::new(),
+            },
             worst_ratio: worst,
-            interval_95: wilson_interval_95(meeting, n),
         })
     }
 }
