@@ -2191,7 +2191,7 @@ impl<'a> Sections<'a> {
                 sig(a.combined().objective_arcmin(), 5),
                 sig(
                     (0..acc.len())
-                        .map(|k| c.certified_bound(k) / acc[k])
+                        .filter_map(|k| c.certificate().map(|x| x.certified_bound(k) / acc[k]))
                         .fold(0.0, f64::max),
                     4
                 )

@@ -59,19 +59,19 @@ pub fn text(
             "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {verdict}\n",
             out.name,
             num(o.linear_bound()),
-            num(o.exact_at_worst()),
+            num(o.exact_at_vertex()),
             o.second_order_bound()
                 .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound() + t))),
             u = out.unit,
         ));
     }
-    let (lo, hi) = a.yield_.interval_95();
+    let (lo, hi) = a.yield_.count().interval_95();
     let yield_words = format!(
         "Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables{})",
-        100.0 * a.yield_.fraction(),
+        100.0 * a.yield_.count().fraction(),
         100.0 * lo,
         100.0 * hi,
-        a.yield_.samples(),
+        a.yield_.count().samples(),
         if model.noise.is_some() {
             "; the table's part alone, no noise drawn"
         } else {
@@ -108,15 +108,15 @@ pub fn text(
         }
     }
     if let Some(d) = &a.disc {
-        let (lo, hi) = d.yield_.interval_95();
-        let (clo, chi) = d.constant_yield.interval_95();
+        let (lo, hi) = d.yield_.count().interval_95();
+        let (clo, chi) = d.constant_yield.count().interval_95();
         s.push_str(&format!(
             "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables) with angle-dependent errors, {:.2}% ({:.2}%-{:.2}%) with constant errors\n",
-            100.0 * d.yield_.fraction(),
+            100.0 * d.yield_.count().fraction(),
             100.0 * lo,
             100.0 * hi,
-            d.yield_.samples(),
-            100.0 * d.constant_yield.fraction(),
+            d.yield_.count().samples(),
+            100.0 * d.constant_yield.count().fraction(),
             100.0 * clo,
             100.0 * chi,
         ));
