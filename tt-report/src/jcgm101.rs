@@ -13,7 +13,7 @@ use e2e_verify::EndToEnd;
 use e2e_verify::budget::PlanVerdict;
 use serde_json::Value;
 use study::Study;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 use tt_lab::budget_mc::{Jcgm101, Jcgm101Json, MC_RULE, Options};
 
 /// The name of the figure of the intervals against the limits.

@@ -97,7 +97,7 @@ fn the_jcgm101_subsection_states_budget_mc_of_the_specifications_tolerances() {
         assert_eq!(j["meets"].as_bool(), Some(w.meets));
         // the table row states u(y) to four digits
         assert!(
-            md.contains(&study::fmt::sig(w.standard_uncertainty, 4)),
+            md.contains(&tt_core::human::sig(w.standard_uncertainty, 4)),
             "{}",
             w.quantity
         );
