@@ -8,7 +8,7 @@ use anyhow::Result;
 use schedule_design::{BudgetDesign, BudgetPoint};
 use study::Study;
 use tt_core::human::{num, sig};
-use tt_lab::design::budget::{Budgeted, NOISELESS_NOTE, origin};
+use tt_lab::design::budget::{Budgeted, NOISELESS_NOTE, origin, tolerances_text};
 
 /// The budget's answer in words, with the Pareto front as a table.
 pub fn text(s: &Study, b: &Budgeted) -> String {
@@ -81,8 +81,9 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
         }),
     }
     if !d.pareto().is_empty() {
+        let names = s.turntable.rotation_error_names();
         t.push_str(&format!(
-            "  Pareto front (the cheapest table for each total test time; outputs {}):\n",
+            "  Pareto front (the cheapest table for each total test time; outputs {}; under each point its tolerance box, the direct allocation with the noise part kept free):\n",
             s.sensor
                 .outputs()
                 .iter()
@@ -107,6 +108,11 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
                 } else {
                     " (over the budget)"
                 }
+            ));
+            t.push_str(&format!(
+                "  {:>12} tolerances (arcmin): {}\n",
+                "",
+                tolerances_text(p, &names)
             ));
         }
     }

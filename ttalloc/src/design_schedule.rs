@@ -33,7 +33,7 @@
 //! ([`schedule_design::design_with_budget`]; total test time = positions x (dwell +
 //! move)), JSON `time_budget` (`budget_s`, `k_sigma`, `counts`, `counts_skipped`, `chosen`
 //! with its `n_positions`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
-//! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
+//! origin, bounds_arcmin}`: each point's tolerance box), and `--pareto-svg OUT` the front as a figure (a new file, staged with
 //! `--write-study`; an empty front, no table at any dwell, is an answer: no figure, and the
 //! text and JSON `pareto_svg_note` say so). With `--write-study` the written study has the chosen point's positions
 //! and its one dwell (`calibration.timing.dwell_s`), so `end-to-end` on it answers the
