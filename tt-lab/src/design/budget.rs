@@ -325,6 +325,10 @@ pub struct ChosenJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a view built once per command and serialised at once; boxing buys nothing"
+)]
 pub enum TimeBudgetJson<'a> {
     /// The study gives no noise.
     Noiseless {
