@@ -495,12 +495,16 @@ impl Evaluator<'_> {
     /// The schedule's points at the dwells of its time/table trade-off, as `end-to-end`
     /// lists them ([`EndToEnd::tradeoff`] over the budget's dwells, from one sample to the
     /// longest dwell): the first just above the shortest dwell at which some table suffices,
-    /// so the front never misses a schedule's own short end between the grid's dwells.
+    /// so the front never misses a schedule's own short end between the grid's dwells. A
+    /// listed dwell within [`SAME_DWELL_REL`] of a `grid` dwell is left to the grid (the
+    /// trade-off's longest dwell is the grid's last one up to round-off: kept twice it gave
+    /// the front two copies of one point, one of them at 86,399.99999999993 s).
     fn tradeoff_points(
         &self,
         origin: ScheduleOrigin,
         positions_deg: &[Vec<f64>],
         lo: f64,
+        grid: &[f64],
     ) -> Result<Vec<BudgetPoint>, E2eError> {
         let b = self.budget;
         let n = positions_deg.len();
@@ -515,6 +519,11 @@ impl Evaluator<'_> {
         Ok(tradeoff
             .points()
             .iter()
+            .filter(|p| {
+                !grid
+                    .iter()
+                    .any(|g| (g - p.dwell_s()).abs() <= SAME_DWELL_REL * g)
+            })
             .filter_map(|p| {
                 p.objective().map(|j| BudgetPoint {
                     origin,
@@ -528,6 +537,10 @@ impl Evaluator<'_> {
             .collect())
     }
 }
+
+/// Two dwells closer than this fraction of the grid's are one dwell (round-off of the same
+/// time, e.g. a day computed as a sum of steps).
+const SAME_DWELL_REL: f64 = 1e-9;
 
 /// The dwell grid: `per_decade` dwells per decade from one sample to `max_dwell_s`, with
 /// `extra` dwells in that range merged in, ascending, without repeats.
@@ -1204,7 +1217,7 @@ impl<'a> Found<'a> {
             .par_iter()
             .zip(self.evaluators.par_iter())
             .filter(|((o, s), _)| !matches!(o, ScheduleOrigin::Noise(_)) && proposed(*o, s))
-            .map(|((o, s), ev)| ev.tradeoff_points(*o, s, run.lo))
+            .map(|((o, s), ev)| ev.tradeoff_points(*o, s, run.lo, &self.dwells))
             .collect::<Result<_, _>>()?;
         points.extend(listed.into_iter().flatten());
         let mut pareto = pareto_front(&points);
