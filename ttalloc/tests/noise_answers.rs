@@ -518,3 +518,33 @@ fn end_to_end_gives_the_answers_at_the_noise_parameters_plus_minus_one_uncertain
     assert_relative_eq!(opt / d, 0.81, max_relative = PRINTED_REL);
     assert_relative_eq!(pes / d, 1.21, max_relative = PRINTED_REL);
 }
+
+/// An allocation that leaves an error unbounded (the STIM300-class study's direct box gives
+/// the combination dphi_o + deps_om_z, which the reading cannot see, 6.6e17 arcmin) has an
+/// infinite second-order bound: the table's part with noise is then the exact chain at the
+/// worst vertex, said to be not certified, never "table inf ... combined inf" (as it printed).
+#[test]
+fn an_unbounded_allocation_gives_a_finite_uncertified_table_part_never_inf() {
+    let o = run(&[
+        "end-to-end",
+        "--study",
+        "studies/stim300-class-example.toml",
+        "--samples",
+        "2000",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        !out.contains(" inf"),
+        "no infinite figure reaches the text:\n{out}"
+    );
+    let direct = out
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("direct         verdict"))
+        .nth(1)
+        .expect("the direct box's first output with noise");
+    assert!(
+        direct.contains("(not certified)") && direct.contains("(noise dominates)"),
+        "{direct}"
+    );
+}
