@@ -897,6 +897,17 @@ impl<'a> Found<'a> {
         {
             return Ok(());
         }
+        self.push_evaluated(run, origin, positions)
+    }
+
+    /// Add `positions` from `origin` with its evaluator and its $J$ at every dwell of the
+    /// grid (the caller has checked that it is new).
+    fn push_evaluated(
+        &mut self,
+        run: &Run<'a>,
+        origin: ScheduleOrigin,
+        positions: Vec<Vec<f64>>,
+    ) -> Result<(), E2eError> {
         let ev = run.evaluator(&positions)?;
         let js = self
             .dwells
@@ -1166,16 +1177,7 @@ impl<'a> Found<'a> {
                         continue;
                     }
                     self.known.push(s.clone());
-                    let positions = run.problem.positions_deg(&s);
-                    let ev = run.evaluator(&positions)?;
-                    let js = self
-                        .dwells
-                        .iter()
-                        .map(|&t| ev.objective(t))
-                        .collect::<Result<_, _>>()?;
-                    self.schedules.push((origin, positions));
-                    self.evaluators.push(ev);
-                    self.objectives.push(js);
+                    self.push_evaluated(run, origin, run.problem.positions_deg(&s))?;
                 }
             }
         }
