@@ -1273,17 +1273,22 @@ fn crafted_line(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> String {
     }
 }
 
+/// The report files the manifest in `dir` lists (by name).
+fn listed_report_files(dir: &Path) -> Vec<String> {
+    manifest_lines(dir)
+        .iter()
+        .skip(1)
+        .map(|l| line_name(l).to_string())
+        .filter(|n| is_report_file(n))
+        .collect()
+}
+
 /// An entry of the user's in `dir`: a file, a directory, a link (to a victim, dangling), a
 /// hidden file, a name that is not UTF-8; some where a listed file was.
 fn user_entry(rng: &mut ChaCha8Rng, dir: &Path) -> std::io::Result<String> {
     use std::os::unix::ffi::OsStrExt;
     std::fs::create_dir_all(dir)?;
-    let listed: Vec<String> = manifest_lines(dir)
-        .iter()
-        .skip(1)
-        .map(|l| line_name(l).to_string())
-        .filter(|n| is_report_file(n))
-        .collect();
+    let listed: Vec<String> = listed_report_files(dir);
     let listed = if listed.is_empty() {
         "report.md".to_string()
     } else {
@@ -1523,12 +1528,7 @@ fn change_out(rng: &mut ChaCha8Rng, base: &Path, dir: &Path) -> std::io::Result<
             format!("manifest line \"{}\" dropped (its file stays)", visible(&l))
         }
         5 => {
-            let listed: Vec<String> = manifest_lines(dir)
-                .iter()
-                .skip(1)
-                .map(|l| line_name(l).to_string())
-                .filter(|n| is_report_file(n))
-                .collect();
+            let listed: Vec<String> = listed_report_files(dir);
             if listed.is_empty() {
                 return Ok("no listed file to remove".into());
             }
@@ -2349,6 +2349,45 @@ mod tests {
         found
     }
 
+    /// The real hooks with a planted study parser.
+    fn parsing_studies_with(parse: fn(&str, &str) -> Result<Study, StudyError>) -> Hooks {
+        Hooks {
+            parse_study: parse,
+            ..Hooks::REAL
+        }
+    }
+
+    /// The real hooks with a planted tolerance sheet parser.
+    fn parsing_sheets_with(
+        parse: fn(&str, &str, &Turntable) -> Result<Tolerances, StudyError>,
+    ) -> Hooks {
+        Hooks {
+            parse_sheet: parse,
+            ..Hooks::REAL
+        }
+    }
+
+    /// The real hooks with a planted report writer.
+    fn writing_with(write: WriteReport) -> Hooks {
+        Hooks {
+            write_report: write,
+            ..Hooks::REAL
+        }
+    }
+
+    /// Asserts that one of the findings' texts contains `needle`.
+    fn assert_found(found: &[String], needle: &str) {
+        assert_found_where(found, needle, |f| f.contains(needle));
+    }
+
+    /// Asserts that one of the findings' texts is `what` (by the predicate `is`).
+    fn assert_found_where(found: &[String], what: &str, is: impl Fn(&str) -> bool) {
+        assert!(
+            found.iter().any(|f| is(f)),
+            "no finding is {what:?}: {found:?}"
+        );
+    }
+
     /// The names target finds every name and label of the shipped studies and sheets: the
     /// study's `name`, one `unit` per output, the turntable's descriptions, a sheet's `name`.
     #[test]
@@ -2473,23 +2512,12 @@ mod tests {
     /// among them), so the target cannot pass silently.
     #[test]
     fn a_name_check_that_skips_the_slug_rule_is_caught() {
-        let hooks = Hooks {
-            parse_study: parse_study_skipping_the_slug_rule,
-            ..Hooks::REAL
-        };
+        let hooks = parsing_studies_with(parse_study_skipping_the_slug_rule);
         let found = findings_of(Target::Names, 600, hooks);
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("`name`") && f.contains("not a file-name-safe slug")),
-            "{found:?}"
-        );
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("`name` accepted with an unsafe character")),
-            "{found:?}"
-        );
+        assert_found_where(&found, "a slug finding on `name`", |f| {
+            f.contains("`name`") && f.contains("not a file-name-safe slug")
+        });
+        assert_found(&found, "`name` accepted with an unsafe character");
         assert!(found.iter().all(|f| f.contains("`name`")), "{found:?}");
     }
 
@@ -2497,17 +2525,11 @@ mod tests {
     /// label.
     #[test]
     fn a_label_check_that_lets_control_characters_through_is_caught() {
-        let hooks = Hooks {
-            parse_sheet: parse_sheet_without_the_label_check,
-            ..Hooks::REAL
-        };
+        let hooks = parsing_sheets_with(parse_sheet_without_the_label_check);
         let found = findings_of(Target::Names, 600, hooks);
-        assert!(
-            found
-                .iter()
-                .any(|f| f.starts_with("`name` accepted with an unsafe character")),
-            "{found:?}"
-        );
+        assert_found_where(&found, "an unsafe `name` label finding", |f| {
+            f.starts_with("`name` accepted with an unsafe character")
+        });
     }
 
     /// The names property catches a parser that accepts a name but changes it (here: the
@@ -2517,17 +2539,9 @@ mod tests {
         fn parse_keeping_a_fixed_name(source: &str, text: &str) -> Result<Study, StudyError> {
             Study::parse(source, &with_harmless_name(text, false))
         }
-        let hooks = Hooks {
-            parse_study: parse_keeping_a_fixed_name,
-            ..Hooks::REAL
-        };
+        let hooks = parsing_studies_with(parse_keeping_a_fixed_name);
         let found = findings_of(Target::Names, 300, hooks);
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("accepted, but the parsed value is \"harmless\"")),
-            "{found:?}"
-        );
+        assert_found(&found, "accepted, but the parsed value is \"harmless\"");
     }
 
     /// A planted bug: a report writer that trusts the manifest, removing every line it lists
@@ -2539,6 +2553,12 @@ mod tests {
                 let _ = std::fs::remove_file(out.join(line_name(line)));
             }
         }
+        write_with_manifest(out, files)
+    }
+
+    /// Writes `files` into `out` (created if needed) and a manifest listing them: what the
+    /// planted writers do after their (wrong) clean-up.
+    fn write_with_manifest(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
         std::fs::create_dir_all(out)?;
         for (n, b) in files {
             std::fs::write(out.join(n), b)?;
@@ -2563,84 +2583,46 @@ mod tests {
                 }
             }
         }
-        ttalloc::fuzzing::Prepared::new(out)
-            .and_then(|p| p.write(files))
-            .map_err(ttalloc::fuzzing::lab)
+        write_report(out, files)
     }
 
     /// The manifests property catches a writer that removes a listed file whose content is not
     /// what the manifest's hash says (the user's `my_notes.md` listed by name).
     #[test]
     fn a_writer_that_trusts_the_listed_names_is_caught() {
-        let hooks = Hooks {
-            write_report: write_trusting_the_names,
-            ..Hooks::REAL
-        };
+        let hooks = writing_with(write_trusting_the_names);
         let found = findings_of(Target::Manifests, 400, hooks);
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("out/my_notes.md was removed")),
-            "{found:?}"
-        );
+        assert_found(&found, "out/my_notes.md was removed");
     }
 
     /// A planted bug: a report writer that replaces `out` whatever it holds.
     fn write_over_anything(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
         let dir = std::fs::canonicalize(out).unwrap_or_else(|_| out.to_path_buf());
         let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir)?;
-        for (n, b) in files {
-            std::fs::write(dir.join(n), b)?;
-        }
-        std::fs::write(
-            dir.join(MANIFEST),
-            manifest_text(files.iter().map(|(n, b)| (n.as_str(), b.as_slice()))),
-        )?;
-        Ok(())
+        write_with_manifest(&dir, files)
     }
 
     /// The manifests property catches a writer that follows `../victim.txt` or an absolute
     /// path in a manifest: the victims beside `out` are findings.
     #[test]
     fn a_writer_that_trusts_the_manifest_is_caught() {
-        let hooks = Hooks {
-            write_report: write_trusting_the_manifest,
-            ..Hooks::REAL
-        };
+        let hooks = writing_with(write_trusting_the_manifest);
         let found = findings_of(Target::Manifests, 400, hooks);
         for victim in ["victim.txt was removed", "victim_dir/report.md was removed"] {
-            assert!(
-                found.iter().any(|f| f.contains(victim)),
-                "{victim}: {found:?}"
-            );
+            assert_found(&found, victim);
         }
-        assert!(
-            found.iter().any(|f| f.contains("victim.txt was changed")),
-            "written through a link: {found:?}"
-        );
+        assert_found(&found, "victim.txt was changed");
     }
 
     /// The manifests property catches a writer that replaces `out` whatever it holds: the
     /// user's files in `out` removed, a report written over a directory that was not ours.
     #[test]
     fn a_writer_that_replaces_out_whatever_it_holds_is_caught() {
-        let hooks = Hooks {
-            write_report: write_over_anything,
-            ..Hooks::REAL
-        };
-        let found = findings_of(Target::Manifests, 400, hooks);
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("out/notes.txt was removed")),
-            "{found:?}"
-        );
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("written although out held more than a previous report")),
-            "{found:?}"
+        let found = findings_of(Target::Manifests, 400, writing_with(write_over_anything));
+        assert_found(&found, "out/notes.txt was removed");
+        assert_found(
+            &found,
+            "written although out held more than a previous report",
         );
     }
 
@@ -2651,20 +2633,11 @@ mod tests {
         fn refuse(_: &Path, _: &[(String, Vec<u8>)]) -> Result<()> {
             anyhow::bail!("disk on fire")
         }
-        let hooks = Hooks {
-            write_report: refuse,
-            ..Hooks::REAL
-        };
-        let found = findings_of(Target::Manifests, 100, hooks);
+        let found = findings_of(Target::Manifests, 100, writing_with(refuse));
         assert!(
             found.iter().all(|f| f.contains("not an input error")),
             "{found:?}"
         );
-        assert!(
-            found
-                .iter()
-                .any(|f| f.contains("refused a previous report of ours")),
-            "{found:?}"
-        );
+        assert_found(&found, "refused a previous report of ours");
     }
 }
