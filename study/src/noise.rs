@@ -36,40 +36,56 @@ use gw_model::noise::{NoiseModel, WhiteDensity};
 use serde::Deserialize;
 use tt_core::human::{exact, num};
 
-/// `[sensor.outputs.noise]` as written.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawNoise {
-    white_deg_per_sqrt_h: Option<f64>,
-    white_ug_per_sqrt_hz: Option<f64>,
-    white_m_per_s_per_sqrt_h: Option<f64>,
-    white_per_sqrt_hz: Option<f64>,
-    bias_instability: Option<f64>,
-    bias_correlation_s: Option<f64>,
-    quantization: Option<f64>,
-    rate_random_walk: Option<f64>,
-    rate_ramp: Option<f64>,
-    flicker_bias_instability: Option<f64>,
-    angle_quantization: Option<f64>,
-    uncertainty: Option<RawNoiseUncertainty>,
+/// A raw noise table's struct: every term an optional number under its key, in the order
+/// given (serde lists them in that order when it refuses an unknown key), read back by
+/// `terms()`; `extra` fields follow the terms.
+macro_rules! raw_noise_terms {
+    ($(#[$doc:meta])* $name:ident { $($term:ident),+ $(,)? } $($extra:ident: $ty:ty),*) => {
+        $(#[$doc])*
+        #[derive(Debug, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub(crate) struct $name {
+            $($term: Option<f64>,)+
+            $($extra: $ty,)*
+        }
+
+        impl $name {
+            /// Each term's key and value as written, in declaration order.
+            fn terms(&self) -> Vec<(&'static str, Option<f64>)> {
+                vec![$((stringify!($term), self.$term)),+]
+            }
+        }
+    };
 }
 
-/// `[sensor.outputs.noise.uncertainty]` as written: the standard uncertainty of each term,
-/// under the term's key and in its unit.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawNoiseUncertainty {
-    white_deg_per_sqrt_h: Option<f64>,
-    white_ug_per_sqrt_hz: Option<f64>,
-    white_m_per_s_per_sqrt_h: Option<f64>,
-    white_per_sqrt_hz: Option<f64>,
-    bias_instability: Option<f64>,
-    bias_correlation_s: Option<f64>,
-    flicker_bias_instability: Option<f64>,
-    quantization: Option<f64>,
-    angle_quantization: Option<f64>,
-    rate_random_walk: Option<f64>,
-    rate_ramp: Option<f64>,
+raw_noise_terms! {
+    /// `[sensor.outputs.noise]` as written.
+    RawNoise {
+        white_deg_per_sqrt_h, white_ug_per_sqrt_hz, white_m_per_s_per_sqrt_h, white_per_sqrt_hz,
+        bias_instability, bias_correlation_s, quantization, rate_random_walk, rate_ramp,
+        flicker_bias_instability, angle_quantization,
+    }
+    uncertainty: Option<RawNoiseUncertainty>
+}
+
+impl RawNoise {
+    /// The value written under the term `key`.
+    fn term(&self, key: &str) -> Option<f64> {
+        self.terms()
+            .into_iter()
+            .find(|(k, _)| *k == key)
+            .and_then(|(_, v)| v)
+    }
+}
+
+raw_noise_terms! {
+    /// `[sensor.outputs.noise.uncertainty]` as written: the standard uncertainty of each term,
+    /// under the term's key and in its unit.
+    RawNoiseUncertainty {
+        white_deg_per_sqrt_h, white_ug_per_sqrt_hz, white_m_per_s_per_sqrt_h, white_per_sqrt_hz,
+        bias_instability, bias_correlation_s, flicker_bias_instability, quantization,
+        angle_quantization, rate_random_walk, rate_ramp,
+    }
 }
 
 /// `[calibration.timing]` as written.
@@ -126,15 +142,7 @@ pub(crate) fn parse_output_noise(
             ),
         ));
     }
-    if whites.is_empty()
-        && raw.bias_instability.is_none()
-        && raw.bias_correlation_s.is_none()
-        && raw.quantization.is_none()
-        && raw.rate_random_walk.is_none()
-        && raw.rate_ramp.is_none()
-        && raw.flicker_bias_instability.is_none()
-        && raw.angle_quantization.is_none()
-    {
+    if raw.terms().iter().all(|(_, v)| v.is_none()) {
         return Err(StudyError::new(
             at(&key("")),
             format!(
@@ -250,94 +258,26 @@ fn with_uncertainties(
         FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA, NoiseParameter as P,
     };
     let shown_unit = format!("({})", unit.escape_debug());
-    let entries: [(&str, Option<f64>, bool, P, &str); 11] = [
-        (
-            "white_deg_per_sqrt_h",
-            u.white_deg_per_sqrt_h,
-            raw.white_deg_per_sqrt_h.is_some(),
-            P::White,
-            "deg/sqrt(h)",
-        ),
-        (
-            "white_ug_per_sqrt_hz",
-            u.white_ug_per_sqrt_hz,
-            raw.white_ug_per_sqrt_hz.is_some(),
-            P::White,
-            "ug/sqrt(Hz)",
-        ),
-        (
-            "white_m_per_s_per_sqrt_h",
-            u.white_m_per_s_per_sqrt_h,
-            raw.white_m_per_s_per_sqrt_h.is_some(),
-            P::White,
-            "(m/s)/sqrt(h)",
-        ),
-        (
-            "white_per_sqrt_hz",
-            u.white_per_sqrt_hz,
-            raw.white_per_sqrt_hz.is_some(),
-            P::White,
-            "(output unit)/sqrt(Hz)",
-        ),
-        (
-            "bias_instability",
-            u.bias_instability,
-            raw.bias_instability.is_some(),
-            P::BiasSigma,
-            &shown_unit,
-        ),
-        (
-            "bias_correlation_s",
-            u.bias_correlation_s,
-            raw.bias_correlation_s.is_some(),
-            P::BiasCorrelation,
-            "s",
-        ),
-        (
-            "flicker_bias_instability",
-            u.flicker_bias_instability,
-            raw.flicker_bias_instability.is_some(),
-            P::Flicker,
-            &shown_unit,
-        ),
-        (
-            "quantization",
-            u.quantization,
-            raw.quantization.is_some(),
-            P::Quantization,
-            &shown_unit,
-        ),
-        (
-            "angle_quantization",
-            u.angle_quantization,
-            raw.angle_quantization.is_some(),
-            P::AngleQuantization,
-            "(output unit) s",
-        ),
-        (
-            "rate_random_walk",
-            u.rate_random_walk,
-            raw.rate_random_walk.is_some(),
-            P::RateRandomWalk,
-            "(output unit)/sqrt(s)",
-        ),
-        (
-            "rate_ramp",
-            u.rate_ramp,
-            raw.rate_ramp.is_some(),
-            P::RateRamp,
-            "(output unit)/s",
-        ),
-    ];
-    for (name, value, given, p, shown) in entries {
+    for (name, value) in u.terms() {
         let Some(v) = value else { continue };
         let k = key(&format!("uncertainty.{name}"));
-        if !given {
+        if raw.term(name).is_none() {
             return Err(StudyError::new(
                 at(&k),
                 format!("an uncertainty of {name}, which the noise table does not give"),
             ));
         }
+        // the parameter it sets, and its unit in messages
+        let (p, shown) = match name {
+            "bias_instability" => (P::BiasSigma, shown_unit.as_str()),
+            "bias_correlation_s" => (P::BiasCorrelation, "s"),
+            "flicker_bias_instability" => (P::Flicker, shown_unit.as_str()),
+            "quantization" => (P::Quantization, shown_unit.as_str()),
+            "angle_quantization" => (P::AngleQuantization, "(output unit) s"),
+            "rate_random_walk" => (P::RateRandomWalk, "(output unit)/sqrt(s)"),
+            "rate_ramp" => (P::RateRamp, "(output unit)/s"),
+            white => (P::White, white_unit(white)),
+        };
         let hi = if p == P::BiasCorrelation {
             limits::CORRELATION_S.1
         } else {
