@@ -444,11 +444,17 @@ impl EndToEnd {
         samples: u64,
         seed: u64,
     ) -> Result<AngleYield, E2eError> {
-        self.angle_yield_drawn(expansion, ub_rad, &[], samples, seed)
+        self.angle_yield_with_discs(expansion, ub_rad, &[], samples, seed)
     }
 
-    /// [`EndToEnd::angle_yield`] with magnitude bounds `discs` ([`Expansion::draw_with_discs`]).
-    pub(crate) fn angle_yield_drawn(
+    /// [`EndToEnd::angle_yield`] with each pair `discs[i] = (errors, w)` (rad) drawn inside
+    /// its disc ([`Expansion::draw_with_discs`]); with no disc it is
+    /// [`EndToEnd::angle_yield`] exactly. Same chunks and streams: identical for any thread
+    /// count.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::angle_yield`].
+    pub fn angle_yield_with_discs(
         &self,
         expansion: &Expansion,
         ub_rad: &[f64],

@@ -41,7 +41,6 @@
 
 use crate::DirectAllocation;
 use crate::allocate::CertifyParams;
-use crate::angle::AngleYield;
 use crate::error::E2eError;
 use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
@@ -402,23 +401,5 @@ impl EndToEnd {
         d.lower_bounds_rad = lower_bounds_rad.to_vec();
         d.objective = self.objective(&d.upper_bounds_rad);
         Ok(d)
-    }
-
-    /// [`EndToEnd::angle_yield`] with each pair `discs[i] = (errors, w)` (rad) drawn inside
-    /// its disc ([`Expansion::draw_with_discs`]); with no disc it is
-    /// [`EndToEnd::angle_yield`] exactly. Same chunks and streams: identical for any thread
-    /// count.
-    ///
-    /// # Errors
-    /// As [`EndToEnd::angle_yield`].
-    pub fn angle_yield_with_discs(
-        &self,
-        expansion: &Expansion,
-        ub_rad: &[f64],
-        discs: &[([usize; 2], f64)],
-        samples: u64,
-        seed: u64,
-    ) -> Result<AngleYield, E2eError> {
-        self.angle_yield_drawn(expansion, ub_rad, discs, samples, seed)
     }
 }
