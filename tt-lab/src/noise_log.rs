@@ -723,6 +723,17 @@ fn json_of<'a>(log: &'a NoiseLog, unit: Option<&'a str>) -> AllanJson<'a> {
     }
 }
 
+/// `# {heading}:` and one `# - {item}` line per item into `t`, nothing when there is no item.
+fn push_listed(t: &mut String, heading: &str, items: impl Iterator<Item = String>) {
+    let mut items = items.peekable();
+    if items.peek().is_some() {
+        t.push_str(&format!("# {heading}:\n"));
+        for item in items {
+            t.push_str(&format!("# - {item}\n"));
+        }
+    }
+}
+
 fn noise_toml(log: &NoiseLog, unit: &str, block: &NoiseBlock) -> String {
     let a = &log.analysis;
     let pm = |u: Option<f64>| u.map_or(String::new(), |u| format!(" +- {}", sig(u, 3)));
@@ -756,33 +767,29 @@ fn noise_toml(log: &NoiseLog, unit: &str, block: &NoiseBlock) -> String {
         ));
     }
     t.push('\n');
-    let unresolved: Vec<&Written> = block
+    let unresolved = block
         .written
         .iter()
-        .filter(|w| w.not_resolved.is_some())
-        .collect();
-    if !unresolved.is_empty() {
-        t.push_str("# Written as fitted, but the log cannot resolve them:\n");
-        for w in unresolved {
-            t.push_str(&format!(
-                "# - {}: {}\n",
-                w.key,
-                w.not_resolved.unwrap_or_default()
-            ));
-        }
-    }
-    if !block.not_written.is_empty() {
-        t.push_str("# Not written (the study cannot take them):\n");
-        for n in &block.not_written {
-            t.push_str(&format!(
-                "# - {} = {}{}: {}\n",
-                n.term,
-                sig(n.value, 4),
-                pm(n.uncertainty),
-                n.reason
-            ));
-        }
-    }
+        .filter_map(|w| Some(format!("{}: {}", w.key, w.not_resolved?)));
+    push_listed(
+        &mut t,
+        "Written as fitted, but the log cannot resolve them",
+        unresolved,
+    );
+    let not_written = block.not_written.iter().map(|n| {
+        format!(
+            "{} = {}{}: {}",
+            n.term,
+            sig(n.value, 4),
+            pm(n.uncertainty),
+            n.reason
+        )
+    });
+    push_listed(
+        &mut t,
+        "Not written (the study cannot take them)",
+        not_written,
+    );
     t.push_str("[sensor.outputs.noise]\n");
     for w in &block.written {
         t.push_str(&format!("{} = {:?}\n", w.key, w.value));
