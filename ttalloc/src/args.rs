@@ -1,5 +1,6 @@
 //! Flag value parsers shared by every command (one accepted form per kind of value), and the
-//! flag groups several commands share (`--study`, `--samples` and `--seed`).
+//! flag groups several commands share (`--study`, `--samples` and `--seed`, `--k-sigma` with
+//! the JCGM 101 Monte Carlo's flags).
 
 use std::path::{Path, PathBuf};
 
@@ -37,6 +38,19 @@ pub struct Sampling {
     /// Seed of the random streams (default: the study's `monte_carlo.seed`).
     #[arg(long, allow_negative_numbers = true, value_parser = seed)]
     pub seed: Option<u64>,
+}
+
+/// `--k-sigma`, `--jcgm101` and `--mc-digits`: the noise part's confidence multiplier and the
+/// JCGM 101 Monte Carlo of every specification (the vendor check's and end to end's).
+#[derive(Debug, clap::Args)]
+pub struct Uncertainty {
+    /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
+    /// used when the study gives noise and a timing.
+    #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = k_sigma)]
+    pub k_sigma: f64,
+    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`).
+    #[command(flatten)]
+    pub jcgm101: crate::text::jcgm101::Flags,
 }
 
 /// A count: a whole number written as `1000000`, `1_000_000` or `1e6`, within `1..=max`.

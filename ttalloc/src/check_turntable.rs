@@ -40,13 +40,10 @@ pub struct Args {
     /// `--samples` and `--seed` (default: the study's `monte_carlo`).
     #[command(flatten)]
     pub sampling: crate::args::Sampling,
-    /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
-    /// used when the study gives noise and a timing.
-    #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
-    pub k_sigma: f64,
-    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`).
+    /// `--k-sigma` and the JCGM 101 Monte Carlo of every specification (`--jcgm101`,
+    /// `--mc-digits`).
     #[command(flatten)]
-    pub jcgm101: crate::text::jcgm101::Flags,
+    pub uncertainty: crate::args::Uncertainty,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -203,11 +200,11 @@ pub fn run(args: &Args) -> Result<()> {
     let options = tt_lab::vendor::Options {
         samples: args.sampling.samples,
         seed: args.sampling.seed,
-        k_sigma: args.k_sigma,
+        k_sigma: args.uncertainty.k_sigma,
     };
     let v = tt_lab::vendor::check(&s, &args.tolerances, &options).map_err(crate::input::lab)?;
     let mc = crate::text::jcgm101::run(
-        &args.jcgm101,
+        &args.uncertainty.jcgm101,
         args.sampling.seed,
         &s,
         &v.checks()[0].0,
@@ -250,6 +247,10 @@ pub fn run(args: &Args) -> Result<()> {
         v.decision(),
         "over these tolerances",
     ));
-    text.push_str(&crate::text::jcgm101::text(&args.jcgm101, &s, mc.as_ref()));
+    text.push_str(&crate::text::jcgm101::text(
+        &args.uncertainty.jcgm101,
+        &s,
+        mc.as_ref(),
+    ));
     crate::out::print(&text)
 }

@@ -36,13 +36,10 @@ pub struct Args {
     /// Target yield of the yield-based allocation, in (0, 1).
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_YIELD_FRACTION, value_parser = crate::args::fraction)]
     pub yield_fraction: f64,
-    /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
-    /// used when the study gives noise and a timing.
-    #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
-    pub k_sigma: f64,
-    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`).
+    /// `--k-sigma` and the JCGM 101 Monte Carlo of every specification (`--jcgm101`,
+    /// `--mc-digits`).
     #[command(flatten)]
-    pub jcgm101: crate::text::jcgm101::Flags,
+    pub uncertainty: crate::args::Uncertainty,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -389,12 +386,12 @@ pub fn run(args: &Args) -> Result<()> {
         samples: args.sampling.samples,
         seed: args.sampling.seed,
         yield_fraction: args.yield_fraction,
-        k_sigma: args.k_sigma,
+        k_sigma: args.uncertainty.k_sigma,
         tolerances: args.tolerances.clone(),
     };
     let r = tt_lab::end_to_end::end_to_end(&s, &options).map_err(crate::input::lab)?;
     let mc = crate::text::jcgm101::run(
-        &args.jcgm101,
+        &args.uncertainty.jcgm101,
         args.sampling.seed,
         &s,
         r.simulator(),
@@ -432,6 +429,10 @@ pub fn run(args: &Args) -> Result<()> {
         a.readings()[0].direct(),
         r.no_table_suffices(),
     ));
-    t.push_str(&crate::text::jcgm101::text(&args.jcgm101, &s, mc.as_ref()));
+    t.push_str(&crate::text::jcgm101::text(
+        &args.uncertainty.jcgm101,
+        &s,
+        mc.as_ref(),
+    ));
     crate::out::print(&t)
 }
