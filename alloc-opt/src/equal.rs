@@ -1,13 +1,11 @@
 //! The traditional equal-effects allocation (the paper's comparison, its refs 20-21).
 
-use crate::allocation::{
-    Allocator, AxisOracle, MethodDetails, Subproblem, ToleranceBox, combine_rule_34, finish,
-};
+use crate::allocation::{Allocator, AxisOracle, MethodDetails, Subproblem, ToleranceBox, finish};
 use crate::error::AllocError;
 use crate::model::LinearErrorModel;
 use crate::problem::{AllocationProblem, Weights};
 use crate::solver::CutOracle;
-use crate::weighted::problem_order;
+use crate::weighted::{combined, for_each_axis};
 
 /// Bisection steps on the common effect (the bracket shrinks to one ulp well before this).
 const SHARE_BISECTION_STEPS: usize = 200;
@@ -45,37 +43,31 @@ impl<M: LinearErrorModel> Allocator<M> for EqualEffects {
         let names = problem.error_names();
         let lb = problem.lower_bounds_rad();
         let mut subproblems = Vec::new();
-        for k in problem_order(model.n_quantities()) {
-            let Some(requirement_rad) = problem.limits()[k] else {
-                continue;
-            };
-            let components = model.involved(k);
-            if components.is_empty() {
-                continue;
-            }
-            let oracle = AxisOracle::new(model, k, components.clone(), requirement_rad)?;
-            let lower: Vec<f64> = components.iter().map(|&i| lb[i]).collect();
-            oracle.check_lower_bounds(&lower, &names)?;
-            let x = share_equally(&oracle, &lower)?;
-            let worst = oracle.search(&x)?;
-            subproblems.push(Subproblem {
-                quantity: k,
-                name: oracle.name.clone(),
-                components,
-                bounds_rad: x,
-                objective: None,
-                load: worst.value / requirement_rad,
-                worst_pose_rad: worst.point,
-                multiplier: None,
-                iterations: 0,
-                exact_oracle: oracle.exact(),
-            });
-        }
-        let solutions: Vec<(&[usize], &[f64])> = subproblems
-            .iter()
-            .map(|s| (s.components.as_slice(), s.bounds_rad.as_slice()))
-            .collect();
-        let ub = combine_rule_34(model.n_errors(), &solutions);
+        for_each_axis(
+            model,
+            problem.limits(),
+            lb,
+            &names,
+            |k, components, oracle, lower| {
+                let requirement_rad = oracle.requirement_rad;
+                let x = share_equally(&oracle, &lower)?;
+                let worst = oracle.search(&x)?;
+                subproblems.push(Subproblem {
+                    quantity: k,
+                    name: oracle.name.clone(),
+                    components,
+                    bounds_rad: x,
+                    objective: None,
+                    load: worst.value / requirement_rad,
+                    worst_pose_rad: worst.point,
+                    multiplier: None,
+                    iterations: 0,
+                    exact_oracle: oracle.exact(),
+                });
+                Ok(())
+            },
+        )?;
+        let ub = combined(model.n_errors(), &subproblems);
         let weights = Weights::inverse_average_sensitivity(model);
         finish(
             problem,
@@ -123,19 +115,12 @@ fn share_equally<M: LinearErrorModel + ?Sized>(
         while load(hi) < 1.0 && hi < 1e6 * oracle.requirement_rad {
             hi *= 2.0;
         }
-        let mut lo = 0.0;
-        for _ in 0..SHARE_BISECTION_STEPS {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if load(mid) <= 1.0 {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let x = at(lo);
+        let x = at(crate::solver::largest_within(
+            0.0,
+            hi,
+            SHARE_BISECTION_STEPS,
+            load,
+        ));
         let newly: Vec<usize> = (0..n).filter(|&i| !fixed[i] && x[i] < lower[i]).collect();
         if newly.is_empty() || fixed.iter().all(|&f| f) {
             return Ok(x);

@@ -17,7 +17,7 @@ use crate::error::{AllocError, length};
 use crate::linearised::Linearised;
 use crate::model::LinearErrorModel;
 use crate::problem::AllocationProblem;
-use nalgebra::Matrix3;
+use nalgebra::{DMatrix, Matrix3};
 use std::f64::consts::TAU;
 use tt_kinematics::LinearModel;
 use tt_kinematics::{
@@ -194,49 +194,72 @@ impl<M: OrientationErrorModel + Clone> ExactChainModel for Linearised<M> {
             Vec::new()
         };
         let n_tr = model.n_translation_errors();
-        let mut out = Vec::with_capacity(3);
-        for axis in OrientationAxis::ALL {
-            let cert = allocation.certificate.get(axis);
-            let mut poses = vec![cert.worst_pose_rad.clone()];
-            poses.extend(grid.iter().cloned());
-            let mut best = (f64::NEG_INFINITY, poses[0].clone(), vec![0.0; n]);
-            let mut evaluations = 0;
-            for pose in &poses {
-                let pose_v = Pose::new(pose.clone())?;
-                let tried = if full {
-                    vertices.clone()
-                } else {
-                    let c = model.first_order(&pose_v, &TurntableErrors::zero(n, n_tr))?;
-                    let s: Vec<f64> = (0..n)
-                        .map(|i| {
-                            if c[(axis.index(), i)] < 0.0 {
-                                -1.0
-                            } else {
-                                1.0
-                            }
-                        })
-                        .collect();
-                    adversarial_vertices(&ub, &boxed, &s)
-                };
-                for chi in tried {
-                    let errors = TurntableErrors::new(chi, vec![0.0; n_tr])?;
-                    let f = model.orientation_error(&pose_v, &errors)?.get(axis).abs();
-                    evaluations += 1;
-                    if f > best.0 {
-                        best = (f, pose.clone(), errors.chi_rad().to_vec());
-                    }
-                }
+        hunt_axes(problem, allocation, &grid, n, |axis, pose, consider| {
+            let tried = if full {
+                vertices.clone()
+            } else {
+                let c = model.first_order(pose, &TurntableErrors::zero(n, n_tr))?;
+                adversarial_vertices(&ub, &boxed, &signs(&c, axis))
+            };
+            let count = tried.len();
+            for chi in tried {
+                let errors = TurntableErrors::new(chi, vec![0.0; n_tr])?;
+                let f = model.orientation_error(pose, &errors)?.get(axis).abs();
+                consider(f, errors.chi_rad());
             }
-            out.push(axis_check(
-                problem,
-                axis,
-                cert.worst_case_rad,
-                best,
-                evaluations,
-            ));
-        }
-        Ok(three(out))
+            Ok(count)
+        })
     }
+}
+
+/// The hunt of every angle: at the certificate's worst pose, then at each pose of `grid`,
+/// `at_pose(axis, pose, consider)` hands each vertex's |f| (rad) and $\chi$ to `consider`
+/// and returns how many it evaluated; the largest |f| found, with its pose and $\chi$ (of
+/// `n` errors), is the angle's [`ExactAxisCheck`].
+fn hunt_axes<L: LinearErrorModel>(
+    problem: &AllocationProblem<L>,
+    allocation: &Allocation,
+    grid: &[Vec<f64>],
+    n: usize,
+    mut at_pose: impl FnMut(
+        OrientationAxis,
+        &Pose,
+        &mut dyn FnMut(f64, &[f64]),
+    ) -> Result<usize, AllocError>,
+) -> Result<[ExactAxisCheck; 3], AllocError> {
+    let mut out = Vec::with_capacity(3);
+    for axis in OrientationAxis::ALL {
+        let cert = allocation.certificate.get(axis);
+        let mut poses = vec![cert.worst_pose_rad.clone()];
+        poses.extend(grid.iter().cloned());
+        let mut best = (f64::NEG_INFINITY, poses[0].clone(), vec![0.0; n]);
+        let mut evaluations = 0;
+        for pose in &poses {
+            let pose_v = Pose::new(pose.clone())?;
+            evaluations += at_pose(axis, &pose_v, &mut |f, chi| {
+                if f > best.0 {
+                    best = (f, pose.clone(), chi.to_vec());
+                }
+            })?;
+        }
+        out.push(axis_check(
+            problem,
+            axis,
+            cert.worst_case_rad,
+            best,
+            evaluations,
+        ));
+    }
+    Ok(three(out))
+}
+
+/// The sign of each error's first-order coefficient in `axis`'s row of `c` (+1 for zero):
+/// the vertex that drives the angle's first order up.
+fn signs(c: &DMatrix<f64>, axis: OrientationAxis) -> Vec<f64> {
+    c.row(axis.index())
+        .iter()
+        .map(|&v| if v < 0.0 { -1.0 } else { 1.0 })
+        .collect()
 }
 
 /// One angle's result of a hunt: `best` is (largest |f|, its pose, its chi).
@@ -290,56 +313,28 @@ fn turntable_check(
     } else {
         Vec::new()
     };
-    let mut out = Vec::with_capacity(3);
-    for axis in OrientationAxis::ALL {
-        let cert = allocation.certificate.get(axis);
-        let mut poses = vec![cert.worst_pose_rad.clone()];
-        poses.extend(grid.iter().cloned());
-        let mut best = (f64::NEG_INFINITY, poses[0].clone(), vec![0.0; n]);
-        let mut evaluations = 0;
-        for pose in &poses {
-            let pose_v = Pose::new(pose.clone())?;
-            let frames = turntable.pose_frames(&pose_v)?;
-            let mut consider = |chi: &[f64], e: &[Matrix3<f64>]| {
-                let f = OrientationError::from_matrix_elements(&frames.delta_r(e))
-                    .get(axis)
-                    .abs();
-                if f > best.0 {
-                    best = (f, pose.clone(), chi.to_vec());
-                }
-            };
-            if full {
-                for (chi, e) in &vertices {
-                    consider(chi, e);
-                }
-                evaluations += vertices.len();
-            } else {
-                let c = model.coefficients(&pose_v)?;
-                let s: Vec<f64> = (0..n)
-                    .map(|i| {
-                        if c[(axis.index(), i)] < 0.0 {
-                            -1.0
-                        } else {
-                            1.0
-                        }
-                    })
-                    .collect();
-                for chi in adversarial_vertices(&ub, &boxed, &s) {
-                    let e = segments(turntable, &chi)?;
-                    consider(&chi, &e);
-                    evaluations += 1;
-                }
+    hunt_axes(problem, allocation, &grid, n, |axis, pose, consider| {
+        let frames = turntable.pose_frames(pose)?;
+        let f_of = |e: &[Matrix3<f64>]| {
+            OrientationError::from_matrix_elements(&frames.delta_r(e))
+                .get(axis)
+                .abs()
+        };
+        if full {
+            for (chi, e) in &vertices {
+                consider(f_of(e), chi);
             }
+            Ok(vertices.len())
+        } else {
+            let c = model.coefficients(pose)?;
+            let tried = adversarial_vertices(&ub, &boxed, &signs(&c, axis));
+            for chi in &tried {
+                let e = segments(turntable, chi)?;
+                consider(f_of(&e), chi);
+            }
+            Ok(tried.len())
         }
-        out.push(axis_check(
-            problem,
-            axis,
-            cert.worst_case_rad,
-            best,
-            evaluations,
-        ));
-    }
-    Ok(three(out))
+    })
 }
 
 /// The allocation's bounds checked against `n` errors, with every unconstrained error

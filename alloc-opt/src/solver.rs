@@ -683,7 +683,7 @@ fn restore_tightness(p: &InverseSquareProblem<'_>, x: Vec<f64>) -> Vec<f64> {
         p.oracle.most_violated(&v).load(&v)
     };
     let g1 = load(1.0);
-    let (mut lo, mut hi) = if g1 > 1.0 {
+    let (lo, hi) = if g1 > 1.0 {
         (0.0, 1.0)
     } else {
         let hi = 1.0 + 16.0 * (1.0 - g1) + 1e-12;
@@ -692,7 +692,19 @@ fn restore_tightness(p: &InverseSquareProblem<'_>, x: Vec<f64>) -> Vec<f64> {
         }
         (1.0, hi)
     };
-    for _ in 0..200 {
+    at(largest_within(lo, hi, 200, load))
+}
+
+/// Bisection of `[lo, hi]` for `load(s) = 1`, `load` increasing in `s`: `steps` halvings at
+/// most (fewer once the interval cannot halve), each keeping the half whose lower end has
+/// `load <= 1`; the lower end of the last bracket.
+pub(crate) fn largest_within(
+    mut lo: f64,
+    mut hi: f64,
+    steps: usize,
+    load: impl Fn(f64) -> f64,
+) -> f64 {
+    for _ in 0..steps {
         let mid = 0.5 * (lo + hi);
         if mid <= lo || mid >= hi {
             break;
@@ -703,7 +715,7 @@ fn restore_tightness(p: &InverseSquareProblem<'_>, x: Vec<f64>) -> Vec<f64> {
             hi = mid;
         }
     }
-    at(lo)
+    lo
 }
 
 /// Settings of one conic solve attempt.

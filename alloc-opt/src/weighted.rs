@@ -155,6 +155,51 @@ fn two_step<S: LinearErrorModel + ?Sized>(
 ) -> Result<(Vec<f64>, Vec<Subproblem>), AllocError> {
     let names = error_names(search);
     let mut subproblems = Vec::new();
+    for_each_axis(
+        search,
+        limits,
+        lb,
+        &names,
+        |k, components, oracle, lower| {
+            oracle.check_each_bounded(&names)?;
+            let sub = InverseSquareProblem {
+                label: oracle.name.clone(),
+                names: components.iter().map(|&i| names[i].clone()).collect(),
+                weights: components.iter().map(|&i| weights.of(k, i)).collect(),
+                lower,
+                initial_cuts: oracle.grid(),
+                oracle: &oracle,
+            };
+            let sol = solve_inverse_square(&sub)?;
+            let worst = oracle.search(&sol.x)?;
+            subproblems.push(Subproblem {
+                quantity: k,
+                name: oracle.name.clone(),
+                components,
+                bounds_rad: sol.x,
+                objective: Some(sol.objective),
+                worst_pose_rad: worst.point,
+                load: sol.load,
+                multiplier: Some(sol.multiplier),
+                iterations: sol.iterations,
+                exact_oracle: oracle.exact(),
+            });
+            Ok(())
+        },
+    )?;
+    Ok((combined(search.n_errors(), &subproblems), subproblems))
+}
+
+/// For each quantity with a requirement and errors involved, in [`problem_order`]: its
+/// oracle over `search` and its errors' lower bounds (checked to leave room in the
+/// requirement), handed to `each(quantity, components, oracle, lower)`.
+pub(crate) fn for_each_axis<'m, S: LinearErrorModel + ?Sized>(
+    search: &'m S,
+    limits: &[Option<f64>],
+    lb: &[f64],
+    names: &[String],
+    mut each: impl FnMut(usize, Vec<usize>, AxisOracle<'m, S>, Vec<f64>) -> Result<(), AllocError>,
+) -> Result<(), AllocError> {
     for k in problem_order(search.n_quantities()) {
         let Some(requirement_rad) = limits[k] else {
             continue;
@@ -165,36 +210,19 @@ fn two_step<S: LinearErrorModel + ?Sized>(
         }
         let oracle = AxisOracle::new(search, k, components.clone(), requirement_rad)?;
         let lower: Vec<f64> = components.iter().map(|&i| lb[i]).collect();
-        oracle.check_lower_bounds(&lower, &names)?;
-        oracle.check_each_bounded(&names)?;
-        let sub = InverseSquareProblem {
-            label: oracle.name.clone(),
-            names: components.iter().map(|&i| names[i].clone()).collect(),
-            weights: components.iter().map(|&i| weights.of(k, i)).collect(),
-            lower,
-            initial_cuts: oracle.grid(),
-            oracle: &oracle,
-        };
-        let sol = solve_inverse_square(&sub)?;
-        let worst = oracle.search(&sol.x)?;
-        subproblems.push(Subproblem {
-            quantity: k,
-            name: oracle.name.clone(),
-            components,
-            bounds_rad: sol.x,
-            objective: Some(sol.objective),
-            worst_pose_rad: worst.point,
-            load: sol.load,
-            multiplier: Some(sol.multiplier),
-            iterations: sol.iterations,
-            exact_oracle: oracle.exact(),
-        });
+        oracle.check_lower_bounds(&lower, names)?;
+        each(k, components, oracle, lower)?;
     }
+    Ok(())
+}
+
+/// The per-quantity bounds of `subproblems` combined by rule (34) over `n_errors` errors.
+pub(crate) fn combined(n_errors: usize, subproblems: &[Subproblem]) -> Vec<f64> {
     let solutions: Vec<(&[usize], &[f64])> = subproblems
         .iter()
         .map(|s| (s.components.as_slice(), s.bounds_rad.as_slice()))
         .collect();
-    Ok((combine_rule_34(search.n_errors(), &solutions), subproblems))
+    combine_rule_34(n_errors, &solutions)
 }
 
 impl<M: LinearErrorModel + 'static> Allocator<M> for SensitivityWeighted {

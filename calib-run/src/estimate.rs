@@ -572,6 +572,8 @@ impl OwnedRow {
     }
 }
 
+/// Where the rows go while the recording streams: nowhere before the sample rate is known,
+/// into the segments file's intervals, or into the detector.
 enum Mode {
     Waiting,
     File {
@@ -603,37 +605,116 @@ pub fn calibrate<R: Read>(
 ///
 /// # Errors
 /// As [`calibrate`].
-#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
     study: &Study,
     reader: R,
     source: &str,
     options: &CalibrateOptions,
-    mut observe: O,
+    observe: O,
 ) -> Result<Run, RunError> {
     let sensor = &study.sensor;
-    let out_names: Vec<&str> = sensor.outputs().iter().map(|o| o.name.as_str()).collect();
+    let n_out = sensor.n_outputs();
+    let Streamed {
+        summary,
+        mode,
+        rate_hz,
+    } = stream(study, reader, source, options, observe)?;
+    let mut warnings: Vec<String> = summary
+        .saturated
+        .iter()
+        .map(|s| {
+            format!(
+                "column `{}`: {} saturated samples (first at line {}); segments holding one are flagged",
+                s.column, s.count, s.first_line
+            )
+        })
+        .collect();
+    let Collected {
+        raw,
+        source: segments_source,
+        pooled,
+        static_samples,
+    } = collect_segments(study, mode, &summary, rate_hz, &mut warnings)?;
+    // measured noise per output, pooled over the static segments
+    let noise = measured_noise(study, &pooled, static_samples);
+    let segments = raw
+        .iter()
+        .map(|r| {
+            segment_of(
+                study,
+                r,
+                rate_hz,
+                summary.angles_logged,
+                n_out,
+                &mut warnings,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let outputs = sensor
+        .outputs()
+        .iter()
+        .enumerate()
+        .map(|(k, o)| estimate_output(study, k, o, &segments, &noise[k], options))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Run {
+        study: study.path.clone(),
+        study_sha256: crate::recording::sha256_hex(study.text.as_bytes()),
+        recording: summary,
+        segments_source,
+        segments,
+        warnings,
+        outputs,
+        coverage: options.coverage,
+        robust: options.robust,
+        budget_rule: budget_rule(options),
+        models: sensor.outputs().to_vec(),
+    })
+}
+
+/// The budget's rule as the run states it.
+fn budget_rule(options: &CalibrateOptions) -> String {
+    format!(
+        "GUM (JCGM 100) at coverage {}: measured noise (Allan, static segments; inflated by the Birge ratio when the residuals exceed it){}",
+        options.coverage,
+        if options.tolerances.is_some() {
+            "; the table's tolerances, rectangular, sensitivities by the exact chain"
+        } else {
+            "; no tolerance sheet: the table's part is not counted"
+        }
+    )
+}
+
+/// The recording as streamed: its summary, the segments found on the way and the sample
+/// rate (Hz).
+struct Streamed {
+    summary: RecordingSummary,
+    mode: Mode,
+    rate_hz: f64,
+}
+
+/// Stream the recording once: each row to `observe` and to the segments (from the file, or
+/// detected), the sample rate from the first two rows (or the options).
+fn stream<R: Read, O: FnMut(&Row<'_>)>(
+    study: &Study,
+    reader: R,
+    source: &str,
+    options: &CalibrateOptions,
+    mut observe: O,
+) -> Result<Streamed, RunError> {
+    let out_names: Vec<&str> = study
+        .sensor
+        .outputs()
+        .iter()
+        .map(|o| o.name.as_str())
+        .collect();
     let joint_names = study.turntable.joint_names();
     let n_out = out_names.len();
-    let n_static = study.positions_deg.len();
-    let n_rate = study.rate_steps.len();
     let mut rec_opts = options.recording.clone();
     if rec_opts.index_sample_rate_hz.is_none() {
         rec_opts.index_sample_rate_hz =
             study.timing.as_ref().map(calib_lsq::Timing::sample_rate_hz);
     }
     let given_rate = rec_opts.sample_rate_hz;
-    let noise_white_var = |rate_hz: f64| -> Vec<Option<f64>> {
-        study
-            .noise
-            .iter()
-            .map(|n| {
-                n.as_ref()
-                    .map(|n| n.white_sample_variance(rate_hz) + n.quantization().powi(2) / 12.0)
-            })
-            .map(|v| v.filter(|v| *v > 0.0))
-            .collect()
-    };
     if options.segments.is_none()
         && study.noise.iter().all(Option::is_none)
         && rate_channels(study).is_empty()
@@ -651,7 +732,49 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
     let mut first: Option<OwnedRow> = None;
     let mut mode = Mode::Waiting;
     let mut rate_hz = 0.0;
-    let make_mode = |rate: f64| -> Mode {
+    let summary = read_rows(reader, source, &out_names, &joint_names, &rec_opts, |row| {
+        observe(row);
+        if row.index == 0 {
+            first = Some(OwnedRow::of(row));
+            return Ok(());
+        }
+        if row.index == 1 {
+            let dt = row.t_s - first.as_ref().map_or(0.0, |f| f.t_s);
+            rate_hz = given_rate.unwrap_or(1.0 / dt);
+            if !dt.is_finite() || dt <= 0.0 {
+                rate_hz = given_rate.or(rec_opts.index_sample_rate_hz).unwrap_or(1.0);
+            }
+            mode = Mode::new(study, options, rate_hz, min_static_s);
+            let f = first.take().expect("row 0 held");
+            mode.feed(&f.row(), rate_hz, n_out)?;
+        }
+        mode.feed(row, rate_hz, n_out)
+    })?;
+    Ok(Streamed {
+        summary,
+        mode,
+        rate_hz,
+    })
+}
+
+/// Each output's white variance of one sample at `rate_hz` (with its quantization), where
+/// the study gives its noise and it is positive.
+fn noise_white_var(study: &Study, rate_hz: f64) -> Vec<Option<f64>> {
+    study
+        .noise
+        .iter()
+        .map(|n| {
+            n.as_ref()
+                .map(|n| n.white_sample_variance(rate_hz) + n.quantization().powi(2) / 12.0)
+        })
+        .map(|v| v.filter(|v| *v > 0.0))
+        .collect()
+}
+
+impl Mode {
+    /// The segments' source once the sample rate `rate` (Hz) is known: the options' file,
+    /// else a detector.
+    fn new(study: &Study, options: &CalibrateOptions, rate: f64, min_static_s: f64) -> Mode {
         match &options.segments {
             Some(specs) => Mode::File {
                 specs: specs.clone(),
@@ -661,7 +784,7 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
             },
             None => Mode::Detect(Box::new(Detector::new(
                 BlockTest {
-                    white_var: noise_white_var(rate),
+                    white_var: noise_white_var(study, rate),
                     variance_ratio: options.detect.variance_ratio,
                     rate_channels: rate_channels(study),
                     turning_rate_deg_per_h: options.detect.turning_rate_deg_per_s * 3600.0,
@@ -670,12 +793,14 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
                 options.detect.block_s,
                 min_static_s,
                 rate,
-                n_out,
+                study.sensor.n_outputs(),
             ))),
         }
-    };
-    let feed = |mode: &mut Mode, row: &Row<'_>, rate: f64| -> Result<(), RunError> {
-        match mode {
+    }
+
+    /// One row into the segment it belongs to (`n_out` outputs at `rate` Hz).
+    fn feed(&mut self, row: &Row<'_>, rate: f64, n_out: usize) -> Result<(), RunError> {
+        match self {
             Mode::Waiting => unreachable!("a mode is set before the first row is fed"),
             Mode::Detect(d) => d.push(row),
             Mode::File {
@@ -700,41 +825,35 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
                 Ok(())
             }
         }
-    };
-    let summary = read_rows(reader, source, &out_names, &joint_names, &rec_opts, |row| {
-        observe(row);
-        if row.index == 0 {
-            first = Some(OwnedRow::of(row));
-            return Ok(());
-        }
-        if row.index == 1 {
-            let dt = row.t_s - first.as_ref().map_or(0.0, |f| f.t_s);
-            rate_hz = given_rate.unwrap_or(1.0 / dt);
-            if !dt.is_finite() || dt <= 0.0 {
-                rate_hz = given_rate.or(rec_opts.index_sample_rate_hz).unwrap_or(1.0);
-            }
-            mode = make_mode(rate_hz);
-            let f = first.take().expect("row 0 held");
-            feed(&mut mode, &f.row(), rate_hz)?;
-        }
-        feed(&mut mode, row, rate_hz)
-    })?;
-    let mut warnings = Vec::new();
-    for s in &summary.saturated {
-        warnings.push(format!(
-            "column `{}`: {} saturated samples (first at line {}); segments holding one are flagged",
-            s.column, s.count, s.first_line
-        ));
     }
-    // Segments: (entry, kind, acc, allan fits if static)
-    let mut raw: Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)> = Vec::new();
-    let segments_source;
-    let pooled;
-    let static_samples;
+}
+
+/// One found segment: (schedule entry, kind, accumulated samples, allan fits if static).
+type RawSegment = (usize, SegmentKind, Acc, Option<StaticAcc>);
+
+/// The segments of a streamed recording, matched to the schedule entries.
+struct Collected {
+    raw: Vec<RawSegment>,
+    /// `"file"` or `"detected"`.
+    source: &'static str,
+    /// Every output's pooled white density and floor ([`pool`]).
+    pooled: Vec<(f64, f64)>,
+    static_samples: u64,
+}
+
+/// The segments the streaming found, matched to the schedule (detected ones by
+/// [`match_schedule`], whose warnings go to `warnings`).
+fn collect_segments(
+    study: &Study,
+    mode: Mode,
+    summary: &RecordingSummary,
+    rate_hz: f64,
+    warnings: &mut Vec<String>,
+) -> Result<Collected, RunError> {
+    let n_out = study.sensor.n_outputs();
     match mode {
         Mode::Waiting => unreachable!("read_rows returns at least two rows"),
         Mode::File { specs, done, .. } => {
-            segments_source = "file";
             if let Some(s) = specs.iter().find(|s| s.end > summary.samples) {
                 return Err(RunError::Segments {
                     reason: format!(
@@ -743,6 +862,7 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
                     ),
                 });
             }
+            let mut raw = Vec::new();
             let mut static_fits = Vec::new();
             for (spec, acc) in done {
                 if spec.kind == SegmentKind::Static {
@@ -752,126 +872,113 @@ pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
                     raw.push((spec.entry, spec.kind, acc.acc, None));
                 }
             }
-            (pooled, static_samples) = pool(&mut static_fits, n_out);
+            let (pooled, static_samples) = pool(&mut static_fits, n_out);
+            Ok(Collected {
+                raw,
+                source: "file",
+                pooled,
+                static_samples,
+            })
         }
         Mode::Detect(d) => {
-            segments_source = "detected";
             let mut det = d.finish()?;
-            (pooled, static_samples) = pool(&mut det.statics, n_out);
-            let (r, w) = match_schedule(
+            let (pooled, static_samples) = pool(&mut det.statics, n_out);
+            let (raw, w) = match_schedule(
                 study,
                 det,
-                n_static,
-                n_rate,
+                study.positions_deg.len(),
+                study.rate_steps.len(),
                 summary.angles_logged,
                 rate_hz,
                 &pooled,
             )?;
-            raw = r;
             warnings.extend(w);
+            Ok(Collected {
+                raw,
+                source: "detected",
+                pooled,
+                static_samples,
+            })
         }
     }
-    // measured noise per output, pooled over the static segments
-    let noise = measured_noise(study, &pooled, static_samples);
-    // per segment inputs
-    let schedule = study.calibration.schedule();
-    let site = &study.site;
-    let mut segments = Vec::with_capacity(raw.len());
-    for (entry, kind, acc, _) in &raw {
-        let duration_s = acc.n as f64 / rate_hz;
-        let position = &schedule.positions()[*entry];
-        let logged = summary.angles_logged;
-        let pose_deg: Vec<f64> = if logged && *kind == SegmentKind::Static {
-            acc.angle_mean.clone()
-        } else {
-            position.joint_angles_deg().to_vec()
-        };
-        let pose = Pose::from_deg(&pose_deg).map_err(|e| RunError::Internal(e.to_string()))?;
-        let (inputs, turned_deg) = match (kind, position.motion()) {
-            (SegmentKind::Static, _) => {
-                let r = if logged {
-                    study
-                        .turntable
-                        .nominal_rotation(&pose)
-                        .map_err(|e| RunError::Internal(e.to_string()))?
-                } else {
-                    *position.base_from_sensor()
-                };
-                (site.inputs(&r), None)
-            }
-            (SegmentKind::Rate, Some(m)) => (m.nominal, None),
-            (SegmentKind::Rotation, Some(m)) => {
-                let sign = m.rate_rad_per_s.signum();
-                let theta_rad = if logged {
-                    acc.turned[m.joint].to_radians()
-                } else {
-                    sign * std::f64::consts::TAU * f64::from(m.revolutions)
-                };
-                let axis = sign * m.nominal.rate_rad_per_s.normalize();
-                let actual = theta_rad / duration_s;
-                (
-                    Inputs {
-                        specific_force_g: m.nominal.specific_force_g,
-                        rate_rad_per_s: m.nominal.rate_rad_per_s
-                            + (actual - m.rate_rad_per_s) * axis,
-                    },
-                    Some(theta_rad.to_degrees()),
-                )
-            }
-            (_, None) => {
-                return Err(RunError::Segments {
-                    reason: format!("entry {entry} is a static position, not a rate step"),
-                });
-            }
-        };
-        if acc.saturated > 0 {
-            warnings.push(format!(
-                "segment of entry {entry} (lines {}-{}): {} saturated samples; its average is biased",
-                acc.first_line, acc.last_line, acc.saturated
-            ));
-        }
-        segments.push(Segment {
-            entry: *entry,
-            kind: *kind,
-            start_sample: acc.start_index,
-            samples: acc.n,
-            first_line: acc.first_line,
-            last_line: acc.last_line,
-            t_start_s: acc.t_first,
-            duration_s,
-            mean: acc.mean.clone(),
-            std: (0..n_out).map(|k| acc.variance(k).sqrt()).collect(),
-            angles_deg: logged.then(|| acc.angle_mean.clone()),
-            turned_deg,
-            saturated: acc.saturated,
-            inputs: InputValues::from_inputs(&inputs),
-            pose,
-        });
-    }
-    let mut outputs = Vec::with_capacity(n_out);
-    for (k, o) in sensor.outputs().iter().enumerate() {
-        outputs.push(estimate_output(study, k, o, &segments, &noise[k], options)?);
-    }
-    Ok(Run {
-        study: study.path.clone(),
-        study_sha256: crate::recording::sha256_hex(study.text.as_bytes()),
-        recording: summary,
-        segments_source,
-        segments,
-        warnings,
-        outputs,
-        coverage: options.coverage,
-        robust: options.robust,
-        budget_rule: format!(
-            "GUM (JCGM 100) at coverage {}: measured noise (Allan, static segments; inflated by the Birge ratio when the residuals exceed it){}",
-            options.coverage,
-            if options.tolerances.is_some() {
-                "; the table's tolerances, rectangular, sensitivities by the exact chain"
+}
+
+/// One found segment as processed: its duration, pose and the regression's inputs (a
+/// rotation's rate from the angle it turned); a warning for its saturated samples.
+fn segment_of(
+    study: &Study,
+    (entry, kind, acc, _): &RawSegment,
+    rate_hz: f64,
+    logged: bool,
+    n_out: usize,
+    warnings: &mut Vec<String>,
+) -> Result<Segment, RunError> {
+    let duration_s = acc.n as f64 / rate_hz;
+    let position = &study.calibration.schedule().positions()[*entry];
+    let pose_deg: Vec<f64> = if logged && *kind == SegmentKind::Static {
+        acc.angle_mean.clone()
+    } else {
+        position.joint_angles_deg().to_vec()
+    };
+    let pose = Pose::from_deg(&pose_deg).map_err(|e| RunError::Internal(e.to_string()))?;
+    let (inputs, turned_deg) = match (kind, position.motion()) {
+        (SegmentKind::Static, _) => {
+            let r = if logged {
+                study
+                    .turntable
+                    .nominal_rotation(&pose)
+                    .map_err(|e| RunError::Internal(e.to_string()))?
             } else {
-                "; no tolerance sheet: the table's part is not counted"
-            }
-        ),
-        models: sensor.outputs().to_vec(),
+                *position.base_from_sensor()
+            };
+            (study.site.inputs(&r), None)
+        }
+        (SegmentKind::Rate, Some(m)) => (m.nominal, None),
+        (SegmentKind::Rotation, Some(m)) => {
+            let sign = m.rate_rad_per_s.signum();
+            let theta_rad = if logged {
+                acc.turned[m.joint].to_radians()
+            } else {
+                sign * std::f64::consts::TAU * f64::from(m.revolutions)
+            };
+            let axis = sign * m.nominal.rate_rad_per_s.normalize();
+            let actual = theta_rad / duration_s;
+            (
+                Inputs {
+                    specific_force_g: m.nominal.specific_force_g,
+                    rate_rad_per_s: m.nominal.rate_rad_per_s + (actual - m.rate_rad_per_s) * axis,
+                },
+                Some(theta_rad.to_degrees()),
+            )
+        }
+        (_, None) => {
+            return Err(RunError::Segments {
+                reason: format!("entry {entry} is a static position, not a rate step"),
+            });
+        }
+    };
+    if acc.saturated > 0 {
+        warnings.push(format!(
+            "segment of entry {entry} (lines {}-{}): {} saturated samples; its average is biased",
+            acc.first_line, acc.last_line, acc.saturated
+        ));
+    }
+    Ok(Segment {
+        entry: *entry,
+        kind: *kind,
+        start_sample: acc.start_index,
+        samples: acc.n,
+        first_line: acc.first_line,
+        last_line: acc.last_line,
+        t_start_s: acc.t_first,
+        duration_s,
+        mean: acc.mean.clone(),
+        std: (0..n_out).map(|k| acc.variance(k).sqrt()).collect(),
+        angles_deg: logged.then(|| acc.angle_mean.clone()),
+        turned_deg,
+        saturated: acc.saturated,
+        inputs: InputValues::from_inputs(&inputs),
+        pose,
     })
 }
 
@@ -921,10 +1028,7 @@ fn measured_noise(study: &Study, pooled: &[(f64, f64)], samples: u64) -> Vec<Mea
         .collect()
 }
 
-type Matched = (
-    Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)>,
-    Vec<String>,
-);
+type Matched = (Vec<RawSegment>, Vec<String>);
 
 /// Match detected intervals to the schedule (module docs of [`crate::segments`]).
 fn match_schedule(
@@ -1019,7 +1123,7 @@ fn match_schedule(
             det.statics[n_static].acc.first_line, det.statics[n_static].acc.last_line
         ));
     }
-    let mut all: Vec<(usize, SegmentKind, Acc, Option<StaticAcc>)> = det
+    let mut all: Vec<RawSegment> = det
         .statics
         .iter()
         .take(n_static)
@@ -1073,11 +1177,6 @@ fn wls(
     })
 }
 
-#[allow(
-    clippy::too_many_arguments,
-    clippy::too_many_lines,
-    reason = "issue 33: split pending"
-)]
 fn estimate_output(
     study: &Study,
     k: usize,
@@ -1102,101 +1201,30 @@ fn estimate_output(
         Ok((sigma, basis)) => (Some(sigma), basis),
         Err(why) => (None, format!("not computed: {why}")),
     };
-    let predicted = predicted.as_ref();
     let names: Vec<String> = o
         .estimated_names()
         .iter()
         .map(|s| (*s).to_string())
         .collect();
     let p = names.len();
-    let n = used.len();
-    let mut a = DMatrix::zeros(n, p);
-    let mut y = DVector::zeros(n);
-    let mut var = vec![0.0; n];
-    for (r, &i) in used.iter().enumerate() {
-        let s = &segments[i];
-        for (c, v) in o.regressor_row(&s.inputs).enumerate() {
-            a[(r, c)] = v;
-        }
-        y[r] = s.mean[k] - o.known_part(&s.inputs);
-        var[r] = noise.variance_of_mean(s.duration_s);
-    }
-    if var.iter().any(|v| *v <= 0.0) {
-        return Err(RunError::Segments {
-            reason: format!(
-                "output `{}`: no measured noise (no static segment long enough for an Allan deviation)",
-                o.name
-            ),
-        });
-    }
-    let w: Vec<f64> = var.iter().map(|v| 1.0 / v).collect();
-    let ordinary = wls(&o.name, &names, &a, &y, &w)?;
-    let mut fit = ordinary;
-    let mut robust_w = vec![1.0; n];
-    let mut robust_change = None;
-    if options.robust {
-        let base_beta = fit.beta.clone();
-        for _ in 0..HUBER_MAX_ITER {
-            let new_w: Vec<f64> = fit
-                .residual_w
-                .iter()
-                .zip(&robust_w)
-                .map(|(r, hw): (&f64, &f64)| {
-                    // residual of the reweighted fit back on the measured-noise scale
-                    let z = (r / hw.sqrt()).abs();
-                    if z <= HUBER_C { 1.0 } else { HUBER_C / z }
-                })
-                .collect();
-            let moved = new_w
-                .iter()
-                .zip(&robust_w)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            robust_w = new_w;
-            let ww: Vec<f64> = w.iter().zip(&robust_w).map(|(a, b)| a * b).collect();
-            fit = wls(&o.name, &names, &a, &y, &ww)?;
-            if moved <= HUBER_WEIGHT_TOL {
-                break;
-            }
-        }
-        robust_change = Some(&fit.beta - &base_beta);
-        for (r, &hw) in robust_w.iter().enumerate() {
-            if hw < 1.0 {
-                let s = &segments[used[r]];
-                notes.push(format!(
-                    "robust fit: entry {} (lines {}-{}) weighted {}",
-                    s.entry,
-                    s.first_line,
-                    s.last_line,
-                    tt_core::human::sig(hw, 3)
-                ));
-            }
-        }
-    }
-    // residuals on the measured-noise scale
-    let mut chi2 = 0.0;
-    let mut residuals = Vec::with_capacity(n);
-    for r in 0..n {
-        let hw = robust_w[r];
-        let rw = fit.residual_w[r] / hw.sqrt();
-        chi2 += rw * rw;
-        let lev = fit.leverage[r].min(1.0 - 1e-12);
-        let z = rw / (1.0 - lev).sqrt();
-        residuals.push(ResidualRow {
-            segment: used[r],
-            residual: rw * var[r].sqrt(),
-            standardized: z,
-            outlier: z.abs() > OUTLIER_Z,
-            robust_weight: hw,
-        });
-    }
-    let dof = n.saturating_sub(p);
+    let rows = Rows::of(k, o, segments, &used, noise)?;
+    let w: Vec<f64> = rows.var.iter().map(|v| 1.0 / v).collect();
+    let ordinary = wls(&o.name, &names, &rows.a, &rows.y, &w)?;
+    let (fit, robust_w, robust_change) = if options.robust {
+        let ordinary_beta = ordinary.beta.clone();
+        let (fit, robust_w) = huber(&o.name, &names, &rows, &w, ordinary)?;
+        notes.extend(down_weighted(segments, &used, &robust_w));
+        let change = &fit.beta - &ordinary_beta;
+        (fit, robust_w, Some(change))
+    } else {
+        (ordinary, vec![1.0; used.len()], None)
+    };
+    let (residuals, chi2) = residual_rows(&fit, &robust_w, &rows.var, &used);
+    let dof = used.len().saturating_sub(p);
     let birge = (dof > 0).then(|| (chi2 / dof as f64).sqrt());
     // covariance with unit weights back on the measured scale: for the robust fit the
     // reweighted (A^T W H A)^-1
-    let cov = fit.cov.clone();
-    let u_meas: Vec<f64> = (0..p).map(|j| cov[(j, j)].sqrt()).collect();
-    let inflate = birge.map_or(1.0, |b| b.max(1.0));
+    let u_meas: Vec<f64> = (0..p).map(|j| fit.cov[(j, j)].sqrt()).collect();
     // the table's sensitivities
     let table = match &options.tolerances {
         Some(t) => Some(table_sensitivities(
@@ -1204,7 +1232,216 @@ fn estimate_output(
         )?),
         None => None,
     };
-    // the budget
+    let result = budget_of(
+        o,
+        &names,
+        &fit.cov,
+        &u_meas,
+        birge,
+        dof,
+        table.as_ref(),
+        options,
+    )?;
+    let estimated: Vec<&gw_model::Term> = o.estimated().collect();
+    let coefficients = (0..p)
+        .map(|j| {
+            let ou = &result.outputs()[j];
+            let (u_table, table_sensitivity) = table.as_ref().map_or_else(
+                || (0.0, Vec::new()),
+                |(nm, ub, sens)| {
+                    let u = ub
+                        .iter()
+                        .enumerate()
+                        .map(|(e, b)| (sens[(j, e)] * b / 3f64.sqrt()).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    let s = nm
+                        .iter()
+                        .enumerate()
+                        .map(|(e, n)| (n.clone(), sens[(j, e)]))
+                        .collect();
+                    (u, s)
+                },
+            );
+            CoefficientResult {
+                name: names[j].clone(),
+                unit: o.coefficient_unit(estimated[j]),
+                value: fit.beta[j],
+                nominal: estimated[j].value,
+                u_measured_noise: u_meas[j],
+                u_residuals: birge.map(|b| b * u_meas[j]),
+                u_table,
+                u_combined: ou.combined(),
+                dof_eff: ou.dof_eff(),
+                k: ou.coverage_factor(),
+                expanded: ou.expanded(),
+                predicted_u: predicted.as_ref().map(|pr| pr[j]),
+                robust_change: robust_change.as_ref().map(|d| d[j]),
+                table_sensitivity,
+            }
+        })
+        .collect();
+    Ok(OutputResult {
+        name: o.name.clone(),
+        unit: o.unit.clone(),
+        noise: noise.clone(),
+        coefficients,
+        residuals,
+        chi2,
+        dof,
+        birge_ratio: birge,
+        notes,
+        predicted_basis,
+    })
+}
+
+/// One output's regression over the segments it uses: the regressor rows, the means less
+/// the model's known part, and each mean's variance from the measured noise.
+struct Rows {
+    a: DMatrix<f64>,
+    y: DVector<f64>,
+    var: Vec<f64>,
+}
+
+impl Rows {
+    /// Output `k` (`o`) over `segments[used]`.
+    ///
+    /// # Errors
+    /// [`RunError::Segments`] when a variance is not positive (no measured noise).
+    fn of(
+        k: usize,
+        o: &Output,
+        segments: &[Segment],
+        used: &[usize],
+        noise: &MeasuredNoise,
+    ) -> Result<Rows, RunError> {
+        let n = used.len();
+        let mut a = DMatrix::zeros(n, o.estimated_names().len());
+        let mut y = DVector::zeros(n);
+        let mut var = vec![0.0; n];
+        for (r, &i) in used.iter().enumerate() {
+            let s = &segments[i];
+            for (c, v) in o.regressor_row(&s.inputs).enumerate() {
+                a[(r, c)] = v;
+            }
+            y[r] = s.mean[k] - o.known_part(&s.inputs);
+            var[r] = noise.variance_of_mean(s.duration_s);
+        }
+        if var.iter().any(|v| *v <= 0.0) {
+            return Err(RunError::Segments {
+                reason: format!(
+                    "output `{}`: no measured noise (no static segment long enough for an Allan deviation)",
+                    o.name
+                ),
+            });
+        }
+        Ok(Rows { a, y, var })
+    }
+}
+
+/// The robust (Huber) fit from the ordinary one `fit` (weights `w`): iteratively reweighted
+/// until no weight moves by more than [`HUBER_WEIGHT_TOL`], at most [`HUBER_MAX_ITER`]
+/// times. Returns the fit and the Huber weights.
+fn huber(
+    name: &str,
+    names: &[String],
+    rows: &Rows,
+    w: &[f64],
+    mut fit: Fit,
+) -> Result<(Fit, Vec<f64>), RunError> {
+    let mut robust_w = vec![1.0; w.len()];
+    for _ in 0..HUBER_MAX_ITER {
+        let new_w: Vec<f64> = fit
+            .residual_w
+            .iter()
+            .zip(&robust_w)
+            .map(|(r, hw): (&f64, &f64)| {
+                // residual of the reweighted fit back on the measured-noise scale
+                let z = (r / hw.sqrt()).abs();
+                if z <= HUBER_C { 1.0 } else { HUBER_C / z }
+            })
+            .collect();
+        let moved = new_w
+            .iter()
+            .zip(&robust_w)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        robust_w = new_w;
+        let ww: Vec<f64> = w.iter().zip(&robust_w).map(|(a, b)| a * b).collect();
+        fit = wls(name, names, &rows.a, &rows.y, &ww)?;
+        if moved <= HUBER_WEIGHT_TOL {
+            break;
+        }
+    }
+    Ok((fit, robust_w))
+}
+
+/// A note for each segment the robust fit down-weighted.
+fn down_weighted(segments: &[Segment], used: &[usize], robust_w: &[f64]) -> Vec<String> {
+    robust_w
+        .iter()
+        .zip(used)
+        .filter(|(hw, _)| **hw < 1.0)
+        .map(|(&hw, &i)| {
+            let s = &segments[i];
+            format!(
+                "robust fit: entry {} (lines {}-{}) weighted {}",
+                s.entry,
+                s.first_line,
+                s.last_line,
+                tt_core::human::sig(hw, 3)
+            )
+        })
+        .collect()
+}
+
+/// Each used segment's residual on the measured-noise scale (standardized by its leverage),
+/// and their $\chi^2$.
+fn residual_rows(
+    fit: &Fit,
+    robust_w: &[f64],
+    var: &[f64],
+    used: &[usize],
+) -> (Vec<ResidualRow>, f64) {
+    let mut chi2 = 0.0;
+    let mut residuals = Vec::with_capacity(used.len());
+    for (r, &segment) in used.iter().enumerate() {
+        let hw = robust_w[r];
+        let rw = fit.residual_w[r] / hw.sqrt();
+        chi2 += rw * rw;
+        let lev = fit.leverage[r].min(1.0 - 1e-12);
+        let z = rw / (1.0 - lev).sqrt();
+        residuals.push(ResidualRow {
+            segment,
+            residual: rw * var[r].sqrt(),
+            standardized: z,
+            outlier: z.abs() > OUTLIER_Z,
+            robust_weight: hw,
+        });
+    }
+    (residuals, chi2)
+}
+
+/// The GUM budget of the coefficients `names`: each coefficient's noise (standard
+/// uncertainty `u_meas`, inflated by the Birge ratio when above 1, then with `dof` degrees
+/// of freedom; correlated by `cov`) and, with a tolerance sheet, each toleranced table error
+/// (rectangular, through its sensitivities).
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the budget's parts, each computed by the caller once"
+)]
+fn budget_of(
+    o: &Output,
+    names: &[String],
+    cov: &DMatrix<f64>,
+    u_meas: &[f64],
+    birge: Option<f64>,
+    dof: usize,
+    table: Option<&TableSens>,
+    options: &CalibrateOptions,
+) -> Result<metrology::BudgetResult, RunError> {
+    let p = names.len();
+    let inflate = birge.map_or(1.0, |b| b.max(1.0));
     let mut inputs = Vec::new();
     for (j, nm) in names.iter().enumerate() {
         let mut i = MInput::normal(&format!("noise {nm}"), 0.0, u_meas[j] * inflate)
@@ -1216,14 +1453,14 @@ fn estimate_output(
         }
         inputs.push(i);
     }
-    let mut cols: Vec<Vec<f64>> = Vec::new();
-    if let Some((names_t, ub, sens)) = &table {
-        for (e, (nm, &b)) in names_t.iter().zip(ub.iter()).enumerate() {
+    let mut n_table = 0;
+    if let Some((names_t, ub, _)) = table {
+        for (nm, &b) in names_t.iter().zip(ub.iter()) {
             inputs.push(
                 MInput::rectangular(&format!("table {nm}"), 0.0, b)
                     .map_err(|e| RunError::Internal(e.to_string()))?,
             );
-            cols.push((0..p).map(|j| sens[(j, e)]).collect());
+            n_table += 1;
         }
     }
     let m = inputs.len();
@@ -1247,61 +1484,15 @@ fn estimate_output(
     let mut c = DMatrix::zeros(p, m);
     for j in 0..p {
         c[(j, j)] = 1.0;
-        for (e, col) in cols.iter().enumerate() {
-            c[(j, p + e)] = col[j];
+        if let Some((_, _, sens)) = table {
+            for e in 0..n_table {
+                c[(j, p + e)] = sens[(j, e)];
+            }
         }
     }
-    let result = budget
-        .evaluate(&names, &c)
-        .map_err(|e| RunError::Internal(format!("budget of `{}`: {e}", o.name)))?;
-    let estimated: Vec<&gw_model::Term> = o.estimated().collect();
-    let coefficients = (0..p)
-        .map(|j| {
-            let ou = &result.outputs()[j];
-            let u_table = cols
-                .iter()
-                .zip(table.as_ref().map_or(&[][..], |t| &t.1[..]))
-                .map(|(col, b)| (col[j] * b / 3f64.sqrt()).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            CoefficientResult {
-                name: names[j].clone(),
-                unit: o.coefficient_unit(estimated[j]),
-                value: fit.beta[j],
-                nominal: estimated[j].value,
-                u_measured_noise: u_meas[j],
-                u_residuals: birge.map(|b| b * u_meas[j]),
-                u_table,
-                u_combined: ou.combined(),
-                dof_eff: ou.dof_eff(),
-                k: ou.coverage_factor(),
-                expanded: ou.expanded(),
-                predicted_u: predicted.map(|pr| pr[j]),
-                robust_change: robust_change.as_ref().map(|d| d[j]),
-                table_sensitivity: table
-                    .as_ref()
-                    .map(|(nm, _, sens)| {
-                        nm.iter()
-                            .enumerate()
-                            .map(|(e, n)| (n.clone(), sens[(j, e)]))
-                            .collect()
-                    })
-                    .unwrap_or_default(),
-            }
-        })
-        .collect();
-    Ok(OutputResult {
-        name: o.name.clone(),
-        unit: o.unit.clone(),
-        noise: noise.clone(),
-        coefficients,
-        residuals,
-        chi2,
-        dof,
-        birge_ratio: birge,
-        notes,
-        predicted_basis,
-    })
+    budget
+        .evaluate(names, &c)
+        .map_err(|e| RunError::Internal(format!("budget of `{}`: {e}", o.name)))
 }
 
 /// The plan's predicted standard uncertainty of output `k`'s estimated coefficients

@@ -1428,6 +1428,92 @@ impl DirectSetup<'_> {
         d
     }
 
+    /// Every output's accuracy less its margin is positive, and the lower bounds alone keep
+    /// every row within it.
+    ///
+    /// # Errors
+    /// [`E2eError::MarginExceedsAccuracy`] or [`E2eError::InfeasibleLowerBounds`] naming the
+    /// output (and position).
+    fn check_room(
+        &self,
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        margins: &[f64],
+    ) -> Result<(), E2eError> {
+        let n = linear.positions();
+        let acc = self.accuracies;
+        let bound = |k: usize| acc[k] - margins[k];
+        for (k, _) in acc.iter().enumerate() {
+            if bound(k) <= 0.0 {
+                return Err(E2eError::MarginExceedsAccuracy {
+                    output: self.output_names[k].to_string(),
+                    value: bound(k),
+                });
+            }
+        }
+        let lb_rows = linear.row_worst_cases(lower_bounds_rad);
+        for (r, v) in lb_rows.iter().enumerate() {
+            let k = r / n;
+            if *v > bound(k) {
+                return Err(E2eError::InfeasibleLowerBounds {
+                    output: self.output_names[k].to_string(),
+                    position: r % n,
+                    worst: *v,
+                    accuracy: acc[k],
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The direct allocation's cuts over the errors `free`: every accuracy row within its
+    /// accuracy less its margin (tag: the row), every specification row within its room
+    /// (tag: -2 - its index), dominated cuts dropped; then, with `l1_budget_rad`, the sum of
+    /// the bounds within it (tag -1).
+    fn cuts(
+        &self,
+        linear: &Linearization,
+        free: &[usize],
+        margins: &[f64],
+        spec_rows: &[SpecificationRow],
+        spec_coefficients: &[Vec<f64>],
+        l1_budget_rad: Option<f64>,
+    ) -> Vec<Cut> {
+        let n = linear.positions();
+        let bound = |k: usize| self.accuracies[k] - margins[k];
+        let rows: Vec<Cut> = linear
+            .matrix()
+            .row_iter()
+            .enumerate()
+            .map(|(r, row)| Cut {
+                coefficients: free.iter().map(|&j| row[j].abs()).collect(),
+                bound: bound(r / n),
+                tag: r as f64,
+            })
+            .chain(
+                spec_rows
+                    .iter()
+                    .zip(spec_coefficients)
+                    .enumerate()
+                    .map(|(i, (r, c))| Cut {
+                        coefficients: free.iter().map(|&j| c[j]).collect(),
+                        bound: r.room(),
+                        tag: -2.0 - i as f64,
+                    }),
+            )
+            .collect();
+        let mut rows = undominated(rows);
+        if let Some(budget) = l1_budget_rad {
+            // sum_j UB_j <= budget (rad): the l1 size the second-order bound was taken at
+            rows.push(Cut {
+                coefficients: vec![1.0; free.len()],
+                bound: budget,
+                tag: -1.0,
+            });
+        }
+        rows
+    }
+
     /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
     /// of each accuracy free and, with `l1_budget_rad`, $\sum_j \mathrm{UB}_j$ within it (see
     /// [`EndToEnd::allocate_direct`] and [`EndToEnd::allocate_direct_certified`]).
@@ -1473,30 +1559,10 @@ impl DirectSetup<'_> {
                 .collect()
         };
         check_lower_bounds_named(self.error_names.to_vec(), lower_bounds_rad)?;
+        self.check_room(linear, lower_bounds_rad, margins)?;
         let n = linear.positions();
         let n_errors = self.error_names.len();
         let acc = self.accuracies.to_vec();
-        let bound = |k: usize| acc[k] - margins[k];
-        for (k, _) in acc.iter().enumerate() {
-            if bound(k) <= 0.0 {
-                return Err(E2eError::MarginExceedsAccuracy {
-                    output: self.output_names[k].to_string(),
-                    value: bound(k),
-                });
-            }
-        }
-        let lb_rows = linear.row_worst_cases(lower_bounds_rad);
-        for (r, v) in lb_rows.iter().enumerate() {
-            let k = r / n;
-            if *v > bound(k) {
-                return Err(E2eError::InfeasibleLowerBounds {
-                    output: self.output_names[k].to_string(),
-                    position: r % n,
-                    worst: *v,
-                    accuracy: acc[k],
-                });
-            }
-        }
         let unconstrained: Vec<usize> = linear
             .unconstrained()
             .into_iter()
@@ -1528,39 +1594,14 @@ impl DirectSetup<'_> {
                 spec_loads: spec_loads(&vec![0.0; n_errors]),
             });
         }
-        let rows: Vec<Cut> = linear
-            .matrix()
-            .row_iter()
-            .enumerate()
-            .map(|(r, row)| Cut {
-                coefficients: free.iter().map(|&j| row[j].abs()).collect(),
-                bound: bound(r / n),
-                tag: r as f64,
-            })
-            .collect();
-        let rows: Vec<Cut> = rows
-            .into_iter()
-            .chain(
-                spec_rows
-                    .iter()
-                    .zip(&spec_coefficients)
-                    .enumerate()
-                    .map(|(i, (r, c))| Cut {
-                        coefficients: free.iter().map(|&j| c[j]).collect(),
-                        bound: r.room(),
-                        tag: -2.0 - i as f64,
-                    }),
-            )
-            .collect();
-        let mut rows = undominated(rows);
-        if let Some(budget) = l1_budget_rad {
-            // sum_j UB_j <= budget (rad): the l1 size the second-order bound was taken at
-            rows.push(Cut {
-                coefficients: vec![1.0; free.len()],
-                bound: budget,
-                tag: -1.0,
-            });
-        }
+        let rows = self.cuts(
+            linear,
+            &free,
+            margins,
+            spec_rows,
+            &spec_coefficients,
+            l1_budget_rad,
+        );
         let oracle = FiniteCuts::new(rows.clone());
         let problem = InverseSquareProblem {
             label: "direct".into(),

@@ -267,12 +267,29 @@ impl MonteCarlo {
             Some(h) => h,
             None => Self::histogram_half_range_rad(turntable, &bounds)?,
         };
-        Ok(Self {
-            sampler: TurntableSampler::new(&bounds, turntable),
-            source: Source::Table {
+        Ok(Self::of_parts(
+            Source::Table {
                 turntable: turntable.clone(),
                 plan: CompiledPlan::new(turntable),
             },
+            TurntableSampler::new(&bounds, turntable),
+            bounds,
+            config,
+            half_range_rad,
+        ))
+    }
+
+    /// A run of `source` drawing by `sampler` (validated by the caller).
+    fn of_parts(
+        source: Source,
+        sampler: TurntableSampler,
+        bounds: ErrorBox,
+        config: McConfig,
+        half_range_rad: [f64; 3],
+    ) -> Self {
+        Self {
+            sampler,
+            source,
             bounds,
             requirement_cmp_rad: config
                 .requirement
@@ -280,7 +297,7 @@ impl MonteCarlo {
                 .map(|r| r.unwrap_or(f64::INFINITY)),
             config,
             half_range_rad,
-        })
+        }
     }
 
     /// A Monte Carlo of any orientation-error `model` (no turntable needed): the pose drawn
@@ -324,20 +341,17 @@ impl MonteCarlo {
             Some(h) => h,
             None => model_half_range_rad(&model, &joint_ranges_rad, &bounds)?,
         };
-        Ok(Self {
-            sampler: TurntableSampler::for_joint_ranges(&bounds, &joint_ranges_rad),
-            source: Source::Model {
+        let sampler = TurntableSampler::for_joint_ranges(&bounds, &joint_ranges_rad);
+        Ok(Self::of_parts(
+            Source::Model {
                 model: Arc::new(model),
                 joint_ranges_rad,
             },
+            sampler,
             bounds,
-            requirement_cmp_rad: config
-                .requirement
-                .to_array()
-                .map(|r| r.unwrap_or(f64::INFINITY)),
             config,
             half_range_rad,
-        })
+        ))
     }
 
     /// The default histogram half-range $H_k$ for a box of a turntable: a rigorous bound on

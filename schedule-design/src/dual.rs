@@ -50,6 +50,71 @@ pub(crate) struct Scratch {
     memo_out: Vec<f64>,
 }
 
+impl Scratch {
+    /// Ready for [`bounds_with`] on `rows` ($R \times m$, $R \ge 1$): $\mu$ the warm start
+    /// `mu0` normalised (row 0 alone without one), the rows by column, $c = \mu^T A$, the
+    /// other vectors zero and the cube-root memo empty.
+    fn start(&mut self, rows: &[f64], m: usize, mu0: &[(usize, f64)]) {
+        let n_rows = rows.len() / m;
+        let reset = |v: &mut Vec<f64>, len: usize| {
+            v.clear();
+            v.resize(len, 0.0);
+        };
+        let Scratch {
+            mu,
+            cols,
+            c,
+            memo_in,
+            ..
+        } = self;
+        reset(mu, n_rows);
+        reset(c, m);
+        warm_start(mu, c, rows, mu0);
+        // the rows by column (`cols[j * n_rows + r]`): the gradient is then a sum over `j`
+        // of whole columns, each row's terms added in the same order as a row-wise dot
+        // product (so the same bits) but vectorised across rows
+        reset(cols, rows.len());
+        for (r, row) in rows.chunks_exact(m).enumerate() {
+            for (j, &a) in row.iter().enumerate() {
+                cols[j * n_rows + r] = a;
+            }
+        }
+        memo_in.clear();
+        // an argument never seen: a NaN pattern (the arguments are maxima with 0 or
+        // C_FLOOR, never NaN)
+        memo_in.resize(m, u64::MAX);
+        reset(&mut self.grad, n_rows);
+        // cbrt(max(c_j, C_FLOOR)) of the current c (shared by G, its gradient and the line
+        // search's first step: one cube root per error per iteration fewer than recomputing)
+        reset(&mut self.root, m);
+        reset(&mut self.dc, m);
+        reset(&mut self.d, m);
+        reset(&mut self.memo_out, m);
+    }
+}
+
+/// The warm start into the zeroed `mu` (one weight per row of `rows`) and `c` (one per
+/// error): $\mu$ the weights of `mu0` (row, weight; negative ones as 0) normalised to sum 1,
+/// row 0 alone without a positive one; $c = \mu^T A$.
+fn warm_start(mu: &mut [f64], c: &mut [f64], rows: &[f64], mu0: &[(usize, f64)]) {
+    let m = c.len();
+    let total: f64 = mu0.iter().map(|t| t.1.max(0.0)).sum();
+    if total > 0.0 {
+        for &(r, v) in mu0 {
+            mu[r] += v.max(0.0) / total;
+        }
+    } else {
+        mu[0] = 1.0;
+    }
+    for (r, &v) in mu.iter().enumerate() {
+        if v > 0.0 {
+            for (cj, a) in c.iter_mut().zip(&rows[r * m..(r + 1) * m]) {
+                *cj += v * a;
+            }
+        }
+    }
+}
+
 /// $w_j^{2/3}$ as [`bounds_with`] takes it (computed once per problem).
 pub(crate) fn weights_23(weights: &[f64]) -> Vec<f64> {
     // x^(2/3) = cbrt(x)^2 and x^(-1/3) = 1/cbrt(x): cube roots are several times cheaper
@@ -148,6 +213,7 @@ pub(crate) fn bounds_with(
     if n_rows == 0 {
         return (0.0, f64::INFINITY);
     }
+    sc.start(rows, m, mu0);
     let Scratch {
         mu,
         cols,
@@ -159,49 +225,8 @@ pub(crate) fn bounds_with(
         memo_in,
         memo_out,
     } = sc;
-    let reset = |v: &mut Vec<f64>, len: usize| {
-        v.clear();
-        v.resize(len, 0.0);
-    };
-    reset(mu, n_rows);
-    let total: f64 = mu0.iter().map(|t| t.1.max(0.0)).sum();
-    if total > 0.0 {
-        for &(r, v) in mu0 {
-            mu[r] += v.max(0.0) / total;
-        }
-    } else {
-        mu[0] = 1.0;
-    }
-    // the rows by column (`cols[j * n_rows + r]`): the gradient below is then a sum over `j`
-    // of whole columns, each row's terms added in the same order as a row-wise dot product
-    // (so the same bits) but vectorised across rows
-    reset(cols, rows.len());
-    for (r, row) in rows.chunks_exact(m).enumerate() {
-        for (j, &a) in row.iter().enumerate() {
-            cols[j * n_rows + r] = a;
-        }
-    }
     let floor_root = cbrt_fast(C_FLOOR);
-    reset(c, m);
-    for (r, &v) in mu.iter().enumerate() {
-        if v > 0.0 {
-            for (cj, a) in c.iter_mut().zip(&rows[r * m..(r + 1) * m]) {
-                *cj += v * a;
-            }
-        }
-    }
     let (mut lower, mut upper): (f64, f64) = (0.0, f64::INFINITY);
-    reset(grad, n_rows);
-    // cbrt(max(c_j, C_FLOOR)) of the current c (shared by G, its gradient and the line
-    // search's first step: one cube root per error per iteration fewer than recomputing)
-    reset(root, m);
-    reset(dc, m);
-    reset(d, m);
-    memo_in.clear();
-    // an argument never seen: a NaN pattern (the arguments are maxima with 0 or C_FLOOR,
-    // never NaN)
-    memo_in.resize(m, u64::MAX);
-    reset(memo_out, m);
     for _ in 0..MAX_ITERATIONS {
         let mut g = 0.0;
         for j in 0..m {
@@ -395,22 +420,8 @@ mod tests {
         // than `powf`, which dominated the screening
         let w23: Vec<f64> = weights.iter().map(|w| w.cbrt().powi(2)).collect();
         let mut mu = vec![0.0; n_rows];
-        let total: f64 = mu0.iter().map(|t| t.1.max(0.0)).sum();
-        if total > 0.0 {
-            for &(r, v) in mu0 {
-                mu[r] += v.max(0.0) / total;
-            }
-        } else {
-            mu[0] = 1.0;
-        }
         let mut c = vec![0.0; m];
-        for (r, &v) in mu.iter().enumerate() {
-            if v > 0.0 {
-                for (cj, a) in c.iter_mut().zip(&rows[r * m..(r + 1) * m]) {
-                    *cj += v * a;
-                }
-            }
-        }
+        warm_start(&mut mu, &mut c, rows, mu0);
         let g_of = |c: &[f64]| -> f64 {
             c.iter()
                 .zip(&w23)

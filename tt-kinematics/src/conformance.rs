@@ -95,6 +95,17 @@ pub struct Case {
     pub errors: TurntableErrors,
 }
 
+impl Case {
+    /// `what` at this case (its pose and errors, rad).
+    fn at(&self, what: &str) -> String {
+        format!(
+            "{what} at pose {:?} rad, chi {:?} rad",
+            self.pose.angles_rad(),
+            self.errors.chi_rad()
+        )
+    }
+}
+
 /// The tolerances of the suite.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerances {
@@ -220,15 +231,7 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
     cases: &[Case],
     tol: &Tolerances,
 ) -> Result<(), Failure> {
-    let eval = |pose: &Pose, e: &TurntableErrors| -> Result<[f64; 3], Failure> {
-        model
-            .orientation_error(pose, e)
-            .map(|o| o.to_array())
-            .map_err(|err| Failure {
-                check: "evaluation",
-                detail: err.to_string(),
-            })
-    };
+    let eval = |pose: &Pose, e: &TurntableErrors| angles(model, pose, e);
     let n = model.n_errors();
     for (what, len) in std::iter::once(("zero", zero.chi_rad().len()))
         .chain(cases.iter().map(|c| ("a case", c.errors.chi_rad().len())))
@@ -244,13 +247,7 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
         }
     }
     for case in cases {
-        let at = |what: &str| {
-            format!(
-                "{what} at pose {:?} rad, chi {:?} rad",
-                case.pose.angles_rad(),
-                case.errors.chi_rad()
-            )
-        };
+        let at = |what: &str| case.at(what);
         check_derived_first_order(model, &case.pose, zero, tol).map_err(|f| Failure {
             detail: at(&f.detail),
             ..f
@@ -267,44 +264,35 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
             });
         }
         let f = eval(&case.pose, &case.errors)?;
-        let j = model.first_order(&case.pose, zero).map_err(|err| Failure {
-            check: "evaluation",
-            detail: err.to_string(),
-        })?;
+        let j = model.first_order(&case.pose, zero).map_err(evaluation)?;
         let chi = case.errors.chi_rad();
         let lin: Vec<f64> = (0..3)
             .map(|k| (0..chi.len()).map(|i| j[(k, i)] * chi[i]).sum())
             .collect();
         let s = case.errors.l1_rad();
         let bound = tol.second_order * s * s + tol.rounding_rad;
-        for k in 0..3 {
-            if (f[k] - lin[k]).abs() > bound {
-                return Err(Failure {
-                    check: "first-order",
-                    detail: at(&format!(
-                        "angle {k}: model {} rad, its first-order coefficients give {} rad, bound {bound} rad",
-                        f[k], lin[k]
-                    )),
-                });
-            }
-        }
+        per_angle("first-order", |k| {
+            ((f[k] - lin[k]).abs() > bound).then(|| {
+                at(&format!(
+                    "angle {k}: model {} rad, its first-order coefficients give {} rad, bound {bound} rad",
+                    f[k], lin[k]
+                ))
+            })
+        })?;
         let neg = TurntableErrors::new(
             case.errors.chi_rad().iter().map(|v| -v).collect(),
             case.errors.translations_m().to_vec(),
         )
         .unwrap_or_else(|_| unreachable!("finite"));
         let fm = eval(&case.pose, &neg)?;
-        for k in 0..3 {
-            if (f[k] + fm[k]).abs() > 2.0 * bound {
-                return Err(Failure {
-                    check: "odd",
-                    detail: at(&format!(
-                        "angle {k}: f(chi) {} and f(-chi) {} rad",
-                        f[k], fm[k]
-                    )),
-                });
-            }
-        }
+        per_angle("odd", |k| {
+            ((f[k] + fm[k]).abs() > 2.0 * bound).then(|| {
+                at(&format!(
+                    "angle {k}: f(chi) {} and f(-chi) {} rad",
+                    f[k], fm[k]
+                ))
+            })
+        })?;
     }
     Ok(())
 }
@@ -322,10 +310,6 @@ pub fn check_derived_first_order<M: OrientationErrorModel + ?Sized>(
     zero: &TurntableErrors,
     tol: &Tolerances,
 ) -> Result<(), Failure> {
-    let evaluation = |err: crate::KinematicsError| Failure {
-        check: "evaluation",
-        detail: err.to_string(),
-    };
     let own = model.first_order(pose, zero).map_err(evaluation)?;
     let derived =
         derived_first_order(model, pose, zero.translations_m().len()).map_err(evaluation)?;
@@ -364,10 +348,6 @@ pub fn check_rotation<M: OrientationErrorModel + ?Sized>(
     case: &Case,
     tol: &Tolerances,
 ) -> Result<(), Failure> {
-    let evaluation = |err: crate::KinematicsError| Failure {
-        check: "evaluation",
-        detail: err.to_string(),
-    };
     let dr = match model.delta_r(&case.pose, &case.errors) {
         Ok(dr) => dr,
         Err(crate::KinematicsError::NoDeltaR) => return Ok(()),
@@ -391,18 +371,48 @@ pub fn check_rotation<M: OrientationErrorModel + ?Sized>(
         .map_err(evaluation)?
         .to_array();
     let read = tt_core::OrientationError::from_matrix_elements(&dr).to_array();
-    for k in 0..3 {
-        if exceeds((f[k] - read[k]).abs(), bound) {
-            return Err(Failure {
-                check: "readout",
-                detail: format!(
-                    "angle {k}: orientation_error {} rad, read off delta_r {} rad, bound {bound} rad",
-                    f[k], read[k]
-                ),
-            });
-        }
+    per_angle("readout", |k| {
+        exceeds((f[k] - read[k]).abs(), bound).then(|| {
+            format!(
+                "angle {k}: orientation_error {} rad, read off delta_r {} rad, bound {bound} rad",
+                f[k], read[k]
+            )
+        })
+    })
+}
+
+/// `model`'s three angles at `pose` with errors `e` (rad); its error as a [`Failure`] of
+/// check `evaluation`.
+fn angles<M: OrientationErrorModel + ?Sized>(
+    model: &M,
+    pose: &Pose,
+    e: &TurntableErrors,
+) -> Result<[f64; 3], Failure> {
+    model
+        .orientation_error(pose, e)
+        .map(|o| o.to_array())
+        .map_err(evaluation)
+}
+
+/// A model's error as a [`Failure`] of check `evaluation`.
+#[allow(
+    clippy::needless_pass_by_value,
+    reason = "by value: it is the argument of `map_err`"
+)]
+fn evaluation(err: crate::KinematicsError) -> Failure {
+    Failure {
+        check: "evaluation",
+        detail: err.to_string(),
     }
-    Ok(())
+}
+
+/// A [`Failure`] of `check` with the detail `fails` gives for the first angle (0, 1, 2) it
+/// gives one for.
+fn per_angle(check: &'static str, fails: impl Fn(usize) -> Option<String>) -> Result<(), Failure> {
+    match (0..3).find_map(fails) {
+        Some(detail) => Err(Failure { check, detail }),
+        None => Ok(()),
+    }
 }
 
 /// Whether `x` exceeds `bound` or is NaN.
@@ -427,44 +437,24 @@ pub fn check_model<M: OrientationErrorModel + ?Sized>(
 ) -> Result<(), Failure> {
     check_model_general(model, &turntable.zero_errors(), cases, tol)?;
     let linear = LinearModel::new(turntable);
-    let eval = |pose: &Pose, e: &TurntableErrors| -> Result<[f64; 3], Failure> {
-        model
-            .orientation_error(pose, e)
-            .map(|o| o.to_array())
-            .map_err(|err| Failure {
-                check: "evaluation",
-                detail: err.to_string(),
-            })
-    };
+    let eval = |pose: &Pose, e: &TurntableErrors| angles(model, pose, e);
     for case in cases {
-        let at = |what: &str| {
-            format!(
-                "{what} at pose {:?} rad, chi {:?} rad",
-                case.pose.angles_rad(),
-                case.errors.chi_rad()
-            )
-        };
+        let at = |what: &str| case.at(what);
         let f = eval(&case.pose, &case.errors)?;
         let lin = linear
             .evaluate(&case.pose, &case.errors)
-            .map_err(|err| Failure {
-                check: "evaluation",
-                detail: err.to_string(),
-            })?
+            .map_err(evaluation)?
             .to_array();
         let s = case.errors.l1_rad();
         let bound = tol.second_order * s * s + tol.rounding_rad;
-        for k in 0..3 {
-            if (f[k] - lin[k]).abs() > bound {
-                return Err(Failure {
-                    check: "first-order",
-                    detail: at(&format!(
-                        "angle {k}: model {} rad, the turntable's first-order model {} rad, bound {bound} rad",
-                        f[k], lin[k]
-                    )),
-                });
-            }
-        }
+        per_angle("first-order", |k| {
+            ((f[k] - lin[k]).abs() > bound).then(|| {
+                at(&format!(
+                    "angle {k}: model {} rad, the turntable's first-order model {} rad, bound {bound} rad",
+                    f[k], lin[k]
+                ))
+            })
+        })?;
         let free = turntable.free_joints();
         let mut moved = case.pose.angles_rad().to_vec();
         let mut any = false;
@@ -479,17 +469,14 @@ pub fn check_model<M: OrientationErrorModel + ?Sized>(
                 &Pose::new(moved).unwrap_or_else(|_| unreachable!("finite")),
                 &case.errors,
             )?;
-            for k in 0..3 {
-                if (g[k] - f[k]).abs() > tol.rounding_rad {
-                    return Err(Failure {
-                        check: "leading-joints",
-                        detail: at(&format!(
-                            "angle {k} changed from {} to {} rad when a cancelling joint moved",
-                            f[k], g[k]
-                        )),
-                    });
-                }
-            }
+            per_angle("leading-joints", |k| {
+                ((g[k] - f[k]).abs() > tol.rounding_rad).then(|| {
+                    at(&format!(
+                        "angle {k} changed from {} to {} rad when a cancelling joint moved",
+                        f[k], g[k]
+                    ))
+                })
+            })?;
         }
         if turntable.n_translation_errors() > 0 {
             let shifted = case
@@ -504,17 +491,14 @@ pub fn check_model<M: OrientationErrorModel + ?Sized>(
                 )
                 .unwrap_or_else(|_| unreachable!("finite"));
             let g = eval(&case.pose, &shifted)?;
-            for k in 0..3 {
-                if (g[k] - f[k]).abs() > tol.rounding_rad {
-                    return Err(Failure {
-                        check: "translations",
-                        detail: at(&format!(
-                            "angle {k} changed from {} to {} rad with other translations",
-                            f[k], g[k]
-                        )),
-                    });
-                }
-            }
+            per_angle("translations", |k| {
+                ((g[k] - f[k]).abs() > tol.rounding_rad).then(|| {
+                    at(&format!(
+                        "angle {k} changed from {} to {} rad with other translations",
+                        f[k], g[k]
+                    ))
+                })
+            })?;
         }
     }
     Ok(())

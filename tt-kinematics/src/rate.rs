@@ -330,26 +330,9 @@ impl Turntable {
         rate_errors: &RateErrorValues,
         env: &RateEnvironment,
     ) -> Result<RateAverage, KinematicsError> {
-        self.check_pose(&step.pose)?;
+        self.check_step(step)?;
         self.check_errors(errors)?;
-        if step.joint >= self.n_joints() {
-            return Err(tt_core::FieldError::OutOfRange {
-                field: "joint".into(),
-                value: step.joint as f64,
-                range: format!("a joint of the turntable (0..{})", self.n_joints()),
-            }
-            .into());
-        }
-        finite("rate_rad_per_s", step.rate_rad_per_s)?;
         finite("accuracy", rate_errors.accuracy)?;
-        if step.rate_rad_per_s == 0.0 {
-            return Err(tt_core::FieldError::OutOfRange {
-                field: "rate_rad_per_s".into(),
-                value: 0.0,
-                range: "non-zero".into(),
-            }
-            .into());
-        }
         let (cos_avg, sin_avg, omega2_factor) = ripple_averages(rate_errors.ripple)?;
         let (p, s, t_s, u) = self.split_at_joint(step.joint, step.pose.angles_rad(), errors);
         let omega = step.rate_rad_per_s * (1.0 + rate_errors.accuracy);
