@@ -589,7 +589,10 @@ fn golden_section(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> ((f64, f64), (f64, 
 /// a search on $T_c$ with $Q, N, K, R, \sigma^2$ profiled out, with the power fit's weights.
 /// `None` when the points are all zero.
 #[must_use]
-pub fn fit_gauss_markov(points: &[(f64, f64, f64)], power: &PowerFit) -> Option<GaussMarkovFit> {
+pub(crate) fn fit_gauss_markov(
+    points: &[(f64, f64, f64)],
+    power: &PowerFit,
+) -> Option<GaussMarkovFit> {
     let nz = normalize(points)?;
     let order = subsets(5, 1);
     let w = weights(&nz, &power.model);

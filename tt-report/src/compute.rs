@@ -687,6 +687,7 @@ fn answer_part(
                 Some(tol) => {
                     let settings = e2e_verify::McSettings::new(options.samples, options.seed);
                     let c = e2e
+                        .vendor()
                         .check_sheet(tol, &settings)
                         .map_err(|e| tt_lab::error::library(e, s))?;
                     Some((tol.clone(), c))

@@ -1866,7 +1866,7 @@ impl<'a> Sections<'a> {
     /// The verdict against the study's `[[specifications]]` (absent without): per
     /// specification its verdict line with the rule (as `end-to-end` prints it) and its GUM
     /// budget table, then one figure of every input's share of u_c² per specification. Every
-    /// figure is the library's ([`e2e_verify::EndToEnd::plan_verdict`] through
+    /// figure is the library's ([`e2e_verify::BudgetQuestions::plan_verdict`] through
     /// [`tt_lab::vendor::spec`]), in the specification's unit.
     pub fn specifications(&mut self) -> Result<()> {
         let c = self.c;
@@ -2113,7 +2113,7 @@ impl<'a> Sections<'a> {
         let outs = self.outputs();
         self.doc.h(2, "Direct allocation with the rate tolerances");
         self.doc.p(format!(
-            "The study has rate steps, where the table's rate accuracy, its rate ripple and its translations (the axes' non-intersection) act besides the angles. The direct allocation gives them tolerances together with the angles (reading {}): every output's worst case over both boxes within its accuracy to first order, then checked on the exact chain at each output's worst vertex. A tolerance costs in J what an angle of the same end-to-end influence costs (the weights' choice is documented at `EndToEnd::rate_tolerance_weights`). J = {} arcmin⁻² over both.",
+            "The study has rate steps, where the table's rate accuracy, its rate ripple and its translations (the axes' non-intersection) act besides the angles. The direct allocation gives them tolerances together with the angles (reading {}): every output's worst case over both boxes within its accuracy to first order, then checked on the exact chain at each output's worst vertex. A tolerance costs in J what an angle of the same end-to-end influence costs (the weights' choice is documented at `RateQuestions::rate_tolerance_weights`). J = {} arcmin⁻² over both.",
             doc::code(&e2e.reading().to_string()),
             sig(a.combined().objective_arcmin(), 5)
         ));
@@ -2133,7 +2133,8 @@ impl<'a> Sections<'a> {
             })
             .collect();
         rows.extend(
-            e2e.rate_tolerance_names()
+            e2e.rates()
+                .rate_tolerance_names()
                 .iter()
                 .zip(a.tolerances())
                 .zip(a.tolerance_bounds())
