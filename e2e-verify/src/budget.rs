@@ -369,12 +369,6 @@ impl PlanVerdict {
     pub fn meets_all(&self) -> bool {
         (0..self.budgets.len()).all(|i| self.meets(i))
     }
-
-    /// Whether every specified output's noise is in its budget.
-    #[must_use]
-    pub fn noise_modelled_everywhere(&self) -> bool {
-        self.budgets.iter().all(SpecificationBudget::noise_modelled)
-    }
 }
 
 impl<S: ScheduleErrorModel> crate::BudgetQuestions<'_, S> {

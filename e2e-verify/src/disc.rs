@@ -61,7 +61,7 @@ impl PairShape {
     /// The largest $\lvert\chi_a\rvert + \lvert\chi_b\rvert$ over the shape of radius (half
     /// side) one: $\sqrt2$ for the disc, 2 for the square.
     #[must_use]
-    pub fn l1_gain(self) -> f64 {
+    pub(crate) fn l1_gain(self) -> f64 {
         match self {
             Self::Disc => std::f64::consts::SQRT_2,
             Self::Square => 2.0,

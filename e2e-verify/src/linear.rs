@@ -132,7 +132,7 @@ impl Linearization {
 
     /// Row index of (output, position).
     #[must_use]
-    pub fn row_index(&self, output: usize, position: usize) -> usize {
+    pub(crate) fn row_index(&self, output: usize, position: usize) -> usize {
         output * self.n + position
     }
 

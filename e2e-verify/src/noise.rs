@@ -757,7 +757,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     /// # Errors
     /// As [`crate::NoiseQuestions::combined_yield`].
     #[allow(clippy::too_many_arguments)]
-    pub fn combined_box_of(
+    pub(crate) fn combined_box_of(
         &self,
         name: &str,
         wc: &WorstCase,

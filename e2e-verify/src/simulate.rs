@@ -730,7 +730,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     ///
     /// # Errors
     /// As [`EndToEnd::delta_omega_into`]; a length error or a non-finite extra value.
-    pub fn delta_omega_extra_into(
+    pub(crate) fn delta_omega_extra_into(
         &self,
         chi_rad: &[f64],
         extra: &[f64],

@@ -101,7 +101,7 @@ impl Scanned {
 
 /// The dwells the time/table trade-off searches, s: from one sample per position to the
 /// study's longest accepted dwell.
-pub const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
+pub(crate) const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
 
 /// The answer for both error sources, when the study gives noise and a timing.
 ///

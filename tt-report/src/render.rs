@@ -36,7 +36,7 @@ pub fn unit(u: &str) -> String {
 
 /// A short name of a reading for headers: `intended`/`actual` for the paper's and the user's.
 #[must_use]
-pub fn short_reading(r: Reading) -> String {
+pub(crate) fn short_reading(r: Reading) -> String {
     if r == Reading::PAPER {
         "intended".into()
     } else if r == Reading::USER {
@@ -95,7 +95,7 @@ fn pct(v: f64) -> String {
 }
 
 /// The requirement as `I_ψ = … deg, …` (`none` for an unconstrained angle).
-pub fn requirement_text(r: &[Option<f64>; 3]) -> String {
+pub(crate) fn requirement_text(r: &[Option<f64>; 3]) -> String {
     (0..3)
         .map(|k| {
             format!(
@@ -221,7 +221,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The answer in a few sentences (the top of the report): one bullet per reading.
-    pub fn answer_callout(&mut self) {
+    pub(crate) fn answer_callout(&mut self) {
         let c = self.c;
         let acc = c.e2e.accuracies();
         let outs = self.outputs();
@@ -2280,7 +2280,7 @@ impl<'a> Sections<'a> {
 
     /// The allocation when the study's errors vary with the shaft angle, and after its measured
     /// errors are compensated (`tt_lab::allocation::angle`).
-    pub fn angle_allocation(&mut self) {
+    pub(crate) fn angle_allocation(&mut self) {
         let Some(a) = &self.c.angle_alloc else { return };
         let names = self.c.study.turntable.rotation_error_names();
         self.doc

@@ -68,7 +68,7 @@ impl NoisePart {
 /// guaranteed when the linear bound plus the second-order bound plus the noise meets it,
 /// likely otherwise.
 #[must_use]
-pub fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
+pub(crate) fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
     if o.exact_at_vertex() + margin > accuracy {
         Verdict::Fails
     } else {

@@ -186,7 +186,7 @@ pub fn check(
 ///
 /// # Errors
 /// As [`check`].
-pub fn check_with_noise(
+pub(crate) fn check_with_noise(
     s: &Study,
     e2e: &EndToEnd,
     sheet: &ToleranceSheet,
@@ -297,7 +297,7 @@ pub fn allocation(
 ///
 /// # Errors
 /// As [`allocation`].
-pub fn allocation_with_k(
+pub(crate) fn allocation_with_k(
     s: &Study,
     e2e: &EndToEnd,
     settings: &McSettings,
