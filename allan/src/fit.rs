@@ -50,7 +50,7 @@
 pub const FLICKER_FLOOR_FACTOR: f64 = 0.664_282_470_267_960_1;
 
 /// The exponents $n$ of the terms $C_n \tau^n$, in order.
-pub const EXPONENTS: [i32; 5] = [-2, -1, 0, 1, 2];
+pub(crate) const EXPONENTS: [i32; 5] = [-2, -1, 0, 1, 2];
 
 /// Points of the logarithmic correlation-time grid of the Gauss-Markov search.
 pub const GM_GRID: usize = 97;
@@ -175,7 +175,7 @@ impl PowerFit {
 
     /// Standard uncertainty of the fitted Allan variance at `tau_s`, log unit squared.
     #[must_use]
-    pub fn avar_uncertainty(&self, tau_s: f64) -> f64 {
+    pub(crate) fn avar_uncertainty(&self, tau_s: f64) -> f64 {
         let g = powers(tau_s / self.tau_scale);
         let mut v = 0.0;
         for i in 0..5 {
@@ -304,7 +304,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// The Allan variance of a Gauss-Markov process of unit variance at $u = \tau / T_c$.
 #[must_use]
-pub fn gauss_markov_avar(u: f64) -> f64 {
+pub(crate) fn gauss_markov_avar(u: f64) -> f64 {
     if u < 0.5 {
         // sum_{k>=3} (-1)^k (4 - 2^k)/k! u^k / u^2 (the closed form cancels)
         let (mut term, mut sum, mut two_k) = (1.0, 0.0, 1.0);
@@ -502,7 +502,7 @@ fn inflation(rss: f64, n: usize, p: usize, density: f64) -> f64 {
 /// Weights are iterated from the measured variances to the fitted ones (up to 20 rounds).
 /// Points with zero variance everywhere give a zero fit.
 #[must_use]
-pub fn fit_power_terms(points: &[(f64, f64, f64)]) -> PowerFit {
+pub(crate) fn fit_power_terms(points: &[(f64, f64, f64)]) -> PowerFit {
     let zero = |tau_scale: f64, var_scale: f64| PowerFit {
         coefficients: [0.0; 5],
         covariance: [[0.0; 5]; 5],
@@ -589,7 +589,10 @@ fn golden_section(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> ((f64, f64), (f64, 
 /// a search on $T_c$ with $Q, N, K, R, \sigma^2$ profiled out, with the power fit's weights.
 /// `None` when the points are all zero.
 #[must_use]
-pub fn fit_gauss_markov(points: &[(f64, f64, f64)], power: &PowerFit) -> Option<GaussMarkovFit> {
+pub(crate) fn fit_gauss_markov(
+    points: &[(f64, f64, f64)],
+    power: &PowerFit,
+) -> Option<GaussMarkovFit> {
     let nz = normalize(points)?;
     let order = subsets(5, 1);
     let w = weights(&nz, &power.model);

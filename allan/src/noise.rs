@@ -45,17 +45,6 @@ impl PowerLaw {
         }
     }
 
-    /// The log-log slope of the Allan deviation, $\mathrm d \ln\sigma / \mathrm d \ln\tau$.
-    #[must_use]
-    pub fn adev_slope(self) -> f64 {
-        match self {
-            PowerLaw::Quantization => -1.0,
-            PowerLaw::White => -0.5,
-            PowerLaw::Flicker => 0.0,
-            PowerLaw::RandomWalk => 0.5,
-        }
-    }
-
     /// The type whose slope is nearest to `slope` (midpoints go to the steeper rise); slopes
     /// below $-1$ are [`PowerLaw::Quantization`], above $+1/2$ (a ramp) [`PowerLaw::RandomWalk`];
     /// a non-finite slope is [`PowerLaw::White`].

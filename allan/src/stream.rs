@@ -65,12 +65,6 @@ impl Settings {
         self
     }
 
-    /// The cluster-time grid.
-    #[must_use]
-    pub fn tau_grid(&self) -> &Taus {
-        &self.taus
-    }
-
     /// The cluster sizes of a listed grid (empty for the others), checked: each cluster time
     /// a positive whole number of samples.
     fn list_sizes(&self) -> Result<Vec<u64>, AllanError> {
@@ -133,24 +127,6 @@ impl Settings {
     #[must_use]
     pub fn rate_hz(&self) -> f64 {
         self.rate_hz
-    }
-
-    /// The confidence of the bands.
-    #[must_use]
-    pub fn confidence_level(&self) -> f64 {
-        self.confidence
-    }
-
-    /// The noise model of the degrees of freedom.
-    #[must_use]
-    pub fn noise_model(&self) -> NoiseModel {
-        self.noise
-    }
-
-    /// The overlap factor $R$.
-    #[must_use]
-    pub fn overlap_factor(&self) -> u64 {
-        self.overlap
     }
 
     fn validate(&self) -> Result<(), AllanError> {

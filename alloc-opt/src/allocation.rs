@@ -820,7 +820,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     /// Reject errors whose coefficient is never positive on the domain (possible in the
     /// signed form only): no row bounds them, so the objective has no minimiser. Caught here
     /// by name rather than left to the conic solver, which stalls on such a problem.
-    pub fn check_each_bounded(&self, names: &[String]) -> Result<(), AllocError> {
+    pub(crate) fn check_each_bounded(&self, names: &[String]) -> Result<(), AllocError> {
         let n = self.components.len();
         let mut unbounded = Vec::new();
         for k in 0..n {

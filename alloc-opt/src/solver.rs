@@ -45,7 +45,7 @@ use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, S
 pub const CUT_TOLERANCE: f64 = 1e-9;
 
 /// Maximum number of exchange iterations before [`AllocError::NoConvergence`].
-pub const MAX_EXCHANGE_ITERATIONS: usize = 200;
+pub(crate) const MAX_EXCHANGE_ITERATIONS: usize = 200;
 
 /// Upper guard on each scaled variable (a component 10^4 times larger than the largest value
 /// any single start row allows alone), so that every conic subproblem has a solution.

@@ -123,7 +123,7 @@ impl Browser {
     }
 
     /// The temporary profile directory (removed when the browser is dropped).
-    pub fn profile_path(&self) -> &Path {
+    pub(crate) fn profile_path(&self) -> &Path {
         &self.profile_path
     }
 
@@ -262,7 +262,7 @@ impl Browser {
     }
 
     /// Events already queued (without waiting).
-    pub fn drain_events(&mut self) -> Vec<Value> {
+    pub(crate) fn drain_events(&mut self) -> Vec<Value> {
         self.events.drain(..).collect()
     }
 
@@ -335,7 +335,7 @@ impl Drop for Browser {
 }
 
 /// Live (not zombie) processes whose command line contains `marker`.
-pub fn processes_mentioning(marker: &Path) -> Vec<rustix::process::Pid> {
+pub(crate) fn processes_mentioning(marker: &Path) -> Vec<rustix::process::Pid> {
     let marker = marker.as_os_str().as_encoded_bytes();
     let mut found = Vec::new();
     let Ok(dir) = fs::read_dir("/proc") else {

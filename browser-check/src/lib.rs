@@ -229,13 +229,6 @@ impl WideElement {
         }
         s + &format!(" ({})", self.selector)
     }
-
-    /// The widest column of a table, if this is one.
-    pub fn widest_column(&self) -> Option<&ColumnInfo> {
-        self.columns
-            .iter()
-            .max_by(|a, b| a.width.total_cmp(&b.width))
-    }
 }
 
 /// One column of a wide table.

@@ -193,14 +193,14 @@ impl Reading {
 
     /// Whether the reading uses the known terms at the actual orientation ($\mathbf b_2'$).
     #[must_use]
-    pub fn needs_actual_known(&self) -> bool {
+    pub(crate) fn needs_actual_known(&self) -> bool {
         self.needs_beta_2() || matches!(self.form, ErrorForm::Printed | ErrorForm::ActualRegressors)
     }
 
     /// Whether the reading needs $\hat{\boldsymbol\beta}_2$ (a factorisation of $\mathbf A'$
     /// per evaluation).
     #[must_use]
-    pub fn needs_beta_2(&self) -> bool {
+    pub(crate) fn needs_beta_2(&self) -> bool {
         self.estimate == Estimate::Beta2 || self.form == ErrorForm::DeltaBeta
     }
 

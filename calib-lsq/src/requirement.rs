@@ -618,7 +618,7 @@ impl OutputRegion {
     ///
     /// # Errors
     /// As [`OutputRegion::rate_error`].
-    pub fn accuracy_ratio(&self, angles_rad: [f64; 3]) -> Result<f64, CalibError> {
+    pub(crate) fn accuracy_ratio(&self, angles_rad: [f64; 3]) -> Result<f64, CalibError> {
         match self.linear_scale() {
             Some((f, r)) => Ok(r.rate_error(angles_rad.map(|a| a * f))? / r.accuracy),
             None => Ok(self.rate_error(angles_rad)? / self.accuracy),

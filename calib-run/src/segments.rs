@@ -40,11 +40,11 @@ use std::io::Read;
 pub const POSE_Z: f64 = 10.0;
 
 /// The most intervals a detection keeps (a recording with more is not a planned calibration).
-pub const MAX_INTERVALS: usize = 100_000;
+pub(crate) const MAX_INTERVALS: usize = 100_000;
 
 /// A logged rotation matches its rate step when the turned angle is within this of the
 /// step's whole revolutions, deg.
-pub const ROTATION_MATCH_DEG: f64 = 5.0;
+pub(crate) const ROTATION_MATCH_DEG: f64 = 5.0;
 
 /// What a segment is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -403,7 +403,7 @@ impl StaticAcc {
         })
     }
 
-    pub fn push_values(&mut self, values: &[f64]) {
+    pub(crate) fn push_values(&mut self, values: &[f64]) {
         for (a, &v) in self.allan.iter_mut().zip(values) {
             // finite by the reader's check
             let _ = a.push(v);
@@ -411,7 +411,7 @@ impl StaticAcc {
     }
 
     /// Push a block given per output (`columns[k]`: output k's samples in order).
-    pub fn extend_columns(&mut self, columns: &[Vec<f64>]) {
+    pub(crate) fn extend_columns(&mut self, columns: &[Vec<f64>]) {
         for (a, c) in self.allan.iter_mut().zip(columns) {
             // finite by the reader's check
             let _ = a.extend(c);

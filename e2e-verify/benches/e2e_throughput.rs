@@ -6,7 +6,7 @@
 //! - `reference_path`: [`EndToEnd::run`] on the same turntables (tt-kinematics' chain per
 //!   position, calib-lsq's full analysis with a QR per turntable), the baseline measured in the
 //!   same run: the ratio of the two is the figure to read, not the absolute times;
-//! - `monte_carlo`: [`EndToEnd::rate_distribution`] (drawing and streaming statistics included).
+//! - `monte_carlo`: [`e2e_verify::MonteCarloQuestions::rate_distribution`] (drawing and streaming statistics included).
 //!
 //! Run: `cargo bench -p e2e-verify --bench e2e_throughput`.
 
@@ -48,7 +48,10 @@ fn bench(c: &mut Criterion) {
             .box_of(&alloc_opt::paper::table4_rad(), &[0.0; 8])
             .expect("Table 4 is a valid box");
         let settings = McSettings::new(DRAWS, 2017);
-        let chis = e2e.sample_chi(&bounds, &settings).expect("valid settings");
+        let chis = e2e
+            .monte_carlo()
+            .sample_chi(&bounds, &settings)
+            .expect("valid settings");
         let mut g = c.benchmark_group(format!("end_to_end_1_thread_{label}"));
         g.throughput(Throughput::Elements(DRAWS));
         g.bench_function("fast_path", |b| {
@@ -74,7 +77,8 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 pool.install(|| {
                     black_box(
-                        e2e.rate_distribution(&linear, &bounds, &settings)
+                        e2e.monte_carlo()
+                            .rate_distribution(&linear, &bounds, &settings)
                             .expect("valid settings")
                             .count()
                             .samples(),

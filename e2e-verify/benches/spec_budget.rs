@@ -63,13 +63,14 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("spec_budget_128_positions");
     g.bench_function("budgets_8_specs_4_outputs", |b| {
         b.iter(|| {
-            e2e.specification_budgets(
-                black_box(&s.specifications),
-                &table,
-                &s.noise,
-                s.timing.as_ref(),
-            )
-            .expect("budgets")
+            e2e.budget()
+                .specification_budgets(
+                    black_box(&s.specifications),
+                    &table,
+                    &s.noise,
+                    s.timing.as_ref(),
+                )
+                .expect("budgets")
         });
     });
     g.bench_function("linearization_baseline", |b| {

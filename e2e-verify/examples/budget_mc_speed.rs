@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let tol = 10.0_f64.to_radians() / 3600.0;
     let tolerances = vec![tol; e2e.n_errors()];
     let law = |n: &str, a: f64| metrology::Input::rectangular(n, 0.0, a);
-    let verdict = e2e.plan_verdict(
+    let verdict = e2e.budget().plan_verdict(
         &s.specifications,
         &tolerances,
         law,
@@ -30,7 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|n| law(n, tol))
         .collect::<Result<_, _>>()?;
     let t = Instant::now();
-    let mc = e2e.specification_monte_carlo(
+    let mc = e2e.budget().specification_monte_carlo(
         &s.specifications,
         &verdict,
         &table,
@@ -41,7 +41,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let linear = e2e.linearization();
     let bounds = e2e.box_of(&tolerances, &vec![0.0; e2e.n_errors()])?;
     let t = Instant::now();
-    e2e.rate_distribution(&linear, &bounds, &McSettings::new(trials, 7))?;
+    e2e.monte_carlo()
+        .rate_distribution(&linear, &bounds, &McSettings::new(trials, 7))?;
     let kernel_s = t.elapsed().as_secs_f64();
     for m in &mc {
         println!(

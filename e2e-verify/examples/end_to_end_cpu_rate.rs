@@ -37,7 +37,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for _ in 0..rounds {
             let rate = one.install(|| -> Result<Option<f64>, e2e_verify::E2eError> {
                 let t0 = thread_cpu_s();
-                e2e.rate_distribution(&linear, &bounds, &McSettings::new(n, 2017))?;
+                e2e.monte_carlo()
+                    .rate_distribution(&linear, &bounds, &McSettings::new(n, 2017))?;
                 Ok(t0.zip(thread_cpu_s()).map(|(a, b)| n as f64 / (b - a)))
             })?;
             if let Some(r) = rate {

@@ -22,12 +22,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let bounds = e2e.box_of(&alloc_opt::paper::table4_rad(), &[0.0; 8])?;
         let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
         let t = Instant::now();
-        one.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(n, 2017)))?;
+        one.install(|| {
+            e2e.monte_carlo()
+                .rate_distribution(&linear, &bounds, &McSettings::new(n, 2017))
+        })?;
         let single = n as f64 / t.elapsed().as_secs_f64();
         let t = Instant::now();
-        e2e.rate_distribution(&linear, &bounds, &McSettings::new(n, 2017))?;
+        e2e.monte_carlo()
+            .rate_distribution(&linear, &bounds, &McSettings::new(n, 2017))?;
         let all = n as f64 / t.elapsed().as_secs_f64();
-        let chis = e2e.sample_chi(&bounds, &McSettings::new(400, 2017))?;
+        let chis = e2e
+            .monte_carlo()
+            .sample_chi(&bounds, &McSettings::new(400, 2017))?;
         let t = Instant::now();
         for chi in &chis {
             std::hint::black_box(e2e.run(chi)?);

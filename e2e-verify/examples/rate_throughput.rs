@@ -55,9 +55,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let linear = e2e.linearization();
         let bounds = e2e.box_of(&tol.ub_rad, &vec![0.0; e2e.n_errors()])?;
         // warm-up, then the timed run
-        one.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(n / 10, 1)))?;
+        one.install(|| {
+            e2e.monte_carlo()
+                .rate_distribution(&linear, &bounds, &McSettings::new(n / 10, 1))
+        })?;
         let t = Instant::now();
-        one.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(n, 2017)))?;
+        one.install(|| {
+            e2e.monte_carlo()
+                .rate_distribution(&linear, &bounds, &McSettings::new(n, 2017))
+        })?;
         let rate_per_s = n as f64 / t.elapsed().as_secs_f64();
         println!(
             "{what}: {} entries, {rate_per_s:.3e} turntables/s on one thread",

@@ -584,7 +584,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     }
 
     /// Direct allocation keeping `margins[k]` (output unit) of each accuracy free (the noise
-    /// part of [`EndToEnd::allocate_direct_with_noise`]).
+    /// part of [`crate::NoiseQuestions::allocate_direct_with_noise`]).
     pub(crate) fn allocate_direct_keeping(
         &self,
         linear: &Linearization,
@@ -626,10 +626,10 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     }
 
     /// [`EndToEnd::allocate_direct`] constrained by every specification as well: the rows
-    /// `spec_rows` ([`EndToEnd::specification_rows`]) beside the eq-14 rows, each
+    /// `spec_rows` ([`crate::BudgetQuestions::specification_rows`]) beside the eq-14 rows, each
     /// $\sum_j f_j|c_j|\,\mathrm{UB}_j \le L - k\,u_{\text{noise}}$, so that the table's
     /// worst case plus the noise part, and the verdict's expanded uncertainty
-    /// ([`EndToEnd::plan_verdict`]), are within every limit to first order. Without rows it is
+    /// ([`crate::BudgetQuestions::plan_verdict`]), are within every limit to first order. Without rows it is
     /// [`EndToEnd::allocate_direct`], bit for bit.
     ///
     /// # Errors
@@ -812,7 +812,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
 
     /// [`EndToEnd::allocate_direct_certified`] keeping `extra[k]` (output unit) of each
     /// accuracy free besides the second-order bound (the noise part of
-    /// [`EndToEnd::allocate_direct_with_noise_certified`]): every turntable of the returned box
+    /// [`crate::NoiseQuestions::allocate_direct_with_noise_certified`]): every turntable of the returned box
     /// has an exact-chain error within $\omega_{m,k} - \mathrm{extra}_k$.
     pub(crate) fn allocate_direct_certified_keeping(
         &self,
@@ -1023,7 +1023,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// With $\mathrm{LB} = 0$ the box scales with $s$ and the draws of a stream scale with it
     /// ($\chi(s) = s\,\chi(1)$ for the same random words), and the errors are homogeneous of
     /// degree 1 in $\chi$ to first order, so $s^* = 1 / q_p$ where $q_p$ is the exact empirical
-    /// $p$-quantile ([`EndToEnd::ratio_quantile`]) of $r = \max_k \Delta\omega_k/\omega_{m,k}$ at
+    /// $p$-quantile ([`crate::MonteCarloQuestions::ratio_quantile`]) of $r = \max_k \Delta\omega_k/\omega_{m,k}$ at
     /// $s = 1$ on the exact chain; the chain's curvature is absorbed by iterating
     /// $s \leftarrow s / q_p(s)$ (at most [`YieldParams::fixed_point_steps`]) and taking
     /// [`YieldParams::scale_margin`] off. When that does not settle (rounding dominates the quantile
@@ -1093,7 +1093,8 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 .collect()
         };
         let count = |s: f64| -> Result<u64, E2eError> {
-            self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
+            self.monte_carlo()
+                .meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
         };
         let need = (p * settings.samples as f64).ceil() as u64;
         let goal = YieldGoal {
@@ -1177,13 +1178,17 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     ) -> Result<Option<f64>, E2eError> {
         let (p, need) = (goal.target, goal.need);
         let count = |s: f64| -> Result<u64, E2eError> {
-            self.meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
+            self.monte_carlo()
+                .meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
         };
         let mut s = 1.0;
         let mut change = f64::INFINITY;
         for _ in 0..params.fixed_point_steps {
-            let q =
-                self.ratio_quantile(&self.box_of(&scaled(s), lower_bounds_rad)?, settings, p)?;
+            let q = self.monte_carlo().ratio_quantile(
+                &self.box_of(&scaled(s), lower_bounds_rad)?,
+                settings,
+                p,
+            )?;
             let next = s / q;
             if !(next.is_finite() && next > 0.0 && next <= s_cap) {
                 return Ok(None);

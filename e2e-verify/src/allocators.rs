@@ -75,7 +75,7 @@ impl<'a, S> DirectCertified<'a, S> {
 
     /// With its search tuned by `params`.
     #[must_use]
-    pub fn with_params(analysis: &'a EndToEnd<S>, params: CertifyParams) -> Self {
+    pub(crate) fn with_params(analysis: &'a EndToEnd<S>, params: CertifyParams) -> Self {
         Self { analysis, params }
     }
 }
@@ -103,7 +103,7 @@ impl<'a, S> YieldBased<'a, S> {
 
     /// With its scale search tuned by `params`.
     #[must_use]
-    pub fn with_params(
+    pub(crate) fn with_params(
         analysis: &'a EndToEnd<S>,
         target: f64,
         settings: McSettings,

@@ -4,7 +4,7 @@
 //! The turntable's errors are expanded into coefficients ([`tt_kinematics::Expansion`]: one
 //! group per error, constant, harmonics of a joint or any function of it). To first order the
 //! error vectors are linear in the coefficients, $\Delta\hat{\boldsymbol\omega} \approx
-//! \mathbf M_c\,c$ ([`EndToEnd::linearization_expanded`], one column per coefficient: the
+//! \mathbf M_c\,c$ ([`crate::AngleQuestions::linearization_expanded`], one column per coefficient: the
 //! error's first-order effect at each position scaled by the coefficient's basis value there).
 //! The worst case of a row $r$ over the bounds $\lvert\chi_j(\phi)\rvert \le \mathrm{UB}_j$ is
 //! $\sum_j \mathrm{UB}_j\,d_j(\mathbf M_{c,rj})$ with $d_j$ the dual norm of error $j$'s bound
@@ -37,7 +37,7 @@ pub struct AngleLinearization {
 }
 
 /// The worst case of one output over the bounds under the angle-dependent model
-/// ([`EndToEnd::angle_worst_case`]): `linear_bound` is $\max_r \sum_j \mathrm{UB}_j\,d_j$
+/// ([`crate::AngleQuestions::angle_worst_case`]): `linear_bound` is $\max_r \sum_j \mathrm{UB}_j\,d_j$
 /// over the output's rows, rigorous for the linearised model (harmonic dual norms are
 /// certified upper bounds); `exact_at_vertex` the exact chain at $\pm$ the worst
 /// coefficients found (a turntable within the bounds, so a lower bound of the exact worst
@@ -175,7 +175,7 @@ pub fn compensated_box(ub_rad: &[f64], uncertainty_rad: &[Option<f64>]) -> Vec<f
         .collect()
 }
 
-impl EndToEnd {
+impl crate::AngleQuestions<'_> {
     /// $\Delta\omega_k$ of every output (output unit) for a compensated calibration: the lab
     /// has measured the errors (coefficients `measured` of `expansion`) and takes the
     /// orientation they give, $\mathbf R_t(m(\phi_i))$, as known; the table's true errors are
@@ -217,13 +217,13 @@ impl EndToEnd {
     }
 }
 
-/// Draws per random stream of [`EndToEnd::angle_yield`] (chunk $c$ uses
+/// Draws per random stream of [`crate::AngleQuestions::angle_yield`] (chunk $c$ uses
 /// [`mc_verify::chunk_rng`]`(seed, c)`; fixed, so results do not depend on the thread count).
 pub const ANGLE_CHUNK: u64 = 1024;
 /// Chunks of the angle-dependent Monte Carlo evaluated per wave (memory: one wave's counts).
 const ANGLE_WAVE_CHUNKS: u64 = 64;
 
-/// Largest first-order model in the coefficients ([`EndToEnd::expanded_values`]): $2.5\times
+/// Largest first-order model in the coefficients ([`crate::AngleQuestions::expanded_values`]): $2.5\times
 /// 10^7$ values, 200 MB. An `any` error has one coefficient per distinct angle of its shaft,
 /// so the model grows as positions times distinct angles: 10,000 positions on a grid of 100
 /// angles per shaft fit (the paper's table: $2 \times 10^4 \times 602$), about 1,400 at
@@ -236,9 +236,9 @@ pub(crate) fn check_expansion(e2e: &EndToEnd, e: &Expansion) -> Result<(), E2eEr
         .map_err(|err| E2eError::Kinematics(err.into()))
 }
 
-impl EndToEnd {
+impl crate::AngleQuestions<'_> {
     /// The values of the first-order model in the coefficients of `expansion`
-    /// ([`EndToEnd::linearization_expanded`]): outputs times positions times coefficients
+    /// ([`crate::AngleQuestions::linearization_expanded`]): outputs times positions times coefficients
     /// (at most [`MAX_EXPANDED_VALUES`] is meant to be formed).
     #[must_use]
     pub fn expanded_values(&self, expansion: &Expansion) -> usize {
@@ -311,7 +311,7 @@ impl EndToEnd {
     /// is at most $\lvert s_0\rvert + 2\sum_{k\ge1}\lvert s_k\rvert$).
     ///
     /// # Errors
-    /// As [`EndToEnd::linearization_expanded`].
+    /// As [`crate::AngleQuestions::linearization_expanded`].
     pub fn angle_linearization(
         &self,
         expansion: &Expansion,
@@ -321,7 +321,7 @@ impl EndToEnd {
     }
 
     /// The reduction of an expanded model to one column per error (dual norms; see
-    /// [`EndToEnd::angle_linearization`]).
+    /// [`crate::AngleQuestions::angle_linearization`]).
     pub(crate) fn reduce_expanded(
         &self,
         expansion: &Expansion,
@@ -368,12 +368,12 @@ impl EndToEnd {
 
     /// The worst case of every output over the bounds `ub_rad` (one per error, over the whole
     /// revolution) under the angle-dependent model, beside the constant model's linear worst
-    /// case, with a verdict as [`EndToEnd::check_tolerances`] gives: fails when the exact chain
+    /// case, with a verdict as [`crate::VendorQuestions::check_tolerances`] gives: fails when the exact chain
     /// at the worst coefficients misses the accuracy, guaranteed when the linear bound plus
     /// $\tau$ meets it, likely otherwise.
     ///
     /// # Errors
-    /// Bad bounds (as [`EndToEnd::worst_case`]); as [`EndToEnd::delta_omega_expanded`].
+    /// Bad bounds (as [`EndToEnd::worst_case`]); as [`crate::AngleQuestions::delta_omega_expanded`].
     pub fn angle_worst_case(
         &self,
         expansion: &Expansion,
@@ -436,7 +436,7 @@ impl EndToEnd {
     /// order: identical for any thread count; memory independent of `samples`.
     ///
     /// # Errors
-    /// As [`EndToEnd::delta_omega_expanded`]; bad bounds.
+    /// As [`crate::AngleQuestions::delta_omega_expanded`]; bad bounds.
     pub fn angle_yield(
         &self,
         expansion: &Expansion,
@@ -447,13 +447,13 @@ impl EndToEnd {
         self.angle_yield_with_discs(expansion, ub_rad, &[], samples, seed)
     }
 
-    /// [`EndToEnd::angle_yield`] with each pair `discs[i] = (errors, w)` (rad) drawn inside
+    /// [`crate::AngleQuestions::angle_yield`] with each pair `discs[i] = (errors, w)` (rad) drawn inside
     /// its disc ([`Expansion::draw_with_discs`]); with no disc it is
-    /// [`EndToEnd::angle_yield`] exactly. Same chunks and streams: identical for any thread
+    /// [`crate::AngleQuestions::angle_yield`] exactly. Same chunks and streams: identical for any thread
     /// count.
     ///
     /// # Errors
-    /// As [`EndToEnd::angle_yield`].
+    /// As [`crate::AngleQuestions::angle_yield`].
     pub fn angle_yield_with_discs(
         &self,
         expansion: &Expansion,
@@ -517,7 +517,7 @@ impl EndToEnd {
     }
 }
 
-impl EndToEnd {
+impl crate::AngleQuestions<'_> {
     /// The direct allocation once measured errors are compensated: error $j$ with
     /// `fixed_rad[j] = Some(u_j)` is held at its measurement uncertainty ($\mathrm{UB}_j =
     /// u_j$, the bound that then matters), the others are allocated what remains. Each output
@@ -557,7 +557,7 @@ impl EndToEnd {
             }
         }
         let free = Linearization::from_parts(m, n, self.n_outputs(), noise);
-        let blocked = self.no_room(&free, &lb, &margins);
+        let blocked = self.noise().no_room(&free, &lb, &margins);
         if !blocked.is_empty() {
             return Ok(Err(blocked));
         }

@@ -388,7 +388,7 @@ fn box_answer(
         upper_bounds_rad: ub.to_vec(),
         objective: sim.objective(ub),
         worst_case: sim.worst_case(linear, ub)?,
-        distribution: sim.rate_distribution(
+        distribution: sim.monte_carlo().rate_distribution(
             linear,
             &sim.box_of(ub, lower_bounds_rad)?,
             settings,
@@ -429,7 +429,7 @@ fn allocations_checked(
         };
         let linear = sim.linearization();
         let spec_rows = match &inputs.specifications {
-            Some(ctx) => sim.specification_rows(ctx)?,
+            Some(ctx) => sim.budget().specification_rows(ctx)?,
             None => Vec::new(),
         };
         let direct = sim.allocate_direct_specified(&linear, lb, &spec_rows)?;

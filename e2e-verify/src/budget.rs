@@ -7,8 +7,8 @@
 //! The input quantities are
 //! - each angular error $\chi_j$ of the table, with the law the caller gives (type B:
 //!   rectangular on its tolerance, or normal with a measured value's uncertainty), its
-//!   sensitivity from the linearised chain ([`EndToEnd::coefficient_linearization`] for a
-//!   coefficient and an error over a range, [`EndToEnd::linearization`] for eq 14's error at
+//!   sensitivity from the linearised chain ([`crate::EndToEnd::coefficient_linearization`] for a
+//!   coefficient and an error over a range, [`crate::EndToEnd::linearization`] for eq 14's error at
 //!   a test position);
 //! - per output with a noise model and a timing, its white and its correlated noise
 //!   (bias instability, rate random walk, ramp), each with the standard uncertainty the
@@ -25,7 +25,6 @@
 //! (output unit per regressor unit); [`gw_model::spec::Specification::to_written`] converts.
 
 use crate::error::E2eError;
-use crate::simulate::EndToEnd;
 use calib_lsq::{NoiseCovariance, Timing};
 use gw_model::InputValues;
 use gw_model::noise::NoiseModel;
@@ -168,7 +167,7 @@ fn quadratic(m: &DMatrix<f64>, w: &[f64]) -> f64 {
     s
 }
 
-impl<S: ScheduleErrorModel> EndToEnd<S> {
+impl<S: ScheduleErrorModel> crate::BudgetQuestions<'_, S> {
     /// The GUM budget of every specification in `specs` (see the [module](self)): `table`
     /// holds one input per angular error (order of $\chi$, rad; its law and uncertainty),
     /// `noise` one noise model per output (`None` for a noiseless one) and `timing` the dwell
@@ -252,7 +251,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     }
 }
 
-impl<S: ScheduleErrorModel> EndToEnd<S> {
+impl<S: ScheduleErrorModel> crate::BudgetQuestions<'_, S> {
     /// Every specification's candidate quantities (a coefficient: one; an error over a range:
     /// its two ends; eq 14's accuracy: every test position) with their table sensitivities and
     /// noise standard uncertainties, and the outputs' noise covariances.
@@ -370,22 +369,16 @@ impl PlanVerdict {
     pub fn meets_all(&self) -> bool {
         (0..self.budgets.len()).all(|i| self.meets(i))
     }
-
-    /// Whether every specified output's noise is in its budget.
-    #[must_use]
-    pub fn noise_modelled_everywhere(&self) -> bool {
-        self.budgets.iter().all(SpecificationBudget::noise_modelled)
-    }
 }
 
-impl<S: ScheduleErrorModel> EndToEnd<S> {
+impl<S: ScheduleErrorModel> crate::BudgetQuestions<'_, S> {
     /// The verdict of a plan (this schedule, the tolerances `tolerances_rad` of the angular
     /// errors with the law `law`, the noise and timing) against `specs` by [`PLAN_RULE`]. An
     /// infinite tolerance enters as zero and the specification whose quantity it moves is
     /// not met ([`PlanVerdict::unbounded`]).
     ///
     /// # Errors
-    /// As [`EndToEnd::specification_budgets`]; `law`'s error for a tolerance.
+    /// As [`crate::BudgetQuestions::specification_budgets`]; `law`'s error for a tolerance.
     pub fn plan_verdict(
         &self,
         specs: &[Specification],
@@ -420,7 +413,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     }
 }
 
-/// What the direct allocation needs to hold every specification ([`EndToEnd::specification_rows`]):
+/// What the direct allocation needs to hold every specification ([`crate::BudgetQuestions::specification_rows`]):
 /// the specifications, the standard uncertainty of each table error's law per unit tolerance,
 /// and the noise and timing the verdict's budget uses.
 #[derive(Debug, Clone, PartialEq)]
@@ -433,7 +426,7 @@ pub struct SpecificationContext {
 
 impl SpecificationContext {
     /// The context of `specs` with the table errors `error_names` under the law `law` (the
-    /// verdict's, [`EndToEnd::plan_verdict`]), the noise per output and the timing (`None`: no
+    /// verdict's, [`crate::BudgetQuestions::plan_verdict`]), the noise per output and the timing (`None`: no
     /// noise is modelled).
     ///
     /// # Errors
@@ -563,8 +556,8 @@ impl SpecificationRow {
             .sum()
     }
     /// The quantity on the exact chain for table errors `chi_rad` (model unit):
-    /// `coefficients` are [`EndToEnd::coefficient_errors`] and `errors`
-    /// [`EndToEnd::error_vectors`] at `chi_rad`, `offsets[k]` the index of output `k`'s first
+    /// `coefficients` are [`crate::EndToEnd::coefficient_errors`] and `errors`
+    /// [`crate::EndToEnd::error_vectors`] at `chi_rad`, `offsets[k]` the index of output `k`'s first
     /// coefficient in `coefficients`.
     pub(crate) fn exact(
         &self,
@@ -618,14 +611,14 @@ impl SpecificationRow {
     }
 }
 
-impl<S: ScheduleErrorModel> EndToEnd<S> {
+impl<S: ScheduleErrorModel> crate::BudgetQuestions<'_, S> {
     /// The direct allocation's rows of every specification of `ctx` (see
     /// [`SpecificationRow`]): one per candidate quantity of the budget (a coefficient, each end
     /// of a range, each test position of eq 14's accuracy), with the same sensitivities and
-    /// noise as [`EndToEnd::specification_budgets`].
+    /// noise as [`crate::BudgetQuestions::specification_budgets`].
     ///
     /// # Errors
-    /// As [`EndToEnd::specification_budgets`]; a length error unless one law per error.
+    /// As [`crate::BudgetQuestions::specification_budgets`]; a length error unless one law per error.
     pub fn specification_rows(
         &self,
         ctx: &SpecificationContext,

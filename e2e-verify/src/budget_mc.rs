@@ -198,10 +198,10 @@ impl<S: ScheduleErrorModel + Sync> Model for CalibrationModel<'_, S> {
     }
 }
 
-impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
+impl<S: ScheduleErrorModel + Sync> crate::BudgetQuestions<'_, S> {
     /// The JCGM 101 Monte Carlo of every specification of `verdict` (see the
-    /// [module](self)): `specs` and `table` as given to [`EndToEnd::plan_verdict`] or
-    /// [`EndToEnd::specification_budgets`] (one input per angular error, its law), `settings`
+    /// [module](self)): `specs` and `table` as given to [`crate::BudgetQuestions::plan_verdict`] or
+    /// [`crate::BudgetQuestions::specification_budgets`] (one input per angular error, its law), `settings`
     /// the adaptive run's (its coverage is replaced by each specification's).
     ///
     /// # Errors

@@ -5,7 +5,6 @@ use crate::error::E2eError;
 use crate::linear::{Linearization, OutputWorstCase};
 use crate::montecarlo::{McSettings, RateDistribution};
 use crate::sheet::ToleranceSheet;
-use crate::simulate::EndToEnd;
 
 /// How sure the answer is that every turntable within the tolerances meets an accuracy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -204,12 +203,12 @@ impl TurntableCheck {
     }
 }
 
-impl EndToEnd {
-    /// Check a vendor's sheet: [`EndToEnd::check_tolerances`] of its bounds with its lower
+impl crate::VendorQuestions<'_> {
+    /// Check a vendor's sheet: [`crate::VendorQuestions::check_tolerances`] of its bounds with its lower
     /// bounds, on this simulator's linearisation.
     ///
     /// # Errors
-    /// As [`EndToEnd::check_tolerances`].
+    /// As [`crate::VendorQuestions::check_tolerances`].
     pub fn check_sheet(
         &self,
         sheet: &ToleranceSheet,
@@ -229,7 +228,7 @@ impl EndToEnd {
     /// errors that act only together), the Monte Carlo yield and a verdict.
     ///
     /// # Errors
-    /// As [`EndToEnd::worst_case`] and [`EndToEnd::rate_distribution`].
+    /// As [`crate::EndToEnd::worst_case`] and [`crate::MonteCarloQuestions::rate_distribution`].
     pub fn check_tolerances(
         &self,
         linear: &Linearization,
@@ -239,7 +238,9 @@ impl EndToEnd {
     ) -> Result<TurntableCheck, E2eError> {
         let wc = self.worst_case(linear, ub_rad)?;
         let bounds = self.box_of(ub_rad, lower_bounds_rad)?;
-        let distribution = self.rate_distribution(linear, &bounds, settings)?;
+        let distribution = self
+            .monte_carlo()
+            .rate_distribution(linear, &bounds, settings)?;
         let acc = self.accuracies();
         let groups = self.turntable().error_groups();
         let mut outputs = Vec::with_capacity(acc.len());

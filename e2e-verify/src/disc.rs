@@ -32,10 +32,10 @@
 //! of the two. For the certified allocation the second-order bound needs $\sum_j
 //! \lvert\chi_j\rvert$: a disc of radius $w$ gives at most $\sqrt2\,w$, a square $2w$; the
 //! allocation runs on the variable $c\,w$ ($c = \sqrt2$ or 2) so that the $\ell_1$ size it
-//! certifies is that sum ([`EndToEnd::allocate_direct_paired`]).
+//! certifies is that sum ([`crate::AngleQuestions::allocate_direct_paired`]).
 //!
 //! # Monte Carlo
-//! [`EndToEnd::angle_yield_with_discs`] draws each pair inside its disc by
+//! [`crate::AngleQuestions::angle_yield_with_discs`] draws each pair inside its disc by
 //! [`tt_kinematics::draw_disc_pair`]'s law (uniform in the disc for constant errors, $r =
 //! w\sqrt{u_1}$, $\theta = 2\pi u_2$).
 
@@ -43,7 +43,6 @@ use crate::DirectAllocation;
 use crate::allocate::CertifyParams;
 use crate::error::E2eError;
 use crate::linear::Linearization;
-use crate::simulate::EndToEnd;
 use nalgebra::DMatrix;
 use tt_kinematics::{ErrorVariation, Expansion, GroupShape};
 
@@ -61,7 +60,7 @@ impl PairShape {
     /// The largest $\lvert\chi_a\rvert + \lvert\chi_b\rvert$ over the shape of radius (half
     /// side) one: $\sqrt2$ for the disc, 2 for the square.
     #[must_use]
-    pub fn l1_gain(self) -> f64 {
+    pub(crate) fn l1_gain(self) -> f64 {
         match self {
             Self::Disc => std::f64::consts::SQRT_2,
             Self::Square => 2.0,
@@ -89,7 +88,7 @@ pub struct PairDual {
 }
 
 /// The first-order model of a schedule under an expansion, with what the pairs' dual norms
-/// need: the expansion, its linearisation ([`EndToEnd::linearization_expanded`]) and, when an
+/// need: the expansion, its linearisation ([`crate::AngleQuestions::linearization_expanded`]) and, when an
 /// error is harmonic, the same model with every harmonic error as `any` of its joint.
 #[derive(Debug, Clone)]
 pub struct PairModel {
@@ -302,11 +301,11 @@ fn check_pairs(n_errors: usize, names: &[String], pairs: &[Pair]) -> Result<(), 
     Ok(())
 }
 
-impl EndToEnd {
+impl crate::AngleQuestions<'_> {
     /// The pair model of `expansion` (see [`PairModel`]).
     ///
     /// # Errors
-    /// As [`EndToEnd::linearization_expanded`].
+    /// As [`crate::AngleQuestions::linearization_expanded`].
     pub fn pair_model(&self, expansion: &Expansion) -> Result<PairModel, E2eError> {
         let expanded = self.linearization_expanded(expansion)?;
         let harmonic = expansion
@@ -342,11 +341,11 @@ impl EndToEnd {
 
     /// The direct allocation with one tolerance per pair (see the [module](self)): `merged`
     /// is [`PairModel::merged`] of the same `pairs`; both members of a pair get the pair's
-    /// radius; $J$ is [`EndToEnd::objective`] of the returned bounds. With `certify`, the
-    /// certified allocation ([`EndToEnd::allocate_direct_certified_with`]) on the same model.
+    /// radius; $J$ is [`crate::EndToEnd::objective`] of the returned bounds. With `certify`, the
+    /// certified allocation ([`crate::EndToEnd::allocate_direct_certified_with`]) on the same model.
     ///
     /// # Errors
-    /// As [`EndToEnd::allocate_direct`] / [`EndToEnd::allocate_direct_certified`];
+    /// As [`crate::EndToEnd::allocate_direct`] / [`crate::EndToEnd::allocate_direct_certified`];
     /// [`E2eError::Field`] naming `pairs.<error>` for a pair with an error out of range, twice
     /// or in two pairs.
     pub fn allocate_direct_paired(

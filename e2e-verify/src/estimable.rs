@@ -6,7 +6,7 @@
 //!
 //! The table's part of the joint Jacobian at $\chi = 0$ is, per output, the first-order
 //! effect of each error on the outputs at the test positions, $\mathbf D_k = d\mathbf g +
-//! d\mathbf e$ ([`EndToEnd::table_effects`]: the linearisation of the reading whose error
+//! d\mathbf e$ ([`crate::EstimableQuestions::table_effects`]: the linearisation of the reading whose error
 //! vector is exactly $\mathbf g + \mathbf e$). calib-lsq's
 //! [`JointEstimability`] gives the rank, the estimable
 //! and the invisible combinations (rows weighted by $1/\omega_{m,k}$).
@@ -17,13 +17,12 @@
 //! estimable part is recovered exactly and the coefficients absorb the invisible part's
 //! effect (it lies in their columns), so the error vectors are those of the ordinary
 //! calibration for the table error $\Pi_N\chi$: $\Delta\hat{\boldsymbol\omega} \approx
-//! \mathbf M\,\Pi_N\chi$ ([`EndToEnd::linearization_joint`]). An error with $\Pi_N\mathbf
+//! \mathbf M\,\Pi_N\chi$ ([`crate::EstimableQuestions::linearization_joint`]). An error with $\Pi_N\mathbf
 //! e_j = 0$ needs no bound; the direct allocation of the rest takes that matrix unchanged.
 
 use crate::angle::{AngleLinearization, check_expansion};
 use crate::error::E2eError;
 use crate::linear::Linearization;
-use crate::simulate::EndToEnd;
 use calib_lsq::joint::{JointBlock, JointEstimability, joint_step};
 use calib_lsq::{ErrorForm, Estimate, OutputsAt, Reading, design_matrix, known_vector};
 use nalgebra::{DMatrix, DVector, Matrix3};
@@ -44,7 +43,7 @@ pub(crate) const JOINT_FD_STEP_RAD: f64 = 1e-7;
 /// The rotations $\Delta\mathbf R_i$ of every test position for a parameter vector.
 type DeltaRFn<'a> = dyn Fn(&[f64]) -> Result<Vec<Matrix3<f64>>, E2eError> + 'a;
 
-/// The result of [`EndToEnd::joint_estimate`].
+/// The result of [`crate::EstimableQuestions::joint_estimate`].
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct JointEstimate {
@@ -89,25 +88,25 @@ impl JointEstimate {
     }
 }
 
-impl EndToEnd {
+impl crate::EstimableQuestions<'_> {
     /// $\mathbf D_k$ of every output ($n \times$ errors, output unit per rad): the first-order
     /// effect of each angular error on the outputs at the test positions, simulated at the
     /// actual orientation.
     ///
     /// # Errors
-    /// As [`EndToEnd::with_reading`].
+    /// As [`crate::EndToEnd::with_reading`].
     pub fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
         self.static_only("the joint estimation of table errors")?;
         Ok(self.split_outputs(&self.with_reading(EFFECT_READING)?.linearization()))
     }
 
-    /// [`EndToEnd::table_effects`] with the errors expanded into the coefficients of
+    /// [`crate::EstimableQuestions::table_effects`] with the errors expanded into the coefficients of
     /// `expansion` (errors that vary with a shaft angle, [`crate::angle`]): one column per
     /// coefficient, the error's effect at each position scaled by the coefficient's basis
-    /// value there. With every error constant it is [`EndToEnd::table_effects`].
+    /// value there. With every error constant it is [`crate::EstimableQuestions::table_effects`].
     ///
     /// # Errors
-    /// As [`EndToEnd::table_effects`] and [`EndToEnd::linearization_expanded`].
+    /// As [`crate::EstimableQuestions::table_effects`] and [`crate::AngleQuestions::linearization_expanded`].
     pub fn table_effects_expanded(
         &self,
         expansion: &Expansion,
@@ -115,6 +114,7 @@ impl EndToEnd {
         self.static_only("the joint estimation of table errors")?;
         let lin = self
             .with_reading(EFFECT_READING)?
+            .angle()
             .linearization_expanded(expansion)?;
         Ok(self.split_outputs(&lin))
     }
@@ -131,7 +131,7 @@ impl EndToEnd {
     /// [module](self)): rows weighted by $1/\omega_{m,k}$.
     ///
     /// # Errors
-    /// As [`EndToEnd::table_effects`] and [`JointEstimability::new`].
+    /// As [`crate::EstimableQuestions::table_effects`] and [`JointEstimability::new`].
     pub fn estimability(&self) -> Result<JointEstimability, E2eError> {
         let names: Vec<String> = self
             .turntable()
@@ -144,11 +144,11 @@ impl EndToEnd {
 
     /// The estimability of the coefficients of `expansion` (the study's model of errors that
     /// vary with a shaft angle: each error's constant and harmonic coefficients, or its value
-    /// at each angle) together with the sensor coefficients: [`EndToEnd::estimability`] with
+    /// at each angle) together with the sensor coefficients: [`crate::EstimableQuestions::estimability`] with
     /// the parameters named by [`Expansion::coefficient_names`].
     ///
     /// # Errors
-    /// As [`EndToEnd::table_effects_expanded`] and [`JointEstimability::new`].
+    /// As [`crate::EstimableQuestions::table_effects_expanded`] and [`JointEstimability::new`].
     pub fn estimability_expanded(
         &self,
         expansion: &Expansion,
@@ -202,15 +202,15 @@ impl EndToEnd {
         ))
     }
 
-    /// [`EndToEnd::linearization_joint`] for errors expanded into the coefficients of
-    /// `expansion` (`est` from [`EndToEnd::estimability_expanded`]): the expanded model
+    /// [`crate::EstimableQuestions::linearization_joint`] for errors expanded into the coefficients of
+    /// `expansion` (`est` from [`crate::EstimableQuestions::estimability_expanded`]): the expanded model
     /// $\mathbf M_c\,\Pi_N$ and its reduction to one column per error by the dual norms of
-    /// each error's bound set ([`EndToEnd::angle_linearization`]), which the direct allocation
+    /// each error's bound set ([`crate::AngleQuestions::angle_linearization`]), which the direct allocation
     /// takes unchanged.
     ///
     /// # Errors
     /// A length error when `est` is not of this expansion; as
-    /// [`EndToEnd::linearization_expanded`].
+    /// [`crate::AngleQuestions::linearization_expanded`].
     pub fn linearization_joint_expanded(
         &self,
         expansion: &Expansion,
@@ -223,12 +223,12 @@ impl EndToEnd {
             est.names().len(),
         )
         .map_err(|e| E2eError::Kinematics(e.into()))?;
-        let lin = self.linearization_expanded(expansion)?;
+        let lin = self.angle().linearization_expanded(expansion)?;
         let pi = est.invisible_projector();
         let m = lin.matrix() * &pi;
         let noise = lin.rounding() * pi.abs();
         let joint = Linearization::from_parts(m, self.len(), self.n_outputs(), noise);
-        Ok(self.reduce_expanded(expansion, joint))
+        Ok(self.angle().reduce_expanded(expansion, joint))
     }
 
     /// The outputs $\mathbf f_k = \mathbf A_k'\boldsymbol\beta_k + \mathbf b_{2,k}'$ of a sensor
@@ -237,7 +237,7 @@ impl EndToEnd {
     /// chain); with the study's coefficients, the data of a noiseless calibration.
     ///
     /// # Errors
-    /// Lengths; a non-finite $\chi$ (as [`EndToEnd::delta_r_reference`]).
+    /// Lengths; a non-finite $\chi$ (as [`crate::EndToEnd::delta_r_reference`]).
     pub fn outputs_at(
         &self,
         chi_rad: &[f64],
@@ -246,11 +246,11 @@ impl EndToEnd {
         self.outputs_at_dr(&self.delta_r_reference(chi_rad)?, coefficients)
     }
 
-    /// [`EndToEnd::outputs_at`] for the coefficients `c` of `expansion` (errors that vary
+    /// [`crate::EstimableQuestions::outputs_at`] for the coefficients `c` of `expansion` (errors that vary
     /// with a shaft angle: the exact chain at $\chi(\phi_i)$ at every position).
     ///
     /// # Errors
-    /// As [`EndToEnd::outputs_at`]; an expansion not of this schedule.
+    /// As [`crate::EstimableQuestions::outputs_at`]; an expansion not of this schedule.
     pub fn outputs_at_expanded(
         &self,
         expansion: &Expansion,
@@ -321,7 +321,7 @@ impl EndToEnd {
     /// $1/\omega_{m,k}$.
     ///
     /// # Errors
-    /// As [`EndToEnd::outputs_at`]; [`E2eError::Calib`] when a step's system is rank deficient.
+    /// As [`crate::EstimableQuestions::outputs_at`]; [`E2eError::Calib`] when a step's system is rank deficient.
     pub fn joint_estimate(
         &self,
         b1: &[DVector<f64>],
@@ -340,13 +340,13 @@ impl EndToEnd {
         )
     }
 
-    /// [`EndToEnd::joint_estimate`] for errors expanded into the coefficients of `expansion`
-    /// (`est` from [`EndToEnd::estimability_expanded`]): the estimated parameters
+    /// [`crate::EstimableQuestions::joint_estimate`] for errors expanded into the coefficients of `expansion`
+    /// (`est` from [`crate::EstimableQuestions::estimability_expanded`]): the estimated parameters
     /// ([`JointEstimate::chi_rad`]) are the expansion's coefficients (rad), in its estimable
     /// subspace.
     ///
     /// # Errors
-    /// As [`EndToEnd::joint_estimate`]; an expansion not of this schedule.
+    /// As [`crate::EstimableQuestions::joint_estimate`]; an expansion not of this schedule.
     pub fn joint_estimate_expanded(
         &self,
         expansion: &Expansion,
@@ -371,7 +371,7 @@ impl EndToEnd {
         )
     }
 
-    /// Gauss-Newton of [`EndToEnd::joint_estimate`] for parameters $\mathbf x$ (one per row
+    /// Gauss-Newton of [`crate::EstimableQuestions::joint_estimate`] for parameters $\mathbf x$ (one per row
     /// of `est`'s estimable basis) whose rotations at the test positions `delta_r` gives.
     fn joint_fit(
         &self,
@@ -457,16 +457,16 @@ impl EndToEnd {
     }
 
     /// $\Delta\omega_k$ of every output (output unit) when the calibration is the joint
-    /// estimator ([`EndToEnd::joint_estimate`] with `iterations` steps from the noiseless
+    /// estimator ([`crate::EstimableQuestions::joint_estimate`] with `iterations` steps from the noiseless
     /// outputs of the turntable `chi_rad`, exact chain): the user evaluates the calibrated model
     /// at the estimated orientation, $\Delta\hat\omega_i = b_{1,i} - (\mathbf
     /// A(\hat\chi)\hat{\boldsymbol\beta})_i - b'_{2,i}$ (eq 13's printed form with the
     /// estimated actual regressors), $\Delta\omega_k = \max_i\lvert\Delta\hat\omega_i\rvert$.
     /// To first order it is the ordinary calibration's error for $\Pi_N\chi$
-    /// ([`EndToEnd::linearization_joint`]).
+    /// ([`crate::EstimableQuestions::linearization_joint`]).
     ///
     /// # Errors
-    /// As [`EndToEnd::joint_estimate`].
+    /// As [`crate::EstimableQuestions::joint_estimate`].
     pub fn joint_delta_omega(
         &self,
         chi_rad: &[f64],
@@ -481,12 +481,12 @@ impl EndToEnd {
         self.joint_rate_errors(&b1, &dr, &dr_hat, &j)
     }
 
-    /// [`EndToEnd::joint_delta_omega`] for a turntable whose errors are the coefficients `c`
+    /// [`crate::EstimableQuestions::joint_delta_omega`] for a turntable whose errors are the coefficients `c`
     /// of `expansion` (errors that vary with a shaft angle), the joint estimator fitting the
-    /// expansion's coefficients ([`EndToEnd::joint_estimate_expanded`]).
+    /// expansion's coefficients ([`crate::EstimableQuestions::joint_estimate_expanded`]).
     ///
     /// # Errors
-    /// As [`EndToEnd::joint_estimate_expanded`].
+    /// As [`crate::EstimableQuestions::joint_estimate_expanded`].
     pub fn joint_delta_omega_expanded(
         &self,
         expansion: &Expansion,

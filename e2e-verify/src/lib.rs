@@ -18,18 +18,18 @@
 //! - [`Linearization`]: $\Delta\hat{\boldsymbol\omega} \approx \mathbf M\chi$ (analytic and by
 //!   finite differences) and the worst case of a box ([`WorstCase`]): a vertex, confirmed on
 //!   the exact chain, with a derived second-order bound ([`EndToEnd::second_order_bound`]);
-//! - [`EndToEnd::rate_distribution`]: Monte Carlo over turntables drawn from a box with memory
+//! - [`crate::MonteCarloQuestions::rate_distribution`]: Monte Carlo over turntables drawn from a box with memory
 //!   independent of the draw count; the yield with a Wilson interval; exact order statistics
-//!   ([`EndToEnd::ratio_quantile`]);
+//!   ([`crate::MonteCarloQuestions::ratio_quantile`]);
 //! - [`EndToEnd::allocate_direct`], [`EndToEnd::allocate_direct_certified`] and
 //!   [`EndToEnd::allocate_yield`]: allocations against every output's accuracy (with rate
-//!   steps: [`EndToEnd::allocate_direct_rate`] and its certificate
-//!   [`EndToEnd::allocate_direct_rate_certified`]); the same three as alloc-opt
+//!   steps: [`crate::RateQuestions::allocate_direct_rate`] and its certificate
+//!   [`crate::RateQuestions::allocate_direct_rate_certified`]); the same three as alloc-opt
 //!   [`alloc_opt::Allocator`]s over the linearisation ([`Direct`], [`DirectCertified`],
 //!   [`YieldBased`], on [`EndToEnd::allocation_problem`]), returning alloc-opt's one
 //!   [`alloc_opt::ToleranceBox`];
-//! - [`EndToEnd::check_tolerances`]: the buyer's check of a tolerance box, with each error's
-//!   contribution and a verdict; [`EndToEnd::check_sheet`] the same of a vendor's
+//! - [`crate::VendorQuestions::check_tolerances`]: the buyer's check of a tolerance box, with each error's
+//!   contribution and a verdict; [`crate::VendorQuestions::check_sheet`] the same of a vendor's
 //!   [`ToleranceSheet`] (bounds, lower bounds, discs, rate and translation bounds, measured
 //!   errors, validated once; [`sheet`]);
 //! - [`answer()`]: all of it for one study, used by `cargo xtask end-to-end`;
@@ -44,6 +44,14 @@
 //!   the table errors estimates from the same data, and the allocation of the rest;
 //! - the calibration schedule that lets the cheapest turntable meet every accuracy is the
 //!   `schedule-design` crate's, built on this one.
+//!
+//! [`EndToEnd`] keeps construction, the calibration run, the linearisation, the worst case and
+//! the allocations; every other question is a small type reached from it, a view of the
+//! end-to-end holding that question's methods: [`EndToEnd::noise`] ([`NoiseQuestions`]),
+//! [`EndToEnd::rates`] ([`RateQuestions`]), [`EndToEnd::angle`] ([`AngleQuestions`]),
+//! [`EndToEnd::estimable`] ([`EstimableQuestions`]), [`EndToEnd::budget`]
+//! ([`BudgetQuestions`]), [`EndToEnd::monte_carlo`] ([`MonteCarloQuestions`]) and
+//! [`EndToEnd::vendor`] ([`VendorQuestions`]).
 //!
 //! # Why a separate crate
 //! It needs calib-lsq (the calibration), alloc-opt (the allocation core) and mc-verify (the
@@ -93,6 +101,7 @@ pub mod montecarlo;
 pub mod noise;
 #[cfg(feature = "paper")]
 pub mod paper;
+mod questions;
 pub mod rate;
 mod seam;
 pub mod sensitivity;
@@ -124,6 +133,10 @@ pub use montecarlo::{
 pub use noise::{
     CombinedBox, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer, NoiseBudget,
     NoisyAllocation, NoisyDirect, Tradeoff, TradeoffParams, TradeoffPoint, check_k_sigma,
+};
+pub use questions::{
+    AngleQuestions, BudgetQuestions, EstimableQuestions, MonteCarloQuestions, NoiseQuestions,
+    RateQuestions, VendorQuestions,
 };
 pub use rate::{ExtraError, ExtraOutputWorstCase, RateAllocation, RateCertificate, RateTolerance};
 pub use sensitivity::{NoiseSensitivity, ParameterSpread};

@@ -132,7 +132,7 @@ impl Linearization {
 
     /// Row index of (output, position).
     #[must_use]
-    pub fn row_index(&self, output: usize, position: usize) -> usize {
+    pub(crate) fn row_index(&self, output: usize, position: usize) -> usize {
         output * self.n + position
     }
 
@@ -723,7 +723,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// for a reading it is not derived for (those with $\hat{\boldsymbol\beta}_2$,
     /// $\mathbf A\Delta\boldsymbol\beta$, or actual regressors with outputs at the actual
     /// orientation) and for a schedule with rate steps (see
-    /// [`EndToEnd::second_order_bound_with_extra`]).
+    /// [`crate::RateQuestions::second_order_bound_with_extra`]).
     ///
     /// # Formula
     /// $\Delta\mathbf R$ is a product of rotations whose angles sum to at most $s$, so
@@ -758,7 +758,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
             || self.has_rate_steps()
         {
             // (a rate step's inputs are not a rotation of the nominal ones: its bound needs the
-            // extra errors' box, EndToEnd::second_order_bound_with_extra)
+            // extra errors' box, crate::RateQuestions::second_order_bound_with_extra)
             return Ok(None);
         }
         let rho = 0.5 * s * s * s.exp();
@@ -912,7 +912,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
 /// The second-order remainder of one output's terms (known or estimated) at one entry:
 /// $\sum_t |\beta_t|\big(\mathrm{rem}_t(\mathbf m, \mathbf d) + \sum_j |\partial_j r_t|(\mathbf m)
 /// \,\rho_j\big)$ (the static bound [`crate::EndToEnd::second_order_bound`] and, at rate steps,
-/// [`crate::EndToEnd::second_order_bound_with_extra`]).
+/// [`crate::RateQuestions::second_order_bound_with_extra`]).
 pub(crate) fn terms_remainder(
     output: &gw_model::Output,
     known: bool,

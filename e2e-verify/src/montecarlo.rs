@@ -21,7 +21,7 @@
 //! $r = \max_k \Delta\omega_k/\omega_{m,k}$ (the turntable meets every accuracy when
 //! $r \le 1$). Reported quantiles ([`REPORTED_QUANTILES`]) are upper bin edges of fine
 //! histograms ([`QUANTILE_BINS`] bins; the exact maximum when the rank falls in the overflow),
-//! so they are upper bounds with a stated resolution; [`EndToEnd::ratio_quantile`] gives the
+//! so they are upper bounds with a stated resolution; [`crate::MonteCarloQuestions::ratio_quantile`] gives the
 //! exact order statistic by re-drawing the same turntables and narrowing the bin
 //! (at most `QUANTILE_PASSES` passes, then a sort of at most `QUANTILE_COLLECT` values).
 //! The largest values and quantiles at or below the computation's precision
@@ -556,7 +556,9 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         ranges.push(ratio);
         Ok(ranges)
     }
+}
 
+impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
     /// The distribution of every output's $\Delta\omega_k$ over turntables drawn from `bounds`
     /// and the yield against the outputs' accuracies (see the [module](self)).
     ///
@@ -696,7 +698,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// The number of turntables drawn from `bounds` that meet every accuracy.
     ///
     /// # Errors
-    /// As [`EndToEnd::rate_distribution`].
+    /// As [`crate::MonteCarloQuestions::rate_distribution`].
     pub fn meeting_count(&self, bounds: &ErrorBox, settings: &McSettings) -> Result<u64, E2eError> {
         let acc = self.accuracies();
         self.drive(
@@ -719,7 +721,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     ///
     /// # Errors
     /// [`E2eError::Field`] (out of range) unless $0 < p \le 1$ (`quantile`); as
-    /// [`EndToEnd::rate_distribution`].
+    /// [`crate::MonteCarloQuestions::rate_distribution`].
     pub fn ratio_quantile(
         &self,
         bounds: &ErrorBox,
@@ -821,7 +823,9 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         }
         Ok(hi)
     }
+}
 
+impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// Check a positive accuracy scale (internal helper for callers of the yield allocation).
     pub(crate) fn check_positive(field: &str, v: f64) -> Result<f64, E2eError> {
         Ok(positive(field, v)?)

@@ -4,7 +4,7 @@
 //!
 //! # The combined answer
 //! For output $k$ at test position $i$ the calibration error is the table's part
-//! $t_{k,i}(\chi)$ (eq 14's error vector, [`EndToEnd::error_vectors`]) plus the noise part
+//! $t_{k,i}(\chi)$ (eq 14's error vector, [`crate::EndToEnd::error_vectors`]) plus the noise part
 //! $\nu_{k,i}$, the rate error $\mathbf A(\hat{\boldsymbol\beta} - \boldsymbol\beta)$ that noise
 //! on the position averages leaves (calib-lsq's
 //! [`RateErrorCovariance`](calib_lsq::RateErrorCovariance), white and Gauss-Markov in the
@@ -22,7 +22,7 @@
 //! # The combined yield
 //! The fraction of calibrations meeting every accuracy over random turntables in the box
 //! **and** random noise: per draw $\chi$ from the box (mc-verify's streams, exactly those of
-//! [`EndToEnd::rate_distribution`]) and a noise vector $\boldsymbol\nu_k = \mathbf A_k\mathbf
+//! [`crate::MonteCarloQuestions::rate_distribution`]) and a noise vector $\boldsymbol\nu_k = \mathbf A_k\mathbf
 //! L_k\mathbf z$ per output ($\mathbf L_k\mathbf L_k^T$ the coefficients' covariance, from its
 //! symmetric eigendecomposition; $\mathbf z$ standard normal from the same chunk's second
 //! ChaCha stream, `NOISE_STREAM`), the draw meets when
@@ -34,7 +34,6 @@ use crate::check::Verdict;
 use crate::error::E2eError;
 use crate::linear::{Linearization, OutputWorstCase, WorstCase};
 use crate::montecarlo::{McSettings, YieldCount};
-use crate::simulate::EndToEnd;
 use crate::{DirectAllocation, answer::ReadingAnswer};
 use calib_lsq::Timing;
 use gw_model::noise::NoiseModel;
@@ -54,7 +53,7 @@ pub const MAX_K_SIGMA: f64 = 10.0;
 /// `c` < $2^{63}$), so the turntables are exactly those of the table-only Monte Carlo.
 pub(crate) const NOISE_STREAM: u64 = 1 << 63;
 
-/// The tuning of [`EndToEnd::tradeoff_with`]: how finely the shortest dwell is bracketed
+/// The tuning of [`crate::NoiseQuestions::tradeoff_with`]: how finely the shortest dwell is bracketed
 /// and where the time/table curve's points lie. `Default` gives the values `end-to-end` and
 /// the report use.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -576,7 +575,7 @@ impl Tradeoff {
     }
 }
 
-impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
+impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     /// The noise of every output's calibration for `timing` (`noise[k]` for output $k$,
     /// `None` for a noiseless one): calib-lsq's covariance of the rate error at the test
     /// positions, positions in the schedule's order.
@@ -617,13 +616,13 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         })
     }
 
-    /// [`EndToEnd::noise_budget`] with every static dwell of `timing` scaled alike so that
+    /// [`crate::NoiseQuestions::noise_budget`] with every static dwell of `timing` scaled alike so that
     /// their mean is `dwell_s` (the move time, sample rate and rate steps' windows kept: a rate
     /// step turns its whole revolutions whatever the dwell).
     ///
     /// # Errors
     /// As [`Timing::new`] (a dwell holding less than one sample) and
-    /// [`EndToEnd::noise_budget`].
+    /// [`crate::NoiseQuestions::noise_budget`].
     pub fn noise_budget_at_dwell(
         &self,
         noise: &[Option<NoiseModel>],
@@ -729,7 +728,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// combined yield.
     ///
     /// # Errors
-    /// As [`EndToEnd::worst_case`] and [`EndToEnd::combined_yield`].
+    /// As [`crate::EndToEnd::worst_case`] and [`crate::NoiseQuestions::combined_yield`].
     #[allow(clippy::too_many_arguments)]
     pub fn combined_box(
         &self,
@@ -753,12 +752,12 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         )
     }
 
-    /// [`EndToEnd::combined_box`] for a worst case already computed.
+    /// [`crate::NoiseQuestions::combined_box`] for a worst case already computed.
     ///
     /// # Errors
-    /// As [`EndToEnd::combined_yield`].
+    /// As [`crate::NoiseQuestions::combined_yield`].
     #[allow(clippy::too_many_arguments)]
-    pub fn combined_box_of(
+    pub(crate) fn combined_box_of(
         &self,
         name: &str,
         wc: &WorstCase,
@@ -808,7 +807,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// that no table suffices at this dwell.
     ///
     /// # Errors
-    /// As [`EndToEnd::allocate_direct`] (bad lower bounds, solver failure).
+    /// As [`crate::EndToEnd::allocate_direct`] (bad lower bounds, solver failure).
     pub fn allocate_direct_with_noise(
         &self,
         linear: &Linearization,
@@ -830,8 +829,8 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         )?))
     }
 
-    /// [`EndToEnd::allocate_direct_with_noise`] certified on the exact chain where the reading
-    /// has a derived second-order bound ([`EndToEnd::allocate_direct_certified`] with the
+    /// [`crate::NoiseQuestions::allocate_direct_with_noise`] certified on the exact chain where the reading
+    /// has a derived second-order bound ([`crate::EndToEnd::allocate_direct_certified`] with the
     /// noise part kept free as well): every turntable of the box then has an exact-chain
     /// error within $\omega_{m,k} - \kappa\sigma_k$, so the box meets its own combined
     /// verdict. Where the reading has no derived bound, or no $\ell_1$ budget leaves room for
@@ -839,7 +838,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// computed from its certified worst case, says whether it meets).
     ///
     /// # Errors
-    /// As [`EndToEnd::allocate_direct_with_noise`].
+    /// As [`crate::NoiseQuestions::allocate_direct_with_noise`].
     pub fn allocate_direct_with_noise_certified(
         &self,
         linear: &Linearization,
@@ -867,7 +866,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// free.
     ///
     /// # Errors
-    /// As [`EndToEnd::combined_box`] and [`EndToEnd::allocate_direct_with_noise`].
+    /// As [`crate::NoiseQuestions::combined_box`] and [`crate::NoiseQuestions::allocate_direct_with_noise`].
     pub fn noise_answer(
         &self,
         r: &ReadingAnswer,
@@ -926,11 +925,11 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
     /// (bisection on $\log T$ over `dwell_range_s`), and $J$ of the direct allocation with the
     /// noise part kept free on [`TradeoffParams::points`] dwells from
     /// [`TradeoffParams::first`] to [`TradeoffParams::span`] times it (within the range), with
-    /// the knee; [`TradeoffParams::default`]'s tuning (see [`EndToEnd::tradeoff_with`]).
+    /// the knee; [`TradeoffParams::default`]'s tuning (see [`crate::NoiseQuestions::tradeoff_with`]).
     ///
     /// # Errors
     /// [`E2eError::Field`] for a bad range or `k_sigma`; as
-    /// [`EndToEnd::allocate_direct_with_noise`].
+    /// [`crate::NoiseQuestions::allocate_direct_with_noise`].
     pub fn tradeoff(
         &self,
         linear: &Linearization,
@@ -951,10 +950,10 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
         )
     }
 
-    /// [`EndToEnd::tradeoff`] with its tuning given.
+    /// [`crate::NoiseQuestions::tradeoff`] with its tuning given.
     ///
     /// # Errors
-    /// As [`EndToEnd::tradeoff`]; [`E2eError::Field`] for bad `params`
+    /// As [`crate::NoiseQuestions::tradeoff`]; [`E2eError::Field`] for bad `params`
     /// ([`TradeoffParams::checked`]).
     #[allow(clippy::too_many_arguments)]
     pub fn tradeoff_with(

@@ -400,13 +400,13 @@ pub mod registry {
     impl ClaimEvaluation {
         /// Holds under every reading it was evaluated under.
         #[must_use]
-        pub fn holds_everywhere(&self) -> bool {
+        pub(crate) fn holds_everywhere(&self) -> bool {
             self.paper.holds && self.user.as_ref().is_none_or(|u| u.holds)
         }
 
         /// The verdict differs between the readings.
         #[must_use]
-        pub fn verdict_depends_on_reading(&self) -> bool {
+        pub(crate) fn verdict_depends_on_reading(&self) -> bool {
             self.user
                 .as_ref()
                 .is_some_and(|u| u.holds != self.paper.holds)

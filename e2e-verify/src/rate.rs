@@ -33,9 +33,9 @@ use crate::linear::terms_remainder;
 /// operations of the compiled chain ($\approx 100\,\epsilon$, $\epsilon = 2^{-53}$).
 const FD_ROUNDING_REL: f64 = 1.0 / (1u64 << 40) as f64;
 
-/// What the direct allocation with the rate tolerances ([`crate::EndToEnd::allocate_direct_rate`])
+/// What the direct allocation with the rate tolerances ([`crate::RateQuestions::allocate_direct_rate`])
 /// checks and why that is not a certificate; the certificate is
-/// [`crate::EndToEnd::allocate_direct_rate_certified`].
+/// [`crate::RateQuestions::allocate_direct_rate_certified`].
 pub const NOT_CERTIFIED_AT_RATE_STEPS: &str = "the direct allocation with the rate tolerances is checked on the exact chain at each output's worst vertex, with the margin stated, which is not a certificate (the other vertices and the interior of the box are bounded to first order only); the certified allocation keeps the derived second-order bound of the revolution averages free and is a certificate";
 
 /// A table error beyond the angular errors $\chi$, appended to $\chi$ when the schedule has a
@@ -191,7 +191,7 @@ impl RatePlan {
 }
 
 /// The worst case of one output over the angular box and the extra errors' box together
-/// ([`crate::EndToEnd::worst_case_with_extra`]): `linear_bound` is
+/// ([`crate::RateQuestions::worst_case_with_extra`]): `linear_bound` is
 /// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit,
 /// exact for the linearised model), `position` the entry (position or rate step) where it is
 /// reached, `exact_at_vertex` $\Delta\omega_k$ on the exact chain at the worst vertex (the
@@ -257,7 +257,7 @@ fn check_extra_bounds(e2e: &crate::EndToEnd, bounds: &[f64]) -> Result<(), E2eEr
     Ok(())
 }
 
-impl crate::EndToEnd {
+impl crate::RateQuestions<'_> {
     /// The Jacobian $\mathbf N$ of every output's error vector with respect to the extra
     /// errors ([`crate::EndToEnd::extra_errors`]; per metre or per unit of relative rate error),
     /// at $\chi = 0$ and the extra errors at [`crate::EndToEnd::extra_values`]: zero rows at
@@ -278,7 +278,7 @@ impl crate::EndToEnd {
     /// The worst case over the angular box $|\chi_j| \le \mathrm{UB}_j$ and the extra
     /// errors' box $|x_e| \le T_e$ together, per output: exact for the linearised model
     /// ($\mathbf M$ of [`crate::EndToEnd::linearization`], $\mathbf N$ of
-    /// [`crate::EndToEnd::extra_linearization`]), confirmed on the exact chain at the worst
+    /// [`crate::RateQuestions::extra_linearization`]), confirmed on the exact chain at the worst
     /// vertex, with each extra error's part. With every $T_e = 0$ it is
     /// [`crate::EndToEnd::worst_case`]'s linear bound.
     ///
@@ -365,7 +365,7 @@ impl crate::EndToEnd {
 
     /// Monte Carlo over both boxes: `settings.samples` turntables, each angular error with
     /// $|\chi_j|$ uniform in $[\mathrm{LB}_j, \mathrm{UB}_j]$ and a fair random sign (the law of
-    /// [`crate::EndToEnd::rate_distribution`]), each extra error uniform in $[-T_e, T_e]$;
+    /// [`crate::MonteCarloQuestions::rate_distribution`]), each extra error uniform in $[-T_e, T_e]$;
     /// returns how many meet every accuracy and the largest $\Delta\omega_k$ seen. One
     /// ChaCha8 stream per block of `EXTRA_MC_BLOCK` draws (seed, block), run in block
     /// order: the result does not depend on the thread count; memory does not grow with the
@@ -428,7 +428,7 @@ impl crate::EndToEnd {
     }
 }
 
-/// Draws per random stream of [`crate::EndToEnd::meeting_count_with_extra`].
+/// Draws per random stream of [`crate::RateQuestions::meeting_count_with_extra`].
 pub(crate) const EXTRA_MC_BLOCK: u64 = 4096;
 
 /// A tolerance of the errors only rotation exposes, as a rate table's sheet gives it: one per
@@ -476,8 +476,8 @@ impl RateTolerance {
 
 /// The direct allocation of a study with rate steps: the angular errors and the rate
 /// tolerances ([`RateTolerance`]) allocated together, checked on the exact chain at each
-/// output's worst vertex ([`crate::EndToEnd::allocate_direct_rate`]) or certified over the
-/// whole box ([`crate::EndToEnd::allocate_direct_rate_certified`], with a
+/// output's worst vertex ([`crate::RateQuestions::allocate_direct_rate`]) or certified over the
+/// whole box ([`crate::RateQuestions::allocate_direct_rate_certified`], with a
 /// [`RateAllocation::certificate`]).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -485,7 +485,7 @@ pub struct RateAllocation {
     /// The allocation over the joint vector $(\chi, T)$: `upper_bounds_rad` holds the angular
     /// errors' bounds (rad) and then the tolerances' (m or relative, order of
     /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
-    /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
+    /// tolerances' terms on the angles' scale, see [`crate::RateQuestions::rate_tolerance_weights`]);
     /// `second_order_margins` the room kept for the exact chain (at the worst vertex, or the
     /// second-order bound of a certified allocation).
     pub(crate) combined: crate::DirectAllocation,
@@ -510,7 +510,7 @@ impl RateAllocation {
     /// The allocation over the joint vector $(\chi, T)$: `upper_bounds_rad` holds the angular
     /// errors' bounds (rad) and then the tolerances' (m or relative, order of
     /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
-    /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
+    /// tolerances' terms on the angles' scale, see [`crate::RateQuestions::rate_tolerance_weights`]);
     /// `second_order_margins` the room kept for the exact chain (at the worst vertex, or the
     /// second-order bound of a certified allocation).
     #[must_use]
@@ -591,10 +591,10 @@ pub const ANGLE_TOLERANCE_CEILING_RAD: f64 = std::f64::consts::PI / 180.0;
 /// re-solved box, 1e-3 covers that change for boxes whose second-order terms are small).
 const RATE_EXACT_ROOM_REL: f64 = 1e-3;
 
-/// Re-solves of [`crate::EndToEnd::allocate_direct_rate`] that keep room for the exact chain.
+/// Re-solves of [`crate::RateQuestions::allocate_direct_rate`] that keep room for the exact chain.
 const RATE_EXACT_ROUNDS: usize = 4;
 
-impl crate::EndToEnd {
+impl crate::RateQuestions<'_> {
     /// The rate tolerances of the study's extra errors, in the order the extra errors first
     /// name them (translations, then per turning joint its rate accuracy and ripple).
     #[must_use]
@@ -626,7 +626,7 @@ impl crate::EndToEnd {
             .collect()
     }
 
-    /// The sheet's names of [`crate::EndToEnd::rate_tolerances`].
+    /// The sheet's names of [`crate::RateQuestions::rate_tolerances`].
     #[must_use]
     pub fn rate_tolerance_names(&self) -> Vec<String> {
         let t = self.turntable();
@@ -634,7 +634,7 @@ impl crate::EndToEnd {
     }
 
     /// The extra errors' bounds of the tolerances `bounds` (order of
-    /// [`crate::EndToEnd::rate_tolerances`]): each extra error within its tolerance; a
+    /// [`crate::RateQuestions::rate_tolerances`]): each extra error within its tolerance; a
     /// tolerance without a bound (`+inf`, no output depends on it) holds its errors at 0.
     #[must_use]
     pub fn extra_bounds_of(&self, bounds: &[f64]) -> Vec<f64> {
@@ -753,16 +753,16 @@ impl crate::EndToEnd {
     /// Direct allocation of the angular errors and the rate tolerances together (a study with
     /// rate steps): $\min \sum_j w_j^2/\mathrm{UB}_j^2 + \sum_t w_t^2/T_t^2$ subject to every
     /// row's worst case over both boxes, $\sum_j |M_{rj}|\,\mathrm{UB}_j +
-    /// \sum_t |A_{rt}|\,T_t \le \omega_{m,k}$ ([`crate::EndToEnd::rate_linearization`],
-    /// weights [`crate::EndToEnd::rate_tolerance_weights`]), $\mathrm{UB} \ge \mathrm{LB}$,
+    /// \sum_t |A_{rt}|\,T_t \le \omega_{m,k}$ ([`crate::RateQuestions::rate_linearization`],
+    /// weights [`crate::RateQuestions::rate_tolerance_weights`]), $\mathrm{UB} \ge \mathrm{LB}$,
     /// $T \ge 0$; a bound above its ceiling ([`ANGLE_TOLERANCE_CEILING_RAD`],
     /// [`RATE_TOLERANCE_CEILING`]: an error the outputs barely see, "not limiting") is held at
     /// it. The box is then checked on the exact chain at each output's worst vertex
-    /// ([`crate::EndToEnd::worst_case_with_extra`]); where the exact chain exceeds an
+    /// ([`crate::RateQuestions::worst_case_with_extra`]); where the exact chain exceeds an
     /// accuracy the excess plus $10^{-3}$ of the accuracy is kept free and the
     /// allocation solved again (at most 4 times). This is a check at the
     /// worst vertex, not a certificate: see [`NOT_CERTIFIED_AT_RATE_STEPS`] and
-    /// [`crate::EndToEnd::allocate_direct_rate_certified`].
+    /// [`crate::RateQuestions::allocate_direct_rate_certified`].
     ///
     /// # Errors
     /// As [`crate::EndToEnd::allocate_direct`]; [`E2eError::NoConvergence`] when the exact
@@ -784,14 +784,14 @@ impl crate::EndToEnd {
         )
     }
 
-    /// [`crate::EndToEnd::allocate_direct_rate`] with the noise part kept free (issue 35):
+    /// [`crate::RateQuestions::allocate_direct_rate`] with the noise part kept free (issue 35):
     /// every row over both boxes held to $\omega_{m,k} - \kappa\sigma_k$ and the exact chain
     /// at each output's worst vertex checked against the same, so the angles and the rate
     /// tolerances get what the noise leaves; or the outputs whose noise part (with the lower
-    /// bounds' table part) leaves no room, as [`crate::EndToEnd::allocate_direct_with_noise`].
+    /// bounds' table part) leaves no room, as [`crate::NoiseQuestions::allocate_direct_with_noise`].
     ///
     /// # Errors
-    /// As [`crate::EndToEnd::allocate_direct_rate`]; [`E2eError::Field`] for a bad `k_sigma`.
+    /// As [`crate::RateQuestions::allocate_direct_rate`]; [`E2eError::Field`] for a bad `k_sigma`.
     pub fn allocate_direct_rate_with_noise(
         &self,
         linear: &crate::Linearization,
@@ -827,7 +827,7 @@ impl crate::EndToEnd {
         crate::noise::check_k_sigma(k_sigma)?;
         crate::allocate::check_lower_bounds(self.turntable(), lower_bounds_rad)?;
         let margins = budget.margins(k_sigma);
-        let blocked = self.no_room(linear, lower_bounds_rad, &margins);
+        let blocked = self.noise().no_room(linear, lower_bounds_rad, &margins);
         Ok(if blocked.is_empty() {
             Ok(margins)
         } else {
@@ -835,7 +835,7 @@ impl crate::EndToEnd {
         })
     }
 
-    /// The allocation problem over $(\chi, T)$ of [`crate::EndToEnd::allocate_direct_rate`]
+    /// The allocation problem over $(\chi, T)$ of [`crate::RateQuestions::allocate_direct_rate`]
     /// handed to `f` with the combined linearisation and the lower bounds.
     fn with_rate_setup<T>(
         &self,
@@ -874,7 +874,7 @@ impl crate::EndToEnd {
         f(&setup, &combined, &lb)
     }
 
-    /// The re-solves of [`crate::EndToEnd::allocate_direct_rate`] keeping room for the exact
+    /// The re-solves of [`crate::RateQuestions::allocate_direct_rate`] keeping room for the exact
     /// chain at the worst vertex.
     fn exact_rounds(
         &self,
@@ -939,12 +939,12 @@ const CEILING_SEARCH_DECADES: f64 = 6.0;
 /// relative on the ceiling).
 const CEILING_SEARCH_STEPS: usize = 20;
 
-/// Re-solves of [`crate::EndToEnd::allocate_direct_rate_certified`] that keep the
+/// Re-solves of [`crate::RateQuestions::allocate_direct_rate_certified`] that keep the
 /// second-order bound free.
 const RATE_CERTIFY_ROUNDS: usize = 12;
 
 /// The certificate of a [`RateAllocation`] over the whole box
-/// ([`crate::EndToEnd::allocate_direct_rate_certified`]): every turntable of the angular box
+/// ([`crate::RateQuestions::allocate_direct_rate_certified`]): every turntable of the angular box
 /// with every extra error within its tolerance meets every accuracy on the exact chain.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -952,7 +952,7 @@ pub struct RateCertificate {
     /// Per output, the first-order worst case over both boxes (output unit).
     pub(crate) linear_bounds: Vec<f64>,
     /// Per output, the derived second-order bound $\tau_k$ of the box
-    /// ([`crate::EndToEnd::second_order_bound_with_extra`]; output unit).
+    /// ([`crate::RateQuestions::second_order_bound_with_extra`]; output unit).
     pub(crate) second_order_bounds: Vec<f64>,
     /// Re-solves that kept room for the bound (0: the direct allocation with the rate
     /// tolerances was already certified).
@@ -968,7 +968,7 @@ impl RateCertificate {
     }
 
     /// Per output, the derived second-order bound $\tau_k$ of the box
-    /// ([`crate::EndToEnd::second_order_bound_with_extra`]; output unit).
+    /// ([`crate::RateQuestions::second_order_bound_with_extra`]; output unit).
     #[must_use]
     pub fn second_order_bounds(&self) -> &[f64] {
         &self.second_order_bounds
@@ -988,7 +988,7 @@ impl RateCertificate {
     }
 }
 
-impl crate::EndToEnd {
+impl crate::RateQuestions<'_> {
     /// The derived second-order bound $\tau_k$ (output unit) of a schedule with rate steps:
     /// $\lVert\Delta\hat{\boldsymbol\omega}_k(\chi, x) - \mathbf M_k\chi - \mathbf N_k x
     /// \rVert_\infty$ over every $\chi$ whose rotation angles sum to at most `angle_sum_rad`
@@ -1160,9 +1160,9 @@ impl crate::EndToEnd {
     }
 
     /// The certified direct allocation of the angular errors and the rate tolerances: the
-    /// allocation of [`crate::EndToEnd::allocate_direct_rate`] whose first-order worst case
+    /// allocation of [`crate::RateQuestions::allocate_direct_rate`] whose first-order worst case
     /// over both boxes plus the derived second-order bound
-    /// ([`crate::EndToEnd::second_order_bound_with_extra`]) is within every accuracy (less
+    /// ([`crate::RateQuestions::second_order_bound_with_extra`]) is within every accuracy (less
     /// [`crate::CertifyParams::round_trip_rel`] of it), the certificate of
     /// [`crate::EndToEnd::allocate_direct_certified`] with the extra errors in the box.
     ///
@@ -1178,7 +1178,7 @@ impl crate::EndToEnd {
     /// rounds.
     ///
     /// # Errors
-    /// As [`crate::EndToEnd::allocate_direct_rate`]; [`E2eError::NoSecondOrderBound`] for a
+    /// As [`crate::RateQuestions::allocate_direct_rate`]; [`E2eError::NoSecondOrderBound`] for a
     /// reading without a bound; [`E2eError::NoConvergence`] when a margin would exceed
     /// [`crate::CertifyParams::max_margin`] of the accuracy or the rounds run out.
     pub fn allocate_direct_rate_certified(
@@ -1195,14 +1195,14 @@ impl crate::EndToEnd {
         )
     }
 
-    /// [`crate::EndToEnd::allocate_direct_rate_certified`] with the noise part kept free
+    /// [`crate::RateQuestions::allocate_direct_rate_certified`] with the noise part kept free
     /// (issue 35): every turntable of the returned boxes has an exact-chain error within
     /// $\omega_{m,k} - \kappa\sigma_k$ (a study with rate steps; a static study's answer is
-    /// [`crate::EndToEnd::allocate_direct_with_noise_certified`]); or the outputs whose noise
+    /// [`crate::NoiseQuestions::allocate_direct_with_noise_certified`]); or the outputs whose noise
     /// part leaves no room.
     ///
     /// # Errors
-    /// As [`crate::EndToEnd::allocate_direct_rate_certified`]; [`E2eError::Field`] for a bad
+    /// As [`crate::RateQuestions::allocate_direct_rate_certified`]; [`E2eError::Field`] for a bad
     /// `k_sigma`.
     pub fn allocate_direct_rate_certified_with_noise(
         &self,
@@ -1220,7 +1220,7 @@ impl crate::EndToEnd {
         }
     }
 
-    /// [`crate::EndToEnd::allocate_direct_rate_certified`] keeping `noise[k]` (output unit)
+    /// [`crate::RateQuestions::allocate_direct_rate_certified`] keeping `noise[k]` (output unit)
     /// of each accuracy free besides the second-order bound.
     fn certified_rate_keeping(
         &self,
@@ -1298,7 +1298,7 @@ impl crate::EndToEnd {
         )
     }
 
-    /// The re-solves of [`crate::EndToEnd::allocate_direct_rate_certified`] with every angle
+    /// The re-solves of [`crate::RateQuestions::allocate_direct_rate_certified`] with every angle
     /// held at `angle_ceiling_rad` (and the relative rate tolerances at
     /// [`RATE_TOLERANCE_CEILING`]).
     fn certified_rate_rounds(

@@ -7,13 +7,12 @@
 //! values): the spread names the parameter the answer depends on most. The **pessimistic
 //! corner** moves every parameter of every output by one uncertainty in the direction that
 //! raised its output's sigma, the **optimistic corner** in the other; the shortest dwell at
-//! which some table suffices ([`EndToEnd::tradeoff`]) is given at both corners. This is a
+//! which some table suffices ([`crate::NoiseQuestions::tradeoff`]) is given at both corners. This is a
 //! stated propagation (one-at-a-time spreads and two corners of the $\pm1\,u$ box), not a
 //! confidence interval of the answer.
 
 use crate::error::E2eError;
 use crate::linear::Linearization;
-use crate::simulate::EndToEnd;
 use calib_lsq::Timing;
 use gw_model::noise::{NoiseModel, NoiseParameter};
 
@@ -125,7 +124,7 @@ impl NoiseSensitivity {
     }
 }
 
-impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
+impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     /// Each output's worst-position noise sigma over `timing`, output unit (`None` where an
     /// output has no noise).
     ///
@@ -149,10 +148,10 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
 
     /// The answers' sensitivity to the noise parameters' uncertainties (see the
     /// [module](self)); `None` when no parameter has one. The arguments are those of
-    /// [`EndToEnd::tradeoff`].
+    /// [`crate::NoiseQuestions::tradeoff`].
     ///
     /// # Errors
-    /// As [`EndToEnd::tradeoff`] and [`EndToEnd::worst_noise_sigma`].
+    /// As [`crate::NoiseQuestions::tradeoff`] and [`crate::NoiseQuestions::worst_noise_sigma`].
     pub fn noise_sensitivity(
         &self,
         linear: &Linearization,

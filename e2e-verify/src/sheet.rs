@@ -3,7 +3,7 @@
 //! (discs), the bounds of the errors only rotation exposes (translations, a joint's rate
 //! accuracy and ripple) and the table's measured errors with their uncertainties.
 //!
-//! Every check of a sheet takes it ([`crate::EndToEnd::check_sheet`]); the compensated check
+//! Every check of a sheet takes it ([`crate::VendorQuestions::check_sheet`]); the compensated check
 //! takes [`ToleranceSheet::compensated`], the sheet once the measured errors are known inputs
 //! of the chain (a measured error bounded by what the measurement leaves, its disc dropped).
 //!

@@ -442,7 +442,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// error of its evaluation, so a computed $\Delta\omega_k$ at or below it cannot be told
     /// from 0 (a perfect turntable computes to about $10^{-14}$ deg/h on the paper's sensor, not
     /// 0). Values at or below it are reported as 0 ([`resolved`]) by [`EndToEnd::worst_case`]
-    /// and [`EndToEnd::rate_distribution`].
+    /// and [`crate::MonteCarloQuestions::rate_distribution`].
     ///
     /// # Formula
     /// $\Delta\hat{\boldsymbol\omega}$ is a difference of outputs of size
@@ -730,7 +730,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     ///
     /// # Errors
     /// As [`EndToEnd::delta_omega_into`]; a length error or a non-finite extra value.
-    pub fn delta_omega_extra_into(
+    pub(crate) fn delta_omega_extra_into(
         &self,
         chi_rad: &[f64],
         extra: &[f64],

@@ -3,7 +3,7 @@
 //!
 //! # What it simulates
 //! For every calibration: a turntable $\chi$ drawn in a box (mc-verify's streams, exactly the
-//! turntables of [`EndToEnd::rate_distribution`] with the same seed) and, for every output with
+//! turntables of [`crate::MonteCarloQuestions::rate_distribution`] with the same seed) and, for every output with
 //! noise, the samples a lab records: at every position, in the schedule's order with the
 //! timing's dwell and move times, $n_i = \mathrm{round}(f_sT_i)$ samples at the sample rate
 //! $f_s$, each the sum of

@@ -54,12 +54,12 @@ fn constant_expansion_reproduces_the_constant_model_exactly() {
             },
         ] {
             let ex = expansion(&e2e, &paper_variations(&e2e, &|| model.clone()));
-            let al = e2e.angle_linearization(&ex).unwrap();
+            let al = e2e.angle().angle_linearization(&ex).unwrap();
             assert_eq!(al.expanded.matrix(), lin.matrix());
             assert_eq!(al.reduced.matrix(), &lin.matrix().abs());
             let ub = alloc_opt::paper::table4_rad();
             let today = e2e.worst_case(&lin, &ub).unwrap();
-            let angle = e2e.angle_worst_case(&ex, &al, &lin, &ub).unwrap();
+            let angle = e2e.angle().angle_worst_case(&ex, &al, &lin, &ub).unwrap();
             for (t, a) in today.outputs().iter().zip(&angle) {
                 assert_eq!(t.linear_bound().to_bits(), a.linear_bound().to_bits());
                 assert_eq!(
@@ -93,7 +93,7 @@ fn expanded_linearization_is_the_first_order_model_of_the_exact_chain() {
         joint: "phi2".into(),
     };
     let ex = expansion(&e2e, &variations);
-    let lin = e2e.linearization_expanded(&ex).unwrap();
+    let lin = e2e.angle().linearization_expanded(&ex).unwrap();
     let c: Vec<f64> = (0..ex.n_coefficients())
         .map(|k| 1e-7 * (((k * 7919) % 13) as f64 / 6.0 - 1.0))
         .collect();
@@ -112,7 +112,9 @@ fn expanded_linearization_is_the_first_order_model_of_the_exact_chain() {
         .collect();
     let reference = e2e.run_with_delta_r(&dr).unwrap().delta_omega();
     let mut work = e2e.work();
-    e2e.delta_omega_expanded(&ex, &c, &mut work).unwrap();
+    e2e.angle()
+        .delta_omega_expanded(&ex, &c, &mut work)
+        .unwrap();
     for k in 0..e2e.n_outputs() {
         let linear = (0..n).map(|p| mc[k * n + p].abs()).fold(0.0, f64::max);
         approx::assert_relative_eq!(reference[k], linear, max_relative = FIRST_ORDER_REL);
@@ -159,8 +161,9 @@ fn worst_case_under_any_is_at_least_harmonics_which_is_at_least_constant_end_to_
         };
         let wc = |v: Vec<V>| {
             let ex = expansion(&e2e, &v);
-            let al = e2e.angle_linearization(&ex).unwrap();
-            e2e.angle_worst_case(&ex, &al, &lin, &ub)
+            let al = e2e.angle().angle_linearization(&ex).unwrap();
+            e2e.angle()
+                .angle_worst_case(&ex, &al, &lin, &ub)
                 .unwrap()
                 .iter()
                 .map(|o| o.linear_bound())
@@ -202,13 +205,13 @@ fn angle_yield_is_deterministic_and_within_the_worst_case() {
         }),
     );
     let ub = alloc_opt::paper::table4_rad();
-    let a = e2e.angle_yield(&ex, &ub, 3000, 7).unwrap();
-    let b = e2e.angle_yield(&ex, &ub, 3000, 7).unwrap();
+    let a = e2e.angle().angle_yield(&ex, &ub, 3000, 7).unwrap();
+    let b = e2e.angle().angle_yield(&ex, &ub, 3000, 7).unwrap();
     assert_eq!(a, b);
     assert_eq!(a.count().samples(), 3000);
     let lin = e2e.linearization();
-    let al = e2e.angle_linearization(&ex).unwrap();
-    let wc = e2e.angle_worst_case(&ex, &al, &lin, &ub).unwrap();
+    let al = e2e.angle().angle_linearization(&ex).unwrap();
+    let wc = e2e.angle().angle_worst_case(&ex, &al, &lin, &ub).unwrap();
     let acc = e2e.accuracies();
     let bound = wc
         .iter()
@@ -249,7 +252,7 @@ fn disc_bounds_lie_between_the_inscribed_and_the_circumscribed_squares() {
         tt_kinematics::on_shafts(t, |j| V::Any { joint: j.into() }),
     ] {
         let ex = expansion(&e2e, &v);
-        let lin = e2e.linearization_expanded(&ex).unwrap();
+        let lin = e2e.angle().linearization_expanded(&ex).unwrap();
         let worst = |u: &[f64]| e2e_verify::angle::disc_worst_case(&ex, &lin, u, &[]);
         let disc = e2e_verify::angle::disc_worst_case(&ex, &lin, &with(w), &discs);
         let (outer, inner) = (worst(&with(w)), worst(&with(w / 2f64.sqrt())));
@@ -300,10 +303,13 @@ fn compensation_with_an_exact_measurement_removes_the_errors_contribution() {
     );
     let uncompensated = {
         let mut w = e2e.work();
-        e2e.delta_omega_expanded(&ex, &chi, &mut w).unwrap();
+        e2e.angle().delta_omega_expanded(&ex, &chi, &mut w).unwrap();
         w.delta_omega
     };
-    let compensated = e2e.delta_omega_compensated(&ex, &chi, &chi).unwrap();
+    let compensated = e2e
+        .angle()
+        .delta_omega_compensated(&ex, &chi, &chi)
+        .unwrap();
     for o in 0..e2e.n_outputs() {
         assert!(uncompensated[o] > 1e3 * e2e.precisions()[o]);
         assert!(compensated[o] <= e2e.precisions()[o], "{}", compensated[o]);
@@ -343,9 +349,9 @@ fn compensation_with_an_uncertainty_is_the_analysis_of_the_uncertainty_box() {
         .map(|i| 1e-7 * (((i * 31) % 7) as f64 / 3.0 - 1.0))
         .collect();
     let chi: Vec<f64> = m.iter().zip(&e).map(|(a, b)| a + b).collect();
-    let compensated = e2e.delta_omega_compensated(&ex, &m, &chi).unwrap();
+    let compensated = e2e.angle().delta_omega_compensated(&ex, &m, &chi).unwrap();
     let mut w = e2e.work();
-    e2e.delta_omega_expanded(&ex, &e, &mut w).unwrap();
+    e2e.angle().delta_omega_expanded(&ex, &e, &mut w).unwrap();
     for (c, u) in compensated.iter().zip(&w.delta_omega) {
         approx::assert_relative_eq!(*c, *u, max_relative = COMPENSATED_REL);
     }
@@ -374,6 +380,7 @@ fn compensated_allocation_holds_measured_errors_at_their_uncertainty_and_meets_e
     fixed[0] = Some(u);
     fixed[6] = Some(u);
     let d = e2e
+        .angle()
         .allocate_direct_compensated(&lin, &lb, &fixed)
         .unwrap()
         .unwrap();
@@ -393,6 +400,7 @@ fn compensated_allocation_holds_measured_errors_at_their_uncertainty_and_meets_e
     let mut huge = vec![None; e2e.n_errors()];
     huge[0] = Some(600.0 * tt_core::units::RAD_PER_ARCMIN);
     let blocked = e2e
+        .angle()
         .allocate_direct_compensated(&lin, &lb, &huge)
         .unwrap()
         .unwrap_err();

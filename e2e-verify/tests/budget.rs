@@ -107,6 +107,7 @@ fn each_budget_equals_an_independent_linear_propagation() {
     let e2e = e2e_of(&s);
     let table = table_inputs(&s, &e2e);
     let budgets = e2e
+        .budget()
         .specification_budgets(&s.specifications, &table, &s.noise, s.timing.as_ref())
         .unwrap();
     assert_eq!(budgets.len(), s.specifications.len());
@@ -190,6 +191,7 @@ fn the_noise_rows_carry_the_schedules_correlations() {
     let e2e = e2e_of(&s);
     let table = table_inputs(&s, &e2e);
     let b = &e2e
+        .budget()
         .specification_budgets(&s.specifications[..1], &table, &s.noise, s.timing.as_ref())
         .unwrap()[0];
     let rows = b.result().rows();
@@ -225,6 +227,7 @@ fn without_a_timing_the_budget_has_the_table_only_and_says_so() {
     let e2e = e2e_of(&s);
     let table = table_inputs(&s, &e2e);
     let budgets = e2e
+        .budget()
         .specification_budgets(&s.specifications, &table, &s.noise, None)
         .unwrap();
     for b in &budgets {
@@ -238,6 +241,7 @@ fn without_a_timing_the_budget_has_the_table_only_and_says_so() {
     }
     // one input per angular error, else an error naming the field
     let e = e2e
+        .budget()
         .specification_budgets(&s.specifications, &table[1..], &s.noise, None)
         .unwrap_err();
     assert!(e.to_string().contains("table inputs"), "{e}");

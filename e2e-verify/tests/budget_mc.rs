@@ -57,6 +57,7 @@ fn run(tol_rad: f64, law: Law, digits: u32) -> (Vec<f64>, Vec<SpecificationMonte
         Law::Normal => metrology::Input::normal(n, 0.0, a / 3.0_f64.sqrt()),
     };
     let verdict = e2e
+        .budget()
         .plan_verdict(&s.specifications, &tolerances, law, &[], None)
         .unwrap();
     let table: Vec<_> = e2e
@@ -70,6 +71,7 @@ fn run(tol_rad: f64, law: Law, digits: u32) -> (Vec<f64>, Vec<SpecificationMonte
         ..McSettings::default()
     };
     let mc = e2e
+        .budget()
         .specification_monte_carlo(&s.specifications, &verdict, &table, &settings)
         .unwrap();
     let u = verdict

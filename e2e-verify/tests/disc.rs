@@ -68,7 +68,7 @@ fn disc_worst_case_of_constant_errors_is_the_euclidean_norm_of_the_pair() {
     let (e2e, tol) = three_axis_with_sheet();
     let n_err = e2e.n_errors();
     let ex = expansion(&e2e, &vec![V::Constant; n_err]);
-    let model = e2e.pair_model(&ex).unwrap();
+    let model = e2e.angle().pair_model(&ex).unwrap();
     let lin = e2e.linearization();
     let n = e2e.len();
     for d in &tol.discs {
@@ -108,13 +108,15 @@ fn disc_allocation_is_looser_than_the_square_allocation_and_meets_every_accuracy
         tt_kinematics::on_shafts(t, |j| V::Any { joint: j.into() }),
     ] {
         let ex = expansion(&e2e, &v);
-        let model = e2e.pair_model(&ex).unwrap();
+        let model = e2e.angle().pair_model(&ex).unwrap();
         let disc_pairs = pairs(&tol, PairShape::Disc);
         let square_pairs = pairs(&tol, PairShape::Square);
         let disc = e2e
+            .angle()
             .allocate_direct_paired(&model.merged(&disc_pairs), &lb, &disc_pairs, None)
             .unwrap();
         let square = e2e
+            .angle()
             .allocate_direct_paired(&model.merged(&square_pairs), &lb, &square_pairs, None)
             .unwrap();
         assert!(
@@ -189,14 +191,16 @@ fn certified_disc_allocation_meets_every_accuracy_with_the_second_order_bound() 
     let (e2e, tol) = three_axis_with_sheet();
     let lb = vec![0.0; e2e.n_errors()];
     let ex = expansion(&e2e, &vec![V::Constant; e2e.n_errors()]);
-    let model = e2e.pair_model(&ex).unwrap();
+    let model = e2e.angle().pair_model(&ex).unwrap();
     let params = e2e_verify::CertifyParams::default();
     let disc_pairs = pairs(&tol, PairShape::Disc);
     let square_pairs = pairs(&tol, PairShape::Square);
     let disc = e2e
+        .angle()
         .allocate_direct_paired(&model.merged(&disc_pairs), &lb, &disc_pairs, Some(&params))
         .unwrap();
     let square = e2e
+        .angle()
         .allocate_direct_paired(
             &model.merged(&square_pairs),
             &lb,
@@ -308,7 +312,8 @@ fn disc_monte_carlo_is_identical_for_one_and_two_threads() {
             .build()
             .unwrap()
             .install(|| {
-                e2e.angle_yield_with_discs(&ex, &tol.ub_rad, discs, 3000, 11)
+                e2e.angle()
+                    .angle_yield_with_discs(&ex, &tol.ub_rad, discs, 3000, 11)
                     .unwrap()
             })
     };
@@ -316,7 +321,10 @@ fn disc_monte_carlo_is_identical_for_one_and_two_threads() {
     assert_eq!(one, run(2, &discs));
     assert_eq!(one.count().samples(), 3000);
     let plain = run(2, &[]);
-    assert_eq!(plain, e2e.angle_yield(&ex, &tol.ub_rad, 3000, 11).unwrap());
+    assert_eq!(
+        plain,
+        e2e.angle().angle_yield(&ex, &tol.ub_rad, 3000, 11).unwrap()
+    );
     assert_ne!(one, plain);
 }
 
@@ -333,7 +341,7 @@ fn harmonic_disc_bound_lies_between_the_constant_disc_and_the_square_harmonic_bo
         orders: vec![1, 2],
     });
     let ex = expansion(&e2e, &harmonics);
-    let model = e2e.pair_model(&ex).unwrap();
+    let model = e2e.angle().pair_model(&ex).unwrap();
     let constant = e2e.linearization();
     let check = |upper: f64, lower: f64, constant_disc: f64, square: f64| {
         assert!(lower <= upper, "{lower} > {upper}");
@@ -431,7 +439,7 @@ fn disc_on_errors_of_different_joints_is_bounded_by_the_square() {
         &e2e,
         &tt_kinematics::on_shafts(t, |j| V::Any { joint: j.into() }),
     );
-    let model = e2e.pair_model(&ex).unwrap();
+    let model = e2e.angle().pair_model(&ex).unwrap();
     let (a, b) = (
         t.rotation_error_index("dalpha_ox").unwrap(),
         t.rotation_error_index("dalpha_iz").unwrap(),

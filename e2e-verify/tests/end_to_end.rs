@@ -487,6 +487,7 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
         y.count().meeting()
     );
     let again = e2e
+        .monte_carlo()
         .rate_distribution(
             &lin,
             &e2e.box_of(y.upper_bounds_rad(), &[0.0; 8]).unwrap(),
@@ -517,6 +518,7 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     }
     let bigger: Vec<f64> = y.upper_bounds_rad().iter().map(|v| v * 1.02).collect();
     let dist = e2e
+        .monte_carlo()
         .rate_distribution(&lin, &e2e.box_of(&bigger, &lb).unwrap(), &settings)
         .unwrap();
     assert!(dist.count().fraction() < 0.99);
@@ -550,12 +552,20 @@ fn monte_carlo_reuses_mc_verify_streams_and_is_thread_count_independent() {
             .build()
             .unwrap()
     };
-    let chis = pool(1).install(|| e2e.sample_chi(&bounds, &settings).unwrap());
+    let chis = pool(1).install(|| e2e.monte_carlo().sample_chi(&bounds, &settings).unwrap());
     assert_eq!(chis.len(), 500);
     assert_eq!(bits(&chis[0]), bits(&chi0));
     assert_eq!(bits(&chis[433]), bits(&chi_433));
-    let one = pool(1).install(|| e2e.rate_distribution(&lin, &bounds, &settings).unwrap());
-    let three = pool(3).install(|| e2e.rate_distribution(&lin, &bounds, &settings).unwrap());
+    let one = pool(1).install(|| {
+        e2e.monte_carlo()
+            .rate_distribution(&lin, &bounds, &settings)
+            .unwrap()
+    });
+    let three = pool(3).install(|| {
+        e2e.monte_carlo()
+            .rate_distribution(&lin, &bounds, &settings)
+            .unwrap()
+    });
     assert_eq!(format!("{one:?}"), format!("{three:?}"));
     for w in one.worst() {
         let dw = e2e.delta_omega(&chis[w.index() as usize]).unwrap();
@@ -578,8 +588,11 @@ fn rate_distribution_summary_matches_the_draws() {
     let lin = e2e.linearization();
     let bounds = e2e.box_of(&table4(), &[0.0; 8]).unwrap();
     let settings = McSettings::new(3_000, 8);
-    let dist = e2e.rate_distribution(&lin, &bounds, &settings).unwrap();
-    let chis = e2e.sample_chi(&bounds, &settings).unwrap();
+    let dist = e2e
+        .monte_carlo()
+        .rate_distribution(&lin, &bounds, &settings)
+        .unwrap();
+    let chis = e2e.monte_carlo().sample_chi(&bounds, &settings).unwrap();
     let rates: Vec<Vec<f64>> = chis.iter().map(|c| e2e.delta_omega(c).unwrap()).collect();
     let acc = e2e.accuracies();
     let meeting = rates
@@ -604,7 +617,10 @@ fn rate_distribution_summary_matches_the_draws() {
     for q in dist.quantiles() {
         let rank = ((q.p() * 3_000.0).ceil() as usize).clamp(1, 3_000);
         assert!(q.ratio() >= ratios[rank - 1], "p {}", q.p());
-        let exact = e2e.ratio_quantile(&bounds, &settings, q.p()).unwrap();
+        let exact = e2e
+            .monte_carlo()
+            .ratio_quantile(&bounds, &settings, q.p())
+            .unwrap();
         assert_eq!(exact.to_bits(), ratios[rank - 1].to_bits(), "p {}", q.p());
     }
     assert_eq!(
@@ -642,6 +658,7 @@ fn tolerance_check_verdicts_and_contributions() {
     let lin = e2e.linearization();
     let settings = McSettings::new(2_000, 4);
     let check = e2e
+        .vendor()
         .check_tolerances(&lin, &table4(), &[0.0; 8], &settings)
         .unwrap();
     assert_eq!(check.verdict(), e2e_verify::Verdict::Fails);
@@ -668,6 +685,7 @@ fn tolerance_check_verdicts_and_contributions() {
     assert!(check.distribution().count().fraction() < 1.0);
     let cert = e2e.allocate_direct_certified(&lin, &[0.0; 8]).unwrap();
     let ok = e2e
+        .vendor()
         .check_tolerances(&lin, cert.upper_bounds_rad(), &[0.0; 8], &settings)
         .unwrap();
     assert_eq!(ok.verdict(), e2e_verify::Verdict::Guaranteed);
@@ -702,6 +720,7 @@ fn tolerance_check_gives_one_share_per_group_of_errors_that_act_together() {
         .map(|i| (0.1 + 0.01 * i as f64) * RAD_PER_ARCMIN)
         .collect();
     let check = e2e
+        .vendor()
         .check_tolerances(&lin, &ub, &vec![0.0; ub.len()], &McSettings::new(200, 1))
         .unwrap();
     for o in check.outputs() {
@@ -786,6 +805,7 @@ fn bad_input_gives_typed_errors_naming_the_field() {
     let b = e2e.box_of(&table4(), &[0.0; 8]).unwrap();
     for samples in [0, u64::MAX] {
         let err = e2e
+            .monte_carlo()
             .rate_distribution(&lin, &b, &McSettings::new(samples, 1))
             .unwrap_err();
         assert!(

@@ -52,13 +52,19 @@ fn generic_chi(e2e: &EndToEnd, s: f64) -> Vec<f64> {
 fn joint_estimator_recovers_estimable_table_errors_on_the_exact_chain() {
     for name in STUDIES {
         let e2e = users(name);
-        let est = e2e.estimability().unwrap();
+        let est = e2e.estimable().estimability().unwrap();
         let e = est.estimable_basis();
         assert!(est.table_rank() > 0, "{name}");
         let z = DVector::from_fn(e.ncols(), |i, _| 1e-4 * (1.0 - 0.3 * i as f64));
         let chi: Vec<f64> = (e * &z).iter().copied().collect();
-        let b1 = e2e.outputs_at(&chi, &e2e.true_coefficients()).unwrap();
-        let j = e2e.joint_estimate(&b1, &est, ITERATIONS, 1e-15).unwrap();
+        let b1 = e2e
+            .estimable()
+            .outputs_at(&chi, &e2e.estimable().true_coefficients())
+            .unwrap();
+        let j = e2e
+            .estimable()
+            .joint_estimate(&b1, &est, ITERATIONS, 1e-15)
+            .unwrap();
         let err: f64 = j
             .chi_rad()
             .iter()
@@ -77,7 +83,11 @@ fn joint_estimator_recovers_estimable_table_errors_on_the_exact_chain() {
             j.steps_rad()
         );
         // the coefficients too
-        for (bh, b) in j.coefficients().iter().zip(e2e.true_coefficients()) {
+        for (bh, b) in j
+            .coefficients()
+            .iter()
+            .zip(e2e.estimable().true_coefficients())
+        {
             assert!(
                 (bh - &b).amax() <= RECOVERED_REL * b.amax().max(1.0),
                 "{name}"
@@ -97,13 +107,19 @@ fn estimate_of_the_estimable_part_converges_as_the_table_error_shrinks() {
     const SECOND_ORDER: f64 = 100.0;
     for name in STUDIES {
         let e2e = users(name);
-        let est = e2e.estimability().unwrap();
+        let est = e2e.estimable().estimability().unwrap();
         let e = est.estimable_basis();
         let mut errs = Vec::new();
         for s in [1e-3, 1e-4, 1e-5] {
             let chi = generic_chi(&e2e, s);
-            let b1 = e2e.outputs_at(&chi, &e2e.true_coefficients()).unwrap();
-            let j = e2e.joint_estimate(&b1, &est, ITERATIONS, 1e-17).unwrap();
+            let b1 = e2e
+                .estimable()
+                .outputs_at(&chi, &e2e.estimable().true_coefficients())
+                .unwrap();
+            let j = e2e
+                .estimable()
+                .joint_estimate(&b1, &est, ITERATIONS, 1e-17)
+                .unwrap();
             let err = (project(e, j.chi_rad()) - project(e, &chi)).norm() / s;
             assert!(
                 err <= SECOND_ORDER * s,
@@ -130,13 +146,16 @@ fn invisible_combinations_lie_in_the_sensors_columns_on_the_exact_chain() {
     let s = 1e-5;
     for name in STUDIES {
         let e2e = users(name);
-        let est = e2e.estimability().unwrap();
+        let est = e2e.estimable().estimability().unwrap();
         let acc = e2e.accuracies();
-        let beta = e2e.true_coefficients();
-        let zero = e2e.outputs_at(&vec![0.0; e2e.n_errors()], &beta).unwrap();
+        let beta = e2e.estimable().true_coefficients();
+        let zero = e2e
+            .estimable()
+            .outputs_at(&vec![0.0; e2e.n_errors()], &beta)
+            .unwrap();
         let residual = |v: &[f64]| -> f64 {
             let chi: Vec<f64> = v.iter().map(|x| s * x).collect();
-            let b1 = e2e.outputs_at(&chi, &beta).unwrap();
+            let b1 = e2e.estimable().outputs_at(&chi, &beta).unwrap();
             e2e.calibration()
                 .outputs()
                 .iter()
@@ -177,7 +196,7 @@ fn invisible_combinations_lie_in_the_sensors_columns_on_the_exact_chain() {
 fn only_errors_acting_together_are_invisible_and_the_joint_allocation_needs_no_bound() {
     for (name, groups) in [("gyrowheel-2017", 5), ("three-axis-example", 7)] {
         let e2e = users(name);
-        let est = e2e.estimability().unwrap();
+        let est = e2e.estimable().estimability().unwrap();
         assert_eq!(est.table_rank(), groups, "{name}");
         assert_eq!(est.rank(), est.coefficients() + groups, "{name}");
         let combined = est.identifiability();
@@ -190,7 +209,7 @@ fn only_errors_acting_together_are_invisible_and_the_joint_allocation_needs_no_b
         let plain = e2e.allocate_direct(&e2e.linearization(), &lb).unwrap();
         assert!(!plain.no_bound_needed(), "{name}");
         let joint = e2e
-            .allocate_direct(&e2e.linearization_joint(&est).unwrap(), &lb)
+            .allocate_direct(&e2e.estimable().linearization_joint(&est).unwrap(), &lb)
             .unwrap();
         assert!(joint.no_bound_needed(), "{name}");
     }
@@ -201,12 +220,13 @@ fn only_errors_acting_together_are_invisible_and_the_joint_allocation_needs_no_b
 #[test]
 fn joint_estimator_removes_table4s_first_order_error_on_the_exact_chain() {
     let e2e = users("gyrowheel-2017");
-    let est = e2e.estimability().unwrap();
+    let est = e2e.estimable().estimability().unwrap();
     let ub = alloc_opt::paper::table4_rad();
     let wc = e2e.worst_case(&e2e.linearization(), &ub).unwrap();
     for o in wc.outputs() {
         let plain = e2e.delta_omega(o.worst_chi_rad()).unwrap();
         let joint = e2e
+            .estimable()
             .joint_delta_omega(o.worst_chi_rad(), &est, ITERATIONS)
             .unwrap();
         assert!(joint[o.output()] < 0.01 * plain[o.output()]);
@@ -232,12 +252,15 @@ fn joint_estimation_of_harmonic_coefficients_recovers_them_and_reduces_to_the_co
         e2e.poses(),
     )
     .unwrap();
-    let est = e2e.estimability().unwrap();
-    let est_c = e2e.estimability_expanded(&constant).unwrap();
+    let est = e2e.estimable().estimability().unwrap();
+    let est_c = e2e.estimable().estimability_expanded(&constant).unwrap();
     assert_eq!(est_c.rank(), est.rank());
     assert_eq!(est_c.table_rank(), est.table_rank());
-    let joint = e2e.linearization_joint(&est).unwrap();
-    let joint_c = e2e.linearization_joint_expanded(&constant, &est_c).unwrap();
+    let joint = e2e.estimable().linearization_joint(&est).unwrap();
+    let joint_c = e2e
+        .estimable()
+        .linearization_joint_expanded(&constant, &est_c)
+        .unwrap();
     let scale = joint
         .matrix()
         .amax()
@@ -247,16 +270,18 @@ fn joint_estimation_of_harmonic_coefficients_recovers_them_and_reduces_to_the_co
         "the constant expansion's joint model differs from the constant one"
     );
     let ex = tt_kinematics::Expansion::new(e2e.turntable(), &s.variations, e2e.poses()).unwrap();
-    let est_h = e2e.estimability_expanded(&ex).unwrap();
+    let est_h = e2e.estimable().estimability_expanded(&ex).unwrap();
     assert_eq!(est_h.names().len(), ex.n_coefficients());
     assert!(est_h.table_rank() > est.table_rank());
     let e = est_h.estimable_basis();
     let z = DVector::from_fn(e.ncols(), |i, _| 1e-5 * (1.0 - 0.03 * i as f64));
     let c: Vec<f64> = (e * &z).iter().copied().collect();
     let b1 = e2e
-        .outputs_at_expanded(&ex, &c, &e2e.true_coefficients())
+        .estimable()
+        .outputs_at_expanded(&ex, &c, &e2e.estimable().true_coefficients())
         .unwrap();
     let j = e2e
+        .estimable()
         .joint_estimate_expanded(&ex, &b1, &est_h, ITERATIONS, 1e-15)
         .unwrap();
     let err = j
@@ -273,6 +298,7 @@ fn joint_estimation_of_harmonic_coefficients_recovers_them_and_reduces_to_the_co
     );
     // at that turntable the joint calibration leaves rounding, the ordinary one does not
     let dw = e2e
+        .estimable()
         .joint_delta_omega_expanded(&ex, &c, &est_h, ITERATIONS)
         .unwrap();
     for (k, d) in dw.iter().enumerate() {

@@ -48,7 +48,7 @@ fn direct_box(e2e: &EndToEnd) -> Vec<f64> {
 #[test]
 fn noise_sigma_is_calib_lsq_rate_error_sigma_at_the_worst_position() {
     let (e2e, noise, timing) = imu();
-    let b = e2e.noise_budget(&noise, &timing).unwrap();
+    let b = e2e.noise().noise_budget(&noise, &timing).unwrap();
     let covs = e2e
         .calibration()
         .noise_covariances(&noise, &timing)
@@ -67,14 +67,18 @@ fn a_study_without_noise_keeps_every_answer() {
     let e2e = common::study_e2e("three-axis-example", None);
     let none: Vec<Option<NoiseModel>> = vec![None; e2e.n_outputs()];
     let timing = Timing::uniform(e2e.len(), 10.0, 0.0, 100.0).unwrap();
-    let budget = e2e.noise_budget(&none, &timing).unwrap();
+    let budget = e2e.noise().noise_budget(&none, &timing).unwrap();
     assert!(!budget.any());
     let linear = e2e.linearization();
     let ub = direct_box(&e2e);
     let lb = vec![0.0; e2e.n_errors()];
     let settings = McSettings::new(3000, 5);
-    let check = e2e.check_tolerances(&linear, &ub, &lb, &settings).unwrap();
+    let check = e2e
+        .vendor()
+        .check_tolerances(&linear, &ub, &lb, &settings)
+        .unwrap();
     let comb = e2e
+        .noise()
         .combined_box(
             "direct",
             &linear,
@@ -105,7 +109,7 @@ fn a_study_without_noise_keeps_every_answer() {
 #[test]
 fn combined_yield_is_identical_for_any_thread_count() {
     let (e2e, noise, timing) = imu();
-    let budget = e2e.noise_budget(&noise, &timing).unwrap();
+    let budget = e2e.noise().noise_budget(&noise, &timing).unwrap();
     let ub = direct_box(&e2e);
     let bounds = e2e.box_of(&ub, &vec![0.0; e2e.n_errors()]).unwrap();
     let settings = McSettings {
@@ -117,7 +121,11 @@ fn combined_yield_is_identical_for_any_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| e2e.combined_yield(&bounds, &budget, &settings).unwrap())
+            .install(|| {
+                e2e.noise()
+                    .combined_yield(&bounds, &budget, &settings)
+                    .unwrap()
+            })
     };
     assert_eq!(run(1), run(3));
 }
@@ -127,12 +135,12 @@ fn noise_that_takes_the_accuracy_fails_a_box_the_table_alone_meets() {
     // the example: the IMU at 24 x 60 s with STIM300 noise; the direct box meets
     // every accuracy for the table alone, and noise alone at 3 sigma exceeds the gyros'
     let (e2e, noise, timing) = imu();
-    let budget = e2e.noise_budget(&noise, &timing).unwrap();
+    let budget = e2e.noise().noise_budget(&noise, &timing).unwrap();
     let linear = e2e.linearization();
     let ub = direct_box(&e2e);
     let lb = vec![0.0; e2e.n_errors()];
     let wc = e2e.worst_case(&linear, &ub).unwrap();
-    let comb = e2e.combine(&wc, &budget, DEFAULT_K_SIGMA);
+    let comb = e2e.noise().combine(&wc, &budget, DEFAULT_K_SIGMA);
     let acc = e2e.accuracies();
 
     let mut noise_dominated = 0;
@@ -161,6 +169,7 @@ fn noise_that_takes_the_accuracy_fails_a_box_the_table_alone_meets() {
     );
     // and the allocation says no table suffices: an answer, not an error
     let d = e2e
+        .noise()
         .allocate_direct_with_noise(&linear, &lb, &budget, DEFAULT_K_SIGMA)
         .unwrap();
     let blocked = d.expect_err("no table suffices at 60 s");
@@ -177,13 +186,22 @@ fn combined_yield_of_a_perfect_table_is_the_gaussian_probability_of_the_noise() 
     let acc = e2e.accuracies();
     // density chosen so that the worst position's sigma is a third of the accuracy
     let timing = Timing::uniform(e2e.len(), 30.0, 0.0, 100.0).unwrap();
-    let unit = e2e.noise_budget(&white(&e2e, 1.0), &timing).unwrap();
+    let unit = e2e
+        .noise()
+        .noise_budget(&white(&e2e, 1.0), &timing)
+        .unwrap();
     let density = acc[0] / 3.0 / unit.sigma()[0];
-    let budget = e2e.noise_budget(&white(&e2e, density), &timing).unwrap();
+    let budget = e2e
+        .noise()
+        .noise_budget(&white(&e2e, density), &timing)
+        .unwrap();
     let zero = vec![0.0; e2e.n_errors()];
     let bounds = e2e.box_of(&zero, &zero).unwrap();
     let settings = McSettings::new(20_000, 3);
-    let y = e2e.combined_yield(&bounds, &budget, &settings).unwrap();
+    let y = e2e
+        .noise()
+        .combined_yield(&bounds, &budget, &settings)
+        .unwrap();
     let erf_tail = |x: f64| libm_erfc(x / std::f64::consts::SQRT_2);
     let sig = &budget.per_position()[0];
     let upper = sig
@@ -224,9 +242,15 @@ fn three_axis_with_a_quarter_of_the_accuracy_in_noise() -> (EndToEnd, NoiseBudge
     let e2e = common::study_e2e("three-axis-example", None);
     let acc = e2e.accuracies();
     let timing = Timing::uniform(e2e.len(), 30.0, 0.0, 100.0).unwrap();
-    let unit = e2e.noise_budget(&white(&e2e, 1.0), &timing).unwrap();
+    let unit = e2e
+        .noise()
+        .noise_budget(&white(&e2e, 1.0), &timing)
+        .unwrap();
     let density = acc[0] / 12.0 / unit.sigma()[0];
-    let budget = e2e.noise_budget(&white(&e2e, density), &timing).unwrap();
+    let budget = e2e
+        .noise()
+        .noise_budget(&white(&e2e, density), &timing)
+        .unwrap();
     (e2e, budget)
 }
 
@@ -237,6 +261,7 @@ fn direct_allocation_with_noise_gives_the_table_what_the_noise_leaves() {
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let d = e2e
+        .noise()
         .allocate_direct_with_noise(&linear, &lb, &budget, 3.0)
         .unwrap()
         .expect("a table suffices");
@@ -266,7 +291,7 @@ fn shortest_dwell_for_white_noise_is_the_closed_form() {
     let t0 = 10.0;
     let timing = Timing::uniform(e2e.len(), t0, 2.0, 100.0).unwrap();
     let noise = white(&e2e, 0.05);
-    let b0 = e2e.noise_budget(&noise, &timing).unwrap();
+    let b0 = e2e.noise().noise_budget(&noise, &timing).unwrap();
     let expected = b0
         .sigma()
         .iter()
@@ -276,6 +301,7 @@ fn shortest_dwell_for_white_noise_is_the_closed_form() {
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let tr = e2e
+        .noise()
         .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, 86_400.0))
         .unwrap();
     let t = tr.min_dwell_s().expect("a dwell within a day suffices");
@@ -300,6 +326,7 @@ fn shortest_dwell_is_none_when_no_dwell_in_the_range_suffices() {
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let tr = e2e
+        .noise()
         .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, 60.0))
         .unwrap();
     assert_eq!(tr.min_dwell_s(), None);
@@ -328,6 +355,7 @@ fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
     .unwrap();
     let noise = white(&e2e, 1e-12);
     let tr = e2e
+        .noise()
         .tradeoff(
             &e2e.linearization(),
             &vec![0.0; e2e.n_errors()],
@@ -362,10 +390,12 @@ fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let first = e2e
+        .noise()
         .allocate_direct_with_noise(&linear, &lb, &budget, 3.0)
         .unwrap()
         .expect("a table suffices");
     let cert = e2e
+        .noise()
         .allocate_direct_with_noise_certified(&linear, &lb, &budget, 3.0)
         .unwrap()
         .expect("a table suffices");
@@ -402,9 +432,11 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
     let lb = vec![0.0; e2e.n_errors()];
     let range = (1e-3, 86_400.0);
     let plain = e2e
+        .noise()
         .tradeoff(&linear, &lb, &noise, &timing, 3.0, range)
         .unwrap();
     let default = e2e
+        .noise()
         .tradeoff_with(
             &linear,
             &lb,
@@ -420,6 +452,7 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
     let mut coarse = TradeoffParams::default();
     coarse.points = 5;
     let c = e2e
+        .noise()
         .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &coarse)
         .unwrap();
     assert_eq!(c.points().len(), 5);
@@ -453,6 +486,7 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
         }),
     ] {
         let e = e2e
+            .noise()
             .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &bad)
             .unwrap_err();
         assert!(e.to_string().contains(field), "{field}: {e}");
@@ -479,8 +513,12 @@ fn rate_random_walk_from_the_study_key_enlarges_the_noise_part_by_its_closed_for
     );
     let with_rrw = study::Study::parse("imu.toml", &text).unwrap();
     let (e2e, noise, timing) = imu();
-    let plain = e2e.noise_budget(&noise, &timing).unwrap().sigma();
-    let drifting = e2e.noise_budget(&with_rrw.noise, &timing).unwrap().sigma();
+    let plain = e2e.noise().noise_budget(&noise, &timing).unwrap().sigma();
+    let drifting = e2e
+        .noise()
+        .noise_budget(&with_rrw.noise, &timing)
+        .unwrap()
+        .sigma();
     let mut gyros = 0;
     for (k, n) in with_rrw.noise.iter().enumerate() {
         if n.as_ref().unwrap().rate_random_walk() > 0.0 {
@@ -505,7 +543,7 @@ fn rate_random_walk_from_the_study_key_enlarges_the_noise_part_by_its_closed_for
             )
         })
         .collect();
-    let sigma = e2e.noise_budget(&simple, &timing).unwrap().sigma();
+    let sigma = e2e.noise().noise_budget(&simple, &timing).unwrap().sigma();
     let windows = timing.windows();
     let m = windows.len();
     for (k, out) in e2e.calibration().outputs().iter().enumerate() {
@@ -555,7 +593,7 @@ fn shortest_dwell_is_found_when_a_drift_makes_the_longest_dwell_fail() {
         })
         .collect();
     let at_hi = Timing::uniform(e2e.len(), hi, 2.0, 100.0).unwrap();
-    let unit_sigma = e2e.noise_budget(&unit_rrw, &at_hi).unwrap().sigma();
+    let unit_sigma = e2e.noise().noise_budget(&unit_rrw, &at_hi).unwrap().sigma();
     // K such that 3 sigma of the walk alone is twice the tightest accuracy at the longest dwell
     let k_rrw = unit_sigma
         .iter()
@@ -573,13 +611,14 @@ fn shortest_dwell_is_found_when_a_drift_makes_the_longest_dwell_fail() {
         .collect();
     let fits = |t: f64| {
         let timing = Timing::uniform(e2e.len(), t, 2.0, 100.0).unwrap();
-        let sigma = e2e.noise_budget(&noise, &timing).unwrap().sigma();
+        let sigma = e2e.noise().noise_budget(&noise, &timing).unwrap().sigma();
         sigma.iter().zip(&acc).all(|(s, a)| 3.0 * s <= *a)
     };
     assert!(!fits(hi), "the walk makes the longest dwell fail");
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let tr = e2e
+        .noise()
         .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, hi))
         .unwrap();
     let t = tr.min_dwell_s().expect("a dwell between the ends suffices");

@@ -44,6 +44,7 @@ fn a_perfect_turntable_has_zero_worst_case_within_the_stated_precision() {
         assert!(raw.iter().any(|r| *r > 0.0), "{name}: {raw:?}");
         let wc = e2e.worst_case(&lin, &zero).unwrap();
         let dist = e2e
+            .monte_carlo()
             .rate_distribution(
                 &lin,
                 &e2e.box_of(&zero, &zero).unwrap(),
@@ -88,6 +89,7 @@ fn imu_ay_worst_case_and_monte_carlo_maximum_are_rounding_reported_as_zero() {
     let lin = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
     let check = e2e
+        .vendor()
         .check_tolerances(&lin, &tol.ub_rad, &lb, &McSettings::new(2_000, 2017))
         .unwrap();
     let names: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();

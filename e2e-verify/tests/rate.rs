@@ -120,11 +120,14 @@ fn rate_step_fast_path_equals_the_reference_path() {
 #[test]
 fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
     let e = e2e();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let ub = vec![1e-5; e.n_errors()];
     let zero = vec![0.0; e.extra_errors().len()];
     let alone = e.worst_case(&m, &ub).expect("runs");
-    let both = e.worst_case_with_extra(&m, &n, &ub, &zero).expect("runs");
+    let both = e
+        .rates()
+        .worst_case_with_extra(&m, &n, &ub, &zero)
+        .expect("runs");
     for (a, b) in alone.outputs().iter().zip(&both) {
         assert_relative_eq!(a.linear_bound(), b.linear_bound(), max_relative = 1e-12);
     }
@@ -140,7 +143,10 @@ fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
             }
         })
         .collect();
-    let with = e.worst_case_with_extra(&m, &n, &ub, &bounds).expect("runs");
+    let with = e
+        .rates()
+        .worst_case_with_extra(&m, &n, &ub, &bounds)
+        .expect("runs");
     for o in &with[..3] {
         // (1 + k) of the scale factor and the earth's rate: 1e-3 of it
         assert_relative_eq!(o.extra_part(), t * 216_000.0, max_relative = 1e-3);
@@ -155,7 +161,7 @@ fn worst_case_with_rate_errors_adds_the_rate_accuracy_times_the_rate() {
 #[test]
 fn direct_allocation_with_rate_errors_meets_with_them() {
     let e = e2e();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let bounds: Vec<f64> = e
         .extra_errors()
         .iter()
@@ -167,6 +173,7 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
         .collect();
     let lb = vec![0.0; e.n_errors()];
     let d = e
+        .rates()
         .allocate_direct_with_extra(&m, &n, &lb, &bounds)
         .expect("feasible");
     let ub: Vec<f64> = d
@@ -174,7 +181,10 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
         .iter()
         .map(|u| if u.is_finite() { *u } else { 0.0 })
         .collect();
-    let wc = e.worst_case_with_extra(&m, &n, &ub, &bounds).expect("runs");
+    let wc = e
+        .rates()
+        .worst_case_with_extra(&m, &n, &ub, &bounds)
+        .expect("runs");
     for (o, a) in wc.iter().zip(e.accuracies()) {
         // solver tolerance: 1e-6 of the accuracy
         assert!(
@@ -185,9 +195,11 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
     }
     let settings = e2e_verify::McSettings::new(3000, 7);
     let first = e
+        .rates()
         .meeting_count_with_extra(&ub, &lb, &bounds, &settings)
         .expect("runs");
     let again = e
+        .rates()
         .meeting_count_with_extra(&ub, &lb, &bounds, &settings)
         .expect("runs");
     assert_eq!(first, again);
@@ -206,10 +218,13 @@ const SOLVER_REL: f64 = 1e-6;
 #[test]
 fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_worst_vertex() {
     let e = e2e();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let lb = vec![0.0; e.n_errors()];
-    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
-    let names = e.rate_tolerance_names();
+    let a = e
+        .rates()
+        .allocate_direct_rate(&m, &n, &lb)
+        .expect("feasible");
+    let names = e.rates().rate_tolerance_names();
     assert_eq!(a.tolerances().len(), names.len());
     for (t, name) in a.tolerance_bounds().iter().zip(&names) {
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
@@ -220,8 +235,11 @@ fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_wors
         .iter()
         .map(|u| if u.is_finite() { *u } else { 0.0 })
         .collect();
-    let extra = e.extra_bounds_of(a.tolerance_bounds());
-    let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
+    let extra = e.rates().extra_bounds_of(a.tolerance_bounds());
+    let wc = e
+        .rates()
+        .worst_case_with_extra(&m, &n, &ub, &extra)
+        .expect("runs");
     for (o, acc) in wc.iter().zip(e.accuracies()) {
         assert!(
             o.linear_bound() <= acc * (1.0 + SOLVER_REL),
@@ -249,10 +267,13 @@ fn direct_rate_allocation_rate_accuracy_agrees_with_the_closed_form() {
     // (1 + k, |k| <= 3e-4) leave 1e-3 relative
     const CLOSED_FORM_REL: f64 = 1e-3;
     let e = e2e();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let lb = vec![0.0; e.n_errors()];
-    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
-    let names = e.rate_tolerance_names();
+    let a = e
+        .rates()
+        .allocate_direct_rate(&m, &n, &lb)
+        .expect("feasible");
+    let names = e.rates().rate_tolerance_names();
     let extra_names = e.extra_names();
     let tol = |name: &str| a.tolerance_bounds()[names.iter().position(|n| n == name).unwrap()];
     let step_deg_per_h = 60.0 * 3600.0;
@@ -300,15 +321,18 @@ fn rounding(e: &EndToEnd, k: usize) -> f64 {
 fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corners() {
     use rand_core::{Rng, SeedableRng};
     let e = e2e();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let lb = vec![0.0; e.n_errors()];
-    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    let a = e
+        .rates()
+        .allocate_direct_rate(&m, &n, &lb)
+        .expect("feasible");
     let ub0: Vec<f64> = a
         .angles_rad()
         .iter()
         .map(|u| if u.is_finite() { *u } else { 0.0 })
         .collect();
-    let x0 = e.extra_bounds_of(a.tolerance_bounds());
+    let x0 = e.rates().extra_bounds_of(a.tolerance_bounds());
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(23);
     let mut largest_ratio = 0.0_f64;
     for scale in [0.25, 1.0, 4.0, 16.0] {
@@ -317,7 +341,8 @@ fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corne
         let s: f64 = ub.iter().sum();
         let taus: Vec<f64> = (0..e.n_outputs())
             .map(|k| {
-                e.second_order_bound_with_extra(k, s, &xb)
+                e.rates()
+                    .second_order_bound_with_extra(k, s, &xb)
                     .expect("valid box")
                     .expect("a bound for the study's reading")
             })
@@ -380,17 +405,25 @@ fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corne
 #[test]
 fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_worst_vertex() {
     let e = e2e();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let lb = vec![0.0; e.n_errors()];
     let c = e
+        .rates()
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certifiable");
     let cert = c
         .certificate()
         .expect("a certified allocation has its certificate");
-    let direct = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    let direct = e
+        .rates()
+        .allocate_direct_rate(&m, &n, &lb)
+        .expect("feasible");
     assert_eq!(c.tolerances(), direct.tolerances());
-    for (t, name) in c.tolerance_bounds().iter().zip(e.rate_tolerance_names()) {
+    for (t, name) in c
+        .tolerance_bounds()
+        .iter()
+        .zip(e.rates().rate_tolerance_names())
+    {
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
     }
     // a certified box costs at least the first-order one (J grows as the box shrinks)
@@ -400,8 +433,11 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
         .iter()
         .map(|u| if u.is_finite() { *u } else { 0.0 })
         .collect();
-    let extra = e.extra_bounds_of(c.tolerance_bounds());
-    let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
+    let extra = e.rates().extra_bounds_of(c.tolerance_bounds());
+    let wc = e
+        .rates()
+        .worst_case_with_extra(&m, &n, &ub, &extra)
+        .expect("runs");
     for (k, acc) in e.accuracies().iter().enumerate() {
         assert!(
             cert.second_order_bounds()[k] > 0.0,
@@ -434,10 +470,11 @@ fn certified_rate_allocation_of_a_static_study_is_todays_certified_allocation() 
     let e = common::study_e2e("imu-triad-example", None);
     assert!(!e.has_rate_steps());
     let m = e.linearization();
-    let n = e.extra_linearization();
+    let n = e.rates().extra_linearization();
     let lb = vec![0.0; e.n_errors()];
     let today = e.allocate_direct_certified(&m, &lb).expect("certifiable");
     let c = e
+        .rates()
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certifiable");
     assert!(c.tolerances().is_empty());
@@ -449,7 +486,9 @@ fn certified_rate_allocation_of_a_static_study_is_todays_certified_allocation() 
         .sum();
     for k in 0..e.n_outputs() {
         assert_eq!(
-            e.second_order_bound_with_extra(k, s, &[]).expect("valid"),
+            e.rates()
+                .second_order_bound_with_extra(k, s, &[])
+                .expect("valid"),
             e.second_order_bound(k, s).expect("valid")
         );
     }
@@ -479,9 +518,12 @@ fn six_face_rate_allocation_stays_in_the_rate_models_domain_and_meets_every_accu
         .map(|p| tt_core::Pose::from_deg(p).unwrap())
         .collect::<Vec<_>>();
     let e = EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
-    let (m, n) = (e.linearization(), e.extra_linearization());
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
     let lb = vec![0.0; e.n_errors()];
-    let a = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
+    let a = e
+        .rates()
+        .allocate_direct_rate(&m, &n, &lb)
+        .expect("feasible");
     let mut capped = 0;
     for (t, tol) in a.tolerance_bounds().iter().zip(a.tolerances()) {
         assert!(t.is_finite() && *t > 0.0);
@@ -505,6 +547,7 @@ fn six_face_rate_allocation_stays_in_the_rate_models_domain_and_meets_every_accu
         assert!(o.exact_at_vertex() <= acc, "output {}", o.output());
     }
     let c = e
+        .rates()
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certified");
     let cert = c

@@ -224,11 +224,12 @@ fn rate_step_example_gets_a_noise_budget_over_positions_and_rate_steps() {
         assert_relative_eq!(t, 302.4, max_relative = 1e-12);
     }
     let e2e: EndToEnd = common::study_e2e("stim300-rate-table-example", None);
-    let budget = e2e.noise_budget(&s.noise, &timing).expect("budget");
+    let budget = e2e.noise().noise_budget(&s.noise, &timing).expect("budget");
     assert!(budget.per_position().iter().all(|p| p.len() == 30));
     let sigma = budget.sigma();
     assert!(sigma.iter().all(|&s| s > 0.0));
     let longer = e2e
+        .noise()
         .noise_budget_at_dwell(&s.noise, &timing, 1200.0)
         .expect("budget at 1200 s");
     assert_eq!(longer.timing().dwell_s(), &[1200.0; 24]);

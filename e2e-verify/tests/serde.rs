@@ -19,6 +19,7 @@ fn the_buyers_check_and_the_direct_box_serialise_their_verdicts_and_numbers() {
     let ub = alloc_opt::paper::table4_rad();
     let lb = vec![0.0; e2e.n_errors()];
     let check = e2e
+        .vendor()
         .check_tolerances(&e2e.linearization(), &ub, &lb, &McSettings::new(2_000, 3))
         .unwrap();
     let v: Value = serde_json::to_value(&check).unwrap();

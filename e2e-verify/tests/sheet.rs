@@ -260,8 +260,9 @@ fn checking_a_sheet_checks_its_bounds_with_its_clamped_lower_bounds() {
     let n = e2e.n_errors();
     let s = sheet(entries(), 0.45, vec![None; n]).unwrap();
     let settings = McSettings::new(300, 7);
-    let by_sheet = e2e.check_sheet(&s, &settings).unwrap();
+    let by_sheet = e2e.vendor().check_sheet(&s, &settings).unwrap();
     let by_box = e2e
+        .vendor()
         .check_tolerances(
             &e2e.linearization(),
             &vec![arcmin(0.4); n],

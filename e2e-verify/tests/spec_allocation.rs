@@ -57,7 +57,7 @@ fn imu_tight_misalignment() -> (Study, Vec<String>) {
 
 fn room_of(mut s: Study) -> (Study, Vec<String>) {
     let e2e = e2e_of(&s);
-    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let rows = e2e.budget().specification_rows(&context(&s, &e2e)).unwrap();
     let blocked: Vec<String> = rows
         .iter()
         .filter_map(|r| r.check_room().err().map(|e| e.to_string()))
@@ -73,21 +73,22 @@ fn room_of(mut s: Study) -> (Study, Vec<String>) {
 
 fn verdict(s: &Study, e2e: &EndToEnd, ub: &[f64]) -> e2e_verify::budget::PlanVerdict {
     let law = s.uncertainty.tolerance_distribution;
-    e2e.plan_verdict(
-        &s.specifications,
-        ub,
-        |n, a| law.input(n, a),
-        &s.noise,
-        s.timing.as_ref(),
-    )
-    .unwrap()
+    e2e.budget()
+        .plan_verdict(
+            &s.specifications,
+            ub,
+            |n, a| law.input(n, a),
+            &s.noise,
+            s.timing.as_ref(),
+        )
+        .unwrap()
 }
 
 #[test]
 fn each_spec_row_has_the_budgets_sensitivities_and_noise_part() {
     let s = imu();
     let e2e = e2e_of(&s);
-    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let rows = e2e.budget().specification_rows(&context(&s, &e2e)).unwrap();
     assert_eq!(rows.len(), s.specifications.len(), "one coefficient each");
     let tol = vec![1e-5; e2e.n_errors()];
     let v = verdict(&s, &e2e, &tol);
@@ -146,7 +147,7 @@ fn the_direct_box_meets_every_specification_and_is_tight() {
         vec![2],
         "the accuracy rows alone miss the misalignment"
     );
-    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let rows = e2e.budget().specification_rows(&context(&s, &e2e)).unwrap();
     let after = e2e.allocate_direct_specified(&linear, lb, &rows).unwrap();
     let v1 = verdict(&s, &e2e, after.upper_bounds_rad());
     for i in 0..s.specifications.len() {
@@ -194,7 +195,7 @@ fn the_certified_box_meets_every_specification_on_the_exact_chain() {
     let e2e = e2e_of(&s);
     let linear = e2e.linearization();
     let lb = &s.lower_bounds_rad;
-    let rows = e2e.specification_rows(&context(&s, &e2e)).unwrap();
+    let rows = e2e.budget().specification_rows(&context(&s, &e2e)).unwrap();
     let d = e2e
         .allocate_direct_certified_specified(&linear, lb, &rows)
         .unwrap();

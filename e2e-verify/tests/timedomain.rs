@@ -150,12 +150,15 @@ fn combined_yield_matches_the_time_domain_simulation() {
     let m = NoiseModel::new(0.004, Some(GaussMarkov::new(0.001, 20.0).unwrap()), 0.0).unwrap();
     let noise = vec![Some(m.clone()), Some(m)];
     let settings = McSettings::new(CALIBRATIONS, 3);
-    let budget = e2e.noise_budget(&noise, &t).unwrap();
-    let analytic = e2e.combined_yield(&bounds, &budget, &settings).unwrap();
+    let budget = e2e.noise().noise_budget(&noise, &t).unwrap();
+    let analytic = e2e
+        .noise()
+        .combined_yield(&bounds, &budget, &settings)
+        .unwrap();
     let sim = e2e
         .simulate_time_domain(&bounds, &noise, &t, &settings)
         .unwrap();
-    let table_only = e2e.meeting_count(&bounds, &settings).unwrap();
+    let table_only = e2e.monte_carlo().meeting_count(&bounds, &settings).unwrap();
     let (pa, ps) = (analytic.fraction(), sim.count().fraction());
     assert!(
         pa < table_only as f64 / CALIBRATIONS as f64 - 0.02,

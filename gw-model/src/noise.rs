@@ -233,15 +233,6 @@ impl UnitFamily {
             UnitFamily::SpecificForce => "a specific force",
         }
     }
-
-    /// The SI unit of the family (`rad/s`, `m/s^2`).
-    #[must_use]
-    pub fn si_unit(self) -> &'static str {
-        match self {
-            UnitFamily::AngularRate => "rad/s",
-            UnitFamily::SpecificForce => "m/s^2",
-        }
-    }
 }
 
 impl fmt::Display for UnitFamily {
@@ -386,7 +377,7 @@ impl WhiteDensity {
     /// SI units per $\sqrt{\mathrm{Hz}}$ ((rad/s)/√Hz or (m/s²)/√Hz) per unit of the key
     /// (`None` for `white_per_sqrt_hz`).
     #[must_use]
-    pub fn si_per_key_unit(&self) -> Option<f64> {
+    pub(crate) fn si_per_key_unit(&self) -> Option<f64> {
         match self {
             WhiteDensity::DegPerSqrtH(_) => {
                 Some(RAD_PER_S_PER_DEG_PER_S * PER_SQRT_H_IN_PER_SQRT_S)

@@ -39,10 +39,10 @@ use tt_core::units::RAD_PER_S_PER_DEG_PER_H;
 const RAD_PER_ARCSEC: f64 = std::f64::consts::PI / (180.0 * 3600.0);
 
 /// The units of a ratio (a scale factor): label, value of one unit.
-pub const RATIO_UNITS: &[(&str, f64)] = &[("ppm", 1e-6), ("%", 1e-2), ("1", 1.0)];
+pub(crate) const RATIO_UNITS: &[(&str, f64)] = &[("ppm", 1e-6), ("%", 1e-2), ("1", 1.0)];
 
 /// The units of a small angle (a misalignment): label, rad per unit.
-pub const ANGLE_UNITS: &[(&str, f64)] = &[
+pub(crate) const ANGLE_UNITS: &[(&str, f64)] = &[
     ("arcsec", RAD_PER_ARCSEC),
     ("urad", 1e-6),
     ("mrad", 1e-3),
@@ -51,7 +51,7 @@ pub const ANGLE_UNITS: &[(&str, f64)] = &[
 ];
 
 /// The units of a rate per g (a g-sensitivity): label, (rad/s)/g per unit.
-pub const RATE_PER_G_UNITS: &[(&str, f64)] = &[
+pub(crate) const RATE_PER_G_UNITS: &[(&str, f64)] = &[
     ("deg_per_h_per_g", RAD_PER_S_PER_DEG_PER_H),
     ("deg/h/g", RAD_PER_S_PER_DEG_PER_H),
     ("deg_per_s_per_g", std::f64::consts::PI / 180.0),
@@ -164,7 +164,7 @@ fn linear_input(r: &Regressor) -> Option<Input> {
 /// The output's sensitive axis: the input of its family whose linear terms (known and
 /// estimated) sum to the largest magnitude; `None` when it has none or the unit is unknown.
 #[must_use]
-pub fn sensitive_axis(o: &Output) -> Option<Input> {
+pub(crate) fn sensitive_axis(o: &Output) -> Option<Input> {
     let family = OutputUnit::parse(&o.unit)?.family();
     let mut sums = [0.0_f64; 6];
     for t in &o.terms {
@@ -180,7 +180,7 @@ pub fn sensitive_axis(o: &Output) -> Option<Input> {
 
 /// The kind of a coefficient on regressor `r` of output `o`.
 #[must_use]
-pub fn coefficient_kind(o: &Output, r: &Regressor) -> CoefficientKind {
+pub(crate) fn coefficient_kind(o: &Output, r: &Regressor) -> CoefficientKind {
     if *r == Regressor::ONE {
         return CoefficientKind::Bias;
     }

@@ -141,7 +141,7 @@ impl ErrorBox {
 
     /// Whether every lower bound is zero.
     #[must_use]
-    pub fn lower_bounds_are_zero(&self) -> bool {
+    pub(crate) fn lower_bounds_are_zero(&self) -> bool {
         self.lb_rad.iter().all(|&lb| lb == 0.0)
     }
 }

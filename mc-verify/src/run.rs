@@ -578,7 +578,7 @@ impl MonteCarlo {
     ///
     /// # Errors
     /// As [`MonteCarlo::try_run`].
-    pub fn try_run_with_progress(
+    pub(crate) fn try_run_with_progress(
         &self,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<McResult, McError> {
@@ -684,7 +684,7 @@ impl MonteCarlo {
     ///
     /// # Errors
     /// As [`MonteCarlo::run_model`].
-    pub fn run_model_with_progress<M: OrientationErrorModel + Sync + ?Sized>(
+    pub(crate) fn run_model_with_progress<M: OrientationErrorModel + Sync + ?Sized>(
         &self,
         model: &M,
         progress: &(dyn Fn(u64) + Sync),

@@ -392,7 +392,7 @@ impl Partial {
     /// `requirement_rad[k]` is the requirement of axis `k` (`+inf` for none: every finite
     /// value is within). A non-finite value is recorded in `non_finite` (the first one).
     #[inline(always)]
-    pub fn add_block(
+    pub(crate) fn add_block(
         &mut self,
         first: u64,
         block: &SampleBlock,

@@ -53,7 +53,7 @@ use rayon::prelude::*;
 pub const MAX_MC_COVERAGE: f64 = 0.999_99;
 
 /// Trials per chunk (the unit of parallel work and of a ChaCha stream).
-pub const CHUNK_TRIALS: usize = 512;
+pub(crate) const CHUNK_TRIALS: usize = 512;
 
 /// A measurement model: from one draw of the input components to the outputs.
 pub trait Model: Sync {

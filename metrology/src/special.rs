@@ -43,7 +43,7 @@ pub fn normal_cdf(x: f64) -> f64 {
 
 /// The standard normal density $\varphi(x)$.
 #[must_use]
-pub fn normal_pdf(x: f64) -> f64 {
+pub(crate) fn normal_pdf(x: f64) -> f64 {
     (-0.5 * x * x).exp() / (2.0 * PI).sqrt()
 }
 

@@ -4,7 +4,7 @@
 //! # Objective
 //! For a schedule $S$ of $N$ positions and a dwell $T$ at each, $J(S, T)$ is the direct
 //! allocation with the noise part kept free at $\kappa$ sigma
-//! ([`EndToEnd::allocate_direct_with_noise`], as `end-to-end`'s trade-off computes it): every
+//! ([`e2e_verify::NoiseQuestions::allocate_direct_with_noise`], as `end-to-end`'s trade-off computes it): every
 //! row of output $k$ is held to $\omega_{m,k} - \kappa\sigma_k(S, T)$, where $\sigma_k$ is
 //! the largest standard deviation of output $k$'s calibrated rate error over the positions
 //! (calib-lsq's covariance for white, Gauss-Markov and quantization noise, positions in the
@@ -50,7 +50,7 @@
 //! $\log T$ from one sample to the longest dwell, plus each schedule's dwell that spends the
 //! whole budget, and the study's own dwell); the study's, the table designs' and the
 //! baselines' schedules also at the dwells of their own time/table trade-off as `end-to-end`
-//! lists it ([`EndToEnd::tradeoff`]: just above the shortest dwell at which some table
+//! lists it ([`e2e_verify::NoiseQuestions::tradeoff`]: just above the shortest dwell at which some table
 //! suffices, and on to a thousand times it), so the front never misses a schedule's short end
 //! between the grid's dwells. The front is the set of $(N(T + T_{move}), J)$
 //! not dominated by another:
@@ -467,7 +467,7 @@ impl Evaluator<'_> {
     fn noise(&self, dwell_s: f64) -> Result<e2e_verify::NoiseBudget, E2eError> {
         let n = self.e2e.len() - self.budget.rate_steps.len();
         let timing = self.budget.timing(n, dwell_s)?;
-        self.e2e.noise_budget(self.budget.noise, &timing)
+        self.e2e.noise().noise_budget(self.budget.noise, &timing)
     }
 
     /// The direct allocation with the noise part kept free at `dwell_s` (`None` when no
@@ -476,6 +476,7 @@ impl Evaluator<'_> {
         let noise = self.noise(dwell_s)?;
         Ok(self
             .e2e
+            .noise()
             .allocate_direct_with_noise(
                 &self.linear,
                 self.lower_bounds_rad,
@@ -493,7 +494,7 @@ impl Evaluator<'_> {
     }
 
     /// The schedule's points at the dwells of its time/table trade-off, as `end-to-end`
-    /// lists them ([`EndToEnd::tradeoff`] over the budget's dwells, from one sample to the
+    /// lists them ([`e2e_verify::NoiseQuestions::tradeoff`] over the budget's dwells, from one sample to the
     /// longest dwell): the first just above the shortest dwell at which some table suffices,
     /// so the front never misses a schedule's own short end between the grid's dwells. A
     /// listed dwell within [`SAME_DWELL_REL`] of a `grid` dwell is left to the grid (the
@@ -508,7 +509,7 @@ impl Evaluator<'_> {
     ) -> Result<Vec<BudgetPoint>, E2eError> {
         let b = self.budget;
         let n = positions_deg.len();
-        let tradeoff = self.e2e.tradeoff(
+        let tradeoff = self.e2e.noise().tradeoff(
             &self.linear,
             self.lower_bounds_rad,
             b.noise,
@@ -666,8 +667,8 @@ fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
 ///
 /// # Errors
 /// [`E2eError::Field`] naming `budget_s`, `max_dwell_s`, `sample_rate_hz` or `move_s` when
-/// not finite and positive (non-negative for the move); as [`EndToEnd::noise_budget`] and
-/// [`EndToEnd::allocate_direct_with_noise`].
+/// not finite and positive (non-negative for the move); as [`e2e_verify::NoiseQuestions::noise_budget`] and
+/// [`e2e_verify::NoiseQuestions::allocate_direct_with_noise`].
 pub fn design_with_budget(
     problem: &DesignProblem,
     table: &[usize],

@@ -70,13 +70,14 @@ fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {
 fn check_certified(r: &ScheduleReport, reading: Reading) -> e2e_verify::TurntableCheck {
     let e2e = simulator(r.positions_deg(), reading);
     let ub = &r.certified().expect("certified").upper_bounds_rad();
-    e2e.check_tolerances(
-        &e2e.linearization(),
-        ub,
-        &[0.0; 8],
-        &McSettings::new(2_000, 2017),
-    )
-    .unwrap()
+    e2e.vendor()
+        .check_tolerances(
+            &e2e.linearization(),
+            ub,
+            &[0.0; 8],
+            &McSettings::new(2_000, 2017),
+        )
+        .unwrap()
 }
 
 /// Issue 19: design-schedule's tolerances were the linearised direct allocation, whose worst

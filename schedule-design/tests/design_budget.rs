@@ -92,6 +92,7 @@ fn objective_at(
     let timing = s.timing.as_ref().unwrap();
     let e2e = problem.end_to_end(positions_deg).unwrap();
     let noise = e2e
+        .noise()
         .noise_budget(
             &s.noise,
             &Timing::uniform(
@@ -103,14 +104,15 @@ fn objective_at(
             .unwrap(),
         )
         .unwrap();
-    e2e.allocate_direct_with_noise(
-        &e2e.linearization(),
-        &s.lower_bounds_rad,
-        &noise,
-        DEFAULT_K_SIGMA,
-    )
-    .unwrap()
-    .map_or(f64::INFINITY, |d| d.objective())
+    e2e.noise()
+        .allocate_direct_with_noise(
+            &e2e.linearization(),
+            &s.lower_bounds_rad,
+            &noise,
+            DEFAULT_K_SIGMA,
+        )
+        .unwrap()
+        .map_or(f64::INFINITY, |d| d.objective())
 }
 
 /// On the paper's noisy copy: the front is ordered by total time with J strictly falling (more
@@ -137,6 +139,7 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
         );
         let e2e = problem.end_to_end(p.positions_deg()).unwrap();
         let noise = e2e
+            .noise()
             .noise_budget(
                 &s.noise,
                 &Timing::uniform(
@@ -149,6 +152,7 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
             )
             .unwrap();
         let j = e2e
+            .noise()
             .allocate_direct_with_noise(
                 &e2e.linearization(),
                 &s.lower_bounds_rad,
@@ -424,6 +428,7 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
                 continue;
             }
             let noise = e2e
+                .noise()
                 .noise_budget(
                     &s.noise,
                     &Timing::uniform(positions.len(), t, timing.move_s(), timing.sample_rate_hz())
@@ -431,6 +436,7 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
                 )
                 .unwrap();
             let j = e2e
+                .noise()
                 .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA)
                 .unwrap()
                 .map_or(f64::INFINITY, |d| d.objective());
@@ -515,11 +521,12 @@ fn rate_steps_keep_their_whole_revolution_windows_in_the_time_budget() {
         .collect();
     let study_e2e = e2e_verify::EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading)
         .expect("the study's simulator");
-    let want = study_e2e.noise_budget(&s.noise, &at_dwell).unwrap();
+    let want = study_e2e.noise().noise_budget(&s.noise, &at_dwell).unwrap();
     let designed_e2e = problem
         .end_to_end_with_rate_steps(&s.positions_deg, rate_steps)
         .unwrap();
     let got = designed_e2e
+        .noise()
         .noise_budget(&s.noise, &b.timing(n, dwell).unwrap())
         .unwrap();
     for (g, w) in got.sigma().iter().zip(want.sigma()) {
@@ -560,8 +567,9 @@ fn rate_steps_keep_their_whole_revolution_windows_in_the_time_budget() {
             .unwrap()
             .with_dwell_s(vec![dwell; p.n_positions()])
             .unwrap();
-        let noise = e2e.noise_budget(&s2.noise, &t2).unwrap();
+        let noise = e2e.noise().noise_budget(&s2.noise, &t2).unwrap();
         let a = e2e
+            .noise()
             .allocate_direct_with_noise(
                 &e2e.linearization(),
                 &s2.lower_bounds_rad,
@@ -621,6 +629,7 @@ fn study_tradeoff(s: &Study, problem: &DesignProblem) -> Vec<(f64, f64, f64)> {
     let timing = s.timing.as_ref().unwrap();
     let e2e = problem.end_to_end(&s.positions_deg).unwrap();
     let tradeoff = e2e
+        .noise()
         .tradeoff(
             &e2e.linearization(),
             &s.lower_bounds_rad,
@@ -731,6 +740,7 @@ fn every_front_point_carries_the_tolerance_box_end_to_end_allocates() {
     for p in d.pareto() {
         let e2e = problem.end_to_end(p.positions_deg()).unwrap();
         let noise = e2e
+            .noise()
             .noise_budget(
                 &s.noise,
                 &Timing::uniform(
@@ -743,6 +753,7 @@ fn every_front_point_carries_the_tolerance_box_end_to_end_allocates() {
             )
             .unwrap();
         let direct = e2e
+            .noise()
             .allocate_direct_with_noise(
                 &e2e.linearization(),
                 &s.lower_bounds_rad,

@@ -23,13 +23,13 @@
 //! | test positions | $[1, 10\,000]$ | a lab's schedule has tens to hundreds; every command's memory grows linearly with the count (measured at 10,000 on two shared cores: `requirement` 23 s 63 MB, `allocate` 24 s 56 MB, `mc` 37 s 55 MB, `estimable` 35 s 106 MB); the Monte Carlo commands (`end-to-end`, `check-turntable`, `report`) take time in samples times positions (`end-to-end --samples 1500`: 8 s and 32 MB at 1,000 positions, 25 s and 64 MB at 3,000, about 5 µs per sample and position); the angle-dependent model at most `e2e_verify::angle::MAX_EXPANDED_VALUES` values (positions times distinct shaft angles, refused beyond naming `calibration.positions_deg`) |
 
 /// Latitude range, deg.
-pub const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
+pub(crate) const LATITUDE_DEG: (f64, f64) = (-90.0, 90.0);
 /// Earth-rate range, rad/s.
-pub const EARTH_RATE_RAD_PER_S: (f64, f64) = (1e-6, 1e-3);
+pub(crate) const EARTH_RATE_RAD_PER_S: (f64, f64) = (1e-6, 1e-3);
 /// Output accuracy range, output units.
-pub const ACCURACY: (f64, f64) = (1e-12, 1e6);
+pub(crate) const ACCURACY: (f64, f64) = (1e-12, 1e6);
 /// Largest coefficient magnitude, output unit per regressor unit.
-pub const COEFFICIENT_ABS_MAX: f64 = 1e6;
+pub(crate) const COEFFICIENT_ABS_MAX: f64 = 1e6;
 /// Largest joint, fixed or range angle magnitude, deg.
 pub const ANGLE_ABS_MAX_DEG: f64 = 720.0;
 /// Given requirement range, deg.
@@ -44,13 +44,13 @@ pub const MAX_RATE_DEG_PER_S: (f64, f64) = (0.0, 1e5);
 /// Smallest magnitude of a rate step's rate (`calibration.rate_steps[i].rate_deg_per_s`),
 /// deg/s: one revolution in about 11 years; below it a rate is zero to the computation
 /// (5e-324 deg/s is 0 rad/s).
-pub const MIN_RATE_STEP_DEG_PER_S: f64 = 1e-6;
+pub(crate) const MIN_RATE_STEP_DEG_PER_S: f64 = 1e-6;
 /// Revolutions of a rate step.
-pub const MAX_REVOLUTIONS: u64 = 1_000_000;
+pub(crate) const MAX_REVOLUTIONS: u64 = 1_000_000;
 /// Largest lever-arm component (`sensor.lever_arm_m`), m.
-pub const LEVER_ARM_ABS_MAX_M: f64 = 10.0;
+pub(crate) const LEVER_ARM_ABS_MAX_M: f64 = 10.0;
 /// Rate tolerances (rate accuracy, ripple), ppm.
-pub const RATE_TOLERANCE_PPM: (f64, f64) = (0.0, 1e5);
+pub(crate) const RATE_TOLERANCE_PPM: (f64, f64) = (0.0, 1e5);
 /// Largest Monte Carlo sample count, of a study (`monte_carlo.samples`) and of `--samples`
 /// alike: the end-to-end verification's limit (`e2e_verify::MAX_SAMPLES`), so that every
 /// command refuses a larger count before any work, naming the key the user wrote.
@@ -70,6 +70,6 @@ pub const DWELL_S: (f64, f64) = (0.0, 86_400.0);
 /// Move time range between positions, s.
 pub const MOVE_S: (f64, f64) = (0.0, 86_400.0);
 /// Sample rate range (exclusive lower end), Hz.
-pub const SAMPLE_RATE_HZ: (f64, f64) = (0.0, 1e6);
+pub(crate) const SAMPLE_RATE_HZ: (f64, f64) = (0.0, 1e6);
 /// Longest study `name`, characters (it is a file name: see [`crate::is_name_slug`]).
 pub const MAX_NAME_CHARS: usize = 64;

@@ -73,7 +73,7 @@ pub enum ToleranceDistribution {
 
 impl ToleranceDistribution {
     /// The names accepted in `tolerance_distribution`.
-    pub const NAMES: [&'static str; 3] = ["rectangular", "triangular", "arcsine"];
+    pub(crate) const NAMES: [&'static str; 3] = ["rectangular", "triangular", "arcsine"];
 
     /// The input quantity `name` of tolerance $\pm$`a` (>= 0) with this law, estimate 0.
     ///
@@ -110,7 +110,7 @@ pub struct Uncertainty {
 }
 
 /// The coverage probability when a study gives none.
-pub const DEFAULT_COVERAGE: f64 = 0.95;
+pub(crate) const DEFAULT_COVERAGE: f64 = 0.95;
 
 impl Default for Uncertainty {
     fn default() -> Self {

@@ -75,7 +75,7 @@ pub struct ErrorGroup {
 impl ErrorGroup {
     /// Whether the group has two or more errors.
     #[must_use]
-    pub fn is_proper(&self) -> bool {
+    pub(crate) fn is_proper(&self) -> bool {
         self.errors.len() > 1
     }
 

@@ -19,14 +19,14 @@ pub fn rot(axis: Axis, angle_rad: f64) -> Matrix3<f64> {
 
 /// Rotation by `angle_rad` about a signed axis.
 #[must_use]
-pub fn rot_signed(axis: SignedAxis, angle_rad: f64) -> Matrix3<f64> {
+pub(crate) fn rot_signed(axis: SignedAxis, angle_rad: f64) -> Matrix3<f64> {
     rot(axis.axis, axis.sign() * angle_rad)
 }
 
 /// The rotation about `axis` whose angle has sine `s` and cosine `c` (given exactly, so that
 /// quarter turns give exact zeros).
 #[must_use]
-pub fn rot_sc(axis: Axis, s: f64, c: f64) -> Matrix3<f64> {
+pub(crate) fn rot_sc(axis: Axis, s: f64, c: f64) -> Matrix3<f64> {
     match axis {
         Axis::X => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
         Axis::Y => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),

@@ -794,7 +794,7 @@ impl Turntable {
     ///
     /// # Errors
     /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) naming `chi` or `translations`.
-    pub fn check_errors(&self, errors: &TurntableErrors) -> Result<(), KinematicsError> {
+    pub(crate) fn check_errors(&self, errors: &TurntableErrors) -> Result<(), KinematicsError> {
         length("chi", self.n_rotation_errors(), errors.chi_rad().len())?;
         Ok(length(
             "translations",

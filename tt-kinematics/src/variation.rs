@@ -51,7 +51,7 @@ pub const GRID_POINTS_PER_ORDER: usize = 128;
 /// Two angles of a joint closer than this (rad, modulo a turn) are one angle of an
 /// [`ErrorVariation::Any`] error: schedule angles are written in degrees with a few decimals,
 /// far coarser than 1e-9 rad.
-pub const SAME_ANGLE_RAD: f64 = 1e-9;
+pub(crate) const SAME_ANGLE_RAD: f64 = 1e-9;
 
 /// How one angular error varies with the shaft angle.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -329,7 +329,7 @@ impl BoundGroup {
 
     /// The error's value at test position `p` for the group's coefficients `c`.
     #[must_use]
-    pub fn value_at(&self, c: &[f64], p: usize) -> f64 {
+    pub(crate) fn value_at(&self, c: &[f64], p: usize) -> f64 {
         match self.slot.get(p) {
             // the basis is one at the position's angle and zero at every other
             Some(&a) => c[a],

@@ -1,6 +1,6 @@
 //! The JCGM 101 Monte Carlo of the whole calibration per specification (issue 34 item 3),
 //! beside the GUM budget's verdict ([`crate::vendor::spec`]): one library call
-//! ([`e2e_verify::EndToEnd::specification_monte_carlo`]) for the tolerances of
+//! ([`e2e_verify::BudgetQuestions::specification_monte_carlo`]) for the tolerances of
 //! `check-turntable` (the sheet's) or `end-to-end` (the direct allocation's box), and its
 //! JSON view. Each specification gets the Monte Carlo's mean, $u(y)$, the probabilistically
 //! symmetric and the shortest coverage intervals, the trials, whether the run stabilized,
@@ -133,6 +133,7 @@ pub fn compute(
         ..McSettings::default()
     };
     let runs = e2e
+        .budget()
         .specification_monte_carlo(&s.specifications, verdict, &table, &settings)
         .map_err(|e| crate::error::library(e, s))?;
     let unbounded = (0..runs.len())
@@ -325,6 +326,7 @@ mod tests {
             ..McSettings::default()
         };
         let direct = e2e
+            .budget()
             .specification_monte_carlo(&s.specifications, &verdict, &table, &settings)
             .expect("runs");
         assert_eq!(mc.runs(), &direct[..]);

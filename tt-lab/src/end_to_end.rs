@@ -101,12 +101,12 @@ impl Scanned {
 
 /// The dwells the time/table trade-off searches, s: from one sample per position to the
 /// study's longest accepted dwell.
-pub const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
+pub(crate) const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
 
 /// The answer for both error sources, when the study gives noise and a timing.
 ///
 /// # Errors
-/// As [`e2e_verify::EndToEnd::noise_answer`] and [`e2e_verify::EndToEnd::tradeoff`].
+/// As [`e2e_verify::NoiseQuestions::noise_answer`] and [`e2e_verify::NoiseQuestions::tradeoff`].
 pub fn noisy_answer(
     s: &Study,
     e2e: &EndToEnd,
@@ -132,27 +132,30 @@ pub fn noisy_answer(
                         e2e.with_reading(r.reading())
                             .map_err(|e| crate::error::library(e, s))?
                     };
-                    sim.noise_answer(r, lb, &budget, k_sigma, &settings)
+                    sim.noise()
+                        .noise_answer(r, lb, &budget, k_sigma, &settings)
                         .map_err(|e| crate::error::library(e, s))
                 })
                 .collect::<Vec<Result<_>>>()
         },
         || {
-            e2e.tradeoff(
-                &e2e.linearization(),
-                lb,
-                &s.noise,
-                timing,
-                k_sigma,
-                DWELL_SEARCH_S,
-            )
-            .map_err(|e| crate::error::library(e, s))
+            e2e.noise()
+                .tradeoff(
+                    &e2e.linearization(),
+                    lb,
+                    &s.noise,
+                    timing,
+                    k_sigma,
+                    DWELL_SEARCH_S,
+                )
+                .map_err(|e| crate::error::library(e, s))
         },
     );
     let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
     let tradeoff = tradeoff?;
     let scanned = Scanned::new(&tradeoff, timing);
     let sensitivity = e2e
+        .noise()
         .noise_sensitivity(
             &e2e.linearization(),
             lb,
@@ -250,7 +253,7 @@ pub struct Throughput {
 /// Measure [`Throughput`] on the direct allocation's box of `a` (study's reading).
 ///
 /// # Errors
-/// As [`EndToEnd::rate_distribution`] (through [`crate::error::library`]).
+/// As [`e2e_verify::MonteCarloQuestions::rate_distribution`] (through [`crate::error::library`]).
 pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Throughput> {
     const FAST: u64 = 200_000;
     const REFERENCE: u64 = 400;
@@ -261,7 +264,8 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
         .map_err(crate::LabError::internal)?;
     let linear = e2e.linearization();
     let t = Instant::now();
-    e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST, seed))
+    e2e.monte_carlo()
+        .rate_distribution(&linear, &bounds, &McSettings::new(FAST, seed))
         .map_err(crate::LabError::internal)?;
     let fast = t.elapsed().as_secs_f64();
     let pool = rayon::ThreadPoolBuilder::new()
@@ -269,10 +273,14 @@ pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Through
         .build()
         .map_err(crate::LabError::internal)?;
     let t = Instant::now();
-    pool.install(|| e2e.rate_distribution(&linear, &bounds, &McSettings::new(FAST / 4, seed)))
-        .map_err(crate::LabError::internal)?;
+    pool.install(|| {
+        e2e.monte_carlo()
+            .rate_distribution(&linear, &bounds, &McSettings::new(FAST / 4, seed))
+    })
+    .map_err(crate::LabError::internal)?;
     let one = t.elapsed().as_secs_f64();
     let chis = e2e
+        .monte_carlo()
         .sample_chi(&bounds, &McSettings::new(REFERENCE, seed))
         .map_err(crate::LabError::internal)?;
     let t = Instant::now();
@@ -988,7 +996,8 @@ pub fn noise_budget(s: &Study, e2e: &EndToEnd) -> Result<Option<e2e_verify::Nois
         return Ok(None);
     };
     Ok(Some(
-        e2e.noise_budget(&s.noise, timing)
+        e2e.noise()
+            .noise_budget(&s.noise, timing)
             .map_err(|e| crate::error::library(e, s))?,
     ))
 }

@@ -123,7 +123,7 @@ pub const LOWER_BOUNDS_KEY: &str = "allocation.lower_bounds_arcmin";
 /// A lower bound above an upper bound, in the user's units (the box's values come in rad),
 /// naming the study file and key and the box (`what`: `Table 4`, a tolerance file...).
 #[must_use]
-pub fn lower_above_upper(
+pub(crate) fn lower_above_upper(
     study_path: &str,
     component: &str,
     lb_rad: f64,
@@ -143,7 +143,7 @@ pub fn lower_above_upper(
 
 /// Lower bounds that alone violate a requirement, in the user's units.
 #[must_use]
-pub fn infeasible_lower_bounds(
+pub(crate) fn infeasible_lower_bounds(
     study_path: &str,
     lower_bounds_rad: &[f64],
     names: &[&str],

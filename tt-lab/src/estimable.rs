@@ -95,11 +95,11 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
         return compute_angle(s, e2e, ub_rad);
     }
     let lib = |e: e2e_verify::E2eError| crate::error::library(e, s);
-    let est = e2e.estimability().map_err(lib)?;
+    let est = e2e.estimable().estimability().map_err(lib)?;
     let ordinary = e2e
         .allocate_direct(&e2e.linearization(), &s.lower_bounds_rad)
         .map_err(lib)?;
-    let lj = e2e.linearization_joint(&est).map_err(lib)?;
+    let lj = e2e.estimable().linearization_joint(&est).map_err(lib)?;
     let joint = e2e.allocate_direct(&lj, &s.lower_bounds_rad).map_err(lib)?;
     let ub = box_of(ub_rad, &ordinary);
     let wc = e2e.worst_case(&e2e.linearization(), &ub.1).map_err(lib)?;
@@ -109,7 +109,8 @@ pub fn compute(s: &Study, ub_rad: Option<&[f64]>) -> Result<Estimable> {
         .map(|o| {
             let plain = e2e.delta_omega(o.worst_chi_rad())?[o.output()];
             let joint =
-                e2e.joint_delta_omega(o.worst_chi_rad(), &est, JOINT_ITERATIONS)?[o.output()];
+                e2e.estimable()
+                    .joint_delta_omega(o.worst_chi_rad(), &est, JOINT_ITERATIONS)?[o.output()];
             Ok((plain, joint))
         })
         .collect::<Result<Vec<_>, e2e_verify::E2eError>>()
@@ -161,20 +162,24 @@ fn compute_angle(s: &Study, e2e: EndToEnd, ub_rad: Option<&[f64]>) -> Result<Est
     let lib = |e: e2e_verify::E2eError| crate::error::library(e, s);
     let ex = Expansion::new(e2e.turntable(), &s.variations, e2e.poses())
         .map_err(|e| crate::error::library(e, s))?;
-    let est = e2e.estimability_expanded(&ex).map_err(lib)?;
-    let al = e2e.angle_linearization(&ex).map_err(lib)?;
+    let est = e2e.estimable().estimability_expanded(&ex).map_err(lib)?;
+    let al = e2e.angle().angle_linearization(&ex).map_err(lib)?;
     let lb = &s.lower_bounds_rad;
     let ordinary = e2e.allocate_direct(&al.reduced, lb).map_err(lib)?;
-    let lj = e2e.linearization_joint_expanded(&ex, &est).map_err(lib)?;
+    let lj = e2e
+        .estimable()
+        .linearization_joint_expanded(&ex, &est)
+        .map_err(lib)?;
     let joint = e2e.allocate_direct(&lj.reduced, lb).map_err(lib)?;
     let ub = box_of(ub_rad, &ordinary);
     let wc = e2e
+        .angle()
         .angle_worst_case(&ex, &al, &e2e.linearization(), &ub.1)
         .map_err(lib)?;
     let rates = wc
         .iter()
         .map(|o| {
-            let joint = e2e.joint_delta_omega_expanded(
+            let joint = e2e.estimable().joint_delta_omega_expanded(
                 &ex,
                 o.worst_coefficients(),
                 &est,

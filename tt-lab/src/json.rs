@@ -21,7 +21,7 @@ pub type ArcminBounds = BTreeMap<String, Option<f64>>;
 
 /// [`ArcminBounds`] of upper bounds in radians, `ub_rad[k]` the bound of `names[k]`.
 #[must_use]
-pub fn arcmin_bounds(names: &[&str], ub_rad: &[f64]) -> ArcminBounds {
+pub(crate) fn arcmin_bounds(names: &[&str], ub_rad: &[f64]) -> ArcminBounds {
     names
         .iter()
         .zip(ub_rad)

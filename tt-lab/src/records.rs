@@ -152,7 +152,7 @@ fn fields<'r>(
 /// An [`InputError`] at `name:line` for an unreadable input, a record longer than
 /// [`MAX_LINE_BYTES`] or malformed quoting; at `name:line column c` for a field that is not
 /// UTF-8; or the first error `visit` returns.
-pub fn for_each_record<R, F>(input: R, name: &str, mut visit: F) -> Result<(), InputError>
+pub(crate) fn for_each_record<R, F>(input: R, name: &str, mut visit: F) -> Result<(), InputError>
 where
     R: Read,
     F: FnMut(usize, &[&str]) -> Result<(), InputError>,

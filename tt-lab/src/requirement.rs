@@ -209,7 +209,7 @@ impl RequirementJson<'_> {
 
 /// The view of one requirement.
 #[must_use]
-pub fn requirement_json<'a>(
+pub(crate) fn requirement_json<'a>(
     p: &'a RequirementProblem,
     r: &std::result::Result<OrientationRequirement, CalibError>,
 ) -> RequirementJson<'a> {

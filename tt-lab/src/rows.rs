@@ -204,21 +204,6 @@ impl CalibrationRows {
     }
 }
 
-/// The calibration error of every row (`(location, row)`), lazily, in order.
-///
-/// # Errors
-/// As [`calibration_rows`]; each item as [`CalibrationRows::row`].
-pub fn calibration_errors<I>(
-    s: &Study,
-    rows: I,
-) -> Result<impl Iterator<Item = Result<Vec<f64>, InputError>>>
-where
-    I: IntoIterator<Item = (String, TurntableRow)>,
-{
-    let mut eval = calibration_rows(s)?;
-    Ok(rows.into_iter().map(move |(at, r)| eval.row(&at, &r)))
-}
-
 /// Read turntables as CSV rows from `input` (named `name` in messages) once, streaming: the
 /// header maps the columns to `turntable`'s joints and errors ([`TurntableColumns`]), then
 /// every data record goes to `visit` with the line it starts on, in order. Stops at the first

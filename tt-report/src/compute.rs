@@ -22,11 +22,11 @@ use tt_lab::InputError;
 use tt_lab::loaded::{self as st, StudyRequirement};
 
 /// Grid points per side of a rate-error surface.
-pub const SURFACE_POINTS: usize = 41;
+pub(crate) const SURFACE_POINTS: usize = 41;
 /// Rays of a line of intersection (the boundary $\Delta\omega = \omega_m$).
-pub const BOUNDARY_RAYS: usize = 120;
+pub(crate) const BOUNDARY_RAYS: usize = 120;
 /// Points of a one-angle cut.
-pub const CUT_POINTS: usize = 81;
+pub(crate) const CUT_POINTS: usize = 81;
 
 /// What to compute.
 #[derive(Debug, Clone)]
@@ -687,6 +687,7 @@ fn answer_part(
                 Some(tol) => {
                     let settings = e2e_verify::McSettings::new(options.samples, options.seed);
                     let c = e2e
+                        .vendor()
                         .check_sheet(tol, &settings)
                         .map_err(|e| tt_lab::error::library(e, s))?;
                     Some((tol.clone(), c))

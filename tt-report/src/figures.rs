@@ -19,7 +19,7 @@ pub use run::{
 
 pub use plotters::style::RGBColor;
 /// Black (the requirement's rectangle, reference marks).
-pub const BLACK: RGBColor = RGBColor(0, 0, 0);
+pub(crate) const BLACK: RGBColor = RGBColor(0, 0, 0);
 
 /// Figure width, px (the page column is 1180 px; figures scale down with it).
 pub const WIDTH: u32 = 1120;
@@ -314,7 +314,7 @@ pub fn line_figure(title: &str, panels: &[LinePanel], cols: usize) -> Result<Str
 ///
 /// # Errors
 /// As [`line_figure`].
-pub fn line_figure_with_legend(
+pub(crate) fn line_figure_with_legend(
     title: &str,
     panels: &[LinePanel],
     cols: usize,
@@ -499,7 +499,7 @@ fn viridis(t: f64) -> RGBColor {
 
 /// Segments of the level set `z = level` (marching squares; `z[j][i]`).
 #[must_use]
-pub fn contour_segments(
+pub(crate) fn contour_segments(
     xs: &[f64],
     ys: &[f64],
     z: &[Vec<f64>],
@@ -816,7 +816,7 @@ pub fn hbar_figure(
 ///
 /// # Errors
 /// As [`hbar_figure`].
-pub fn hbar_figure_with_limit(
+pub(crate) fn hbar_figure_with_limit(
     title: &str,
     categories: &[String],
     series: &[(String, Vec<f64>)],

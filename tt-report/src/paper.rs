@@ -228,7 +228,7 @@ pub fn sections(sec: &Sections<'_>, x: &PaperExtras, rows: &[Comparison]) -> Doc
 }
 
 /// What the paper leaves open and how the study settles it (NOTES items).
-pub fn open_points(doc: &mut Doc, c: &Computed) {
+pub(crate) fn open_points(doc: &mut Doc, c: &Computed) {
     let s = &c.study;
     doc.h(2, "What the paper leaves open, and our choices");
     doc.list(vec![

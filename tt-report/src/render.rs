@@ -36,7 +36,7 @@ pub fn unit(u: &str) -> String {
 
 /// A short name of a reading for headers: `intended`/`actual` for the paper's and the user's.
 #[must_use]
-pub fn short_reading(r: Reading) -> String {
+pub(crate) fn short_reading(r: Reading) -> String {
     if r == Reading::PAPER {
         "intended".into()
     } else if r == Reading::USER {
@@ -95,7 +95,7 @@ fn pct(v: f64) -> String {
 }
 
 /// The requirement as `I_ψ = … deg, …` (`none` for an unconstrained angle).
-pub fn requirement_text(r: &[Option<f64>; 3]) -> String {
+pub(crate) fn requirement_text(r: &[Option<f64>; 3]) -> String {
     (0..3)
         .map(|k| {
             format!(
@@ -221,7 +221,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The answer in a few sentences (the top of the report): one bullet per reading.
-    pub fn answer_callout(&mut self) {
+    pub(crate) fn answer_callout(&mut self) {
         let c = self.c;
         let acc = c.e2e.accuracies();
         let outs = self.outputs();
@@ -1866,7 +1866,7 @@ impl<'a> Sections<'a> {
     /// The verdict against the study's `[[specifications]]` (absent without): per
     /// specification its verdict line with the rule (as `end-to-end` prints it) and its GUM
     /// budget table, then one figure of every input's share of u_c² per specification. Every
-    /// figure is the library's ([`e2e_verify::EndToEnd::plan_verdict`] through
+    /// figure is the library's ([`e2e_verify::BudgetQuestions::plan_verdict`] through
     /// [`tt_lab::vendor::spec`]), in the specification's unit.
     pub fn specifications(&mut self) -> Result<()> {
         let c = self.c;
@@ -2113,7 +2113,7 @@ impl<'a> Sections<'a> {
         let outs = self.outputs();
         self.doc.h(2, "Direct allocation with the rate tolerances");
         self.doc.p(format!(
-            "The study has rate steps, where the table's rate accuracy, its rate ripple and its translations (the axes' non-intersection) act besides the angles. The direct allocation gives them tolerances together with the angles (reading {}): every output's worst case over both boxes within its accuracy to first order, then checked on the exact chain at each output's worst vertex. A tolerance costs in J what an angle of the same end-to-end influence costs (the weights' choice is documented at `EndToEnd::rate_tolerance_weights`). J = {} arcmin⁻² over both.",
+            "The study has rate steps, where the table's rate accuracy, its rate ripple and its translations (the axes' non-intersection) act besides the angles. The direct allocation gives them tolerances together with the angles (reading {}): every output's worst case over both boxes within its accuracy to first order, then checked on the exact chain at each output's worst vertex. A tolerance costs in J what an angle of the same end-to-end influence costs (the weights' choice is documented at `RateQuestions::rate_tolerance_weights`). J = {} arcmin⁻² over both.",
             doc::code(&e2e.reading().to_string()),
             sig(a.combined().objective_arcmin(), 5)
         ));
@@ -2133,7 +2133,8 @@ impl<'a> Sections<'a> {
             })
             .collect();
         rows.extend(
-            e2e.rate_tolerance_names()
+            e2e.rates()
+                .rate_tolerance_names()
                 .iter()
                 .zip(a.tolerances())
                 .zip(a.tolerance_bounds())
@@ -2279,7 +2280,7 @@ impl<'a> Sections<'a> {
 
     /// The allocation when the study's errors vary with the shaft angle, and after its measured
     /// errors are compensated (`tt_lab::allocation::angle`).
-    pub fn angle_allocation(&mut self) {
+    pub(crate) fn angle_allocation(&mut self) {
         let Some(a) = &self.c.angle_alloc else { return };
         let names = self.c.study.turntable.rotation_error_names();
         self.doc

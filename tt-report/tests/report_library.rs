@@ -89,6 +89,7 @@ fn the_specifications_section_states_the_library_budget_of_every_specification()
     let e2e = e2e_verify::EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
     let law = s.uncertainty.tolerance_distribution;
     let v = e2e
+        .budget()
         .plan_verdict(
             &s.specifications,
             &tol,

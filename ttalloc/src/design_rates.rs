@@ -5,7 +5,7 @@
 //! and revolutions kept), the static positions are the designed ones or the study's (the
 //! position search takes the static positions alone, so its design need not be the better one
 //! once the rate steps count), and each schedule is answered by the direct allocation
-//! of the angles and the rate tolerances together ([`e2e_verify::EndToEnd::allocate_direct_rate`],
+//! of the angles and the rate tolerances together ([`e2e_verify::RateQuestions::allocate_direct_rate`],
 //! J over both, arcmin^-2, as `end-to-end --json` reports `rate_allocation.objective_arcmin`).
 //! The pair (positions, rate) with the least J is chosen and written by `--write-study`. The rate changes
 //! how the rate accuracy, the ripple and the centripetal terms reach the outputs (the

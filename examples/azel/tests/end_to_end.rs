@@ -119,6 +119,7 @@ fn the_certified_direct_box_meets_the_accuracy_on_the_exact_chain_and_in_the_mon
     // every drawn mount of the box meets the accuracy, and none exceeds the certified bound
     let bounds = e2e.box_of(ub, &[0.0; 4]).unwrap();
     let mc = e2e
+        .monte_carlo()
         .rate_distribution(&linear, &bounds, &McSettings::new(20_000, 7))
         .unwrap();
     // (every draw meets: the yield is n/n exactly)

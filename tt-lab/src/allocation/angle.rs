@@ -11,7 +11,7 @@
 //!
 //! With measured errors (`[[compensation.measured]]`) every reading also gets the allocation
 //! after compensation: the measured errors held at their uncertainty, the unmeasured ones
-//! allocated what remains ([`e2e_verify::EndToEnd::allocate_direct_compensated`]).
+//! allocated what remains ([`e2e_verify::AngleQuestions::allocate_direct_compensated`]).
 //!
 //! JSON (`angle_dependent`): `model` (`{error: "constant" | "harmonics [1, 2] of phi1" | "any
 //! of phi1"}`), `readings` (`[{"reading", "constant_direct_objective_arcmin", "direct":
@@ -82,7 +82,7 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
     let mut readings = Vec::with_capacity(sims.len());
     for sim in &sims {
         let ex = crate::vendor::angle::expansion(s, sim, &s.variations)?;
-        let al = sim.angle_linearization(&ex).map_err(lib)?;
+        let al = sim.angle().angle_linearization(&ex).map_err(lib)?;
         let lb = &s.lower_bounds_rad;
         let constant_direct = sim.allocate_direct(&sim.linearization(), lb).map_err(lib)?;
         let direct = sim.allocate_direct(&al.reduced, lb).map_err(lib)?;
@@ -103,7 +103,8 @@ pub fn compute(s: &Study, e2e: &EndToEnd) -> Result<Option<AngleAllocations>> {
             None
         } else {
             Some(
-                sim.allocate_direct_compensated(&al.reduced, lb, &measured)
+                sim.angle()
+                    .allocate_direct_compensated(&al.reduced, lb, &measured)
                     .map_err(lib)?
                     .map_err(|blocked| {
                         format!(

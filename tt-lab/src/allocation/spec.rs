@@ -1,6 +1,6 @@
 //! The direct allocation against the study's specifications (issue 34 item 6): the rows
 //! each specification adds beside every output's accuracy
-//! ([`e2e_verify::EndToEnd::specification_rows`]), with the verdict's law, noise and timing,
+//! ([`e2e_verify::BudgetQuestions::specification_rows`]), with the verdict's law, noise and timing,
 //! and the specifications no table can meet because their noise part alone fills the limit
 //! (an answer, not an error).
 
@@ -24,7 +24,7 @@ pub struct SpecifiedAllocation {
 /// (`uncertainty.tolerance_distribution`), noise and timing.
 ///
 /// # Errors
-/// As [`EndToEnd::specification_rows`] (reported as the study's input).
+/// As [`e2e_verify::BudgetQuestions::specification_rows`] (reported as the study's input).
 pub fn context(s: &Study, e2e: &EndToEnd) -> Result<SpecifiedAllocation> {
     if s.specifications.is_empty() {
         return Ok(SpecifiedAllocation::default());
@@ -43,6 +43,7 @@ pub fn context(s: &Study, e2e: &EndToEnd) -> Result<SpecifiedAllocation> {
     };
     let all = make(&s.specifications)?;
     let rows = e2e
+        .budget()
         .specification_rows(&all)
         .map_err(|e| crate::error::library(e, s))?;
     let mut blocked = vec![false; s.specifications.len()];

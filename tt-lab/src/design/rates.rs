@@ -5,7 +5,7 @@
 //! and revolutions kept), the static positions are the designed ones or the study's (the
 //! position search takes the static positions alone, so its design need not be the better one
 //! once the rate steps count), and each schedule is answered by the direct allocation of the
-//! angles and the rate tolerances together ([`e2e_verify::EndToEnd::allocate_direct_rate`],
+//! angles and the rate tolerances together ([`e2e_verify::RateQuestions::allocate_direct_rate`],
 //! J over both, arcmin^-2). The pair (positions, rate) with the least J is chosen. The rate
 //! changes how the rate accuracy, the ripple and the centripetal terms reach the outputs (the
 //! centripetal acceleration grows as the rate squared), so the best rate depends on the
@@ -136,9 +136,10 @@ fn with_rate(s: &Study, positions_deg: &[Vec<f64>], rate: f64) -> Result<Study, 
 fn objective(s: &Study) -> Result<Option<f64>> {
     let e2e = crate::loaded::simulator(s)?;
     Ok(e2e
+        .rates()
         .allocate_direct_rate(
             &e2e.linearization(),
-            &e2e.extra_linearization(),
+            &e2e.rates().extra_linearization(),
             &s.lower_bounds_rad,
         )
         .ok()

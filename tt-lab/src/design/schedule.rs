@@ -399,6 +399,7 @@ fn noise_standing(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<NoiseS
     };
     let e2e = crate::loaded::simulator(&s2)?;
     let sigma = e2e
+        .noise()
         .worst_noise_sigma(&s2.noise, timing)
         .map_err(|e| library(e, &s2))?;
     let noise_over_accuracy = sigma
@@ -407,6 +408,7 @@ fn noise_standing(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<NoiseS
         .filter_map(|(sg, a)| sg.map(|sg| DEFAULT_K_SIGMA * sg / a))
         .fold(0.0, f64::max);
     let min_dwell_s = e2e
+        .noise()
         .tradeoff(
             &e2e.linearization(),
             &s2.lower_bounds_rad,
@@ -466,6 +468,7 @@ pub fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
     };
     let linear = e2e.linearization();
     let answer = e2e
+        .noise()
         .allocate_direct_with_noise_certified(
             &linear,
             &s.lower_bounds_rad,
@@ -482,6 +485,7 @@ pub fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
     // the certified allocation falls back to the first-order one where it cannot certify:
     // the same bounds as the first-order allocation mean it did
     let first_order = e2e
+        .noise()
         .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &budget, DEFAULT_K_SIGMA)
         .map_err(|e| library(e, s))?;
     let certified = first_order.is_ok_and(|f| {

@@ -68,7 +68,7 @@ impl NoisePart {
 /// guaranteed when the linear bound plus the second-order bound plus the noise meets it,
 /// likely otherwise.
 #[must_use]
-pub fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
+pub(crate) fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
     if o.exact_at_vertex() + margin > accuracy {
         Verdict::Fails
     } else {
@@ -137,13 +137,17 @@ fn paired_allocations(
         })
         .collect();
     let direct = |m: &PairModel, p: &[Pair]| {
-        e2e.allocate_direct_paired(&m.merged(p), lb, p, None)
+        e2e.angle()
+            .allocate_direct_paired(&m.merged(p), lb, p, None)
             .map_err(lib)
     };
     let certified =
         |m: &PairModel, p: &[Pair]| -> Result<std::result::Result<DirectAllocation, String>> {
             let params = e2e_verify::CertifyParams::default();
-            match e2e.allocate_direct_paired(&m.merged(p), lb, p, Some(&params)) {
+            match e2e
+                .angle()
+                .allocate_direct_paired(&m.merged(p), lb, p, Some(&params))
+            {
                 Ok(d) => Ok(Ok(d)),
                 Err(
                     e @ (e2e_verify::E2eError::NoSecondOrderBound { .. }
@@ -243,12 +247,15 @@ pub fn check(
         let ex = expansion(s, e2e, &variations)?;
         let lin = e2e.linearization();
         let al = e2e
+            .angle()
             .angle_linearization(&ex)
             .map_err(|e| crate::error::library(e, s))?;
         let outputs = e2e
+            .angle()
             .angle_worst_case(&ex, &al, &lin, ub_rad)
             .map_err(|e| crate::error::library(e, s))?;
         let yield_ = e2e
+            .angle()
             .angle_yield(&ex, ub_rad, samples, seed)
             .map_err(|e| crate::error::library(e, s))?;
         let acc = e2e.accuracies();
@@ -271,8 +278,8 @@ pub fn check(
                 e2e.poses(),
             )
             .map_err(|e| crate::error::library(e, s))?;
-            let constant_model = e2e.pair_model(&constant).map_err(lib)?;
-            let angle_model = e2e.pair_model(&ex).map_err(lib)?;
+            let constant_model = e2e.angle().pair_model(&constant).map_err(lib)?;
+            let angle_model = e2e.angle().pair_model(&ex).map_err(lib)?;
             let pairs: Vec<Pair> = discs
                 .iter()
                 .map(|(errors, _)| Pair {
@@ -288,9 +295,11 @@ pub fn check(
             let (constant_wc, _) = constant_model.worst_case(ub_rad, &with_w);
             let (angle_wc, angle_lower) = angle_model.worst_case(ub_rad, &with_w);
             let yield_ = e2e
+                .angle()
                 .angle_yield_with_discs(&ex, ub_rad, &discs, samples, seed)
                 .map_err(lib)?;
             let constant_yield = e2e
+                .angle()
                 .angle_yield_with_discs(&constant, ub_rad, &discs, samples, seed)
                 .map_err(lib)?;
             let allocation = if allocate {
@@ -369,8 +378,8 @@ pub fn sheet_allocations(
             )
             .map_err(kin)?;
             let ex = expansion(s, &sim, &variations)?;
-            let cm = sim.pair_model(&constant).map_err(lib)?;
-            let am = sim.pair_model(&ex).map_err(lib)?;
+            let cm = sim.angle().pair_model(&constant).map_err(lib)?;
+            let am = sim.angle().pair_model(&ex).map_err(lib)?;
             let al = paired_allocations(s, &sim, &cm, &am, &pairs)?;
             Ok((sim, al))
         })
@@ -429,7 +438,8 @@ pub fn compensated(
     let mut out = Vec::with_capacity(checks.len());
     for (e2e, _) in checks {
         out.push(
-            e2e.check_sheet(&compensated, settings)
+            e2e.vendor()
+                .check_sheet(&compensated, settings)
                 .map_err(|e| crate::error::library(e, s))?,
         );
     }

@@ -250,7 +250,7 @@ impl<'a> CheckJson<'a> {
 /// turntables in the sheet's box and noise.
 ///
 /// # Errors
-/// As [`e2e_verify::EndToEnd::noise_budget`] and [`e2e_verify::EndToEnd::combined_yield`].
+/// As [`e2e_verify::NoiseQuestions::noise_budget`] and [`e2e_verify::NoiseQuestions::combined_yield`].
 pub fn noisy_checks(
     s: &study::Study,
     e2e: &EndToEnd,
@@ -277,6 +277,7 @@ pub fn noisy_checks(
                 })
                 .collect();
             let combined_yield = sim
+                .noise()
                 .combined_yield(&bounds, &budget, settings)
                 .map_err(|e| crate::error::library(e, s))?;
             Ok(NoisyCheck {
@@ -449,6 +450,7 @@ fn reading_checks(
     sims.into_iter()
         .map(|sim| {
             let c = sim
+                .vendor()
                 .check_sheet(sheet, settings)
                 .map_err(|e| crate::error::library(e, s))?;
             Ok((sim, c))

@@ -186,7 +186,7 @@ pub fn check(
 ///
 /// # Errors
 /// As [`check`].
-pub fn check_with_noise(
+pub(crate) fn check_with_noise(
     s: &Study,
     e2e: &EndToEnd,
     sheet: &ToleranceSheet,
@@ -195,14 +195,16 @@ pub fn check_with_noise(
 ) -> Result<RateCheck> {
     let bounds = extra_bounds(e2e, sheet)?;
     let outputs = e2e
+        .rates()
         .worst_case_with_extra(
             &e2e.linearization(),
-            &e2e.extra_linearization(),
+            &e2e.rates().extra_linearization(),
             sheet.upper_bounds_rad(),
             &bounds,
         )
         .map_err(|e| crate::error::library_at(e, s, sheet.source()))?;
     let (meets, max_drawn) = e2e
+        .rates()
         .meeting_count_with_extra(
             sheet.upper_bounds_rad(),
             sheet.lower_bounds_rad(),
@@ -233,7 +235,7 @@ pub fn tolerance_in_sheet_units(t: &RateTolerance, v: f64) -> (f64, &'static str
 pub struct RateAllocated {
     /// The allocation.
     pub allocation: RateAllocation,
-    /// The certified allocation ([`EndToEnd::allocate_direct_rate_certified`]), or why there
+    /// The certified allocation ([`e2e_verify::RateQuestions::allocate_direct_rate_certified`]), or why there
     /// is none.
     pub certified: std::result::Result<RateAllocation, String>,
     /// Turntables of both allocated boxes meeting every accuracy, of `samples`.
@@ -295,7 +297,7 @@ pub fn allocation(
 ///
 /// # Errors
 /// As [`allocation`].
-pub fn allocation_with_k(
+pub(crate) fn allocation_with_k(
     s: &Study,
     e2e: &EndToEnd,
     settings: &McSettings,
@@ -305,21 +307,23 @@ pub fn allocation_with_k(
         return Ok(None);
     }
     let a = e2e
+        .rates()
         .allocate_direct_rate(
             &e2e.linearization(),
-            &e2e.extra_linearization(),
+            &e2e.rates().extra_linearization(),
             &s.lower_bounds_rad,
         )
         .map_err(|e| crate::error::library(e, s))?;
-    let extra = e2e.extra_bounds_of(a.tolerance_bounds());
+    let extra = e2e.rates().extra_bounds_of(a.tolerance_bounds());
     let (meets, max_drawn) = e2e
+        .rates()
         .meeting_count_with_extra(a.angles_rad(), &s.lower_bounds_rad, &extra, settings)
         .map_err(|e| crate::error::library(e, s))?;
     let certified = certified_or_why(
         s,
-        e2e.allocate_direct_rate_certified(
+        e2e.rates().allocate_direct_rate_certified(
             &e2e.linearization(),
-            &e2e.extra_linearization(),
+            &e2e.rates().extra_linearization(),
             &s.lower_bounds_rad,
         ),
     )?;
@@ -346,15 +350,16 @@ fn with_noise(
     k_sigma: f64,
 ) -> Result<RateWithNoise> {
     let lib = |e| crate::error::library(e, s);
-    let (lin, extra) = (e2e.linearization(), e2e.extra_linearization());
+    let (lin, extra) = (e2e.linearization(), e2e.rates().extra_linearization());
     let allocation = e2e
+        .rates()
         .allocate_direct_rate_with_noise(&lin, &extra, &s.lower_bounds_rad, budget, k_sigma)
         .map_err(lib)?;
     let certified = match &allocation {
         Ok(_) => Some(
             certified_or_why(
                 s,
-                e2e.allocate_direct_rate_certified_with_noise(
+                e2e.rates().allocate_direct_rate_certified_with_noise(
                     &lin,
                     &extra,
                     &s.lower_bounds_rad,
@@ -610,6 +615,7 @@ impl<'a> CertifiedRateJson<'a> {
             objective_arcmin: c.combined().objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&names, c.angles_rad()),
             tolerances: e2e
+                .rates()
                 .rate_tolerance_names()
                 .into_iter()
                 .zip(c.tolerances())
@@ -834,7 +840,8 @@ impl<'a> RateWithNoiseJson<'a> {
 
 /// The rate tolerances of `a` with their weights, in the sheet's units.
 fn tolerances_json(e2e: &EndToEnd, a: &RateAllocation) -> Vec<ToleranceJson> {
-    e2e.rate_tolerance_names()
+    e2e.rates()
+        .rate_tolerance_names()
         .into_iter()
         .zip(a.tolerances())
         .zip(a.tolerance_bounds())

@@ -1,5 +1,5 @@
 //! The verdict against the study's specifications per quantity (issue 34): one library call
-//! ([`e2e_verify::EndToEnd::plan_verdict`]) and its JSON view, shared by `check-turntable`
+//! ([`e2e_verify::BudgetQuestions::plan_verdict`]) and its JSON view, shared by `check-turntable`
 //! (the sheet's tolerances) and `end-to-end` (the direct allocation's box). Every verdict
 //! names its rule; where an output's noise is not modelled the same sentence says so.
 
@@ -13,21 +13,22 @@ use tt_core::human::num;
 /// (`None` when the study gives none).
 ///
 /// # Errors
-/// As [`EndToEnd::plan_verdict`] (reported as the study's input).
+/// As [`e2e_verify::BudgetQuestions::plan_verdict`] (reported as the study's input).
 pub fn compute(s: &Study, e2e: &EndToEnd, ub_rad: &[f64]) -> Result<Option<PlanVerdict>> {
     if s.specifications.is_empty() {
         return Ok(None);
     }
     let law = s.uncertainty.tolerance_distribution;
-    e2e.plan_verdict(
-        &s.specifications,
-        ub_rad,
-        |n, a| law.input(n, a),
-        &s.noise,
-        s.timing.as_ref(),
-    )
-    .map(Some)
-    .map_err(|e| crate::error::library(e, s))
+    e2e.budget()
+        .plan_verdict(
+            &s.specifications,
+            ub_rad,
+            |n, a| law.input(n, a),
+            &s.noise,
+            s.timing.as_ref(),
+        )
+        .map(Some)
+        .map_err(|e| crate::error::library(e, s))
 }
 
 /// A budget row's sensitivity coefficient is shown as 0 (in the report's budget table and

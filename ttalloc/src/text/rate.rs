@@ -155,7 +155,8 @@ fn with_noise_text(e2e: &EndToEnd, w: &RateWithNoise) -> String {
 
 /// The rate tolerances `bounds` as `name value unit` (or `no bound`), comma-separated.
 fn tolerances_text(e2e: &EndToEnd, tolerances: &[RateTolerance], bounds: &[f64]) -> String {
-    e2e.rate_tolerance_names()
+    e2e.rates()
+        .rate_tolerance_names()
         .iter()
         .zip(tolerances)
         .zip(bounds)
@@ -230,6 +231,7 @@ pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
                 num(c.combined().objective_arcmin())
             ));
             let tols: Vec<String> = e2e
+                .rates()
                 .rate_tolerance_names()
                 .iter()
                 .zip(c.tolerances())

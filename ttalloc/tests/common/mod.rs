@@ -233,6 +233,7 @@ pub fn library_plan(study: &Path, sheet: &str) -> LibraryPlan {
         .expect("the model");
     let law = s.uncertainty.tolerance_distribution;
     let verdict = e2e
+        .budget()
         .plan_verdict(
             &s.specifications,
             &tolerances.ub_rad,
