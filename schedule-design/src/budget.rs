@@ -72,6 +72,7 @@
 //! a global optimum.
 
 use super::DesignProblem;
+use crate::tally::{Phases, Tally};
 use calib_lsq::Timing;
 use e2e_verify::E2eError;
 use e2e_verify::EndToEnd;
@@ -461,6 +462,7 @@ struct Evaluator<'a> {
     linear: e2e_verify::Linearization,
     lower_bounds_rad: &'a [f64],
     budget: &'a TimeBudget<'a>,
+    tally: &'a Tally,
 }
 
 impl Evaluator<'_> {
@@ -473,6 +475,7 @@ impl Evaluator<'_> {
     /// The direct allocation with the noise part kept free at `dwell_s` (`None` when no
     /// table suffices).
     fn allocation(&self, dwell_s: f64) -> Result<Option<e2e_verify::DirectAllocation>, E2eError> {
+        self.tally.dwell_evaluation();
         let noise = self.noise(dwell_s)?;
         Ok(self
             .e2e
@@ -509,6 +512,7 @@ impl Evaluator<'_> {
     ) -> Result<Vec<BudgetPoint>, E2eError> {
         let b = self.budget;
         let n = positions_deg.len();
+        self.tally.tradeoff();
         let tradeoff = self.e2e.noise().tradeoff(
             &self.linear,
             self.lower_bounds_rad,
@@ -679,6 +683,8 @@ pub fn design_with_budget(
     b: &TimeBudget<'_>,
 ) -> Result<BudgetDesign, E2eError> {
     let lo = checked_shortest_dwell(problem, b)?;
+    let tally = Tally::default();
+    let mut phases = Phases::start();
     let run = Run {
         problem,
         b,
@@ -686,8 +692,10 @@ pub fn design_with_budget(
         lo,
         n: table.len(),
         n_study: study_positions_deg.len(),
+        tally: &tally,
     };
     let mut found = Found::start(&run, table, study, study_positions_deg, others)?;
+    phases.step("known schedules' simulators", &tally);
     // the dwells of the fixed-count design: the searched dwells are chosen among them, so that
     // the count search only adds to what the fixed-count design searches
     let mut fixed_extra: Vec<f64> = found
@@ -698,6 +706,7 @@ pub fn design_with_budget(
     fixed_extra.extend(b.study_dwell_s);
     let fixed_dwells = dwell_grid(lo, b.max_dwell_s, &fixed_extra, b.params.dwells_per_decade);
     let count_tables = found.design_counts(&run)?;
+    phases.step("other counts' table designs", &tally);
     let mut extra = fixed_extra;
     extra.extend(
         count_tables
@@ -710,13 +719,18 @@ pub fn design_with_budget(
         &extra,
         b.params.dwells_per_decade,
     ))?;
+    phases.step("dwell grid", &tally);
     let searched = found.searched_dwells(&run, &fixed_dwells);
     let jobs = found.noise_jobs(&run, &searched, &count_tables);
     found.add_noise_searches(&run, jobs)?;
+    phases.step("noise-aware searches", &tally);
     if b.search_counts {
         found.refine_counts(&run)?;
     }
-    found.finish(&run)
+    phases.step("count refinement", &tally);
+    let design = found.finish(&run);
+    phases.step("front", &tally);
+    design
 }
 
 /// The checked inputs of a budget design: the shortest dwell, one sample (a relative 1e-9
@@ -750,6 +764,8 @@ struct Run<'a> {
     lo: f64,
     n: usize,
     n_study: usize,
+    /// The work counted.
+    tally: &'a Tally,
 }
 
 impl<'a> Run<'a> {
@@ -760,11 +776,13 @@ impl<'a> Run<'a> {
             .problem
             .end_to_end_with_rate_steps(positions, self.b.rate_steps)?;
         let linear = e2e.linearization();
+        self.tally.evaluator();
         Ok(Evaluator {
             e2e,
             linear,
             lower_bounds_rad: &self.problem.lower_bounds_rad,
             budget: self.b,
+            tally: self.tally,
         })
     }
 
@@ -777,7 +795,10 @@ impl<'a> Run<'a> {
             Err(e) => return Err(e),
         };
         match self.problem.exchange(&start.schedule, self.max_condition) {
-            Ok(e) => Ok(Some(e.evaluation.schedule)),
+            Ok(e) => {
+                self.tally.exchange(&e);
+                Ok(Some(e.evaluation.schedule))
+            }
             Err(E2eError::ConditionUnreachable { .. }) => Ok(None),
             Err(e) => Err(e),
         }
@@ -793,7 +814,10 @@ impl<'a> Run<'a> {
                 break;
             };
             let next = match reduced.exchange(&s, self.max_condition) {
-                Ok(e) => e.evaluation.schedule,
+                Ok(e) => {
+                    self.tally.exchange(&e);
+                    e.evaluation.schedule
+                }
                 Err(E2eError::ConditionUnreachable { .. }) => break,
                 Err(e) => return Err(e),
             };

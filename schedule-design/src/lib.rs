@@ -176,6 +176,7 @@ mod dopt;
 mod dual;
 mod problem;
 mod search;
+mod tally;
 
 pub use budget::{
     BudgetDesign, BudgetPoint, ScheduleOrigin, TimeBudget, budget_counts, check_budget_affords,
