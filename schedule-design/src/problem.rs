@@ -96,6 +96,8 @@ pub struct DesignProblem {
     pub(crate) outputs: Vec<OutputData>,
     pub(crate) affine: Affine,
     pub(crate) search: crate::SearchParams,
+    /// The specifications every schedule is answered against (`None`: eq 14's rows only).
+    pub(crate) specs: Option<std::sync::Arc<crate::spec::SpecObjective>>,
 }
 
 impl DesignProblem {
@@ -220,6 +222,7 @@ impl DesignProblem {
             outputs,
             affine,
             search: crate::SearchParams::default(),
+            specs: None,
         })
     }
 
@@ -439,10 +442,15 @@ impl DesignProblem {
             });
         }
         let linear = self.linearization_with(s, &regs);
-        let allocation = match self.allocate(&linear) {
-            Ok(a) => Some(a),
-            Err(E2eError::InfeasibleLowerBounds { .. }) => None,
-            Err(e) => return Err(e),
+        let allocation = if self.specs.is_some() {
+            self.spec_answer(&self.positions_deg(s))?
+                .and_then(|a| a.allocation)
+        } else {
+            match self.allocate(&linear) {
+                Ok(a) => Some(a),
+                Err(E2eError::InfeasibleLowerBounds { .. }) => None,
+                Err(e) => return Err(e),
+            }
         };
         Ok(Evaluation {
             schedule: s.to_vec(),

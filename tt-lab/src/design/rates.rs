@@ -132,17 +132,39 @@ fn with_rate(s: &Study, positions_deg: &[Vec<f64>], rate: f64) -> Result<Study, 
 }
 
 /// J (arcmin^-2) of the allocation with the rate tolerances for `s`; `None` when no table
-/// suffices (the allocation is infeasible or its exact-chain check does not converge).
-fn objective(s: &Study) -> Result<Option<f64>> {
+/// suffices (the allocation is infeasible, its exact-chain check does not converge, or the
+/// noise part of a specification fills its limit). With `specs` (the specifications the
+/// study as written leaves the table room for) the allocation holds them too, over the
+/// angles and the rate tolerances ([`e2e_verify::EndToEnd::rate_specification_rows`]), with
+/// the noise of `s`'s own rate steps: a scale factor in ppm is judged in ppm at every rate.
+fn objective(s: &Study, specs: &[gw_model::spec::Specification]) -> Result<Option<f64>> {
     let e2e = crate::loaded::simulator(s)?;
+    let (linear, extra) = (e2e.linearization(), e2e.extra_linearization());
+    let rows = if specs.is_empty() {
+        Vec::new()
+    } else {
+        let ctx = crate::allocation::spec::context_of(s, &e2e, specs)?;
+        e2e.rate_specification_rows(&ctx, &extra)
+            .map_err(|e| crate::error::library(e, s))?
+    };
     Ok(e2e
-        .allocate_direct_rate(
-            &e2e.linearization(),
-            &e2e.extra_linearization(),
-            &s.lower_bounds_rad,
-        )
+        .allocate_direct_rate_specified(&linear, &extra, &s.lower_bounds_rad, &rows)
         .ok()
         .map(|a| a.combined().objective_arcmin()))
+}
+
+/// The specifications of `s` (its rates as written) that leave the table room
+/// ([`crate::allocation::spec::context`]): the ones every candidate rate is judged by; a
+/// candidate rate at which one of them has no room has no table that suffices.
+fn kept_specifications(s: &Study) -> Result<Vec<gw_model::spec::Specification>> {
+    if s.specifications.is_empty() {
+        return Ok(Vec::new());
+    }
+    let e2e = crate::loaded::simulator(s)?;
+    Ok(crate::allocation::spec::context(s, &e2e)?
+        .context
+        .map(|c| c.specifications().to_vec())
+        .unwrap_or_default())
 }
 
 /// Choose the rate among `rates` (deg/s) and the static positions between `designed_deg`
@@ -152,14 +174,15 @@ fn objective(s: &Study) -> Result<Option<f64>> {
 /// As [`check`]; a library error located in the study.
 pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<RateChoice> {
     check(s, rates)?;
-    let study = objective(
-        &s.with_positions_deg(designed_deg.to_vec())
-            .map_err(InputError::from)?,
-    )?;
+    let written = s
+        .with_positions_deg(designed_deg.to_vec())
+        .map_err(InputError::from)?;
+    let specs = kept_specifications(&written)?;
+    let study = objective(&written, &specs)?;
     let at = |positions: &[Vec<f64>]| -> Result<Vec<(f64, Option<f64>)>> {
         rates
             .iter()
-            .map(|&r| Ok((r, objective(&with_rate(s, positions, r)?)?)))
+            .map(|&r| Ok((r, objective(&with_rate(s, positions, r)?, &specs)?)))
             .collect()
     };
     let candidates = at(designed_deg)?;

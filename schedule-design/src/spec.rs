@@ -1,0 +1,125 @@
+//! The design objective against the study's specifications (issue 34 item 6): with a
+//! [`SpecObjective`] every candidate schedule is answered by the direct allocation that holds
+//! every specification ([`e2e_verify::EndToEnd::allocate_direct_specified`]: each
+//! coefficient's specification in its unit, each end of an operating range, eq 14's rows),
+//! with the noise part of each row from the candidate's own noise covariance (its positions,
+//! the study's dwell, rate steps and their windows).
+
+use crate::DesignProblem;
+use calib_lsq::Position;
+use e2e_verify::budget::SpecificationContext;
+use e2e_verify::{DirectAllocation, E2eError, EndToEnd, Linearization};
+
+/// What the designer needs to answer a schedule against the specifications: the context
+/// (specifications, the table law's uncertainty per unit tolerance, noise, the study's
+/// timing) and the rate steps every schedule carries after its static positions.
+#[derive(Debug, Clone)]
+pub struct SpecObjective {
+    context: SpecificationContext,
+    rate_steps: Vec<Position>,
+}
+
+impl SpecObjective {
+    /// The objective of `context` (its timing that of the study: every dwell the same, so
+    /// that it carries over to any number of positions; the rate steps' windows kept) with
+    /// `rate_steps` after the static positions of every schedule.
+    #[must_use]
+    pub fn new(context: SpecificationContext, rate_steps: Vec<Position>) -> Self {
+        Self {
+            context,
+            rate_steps,
+        }
+    }
+
+    /// The specifications' context.
+    #[must_use]
+    pub fn context(&self) -> &SpecificationContext {
+        &self.context
+    }
+
+    /// The context for a schedule of `n` static positions: the study's timing with `n`
+    /// dwells.
+    ///
+    /// # Errors
+    /// [`E2eError::Field`] naming `calibration.timing.dwell_s` when the study's dwells differ
+    /// (a per-position dwell does not carry over to other positions).
+    fn context_for(&self, n: usize) -> Result<SpecificationContext, E2eError> {
+        match self.context.timing() {
+            None => Ok(self.context.clone()),
+            Some(t) if t.positions() == n && !t.is_uniform() => Ok(self.context.clone()),
+            Some(t) => match t.with_len(n) {
+                Some(t) => Ok(self.context.with_timing(Some(t))),
+                None => Err(E2eError::Field(tt_core::FieldError::OutOfRange {
+                    field: "calibration.timing.dwell_s".into(),
+                    value: n as f64,
+                    range:
+                        "one dwell for every position (the designer carries it to other schedules)"
+                            .into(),
+                })),
+            },
+        }
+    }
+}
+
+/// A schedule answered against the specifications.
+pub(crate) struct SpecAnswer {
+    /// The simulator of the schedule (static positions, then the rate steps).
+    pub e2e: EndToEnd,
+    /// Its linearisation (eq 14's rows of every entry).
+    pub linear: Linearization,
+    /// The specification rows.
+    pub rows: Vec<e2e_verify::budget::SpecificationRow>,
+    /// The specified direct allocation; `None` when no table suffices (the lower bounds alone
+    /// break a row, or a specification's noise part fills its limit).
+    pub allocation: Option<DirectAllocation>,
+}
+
+impl DesignProblem {
+    /// The same problem with `objective`: every schedule is then answered by the direct
+    /// allocation that holds every specification ([`DesignProblem::evaluate`]).
+    #[must_use]
+    pub fn with_specifications(mut self, objective: Option<SpecObjective>) -> Self {
+        self.specs = objective.map(std::sync::Arc::new);
+        self
+    }
+
+    /// The specifications the design is for, if any.
+    #[must_use]
+    pub fn specifications(&self) -> Option<&SpecObjective> {
+        self.specs.as_deref()
+    }
+
+    /// The schedule `positions_deg` (static positions, deg) answered against the
+    /// specifications, through the same path as `end-to-end` (the schedule's simulator,
+    /// [`EndToEnd::specification_rows`], [`EndToEnd::allocate_direct_specified`]); `None`
+    /// without specifications.
+    ///
+    /// # Errors
+    /// As [`DesignProblem::end_to_end_with_rate_steps`] and
+    /// [`EndToEnd::specification_rows`]; the allocation's errors other than "no table
+    /// suffices".
+    pub(crate) fn spec_answer(
+        &self,
+        positions_deg: &[Vec<f64>],
+    ) -> Result<Option<SpecAnswer>, E2eError> {
+        let Some(spec) = self.specs.as_deref() else {
+            return Ok(None);
+        };
+        let e2e = self.end_to_end_with_rate_steps(positions_deg, &spec.rate_steps)?;
+        let ctx = spec.context_for(positions_deg.len())?;
+        let rows = e2e.specification_rows(&ctx)?;
+        let linear = e2e.linearization();
+        let allocation = match e2e.allocate_direct_specified(&linear, &self.lower_bounds_rad, &rows)
+        {
+            Ok(a) => Some(a),
+            Err(E2eError::InfeasibleLowerBounds { .. } | E2eError::NoTableSuffices { .. }) => None,
+            Err(e) => return Err(e),
+        };
+        Ok(Some(SpecAnswer {
+            e2e,
+            linear,
+            rows,
+            allocation,
+        }))
+    }
+}
