@@ -911,7 +911,8 @@ impl crate::EndToEnd {
     }
 
     /// The re-solves of [`crate::EndToEnd::allocate_direct_rate`] keeping room for the exact
-    /// chain at the worst vertex.
+    /// chain at the worst vertex (with `spec_rows` beside eq 14's rows).
+    #[allow(clippy::too_many_arguments)]
     fn exact_rounds(
         &self,
         linear: &crate::Linearization,
