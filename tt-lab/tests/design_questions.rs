@@ -264,3 +264,28 @@ fn scale_factor_specifications_in_ppm_enter_the_rate_choice_at_every_rate() {
     );
     approx::assert_relative_eq!(b / a, 1.187, max_relative = FOUR_DIGITS_REL);
 }
+
+/// The cost of answering every candidate against the specifications (a simulator per
+/// evaluation): the design of the IMU example with its misalignment at 10 arcsec on the 90 deg
+/// grid, with and without its specifications (seconds on this machine; not asserted, run by
+/// hand: `cargo test -p tt-lab --test design_questions -- --ignored --nocapture cost`).
+#[test]
+#[ignore = "a timing, run by hand"]
+fn cost_of_the_specified_objective() {
+    let s = imu_with_tight_misalignment();
+    let mut plain = s.clone();
+    plain.specifications.clear();
+    let mut o = Options::default();
+    o.step_deg = 90.0;
+    for (label, st) in [("eq 14", &plain), ("specified", &s)] {
+        let a = design(st, &o, &|| {}).unwrap();
+        let d = a.design();
+        eprintln!(
+            "{label}: {:.1} s, designed J {:.4} arcmin^-2, study's {:.4}, exact evaluations {}",
+            a.seconds(),
+            d.designed().allocation().objective_arcmin(),
+            d.study().allocation().objective_arcmin(),
+            d.search().designed().exact_evaluations()
+        );
+    }
+}
