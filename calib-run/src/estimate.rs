@@ -507,10 +507,10 @@ fn judge(
         rule: rule.to_string(),
         statement: format!(
             "{label} = {} +- {} {unit} (k = {}); specification {}: {} ({rule})",
-            study::fmt::sig(value, 4),
-            study::fmt::sig(expanded, 2),
-            study::fmt::sig(c.k, 3),
-            study::fmt::sig(limit, 4),
+            tt_core::human::sig(value, 4),
+            tt_core::human::sig(expanded, 2),
+            tt_core::human::sig(c.k, 3),
+            tt_core::human::sig(limit, 4),
             if meets { "meets" } else { "does not meet" }
         ),
     })
@@ -603,7 +603,7 @@ pub fn calibrate<R: Read>(
 ///
 /// # Errors
 /// As [`calibrate`].
-#[allow(clippy::too_many_lines)]
+#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub fn calibrate_observed<R: Read, O: FnMut(&Row<'_>)>(
     study: &Study,
     reader: R,
@@ -940,7 +940,7 @@ fn match_schedule(
     for (a, b, d) in &det.dropped {
         warnings.push(format!(
             "a static interval at lines {a}-{b} ({} s) is too short for a dwell: not used",
-            study::fmt::sig(*d, 3)
+            tt_core::human::sig(*d, 3)
         ));
     }
     let found = det.statics.len();
@@ -1073,7 +1073,11 @@ fn wls(
     })
 }
 
-#[allow(clippy::too_many_arguments, clippy::too_many_lines)]
+#[allow(
+    clippy::too_many_arguments,
+    clippy::too_many_lines,
+    reason = "issue 33: split pending"
+)]
 fn estimate_output(
     study: &Study,
     k: usize,
@@ -1164,7 +1168,7 @@ fn estimate_output(
                     s.entry,
                     s.first_line,
                     s.last_line,
-                    study::fmt::sig(hw, 3)
+                    tt_core::human::sig(hw, 3)
                 ));
             }
         }
@@ -1365,7 +1369,7 @@ fn predicted_sigma(
     }
     basis.push_str(&format!(
         " at {} Hz, ordinary least squares",
-        study::fmt::sig(timing.sample_rate_hz(), 6)
+        tt_core::human::sig(timing.sample_rate_hz(), 6)
     ));
     if rows.len() < timing.len() {
         basis.push_str(

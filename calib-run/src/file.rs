@@ -42,7 +42,7 @@ impl Format {
                 flag,
                 format!(
                     "`{}`: a calibration file is `.json` or `.toml` (the format is chosen by the extension)",
-                    study::fmt::visible(&path.display().to_string())
+                    tt_core::human::visible(&path.display().to_string())
                 ),
             )
         })

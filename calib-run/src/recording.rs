@@ -439,9 +439,151 @@ struct Parsed {
     saturated: Vec<Saturation>,
 }
 
+/// Where a recording's header puts what the parser reads: the time column (an index or
+/// seconds), each output's column, the joint angles' columns (all or none), and the sample
+/// rate a time index is divided by.
+struct Layout {
+    headers: Vec<String>,
+    time: usize,
+    time_is_index: bool,
+    output_cols: Vec<usize>,
+    angle_cols: Option<Vec<usize>>,
+    rate: Option<f64>,
+}
+
+impl Layout {
+    /// Find the columns of `outputs` and `joints` among `headers` (trimmed, without a BOM).
+    fn locate(
+        headers: Vec<String>,
+        source: &str,
+        outputs: &[&str],
+        joints: &[&str],
+        options: &RecordingOptions,
+    ) -> Result<Self, RunError> {
+        let find = |name: &str| headers.iter().position(|h| h == name);
+        let missing = |what: String| RunError::input(source, Some(1), None, what);
+        let (time, time_is_index) = match &options.time_column {
+            Some(t) => (
+                find(t)
+                    .ok_or_else(|| missing(format!("no column `{t}` (given as the time column)")))?,
+                t == "sample" || t == "index",
+            ),
+            None => ["t_s", "time_s", "sample", "index"]
+                .iter()
+                .find_map(|n| find(n).map(|i| (i, *n == "sample" || *n == "index")))
+                .ok_or_else(|| {
+                    missing("no time column: name one `t_s` (seconds) or `sample` (index), or give the time column".into())
+                })?,
+        };
+        let output_cols = outputs
+            .iter()
+            .map(|o| {
+                let col = options
+                    .columns
+                    .iter()
+                    .find(|(n, _)| n == o)
+                    .map_or(*o, |(_, c)| c.as_str());
+                find(col).ok_or_else(|| {
+                    missing(format!(
+                        "no column `{col}` for output `{o}` (name a column as the output, or map it)"
+                    ))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let angle_names: Vec<String> = joints.iter().map(|j| format!("{j}_deg")).collect();
+        let found: Vec<Option<usize>> = angle_names.iter().map(|n| find(n)).collect();
+        let angle_cols = if found.iter().all(Option::is_some) && !found.is_empty() {
+            Some(
+                found
+                    .iter()
+                    .map(|c| c.unwrap_or_default())
+                    .collect::<Vec<_>>(),
+            )
+        } else if found.iter().any(Option::is_some) {
+            let absent: Vec<&str> = angle_names
+                .iter()
+                .zip(&found)
+                .filter(|(_, f)| f.is_none())
+                .map(|(n, _)| n.as_str())
+                .collect();
+            return Err(missing(format!(
+                "the table's angles are logged for some joints only: no column {}",
+                absent.join(", ")
+            )));
+        } else {
+            None
+        };
+        let rate = if time_is_index {
+            options.sample_rate_hz.or(options.index_sample_rate_hz)
+        } else {
+            options.sample_rate_hz
+        };
+        if time_is_index && rate.is_none() {
+            return Err(RunError::option(
+                "--sample-rate-hz",
+                "a sample-index time column needs the sample rate (the study has no timing)",
+            ));
+        }
+        Ok(Self {
+            headers,
+            time,
+            time_is_index,
+            output_cols,
+            angle_cols,
+            rate,
+        })
+    }
+}
+
+/// The time column's checks row by row: time increases, the first step agrees with the
+/// sample rate, no later step is a gap or irregular against the first.
+#[derive(Default)]
+struct Clock {
+    t0: f64,
+    t_prev: f64,
+    dt: f64,
+}
+
+impl Clock {
+    /// Take row `n`'s time `t` (s); the reason when it fails a check.
+    fn step(&mut self, n: u64, t: f64, layout: &Layout) -> Result<(), String> {
+        if n == 0 {
+            self.t0 = t;
+        } else {
+            let (t_prev, step) = (self.t_prev, t - self.t_prev);
+            if step <= 0.0 {
+                return Err(format!("time does not increase ({t_prev} then {t} s)"));
+            }
+            if n == 1 {
+                self.dt = step;
+                let dt = self.dt;
+                if let Some(f) = layout.rate {
+                    if !layout.time_is_index && (dt * f - 1.0).abs() > 0.01 {
+                        return Err(format!(
+                            "the time step {dt} s disagrees with the sample rate {f} Hz"
+                        ));
+                    }
+                }
+            } else if step > GAP_FACTOR * self.dt {
+                return Err(format!(
+                    "a gap of {} s after {t_prev} s (the step is {} s): samples are missing",
+                    step - self.dt,
+                    self.dt
+                ));
+            } else if step < self.dt / GAP_FACTOR {
+                return Err(format!(
+                    "an irregular step of {step} s (the step is {} s)",
+                    self.dt
+                ));
+            }
+        }
+        self.t_prev = t;
+        Ok(())
+    }
+}
+
 /// Parse and check the CSV from `reader`, handing each row to `visit` (the body of
 /// [`read_rows`] on the parsing thread).
-#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 fn parse_rows<R, F>(
     reader: R,
     source: &str,
@@ -470,72 +612,12 @@ where
                 .to_string()
         })
         .collect::<Vec<_>>();
-    let find = |name: &str| headers.iter().position(|h| h == name);
-    let missing = |what: String| RunError::input(source, Some(1), None, what);
-    let (time, time_is_index) = match &options.time_column {
-        Some(t) => (
-            find(t).ok_or_else(|| missing(format!("no column `{t}` (given as the time column)")))?,
-            t == "sample" || t == "index",
-        ),
-        None => ["t_s", "time_s", "sample", "index"]
-            .iter()
-            .find_map(|n| find(n).map(|i| (i, *n == "sample" || *n == "index")))
-            .ok_or_else(|| {
-                missing("no time column: name one `t_s` (seconds) or `sample` (index), or give the time column".into())
-            })?,
-    };
-    let output_cols = outputs
-        .iter()
-        .map(|o| {
-            let col = options
-                .columns
-                .iter()
-                .find(|(n, _)| n == o)
-                .map_or(*o, |(_, c)| c.as_str());
-            find(col).ok_or_else(|| {
-                missing(format!(
-                    "no column `{col}` for output `{o}` (name a column as the output, or map it)"
-                ))
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let angle_names: Vec<String> = joints.iter().map(|j| format!("{j}_deg")).collect();
-    let found: Vec<Option<usize>> = angle_names.iter().map(|n| find(n)).collect();
-    let angle_cols = if found.iter().all(Option::is_some) && !found.is_empty() {
-        Some(
-            found
-                .iter()
-                .map(|c| c.unwrap_or_default())
-                .collect::<Vec<_>>(),
-        )
-    } else if found.iter().any(Option::is_some) {
-        let absent: Vec<&str> = angle_names
-            .iter()
-            .zip(&found)
-            .filter(|(_, f)| f.is_none())
-            .map(|(n, _)| n.as_str())
-            .collect();
-        return Err(missing(format!(
-            "the table's angles are logged for some joints only: no column {}",
-            absent.join(", ")
-        )));
-    } else {
-        None
-    };
-    let rate = if time_is_index {
-        options.sample_rate_hz.or(options.index_sample_rate_hz)
-    } else {
-        options.sample_rate_hz
-    };
-    if time_is_index && rate.is_none() {
-        return Err(RunError::option(
-            "--sample-rate-hz",
-            "a sample-index time column needs the sample rate (the study has no timing)",
-        ));
-    }
+    let layout = Layout::locate(headers, source, outputs, joints, options)?;
+    let headers = &layout.headers;
     let mut values = vec![0.0; outputs.len()];
-    let mut angles = vec![0.0; angle_cols.as_ref().map_or(0, Vec::len)];
-    let mut saturated: Vec<Saturation> = output_cols
+    let mut angles = vec![0.0; layout.angle_cols.as_ref().map_or(0, Vec::len)];
+    let mut saturated: Vec<Saturation> = layout
+        .output_cols
         .iter()
         .map(|&c| Saturation {
             column: headers[c].clone(),
@@ -544,7 +626,8 @@ where
         })
         .collect();
     let mut record = csv::ByteRecord::new();
-    let (mut n, mut t0, mut t_prev, mut dt) = (0u64, 0.0, 0.0, 0.0);
+    let mut clock = Clock::default();
+    let mut n = 0u64;
     loop {
         match csv.read_byte_record(&mut record) {
             Ok(true) => {}
@@ -553,46 +636,17 @@ where
         }
         let line = record.position().map_or(0, csv::Position::line);
         let cell = |c: usize| parse_cell(source, line, &headers[c], &record[c]);
-        let raw_t = cell(time)?;
-        let t = if time_is_index {
-            raw_t / rate.unwrap_or(1.0)
+        let raw_t = cell(layout.time)?;
+        let t = if layout.time_is_index {
+            raw_t / layout.rate.unwrap_or(1.0)
         } else {
             raw_t
         };
-        let bad_time =
-            |reason: String| RunError::input(source, Some(line), Some(&headers[time]), reason);
-        if n == 0 {
-            t0 = t;
-        } else {
-            let step = t - t_prev;
-            if step <= 0.0 {
-                return Err(bad_time(format!(
-                    "time does not increase ({t_prev} then {t} s)"
-                )));
-            }
-            if n == 1 {
-                dt = step;
-                if let Some(f) = rate {
-                    if !time_is_index && (dt * f - 1.0).abs() > 0.01 {
-                        return Err(bad_time(format!(
-                            "the time step {dt} s disagrees with the sample rate {f} Hz"
-                        )));
-                    }
-                }
-            } else if step > GAP_FACTOR * dt {
-                return Err(bad_time(format!(
-                    "a gap of {} s after {t_prev} s (the step is {dt} s): samples are missing",
-                    step - dt
-                )));
-            } else if step < dt / GAP_FACTOR {
-                return Err(bad_time(format!(
-                    "an irregular step of {step} s (the step is {dt} s)"
-                )));
-            }
-        }
-        t_prev = t;
+        clock.step(n, t, &layout).map_err(|reason| {
+            RunError::input(source, Some(line), Some(&headers[layout.time]), reason)
+        })?;
         let mut sat = false;
-        for (k, &c) in output_cols.iter().enumerate() {
+        for (k, &c) in layout.output_cols.iter().enumerate() {
             let v = cell(c)?;
             if let Some(r) = options.range {
                 if v.abs() >= r {
@@ -606,7 +660,7 @@ where
             }
             values[k] = v;
         }
-        if let Some(cols) = &angle_cols {
+        if let Some(cols) = &layout.angle_cols {
             for (j, &c) in cols.iter().enumerate() {
                 angles[j] = cell(c)?;
             }
@@ -616,7 +670,7 @@ where
             index: n,
             t_s: t,
             values: &values,
-            angles_deg: angle_cols.as_ref().map(|_| angles.as_slice()),
+            angles_deg: layout.angle_cols.as_ref().map(|_| angles.as_slice()),
             saturated: sat,
         })?;
         n += 1;
@@ -632,9 +686,9 @@ where
     }
     Ok(Parsed {
         samples: n,
-        dt_s: dt,
-        duration_s: t_prev - t0 + dt,
-        angles_logged: angle_cols.is_some(),
+        dt_s: clock.dt,
+        duration_s: clock.t_prev - clock.t0 + clock.dt,
+        angles_logged: layout.angle_cols.is_some(),
         saturated: saturated.into_iter().filter(|s| s.count > 0).collect(),
     })
 }

@@ -21,7 +21,6 @@
 
 use crate::error::E2eError;
 use crate::linear::{DerivativeTerms, Linearization, directional, rounding_level};
-use crate::montecarlo::wilson_interval_95;
 use crate::simulate::EndToEnd;
 use calib_lsq::ReadingWork;
 use nalgebra::{DMatrix, Vector3};
@@ -37,129 +36,80 @@ pub struct AngleLinearization {
     pub reduced: Linearization,
 }
 
-/// The worst case of one output over the bounds under the angle-dependent model.
+/// The worst case of one output over the bounds under the angle-dependent model
+/// ([`EndToEnd::angle_worst_case`]): `linear_bound` is $\max_r \sum_j \mathrm{UB}_j\,d_j$
+/// over the output's rows, rigorous for the linearised model (harmonic dual norms are
+/// certified upper bounds); `exact_at_vertex` the exact chain at $\pm$ the worst
+/// coefficients found (a turntable within the bounds, so a lower bound of the exact worst
+/// case).
+pub type AngleOutputWorstCase = crate::OutputWorstCase<AngleDetail>;
+
+/// What the worst case under the angle-dependent model adds ([`AngleOutputWorstCase`]).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[non_exhaustive]
-pub struct AngleOutputWorstCase {
-    /// The output's index.
-    pub(crate) output: usize,
-    /// $\max_r \sum_j \mathrm{UB}_j\,d_j$ over the output's rows (output unit): rigorous
-    /// for the linearised model (harmonic dual norms are certified upper bounds).
-    pub(crate) linear_bound: f64,
+pub struct AngleDetail {
     /// The same with every error constant (the paper's model) and the same bounds.
     pub(crate) constant_linear_bound: f64,
-    /// Position of the worst row.
-    pub(crate) position: usize,
     /// The worst coefficients found (rad; the expansion's order).
     pub(crate) worst_coefficients: Vec<f64>,
-    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst coefficients (the
-    /// larger): a turntable within the bounds, so a lower bound of the exact worst case.
-    pub(crate) exact_at_worst: f64,
     /// $\tau$ ([`EndToEnd::second_order_bound`]); `None` for readings without one.
     pub(crate) second_order_bound: Option<f64>,
     /// The verdict against the output's accuracy, as [`crate::Verdict`].
     pub(crate) verdict: crate::Verdict,
 }
 
-/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+/// Read access to the angle-dependent model's data.
 impl AngleOutputWorstCase {
-    /// The output's index.
-    #[must_use]
-    pub fn output(&self) -> usize {
-        self.output
-    }
-
-    /// $\max_r \sum_j \mathrm{UB}_j\,d_j$ over the output's rows (output unit): rigorous
-    /// for the linearised model (harmonic dual norms are certified upper bounds).
-    #[must_use]
-    pub fn linear_bound(&self) -> f64 {
-        self.linear_bound
-    }
-
-    /// The same with every error constant (the paper's model) and the same bounds.
+    /// The linear bound with every error constant (the paper's model) and the same bounds.
     #[must_use]
     pub fn constant_linear_bound(&self) -> f64 {
-        self.constant_linear_bound
-    }
-
-    /// Position of the worst row.
-    #[must_use]
-    pub fn position(&self) -> usize {
-        self.position
+        self.detail.constant_linear_bound
     }
 
     /// The worst coefficients found (rad; the expansion's order).
     #[must_use]
     pub fn worst_coefficients(&self) -> &[f64] {
-        &self.worst_coefficients
-    }
-
-    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst coefficients (the
-    /// larger): a turntable within the bounds, so a lower bound of the exact worst case.
-    #[must_use]
-    pub fn exact_at_worst(&self) -> f64 {
-        self.exact_at_worst
+        &self.detail.worst_coefficients
     }
 
     /// $\tau$ ([`EndToEnd::second_order_bound`]); `None` for readings without one.
     #[must_use]
     pub fn second_order_bound(&self) -> Option<f64> {
-        self.second_order_bound
+        self.detail.second_order_bound
     }
 
     /// The verdict against the output's accuracy, as [`crate::Verdict`].
     #[must_use]
     pub fn verdict(&self) -> crate::Verdict {
-        self.verdict
+        self.detail.verdict
     }
 }
 
-/// The yield of a Monte Carlo over turntables with angle-dependent errors.
+/// The yield of a Monte Carlo over turntables with angle-dependent errors: its count (only
+/// all outputs together are counted) and the worst ratio drawn.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct AngleYield {
-    /// Turntables drawn.
-    pub(crate) samples: u64,
-    /// Those meeting every output's accuracy.
-    pub(crate) meeting: u64,
+    /// The turntables drawn, their seed and those meeting every output's accuracy.
+    pub(crate) count: crate::YieldCount,
     /// Largest $\max_k \Delta\omega_k/\omega_{m,k}$ drawn.
     pub(crate) worst_ratio: f64,
-    /// Wilson 95% interval of the yield.
-    pub(crate) interval_95: (f64, f64),
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl AngleYield {
-    /// Turntables drawn.
+    /// The turntables drawn, their seed and those meeting every output's accuracy (the
+    /// fraction and its 95% interval).
     #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// Those meeting every output's accuracy.
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
+    pub fn count(&self) -> &crate::YieldCount {
+        &self.count
     }
 
     /// Largest $\max_k \Delta\omega_k/\omega_{m,k}$ drawn.
     #[must_use]
     pub fn worst_ratio(&self) -> f64 {
         self.worst_ratio
-    }
-
-    /// Wilson 95% interval of the yield.
-    #[must_use]
-    pub fn interval_95(&self) -> (f64, f64) {
-        self.interval_95
-    }
-}
-
-impl AngleYield {
-    /// The fraction meeting every accuracy.
-    #[must_use]
-    pub fn fraction(&self) -> f64 {
-        self.meeting as f64 / self.samples.max(1) as f64
     }
 }
 
@@ -466,12 +416,14 @@ impl EndToEnd {
             out.push(AngleOutputWorstCase {
                 output: k,
                 linear_bound,
-                constant_linear_bound: crate::resolved(const_bound, precision),
                 position,
-                worst_coefficients: if plus >= minus { c } else { neg },
-                exact_at_worst: exact,
-                second_order_bound: tau,
-                verdict,
+                exact_at_vertex: exact,
+                detail: AngleDetail {
+                    constant_linear_bound: crate::resolved(const_bound, precision),
+                    worst_coefficients: if plus >= minus { c } else { neg },
+                    second_order_bound: tau,
+                    verdict,
+                },
             });
         }
         Ok(out)
@@ -548,10 +500,13 @@ impl EndToEnd {
             Ok(())
         })?;
         Ok(AngleYield {
-            samples: n,
-            meeting,
+            count: crate::YieldCount {
+                samples: n,
+                seed,
+                meeting,
+                meeting_per_output: Vec::new(),
+            },
             worst_ratio: worst,
-            interval_95: wilson_interval_95(meeting, n),
         })
     }
 }

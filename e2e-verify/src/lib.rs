@@ -112,7 +112,7 @@ pub use answer::{
 };
 pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
 pub use error::E2eError;
-pub use linear::{BoxMeets, Linearization, OutputWorstCase, WorstCase};
+pub use linear::{BoxDetail, BoxMeets, Linearization, OutputWorstCase, WorstCase};
 /// The one histogram of the workspace's Monte Carlos (mc-verify's), here on $[0, H)$ in the
 /// output unit.
 pub use mc_verify::Histogram;
@@ -125,9 +125,7 @@ pub use noise::{
     CombinedBox, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer, NoiseBudget,
     NoisyAllocation, NoisyDirect, Tradeoff, TradeoffParams, TradeoffPoint, check_k_sigma,
 };
-pub use rate::{
-    CertifiedRateAllocation, ExtraError, ExtraOutputWorstCase, RateAllocation, RateTolerance,
-};
+pub use rate::{ExtraError, ExtraOutputWorstCase, RateAllocation, RateCertificate, RateTolerance};
 pub use sensitivity::{NoiseSensitivity, ParameterSpread};
 pub use sheet::ToleranceSheet;
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};

@@ -181,24 +181,68 @@ impl Linearization {
     }
 }
 
-/// The worst case of one output over a tolerance box.
+/// The worst case of one output over a tolerance box, with the data `X` its question adds:
+/// [`BoxDetail`] for the box of the angular errors ([`EndToEnd::worst_case`], the default),
+/// [`crate::angle::AngleDetail`] under the angle-dependent model
+/// ([`crate::angle::AngleOutputWorstCase`]), [`crate::rate::ExtraDetail`] with the extra
+/// errors of a schedule with rate steps ([`crate::ExtraOutputWorstCase`]).
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[non_exhaustive]
-pub struct OutputWorstCase {
+pub struct OutputWorstCase<X = BoxDetail> {
     /// The output's index.
     pub(crate) output: usize,
-    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit): the
-    /// exact worst case of the linearised model (a maximum of absolute linear forms peaks at
-    /// a vertex).
+    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit; with
+    /// the extra errors' or the angle-dependent columns where `X` says so): the exact worst
+    /// case of the linearised model (a maximum of absolute linear forms peaks at a vertex).
     pub(crate) linear_bound: f64,
-    /// The position (index in the schedule) of the worst row.
+    /// The position (index in the schedule; an entry with rate steps) of the worst row.
     pub(crate) position: usize,
-    /// The worst vertex $\chi_j = \operatorname{sign}(M_{rj})\,\mathrm{UB}_j$ (rad).
-    pub(crate) worst_chi_rad: Vec<f64>,
     /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst vertex (the
     /// larger): a point of the box, so a lower bound on the exact worst case.
     pub(crate) exact_at_vertex: f64,
+    /// The data the question adds.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub(crate) detail: X,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl<X> OutputWorstCase<X> {
+    /// The output's index.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+
+    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit; with
+    /// the extra errors' or the angle-dependent columns where `X` says so): the exact worst
+    /// case of the linearised model (a maximum of absolute linear forms peaks at a vertex).
+    #[must_use]
+    pub fn linear_bound(&self) -> f64 {
+        self.linear_bound
+    }
+
+    /// The position (index in the schedule; an entry with rate steps) of the worst row.
+    #[must_use]
+    pub fn position(&self) -> usize {
+        self.position
+    }
+
+    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst vertex (the
+    /// larger): a point of the box, so a lower bound on the exact worst case.
+    #[must_use]
+    pub fn exact_at_vertex(&self) -> f64 {
+        self.exact_at_vertex
+    }
+}
+
+/// What the worst case over the box of the angular errors adds ([`OutputWorstCase`]).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[non_exhaustive]
+pub struct BoxDetail {
+    /// The worst vertex $\chi_j = \operatorname{sign}(M_{rj})\,\mathrm{UB}_j$ (rad).
+    pub(crate) worst_chi_rad: Vec<f64>,
     /// The derived bound $\tau$ on $|\Delta\hat\omega_{exact} - \mathbf M\chi|$ over the box
     /// (output unit; see [`EndToEnd::second_order_bound`]); `None` for readings without one.
     /// The exact worst case lies in `exact_at_vertex ..= linear_bound + tau`.
@@ -212,39 +256,12 @@ pub struct OutputWorstCase {
     pub(crate) precision: f64,
 }
 
-/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+/// Read access to the box's data.
 impl OutputWorstCase {
-    /// The output's index.
-    #[must_use]
-    pub fn output(&self) -> usize {
-        self.output
-    }
-
-    /// $\max_r \sum_j |M_{rj}|\,\mathrm{UB}_j$ over this output's rows (output unit): the
-    /// exact worst case of the linearised model (a maximum of absolute linear forms peaks at
-    /// a vertex).
-    #[must_use]
-    pub fn linear_bound(&self) -> f64 {
-        self.linear_bound
-    }
-
-    /// The position (index in the schedule) of the worst row.
-    #[must_use]
-    pub fn position(&self) -> usize {
-        self.position
-    }
-
     /// The worst vertex $\chi_j = \operatorname{sign}(M_{rj})\,\mathrm{UB}_j$ (rad).
     #[must_use]
     pub fn worst_chi_rad(&self) -> &[f64] {
-        &self.worst_chi_rad
-    }
-
-    /// $\Delta\omega$ of this output on the exact chain at $\pm$ the worst vertex (the
-    /// larger): a point of the box, so a lower bound on the exact worst case.
-    #[must_use]
-    pub fn exact_at_vertex(&self) -> f64 {
-        self.exact_at_vertex
+        &self.detail.worst_chi_rad
     }
 
     /// The derived bound $\tau$ on $|\Delta\hat\omega_{exact} - \mathbf M\chi|$ over the box
@@ -252,14 +269,14 @@ impl OutputWorstCase {
     /// The exact worst case lies in `exact_at_vertex ..= linear_bound + tau`.
     #[must_use]
     pub fn second_order_bound(&self) -> Option<f64> {
-        self.second_order_bound
+        self.detail.second_order_bound
     }
 
     /// Linearised worst case of every position (output unit), the data of the per-position
     /// figure.
     #[must_use]
     pub fn per_position(&self) -> &[f64] {
-        &self.per_position
+        &self.detail.per_position
     }
 
     /// The computation's precision for this output ([`EndToEnd::precisions`], output unit):
@@ -267,15 +284,15 @@ impl OutputWorstCase {
     /// reported as 0 ([`crate::resolved`]).
     #[must_use]
     pub fn precision(&self) -> f64 {
-        self.precision
+        self.detail.precision
     }
-}
 
-impl OutputWorstCase {
     /// `linear_bound + tau`: a rigorous bound on the exact worst case, when derived.
     #[must_use]
     pub fn certified_bound(&self) -> Option<f64> {
-        self.second_order_bound.map(|t| self.linear_bound + t)
+        self.detail
+            .second_order_bound
+            .map(|t| self.linear_bound + t)
     }
 }
 
@@ -830,14 +847,16 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
                 output: k,
                 linear_bound: crate::resolved(bound, precision),
                 position,
-                worst_chi_rad: if plus >= minus { chi } else { neg },
                 exact_at_vertex: crate::resolved(plus.max(minus), precision),
-                second_order_bound: match s {
-                    Some(s) => self.second_order_bound(k, s)?,
-                    None => None,
+                detail: BoxDetail {
+                    worst_chi_rad: if plus >= minus { chi } else { neg },
+                    second_order_bound: match s {
+                        Some(s) => self.second_order_bound(k, s)?,
+                        None => None,
+                    },
+                    per_position: per.iter().map(|v| crate::resolved(*v, precision)).collect(),
+                    precision,
                 },
-                per_position: per.iter().map(|v| crate::resolved(*v, precision)).collect(),
-                precision,
             });
         }
         Ok(WorstCase {
@@ -953,11 +972,13 @@ mod box_meets_tests {
             output,
             linear_bound: linear,
             position: 0,
-            worst_chi_rad: vec![],
             exact_at_vertex: exact,
-            second_order_bound: None,
-            per_position: vec![],
-            precision: 1e-12,
+            detail: super::BoxDetail {
+                worst_chi_rad: vec![],
+                second_order_bound: None,
+                per_position: vec![],
+                precision: 1e-12,
+            },
         };
         let wc = |outputs| WorstCase {
             upper_bounds_rad: vec![],

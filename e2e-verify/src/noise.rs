@@ -301,14 +301,18 @@ impl CombinedOutput {
     #[must_use]
     pub fn of(w: &OutputWorstCase, accuracy: f64, sigma: f64, k_sigma: f64) -> Self {
         let noise = k_sigma * sigma;
-        let (table_part, table_certified) = match w.certified_bound() {
+        // an infinite second-order bound (an error the allocation leaves unbounded, e.g. one
+        // of a combination the reading cannot see) certifies nothing: the table's part is
+        // then the exact chain at the worst vertex, said to be not certified
+        let certified = w.certified_bound().filter(|b| b.is_finite());
+        let (table_part, table_certified) = match certified {
             Some(b) => (b, true),
             None => (w.exact_at_vertex, false),
         };
         let verdict = if w.exact_at_vertex + noise > accuracy {
             Verdict::Fails
         } else {
-            match w.certified_bound() {
+            match certified {
                 Some(b) if b + noise <= accuracy => Verdict::Guaranteed,
                 _ => Verdict::Likely,
             }

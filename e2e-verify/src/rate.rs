@@ -191,66 +191,38 @@ impl RatePlan {
 }
 
 /// The worst case of one output over the angular box and the extra errors' box together
-/// ([`crate::EndToEnd::worst_case_with_extra`]).
+/// ([`crate::EndToEnd::worst_case_with_extra`]): `linear_bound` is
+/// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit,
+/// exact for the linearised model), `position` the entry (position or rate step) where it is
+/// reached, `exact_at_vertex` $\Delta\omega_k$ on the exact chain at the worst vertex (the
+/// larger of it and its negative).
+pub type ExtraOutputWorstCase = crate::OutputWorstCase<ExtraDetail>;
+
+/// What the worst case with the extra errors adds ([`ExtraOutputWorstCase`]).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[non_exhaustive]
-pub struct ExtraOutputWorstCase {
-    /// Output index.
-    pub(crate) output: usize,
-    /// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit):
-    /// exact for the linearised model.
-    pub(crate) linear_bound: f64,
-    /// The entry (position or rate step) where it is reached.
-    pub(crate) position: usize,
-    /// The angular errors' part of it there.
+pub struct ExtraDetail {
+    /// The angular errors' part of the linear bound at the worst entry.
     pub(crate) angular_part: f64,
     /// Each extra error's part of it there, $|N_{ie}|\,T_e$ (order of
     /// [`crate::EndToEnd::extra_errors`]).
     pub(crate) extra_parts: Vec<f64>,
-    /// $\Delta\omega_k$ on the exact chain at the worst vertex (the larger of it and its
-    /// negative).
-    pub(crate) exact_at_vertex: f64,
 }
 
-/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+/// Read access to the extra errors' data.
 impl ExtraOutputWorstCase {
-    /// Output index.
-    #[must_use]
-    pub fn output(&self) -> usize {
-        self.output
-    }
-
-    /// $\max_i \big(\sum_j |M_{ij}|\,\mathrm{UB}_j + \sum_e |N_{ie}|\,T_e\big)$ (output unit):
-    /// exact for the linearised model.
-    #[must_use]
-    pub fn linear_bound(&self) -> f64 {
-        self.linear_bound
-    }
-
-    /// The entry (position or rate step) where it is reached.
-    #[must_use]
-    pub fn position(&self) -> usize {
-        self.position
-    }
-
-    /// The angular errors' part of it there.
+    /// The angular errors' part of the linear bound at the worst entry.
     #[must_use]
     pub fn angular_part(&self) -> f64 {
-        self.angular_part
+        self.detail.angular_part
     }
 
     /// Each extra error's part of it there, $|N_{ie}|\,T_e$ (order of
     /// [`crate::EndToEnd::extra_errors`]).
     #[must_use]
     pub fn extra_parts(&self) -> &[f64] {
-        &self.extra_parts
-    }
-
-    /// $\Delta\omega_k$ on the exact chain at the worst vertex (the larger of it and its
-    /// negative).
-    #[must_use]
-    pub fn exact_at_vertex(&self) -> f64 {
-        self.exact_at_vertex
+        &self.detail.extra_parts
     }
 }
 
@@ -258,7 +230,7 @@ impl ExtraOutputWorstCase {
     /// The extra errors' total part at the worst entry.
     #[must_use]
     pub fn extra_part(&self) -> f64 {
-        self.extra_parts.iter().sum()
+        self.detail.extra_parts.iter().sum()
     }
 }
 
@@ -352,14 +324,16 @@ impl crate::EndToEnd {
                     output: k,
                     linear_bound: crate::resolved(bound, precision),
                     position,
-                    angular_part: angular[k * n + position],
-                    extra_parts: extra_linear
-                        .row(k, position)
-                        .iter()
-                        .zip(extra_bounds)
-                        .map(|(m, t)| m.abs() * t)
-                        .collect(),
                     exact_at_vertex: crate::resolved(plus.max(minus), precision),
+                    detail: ExtraDetail {
+                        angular_part: angular[k * n + position],
+                        extra_parts: extra_linear
+                            .row(k, position)
+                            .iter()
+                            .zip(extra_bounds)
+                            .map(|(m, t)| m.abs() * t)
+                            .collect(),
+                    },
                 })
             })
             .collect()
@@ -501,7 +475,10 @@ impl RateTolerance {
 }
 
 /// The direct allocation of a study with rate steps: the angular errors and the rate
-/// tolerances ([`RateTolerance`]) allocated together ([`crate::EndToEnd::allocate_direct_rate`]).
+/// tolerances ([`RateTolerance`]) allocated together, checked on the exact chain at each
+/// output's worst vertex ([`crate::EndToEnd::allocate_direct_rate`]) or certified over the
+/// whole box ([`crate::EndToEnd::allocate_direct_rate_certified`], with a
+/// [`RateAllocation::certificate`]).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct RateAllocation {
@@ -509,18 +486,23 @@ pub struct RateAllocation {
     /// errors' bounds (rad) and then the tolerances' (m or relative, order of
     /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
     /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
-    /// `second_order_margins` the room kept for the exact chain at the worst vertex.
+    /// `second_order_margins` the room kept for the exact chain (at the worst vertex, or the
+    /// second-order bound of a certified allocation).
     pub(crate) combined: crate::DirectAllocation,
     /// The tolerances allocated, in order.
     pub(crate) tolerances: Vec<RateTolerance>,
     /// Their weights $w_t$ (unit of the tolerance per rad).
     pub(crate) weights: Vec<f64>,
     /// Per output, the worst case over both boxes (the angular box and every extra error
-    /// within its tolerance), linearised and on the exact chain at its worst vertex.
+    /// within its tolerance), linearised and on the exact chain at its worst vertex (empty
+    /// for a certified allocation: its certificate bounds the whole box).
     pub(crate) worst_cases: Vec<ExtraOutputWorstCase>,
     /// Re-solves that kept room for the exact chain at the worst vertex (0: the first-order
-    /// allocation already met every accuracy there).
+    /// allocation already met every accuracy there; 0 for a certified allocation).
     pub(crate) exact_rounds: usize,
+    /// The certificate: every turntable of the box meets every accuracy on the exact chain
+    /// (`None` for the check at the worst vertex).
+    pub(crate) certificate: Option<RateCertificate>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -529,7 +511,8 @@ impl RateAllocation {
     /// errors' bounds (rad) and then the tolerances' (m or relative, order of
     /// [`RateAllocation::tolerances`]); `objective` is $J$ over both (rad$^{-2}$, the
     /// tolerances' terms on the angles' scale, see [`crate::EndToEnd::rate_tolerance_weights`]);
-    /// `second_order_margins` the room kept for the exact chain at the worst vertex.
+    /// `second_order_margins` the room kept for the exact chain (at the worst vertex, or the
+    /// second-order bound of a certified allocation).
     #[must_use]
     pub fn combined(&self) -> &crate::DirectAllocation {
         &self.combined
@@ -548,17 +531,25 @@ impl RateAllocation {
     }
 
     /// Per output, the worst case over both boxes (the angular box and every extra error
-    /// within its tolerance), linearised and on the exact chain at its worst vertex.
+    /// within its tolerance), linearised and on the exact chain at its worst vertex (empty
+    /// for a certified allocation: its certificate bounds the whole box).
     #[must_use]
     pub fn worst_cases(&self) -> &[ExtraOutputWorstCase] {
         &self.worst_cases
     }
 
     /// Re-solves that kept room for the exact chain at the worst vertex (0: the first-order
-    /// allocation already met every accuracy there).
+    /// allocation already met every accuracy there; 0 for a certified allocation).
     #[must_use]
     pub fn exact_rounds(&self) -> usize {
         self.exact_rounds
+    }
+
+    /// The certificate: every turntable of the box meets every accuracy on the exact chain
+    /// (`None` for the check at the worst vertex).
+    #[must_use]
+    pub fn certificate(&self) -> Option<&RateCertificate> {
+        self.certificate.as_ref()
     }
 }
 
@@ -957,6 +948,7 @@ impl crate::EndToEnd {
                     weights: tol_weights,
                     worst_cases,
                     exact_rounds: round,
+                    certificate: None,
                 });
             }
         }
@@ -980,17 +972,12 @@ const CEILING_SEARCH_STEPS: usize = 20;
 /// second-order bound free.
 const RATE_CERTIFY_ROUNDS: usize = 12;
 
-/// The certified direct allocation of a study with rate steps
+/// The certificate of a [`RateAllocation`] over the whole box
 /// ([`crate::EndToEnd::allocate_direct_rate_certified`]): every turntable of the angular box
 /// with every extra error within its tolerance meets every accuracy on the exact chain.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
-pub struct CertifiedRateAllocation {
-    /// The allocation over $(\chi, T)$, as [`RateAllocation::combined`];
-    /// `second_order_margins` the room kept for the second-order bound.
-    pub(crate) combined: crate::DirectAllocation,
-    /// The tolerances allocated, in order.
-    pub(crate) tolerances: Vec<RateTolerance>,
+pub struct RateCertificate {
     /// Per output, the first-order worst case over both boxes (output unit).
     pub(crate) linear_bounds: Vec<f64>,
     /// Per output, the derived second-order bound $\tau_k$ of the box
@@ -1002,20 +989,7 @@ pub struct CertifiedRateAllocation {
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
-impl CertifiedRateAllocation {
-    /// The allocation over $(\chi, T)$, as [`RateAllocation::combined`];
-    /// `second_order_margins` the room kept for the second-order bound.
-    #[must_use]
-    pub fn combined(&self) -> &crate::DirectAllocation {
-        &self.combined
-    }
-
-    /// The tolerances allocated, in order.
-    #[must_use]
-    pub fn tolerances(&self) -> &[RateTolerance] {
-        &self.tolerances
-    }
-
+impl RateCertificate {
     /// Per output, the first-order worst case over both boxes (output unit).
     #[must_use]
     pub fn linear_bounds(&self) -> &[f64] {
@@ -1035,27 +1009,11 @@ impl CertifiedRateAllocation {
     pub fn rounds(&self) -> usize {
         self.rounds
     }
-}
 
-impl CertifiedRateAllocation {
     /// The certified bound of output `k`: first-order worst case plus $\tau_k$.
     #[must_use]
     pub fn certified_bound(&self, k: usize) -> f64 {
         self.linear_bounds[k] + self.second_order_bounds[k]
-    }
-
-    /// The angular errors' bounds (rad; `+inf` for an error no output depends on).
-    #[must_use]
-    pub fn angles_rad(&self) -> &[f64] {
-        &self.combined.upper_bounds_rad
-            [..self.combined.upper_bounds_rad.len() - self.tolerances.len()]
-    }
-
-    /// The tolerances' bounds (m, relative; `+inf` for one no output depends on).
-    #[must_use]
-    pub fn tolerance_bounds(&self) -> &[f64] {
-        &self.combined.upper_bounds_rad
-            [self.combined.upper_bounds_rad.len() - self.tolerances.len()..]
     }
 }
 
@@ -1257,7 +1215,7 @@ impl crate::EndToEnd {
         linear: &crate::Linearization,
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
-    ) -> Result<CertifiedRateAllocation, E2eError> {
+    ) -> Result<RateAllocation, E2eError> {
         self.certified_rate_keeping(
             linear,
             extra_linear,
@@ -1282,7 +1240,7 @@ impl crate::EndToEnd {
         lower_bounds_rad: &[f64],
         budget: &crate::NoiseBudget,
         k_sigma: f64,
-    ) -> Result<Result<CertifiedRateAllocation, Vec<crate::NoRoom>>, E2eError> {
+    ) -> Result<Result<RateAllocation, Vec<crate::NoRoom>>, E2eError> {
         match self.rate_noise_margins(linear, lower_bounds_rad, budget, k_sigma)? {
             Ok(noise) => self
                 .certified_rate_keeping(linear, extra_linear, lower_bounds_rad, &noise)
@@ -1299,7 +1257,7 @@ impl crate::EndToEnd {
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
         noise: &[f64],
-    ) -> Result<CertifiedRateAllocation, E2eError> {
+    ) -> Result<RateAllocation, E2eError> {
         if !self.has_rate_steps() {
             // no rate tolerance: the static certificate itself
             let d = self.certified_keeping(
@@ -1314,12 +1272,17 @@ impl crate::EndToEnd {
                 .map(|k| rows.rows(k * n, n).max())
                 .collect();
             let taus = self.rate_taus(&d.upper_bounds_rad, &[])?;
-            return Ok(CertifiedRateAllocation {
+            return Ok(RateAllocation {
                 combined: d,
                 tolerances: Vec::new(),
-                linear_bounds,
-                second_order_bounds: taus,
-                rounds: 0,
+                weights: Vec::new(),
+                worst_cases: Vec::new(),
+                exact_rounds: 0,
+                certificate: Some(RateCertificate {
+                    linear_bounds,
+                    second_order_bounds: taus,
+                    rounds: 0,
+                }),
             });
         }
         self.with_rate_setup(
@@ -1374,7 +1337,7 @@ impl crate::EndToEnd {
         lb: &[f64],
         angle_ceiling_rad: f64,
         noise: &[f64],
-    ) -> Result<CertifiedRateAllocation, E2eError> {
+    ) -> Result<RateAllocation, E2eError> {
         let params = crate::CertifyParams::default();
         {
             let acc = self.accuracies();
@@ -1410,12 +1373,17 @@ impl crate::EndToEnd {
                 if (0..acc.len()).all(|k| linear_bounds[k] + taus[k] <= room(k)) {
                     let mut combined_d = d;
                     combined_d.second_order_margins.clone_from(&margins);
-                    return Ok(CertifiedRateAllocation {
+                    return Ok(RateAllocation {
                         combined: combined_d,
                         tolerances: self.rate_tolerances(),
-                        linear_bounds,
-                        second_order_bounds: taus,
-                        rounds: round,
+                        weights: setup.weights[n_angles..].to_vec(),
+                        worst_cases: Vec::new(),
+                        exact_rounds: 0,
+                        certificate: Some(RateCertificate {
+                            linear_bounds,
+                            second_order_bounds: taus,
+                            rounds: round,
+                        }),
                     });
                 }
                 for k in 0..acc.len() {

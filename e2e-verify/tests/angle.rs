@@ -66,7 +66,7 @@ fn constant_expansion_reproduces_the_constant_model_exactly() {
                     t.linear_bound().to_bits(),
                     a.constant_linear_bound().to_bits()
                 );
-                assert_eq!(t.exact_at_vertex().to_bits(), a.exact_at_worst().to_bits());
+                assert_eq!(t.exact_at_vertex().to_bits(), a.exact_at_vertex().to_bits());
             }
             let lb = vec![0.0; ub.len()];
             let d0 = e2e.allocate_direct(&lin, &lb).unwrap();
@@ -205,7 +205,7 @@ fn angle_yield_is_deterministic_and_within_the_worst_case() {
     let a = e2e.angle_yield(&ex, &ub, 3000, 7).unwrap();
     let b = e2e.angle_yield(&ex, &ub, 3000, 7).unwrap();
     assert_eq!(a, b);
-    assert_eq!(a.samples(), 3000);
+    assert_eq!(a.count().samples(), 3000);
     let lin = e2e.linearization();
     let al = e2e.angle_linearization(&ex).unwrap();
     let wc = e2e.angle_worst_case(&ex, &al, &lin, &ub).unwrap();

@@ -314,7 +314,7 @@ fn disc_monte_carlo_is_identical_for_one_and_two_threads() {
     };
     let one = run(1, &discs);
     assert_eq!(one, run(2, &discs));
-    assert_eq!(one.samples(), 3000);
+    assert_eq!(one.count().samples(), 3000);
     let plain = run(2, &[]);
     assert_eq!(plain, e2e.angle_yield(&ex, &tol.ub_rad, 3000, 11).unwrap());
     assert_ne!(one, plain);

@@ -385,6 +385,9 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
     let c = e
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certifiable");
+    let cert = c
+        .certificate()
+        .expect("a certified allocation has its certificate");
     let direct = e.allocate_direct_rate(&m, &n, &lb).expect("feasible");
     assert_eq!(c.tolerances(), direct.tolerances());
     for (t, name) in c.tolerance_bounds().iter().zip(e.rate_tolerance_names()) {
@@ -401,25 +404,25 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
     let wc = e.worst_case_with_extra(&m, &n, &ub, &extra).expect("runs");
     for (k, acc) in e.accuracies().iter().enumerate() {
         assert!(
-            c.second_order_bounds()[k] > 0.0,
+            cert.second_order_bounds()[k] > 0.0,
             "output {k}: no remainder bound"
         );
         assert!(
-            c.certified_bound(k) <= *acc,
+            cert.certified_bound(k) <= *acc,
             "output {k}: certified {} > {acc}",
-            c.certified_bound(k)
+            cert.certified_bound(k)
         );
         assert_relative_eq!(
             wc[k].linear_bound(),
-            c.linear_bounds()[k],
+            cert.linear_bounds()[k],
             max_relative = SOLVER_REL,
             epsilon = rounding(&e, k)
         );
         assert!(
-            wc[k].exact_at_vertex() <= c.certified_bound(k) + rounding(&e, k),
+            wc[k].exact_at_vertex() <= cert.certified_bound(k) + rounding(&e, k),
             "output {k}: exact chain {} > certified {}",
             wc[k].exact_at_vertex(),
-            c.certified_bound(k)
+            cert.certified_bound(k)
         );
     }
 }
@@ -504,7 +507,10 @@ fn six_face_rate_allocation_stays_in_the_rate_models_domain_and_meets_every_accu
     let c = e
         .allocate_direct_rate_certified(&m, &n, &lb)
         .expect("certified");
+    let cert = c
+        .certificate()
+        .expect("a certified allocation has its certificate");
     for k in 0..e.n_outputs() {
-        assert!(c.certified_bound(k) <= e.accuracies()[k], "output {k}");
+        assert!(cert.certified_bound(k) <= e.accuracies()[k], "output {k}");
     }
 }

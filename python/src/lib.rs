@@ -259,6 +259,53 @@ impl Study {
         )
     }
 
+    /// The JCGM 101 Monte Carlo of every specification of the study over a tolerance sheet's
+    /// box (issue 34 item 3): per specification the mean, u(y), the symmetric and shortest
+    /// coverage intervals, the trials, whether the adaptive run stabilized at
+    /// `significant_digits` of u(y), whether the GUM interval is validated and the verdict
+    /// under its rule; `check-turntable --jcgm101 --json`'s `jcgm101`. Seeded (`seed`:
+    /// default the study's): the same answer for any thread count.
+    #[pyo3(signature = (tolerances, significant_digits = 2, seed = None))]
+    fn jcgm101(
+        &self,
+        py: Python<'_>,
+        tolerances: PathBuf,
+        significant_digits: u32,
+        seed: Option<u64>,
+    ) -> PyResult<Answer> {
+        let s = &self.inner;
+        if !(1..=tt_lab::budget_mc::MAX_DIGITS).contains(&significant_digits) {
+            return Err(InputError::new_err(format!(
+                "significant_digits: {significant_digits}: the significant digits of u(y) must be 1 to {}",
+                tt_lab::budget_mc::MAX_DIGITS
+            )));
+        }
+        let o = tt_lab::budget_mc::Options {
+            significant_digits,
+            seed,
+            ..tt_lab::budget_mc::Options::default()
+        };
+        Answer::of(
+            "jcgm101",
+            py.detach(|| {
+                let sheet = s
+                    .load_sheet(&tolerances)
+                    .map_err(tt_lab::InputError::from)?;
+                let e2e = tt_lab::loaded::simulator(s)?;
+                let ub = sheet.upper_bounds_rad();
+                let Some(v) = tt_lab::vendor::spec::compute(s, &e2e, ub)? else {
+                    return Err(tt_lab::InputError::new(
+                        "specifications",
+                        "the study gives no [[specifications]]: nothing for the Monte Carlo to draw",
+                    )
+                    .into());
+                };
+                let mc = tt_lab::budget_mc::compute(s, &e2e, ub, &v, &o)?;
+                view(&tt_lab::budget_mc::Jcgm101Json::new(s, &mc))
+            }),
+        )
+    }
+
     /// Which table errors the calibration estimates itself, and what is left to allocate,
     /// for a vendor's sheet (default: the direct allocation's box): `estimable --json`.
     #[pyo3(signature = (tolerances = None))]

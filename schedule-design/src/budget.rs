@@ -48,11 +48,16 @@
 //! Every schedule found (the table's design, the study's schedule, every noise-aware design)
 //! is evaluated exactly at every dwell of a grid ([`BudgetParams::dwells_per_decade`] per decade in
 //! $\log T$ from one sample to the longest dwell, plus each schedule's dwell that spends the
-//! whole budget, and the study's own dwell). The front is the set of $(N(T + T_{move}), J)$
+//! whole budget, and the study's own dwell); the study's, the table designs' and the
+//! baselines' schedules also at the dwells of their own time/table trade-off as `end-to-end`
+//! lists it ([`EndToEnd::tradeoff`]: just above the shortest dwell at which some table
+//! suffices, and on to a thousand times it), so the front never misses a schedule's short end
+//! between the grid's dwells. The front is the set of $(N(T + T_{move}), J)$
 //! not dominated by another:
 //! sorted by the total time, each point needs a strictly cheaper table than every point
-//! before it, so more time never needs a better table. The chosen point is the cheapest table
-//! within the budget (ties: the shorter test).
+//! before it, so more time never needs a better table. Each front point carries its
+//! tolerance box ([`BudgetPoint::tolerances_rad`]: the direct allocation whose $J$ it is).
+//! The chosen point is the cheapest table within the budget (ties: the shorter test).
 //!
 //! # What is guaranteed
 //! Every point's $J$ is computed exactly (not estimated) on the same path as `end-to-end`
@@ -215,6 +220,10 @@ pub struct BudgetPoint {
     pub(crate) total_s: f64,
     /// $J$ (rad$^{-2}$) of the direct allocation with the noise part kept free.
     pub(crate) objective: f64,
+    /// The allocated tolerance box: the direct allocation's upper bound per rotation error
+    /// (rad), the box whose $J$ is `objective`; empty for a point not on the front (the
+    /// front's points carry theirs).
+    pub(crate) tolerances_rad: Vec<f64>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -236,7 +245,16 @@ impl BudgetPoint {
             dwell_s,
             total_s,
             objective,
+            tolerances_rad: Vec::new(),
         }
+    }
+
+    /// The allocated tolerance box: the direct allocation with the noise part kept free,
+    /// its upper bound per rotation error (rad, the order of the turntable's rotation
+    /// errors); empty for a point built by [`BudgetPoint::new`] or not on the front.
+    #[must_use]
+    pub fn tolerances_rad(&self) -> &[f64] {
+        &self.tolerances_rad
     }
 
     /// Where the schedule comes from.
@@ -452,8 +470,9 @@ impl Evaluator<'_> {
         self.e2e.noise_budget(self.budget.noise, &timing)
     }
 
-    /// $J(S, T)$ (rad$^{-2}$; `+inf` when no table suffices).
-    fn objective(&self, dwell_s: f64) -> Result<f64, E2eError> {
+    /// The direct allocation with the noise part kept free at `dwell_s` (`None` when no
+    /// table suffices).
+    fn allocation(&self, dwell_s: f64) -> Result<Option<e2e_verify::DirectAllocation>, E2eError> {
         let noise = self.noise(dwell_s)?;
         Ok(self
             .e2e
@@ -463,9 +482,65 @@ impl Evaluator<'_> {
                 &noise,
                 self.budget.k_sigma,
             )?
+            .ok())
+    }
+
+    /// $J(S, T)$ (rad$^{-2}$; `+inf` when no table suffices).
+    fn objective(&self, dwell_s: f64) -> Result<f64, E2eError> {
+        Ok(self
+            .allocation(dwell_s)?
             .map_or(f64::INFINITY, |d| d.objective()))
     }
+
+    /// The schedule's points at the dwells of its time/table trade-off, as `end-to-end`
+    /// lists them ([`EndToEnd::tradeoff`] over the budget's dwells, from one sample to the
+    /// longest dwell): the first just above the shortest dwell at which some table suffices,
+    /// so the front never misses a schedule's own short end between the grid's dwells. A
+    /// listed dwell within [`SAME_DWELL_REL`] of a `grid` dwell is left to the grid (the
+    /// trade-off's longest dwell is the grid's last one up to round-off: kept twice it gave
+    /// the front two copies of one point, one of them at 86,399.99999999993 s).
+    fn tradeoff_points(
+        &self,
+        origin: ScheduleOrigin,
+        positions_deg: &[Vec<f64>],
+        lo: f64,
+        grid: &[f64],
+    ) -> Result<Vec<BudgetPoint>, E2eError> {
+        let b = self.budget;
+        let n = positions_deg.len();
+        let tradeoff = self.e2e.tradeoff(
+            &self.linear,
+            self.lower_bounds_rad,
+            b.noise,
+            &b.timing(n, lo)?,
+            b.k_sigma,
+            (lo, b.max_dwell_s),
+        )?;
+        Ok(tradeoff
+            .points()
+            .iter()
+            .filter(|p| {
+                !grid
+                    .iter()
+                    .any(|g| (g - p.dwell_s()).abs() <= SAME_DWELL_REL * g)
+            })
+            .filter_map(|p| {
+                p.objective().map(|j| BudgetPoint {
+                    origin,
+                    positions_deg: positions_deg.to_vec(),
+                    dwell_s: p.dwell_s(),
+                    total_s: b.test_s(n, p.dwell_s()),
+                    objective: j,
+                    tolerances_rad: Vec::new(),
+                })
+            })
+            .collect())
+    }
 }
+
+/// Two dwells closer than this fraction of the grid's are one dwell (round-off of the same
+/// time, e.g. a day computed as a sum of steps).
+const SAME_DWELL_REL: f64 = 1e-9;
 
 /// The dwell grid: `per_decade` dwells per decade from one sample to `max_dwell_s`, with
 /// `extra` dwells in that range merged in, ascending, without repeats.
@@ -582,11 +657,17 @@ fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
 /// when it has the designed size; the study's schedule (`study_positions_deg`) is evaluated in
 /// any case.
 ///
+/// The steps: the inputs checked ([`checked_shortest_dwell`]), the known schedules and the
+/// other counts' table designs ([`Found::start`], [`Found::design_counts`]), every schedule at
+/// every dwell of the grid ([`Found::evaluate_grid`]), the noise-aware searches
+/// ([`Found::searched_dwells`], [`Found::noise_jobs`], [`Found::add_noise_searches`]), the
+/// count's refinement ([`Found::refine_counts`]) and the front ([`Found::finish`]). Each
+/// schedule's end-to-end simulator and linearisation are built once and kept for every dwell.
+///
 /// # Errors
 /// [`E2eError::Field`] naming `budget_s`, `max_dwell_s`, `sample_rate_hz` or `move_s` when
 /// not finite and positive (non-negative for the move); as [`EndToEnd::noise_budget`] and
 /// [`EndToEnd::allocate_direct_with_noise`].
-#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub fn design_with_budget(
     problem: &DesignProblem,
     table: &[usize],
@@ -596,7 +677,55 @@ pub fn design_with_budget(
     max_condition: f64,
     b: &TimeBudget<'_>,
 ) -> Result<BudgetDesign, E2eError> {
-    let budget_s = tt_core::positive("budget_s", b.budget_s)?;
+    let lo = checked_shortest_dwell(problem, b)?;
+    let run = Run {
+        problem,
+        b,
+        max_condition,
+        lo,
+        n: table.len(),
+        n_study: study_positions_deg.len(),
+    };
+    let mut found = Found::start(&run, table, study, study_positions_deg, others)?;
+    // the dwells of the fixed-count design: the searched dwells are chosen among them, so that
+    // the count search only adds to what the fixed-count design searches
+    let mut fixed_extra: Vec<f64> = found
+        .schedules
+        .iter()
+        .filter_map(|(_, s)| budget_dwell(b, s.len(), lo))
+        .collect();
+    fixed_extra.extend(b.study_dwell_s);
+    let fixed_dwells = dwell_grid(lo, b.max_dwell_s, &fixed_extra, b.params.dwells_per_decade);
+    let count_tables = found.design_counts(&run)?;
+    let mut extra = fixed_extra;
+    extra.extend(
+        count_tables
+            .iter()
+            .filter_map(|s| budget_dwell(b, s.len(), lo)),
+    );
+    found.evaluate_grid(dwell_grid(
+        lo,
+        b.max_dwell_s,
+        &extra,
+        b.params.dwells_per_decade,
+    ))?;
+    let searched = found.searched_dwells(&run, &fixed_dwells);
+    let jobs = found.noise_jobs(&run, &searched, &count_tables);
+    found.add_noise_searches(&run, jobs)?;
+    if b.search_counts {
+        found.refine_counts(&run)?;
+    }
+    found.finish(&run)
+}
+
+/// The checked inputs of a budget design: the shortest dwell, one sample (a relative 1e-9
+/// above, against rounding; at most the longest dwell).
+///
+/// # Errors
+/// As [`design_with_budget`]'s checks of `budget_s`, `max_dwell_s`, `sample_rate_hz`,
+/// `move_s`, `k_sigma` and [`check_budget_affords`].
+fn checked_shortest_dwell(problem: &DesignProblem, b: &TimeBudget<'_>) -> Result<f64, E2eError> {
+    tt_core::positive("budget_s", b.budget_s)?;
     tt_core::positive("max_dwell_s", b.max_dwell_s)?;
     let rate = tt_core::positive("sample_rate_hz", b.sample_rate_hz)?;
     if !(b.move_s >= 0.0 && b.move_s.is_finite()) {
@@ -608,186 +737,61 @@ pub fn design_with_budget(
     }
     e2e_verify::check_k_sigma(b.k_sigma)?;
     check_budget_affords(problem, b)?;
-    // the shortest dwell holds one sample (a relative 1e-9 above, against rounding)
-    let lo = (1.0 / rate * (1.0 + 1e-9)).min(b.max_dwell_s);
-    let evaluator = |positions: &[Vec<f64>]| -> Result<Evaluator<'_>, E2eError> {
-        let e2e = problem.end_to_end_with_rate_steps(positions, b.rate_steps)?;
+    Ok((1.0 / rate * (1.0 + 1e-9)).min(b.max_dwell_s))
+}
+
+/// What every step of a budget design reads: the problem, the budget, the condition bound,
+/// the shortest dwell, the table design's and the study's counts.
+struct Run<'a> {
+    problem: &'a DesignProblem,
+    b: &'a TimeBudget<'a>,
+    max_condition: f64,
+    lo: f64,
+    n: usize,
+    n_study: usize,
+}
+
+impl<'a> Run<'a> {
+    /// The end-to-end simulator and linearisation of `positions` (the study's rate steps
+    /// after them).
+    fn evaluator(&self, positions: &[Vec<f64>]) -> Result<Evaluator<'a>, E2eError> {
+        let e2e = self
+            .problem
+            .end_to_end_with_rate_steps(positions, self.b.rate_steps)?;
         let linear = e2e.linearization();
         Ok(Evaluator {
             e2e,
             linear,
-            lower_bounds_rad: &problem.lower_bounds_rad,
-            budget: b,
+            lower_bounds_rad: &self.problem.lower_bounds_rad,
+            budget: self.b,
         })
-    };
-    let n = table.len();
-    let mut schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> =
-        vec![(ScheduleOrigin::Table, problem.positions_deg(table))];
-    let same = |a: &[Vec<f64>], b: &[Vec<f64>]| {
-        let (mut a, mut b) = (a.to_vec(), b.to_vec());
-        let key = |x: &Vec<f64>, y: &Vec<f64>| {
-            x.iter()
-                .zip(y)
-                .map(|(p, q)| p.total_cmp(q))
-                .find(|o| o.is_ne())
-                .unwrap_or(std::cmp::Ordering::Equal)
-        };
-        a.sort_by(key);
-        b.sort_by(key);
-        a == b
-    };
-    for (origin, positions) in
-        std::iter::once((ScheduleOrigin::Study, study_positions_deg.to_vec()))
-            .chain(others.iter().map(|(o, s)| (*o, problem.positions_deg(s))))
-    {
-        if !schedules.iter().any(|(_, q)| same(q, &positions)) {
-            schedules.push((origin, positions));
-        }
     }
-    // the dwells of the fixed-count design: the searched dwells are chosen among them, so that
-    // the count search only adds to what the fixed-count design searches
-    let mut fixed_extra: Vec<f64> = schedules
-        .iter()
-        .filter_map(|(_, s)| budget_dwell(b, s.len(), lo))
-        .collect();
-    fixed_extra.extend(b.study_dwell_s);
-    let fixed_dwells = dwell_grid(lo, b.max_dwell_s, &fixed_extra, b.params.dwells_per_decade);
-    // the other counts: a table design each (in parallel; order kept)
-    let counts = if b.search_counts {
-        budget_counts(problem, b, n, study_positions_deg.len())
-    } else {
-        Vec::new()
-    };
-    // a table design of `c` positions: the greedy construction and the exchange (`None`: the
-    // condition bound is not met)
-    let design_count = |c: usize| -> Result<Option<Vec<usize>>, E2eError> {
-        let start = match problem.greedy(c, max_condition) {
+
+    /// A table design of `c` positions: the greedy construction and the exchange (`None`: the
+    /// condition bound is not met).
+    fn design_count(&self, c: usize) -> Result<Option<Vec<usize>>, E2eError> {
+        let start = match self.problem.greedy(c, self.max_condition) {
             Ok(e) => e,
             Err(E2eError::NoConvergence { .. }) => return Ok(None),
             Err(e) => return Err(e),
         };
-        match problem.exchange(&start.schedule, max_condition) {
+        match self.problem.exchange(&start.schedule, self.max_condition) {
             Ok(e) => Ok(Some(e.evaluation.schedule)),
             Err(E2eError::ConditionUnreachable { .. }) => Ok(None),
             Err(e) => Err(e),
         }
-    };
-    let count_designs: Vec<Option<Vec<usize>>> = counts
-        .par_iter()
-        .map(|&c| design_count(c))
-        .collect::<Result<_, E2eError>>()?;
-    let mut counts_done = vec![n];
-    let mut counts_skipped = Vec::new();
-    let mut count_tables: Vec<Vec<usize>> = Vec::new();
-    for (&c, design) in counts.iter().zip(count_designs) {
-        match design {
-            Some(s) => {
-                counts_done.push(c);
-                let positions = problem.positions_deg(&s);
-                if !schedules.iter().any(|(_, q)| same(q, &positions)) {
-                    schedules.push((ScheduleOrigin::Table, positions));
-                }
-                count_tables.push(s);
-            }
-            None => counts_skipped.push(c),
-        }
     }
-    counts_done.sort_unstable();
-    let mut extra = fixed_extra;
-    extra.extend(
-        count_tables
-            .iter()
-            .filter_map(|s| budget_dwell(b, s.len(), lo)),
-    );
-    let mut dwells = dwell_grid(lo, b.max_dwell_s, &extra, b.params.dwells_per_decade);
-    // J of every schedule at every dwell (in parallel over the schedules; order kept)
-    let table_at = |positions: &[Vec<f64>], dwells: &[f64]| -> Result<Vec<f64>, E2eError> {
-        let ev = evaluator(positions)?;
-        dwells.iter().map(|&t| ev.objective(t)).collect()
-    };
-    let mut objectives: Vec<Vec<f64>> = schedules
-        .par_iter()
-        .map(|(_, s)| table_at(s, &dwells))
-        .collect::<Result<_, _>>()?;
-    // the searched dwells: the budget's own, then spread over those where a schedule of the
-    // designed size leaves room
-    let same_size: Vec<usize> = (0..schedules.len())
-        .filter(|&i| schedules[i].1.len() == n)
-        .collect();
-    let open: Vec<usize> = (0..dwells.len())
-        .filter(|&d| {
-            fixed_dwells
-                .iter()
-                .any(|t| t.to_bits() == dwells[d].to_bits())
-                && same_size.iter().any(|&i| objectives[i][d].is_finite())
-        })
-        .collect();
-    let mut searched: Vec<usize> = Vec::new();
-    if let Some(t) = budget_dwell(b, n, lo) {
-        if let Some(d) = dwells.iter().position(|&x| x.to_bits() == t.to_bits()) {
-            searched.push(d);
-        }
-    }
-    let spread = b.params.search_dwells.saturating_sub(searched.len());
-    for i in 0..spread {
-        if open.is_empty() {
-            break;
-        }
-        let f = if spread > 1 {
-            i as f64 / (spread - 1) as f64
-        } else {
-            0.0
-        };
-        let d = open[(f * (open.len() - 1) as f64).round() as usize];
-        if !searched.contains(&d) {
-            searched.push(d);
-        }
-    }
-    let index_of = |positions: &[Vec<f64>]| -> Option<Vec<usize>> {
-        positions.iter().map(|p| problem.index_of(p)).collect()
-    };
-    let mut known: Vec<Vec<usize>> = vec![table.to_vec()];
-    if let Some(s) = study.filter(|s| s.len() == n) {
-        known.push(s.to_vec());
-    }
-    known.extend(others.iter().map(|(_, s)| s.clone()));
-    known.extend(count_tables.iter().cloned());
-    // every known schedule of the designed size that leaves the table room at a searched dwell
-    // starts one noise-aware exchange there
-    let mut jobs: Vec<(usize, Vec<usize>)> = Vec::new();
-    for &d in &searched {
-        for &i in &same_size {
-            if objectives[i][d].is_finite() {
-                if let Some(s) = index_of(&schedules[i].1) {
-                    jobs.push((d, s));
-                }
-            }
-        }
-    }
-    // every other count's table design starts one at the dwell that spends the budget on it
-    for s in &count_tables {
-        let positions = problem.positions_deg(s);
-        let Some(i) = schedules.iter().position(|(_, q)| same(q, &positions)) else {
-            continue;
-        };
-        if let Some(t) = budget_dwell(b, s.len(), lo) {
-            if let Some(d) = dwells.iter().position(|&x| x.to_bits() == t.to_bits()) {
-                if objectives[i][d].is_finite() {
-                    jobs.push((d, s.clone()));
-                }
-            }
-        }
-    }
-    // the noise-aware search from `s` at dwell `t`: the schedules of the fixed point's steps
-    let noise_search = |t: f64, mut s: Vec<usize>| -> Result<Vec<Vec<usize>>, E2eError> {
+
+    /// The noise-aware search from `s` at dwell `t`: the schedules of the fixed point's steps.
+    fn noise_search(&self, t: f64, mut s: Vec<usize>) -> Result<Vec<Vec<usize>>, E2eError> {
         let mut out = Vec::new();
-        for _ in 0..b.params.fixed_point_steps {
-            let ev = evaluator(&problem.positions_deg(&s))?;
-            let margins = ev.noise(t)?.margins(b.k_sigma);
-            let Some(reduced) = problem.with_margins(&margins) else {
+        for _ in 0..self.b.params.fixed_point_steps {
+            let ev = self.evaluator(&self.problem.positions_deg(&s))?;
+            let margins = ev.noise(t)?.margins(self.b.k_sigma);
+            let Some(reduced) = self.problem.with_margins(&margins) else {
                 break;
             };
-            let next = match reduced.exchange(&s, max_condition) {
+            let next = match reduced.exchange(&s, self.max_condition) {
                 Ok(e) => e.evaluation.schedule,
                 Err(E2eError::ConditionUnreachable { .. }) => break,
                 Err(e) => return Err(e),
@@ -799,38 +803,326 @@ pub fn design_with_budget(
             s = next;
         }
         Ok(out)
+    }
+
+    /// The dwell that spends the whole budget on `c` positions ([`budget_dwell`]).
+    fn budget_dwell(&self, c: usize) -> Option<f64> {
+        budget_dwell(self.b, c, self.lo)
+    }
+}
+
+/// Whether two schedules (joint angles, deg) hold the same positions, in any order.
+fn same_positions(a: &[Vec<f64>], b: &[Vec<f64>]) -> bool {
+    let (mut a, mut b) = (a.to_vec(), b.to_vec());
+    let key = |x: &Vec<f64>, y: &Vec<f64>| {
+        x.iter()
+            .zip(y)
+            .map(|(p, q)| p.total_cmp(q))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
     };
-    let found: Vec<(usize, Vec<Vec<usize>>)> = jobs
-        .into_par_iter()
-        .map(|(d, s)| Ok((d, noise_search(dwells[d], s)?)))
-        .collect::<Result<_, E2eError>>()?;
-    let mut new: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> = Vec::new();
-    for (d, list) in found {
-        for s in list {
-            if !is_known(&known, &s) {
-                known.push(s.clone());
-                new.push((ScheduleOrigin::Noise(dwells[d]), problem.positions_deg(&s)));
+    a.sort_by(key);
+    b.sort_by(key);
+    a == b
+}
+
+/// The budget design's state: every schedule found with its evaluator (built once) and its
+/// $J$ at every dwell of the grid, the schedules known as candidate indices, and the counts.
+struct Found<'a> {
+    schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)>,
+    evaluators: Vec<Evaluator<'a>>,
+    /// $J$ per schedule per dwell (rad$^{-2}$; `+inf` when no table suffices).
+    objectives: Vec<Vec<f64>>,
+    dwells: Vec<f64>,
+    known: Vec<Vec<usize>>,
+    counts_done: Vec<usize>,
+    counts_skipped: Vec<usize>,
+    counts_refined: Vec<usize>,
+}
+
+impl<'a> Found<'a> {
+    /// The table design, then the study's schedule and `others` unless the same positions
+    /// are already there; their evaluators (in parallel; order kept). No dwell yet.
+    fn start(
+        run: &Run<'a>,
+        table: &[usize],
+        study: Option<&[usize]>,
+        study_positions_deg: &[Vec<f64>],
+        others: &[(ScheduleOrigin, Vec<usize>)],
+    ) -> Result<Self, E2eError> {
+        let problem = run.problem;
+        let mut schedules: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> =
+            vec![(ScheduleOrigin::Table, problem.positions_deg(table))];
+        for (origin, positions) in
+            std::iter::once((ScheduleOrigin::Study, study_positions_deg.to_vec()))
+                .chain(others.iter().map(|(o, s)| (*o, problem.positions_deg(s))))
+        {
+            if !schedules.iter().any(|(_, q)| same_positions(q, &positions)) {
+                schedules.push((origin, positions));
             }
         }
+        let mut known: Vec<Vec<usize>> = vec![table.to_vec()];
+        if let Some(s) = study.filter(|s| s.len() == run.n) {
+            known.push(s.to_vec());
+        }
+        known.extend(others.iter().map(|(_, s)| s.clone()));
+        let evaluators = schedules
+            .par_iter()
+            .map(|(_, s)| run.evaluator(s))
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
+            schedules,
+            evaluators,
+            objectives: Vec::new(),
+            dwells: Vec::new(),
+            known,
+            counts_done: vec![run.n],
+            counts_skipped: Vec::new(),
+            counts_refined: Vec::new(),
+        })
     }
-    let more: Vec<Vec<f64>> = new
-        .par_iter()
-        .map(|(_, s)| table_at(s, &dwells))
-        .collect::<Result<_, _>>()?;
-    schedules.extend(new);
-    objectives.extend(more);
-    // the refinement of the count: bisection between the best count at the budget and its
-    // tried neighbours
-    let mut counts_refined: Vec<usize> = Vec::new();
-    if b.search_counts {
-        let n_min = fewest_proposed(problem, b);
-        let top = count_limit(problem, b, n, study_positions_deg.len());
-        while counts_refined.len() < b.params.count_refinements {
-            let mut tried: Vec<usize> =
-                counts_done.iter().chain(&counts_skipped).copied().collect();
+
+    /// Add `positions` from `origin` with its evaluator and its $J$ at every dwell of the
+    /// grid, unless the same positions are there already.
+    fn push(
+        &mut self,
+        run: &Run<'a>,
+        origin: ScheduleOrigin,
+        positions: Vec<Vec<f64>>,
+    ) -> Result<(), E2eError> {
+        if self
+            .schedules
+            .iter()
+            .any(|(_, q)| same_positions(q, &positions))
+        {
+            return Ok(());
+        }
+        self.push_evaluated(run, origin, positions)
+    }
+
+    /// Add `positions` from `origin` with its evaluator and its $J$ at every dwell of the
+    /// grid (the caller has checked that it is new).
+    fn push_evaluated(
+        &mut self,
+        run: &Run<'a>,
+        origin: ScheduleOrigin,
+        positions: Vec<Vec<f64>>,
+    ) -> Result<(), E2eError> {
+        let ev = run.evaluator(&positions)?;
+        let js = self
+            .dwells
+            .iter()
+            .map(|&t| ev.objective(t))
+            .collect::<Result<_, _>>()?;
+        self.schedules.push((origin, positions));
+        self.evaluators.push(ev);
+        self.objectives.push(js);
+        Ok(())
+    }
+
+    /// The other counts' table designs (in parallel; order kept), each added as a schedule
+    /// from the table and known; the designs returned (before any dwell is evaluated).
+    fn design_counts(&mut self, run: &Run<'a>) -> Result<Vec<Vec<usize>>, E2eError> {
+        let counts = if run.b.search_counts {
+            budget_counts(run.problem, run.b, run.n, run.n_study)
+        } else {
+            Vec::new()
+        };
+        let designs: Vec<Option<Vec<usize>>> = counts
+            .par_iter()
+            .map(|&c| run.design_count(c))
+            .collect::<Result<_, E2eError>>()?;
+        let mut tables = Vec::new();
+        for (&c, design) in counts.iter().zip(designs) {
+            match design {
+                Some(s) => {
+                    self.counts_done.push(c);
+                    self.push(run, ScheduleOrigin::Table, run.problem.positions_deg(&s))?;
+                    tables.push(s);
+                }
+                None => self.counts_skipped.push(c),
+            }
+        }
+        self.counts_done.sort_unstable();
+        self.known.extend(tables.iter().cloned());
+        Ok(tables)
+    }
+
+    /// $J$ of every schedule at every dwell of `dwells` (in parallel over the schedules).
+    fn evaluate_grid(&mut self, dwells: Vec<f64>) -> Result<(), E2eError> {
+        self.objectives = self
+            .evaluators
+            .par_iter()
+            .map(|ev| dwells.iter().map(|&t| ev.objective(t)).collect())
+            .collect::<Result<_, _>>()?;
+        self.dwells = dwells;
+        Ok(())
+    }
+
+    /// A new dwell `t` of the grid, evaluated for every schedule (nothing if it is there).
+    fn insert_dwell(&mut self, t: f64) -> Result<(), E2eError> {
+        if let Err(at) = self.dwells.binary_search_by(|x| x.total_cmp(&t)) {
+            self.dwells.insert(at, t);
+            let column: Vec<f64> = self
+                .evaluators
+                .par_iter()
+                .map(|ev| ev.objective(t))
+                .collect::<Result<_, _>>()?;
+            for (row, j) in self.objectives.iter_mut().zip(column) {
+                row.insert(at, j);
+            }
+        }
+        Ok(())
+    }
+
+    /// The index of dwell `t` in the grid (bit for bit).
+    fn dwell_index(&self, t: f64) -> Option<usize> {
+        self.dwells.iter().position(|&x| x.to_bits() == t.to_bits())
+    }
+
+    /// The searched dwells (indices into the grid): the budget's own for the designed count,
+    /// then spread over the fixed-count design's dwells where a schedule of the designed size
+    /// leaves the table room.
+    fn searched_dwells(&self, run: &Run<'_>, fixed_dwells: &[f64]) -> Vec<usize> {
+        let same_size = self.same_size(run);
+        let open: Vec<usize> = (0..self.dwells.len())
+            .filter(|&d| {
+                fixed_dwells
+                    .iter()
+                    .any(|t| t.to_bits() == self.dwells[d].to_bits())
+                    && same_size.iter().any(|&i| self.objectives[i][d].is_finite())
+            })
+            .collect();
+        let mut searched: Vec<usize> = Vec::new();
+        if let Some(d) = run.budget_dwell(run.n).and_then(|t| self.dwell_index(t)) {
+            searched.push(d);
+        }
+        let spread = run.b.params.search_dwells.saturating_sub(searched.len());
+        for i in 0..spread {
+            if open.is_empty() {
+                break;
+            }
+            let f = if spread > 1 {
+                i as f64 / (spread - 1) as f64
+            } else {
+                0.0
+            };
+            let d = open[(f * (open.len() - 1) as f64).round() as usize];
+            if !searched.contains(&d) {
+                searched.push(d);
+            }
+        }
+        searched
+    }
+
+    /// The schedules of the designed size (indices).
+    fn same_size(&self, run: &Run<'_>) -> Vec<usize> {
+        (0..self.schedules.len())
+            .filter(|&i| self.schedules[i].1.len() == run.n)
+            .collect()
+    }
+
+    /// The noise-aware searches to run, (dwell index, start): every schedule of the designed
+    /// size that leaves the table room at a searched dwell starts one there, and every other
+    /// count's table design one at the dwell that spends the budget on it.
+    fn noise_jobs(
+        &self,
+        run: &Run<'_>,
+        searched: &[usize],
+        count_tables: &[Vec<usize>],
+    ) -> Vec<(usize, Vec<usize>)> {
+        let index_of = |positions: &[Vec<f64>]| -> Option<Vec<usize>> {
+            positions.iter().map(|p| run.problem.index_of(p)).collect()
+        };
+        let same_size = self.same_size(run);
+        let mut jobs: Vec<(usize, Vec<usize>)> = Vec::new();
+        for &d in searched {
+            for &i in &same_size {
+                if self.objectives[i][d].is_finite() {
+                    if let Some(s) = index_of(&self.schedules[i].1) {
+                        jobs.push((d, s));
+                    }
+                }
+            }
+        }
+        for s in count_tables {
+            let positions = run.problem.positions_deg(s);
+            let Some(i) = self
+                .schedules
+                .iter()
+                .position(|(_, q)| same_positions(q, &positions))
+            else {
+                continue;
+            };
+            if let Some(d) = run.budget_dwell(s.len()).and_then(|t| self.dwell_index(t)) {
+                if self.objectives[i][d].is_finite() {
+                    jobs.push((d, s.clone()));
+                }
+            }
+        }
+        jobs
+    }
+
+    /// Run `jobs` (in parallel; order kept) and add the schedules they find that are not
+    /// known, with their origin's dwell, evaluated at every dwell (in parallel).
+    fn add_noise_searches(
+        &mut self,
+        run: &Run<'a>,
+        jobs: Vec<(usize, Vec<usize>)>,
+    ) -> Result<(), E2eError> {
+        let found: Vec<(usize, Vec<Vec<usize>>)> = jobs
+            .into_par_iter()
+            .map(|(d, s)| Ok((d, run.noise_search(self.dwells[d], s)?)))
+            .collect::<Result<_, E2eError>>()?;
+        let mut new: Vec<(ScheduleOrigin, Vec<Vec<f64>>)> = Vec::new();
+        for (d, list) in found {
+            for s in list {
+                if !is_known(&self.known, &s) {
+                    self.known.push(s.clone());
+                    new.push((
+                        ScheduleOrigin::Noise(self.dwells[d]),
+                        run.problem.positions_deg(&s),
+                    ));
+                }
+            }
+        }
+        let dwells = &self.dwells;
+        let more: Vec<(Evaluator<'a>, Vec<f64>)> = new
+            .par_iter()
+            .map(|(_, s)| {
+                let ev = run.evaluator(s)?;
+                let js = dwells
+                    .iter()
+                    .map(|&t| ev.objective(t))
+                    .collect::<Result<_, E2eError>>()?;
+                Ok((ev, js))
+            })
+            .collect::<Result<_, E2eError>>()?;
+        for (s, (ev, js)) in new.into_iter().zip(more) {
+            self.schedules.push(s);
+            self.evaluators.push(ev);
+            self.objectives.push(js);
+        }
+        Ok(())
+    }
+
+    /// The refinement of the count: bisection between the best count at the budget and its
+    /// tried neighbours, at most [`BudgetParams::count_refinements`] designs; each refined
+    /// count's table design and noise-aware search run in parallel, then join in order.
+    fn refine_counts(&mut self, run: &Run<'a>) -> Result<(), E2eError> {
+        let b = run.b;
+        let n_min = fewest_proposed(run.problem, b);
+        let top = count_limit(run.problem, b, run.n, run.n_study);
+        while self.counts_refined.len() < b.params.count_refinements {
+            let mut tried: Vec<usize> = self
+                .counts_done
+                .iter()
+                .chain(&self.counts_skipped)
+                .copied()
+                .collect();
             tried.sort_unstable();
             tried.dedup();
-            let Some(best) = best_count(&schedules, &objectives, &dwells, b) else {
+            let Some(best) = best_count(&self.schedules, &self.objectives, &self.dwells, b) else {
                 break;
             };
             let below = tried.iter().rev().find(|&&c| c < best).copied();
@@ -842,94 +1134,127 @@ pub fn design_with_budget(
                 .filter(|c| !tried.contains(c) && *c >= n_min && *c <= top)
                 .collect();
             mids.dedup();
-            mids.truncate(b.params.count_refinements - counts_refined.len());
+            mids.truncate(b.params.count_refinements - self.counts_refined.len());
             if mids.is_empty() {
                 break;
             }
-            let designs: Vec<Option<Vec<usize>>> = mids
+            // each count's design and its noise-aware search at its budget dwell
+            type Refined = Option<(Vec<usize>, Vec<Vec<usize>>)>;
+            let designs: Vec<Refined> = mids
                 .par_iter()
-                .map(|&c| design_count(c))
-                .collect::<Result<_, E2eError>>()?;
+                .map(|&c| -> Result<Refined, E2eError> {
+                    let Some(sched) = run.design_count(c)? else {
+                        return Ok(None);
+                    };
+                    let searched = match run.budget_dwell(c) {
+                        Some(t) => run.noise_search(t, sched.clone())?,
+                        None => Vec::new(),
+                    };
+                    Ok(Some((sched, searched)))
+                })
+                .collect::<Result<_, _>>()?;
             for (&c, design) in mids.iter().zip(designs) {
-                counts_refined.push(c);
-                let Some(sched) = design else {
-                    counts_skipped.push(c);
+                self.counts_refined.push(c);
+                let Some((sched, searched)) = design else {
+                    self.counts_skipped.push(c);
                     continue;
                 };
-                counts_done.push(c);
+                self.counts_done.push(c);
                 // its budget dwell joins the grid, evaluated for every schedule
-                if let Some(t) = budget_dwell(b, c, lo) {
-                    if let Err(at) = dwells.binary_search_by(|x| x.total_cmp(&t)) {
-                        dwells.insert(at, t);
-                        let column: Vec<f64> = schedules
-                            .par_iter()
-                            .map(|(_, q)| evaluator(q)?.objective(t))
-                            .collect::<Result<_, _>>()?;
-                        for (row, j) in objectives.iter_mut().zip(column) {
-                            row.insert(at, j);
-                        }
-                    }
+                let t = run.budget_dwell(c);
+                if let Some(t) = t {
+                    self.insert_dwell(t)?;
                 }
-                let mut added: Vec<(ScheduleOrigin, Vec<usize>)> =
-                    vec![(ScheduleOrigin::Table, sched.clone())];
-                if let Some(t) = budget_dwell(b, c, lo) {
-                    for s in noise_search(t, sched)? {
-                        added.push((ScheduleOrigin::Noise(t), s));
-                    }
-                }
-                for (origin, s) in added {
-                    if is_known(&known, &s) {
+                let added = std::iter::once((ScheduleOrigin::Table, sched)).chain(
+                    t.into_iter().flat_map(|t| {
+                        searched
+                            .iter()
+                            .map(move |s| (ScheduleOrigin::Noise(t), s.clone()))
+                    }),
+                );
+                for (origin, s) in added.collect::<Vec<_>>() {
+                    if is_known(&self.known, &s) {
                         continue;
                     }
-                    known.push(s.clone());
-                    let positions = problem.positions_deg(&s);
-                    objectives.push(table_at(&positions, &dwells)?);
-                    schedules.push((origin, positions));
+                    self.known.push(s.clone());
+                    self.push_evaluated(run, origin, run.problem.positions_deg(&s))?;
                 }
             }
         }
-        counts_done.sort_unstable();
-        counts_skipped.sort_unstable();
+        self.counts_done.sort_unstable();
+        self.counts_skipped.sort_unstable();
+        Ok(())
     }
-    let mut points = Vec::new();
-    let fewest = fewest_proposed(problem, b);
-    for ((origin, s), js) in schedules.iter().zip(&objectives) {
+
+    /// The front over every schedule at every dwell of the grid and the study's, the table's
+    /// and the baselines' schedules at their own trade-off dwells, each front point with its
+    /// tolerance box; the choice (the front's last point within the budget).
+    fn finish(self, run: &Run<'a>) -> Result<BudgetDesign, E2eError> {
+        let b = run.b;
+        let fewest = fewest_proposed(run.problem, b);
         // fewer positions than the redundancy asks: not proposed (the study's own is kept)
-        if s.len() < fewest && *origin != ScheduleOrigin::Study {
-            continue;
-        }
-        for (&t, &j) in dwells.iter().zip(js) {
-            if j.is_finite() {
-                points.push(BudgetPoint {
-                    origin: *origin,
-                    positions_deg: s.clone(),
-                    dwell_s: t,
-                    total_s: b.test_s(s.len(), t),
-                    objective: j,
-                });
+        let proposed =
+            |o: ScheduleOrigin, s: &[Vec<f64>]| s.len() >= fewest || o == ScheduleOrigin::Study;
+        let mut points = Vec::new();
+        for ((origin, s), js) in self.schedules.iter().zip(&self.objectives) {
+            if !proposed(*origin, s) {
+                continue;
+            }
+            for (&t, &j) in self.dwells.iter().zip(js) {
+                if j.is_finite() {
+                    points.push(BudgetPoint::new(
+                        *origin,
+                        s.clone(),
+                        t,
+                        b.test_s(s.len(), t),
+                        j,
+                    ));
+                }
             }
         }
+        // the study's, the table's and the baselines' schedules also at their own trade-off
+        // dwells (the points end-to-end lists for them)
+        let listed: Vec<Vec<BudgetPoint>> = self
+            .schedules
+            .par_iter()
+            .zip(self.evaluators.par_iter())
+            .filter(|((o, s), _)| !matches!(o, ScheduleOrigin::Noise(_)) && proposed(*o, s))
+            .map(|((o, s), ev)| ev.tradeoff_points(*o, s, run.lo, &self.dwells))
+            .collect::<Result<_, _>>()?;
+        points.extend(listed.into_iter().flatten());
+        let mut pareto = pareto_front(&points);
+        // every front point's tolerance box (the allocation whose J it is)
+        pareto.par_iter_mut().try_for_each(|p| {
+            let i = self
+                .schedules
+                .iter()
+                .position(|(_, q)| q == &p.positions_deg)
+                .expect("a front point's schedule is among those evaluated");
+            if let Some(d) = self.evaluators[i].allocation(p.dwell_s)? {
+                p.tolerances_rad = d.upper_bounds_rad().to_vec();
+            }
+            Ok::<(), E2eError>(())
+        })?;
+        // the front holds the cheapest table for every total time: the last point within the
+        // budget is the choice
+        let chosen = pareto
+            .iter()
+            .take_while(|p| p.total_s <= b.budget_s)
+            .last()
+            .cloned();
+        Ok(BudgetDesign {
+            budget_s: b.budget_s,
+            k_sigma: b.k_sigma,
+            evaluated: self.schedules.len() * self.dwells.len(),
+            dwells_s: self.dwells,
+            schedules: self.schedules,
+            pareto,
+            chosen,
+            counts: self.counts_done,
+            counts_skipped: self.counts_skipped,
+            counts_refined: self.counts_refined,
+        })
     }
-    let pareto = pareto_front(&points);
-    // the front holds the cheapest table for every total time: the last point within the
-    // budget is the choice
-    let chosen = pareto
-        .iter()
-        .take_while(|p| p.total_s <= budget_s)
-        .last()
-        .cloned();
-    Ok(BudgetDesign {
-        budget_s,
-        k_sigma: b.k_sigma,
-        evaluated: schedules.len() * dwells.len(),
-        dwells_s: dwells,
-        schedules,
-        pareto,
-        chosen,
-        counts: counts_done,
-        counts_skipped,
-        counts_refined,
-    })
 }
 
 /// The count of the best point within the budget (least $J$, then the fewer positions) over

@@ -613,3 +613,172 @@ fn the_front_keeps_the_stated_redundancy_beyond_the_fewest_positions() {
         }
     }
 }
+
+/// The points `end-to-end` lists for the study's schedule (its trade-off over the dwells the
+/// budget searches, from one sample to the longest dwell): (dwell, the budget's total (end-to-end's
+/// plus the one move the budget counts before the first position), J), where a table suffices.
+fn study_tradeoff(s: &Study, problem: &DesignProblem) -> Vec<(f64, f64, f64)> {
+    let timing = s.timing.as_ref().unwrap();
+    let e2e = problem.end_to_end(&s.positions_deg).unwrap();
+    let tradeoff = e2e
+        .tradeoff(
+            &e2e.linearization(),
+            &s.lower_bounds_rad,
+            &s.noise,
+            timing,
+            DEFAULT_K_SIGMA,
+            (f64::MIN_POSITIVE, 86_400.0),
+        )
+        .unwrap();
+    tradeoff
+        .points()
+        .iter()
+        .filter_map(|p| {
+            p.objective()
+                .map(|j| (p.dwell_s(), p.total_s() + timing.move_s(), j))
+        })
+        .collect()
+}
+
+/// Checks that every point of `listed` is on `d`'s front for the study's positions (same
+/// total and J to rounding) or dominated by a front point (no longer, no costlier); the
+/// number on the front.
+fn on_front_or_dominated(s: &Study, d: &BudgetDesign, listed: &[(f64, f64, f64)]) -> usize {
+    let same_schedule = |q: &[Vec<f64>]| {
+        let key = |v: &[Vec<f64>]| {
+            let mut v = v.to_vec();
+            v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            v
+        };
+        key(q) == key(&s.positions_deg)
+    };
+    let mut on_front = 0;
+    for &(dwell, total, j) in listed {
+        let same = d.pareto().iter().find(|p| {
+            same_schedule(p.positions_deg()) && (p.dwell_s() - dwell).abs() <= SAME_PATH_REL * dwell
+        });
+        if let Some(p) = same {
+            assert_relative_eq!(p.total_s(), total, max_relative = SAME_PATH_REL);
+            assert_relative_eq!(p.objective(), j, max_relative = SAME_PATH_REL);
+            on_front += 1;
+        } else {
+            assert!(
+                d.pareto()
+                    .iter()
+                    .any(|p| p.total_s() <= total * (1.0 + SAME_PATH_REL)
+                        && p.objective() <= j * (1.0 + SAME_PATH_REL)),
+                "end-to-end's point {dwell} s ({total} s, J {j}) is neither on the front nor dominated: {:?}",
+                d.pareto()
+                    .iter()
+                    .map(|p| (p.total_s(), p.objective()))
+                    .collect::<Vec<_>>()
+            );
+        }
+    }
+    on_front
+}
+
+/// The front never misses the study's own trade-off (issue 35 item 6: it missed the study's
+/// own 24 x 12,246 s point): every point that `end-to-end` lists for the study's schedule is
+/// on the budget's front with the budget's total and end-to-end's J, or a front point
+/// dominates it. With the study's schedule alone (no other count, no noise-aware search) its
+/// first listed point, just above its shortest dwell at which a table suffices and between
+/// the grid's dwells, is the front's first (before, the front started at the next grid
+/// dwell and missed it: this test failed). The front is sorted by total time with J strictly
+/// falling and no point dominates another.
+#[test]
+fn the_front_holds_or_dominates_every_point_end_to_end_lists_for_the_study() {
+    let (s, problem, table, study) = noisy_paper();
+    let listed = study_tradeoff(&s, &problem);
+    assert!(listed.len() >= 10, "{listed:?}");
+    let study_idx = study.clone().expect("the study's positions are candidates");
+    let mut alone = budget_of(&s, 25_000.0);
+    alone.search_counts = false;
+    alone.params.fixed_point_steps = 0;
+    let d = design(&s, &problem, &study_idx, study.as_deref(), &alone).unwrap();
+    assert!(
+        on_front_or_dominated(&s, &d, &listed) >= 1,
+        "{:?}",
+        d.pareto()
+    );
+    let first = d.pareto().first().expect("a front");
+    assert_relative_eq!(first.dwell_s(), listed[0].0, max_relative = SAME_PATH_REL);
+    let b = budget_of(&s, 25_000.0);
+    let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
+    on_front_or_dominated(&s, &d, &listed);
+    for (i, p) in d.pareto().iter().enumerate() {
+        if let Some(q) = d.pareto().get(i + 1) {
+            assert!(q.total_s() > p.total_s() && q.objective() < p.objective());
+        }
+        assert!(
+            d.pareto()
+                .iter()
+                .all(|q| q == p || !(q.total_s() <= p.total_s() && q.objective() <= p.objective()))
+        );
+    }
+}
+
+/// Every front point carries its tolerance box: the direct allocation with the noise part
+/// kept free for its schedule at its dwell, per rotation error, as end-to-end allocates it
+/// (same path, so equal to rounding), and the box's J is the point's J.
+#[test]
+fn every_front_point_carries_the_tolerance_box_end_to_end_allocates() {
+    let (s, problem, table, study) = noisy_paper();
+    let b = budget_of(&s, 25_000.0);
+    let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
+    let timing = s.timing.as_ref().unwrap();
+    assert!(!d.pareto().is_empty());
+    for p in d.pareto() {
+        let e2e = problem.end_to_end(p.positions_deg()).unwrap();
+        let noise = e2e
+            .noise_budget(
+                &s.noise,
+                &Timing::uniform(
+                    p.n_positions(),
+                    p.dwell_s(),
+                    timing.move_s(),
+                    timing.sample_rate_hz(),
+                )
+                .unwrap(),
+            )
+            .unwrap();
+        let direct = e2e
+            .allocate_direct_with_noise(
+                &e2e.linearization(),
+                &s.lower_bounds_rad,
+                &noise,
+                DEFAULT_K_SIGMA,
+            )
+            .unwrap()
+            .expect("a table suffices on the front");
+        assert_eq!(p.tolerances_rad().len(), direct.upper_bounds_rad().len());
+        for (a, e) in p.tolerances_rad().iter().zip(direct.upper_bounds_rad()) {
+            assert_relative_eq!(*a, *e, max_relative = SAME_PATH_REL);
+        }
+        assert_relative_eq!(
+            e2e.objective(p.tolerances_rad()),
+            p.objective(),
+            max_relative = SAME_PATH_REL
+        );
+    }
+}
+
+/// The budget design runs its counts, searches and evaluations in parallel with every
+/// reduction in a fixed order: one thread and two give the same design, front, tolerances
+/// and choice, bit for bit.
+#[test]
+fn one_thread_and_two_give_the_same_budget_design() {
+    let (s, problem, table, study) = noisy_paper();
+    let b = budget_of(&s, 25_000.0);
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| design(&s, &problem, &table, study.as_deref(), &b).unwrap())
+    };
+    let one = on(1);
+    let two = on(2);
+    assert!(!one.pareto().is_empty());
+    assert_eq!(one, two);
+}

@@ -24,7 +24,6 @@
 
 pub mod csv;
 mod error;
-pub mod fmt;
 pub mod limits;
 mod noise;
 mod schema;

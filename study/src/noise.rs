@@ -28,13 +28,13 @@
 //! ```
 
 use crate::error::StudyError;
-use crate::fmt::{exact, num};
 use crate::limits;
 use crate::schema::in_range;
 use calib_lsq::Timing;
 use gw_model::ModelError;
 use gw_model::noise::{NoiseModel, WhiteDensity};
 use serde::Deserialize;
+use tt_core::human::{exact, num};
 
 /// `[sensor.outputs.noise]` as written.
 #[derive(Debug, Deserialize)]

@@ -1,7 +1,6 @@
 //! The study schema and its strict parser.
 
 use crate::error::StudyError;
-use crate::fmt::{exact, num};
 use crate::limits;
 use calib_lsq::{Calibration, Position, Reading, Schedule};
 use gw_model::{Output, Regressor, SensorModel, Site, Term};
@@ -10,6 +9,7 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
 use tt_core::DeltaRKind;
+use tt_core::human::{exact, num};
 use tt_core::units::{RAD_PER_ARCMIN, RAD_PER_DEG};
 use tt_kinematics::{
     ErrorVariation, FactorSpec, KinematicsError, Pose, SignedAxis, Turntable, TurntableDescription,
@@ -322,18 +322,18 @@ pub fn is_name_slug(name: &str) -> bool {
 
 /// A one-line label of a file (a unit, a turntable part's description, a tolerance sheet's
 /// name): printed in every output as it is, so no control character (ESC, BEL, CR, a line
-/// break, ...) or bidirectional override ([`crate::fmt::is_unsafe_char`]) is accepted.
+/// break, ...) or bidirectional override ([`tt_core::human::is_unsafe_char`]) is accepted.
 pub(crate) fn one_line(
     at: &dyn Fn(&str) -> String,
     key: &str,
     text: &str,
 ) -> Result<(), StudyError> {
-    if text.chars().any(crate::fmt::is_unsafe_char) {
+    if text.chars().any(tt_core::human::is_unsafe_char) {
         return Err(StudyError::new(
             at(key),
             format!(
                 "must be one line of printable text (no control character such as ESC, a tab or a line break); found \"{}\"",
-                crate::fmt::visible(text)
+                tt_core::human::visible(text)
             ),
         ));
     }
@@ -342,8 +342,8 @@ pub(crate) fn one_line(
 
 /// Why `name` is not a valid study name, showing it escaped and shortened.
 fn name_error(name: &str) -> String {
-    let shown: String = crate::fmt::visible(name).chars().take(40).collect();
-    let more = if crate::fmt::visible(name).chars().count() > 40 {
+    let shown: String = tt_core::human::visible(name).chars().take(40).collect();
+    let more = if tt_core::human::visible(name).chars().count() > 40 {
         format!("... ({} characters)", name.chars().count())
     } else {
         String::new()
@@ -357,7 +357,7 @@ fn name_error(name: &str) -> String {
 /// Read a user file (study, tolerances): a regular file of at most
 /// [`limits::MAX_FILE_BYTES`], UTF-8, a leading byte-order mark removed.
 pub(crate) fn read_text_file(path: &Path, what: &str) -> Result<String, StudyError> {
-    let shown = crate::fmt::visible(&path.display().to_string()).into_owned();
+    let shown = tt_core::human::visible(&path.display().to_string()).into_owned();
     let meta = std::fs::metadata(path)
         .map_err(|e| StudyError::new(&shown, format!("cannot read {what}: {e}")))?;
     if !meta.is_file() {
@@ -489,7 +489,7 @@ impl Study {
     /// A [`StudyError`] naming the file (and key) for any problem.
     pub fn load(path: &Path) -> Result<Self, StudyError> {
         let text = read_text_file(path, "study file")?;
-        Self::parse(&crate::fmt::visible(&path.display().to_string()), &text)
+        Self::parse(&tt_core::human::visible(&path.display().to_string()), &text)
     }
 
     /// Parse and validate study text; `source` names it in errors and reports.
@@ -959,7 +959,7 @@ fn parse_measured(
                 at(&key("error")),
                 format!(
                     "`{}` is not an angular error of the turntable ({})",
-                    crate::fmt::visible(&m.error),
+                    tt_core::human::visible(&m.error),
                     turntable.rotation_error_names().join(", ")
                 ),
             ));
@@ -1141,7 +1141,7 @@ fn parse_variations(
                     at(&key("varies")),
                     format!(
                         "must be \"constant\", \"harmonics\" or \"any\", found \"{}\"",
-                        crate::fmt::visible(other)
+                        tt_core::human::visible(other)
                     ),
                 ));
             }

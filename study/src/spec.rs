@@ -32,10 +32,10 @@
 //! scale factor: ppm, %; misalignment: arcsec, urad, mrad; g-sensitivity: deg_per_h_per_g).
 
 use crate::error::StudyError;
-use crate::fmt::{exact, visible};
 use gw_model::SensorModel;
 use gw_model::spec::{Quantity, Specification};
 use serde::Deserialize;
+use tt_core::human::{exact, visible};
 
 /// `[uncertainty]` as written.
 #[derive(Debug, Deserialize)]

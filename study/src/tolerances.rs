@@ -15,7 +15,6 @@
 
 use crate::Study;
 use crate::error::StudyError;
-use crate::fmt::{exact, num};
 use crate::limits;
 use crate::schema::{in_range, one_line, read_text_file, toml_error};
 use e2e_verify::E2eError;
@@ -23,6 +22,7 @@ use e2e_verify::sheet::{MeasuredError, SheetEntries, ToleranceSheet};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
+use tt_core::human::{exact, num};
 use tt_core::units::RAD_PER_ARCMIN;
 use tt_kinematics::Turntable;
 
@@ -97,7 +97,7 @@ impl ValueConvention {
                 at(key),
                 format!(
                     "must be \"bound\", \"one-sigma\" or \"peak-to-peak\", found \"{}\"",
-                    crate::fmt::visible(other)
+                    tt_core::human::visible(other)
                 ),
             )),
         }
@@ -179,7 +179,7 @@ impl Tolerances {
         // named in messages and outputs as one visible line (a line feed in the name cannot
         // forge a line)
         Self::parse(
-            &crate::fmt::visible(&path.display().to_string()),
+            &tt_core::human::visible(&path.display().to_string()),
             &text,
             turntable,
         )
@@ -384,7 +384,7 @@ impl SheetReader<'_> {
                 self.at(&jkey),
                 format!(
                     "the sheet gives quantities of axis `{}`, which the study's turntable does not have (joints: {})",
-                    crate::fmt::visible(joint),
+                    tt_core::human::visible(joint),
                     turntable.joint_names().join(", ")
                 ),
             ));
@@ -481,7 +481,7 @@ impl SheetReader<'_> {
                     at(&ekey),
                     format!(
                         "`{}` is not an angular error of the study's turntable",
-                        crate::fmt::visible(e)
+                        tt_core::human::visible(e)
                     ),
                 ));
             };
@@ -630,7 +630,7 @@ impl SheetReader<'_> {
                     at(&ekey),
                     format!(
                         "`{}` is not a translation error of the study's turntable",
-                        crate::fmt::visible(e)
+                        tt_core::human::visible(e)
                     ),
                 ));
             };
@@ -780,7 +780,7 @@ fn bound_words(s: &Study, plain: bool, path: &str, j: usize, ub_rad: f64) -> Str
     format!(
         "{key} = {} arcmin of {}",
         num(tt_core::units::rad_to_arcmin(ub_rad)),
-        crate::fmt::visible(path)
+        tt_core::human::visible(path)
     )
 }
 

@@ -583,7 +583,7 @@ fn study_name_is_a_file_name_safe_slug_checked_at_parse_time() {
         assert!(e.contains("s.toml: key `name`"), "{b}: {e}");
         assert!(e.contains("file-name-safe"), "{b}: {e}");
         assert!(
-            !e.chars().any(study::fmt::is_unsafe_char),
+            !e.chars().any(tt_core::human::is_unsafe_char),
             "{b}: the message carries a raw control character: {e:?}"
         );
         assert!(e.len() < 400, "{b}: the value is shortened: {e}");
@@ -640,7 +640,7 @@ fn one_line_labels_refuse_control_characters_naming_the_key() {
         let e = err(&replace(from, to));
         assert!(e.contains(&format!("s.toml: key `{key}`")), "{e}");
         assert!(e.contains(shown), "{e}");
-        assert!(!e.chars().any(study::fmt::is_unsafe_char), "{e:?}");
+        assert!(!e.chars().any(tt_core::human::is_unsafe_char), "{e:?}");
     }
     let s = Study::parse(
         "s.toml",

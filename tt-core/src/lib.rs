@@ -13,7 +13,9 @@
 //! - [`Pose`]: commanded joint angles, radians;
 //! - [`FieldError`] with its checks ([`finite`], [`positive`], [`non_negative`], [`length`],
 //!   [`in_range`], [`count`]) and [`ErrorClass`]: every library error says whether it is the
-//!   caller's input (naming the field) or internal.
+//!   caller's input (naming the field) or internal;
+//! - [`human`]: numbers and text for people (significant digits, exact round-trip digits,
+//!   text from a file made safe to show), the one formatting every crate's output uses.
 //!
 //! Radians, rad/s and g inside; degrees and arcminutes only in names that say so.
 //!
@@ -25,6 +27,7 @@
 
 mod axis;
 mod error;
+pub mod human;
 mod orientation;
 mod pose;
 mod requirement;

@@ -13,7 +13,7 @@ use e2e_verify::budget::PlanVerdict;
 pub use e2e_verify::budget_mc::{MC_RULE, SpecificationMonteCarlo};
 use metrology::montecarlo::McSettings;
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 
 /// The default trial limit of a run: at about $10^5$ trials/s on two cores a run that does
 /// not stabilize stops within minutes and says so.

@@ -23,7 +23,7 @@ use e2e_verify::{
 use std::collections::BTreeMap;
 use std::time::Instant;
 use study::Study;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 use tt_core::units::objective_to_arcmin;
 
 /// The answer with the noise part: per reading (the order of the answer's readings) every
@@ -1211,7 +1211,7 @@ pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
             "0 = at or below the computation's precision ({})",
             zeroed
                 .iter()
-                .map(|(n, u, p)| format!("{n} {} {u}", study::fmt::sig(*p, 2)))
+                .map(|(n, u, p)| format!("{n} {} {u}", tt_core::human::sig(*p, 2)))
                 .collect::<Vec<_>>()
                 .join(", ")
         )

@@ -135,8 +135,8 @@ pub fn lower_above_upper(
         format!("{study_path}: key `{LOWER_BOUNDS_KEY}.{component}`"),
         format!(
             "the lower bound {} arcmin exceeds the upper bound {} arcmin of {what}: lower it or widen the box",
-            study::fmt::num(rad_to_arcmin(lb_rad)),
-            study::fmt::num(rad_to_arcmin(ub_rad))
+            tt_core::human::num(rad_to_arcmin(lb_rad)),
+            tt_core::human::num(rad_to_arcmin(ub_rad))
         ),
     )
 }
@@ -160,7 +160,7 @@ pub fn infeasible_lower_bounds(
                 .iter()
                 .position(|n| n == c)
                 .map_or(f64::NAN, |j| lower_bounds_rad[j]);
-            format!("{c} = {} arcmin", study::fmt::num(rad_to_arcmin(lb)))
+            format!("{c} = {} arcmin", tt_core::human::num(rad_to_arcmin(lb)))
         })
         .collect();
     InputError::new(
@@ -168,8 +168,8 @@ pub fn infeasible_lower_bounds(
         format!(
             "the lower bounds {} alone give a worst-case {angle} error of {} deg, above the requirement {} deg: no tolerance can meet it; lower them or loosen the requirement",
             listed.join(", "),
-            study::fmt::num(worst_rad.to_degrees()),
-            study::fmt::num(requirement_rad.to_degrees())
+            tt_core::human::num(worst_rad.to_degrees()),
+            tt_core::human::num(requirement_rad.to_degrees())
         ),
     )
 }
@@ -240,7 +240,7 @@ fn in_user_units(e: &dyn Any, s: &Study, box_name: &str) -> Option<InputError> {
                 Some(lower_above_upper(&s.path, component, *lb, *ub, &what))
             }
             E2eError::GridTooLarge { step_deg, .. } => Some(InputError::new(
-                format!("--step-deg {}", study::fmt::exact(*step_deg)),
+                format!("--step-deg {}", tt_core::human::exact(*step_deg)),
                 e.to_string(),
             )),
             _ => None,

@@ -180,7 +180,7 @@ fn compute_angle(s: &Study, e2e: EndToEnd, ub_rad: Option<&[f64]>) -> Result<Est
                 &est,
                 JOINT_ITERATIONS,
             )?[o.output()];
-            Ok((o.exact_at_worst(), joint))
+            Ok((o.exact_at_vertex(), joint))
         })
         .collect::<Result<Vec<_>, e2e_verify::E2eError>>()
         .map_err(lib)?;

@@ -2,7 +2,7 @@
 //! rotation to first order, so no output can tell them apart): the one sentence every command
 //! and the report print per group (the JSON `groups` key: [`crate::json::GroupJson`]).
 
-use study::fmt::sig;
+use tt_core::human::sig;
 use tt_core::units::rad_to_arcmin;
 use tt_kinematics::{ErrorGroup, Turntable};
 

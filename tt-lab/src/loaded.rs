@@ -23,7 +23,7 @@ pub fn load(given: Option<&Path>) -> Result<Study, InputError> {
         || paths::PAPER_STUDY.to_string(),
         |p| p.display().to_string(),
     );
-    let text_path = study::fmt::visible(&shown).into_owned();
+    let text_path = tt_core::human::visible(&shown).into_owned();
     let mut s = match paths::study_source(given) {
         paths::StudySource::File(path) => Study::load(&path).map_err(|e| {
             // name the file as the user gave it (or the workspace-relative default)
@@ -132,14 +132,14 @@ fn requirement_of(s: &Study) -> Result<StudyRequirement> {
                             } => format!(
                                 "{} {} deg given vs {} deg computed ({:+.2}%)",
                                 axis.name(),
-                                study::fmt::num(g.to_degrees()),
-                                study::fmt::num(v.to_degrees()),
+                                tt_core::human::num(g.to_degrees()),
+                                tt_core::human::num(v.to_degrees()),
                                 100.0 * (g / v - 1.0)
                             ),
                             AxisDisagreement::NoneComputed { axis, given_rad: g } => format!(
                                 "{} {} deg given, none computed (no output constrains it)",
                                 axis.name(),
-                                study::fmt::num(g.to_degrees())
+                                tt_core::human::num(g.to_degrees())
                             ),
                         })
                         .collect();

@@ -14,7 +14,7 @@ pub use crate::records::MAX_LINE_BYTES;
 use crate::records::for_each_record;
 use allan::{AllanError, Analysis, FLICKER_FLOOR_FACTOR, Settings, StreamingAllan, Taus, Term};
 use std::io::Read;
-use study::fmt::sig;
+use tt_core::human::sig;
 
 /// How to analyse the log.
 #[derive(Debug, Clone, PartialEq)]
@@ -475,14 +475,14 @@ fn gauss_markov_refusal(g: &allan::GaussMarkovFit, flicker: Term, b: f64) -> Opt
         Some(format!(
             "bias_correlation_s = {} s is outside the study's limit ({}, {}] s",
             sig(tc.value(), 6),
-            study::fmt::num(tc_lo),
-            study::fmt::num(tc_hi)
+            tt_core::human::num(tc_lo),
+            tt_core::human::num(tc_hi)
         ))
     } else if b > noise_max {
         Some(format!(
             "bias_instability = {} is above the study's limit {}",
             sig(b, 6),
-            study::fmt::num(noise_max)
+            tt_core::human::num(noise_max)
         ))
     } else if flicker.value() > 0.0 && g.rss() >= g.power_rss() {
         Some(format!(
@@ -508,7 +508,7 @@ pub fn noise_block(a: &Analysis) -> NoiseBlock {
     let noise_max = study::limits::NOISE_MAX;
     let mut written = Vec::new();
     let mut not_written = Vec::new();
-    let above = || format!("above the study's limit {}", study::fmt::num(noise_max));
+    let above = || format!("above the study's limit {}", tt_core::human::num(noise_max));
     let gm = f.gauss_markov();
     let flicker = f.flicker_term();
     // the Gauss-Markov bias, when its correlation time is resolved and inside the limits and

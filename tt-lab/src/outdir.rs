@@ -126,13 +126,13 @@ fn manifest_entries(text: &str) -> Result<Vec<(String, String)>, String> {
             .ok_or_else(|| {
                 format!(
                     "has the line `{}`, which is not `<sha256>  <name of a file this program writes>`",
-                    ::study::fmt::visible(line)
+                    ::tt_core::human::visible(line)
                 )
             })?;
         if entries.iter().any(|(m, _)| m == n) {
             return Err(format!(
                 "lists {} twice (this program lists each file once)",
-                ::study::fmt::visible(n)
+                ::tt_core::human::visible(n)
             ));
         }
         entries.push((n.to_string(), h.to_string()));
@@ -151,7 +151,7 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 fn tag(name: &std::ffi::OsStr) -> String {
     use std::os::unix::ffi::OsStrExt;
     match name.to_str() {
-        Some(s) if s.len() <= MAX_TAG_BYTES && !s.chars().any(::study::fmt::is_unsafe_char) => {
+        Some(s) if s.len() <= MAX_TAG_BYTES && !s.chars().any(::tt_core::human::is_unsafe_char) => {
             s.to_string()
         }
         _ => format!("~{:016x}", fnv1a(name.as_bytes())),
@@ -182,7 +182,7 @@ fn contents(dir: &Path) -> std::io::Result<Contents> {
         let Some(name) = name.to_str().map(str::to_string) else {
             return Ok(Contents::Foreign(format!(
                 "it holds {}, a name this program never writes",
-                ::study::fmt::visible(&name.to_string_lossy())
+                ::tt_core::human::visible(&name.to_string_lossy())
             )));
         };
         entries.push((name, e.file_type()?));
@@ -194,7 +194,7 @@ fn contents(dir: &Path) -> std::io::Result<Contents> {
         let mut some: Vec<String> = names
             .iter()
             .take(3)
-            .map(|n| ::study::fmt::visible(n).into_owned())
+            .map(|n| ::tt_core::human::visible(n).into_owned())
             .collect();
         if names.len() > 3 {
             some.push("...".into());
@@ -264,7 +264,7 @@ fn contents(dir: &Path) -> std::io::Result<Contents> {
         if want != Some(&file_sha256(&dir.join(name))?) {
             return Ok(Contents::Foreign(format!(
                 "{} is listed in its {MANIFEST} but its content is not what this program wrote there (changed since, or not ours)",
-                ::study::fmt::visible(name)
+                ::tt_core::human::visible(name)
             )));
         }
     }
@@ -889,7 +889,7 @@ fn build_and_swap(t: &Target, tmp: &Path, files: &[(String, Vec<u8>)]) -> Result
     if let Err(why) = cleanup {
         eprintln!(
             "warning: {}",
-            ::study::fmt::terminal(&format!(
+            ::tt_core::human::terminal(&format!(
                 "the new report is in {}; the previous one, moved to {}, was not removed: {why}",
                 t.shown,
                 visible(&old)

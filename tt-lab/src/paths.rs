@@ -69,11 +69,11 @@ pub fn study_source(given: Option<&Path>) -> StudySource {
 }
 
 /// A path as a message or the terminal shows it: as given, every character of
-/// [`study::fmt::is_unsafe_char`] (a line feed too) escaped by [`study::fmt::visible`], so that
+/// [`tt_core::human::is_unsafe_char`] (a line feed too) escaped by [`tt_core::human::visible`], so that
 /// a path always prints as one visible line.
 #[must_use]
 pub fn visible(p: &Path) -> String {
-    study::fmt::visible(&p.display().to_string()).into_owned()
+    tt_core::human::visible(&p.display().to_string()).into_owned()
 }
 
 /// `s` as one word of a POSIX shell command line, to copy and paste: as is when it holds only
@@ -86,13 +86,13 @@ pub fn shell_quote(s: &str) -> String {
     if !s.is_empty() && s.chars().all(safe) {
         return s.to_string();
     }
-    if s.chars().any(study::fmt::is_unsafe_char) {
+    if s.chars().any(tt_core::human::is_unsafe_char) {
         let mut out = String::from("$'");
         for c in s.chars() {
             match c {
                 '\\' => out.push_str("\\\\"),
                 '\'' => out.push_str("\\'"),
-                c if study::fmt::is_unsafe_char(c) => {
+                c if tt_core::human::is_unsafe_char(c) => {
                     out.push_str(&format!("\\U{:08x}", u32::from(c)));
                 }
                 c => out.push(c),

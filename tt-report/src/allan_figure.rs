@@ -8,7 +8,7 @@ use allan::{AllanPoint, FLICKER_FLOOR_FACTOR};
 use plotters::coord::Shift;
 use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::prelude::*;
-use study::fmt::sig;
+use tt_core::human::sig;
 use tt_lab::InputError;
 use tt_lab::noise_log::{NoiseLog, numbers};
 

@@ -43,6 +43,8 @@ pub struct Options {
     pub designed: Option<Study>,
     /// A processed recording (its section).
     pub run: Option<crate::ProcessedRun>,
+    /// The JCGM 101 Monte Carlo's options (`None`: not run).
+    pub jcgm101: Option<tt_lab::budget_mc::Options>,
 }
 
 /// One output's orientation-error plane: the data of the surfaces, lines and cuts.
@@ -164,6 +166,9 @@ pub struct Computed {
     /// direct allocation's box under the study's reading, as `end-to-end` states it, with the
     /// tolerances it was evaluated at (rad); `None` without specifications.
     pub decision: Option<(Vec<f64>, e2e_verify::budget::PlanVerdict)>,
+    /// The JCGM 101 Monte Carlo of the same specifications over the same tolerances
+    /// (`report --jcgm101`; `None` without it or without specifications).
+    pub jcgm101: Option<tt_lab::budget_mc::Jcgm101>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -411,15 +416,113 @@ fn check_designed(s: &Study, d: &Study) -> Result<(), InputError> {
     }
 }
 
+/// What every part of the report starts from: the study's requirement, the end-to-end
+/// simulator and its inputs, the two-step allocation's problem (`None` without a static
+/// requirement) and the Monte Carlo histogram's bins.
+struct Setup {
+    requirement: StudyRequirement,
+    problem: RequirementProblem,
+    e2e: EndToEnd,
+    inputs: e2e_verify::EndToEndInputs,
+    alloc_problem: Option<AllocationProblem>,
+    bins: usize,
+}
+
+/// The left branch's results: the two-step allocation, the end-to-end answer, the vendor
+/// check, Table 4's Monte Carlo (the paper) and the noise part.
+type Left = (
+    Option<TwoStep>,
+    BuyersAnswer,
+    Option<(ToleranceSheet, TurntableCheck)>,
+    Option<(MonteCarlo, McResult)>,
+    Option<tt_lab::end_to_end::NoisyAnswer>,
+);
+
+/// The right branch's results: equal effects, the readings' requirements, the planes, the
+/// average sensitivities and the designed schedule's facts.
+type Right = (
+    Option<Allocation>,
+    Vec<(
+        Reading,
+        std::result::Result<OrientationRequirement, CalibError>,
+    )>,
+    Vec<OutputPlane>,
+    Vec<[f64; 3]>,
+    Option<[ScheduleFacts; 2]>,
+);
+
+/// The answers computed after both branches (each needs the end-to-end answer or none).
+struct Later {
+    vendor_noise: Option<tt_lab::vendor::NoisyCheck>,
+    vendor_rate: Option<tt_lab::vendor::rate::RateCheck>,
+    rate_alloc: Option<tt_lab::vendor::rate::RateAllocated>,
+    estimable: Option<tt_lab::estimable::Estimable>,
+    angle_alloc: Option<tt_lab::allocation::angle::AngleAllocations>,
+    disc_alloc: Option<Vec<(EndToEnd, tt_lab::vendor::angle::DiscAllocation)>>,
+    decision: Option<(Vec<f64>, e2e_verify::budget::PlanVerdict)>,
+    jcgm101: Option<tt_lab::budget_mc::Jcgm101>,
+}
+
 /// Compute the report of `study`.
 ///
 /// # Errors
 /// [`InputError`]s for inputs the libraries reject (exit 2), other errors when a solver
 /// fails.
-#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
 pub fn compute(study: Study, options: Options) -> Result<Computed> {
     let started = Instant::now();
     let s = &study;
+    let setup = setup(s, &options)?;
+    // Two independent branches on the two cores: (two-step, its Monte Carlo, the end-to-end
+    // answer that reuses it, the vendor check) and (equal effects, surfaces, readings,
+    // sensitivities, the designed schedule).
+    let (left, right): (Result<Left>, Result<Right>) = rayon::join(
+        || left_branch(s, &options, &setup),
+        || right_branch(s, &options, &setup),
+    );
+    let (two_step, answer, vendor, table4, noise) = left?;
+    let (equal, readings, planes, sensitivity, designed) = right?;
+    let paper = paper_extras(
+        s,
+        &setup,
+        table4,
+        two_step.as_ref(),
+        equal.as_ref(),
+        &answer,
+    )?;
+    let later = later(s, &options, &setup, &answer, vendor.as_ref(), started)?;
+    let Setup {
+        requirement, e2e, ..
+    } = setup;
+    Ok(Computed {
+        jcgm101: later.jcgm101,
+        decision: later.decision,
+        disc_alloc: later.disc_alloc,
+        estimable: later.estimable,
+        angle_alloc: later.angle_alloc,
+        noise,
+        vendor_noise: later.vendor_noise,
+        vendor_rate: later.vendor_rate,
+        rate_alloc: later.rate_alloc,
+        study,
+        options,
+        requirement,
+        readings,
+        planes,
+        sensitivity,
+        two_step,
+        equal,
+        e2e,
+        answer,
+        vendor,
+        designed,
+        paper,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The designed study checked, the requirement, the simulator and its inputs, the two-step
+/// allocation's problem.
+fn setup(s: &Study, options: &Options) -> Result<Setup> {
     if let Some(d) = &options.designed {
         check_designed(s, d)?;
     }
@@ -463,221 +566,246 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     };
     let bins = ((options.samples as f64).sqrt().round() as usize)
         .clamp(10, mc_verify::DEFAULT_HISTOGRAM_BINS);
-    let mc_config = |ub: &[f64]| -> Result<MonteCarlo> {
-        let lb = &s.lower_bounds_rad;
-        let ub: Vec<f64> = ub
-            .iter()
-            .zip(lb)
-            .map(|(u, l)| if u.is_finite() { *u } else { *l })
-            .collect();
-        let b = ErrorBox::new(&s.turntable, lb.clone(), ub)
-            .map_err(|e| tt_lab::error::library(e, s))?;
-        let mut cfg = McConfig::new(
-            options.samples,
-            options.seed,
-            requirement.used.unwrap_or_else(tt_core::Requirement::none),
-        );
-        cfg.histogram_bins = bins;
-        MonteCarlo::new(&s.turntable, b, cfg)
-            .map_err(|e| Error::from(tt_lab::error::library_at(e, s, "--samples")))
-    };
+    Ok(Setup {
+        requirement,
+        problem,
+        e2e,
+        inputs,
+        alloc_problem,
+        bins,
+    })
+}
 
-    // Two independent branches on the two cores: (two-step, its Monte Carlo, the end-to-end
-    // answer that reuses it, the vendor check) and (equal effects, surfaces, readings,
-    // sensitivities, the designed schedule).
-    type Left = (
-        Option<TwoStep>,
-        BuyersAnswer,
-        Option<(ToleranceSheet, TurntableCheck)>,
-        Option<(MonteCarlo, McResult)>,
-        Option<tt_lab::end_to_end::NoisyAnswer>,
+/// The Monte Carlo of the box `ub` (rad; an unbounded error held at its lower bound) with the
+/// study's requirement.
+fn mc_config(s: &Study, options: &Options, setup: &Setup, ub: &[f64]) -> Result<MonteCarlo> {
+    let lb = &s.lower_bounds_rad;
+    let ub: Vec<f64> = ub
+        .iter()
+        .zip(lb)
+        .map(|(u, l)| if u.is_finite() { *u } else { *l })
+        .collect();
+    let b =
+        ErrorBox::new(&s.turntable, lb.clone(), ub).map_err(|e| tt_lab::error::library(e, s))?;
+    let mut cfg = McConfig::new(
+        options.samples,
+        options.seed,
+        setup
+            .requirement
+            .used
+            .unwrap_or_else(tt_core::Requirement::none),
     );
-    type Right = (
-        Option<Allocation>,
-        Vec<(
-            Reading,
-            std::result::Result<OrientationRequirement, CalibError>,
-        )>,
-        Vec<OutputPlane>,
-        Vec<[f64; 3]>,
-        Option<[ScheduleFacts; 2]>,
-    );
-    let (left, right): (Result<Left>, Result<Right>) = rayon::join(
-        || {
-            let t0 = Instant::now();
-            // the two-step allocation beside the end-to-end allocations that do not need it
-            let (ours, allocations) = rayon::join(
-                || -> Result<Option<Allocation>> {
-                    let ours = match &alloc_problem {
-                        Some(p) => Some(
-                            SensitivityWeighted::general()
-                                .allocate(p)
-                                .map_err(|e| tt_lab::error::library(e, s))?,
-                        ),
-                        None => None,
-                    };
-                    timing("two-step allocation", t0);
-                    Ok(ours)
-                },
-                || {
-                    let a = e2e_verify::answer_allocations(&e2e, &inputs)
-                        .map_err(|e| tt_lab::error::library(e, s));
-                    timing("end-to-end allocations", t0);
-                    a
-                },
-            );
-            let ours = ours?;
-            // after the allocation: its Monte Carlo (and the exact-chain check) beside the
-            // end-to-end answer that reuses it
-            let (mc, rest) = rayon::join(
-                || -> Result<Option<(Vec<alloc_opt::ExactAxisCheck>, MonteCarlo, McResult)>> {
-                    match (&alloc_problem, &ours) {
-                        (Some(p), Some(a)) => {
-                            let exact = exact_chain_check(p, a)
-                                .map_err(|e| tt_lab::error::library(e, s))?;
-                            let monte_carlo = mc_config(a.upper_bounds_rad())?;
-                            let result = monte_carlo.run();
-                            timing("two-step Monte Carlo", t0);
-                            Ok(Some((exact.to_vec(), monte_carlo, result)))
-                        }
-                        _ => Ok(None),
-                    }
-                },
-                || -> Result<AnswerPart> {
-                    let answer = allocations?
-                        .answer(ours.clone())
-                        .map_err(|e| tt_lab::error::library(e, s))?;
-                    timing("end-to-end answer", t0);
-                    // the noise part (it needs the answer) beside the vendor check and Table 4
-                    let (noise, rest) = rayon::join(
-                        || {
-                            let noise = tt_lab::end_to_end::noisy_answer(
-                                s,
-                                &e2e,
-                                &answer,
-                                e2e_verify::DEFAULT_K_SIGMA,
-                            )
-                            .map_err(crate::Error::from);
-                            timing("noise and test time", t0);
-                            noise
-                        },
-                        || -> Result<_> {
-                            let vendor = match &options.tolerances {
-                                Some(tol) => {
-                                    let settings =
-                                        e2e_verify::McSettings::new(options.samples, options.seed);
-                                    let c = e2e
-                                        .check_sheet(tol, &settings)
-                                        .map_err(|e| tt_lab::error::library(e, s))?;
-                                    Some((tol.clone(), c))
-                                }
-                                None => None,
-                            };
-                            let table4 = if options.paper {
-                                let mc = mc_config(&alloc_opt::paper::table4_rad())?;
-                                let r = mc.run();
-                                Some((mc, r))
-                            } else {
-                                None
-                            };
-                            Ok((vendor, table4))
-                        },
-                    );
-                    let (vendor, table4) = rest?;
-                    Ok((answer, vendor, table4, noise?))
-                },
-            );
-            let (answer, vendor, table4, noise) = rest?;
-            let two_step = match (ours, &alloc_problem, mc?) {
-                (Some(ours), Some(p), Some((exact, monte_carlo, result))) => Some(TwoStep {
-                    problem: p.clone(),
-                    ours,
-                    exact,
-                    monte_carlo,
-                    result,
-                }),
-                _ => None,
-            };
-            Ok((two_step, answer, vendor, table4, noise))
-        },
-        || {
-            let t0 = Instant::now();
-            // equal effects where its worst case is exact and cheap (at most one free joint;
-            // a searched certificate takes seconds), and always for the paper
-            let equal = match &alloc_problem {
-                Some(p) if options.paper || s.turntable.free_joints().len() <= 1 => Some(
-                    EqualEffects
+    cfg.histogram_bins = setup.bins;
+    MonteCarlo::new(&s.turntable, b, cfg)
+        .map_err(|e| Error::from(tt_lab::error::library_at(e, s, "--samples")))
+}
+
+/// The two-step allocation, its Monte Carlo (and the exact-chain check) beside the end-to-end
+/// answer that reuses it, the vendor check, Table 4 and the noise part.
+fn left_branch(s: &Study, options: &Options, setup: &Setup) -> Result<Left> {
+    let t0 = Instant::now();
+    // the two-step allocation beside the end-to-end allocations that do not need it
+    let (ours, allocations) = rayon::join(
+        || -> Result<Option<Allocation>> {
+            let ours = match &setup.alloc_problem {
+                Some(p) => Some(
+                    SensitivityWeighted::general()
                         .allocate(p)
                         .map_err(|e| tt_lab::error::library(e, s))?,
                 ),
-                _ => None,
-            };
-            timing("equal effects", t0);
-            // the other readings' requirements are independent: computed in parallel, kept
-            // in this order
-            let mut readings = vec![(s.reading, requirement.computed.clone())];
-            let others: Vec<Reading> = [Reading::PAPER, Reading::USER, Reading::AS_PRINTED]
-                .into_iter()
-                .filter(|r| *r != s.reading)
-                .collect();
-            readings.par_extend(others.into_par_iter().map(|r| {
-                (
-                    r,
-                    RequirementProblem {
-                        reading: r,
-                        ..problem.clone()
-                    }
-                    .requirement(),
-                )
-            }));
-            timing("readings", t0);
-            let planes = planes(s, &problem, requirement.computed.as_ref().ok())?;
-            timing("planes", t0);
-            let avg = LinearModel::new(&s.turntable).average_abs_coefficients();
-            let sensitivity = (0..avg.ncols())
-                .map(|i| [avg[(0, i)], avg[(1, i)], avg[(2, i)]])
-                .collect();
-            let designed = match &options.designed {
-                Some(d) => Some([schedule_facts(s)?, schedule_facts(d)?]),
                 None => None,
             };
-            Ok((equal, readings, planes, sensitivity, designed))
+            timing("two-step allocation", t0);
+            Ok(ours)
+        },
+        || {
+            let a = e2e_verify::answer_allocations(&setup.e2e, &setup.inputs)
+                .map_err(|e| tt_lab::error::library(e, s));
+            timing("end-to-end allocations", t0);
+            a
         },
     );
-    let (two_step, answer, vendor, table4, noise) = left?;
-    let (equal, readings, planes, sensitivity, designed) = right?;
-    let paper = match (table4, &two_step, &equal, &alloc_problem) {
+    let ours = ours?;
+    // after the allocation: its Monte Carlo (and the exact-chain check) beside the
+    // end-to-end answer that reuses it
+    let (mc, rest) = rayon::join(
+        || -> Result<Option<(Vec<alloc_opt::ExactAxisCheck>, MonteCarlo, McResult)>> {
+            match (&setup.alloc_problem, &ours) {
+                (Some(p), Some(a)) => {
+                    let exact =
+                        exact_chain_check(p, a).map_err(|e| tt_lab::error::library(e, s))?;
+                    let monte_carlo = mc_config(s, options, setup, a.upper_bounds_rad())?;
+                    let result = monte_carlo.run();
+                    timing("two-step Monte Carlo", t0);
+                    Ok(Some((exact.to_vec(), monte_carlo, result)))
+                }
+                _ => Ok(None),
+            }
+        },
+        || -> Result<AnswerPart> {
+            let answer = allocations?
+                .answer(ours.clone())
+                .map_err(|e| tt_lab::error::library(e, s))?;
+            timing("end-to-end answer", t0);
+            answer_part(s, options, setup, answer, t0)
+        },
+    );
+    let (answer, vendor, table4, noise) = rest?;
+    let two_step = match (ours, &setup.alloc_problem, mc?) {
+        (Some(ours), Some(p), Some((exact, monte_carlo, result))) => Some(TwoStep {
+            problem: p.clone(),
+            ours,
+            exact,
+            monte_carlo,
+            result,
+        }),
+        _ => None,
+    };
+    Ok((two_step, answer, vendor, table4, noise))
+}
+
+/// After the end-to-end answer: the noise part (it needs the answer) beside the vendor check
+/// and Table 4.
+fn answer_part(
+    s: &Study,
+    options: &Options,
+    setup: &Setup,
+    answer: BuyersAnswer,
+    t0: Instant,
+) -> Result<AnswerPart> {
+    let e2e = &setup.e2e;
+    let (noise, rest) = rayon::join(
+        || {
+            let noise =
+                tt_lab::end_to_end::noisy_answer(s, e2e, &answer, e2e_verify::DEFAULT_K_SIGMA)
+                    .map_err(crate::Error::from);
+            timing("noise and test time", t0);
+            noise
+        },
+        || -> Result<_> {
+            let vendor = match &options.tolerances {
+                Some(tol) => {
+                    let settings = e2e_verify::McSettings::new(options.samples, options.seed);
+                    let c = e2e
+                        .check_sheet(tol, &settings)
+                        .map_err(|e| tt_lab::error::library(e, s))?;
+                    Some((tol.clone(), c))
+                }
+                None => None,
+            };
+            let table4 = if options.paper {
+                let mc = mc_config(s, options, setup, &alloc_opt::paper::table4_rad())?;
+                let r = mc.run();
+                Some((mc, r))
+            } else {
+                None
+            };
+            Ok((vendor, table4))
+        },
+    );
+    let (vendor, table4) = rest?;
+    Ok((answer, vendor, table4, noise?))
+}
+
+/// Equal effects, the readings' requirements, the planes, the average sensitivities and the
+/// designed schedule's facts.
+fn right_branch(s: &Study, options: &Options, setup: &Setup) -> Result<Right> {
+    let t0 = Instant::now();
+    // equal effects where its worst case is exact and cheap (at most one free joint;
+    // a searched certificate takes seconds), and always for the paper
+    let equal = match &setup.alloc_problem {
+        Some(p) if options.paper || s.turntable.free_joints().len() <= 1 => Some(
+            EqualEffects
+                .allocate(p)
+                .map_err(|e| tt_lab::error::library(e, s))?,
+        ),
+        _ => None,
+    };
+    timing("equal effects", t0);
+    // the other readings' requirements are independent: computed in parallel, kept
+    // in this order
+    let mut readings = vec![(s.reading, setup.requirement.computed.clone())];
+    let others: Vec<Reading> = [Reading::PAPER, Reading::USER, Reading::AS_PRINTED]
+        .into_iter()
+        .filter(|r| *r != s.reading)
+        .collect();
+    readings.par_extend(others.into_par_iter().map(|r| {
+        (
+            r,
+            RequirementProblem {
+                reading: r,
+                ..setup.problem.clone()
+            }
+            .requirement(),
+        )
+    }));
+    timing("readings", t0);
+    let planes = planes(s, &setup.problem, setup.requirement.computed.as_ref().ok())?;
+    timing("planes", t0);
+    let avg = LinearModel::new(&s.turntable).average_abs_coefficients();
+    let sensitivity = (0..avg.ncols())
+        .map(|i| [avg[(0, i)], avg[(1, i)], avg[(2, i)]])
+        .collect();
+    let designed = match &options.designed {
+        Some(d) => Some([schedule_facts(s)?, schedule_facts(d)?]),
+        None => None,
+    };
+    Ok((equal, readings, planes, sensitivity, designed))
+}
+
+/// The paper's extras: Table 4's Monte Carlo and the claims evaluated on this run (`None`
+/// without `table4`, that is outside the paper's reproduction).
+fn paper_extras(
+    s: &Study,
+    setup: &Setup,
+    table4: Option<(MonteCarlo, McResult)>,
+    two_step: Option<&TwoStep>,
+    equal: Option<&Allocation>,
+    answer: &BuyersAnswer,
+) -> Result<Option<PaperExtras>> {
+    match (table4, two_step, equal, &setup.alloc_problem) {
         (Some((mc, result)), Some(t), Some(eq), Some(p)) => {
             let run = PaperRun {
-                requirement: &problem,
+                requirement: &setup.problem,
                 turntable: &s.turntable,
                 allocation_problem: p,
                 proposed: &t.ours,
                 equal_effects: eq,
                 table4_monte_carlo: (&mc, &result),
-                end_to_end: (&e2e, &answer),
+                end_to_end: (&setup.e2e, answer),
             };
             let claims = registry::evaluate(&run)
                 .map_err(|e| Error::Internal(format!("evaluating the paper's claims: {e}")))?;
-            Some(PaperExtras {
+            Ok(Some(PaperExtras {
                 table4_monte_carlo: mc,
                 table4_result: result,
                 claims,
-            })
+            }))
         }
-        (Some(_), ..) => {
-            return Err(InputError::new(
-                &s.path,
-                "the paper's reproduction needs the study's requirement (eq 16)",
-            )
-            .into());
-        }
-        _ => None,
-    };
-    let vendor_noise = match &vendor {
+        (Some(_), ..) => Err(InputError::new(
+            &s.path,
+            "the paper's reproduction needs the study's requirement (eq 16)",
+        )
+        .into()),
+        _ => Ok(None),
+    }
+}
+
+/// The vendor check with noise and with rate errors, the rate allocation, the estimable
+/// errors, the angle-dependent and disc allocations and the specifications' verdict.
+fn later(
+    s: &Study,
+    options: &Options,
+    setup: &Setup,
+    answer: &BuyersAnswer,
+    vendor: Option<&(ToleranceSheet, TurntableCheck)>,
+    started: Instant,
+) -> Result<Later> {
+    let e2e = &setup.e2e;
+    let vendor_noise = match vendor {
         Some((tol, chk)) => tt_lab::vendor::noisy_checks(
             s,
-            &e2e,
+            e2e,
             &[(e2e.clone(), chk.clone())],
             tol,
             &e2e_verify::McSettings::new(options.samples, options.seed),
@@ -687,11 +815,11 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         .pop(),
         None => None,
     };
-    let vendor_rate = match &vendor {
+    let vendor_rate = match vendor {
         Some((tol, _)) if e2e.has_rate_steps() => Some(
             tt_lab::vendor::rate::check(
                 s,
-                &e2e,
+                e2e,
                 tol,
                 &e2e_verify::McSettings::new(options.samples, options.seed),
             )
@@ -702,7 +830,7 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
     timing("vendor check with rate errors", started);
     let rate_alloc = tt_lab::vendor::rate::allocation(
         s,
-        &e2e,
+        e2e,
         &e2e_verify::McSettings::new(options.samples, options.seed),
     )
     .map_err(crate::Error::from)?;
@@ -712,47 +840,40 @@ pub fn compute(study: Study, options: Options) -> Result<Computed> {
         None
     } else {
         Some(
-            tt_lab::estimable::compute(s, vendor.as_ref().map(|(tol, _)| tol.upper_bounds_rad()))
+            tt_lab::estimable::compute(s, vendor.map(|(tol, _)| tol.upper_bounds_rad()))
                 .map_err(crate::Error::from)?,
         )
     };
     timing("estimable", started);
-    let angle_alloc = tt_lab::allocation::angle::compute(s, &e2e).map_err(crate::Error::from)?;
+    let angle_alloc = tt_lab::allocation::angle::compute(s, e2e).map_err(crate::Error::from)?;
     timing("angle-dependent allocation", started);
-    let disc_alloc = match &vendor {
+    let disc_alloc = match vendor {
         Some((tol, _)) if !e2e.has_rate_steps() => Some(
-            tt_lab::vendor::angle::sheet_allocations(s, &e2e, tol).map_err(crate::Error::from)?,
+            tt_lab::vendor::angle::sheet_allocations(s, e2e, tol).map_err(crate::Error::from)?,
         ),
         _ => None,
     };
     timing("the sheet's discs allocated", started);
     let bounds = answer.readings()[0].direct().upper_bounds_rad().to_vec();
-    let decision = tt_lab::vendor::spec::compute(s, &e2e, &bounds)
+    let decision = tt_lab::vendor::spec::compute(s, e2e, &bounds)
         .map_err(crate::Error::from)?
         .map(|v| (bounds, v));
     timing("the specifications' budgets", started);
-    Ok(Computed {
-        decision,
-        disc_alloc,
-        estimable,
-        angle_alloc,
-        noise,
+    let jcgm101 = crate::jcgm101::compute(
+        s,
+        e2e,
+        decision.as_ref(),
+        options.jcgm101.as_ref(),
+        options.seed,
+    )?;
+    Ok(Later {
+        jcgm101,
         vendor_noise,
         vendor_rate,
         rate_alloc,
-        study,
-        options,
-        requirement,
-        readings,
-        planes,
-        sensitivity,
-        two_step,
-        equal,
-        e2e,
-        answer,
-        vendor,
-        designed,
-        paper,
-        seconds: started.elapsed().as_secs_f64(),
+        estimable,
+        angle_alloc,
+        disc_alloc,
+        decision,
     })
 }

@@ -56,14 +56,14 @@ pub struct Doc {
 const MD_ACTIVE: &[char] = &['\\', '`', '*', '_', '[', ']', '<', '>', '&', '~', '#'];
 
 /// Text from a file, as literal document text: line breaks and tabs become spaces, control
-/// and bidirectional characters are shown escaped ([`study::fmt::visible`]), and every
+/// and bidirectional characters are shown escaped ([`tt_core::human::visible`]), and every
 /// character that Markdown or HTML would read as structure is backslash-escaped (as are `-`,
 /// `+`, `=` at the start, and `.`/`)` after leading digits: list and heading markers). Both
 /// renderings then show exactly the text.
 #[must_use]
 pub fn text(s: &str) -> String {
     let flat = s.replace("\r\n", " ").replace(['\n', '\t'], " ");
-    let shown = study::fmt::visible(&flat);
+    let shown = tt_core::human::visible(&flat);
     let mut out = String::with_capacity(shown.len() + 8);
     let digits = shown.chars().take_while(char::is_ascii_digit).count();
     for (i, c) in shown.chars().enumerate() {
@@ -81,7 +81,7 @@ pub fn text(s: &str) -> String {
 /// escaped; one that holds a backtick (which would end the span) becomes literal [`text`].
 #[must_use]
 pub fn code(s: &str) -> String {
-    let shown = study::fmt::visible(s);
+    let shown = tt_core::human::visible(s);
     if shown.contains('`') || shown.is_empty() {
         text(&shown)
     } else {
@@ -641,10 +641,10 @@ mod tests {
         for h in hostile {
             let t = text(h);
             let flat = h.replace("\r\n", " ").replace(['\n', '\t'], " ");
-            let shown = study::fmt::visible(&flat);
+            let shown = tt_core::human::visible(&flat);
             assert_eq!(plain(&t), shown, "{h:?}");
             assert_eq!(inline(&t), escape(&shown), "{h:?}");
-            assert!(!t.chars().any(study::fmt::is_unsafe_char), "{t:?}");
+            assert!(!t.chars().any(tt_core::human::is_unsafe_char), "{t:?}");
             let mut d = Doc::default();
             d.p(t.clone());
             d.table(&["a"], vec![vec![t.clone()]]);

@@ -114,7 +114,7 @@ fn tick(span: f64) -> impl Fn(&f64) -> String {
     let sci = span > 0.0 && span < 1e-4;
     move |v: &f64| {
         if sci {
-            study::fmt::sig(*v, 3)
+            tt_core::human::sig(*v, 3)
         } else {
             let s = format!("{v:.decimals$}");
             if s.trim_start_matches('-')
@@ -808,12 +808,31 @@ pub fn hbar_figure(
     series: &[(String, Vec<f64>)],
     x_label: &str,
 ) -> Result<String> {
+    hbar_figure_with_limit(title, categories, series, x_label, None)
+}
+
+/// [`hbar_figure`] with a vertical line across every row at `limit` (its legend label and
+/// value; the axis reaches it).
+///
+/// # Errors
+/// As [`hbar_figure`].
+pub fn hbar_figure_with_limit(
+    title: &str,
+    categories: &[String],
+    series: &[(String, Vec<f64>)],
+    x_label: &str,
+    limit: Option<(&str, f64)>,
+) -> Result<String> {
     let mut svg = String::new();
-    let legend: Vec<(String, Mark)> = series
+    let mut legend: Vec<(String, Mark)> = series
         .iter()
         .enumerate()
         .map(|(i, (l, _))| (l.clone(), Mark::Fill(colour(i))))
         .collect();
+    if let Some((label, v)) = limit {
+        finite(title, [v])?;
+        legend.push((label.to_string(), Mark::Line(LIMIT, false)));
+    }
     let n = categories.len().max(1);
     let height = (26 * n as u32 + 110).max(260);
     canvas(&mut svg, title, &legend, 1, 1, height, |areas| {
@@ -835,7 +854,7 @@ pub fn hbar_figure(
             .iter()
             .flat_map(|(_, v)| v.iter().copied())
             .fold(0.0_f64, f64::max)
-            .max(1e-12)
+            .max(limit.map_or(1e-12, |(_, v)| v))
             * 1.08;
         let label_px = categories
             .iter()
@@ -893,6 +912,12 @@ pub fn hbar_figure(
                             Rectangle::new([(0.0, y), (*v, y + thick)], c.filled())
                         }),
                 )
+                .map_err(err)?;
+        }
+        if let Some((_, v)) = limit {
+            let span = [-(ROW / 2), ROW * n as i32 - ROW / 2];
+            chart
+                .draw_series(LineSeries::new(span.map(|y| (v, y)), LIMIT.stroke_width(2)))
                 .map_err(err)?;
         }
         Ok(())

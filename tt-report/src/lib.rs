@@ -2,6 +2,7 @@
 
 mod compute;
 mod error;
+mod jcgm101;
 mod paper;
 mod processed;
 mod render;

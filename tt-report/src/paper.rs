@@ -8,7 +8,7 @@ use crate::compute::{Computed, PaperExtras};
 use crate::render::{Sections, d, greek};
 use e2e_verify::paper::registry;
 use serde::Serialize;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::rad_to_deg;
 

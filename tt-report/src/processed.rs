@@ -7,7 +7,7 @@ use crate::Result;
 use crate::doc;
 use crate::figures::{self, Envelope, Residuals, Span};
 use crate::render::Sections;
-use study::fmt::sig;
+use tt_core::human::sig;
 use tt_lab::calibrate::CalibrationAnswer;
 
 /// A recording processed for the report: tt-lab's answer (with an overview of the recording,

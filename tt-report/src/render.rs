@@ -2,13 +2,13 @@
 //! (no science here: every number comes from a library result).
 
 use crate::Result;
-use crate::compute::{Computed, OutputPlane};
+use crate::compute::{Computed, OutputPlane, TwoStep};
 use crate::doc::{self, Doc};
 use crate::figures::{self, HeatPanel, HistPanel, LIMIT, LinePanel, Mark, Series, colour};
 use calib_lsq::{CalibError, OrientationRequirement, Reading};
 use e2e_verify::{BoxAnswer, BoxMeets, ReadingAnswer, Verdict, YieldVerdict};
 use std::fmt::Write as _;
-use study::fmt::{exact, num, sig};
+use tt_core::human::{exact, num, sig};
 use tt_core::units::objective_to_arcmin;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::{Factor, OrientationAxis};
@@ -347,7 +347,6 @@ impl<'a> Sections<'a> {
     }
 
     /// Inputs: site, reading, sensor, turntable, schedule.
-    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn inputs(&mut self) {
         let c = self.c;
         let s = &c.study;
@@ -424,7 +423,14 @@ impl<'a> Sections<'a> {
         if let Some(n) = &c.requirement.disagreement {
             self.doc.callout(sentence(n));
         }
+        self.inputs_sensor();
+        self.inputs_turntable();
+        self.inputs_schedule();
+    }
 
+    /// Inputs: the sensor's terms (and `sensor_terms.csv`).
+    fn inputs_sensor(&mut self) {
+        let s = &self.c.study;
         self.doc.h(3, "Sensor");
         let mut rows = Vec::new();
         let mut csv = String::from(
@@ -488,7 +494,11 @@ impl<'a> Sections<'a> {
             rows,
         );
         self.csv.push(("sensor_terms.csv".into(), csv));
+    }
 
+    /// Inputs: the turntable's factors and its groups of errors that act only together.
+    fn inputs_turntable(&mut self) {
+        let s = &self.c.study;
         self.doc.h(3, "Turntable");
         let mut rows = Vec::new();
         let joints = s.turntable.joints();
@@ -539,7 +549,11 @@ impl<'a> Sections<'a> {
             self.doc.p("Errors that act only together: rotations about one axis with nothing but other errors between them (or a joint about that axis, as a wobble about the next joint's axis and that joint's position error) are one rotation to first order at every pose, so no calibration can tell them apart and the shares, allocations and verdicts below treat each such group as one:");
             group_list(&mut self.doc, &s.turntable, &[]);
         }
+    }
 
+    /// Inputs: the schedule's positions (and `schedule.csv`).
+    fn inputs_schedule(&mut self) {
+        let s = &self.c.study;
         self.doc.h(3, "Schedule");
         let jn = s.turntable.joint_names();
         let mut csv = format!(
@@ -698,7 +712,7 @@ impl<'a> Sections<'a> {
         self.requirement_figures()
     }
 
-    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
+    /// The requirement's figures: the surfaces, the one-angle cuts, the lines of intersection.
     fn requirement_figures(&mut self) -> Result<()> {
         let c = self.c;
         let outs = self.outputs();
@@ -767,10 +781,15 @@ impl<'a> Sections<'a> {
             svg,
         );
         self.figure_ids.push(("surfaces", id));
+        self.requirement_cuts(&plotted)?;
+        self.requirement_lines(&plotted)
+    }
 
-        // cuts
+    /// One-angle cuts of the `plotted` outputs' surfaces (the other two angles zero).
+    fn requirement_cuts(&mut self, plotted: &[&OutputPlane]) -> Result<()> {
+        let outs = self.outputs();
         let mut panels = Vec::new();
-        for p in &plotted {
+        for p in plotted {
             let (name, u, acc) = &outs[p.output];
             let series = p
                 .cuts
@@ -817,11 +836,17 @@ impl<'a> Sections<'a> {
         )?;
         let id = self.doc.figure("rate_error_cuts.svg", "One-angle cuts of the surfaces (the other two angles zero); a second sensitive angle is dashed so that equal cuts stay visible, dots mark an angle the output does not depend on. The paper's Figure 4 (c-f) for this study.", svg);
         self.figure_ids.push(("cuts", id));
+        Ok(())
+    }
 
-        // lines of intersection
+    /// Lines of intersection of the `plotted` outputs, their largest boxes and the
+    /// requirement.
+    fn requirement_lines(&mut self, plotted: &[&OutputPlane]) -> Result<()> {
+        let outs = self.outputs();
+        let req = self.c.requirement.computed.as_ref().ok();
         let mut panels = Vec::new();
         let mut notes = Vec::new();
-        for p in &plotted {
+        for p in plotted {
             let (name, _, _) = &outs[p.output];
             let Some([a, b]) = p.plane else { continue };
             let bx = req.and_then(|r| r.boxes().iter().find(|x| x.output() == name));
@@ -949,7 +974,6 @@ impl<'a> Sections<'a> {
     }
 
     /// The two-step allocation with its certificate; `table4`: the paper's column.
-    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn allocation(&mut self, table4: Option<&PaperColumn>) {
         let c = self.c;
         self.doc.h(2, "Two-step allocation");
@@ -1063,6 +1087,13 @@ impl<'a> Sections<'a> {
                 t.ours.unconstrained_names().iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
             ));
         }
+        self.allocation_certificate(t, table4);
+    }
+
+    /// The two-step allocation `t`'s Lemma 1 certificate, and the shares of the requirement
+    /// used beside equal effects' and `table4`'s.
+    fn allocation_certificate(&mut self, t: &TwoStep, table4: Option<&PaperColumn>) {
+        let c = self.c;
         let jn = c.study.turntable.joint_names();
         let mut rows = Vec::new();
         let shares = |s: &[Option<f64>]| {
@@ -1335,7 +1366,6 @@ impl<'a> Sections<'a> {
     }
 
     /// End to end: both readings, the direct allocation.
-    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn end_to_end(&mut self) -> Result<()> {
         let c = self.c;
         let outs = self.outputs();
@@ -1367,13 +1397,19 @@ impl<'a> Sections<'a> {
             ));
             self.reading_table(r);
         }
-        // the direct allocation's bounds
+        self.direct_allocation(&readings);
+        self.end_to_end_figure(&readings)
+    }
+
+    /// The direct allocation's bounds under each of the `readings` (and `end_to_end.csv`).
+    fn direct_allocation(&mut self, readings: &[ReadingAnswer]) {
+        let c = self.c;
         self.doc.h(3, "Direct allocation");
         let names = c.study.turntable.rotation_error_names();
         let mut header: Vec<String> = Vec::new();
         header.push("error".into());
         let mut cols: Vec<(String, Vec<f64>)> = Vec::new();
-        for r in &readings {
+        for r in readings {
             cols.push((
                 format!("direct, {} (arcmin)", short_reading(r.reading())),
                 r.direct().upper_bounds_arcmin(),
@@ -1436,14 +1472,18 @@ impl<'a> Sections<'a> {
             .collect();
         let group_bounds: Vec<(&str, &[f64])> = labels
             .iter()
-            .zip(&readings)
+            .zip(readings)
             .map(|(l, r)| (l.as_str(), r.direct().upper_bounds_rad()))
             .collect();
         group_list(&mut self.doc, &c.study.turntable, &group_bounds);
+    }
 
-        // figure: worst case per position
+    /// The figure of the worst case per position, per reading and output.
+    fn end_to_end_figure(&mut self, readings: &[ReadingAnswer]) -> Result<()> {
+        let c = self.c;
+        let outs = self.outputs();
         let mut panels = Vec::new();
-        for r in &readings {
+        for r in readings {
             for (k, (name, u, acc)) in outs.iter().enumerate() {
                 let mut series = Vec::new();
                 let mut boxes: Vec<(&str, &BoxAnswer)> =
@@ -1501,7 +1541,6 @@ impl<'a> Sections<'a> {
     /// Noise and test time (issue 21): every box's answer split into the table's part and
     /// the noise's, the direct allocation that gives the table what the noise leaves, and the
     /// time/table trade-off with its figure. Nothing when the study gives no noise.
-    #[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
     pub fn noise(&mut self) -> Result<()> {
         let c = self.c;
         let Some(n) = &c.noise else {
@@ -1603,6 +1642,18 @@ impl<'a> Sections<'a> {
             "Yield over turntables and noise [95% interval]: {}.",
             yields.join("; ")
         ));
+        self.noise_direct(n);
+        self.noise_tradeoff(n);
+        self.noise_figure(n)
+    }
+
+    /// The direct allocation with the noise part kept free (or why no table suffices), and
+    /// the vendor's sheet with the noise counted.
+    fn noise_direct(&mut self, n: &tt_lab::end_to_end::NoisyAnswer) {
+        let c = self.c;
+        let outs = self.outputs();
+        let k = n.tradeoff.k_sigma();
+        let nr = &n.readings[0];
         match &nr.direct() {
             e2e_verify::NoisyDirect::Allocated { allocation, answer } => {
                 self.doc.p(format!(
@@ -1658,7 +1709,14 @@ impl<'a> Sections<'a> {
                 100.0 * hi
             ));
         }
-        // the trade-off
+    }
+
+    /// How long to dwell: the shortest dwell, the knee, the trade-off table (and
+    /// `tradeoff.csv`).
+    fn noise_tradeoff(&mut self, n: &tt_lab::end_to_end::NoisyAnswer) {
+        let outs = self.outputs();
+        let tr = &n.tradeoff;
+        let k = tr.k_sigma();
         self.doc
             .h(3, "How long to dwell, and how good the table must be");
         let list = n.scanned.list_words();
@@ -1731,8 +1789,14 @@ impl<'a> Sections<'a> {
             );
         }
         self.csv.push(("tradeoff.csv".into(), csv));
-        // figure: the noise part against the dwell (every study with noise), and J against
-        // the dwell (when some table suffices); log10 of the dwell on x
+    }
+
+    /// The figure of the noise part against the dwell (every study with noise), and J against
+    /// the dwell (when some table suffices); log10 of the dwell on x.
+    fn noise_figure(&mut self, n: &tt_lab::end_to_end::NoisyAnswer) -> Result<()> {
+        let outs = self.outputs();
+        let tr = &n.tradeoff;
+        let k = tr.k_sigma();
         let mut panels = Vec::new();
         // outputs without noise have no curve (their noise part is 0 at every dwell)
         let series: Vec<Series> = outs
@@ -1844,8 +1908,8 @@ impl<'a> Sections<'a> {
                         doc::code(&r.name),
                         r.distribution.to_string(),
                         sig(r.standard_uncertainty, 4),
-                        sig(r.sensitivity, 4),
-                        format!("{} {u}", sig(r.contribution, 4)),
+                        sig(r.shown_sensitivity, 4),
+                        format!("{} {u}", sig(r.shown_contribution, 4)),
                         dof(r.dof),
                     ]
                 })
@@ -2127,7 +2191,7 @@ impl<'a> Sections<'a> {
                 sig(a.combined().objective_arcmin(), 5),
                 sig(
                     (0..acc.len())
-                        .map(|k| c.certified_bound(k) / acc[k])
+                        .filter_map(|k| c.certificate().map(|x| x.certified_bound(k) / acc[k]))
                         .fold(0.0, f64::max),
                     4
                 )
@@ -2490,10 +2554,10 @@ impl<'a> Sections<'a> {
 }
 
 /// A CSV field (RFC 4180) from a file's text (a unit): control characters shown escaped
-/// ([`study::fmt::visible`]), in double quotes when it holds a comma or a quote.
+/// ([`tt_core::human::visible`]), in double quotes when it holds a comma or a quote.
 #[must_use]
 fn csv_field(s: &str) -> String {
-    let v = study::fmt::visible(s);
+    let v = tt_core::human::visible(s);
     if v.contains([',', '"']) {
         format!("\"{}\"", v.replace('"', "\"\""))
     } else {

@@ -41,6 +41,10 @@ pub struct ReportOptions {
     pub paper: bool,
     /// A processed recording of the study's calibration: the report gains its section.
     pub run: Option<crate::ProcessedRun>,
+    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, its significant digits
+    /// and trial limit; its seed `None`: the report's): a subsection under the
+    /// specifications' budgets, a figure and `results.json`'s `jcgm101`. `None`: not run.
+    pub jcgm101: Option<tt_lab::budget_mc::Options>,
 }
 
 /// A computed report.
@@ -80,6 +84,7 @@ impl Report {
             tolerances: options.tolerances,
             designed: options.designed,
             run: options.run,
+            jcgm101: options.jcgm101,
         };
         Ok(Self {
             computed: compute::compute(study, options)?,
@@ -223,6 +228,7 @@ fn render(c: &Computed) -> Result<Rendered> {
     sec.end_to_end()?;
     sec.noise()?;
     sec.specifications()?;
+    crate::jcgm101::section(&mut sec)?;
     sec.rate_allocation();
     sec.vendor();
     sec.designed();
@@ -241,7 +247,8 @@ fn render(c: &Computed) -> Result<Rendered> {
     };
     sec.doc.h(2, "Reproduce");
     sec.doc.code(format!("{}\ncargo xtask test", command(c)));
-    let json = results::results_json(c, &comparisons)?;
+    let mut json = results::results_json(c, &comparisons)?;
+    crate::jcgm101::add_results(c, &mut json)?;
     Ok((title, sec.doc, sec.csv, json))
 }
 
@@ -266,6 +273,7 @@ fn command(c: &Computed) -> String {
     if let Some([_, dsg]) = &c.designed {
         s.push_str(&format!(" --designed {}", q(&dsg.path)));
     }
+    s.push_str(&crate::jcgm101::flags(c));
     if let Some(r) = &c.options.run {
         for f in r.flags() {
             s.push(' ');

@@ -3,8 +3,9 @@
 //! Keys come out in alphabetical order ([`serde_json::Value`]'s map, as every command's
 //! `--json`, [`tt_lab::json`]).
 
-use crate::compute::Computed;
+use crate::compute::{Computed, ScheduleFacts, TwoStep};
 use crate::paper;
+use e2e_verify::paper::registry::ClaimEvaluation;
 use serde::{Serialize, Serializer};
 use serde_json::Value;
 use std::cell::Cell;
@@ -485,46 +486,16 @@ fn box_json<'a>(
     }
 }
 
-/// `results.json` of `c` as a value (a NaN anywhere is recorded in [`NAN_SEEN`]).
-///
-/// # Errors
-/// None in practice (every key is a string); serde_json's error type.
-#[allow(clippy::too_many_lines, reason = "issue 33: split pending")]
-pub(super) fn results_json(
-    c: &Computed,
-    comparisons: &[paper::Comparison],
-) -> serde_json::Result<Value> {
-    let s = &c.study;
-    let names = s.turntable.rotation_error_names();
-    let outs: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();
-    let accuracies = c.e2e.accuracies();
-    let boxj = |b| box_json(b, &names, &outs, &accuracies);
-    let r = ResultsJson {
-        study: &s.path,
-        study_name: &s.name,
-        seed: c.options.seed,
-        samples: c.options.samples,
-        seconds: f(c.seconds),
-        reading: s.reading.to_string(),
-        requirement: RequirementJson {
+impl<'a> RequirementJson<'a> {
+    /// The requirement of `c`: given or computed, under every reading.
+    fn new(c: &'a Computed) -> Self {
+        let computed = c.requirement.computed.as_ref();
+        Self {
             given: c.requirement.given,
             used_deg: c.requirement.used.map(|r| deg3(&r.to_array())),
-            computed_deg: c
-                .requirement
-                .computed
-                .as_ref()
-                .ok()
-                .map(|r| deg3(&r.requirement().to_array())),
-            computed_note: c
-                .requirement
-                .computed
-                .as_ref()
-                .err()
-                .map(ToString::to_string),
-            unconstrained_outputs: c
-                .requirement
-                .computed
-                .as_ref()
+            computed_deg: computed.ok().map(|r| deg3(&r.requirement().to_array())),
+            computed_note: computed.err().map(ToString::to_string),
+            unconstrained_outputs: computed
                 .map(|r| r.unconstrained_outputs().to_vec())
                 .unwrap_or_default(),
             disagreement: c.requirement.disagreement.as_deref(),
@@ -537,7 +508,196 @@ pub(super) fn results_json(
                     note: q.as_ref().err().map(ToString::to_string),
                 })
                 .collect(),
-        },
+        }
+    }
+}
+
+impl<'a> TwoStepJson<'a> {
+    /// The two-step allocation `t` with its certificate and Monte Carlo; `names`: the errors.
+    fn new(t: &'a TwoStep, names: &[&str]) -> Self {
+        Self {
+            requirement_deg: deg3(&t.problem.requirement().to_array()),
+            bounds_arcmin: arcmin_map(names, t.ours.upper_bounds_rad()),
+            objective_arcmin: f(t.ours.objective_arcmin()),
+            certificate: t
+                .ours
+                .certificate()
+                .axes()
+                .iter()
+                .map(|a| CertificateJson {
+                    angle: a.name(),
+                    worst_case_deg: f(rad_to_deg(a.worst_case_rad())),
+                    proven_bound_deg: f(rad_to_deg(a.upper_bound_rad())),
+                    share: a.share().map(f),
+                    lemma1: a.satisfied(),
+                })
+                .collect(),
+            exact_chain_excess_rad: t.exact.iter().map(|e| e.excess_rad().map(f)).collect(),
+            monte_carlo: TwoStepMonteCarloJson {
+                samples: t.result.samples(),
+                max_abs_deg: t.result.max_abs_rad().map(|v| f(rad_to_deg(v))),
+                proven_bound_deg: t.monte_carlo.half_range_rad().map(|v| f(rad_to_deg(v))),
+                within_requirement_fraction: f(t.result.within_requirement_fraction()),
+            },
+        }
+    }
+}
+
+impl<'a> NoiseJson<'a> {
+    /// The noise part `n` under the study's reading and the time/table trade-off.
+    fn new(n: &'a tt_lab::end_to_end::NoisyAnswer) -> Self {
+        let t = &n.tradeoff;
+        let r0 = &n.readings[0];
+        Self {
+            k_sigma: f(t.k_sigma()),
+            noise_sigma: r0.sigma().iter().map(|v| f(*v)).collect(),
+            boxes: r0
+                .boxes()
+                .iter()
+                .map(|b| NoiseBoxJson {
+                    name: b.name(),
+                    verdict: b.verdict().name(),
+                    table_part: b.outputs().iter().map(|o| f(o.table_part())).collect(),
+                    combined: b.outputs().iter().map(|o| f(o.combined())).collect(),
+                    combined_yield: f(b.combined_yield().fraction()),
+                })
+                .collect(),
+            direct_with_noise_objective_arcmin: match &r0.direct() {
+                e2e_verify::NoisyDirect::Allocated { allocation, .. } => {
+                    Some(f(allocation.objective_arcmin()))
+                }
+                e2e_verify::NoisyDirect::NoTableSuffices { .. } => None,
+            },
+            min_dwell_s: t.min_dwell_s().map(f),
+            knee_dwell_s: t.knee_dwell_s().map(f),
+            dwell_scan: n.scanned.clone(),
+            tradeoff: t
+                .points()
+                .iter()
+                .map(|p| TradeoffPointJson {
+                    dwell_s: f(p.dwell_s()),
+                    total_s: f(p.total_s()),
+                    objective_arcmin: p.objective().map(|j| f(objective_to_arcmin(j))),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl<'a> EndToEndJson<'a> {
+    /// The answer under reading `r`; `names`: the errors, `outs`: the outputs.
+    fn new(
+        r: &'a e2e_verify::ReadingAnswer,
+        names: &[&'a str],
+        outs: &[&'a str],
+        accuracies: &[f64],
+    ) -> Self {
+        let boxj = |b| box_json(b, names, outs, accuracies);
+        Self {
+            reading: r.reading().to_string(),
+            boxes: r.boxes().iter().map(boxj).collect(),
+            direct: boxj(r.direct_box()),
+            unconstrained: r
+                .direct()
+                .unconstrained()
+                .iter()
+                .map(|&j| names[j])
+                .collect(),
+            no_bound_needed: r.direct().no_bound_needed(),
+            yield_based: boxj(r.yield_box()),
+            yield_target: f(r.yield_based().target()),
+            yield_verdict: r.yield_verdict().name(),
+            direct_certified: r.direct_certified().map(|(dc, _)| DirectCertifiedJson {
+                objective_arcmin: f(dc.objective_arcmin()),
+                bounds_arcmin: arcmin_map(names, dc.upper_bounds_rad()),
+            }),
+            direct_certified_note: r.direct_certified_note(),
+        }
+    }
+}
+
+impl<'a> VendorJson<'a> {
+    /// The vendor check of `c` (`None` without a sheet); `outs`: the outputs.
+    fn new(c: &'a Computed, outs: &[&'a str]) -> Option<Self> {
+        let (tol, chk) = c.vendor.as_ref()?;
+        Some(Self {
+            tolerances: tol.source(),
+            verdict: chk.verdict().name(),
+            yield_fraction: f(chk.distribution().count().fraction()),
+            outputs: chk
+                .outputs()
+                .iter()
+                .map(|o| VendorOutputJson {
+                    output: outs[o.output()],
+                    verdict: o.verdict().name(),
+                    worst_case: f(o.worst_case().exact_at_vertex()),
+                    accuracy: f(o.accuracy()),
+                    precision: f(o.worst_case().precision()),
+                })
+                .collect(),
+            rate_steps: c
+                .vendor_rate
+                .as_ref()
+                .map(|r| tt_lab::vendor::rate::RateCheckJson::new(&c.e2e, r)),
+        })
+    }
+}
+
+impl<'a> DesignedJson<'a> {
+    /// One schedule's facts.
+    fn new(x: &'a ScheduleFacts) -> Self {
+        Self {
+            study: &x.path,
+            positions: x.positions,
+            direct_objective_arcmin: f(x.direct_objective_arcmin),
+            condition_numbers: x.conditions.iter().map(|v| f(*v)).collect(),
+            requirement_deg: x
+                .requirement
+                .as_ref()
+                .ok()
+                .map(|r| deg3(&r.requirement().to_array())),
+        }
+    }
+}
+
+impl ClaimJson {
+    /// One claim of the paper evaluated on this run.
+    fn new(x: &ClaimEvaluation) -> Self {
+        Self {
+            id: x.info.id,
+            section: x.info.section,
+            statement: x.info.statement,
+            function: x.info.function,
+            test: x.info.test.to_string(),
+            test_command: x.info.test.command(),
+            holds_paper_reading: x.paper.holds,
+            evidence_paper_reading: x.paper.evidence.clone(),
+            holds_user_reading: x.user.as_ref().map(|u| u.holds),
+            evidence_user_reading: x.user.as_ref().map(|u| u.evidence.clone()),
+        }
+    }
+}
+
+/// `results.json` of `c` as a value (a NaN anywhere is recorded in [`NAN_SEEN`]).
+///
+/// # Errors
+/// None in practice (every key is a string); serde_json's error type.
+pub(super) fn results_json(
+    c: &Computed,
+    comparisons: &[paper::Comparison],
+) -> serde_json::Result<Value> {
+    let s = &c.study;
+    let names = s.turntable.rotation_error_names();
+    let outs: Vec<&str> = s.sensor.outputs().iter().map(|o| o.name.as_str()).collect();
+    let accuracies = c.e2e.accuracies();
+    let r = ResultsJson {
+        study: &s.path,
+        study_name: &s.name,
+        seed: c.options.seed,
+        samples: c.options.samples,
+        seconds: f(c.seconds),
+        reading: s.reading.to_string(),
+        requirement: RequirementJson::new(c),
         calibration: s
             .calibration
             .outputs()
@@ -560,149 +720,27 @@ pub(super) fn results_json(
                 )
             })
             .collect(),
-        two_step: c.two_step.as_ref().map(|t| TwoStepJson {
-            requirement_deg: deg3(&t.problem.requirement().to_array()),
-            bounds_arcmin: arcmin_map(&names, t.ours.upper_bounds_rad()),
-            objective_arcmin: f(t.ours.objective_arcmin()),
-            certificate: t
-                .ours
-                .certificate()
-                .axes()
-                .iter()
-                .map(|a| CertificateJson {
-                    angle: a.name(),
-                    worst_case_deg: f(rad_to_deg(a.worst_case_rad())),
-                    proven_bound_deg: f(rad_to_deg(a.upper_bound_rad())),
-                    share: a.share().map(f),
-                    lemma1: a.satisfied(),
-                })
-                .collect(),
-            exact_chain_excess_rad: t.exact.iter().map(|e| e.excess_rad().map(f)).collect(),
-            monte_carlo: TwoStepMonteCarloJson {
-                samples: t.result.samples(),
-                max_abs_deg: t.result.max_abs_rad().map(|v| f(rad_to_deg(v))),
-                proven_bound_deg: t.monte_carlo.half_range_rad().map(|v| f(rad_to_deg(v))),
-                within_requirement_fraction: f(t.result.within_requirement_fraction()),
-            },
-        }),
+        two_step: c.two_step.as_ref().map(|t| TwoStepJson::new(t, &names)),
         equal_effects: c.equal.as_ref().map(|e| EqualEffectsJson {
             bounds_arcmin: arcmin_map(&names, e.upper_bounds_rad()),
             objective_arcmin: f(e.objective_arcmin()),
         }),
-        noise: c.noise.as_ref().map(|n| {
-            let t = &n.tradeoff;
-            let r0 = &n.readings[0];
-            NoiseJson {
-                k_sigma: f(t.k_sigma()),
-                noise_sigma: r0.sigma().iter().map(|v| f(*v)).collect(),
-                boxes: r0
-                    .boxes()
-                    .iter()
-                    .map(|b| NoiseBoxJson {
-                        name: b.name(),
-                        verdict: b.verdict().name(),
-                        table_part: b.outputs().iter().map(|o| f(o.table_part())).collect(),
-                        combined: b.outputs().iter().map(|o| f(o.combined())).collect(),
-                        combined_yield: f(b.combined_yield().fraction()),
-                    })
-                    .collect(),
-                direct_with_noise_objective_arcmin: match &r0.direct() {
-                    e2e_verify::NoisyDirect::Allocated { allocation, .. } => {
-                        Some(f(allocation.objective_arcmin()))
-                    }
-                    e2e_verify::NoisyDirect::NoTableSuffices { .. } => None,
-                },
-                min_dwell_s: t.min_dwell_s().map(f),
-                knee_dwell_s: t.knee_dwell_s().map(f),
-                dwell_scan: n.scanned.clone(),
-                tradeoff: t
-                    .points()
-                    .iter()
-                    .map(|p| TradeoffPointJson {
-                        dwell_s: f(p.dwell_s()),
-                        total_s: f(p.total_s()),
-                        objective_arcmin: p.objective().map(|j| f(objective_to_arcmin(j))),
-                    })
-                    .collect(),
-            }
-        }),
+        noise: c.noise.as_ref().map(NoiseJson::new),
         end_to_end: c
             .answer
             .readings()
             .iter()
-            .map(|r| EndToEndJson {
-                reading: r.reading().to_string(),
-                boxes: r.boxes().iter().map(boxj).collect(),
-                direct: boxj(r.direct_box()),
-                unconstrained: r
-                    .direct()
-                    .unconstrained()
-                    .iter()
-                    .map(|&j| names[j])
-                    .collect(),
-                no_bound_needed: r.direct().no_bound_needed(),
-                yield_based: boxj(r.yield_box()),
-                yield_target: f(r.yield_based().target()),
-                yield_verdict: r.yield_verdict().name(),
-                direct_certified: r.direct_certified().map(|(dc, _)| DirectCertifiedJson {
-                    objective_arcmin: f(dc.objective_arcmin()),
-                    bounds_arcmin: arcmin_map(&names, dc.upper_bounds_rad()),
-                }),
-                direct_certified_note: r.direct_certified_note(),
-            })
+            .map(|r| EndToEndJson::new(r, &names, &outs, &accuracies))
             .collect(),
-        vendor: c.vendor.as_ref().map(|(tol, chk)| VendorJson {
-            tolerances: tol.source(),
-            verdict: chk.verdict().name(),
-            yield_fraction: f(chk.distribution().count().fraction()),
-            outputs: chk
-                .outputs()
-                .iter()
-                .map(|o| VendorOutputJson {
-                    output: outs[o.output()],
-                    verdict: o.verdict().name(),
-                    worst_case: f(o.worst_case().exact_at_vertex()),
-                    accuracy: f(o.accuracy()),
-                    precision: f(o.worst_case().precision()),
-                })
-                .collect(),
-            rate_steps: c
-                .vendor_rate
-                .as_ref()
-                .map(|r| tt_lab::vendor::rate::RateCheckJson::new(&c.e2e, r)),
-        }),
-        designed: c.designed.as_ref().map(|ds| {
-            ds.iter()
-                .map(|x| DesignedJson {
-                    study: &x.path,
-                    positions: x.positions,
-                    direct_objective_arcmin: f(x.direct_objective_arcmin),
-                    condition_numbers: x.conditions.iter().map(|v| f(*v)).collect(),
-                    requirement_deg: x
-                        .requirement
-                        .as_ref()
-                        .ok()
-                        .map(|r| deg3(&r.requirement().to_array())),
-                })
-                .collect()
-        }),
-        claims: c.paper.as_ref().map(|p| {
-            p.claims
-                .iter()
-                .map(|x| ClaimJson {
-                    id: x.info.id,
-                    section: x.info.section,
-                    statement: x.info.statement,
-                    function: x.info.function,
-                    test: x.info.test.to_string(),
-                    test_command: x.info.test.command(),
-                    holds_paper_reading: x.paper.holds,
-                    evidence_paper_reading: x.paper.evidence.clone(),
-                    holds_user_reading: x.user.as_ref().map(|u| u.holds),
-                    evidence_user_reading: x.user.as_ref().map(|u| u.evidence.clone()),
-                })
-                .collect()
-        }),
+        vendor: VendorJson::new(c, &outs),
+        designed: c
+            .designed
+            .as_ref()
+            .map(|ds| ds.iter().map(DesignedJson::new).collect()),
+        claims: c
+            .paper
+            .as_ref()
+            .map(|p| p.claims.iter().map(ClaimJson::new).collect()),
         claims_summary: c
             .paper
             .as_ref()

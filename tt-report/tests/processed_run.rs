@@ -6,7 +6,7 @@
 
 use approx::assert_relative_eq;
 use std::path::Path;
-use study::fmt::sig;
+use tt_core::human::sig;
 use tt_report::figures::{STATIC_SHADE, TURNING_SHADE};
 use tt_report::{ProcessedRun, Report, ReportOptions};
 

@@ -54,7 +54,7 @@ use allan::{FLICKER_FLOOR_FACTOR, Taus, Term};
 use anyhow::Result;
 use clap::Parser;
 use std::path::{Path, PathBuf};
-use study::fmt::sig;
+use tt_core::human::sig;
 use tt_lab::noise_log::{NoiseLog, Options, joint_terms};
 
 /// Arguments of `allan`.

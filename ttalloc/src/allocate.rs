@@ -18,12 +18,11 @@
 //! two-step keys are absent) as the answer.
 
 use crate::json::ExtrasJson;
-use crate::loaded as st;
 use alloc_opt::ConstraintForm;
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_core::units::{rad_to_arcmin, rad_to_deg};
 use tt_kinematics::OrientationAxis;
 use tt_lab::allocation::{AllocateJson, Allocations, RateStudyJson, StudyAllocation, group_boxes};
@@ -40,9 +39,9 @@ pub enum FormChoice {
 /// Arguments of `allocate`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`).
-    #[arg(long)]
-    pub study: Option<std::path::PathBuf>,
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: crate::args::StudyFile,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -98,7 +97,7 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
     t.push('\n');
     let cell = |u: f64| {
         if u.is_finite() {
-            study::fmt::sig(rad_to_arcmin(u), 4)
+            tt_core::human::sig(rad_to_arcmin(u), 4)
         } else {
             "none".into()
         }
@@ -167,7 +166,7 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let s = st::load(args.study.as_deref())?;
+    let s = args.study.load()?;
     let form = match args.constraint_form {
         FormChoice::Paper => ConstraintForm::PaperQuarterRanges,
         FormChoice::FullRange => ConstraintForm::FullRange,

@@ -84,7 +84,7 @@ pub fn run(args: &Args) -> Result<()> {
                 "{} samples corrected ({}), max model mismatch {}; written {}\n",
                 summary.samples,
                 summary.columns.join(", "),
-                study::fmt::sig(summary.max_mismatch, 3),
+                tt_core::human::sig(summary.max_mismatch, 3),
                 crate::paths::visible(out)
             ))
         }

@@ -1,4 +1,43 @@
-//! Flag value parsers shared by every command (one accepted form per kind of value).
+//! Flag value parsers shared by every command (one accepted form per kind of value), and the
+//! flag groups several commands share (`--study`, `--samples` and `--seed`).
+
+use std::path::{Path, PathBuf};
+
+/// `--study`: the study file of a command that defaults to the paper's.
+#[derive(Debug, clap::Args)]
+pub struct StudyFile {
+    /// Study file (default: `studies/gyrowheel-2017.toml`).
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+}
+
+impl StudyFile {
+    /// The path given, if any.
+    pub fn path(&self) -> Option<&Path> {
+        self.study.as_deref()
+    }
+
+    /// The study read from it (the paper's without `--study`).
+    ///
+    /// # Errors
+    /// As [`crate::loaded::load`].
+    pub fn load(&self) -> Result<study::Study, crate::InputError> {
+        crate::loaded::load(self.path())
+    }
+}
+
+/// `--samples` and `--seed`: the Monte Carlo's size and seed, the study's `monte_carlo` values
+/// by default.
+#[derive(Debug, clap::Args)]
+pub struct Sampling {
+    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
+    /// `1e6`, `1000000`, `1_000_000`).
+    #[arg(long, allow_negative_numbers = true, value_parser = samples)]
+    pub samples: Option<u64>,
+    /// Seed of the random streams (default: the study's `monte_carlo.seed`).
+    #[arg(long, allow_negative_numbers = true, value_parser = seed)]
+    pub seed: Option<u64>,
+}
 
 /// A count: a whole number written as `1000000`, `1_000_000` or `1e6`, within `1..=max`.
 ///
@@ -113,8 +152,8 @@ pub fn number_in(s: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
     } else {
         Err(format!(
             "`{s}`: {what} must lie in [{}, {}]",
-            study::fmt::num(lo),
-            study::fmt::num(hi)
+            tt_core::human::num(lo),
+            tt_core::human::num(hi)
         ))
     }
 }
@@ -131,7 +170,10 @@ pub fn positive(s: &str, max: f64) -> Result<f64, String> {
     if v.is_finite() && v > 0.0 && v <= max {
         Ok(v)
     } else {
-        Err(format!("`{s}`: must lie in (0, {}]", study::fmt::num(max)))
+        Err(format!(
+            "`{s}`: must lie in (0, {}]",
+            tt_core::human::num(max)
+        ))
     }
 }
 
@@ -148,7 +190,7 @@ pub fn k_sigma(s: &str) -> Result<f64, String> {
     e2e_verify::check_k_sigma(v).map_err(|_| {
         format!(
             "`{s}`: must lie in (0, {}]",
-            study::fmt::num(e2e_verify::noise::MAX_K_SIGMA)
+            tt_core::human::num(e2e_verify::noise::MAX_K_SIGMA)
         )
     })
 }

@@ -17,7 +17,7 @@ use anyhow::Result;
 use calib_run::Spec;
 use clap::Parser;
 use std::path::PathBuf;
-use study::fmt::sig;
+use tt_core::human::sig;
 use tt_lab::calibrate::Options;
 
 /// Arguments of `calibrate`.

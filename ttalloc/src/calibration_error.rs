@@ -45,7 +45,7 @@ pub fn run(args: &Args) -> Result<()> {
         |line, row| {
             let v = rows.row(&format!("{name}:{line}"), &row)?;
             Ok(v.iter()
-                .map(|x| study::fmt::exact(*x))
+                .map(|x| tt_core::human::exact(*x))
                 .collect::<Vec<_>>()
                 .join(","))
         },

@@ -23,7 +23,7 @@ use calib_lsq::Reading;
 use clap::Parser;
 use e2e_verify::{EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use std::path::PathBuf;
-use study::fmt::num;
+use tt_core::human::num;
 pub use tt_lab::vendor::{CheckJson, NoisyCheck};
 
 /// Arguments of `check-turntable`.
@@ -37,12 +37,9 @@ pub struct Args {
     /// optional `[tolerances_mm]`).
     #[arg(long)]
     pub tolerances: PathBuf,
-    /// Monte Carlo turntables (default: the study's `monte_carlo.samples`).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
-    pub samples: Option<u64>,
-    /// Seed of the random streams (default: the study's).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
-    pub seed: Option<u64>,
+    /// `--samples` and `--seed` (default: the study's `monte_carlo`).
+    #[command(flatten)]
+    pub sampling: crate::args::Sampling,
     /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
     /// used when the study gives noise and a timing.
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = crate::args::k_sigma)]
@@ -204,14 +201,14 @@ pub fn to_text(
 pub fn run(args: &Args) -> Result<()> {
     let s = crate::loaded::load(args.study.as_deref())?;
     let options = tt_lab::vendor::Options {
-        samples: args.samples,
-        seed: args.seed,
+        samples: args.sampling.samples,
+        seed: args.sampling.seed,
         k_sigma: args.k_sigma,
     };
     let v = tt_lab::vendor::check(&s, &args.tolerances, &options).map_err(crate::input::lab)?;
     let mc = crate::text::jcgm101::run(
         &args.jcgm101,
-        args.seed,
+        args.sampling.seed,
         &s,
         &v.checks()[0].0,
         v.sheet().upper_bounds_rad(),

@@ -7,27 +7,8 @@ use crate::report::figures::{self, LIMIT, LinePanel, Mark, Series, colour};
 use anyhow::Result;
 use schedule_design::{BudgetDesign, BudgetPoint};
 use study::Study;
-use study::fmt::{num, sig};
-use tt_lab::design::budget::{Budgeted, Designed, NOISELESS_NOTE, origin};
-
-/// The lines `--write-study` puts above the positions the budget chose (`p`, chosen in `d`).
-pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
-    format!(
-        "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The dwell_s of [calibration.timing] below is\nthis one; the comments there describe the study's original timing.",
-        num(d.budget_s()),
-        p.n_positions(),
-        origin(p.origin()),
-        num(p.dwell_s()),
-        sig(p.total_s(), 6),
-        num(p.objective_arcmin()),
-        num(d.k_sigma()),
-        d.chosen_certified_arcmin()
-            .map_or("no table suffices".to_string(), |j| format!(
-                "J = {}",
-                num(j)
-            )),
-    )
-}
+use tt_core::human::{num, sig};
+use tt_lab::design::budget::{Budgeted, NOISELESS_NOTE, origin, tolerances_text};
 
 /// The budget's answer in words, with the Pareto front as a table.
 pub fn text(s: &Study, b: &Budgeted) -> String {
@@ -100,8 +81,9 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
         }),
     }
     if !d.pareto().is_empty() {
+        let names = s.turntable.rotation_error_names();
         t.push_str(&format!(
-            "  Pareto front (the cheapest table for each total test time; outputs {}):\n",
+            "  Pareto front (the cheapest table for each total test time; outputs {}; under each point its tolerance box, the direct allocation with the noise part kept free):\n",
             s.sensor
                 .outputs()
                 .iter()
@@ -126,6 +108,11 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
                 } else {
                     " (over the budget)"
                 }
+            ));
+            t.push_str(&format!(
+                "  {:>12} tolerances (arcmin): {}\n",
+                "",
+                tolerances_text(p, &names)
             ));
         }
     }

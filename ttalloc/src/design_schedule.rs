@@ -33,7 +33,7 @@
 //! ([`schedule_design::design_with_budget`]; total test time = positions x (dwell +
 //! move)), JSON `time_budget` (`budget_s`, `k_sigma`, `counts`, `counts_skipped`, `chosen`
 //! with its `n_positions`) and `pareto` (list of `{total_s, n_positions, dwell_s, objective_arcmin,
-//! origin}`), and `--pareto-svg OUT` the front as a figure (a new file, staged with
+//! origin, bounds_arcmin}`: each point's tolerance box), and `--pareto-svg OUT` the front as a figure (a new file, staged with
 //! `--write-study`; an empty front, no table at any dwell, is an answer: no figure, and the
 //! text and JSON `pareto_svg_note` say so). With `--write-study` the written study has the chosen point's positions
 //! and its one dwell (`calibration.timing.dwell_s`), so `end-to-end` on it answers the
@@ -43,27 +43,25 @@ use crate::InputError;
 use crate::input::lab;
 use anyhow::Result;
 use clap::Parser;
-use e2e_verify::noise::DEFAULT_K_SIGMA;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use schedule_design::{DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, ScheduleDesign, ScheduleReport};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use study::Study;
-use study::fmt::{num, sig};
-use tt_core::units::rad_to_arcmin;
+use tt_core::human::{num, sig};
 use tt_lab::design::budget::Budgeted;
-use tt_lab::design::rates::RateChoice;
 use tt_lab::design::schedule::{
     CombinedChoice, NoiseCounted, Options, RunView, ScheduleAnswer, noise_note, rate_steps_note,
     start_name,
 };
+use tt_lab::design::written::{self, bound_list, noise_counted_words, sig_down};
 
 /// Arguments of `design-schedule`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`).
-    #[arg(long)]
-    pub study: Option<PathBuf>,
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: crate::args::StudyFile,
     /// Number of test positions N (default: the study's).
     #[arg(long, allow_negative_numbers = true, value_parser = crate::args::positions)]
     pub positions: Option<u64>,
@@ -136,118 +134,6 @@ struct Outcome {
     written: Option<String>,
     /// With `--pareto-svg` and an empty front: why no figure was written.
     pareto_svg_note: Option<String>,
-}
-
-/// The combined comparison in words.
-fn combined_text(c: &CombinedChoice) -> String {
-    let j = |v: Option<f64>| {
-        v.map_or("no table suffices".to_string(), |v| {
-            format!("J = {}", num(v))
-        })
-    };
-    let standing = c.both_fail().map_or(String::new(), |(st, de)| {
-        let dwell = |d: Option<f64>| {
-            d.map_or("none up to the longest accepted dwell".to_string(), |d| {
-                format!("{} s", num(d))
-            })
-        };
-        format!(
-            " (neither leaves room for a table at the study's dwell: largest noise part / accuracy {} for the study's schedule, {} designed; shortest dwell at which some table suffices {} for the study's, {} designed)",
-            num(st.noise_over_accuracy()),
-            num(de.noise_over_accuracy()),
-            dwell(st.min_dwell_s()),
-            dwell(de.min_dwell_s())
-        )
-    });
-    format!(
-        "with the noise counted ({} sigma, the study's timing; certified direct allocation with the noise part kept free): study's schedule {}, designed {}{standing}: {}\n",
-        num(DEFAULT_K_SIGMA),
-        j(c.study().objective_arcmin()),
-        j(c.designed().objective_arcmin()),
-        if c.designed_recommended() {
-            "the designed schedule does not lose on the combined answer"
-        } else {
-            "the designed schedule LOSES on the combined answer; keep the study's schedule (it is the one recommended and written)"
-        }
-    )
-}
-
-/// A schedule's condition numbers by output, for the written study's comment.
-fn condition_list(s: &Study, r: &ScheduleReport) -> String {
-    s.sensor
-        .outputs()
-        .iter()
-        .zip(r.condition_numbers())
-        .map(|(o, c)| format!("{} {}", o.name, num(*c)))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// `v` rounded down to `digits` significant digits, printed: a tolerance read back from the
-/// text is never looser than the one computed.
-fn sig_down(v: f64, digits: usize) -> String {
-    if !(v.is_finite() && v > 0.0) {
-        return sig(v, digits);
-    }
-    let scale = 10f64.powi(digits as i32 - 1 - v.log10().floor() as i32);
-    let mut m = (v * scale).floor();
-    loop {
-        let shown = sig(m / scale, digits);
-        if m <= 0.0 || shown.parse::<f64>().is_ok_and(|x| x <= v) {
-            return shown;
-        }
-        m -= 1.0;
-    }
-}
-
-/// `ub` (rad) by error name in arcmin, `shown` formatting each finite bound; `free` where
-/// there is none.
-fn bound_list(s: &Study, ub: &[f64], shown: &dyn Fn(f64) -> String) -> String {
-    s.turntable
-        .rotation_error_names()
-        .iter()
-        .zip(ub)
-        .map(|(n, u)| {
-            format!(
-                "{n} {}",
-                if u.is_finite() {
-                    shown(rad_to_arcmin(*u))
-                } else {
-                    "free".into()
-                }
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// The tolerances recommended with the noise counted (`n`) in words: what is proven (the
-/// table's part, on the exact chain) and what the noise adds; `None` for the bounds when no
-/// table suffices.
-fn noise_counted_words(n: &NoiseCounted) -> (String, Option<&[f64]>) {
-    let k = num(DEFAULT_K_SIGMA);
-    match n.allocation() {
-        None => (
-            format!(
-                "with the noise counted ({k} sigma, the study's timing): none: no table suffices at the study's dwell (the noise part alone fills an accuracy)"
-            ),
-            None,
-        ),
-        Some(a) if n.certified() => (
-            format!(
-                "with the noise counted ({k} sigma, the study's timing), certified on the exact chain (J = {}; rounded down): every turntable within them is proven to stay within each accuracy less the noise part ({k} sigma of the calibration's noise, a statistical bound, not a proof), so table and noise together meet every accuracy at {k} sigma, as `check-turntable` on the written study finds",
-                sig(a.objective_arcmin(), 6)
-            ),
-            Some(a.upper_bounds_rad()),
-        ),
-        Some(a) => (
-            format!(
-                "with the noise counted ({k} sigma, the study's timing), first order only (J = {}; rounded down; not certifiable on the exact chain for this reading): the table's part within each accuracy less the noise part ({k} sigma) to first order, not proven",
-                sig(a.objective_arcmin(), 6)
-            ),
-            Some(a.upper_bounds_rad()),
-        ),
-    }
 }
 
 /// The tolerances a schedule allows (arcmin), the one to buy first (rounded down): with noise
@@ -377,12 +263,12 @@ fn header_text(s: &Study, o: &ScheduleAnswer) -> String {
         t.push_str(&format!("note: {n}\n"));
     }
     if let Some(r) = o.rates() {
-        t.push_str(&crate::design_rates::text(r));
+        t.push_str(&written::rates_text(r));
     }
     if let Some(n) = noise_note(s) {
         t.push_str(&format!("note: {n}\n"));
         if let Some(c) = o.combined() {
-            t.push_str(&combined_text(c));
+            t.push_str(&written::combined_text(c));
         }
         t.push('\n');
     }
@@ -536,7 +422,7 @@ fn tail_text(s: &Study, o: &Outcome) -> String {
 /// [`InputError`] for bad inputs (exit 2, nothing on standard output); other errors if a
 /// solver fails.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::loaded::load(args.study.as_deref())?;
+    let s = args.study.load()?;
     let mut options = Options::default();
     options.positions = args.positions.map(|n| n as usize);
     options.step_deg = args.step_deg;
@@ -583,7 +469,7 @@ pub fn run(args: &Args) -> Result<()> {
     let written = match &args.write_study {
         Some(out) => {
             let shown = out.display().to_string();
-            let text = written_text(&s, &answer, &command, &shown)?;
+            let text = written::study_text(&s, &answer, &command, &shown).map_err(lab)?;
             Some((
                 shown,
                 crate::newfile::stage(out, text.as_bytes()).map_err(lab)?,
@@ -652,17 +538,17 @@ fn check(args: &Args, s: &Study, options: &Options) -> Result<()> {
 fn command_line(args: &Args, answer: &ScheduleAnswer) -> String {
     let mut command = format!(
         "cargo xtask design-schedule --study {} --positions {} --step-deg {} --max-condition {} --seed {}",
-        crate::paths::shell_quote(&crate::paths::shown(args.study.as_deref())),
+        crate::paths::shell_quote(&crate::paths::shown(args.study.path())),
         answer.settings().positions,
         num(args.step_deg),
         num(args.max_condition),
         answer.settings().seed
     );
     if let Some(b) = args.time_budget_s {
-        command.push_str(&format!(" --time-budget-s {}", study::fmt::exact(b)));
+        command.push_str(&format!(" --time-budget-s {}", tt_core::human::exact(b)));
     }
     if let Some(r) = &args.rates_deg_per_s {
-        let list: Vec<String> = r.iter().map(|v| study::fmt::exact(*v)).collect();
+        let list: Vec<String> = r.iter().map(|v| tt_core::human::exact(*v)).collect();
         command.push_str(&format!(
             " {} {}",
             crate::design_rates::FLAG,
@@ -670,140 +556,4 @@ fn command_line(args: &Args, answer: &ScheduleAnswer) -> String {
         ));
     }
     command
-}
-
-/// The study `--write-study` writes (shown as `shown`): the positions chosen (designed, the
-/// study's kept, or the budget's choice, with its dwell) and the chosen rate, under a comment
-/// saying how they were made and the tolerances recommended for exactly them; checked by
-/// parsing it back.
-///
-/// # Errors
-/// An internal error when the text does not parse back to what was chosen.
-fn written_text(s: &Study, answer: &ScheduleAnswer, command: &str, shown: &str) -> Result<String> {
-    let design = answer.design();
-    let combined = answer.combined();
-    let keep_study = answer.keep_study();
-    let rate_keeps_study = answer
-        .rates()
-        .is_some_and(|r| r.chosen().is_some() && r.chosen_study_positions());
-    // with a time budget and noise: the count, positions and dwell it chose
-    let chosen = match answer.budget() {
-        Some(Budgeted::Design(d)) => d.chosen().map(|p| (d, p)),
-        _ => None,
-    };
-    let study_kept = keep_study || rate_keeps_study;
-    // the comment describes what is written: which positions, their J and the
-    // tolerances recommended for exactly them (with the noise counted when the
-    // study gives noise)
-    let (positions, which, counted): (&[Vec<f64>], String, Option<&NoiseCounted>) = match chosen {
-        Some((d, p)) => (
-            p.positions_deg(),
-            crate::design_budget::chosen_comment(d, p),
-            d.chosen_counted(),
-        ),
-        None if study_kept => (
-            design.study().positions_deg(),
-            format!(
-                "The study's own positions are kept ({}): J = {} arcmin^-2 (direct allocation, table alone, reading {}; designed: {}), condition numbers {}.",
-                if keep_study {
-                    "the designed ones lose once the noise is counted"
-                } else {
-                    "with the chosen rate they give the least J"
-                },
-                num(design.study().allocation().objective_arcmin()),
-                s.reading,
-                num(design.designed().allocation().objective_arcmin()),
-                condition_list(s, design.study())
-            ),
-            combined.map(CombinedChoice::study),
-        ),
-        None => (
-            design.designed().positions_deg(),
-            format!(
-                "Designed positions: J = {} arcmin^-2 (direct allocation, table alone, reading {}; the study's schedule: {}, D-optimal: {}),\ncondition numbers {}, best of {} restarts over {} candidates.",
-                num(design.designed().allocation().objective_arcmin()),
-                s.reading,
-                num(design.study().allocation().objective_arcmin()),
-                num(design.d_optimal().allocation().objective_arcmin()),
-                condition_list(s, design.designed()),
-                design.search().restarts().len(),
-                answer.candidates()
-            ),
-            combined.map(CombinedChoice::designed),
-        ),
-    };
-    let tolerances = match counted {
-        Some(n) => {
-            let (words, ub) = noise_counted_words(n);
-            format!(
-                "Tolerances for these positions (arcmin) {}{}.",
-                words.replacen("the study's timing", "this file's timing", 1),
-                ub.map_or(String::new(), |ub| format!(
-                    ":\n{}",
-                    bound_list(s, ub, &|v| sig_down(v, 3))
-                ))
-            )
-        }
-        None => {
-            let r = if study_kept {
-                design.study()
-            } else {
-                design.designed()
-            };
-            match r.certified() {
-                Some(c) => format!(
-                    "Tolerances certified on the exact chain for these positions (arcmin, rounded down; every turntable within them meets every accuracy: `check-turntable` proves them):\n{}.",
-                    bound_list(s, c.upper_bounds_rad(), &|v| sig_down(v, 3))
-                ),
-                None => format!(
-                    "Tolerances certified on the exact chain for these positions: none ({}).",
-                    r.certified_note().unwrap_or("not certifiable")
-                ),
-            }
-        }
-    };
-    let mut comment = format!(
-        "The positions below replace the schedule described above. Made by\n`{command}`.\n{which}\n{tolerances}"
-    );
-    if let (Some(c), None) = (combined, chosen) {
-        comment.push('\n');
-        comment.push_str(combined_text(c).trim_end());
-    }
-    if let Some(r) = answer.rates() {
-        comment.push('\n');
-        comment.push_str(crate::design_rates::text(r).trim());
-    }
-    if let Some(Budgeted::Design(d)) = answer.budget() {
-        if d.chosen().is_none() {
-            comment.push_str(&format!(
-                "\nWith --time-budget-s {}: no table suffices within the budget (the noise fills an accuracy),\nso the positions below are those chosen without the budget, and the study's dwell is kept.",
-                num(d.budget_s())
-            ));
-        }
-    }
-    let chosen = chosen.map(|(_, p)| p);
-    let text = match chosen {
-        Some(p) => s.text_with_dwell(positions, p.dwell_s(), &comment),
-        None => s.text_with_positions(positions, &comment),
-    }
-    .map_err(InputError::from)?;
-    let text = match answer.rates().and_then(RateChoice::chosen) {
-        Some((rate, _)) => crate::design_rates::text_with_rate(s, &text, rate)?,
-        None => text,
-    };
-    let back = Study::parse(shown, &text)
-        .map_err(|e| anyhow::anyhow!("internal: the written study does not parse: {e}"))?;
-    if back.positions_deg.as_slice() != positions {
-        anyhow::bail!("internal: the written study's positions differ from the designed ones");
-    }
-    if let Some(p) = chosen {
-        let dwells = back.timing.as_ref().map(calib_lsq::Timing::dwell_s);
-        if !dwells.is_some_and(|d| d.iter().all(|t| t.to_bits() == p.dwell_s().to_bits())) {
-            anyhow::bail!(
-                "internal: the written study's dwell differs from the chosen {} s",
-                p.dwell_s()
-            );
-        }
-    }
-    Ok(text)
 }

@@ -12,15 +12,13 @@
 //! of the text and the report) and yield) and `throughput` (turntables per second of the fast path, all threads and one, and of
 //! the reference path, measured in the same run).
 
-use crate::loaded as st;
 use anyhow::Result;
 use clap::Parser;
 use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, NoisyDirect, ReadingAnswer, Tradeoff, YieldVerdict,
 };
-use std::path::PathBuf;
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_core::units::objective_to_arcmin;
 pub use tt_lab::end_to_end::{
     EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples, direct_bounds,
@@ -29,16 +27,12 @@ pub use tt_lab::end_to_end::{
 /// Arguments of `end-to-end`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`).
-    #[arg(long)]
-    pub study: Option<PathBuf>,
-    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
-    /// `1e6`, `1000000`, `1_000_000`).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
-    pub samples: Option<u64>,
-    /// Seed of the random streams (default: the study's).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
-    pub seed: Option<u64>,
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: crate::args::StudyFile,
+    /// `--samples` and `--seed` (default: the study's `monte_carlo`).
+    #[command(flatten)]
+    pub sampling: crate::args::Sampling,
     /// Target yield of the yield-based allocation, in (0, 1).
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_YIELD_FRACTION, value_parser = crate::args::fraction)]
     pub yield_fraction: f64,
@@ -390,10 +384,10 @@ pub fn to_text(
 /// # Errors
 /// [`InputError`] for bad inputs; other errors if a solver fails.
 pub fn run(args: &Args) -> Result<()> {
-    let s = st::load(args.study.as_deref())?;
+    let s = args.study.load()?;
     let options = tt_lab::end_to_end::Options {
-        samples: args.samples,
-        seed: args.seed,
+        samples: args.sampling.samples,
+        seed: args.sampling.seed,
         yield_fraction: args.yield_fraction,
         k_sigma: args.k_sigma,
         tolerances: args.tolerances.clone(),
@@ -401,7 +395,7 @@ pub fn run(args: &Args) -> Result<()> {
     let r = tt_lab::end_to_end::end_to_end(&s, &options).map_err(crate::input::lab)?;
     let mc = crate::text::jcgm101::run(
         &args.jcgm101,
-        args.seed,
+        args.sampling.seed,
         &s,
         r.simulator(),
         r.answer().readings()[0].direct().upper_bounds_rad(),

@@ -33,15 +33,15 @@ use calib_lsq::joint::JOINT_RANK_RTOL;
 use clap::Parser;
 use e2e_verify::DirectAllocation;
 use std::path::PathBuf;
-use study::fmt::{num, sig};
+use tt_core::human::{num, sig};
 pub use tt_lab::estimable::{Estimable, JOINT_ITERATIONS, model_words, to_json};
 
 /// Arguments of `estimable`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`).
-    #[arg(long)]
-    pub study: Option<PathBuf>,
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: crate::args::StudyFile,
     /// A vendor's tolerances whose worst turntable is calibrated both ways (default: the
     /// direct allocation's box under the user's reading).
     #[arg(long)]
@@ -158,7 +158,7 @@ pub fn to_text(a: &Estimable) -> String {
 /// # Errors
 /// An [`InputError`] (exit 2) for a bad study or sheet; others exit 1.
 pub fn run(args: &Args) -> Result<()> {
-    let s = crate::loaded::load(args.study.as_deref())?;
+    let s = args.study.load()?;
     let options = tt_lab::estimable::Options {
         tolerances: args.tolerances.clone(),
     };

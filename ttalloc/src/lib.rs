@@ -63,6 +63,12 @@ pub mod fuzzing {
     pub use crate::paths::workspace_root;
     pub use crate::report::default_report_dir;
 }
+/// The Monte Carlo command with a same-run benchmark after it, for `cargo xtask mc
+/// --baselines` (the benchmark lives in xtask, not in the user's binary); not a stable API.
+#[doc(hidden)]
+pub mod bench {
+    pub use crate::mc::{Args as McArgs, Bench, run_with as mc};
+}
 /// The report as a library (the `tt-report` crate), re-exported for the callers of `ttalloc::Report`.
 pub use tt_report::{Report, ReportFile, ReportOptions};
 
@@ -164,7 +170,7 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
         Err(err) if err.downcast_ref::<out::BrokenPipe>().is_some() => ExitCode::SUCCESS,
         Err(err) => {
             // a message may quote a file's text: never a raw control character
-            eprintln!("error: {}", ::study::fmt::terminal(&format!("{err:#}")));
+            eprintln!("error: {}", ::tt_core::human::terminal(&format!("{err:#}")));
             if err.downcast_ref::<InputError>().is_some() {
                 ExitCode::from(2)
             } else {

@@ -66,7 +66,7 @@ pub fn run(args: &Args) -> Result<()> {
         ORIENTATION_COLUMNS,
         |line, row| {
             let v = rows.row(&format!("{name}:{line}"), &row)?;
-            Ok(v.map(study::fmt::exact).join(","))
+            Ok(v.map(tt_core::human::exact).join(","))
         },
     )
 }

@@ -25,14 +25,14 @@ pub fn io(e: std::io::Error) -> anyhow::Error {
 }
 
 /// Write `text` to standard output and flush. Control characters (from a study's text: ESC,
-/// BEL, CR, ...) are shown escaped ([`study::fmt::terminal`]): nothing a file says can drive
+/// BEL, CR, ...) are shown escaped ([`tt_core::human::terminal`]): nothing a file says can drive
 /// the terminal.
 ///
 /// # Errors
 /// [`BrokenPipe`] when the reader is gone; other I/O errors.
 pub fn print(text: &str) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
-    out.write_all(study::fmt::terminal(text).as_bytes())
+    out.write_all(tt_core::human::terminal(text).as_bytes())
         .map_err(io)?;
     out.flush().map_err(io)
 }

@@ -7,20 +7,19 @@
 //! "unconstrained_outputs": [...], "given_requirement_deg", "note"}`.
 
 use crate::InputError;
-use crate::loaded as st;
 use anyhow::Result;
 use calib_lsq::{CalibError, OrientationRequirement};
 use clap::Parser;
-use study::fmt::num;
 use tt_core::OrientationAxis;
+use tt_core::human::num;
 use tt_lab::requirement::{Options, RequirementJson};
 
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
 pub struct Args {
-    /// Study file (default: `studies/gyrowheel-2017.toml`).
-    #[arg(long)]
-    pub study: Option<std::path::PathBuf>,
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: crate::args::StudyFile,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -42,7 +41,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
                 match r.requirement().get(axis) {
                     Some(v) => s.push_str(&format!(
                         "I_{name:<5} = {} deg\n",
-                        study::fmt::sig(v.to_degrees(), 8)
+                        tt_core::human::sig(v.to_degrees(), 8)
                     )),
                     None => s.push_str(&format!("I_{name:<5} : none (no output constrains it)\n")),
                 }
@@ -78,7 +77,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
 
 /// Run the command.
 pub fn run(args: &Args) -> Result<()> {
-    let s = st::load(args.study.as_deref())?;
+    let s = args.study.load()?;
     let reading = match &args.reading {
         Some(r) => Some(
             r.parse()
@@ -103,7 +102,7 @@ pub fn run(args: &Args) -> Result<()> {
                     v.orientation_requirement_deg()
                         .and_then(|req| *req.get(a))
                         .filter(|d| d.is_finite())
-                        .map_or_else(|| "-".to_string(), |d| study::fmt::sig(d, 7))
+                        .map_or_else(|| "-".to_string(), |d| tt_core::human::sig(d, 7))
                 };
                 let [psi, theta, gamma] = OrientationAxis::ALL.map(f);
                 t.push_str(&format!(

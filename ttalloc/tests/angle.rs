@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{assert_input_error, json, num, run, scratch, stderr, stdout, study, write};
+use common::{
+    assert_input_error, check_turntable, json, num, run, scratch, stderr, stdout, study, write,
+};
 
 /// Relative agreement of two computations of the same linear worst case (dimensionless).
 const SAME_REL: f64 = 1e-12;
@@ -128,15 +130,7 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
             assert!(num(lo) <= num(up));
         }
     }
-    let text = stdout(&run(&[
-        "check-turntable",
-        "--study",
-        &three,
-        "--tolerances",
-        sheet,
-        "--samples",
-        "1500",
-    ]));
+    let text = stdout(&run(&check_turntable(&three, sheet, "1500", &[])));
     assert!(text.contains("dphi_o and deps_om_z: one rotation when the errors are constant, distinct once they vary with the shaft angle"), "{text}");
     let dir = scratch("angle", "vendor");
     let bad = write(
@@ -231,8 +225,8 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
     let user = &readings[1];
     let row = format!(
         "| `actual/beta1/printed` | {} | {} |",
-        study::fmt::sig(num(&user["constant"]["disc"]["objective_arcmin"]), 5),
-        study::fmt::sig(num(&user["constant"]["square"]["objective_arcmin"]), 5)
+        tt_core::human::sig(num(&user["constant"]["disc"]["objective_arcmin"]), 5),
+        tt_core::human::sig(num(&user["constant"]["square"]["objective_arcmin"]), 5)
     );
     assert!(md.contains(&row), "{row} not in the report");
     let dir = scratch("angle", "bad-discs");

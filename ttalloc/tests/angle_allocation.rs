@@ -6,7 +6,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{json, num, run, scratch, stdout};
+use common::{json, num, report_args, run, scratch, stdout};
 
 /// Relative agreement of the same allocation computed by two commands (dimensionless): one
 /// code path, deterministic, so equal to the solver's reproducibility.
@@ -117,15 +117,7 @@ fn studies_without_varying_or_measured_errors_get_no_angle_section() {
 #[test]
 fn report_shows_the_angle_dependent_allocation() {
     let out = scratch("angle-allocation", "report").join("r");
-    let o = run(&[
-        "report",
-        "--study",
-        HARMONIC,
-        "--samples",
-        "1500",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run(&report_args(HARMONIC, &out, "1500", &[]));
     assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("## Errors that vary with the shaft angle, and compensation"));

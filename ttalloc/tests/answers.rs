@@ -5,7 +5,10 @@
 
 mod common;
 
-use common::{assert_input_error, json, num, run, stderr, stdout, study_text, write};
+use common::{
+    assert_input_error, check_turntable, json, num, report_args, run, stderr, stdout, study_text,
+    write,
+};
 use serde_json::Value;
 use std::path::Path;
 
@@ -23,16 +26,7 @@ fn sheet(dir: &Path, name: &str, bounds: &Value) -> String {
 
 /// check-turntable's verdict on the study's reading, for every output and overall.
 fn assert_meets(study: &str, tolerances: &str) {
-    let v = json(&[
-        "check-turntable",
-        "--study",
-        study,
-        "--tolerances",
-        tolerances,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = json(&check_turntable(study, tolerances, "2000", &["--json"]));
     for o in v["outputs"].as_array().unwrap() {
         assert_eq!(o["verdict"], "guaranteed", "{study} {tolerances}: {o}");
     }
@@ -189,15 +183,12 @@ fn yield_based_allocation_is_judged_against_its_target_in_text_json_and_report()
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r");
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/gyrowheel-2017.toml",
-        "--samples",
+        &out,
         "2000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &[],
+    ));
     assert!(o.status.success(), "{}", stderr(&o));
     let results: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
@@ -322,17 +313,12 @@ fn report_designed_names_the_key_that_differs() {
         assert!(text.contains(from), "{from}");
         let p = write(dir.path(), "other.toml", &text.replacen(from, to, 1));
         let out = dir.path().join("o");
-        let o = run(&[
-            "report",
-            "--study",
+        let o = run(&report_args(
             "studies/gyrowheel-2017.toml",
-            "--out",
-            out.to_str().unwrap(),
-            "--samples",
+            &out,
             "1500",
-            "--designed",
-            p.to_str().unwrap(),
-        ]);
+            &["--designed", p.to_str().unwrap()],
+        ));
         assert_input_error(&o, &["--designed", &format!("key `{key}`")]);
         assert!(!out.exists());
     }

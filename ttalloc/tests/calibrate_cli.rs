@@ -5,6 +5,20 @@
 mod common;
 
 use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
+use std::path::Path;
+use std::process::Output;
+
+/// `calibrate --study STUDY LOG --out CAL` followed by `extra`.
+fn calibrate(study: &str, log: &Path, cal: &Path, extra: &[&str]) -> Output {
+    let (log, cal) = (log.to_str().expect("utf8"), cal.to_str().expect("utf8"));
+    let mut tail = vec![log, "--out", cal];
+    tail.extend_from_slice(extra);
+    ttalloc(&common::command_line(
+        "calibrate",
+        &[("--study", study)],
+        &tail,
+    ))
+}
 
 #[test]
 fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
@@ -12,17 +26,7 @@ fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
     let log = recording(dir.path());
     let cal = dir.path().join("cal.json");
     let study = study_path();
-    let out = ttalloc(&[
-        "calibrate",
-        "--study",
-        &study,
-        log.to_str().expect("utf8"),
-        "--out",
-        cal.to_str().expect("utf8"),
-        "--spec",
-        "bg_x=100",
-        "--json",
-    ]);
+    let out = calibrate(&study, &log, &cal, &["--spec", "bg_x=100", "--json"]);
     assert!(
         out.status.success(),
         "{}",
@@ -39,14 +43,7 @@ fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
     );
     let written = std::fs::read_to_string(&cal).expect("calibration file");
     // a second run refuses the existing file: exit 2, the file as it was
-    let again = ttalloc(&[
-        "calibrate",
-        "--study",
-        &study,
-        log.to_str().expect("utf8"),
-        "--out",
-        cal.to_str().expect("utf8"),
-    ]);
+    let again = calibrate(&study, &log, &cal, &[]);
     assert_eq!(again.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&again.stderr).contains("never overwritten"));
     assert_eq!(std::fs::read_to_string(&cal).expect("still there"), written);
@@ -92,14 +89,7 @@ fn a_bad_cell_exits_2_naming_line_and_column_and_writes_nothing() {
     let bad_path = dir.path().join("bad.csv");
     std::fs::write(&bad_path, bad).expect("written");
     let cal = dir.path().join("cal.json");
-    let out = ttalloc(&[
-        "calibrate",
-        "--study",
-        &study_path(),
-        bad_path.to_str().expect("utf8"),
-        "--out",
-        cal.to_str().expect("utf8"),
-    ]);
+    let out = calibrate(&study_path(), &bad_path, &cal, &[]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -189,14 +179,7 @@ fn a_toml_calibration_file_equals_the_json_one_and_apply_corrects_identically() 
     let mut parsed = Vec::new();
     for name in ["cal.json", "cal.toml"] {
         let cal = dir.path().join(name);
-        let out = ttalloc(&[
-            "calibrate",
-            "--study",
-            &study,
-            log.to_str().expect("utf8"),
-            "--out",
-            cal.to_str().expect("utf8"),
-        ]);
+        let out = calibrate(&study, &log, &cal, &[]);
         ok(&out);
         let text = std::fs::read_to_string(&cal).expect("written");
         parsed.push(calib_run::file::CalibrationFile::parse(name, &text).expect("parsed"));
@@ -228,14 +211,7 @@ fn a_calibration_file_of_another_extension_exits_2_naming_out() {
     let dir = tempfile::tempdir().expect("dir");
     let log = recording(dir.path());
     let cal = dir.path().join("cal.yaml");
-    let out = ttalloc(&[
-        "calibrate",
-        "--study",
-        &study_path(),
-        log.to_str().expect("utf8"),
-        "--out",
-        cal.to_str().expect("utf8"),
-    ]);
+    let out = calibrate(&study_path(), &log, &cal, &[]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--out") && err.contains(".toml"), "{err}");

@@ -7,27 +7,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{root, scratch};
+use common::{json_of, root, run as xtask, scratch};
 use serde_json::Value;
-use std::process::{Command, Output};
-
-fn xtask(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run xtask")
-}
-
-fn json_of(out: &Output) -> Value {
-    assert!(
-        out.status.success(),
-        "exit {:?}: {}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
-}
+use std::process::Output;
 
 const NOISY: &str = "studies/gyrowheel-2017-noise-assumed.toml";
 
@@ -121,7 +103,39 @@ fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
         let total = n * (f(p, "dwell_s") + 60.0);
         assert!((f(p, "total_s") - total).abs() <= 1e-9 * total, "{p}");
     }
+    // every point's tolerance box: one bound per rotation error of the paper's table (its
+    // eight, named as in the study), in arcmin, each positive (or null: no bound needed), and
+    // the chosen point's is the front's
+    let names = [
+        "dphi_y1",
+        "dalpha_z1",
+        "dalpha_x1",
+        "deps_y",
+        "deps_x",
+        "dalpha_y2",
+        "dphi_z2",
+        "dalpha_x2",
+    ];
+    for p in front {
+        let bounds = p["bounds_arcmin"].as_object().expect("a tolerance box");
+        let mut keys: Vec<&str> = bounds.keys().map(String::as_str).collect();
+        let mut want = names.to_vec();
+        keys.sort_unstable();
+        want.sort_unstable();
+        assert_eq!(keys, want, "{p}");
+        for (k, u) in bounds {
+            assert!(
+                u.is_null() || u.as_f64().is_some_and(|u| u > 0.0),
+                "{k}: {u}"
+            );
+        }
+    }
     let chosen = &v["time_budget"]["chosen"];
+    assert!(
+        front
+            .iter()
+            .any(|p| p["bounds_arcmin"] == chosen["bounds_arcmin"])
+    );
     assert!(f(chosen, "total_s") <= budget, "{chosen}");
     // the number of positions is searched: the chosen count is one of the counts designed for,
     // and its test fits the budget

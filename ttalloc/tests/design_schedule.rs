@@ -2,49 +2,16 @@
 //! reproduces the designer's J in `end-to-end`, an existing output file is never touched,
 //! bad flags exit 2 with nothing on standard output, and the shipped examples design.
 
+mod common;
+
 use approx::assert_relative_eq;
+use common::{json_of, run as xtask, scratch};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// Relative agreement of J between the designer and `end-to-end` on the written study
 /// (dimensionless): both take the same path from the same positions, so only the printing
 /// of the JSON numbers (shortest round-trip) may differ, which it does not.
 const SAME_PATH_REL: f64 = 1e-12;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn xtask(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run xtask")
-}
-
-fn json_of(out: &Output) -> Value {
-    assert!(
-        out.status.success(),
-        "exit {:?}: {}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
-}
-
-/// A fresh directory under the target directory (never the source tree, never /tmp shared
-/// with other runs), removed first if a previous run left it.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("design-schedule-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn objective(v: &Value, key: &str) -> f64 {
     v[key]["objective"]
@@ -80,7 +47,7 @@ fn check_schedule(v: &Value, key: &str, outputs: &[&str], positions: usize, join
 /// study's comments and says how the schedule was made.
 #[test]
 fn end_to_end_on_the_written_study_reproduces_the_designed_objective() {
-    let dir = scratch("paper");
+    let dir = scratch("design-schedule", "paper");
     let out = dir.join("designed.toml");
     let v = json_of(&xtask(&[
         "design-schedule",
@@ -140,7 +107,7 @@ fn end_to_end_on_the_written_study_reproduces_the_designed_objective() {
 /// standard output, the file unchanged; so is a missing directory.
 #[test]
 fn an_existing_output_file_is_refused_and_left_untouched() {
-    let dir = scratch("exists");
+    let dir = scratch("design-schedule", "exists");
     let out = dir.join("mine.toml");
     std::fs::write(&out, "# my own notes\n").unwrap();
     let r = xtask(&["design-schedule", "--write-study", out.to_str().unwrap()]);
@@ -310,7 +277,7 @@ fn recommended_sheet(written: &str) -> String {
 /// written from the comment's own numbers, as a user would copy them.
 #[test]
 fn every_tolerance_recommended_with_noise_passes_check_turntable_on_the_written_study() {
-    let dir = scratch("noise-recommended");
+    let dir = scratch("design-schedule", "noise-recommended");
     for (name, extra) in [
         ("at-dwell", vec![]),
         ("budget", vec!["--time-budget-s", "25000"]),

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_input_error, json, num, run, scratch, stdout, write};
+use common::{assert_input_error, json, num, report_args, run, scratch, stdout, write};
 
 /// The paper's eight errors act as five (eq 26's equal coefficients): the joint least squares
 /// sees exactly those five combinations (rank 14 + 5 of 22), the three differences are
@@ -125,15 +125,7 @@ fn a_study_with_rate_steps_is_refused_by_estimable_and_noted_by_the_report() {
     assert_input_error(&o, &["calibration.rate_steps", "static positions only"]);
     let dir = scratch("estimable", "rate-report");
     let out = dir.join("report");
-    let o = run(&[
-        "report",
-        "--study",
-        rate,
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
-        "1500",
-    ]);
+    let o = run(&report_args(rate, &out, "1500", &[]));
     assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     let at = md

@@ -104,7 +104,7 @@ fn csv_output_of_tiny_values_is_short_and_exact() {
     let v: f64 = fields[0].parse().unwrap();
     // 1e-300 arcmin in, the same angle out (the exact chain at zero elsewhere)
     approx::assert_relative_eq!(v, 1e-300, max_relative = 1e-12);
-    assert_eq!(study::fmt::exact(v), fields[0], "shortest round trip");
+    assert_eq!(tt_core::human::exact(v), fields[0], "shortest round trip");
 }
 
 /// `design-schedule --step-deg 1e-308` (24 GB, killed) and `1e-6` (a 4 GB allocation

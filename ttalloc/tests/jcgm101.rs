@@ -6,11 +6,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, num, run, stdout};
-use e2e_verify::EndToEnd;
+use common::{assert_input_error, check_turntable, json, num, run, stdout};
 use e2e_verify::budget_mc::MC_RULE;
 use metrology::montecarlo::McSettings;
-use tt_kinematics::Pose;
 
 const STUDY: &str = "studies/imu-triad-example.toml";
 const SHEET: &str = "studies/tolerances/three-axis-navigation-grade.toml";
@@ -20,20 +18,12 @@ const SHEET: &str = "studies/tolerances/three-axis-navigation-grade.toml";
 const SAME_REL: f64 = 1e-12;
 
 fn check_args(extra: &[&'static str]) -> Vec<&'static str> {
-    let mut a = vec![
-        "check-turntable",
-        "--study",
+    let mut a = check_turntable(
         STUDY,
-        "--tolerances",
         SHEET,
-        "--samples",
         "2000",
-        "--seed",
-        "5",
-        "--jcgm101",
-        "--mc-digits",
-        "1",
-    ];
+        &["--seed", "5", "--jcgm101", "--mc-digits", "1"],
+    );
     a.extend_from_slice(extra);
     a
 }
@@ -47,24 +37,13 @@ fn check_turntable_jcgm101_gives_every_specification_the_librarys_monte_carlo() 
     assert_eq!(mc["significant_digits"].as_u64().unwrap(), 1);
     let specs = mc["specifications"].as_array().unwrap();
     // the library's run over the same sheet, law, noise and seed
-    let s = study::Study::load(&common::root().join(STUDY)).unwrap();
-    let tol = study::Tolerances::load(&common::root().join(SHEET), &s.turntable).unwrap();
-    let poses: Vec<Pose> = s
-        .positions_deg
-        .iter()
-        .map(|p| Pose::from_deg(p).unwrap())
-        .collect();
-    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
+    let common::LibraryPlan {
+        study: s,
+        tolerances: tol,
+        e2e,
+        verdict,
+    } = common::library_plan(std::path::Path::new(STUDY), SHEET);
     let law = s.uncertainty.tolerance_distribution;
-    let verdict = e2e
-        .plan_verdict(
-            &s.specifications,
-            &tol.ub_rad,
-            |n, a| law.input(n, a),
-            &s.noise,
-            s.timing.as_ref(),
-        )
-        .unwrap();
     let table: Vec<_> = e2e
         .error_names()
         .iter()
@@ -112,16 +91,7 @@ fn check_turntable_jcgm101_gives_every_specification_the_librarys_monte_carlo() 
         specs.len()
     );
     // without the flag, no key and no run
-    let plain = json(&[
-        "check-turntable",
-        "--study",
-        STUDY,
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let plain = json(&check_turntable(STUDY, SHEET, "2000", &["--json"]));
     assert!(plain.get("jcgm101").is_none());
 }
 
@@ -215,4 +185,77 @@ fn end_to_end_jcgm101_adds_the_monte_carlo_of_the_direct_allocations_box() {
         mc["meets"].as_bool().unwrap(),
         specs.iter().all(|j| j["meets"].as_bool().unwrap())
     );
+}
+
+/// `report --jcgm101` into a fresh directory with `RAYON_NUM_THREADS` threads: the
+/// Markdown's Monte Carlo subsection (up to the next section) and `results.json`'s
+/// `jcgm101`.
+fn report_on(threads: &str) -> (String, serde_json::Value) {
+    let dir = tempfile::tempdir().expect("dir");
+    let out = dir.path().join("r");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_ttalloc"))
+        .args([
+            "report",
+            "--study",
+            STUDY,
+            "--samples",
+            "2000",
+            "--seed",
+            "5",
+            "--jcgm101",
+            "--mc-digits",
+            "1",
+            "--out",
+            out.to_str().expect("utf8"),
+        ])
+        .current_dir(common::root())
+        .env("RAYON_NUM_THREADS", threads)
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    let start = md
+        .find("### JCGM 101 Monte Carlo of each specification")
+        .expect("the subsection");
+    let end = start + md[start..].find("\n## ").expect("a next section");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).expect("json"))
+            .expect("parsed");
+    assert!(out.join("jcgm101_intervals.svg").exists());
+    (md[start..end].to_string(), json["jcgm101"].clone())
+}
+
+#[test]
+fn report_jcgm101_writes_the_subsection_the_same_on_one_thread_and_two() {
+    let (one, json) = report_on("1");
+    let (two, json_two) = report_on("2");
+    assert_eq!(one, two);
+    assert_eq!(json, json_two);
+    assert_eq!(json["rule"].as_str().unwrap(), MC_RULE);
+    assert_eq!(json["seed"].as_u64().unwrap(), 5);
+    assert_eq!(json["specifications"].as_array().unwrap().len(), 5);
+    // one table row per specification, the verdict with its rule
+    let rows = one
+        .lines()
+        .filter(|l| l.starts_with("| gx ") || l.starts_with("| ax "))
+        .count();
+    assert_eq!(rows, 5, "{one}");
+    assert!(one.contains("Monte Carlo verdict: "), "{one}");
+}
+
+#[test]
+fn report_mc_digits_without_jcgm101_exits_2_naming_both_flags() {
+    let dir = tempfile::tempdir().expect("dir");
+    let out = dir.path().join("r");
+    let o = run(&[
+        "report",
+        "--study",
+        STUDY,
+        "--mc-digits",
+        "2",
+        "--out",
+        out.to_str().expect("utf8"),
+    ]);
+    assert_input_error(&o, &["--mc-digits", "--jcgm101"]);
+    assert!(!out.exists(), "nothing written");
 }

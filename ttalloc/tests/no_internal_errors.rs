@@ -5,7 +5,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, run, stderr, stdout, study_text};
+use common::{assert_input_error, json, report_args, run, stderr, stdout, study_text};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -131,15 +131,7 @@ fn a_turntable_whose_errors_do_not_matter_needs_no_bound() {
     }
     // report
     let out = scratch("no-effect-report").join("report");
-    let o = run(&[
-        "report",
-        "--study",
-        &study,
-        "--samples",
-        "1500",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run(&report_args(&study, &out, "1500", &[]));
     assert!(o.status.success(), "{}", stderr(&o));
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains(said), "{md}");
@@ -256,15 +248,12 @@ fn yield_based_allocation_is_scale_free() {
     }
     for accuracy in ["1e-10", "1e6"] {
         let out = dir.join(format!("report-{accuracy}"));
-        let o = run(&[
-            "report",
-            "--study",
+        let o = run(&report_args(
             &with_accuracy(&dir, accuracy),
-            "--samples",
+            &out,
             "1500",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+            &[],
+        ));
         assert!(o.status.success(), "{accuracy}: {}", stderr(&o));
         assert!(out.join("report.md").is_file());
     }

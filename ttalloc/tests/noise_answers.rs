@@ -5,7 +5,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, num, run, scratch, stdout, write};
+use common::{
+    assert_input_error, check_turntable, json, num, report_args, run, scratch, stdout, write,
+};
 use serde_json::Value;
 
 /// JSON keeps full precision; the sum is one rounding (relative).
@@ -61,16 +63,12 @@ fn strip_noise(v: &mut Value) {
 
 #[test]
 fn check_turntable_splits_every_output_into_table_and_noise() {
-    let v = json(&[
-        "check-turntable",
-        "--study",
+    let v = json(&check_turntable(
         "studies/imu-triad-example.toml",
-        "--tolerances",
         TOL,
-        "--samples",
         "2000",
-        "--json",
-    ]);
+        &["--json"],
+    ));
     for o in v["outputs"].as_array().unwrap() {
         let (t, s, c) = (
             num(&o["table_part"]),
@@ -85,15 +83,12 @@ fn check_turntable_splits_every_output_into_table_and_noise() {
     assert_eq!(v["table_verdict"], "guaranteed");
     assert_eq!(v["verdict"], "fails");
     assert!(num(&v["combined_yield"]["yield"]) < 0.01);
-    let t = stdout(&run(&[
-        "check-turntable",
-        "--study",
+    let t = stdout(&run(&check_turntable(
         "studies/imu-triad-example.toml",
-        "--tolerances",
         TOL,
-        "--samples",
         "2000",
-    ]));
+        &[],
+    )));
     assert!(t.contains("with noise: table "), "{t}");
     assert!(t.contains(" at 3 sigma"), "{t}");
     assert!(
@@ -287,15 +282,12 @@ fn end_to_end_with_bias_instability_says_no_dwell_within_a_day_suffices() {
 fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
     let dir = scratch("noise", "report");
     let out = dir.join("imu");
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/imu-triad-example.toml",
-        "--samples",
+        &out,
         "2000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &[],
+    ));
     assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("## Noise and test time"), "noise section");
@@ -310,15 +302,12 @@ fn report_shows_the_split_and_the_tradeoff_figure_only_with_noise() {
     assert_eq!(results["noise"]["noise_sigma"].as_array().unwrap().len(), 6);
     // the three-axis example has no noise: no section, no figure
     let plain = dir.join("three-axis");
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/three-axis-example.toml",
-        "--samples",
+        &plain,
         "2000",
-        "--out",
-        plain.to_str().unwrap(),
-    ]);
+        &[],
+    ));
     assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(plain.join("report.md")).unwrap();
     assert!(!md.contains("Noise and test time"));
@@ -445,15 +434,7 @@ fn a_dwell_list_is_scanned_scaled_alike_and_the_output_says_so() {
     ]);
     assert_eq!(uniform["dwell_scan"]["per_position_list"], false);
     let report = dir.join("report");
-    let r = run(&[
-        "report",
-        "--study",
-        p,
-        "--samples",
-        "2000",
-        "--out",
-        report.to_str().unwrap(),
-    ]);
+    let r = run(&report_args(p, &report, "2000", &[]));
     assert_eq!(r.status.code(), Some(0), "{}", common::stderr(&r));
     let md = std::fs::read_to_string(report.join("report.md")).unwrap();
     assert!(!md.contains("No dwell up to"), "the report's trade-off");
@@ -536,4 +517,35 @@ fn end_to_end_gives_the_answers_at_the_noise_parameters_plus_minus_one_uncertain
     let pes = number_after(&out, "s at the optimistic corner, ");
     assert_relative_eq!(opt / d, 0.81, max_relative = PRINTED_REL);
     assert_relative_eq!(pes / d, 1.21, max_relative = PRINTED_REL);
+}
+
+/// An allocation that leaves an error unbounded (the STIM300-class study's direct box gives
+/// the combination dphi_o + deps_om_z, which the reading cannot see, 6.6e17 arcmin) has an
+/// infinite second-order bound: the table's part with noise is then the exact chain at the
+/// worst vertex, said to be not certified, never "table inf ... combined inf" (as it printed).
+#[test]
+fn an_unbounded_allocation_gives_a_finite_uncertified_table_part_never_inf() {
+    let o = run(&[
+        "end-to-end",
+        "--study",
+        "studies/stim300-class-example.toml",
+        "--samples",
+        "2000",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        !out.split_whitespace()
+            .any(|w| w.trim_matches(|c: char| !c.is_alphanumeric()) == "inf"),
+        "no infinite figure reaches the text:\n{out}"
+    );
+    let direct = out
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("direct         verdict"))
+        .nth(1)
+        .expect("the direct box's first output with noise");
+    assert!(
+        direct.contains("(not certified)") && direct.contains("(noise dominates)"),
+        "{direct}"
+    );
 }

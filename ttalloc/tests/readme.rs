@@ -55,6 +55,18 @@ fn readme_noise_budget_figures_are_the_binarys() {
     );
     assert!(text.contains(&chosen), "docs/findings.md lacks `{chosen}`");
     let front = v["pareto"].as_array().expect("a front");
+    // one point per schedule and dwell: a dwell end-to-end lists that equals a grid dwell up
+    // to round-off (a day as 86,399.99999999993 s) is not a second point
+    for (i, p) in front.iter().enumerate() {
+        for q in &front[..i] {
+            let same_dwell = (n(&p["dwell_s"]) - n(&q["dwell_s"])).abs() <= 1e-9 * n(&q["dwell_s"]);
+            assert!(
+                !(same_dwell && p["n_positions"] == q["n_positions"] && p["origin"] == q["origin"]),
+                "two front points of one schedule at dwell {}",
+                p["dwell_s"]
+            );
+        }
+    }
     let (first, last) = (&front[0], &front[front.len() - 1]);
     let shortest = format!(
         "the shortest test takes {:.1} h ({} x {:.0} s, J = {})",

@@ -4,25 +4,12 @@
 //! user's is deleted or replaced, a failed run leaves nothing behind, concurrent runs leave
 //! one complete report).
 
+mod common;
+
+use common::{ok, report_args, root, run};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
-
-/// The workspace root (commands run there, with paths as a user types them).
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ttalloc"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap()
-}
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
@@ -36,16 +23,6 @@ fn assert_input_error(o: &Output, what: &str) {
         text(&o.stderr).contains(what),
         "stderr should name {what}: {}",
         text(&o.stderr)
-    );
-}
-
-fn ok(o: &Output) {
-    assert!(
-        o.status.success(),
-        "exit {:?}\nstderr: {}\nstdout: {}",
-        o.status.code(),
-        text(&o.stderr),
-        text(&o.stdout)
     );
 }
 
@@ -142,15 +119,7 @@ fn report_of_a_non_paper_study_carries_none_of_the_papers_wording() {
     let study = dir.path().join("my-lab.toml");
     std::fs::write(&study, without_requirement(&copy)).unwrap();
     let out = dir.path().join("out");
-    let o = run(&[
-        "report",
-        "--study",
-        study.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
-        "2000",
-    ]);
+    let o = run(&report_args(study.to_str().unwrap(), &out, "2000", &[]));
     ok(&o);
     assert_complete(&out);
     let md = read(&out, "report.md");
@@ -200,15 +169,12 @@ fn report_of_a_non_paper_study_carries_none_of_the_papers_wording() {
     let kept = dir.path().join("kept.toml");
     std::fs::write(&kept, &copy).unwrap();
     let out2 = dir.path().join("out2");
-    ok(&run(&[
-        "report",
-        "--study",
+    ok(&run(&report_args(
         kept.to_str().unwrap(),
-        "--out",
-        out2.to_str().unwrap(),
-        "--samples",
+        &out2,
         "2000",
-    ]));
+        &[],
+    )));
     let md = read(&out2, "report.md");
     assert!(
         md.contains("psi 0.027 deg given vs 0.0139"),
@@ -332,19 +298,17 @@ fn report_checks_vendor_tolerances_and_shows_a_designed_schedule_beside_the_stud
     let fewer = "positions_deg = [\n  [0, 0], [0, 90], [0, 180], [0, 270],\n  [90, 0], [90, 45], [90, 90], [90, 135], [90, 180], [90, 225], [90, 270], [90, 315],\n  [180, 0], [180, 90], [180, 180], [180, 270],\n  [270, 0], [270, 45], [270, 90], [270, 135], [270, 180], [270, 225], [270, 270], [270, 315],\n]";
     std::fs::write(&designed, text.replace(positions, fewer)).unwrap();
     let out = dir.path().join("out");
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/gyrowheel-2017.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
+        &out,
         "2000",
-        "--tolerances",
-        tol.to_str().unwrap(),
-        "--designed",
-        designed.to_str().unwrap(),
-    ]);
+        &[
+            "--tolerances",
+            tol.to_str().unwrap(),
+            "--designed",
+            designed.to_str().unwrap(),
+        ],
+    ));
     ok(&o);
     let md = read(&out, "report.md");
     assert!(md.contains("## Vendor tolerances") && md.contains("## Designed schedule"));
@@ -477,41 +441,27 @@ fn report_never_deletes_or_replaces_what_it_did_not_write() {
     let f = dir.path().join("f");
     std::fs::write(&f, "mine").unwrap();
     assert_input_error(
-        &run(&[
-            "report",
-            "--study",
-            "studies/gyrowheel-2017.toml",
-            "--out",
-            f.to_str().unwrap(),
-            "--samples",
-            "1450",
-        ]),
+        &run(&report_args("studies/gyrowheel-2017.toml", &f, "1450", &[])),
         f.to_str().unwrap(),
     );
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "mine");
 
     // a previous report of ours is replaced as a whole
     let r = dir.path().join("r");
-    ok(&run(&[
-        "report",
-        "--study",
+    ok(&run(&report_args(
         "studies/gyrowheel-2017.toml",
-        "--out",
-        r.to_str().unwrap(),
-        "--samples",
+        &r,
         "1450",
-    ]));
+        &[],
+    )));
     assert_complete(&r);
     let first = read(&r, "results.json");
-    ok(&run(&[
-        "report",
-        "--study",
+    ok(&run(&report_args(
         "studies/gyrowheel-2017.toml",
-        "--out",
-        r.to_str().unwrap(),
-        "--samples",
+        &r,
         "1500",
-    ]));
+        &[],
+    )));
     assert_complete(&r);
     assert_ne!(read(&r, "results.json"), first);
     assert_eq!(json(&r)["samples"], 1500);
@@ -612,15 +562,12 @@ fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() 
     )
     .unwrap();
     let out = dir.path().join("out");
-    ok(&run(&[
-        "report",
-        "--study",
+    ok(&run(&report_args(
         study.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
+        &out,
         "2000",
-    ]));
+        &[],
+    )));
     let md = read(&out, "report.md");
     assert!(
         md.contains("no two-step allocation: the direct allocation is the answer"),
@@ -664,17 +611,12 @@ fn plain(md: &str) -> String {
 fn report_with_a_sheet_answers_with_its_verdict_first_and_treats_groups_as_one() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    ok(&run(&[
-        "report",
-        "--study",
+    ok(&run(&report_args(
         "studies/gyrowheel-2017.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
+        &out,
         "1500",
-        "--tolerances",
-        "studies/tolerances/table4.toml",
-    ]));
+        &["--tolerances", "studies/tolerances/table4.toml"],
+    )));
     let md = read(&out, "report.md");
     let answer: Vec<&str> = md
         .lines()
@@ -784,17 +726,12 @@ fn report_vendor_section_shows_the_rate_errors_with_their_bounds_parts_and_verdi
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let sheet = "studies/tolerances/tactical-rate-table-sheet.toml";
-    let o = run(&[
-        "report",
-        "--study",
+    let o = run(&report_args(
         "studies/tactical-rate-table-example.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
+        &out,
         "2000",
-        "--tolerances",
-        sheet,
-    ]);
+        &["--tolerances", sheet],
+    ));
     ok(&o);
     let md = read(&out, "report.md");
     let start = md
@@ -907,17 +844,12 @@ fn report_designed_differs_only_in_the_schedule_and_equal_is_the_same() {
         assert!(!out.exists());
     }
     let out = dir.path().join("same");
-    ok(&run(&[
-        "report",
-        "--study",
+    ok(&run(&report_args(
         "studies/gyrowheel-2017.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
+        &out,
         "2000",
-        "--designed",
-        "studies/gyrowheel-2017.toml",
-    ]));
+        &["--designed", "studies/gyrowheel-2017.toml"],
+    )));
     let md = read(&out, "report.md");
     assert!(
         md.contains("The designed file has the study's own positions: the same turntable, J 54.652 for both."),

@@ -12,19 +12,9 @@ use std::path::Path;
 /// `log` and `extra` flags.
 fn report(out: &Path, log: &Path, extra: &[&str]) -> std::process::Output {
     let study = study_path();
-    let mut args = vec![
-        "report",
-        "--study",
-        &study,
-        "--samples",
-        "2000",
-        "--out",
-        out.to_str().expect("utf8"),
-        "--recording",
-        log.to_str().expect("utf8"),
-    ];
-    args.extend_from_slice(extra);
-    ttalloc(&args)
+    let mut tail = vec!["--recording", log.to_str().expect("utf8")];
+    tail.extend_from_slice(extra);
+    ttalloc(&common::report_args(&study, out, "2000", &tail))
 }
 
 #[test]

@@ -125,7 +125,7 @@ fn study_name_cannot_leave_the_report_directory() {
 /// own layout excepted).
 fn raw_controls(text: &str) -> Vec<char> {
     text.chars()
-        .filter(|c| study::fmt::is_unsafe_char(*c) && !matches!(c, '\n' | '\t'))
+        .filter(|c| tt_core::human::is_unsafe_char(*c) && !matches!(c, '\n' | '\t'))
         .collect()
 }
 

@@ -6,9 +6,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, num, run, stdout, write};
-use e2e_verify::EndToEnd;
-use tt_kinematics::Pose;
+use common::{assert_input_error, check_turntable, json, num, run, stdout, write};
 
 const IMU_FILE: &str = include_str!("../../studies/imu-triad-example.toml");
 
@@ -60,16 +58,7 @@ fn imu_with(dir: &std::path::Path, extra: &str) -> String {
 fn check_turntable_answers_every_specification_with_the_librarys_budget_and_its_rule() {
     let dir = tempfile::tempdir().unwrap();
     let path = imu_with(dir.path(), SPECS);
-    let v = json(&[
-        "check-turntable",
-        "--study",
-        &path,
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = json(&check_turntable(&path, SHEET, "2000", &["--json"]));
     let d = &v["decision"];
     assert!(
         d["rule"].as_str().unwrap().contains("U / limit <= 1"),
@@ -78,24 +67,12 @@ fn check_turntable_answers_every_specification_with_the_librarys_budget_and_its_
     let specs = d["specifications"].as_array().unwrap();
     assert_eq!(specs.len(), 4);
     // the library's budget over the same sheet, law and noise
-    let s = study::Study::load(std::path::Path::new(&path)).unwrap();
-    let tol = study::Tolerances::load(&common::root().join(SHEET), &s.turntable).unwrap();
-    let poses: Vec<Pose> = s
-        .positions_deg
-        .iter()
-        .map(|p| Pose::from_deg(p).unwrap())
-        .collect();
-    let e2e = EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
-    let law = s.uncertainty.tolerance_distribution;
-    let lib = e2e
-        .plan_verdict(
-            &s.specifications,
-            &tol.ub_rad,
-            |n, a| law.input(n, a),
-            &s.noise,
-            s.timing.as_ref(),
-        )
-        .unwrap();
+    let common::LibraryPlan {
+        e2e,
+        verdict: lib,
+        study: s,
+        ..
+    } = common::library_plan(std::path::Path::new(&path), SHEET);
     let mut met = 0;
     for ((j, b), sp) in specs.iter().zip(lib.budgets()).zip(&s.specifications) {
         let u = b.output().expanded() * sp.to_written();
@@ -118,15 +95,7 @@ fn check_turntable_answers_every_specification_with_the_librarys_budget_and_its_
     }
     assert_eq!(d["meets"].as_bool().unwrap(), met == 4);
     // the text: one line per specification, the headline with the rule
-    let o = run(&[
-        "check-turntable",
-        "--study",
-        &path,
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-    ]);
+    let o = run(&check_turntable(&path, SHEET, "2000", &[]));
     let text = stdout(&o);
     assert!(text.contains("ax sf_x (scale factor): U = "), "{text}");
     assert!(text.contains(&format!("every specification ({met} of 4 met); the noise modelled for every specified output; rule: a specification is met when the expanded uncertainty U")), "{text}");
@@ -141,15 +110,7 @@ fn without_a_timing_the_verdict_says_in_its_sentence_that_noise_is_not_modelled(
     let path = write(dir.path(), "imu.toml", &text)
         .to_string_lossy()
         .into_owned();
-    let o = run(&[
-        "check-turntable",
-        "--study",
-        &path,
-        "--tolerances",
-        SHEET,
-        "--samples",
-        "2000",
-    ]);
+    let o = run(&check_turntable(&path, SHEET, "2000", &[]));
     let out = stdout(&o);
     assert!(o.status.success(), "{out}");
     let verdict = out
@@ -168,16 +129,12 @@ fn without_a_timing_the_verdict_says_in_its_sentence_that_noise_is_not_modelled(
 
 #[test]
 fn a_study_without_specifications_keeps_its_answer_and_names_the_accuracy_rule() {
-    let v = json(&[
-        "check-turntable",
-        "--study",
+    let v = json(&check_turntable(
         "studies/three-axis-example.toml",
-        "--tolerances",
         SHEET,
-        "--samples",
         "2000",
-        "--json",
-    ]);
+        &["--json"],
+    ));
     assert!(
         v["decision"]["specifications"]
             .as_array()
@@ -191,15 +148,12 @@ fn a_study_without_specifications_keeps_its_answer_and_names_the_accuracy_rule()
             .unwrap()
             .starts_with("no [[specifications]] in the study: each output's accuracy (eq 14)")
     );
-    let o = run(&[
-        "check-turntable",
-        "--study",
+    let o = run(&check_turntable(
         "studies/three-axis-example.toml",
-        "--tolerances",
         SHEET,
-        "--samples",
         "2000",
-    ]);
+        &[],
+    ));
     assert!(
         stdout(&o).contains("  decision rule: no [[specifications]] in the study"),
         "{}",
@@ -254,15 +208,7 @@ fn bad_specifications_exit_2_naming_the_key() {
         ),
     ] {
         let path = imu_with(dir.path(), extra);
-        let o = run(&[
-            "check-turntable",
-            "--study",
-            &path,
-            "--tolerances",
-            SHEET,
-            "--samples",
-            "2000",
-        ]);
+        let o = run(&check_turntable(&path, SHEET, "2000", &[]));
         assert_input_error(&o, needles);
     }
 }
@@ -273,16 +219,12 @@ fn bad_specifications_exit_2_naming_the_key() {
 #[test]
 fn docs_verdict_states_the_imu_examples_expanded_uncertainties_and_what_dominates() {
     let doc = std::fs::read_to_string(common::root().join("docs/verdict.md")).unwrap();
-    let v = json(&[
-        "check-turntable",
-        "--study",
+    let v = json(&check_turntable(
         "studies/imu-triad-example.toml",
-        "--tolerances",
         SHEET,
-        "--samples",
         "2000",
-        "--json",
-    ]);
+        &["--json"],
+    ));
     let specs = v["decision"]["specifications"].as_array().unwrap();
     let rows: Vec<&str> = doc
         .lines()

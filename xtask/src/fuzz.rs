@@ -33,7 +33,7 @@
 //!   value given: for `name` a file-name-safe slug ([`study::is_name_slug`]) whose default
 //!   report directory (derived by `report`'s own function) is one entry directly inside
 //!   `target/report`; for a label, text without an unsafe character
-//!   ([`study::fmt::is_unsafe_char`]).
+//!   ([`tt_core::human::is_unsafe_char`]).
 //! - **Manifests** ([`Target::Manifests`]): in a fresh directory per case (under one
 //!   temporary directory per run, in [`SCRATCH_IN_MEMORY`] where it can), a victim file and a victim directory beside `out`, and
 //!   `out` as a previous report of ours, empty, missing, or a symbolic link to a report
@@ -79,8 +79,8 @@ use std::panic::AssertUnwindSafe;
 use std::path::{Component, Path, PathBuf};
 use std::time::{Duration, Instant};
 use study::csv::JointColumns;
-use study::fmt::{is_unsafe_char, visible};
 use study::{Study, StudyError, Tolerances};
+use tt_core::human::{is_unsafe_char, visible};
 use tt_kinematics::Turntable;
 use ttalloc::InputError;
 use ttalloc::fuzzing::{

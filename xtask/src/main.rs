@@ -2,14 +2,16 @@
 //!
 //! `cargo xtask test` is the README's test command (the set-up the tests need on a fresh
 //! machine, then `cargo test --workspace`); `cargo xtask fuzz` is the mutation fuzzer of the
-//! input layer and the report writer ([`fuzz`]: automation, not in the user's binary); every
-//! other command is the `ttalloc` command line ([`ttalloc::run_with`]), run from the
+//! input layer and the report writer ([`fuzz`]: automation, not in the user's binary);
+//! `cargo xtask mc --baselines` adds the Monte Carlo's same-run benchmark ([`mc_baselines`]);
+//! every other command is the `ttalloc` command line ([`ttalloc::run_with`]), run from the
 //! repository (`cargo xtask reproduce-paper`).
 
 use clap::{CommandFactory, FromArgMatches};
 use std::process::ExitCode;
 
 mod fuzz;
+mod mc_baselines;
 mod python;
 mod suite;
 
@@ -28,7 +30,7 @@ fn main() -> ExitCode {
         return match suite::run(&args) {
             Ok(code) => code,
             Err(e) => {
-                eprintln!("error: {}", study::fmt::terminal(&format!("{e:#}")));
+                eprintln!("error: {}", tt_core::human::terminal(&format!("{e:#}")));
                 ExitCode::FAILURE
             }
         };
@@ -56,6 +58,9 @@ fn main() -> ExitCode {
             Err(e) => e.format(&mut cmd).exit(),
         };
         return ttalloc::finish(fuzz::run(&args));
+    }
+    if argv.get(1).is_some_and(|a| a == "mc") {
+        return mc_baselines::run(cmd, &argv);
     }
     ttalloc::run_with(cmd, argv)
 }

@@ -6,6 +6,7 @@
 use crate::design::schedule::{NoiseCounted, noise_counted};
 use crate::end_to_end::uniform_dwell;
 use crate::error::{InputError, Result, library};
+use crate::json::{ArcminBounds, arcmin_bounds};
 use e2e_verify::E2eError;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
@@ -13,7 +14,7 @@ use schedule_design::{
     check_budget_affords, design_with_budget,
 };
 use study::Study;
-use study::fmt::{exact, num, sig};
+use tt_core::human::{exact, num, sig};
 
 /// What the budget answers for a study.
 #[derive(Debug)]
@@ -202,7 +203,7 @@ fn timing_of(s: &Study) -> Result<&calib_lsq::Timing, InputError> {
 /// Before the (long) table search: a study with noise but no timing, and a budget shorter
 /// than the fewest positions that identify every output (at one move and one sample each),
 /// are input errors naming `--time-budget-s` (the second checked again by the library; the
-/// budget quoted as given, [`study::fmt::exact`]). Nothing to check without noise.
+/// budget quoted as given, [`tt_core::human::exact`]). Nothing to check without noise.
 ///
 /// # Errors
 /// That [`InputError`].
@@ -266,18 +267,42 @@ pub struct PointJson {
     objective_arcmin: f64,
     /// The schedule's origin, in words.
     origin: String,
+    /// The point's tolerance box: the direct allocation with the noise part kept free for
+    /// its schedule at its dwell, arcmin per rotation error (`null`: no bound needed), as
+    /// `end-to-end`'s linearised `direct_with_noise` box for that schedule and dwell.
+    bounds_arcmin: ArcminBounds,
 }
 
-impl From<&BudgetPoint> for PointJson {
-    fn from(p: &BudgetPoint) -> Self {
+impl PointJson {
+    /// The view of `p`, its tolerances keyed by the rotation errors' `names`.
+    fn new(p: &BudgetPoint, names: &[&str]) -> Self {
         Self {
             total_s: p.total_s(),
             n_positions: p.n_positions(),
             dwell_s: p.dwell_s(),
             objective_arcmin: p.objective_arcmin(),
             origin: origin(p.origin()),
+            bounds_arcmin: arcmin_bounds(names, p.tolerances_rad()),
         }
     }
+}
+
+/// A point's tolerance box in words: `name value` in arcmin per rotation error, in the
+/// turntable's order (`-`: no bound needed), three significant digits.
+#[must_use]
+pub fn tolerances_text(p: &BudgetPoint, names: &[&str]) -> String {
+    names
+        .iter()
+        .zip(p.tolerances_rad())
+        .map(|(n, u)| {
+            if u.is_finite() {
+                format!("{n} {}", sig(tt_core::units::rad_to_arcmin(*u), 3))
+            } else {
+                format!("{n} -")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The front's cheapest table within the budget, with its positions.
@@ -300,6 +325,10 @@ pub struct ChosenJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a view built once per command and serialised at once; boxing buys nothing"
+)]
 pub enum TimeBudgetJson<'a> {
     /// The study gives no noise.
     Noiseless {
@@ -352,7 +381,8 @@ pub struct BudgetJson<'a> {
 }
 
 /// The budget's view.
-pub fn json(b: &Budgeted) -> BudgetJson<'_> {
+pub fn json<'a>(s: &Study, b: &'a Budgeted) -> BudgetJson<'a> {
+    let names = s.turntable.rotation_error_names();
     match b {
         Budgeted::Noiseless { budget_s } => BudgetJson {
             time_budget: TimeBudgetJson::Noiseless {
@@ -379,12 +409,17 @@ pub fn json(b: &Budgeted) -> BudgetJson<'_> {
                 counts_skipped: d.counts_skipped(),
                 counts_refined: d.counts_refined(),
                 chosen: d.chosen().map(|p| ChosenJson {
-                    point: p.into(),
+                    point: PointJson::new(p, &names),
                     positions_deg: p.positions_deg(),
                     certified_objective_arcmin: d.chosen_certified_arcmin(),
                 }),
             },
-            pareto: Some(d.pareto().iter().map(PointJson::from).collect()),
+            pareto: Some(
+                d.pareto()
+                    .iter()
+                    .map(|p| PointJson::new(p, &names))
+                    .collect(),
+            ),
         },
     }
 }

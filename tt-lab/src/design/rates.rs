@@ -13,7 +13,7 @@
 
 use crate::error::{InputError, Result};
 use study::Study;
-use study::fmt::exact;
+use tt_core::human::exact;
 
 /// The flag of the candidate rates.
 pub const FLAG: &str = "--rates-deg-per-s";

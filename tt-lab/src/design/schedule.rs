@@ -945,6 +945,6 @@ fn to_json<'a>(s: &'a Study, o: &'a ScheduleAnswer, run: RunView<'a>) -> DesignJ
         groups: GroupJson::all(&s.turntable, &o.group_bounds()),
         written_study: run.written_study,
         pareto_svg_note: run.pareto_svg_note,
-        budget: o.budget.as_ref().map(budget::json),
+        budget: o.budget.as_ref().map(|b| budget::json(s, b)),
     }
 }

@@ -14,7 +14,7 @@ use e2e_verify::disc::{Pair, PairModel, PairShape};
 use e2e_verify::noise::weakest;
 use e2e_verify::{DirectAllocation, EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 use tt_kinematics::{ErrorVariation, Expansion};
 
 /// The angle-dependent check of one reading.
@@ -69,7 +69,7 @@ impl NoisePart {
 /// likely otherwise.
 #[must_use]
 pub fn counted_verdict(o: &AngleOutputWorstCase, accuracy: f64, margin: f64) -> Verdict {
-    if o.exact_at_worst() + margin > accuracy {
+    if o.exact_at_vertex() + margin > accuracy {
         Verdict::Fails
     } else {
         match o.second_order_bound() {
@@ -419,10 +419,10 @@ pub fn compensated(
             format!(
                 "the measurement uncertainty of `{}` ({} arcmin) exceeds the sheet's {}: compensation cannot bound it better than the sheet and the measured value do, {} arcmin (the sheet's bound plus the measured error's largest magnitude {} arcmin), the bound used after compensation",
                 names[j],
-                study::fmt::exact(uncertainty),
+                tt_core::human::exact(uncertainty),
                 study::sheet_bound_words(s, sheet, j),
-                study::fmt::num(rad_to_arcmin(a.residual_rad())),
-                study::fmt::num(rad_to_arcmin(a.largest_measured_rad())),
+                tt_core::human::num(rad_to_arcmin(a.residual_rad())),
+                tt_core::human::num(rad_to_arcmin(a.largest_measured_rad())),
             )
         })
         .collect();
@@ -691,20 +691,20 @@ impl<'a> ReadingAngleJson<'a> {
         Self {
             verdict: a.verdict.name(),
             table_verdict: a.table_verdict.map(Verdict::name),
-            yield_fraction: a.yield_.fraction(),
-            yield_interval_95: a.yield_.interval_95(),
-            samples: a.yield_.samples(),
+            yield_fraction: a.yield_.count().fraction(),
+            yield_interval_95: a.yield_.count().interval_95(),
+            samples: a.yield_.count().samples(),
             disc_worst_case_linear: a.disc.as_ref().map(|d| DiscWorstCaseJson {
                 constant: &d.constant,
                 angle_dependent: &d.angle,
             }),
             discs: a.disc.as_ref().map(|d| DiscsJson {
                 worst_case_linear_lower: &d.angle_lower,
-                yield_fraction: d.yield_.fraction(),
-                yield_interval_95: d.yield_.interval_95(),
-                samples: d.yield_.samples(),
-                constant_yield: d.constant_yield.fraction(),
-                constant_yield_interval_95: d.constant_yield.interval_95(),
+                yield_fraction: d.yield_.count().fraction(),
+                yield_interval_95: d.yield_.count().interval_95(),
+                samples: d.yield_.count().samples(),
+                constant_yield: d.constant_yield.count().fraction(),
+                constant_yield_interval_95: d.constant_yield.count().interval_95(),
                 allocation: d
                     .allocation
                     .as_ref()
@@ -718,7 +718,7 @@ impl<'a> ReadingAngleJson<'a> {
                     name: &e2e.calibration().outputs()[o.output()].output().name,
                     worst_case_linear: o.linear_bound(),
                     worst_case_linear_constant_model: o.constant_linear_bound(),
-                    worst_case_exact_at_worst: o.exact_at_worst(),
+                    worst_case_exact_at_worst: o.exact_at_vertex(),
                     second_order_bound: o.second_order_bound(),
                     worst_position: o.position(),
                     verdict: counted.name(),

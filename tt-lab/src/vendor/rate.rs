@@ -16,7 +16,7 @@ use e2e_verify::{
     ToleranceSheet,
 };
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 
 /// The line every command prints for a study with rate steps.
 pub use crate::loaded::STATIC_REQUIREMENT_NOTE;
@@ -235,7 +235,7 @@ pub struct RateAllocated {
     pub allocation: RateAllocation,
     /// The certified allocation ([`EndToEnd::allocate_direct_rate_certified`]), or why there
     /// is none.
-    pub certified: std::result::Result<e2e_verify::CertifiedRateAllocation, String>,
+    pub certified: std::result::Result<RateAllocation, String>,
     /// Turntables of both allocated boxes meeting every accuracy, of `samples`.
     pub meets: u64,
     /// Turntables drawn.
@@ -258,7 +258,7 @@ pub struct RateWithNoise {
     pub allocation: std::result::Result<RateAllocation, Vec<NoRoom>>,
     /// The certified allocation with the noise part kept free, or why there is none
     /// (`None` when no table suffices).
-    pub certified: Option<std::result::Result<e2e_verify::CertifiedRateAllocation, String>>,
+    pub certified: Option<std::result::Result<RateAllocation, String>>,
 }
 
 /// The certified allocation, or why there is none (a reading without a derived bound, no
@@ -601,10 +601,12 @@ pub struct CertifiedRateJson<'a> {
 }
 
 impl<'a> CertifiedRateJson<'a> {
-    fn new(e2e: &'a EndToEnd, c: &e2e_verify::CertifiedRateAllocation) -> Self {
+    /// The view of `c`, `None` when it has no certificate.
+    fn new(e2e: &'a EndToEnd, c: &RateAllocation) -> Option<Self> {
+        let cert = c.certificate()?;
         let names = e2e.turntable().rotation_error_names();
         let acc = e2e.accuracies();
-        Self {
+        Some(Self {
             objective_arcmin: c.combined().objective_arcmin(),
             bounds_arcmin: arcmin_bounds(&names, c.angles_rad()),
             tolerances: e2e
@@ -626,13 +628,13 @@ impl<'a> CertifiedRateJson<'a> {
                 .map(|k| CertifiedOutputJson {
                     output: &e2e.calibration().outputs()[k].output().name,
                     accuracy: acc[k],
-                    linear_bound: c.linear_bounds()[k],
-                    second_order_bound: c.second_order_bounds()[k],
-                    certified_bound: c.certified_bound(k),
+                    linear_bound: cert.linear_bounds()[k],
+                    second_order_bound: cert.second_order_bounds()[k],
+                    certified_bound: cert.certified_bound(k),
                 })
                 .collect(),
-            rounds: c.rounds(),
-        }
+            rounds: cert.rounds(),
+        })
     }
 }
 
@@ -820,7 +822,7 @@ impl<'a> RateWithNoiseJson<'a> {
                 .certified
                 .as_ref()
                 .and_then(|c| c.as_ref().ok())
-                .map(|c| CertifiedRateJson::new(e2e, c)),
+                .and_then(|c| CertifiedRateJson::new(e2e, c)),
             certified_note: w
                 .certified
                 .as_ref()
@@ -884,7 +886,7 @@ impl<'a> RateAllocationJson<'a> {
                 .certified
                 .as_ref()
                 .ok()
-                .map(|c| CertifiedRateJson::new(e2e, c)),
+                .and_then(|c| CertifiedRateJson::new(e2e, c)),
             certified_note: r.certified.as_ref().err().map(String::as_str),
             with_noise: r
                 .with_noise

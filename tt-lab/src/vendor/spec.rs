@@ -7,7 +7,7 @@ use crate::Result;
 use e2e_verify::EndToEnd;
 use e2e_verify::budget::{ACCURACY_RULE, EvaluatedAt, PLAN_RULE, PlanVerdict};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 
 /// The plan's verdict against the study's specifications for the tolerances `ub_rad`
 /// (`None` when the study gives none).
@@ -30,6 +30,26 @@ pub fn compute(s: &Study, e2e: &EndToEnd, ub_rad: &[f64]) -> Result<Option<PlanV
     .map_err(|e| crate::error::library(e, s))
 }
 
+/// A budget row's sensitivity coefficient is shown as 0 (in the report's budget table and
+/// any text; `--json` and `results.json` keep the raw value) when $|c|$ is below this
+/// fraction of the largest $|c|$ among the budget's rows of the same input unit (the table
+/// errors, rad; the noise terms, the output's unit). The coefficients come out of the
+/// linearised chain and the least squares in double precision, so a coefficient that is
+/// zero exactly (an error that does not move the quantity to first order) comes out as a
+/// residue of a few times $2^{-52} \approx 2.2 \times 10^{-16}$ of the coefficients it was
+/// computed from (gx's bias against `dphi_o` on the IMU example: $-1.11 \times 10^{-16}$
+/// deg/h/rad); $10^{-9}$ leaves seven orders of magnitude for the schedule's condition
+/// number, and a true coefficient that small adds less than $10^{-18}$ of the largest term
+/// to $u_c^2$ at equal $u(x)$: no printed digit changes.
+pub const NUMERICAL_ZERO_REL: f64 = 1e-9;
+
+/// Whether the sensitivity `c` is numerically zero: $|c|$ below [`NUMERICAL_ZERO_REL`] of
+/// `scale` (the largest $|c|$ of the rows of its input's unit).
+#[must_use]
+pub fn numerically_zero(c: f64, scale: f64) -> bool {
+    c.abs() < NUMERICAL_ZERO_REL * scale
+}
+
 /// One row of a budget (`specifications[].budget[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -43,6 +63,13 @@ pub struct RowJson {
     pub standard_uncertainty: f64,
     /// Its sensitivity coefficient (the specification's unit per the input's unit).
     pub sensitivity: f64,
+    /// The sensitivity as shown (0 when [`numerically_zero`]); not in the JSON, which keeps
+    /// the raw value.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub shown_sensitivity: f64,
+    /// The contribution as shown: 0 with a sensitivity shown as 0, else `contribution`.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub shown_contribution: f64,
     /// Its contribution |c| u, the specification's unit.
     pub contribution: f64,
     /// Its degrees of freedom (`null`: infinite).
@@ -116,6 +143,11 @@ impl SpecVerdictJson {
             .map(|(b, sp)| {
                 let f = sp.to_written();
                 let o = b.output();
+                // the largest |c| of the table errors' rows and of the noise terms' rows
+                let c = o.sensitivities();
+                let (table, noise) = c.split_at(b.table_rows().min(c.len()));
+                let largest = |c: &[f64]| c.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
+                let scale = [largest(table), largest(noise)];
                 SpecJson {
                     quantity: sp.label(&s.sensor),
                     unit: sp.unit().to_string(),
@@ -138,13 +170,21 @@ impl SpecVerdictJson {
                         .rows()
                         .iter()
                         .zip(o.sensitivities().iter().zip(o.contributions()))
-                        .map(|(r, (c, u))| RowJson {
-                            name: r.name().to_string(),
-                            distribution: r.distribution(),
-                            standard_uncertainty: r.standard_uncertainty(),
-                            sensitivity: c * f,
-                            contribution: u.abs() * f,
-                            dof: r.dof().is_finite().then(|| r.dof()),
+                        .enumerate()
+                        .map(|(k, (r, (c, u)))| {
+                            let zero =
+                                numerically_zero(*c, scale[usize::from(k >= b.table_rows())]);
+                            let shown = |v: f64| if zero { 0.0 } else { v };
+                            RowJson {
+                                name: r.name().to_string(),
+                                distribution: r.distribution(),
+                                standard_uncertainty: r.standard_uncertainty(),
+                                sensitivity: c * f,
+                                shown_sensitivity: shown(c * f),
+                                shown_contribution: shown(u.abs() * f),
+                                contribution: u.abs() * f,
+                                dof: r.dof().is_finite().then(|| r.dof()),
+                            }
                         })
                         .collect(),
                 }

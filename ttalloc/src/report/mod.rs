@@ -1,5 +1,5 @@
 //! `cargo xtask report --study FILE [--out DIR] [--seed N] [--samples N] [--tolerances FILE]
-//! [--designed FILE]`: the report of any study, and `cargo xtask reproduce-paper [--out DIR]
+//! [--designed FILE] [--jcgm101 [--mc-digits D]]`: the report of any study, and `cargo xtask reproduce-paper [--out DIR]
 //! [--seed N] [--samples N]`: the same report for the paper's study with the paper's printed
 //! values beside ours and its claims.
 //!
@@ -31,13 +31,9 @@ pub struct Args {
     /// previous report.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Seed of the Monte Carlo streams (default: the study's `monte_carlo.seed`).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
-    pub seed: Option<u64>,
-    /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
-    /// `1e4`, `10000`, `10_000`).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
-    pub samples: Option<u64>,
+    /// `--samples` and `--seed` (default: the study's `monte_carlo`).
+    #[command(flatten)]
+    pub sampling: crate::args::Sampling,
     /// A vendor's tolerance file to check (TOML: `[tolerances_arcmin]`).
     #[arg(long)]
     pub tolerances: Option<PathBuf>,
@@ -51,6 +47,10 @@ pub struct Args {
     /// How the recording is read and processed (as `calibrate`).
     #[command(flatten)]
     pub run: RecordingArgs,
+    /// The JCGM 101 Monte Carlo of every specification (`--jcgm101`, `--mc-digits`; as
+    /// `check-turntable` and `end-to-end`), seeded by `--seed`.
+    #[command(flatten)]
+    pub jcgm101: crate::text::jcgm101::Flags,
 }
 
 /// Arguments of `reproduce-paper`.
@@ -60,12 +60,9 @@ pub struct PaperArgs {
     /// report.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Seed of the Monte Carlo streams (default: the study's, 2017).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::seed)]
-    pub seed: Option<u64>,
-    /// Monte Carlo turntables per box (default: the study's, the paper's 10,000).
-    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::samples)]
-    pub samples: Option<u64>,
+    /// `--samples` and `--seed` (default: the study's `monte_carlo`).
+    #[command(flatten)]
+    pub sampling: crate::args::Sampling,
 }
 
 /// The workspace's `target` directory (or `./target` outside a clone).
@@ -110,7 +107,7 @@ fn write(r: &Report, out: &Path, prepared: crate::outdir::Prepared, what: &str) 
     let mut t = format!(
         "{what}: study {} ({}), seed {}, {} samples: wrote {} files to {}{linked} in {:.1} s\n",
         s.name,
-        study::fmt::visible(&s.path),
+        tt_core::human::visible(&s.path),
         r.seed(),
         r.samples(),
         files.len() + 1,
@@ -177,13 +174,14 @@ fn inputs(
 pub fn run(args: &Args) -> Result<()> {
     let (s, mut options) = inputs(
         Some(&args.study),
-        args.seed,
-        args.samples,
+        args.sampling.seed,
+        args.sampling.samples,
         args.tolerances.as_deref(),
         args.designed.as_deref(),
         false,
     )?;
     options.run = processed_run(&s, args)?;
+    options.jcgm101 = args.jcgm101.options(None);
     // the name is a file-name-safe slug (checked when the study was read): one component
     let out = args
         .out
@@ -225,7 +223,14 @@ fn processed_run(s: &study::Study, args: &Args) -> Result<Option<ProcessedRun>> 
 /// # Errors
 /// As [`inputs`], [`Report::compute`] and the output directory.
 pub fn run_paper(args: &PaperArgs) -> Result<()> {
-    let (s, options) = inputs(None, args.seed, args.samples, None, None, true)?;
+    let (s, options) = inputs(
+        None,
+        args.sampling.seed,
+        args.sampling.samples,
+        None,
+        None,
+        true,
+    )?;
     let out = args
         .out
         .clone()

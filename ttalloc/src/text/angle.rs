@@ -3,7 +3,7 @@
 //! allocated as discs. The results and their JSON views: [`tt_lab::vendor::angle`].
 
 use e2e_verify::{DirectAllocation, EndToEnd, TurntableCheck, Verdict};
-use study::fmt::num;
+use tt_core::human::num;
 use tt_kinematics::ErrorVariation;
 pub use tt_lab::vendor::angle::*;
 
@@ -59,19 +59,19 @@ pub fn text(
             "    output {}: worst case linearised {} {u}{ratio}, {} {u} on the exact chain at the worst errors found{}: {verdict}\n",
             out.name,
             num(o.linear_bound()),
-            num(o.exact_at_worst()),
+            num(o.exact_at_vertex()),
             o.second_order_bound()
                 .map_or(String::new(), |t| format!(", proven below {}", num(o.linear_bound() + t))),
             u = out.unit,
         ));
     }
-    let (lo, hi) = a.yield_.interval_95();
+    let (lo, hi) = a.yield_.count().interval_95();
     let yield_words = format!(
         "Monte Carlo yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables{})",
-        100.0 * a.yield_.fraction(),
+        100.0 * a.yield_.count().fraction(),
         100.0 * lo,
         100.0 * hi,
-        a.yield_.samples(),
+        a.yield_.count().samples(),
         if model.noise.is_some() {
             "; the table's part alone, no noise drawn"
         } else {
@@ -108,15 +108,15 @@ pub fn text(
         }
     }
     if let Some(d) = &a.disc {
-        let (lo, hi) = d.yield_.interval_95();
-        let (clo, chi) = d.constant_yield.interval_95();
+        let (lo, hi) = d.yield_.count().interval_95();
+        let (clo, chi) = d.constant_yield.count().interval_95();
         s.push_str(&format!(
             "    Monte Carlo with every pair drawn in its disc: yield {:.2}% (95% interval {:.2}%-{:.2}%, {} turntables) with angle-dependent errors, {:.2}% ({:.2}%-{:.2}%) with constant errors\n",
-            100.0 * d.yield_.fraction(),
+            100.0 * d.yield_.count().fraction(),
             100.0 * lo,
             100.0 * hi,
-            d.yield_.samples(),
-            100.0 * d.constant_yield.fraction(),
+            d.yield_.count().samples(),
+            100.0 * d.constant_yield.count().fraction(),
             100.0 * clo,
             100.0 * chi,
         ));
@@ -151,7 +151,7 @@ fn j_words(d: &DirectAllocation) -> String {
     if d.no_bound_needed() {
         "no bound needed".into()
     } else {
-        format!("J = {}", study::fmt::sig(d.objective_arcmin(), 5))
+        format!("J = {}", tt_core::human::sig(d.objective_arcmin(), 5))
     }
 }
 
@@ -167,7 +167,7 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
     let names = e2e.turntable().rotation_error_names();
     let arcmin = |u: f64| {
         if u.is_finite() {
-            study::fmt::sig(tt_core::units::rad_to_arcmin(u), 4)
+            tt_core::human::sig(tt_core::units::rad_to_arcmin(u), 4)
         } else {
             "none".into()
         }

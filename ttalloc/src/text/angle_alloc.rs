@@ -2,7 +2,7 @@
 //! results and their JSON views: [`tt_lab::allocation::angle`].
 
 use e2e_verify::{DirectAllocation, EndToEnd};
-use study::fmt::sig;
+use tt_core::human::sig;
 pub use tt_lab::allocation::angle::*;
 
 /// Each error's bound, arcmin, 4 significant digits (`none` for an unbounded one).

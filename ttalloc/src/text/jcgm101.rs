@@ -23,6 +23,20 @@ pub struct Flags {
     pub mc_digits: Option<u32>,
 }
 
+impl Flags {
+    /// The library's options when `--jcgm101` is given (`None` otherwise), seeded by `seed`.
+    #[must_use]
+    pub fn options(&self, seed: Option<u64>) -> Option<Options> {
+        self.jcgm101.then(|| Options {
+            significant_digits: self
+                .mc_digits
+                .unwrap_or(Options::default().significant_digits),
+            seed,
+            ..Options::default()
+        })
+    }
+}
+
 /// The Monte Carlo of `verdict`'s specifications when `--jcgm101` is given and the study has
 /// specifications (`None` otherwise), with a line on standard error before and after (an
 /// interactive terminal only).
@@ -37,12 +51,10 @@ pub fn run(
     ub_rad: &[f64],
     verdict: Option<&PlanVerdict>,
 ) -> anyhow::Result<Option<Jcgm101>> {
-    let (true, Some(verdict)) = (flags.jcgm101, verdict) else {
+    let (Some(options), Some(verdict)) = (flags.options(seed), verdict) else {
         return Ok(None);
     };
-    let digits = flags
-        .mc_digits
-        .unwrap_or(Options::default().significant_digits);
+    let digits = options.significant_digits;
     let tell = std::io::stderr().is_terminal();
     if tell {
         eprintln!(
@@ -52,11 +64,6 @@ pub fn run(
         );
     }
     let t0 = std::time::Instant::now();
-    let options = Options {
-        significant_digits: digits,
-        seed,
-        ..Options::default()
-    };
     let mc =
         tt_lab::budget_mc::compute(s, e2e, ub_rad, verdict, &options).map_err(crate::input::lab)?;
     if tell {

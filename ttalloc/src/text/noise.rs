@@ -4,7 +4,7 @@
 
 use e2e_verify::{CombinedOutput, YieldCount};
 use study::Study;
-use study::fmt::num;
+use tt_core::human::num;
 
 /// One line when the study gives noise but no timing: the noise part needs the dwell.
 #[must_use]

@@ -53,6 +53,18 @@ pub fn json(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).expect("JSON on stdout")
 }
 
+/// Assert success (else show the exit code and standard error) and parse standard output as
+/// JSON.
+pub fn json_of(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "exit {:?}: {}",
+        out.status.code(),
+        stderr(out)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on standard output")
+}
+
 /// Assert exit code 2, nothing on standard output, and a message containing every `needle`.
 pub fn assert_input_error(o: &Output, needles: &[&str]) {
     let err = stderr(o);
@@ -191,4 +203,90 @@ pub fn six_face_recording(dir: &Path) -> PathBuf {
     let out = dir.join("run.csv");
     std::fs::write(&out, buf).expect("written");
     out
+}
+
+/// What the library answers for a study and a tolerance sheet (paths from the workspace root),
+/// the inputs `check-turntable --study STUDY --tolerances SHEET` reads: the study, the sheet,
+/// the end-to-end model of the study's schedule and the GUM verdict of every specification
+/// (the study's tolerance law, noise and timing).
+pub struct LibraryPlan {
+    /// The study.
+    pub study: study::Study,
+    /// The sheet, read for the study's turntable.
+    pub tolerances: study::Tolerances,
+    /// The end-to-end model of the study's schedule and reading.
+    pub e2e: e2e_verify::EndToEnd,
+    /// Every specification's GUM budget over the sheet.
+    pub verdict: e2e_verify::budget::PlanVerdict,
+}
+
+/// [`LibraryPlan`] of the study file at `study` and the sheet `sheet`.
+pub fn library_plan(study: &Path, sheet: &str) -> LibraryPlan {
+    let s = study::Study::load(&root().join(study)).expect("the study");
+    let tolerances = study::Tolerances::load(&root().join(sheet), &s.turntable).expect("sheet");
+    let poses: Vec<tt_kinematics::Pose> = s
+        .positions_deg
+        .iter()
+        .map(|p| tt_kinematics::Pose::from_deg(p).expect("a pose"))
+        .collect();
+    let e2e = e2e_verify::EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading)
+        .expect("the model");
+    let law = s.uncertainty.tolerance_distribution;
+    let verdict = e2e
+        .plan_verdict(
+            &s.specifications,
+            &tolerances.ub_rad,
+            |n, a| law.input(n, a),
+            &s.noise,
+            s.timing.as_ref(),
+        )
+        .expect("the verdict");
+    LibraryPlan {
+        study: s,
+        tolerances,
+        e2e,
+        verdict,
+    }
+}
+
+/// A command line: `cmd`, then each flag and its value, then `extra`.
+pub fn command_line<'a>(
+    cmd: &'a str,
+    flags: &[(&'a str, &'a str)],
+    extra: &[&'a str],
+) -> Vec<&'a str> {
+    let mut a = vec![cmd];
+    for (flag, value) in flags {
+        a.extend([*flag, *value]);
+    }
+    a.extend_from_slice(extra);
+    a
+}
+
+/// The arguments of `check-turntable --study STUDY --tolerances SHEET --samples SAMPLES`
+/// followed by `extra`.
+pub fn check_turntable<'a>(
+    study: &'a str,
+    sheet: &'a str,
+    samples: &'a str,
+    extra: &[&'a str],
+) -> Vec<&'a str> {
+    let flags = [
+        ("--study", study),
+        ("--tolerances", sheet),
+        ("--samples", samples),
+    ];
+    command_line("check-turntable", &flags, extra)
+}
+
+/// The arguments of `report --study STUDY --out OUT --samples SAMPLES` followed by `extra`.
+pub fn report_args<'a>(
+    study: &'a str,
+    out: &'a Path,
+    samples: &'a str,
+    extra: &[&'a str],
+) -> Vec<&'a str> {
+    let out = out.to_str().expect("a UTF-8 path");
+    let flags = [("--study", study), ("--out", out), ("--samples", samples)];
+    command_line("report", &flags, extra)
 }

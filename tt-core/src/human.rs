@@ -88,8 +88,8 @@ fn escape_unsafe<'a>(s: &'a str, keep: &[char]) -> Cow<'a, str> {
 /// The one escaping helper for free text: the terminal, the reports and the shell lines use it.
 ///
 /// ```
-/// assert_eq!(study::fmt::visible("a\u{1b}[31mb\r"), "a\\u{1b}[31mb\\r");
-/// assert_eq!(study::fmt::visible("deg/h"), "deg/h");
+/// assert_eq!(tt_core::human::visible("a\u{1b}[31mb\r"), "a\\u{1b}[31mb\\r");
+/// assert_eq!(tt_core::human::visible("deg/h"), "deg/h");
 /// ```
 #[must_use]
 pub fn visible(s: &str) -> Cow<'_, str> {
