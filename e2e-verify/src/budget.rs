@@ -523,6 +523,23 @@ impl SpecificationRow {
     pub fn at(&self) -> EvaluatedAt {
         self.at
     }
+    /// The output whose coefficients the quantity is made of.
+    #[must_use]
+    pub fn output(&self) -> usize {
+        self.output
+    }
+    /// The quantity's weights over its output's coefficients (a coefficient, an end of an
+    /// operating range); `None` for eq 14's rate error at a position.
+    #[must_use]
+    pub fn weights(&self) -> Option<&[f64]> {
+        self.weights.as_deref()
+    }
+    /// $f_j$: each table error's factor (its coverage factor times its standard uncertainty
+    /// per unit tolerance, at least 1).
+    #[must_use]
+    pub fn factors(&self) -> &[f64] {
+        &self.factors
+    }
     /// $c_j$: the quantity's sensitivity to each table error (model unit per rad).
     #[must_use]
     pub fn sensitivities(&self) -> &[f64] {

@@ -405,6 +405,9 @@ pub struct Evaluation {
     pub(crate) allocation: Option<DirectAllocation>,
     /// $\mathbf M$, when the schedule identifies every output.
     pub(crate) linear: Option<Linearization>,
+    /// What the screening needs of the schedule answered against the specifications (`None`
+    /// without specifications or when the schedule is not answered).
+    pub(crate) spec_screen: Option<std::sync::Arc<spec::SpecScreen>>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -461,6 +464,7 @@ impl Evaluation {
             objective: f64::INFINITY,
             allocation: None,
             linear: None,
+            spec_screen: None,
         }
     }
 

@@ -439,18 +439,20 @@ impl DesignProblem {
                 objective: f64::INFINITY,
                 allocation: None,
                 linear: None,
+                spec_screen: None,
             });
         }
         let linear = self.linearization_with(s, &regs);
-        let allocation = if self.specs.is_some() {
-            self.spec_answer(&self.positions_deg(s))?
-                .and_then(|a| a.allocation)
-        } else {
-            match self.allocate(&linear) {
-                Ok(a) => Some(a),
-                Err(E2eError::InfeasibleLowerBounds { .. }) => None,
-                Err(e) => return Err(e),
+        let (allocation, spec_screen) = match self.spec_answer(&self.positions_deg(s))? {
+            Some(a) => {
+                let screen = std::sync::Arc::new(crate::spec::SpecScreen::of(&a));
+                (a.allocation, Some(screen))
             }
+            None => match self.allocate(&linear) {
+                Ok(a) => (Some(a), None),
+                Err(E2eError::InfeasibleLowerBounds { .. }) => (None, None),
+                Err(e) => return Err(e),
+            },
         };
         Ok(Evaluation {
             schedule: s.to_vec(),
@@ -459,6 +461,7 @@ impl DesignProblem {
             objective: allocation.as_ref().map_or(f64::INFINITY, |a| a.objective()),
             allocation,
             linear: Some(linear),
+            spec_screen,
         })
     }
 }

@@ -123,3 +123,91 @@ impl DesignProblem {
         }))
     }
 }
+
+/// One specification row with weights (a coefficient, an end of an operating range) as the
+/// screening updates it after a swap: its output, its weights over that output's
+/// coefficients and its factors divided by the limit (noise part taken as zero: a looser
+/// row, so the screening's bound stays a lower bound on the specified $J$) and by the room
+/// (the exact row of the current schedule, for its multiplier).
+#[derive(Debug, Clone)]
+pub(crate) struct ScreenRow {
+    pub output: usize,
+    pub weights: Vec<f64>,
+    pub per_limit: Vec<f64>,
+    pub per_room: Vec<f64>,
+}
+
+/// What the screening needs of a schedule answered against the specifications: per output
+/// $\mathbf G = (\mathbf A^T\mathbf A)^{-1}$ of the whole schedule (rate steps included,
+/// $p \times p$ row-major) and the coefficients' sensitivities $\mathbf H_s = \mathbf A^+
+/// (d\mathbf G + d\mathbf E)$ ($p \times m$ row-major,
+/// [`EndToEnd::coefficient_linearization`]), and the rows with weights. A swap updates
+/// $\mathbf H_s$ by the same Woodbury formula as eq 14's rows.
+#[derive(Debug, Clone)]
+pub(crate) struct SpecScreen {
+    pub gram_inv: Vec<Vec<f64>>,
+    pub hs: Vec<Vec<f64>>,
+    pub rows: Vec<ScreenRow>,
+}
+
+impl SpecScreen {
+    /// The screening data of `a`.
+    pub(crate) fn of(a: &SpecAnswer) -> Self {
+        let outputs = a.e2e.calibration().outputs();
+        let gram_inv = outputs
+            .iter()
+            .map(|o| {
+                let pinv = o.regression().pinv();
+                let g = pinv * pinv.transpose();
+                g.transpose().as_slice().to_vec()
+            })
+            .collect();
+        let hs = a
+            .e2e
+            .coefficient_linearization()
+            .iter()
+            .map(|h| h.transpose().as_slice().to_vec())
+            .collect();
+        let rows = a
+            .rows
+            .iter()
+            .filter_map(|r| {
+                let w = r.weights()?;
+                let per = |d: f64| r.factors().iter().map(|f| f / d).collect::<Vec<f64>>();
+                let room = r.room();
+                Some(ScreenRow {
+                    output: r.output(),
+                    weights: w.to_vec(),
+                    per_limit: per(r.limit()),
+                    per_room: if room > 0.0 {
+                        per(room)
+                    } else {
+                        per(r.limit())
+                    },
+                })
+            })
+            .collect();
+        Self { gram_inv, hs, rows }
+    }
+
+    /// Row `r` of the specifications for sensitivities `hs` (per output, $p \times m$),
+    /// normalised by `per` (`per_limit` or `per_room`), in absolute value, into `out`.
+    pub(crate) fn row(&self, r: usize, hs: &[Vec<f64>], limit: bool, out: &mut [f64]) {
+        let row = &self.rows[r];
+        let h = &hs[row.output];
+        let m = out.len();
+        out.fill(0.0);
+        for (t, w) in row.weights.iter().enumerate() {
+            if *w == 0.0 {
+                continue;
+            }
+            for (v, hv) in out.iter_mut().zip(&h[t * m..(t + 1) * m]) {
+                *v += w * hv;
+            }
+        }
+        let per = if limit { &row.per_limit } else { &row.per_room };
+        for (v, f) in out.iter_mut().zip(per) {
+            *v = f * v.abs();
+        }
+    }
+}

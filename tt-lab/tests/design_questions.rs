@@ -249,7 +249,8 @@ const RATES_DEG_PER_S: [f64; 4] = [10.0, 30.0, 100.0, 300.0];
 /// above eq 14's: 8,993 against 7,576 arcmin^-2).
 #[test]
 fn scale_factor_specifications_in_ppm_enter_the_rate_choice_at_every_rate() {
-    let plain = study("stim300-rate-table-example.toml");
+    let mut plain = study("stim300-rate-table-example.toml");
+    plain.specifications.clear();
     let eq14 =
         tt_lab::design::rates::choose(&plain, &plain.positions_deg, &RATES_DEG_PER_S).unwrap();
     let s = rate_table_with_scale_factor_specs(30.0);
@@ -288,4 +289,109 @@ fn cost_of_the_specified_objective() {
             d.search().designed().exact_evaluations()
         );
     }
+}
+
+/// Relative slack of a rigorous lower bound against the exact J it bounds (dimensionless):
+/// the bound and J are sums of a few hundred rounded products and a conic solve to 1e-9.
+const BOUND_ROUNDING_REL: f64 = 1e-7;
+
+/// The screening's lower bound counts the specification rows and stays a lower bound on the
+/// specified J: on the IMU example with its misalignment at 10 arcsec (the specification rows
+/// bind), 90 deg grid, every screened swap of two slots (every third candidate) has a lower
+/// bound at most the exact specified J of the swapped schedule, and for some swaps it is above
+/// the exact J of eq 14's rows alone (which no bound of eq 14's rows can be), so the
+/// specification rows, updated by the Woodbury formula after the swap, enter the bound.
+#[test]
+fn the_screenings_bound_counts_the_specification_rows_and_stays_below_the_specified_j() {
+    let s = imu_with_tight_misalignment();
+    let spec = tt_lab::design::schedule::spec_objective(&s)
+        .unwrap()
+        .expect("specifications that leave room");
+    let candidates = schedule_design::candidates_with(
+        schedule_design::grid_positions_deg(&s.turntable, 90.0).unwrap(),
+        &s.positions_deg,
+    );
+    let plain = schedule_design::DesignProblem::new(
+        &s.turntable,
+        &s.sensor,
+        &s.site,
+        s.reading,
+        &s.lower_bounds_rad,
+        candidates,
+    )
+    .unwrap();
+    let specified = plain.clone().with_specifications(Some(spec));
+    let schedule: Vec<usize> = s
+        .positions_deg
+        .iter()
+        .map(|p| plain.index_of(p).unwrap())
+        .collect();
+    let hood = specified
+        .neighbourhood(&schedule, schedule_design::DEFAULT_MAX_CONDITION)
+        .unwrap();
+    let (mut checked, mut above_eq14) = (0, 0);
+    for slot in [0, schedule.len() / 2] {
+        for b in hood.screen(slot).unwrap().iter().step_by(3) {
+            let mut swapped = schedule.clone();
+            swapped[slot] = b.candidate();
+            let exact = specified.evaluate(&swapped).unwrap().objective();
+            let eq14 = plain.evaluate(&swapped).unwrap().objective();
+            assert!(
+                b.lower() <= exact * (1.0 + BOUND_ROUNDING_REL),
+                "slot {slot}, candidate {}: bound {} above the specified J {exact}",
+                b.candidate(),
+                b.lower()
+            );
+            checked += 1;
+            if b.lower() > eq14 * (1.0 + BOUND_ROUNDING_REL) {
+                above_eq14 += 1;
+            }
+        }
+    }
+    eprintln!("{checked} swaps checked, {above_eq14} bounds above eq 14's exact J");
+    assert!(checked >= 20, "{checked}");
+    assert!(above_eq14 > 0, "no bound counts a specification row");
+}
+
+/// With the gyros' scale factors specified at 30 ppm (binding at 10 deg/s) the rate choice
+/// compares the candidates by their largest specification load at the one box of the study as
+/// written (`tt_lab::design::rates::SPEC_RULE`), not by J, whose rate tolerances' weights
+/// change with the rate: the chosen pair has the least load, its rate is not the lowest
+/// candidate, and its load is below the lowest rate's (the noise of the rate steps over the
+/// rate, in ppm, falls as the rate grows). Without specifications the choice is by J, as
+/// before.
+#[test]
+fn with_ppm_specifications_the_rate_choice_takes_the_least_specification_load_not_the_lowest_rate()
+{
+    let s = rate_table_with_scale_factor_specs(30.0);
+    let c = tt_lab::design::rates::choose(&s, &s.positions_deg, &RATES_DEG_PER_S).unwrap();
+    assert_eq!(c.rule(), tt_lab::design::rates::SPEC_RULE);
+    let (designed, _) = c.specification_loads().expect("loads with specifications");
+    eprintln!(
+        "J {:?}\nloads {:?}\nchosen {:?}",
+        c.candidates(),
+        designed,
+        c.chosen()
+    );
+    let (rate, _) = c.chosen().expect("a table suffices");
+    let load_at = |r: f64| {
+        let i = RATES_DEG_PER_S.iter().position(|x| *x == r).unwrap();
+        designed[i].expect("a table suffices at every candidate")
+    };
+    assert!(rate > RATES_DEG_PER_S[0], "chose {rate} deg/s");
+    assert!(load_at(rate) < load_at(RATES_DEG_PER_S[0]));
+    for r in RATES_DEG_PER_S {
+        assert!(load_at(rate) <= load_at(r), "{rate} vs {r}");
+    }
+    let mut plain = s.clone();
+    plain.specifications.clear();
+    let c = tt_lab::design::rates::choose(&plain, &plain.positions_deg, &RATES_DEG_PER_S).unwrap();
+    assert_eq!(c.rule(), tt_lab::design::rates::J_RULE);
+    assert!(c.specification_loads().is_none());
+    let least = c
+        .candidates()
+        .iter()
+        .filter_map(|(_, j)| *j)
+        .fold(f64::INFINITY, f64::min);
+    assert!(c.chosen().unwrap().1 <= least);
 }
