@@ -463,6 +463,12 @@ impl SpecificationContext {
         &self.specs
     }
 
+    /// The noise model of each output (`None`: noiseless).
+    #[must_use]
+    pub fn noise(&self) -> &[Option<NoiseModel>] {
+        &self.noise
+    }
+
     /// The timing the noise part is computed with (`None`: no noise is modelled).
     #[must_use]
     pub fn timing(&self) -> Option<&Timing> {

@@ -52,7 +52,14 @@ pub(crate) struct State {
 struct SpecState {
     screen: std::sync::Arc<crate::spec::SpecScreen>,
     ga: Vec<Vec<f64>>,
+    /// $\mathbf G\mathbf w$ of every specification row (its output's $\mathbf G$).
+    gw: Vec<Vec<f64>>,
 }
+
+/// Relative reduction of a specification row's noise part after a swap before it is taken
+/// off the limit (dimensionless): the noise part is recomputed by other sums than the exact
+/// answer's, and a bound must not exceed J by rounding.
+const NOISE_ROUNDING_REL: f64 = 1e-9;
 
 /// $\mathbf H' = \mathbf T - \mathbf G\mathbf U\mathbf K^{-1}\mathbf U^T\mathbf T$ with
 /// $\mathbf T = \mathbf H + \mathbf u_1\mathbf b_c^T - \mathbf u_2\mathbf b_i^T$ (the
@@ -210,6 +217,17 @@ impl<'a> Search<'a> {
         };
         let loads: Vec<f64> = rows.chunks(m).map(|r| load(r, &x)).collect();
         let spec = eval.spec_screen.clone().map(|screen| SpecState {
+            gw: screen
+                .rows
+                .iter()
+                .map(|r| {
+                    let g = &screen.gram_inv[r.output];
+                    let pk = r.weights.len();
+                    (0..pk)
+                        .map(|i| dot(&g[i * pk..(i + 1) * pk], &r.weights))
+                        .collect()
+                })
+                .collect(),
             ga: p
                 .outputs
                 .iter()
@@ -448,17 +466,24 @@ impl<'a> Search<'a> {
         Some(ratio)
     }
 
-    /// The specification rows after the swap (slot's candidate `ci` out, `c` in; the swap
-    /// known not to be rank deficient), normalised by their limits and in absolute value,
-    /// into `out` ($S \times m$), with their sensitivities $\mathbf H_s'$ in `sc.hs_spec`.
+    /// The specification rows after the swap of the slot's candidate for `c` (the swap known
+    /// not to be rank deficient) into `out` ($S \times m$), in absolute value, normalised by
+    /// their room: the limit less the noise part after the swap, $k\sqrt{\mathbf v^T
+    /// \boldsymbol\Sigma\mathbf v}$ with $\mathbf v = \mathbf A'\mathbf G'\mathbf w$ (the
+    /// entries' covariance $\boldsymbol\Sigma$ is the schedule's timing's, unchanged by a swap;
+    /// $\mathbf G'\mathbf w$ by the Woodbury formula), reduced by [`NOISE_ROUNDING_REL`].
+    /// Their sensitivities $\mathbf H_s'$ are left in `sc.hs_spec`. `false` when a row's noise
+    /// part alone fills its limit (no table suffices: $J = +\infty$).
     fn spec_rows_after_swap(
         &self,
+        st: &State,
         spec: &SpecState,
-        (ci, c): (usize, usize),
+        (slot, c): (usize, usize),
         sc: &mut SwapScratch,
         out: &mut [f64],
-    ) {
+    ) -> bool {
         let m = self.p.errors;
+        let ci = st.s[slot];
         let SwapScratch {
             hs_spec,
             r1,
@@ -492,9 +517,52 @@ impl<'a> Search<'a> {
                 (r1, r2),
             );
         }
+        let n = st.s.len();
         for (r, row) in out.chunks_exact_mut(m).enumerate() {
+            let sr = &spec.screen.rows[r];
+            let k = sr.output;
+            let o = &self.p.outputs[k];
+            let pk = o.p;
+            // G' w = G w - (u1 y1 + u2 y2), K y = (u1 . w, u2 . w)
+            let noise = match &spec.screen.sigma[k] {
+                None => 0.0,
+                Some(sigma) => {
+                    let (ac, ai) = (o.a_row(c), o.a_row(ci));
+                    let ga = &spec.ga[k];
+                    let (u1, u2) = (&ga[c * pk..(c + 1) * pk], &ga[ci * pk..(ci + 1) * pk]);
+                    let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
+                    let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
+                    let det = k11 * k22 - k12 * k12;
+                    let (z1, z2) = (dot(u1, &sr.weights), dot(u2, &sr.weights));
+                    let y1 = (k22 * z1 - k12 * z2) / det;
+                    let y2 = (k11 * z2 - k12 * z1) / det;
+                    let gw: Vec<f64> = (0..pk)
+                        .map(|t| spec.gw[r][t] - (u1[t] * y1 + u2[t] * y2))
+                        .collect();
+                    let rate = &spec.screen.a_rate[k];
+                    let v: Vec<f64> = (0..n)
+                        .map(|q| dot(o.a_row(if q == slot { c } else { st.s[q] }), &gw))
+                        .chain(rate.chunks_exact(pk).map(|a| dot(a, &gw)))
+                        .collect();
+                    let nt = v.len();
+                    let quad: f64 = (0..nt)
+                        .map(|i| v[i] * dot(&sigma[i * nt..(i + 1) * nt], &v))
+                        .sum();
+                    sr.coverage * quad.max(0.0).sqrt() * (1.0 - NOISE_ROUNDING_REL)
+                }
+            };
+            let room = sr.limit - noise;
+            if room <= 0.0 {
+                return false;
+            }
             spec.screen.row(r, hs_spec, true, row);
+            // `row` is f |c| / L: rescale to the room
+            let scale = sr.limit / room;
+            for v in row.iter_mut() {
+                *v *= scale;
+            }
         }
+        true
     }
 
     /// What the screening of every swap of `slot` shares: the threshold, the cheap bound's
@@ -581,8 +649,12 @@ impl<'a> Search<'a> {
         // the specification rows after the swap (at their limits), then the cheap bound with
         // their multipliers beside eq 14's retained rows
         let mut tail = std::mem::take(&mut sc.rows);
-        self.spec_rows_after_swap(spec, (ci, c), sc, &mut tail[eq14_rows * m..]);
+        let room =
+            self.spec_rows_after_swap(st, spec, (ss.slot, c), sc, &mut tail[eq14_rows * m..]);
         sc.rows = tail;
+        if !room {
+            return f64::INFINITY;
+        }
         let (mut c_all, mut lambda) = if ss.static_rows {
             (ss.base_c.clone(), ss.base_mu)
         } else {

@@ -72,6 +72,10 @@ pub(crate) struct SpecAnswer {
     /// The specified direct allocation; `None` when no table suffices (the lower bounds alone
     /// break a row, or a specification's noise part fills its limit).
     pub allocation: Option<DirectAllocation>,
+    /// The context the rows were computed with (the schedule's timing).
+    pub context: SpecificationContext,
+    /// The number of static positions (the rate steps' entries follow).
+    pub n_static: usize,
 }
 
 impl DesignProblem {
@@ -120,21 +124,26 @@ impl DesignProblem {
             linear,
             rows,
             allocation,
+            context: ctx,
+            n_static: positions_deg.len(),
         }))
     }
 }
 
 /// One specification row with weights (a coefficient, an end of an operating range) as the
 /// screening updates it after a swap: its output, its weights over that output's
-/// coefficients and its factors divided by the limit (noise part taken as zero: a looser
-/// row, so the screening's bound stays a lower bound on the specified $J$) and by the room
-/// (the exact row of the current schedule, for its multiplier).
+/// coefficients, its factors divided by the limit and by the room of the answered schedule
+/// (the exact row, for its multiplier), its limit and coverage factor (the room after a swap
+/// is the limit less the swapped schedule's noise part).
 #[derive(Debug, Clone)]
 pub(crate) struct ScreenRow {
     pub output: usize,
     pub weights: Vec<f64>,
     pub per_limit: Vec<f64>,
     pub per_room: Vec<f64>,
+    /// The limit $L$ and the coverage factor $k$ of the noise part.
+    pub limit: f64,
+    pub coverage: f64,
 }
 
 /// What the screening needs of a schedule answered against the specifications: per output
@@ -148,6 +157,12 @@ pub(crate) struct SpecScreen {
     pub gram_inv: Vec<Vec<f64>>,
     pub hs: Vec<Vec<f64>>,
     pub rows: Vec<ScreenRow>,
+    /// Per output: the covariance of the entries' averages (white plus correlated, one per
+    /// entry in the schedule's order, row-major; `None`: no noise), which depends on the
+    /// timing only, so a swap (same slots, same windows) keeps it.
+    pub sigma: Vec<Option<Vec<f64>>>,
+    /// Per output: the regressor rows of the rate steps' entries ($p$ each, row-major).
+    pub a_rate: Vec<Vec<f64>>,
 }
 
 impl SpecScreen {
@@ -168,6 +183,28 @@ impl SpecScreen {
             .iter()
             .map(|h| h.transpose().as_slice().to_vec())
             .collect();
+        let n_static = a.n_static;
+        let sigma = outputs
+            .iter()
+            .enumerate()
+            .map(|(k, _)| {
+                let t = a.context.timing()?;
+                let m = a.context.noise().get(k)?.as_ref()?;
+                let w = m.window_covariance(&t.windows(), t.sample_rate_hz()).ok()?;
+                let total = w.white() + w.correlated();
+                Some(total.transpose().as_slice().to_vec())
+            })
+            .collect();
+        let a_rate = outputs
+            .iter()
+            .map(|o| {
+                let a = o.regression().matrix();
+                a.rows(n_static, a.nrows() - n_static)
+                    .transpose()
+                    .as_slice()
+                    .to_vec()
+            })
+            .collect();
         let rows = a
             .rows
             .iter()
@@ -184,10 +221,18 @@ impl SpecScreen {
                     } else {
                         per(r.limit())
                     },
+                    limit: r.limit(),
+                    coverage: r.coverage_factor(),
                 })
             })
             .collect();
-        Self { gram_inv, hs, rows }
+        Self {
+            gram_inv,
+            hs,
+            rows,
+            sigma,
+            a_rate,
+        }
     }
 
     /// Row `r` of the specifications for sensitivities `hs` (per output, $p \times m$),

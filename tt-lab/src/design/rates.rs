@@ -6,7 +6,9 @@
 //! position search takes the static positions alone, so its design need not be the better one
 //! once the rate steps count), and each schedule is answered by the direct allocation of the
 //! angles and the rate tolerances together ([`e2e_verify::EndToEnd::allocate_direct_rate`],
-//! J over both, arcmin^-2). The pair (positions, rate) with the least J is chosen. The rate
+//! J over both, arcmin^-2). The pair (positions, rate) with the least J is chosen; when the
+//! study gives specifications that leave the table room, the pair with the least largest
+//! specification load at one reference box ([`SPEC_RULE`]: J is not comparable across rates). The rate
 //! changes how the rate accuracy, the ripple and the centripetal terms reach the outputs (the
 //! centripetal acceleration grows as the rate squared), so the best rate depends on the
 //! sensor, the table and the schedule.
