@@ -375,7 +375,11 @@ fn with_ppm_specifications_the_rate_choice_takes_the_least_specification_load_no
     );
     let (rate, _) = c.chosen().expect("a table suffices");
     let load_at = |r: f64| {
-        let i = RATES_DEG_PER_S.iter().position(|x| *x == r).unwrap();
+        // the chosen rate is a copy of a candidate: the same bits
+        let i = RATES_DEG_PER_S
+            .iter()
+            .position(|x| x.to_bits() == r.to_bits())
+            .unwrap();
         designed[i].expect("a table suffices at every candidate")
     };
     assert!(rate > RATES_DEG_PER_S[0], "chose {rate} deg/s");

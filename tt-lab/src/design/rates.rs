@@ -41,6 +41,12 @@ pub struct RateChoice {
     loads: Option<Loads>,
 }
 
+/// A candidate rate (deg/s) answered: J (arcmin^-2) and its specification load.
+type Answered = (f64, Option<f64>, Option<f64>);
+
+/// Per candidate, the loads with the designed positions and with the study's.
+type LoadLists<'a> = (&'a [Option<f64>], &'a [Option<f64>]);
+
 /// The specification loads of the rate choice ([`SPEC_RULE`]).
 #[derive(Debug, Clone)]
 struct Loads {
@@ -85,7 +91,7 @@ impl RateChoice {
     /// positions, then with the study's ([`SPEC_RULE`]; `None` when the choice is by J: no
     /// specification leaves room, or the study as written has no table).
     #[must_use]
-    pub fn specification_loads(&self) -> Option<(&[Option<f64>], &[Option<f64>])> {
+    pub fn specification_loads(&self) -> Option<LoadLists<'_>> {
         self.loads
             .as_ref()
             .map(|l| (l.designed.as_slice(), l.study_positions.as_slice()))
@@ -246,7 +252,7 @@ pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<Rat
     let (study, _, own) = answered(&written, &specs, None)?;
     // with specifications, every candidate is compared at the box of the study as written
     let reference = own.filter(|_| !specs.is_empty());
-    let at = |positions: &[Vec<f64>]| -> Result<Vec<(f64, Option<f64>, Option<f64>)>> {
+    let at = |positions: &[Vec<f64>]| -> Result<Vec<Answered>> {
         rates
             .iter()
             .map(|&r| {
@@ -263,13 +269,13 @@ pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<Rat
         at(&s.positions_deg)?
     };
     // the key of a pair: its load with specifications, else its J
-    let key = |(_, j, load): &(f64, Option<f64>, Option<f64>)| {
+    let key = |(_, j, load): &Answered| {
         if reference.is_some() { *load } else { *j }
     };
-    let best = |list: &[(f64, Option<f64>, Option<f64>)]| {
+    let best = |list: &[Answered]| {
         list.iter().filter_map(|c| key(c).map(|k| (k, *c))).fold(
             None,
-            |b: Option<(f64, (f64, Option<f64>, Option<f64>))>, c| match b {
+            |b: Option<(f64, Answered)>, c| match b {
                 Some(b) if b.0 <= c.0 => Some(b),
                 _ => Some(c),
             },
