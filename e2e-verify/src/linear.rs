@@ -617,14 +617,23 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// study's reading (the coefficients the calibrating engineer gets).
     #[must_use]
     pub fn coefficient_linearization(&self) -> Vec<DMatrix<f64>> {
-        let du = self.angular_input_variation();
+        self.coefficient_linearization_with(self.n_errors(), self.angular_input_variation())
+    }
+
+    /// [`EndToEnd::coefficient_linearization`] with respect to `errors` errors whose first
+    /// variation of the inputs at position `i` for error `j` is `du(i, j, nominal inputs)`.
+    pub(crate) fn coefficient_linearization_with(
+        &self,
+        errors: usize,
+        du: impl Fn(usize, usize, &InputValues) -> [f64; 6],
+    ) -> Vec<DMatrix<f64>> {
         self.calibration()
             .outputs()
             .iter()
             .map(|cal| {
                 let pinv = cal.regression().pinv();
-                let mut jac = DMatrix::zeros(pinv.nrows(), self.n_errors());
-                for j in 0..self.n_errors() {
+                let mut jac = DMatrix::zeros(pinv.nrows(), errors);
+                for j in 0..errors {
                     let (de, dg) = Self::output_variations(cal, j, &du);
                     let db1: Vec<f64> = de.iter().zip(&dg).map(|(e, g)| e + g).collect();
                     for t in 0..pinv.nrows() {

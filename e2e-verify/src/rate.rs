@@ -779,7 +779,34 @@ impl crate::RateQuestions<'_> {
             extra_linear,
             lower_bounds_rad,
             |setup, combined, lb| {
-                self.exact_rounds(linear, extra_linear, setup, combined, lb, &none)
+                self.exact_rounds(linear, extra_linear, setup, combined, lb, &none, &[])
+            },
+        )
+    }
+
+    /// [`crate::EndToEnd::allocate_direct_rate`] constrained by every specification as well
+    /// (issue 34 item 6): the rows `spec_rows` over the angles and the rate tolerances
+    /// ([`crate::EndToEnd::rate_specification_rows`]) beside eq 14's rows. Without rows it is
+    /// [`crate::EndToEnd::allocate_direct_rate`].
+    ///
+    /// # Errors
+    /// As [`crate::EndToEnd::allocate_direct_rate`];
+    /// [`E2eError::NoTableSuffices`] naming a specification whose noise part alone fills its
+    /// limit.
+    pub fn allocate_direct_rate_specified(
+        &self,
+        linear: &crate::Linearization,
+        extra_linear: &crate::Linearization,
+        lower_bounds_rad: &[f64],
+        spec_rows: &[crate::budget::SpecificationRow],
+    ) -> Result<RateAllocation, E2eError> {
+        let none = vec![0.0; self.n_outputs()];
+        self.with_rate_setup(
+            linear,
+            extra_linear,
+            lower_bounds_rad,
+            |setup, combined, lb| {
+                self.exact_rounds(linear, extra_linear, setup, combined, lb, &none, spec_rows)
             },
         )
     }
@@ -810,7 +837,7 @@ impl crate::RateQuestions<'_> {
             extra_linear,
             lower_bounds_rad,
             |setup, combined, lb| {
-                self.exact_rounds(linear, extra_linear, setup, combined, lb, &noise)
+                self.exact_rounds(linear, extra_linear, setup, combined, lb, &noise, &[])
             },
         )
         .map(Ok)
@@ -875,7 +902,8 @@ impl crate::RateQuestions<'_> {
     }
 
     /// The re-solves of [`crate::RateQuestions::allocate_direct_rate`] keeping room for the exact
-    /// chain at the worst vertex.
+    /// chain at the worst vertex (with `spec_rows` beside eq 14's rows).
+    #[allow(clippy::too_many_arguments)]
     fn exact_rounds(
         &self,
         linear: &crate::Linearization,
@@ -884,6 +912,7 @@ impl crate::RateQuestions<'_> {
         combined: &crate::Linearization,
         lb: &[f64],
         noise: &[f64],
+        spec_rows: &[crate::budget::SpecificationRow],
     ) -> Result<RateAllocation, E2eError> {
         let tolerances = self.rate_tolerances();
         let tol_weights = self.rate_tolerance_weights(combined);
@@ -893,7 +922,7 @@ impl crate::RateQuestions<'_> {
         let ceilings = self.rate_ceilings();
         for round in 0..=RATE_EXACT_ROUNDS {
             let d = setup.capped(
-                setup.allocate(combined, lb, &margins, None)?,
+                setup.allocate_with_rows(combined, lb, &margins, None, spec_rows)?,
                 &ceilings,
                 combined,
             );

@@ -177,6 +177,7 @@ mod dual;
 mod problem;
 mod search;
 mod tally;
+mod spec;
 
 pub use budget::{
     BudgetDesign, BudgetPoint, ScheduleOrigin, TimeBudget, budget_counts, check_budget_affords,
@@ -185,6 +186,7 @@ pub use budget::{
 
 pub use budget::{BudgetParams, DEFAULT_REDUNDANCY, fewest_proposed};
 pub use problem::DesignProblem;
+pub use spec::SpecObjective;
 
 use calib_lsq::{CalibError, Calibration, OrientationRequirement, RequirementProblem, Schedule};
 use e2e_verify::DirectAllocation;
@@ -404,6 +406,9 @@ pub struct Evaluation {
     pub(crate) allocation: Option<DirectAllocation>,
     /// $\mathbf M$, when the schedule identifies every output.
     pub(crate) linear: Option<Linearization>,
+    /// What the screening needs of the schedule answered against the specifications (`None`
+    /// without specifications or when the schedule is not answered).
+    pub(crate) spec_screen: Option<std::sync::Arc<spec::SpecScreen>>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -460,6 +465,7 @@ impl Evaluation {
             objective: f64::INFINITY,
             allocation: None,
             linear: None,
+            spec_screen: None,
         }
     }
 
@@ -1234,16 +1240,38 @@ impl DesignProblem {
         delta_r_kind: DeltaRKind,
         study_tolerances: Option<&StudyTolerances>,
     ) -> Result<ScheduleReport, E2eError> {
-        let e2e = self.end_to_end(positions_deg)?;
-        let calibration = e2e.calibration().clone();
-        let linear = e2e.linearization();
-        let allocation = e2e.allocate_direct(&linear, &self.lower_bounds_rad)?;
-        let (certified, certified_note) = e2e_verify::internals::certified_or_note(
-            &e2e,
-            &linear,
-            &self.lower_bounds_rad,
-            &allocation,
-        )?;
+        let static_e2e = self.end_to_end(positions_deg)?;
+        let calibration = static_e2e.calibration().clone();
+        let lb = &self.lower_bounds_rad;
+        let (e2e, linear, allocation, (certified, certified_note)) =
+            match self.spec_answer(positions_deg)? {
+                Some(a) => {
+                    let allocation = match a.allocation {
+                        Some(d) => d,
+                        // no table suffices: the allocation's own error names why
+                        None => a.e2e.allocate_direct_specified(&a.linear, lb, &a.rows)?,
+                    };
+                    let certified = e2e_verify::internals::certified_or_note_specified(
+                        &a.e2e,
+                        &a.linear,
+                        lb,
+                        &allocation,
+                        &a.rows,
+                    )?;
+                    (a.e2e, a.linear, allocation, certified)
+                }
+                None => {
+                    let linear = static_e2e.linearization();
+                    let allocation = static_e2e.allocate_direct(&linear, lb)?;
+                    let certified = e2e_verify::internals::certified_or_note(
+                        &static_e2e,
+                        &linear,
+                        lb,
+                        &allocation,
+                    )?;
+                    (static_e2e, linear, allocation, certified)
+                }
+            };
         let own = StudyTolerances::of(&allocation, certified.as_ref());
         let tolerances = study_tolerances.unwrap_or(&own);
         let with_study_tolerances = tolerances.worst_case(&e2e, &linear)?;
@@ -1726,6 +1754,8 @@ pub struct DesignInputs<'a> {
     pub lower_bounds_rad: &'a [f64],
     /// The study's schedule (joint angles, deg).
     pub study_positions_deg: &'a [Vec<f64>],
+    /// The study's specifications (`None`: the design objective is eq 14's direct allocation).
+    pub specifications: Option<&'a SpecObjective>,
 }
 
 /// The grid design: the candidates are the grid of `step_deg` ([`grid_positions_deg`]) and
@@ -1758,6 +1788,7 @@ pub fn design_on_grid(
                 inputs.study_positions_deg,
             ),
         )
+        .map(|p| p.with_specifications(inputs.specifications.cloned()))
     };
     let fine = problem_of(step_deg)?;
     // The starts of a level: the study's schedule, then the best design of its multiples.

@@ -96,6 +96,8 @@ pub struct DesignProblem {
     pub(crate) outputs: Vec<OutputData>,
     pub(crate) affine: Affine,
     pub(crate) search: crate::SearchParams,
+    /// The specifications every schedule is answered against (`None`: eq 14's rows only).
+    pub(crate) specs: Option<std::sync::Arc<crate::spec::SpecObjective>>,
 }
 
 impl DesignProblem {
@@ -220,6 +222,7 @@ impl DesignProblem {
             outputs,
             affine,
             search: crate::SearchParams::default(),
+            specs: None,
         })
     }
 
@@ -436,13 +439,20 @@ impl DesignProblem {
                 objective: f64::INFINITY,
                 allocation: None,
                 linear: None,
+                spec_screen: None,
             });
         }
         let linear = self.linearization_with(s, &regs);
-        let allocation = match self.allocate(&linear) {
-            Ok(a) => Some(a),
-            Err(E2eError::InfeasibleLowerBounds { .. }) => None,
-            Err(e) => return Err(e),
+        let (allocation, spec_screen) = match self.spec_answer(&self.positions_deg(s))? {
+            Some(a) => {
+                let screen = std::sync::Arc::new(crate::spec::SpecScreen::of(&a));
+                (a.allocation, Some(screen))
+            }
+            None => match self.allocate(&linear) {
+                Ok(a) => (Some(a), None),
+                Err(E2eError::InfeasibleLowerBounds { .. }) => (None, None),
+                Err(e) => return Err(e),
+            },
         };
         Ok(Evaluation {
             schedule: s.to_vec(),
@@ -451,6 +461,7 @@ impl DesignProblem {
             objective: allocation.as_ref().map_or(f64::INFINITY, |a| a.objective()),
             allocation,
             linear: Some(linear),
+            spec_screen,
         })
     }
 }

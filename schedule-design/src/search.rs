@@ -37,9 +37,76 @@ pub(crate) struct State {
     /// Load of every row at $\mathrm{UB}$.
     loads: Vec<f64>,
     /// Multipliers $\mu_{kq} \ge 0$ of the rows (any non-negative values give valid bounds;
-    /// these are fitted to the KKT conditions at $\mathrm{UB}$).
+    /// these are fitted to the KKT conditions at $\mathrm{UB}$), then one per specification
+    /// row of `spec` (after the $R$ rows of eq 14).
     mu: Vec<f64>,
     factors: Vec<Factor>,
+    /// The specifications' part of the screening (`None` without specifications).
+    spec: Option<SpecState>,
+}
+
+/// The specification rows' part of a state: the screening data of its exact answer and
+/// $\mathbf G\mathbf a_c$ per output for every candidate with that answer's $\mathbf G$
+/// (rate steps included).
+#[derive(Debug, Clone)]
+struct SpecState {
+    screen: std::sync::Arc<crate::spec::SpecScreen>,
+    ga: Vec<Vec<f64>>,
+    /// $\mathbf G\mathbf w$ of every specification row (its output's $\mathbf G$).
+    gw: Vec<Vec<f64>>,
+}
+
+/// Relative reduction of a specification row's noise part after a swap before it is taken
+/// off the limit (dimensionless): the noise part is recomputed by other sums than the exact
+/// answer's, and a bound must not exceed J by rounding.
+const NOISE_ROUNDING_REL: f64 = 1e-9;
+
+/// $\mathbf H' = \mathbf T - \mathbf G\mathbf U\mathbf K^{-1}\mathbf U^T\mathbf T$ with
+/// $\mathbf T = \mathbf H + \mathbf u_1\mathbf b_c^T - \mathbf u_2\mathbf b_i^T$ (the
+/// Woodbury update of $\mathbf H = \mathbf A^+\mathbf B$ when row $\mathbf a_i$ with right-hand
+/// row $\mathbf b_i$ leaves and $\mathbf a_c$ with $\mathbf b_c$ enters; $\mathbf u =
+/// \mathbf G\mathbf a$, $\mathbf h$ is $p \times m$ row-major) into `out`.
+#[allow(clippy::too_many_arguments)]
+fn woodbury_swap(
+    h: &[f64],
+    (ac, ai): (&[f64], &[f64]),
+    (u1, u2): (&[f64], &[f64]),
+    (c1c, c1i): (&[f64], &[f64]),
+    m: usize,
+    out: &mut Vec<f64>,
+    (r1, r2): (&mut Vec<f64>, &mut Vec<f64>),
+) {
+    let pk = ac.len();
+    let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
+    // T = H + u1 c1_c^T - u2 c1_i^T
+    out.clear();
+    out.extend_from_slice(h);
+    for r in 0..pk {
+        let row = &mut out[r * m..(r + 1) * m];
+        for jj in 0..m {
+            row[jj] += u1[r] * c1c[jj] - u2[r] * c1i[jj];
+        }
+    }
+    // K = [[1 + dc, dic], [dic, -1 + di]]; solve K y = (a_c^T T, a_i^T T)
+    let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
+    let det = k11 * k22 - k12 * k12;
+    r1.clear();
+    r1.resize(m, 0.0);
+    r2.clear();
+    r2.resize(m, 0.0);
+    for r in 0..pk {
+        for jj in 0..m {
+            r1[jj] += ac[r] * out[r * m + jj];
+            r2[jj] += ai[r] * out[r * m + jj];
+        }
+    }
+    for jj in 0..m {
+        let y1 = (k22 * r1[jj] - k12 * r2[jj]) / det;
+        let y2 = (k11 * r2[jj] - k12 * r1[jj]) / det;
+        for r in 0..pk {
+            out[r * m + jj] -= u1[r] * y1 + u2[r] * y2;
+        }
+    }
 }
 
 use super::SwapBound as Screened;
@@ -68,6 +135,11 @@ struct SwapScratch {
     r1: Vec<f64>,
     r2: Vec<f64>,
     dual: dual::Scratch,
+    /// $\mathbf H_s'$ of every output after the swap (specifications).
+    hs_spec: Vec<Vec<f64>>,
+    /// $d\mathbf g + d\mathbf e$ of the candidate in and of the one out.
+    bc: Vec<f64>,
+    bi: Vec<f64>,
 }
 
 /// The parts of the screening shared by every swap of one slot.
@@ -79,6 +151,8 @@ struct SlotScreen {
     static_rows: bool,
     /// The cheap bound of every swap with static rows.
     static_lower: f64,
+    /// The cheap bound's $c$ of the retained rows before the swap (static rows).
+    base_c: Vec<f64>,
     /// $\Lambda$ of the cheap bound (the retained rows' multipliers).
     base_mu: f64,
     /// The screening solver's warm start.
@@ -142,10 +216,52 @@ impl<'a> Search<'a> {
             None => (f64::INFINITY, vec![f64::INFINITY; m]),
         };
         let loads: Vec<f64> = rows.chunks(m).map(|r| load(r, &x)).collect();
-        let mu = if j.is_finite() {
-            self.multipliers(&rows, &loads, &x)
-        } else {
-            vec![0.0; rows.len() / m]
+        let spec = eval.spec_screen.clone().map(|screen| SpecState {
+            gw: screen
+                .rows
+                .iter()
+                .map(|r| {
+                    let g = &screen.gram_inv[r.output];
+                    let pk = r.weights.len();
+                    (0..pk)
+                        .map(|i| dot(&g[i * pk..(i + 1) * pk], &r.weights))
+                        .collect()
+                })
+                .collect(),
+            ga: p
+                .outputs
+                .iter()
+                .zip(&screen.gram_inv)
+                .map(|(o, g)| {
+                    (0..p.n_candidates())
+                        .flat_map(|c| {
+                            let a = o.a_row(c);
+                            (0..o.p)
+                                .map(|r| dot(&g[r * o.p..(r + 1) * o.p], a))
+                                .collect::<Vec<_>>()
+                        })
+                        .collect()
+                })
+                .collect(),
+            screen,
+        });
+        let mu = match (&spec, j.is_finite()) {
+            (_, false) => {
+                vec![0.0; rows.len() / m + spec.as_ref().map_or(0, |t| t.screen.rows.len())]
+            }
+            (None, true) => self.multipliers(&rows, &loads, &x),
+            (Some(t), true) => {
+                // the specification rows as the allocation holds them (over their room), so
+                // that the binding ones take their multipliers
+                let mut all = rows.clone();
+                let mut row = vec![0.0; m];
+                for r in 0..t.screen.rows.len() {
+                    t.screen.row(r, &t.screen.hs, false, &mut row);
+                    all.extend_from_slice(&row);
+                }
+                let all_loads: Vec<f64> = all.chunks(m).map(|r| load(r, &x)).collect();
+                self.multipliers(&all, &all_loads, &x)
+            }
         };
         let regs = p.regressions(&s)?;
         let factors = p
@@ -190,6 +306,7 @@ impl<'a> Search<'a> {
             loads,
             mu,
             factors,
+            spec,
         })
     }
 
@@ -345,36 +462,107 @@ impl<'a> Search<'a> {
             return Some(ratio);
         }
         let (c1c, c1i) = (&o.c1[c * m..(c + 1) * m], &o.c1[ci * m..(ci + 1) * m]);
-        // T = H + u1 c1_c^T - u2 c1_i^T
-        out.clear();
-        out.extend_from_slice(&f.h);
-        for r in 0..pk {
-            let row = &mut out[r * m..(r + 1) * m];
-            for jj in 0..m {
-                row[jj] += u1[r] * c1c[jj] - u2[r] * c1i[jj];
-            }
-        }
-        // K = [[1 + dc, dic], [dic, -1 + di]]; solve K y = (a_c^T T, a_i^T T)
-        let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
-        let det = k11 * k22 - k12 * k12;
-        r1.clear();
-        r1.resize(m, 0.0);
-        r2.clear();
-        r2.resize(m, 0.0);
-        for r in 0..pk {
-            for jj in 0..m {
-                r1[jj] += ac[r] * out[r * m + jj];
-                r2[jj] += ai[r] * out[r * m + jj];
-            }
-        }
-        for jj in 0..m {
-            let y1 = (k22 * r1[jj] - k12 * r2[jj]) / det;
-            let y2 = (k11 * r2[jj] - k12 * r1[jj]) / det;
-            for r in 0..pk {
-                out[r * m + jj] -= u1[r] * y1 + u2[r] * y2;
-            }
-        }
+        woodbury_swap(&f.h, (ac, ai), (u1, u2), (c1c, c1i), m, out, (r1, r2));
         Some(ratio)
+    }
+
+    /// The specification rows after the swap of the slot's candidate for `c` (the swap known
+    /// not to be rank deficient) into `out` ($S \times m$), in absolute value, normalised by
+    /// their room: the limit less the noise part after the swap, $k\sqrt{\mathbf v^T
+    /// \boldsymbol\Sigma\mathbf v}$ with $\mathbf v = \mathbf A'\mathbf G'\mathbf w$ (the
+    /// entries' covariance $\boldsymbol\Sigma$ is the schedule's timing's, unchanged by a swap;
+    /// $\mathbf G'\mathbf w$ by the Woodbury formula), reduced by [`NOISE_ROUNDING_REL`].
+    /// Their sensitivities $\mathbf H_s'$ are left in `sc.hs_spec`. `false` when a row's noise
+    /// part alone fills its limit (no table suffices: $J = +\infty$).
+    fn spec_rows_after_swap(
+        &self,
+        st: &State,
+        spec: &SpecState,
+        (slot, c): (usize, usize),
+        sc: &mut SwapScratch,
+        out: &mut [f64],
+    ) -> bool {
+        let m = self.p.errors;
+        let ci = st.s[slot];
+        let SwapScratch {
+            hs_spec,
+            r1,
+            r2,
+            bc,
+            bi,
+            ..
+        } = sc;
+        hs_spec.resize_with(self.p.outputs.len(), Vec::new);
+        for (k, o) in self.p.outputs.iter().enumerate() {
+            let pk = o.p;
+            let ga = &spec.ga[k];
+            let b = |x: usize, v: &mut Vec<f64>| {
+                v.clear();
+                v.extend(
+                    o.de[x * m..(x + 1) * m]
+                        .iter()
+                        .zip(&o.dg[x * m..(x + 1) * m])
+                        .map(|(e, g)| e + g),
+                );
+            };
+            b(c, bc);
+            b(ci, bi);
+            woodbury_swap(
+                &spec.screen.hs[k],
+                (o.a_row(c), o.a_row(ci)),
+                (&ga[c * pk..(c + 1) * pk], &ga[ci * pk..(ci + 1) * pk]),
+                (bc, bi),
+                m,
+                &mut hs_spec[k],
+                (r1, r2),
+            );
+        }
+        let n = st.s.len();
+        for (r, row) in out.chunks_exact_mut(m).enumerate() {
+            let sr = &spec.screen.rows[r];
+            let k = sr.output;
+            let o = &self.p.outputs[k];
+            let pk = o.p;
+            // G' w = G w - (u1 y1 + u2 y2), K y = (u1 . w, u2 . w)
+            let noise = match &spec.screen.sigma[k] {
+                None => 0.0,
+                Some(sigma) => {
+                    let (ac, ai) = (o.a_row(c), o.a_row(ci));
+                    let ga = &spec.ga[k];
+                    let (u1, u2) = (&ga[c * pk..(c + 1) * pk], &ga[ci * pk..(ci + 1) * pk]);
+                    let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
+                    let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
+                    let det = k11 * k22 - k12 * k12;
+                    let (z1, z2) = (dot(u1, &sr.weights), dot(u2, &sr.weights));
+                    let y1 = (k22 * z1 - k12 * z2) / det;
+                    let y2 = (k11 * z2 - k12 * z1) / det;
+                    let gw: Vec<f64> = (0..pk)
+                        .map(|t| spec.gw[r][t] - (u1[t] * y1 + u2[t] * y2))
+                        .collect();
+                    let rate = &spec.screen.a_rate[k];
+                    let v: Vec<f64> = (0..n)
+                        .map(|q| dot(o.a_row(if q == slot { c } else { st.s[q] }), &gw))
+                        .chain(rate.chunks_exact(pk).map(|a| dot(a, &gw)))
+                        .collect();
+                    let nt = v.len();
+                    let quad: f64 = (0..nt)
+                        .map(|i| v[i] * dot(&sigma[i * nt..(i + 1) * nt], &v))
+                        .sum();
+                    sr.coverage * quad.max(0.0).sqrt() * (1.0 - NOISE_ROUNDING_REL)
+                }
+            };
+            let room = sr.limit - noise;
+            if room <= 0.0 {
+                return false;
+            }
+            spec.screen.row(r, hs_spec, true, row);
+            // `row` is f |c| / L: rescale to the room
+            let scale = sr.limit / room;
+            for v in row.iter_mut() {
+                *v *= scale;
+            }
+        }
+        true
     }
 
     /// What the screening of every swap of `slot` shares: the threshold, the cheap bound's
@@ -403,18 +591,21 @@ impl<'a> Search<'a> {
         }
         let static_lower = self.dual_bound(&base_c, base_mu);
         // the screening solver's warm start: the state's multipliers except the slot's rows
+        // (every specification row is kept: it is recomputed after the swap)
+        let eq14_rows = p.outputs.len() * n;
         let mu0: Vec<(usize, f64)> = st
             .mu
             .iter()
             .copied()
             .enumerate()
-            .filter(|&(r, v)| v > 0.0 && r % n != slot)
+            .filter(|&(r, v)| v > 0.0 && (r >= eq14_rows || r % n != slot))
             .collect();
         SlotScreen {
             slot,
             threshold: st.j * (1.0 - self.p.search.improvement_rel),
             static_rows,
             static_lower,
+            base_c,
             base_mu,
             mu0,
         }
@@ -437,12 +628,7 @@ impl<'a> Search<'a> {
         let m = p.errors;
         let ci = st.s[ss.slot];
         let SwapScratch {
-            hs,
-            cc,
-            rows,
-            r1,
-            r2,
-            ..
+            hs, rows, r1, r2, ..
         } = sc;
         hs.resize_with(p.outputs.len(), Vec::new);
         for (k, h) in hs.iter_mut().enumerate() {
@@ -450,11 +636,50 @@ impl<'a> Search<'a> {
                 return f64::INFINITY;
             }
         }
+        let eq14_rows = p.outputs.len() * n;
+        let n_spec = st.spec.as_ref().map_or(0, |t| t.screen.rows.len());
         rows.clear();
-        rows.resize(p.outputs.len() * n * m, 0.0);
-        if ss.static_rows {
-            return ss.static_lower;
+        rows.resize((eq14_rows + n_spec) * m, 0.0);
+        let Some(spec) = &st.spec else {
+            if ss.static_rows {
+                return ss.static_lower;
+            }
+            return self.cheap_eq14(st, ss, sc);
+        };
+        // the specification rows after the swap (at their limits), then the cheap bound with
+        // their multipliers beside eq 14's retained rows
+        let mut tail = std::mem::take(&mut sc.rows);
+        let room =
+            self.spec_rows_after_swap(st, spec, (ss.slot, c), sc, &mut tail[eq14_rows * m..]);
+        sc.rows = tail;
+        if !room {
+            return f64::INFINITY;
         }
+        let (mut c_all, mut lambda) = if ss.static_rows {
+            (ss.base_c.clone(), ss.base_mu)
+        } else {
+            self.cheap_eq14(st, ss, sc);
+            (sc.cc.clone(), ss.base_mu)
+        };
+        for (r, row) in sc.rows[eq14_rows * m..].chunks_exact(m).enumerate() {
+            let mu = st.mu[eq14_rows + r];
+            if mu > 0.0 {
+                lambda += mu;
+                for (b, v) in c_all.iter_mut().zip(row) {
+                    *b += mu * v;
+                }
+            }
+        }
+        self.dual_bound(&c_all, lambda)
+    }
+
+    /// The cheap bound from eq 14's retained rows after the swap (rows with $\mathbf H'$ in
+    /// `sc.hs`), leaving them in `sc.rows` and their weighted sum in `sc.cc`.
+    fn cheap_eq14(&self, st: &State, ss: &SlotScreen, sc: &mut SwapScratch) -> f64 {
+        let p = self.p;
+        let n = st.s.len();
+        let m = p.errors;
+        let SwapScratch { hs, cc, rows, .. } = sc;
         cc.clear();
         cc.resize(m, 0.0);
         for (k, h) in hs.iter().enumerate() {

@@ -60,6 +60,7 @@ fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {
         delta_r_kind: DeltaRKind::SmallAngle,
         lower_bounds_rad: &[0.0; 8],
         study_positions_deg: &study,
+        specifications: None,
     };
     design_on_grid(&inputs, step_deg, &DesignSettings::new(32, 2017), &|| {})
         .unwrap()

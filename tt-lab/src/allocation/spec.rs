@@ -29,18 +29,7 @@ pub fn context(s: &Study, e2e: &EndToEnd) -> Result<SpecifiedAllocation> {
     if s.specifications.is_empty() {
         return Ok(SpecifiedAllocation::default());
     }
-    let law = s.uncertainty.tolerance_distribution;
-    let names = e2e.error_names();
-    let make = |specs: &[gw_model::spec::Specification]| {
-        SpecificationContext::new(
-            specs,
-            &names,
-            |n, a| law.input(n, a),
-            &s.noise,
-            s.timing.as_ref(),
-        )
-        .map_err(|e| crate::error::library(e, s))
-    };
+    let make = |specs: &[gw_model::spec::Specification]| context_of(s, e2e, specs);
     let all = make(&s.specifications)?;
     let rows = e2e
         .budget()
@@ -74,4 +63,25 @@ pub fn context(s: &Study, e2e: &EndToEnd) -> Result<SpecifiedAllocation> {
         context,
         no_table_suffices,
     })
+}
+
+/// The context of `specs` for `s` (its simulator `e2e`): the verdict's law
+/// (`uncertainty.tolerance_distribution`), the study's noise and timing.
+///
+/// # Errors
+/// The law's error for a unit tolerance (reported as the study's input).
+pub fn context_of(
+    s: &Study,
+    e2e: &EndToEnd,
+    specs: &[gw_model::spec::Specification],
+) -> Result<SpecificationContext> {
+    let law = s.uncertainty.tolerance_distribution;
+    SpecificationContext::new(
+        specs,
+        &e2e.error_names(),
+        |n, a| law.input(n, a),
+        &s.noise,
+        s.timing.as_ref(),
+    )
+    .map_err(|e| crate::error::library(e, s))
 }

@@ -16,7 +16,7 @@ use crate::json::{ArcminBounds, GroupJson, PerAngle, arcmin_bounds};
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use schedule_design::{
     DEFAULT_MAX_CONDITION, DEFAULT_STEP_DEG, DesignInputs, DesignProblem, DesignSettings,
-    ScheduleDesign, ScheduleReport, StartKind, coarse_levels, design_on_grid,
+    ScheduleDesign, ScheduleReport, SpecObjective, StartKind, coarse_levels, design_on_grid,
 };
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -239,6 +239,7 @@ fn search(
     settings: &DesignSettings,
     progress: &(dyn Fn() + Sync),
 ) -> Result<(DesignProblem, ScheduleDesign, f64)> {
+    let specifications = spec_objective(s)?;
     let inputs = DesignInputs {
         turntable: &s.turntable,
         sensor: &s.sensor,
@@ -247,6 +248,7 @@ fn search(
         delta_r_kind: s.delta_r_kind,
         lower_bounds_rad: &s.lower_bounds_rad,
         study_positions_deg: &s.positions_deg,
+        specifications: specifications.as_ref(),
     };
     let t0 = Instant::now();
     let (problem, design) =
@@ -259,6 +261,26 @@ fn search(
         return Err(LabError::internal(Disagree { searched, reported }));
     }
     Ok((problem, design, seconds))
+}
+
+/// The design objective against the study's specifications (issue 34 item 6): the
+/// specifications the study's own schedule leaves the table room for
+/// ([`crate::allocation::spec::context`], the ones `end-to-end`'s direct allocation holds),
+/// with the study's rate steps after every schedule's static positions; `None` when the study
+/// gives none (or none leaves room): the design is then eq 14's, as before.
+///
+/// # Errors
+/// A library error located in the study.
+pub fn spec_objective(s: &Study) -> Result<Option<SpecObjective>> {
+    if s.specifications.is_empty() {
+        return Ok(None);
+    }
+    let e2e = crate::loaded::simulator(s)?;
+    let Some(context) = crate::allocation::spec::context(s, &e2e)?.context else {
+        return Ok(None);
+    };
+    let rate_steps = s.calibration.schedule().positions()[s.positions_deg.len()..].to_vec();
+    Ok(Some(SpecObjective::new(context, rate_steps)))
 }
 
 /// The search's J and the end-to-end path's differ (a defect, not the input's).

@@ -162,8 +162,29 @@ pub fn rates_text(c: &RateChoice) -> String {
         .zip(c.study_positions())
         .map(|((r, v), t)| format!("{} deg/s {} (study's positions: {})", num(*r), j(*v), j(*t)))
         .collect();
+    let loads = c.specification_loads().map_or(String::new(), |(d, t)| {
+        let load = |v: &Option<f64>| v.map_or("no table suffices".into(), num);
+        let per: Vec<String> = c
+            .candidates()
+            .iter()
+            .zip(d.iter().zip(t))
+            .map(|((r, _), (d, t))| {
+                format!(
+                    "{} deg/s {} (study's positions: {})",
+                    num(*r),
+                    load(d),
+                    load(t)
+                )
+            })
+            .collect();
+        format!(
+            "chosen by the largest specification load, not by J (rule: {}): {}\n",
+            c.rule(),
+            per.join(", ")
+        )
+    });
     format!(
-        "\nrate of the rate steps, chosen among candidates with the designed or the study's positions (direct allocation of the angles and the rate tolerances together, arcmin^-2): with the designed positions {}; the study's rates with the designed positions: {}; chosen: {}\n",
+        "\nrate of the rate steps, chosen among candidates with the designed or the study's positions (direct allocation of the angles and the rate tolerances together, arcmin^-2): with the designed positions {}; the study's rates with the designed positions: {}; chosen: {}\n{loads}",
         list.join(", "),
         j(c.study_rates_objective_arcmin()),
         c.chosen().map_or(
