@@ -176,8 +176,8 @@ mod dopt;
 mod dual;
 mod problem;
 mod search;
-mod tally;
 mod spec;
+mod tally;
 
 pub use budget::{
     BudgetDesign, BudgetPoint, ScheduleOrigin, TimeBudget, budget_counts, check_budget_affords,

@@ -203,10 +203,13 @@ fn answered(
         Vec::new()
     } else {
         let ctx = crate::allocation::spec::context_of(s, &e2e, specs)?;
-        e2e.rates().rate_specification_rows(&ctx, &extra)
+        e2e.rates()
+            .rate_specification_rows(&ctx, &extra)
             .map_err(|e| crate::error::library(e, s))?
     };
-    let Ok(a) = e2e.rates().allocate_direct_rate_specified(&linear, &extra, &s.lower_bounds_rad, &rows)
+    let Ok(a) =
+        e2e.rates()
+            .allocate_direct_rate_specified(&linear, &extra, &s.lower_bounds_rad, &rows)
     else {
         return Ok((None, None, None));
     };
