@@ -4,10 +4,7 @@
 
 mod common;
 
-use alloc_opt::{
-    AllocationProblem, Allocator, Certificate, ConstraintForm, Requirement, SensitivityWeighted,
-    Weights, paper,
-};
+use alloc_opt::{Allocator, Certificate, ConstraintForm, SensitivityWeighted, Weights, paper};
 use approx::{assert_abs_diff_eq, assert_relative_eq};
 use common::*;
 use proptest::prelude::*;
@@ -119,12 +116,7 @@ fn paper_allocations_equal_the_pre_change_values() {
     );
     let mut lb = vec![0.0; 8];
     lb[idx("dalpha_x2")] = arcmin_to_rad(0.35);
-    let problem = AllocationProblem::new(
-        paper_model(),
-        Requirement::uniform_deg(paper::REQUIREMENT_DEG).unwrap(),
-        lb,
-    )
-    .unwrap();
+    let problem = paper_problem_with_lower_bounds(lb);
     let a = SensitivityWeighted::paper().allocate(&problem).unwrap();
     check(a.upper_bounds_rad(), &PRE_CHANGE_LB035_UB_RAD);
     assert_relative_eq!(
@@ -302,12 +294,7 @@ fn optimality_kkt_stationarity_holds_with_the_active_constraint_multiplier() {
 fn optimality_kkt_with_an_active_lower_bound() {
     let mut lb = vec![0.0; 8];
     lb[idx("dalpha_x2")] = arcmin_to_rad(0.35);
-    let problem = AllocationProblem::new(
-        paper_model(),
-        Requirement::uniform_deg(paper::REQUIREMENT_DEG).unwrap(),
-        lb,
-    )
-    .unwrap();
+    let problem = paper_problem_with_lower_bounds(lb);
     let a = SensitivityWeighted::paper().allocate(&problem).unwrap();
     let i_rad = deg_to_rad(paper::REQUIREMENT_DEG);
     assert_relative_eq!(
@@ -366,12 +353,7 @@ fn gamma_load(x: &[f64; 5]) -> f64 {
 fn lower_bounded_allocation() -> &'static alloc_opt::Allocation {
     static A: std::sync::OnceLock<alloc_opt::Allocation> = std::sync::OnceLock::new();
     A.get_or_init(|| {
-        let problem = AllocationProblem::new(
-            paper_model(),
-            Requirement::uniform_deg(paper::REQUIREMENT_DEG).unwrap(),
-            vec![arcmin_to_rad(0.1); 8],
-        )
-        .unwrap();
+        let problem = paper_problem_with_lower_bounds(vec![arcmin_to_rad(0.1); 8]);
         SensitivityWeighted::paper().allocate(&problem).unwrap()
     })
 }

@@ -11,10 +11,35 @@
 //! Run: `cargo run --release -p e2e-verify --example angle_throughput [-- SAMPLES ROUNDS]`
 //! (defaults 2^20, 7).
 
+use mc_verify::McRng;
 use rand_core::Rng;
 use std::time::Instant;
 use tt_kinematics::variation::harmonic_value;
 use tt_kinematics::{ErrorVariation, Expansion, GroupShape, Pose, TurntableErrors, paper};
+
+/// A uniform draw in [0, 1) from the top 53 bits of `rng`.
+fn uniform(rng: &mut McRng) -> f64 {
+    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// The sum over `samples` draws of `value(rng, c)`: `c` the coefficients drawn within `ub`
+/// from the stream of `seed`, which `value` goes on drawing from.
+fn sum_over_draws(
+    ex: &Expansion,
+    ub: &[f64],
+    samples: u64,
+    seed: u64,
+    mut value: impl FnMut(&mut McRng, &[f64]) -> f64,
+) -> f64 {
+    let mut rng = mc_verify::chunk_rng(seed, 0);
+    let mut c = vec![0.0; ex.n_coefficients()];
+    let mut acc = 0.0;
+    for _ in 0..samples {
+        ex.draw(ub, || uniform(&mut rng), &mut c);
+        acc += value(&mut rng, &c);
+    }
+    acc
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -34,28 +59,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ub = alloc_opt::paper::table4_rad();
     let n_joints = table.n_joints();
     let tau = std::f64::consts::TAU;
+    // the generator alone: the coefficients and the joint angles, summed as a checksum
     let generator = |seed: u64| -> f64 {
-        let mut rng = mc_verify::chunk_rng(seed, 0);
-        let mut u = move || (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        let mut c = vec![0.0; ex.n_coefficients()];
-        let mut acc = 0.0;
-        for _ in 0..samples {
-            ex.draw(&ub, &mut u, &mut c);
-            for _ in 0..n_joints {
-                acc += u();
-            }
-            acc += c[0];
-        }
-        acc
+        sum_over_draws(&ex, &ub, samples, seed, |rng, c| {
+            (0..n_joints).map(|_| uniform(rng)).sum::<f64>() + c[0]
+        })
     };
     let full = |seed: u64| -> f64 {
-        let mut rng = mc_verify::chunk_rng(seed, 0);
-        let mut u = move || (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        let mut c = vec![0.0; ex.n_coefficients()];
-        let mut acc = 0.0;
-        for _ in 0..samples {
-            ex.draw(&ub, &mut u, &mut c);
-            let angles: Vec<f64> = (0..n_joints).map(|_| tau * u()).collect();
+        sum_over_draws(&ex, &ub, samples, seed, |rng, c| {
+            let angles: Vec<f64> = (0..n_joints).map(|_| tau * uniform(rng)).collect();
             let chi: Vec<f64> = ex
                 .groups()
                 .iter()
@@ -74,9 +86,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let e = table
                 .plan_orientation_error(&pose, &errors)
                 .expect("checked");
-            acc += e[0].abs().max(e[1].abs()).max(e[2].abs());
-        }
-        acc
+            e[0].abs().max(e[1].abs()).max(e[2].abs())
+        })
     };
     let (mut best_gen, mut best_full) = (0.0_f64, 0.0_f64);
     let mut sink = 0.0;

@@ -38,6 +38,31 @@ fn paper_variations(e2e: &EndToEnd, model: &dyn Fn() -> V) -> Vec<V> {
         .collect()
 }
 
+/// [`paper_variations`] with harmonics 1 and 2 of `phi2`, expanded.
+fn phi2_harmonics(e2e: &EndToEnd) -> Expansion {
+    let harmonics = || V::Harmonics {
+        joint: "phi2".into(),
+        orders: vec![1, 2],
+    };
+    expansion(e2e, &paper_variations(e2e, &harmonics))
+}
+
+/// Coefficients drawn within `ub` from the deterministic sequence
+/// u_k = ((k * multiplier) mod modulus) / modulus, k = 1, 2, ...
+fn draw_within(ex: &Expansion, ub: &[f64], multiplier: u64, modulus: u64) -> Vec<f64> {
+    let mut chi = vec![0.0; ex.n_coefficients()];
+    let mut k = 0_u64;
+    ex.draw(
+        ub,
+        || {
+            k += 1;
+            ((k * multiplier) % modulus) as f64 / modulus as f64
+        },
+        &mut chi,
+    );
+    chi
+}
+
 /// Every error constant (or harmonics with no order): the expanded linearisation is the
 /// constant one bit for bit, the reduced one is |M|, and the worst case, the direct allocation
 /// and the verdict are today's.
@@ -197,13 +222,7 @@ fn worst_case_under_any_is_at_least_harmonics_which_is_at_least_constant_end_to_
 #[test]
 fn angle_yield_is_deterministic_and_within_the_worst_case() {
     let e2e = paper(Reading::USER);
-    let ex = expansion(
-        &e2e,
-        &paper_variations(&e2e, &|| V::Harmonics {
-            joint: "phi2".into(),
-            orders: vec![1, 2],
-        }),
-    );
+    let ex = phi2_harmonics(&e2e);
     let ub = alloc_opt::paper::table4_rad();
     let a = e2e.angle().angle_yield(&ex, &ub, 3000, 7).unwrap();
     let b = e2e.angle().angle_yield(&ex, &ub, 3000, 7).unwrap();
@@ -283,24 +302,9 @@ fn disc_bounds_lie_between_the_inscribed_and_the_circumscribed_squares() {
 #[test]
 fn compensation_with_an_exact_measurement_removes_the_errors_contribution() {
     let e2e = paper(Reading::USER);
-    let ex = expansion(
-        &e2e,
-        &paper_variations(&e2e, &|| V::Harmonics {
-            joint: "phi2".into(),
-            orders: vec![1, 2],
-        }),
-    );
+    let ex = phi2_harmonics(&e2e);
     let ub = alloc_opt::paper::table4_rad();
-    let mut chi = vec![0.0; ex.n_coefficients()];
-    let mut k = 0_u64;
-    ex.draw(
-        &ub,
-        || {
-            k += 1;
-            ((k * 2654435761) % 1000) as f64 / 1000.0
-        },
-        &mut chi,
-    );
+    let chi = draw_within(&ex, &ub, 2654435761, 1000);
     let uncompensated = {
         let mut w = e2e.work();
         e2e.angle().delta_omega_expanded(&ex, &chi, &mut w).unwrap();
@@ -327,24 +331,9 @@ const COMPENSATED_REL: f64 = 1e-2;
 #[test]
 fn compensation_with_an_uncertainty_is_the_analysis_of_the_uncertainty_box() {
     let e2e = paper(Reading::USER);
-    let ex = expansion(
-        &e2e,
-        &paper_variations(&e2e, &|| V::Harmonics {
-            joint: "phi2".into(),
-            orders: vec![1, 2],
-        }),
-    );
+    let ex = phi2_harmonics(&e2e);
     let ub = alloc_opt::paper::table4_rad();
-    let mut m = vec![0.0; ex.n_coefficients()];
-    let mut k = 0_u64;
-    ex.draw(
-        &ub,
-        || {
-            k += 1;
-            ((k * 40503) % 997) as f64 / 997.0
-        },
-        &mut m,
-    );
+    let m = draw_within(&ex, &ub, 40503, 997);
     let e: Vec<f64> = (0..m.len())
         .map(|i| 1e-7 * (((i * 31) % 7) as f64 / 3.0 - 1.0))
         .collect();

@@ -10,15 +10,6 @@ use e2e_verify::budget::EvaluatedAt;
 use nalgebra::DMatrix;
 use study::Study;
 
-const IMU_FILE: &str = include_str!("../../studies/imu-triad-example.toml");
-
-/// The IMU example without its own specifications (the tests add theirs).
-fn imu_bare() -> &'static str {
-    &IMU_FILE[..IMU_FILE
-        .find("# Specifications per calibrated quantity")
-        .expect("the IMU example's specifications")]
-}
-
 /// The budget is assembled in double precision from the same numbers: the independent
 /// propagation agrees to rounding, 1e-9 relative is the bar.
 const PROPAGATION_REL: f64 = 1e-9;
@@ -39,22 +30,20 @@ fn spec(output: &str, coefficient: &str, limit: f64, unit: &str) -> String {
 /// The IMU example with a bias, a scale factor, a misalignment, a g-sensitivity, an error over
 /// a range and an accuracy specified.
 fn imu_with_specs() -> Study {
+    let coefficients = [
+        ("gx", "bg_x", 0.05, "deg_per_h"),
+        ("gy", "gs_yx", 0.1, "deg/h/g"),
+        ("ax", "sf_x", 100.0, "ppm"),
+        ("ay", "mis_yz", 20.0, "arcsec"),
+        ("az", "ba_z", 50.0, "ug"),
+    ];
     let extra = [
-        spec("gx", "bg_x", 0.05, "deg_per_h"),
-        spec("gy", "gs_yx", 0.1, "deg/h/g"),
-        spec("ax", "sf_x", 100.0, "ppm"),
-        spec("ay", "mis_yz", 20.0, "arcsec"),
-        spec("az", "ba_z", 50.0, "ug"),
+        coefficients.map(|(o, c, limit, unit)| spec(o, c, limit, unit)).concat(),
         "[[specifications]]\noutput = \"ax\"\nquantity = \"error_over_range\"\nrange = 2\nrange_unit = \"g\"\nlimit = 0.5\nunit = \"mg\"\n".into(),
         "[[specifications]]\noutput = \"gz\"\nquantity = \"accuracy\"\nlimit = 0.1\nunit = \"deg_per_h\"\n".into(),
     ]
     .concat();
-    Study::parse("imu.toml", &format!("{}\n{extra}", imu_bare())).unwrap()
-}
-
-fn e2e_of(s: &Study) -> EndToEnd {
-    let poses = common::poses_of(&s.calibration);
-    EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap()
+    common::imu_study_with(&extra)
 }
 
 fn table_inputs(s: &Study, e2e: &EndToEnd) -> Vec<metrology::Input> {
@@ -72,7 +61,7 @@ fn table_inputs(s: &Study, e2e: &EndToEnd) -> Vec<metrology::Input> {
 #[test]
 fn the_coefficient_jacobian_is_the_exact_chains_derivative() {
     let s = imu_with_specs();
-    let e2e = e2e_of(&s);
+    let e2e = common::simulator_of(&s);
     let jac = e2e.coefficient_linearization();
     let h = 1e-6;
     for j in 0..e2e.n_errors() {
@@ -104,7 +93,7 @@ fn the_coefficient_jacobian_is_the_exact_chains_derivative() {
 #[test]
 fn each_budget_equals_an_independent_linear_propagation() {
     let s = imu_with_specs();
-    let e2e = e2e_of(&s);
+    let e2e = common::simulator_of(&s);
     let table = table_inputs(&s, &e2e);
     let budgets = e2e
         .budget()
@@ -188,7 +177,7 @@ fn each_budget_equals_an_independent_linear_propagation() {
 #[test]
 fn the_noise_rows_carry_the_schedules_correlations() {
     let s = imu_with_specs();
-    let e2e = e2e_of(&s);
+    let e2e = common::simulator_of(&s);
     let table = table_inputs(&s, &e2e);
     let b = &e2e
         .budget()
@@ -224,7 +213,7 @@ fn the_noise_rows_carry_the_schedules_correlations() {
 #[test]
 fn without_a_timing_the_budget_has_the_table_only_and_says_so() {
     let s = imu_with_specs();
-    let e2e = e2e_of(&s);
+    let e2e = common::simulator_of(&s);
     let table = table_inputs(&s, &e2e);
     let budgets = e2e
         .budget()

@@ -5,18 +5,9 @@
 
 mod common;
 
-use e2e_verify::EndToEnd;
 use e2e_verify::budget_mc::SpecificationMonteCarlo;
 use metrology::montecarlo::McSettings;
 use study::Study;
-
-const IMU_FILE: &str = include_str!("../../studies/imu-triad-example.toml");
-
-fn imu_bare() -> &'static str {
-    &IMU_FILE[..IMU_FILE
-        .find("# Specifications per calibrated quantity")
-        .expect("the IMU example's specifications")]
-}
 
 fn arcsec(v: f64) -> f64 {
     v * std::f64::consts::PI / (180.0 * 3600.0)
@@ -28,12 +19,7 @@ fn imu_with_specs() -> Study {
 [[specifications]]\noutput = \"ax\"\ncoefficient = \"sf_x\"\nlimit = 100.0\nunit = \"ppm\"\n\
 [[specifications]]\noutput = \"ay\"\ncoefficient = \"mis_yz\"\nlimit = 20.0\nunit = \"arcsec\"\n\
 [[specifications]]\noutput = \"gz\"\nquantity = \"accuracy\"\nlimit = 0.1\nunit = \"deg_per_h\"\n";
-    Study::parse("imu.toml", &format!("{}\n{extra}", imu_bare())).unwrap()
-}
-
-fn e2e_of(s: &Study) -> EndToEnd {
-    let poses = common::poses_of(&s.calibration);
-    EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap()
+    common::imu_study_with(extra)
 }
 
 /// The laws of the table's errors in a run.
@@ -50,7 +36,7 @@ enum Law {
 /// Carlo tests); the budgets' combined standard uncertainties and the runs.
 fn run(tol_rad: f64, law: Law, digits: u32) -> (Vec<f64>, Vec<SpecificationMonteCarlo>) {
     let s = imu_with_specs();
-    let e2e = e2e_of(&s);
+    let e2e = common::simulator_of(&s);
     let tolerances = vec![tol_rad; e2e.n_errors()];
     let law = move |n: &str, a: f64| match law {
         Law::Rectangular => metrology::Input::rectangular(n, 0.0, a),
@@ -88,7 +74,7 @@ fn run(tol_rad: f64, law: Law, digits: u32) -> (Vec<f64>, Vec<SpecificationMonte
 /// cubic and higher even terms are below 1e-8 of it at these angles).
 fn second_order_means(tol_rad: f64, var: f64) -> Vec<f64> {
     let s = imu_with_specs();
-    let e2e = e2e_of(&s);
+    let e2e = common::simulator_of(&s);
     let n = e2e.n_errors();
     let outputs = s.calibration.outputs();
     // the specified coefficients' places in coefficient_errors: bg_x of gx, sf_x of ax,

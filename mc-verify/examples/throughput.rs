@@ -155,26 +155,22 @@ fn report<T>(clock: &str, jobs: &[(String, T)], best: &[f64]) {
         println!("  {name:<36} {b:.4e}");
     }
     println!("{clock}: ratios:");
-    println!(
-        "  paper general / specialised kernel:        {:.3}  (goal >= 0.90)",
-        best[0] / best[1]
-    );
-    println!(
-        "  three-axis general / its generator alone:  {:.3}  (goal >= 0.35)",
-        best[4] / best[5]
-    );
-    println!(
-        "  three-axis general / its raw words:        {:.3}",
-        best[4] / best[6]
-    );
-    println!(
-        "  paper general / its generator alone:       {:.3}",
-        best[0] / best[2]
-    );
-    println!(
-        "  paper general / its raw words:             {:.3}",
-        best[0] / best[3]
-    );
+    // (what, numerator job, denominator job, goal if any)
+    for (what, num, den, goal) in [
+        ("paper general / specialised kernel:", 0, 1, Some(0.90)),
+        (
+            "three-axis general / its generator alone:",
+            4,
+            5,
+            Some(0.35),
+        ),
+        ("three-axis general / its raw words:", 4, 6, None),
+        ("paper general / its generator alone:", 0, 2, None),
+        ("paper general / its raw words:", 0, 3, None),
+    ] {
+        let goal = goal.map_or(String::new(), |g: f64| format!("  (goal >= {g:.2})"));
+        println!("  {what:<43}{:.3}{goal}", best[num] / best[den]);
+    }
     for (k, (name, _)) in jobs.iter().enumerate().skip(7) {
         let base = if name.starts_with("paper") { 0 } else { 4 };
         println!("  {} / {name}: {:.3}", jobs[base].0, best[base] / best[k]);

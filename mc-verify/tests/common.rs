@@ -52,18 +52,36 @@ pub fn three_axis_box() -> ErrorBox {
 
 /// Every number of a result as bits (floats by `to_bits`), for bit-identity checks.
 pub fn fingerprint(r: &McResult) -> Vec<u64> {
+    fingerprint_laid_out(r, PoseAt::AfterHistogram, |i| {
+        i.map_or(u64::MAX, f64::to_bits)
+    })
+}
+
+/// Where a fingerprint puts the worst sample's pose among an axis's words.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum PoseAt {
+    /// Right after the worst sample's value (the earlier crate's layout).
+    AfterWorst,
+    /// After the histogram's range and out-of-range counts.
+    AfterHistogram,
+}
+
+/// Every number of a result as bits, the pose at `pose_at` and each axis's requirement (if
+/// any) as `requirement` writes it.
+pub fn fingerprint_laid_out(
+    r: &McResult,
+    pose_at: PoseAt,
+    requirement: impl Fn(Option<f64>) -> u64,
+) -> Vec<u64> {
     let mut v = vec![
         r.samples(),
         r.seed(),
         u64::from(r.chunk_size()),
         r.within_requirement_all(),
     ];
-    v.extend(
-        r.requirement()
-            .to_array()
-            .map(|i| i.map_or(u64::MAX, f64::to_bits)),
-    );
+    v.extend(r.requirement().to_array().map(requirement));
     for a in r.axes() {
+        let pose = a.worst().pose().angles_rad().iter().map(|x| x.to_bits());
         v.extend([
             a.max_abs_rad().to_bits(),
             a.mean_rad().to_bits(),
@@ -71,11 +89,18 @@ pub fn fingerprint(r: &McResult) -> Vec<u64> {
             a.within_requirement(),
             a.worst().index(),
             a.worst().value_rad().to_bits(),
+        ]);
+        if pose_at == PoseAt::AfterWorst {
+            v.extend(pose.clone());
+        }
+        v.extend([
             a.histogram().hi().to_bits(),
             a.histogram().underflow(),
             a.histogram().overflow(),
         ]);
-        v.extend(a.worst().pose().angles_rad().iter().map(|x| x.to_bits()));
+        if pose_at == PoseAt::AfterHistogram {
+            v.extend(pose);
+        }
         v.extend(a.worst().chi_rad().iter().map(|x| x.to_bits()));
         v.extend(a.histogram().counts());
     }

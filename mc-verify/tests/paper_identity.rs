@@ -8,7 +8,9 @@
 
 mod common;
 
-use common::{TABLE4_ARCMIN, config, fingerprint, paper_table, table4};
+use common::{
+    PoseAt, TABLE4_ARCMIN, config, fingerprint, fingerprint_laid_out, paper_table, table4,
+};
 use mc_verify::baseline::{paper_kernel_run, paper_kernel_run_with_simd};
 use mc_verify::{
     ErrorBox, McError, McResult, MonteCarlo, SimdLevel, Tier, TurntableSampler, chunk_rng,
@@ -17,36 +19,16 @@ use mc_verify::{
 /// The fingerprint layout of the earlier crate (pose (phi1, phi2) before the chi of the
 /// worst sample, eight chi), so that pinned hashes can be compared.
 fn legacy_fingerprint(r: &McResult) -> Vec<u64> {
-    let mut v = vec![
-        r.samples(),
-        r.seed(),
-        u64::from(r.chunk_size()),
-        r.within_requirement_all(),
-    ];
-    v.extend(
-        r.requirement()
-            .to_array()
-            .map(|i| i.expect("eq 16 on every axis").to_bits()),
-    );
     for a in r.axes() {
-        let pose = a.worst().pose().angles_rad();
-        v.extend([
-            a.max_abs_rad().to_bits(),
-            a.mean_rad().to_bits(),
-            a.m2_rad2().to_bits(),
-            a.within_requirement(),
-            a.worst().index(),
-            a.worst().value_rad().to_bits(),
-            pose[0].to_bits(),
-            pose[1].to_bits(),
-            a.histogram().hi().to_bits(),
-            a.histogram().underflow(),
-            a.histogram().overflow(),
-        ]);
-        v.extend(a.worst().chi_rad().iter().map(|x| x.to_bits()));
-        v.extend(a.histogram().counts());
+        assert_eq!(
+            a.worst().pose().angles_rad().len(),
+            2,
+            "the paper's two joints"
+        );
     }
-    v
+    fingerprint_laid_out(r, PoseAt::AfterWorst, |i| {
+        i.expect("eq 16 on every axis").to_bits()
+    })
 }
 
 /// FNV-1a over the little-endian bytes of the words.

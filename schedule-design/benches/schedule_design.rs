@@ -49,29 +49,29 @@ fn bench(c: &mut Criterion) {
             .collect();
         let hood = problem.neighbourhood(&s, 10.0).expect("feasible schedule");
         let swaps = hood.screen(0).expect("slot 0").len() as u64;
+        // the path every command takes: positions to a calibration, then the end-to-end model
+        let e2e_from_scratch = || {
+            let poses: Vec<Pose> = study
+                .iter()
+                .map(|p| Pose::from_deg(p).expect("finite"))
+                .collect();
+            let positions = study
+                .iter()
+                .zip(&poses)
+                .map(|(p, q)| {
+                    Position::new(table.nominal_rotation(q).expect("pose"), p.clone())
+                        .expect("finite")
+                })
+                .collect();
+            let schedule = Schedule::new(positions).expect("positions");
+            let cal = Calibration::new(&sensor, &site, &schedule).expect("identifiable");
+            EndToEnd::new(&table, &cal, &poses, reading).expect("valid")
+        };
         let mut g = c.benchmark_group(format!("schedule_evaluation_{label}"));
         g.throughput(Throughput::Elements(1));
         g.bench_function("from_scratch", |b| {
             b.iter(|| {
-                let poses: Vec<Pose> = study
-                    .iter()
-                    .map(|p| Pose::from_deg(p).expect("finite"))
-                    .collect();
-                let positions = study
-                    .iter()
-                    .zip(&poses)
-                    .map(|(p, q)| {
-                        Position::new(table.nominal_rotation(q).expect("pose"), p.clone())
-                            .expect("finite")
-                    })
-                    .collect();
-                let cal = Calibration::new(
-                    &sensor,
-                    &site,
-                    &Schedule::new(positions).expect("positions"),
-                )
-                .expect("identifiable");
-                let e2e = EndToEnd::new(&table, &cal, &poses, reading).expect("valid");
+                let e2e = e2e_from_scratch();
                 let linear = e2e.linearization();
                 black_box(
                     e2e.allocate_direct(&linear, &[0.0; 8])
@@ -82,25 +82,7 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_function("linearization_from_scratch", |b| {
             b.iter(|| {
-                let poses: Vec<Pose> = study
-                    .iter()
-                    .map(|p| Pose::from_deg(p).expect("finite"))
-                    .collect();
-                let positions = study
-                    .iter()
-                    .zip(&poses)
-                    .map(|(p, q)| {
-                        Position::new(table.nominal_rotation(q).expect("pose"), p.clone())
-                            .expect("finite")
-                    })
-                    .collect();
-                let cal = Calibration::new(
-                    &sensor,
-                    &site,
-                    &Schedule::new(positions).expect("positions"),
-                )
-                .expect("identifiable");
-                let e2e = EndToEnd::new(&table, &cal, &poses, reading).expect("valid");
+                let e2e = e2e_from_scratch();
                 black_box(e2e.linearization().matrix()[(0, 0)])
             });
         });

@@ -4,13 +4,13 @@
 //! errors, and the paper's study gets a cheaper turntable from a designed schedule.
 
 use approx::assert_relative_eq;
-use calib_lsq::{Calibration, Position, Reading, Schedule};
+use calib_lsq::Reading;
 use e2e_verify::{E2eError, EndToEnd};
 use schedule_design::{
     DesignProblem, DesignSettings, candidates_with, design_schedule, grid_positions_deg,
 };
 use tt_core::DeltaRKind;
-use tt_kinematics::{Pose, paper};
+use tt_kinematics::paper;
 
 /// Relative agreement of two evaluations of the same quantity by different floating-point
 /// paths (dimensionless): rounding of a few hundred operations on values of order 1.
@@ -25,45 +25,39 @@ const BOUND_SLACK_REL: f64 = 1e-9;
 const MAX_CONDITION: f64 = 10.0;
 
 fn paper_positions() -> Vec<Vec<f64>> {
-    calib_lsq::paper::schedule()
-        .positions()
-        .iter()
-        .map(|p| p.joint_angles_deg().to_vec())
-        .collect()
+    testkit::e2e::paper_positions_deg()
+}
+
+/// The paper's table, sensor and site with the candidates `grid`.
+fn try_problem_on(reading: Reading, grid: Vec<Vec<f64>>) -> Result<DesignProblem, E2eError> {
+    DesignProblem::new(
+        &paper::table3(),
+        &gw_model::paper::gyrowheel(),
+        &gw_model::paper::site(),
+        reading,
+        &[0.0; 8],
+        grid,
+    )
+}
+
+/// [`try_problem_on`], which must succeed.
+fn problem_on(reading: Reading, grid: Vec<Vec<f64>>) -> DesignProblem {
+    try_problem_on(reading, grid).unwrap()
 }
 
 /// The paper's table, sensor and site with the grid of `step_deg` (plus the study's
 /// positions when they are not on it).
 fn paper_problem(reading: Reading, step_deg: f64) -> DesignProblem {
-    let table = paper::table3();
-    let grid = candidates_with(
-        grid_positions_deg(&table, step_deg).unwrap(),
-        &paper_positions(),
-    );
-    DesignProblem::new(
-        &table,
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        reading,
-        &[0.0; 8],
-        grid,
-    )
-    .unwrap()
+    let grid = grid_positions_deg(&paper::table3(), step_deg).unwrap();
+    problem_on(reading, candidates_with(grid, &paper_positions()))
 }
 
 /// The paper's table, sensor and site with the grid of `step_deg` alone.
 fn grid_problem(reading: Reading, step_deg: f64) -> DesignProblem {
-    let table = paper::table3();
-    let grid = grid_positions_deg(&table, step_deg).unwrap();
-    DesignProblem::new(
-        &table,
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
+    problem_on(
         reading,
-        &[0.0; 8],
-        grid,
+        grid_positions_deg(&paper::table3(), step_deg).unwrap(),
     )
-    .unwrap()
 }
 
 /// The end-to-end path every command takes for a schedule: positions to a calibration,
@@ -72,23 +66,7 @@ fn end_to_end(
     reading: Reading,
     positions_deg: &[Vec<f64>],
 ) -> (EndToEnd, e2e_verify::Linearization) {
-    let table = paper::table3();
-    let poses: Vec<Pose> = positions_deg
-        .iter()
-        .map(|p| Pose::from_deg(p).unwrap())
-        .collect();
-    let positions = positions_deg
-        .iter()
-        .zip(&poses)
-        .map(|(p, q)| Position::new(table.nominal_rotation(q).unwrap(), p.clone()).unwrap())
-        .collect();
-    let cal = Calibration::new(
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        &Schedule::new(positions).unwrap(),
-    )
-    .unwrap();
-    let e2e = EndToEnd::new(&table, &cal, &poses, reading).unwrap();
+    let e2e = testkit::e2e::paper_at(reading, positions_deg);
     let linear = e2e.linearization();
     (e2e, linear)
 }
@@ -334,17 +312,8 @@ fn d_optimal_baseline_equals_the_enumeration_optimum_on_a_small_case() {
 /// and the coefficients.
 #[test]
 fn unidentifiable_candidate_set_is_a_typed_error_naming_the_coefficients() {
-    let table = paper::table3();
     let candidates: Vec<Vec<f64>> = (0..24).map(|k| vec![15.0 * f64::from(k), 0.0]).collect();
-    let err = DesignProblem::new(
-        &table,
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        Reading::PAPER,
-        &[0.0; 8],
-        candidates,
-    )
-    .unwrap_err();
+    let err = try_problem_on(Reading::PAPER, candidates).unwrap_err();
     match &err {
         E2eError::UnidentifiableCandidates {
             output,
@@ -392,15 +361,7 @@ fn bad_sizes_and_steps_are_typed_errors() {
         }
     ));
     let table = paper::table3();
-    let err = DesignProblem::new(
-        &table,
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        Reading::PAPER,
-        &[0.0; 8],
-        vec![],
-    )
-    .unwrap_err();
+    let err = try_problem_on(Reading::PAPER, vec![]).unwrap_err();
     assert!(matches!(err, E2eError::EmptyCandidates));
     for bad in [0.0, -15.0, 361.0, f64::NAN] {
         assert!(
@@ -425,12 +386,8 @@ fn grid_covers_full_turns_without_repeating_the_start() {
     assert_eq!(g.len(), 24 * 24);
     // the 90 deg grid never tilts a sensor axis off the horizontal-vertical, so a_x a_y is
     // always zero: a typed error, not a silent design
-    let e = DesignProblem::new(
-        &paper::table3(),
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
+    let e = try_problem_on(
         Reading::PAPER,
-        &[0.0; 8],
         grid_positions_deg(&paper::table3(), 90.0).unwrap(),
     )
     .unwrap_err();

@@ -3,13 +3,13 @@
 //! says what it is and is a number wherever one exists, and grid designs that are never worse
 //! than the design of a coarser grid they contain.
 
-use calib_lsq::{Calibration, Reading};
+use calib_lsq::Reading;
 use e2e_verify::{EndToEnd, McSettings, Verdict};
 use schedule_design::{
     DesignInputs, DesignSettings, ScheduleReport, StudyTolerances, design_on_grid,
 };
 use tt_core::DeltaRKind;
-use tt_kinematics::{Pose, paper};
+use tt_kinematics::paper;
 
 /// Relative slack on comparing two objectives J found by searches on nested candidate sets
 /// (dimensionless): the fine search evaluates the coarse optimum's positions again, which
@@ -17,34 +17,12 @@ use tt_kinematics::{Pose, paper};
 const NESTED_J_REL: f64 = 1e-9;
 
 fn paper_positions() -> Vec<Vec<f64>> {
-    calib_lsq::paper::schedule()
-        .positions()
-        .iter()
-        .map(|p| p.joint_angles_deg().to_vec())
-        .collect()
+    testkit::e2e::paper_positions_deg()
 }
 
 /// The designed schedule's simulator (same table, sensor, site and reading as the design).
 fn simulator(positions_deg: &[Vec<f64>], reading: Reading) -> EndToEnd {
-    let table = paper::table3();
-    let positions = positions_deg
-        .iter()
-        .map(|p| {
-            let pose = Pose::from_deg(p).unwrap();
-            calib_lsq::Position::new(table.nominal_rotation(&pose).unwrap(), p.clone()).unwrap()
-        })
-        .collect();
-    let cal = Calibration::new(
-        &gw_model::paper::gyrowheel(),
-        &gw_model::paper::site(),
-        &calib_lsq::Schedule::new(positions).unwrap(),
-    )
-    .unwrap();
-    let poses: Vec<Pose> = positions_deg
-        .iter()
-        .map(|p| Pose::from_deg(p).unwrap())
-        .collect();
-    EndToEnd::new(&table, &cal, &poses, reading).unwrap()
+    testkit::e2e::paper_at(reading, positions_deg)
 }
 
 fn design(reading: Reading, step_deg: f64) -> schedule_design::ScheduleDesign {

@@ -6,8 +6,8 @@ use testkit::e2e as common;
 
 use approx::assert_relative_eq;
 use calib_lsq::Timing;
-use e2e_verify::E2eError;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
+use e2e_verify::{E2eError, EndToEnd, NoisyAllocation};
 use schedule_design::{
     BudgetDesign, BudgetParams, BudgetPoint, DesignProblem, ScheduleOrigin, TimeBudget,
     budget_counts, candidates_with, design_with_budget, grid_positions_deg, pareto_front,
@@ -20,22 +20,25 @@ use study::Study;
 /// same operations may differ.
 const SAME_PATH_REL: f64 = 1e-9;
 
-/// The paper's noisy copy on a 45 deg grid (64 candidates and the study's positions), with a
-/// table design of the study's size by the greedy construction and the exchange.
-fn noisy_paper() -> (Study, DesignProblem, Vec<usize>, Option<Vec<usize>>) {
-    let s = common::study("gyrowheel-2017-noise-assumed");
-    let problem = DesignProblem::new(
+/// The design problem of study `s` on the grid of `step_deg` plus the study's positions.
+fn study_problem(s: &Study, step_deg: f64) -> DesignProblem {
+    let grid = grid_positions_deg(&s.turntable, step_deg).unwrap();
+    DesignProblem::new(
         &s.turntable,
         &s.sensor,
         &s.site,
         s.reading,
         &s.lower_bounds_rad,
-        candidates_with(
-            grid_positions_deg(&s.turntable, 45.0).unwrap(),
-            &s.positions_deg,
-        ),
+        candidates_with(grid, &s.positions_deg),
     )
-    .unwrap();
+    .unwrap()
+}
+
+/// The paper's noisy copy on a 45 deg grid (64 candidates and the study's positions), with a
+/// table design of the study's size by the greedy construction and the exchange.
+fn noisy_paper() -> (Study, DesignProblem, Vec<usize>, Option<Vec<usize>>) {
+    let s = common::study("gyrowheel-2017-noise-assumed");
+    let problem = study_problem(&s, 45.0);
     let n = s.positions_deg.len();
     let start = problem.greedy(n, 10.0).unwrap();
     let table = problem
@@ -81,6 +84,27 @@ fn design(
     design_with_budget(problem, table, study, &s.positions_deg, &[], 10.0, b)
 }
 
+/// The end-to-end model of `positions_deg` and its direct allocation at `dwell_s` with the
+/// noise part kept free (end-to-end's path).
+fn direct_at(
+    s: &Study,
+    problem: &DesignProblem,
+    positions_deg: &[Vec<f64>],
+    dwell_s: f64,
+) -> (EndToEnd, NoisyAllocation) {
+    let t = s.timing.as_ref().unwrap();
+    let timing =
+        Timing::uniform(positions_deg.len(), dwell_s, t.move_s(), t.sample_rate_hz()).unwrap();
+    let e2e = problem.end_to_end(positions_deg).unwrap();
+    let noise = e2e.noise().noise_budget(&s.noise, &timing).unwrap();
+    let lin = e2e.linearization();
+    let direct = e2e
+        .noise()
+        .allocate_direct_with_noise(&lin, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA)
+        .unwrap();
+    (e2e, direct)
+}
+
 /// $J$ (rad$^{-2}$) of `positions_deg` at `dwell_s` by end-to-end's path (direct allocation
 /// with the noise part kept free; `+inf` when no table suffices).
 fn objective_at(
@@ -89,30 +113,8 @@ fn objective_at(
     positions_deg: &[Vec<f64>],
     dwell_s: f64,
 ) -> f64 {
-    let timing = s.timing.as_ref().unwrap();
-    let e2e = problem.end_to_end(positions_deg).unwrap();
-    let noise = e2e
-        .noise()
-        .noise_budget(
-            &s.noise,
-            &Timing::uniform(
-                positions_deg.len(),
-                dwell_s,
-                timing.move_s(),
-                timing.sample_rate_hz(),
-            )
-            .unwrap(),
-        )
-        .unwrap();
-    e2e.noise()
-        .allocate_direct_with_noise(
-            &e2e.linearization(),
-            &s.lower_bounds_rad,
-            &noise,
-            DEFAULT_K_SIGMA,
-        )
-        .unwrap()
-        .map_or(f64::INFINITY, |d| d.objective())
+    let (_, direct) = direct_at(s, problem, positions_deg, dwell_s);
+    direct.map_or(f64::INFINITY, |d| d.objective())
 }
 
 /// On the paper's noisy copy: the front is ordered by total time with J strictly falling (more
@@ -137,31 +139,8 @@ fn pareto_front_is_monotone_agrees_with_end_to_end_and_the_choice_fits_the_budge
             total_test_s(p.n_positions(), p.dwell_s(), timing.move_s()),
             max_relative = 1e-15
         );
-        let e2e = problem.end_to_end(p.positions_deg()).unwrap();
-        let noise = e2e
-            .noise()
-            .noise_budget(
-                &s.noise,
-                &Timing::uniform(
-                    p.n_positions(),
-                    p.dwell_s(),
-                    timing.move_s(),
-                    timing.sample_rate_hz(),
-                )
-                .unwrap(),
-            )
-            .unwrap();
-        let j = e2e
-            .noise()
-            .allocate_direct_with_noise(
-                &e2e.linearization(),
-                &s.lower_bounds_rad,
-                &noise,
-                DEFAULT_K_SIGMA,
-            )
-            .unwrap()
-            .expect("a table suffices on the front")
-            .objective();
+        let (_, direct) = direct_at(&s, &problem, p.positions_deg(), p.dwell_s());
+        let j = direct.expect("a table suffices on the front").objective();
         assert_relative_eq!(p.objective(), j, max_relative = SAME_PATH_REL);
     }
     let chosen = d.chosen().expect("a table suffices within the budget");
@@ -492,18 +471,7 @@ fn rate_steps_keep_their_whole_revolution_windows_in_the_time_budget() {
     let n = s.positions_deg.len();
     let rate_steps = &s.calibration.schedule().positions()[n..];
     assert_eq!(rate_steps.len(), 6);
-    let problem = DesignProblem::new(
-        &s.turntable,
-        &s.sensor,
-        &s.site,
-        s.reading,
-        &s.lower_bounds_rad,
-        candidates_with(
-            grid_positions_deg(&s.turntable, 90.0).unwrap(),
-            &s.positions_deg,
-        ),
-    )
-    .unwrap();
+    let problem = study_problem(&s, 90.0);
     // past the study's shortest dwell (1,595 s), so a table suffices
     let dwell = 3000.0;
     let at_dwell = timing.with_dwell_s(vec![dwell; n]).unwrap();
@@ -735,33 +703,10 @@ fn every_front_point_carries_the_tolerance_box_end_to_end_allocates() {
     let (s, problem, table, study) = noisy_paper();
     let b = budget_of(&s, 25_000.0);
     let d = design(&s, &problem, &table, study.as_deref(), &b).unwrap();
-    let timing = s.timing.as_ref().unwrap();
     assert!(!d.pareto().is_empty());
     for p in d.pareto() {
-        let e2e = problem.end_to_end(p.positions_deg()).unwrap();
-        let noise = e2e
-            .noise()
-            .noise_budget(
-                &s.noise,
-                &Timing::uniform(
-                    p.n_positions(),
-                    p.dwell_s(),
-                    timing.move_s(),
-                    timing.sample_rate_hz(),
-                )
-                .unwrap(),
-            )
-            .unwrap();
-        let direct = e2e
-            .noise()
-            .allocate_direct_with_noise(
-                &e2e.linearization(),
-                &s.lower_bounds_rad,
-                &noise,
-                DEFAULT_K_SIGMA,
-            )
-            .unwrap()
-            .expect("a table suffices on the front");
+        let (e2e, direct) = direct_at(&s, &problem, p.positions_deg(), p.dwell_s());
+        let direct = direct.expect("a table suffices on the front");
         assert_eq!(p.tolerances_rad().len(), direct.upper_bounds_rad().len());
         for (a, e) in p.tolerances_rad().iter().zip(direct.upper_bounds_rad()) {
             assert_relative_eq!(*a, *e, max_relative = SAME_PATH_REL);

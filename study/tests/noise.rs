@@ -14,6 +14,15 @@ const CONVERSION_REL: f64 = 1e-14;
 /// Covariance through QR and products on 24 positions: relative, a few hundred ulps.
 const PRODUCT_REL: f64 = 1e-12;
 
+/// The noise model of the paper's second output with `lines` as its noise table.
+fn noise_of(lines: &str) -> gw_model::noise::NoiseModel {
+    Study::parse("s.toml", &paper_with(lines, ""))
+        .unwrap()
+        .noise[1]
+        .clone()
+        .unwrap()
+}
+
 fn err(text: &str) -> String {
     Study::parse("s.toml", text).unwrap_err().to_string()
 }
@@ -111,9 +120,8 @@ fn each_white_key_converts_to_the_output_unit() {
         ("white_deg_per_sqrt_h = 0.15", 9.0),
         ("white_per_sqrt_hz = 2.5", 2.5),
     ] {
-        let s = Study::parse("s.toml", &paper_with(line, "")).unwrap();
         assert_relative_eq!(
-            s.noise[1].as_ref().unwrap().white_per_sqrt_hz(),
+            noise_of(line).white_per_sqrt_hz(),
             expected,
             max_relative = CONVERSION_REL
         );
@@ -130,21 +138,15 @@ fn each_white_key_converts_to_the_output_unit() {
         max_relative = CONVERSION_REL
     );
     // bias alone, quantization alone
-    let s = Study::parse(
-        "s.toml",
-        &paper_with("bias_instability = 0.002\nbias_correlation_s = 100", ""),
-    )
-    .unwrap();
-    let n = s.noise[1].as_ref().unwrap();
+    let n = noise_of("bias_instability = 0.002\nbias_correlation_s = 100");
     assert_eq!(n.white_per_sqrt_hz().to_bits(), 0);
     assert_relative_eq!(
         n.bias().unwrap().bias_instability(),
         0.002,
         max_relative = CONVERSION_REL
     );
-    let s = Study::parse("s.toml", &paper_with("quantization = 0.001", "")).unwrap();
     assert_eq!(
-        s.noise[1].as_ref().unwrap().quantization().to_bits(),
+        noise_of("quantization = 0.001").quantization().to_bits(),
         0.001f64.to_bits()
     );
 }
@@ -515,21 +517,14 @@ fn text_with_dwell_parses_back_to_the_same_positions_and_dwell() {
 /// other terms, and absent they are zero.
 #[test]
 fn rate_random_walk_and_ramp_keys_reach_the_noise_model() {
-    let parse = |lines: &str| {
-        Study::parse("s.toml", &paper_with(lines, ""))
-            .unwrap()
-            .noise[1]
-            .clone()
-            .unwrap()
-    };
-    let n = parse("white_deg_per_sqrt_h = 0.15\nrate_random_walk = 0.005\nrate_ramp = 1e-4");
+    let n = noise_of("white_deg_per_sqrt_h = 0.15\nrate_random_walk = 0.005\nrate_ramp = 1e-4");
     assert_relative_eq!(n.white_per_sqrt_hz(), 9.0, max_relative = CONVERSION_REL);
     assert_eq!(n.rate_random_walk().to_bits(), 0.005f64.to_bits());
     assert_eq!(n.rate_ramp().to_bits(), 1e-4f64.to_bits());
-    let alone = parse("rate_random_walk = 0.005");
+    let alone = noise_of("rate_random_walk = 0.005");
     assert_eq!(alone.white_per_sqrt_hz().to_bits(), 0);
     assert_eq!(alone.rate_random_walk().to_bits(), 0.005f64.to_bits());
-    let none = parse("white_deg_per_sqrt_h = 0.15");
+    let none = noise_of("white_deg_per_sqrt_h = 0.15");
     assert_eq!(
         (
             none.rate_random_walk().to_bits(),
@@ -544,30 +539,25 @@ fn rate_random_walk_and_ramp_keys_reach_the_noise_model() {
 /// beside the other terms, and absent they are zero.
 #[test]
 fn flicker_and_angle_quantization_keys_reach_the_noise_model() {
-    let parse = |lines: &str| {
-        Study::parse("s.toml", &paper_with(lines, ""))
-            .unwrap()
-            .noise[1]
-            .clone()
-            .unwrap()
-    };
-    let n = parse(
+    let n = noise_of(
         "white_deg_per_sqrt_h = 0.15\nflicker_bias_instability = 0.5\nangle_quantization = 0.01",
     );
     assert_relative_eq!(n.white_per_sqrt_hz(), 9.0, max_relative = CONVERSION_REL);
     assert_eq!(n.flicker().to_bits(), 0.5f64.to_bits());
     assert_eq!(n.angle_quantization().to_bits(), 0.01f64.to_bits());
     assert_eq!(
-        parse("flicker_bias_instability = 0.5").flicker().to_bits(),
+        noise_of("flicker_bias_instability = 0.5")
+            .flicker()
+            .to_bits(),
         0.5f64.to_bits()
     );
     assert_eq!(
-        parse("angle_quantization = 0.01")
+        noise_of("angle_quantization = 0.01")
             .angle_quantization()
             .to_bits(),
         0.01f64.to_bits()
     );
-    let none = parse("white_deg_per_sqrt_h = 0.15");
+    let none = noise_of("white_deg_per_sqrt_h = 0.15");
     assert_eq!(
         (
             none.flicker().to_bits(),
@@ -586,17 +576,9 @@ fn noise_uncertainties_reach_the_model_converted_as_their_terms() {
     use gw_model::noise::{
         FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA, NoiseParameter as P,
     };
-    let n = Study::parse(
-        "s.toml",
-        &paper_with(
-            "white_deg_per_sqrt_h = 0.15\nbias_instability = 0.5\nbias_correlation_s = 60\nflicker_bias_instability = 0.2\n[sensor.outputs.noise.uncertainty]\nwhite_deg_per_sqrt_h = 0.01\nbias_instability = 0.1\nbias_correlation_s = 20\nflicker_bias_instability = 0.05",
-            "",
-        ),
-    )
-    .unwrap()
-    .noise[1]
-        .clone()
-        .unwrap();
+    let n = noise_of(
+        "white_deg_per_sqrt_h = 0.15\nbias_instability = 0.5\nbias_correlation_s = 60\nflicker_bias_instability = 0.2\n[sensor.outputs.noise.uncertainty]\nwhite_deg_per_sqrt_h = 0.01\nbias_instability = 0.1\nbias_correlation_s = 20\nflicker_bias_instability = 0.05",
+    );
     assert_relative_eq!(n.uncertainty(P::White), 0.6, max_relative = CONVERSION_REL);
     assert_relative_eq!(
         n.uncertainty(P::BiasSigma),

@@ -46,34 +46,20 @@ fn every_model_passes_the_conformance_suite_on_a_three_axis_table() {
     }
 }
 
-/// A model with a sign error in one angle (the mutation "Delta-R = R_t^T R_d"): the suite
-/// must reject it, so it can fail.
-struct Transposed(Turntable);
+/// A wrong model of a turntable, a mutation of its exact chain: the suite must reject it, so
+/// it can fail.
+struct Mutant(Turntable, Mutation);
 
-impl OrientationErrorModel for Transposed {
-    fn error_names(&self) -> Vec<String> {
-        self.0
-            .rotation_error_names()
-            .into_iter()
-            .map(str::to_string)
-            .collect()
-    }
-    fn orientation_error(
-        &self,
-        pose: &Pose,
-        errors: &TurntableErrors,
-    ) -> Result<OrientationError, KinematicsError> {
-        let dr = self
-            .0
-            .delta_r(pose, errors, tt_kinematics::ChainKind::Exact)?;
-        Ok(OrientationError::from_matrix_elements(&dr.transpose()))
-    }
+/// The mutations of the exact chain.
+#[derive(Clone, Copy)]
+enum Mutation {
+    /// A sign error in one angle: "Delta-R = R_t^T R_d".
+    Transposed,
+    /// R_d^T forgotten (the leading joint does not cancel).
+    NoRdTranspose,
 }
 
-/// A model that forgets R_d^T (the leading joint does not cancel).
-struct NoRdTranspose(Turntable);
-
-impl OrientationErrorModel for NoRdTranspose {
+impl OrientationErrorModel for Mutant {
     fn error_names(&self) -> Vec<String> {
         self.0
             .rotation_error_names()
@@ -86,12 +72,14 @@ impl OrientationErrorModel for NoRdTranspose {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError> {
-        let rt = self
-            .0
-            .actual_rotation(pose, errors, tt_kinematics::ChainKind::Exact)?;
-        Ok(OrientationError::from_matrix_elements(
-            &(rt - nalgebra::Matrix3::identity()),
-        ))
+        let exact = tt_kinematics::ChainKind::Exact;
+        let m = match self.1 {
+            Mutation::Transposed => self.0.delta_r(pose, errors, exact)?.transpose(),
+            Mutation::NoRdTranspose => {
+                self.0.actual_rotation(pose, errors, exact)? - nalgebra::Matrix3::identity()
+            }
+        };
+        Ok(OrientationError::from_matrix_elements(&m))
     }
 }
 
@@ -99,10 +87,14 @@ impl OrientationErrorModel for NoRdTranspose {
 fn the_suite_rejects_wrong_models() {
     for t in [table3(), three_axis()] {
         let c = cases(&t, 50, MAX_ERROR_RAD);
-        let f = check_model(&Transposed(t.clone()), &t, &c, &Tolerances::default()).unwrap_err();
-        assert_eq!(f.check(), "first-order", "{f}");
-        let f = check_model(&NoRdTranspose(t.clone()), &t, &c, &Tolerances::default()).unwrap_err();
-        assert_eq!(f.check(), "zero", "{f}");
+        for (mutation, check) in [
+            (Mutation::Transposed, "first-order"),
+            (Mutation::NoRdTranspose, "zero"),
+        ] {
+            let m = Mutant(t.clone(), mutation);
+            let f = check_model(&m, &t, &c, &Tolerances::default()).unwrap_err();
+            assert_eq!(f.check(), check, "{f}");
+        }
     }
     // eq 26 is a model of the paper's table only (8 errors): the suite names both counts
     let t = three_axis();
@@ -333,7 +325,7 @@ fn a_model_without_delta_r_is_a_typed_error_at_poses() {
     use tt_kinematics::{AtPoses, ScheduleErrorModel};
     let t = table3();
     let s = AtPoses::of(
-        Transposed(t.clone()),
+        Mutant(t.clone(), Mutation::Transposed),
         vec![Pose::from_deg(&[0.0, 30.0]).unwrap()],
     );
     let mut dr = vec![nalgebra::Matrix3::identity(); 1];
@@ -341,7 +333,10 @@ fn a_model_without_delta_r_is_a_typed_error_at_poses() {
     assert_eq!(e, KinematicsError::NoDeltaR);
     assert!(e.to_string().contains("delta_r"), "{e}");
     // the names and the count come from the model; a chi of another size names both
-    assert_eq!(s.error_names(), Transposed(t.clone()).error_names());
+    assert_eq!(
+        s.error_names(),
+        Mutant(t.clone(), Mutation::Transposed).error_names()
+    );
     assert_eq!(
         s.delta_r_into(&[0.0; 7], &mut dr).unwrap_err(),
         KinematicsError::Field(tt_core::FieldError::Length {

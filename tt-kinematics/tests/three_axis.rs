@@ -3,42 +3,13 @@
 mod common;
 
 use common::*;
-use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use tt_kinematics::sensitivity::average_sensitivity_numerical;
 use tt_kinematics::{
     ChainKind, ExactChain, LinearModel, OrientationAxis as A, OrientationErrorModel, Pose,
     TurntableErrors,
 };
-
-/// The three-axis chain built independently of the library: nalgebra axis-angle rotations
-/// multiplied in the order of `common::three_axis_description`, written out by hand.
-fn three_axis_by_axis_angle(pose: &[f64], chi: &[f64]) -> Matrix3<f64> {
-    let r = |axis: Vector3<f64>, a: f64| {
-        Rotation3::from_axis_angle(&Unit::new_normalize(axis), a).into_inner()
-    };
-    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
-    // chi order = order of appearance: dphi_o, dalpha_ox, dalpha_oy, deps_om_y, deps_om_z,
-    // dphi_m, dalpha_my, dalpha_mz, deps_mi_z, deps_mi_x, dphi_i, dalpha_ix, dalpha_iz
-    let rt = r(z, pose[0])
-        * r(z, chi[0])
-        * r(x, chi[1])
-        * r(y, chi[2])
-        * r(y, chi[3])
-        * r(z, chi[4])
-        * r(x, pose[1])
-        * r(x, chi[5])
-        * r(y, chi[6])
-        * r(z, chi[7])
-        * r(z, chi[8])
-        * r(x, chi[9])
-        * r(y, pose[2])
-        * r(y, chi[10])
-        * r(x, chi[11])
-        * r(z, chi[12]);
-    let rd = r(z, pose[0]) * r(x, pose[1]) * r(y, pose[2]);
-    rd.transpose() * rt
-}
 
 /// Agreement of two implementations of the same product of 16 rotations, rad.
 const INDEPENDENT_TOL: f64 = 1e-12;

@@ -5,7 +5,6 @@ mod common;
 
 use approx::assert_relative_eq;
 use common::*;
-use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use proptest::prelude::*;
 use tt_kinematics::variation::{harmonic_dual_norm, sup_norm_upper};
 use tt_kinematics::{
@@ -193,34 +192,9 @@ proptest! {
     }
 }
 
-/// The three-axis chain written independently (nalgebra axis-angle, by hand) with each error
-/// evaluated from its own harmonic formula at the pose's joint angle, against the library's
-/// exact chain at the expansion's chi(phi).
-fn independent_delta_r(pose: &[f64], chi: &[f64]) -> Matrix3<f64> {
-    let r = |axis: Vector3<f64>, a: f64| {
-        Rotation3::from_axis_angle(&Unit::new_normalize(axis), a).into_inner()
-    };
-    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
-    let rt = r(z, pose[0])
-        * r(z, chi[0])
-        * r(x, chi[1])
-        * r(y, chi[2])
-        * r(y, chi[3])
-        * r(z, chi[4])
-        * r(x, pose[1])
-        * r(x, chi[5])
-        * r(y, chi[6])
-        * r(z, chi[7])
-        * r(z, chi[8])
-        * r(x, chi[9])
-        * r(y, pose[2])
-        * r(y, chi[10])
-        * r(x, chi[11])
-        * r(z, chi[12]);
-    let rd = r(z, pose[0]) * r(x, pose[1]) * r(y, pose[2]);
-    rd.transpose() * rt
-}
-
+/// The three-axis chain written independently (`common::three_axis_by_axis_angle`) with each
+/// error evaluated from its own harmonic formula at the pose's joint angle, against the
+/// library's exact chain at the expansion's chi(phi).
 #[test]
 fn exact_chain_with_angle_dependent_errors_matches_an_independent_evaluation() {
     let t = three_axis();
@@ -269,7 +243,7 @@ fn exact_chain_with_angle_dependent_errors_matches_an_independent_evaluation() {
                 + hc[3] * (2.0 * a[2]).cos()
                 + hc[4] * (2.0 * a[2]).sin();
         }
-        let reference = independent_delta_r(a, &chi);
+        let reference = three_axis_by_axis_angle(a, &chi);
         let errors = e.errors_at(&c, p, &[0.0, 0.0]).unwrap();
         let ours = t.delta_r(pose, &errors, ChainKind::Exact).unwrap();
         assert!((ours - reference).amax() <= INDEPENDENT_TOL, "position {p}");

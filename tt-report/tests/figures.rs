@@ -32,6 +32,42 @@ fn panel(title: &str, ys: &[f64]) -> LinePanel {
     }
 }
 
+/// A histogram panel: its (title, x label), bin edges, counts and limit marks.
+fn hist(
+    (title, x_label): (&str, &str),
+    edges: &[f64],
+    counts: &[u64],
+    limits: Vec<(String, f64, Mark)>,
+) -> HistPanel {
+    HistPanel {
+        title: title.into(),
+        x_label: x_label.into(),
+        edges: edges.to_vec(),
+        counts: counts.to_vec(),
+        limits,
+    }
+}
+
+/// A heat-map panel without a level or a rectangle: its [title, x label, y label, z label],
+/// grid (xs, ys) and values `z` (one row per y).
+fn heat(
+    [title, x_label, y_label, z_label]: [&str; 4],
+    (xs, ys): (&[f64], &[f64]),
+    z: Vec<Vec<f64>>,
+) -> HeatPanel {
+    HeatPanel {
+        title: title.into(),
+        x_label: x_label.into(),
+        y_label: y_label.into(),
+        xs: xs.to_vec(),
+        ys: ys.to_vec(),
+        z,
+        z_label: z_label.into(),
+        level: None,
+        rectangle: None,
+    }
+}
+
 /// Every `<text>` of a parsed SVG.
 fn texts(svg: &str) -> Vec<String> {
     let doc = roxmltree::Document::parse(svg).expect("the figure is well-formed XML");
@@ -89,13 +125,12 @@ fn a_line_figure_is_xml_with_its_title_axes_legend_and_one_polyline_per_series()
 fn histogram_bar_and_heat_figures_are_xml_with_their_labels() {
     let h = histogram_figure(
         "Monte Carlo",
-        &[HistPanel {
-            title: "Δψ".into(),
-            x_label: "orientation error (deg)".into(),
-            edges: vec![-0.02, -0.01, 0.0, 0.01, 0.02],
-            counts: vec![3, 10, 12, 2],
-            limits: vec![("±I".into(), 0.027, Mark::Line(LIMIT, false))],
-        }],
+        &[hist(
+            ("Δψ", "orientation error (deg)"),
+            &[-0.02, -0.01, 0.0, 0.01, 0.02],
+            &[3, 10, 12, 2],
+            vec![("±I".into(), 0.027, Mark::Line(LIMIT, false))],
+        )],
         "turntables",
     )
     .unwrap();
@@ -136,17 +171,15 @@ fn histogram_bar_and_heat_figures_are_xml_with_their_labels() {
     let m = heat_figure(
         "Surfaces",
         &[HeatPanel {
-            title: "Δω_x".into(),
-            x_label: "Δψ (deg)".into(),
-            y_label: "Δθ (deg)".into(),
-            xs: g.clone(),
-            ys: g.clone(),
-            z: g.iter()
-                .map(|y| g.iter().map(|x| x * x + y * y).collect())
-                .collect(),
-            z_label: "Δω (deg/h)".into(),
             level: Some(0.5),
             rectangle: Some((0.3, 0.3)),
+            ..heat(
+                ["Δω_x", "Δψ (deg)", "Δθ (deg)", "Δω (deg/h)"],
+                (&g, &g),
+                g.iter()
+                    .map(|y| g.iter().map(|x| x * x + y * y).collect())
+                    .collect(),
+            )
         }],
         &[(
             "Δω = ω_m".into(),
@@ -184,13 +217,7 @@ fn values_that_cannot_be_plotted_are_typed_errors_naming_the_figure_and_panel() 
     }
     let e = histogram_figure(
         "H",
-        &[HistPanel {
-            title: "h".into(),
-            x_label: "deg".into(),
-            edges: vec![0.0, 1.0],
-            counts: vec![1, 2],
-            limits: vec![],
-        }],
+        &[hist(("h", "deg"), &[0.0, 1.0], &[1, 2], vec![])],
         "n",
     )
     .unwrap_err();
@@ -208,17 +235,11 @@ fn values_that_cannot_be_plotted_are_typed_errors_naming_the_figure_and_panel() 
     assert_eq!(e.to_string(), "B: series s has 1 values for 2 categories");
     let e = heat_figure(
         "M",
-        &[HeatPanel {
-            title: "m".into(),
-            x_label: "x".into(),
-            y_label: "y".into(),
-            xs: vec![0.0, 1.0, 2.0],
-            ys: vec![0.0, 1.0],
-            z: vec![vec![0.0, 1.0], vec![1.0, 1.0]],
-            z_label: "z".into(),
-            level: None,
-            rectangle: None,
-        }],
+        &[heat(
+            ["m", "x", "y", "z"],
+            (&[0.0, 1.0, 2.0], &[0.0, 1.0]),
+            vec![vec![0.0, 1.0], vec![1.0, 1.0]],
+        )],
         &[],
     )
     .unwrap_err();

@@ -3,20 +3,58 @@
 
 mod common;
 
-use common::{assert_input_error, num, run, run_with_stdin, stderr, stdout, write};
+use common::{
+    assert_flags_refused, assert_input_error, assert_input_error_of, hidden_names, json_of, names,
+    num, run, run_with_stdin, stderr, stdout, write,
+};
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
 use std::path::Path;
+use std::process::Output;
+
+/// Run `allan LOG --rate-hz RATE_HZ` followed by `rest`.
+fn allan_on(log: &Path, rate_hz: &str, rest: &[&str]) -> Output {
+    let mut args = vec![
+        "allan",
+        log.to_str().expect("a UTF-8 path"),
+        "--rate-hz",
+        rate_hz,
+    ];
+    args.extend_from_slice(rest);
+    run(&args)
+}
+
+/// Run `allan --rate-hz RATE_HZ` followed by `rest`, with `csv` on standard input.
+fn allan_stdin(csv: &[u8], rate_hz: &str, rest: &[&str]) -> Output {
+    let args = [&["allan", "--rate-hz", rate_hz][..], rest].concat();
+    run_with_stdin(&args, csv)
+}
+
+/// The `[sensor.outputs.noise]` table of the noise file at `path`, and the file's text.
+fn noise_block(path: &Path) -> (toml::Table, String) {
+    let text = std::fs::read_to_string(path).expect("the noise file");
+    let t: toml::Table = toml::from_str(&text).expect("the noise file is TOML");
+    let block = t["sensor"]["outputs"]["noise"]
+        .as_table()
+        .expect("a noise block")
+        .clone();
+    (block, text)
+}
+
+/// Standard normal draws (Box-Muller over a ChaCha8 stream seeded with `seed`).
+fn normals(seed: u64) -> impl FnMut() -> f64 {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut u = move || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    move || {
+        let (a, b) = (u(), u());
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    }
+}
 
 /// A seeded log: white noise (sd 0.05 per sample) plus a random walk (steps of 1e-4), a bias
 /// of 3, `n` samples; with a time column before it and a second noise column after it.
 fn samples(n: usize, seed: u64) -> (Vec<f64>, String) {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut u = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let mut normal = move || {
-        let (a, b) = (u(), u());
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
+    let mut normal = normals(seed);
     let mut rw = 0.0;
     let mut y = Vec::with_capacity(n);
     let mut csv = String::from("\u{feff}t_s, gz_deg_per_s ,ax_g\n");
@@ -45,17 +83,8 @@ fn json_keys_and_values_match_the_library() {
     let dir = tempfile::tempdir().unwrap();
     let (y, csv) = samples(60_000, 1);
     let path = write(dir.path(), "log.csv", &csv);
-    let o = run(&[
-        "allan",
-        path.to_str().unwrap(),
-        "--rate-hz",
-        "100",
-        "--column",
-        "gz_deg_per_s",
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = allan_on(&path, "100", &["--column", "gz_deg_per_s", "--json"]);
+    let j = json_of(&o);
     let lib = allan::analyse(&y, allan::Settings::new(100.0)).unwrap();
     assert_eq!(j["samples"], 60_000);
     assert_close(num(&j["rate_hz"]), 100.0, "rate");
@@ -119,24 +148,17 @@ fn standard_input_and_a_named_pipe_are_read_once() {
         ]
     }
     let strip = |o: &std::process::Output| {
-        assert!(o.status.success(), "{}", stderr(o));
-        let mut j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let mut j = json_of(o);
         j.as_object_mut().unwrap().remove("log");
         j
     };
     let file = strip(&run(&args(path.to_str().unwrap())));
     let dash = strip(&run_with_stdin(&args("-"), csv.as_bytes()));
     assert_eq!(file, dash);
-    let none = strip(&run_with_stdin(
-        &[
-            "allan",
-            "--rate-hz",
-            "50",
-            "--column",
-            "gz_deg_per_s",
-            "--json",
-        ],
+    let none = strip(&allan_stdin(
         csv.as_bytes(),
+        "50",
+        &["--column", "gz_deg_per_s", "--json"],
     ));
     assert_eq!(file, none);
     // a named pipe: a writer thread feeds it while the command reads it
@@ -161,17 +183,10 @@ fn standard_input_and_a_named_pipe_are_read_once() {
 #[test]
 fn text_names_the_units_and_the_fit() {
     let (_, csv) = samples(5_000, 3);
-    let o = run_with_stdin(
-        &[
-            "allan",
-            "--rate-hz",
-            "100",
-            "--column",
-            "gz_deg_per_s",
-            "--unit",
-            "deg/s",
-        ],
+    let o = allan_stdin(
         csv.as_bytes(),
+        "100",
+        &["--column", "gz_deg_per_s", "--unit", "deg/s"],
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let t = stdout(&o);
@@ -185,10 +200,7 @@ fn text_names_the_units_and_the_fit() {
     ] {
         assert!(t.contains(needle), "lacks `{needle}`: {t}");
     }
-    let o = run_with_stdin(
-        &["allan", "--rate-hz", "100", "--column", "ax_g"],
-        csv.as_bytes(),
-    );
+    let o = allan_stdin(csv.as_bytes(), "100", &["--column", "ax_g"]);
     assert!(stdout(&o).contains("log unit/sqrt(Hz)"), "{}", stdout(&o));
 }
 
@@ -201,23 +213,22 @@ fn figure_and_noise_file_are_written_whole() {
     let log = write(dir.path(), "log.csv", &csv);
     let fig = dir.path().join("adev.svg");
     let noise = dir.path().join("noise.toml");
-    let o = run(&[
-        "allan",
-        log.to_str().unwrap(),
-        "--rate-hz",
+    let o = allan_on(
+        &log,
         "100",
-        "--column",
-        "gz_deg_per_s",
-        "--unit",
-        "deg/s",
-        "--json",
-        "--figure",
-        fig.to_str().unwrap(),
-        "--write-noise",
-        noise.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        &[
+            "--column",
+            "gz_deg_per_s",
+            "--unit",
+            "deg/s",
+            "--json",
+            "--figure",
+            fig.to_str().unwrap(),
+            "--write-noise",
+            noise.to_str().unwrap(),
+        ],
+    );
+    let j = json_of(&o);
     let svg = std::fs::read_to_string(&fig).unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     for needle in [
@@ -231,14 +242,12 @@ fn figure_and_noise_file_are_written_whole() {
     ] {
         assert!(svg.contains(needle), "figure lacks `{needle}`");
     }
-    let text = std::fs::read_to_string(&noise).unwrap();
+    let (block, text) = noise_block(&noise);
     assert!(
         text.contains("log.csv") && text.contains("gz_deg_per_s") && text.contains("100 Hz"),
         "{text}"
     );
     assert!(text.contains("in the log's unit (deg/s)"), "{text}");
-    let t: toml::Table = toml::from_str(&text).unwrap();
-    let block = t["sensor"]["outputs"]["noise"].as_table().unwrap();
     // the file holds exactly the JSON's `noise_block.written`, and names every term not written
     // (and the uncertainties of the written terms, under the same keys in the `uncertainty`
     // sub-table the study reads)
@@ -272,21 +281,16 @@ fn figure_and_noise_file_are_written_whole() {
         text.contains("rate_random_walk in\n# deg/s/sqrt(s)"),
         "{text}"
     );
-    let mut names: Vec<String> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    assert_eq!(names, ["adev.svg", "log.csv", "noise.toml"]);
+    only(dir.path(), &["adev.svg", "log.csv", "noise.toml"]);
 }
 
-fn only(dir: &Path, names: &[&str]) {
-    let mut found: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    found.sort();
-    assert_eq!(found, names, "the directory holds only what was there");
+/// Assert that `dir` holds exactly `expected` (sorted names).
+fn only(dir: &Path, expected: &[&str]) {
+    assert_eq!(
+        names(dir),
+        expected,
+        "the directory holds only what was there"
+    );
 }
 
 /// An existing --figure or --write-noise path is refused (exit 2) and left untouched; a figure
@@ -298,29 +302,24 @@ fn existing_outputs_are_refused_and_failures_leave_nothing() {
     let log = write(dir.path(), "log.csv", &csv);
     let taken = write(dir.path(), "taken.svg", "mine");
     for flag in ["--figure", "--write-noise"] {
-        let o = run(&[
-            "allan",
-            log.to_str().unwrap(),
-            "--rate-hz",
+        let o = allan_on(
+            &log,
             "10",
-            "--column",
-            "ax_g",
-            flag,
-            taken.to_str().unwrap(),
-        ]);
+            &["--column", "ax_g", flag, taken.to_str().unwrap()],
+        );
         assert_input_error(&o, &[flag, "exists"]);
         assert_eq!(std::fs::read_to_string(&taken).unwrap(), "mine");
     }
-    let o = run(&[
-        "allan",
-        log.to_str().unwrap(),
-        "--rate-hz",
+    let o = allan_on(
+        &log,
         "10",
-        "--column",
-        "ax_g",
-        "--figure",
-        dir.path().join("no/such/dir.svg").to_str().unwrap(),
-    ]);
+        &[
+            "--column",
+            "ax_g",
+            "--figure",
+            dir.path().join("no/such/dir.svg").to_str().unwrap(),
+        ],
+    );
     assert_input_error(&o, &["--figure", "directory does not exist"]);
     // a constant log: zero deviation, nothing to draw on a log scale
     let flat = write(
@@ -330,16 +329,16 @@ fn existing_outputs_are_refused_and_failures_leave_nothing() {
     );
     let fig = dir.path().join("flat.svg");
     let noise = dir.path().join("flat.toml");
-    let o = run(&[
-        "allan",
-        flat.to_str().unwrap(),
-        "--rate-hz",
+    let o = allan_on(
+        &flat,
         "10",
-        "--figure",
-        fig.to_str().unwrap(),
-        "--write-noise",
-        noise.to_str().unwrap(),
-    ]);
+        &[
+            "--figure",
+            fig.to_str().unwrap(),
+            "--write-noise",
+            noise.to_str().unwrap(),
+        ],
+    );
     assert_input_error(&o, &["--figure", "zero"]);
     only(dir.path(), &["flat.csv", "log.csv", "taken.svg"]);
 }
@@ -352,42 +351,17 @@ fn bad_input_exits_2_naming_the_flag_line_or_column() {
     let g = good.to_str().unwrap();
     // the rate
     assert_input_error(&run(&["allan", g, "--column", "a"]), &["--rate-hz"]);
-    for bad in [
+    let rates = [
         "0", "-1", "nan", "inf", "-inf", "x", "1e13", "1e-310", "1e-305", "5e-324", "1e-10",
-    ] {
-        assert_input_error(
-            &run(&["allan", g, "--column", "a", "--rate-hz", bad]),
-            &["--rate-hz"],
-        );
-    }
-    for bad in ["0", "1", "1.5", "nan"] {
-        assert_input_error(
-            &run(&[
-                "allan",
-                g,
-                "--column",
-                "a",
-                "--rate-hz",
-                "1",
-                "--confidence",
-                bad,
-            ]),
-            &["--confidence"],
-        );
-    }
-    assert_input_error(
-        &run(&[
-            "allan",
-            g,
-            "--column",
-            "a",
-            "--rate-hz",
-            "1",
-            "--unit",
-            "a\u{1b}[2J",
-        ]),
-        &["--unit"],
-    );
+    ];
+    let rates: Vec<[&str; 2]> = rates.iter().map(|r| ["--rate-hz", r]).collect();
+    assert_flags_refused(&["allan", g, "--column", "a"], &rates);
+    let mut others: Vec<[&str; 2]> = ["0", "1", "1.5", "nan"]
+        .iter()
+        .map(|c| ["--confidence", c])
+        .collect();
+    others.push(["--unit", "a\u{1b}[2J"]);
+    assert_flags_refused(&["allan", g, "--column", "a", "--rate-hz", "1"], &others);
     // columns
     assert_input_error(
         &run(&["allan", g, "--rate-hz", "1", "--column", "c"]),
@@ -399,60 +373,21 @@ fn bad_input_exits_2_naming_the_flag_line_or_column() {
     );
     let dup = write(dir.path(), "dup.csv", "a,a\n1,2\n");
     assert_input_error(
-        &run(&[
-            "allan",
-            dup.to_str().unwrap(),
-            "--rate-hz",
-            "1",
-            "--column",
-            "a",
-        ]),
+        &allan_on(&dup, "1", &["--column", "a"]),
         &["dup.csv:1 column 2", "twice"],
     );
-    let headerless = write(dir.path(), "raw.csv", "0.1\n0.2\n0.3\n");
-    assert_input_error(
-        &run(&["allan", headerless.to_str().unwrap(), "--rate-hz", "1"]),
-        &["raw.csv:1", "header"],
-    );
-    // cells
-    for (body, needles) in [
-        (
-            "a,b\n1,2\n3,x\n5,6\n",
-            vec!["bad.csv:3 column 2", "`x` is not a number"],
-        ),
-        (
-            "a,b\n1,2\n3,inf\n5,6\n",
-            vec!["bad.csv:3 column 2", "not a finite number"],
-        ),
-        (
-            "a,b\n1,2\n3,NaN\n5,6\n",
-            vec!["bad.csv:3 column 2", "not a finite number"],
-        ),
-        (
-            "a,b\n1,2\n3\n5,6\n",
-            vec!["bad.csv:3", "expected 2 columns, found 1"],
-        ),
-        (
-            "a,b\n1,2\n3,\n5,6\n",
-            vec!["bad.csv:3 column 2", "is not a number"],
-        ),
-        (
-            "a,b\n1,2\n3,1e999\n5,6\n",
-            vec!["bad.csv:3 column 2", "not a finite number"],
-        ),
+    // cells: the third line's row, where the error is and what it says
+    for (row, place, needle) in [
+        ("3,x", "bad.csv:3 column 2", "`x` is not a number"),
+        ("3,inf", "bad.csv:3 column 2", "not a finite number"),
+        ("3,NaN", "bad.csv:3 column 2", "not a finite number"),
+        ("3", "bad.csv:3", "expected 2 columns, found 1"),
+        ("3,", "bad.csv:3 column 2", "is not a number"),
+        ("3,1e999", "bad.csv:3 column 2", "not a finite number"),
     ] {
-        let p = write(dir.path(), "bad.csv", body);
-        assert_input_error(
-            &run(&[
-                "allan",
-                p.to_str().unwrap(),
-                "--rate-hz",
-                "1",
-                "--column",
-                "b",
-            ]),
-            &needles,
-        );
+        let p = write(dir.path(), "bad.csv", &format!("a,b\n1,2\n{row}\n5,6\n"));
+        let o = allan_on(&p, "1", &["--column", "b"]);
+        assert_input_error_of(row, &o, &[place, needle]);
     }
     // cluster times: not a word or a list, not a whole number of samples, longer than a third
     for (bad, needle) in [
@@ -461,43 +396,40 @@ fn bad_input_exits_2_naming_the_flag_line_or_column() {
         ("0.5", "`0.5` s"),
         ("2", "`2` s needs at least 6 samples"),
     ] {
-        assert_input_error(
-            &run(&["allan", g, "--column", "a", "--rate-hz", "1", "--taus", bad]),
-            &["--taus", needle],
-        );
+        let o = run(&["allan", g, "--column", "a", "--rate-hz", "1", "--taus", bad]);
+        assert_input_error_of(bad, &o, &["--taus", needle]);
     }
-    // too few samples, empty input, invalid UTF-8, a directory, a missing file
-    let short = write(dir.path(), "short.csv", "b\n1\n2\n");
-    assert_input_error(
-        &run(&["allan", short.to_str().unwrap(), "--rate-hz", "1"]),
-        &["short.csv", "2 samples", "at least 3"],
-    );
-    let header_only = write(dir.path(), "h.csv", "b\n");
-    assert_input_error(
-        &run(&["allan", header_only.to_str().unwrap(), "--rate-hz", "1"]),
-        &["h.csv", "0 samples"],
-    );
-    assert_input_error(
-        &run_with_stdin(&["allan", "--rate-hz", "1"], b""),
-        &["<stdin>", "empty input"],
-    );
-    assert_input_error(
-        &run_with_stdin(&["allan", "--rate-hz", "1"], b"b\n1\n\xff\n3\n"),
-        &["<stdin>:3", "UTF-8"],
-    );
-    assert_input_error(
-        &run(&["allan", dir.path().to_str().unwrap(), "--rate-hz", "1"]),
-        &["directory"],
-    );
-    assert_input_error(
-        &run(&["allan", "/no/such/log.csv", "--rate-hz", "1"]),
-        &["/no/such/log.csv", "cannot read"],
-    );
+    // no header, too few samples, empty input, invalid UTF-8, a directory, a missing file
+    for (name, body, needles) in [
+        ("raw.csv", "0.1\n0.2\n0.3\n", &["raw.csv:1", "header"][..]),
+        (
+            "short.csv",
+            "b\n1\n2\n",
+            &["short.csv", "2 samples", "at least 3"],
+        ),
+        ("h.csv", "b\n", &["h.csv", "0 samples"]),
+    ] {
+        let p = write(dir.path(), name, body);
+        assert_input_error_of(name, &allan_on(&p, "1", &[]), needles);
+    }
+    for (input, needles) in [
+        (&b""[..], &["<stdin>", "empty input"][..]),
+        (b"b\n1\n\xff\n3\n", &["<stdin>:3", "UTF-8"]),
+    ] {
+        let o = allan_stdin(input, "1", &[]);
+        assert_input_error_of(&format!("{input:?}"), &o, needles);
+    }
+    for (path, needles) in [
+        (dir.path().to_str().unwrap(), &["directory"][..]),
+        ("/no/such/log.csv", &["/no/such/log.csv", "cannot read"]),
+    ] {
+        let o = run(&["allan", path, "--rate-hz", "1"]);
+        assert_input_error_of(path, &o, needles);
+    }
     // three samples are enough: one cluster time
     let three = write(dir.path(), "three.csv", "b\n1\n2\n4\n");
-    let o = run(&["allan", three.to_str().unwrap(), "--rate-hz", "1", "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = allan_on(&three, "1", &["--json"]);
+    let j = json_of(&o);
     assert_eq!(j["curve"].as_array().unwrap().len(), 1);
 }
 
@@ -530,22 +462,13 @@ fn figure_and_noise_files_respect_the_umask() {
             assert_eq!(mode, expected, "{} under umask {umask}", p.display());
         }
     }
-    let hidden: Vec<String> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.'))
-        .collect();
+    let hidden = hidden_names(dir.path());
     assert!(hidden.is_empty(), "no temporary file left: {hidden:?}");
 }
 
 /// A seeded Gauss-Markov log (sd 0.05, correlation 200 samples) plus white noise (sd 0.1).
 fn gauss_markov_log(n: usize, seed: u64) -> String {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut u = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let mut normal = move || {
-        let (a, b) = (u(), u());
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
+    let mut normal = normals(seed);
     let phi = (-1.0f64 / 200.0).exp();
     let mut x = 0.0;
     let mut csv = String::from("g\n");
@@ -562,12 +485,7 @@ fn gauss_markov_log(n: usize, seed: u64) -> String {
 /// between about 1 and 1e3 samples (gw-model's flicker bank, written out here so that the
 /// test does not depend on it).
 fn flicker_log(n: usize, b: f64, seed: u64) -> String {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut u = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let mut normal = move || {
-        let (a, b) = (u(), u());
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
+    let mut normal = normals(seed);
     let r = 10f64.sqrt();
     let sigma = b * (r.ln() / std::f64::consts::PI).sqrt();
     let phis: Vec<f64> = (0..13).map(|i| (-1.0 / (0.1 * r.powi(i))).exp()).collect();
@@ -596,20 +514,13 @@ fn noise_file_writes_the_flicker_floor_or_the_better_fitting_gauss_markov_bias()
     let noise_of = |name: &str, csv: &str| {
         let log = write(dir.path(), &format!("{name}.csv"), csv);
         let out = dir.path().join(format!("{name}.toml"));
-        let o = run(&[
-            "allan",
-            log.to_str().unwrap(),
-            "--rate-hz",
+        let o = allan_on(
+            &log,
             "1",
-            "--json",
-            "--write-noise",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let text = std::fs::read_to_string(&out).unwrap();
-        let t: toml::Table = toml::from_str(&text).unwrap();
-        let block = t["sensor"]["outputs"]["noise"].as_table().unwrap().clone();
+            &["--json", "--write-noise", out.to_str().unwrap()],
+        );
+        let j = json_of(&o);
+        let (block, text) = noise_block(&out);
         (j, text, block)
     };
     let (j, text, block) = noise_of("flicker", &flicker_log(200_000, 0.05, 11));
@@ -652,42 +563,29 @@ fn noise_file_writes_the_flicker_floor_or_the_better_fitting_gauss_markov_bias()
 fn noise_file_never_holds_a_correlation_time_the_study_rejects() {
     let dir = tempfile::tempdir().unwrap();
     let log = write(dir.path(), "gm.csv", &gauss_markov_log(200_000, 7));
-    let l = log.to_str().unwrap();
-    // the noise file written at `rate`, parsed, and the run's standard error
+    // the noise block written at `rate`, the file's text, and the run's standard error
     let noise_at = |rate: &str| {
         let out = dir.path().join(format!("noise-{rate}.toml"));
-        let o = run(&[
-            "allan",
-            l,
-            "--rate-hz",
-            rate,
-            "--write-noise",
-            out.to_str().unwrap(),
-        ]);
+        let o = allan_on(&log, rate, &["--write-noise", out.to_str().unwrap()]);
         assert!(o.status.success(), "{}", stderr(&o));
-        let text = std::fs::read_to_string(&out).unwrap();
-        let t: toml::Table = toml::from_str(&text).unwrap();
-        (t, text, stderr(&o))
+        let (block, text) = noise_block(&out);
+        (block, text, stderr(&o))
     };
-    let (t, _, _) = noise_at("10");
-    let tc = t["sensor"]["outputs"]["noise"]["bias_correlation_s"]
-        .as_float()
-        .unwrap();
+    let (block, _, _) = noise_at("10");
+    let tc = block["bias_correlation_s"].as_float().unwrap();
     assert!((15.0..25.0).contains(&tc), "Tc {tc} s, known 20 s");
-    let (t, text, err) = noise_at("1e-6");
-    let block = t["sensor"]["outputs"]["noise"].as_table().unwrap();
+    let (block, text, err) = noise_at("1e-6");
     assert!(block.contains_key("white_per_sqrt_hz"), "{text}");
     assert!(
         !block.contains_key("bias_correlation_s") && !block.contains_key("bias_instability"),
         "{text}"
     );
-    for s in [text.as_str(), err.as_str()] {
-        assert!(
-            s.contains("Gauss-Markov correlation time (s) = ")
-                && s.contains("outside the study's limit (0, 1e7] s"),
-            "{s}"
-        );
-    }
+    let says_why = |s: &str| {
+        s.contains("Gauss-Markov correlation time (s) = ")
+            && s.contains("outside the study's limit (0, 1e7] s")
+    };
+    assert!(says_why(&text), "the file: {text}");
+    assert!(says_why(&err), "standard error: {err}");
 }
 
 /// A log in units so large that no term fits the study's limits (white noise 5e97 per
@@ -703,14 +601,7 @@ fn noise_file_is_refused_when_no_term_fits_the_study() {
     let log = write(dir.path(), "big.csv", &csv);
     let out = dir.path().join("n.toml");
     assert_input_error(
-        &run(&[
-            "allan",
-            log.to_str().unwrap(),
-            "--rate-hz",
-            "100",
-            "--write-noise",
-            out.to_str().unwrap(),
-        ]),
+        &allan_on(&log, "100", &["--write-noise", out.to_str().unwrap()]),
         &[
             "--write-noise",
             "white noise N: above the study's limit 1e6",
@@ -725,21 +616,12 @@ fn noise_file_is_refused_when_no_term_fits_the_study() {
 #[test]
 fn json_has_every_term_and_four_deviations() {
     let (_, csv) = samples(20_000, 8);
-    let o = run_with_stdin(
-        &[
-            "allan",
-            "--rate-hz",
-            "100",
-            "--column",
-            "gz_deg_per_s",
-            "--json",
-            "--taus",
-            "decade",
-        ],
+    let o = allan_stdin(
         csv.as_bytes(),
+        "100",
+        &["--column", "gz_deg_per_s", "--json", "--taus", "decade"],
     );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let j = json_of(&o);
     for term in [
         "quantization",
         "white",

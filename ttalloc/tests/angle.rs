@@ -4,11 +4,41 @@
 mod common;
 
 use common::{
-    assert_input_error, check_turntable, json, num, run, scratch, stderr, stdout, study, write,
+    assert_input_error, check_turntable, command_line, json, num, run, scratch, stderr, stdout,
+    study, write,
 };
 
 /// Relative agreement of two computations of the same linear worst case (dimensionless).
 const SAME_REL: f64 = 1e-12;
+
+/// The paper's Table 4 as a tolerance sheet.
+const TABLE4: &str = "studies/tolerances/table4.toml";
+
+/// `CMD [--study STUDY] --tolerances SHEET` followed by `extra` (without a study: the default
+/// one).
+fn with_sheet<'a>(
+    cmd: &'a str,
+    study: Option<&'a str>,
+    sheet: &'a str,
+    extra: &[&'a str],
+) -> Vec<&'a str> {
+    let mut flags = Vec::new();
+    if let Some(s) = study {
+        flags.push(("--study", s));
+    }
+    flags.push(("--tolerances", sheet));
+    command_line(cmd, &flags, extra)
+}
+
+/// `check-turntable [--study STUDY] --tolerances TABLE4 --json --samples 1500`, parsed.
+fn check_table4_json(study: Option<&str>) -> serde_json::Value {
+    json(&with_sheet(
+        "check-turntable",
+        study,
+        TABLE4,
+        &["--json", "--samples", "1500"],
+    ))
+}
 
 /// `check-turntable` on Table 4: under the paper's reading (outputs at the intended orientation)
 /// each row of the calibration error sees one position's error only, so a sheet's bound over
@@ -17,14 +47,7 @@ const SAME_REL: f64 = 1e-12;
 /// more). JSON `angle_dependent` and the text say it side by side.
 #[test]
 fn check_turntable_reports_the_angle_dependent_verdict_beside_the_constant_one() {
-    let v = json(&[
-        "check-turntable",
-        "--tolerances",
-        "studies/tolerances/table4.toml",
-        "--json",
-        "--samples",
-        "1500",
-    ]);
+    let v = check_table4_json(None);
     let a = &v["angle_dependent"];
     assert_eq!(a["model"], "any-on-shafts");
     assert_eq!(a["sheet_supports"], "angle-dependent");
@@ -45,13 +68,12 @@ fn check_turntable_reports_the_angle_dependent_verdict_beside_the_constant_one()
         assert!(num(&o["worst_case_linear"]) > 1.5 * c, "{o}");
     }
     assert!(num(&user["yield"]) < num(&v["user_reading"]["yield"]));
-    let text = stdout(&run(&[
+    let text = stdout(&run(&with_sheet(
         "check-turntable",
-        "--tolerances",
-        "studies/tolerances/table4.toml",
-        "--samples",
-        "1500",
-    ]));
+        None,
+        TABLE4,
+        &["--samples", "1500"],
+    )));
     assert!(
         text.contains("verdict: constant errors fails, angle-dependent errors fails"),
         "{text}"
@@ -66,16 +88,12 @@ fn check_turntable_reports_the_angle_dependent_verdict_beside_the_constant_one()
 fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_axis() {
     let sheet = "studies/tolerances/three-axis-vendor-sheet.toml";
     let three = study("three-axis-example");
-    let v = json(&[
+    let v = json(&with_sheet(
         "check-turntable",
-        "--study",
-        &three,
-        "--tolerances",
+        Some(&three),
         sheet,
-        "--json",
-        "--samples",
-        "1500",
-    ]);
+        &["--json", "--samples", "1500"],
+    ));
     let user = &v["angle_dependent"]["readings"][1];
     let disc = &user["disc_worst_case_linear"];
     let mut tighter = false;
@@ -140,13 +158,12 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
             .unwrap()
             .replace("[axes.phi_i]", "[axes.phi_x]"),
     );
-    let o = run(&[
+    let o = run(&with_sheet(
         "check-turntable",
-        "--study",
-        &three,
-        "--tolerances",
+        Some(&three),
         bad.to_str().unwrap(),
-    ]);
+        &[],
+    ));
     assert_input_error(&o, &["axes.phi_x", "does not have"]);
 }
 
@@ -158,24 +175,13 @@ fn check_turntable_takes_a_vendor_sheet_with_magnitudes_and_refuses_an_unknown_a
 fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
     let sheet = "studies/tolerances/three-axis-vendor-sheet.toml";
     let three = study("three-axis-example");
-    let a = json(&[
-        "allocate",
-        "--study",
-        &three,
-        "--tolerances",
-        sheet,
-        "--json",
-    ]);
-    let e = json(&[
+    let a = json(&with_sheet("allocate", Some(&three), sheet, &["--json"]));
+    let e = json(&with_sheet(
         "end-to-end",
-        "--study",
-        &three,
-        "--tolerances",
+        Some(&three),
         sheet,
-        "--json",
-        "--samples",
-        "1500",
-    ]);
+        &["--json", "--samples", "1500"],
+    ));
     assert_eq!(a["disc_allocation"], e["disc_allocation"]);
     let readings = a["disc_allocation"]["readings"].as_array().unwrap();
     assert_eq!(readings.len(), 2);
@@ -209,17 +215,12 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
     }
     // the report's vendor section shows the same figures
     let out = scratch("angle", "disc-report").join("out");
-    let o = run(&[
+    let o = run(&with_sheet(
         "report",
-        "--study",
-        &three,
-        "--tolerances",
+        Some(&three),
         sheet,
-        "--out",
-        out.to_str().unwrap(),
-        "--samples",
-        "1500",
-    ]);
+        &["--out", out.to_str().unwrap(), "--samples", "1500"],
+    ));
     assert!(o.status.success(), "{}", stderr(&o));
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     let user = &readings[1];
@@ -246,13 +247,7 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
         assert!(text.contains(from), "{from}");
         let bad = write(&dir, "bad.toml", &text.replacen(from, to, 1));
         for cmd in ["allocate", "end-to-end", "check-turntable"] {
-            let o = run(&[
-                cmd,
-                "--study",
-                &three,
-                "--tolerances",
-                bad.to_str().unwrap(),
-            ]);
+            let o = run(&with_sheet(cmd, Some(&three), bad.to_str().unwrap(), &[]));
             assert_input_error(&o, &[key]);
         }
     }
@@ -265,16 +260,7 @@ fn allocate_and_end_to_end_allocate_the_sheets_discs_and_refuse_bad_discs() {
 #[test]
 fn check_turntable_reports_before_and_after_compensation() {
     let h = study("gyrowheel-2017-harmonic-errors");
-    let v = json(&[
-        "check-turntable",
-        "--study",
-        &h,
-        "--tolerances",
-        "studies/tolerances/table4.toml",
-        "--json",
-        "--samples",
-        "1500",
-    ]);
+    let v = check_table4_json(Some(&h));
     let c = &v["compensated"];
     approx::assert_relative_eq!(
         num(&c["tolerances_arcmin"]["deps_x"]),
@@ -292,14 +278,7 @@ fn check_turntable_reports_before_and_after_compensation() {
     {
         assert!(num(w) <= num(&v["user_reading"]["outputs"][k]["worst_case_linear"]));
     }
-    let plain = json(&[
-        "check-turntable",
-        "--tolerances",
-        "studies/tolerances/table4.toml",
-        "--json",
-        "--samples",
-        "1500",
-    ]);
+    let plain = check_table4_json(None);
     assert!(plain["compensated"].is_null());
 }
 
@@ -390,7 +369,7 @@ fn check_turntable_counts_the_noise_in_the_angle_dependent_and_compensated_verdi
         "--study",
         p,
         "--tolerances",
-        "studies/tolerances/table4.toml",
+        TABLE4,
         "--samples",
         "500",
     ];

@@ -6,7 +6,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{json, num, report_args, run, scratch, stdout};
+use common::{end_to_end_json, json, num, report_args, run, scratch, stdout};
 
 /// Relative agreement of the same allocation computed by two commands (dimensionless): one
 /// code path, deterministic, so equal to the solver's reproducibility.
@@ -54,14 +54,7 @@ fn check_angle_json(a: &serde_json::Value) {
 
 #[test]
 fn end_to_end_and_allocate_give_the_angle_dependent_and_compensated_allocations() {
-    let e = json(&[
-        "end-to-end",
-        "--study",
-        HARMONIC,
-        "--samples",
-        "1500",
-        "--json",
-    ]);
+    let e = end_to_end_json(HARMONIC, "1500", &[]);
     check_angle_json(&e["angle_dependent"]);
     let a = json(&["allocate", "--study", HARMONIC, "--json"]);
     check_angle_json(&a["angle_dependent"]);

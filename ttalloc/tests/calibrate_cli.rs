@@ -4,7 +4,10 @@
 
 mod common;
 
-use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
+use common::{
+    assert_input_error, json_of, ok, run as ttalloc, six_face_recording as recording,
+    six_face_recording_with_a_bad_cell, six_face_study as study_path,
+};
 use std::path::Path;
 use std::process::Output;
 
@@ -20,6 +23,13 @@ fn calibrate(study: &str, log: &Path, cal: &Path, extra: &[&str]) -> Output {
     ))
 }
 
+/// `apply --calibration CAL LOG --out OUT`.
+fn apply(cal: &Path, log: &Path, out: &Path) -> Output {
+    let path = |p: &Path| p.to_str().expect("utf8").to_string();
+    let (cal, log, out) = (path(cal), path(log), path(out));
+    ttalloc(&["apply", "--calibration", &cal, &log, "--out", &out])
+}
+
 #[test]
 fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
     let dir = tempfile::tempdir().expect("dir");
@@ -27,12 +37,8 @@ fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
     let cal = dir.path().join("cal.json");
     let study = study_path();
     let out = calibrate(&study, &log, &cal, &["--spec", "bg_x=100", "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    ok(&out);
+    let v = json_of(&out);
     assert_eq!(v["run"]["segments"].as_array().expect("segments").len(), 9);
     assert_eq!(v["verdicts"][0]["meets"], true);
     assert!(
@@ -44,24 +50,12 @@ fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
     let written = std::fs::read_to_string(&cal).expect("calibration file");
     // a second run refuses the existing file: exit 2, the file as it was
     let again = calibrate(&study, &log, &cal, &[]);
-    assert_eq!(again.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&again.stderr).contains("never overwritten"));
+    assert_input_error(&again, &["never overwritten"]);
     assert_eq!(std::fs::read_to_string(&cal).expect("still there"), written);
     // apply
     let corrected = dir.path().join("corrected.csv");
-    let out = ttalloc(&[
-        "apply",
-        "--calibration",
-        cal.to_str().expect("utf8"),
-        log.to_str().expect("utf8"),
-        "--out",
-        corrected.to_str().expect("utf8"),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = apply(&cal, &log, &corrected);
+    ok(&out);
     let text = std::fs::read_to_string(&corrected).expect("corrected");
     assert_eq!(
         text.lines().next(),
@@ -72,31 +66,11 @@ fn calibrate_then_apply_runs_the_loop_and_never_overwrites() {
 #[test]
 fn a_bad_cell_exits_2_naming_line_and_column_and_writes_nothing() {
     let dir = tempfile::tempdir().expect("dir");
-    let log = recording(dir.path());
-    let text = std::fs::read_to_string(&log).expect("log");
-    let bad: String = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            if i == 19 {
-                l.replacen(',', ",oops,", 1).replacen(",oops,", ",oops", 1) + "\n"
-            } else {
-                format!("{l}\n")
-            }
-        })
-        .collect();
     // line 20: the gx cell reads `oops<number>`
-    let bad_path = dir.path().join("bad.csv");
-    std::fs::write(&bad_path, bad).expect("written");
+    let bad_path = six_face_recording_with_a_bad_cell(dir.path());
     let cal = dir.path().join("cal.json");
     let out = calibrate(&study_path(), &bad_path, &cal, &[]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains(":20 (column `gx`)") && err.contains("is not a number"),
-        "{err}"
-    );
-    assert!(out.stdout.is_empty());
+    assert_input_error(&out, &[":20 (column `gx`)", "is not a number"]);
     assert!(!cal.exists(), "nothing written on error");
 }
 
@@ -126,12 +100,8 @@ fn the_studys_specifications_are_judged_in_their_written_unit_and_plan_ones_are_
         log.to_str().expect("utf8"),
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    ok(&out);
+    let v = json_of(&out);
     let verdicts = v["verdicts"].as_array().expect("verdicts");
     assert_eq!(verdicts.len(), 1, "{verdicts:?}");
     let bias = &verdicts[0];
@@ -184,14 +154,7 @@ fn a_toml_calibration_file_equals_the_json_one_and_apply_corrects_identically() 
         let text = std::fs::read_to_string(&cal).expect("written");
         parsed.push(calib_run::file::CalibrationFile::parse(name, &text).expect("parsed"));
         let fixed = dir.path().join(format!("{name}.csv"));
-        let out = ttalloc(&[
-            "apply",
-            "--calibration",
-            cal.to_str().expect("utf8"),
-            log.to_str().expect("utf8"),
-            "--out",
-            fixed.to_str().expect("utf8"),
-        ]);
+        let out = apply(&cal, &log, &fixed);
         ok(&out);
         corrected.push(std::fs::read(&fixed).expect("corrected"));
     }
@@ -212,9 +175,6 @@ fn a_calibration_file_of_another_extension_exits_2_naming_out() {
     let log = recording(dir.path());
     let cal = dir.path().join("cal.yaml");
     let out = calibrate(&study_path(), &log, &cal, &[]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("--out") && err.contains(".toml"), "{err}");
-    assert!(out.stdout.is_empty());
+    assert_input_error(&out, &["--out", ".toml"]);
     assert!(!cal.exists());
 }

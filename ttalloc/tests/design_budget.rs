@@ -7,7 +7,10 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{json_of, root, run as xtask, scratch};
+use common::{
+    assert_flags_refused, assert_input_error, assert_input_error_of, end_to_end_json, json_of, ok,
+    root, run as xtask, scratch, stderr, stdout,
+};
 use serde_json::Value;
 use std::process::Output;
 
@@ -17,22 +20,17 @@ const NOISY: &str = "studies/gyrowheel-2017-noise-assumed.toml";
 /// naming the flag, with nothing on standard output.
 #[test]
 fn bad_time_budgets_exit_2_naming_the_flag() {
-    for (args, needle) in [
-        (vec!["--time-budget-s", "0"], "--time-budget-s"),
-        (vec!["--time-budget-s", "-60"], "--time-budget-s"),
-        (vec!["--time-budget-s", "nan"], "--time-budget-s"),
-        (vec!["--time-budget-s", "inf"], "--time-budget-s"),
-        (vec!["--time-budget-s", "an hour"], "--time-budget-s"),
-        (vec!["--pareto-svg", "front.svg"], "--pareto-svg"),
-    ] {
-        let mut a = vec!["design-schedule", "--study", NOISY];
-        a.extend(args.iter());
-        let r = xtask(&a);
-        let err = String::from_utf8_lossy(&r.stderr);
-        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
-        assert!(r.stdout.is_empty(), "{args:?}");
-        assert!(err.contains(needle), "{args:?}: {err}");
-    }
+    assert_flags_refused(
+        &["design-schedule", "--study", NOISY],
+        &[
+            ["--time-budget-s", "0"],
+            ["--time-budget-s", "-60"],
+            ["--time-budget-s", "nan"],
+            ["--time-budget-s", "inf"],
+            ["--time-budget-s", "an hour"],
+            ["--pareto-svg", "front.svg"],
+        ],
+    );
 }
 
 /// A budget too short for the fewest positions that identify every output (the paper's
@@ -40,21 +38,11 @@ fn bad_time_budgets_exit_2_naming_the_flag() {
 /// naming the flag and the library's `time_budget_s`, with nothing on standard output.
 #[test]
 fn a_budget_too_short_for_the_fewest_positions_exits_2_naming_it() {
-    let r = xtask(&[
-        "design-schedule",
-        "--study",
-        NOISY,
-        "--step-deg",
-        "45",
-        "--time-budget-s",
-        "100",
-        "--json",
-    ]);
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert_eq!(r.status.code(), Some(2), "{err}");
-    assert!(r.stdout.is_empty());
-    assert!(err.contains("--time-budget-s"), "{err}");
-    assert!(err.contains("time_budget_s = 100 s is too short"), "{err}");
+    let r = noisy_with_budget("100", &["--json"]);
+    assert_input_error(
+        &r,
+        &["--time-budget-s", "time_budget_s = 100 s is too short"],
+    );
 }
 
 /// Without noise the budget only changes the dwell: the answer is the one without a budget
@@ -154,8 +142,7 @@ fn with_noise_the_front_is_monotone_the_choice_fits_and_the_figure_is_new() {
     let text = std::fs::read_to_string(&svg).expect("the figure is written");
     assert!(text.contains("<svg"), "{}", &text[..text.len().min(200)]);
     let again = noisy_budget(&["--pareto-svg", svg_arg]);
-    assert_eq!(again.status.code(), Some(2));
-    assert!(again.stdout.is_empty());
+    assert_input_error(&again, &[]);
     assert_eq!(std::fs::read_to_string(&svg).unwrap(), text);
 }
 
@@ -200,14 +187,7 @@ fn written_study_holds_the_chosen_point_and_end_to_end_answers_its_j() {
     assert_eq!(timing.move_s().to_bits(), 60.0_f64.to_bits());
     assert_eq!(timing.sample_rate_hz().to_bits(), 100.0_f64.to_bits());
     assert!(text.contains("With --time-budget-s 25000"), "{text}");
-    let e2e = json_of(&xtask(&[
-        "end-to-end",
-        "--study",
-        out_arg,
-        "--samples",
-        "2000",
-        "--json",
-    ]));
+    let e2e = end_to_end_json(out_arg, "2000", &[]);
     let direct = &e2e["readings"][0]["noise"]["direct_with_noise"];
     assert_eq!(direct["no_table_suffices"], false, "{direct}");
     let e2e_j = direct["objective"].as_f64().unwrap();
@@ -221,9 +201,9 @@ fn written_study_holds_the_chosen_point_and_end_to_end_answers_its_j() {
     }
 }
 
-/// `design-schedule` on the noisy paper study at the 45 deg grid under a 25,000 s budget,
-/// with `extra` arguments.
-fn noisy_budget(extra: &[&str]) -> Output {
+/// `design-schedule` on the noisy paper study at the 45 deg grid under a budget of
+/// `budget_s` seconds, with `extra` arguments.
+fn noisy_with_budget(budget_s: &str, extra: &[&str]) -> Output {
     let mut args = vec![
         "design-schedule",
         "--study",
@@ -231,10 +211,15 @@ fn noisy_budget(extra: &[&str]) -> Output {
         "--step-deg",
         "45",
         "--time-budget-s",
-        "25000",
+        budget_s,
     ];
     args.extend_from_slice(extra);
     xtask(&args)
+}
+
+/// [`noisy_with_budget`] under 25,000 s.
+fn noisy_budget(extra: &[&str]) -> Output {
+    noisy_with_budget("25000", extra)
 }
 
 /// [`noisy_budget`] with `--json`, its output parsed.
@@ -265,13 +250,8 @@ fn an_empty_front_answers_with_exit_0_and_writes_no_figure() {
         svg_arg,
     ];
     let r = xtask(&args);
-    let text = String::from_utf8_lossy(&r.stdout);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    ok(&r);
+    let text = stdout(&r);
     assert!(text.contains("no table suffices at any dwell"), "{text}");
     assert!(
         text.contains(&format!("--pareto-svg {svg_arg}: not written")),
@@ -323,11 +303,8 @@ fn budget_refusals_come_before_the_search_and_quote_the_value_as_given() {
             "--time-budget-s",
             budget,
         ]);
-        let err = String::from_utf8_lossy(&r.stderr);
-        assert_eq!(r.status.code(), Some(2), "{err}");
-        assert!(r.stdout.is_empty());
-        assert!(err.contains("--time-budget-s"), "{err}");
-        assert!(err.contains(needle), "{err}");
+        assert_input_error_of(budget, &r, &["--time-budget-s", needle]);
+        let err = stderr(&r);
         assert!(!err.contains("0000000000"), "{err}");
     }
 }

@@ -5,7 +5,10 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{json_of, run as xtask, scratch};
+use common::{
+    assert_flags_refused, assert_input_error, end_to_end_json, json_of, ok, run as xtask, scratch,
+    stdout,
+};
 use serde_json::Value;
 
 /// Relative agreement of J between the designer and `end-to-end` on the written study
@@ -82,14 +85,7 @@ fn end_to_end_on_the_written_study_reproduces_the_designed_objective() {
         "# both axes.\n# The positions below replace the schedule described above. Made by\n"
     ));
     assert!(text.contains("--seed 2017`"), "the seed is in the comment");
-    let e2e = json_of(&xtask(&[
-        "end-to-end",
-        "--study",
-        out.to_str().unwrap(),
-        "--samples",
-        "2000",
-        "--json",
-    ]));
+    let e2e = end_to_end_json(out.to_str().unwrap(), "2000", &[]);
     assert_relative_eq!(
         e2e["direct_objective"].as_f64().unwrap(),
         designed,
@@ -111,45 +107,31 @@ fn an_existing_output_file_is_refused_and_left_untouched() {
     let out = dir.join("mine.toml");
     std::fs::write(&out, "# my own notes\n").unwrap();
     let r = xtask(&["design-schedule", "--write-study", out.to_str().unwrap()]);
-    assert_eq!(r.status.code(), Some(2));
-    assert!(r.stdout.is_empty());
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert!(err.contains("mine.toml") && err.contains("exists"), "{err}");
+    assert_input_error(&r, &["mine.toml", "exists"]);
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "# my own notes\n");
     let r = xtask(&[
         "design-schedule",
         "--write-study",
         dir.join("no/such/dir.toml").to_str().unwrap(),
     ]);
-    assert_eq!(r.status.code(), Some(2));
-    assert!(r.stdout.is_empty());
+    assert_input_error(&r, &[]);
 }
 
 /// Bad flags exit 2 naming the flag, with nothing on standard output.
 #[test]
 fn bad_flags_exit_2_naming_the_flag() {
-    for (args, needle) in [
-        (vec!["--positions", "6"], "--positions"),
-        (vec!["--positions", "5000"], "--positions"),
-        (vec!["--step-deg", "0"], "--step-deg"),
-        (vec!["--step-deg", "400"], "--step-deg"),
-        (vec!["--max-condition", "0.5"], "--max-condition"),
-        (vec!["--max-condition", "1.0001"], "--max-condition"),
-        (vec!["--seed", "x"], "--seed"),
-    ] {
-        let mut a = vec!["design-schedule"];
-        a.extend(args.iter());
-        let r = xtask(&a);
-        assert_eq!(
-            r.status.code(),
-            Some(2),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&r.stderr)
-        );
-        assert!(r.stdout.is_empty(), "{args:?}");
-        let err = String::from_utf8_lossy(&r.stderr);
-        assert!(err.contains(needle), "{args:?}: {err}");
-    }
+    assert_flags_refused(
+        &["design-schedule"],
+        &[
+            ["--positions", "6"],
+            ["--positions", "5000"],
+            ["--step-deg", "0"],
+            ["--step-deg", "400"],
+            ["--max-condition", "0.5"],
+            ["--max-condition", "1.0001"],
+            ["--seed", "x"],
+        ],
+    );
 }
 
 /// The three-axis example (GyroWheel on a three-axis table) and the IMU example (six outputs,
@@ -216,14 +198,7 @@ fn design_schedule_says_when_the_noise_is_not_counted() {
     let study_j = c["study_objective_arcmin"]
         .as_f64()
         .expect("a table suffices");
-    let e2e = json_of(&xtask(&[
-        "end-to-end",
-        "--study",
-        "studies/gyrowheel-2017-noise-assumed.toml",
-        "--samples",
-        "2000",
-        "--json",
-    ]));
+    let e2e = end_to_end_json("studies/gyrowheel-2017-noise-assumed.toml", "2000", &[]);
     let e2e_j = e2e["readings"][0]["noise"]["direct_with_noise"]["objective"]
         .as_f64()
         .unwrap();
@@ -294,13 +269,8 @@ fn every_tolerance_recommended_with_noise_passes_check_turntable_on_the_written_
         ];
         args.extend(extra.iter());
         let r = xtask(&args);
-        let text = String::from_utf8_lossy(&r.stdout);
-        assert_eq!(
-            r.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&r.stderr)
-        );
+        ok(&r);
+        let text = stdout(&r);
         assert!(
             text.contains("allows with the noise counted (3 sigma, the study's timing), certified on the exact chain"),
             "{text}"
@@ -355,16 +325,11 @@ fn with_no_table_on_either_side_the_designed_schedule_must_not_lose_on_the_noise
     let b = &c["both_fail"];
     let ratio = |k: &str| b[k]["noise_over_accuracy"].as_f64().unwrap();
     let dwell = |k: &str| b[k]["min_dwell_s"].as_f64().unwrap_or(f64::INFINITY);
-    let e2e = json_of(&xtask(&[
-        "end-to-end",
-        "--study",
+    let e2e = end_to_end_json(
         "studies/imu-triad-example.toml",
-        "--samples",
         "2000",
-        "--yield-fraction",
-        "0.9",
-        "--json",
-    ]));
+        &["--yield-fraction", "0.9"],
+    );
     let sigma = e2e["readings"][0]["noise"]["noise_sigma"]
         .as_array()
         .unwrap();

@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{assert_input_error, json, num, report_args, run, scratch, stdout, write};
+use common::{
+    assert_input_error, end_to_end_json, json, num, report_args, run, scratch, stdout, write,
+};
 
 /// The paper's eight errors act as five (eq 26's equal coefficients): the joint least squares
 /// sees exactly those five combinations (rank 14 + 5 of 22), the three differences are
@@ -167,14 +169,7 @@ fn estimable_on_the_harmonic_study_uses_the_study_s_harmonic_model_as_end_to_end
     assert_eq!(errors.len(), 6 * 5 + 2);
     assert_eq!(errors[0]["name"], "dphi_y1.c0");
     assert_eq!(v["columns"], 14 + 32);
-    let e2e = json(&[
-        "end-to-end",
-        "--study",
-        study,
-        "--samples",
-        "1500",
-        "--json",
-    ]);
+    let e2e = end_to_end_json(study, "1500", &[]);
     let user = e2e["angle_dependent"]["readings"]
         .as_array()
         .unwrap()

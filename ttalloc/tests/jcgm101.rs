@@ -6,7 +6,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, check_turntable, json, num, run, stdout};
+use common::{assert_input_error, check_turntable, end_to_end_json, json, num, run, stdout};
 use e2e_verify::budget_mc::MC_RULE;
 use metrology::montecarlo::McSettings;
 
@@ -153,17 +153,7 @@ fn mc_digits_without_jcgm101_exits_2_naming_both_flags() {
 
 #[test]
 fn end_to_end_jcgm101_adds_the_monte_carlo_of_the_direct_allocations_box() {
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        STUDY,
-        "--samples",
-        "2000",
-        "--jcgm101",
-        "--mc-digits",
-        "1",
-        "--json",
-    ]);
+    let v = end_to_end_json(STUDY, "2000", &["--jcgm101", "--mc-digits", "1"]);
     let mc = &v["jcgm101"];
     assert_eq!(mc["rule"].as_str().unwrap(), MC_RULE);
     let specs = mc["specifications"].as_array().unwrap();

@@ -5,7 +5,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, json, report_args, run, stderr, stdout, study_text};
+use common::{
+    assert_input_error, end_to_end_json, json, report_args, run, stderr, stdout, study_text,
+};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -59,14 +61,7 @@ fn designs_and_verifies(name: &str, args: &[&str]) {
         let k = v["designed"]["condition_numbers"][o].as_f64().unwrap();
         assert!(k <= 10.0, "{args:?}: {o} {k}");
     }
-    let e2e = json(&[
-        "end-to-end",
-        "--study",
-        out.to_str().unwrap(),
-        "--samples",
-        "1500",
-        "--json",
-    ]);
+    let e2e = end_to_end_json(out.to_str().unwrap(), "1500", &[]);
     assert_relative_eq!(
         e2e["direct_objective"].as_f64().unwrap(),
         designed,

@@ -6,7 +6,8 @@ mod common;
 
 use approx::assert_relative_eq;
 use common::{
-    assert_input_error, check_turntable, json, num, report_args, run, scratch, stdout, write,
+    assert_input_error, check_turntable, end_to_end_json, json, num, report_args, run, scratch,
+    stdout, write,
 };
 use serde_json::Value;
 
@@ -213,16 +214,7 @@ fn end_to_end_states_the_shortest_dwell_and_the_tradeoff() {
     // T0 (3 sigma(T0) / accuracy)^2 of the output that needs the longest (no lower bounds)
     let dir = scratch("noise", "white");
     let p = write(&dir, "imu-white.toml", &imu_white_only());
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        p.to_str().unwrap(),
-        "--samples",
-        "2000",
-        "--yield-fraction",
-        "0.9",
-        "--json",
-    ]);
+    let v = end_to_end_json(p.to_str().unwrap(), "2000", &["--yield-fraction", "0.9"]);
     let noise = &v["readings"][0]["noise"];
     let sigma: Vec<f64> = noise["noise_sigma"]
         .as_array()
@@ -260,16 +252,11 @@ fn end_to_end_states_the_shortest_dwell_and_the_tradeoff() {
 
 #[test]
 fn end_to_end_with_bias_instability_says_no_dwell_within_a_day_suffices() {
-    let v = json(&[
-        "end-to-end",
-        "--study",
+    let v = end_to_end_json(
         "studies/imu-triad-example.toml",
-        "--samples",
         "2000",
-        "--yield-fraction",
-        "0.9",
-        "--json",
-    ]);
+        &["--yield-fraction", "0.9"],
+    );
     assert!(v["min_dwell_s"].is_null());
     assert_eq!(v["tradeoff"], serde_json::json!([]));
     assert_eq!(
@@ -327,14 +314,7 @@ fn paper_study_with_assumed_noise_needs_405_s_per_position() {
     const SIGMA_REL: f64 = 1e-9;
     /// docs/findings.md states the dwell to 3 significant digits (relative).
     const README_REL: f64 = 5e-3;
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        "studies/gyrowheel-2017-noise-assumed.toml",
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json("studies/gyrowheel-2017-noise-assumed.toml", "2000", &[]);
     let sigma: Vec<f64> = v["readings"][0]["noise"]["noise_sigma"]
         .as_array()
         .unwrap()
@@ -424,14 +404,7 @@ fn a_dwell_list_is_scanned_scaled_alike_and_the_output_says_so() {
     );
     assert!(v["min_dwell_s"].is_null());
     // one dwell at every position: the dwell itself is scanned
-    let uniform = json(&[
-        "end-to-end",
-        "--study",
-        "studies/gyrowheel-2017-noise-assumed.toml",
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let uniform = end_to_end_json("studies/gyrowheel-2017-noise-assumed.toml", "2000", &[]);
     assert_eq!(uniform["dwell_scan"]["per_position_list"], false);
     let report = dir.join("report");
     let r = run(&report_args(p, &report, "2000", &[]));

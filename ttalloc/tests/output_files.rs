@@ -12,7 +12,9 @@
 
 mod common;
 
-use common::{assert_input_error, names, ok, paper_into, run, sha256_hex, stderr, stdout, write};
+use common::{
+    assert_input_error, hidden_names, names, ok, paper_into, run, sha256_hex, stderr, stdout, write,
+};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::Path;
 use std::process::Command;
@@ -150,10 +152,7 @@ fn out_keeps_its_mode_and_owner_and_a_read_only_one_is_refused() {
     assert_input_error(&o, &[read_only.to_str().unwrap(), "555", "may not"]);
     assert!(names(&read_only).is_empty());
     assert_eq!(mode(&read_only), 0o555);
-    let left: Vec<String> = names(dir.path())
-        .into_iter()
-        .filter(|n| n.starts_with('.'))
-        .collect();
+    let left = hidden_names(dir.path());
     assert!(left.is_empty(), "no leftover: {left:?}");
 }
 

@@ -4,50 +4,37 @@
 
 mod common;
 
-use common::{assert_input_error, check_turntable, json, run, scratch, study, study_text, write};
+use common::{
+    assert_input_error, assert_input_error_of, check_turntable, end_to_end_json, json, run,
+    scratch, study, study_text, write,
+};
 
 const STUDY: &str = "tactical-rate-table-example";
 const SHEET: &str = "studies/tolerances/tactical-rate-table-sheet.toml";
 
-/// The example with the first rate step's `key = value` line replaced.
-fn with_first_step(key: &str, value: &str) -> String {
-    let text = study_text(STUDY);
-    let start = text
-        .find("[[calibration.rate_steps]]")
-        .expect("a rate step");
-    let line_start = start + text[start..].find(&format!("\n{key} = ")).expect("the key") + 1;
-    let line_end = line_start + text[line_start..].find('\n').expect("a line");
-    format!(
-        "{}{key} = {value}{}",
-        &text[..line_start],
-        &text[line_end..]
-    )
-}
-
+/// A bad value in the first rate step exits 2 naming the step's key.
 #[test]
 fn bad_rate_steps_exit_2_naming_the_key() {
     let dir = scratch("rate-steps", "bad");
-    for (key, value, needle) in [
-        (
-            "rate_deg_per_s",
-            "0.0",
-            "calibration.rate_steps[0].rate_deg_per_s",
-        ),
-        (
-            "rate_deg_per_s",
-            "301.0",
-            "calibration.rate_steps[0].rate_deg_per_s",
-        ),
-        ("joint", "\"phi_q\"", "calibration.rate_steps[0].joint"),
-        (
-            "revolutions",
-            "1.5",
-            "calibration.rate_steps[0].revolutions",
-        ),
+    let text = study_text(STUDY);
+    // the first rate step: from its header to the next one
+    let header = "[[calibration.rate_steps]]";
+    let start = text.find(header).expect("a rate step");
+    let end = start + 1 + text[start + 1..].find(header).expect("a second rate step");
+    for (key, good, bad) in [
+        ("rate_deg_per_s", "60.0", "0.0"),
+        ("rate_deg_per_s", "60.0", "301.0"),
+        ("joint", "\"phi_o\"", "\"phi_q\""),
+        ("revolutions", "10", "1.5"),
     ] {
-        let p = write(&dir, "s.toml", &with_first_step(key, value));
+        let line = format!("\n{key} = {good}\n");
+        let at = text.find(&line).expect("the line");
+        assert!((start..end).contains(&at), "{line} is the first step's");
+        let bad_text = text.replacen(&line, &format!("\n{key} = {bad}\n"), 1);
+        let p = write(&dir, "s.toml", &bad_text);
         let o = run(&["end-to-end", "--study", p.to_str().expect("utf-8")]);
-        assert_input_error(&o, &[needle]);
+        let needle = format!("calibration.rate_steps[0].{key}");
+        assert_input_error_of(bad, &o, &[&needle]);
     }
 }
 
@@ -146,14 +133,7 @@ fn the_rate_check_prints_its_yield_interval_in_percent_with_two_decimals() {
 /// saying so, the direct allocation.
 #[test]
 fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        &study(STUDY),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(&study(STUDY), "2000", &[]);
     assert!(v["two_step_objective"].is_null());
     let note = v["requirement_note"].as_str().expect("a note");
     assert!(note.contains("static"), "{note}");
@@ -170,14 +150,7 @@ fn end_to_end_with_rate_steps_uses_the_direct_allocation() {
 #[test]
 fn rate_step_study_with_noise_gets_the_noise_answer_and_the_shortest_dwell() {
     const NOISY: &str = "stim300-rate-table-example";
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        &study(NOISY),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(&study(NOISY), "2000", &[]);
     let noise = &v["readings"][0]["noise"];
     let sigma: Vec<f64> = noise["noise_sigma"]
         .as_array()
@@ -230,14 +203,7 @@ fn rate_step_study_with_noise_gets_the_noise_answer_and_the_shortest_dwell() {
 /// 216,000 deg/h is 46.3 ppm).
 #[test]
 fn end_to_end_allocates_the_rate_tolerances_in_ppm_and_mm() {
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        &study(STUDY),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(&study(STUDY), "2000", &[]);
     let r = &v["rate_allocation"];
     assert!(
         r["direct_note"]
@@ -369,14 +335,7 @@ fn design_schedule_chooses_the_rate_with_the_least_j_and_writes_it() {
     let minus = format!("rate_deg_per_s = {:?}", -least);
     assert_eq!(written.matches(&rate).count(), 3, "{written}");
     assert_eq!(written.matches(&minus).count(), 3, "{written}");
-    let e = json(&[
-        "end-to-end",
-        "--study",
-        out.to_str().expect("utf-8"),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let e = end_to_end_json(out.to_str().expect("utf-8"), "2000", &[]);
     approx::assert_relative_eq!(
         common::num(&e["rate_allocation"]["objective_arcmin"]),
         chosen_j,
@@ -440,14 +399,7 @@ fn allocate_shows_the_rate_tolerances_like_end_to_end() {
     // the same computation on the same study: rounding only
     const SAME_PATH_REL: f64 = 1e-12;
     let a = json(&["allocate", "--study", &study(STUDY), "--json"]);
-    let e = json(&[
-        "end-to-end",
-        "--study",
-        &study(STUDY),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let e = end_to_end_json(&study(STUDY), "2000", &[]);
     let (ra, re) = (&a["rate_allocation"], &e["rate_allocation"]);
     approx::assert_relative_eq!(
         common::num(&ra["objective_arcmin"]),
@@ -610,14 +562,7 @@ fn rate_allocation_keeps_the_noise_part_free_and_its_tolerances_shrink() {
     /// Share of the accuracy an exact-chain re-solve keeps free (e2e-verify's
     /// `RATE_EXACT_ROOM_REL`).
     const EXACT_ROOM_REL: f64 = 1e-3;
-    let at_300 = json(&[
-        "end-to-end",
-        "--study",
-        &study(NOISY),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let at_300 = end_to_end_json(&study(NOISY), "2000", &[]);
     let w = &at_300["rate_allocation"]["with_noise"];
     assert_eq!(w["no_table_suffices"], true, "{w}");
     let blocked: Vec<&str> = w["no_room"]
@@ -631,14 +576,7 @@ fn rate_allocation_keeps_the_noise_part_free_and_its_tolerances_shrink() {
     let text = study_text(NOISY).replace("dwell_s = 300         #", "dwell_s = 3000        #");
     assert!(text.contains("dwell_s = 3000 "));
     let p = write(&dir, "long.toml", &text);
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        p.to_str().expect("utf-8"),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(p.to_str().expect("utf-8"), "2000", &[]);
     let plain = &v["rate_allocation"];
     let w = &plain["with_noise"];
     assert_eq!(w["no_table_suffices"], false, "{w}");
@@ -729,14 +667,7 @@ fn rate_part_without_noise_has_no_noise_keys_and_the_tables_verdict() {
             common::num(&o["linear_bound"]) <= acc && common::num(&o["exact_at_vertex"]) <= acc
         );
     }
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        &study(STUDY),
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(&study(STUDY), "2000", &[]);
     assert!(v["rate_allocation"].get("with_noise").is_none());
 }
 
@@ -773,14 +704,7 @@ fn static_only(text: &str, dwell: &str) -> String {
 /// Each gyro scale factor's expanded uncertainty U (ppm, 95 %) from `end-to-end --json`'s
 /// GUM budgets, in the order gx, gy, gz.
 fn gyro_scale_factor_u_ppm(study_path: &str) -> Vec<f64> {
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        study_path,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(study_path, "2000", &[]);
     let specs = v["decision"]["specifications"]
         .as_array()
         .expect("decision.specifications");

@@ -6,25 +6,12 @@
 
 mod common;
 
-use common::{ok, report_args, root, run};
+use common::{
+    assert_input_error, assert_input_error_of, hidden_names, ok, report_args, root, run, stdout,
+};
 use serde_json::Value;
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-/// Exit 2, nothing on standard output, a message naming `what`.
-fn assert_input_error(o: &Output, what: &str) {
-    assert_eq!(o.status.code(), Some(2), "stderr: {}", text(&o.stderr));
-    assert!(o.stdout.is_empty(), "stdout: {}", text(&o.stdout));
-    assert!(
-        text(&o.stderr).contains(what),
-        "stderr should name {what}: {}",
-        text(&o.stderr)
-    );
-}
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 fn read(dir: &Path, f: &str) -> String {
     std::fs::read_to_string(dir.join(f))
@@ -33,6 +20,27 @@ fn read(dir: &Path, f: &str) -> String {
 
 fn json(dir: &Path) -> Value {
     serde_json::from_str(&read(dir, "results.json")).unwrap()
+}
+
+/// Run `report --study STUDY --out OUT --samples SAMPLES` and `extra`, asserting success.
+fn write_report(study: &str, out: &Path, samples: &str, extra: &[&str]) {
+    ok(&run(&report_args(study, out, samples, extra)));
+}
+
+/// [`write_report`], then the written `report.md`.
+fn report_md(study: &str, out: &Path, samples: &str, extra: &[&str]) -> String {
+    write_report(study, out, samples, extra);
+    read(out, "report.md")
+}
+
+/// Write `text` as the study `dir/NAME.toml`, report it (2,000 samples) into `dir/NAME`,
+/// asserting success, and return that directory and its `report.md`.
+fn report_of_text(dir: &Path, name: &str, text: &str) -> (PathBuf, String) {
+    let study = dir.join(format!("{name}.toml"));
+    std::fs::write(&study, text).expect("the study written");
+    let out = dir.join(name);
+    let md = report_md(study.to_str().expect("a UTF-8 path"), &out, "2000", &[]);
+    (out, md)
 }
 
 /// The paper's study with replacements (each `old` must exist).
@@ -116,13 +124,8 @@ fn report_of_a_non_paper_study_carries_none_of_the_papers_wording() {
         ),
         ("name = \"gyrowheel-2017\"", "name = \"my-lab\""),
     ]);
-    let study = dir.path().join("my-lab.toml");
-    std::fs::write(&study, without_requirement(&copy)).unwrap();
-    let out = dir.path().join("out");
-    let o = run(&report_args(study.to_str().unwrap(), &out, "2000", &[]));
-    ok(&o);
+    let (out, md) = report_of_text(dir.path(), "my-lab", &without_requirement(&copy));
     assert_complete(&out);
-    let md = read(&out, "report.md");
     let html = read(&out, "report.html");
     for forbidden in [
         "Harbin",
@@ -166,16 +169,7 @@ fn report_of_a_non_paper_study_carries_none_of_the_papers_wording() {
     assert!((psi - 0.013943).abs() < 1e-5, "{psi}");
 
     // the paper's requirement kept: given 0.027 deg disagrees with the computed 0.0139 deg
-    let kept = dir.path().join("kept.toml");
-    std::fs::write(&kept, &copy).unwrap();
-    let out2 = dir.path().join("out2");
-    ok(&run(&report_args(
-        kept.to_str().unwrap(),
-        &out2,
-        "2000",
-        &[],
-    )));
-    let md = read(&out2, "report.md");
+    let (out2, md) = report_of_text(dir.path(), "kept", &copy);
     assert!(
         md.contains("psi 0.027 deg given vs 0.0139"),
         "the disagreement line"
@@ -199,10 +193,10 @@ fn reproduce_paper_reports_the_papers_numbers_and_every_claim_with_both_readings
     let out = dir.path().join("paper");
     let o = run(&["reproduce-paper", "--out", out.to_str().unwrap()]);
     ok(&o);
-    let stdout = text(&o.stdout);
+    let text = stdout(&o);
     assert!(
-        stdout.contains("9 of 13 claims hold under both readings of eq 13."),
-        "{stdout}"
+        text.contains("9 of 13 claims hold under both readings of eq 13."),
+        "{text}"
     );
     assert_complete(&out);
     let v = json(&out);
@@ -298,7 +292,7 @@ fn report_checks_vendor_tolerances_and_shows_a_designed_schedule_beside_the_stud
     let fewer = "positions_deg = [\n  [0, 0], [0, 90], [0, 180], [0, 270],\n  [90, 0], [90, 45], [90, 90], [90, 135], [90, 180], [90, 225], [90, 270], [90, 315],\n  [180, 0], [180, 90], [180, 180], [180, 270],\n  [270, 0], [270, 45], [270, 90], [270, 135], [270, 180], [270, 225], [270, 270], [270, 315],\n]";
     std::fs::write(&designed, text.replace(positions, fewer)).unwrap();
     let out = dir.path().join("out");
-    let o = run(&report_args(
+    let md = report_md(
         "studies/gyrowheel-2017.toml",
         &out,
         "2000",
@@ -308,9 +302,7 @@ fn report_checks_vendor_tolerances_and_shows_a_designed_schedule_beside_the_stud
             "--designed",
             designed.to_str().unwrap(),
         ],
-    ));
-    ok(&o);
-    let md = read(&out, "report.md");
+    );
     assert!(md.contains("## Vendor tolerances") && md.contains("## Designed schedule"));
     assert!(
         md.contains("Verdict: these tolerances **meet** every accuracy"),
@@ -350,7 +342,7 @@ fn report_checks_vendor_tolerances_and_shows_a_designed_schedule_beside_the_stud
         "--designed",
         other.to_str().unwrap(),
     ]);
-    assert_input_error(&o, "--designed");
+    assert_input_error(&o, &["--designed"]);
     assert!(!dir.path().join("o2").exists());
 }
 
@@ -363,34 +355,18 @@ fn report_bad_input_exits_2_naming_it_and_writes_nothing() {
     let o_ = out.to_str().unwrap();
     assert_input_error(
         &run(&["report", "--study", "no/such/study.toml", "--out", o_]),
-        "no/such/study.toml",
-    );
-    assert_input_error(
-        &run(&[
-            "report",
-            "--study",
-            "studies/gyrowheel-2017.toml",
-            "--out",
-            o_,
-            "--samples",
-            "0",
-        ]),
-        "--samples",
+        &["no/such/study.toml"],
     );
     let bad_tol = dir.path().join("t.toml");
     std::fs::write(&bad_tol, "[tolerances_arcmin]\nno_such_error = 1\n").unwrap();
-    assert_input_error(
-        &run(&[
-            "report",
-            "--study",
-            "studies/gyrowheel-2017.toml",
-            "--out",
-            o_,
-            "--tolerances",
-            bad_tol.to_str().unwrap(),
-        ]),
-        "no_such_error",
-    );
+    for (flag, value, needle) in [
+        ("--samples", "0", "--samples"),
+        ("--tolerances", bad_tol.to_str().unwrap(), "no_such_error"),
+    ] {
+        let paper = "studies/gyrowheel-2017.toml";
+        let o = run(&["report", "--study", paper, "--out", o_, flag, value]);
+        assert_input_error_of(flag, &o, &[needle]);
+    }
     let huge = dir.path().join("huge.toml");
     std::fs::write(
         &huge,
@@ -400,15 +376,11 @@ fn report_bad_input_exits_2_naming_it_and_writes_nothing() {
     let started = std::time::Instant::now();
     assert_input_error(
         &run(&["report", "--study", huge.to_str().unwrap(), "--out", o_]),
-        "gamma_deg",
+        &["gamma_deg"],
     );
     assert!(started.elapsed().as_secs() < 30, "refused at once, no hang");
     assert!(!out.exists(), "nothing written");
-    let left: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .filter(|n| n.to_string_lossy().starts_with('.'))
-        .collect();
+    let left = hidden_names(dir.path());
     assert!(left.is_empty(), "no temporary or lock file left: {left:?}");
 }
 
@@ -429,12 +401,7 @@ fn report_never_deletes_or_replaces_what_it_did_not_write() {
         "--samples",
         "1450",
     ]);
-    assert_input_error(&o, d.to_str().unwrap());
-    assert!(
-        text(&o.stderr).contains("notes.txt") && text(&o.stderr).contains("--out"),
-        "{}",
-        text(&o.stderr)
-    );
+    assert_input_error(&o, &[d.to_str().unwrap(), "notes.txt", "--out"]);
     assert_eq!(std::fs::read_to_string(d.join("notes.txt")).unwrap(), "x");
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
 
@@ -442,34 +409,20 @@ fn report_never_deletes_or_replaces_what_it_did_not_write() {
     std::fs::write(&f, "mine").unwrap();
     assert_input_error(
         &run(&report_args("studies/gyrowheel-2017.toml", &f, "1450", &[])),
-        f.to_str().unwrap(),
+        &[f.to_str().unwrap()],
     );
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "mine");
 
     // a previous report of ours is replaced as a whole
     let r = dir.path().join("r");
-    ok(&run(&report_args(
-        "studies/gyrowheel-2017.toml",
-        &r,
-        "1450",
-        &[],
-    )));
+    write_report("studies/gyrowheel-2017.toml", &r, "1450", &[]);
     assert_complete(&r);
     let first = read(&r, "results.json");
-    ok(&run(&report_args(
-        "studies/gyrowheel-2017.toml",
-        &r,
-        "1500",
-        &[],
-    )));
+    write_report("studies/gyrowheel-2017.toml", &r, "1500", &[]);
     assert_complete(&r);
     assert_ne!(read(&r, "results.json"), first);
     assert_eq!(json(&r)["samples"], 1500);
-    let left: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .filter(|n| n.to_string_lossy().starts_with('.'))
-        .collect();
+    let left = hidden_names(dir.path());
     assert!(
         left.is_empty(),
         "no temporary, old or lock directory left: {left:?}"
@@ -505,7 +458,7 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
         let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
         for o in [&a, &b] {
             if !o.status.success() {
-                assert_input_error(o, "another run is writing this report");
+                assert_input_error(o, &["another run is writing this report"]);
             }
         }
         assert!(
@@ -516,11 +469,7 @@ fn concurrent_reports_into_one_directory_leave_one_complete_report() {
         let samples = json(&out)["samples"].as_u64().unwrap();
         assert!(samples == 1450 || samples == 1600);
     }
-    let left: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .filter(|n| n.to_string_lossy().starts_with('.'))
-        .collect();
+    let left = hidden_names(dir.path());
     assert!(left.is_empty(), "no temporary or lock file left: {left:?}");
 }
 
@@ -554,21 +503,9 @@ fn report_of_a_study_without_a_requirement_answers_with_the_direct_allocation() 
     // the accelerometer's specifications only (the gyro's name an output no longer there)
     let specs = t.find("[[specifications]]").unwrap();
     let ax_specs = t.find("[[specifications]]\noutput = \"ax\"").unwrap();
-    let study = dir.path().join("accel.toml");
-    std::fs::write(
-        &study,
-        format!("{}{}{}", &t[..first], &t[ax..specs], &t[ax_specs..])
-            .replace("name = \"imu-triad-example\"", "name = \"accel\""),
-    )
-    .unwrap();
-    let out = dir.path().join("out");
-    ok(&run(&report_args(
-        study.to_str().unwrap(),
-        &out,
-        "2000",
-        &[],
-    )));
-    let md = read(&out, "report.md");
+    let accel = format!("{}{}{}", &t[..first], &t[ax..specs], &t[ax_specs..])
+        .replace("name = \"imu-triad-example\"", "name = \"accel\"");
+    let (out, md) = report_of_text(dir.path(), "accel", &accel);
     assert!(
         md.contains("no two-step allocation: the direct allocation is the answer"),
         "{md}"
@@ -611,13 +548,12 @@ fn plain(md: &str) -> String {
 fn report_with_a_sheet_answers_with_its_verdict_first_and_treats_groups_as_one() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    ok(&run(&report_args(
+    let md = report_md(
         "studies/gyrowheel-2017.toml",
         &out,
         "1500",
         &["--tolerances", "studies/tolerances/table4.toml"],
-    )));
-    let md = read(&out, "report.md");
+    );
     let answer: Vec<&str> = md
         .lines()
         .skip_while(|l| !l.starts_with("> **Answer.**"))
@@ -726,14 +662,12 @@ fn report_vendor_section_shows_the_rate_errors_with_their_bounds_parts_and_verdi
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let sheet = "studies/tolerances/tactical-rate-table-sheet.toml";
-    let o = run(&report_args(
+    let md = report_md(
         "studies/tactical-rate-table-example.toml",
         &out,
         "2000",
         &["--tolerances", sheet],
-    ));
-    ok(&o);
-    let md = read(&out, "report.md");
+    );
     let start = md
         .find("### Rate errors and translations at the rate steps")
         .expect("the rate errors' subsection");
@@ -835,22 +769,16 @@ fn report_designed_differs_only_in_the_schedule_and_equal_is_the_same() {
             "--designed",
             designed,
         ]);
-        assert_input_error(&o, key);
-        assert!(
-            text(&o.stderr).contains("--designed"),
-            "{}",
-            text(&o.stderr)
-        );
+        assert_input_error_of(key, &o, &[key, "--designed"]);
         assert!(!out.exists());
     }
     let out = dir.path().join("same");
-    ok(&run(&report_args(
+    let md = report_md(
         "studies/gyrowheel-2017.toml",
         &out,
         "2000",
         &["--designed", "studies/gyrowheel-2017.toml"],
-    )));
-    let md = read(&out, "report.md");
+    );
     assert!(
         md.contains("The designed file has the study's own positions: the same turntable, J 54.652 for both."),
         "{md}"

@@ -5,7 +5,10 @@
 
 mod common;
 
-use common::{ok, run as ttalloc, six_face_recording as recording, six_face_study as study_path};
+use common::{
+    assert_input_error, names, ok, run as ttalloc, six_face_recording as recording,
+    six_face_recording_with_a_bad_cell, six_face_study as study_path,
+};
 use std::path::Path;
 
 /// `report` of the six-face study (2,000 Monte Carlo samples) into `out` with the recording
@@ -55,36 +58,16 @@ fn report_with_a_recording_writes_the_processed_run_section_and_its_figures() {
 #[test]
 fn report_with_a_bad_recording_exits_2_naming_line_and_column_and_writes_nothing() {
     let dir = tempfile::tempdir().expect("dir");
-    let log = recording(dir.path());
-    let text = std::fs::read_to_string(&log).expect("log");
-    let bad: String = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            if i == 19 {
-                let (t, rest) = l.split_once(',').expect("cells");
-                format!("{t},oops{rest}\n")
-            } else {
-                format!("{l}\n")
-            }
-        })
-        .collect();
-    let bad_path = dir.path().join("bad.csv");
-    std::fs::write(&bad_path, bad).expect("written");
+    let bad_path = six_face_recording_with_a_bad_cell(dir.path());
     let out = dir.path().join("report");
     let o = report(&out, &bad_path, &[]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("bad.csv:20 (column `gx`)") && err.contains("is not a number"),
-        "{err}"
-    );
+    assert_input_error(&o, &["bad.csv:20 (column `gx`)", "is not a number"]);
     assert!(!out.exists(), "no report directory left behind");
-    let left: Vec<_> = std::fs::read_dir(dir.path())
-        .expect("dir")
-        .map(|e| e.expect("entry").file_name())
-        .collect();
-    assert_eq!(left.len(), 2, "only the two recordings: {left:?}");
+    assert_eq!(
+        names(dir.path()),
+        ["bad.csv", "run.csv"],
+        "only the two recordings"
+    );
 }
 
 #[test]
@@ -99,11 +82,6 @@ fn a_recording_flag_without_a_recording_is_refused_naming_the_flag() {
         out.to_str().expect("utf8"),
         "--robust",
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("--robust") && err.contains("--recording"),
-        "{err}"
-    );
+    assert_input_error(&o, &["--robust", "--recording"]);
     assert!(!out.exists());
 }

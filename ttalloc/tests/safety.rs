@@ -18,8 +18,8 @@
 mod common;
 
 use common::{
-    assert_input_error, names, ok, paper_into, root, run, sha256_hex, stderr, stdout, study_text,
-    write,
+    assert_input_error, hidden_names, names, ok, paper_into, root, run, sha256_hex, stderr, stdout,
+    study_text, write,
 };
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -475,10 +475,7 @@ fn write_study_respects_the_umask() {
         ok(&o);
         assert_eq!(mode(&written), expected, "umask {umask}");
     }
-    let left: Vec<String> = names(dir.path())
-        .into_iter()
-        .filter(|n| n.starts_with('.'))
-        .collect();
+    let left = hidden_names(dir.path());
     assert!(left.is_empty(), "no temporary file left: {left:?}");
 }
 

@@ -6,7 +6,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{assert_input_error, check_turntable, json, num, run, stdout, write};
+use common::{assert_input_error, check_turntable, end_to_end_json, json, num, run, stdout, write};
 
 const IMU_FILE: &str = include_str!("../../studies/imu-triad-example.toml");
 
@@ -165,14 +165,7 @@ fn a_study_without_specifications_keeps_its_answer_and_names_the_accuracy_rule()
 fn end_to_end_answers_the_specifications_over_the_direct_allocation() {
     let dir = tempfile::tempdir().unwrap();
     let path = imu_with(dir.path(), SPECS);
-    let v = json(&[
-        "end-to-end",
-        "--study",
-        &path,
-        "--samples",
-        "2000",
-        "--json",
-    ]);
+    let v = end_to_end_json(&path, "2000", &[]);
     let specs = v["decision"]["specifications"].as_array().unwrap();
     assert_eq!(specs.len(), 4);
     for j in specs {

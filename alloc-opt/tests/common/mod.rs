@@ -84,6 +84,12 @@ pub fn paper_problem() -> AllocationProblem {
     paper::example_problem().expect("paper example is valid")
 }
 
+/// The paper's problem (its model and eq 16's requirement) with the lower bounds `lb_rad`.
+pub fn paper_problem_with_lower_bounds(lb_rad: Vec<f64>) -> AllocationProblem {
+    let requirement = Requirement::uniform_deg(paper::REQUIREMENT_DEG).expect("eq 16");
+    AllocationProblem::new(paper_model(), requirement, lb_rad).expect("valid problem")
+}
+
 pub fn paper_model() -> LinearModel {
     LinearModel::new(&tt_kinematics::paper::table3())
 }

@@ -67,17 +67,32 @@ pub fn json_of(out: &Output) -> serde_json::Value {
 
 /// Assert exit code 2, nothing on standard output, and a message containing every `needle`.
 pub fn assert_input_error(o: &Output, needles: &[&str]) {
+    assert_input_error_of("", o, needles);
+}
+
+/// [`assert_input_error`] for one `case` of a table (named in every message).
+pub fn assert_input_error_of(case: &str, o: &Output, needles: &[&str]) {
     let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    assert_eq!(o.status.code(), Some(2), "{case} exit code; stderr: {err}");
     assert!(
         o.stdout.is_empty(),
-        "stdout must be empty, got {}",
+        "{case} stdout must be empty, got {}",
         stdout(o)
     );
     for n in needles {
-        assert!(err.contains(n), "stderr lacks `{n}`: {err}");
+        assert!(err.contains(n), "{case} stderr lacks `{n}`: {err}");
     }
-    assert!(!err.contains("panicked"), "{err}");
+    assert!(!err.contains("panicked"), "{case} {err}");
+}
+
+/// Assert that `prefix` followed by each `[flag, value]` of `cases` exits 2 naming the flag
+/// (each message names the case).
+pub fn assert_flags_refused(prefix: &[&str], cases: &[[&str; 2]]) {
+    for case in cases {
+        let mut args = prefix.to_vec();
+        args.extend_from_slice(case);
+        assert_input_error_of(&format!("{case:?}"), &run(&args), &[case[0]]);
+    }
 }
 
 /// A shipped study's path relative to the workspace root.
@@ -172,6 +187,15 @@ pub fn names(dir: &Path) -> Vec<String> {
     v
 }
 
+/// The names in `dir` that start with a dot (a temporary, old or lock file left behind),
+/// sorted.
+pub fn hidden_names(dir: &Path) -> Vec<String> {
+    names(dir)
+        .into_iter()
+        .filter(|n| n.starts_with('.'))
+        .collect()
+}
+
 /// A paper report into `out` (1500 samples: few, fast).
 pub fn paper_into(out: &Path) -> Output {
     run(&[
@@ -203,6 +227,25 @@ pub fn six_face_recording(dir: &Path) -> PathBuf {
     let out = dir.join("run.csv");
     std::fs::write(&out, buf).expect("written");
     out
+}
+
+/// [`six_face_recording`] with the `gx` cell of line 20 made `oops<number>`, written to
+/// `dir/bad.csv` (the good recording stays as `dir/run.csv`).
+pub fn six_face_recording_with_a_bad_cell(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(six_face_recording(dir)).expect("the recording");
+    let bad: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 19 {
+                let (t, rest) = l.split_once(',').expect("cells");
+                format!("{t},oops{rest}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    write(dir, "bad.csv", &bad)
 }
 
 /// What the library answers for a study and a tolerance sheet (paths from the workspace root),
@@ -262,6 +305,17 @@ pub fn command_line<'a>(
     }
     a.extend_from_slice(extra);
     a
+}
+
+/// `end-to-end --study STUDY --samples SAMPLES`, then `extra` and `--json`: asserts success and
+/// parses standard output.
+pub fn end_to_end_json(study: &str, samples: &str, extra: &[&str]) -> serde_json::Value {
+    let tail = [extra, &["--json"]].concat();
+    json(&command_line(
+        "end-to-end",
+        &[("--study", study), ("--samples", samples)],
+        &tail,
+    ))
 }
 
 /// The arguments of `check-turntable --study STUDY --tolerances SHEET --samples SAMPLES`
