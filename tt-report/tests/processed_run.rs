@@ -206,7 +206,7 @@ fn the_segments_figure_shades_one_span_per_segment_per_output_and_the_residuals_
             o.name
         );
         assert_eq!(
-            labels.iter().any(|l| l.starts_with(&clipped)),
+            labels.iter().any(|l| l.trim().starts_with(&clipped)),
             o.unit == "deg_per_h",
             "{}: {labels:?}",
             o.name
