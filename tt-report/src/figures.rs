@@ -14,7 +14,8 @@ use plotters::coord::Shift;
 mod run;
 use plotters::prelude::*;
 pub use run::{
-    Envelope, Residuals, STATIC_SHADE, Span, TURNING_SHADE, recording_figure, residual_figure,
+    CLIP_FACTOR, Envelope, Residuals, STATIC_SHADE, Span, TURNING_SHADE, recording_figure,
+    residual_figure,
 };
 
 pub use plotters::style::RGBColor;

@@ -252,6 +252,7 @@ impl Sections<'_> {
                 .map(|(k, o)| Envelope {
                     title: o.name.clone(),
                     y_label: format!("{} ({})", o.name, o.unit),
+                    unit: o.unit.clone(),
                     buckets: ov
                         .buckets()
                         .iter()
@@ -264,9 +265,10 @@ impl Sections<'_> {
             self.doc.figure(
                 "fig_run_segments.svg",
                 format!(
-                    "Every output over the recording (its minimum and maximum in {} buckets of {} samples, kept while the recording streamed), each segment's span shaded (blue static, orange turning) and labelled with its schedule entry.",
+                    "Every output over the recording (its minimum and maximum in {} buckets of {} samples, kept while the recording streamed), each segment's span shaded (blue static, orange turning) and labelled with its schedule entry. Where an output's recording spans more than {} times its static levels' range (a gyro's rotations), its axis fits the static levels: the turning parts are clipped at the axis edge, marked red, and the panel's title states how far they reach.",
                     ov.buckets().len(),
-                    ov.samples_per_bucket()
+                    ov.samples_per_bucket(),
+                    figures::CLIP_FACTOR
                 ),
                 svg,
             );

@@ -245,3 +245,101 @@ fn values_that_cannot_be_plotted_are_typed_errors_naming_the_figure_and_panel() 
     .unwrap_err();
     assert_eq!(e.to_string(), "M: m: the grid is not 3 x 2");
 }
+
+/// A recording of one output: `first` (min, max) over a static span, `turning` over the
+/// rotation after it, `last` over the static span after that; one bucket per second.
+fn buckets(first: (f64, f64), turning: (f64, f64), last: (f64, f64)) -> Vec<(f64, f64, f64, f64)> {
+    (0..30)
+        .map(|k| {
+            let t = f64::from(k);
+            let (lo, hi) = match k {
+                0..10 => first,
+                10..20 => turning,
+                _ => last,
+            };
+            (t, t + 0.98, lo, hi)
+        })
+        .collect()
+}
+
+#[test]
+fn a_gyro_panel_fits_its_static_levels_and_marks_its_rotations_clipped_an_accelerometer_is_whole() {
+    use figures::{Envelope, Span, recording_figure};
+    let spans = vec![
+        Span {
+            t0_s: 0.0,
+            t1_s: 10.0,
+            label: "1".into(),
+            is_static: true,
+        },
+        Span {
+            t0_s: 10.0,
+            t1_s: 20.0,
+            label: "2".into(),
+            is_static: false,
+        },
+        Span {
+            t0_s: 20.0,
+            t1_s: 30.0,
+            label: "3".into(),
+            is_static: true,
+        },
+    ];
+    // the accelerometer's rotation stays within 1.1 times its static levels' range
+    let accel = buckets((0.9, 1.1), (-1.2, 1.2), (-1.1, -0.9));
+    let svg = recording_figure(
+        "R",
+        &[
+            Envelope {
+                title: "gx".into(),
+                y_label: "gx (deg/h)".into(),
+                unit: "deg/h".into(),
+                buckets: buckets((9.0, 11.0), (9.0, 36_000.0), (-16.0, -14.0)),
+            },
+            Envelope {
+                title: "ax".into(),
+                y_label: "ax (g)".into(),
+                unit: "g".into(),
+                buckets: accel,
+            },
+        ],
+        &spans,
+    )
+    .unwrap();
+    let t = texts(&svg);
+    // the gyro's axis spans its static levels (-16 to 11 deg/h) with a margin: no tick
+    // label reaches the rotation (36,000 deg/h); the time axis reads 0-30 s
+    let numbers: Vec<f64> = t.iter().filter_map(|s| s.parse::<f64>().ok()).collect();
+    assert!(numbers.iter().all(|v| v.abs() <= 30.0), "{numbers:?}");
+    assert!(numbers.iter().any(|v| *v <= -10.0), "{numbers:?}");
+    // the gyro's title says what is clipped and how far it reaches; the accelerometer's
+    // panel is whole (its title alone), and the legend names the mark
+    assert!(
+        t.iter()
+            .any(|s| s
+                == "gx: axis fits the static levels; turning parts clipped (up to 36000 deg/h)"),
+        "{t:?}"
+    );
+    assert!(t.iter().any(|s| s == "ax"), "{t:?}");
+    assert!(
+        t.iter()
+            .any(|s| s == "beyond the axis (clipped at its edge)"),
+        "{t:?}"
+    );
+    // one clipped run (the rotation's ten buckets), marked once, besides the legend's swatch
+    assert_eq!(polylines_of(&svg, LIMIT), 1 + 1);
+    // nothing is drawn beyond the figure: every polyline point lies inside the canvas
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let height: f64 = doc
+        .root_element()
+        .attribute("height")
+        .unwrap()
+        .parse()
+        .unwrap();
+    for n in doc.descendants().filter(|n| n.has_tag_name("polyline")) {
+        for p in n.attribute("points").unwrap().split_whitespace() {
+            let y: f64 = p.split(',').nth(1).unwrap().parse().unwrap();
+            assert!((0.0..=height).contains(&y), "{p} outside 0..{height}");
+        }
+    }
+}

@@ -197,6 +197,21 @@ fn the_segments_figure_shades_one_span_per_segment_per_output_and_the_residuals_
             "entry {e}: {labels:?}"
         );
     }
+    // each gyro panel's axis fits its static levels (earth rate, bias and noise: hundreds of
+    // deg/h) and clips the rotations (tens of thousands); each accelerometer panel, whose
+    // rotations stay within its six faces' +-1 g, is whole
+    for o in s.sensor.outputs() {
+        let clipped = format!(
+            "{}: axis fits the static levels; turning parts clipped",
+            o.name
+        );
+        assert_eq!(
+            labels.iter().any(|l| l.trim().starts_with(&clipped)),
+            o.unit == "deg_per_h",
+            "{}: {labels:?}",
+            o.name
+        );
+    }
     let res = svg("fig_run_residuals.svg");
     let doc = roxmltree::Document::parse(&res).unwrap();
     let texts: String = doc
