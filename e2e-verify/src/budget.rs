@@ -704,32 +704,25 @@ const RATE_TOLERANCE_U_PER_TOLERANCE: f64 = 0.577_350_269_189_625_8;
 impl crate::RateQuestions<'_> {
     /// The Jacobian of every output's estimated coefficients with respect to the extra
     /// errors ([`crate::EndToEnd::extra_errors`]; coefficient unit per metre or per unit of
-    /// relative rate error), as [`EndToEnd::coefficient_linearization`] is for the angles:
+    /// relative rate error), as [`crate::EndToEnd::coefficient_linearization`] is for the angles:
     /// zero where no rate step is in the schedule.
     #[must_use]
     pub fn extra_coefficient_linearization(&self) -> Vec<DMatrix<f64>> {
-        let n_extra = self.extra_errors().len();
-        let du: Vec<Vec<[f64; 6]>> = (0..self.len())
-            .map(|i| {
-                (0..n_extra)
-                    .map(|j| self.rate_input_derivative(i, j, true).unwrap_or([0.0; 6]))
-                    .collect()
-            })
-            .collect();
-        self.coefficient_linearization_with(n_extra, |i, j, _| du[i][j])
+        let du = self.extra_input_derivatives();
+        self.coefficient_linearization_with(self.extra_errors().len(), |i, j, _| du[i][j])
     }
 
-    /// [`EndToEnd::specification_rows`] over the angles and the rate tolerances together
-    /// (the columns of [`crate::EndToEnd::rate_linearization`]): each row's sensitivity to a
+    /// [`crate::BudgetQuestions::specification_rows`] over the angles and the rate tolerances together
+    /// (the columns of [`crate::RateQuestions::rate_linearization`]): each row's sensitivity to a
     /// tolerance is $\sum_{e \in t} |c_e|$ over the extra errors it bounds (a coefficient's
-    /// or a range end's from [`crate::EndToEnd::extra_coefficient_linearization`], eq 14's at
+    /// or a range end's from [`crate::RateQuestions::extra_coefficient_linearization`], eq 14's at
     /// a position from `extra_linear`), its factor $\max(1, k/\sqrt3)$ (a rectangular law on
     /// the tolerance). So a scale factor specified in ppm constrains the table's rate
     /// accuracy in ppm whatever the rate of the steps, and its noise part (the noise in the
     /// rate steps' average over the rate) shrinks as the rate grows.
     ///
     /// # Errors
-    /// As [`EndToEnd::specification_rows`].
+    /// As [`crate::BudgetQuestions::specification_rows`].
     pub fn rate_specification_rows(
         &self,
         ctx: &SpecificationContext,

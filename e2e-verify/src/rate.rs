@@ -264,15 +264,23 @@ impl crate::RateQuestions<'_> {
     /// the static positions.
     #[must_use]
     pub fn extra_linearization(&self) -> crate::Linearization {
+        let du = self.extra_input_derivatives();
+        self.linearization_with(self.extra_errors().len(), |i, j, _| du[i][j])
+    }
+
+    /// The derivative of each entry's six inputs with respect to each extra error
+    /// (`[entry][extra error]`, zero at the static positions): what the extra errors'
+    /// linearisations ([`crate::RateQuestions::extra_linearization`],
+    /// [`crate::RateQuestions::extra_coefficient_linearization`]) are built from.
+    pub(crate) fn extra_input_derivatives(&self) -> Vec<Vec<[f64; 6]>> {
         let n_extra = self.extra_errors().len();
-        let du: Vec<Vec<[f64; 6]>> = (0..self.len())
+        (0..self.len())
             .map(|i| {
                 (0..n_extra)
                     .map(|j| self.rate_input_derivative(i, j, true).unwrap_or([0.0; 6]))
                     .collect()
             })
-            .collect();
-        self.linearization_with(n_extra, |i, j, _| du[i][j])
+            .collect()
     }
 
     /// The worst case over the angular box $|\chi_j| \le \mathrm{UB}_j$ and the extra
@@ -773,24 +781,16 @@ impl crate::RateQuestions<'_> {
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<RateAllocation, E2eError> {
-        let none = vec![0.0; self.n_outputs()];
-        self.with_rate_setup(
-            linear,
-            extra_linear,
-            lower_bounds_rad,
-            |setup, combined, lb| {
-                self.exact_rounds(linear, extra_linear, setup, combined, lb, &none, &[])
-            },
-        )
+        self.allocate_direct_rate_specified(linear, extra_linear, lower_bounds_rad, &[])
     }
 
-    /// [`crate::EndToEnd::allocate_direct_rate`] constrained by every specification as well
+    /// [`crate::RateQuestions::allocate_direct_rate`] constrained by every specification as well
     /// (issue 34 item 6): the rows `spec_rows` over the angles and the rate tolerances
-    /// ([`crate::EndToEnd::rate_specification_rows`]) beside eq 14's rows. Without rows it is
-    /// [`crate::EndToEnd::allocate_direct_rate`].
+    /// ([`crate::RateQuestions::rate_specification_rows`]) beside eq 14's rows. Without rows it is
+    /// [`crate::RateQuestions::allocate_direct_rate`].
     ///
     /// # Errors
-    /// As [`crate::EndToEnd::allocate_direct_rate`];
+    /// As [`crate::RateQuestions::allocate_direct_rate`];
     /// [`E2eError::NoTableSuffices`] naming a specification whose noise part alone fills its
     /// limit.
     pub fn allocate_direct_rate_specified(

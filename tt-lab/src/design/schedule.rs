@@ -318,7 +318,7 @@ fn recommended_bounds<'a>(r: &'a ScheduleReport, noise: Option<&'a NoiseCounted>
 
 /// With noise in the study: the positions are searched for the table's part alone (with
 /// `--time-budget-s` the count, the positions and the dwell are then chosen together, see
-/// [`crate::design_budget`]), which the output says; the recommendation then counts the noise
+/// [`crate::design::budget`]), which the output says; the recommendation then counts the noise
 /// ([`CombinedChoice`]).
 pub fn noise_note(s: &Study) -> Option<&'static str> {
     s.noise.iter().any(Option::is_some).then_some(
