@@ -256,33 +256,14 @@ pub(crate) fn bounds_with(
                 *gr += a * dj;
             }
         }
-        let (s, gs) = grad
-            .iter()
-            .copied()
-            .enumerate()
-            .fold(
-                (0, f64::NEG_INFINITY),
-                |b, (r, v)| if v > b.1 { (r, v) } else { b },
-            );
-        let inner: f64 = mu.iter().zip(grad.iter()).map(|(m, g)| m * g).sum();
-        let gu = g + (gs - inner).max(0.0);
-        if gu.is_finite() {
-            upper = upper.min(gu * gu * gu);
-        }
+        let (s, gs) = entering(grad);
+        upper = upper.min(upper_bound(g, gs, mu, grad));
         if upper < stop_below || upper - lower <= GAP_REL * upper {
             break;
         }
-        let (v, _) = mu
-            .iter()
-            .zip(grad.iter())
-            .enumerate()
-            .filter(|(_, (m, _))| **m > 0.0)
-            .fold((usize::MAX, f64::INFINITY), |b, (r, (_, &gv))| {
-                if gv < b.1 { (r, gv) } else { b }
-            });
-        if v == usize::MAX || v == s {
+        let Some(v) = leaving(mu, grad, s) else {
             break;
-        }
+        };
         let gmax = mu[v];
         for (j, dj) in d.iter_mut().enumerate() {
             *dj = rows[s * m + j] - rows[v * m + j];
@@ -312,6 +293,42 @@ pub(crate) fn bounds_with(
         take_step(mu, c, d, (v, s), t);
     }
     (lower, upper)
+}
+
+/// The row that enters the support: the largest gradient entry `(s, grad[s])` (the first of
+/// equal ones).
+fn entering(grad: &[f64]) -> (usize, f64) {
+    grad.iter().copied().enumerate().fold(
+        (0, f64::NEG_INFINITY),
+        |b, (r, v)| if v > b.1 { (r, v) } else { b },
+    )
+}
+
+/// The duality bound's cube $(G + \max(0, g_s - \mu^T g))^3$ at the iterate ($G$: `g`, the
+/// largest gradient entry `gs`), `+inf` when it is not finite (no bound).
+fn upper_bound(g: f64, gs: f64, mu: &[f64], grad: &[f64]) -> f64 {
+    let inner: f64 = mu.iter().zip(grad).map(|(m, g)| m * g).sum();
+    let gu = g + (gs - inner).max(0.0);
+    if gu.is_finite() {
+        gu * gu * gu
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The row of the support (`mu > 0`) with the smallest gradient entry (the first of equal
+/// ones), which gives weight to the entering row `s`; `None` when the support is empty or is
+/// that row (no swap).
+fn leaving(mu: &[f64], grad: &[f64], s: usize) -> Option<usize> {
+    let (v, _) = mu
+        .iter()
+        .zip(grad)
+        .enumerate()
+        .filter(|(_, (m, _))| **m > 0.0)
+        .fold((usize::MAX, f64::INFINITY), |b, (r, (_, &gv))| {
+            if gv < b.1 { (r, gv) } else { b }
+        });
+    (v != usize::MAX && v != s).then_some(v)
 }
 
 /// The step `t` in `[0, gmax]` that maximises the concave `phi(t) = G(c + t d)` along a swap
@@ -445,34 +462,15 @@ mod tests {
                     .map(|(a, d)| a * d)
                     .sum();
             }
-            let (s, gs) =
-                grad.iter()
-                    .copied()
-                    .enumerate()
-                    .fold(
-                        (0, f64::NEG_INFINITY),
-                        |b, (r, v)| if v > b.1 { (r, v) } else { b },
-                    );
-            let inner: f64 = mu.iter().zip(&grad).map(|(m, g)| m * g).sum();
+            let (s, gs) = entering(&grad);
             lower = lower.max(g * g * g);
-            let gu = g + (gs - inner).max(0.0);
-            if gu.is_finite() {
-                upper = upper.min(gu * gu * gu);
-            }
+            upper = upper.min(upper_bound(g, gs, &mu, &grad));
             if lower >= stop_above || upper < stop_below || upper - lower <= GAP_REL * upper {
                 break;
             }
-            let (v, _) = mu
-                .iter()
-                .zip(&grad)
-                .enumerate()
-                .filter(|(_, (m, _))| **m > 0.0)
-                .fold((usize::MAX, f64::INFINITY), |b, (r, (_, &gv))| {
-                    if gv < b.1 { (r, gv) } else { b }
-                });
-            if v == usize::MAX || v == s {
+            let Some(v) = leaving(&mu, &grad, s) else {
                 break;
-            }
+            };
             let gmax = mu[v];
             let d: Vec<f64> = (0..m).map(|j| rows[s * m + j] - rows[v * m + j]).collect();
             // phi(t) = G(c + t d) is concave: phi' decreases; safeguarded Newton on phi' = 0
