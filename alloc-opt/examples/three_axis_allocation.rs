@@ -9,36 +9,13 @@ use alloc_opt::{
     AllocationProblem, Allocator, EqualEffects, Requirement, SensitivityWeighted, exact_chain_check,
 };
 use tt_core::units::{RAD_PER_ARCMIN, arcmin_to_rad};
-use tt_kinematics::{FactorSpec, LinearModel, SignedAxis, Turntable, TurntableDescription};
+use tt_kinematics::conformance::three_axis_description;
+use tt_kinematics::{LinearModel, Turntable};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let j = FactorSpec::joint;
-    let e = FactorSpec::error;
-    let t = |n: &str, a| FactorSpec::Translation {
-        name: n.into(),
-        along: a,
-    };
-    let (x, y, z) = (SignedAxis::X, SignedAxis::Y, SignedAxis::Z);
-    let table = Turntable::new(&TurntableDescription::new(vec![
-        j("phi_o", z),
-        e("dphi_o", z),
-        e("dalpha_ox", x),
-        e("dalpha_oy", y),
-        t("deta_om", y),
-        e("deps_om_y", y),
-        e("deps_om_z", z),
-        j("phi_m", x),
-        e("dphi_m", x),
-        e("dalpha_my", y),
-        e("dalpha_mz", z),
-        t("deta_mi", z),
-        e("deps_mi_z", z),
-        e("deps_mi_x", x),
-        j("phi_i", y),
-        e("dphi_i", y),
-        e("dalpha_ix", x),
-        e("dalpha_iz", z),
-    ]))?;
+    // the workspace's reference three-axis table (tt-kinematics' conformance module), a
+    // `TurntableDescription` written as data: factors from the base to the platform
+    let table = Turntable::new(&three_axis_description())?;
     let model = LinearModel::new(&table);
     let n = model.n_errors();
     let i = arcmin_to_rad(1.62);

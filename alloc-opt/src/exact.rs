@@ -18,7 +18,6 @@ use crate::linearised::Linearised;
 use crate::model::LinearErrorModel;
 use crate::problem::AllocationProblem;
 use nalgebra::{DMatrix, Matrix3};
-use std::f64::consts::TAU;
 use tt_kinematics::LinearModel;
 use tt_kinematics::{
     OrientationAxis, OrientationError, OrientationErrorModel, Pose, Turntable, TurntableErrors,
@@ -411,27 +410,7 @@ fn pose_grid_in(ranges: &[[f64; 2]], free: &[usize]) -> Vec<Vec<f64>> {
         2 => SCAN_POSES_TWO_JOINTS,
         _ => SCAN_POSES_MORE_JOINTS,
     };
-    let base: Vec<f64> = ranges.iter().map(|r| r[0]).collect();
-    let total = per.pow(free.len() as u32);
-    (0..total)
-        .map(|cell| {
-            let mut pose = base.clone();
-            let mut rest = cell;
-            for &j in free {
-                let [lo, hi] = ranges[j];
-                let k = (rest % per) as f64;
-                rest /= per;
-                // A full turn: per points, the end left out (it is the start); otherwise
-                // both ends.
-                pose[j] = if hi - lo >= TAU * (1.0 - 1e-12) || per == 1 {
-                    lo + (hi - lo) * k / per as f64
-                } else {
-                    lo + (hi - lo) * k / (per - 1) as f64
-                };
-            }
-            pose
-        })
-        .collect()
+    crate::model::joint_grid(ranges, free, per, true).collect()
 }
 
 /// An allocation whose exact-chain worst case (as found by [`exact_chain_check`]) is within

@@ -213,26 +213,43 @@ fn to_row(model: &LinearModel, k: usize, wp: WorstPose, abs: bool) -> WorstRow {
     }
 }
 
+/// The grid of `per` points per joint over the joints `free` of `ranges` (the others at the
+/// lower end of their range), the first free joint varying fastest. A joint's points include
+/// both ends of its range, except over a full turn when `open_full_turns` (the end is the
+/// start: `per` points, the end left out).
+pub(crate) fn joint_grid<'a>(
+    ranges: &'a [[f64; 2]],
+    free: &'a [usize],
+    per: usize,
+    open_full_turns: bool,
+) -> impl Iterator<Item = Vec<f64>> + 'a {
+    let base: Vec<f64> = ranges.iter().map(|r| r[0]).collect();
+    let total = per.pow(free.len() as u32);
+    (0..total).map(move |cell| {
+        let mut pose = base.clone();
+        let mut rest = cell;
+        for &j in free {
+            let [lo, hi] = ranges[j];
+            let k = (rest % per) as f64;
+            rest /= per;
+            pose[j] = if per == 1 {
+                lo
+            } else if open_full_turns && hi - lo >= TAU * (1.0 - 1e-12) {
+                lo + (hi - lo) * k / per as f64
+            } else {
+                lo + (hi - lo) * k / (per - 1) as f64
+            };
+        }
+        pose
+    })
+}
+
 /// Start rows: a grid over the free joints' `ranges`.
 fn turntable_grid(model: &LinearModel, k: usize, ranges: &[[f64; 2]], abs: bool) -> Vec<WorstRow> {
     let free = model.free_joints().to_vec();
     let per = start_points(free.len());
-    let base: Vec<f64> = ranges.iter().map(|r| r[0]).collect();
-    let total = per.pow(free.len() as u32);
-    (0..total)
-        .map(|cell| {
-            let mut pose = base.clone();
-            let mut rest = cell;
-            for &j in &free {
-                let [lo, hi] = ranges[j];
-                let i = rest % per;
-                rest /= per;
-                pose[j] = if per == 1 {
-                    lo
-                } else {
-                    lo + (hi - lo) * i as f64 / (per - 1) as f64
-                };
-            }
+    joint_grid(ranges, &free, per, false)
+        .map(|pose| {
             let (row, tag) = turntable_row(model, k, &pose, abs);
             WorstRow {
                 value: f64::NAN,
