@@ -483,6 +483,29 @@ pub struct ActiveRowJson<'a> {
     pub joint_angles_deg: &'a [f64],
 }
 
+/// The errors a direct allocation leaves without a bound (`unconstrained`,
+/// `no_bound_needed`): flattened into `end-to-end --json`'s `direct` and into the report's
+/// `results.json` end to end.
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct UnconstrainedJson<'a> {
+    /// The errors no output constrains.
+    pub unconstrained: Vec<&'a str>,
+    /// Whether no error needs a bound.
+    pub no_bound_needed: bool,
+}
+
+impl<'a> UnconstrainedJson<'a> {
+    /// Those of `d`, named by `names` (the errors in the order of $\chi$).
+    #[must_use]
+    pub fn new(d: &e2e_verify::DirectAllocation, names: &[&'a str]) -> Self {
+        Self {
+            unconstrained: d.unconstrained().iter().map(|&j| names[j]).collect(),
+            no_bound_needed: d.no_bound_needed(),
+        }
+    }
+}
+
 /// The direct allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -491,10 +514,9 @@ pub struct DirectJson<'a> {
     pub objective: f64,
     /// Its bounds, arcmin.
     pub bounds_arcmin: ArcminBounds,
-    /// The errors no output constrains.
-    pub unconstrained: Vec<&'a str>,
-    /// Whether no error needs a bound.
-    pub no_bound_needed: bool,
+    /// The errors no output constrains and whether any error needs a bound.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub unconstrained: UnconstrainedJson<'a>,
     /// The binding rows.
     pub active_rows: Vec<ActiveRowJson<'a>>,
     /// The specifications whose rows bind it, `label (unit)` (empty without specifications;
@@ -579,13 +601,7 @@ impl<'a> ReadingJson<'a> {
             direct: DirectJson {
                 objective: r.direct().objective_arcmin(),
                 bounds_arcmin: arcmin_bounds(&names, r.direct().upper_bounds_rad()),
-                unconstrained: r
-                    .direct()
-                    .unconstrained()
-                    .iter()
-                    .map(|&j| names[j])
-                    .collect(),
-                no_bound_needed: r.direct().no_bound_needed(),
+                unconstrained: UnconstrainedJson::new(r.direct(), &names),
                 active_rows: r
                     .direct()
                     .active_rows()

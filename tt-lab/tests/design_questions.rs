@@ -158,15 +158,8 @@ fn the_designers_objective_of_a_schedule_is_end_to_ends_specified_objective() {
         let spec = tt_lab::design::schedule::spec_objective(&s)
             .unwrap()
             .expect("the IMU example has specifications that leave room");
-        let problem = schedule_design::DesignProblem::new(
-            &s.turntable,
-            &s.sensor,
-            &s.site,
-            s.reading,
-            &s.lower_bounds_rad,
-            s.positions_deg.clone(),
-        )
-        .unwrap();
+        let problem =
+            tt_lab::design::schedule::design_problem(&s, s.positions_deg.clone()).unwrap();
         let study_schedule: Vec<usize> = (0..s.positions_deg.len()).collect();
         let eq14 = problem.evaluate(&study_schedule).unwrap().objective();
         let designer = problem
@@ -311,15 +304,7 @@ fn the_screenings_bound_counts_the_specification_rows_and_stays_below_the_specif
         schedule_design::grid_positions_deg(&s.turntable, 90.0).unwrap(),
         &s.positions_deg,
     );
-    let plain = schedule_design::DesignProblem::new(
-        &s.turntable,
-        &s.sensor,
-        &s.site,
-        s.reading,
-        &s.lower_bounds_rad,
-        candidates,
-    )
-    .unwrap();
+    let plain = tt_lab::design::schedule::design_problem(&s, candidates).unwrap();
     let specified = plain.clone().with_specifications(Some(spec));
     let schedule: Vec<usize> = s
         .positions_deg

@@ -79,7 +79,8 @@ fn allocation_of_a_rate_study_is_the_direct_one_with_rate_tolerances() {
 
 /// `end-to-end`: under the user's reading, Table 4's worst case of the first output is 0.015936
 /// deg/h, and the yield-based allocation needs 1419 turntables to resolve its target (as
-/// `end_to_end_json_*` and `yield_based_allocation_is_judged_against_its_target_*`).
+/// `end_to_end_json_*` and `yield_based_allocation_is_judged_against_its_target_*`); the
+/// direct allocation's view has exactly its keys.
 #[test]
 fn end_to_end_of_the_paper_study_finds_table4_worst_case_under_the_users_reading() {
     let s = study("gyrowheel-2017");
@@ -107,6 +108,28 @@ fn end_to_end_of_the_paper_study_finds_table4_worst_case_under_the_users_reading
     );
     for reading in readings {
         assert_eq!(reading["yield_based"]["min_samples"], 1419);
+        // the direct allocation's keys, `unconstrained` and `no_bound_needed` among them (a
+        // view shared with the report's results.json, flattened in)
+        let keys: Vec<&str> = reading["direct"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(String::as_str)
+            .collect();
+        assert_eq!(
+            keys,
+            [
+                "active_rows",
+                "bounds_arcmin",
+                "box",
+                "limited_by",
+                "no_bound_needed",
+                "objective",
+                "unconstrained",
+            ]
+        );
+        assert_eq!(reading["direct"]["unconstrained"], serde_json::json!([]));
+        assert_eq!(reading["direct"]["no_bound_needed"], false);
     }
     assert_relative_eq!(
         num(&v["direct_objective"]),

@@ -11,6 +11,7 @@ use serde_json::Value;
 use std::cell::Cell;
 use std::collections::BTreeMap;
 use tt_core::units::{objective_to_arcmin, rad_to_arcmin, rad_to_deg};
+use tt_lab::end_to_end::UnconstrainedJson;
 use tt_lab::json::{GroupJson, PerAngle};
 
 thread_local! {
@@ -256,10 +257,9 @@ struct EndToEndJson<'a> {
     boxes: Vec<BoxJson<'a>>,
     /// The direct allocation's box.
     direct: BoxJson<'a>,
-    /// The errors no output constrains.
-    unconstrained: Vec<&'a str>,
-    /// Whether no error needs a bound.
-    no_bound_needed: bool,
+    /// The errors no output constrains and whether any error needs a bound.
+    #[serde(flatten)]
+    unconstrained: UnconstrainedJson<'a>,
     /// The yield-based allocation's box.
     yield_based: BoxJson<'a>,
     /// Its target yield.
@@ -597,13 +597,7 @@ impl<'a> EndToEndJson<'a> {
             reading: r.reading().to_string(),
             boxes: r.boxes().iter().map(boxj).collect(),
             direct: boxj(r.direct_box()),
-            unconstrained: r
-                .direct()
-                .unconstrained()
-                .iter()
-                .map(|&j| names[j])
-                .collect(),
-            no_bound_needed: r.direct().no_bound_needed(),
+            unconstrained: UnconstrainedJson::new(r.direct(), names),
             yield_based: boxj(r.yield_box()),
             yield_target: f(r.yield_based().target()),
             yield_verdict: r.yield_verdict().name(),

@@ -14,7 +14,9 @@ fn paper_study() -> study::Study {
 /// The paper's report through the library: the files `ttalloc report` writes (Markdown, HTML,
 /// figures, results), the Markdown states Table 4's end-to-end verdict under the user's
 /// reading (0.0159 deg/h against 0.01, README "What we find"), and the results model carries
-/// the same seed and samples as asked.
+/// the same seed and samples as asked, and each reading's end to end with exactly its keys
+/// (`unconstrained` and `no_bound_needed` beside the boxes, as before they came from the view
+/// tt-lab's `end-to-end --json` shares).
 #[test]
 fn the_paper_report_renders_from_the_library_with_its_verdict_and_results() {
     let mut options = ReportOptions::default();
@@ -34,6 +36,29 @@ fn the_paper_report_renders_from_the_library_with_its_verdict_and_results() {
     let results = report.results().unwrap();
     assert_eq!(results["seed"], 5);
     assert_eq!(results["samples"], 2_000);
+    let readings = results["end_to_end"].as_array().unwrap();
+    assert_eq!(readings.len(), 2, "the paper's and the user's reading");
+    for r in readings {
+        let keys: Vec<&str> = r.as_object().unwrap().keys().map(String::as_str).collect();
+        assert_eq!(
+            keys,
+            [
+                "boxes",
+                "direct",
+                "direct_certified",
+                "direct_certified_note",
+                "no_bound_needed",
+                "reading",
+                "unconstrained",
+                "yield_based",
+                "yield_target",
+                "yield_verdict",
+            ]
+        );
+        // every error of the paper's table is constrained by some output
+        assert_eq!(r["unconstrained"], serde_json::json!([]));
+        assert_eq!(r["no_bound_needed"], false);
+    }
 }
 
 /// Too few samples to resolve the yield target is the caller's input error, naming it.

@@ -3,7 +3,7 @@
 //! against J, and the chosen point certified on the exact chain (`design-schedule
 //! --time-budget-s`).
 
-use crate::design::schedule::{NoiseCounted, noise_counted};
+use crate::design::schedule::{NoiseCounted, design_problem, noise_counted};
 use crate::end_to_end::uniform_dwell;
 use crate::error::{InputError, Result, library};
 use crate::json::{ArcminBounds, arcmin_bounds};
@@ -212,15 +212,7 @@ pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
         return Ok(());
     }
     let timing = timing_of(s)?;
-    let problem = DesignProblem::new(
-        &s.turntable,
-        &s.sensor,
-        &s.site,
-        s.reading,
-        &s.lower_bounds_rad,
-        s.positions_deg.clone(),
-    )
-    .map_err(|e| library(e, s))?;
+    let problem = design_problem(s, s.positions_deg.clone())?;
     let b = time_budget(s, timing, budget_s, None);
     check_budget_affords(&problem, &b).map_err(|e| match e {
         E2eError::BudgetTooShort {

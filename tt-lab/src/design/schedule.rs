@@ -283,6 +283,24 @@ pub fn spec_objective(s: &Study) -> Result<Option<SpecObjective>> {
     Ok(Some(SpecObjective::new(context, rate_steps)))
 }
 
+/// The design problem of the study's table, sensor, site, reading and lower bounds over the
+/// candidate positions `candidates_deg` (deg, one row per position).
+///
+/// # Errors
+/// A library error located in the study (no candidates, too many, a position of the wrong
+/// length).
+pub fn design_problem(s: &Study, candidates_deg: Vec<Vec<f64>>) -> Result<DesignProblem> {
+    DesignProblem::new(
+        &s.turntable,
+        &s.sensor,
+        &s.site,
+        s.reading,
+        &s.lower_bounds_rad,
+        candidates_deg,
+    )
+    .map_err(|e| library(e, s))
+}
+
 /// The search's J and the end-to-end path's differ (a defect, not the input's).
 #[derive(Debug, thiserror::Error)]
 #[error("internal: the search's J {searched} and the end-to-end path's {reported} differ")]
