@@ -109,15 +109,25 @@ pub fn delta_r_of_angles<M: OrientationErrorModel + ?Sized>(
 /// ```
 pub trait OrientationErrorModel {
     /// $(\Delta\psi, \Delta\theta, \Delta\gamma)$ at `pose` for turntable `errors`.
+    /// Default: read off the exact [`OrientationErrorModel::delta_r`] by eq 24
+    /// ([`OrientationError::from_matrix_elements`]), so a model that knows its
+    /// $\Delta\mathbf R$ implements only that; a model that knows only its angles implements
+    /// this. A model that implements neither gets [`KinematicsError::NoDeltaR`] (typed, at the
+    /// first call; the conformance suite names it).
     ///
     /// # Errors
     /// [`KinematicsError::Field`] ([`tt_core::FieldError::Length`]) when the pose or the errors do not fit the model's
-    /// turntable; [`KinematicsError::WrongTurntable`] for a model of one specific table.
+    /// turntable; [`KinematicsError::WrongTurntable`] for a model of one specific table;
+    /// [`KinematicsError::NoDeltaR`] by default without [`OrientationErrorModel::delta_r`].
     fn orientation_error(
         &self,
         pose: &Pose,
         errors: &TurntableErrors,
-    ) -> Result<OrientationError, KinematicsError>;
+    ) -> Result<OrientationError, KinematicsError> {
+        Ok(OrientationError::from_matrix_elements(
+            &self.delta_r(pose, errors)?,
+        ))
+    }
 
     /// The names of the angular errors $\chi_j$, one per error in the order of $\chi$ (lower
     /// case, as every name of the workspace). Their number is the model's error count

@@ -238,15 +238,6 @@ impl OrientationErrorModel for Stretching {
         ));
         Ok(self.0.delta_r(pose, errors)? * stretch)
     }
-    fn orientation_error(
-        &self,
-        pose: &Pose,
-        errors: &TurntableErrors,
-    ) -> Result<OrientationError, KinematicsError> {
-        Ok(OrientationError::from_matrix_elements(
-            &self.delta_r(pose, errors)?,
-        ))
-    }
 }
 
 /// The exact chain with the sign of psi flipped in its angles but not in its delta_r.
@@ -344,5 +335,38 @@ fn a_model_without_delta_r_is_a_typed_error_at_poses() {
             expected: 8,
             found: 7
         })
+    );
+}
+
+/// A model that gives neither its $\Delta\mathbf R$ nor its angles compiles against the
+/// trait's defaults (the angles are read off `delta_r`) and gets the typed `NoDeltaR` from its
+/// orientation error, never a panic; a model that gives only `delta_r` (the stretching mount
+/// above, the azel example) gets its angles read off it by eq 24.
+#[test]
+fn the_default_orientation_error_is_read_off_delta_r_or_is_a_typed_error() {
+    struct NamesOnly;
+    impl OrientationErrorModel for NamesOnly {
+        fn error_names(&self) -> Vec<String> {
+            vec!["a".into()]
+        }
+    }
+    let pose = Pose::from_deg(&[0.0, 30.0]).unwrap();
+    let e = NamesOnly
+        .orientation_error(&pose, &TurntableErrors::new(vec![0.0], vec![]).unwrap())
+        .unwrap_err();
+    assert_eq!(e, KinematicsError::NoDeltaR);
+    let t = table3();
+    let chi = TurntableErrors::new(
+        (0..8).map(|j| 1e-4 * (j as f64 + 1.0)).collect(),
+        vec![0.0; t.n_translation_errors()],
+    )
+    .unwrap();
+    let stretching = Stretching(ExactChain::new(&t));
+    let want = OrientationError::from_matrix_elements(&stretching.delta_r(&pose, &chi).unwrap());
+    let got = stretching.orientation_error(&pose, &chi).unwrap();
+    // the same operations: bit for bit
+    assert_eq!(
+        got.to_array().map(f64::to_bits),
+        want.to_array().map(f64::to_bits)
     );
 }

@@ -34,8 +34,9 @@
 //!
 //! # One definition
 //! [`AzElMount`] implements [`OrientationErrorModel`] once: its error names, its exact
-//! $\Delta\mathbf R$, the angles read off it and the one fact the end-to-end second-order
-//! bound needs (its angle-sum bound). Everything else comes from the library:
+//! $\Delta\mathbf R$ and the one fact the end-to-end second-order bound needs (its angle-sum
+//! bound). Everything else comes from the library:
+//! - the angles: read off $\Delta\mathbf R$ by eq 24 (the trait's default);
 //! - the first order: `tt_kinematics::derived_first_order` (the trait's default);
 //! - the linear model, its proven worst case, the allocators and their certificate:
 //!   [`alloc_opt::Linearised`] ([`linearised`]);
@@ -52,7 +53,7 @@ use alloc_opt::{
 };
 use nalgebra::Matrix3;
 use std::f64::consts::{FRAC_PI_2, TAU};
-use tt_core::{Axis, OrientationError, Pose};
+use tt_core::{Axis, Pose};
 use tt_kinematics::rotation::rot;
 use tt_kinematics::{AtPoses, KinematicsError, OrientationErrorModel, TurntableErrors};
 
@@ -102,16 +103,6 @@ impl AzElMount {
 impl OrientationErrorModel for AzElMount {
     fn error_names(&self) -> Vec<String> {
         ERROR_NAMES.iter().map(|n| n.to_string()).collect()
-    }
-
-    fn orientation_error(
-        &self,
-        pose: &Pose,
-        errors: &TurntableErrors,
-    ) -> Result<OrientationError, KinematicsError> {
-        Ok(OrientationError::from_matrix_elements(
-            &self.delta_r(pose, errors)?,
-        ))
     }
 
     fn delta_r(
