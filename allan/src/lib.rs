@@ -13,6 +13,5 @@ pub use fit::{FLICKER_FLOOR_FACTOR, GaussMarkovFit, Resolution, Term};
 pub use levels::{ALL_DENSE, ALL_PER_OCTAVE, MAX_LIST_EVALUATIONS, Taus};
 pub use noise::{NoiseModel, PowerLaw};
 pub use stream::{
-    AllanPoint, Analysis, DEFAULT_OVERLAP, MAX_OVERLAP, NoiseFit, RATE_HZ, Settings,
-    StreamingAllan, analyse,
+    AllanPoint, Analysis, DEFAULT_OVERLAP, NoiseFit, RATE_HZ, Settings, StreamingAllan, analyse,
 };

@@ -16,7 +16,7 @@ const BLOCK: usize = 4096;
 pub const RATE_HZ: (f64, f64) = (1e-9, 1e12);
 
 /// Largest overlap factor accepted.
-pub const MAX_OVERLAP: u64 = 1 << 16;
+pub(crate) const MAX_OVERLAP: u64 = 1 << 16;
 
 /// Default overlap factor $R$ (evaluations per cluster time beyond full overlap).
 pub const DEFAULT_OVERLAP: u64 = 256;

@@ -19,7 +19,7 @@ use tt_kinematics::{ChainKind, Pose, RateEnvironment, RateErrorValues, RateStep,
 pub const OUTLIER_Z: f64 = 3.0;
 
 /// Huber's tuning constant (95 % efficiency at the normal), in standardized residuals.
-pub const HUBER_C: f64 = 1.345;
+pub(crate) const HUBER_C: f64 = 1.345;
 
 /// Iterations of the robust fit at most.
 const HUBER_MAX_ITER: usize = 100;
@@ -79,7 +79,7 @@ pub struct MeasuredNoise {
 impl MeasuredNoise {
     /// Variance of a segment's average over `duration_s`: $N^2/T$ + floor$^2$.
     #[must_use]
-    pub fn variance_of_mean(&self, duration_s: f64) -> f64 {
+    pub(crate) fn variance_of_mean(&self, duration_s: f64) -> f64 {
         self.white_per_sqrt_hz.powi(2) / duration_s + self.floor.powi(2)
     }
 }

@@ -28,7 +28,6 @@ pub mod simulate;
 
 pub use error::{At, RunError};
 pub use estimate::{
-    CalibrateOptions, CoefficientResult, HUBER_C, MeasuredNoise, OUTLIER_Z, OutputResult,
-    ResidualRow, Run, Segment, Spec, Verdict, calibrate, calibrate_observed, study_verdicts,
-    verdicts,
+    CalibrateOptions, CoefficientResult, MeasuredNoise, OUTLIER_Z, OutputResult, ResidualRow, Run,
+    Segment, Spec, Verdict, calibrate, calibrate_observed, study_verdicts, verdicts,
 };

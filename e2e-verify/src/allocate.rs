@@ -1540,7 +1540,7 @@ impl DirectSetup<'_> {
     /// As [`DirectSetup::allocate`]; [`E2eError::NoTableSuffices`] naming the first
     /// specification whose noise part fills its limit; [`E2eError::InfeasibleLowerBounds`]
     /// naming a specification the lower bounds alone exceed.
-    pub fn allocate_with_rows(
+    pub(crate) fn allocate_with_rows(
         &self,
         linear: &Linearization,
         lower_bounds_rad: &[f64],

@@ -126,9 +126,8 @@ pub use linear::{BoxDetail, BoxMeets, Linearization, OutputWorstCase, WorstCase}
 /// output unit.
 pub use mc_verify::Histogram;
 pub use montecarlo::{
-    DEFAULT_BINS, DEFAULT_CHUNK_SIZE, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS,
-    REPORTED_QUANTILES, RateDistribution, RateQuantile, WorstDraw, YieldCount, Z_95,
-    wilson_interval_95,
+    DEFAULT_CHUNK_SIZE, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS, REPORTED_QUANTILES,
+    RateDistribution, RateQuantile, WorstDraw, YieldCount, wilson_interval_95,
 };
 pub use noise::{
     CombinedBox, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer, NoiseBudget,

@@ -38,13 +38,13 @@ use mc_verify::{
 use tt_kinematics::ScheduleErrorModel;
 
 /// Standard normal quantile of 97.5% ($z$ of a two-sided 95% interval).
-pub const Z_95: f64 = 1.959_963_984_540_054;
+pub(crate) const Z_95: f64 = 1.959_963_984_540_054;
 
 /// Default number of samples per chunk (one random stream each).
 pub const DEFAULT_CHUNK_SIZE: u32 = 1024;
 
 /// Default number of histogram bins (the figure's histogram).
-pub const DEFAULT_BINS: usize = 40;
+pub(crate) const DEFAULT_BINS: usize = 40;
 
 /// Largest number of figure histogram bins.
 pub const MAX_BINS: usize = 10_000;

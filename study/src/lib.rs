@@ -32,7 +32,7 @@ mod tolerances;
 
 pub use error::StudyError;
 pub use schema::{
-    DEFAULT_DELTA_R, DEFAULT_READING, Measured, MonteCarloSettings, RequirementSource, Study,
-    StudyRateStep, default_revolutions, is_name_slug,
+    Measured, MonteCarloSettings, RequirementSource, Study, StudyRateStep, default_revolutions,
+    is_name_slug,
 };
-pub use tolerances::{DiscBound, Tolerances, ValueConvention, sheet_bound_words};
+pub use tolerances::{DiscBound, Tolerances, sheet_bound_words};

@@ -17,10 +17,10 @@ use tt_kinematics::{
 
 /// The reading of eq 13 when a study does not name one: outputs at the actual orientation,
 /// the user's estimate, eq 13's printed form: what a calibrating engineer gets.
-pub const DEFAULT_READING: &str = "actual/beta1/printed";
+pub(crate) const DEFAULT_READING: &str = "actual/beta1/printed";
 
 /// The orientation-error matrix when a study does not name one: the exact rotation.
-pub const DEFAULT_DELTA_R: &str = "exact";
+pub(crate) const DEFAULT_DELTA_R: &str = "exact";
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -58,7 +58,7 @@ struct RawAxis {
 /// bound (the default), one standard deviation (the bound taken as $3\sigma$) or
 /// peak-to-peak (the bound is half of it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ValueConvention {
+pub(crate) enum ValueConvention {
     /// `bound`: $\lvert\chi\rvert \le v$ (the default).
     Bound,
     /// `one-sigma`: $v = \sigma$, bound $3v$ (99.73% of a normal law).

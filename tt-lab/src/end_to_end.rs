@@ -1021,7 +1021,7 @@ pub fn noise_budget(s: &Study, e2e: &EndToEnd) -> Result<Option<e2e_verify::Nois
 /// The one dwell of every position (bit for bit), `None` for a per-position list that differs
 /// (or an empty one).
 #[must_use]
-pub fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
+pub(crate) fn uniform_dwell(dwell_s: &[f64]) -> Option<f64> {
     let first = *dwell_s.first()?;
     dwell_s
         .iter()

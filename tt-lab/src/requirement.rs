@@ -161,7 +161,7 @@ pub fn all_readings(s: &Study, o: &Options) -> Result<Vec<ReadingRequirement>> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct RequirementOutputJson<'a> {
+pub(crate) struct RequirementOutputJson<'a> {
     /// The output's name.
     name: &'a str,
     /// Its unit (the study's).

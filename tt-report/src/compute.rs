@@ -30,7 +30,7 @@ pub(crate) const CUT_POINTS: usize = 81;
 
 /// What to compute.
 #[derive(Debug, Clone)]
-pub struct Options {
+pub(crate) struct Options {
     /// Monte Carlo seed.
     pub seed: u64,
     /// Monte Carlo turntables per box.
@@ -49,7 +49,7 @@ pub struct Options {
 
 /// One output's orientation-error plane: the data of the surfaces, lines and cuts.
 #[derive(Debug, Clone)]
-pub struct OutputPlane {
+pub(crate) struct OutputPlane {
     /// Output index.
     pub output: usize,
     /// The angles it is sensitive to (indices into psi, theta, gamma).
@@ -66,7 +66,7 @@ pub struct OutputPlane {
 
 /// The two-step allocation and what follows from it.
 #[derive(Debug, Clone)]
-pub struct TwoStep {
+pub(crate) struct TwoStep {
     /// The problem (first-order model, the study's requirement, lower bounds).
     pub problem: AllocationProblem,
     /// The sensitivity-weighted allocation (the paper's method solved to the optimum).
@@ -81,7 +81,7 @@ pub struct TwoStep {
 
 /// One schedule's facts for the side-by-side comparison.
 #[derive(Debug, Clone)]
-pub struct ScheduleFacts {
+pub(crate) struct ScheduleFacts {
     /// The study path as given.
     pub path: String,
     /// Number of positions.
@@ -98,7 +98,7 @@ pub struct ScheduleFacts {
 
 /// The paper's extras.
 #[derive(Debug, Clone)]
-pub struct PaperExtras {
+pub(crate) struct PaperExtras {
     /// The Monte Carlo of Table 4's box with the requirement of eq 16.
     pub table4_monte_carlo: MonteCarlo,
     /// Its result.
@@ -109,7 +109,7 @@ pub struct PaperExtras {
 
 /// The computed report.
 #[derive(Debug, Clone)]
-pub struct Computed {
+pub(crate) struct Computed {
     /// The study.
     pub study: Study,
     /// The options.
@@ -468,7 +468,7 @@ struct Later {
 /// # Errors
 /// [`InputError`]s for inputs the libraries reject (exit 2), other errors when a solver
 /// fails.
-pub fn compute(study: Study, options: Options) -> Result<Computed> {
+pub(crate) fn compute(study: Study, options: Options) -> Result<Computed> {
     let started = Instant::now();
     let s = &study;
     let setup = setup(s, &options)?;

@@ -14,7 +14,7 @@ use tt_core::units::rad_to_deg;
 
 /// One printed number of the paper beside ours.
 #[derive(Debug, Clone, Serialize)]
-pub struct Comparison {
+pub(crate) struct Comparison {
     /// What it is.
     pub quantity: String,
     /// The paper's value.
@@ -29,7 +29,7 @@ pub struct Comparison {
 
 /// The paper's printed values beside ours.
 #[must_use]
-pub fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
+pub(crate) fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
     let mut out = Vec::new();
     let s = &c.study;
     if let Ok(r) = &c.requirement.computed {
@@ -148,7 +148,7 @@ fn see(sec: &Sections<'_>, id: &str) -> Option<String> {
 /// The paper-versus-ours and claims sections, as their own document (spliced in near the
 /// top of the report).
 #[must_use]
-pub fn sections(sec: &Sections<'_>, x: &PaperExtras, rows: &[Comparison]) -> Doc {
+pub(crate) fn sections(sec: &Sections<'_>, x: &PaperExtras, rows: &[Comparison]) -> Doc {
     let mut doc = Doc::default();
     doc.h(2, "Paper versus ours");
     doc.table(

@@ -15,19 +15,19 @@ use tt_kinematics::{Factor, OrientationAxis};
 
 /// Greek letter of angle `k` (ψ, θ, γ).
 #[must_use]
-pub fn greek(k: usize) -> &'static str {
+pub(crate) fn greek(k: usize) -> &'static str {
     ["ψ", "θ", "γ"][k.min(2)]
 }
 
 /// `Δψ`, `Δθ`, `Δγ`.
 #[must_use]
-pub fn d(k: usize) -> String {
+pub(crate) fn d(k: usize) -> String {
     format!("Δ{}", greek(k))
 }
 
 /// A unit label for people: `deg_per_h` → `deg/h`.
 #[must_use]
-pub fn unit(u: &str) -> String {
+pub(crate) fn unit(u: &str) -> String {
     u.replace("_per_", "/")
         .replace("/(g)", "/g")
         .replace("^2", "²")
@@ -63,7 +63,7 @@ fn sentence(note: &str) -> String {
 /// A joint's name for people: a leading `phi` becomes φ and trailing digits subscripts
 /// (`phi1` → `φ₁`, `phi_o` → `φ_o`); other names as written.
 #[must_use]
-pub fn joint(name: &str) -> String {
+pub(crate) fn joint(name: &str) -> String {
     match name.strip_prefix("phi") {
         Some(rest) if rest.chars().all(|c| c.is_ascii_digit()) => {
             let sub: String = rest
@@ -175,10 +175,10 @@ fn lower_first(text: &str) -> String {
 
 /// The paper's Table 4 beside the allocation: bounds (arcmin), J (arcmin⁻²), shares of the
 /// requirement.
-pub type PaperColumn = (Vec<f64>, f64, [Option<f64>; 3]);
+pub(crate) type PaperColumn = (Vec<f64>, f64, [Option<f64>; 3]);
 
 /// Context shared by the sections.
-pub struct Sections<'a> {
+pub(crate) struct Sections<'a> {
     /// The computed report.
     pub c: &'a Computed,
     /// The document.

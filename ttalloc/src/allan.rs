@@ -239,7 +239,7 @@ fn text_of(log: &NoiseLog, unit: &str) -> String {
 /// # Errors
 /// [`InputError`] for bad input (exit 2, nothing on standard output); other errors for a
 /// failing disk.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let outputs: Vec<(&str, &Path)> = [
         ("--figure", &args.figure),
         ("--write-noise", &args.write_noise),

@@ -29,7 +29,7 @@ use tt_lab::allocation::{AllocateJson, Allocations, RateStudyJson, StudyAllocati
 
 /// The constraint of the per-angle problems.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum FormChoice {
+pub(crate) enum FormChoice {
     /// As printed: the quarter pose ranges of problems 31 and 33 (tables with one free joint).
     Paper,
     /// Eq 30 itself over every pose (any table; the same optimum for the paper's).
@@ -165,7 +165,7 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
 }
 
 /// Run the command.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = args.study.load()?;
     let form = match args.constraint_form {
         FormChoice::Paper => ConstraintForm::PaperQuarterRanges,

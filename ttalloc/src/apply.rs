@@ -40,7 +40,7 @@ pub struct Args {
 ///
 /// # Errors
 /// [`InputError`] for bad input (exit 2); others.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let name = args.calibration.display().to_string();
     let text = std::fs::read_to_string(&args.calibration)
         .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;

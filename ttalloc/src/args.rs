@@ -43,7 +43,7 @@ pub struct Sampling {
 /// `--k-sigma`, `--jcgm101` and `--mc-digits`: the noise part's confidence multiplier and the
 /// JCGM 101 Monte Carlo of every specification (the vendor check's and end to end's).
 #[derive(Debug, clap::Args)]
-pub struct Uncertainty {
+pub(crate) struct Uncertainty {
     /// Confidence multiplier of the noise part (combined = table + k sigma), in (0, 10];
     /// used when the study gives noise and a timing.
     #[arg(long, allow_negative_numbers = true, default_value_t = e2e_verify::DEFAULT_K_SIGMA, value_parser = k_sigma)]
@@ -85,7 +85,7 @@ pub fn count(s: &str, max: u64) -> Result<u64, String> {
 ///
 /// # Errors
 /// As [`count`].
-pub fn samples(s: &str) -> Result<u64, String> {
+pub(crate) fn samples(s: &str) -> Result<u64, String> {
     count(s, study::limits::MAX_SAMPLES)
 }
 
@@ -94,7 +94,7 @@ pub fn samples(s: &str) -> Result<u64, String> {
 ///
 /// # Errors
 /// As [`count`].
-pub fn positions(s: &str) -> Result<u64, String> {
+pub(crate) fn positions(s: &str) -> Result<u64, String> {
     count(s, study::limits::MAX_POSITIONS as u64)
 }
 
@@ -103,7 +103,7 @@ pub fn positions(s: &str) -> Result<u64, String> {
 ///
 /// # Errors
 /// As [`count`].
-pub fn mc_digits(s: &str) -> Result<u32, String> {
+pub(crate) fn mc_digits(s: &str) -> Result<u32, String> {
     count(s, u64::from(tt_lab::budget_mc::MAX_DIGITS)).map(|v| v as u32)
 }
 
@@ -111,7 +111,7 @@ pub fn mc_digits(s: &str) -> Result<u32, String> {
 ///
 /// # Errors
 /// As [`count`].
-pub fn threads(s: &str) -> Result<u32, String> {
+pub(crate) fn threads(s: &str) -> Result<u32, String> {
     count(s, 1024).map(|v| v as u32)
 }
 
@@ -119,7 +119,7 @@ pub fn threads(s: &str) -> Result<u32, String> {
 ///
 /// # Errors
 /// As [`count`].
-pub fn count_u32(s: &str) -> Result<u32, String> {
+pub(crate) fn count_u32(s: &str) -> Result<u32, String> {
     count(s, u64::from(u32::MAX)).map(|v| v as u32)
 }
 
@@ -127,7 +127,7 @@ pub fn count_u32(s: &str) -> Result<u32, String> {
 ///
 /// # Errors
 /// A message naming the value and the range.
-pub fn fraction(s: &str) -> Result<f64, String> {
+pub(crate) fn fraction(s: &str) -> Result<f64, String> {
     let v: f64 = s
         .trim()
         .parse()
@@ -156,7 +156,7 @@ pub fn seed(s: &str) -> Result<u64, String> {
 ///
 /// # Errors
 /// A message naming the value and the range (NaN and infinities are outside).
-pub fn number_in(s: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
+pub(crate) fn number_in(s: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
     let v: f64 = s
         .trim()
         .parse()
@@ -176,7 +176,7 @@ pub fn number_in(s: &str, lo: f64, hi: f64, what: &str) -> Result<f64, String> {
 ///
 /// # Errors
 /// A message naming the value and the range.
-pub fn positive(s: &str, max: f64) -> Result<f64, String> {
+pub(crate) fn positive(s: &str, max: f64) -> Result<f64, String> {
     let v: f64 = s
         .trim()
         .parse()
@@ -196,7 +196,7 @@ pub fn positive(s: &str, max: f64) -> Result<f64, String> {
 ///
 /// # Errors
 /// A message naming the value and the range.
-pub fn k_sigma(s: &str) -> Result<f64, String> {
+pub(crate) fn k_sigma(s: &str) -> Result<f64, String> {
     let v: f64 = s
         .trim()
         .parse()

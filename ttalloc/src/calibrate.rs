@@ -45,7 +45,7 @@ pub struct Args {
 
 /// How a recording is read and processed (`calibrate`, and `report --recording`).
 #[derive(Debug, Clone, Default, clap::Args)]
-pub struct RecordingArgs {
+pub(crate) struct RecordingArgs {
     /// Segments file (CSV `start,end,entry[,kind]`); default: detected.
     #[arg(long)]
     pub segments: Option<PathBuf>,
@@ -82,7 +82,7 @@ impl RecordingArgs {
     /// The first of these flags given (as the user writes it), if any: `report` refuses them
     /// without `--recording`.
     #[must_use]
-    pub fn first_given(&self) -> Option<&'static str> {
+    pub(crate) fn first_given(&self) -> Option<&'static str> {
         [
             (self.segments.is_some(), "--segments"),
             (!self.columns.is_empty(), "--column"),
@@ -195,7 +195,7 @@ fn pair<'a>(flag: &str, s: &'a str) -> Result<(&'a str, &'a str), InputError> {
 ///
 /// # Errors
 /// [`InputError`] for bad input (exit 2); others.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = st::load(args.study.as_deref())?;
     if let Some(out) = &args.out {
         calib_run::file::Format::of_path(out, "--out")

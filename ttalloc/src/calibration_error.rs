@@ -31,7 +31,7 @@ pub struct Args {
 }
 
 /// Run the command.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = crate::loaded::load(args.study.as_deref())?;
     let mut rows = tt_lab::rows::calibration_rows(&s).map_err(crate::input::lab)?;
     let header = rows.columns().join(",");

@@ -147,7 +147,7 @@ fn reading_text(e2e: &EndToEnd, c: &TurntableCheck, noisy: Option<&NoisyCheck>) 
 
 /// The check as text: one block per reading (the study's, then the user's when different).
 #[must_use]
-pub fn to_text(
+pub(crate) fn to_text(
     checks: &[(EndToEnd, TurntableCheck)],
     study_path: &str,
     sheet: &ToleranceSheet,
@@ -195,7 +195,7 @@ pub fn to_text(
 ///
 /// # Errors
 /// [`InputError`] for a bad study, tolerance file or flag; other errors if a computation fails.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = crate::loaded::load(args.study.as_deref())?;
     let options = tt_lab::vendor::Options {
         samples: args.sampling.samples,

@@ -12,7 +12,7 @@ use tt_kinematics::Turntable;
 
 /// Where the CSV comes from.
 #[derive(Debug, Clone)]
-pub enum Source {
+pub(crate) enum Source {
     /// A file, FIFO or other named input (read once).
     File(PathBuf),
     /// Standard input (read once).
@@ -22,7 +22,7 @@ pub enum Source {
 impl Source {
     /// `None` or `-` is standard input.
     #[must_use]
-    pub fn from_arg(arg: Option<&Path>) -> Self {
+    pub(crate) fn from_arg(arg: Option<&Path>) -> Self {
         match arg {
             Some(p) if p != Path::new("-") => Source::File(p.to_path_buf()),
             _ => Source::Stdin,
@@ -102,7 +102,7 @@ where
 /// # Errors
 /// The first [`InputError`] of the input or of `eval` (nothing written then); I/O errors of
 /// standard output (a closed pipe ends quietly, see [`crate::out`]).
-pub fn run_rows<F>(
+pub(crate) fn run_rows<F>(
     source: &Source,
     turntable: &Turntable,
     joints: JointColumns,

@@ -11,7 +11,7 @@ use tt_core::human::{num, sig};
 use tt_lab::design::budget::{Budgeted, NOISELESS_NOTE, origin, tolerances_text};
 
 /// The budget's answer in words, with the Pareto front as a table.
-pub fn text(s: &Study, b: &Budgeted) -> String {
+pub(crate) fn text(s: &Study, b: &Budgeted) -> String {
     let d = match b {
         Budgeted::Noiseless { budget_s } => {
             return format!("time budget {} s: {NOISELESS_NOTE}\n\n", num(*budget_s));
@@ -121,7 +121,7 @@ pub fn text(s: &Study, b: &Budgeted) -> String {
 }
 
 /// Why `--pareto-svg` writes no figure when the front is empty (an answer, not an error).
-pub const EMPTY_FRONT_NOTE: &str =
+pub(crate) const EMPTY_FRONT_NOTE: &str =
     "not written: the Pareto front is empty (no table suffices at any dwell), nothing to draw";
 
 /// The Pareto front as a figure in the report's style (the report's line-figure code):
@@ -130,7 +130,7 @@ pub const EMPTY_FRONT_NOTE: &str =
 ///
 /// # Errors
 /// When a value is not plottable.
-pub fn svg(d: &BudgetDesign) -> Result<Option<String>> {
+pub(crate) fn svg(d: &BudgetDesign) -> Result<Option<String>> {
     if d.pareto().is_empty() {
         return Ok(None);
     }

@@ -20,7 +20,7 @@ pub use tt_lab::design::rates::{FLAG, MAX_RATE_DEG_PER_S};
 ///
 /// # Errors
 /// A message for clap (exit 2 naming the flag).
-pub fn rate(s: &str) -> Result<f64, String> {
+pub(crate) fn rate(s: &str) -> Result<f64, String> {
     crate::args::positive(s, MAX_RATE_DEG_PER_S)
 }
 
@@ -28,6 +28,6 @@ pub fn rate(s: &str) -> Result<f64, String> {
 ///
 /// # Errors
 /// As the library's.
-pub fn check(s: &Study, rates: &[f64]) -> Result<()> {
+pub(crate) fn check(s: &Study, rates: &[f64]) -> Result<()> {
     Ok(tt_lab::design::rates::check(s, rates)?)
 }

@@ -421,7 +421,7 @@ fn tail_text(s: &Study, o: &Outcome) -> String {
 /// # Errors
 /// [`InputError`] for bad inputs (exit 2, nothing on standard output); other errors if a
 /// solver fails.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = args.study.load()?;
     let mut options = Options::default();
     options.positions = args.positions.map(|n| n as usize);

@@ -53,7 +53,7 @@ pub struct Args {
 /// The noise part of the text: per reading, every box's combined answer and the direct
 /// allocation with the noise part kept free; then the trade-off.
 #[must_use]
-pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
+pub(crate) fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
     let mut t = String::new();
     let outputs = e2e.calibration().outputs();
     let sigma = n.readings[0].sigma();
@@ -128,7 +128,7 @@ pub fn noise_text(e2e: &EndToEnd, a: &BuyersAnswer, n: &NoisyAnswer) -> String {
 /// The answers at the noise parameters' +- 1 standard uncertainty, per output the parameter
 /// its noise sigma depends on most, and the shortest dwell at the two corners.
 #[must_use]
-pub fn sensitivity_text(
+pub(crate) fn sensitivity_text(
     e2e: &EndToEnd,
     sens: &e2e_verify::NoiseSensitivity,
     tr: &Tradeoff,
@@ -186,7 +186,7 @@ pub fn sensitivity_text(
 /// The trade-off in words and as a table; with a per-position dwell list, what was scanned
 /// (the list scaled alike) and the dwells as means.
 #[must_use]
-pub fn tradeoff_text(tr: &Tradeoff, scanned: &Scanned) -> String {
+pub(crate) fn tradeoff_text(tr: &Tradeoff, scanned: &Scanned) -> String {
     let mut t = String::new();
     let list = scanned.list_words();
     let mean = if list.is_some() { "mean " } else { "" };
@@ -276,7 +276,7 @@ fn zeroed_outputs<'a>(e2e: &'a EndToEnd, r: &ReadingAnswer) -> Vec<(&'a str, &'a
 
 /// The command's text.
 #[must_use]
-pub fn to_text(
+pub(crate) fn to_text(
     s: &Study,
     e2e: &EndToEnd,
     a: &BuyersAnswer,
@@ -380,7 +380,7 @@ pub fn to_text(
 ///
 /// # Errors
 /// [`InputError`] for bad inputs; other errors if a solver fails.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = args.study.load()?;
     let options = tt_lab::end_to_end::Options {
         samples: args.sampling.samples,

@@ -64,7 +64,7 @@ fn allocation_line(names: &[&str], d: &DirectAllocation) -> String {
 
 /// The answer as text lines (also the report's section body, which escapes it).
 #[must_use]
-pub fn to_text(a: &Estimable) -> String {
+pub(crate) fn to_text(a: &Estimable) -> String {
     let names = a.e2e.turntable().rotation_error_names();
     let est = &a.est;
     let reference = est.reference();
@@ -157,7 +157,7 @@ pub fn to_text(a: &Estimable) -> String {
 ///
 /// # Errors
 /// An [`InputError`] (exit 2) for a bad study or sheet; others exit 1.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = args.study.load()?;
     let options = tt_lab::estimable::Options {
         tolerances: args.tolerances.clone(),

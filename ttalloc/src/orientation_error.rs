@@ -16,7 +16,7 @@ use tt_lab::rows::{Model, ORIENTATION_COLUMNS, OrientationOptions};
 
 /// Which orientation-error model to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelChoice {
+pub(crate) enum ModelChoice {
     /// Every error a finite rotation, in the order of the study's factors (eq 17-24).
     Exact,
     /// Runs of error rotations as small-angle matrices (the printed eq 17-19 for the paper).
@@ -52,7 +52,7 @@ impl From<ModelChoice> for Model {
 }
 
 /// Run the command.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = crate::loaded::load(args.study.as_deref())?;
     let rows =
         tt_lab::rows::orientation_rows(&s, &OrientationOptions::default().model(args.model.into()))

@@ -16,7 +16,7 @@ impl std::fmt::Display for BrokenPipe {
 impl std::error::Error for BrokenPipe {}
 
 /// Map an I/O error of standard output: a broken pipe becomes [`BrokenPipe`].
-pub fn io(e: std::io::Error) -> anyhow::Error {
+pub(crate) fn io(e: std::io::Error) -> anyhow::Error {
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         anyhow::Error::new(BrokenPipe)
     } else {

@@ -76,7 +76,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
 }
 
 /// Run the command.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let s = args.study.load()?;
     let reading = match &args.reading {
         Some(r) => Some(

@@ -4,6 +4,8 @@
 //! machine, then `cargo test --workspace`); `cargo xtask fuzz` is the mutation fuzzer of the
 //! input layer and the report writer ([`fuzz`]: automation, not in the user's binary);
 //! `cargo xtask mc --baselines` adds the Monte Carlo's same-run benchmark ([`mc_baselines`]);
+//! `cargo xtask public-items [--unused]` counts the library crates' public items
+//! ([`public_items`]);
 //! every other command is the `ttalloc` command line ([`ttalloc::run_with`]), run from the
 //! repository (`cargo xtask reproduce-paper`).
 
@@ -12,6 +14,7 @@ use std::process::ExitCode;
 
 mod fuzz;
 mod mc_baselines;
+mod public_items;
 mod python;
 mod suite;
 
@@ -44,6 +47,29 @@ fn main() -> ExitCode {
         .subcommand(fuzz::Args::command().name("fuzz").about(
             "Mutation fuzzing of the study, tolerance and CSV parsers and the report writer (no panic, no hang, located errors, nothing of the user's touched).",
         ));
+    cmd = cmd.subcommand(public_items::Args::command().name("public-items").about(
+        "The library crates' public items counted per crate (issue 33's rule; --root counts another tree), with --unused those no other crate, test, docs page or Python file names (a text scan: approximate).",
+    ));
+    if argv.get(1).is_some_and(|a| a == "public-items") {
+        let matches = match cmd.try_get_matches_from_mut(&argv) {
+            Ok(m) => m,
+            Err(e) => e.exit(),
+        };
+        let sub = matches
+            .subcommand_matches("public-items")
+            .expect("the public-items subcommand");
+        let args = match public_items::Args::from_arg_matches(sub) {
+            Ok(a) => a,
+            Err(e) => e.format(&mut cmd).exit(),
+        };
+        return match public_items::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {}", tt_core::human::terminal(&format!("{e:#}")));
+                ExitCode::from(2)
+            }
+        };
+    }
     if argv.get(1).is_some_and(|a| a == "fuzz") {
         // parsed by the whole command line, so that usage errors name `cargo xtask fuzz`
         let matches = match cmd.try_get_matches_from_mut(&argv) {

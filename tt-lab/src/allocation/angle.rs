@@ -244,7 +244,7 @@ impl<'a> AngleDependentJson<'a> {
 }
 
 /// A sheet's path as given and its allocations per reading ([`sheet`]).
-pub type SheetAllocations = (
+pub(crate) type SheetAllocations = (
     String,
     Vec<(EndToEnd, crate::vendor::angle::DiscAllocation)>,
 );

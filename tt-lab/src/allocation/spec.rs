@@ -70,7 +70,7 @@ pub fn context(s: &Study, e2e: &EndToEnd) -> Result<SpecifiedAllocation> {
 ///
 /// # Errors
 /// The law's error for a unit tolerance (reported as the study's input).
-pub fn context_of(
+pub(crate) fn context_of(
     s: &Study,
     e2e: &EndToEnd,
     specs: &[gw_model::spec::Specification],

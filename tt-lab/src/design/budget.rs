@@ -97,7 +97,7 @@ impl std::ops::Deref for Designed {
 ///
 /// # Errors
 /// As [`Study::with_positions_deg`] (the positions were candidates, so only internal).
-pub fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Study> {
+pub(crate) fn study_at(s: &Study, timing: &calib_lsq::Timing, p: &BudgetPoint) -> Result<Study> {
     let mut s2 = s.clone();
     s2.timing = Some(
         timing
@@ -248,7 +248,7 @@ pub fn origin(o: ScheduleOrigin) -> String {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct PointJson {
+pub(crate) struct PointJson {
     /// Total test time, s (positions x (dwell + move)).
     total_s: f64,
     /// Number of positions.
@@ -301,7 +301,7 @@ pub fn tolerances_text(p: &BudgetPoint, names: &[&str]) -> String {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct ChosenJson<'a> {
+pub(crate) struct ChosenJson<'a> {
     /// The point.
     #[cfg_attr(feature = "serde", serde(flatten))]
     point: PointJson,
@@ -321,7 +321,7 @@ pub struct ChosenJson<'a> {
     clippy::large_enum_variant,
     reason = "a view built once per command and serialised at once; boxing buys nothing"
 )]
-pub enum TimeBudgetJson<'a> {
+pub(crate) enum TimeBudgetJson<'a> {
     /// The study gives no noise.
     Noiseless {
         /// The budget, s.

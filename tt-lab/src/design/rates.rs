@@ -65,13 +65,13 @@ impl RateChoice {
 
     /// Per candidate: J (arcmin^-2) with the study's positions, as above.
     #[must_use]
-    pub fn study_positions(&self) -> &[Option<f64>] {
+    pub(crate) fn study_positions(&self) -> &[Option<f64>] {
         &self.study_positions
     }
 
     /// Whether the chosen pair has the study's positions (else the designed ones).
     #[must_use]
-    pub fn chosen_study_positions(&self) -> bool {
+    pub(crate) fn chosen_study_positions(&self) -> bool {
         self.chosen_study_positions
     }
 

@@ -144,7 +144,7 @@ impl ScheduleAnswer {
     /// Whether the study's positions are recommended over the designed ones: the designed
     /// lose once the noise is counted.
     #[must_use]
-    pub fn keep_study(&self) -> bool {
+    pub(crate) fn keep_study(&self) -> bool {
         self.combined
             .as_ref()
             .is_some_and(|c| !c.designed_recommended)
@@ -417,7 +417,7 @@ impl CombinedChoice {
 
     /// Whether the designed schedule is recommended (it does not lose with the noise counted).
     #[must_use]
-    pub fn designed_recommended(&self) -> bool {
+    pub(crate) fn designed_recommended(&self) -> bool {
         self.designed_recommended
     }
 
@@ -588,7 +588,7 @@ fn combined_choice(s: &Study, d: &ScheduleDesign) -> Result<Option<CombinedChoic
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct WithStudyOutputJson {
+pub(crate) struct WithStudyOutputJson {
     /// The linearised worst case, output's unit.
     linear: f64,
     /// The exact chain at the worst vertex, output's unit.
@@ -607,7 +607,7 @@ pub struct WithStudyOutputJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct WithStudyJson<'a> {
+pub(crate) struct WithStudyJson<'a> {
     /// `certified` or `linearised`: which tolerances.
     tolerances: &'static str,
     /// The errors with no bound.
@@ -633,7 +633,7 @@ pub struct CertifiedJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct ScheduleJson<'a> {
+pub(crate) struct ScheduleJson<'a> {
     /// J of the direct allocation, arcmin^-2.
     objective: f64,
     /// The positions, degrees (joint angles per position).
@@ -720,7 +720,7 @@ fn schedule_json<'a>(s: &'a Study, r: &'a ScheduleReport) -> ScheduleJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct CombinedJson {
+pub(crate) struct CombinedJson {
     /// The confidence multiplier of the noise part.
     k_sigma: f64,
     /// J of the study's schedule with the noise counted, arcmin^-2 (`null`: no table
@@ -748,7 +748,7 @@ pub struct CombinedJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct OutputJson<'a> {
+pub(crate) struct OutputJson<'a> {
     /// The output's name.
     name: &'a str,
     /// Its unit (the study's).
@@ -761,7 +761,7 @@ pub struct OutputJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct RestartJson {
+pub(crate) struct RestartJson {
     /// Its start, in words.
     start: String,
     /// J of the start, arcmin^-2 (`null` when infeasible and repaired).
@@ -784,7 +784,7 @@ pub struct RestartJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct SearchJson {
+pub(crate) struct SearchJson {
     /// The restart that gave the design, in words.
     best_restart: String,
     /// Whether the design is a local optimum of the exchange.

@@ -134,7 +134,7 @@ pub fn noise_counted_words(n: &NoiseCounted) -> (String, Option<&[f64]>) {
 /// The lines the written study puts above the positions the time budget chose (`p`, chosen
 /// in `d`).
 #[must_use]
-pub fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
+pub(crate) fn chosen_comment(d: &Designed, p: &BudgetPoint) -> String {
     format!(
         "With --time-budget-s {}: these {} positions ({}) and dwell_s = {} s at each\n({} s of test in all) were chosen together; J = {} arcmin^-2 with the noise part\nkept free at {} sigma (linearised), {} certified on the exact chain (end-to-end's\ndirect_with_noise objective on this file). The dwell_s of [calibration.timing] below is\nthis one; the comments there describe the study's original timing.",
         num(d.budget_s()),
@@ -213,7 +213,7 @@ fn internal(what: String) -> LabError {
 ///
 /// # Errors
 /// An internal error when the text does not parse back to those rates.
-pub fn text_with_rate(s: &Study, text: &str, rate: f64) -> Result<String> {
+pub(crate) fn text_with_rate(s: &Study, text: &str, rate: f64) -> Result<String> {
     let mut out = String::with_capacity(text.len());
     let mut in_step = false;
     for line in text.split_inclusive('\n') {

@@ -55,7 +55,7 @@ pub struct Args {
 
 /// Arguments of `reproduce-paper`.
 #[derive(Debug, Parser)]
-pub struct PaperArgs {
+pub(crate) struct PaperArgs {
     /// Output directory (default: `target/paper`); replaced only when it holds a previous
     /// report.
     #[arg(long)]
@@ -171,7 +171,7 @@ fn inputs(
 ///
 /// # Errors
 /// As [`inputs`], [`Report::compute`] and the output directory.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     let (s, mut options) = inputs(
         Some(&args.study),
         args.sampling.seed,
@@ -222,7 +222,7 @@ fn processed_run(s: &study::Study, args: &Args) -> Result<Option<ProcessedRun>> 
 ///
 /// # Errors
 /// As [`inputs`], [`Report::compute`] and the output directory.
-pub fn run_paper(args: &PaperArgs) -> Result<()> {
+pub(crate) fn run_paper(args: &PaperArgs) -> Result<()> {
     let (s, options) = inputs(
         None,
         args.sampling.seed,

@@ -25,7 +25,7 @@ fn model_words(a: &AngleCheck) -> &'static str {
 
 /// The block printed after a reading's constant-model check.
 #[must_use]
-pub fn text(
+pub(crate) fn text(
     e2e: &EndToEnd,
     constant: &TurntableCheck,
     constant_counted: Verdict,
@@ -218,7 +218,7 @@ pub(crate) fn disc_allocation_text(e2e: &EndToEnd, al: &DiscAllocation) -> Strin
 
 /// The sheet allocations' text block.
 #[must_use]
-pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> String {
+pub(crate) fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> String {
     if a.is_empty() {
         return format!(
             "\n{path} states no magnitude (wobble, orthogonality): no pair of errors to allocate one tolerance\n"
@@ -238,7 +238,7 @@ pub fn sheet_allocations_text(path: &str, a: &[(EndToEnd, DiscAllocation)]) -> S
 /// modelled source counted (`before_counted`: the main check's verdict of each reading, the
 /// noise counted).
 #[must_use]
-pub fn compensated_text(
+pub(crate) fn compensated_text(
     checks: &[(EndToEnd, TurntableCheck)],
     c: &Compensated,
     before_counted: &[Verdict],

@@ -29,7 +29,7 @@ fn j_text(d: &DirectAllocation) -> String {
 
 /// The text block (empty lines excluded) for the terminal.
 #[must_use]
-pub fn to_text(e2e: &EndToEnd, a: &AngleAllocations) -> String {
+pub(crate) fn to_text(e2e: &EndToEnd, a: &AngleAllocations) -> String {
     let names = e2e.turntable().rotation_error_names();
     let mut t = String::new();
     if a.varies {

@@ -10,7 +10,7 @@ use tt_lab::budget_mc::{Jcgm101, Jcgm101Json, Options};
 
 /// The flags of the Monte Carlo (flattened into both commands' arguments).
 #[derive(Debug, Clone, clap::Args)]
-pub struct Flags {
+pub(crate) struct Flags {
     /// Also run the JCGM 101 Monte Carlo of the whole calibration for every specification
     /// (table errors drawn from their laws on the exact chain, noise drawn, the estimator run;
     /// adaptive to the significant digits of u(y) below, with the seed above): mean, u(y),
@@ -43,7 +43,7 @@ impl Flags {
 ///
 /// # Errors
 /// As [`tt_lab::budget_mc::compute`].
-pub fn run(
+pub(crate) fn run(
     flags: &Flags,
     seed: Option<u64>,
     s: &Study,
@@ -78,7 +78,7 @@ pub fn run(
 /// The Monte Carlo as text: one line per specification, then its verdict with its rule; a
 /// note when `--jcgm101` was given to a study without specifications.
 #[must_use]
-pub fn text(flags: &Flags, s: &Study, mc: Option<&Jcgm101>) -> String {
+pub(crate) fn text(flags: &Flags, s: &Study, mc: Option<&Jcgm101>) -> String {
     let Some(mc) = mc else {
         return if flags.jcgm101 {
             "  JCGM 101 Monte Carlo: not run (the study gives no [[specifications]])\n".into()
@@ -98,7 +98,7 @@ pub fn text(flags: &Flags, s: &Study, mc: Option<&Jcgm101>) -> String {
 ///
 /// # Errors
 /// A view serde_json cannot represent.
-pub fn with_json(
+pub(crate) fn with_json(
     view: &impl serde::Serialize,
     s: &Study,
     mc: Option<&Jcgm101>,

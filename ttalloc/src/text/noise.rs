@@ -8,7 +8,7 @@ use tt_core::human::num;
 
 /// One line when the study gives noise but no timing: the noise part needs the dwell.
 #[must_use]
-pub fn note(s: &Study) -> Option<String> {
+pub(crate) fn note(s: &Study) -> Option<String> {
     (s.noise.iter().any(Option::is_some) && s.timing.is_none()).then(|| {
         "  (the study gives noise but no [calibration.timing]: the noise part needs the dwell at each position, so only the table's part is answered)".to_string()
     })
@@ -17,7 +17,7 @@ pub fn note(s: &Study) -> Option<String> {
 /// The split in words: `table 0.0061, noise 0.0047 at 3 sigma, combined 0.0108 deg_per_h
 /// (noise dominates)`.
 #[must_use]
-pub fn split_text(c: &CombinedOutput, unit: &str) -> String {
+pub(crate) fn split_text(c: &CombinedOutput, unit: &str) -> String {
     format!(
         "table {}{}, noise {} at {} sigma (sigma {}), combined {} {unit} ({} dominates)",
         num(c.table_part()),
@@ -36,7 +36,7 @@ pub fn split_text(c: &CombinedOutput, unit: &str) -> String {
 
 /// The combined yield in words.
 #[must_use]
-pub fn yield_text(y: &YieldCount) -> String {
+pub(crate) fn yield_text(y: &YieldCount) -> String {
     let (lo, hi) = y.interval_95();
     format!(
         "yield over turntables and noise {:.2}% (95% interval {:.2}%-{:.2}%, {} calibrations, seed {})",

@@ -8,7 +8,7 @@ pub use tt_lab::vendor::rate::*;
 
 /// The check as text.
 #[must_use]
-pub fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
+pub(crate) fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
     let names = e2e.extra_names();
     let mut s = format!(
         "\nrate steps, reading {}: the angular box and the errors only rotation exposes together\n",
@@ -174,7 +174,7 @@ fn tolerances_text(e2e: &EndToEnd, tolerances: &[RateTolerance], bounds: &[f64])
 
 /// The allocation with the rate tolerances as text.
 #[must_use]
-pub fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
+pub(crate) fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
     let a = &r.allocation;
     let mut s = format!(
         "\ndirect allocation with the rate tolerances (reading {}): the angles, rate accuracy, ripple and translations allocated together, J = {} arcmin^-2\n",

@@ -9,7 +9,7 @@ pub use tt_lab::vendor::spec::*;
 /// The verdict as text: one line per specification, then the headline with the rule
 /// (`what` names the tolerances: "these tolerances", "the direct allocation's box").
 #[must_use]
-pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
+pub(crate) fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
     let Some(v) = v else {
         return format!("  decision rule: {ACCURACY_RULE}\n");
     };
@@ -25,7 +25,7 @@ pub fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
 /// (<unit>)" for the specification rows at their limit, and each specification no table can
 /// meet (its noise part alone fills it). Empty when the allocation holds no specification.
 #[must_use]
-pub fn limited_by(d: &e2e_verify::DirectAllocation, no_table_suffices: &[String]) -> String {
+pub(crate) fn limited_by(d: &e2e_verify::DirectAllocation, no_table_suffices: &[String]) -> String {
     let mut t = String::new();
     if !d.spec_loads().is_empty() {
         let binding = d.limited_by();
