@@ -293,10 +293,11 @@ fn recount(
 
 /// The IMU example with the misalignment at 10 arcsec (binding): the yield-scaled box counted
 /// on the specifications reaches its target on the specifications (its design count equals an
-/// independent recount of the same draws, and independent draws put the target within or
-/// below their 95% interval); the box scaled on eq 14's accuracies alone (today's) misses the
-/// arcsec specification on most draws. The same answer for 1 and 4 threads. Prints the time of
-/// both allocations (same run).
+/// independent recount of the same draws; independent draws' 95% interval overlaps the design
+/// draws', and each specification alone reaches the target within its interval); the box scaled on eq 14's accuracies alone (the allocation before
+/// the specifications were counted) misses the target counted on them (on the seeds below:
+/// 7,310 of 8,000 independent draws, 95% interval 90.7-92.0%, against 7,566 for the specified
+/// box). The same answer for 1 and 4 threads. Prints the time of both allocations (same run).
 #[test]
 fn the_yield_box_counted_on_the_specifications_meets_its_target_on_them_and_the_eq14_box_does_not()
 {
