@@ -322,17 +322,20 @@ fn the_yield_box_counted_on_the_specifications_meets_its_target_on_them_and_the_
         .unwrap();
     let t_eq14 = t.elapsed().as_secs_f64();
     let t = std::time::Instant::now();
-    let specified = pool(4).install(|| {
-        e2e.allocate_yield_specified(
-            shape.upper_bounds_rad(),
-            &lb,
-            target,
-            &design,
-            &params,
-            &rows,
-        )
-        .unwrap()
-    });
+    let specified_on = |threads| {
+        pool(threads).install(|| {
+            e2e.allocate_yield_specified(
+                shape.upper_bounds_rad(),
+                &lb,
+                target,
+                &design,
+                &params,
+                &rows,
+            )
+            .unwrap()
+        })
+    };
+    let specified = specified_on(4);
     let t_spec = t.elapsed().as_secs_f64();
     eprintln!(
         "yield allocation, IMU example (mis_xy 10 arcsec, {} draws): eq 14 only {t_eq14:.2} s, \
@@ -342,17 +345,7 @@ fn the_yield_box_counted_on_the_specifications_meets_its_target_on_them_and_the_
         eq14.scale(),
         specified.scale()
     );
-    let one = pool(1).install(|| {
-        e2e.allocate_yield_specified(
-            shape.upper_bounds_rad(),
-            &lb,
-            target,
-            &design,
-            &params,
-            &rows,
-        )
-        .unwrap()
-    });
+    let one = specified_on(1);
     assert_eq!(one, specified, "the same answer for 1 and 4 threads");
     assert_eq!(specified.counts(), e2e_verify::SPECIFIED_YIELD_COUNTS);
     assert_eq!(eq14.counts(), e2e_verify::ACCURACY_YIELD_COUNTS);

@@ -151,15 +151,8 @@ fn end_to_end_of_the_imu_example_counts_the_specifications_in_its_yield() {
         let again = sp["remeasured_per_specification"].as_array().unwrap();
         assert_eq!(again.len(), per.len());
         let i = sp["remeasured_interval_95"].as_array().unwrap();
-        let (lo, hi) = (num(&i[0]), num(&i[1]));
-        let expected = if lo >= target {
-            "meets"
-        } else if hi < target {
-            "does not meet"
-        } else {
-            "cannot tell"
-        };
-        assert_eq!(y["verdict"], expected, "{y}");
+        let expected = e2e_verify::YieldVerdict::of((num(&i[0]), num(&i[1])), target);
+        assert_eq!(y["verdict"], expected.name(), "{y}");
     }
 }
 
