@@ -7,6 +7,7 @@ use crate::error::{E2eError, fraction};
 use crate::linear::Linearization;
 use crate::montecarlo::{McSettings, YieldCount, wilson_interval_95};
 use crate::simulate::EndToEnd;
+use crate::specified_yield::{ACCURACY_YIELD_COUNTS, SPECIFIED_YIELD_COUNTS, SpecCheck};
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
@@ -405,6 +406,11 @@ pub struct YieldAllocation {
     /// allocation.
     #[cfg_attr(feature = "serde", serde(flatten))]
     pub(crate) count: YieldCount,
+    /// With specifications ([`EndToEnd::allocate_yield_specified`]): each specification's
+    /// label with its unit and the design draws meeting it at $s^*$ (then `count` counts the
+    /// draws meeting every accuracy and every specification); empty without.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Vec::is_empty"))]
+    pub(crate) per_specification: Vec<(String, u64)>,
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
     /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
     /// errors, and the bounds are that cap, not a limit.
@@ -443,12 +449,31 @@ impl YieldAllocation {
         self.objective
     }
 
-    /// The design draws and those meeting every accuracy at $s^*$ (re-evaluated on the exact
-    /// chain), with their seed; its 95% Wilson interval ([`YieldCount::interval_95`]) is the
-    /// stated confidence of the allocation.
+    /// The design draws and those meeting every accuracy (and, with specifications, every
+    /// specification) at $s^*$ (re-evaluated on the exact chain), with their seed; its 95%
+    /// Wilson interval ([`YieldCount::interval_95`]) is the stated confidence of the
+    /// allocation.
     #[must_use]
     pub fn count(&self) -> &YieldCount {
         &self.count
+    }
+
+    /// With specifications: each specification's label with its unit and the design draws
+    /// meeting it at $s^*$; empty without.
+    #[must_use]
+    pub fn per_specification(&self) -> &[(String, u64)] {
+        &self.per_specification
+    }
+
+    /// What [`YieldAllocation::count`] counts: [`SPECIFIED_YIELD_COUNTS`] with
+    /// specifications, [`ACCURACY_YIELD_COUNTS`] without.
+    #[must_use]
+    pub fn counts(&self) -> &'static str {
+        if self.per_specification.is_empty() {
+            ACCURACY_YIELD_COUNTS
+        } else {
+            SPECIFIED_YIELD_COUNTS
+        }
     }
 
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
@@ -700,12 +725,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         spec_rows: &[SpecificationRow],
         params: &CertifyParams,
     ) -> Result<DirectAllocation, E2eError> {
-        let mut offsets = Vec::with_capacity(self.n_outputs());
-        let mut next = 0;
-        for o in self.calibration().outputs() {
-            offsets.push(next);
-            next += o.output().estimated().count();
-        }
+        let offsets = self.coefficient_offsets();
         let scaled = |s: f64| -> Vec<f64> {
             d.upper_bounds_rad
                 .iter()
@@ -1071,10 +1091,37 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         settings: &McSettings,
         params: &YieldParams,
     ) -> Result<YieldAllocation, E2eError> {
+        self.allocate_yield_specified(shape_rad, lower_bounds_rad, target, settings, params, &[])
+    }
+
+    /// [`EndToEnd::allocate_yield_with`] counting the specifications too: a draw meets when
+    /// every accuracy holds and every row of `spec_rows` holds in the direct allocation's
+    /// convention ([`SpecificationRow`]: the quantity's table part on the exact chain within
+    /// $L - k\,u_{\text{noise}}$), so the yield is the fraction of draws meeting every accuracy
+    /// and every specification ([`SPECIFIED_YIELD_COUNTS`]); the scale search is the same, on
+    /// the ratio $\max(\max_k \Delta\omega_k/\omega_{m,k}, \max_{\text{rows}}
+    /// |q|/(L - k\,u_{\text{noise}}))$. [`YieldAllocation::per_specification`] gives the
+    /// design draws meeting each specification. Without rows it is
+    /// [`EndToEnd::allocate_yield_with`], bit for bit.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_yield`]; [`E2eError::NoTableSuffices`] naming a specification
+    /// whose noise part fills its limit; [`E2eError::Draw`] naming a draw whose specified
+    /// quantity cannot be computed.
+    pub fn allocate_yield_specified(
+        &self,
+        shape_rad: &[f64],
+        lower_bounds_rad: &[f64],
+        target: f64,
+        settings: &McSettings,
+        params: &YieldParams,
+        spec_rows: &[SpecificationRow],
+    ) -> Result<YieldAllocation, E2eError> {
         let p = fraction("yield_fraction", target)?;
         settings.validate()?;
         check_yield_samples(settings.samples, p)?;
         self.check_lower_bounds(lower_bounds_rad)?;
+        check_spec_rows(spec_rows, lower_bounds_rad)?;
         for (name, v) in self.error_names().iter().zip(shape_rad) {
             if v.is_nan() || *v <= 0.0 {
                 return Err(tt_core::FieldError::NotPositive {
@@ -1092,9 +1139,20 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 .map(|(u, l)| (s * u).max(*l))
                 .collect()
         };
+        let check = (!spec_rows.is_empty()).then(|| SpecCheck::new(self, spec_rows));
         let count = |s: f64| -> Result<u64, E2eError> {
-            self.monte_carlo()
-                .meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
+            let b = self.box_of(&scaled(s), lower_bounds_rad)?;
+            match &check {
+                None => self.monte_carlo().meeting_count(&b, settings),
+                Some(c) => Ok(c.count(&b, settings)?.count.meeting),
+            }
+        };
+        let quantile = |s: f64| -> Result<f64, E2eError> {
+            let b = self.box_of(&scaled(s), lower_bounds_rad)?;
+            match &check {
+                None => self.monte_carlo().ratio_quantile(&b, settings, p),
+                Some(c) => c.ratio_quantile(&b, settings, p),
+            }
         };
         let need = (p * settings.samples as f64).ceil() as u64;
         let goal = YieldGoal {
@@ -1123,14 +1181,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             }
             (1.0, true)
         } else if lower_bounds_rad.iter().all(|&l| l == 0.0) {
-            match self.yield_fixed_point(
-                &scaled,
-                lower_bounds_rad,
-                settings,
-                &goal,
-                s_cap,
-                params,
-            )? {
+            match yield_fixed_point(&count, &quantile, &goal, s_cap, params)? {
                 Some(s) => (s, false),
                 // the fixed point did not settle (rounding at tiny accuracies, the exact
                 // chain's curvature at huge ones): bracket and bisect on the count instead
@@ -1145,7 +1196,13 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             bisect_scale(&count, &goal, s_lo, s_lo.max(1.0), s_cap.max(s_lo), params)?
         };
         let ub = scaled(scale);
-        let meeting = count(scale)?;
+        let (meeting, per_specification) = match &check {
+            None => (count(scale)?, Vec::new()),
+            Some(c) => {
+                let found = c.count(&self.box_of(&ub, lower_bounds_rad)?, settings)?;
+                (found.count.meeting, found.per_specification)
+            }
+        };
         Ok(YieldAllocation {
             objective: self.objective(&ub),
             upper_bounds_rad: ub,
@@ -1158,61 +1215,52 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                 meeting,
                 meeting_per_output: Vec::new(),
             },
+            per_specification,
             capped,
         })
     }
+}
 
-    /// The scale of the yield-based allocation with $\mathrm{LB} = 0$ by the fixed point
-    /// $s \leftarrow s/q_p(s)$ (see [`EndToEnd::allocate_yield`]), [`YieldParams::scale_margin`]
-    /// taken off and checked on the count; `None` when it does not settle to $10^{-6}$ in
-    /// [`YieldParams::fixed_point_steps`], leaves $(0, s_{cap}]$, or the margin does not restore the
-    /// count (the caller then bisects).
-    fn yield_fixed_point(
-        &self,
-        scaled: &dyn Fn(f64) -> Vec<f64>,
-        lower_bounds_rad: &[f64],
-        settings: &McSettings,
-        goal: &YieldGoal,
-        s_cap: f64,
-        params: &YieldParams,
-    ) -> Result<Option<f64>, E2eError> {
-        let (p, need) = (goal.target, goal.need);
-        let count = |s: f64| -> Result<u64, E2eError> {
-            self.monte_carlo()
-                .meeting_count(&self.box_of(&scaled(s), lower_bounds_rad)?, settings)
-        };
-        let mut s = 1.0;
-        let mut change = f64::INFINITY;
-        for _ in 0..params.fixed_point_steps {
-            let q = self.monte_carlo().ratio_quantile(
-                &self.box_of(&scaled(s), lower_bounds_rad)?,
-                settings,
-                p,
-            )?;
-            let next = s / q;
-            if !(next.is_finite() && next > 0.0 && next <= s_cap) {
-                return Ok(None);
-            }
-            change = (next / s - 1.0).abs();
-            s = next;
-            if change < 1e-12 {
-                break;
-            }
-        }
-        if change > 1e-6 {
+/// The scale of the yield-based allocation with $\mathrm{LB} = 0$ by the fixed point
+/// $s \leftarrow s/q_p(s)$ (see [`EndToEnd::allocate_yield`]; `quantile(s)` is $q_p(s)$, `count(s)`
+/// the draws meeting at $s$), [`YieldParams::scale_margin`] taken off and checked on the count;
+/// `None` when it does not settle to $10^{-6}$ in [`YieldParams::fixed_point_steps`], leaves
+/// $(0, s_{cap}]$, or the margin does not restore the count (the caller then bisects).
+fn yield_fixed_point(
+    count: &dyn Fn(f64) -> Result<u64, E2eError>,
+    quantile: &dyn Fn(f64) -> Result<f64, E2eError>,
+    goal: &YieldGoal,
+    s_cap: f64,
+    params: &YieldParams,
+) -> Result<Option<f64>, E2eError> {
+    let need = goal.need;
+    let mut s = 1.0;
+    let mut change = f64::INFINITY;
+    for _ in 0..params.fixed_point_steps {
+        let q = quantile(s)?;
+        let next = s / q;
+        if !(next.is_finite() && next > 0.0 && next <= s_cap) {
             return Ok(None);
         }
-        let mut s = s * (1.0 - params.scale_margin);
-        let mut steps = 0;
-        while count(s)? < need {
-            s *= 1.0 - 1e3 * params.scale_margin;
-            steps += 1;
-            if steps >= params.bracket_steps {
-                return Ok(None);
-            }
+        change = (next / s - 1.0).abs();
+        s = next;
+        if change < 1e-12 {
+            break;
         }
-        Ok(Some(s))
     }
+    if change > 1e-6 {
+        return Ok(None);
+    }
+    let mut s = s * (1.0 - params.scale_margin);
+    let mut steps = 0;
+    while count(s)? < need {
+        s *= 1.0 - 1e3 * params.scale_margin;
+        steps += 1;
+        if steps >= params.bracket_steps {
+            return Ok(None);
+        }
+    }
+    Ok(Some(s))
 }
 
 /// What the yield scale must reach: a fraction `target` of `samples` draws, i.e. `need` of

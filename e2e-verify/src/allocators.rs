@@ -29,6 +29,7 @@
 //! ```
 
 use crate::allocate::{CertifyParams, DirectAllocation, YieldParams};
+use crate::budget::SpecificationRow;
 use crate::error::E2eError;
 use crate::linear::Linearization;
 use crate::montecarlo::McSettings;
@@ -84,13 +85,17 @@ impl<'a, S> DirectCertified<'a, S> {
 /// direct allocation's shape scaled until the target fraction of turntables drawn in the box
 /// meets every accuracy on the exact chain. Its certificate may exceed a limit (the worst
 /// turntable is allowed to, a fraction of them is not); [`MethodDetails::Scaled`] states the
-/// yield and its interval. The limits must be the accuracies themselves.
+/// yield and its interval. The limits must be the accuracies themselves. With
+/// specifications ([`YieldBased::with_specifications`]) the shape is the specified direct
+/// allocation and a draw meets when every accuracy and every specification holds
+/// ([`EndToEnd::allocate_yield_specified`]).
 #[derive(Debug, Clone, Copy)]
 pub struct YieldBased<'a, S> {
     analysis: &'a EndToEnd<S>,
     target: f64,
     settings: McSettings,
     params: YieldParams,
+    spec_rows: &'a [SpecificationRow],
 }
 
 impl<'a, S> YieldBased<'a, S> {
@@ -114,7 +119,15 @@ impl<'a, S> YieldBased<'a, S> {
             target,
             settings,
             params,
+            spec_rows: &[],
         }
+    }
+
+    /// Counting the specification rows `spec_rows` too
+    /// ([`crate::BudgetQuestions::specification_rows`]).
+    #[must_use]
+    pub fn with_specifications(self, spec_rows: &'a [SpecificationRow]) -> Self {
+        Self { spec_rows, ..self }
     }
 }
 
@@ -295,13 +308,18 @@ impl<S: ScheduleErrorModel + Sync> Allocator<Linearization> for YieldBased<'_, S
                 }));
             }
             let lb = problem.lower_bounds_rad();
-            let shape = a.allocate_direct_keeping(problem.model(), lb, &margins)?;
-            a.allocate_yield_with(
+            let shape = if self.spec_rows.is_empty() {
+                a.allocate_direct_keeping(problem.model(), lb, &margins)?
+            } else {
+                a.allocate_direct_specified(problem.model(), lb, self.spec_rows)?
+            };
+            a.allocate_yield_specified(
                 &shape.upper_bounds_rad,
                 lb,
                 self.target,
                 &self.settings,
                 &self.params,
+                self.spec_rows,
             )
         };
         let y = run().map_err(|e| method_error(self.name(), e))?;

@@ -9,6 +9,7 @@ use crate::error::{E2eError, fraction};
 use crate::linear::{Linearization, WorstCase};
 use crate::montecarlo::{McSettings, RateDistribution};
 use crate::simulate::EndToEnd;
+use crate::specified_yield::{SpecCheck, SpecifiedCount};
 use alloc_opt::{Allocation, AllocationProblem, Allocator, Requirement, SensitivityWeighted};
 use calib_lsq::Reading;
 use tt_kinematics::LinearModel;
@@ -133,6 +134,9 @@ pub struct ReadingAnswer {
     pub(crate) yield_based: YieldAllocation,
     /// The yield-based box re-measured with an independent seed (`seed + 2`).
     pub(crate) yield_box: BoxAnswer,
+    /// With specifications: the same re-measured draws counted against every accuracy and
+    /// every specification (what the yield-based allocation counts); `None` without.
+    pub(crate) yield_recheck: Option<SpecifiedCount>,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -190,6 +194,24 @@ impl ReadingAnswer {
     pub fn yield_box(&self) -> &BoxAnswer {
         &self.yield_box
     }
+
+    /// With specifications: the re-measured draws of [`ReadingAnswer::yield_box`] counted
+    /// against every accuracy and every specification, per specification too; `None`
+    /// without.
+    #[must_use]
+    pub fn yield_recheck(&self) -> Option<&SpecifiedCount> {
+        self.yield_recheck.as_ref()
+    }
+
+    /// The re-measured count the yield verdict is on: [`ReadingAnswer::yield_recheck`]'s with
+    /// specifications, else the yield box's (every accuracy).
+    #[must_use]
+    pub fn yield_count(&self) -> &crate::YieldCount {
+        match &self.yield_recheck {
+            Some(c) => c.count(),
+            None => self.yield_box.distribution.count(),
+        }
+    }
 }
 
 impl ReadingAnswer {
@@ -199,10 +221,7 @@ impl ReadingAnswer {
     /// the whole interval below it; cannot tell).
     #[must_use]
     pub fn yield_verdict(&self) -> YieldVerdict {
-        YieldVerdict::of(
-            self.yield_box.distribution.count.interval_95(),
-            self.yield_based.target,
-        )
+        YieldVerdict::of(self.yield_count().interval_95(), self.yield_based.target)
     }
 }
 
@@ -312,6 +331,7 @@ struct ReadingAllocations {
     direct_certified_note: Option<String>,
     yield_based: YieldAllocation,
     yield_box: BoxAnswer,
+    yield_recheck: Option<SpecifiedCount>,
 }
 
 /// The readings of the answer: the simulator's first, then [`Reading::USER`] (if different).
@@ -452,12 +472,14 @@ fn allocations_checked(
             },
             || {
                 let yielded =
-                    (|| -> Result<(YieldAllocation, Result<BoxAnswer, E2eError>), E2eError> {
-                        let y = sim.allocate_yield(
+                    (|| -> Result<(YieldAllocation, Result<BoxAnswer, E2eError>, _), E2eError> {
+                        let y = sim.allocate_yield_specified(
                             &direct.upper_bounds_rad,
                             lb,
                             inputs.yield_fraction,
                             &design,
+                            &crate::YieldParams::default(),
+                            &spec_rows,
                         )?;
                         let b = box_answer(
                             &sim,
@@ -467,7 +489,13 @@ fn allocations_checked(
                             &y.upper_bounds_rad,
                             &recheck,
                         );
-                        Ok((y, b))
+                        let c = (!spec_rows.is_empty())
+                            .then(|| {
+                                SpecCheck::new(&sim, &spec_rows)
+                                    .count(&sim.box_of(&y.upper_bounds_rad, lb)?, &recheck)
+                            })
+                            .transpose();
+                        Ok((y, b, c))
                     })();
                 let direct_box = box_answer(
                     &sim,
@@ -483,9 +511,10 @@ fn allocations_checked(
         // the first error in the serial order: certification, yield allocation, direct box,
         // yield box
         let (direct_certified, direct_certified_note) = certified?;
-        let (yield_based, yield_box) = yielded?;
+        let (yield_based, yield_box, yield_recheck) = yielded?;
         let direct_box = direct_box?;
         let yield_box = yield_box?;
+        let yield_recheck = yield_recheck?;
         Ok(ReadingAllocations {
             sim,
             linear,
@@ -495,6 +524,7 @@ fn allocations_checked(
             direct_certified_note,
             yield_based,
             yield_box,
+            yield_recheck,
         })
     };
     // the readings one after the other: each runs Monte Carlos (see above)
@@ -540,6 +570,7 @@ impl AnswerAllocations {
                     direct_certified_note: a.direct_certified_note,
                     yield_based: a.yield_based,
                     yield_box: a.yield_box,
+                    yield_recheck: a.yield_recheck,
                 })
             })
             .collect();

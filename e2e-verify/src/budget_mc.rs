@@ -127,11 +127,43 @@ struct CalibrationModel<'a, S: ScheduleErrorModel> {
     scratch: Mutex<Vec<Scratch>>,
 }
 
-/// One trial's scratch space: the chain's and the least squares', and their results.
-struct Scratch {
+/// One trial's scratch space: the chain's and the least squares', and their results (also
+/// one chunk's of the yield counted against the specifications).
+pub(crate) struct Scratch {
     work: DrawWork,
-    coefficients: Vec<f64>,
-    vectors: Vec<Vec<f64>>,
+    /// Every estimated coefficient's error ([`EndToEnd::coefficient_errors`]).
+    pub(crate) coefficients: Vec<f64>,
+    /// Every output's error vector ([`EndToEnd::error_vectors`]).
+    pub(crate) vectors: Vec<Vec<f64>>,
+}
+
+impl Scratch {
+    /// Sized for `e2e`.
+    pub(crate) fn new<S: ScheduleErrorModel>(e2e: &EndToEnd<S>) -> Self {
+        Self {
+            work: e2e.work(),
+            coefficients: vec![0.0; e2e.n_coefficients()],
+            vectors: vec![vec![0.0; e2e.len()]; e2e.n_outputs()],
+        }
+    }
+
+    /// The coefficients' errors at `chi` into [`Scratch::coefficients`].
+    pub(crate) fn coefficients_at<S: ScheduleErrorModel>(
+        &mut self,
+        e2e: &EndToEnd<S>,
+        chi: &[f64],
+    ) -> Result<(), E2eError> {
+        e2e.coefficient_errors_into(chi, &mut self.work, &mut self.coefficients)
+    }
+
+    /// The error vectors at `chi` into [`Scratch::vectors`].
+    pub(crate) fn vectors_at<S: ScheduleErrorModel>(
+        &mut self,
+        e2e: &EndToEnd<S>,
+        chi: &[f64],
+    ) -> Result<(), E2eError> {
+        e2e.error_vectors_into(chi, &mut self.work, &mut self.vectors)
+    }
 }
 
 impl<S: ScheduleErrorModel> CalibrationModel<'_, S> {
@@ -141,11 +173,7 @@ impl<S: ScheduleErrorModel> CalibrationModel<'_, S> {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .pop();
-        pooled.unwrap_or_else(|| Scratch {
-            work: self.e2e.work(),
-            coefficients: vec![0.0; self.e2e.n_coefficients()],
-            vectors: vec![vec![0.0; self.e2e.len()]; self.e2e.n_outputs()],
-        })
+        pooled.unwrap_or_else(|| Scratch::new(self.e2e))
     }
 
     fn give_back(&self, s: Scratch) {
@@ -166,16 +194,8 @@ impl<S: ScheduleErrorModel + Sync> Model for CalibrationModel<'_, S> {
         let chi = &x[..n];
         let mut s = self.take_scratch();
         // an evaluation failure is a non-finite value: the run stops with a typed error
-        let coefficients_ok = self.needs_coefficients
-            && self
-                .e2e
-                .coefficient_errors_into(chi, &mut s.work, &mut s.coefficients)
-                .is_ok();
-        let vectors_ok = self.needs_vectors
-            && self
-                .e2e
-                .error_vectors_into(chi, &mut s.work, &mut s.vectors)
-                .is_ok();
+        let coefficients_ok = self.needs_coefficients && s.coefficients_at(self.e2e, chi).is_ok();
+        let vectors_ok = self.needs_vectors && s.vectors_at(self.e2e, chi).is_ok();
         for (q, (yq, noise)) in self
             .quantities
             .iter()

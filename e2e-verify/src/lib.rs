@@ -107,6 +107,7 @@ mod seam;
 pub mod sensitivity;
 pub mod sheet;
 mod simulate;
+mod specified_yield;
 pub mod timedomain;
 pub mod ziggurat;
 
@@ -141,4 +142,5 @@ pub use rate::{ExtraError, ExtraOutputWorstCase, RateAllocation, RateCertificate
 pub use sensitivity::{NoiseSensitivity, ParameterSpread};
 pub use sheet::ToleranceSheet;
 pub use simulate::{DrawWork, EndToEnd, EndToEndRun, resolved};
+pub use specified_yield::{ACCURACY_YIELD_COUNTS, SPECIFIED_YIELD_COUNTS, SpecifiedCount};
 pub use timedomain::{OutputMoments, TimeDomainRun};

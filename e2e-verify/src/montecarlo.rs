@@ -482,6 +482,38 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         V: Fn(&mut P, u64, &[f64], &[f64]) + Sync,
         M: Fn(&mut P, P),
     {
+        self.drive_with(
+            bounds,
+            settings,
+            || (),
+            new,
+            |part, _, index, chi, dw| {
+                visit(part, index, chi, dw);
+                Ok(())
+            },
+            merge,
+        )
+    }
+
+    /// [`EndToEnd::drive`] with a scratch space per chunk made by `scratch` and a visitor that
+    /// may fail (the first error in chunk order is returned): for visitors that evaluate more
+    /// of the draw than $\Delta\omega_k$ (the specified yield's coefficient errors).
+    pub(crate) fn drive_with<P, W, Wn, N, V, M>(
+        &self,
+        bounds: &ErrorBox,
+        settings: &McSettings,
+        scratch: Wn,
+        new: N,
+        visit: V,
+        merge: M,
+    ) -> Result<P, E2eError>
+    where
+        P: Send,
+        Wn: Fn() -> W + Sync,
+        N: Fn() -> P + Sync,
+        V: Fn(&mut P, &mut W, u64, &[f64], &[f64]) -> Result<(), E2eError> + Sync,
+        M: Fn(&mut P, P),
+    {
         settings.validate()?;
         let sampler = TurntableSampler::for_joint_ranges(bounds, &self.model().joint_ranges_rad());
         let cs = u64::from(settings.chunk_size);
@@ -489,6 +521,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         let mut acc = new();
         let chunk = |c: u64| -> Result<P, E2eError> {
             let mut part = new();
+            let mut own = scratch();
             let mut rng = chunk_rng(settings.seed, c);
             let mut remaining = chunk_len(settings.samples, cs, c);
             let mut block = SampleBlock::new(&sampler);
@@ -516,7 +549,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
                             reason: format!("non-finite calibration error {v} on output {o}"),
                         });
                     }
-                    visit(&mut part, index, &chi, &work.delta_omega);
+                    visit(&mut part, &mut own, index, &chi, &work.delta_omega)?;
                     index += 1;
                 }
                 remaining -= m;
@@ -728,6 +761,31 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
         settings: &McSettings,
         p: f64,
     ) -> Result<f64, E2eError> {
+        let acc = self.accuracies();
+        self.ratio_quantile_by(
+            bounds,
+            settings,
+            p,
+            || (),
+            |_, _, _, dw| Ok(dw.iter().zip(&acc).fold(0.0_f64, |m, (v, a)| m.max(v / a))),
+        )
+    }
+
+    /// [`crate::MonteCarloQuestions::ratio_quantile`] of the ratio `ratio(scratch, index, chi, dw)` of
+    /// each draw (a scratch space per chunk made by `scratch`; the first error in chunk order
+    /// is returned).
+    pub(crate) fn ratio_quantile_by<W, Wn, R>(
+        &self,
+        bounds: &ErrorBox,
+        settings: &McSettings,
+        p: f64,
+        scratch: Wn,
+        ratio: R,
+    ) -> Result<f64, E2eError>
+    where
+        Wn: Fn() -> W + Sync,
+        R: Fn(&mut W, u64, &[f64], &[f64]) -> Result<f64, E2eError> + Sync,
+    {
         tt_core::in_range(
             "quantile",
             p,
@@ -736,8 +794,6 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
             "",
         )?;
         settings.validate()?;
-        let acc = self.accuracies();
-        let ratio = |dw: &[f64]| dw.iter().zip(&acc).fold(0.0_f64, |m, (v, a)| m.max(v / a));
         let rank = quantile_rank(p, settings.samples);
         // (count below lo, histogram of [lo, hi), count >= hi, max)
         type Pass = (u64, Vec<u64>, u64, f64);
@@ -749,12 +805,13 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                 f64::INFINITY
             };
             let bins = QUANTILE_BINS;
-            let scan: Pass = self.drive(
+            let scan: Pass = self.drive_with(
                 bounds,
                 settings,
+                &scratch,
                 || (0, vec![0; bins], 0, 0.0),
-                |(below, h, above, max), _, _, dw| {
-                    let r = ratio(dw);
+                |(below, h, above, max), w, index, chi, dw| {
+                    let r = ratio(w, index, chi, dw)?;
                     *max = f64::max(*max, r);
                     if r < lo {
                         *below += 1;
@@ -764,6 +821,7 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                         let b = (((r - lo) / width) * bins as f64) as usize;
                         h[b.min(bins - 1)] += 1;
                     }
+                    Ok(())
                 },
                 |a, b| {
                     a.0 += b.0;
@@ -797,15 +855,17 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                 lo + width * (b + 1) as f64 / bins as f64,
             );
             if count as usize <= QUANTILE_COLLECT {
-                let mut values = self.drive(
+                let mut values = self.drive_with(
                     bounds,
                     settings,
+                    &scratch,
                     Vec::new,
-                    |v, _, _, dw| {
-                        let r = ratio(dw);
+                    |v, w, index, chi, dw| {
+                        let r = ratio(w, index, chi, dw)?;
                         if r >= blo && r < bhi {
                             v.push(r);
                         }
+                        Ok(())
                     },
                     |a, mut b| a.append(&mut b),
                 )?;

@@ -569,6 +569,71 @@ pub struct YieldBasedJson<'a> {
     pub bounds_arcmin: ArcminBounds,
     /// The box re-measured on independent draws.
     pub remeasured: BoxJson<'a>,
+    /// With specifications: what the yield counts and the draws meeting every specification
+    /// (design and re-measured); absent without (the yield counts every accuracy).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub specifications: Option<YieldSpecificationsJson<'a>>,
+}
+
+/// The yield-based allocation's count against the specifications
+/// (`readings[].yield_based.specifications`).
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct YieldSpecificationsJson<'a> {
+    /// What the yield counts ([`e2e_verify::SPECIFIED_YIELD_COUNTS`]).
+    pub counts: &'static str,
+    /// Design draws.
+    pub design_samples: u64,
+    /// Design draws meeting every accuracy and every specification.
+    pub design_meeting: u64,
+    /// Per specification, the design draws meeting it.
+    pub design_per_specification: Vec<SpecificationMeetingJson<'a>>,
+    /// Re-measured draws (independent seed).
+    pub remeasured_samples: u64,
+    /// Re-measured draws meeting every accuracy and every specification.
+    pub remeasured_meeting: u64,
+    /// Their yield and its 95% interval (the verdict's).
+    pub remeasured_yield: f64,
+    /// Its 95% interval.
+    pub remeasured_interval_95: (f64, f64),
+    /// Per specification, the re-measured draws meeting it.
+    pub remeasured_per_specification: Vec<SpecificationMeetingJson<'a>>,
+}
+
+/// The draws meeting one specification.
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SpecificationMeetingJson<'a> {
+    /// The specification, `label in unit`.
+    pub specification: &'a str,
+    /// Draws meeting it.
+    pub meeting: u64,
+}
+
+impl<'a> YieldSpecificationsJson<'a> {
+    fn new(r: &'a ReadingAnswer) -> Option<Self> {
+        let again = r.yield_recheck()?;
+        let y = r.yield_based();
+        let each = |per: &'a [(String, u64)]| -> Vec<SpecificationMeetingJson<'a>> {
+            per.iter()
+                .map(|(label, meeting)| SpecificationMeetingJson {
+                    specification: label,
+                    meeting: *meeting,
+                })
+                .collect()
+        };
+        Some(Self {
+            counts: y.counts(),
+            design_samples: y.count().samples(),
+            design_meeting: y.count().meeting(),
+            design_per_specification: each(y.per_specification()),
+            remeasured_samples: again.count().samples(),
+            remeasured_meeting: again.count().meeting(),
+            remeasured_yield: again.count().fraction(),
+            remeasured_interval_95: again.count().interval_95(),
+            remeasured_per_specification: each(again.per_specification()),
+        })
+    }
 }
 
 /// One reading's answer (`readings[]`).
@@ -636,6 +701,7 @@ impl<'a> ReadingJson<'a> {
                 min_samples: e2e_verify::min_yield_samples(r.yield_based().target()),
                 bounds_arcmin: arcmin_bounds(&names, r.yield_based().upper_bounds_rad()),
                 remeasured: BoxJson::new(e2e, r.yield_box()),
+                specifications: YieldSpecificationsJson::new(r),
             },
             noise: noise.map(|n| NoiseReadingJson::new(e2e, n)),
         }

@@ -130,12 +130,53 @@ fn end_to_end_of_the_paper_study_finds_table4_worst_case_under_the_users_reading
         );
         assert_eq!(reading["direct"]["unconstrained"], serde_json::json!([]));
         assert_eq!(reading["direct"]["no_bound_needed"], false);
+        // no specifications: the yield counts every accuracy, no specification view
+        assert!(reading["yield_based"].get("specifications").is_none());
     }
     assert_relative_eq!(
         num(&v["direct_objective"]),
         r.answer().readings()[0].direct().objective_arcmin(),
         max_relative = SAME_REL
     );
+}
+
+/// `end-to-end` of the IMU example (with specifications): the yield-based allocation counts
+/// the draws meeting every accuracy and every specification, says so, and gives the draws
+/// meeting each specification; its verdict is the re-measured interval's against the target.
+#[test]
+fn end_to_end_of_the_imu_example_counts_the_specifications_in_its_yield() {
+    let s = study("imu-triad-example");
+    let o = tt_lab::end_to_end::Options {
+        samples: Some(2000),
+        ..Default::default()
+    };
+    let r = tt_lab::end_to_end::end_to_end(&s, &o).unwrap();
+    let v = json(&tt_lab::end_to_end::EndToEndJson::of(&s, &r));
+    for reading in v["readings"].as_array().unwrap() {
+        let y = &reading["yield_based"];
+        let sp = &y["specifications"];
+        assert_eq!(sp["counts"], e2e_verify::SPECIFIED_YIELD_COUNTS, "{y}");
+        let target = num(&y["target"]);
+        let design = sp["design_meeting"].as_u64().unwrap();
+        let samples = sp["design_samples"].as_u64().unwrap();
+        assert!(design as f64 >= target * samples as f64, "{sp}");
+        assert_relative_eq!(
+            num(&y["design_yield"]),
+            design as f64 / samples as f64,
+            max_relative = SAME_REL
+        );
+        let per = sp["design_per_specification"].as_array().unwrap();
+        assert!(!per.is_empty());
+        for p in per {
+            assert!(p["meeting"].as_u64().unwrap() >= design, "{p}");
+            assert!(p["specification"].as_str().unwrap().contains(" in "), "{p}");
+        }
+        let again = sp["remeasured_per_specification"].as_array().unwrap();
+        assert_eq!(again.len(), per.len());
+        let i = sp["remeasured_interval_95"].as_array().unwrap();
+        let expected = e2e_verify::YieldVerdict::of((num(&i[0]), num(&i[1])), target);
+        assert_eq!(y["verdict"], expected.name(), "{y}");
+    }
 }
 
 /// Too few turntables for the yield target: an input error naming the option as given.

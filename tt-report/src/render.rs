@@ -1265,7 +1265,14 @@ impl<'a> Sections<'a> {
                 .iter()
                 .map(|w| format!("{} {}", outs[w.output()].0, sig(w.exact_at_vertex(), 5)))
                 .collect();
-            let (lo, hi) = b.distribution().count().interval_95();
+            // the yield-based box's yield is what its allocation counts (with specifications:
+            // every accuracy and every specification)
+            let count = if name == "yield-based" {
+                r.yield_count()
+            } else {
+                b.distribution().count()
+            };
+            let (lo, hi) = count.interval_95();
             let label = match name {
                 "two-step" => "two-step (requirement, then turntable)".to_string(),
                 "direct" => "direct (against every accuracy)".to_string(),
@@ -1277,7 +1284,7 @@ impl<'a> Sections<'a> {
             };
             let mut yield_cell = format!(
                 "{:.2}% [{:.2}, {:.2}]",
-                100.0 * b.distribution().count().fraction(),
+                100.0 * count.fraction(),
                 100.0 * lo,
                 100.0 * hi
             );
@@ -1285,7 +1292,8 @@ impl<'a> Sections<'a> {
                 // re-measured on independent draws, against the allocation's target
                 let _ = write!(
                     yield_cell,
-                    ": {} its target",
+                    " of {}: {} its target",
+                    r.yield_based().counts(),
                     match r.yield_verdict() {
                         YieldVerdict::Meets => "**meets**",
                         YieldVerdict::DoesNotMeet => "does **not** meet",

@@ -231,13 +231,15 @@ pub(crate) fn tradeoff_text(tr: &Tradeoff, scanned: &Scanned) -> String {
 /// The yield-based box against its target: the re-measured yield's 95% interval and the
 /// verdict, one line.
 fn yield_text(r: &ReadingAnswer) -> String {
-    let (lo, hi) = r.yield_box().distribution().count().interval_95();
+    let count = r.yield_count();
+    let (lo, hi) = count.interval_95();
     format!(
-        "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% (95% interval {:.2}-{:.2}%): {}\n",
+        "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% of {} (95% interval {:.2}-{:.2}%): {}\n",
         "",
         num(100.0 * r.yield_based().target()),
-        r.yield_box().distribution().count().samples(),
-        100.0 * r.yield_box().distribution().count().fraction(),
+        count.samples(),
+        100.0 * count.fraction(),
+        r.yield_based().counts(),
         100.0 * lo,
         100.0 * hi,
         match r.yield_verdict() {
