@@ -134,7 +134,7 @@ fn py_to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
 }
 
 /// A validated study (turntable, sensor, site, schedule, requirement), from a file
-/// ([`load_study`]) or a dict ([`Study::from_dict`]).
+/// (`ttalloc.load_study`) or a dict (`Study.from_dict`).
 #[pyclass(frozen, module = "ttalloc")]
 pub struct Study {
     inner: study::Study,

@@ -662,11 +662,11 @@ fn budget_dwell(b: &TimeBudget<'_>, n: usize, lo: f64) -> Option<f64> {
 /// when it has the designed size; the study's schedule (`study_positions_deg`) is evaluated in
 /// any case.
 ///
-/// The steps: the inputs checked ([`checked_shortest_dwell`]), the known schedules and the
-/// other counts' table designs ([`Found::start`], [`Found::design_counts`]), every schedule at
-/// every dwell of the grid ([`Found::evaluate_grid`]), the noise-aware searches
-/// ([`Found::searched_dwells`], [`Found::noise_jobs`], [`Found::add_noise_searches`]), the
-/// count's refinement ([`Found::refine_counts`]) and the front ([`Found::finish`]). Each
+/// The steps: the inputs checked (`checked_shortest_dwell`), the known schedules and the
+/// other counts' table designs (`Found::start`, `Found::design_counts`), every schedule at
+/// every dwell of the grid (`Found::evaluate_grid`), the noise-aware searches
+/// (`Found::searched_dwells`, `Found::noise_jobs`, `Found::add_noise_searches`), the
+/// count's refinement (`Found::refine_counts`) and the front (`Found::finish`). Each
 /// schedule's end-to-end simulator and linearisation are built once and kept for every dwell.
 ///
 /// # Errors

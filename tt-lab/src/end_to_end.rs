@@ -1197,7 +1197,7 @@ impl EndToEndAnswer {
         self.decision.as_ref()
     }
     /// The specifications no table can meet (the noise part alone fills the limit), left out
-    /// of the direct allocation: "no table suffices for <spec>: noise alone is X >= the limit
+    /// of the direct allocation: "no table suffices for `<spec>`: noise alone is X >= the limit
     /// L" (the study's names unescaped).
     #[must_use]
     pub fn no_table_suffices(&self) -> &[String] {

@@ -180,7 +180,7 @@ pub trait LibraryError: ErrorClass + std::error::Error + Send + Sync + 'static {
 impl<T: ErrorClass + std::error::Error + Send + Sync + 'static> LibraryError for T {}
 
 /// The one rule from a library error to the command's error: an input error is an
-/// [`InputError`] (exit 2) located by its field ([`location`]), anything else is internal
+/// [`InputError`] (exit 2) located by its field (`location`), anything else is internal
 /// (exit 1). Fields that are not flags or lower bounds are located at the study file.
 pub fn library<E: LibraryError>(e: E, s: &Study) -> LabError {
     located(e, s, &s.path, "the box")

@@ -75,11 +75,11 @@ where
     for_each_row_in(reader, &source.name(), turntable, joints, visit)
 }
 
-/// [`for_each_row`] on any reader (`name` names it in messages): the one CSV loop
+/// `for_each_row` on any reader (`name` names it in messages): the one CSV loop
 /// ([`tt_lab::rows::read_rows`]), also driven by the fuzz harness.
 ///
 /// # Errors
-/// As [`for_each_row`].
+/// As `for_each_row`.
 pub fn for_each_row_in<R, F>(
     reader: R,
     name: &str,

@@ -129,7 +129,7 @@ pub fn run(args: &Args) -> Result<()> {
 /// Run the command, then `bench` if given.
 ///
 /// # Errors
-/// As [`run`], and the benchmark's.
+/// As `run`, and the benchmark's.
 pub fn run_with(args: &Args, bench: Option<Bench<'_>>) -> Result<()> {
     let s = args.study.load()?;
     let plan = tt_lab::monte_carlo::plan(&s, &options(args)).map_err(crate::input::lab)?;

@@ -29,7 +29,7 @@ pub(crate) fn io(e: std::io::Error) -> anyhow::Error {
 /// the terminal.
 ///
 /// # Errors
-/// [`BrokenPipe`] when the reader is gone; other I/O errors.
+/// `BrokenPipe` when the reader is gone; other I/O errors.
 pub fn print(text: &str) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
     out.write_all(tt_core::human::terminal(text).as_bytes())

@@ -2,10 +2,10 @@
 //!
 //! `cargo xtask test` is the README's test command (the set-up the tests need on a fresh
 //! machine, then `cargo test --workspace`); `cargo xtask fuzz` is the mutation fuzzer of the
-//! input layer and the report writer ([`fuzz`]: automation, not in the user's binary);
-//! `cargo xtask mc --baselines` adds the Monte Carlo's same-run benchmark ([`mc_baselines`]);
+//! input layer and the report writer (`src/fuzz.rs`: automation, not in the user's binary);
+//! `cargo xtask mc --baselines` adds the Monte Carlo's same-run benchmark (`src/mc_baselines.rs`);
 //! `cargo xtask public-items [--unused]` counts the library crates' public items
-//! ([`public_items`]);
+//! (`src/public_items.rs`);
 //! every other command is the `ttalloc` command line ([`ttalloc::run_with`]), run from the
 //! repository (`cargo xtask reproduce-paper`).
 

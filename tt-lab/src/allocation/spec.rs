@@ -16,7 +16,7 @@ pub struct SpecifiedAllocation {
     /// study gives none, or none leaves room).
     pub context: Option<SpecificationContext>,
     /// Per specification whose noise part alone fills its limit: "no table suffices for
-    /// <spec>: noise alone is X >= the limit L" (the study's names unescaped).
+    /// `<spec>`: noise alone is X >= the limit L" (the study's names unescaped).
     pub no_table_suffices: Vec<String>,
 }
 
