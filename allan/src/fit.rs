@@ -45,6 +45,8 @@
 //! the longest end of the search means the log is too short for the correlation time
 //! ([`Resolution::BeyondLog`]).
 
+use gw_model::noise::GaussMarkov;
+
 /// $\sqrt{2 \ln 2 / \pi}$: the Allan deviation of flicker noise of bias instability $B$ is
 /// this times $B$ (IEEE Std 952-1997, eq C.9).
 pub const FLICKER_FLOOR_FACTOR: f64 = 0.664_282_470_267_960_1;
@@ -302,25 +304,6 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// The Allan variance of a Gauss-Markov process of unit variance at $u = \tau / T_c$.
-#[must_use]
-pub(crate) fn gauss_markov_avar(u: f64) -> f64 {
-    if u < 0.5 {
-        // sum_{k>=3} (-1)^k (4 - 2^k)/k! u^k / u^2 (the closed form cancels)
-        let (mut term, mut sum, mut two_k) = (1.0, 0.0, 1.0);
-        for k in 1..=30 {
-            term *= -u / f64::from(k);
-            two_k *= 2.0;
-            if k >= 3 {
-                sum += term * (4.0 - two_k);
-            }
-        }
-        sum / (u * u)
-    } else {
-        (2.0 * u - 3.0 + 4.0 * (-u).exp() - (-2.0 * u).exp()) / (u * u)
-    }
-}
-
 /// Weighted non-negative least squares of `y` on the columns of `x` (rows weighted): every
 /// subset of columns solved by its normal equations (scaled to unit diagonal, Cholesky); the
 /// feasible one with the least residual wins (ties, within $10^{-12}$, to the earlier subset
@@ -555,9 +538,12 @@ pub(crate) fn fit_power_terms(points: &[(f64, f64, f64)]) -> PowerFit {
 }
 
 /// The columns of the Gauss-Markov model at normalized correlation time `u`: $Q, N, K, R$,
-/// Gauss-Markov.
+/// Gauss-Markov (the Allan variance of a process of unit variance,
+/// [`GaussMarkov::allan_variance`]; NaN for a correlation time that is not finite and
+/// positive).
 fn gm_row(x: f64, u: f64) -> [f64; 5] {
-    [x.powi(-2), x.powi(-1), x, x * x, gauss_markov_avar(x / u)]
+    let gauss_markov = GaussMarkov::new(1.0, u).map_or(f64::NAN, |g| g.allan_variance(x));
+    [x.powi(-2), x.powi(-1), x, x * x, gauss_markov]
 }
 
 /// Forty golden-section steps of `f` on `[a, b]`: the last two interior points with their

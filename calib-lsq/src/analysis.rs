@@ -961,8 +961,7 @@ impl OrientationErrorAnalysis {
         angles: &OrientationError,
         kind: DeltaRKind,
     ) -> Result<f64, CalibError> {
-        let m = angles.delta_r(kind);
-        self.delta_omega(&vec![m; self.positions()])
+        self.delta_omega(&self.same_at_every_position(angles, kind))
     }
 
     /// Eq 7-14 when every position has the same orientation error.
@@ -974,8 +973,16 @@ impl OrientationErrorAnalysis {
         angles: &OrientationError,
         kind: DeltaRKind,
     ) -> Result<ErrorAnalysis, CalibError> {
-        let m = angles.delta_r(kind);
-        self.analyze(&vec![m; self.positions()])
+        self.analyze(&self.same_at_every_position(angles, kind))
+    }
+
+    /// The orientation error of `angles` at every position (§2.2's fixed error).
+    fn same_at_every_position(
+        &self,
+        angles: &OrientationError,
+        kind: DeltaRKind,
+    ) -> Vec<Matrix3<f64>> {
+        vec![angles.delta_r(kind); self.positions()]
     }
 }
 

@@ -33,7 +33,8 @@ use crate::linear::Linearization;
 use crate::simulate::EndToEnd;
 use mc_verify::driver::{chunk_len, run_chunks};
 use mc_verify::{
-    BLOCK_CAPACITY, ErrorBox, Histogram, SampleBlock, TurntableSampler, chunk_rng, quantile_rank,
+    BLOCK_CAPACITY, ErrorBox, Histogram, SampleBlock, TurntableSampler, WorstSample, chunk_rng,
+    quantile_rank,
 };
 use tt_kinematics::ScheduleErrorModel;
 
@@ -207,39 +208,10 @@ impl YieldCount {
     }
 }
 
-/// The turntable attaining a maximum.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct WorstDraw {
-    /// Global index of the draw.
-    pub(crate) index: u64,
-    /// Its value (output unit, or the ratio for the ratio's worst draw).
-    pub(crate) value: f64,
-    /// Its errors $\chi$, rad.
-    pub(crate) chi_rad: Vec<f64>,
-}
-
-/// Read access to the fields (crate-private, so the type can grow without breaking callers).
-impl WorstDraw {
-    /// Global index of the draw.
-    #[must_use]
-    pub fn index(&self) -> u64 {
-        self.index
-    }
-
-    /// Its value (output unit, or the ratio for the ratio's worst draw).
-    #[must_use]
-    pub fn value(&self) -> f64 {
-        self.value
-    }
-
-    /// Its errors $\chi$, rad.
-    #[must_use]
-    pub fn chi_rad(&self) -> &[f64] {
-        &self.chi_rad
-    }
-}
+/// The turntable attaining a maximum: the Monte Carlos' one worst draw, here with nothing
+/// beyond its index, its value (output unit, or the ratio for the ratio's worst draw) and its
+/// errors $\chi$ (rad).
+pub type WorstDraw = WorstSample<()>;
 
 /// One quantile of the calibration errors.
 #[derive(Debug, Clone, PartialEq)]
@@ -358,7 +330,7 @@ impl RateDistribution {
     /// Largest $\Delta\omega_k$ drawn per output (output unit).
     #[must_use]
     pub fn max(&self) -> Vec<f64> {
-        self.worst.iter().map(|w| w.value).collect()
+        self.worst.iter().map(WorstDraw::value).collect()
     }
 }
 
@@ -405,7 +377,7 @@ impl Partial {
         }
         let better = |mine: &mut Option<WorstDraw>, theirs: Option<WorstDraw>| {
             if let Some(t) = theirs {
-                if mine.as_ref().is_none_or(|m| t.value > m.value) {
+                if mine.as_ref().is_none_or(|m| t.value() > m.value()) {
                     *mine = Some(t);
                 }
             }
@@ -620,12 +592,8 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                         part.meeting_per_output[k] += 1;
                     }
                     ratio = ratio.max(v / acc[k]);
-                    if part.worst[k].as_ref().is_none_or(|w| v > w.value) {
-                        part.worst[k] = Some(WorstDraw {
-                            index,
-                            value: v,
-                            chi_rad: chi.to_vec(),
-                        });
+                    if part.worst[k].as_ref().is_none_or(|w| v > w.value()) {
+                        part.worst[k] = Some(WorstDraw::new(index, v, chi.to_vec(), ()));
                     }
                     part.hist[k].add(v);
                     part.fine[k].add(v);
@@ -633,12 +601,8 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                 if ratio <= 1.0 {
                     part.meeting += 1;
                 }
-                if part.worst_ratio.as_ref().is_none_or(|w| ratio > w.value) {
-                    part.worst_ratio = Some(WorstDraw {
-                        index,
-                        value: ratio,
-                        chi_rad: chi.to_vec(),
-                    });
+                if part.worst_ratio.as_ref().is_none_or(|w| ratio > w.value()) {
+                    part.worst_ratio = Some(WorstDraw::new(index, ratio, chi.to_vec(), ()));
                 }
                 part.hist[outputs].add(ratio);
                 part.fine[outputs].add(ratio);
@@ -658,17 +622,19 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
             .zip(&precisions)
             .map(|(w, &e)| {
                 let w = w.unwrap_or_else(|| unreachable!("at least one draw"));
-                WorstDraw {
-                    value: crate::resolved(w.value, e),
-                    ..w
-                }
+                WorstDraw::new(
+                    w.index(),
+                    crate::resolved(w.value(), e),
+                    w.chi_rad().to_vec(),
+                    (),
+                )
             })
             .collect();
         let worst_ratio = p
             .worst_ratio
-            .map(|w| WorstDraw {
-                value: crate::resolved(w.value, ratio_precision),
-                ..w
+            .map(|w| {
+                let value = crate::resolved(w.value(), ratio_precision);
+                WorstDraw::new(w.index(), value, w.chi_rad().to_vec(), ())
             })
             .unwrap_or_else(|| unreachable!("at least one draw"));
         let quantiles = REPORTED_QUANTILES
@@ -677,11 +643,14 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                 p: q,
                 per_output: (0..outputs)
                     .map(|k| {
-                        crate::resolved(p.fine[k].quantile_upper(q, worst[k].value), precisions[k])
+                        crate::resolved(
+                            p.fine[k].quantile_upper(q, worst[k].value()),
+                            precisions[k],
+                        )
                     })
                     .collect(),
                 ratio: crate::resolved(
-                    p.fine[outputs].quantile_upper(q, worst_ratio.value),
+                    p.fine[outputs].quantile_upper(q, worst_ratio.value()),
                     ratio_precision,
                 ),
             })

@@ -180,11 +180,7 @@ fn monte_carlo_shows_where_the_gum_budget_does_not_hold() {
 /// The same seed gives the same answer on one thread and on all of them.
 #[test]
 fn monte_carlo_is_the_same_for_any_number_of_threads() {
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| run(arcsec(30.0), Law::Rectangular, 1).1);
+    let one = common::on_threads(1, || run(arcsec(30.0), Law::Rectangular, 1).1);
     let all = run(arcsec(30.0), Law::Rectangular, 1).1;
     assert_eq!(one, all);
 }

@@ -307,15 +307,11 @@ fn disc_monte_carlo_is_identical_for_one_and_two_threads() {
     );
     let discs: Vec<([usize; 2], f64)> = tol.discs.iter().map(|d| (d.errors, d.bound_rad)).collect();
     let run = |threads: usize, discs: &[([usize; 2], f64)]| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                e2e.angle()
-                    .angle_yield_with_discs(&ex, &tol.ub_rad, discs, 3000, 11)
-                    .unwrap()
-            })
+        common::on_threads(threads, || {
+            e2e.angle()
+                .angle_yield_with_discs(&ex, &tol.ub_rad, discs, 3000, 11)
+                .unwrap()
+        })
     };
     let one = run(1, &discs);
     assert_eq!(one, run(2, &discs));

@@ -546,22 +546,18 @@ fn monte_carlo_reuses_mc_verify_streams_and_is_thread_count_independent() {
     sampler.fill_block(&mut rng, BLOCK_CAPACITY, &mut block);
     sampler.fill_block(&mut rng, 72, &mut block);
     let chi_433 = block.chi_rad(5);
-    let pool = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
-    let chis = pool(1).install(|| e2e.monte_carlo().sample_chi(&bounds, &settings).unwrap());
+    let chis = common::on_threads(1, || {
+        e2e.monte_carlo().sample_chi(&bounds, &settings).unwrap()
+    });
     assert_eq!(chis.len(), 500);
     assert_eq!(bits(&chis[0]), bits(&chi0));
     assert_eq!(bits(&chis[433]), bits(&chi_433));
-    let one = pool(1).install(|| {
+    let one = common::on_threads(1, || {
         e2e.monte_carlo()
             .rate_distribution(&lin, &bounds, &settings)
             .unwrap()
     });
-    let three = pool(3).install(|| {
+    let three = common::on_threads(3, || {
         e2e.monte_carlo()
             .rate_distribution(&lin, &bounds, &settings)
             .unwrap()

@@ -10,8 +10,10 @@ mod common;
 use approx::assert_relative_eq;
 use calib_lsq::Reading;
 use calib_lsq::joint::Identifiability;
+use calib_lsq::joint::JointEstimability;
 use common::*;
 use e2e_verify::EndToEnd;
+use e2e_verify::estimable::JointEstimate;
 use nalgebra::{DMatrix, DVector};
 use rand_chacha::rand_core::SeedableRng;
 
@@ -37,6 +39,23 @@ fn project(b: &DMatrix<f64>, chi: &[f64]) -> DVector<f64> {
     b.transpose() * DVector::from_column_slice(chi)
 }
 
+/// The joint estimate from the noiseless outputs of the exact chain at the table error `chi`
+/// (stopping at a step of `tol_rad`).
+fn joint_from_exact_chain(
+    e2e: &EndToEnd,
+    est: &JointEstimability,
+    chi: &[f64],
+    tol_rad: f64,
+) -> JointEstimate {
+    let b1 = e2e
+        .estimable()
+        .outputs_at(chi, &e2e.estimable().true_coefficients())
+        .unwrap();
+    e2e.estimable()
+        .joint_estimate(&b1, est, ITERATIONS, tol_rad)
+        .unwrap()
+}
+
 /// A table error with a component along every error (seeded), scaled to 2-norm `s` rad.
 fn generic_chi(e2e: &EndToEnd, s: f64) -> Vec<f64> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(22);
@@ -57,14 +76,7 @@ fn joint_estimator_recovers_estimable_table_errors_on_the_exact_chain() {
         assert!(est.table_rank() > 0, "{name}");
         let z = DVector::from_fn(e.ncols(), |i, _| 1e-4 * (1.0 - 0.3 * i as f64));
         let chi: Vec<f64> = (e * &z).iter().copied().collect();
-        let b1 = e2e
-            .estimable()
-            .outputs_at(&chi, &e2e.estimable().true_coefficients())
-            .unwrap();
-        let j = e2e
-            .estimable()
-            .joint_estimate(&b1, &est, ITERATIONS, 1e-15)
-            .unwrap();
+        let j = joint_from_exact_chain(&e2e, &est, &chi, 1e-15);
         let err: f64 = j
             .chi_rad()
             .iter()
@@ -112,14 +124,7 @@ fn estimate_of_the_estimable_part_converges_as_the_table_error_shrinks() {
         let mut errs = Vec::new();
         for s in [1e-3, 1e-4, 1e-5] {
             let chi = generic_chi(&e2e, s);
-            let b1 = e2e
-                .estimable()
-                .outputs_at(&chi, &e2e.estimable().true_coefficients())
-                .unwrap();
-            let j = e2e
-                .estimable()
-                .joint_estimate(&b1, &est, ITERATIONS, 1e-17)
-                .unwrap();
+            let j = joint_from_exact_chain(&e2e, &est, &chi, 1e-17);
             let err = (project(e, j.chi_rad()) - project(e, &chi)).norm() / s;
             assert!(
                 err <= SECOND_ORDER * s,

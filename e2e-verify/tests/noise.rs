@@ -117,15 +117,11 @@ fn combined_yield_is_identical_for_any_thread_count() {
         ..McSettings::new(2000, 11)
     };
     let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                e2e.noise()
-                    .combined_yield(&bounds, &budget, &settings)
-                    .unwrap()
-            })
+        common::on_threads(threads, || {
+            e2e.noise()
+                .combined_yield(&bounds, &budget, &settings)
+                .unwrap()
+        })
     };
     assert_eq!(run(1), run(3));
 }
@@ -182,19 +178,9 @@ fn combined_yield_of_a_perfect_table_is_the_gaussian_probability_of_the_noise() 
     // for white noise at one output the error at the worst position is normal with the
     // budget's sigma, so the per-output yield lies between the Bonferroni bound
     // 1 - sum_i P(|nu_i| > acc) and min_i P(|nu_i| <= acc)
-    let e2e = common::study_e2e("three-axis-example", None);
-    let acc = e2e.accuracies();
     // density chosen so that the worst position's sigma is a third of the accuracy
-    let timing = Timing::uniform(e2e.len(), 30.0, 0.0, 100.0).unwrap();
-    let unit = e2e
-        .noise()
-        .noise_budget(&white(&e2e, 1.0), &timing)
-        .unwrap();
-    let density = acc[0] / 3.0 / unit.sigma()[0];
-    let budget = e2e
-        .noise()
-        .noise_budget(&white(&e2e, density), &timing)
-        .unwrap();
+    let (e2e, budget) = three_axis_with_white_noise(3.0);
+    let acc = e2e.accuracies();
     let zero = vec![0.0; e2e.n_errors()];
     let bounds = e2e.box_of(&zero, &zero).unwrap();
     let settings = McSettings::new(20_000, 3);
@@ -236,9 +222,12 @@ fn libm_erfc(x: f64) -> f64 {
     s * h / 3.0 * 2.0 / std::f64::consts::PI.sqrt()
 }
 
-/// The three-axis example with white noise whose part at 3 sigma is a quarter of the first
-/// output's accuracy (30 s per position at 100 Hz).
-fn three_axis_with_a_quarter_of_the_accuracy_in_noise() -> (EndToEnd, NoiseBudget) {
+/// The noise's part at 3 sigma a quarter of the first output's accuracy: sigma = accuracy / 12.
+const QUARTER_OF_THE_ACCURACY_AT_3_SIGMA: f64 = 12.0;
+
+/// The three-axis example with white noise whose sigma at the first output's worst position
+/// is its accuracy divided by `sigmas_per_accuracy` (30 s per position at 100 Hz).
+fn three_axis_with_white_noise(sigmas_per_accuracy: f64) -> (EndToEnd, NoiseBudget) {
     let e2e = common::study_e2e("three-axis-example", None);
     let acc = e2e.accuracies();
     let timing = Timing::uniform(e2e.len(), 30.0, 0.0, 100.0).unwrap();
@@ -246,7 +235,7 @@ fn three_axis_with_a_quarter_of_the_accuracy_in_noise() -> (EndToEnd, NoiseBudge
         .noise()
         .noise_budget(&white(&e2e, 1.0), &timing)
         .unwrap();
-    let density = acc[0] / 12.0 / unit.sigma()[0];
+    let density = acc[0] / sigmas_per_accuracy / unit.sigma()[0];
     let budget = e2e
         .noise()
         .noise_budget(&white(&e2e, density), &timing)
@@ -256,7 +245,7 @@ fn three_axis_with_a_quarter_of_the_accuracy_in_noise() -> (EndToEnd, NoiseBudge
 
 #[test]
 fn direct_allocation_with_noise_gives_the_table_what_the_noise_leaves() {
-    let (e2e, budget) = three_axis_with_a_quarter_of_the_accuracy_in_noise();
+    let (e2e, budget) = three_axis_with_white_noise(QUARTER_OF_THE_ACCURACY_AT_3_SIGMA);
     let acc = e2e.accuracies();
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
@@ -385,7 +374,7 @@ fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
 /// the first-order one.
 #[test]
 fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
-    let (e2e, budget) = three_axis_with_a_quarter_of_the_accuracy_in_noise();
+    let (e2e, budget) = three_axis_with_white_noise(QUARTER_OF_THE_ACCURACY_AT_3_SIGMA);
     let acc = e2e.accuracies();
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];

@@ -4,12 +4,45 @@
 mod common;
 
 use approx::assert_relative_eq;
-use e2e_verify::{EndToEnd, ExtraError};
+use e2e_verify::{EndToEnd, ExtraError, ExtraOutputWorstCase, Linearization, RateAllocation};
 
 const STUDY: &str = "tactical-rate-table-example";
 
 fn e2e() -> EndToEnd {
     common::study_e2e(STUDY, None)
+}
+
+/// The angular and the extra-error linearisations of `e`, and the direct rate allocation with
+/// every lower bound zero.
+fn direct_rate(e: &EndToEnd) -> (Linearization, Linearization, Vec<f64>, RateAllocation) {
+    let (m, n) = (e.linearization(), e.rates().extra_linearization());
+    let lb = vec![0.0; e.n_errors()];
+    let a = e
+        .rates()
+        .allocate_direct_rate(&m, &n, &lb)
+        .expect("feasible");
+    (m, n, lb, a)
+}
+
+/// The bounds `ub_rad` with an unconstrained (`+inf`) one held at 0.
+fn finite_or_zero(ub_rad: &[f64]) -> Vec<f64> {
+    ub_rad
+        .iter()
+        .map(|u| if u.is_finite() { *u } else { 0.0 })
+        .collect()
+}
+
+/// The worst case over both boxes of a rate allocation's box (`+inf` angles held at 0).
+fn worst_case_of(
+    e: &EndToEnd,
+    m: &Linearization,
+    n: &Linearization,
+    a: &RateAllocation,
+) -> Vec<ExtraOutputWorstCase> {
+    let extra = e.rates().extra_bounds_of(a.tolerance_bounds());
+    e.rates()
+        .worst_case_with_extra(m, n, &finite_or_zero(a.angles_rad()), &extra)
+        .expect("runs")
 }
 
 /// The index of an estimated coefficient in `coefficient_errors`' order (study order).
@@ -176,11 +209,7 @@ fn direct_allocation_with_rate_errors_meets_with_them() {
         .rates()
         .allocate_direct_with_extra(&m, &n, &lb, &bounds)
         .expect("feasible");
-    let ub: Vec<f64> = d
-        .upper_bounds_rad()
-        .iter()
-        .map(|u| if u.is_finite() { *u } else { 0.0 })
-        .collect();
+    let ub = finite_or_zero(d.upper_bounds_rad());
     let wc = e
         .rates()
         .worst_case_with_extra(&m, &n, &ub, &bounds)
@@ -218,28 +247,14 @@ const SOLVER_REL: f64 = 1e-6;
 #[test]
 fn direct_rate_allocation_meets_every_accuracy_first_order_and_at_the_exact_worst_vertex() {
     let e = e2e();
-    let (m, n) = (e.linearization(), e.rates().extra_linearization());
-    let lb = vec![0.0; e.n_errors()];
-    let a = e
-        .rates()
-        .allocate_direct_rate(&m, &n, &lb)
-        .expect("feasible");
+    let (m, n, _, a) = direct_rate(&e);
     let names = e.rates().rate_tolerance_names();
     assert_eq!(a.tolerances().len(), names.len());
     for (t, name) in a.tolerance_bounds().iter().zip(&names) {
         assert!(t.is_finite() && *t > 0.0, "{name}: {t}");
     }
     assert!(a.combined().objective().is_finite() && a.combined().objective() > 0.0);
-    let ub: Vec<f64> = a
-        .angles_rad()
-        .iter()
-        .map(|u| if u.is_finite() { *u } else { 0.0 })
-        .collect();
-    let extra = e.rates().extra_bounds_of(a.tolerance_bounds());
-    let wc = e
-        .rates()
-        .worst_case_with_extra(&m, &n, &ub, &extra)
-        .expect("runs");
+    let wc = worst_case_of(&e, &m, &n, &a);
     for (o, acc) in wc.iter().zip(e.accuracies()) {
         assert!(
             o.linear_bound() <= acc * (1.0 + SOLVER_REL),
@@ -267,12 +282,7 @@ fn direct_rate_allocation_rate_accuracy_agrees_with_the_closed_form() {
     // (1 + k, |k| <= 3e-4) leave 1e-3 relative
     const CLOSED_FORM_REL: f64 = 1e-3;
     let e = e2e();
-    let (m, n) = (e.linearization(), e.rates().extra_linearization());
-    let lb = vec![0.0; e.n_errors()];
-    let a = e
-        .rates()
-        .allocate_direct_rate(&m, &n, &lb)
-        .expect("feasible");
+    let (m, n, _, a) = direct_rate(&e);
     let names = e.rates().rate_tolerance_names();
     let extra_names = e.extra_names();
     let tol = |name: &str| a.tolerance_bounds()[names.iter().position(|n| n == name).unwrap()];
@@ -321,17 +331,8 @@ fn rounding(e: &EndToEnd, k: usize) -> f64 {
 fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corners() {
     use rand_core::{Rng, SeedableRng};
     let e = e2e();
-    let (m, n) = (e.linearization(), e.rates().extra_linearization());
-    let lb = vec![0.0; e.n_errors()];
-    let a = e
-        .rates()
-        .allocate_direct_rate(&m, &n, &lb)
-        .expect("feasible");
-    let ub0: Vec<f64> = a
-        .angles_rad()
-        .iter()
-        .map(|u| if u.is_finite() { *u } else { 0.0 })
-        .collect();
+    let (m, n, _, a) = direct_rate(&e);
+    let ub0 = finite_or_zero(a.angles_rad());
     let x0 = e.rates().extra_bounds_of(a.tolerance_bounds());
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(23);
     let mut largest_ratio = 0.0_f64;
@@ -405,8 +406,7 @@ fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corne
 #[test]
 fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_worst_vertex() {
     let e = e2e();
-    let (m, n) = (e.linearization(), e.rates().extra_linearization());
-    let lb = vec![0.0; e.n_errors()];
+    let (m, n, lb, direct) = direct_rate(&e);
     let c = e
         .rates()
         .allocate_direct_rate_certified(&m, &n, &lb)
@@ -414,10 +414,6 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
     let cert = c
         .certificate()
         .expect("a certified allocation has its certificate");
-    let direct = e
-        .rates()
-        .allocate_direct_rate(&m, &n, &lb)
-        .expect("feasible");
     assert_eq!(c.tolerances(), direct.tolerances());
     for (t, name) in c
         .tolerance_bounds()
@@ -428,16 +424,7 @@ fn certified_rate_allocation_bound_meets_every_accuracy_and_covers_the_exact_wor
     }
     // a certified box costs at least the first-order one (J grows as the box shrinks)
     assert!(c.combined().objective() >= direct.combined().objective() * (1.0 - SOLVER_REL));
-    let ub: Vec<f64> = c
-        .angles_rad()
-        .iter()
-        .map(|u| if u.is_finite() { *u } else { 0.0 })
-        .collect();
-    let extra = e.rates().extra_bounds_of(c.tolerance_bounds());
-    let wc = e
-        .rates()
-        .worst_case_with_extra(&m, &n, &ub, &extra)
-        .expect("runs");
+    let wc = worst_case_of(&e, &m, &n, &c);
     for (k, acc) in e.accuracies().iter().enumerate() {
         assert!(
             cert.second_order_bounds()[k] > 0.0,
@@ -518,12 +505,7 @@ fn six_face_rate_allocation_stays_in_the_rate_models_domain_and_meets_every_accu
         .map(|p| tt_core::Pose::from_deg(p).unwrap())
         .collect::<Vec<_>>();
     let e = EndToEnd::new(&s.turntable, &s.calibration, &poses, s.reading).unwrap();
-    let (m, n) = (e.linearization(), e.rates().extra_linearization());
-    let lb = vec![0.0; e.n_errors()];
-    let a = e
-        .rates()
-        .allocate_direct_rate(&m, &n, &lb)
-        .expect("feasible");
+    let (m, n, lb, a) = direct_rate(&e);
     let mut capped = 0;
     for (t, tol) in a.tolerance_bounds().iter().zip(a.tolerances()) {
         assert!(t.is_finite() && *t > 0.0);

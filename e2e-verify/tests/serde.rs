@@ -11,7 +11,8 @@ use e2e_verify::{Direct, McSettings};
 use serde_json::Value;
 
 /// The buyer's check of Table 4 under the user's reading serialises its verdict (`fails`:
-/// 0.0159 deg/h against 0.01, README), every output's worst case and the yield's draws; the
+/// 0.0159 deg/h against 0.01, README), every output's worst case, the yield's draws and
+/// its worst draws (index and errors, no empty extra data); the
 /// direct box through the seam serialises its joint details.
 #[test]
 fn the_buyers_check_and_the_direct_box_serialise_their_verdicts_and_numbers() {
@@ -30,6 +31,14 @@ fn the_buyers_check_and_the_direct_box_serialise_their_verdicts_and_numbers() {
     }
     assert!(outputs.iter().any(|o| o["verdict"] == "fails"));
     assert_eq!(v["distribution"]["samples"], 2_000);
+    // the worst draws are the Monte Carlos' one `WorstSample`, with no extra data end to end
+    let worst = v["distribution"]["worst"].as_array().unwrap();
+    for (w, d) in worst.iter().zip(check.distribution().worst()) {
+        assert_eq!(w["index"], d.index());
+        assert_eq!(w["chi_rad"].as_array().unwrap().len(), d.chi_rad().len());
+        assert!(w.get("extra").is_none(), "{w}");
+    }
+    assert_eq!(worst.len(), e2e.n_outputs());
 
     let problem = e2e.allocation_problem(e2e.linearization(), lb).unwrap();
     let tb = Direct::new(&e2e).allocate(&problem).unwrap();

@@ -185,14 +185,10 @@ fn time_domain_simulation_is_identical_for_any_thread_count() {
         ..McSettings::new(300, 9)
     };
     let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                e2e.simulate_time_domain(&bounds, &noise, &t, &settings)
-                    .unwrap()
-            })
+        common::on_threads(threads, || {
+            e2e.simulate_time_domain(&bounds, &noise, &t, &settings)
+                .unwrap()
+        })
     };
     let one = run(1);
     assert_eq!(one, run(2));

@@ -63,11 +63,23 @@ pub fn paper_kernel_run_with_simd(mc: &MonteCarlo, level: SimdLevel) -> Result<M
         Tier::Tangent => {
             let scale: [f64; CHI_LEN] = std::array::from_fn(|i| sampler.scale_rad()[i]);
             let coeffs = short_tan_coefficients(&scale);
-            mc.drive_kernel(level, progress, &ZeroLbShortKernel { coeffs })
+            mc.drive_kernel(level, progress, &Specialised(ZeroLbShort { coeffs }))
         }
-        Tier::Short => mc.drive_kernel(level, progress, &TierKernel::<TIER_SHORT> { sampler }),
-        Tier::Medium => mc.drive_kernel(level, progress, &TierKernel::<TIER_MEDIUM> { sampler }),
-        Tier::Any => mc.drive_kernel(level, progress, &TierKernel::<TIER_ANY> { sampler }),
+        Tier::Short => mc.drive_kernel(
+            level,
+            progress,
+            &Specialised(TierInputs::<TIER_SHORT> { sampler }),
+        ),
+        Tier::Medium => mc.drive_kernel(
+            level,
+            progress,
+            &Specialised(TierInputs::<TIER_MEDIUM> { sampler }),
+        ),
+        Tier::Any => mc.drive_kernel(
+            level,
+            progress,
+            &Specialised(TierInputs::<TIER_ANY> { sampler }),
+        ),
     })
 }
 
@@ -113,6 +125,27 @@ fn delta_from_tan_half_angles(s2: f64, c2: f64, tau: &[f64; CHI_LEN]) -> [f64; 3
     ]
 }
 
+/// A quaternion `(w, x, y, z)`.
+type Quaternion = (f64, f64, f64, f64);
+
+/// `q` times the rotation about x of half-angle sine and cosine `(s, c)`.
+#[inline(always)]
+fn times_rx((w, x, y, z): Quaternion, (s, c): (f64, f64)) -> Quaternion {
+    (w * c - x * s, w * s + x * c, y * c + z * s, z * c - y * s)
+}
+
+/// `q` times the rotation about y of half-angle sine and cosine `(s, c)`.
+#[inline(always)]
+fn times_ry((w, x, y, z): Quaternion, (s, c): (f64, f64)) -> Quaternion {
+    (w * c - y * s, x * c - z * s, w * s + y * c, x * s + z * c)
+}
+
+/// `q` times the rotation about z of half-angle sine and cosine `(s, c)`.
+#[inline(always)]
+fn times_rz((w, x, y, z): Quaternion, (s, c): (f64, f64)) -> Quaternion {
+    (w * c - z * s, x * c + y * s, y * c - x * s, w * s + z * c)
+}
+
 /// The quaternion chain. `h[i] = (sin chi_i/2, cos chi_i/2)` in the order of eq 25;
 /// `(s2, c2) = (sin phi2, cos phi2)`. Returns `[dpsi, dtheta, dgamma]` (eq 24), rad.
 #[inline(always)]
@@ -129,52 +162,18 @@ fn delta_from_half_angles(s2: f64, c2: f64, h: &[(f64, f64); CHI_LEN]) -> [f64; 
     // E1 = Ry(a) Rz(b) Rx(c) Ry(d) Rx(e)
     let (w, x, y, z) = (ca * cb, sa * sb, sa * cb, ca * sb);
     // * Rx(c)
-    let (w, x, y, z) = (
-        w * cc - x * sc,
-        w * sc + x * cc,
-        y * cc + z * sc,
-        z * cc - y * sc,
-    );
+    let q = times_rx((w, x, y, z), (sc, cc));
     // * Ry(d)
-    let (w, x, y, z) = (
-        w * cd - y * sd,
-        x * cd - z * sd,
-        w * sd + y * cd,
-        x * sd + z * cd,
-    );
+    let q = times_ry(q, (sd, cd));
     // * Rx(e)
-    let (w1, x, y, z1) = (
-        w * ce - x * se,
-        w * se + x * ce,
-        y * ce + z * se,
-        z * ce - y * se,
-    );
+    let (w1, x, y, z1) = times_rx(q, (se, ce));
     // conjugation Rz(-phi2) E1 Rz(phi2): vector part turned by -phi2 about z
     let (x1, y1) = (c2 * x + s2 * y, c2 * y - s2 * x);
 
     // * E2 = Ry(f) Rz(g) Rx(h), one factor at a time
-    let (w, x, y, z) = (w1, x1, y1, z1);
-    // * Ry(f)
-    let (w, x, y, z) = (
-        w * cf - y * sf,
-        x * cf - z * sf,
-        w * sf + y * cf,
-        x * sf + z * cf,
-    );
-    // * Rz(g)
-    let (w, x, y, z) = (
-        w * cg - z * sg,
-        x * cg + y * sg,
-        y * cg - x * sg,
-        w * sg + z * cg,
-    );
-    // * Rx(h)
-    let (w, x, y, z) = (
-        w * ch - x * sh,
-        w * sh + x * ch,
-        y * ch + z * sh,
-        z * ch - y * sh,
-    );
+    let q = times_ry((w1, x1, y1, z1), (sf, cf));
+    let q = times_rz(q, (sg, cg));
+    let (w, x, y, z) = times_rx(q, (sh, ch));
 
     [
         2.0 * (x * z + w * y),
@@ -227,13 +226,21 @@ fn phi2_sin_cos(
     }
 }
 
-/// All lower bounds zero, short-series tier: unnormalised quaternions from the words'
-/// half-integers.
-struct ZeroLbShortKernel {
-    coeffs: [[f64; 2]; CHI_LEN],
+/// What a specialised kernel reads from a block: its eight inputs per sample, and one
+/// sample's orientation error from them. Every method is `#[inline(always)]` (see
+/// [`BlockKernel`]).
+trait SampleInputs: Sync {
+    /// The eight inputs of the `n` samples of `block`, one row per input.
+    fn fill(&self, block: &SampleBlock, n: usize, inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN]);
+    /// `[dpsi, dtheta, dgamma]` of one sample from $(\sin\phi_2, \cos\phi_2)$ and its inputs.
+    fn delta(&self, s2: f64, c2: f64, inputs: [f64; CHI_LEN]) -> [f64; 3];
 }
 
-impl BlockKernel for ZeroLbShortKernel {
+/// A specialised kernel: the inputs of `I`, $(\sin\phi_2, \cos\phi_2)$ of each sample, and
+/// each sample's orientation error.
+struct Specialised<I>(I);
+
+impl<I: SampleInputs> BlockKernel for Specialised<I> {
     type Scratch = Buffers;
 
     fn scratch(&self) -> Buffers {
@@ -248,63 +255,61 @@ impl BlockKernel for ZeroLbShortKernel {
         b: &mut Buffers,
         out: &mut [[f64; BLOCK_CAPACITY]; 3],
     ) {
-        for (i, t) in b.inputs.iter_mut().enumerate() {
+        self.0.fill(block, n, &mut b.inputs);
+        phi2_sin_cos(turn_table(), block, n, &mut b.sc);
+        let inputs = &b.inputs;
+        for k in 0..n {
+            let d = self.0.delta(
+                b.sc[0][k],
+                b.sc[1][k],
+                std::array::from_fn(|i| inputs[i][k]),
+            );
+            out[0][k] = d[0];
+            out[1][k] = d[1];
+            out[2][k] = d[2];
+        }
+    }
+}
+
+/// All lower bounds zero, short-series tier: unnormalised quaternions from the words'
+/// half-integers.
+struct ZeroLbShort {
+    coeffs: [[f64; 2]; CHI_LEN],
+}
+
+impl SampleInputs for ZeroLbShort {
+    #[inline(always)]
+    fn fill(&self, block: &SampleBlock, n: usize, inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN]) {
+        for (i, t) in inputs.iter_mut().enumerate() {
             for (x, w) in t[..n].iter_mut().zip(block.column_words(i)) {
                 *x = f64::from(w as i32) + 0.5;
             }
         }
-        phi2_sin_cos(turn_table(), block, n, &mut b.sc);
-        let t = &b.inputs;
-        for k in 0..n {
-            let d = delta_from_t(
-                b.sc[0][k],
-                b.sc[1][k],
-                std::array::from_fn(|i| t[i][k]),
-                &self.coeffs,
-            );
-            out[0][k] = d[0];
-            out[1][k] = d[1];
-            out[2][k] = d[2];
-        }
+    }
+
+    #[inline(always)]
+    fn delta(&self, s2: f64, c2: f64, t: [f64; CHI_LEN]) -> [f64; 3] {
+        delta_from_t(s2, c2, t, &self.coeffs)
     }
 }
 
 /// Any box: decoded $\chi$, half-angle functions of tier `TIER`.
-struct TierKernel<'a, const TIER: u8> {
+struct TierInputs<'a, const TIER: u8> {
     sampler: &'a TurntableSampler,
 }
 
-impl<const TIER: u8> BlockKernel for TierKernel<'_, TIER> {
-    type Scratch = Buffers;
-
-    fn scratch(&self) -> Buffers {
-        buffers()
-    }
-
+impl<const TIER: u8> SampleInputs for TierInputs<'_, TIER> {
     #[inline(always)]
-    fn eval_block(
-        &self,
-        block: &SampleBlock,
-        n: usize,
-        b: &mut Buffers,
-        out: &mut [[f64; BLOCK_CAPACITY]; 3],
-    ) {
-        for (i, chi) in b.inputs.iter_mut().enumerate() {
+    fn fill(&self, block: &SampleBlock, n: usize, inputs: &mut [[f64; BLOCK_CAPACITY]; CHI_LEN]) {
+        for (i, chi) in inputs.iter_mut().enumerate() {
             self.sampler
                 .decode_chi(i, block.column_words(i), &mut chi[..n]);
         }
-        phi2_sin_cos(turn_table(), block, n, &mut b.sc);
-        let chi = &b.inputs;
-        for k in 0..n {
-            let d = delta_block_sample::<TIER>(
-                b.sc[0][k],
-                b.sc[1][k],
-                std::array::from_fn(|i| chi[i][k]),
-            );
-            out[0][k] = d[0];
-            out[1][k] = d[1];
-            out[2][k] = d[2];
-        }
+    }
+
+    #[inline(always)]
+    fn delta(&self, s2: f64, c2: f64, chi: [f64; CHI_LEN]) -> [f64; 3] {
+        delta_block_sample::<TIER>(s2, c2, chi)
     }
 }
 

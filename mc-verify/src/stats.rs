@@ -15,45 +15,82 @@
 use crate::sampler::{BLOCK_CAPACITY, SampleBlock, TurntableSampler};
 use tt_kinematics::{OrientationAxis, Pose};
 
-/// The sample that attains the largest $|\Delta|$ of one axis.
+/// The draw that attains a maximum: its global index, its value, its errors $\chi$ and what
+/// else its run keeps of it (`E`): the one worst-draw type of the workspace's Monte Carlos,
+/// the largest $|\Delta|$ of one axis here (`E` its [`Pose`]; value in rad), and end to end
+/// each output's largest calibration error and the largest ratio to its accuracy (`E = ()`;
+/// value in the output unit, or the ratio).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct WorstSample {
-    /// Global index of the sample in the run (see [`crate::chunk_rng`]).
+pub struct WorstSample<E = Pose> {
+    /// Global index of the draw in the run (see [`crate::chunk_rng`]).
     pub(crate) index: u64,
-    /// The signed orientation error at that sample, rad.
-    pub(crate) value_rad: f64,
-    /// Its pose (every joint, including those that cancel).
-    pub(crate) pose: Pose,
+    /// Its value: the signed orientation error at that sample (rad) here; the run's unit
+    /// elsewhere.
+    pub(crate) value: f64,
     /// Its angular errors $\chi$, rad, order of $\chi$ (eq 25 for the paper's table).
     pub(crate) chi_rad: Vec<f64>,
+    /// What else the run keeps of the draw: here its pose (every joint, including those that
+    /// cancel); nothing (`()`, not serialised) end to end.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "zero_sized"))]
+    pub(crate) extra: E,
+}
+
+/// Whether a value carries no data (`()`): its field is then left out of the serialised form.
+#[cfg(feature = "serde")]
+fn zero_sized<E>(_: &E) -> bool {
+    std::mem::size_of::<E>() == 0
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
-impl WorstSample {
-    /// Global index of the sample in the run (see [`crate::chunk_rng`]).
+impl<E> WorstSample<E> {
+    /// Global index of the draw in the run (see [`crate::chunk_rng`]).
     #[must_use]
     pub fn index(&self) -> u64 {
         self.index
     }
 
-    /// The signed orientation error at that sample, rad.
+    /// Its value: the signed orientation error at that sample (rad) here; the run's unit
+    /// elsewhere.
     #[must_use]
-    pub fn value_rad(&self) -> f64 {
-        self.value_rad
-    }
-
-    /// Its pose (every joint, including those that cancel).
-    #[must_use]
-    pub fn pose(&self) -> &Pose {
-        &self.pose
+    pub fn value(&self) -> f64 {
+        self.value
     }
 
     /// Its angular errors $\chi$, rad, order of $\chi$ (eq 25 for the paper's table).
     #[must_use]
     pub fn chi_rad(&self) -> &[f64] {
         &self.chi_rad
+    }
+
+    /// What else the run keeps of the draw: here its pose (every joint, including those that
+    /// cancel); nothing (`()`, not serialised) end to end.
+    #[must_use]
+    pub fn extra(&self) -> &E {
+        &self.extra
+    }
+}
+
+impl<E> WorstSample<E> {
+    /// The draw `index` of a run with its `value`, errors $\chi$ (rad) and `extra` data: for
+    /// the Monte Carlos of other crates (end to end: `E = ()`).
+    #[must_use]
+    pub fn new(index: u64, value: f64, chi_rad: Vec<f64>, extra: E) -> Self {
+        Self {
+            index,
+            value,
+            chi_rad,
+            extra,
+        }
+    }
+}
+
+impl WorstSample<Pose> {
+    /// The pose of the draw (every joint, including those that cancel).
+    #[must_use]
+    pub fn pose(&self) -> &Pose {
+        &self.extra
     }
 }
 
@@ -413,12 +450,12 @@ impl Partial {
                 if let Some(j) = v.iter().position(|x| x.abs().to_bits() == m.to_bits()) {
                     self.worst[k] = Some(WorstSample {
                         index: first + j as u64,
-                        value_rad: v[j],
-                        pose: block.pose(j),
+                        value: v[j],
                         // from the words: valid whether or not the block was decoded
                         chi_rad: (0..sampler.n_rotation_errors())
                             .map(|i| sampler.chi_from_word(i, block.word(i, j)))
                             .collect(),
+                        extra: block.pose(j),
                     });
                 }
             }

@@ -88,7 +88,7 @@ pub fn fingerprint_laid_out(
             a.m2_rad2().to_bits(),
             a.within_requirement(),
             a.worst().index(),
-            a.worst().value_rad().to_bits(),
+            a.worst().value().to_bits(),
         ]);
         if pose_at == PoseAt::AfterWorst {
             v.extend(pose.clone());

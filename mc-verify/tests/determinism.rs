@@ -176,7 +176,7 @@ fn run_samples_are_reproduced_by_chunk_rng_and_fill_block() {
             let values = mc.chunk_values_rad(chunk);
             assert_eq!(
                 values[k][a.axis().index()].to_bits(),
-                a.worst().value_rad().to_bits(),
+                a.worst().value().to_bits(),
                 "{name}"
             );
             // blocks of BLOCK_CAPACITY, the last one of a chunk shorter

@@ -114,6 +114,16 @@ pub fn output_scale(e2e: &EndToEnd) -> f64 {
         .fold(1.0, f64::max)
 }
 
+/// `f` run on a rayon pool of `threads` threads: the "same answer for any thread count"
+/// tests.
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}
+
 /// Errors drawn uniformly in `[-ub, ub]` (component-wise) from a seeded stream.
 pub fn random_chi(rng: &mut rand_chacha::ChaCha8Rng, ub: &[f64]) -> Vec<f64> {
     use rand_core::Rng;

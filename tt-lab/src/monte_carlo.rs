@@ -373,7 +373,7 @@ impl<'a> McJson<'a> {
                 let w = r.axis(a).worst();
                 WorstJson {
                     index: w.index(),
-                    value_deg: rad_to_deg(w.value_rad()),
+                    value_deg: rad_to_deg(w.value()),
                     pose_deg: joints
                         .iter()
                         .zip(w.pose().angles_rad())
