@@ -54,6 +54,9 @@ struct SpecState {
     ga: Vec<Vec<f64>>,
     /// $\mathbf G\mathbf w$ of every specification row (its output's $\mathbf G$).
     gw: Vec<Vec<f64>>,
+    /// Per output: whether a specification row reads it (the others' $\mathbf H_s'$ is not
+    /// updated after a swap: no row reads it).
+    specified: Vec<bool>,
 }
 
 /// Relative reduction of a specification row's noise part after a swap before it is taken
@@ -140,6 +143,10 @@ struct SwapScratch {
     /// $d\mathbf g + d\mathbf e$ of the candidate in and of the one out.
     bc: Vec<f64>,
     bi: Vec<f64>,
+    /// $\mathbf G'\mathbf w$ and $\mathbf v = \mathbf A'\mathbf G'\mathbf w$ of a
+    /// specification row after the swap (its noise part).
+    gw: Vec<f64>,
+    v: Vec<f64>,
 }
 
 /// The parts of the screening shared by every swap of one slot.
@@ -157,6 +164,17 @@ struct SlotScreen {
     base_mu: f64,
     /// The screening solver's warm start.
     mu0: Vec<(usize, f64)>,
+}
+
+/// The screening of swap `c` pruned by the bound `lower` (not below the threshold): no
+/// estimate, final.
+fn pruned(c: usize, lower: f64) -> (Screened, bool) {
+    let screened = Screened {
+        candidate: c,
+        lower,
+        estimate: f64::INFINITY,
+    };
+    (screened, true)
 }
 
 #[inline]
@@ -217,6 +235,9 @@ impl<'a> Search<'a> {
         };
         let loads: Vec<f64> = rows.chunks(m).map(|r| load(r, &x)).collect();
         let spec = eval.spec_screen.clone().map(|screen| SpecState {
+            specified: (0..p.outputs.len())
+                .map(|k| screen.rows.iter().any(|r| r.output == k))
+                .collect(),
             gw: screen
                 .rows
                 .iter()
@@ -490,10 +511,15 @@ impl<'a> Search<'a> {
             r2,
             bc,
             bi,
+            gw,
+            v,
             ..
         } = sc;
         hs_spec.resize_with(self.p.outputs.len(), Vec::new);
         for (k, o) in self.p.outputs.iter().enumerate() {
+            if !spec.specified[k] {
+                continue;
+            }
             let pk = o.p;
             let ga = &spec.ga[k];
             let b = |x: usize, v: &mut Vec<f64>| {
@@ -536,17 +562,18 @@ impl<'a> Search<'a> {
                     let (z1, z2) = (dot(u1, &sr.weights), dot(u2, &sr.weights));
                     let y1 = (k22 * z1 - k12 * z2) / det;
                     let y2 = (k11 * z2 - k12 * z1) / det;
-                    let gw: Vec<f64> = (0..pk)
-                        .map(|t| spec.gw[r][t] - (u1[t] * y1 + u2[t] * y2))
-                        .collect();
+                    gw.clear();
+                    gw.extend((0..pk).map(|t| spec.gw[r][t] - (u1[t] * y1 + u2[t] * y2)));
                     let rate = &spec.screen.a_rate[k];
-                    let v: Vec<f64> = (0..n)
-                        .map(|q| dot(o.a_row(if q == slot { c } else { st.s[q] }), &gw))
-                        .chain(rate.chunks_exact(pk).map(|a| dot(a, &gw)))
-                        .collect();
+                    v.clear();
+                    v.extend(
+                        (0..n)
+                            .map(|q| dot(o.a_row(if q == slot { c } else { st.s[q] }), gw))
+                            .chain(rate.chunks_exact(pk).map(|a| dot(a, gw))),
+                    );
                     let nt = v.len();
                     let quad: f64 = (0..nt)
-                        .map(|i| v[i] * dot(&sigma[i * nt..(i + 1) * nt], &v))
+                        .map(|i| v[i] * dot(&sigma[i * nt..(i + 1) * nt], v))
                         .sum();
                     sr.coverage * quad.max(0.0).sqrt() * (1.0 - NOISE_ROUNDING_REL)
                 }
@@ -640,12 +667,23 @@ impl<'a> Search<'a> {
         let n_spec = st.spec.as_ref().map_or(0, |t| t.screen.rows.len());
         rows.clear();
         rows.resize((eq14_rows + n_spec) * m, 0.0);
-        let Some(spec) = &st.spec else {
-            if ss.static_rows {
-                return ss.static_lower;
-            }
-            return self.cheap_eq14(st, ss, sc);
+        // eq 14's retained rows alone (the specification rows' multipliers at zero)
+        let eq14_lower = if ss.static_rows {
+            ss.static_lower
+        } else {
+            self.cheap_eq14(st, ss, sc)
         };
+        let Some(spec) = &st.spec else {
+            return eq14_lower;
+        };
+        // the specified J is the minimum over fewer tables (eq 14's rows and the
+        // specification rows), so eq 14's bound is a lower bound on it too: where it prunes,
+        // the specification rows after the swap are not needed. The exchange takes the same
+        // swap: one pruned here has its specified J not below the threshold, so it was either
+        // pruned before too or evaluated and not taken (one fewer exact evaluation)
+        if eq14_lower >= ss.threshold {
+            return eq14_lower;
+        }
         // the specification rows after the swap (at their limits), then the cheap bound with
         // their multipliers beside eq 14's retained rows
         let mut tail = std::mem::take(&mut sc.rows);
@@ -658,7 +696,6 @@ impl<'a> Search<'a> {
         let (mut c_all, mut lambda) = if ss.static_rows {
             (ss.base_c.clone(), ss.base_mu)
         } else {
-            self.cheap_eq14(st, ss, sc);
             (sc.cc.clone(), ss.base_mu)
         };
         for (r, row) in sc.rows[eq14_rows * m..].chunks_exact(m).enumerate() {
@@ -717,12 +754,7 @@ impl<'a> Search<'a> {
         until_kept: bool,
     ) -> (Screened, bool) {
         if lower >= ss.threshold {
-            let pruned = Screened {
-                candidate: c,
-                lower,
-                estimate: f64::INFINITY,
-            };
-            return (pruned, true);
+            return pruned(c, lower);
         }
         let n = st.s.len();
         let m = self.p.errors;
@@ -767,12 +799,7 @@ impl<'a> Search<'a> {
         let lower = lower.max(lower2);
         if lower >= ss.threshold {
             // pruned by the solver's lower bound (which stops before its last upper bound)
-            let pruned = Screened {
-                candidate: c,
-                lower,
-                estimate: f64::INFINITY,
-            };
-            return (pruned, true);
+            return pruned(c, lower);
         }
         let estimate = if upper.is_finite() {
             upper
