@@ -944,9 +944,15 @@ impl<'a> Search<'a> {
     /// Exchange from a feasible start: for each slot in turn, screen every swap, prune those
     /// whose rigorous lower bound is not below $J(1 - \epsilon)$, evaluate the others exactly
     /// in the order of their estimate and take the first that is feasible and improves $J$ by
-    /// more than $\epsilon$ (relative); stop after a full pass without an exchange (then no
-    /// feasible single exchange improves $J$ by more than $\epsilon$) or at
+    /// more than $\epsilon$ (relative); stop after $N$ slots in a row without an exchange
+    /// (then no feasible single exchange improves $J$ by more than $\epsilon$) or at
     /// [`crate::SearchParams::max_exchanges_per_position`] $\times N$ exchanges.
+    ///
+    /// The slots are taken in cyclic order, so the last pass ends at the slot of the last
+    /// exchange: the slots after it were screened against the same schedule already. A full
+    /// last pass would find nothing there either, so the schedule, $J$, `passes` (the passes
+    /// begun) and `local_optimum` are those of the full-pass rule; `screened_swaps`,
+    /// `exact_evaluations` and `unevaluated_swaps` count the work actually done.
     pub(crate) fn exchange(&self, start: Evaluation) -> Result<ExchangeOutcome, E2eError> {
         let start_objective = start.objective;
         let mut st = self.state(start)?;
@@ -954,55 +960,34 @@ impl<'a> Search<'a> {
         let max_exchanges = self.p.search.max_exchanges_per_position * n;
         let (mut exchanges, mut exact, mut screened, mut passes, mut unevaluated) = (0, 0, 0, 0, 0);
         let mut certified = false;
-        'outer: loop {
-            passes += 1;
-            let mut moved = false;
-            let mut pass_unevaluated = 0;
-            for slot in 0..n {
-                if exchanges >= max_exchanges {
-                    break 'outer;
-                }
-                let threshold = st.j * (1.0 - self.p.search.improvement_rel);
-                if self.p.affine.is_static() {
-                    // rows are fixed: J(swap) >= J(schedule without the slot) for every swap
-                    if let Some((j_minus, _)) = self.without_slot(&st, slot)? {
-                        if j_minus >= threshold {
-                            continue;
-                        }
-                    }
-                }
-                let ss = self.slot_screen(&st, slot);
-                let mut list = self.screen_swaps_with(&st, &ss, true);
-                screened += list.len();
-                list.retain(|s| s.0.lower < threshold);
-                if list.is_empty() {
-                    continue;
-                }
-                let mut order = LazyOrder::new(list, threshold);
-                let mut sc = SwapScratch::default();
-                while let Some(cand) = order.next(|c| self.resolve(&st, &ss, c, &mut sc)) {
-                    exact += 1;
-                    let Some(e) = self.p.evaluate_or_skip(
-                        &Self::swapped(&st, slot, cand.candidate),
-                        self.max_condition,
-                    )?
-                    else {
-                        unevaluated += 1;
-                        pass_unevaluated += 1;
-                        continue;
-                    };
-                    if self.feasible(&e) && e.objective < threshold {
-                        st = self.state(e)?;
-                        exchanges += 1;
-                        moved = true;
-                        break;
-                    }
-                }
-            }
-            if !moved {
-                certified = pass_unevaluated == 0;
+        // slots screened since the last exchange (all against the current schedule) and the
+        // swaps among them that could not be evaluated
+        let (mut quiet, mut quiet_unevaluated) = (0, 0);
+        let mut slot = 0;
+        loop {
+            if quiet == n {
+                certified = quiet_unevaluated == 0;
                 break;
             }
+            if slot == 0 {
+                passes += 1;
+            }
+            if exchanges >= max_exchanges {
+                break;
+            }
+            let (moved, slot_unevaluated, slot_exact, slot_screened) =
+                self.exchange_at(&mut st, slot)?;
+            exact += slot_exact;
+            screened += slot_screened;
+            unevaluated += slot_unevaluated;
+            if moved {
+                exchanges += 1;
+                (quiet, quiet_unevaluated) = (0, 0);
+            } else {
+                quiet += 1;
+                quiet_unevaluated += slot_unevaluated;
+            }
+            slot = (slot + 1) % n;
         }
         Ok(ExchangeOutcome {
             start_objective,
@@ -1014,6 +999,51 @@ impl<'a> Search<'a> {
             unevaluated_swaps: unevaluated,
             local_optimum: certified,
         })
+    }
+
+    /// One slot of [`Self::exchange`]: screen every swap of `slot`, evaluate the survivors in
+    /// the order of their estimate and take the first feasible one that improves $J$ by more
+    /// than $\epsilon$ (relative) into `st`. Returns (moved, unevaluated swaps, exact
+    /// evaluations, screened swaps).
+    fn exchange_at(
+        &self,
+        st: &mut State,
+        slot: usize,
+    ) -> Result<(bool, usize, usize, usize), E2eError> {
+        let (mut exact, mut unevaluated) = (0, 0);
+        let threshold = st.j * (1.0 - self.p.search.improvement_rel);
+        if self.p.affine.is_static() {
+            // rows are fixed: J(swap) >= J(schedule without the slot) for every swap
+            if let Some((j_minus, _)) = self.without_slot(st, slot)? {
+                if j_minus >= threshold {
+                    return Ok((false, 0, 0, 0));
+                }
+            }
+        }
+        let ss = self.slot_screen(st, slot);
+        let mut list = self.screen_swaps_with(st, &ss, true);
+        let screened = list.len();
+        list.retain(|s| s.0.lower < threshold);
+        if list.is_empty() {
+            return Ok((false, 0, 0, screened));
+        }
+        let mut order = LazyOrder::new(list, threshold);
+        let mut sc = SwapScratch::default();
+        while let Some(cand) = order.next(|c| self.resolve(st, &ss, c, &mut sc)) {
+            exact += 1;
+            let Some(e) = self
+                .p
+                .evaluate_or_skip(&Self::swapped(st, slot, cand.candidate), self.max_condition)?
+            else {
+                unevaluated += 1;
+                continue;
+            };
+            if self.feasible(&e) && e.objective < threshold {
+                *st = self.state(e)?;
+                return Ok((true, unevaluated, exact, screened));
+            }
+        }
+        Ok((false, unevaluated, exact, screened))
     }
 
     /// Each candidate's own cost: the largest over its rows of the single-row optimum
