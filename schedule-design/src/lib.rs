@@ -123,11 +123,12 @@
 //!   the candidates, condition numbers within the bound), and a grid design is never worse
 //!   than the design of a coarser grid it contains (its step a whole multiple of the fine one;
 //!   exactly so when the multiples are exact in binary, e.g. integer steps).
-//! - When it ends by a pass without an exchange ([`ExchangeOutcome::local_optimum`]), no
+//! - When it ends by every slot screened once in a row without an exchange
+//!   ([`ExchangeOutcome::local_optimum`]), no
 //!   single exchange of a position for a candidate gives a feasible schedule with $J$ lower
 //!   by more than $\epsilon$: every swap was either bounded below rigorously or evaluated
 //!   exactly. It is a local optimum with respect to single exchanges. (A swap the conic
-//!   solver cannot evaluate is never taken; if one occurs in that last pass the claim is
+//!   solver cannot evaluate is never taken; if one occurs in those last slots the claim is
 //!   withheld.)
 //! - It is **not** a global optimum: the problem is combinatorial ($\binom{C}{N}$
 //!   schedules, $10^{52}$ for the paper's 15 deg grid) and nonconvex; restarts only make a poor local
@@ -508,7 +509,8 @@ pub struct ExchangeOutcome {
     pub(crate) screened_swaps: usize,
     /// Swaps the allocation core could not solve (conic solver failure): never taken.
     pub(crate) unevaluated_swaps: usize,
-    /// Whether it ended by a full pass without an exchange in which every swap was bounded
+    /// Whether it ended by every slot screened once in a row without an exchange (against
+    /// the final schedule), every swap bounded
     /// or evaluated: then no single exchange gives a feasible schedule better by more than
     /// [`SearchParams::improvement_rel`].
     pub(crate) local_optimum: bool,
@@ -558,7 +560,8 @@ impl ExchangeOutcome {
         self.unevaluated_swaps
     }
 
-    /// Whether it ended by a full pass without an exchange in which every swap was bounded
+    /// Whether it ended by every slot screened once in a row without an exchange (against
+    /// the final schedule), every swap bounded
     /// or evaluated: then no single exchange gives a feasible schedule better by more than
     /// [`SearchParams::improvement_rel`].
     #[must_use]
