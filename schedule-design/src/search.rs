@@ -81,28 +81,26 @@ fn woodbury_swap(
 ) {
     let pk = ac.len();
     let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
-    // T = H + u1 c1_c^T - u2 c1_i^T
-    out.clear();
-    out.extend_from_slice(h);
+    // T = H + u1 c1_c^T - u2 c1_i^T and, row by row of T, the right-hand sides
+    // (a_c^T T, a_i^T T) of K y (one pass; each entry summed in the same order as two passes)
+    r1.clear();
+    r1.resize(m, 0.0);
+    r2.clear();
+    r2.resize(m, 0.0);
+    out.resize(h.len(), 0.0);
     for r in 0..pk {
-        let row = &mut out[r * m..(r + 1) * m];
+        let (hr, row) = (&h[r * m..(r + 1) * m], &mut out[r * m..(r + 1) * m]);
+        let (ur1, ur2, acr, air) = (u1[r], u2[r], ac[r], ai[r]);
         for jj in 0..m {
-            row[jj] += u1[r] * c1c[jj] - u2[r] * c1i[jj];
+            let t = hr[jj] + (ur1 * c1c[jj] - ur2 * c1i[jj]);
+            row[jj] = t;
+            r1[jj] += acr * t;
+            r2[jj] += air * t;
         }
     }
     // K = [[1 + dc, dic], [dic, -1 + di]]; solve K y = (a_c^T T, a_i^T T)
     let (k11, k12, k22) = (1.0 + dc, dic, -1.0 + di);
     let det = k11 * k22 - k12 * k12;
-    r1.clear();
-    r1.resize(m, 0.0);
-    r2.clear();
-    r2.resize(m, 0.0);
-    for r in 0..pk {
-        for jj in 0..m {
-            r1[jj] += ac[r] * out[r * m + jj];
-            r2[jj] += ai[r] * out[r * m + jj];
-        }
-    }
     for jj in 0..m {
         let y1 = (k22 * r1[jj] - k12 * r2[jj]) / det;
         let y2 = (k11 * r2[jj] - k12 * r1[jj]) / det;
@@ -147,7 +145,27 @@ struct SwapScratch {
     /// specification row after the swap (its noise part).
     gw: Vec<f64>,
     v: Vec<f64>,
+    /// The screening solver's final multipliers of the previous swap of the same chunk
+    /// ([`SCREEN_CHUNK`]): the warm start of the pre-solve ([`PRE_SOLVE_ITERATIONS`]).
+    carry: Vec<(usize, f64)>,
 }
+
+/// Swaps of one slot screened in a row by one thread, each pre-solved from the previous
+/// one's multipliers ([`PRE_SOLVE_ITERATIONS`]). The chunks are fixed by the candidates'
+/// order, not by the threads, so every verdict is the same for any thread count.
+const SCREEN_CHUNK: usize = 64;
+
+/// Iterations at most of the pre-solve: the screening solver from the previous swap's final
+/// multipliers (a neighbouring candidate's, usually near this swap's optimum), which prunes a
+/// swap whose lower bound reaches the threshold there. A swap it does not prune is screened
+/// exactly as without it (the solver from the state's multipliers: the same bounds, so the
+/// same estimates and order of exact evaluations); any non-negative multipliers give a
+/// rigorous lower bound, so a pruned swap cannot improve $J$ by more than $\epsilon$.
+const PRE_SOLVE_ITERATIONS: usize = 3;
+
+/// Most errors for the pre-solve's first bound from its support's rows alone (computed on
+/// the stack; with more errors only the pre-solve runs).
+const PRE_ROW_MAX: usize = 64;
 
 /// The parts of the screening shared by every swap of one slot.
 #[derive(Debug)]
@@ -164,6 +182,20 @@ struct SlotScreen {
     base_mu: f64,
     /// The screening solver's warm start.
     mu0: Vec<(usize, f64)>,
+}
+
+/// What one slot of the exchange did ([`Search::exchange_at`]).
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+struct SlotOutcome {
+    /// Whether a swap was taken (the state moved).
+    moved: bool,
+    /// Swaps kept by the screening whose exact evaluation could not be made.
+    unevaluated: usize,
+    /// Exact evaluations (a conic solve each; the unevaluated swaps included).
+    exact: usize,
+    /// Swaps screened by a bound (every candidate outside the schedule; 0 when the slot was
+    /// skipped whole).
+    screened: usize,
 }
 
 /// The screening of swap `c` pruned by the bound `lower` (not below the threshold): no
@@ -744,6 +776,9 @@ impl<'a> Search<'a> {
     /// With `until_kept` the solver also stops once its upper bound is below the threshold
     /// (the swap is then kept whatever the remaining iterations give): the estimate is not
     /// final then, and the second value is `false` ([`Search::resolve`] gives the final one).
+    /// With `pre_solve` the solver first runs from `sc.carry` (the previous swap's
+    /// multipliers; [`PRE_SOLVE_ITERATIONS`]) and `sc.carry` takes this swap's.
+    #[allow(clippy::too_many_arguments)]
     fn screen_rest(
         &self,
         st: &State,
@@ -752,6 +787,7 @@ impl<'a> Search<'a> {
         lower: f64,
         sc: &mut SwapScratch,
         until_kept: bool,
+        pre_solve: bool,
     ) -> (Screened, bool) {
         if lower >= ss.threshold {
             return pruned(c, lower);
@@ -762,8 +798,38 @@ impl<'a> Search<'a> {
             hs,
             rows,
             dual: dual_scratch,
+            carry,
+            cc,
             ..
         } = sc;
+        if self.zero_lower && pre_solve && !carry.is_empty() && m <= PRE_ROW_MAX {
+            // the pre-solve's first lower bound from the rows of its support alone (before
+            // every row is computed): the dual bound of those multipliers
+            let eq14_rows = self.p.outputs.len() * n;
+            cc.clear();
+            cc.resize(m, 0.0);
+            let mut lambda = 0.0;
+            let mut buf = [0.0; PRE_ROW_MAX];
+            let buf = &mut buf[..m];
+            for &(r, w) in carry.iter() {
+                let out = if r < eq14_rows && !Self::cheap_row(st, ss, r) {
+                    let (k, q) = (r / n, r % n);
+                    let cand = if q == ss.slot { c } else { st.s[q] };
+                    self.row_after(k, cand, &hs[k], buf);
+                    &*buf
+                } else {
+                    &rows[r * m..(r + 1) * m]
+                };
+                lambda += w;
+                for (b, v) in cc.iter_mut().zip(out) {
+                    *b += w * v.abs();
+                }
+            }
+            let pre = self.dual_bound(cc, lambda);
+            if pre >= ss.threshold {
+                return pruned(c, lower.max(pre));
+            }
+        }
         // every row of the schedule after the swap, in the state's order (k, q),
         // normalised and in absolute value
         for (k, h) in hs.iter().enumerate() {
@@ -783,6 +849,23 @@ impl<'a> Search<'a> {
         // the state's multipliers (except the slot's rows); only for zero lower bounds (the
         // dual's closed form)
         let stop_below = if until_kept { ss.threshold } else { 0.0 };
+        if self.zero_lower && pre_solve && !carry.is_empty() {
+            // the pre-solve from the previous swap's multipliers: prunes, or changes nothing
+            // (it stops once its upper bound shows the swap kept)
+            let (pre, _) = dual::bounds_within(
+                dual_scratch,
+                &self.w23,
+                rows,
+                m,
+                carry,
+                (ss.threshold, ss.threshold),
+                PRE_SOLVE_ITERATIONS,
+            );
+            if pre >= ss.threshold {
+                dual_scratch.support(carry);
+                return pruned(c, lower.max(pre));
+            }
+        }
         let (lower2, upper) = if self.zero_lower {
             dual::bounds_with(
                 dual_scratch,
@@ -796,6 +879,9 @@ impl<'a> Search<'a> {
         } else {
             (0.0, f64::INFINITY)
         };
+        if pre_solve {
+            dual_scratch.support(carry);
+        }
         let lower = lower.max(lower2);
         if lower >= ss.threshold {
             // pruned by the solver's lower bound (which stops before its last upper bound)
@@ -837,13 +923,20 @@ impl<'a> Search<'a> {
         let outside: Vec<usize> = (0..self.p.n_candidates())
             .filter(|&c| !st.in_s[c])
             .collect();
-        outside
-            .par_iter()
-            .map_init(SwapScratch::default, |sc, &c| {
-                let lower = self.screen_cheap(st, ss, c, sc);
-                self.screen_rest(st, ss, c, lower, sc, until_kept)
+        let chunks: Vec<Vec<(Screened, bool)>> = outside
+            .par_chunks(SCREEN_CHUNK)
+            .map_init(SwapScratch::default, |sc, chunk| {
+                sc.carry.clear();
+                chunk
+                    .iter()
+                    .map(|&c| {
+                        let lower = self.screen_cheap(st, ss, c, sc);
+                        self.screen_rest(st, ss, c, lower, sc, until_kept, true)
+                    })
+                    .collect()
             })
-            .collect()
+            .collect();
+        chunks.into_iter().flatten().collect()
     }
 
     /// The final screening of one swap whose estimate [`Search::screen_swaps_with`] left
@@ -851,7 +944,7 @@ impl<'a> Search<'a> {
     /// solver is deterministic and runs from the same warm start), so the same bits.
     fn resolve(&self, st: &State, ss: &SlotScreen, c: usize, sc: &mut SwapScratch) -> Screened {
         let lower = self.screen_cheap(st, ss, c, sc);
-        self.screen_rest(st, ss, c, lower, sc, false).0
+        self.screen_rest(st, ss, c, lower, sc, false, false).0
     }
 
     /// Screen adding each candidate not in the schedule (greedy construction): the
@@ -975,17 +1068,16 @@ impl<'a> Search<'a> {
             if exchanges >= max_exchanges {
                 break;
             }
-            let (moved, slot_unevaluated, slot_exact, slot_screened) =
-                self.exchange_at(&mut st, slot)?;
-            exact += slot_exact;
-            screened += slot_screened;
-            unevaluated += slot_unevaluated;
-            if moved {
+            let at = self.exchange_at(&mut st, slot)?;
+            exact += at.exact;
+            screened += at.screened;
+            unevaluated += at.unevaluated;
+            if at.moved {
                 exchanges += 1;
                 (quiet, quiet_unevaluated) = (0, 0);
             } else {
                 quiet += 1;
-                quiet_unevaluated += slot_unevaluated;
+                quiet_unevaluated += at.unevaluated;
             }
             slot = (slot + 1) % n;
         }
@@ -1003,47 +1095,43 @@ impl<'a> Search<'a> {
 
     /// One slot of [`Self::exchange`]: screen every swap of `slot`, evaluate the survivors in
     /// the order of their estimate and take the first feasible one that improves $J$ by more
-    /// than $\epsilon$ (relative) into `st`. Returns (moved, unevaluated swaps, exact
-    /// evaluations, screened swaps).
-    fn exchange_at(
-        &self,
-        st: &mut State,
-        slot: usize,
-    ) -> Result<(bool, usize, usize, usize), E2eError> {
-        let (mut exact, mut unevaluated) = (0, 0);
+    /// than $\epsilon$ (relative) into `st`, with the slot's work in counts.
+    fn exchange_at(&self, st: &mut State, slot: usize) -> Result<SlotOutcome, E2eError> {
+        let mut out = SlotOutcome::default();
         let threshold = st.j * (1.0 - self.p.search.improvement_rel);
         if self.p.affine.is_static() {
             // rows are fixed: J(swap) >= J(schedule without the slot) for every swap
             if let Some((j_minus, _)) = self.without_slot(st, slot)? {
                 if j_minus >= threshold {
-                    return Ok((false, 0, 0, 0));
+                    return Ok(out);
                 }
             }
         }
         let ss = self.slot_screen(st, slot);
         let mut list = self.screen_swaps_with(st, &ss, true);
-        let screened = list.len();
+        out.screened = list.len();
         list.retain(|s| s.0.lower < threshold);
         if list.is_empty() {
-            return Ok((false, 0, 0, screened));
+            return Ok(out);
         }
         let mut order = LazyOrder::new(list, threshold);
         let mut sc = SwapScratch::default();
         while let Some(cand) = order.next(|c| self.resolve(st, &ss, c, &mut sc)) {
-            exact += 1;
+            out.exact += 1;
             let Some(e) = self
                 .p
                 .evaluate_or_skip(&Self::swapped(st, slot, cand.candidate), self.max_condition)?
             else {
-                unevaluated += 1;
+                out.unevaluated += 1;
                 continue;
             };
             if self.feasible(&e) && e.objective < threshold {
                 *st = self.state(e)?;
-                return Ok((true, unevaluated, exact, screened));
+                out.moved = true;
+                return Ok(out);
             }
         }
-        Ok((false, unevaluated, exact, screened))
+        Ok(out)
     }
 
     /// Each candidate's own cost: the largest over its rows of the single-row optimum
