@@ -7,7 +7,7 @@ use crate::error::{E2eError, fraction};
 use crate::linear::Linearization;
 use crate::montecarlo::{McSettings, YieldCount, wilson_interval_95};
 use crate::simulate::EndToEnd;
-use crate::specified_yield::{ACCURACY_YIELD_COUNTS, SPECIFIED_YIELD_COUNTS, SpecCheck};
+use crate::specified_yield::{SpecCheck, SpecifiedCount};
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
@@ -401,16 +401,12 @@ pub struct YieldAllocation {
     pub(crate) target: f64,
     /// $J$ (rad$^{-2}$).
     pub(crate) objective: f64,
-    /// The design draws and those meeting every accuracy at $s^*$ (re-evaluated on the exact
-    /// chain), with their seed; its 95% Wilson interval is the stated confidence of the
-    /// allocation.
+    /// The design draws and those meeting every accuracy (and, with specifications
+    /// ([`EndToEnd::allocate_yield_specified`]), every specification, each counted too) at
+    /// $s^*$ (re-evaluated on the exact chain), with their seed; its 95% Wilson interval is
+    /// the stated confidence of the allocation.
     #[cfg_attr(feature = "serde", serde(flatten))]
-    pub(crate) count: YieldCount,
-    /// With specifications ([`EndToEnd::allocate_yield_specified`]): each specification's
-    /// label with its unit and the design draws meeting it at $s^*$ (then `count` counts the
-    /// draws meeting every accuracy and every specification); empty without.
-    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Vec::is_empty"))]
-    pub(crate) per_specification: Vec<(String, u64)>,
+    pub(crate) counted: SpecifiedCount,
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
     /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
     /// errors, and the bounds are that cap, not a limit.
@@ -450,30 +446,13 @@ impl YieldAllocation {
     }
 
     /// The design draws and those meeting every accuracy (and, with specifications, every
-    /// specification) at $s^*$ (re-evaluated on the exact chain), with their seed; its 95%
-    /// Wilson interval ([`YieldCount::interval_95`]) is the stated confidence of the
-    /// allocation.
+    /// specification, with the draws meeting each: [`SpecifiedCount::per_specification`]) at
+    /// $s^*$ (re-evaluated on the exact chain), with their seed; its 95% Wilson interval
+    /// ([`YieldCount::interval_95`]) is the stated confidence of the allocation, and
+    /// [`SpecifiedCount::counts`] says what it counts.
     #[must_use]
-    pub fn count(&self) -> &YieldCount {
-        &self.count
-    }
-
-    /// With specifications: each specification's label with its unit and the design draws
-    /// meeting it at $s^*$; empty without.
-    #[must_use]
-    pub fn per_specification(&self) -> &[(String, u64)] {
-        &self.per_specification
-    }
-
-    /// What [`YieldAllocation::count`] counts: [`SPECIFIED_YIELD_COUNTS`] with
-    /// specifications, [`ACCURACY_YIELD_COUNTS`] without.
-    #[must_use]
-    pub fn counts(&self) -> &'static str {
-        if self.per_specification.is_empty() {
-            ACCURACY_YIELD_COUNTS
-        } else {
-            SPECIFIED_YIELD_COUNTS
-        }
+    pub fn counted(&self) -> &SpecifiedCount {
+        &self.counted
     }
 
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
@@ -504,7 +483,7 @@ impl YieldAllocation {
     /// The design draws' 95% interval against the target.
     #[must_use]
     pub fn design_verdict(&self) -> YieldVerdict {
-        YieldVerdict::of(self.count.interval_95(), self.target)
+        YieldVerdict::of(self.counted.count.interval_95(), self.target)
     }
 }
 
@@ -1098,9 +1077,9 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// every accuracy holds and every row of `spec_rows` holds in the direct allocation's
     /// convention ([`SpecificationRow`]: the quantity's table part on the exact chain within
     /// $L - k\,u_{\text{noise}}$), so the yield is the fraction of draws meeting every accuracy
-    /// and every specification ([`SPECIFIED_YIELD_COUNTS`]); the scale search is the same, on
+    /// and every specification ([`crate::SPECIFIED_YIELD_COUNTS`]); the scale search is the same, on
     /// the ratio $\max(\max_k \Delta\omega_k/\omega_{m,k}, \max_{\text{rows}}
-    /// |q|/(L - k\,u_{\text{noise}}))$. [`YieldAllocation::per_specification`] gives the
+    /// |q|/(L - k\,u_{\text{noise}}))$. [`YieldAllocation::counted`] gives the
     /// design draws meeting each specification. Without rows it is
     /// [`EndToEnd::allocate_yield_with`], bit for bit.
     ///
@@ -1209,13 +1188,15 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             shape_rad: shape_rad.to_vec(),
             scale: Self::check_positive("yield scale", scale)?,
             target: p,
-            count: YieldCount {
-                samples: settings.samples,
-                seed: settings.seed,
-                meeting,
-                meeting_per_output: Vec::new(),
+            counted: SpecifiedCount {
+                count: YieldCount {
+                    samples: settings.samples,
+                    seed: settings.seed,
+                    meeting,
+                    meeting_per_output: Vec::new(),
+                },
+                per_specification,
             },
-            per_specification,
             capped,
         })
     }

@@ -149,7 +149,7 @@ pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
 /// accuracy and those meeting each output's. The one count every yield of this crate reports:
 /// [`RateDistribution::count`] (turntables from a box), [`crate::NoiseAnswer`]'s combined
 /// yield (turntables and noise), [`crate::TimeDomainRun::count`] (simulated calibrations),
-/// [`crate::YieldAllocation::count`] (its design draws) and
+/// [`crate::YieldAllocation::counted`] (its design draws) and
 /// [`crate::angle::AngleYield::count`] (turntables with angle-dependent errors).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]

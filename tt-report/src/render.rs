@@ -1293,7 +1293,7 @@ impl<'a> Sections<'a> {
                 let _ = write!(
                     yield_cell,
                     " of {}: {} its target",
-                    r.yield_based().counts(),
+                    r.yield_based().counted().counts(),
                     match r.yield_verdict() {
                         YieldVerdict::Meets => "**meets**",
                         YieldVerdict::DoesNotMeet => "does **not** meet",
@@ -1343,6 +1343,13 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
+        let limits = tt_lab::end_to_end::yield_limit_lines(r, &doc::text);
+        if !limits.is_empty() {
+            self.doc.p(
+                "The yield-based box's re-measured turntables against each limit its yield counts:",
+            );
+            self.doc.list(limits);
+        }
         if let Some(n) = &r.direct_certified_note() {
             self.doc.p(format!(
                 "The direct allocation could not be certified on the exact chain here: {n}."

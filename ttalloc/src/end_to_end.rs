@@ -229,17 +229,18 @@ pub(crate) fn tradeoff_text(tr: &Tradeoff, scanned: &Scanned) -> String {
 }
 
 /// The yield-based box against its target: the re-measured yield's 95% interval and the
-/// verdict, one line.
+/// verdict, one line; with specifications, then the same turntables against each limit the
+/// yield counts ([`tt_lab::end_to_end::yield_limit_lines`], the study's labels escaped).
 fn yield_text(r: &ReadingAnswer) -> String {
     let count = r.yield_count();
     let (lo, hi) = count.interval_95();
-    format!(
+    let mut t = format!(
         "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% of {} (95% interval {:.2}-{:.2}%): {}\n",
         "",
         num(100.0 * r.yield_based().target()),
         count.samples(),
         100.0 * count.fraction(),
-        r.yield_based().counts(),
+        r.yield_based().counted().counts(),
         100.0 * lo,
         100.0 * hi,
         match r.yield_verdict() {
@@ -247,7 +248,19 @@ fn yield_text(r: &ReadingAnswer) -> String {
             YieldVerdict::DoesNotMeet => "does NOT meet its target",
             YieldVerdict::CannotTell => "cannot tell (the interval contains the target)",
         }
-    )
+    );
+    let limits =
+        tt_lab::end_to_end::yield_limit_lines(r, &|l| tt_core::human::visible(l).into_owned());
+    if !limits.is_empty() {
+        t.push_str(&format!(
+            "  {:<14} the same turntables against each limit the yield counts:\n",
+            ""
+        ));
+        for l in limits {
+            t.push_str(&format!("  {:<14}   {l}\n", ""));
+        }
+    }
+    t
 }
 
 /// The outputs (name, unit, precision) with a worst case or Monte Carlo maximum shown as 0 in
