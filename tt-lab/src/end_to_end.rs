@@ -1309,6 +1309,27 @@ pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
     })
 }
 
+/// What the yield-based box's yield counts, in words: [`e2e_verify::SpecifiedCount::counts`],
+/// and, where `left_out` of the study's specifications are left out of the allocations because
+/// no table can meet them (the noise part alone fills the limit:
+/// [`EndToEndAnswer::no_table_suffices`]), that those are not counted, so the sentence never
+/// says "every specification" of a count that skipped some.
+#[must_use]
+pub fn yield_counts_words(r: &ReadingAnswer, left_out: usize) -> String {
+    let counted = r.yield_based().counted();
+    let counts = counted.counts();
+    let plural = if left_out == 1 { "" } else { "s" };
+    match (left_out, counted.per_specification().is_empty()) {
+        (0, _) => counts.to_string(),
+        (_, false) => format!(
+            "{counts} a table can meet ({left_out} specification{plural} no table can meet not counted: the noise alone fills the limit)"
+        ),
+        (_, true) => format!(
+            "{counts} ({left_out} specification{plural} no table can meet not counted: the noise alone fills the limit)"
+        ),
+    }
+}
+
 /// What the yield-based box's re-measured turntables meet, one line per limit its yield
 /// counts, with specifications (empty without: the yield then counts every accuracy, as its
 /// own line says): every output's accuracy (eq 14, on the same draws: the yield box's count),

@@ -1293,7 +1293,7 @@ impl<'a> Sections<'a> {
                 let _ = write!(
                     yield_cell,
                     " of {}: {} its target",
-                    r.yield_based().counted().counts(),
+                    tt_lab::end_to_end::yield_counts_words(r, c.no_table_suffices.len()),
                     match r.yield_verdict() {
                         YieldVerdict::Meets => "**meets**",
                         YieldVerdict::DoesNotMeet => "does **not** meet",
@@ -1349,6 +1349,13 @@ impl<'a> Sections<'a> {
                 "The yield-based box's re-measured turntables against each limit its yield counts:",
             );
             self.doc.list(limits);
+        }
+        if !c.no_table_suffices.is_empty() {
+            self.doc.p(
+                "Left out of the direct and the yield-based allocations (no table can meet them):",
+            );
+            self.doc
+                .list(c.no_table_suffices.iter().map(|n| doc::text(n)).collect());
         }
         if let Some(n) = &r.direct_certified_note() {
             self.doc.p(format!(

@@ -80,3 +80,59 @@ fn the_report_lists_the_yields_count_per_specification_as_end_to_end_json_has_th
         }
     }
 }
+
+/// The IMU example's two gyro specifications (bias and g-sensitivity at 0.1) cannot be met by
+/// any table (the noise part alone fills each limit): the report lists them, escaped, as left
+/// out of the allocations, each as `end-to-end` answers them, and the yield-based box's cell
+/// says it counts every specification *a table can meet*, naming the two left out, instead of
+/// "every specification".
+#[test]
+fn the_report_says_which_specifications_its_yield_leaves_out_because_no_table_can_meet_them() {
+    let s = imu_example();
+    let mut options = ReportOptions::default();
+    options.samples = Some(2_000);
+    options.seed = Some(7);
+    let md = Report::compute(s.clone(), options)
+        .unwrap()
+        .markdown()
+        .unwrap();
+    let o = tt_lab::end_to_end::Options {
+        samples: Some(2_000),
+        seed: Some(7),
+        ..Default::default()
+    };
+    let r = tt_lab::end_to_end::end_to_end(&s, &o).unwrap();
+    assert_eq!(
+        r.no_table_suffices().len(),
+        2,
+        "{:?}",
+        r.no_table_suffices()
+    );
+    let intro = "Left out of the direct and the yield-based allocations (no table can meet them):";
+    let block = md.split(intro).nth(1).expect(intro);
+    let items: Vec<&str> = block
+        .trim_start()
+        .lines()
+        .take_while(|l| l.starts_with("- "))
+        .map(|l| &l[2..])
+        .collect();
+    let expected: Vec<String> = r
+        .no_table_suffices()
+        .iter()
+        // Markdown shows `_` and `>` only escaped
+        .map(|n| n.replace('_', "\\_").replace('>', "\\>"))
+        .collect();
+    assert_eq!(items, expected);
+    assert!(
+        items[0].starts_with("no table suffices for gx bg\\_x (bias)"),
+        "{items:?}"
+    );
+    assert!(
+        md.contains("of draws meeting every accuracy and every specification a table can meet (2 specifications no table can meet not counted: the noise alone fills the limit):"),
+        "{md}"
+    );
+    assert!(
+        !md.contains("every accuracy and every specification:"),
+        "{md}"
+    );
+}
