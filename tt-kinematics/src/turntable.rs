@@ -905,17 +905,6 @@ impl Turntable {
             .map(|(p, chi)| self.actual_rotation_unchecked(p, chi, kind))
     }
 
-    /// $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ for checked inputs.
-    pub(crate) fn delta_r_unchecked(
-        &self,
-        pose: &[f64],
-        chi: &[f64],
-        kind: ChainKind,
-    ) -> Matrix3<f64> {
-        self.nominal_rotation_unchecked(pose).transpose()
-            * self.actual_rotation_unchecked(pose, chi, kind)
-    }
-
     /// The orientation error matrix $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ of eq 23
     /// (platform frame as intended, from platform frame as built).
     ///
@@ -930,8 +919,7 @@ impl Turntable {
         errors: &TurntableErrors,
         kind: ChainKind,
     ) -> Result<Matrix3<f64>, KinematicsError> {
-        self.checked(pose, errors)
-            .map(|(p, chi)| self.delta_r_unchecked(p, chi, kind))
+        Ok(self.nominal_rotation(pose)?.transpose() * self.actual_rotation(pose, errors, kind)?)
     }
 
     /// The nominal homogeneous transform $\mathbf T_d$ (eq 21).
