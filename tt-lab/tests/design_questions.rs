@@ -51,7 +51,7 @@ fn three_axis_and_imu_examples_design_within_the_bound_and_no_worse_than_their_s
                 .all(|c| *c <= MAX_CONDITION),
             "{name}"
         );
-        assert!(d.search().designed().local_optimum(), "{name}");
+        assert!(d.search().designed().stop().local_optimum(), "{name}");
         // no budget and no candidate rates asked: neither answered
         assert!(a.budget().is_none() && a.rates().is_none(), "{name}");
     }
