@@ -288,6 +288,32 @@ fn cost_of_the_specified_objective() {
 /// the bound and J are sums of a few hundred rounded products and a conic solve to 1e-9.
 const BOUND_ROUNDING_REL: f64 = 1e-7;
 
+/// The design problem of `s` on the 90 deg grid (with the study's positions) without and with
+/// its specifications, and the study's schedule as candidate indices.
+fn on_the_90_deg_grid(
+    s: &Study,
+) -> (
+    schedule_design::DesignProblem,
+    schedule_design::DesignProblem,
+    Vec<usize>,
+) {
+    let spec = tt_lab::design::schedule::spec_objective(s)
+        .unwrap()
+        .expect("specifications that leave room");
+    let candidates = schedule_design::candidates_with(
+        schedule_design::grid_positions_deg(&s.turntable, 90.0).unwrap(),
+        &s.positions_deg,
+    );
+    let plain = tt_lab::design::schedule::design_problem(s, candidates).unwrap();
+    let specified = plain.clone().with_specifications(Some(spec));
+    let schedule: Vec<usize> = s
+        .positions_deg
+        .iter()
+        .map(|p| plain.index_of(p).unwrap())
+        .collect();
+    (plain, specified, schedule)
+}
+
 /// The screening's lower bound counts the specification rows and stays a lower bound on the
 /// specified J: on the IMU example with its misalignment at 10 arcsec (the specification rows
 /// bind), 90 deg grid, every screened swap of two slots (every third candidate) has a lower
@@ -297,20 +323,7 @@ const BOUND_ROUNDING_REL: f64 = 1e-7;
 #[test]
 fn the_screenings_bound_counts_the_specification_rows_and_stays_below_the_specified_j() {
     let s = imu_with_tight_misalignment();
-    let spec = tt_lab::design::schedule::spec_objective(&s)
-        .unwrap()
-        .expect("specifications that leave room");
-    let candidates = schedule_design::candidates_with(
-        schedule_design::grid_positions_deg(&s.turntable, 90.0).unwrap(),
-        &s.positions_deg,
-    );
-    let plain = tt_lab::design::schedule::design_problem(&s, candidates).unwrap();
-    let specified = plain.clone().with_specifications(Some(spec));
-    let schedule: Vec<usize> = s
-        .positions_deg
-        .iter()
-        .map(|p| plain.index_of(p).unwrap())
-        .collect();
+    let (plain, specified, schedule) = on_the_90_deg_grid(&s);
     let hood = specified
         .neighbourhood(&schedule, schedule_design::DEFAULT_MAX_CONDITION)
         .unwrap();
@@ -395,23 +408,14 @@ fn with_ppm_specifications_the_rate_choice_takes_the_least_specification_load_no
 #[test]
 fn the_designers_answer_with_the_problems_weights_is_the_specified_allocation_bit_for_bit() {
     let s = study("stim300-rate-table-example.toml");
-    let spec = tt_lab::design::schedule::spec_objective(&s)
-        .unwrap()
-        .expect("the rate-table study's specifications leave room");
-    let ctx = spec.context().clone();
-    let candidates = schedule_design::candidates_with(
-        schedule_design::grid_positions_deg(&s.turntable, 90.0).unwrap(),
-        &s.positions_deg,
-    );
-    let plain = tt_lab::design::schedule::design_problem(&s, candidates).unwrap();
-    let specified = plain.clone().with_specifications(Some(spec));
+    let (plain, specified, schedule) = on_the_90_deg_grid(&s);
+    let ctx = specified
+        .specifications()
+        .expect("the rate-table study's specifications leave room")
+        .context()
+        .clone();
     let rate_steps = s.calibration.schedule().positions()[s.positions_deg.len()..].to_vec();
     assert_eq!(rate_steps.len(), 6, "the study's six rate steps");
-    let schedule: Vec<usize> = s
-        .positions_deg
-        .iter()
-        .map(|p| plain.index_of(p).unwrap())
-        .collect();
     let outside: Vec<usize> = (0..plain.n_candidates())
         .filter(|c| !schedule.contains(c))
         .collect();
@@ -462,20 +466,7 @@ fn the_designers_answer_with_the_problems_weights_is_the_specified_allocation_bi
 #[ignore = "a measurement, run by hand"]
 fn screening_on_the_rate_table_study() {
     let s = study("stim300-rate-table-example.toml");
-    let spec = tt_lab::design::schedule::spec_objective(&s)
-        .unwrap()
-        .expect("specifications that leave room");
-    let candidates = schedule_design::candidates_with(
-        schedule_design::grid_positions_deg(&s.turntable, 90.0).unwrap(),
-        &s.positions_deg,
-    );
-    let plain = tt_lab::design::schedule::design_problem(&s, candidates).unwrap();
-    let specified = plain.clone().with_specifications(Some(spec));
-    let schedule: Vec<usize> = s
-        .positions_deg
-        .iter()
-        .map(|p| plain.index_of(p).unwrap())
-        .collect();
+    let (plain, specified, schedule) = on_the_90_deg_grid(&s);
     let j = specified.evaluate(&schedule).unwrap().objective();
     let hood = specified
         .neighbourhood(&schedule, schedule_design::DEFAULT_MAX_CONDITION)
