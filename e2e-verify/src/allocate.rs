@@ -645,9 +645,40 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         lower_bounds_rad: &[f64],
         spec_rows: &[SpecificationRow],
     ) -> Result<DirectAllocation, E2eError> {
-        let weights = self.combined_weights();
+        self.allocate_direct_specified_weighted(
+            &self.combined_weights(),
+            linear,
+            lower_bounds_rad,
+            spec_rows,
+        )
+    }
+
+    /// [`EndToEnd::allocate_direct_specified`] with the objective's weights `weights` given
+    /// (one per error): a caller that answers many schedules of one turntable passes
+    /// [`EndToEnd::combined_weights`] computed once (they depend on the turntable alone, and
+    /// their average over the joint ranges is the costly part of a schedule's answer); with
+    /// those weights it is [`EndToEnd::allocate_direct_specified`], bit for bit.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct_specified`]; [`E2eError::Field`] when `weights` does
+    /// not have one value per error.
+    pub fn allocate_direct_specified_weighted(
+        &self,
+        weights: &[f64],
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        spec_rows: &[SpecificationRow],
+    ) -> Result<DirectAllocation, E2eError> {
+        let n_errors = self.error_names().len();
+        if weights.len() != n_errors {
+            return Err(E2eError::Field(tt_core::FieldError::Length {
+                field: "weights".into(),
+                expected: n_errors,
+                found: weights.len(),
+            }));
+        }
         self.allocate_direct_weighted(
-            &weights,
+            weights,
             linear,
             lower_bounds_rad,
             &vec![0.0; self.n_outputs()],
