@@ -1144,7 +1144,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             let b = self.box_of(&scaled(s), lower_bounds_rad)?;
             match &check {
                 None => self.monte_carlo().meeting_count(&b, settings),
-                Some(c) => Ok(c.count(&b, settings)?.count.meeting),
+                Some(c) => Ok(c.count(&b, settings)?.count.meeting()),
             }
         };
         let quantile = |s: f64| -> Result<f64, E2eError> {
@@ -1200,7 +1200,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             None => (count(scale)?, Vec::new()),
             Some(c) => {
                 let found = c.count(&self.box_of(&ub, lower_bounds_rad)?, settings)?;
-                (found.count.meeting, found.per_specification)
+                (found.count.meeting(), found.per_specification)
             }
         };
         Ok(YieldAllocation {
@@ -1209,12 +1209,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             shape_rad: shape_rad.to_vec(),
             scale: Self::check_positive("yield scale", scale)?,
             target: p,
-            count: YieldCount {
-                samples: settings.samples,
-                seed: settings.seed,
-                meeting,
-                meeting_per_output: Vec::new(),
-            },
+            count: YieldCount::new(settings.samples, settings.seed, meeting, Vec::new()),
             per_specification,
             capped,
         })

@@ -74,19 +74,19 @@ pub fn fingerprint_laid_out(
     requirement: impl Fn(Option<f64>) -> u64,
 ) -> Vec<u64> {
     let mut v = vec![
-        r.samples(),
-        r.seed(),
+        r.count().samples(),
+        r.count().seed(),
         u64::from(r.chunk_size()),
-        r.within_requirement_all(),
+        r.count().meeting(),
     ];
     v.extend(r.requirement().to_array().map(requirement));
-    for a in r.axes() {
+    for (a, &within) in r.axes().iter().zip(r.count().meeting_per_output()) {
         let pose = a.worst().pose().angles_rad().iter().map(|x| x.to_bits());
         v.extend([
             a.max_abs_rad().to_bits(),
             a.mean_rad().to_bits(),
             a.m2_rad2().to_bits(),
-            a.within_requirement(),
+            within,
             a.worst().index(),
             a.worst().value().to_bits(),
         ]);
