@@ -3,8 +3,8 @@
 
 mod common;
 
-use common::{config, paper_table, table4, three_axis, three_axis_box};
-use mc_verify::{BoundKind, ErrorBox, MAX_HISTOGRAM_BINS, McConfig, McError, MonteCarlo};
+use common::{config, paper_table, table4, theta_only_run, three_axis, three_axis_box};
+use mc_verify::{BoundKind, ErrorBox, MAX_HISTOGRAM_BINS, McError, MonteCarlo};
 use tt_core::Requirement;
 use tt_kinematics::{
     ExactChain, KinematicsError, OrientationError, OrientationErrorModel, Pose, TurntableErrors,
@@ -248,14 +248,7 @@ fn values_outside_a_caller_histogram_range_are_counted_not_lost() {
 /// Requirements are optional per angle: `None` counts every sample as within.
 #[test]
 fn an_angle_without_requirement_counts_every_sample_as_within() {
-    let cfg = McConfig::new(
-        20_000,
-        3,
-        Requirement::from_options([None, Some(1e-4), None]).unwrap(),
-    );
-    let r = MonteCarlo::new(&paper_table(), table4(), cfg)
-        .unwrap()
-        .run();
+    let r = theta_only_run();
     let within = r.count().meeting_per_output();
     assert_eq!(within[0], 20_000);
     assert_eq!(within[2], 20_000);

@@ -3,10 +3,8 @@
 
 mod common;
 
-use common::{paper_table, table4};
-use mc_verify::{McConfig, MonteCarlo};
+use common::theta_only_run;
 use serde_json::Value;
-use tt_core::Requirement;
 
 /// The keys of a JSON object in the order they were written.
 fn keys_in_order(json: &str, keys: &[&str]) -> Vec<usize> {
@@ -18,16 +16,9 @@ fn keys_in_order(json: &str, keys: &[&str]) -> Vec<usize> {
         .collect()
 }
 
-/// A run with a requirement on theta only (psi and gamma count every draw as within).
+/// [`theta_only_run`] as written and as read back.
 fn run_json() -> (String, Value) {
-    let cfg = McConfig::new(
-        20_000,
-        3,
-        Requirement::from_options([None, Some(1e-4), None]).unwrap(),
-    );
-    let r = MonteCarlo::new(&paper_table(), table4(), cfg)
-        .unwrap()
-        .run();
+    let r = theta_only_run();
     let s = serde_json::to_string(&r).unwrap();
     let v: Value = serde_json::from_str(&s).unwrap();
     (s, v)
