@@ -1154,7 +1154,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             let b = self.box_of(&scaled(s), lower_bounds_rad)?;
             match &check {
                 None => self.monte_carlo().meeting_count(&b, settings),
-                Some(c) => Ok(c.count(&b, settings)?.count.meeting),
+                Some(c) => Ok(c.count(&b, settings)?.count.meeting()),
             }
         };
         let quantile = |s: f64| -> Result<f64, E2eError> {
@@ -1210,7 +1210,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             None => (count(scale)?, Vec::new()),
             Some(c) => {
                 let found = c.count(&self.box_of(&ub, lower_bounds_rad)?, settings)?;
-                (found.count.meeting, found.per_specification)
+                (found.count.meeting(), found.per_specification)
             }
         };
         Ok(YieldAllocation {
@@ -1220,12 +1220,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             scale: Self::check_positive("yield scale", scale)?,
             target: p,
             counted: SpecifiedCount {
-                count: YieldCount {
-                    samples: settings.samples,
-                    seed: settings.seed,
-                    meeting,
-                    meeting_per_output: Vec::new(),
-                },
+                count: YieldCount::new(settings.samples, settings.seed, meeting, Vec::new()),
                 per_specification,
             },
             capped,

@@ -214,12 +214,7 @@ impl<'a, S: ScheduleErrorModel + Sync> SpecCheck<'a, S> {
             },
         )?;
         Ok(SpecifiedCount {
-            count: YieldCount {
-                samples: settings.samples,
-                seed: settings.seed,
-                meeting,
-                meeting_per_output: per_output,
-            },
+            count: YieldCount::new(settings.samples, settings.seed, meeting, per_output),
             per_specification: self.labels.iter().cloned().zip(per_spec).collect(),
         })
     }
