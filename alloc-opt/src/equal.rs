@@ -1,11 +1,11 @@
 //! The traditional equal-effects allocation (the paper's comparison, its refs 20-21).
 
-use crate::allocation::{Allocator, AxisOracle, MethodDetails, Subproblem, ToleranceBox, finish};
+use crate::allocation::{Allocator, AxisOracle, Subproblem, ToleranceBox};
 use crate::error::AllocError;
 use crate::model::LinearErrorModel;
 use crate::problem::{AllocationProblem, Weights};
 use crate::solver::CutOracle;
-use crate::weighted::{combined, for_each_axis};
+use crate::weighted::{finish_two_step, for_each_axis};
 
 /// Bisection steps on the common effect (the bracket shrinks to one ulp well before this).
 const SHARE_BISECTION_STEPS: usize = 200;
@@ -67,15 +67,8 @@ impl<M: LinearErrorModel> Allocator<M> for EqualEffects {
                 Ok(())
             },
         )?;
-        let ub = combined(model.n_errors(), &subproblems);
         let weights = Weights::inverse_average_sensitivity(model);
-        finish(
-            problem,
-            Allocator::<M>::name(self),
-            weights,
-            ub,
-            MethodDetails::TwoStep { subproblems },
-        )
+        finish_two_step(problem, Allocator::<M>::name(self), weights, subproblems)
     }
 }
 

@@ -146,13 +146,13 @@ pub(crate) fn problem_order(n_quantities: usize) -> Vec<usize> {
 }
 
 /// The sensitivity-weighted per-quantity problems over `search` (the model itself, or the
-/// paper's quarter-range wrapper), combined by rule (34).
+/// paper's quarter-range wrapper).
 fn two_step<S: LinearErrorModel + ?Sized>(
     search: &S,
     limits: &[Option<f64>],
     lb: &[f64],
     weights: &Weights,
-) -> Result<(Vec<f64>, Vec<Subproblem>), AllocError> {
+) -> Result<Vec<Subproblem>, AllocError> {
     let names = error_names(search);
     let mut subproblems = Vec::new();
     for_each_axis(
@@ -187,7 +187,7 @@ fn two_step<S: LinearErrorModel + ?Sized>(
             Ok(())
         },
     )?;
-    Ok((combined(search.n_errors(), &subproblems), subproblems))
+    Ok(subproblems)
 }
 
 /// For each quantity with a requirement and errors involved, in [`problem_order`]: its
@@ -216,13 +216,26 @@ pub(crate) fn for_each_axis<'m, S: LinearErrorModel + ?Sized>(
     Ok(())
 }
 
-/// The per-quantity bounds of `subproblems` combined by rule (34) over `n_errors` errors.
-pub(crate) fn combined(n_errors: usize, subproblems: &[Subproblem]) -> Vec<f64> {
+/// The end of a two-step method: the per-quantity bounds of `subproblems` combined by rule
+/// (34) over the model's errors (`+inf` for an error no subproblem bounds), then [`finish`].
+pub(crate) fn finish_two_step<M: LinearErrorModel>(
+    problem: &AllocationProblem<M>,
+    method: &str,
+    weights: Weights,
+    subproblems: Vec<Subproblem>,
+) -> Result<ToleranceBox, AllocError> {
     let solutions: Vec<(&[usize], &[f64])> = subproblems
         .iter()
         .map(|s| (s.components.as_slice(), s.bounds_rad.as_slice()))
         .collect();
-    combine_rule_34(n_errors, &solutions)
+    let ub = combine_rule_34(problem.model().n_errors(), &solutions);
+    finish(
+        problem,
+        method,
+        weights,
+        ub,
+        MethodDetails::TwoStep { subproblems },
+    )
 }
 
 impl<M: LinearErrorModel + 'static> Allocator<M> for SensitivityWeighted {
@@ -232,7 +245,7 @@ impl<M: LinearErrorModel + 'static> Allocator<M> for SensitivityWeighted {
 
     fn allocate(&self, problem: &AllocationProblem<M>) -> Result<ToleranceBox, AllocError> {
         let weights = self.weights_for(problem)?;
-        let (ub, subproblems) = match self.form {
+        let subproblems = match self.form {
             ConstraintForm::FullRange => two_step(
                 problem.model(),
                 problem.limits(),
@@ -254,31 +267,19 @@ impl<M: LinearErrorModel + 'static> Allocator<M> for SensitivityWeighted {
                     problem.limits().iter().enumerate().any(|(k, l)| {
                         l.is_some() && !LinearErrorModel::involved(model, k).is_empty()
                     });
-                if !constrained {
-                    return finish(
-                        problem,
-                        Allocator::<M>::name(self),
-                        weights,
-                        vec![f64::INFINITY; model.n_errors()],
-                        MethodDetails::TwoStep {
-                            subproblems: Vec::new(),
-                        },
-                    );
+                if constrained {
+                    two_step(
+                        &QuarterRanges::new(model)?,
+                        problem.limits(),
+                        problem.lower_bounds_rad(),
+                        &weights,
+                    )?
+                } else {
+                    // every bound +inf (rule (34) over no subproblem)
+                    Vec::new()
                 }
-                two_step(
-                    &QuarterRanges::new(model)?,
-                    problem.limits(),
-                    problem.lower_bounds_rad(),
-                    &weights,
-                )?
             }
         };
-        finish(
-            problem,
-            Allocator::<M>::name(self),
-            weights,
-            ub,
-            MethodDetails::TwoStep { subproblems },
-        )
+        finish_two_step(problem, Allocator::<M>::name(self), weights, subproblems)
     }
 }

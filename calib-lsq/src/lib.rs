@@ -65,8 +65,8 @@ pub use calibration::{
 pub use columns::InputColumns;
 pub use error::CalibError;
 pub use lsq::{
-    CoefficientCovariance, LsqSolution, NULL_COMPONENT_TOL, NoiseCovariance, RANK_RTOL,
-    RateErrorCovariance, Regression, jacobi_singular_values,
+    CoefficientCovariance, Conditioning, LsqSolution, NULL_COMPONENT_TOL, NoiseCovariance,
+    RANK_RTOL, RateErrorCovariance, Regression, jacobi_singular_values,
 };
 pub use requirement::{
     AxisDisagreement, DISAGREE_REL, OrientationRequirement, OutputBox, OutputRegion,

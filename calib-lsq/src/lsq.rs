@@ -23,7 +23,45 @@ pub const NULL_COMPONENT_TOL: f64 = 1e-6;
 /// 20 x 20 triangle needs about 8).
 pub(crate) const JACOBI_MAX_SWEEPS: usize = 60;
 
-/// A least-squares solution with its quality: residuals, rank, condition number.
+/// The conditioning of a regression matrix $\mathbf A$: its numerical rank, condition number
+/// and singular values, computed once by [`Regression::new`] and carried by every
+/// [`LsqSolution`] it solves.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Conditioning {
+    /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]; the column count for a
+    /// constructed [`Regression`]).
+    pub(crate) rank: usize,
+    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
+    pub(crate) condition_number: f64,
+    /// Singular values of $\mathbf A$, descending.
+    pub(crate) singular_values: DVector<f64>,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl Conditioning {
+    /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]; the column count for a
+    /// constructed [`Regression`]).
+    #[must_use]
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
+    #[must_use]
+    pub fn condition_number(&self) -> f64 {
+        self.condition_number
+    }
+
+    /// Singular values of $\mathbf A$, descending.
+    #[must_use]
+    pub fn singular_values(&self) -> &DVector<f64> {
+        &self.singular_values
+    }
+}
+
+/// A least-squares solution with its quality: residuals and the regression's conditioning
+/// (rank, condition number).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct LsqSolution {
@@ -31,12 +69,8 @@ pub struct LsqSolution {
     pub(crate) beta: DVector<f64>,
     /// Residuals $\mathbf y - \mathbf A\hat{\boldsymbol\beta}$, one per position.
     pub(crate) residuals: DVector<f64>,
-    /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]).
-    pub(crate) rank: usize,
-    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
-    pub(crate) condition_number: f64,
-    /// Singular values of $\mathbf A$, descending.
-    pub(crate) singular_values: DVector<f64>,
+    /// The regression's rank, condition number and singular values.
+    pub(crate) conditioning: Conditioning,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -53,22 +87,11 @@ impl LsqSolution {
         &self.residuals
     }
 
-    /// Numerical rank of $\mathbf A$ (threshold [`RANK_RTOL`]).
+    /// The regression's rank, condition number and singular values
+    /// ([`Regression::conditioning`]).
     #[must_use]
-    pub fn rank(&self) -> usize {
-        self.rank
-    }
-
-    /// 2-norm condition number $\sigma_{max}/\sigma_{min}$ of $\mathbf A$.
-    #[must_use]
-    pub fn condition_number(&self) -> f64 {
-        self.condition_number
-    }
-
-    /// Singular values of $\mathbf A$, descending.
-    #[must_use]
-    pub fn singular_values(&self) -> &DVector<f64> {
-        &self.singular_values
+    pub fn conditioning(&self) -> &Conditioning {
+        &self.conditioning
     }
 }
 
@@ -104,9 +127,7 @@ pub struct Regression {
     q: DMatrix<f64>,
     r: DMatrix<f64>,
     pinv: DMatrix<f64>,
-    rank: usize,
-    condition_number: f64,
-    singular_values: DVector<f64>,
+    conditioning: Conditioning,
     /// $\lVert\mathbf P\rVert_\infty$ and $\lVert\mathbf I - \mathbf P\rVert_\infty$, computed
     /// at the first use ([`Regression::projector_norms`]).
     projector_norms: std::sync::OnceLock<(f64, f64)>,
@@ -137,9 +158,11 @@ impl Regression {
             q,
             r,
             pinv,
-            rank,
-            condition_number,
-            singular_values,
+            conditioning: Conditioning {
+                rank,
+                condition_number,
+                singular_values,
+            },
             projector_norms: std::sync::OnceLock::new(),
         })
     }
@@ -213,22 +236,28 @@ impl Regression {
         (p_sums, ip_sums)
     }
 
+    /// The rank, condition number and singular values of $\mathbf A$.
+    #[must_use]
+    pub fn conditioning(&self) -> &Conditioning {
+        &self.conditioning
+    }
+
     /// Numerical rank (always the column count for a constructed `Regression`).
     #[must_use]
     pub fn rank(&self) -> usize {
-        self.rank
+        self.conditioning.rank
     }
 
     /// Condition number $\sigma_{max}/\sigma_{min}$.
     #[must_use]
     pub fn condition_number(&self) -> f64 {
-        self.condition_number
+        self.conditioning.condition_number
     }
 
     /// Singular values of $\mathbf A$, descending.
     #[must_use]
     pub fn singular_values(&self) -> &DVector<f64> {
-        &self.singular_values
+        &self.conditioning.singular_values
     }
 
     /// The least-squares estimate $\hat{\boldsymbol\beta} = \mathbf A^+ \mathbf y$ only.
@@ -270,9 +299,7 @@ impl Regression {
         Ok(LsqSolution {
             beta,
             residuals,
-            rank: self.rank,
-            condition_number: self.condition_number,
-            singular_values: self.singular_values.clone(),
+            conditioning: self.conditioning.clone(),
         })
     }
 }

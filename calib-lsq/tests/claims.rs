@@ -311,11 +311,11 @@ fn least_squares_recovers_table_1_without_orientation_error_eq6() {
         for (got, want) in c.solution().beta().iter().zip(table) {
             assert_abs_diff_eq!(*got, want, epsilon = TABLE1_RECOVERY_TOL_DEG_PER_H);
         }
-        assert_eq!(c.solution().rank(), 7);
+        assert_eq!(c.solution().conditioning().rank(), 7);
         assert!(
-            c.solution().condition_number() < 10.0,
+            c.solution().conditioning().condition_number() < 10.0,
             "{}",
-            c.solution().condition_number()
+            c.solution().conditioning().condition_number()
         );
         assert!(c.solution().rms_residual() < TABLE1_RECOVERY_TOL_DEG_PER_H);
     }

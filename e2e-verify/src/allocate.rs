@@ -7,7 +7,7 @@ use crate::error::{E2eError, fraction};
 use crate::linear::Linearization;
 use crate::montecarlo::{McSettings, YieldCount, wilson_interval_95};
 use crate::simulate::EndToEnd;
-use crate::specified_yield::{ACCURACY_YIELD_COUNTS, SPECIFIED_YIELD_COUNTS, SpecCheck};
+use crate::specified_yield::{SpecCheck, SpecifiedCount};
 use alloc_opt::solver::{Cut, FiniteCuts, InverseSquareProblem, solve_inverse_square};
 use alloc_opt::{TIGHT_REL, Weights};
 use mc_verify::ErrorBox;
@@ -401,16 +401,12 @@ pub struct YieldAllocation {
     pub(crate) target: f64,
     /// $J$ (rad$^{-2}$).
     pub(crate) objective: f64,
-    /// The design draws and those meeting every accuracy at $s^*$ (re-evaluated on the exact
-    /// chain), with their seed; its 95% Wilson interval is the stated confidence of the
-    /// allocation.
+    /// The design draws and those meeting every accuracy (and, with specifications
+    /// ([`EndToEnd::allocate_yield_specified`]), every specification, each counted too) at
+    /// $s^*$ (re-evaluated on the exact chain), with their seed; its 95% Wilson interval is
+    /// the stated confidence of the allocation.
     #[cfg_attr(feature = "serde", serde(flatten))]
-    pub(crate) count: YieldCount,
-    /// With specifications ([`EndToEnd::allocate_yield_specified`]): each specification's
-    /// label with its unit and the design draws meeting it at $s^*$ (then `count` counts the
-    /// draws meeting every accuracy and every specification); empty without.
-    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Vec::is_empty"))]
-    pub(crate) per_specification: Vec<(String, u64)>,
+    pub(crate) counted: SpecifiedCount,
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
     /// finite bound (or the shape has no finite bound): the accuracies do not constrain these
     /// errors, and the bounds are that cap, not a limit.
@@ -450,30 +446,13 @@ impl YieldAllocation {
     }
 
     /// The design draws and those meeting every accuracy (and, with specifications, every
-    /// specification) at $s^*$ (re-evaluated on the exact chain), with their seed; its 95%
-    /// Wilson interval ([`YieldCount::interval_95`]) is the stated confidence of the
-    /// allocation.
+    /// specification, with the draws meeting each: [`SpecifiedCount::per_specification`]) at
+    /// $s^*$ (re-evaluated on the exact chain), with their seed; its 95% Wilson interval
+    /// ([`YieldCount::interval_95`]) is the stated confidence of the allocation, and
+    /// [`SpecifiedCount::counts`] says what it counts.
     #[must_use]
-    pub fn count(&self) -> &YieldCount {
-        &self.count
-    }
-
-    /// With specifications: each specification's label with its unit and the design draws
-    /// meeting it at $s^*$; empty without.
-    #[must_use]
-    pub fn per_specification(&self) -> &[(String, u64)] {
-        &self.per_specification
-    }
-
-    /// What [`YieldAllocation::count`] counts: [`SPECIFIED_YIELD_COUNTS`] with
-    /// specifications, [`ACCURACY_YIELD_COUNTS`] without.
-    #[must_use]
-    pub fn counts(&self) -> &'static str {
-        if self.per_specification.is_empty() {
-            ACCURACY_YIELD_COUNTS
-        } else {
-            SPECIFIED_YIELD_COUNTS
-        }
+    pub fn counted(&self) -> &SpecifiedCount {
+        &self.counted
     }
 
     /// The target is met even at the largest scale searched, [`YieldParams::scale_cap_rad`] on every
@@ -504,7 +483,7 @@ impl YieldAllocation {
     /// The design draws' 95% interval against the target.
     #[must_use]
     pub fn design_verdict(&self) -> YieldVerdict {
-        YieldVerdict::of(self.count.interval_95(), self.target)
+        YieldVerdict::of(self.counted.count.interval_95(), self.target)
     }
 }
 
@@ -666,9 +645,40 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         lower_bounds_rad: &[f64],
         spec_rows: &[SpecificationRow],
     ) -> Result<DirectAllocation, E2eError> {
-        let weights = self.combined_weights();
+        self.allocate_direct_specified_weighted(
+            &self.combined_weights(),
+            linear,
+            lower_bounds_rad,
+            spec_rows,
+        )
+    }
+
+    /// [`EndToEnd::allocate_direct_specified`] with the objective's weights `weights` given
+    /// (one per error): a caller that answers many schedules of one turntable passes
+    /// [`EndToEnd::combined_weights`] computed once (they depend on the turntable alone, and
+    /// their average over the joint ranges is the costly part of a schedule's answer); with
+    /// those weights it is [`EndToEnd::allocate_direct_specified`], bit for bit.
+    ///
+    /// # Errors
+    /// As [`EndToEnd::allocate_direct_specified`]; [`E2eError::Field`] when `weights` does
+    /// not have one value per error.
+    pub fn allocate_direct_specified_weighted(
+        &self,
+        weights: &[f64],
+        linear: &Linearization,
+        lower_bounds_rad: &[f64],
+        spec_rows: &[SpecificationRow],
+    ) -> Result<DirectAllocation, E2eError> {
+        let n_errors = self.error_names().len();
+        if weights.len() != n_errors {
+            return Err(E2eError::Field(tt_core::FieldError::Length {
+                field: "weights".into(),
+                expected: n_errors,
+                found: weights.len(),
+            }));
+        }
         self.allocate_direct_weighted(
-            &weights,
+            weights,
             linear,
             lower_bounds_rad,
             &vec![0.0; self.n_outputs()],
@@ -1098,9 +1108,9 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
     /// every accuracy holds and every row of `spec_rows` holds in the direct allocation's
     /// convention ([`SpecificationRow`]: the quantity's table part on the exact chain within
     /// $L - k\,u_{\text{noise}}$), so the yield is the fraction of draws meeting every accuracy
-    /// and every specification ([`SPECIFIED_YIELD_COUNTS`]); the scale search is the same, on
+    /// and every specification ([`crate::SPECIFIED_YIELD_COUNTS`]); the scale search is the same, on
     /// the ratio $\max(\max_k \Delta\omega_k/\omega_{m,k}, \max_{\text{rows}}
-    /// |q|/(L - k\,u_{\text{noise}}))$. [`YieldAllocation::per_specification`] gives the
+    /// |q|/(L - k\,u_{\text{noise}}))$. [`YieldAllocation::counted`] gives the
     /// design draws meeting each specification. Without rows it is
     /// [`EndToEnd::allocate_yield_with`], bit for bit.
     ///
@@ -1144,7 +1154,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             let b = self.box_of(&scaled(s), lower_bounds_rad)?;
             match &check {
                 None => self.monte_carlo().meeting_count(&b, settings),
-                Some(c) => Ok(c.count(&b, settings)?.count.meeting),
+                Some(c) => Ok(c.count(&b, settings)?.count.meeting()),
             }
         };
         let quantile = |s: f64| -> Result<f64, E2eError> {
@@ -1200,7 +1210,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             None => (count(scale)?, Vec::new()),
             Some(c) => {
                 let found = c.count(&self.box_of(&ub, lower_bounds_rad)?, settings)?;
-                (found.count.meeting, found.per_specification)
+                (found.count.meeting(), found.per_specification)
             }
         };
         Ok(YieldAllocation {
@@ -1209,13 +1219,10 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
             shape_rad: shape_rad.to_vec(),
             scale: Self::check_positive("yield scale", scale)?,
             target: p,
-            count: YieldCount {
-                samples: settings.samples,
-                seed: settings.seed,
-                meeting,
-                meeting_per_output: Vec::new(),
+            counted: SpecifiedCount {
+                count: YieldCount::new(settings.samples, settings.seed, meeting, Vec::new()),
+                per_specification,
             },
-            per_specification,
             capped,
         })
     }

@@ -332,9 +332,9 @@ impl<S: ScheduleErrorModel + Sync> Allocator<Linearization> for YieldBased<'_, S
                 shape_rad: y.shape_rad,
                 scale: y.scale,
                 target: y.target,
-                samples: y.count.samples,
-                meeting: y.count.meeting,
-                interval_95: y.count.interval_95(),
+                samples: y.counted.count.samples(),
+                meeting: y.counted.count.meeting(),
+                interval_95: y.counted.count.interval_95(),
                 capped: y.capped,
             },
         )

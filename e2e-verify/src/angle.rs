@@ -506,12 +506,7 @@ impl crate::AngleQuestions<'_> {
             Ok(())
         })?;
         Ok(AngleYield {
-            count: crate::YieldCount {
-                samples: n,
-                seed,
-                meeting,
-                meeting_per_output: Vec::new(),
-            },
+            count: crate::YieldCount::new(n, seed, meeting, Vec::new()),
             worst_ratio: worst,
         })
     }

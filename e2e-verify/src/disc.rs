@@ -103,19 +103,14 @@ fn dual_of(
     sa: &[f64],
     sb: &[f64],
 ) -> Option<f64> {
-    match (&ga.shape, &gb.shape) {
-        (GroupShape::Constant, GroupShape::Constant) => Some(sa[0].hypot(sb[0])),
-        (
-            GroupShape::Any {
-                joint: ja,
-                angles_rad: x,
-            },
-            GroupShape::Any {
-                joint: jb,
-                angles_rad: y,
-            },
-        ) if ja == jb && x == y => Some(sa.iter().zip(sb).map(|(p, q)| p.hypot(*q)).sum()),
-        _ => None,
+    // closed forms only for two groups of the same shape (joint and angles alike)
+    if ga.shape != gb.shape {
+        return None;
+    }
+    match ga.shape {
+        GroupShape::Constant => Some(sa[0].hypot(sb[0])),
+        GroupShape::Any { .. } => Some(sa.iter().zip(sb).map(|(p, q)| p.hypot(*q)).sum()),
+        GroupShape::Harmonics { .. } => None,
     }
 }
 

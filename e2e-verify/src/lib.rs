@@ -126,9 +126,11 @@ pub use linear::{BoxDetail, BoxMeets, Linearization, OutputWorstCase, WorstCase}
 /// The one histogram of the workspace's Monte Carlos (mc-verify's), here on $[0, H)$ in the
 /// output unit.
 pub use mc_verify::Histogram;
+/// The workspace's one yield count (mc-verify's): every yield of this crate reports one.
+pub use mc_verify::{YieldCount, wilson_interval_95};
 pub use montecarlo::{
     DEFAULT_CHUNK_SIZE, MAX_BINS, MAX_SAMPLES, McSettings, QUANTILE_BINS, REPORTED_QUANTILES,
-    RateDistribution, RateQuantile, WorstDraw, YieldCount, wilson_interval_95,
+    RateDistribution, RateQuantile, WorstDraw,
 };
 pub use noise::{
     CombinedBox, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer, NoiseBudget,

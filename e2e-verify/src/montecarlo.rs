@@ -38,8 +38,8 @@ use mc_verify::{
 };
 use tt_kinematics::ScheduleErrorModel;
 
-/// Standard normal quantile of 97.5% ($z$ of a two-sided 95% interval).
-pub(crate) const Z_95: f64 = 1.959_963_984_540_054;
+/// The workspace's one yield count and its interval (mc-verify's), for this crate's modules.
+pub(crate) use mc_verify::{YieldCount, Z_95, wilson_interval_95};
 
 /// Default number of samples per chunk (one random stream each).
 pub const DEFAULT_CHUNK_SIZE: u32 = 1024;
@@ -114,97 +114,6 @@ impl McSettings {
             MAX_BINS as u64,
         )?;
         Ok(())
-    }
-}
-
-/// A two-sided 95% Wilson score interval for a binomial proportion.
-///
-/// # Formula
-/// $$\frac{\hat p + \frac{z^2}{2n} \pm z\sqrt{\frac{\hat p(1-\hat p)}{n} + \frac{z^2}{4n^2}}}
-/// {1 + \frac{z^2}{n}},\qquad z = 1.96.$$
-///
-/// # Reference
-/// E. B. Wilson, "Probable inference, the law of succession, and statistical inference",
-/// J. Am. Stat. Assoc. 22 (1927).
-///
-/// ```
-/// let (lo, hi) = e2e_verify::wilson_interval_95(997, 1000);
-/// assert!(lo < 0.997 && 0.997 < hi && hi < 1.0);
-/// ```
-#[must_use]
-pub fn wilson_interval_95(successes: u64, trials: u64) -> (f64, f64) {
-    if trials == 0 {
-        return (0.0, 1.0);
-    }
-    let n = trials as f64;
-    let p = successes as f64 / n;
-    let z2 = Z_95 * Z_95;
-    let denom = 1.0 + z2 / n;
-    let centre = (p + z2 / (2.0 * n)) / denom;
-    let half = Z_95 * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt() / denom;
-    ((centre - half).max(0.0), (centre + half).min(1.0))
-}
-
-/// The count of a seeded Monte Carlo yield: the draws, their seed, those meeting every
-/// accuracy and those meeting each output's. The one count every yield of this crate reports:
-/// [`RateDistribution::count`] (turntables from a box), [`crate::NoiseAnswer`]'s combined
-/// yield (turntables and noise), [`crate::TimeDomainRun::count`] (simulated calibrations),
-/// [`crate::YieldAllocation::count`] (its design draws) and
-/// [`crate::angle::AngleYield::count`] (turntables with angle-dependent errors).
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct YieldCount {
-    /// Draws.
-    pub(crate) samples: u64,
-    /// Seed of the streams.
-    pub(crate) seed: u64,
-    /// Draws meeting every output's accuracy.
-    pub(crate) meeting: u64,
-    /// Draws meeting each output's accuracy (empty where only all outputs together are
-    /// counted: a yield allocation's design draws).
-    pub(crate) meeting_per_output: Vec<u64>,
-}
-
-/// Read access to the fields (crate-private, so the type can grow without breaking callers).
-impl YieldCount {
-    /// Draws.
-    #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// Seed of the streams.
-    #[must_use]
-    pub fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    /// Draws meeting every output's accuracy.
-    #[must_use]
-    pub fn meeting(&self) -> u64 {
-        self.meeting
-    }
-
-    /// Draws meeting each output's accuracy (empty where only all outputs together are
-    /// counted: a yield allocation's design draws).
-    #[must_use]
-    pub fn meeting_per_output(&self) -> &[u64] {
-        &self.meeting_per_output
-    }
-}
-
-impl YieldCount {
-    /// The yield: the fraction of draws meeting every accuracy.
-    #[must_use]
-    pub fn fraction(&self) -> f64 {
-        self.meeting as f64 / self.samples as f64
-    }
-
-    /// Its 95% Wilson interval ([`wilson_interval_95`]).
-    #[must_use]
-    pub fn interval_95(&self) -> (f64, f64) {
-        wilson_interval_95(self.meeting, self.samples)
     }
 }
 
@@ -437,39 +346,12 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         Ok(())
     }
 
-    /// Draw every turntable of `settings` from `bounds` and give each chunk's draws to `visit`
-    /// (index, $\chi$, $\Delta\omega_k$ per output), folding chunk results with `merge` in
-    /// chunk order: the one Monte Carlo driver of the crate (memory independent of the count).
-    pub(crate) fn drive<P, N, V, M>(
-        &self,
-        bounds: &ErrorBox,
-        settings: &McSettings,
-        new: N,
-        visit: V,
-        merge: M,
-    ) -> Result<P, E2eError>
-    where
-        P: Send,
-        N: Fn() -> P + Sync,
-        V: Fn(&mut P, u64, &[f64], &[f64]) + Sync,
-        M: Fn(&mut P, P),
-    {
-        self.drive_with(
-            bounds,
-            settings,
-            || (),
-            new,
-            |part, _, index, chi, dw| {
-                visit(part, index, chi, dw);
-                Ok(())
-            },
-            merge,
-        )
-    }
-
-    /// [`EndToEnd::drive`] with a scratch space per chunk made by `scratch` and a visitor that
-    /// may fail (the first error in chunk order is returned): for visitors that evaluate more
-    /// of the draw than $\Delta\omega_k$ (the specified yield's coefficient errors).
+    /// Draw every turntable of `settings` from `bounds` and give each draw to `visit` (the
+    /// chunk's part, its scratch space made by `scratch`, index, $\chi$, $\Delta\omega_k$ per
+    /// output), folding chunk results with `merge` in chunk order: the one Monte Carlo driver
+    /// of the crate (memory independent of the count). The first error of a visitor, in chunk
+    /// order, is returned; a scratch space serves visitors that evaluate more of the draw than
+    /// $\Delta\omega_k$ (the specified yield's coefficient errors).
     pub(crate) fn drive_with<P, W, Wn, N, V, M>(
         &self,
         bounds: &ErrorBox,
@@ -579,11 +461,12 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
         let ranges = self.histogram_ranges(linear, bounds)?;
         let acc = self.accuracies();
         let outputs = acc.len();
-        let p = self.drive(
+        let p = self.drive_with(
             bounds,
             settings,
+            || (),
             || Partial::new(&ranges, settings.histogram_bins),
-            |part, index, chi, dw| {
+            |part, _, index, chi, dw| {
                 part.n += 1;
                 let mut ratio: f64 = 0.0;
                 for k in 0..outputs {
@@ -606,6 +489,7 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
                 }
                 part.hist[outputs].add(ratio);
                 part.fine[outputs].add(ratio);
+                Ok(())
             },
             Partial::merge,
         )?;
@@ -660,12 +544,7 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
             .pop()
             .unwrap_or_else(|| unreachable!("ratio histogram"));
         Ok(RateDistribution {
-            count: YieldCount {
-                samples: p.n,
-                seed: settings.seed,
-                meeting: p.meeting,
-                meeting_per_output: p.meeting_per_output,
-            },
+            count: YieldCount::new(p.n, settings.seed, p.meeting, p.meeting_per_output),
             accuracies: acc,
             worst,
             worst_ratio,
@@ -688,11 +567,15 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
     ) -> Result<Vec<Vec<f64>>, E2eError> {
         const MAX: u64 = 1_000_000;
         tt_core::count("samples", settings.samples, MAX)?;
-        self.drive(
+        self.drive_with(
             bounds,
             settings,
+            || (),
             Vec::new,
-            |v, _, chi, _| v.push(chi.to_vec()),
+            |v, _, _, chi, _| {
+                v.push(chi.to_vec());
+                Ok(())
+            },
             |a, mut b| a.append(&mut b),
         )
     }
@@ -703,14 +586,16 @@ impl<S: ScheduleErrorModel + Sync> crate::MonteCarloQuestions<'_, S> {
     /// As [`crate::MonteCarloQuestions::rate_distribution`].
     pub fn meeting_count(&self, bounds: &ErrorBox, settings: &McSettings) -> Result<u64, E2eError> {
         let acc = self.accuracies();
-        self.drive(
+        self.drive_with(
             bounds,
             settings,
+            || (),
             || 0u64,
-            |count, _, _, dw| {
+            |count, _, _, _, dw| {
                 if dw.iter().zip(&acc).all(|(v, a)| v <= a) {
                     *count += 1;
                 }
+                Ok(())
             },
             |a, b| *a += b,
         )

@@ -716,12 +716,12 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
             }
             Ok(())
         })?;
-        Ok(YieldCount {
-            samples: settings.samples,
-            seed: settings.seed,
+        Ok(YieldCount::new(
+            settings.samples,
+            settings.seed,
             meeting,
-            meeting_per_output: per_output,
-        })
+            per_output,
+        ))
     }
 
     /// A box's answer for both error sources: its worst case combined with the noise and the

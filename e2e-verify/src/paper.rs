@@ -160,7 +160,7 @@ pub mod claims {
                         .collect(),
                     yield_fraction: b.distribution.count.fraction(),
                     yield_interval_95: b.distribution.count.interval_95(),
-                    samples: b.distribution.count.samples,
+                    samples: b.distribution.count.samples(),
                 })
             })
             .collect::<Result<Vec<_>, E2eError>>()?;

@@ -25,16 +25,22 @@ pub const SPECIFIED_YIELD_COUNTS: &str = "draws meeting every accuracy and every
 /// What the yield of an allocation without specifications counts.
 pub const ACCURACY_YIELD_COUNTS: &str = "draws meeting every accuracy";
 
-/// A seeded count of turntables drawn from a box against every accuracy and every
-/// specification.
+/// A seeded count of turntables drawn from a box against every accuracy and (with
+/// specifications) every specification: the re-measured count of
+/// [`crate::ReadingAnswer::yield_recheck`] and the design count of a yield-based allocation
+/// ([`crate::YieldAllocation::counted`]).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SpecifiedCount {
     /// The draws, their seed, those meeting every accuracy and every specification
-    /// (`meeting`) and those meeting each output's accuracy (`meeting_per_output`).
+    /// (`meeting`) and those meeting each output's accuracy (`meeting_per_output`, where
+    /// counted).
+    #[cfg_attr(feature = "serde", serde(flatten))]
     pub(crate) count: YieldCount,
-    /// Per specification (study order): its label with its unit, and the draws meeting it.
+    /// Per specification (study order): its label with its unit, and the draws meeting it;
+    /// empty without specifications.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Vec::is_empty"))]
     pub(crate) per_specification: Vec<(String, u64)>,
 }
 
@@ -47,10 +53,21 @@ impl SpecifiedCount {
     }
 
     /// Per specification (study order): its label with its unit (`gx bg_x (bias) in
-    /// deg_per_h`) and the draws meeting it.
+    /// deg_per_h`) and the draws meeting it; empty without specifications.
     #[must_use]
     pub fn per_specification(&self) -> &[(String, u64)] {
         &self.per_specification
+    }
+
+    /// What [`SpecifiedCount::count`] counts: [`SPECIFIED_YIELD_COUNTS`] with
+    /// specifications, [`ACCURACY_YIELD_COUNTS`] without.
+    #[must_use]
+    pub fn counts(&self) -> &'static str {
+        if self.per_specification.is_empty() {
+            ACCURACY_YIELD_COUNTS
+        } else {
+            SPECIFIED_YIELD_COUNTS
+        }
     }
 }
 
@@ -197,12 +214,7 @@ impl<'a, S: ScheduleErrorModel + Sync> SpecCheck<'a, S> {
             },
         )?;
         Ok(SpecifiedCount {
-            count: YieldCount {
-                samples: settings.samples,
-                seed: settings.seed,
-                meeting,
-                meeting_per_output: per_output,
-            },
+            count: YieldCount::new(settings.samples, settings.seed, meeting, per_output),
             per_specification: self.labels.iter().cloned().zip(per_spec).collect(),
         })
     }

@@ -486,12 +486,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> EndToEnd<S> {
             Ok(())
         })?;
         Ok(TimeDomainRun {
-            count: YieldCount {
-                samples: settings.samples,
-                seed: settings.seed,
-                meeting: acc_part.1,
-                meeting_per_output: acc_part.2,
-            },
+            count: YieldCount::new(settings.samples, settings.seed, acc_part.1, acc_part.2),
             outputs: acc_part.0,
             noise_samples: samples_per_calibration * settings.samples,
         })

@@ -134,7 +134,10 @@ fn yield_allocator_gives_the_yield_allocation_and_states_its_yield() {
             );
             assert_eq!(
                 (*meeting, *samples),
-                (own.count().meeting(), own.count().samples())
+                (
+                    own.counted().count().meeting(),
+                    own.counted().count().samples()
+                )
             );
             assert_eq!(shape_rad, &shape);
             assert!(*meeting as f64 >= 0.9973 * *samples as f64);

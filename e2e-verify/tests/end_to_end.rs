@@ -477,14 +477,14 @@ fn yield_remeasured_with_other_seed_within_stated_interval() {
             &McSettings::new(20_000, 1),
         )
         .unwrap();
-    let (lo, hi) = y.count().interval_95();
+    let (lo, hi) = y.counted().count().interval_95();
     assert!(lo <= 0.9973 && 0.9973 <= hi, "{lo} {hi}");
     // At least ceil(p N) design draws meet every accuracy, and not many more (the scale is the
     // largest: the quantile draw sits on the accuracy).
     assert!(
-        y.count().meeting() >= 19_946 && y.count().meeting() <= 19_948,
+        y.counted().count().meeting() >= 19_946 && y.counted().count().meeting() <= 19_948,
         "{}",
-        y.count().meeting()
+        y.counted().count().meeting()
     );
     let again = e2e
         .monte_carlo()
@@ -512,7 +512,7 @@ fn yield_allocation_with_lower_bounds_reaches_target() {
     let y = e2e
         .allocate_yield(d.upper_bounds_rad(), &lb, 0.99, &settings)
         .unwrap();
-    assert!(y.count().fraction() >= 0.99);
+    assert!(y.counted().count().fraction() >= 0.99);
     for (u, l) in y.upper_bounds_rad().iter().zip(&lb) {
         assert!(u >= l);
     }

@@ -192,7 +192,7 @@ fn yield_based_box_is_judged_against_its_target_by_its_interval() {
         assert_eq!(r.yield_verdict(), YieldVerdict::of(interval, 0.9973));
         // the design draws reach the target (at least ceil(p N) meet) but 2000 draws cannot
         // place the yield on one side of it
-        assert!(r.yield_based().count().fraction() >= 0.9973);
+        assert!(r.yield_based().counted().count().fraction() >= 0.9973);
         assert_eq!(r.yield_based().design_verdict(), YieldVerdict::CannotTell);
     }
 }

@@ -347,26 +347,34 @@ fn the_yield_box_counted_on_the_specifications_meets_its_target_on_them_and_the_
     );
     let one = specified_on(1);
     assert_eq!(one, specified, "the same answer for 1 and 4 threads");
-    assert_eq!(specified.counts(), e2e_verify::SPECIFIED_YIELD_COUNTS);
-    assert_eq!(eq14.counts(), e2e_verify::ACCURACY_YIELD_COUNTS);
-    assert!(eq14.per_specification().is_empty());
+    assert_eq!(
+        specified.counted().counts(),
+        e2e_verify::SPECIFIED_YIELD_COUNTS
+    );
+    assert_eq!(eq14.counted().counts(), e2e_verify::ACCURACY_YIELD_COUNTS);
+    assert!(eq14.counted().per_specification().is_empty());
     // the design count is the recount of the same draws, per specification too
     let need = (target * design.samples as f64).ceil() as u64;
     let (all, per) = recount(&e2e, &rows, specified.upper_bounds_rad(), &lb, &design);
-    assert_eq!(all, specified.count().meeting());
+    assert_eq!(all, specified.counted().count().meeting());
     assert!(all >= need, "{all} of {}", design.samples);
-    let counted: Vec<u64> = specified.per_specification().iter().map(|p| p.1).collect();
+    let counted: Vec<u64> = specified
+        .counted()
+        .per_specification()
+        .iter()
+        .map(|p| p.1)
+        .collect();
     assert_eq!(per, counted);
     // independent draws: their 95% interval overlaps the design draws' (every limit together),
     // and each specification alone reaches the target within its interval
-    let (lo, hi) = specified.count().interval_95();
+    let (lo, hi) = specified.counted().count().interval_95();
     let other = e2e_verify::McSettings::new(8_000, 12);
     let (all, per) = recount(&e2e, &rows, specified.upper_bounds_rad(), &lb, &other);
     let (olo, ohi) = e2e_verify::wilson_interval_95(all, other.samples);
     eprintln!(
         "specified box: design {} of {} [{lo:.4}, {hi:.4}]; independent: every limit {all} of {} \
          [{olo:.4}, {ohi:.4}], per specification {per:?}",
-        specified.count().meeting(),
+        specified.counted().count().meeting(),
         design.samples,
         other.samples
     );
@@ -404,7 +412,7 @@ fn without_specifications_the_yield_allocation_is_the_eq14_fixed_point_bit_for_b
         .allocate_yield(d.upper_bounds_rad(), &lb, target, &settings)
         .unwrap();
     assert_eq!(y, old);
-    assert!(y.per_specification().is_empty());
+    assert!(y.counted().per_specification().is_empty());
     // the path before: s <- s / q_p(s) to 1e-12 (8 steps at most), 1e-9 off, checked on the
     // count
     let scaled = |s: f64| -> Vec<f64> { d.upper_bounds_rad().iter().map(|u| s * u).collect() };
@@ -429,7 +437,7 @@ fn without_specifications_the_yield_allocation_is_the_eq14_fixed_point_bit_for_b
     }
     assert_eq!(y.scale().to_bits(), s.to_bits());
     assert_eq!(
-        y.count().meeting(),
+        y.counted().count().meeting(),
         e2e.monte_carlo().meeting_count(&b(s), &settings).unwrap()
     );
 }

@@ -31,10 +31,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seconds = t.elapsed().as_secs_f64();
     println!(
         "{} samples (seed {}, tier {}) in {seconds:.3} s: {:.3e} samples/s",
-        r.samples(),
-        r.seed(),
+        r.count().samples(),
+        r.count().seed(),
         mc.tier().name(),
-        r.samples() as f64 / seconds
+        r.count().samples() as f64 / seconds
     );
     let model = LinearModel::new(&table);
     let bound = mc.half_range_rad();
@@ -64,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!(
         "inside |angle| <= {EQ16_DEG} deg (eq 16): {:.6} of the samples; theta's linear worst case uses {:.1} % of it",
-        r.within_requirement_fraction(),
+        r.count().fraction(),
         100.0
             * rad_to_deg(
                 model

@@ -69,13 +69,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut jobs: Vec<(String, Job<'_>)> = vec![
         (
             "paper: general plan".into(),
-            Box::new(|| paper_mc.run().samples()),
+            Box::new(|| paper_mc.run().count().samples()),
         ),
         (
             "paper: specialised kernel".into(),
             Box::new(|| {
                 paper_kernel_run_with_simd(paper_mc, detected)
                     .expect("the paper's table")
+                    .count()
                     .samples()
             }),
         ),
@@ -89,7 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
         (
             "three-axis: general plan".into(),
-            Box::new(|| three_mc.run().samples()),
+            Box::new(|| three_mc.run().count().samples()),
         ),
         (
             "three-axis: generator alone".into(),
@@ -104,11 +105,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if level != detected {
             jobs.push((
                 format!("paper: general plan, {}", level.name()),
-                Box::new(move || paper_mc.run_with_simd(level).map_or(0, |r| r.samples())),
+                Box::new(move || {
+                    paper_mc
+                        .run_with_simd(level)
+                        .map_or(0, |r| r.count().samples())
+                }),
             ));
             jobs.push((
                 format!("three-axis: general plan, {}", level.name()),
-                Box::new(move || three_mc.run_with_simd(level).map_or(0, |r| r.samples())),
+                Box::new(move || {
+                    three_mc
+                        .run_with_simd(level)
+                        .map_or(0, |r| r.count().samples())
+                }),
             ));
         }
     }

@@ -20,7 +20,8 @@
 //! - [`simd`]: the block loop compiled for SSE2 and AVX2, chosen at run time
 //!   ([`SimdLevel`]), with bit-identical results on every level;
 //! - [`McResult`]: extremes with their worst samples, mean and spread, histograms (the data
-//!   of Figure 9) and the fraction inside the requirement;
+//!   of Figure 9) and the draws inside the requirement ([`YieldCount`], the workspace's one
+//!   yield count, with [`wilson_interval_95`]);
 //! - `baseline`: the earlier kernel specialised to the paper's table, kept as a reference
 //!   (the general path reproduces it bit for bit) and as a benchmark baseline.
 //!
@@ -35,7 +36,7 @@
 //! let i = tt_core::Requirement::uniform_deg(0.027)?;
 //! let mc = MonteCarlo::new(&table, bounds, McConfig::new(100_000, 42, i))?;
 //! let result = mc.run();
-//! assert_eq!(result.within_requirement_all(), 100_000);
+//! assert_eq!(result.count().meeting(), 100_000);
 //! // never beyond the rigorous bound (certified linear worst case + remainder)
 //! let h = MonteCarlo::histogram_half_range_rad(&table, mc.bounds())?;
 //! assert!(result.max_abs_rad().iter().zip(h).all(|(&m, h)| m <= h));
@@ -63,7 +64,7 @@
 //! // a requirement on theta only
 //! let cfg = McConfig::new(50_000, 7, tt_core::Requirement::from_options([None, Some(2e-4), None])?);
 //! let r = MonteCarlo::new(&table, bounds, cfg)?.run();
-//! assert_eq!(r.axes()[0].within_requirement(), 50_000); // no requirement on psi
+//! assert_eq!(r.count().meeting_per_output()[0], 50_000); // no requirement on psi
 //! assert_eq!(r.axes()[0].worst().pose().len(), 3); // every joint, the cancelling outer one too
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -78,6 +79,7 @@
 #[cfg(feature = "paper")]
 pub mod baseline;
 mod bounds;
+mod count;
 pub mod driver;
 mod error;
 pub mod fast;
@@ -89,6 +91,7 @@ pub mod simd;
 mod stats;
 
 pub use bounds::ErrorBox;
+pub use count::{YieldCount, Z_95, wilson_interval_95};
 pub use error::{BoundKind, McError};
 pub use fast::{FastChain, LANES, SERIES_MAX_ABS_RAD, SHORT_SERIES_MAX_ABS_RAD, Tier};
 pub use run::{

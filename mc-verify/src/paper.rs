@@ -123,8 +123,8 @@ pub mod claims {
             .try_into()
             .unwrap_or_else(|_| unreachable!("three angles"));
         Ok(Figure9Evidence {
-            samples: result.samples,
-            inside: result.within_requirement_all,
+            samples: result.count.samples(),
+            inside: result.count.meeting(),
             axes: [a, b, c],
         })
     }

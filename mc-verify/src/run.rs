@@ -1,6 +1,7 @@
 //! The Monte Carlo driver: chunks, blocks, threads and the order-fixed reduction.
 
 use crate::bounds::ErrorBox;
+use crate::count::YieldCount;
 use crate::error::McError;
 use crate::fast::{
     BlockKernel, CompiledPlan, PlanKernel, TIER_ANY, TIER_MEDIUM, TIER_SHORT, TIER_TANGENT, Tier,
@@ -109,34 +110,27 @@ impl McConfig {
 /// The outcome of a run.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct McResult {
-    /// Number of samples evaluated.
-    pub(crate) samples: u64,
-    /// The seed.
-    pub(crate) seed: u64,
+    /// Samples evaluated, the seed, the samples with all three angles inside the requirement
+    /// and those with each angle inside its own ($\psi, \theta, \gamma$; every sample for an
+    /// angle without one).
+    pub(crate) count: YieldCount,
     /// The chunk size used.
     pub(crate) chunk_size: u32,
     /// The requirement $I$, rad.
     pub(crate) requirement: Requirement,
     /// Per-axis results, in the order $\Delta\psi, \Delta\theta, \Delta\gamma$.
     pub(crate) axes: [AxisSummary; 3],
-    /// Samples with all three angles inside the requirement.
-    pub(crate) within_requirement_all: u64,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl McResult {
-    /// Number of samples evaluated.
+    /// Samples evaluated, the seed, the samples with all three angles inside the requirement
+    /// (the fraction and its 95% interval) and those with each angle inside its own
+    /// ($\psi, \theta, \gamma$; every sample for an angle without one).
     #[must_use]
-    pub fn samples(&self) -> u64 {
-        self.samples
-    }
-
-    /// The seed.
-    #[must_use]
-    pub fn seed(&self) -> u64 {
-        self.seed
+    pub fn count(&self) -> &YieldCount {
+        &self.count
     }
 
     /// The chunk size used.
@@ -156,12 +150,6 @@ impl McResult {
     pub fn axes(&self) -> &[AxisSummary; 3] {
         &self.axes
     }
-
-    /// Samples with all three angles inside the requirement.
-    #[must_use]
-    pub fn within_requirement_all(&self) -> u64 {
-        self.within_requirement_all
-    }
 }
 
 impl McResult {
@@ -169,12 +157,6 @@ impl McResult {
     #[must_use]
     pub fn axis(&self, axis: OrientationAxis) -> &AxisSummary {
         &self.axes[axis.index()]
-    }
-
-    /// Fraction of samples with all three angles inside the requirement.
-    #[must_use]
-    pub fn within_requirement_fraction(&self) -> f64 {
-        self.within_requirement_all as f64 / self.samples as f64
     }
 
     /// $\max|\Delta\psi|, \max|\Delta\theta|, \max|\Delta\gamma|$, rad.
@@ -188,7 +170,45 @@ impl McResult {
     pub fn std_rad(&self) -> [f64; 3] {
         self.axes
             .each_ref()
-            .map(|a| a.variance_rad2(self.samples).sqrt())
+            .map(|a| a.variance_rad2(self.count.samples).sqrt())
+    }
+}
+
+/// The serde form of earlier versions: `samples`, `seed`, `chunk_size`, `requirement`, `axes`
+/// (each axis with its `within_requirement`) and `within_requirement_all`.
+#[cfg(feature = "serde")]
+impl serde::Serialize for McResult {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        /// One axis: its summary and the samples with it inside its requirement.
+        #[derive(serde::Serialize)]
+        struct AxisView<'a> {
+            #[serde(flatten)]
+            summary: &'a AxisSummary,
+            within_requirement: u64,
+        }
+        /// The result.
+        #[derive(serde::Serialize)]
+        struct View<'a> {
+            samples: u64,
+            seed: u64,
+            chunk_size: u32,
+            requirement: Requirement,
+            axes: [AxisView<'a>; 3],
+            within_requirement_all: u64,
+        }
+        let c = &self.count;
+        View {
+            samples: c.samples(),
+            seed: c.seed(),
+            chunk_size: self.chunk_size,
+            requirement: self.requirement,
+            axes: OrientationAxis::ALL.map(|a| AxisView {
+                summary: self.axis(a),
+                within_requirement: c.meeting_per_output()[a.index()],
+            }),
+            within_requirement_all: c.meeting(),
+        }
+        .serialize(serializer)
     }
 }
 
@@ -528,17 +548,14 @@ impl MonteCarlo {
                     .unwrap_or_else(|| unreachable!("a run has at least one sample")),
                 mean_rad: mean[k],
                 m2_rad2: m2[k],
-                within_requirement: within[k],
                 histogram: acc.histogram(k),
             }
         });
         McResult {
-            samples: *n,
-            seed: self.config.seed,
+            count: YieldCount::new(*n, self.config.seed, *within_all, within.to_vec()),
             chunk_size: self.config.chunk_size,
             requirement: self.config.requirement,
             axes,
-            within_requirement_all: *within_all,
         }
     }
 

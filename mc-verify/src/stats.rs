@@ -275,9 +275,6 @@ pub struct AxisSummary {
     pub(crate) mean_rad: f64,
     /// Sum of squared deviations from the mean, rad² ($M_2$; variance $= M_2/(n-1)$).
     pub(crate) m2_rad2: f64,
-    /// Samples with $|\Delta| \le I$ for this axis (every sample when the axis has no
-    /// requirement).
-    pub(crate) within_requirement: u64,
     /// The histogram (the data of one panel of Figure 9).
     pub(crate) histogram: Histogram,
 }
@@ -312,13 +309,6 @@ impl AxisSummary {
     #[must_use]
     pub fn m2_rad2(&self) -> f64 {
         self.m2_rad2
-    }
-
-    /// Samples with $|\Delta| \le I$ for this axis (every sample when the axis has no
-    /// requirement).
-    #[must_use]
-    pub fn within_requirement(&self) -> u64 {
-        self.within_requirement
     }
 
     /// The histogram (the data of one panel of Figure 9).

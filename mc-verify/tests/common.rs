@@ -1,7 +1,7 @@
 //! Shared fixtures of the integration tests (included with `mod common;`).
 #![allow(dead_code)]
 
-use mc_verify::{ErrorBox, McConfig, McResult};
+use mc_verify::{ErrorBox, McConfig, McResult, MonteCarlo};
 use tt_core::Requirement;
 use tt_kinematics::{Turntable, paper};
 
@@ -22,6 +22,15 @@ pub fn eq16() -> Requirement {
 /// `samples` draws with `seed` and the paper's requirement.
 pub fn config(samples: u64, seed: u64) -> McConfig {
     McConfig::new(samples, seed, eq16())
+}
+
+/// 20,000 draws of [`table4`] seeded 3 with a requirement on theta only (1e-4 rad): psi and
+/// gamma count every draw as within.
+pub fn theta_only_run() -> McResult {
+    let i = Requirement::from_options([None, Some(1e-4), None]).expect("valid");
+    MonteCarlo::new(&paper_table(), table4(), McConfig::new(20_000, 3, i))
+        .expect("valid run")
+        .run()
 }
 
 /// The paper's table (Table 3).
@@ -74,19 +83,19 @@ pub fn fingerprint_laid_out(
     requirement: impl Fn(Option<f64>) -> u64,
 ) -> Vec<u64> {
     let mut v = vec![
-        r.samples(),
-        r.seed(),
+        r.count().samples(),
+        r.count().seed(),
         u64::from(r.chunk_size()),
-        r.within_requirement_all(),
+        r.count().meeting(),
     ];
     v.extend(r.requirement().to_array().map(requirement));
-    for a in r.axes() {
+    for (a, &within) in r.axes().iter().zip(r.count().meeting_per_output()) {
         let pose = a.worst().pose().angles_rad().iter().map(|x| x.to_bits());
         v.extend([
             a.max_abs_rad().to_bits(),
             a.mean_rad().to_bits(),
             a.m2_rad2().to_bits(),
-            a.within_requirement(),
+            within,
             a.worst().index(),
             a.worst().value().to_bits(),
         ]);

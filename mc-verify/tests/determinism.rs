@@ -146,7 +146,7 @@ fn progress_reports_monotone_counts_ending_at_the_sample_count() {
     });
     assert_eq!(last.load(Ordering::SeqCst), 1_000_000);
     assert!(calls.load(Ordering::SeqCst) >= 2);
-    assert_eq!(r.samples(), 1_000_000);
+    assert_eq!(r.count().samples(), 1_000_000);
 }
 
 #[test]
@@ -180,7 +180,7 @@ fn run_samples_are_reproduced_by_chunk_rng_and_fill_block() {
                 "{name}"
             );
             // blocks of BLOCK_CAPACITY, the last one of a chunk shorter
-            let mut left = (r.samples() - chunk * cs).min(cs) as usize;
+            let mut left = (r.count().samples() - chunk * cs).min(cs) as usize;
             assert_eq!(values.len(), left);
             let mut rng = chunk_rng(77, chunk);
             let mut block = SampleBlock::new(&s);

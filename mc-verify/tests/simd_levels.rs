@@ -76,7 +76,7 @@ fn unavailable_simd_levels_are_typed_errors_and_detection_picks_the_widest() {
         match mc.run_with_simd(level) {
             Ok(r) => {
                 assert!(level.is_available());
-                assert_eq!(r.samples(), 1_000);
+                assert_eq!(r.count().samples(), 1_000);
             }
             Err(McError::SimdUnavailable { level: name }) => {
                 assert!(!level.is_available());

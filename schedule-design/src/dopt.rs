@@ -2,7 +2,7 @@
 //! the same candidates, by greedy construction and Fedorov's exchange.
 
 use super::problem::DesignProblem;
-use super::{DOptimalOutcome, SINGULAR_RATIO};
+use super::{DOptimalOutcome, ExchangeStop, SINGULAR_RATIO};
 use e2e_verify::E2eError;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -167,7 +167,7 @@ pub(crate) fn exchange_d(
     let mut exchanges = 0;
     let mut passes = 0;
     let max_passes = 4 * s.len() + 16;
-    loop {
+    let local_optimum = 'passes: loop {
         passes += 1;
         let mut moved = false;
         for slot in 0..s.len() {
@@ -214,25 +214,22 @@ pub(crate) fn exchange_d(
                     exchanges += 1;
                     moved = true;
                     if stop(&s) {
-                        return Ok(DOptimalOutcome {
-                            schedule: s,
-                            log_det: value,
-                            exchanges,
-                            passes,
-                            local_optimum: false,
-                        });
+                        break 'passes false;
                     }
                 }
             }
         }
         if !moved || passes >= max_passes {
-            return Ok(DOptimalOutcome {
-                schedule: s,
-                log_det: value,
-                exchanges,
-                passes,
-                local_optimum: !moved,
-            });
+            break !moved;
         }
-    }
+    };
+    Ok(DOptimalOutcome {
+        schedule: s,
+        log_det: value,
+        stop: ExchangeStop {
+            exchanges,
+            passes,
+            local_optimum,
+        },
+    })
 }

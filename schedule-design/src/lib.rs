@@ -124,7 +124,7 @@
 //!   than the design of a coarser grid it contains (its step a whole multiple of the fine one;
 //!   exactly so when the multiples are exact in binary, e.g. integer steps).
 //! - When it ends by every slot screened once in a row without an exchange
-//!   ([`ExchangeOutcome::local_optimum`]), no
+//!   ([`ExchangeStop::local_optimum`] of [`ExchangeOutcome::stop`]), no
 //!   single exchange of a position for a candidate gives a feasible schedule with $J$ lower
 //!   by more than $\epsilon$: every swap was either bounded below rigorously or evaluated
 //!   exactly. It is a local optimum with respect to single exchanges. (A swap the conic
@@ -499,21 +499,16 @@ pub struct ExchangeOutcome {
     pub(crate) start_objective: f64,
     /// The final schedule, evaluated exactly ($J$ never above `start_objective`).
     pub(crate) evaluation: Evaluation,
-    /// Exchanges taken.
-    pub(crate) exchanges: usize,
-    /// Passes over the slots.
-    pub(crate) passes: usize,
+    /// Exchanges taken, passes, and whether it ended at a local optimum: every slot screened
+    /// once in a row without an exchange (against the final schedule), every swap bounded or
+    /// evaluated.
+    pub(crate) stop: ExchangeStop,
     /// Exact evaluations (conic solves) of candidate swaps.
     pub(crate) exact_evaluations: usize,
     /// Swaps screened (bounds computed).
     pub(crate) screened_swaps: usize,
     /// Swaps the allocation core could not solve (conic solver failure): never taken.
     pub(crate) unevaluated_swaps: usize,
-    /// Whether it ended by every slot screened once in a row without an exchange (against
-    /// the final schedule), every swap bounded
-    /// or evaluated: then no single exchange gives a feasible schedule better by more than
-    /// [`SearchParams::improvement_rel`].
-    pub(crate) local_optimum: bool,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -530,16 +525,13 @@ impl ExchangeOutcome {
         &self.evaluation
     }
 
-    /// Exchanges taken.
+    /// Exchanges taken, passes, and whether it ended by every slot screened once in a row
+    /// without an exchange (against the final schedule), every swap bounded or evaluated:
+    /// then no single exchange gives a feasible schedule better by more than
+    /// [`SearchParams::improvement_rel`].
     #[must_use]
-    pub fn exchanges(&self) -> usize {
-        self.exchanges
-    }
-
-    /// Passes over the slots.
-    #[must_use]
-    pub fn passes(&self) -> usize {
-        self.passes
+    pub fn stop(&self) -> &ExchangeStop {
+        &self.stop
     }
 
     /// Exact evaluations (conic solves) of candidate swaps.
@@ -559,11 +551,39 @@ impl ExchangeOutcome {
     pub fn unevaluated_swaps(&self) -> usize {
         self.unevaluated_swaps
     }
+}
 
-    /// Whether it ended by every slot screened once in a row without an exchange (against
-    /// the final schedule), every swap bounded
-    /// or evaluated: then no single exchange gives a feasible schedule better by more than
-    /// [`SearchParams::improvement_rel`].
+/// How an exchange (of [`ExchangeOutcome`] or [`DOptimalOutcome`]) ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct ExchangeStop {
+    /// Exchanges taken.
+    pub(crate) exchanges: usize,
+    /// Passes over the slots.
+    pub(crate) passes: usize,
+    /// Whether it ended at a local optimum: no single exchange improves its criterion by more
+    /// than [`SearchParams::improvement_rel`] (what each exchange checks is said at its
+    /// `stop()`).
+    pub(crate) local_optimum: bool,
+}
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl ExchangeStop {
+    /// Exchanges taken.
+    #[must_use]
+    pub fn exchanges(&self) -> usize {
+        self.exchanges
+    }
+
+    /// Passes over the slots.
+    #[must_use]
+    pub fn passes(&self) -> usize {
+        self.passes
+    }
+
+    /// Whether it ended at a local optimum: no single exchange improves its criterion by more
+    /// than [`SearchParams::improvement_rel`] (what each exchange checks is said at its
+    /// `stop()`).
     #[must_use]
     pub fn local_optimum(&self) -> bool {
         self.local_optimum
@@ -578,13 +598,9 @@ pub struct DOptimalOutcome {
     pub(crate) schedule: Vec<usize>,
     /// $\sum_k \ln\det(\mathbf A_k^T\mathbf A_k)$.
     pub(crate) log_det: f64,
-    /// Exchanges taken.
-    pub(crate) exchanges: usize,
-    /// Passes over the slots.
-    pub(crate) passes: usize,
-    /// Whether no single exchange raises the criterion by more than
-    /// [`SearchParams::improvement_rel`].
-    pub(crate) local_optimum: bool,
+    /// Exchanges taken, passes, and whether no single exchange raises the criterion by more
+    /// than [`SearchParams::improvement_rel`].
+    pub(crate) stop: ExchangeStop,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
@@ -601,23 +617,11 @@ impl DOptimalOutcome {
         self.log_det
     }
 
-    /// Exchanges taken.
+    /// Exchanges taken, passes, and whether no single exchange raises the criterion by more
+    /// than [`SearchParams::improvement_rel`].
     #[must_use]
-    pub fn exchanges(&self) -> usize {
-        self.exchanges
-    }
-
-    /// Passes over the slots.
-    #[must_use]
-    pub fn passes(&self) -> usize {
-        self.passes
-    }
-
-    /// Whether no single exchange raises the criterion by more than
-    /// [`SearchParams::improvement_rel`].
-    #[must_use]
-    pub fn local_optimum(&self) -> bool {
-        self.local_optimum
+    pub fn stop(&self) -> &ExchangeStop {
+        &self.stop
     }
 }
 

@@ -4,7 +4,7 @@
 
 use super::dual;
 use super::problem::DesignProblem;
-use super::{DUAL_SWEEPS, Evaluation, ExchangeOutcome, SINGULAR_RATIO};
+use super::{DUAL_SWEEPS, Evaluation, ExchangeOutcome, ExchangeStop, SINGULAR_RATIO};
 use e2e_verify::E2eError;
 use e2e_verify::Linearization;
 use nalgebra::DMatrix;
@@ -1084,12 +1084,14 @@ impl<'a> Search<'a> {
         Ok(ExchangeOutcome {
             start_objective,
             evaluation: st.eval,
-            exchanges,
-            passes,
+            stop: ExchangeStop {
+                exchanges,
+                passes,
+                local_optimum: certified,
+            },
             exact_evaluations: exact,
             screened_swaps: screened,
             unevaluated_swaps: unevaluated,
-            local_optimum: certified,
         })
     }
 

@@ -95,8 +95,9 @@ impl DesignProblem {
 
     /// The schedule `positions_deg` (static positions, deg) answered against the
     /// specifications, through the same path as `end-to-end` (the schedule's simulator,
-    /// [`EndToEnd::specification_rows`], [`EndToEnd::allocate_direct_specified`]); `None`
-    /// without specifications.
+    /// [`EndToEnd::specification_rows`], [`EndToEnd::allocate_direct_specified`], with the
+    /// problem's weights, which are [`EndToEnd::combined_weights`]); `None` without
+    /// specifications.
     ///
     /// # Errors
     /// As [`DesignProblem::end_to_end_with_rate_steps`] and
@@ -113,8 +114,14 @@ impl DesignProblem {
         let ctx = spec.context_for(positions_deg.len())?;
         let rows = e2e.budget().specification_rows(&ctx)?;
         let linear = e2e.linearization();
-        let allocation = match e2e.allocate_direct_specified(&linear, &self.lower_bounds_rad, &rows)
-        {
+        // the objective's weights depend on the turntable alone: the problem's, computed once
+        // (the same as `e2e.combined_weights()`, bit for bit), not averaged again per schedule
+        let allocation = match e2e.allocate_direct_specified_weighted(
+            &self.weights,
+            &linear,
+            &self.lower_bounds_rad,
+            &rows,
+        ) {
             Ok(a) => Some(a),
             Err(E2eError::InfeasibleLowerBounds { .. } | E2eError::NoTableSuffices { .. }) => None,
             Err(e) => return Err(e),

@@ -30,7 +30,7 @@ impl Tally {
     /// Count one exchange's work.
     pub(crate) fn exchange(&self, e: &ExchangeOutcome) {
         self.exchanges.fetch_add(1, Ordering::Relaxed);
-        self.passes.fetch_add(e.passes(), Ordering::Relaxed);
+        self.passes.fetch_add(e.stop().passes(), Ordering::Relaxed);
         self.screened
             .fetch_add(e.screened_swaps(), Ordering::Relaxed);
         self.exact

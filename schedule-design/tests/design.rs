@@ -304,7 +304,7 @@ fn d_optimal_baseline_equals_the_enumeration_optimum_on_a_small_case() {
         best,
         max_relative = ROUNDING_REL
     );
-    assert!(d.local_optimum());
+    assert!(d.stop().local_optimum());
 }
 
 /// Candidates at a single inner-axis angle leave the specific force in the x-z plane of the
@@ -450,7 +450,7 @@ fn designed_schedule_beats_the_study_and_d_optimal_schedules_for_the_paper_study
         d.search().designed().evaluation().objective().to_bits()
     );
     // the study's schedule was a start, so the best restart is at least as good
-    assert!(d.search().designed().local_optimum());
+    assert!(d.search().designed().stop().local_optimum());
     if let Some(r) = &d.random_best() {
         assert!(designed < r.allocation().objective());
     }

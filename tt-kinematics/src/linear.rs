@@ -299,11 +299,10 @@ impl LinearModel {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<OrientationError, KinematicsError> {
-        self.turntable.check_pose(pose)?;
-        self.turntable.check_errors(errors)?;
-        let c = self.coefficients_sc(&Self::sc_of(pose.angles_rad()));
+        let (p, chi) = self.turntable.checked(pose, errors)?;
+        let c = self.coefficients_sc(&Self::sc_of(p));
         let mut out = [0.0; 3];
-        for (ci, x) in c.iter().zip(errors.chi_rad()) {
+        for (ci, x) in c.iter().zip(chi) {
             for k in 0..3 {
                 out[k] += ci[k] * x;
             }
@@ -434,7 +433,7 @@ impl LinearModel {
         weights: &[f64],
         ranges: Option<&[[f64; 2]]>,
     ) -> Result<WorstPose, KinematicsError> {
-        self.search(axis, weights, true, ranges)
+        self.search_with(axis, weights, true, ranges, false)
     }
 
     /// $\max_\phi \sum_i x_i\,c_{ki}(\phi)$ (no absolute values) over the joint ranges: the
@@ -448,7 +447,7 @@ impl LinearModel {
         x: &[f64],
         ranges: Option<&[[f64; 2]]>,
     ) -> Result<WorstPose, KinematicsError> {
-        self.search(axis, x, false, ranges)
+        self.search_with(axis, x, false, ranges, false)
     }
 
     fn check_inputs(&self, w: &[f64], ranges: Option<&[[f64; 2]]>) -> Result<(), KinematicsError> {
@@ -467,7 +466,7 @@ impl LinearModel {
     /// $\sigma S_{ac}$ ($c$ = y, z, x for $\psi, \theta, \gamma$). The full product sums
     /// $\sigma S_{ac}$ (exact: $\sigma = \pm1$) and two products with a zero, so the values
     /// are bit for bit those of [`LinearModel::coefficients_sc`] except perhaps the sign of a
-    /// zero, which [`LinearModel::inner_max`] snaps away (this runs for every point of the
+    /// zero, which [`LinearModel::inner_harmonics`] snaps away (this runs for every point of the
     /// worst-pose search).
     fn axis_coefficients_into(&self, sc: &[(f64, f64)], k: usize, out: &mut [f64]) {
         out.fill(0.0);
@@ -477,27 +476,11 @@ impl LinearModel {
         });
     }
 
-    /// Exact maximum over the last free joint for fixed other angles `pose`.
-    ///
-    /// The harmonic parts are those of [`LinearModel::harmonics_in`] (the same formula on the
-    /// same values, bit for bit: $c = (f_0 + f_{180})/2$, $a = (f_0 - f_{180})/2$,
-    /// $b = f_{90} - c$, each snapped at [`STRUCTURAL_ZERO`], which also makes every zero
-    /// $+0$ whatever the signs of the zeros it came from), computed without the intermediate
-    /// vectors.
-    fn inner_max(
-        &self,
-        axis: OrientationAxis,
-        w: &[f64],
-        abs: bool,
-        pose: &[f64],
-        inner: usize,
-        range: [f64; 2],
-    ) -> (f64, f64) {
-        let h = self.inner_harmonics(axis, pose, inner);
-        max_harmonic_sum(&h, w, abs, range[0], range[1])
-    }
-
-    /// The harmonic parts of [`LinearModel::inner_max`] at `pose`.
+    /// The harmonic parts of [`LinearModel::inner_max_with`] at `pose`: those of
+    /// [`LinearModel::harmonics_in`] (the same formula on the same values, bit for bit:
+    /// $c = (f_0 + f_{180})/2$, $a = (f_0 - f_{180})/2$, $b = f_{90} - c$, each snapped at
+    /// [`STRUCTURAL_ZERO`], which also makes every zero $+0$ whatever the signs of the zeros it
+    /// came from), computed without the intermediate vectors.
     fn inner_harmonics(&self, axis: OrientationAxis, pose: &[f64], inner: usize) -> Vec<[f64; 3]> {
         let mut sc = Self::sc_of(pose);
         let n = self.n_errors();
@@ -572,18 +555,9 @@ impl LinearModel {
         h
     }
 
-    fn search(
-        &self,
-        axis: OrientationAxis,
-        w: &[f64],
-        abs: bool,
-        ranges: Option<&[[f64; 2]]>,
-    ) -> Result<WorstPose, KinematicsError> {
-        self.search_with(axis, w, abs, ranges, false)
-    }
-
-    /// Inner maximum at `pose`: [`LinearModel::inner_max`], or with `long_way` the plain
-    /// formula on [`LinearModel::harmonics_in`] (the tests check they agree bit for bit).
+    /// Exact maximum over the last free joint for fixed other angles `pose`: on the harmonic
+    /// parts of [`LinearModel::inner_harmonics`], or with `long_way` on those of the plain
+    /// formula [`LinearModel::harmonics_in`] (the tests check they agree bit for bit).
     #[allow(clippy::too_many_arguments)]
     fn inner_max_with(
         &self,
@@ -595,12 +569,12 @@ impl LinearModel {
         range: [f64; 2],
         long_way: bool,
     ) -> (f64, f64) {
-        if long_way {
-            let h = self.harmonics_in(axis, inner, &Self::sc_of(pose));
-            max_harmonic_sum(&h, w, abs, range[0], range[1])
+        let h = if long_way {
+            self.harmonics_in(axis, inner, &Self::sc_of(pose))
         } else {
-            self.inner_max(axis, w, abs, pose, inner, range)
-        }
+            self.inner_harmonics(axis, pose, inner)
+        };
+        max_harmonic_sum(&h, w, abs, range[0], range[1])
     }
 
     /// The search; `long_way` turns off the shortcuts (the allocation-free inner maximum, the
@@ -803,7 +777,7 @@ impl LinearModel {
         abs: bool,
         ranges: Option<&[[f64; 2]]>,
     ) -> Result<WorstPose, KinematicsError> {
-        let mut found = self.search(axis, weights, abs, ranges)?;
+        let mut found = self.search_with(axis, weights, abs, ranges, false)?;
         if found.exact {
             return Ok(found);
         }

@@ -97,6 +97,34 @@ pub fn table3() -> Turntable {
         .unwrap_or_else(|e| unreachable!("Table 3 is a valid description: {e}"))
 }
 
+/// The eight angular errors of [`CHI`] by name (rad).
+struct Chi {
+    dphi_y1: f64,
+    dphi_z2: f64,
+    dalpha_x1: f64,
+    dalpha_z1: f64,
+    dalpha_x2: f64,
+    dalpha_y2: f64,
+    deps_x: f64,
+    deps_y: f64,
+}
+
+impl Chi {
+    /// `chi` read in the order of eq 25.
+    fn new(chi: &[f64; 8]) -> Self {
+        Self {
+            dphi_y1: chi[0],
+            dphi_z2: chi[1],
+            dalpha_x1: chi[2],
+            dalpha_z1: chi[3],
+            dalpha_x2: chi[4],
+            dalpha_y2: chi[5],
+            deps_x: chi[6],
+            deps_y: chi[7],
+        }
+    }
+}
+
 /// The closed form of eq 26 (the first-order expansion of eq 23-24 about $\chi = 0$), for the
 /// paper's table only (eight angular errors in the order of eq 25, poses $(\phi_1, \phi_2)$).
 ///
@@ -118,21 +146,12 @@ impl ClosedForm {
     /// Eq 26 at inner-axis angle `phi2_rad` for $\chi$ (rad, order of eq 25).
     #[must_use]
     pub fn eq26(phi2_rad: f64, chi: &[f64; 8]) -> [f64; 3] {
-        let [
-            dphi_y1,
-            dphi_z2,
-            dalpha_x1,
-            dalpha_z1,
-            dalpha_x2,
-            dalpha_y2,
-            deps_x,
-            deps_y,
-        ] = *chi;
+        let e = Chi::new(chi);
         let (s, c) = phi2_rad.sin_cos();
         [
-            dphi_y1 * c - dalpha_x1 * s + dalpha_y2 - deps_x * s + deps_y * c,
-            dphi_z2 + dalpha_z1,
-            dphi_y1 * s + dalpha_x1 * c + dalpha_x2 + deps_x * c + deps_y * s,
+            e.dphi_y1 * c - e.dalpha_x1 * s + e.dalpha_y2 - e.deps_x * s + e.deps_y * c,
+            e.dphi_z2 + e.dalpha_z1,
+            e.dphi_y1 * s + e.dalpha_x1 * c + e.dalpha_x2 + e.deps_x * c + e.deps_y * s,
         ]
     }
 }
@@ -182,24 +201,17 @@ pub fn printed_links(
     chi: &[f64; 8],
     deta_m: f64,
 ) -> [Matrix4<f64>; 4] {
-    let [
-        dphi_y1,
-        dphi_z2,
-        dalpha_x1,
-        dalpha_z1,
-        dalpha_x2,
-        dalpha_y2,
-        deps_x,
-        deps_y,
-    ] = *chi;
+    let e = Chi::new(chi);
     [
         homogeneous(
-            &(rot(Axis::Y, phi1_rad) * small_angle(&Vector3::new(dalpha_x1, dphi_y1, dalpha_z1))),
+            &(rot(Axis::Y, phi1_rad)
+                * small_angle(&Vector3::new(e.dalpha_x1, e.dphi_y1, e.dalpha_z1))),
         ),
-        homogeneous(&small_angle(&Vector3::new(deps_x, deps_y, 0.0)))
+        homogeneous(&small_angle(&Vector3::new(e.deps_x, e.deps_y, 0.0)))
             * translation(&Vector3::new(deta_m, 0.0, 0.0)),
         homogeneous(
-            &(rot(Axis::Z, phi2_rad) * small_angle(&Vector3::new(dalpha_x2, dalpha_y2, dphi_z2))),
+            &(rot(Axis::Z, phi2_rad)
+                * small_angle(&Vector3::new(e.dalpha_x2, e.dalpha_y2, e.dphi_z2))),
         ),
         Matrix4::identity(),
     ]

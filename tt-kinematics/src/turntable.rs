@@ -803,6 +803,21 @@ impl Turntable {
         )?)
     }
 
+    /// The joint angles of `pose` and the angular errors of `errors` (rad), both checked
+    /// ([`Turntable::check_pose`], [`Turntable::check_errors`]).
+    ///
+    /// # Errors
+    /// As [`Turntable::check_pose`] and [`Turntable::check_errors`].
+    pub(crate) fn checked<'a>(
+        &self,
+        pose: &'a Pose,
+        errors: &'a TurntableErrors,
+    ) -> Result<(&'a [f64], &'a [f64]), KinematicsError> {
+        self.check_pose(pose)?;
+        self.check_errors(errors)?;
+        Ok((pose.angles_rad(), errors.chi_rad()))
+    }
+
     /// The rotation of one factor (identity for a translation), `chi = None` for the nominal
     /// chain (errors zero).
     pub(crate) fn factor_rotation(
@@ -886,20 +901,8 @@ impl Turntable {
         errors: &TurntableErrors,
         kind: ChainKind,
     ) -> Result<Matrix3<f64>, KinematicsError> {
-        self.check_pose(pose)?;
-        self.check_errors(errors)?;
-        Ok(self.actual_rotation_unchecked(pose.angles_rad(), errors.chi_rad(), kind))
-    }
-
-    /// $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ for checked inputs.
-    pub(crate) fn delta_r_unchecked(
-        &self,
-        pose: &[f64],
-        chi: &[f64],
-        kind: ChainKind,
-    ) -> Matrix3<f64> {
-        self.nominal_rotation_unchecked(pose).transpose()
-            * self.actual_rotation_unchecked(pose, chi, kind)
+        self.checked(pose, errors)
+            .map(|(p, chi)| self.actual_rotation_unchecked(p, chi, kind))
     }
 
     /// The orientation error matrix $\Delta\mathbf R = \mathbf R_d^T\mathbf R_t$ of eq 23
@@ -916,9 +919,7 @@ impl Turntable {
         errors: &TurntableErrors,
         kind: ChainKind,
     ) -> Result<Matrix3<f64>, KinematicsError> {
-        self.check_pose(pose)?;
-        self.check_errors(errors)?;
-        Ok(self.delta_r_unchecked(pose.angles_rad(), errors.chi_rad(), kind))
+        Ok(self.nominal_rotation(pose)?.transpose() * self.actual_rotation(pose, errors, kind)?)
     }
 
     /// The nominal homogeneous transform $\mathbf T_d$ (eq 21).
@@ -939,9 +940,8 @@ impl Turntable {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<Matrix4<f64>, KinematicsError> {
-        self.check_pose(pose)?;
-        self.check_errors(errors)?;
-        let (p, chi, tr) = (pose.angles_rad(), errors.chi_rad(), errors.translations_m());
+        let (p, chi) = self.checked(pose, errors)?;
+        let tr = errors.translations_m();
         Ok(self.factors.iter().fold(Matrix4::identity(), |m, f| {
             m * match *f {
                 Factor::Translation { error, along } => translation(&(along.unit() * tr[error])),
@@ -966,9 +966,8 @@ impl Turntable {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<DMatrix<f64>, KinematicsError> {
-        self.check_pose(pose)?;
-        self.check_errors(errors)?;
-        Ok(self.jacobian_unchecked(pose.angles_rad(), errors.chi_rad()))
+        self.checked(pose, errors)
+            .map(|(p, chi)| self.jacobian_unchecked(p, chi))
     }
 
     pub(crate) fn jacobian_unchecked(&self, pose: &[f64], chi: &[f64]) -> DMatrix<f64> {
@@ -1010,9 +1009,8 @@ impl Turntable {
         pose: &Pose,
         errors: &TurntableErrors,
     ) -> Result<[f64; 3], KinematicsError> {
-        self.check_pose(pose)?;
-        self.check_errors(errors)?;
-        Ok(self.plan_unchecked(pose.angles_rad(), errors.chi_rad()))
+        self.checked(pose, errors)
+            .map(|(p, chi)| self.plan_unchecked(p, chi))
     }
 
     pub(crate) fn plan_unchecked(&self, pose: &[f64], chi: &[f64]) -> [f64; 3] {

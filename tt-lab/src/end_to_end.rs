@@ -613,7 +613,7 @@ pub struct SpecificationMeetingJson<'a> {
 impl<'a> YieldSpecificationsJson<'a> {
     fn new(r: &'a ReadingAnswer) -> Option<Self> {
         let again = r.yield_recheck()?;
-        let y = r.yield_based();
+        let y = r.yield_based().counted();
         let each = |per: &'a [(String, u64)]| -> Vec<SpecificationMeetingJson<'a>> {
             per.iter()
                 .map(|(label, meeting)| SpecificationMeetingJson {
@@ -694,8 +694,8 @@ impl<'a> ReadingJson<'a> {
                 target: r.yield_based().target(),
                 scale: r.yield_based().scale(),
                 capped: r.yield_based().capped(),
-                design_yield: r.yield_based().count().fraction(),
-                design_interval_95: r.yield_based().count().interval_95(),
+                design_yield: r.yield_based().counted().count().fraction(),
+                design_interval_95: r.yield_based().counted().count().interval_95(),
                 design_verdict: r.yield_based().design_verdict().name(),
                 verdict: r.yield_verdict().name(),
                 min_samples: e2e_verify::min_yield_samples(r.yield_based().target()),
@@ -1307,4 +1307,71 @@ pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
                 .join(", ")
         )
     })
+}
+
+/// What the yield-based box's yield counts, in words: [`e2e_verify::SpecifiedCount::counts`],
+/// and, where `left_out` of the study's specifications are left out of the allocations because
+/// no table can meet them (the noise part alone fills the limit:
+/// [`EndToEndAnswer::no_table_suffices`]), that those are not counted, so the sentence never
+/// says "every specification" of a count that skipped some.
+#[must_use]
+pub fn yield_counts_words(r: &ReadingAnswer, left_out: usize) -> String {
+    let counted = r.yield_based().counted();
+    let counts = counted.counts();
+    let plural = if left_out == 1 { "" } else { "s" };
+    match (left_out, counted.per_specification().is_empty()) {
+        (0, _) => counts.to_string(),
+        (_, false) => format!(
+            "{counts} a table can meet ({left_out} specification{plural} no table can meet not counted: the noise alone fills the limit)"
+        ),
+        (_, true) => format!(
+            "{counts} ({left_out} specification{plural} no table can meet not counted: the noise alone fills the limit)"
+        ),
+    }
+}
+
+/// What the yield-based box's re-measured turntables meet, one line per limit its yield
+/// counts, with specifications (empty without: the yield then counts every accuracy, as its
+/// own line says): every output's accuracy (eq 14, on the same draws: the yield box's count),
+/// then each specification (`label in unit`, written by `shown`, which escapes it for the
+/// terminal or Markdown) with the draws meeting it of those drawn, their fraction and 95%
+/// Wilson interval in percent. The limit met by the fewest draws, when some draw fails it, is
+/// marked as the one that limits the yield most (alone it removes the most draws). The figures are `end-to-end --json`'s
+/// `readings[].yield_based.remeasured.meeting` and
+/// `readings[].yield_based.specifications.remeasured_per_specification`.
+#[must_use]
+pub fn yield_limit_lines(r: &ReadingAnswer, shown: &dyn Fn(&str) -> String) -> Vec<String> {
+    let Some(again) = r.yield_recheck() else {
+        return Vec::new();
+    };
+    // the yield box and the recount draw the same turntables (the same box and settings)
+    let samples = again.count().samples();
+    let mut limits = vec![(
+        "every output's accuracy (eq 14)".to_string(),
+        r.yield_box().distribution().count().meeting(),
+    )];
+    limits.extend(
+        again
+            .per_specification()
+            .iter()
+            .map(|(label, meeting)| (shown(label), *meeting)),
+    );
+    let fewest = limits.iter().map(|l| l.1).min().unwrap_or(samples);
+    limits
+        .into_iter()
+        .map(|(label, meeting)| {
+            let (lo, hi) = e2e_verify::wilson_interval_95(meeting, samples);
+            format!(
+                "{label}: {meeting} of {samples} ({:.2}%, 95% interval {:.2}-{:.2}%){}",
+                100.0 * meeting as f64 / samples as f64,
+                100.0 * lo,
+                100.0 * hi,
+                if meeting == fewest && fewest < samples {
+                    "; the fewest: it limits the yield most"
+                } else {
+                    ""
+                }
+            )
+        })
+        .collect()
 }

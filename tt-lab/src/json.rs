@@ -117,14 +117,10 @@ pub struct CombinedYieldJson {
     pub yield_fraction: f64,
     /// Its 95% interval (fractions).
     pub yield_interval_95: (f64, f64),
-    /// Calibrations meeting every accuracy.
-    pub meeting: u64,
-    /// Calibrations meeting each output's accuracy.
-    pub meeting_per_output: Vec<u64>,
-    /// Calibrations simulated.
-    pub samples: u64,
-    /// Seed of the random streams.
-    pub seed: u64,
+    /// Calibrations simulated (`samples`), the seed of the random streams (`seed`), those
+    /// meeting every accuracy (`meeting`) and each output's (`meeting_per_output`).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub count: YieldCount,
 }
 
 impl From<&YieldCount> for CombinedYieldJson {
@@ -132,10 +128,7 @@ impl From<&YieldCount> for CombinedYieldJson {
         Self {
             yield_fraction: y.fraction(),
             yield_interval_95: y.interval_95(),
-            meeting: y.meeting(),
-            meeting_per_output: y.meeting_per_output().to_vec(),
-            samples: y.samples(),
-            seed: y.seed(),
+            count: y.clone(),
         }
     }
 }

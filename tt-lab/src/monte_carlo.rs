@@ -344,11 +344,11 @@ impl<'a> McJson<'a> {
         let linear = LinearModel::new(&s.turntable);
         Self {
             study: &s.path,
-            samples: r.samples(),
-            seed: r.seed(),
+            samples: r.count().samples(),
+            seed: r.count().seed(),
             threads,
             seconds,
-            samples_per_sec: r.samples() as f64 / seconds,
+            samples_per_sec: r.count().samples() as f64 / seconds,
             bounds: name,
             chunk_size: r.chunk_size(),
             evaluator: "exact chain, eq-24 read-out (fast quaternion plan)",
@@ -365,9 +365,9 @@ impl<'a> McJson<'a> {
             }),
             mean_deg: PerAngle::new(|a| rad_to_deg(r.axis(a).mean_rad())),
             std_deg: PerAngle::new(|a| rad_to_deg(std[a.index()])),
-            within_requirement_fraction: r.within_requirement_fraction(),
+            within_requirement_fraction: r.count().fraction(),
             within_requirement_fraction_per_axis: PerAngle::new(|a| {
-                r.axis(a).within_requirement() as f64 / r.samples() as f64
+                r.count().meeting_per_output()[a.index()] as f64 / r.count().samples() as f64
             }),
             worst: PerAngle::new(|a| {
                 let w = r.axis(a).worst();

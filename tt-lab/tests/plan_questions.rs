@@ -84,8 +84,8 @@ fn monte_carlo_follows_the_study_and_its_seed() {
     let none = |_: u64| {};
     let mut o = tt_lab::monte_carlo::Options::default();
     let a = tt_lab::monte_carlo::monte_carlo(&s, &o, &none).unwrap();
-    assert_eq!(a.result().samples(), 10_000);
-    assert_eq!(a.result().seed(), 2017);
+    assert_eq!(a.result().count().samples(), 10_000);
+    assert_eq!(a.result().count().seed(), 2017);
     assert_eq!(a.plan().name(), "two-step");
     o.samples = Some(10_000);
     o.seed = Some(7);

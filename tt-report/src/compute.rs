@@ -169,6 +169,11 @@ pub(crate) struct Computed {
     /// The JCGM 101 Monte Carlo of the same specifications over the same tolerances
     /// (`report --jcgm101`; `None` without it or without specifications).
     pub jcgm101: Option<tt_lab::budget_mc::Jcgm101>,
+    /// The study's specifications no table can meet (the noise part alone fills the limit),
+    /// left out of the direct and the yield-based allocations, as `end-to-end` says them
+    /// ([`tt_lab::end_to_end::EndToEndAnswer::no_table_suffices`]; the study's names
+    /// unescaped).
+    pub no_table_suffices: Vec<String>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -426,6 +431,8 @@ struct Setup {
     inputs: e2e_verify::EndToEndInputs,
     alloc_problem: Option<AllocationProblem>,
     bins: usize,
+    /// The specifications no table can meet (left out of the allocations).
+    no_table_suffices: Vec<String>,
 }
 
 /// The left branch's results: the two-step allocation, the end-to-end answer, the vendor
@@ -491,9 +498,13 @@ pub(crate) fn compute(study: Study, options: Options) -> Result<Computed> {
     )?;
     let later = later(s, &options, &setup, &answer, vendor.as_ref(), started)?;
     let Setup {
-        requirement, e2e, ..
+        requirement,
+        e2e,
+        no_table_suffices,
+        ..
     } = setup;
     Ok(Computed {
+        no_table_suffices,
         jcgm101: later.jcgm101,
         decision: later.decision,
         disc_alloc: later.disc_alloc,
@@ -538,7 +549,8 @@ fn setup(s: &Study, options: &Options) -> Result<Setup> {
         e2e_verify::DEFAULT_YIELD_FRACTION,
     );
     // the direct allocations hold the study's specifications, as `end-to-end`'s do
-    inputs.specifications = tt_lab::allocation::spec::context(s, &e2e)?.context;
+    let specified = tt_lab::allocation::spec::context(s, &e2e)?;
+    inputs.specifications = specified.context;
     // `inputs` adds Table 4 for the paper's table; only the paper's reproduction shows it
     inputs
         .extra_boxes
@@ -573,6 +585,7 @@ fn setup(s: &Study, options: &Options) -> Result<Setup> {
         inputs,
         alloc_problem,
         bins,
+        no_table_suffices: specified.no_table_suffices,
     })
 }
 

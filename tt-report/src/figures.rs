@@ -9,7 +9,7 @@
 //! every axis names its unit.
 
 use crate::{Error, Result};
-use plotters::coord::Shift;
+use plotters::coord::{CoordTranslate, Shift};
 
 mod run;
 use plotters::prelude::*;
@@ -254,17 +254,50 @@ fn canvas(
     Ok(())
 }
 
-/// A figure of `panels` (`panel_title` of each), `cols` to a row and `panel_height` px tall,
-/// under `title` and `legend` ([`canvas`]): `draw(panel, area, what)` draws each panel in its
-/// area, `what` naming it in errors (`title: panel title`).
-fn panel_figure<P>(
+/// Draw `points` as one line in `mark`'s colour, dashed when the mark is a dashed line (a fill
+/// or dots mark draws a solid line: reference lines and limits).
+fn draw_line<CT>(
+    chart: &mut ChartContext<'_, SVGBackend<'_>, CT>,
+    points: Vec<CT::From>,
+    mark: Mark,
+) -> Result<()>
+where
+    CT: CoordTranslate,
+    CT::From: Clone + 'static,
+{
+    let (c, dashed) = match mark {
+        Mark::Line(c, d) => (c, d),
+        Mark::Fill(c) | Mark::Dots(c) => (c, false),
+    };
+    if dashed {
+        chart
+            .draw_series(DashedLineSeries::new(points, 6, 4, c.stroke_width(2)))
+            .map_err(err)?;
+    } else {
+        chart
+            .draw_series(LineSeries::new(points, c.stroke_width(2)))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// One panel of a [`panel_figure`].
+trait Panel {
+    /// The panel's title.
+    fn title(&self) -> &str;
+
+    /// Draw the panel in `area`, `what` naming it in errors (`figure title: panel title`).
+    fn draw(&self, area: &DrawingArea<SVGBackend<'_>, Shift>, what: String) -> Result<()>;
+}
+
+/// A figure of `panels`, `cols` to a row and `panel_height` px tall, under `title` and
+/// `legend` ([`canvas`]): each panel drawn in its area ([`Panel::draw`]).
+fn panel_figure<P: Panel>(
     title: &str,
     legend: &[(String, Mark)],
     panels: &[P],
     cols: usize,
     panel_height: u32,
-    panel_title: impl Fn(&P) -> &str,
-    mut draw: impl FnMut(&P, &DrawingArea<SVGBackend<'_>, Shift>, String) -> Result<()>,
 ) -> Result<String> {
     let mut svg = String::new();
     canvas(
@@ -276,7 +309,7 @@ fn panel_figure<P>(
         panel_height,
         |areas| {
             for (p, area) in panels.iter().zip(&areas) {
-                draw(p, area, format!("{title}: {}", panel_title(p)))?;
+                p.draw(area, format!("{title}: {}", p.title()))?;
             }
             Ok(())
         },
@@ -352,121 +385,91 @@ pub(crate) fn line_figure_with_legend(
     legend: &[(String, Mark)],
 ) -> Result<String> {
     let panel_height = if cols >= 3 { 300 } else { 340 };
-    panel_figure(
-        title,
-        legend,
-        panels,
-        cols,
-        panel_height,
-        |p| &p.title,
-        |p, area, what| {
-            let (x0, x1) = span(
-                &what,
-                p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0)),
-            )?;
-            let (mut y0, mut y1) = span(
-                &what,
-                p.series
-                    .iter()
-                    .flat_map(|s| s.points.iter().map(|q| q.1))
-                    .chain(p.hlines.iter().map(|h| h.1)),
-            )?;
-            if p.y_from_zero {
-                y0 = y0.min(0.0);
-            }
-            // room around the data: nothing drawn on the frame
-            let pad = 0.05 * (y1 - y0);
-            if !p.y_from_zero || y0 < 0.0 {
-                y0 -= pad;
-            }
-            y1 += pad;
-            let (x0, x1) = if p.x_integer {
-                (x0 - 0.5, x1 + 0.5)
-            } else if p.y_from_zero {
-                (x0, x1)
+    panel_figure(title, legend, panels, cols, panel_height)
+}
+
+impl Panel for LinePanel {
+    fn title(&self) -> &str {
+        &self.title
+    }
+
+    fn draw(&self, area: &DrawingArea<SVGBackend<'_>, Shift>, what: String) -> Result<()> {
+        let (x0, x1) = span(
+            &what,
+            self.series
+                .iter()
+                .flat_map(|s| s.points.iter().map(|q| q.0)),
+        )?;
+        let (mut y0, mut y1) = span(
+            &what,
+            self.series
+                .iter()
+                .flat_map(|s| s.points.iter().map(|q| q.1))
+                .chain(self.hlines.iter().map(|h| h.1)),
+        )?;
+        if self.y_from_zero {
+            y0 = y0.min(0.0);
+        }
+        // room around the data: nothing drawn on the frame
+        let pad = 0.05 * (y1 - y0);
+        if !self.y_from_zero || y0 < 0.0 {
+            y0 -= pad;
+        }
+        y1 += pad;
+        let (x0, x1) = if self.x_integer {
+            (x0 - 0.5, x1 + 0.5)
+        } else if self.y_from_zero {
+            (x0, x1)
+        } else {
+            (x0 - 0.05 * (x1 - x0), x1 + 0.05 * (x1 - x0))
+        };
+        let mut chart = ChartBuilder::on(area)
+            .caption(self.title.as_str(), (FONT, 17))
+            .margin(10)
+            .x_label_area_size(42)
+            .y_label_area_size(78)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(err)?;
+        let xs = x1 - x0;
+        let x_fmt = tick(xs);
+        let int_fmt = |v: &f64| {
+            if (v - v.round()).abs() < 1e-9 {
+                format!("{}", v.round() as i64)
             } else {
-                (x0 - 0.05 * (x1 - x0), x1 + 0.05 * (x1 - x0))
-            };
-            let mut chart = ChartBuilder::on(area)
-                .caption(p.title.as_str(), (FONT, 17))
-                .margin(10)
-                .x_label_area_size(42)
-                .y_label_area_size(78)
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(err)?;
-            let xs = x1 - x0;
-            let x_fmt = tick(xs);
-            let int_fmt = |v: &f64| {
-                if (v - v.round()).abs() < 1e-9 {
-                    format!("{}", v.round() as i64)
-                } else {
-                    String::new()
-                }
-            };
-            let y_fmt = tick(y1 - y0);
-            let mut mesh = chart.configure_mesh();
-            mesh.light_line_style(TRANSPARENT)
-                .bold_line_style(GRID)
-                .x_desc(p.x_label.as_str())
-                .y_desc(p.y_label.as_str())
-                .y_label_formatter(&y_fmt)
-                .label_style((FONT, 14))
-                .axis_desc_style((FONT, 15));
-            if p.x_integer {
-                mesh.x_labels((xs.floor() as usize).clamp(2, 12))
-                    .x_label_formatter(&int_fmt);
-            } else {
-                mesh.x_labels(7).x_label_formatter(&x_fmt);
+                String::new()
             }
-            mesh.draw().map_err(err)?;
-            for (label, y, mark) in &p.hlines {
-                let _ = label;
-                let (c, dashed) = match mark {
-                    Mark::Line(c, d) => (*c, *d),
-                    Mark::Fill(c) | Mark::Dots(c) => (*c, false),
-                };
-                if dashed {
+        };
+        let y_fmt = tick(y1 - y0);
+        let mut mesh = chart.configure_mesh();
+        mesh.light_line_style(TRANSPARENT)
+            .bold_line_style(GRID)
+            .x_desc(self.x_label.as_str())
+            .y_desc(self.y_label.as_str())
+            .y_label_formatter(&y_fmt)
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 15));
+        if self.x_integer {
+            mesh.x_labels((xs.floor() as usize).clamp(2, 12))
+                .x_label_formatter(&int_fmt);
+        } else {
+            mesh.x_labels(7).x_label_formatter(&x_fmt);
+        }
+        mesh.draw().map_err(err)?;
+        for (_, y, mark) in &self.hlines {
+            draw_line(&mut chart, vec![(x0, *y), (x1, *y)], *mark)?;
+        }
+        for s in &self.series {
+            match s.mark {
+                Mark::Line(..) => draw_line(&mut chart, s.points.clone(), s.mark)?,
+                Mark::Dots(c) | Mark::Fill(c) => {
                     chart
-                        .draw_series(DashedLineSeries::new(
-                            vec![(x0, *y), (x1, *y)],
-                            6,
-                            4,
-                            c.stroke_width(2),
-                        ))
-                        .map_err(err)?;
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(vec![(x0, *y), (x1, *y)], c.stroke_width(2)))
+                        .draw_series(s.points.iter().map(|q| Circle::new(*q, 2, c.filled())))
                         .map_err(err)?;
                 }
             }
-            for s in &p.series {
-                match s.mark {
-                    Mark::Line(c, false) => {
-                        chart
-                            .draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2)))
-                            .map_err(err)?;
-                    }
-                    Mark::Line(c, true) => {
-                        chart
-                            .draw_series(DashedLineSeries::new(
-                                s.points.clone(),
-                                6,
-                                4,
-                                c.stroke_width(2),
-                            ))
-                            .map_err(err)?;
-                    }
-                    Mark::Dots(c) | Mark::Fill(c) => {
-                        chart
-                            .draw_series(s.points.iter().map(|q| Circle::new(*q, 2, c.filled())))
-                            .map_err(err)?;
-                    }
-                }
-            }
-            Ok(())
-        },
-    )
+        }
+        Ok(())
+    }
 }
 
 /// A scalar field on a grid: `z[j][i]` at `(xs[i], ys[j])`.
@@ -559,138 +562,137 @@ pub(crate) fn contour_segments(
 pub fn heat_figure(title: &str, panels: &[HeatPanel], legend: &[(String, Mark)]) -> Result<String> {
     // at most two per row: each map keeps a readable size beside its colour bar
     let cols = panels.len().clamp(1, 2);
-    let panel_height = 420;
-    panel_figure(
-        title,
-        legend,
-        panels,
-        cols,
-        panel_height,
-        |p| &p.title,
-        |p, area, what| {
-            if p.z.len() != p.ys.len()
-                || p.z.iter().any(|r| r.len() != p.xs.len())
-                || p.xs.len() < 2
-                || p.ys.len() < 2
-            {
-                return Err(Error::Grid {
-                    figure: what,
-                    nx: p.xs.len(),
-                    ny: p.ys.len(),
-                });
-            }
-            let (x0, x1) = span(&what, p.xs.iter().copied())?;
-            let (y0, y1) = span(&what, p.ys.iter().copied())?;
-            let (z0, z1) = span(&what, p.z.iter().flatten().copied())?;
-            if let Some(l) = p.level {
-                finite(&what, [l])?;
-            }
-            if let Some((a, b)) = p.rectangle {
-                finite(&what, [a, b])?;
-            }
-            let (w, _) = area.dim_in_pixel();
-            let (plot, bar) = area.split_horizontally(w.saturating_sub(92));
-            let mut chart = ChartBuilder::on(&plot)
-                .caption(p.title.as_str(), (FONT, 17))
-                .margin(8)
-                .x_label_area_size(42)
-                .y_label_area_size(70)
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(err)?;
-            let xf = tick(x1 - x0);
-            let yf = tick(y1 - y0);
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .x_labels(5)
-                .y_labels(5)
-                .x_label_formatter(&xf)
-                .y_label_formatter(&yf)
-                .x_desc(p.x_label.as_str())
-                .y_desc(p.y_label.as_str())
-                .label_style((FONT, 14))
-                .axis_desc_style((FONT, 15))
-                .draw()
-                .map_err(err)?;
-            let half = |v: &[f64], k: usize| {
-                let lo = if k == 0 {
-                    v[0]
-                } else {
-                    0.5 * (v[k - 1] + v[k])
-                };
-                let hi = if k + 1 == v.len() {
-                    v[k]
-                } else {
-                    0.5 * (v[k] + v[k + 1])
-                };
-                (lo, hi)
+    panel_figure(title, legend, panels, cols, 420)
+}
+
+impl Panel for HeatPanel {
+    fn title(&self) -> &str {
+        &self.title
+    }
+
+    fn draw(&self, area: &DrawingArea<SVGBackend<'_>, Shift>, what: String) -> Result<()> {
+        if self.z.len() != self.ys.len()
+            || self.z.iter().any(|r| r.len() != self.xs.len())
+            || self.xs.len() < 2
+            || self.ys.len() < 2
+        {
+            return Err(Error::Grid {
+                figure: what,
+                nx: self.xs.len(),
+                ny: self.ys.len(),
+            });
+        }
+        let (x0, x1) = span(&what, self.xs.iter().copied())?;
+        let (y0, y1) = span(&what, self.ys.iter().copied())?;
+        let (z0, z1) = span(&what, self.z.iter().flatten().copied())?;
+        if let Some(l) = self.level {
+            finite(&what, [l])?;
+        }
+        if let Some((a, b)) = self.rectangle {
+            finite(&what, [a, b])?;
+        }
+        let (w, _) = area.dim_in_pixel();
+        let (plot, bar) = area.split_horizontally(w.saturating_sub(92));
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(self.title.as_str(), (FONT, 17))
+            .margin(8)
+            .x_label_area_size(42)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(err)?;
+        let xf = tick(x1 - x0);
+        let yf = tick(y1 - y0);
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(5)
+            .y_labels(5)
+            .x_label_formatter(&xf)
+            .y_label_formatter(&yf)
+            .x_desc(self.x_label.as_str())
+            .y_desc(self.y_label.as_str())
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 15))
+            .draw()
+            .map_err(err)?;
+        let half = |v: &[f64], k: usize| {
+            let lo = if k == 0 {
+                v[0]
+            } else {
+                0.5 * (v[k - 1] + v[k])
             };
-            chart
-                .draw_series((0..p.ys.len()).flat_map(|j| {
-                    (0..p.xs.len()).map(move |i| {
-                        let (xa, xb) = half(&p.xs, i);
-                        let (ya, yb) = half(&p.ys, j);
-                        Rectangle::new(
-                            [(xa, ya), (xb, yb)],
-                            viridis((p.z[j][i] - z0) / (z1 - z0)).filled(),
-                        )
-                    })
-                }))
-                .map_err(err)?;
-            if let Some(level) = p.level {
-                chart
-                    .draw_series(
-                        contour_segments(&p.xs, &p.ys, &p.z, level)
-                            .into_iter()
-                            .map(|s| PathElement::new(s.to_vec(), WHITE.stroke_width(2))),
+            let hi = if k + 1 == v.len() {
+                v[k]
+            } else {
+                0.5 * (v[k] + v[k + 1])
+            };
+            (lo, hi)
+        };
+        chart
+            .draw_series((0..self.ys.len()).flat_map(|j| {
+                (0..self.xs.len()).map(move |i| {
+                    let (xa, xb) = half(&self.xs, i);
+                    let (ya, yb) = half(&self.ys, j);
+                    Rectangle::new(
+                        [(xa, ya), (xb, yb)],
+                        viridis((self.z[j][i] - z0) / (z1 - z0)).filled(),
                     )
-                    .map_err(err)?;
-            }
-            if let Some((a, b)) = p.rectangle {
-                let pts = vec![(-a, -b), (a, -b), (a, b), (-a, b), (-a, -b)];
-                chart
-                    .draw_series(DashedLineSeries::new(pts, 6, 4, BLACK.stroke_width(2)))
-                    .map_err(err)?;
-            }
-            // the colour bar
-            let mut cb = ChartBuilder::on(&bar)
-                .margin_top(34)
-                .margin_bottom(50)
-                .margin_right(4)
-                .y_label_area_size(56)
-                .build_cartesian_2d(0.0..1.0, z0..z1)
-                .map_err(err)?;
-            let zf = tick(z1 - z0);
-            cb.configure_mesh()
-                .disable_mesh()
-                .disable_x_axis()
-                .y_labels(6)
-                .y_label_formatter(&zf)
-                .y_desc(p.z_label.as_str())
-                .label_style((FONT, 11))
-                .axis_desc_style((FONT, 12))
-                .draw()
-                .map_err(err)?;
-            const STEPS: usize = 64;
-            cb.draw_series((0..STEPS).map(|k| {
-                let a = z0 + (z1 - z0) * k as f64 / STEPS as f64;
-                let b = z0 + (z1 - z0) * (k + 1) as f64 / STEPS as f64;
-                Rectangle::new(
-                    [(0.0, a), (1.0, b)],
-                    viridis((k as f64 + 0.5) / STEPS as f64).filled(),
-                )
+                })
             }))
             .map_err(err)?;
-            if let Some(level) = p.level.filter(|l| *l >= z0 && *l <= z1) {
-                cb.draw_series(std::iter::once(PathElement::new(
-                    vec![(0.0, level), (1.0, level)],
-                    WHITE.stroke_width(2),
-                )))
+        if let Some(level) = self.level {
+            chart
+                .draw_series(
+                    contour_segments(&self.xs, &self.ys, &self.z, level)
+                        .into_iter()
+                        .map(|s| PathElement::new(s.to_vec(), WHITE.stroke_width(2))),
+                )
                 .map_err(err)?;
-            }
-            Ok(())
-        },
-    )
+        }
+        if let Some((a, b)) = self.rectangle {
+            let pts = vec![(-a, -b), (a, -b), (a, b), (-a, b), (-a, -b)];
+            chart
+                .draw_series(DashedLineSeries::new(pts, 6, 4, BLACK.stroke_width(2)))
+                .map_err(err)?;
+        }
+        // the colour bar
+        let mut cb = ChartBuilder::on(&bar)
+            .margin_top(34)
+            .margin_bottom(50)
+            .margin_right(4)
+            .y_label_area_size(56)
+            .build_cartesian_2d(0.0..1.0, z0..z1)
+            .map_err(err)?;
+        let zf = tick(z1 - z0);
+        cb.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_labels(6)
+            .y_label_formatter(&zf)
+            .y_desc(self.z_label.as_str())
+            .label_style((FONT, 11))
+            .axis_desc_style((FONT, 12))
+            .draw()
+            .map_err(err)?;
+        const STEPS: usize = 64;
+        cb.draw_series((0..STEPS).map(|k| {
+            let a = z0 + (z1 - z0) * k as f64 / STEPS as f64;
+            let b = z0 + (z1 - z0) * (k + 1) as f64 / STEPS as f64;
+            Rectangle::new(
+                [(0.0, a), (1.0, b)],
+                viridis((k as f64 + 0.5) / STEPS as f64).filled(),
+            )
+        }))
+        .map_err(err)?;
+        if let Some(level) = self.level.filter(|l| *l >= z0 && *l <= z1) {
+            cb.draw_series(std::iter::once(PathElement::new(
+                vec![(0.0, level), (1.0, level)],
+                WHITE.stroke_width(2),
+            )))
+            .map_err(err)?;
+        }
+        Ok(())
+    }
 }
 
 /// One histogram panel.
@@ -721,89 +723,72 @@ pub fn histogram_figure(title: &str, panels: &[HistPanel], fill_label: &str) -> 
             }
         }
     }
-    panel_figure(
-        title,
-        &legend,
-        panels,
-        panels.len().clamp(1, 3),
-        360,
-        |p| &p.title,
-        |p, area, what| {
-            if p.edges.len() != p.counts.len() + 1 {
-                return Err(Error::HistogramEdges {
-                    figure: what,
-                    edges: p.edges.len(),
-                    bins: p.counts.len(),
-                });
+    panel_figure(title, &legend, panels, panels.len().clamp(1, 3), 360)
+}
+
+impl Panel for HistPanel {
+    fn title(&self) -> &str {
+        &self.title
+    }
+
+    fn draw(&self, area: &DrawingArea<SVGBackend<'_>, Shift>, what: String) -> Result<()> {
+        if self.edges.len() != self.counts.len() + 1 {
+            return Err(Error::HistogramEdges {
+                figure: what,
+                edges: self.edges.len(),
+                bins: self.counts.len(),
+            });
+        }
+        let (mut x0, mut x1) = span(&what, self.edges.iter().copied())?;
+        finite(&what, self.limits.iter().map(|l| l.1))?;
+        for (_, l, _) in &self.limits {
+            x0 = x0.min(-1.08 * l.abs());
+            x1 = x1.max(1.08 * l.abs());
+        }
+        let ymax = self.counts.iter().copied().max().unwrap_or(1).max(1);
+        let y1 = ymax + ymax / 10 + 1;
+        let mut chart = ChartBuilder::on(area)
+            .caption(self.title.as_str(), (FONT, 17))
+            .margin(10)
+            .x_label_area_size(42)
+            .y_label_area_size(64)
+            .build_cartesian_2d(x0..x1, 0u64..y1)
+            .map_err(err)?;
+        let xf = tick(x1 - x0);
+        chart
+            .configure_mesh()
+            .light_line_style(TRANSPARENT)
+            .bold_line_style(GRID)
+            .x_labels(5)
+            .y_labels(6)
+            .x_label_formatter(&xf)
+            .x_desc(self.x_label.as_str())
+            .y_desc("turntables (count)")
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 15))
+            .draw()
+            .map_err(err)?;
+        chart
+            .draw_series(
+                self.counts
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| **c > 0)
+                    .map(|(k, c)| {
+                        Rectangle::new(
+                            [(self.edges[k], 0), (self.edges[k + 1], *c)],
+                            colour(0).filled(),
+                        )
+                    }),
+            )
+            .map_err(err)?;
+        for (_, l, mark) in &self.limits {
+            for x in [-l.abs(), l.abs()] {
+                draw_line(&mut chart, vec![(x, 0), (x, y1)], *mark)?;
             }
-            let (mut x0, mut x1) = span(&what, p.edges.iter().copied())?;
-            finite(&what, p.limits.iter().map(|l| l.1))?;
-            for (_, l, _) in &p.limits {
-                x0 = x0.min(-1.08 * l.abs());
-                x1 = x1.max(1.08 * l.abs());
-            }
-            let ymax = p.counts.iter().copied().max().unwrap_or(1).max(1);
-            let y1 = ymax + ymax / 10 + 1;
-            let mut chart = ChartBuilder::on(area)
-                .caption(p.title.as_str(), (FONT, 17))
-                .margin(10)
-                .x_label_area_size(42)
-                .y_label_area_size(64)
-                .build_cartesian_2d(x0..x1, 0u64..y1)
-                .map_err(err)?;
-            let xf = tick(x1 - x0);
-            chart
-                .configure_mesh()
-                .light_line_style(TRANSPARENT)
-                .bold_line_style(GRID)
-                .x_labels(5)
-                .y_labels(6)
-                .x_label_formatter(&xf)
-                .x_desc(p.x_label.as_str())
-                .y_desc("turntables (count)")
-                .label_style((FONT, 14))
-                .axis_desc_style((FONT, 15))
-                .draw()
-                .map_err(err)?;
-            chart
-                .draw_series(
-                    p.counts
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, c)| **c > 0)
-                        .map(|(k, c)| {
-                            Rectangle::new(
-                                [(p.edges[k], 0), (p.edges[k + 1], *c)],
-                                colour(0).filled(),
-                            )
-                        }),
-                )
-                .map_err(err)?;
-            for (_, l, mark) in &p.limits {
-                let (c, dashed) = match mark {
-                    Mark::Line(c, d) => (*c, *d),
-                    Mark::Fill(c) | Mark::Dots(c) => (*c, false),
-                };
-                for x in [-l.abs(), l.abs()] {
-                    if dashed {
-                        chart
-                            .draw_series(DashedLineSeries::new(
-                                vec![(x, 0), (x, y1)],
-                                6,
-                                4,
-                                c.stroke_width(2),
-                            ))
-                            .map_err(err)?;
-                    } else {
-                        chart
-                            .draw_series(LineSeries::new(vec![(x, 0), (x, y1)], c.stroke_width(2)))
-                            .map_err(err)?;
-                    }
-                }
-            }
-            Ok(())
-        },
-    )
+        }
+        Ok(())
+    }
 }
 
 /// Height of one category row of [`hbar_figure`] in its integer coordinate: plotters' integer

@@ -119,7 +119,7 @@ pub(crate) fn comparisons(c: &Computed, x: &PaperExtras) -> Vec<Comparison> {
                 reason: format!(
                     "the paper shows every sample inside ±I; ours is the proven worst case over the whole box ({:.1}% of I); our largest of {} draws is {} deg",
                     100.0 * b / i,
-                    x.table4_result.samples(),
+                    x.table4_result.count().samples(),
                     sig(rad_to_deg(x.table4_result.axes()[k].max_abs_rad()), 5)
                 ),
             });

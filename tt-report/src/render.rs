@@ -1184,7 +1184,7 @@ impl<'a> Sections<'a> {
                     sig(rad_to_deg(bound[k]), 5),
                     r.requirement().to_array()[k].map_or("none".into(), |i| sig(rad_to_deg(i), 5)),
                     sig(rad_to_deg(sd[k]), 4),
-                    pct(r.axes()[k].within_requirement() as f64 / r.samples() as f64),
+                    pct(r.count().meeting_per_output()[k] as f64 / r.count().samples() as f64),
                 ]);
             }
         }
@@ -1235,7 +1235,7 @@ impl<'a> Sections<'a> {
         let svg = figures::histogram_figure(
             &format!(
                 "Orientation error of {} random turntables of the {name} box",
-                r.samples()
+                r.count().samples()
             ),
             &panels,
             "draws per bin",
@@ -1293,7 +1293,7 @@ impl<'a> Sections<'a> {
                 let _ = write!(
                     yield_cell,
                     " of {}: {} its target",
-                    r.yield_based().counts(),
+                    tt_lab::end_to_end::yield_counts_words(r, c.no_table_suffices.len()),
                     match r.yield_verdict() {
                         YieldVerdict::Meets => "**meets**",
                         YieldVerdict::DoesNotMeet => "does **not** meet",
@@ -1343,6 +1343,20 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
+        let limits = tt_lab::end_to_end::yield_limit_lines(r, &doc::text);
+        if !limits.is_empty() {
+            self.doc.p(
+                "The yield-based box's re-measured turntables against each limit its yield counts:",
+            );
+            self.doc.list(limits);
+        }
+        if !c.no_table_suffices.is_empty() {
+            self.doc.p(
+                "Left out of the direct and the yield-based allocations (no table can meet them):",
+            );
+            self.doc
+                .list(c.no_table_suffices.iter().map(|n| doc::text(n)).collect());
+        }
         if let Some(n) = &r.direct_certified_note() {
             self.doc.p(format!(
                 "The direct allocation could not be certified on the exact chain here: {n}."
@@ -2184,11 +2198,11 @@ impl<'a> Sections<'a> {
             ],
             rows,
         );
-        let (lo, hi) = e2e_verify::wilson_interval_95(ra.meets, ra.samples);
+        let (lo, hi) = ra.count.interval_95();
         self.doc.p(format!(
             "{:.2}% of {} random turntables within both allocated boxes meet every accuracy on the exact chain (95% interval {:.2}%-{:.2}%). Note: {}.",
-            100.0 * ra.meets as f64 / ra.samples as f64,
-            ra.samples,
+            100.0 * ra.count.meeting() as f64 / ra.count.samples() as f64,
+            ra.count.samples(),
             100.0 * lo,
             100.0 * hi,
             doc::text(e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS)
@@ -2578,7 +2592,7 @@ fn csv_field(s: &str) -> String {
 /// (linear and at the worst vertex on the exact chain) is within its accuracy, and the yield.
 #[must_use]
 fn verdict_sentence(e2e: &e2e_verify::EndToEnd, c: &tt_lab::vendor::rate::RateCheck) -> String {
-    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
+    let (lo, hi) = c.count.interval_95();
     let verdict = if c.meets_every_accuracy(e2e) {
         "these tolerances **meet** every accuracy with the rate errors and translations at their bounds (the worst turntable of both boxes, linearised and on the exact chain at its vertex)"
     } else {
@@ -2591,8 +2605,8 @@ fn verdict_sentence(e2e: &e2e_verify::EndToEnd, c: &tt_lab::vendor::rate::RateCh
     };
     format!(
         "{verdict}{rule}; {:.2}% of {} random turntables over both boxes meet every accuracy (95% interval {:.2}%-{:.2}%{alone})",
-        100.0 * c.meets as f64 / c.samples as f64,
-        c.samples,
+        100.0 * c.count.meeting() as f64 / c.count.samples() as f64,
+        c.count.samples(),
         100.0 * lo,
         100.0 * hi
     )

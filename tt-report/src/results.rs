@@ -534,10 +534,10 @@ impl<'a> TwoStepJson<'a> {
                 .collect(),
             exact_chain_excess_rad: t.exact.iter().map(|e| e.excess_rad().map(f)).collect(),
             monte_carlo: TwoStepMonteCarloJson {
-                samples: t.result.samples(),
+                samples: t.result.count().samples(),
                 max_abs_deg: t.result.max_abs_rad().map(|v| f(rad_to_deg(v))),
                 proven_bound_deg: t.monte_carlo.half_range_rad().map(|v| f(rad_to_deg(v))),
-                within_requirement_fraction: f(t.result.within_requirement_fraction()),
+                within_requirement_fraction: f(t.result.count().fraction()),
             },
         }
     }

@@ -400,7 +400,7 @@ fn tail_text(s: &Study, o: &Outcome) -> String {
         "\nsearch: {} restarts, best from {}; {}; {:.1} s\n",
         search.restarts().len(),
         start_name(search.restarts()[search.best_restart()].start()),
-        if search.designed().local_optimum() {
+        if search.designed().stop().local_optimum() {
             "no single exchange of a position for a candidate improves J (a local optimum, not proven global)"
         } else {
             "stopped before proving local optimality"

@@ -229,17 +229,18 @@ pub(crate) fn tradeoff_text(tr: &Tradeoff, scanned: &Scanned) -> String {
 }
 
 /// The yield-based box against its target: the re-measured yield's 95% interval and the
-/// verdict, one line.
-fn yield_text(r: &ReadingAnswer) -> String {
+/// verdict, one line; with specifications, then the same turntables against each limit the
+/// yield counts ([`tt_lab::end_to_end::yield_limit_lines`], the study's labels escaped).
+fn yield_text(r: &ReadingAnswer, left_out: usize) -> String {
     let count = r.yield_count();
     let (lo, hi) = count.interval_95();
-    format!(
+    let mut t = format!(
         "  {:<14} target {}%: re-measured on {} independent turntables, yield {:.2}% of {} (95% interval {:.2}-{:.2}%): {}\n",
         "",
         num(100.0 * r.yield_based().target()),
         count.samples(),
         100.0 * count.fraction(),
-        r.yield_based().counts(),
+        tt_lab::end_to_end::yield_counts_words(r, left_out),
         100.0 * lo,
         100.0 * hi,
         match r.yield_verdict() {
@@ -247,7 +248,19 @@ fn yield_text(r: &ReadingAnswer) -> String {
             YieldVerdict::DoesNotMeet => "does NOT meet its target",
             YieldVerdict::CannotTell => "cannot tell (the interval contains the target)",
         }
-    )
+    );
+    let limits =
+        tt_lab::end_to_end::yield_limit_lines(r, &|l| tt_core::human::visible(l).into_owned());
+    if !limits.is_empty() {
+        t.push_str(&format!(
+            "  {:<14} the same turntables against each limit the yield counts:\n",
+            ""
+        ));
+        for l in limits {
+            t.push_str(&format!("  {:<14}   {l}\n", ""));
+        }
+    }
+    t
 }
 
 /// The outputs (name, unit, precision) with a worst case or Monte Carlo maximum shown as 0 in
@@ -276,7 +289,8 @@ fn zeroed_outputs<'a>(e2e: &'a EndToEnd, r: &ReadingAnswer) -> Vec<(&'a str, &'a
         .collect()
 }
 
-/// The command's text.
+/// The command's text; `left_out` is the count of the study's specifications no table can
+/// meet (left out of the allocations, so not counted by the yield).
 #[must_use]
 pub(crate) fn to_text(
     s: &Study,
@@ -285,6 +299,7 @@ pub(crate) fn to_text(
     note: Option<&String>,
     seconds: f64,
     speed: &Throughput,
+    left_out: usize,
 ) -> String {
     let mut t = format!(
         "end to end: study {} ({}), {} turntables per box, seed {}\n",
@@ -360,7 +375,7 @@ pub(crate) fn to_text(
             t.push_str(&format!("  {:<14} none: {n}\n", "certified"));
         }
         t.push_str(&line(r.yield_box()));
-        t.push_str(&yield_text(r));
+        t.push_str(&yield_text(r, left_out));
         let zeroed = zeroed_outputs(e2e, r);
         if let Some(n) = crate::out::precision_note(&zeroed) {
             t.push_str(&format!("  ({n})\n"));
@@ -405,7 +420,15 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         return crate::json::print(&view);
     }
     let (e2e, a) = (r.simulator(), r.answer());
-    let mut t = to_text(&s, e2e, a, r.note(), r.seconds(), r.throughput());
+    let mut t = to_text(
+        &s,
+        e2e,
+        a,
+        r.note(),
+        r.seconds(),
+        r.throughput(),
+        r.no_table_suffices().len(),
+    );
     if let Some(n) = r.noisy() {
         t.push_str(&noise_text(e2e, a, n));
     }

@@ -163,7 +163,7 @@ pub fn run_with(args: &Args, bench: Option<Bench<'_>>) -> Result<()> {
             &s,
             answer.plan().monte_carlo(),
             &pool,
-            r.samples() as f64 / seconds,
+            r.count().samples() as f64 / seconds,
         )?);
     }
     if args.json {
@@ -171,14 +171,14 @@ pub fn run_with(args: &Args, bench: Option<Bench<'_>>) -> Result<()> {
     }
     let mut t = format!(
         "{} samples, seed {}, {} threads ({}), bounds {}, study {}: {:.3} s, {} samples/s\n",
-        r.samples(),
-        r.seed(),
+        r.count().samples(),
+        r.count().seed(),
         threads,
         SimdLevel::detected().name(),
         name,
         s.path,
         seconds,
-        num(r.samples() as f64 / seconds)
+        num(r.count().samples() as f64 / seconds)
     );
     let std = r.std_rad();
     for a in r.axes() {
@@ -195,9 +195,9 @@ pub fn run_with(args: &Args, bench: Option<Bench<'_>>) -> Result<()> {
     }
     t.push_str(&format!(
         "inside the requirement (all three angles): {} of {} = {}\n",
-        r.within_requirement_all(),
-        r.samples(),
-        tt_core::human::sig(r.within_requirement_fraction(), 9)
+        r.count().meeting(),
+        r.count().samples(),
+        tt_core::human::sig(r.count().fraction(), 9)
     ));
     if let Some(n) = &note {
         t.push_str(n);

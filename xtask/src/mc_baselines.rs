@@ -190,12 +190,12 @@ fn baselines(
     let mut rounds = Vec::with_capacity(RATIO_ROUNDS);
     for _ in 0..RATIO_ROUNDS {
         rounds.push([
-            rate_of(&|| sub.run().samples()),
+            rate_of(&|| sub.run().count().samples()),
             rate_of(&|| sub.draw_only()),
             rate_of(&|| sub.draw_words_only()),
             rate_of(&|| {
                 sub.run_with_simd(SimdLevel::Portable)
-                    .map_or(0, |r| r.samples())
+                    .map_or(0, |r| r.count().samples())
             }),
         ]);
     }
@@ -206,7 +206,7 @@ fn baselines(
     let plain_mc = MonteCarlo::new(&s.turntable, mc.bounds().clone(), cfg)?;
     let t = Instant::now();
     let plain = pool.install(|| plain_mc.run_model(&ExactChain::new(&s.turntable)))?;
-    let plain_rate = plain.samples() as f64 / t.elapsed().as_secs_f64();
+    let plain_rate = plain.count().samples() as f64 / t.elapsed().as_secs_f64();
     let numpy = if s.turntable == tt_kinematics::paper::table3() {
         run_numpy(mc.config().seed)
     } else {
@@ -230,7 +230,7 @@ fn baselines(
         generator_alone_samples_per_sec: gen_rate,
         generator_words_only_samples_per_sec: words_rate,
         portable_simd_samples_per_sec: portable_rate,
-        plain_chain_samples: plain.samples(),
+        plain_chain_samples: plain.count().samples(),
         plain_chain_samples_per_sec: plain_rate,
         numpy,
         ratio_fast_over_generator_alone: fast_best / gen_rate,

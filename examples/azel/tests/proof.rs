@@ -400,7 +400,7 @@ fn the_monte_carlo_of_the_mount_matches_the_closed_form_moments() {
         max_relative = 1e-8
     );
     let r = mc.try_run().unwrap();
-    assert_eq!(r.samples(), 200_000);
+    assert_eq!(r.count().samples(), 200_000);
     // chi uniform on [-u, u] (E chi^2 = u^2/3), a uniform on a turn (E sin^2 = 1/2), e
     // uniform on [0, 90 deg] (E cos^2 = E sin^2 = 1/2): Var psi = (u^2/3)(1/2 + 1 + 1/2),
     // Var theta = Var gamma = (u^2/3)(1/4 + 1/2) to first order

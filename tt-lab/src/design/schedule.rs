@@ -942,7 +942,7 @@ fn to_json<'a>(s: &'a Study, o: &'a ScheduleAnswer, run: RunView<'a>) -> DesignJ
         random_best: d.random_best().map(|r| schedule_json(s, r)),
         search: SearchJson {
             best_restart: start_name(search.restarts()[search.best_restart()].start()),
-            local_optimum: search.designed().local_optimum(),
+            local_optimum: search.designed().stop().local_optimum(),
             restarts: search
                 .restarts()
                 .iter()
@@ -953,11 +953,11 @@ fn to_json<'a>(s: &'a Study, o: &'a ScheduleAnswer, run: RunView<'a>) -> DesignJ
                         .is_finite()
                         .then(|| objective_to_arcmin(r.start_objective())),
                     objective: r.exchange().map(|e| e.evaluation().objective_arcmin()),
-                    exchanges: r.exchange().map(|e| e.exchanges()),
+                    exchanges: r.exchange().map(|e| e.stop().exchanges()),
                     exact_evaluations: r.exchange().map(|e| e.exact_evaluations()),
                     screened_swaps: r.exchange().map(|e| e.screened_swaps()),
                     unevaluated_swaps: r.exchange().map(|e| e.unevaluated_swaps()),
-                    local_optimum: r.exchange().map(|e| e.local_optimum()),
+                    local_optimum: r.exchange().map(|e| e.stop().local_optimum()),
                 })
                 .collect(),
             d_optimal_log_det: search.d_optimal().log_det(),

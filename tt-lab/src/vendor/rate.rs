@@ -13,7 +13,7 @@ use crate::json::{ArcminBounds, arcmin_bounds};
 pub use crate::vendor::angle::NoisePart;
 use e2e_verify::{
     EndToEnd, ExtraError, ExtraOutputWorstCase, McSettings, NoRoom, RateAllocation, RateTolerance,
-    ToleranceSheet,
+    ToleranceSheet, YieldCount,
 };
 use study::Study;
 use tt_core::human::num;
@@ -91,10 +91,8 @@ pub struct RateCheck {
     pub bounds: Vec<f64>,
     /// Per output.
     pub outputs: Vec<ExtraOutputWorstCase>,
-    /// Turntables of both boxes meeting every accuracy, of `samples`.
-    pub meets: u64,
-    /// Turntables drawn.
-    pub samples: u64,
+    /// Turntables of both boxes drawn (with the seed) and meeting every accuracy.
+    pub count: YieldCount,
     /// The largest error drawn, per output.
     pub max_drawn: Vec<f64>,
     /// The study's noise part of every output (its covariance over the study's timing, the
@@ -215,8 +213,7 @@ pub(crate) fn check_with_noise(
     Ok(RateCheck {
         bounds,
         outputs,
-        meets,
-        samples: settings.samples,
+        count: YieldCount::new(settings.samples, settings.seed, meets, Vec::new()),
         max_drawn,
         noise,
     })
@@ -238,10 +235,8 @@ pub struct RateAllocated {
     /// The certified allocation ([`e2e_verify::RateQuestions::allocate_direct_rate_certified`]), or why there
     /// is none.
     pub certified: std::result::Result<RateAllocation, String>,
-    /// Turntables of both allocated boxes meeting every accuracy, of `samples`.
-    pub meets: u64,
-    /// Turntables drawn.
-    pub samples: u64,
+    /// Turntables of both allocated boxes drawn (with the seed) and meeting every accuracy.
+    pub count: YieldCount,
     /// The largest error drawn, per output.
     pub max_drawn: Vec<f64>,
     /// With the study's noise: the same allocation with the noise part kept free.
@@ -334,8 +329,7 @@ pub(crate) fn allocation_with_k(
     Ok(Some(RateAllocated {
         allocation: a,
         certified,
-        meets,
-        samples: settings.samples,
+        count: YieldCount::new(settings.samples, settings.seed, meets, Vec::new()),
         max_drawn,
         with_noise,
     }))
@@ -544,9 +538,9 @@ impl<'a> RateCheckJson<'a> {
                     }),
                 })
                 .collect(),
-            yield_fraction: c.meets as f64 / c.samples as f64,
-            yield_interval_95: e2e_verify::wilson_interval_95(c.meets, c.samples),
-            samples: c.samples,
+            yield_fraction: c.count.fraction(),
+            yield_interval_95: c.count.interval_95(),
+            samples: c.count.samples(),
             max_drawn: &c.max_drawn,
             verdict: meets_name(c.meets_every_accuracy(e2e)),
             table_verdict: c
@@ -884,9 +878,9 @@ impl<'a> RateAllocationJson<'a> {
                 })
                 .collect(),
             exact_rounds: a.exact_rounds(),
-            yield_fraction: r.meets as f64 / r.samples as f64,
-            yield_interval_95: e2e_verify::wilson_interval_95(r.meets, r.samples),
-            samples: r.samples,
+            yield_fraction: r.count.fraction(),
+            yield_interval_95: r.count.interval_95(),
+            samples: r.count.samples(),
             max_drawn: &r.max_drawn,
             direct_note: e2e_verify::rate::NOT_CERTIFIED_AT_RATE_STEPS,
             certified: r

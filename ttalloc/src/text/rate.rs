@@ -61,7 +61,7 @@ pub(crate) fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
             }
         ));
     }
-    let (lo, hi) = e2e_verify::wilson_interval_95(c.meets, c.samples);
+    let (lo, hi) = c.count.interval_95();
     let verdict = |m: bool| {
         if m {
             "meets every accuracy"
@@ -71,10 +71,10 @@ pub(crate) fn text(e2e: &EndToEnd, c: &RateCheck) -> String {
     };
     s.push_str(&format!(
         "  yield over both boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables{}; verdict with the rate errors{}: {}\n",
-        100.0 * c.meets as f64 / c.samples as f64,
+        100.0 * c.count.meeting() as f64 / c.count.samples() as f64,
         100.0 * lo,
         100.0 * hi,
-        c.samples,
+        c.count.samples(),
         if c.noise.is_some() {
             " (the table alone)"
         } else {
@@ -212,13 +212,13 @@ pub(crate) fn allocation_text(e2e: &EndToEnd, r: &RateAllocated) -> String {
             num(acc[w.output()])
         ));
     }
-    let (lo, hi) = e2e_verify::wilson_interval_95(r.meets, r.samples);
+    let (lo, hi) = r.count.interval_95();
     s.push_str(&format!(
         "  yield over both allocated boxes {:.2}% [{:.2}%, {:.2}%] of {} turntables (exact chain at random points)\n",
-        100.0 * r.meets as f64 / r.samples as f64,
+        100.0 * r.count.meeting() as f64 / r.count.samples() as f64,
         100.0 * lo,
         100.0 * hi,
-        r.samples
+        r.count.samples()
     ));
     s.push_str(&format!(
         "  {}\n",

@@ -30,16 +30,28 @@ pub(crate) fn limited_by(d: &e2e_verify::DirectAllocation, no_table_suffices: &[
     if !d.spec_loads().is_empty() {
         let binding = d.limited_by();
         t.push_str(&format!(
-            "  the direct allocation holds every specification beside each output's accuracy; limited by: {}\n",
+            "  the direct allocation holds every specification{} beside each output's accuracy; limited by: {}\n",
+            if no_table_suffices.is_empty() {
+                ""
+            } else {
+                " a table can meet"
+            },
             if binding.is_empty() {
                 "the outputs' accuracies (eq 14) only".to_string()
             } else {
-                binding.join(", ")
+                binding
+                    .iter()
+                    .map(|b| tt_core::human::visible(b).into_owned())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             }
         ));
     }
     for n in no_table_suffices {
-        t.push_str(&format!("  {n} (left out of the direct allocation)\n"));
+        t.push_str(&format!(
+            "  {} (left out of the direct and the yield-based allocations)\n",
+            tt_core::human::visible(n)
+        ));
     }
     t
 }
