@@ -55,7 +55,7 @@ pub const FLICKER_FLOOR_FACTOR: f64 = 0.664_282_470_267_960_1;
 pub(crate) const EXPONENTS: [i32; 5] = [-2, -1, 0, 1, 2];
 
 /// Points of the logarithmic correlation-time grid of the Gauss-Markov search.
-pub const GM_GRID: usize = 97;
+pub(crate) const GM_GRID: usize = 97;
 
 /// $k$ with parameter $= \sqrt{k\,C_n}$ for $n = -2 \dots 2$: $Q = \sqrt{C_{-2}/3}$,
 /// $N = \sqrt{C_{-1}}$, $B = \sqrt{C_0}/0.664$, $K = \sqrt{3 C_1}$, $R = \sqrt{2 C_2}$.
@@ -170,7 +170,7 @@ pub struct PowerFit {
 impl PowerFit {
     /// The fitted Allan variance at `tau_s`, log unit squared.
     #[must_use]
-    pub fn avar(&self, tau_s: f64) -> f64 {
+    pub(crate) fn avar(&self, tau_s: f64) -> f64 {
         let x = tau_s / self.tau_scale;
         self.var_scale * dot(&self.coefficients, &powers(x))
     }

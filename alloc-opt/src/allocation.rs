@@ -749,7 +749,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// The worst point of the components' values `x` (the search).
-    pub fn search(&self, x: &[f64]) -> Result<WorstRow, AllocError> {
+    pub(crate) fn search(&self, x: &[f64]) -> Result<WorstRow, AllocError> {
         self.model.search(self.quantity, &self.full(x))
     }
 
@@ -795,7 +795,11 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// Reject lower bounds that alone exceed the requirement, naming the errors.
-    pub fn check_lower_bounds(&self, lower: &[f64], names: &[String]) -> Result<(), AllocError> {
+    pub(crate) fn check_lower_bounds(
+        &self,
+        lower: &[f64],
+        names: &[String],
+    ) -> Result<(), AllocError> {
         let worst = self.most_violated(lower);
         let load = worst.load(lower);
         if load > 1.0 {

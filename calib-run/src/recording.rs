@@ -19,7 +19,7 @@ use std::rc::Rc;
 use std::sync::mpsc;
 
 /// A time step more than this many times the first step (or less than its inverse) is a gap.
-pub const GAP_FACTOR: f64 = 1.5;
+pub(crate) const GAP_FACTOR: f64 = 1.5;
 
 /// How to read a recording's columns.
 #[derive(Debug, Clone, Default, PartialEq)]

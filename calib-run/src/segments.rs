@@ -37,7 +37,7 @@ use std::io::Read;
 
 /// Two static intervals are at the same pose when no output's means differ by more than this
 /// many standard deviations of their difference (measured noise).
-pub const POSE_Z: f64 = 10.0;
+pub(crate) const POSE_Z: f64 = 10.0;
 
 /// The most intervals a detection keeps (a recording with more is not a planned calibration).
 pub(crate) const MAX_INTERVALS: usize = 100_000;
@@ -342,7 +342,7 @@ impl Acc {
     }
 
     /// Append `b` (the samples right after these).
-    pub fn merge(&mut self, b: &Acc) {
+    pub(crate) fn merge(&mut self, b: &Acc) {
         if b.n == 0 {
             return;
         }
@@ -375,7 +375,7 @@ impl Acc {
         self.saturated += b.saturated;
     }
 
-    pub fn variance(&self, k: usize) -> f64 {
+    pub(crate) fn variance(&self, k: usize) -> f64 {
         if self.n > 1 {
             self.m2[k] / (self.n - 1) as f64
         } else {

@@ -121,7 +121,7 @@ impl AngleYield {
 /// (A harmonic pair is bounded tighter by [`crate::disc::PairModel`], which has the schedule's
 /// angles: [`crate::disc::disc_dual`].)
 #[must_use]
-pub fn disc_dual_norm(expansion: &Expansion, s: &[f64], a: usize, b: usize) -> f64 {
+pub(crate) fn disc_dual_norm(expansion: &Expansion, s: &[f64], a: usize, b: usize) -> f64 {
     crate::disc::disc_dual(expansion, s, None, a, b).upper
 }
 
@@ -219,7 +219,7 @@ impl crate::AngleQuestions<'_> {
 
 /// Draws per random stream of [`crate::AngleQuestions::angle_yield`] (chunk $c$ uses
 /// [`mc_verify::chunk_rng`]`(seed, c)`; fixed, so results do not depend on the thread count).
-pub const ANGLE_CHUNK: u64 = 1024;
+pub(crate) const ANGLE_CHUNK: u64 = 1024;
 /// Chunks of the angle-dependent Monte Carlo evaluated per wave (memory: one wave's counts).
 const ANGLE_WAVE_CHUNKS: u64 = 64;
 

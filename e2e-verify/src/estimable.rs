@@ -95,7 +95,7 @@ impl crate::EstimableQuestions<'_> {
     ///
     /// # Errors
     /// As [`crate::EndToEnd::with_reading`].
-    pub fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
+    pub(crate) fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
         self.static_only("the joint estimation of table errors")?;
         Ok(self.split_outputs(&self.with_reading(EFFECT_READING)?.linearization()))
     }
@@ -107,7 +107,7 @@ impl crate::EstimableQuestions<'_> {
     ///
     /// # Errors
     /// As [`crate::EstimableQuestions::table_effects`] and [`crate::AngleQuestions::linearization_expanded`].
-    pub fn table_effects_expanded(
+    pub(crate) fn table_effects_expanded(
         &self,
         expansion: &Expansion,
     ) -> Result<Vec<DMatrix<f64>>, E2eError> {

@@ -199,7 +199,7 @@ impl Histogram {
 
     /// Bin width $w$ (the values' unit).
     #[must_use]
-    pub fn bin_width(&self) -> f64 {
+    pub(crate) fn bin_width(&self) -> f64 {
         (self.hi - self.lo) / self.counts.len() as f64
     }
 
@@ -512,7 +512,7 @@ impl Partial {
     }
 
     /// Fold a later partial in (`other` covers samples after all of `self`'s).
-    pub fn merge(&mut self, other: &Partial) {
+    pub(crate) fn merge(&mut self, other: &Partial) {
         for k in 0..3 {
             if other.max_abs[k] > self.max_abs[k] {
                 self.max_abs[k] = other.max_abs[k];
@@ -539,7 +539,7 @@ impl Partial {
     }
 
     /// The public histogram of axis `k`.
-    pub fn histogram(&self, k: usize) -> Histogram {
+    pub(crate) fn histogram(&self, k: usize) -> Histogram {
         let h = &self.hist[k];
         let bins = h.len() - 2;
         Histogram {

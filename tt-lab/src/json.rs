@@ -69,7 +69,7 @@ impl<T> PerAngle<T> {
 
 /// A requirement-like triple (psi, theta, gamma; `None` where an angle has none) in degrees.
 #[must_use]
-pub fn deg3(r: &[Option<f64>; 3]) -> PerAngle<Option<f64>> {
+pub(crate) fn deg3(r: &[Option<f64>; 3]) -> PerAngle<Option<f64>> {
     PerAngle::new(|a| r[a.index()].map(f64::to_degrees))
 }
 

@@ -74,7 +74,7 @@ impl Designed {
     /// The chosen point's direct allocation with the noise part kept free, certified on the
     /// exact chain where the reading allows; `None` without a chosen point.
     #[must_use]
-    pub fn chosen_counted(&self) -> Option<&NoiseCounted> {
+    pub(crate) fn chosen_counted(&self) -> Option<&NoiseCounted> {
         self.chosen_counted.as_ref()
     }
 
@@ -207,7 +207,7 @@ fn timing_of(s: &Study) -> Result<&calib_lsq::Timing, InputError> {
 ///
 /// # Errors
 /// That [`InputError`].
-pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
+pub(crate) fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
     if s.noise.iter().all(Option::is_none) {
         return Ok(());
     }

@@ -383,13 +383,13 @@ pub struct NoiseStanding {
 impl NoiseStanding {
     /// The largest k sigma / accuracy over the outputs at the study's dwell.
     #[must_use]
-    pub fn noise_over_accuracy(&self) -> f64 {
+    pub(crate) fn noise_over_accuracy(&self) -> f64 {
         self.noise_over_accuracy
     }
 
     /// The shortest dwell (s) at which some table suffices.
     #[must_use]
-    pub fn min_dwell_s(&self) -> Option<f64> {
+    pub(crate) fn min_dwell_s(&self) -> Option<f64> {
         self.min_dwell_s
     }
 
@@ -424,7 +424,7 @@ impl CombinedChoice {
     /// When no table suffices with either schedule: each one's noise alone (`study`,
     /// `designed`).
     #[must_use]
-    pub fn both_fail(&self) -> Option<(NoiseStanding, NoiseStanding)> {
+    pub(crate) fn both_fail(&self) -> Option<(NoiseStanding, NoiseStanding)> {
         self.both_fail
     }
 }
@@ -501,7 +501,7 @@ impl NoiseCounted {
 /// The direct allocation with the noise part kept free for `s` (its positions and timing),
 /// certified on the exact chain where the reading allows (as `end-to-end`'s
 /// `direct_with_noise`); `Ok(None)` when the study has no noise or no timing.
-pub fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
+pub(crate) fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
     let e2e = crate::loaded::simulator(s)?;
     let Some(budget) = crate::end_to_end::noise_budget(s, &e2e)? else {
         return Ok(None);

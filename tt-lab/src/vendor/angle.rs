@@ -187,7 +187,11 @@ pub struct AngleCheck {
 ///
 /// # Errors
 /// The refusal; a library error located in the study.
-pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Result<Expansion> {
+pub(crate) fn expansion(
+    s: &Study,
+    sim: &EndToEnd,
+    variations: &[ErrorVariation],
+) -> Result<Expansion> {
     let coefficients = Expansion::count_coefficients(sim.turntable(), variations, sim.poses())
         .map_err(|e| crate::error::library(e, s))?;
     let values = sim
@@ -216,7 +220,7 @@ pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Re
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
 /// quantities imply (an orthogonality is a constant).
 #[must_use]
-pub fn model_of(s: &Study, sheet: &ToleranceSheet) -> (bool, Vec<ErrorVariation>) {
+pub(crate) fn model_of(s: &Study, sheet: &ToleranceSheet) -> (bool, Vec<ErrorVariation>) {
     if s.has_angle_dependent_errors() {
         (true, s.variations.clone())
     } else {

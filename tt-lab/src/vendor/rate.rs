@@ -25,7 +25,7 @@ pub use crate::loaded::STATIC_REQUIREMENT_NOTE;
 /// `requirement_note`): the requirement is static, and the errors only rotation exposes are
 /// held at zero.
 #[must_use]
-pub fn rate_steps_note(e2e: &EndToEnd) -> String {
+pub(crate) fn rate_steps_note(e2e: &EndToEnd) -> String {
     format!(
         "{STATIC_REQUIREMENT_NOTE}; the errors only rotation exposes ({}) are held at zero in the allocations above (an ideal rate table); the direct allocation with the rate tolerances (JSON `rate_allocation`) allocates them with the angles, and `check-turntable` bounds them by a vendor's sheet",
         e2e.extra_names().join(", ")
@@ -38,7 +38,7 @@ pub fn rate_steps_note(e2e: &EndToEnd) -> String {
 /// # Errors
 /// An [`InputError`] naming the sheet's key when the study has rate steps and the sheet
 /// bounds a translation or a turning joint's rate accuracy or ripple not at all.
-pub fn extra_bounds(e2e: &EndToEnd, sheet: &ToleranceSheet) -> Result<Vec<f64>, InputError> {
+pub(crate) fn extra_bounds(e2e: &EndToEnd, sheet: &ToleranceSheet) -> Result<Vec<f64>, InputError> {
     let t = e2e.turntable();
     e2e.extra_errors()
         .iter()
@@ -112,7 +112,7 @@ impl RateCheck {
 
     /// The noise part of output `k` (`k_sigma` sigma; 0 without noise), output's unit.
     #[must_use]
-    pub fn noise_part(&self, k: usize) -> f64 {
+    pub(crate) fn noise_part(&self, k: usize) -> f64 {
         self.noise.as_ref().map_or(0.0, |n| n.margin(k))
     }
 
@@ -161,7 +161,7 @@ impl RateCheck {
 ///
 /// # Errors
 /// As [`crate::end_to_end::noise_budget`].
-pub fn noise_part(s: &Study, e2e: &EndToEnd, k_sigma: f64) -> Result<Option<NoisePart>> {
+pub(crate) fn noise_part(s: &Study, e2e: &EndToEnd, k_sigma: f64) -> Result<Option<NoisePart>> {
     Ok(crate::end_to_end::noise_budget(s, e2e)?.map(|b| NoisePart {
         sigma: b.sigma(),
         k_sigma,
