@@ -716,7 +716,7 @@ pub(crate) struct AxisOracle<'m, S: LinearErrorModel + ?Sized> {
 
 impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     /// The oracle; checks the lengths once so that later searches cannot fail.
-    pub fn new(
+    pub(crate) fn new(
         model: &'m S,
         quantity: usize,
         components: Vec<usize>,
@@ -735,12 +735,12 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// Whether the search of this oracle is exact.
-    pub fn exact(&self) -> bool {
+    pub(crate) fn exact(&self) -> bool {
         self.exact
     }
 
     /// The weight vector over all errors for the components' values `x`.
-    pub fn full(&self, x: &[f64]) -> Vec<f64> {
+    pub(crate) fn full(&self, x: &[f64]) -> Vec<f64> {
         let mut w = vec![0.0; self.model.n_errors()];
         for (k, &i) in self.components.iter().enumerate() {
             w[i] = x[k];
@@ -759,7 +759,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// The cut of a worst row (its components).
-    pub fn row(&self, r: &WorstRow) -> Cut {
+    pub(crate) fn row(&self, r: &WorstRow) -> Cut {
         Cut {
             coefficients: self
                 .components
@@ -773,7 +773,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
 
     /// Start rows: the model's [`LinearErrorModel::start_rows`] (the search at equal weights
     /// when it has none); rows equal to an earlier one are dropped.
-    pub fn grid(&self) -> Vec<Cut> {
+    pub(crate) fn grid(&self) -> Vec<Cut> {
         let mut start = self.model.start_rows(self.quantity);
         if start.is_empty() {
             start.push(self.search_infallible(&vec![1.0; self.components.len()]));

@@ -364,7 +364,7 @@ impl WhiteDensity {
     /// The family of outputs the unit belongs to (`None` for `white_per_sqrt_hz`, which is
     /// in the output's own unit).
     #[must_use]
-    pub fn family(&self) -> Option<UnitFamily> {
+    pub(crate) fn family(&self) -> Option<UnitFamily> {
         match self {
             WhiteDensity::DegPerSqrtH(_) => Some(UnitFamily::AngularRate),
             WhiteDensity::UgPerSqrtHz(_) | WhiteDensity::MPerSPerSqrtH(_) => {

@@ -409,7 +409,7 @@ fn lane_sums_shifted(v: &[f64], c: f64) -> (f64, f64) {
 }
 
 impl Partial {
-    pub fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
+    pub(crate) fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
         Self {
             n: 0,
             mean: [0.0; 3],

@@ -70,7 +70,7 @@ pub(crate) enum ValueConvention {
 impl ValueConvention {
     /// The factor from the sheet's value to the bound.
     #[must_use]
-    pub fn factor(self) -> f64 {
+    pub(crate) fn factor(self) -> f64 {
         match self {
             ValueConvention::Bound => 1.0,
             ValueConvention::OneSigma => 3.0,
@@ -80,7 +80,7 @@ impl ValueConvention {
 
     /// The name a sheet writes (`bound`, `one-sigma`, `peak-to-peak`).
     #[must_use]
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             ValueConvention::Bound => "bound",
             ValueConvention::OneSigma => "one-sigma",

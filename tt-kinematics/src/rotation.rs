@@ -62,7 +62,7 @@ pub(crate) fn homogeneous(r: &Matrix3<f64>) -> Matrix4<f64> {
 
 /// A pure translation as a homogeneous transform.
 #[must_use]
-pub fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
+pub(crate) fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
     let mut t = Matrix4::identity();
     t.fixed_view_mut::<3, 1>(0, 3).copy_from(d);
     t

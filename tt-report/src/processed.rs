@@ -35,7 +35,7 @@ impl ProcessedRun {
 
     /// The flags as given.
     #[must_use]
-    pub fn flags(&self) -> &[String] {
+    pub(crate) fn flags(&self) -> &[String] {
         &self.flags
     }
 }

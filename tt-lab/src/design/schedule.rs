@@ -371,7 +371,7 @@ pub struct CombinedChoice {
 /// A schedule's noise alone, for the comparison where neither leaves room for a table.
 #[derive(Debug, Clone, Copy)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct NoiseStanding {
+pub(crate) struct NoiseStanding {
     /// The largest k sigma / accuracy over the outputs at the study's dwell (above 1: the
     /// noise alone exceeds an accuracy).
     noise_over_accuracy: f64,
@@ -480,7 +480,7 @@ pub struct NoiseCounted {
 impl NoiseCounted {
     /// The allocation with the noise part kept free; `None` when no table suffices.
     #[must_use]
-    pub fn allocation(&self) -> Option<&e2e_verify::DirectAllocation> {
+    pub(crate) fn allocation(&self) -> Option<&e2e_verify::DirectAllocation> {
         self.allocation.as_ref()
     }
 
@@ -491,7 +491,7 @@ impl NoiseCounted {
     }
 
     /// J, arcmin^-2 (`None`: no table suffices).
-    pub fn objective_arcmin(&self) -> Option<f64> {
+    pub(crate) fn objective_arcmin(&self) -> Option<f64> {
         self.allocation
             .as_ref()
             .map(e2e_verify::DirectAllocation::objective_arcmin)
@@ -620,7 +620,7 @@ pub(crate) struct WithStudyJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct CertifiedJson {
+pub(crate) struct CertifiedJson {
     /// J, arcmin^-2.
     objective: f64,
     /// Its bounds, arcmin.

@@ -80,6 +80,10 @@ pub struct RowJson {
 /// One specification's verdict (`specifications[]`), in the specification's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct SpecJson {
     /// `output coefficient (kind)`, `output error over +-R unit`, `output accuracy (eq 14)`.
     pub quantity: String,
