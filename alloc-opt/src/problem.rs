@@ -264,7 +264,7 @@ impl Weights {
     /// # Panics
     /// When `k` is out of range or `ub_rad` is shorter than [`Weights::n_errors`].
     #[must_use]
-    pub(crate) fn objective_of(&self, k: usize, ub_rad: &[f64]) -> f64 {
+    pub fn objective_of(&self, k: usize, ub_rad: &[f64]) -> f64 {
         (0..self.n_errors())
             .map(|i| {
                 let w = self.of(k, i);

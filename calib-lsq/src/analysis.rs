@@ -934,10 +934,7 @@ impl OrientationErrorAnalysis {
     ///
     /// # Errors
     /// As [`analyze`](Self::analyze).
-    pub(crate) fn error_vector(
-        &self,
-        delta_r: &[Matrix3<f64>],
-    ) -> Result<DVector<f64>, CalibError> {
+    pub fn error_vector(&self, delta_r: &[Matrix3<f64>]) -> Result<DVector<f64>, CalibError> {
         let actual = self.schedule.actual_inputs(&self.site, delta_r)?;
         let t = self.terms(&actual, self.reading.needs_beta_2())?;
         let mut error = vec![0.0; actual.len()];

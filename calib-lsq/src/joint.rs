@@ -48,7 +48,7 @@ pub const JOINT_RANK_RTOL: f64 = 1e-8;
 /// A parameter's share (norm of its row in an orthonormal basis) at or below this counts as
 /// zero when sorting parameters into estimable alone / only in combinations / invisible, and a
 /// combination's coefficient at or below it is dropped (dimensionless; unit vectors).
-pub(crate) const SHARE_TOL: f64 = 1e-6;
+pub const SHARE_TOL: f64 = 1e-6;
 
 /// One output of a joint least squares: its regression $\mathbf A_k$ (nominal), the
 /// first-order effect of the extra parameters on its outputs $\mathbf D_k$ ($n \times m$,

@@ -5,9 +5,9 @@ use crate::error::CalibError;
 use crate::schedule::{Position, Schedule};
 
 /// Outer-axis angles of the default schedule, degrees.
-pub(crate) const DEFAULT_PHI_1_DEG: [f64; 4] = [0.0, 90.0, 180.0, 270.0];
+pub const DEFAULT_PHI_1_DEG: [f64; 4] = [0.0, 90.0, 180.0, 270.0];
 /// Inner-axis angles of the default schedule, degrees.
-pub(crate) const DEFAULT_PHI_2_DEG: [f64; 8] = [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0];
+pub const DEFAULT_PHI_2_DEG: [f64; 8] = [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0];
 
 /// The default schedule of the paper's two-axis table: the 32 positions
 /// $\phi_1 \in \{0, 90, 180, 270\}°$ times $\phi_2 \in \{0, 45, \dots, 315\}°$, with

@@ -588,7 +588,7 @@ impl OutputRegion {
     /// sensitivity. It is proportional to $\omega_m$: the search starts there, so it does not
     /// depend on the scale of the accuracy.
     #[must_use]
-    pub(crate) fn first_order_radius(&self) -> Option<f64> {
+    pub fn first_order_radius(&self) -> Option<f64> {
         self.gain.map(|g| self.accuracy / g)
     }
 
@@ -768,7 +768,7 @@ impl OutputRegion {
     /// # Errors
     /// [`CalibError::Unbounded`] if the region is not bounded within [`RequirementParams::search_limit_rad`];
     /// [`CalibError::NoSensitivity`] for an output insensitive to every angle.
-    pub(crate) fn max_box(&self) -> Result<OutputBox, CalibError> {
+    pub fn max_box(&self) -> Result<OutputBox, CalibError> {
         let Some((f, reference)) = self.linear_scale() else {
             return self.max_box_direct();
         };

@@ -121,7 +121,7 @@ impl AngleYield {
 /// (A harmonic pair is bounded tighter by [`crate::disc::PairModel`], which has the schedule's
 /// angles: [`crate::disc::disc_dual`].)
 #[must_use]
-pub(crate) fn disc_dual_norm(expansion: &Expansion, s: &[f64], a: usize, b: usize) -> f64 {
+pub fn disc_dual_norm(expansion: &Expansion, s: &[f64], a: usize, b: usize) -> f64 {
     crate::disc::disc_dual(expansion, s, None, a, b).upper
 }
 

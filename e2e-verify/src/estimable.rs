@@ -95,7 +95,7 @@ impl crate::EstimableQuestions<'_> {
     ///
     /// # Errors
     /// As [`crate::EndToEnd::with_reading`].
-    pub(crate) fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
+    pub fn table_effects(&self) -> Result<Vec<DMatrix<f64>>, E2eError> {
         self.static_only("the joint estimation of table errors")?;
         Ok(self.split_outputs(&self.with_reading(EFFECT_READING)?.linearization()))
     }

@@ -108,7 +108,7 @@ pub mod sensitivity;
 pub mod sheet;
 mod simulate;
 mod specified_yield;
-pub(crate) mod timedomain;
+pub mod timedomain;
 pub mod ziggurat;
 
 pub use allocate::{

@@ -714,7 +714,7 @@ impl crate::RateQuestions<'_> {
     /// enters: the allocation is the same in any unit. A tolerance no output depends on gets
     /// weight 0 (no bound).
     #[must_use]
-    pub(crate) fn rate_tolerance_weights(&self, combined: &crate::Linearization) -> Vec<f64> {
+    pub fn rate_tolerance_weights(&self, combined: &crate::Linearization) -> Vec<f64> {
         let n_angles = self.n_errors();
         let acc = self.accuracies();
         let a = combined.matrix();

@@ -418,7 +418,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// The first-order rotation vectors $\mathbf v_{ij}$ (x, y, z) of every position $i$ and
     /// error $j$: $\Delta\mathbf R_i \approx \mathbf I + [\sum_j\chi_j\mathbf v_{ij}]_\times$.
     #[must_use]
-    pub(crate) fn rotation_vectors(&self) -> &[Vec<Vector3<f64>>] {
+    pub fn rotation_vectors(&self) -> &[Vec<Vector3<f64>>] {
         &self.vectors
     }
 
@@ -510,7 +510,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// The values of [`EndToEnd::extra_errors`] (m, relative), zero unless set by
     /// [`EndToEnd::with_extra_values`].
     #[must_use]
-    pub(crate) fn extra_values(&self) -> &[f64] {
+    pub fn extra_values(&self) -> &[f64] {
         &self.extra_values
     }
 
@@ -968,7 +968,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     /// The number of estimated coefficients of every output together (the length of
     /// [`EndToEnd::coefficient_errors`]).
     #[must_use]
-    pub(crate) fn n_coefficients(&self) -> usize {
+    pub fn n_coefficients(&self) -> usize {
         self.calibration
             .outputs()
             .iter()
@@ -983,7 +983,7 @@ impl<S: ScheduleErrorModel> EndToEnd<S> {
     ///
     /// # Errors
     /// As [`EndToEnd::delta_omega_into`]; [`E2eError::Field`] (length) for a wrong `out`.
-    pub(crate) fn coefficient_errors_into(
+    pub fn coefficient_errors_into(
         &self,
         chi_rad: &[f64],
         work: &mut DrawWork,

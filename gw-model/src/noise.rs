@@ -364,7 +364,7 @@ impl WhiteDensity {
     /// The family of outputs the unit belongs to (`None` for `white_per_sqrt_hz`, which is
     /// in the output's own unit).
     #[must_use]
-    pub(crate) fn family(&self) -> Option<UnitFamily> {
+    pub fn family(&self) -> Option<UnitFamily> {
         match self {
             WhiteDensity::DegPerSqrtH(_) => Some(UnitFamily::AngularRate),
             WhiteDensity::UgPerSqrtHz(_) | WhiteDensity::MPerSPerSqrtH(_) => {
@@ -463,7 +463,7 @@ impl Window {
 
     /// The length of the intersection with `other`, s (0 for disjoint windows).
     #[must_use]
-    pub(crate) fn overlap_s(&self, other: &Window) -> f64 {
+    pub fn overlap_s(&self, other: &Window) -> f64 {
         (self.end_s().min(other.end_s()) - self.start_s.max(other.start_s)).max(0.0)
     }
 }
@@ -609,7 +609,7 @@ pub const FLICKER_BANK_RATIO: f64 = 3.162_277_660_168_379_5;
 /// [`FLICKER_BANK_RATIO`] the bank's Allan deviation is within 0.4% of the flicker floor
 /// over those time scales (the truncated tails, $2/u$ and $2u/3$ of
 /// $\int a(u)\,d\ln u = 2\ln 2$, and the ripple of the geometric spacing).
-pub(crate) const FLICKER_BANK_REACH: f64 = 100.0;
+pub const FLICKER_BANK_REACH: f64 = 100.0;
 
 /// Points per decade at which a [`FlickerBank`]'s Allan deviation is compared with the
 /// flicker floor to state its fit error.
@@ -1029,11 +1029,7 @@ impl NoiseModel {
     /// for one window, $-Q^2/(T_1T_2)$ where one window ends as the other starts, output
     /// unit squared.
     #[must_use]
-    pub(crate) fn angle_quantization_covariance_of_averages(
-        &self,
-        w1: &Window,
-        w2: &Window,
-    ) -> f64 {
+    pub fn angle_quantization_covariance_of_averages(&self, w1: &Window, w2: &Window) -> f64 {
         if self.angle_quantization <= 0.0 {
             return 0.0;
         }

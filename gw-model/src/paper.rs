@@ -11,7 +11,7 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// Latitude of the authors' site, Harbin (Harbin Institute of Technology), degrees north.
 /// The paper gives no latitude (NOTES item 8): our assumption.
-pub(crate) const HARBIN_LATITUDE_DEG: f64 = 45.75;
+pub const HARBIN_LATITUDE_DEG: f64 = 45.75;
 
 /// The required calibration accuracy of §2.3 and §4.3, deg/h.
 pub const OMEGA_M_DEG_PER_H: f64 = 0.01;
@@ -26,15 +26,15 @@ pub const TABLE_1_X_DEG_PER_H: [f64; 7] = [-93.3, -43.2, 3.5, -1.2, 2.1, -0.089,
 pub const TABLE_1_Y_DEG_PER_H: [f64; 7] = [105.3, 2.2, -33.2, -0.1, -10.6, -10.38, 47.8];
 
 /// Coefficient names of the $x$ axis as used in the study file (eq 1 order).
-pub(crate) const X_NAMES: [&str; 7] = ["dx_f", "dx_x", "dx_y", "dx_z", "dx_xx", "dx_zz", "dx_xy"];
+pub const X_NAMES: [&str; 7] = ["dx_f", "dx_x", "dx_y", "dx_z", "dx_xx", "dx_zz", "dx_xy"];
 
 /// Coefficient names of the $y$ axis as used in the study file (eq 1 order).
-pub(crate) const Y_NAMES: [&str; 7] = ["dy_f", "dy_x", "dy_y", "dy_z", "dy_yy", "dy_zz", "dy_yx"];
+pub const Y_NAMES: [&str; 7] = ["dy_f", "dy_x", "dy_y", "dy_z", "dy_yy", "dy_zz", "dy_yx"];
 
 /// The regressors of eq 1 (eq 2 with NOTES item 2 corrected): $x$: $1, a_x, a_y, a_z, a_x^2,
 /// a_z^2, a_xa_y$; $y$: $1, a_x, a_y, a_z, a_y^2, a_z^2, a_xa_y$.
 #[must_use]
-pub(crate) fn regressors(x_axis: bool) -> [Regressor; 7] {
+pub fn regressors(x_axis: bool) -> [Regressor; 7] {
     let a = Regressor::input;
     let quad = if x_axis {
         a(Input::Ax).times(a(Input::Ax))

@@ -129,7 +129,7 @@ impl ErrorBox {
 
     /// $\max_i \mathrm{UB}_i$, rad (0 for an empty box).
     #[must_use]
-    pub(crate) fn max_ub_rad(&self) -> f64 {
+    pub fn max_ub_rad(&self) -> f64 {
         self.ub_rad.iter().fold(0.0_f64, |m, &x| m.max(x))
     }
 

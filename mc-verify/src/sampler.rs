@@ -239,7 +239,7 @@ impl TurntableSampler {
     /// error index.
     #[inline(always)]
     #[must_use]
-    pub(crate) fn chi_from_word(&self, i: usize, w: u32) -> f64 {
+    pub fn chi_from_word(&self, i: usize, w: u32) -> f64 {
         let t = f64::from(w as i32) + 0.5;
         t * self.scale_rad[i] + self.lb_rad[i].copysign(t)
     }
@@ -248,7 +248,7 @@ impl TurntableSampler {
     /// module table). Panics if `joint` is not a joint index.
     #[inline(always)]
     #[must_use]
-    pub(crate) fn angle_from_word(&self, joint: usize, w: u32) -> f64 {
+    pub fn angle_from_word(&self, joint: usize, w: u32) -> f64 {
         self.joints[joint].angle(w)
     }
 

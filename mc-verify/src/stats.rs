@@ -199,7 +199,7 @@ impl Histogram {
 
     /// Bin width $w$ (the values' unit).
     #[must_use]
-    pub(crate) fn bin_width(&self) -> f64 {
+    pub fn bin_width(&self) -> f64 {
         (self.hi - self.lo) / self.counts.len() as f64
     }
 
@@ -409,7 +409,7 @@ fn lane_sums_shifted(v: &[f64], c: f64) -> (f64, f64) {
 }
 
 impl Partial {
-    pub(crate) fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
+    pub fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
         Self {
             n: 0,
             mean: [0.0; 3],
@@ -512,7 +512,7 @@ impl Partial {
     }
 
     /// Fold a later partial in (`other` covers samples after all of `self`'s).
-    pub(crate) fn merge(&mut self, other: &Partial) {
+    pub fn merge(&mut self, other: &Partial) {
         for k in 0..3 {
             if other.max_abs[k] > self.max_abs[k] {
                 self.max_abs[k] = other.max_abs[k];
@@ -539,7 +539,7 @@ impl Partial {
     }
 
     /// The public histogram of axis `k`.
-    pub(crate) fn histogram(&self, k: usize) -> Histogram {
+    pub fn histogram(&self, k: usize) -> Histogram {
         let h = &self.hist[k];
         let bins = h.len() - 2;
         Histogram {

@@ -1062,7 +1062,7 @@ impl DesignProblem {
     ///
     /// # Errors
     /// As [`DesignProblem::design`].
-    pub(crate) fn restarts(
+    pub fn restarts(
         &self,
         settings: &DesignSettings,
         given: &[(StartKind, Vec<usize>)],

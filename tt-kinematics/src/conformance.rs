@@ -304,7 +304,7 @@ pub fn check_model_general<M: OrientationErrorModel + ?Sized>(
 ///
 /// # Errors
 /// The [`Failure`] naming the coefficient and both values.
-pub(crate) fn check_derived_first_order<M: OrientationErrorModel + ?Sized>(
+pub fn check_derived_first_order<M: OrientationErrorModel + ?Sized>(
     model: &M,
     pose: &Pose,
     zero: &TurntableErrors,
@@ -343,7 +343,7 @@ pub(crate) fn check_derived_first_order<M: OrientationErrorModel + ?Sized>(
 ///
 /// # Errors
 /// The first [`Failure`].
-pub(crate) fn check_rotation<M: OrientationErrorModel + ?Sized>(
+pub fn check_rotation<M: OrientationErrorModel + ?Sized>(
     model: &M,
     case: &Case,
     tol: &Tolerances,

@@ -331,7 +331,7 @@ impl LinearModel {
     /// $(\cos\phi_j, \sin\phi_j)$ of the free joints, so it vanishes everywhere if and only if
     /// it vanishes on the $3^d$ quarter-turn points $\{0, 90°, 180°\}^d$.
     #[must_use]
-    pub(crate) fn is_involved(&self, axis: OrientationAxis, error: usize) -> bool {
+    pub fn is_involved(&self, axis: OrientationAxis, error: usize) -> bool {
         let d = self.free_joints().len();
         let mut quarters = vec![0usize; d];
         loop {

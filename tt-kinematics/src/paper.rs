@@ -176,7 +176,7 @@ impl OrientationErrorModel for ClosedForm {
 /// eq 17-20 exactly as printed (small-angle matrices, translation in metres, eq 18's rotation
 /// before translation), for $\chi$ in the order of eq 25 and $\Delta\eta$.
 #[must_use]
-pub(crate) fn printed_links(
+pub fn printed_links(
     phi1_rad: f64,
     phi2_rad: f64,
     chi: &[f64; 8],

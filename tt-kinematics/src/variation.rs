@@ -46,7 +46,7 @@ pub const MAX_HARMONIC_ORDER: u32 = 64;
 /// Grid points per harmonic order of the dual-norm program ([`harmonic_dual_norm`]): with
 /// $M = 128K$ equispaced points, the grid value is within the factor $1 - \pi K/M = 1 -
 /// \pi/128$ (2.5%) of the true dual norm (Bernstein), and the bound used is rigorous either way.
-pub(crate) const GRID_POINTS_PER_ORDER: usize = 128;
+pub const GRID_POINTS_PER_ORDER: usize = 128;
 
 /// Two angles of a joint closer than this (rad, modulo a turn) are one angle of an
 /// [`ErrorVariation::Any`] error: schedule angles are written in degrees with a few decimals,
@@ -319,7 +319,7 @@ impl BoundGroup {
     /// `s` reaches (or, for harmonics, comes within the certified bracket of) its dual norm:
     /// the worst error shape, to be scaled by the bound.
     #[must_use]
-    pub(crate) fn worst_point(&self, s: &[f64]) -> Vec<f64> {
+    pub fn worst_point(&self, s: &[f64]) -> Vec<f64> {
         let sign = |v: f64| if v < 0.0 { -1.0 } else { 1.0 };
         match &self.shape {
             GroupShape::Constant | GroupShape::Any { .. } => s.iter().map(|v| sign(*v)).collect(),
@@ -841,7 +841,7 @@ pub struct HarmonicDualNorm {
 /// [`HarmonicDualNorm::lower`] is attained (the worst error shape found), or $\pm$ the
 /// constant one when the program gives nothing better.
 #[must_use]
-pub(crate) fn harmonic_worst_shape(orders: &[u32], s: &[f64], extra: &[f64]) -> Vec<f64> {
+pub fn harmonic_worst_shape(orders: &[u32], s: &[f64], extra: &[f64]) -> Vec<f64> {
     let mut best = vec![0.0; s.len()];
     best[0] = if s[0] < 0.0 { -1.0 } else { 1.0 };
     if orders.is_empty()

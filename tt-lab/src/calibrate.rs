@@ -16,7 +16,7 @@ use study::Study;
 
 /// The decision rule of every specification judged on a run: the ILAC-G8 guard band
 /// w = U (the expanded uncertainty).
-pub(crate) const DECISION_RULE: DecisionRule = DecisionRule::GuardBandExpanded;
+pub const DECISION_RULE: DecisionRule = DecisionRule::GuardBandExpanded;
 
 /// What [`calibrate`] does with the recording.
 #[derive(Debug, Clone)]

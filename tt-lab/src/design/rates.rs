@@ -77,7 +77,7 @@ impl RateChoice {
 
     /// The study's own rates with the designed positions: J (arcmin^-2), `None` as above.
     #[must_use]
-    pub(crate) fn study_rates_objective_arcmin(&self) -> Option<f64> {
+    pub fn study_rates_objective_arcmin(&self) -> Option<f64> {
         self.study_rates_objective_arcmin
     }
 

@@ -25,7 +25,7 @@ pub use crate::loaded::STATIC_REQUIREMENT_NOTE;
 /// `requirement_note`): the requirement is static, and the errors only rotation exposes are
 /// held at zero.
 #[must_use]
-pub(crate) fn rate_steps_note(e2e: &EndToEnd) -> String {
+pub fn rate_steps_note(e2e: &EndToEnd) -> String {
     format!(
         "{STATIC_REQUIREMENT_NOTE}; the errors only rotation exposes ({}) are held at zero in the allocations above (an ideal rate table); the direct allocation with the rate tolerances (JSON `rate_allocation`) allocates them with the angles, and `check-turntable` bounds them by a vendor's sheet",
         e2e.extra_names().join(", ")

@@ -42,7 +42,7 @@ pub fn compute(s: &Study, e2e: &EndToEnd, ub_rad: &[f64]) -> Result<Option<PlanV
 /// deg/h/rad); $10^{-9}$ leaves seven orders of magnitude for the schedule's condition
 /// number, and a true coefficient that small adds less than $10^{-18}$ of the largest term
 /// to $u_c^2$ at equal $u(x)$: no printed digit changes.
-pub(crate) const NUMERICAL_ZERO_REL: f64 = 1e-9;
+pub const NUMERICAL_ZERO_REL: f64 = 1e-9;
 
 /// Whether the sensitivity `c` is numerically zero: $|c|$ below [`NUMERICAL_ZERO_REL`] of
 /// `scale` (the largest $|c|$ of the rows of its input's unit).
