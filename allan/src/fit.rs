@@ -55,7 +55,7 @@ pub const FLICKER_FLOOR_FACTOR: f64 = 0.664_282_470_267_960_1;
 pub(crate) const EXPONENTS: [i32; 5] = [-2, -1, 0, 1, 2];
 
 /// Points of the logarithmic correlation-time grid of the Gauss-Markov search.
-pub const GM_GRID: usize = 97;
+pub(crate) const GM_GRID: usize = 97;
 
 /// $k$ with parameter $= \sqrt{k\,C_n}$ for $n = -2 \dots 2$: $Q = \sqrt{C_{-2}/3}$,
 /// $N = \sqrt{C_{-1}}$, $B = \sqrt{C_0}/0.664$, $K = \sqrt{3 C_1}$, $R = \sqrt{2 C_2}$.
@@ -152,7 +152,7 @@ impl Term {
 /// The weighted least-squares fit of the power terms, in normalized units (variance over
 /// `var_scale`, cluster time over `tau_scale`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct PowerFit {
+pub(crate) struct PowerFit {
     /// Normalized coefficients $c_n$ ($C_n = c_n\,A\,T^{-n}$) for $n = -2 \dots 2$.
     pub(crate) coefficients: [f64; 5],
     /// Their covariance (zero rows and columns for the terms not in the fit).
@@ -170,7 +170,7 @@ pub struct PowerFit {
 impl PowerFit {
     /// The fitted Allan variance at `tau_s`, log unit squared.
     #[must_use]
-    pub fn avar(&self, tau_s: f64) -> f64 {
+    pub(crate) fn avar(&self, tau_s: f64) -> f64 {
         let x = tau_s / self.tau_scale;
         self.var_scale * dot(&self.coefficients, &powers(x))
     }
@@ -191,7 +191,7 @@ impl PowerFit {
     /// $C_n$ for $n = -2 \dots 2$, log unit$^2$ s$^{-n}$ (may overflow a double for extreme
     /// scales: the parameters do not).
     #[must_use]
-    pub fn coefficients(&self) -> [f64; 5] {
+    pub(crate) fn coefficients(&self) -> [f64; 5] {
         let mut c = [0.0; 5];
         for (k, n) in EXPONENTS.iter().enumerate() {
             c[k] = self.coefficients[k] * self.var_scale * self.tau_scale.powi(-n);
@@ -201,7 +201,7 @@ impl PowerFit {
 
     /// The parameters $Q, N, B, K, R$ with their uncertainties and resolution.
     #[must_use]
-    pub fn terms(&self) -> [Term; 5] {
+    pub(crate) fn terms(&self) -> [Term; 5] {
         let mut out = [Term::ZERO; 5];
         for (k, n) in EXPONENTS.iter().enumerate() {
             out[k] = term(

@@ -49,7 +49,7 @@ impl PowerLaw {
     /// below $-1$ are [`PowerLaw::Quantization`], above $+1/2$ (a ramp) [`PowerLaw::RandomWalk`];
     /// a non-finite slope is [`PowerLaw::White`].
     #[must_use]
-    pub fn nearest_to_slope(slope: f64) -> PowerLaw {
+    pub(crate) fn nearest_to_slope(slope: f64) -> PowerLaw {
         if !slope.is_finite() {
             PowerLaw::White
         } else if slope < -0.75 {

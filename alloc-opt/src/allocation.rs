@@ -740,7 +740,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// The weight vector over all errors for the components' values `x`.
-    pub fn full(&self, x: &[f64]) -> Vec<f64> {
+    pub(crate) fn full(&self, x: &[f64]) -> Vec<f64> {
         let mut w = vec![0.0; self.model.n_errors()];
         for (k, &i) in self.components.iter().enumerate() {
             w[i] = x[k];
@@ -759,7 +759,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// The cut of a worst row (its components).
-    pub fn row(&self, r: &WorstRow) -> Cut {
+    pub(crate) fn row(&self, r: &WorstRow) -> Cut {
         Cut {
             coefficients: self
                 .components
@@ -773,7 +773,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
 
     /// Start rows: the model's [`LinearErrorModel::start_rows`] (the search at equal weights
     /// when it has none); rows equal to an earlier one are dropped.
-    pub fn grid(&self) -> Vec<Cut> {
+    pub(crate) fn grid(&self) -> Vec<Cut> {
         let mut start = self.model.start_rows(self.quantity);
         if start.is_empty() {
             start.push(self.search_infallible(&vec![1.0; self.components.len()]));
@@ -795,7 +795,11 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// Reject lower bounds that alone exceed the requirement, naming the errors.
-    pub fn check_lower_bounds(&self, lower: &[f64], names: &[String]) -> Result<(), AllocError> {
+    pub(crate) fn check_lower_bounds(
+        &self,
+        lower: &[f64],
+        names: &[String],
+    ) -> Result<(), AllocError> {
         let worst = self.most_violated(lower);
         let load = worst.load(lower);
         if load > 1.0 {

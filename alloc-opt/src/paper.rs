@@ -69,7 +69,7 @@ pub mod claims {
 
     /// Half a unit of Table 4's last printed digit (arcmin): two bounds that agree to the
     /// printing agree within this.
-    pub const TABLE4_PRINT_HALF_UNIT_ARCMIN: f64 = 5e-5;
+    pub(crate) const TABLE4_PRINT_HALF_UNIT_ARCMIN: f64 = 5e-5;
 
     /// The shares of the requirement a certificate uses, as `91.4% / 96.3% / 91.4%` (`-`
     /// where an angle has no requirement).

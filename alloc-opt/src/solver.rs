@@ -42,7 +42,7 @@ use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, S
 
 /// Stop the exchange method when the exact constraint exceeds 1 by less than this (relative).
 /// The conic solver is run to about $10^{-10}$; the final rescaling removes what is left.
-pub const CUT_TOLERANCE: f64 = 1e-9;
+pub(crate) const CUT_TOLERANCE: f64 = 1e-9;
 
 /// Maximum number of exchange iterations before [`AllocError::NoConvergence`].
 pub(crate) const MAX_EXCHANGE_ITERATIONS: usize = 200;

@@ -122,7 +122,7 @@ impl SensitivityWeighted {
     ///
     /// # Errors
     /// As [`Weights::new`] for explicit weights that do not fit the model.
-    pub fn weights_for<M: LinearErrorModel>(
+    pub(crate) fn weights_for<M: LinearErrorModel>(
         &self,
         problem: &AllocationProblem<M>,
     ) -> Result<Weights, AllocError> {

@@ -41,7 +41,7 @@
 #![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
 
-pub mod analysis;
+pub(crate) mod analysis;
 mod calibration;
 mod columns;
 mod error;

@@ -596,7 +596,7 @@ impl OutputRegion {
     /// it the box is computed at this accuracy and scaled (`None` without a first-order
     /// sensitivity). It does not depend on the output's own accuracy.
     #[must_use]
-    pub fn linear_regime_accuracy(&self) -> Option<f64> {
+    pub(crate) fn linear_regime_accuracy(&self) -> Option<f64> {
         self.gain.map(|g| self.params.linear_regime_rad * g)
     }
 

@@ -18,7 +18,7 @@ use std::io::{Read, Write};
 use std::path::Path;
 
 /// The format tag of a calibration file.
-pub const FORMAT: &str = "calib-run/1";
+pub(crate) const FORMAT: &str = "calib-run/1";
 
 /// The calibration file's format, chosen by its extension: `.json` or `.toml` (the same
 /// content either way).
@@ -202,7 +202,7 @@ impl CalibrationFile {
     ///
     /// # Errors
     /// [`RunError::Internal`] when serialization fails (it does not for a file of a run).
-    pub fn to_text(&self, format: Format) -> Result<String, RunError> {
+    pub(crate) fn to_text(&self, format: Format) -> Result<String, RunError> {
         let mut text = match format {
             Format::Json => {
                 serde_json::to_string_pretty(self).map_err(|e| RunError::Internal(e.to_string()))?

@@ -19,7 +19,7 @@ use std::rc::Rc;
 use std::sync::mpsc;
 
 /// A time step more than this many times the first step (or less than its inverse) is a gap.
-pub const GAP_FACTOR: f64 = 1.5;
+pub(crate) const GAP_FACTOR: f64 = 1.5;
 
 /// How to read a recording's columns.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -58,7 +58,7 @@ pub struct Row<'a> {
 
 /// Saturated samples of one column.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Saturation {
+pub(crate) struct Saturation {
     /// The column's header.
     pub column: String,
     /// Saturated samples.
@@ -83,7 +83,7 @@ pub struct RecordingSummary {
     /// Whether the table's angles were logged.
     pub angles_logged: bool,
     /// Saturated samples per output column (empty without a range).
-    pub saturated: Vec<Saturation>,
+    pub(crate) saturated: Vec<Saturation>,
 }
 
 /// SHA-256 of bytes, hex.

@@ -37,7 +37,7 @@ use std::io::Read;
 
 /// Two static intervals are at the same pose when no output's means differ by more than this
 /// many standard deviations of their difference (measured noise).
-pub const POSE_Z: f64 = 10.0;
+pub(crate) const POSE_Z: f64 = 10.0;
 
 /// The most intervals a detection keeps (a recording with more is not a planned calibration).
 pub(crate) const MAX_INTERVALS: usize = 100_000;
@@ -302,7 +302,7 @@ fn wrap_deg(d: f64) -> f64 {
 }
 
 impl Acc {
-    pub fn push(&mut self, row: &Row<'_>) {
+    pub(crate) fn push(&mut self, row: &Row<'_>) {
         if self.n == 0 {
             let k = row.values.len();
             self.mean = vec![0.0; k];
@@ -342,7 +342,7 @@ impl Acc {
     }
 
     /// Append `b` (the samples right after these).
-    pub fn merge(&mut self, b: &Acc) {
+    pub(crate) fn merge(&mut self, b: &Acc) {
         if b.n == 0 {
             return;
         }
@@ -375,7 +375,7 @@ impl Acc {
         self.saturated += b.saturated;
     }
 
-    pub fn variance(&self, k: usize) -> f64 {
+    pub(crate) fn variance(&self, k: usize) -> f64 {
         if self.n > 1 {
             self.m2[k] / (self.n - 1) as f64
         } else {
@@ -391,7 +391,7 @@ pub(crate) struct StaticAcc {
 }
 
 impl StaticAcc {
-    pub fn new(outputs: usize, rate_hz: f64) -> Result<Self, RunError> {
+    pub(crate) fn new(outputs: usize, rate_hz: f64) -> Result<Self, RunError> {
         let allan = (0..outputs)
             // only the white density and the floor are read (`estimate::pool`)
             .map(|_| StreamingAllan::new(Settings::new(rate_hz).without_gauss_markov()))
@@ -484,7 +484,7 @@ pub(crate) struct Detector {
 }
 
 impl Detector {
-    pub fn new(
+    pub(crate) fn new(
         test: BlockTest,
         block_s: f64,
         min_static_s: f64,
@@ -512,7 +512,7 @@ impl Detector {
         }
     }
 
-    pub fn push(&mut self, row: &Row<'_>) -> Result<(), RunError> {
+    pub(crate) fn push(&mut self, row: &Row<'_>) -> Result<(), RunError> {
         self.block.push(row);
         for (c, &v) in self.block_values.iter_mut().zip(row.values) {
             c.push(v);
@@ -584,7 +584,7 @@ impl Detector {
         }
     }
 
-    pub fn finish(mut self) -> Result<Detected, RunError> {
+    pub(crate) fn finish(mut self) -> Result<Detected, RunError> {
         if self.block.n > 0 {
             // a partial block never rests
             let block = std::mem::take(&mut self.block);

@@ -219,7 +219,7 @@ impl crate::AngleQuestions<'_> {
 
 /// Draws per random stream of [`crate::AngleQuestions::angle_yield`] (chunk $c$ uses
 /// [`mc_verify::chunk_rng`]`(seed, c)`; fixed, so results do not depend on the thread count).
-pub const ANGLE_CHUNK: u64 = 1024;
+pub(crate) const ANGLE_CHUNK: u64 = 1024;
 /// Chunks of the angle-dependent Monte Carlo evaluated per wave (memory: one wave's counts).
 const ANGLE_WAVE_CHUNKS: u64 = 64;
 

@@ -707,7 +707,7 @@ impl crate::RateQuestions<'_> {
     /// relative rate error), as [`crate::EndToEnd::coefficient_linearization`] is for the angles:
     /// zero where no rate step is in the schedule.
     #[must_use]
-    pub fn extra_coefficient_linearization(&self) -> Vec<DMatrix<f64>> {
+    pub(crate) fn extra_coefficient_linearization(&self) -> Vec<DMatrix<f64>> {
         let du = self.extra_input_derivatives();
         self.coefficient_linearization_with(self.extra_errors().len(), |i, j, _| du[i][j])
     }

@@ -107,7 +107,7 @@ impl crate::EstimableQuestions<'_> {
     ///
     /// # Errors
     /// As [`crate::EstimableQuestions::table_effects`] and [`crate::AngleQuestions::linearization_expanded`].
-    pub fn table_effects_expanded(
+    pub(crate) fn table_effects_expanded(
         &self,
         expansion: &Expansion,
     ) -> Result<Vec<DMatrix<f64>>, E2eError> {

@@ -96,7 +96,7 @@ impl Linearization {
 
     /// The name of output `k`: its given name, else `output{k}`.
     #[must_use]
-    pub fn output_name(&self, k: usize) -> String {
+    pub(crate) fn output_name(&self, k: usize) -> String {
         self.names
             .outputs
             .get(k)

@@ -128,7 +128,7 @@ pub fn check_k_sigma(k_sigma: f64) -> Result<f64, E2eError> {
 
 /// Two independent standard normal draws (Box-Muller on two 53-bit uniforms in $(0, 1]$).
 #[inline]
-pub fn standard_normal_pair<R: Rng + ?Sized>(rng: &mut R) -> (f64, f64) {
+pub(crate) fn standard_normal_pair<R: Rng + ?Sized>(rng: &mut R) -> (f64, f64) {
     const SCALE: f64 = 1.0 / (1u64 << 53) as f64;
     let u1 = ((rng.next_u64() >> 11) + 1) as f64 * SCALE;
     let u2 = (rng.next_u64() >> 11) as f64 * SCALE;

@@ -591,7 +591,7 @@ pub const RATE_TOLERANCE_CEILING: f64 = 0.01;
 /// degrees, where the second order of the chain dominates and the exact chain at the worst
 /// vertex fails every accuracy whatever the margins. Held here it reads "not limiting up to
 /// 1 deg"; no precision turntable's sheet comes near it (arcseconds to arcminutes).
-pub const ANGLE_TOLERANCE_CEILING_RAD: f64 = std::f64::consts::PI / 180.0;
+pub(crate) const ANGLE_TOLERANCE_CEILING_RAD: f64 = std::f64::consts::PI / 180.0;
 
 /// Relative room kept below each accuracy when the exact chain at the worst vertex of the
 /// first-order allocation exceeds it: the second-order excess measured there is kept free,
@@ -606,7 +606,7 @@ impl crate::RateQuestions<'_> {
     /// The rate tolerances of the study's extra errors, in the order the extra errors first
     /// name them (translations, then per turning joint its rate accuracy and ripple).
     #[must_use]
-    pub fn rate_tolerances(&self) -> Vec<RateTolerance> {
+    pub(crate) fn rate_tolerances(&self) -> Vec<RateTolerance> {
         let mut out: Vec<RateTolerance> = Vec::new();
         for x in self.extra_errors() {
             let t = RateTolerance::of(*x);
@@ -664,7 +664,7 @@ impl crate::RateQuestions<'_> {
     /// $\sum_{e \in t} |N_{re}|$ (a tolerance bounding two errors, the ripple's parts, takes
     /// both at its bound in the worst case: their parts add). Rows as $\mathbf M$'s.
     #[must_use]
-    pub fn rate_linearization(
+    pub(crate) fn rate_linearization(
         &self,
         linear: &crate::Linearization,
         extra_linear: &crate::Linearization,

@@ -63,7 +63,7 @@ impl ParameterSpread {
     }
     /// $|\sigma_+ - \sigma_-|$, output unit.
     #[must_use]
-    pub fn spread(&self) -> f64 {
+    pub(crate) fn spread(&self) -> f64 {
         (self.sigma_plus - self.sigma_minus).abs()
     }
 }

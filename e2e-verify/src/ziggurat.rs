@@ -50,7 +50,7 @@ const STEP_53: f64 = 1.0 / (1u64 << 53) as f64;
 
 /// Words a [`WordBlock`] reads from its generator at once (1 KiB: four refills of ChaCha's
 /// own 64-word buffer per call).
-pub const BLOCK_WORDS: usize = 256;
+pub(crate) const BLOCK_WORDS: usize = 256;
 
 /// A random stream read [`BLOCK_WORDS`] 32-bit words at a time (see the [module](self)).
 #[derive(Debug, Clone)]

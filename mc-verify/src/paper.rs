@@ -39,7 +39,7 @@ pub mod claims {
         /// Holds for this angle: no draw beyond the rigorous bound, and the bound within the
         /// requirement (so every turntable of the box meets it, drawn or not).
         #[must_use]
-        pub fn holds(&self) -> bool {
+        pub(crate) fn holds(&self) -> bool {
             self.max_abs_rad <= self.rigorous_bound_rad
                 && self
                     .requirement_rad

@@ -180,7 +180,7 @@ impl Budget {
 
     /// The number of input components (columns of the sensitivity matrix).
     #[must_use]
-    pub fn components(&self) -> usize {
+    pub(crate) fn components(&self) -> usize {
         self.u.len()
     }
 

@@ -87,7 +87,7 @@ impl Distribution {
 
     /// Components: 2 for a disc, else 1.
     #[must_use]
-    pub fn components(&self) -> usize {
+    pub(crate) fn components(&self) -> usize {
         if matches!(self, Distribution::Disc { .. }) {
             2
         } else {

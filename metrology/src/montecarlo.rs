@@ -50,7 +50,7 @@ use rayon::prelude::*;
 
 /// The largest coverage probability of a Monte Carlo run: its blocks of $100/(1-p)$ trials
 /// hold $10^7$ values per output.
-pub const MAX_MC_COVERAGE: f64 = 0.999_99;
+pub(crate) const MAX_MC_COVERAGE: f64 = 0.999_99;
 
 /// Trials per chunk (the unit of parallel work and of a ChaCha stream).
 pub(crate) const CHUNK_TRIALS: usize = 512;
@@ -120,7 +120,7 @@ impl Default for McSettings {
 
 /// The block size of JCGM 101 7.9.4 b): $\max(\lceil 100/(1-p) \rceil, 10^4)$.
 #[must_use]
-pub fn block_trials(coverage: f64) -> usize {
+pub(crate) fn block_trials(coverage: f64) -> usize {
     ((100.0 / (1.0 - coverage)).ceil() as usize).max(10_000)
 }
 

@@ -166,7 +166,7 @@ pub struct TimeBudget<'a> {
 impl TimeBudget<'_> {
     /// What the rate steps add to every test (s): their windows and one move before each.
     #[must_use]
-    pub fn rate_steps_s(&self) -> f64 {
+    pub(crate) fn rate_steps_s(&self) -> f64 {
         self.rate_step_s.iter().sum::<f64>() + self.move_s * self.rate_step_s.len() as f64
     }
 

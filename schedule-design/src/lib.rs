@@ -259,7 +259,7 @@ impl Default for SearchParams {
 /// $4 \cdot 8\,\text{bytes} \times$ candidates $\times$ outputs $\times$ errors (130 MB for
 /// 50,000 candidates of a six-output sensor on a 13-error table), and do not grow during the
 /// search.
-pub const MAX_CANDIDATES: usize = 50_000;
+pub(crate) const MAX_CANDIDATES: usize = 50_000;
 
 /// ChaCha8 stream offsets: restart $r$ draws from stream `STREAM_RESTARTS + r`, random
 /// schedule $r$ of the baseline from `STREAM_RANDOM + r`, D-optimal start $r$ from
@@ -1729,11 +1729,11 @@ pub fn design_schedule(
 
 /// Coarse grids are used up to this step (deg): every grid whose step is a whole multiple of
 /// the fine step up to a full turn is one the fine grid contains.
-pub const MAX_COARSE_STEP_DEG: f64 = 360.0;
+pub(crate) const MAX_COARSE_STEP_DEG: f64 = 360.0;
 
 /// Two grid positions are the same candidate when every joint angle agrees to this (deg):
 /// a coarse grid's angles $k(Ms)$ and the fine grid's $(kM)s$ may differ by rounding.
-pub const GRID_MATCH_DEG: f64 = 1e-9;
+pub(crate) const GRID_MATCH_DEG: f64 = 1e-9;
 
 /// The coarse levels of a grid design with step `step_deg`: the multiples $M s$
 /// ($M = 2, 3, \dots$) up to [`MAX_COARSE_STEP_DEG`], as `(M, step)`, coarsest first.

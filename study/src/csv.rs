@@ -154,7 +154,7 @@ impl TurntableColumns {
     /// # Errors
     /// As [`TurntableColumns::from_header`]; with [`JointColumns::Absent`] a joint column is an
     /// error naming it.
-    pub fn from_header_for(
+    pub(crate) fn from_header_for(
         source: &str,
         line_no: usize,
         header: &str,

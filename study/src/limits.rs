@@ -31,16 +31,16 @@ pub(crate) const ACCURACY: (f64, f64) = (1e-12, 1e6);
 /// Largest coefficient magnitude, output unit per regressor unit.
 pub(crate) const COEFFICIENT_ABS_MAX: f64 = 1e6;
 /// Largest joint, fixed or range angle magnitude, deg.
-pub const ANGLE_ABS_MAX_DEG: f64 = 720.0;
+pub(crate) const ANGLE_ABS_MAX_DEG: f64 = 720.0;
 /// Given requirement range, deg.
 pub const REQUIREMENT_DEG: (f64, f64) = (1e-9, 10.0);
 /// Lower bound / angular tolerance range, arcmin.
-pub const ANGLE_TOLERANCE_ARCMIN: (f64, f64) = (0.0, 600.0);
+pub(crate) const ANGLE_TOLERANCE_ARCMIN: (f64, f64) = (0.0, 600.0);
 /// Translation tolerance range, mm.
-pub const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
+pub(crate) const TRANSLATION_TOLERANCE_MM: (f64, f64) = (0.0, 1000.0);
 /// Rate limit of a joint (`turntable.max_rate_deg_per_s.<joint>`), deg/s: rate tables reach
 /// a few thousand deg/s, centrifuges more.
-pub const MAX_RATE_DEG_PER_S: (f64, f64) = (0.0, 1e5);
+pub(crate) const MAX_RATE_DEG_PER_S: (f64, f64) = (0.0, 1e5);
 /// Smallest magnitude of a rate step's rate (`calibration.rate_steps[i].rate_deg_per_s`),
 /// deg/s: one revolution in about 11 years; below it a rate is zero to the computation
 /// (5e-324 deg/s is 0 rad/s).
@@ -59,7 +59,7 @@ pub const MAX_SAMPLES: u64 = 10_000_000_000;
 /// `design-schedule --positions`).
 pub const MAX_POSITIONS: usize = 10_000;
 /// Largest study or tolerance file read, bytes (a study is a few kilobytes).
-pub const MAX_FILE_BYTES: u64 = 4 << 20;
+pub(crate) const MAX_FILE_BYTES: u64 = 4 << 20;
 /// Largest white-noise density, bias instability, quantization step, rate random walk or rate
 /// ramp, in the key's unit.
 pub const NOISE_MAX: f64 = 1e6;
@@ -68,8 +68,8 @@ pub const CORRELATION_S: (f64, f64) = (0.0, 1e7);
 /// Dwell time range per position (exclusive lower end), s.
 pub const DWELL_S: (f64, f64) = (0.0, 86_400.0);
 /// Move time range between positions, s.
-pub const MOVE_S: (f64, f64) = (0.0, 86_400.0);
+pub(crate) const MOVE_S: (f64, f64) = (0.0, 86_400.0);
 /// Sample rate range (exclusive lower end), Hz.
 pub(crate) const SAMPLE_RATE_HZ: (f64, f64) = (0.0, 1e6);
 /// Longest study `name`, characters (it is a file name: see [`crate::is_name_slug`]).
-pub const MAX_NAME_CHARS: usize = 64;
+pub(crate) const MAX_NAME_CHARS: usize = 64;

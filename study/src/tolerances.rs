@@ -70,7 +70,7 @@ pub(crate) enum ValueConvention {
 impl ValueConvention {
     /// The factor from the sheet's value to the bound.
     #[must_use]
-    pub fn factor(self) -> f64 {
+    pub(crate) fn factor(self) -> f64 {
         match self {
             ValueConvention::Bound => 1.0,
             ValueConvention::OneSigma => 3.0,

@@ -203,7 +203,7 @@ impl OrientationError {
 
     /// The rotation vector $(\Delta\gamma, \Delta\psi, \Delta\theta)$ (about $x$, $y$, $z$), rad.
     #[must_use]
-    pub fn rotation_vector(&self) -> Vector3<f64> {
+    pub(crate) fn rotation_vector(&self) -> Vector3<f64> {
         Vector3::new(
             self.delta_gamma_rad,
             self.delta_psi_rad,

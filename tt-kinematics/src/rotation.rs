@@ -54,7 +54,7 @@ pub fn small_angle(v: &Vector3<f64>) -> Matrix3<f64> {
 
 /// Embed a rotation (or any 3x3 block) in a homogeneous transform with zero translation.
 #[must_use]
-pub fn homogeneous(r: &Matrix3<f64>) -> Matrix4<f64> {
+pub(crate) fn homogeneous(r: &Matrix3<f64>) -> Matrix4<f64> {
     let mut t = Matrix4::identity();
     t.fixed_view_mut::<3, 3>(0, 0).copy_from(r);
     t
@@ -62,7 +62,7 @@ pub fn homogeneous(r: &Matrix3<f64>) -> Matrix4<f64> {
 
 /// A pure translation as a homogeneous transform.
 #[must_use]
-pub fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
+pub(crate) fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
     let mut t = Matrix4::identity();
     t.fixed_view_mut::<3, 1>(0, 3).copy_from(d);
     t
@@ -75,7 +75,7 @@ pub fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
 /// keeps full relative precision near $\vartheta = 0$ (unlike $\arccos$). Valid for
 /// $\vartheta < \pi$, which holds for every turntable error of interest.
 #[must_use]
-pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+pub(crate) fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
     let v = 0.5
         * Vector3::new(
             r[(2, 1)] - r[(1, 2)],

@@ -262,7 +262,7 @@ impl BoundGroup {
     /// Names of the coefficients: `name` (constant), `name.c0`, `name.a1`, `name.b1`, ...
     /// (harmonics), `name@90deg` (any).
     #[must_use]
-    pub fn coefficient_names(&self) -> Vec<String> {
+    pub(crate) fn coefficient_names(&self) -> Vec<String> {
         match &self.shape {
             GroupShape::Constant => vec![self.name.clone()],
             GroupShape::Harmonics { orders, .. } => {

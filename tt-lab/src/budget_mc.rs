@@ -84,7 +84,7 @@ impl Jcgm101 {
 
     /// Whether every specification is met under [`MC_RULE`].
     #[must_use]
-    pub fn meets_all(&self) -> bool {
+    pub(crate) fn meets_all(&self) -> bool {
         (0..self.runs.len()).all(|i| self.meets(i))
     }
 }

@@ -254,7 +254,7 @@ pub struct Throughput {
 ///
 /// # Errors
 /// As [`e2e_verify::MonteCarloQuestions::rate_distribution`] (through [`crate::error::library`]).
-pub fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Throughput> {
+pub(crate) fn throughput(e2e: &EndToEnd, a: &BuyersAnswer, seed: u64) -> Result<Throughput> {
     const FAST: u64 = 200_000;
     const REFERENCE: u64 = 400;
     let r = &a.readings()[0];
@@ -323,6 +323,10 @@ pub fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
 /// One output of the calibration (`end-to-end --json` `outputs`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct OutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
@@ -337,7 +341,11 @@ pub struct OutputJson<'a> {
 /// One output's worst case over a box (`worst_case[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct WorstCaseJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct WorstCaseJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// The exact chain at the worst vertex, output's unit.
@@ -355,7 +363,11 @@ pub struct WorstCaseJson<'a> {
 /// A quantile of the Monte Carlo distribution.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct QuantileJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct QuantileJson<'a> {
     /// The probability, in (0, 1).
     pub p: f64,
     /// Each output's quantile, output's unit.
@@ -367,7 +379,11 @@ pub struct QuantileJson<'a> {
 /// A histogram of one output's Monte Carlo distribution.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct HistogramJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct HistogramJson<'a> {
     /// Bin edges, output's unit.
     pub edges: Vec<f64>,
     /// Counts per bin.
@@ -379,7 +395,11 @@ pub struct HistogramJson<'a> {
 /// One box's answer: worst case, verdict and Monte Carlo yield.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct BoxJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct BoxJson<'a> {
     /// The box's name.
     pub name: &'a str,
     /// `meets`, `does_not_meet`, ... ([`e2e_verify::BoxMeets::name`]).
@@ -474,7 +494,11 @@ impl<'a> BoxJson<'a> {
 /// A row of the direct allocation that binds (`active_rows[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ActiveRowJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ActiveRowJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// The test position (index into the schedule).
@@ -488,6 +512,10 @@ pub struct ActiveRowJson<'a> {
 /// `results.json` end to end.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct UnconstrainedJson<'a> {
     /// The errors no output constrains.
     pub unconstrained: Vec<&'a str>,
@@ -509,7 +537,11 @@ impl<'a> UnconstrainedJson<'a> {
 /// The direct allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct DirectJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct DirectJson<'a> {
     /// J, arcmin^-2.
     pub objective: f64,
     /// Its bounds, arcmin.
@@ -530,7 +562,11 @@ pub struct DirectJson<'a> {
 /// The certified direct allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct DirectCertifiedJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct DirectCertifiedJson<'a> {
     /// J, arcmin^-2.
     pub objective: f64,
     /// Its bounds, arcmin.
@@ -546,7 +582,11 @@ pub struct DirectCertifiedJson<'a> {
 /// The yield-based allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct YieldBasedJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct YieldBasedJson<'a> {
     /// J, arcmin^-2.
     pub objective: f64,
     /// The target yield, in (0, 1).
@@ -579,7 +619,11 @@ pub struct YieldBasedJson<'a> {
 /// (`readings[].yield_based.specifications`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct YieldSpecificationsJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct YieldSpecificationsJson<'a> {
     /// What the yield counts ([`e2e_verify::SPECIFIED_YIELD_COUNTS`]).
     pub counts: &'static str,
     /// Design draws.
@@ -603,7 +647,11 @@ pub struct YieldSpecificationsJson<'a> {
 /// The draws meeting one specification.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct SpecificationMeetingJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct SpecificationMeetingJson<'a> {
     /// The specification, `label in unit`.
     pub specification: &'a str,
     /// Draws meeting it.
@@ -639,7 +687,11 @@ impl<'a> YieldSpecificationsJson<'a> {
 /// One reading's answer (`readings[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ReadingJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
     /// Every box's answer.
@@ -711,7 +763,11 @@ impl<'a> ReadingJson<'a> {
 /// One output of a box with the noise part (`noise.boxes[].outputs[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CombinedOutputJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct CombinedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// Its accuracy, output's unit.
@@ -726,7 +782,11 @@ pub struct CombinedOutputJson<'a> {
 /// A box's answer with the noise part.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CombinedBoxJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct CombinedBoxJson<'a> {
     /// The box's name.
     pub name: &'a str,
     /// The weakest output's verdict counting the noise.
@@ -760,7 +820,11 @@ impl<'a> CombinedBoxJson<'a> {
 /// An output that leaves no room for the table (`direct_with_noise.outputs[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct NoRoomJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct NoRoomJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// k sigma of the noise, output's unit.
@@ -773,7 +837,11 @@ pub struct NoRoomJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
-pub enum DirectWithNoiseJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) enum DirectWithNoiseJson<'a> {
     /// A table suffices.
     Allocated {
         /// `false`.
@@ -800,7 +868,11 @@ pub enum DirectWithNoiseJson<'a> {
 /// The noise part of one reading (`readings[].noise`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct NoiseReadingJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct NoiseReadingJson<'a> {
     /// The confidence multiplier.
     pub k_sigma: f64,
     /// Each output's noise sigma, output's unit.
@@ -849,7 +921,11 @@ impl<'a> NoiseReadingJson<'a> {
 /// A point of the time/table trade-off.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct TradeoffPointJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct TradeoffPointJson {
     /// Dwell per position, s.
     pub dwell_s: f64,
     /// Total test time, s.
@@ -862,7 +938,11 @@ pub struct TradeoffPointJson {
 /// The time/table trade-off (top-level keys, with noise in the study).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct TradeoffJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct TradeoffJson {
     /// The confidence multiplier.
     pub k_sigma: f64,
     /// The shortest dwell at which some table suffices, s (`null`: none in the range).
@@ -910,7 +990,11 @@ impl From<&NoisyAnswer> for TradeoffJson {
 /// The throughput measured in the same run (`throughput`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ThroughputJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ThroughputJson {
     /// Fast path, all threads, turntables/s.
     pub fast_path_turntables_per_s: f64,
     /// Fast path, one thread, turntables/s.
@@ -930,6 +1014,10 @@ pub struct ThroughputJson {
 /// `end-to-end --json`: the command's whole answer.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct EndToEndJson<'a> {
     /// The study's path.
     pub study: &'a str,
@@ -960,12 +1048,12 @@ pub struct EndToEndJson<'a> {
     /// `direct_certified`, `yield_based`), arcmin.
     pub bounds_arcmin: BTreeMap<String, ArcminBounds>,
     /// Per reading: every box's answer and the allocations.
-    pub readings: Vec<ReadingJson<'a>>,
+    pub(crate) readings: Vec<ReadingJson<'a>>,
     /// Turntables per second measured in the same run.
-    pub throughput: ThroughputJson,
+    pub(crate) throughput: ThroughputJson,
     /// With noise in the study: the time/table trade-off (its keys at the top level).
     #[cfg_attr(feature = "serde", serde(flatten))]
-    pub tradeoff: Option<TradeoffJson>,
+    pub(crate) tradeoff: Option<TradeoffJson>,
     /// `angle_dependent`, `disc_allocation` and `rate_allocation` (each absent when it does
     /// not apply).
     #[cfg_attr(feature = "serde", serde(flatten))]

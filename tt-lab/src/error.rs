@@ -97,7 +97,7 @@ impl LabError {
     }
 
     /// A library failure that is not the caller's input.
-    pub fn internal(e: impl std::error::Error + Send + Sync + 'static) -> Self {
+    pub(crate) fn internal(e: impl std::error::Error + Send + Sync + 'static) -> Self {
         Self::Library(Box::new(e))
     }
 }

@@ -203,7 +203,11 @@ fn compute_angle(s: &Study, e2e: EndToEnd, ub_rad: Option<&[f64]>) -> Result<Est
 /// A combination of errors, in words and by term.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CombinationJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct CombinationJson {
     /// In words (`0.71 dphi_y1 - 0.71 deps_y`).
     pub combination: String,
     /// Each error's coefficient (dimensionless).
@@ -222,7 +226,11 @@ impl From<&Combination> for CombinationJson {
 /// A direct allocation (first order).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AllocationJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AllocationJson {
     /// J, arcmin^-2; `null` when no error needs a bound.
     pub objective_arcmin: Option<f64>,
     /// Its bounds, arcmin.
@@ -245,7 +253,11 @@ impl AllocationJson {
 /// estimated.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AllocationsJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AllocationsJson {
     /// With the ordinary calibration.
     pub ordinary: AllocationJson,
     /// With the joint estimator.
@@ -255,6 +267,10 @@ pub struct AllocationsJson {
 /// One error's status.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct ErrorStatusJson<'a> {
     /// The error's name.
     pub name: &'a str,
@@ -265,7 +281,11 @@ pub struct ErrorStatusJson<'a> {
 /// One output's rate error at the box's worst turntable, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct BoxOutputJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct BoxOutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
     /// Its unit (the study's).
@@ -281,7 +301,11 @@ pub struct BoxOutputJson<'a> {
 /// The worst turntable's rate errors.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct BoxJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct BoxJson<'a> {
     /// `tolerances` or `direct-allocation`: whose box.
     pub source: &'static str,
     /// Every output's rate error.
@@ -291,6 +315,10 @@ pub struct BoxJson<'a> {
 /// `estimable --json` (see the [module](self)).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct EstimableJson<'a> {
     /// The study's path.
     pub study: &'a str,
@@ -316,17 +344,17 @@ pub struct EstimableJson<'a> {
     /// The singular values relative to the largest raw effect.
     pub singular_values_relative: Vec<f64>,
     /// The estimable combinations.
-    pub estimable: Vec<CombinationJson>,
+    pub(crate) estimable: Vec<CombinationJson>,
     /// The invisible combinations.
-    pub invisible: Vec<CombinationJson>,
+    pub(crate) invisible: Vec<CombinationJson>,
     /// Every parameter's status (each error's, or each coefficient's of the study's
     /// angle-dependent model).
     pub errors: Vec<ErrorStatusJson<'a>>,
     /// The direct allocations.
-    pub allocation: AllocationsJson,
+    pub(crate) allocation: AllocationsJson,
     /// The worst turntable's rate errors.
     #[cfg_attr(feature = "serde", serde(rename = "box"))]
-    pub at_box: BoxJson<'a>,
+    pub(crate) at_box: BoxJson<'a>,
 }
 
 /// The answer's view (see the [module](self)).

@@ -29,7 +29,7 @@ fn bound_text(g: &ErrorGroup, ub: &[f64]) -> String {
 /// matters; with `bounds` (label, upper bounds in rad), the combination's bound under each
 /// (the sum of the members' bounds).
 #[must_use]
-pub fn sentence(t: &Turntable, g: &ErrorGroup, bounds: &[(&str, &[f64])]) -> String {
+pub(crate) fn sentence(t: &Turntable, g: &ErrorGroup, bounds: &[(&str, &[f64])]) -> String {
     let names = t.rotation_error_names();
     let mut s = format!(
         "{} act as one rotation (first order, every pose): only their combination {} matters",

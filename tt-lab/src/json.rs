@@ -17,7 +17,7 @@ use tt_kinematics::{ErrorGroup, Turntable};
 
 /// Bounds in arcminutes keyed by error name: `None` (`null`) for an error with no bound (a
 /// non-finite bound).
-pub type ArcminBounds = BTreeMap<String, Option<f64>>;
+pub(crate) type ArcminBounds = BTreeMap<String, Option<f64>>;
 
 /// [`ArcminBounds`] of upper bounds in radians, `ub_rad[k]` the bound of `names[k]`.
 #[must_use]
@@ -69,7 +69,7 @@ impl<T> PerAngle<T> {
 
 /// A requirement-like triple (psi, theta, gamma; `None` where an angle has none) in degrees.
 #[must_use]
-pub fn deg3(r: &[Option<f64>; 3]) -> PerAngle<Option<f64>> {
+pub(crate) fn deg3(r: &[Option<f64>; 3]) -> PerAngle<Option<f64>> {
     PerAngle::new(|a| r[a.index()].map(f64::to_degrees))
 }
 
@@ -77,7 +77,11 @@ pub fn deg3(r: &[Option<f64>; 3]) -> PerAngle<Option<f64>> {
 /// output's unit; flattened into the output's object.
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Split {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct Split {
     /// The table's part (the certified worst case, else the linear one), output's unit.
     pub table_part: f64,
     /// Whether `table_part` is certified (second-order bound).
@@ -111,7 +115,11 @@ impl From<&CombinedOutput> for Split {
 /// The yield over turntables and noise.
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CombinedYieldJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct CombinedYieldJson {
     /// Fraction of calibrations meeting every accuracy, in [0, 1].
     #[cfg_attr(feature = "serde", serde(rename = "yield"))]
     pub yield_fraction: f64,
@@ -136,6 +144,10 @@ impl From<&YieldCount> for CombinedYieldJson {
 /// A group of errors that act only together ([`tt_kinematics::Turntable::proportional_groups`]).
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct GroupJson {
     /// The members' names.
     pub errors: Vec<String>,

@@ -193,7 +193,7 @@ pub fn analyse<R: Read>(log: R, name: &str, o: &Options) -> Result<NoiseLog> {
 /// The joint fit's terms, serialised as an object keyed by term.
 #[derive(Debug)]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct Terms([(&'static str, Term); 5]);
+pub(crate) struct Terms([(&'static str, Term); 5]);
 
 #[cfg(feature = "serde")]
 impl serde::Serialize for Terms {

@@ -27,7 +27,7 @@ pub const WIDTH: u32 = 1120;
 
 /// Largest magnitude a plotted value may have: far beyond any angle, rate or count of a
 /// study, far below where spans overflow.
-pub const MAX_PLOT_ABS: f64 = 1e100;
+pub(crate) const MAX_PLOT_ABS: f64 = 1e100;
 
 const TITLE_PX: u32 = 34;
 /// The figures' font: the families `cargo xtask test` installs first (as the page's CSS).

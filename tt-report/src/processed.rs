@@ -35,7 +35,7 @@ impl ProcessedRun {
 
     /// The flags as given.
     #[must_use]
-    pub fn flags(&self) -> &[String] {
+    pub(crate) fn flags(&self) -> &[String] {
         &self.flags
     }
 }
@@ -50,7 +50,7 @@ impl Sections<'_> {
     ///
     /// # Errors
     /// When a figure cannot be drawn.
-    pub fn processed_run(&mut self) -> Result<()> {
+    pub(crate) fn processed_run(&mut self) -> Result<()> {
         let c = self.c;
         let Some(pr) = &c.options.run else {
             return Ok(());

@@ -192,7 +192,7 @@ pub(crate) struct Sections<'a> {
 impl<'a> Sections<'a> {
     /// A new renderer of `c`.
     #[must_use]
-    pub fn new(c: &'a Computed) -> Self {
+    pub(crate) fn new(c: &'a Computed) -> Self {
         Self {
             c,
             doc: Doc::default(),
@@ -213,7 +213,7 @@ impl<'a> Sections<'a> {
 
     /// The anchor of a figure by key.
     #[must_use]
-    pub fn figure(&self, key: &str) -> Option<&str> {
+    pub(crate) fn figure(&self, key: &str) -> Option<&str> {
         self.figure_ids
             .iter()
             .find(|(k, _)| *k == key)
@@ -347,7 +347,7 @@ impl<'a> Sections<'a> {
     }
 
     /// Inputs: site, reading, sensor, turntable, schedule.
-    pub fn inputs(&mut self) {
+    pub(crate) fn inputs(&mut self) {
         let c = self.c;
         let s = &c.study;
         self.doc.h(2, "Inputs");
@@ -587,7 +587,7 @@ impl<'a> Sections<'a> {
     }
 
     /// Identifiability and condition numbers.
-    pub fn calibration(&mut self) {
+    pub(crate) fn calibration(&mut self) {
         let c = self.c;
         self.doc
             .h(2, "Calibration: identifiability and conditioning");
@@ -624,7 +624,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The orientation requirement and its figures.
-    pub fn requirement(&mut self) -> Result<()> {
+    pub(crate) fn requirement(&mut self) -> Result<()> {
         let c = self.c;
         let outs = self.outputs();
         self.doc.h(2, "Orientation requirement (eq 15-16)");
@@ -922,7 +922,7 @@ impl<'a> Sections<'a> {
     }
 
     /// Average sensitivities (Figure 8 for any table).
-    pub fn sensitivities(&mut self) -> Result<()> {
+    pub(crate) fn sensitivities(&mut self) -> Result<()> {
         let c = self.c;
         let t = &c.study.turntable;
         let names: Vec<String> = t
@@ -974,7 +974,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The two-step allocation with its certificate; `table4`: the paper's column.
-    pub fn allocation(&mut self, table4: Option<&PaperColumn>) {
+    pub(crate) fn allocation(&mut self, table4: Option<&PaperColumn>) {
         let c = self.c;
         self.doc.h(2, "Two-step allocation");
         let Some(t) = &c.two_step else {
@@ -1155,7 +1155,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The Monte Carlo of the two-step box (and the paper's Table 4 box).
-    pub fn monte_carlo(
+    pub(crate) fn monte_carlo(
         &mut self,
         table4: Option<(&mc_verify::MonteCarlo, &mc_verify::McResult)>,
     ) -> Result<()> {
@@ -1388,7 +1388,7 @@ impl<'a> Sections<'a> {
     }
 
     /// End to end: both readings, the direct allocation.
-    pub fn end_to_end(&mut self) -> Result<()> {
+    pub(crate) fn end_to_end(&mut self) -> Result<()> {
         let c = self.c;
         let outs = self.outputs();
         self.doc.h(
@@ -1563,7 +1563,7 @@ impl<'a> Sections<'a> {
     /// Noise and test time (issue 21): every box's answer split into the table's part and
     /// the noise's, the direct allocation that gives the table what the noise leaves, and the
     /// time/table trade-off with its figure. Nothing when the study gives no noise.
-    pub fn noise(&mut self) -> Result<()> {
+    pub(crate) fn noise(&mut self) -> Result<()> {
         let c = self.c;
         let Some(n) = &c.noise else {
             return Ok(());
@@ -1890,7 +1890,7 @@ impl<'a> Sections<'a> {
     /// budget table, then one figure of every input's share of u_c² per specification. Every
     /// figure is the library's ([`e2e_verify::BudgetQuestions::plan_verdict`] through
     /// [`tt_lab::vendor::spec`]), in the specification's unit.
-    pub fn specifications(&mut self) -> Result<()> {
+    pub(crate) fn specifications(&mut self) -> Result<()> {
         let c = self.c;
         let Some((_, v)) = &c.decision else {
             return Ok(());
@@ -2007,7 +2007,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The vendor's tolerances.
-    pub fn vendor(&mut self) {
+    pub(crate) fn vendor(&mut self) {
         let c = self.c;
         let Some((tol, chk)) = &c.vendor else { return };
         let outs = self.outputs();
@@ -2127,7 +2127,7 @@ impl<'a> Sections<'a> {
 
     /// The direct allocation of a study with rate steps: the angles and the rate tolerances
     /// (rate accuracy, ripple, translations) allocated together (`tt_lab::vendor::rate::allocation`).
-    pub fn rate_allocation(&mut self) {
+    pub(crate) fn rate_allocation(&mut self) {
         let c = self.c;
         let Some(ra) = &c.rate_alloc else { return };
         let a = &ra.allocation;
@@ -2368,7 +2368,7 @@ impl<'a> Sections<'a> {
 
     /// Which table errors the calibration estimates itself: the joint least squares of the
     /// sensor coefficients and the table errors (`cargo xtask estimable`).
-    pub fn estimable(&mut self) {
+    pub(crate) fn estimable(&mut self) {
         let c = self.c;
         self.doc
             .h(2, "Table errors the calibration estimates itself");
@@ -2505,7 +2505,7 @@ impl<'a> Sections<'a> {
     }
 
     /// The study's schedule beside the designed one.
-    pub fn designed(&mut self) {
+    pub(crate) fn designed(&mut self) {
         let c = self.c;
         let Some([a, b]) = &c.designed else { return };
         let outs = self.outputs();

@@ -59,7 +59,7 @@ use tt_lab::noise_log::{NoiseLog, Options, joint_terms};
 
 /// Arguments of `allan`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// The log: a CSV file with a header line, or `-` (or nothing) for standard input.
     pub log: Option<PathBuf>,
     /// Sample rate of the log, Hz (required).

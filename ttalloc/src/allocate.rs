@@ -38,7 +38,7 @@ pub(crate) enum FormChoice {
 
 /// Arguments of `allocate`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// `--study` (default: the paper's).
     #[command(flatten)]
     pub study: crate::args::StudyFile,

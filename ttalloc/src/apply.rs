@@ -16,7 +16,7 @@ use tt_lab::calibrate::{apply, calibration_file};
 
 /// Arguments of `apply`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// The calibration file (`ttalloc calibrate --out`).
     #[arg(long)]
     pub calibration: PathBuf,

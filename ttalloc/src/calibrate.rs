@@ -22,7 +22,7 @@ use tt_lab::calibrate::Options;
 
 /// Arguments of `calibrate`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Study file that planned the calibration (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
     pub study: Option<PathBuf>,
@@ -100,7 +100,7 @@ impl RecordingArgs {
 
     /// The flags as given, for a command line that reproduces the run (unquoted).
     #[must_use]
-    pub fn flags(&self) -> Vec<String> {
+    pub(crate) fn flags(&self) -> Vec<String> {
         let mut f: Vec<String> = Vec::new();
         let mut push = |flag: &str, v: String| {
             f.push(flag.into());
@@ -141,7 +141,7 @@ impl RecordingArgs {
     ///
     /// # Errors
     /// [`InputError`] naming the flag or the segments file's line.
-    pub fn options(
+    pub(crate) fn options(
         &self,
         s: &study::Study,
         tolerances: Option<study::Tolerances>,

@@ -22,7 +22,7 @@ use std::path::PathBuf;
 
 /// Arguments of `calibration-error`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Study file: turntable, sensor, site, schedule, reading (default: the paper's).
     #[arg(long)]
     pub study: Option<PathBuf>,

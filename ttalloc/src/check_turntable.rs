@@ -24,11 +24,11 @@ use clap::Parser;
 use e2e_verify::{EndToEnd, ToleranceSheet, TurntableCheck, Verdict};
 use std::path::PathBuf;
 use tt_core::human::num;
-pub use tt_lab::vendor::{CheckJson, NoisyCheck};
+pub(crate) use tt_lab::vendor::{CheckJson, NoisyCheck};
 
 /// Arguments of `check-turntable`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Study file: turntable, sensor and its accuracies, site, schedule, reading (default:
     /// the paper's).
     #[arg(long)]

@@ -31,7 +31,7 @@ impl Source {
 
     /// Its name in messages.
     #[must_use]
-    pub fn name(&self) -> String {
+    pub(crate) fn name(&self) -> String {
         match self {
             Source::File(p) => p.display().to_string(),
             Source::Stdin => "<stdin>".into(),
@@ -62,7 +62,7 @@ impl Source {
 /// An [`InputError`] at `source:line` (and column) for an unreadable input, invalid UTF-8, a
 /// record longer than [`tt_lab::records::MAX_LINE_BYTES`], malformed quoting, a bad header or
 /// row, or an empty input.
-pub fn for_each_row<F>(
+pub(crate) fn for_each_row<F>(
     source: &Source,
     turntable: &Turntable,
     joints: JointColumns,

@@ -14,7 +14,7 @@
 
 use anyhow::Result;
 use study::Study;
-pub use tt_lab::design::rates::{FLAG, MAX_RATE_DEG_PER_S};
+pub(crate) use tt_lab::design::rates::{FLAG, MAX_RATE_DEG_PER_S};
 
 /// One candidate rate, finite and in (0, [`MAX_RATE_DEG_PER_S`]] (deg/s).
 ///

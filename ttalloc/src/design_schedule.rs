@@ -58,7 +58,7 @@ use tt_lab::design::written::{self, bound_list, noise_counted_words, sig_down};
 
 /// Arguments of `design-schedule`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// `--study` (default: the paper's).
     #[command(flatten)]
     pub study: crate::args::StudyFile,

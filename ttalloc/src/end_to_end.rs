@@ -26,7 +26,7 @@ pub use tt_lab::end_to_end::{
 
 /// Arguments of `end-to-end`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// `--study` (default: the paper's).
     #[command(flatten)]
     pub study: crate::args::StudyFile,

@@ -34,11 +34,11 @@ use clap::Parser;
 use e2e_verify::DirectAllocation;
 use std::path::PathBuf;
 use tt_core::human::{num, sig};
-pub use tt_lab::estimable::{Estimable, JOINT_ITERATIONS, model_words, to_json};
+pub(crate) use tt_lab::estimable::{Estimable, JOINT_ITERATIONS, model_words, to_json};
 
 /// Arguments of `estimable`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// `--study` (default: the paper's).
     #[command(flatten)]
     pub study: crate::args::StudyFile,

@@ -12,7 +12,7 @@
 //! is `null`, and a non-finite number is `null` (serde_json's rule).
 
 use serde::Serialize;
-pub use tt_lab::json::*;
+pub(crate) use tt_lab::json::*;
 
 /// Print `v` as pretty JSON, keys in alphabetical order (see the module's documentation), and a
 /// newline.
@@ -20,6 +20,6 @@ pub use tt_lab::json::*;
 /// # Errors
 /// A value serde_json cannot represent (a map with non-string keys); writing standard output
 /// ([`crate::out::print`]).
-pub fn print(v: &impl Serialize) -> anyhow::Result<()> {
+pub(crate) fn print(v: &impl Serialize) -> anyhow::Result<()> {
     crate::out::print(&(serde_json::to_string_pretty(&serde_json::to_value(v)?)? + "\n"))
 }

@@ -49,7 +49,7 @@ pub struct Args {
     pub study: crate::args::StudyFile,
     /// `--samples` and `--seed` (default: the study's `monte_carlo`).
     #[command(flatten)]
-    pub sampling: crate::args::Sampling,
+    pub(crate) sampling: crate::args::Sampling,
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long, allow_negative_numbers = true, value_parser = crate::args::threads)]
     pub threads: Option<u32>,
@@ -122,7 +122,7 @@ pub type Bench<'a> =
     &'a (dyn Fn(&Study, &MonteCarlo, &rayon::ThreadPool, f64) -> Result<Value> + 'a);
 
 /// Run the command.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     run_with(args, None)
 }
 

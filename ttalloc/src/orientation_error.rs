@@ -29,7 +29,7 @@ pub(crate) enum ModelChoice {
 
 /// Arguments of `orientation-error`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Study file whose turntable the rows describe (default: the paper's).
     #[arg(long)]
     pub study: Option<PathBuf>,

@@ -5,7 +5,7 @@ use std::io::Write;
 
 /// Marks an error as "the reader closed standard output": the program ends quietly.
 #[derive(Debug)]
-pub struct BrokenPipe;
+pub(crate) struct BrokenPipe;
 
 impl std::fmt::Display for BrokenPipe {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -37,4 +37,4 @@ pub fn print(text: &str) -> anyhow::Result<()> {
     out.flush().map_err(io)
 }
 
-pub use tt_lab::end_to_end::precision_note;
+pub(crate) use tt_lab::end_to_end::precision_note;

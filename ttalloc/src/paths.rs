@@ -10,7 +10,7 @@ pub use tt_lab::paths::{
 /// How to show a path in reports: as the user gave it; the default study as its workspace
 /// path (never an absolute path of the machine).
 #[must_use]
-pub fn shown(given: Option<&Path>) -> String {
+pub(crate) fn shown(given: Option<&Path>) -> String {
     given.map_or_else(|| PAPER_STUDY.to_string(), |p| p.display().to_string())
 }
 

@@ -16,7 +16,7 @@ use tt_lab::requirement::{Options, RequirementJson};
 
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// `--study` (default: the paper's).
     #[command(flatten)]
     pub study: crate::args::StudyFile,

@@ -166,7 +166,11 @@ pub fn model_name(v: &ErrorVariation) -> String {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
-pub enum CompensatedJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) enum CompensatedJson<'a> {
     /// The unmeasured errors' allocation.
     Allocated(crate::vendor::angle::AllocationJson),
     /// The measured errors' uncertainty leaves no room.
@@ -179,7 +183,11 @@ pub enum CompensatedJson<'a> {
 /// One reading of `angle_dependent`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AngleReadingJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AngleReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
     /// J of the constant model's direct allocation, arcmin^-2 (`null`: no bound needed).
@@ -199,11 +207,15 @@ pub struct AngleReadingJson<'a> {
 /// The JSON value of `angle_dependent` (see the [module](self)).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct AngleDependentJson<'a> {
     /// Each error's model in words (`constant`, `harmonics [1, 2] of phi1`, `any of phi1`).
     pub model: BTreeMap<String, String>,
     /// Per reading.
-    pub readings: Vec<AngleReadingJson<'a>>,
+    pub(crate) readings: Vec<AngleReadingJson<'a>>,
 }
 
 impl<'a> AngleDependentJson<'a> {

@@ -39,6 +39,10 @@ pub use crate::vendor::rate::{RateAllocated, allocation as rate_allocation};
 /// One angle's Lemma 1 certificate, degrees.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct AxisCertificateJson {
     /// The requirement, degrees (`null`: none).
     pub requirement_deg: Option<f64>,
@@ -167,6 +171,10 @@ fn paper_table4(
 /// `allocate --json`: the two-step allocation with its certificate.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct AllocateJson<'a> {
     /// The study's path.
     pub study: &'a str,

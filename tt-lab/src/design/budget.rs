@@ -74,7 +74,7 @@ impl Designed {
     /// The chosen point's direct allocation with the noise part kept free, certified on the
     /// exact chain where the reading allows; `None` without a chosen point.
     #[must_use]
-    pub fn chosen_counted(&self) -> Option<&NoiseCounted> {
+    pub(crate) fn chosen_counted(&self) -> Option<&NoiseCounted> {
         self.chosen_counted.as_ref()
     }
 
@@ -207,7 +207,7 @@ fn timing_of(s: &Study) -> Result<&calib_lsq::Timing, InputError> {
 ///
 /// # Errors
 /// That [`InputError`].
-pub fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
+pub(crate) fn check_affords(s: &Study, budget_s: f64) -> Result<()> {
     if s.noise.iter().all(Option::is_none) {
         return Ok(());
     }
@@ -321,6 +321,10 @@ pub(crate) struct ChosenJson<'a> {
     clippy::large_enum_variant,
     reason = "a view built once per command and serialised at once; boxing buys nothing"
 )]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub(crate) enum TimeBudgetJson<'a> {
     /// The study gives no noise.
     Noiseless {
@@ -364,7 +368,7 @@ pub(crate) enum TimeBudgetJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct BudgetJson<'a> {
+pub(crate) struct BudgetJson<'a> {
     /// The budget and the choice.
     time_budget: TimeBudgetJson<'a>,
     /// With noise: the Pareto front; absent otherwise.
@@ -373,7 +377,7 @@ pub struct BudgetJson<'a> {
 }
 
 /// The budget's view.
-pub fn json<'a>(s: &Study, b: &'a Budgeted) -> BudgetJson<'a> {
+pub(crate) fn json<'a>(s: &Study, b: &'a Budgeted) -> BudgetJson<'a> {
     let names = s.turntable.rotation_error_names();
     match b {
         Budgeted::Noiseless { budget_s } => BudgetJson {

@@ -109,7 +109,7 @@ impl RateChoice {
 
     /// The choice's view (`rates` of `design-schedule --json`).
     #[must_use]
-    pub fn view(&self) -> RatesJson<'_> {
+    pub(crate) fn view(&self) -> RatesJson<'_> {
         json(self)
     }
 }
@@ -309,7 +309,7 @@ pub fn choose(s: &Study, designed_deg: &[Vec<f64>], rates: &[f64]) -> Result<Rat
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct RatesJson<'a> {
+pub(crate) struct RatesJson<'a> {
     /// The candidate rates, deg/s.
     candidates_deg_per_s: Vec<f64>,
     /// J with the designed positions at each candidate, arcmin^-2 (`null`: no allocation).

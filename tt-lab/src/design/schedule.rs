@@ -371,7 +371,7 @@ pub struct CombinedChoice {
 /// A schedule's noise alone, for the comparison where neither leaves room for a table.
 #[derive(Debug, Clone, Copy)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct NoiseStanding {
+pub(crate) struct NoiseStanding {
     /// The largest k sigma / accuracy over the outputs at the study's dwell (above 1: the
     /// noise alone exceeds an accuracy).
     noise_over_accuracy: f64,
@@ -383,13 +383,13 @@ pub struct NoiseStanding {
 impl NoiseStanding {
     /// The largest k sigma / accuracy over the outputs at the study's dwell.
     #[must_use]
-    pub fn noise_over_accuracy(&self) -> f64 {
+    pub(crate) fn noise_over_accuracy(&self) -> f64 {
         self.noise_over_accuracy
     }
 
     /// The shortest dwell (s) at which some table suffices.
     #[must_use]
-    pub fn min_dwell_s(&self) -> Option<f64> {
+    pub(crate) fn min_dwell_s(&self) -> Option<f64> {
         self.min_dwell_s
     }
 
@@ -424,7 +424,7 @@ impl CombinedChoice {
     /// When no table suffices with either schedule: each one's noise alone (`study`,
     /// `designed`).
     #[must_use]
-    pub fn both_fail(&self) -> Option<(NoiseStanding, NoiseStanding)> {
+    pub(crate) fn both_fail(&self) -> Option<(NoiseStanding, NoiseStanding)> {
         self.both_fail
     }
 }
@@ -480,7 +480,7 @@ pub struct NoiseCounted {
 impl NoiseCounted {
     /// The allocation with the noise part kept free; `None` when no table suffices.
     #[must_use]
-    pub fn allocation(&self) -> Option<&e2e_verify::DirectAllocation> {
+    pub(crate) fn allocation(&self) -> Option<&e2e_verify::DirectAllocation> {
         self.allocation.as_ref()
     }
 
@@ -491,7 +491,7 @@ impl NoiseCounted {
     }
 
     /// J, arcmin^-2 (`None`: no table suffices).
-    pub fn objective_arcmin(&self) -> Option<f64> {
+    pub(crate) fn objective_arcmin(&self) -> Option<f64> {
         self.allocation
             .as_ref()
             .map(e2e_verify::DirectAllocation::objective_arcmin)
@@ -501,7 +501,7 @@ impl NoiseCounted {
 /// The direct allocation with the noise part kept free for `s` (its positions and timing),
 /// certified on the exact chain where the reading allows (as `end-to-end`'s
 /// `direct_with_noise`); `Ok(None)` when the study has no noise or no timing.
-pub fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
+pub(crate) fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
     let e2e = crate::loaded::simulator(s)?;
     let Some(budget) = crate::end_to_end::noise_budget(s, &e2e)? else {
         return Ok(None);
@@ -620,7 +620,7 @@ pub(crate) struct WithStudyJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct CertifiedJson {
+pub(crate) struct CertifiedJson {
     /// J, arcmin^-2.
     objective: f64,
     /// Its bounds, arcmin.

@@ -187,7 +187,11 @@ pub struct AngleCheck {
 ///
 /// # Errors
 /// The refusal; a library error located in the study.
-pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Result<Expansion> {
+pub(crate) fn expansion(
+    s: &Study,
+    sim: &EndToEnd,
+    variations: &[ErrorVariation],
+) -> Result<Expansion> {
     let coefficients = Expansion::count_coefficients(sim.turntable(), variations, sim.poses())
         .map_err(|e| crate::error::library(e, s))?;
     let values = sim
@@ -216,7 +220,7 @@ pub fn expansion(s: &Study, sim: &EndToEnd, variations: &[ErrorVariation]) -> Re
 /// The model used: the study's, or `any` on every shaft with the models the sheet's vendor
 /// quantities imply (an orthogonality is a constant).
 #[must_use]
-pub fn model_of(s: &Study, sheet: &ToleranceSheet) -> (bool, Vec<ErrorVariation>) {
+pub(crate) fn model_of(s: &Study, sheet: &ToleranceSheet) -> (bool, Vec<ErrorVariation>) {
     if s.has_angle_dependent_errors() {
         (true, s.variations.clone())
     } else {
@@ -481,7 +485,11 @@ pub fn constant_counted(check: &TurntableCheck, noise: Option<&NoisePart>) -> Ve
 /// An allocation with one tolerance per pair (or per error), or under the shaft-angle model.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AllocationJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AllocationJson {
     /// J, arcmin^-2; `null` when no error needs a bound.
     pub objective_arcmin: Option<f64>,
     /// Its bounds, arcmin.
@@ -490,7 +498,7 @@ pub struct AllocationJson {
 
 impl AllocationJson {
     /// The view of `d` (errors named `names`).
-    pub fn new(names: &[&str], d: &DirectAllocation) -> Self {
+    pub(crate) fn new(names: &[&str], d: &DirectAllocation) -> Self {
         Self {
             objective_arcmin: crate::allocation::angle::objective(d),
             upper_bounds_arcmin: arcmin_bounds(names, d.upper_bounds_rad()),
@@ -502,7 +510,11 @@ impl AllocationJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
-pub enum CertifiedJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) enum CertifiedJson<'a> {
     /// The certified allocation.
     Certified(AllocationJson),
     /// None.
@@ -524,7 +536,11 @@ impl<'a> CertifiedJson<'a> {
 /// The constant model's allocations as discs and as squares.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ConstantPairsJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ConstantPairsJson {
     /// One tolerance per pair, a disc.
     pub disc: AllocationJson,
     /// One tolerance per error, a square.
@@ -534,7 +550,11 @@ pub struct ConstantPairsJson {
 /// The angle-dependent model's allocations as discs and squares, with their certified ones.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AnglePairsJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AnglePairsJson<'a> {
     /// One tolerance per pair, a disc.
     pub disc: AllocationJson,
     /// One tolerance per error, a square.
@@ -550,7 +570,11 @@ pub struct AnglePairsJson<'a> {
 /// `square_certified`, or `{"not_certified": why}`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct DiscAllocationJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct DiscAllocationJson<'a> {
     /// Under the constant model.
     pub constant: ConstantPairsJson,
     /// Under the angle-dependent model.
@@ -560,7 +584,7 @@ pub struct DiscAllocationJson<'a> {
 impl<'a> DiscAllocationJson<'a> {
     /// The view of `al` for the table of `e2e`.
     #[must_use]
-    pub fn new(e2e: &EndToEnd, al: &'a DiscAllocation) -> Self {
+    pub(crate) fn new(e2e: &EndToEnd, al: &'a DiscAllocation) -> Self {
         let names = e2e.turntable().rotation_error_names();
         Self {
             constant: ConstantPairsJson {
@@ -580,7 +604,11 @@ impl<'a> DiscAllocationJson<'a> {
 /// One reading of the sheet allocations.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct SheetReadingJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct SheetReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
     /// Its allocations.
@@ -591,11 +619,15 @@ pub struct SheetReadingJson<'a> {
 /// The sheet allocations (`disc_allocation`): the sheet's path and one entry per reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct SheetAllocationsJson<'a> {
     /// The sheet's path.
     pub tolerances: &'a str,
     /// Per reading.
-    pub readings: Vec<SheetReadingJson<'a>>,
+    pub(crate) readings: Vec<SheetReadingJson<'a>>,
 }
 
 impl<'a> SheetAllocationsJson<'a> {
@@ -618,7 +650,11 @@ impl<'a> SheetAllocationsJson<'a> {
 /// Worst cases over the discs, per output, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct DiscWorstCaseJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct DiscWorstCaseJson<'a> {
     /// Under the constant model.
     pub constant: &'a [f64],
     /// Under the angle-dependent model.
@@ -628,7 +664,11 @@ pub struct DiscWorstCaseJson<'a> {
 /// The check with the sheet's pairs as discs.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct DiscsJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct DiscsJson<'a> {
     /// A lower bound of the angle-dependent worst case per output, output's unit.
     pub worst_case_linear_lower: &'a [f64],
     /// Yield under the angle-dependent model, in [0, 1].
@@ -649,7 +689,11 @@ pub struct DiscsJson<'a> {
 /// One output's worst case under the angle-dependent model, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AngleOutputJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AngleOutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
     /// The linearised worst case, output's unit.
@@ -672,7 +716,11 @@ pub struct AngleOutputJson<'a> {
 /// The angle-dependent check of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ReadingAngleJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ReadingAngleJson<'a> {
     /// The weakest output's verdict, every modelled source counted (with the study's noise:
     /// the table's part plus the noise's).
     pub verdict: &'static str,
@@ -697,7 +745,7 @@ pub struct ReadingAngleJson<'a> {
 impl<'a> ReadingAngleJson<'a> {
     /// The view of the reading `a` of `e2e`.
     #[must_use]
-    pub fn new(e2e: &'a EndToEnd, a: &'a ReadingAngle) -> Self {
+    pub(crate) fn new(e2e: &'a EndToEnd, a: &'a ReadingAngle) -> Self {
         Self {
             verdict: a.verdict.name(),
             table_verdict: a.table_verdict.map(Verdict::name),
@@ -742,7 +790,11 @@ impl<'a> ReadingAngleJson<'a> {
 /// One error's shaft-angle model.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ErrorModelJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ErrorModelJson<'a> {
     /// The error's name.
     pub error: &'a str,
     /// `constant`, `harmonics` or `any` ([`ErrorVariation::name`]).
@@ -757,7 +809,11 @@ pub struct ErrorModelJson<'a> {
 /// study's, then the user's when different).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AngleCheckJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct AngleCheckJson<'a> {
     /// `study` (the study's model) or `any-on-shafts`.
     pub model: &'static str,
     /// What the sheet supports: `study` or `angle-dependent`.
@@ -771,7 +827,7 @@ pub struct AngleCheckJson<'a> {
 impl<'a> AngleCheckJson<'a> {
     /// The view of `a` for `checks`.
     #[must_use]
-    pub fn new(checks: &'a [(EndToEnd, TurntableCheck)], a: &'a AngleCheck) -> Self {
+    pub(crate) fn new(checks: &'a [(EndToEnd, TurntableCheck)], a: &'a AngleCheck) -> Self {
         let names = checks[0].0.turntable().rotation_error_names();
         Self {
             model: if a.study_model {
@@ -815,7 +871,11 @@ impl<'a> AngleCheckJson<'a> {
 /// One reading of the compensated check.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CompensatedReadingJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct CompensatedReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
     /// The weakest output's verdict (constant errors), every modelled source counted.
@@ -832,6 +892,10 @@ pub struct CompensatedReadingJson<'a> {
 /// The `compensated` key of `check-turntable`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct CompensatedJson<'a> {
     /// The box that matters (measured errors at their uncertainty, or at the sheet's bound
     /// plus the measured value's largest magnitude when smaller), arcmin.
@@ -839,7 +903,7 @@ pub struct CompensatedJson<'a> {
     /// One sentence per measured error whose uncertainty exceeds the sheet's bound.
     pub notes: &'a [String],
     /// Per reading.
-    pub readings: Vec<CompensatedReadingJson<'a>>,
+    pub(crate) readings: Vec<CompensatedReadingJson<'a>>,
 }
 
 impl<'a> CompensatedJson<'a> {

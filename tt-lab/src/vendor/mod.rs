@@ -44,7 +44,11 @@ pub struct NoisyCheck {
 /// One error's (or group's) contribution to an output's worst case.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ContributionJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ContributionJson<'a> {
     /// The error's name, or its group's combination.
     pub error: String,
     /// The errors of the group (one when the error acts alone).
@@ -58,7 +62,11 @@ pub struct ContributionJson<'a> {
 /// One output's check (`outputs[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CheckOutputJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct CheckOutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
     /// Its unit (the study's).
@@ -97,7 +105,11 @@ pub struct CheckOutputJson<'a> {
 /// the noise and `table_verdict` is the table's alone.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ReadingCheckJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ReadingCheckJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
     /// The verdict (with the noise part: counting both).
@@ -186,10 +198,14 @@ impl<'a> ReadingCheckJson<'a> {
 /// orientation when the study's reading is another one (else `null`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct CheckJson<'a> {
     /// The study's reading's check (its keys at the top level).
     #[cfg_attr(feature = "serde", serde(flatten))]
-    pub study_reading: ReadingCheckJson<'a>,
+    pub(crate) study_reading: ReadingCheckJson<'a>,
     /// The sheet's path.
     pub tolerances: &'a str,
     /// The sheet's angular tolerances, arcmin.
@@ -197,11 +213,11 @@ pub struct CheckJson<'a> {
     /// Errors that act only together.
     pub groups: Vec<GroupJson>,
     /// The user's reading's check, `null` when it is the study's.
-    pub user_reading: Option<ReadingCheckJson<'a>>,
+    pub(crate) user_reading: Option<ReadingCheckJson<'a>>,
     /// Without rate steps: the check when the errors vary with the shaft angle; absent with
     /// rate steps.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
-    pub angle_dependent: Option<crate::vendor::angle::AngleCheckJson<'a>>,
+    pub(crate) angle_dependent: Option<crate::vendor::angle::AngleCheckJson<'a>>,
     /// Without rate steps: the check of the compensated table (`null` without measured
     /// errors); absent with rate steps.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]

@@ -38,7 +38,7 @@ pub fn rate_steps_note(e2e: &EndToEnd) -> String {
 /// # Errors
 /// An [`InputError`] naming the sheet's key when the study has rate steps and the sheet
 /// bounds a translation or a turning joint's rate accuracy or ripple not at all.
-pub fn extra_bounds(e2e: &EndToEnd, sheet: &ToleranceSheet) -> Result<Vec<f64>, InputError> {
+pub(crate) fn extra_bounds(e2e: &EndToEnd, sheet: &ToleranceSheet) -> Result<Vec<f64>, InputError> {
     let t = e2e.turntable();
     e2e.extra_errors()
         .iter()
@@ -110,7 +110,7 @@ impl RateCheck {
 
     /// The noise part of output `k` (`k_sigma` sigma; 0 without noise), output's unit.
     #[must_use]
-    pub fn noise_part(&self, k: usize) -> f64 {
+    pub(crate) fn noise_part(&self, k: usize) -> f64 {
         self.noise.as_ref().map_or(0.0, |n| n.margin(k))
     }
 
@@ -159,7 +159,7 @@ impl RateCheck {
 ///
 /// # Errors
 /// As [`crate::end_to_end::noise_budget`].
-pub fn noise_part(s: &Study, e2e: &EndToEnd, k_sigma: f64) -> Result<Option<NoisePart>> {
+pub(crate) fn noise_part(s: &Study, e2e: &EndToEnd, k_sigma: f64) -> Result<Option<NoisePart>> {
     Ok(crate::end_to_end::noise_budget(s, e2e)?.map(|b| NoisePart {
         sigma: b.sigma(),
         k_sigma,
@@ -384,7 +384,11 @@ fn with_noise(
 /// A rate error or translation bounded by the sheet (`extra_errors[]`), in the sheet's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ExtraErrorJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ExtraErrorJson {
     /// The error's name.
     pub name: String,
     /// Its bound, `unit`.
@@ -396,7 +400,11 @@ pub struct ExtraErrorJson {
 /// One error's part of an output's worst case, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ExtraPartJson {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct ExtraPartJson {
     /// The error's name.
     pub error: String,
     /// Its part, output's unit.
@@ -406,6 +414,10 @@ pub struct ExtraPartJson {
 /// One output's worst case over both boxes, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct RateOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -418,7 +430,7 @@ pub struct RateOutputJson<'a> {
     /// The rate errors' and translations' part, output's unit.
     pub extra_part: f64,
     /// Each such error's part.
-    pub extra_parts: Vec<ExtraPartJson>,
+    pub(crate) extra_parts: Vec<ExtraPartJson>,
     /// The worst schedule entry (index).
     pub entry: usize,
     /// The exact chain at the worst vertex, output's unit.
@@ -434,6 +446,10 @@ pub struct RateOutputJson<'a> {
 /// One output's noise part in the rate check, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct RateNoiseSplitJson {
     /// The table's part: the larger of `linear_bound` and `exact_at_vertex`.
     pub table_part: f64,
@@ -452,11 +468,15 @@ pub struct RateNoiseSplitJson {
 /// The check with the errors only rotation exposes (`rate_steps[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct RateCheckJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
     /// The sheet's rate errors and translations.
-    pub extra_errors: Vec<ExtraErrorJson>,
+    pub(crate) extra_errors: Vec<ExtraErrorJson>,
     /// Every output's worst case.
     pub outputs: Vec<RateOutputJson<'a>>,
     /// Monte Carlo yield over both boxes, in [0, 1].
@@ -555,6 +575,10 @@ impl<'a> RateCheckJson<'a> {
 /// A rate tolerance allocated (`tolerances[]`), in the sheet's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct ToleranceJson {
     /// The tolerance's name.
     pub name: String,
@@ -570,6 +594,10 @@ pub struct ToleranceJson {
 /// One output of the certified allocation with the rate tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct CertifiedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -586,6 +614,10 @@ pub struct CertifiedOutputJson<'a> {
 /// The certified allocation with the rate tolerances (`rate_allocation.certified`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct CertifiedRateJson<'a> {
     /// J, arcmin^-2.
     pub objective_arcmin: f64,
@@ -641,6 +673,10 @@ impl<'a> CertifiedRateJson<'a> {
 /// One output of the allocation with the rate tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct AllocatedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -661,6 +697,10 @@ pub struct AllocatedOutputJson<'a> {
 /// The allocation with the rate tolerances (`rate_allocation`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct RateAllocationJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -691,14 +731,18 @@ pub struct RateAllocationJson<'a> {
     pub certified_note: Option<&'a str>,
     /// With the study's noise: the allocation keeping the noise part free; absent otherwise.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
-    pub with_noise: Option<RateWithNoiseJson<'a>>,
+    pub(crate) with_noise: Option<RateWithNoiseJson<'a>>,
 }
 
 /// One output of the allocation with the rate tolerances and the noise part kept free,
 /// output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct NoisyAllocatedOutputJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct NoisyAllocatedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// Its accuracy, output's unit.
@@ -718,7 +762,11 @@ pub struct NoisyAllocatedOutputJson<'a> {
 /// An output the noise leaves no room (`with_noise.no_room[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct RateNoRoomJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct RateNoRoomJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// `k_sigma` sigma of the noise.
@@ -731,7 +779,11 @@ pub struct RateNoRoomJson<'a> {
 /// (`rate_allocation.with_noise`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct RateWithNoiseJson<'a> {
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
+pub(crate) struct RateWithNoiseJson<'a> {
     /// The rule: what each output's accuracy is shared between.
     pub rule: String,
     /// The confidence multiplier.

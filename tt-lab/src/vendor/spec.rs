@@ -47,7 +47,7 @@ pub const NUMERICAL_ZERO_REL: f64 = 1e-9;
 /// Whether the sensitivity `c` is numerically zero: $|c|$ below [`NUMERICAL_ZERO_REL`] of
 /// `scale` (the largest $|c|$ of the rows of its input's unit).
 #[must_use]
-pub fn numerically_zero(c: f64, scale: f64) -> bool {
+pub(crate) fn numerically_zero(c: f64, scale: f64) -> bool {
     c.abs() < NUMERICAL_ZERO_REL * scale
 }
 
@@ -80,6 +80,10 @@ pub struct RowJson {
 /// One specification's verdict (`specifications[]`), in the specification's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    not(feature = "serde"),
+    allow(dead_code, reason = "read by its Serialize")
+)]
 pub struct SpecJson {
     /// `output coefficient (kind)`, `output error over +-R unit`, `output accuracy (eq 14)`.
     pub quantity: String,

@@ -23,7 +23,7 @@ use tt_report::{ProcessedRun, Report, ReportOptions};
 
 /// Arguments of `report`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Study file.
     #[arg(long)]
     pub study: PathBuf,

@@ -5,7 +5,7 @@
 use e2e_verify::{DirectAllocation, EndToEnd, TurntableCheck, Verdict};
 use tt_core::human::num;
 use tt_kinematics::ErrorVariation;
-pub use tt_lab::vendor::angle::*;
+pub(crate) use tt_lab::vendor::angle::*;
 
 fn describe(v: &ErrorVariation) -> String {
     match v {

@@ -3,7 +3,7 @@
 
 use e2e_verify::{DirectAllocation, EndToEnd};
 use tt_core::human::sig;
-pub use tt_lab::allocation::angle::*;
+pub(crate) use tt_lab::allocation::angle::*;
 
 /// Each error's bound, arcmin, 4 significant digits (`none` for an unbounded one).
 pub(crate) fn bounds_text(names: &[&str], d: &DirectAllocation) -> String {

@@ -26,7 +26,7 @@ pub(crate) struct Flags {
 impl Flags {
     /// The library's options when `--jcgm101` is given (`None` otherwise), seeded by `seed`.
     #[must_use]
-    pub fn options(&self, seed: Option<u64>) -> Option<Options> {
+    pub(crate) fn options(&self, seed: Option<u64>) -> Option<Options> {
         self.jcgm101.then(|| Options {
             significant_digits: self
                 .mc_digits

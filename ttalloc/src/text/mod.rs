@@ -5,7 +5,7 @@ pub(crate) mod angle;
 pub(crate) mod angle_alloc;
 pub(crate) mod jcgm101;
 /// The groups' sentence, shared with the report: the study-level library's.
-pub use tt_lab::groups;
+pub(crate) use tt_lab::groups;
 pub(crate) mod noise;
 pub(crate) mod rate;
 pub(crate) mod spec_verdict;

@@ -4,7 +4,7 @@
 
 use e2e_verify::{EndToEnd, RateTolerance};
 use tt_core::human::num;
-pub use tt_lab::vendor::rate::*;
+pub(crate) use tt_lab::vendor::rate::*;
 
 /// The check as text.
 #[must_use]

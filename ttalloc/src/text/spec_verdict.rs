@@ -4,7 +4,7 @@
 
 use e2e_verify::budget::{ACCURACY_RULE, PlanVerdict};
 use study::Study;
-pub use tt_lab::vendor::spec::*;
+pub(crate) use tt_lab::vendor::spec::*;
 
 /// The verdict as text: one line per specification, then the headline with the rule
 /// (`what` names the tolerances: "these tolerances", "the direct allocation's box").
