@@ -109,6 +109,25 @@ fn time_budget(s: &Study) -> TimeBudget<'_> {
     }
 }
 
+/// The budget design's step state for `problem` and `b` with `n` positions (the study's
+/// count), every condition number allowed.
+fn run_of<'a>(
+    problem: &'a DesignProblem,
+    b: &'a TimeBudget<'a>,
+    tally: &'a Tally,
+    n: usize,
+) -> Run<'a> {
+    Run {
+        problem,
+        b,
+        max_condition: f64::INFINITY,
+        lo: 1.0 / b.sample_rate_hz,
+        n,
+        n_study: n,
+        tally,
+    }
+}
+
 /// The noise-aware search's problem for `schedule` at `dwell_s`, as [`Run::noise_search`]
 /// makes it (the schedule's noise parts taken off the accuracies), and the budget's $J$ of
 /// the schedule at that dwell; `None` when the noise part leaves no room.
@@ -140,15 +159,7 @@ fn the_noise_aware_search_evaluates_the_budgets_objective_with_specifications() 
     let (problem, study) = problem_with_specifications(&s);
     let b = time_budget(&s);
     let tally = Tally::default();
-    let run = Run {
-        problem: &problem,
-        b: &b,
-        max_condition: f64::INFINITY,
-        lo: 1.0 / b.sample_rate_hz,
-        n: study.len(),
-        n_study: study.len(),
-        tally: &tally,
-    };
+    let run = run_of(&problem, &b, &tally, study.len());
     let mut checked = 0;
     for t in DWELLS_S {
         let Some((reduced, budget_j)) = noise_search_problem(&run, &study, t) else {
@@ -185,15 +196,7 @@ fn every_screening_bound_of_the_noise_aware_search_is_below_the_objective_it_eva
     let (problem, study) = problem_with_specifications(&s);
     let b = time_budget(&s);
     let tally = Tally::default();
-    let run = Run {
-        problem: &problem,
-        b: &b,
-        max_condition: f64::INFINITY,
-        lo: 1.0 / b.sample_rate_hz,
-        n: study.len(),
-        n_study: study.len(),
-        tally: &tally,
-    };
+    let run = run_of(&problem, &b, &tally, study.len());
     let mut rng = ChaCha8Rng::seed_from_u64(2017);
     let (mut checked, mut violated) = (0, Vec::new());
     for t in DWELLS_S {
