@@ -39,7 +39,12 @@
 //! parts $m_k = \kappa\sigma_k(S, T)$, and run the exchange ([`DesignProblem::exchange`],
 //! the table's search with every bound and screening unchanged) on the problem whose
 //! accuracies are $\omega_{m,k} - m_k$: its $J$ is exactly $J(S', T)$ for any $S'$ with the
-//! same noise parts. The result's own noise parts are then computed and the step repeated
+//! same noise parts. That problem leaves out the study's specifications
+//! ([`DesignProblem::with_specifications`]): $J(S, T)$, which the front reads, is eq 14's
+//! rows alone, and the screening holds eq 14's rows to the lowered accuracies, so its bounds
+//! are lower bounds of the $J$ the exchange evaluates (with the specifications it evaluated
+//! the specified allocation at the study's dwell, which reads neither $T$ nor the lowered
+//! accuracies, and its bounds could exceed it). The result's own noise parts are then computed and the step repeated
 //! (at most [`BudgetParams::fixed_point_steps`] times, or until the schedule stops changing).
 //! This runs at [`BudgetParams::search_dwells`] dwells: the budget's own and dwells spread over those at
 //! which some known schedule leaves the table room.
@@ -424,8 +429,10 @@ pub fn pareto_front(points: &[BudgetPoint]) -> Vec<BudgetPoint> {
 }
 
 impl DesignProblem {
-    /// The same problem with every output's accuracy lowered by `margins[k]` (output unit):
-    /// its $J$ is the direct allocation with those margins kept free. `None` when a margin
+    /// The noise-aware search's problem: every output's accuracy lowered by `margins[k]`
+    /// (output unit) and no specifications, so that its $J$ is the direct allocation with
+    /// those margins kept free ($J(S, T)$ of the front) and the screening's eq 14 rows, held
+    /// to the lowered accuracies, bound the $J$ its exchange evaluates. `None` when a margin
     /// leaves no room.
     fn with_margins(&self, margins: &[f64]) -> Option<Self> {
         if self
@@ -436,7 +443,7 @@ impl DesignProblem {
         {
             return None;
         }
-        let mut p = self.clone();
+        let mut p = self.clone().with_specifications(None);
         for ((o, acc), m) in p.outputs.iter_mut().zip(&mut p.accuracies).zip(margins) {
             *acc -= m;
             let w = 1.0 / *acc;
@@ -1317,3 +1324,6 @@ fn is_known(known: &[Vec<usize>], s: &[usize]) -> bool {
         k == sorted
     })
 }
+
+#[cfg(test)]
+mod noise_search_tests;
