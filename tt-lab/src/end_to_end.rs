@@ -11,6 +11,13 @@
 //! box's worst case, whether it meets every accuracy (`meets`, `meets_text`, in the words
 //! of the text and the report) and yield) and `throughput` (turntables per second of the fast path, all threads and one, and of
 //! the reference path, measured in the same run).
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::InputError;
 use crate::Result;
@@ -323,10 +330,6 @@ pub fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
 /// One output of the calibration (`end-to-end --json` `outputs`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct OutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
@@ -341,10 +344,6 @@ pub struct OutputJson<'a> {
 /// One output's worst case over a box (`worst_case[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct WorstCaseJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -363,10 +362,6 @@ pub(crate) struct WorstCaseJson<'a> {
 /// A quantile of the Monte Carlo distribution.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct QuantileJson<'a> {
     /// The probability, in (0, 1).
     pub p: f64,
@@ -379,10 +374,6 @@ pub(crate) struct QuantileJson<'a> {
 /// A histogram of one output's Monte Carlo distribution.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct HistogramJson<'a> {
     /// Bin edges, output's unit.
     pub edges: Vec<f64>,
@@ -395,10 +386,6 @@ pub(crate) struct HistogramJson<'a> {
 /// One box's answer: worst case, verdict and Monte Carlo yield.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct BoxJson<'a> {
     /// The box's name.
     pub name: &'a str,
@@ -494,10 +481,6 @@ impl<'a> BoxJson<'a> {
 /// A row of the direct allocation that binds (`active_rows[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ActiveRowJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -512,10 +495,6 @@ pub(crate) struct ActiveRowJson<'a> {
 /// `results.json` end to end.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct UnconstrainedJson<'a> {
     /// The errors no output constrains.
     pub unconstrained: Vec<&'a str>,
@@ -537,10 +516,6 @@ impl<'a> UnconstrainedJson<'a> {
 /// The direct allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct DirectJson<'a> {
     /// J, arcmin^-2.
     pub objective: f64,
@@ -562,10 +537,6 @@ pub(crate) struct DirectJson<'a> {
 /// The certified direct allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct DirectCertifiedJson<'a> {
     /// J, arcmin^-2.
     pub objective: f64,
@@ -582,10 +553,6 @@ pub(crate) struct DirectCertifiedJson<'a> {
 /// The yield-based allocation of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct YieldBasedJson<'a> {
     /// J, arcmin^-2.
     pub objective: f64,
@@ -619,10 +586,6 @@ pub(crate) struct YieldBasedJson<'a> {
 /// (`readings[].yield_based.specifications`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct YieldSpecificationsJson<'a> {
     /// What the yield counts ([`e2e_verify::SPECIFIED_YIELD_COUNTS`]).
     pub counts: &'static str,
@@ -647,10 +610,6 @@ pub(crate) struct YieldSpecificationsJson<'a> {
 /// The draws meeting one specification.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct SpecificationMeetingJson<'a> {
     /// The specification, `label in unit`.
     pub specification: &'a str,
@@ -687,10 +646,6 @@ impl<'a> YieldSpecificationsJson<'a> {
 /// One reading's answer (`readings[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -763,10 +718,6 @@ impl<'a> ReadingJson<'a> {
 /// One output of a box with the noise part (`noise.boxes[].outputs[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct CombinedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -782,10 +733,6 @@ pub(crate) struct CombinedOutputJson<'a> {
 /// A box's answer with the noise part.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct CombinedBoxJson<'a> {
     /// The box's name.
     pub name: &'a str,
@@ -820,10 +767,6 @@ impl<'a> CombinedBoxJson<'a> {
 /// An output that leaves no room for the table (`direct_with_noise.outputs[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct NoRoomJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -837,10 +780,6 @@ pub(crate) struct NoRoomJson<'a> {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) enum DirectWithNoiseJson<'a> {
     /// A table suffices.
     Allocated {
@@ -868,10 +807,6 @@ pub(crate) enum DirectWithNoiseJson<'a> {
 /// The noise part of one reading (`readings[].noise`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct NoiseReadingJson<'a> {
     /// The confidence multiplier.
     pub k_sigma: f64,
@@ -921,10 +856,6 @@ impl<'a> NoiseReadingJson<'a> {
 /// A point of the time/table trade-off.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct TradeoffPointJson {
     /// Dwell per position, s.
     pub dwell_s: f64,
@@ -938,10 +869,6 @@ pub(crate) struct TradeoffPointJson {
 /// The time/table trade-off (top-level keys, with noise in the study).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct TradeoffJson {
     /// The confidence multiplier.
     pub k_sigma: f64,
@@ -990,10 +917,6 @@ impl From<&NoisyAnswer> for TradeoffJson {
 /// The throughput measured in the same run (`throughput`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ThroughputJson {
     /// Fast path, all threads, turntables/s.
     pub fast_path_turntables_per_s: f64,
@@ -1014,10 +937,6 @@ pub(crate) struct ThroughputJson {
 /// `end-to-end --json`: the command's whole answer.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct EndToEndJson<'a> {
     /// The study's path.
     pub study: &'a str,

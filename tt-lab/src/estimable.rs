@@ -27,6 +27,13 @@
 //! bound is needed), `upper_bounds_arcmin` (`null` = no bound needed), `no_bound_needed`),
 //! `box` (`source`: `tolerances` or `direct-allocation`; `outputs`: `[{"name", "unit",
 //! "accuracy", "ordinary", "joint"}]`).
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::InputError;
 use crate::Result;
@@ -203,10 +210,6 @@ fn compute_angle(s: &Study, e2e: EndToEnd, ub_rad: Option<&[f64]>) -> Result<Est
 /// A combination of errors, in words and by term.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct CombinationJson {
     /// In words (`0.71 dphi_y1 - 0.71 deps_y`).
     pub combination: String,
@@ -226,10 +229,6 @@ impl From<&Combination> for CombinationJson {
 /// A direct allocation (first order).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AllocationJson {
     /// J, arcmin^-2; `null` when no error needs a bound.
     pub objective_arcmin: Option<f64>,
@@ -253,10 +252,6 @@ impl AllocationJson {
 /// estimated.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AllocationsJson {
     /// With the ordinary calibration.
     pub ordinary: AllocationJson,
@@ -267,10 +262,6 @@ pub(crate) struct AllocationsJson {
 /// One error's status.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct ErrorStatusJson<'a> {
     /// The error's name.
     pub name: &'a str,
@@ -281,10 +272,6 @@ pub struct ErrorStatusJson<'a> {
 /// One output's rate error at the box's worst turntable, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct BoxOutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
@@ -301,10 +288,6 @@ pub(crate) struct BoxOutputJson<'a> {
 /// The worst turntable's rate errors.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct BoxJson<'a> {
     /// `tolerances` or `direct-allocation`: whose box.
     pub source: &'static str,
@@ -315,10 +298,6 @@ pub(crate) struct BoxJson<'a> {
 /// `estimable --json` (see the [module](self)).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct EstimableJson<'a> {
     /// The study's path.
     pub study: &'a str,

@@ -9,6 +9,13 @@
 //! The command line prints a view through a `serde_json::Value`, so keys come out in
 //! alphabetical order; a field skipped (`skip_serializing_if`) is a key absent from the output,
 //! an `Option` serialised as `None` is `null`, and a non-finite number is `null`.
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use e2e_verify::{CombinedOutput, YieldCount};
 use std::collections::BTreeMap;
@@ -77,10 +84,6 @@ pub(crate) fn deg3(r: &[Option<f64>; 3]) -> PerAngle<Option<f64>> {
 /// output's unit; flattened into the output's object.
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct Split {
     /// The table's part (the certified worst case, else the linear one), output's unit.
     pub table_part: f64,
@@ -115,10 +118,6 @@ impl From<&CombinedOutput> for Split {
 /// The yield over turntables and noise.
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct CombinedYieldJson {
     /// Fraction of calibrations meeting every accuracy, in [0, 1].
     #[cfg_attr(feature = "serde", serde(rename = "yield"))]
@@ -144,10 +143,6 @@ impl From<&YieldCount> for CombinedYieldJson {
 /// A group of errors that act only together ([`tt_kinematics::Turntable::proportional_groups`]).
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct GroupJson {
     /// The members' names.
     pub errors: Vec<String>,

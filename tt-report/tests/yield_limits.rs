@@ -12,6 +12,26 @@ fn imu_example() -> study::Study {
     .unwrap()
 }
 
+/// The IMU example, its report.md and `end-to-end`'s answer for the same 2,000 turntables
+/// (seed 7).
+fn report_and_answer() -> (study::Study, String, tt_lab::end_to_end::EndToEndAnswer) {
+    let s = imu_example();
+    let mut options = ReportOptions::default();
+    options.samples = Some(2_000);
+    options.seed = Some(7);
+    let md = Report::compute(s.clone(), options)
+        .unwrap()
+        .markdown()
+        .unwrap();
+    let o = tt_lab::end_to_end::Options {
+        samples: Some(2_000),
+        seed: Some(7),
+        ..Default::default()
+    };
+    let r = tt_lab::end_to_end::end_to_end(&s, &o).unwrap();
+    (s, md, r)
+}
+
 /// On the IMU example (2,000 turntables, seed 7) each reading's list in report.md has one item
 /// per limit: every output's accuracy with `remeasured.meeting`, then each specification the
 /// yield counts (its label with `_` escaped, as Markdown must show it) with its
@@ -19,18 +39,7 @@ fn imu_example() -> study::Study {
 /// the fewest marked as limiting the yield.
 #[test]
 fn the_report_lists_the_yields_count_per_specification_as_end_to_end_json_has_them() {
-    let s = imu_example();
-    let mut options = ReportOptions::default();
-    options.samples = Some(2_000);
-    options.seed = Some(7);
-    let report = Report::compute(s.clone(), options).unwrap();
-    let md = report.markdown().unwrap();
-    let o = tt_lab::end_to_end::Options {
-        samples: Some(2_000),
-        seed: Some(7),
-        ..Default::default()
-    };
-    let r = tt_lab::end_to_end::end_to_end(&s, &o).unwrap();
+    let (s, md, r) = report_and_answer();
     let v = serde_json::to_value(tt_lab::end_to_end::EndToEndJson::of(&s, &r)).unwrap();
     let readings = v["readings"].as_array().unwrap();
     let intro = "The yield-based box's re-measured turntables against each limit its yield counts:";
@@ -88,20 +97,7 @@ fn the_report_lists_the_yields_count_per_specification_as_end_to_end_json_has_th
 /// "every specification".
 #[test]
 fn the_report_says_which_specifications_its_yield_leaves_out_because_no_table_can_meet_them() {
-    let s = imu_example();
-    let mut options = ReportOptions::default();
-    options.samples = Some(2_000);
-    options.seed = Some(7);
-    let md = Report::compute(s.clone(), options)
-        .unwrap()
-        .markdown()
-        .unwrap();
-    let o = tt_lab::end_to_end::Options {
-        samples: Some(2_000),
-        seed: Some(7),
-        ..Default::default()
-    };
-    let r = tt_lab::end_to_end::end_to_end(&s, &o).unwrap();
+    let (_, md, r) = report_and_answer();
     assert_eq!(
         r.no_table_suffices().len(),
         2,

@@ -17,6 +17,13 @@
 //! of phi1"}`), `readings` (`[{"reading", "constant_direct_objective_arcmin", "direct":
 //! {"objective_arcmin", "upper_bounds_arcmin"}, "certified": {...} | null, "certified_note",
 //! "unmeasured_before_objective_arcmin", "compensated": {...} | {"no_room"} | null}]`).
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::Result;
 use calib_lsq::Reading;
@@ -166,10 +173,6 @@ pub fn model_name(v: &ErrorVariation) -> String {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) enum CompensatedJson<'a> {
     /// The unmeasured errors' allocation.
     Allocated(crate::vendor::angle::AllocationJson),
@@ -183,10 +186,6 @@ pub(crate) enum CompensatedJson<'a> {
 /// One reading of `angle_dependent`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AngleReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -207,10 +206,6 @@ pub(crate) struct AngleReadingJson<'a> {
 /// The JSON value of `angle_dependent` (see the [module](self)).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct AngleDependentJson<'a> {
     /// Each error's model in words (`constant`, `harmonics [1, 2] of phi1`, `any of phi1`).
     pub model: BTreeMap<String, String>,

@@ -16,6 +16,13 @@
 //! requirement is a static concept): the text says so and gives the direct allocation with
 //! the rate tolerances (JSON `rate_allocation`, beside `two_step_allocation` saying why the
 //! two-step keys are absent) as the answer.
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::InputError;
 use crate::Result;
@@ -39,10 +46,6 @@ pub use crate::vendor::rate::{RateAllocated, allocation as rate_allocation};
 /// One angle's Lemma 1 certificate, degrees.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct AxisCertificateJson {
     /// The requirement, degrees (`null`: none).
     pub requirement_deg: Option<f64>,
@@ -171,10 +174,6 @@ fn paper_table4(
 /// `allocate --json`: the two-step allocation with its certificate.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct AllocateJson<'a> {
     /// The study's path.
     pub study: &'a str,

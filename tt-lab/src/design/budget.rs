@@ -2,6 +2,13 @@
 //! counted ([`schedule_design::design_with_budget`]): the Pareto front of total test time
 //! against J, and the chosen point certified on the exact chain (`design-schedule
 //! --time-budget-s`).
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::design::schedule::{NoiseCounted, design_problem, noise_counted};
 use crate::end_to_end::uniform_dwell;
@@ -320,10 +327,6 @@ pub(crate) struct ChosenJson<'a> {
 #[allow(
     clippy::large_enum_variant,
     reason = "a view built once per command and serialised at once; boxing buys nothing"
-)]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
 )]
 pub(crate) enum TimeBudgetJson<'a> {
     /// The study gives no noise.

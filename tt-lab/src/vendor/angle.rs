@@ -6,6 +6,13 @@
 //! [`tt_kinematics::on_shafts`]): what a sheet supports that bounds each error over the whole
 //! revolution ("wobble <= 3 arcsec") and says nothing more. The constant model (the paper's)
 //! is supported only by a table whose errors are known not to vary with the angle.
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::Result;
 use crate::json::{ArcminBounds, arcmin_bounds};
@@ -485,10 +492,6 @@ pub fn constant_counted(check: &TurntableCheck, noise: Option<&NoisePart>) -> Ve
 /// An allocation with one tolerance per pair (or per error), or under the shaft-angle model.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AllocationJson {
     /// J, arcmin^-2; `null` when no error needs a bound.
     pub objective_arcmin: Option<f64>,
@@ -510,10 +513,6 @@ impl AllocationJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(untagged))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) enum CertifiedJson<'a> {
     /// The certified allocation.
     Certified(AllocationJson),
@@ -536,10 +535,6 @@ impl<'a> CertifiedJson<'a> {
 /// The constant model's allocations as discs and as squares.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ConstantPairsJson {
     /// One tolerance per pair, a disc.
     pub disc: AllocationJson,
@@ -550,10 +545,6 @@ pub(crate) struct ConstantPairsJson {
 /// The angle-dependent model's allocations as discs and squares, with their certified ones.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AnglePairsJson<'a> {
     /// One tolerance per pair, a disc.
     pub disc: AllocationJson,
@@ -570,10 +561,6 @@ pub(crate) struct AnglePairsJson<'a> {
 /// `square_certified`, or `{"not_certified": why}`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct DiscAllocationJson<'a> {
     /// Under the constant model.
     pub constant: ConstantPairsJson,
@@ -604,10 +591,6 @@ impl<'a> DiscAllocationJson<'a> {
 /// One reading of the sheet allocations.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct SheetReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -619,10 +602,6 @@ pub(crate) struct SheetReadingJson<'a> {
 /// The sheet allocations (`disc_allocation`): the sheet's path and one entry per reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct SheetAllocationsJson<'a> {
     /// The sheet's path.
     pub tolerances: &'a str,
@@ -650,10 +629,6 @@ impl<'a> SheetAllocationsJson<'a> {
 /// Worst cases over the discs, per output, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct DiscWorstCaseJson<'a> {
     /// Under the constant model.
     pub constant: &'a [f64],
@@ -664,10 +639,6 @@ pub(crate) struct DiscWorstCaseJson<'a> {
 /// The check with the sheet's pairs as discs.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct DiscsJson<'a> {
     /// A lower bound of the angle-dependent worst case per output, output's unit.
     pub worst_case_linear_lower: &'a [f64],
@@ -689,10 +660,6 @@ pub(crate) struct DiscsJson<'a> {
 /// One output's worst case under the angle-dependent model, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AngleOutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
@@ -716,10 +683,6 @@ pub(crate) struct AngleOutputJson<'a> {
 /// The angle-dependent check of one reading.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ReadingAngleJson<'a> {
     /// The weakest output's verdict, every modelled source counted (with the study's noise:
     /// the table's part plus the noise's).
@@ -790,10 +753,6 @@ impl<'a> ReadingAngleJson<'a> {
 /// One error's shaft-angle model.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ErrorModelJson<'a> {
     /// The error's name.
     pub error: &'a str,
@@ -809,10 +768,6 @@ pub(crate) struct ErrorModelJson<'a> {
 /// study's, then the user's when different).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct AngleCheckJson<'a> {
     /// `study` (the study's model) or `any-on-shafts`.
     pub model: &'static str,
@@ -871,10 +826,6 @@ impl<'a> AngleCheckJson<'a> {
 /// One reading of the compensated check.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct CompensatedReadingJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -892,10 +843,6 @@ pub(crate) struct CompensatedReadingJson<'a> {
 /// The `compensated` key of `check-turntable`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct CompensatedJson<'a> {
     /// The box that matters (measured errors at their uncertainty, or at the sheet's bound
     /// plus the measured value's largest magnitude when smaller), arcmin.

@@ -16,6 +16,13 @@
 //! angle-dependent and the compensated sections count the same noise part in their verdicts
 //! (the rule stated in the verdict's sentence; JSON `verdict`, with `table_verdict` the
 //! table's alone). A study without noise gets exactly today's answer.
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::InputError;
 use crate::Result;
@@ -44,10 +51,6 @@ pub struct NoisyCheck {
 /// One error's (or group's) contribution to an output's worst case.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ContributionJson<'a> {
     /// The error's name, or its group's combination.
     pub error: String,
@@ -62,10 +65,6 @@ pub(crate) struct ContributionJson<'a> {
 /// One output's check (`outputs[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct CheckOutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
@@ -105,10 +104,6 @@ pub(crate) struct CheckOutputJson<'a> {
 /// the noise and `table_verdict` is the table's alone.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ReadingCheckJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -198,10 +193,6 @@ impl<'a> ReadingCheckJson<'a> {
 /// orientation when the study's reading is another one (else `null`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct CheckJson<'a> {
     /// The study's reading's check (its keys at the top level).
     #[cfg_attr(feature = "serde", serde(flatten))]

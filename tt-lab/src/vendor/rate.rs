@@ -6,6 +6,13 @@
 //! [`e2e_verify::rate`]; the orientation requirement of eq 15-16 is a static concept (one
 //! orientation error at every test position), so commands that use it say so and use the
 //! direct allocation.
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::InputError;
 use crate::Result;
@@ -384,10 +391,6 @@ fn with_noise(
 /// A rate error or translation bounded by the sheet (`extra_errors[]`), in the sheet's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ExtraErrorJson {
     /// The error's name.
     pub name: String,
@@ -400,10 +403,6 @@ pub(crate) struct ExtraErrorJson {
 /// One error's part of an output's worst case, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct ExtraPartJson {
     /// The error's name.
     pub error: String,
@@ -414,10 +413,6 @@ pub(crate) struct ExtraPartJson {
 /// One output's worst case over both boxes, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct RateOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -446,10 +441,6 @@ pub struct RateOutputJson<'a> {
 /// One output's noise part in the rate check, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct RateNoiseSplitJson {
     /// The table's part: the larger of `linear_bound` and `exact_at_vertex`.
     pub table_part: f64,
@@ -468,10 +459,6 @@ pub struct RateNoiseSplitJson {
 /// The check with the errors only rotation exposes (`rate_steps[]`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct RateCheckJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -575,10 +562,6 @@ impl<'a> RateCheckJson<'a> {
 /// A rate tolerance allocated (`tolerances[]`), in the sheet's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct ToleranceJson {
     /// The tolerance's name.
     pub name: String,
@@ -594,10 +577,6 @@ pub struct ToleranceJson {
 /// One output of the certified allocation with the rate tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct CertifiedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -614,10 +593,6 @@ pub struct CertifiedOutputJson<'a> {
 /// The certified allocation with the rate tolerances (`rate_allocation.certified`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct CertifiedRateJson<'a> {
     /// J, arcmin^-2.
     pub objective_arcmin: f64,
@@ -673,10 +648,6 @@ impl<'a> CertifiedRateJson<'a> {
 /// One output of the allocation with the rate tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct AllocatedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -697,10 +668,6 @@ pub struct AllocatedOutputJson<'a> {
 /// The allocation with the rate tolerances (`rate_allocation`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct RateAllocationJson<'a> {
     /// The reading of eq 13.
     pub reading: String,
@@ -738,10 +705,6 @@ pub struct RateAllocationJson<'a> {
 /// output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct NoisyAllocatedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -762,10 +725,6 @@ pub(crate) struct NoisyAllocatedOutputJson<'a> {
 /// An output the noise leaves no room (`with_noise.no_room[]`), output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct RateNoRoomJson<'a> {
     /// The output's name.
     pub output: &'a str,
@@ -779,10 +738,6 @@ pub(crate) struct RateNoRoomJson<'a> {
 /// (`rate_allocation.with_noise`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub(crate) struct RateWithNoiseJson<'a> {
     /// The rule: what each output's accuracy is shared between.
     pub rule: String,

@@ -2,6 +2,13 @@
 //! ([`e2e_verify::BudgetQuestions::plan_verdict`]) and its JSON view, shared by `check-turntable`
 //! (the sheet's tolerances) and `end-to-end` (the direct allocation's box). Every verdict
 //! names its rule; where an output's noise is not modelled the same sentence says so.
+#![cfg_attr(
+    not(feature = "serde"),
+    allow(
+        dead_code,
+        reason = "the JSON views' fields are read only by their derived Serialize"
+    )
+)]
 
 use crate::Result;
 use e2e_verify::EndToEnd;
@@ -80,10 +87,6 @@ pub struct RowJson {
 /// One specification's verdict (`specifications[]`), in the specification's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    not(feature = "serde"),
-    allow(dead_code, reason = "read by its Serialize")
-)]
 pub struct SpecJson {
     /// `output coefficient (kind)`, `output error over +-R unit`, `output accuracy (eq 14)`.
     pub quantity: String,
