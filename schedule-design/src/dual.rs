@@ -564,15 +564,7 @@ mod tests {
             let m = 1 + (rng.next_u32() % 13) as usize;
             let n_rows = 1 + (rng.next_u32() % 40) as usize;
             let w23 = weights_23(&(0..m).map(|_| 0.1 + uniform(&mut rng)).collect::<Vec<_>>());
-            let rows: Vec<f64> = (0..n_rows * m)
-                .map(|_| {
-                    if rng.next_u32() % 3 == 0 {
-                        0.0
-                    } else {
-                        uniform(&mut rng) * 10f64.powi((rng.next_u32() % 7) as i32 - 3)
-                    }
-                })
-                .collect();
+            let rows = random_rows(&mut rng, n_rows * m);
             let optimum = bounds_with(
                 &mut Scratch::default(),
                 &w23,
@@ -632,6 +624,19 @@ mod tests {
         assert_eq!(checked, 1200);
     }
 
+    /// `count` row entries: a third of them zero, the others uniform over 7 decades.
+    fn random_rows(rng: &mut ChaCha8Rng, count: usize) -> Vec<f64> {
+        (0..count)
+            .map(|_| {
+                if rng.next_u32() % 3 == 0 {
+                    0.0
+                } else {
+                    uniform(rng) * 10f64.powi((rng.next_u32() % 7) as i32 - 3)
+                }
+            })
+            .collect()
+    }
+
     fn uniform(rng: &mut ChaCha8Rng) -> f64 {
         (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
@@ -652,15 +657,7 @@ mod tests {
             let m = 1 + (rng.next_u32() % 13) as usize;
             let n_rows = 1 + (rng.next_u32() % 40) as usize;
             let weights: Vec<f64> = (0..m).map(|_| 0.1 + uniform(&mut rng)).collect();
-            let rows: Vec<f64> = (0..n_rows * m)
-                .map(|_| {
-                    if rng.next_u32() % 3 == 0 {
-                        0.0
-                    } else {
-                        uniform(&mut rng) * 10f64.powi((rng.next_u32() % 7) as i32 - 3)
-                    }
-                })
-                .collect();
+            let rows = random_rows(&mut rng, n_rows * m);
             let mu0: Vec<(usize, f64)> = (0..(rng.next_u32() % 4) as usize)
                 .map(|_| ((rng.next_u32() as usize) % n_rows, uniform(&mut rng)))
                 .collect();

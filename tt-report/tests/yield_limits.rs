@@ -12,6 +12,16 @@ fn imu_example() -> study::Study {
     .unwrap()
 }
 
+/// The items of the Markdown list that opens `block` (after blank lines), without `- `.
+fn list_items(block: &str) -> Vec<&str> {
+    block
+        .trim_start()
+        .lines()
+        .take_while(|l| l.starts_with("- "))
+        .map(|l| &l[2..])
+        .collect()
+}
+
 /// The IMU example, its report.md and `end-to-end`'s answer for the same 2,000 turntables
 /// (seed 7).
 fn report_and_answer() -> (study::Study, String, tt_lab::end_to_end::EndToEndAnswer) {
@@ -63,12 +73,7 @@ fn the_report_lists_the_yields_count_per_specification_as_end_to_end_json_has_th
         assert_eq!(limits.len(), 4, "the accuracies and three specifications");
         assert_eq!(limits[1].0, "ax ba\\_x (bias) in ug");
         let fewest = limits.iter().map(|l| l.1).min().unwrap();
-        let items: Vec<&str> = block
-            .trim_start()
-            .lines()
-            .take_while(|l| l.starts_with("- "))
-            .map(|l| &l[2..])
-            .collect();
+        let items = list_items(block);
         assert_eq!(items.len(), limits.len(), "{block}");
         for ((label, meeting), item) in limits.iter().zip(items) {
             let (lo, hi) = e2e_verify::wilson_interval_95(*meeting, samples);
@@ -106,12 +111,7 @@ fn the_report_says_which_specifications_its_yield_leaves_out_because_no_table_ca
     );
     let intro = "Left out of the direct and the yield-based allocations (no table can meet them):";
     let block = md.split(intro).nth(1).expect(intro);
-    let items: Vec<&str> = block
-        .trim_start()
-        .lines()
-        .take_while(|l| l.starts_with("- "))
-        .map(|l| &l[2..])
-        .collect();
+    let items = list_items(block);
     let expected: Vec<String> = r
         .no_table_suffices()
         .iter()
