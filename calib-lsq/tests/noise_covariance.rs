@@ -10,7 +10,8 @@ use gw_model::noise::{GaussMarkov, NoiseModel, WhiteDensity};
 use gw_model::{Output, Regressor, SensorModel, Term};
 use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
 use rand_chacha::ChaCha8Rng;
-use rand_core::{Rng, SeedableRng};
+use rand_core::SeedableRng;
+use testkit::random::{normals, uniform};
 use tt_core::FieldError;
 
 /// Matrix products of size up to 32 x 7 with condition numbers below 10: relative to the
@@ -262,19 +263,6 @@ fn visiting_order_changes_the_correlated_covariance_and_not_the_white() {
 }
 
 // ---------------------------------------------------------------- Monte Carlo
-
-/// A uniform in (0, 1) from 53 random bits.
-fn uniform(rng: &mut ChaCha8Rng) -> f64 {
-    ((rng.next_u64() >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
-}
-
-/// Two independent standard normals (Box-Muller).
-fn normals(rng: &mut ChaCha8Rng) -> (f64, f64) {
-    let (u1, u2) = (uniform(rng), uniform(rng));
-    let r = (-2.0 * u1.ln()).sqrt();
-    let t = 2.0 * std::f64::consts::PI * u2;
-    (r * t.cos(), r * t.sin())
-}
 
 /// One calibration's position averages: at fs each sample is the mean of the output over its
 /// interval (white noise: variance N^2 fs; Gauss-Markov: the exact discretisation of the

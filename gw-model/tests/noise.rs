@@ -11,7 +11,8 @@ use gw_model::noise::{
     STANDARD_GRAVITY_M_PER_S2, UnitFamily, WhiteDensity, Window,
 };
 use rand_chacha::ChaCha8Rng;
-use rand_core::{Rng, SeedableRng};
+use rand_core::SeedableRng;
+use testkit::random::normals;
 use tt_core::FieldError;
 
 /// Unit conversions are products of a few exact constants: a few ulps, relative.
@@ -932,19 +933,6 @@ fn window_covariance_adds_the_drifts_to_the_gauss_markov_part() {
             }
         }
     }
-}
-
-/// A uniform in (0, 1) from 53 random bits.
-fn uniform(rng: &mut ChaCha8Rng) -> f64 {
-    ((rng.next_u64() >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
-}
-
-/// Two independent standard normals (Box-Muller).
-fn normals(rng: &mut ChaCha8Rng) -> (f64, f64) {
-    let (u1, u2) = (uniform(rng), uniform(rng));
-    let r = (-2.0 * u1.ln()).sqrt();
-    let t = 2.0 * std::f64::consts::PI * u2;
-    (r * t.cos(), r * t.sin())
 }
 
 /// Sample covariance of window averages of `runs` seeded simulations of white noise N, rate

@@ -200,32 +200,11 @@ fn cbrt_memo(memo_in: &mut [u64], memo_out: &mut [f64], j: usize, x: f64) -> f64
     }
 }
 
-/// Bounds on $J$ (rad$^{-2}$) of the rows `rows` ($R \times m$): (lower, upper).
+/// Bounds on $J$ (rad$^{-2}$) of the rows `rows` ($R \times m$): (lower, upper), for the
+/// weights as $w_j^{2/3}$ (`w23`, [`weights_23`]) and with the working memory `sc` reused.
 /// `mu0` is the warm start (row, weight $\ge 0$); the iteration stops early once
 /// `lower >= stop_above` (before the iterate's gradient: the upper bound is then the previous
 /// iterate's) or `upper < stop_below`.
-#[cfg(test)]
-pub(crate) fn bounds(
-    weights: &[f64],
-    rows: &[f64],
-    m: usize,
-    mu0: &[(usize, f64)],
-    stop_above: f64,
-    stop_below: f64,
-) -> (f64, f64) {
-    let w23 = weights_23(weights);
-    bounds_with(
-        &mut Scratch::default(),
-        &w23,
-        rows,
-        m,
-        mu0,
-        stop_above,
-        stop_below,
-    )
-}
-
-/// [`bounds`] with the weights as $w_j^{2/3}$ ([`weights_23`]) and reused working memory.
 pub(crate) fn bounds_with(
     sc: &mut Scratch,
     w23: &[f64],
@@ -468,16 +447,16 @@ mod tests {
         assert!(cbrt_fast(f64::NAN).is_nan());
     }
 
-    /// The row-wise formulation [`bounds`] had before its gradient went by columns and its
+    /// The row-wise formulation [`bounds_with`] had before its gradient went by columns and its
     /// cube roots were shared (kept verbatim as the reference).
     fn bounds_row_wise(
-        weights: &[f64],
-        rows: &[f64],
-        m: usize,
+        problem: &Problem,
         mu0: &[(usize, f64)],
         stop_above: f64,
         stop_below: f64,
     ) -> (f64, f64) {
+        let Problem { m, weights, rows } = problem;
+        let m = *m;
         let n_rows = rows.len() / m;
         if n_rows == 0 {
             return (0.0, f64::INFINITY);
@@ -561,14 +540,13 @@ mod tests {
         let mut scratch = Scratch::default();
         let mut checked = 0;
         for case in 0..300 {
-            let m = 1 + (rng.next_u32() % 13) as usize;
-            let n_rows = 1 + (rng.next_u32() % 40) as usize;
-            let w23 = weights_23(&(0..m).map(|_| 0.1 + uniform(&mut rng)).collect::<Vec<_>>());
-            let rows = random_rows(&mut rng, n_rows * m);
+            let problem = Problem::draw(&mut rng);
+            let (m, n_rows, rows) = (problem.m, problem.n_rows(), problem.rows.as_slice());
+            let w23 = weights_23(&problem.weights);
             let optimum = bounds_with(
                 &mut Scratch::default(),
                 &w23,
-                &rows,
+                rows,
                 m,
                 &[],
                 f64::INFINITY,
@@ -581,7 +559,7 @@ mod tests {
                 let (lower, upper) = bounds_within(
                     &mut scratch,
                     &w23,
-                    &rows,
+                    rows,
                     m,
                     &carry,
                     (f64::INFINITY, 0.0),
@@ -603,7 +581,7 @@ mod tests {
             let full = bounds_within(
                 &mut scratch,
                 &w23,
-                &rows,
+                rows,
                 m,
                 &carry,
                 (f64::INFINITY, 0.0),
@@ -612,7 +590,7 @@ mod tests {
             let fresh = bounds_with(
                 &mut Scratch::default(),
                 &w23,
-                &rows,
+                rows,
                 m,
                 &carry,
                 f64::INFINITY,
@@ -622,6 +600,30 @@ mod tests {
             assert_eq!(full.1.to_bits(), fresh.1.to_bits(), "case {case}");
         }
         assert_eq!(checked, 1200);
+    }
+
+    /// A random problem of the solver: $m$ errors' weights and the rows ($R \times m$,
+    /// row-major).
+    struct Problem {
+        m: usize,
+        weights: Vec<f64>,
+        rows: Vec<f64>,
+    }
+
+    impl Problem {
+        /// $m$ in 1..=13, $R$ in 1..=40, weights uniform in [0.1, 1.1), rows [`random_rows`].
+        fn draw(rng: &mut ChaCha8Rng) -> Self {
+            let m = 1 + (rng.next_u32() % 13) as usize;
+            let n_rows = 1 + (rng.next_u32() % 40) as usize;
+            let weights = (0..m).map(|_| 0.1 + uniform(rng)).collect();
+            let rows = random_rows(rng, n_rows * m);
+            Self { m, weights, rows }
+        }
+
+        /// $R$.
+        fn n_rows(&self) -> usize {
+            self.rows.len() / self.m
+        }
     }
 
     /// `count` row entries: a third of them zero, the others uniform over 7 decades.
@@ -642,11 +644,12 @@ mod tests {
     }
 
     /// The column-wise gradient and the shared cube roots are a reordering of the same
-    /// floating-point operations: [`bounds`] gives the same bits as the row-wise reference
-    /// for random rows (with zero entries, so that errors no support row touches take the
-    /// floor path), random warm starts and stopping levels, so the search's screening, its
-    /// order of exact evaluations and every answer of `design-schedule` are unchanged; so
-    /// does [`bounds_with`] with its working memory and cube-root memo reused across cases.
+    /// floating-point operations: [`bounds_with`] on fresh working memory gives the same bits
+    /// as the row-wise reference for random rows (with zero entries, so that errors no support
+    /// row touches take the floor path), random warm starts and stopping levels, so the
+    /// search's screening, its order of exact evaluations and every answer of
+    /// `design-schedule` are unchanged; so does it with its working memory and cube-root memo
+    /// reused across cases.
     /// The one difference: stopped by `stop_above` (a pruned swap), the upper bound is the
     /// previous iterate's, at least the reference's.
     #[test]
@@ -654,22 +657,22 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(21);
         let mut scratch = Scratch::default();
         for case in 0..300 {
-            let m = 1 + (rng.next_u32() % 13) as usize;
-            let n_rows = 1 + (rng.next_u32() % 40) as usize;
-            let weights: Vec<f64> = (0..m).map(|_| 0.1 + uniform(&mut rng)).collect();
-            let rows = random_rows(&mut rng, n_rows * m);
+            let problem = Problem::draw(&mut rng);
+            let (m, n_rows, rows) = (problem.m, problem.n_rows(), problem.rows.as_slice());
             let mu0: Vec<(usize, f64)> = (0..(rng.next_u32() % 4) as usize)
                 .map(|_| ((rng.next_u32() as usize) % n_rows, uniform(&mut rng)))
                 .collect();
             let (reference_lower, reference_upper) =
-                bounds_row_wise(&weights, &rows, m, &mu0, f64::INFINITY, 0.0);
+                bounds_row_wise(&problem, &mu0, f64::INFINITY, 0.0);
             let stop_above = if case % 2 == 0 {
                 f64::INFINITY
             } else {
                 reference_lower * (0.5 + uniform(&mut rng))
             };
-            let want = bounds_row_wise(&weights, &rows, m, &mu0, stop_above, 0.0);
-            let got = bounds(&weights, &rows, m, &mu0, stop_above, 0.0);
+            let want = bounds_row_wise(&problem, &mu0, stop_above, 0.0);
+            let w23 = weights_23(&problem.weights);
+            let mut fresh = Scratch::default();
+            let got = bounds_with(&mut fresh, &w23, rows, m, &mu0, stop_above, 0.0);
             assert_eq!(want.0.to_bits(), got.0.to_bits(), "lower, case {case}");
             // stopped by `stop_above`, the solver skips that iterate's gradient: its upper
             // bound is the previous iterate's (the reference's running minimum before its last
@@ -684,15 +687,7 @@ mod tests {
             assert!(upper_eq(want, got), "upper, case {case}");
             // the working memory (and its cube-root memo) carried over from the other cases,
             // with different sizes, changes nothing
-            let reused = bounds_with(
-                &mut scratch,
-                &weights_23(&weights),
-                &rows,
-                m,
-                &mu0,
-                stop_above,
-                0.0,
-            );
+            let reused = bounds_with(&mut scratch, &w23, rows, m, &mu0, stop_above, 0.0);
             assert_eq!(want.0.to_bits(), reused.0.to_bits(), "lower, case {case}");
             assert!(upper_eq(want, reused), "upper, case {case}");
             assert!(reference_lower <= reference_upper, "case {case}");

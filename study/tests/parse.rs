@@ -63,16 +63,51 @@ fn replace(from: &str, to: &str) -> String {
     PAPER.replacen(from, to, 1)
 }
 
-/// Each malformed study names the file, the key (with the list index) and the reason.
+/// Each of `cases` (a malformed study, where its error must point and the reason it must
+/// give) is refused with an error naming both (a failure points at the calling test).
+#[track_caller]
+fn assert_each_names_the_location_and_the_reason(cases: &[(String, &str, &str)]) {
+    for (text, location, reason) in cases {
+        let e = err(text);
+        assert!(
+            e.contains(location),
+            "{e}\n  expected location `{location}`"
+        );
+        assert!(e.contains(reason), "{e}\n  expected reason `{reason}`");
+    }
+}
+
+/// An unknown key, at the top or inside a factor, and a value TOML cannot read are refused
+/// naming the file and line.
 #[test]
-#[allow(clippy::too_many_lines, reason = "one table of cases")]
-fn bad_studies_name_the_key_and_the_reason() {
-    let cases: Vec<(String, &str, &str)> = vec![
+fn unknown_keys_and_invalid_toml_name_the_file() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace("name = \"gyrowheel-2017\"", "name = \"x\"\ncolour = 3"),
             "s.toml:",
             "unknown field `colour`",
         ),
+        (
+            replace(
+                "{ joint = \"phi1\", about = \"y\" }",
+                "{ joint = \"phi1\", wobble = 2, about = \"y\" }",
+            ),
+            "s.toml:",
+            "unknown field `wobble`",
+        ),
+        (
+            replace("[90, 45], [90, 90]", "[90, 45], [90, 1e999]"),
+            "s.toml:",
+            "invalid TOML",
+        ),
+    ]);
+}
+
+/// A bad factor (an unknown axis, a name already taken, both a joint and an error) names
+/// the factor's key with its list index.
+#[test]
+fn bad_turntable_factors_name_the_factor_and_the_reason() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace(
                 "{ joint = \"phi1\", about = \"y\" }",
@@ -97,14 +132,13 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `turntable.factors[0]`",
             "exactly one of",
         ),
-        (
-            replace(
-                "{ joint = \"phi1\", about = \"y\" }",
-                "{ joint = \"phi1\", wobble = 2, about = \"y\" }",
-            ),
-            "s.toml:",
-            "unknown field `wobble`",
-        ),
+    ]);
+}
+
+/// A joint range that is empty or of no joint names the joint's key.
+#[test]
+fn bad_joint_ranges_name_the_joint() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace(
                 "[turntable.descriptions]",
@@ -121,6 +155,13 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `turntable.joint_ranges_deg.phi3`",
             "not a joint",
         ),
+    ]);
+}
+
+/// A position with too many or too few angles names the position's index and both counts.
+#[test]
+fn positions_of_the_wrong_length_name_the_position() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace("[0, 0], [0, 45]", "[0, 0], [0, 45, 999]"),
             "key `calibration.positions_deg[1]`",
@@ -131,6 +172,14 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `calibration.positions_deg[1]`",
             "found 1",
         ),
+    ]);
+}
+
+/// A bad term (an unknown input symbol, a coefficient already estimated elsewhere, a value
+/// out of range) or accuracy names the output and the term by their indices.
+#[test]
+fn bad_sensor_outputs_name_the_output_and_the_term() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace(
                 "regressor = \"a_x*a_y\", value = 17.4",
@@ -165,6 +214,13 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `sensor.outputs[0].terms[2].value`",
             "must lie in",
         ),
+    ]);
+}
+
+/// An Earth rate or latitude out of range names the site's key and the accepted range.
+#[test]
+fn out_of_range_site_values_name_the_key_and_the_range() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace(
                 "earth_rate_rad_per_s = 7.2921159e-5",
@@ -178,6 +234,14 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `site.latitude_deg`",
             "must lie in [-90, 90] deg",
         ),
+    ]);
+}
+
+/// A given requirement out of range or missing, or values given to a computed one, name the
+/// requirement's key.
+#[test]
+fn bad_requirements_name_the_key() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace("gamma_deg = 0.027", "gamma_deg = 1e308"),
             "key `requirement.gamma_deg`",
@@ -193,6 +257,13 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `requirement.source`",
             "takes no values",
         ),
+    ]);
+}
+
+/// A negative lower bound, or one of a translation error, names the error's key.
+#[test]
+fn bad_lower_bounds_name_the_error() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace("dalpha_x2 = 0.0", "dalpha_x2 = -1.0"),
             "key `allocation.lower_bounds_arcmin.dalpha_x2`",
@@ -203,6 +274,13 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `allocation.lower_bounds_arcmin.deta`",
             "is a translation",
         ),
+    ]);
+}
+
+/// A Monte Carlo sample count of zero or above the maximum names the key.
+#[test]
+fn sample_counts_out_of_range_name_the_key() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace("samples = 10000", "samples = 0"),
             "key `monte_carlo.samples`",
@@ -213,6 +291,14 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `monte_carlo.samples`",
             "at most",
         ),
+    ]);
+}
+
+/// An unknown reading or orientation-error kind names the calibration's key (and the words
+/// accepted).
+#[test]
+fn unknown_calibration_words_name_the_key() {
+    assert_each_names_the_location_and_the_reason(&[
         (
             replace(
                 "reading = \"intended/beta1/printed\"",
@@ -226,41 +312,35 @@ fn bad_studies_name_the_key_and_the_reason() {
             "key `calibration.delta_r`",
             "\"small-angle\" or \"exact\"",
         ),
-        (
-            replace("[90, 45], [90, 90]", "[90, 45], [90, 1e999]"),
-            "s.toml:",
-            "invalid TOML",
-        ),
-        (
-            PAPER
-                .replace(", [0, 45]", "")
-                .replace(", [0, 135]", "")
-                .replace(", [0, 225]", "")
-                .replace(", [0, 315]", "")
-                .replace(", [90, 45]", "")
-                .replace(", [90, 135]", "")
-                .replace(", [90, 225]", "")
-                .replace(", [90, 315]", "")
-                .replace(", [180, 45]", "")
-                .replace(", [180, 135]", "")
-                .replace(", [180, 225]", "")
-                .replace(", [180, 315]", "")
-                .replace(", [270, 45]", "")
-                .replace(", [270, 135]", "")
-                .replace(", [270, 225]", "")
-                .replace(", [270, 315]", ""),
-            "key `calibration.positions_deg`",
-            "cannot identify dx_xy of output `x`",
-        ),
-    ];
-    for (text, location, reason) in cases {
-        let e = err(&text);
-        assert!(
-            e.contains(location),
-            "{e}\n  expected location `{location}`"
-        );
-        assert!(e.contains(reason), "{e}\n  expected reason `{reason}`");
-    }
+    ]);
+}
+
+/// The paper's schedule without its sixteen positions with phi2 at 45, 135, 225 or 315 deg
+/// cannot identify a coefficient: the error names the positions' key and the coefficient.
+#[test]
+fn a_schedule_that_cannot_identify_a_coefficient_names_it() {
+    let text = PAPER
+        .replace(", [0, 45]", "")
+        .replace(", [0, 135]", "")
+        .replace(", [0, 225]", "")
+        .replace(", [0, 315]", "")
+        .replace(", [90, 45]", "")
+        .replace(", [90, 135]", "")
+        .replace(", [90, 225]", "")
+        .replace(", [90, 315]", "")
+        .replace(", [180, 45]", "")
+        .replace(", [180, 135]", "")
+        .replace(", [180, 225]", "")
+        .replace(", [180, 315]", "")
+        .replace(", [270, 45]", "")
+        .replace(", [270, 135]", "")
+        .replace(", [270, 225]", "")
+        .replace(", [270, 315]", "");
+    assert_each_names_the_location_and_the_reason(&[(
+        text,
+        "key `calibration.positions_deg`",
+        "cannot identify dx_xy of output `x`",
+    )]);
 }
 
 /// A missing required key is named.

@@ -73,11 +73,12 @@ pub enum FieldError {
     },
 }
 
-impl FieldError {
-    /// The field the error is about.
-    #[must_use]
-    pub fn field(&self) -> &str {
-        match self {
+/// The `field` of a [`FieldError`] (`&FieldError` gives `&String`, `&mut FieldError` gives
+/// `&mut String`): the one list of the variants for [`FieldError::field`] and
+/// [`FieldError::within`].
+macro_rules! field_of {
+    ($error:expr) => {
+        match $error {
             FieldError::NonFinite { field, .. }
             | FieldError::NotPositive { field, .. }
             | FieldError::Negative { field, .. }
@@ -85,19 +86,20 @@ impl FieldError {
             | FieldError::OutOfRange { field, .. }
             | FieldError::Count { field, .. } => field,
         }
+    };
+}
+
+impl FieldError {
+    /// The field the error is about.
+    #[must_use]
+    pub fn field(&self) -> &str {
+        field_of!(self)
     }
 
     /// The same error about `prefix.field` (a caller that nests the value under a name).
     #[must_use]
     pub fn within(mut self, prefix: &str) -> Self {
-        let f = match &mut self {
-            FieldError::NonFinite { field, .. }
-            | FieldError::NotPositive { field, .. }
-            | FieldError::Negative { field, .. }
-            | FieldError::Length { field, .. }
-            | FieldError::OutOfRange { field, .. }
-            | FieldError::Count { field, .. } => field,
-        };
+        let f = field_of!(&mut self);
         *f = format!("{prefix}.{f}");
         self
     }

@@ -396,6 +396,35 @@ fn owned(names: Vec<&str>) -> Vec<String> {
     names.into_iter().map(str::to_string).collect()
 }
 
+/// The methods the chains of a described turntable ([`ExactChain`], [`SmallAngleChain`],
+/// [`LinearChain`]) share, in one definition: the names of its rotation errors and its count
+/// of translation errors, read from the turntable at `self.` followed by the braced path;
+/// with a documented `delta_r = delta_r_of_angles`, the opt-in to the stated fallback
+/// [`delta_r_of_angles`] as its $\Delta\mathbf R$.
+macro_rules! turntable_chain {
+    ({ $($turntable:tt)+ }) => {
+        fn error_names(&self) -> Vec<String> {
+            owned(self.$($turntable)+.rotation_error_names())
+        }
+
+        fn n_translation_errors(&self) -> usize {
+            self.$($turntable)+.n_translation_errors()
+        }
+    };
+    ({ $($turntable:tt)+ } $(#[$doc:meta])+ delta_r = delta_r_of_angles) => {
+        turntable_chain!({ $($turntable)+ });
+
+        $(#[$doc])+
+        fn delta_r(
+            &self,
+            pose: &Pose,
+            errors: &TurntableErrors,
+        ) -> Result<Matrix3<f64>, KinematicsError> {
+            delta_r_of_angles(self, pose, errors)
+        }
+    };
+}
+
 /// The pose of schedule position `position`, or an error naming `position`.
 pub(crate) fn pose_at(poses: &[Pose], position: usize) -> Result<&Pose, KinematicsError> {
     Ok(poses
@@ -446,13 +475,7 @@ impl ExactChain {
 }
 
 impl OrientationErrorModel for ExactChain {
-    fn error_names(&self) -> Vec<String> {
-        owned(self.turntable.rotation_error_names())
-    }
-
-    fn n_translation_errors(&self) -> usize {
-        self.turntable.n_translation_errors()
-    }
+    turntable_chain!({ turntable });
 
     /// $\sum_j \mathrm{UB}_j$ over the finite bounds: $\Delta\mathbf R$ is a product of
     /// rotations by the errors themselves (conjugated).
@@ -520,23 +543,12 @@ impl SmallAngleChain {
 }
 
 impl OrientationErrorModel for SmallAngleChain {
-    fn error_names(&self) -> Vec<String> {
-        owned(self.turntable.rotation_error_names())
-    }
-
-    fn n_translation_errors(&self) -> usize {
-        self.turntable.n_translation_errors()
-    }
-
-    /// The rotation of its angles (stated fallback: the small-angle chain's own matrix is
-    /// not a rotation).
-    fn delta_r(
-        &self,
-        pose: &Pose,
-        errors: &TurntableErrors,
-    ) -> Result<Matrix3<f64>, KinematicsError> {
-        delta_r_of_angles(self, pose, errors)
-    }
+    turntable_chain!(
+        { turntable }
+        /// The rotation of its angles (stated fallback: the small-angle chain's own matrix is
+        /// not a rotation).
+        delta_r = delta_r_of_angles
+    );
 
     fn orientation_error(
         &self,
@@ -568,23 +580,12 @@ impl LinearChain {
 }
 
 impl OrientationErrorModel for LinearChain {
-    fn error_names(&self) -> Vec<String> {
-        owned(self.model.turntable().rotation_error_names())
-    }
-
-    fn n_translation_errors(&self) -> usize {
-        self.model.turntable().n_translation_errors()
-    }
-
-    /// The rotation of its (first-order) angles: a first-order model has no exact
-    /// $\Delta\mathbf R$ (stated fallback).
-    fn delta_r(
-        &self,
-        pose: &Pose,
-        errors: &TurntableErrors,
-    ) -> Result<Matrix3<f64>, KinematicsError> {
-        delta_r_of_angles(self, pose, errors)
-    }
+    turntable_chain!(
+        { model.turntable() }
+        /// The rotation of its (first-order) angles: a first-order model has no exact
+        /// $\Delta\mathbf R$ (stated fallback).
+        delta_r = delta_r_of_angles
+    );
 
     fn first_order(
         &self,
