@@ -716,7 +716,7 @@ pub(crate) struct AxisOracle<'m, S: LinearErrorModel + ?Sized> {
 
 impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     /// The oracle; checks the lengths once so that later searches cannot fail.
-    pub fn new(
+    pub(crate) fn new(
         model: &'m S,
         quantity: usize,
         components: Vec<usize>,
@@ -735,7 +735,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// Whether the search of this oracle is exact.
-    pub fn exact(&self) -> bool {
+    pub(crate) fn exact(&self) -> bool {
         self.exact
     }
 
@@ -749,7 +749,7 @@ impl<'m, S: LinearErrorModel + ?Sized> AxisOracle<'m, S> {
     }
 
     /// The worst point of the components' values `x` (the search).
-    pub fn search(&self, x: &[f64]) -> Result<WorstRow, AllocError> {
+    pub(crate) fn search(&self, x: &[f64]) -> Result<WorstRow, AllocError> {
         self.model.search(self.quantity, &self.full(x))
     }
 

@@ -52,7 +52,7 @@ const FLAGS: &[&str] = &[
 ];
 
 /// A running headless Chromium with its temporary profile, connected over CDP.
-pub struct Browser {
+pub(crate) struct Browser {
     child: Option<Child>,
     ws: Option<WebSocket<TcpStream>>,
     profile: Option<tempfile::TempDir>,
@@ -72,7 +72,7 @@ impl Browser {
     /// quoted in error messages).
     /// The profile is a new directory under `profile_parent` (default: the
     /// system's temporary directory).
-    pub fn launch(
+    pub(crate) fn launch(
         binary: &Path,
         window: (u32, u32),
         profile_parent: Option<&Path>,
@@ -222,7 +222,12 @@ impl Browser {
 
     /// Sends a command (to the browser, or to a page `session`) and returns its
     /// result; events that arrive meanwhile are queued for [`Browser::next_event`].
-    pub fn call(&mut self, session: Option<&str>, method: &str, params: Value) -> Result<Value> {
+    pub(crate) fn call(
+        &mut self,
+        session: Option<&str>,
+        method: &str,
+        params: Value,
+    ) -> Result<Value> {
         self.next_id += 1;
         let id = self.next_id;
         let mut msg = json!({ "id": id, "method": method, "params": params });
@@ -249,7 +254,7 @@ impl Browser {
     }
 
     /// The next event (queued or read from the socket), waiting until the deadline.
-    pub fn next_event(&mut self, waiting_for: &str) -> Result<Value> {
+    pub(crate) fn next_event(&mut self, waiting_for: &str) -> Result<Value> {
         if let Some(e) = self.events.pop_front() {
             return Ok(e);
         }
@@ -268,7 +273,7 @@ impl Browser {
 
     /// Closes the browser politely, then makes sure nothing of it is left:
     /// kills and reaps the main process, kills leftover helpers, removes the profile.
-    pub fn close(mut self) -> Result<()> {
+    pub(crate) fn close(mut self) -> Result<()> {
         if self.ws.is_some() && self.remaining().is_ok() {
             self.next_id += 1;
             let msg = json!({ "id": self.next_id, "method": "Browser.close", "params": {} });

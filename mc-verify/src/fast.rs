@@ -391,7 +391,7 @@ pub(crate) struct CompiledPlan {
 
 impl CompiledPlan {
     /// Compile [`Turntable::plan`].
-    pub fn new(turntable: &Turntable) -> Self {
+    pub(crate) fn new(turntable: &Turntable) -> Self {
         let mut ops = Vec::with_capacity(turntable.plan().len());
         let mut chi_sign = vec![1.0; turntable.n_rotation_errors()];
         let mut free = Vec::new();
@@ -618,7 +618,7 @@ pub(crate) struct PlanKernel<'a, const TIER: u8> {
 }
 
 impl<'a, const TIER: u8> PlanKernel<'a, TIER> {
-    pub fn new(plan: &'a CompiledPlan, sampler: &'a TurntableSampler) -> Self {
+    pub(crate) fn new(plan: &'a CompiledPlan, sampler: &'a TurntableSampler) -> Self {
         let tan = sampler
             .scale_rad()
             .iter()

@@ -399,7 +399,7 @@ fn lane_sums_shifted(v: &[f64], c: f64) -> (f64, f64) {
 }
 
 impl Partial {
-    pub fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
+    pub(crate) fn new(half_range_rad: &[f64; 3], bins: usize) -> Self {
         Self {
             n: 0,
             mean: [0.0; 3],
@@ -502,7 +502,7 @@ impl Partial {
     }
 
     /// Fold a later partial in (`other` covers samples after all of `self`'s).
-    pub fn merge(&mut self, other: &Partial) {
+    pub(crate) fn merge(&mut self, other: &Partial) {
         for k in 0..3 {
             if other.max_abs[k] > self.max_abs[k] {
                 self.max_abs[k] = other.max_abs[k];
@@ -529,7 +529,7 @@ impl Partial {
     }
 
     /// The public histogram of axis `k`.
-    pub fn histogram(&self, k: usize) -> Histogram {
+    pub(crate) fn histogram(&self, k: usize) -> Histogram {
         let h = &self.hist[k];
         let bins = h.len() - 2;
         Histogram {

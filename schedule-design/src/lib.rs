@@ -577,7 +577,7 @@ impl ExchangeStop {
 
     /// Passes over the slots.
     #[must_use]
-    pub fn passes(&self) -> usize {
+    pub(crate) fn passes(&self) -> usize {
         self.passes
     }
 

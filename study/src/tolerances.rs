@@ -80,7 +80,7 @@ impl ValueConvention {
 
     /// The name a sheet writes (`bound`, `one-sigma`, `peak-to-peak`).
     #[must_use]
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             ValueConvention::Bound => "bound",
             ValueConvention::OneSigma => "one-sigma",

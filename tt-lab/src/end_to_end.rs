@@ -1078,7 +1078,7 @@ impl<'a> EndToEndJson<'a> {
 ///
 /// # Errors
 /// An input error naming the study for a noise or timing the calibration refuses.
-pub fn noise_budget(s: &Study, e2e: &EndToEnd) -> Result<Option<e2e_verify::NoiseBudget>> {
+pub(crate) fn noise_budget(s: &Study, e2e: &EndToEnd) -> Result<Option<e2e_verify::NoiseBudget>> {
     if s.noise.iter().all(Option::is_none) {
         return Ok(None);
     }

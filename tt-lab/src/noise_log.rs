@@ -502,7 +502,7 @@ fn gauss_markov_refusal(g: &allan::GaussMarkovFit, flicker: Term, b: f64) -> Opt
 /// resolved inside the study's limits and it fits the curve better (a lower weighted
 /// residual); never both (they model the same wander). The other terms come from the model
 /// whose bias is written.
-pub fn noise_block(a: &Analysis) -> NoiseBlock {
+pub(crate) fn noise_block(a: &Analysis) -> NoiseBlock {
     use gw_model::noise::{FLICKER_FLOOR_PER_BIAS_INSTABILITY, GM_ADEV_PEAK_PER_SIGMA};
     let f = a.fit();
     let noise_max = study::limits::NOISE_MAX;

@@ -30,7 +30,7 @@ impl StudyFile {
 /// `--samples` and `--seed`: the Monte Carlo's size and seed, the study's `monte_carlo` values
 /// by default.
 #[derive(Debug, clap::Args)]
-pub struct Sampling {
+pub(crate) struct Sampling {
     /// Monte Carlo turntables per box (default: the study's `monte_carlo.samples`; accepts
     /// `1e6`, `1000000`, `1_000_000`).
     #[arg(long, allow_negative_numbers = true, value_parser = samples)]

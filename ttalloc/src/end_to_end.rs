@@ -20,7 +20,7 @@ use e2e_verify::{
 use study::Study;
 use tt_core::human::num;
 use tt_core::units::objective_to_arcmin;
-pub use tt_lab::end_to_end::{
+pub(crate) use tt_lab::end_to_end::{
     EndToEndJson, NoisyAnswer, Scanned, Throughput, check_yield_samples, direct_bounds,
 };
 

@@ -90,7 +90,7 @@ use ttalloc::fuzzing::{
 /// The most CPU time a single case may take (its own thread's user and system time, so a
 /// loaded or shared machine does not turn slow scheduling into findings; a case runs on one
 /// thread).
-pub const CASE_TIME_LIMIT: Duration = Duration::from_secs(1);
+pub(crate) const CASE_TIME_LIMIT: Duration = Duration::from_secs(1);
 
 /// The CPU time this thread has used so far (`CLOCK_THREAD_CPUTIME_ID`).
 fn thread_cpu_time() -> Duration {
@@ -102,28 +102,28 @@ fn thread_cpu_time() -> Duration {
 }
 
 /// Cases per block: run in parallel, folded into the counters, then dropped.
-pub const BLOCK: u64 = 4096;
+pub(crate) const BLOCK: u64 = 4096;
 
 /// Default largest text a repeated line adds to a case, KiB (enough for a schedule beyond
 /// [`study::limits::MAX_POSITIONS`]; small beside [`study::limits::MAX_FILE_BYTES`]). A line
 /// is repeated only in an input shorter than this, so no case exceeds about twice it: the
 /// memory of a case, and so of a run, is bounded whatever the number of cases (`--repeat-kib`).
-pub const REPEAT_KIB: usize = 128;
+pub(crate) const REPEAT_KIB: usize = 128;
 
 /// Where the manifests cases work when it is a writable directory (a memory file system:
 /// their small files never reach a disk, about 6 times faster than a disk's); else in the
 /// system's temporary directory.
-pub const SCRATCH_IN_MEMORY: &str = "/dev/shm";
+pub(crate) const SCRATCH_IN_MEMORY: &str = "/dev/shm";
 
 /// Findings listed in the command's output (all of them are in `findings.txt`).
-pub const LISTED_FINDINGS: usize = 20;
+pub(crate) const LISTED_FINDINGS: usize = 20;
 
 /// The default findings directory, relative to the workspace root.
-pub const DEFAULT_FINDINGS: &str = "target/fuzz-findings";
+pub(crate) const DEFAULT_FINDINGS: &str = "target/fuzz-findings";
 
 /// Arguments of `fuzz`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Number of cases (accepts `1e5`, `100000`, `100_000`; up to 1e12).
     #[arg(long, allow_negative_numbers = true, default_value = "10000", value_parser = cases)]
     pub cases: u64,
@@ -157,7 +157,7 @@ fn repeat_kib(s: &str) -> std::result::Result<usize, String> {
 
 /// Which parser a case drives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Target {
+pub(crate) enum Target {
     /// `Study::parse`.
     Study,
     /// `Tolerances::parse` against a shipped study's turntable.
@@ -179,7 +179,7 @@ pub enum Target {
 
 impl Target {
     /// Every target, in the order of the summary.
-    pub const ALL: [Target; 7] = [
+    pub(crate) const ALL: [Target; 7] = [
         Target::Study,
         Target::Tolerances,
         Target::CsvPoses,
@@ -191,7 +191,7 @@ impl Target {
 
     /// The target's name in the summary.
     #[must_use]
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Target::Study => "study",
             Target::Tolerances => "tolerances",
@@ -238,7 +238,7 @@ struct Seed {
 
 /// The outcome of one case.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Outcome {
+pub(crate) enum Outcome {
     /// The input parsed into a valid value.
     Valid,
     /// A typed error naming where.
@@ -249,7 +249,7 @@ pub enum Outcome {
 
 /// One finding: the case, its target, what happened and the input.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Finding {
+pub(crate) struct Finding {
     /// The case number (replay with the same seed).
     pub case: u64,
     /// The parser driven.
@@ -262,7 +262,7 @@ pub struct Finding {
 
 /// The counters of one target.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Counts {
+pub(crate) struct Counts {
     /// Cases run.
     pub cases: u64,
     /// Valid inputs (names: kept as given; manifests: the report written).
@@ -276,7 +276,7 @@ pub struct Counts {
 
 /// The summary of a run: counters only (the findings went to the sink as found).
 #[derive(Debug, Clone, Default)]
-pub struct Summary {
+pub(crate) struct Summary {
     /// Cases run.
     pub cases: u64,
     /// Valid inputs.
@@ -318,7 +318,7 @@ impl Summary {
 
     /// The counters of `target` (zero when it did not run).
     #[must_use]
-    pub fn of(&self, target: Target) -> Counts {
+    pub(crate) fn of(&self, target: Target) -> Counts {
         self.by_target
             .iter()
             .find(|(t, _)| *t == target)
@@ -328,12 +328,12 @@ impl Summary {
 }
 
 /// A report writer: the files (name, bytes) into the report directory `out`.
-pub type WriteReport = fn(&Path, &[(String, Vec<u8>)]) -> Result<()>;
+pub(crate) type WriteReport = fn(&Path, &[(String, Vec<u8>)]) -> Result<()>;
 
 /// The code a run drives: [`Hooks::REAL`], or in the tests a planted faulty version that a
 /// property must catch.
 #[derive(Clone, Copy)]
-pub struct Hooks {
+pub(crate) struct Hooks {
     /// Parse a study ([`Study::parse`]).
     pub parse_study: fn(&str, &str) -> Result<Study, StudyError>,
     /// Parse a tolerance sheet for a turntable ([`Tolerances::parse`]).
@@ -344,7 +344,7 @@ pub struct Hooks {
 
 impl Hooks {
     /// The code the commands run.
-    pub const REAL: Hooks = Hooks {
+    pub(crate) const REAL: Hooks = Hooks {
         parse_study: Study::parse,
         parse_sheet: Tolerances::parse,
         write_report,
@@ -361,7 +361,7 @@ fn write_report(out: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
 
 /// What a run does besides its case count and seed.
 #[derive(Clone, Copy)]
-pub struct Config {
+pub(crate) struct Config {
     /// Largest text one repeated line adds to a case, KiB (`--repeat-kib`).
     pub repeat_kib: usize,
     /// The code driven.
@@ -1064,7 +1064,7 @@ fn check_names(slot: &Slot, value: &str, text: &str, study: &Study, hooks: &Hook
 
 /// How `out` starts in a manifests case, before its changes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Start {
+pub(crate) enum Start {
     /// A previous report of ours (its manifest and one to four listed files).
     Report,
     /// An empty directory.
@@ -1980,7 +1980,7 @@ fn timed(
 ///
 /// # Errors
 /// When a seed input cannot be read (a broken checkout); the sink's first error.
-pub fn fuzz(
+pub(crate) fn fuzz(
     root: &std::path::Path,
     cases: u64,
     seed: u64,
@@ -1999,7 +1999,7 @@ pub fn fuzz(
 ///
 /// # Errors
 /// As [`fuzz`]; the temporary directory of the manifests cases cannot be created.
-pub fn fuzz_with(
+pub(crate) fn fuzz_with(
     root: &std::path::Path,
     cases: u64,
     seed: u64,
@@ -2125,7 +2125,7 @@ impl FindingsDir {
 /// # Errors
 /// [`InputError`] for an existing findings path (checked before any case runs); an error
 /// naming the findings.
-pub fn run(args: &Args) -> Result<()> {
+pub(crate) fn run(args: &Args) -> Result<()> {
     // the shipped studies and sheets are the seeds: a clone of the project is needed
     let root = ttalloc::fuzzing::workspace_root().map_err(|_| {
         InputError::new(

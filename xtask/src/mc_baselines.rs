@@ -19,7 +19,7 @@ use study::Study;
 use tt_kinematics::ExactChain;
 
 /// `cargo xtask mc`: the command line's `mc` with `--baselines` added.
-pub fn run(cmd: clap::Command, argv: &[OsString]) -> ExitCode {
+pub(crate) fn run(cmd: clap::Command, argv: &[OsString]) -> ExitCode {
     let mut cmd = cmd.mut_subcommand("mc", |c| {
         c.arg(
             Arg::new("baselines")

@@ -29,7 +29,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Crates at the root with a `src/lib.rs` that are tools, not library crates.
-pub const TOOLS: [&str; 4] = ["xtask", "browser-check", "testkit", "python"];
+pub(crate) const TOOLS: [&str; 4] = ["xtask", "browser-check", "testkit", "python"];
 
 /// The item keywords the rule counts.
 const KINDS: [&str; 10] = [
@@ -38,7 +38,7 @@ const KINDS: [&str; 10] = [
 
 /// One public item: where it is, its kind and the names it makes public.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Item {
+pub(crate) struct Item {
     /// The file, relative to the root.
     pub file: PathBuf,
     /// 1-based line.
@@ -56,7 +56,7 @@ pub struct Item {
 
 /// One crate's count.
 #[derive(Debug, Default)]
-pub struct CrateCount {
+pub(crate) struct CrateCount {
     /// The crate's public items.
     pub items: Vec<Item>,
     /// Lines declaring a `pub` field (`pub name: Type`), not in the total.
@@ -67,7 +67,7 @@ pub struct CrateCount {
 ///
 /// # Errors
 /// The root cannot be read.
-pub fn library_crates(root: &Path) -> std::io::Result<Vec<String>> {
+pub(crate) fn library_crates(root: &Path) -> std::io::Result<Vec<String>> {
     let mut out = Vec::new();
     for e in std::fs::read_dir(root)? {
         let e = e?;
@@ -228,7 +228,7 @@ fn public_module(src: &Path, f: &Path) -> bool {
 }
 
 /// Count one crate's public items (`dir` its directory, paths shown relative to `root`).
-pub fn count_crate(root: &Path, dir: &Path) -> CrateCount {
+pub(crate) fn count_crate(root: &Path, dir: &Path) -> CrateCount {
     let mut srcs = Vec::new();
     files(&dir.join("src"), "rs", &mut srcs);
     srcs.retain(|f| !is_binary(f.strip_prefix(dir.join("src")).unwrap_or(f)));
@@ -317,7 +317,7 @@ impl Uses {
 }
 
 /// The scan of the tree at `root`: every library crate's count, and where every word occurs.
-pub struct Scan {
+pub(crate) struct Scan {
     /// Per library crate (directory name), its count.
     pub crates: BTreeMap<String, CrateCount>,
     uses: Uses,
@@ -328,7 +328,7 @@ impl Scan {
     ///
     /// # Errors
     /// The root cannot be read.
-    pub fn new(root: &Path) -> std::io::Result<Self> {
+    pub(crate) fn new(root: &Path) -> std::io::Result<Self> {
         let libs = library_crates(root)?;
         let crates = libs
             .iter()
@@ -365,7 +365,7 @@ impl Scan {
 
     /// The items of `krate` that no name of theirs is used outside its `src/` (directly, or
     /// through a `pub use ... as` renaming of the crate).
-    pub fn unused(&self, krate: &str) -> Vec<&Item> {
+    pub(crate) fn unused(&self, krate: &str) -> Vec<&Item> {
         let Some(c) = self.crates.get(krate) else {
             return Vec::new();
         };
@@ -384,7 +384,7 @@ impl Scan {
 
     /// The items of `krate` that are public only in name: in a module that is not public
     /// (`mod x;`) and not re-exported by any `pub use` of the crate (by name).
-    pub fn hidden(&self, krate: &str) -> Vec<&Item> {
+    pub(crate) fn hidden(&self, krate: &str) -> Vec<&Item> {
         let Some(c) = self.crates.get(krate) else {
             return Vec::new();
         };
@@ -407,7 +407,7 @@ impl Scan {
     /// The report: per crate its items, fields, how many items are unused outside it and
     /// how many are hidden (in a private module, not re-exported); the totals; with `list`,
     /// every unused or hidden item with its place.
-    pub fn report(&self, list: bool) -> String {
+    pub(crate) fn report(&self, list: bool) -> String {
         let mut out = String::new();
         let head = ["crate", "items", "fields", "unused", "hidden"];
         let _ = writeln!(
@@ -465,7 +465,7 @@ impl Scan {
 
 /// The command's arguments.
 #[derive(clap::Parser, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The tree to count (default: this repository), e.g. an old commit's `git archive`.
     #[arg(long)]
     pub root: Option<PathBuf>,
@@ -479,7 +479,7 @@ pub struct Args {
 ///
 /// # Errors
 /// The root cannot be read.
-pub fn run(args: &Args) -> anyhow::Result<()> {
+pub(crate) fn run(args: &Args) -> anyhow::Result<()> {
     let root = args
         .root
         .clone()

@@ -15,7 +15,7 @@ use std::process::Command;
 
 /// The interpreter: `$PYTHON` when set and not empty, else `python3`.
 #[must_use]
-pub fn interpreter() -> OsString {
+pub(crate) fn interpreter() -> OsString {
     std::env::var_os("PYTHON")
         .filter(|p| !p.is_empty())
         .unwrap_or_else(|| "python3".into())
@@ -26,7 +26,7 @@ pub fn interpreter() -> OsString {
 ///
 /// # Errors
 /// What is missing and what to install.
-pub fn check(python: &OsString) -> Result<()> {
+pub(crate) fn check(python: &OsString) -> Result<()> {
     let shown = Path::new(python).display().to_string();
     let out = Command::new(python)
         .args([
@@ -52,7 +52,7 @@ pub fn check(python: &OsString) -> Result<()> {
 /// The commands of the step, in order, with `venv` the fresh environment and `wheels` the
 /// (empty) directory the wheel is built into; the wheel's own installation follows the build.
 #[must_use]
-pub fn commands(root: &Path, python: &OsString, venv: &Path) -> Vec<Vec<OsString>> {
+pub(crate) fn commands(root: &Path, python: &OsString, venv: &Path) -> Vec<Vec<OsString>> {
     let bin = venv.join("bin");
     let py: OsString = bin.join("python").into();
     let os = |s: &str| OsString::from(s);
@@ -117,7 +117,7 @@ fn the_wheel(dir: &Path) -> Result<PathBuf> {
 ///
 /// # Errors
 /// The first command that fails (named, with its status).
-pub fn run(root: &Path, python: &OsString) -> Result<()> {
+pub(crate) fn run(root: &Path, python: &OsString) -> Result<()> {
     let target = root.join("target");
     std::fs::create_dir_all(&target).with_context(|| format!("creating {}", target.display()))?;
     let scratch = tempfile::Builder::new()

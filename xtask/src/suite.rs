@@ -27,7 +27,7 @@ use std::process::{Command, ExitCode};
 
 /// Arguments of `test`.
 #[derive(Debug, Parser)]
-pub struct Args {
+pub(crate) struct Args {
     /// Arguments passed on to `cargo test --workspace` (e.g. `-p study`, a test name, the test
     /// binaries' own flags after `--`).
     #[arg(
@@ -135,7 +135,7 @@ fn apt_get(args: &[&str]) -> Result<()> {
 ///
 /// # Errors
 /// When the set-up cannot be done (with the command to run), or cargo cannot be started.
-pub fn run(args: &Args) -> Result<ExitCode> {
+pub(crate) fn run(args: &Args) -> Result<ExitCode> {
     let python = crate::python::interpreter();
     crate::python::check(&python)?;
     let before = machine();

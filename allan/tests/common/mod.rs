@@ -6,13 +6,13 @@ use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
 
 /// Standard normal draws (Box-Muller on a seeded ChaCha8 stream).
-pub struct Normal {
+pub(crate) struct Normal {
     rng: ChaCha8Rng,
     spare: Option<f64>,
 }
 
 impl Normal {
-    pub fn new(seed: u64) -> Self {
+    pub(crate) fn new(seed: u64) -> Self {
         Self {
             rng: ChaCha8Rng::seed_from_u64(seed),
             spare: None,
@@ -24,7 +24,7 @@ impl Normal {
         ((self.rng.next_u64() >> 11) + 1) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
-    pub fn draw(&mut self) -> f64 {
+    pub(crate) fn draw(&mut self) -> f64 {
         if let Some(z) = self.spare.take() {
             return z;
         }
@@ -39,7 +39,7 @@ impl Normal {
 /// increments have standard deviation `rw_step` per sample, and first-order Gauss-Markov
 /// (discrete AR(1)) components `(sd, phi)`, plus a constant `bias`.
 #[derive(Debug, Clone)]
-pub struct Recipe {
+pub(crate) struct Recipe {
     pub bias: f64,
     pub white_sd: f64,
     pub rw_step: f64,
@@ -47,7 +47,7 @@ pub struct Recipe {
 }
 
 impl Recipe {
-    pub fn white(sd: f64) -> Self {
+    pub(crate) fn white(sd: f64) -> Self {
         Self {
             bias: 0.0,
             white_sd: sd,
@@ -57,7 +57,7 @@ impl Recipe {
     }
 
     /// Streams the log's samples to `visit`.
-    pub fn generate(&self, samples: u64, seed: u64, mut visit: impl FnMut(f64)) {
+    pub(crate) fn generate(&self, samples: u64, seed: u64, mut visit: impl FnMut(f64)) {
         let mut g = Normal::new(seed);
         let mut rw = 0.0;
         let mut gm: Vec<f64> = self
@@ -82,7 +82,7 @@ impl Recipe {
         }
     }
 
-    pub fn collect(&self, samples: u64, seed: u64) -> Vec<f64> {
+    pub(crate) fn collect(&self, samples: u64, seed: u64) -> Vec<f64> {
         let mut v = Vec::with_capacity(samples as usize);
         self.generate(samples, seed, |y| v.push(y));
         v
@@ -91,7 +91,7 @@ impl Recipe {
     /// The exact Allan variance at cluster `m` (samples) of this discrete process (log unit^2):
     /// white sigma^2/m; random walk q^2 (2m^2 + 1)/(6m); AR(1) (Var S - Cov(S1, S2))/m^2 with
     /// S a sum of m consecutive samples.
-    pub fn avar(&self, m: u64) -> f64 {
+    pub(crate) fn avar(&self, m: u64) -> f64 {
         let mf = m as f64;
         let mut v = self.white_sd * self.white_sd / mf;
         v += self.rw_step * self.rw_step * (2.0 * mf * mf + 1.0) / (6.0 * mf);
@@ -106,7 +106,7 @@ impl Recipe {
 /// with gamma_e = var phi^|e| and S1, S2 sums of m consecutive samples,
 /// Var S = var [m + 2 sum_{e=1}^{m-1} (m - e) phi^e],
 /// Cov(S1, S2) = var sum_{e=1}^{2m-1} min(e, 2m - e) phi^e, AVAR = (Var S - Cov)/m^2.
-pub fn ar1_avar(var: f64, phi: f64, m: u64) -> f64 {
+pub(crate) fn ar1_avar(var: f64, phi: f64, m: u64) -> f64 {
     let mf = m as f64;
     let mut var_s = mf;
     let mut cov = 0.0;
@@ -128,7 +128,7 @@ pub fn ar1_avar(var: f64, phi: f64, m: u64) -> f64 {
 /// The fully overlapping Allan deviation at cluster `m` of a whole log, the textbook way:
 /// cluster means of every window of m samples, differences of adjacent windows, mean square
 /// / 2. (No phase, no streaming: an independent reference.)
-pub fn direct_oadev(y: &[f64], m: usize) -> f64 {
+pub(crate) fn direct_oadev(y: &[f64], m: usize) -> f64 {
     let n = y.len();
     assert!(2 * m <= n);
     // prefix sums in a wider type for exact window means
@@ -160,7 +160,12 @@ pub fn direct_oadev(y: &[f64], m: usize) -> f64 {
 /// variance q^2 and time T has density 2 q^2 T / (1 + (2 pi f T)^2); summed over
 /// log-spaced T this is about q^2 / (2 f ln ratio), so q^2 = B^2 ln(ratio) / pi.
 /// Returns the `(sd, phi)` pairs of the discrete AR(1) components at `rate_hz`.
-pub fn flicker_components(b: f64, rate_hz: f64, t_min_s: f64, t_max_s: f64) -> Vec<(f64, f64)> {
+pub(crate) fn flicker_components(
+    b: f64,
+    rate_hz: f64,
+    t_min_s: f64,
+    t_max_s: f64,
+) -> Vec<(f64, f64)> {
     let ratio: f64 = 10f64.sqrt();
     let sd = (ratio.ln() / std::f64::consts::PI).sqrt() * b;
     let mut out = Vec::new();

@@ -2,13 +2,13 @@
 // overlapping Allan deviations, degrees of freedom and confidence intervals.
 #![allow(clippy::unreadable_literal, clippy::excessive_precision)]
 /// Samples of every log.
-pub const SAMPLES: usize = 16384;
+pub(crate) const SAMPLES: usize = 16384;
 /// Seed of `white`.
-pub const WHITE_SEED: u64 = 1;
+pub(crate) const WHITE_SEED: u64 = 1;
 /// Sample rate of `white`, Hz.
-pub const WHITE_RATE_HZ: f64 = 100.0;
+pub(crate) const WHITE_RATE_HZ: f64 = 100.0;
 /// allantools.oadev at m = 1, 2, 4, ... (3m <= N).
-pub const WHITE_OADEV: [f64; 13] = [
+pub(crate) const WHITE_OADEV: [f64; 13] = [
     2.01158076661732327e-01,
     1.42425782230243630e-01,
     1.01107654452372284e-01,
@@ -24,7 +24,7 @@ pub const WHITE_OADEV: [f64; 13] = [
     2.82256226336158583e-03,
 ];
 /// allantools.calc_adev_phase, stride max(1, m/16).
-pub const WHITE_STRIDED: [f64; 13] = [
+pub(crate) const WHITE_STRIDED: [f64; 13] = [
     2.01158076661732327e-01,
     1.42425782230243630e-01,
     1.01107654452372284e-01,
@@ -40,7 +40,7 @@ pub const WHITE_STRIDED: [f64; 13] = [
     3.07464428858024831e-03,
 ];
 /// The first five samples.
-pub const WHITE_FIRST: [f64; 5] = [
+pub(crate) const WHITE_FIRST: [f64; 5] = [
     2.84869618103130218e-01,
     -1.23780851975713632e-01,
     -1.18153351427346467e-01,
@@ -48,11 +48,11 @@ pub const WHITE_FIRST: [f64; 5] = [
     1.16759116569278204e-01,
 ];
 /// Seed of `white_rw`.
-pub const WHITE_RW_SEED: u64 = 2;
+pub(crate) const WHITE_RW_SEED: u64 = 2;
 /// Sample rate of `white_rw`, Hz.
-pub const WHITE_RW_RATE_HZ: f64 = 10.0;
+pub(crate) const WHITE_RW_RATE_HZ: f64 = 10.0;
 /// allantools.oadev at m = 1, 2, 4, ... (3m <= N).
-pub const WHITE_RW_OADEV: [f64; 13] = [
+pub(crate) const WHITE_RW_OADEV: [f64; 13] = [
     5.01371097279709604e-02,
     3.54084976789944411e-02,
     2.47334938729989740e-02,
@@ -68,7 +68,7 @@ pub const WHITE_RW_OADEV: [f64; 13] = [
     2.88062853125318971e-02,
 ];
 /// allantools.calc_adev_phase, stride max(1, m/16).
-pub const WHITE_RW_STRIDED: [f64; 13] = [
+pub(crate) const WHITE_RW_STRIDED: [f64; 13] = [
     5.01371097279709604e-02,
     3.54084976789944411e-02,
     2.47334938729989740e-02,
@@ -84,7 +84,7 @@ pub const WHITE_RW_STRIDED: [f64; 13] = [
     2.84137302752395862e-02,
 ];
 /// The first five samples.
-pub const WHITE_RW_FIRST: [f64; 5] = [
+pub(crate) const WHITE_RW_FIRST: [f64; 5] = [
     3.02751891000434004e+00,
     3.02000589263134822e+00,
     2.95905639003937893e+00,
@@ -92,11 +92,11 @@ pub const WHITE_RW_FIRST: [f64; 5] = [
     3.06493011844616925e+00,
 ];
 /// Seed of `gm`.
-pub const GM_SEED: u64 = 3;
+pub(crate) const GM_SEED: u64 = 3;
 /// Sample rate of `gm`, Hz.
-pub const GM_RATE_HZ: f64 = 1.0;
+pub(crate) const GM_RATE_HZ: f64 = 1.0;
 /// allantools.oadev at m = 1, 2, 4, ... (3m <= N).
-pub const GM_OADEV: [f64; 13] = [
+pub(crate) const GM_OADEV: [f64; 13] = [
     1.00846966630600388e-01,
     7.07436266748416864e-02,
     5.00634659369474100e-02,
@@ -112,7 +112,7 @@ pub const GM_OADEV: [f64; 13] = [
     4.28132973361464025e-02,
 ];
 /// allantools.calc_adev_phase, stride max(1, m/16).
-pub const GM_STRIDED: [f64; 13] = [
+pub(crate) const GM_STRIDED: [f64; 13] = [
     1.00846966630600388e-01,
     7.07436266748416864e-02,
     5.00634659369474100e-02,
@@ -128,7 +128,7 @@ pub const GM_STRIDED: [f64; 13] = [
     4.31515133735544607e-02,
 ];
 /// The first five samples.
-pub const GM_FIRST: [f64; 5] = [
+pub(crate) const GM_FIRST: [f64; 5] = [
     1.83090891946791068e-02,
     -7.64111000206899732e-03,
     -9.60254831897391220e-02,
@@ -137,7 +137,7 @@ pub const GM_FIRST: [f64; 5] = [
 ];
 /// Degrees of freedom: (alpha, samples, m, stride, Greenhall's basic sum with F = inf,
 /// allantools' edf_greenhall fully overlapping or NaN when decimated).
-pub const EDF: [(i32, u64, u64, u64, f64, f64); 39] = [
+pub(crate) const EDF: [(i32, u64, u64, u64, f64, f64); 39] = [
     (
         0,
         1000,
@@ -347,7 +347,7 @@ pub const EDF: [(i32, u64, u64, u64, f64, f64); 39] = [
     ),
 ];
 /// Confidence intervals: (dev, edf, confidence, lower, upper), allantools.confidence_interval.
-pub const INTERVALS: [(f64, f64, f64, f64, f64); 8] = [
+pub(crate) const INTERVALS: [(f64, f64, f64, f64, f64); 8] = [
     (
         1.00000000000000000e+00,
         6.99999999999999956e-01,

@@ -5,7 +5,7 @@ use calib_run::simulate::{SimSettings, simulate_recording};
 use gw_model::SensorModel;
 use study::Study;
 
-pub fn study(name: &str) -> Study {
+pub(crate) fn study(name: &str) -> Study {
     // calib-run's own example studies first (the six-face recording), then the shipped ones
     let own = format!("{}/studies/{name}", env!("CARGO_MANIFEST_DIR"));
     let path = if std::path::Path::new(&own).exists() {
@@ -18,7 +18,7 @@ pub fn study(name: &str) -> Study {
 }
 
 /// The study's sensor with every estimated coefficient moved by `shift(k, j, value)`.
-pub fn truth(s: &Study, shift: impl Fn(usize, usize, f64) -> f64) -> SensorModel {
+pub(crate) fn truth(s: &Study, shift: impl Fn(usize, usize, f64) -> f64) -> SensorModel {
     let mut outs = s.sensor.outputs().to_vec();
     for (k, o) in outs.iter_mut().enumerate() {
         let mut j = 0;
@@ -33,7 +33,7 @@ pub fn truth(s: &Study, shift: impl Fn(usize, usize, f64) -> f64) -> SensorModel
 }
 
 /// The study's white densities (its noise models), output unit per sqrt(Hz).
-pub fn white(s: &Study) -> Vec<f64> {
+pub(crate) fn white(s: &Study) -> Vec<f64> {
     s.noise
         .iter()
         .map(|n| {
@@ -43,12 +43,12 @@ pub fn white(s: &Study) -> Vec<f64> {
         .collect()
 }
 
-pub fn record(s: &Study, truth: &SensorModel, settings: &SimSettings) -> Vec<u8> {
+pub(crate) fn record(s: &Study, truth: &SensorModel, settings: &SimSettings) -> Vec<u8> {
     let mut buf = Vec::new();
     simulate_recording(s, truth, settings, &mut buf).expect("simulated");
     buf
 }
 
-pub fn settings(s: &Study, rate_hz: f64, dwell_s: f64, seed: u64) -> SimSettings {
+pub(crate) fn settings(s: &Study, rate_hz: f64, dwell_s: f64, seed: u64) -> SimSettings {
     SimSettings::for_study(s, rate_hz, dwell_s, seed)
 }

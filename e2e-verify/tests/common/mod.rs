@@ -1,4 +1,4 @@
 //! The shared set-up of these tests lives in the dev-only `testkit` crate ([`testkit::e2e`]).
 #![allow(unused_imports)]
 
-pub use testkit::e2e::*;
+pub(crate) use testkit::e2e::*;

@@ -7,7 +7,7 @@ use tt_core::units::arcmin_to_rad;
 use tt_kinematics::{Pose, Turntable, TurntableErrors, paper};
 
 /// Largest error magnitude the properties are stated for: 10 arcmin (issue 2, P1), rad.
-pub const MAX_ERROR_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0 / 60.0;
+pub(crate) const MAX_ERROR_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0 / 60.0;
 
 /// Second-order constant of the exact chain against eq 26, unitless (rad / rad^2).
 ///
@@ -18,54 +18,54 @@ pub const MAX_ERROR_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0 / 60.0;
 /// $|\Delta R_{ij} - (I + \sum_k [u_k]_\times)_{ij}| \le e^{s} - 1 - s \le \tfrac{s^2}{2}e^{s}$
 /// with $s = \sum_k |u_k| \le 8m$. For $m \le 10'$ ($s \le 0.0233$, $e^s \le 1.0236$) this is
 /// $\le 32.76\,m^2$, hence $K = 33$.
-pub const K_EXACT: f64 = 33.0;
+pub(crate) const K_EXACT: f64 = 33.0;
 
 /// Second-order constant of the printed small-angle chain (eq 17-19 as printed) against
 /// eq 26, unitless. Its three error factors $I + [v]_\times$ have norms $\le \sqrt3 m$,
 /// $\sqrt2 m$, $\sqrt3 m$; the product's non-linear part is bounded by
 /// $ab + bc + ca + abc = (3 + 2\sqrt6) m^2 + O(m^3) \le 7.91\,m^2$ for $m \le 10'$, hence 8.
-pub const K_SMALL_ANGLE: f64 = 8.0;
+pub(crate) const K_SMALL_ANGLE: f64 = 8.0;
 
 /// Rounding error allowed where two computations are equal in exact arithmetic (a few ulps
 /// of the unit-size matrix entries accumulated over about ten 3x3 products), rad.
-pub const ROUNDING_RAD: f64 = 1e-14;
+pub(crate) const ROUNDING_RAD: f64 = 1e-14;
 
 /// The issue's bound for recovering eq 26 and Figure 8 from the description, unitless.
-pub const RECOVER_TOL: f64 = 1e-12;
+pub(crate) const RECOVER_TOL: f64 = 1e-12;
 
 /// Orthonormality and determinant tolerance of the exact $\Delta\mathbf R$ (issue 2, P4).
-pub const ORTHONORMAL_TOL: f64 = 1e-12;
+pub(crate) const ORTHONORMAL_TOL: f64 = 1e-12;
 
 /// Central finite-difference step for the Jacobian check, rad. Truncation error
 /// $\approx h^2/6 \cdot |f'''| \approx 2\times10^{-13}$ and rounding $\approx \epsilon/h
 /// \approx 2\times10^{-10}$.
-pub const FD_STEP_RAD: f64 = 1e-6;
+pub(crate) const FD_STEP_RAD: f64 = 1e-6;
 
 /// Tolerance of the Jacobian against central finite differences (unitless), 50x the
 /// rounding estimate above.
-pub const FD_TOL: f64 = 1e-8;
+pub(crate) const FD_TOL: f64 = 1e-8;
 
 /// The paper's table (Table 3).
-pub fn table3() -> Turntable {
+pub(crate) fn table3() -> Turntable {
     paper::table3()
 }
 
 /// The three-axis table of the suite: [`tt_kinematics::conformance::three_axis_description`].
 #[allow(unused_imports)] // each test binary uses a part of this module
-pub use tt_kinematics::conformance::{three_axis, three_axis_description};
+pub(crate) use tt_kinematics::conformance::{three_axis, three_axis_description};
 
 /// A pose of `n` joints anywhere in $[0, 2\pi)^n$.
-pub fn pose_of(n: usize) -> impl Strategy<Value = Pose> {
+pub(crate) fn pose_of(n: usize) -> impl Strategy<Value = Pose> {
     prop::collection::vec(0.0..std::f64::consts::TAU, n).prop_map(|a| Pose::new(a).unwrap())
 }
 
 /// A pose of the paper's table.
-pub fn pose() -> impl Strategy<Value = Pose> {
+pub(crate) fn pose() -> impl Strategy<Value = Pose> {
     pose_of(2)
 }
 
 /// Errors of a table with `n` angular errors in $[-m, m]$ and `t` translations up to 1 mm.
-pub fn errors_of(n: usize, t: usize, m_rad: f64) -> impl Strategy<Value = TurntableErrors> {
+pub(crate) fn errors_of(n: usize, t: usize, m_rad: f64) -> impl Strategy<Value = TurntableErrors> {
     (
         prop::collection::vec(-m_rad..=m_rad, n),
         prop::collection::vec(-1e-3..=1e-3_f64, t),
@@ -74,22 +74,22 @@ pub fn errors_of(n: usize, t: usize, m_rad: f64) -> impl Strategy<Value = Turnta
 }
 
 /// Errors of the paper's table up to `m_rad`.
-pub fn errors_up_to(m_rad: f64) -> impl Strategy<Value = TurntableErrors> {
+pub(crate) fn errors_up_to(m_rad: f64) -> impl Strategy<Value = TurntableErrors> {
     errors_of(8, 1, m_rad)
 }
 
 /// Errors up to 10 arcmin (the range of the issue's properties).
-pub fn errors() -> impl Strategy<Value = TurntableErrors> {
+pub(crate) fn errors() -> impl Strategy<Value = TurntableErrors> {
     errors_up_to(MAX_ERROR_RAD)
 }
 
 /// $\chi$ of the paper's table as a fixed array.
-pub fn chi8(e: &TurntableErrors) -> [f64; 8] {
+pub(crate) fn chi8(e: &TurntableErrors) -> [f64; 8] {
     e.chi_rad().try_into().expect("eight errors")
 }
 
 /// Table 4 of the paper (arcmin, order of eq 25) as an error vector, all positive.
-pub fn table4() -> TurntableErrors {
+pub(crate) fn table4() -> TurntableErrors {
     TurntableErrors::new(
         [
             0.4235, 0.7800, 0.4234, 0.7800, 0.2825, 0.2824, 0.4234, 0.4233,
@@ -103,7 +103,7 @@ pub fn table4() -> TurntableErrors {
 
 /// The three-axis chain built independently of the library: nalgebra axis-angle rotations
 /// multiplied in the order of `common::three_axis_description`, written out by hand.
-pub fn three_axis_by_axis_angle(pose: &[f64], chi: &[f64]) -> Matrix3<f64> {
+pub(crate) fn three_axis_by_axis_angle(pose: &[f64], chi: &[f64]) -> Matrix3<f64> {
     let r = |axis: Vector3<f64>, a: f64| {
         Rotation3::from_axis_angle(&Unit::new_normalize(axis), a).into_inner()
     };

@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 /// The workspace root (where `studies/` lives).
-pub fn root() -> PathBuf {
+pub(crate) fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
 /// Run `cargo xtask <args>` (the built binary) in the workspace root with `stdin`.
-pub fn run_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
+pub(crate) fn run_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_ttalloc"))
         .args(args)
         .current_dir(root())
@@ -32,22 +32,22 @@ pub fn run_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
 }
 
 /// Run `cargo xtask <args>` with empty standard input.
-pub fn run(args: &[&str]) -> Output {
+pub(crate) fn run(args: &[&str]) -> Output {
     run_with_stdin(args, b"")
 }
 
 /// Standard output as text.
-pub fn stdout(o: &Output) -> String {
+pub(crate) fn stdout(o: &Output) -> String {
     String::from_utf8(o.stdout.clone()).expect("UTF-8 stdout")
 }
 
 /// Standard error as text.
-pub fn stderr(o: &Output) -> String {
+pub(crate) fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Assert success and parse standard output as JSON.
-pub fn json(args: &[&str]) -> serde_json::Value {
+pub(crate) fn json(args: &[&str]) -> serde_json::Value {
     let o = run(args);
     assert!(o.status.success(), "{args:?}: {}", stderr(&o));
     serde_json::from_slice(&o.stdout).expect("JSON on stdout")
@@ -55,7 +55,7 @@ pub fn json(args: &[&str]) -> serde_json::Value {
 
 /// Assert success (else show the exit code and standard error) and parse standard output as
 /// JSON.
-pub fn json_of(out: &Output) -> serde_json::Value {
+pub(crate) fn json_of(out: &Output) -> serde_json::Value {
     assert!(
         out.status.success(),
         "exit {:?}: {}",
@@ -66,12 +66,12 @@ pub fn json_of(out: &Output) -> serde_json::Value {
 }
 
 /// Assert exit code 2, nothing on standard output, and a message containing every `needle`.
-pub fn assert_input_error(o: &Output, needles: &[&str]) {
+pub(crate) fn assert_input_error(o: &Output, needles: &[&str]) {
     assert_input_error_of("", o, needles);
 }
 
 /// [`assert_input_error`] for one `case` of a table (named in every message).
-pub fn assert_input_error_of(case: &str, o: &Output, needles: &[&str]) {
+pub(crate) fn assert_input_error_of(case: &str, o: &Output, needles: &[&str]) {
     let err = stderr(o);
     assert_eq!(o.status.code(), Some(2), "{case} exit code; stderr: {err}");
     assert!(
@@ -87,7 +87,7 @@ pub fn assert_input_error_of(case: &str, o: &Output, needles: &[&str]) {
 
 /// Assert that `prefix` followed by each `[flag, value]` of `cases` exits 2 naming the flag
 /// (each message names the case).
-pub fn assert_flags_refused(prefix: &[&str], cases: &[[&str; 2]]) {
+pub(crate) fn assert_flags_refused(prefix: &[&str], cases: &[[&str; 2]]) {
     for case in cases {
         let mut args = prefix.to_vec();
         args.extend_from_slice(case);
@@ -96,18 +96,18 @@ pub fn assert_flags_refused(prefix: &[&str], cases: &[[&str; 2]]) {
 }
 
 /// A shipped study's path relative to the workspace root.
-pub fn study(name: &str) -> String {
+pub(crate) fn study(name: &str) -> String {
     format!("studies/{name}.toml")
 }
 
 /// The text of a shipped study.
-pub fn study_text(name: &str) -> String {
+pub(crate) fn study_text(name: &str) -> String {
     std::fs::read_to_string(root().join(study(name))).expect("study file")
 }
 
 /// The paper's study with its test positions replaced by `positions` (each `[phi1, phi2]`,
 /// deg, as written in the file).
-pub fn paper_study_with_positions(positions: &[String]) -> String {
+pub(crate) fn paper_study_with_positions(positions: &[String]) -> String {
     let text = study_text("gyrowheel-2017");
     let start = text.find("positions_deg = [").unwrap();
     let end = start + text[start..].find("\n]\n").unwrap() + 3;
@@ -120,20 +120,20 @@ pub fn paper_study_with_positions(positions: &[String]) -> String {
 }
 
 /// Write `text` to `dir/name` and return its path.
-pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+pub(crate) fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).expect("write scratch file");
     p
 }
 
 /// A number of a JSON value.
-pub fn num(v: &serde_json::Value) -> f64 {
+pub(crate) fn num(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
 }
 
 /// A fresh directory `<prefix>-<name>` under the target's scratch directory (never the source
 /// tree), emptied first if a previous run left it.
-pub fn scratch(prefix: &str, name: &str) -> PathBuf {
+pub(crate) fn scratch(prefix: &str, name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{prefix}-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch directory");
@@ -144,7 +144,7 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
 /// "busy" (ETXTBSY) for a moment, because another test thread may have forked a child that
 /// still held the copy's write descriptor until its own exec. That is the test harness's race,
 /// not the program's, so the start is retried a few times.
-pub fn output_of_fresh_copy(cmd: &mut Command) -> Output {
+pub(crate) fn output_of_fresh_copy(cmd: &mut Command) -> Output {
     let mut tries = 0;
     loop {
         match cmd.output() {
@@ -158,7 +158,7 @@ pub fn output_of_fresh_copy(cmd: &mut Command) -> Output {
 }
 
 /// Assert success, showing the exit code and both outputs otherwise.
-pub fn ok(o: &Output) {
+pub(crate) fn ok(o: &Output) {
     assert!(
         o.status.success(),
         "exit {:?}\nstderr: {}\nstdout: {}",
@@ -169,7 +169,7 @@ pub fn ok(o: &Output) {
 }
 
 /// The SHA-256 of `bytes` in lowercase hex (a report manifest line's first field).
-pub fn sha256_hex(bytes: &[u8]) -> String {
+pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
     use sha2::Digest;
     sha2::Sha256::digest(bytes)
         .iter()
@@ -178,7 +178,7 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 }
 
 /// The names in `dir`, sorted.
-pub fn names(dir: &Path) -> Vec<String> {
+pub(crate) fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -189,7 +189,7 @@ pub fn names(dir: &Path) -> Vec<String> {
 
 /// The names in `dir` that start with a dot (a temporary, old or lock file left behind),
 /// sorted.
-pub fn hidden_names(dir: &Path) -> Vec<String> {
+pub(crate) fn hidden_names(dir: &Path) -> Vec<String> {
     names(dir)
         .into_iter()
         .filter(|n| n.starts_with('.'))
@@ -197,7 +197,7 @@ pub fn hidden_names(dir: &Path) -> Vec<String> {
 }
 
 /// A paper report into `out` (1500 samples: few, fast).
-pub fn paper_into(out: &Path) -> Output {
+pub(crate) fn paper_into(out: &Path) -> Output {
     run(&[
         "reproduce-paper",
         "--out",
@@ -208,7 +208,7 @@ pub fn paper_into(out: &Path) -> Output {
 }
 
 /// calib-run's six-face and three-rotation study (an absolute path).
-pub fn six_face_study() -> String {
+pub(crate) fn six_face_study() -> String {
     format!(
         "{}/../calib-run/studies/imu-six-face-three-rotation.toml",
         env!("CARGO_MANIFEST_DIR")
@@ -217,7 +217,7 @@ pub fn six_face_study() -> String {
 
 /// A recording of [`six_face_study`] simulated with its own coefficients (50 Hz, 10 s dwells,
 /// seed 4), written to `dir/run.csv`.
-pub fn six_face_recording(dir: &Path) -> PathBuf {
+pub(crate) fn six_face_recording(dir: &Path) -> PathBuf {
     let path = six_face_study();
     let s =
         study::Study::parse(&path, &std::fs::read_to_string(&path).expect("study")).expect("valid");
@@ -231,7 +231,7 @@ pub fn six_face_recording(dir: &Path) -> PathBuf {
 
 /// [`six_face_recording`] with the `gx` cell of line 20 made `oops<number>`, written to
 /// `dir/bad.csv` (the good recording stays as `dir/run.csv`).
-pub fn six_face_recording_with_a_bad_cell(dir: &Path) -> PathBuf {
+pub(crate) fn six_face_recording_with_a_bad_cell(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(six_face_recording(dir)).expect("the recording");
     let bad: String = text
         .lines()
@@ -252,7 +252,7 @@ pub fn six_face_recording_with_a_bad_cell(dir: &Path) -> PathBuf {
 /// the inputs `check-turntable --study STUDY --tolerances SHEET` reads: the study, the sheet,
 /// the end-to-end model of the study's schedule and the GUM verdict of every specification
 /// (the study's tolerance law, noise and timing).
-pub struct LibraryPlan {
+pub(crate) struct LibraryPlan {
     /// The study.
     pub study: study::Study,
     /// The sheet, read for the study's turntable.
@@ -264,7 +264,7 @@ pub struct LibraryPlan {
 }
 
 /// [`LibraryPlan`] of the study file at `study` and the sheet `sheet`.
-pub fn library_plan(study: &Path, sheet: &str) -> LibraryPlan {
+pub(crate) fn library_plan(study: &Path, sheet: &str) -> LibraryPlan {
     let s = study::Study::load(&root().join(study)).expect("the study");
     let tolerances = study::Tolerances::load(&root().join(sheet), &s.turntable).expect("sheet");
     let poses: Vec<tt_kinematics::Pose> = s
@@ -294,7 +294,7 @@ pub fn library_plan(study: &Path, sheet: &str) -> LibraryPlan {
 }
 
 /// A command line: `cmd`, then each flag and its value, then `extra`.
-pub fn command_line<'a>(
+pub(crate) fn command_line<'a>(
     cmd: &'a str,
     flags: &[(&'a str, &'a str)],
     extra: &[&'a str],
@@ -309,7 +309,7 @@ pub fn command_line<'a>(
 
 /// `end-to-end --study STUDY --samples SAMPLES`, then `extra` and `--json`: asserts success and
 /// parses standard output.
-pub fn end_to_end_json(study: &str, samples: &str, extra: &[&str]) -> serde_json::Value {
+pub(crate) fn end_to_end_json(study: &str, samples: &str, extra: &[&str]) -> serde_json::Value {
     let tail = [extra, &["--json"]].concat();
     json(&command_line(
         "end-to-end",
@@ -320,7 +320,7 @@ pub fn end_to_end_json(study: &str, samples: &str, extra: &[&str]) -> serde_json
 
 /// The arguments of `check-turntable --study STUDY --tolerances SHEET --samples SAMPLES`
 /// followed by `extra`.
-pub fn check_turntable<'a>(
+pub(crate) fn check_turntable<'a>(
     study: &'a str,
     sheet: &'a str,
     samples: &'a str,
@@ -335,7 +335,7 @@ pub fn check_turntable<'a>(
 }
 
 /// The arguments of `report --study STUDY --out OUT --samples SAMPLES` followed by `extra`.
-pub fn report_args<'a>(
+pub(crate) fn report_args<'a>(
     study: &'a str,
     out: &'a Path,
     samples: &'a str,
