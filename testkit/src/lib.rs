@@ -5,12 +5,15 @@
 //! - [`e2e`]: the paper's end-to-end simulator built from the paper modules, and the shipped
 //!   example studies loaded through the study crate (e2e-verify's tests and examples,
 //!   schedule-design's tests).
+//! - [`json`]: a box of `end-to-end --json`'s readings by its name (tt-lab's and ttalloc's
+//!   tests of the same answer).
 //! - [`peak_kib`]: the peak resident memory of a command while it runs (the memory tests of
 //!   `ttalloc` and of `cargo xtask fuzz`).
 //! - [`output_within`]: a command's output, the test failed when it does not end in time (the
 //!   inputs that must be refused at once).
 
 pub mod e2e;
+pub mod json;
 
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
