@@ -31,15 +31,8 @@ fn e2e_of(s: &Study) -> EndToEnd {
 }
 
 fn context(s: &Study, e2e: &EndToEnd) -> SpecificationContext {
-    let law = s.uncertainty.tolerance_distribution;
-    SpecificationContext::new(
-        &s.specifications,
-        &e2e.error_names(),
-        |n, a| law.input(n, a),
-        &s.noise,
-        s.timing.as_ref(),
-    )
-    .unwrap()
+    s.specification_context(&s.specifications, &e2e.error_names())
+        .unwrap()
 }
 
 /// The IMU example with the misalignment specified at 10 arcsec instead of 20 (the accuracy

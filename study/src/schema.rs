@@ -604,6 +604,27 @@ impl Study {
         !self.rate_steps.is_empty()
     }
 
+    /// The budgets' context of `specs` (the study's specifications or some of them) for the
+    /// table errors `error_names` ([`e2e_verify::EndToEnd::error_names`]): the verdict's law
+    /// (`uncertainty.tolerance_distribution`), the study's noise and timing.
+    ///
+    /// # Errors
+    /// The law's error for a unit tolerance.
+    pub fn specification_context(
+        &self,
+        specs: &[gw_model::spec::Specification],
+        error_names: &[String],
+    ) -> Result<e2e_verify::budget::SpecificationContext, e2e_verify::E2eError> {
+        let law = self.uncertainty.tolerance_distribution;
+        e2e_verify::budget::SpecificationContext::new(
+            specs,
+            error_names,
+            |n, a| law.input(n, a),
+            &self.noise,
+            self.timing.as_ref(),
+        )
+    }
+
     /// The joint angles (deg) of every schedule entry: the static positions, then where each
     /// rate step starts.
     #[must_use]

@@ -5,6 +5,8 @@
 //! - [`e2e`]: the paper's end-to-end simulator built from the paper modules, and the shipped
 //!   example studies loaded through the study crate (e2e-verify's tests and examples,
 //!   schedule-design's tests).
+//! - [`json`]: a box of `end-to-end --json`'s readings by its name (tt-lab's and ttalloc's
+//!   tests of the same answer).
 //! - [`random`]: seeded uniform and normal draws of the noise tests' Monte Carlo (gw-model's
 //!   and calib-lsq's tests).
 //! - [`peak_kib`]: the peak resident memory of a command while it runs (the memory tests of
@@ -13,6 +15,7 @@
 //!   inputs that must be refused at once).
 
 pub mod e2e;
+pub mod json;
 pub mod random;
 
 use std::process::{Command, Output, Stdio};

@@ -11,16 +11,10 @@
 //! box's worst case, whether it meets every accuracy (`meets`, `meets_text`, in the words
 //! of the text and the report) and yield) and `throughput` (turntables per second of the fast path, all threads and one, and of
 //! the reference path, measured in the same run).
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::InputError;
 use crate::Result;
+use crate::allocation::spec::NoTableSuffices;
 use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, PerAngle, Split, arcmin_bounds};
 use crate::loaded as st;
 use e2e_verify::{
@@ -125,6 +119,13 @@ pub fn noisy_answer(
     };
     let lb = &a.inputs().lower_bounds_rad;
     let settings = McSettings::new(a.inputs().samples, a.inputs().seed);
+    let scan = DwellScan {
+        s,
+        e2e,
+        lb,
+        timing,
+        k_sigma,
+    };
     // the trade-off (allocations) beside the readings' answers; those run one after the other
     // (each has a Monte Carlo already on every thread: one at a time keeps the memory of one
     // run); the first error in the serial order returned
@@ -145,39 +146,58 @@ pub fn noisy_answer(
                 })
                 .collect::<Vec<Result<_>>>()
         },
-        || {
-            e2e.noise()
-                .tradeoff(
-                    &e2e.linearization(),
-                    lb,
-                    &s.noise,
-                    timing,
-                    k_sigma,
-                    DWELL_SEARCH_S,
-                )
-                .map_err(|e| crate::error::library(e, s))
-        },
+        || scan.ask(e2e_verify::NoiseQuestions::tradeoff),
     );
     let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
     let tradeoff = tradeoff?;
     let scanned = Scanned::new(&tradeoff, timing);
-    let sensitivity = e2e
-        .noise()
-        .noise_sensitivity(
-            &e2e.linearization(),
-            lb,
-            &s.noise,
-            timing,
-            k_sigma,
-            DWELL_SEARCH_S,
-        )
-        .map_err(|e| crate::error::library(e, s))?;
+    let sensitivity = scan.ask(e2e_verify::NoiseQuestions::noise_sensitivity)?;
     Ok(Some(NoisyAnswer {
         readings,
         tradeoff,
         scanned,
         sensitivity,
     }))
+}
+
+/// What the time/table trade-off's questions ([`e2e_verify::NoiseQuestions::tradeoff`],
+/// [`e2e_verify::NoiseQuestions::noise_sensitivity`]) are asked of: the lower bounds `lb`
+/// (rad), the study's noise, its `timing` and `k_sigma`, over the dwells the trade-off
+/// searches ([`DWELL_SEARCH_S`]). Both scan the same dwells with the same inputs, named here
+/// once.
+struct DwellScan<'e> {
+    s: &'e Study,
+    e2e: &'e EndToEnd,
+    lb: &'e [f64],
+    timing: &'e calib_lsq::Timing,
+    k_sigma: f64,
+}
+
+impl<'e> DwellScan<'e> {
+    /// The answer of `question`, its error located in the study.
+    fn ask<T>(
+        &self,
+        question: impl FnOnce(
+            &e2e_verify::NoiseQuestions<'e, tt_kinematics::TurntableSchedule>,
+            &e2e_verify::Linearization,
+            &[f64],
+            &[Option<gw_model::noise::NoiseModel>],
+            &calib_lsq::Timing,
+            f64,
+            (f64, f64),
+        ) -> std::result::Result<T, e2e_verify::E2eError>,
+    ) -> Result<T> {
+        question(
+            &self.e2e.noise(),
+            &self.e2e.linearization(),
+            self.lb,
+            &self.s.noise,
+            self.timing,
+            self.k_sigma,
+            DWELL_SEARCH_S,
+        )
+        .map_err(|e| crate::error::library(e, self.s))
+    }
 }
 
 /// Refuse a Monte Carlo size that cannot resolve the yield target `target` (exit 2, before any
@@ -580,6 +600,12 @@ pub(crate) struct YieldBasedJson<'a> {
     /// (design and re-measured); absent without (the yield counts every accuracy).
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub specifications: Option<YieldSpecificationsJson<'a>>,
+    /// The specifications no table can meet, left out of the allocations and not counted by
+    /// the yield (the list the text and the report give, its figures in each one's unit,
+    /// unrounded; [`EndToEndAnswer::no_table_suffices`]); absent when there is none. Beside
+    /// `specifications`, not in it: that view is absent when no specification leaves room.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "<[_]>::is_empty"))]
+    pub not_counted: &'a [NoTableSuffices],
 }
 
 /// The yield-based allocation's count against the specifications
@@ -710,6 +736,7 @@ impl<'a> ReadingJson<'a> {
                 bounds_arcmin: arcmin_bounds(&names, r.yield_based().upper_bounds_rad()),
                 remeasured: BoxJson::new(e2e, r.yield_box()),
                 specifications: YieldSpecificationsJson::new(r),
+                not_counted: &[],
             },
             noise: noise.map(|n| NoiseReadingJson::new(e2e, n)),
         }
@@ -1150,7 +1177,7 @@ pub struct EndToEndAnswer {
     sheet: Option<crate::allocation::angle::SheetAllocations>,
     rate: Option<crate::vendor::rate::RateAllocated>,
     decision: Option<e2e_verify::budget::PlanVerdict>,
-    no_table_suffices: Vec<String>,
+    no_table_suffices: Vec<NoTableSuffices>,
 }
 
 impl EndToEndAnswer {
@@ -1205,10 +1232,11 @@ impl EndToEndAnswer {
         self.decision.as_ref()
     }
     /// The specifications no table can meet (the noise part alone fills the limit), left out
-    /// of the direct allocation: "no table suffices for `<spec>`: noise alone is X >= the limit
-    /// L" (the study's names unescaped).
+    /// of the direct and the yield-based allocations, in the study's order: the text's and the
+    /// report's list (each one's sentence) and `--json`'s
+    /// `readings[].yield_based.not_counted` (its figures).
     #[must_use]
-    pub fn no_table_suffices(&self) -> &[String] {
+    pub fn no_table_suffices(&self) -> &[NoTableSuffices] {
         &self.no_table_suffices
     }
 }
@@ -1286,6 +1314,7 @@ impl<'a> EndToEndJson<'a> {
             if let Some(sp) = view.yield_based.specifications.as_mut() {
                 sp.counts = yield_counts_words(reading, r.no_table_suffices.len());
             }
+            view.yield_based.not_counted = &r.no_table_suffices;
         }
         v.extras.angle_dependent = r
             .angle
@@ -1322,6 +1351,19 @@ pub fn precision_note(zeroed: &[(&str, &str, f64)]) -> Option<String> {
                 .join(", ")
         )
     })
+}
+
+/// A box's worst turntable in words: each output's error there (the exact chain at the worst
+/// vertex, output's unit) written by `shown(output index, value)`, joined by ", " (the text's
+/// and the report's worst case of a box).
+#[must_use]
+pub fn worst_turntable_words(b: &BoxAnswer, shown: impl Fn(usize, f64) -> String) -> String {
+    b.worst_case()
+        .outputs()
+        .iter()
+        .map(|w| shown(w.output(), w.exact_at_vertex()))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// What the yield-based box's yield counts, in words: [`e2e_verify::SpecifiedCount::counts`],

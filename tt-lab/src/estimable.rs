@@ -27,13 +27,6 @@
 //! bound is needed), `upper_bounds_arcmin` (`null` = no bound needed), `no_bound_needed`),
 //! `box` (`source`: `tolerances` or `direct-allocation`; `outputs`: `[{"name", "unit",
 //! "accuracy", "ordinary", "joint"}]`).
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::InputError;
 use crate::Result;

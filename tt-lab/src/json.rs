@@ -9,13 +9,6 @@
 //! The command line prints a view through a `serde_json::Value`, so keys come out in
 //! alphabetical order; a field skipped (`skip_serializing_if`) is a key absent from the output,
 //! an `Option` serialised as `None` is `null`, and a non-finite number is `null`.
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use e2e_verify::{CombinedOutput, YieldCount};
 use std::collections::BTreeMap;

@@ -419,26 +419,6 @@ impl NoiseBlock {
     }
 }
 
-impl Written {
-    /// The study's key.
-    #[must_use]
-    pub fn key(&self) -> &'static str {
-        self.key
-    }
-
-    /// Its value (the log's unit, or s).
-    #[must_use]
-    pub fn value(&self) -> f64 {
-        self.value
-    }
-
-    /// Its standard uncertainty.
-    #[must_use]
-    pub fn uncertainty(&self) -> Option<f64> {
-        self.uncertainty
-    }
-}
-
 impl NotWritten {
     /// The term, in words.
     #[must_use]

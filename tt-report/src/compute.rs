@@ -173,7 +173,7 @@ pub(crate) struct Computed {
     /// left out of the direct and the yield-based allocations, as `end-to-end` says them
     /// ([`tt_lab::end_to_end::EndToEndAnswer::no_table_suffices`]; the study's names
     /// unescaped).
-    pub no_table_suffices: Vec<String>,
+    pub no_table_suffices: Vec<tt_lab::allocation::spec::NoTableSuffices>,
     /// Wall-clock seconds of the computation.
     pub seconds: f64,
 }
@@ -432,7 +432,7 @@ struct Setup {
     alloc_problem: Option<AllocationProblem>,
     bins: usize,
     /// The specifications no table can meet (left out of the allocations).
-    no_table_suffices: Vec<String>,
+    no_table_suffices: Vec<tt_lab::allocation::spec::NoTableSuffices>,
 }
 
 /// The left branch's results: the two-step allocation, the end-to-end answer, the vendor

@@ -247,25 +247,15 @@ impl<'a> Sections<'a> {
                 .find(|b| b.name() == "two-step" && !rate_steps)
             {
                 let ok = b.worst_case().meets(&acc).holds();
-                let worst: Vec<String> = b
-                    .worst_case()
-                    .outputs()
-                    .iter()
-                    .map(|w| {
-                        format!(
-                            "{} {} {}",
-                            outs[w.output()].0,
-                            sig(w.exact_at_vertex(), 4),
-                            outs[w.output()].1
-                        )
-                    })
-                    .collect();
+                let worst = tt_lab::end_to_end::worst_turntable_words(b, |k, v| {
+                    format!("{} {} {}", outs[k].0, sig(v, 4), outs[k].1)
+                });
                 let _ = write!(
                     s,
                     "the two-step allocation (J = {:.2} arcmin⁻²) {} every output's accuracy (worst turntable {}; {} of random turntables meet them); ",
                     objective_to_arcmin(b.objective()),
                     if ok { "**meets**" } else { "**does not meet**" },
-                    worst.join(", "),
+                    worst,
                     pct(b.distribution().count().fraction())
                 );
             }
@@ -1259,12 +1249,9 @@ impl<'a> Sections<'a> {
         boxes.push(("direct", r.direct_box()));
         boxes.push(("yield-based", r.yield_box()));
         for (name, b) in boxes {
-            let worst: Vec<String> = b
-                .worst_case()
-                .outputs()
-                .iter()
-                .map(|w| format!("{} {}", outs[w.output()].0, sig(w.exact_at_vertex(), 5)))
-                .collect();
+            let worst = tt_lab::end_to_end::worst_turntable_words(b, |k, v| {
+                format!("{} {}", outs[k].0, sig(v, 5))
+            });
             // the yield-based box's yield is what its allocation counts (with specifications:
             // every accuracy and every specification)
             let count = if name == "yield-based" {
@@ -1304,7 +1291,7 @@ impl<'a> Sections<'a> {
             rows.push(vec![
                 label,
                 format!("{:.2}", objective_to_arcmin(b.objective())),
-                worst.join(", "),
+                worst,
                 meets_md(b.worst_case().meets(&acc)),
                 yield_cell,
             ]);
@@ -1354,8 +1341,12 @@ impl<'a> Sections<'a> {
             self.doc.p(
                 "Left out of the direct and the yield-based allocations (no table can meet them):",
             );
-            self.doc
-                .list(c.no_table_suffices.iter().map(|n| doc::text(n)).collect());
+            self.doc.list(
+                c.no_table_suffices
+                    .iter()
+                    .map(|n| doc::text(&n.to_string()))
+                    .collect(),
+            );
         }
         if let Some(n) = &r.direct_certified_note() {
             self.doc.p(format!(

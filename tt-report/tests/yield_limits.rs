@@ -116,7 +116,7 @@ fn the_report_says_which_specifications_its_yield_leaves_out_because_no_table_ca
         .no_table_suffices()
         .iter()
         // Markdown shows `_` and `>` only escaped
-        .map(|n| n.replace('_', "\\_").replace('>', "\\>"))
+        .map(|n| n.to_string().replace('_', "\\_").replace('>', "\\>"))
         .collect();
     assert_eq!(items, expected);
     assert!(

@@ -39,12 +39,9 @@ pub(crate) enum FormChoice {
 /// Arguments of `allocate`.
 #[derive(Debug, Parser)]
 pub(crate) struct Args {
-    /// `--study` (default: the paper's).
+    /// `--study` (default: the paper's) and `--json`.
     #[command(flatten)]
-    pub study: crate::args::StudyFile,
-    /// Print JSON instead of text.
-    #[arg(long)]
-    pub json: bool,
+    pub input: crate::args::StudyJson,
     /// The constraint form of the per-angle problems.
     #[arg(long, value_enum, default_value_t = FormChoice::FullRange)]
     pub constraint_form: FormChoice,
@@ -166,7 +163,7 @@ fn text(s: &Study, a: &Allocations, v: &AllocateJson<'_>) -> String {
 
 /// Run the command.
 pub(crate) fn run(args: &Args) -> Result<()> {
-    let s = args.study.load()?;
+    let s = args.input.study.load()?;
     let form = match args.constraint_form {
         FormChoice::Paper => ConstraintForm::PaperQuarterRanges,
         FormChoice::FullRange => ConstraintForm::FullRange,
@@ -182,7 +179,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     };
     let mut v = tt_lab::allocation::allocate_json(&s, a, form, args.safety_margin)
         .map_err(crate::input::lab)?;
-    if args.json {
+    if args.input.json {
         v.extras.angle_dependent = r
             .angle()
             .map(|(e2e, an)| tt_lab::allocation::angle::AngleDependentJson::new(e2e, an));
@@ -211,7 +208,7 @@ fn print_rate_study(args: &Args, s: &Study, r: &StudyAllocation) -> Result<()> {
         Some((e2e, rate)) => (e2e, rate.as_ref()),
         None => return Ok(()),
     };
-    if args.json {
+    if args.input.json {
         let extras = ExtrasJson {
             disc_allocation: sheet
                 .map(|(path, al)| tt_lab::vendor::angle::SheetAllocationsJson::new(path, al)),

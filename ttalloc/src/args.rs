@@ -1,6 +1,6 @@
 //! Flag value parsers shared by every command (one accepted form per kind of value), and the
-//! flag groups several commands share (`--study`, `--samples` and `--seed`, `--k-sigma` with
-//! the JCGM 101 Monte Carlo's flags).
+//! flag groups several commands share (`--study`, `--study` with `--json`, `--samples` and
+//! `--seed`, `--k-sigma` with the JCGM 101 Monte Carlo's flags).
 
 use std::path::{Path, PathBuf};
 
@@ -25,6 +25,17 @@ impl StudyFile {
     pub fn load(&self) -> Result<study::Study, crate::InputError> {
         crate::loaded::load(self.path())
     }
+}
+
+/// `--study` then `--json`: a command that reads a study and prints text, or JSON instead.
+#[derive(Debug, clap::Args)]
+pub(crate) struct StudyJson {
+    /// `--study` (default: the paper's).
+    #[command(flatten)]
+    pub study: StudyFile,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `--samples` and `--seed`: the Monte Carlo's size and seed, the study's `monte_carlo` values

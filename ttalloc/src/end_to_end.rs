@@ -332,24 +332,19 @@ pub(crate) fn to_text(
             r.reading().formula()
         ));
         let line = |b: &BoxAnswer| -> String {
-            let worst: Vec<String> = b
-                .worst_case()
-                .outputs()
-                .iter()
-                .map(|w| {
-                    format!(
-                        "{} {}",
-                        e2e.calibration().outputs()[w.output()].output().name,
-                        num(w.exact_at_vertex())
-                    )
-                })
-                .collect();
+            let worst = tt_lab::end_to_end::worst_turntable_words(b, |k, v| {
+                format!(
+                    "{} {}",
+                    e2e.calibration().outputs()[k].output().name,
+                    num(v)
+                )
+            });
             let (lo, hi) = b.distribution().count().interval_95();
             format!(
                 "  {:<14} J = {:>9} arcmin^-2  worst case {} (meets every accuracy: {})  yield {:.2}% [{:.2}%, {:.2}%]\n",
                 b.name(),
                 num(objective_to_arcmin(b.objective())),
-                worst.join(", "),
+                worst,
                 b.worst_case().meets(&e2e.accuracies()),
                 100.0 * b.distribution().count().fraction(),
                 100.0 * lo,

@@ -17,12 +17,9 @@ use tt_lab::requirement::{Options, RequirementJson};
 /// Arguments of `requirement`.
 #[derive(Debug, Parser)]
 pub(crate) struct Args {
-    /// `--study` (default: the paper's).
+    /// `--study` (default: the paper's) and `--json`.
     #[command(flatten)]
-    pub study: crate::args::StudyFile,
-    /// Print JSON instead of text.
-    #[arg(long)]
-    pub json: bool,
+    pub input: crate::args::StudyJson,
     /// Reading of eq 13 as `outputs/estimate/form` (e.g. `actual/beta1/printed`); default:
     /// the study's.
     #[arg(long)]
@@ -77,7 +74,7 @@ fn text(r: &Result<OrientationRequirement, CalibError>) -> String {
 
 /// Run the command.
 pub(crate) fn run(args: &Args) -> Result<()> {
-    let s = args.study.load()?;
+    let s = args.input.study.load()?;
     let reading = match &args.reading {
         Some(r) => Some(
             r.parse()
@@ -89,7 +86,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     if args.all_readings {
         let all = tt_lab::requirement::all_readings(&s, &opts).map_err(crate::input::lab)?;
         let rows: Vec<RequirementJson<'_>> = all.iter().map(|r| r.view()).collect();
-        if args.json {
+        if args.input.json {
             crate::json::print(&rows)?;
         } else {
             let mut t = format!(
@@ -115,7 +112,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         return Ok(());
     }
     let answer = tt_lab::requirement::requirement(&s, &opts).map_err(crate::input::lab)?;
-    if args.json {
+    if args.input.json {
         crate::json::print(&answer.view())?;
     } else {
         let problem = answer.computed().problem();

@@ -170,12 +170,7 @@ fn end_to_end_json_is_the_library_answer() {
     let readings = v["readings"].as_array().unwrap();
     assert_eq!(readings.len(), 2);
     assert_eq!(readings[1]["reading"], "actual/beta1/printed");
-    let table4 = readings[1]["boxes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|b| b["name"] == "Table 4")
-        .unwrap();
+    let table4 = testkit::json::box_named(&readings[1], "Table 4");
     let worst = table4["worst_case"][0]["exact_at_vertex"].as_f64().unwrap();
     assert_relative_eq!(worst, 0.015936, max_relative = 1e-4);
     for c in readings[1]["direct_certified"]["certified_bounds"]

@@ -211,15 +211,7 @@ fn reproduce_paper_reports_the_papers_numbers_and_every_claim_with_both_readings
     let e2e = v["end_to_end"].as_array().unwrap();
     assert_eq!(e2e[0]["reading"], "intended/beta1/printed");
     assert_eq!(e2e[1]["reading"], "actual/beta1/printed");
-    let t4 = |r: &Value| {
-        r["boxes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|b| b["name"] == "Table 4")
-            .unwrap()
-            .clone()
-    };
+    let t4 = |r: &Value| testkit::json::box_named(r, "Table 4").clone();
     close(
         &t4(&e2e[0])["worst_case"][0]["exact_at_vertex"],
         0.00834,

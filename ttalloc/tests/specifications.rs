@@ -442,3 +442,51 @@ fn end_to_end_text_lists_the_yields_count_per_specification_as_its_json_has_them
     }
     assert!(specifications_fail_draws);
 }
+
+/// `end-to-end --json` names the specifications no table can meet as its text lists them
+/// (issue 34: one question, one answer across terminal, report and JSON): on the IMU example
+/// as shipped, every reading's `yield_based.not_counted` holds exactly the two gyro
+/// specifications (bias and g-sensitivity at 0.1) of the text's "left out" lines, in the same
+/// order, with the same noise part (the text's six decimals) and limit in the same unit, each
+/// noise part at or above its limit; the labels are the study's names as written.
+#[test]
+fn end_to_end_json_names_the_specifications_no_table_can_meet_as_its_text_does() {
+    let study = "studies/imu-triad-example.toml";
+    let o = run(&["end-to-end", "--study", study, "--samples", "2000"]);
+    assert!(o.status.success(), "{}", stdout(&o));
+    let out = stdout(&o);
+    let tail = " (left out of the direct and the yield-based allocations)";
+    let listed: Vec<&str> = out
+        .lines()
+        .filter_map(|l| l.trim().strip_suffix(tail))
+        .collect();
+    assert_eq!(listed.len(), 2, "{out}");
+    let v = end_to_end_json(study, "2000", &[]);
+    let readings = v["readings"].as_array().unwrap();
+    assert!(!readings.is_empty(), "{v}");
+    for reading in readings {
+        let not_counted = reading["yield_based"]["not_counted"]
+            .as_array()
+            .unwrap_or_else(|| panic!("no not_counted: {}", reading["yield_based"]));
+        let labels: Vec<&str> = not_counted
+            .iter()
+            .map(|n| n["specification"].as_str().unwrap())
+            .collect();
+        assert_eq!(labels, ["gx bg_x (bias)", "gx gs_xx (g-sensitivity)"]);
+        let said: Vec<String> = not_counted
+            .iter()
+            .map(|n| {
+                let (noise, limit) = (num(&n["noise_part"]), num(&n["limit"]));
+                assert!(noise >= limit, "{n}");
+                let unit = n["unit"].as_str().unwrap();
+                format!(
+                    "no table suffices for {}: noise alone is {noise:.6} {unit} >= the limit {limit} {unit}",
+                    n["specification"].as_str().unwrap()
+                )
+            })
+            .collect();
+        assert_eq!(said, listed);
+        assert_eq!(not_counted[0]["unit"], "deg_per_h");
+        assert_eq!(not_counted[1]["unit"], "deg_per_h_per_g");
+    }
+}

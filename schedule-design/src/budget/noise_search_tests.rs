@@ -5,7 +5,6 @@
 use super::{BudgetParams, Run, TimeBudget};
 use crate::tally::Tally;
 use crate::{DesignProblem, SpecObjective, candidates_with, grid_positions_deg};
-use e2e_verify::budget::SpecificationContext;
 use e2e_verify::noise::DEFAULT_K_SIGMA;
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
@@ -45,16 +44,9 @@ fn stim300() -> Study {
 /// study's schedule as candidate indices.
 fn problem_with_specifications(s: &Study) -> (DesignProblem, Vec<usize>) {
     let e2e = testkit::e2e::simulator_of(s);
-    let law = s.uncertainty.tolerance_distribution;
     let context_of = |specs: &[gw_model::spec::Specification]| {
-        SpecificationContext::new(
-            specs,
-            &e2e.error_names(),
-            |n, a| law.input(n, a),
-            &s.noise,
-            s.timing.as_ref(),
-        )
-        .expect("the specifications' context")
+        s.specification_context(specs, &e2e.error_names())
+            .expect("the specifications' context")
     };
     let rows = e2e
         .budget()

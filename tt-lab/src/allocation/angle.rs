@@ -17,13 +17,6 @@
 //! of phi1"}`), `readings` (`[{"reading", "constant_direct_objective_arcmin", "direct":
 //! {"objective_arcmin", "upper_bounds_arcmin"}, "certified": {...} | null, "certified_note",
 //! "unmeasured_before_objective_arcmin", "compensated": {...} | {"no_room"} | null}]`).
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::Result;
 use calib_lsq::Reading;

@@ -16,13 +16,6 @@
 //! requirement is a static concept): the text says so and gives the direct allocation with
 //! the rate tolerances (JSON `rate_allocation`, beside `two_step_allocation` saying why the
 //! two-step keys are absent) as the answer.
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::InputError;
 use crate::Result;

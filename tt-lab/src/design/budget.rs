@@ -2,13 +2,6 @@
 //! counted ([`schedule_design::design_with_budget`]): the Pareto front of total test time
 //! against J, and the chosen point certified on the exact chain (`design-schedule
 //! --time-budget-s`).
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::design::schedule::{NoiseCounted, design_problem, noise_counted};
 use crate::end_to_end::uniform_dwell;

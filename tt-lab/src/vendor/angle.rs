@@ -6,13 +6,6 @@
 //! [`tt_kinematics::on_shafts`]): what a sheet supports that bounds each error over the whole
 //! revolution ("wobble <= 3 arcsec") and says nothing more. The constant model (the paper's)
 //! is supported only by a table whose errors are known not to vary with the angle.
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::Result;
 use crate::json::{ArcminBounds, arcmin_bounds};

@@ -16,13 +16,6 @@
 //! angle-dependent and the compensated sections count the same noise part in their verdicts
 //! (the rule stated in the verdict's sentence; JSON `verdict`, with `table_verdict` the
 //! table's alone). A study without noise gets exactly today's answer.
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::InputError;
 use crate::Result;

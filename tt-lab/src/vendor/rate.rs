@@ -6,13 +6,6 @@
 //! [`e2e_verify::rate`]; the orientation requirement of eq 15-16 is a static concept (one
 //! orientation error at every test position), so commands that use it say so and use the
 //! direct allocation.
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::InputError;
 use crate::Result;

@@ -2,13 +2,6 @@
 //! ([`e2e_verify::BudgetQuestions::plan_verdict`]) and its JSON view, shared by `check-turntable`
 //! (the sheet's tolerances) and `end-to-end` (the direct allocation's box). Every verdict
 //! names its rule; where an output's noise is not modelled the same sentence says so.
-#![cfg_attr(
-    not(feature = "serde"),
-    allow(
-        dead_code,
-        reason = "the JSON views' fields are read only by their derived Serialize"
-    )
-)]
 
 use crate::Result;
 use e2e_verify::EndToEnd;

@@ -25,7 +25,10 @@ pub(crate) fn text(s: &Study, v: Option<&PlanVerdict>, what: &str) -> String {
 /// (<unit>)" for the specification rows at their limit, and each specification no table can
 /// meet (its noise part alone fills it). Empty when the allocation holds no specification.
 #[must_use]
-pub(crate) fn limited_by(d: &e2e_verify::DirectAllocation, no_table_suffices: &[String]) -> String {
+pub(crate) fn limited_by(
+    d: &e2e_verify::DirectAllocation,
+    no_table_suffices: &[tt_lab::allocation::spec::NoTableSuffices],
+) -> String {
     let mut t = String::new();
     if !d.spec_loads().is_empty() {
         let binding = d.limited_by();
@@ -50,7 +53,7 @@ pub(crate) fn limited_by(d: &e2e_verify::DirectAllocation, no_table_suffices: &[
     for n in no_table_suffices {
         t.push_str(&format!(
             "  {} (left out of the direct and the yield-based allocations)\n",
-            tt_core::human::visible(n)
+            tt_core::human::visible(&n.to_string())
         ));
     }
     t
