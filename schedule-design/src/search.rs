@@ -763,7 +763,6 @@ impl<'a> Search<'a> {
         }
         let p = self.p;
         let m = p.errors;
-        let n = st.s.len();
         let ci = st.s[ss.slot];
         for (k, o) in p.outputs.iter().enumerate() {
             let pk = o.p;
@@ -801,59 +800,96 @@ impl<'a> Search<'a> {
             }
         }
         let entries = whole.entries;
-        rows.clear();
-        rows.resize(p.outputs.len() * entries * m, 0.0);
-        for (k, o) in p.outputs.iter().enumerate() {
-            let (h, dk, pk) = (&hs_spec[k], whole.d_per_accuracy[k], o.p);
-            for q in 0..entries {
-                let (base, a) = if q < n {
-                    let cand = if q == ss.slot { c } else { st.s[q] };
-                    (&o.c0[cand * m..(cand + 1) * m], o.a_row(cand))
-                } else {
-                    let i = q - n;
-                    (
-                        &whole.b_rate[k][i * m..(i + 1) * m],
-                        &spec.screen.a_rate[k][i * pk..(i + 1) * pk],
-                    )
-                };
-                let out = &mut rows[(k * entries + q) * m..(k * entries + q + 1) * m];
-                out.copy_from_slice(base);
-                if dk != 0.0 {
-                    for (t, at) in a.iter().enumerate() {
-                        for (v, hv) in out.iter_mut().zip(&h[t * m..(t + 1) * m]) {
-                            *v += dk * at * hv;
-                        }
-                    }
-                }
-                for v in out.iter_mut() {
-                    *v = v.abs();
-                }
+        let eq14 = p.outputs.len() * entries;
+        let row_of = |r: usize, out: &mut [f64]| {
+            if r < eq14 {
+                self.whole_row(
+                    st,
+                    (ss.slot, c),
+                    (spec, whole),
+                    &hs_spec[r / entries],
+                    r,
+                    out,
+                );
+            } else {
+                out.copy_from_slice(&spec_rows[(r - eq14) * m..(r - eq14 + 1) * m]);
             }
-        }
-        rows.extend_from_slice(&spec_rows);
-        *whole_spec = spec_rows;
-        if self.zero_lower {
-            let (lower, _) = dual::bounds_with(
-                whole_dual,
-                &self.w23,
-                rows,
-                m,
-                &ss.whole_mu0,
-                stop_above,
-                stop_below,
-            );
-            return Some(lower);
-        }
+        };
+        // the dual bound of the state's multipliers from their rows alone (few: the binding
+        // ones), before every row is computed
         cc.clear();
         cc.resize(m, 0.0);
         let mut lambda = 0.0;
+        rows.clear();
+        rows.resize(m, 0.0);
         for &(r, w) in &ss.whole_mu0 {
+            row_of(r, rows);
             lambda += w;
-            for (b, v) in cc.iter_mut().zip(&rows[r * m..(r + 1) * m]) {
+            for (b, v) in cc.iter_mut().zip(rows.iter()) {
                 *b += w * v;
             }
         }
-        Some(self.dual_bound(cc, lambda))
+        let cheap = self.dual_bound(cc, lambda);
+        if cheap >= stop_above || !self.zero_lower {
+            *whole_spec = spec_rows;
+            return Some(cheap);
+        }
+        rows.clear();
+        rows.resize((eq14 + spec.screen.rows.len()) * m, 0.0);
+        for (r, out) in rows.chunks_exact_mut(m).enumerate() {
+            row_of(r, out);
+        }
+        *whole_spec = spec_rows;
+        let (lower, _) = dual::bounds_with(
+            whole_dual,
+            &self.w23,
+            rows,
+            m,
+            &ss.whole_mu0,
+            stop_above,
+            stop_below,
+        );
+        Some(cheap.max(lower))
+    }
+
+    /// Row `r` (output `r / entries`, entry `r % entries`) of eq 14's rows of the whole
+    /// schedule after swapping `c` into `slot`, normalised and in absolute value, with
+    /// $\mathbf H_s'$ of its output `h` ([`Search::whole_bound`]) into `out`.
+    fn whole_row(
+        &self,
+        st: &State,
+        (slot, c): (usize, usize),
+        (spec, whole): (&SpecState, &crate::spec::WholeRows),
+        h: &[f64],
+        r: usize,
+        out: &mut [f64],
+    ) {
+        let m = self.p.errors;
+        let n = st.s.len();
+        let (k, q) = (r / whole.entries, r % whole.entries);
+        let o = &self.p.outputs[k];
+        let (dk, pk) = (whole.d_per_accuracy[k], o.p);
+        let (base, a) = if q < n {
+            let cand = if q == slot { c } else { st.s[q] };
+            (&o.c0[cand * m..(cand + 1) * m], o.a_row(cand))
+        } else {
+            let i = q - n;
+            (
+                &whole.b_rate[k][i * m..(i + 1) * m],
+                &spec.screen.a_rate[k][i * pk..(i + 1) * pk],
+            )
+        };
+        out.copy_from_slice(base);
+        if dk != 0.0 {
+            for (t, at) in a.iter().enumerate() {
+                for (v, hv) in out.iter_mut().zip(&h[t * m..(t + 1) * m]) {
+                    *v += dk * at * hv;
+                }
+            }
+        }
+        for v in out.iter_mut() {
+            *v = v.abs();
+        }
     }
 
     /// Whether row `r` of the state's order is computed for the cheap bound (and kept, signed,
@@ -1116,20 +1152,19 @@ impl<'a> Search<'a> {
                 chunk
                     .iter()
                     .map(|&c| {
-                        let lower = self.screen_cheap(st, ss, c, sc);
-                        let kept = self.screen_rest(st, ss, c, lower, sc, until_kept, true);
-                        if kept.0.lower >= ss.threshold {
-                            return kept;
-                        }
                         // the whole schedule's rows (rate steps' entries included) prune where
-                        // they bind; a kept swap keeps its bounds (the order of the exact
-                        // evaluations is that of the screening without them)
+                        // they bind, first (they are the tighter bound there); a swap they keep
+                        // is screened as without them, so its bounds and estimate, and the
+                        // order of the exact evaluations, are the same
                         let stop = ss.threshold / (1.0 - WHOLE_BOUND_MARGIN_REL);
                         match self.whole_bound(st, ss, c, sc, (stop, ss.threshold)) {
                             Some(w) if w * (1.0 - WHOLE_BOUND_MARGIN_REL) >= ss.threshold => {
                                 pruned(c, w)
                             }
-                            _ => kept,
+                            _ => {
+                                let lower = self.screen_cheap(st, ss, c, sc);
+                                self.screen_rest(st, ss, c, lower, sc, until_kept, true)
+                            }
                         }
                     })
                     .collect()
