@@ -1326,4 +1326,4 @@ fn is_known(known: &[Vec<usize>], s: &[usize]) -> bool {
 }
 
 #[cfg(test)]
-mod noise_search_tests;
+pub(crate) mod noise_search_tests;

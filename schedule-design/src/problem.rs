@@ -445,7 +445,11 @@ impl DesignProblem {
         let linear = self.linearization_with(s, &regs);
         let (allocation, spec_screen) = match self.spec_answer(&self.positions_deg(s))? {
             Some(a) => {
-                let screen = std::sync::Arc::new(crate::spec::SpecScreen::of(&a));
+                let screen = std::sync::Arc::new(crate::spec::SpecScreen::of(
+                    &a,
+                    self.affine.d,
+                    &self.accuracies,
+                ));
                 (a.allocation, Some(screen))
             }
             None => match self.allocate(&linear) {

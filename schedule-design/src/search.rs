@@ -57,7 +57,18 @@ struct SpecState {
     /// Per output: whether a specification row reads it (the others' $\mathbf H_s'$ is not
     /// updated after a swap: no row reads it).
     specified: Vec<bool>,
+    /// With rate steps: the multipliers of the whole schedule's rows ([`crate::spec::WholeRows`]: eq 14 at
+    /// every entry, then the specification rows over their room) fitted to the KKT
+    /// conditions at $\mathrm{UB}$; empty without rate steps or without a table.
+    whole_mu: Vec<f64>,
 }
+
+/// Relative margin of the whole schedule's bound ([`Search::whole_bound`]) before it prunes
+/// a swap (dimensionless): the bound is exact in real arithmetic on rows recomputed by other
+/// sums than the exact answer's (rounding ~1e-13 relative), and an error whose rows are all
+/// at their rounding level gets no bound in the exact answer while its rounding-level
+/// entries add at most ~1e-9 of $J$ to the dual bound; far below the exchange's 1e-6.
+const WHOLE_BOUND_MARGIN_REL: f64 = 1e-8;
 
 /// Relative reduction of a specification row's noise part after a swap before it is taken
 /// off the limit (dimensionless): the noise part is recomputed by other sums than the exact
@@ -148,6 +159,11 @@ struct SwapScratch {
     /// The screening solver's final multipliers of the previous swap of the same chunk
     /// ([`SCREEN_CHUNK`]): the warm start of the pre-solve ([`PRE_SOLVE_ITERATIONS`]).
     carry: Vec<(usize, f64)>,
+    /// The whole schedule's rows after the swap ([`Search::whole_bound`]), the specification
+    /// rows' part of them and the solver's memory for them.
+    whole_rows: Vec<f64>,
+    whole_spec: Vec<f64>,
+    whole_dual: dual::Scratch,
 }
 
 /// Swaps of one slot screened in a row by one thread, each pre-solved from the previous
@@ -182,6 +198,8 @@ struct SlotScreen {
     base_mu: f64,
     /// The screening solver's warm start.
     mu0: Vec<(usize, f64)>,
+    /// The whole schedule's solver's warm start (the state's `whole_mu` but the slot's rows).
+    whole_mu0: Vec<(usize, f64)>,
 }
 
 /// What one slot of the exchange did ([`Search::exchange_at`]).
@@ -207,6 +225,15 @@ fn pruned(c: usize, lower: f64) -> (Screened, bool) {
         estimate: f64::INFINITY,
     };
     (screened, true)
+}
+
+/// $\det\mathbf A'^T\mathbf A'/\det\mathbf A^T\mathbf A = (1 + \mathbf a_c^T\mathbf u_c)
+/// (1 - \mathbf a_i^T\mathbf u_i) + (\mathbf a_i^T\mathbf u_c)^2$ when row $\mathbf a_i$ leaves
+/// and $\mathbf a_c$ enters ($\mathbf u = \mathbf G\mathbf a$; Fedorov's $\Delta$).
+#[inline]
+fn swap_ratio((ac, ai): (&[f64], &[f64]), (u1, u2): (&[f64], &[f64])) -> f64 {
+    let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
+    (1.0 + dc) * (1.0 - di) + dic * dic
 }
 
 #[inline]
@@ -266,7 +293,8 @@ impl<'a> Search<'a> {
             None => (f64::INFINITY, vec![f64::INFINITY; m]),
         };
         let loads: Vec<f64> = rows.chunks(m).map(|r| load(r, &x)).collect();
-        let spec = eval.spec_screen.clone().map(|screen| SpecState {
+        let mut spec = eval.spec_screen.clone().map(|screen| SpecState {
+            whole_mu: Vec::new(),
             specified: (0..p.outputs.len())
                 .map(|k| screen.rows.iter().any(|r| r.output == k))
                 .collect(),
@@ -303,19 +331,13 @@ impl<'a> Search<'a> {
                 vec![0.0; rows.len() / m + spec.as_ref().map_or(0, |t| t.screen.rows.len())]
             }
             (None, true) => self.multipliers(&rows, &loads, &x),
-            (Some(t), true) => {
-                // the specification rows as the allocation holds them (over their room), so
-                // that the binding ones take their multipliers
-                let mut all = rows.clone();
-                let mut row = vec![0.0; m];
-                for r in 0..t.screen.rows.len() {
-                    t.screen.row(r, &t.screen.hs, false, &mut row);
-                    all.extend_from_slice(&row);
-                }
-                let all_loads: Vec<f64> = all.chunks(m).map(|r| load(r, &x)).collect();
-                self.multipliers(&all, &all_loads, &x)
-            }
+            (Some(t), true) => self.multipliers_with_spec(t, rows.clone(), &x),
         };
+        if let Some(t) = spec.as_mut().filter(|_| j.is_finite()) {
+            if let Some(whole) = &t.screen.whole {
+                t.whole_mu = self.multipliers_with_spec(t, whole.rows.clone(), &x);
+            }
+        }
         let regs = p.regressions(&s)?;
         let factors = p
             .outputs
@@ -361,6 +383,20 @@ impl<'a> Search<'a> {
             factors,
             spec,
         })
+    }
+
+    /// [`Search::multipliers`] of eq 14's rows `eq14` followed by the specification rows as
+    /// the allocation holds them (over their room), so that the binding ones take their
+    /// multipliers.
+    fn multipliers_with_spec(&self, t: &SpecState, mut eq14: Vec<f64>, x: &[f64]) -> Vec<f64> {
+        let m = self.p.errors;
+        let mut row = vec![0.0; m];
+        for r in 0..t.screen.rows.len() {
+            t.screen.row(r, &t.screen.hs, false, &mut row);
+            eq14.extend_from_slice(&row);
+        }
+        let loads: Vec<f64> = eq14.chunks(m).map(|r| load(r, x)).collect();
+        self.multipliers(&eq14, &loads, x)
     }
 
     /// Multipliers of the rows fitted to the KKT conditions at `x`: on the rows at full load,
@@ -505,8 +541,7 @@ impl<'a> Search<'a> {
         let (pk, m) = (o.p, self.p.errors);
         let (ac, ai) = (o.a_row(c), o.a_row(ci));
         let (u1, u2) = (&f.ga[c * pk..(c + 1) * pk], &f.ga[ci * pk..(ci + 1) * pk]);
-        let (dc, di, dic) = (dot(ac, u1), dot(ai, u2), dot(ai, u1));
-        let ratio = (1.0 + dc) * (1.0 - di) + dic * dic;
+        let ratio = swap_ratio((ac, ai), (u1, u2));
         if ratio.is_nan() || ratio <= SINGULAR_RATIO {
             return None;
         }
@@ -517,6 +552,44 @@ impl<'a> Search<'a> {
         let (c1c, c1i) = (&o.c1[c * m..(c + 1) * m], &o.c1[ci * m..(ci + 1) * m]);
         woodbury_swap(&f.h, (ac, ai), (u1, u2), (c1c, c1i), m, out, (r1, r2));
         Some(ratio)
+    }
+
+    /// $\mathbf H_s'$ of output `k` after the swap of `ci` for `c` into `out`: the Woodbury
+    /// update of the answered schedule's $\mathbf H_s = \mathbf A^+(d\mathbf G + d\mathbf E)$
+    /// on its Gram matrix (rate steps included), with `b` and `r` working memory.
+    fn hs_after_swap(
+        &self,
+        spec: &SpecState,
+        k: usize,
+        (ci, c): (usize, usize),
+        out: &mut Vec<f64>,
+        (bc, bi): (&mut Vec<f64>, &mut Vec<f64>),
+        r: (&mut Vec<f64>, &mut Vec<f64>),
+    ) {
+        let m = self.p.errors;
+        let o = &self.p.outputs[k];
+        let pk = o.p;
+        let ga = &spec.ga[k];
+        let b = |x: usize, v: &mut Vec<f64>| {
+            v.clear();
+            v.extend(
+                o.de[x * m..(x + 1) * m]
+                    .iter()
+                    .zip(&o.dg[x * m..(x + 1) * m])
+                    .map(|(e, g)| e + g),
+            );
+        };
+        b(c, bc);
+        b(ci, bi);
+        woodbury_swap(
+            &spec.screen.hs[k],
+            (o.a_row(c), o.a_row(ci)),
+            (&ga[c * pk..(c + 1) * pk], &ga[ci * pk..(ci + 1) * pk]),
+            (bc, bi),
+            m,
+            out,
+            r,
+        );
     }
 
     /// The specification rows after the swap of the slot's candidate for `c` (the swap known
@@ -548,32 +621,10 @@ impl<'a> Search<'a> {
             ..
         } = sc;
         hs_spec.resize_with(self.p.outputs.len(), Vec::new);
-        for (k, o) in self.p.outputs.iter().enumerate() {
-            if !spec.specified[k] {
-                continue;
+        for (k, h) in hs_spec.iter_mut().enumerate() {
+            if spec.specified[k] {
+                self.hs_after_swap(spec, k, (ci, c), h, (bc, bi), (r1, r2));
             }
-            let pk = o.p;
-            let ga = &spec.ga[k];
-            let b = |x: usize, v: &mut Vec<f64>| {
-                v.clear();
-                v.extend(
-                    o.de[x * m..(x + 1) * m]
-                        .iter()
-                        .zip(&o.dg[x * m..(x + 1) * m])
-                        .map(|(e, g)| e + g),
-                );
-            };
-            b(c, bc);
-            b(ci, bi);
-            woodbury_swap(
-                &spec.screen.hs[k],
-                (o.a_row(c), o.a_row(ci)),
-                (&ga[c * pk..(c + 1) * pk], &ga[ci * pk..(ci + 1) * pk]),
-                (bc, bi),
-                m,
-                &mut hs_spec[k],
-                (r1, r2),
-            );
         }
         let n = st.s.len();
         for (r, row) in out.chunks_exact_mut(m).enumerate() {
@@ -659,6 +710,21 @@ impl<'a> Search<'a> {
             .enumerate()
             .filter(|&(r, v)| v > 0.0 && (r >= eq14_rows || r % n != slot))
             .collect();
+        // the same for the whole schedule's rows (its entries: the positions, then the rate
+        // steps' entries; only a position's slot is swapped)
+        let whole_mu0 = match &st.spec {
+            Some(t) if !t.whole_mu.is_empty() => {
+                let entries = t.screen.whole.as_ref().map_or(n, |w| w.entries);
+                let eq14_whole = p.outputs.len() * entries;
+                t.whole_mu
+                    .iter()
+                    .copied()
+                    .enumerate()
+                    .filter(|&(r, v)| v > 0.0 && (r >= eq14_whole || r % entries != slot))
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
         SlotScreen {
             slot,
             threshold: st.j * (1.0 - self.p.search.improvement_rel),
@@ -667,6 +733,162 @@ impl<'a> Search<'a> {
             base_c,
             base_mu,
             mu0,
+            whole_mu0,
+        }
+    }
+
+    /// A rigorous lower bound on the specified $J$ after swapping candidate `c` into the
+    /// slot, from the rows the specified allocation holds ([`crate::spec::WholeRows`]): eq 14's rows of
+    /// every position and of every rate step's entry, each $|\mathbf b_q + d\,\mathbf a_q^T
+    /// \mathbf H_s'|/\omega_k$ with $\mathbf H_s'$ after the swap by the Woodbury update on the
+    /// whole schedule's Gram matrix, and the specification rows over their room after the
+    /// swap ([`Search::spec_rows_after_swap`]). With every lower bound of the errors zero, the
+    /// screening solver from the state's multipliers of those rows (the slot's rows dropped),
+    /// stopped once its lower bound reaches `stop_above` or its upper bound is below
+    /// `stop_below`; otherwise the dual bound of those multipliers. `None` without rate steps,
+    /// without a table or when the swap makes the whole schedule (nearly) rank deficient;
+    /// `+inf` when a specification's noise part fills its limit after the swap.
+    fn whole_bound(
+        &self,
+        st: &State,
+        ss: &SlotScreen,
+        c: usize,
+        sc: &mut SwapScratch,
+        (stop_above, stop_below): (f64, f64),
+    ) -> Option<f64> {
+        let spec = st.spec.as_ref()?;
+        let whole = spec.screen.whole.as_ref()?;
+        if spec.whole_mu.is_empty() {
+            return None;
+        }
+        let p = self.p;
+        let m = p.errors;
+        let ci = st.s[ss.slot];
+        for (k, o) in p.outputs.iter().enumerate() {
+            let pk = o.p;
+            let ga = &spec.ga[k];
+            let (ac, ai) = (o.a_row(c), o.a_row(ci));
+            let (u1, u2) = (&ga[c * pk..(c + 1) * pk], &ga[ci * pk..(ci + 1) * pk]);
+            let ratio = swap_ratio((ac, ai), (u1, u2));
+            if ratio.is_nan() || ratio <= SINGULAR_RATIO {
+                return None;
+            }
+        }
+        let mut spec_rows = std::mem::take(&mut sc.whole_spec);
+        spec_rows.clear();
+        spec_rows.resize(spec.screen.rows.len() * m, 0.0);
+        let room = self.spec_rows_after_swap(st, spec, (ss.slot, c), sc, &mut spec_rows);
+        if !room {
+            sc.whole_spec = spec_rows;
+            return Some(f64::INFINITY);
+        }
+        let SwapScratch {
+            hs_spec,
+            bc,
+            bi,
+            r1,
+            r2,
+            whole_rows: rows,
+            whole_spec,
+            whole_dual,
+            cc,
+            ..
+        } = sc;
+        for (k, h) in hs_spec.iter_mut().enumerate() {
+            if !spec.specified[k] && whole.d_per_accuracy[k] != 0.0 {
+                self.hs_after_swap(spec, k, (ci, c), h, (bc, bi), (r1, r2));
+            }
+        }
+        let entries = whole.entries;
+        let eq14 = p.outputs.len() * entries;
+        let row_of = |r: usize, out: &mut [f64]| {
+            if r < eq14 {
+                self.whole_row(
+                    st,
+                    (ss.slot, c),
+                    (spec, whole),
+                    &hs_spec[r / entries],
+                    r,
+                    out,
+                );
+            } else {
+                out.copy_from_slice(&spec_rows[(r - eq14) * m..(r - eq14 + 1) * m]);
+            }
+        };
+        // the dual bound of the state's multipliers from their rows alone (few: the binding
+        // ones), before every row is computed
+        cc.clear();
+        cc.resize(m, 0.0);
+        let mut lambda = 0.0;
+        rows.clear();
+        rows.resize(m, 0.0);
+        for &(r, w) in &ss.whole_mu0 {
+            row_of(r, rows);
+            lambda += w;
+            for (b, v) in cc.iter_mut().zip(rows.iter()) {
+                *b += w * v;
+            }
+        }
+        let cheap = self.dual_bound(cc, lambda);
+        if cheap >= stop_above || !self.zero_lower {
+            *whole_spec = spec_rows;
+            return Some(cheap);
+        }
+        rows.clear();
+        rows.resize((eq14 + spec.screen.rows.len()) * m, 0.0);
+        for (r, out) in rows.chunks_exact_mut(m).enumerate() {
+            row_of(r, out);
+        }
+        *whole_spec = spec_rows;
+        let (lower, _) = dual::bounds_with(
+            whole_dual,
+            &self.w23,
+            rows,
+            m,
+            &ss.whole_mu0,
+            stop_above,
+            stop_below,
+        );
+        Some(cheap.max(lower))
+    }
+
+    /// Row `r` (output `r / entries`, entry `r % entries`) of eq 14's rows of the whole
+    /// schedule after swapping `c` into `slot`, normalised and in absolute value, with
+    /// $\mathbf H_s'$ of its output `h` ([`Search::whole_bound`]) into `out`.
+    fn whole_row(
+        &self,
+        st: &State,
+        (slot, c): (usize, usize),
+        (spec, whole): (&SpecState, &crate::spec::WholeRows),
+        h: &[f64],
+        r: usize,
+        out: &mut [f64],
+    ) {
+        let m = self.p.errors;
+        let n = st.s.len();
+        let (k, q) = (r / whole.entries, r % whole.entries);
+        let o = &self.p.outputs[k];
+        let (dk, pk) = (whole.d_per_accuracy[k], o.p);
+        let (base, a) = if q < n {
+            let cand = if q == slot { c } else { st.s[q] };
+            (&o.c0[cand * m..(cand + 1) * m], o.a_row(cand))
+        } else {
+            let i = q - n;
+            (
+                &whole.b_rate[k][i * m..(i + 1) * m],
+                &spec.screen.a_rate[k][i * pk..(i + 1) * pk],
+            )
+        };
+        out.copy_from_slice(base);
+        if dk != 0.0 {
+            for (t, at) in a.iter().enumerate() {
+                for (v, hv) in out.iter_mut().zip(&h[t * m..(t + 1) * m]) {
+                    *v += dk * at * hv;
+                }
+            }
+        }
+        for v in out.iter_mut() {
+            *v = v.abs();
         }
     }
 
@@ -930,8 +1152,20 @@ impl<'a> Search<'a> {
                 chunk
                     .iter()
                     .map(|&c| {
-                        let lower = self.screen_cheap(st, ss, c, sc);
-                        self.screen_rest(st, ss, c, lower, sc, until_kept, true)
+                        // the whole schedule's rows (rate steps' entries included) prune where
+                        // they bind, first (they are the tighter bound there); a swap they keep
+                        // is screened as without them, so its bounds and estimate, and the
+                        // order of the exact evaluations, are the same
+                        let stop = ss.threshold / (1.0 - WHOLE_BOUND_MARGIN_REL);
+                        match self.whole_bound(st, ss, c, sc, (stop, ss.threshold)) {
+                            Some(w) if w * (1.0 - WHOLE_BOUND_MARGIN_REL) >= ss.threshold => {
+                                pruned(c, w)
+                            }
+                            _ => {
+                                let lower = self.screen_cheap(st, ss, c, sc);
+                                self.screen_rest(st, ss, c, lower, sc, until_kept, true)
+                            }
+                        }
                     })
                     .collect()
             })
@@ -1402,6 +1636,9 @@ fn abs_load(row: &[f64], x: &[f64]) -> f64 {
         .map(|(a, u)| if *a == 0.0 { 0.0 } else { a.abs() * u })
         .sum()
 }
+
+#[cfg(test)]
+mod whole_tests;
 
 #[cfg(test)]
 mod tests {

@@ -170,11 +170,35 @@ pub(crate) struct SpecScreen {
     pub sigma: Vec<Option<Vec<f64>>>,
     /// Per output: the regressor rows of the rate steps' entries ($p$ each, row-major).
     pub a_rate: Vec<Vec<f64>>,
+    /// Eq 14's rows of the whole schedule, rate steps' entries included (`None` without rate
+    /// steps: the screening's own rows are then the whole schedule's).
+    pub whole: Option<WholeRows>,
+}
+
+/// Eq 14's rows of the whole schedule (the static positions, then the rate steps' entries),
+/// the rows the specified allocation holds: row $q$ of output $k$ is
+/// $(\mathbf b_q + d\,\mathbf a_q^T\mathbf H_s)/\omega_k$ with $\mathbf H_s = \mathbf A^+
+/// (d\mathbf G + d\mathbf E)$ of the whole schedule ([`SpecScreen::hs`]) and $\mathbf b_q =
+/// c_g\,d\mathbf g_q + c_e\,d\mathbf e_q$ (the reading's affine form), so that a swap changes
+/// them through $\mathbf H_s'$ alone (the Woodbury update of the specification rows).
+#[derive(Debug, Clone)]
+pub(crate) struct WholeRows {
+    /// $|\mathbf M|/\omega_k$ of every entry of the answered schedule, output-major (row
+    /// $(k, q)$ at `(k * entries + q) * m`).
+    pub rows: Vec<f64>,
+    /// Per output: $\mathbf b_q/\omega_k$ of the rate steps' entries (signed, $m$ each,
+    /// row-major), $\mathbf M$'s row less its projection part.
+    pub b_rate: Vec<Vec<f64>>,
+    /// Per output: $d/\omega_k$, the factor of $\mathbf a_q^T\mathbf H_s$ in a row.
+    pub d_per_accuracy: Vec<f64>,
+    /// The entries of the whole schedule (positions, then the rate steps' entries).
+    pub entries: usize,
 }
 
 impl SpecScreen {
-    /// The screening data of `a`.
-    pub(crate) fn of(a: &SpecAnswer) -> Self {
+    /// The screening data of `a`, with $d$ of the reading's affine form and the outputs'
+    /// accuracies $\omega_k$ (for the whole schedule's eq 14 rows).
+    pub(crate) fn of(a: &SpecAnswer, d: f64, accuracies: &[f64]) -> Self {
         let outputs = a.e2e.calibration().outputs();
         let gram_inv = outputs
             .iter()
@@ -184,7 +208,7 @@ impl SpecScreen {
                 g.transpose().as_slice().to_vec()
             })
             .collect();
-        let hs = a
+        let hs: Vec<Vec<f64>> = a
             .e2e
             .coefficient_linearization()
             .iter()
@@ -233,12 +257,14 @@ impl SpecScreen {
                 })
             })
             .collect();
+        let whole = (a.e2e.len() > n_static).then(|| WholeRows::of(a, &hs, d, accuracies));
         Self {
             gram_inv,
             hs,
             rows,
             sigma,
             a_rate,
+            whole,
         }
     }
 
@@ -260,6 +286,47 @@ impl SpecScreen {
         let per = if limit { &row.per_limit } else { &row.per_room };
         for (v, f) in out.iter_mut().zip(per) {
             *v = f * v.abs();
+        }
+    }
+}
+
+impl WholeRows {
+    /// The rows of `a` (its sensitivities `hs`, per output $p \times m$ row-major).
+    fn of(a: &SpecAnswer, hs: &[Vec<f64>], d: f64, accuracies: &[f64]) -> Self {
+        let m = a.linear.matrix().ncols();
+        let entries = a.linear.positions();
+        let mut rows = Vec::with_capacity(a.linear.matrix().nrows() * m);
+        for (r, row) in a.linear.matrix().row_iter().enumerate() {
+            let w = 1.0 / accuracies[r / entries];
+            rows.extend(row.iter().map(|v| v.abs() * w));
+        }
+        let d_per_accuracy: Vec<f64> = accuracies.iter().map(|w| d / w).collect();
+        let mut b_rate = Vec::with_capacity(accuracies.len());
+        for (k, o) in a.e2e.calibration().outputs().iter().enumerate() {
+            let reg = o.regression().matrix();
+            let h = &hs[k];
+            let mut b = Vec::with_capacity((entries - a.n_static) * m);
+            for q in a.n_static..entries {
+                for j in 0..m {
+                    let ah: f64 = reg
+                        .row(q)
+                        .iter()
+                        .enumerate()
+                        .map(|(t, v)| v * h[t * m + j])
+                        .sum();
+                    b.push(
+                        a.linear.matrix()[(k * entries + q, j)] / accuracies[k]
+                            - d_per_accuracy[k] * ah,
+                    );
+                }
+            }
+            b_rate.push(b);
+        }
+        Self {
+            rows,
+            b_rate,
+            d_per_accuracy,
+            entries,
         }
     }
 }

@@ -42,7 +42,7 @@ fn stim300() -> Study {
 /// the specifications the study's schedule leaves the table room for (as `design-schedule`
 /// builds it: the verdict's law, the noise, the study's timing and rate steps), and the
 /// study's schedule as candidate indices.
-fn problem_with_specifications(s: &Study) -> (DesignProblem, Vec<usize>) {
+pub(crate) fn problem_with_specifications(s: &Study) -> (DesignProblem, Vec<usize>) {
     let e2e = testkit::e2e::simulator_of(s);
     let context_of = |specs: &[gw_model::spec::Specification]| {
         s.specification_context(specs, &e2e.error_names())
