@@ -25,7 +25,7 @@ use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, PerAngle, Split, a
 use crate::loaded as st;
 use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, NoiseAnswer, NoisyDirect,
-    ReadingAnswer, Tradeoff, answer,
+    ReadingAnswer, Tradeoff, TradeoffInputs, answer,
 };
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -110,6 +110,25 @@ impl Scanned {
 /// study's longest accepted dwell.
 pub(crate) const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
 
+/// The time/table trade-off's inputs for study `s` on `linear`: its noise with `timing`, the
+/// lower bounds `lower_bounds_rad`, $\kappa$ `k_sigma` and the dwells [`DWELL_SEARCH_S`].
+pub(crate) fn tradeoff_inputs<'a>(
+    s: &'a Study,
+    linear: &'a e2e_verify::Linearization,
+    lower_bounds_rad: &'a [f64],
+    timing: &'a calib_lsq::Timing,
+    k_sigma: f64,
+) -> TradeoffInputs<'a> {
+    TradeoffInputs {
+        linear,
+        lower_bounds_rad,
+        noise: &s.noise,
+        timing,
+        k_sigma,
+        dwell_range_s: DWELL_SEARCH_S,
+    }
+}
+
 /// The answer for both error sources, when the study gives noise and a timing.
 ///
 /// # Errors
@@ -125,6 +144,8 @@ pub fn noisy_answer(
     };
     let lb = &a.inputs().lower_bounds_rad;
     let settings = McSettings::new(a.inputs().samples, a.inputs().seed);
+    let linear = e2e.linearization();
+    let question = tradeoff_inputs(s, &linear, lb, timing, k_sigma);
     // the trade-off (allocations) beside the readings' answers; those run one after the other
     // (each has a Monte Carlo already on every thread: one at a time keeps the memory of one
     // run); the first error in the serial order returned
@@ -147,14 +168,7 @@ pub fn noisy_answer(
         },
         || {
             e2e.noise()
-                .tradeoff(
-                    &e2e.linearization(),
-                    lb,
-                    &s.noise,
-                    timing,
-                    k_sigma,
-                    DWELL_SEARCH_S,
-                )
+                .tradeoff(&question)
                 .map_err(|e| crate::error::library(e, s))
         },
     );
@@ -163,14 +177,7 @@ pub fn noisy_answer(
     let scanned = Scanned::new(&tradeoff, timing);
     let sensitivity = e2e
         .noise()
-        .noise_sensitivity(
-            &e2e.linearization(),
-            lb,
-            &s.noise,
-            timing,
-            k_sigma,
-            DWELL_SEARCH_S,
-        )
+        .noise_sensitivity(&question)
         .map_err(|e| crate::error::library(e, s))?;
     Ok(Some(NoisyAnswer {
         readings,
