@@ -539,29 +539,10 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         check_lower_bounds_named(self.error_names(), lower_bounds_rad)
     }
 
-    /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
-    /// of each accuracy free.
-    fn allocate_direct_with_margins(
-        &self,
-        linear: &Linearization,
-        lower_bounds_rad: &[f64],
-        margins: &[f64],
-        l1_budget_rad: Option<f64>,
-    ) -> Result<DirectAllocation, E2eError> {
-        let weights = self.combined_weights();
-        self.allocate_direct_weighted(
-            &weights,
-            linear,
-            lower_bounds_rad,
-            margins,
-            l1_budget_rad,
-            &[],
-        )
-    }
-
-    /// [`EndToEnd::allocate_direct_with_margins`] with the objective's weights `weights` (one
-    /// per column of `linear`) in place of the combined weights: the paired allocation
-    /// ([`crate::disc`]) merges a pair's weights into one column.
+    /// [`EndToEnd::allocate_direct_keeping`] with the objective's weights `weights` (one per
+    /// column of `linear`) in place of the combined weights (the paired allocation,
+    /// [`crate::disc`], merges a pair's weights into one column), with `l1_budget_rad` (see
+    /// [`DirectSetup::allocate`]) and the specification rows `spec_rows`.
     pub(crate) fn allocate_direct_weighted(
         &self,
         weights: &[f64],
@@ -587,15 +568,17 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         .allocate_with_rows(linear, lower_bounds_rad, margins, l1_budget_rad, spec_rows)
     }
 
-    /// Direct allocation keeping `margins[k]` (output unit) of each accuracy free (the noise
-    /// part of [`crate::NoiseQuestions::allocate_direct_with_noise`]).
+    /// Direct allocation against every output's accuracy, keeping `margins[k]` (output unit)
+    /// of each accuracy free (the noise part of
+    /// [`crate::NoiseQuestions::allocate_direct_with_noise`]).
     pub(crate) fn allocate_direct_keeping(
         &self,
         linear: &Linearization,
         lower_bounds_rad: &[f64],
         margins: &[f64],
     ) -> Result<DirectAllocation, E2eError> {
-        self.allocate_direct_with_margins(linear, lower_bounds_rad, margins, None)
+        let weights = self.combined_weights();
+        self.allocate_direct_weighted(&weights, linear, lower_bounds_rad, margins, None, &[])
     }
 
     /// Direct allocation against every output's accuracy.
@@ -621,12 +604,7 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         linear: &Linearization,
         lower_bounds_rad: &[f64],
     ) -> Result<DirectAllocation, E2eError> {
-        self.allocate_direct_with_margins(
-            linear,
-            lower_bounds_rad,
-            &vec![0.0; self.n_outputs()],
-            None,
-        )
+        self.allocate_direct_keeping(linear, lower_bounds_rad, &vec![0.0; self.n_outputs()])
     }
 
     /// [`EndToEnd::allocate_direct`] constrained by every specification as well: the rows
@@ -840,19 +818,10 @@ impl<S: ScheduleErrorModel + Sync> EndToEnd<S> {
         )
     }
 
-    /// [`EndToEnd::allocate_direct_certified`] keeping `extra[k]` (output unit) of each
+    /// [`EndToEnd::allocate_direct_certified_with`] keeping `extra[k]` (output unit) of each
     /// accuracy free besides the second-order bound (the noise part of
-    /// [`crate::NoiseQuestions::allocate_direct_with_noise_certified`]): every turntable of the returned box
-    /// has an exact-chain error within $\omega_{m,k} - \mathrm{extra}_k$.
-    pub(crate) fn allocate_direct_certified_keeping(
-        &self,
-        linear: &Linearization,
-        lower_bounds_rad: &[f64],
-        extra: &[f64],
-    ) -> Result<DirectAllocation, E2eError> {
-        self.certified_keeping(linear, lower_bounds_rad, extra, &CertifyParams::default())
-    }
-
+    /// [`crate::NoiseQuestions::allocate_direct_with_noise`] with `certify`): every turntable
+    /// of the returned box has an exact-chain error within $\omega_{m,k} - \mathrm{extra}_k$.
     pub(crate) fn certified_keeping(
         &self,
         linear: &Linearization,

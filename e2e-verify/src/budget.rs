@@ -48,18 +48,18 @@ pub enum EvaluatedAt {
     Position(usize),
 }
 
-/// The budget of one specification.
+/// One specification's answer: which specification, where its quantity was evaluated, and
+/// what the method that answers adds (`D`): its GUM budget ([`SpecificationBudget`]) or its
+/// Monte Carlo of JCGM 101 ([`crate::budget_mc::SpecificationMonteCarlo`], at its budget's
+/// place).
 #[derive(Debug, Clone, PartialEq)]
-pub struct SpecificationBudget {
-    spec: usize,
-    at: EvaluatedAt,
-    result: BudgetResult,
-    check: SpecificationCheck,
-    noise_modelled: bool,
-    table_rows: usize,
+pub struct SpecificationAnswer<D> {
+    pub(crate) spec: usize,
+    pub(crate) at: EvaluatedAt,
+    pub(crate) detail: D,
 }
 
-impl SpecificationBudget {
+impl<D> SpecificationAnswer<D> {
     /// The specification's index (the order given).
     #[must_use]
     pub fn spec(&self) -> usize {
@@ -71,43 +71,57 @@ impl SpecificationBudget {
     pub fn at(&self) -> EvaluatedAt {
         self.at
     }
+}
 
+/// What the GUM budget adds to a specification's answer ([`SpecificationBudget`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BudgetDetail {
+    result: BudgetResult,
+    check: SpecificationCheck,
+    noise_modelled: bool,
+    table_rows: usize,
+}
+
+/// The budget of one specification.
+pub type SpecificationBudget = SpecificationAnswer<BudgetDetail>;
+
+impl SpecificationBudget {
     /// The budget: its rows ([`BudgetResult::rows`]: the table's errors in the order of
     /// $\chi$, then the noise terms) and its one output.
     #[must_use]
     pub fn result(&self) -> &BudgetResult {
-        &self.result
+        &self.detail.result
     }
 
     /// The quantity's uncertainty (sensitivities, contributions, $u_c$, $\nu_{\text{eff}}$,
     /// $k$, $U$; model units).
     #[must_use]
     pub fn output(&self) -> &OutputUncertainty {
-        &self.result.outputs()[0]
+        &self.detail.result.outputs()[0]
     }
 
     /// $U$ against the limit (model units): the ratio and whether $U \le$ limit.
     #[must_use]
     pub fn check(&self) -> &SpecificationCheck {
-        &self.check
+        &self.detail.check
     }
 
     /// Whether the output's noise is in the budget (a noise model and a timing).
     #[must_use]
     pub fn noise_modelled(&self) -> bool {
-        self.noise_modelled
+        self.detail.noise_modelled
     }
 
     /// The number of rows that are the table's errors (the first rows).
     #[must_use]
     pub fn table_rows(&self) -> usize {
-        self.table_rows
+        self.detail.table_rows
     }
 
     /// The table's part alone: $\sqrt{\sum_{\text{table}} (c_j u_j)^2}$ (model units).
     #[must_use]
     pub fn table_combined(&self) -> f64 {
-        self.output().contributions()[..self.table_rows]
+        self.output().contributions()[..self.detail.table_rows]
             .iter()
             .map(|c| c * c)
             .sum::<f64>()
@@ -241,10 +255,12 @@ impl<S: ScheduleErrorModel> crate::BudgetQuestions<'_, S> {
                 Ok(SpecificationBudget {
                     spec: index,
                     at: worst.at,
-                    check,
-                    noise_modelled: cov.is_some(),
-                    table_rows: table.len(),
-                    result,
+                    detail: BudgetDetail {
+                        check,
+                        noise_modelled: cov.is_some(),
+                        table_rows: table.len(),
+                        result,
+                    },
                 })
             })
             .collect()

@@ -29,7 +29,7 @@
 //! (metrology's streams), so the answer is the same for any number of threads; memory is one
 //! block per output whatever the number of trials.
 
-use crate::budget::{EvaluatedAt, PlanVerdict, SpecificationBudget};
+use crate::budget::{EvaluatedAt, PlanVerdict, SpecificationAnswer, SpecificationBudget};
 use crate::error::E2eError;
 use crate::simulate::{DrawWork, EndToEnd};
 use gw_model::spec::{Resolved, Specification};
@@ -42,11 +42,9 @@ use tt_kinematics::ScheduleErrorModel;
 /// The rule of the Monte Carlo's verdict on a specification, in words.
 pub const MC_RULE: &str = "by Monte Carlo (JCGM 101): a specification is met when the probabilistically symmetric coverage interval of its quantity at its coverage probability lies within +-limit (table errors drawn from their laws on the exact chain, noise drawn, the estimator run)";
 
-/// One specification's Monte Carlo answer.
+/// What the Monte Carlo adds to a specification's answer ([`SpecificationMonteCarlo`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct SpecificationMonteCarlo {
-    spec: usize,
-    at: EvaluatedAt,
+pub struct MonteCarloDetail {
     output: McOutput,
     validation: Validation,
     limit: f64,
@@ -54,55 +52,47 @@ pub struct SpecificationMonteCarlo {
     stabilized: bool,
 }
 
+/// One specification's Monte Carlo answer, evaluated at its budget's place
+/// ([`SpecificationAnswer::at`]).
+pub type SpecificationMonteCarlo = SpecificationAnswer<MonteCarloDetail>;
+
 impl SpecificationMonteCarlo {
-    /// The specification's index (the order given).
-    #[must_use]
-    pub fn spec(&self) -> usize {
-        self.spec
-    }
-
-    /// Where the quantity was evaluated (its budget's place).
-    #[must_use]
-    pub fn at(&self) -> EvaluatedAt {
-        self.at
-    }
-
     /// The quantity's distribution: estimate, $u(y)$, both coverage intervals, the numerical
     /// tolerance (model units).
     #[must_use]
     pub fn output(&self) -> &McOutput {
-        &self.output
+        &self.detail.output
     }
 
     /// The GUM interval $0 \pm U$ against the Monte Carlo's symmetric interval (JCGM 101 8.2).
     #[must_use]
     pub fn validation(&self) -> &Validation {
-        &self.validation
+        &self.detail.validation
     }
 
     /// The specification's limit (model units).
     #[must_use]
     pub fn limit(&self) -> f64 {
-        self.limit
+        self.detail.limit
     }
 
     /// The trials of the run that answered this specification.
     #[must_use]
     pub fn trials(&self) -> u64 {
-        self.trials
+        self.detail.trials
     }
 
     /// Whether that run stabilized at its numerical tolerance before its trial limit.
     #[must_use]
     pub fn stabilized(&self) -> bool {
-        self.stabilized
+        self.detail.stabilized
     }
 
     /// Whether the symmetric coverage interval lies within $\pm$limit ([`MC_RULE`]).
     #[must_use]
     pub fn meets(&self) -> bool {
-        let (lo, hi) = self.output.symmetric();
-        lo.abs().max(hi.abs()) <= self.limit
+        let (lo, hi) = self.detail.output.symmetric();
+        lo.abs().max(hi.abs()) <= self.detail.limit
     }
 }
 
@@ -275,11 +265,13 @@ impl<S: ScheduleErrorModel + Sync> crate::BudgetQuestions<'_, S> {
                 answers[i] = Some(SpecificationMonteCarlo {
                     spec: i,
                     at: budgets[i].at(),
-                    output,
-                    validation,
-                    limit: specs[i].limit(),
-                    trials: result.trials(),
-                    stabilized: result.stabilized(),
+                    detail: MonteCarloDetail {
+                        output,
+                        validation,
+                        limit: specs[i].limit(),
+                        trials: result.trials(),
+                        stabilized: result.stabilized(),
+                    },
                 });
             }
         }

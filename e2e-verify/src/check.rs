@@ -92,27 +92,26 @@ impl Contribution {
     }
 }
 
-/// The check of one output.
+/// One output's verdict against its accuracy, with what the question adds (`D`): the buyer's
+/// check of a box ([`OutputCheck`]: the worst case and every error's contribution) or the
+/// answer for both error sources ([`crate::CombinedOutput`]: the table and the noise parts).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct OutputCheck {
+pub struct OutputVerdict<D> {
     /// The output's index.
     pub(crate) output: usize,
     /// Its accuracy (output unit).
     pub(crate) accuracy: f64,
-    /// The worst case over the tolerance box.
-    pub(crate) worst_case: OutputWorstCase,
     /// The verdict for this output.
     pub(crate) verdict: Verdict,
-    /// Every group's contribution ([`tt_kinematics::Turntable::error_groups`]: one per error
-    /// that acts alone, one per group of errors that act only together), in the order of
-    /// their first error in $\chi$.
-    pub(crate) contributions: Vec<Contribution>,
+    /// What the question adds.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub(crate) detail: D,
 }
 
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
-impl OutputCheck {
+impl<D> OutputVerdict<D> {
     /// The output's index.
     #[must_use]
     pub fn output(&self) -> usize {
@@ -125,16 +124,50 @@ impl OutputCheck {
         self.accuracy
     }
 
-    /// The worst case over the tolerance box.
-    #[must_use]
-    pub fn worst_case(&self) -> &OutputWorstCase {
-        &self.worst_case
-    }
-
     /// The verdict for this output.
     #[must_use]
     pub fn verdict(&self) -> Verdict {
         self.verdict
+    }
+}
+
+/// The verdict of one output's worst case `w` against `accuracy` with `noise_part` (output
+/// unit; 0 for the table alone) added to both sides of its test: fails when the exact chain at
+/// the worst vertex plus the noise part exceeds the accuracy, guaranteed when the (finite)
+/// certified bound plus it is within, likely between.
+pub(crate) fn verdict_of(w: &OutputWorstCase, accuracy: f64, noise_part: f64) -> Verdict {
+    if w.exact_at_vertex + noise_part > accuracy {
+        Verdict::Fails
+    } else {
+        match w.certified_bound().filter(|b| b.is_finite()) {
+            Some(b) if b + noise_part <= accuracy => Verdict::Guaranteed,
+            _ => Verdict::Likely,
+        }
+    }
+}
+
+/// What the buyer's check adds to an output's verdict ([`OutputCheck`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct CheckDetail {
+    /// The worst case over the tolerance box.
+    pub(crate) worst_case: OutputWorstCase,
+    /// Every group's contribution ([`tt_kinematics::Turntable::error_groups`]: one per error
+    /// that acts alone, one per group of errors that act only together), in the order of
+    /// their first error in $\chi$.
+    pub(crate) contributions: Vec<Contribution>,
+}
+
+/// The check of one output.
+pub type OutputCheck = OutputVerdict<CheckDetail>;
+
+/// Read access to the fields (crate-private, so the type can grow without breaking callers).
+impl OutputCheck {
+    /// The worst case over the tolerance box.
+    #[must_use]
+    pub fn worst_case(&self) -> &OutputWorstCase {
+        &self.detail.worst_case
     }
 
     /// Every group's contribution ([`tt_kinematics::Turntable::error_groups`]: one per error
@@ -142,17 +175,15 @@ impl OutputCheck {
     /// their first error in $\chi$.
     #[must_use]
     pub fn contributions(&self) -> &[Contribution] {
-        &self.contributions
+        &self.detail.contributions
     }
-}
 
-impl OutputCheck {
     /// The `n` contributions with the largest worst-case share, largest first (a stable sort:
     /// ties keep the order in $\chi$), without those that do not contribute (share 0): the
     /// dominant errors a check or a report names.
     #[must_use]
     pub fn dominant(&self, n: usize) -> Vec<&Contribution> {
-        let mut top: Vec<&Contribution> = self.contributions.iter().collect();
+        let mut top: Vec<&Contribution> = self.detail.contributions.iter().collect();
         top.sort_by(|a, b| b.worst_share.total_cmp(&a.worst_share));
         top.into_iter()
             .take(n)
@@ -280,29 +311,17 @@ impl crate::VendorQuestions<'_> {
                     variance_share: if vs > 0.0 { g.sum(&second) / vs } else { 0.0 },
                 })
                 .collect();
-            let verdict = if w.exact_at_vertex > acc[k] {
-                Verdict::Fails
-            } else {
-                match w.certified_bound() {
-                    Some(b) if b <= acc[k] => Verdict::Guaranteed,
-                    _ => Verdict::Likely,
-                }
-            };
             outputs.push(OutputCheck {
                 output: k,
                 accuracy: acc[k],
-                worst_case: w,
-                verdict,
-                contributions,
+                verdict: verdict_of(&w, acc[k], 0.0),
+                detail: CheckDetail {
+                    worst_case: w,
+                    contributions,
+                },
             });
         }
-        let verdict = if outputs.iter().any(|o| o.verdict == Verdict::Fails) {
-            Verdict::Fails
-        } else if outputs.iter().all(|o| o.verdict == Verdict::Guaranteed) {
-            Verdict::Guaranteed
-        } else {
-            Verdict::Likely
-        };
+        let verdict = crate::noise::weakest(outputs.iter().map(|o| o.verdict));
         Ok(TurntableCheck {
             upper_bounds_rad: ub_rad.to_vec(),
             outputs,

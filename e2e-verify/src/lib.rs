@@ -120,7 +120,7 @@ pub use answer::{
     AnswerAllocations, BoxAnswer, BuyersAnswer, DEFAULT_SAMPLES, EndToEndInputs, ReadingAnswer,
     answer, answer_allocations, answer_with_two_step,
 };
-pub use check::{Contribution, OutputCheck, TurntableCheck, Verdict};
+pub use check::{CheckDetail, Contribution, OutputCheck, OutputVerdict, TurntableCheck, Verdict};
 pub use error::E2eError;
 pub use linear::{BoxDetail, BoxMeets, Linearization, OutputWorstCase, WorstCase};
 /// The one histogram of the workspace's Monte Carlos (mc-verify's), here on $[0, H)$ in the
@@ -133,8 +133,9 @@ pub use montecarlo::{
     RateDistribution, RateQuantile, WorstDraw,
 };
 pub use noise::{
-    CombinedBox, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer, NoiseBudget,
-    NoisyAllocation, NoisyDirect, Tradeoff, TradeoffParams, TradeoffPoint, check_k_sigma,
+    CombinedBox, CombinedDetail, CombinedOutput, DEFAULT_K_SIGMA, Dominant, NoRoom, NoiseAnswer,
+    NoiseBudget, NoisyAllocation, NoisyDirect, Tradeoff, TradeoffInputs, TradeoffParams,
+    TradeoffPoint, check_k_sigma,
 };
 pub use questions::{
     AngleQuestions, BudgetQuestions, EstimableQuestions, MonteCarloQuestions, NoiseQuestions,

@@ -30,11 +30,11 @@
 //! the count is identical for any thread count. Outputs' noises are independent of each
 //! other (separate sensors).
 
-use crate::check::Verdict;
+use crate::check::{OutputVerdict, Verdict, verdict_of};
 use crate::error::E2eError;
 use crate::linear::{Linearization, OutputWorstCase, WorstCase};
 use crate::montecarlo::{McSettings, YieldCount};
-use crate::{DirectAllocation, answer::ReadingAnswer};
+use crate::{CertifyParams, DirectAllocation, answer::ReadingAnswer};
 use calib_lsq::Timing;
 use gw_model::noise::NoiseModel;
 use mc_verify::driver::run_chunks;
@@ -103,6 +103,28 @@ impl TradeoffParams {
         }
         Ok(self)
     }
+}
+
+/// What the time/table trade-off is asked ([`crate::NoiseQuestions::tradeoff`]; its
+/// sensitivity to the noise model, [`crate::NoiseQuestions::noise_sensitivity`], is asked the
+/// same): the table's linearisation and lower bounds, the sensor's noise with a timing whose
+/// shape is kept (every dwell scaled alike, the move time and sample rate kept), $\kappa$ and
+/// the dwells searched.
+#[derive(Debug, Clone, Copy)]
+pub struct TradeoffInputs<'a> {
+    /// The linearisation of the table's errors ([`crate::EndToEnd::linearization`]).
+    pub linear: &'a Linearization,
+    /// The lower bounds (rad, order of $\chi$).
+    pub lower_bounds_rad: &'a [f64],
+    /// Per output, its noise model (`None`: no noise).
+    pub noise: &'a [Option<NoiseModel>],
+    /// The timing whose shape every dwell keeps.
+    pub timing: &'a Timing,
+    /// $\kappa$ of the noise part $\kappa\sigma_k$.
+    pub k_sigma: f64,
+    /// The dwells searched, `(shortest, longest)` (s; the mean dwell for a per-position
+    /// timing).
+    pub dwell_range_s: (f64, f64),
 }
 
 /// Point `i` of `points` spread evenly in $\log T$ from `first` to `last`.
@@ -212,14 +234,10 @@ impl Dominant {
     }
 }
 
-/// One output's answer for both error sources.
+/// What the answer for both error sources adds to an output's verdict ([`CombinedOutput`]).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
-pub struct CombinedOutput {
-    /// The output's index.
-    pub(crate) output: usize,
-    /// Its accuracy (output unit).
-    pub(crate) accuracy: f64,
+pub struct CombinedDetail {
     /// The table part (output unit): the certified worst case over the box when a
     /// second-order bound is derived, else the exact chain at the worst vertex.
     pub(crate) table_part: f64,
@@ -231,67 +249,51 @@ pub struct CombinedOutput {
     pub(crate) k_sigma: f64,
     /// `table_part + k_sigma * noise_sigma` (output unit).
     pub(crate) combined: f64,
-    /// The verdict with the noise part added (see the [module](self)).
-    pub(crate) verdict: Verdict,
     /// Which part dominates.
     pub(crate) dominant: Dominant,
 }
 
+/// One output's answer for both error sources; its verdict is the table's with the noise part
+/// added (see the [module](self)).
+pub type CombinedOutput = OutputVerdict<CombinedDetail>;
+
 /// Read access to the fields (crate-private, so the type can grow without breaking callers).
 impl CombinedOutput {
-    /// The output's index.
-    #[must_use]
-    pub fn output(&self) -> usize {
-        self.output
-    }
-
-    /// Its accuracy (output unit).
-    #[must_use]
-    pub fn accuracy(&self) -> f64 {
-        self.accuracy
-    }
-
     /// The table part (output unit): the certified worst case over the box when a
     /// second-order bound is derived, else the exact chain at the worst vertex.
     #[must_use]
     pub fn table_part(&self) -> f64 {
-        self.table_part
+        self.detail.table_part
     }
 
     /// Whether [`CombinedOutput::table_part`] is certified (a rigorous bound).
     #[must_use]
     pub fn table_certified(&self) -> bool {
-        self.table_certified
+        self.detail.table_certified
     }
 
     /// $\sigma_k$ (output unit).
     #[must_use]
     pub fn noise_sigma(&self) -> f64 {
-        self.noise_sigma
+        self.detail.noise_sigma
     }
 
     /// $\kappa$.
     #[must_use]
     pub fn k_sigma(&self) -> f64 {
-        self.k_sigma
+        self.detail.k_sigma
     }
 
     /// `table_part + k_sigma * noise_sigma` (output unit).
     #[must_use]
     pub fn combined(&self) -> f64 {
-        self.combined
-    }
-
-    /// The verdict with the noise part added (see the [module](self)).
-    #[must_use]
-    pub fn verdict(&self) -> Verdict {
-        self.verdict
+        self.detail.combined
     }
 
     /// Which part dominates.
     #[must_use]
     pub fn dominant(&self) -> Dominant {
-        self.dominant
+        self.detail.dominant
     }
 }
 
@@ -308,27 +310,21 @@ impl CombinedOutput {
             Some(b) => (b, true),
             None => (w.exact_at_vertex, false),
         };
-        let verdict = if w.exact_at_vertex + noise > accuracy {
-            Verdict::Fails
-        } else {
-            match certified {
-                Some(b) if b + noise <= accuracy => Verdict::Guaranteed,
-                _ => Verdict::Likely,
-            }
-        };
         Self {
             output: w.output,
             accuracy,
-            table_part,
-            table_certified,
-            noise_sigma: sigma,
-            k_sigma,
-            combined: table_part + noise,
-            verdict,
-            dominant: if noise > table_part {
-                Dominant::Noise
-            } else {
-                Dominant::Table
+            verdict: verdict_of(w, accuracy, noise),
+            detail: CombinedDetail {
+                table_part,
+                table_certified,
+                noise_sigma: sigma,
+                k_sigma,
+                combined: table_part + noise,
+                dominant: if noise > table_part {
+                    Dominant::Noise
+                } else {
+                    Dominant::Table
+                },
             },
         }
     }
@@ -336,7 +332,7 @@ impl CombinedOutput {
     /// Whether the combined answer meets the accuracy.
     #[must_use]
     pub fn meets(&self) -> bool {
-        self.combined <= self.accuracy
+        self.detail.combined <= self.accuracy
     }
 }
 
@@ -724,40 +720,14 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
         ))
     }
 
-    /// A box's answer for both error sources: its worst case combined with the noise and the
+    /// A box's answer for both error sources: its worst case `wc`
+    /// ([`crate::EndToEnd::worst_case`] of the box `ub_rad`) combined with the noise, and the
     /// combined yield.
     ///
     /// # Errors
-    /// As [`crate::EndToEnd::worst_case`] and [`crate::NoiseQuestions::combined_yield`].
+    /// [`E2eError::Field`] for a bad `k_sigma`; as [`crate::NoiseQuestions::combined_yield`].
     #[allow(clippy::too_many_arguments)]
     pub fn combined_box(
-        &self,
-        name: &str,
-        linear: &Linearization,
-        ub_rad: &[f64],
-        lower_bounds_rad: &[f64],
-        budget: &NoiseBudget,
-        k_sigma: f64,
-        settings: &McSettings,
-    ) -> Result<CombinedBox, E2eError> {
-        let wc = self.worst_case(linear, ub_rad)?;
-        self.combined_box_of(
-            name,
-            &wc,
-            ub_rad,
-            lower_bounds_rad,
-            budget,
-            k_sigma,
-            settings,
-        )
-    }
-
-    /// [`crate::NoiseQuestions::combined_box`] for a worst case already computed.
-    ///
-    /// # Errors
-    /// As [`crate::NoiseQuestions::combined_yield`].
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn combined_box_of(
         &self,
         name: &str,
         wc: &WorstCase,
@@ -806,14 +776,26 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     /// $\omega_{m,k} - \kappa\sigma_k$ (the table gets what the noise leaves), or the answer
     /// that no table suffices at this dwell.
     ///
+    /// With `certify`, the box is certified on the exact chain where the reading has a derived
+    /// second-order bound ([`crate::EndToEnd::allocate_direct_certified_with`] with the noise
+    /// part kept free as well, tuned by `certify`): every turntable of the box then has an
+    /// exact-chain error within $\omega_{m,k} - \kappa\sigma_k$, so the box meets its own
+    /// combined verdict. Where the reading has no derived bound, or no $\ell_1$ budget leaves
+    /// room for it beside the noise, the first-order allocation is returned (its combined
+    /// verdict, computed from its certified worst case, says whether it meets). The commands
+    /// recommend `Some(&CertifyParams::default())`; the trade-off's curve is first-order
+    /// (`None`).
+    ///
     /// # Errors
-    /// As [`crate::EndToEnd::allocate_direct`] (bad lower bounds, solver failure).
+    /// As [`crate::EndToEnd::allocate_direct`] (bad lower bounds, solver failure);
+    /// [`E2eError::Field`] for a bad `k_sigma`.
     pub fn allocate_direct_with_noise(
         &self,
         linear: &Linearization,
         lower_bounds_rad: &[f64],
         budget: &NoiseBudget,
         k_sigma: f64,
+        certify: Option<&CertifyParams>,
     ) -> Result<NoisyAllocation, E2eError> {
         check_k_sigma(k_sigma)?;
         crate::allocate::check_lower_bounds_named(self.error_names(), lower_bounds_rad)?;
@@ -822,40 +804,14 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
         if !blocked.is_empty() {
             return Ok(Err(blocked));
         }
-        Ok(Ok(self.allocate_direct_keeping(
-            linear,
-            lower_bounds_rad,
-            &margins,
-        )?))
-    }
-
-    /// [`crate::NoiseQuestions::allocate_direct_with_noise`] certified on the exact chain where the reading
-    /// has a derived second-order bound ([`crate::EndToEnd::allocate_direct_certified`] with the
-    /// noise part kept free as well): every turntable of the box then has an exact-chain
-    /// error within $\omega_{m,k} - \kappa\sigma_k$, so the box meets its own combined
-    /// verdict. Where the reading has no derived bound, or no $\ell_1$ budget leaves room for
-    /// it beside the noise, the first-order allocation is returned (its combined verdict,
-    /// computed from its certified worst case, says whether it meets).
-    ///
-    /// # Errors
-    /// As [`crate::NoiseQuestions::allocate_direct_with_noise`].
-    pub fn allocate_direct_with_noise_certified(
-        &self,
-        linear: &Linearization,
-        lower_bounds_rad: &[f64],
-        budget: &NoiseBudget,
-        k_sigma: f64,
-    ) -> Result<NoisyAllocation, E2eError> {
-        let first_order =
-            self.allocate_direct_with_noise(linear, lower_bounds_rad, budget, k_sigma)?;
-        if first_order.is_err() {
-            return Ok(first_order);
-        }
-        let margins = budget.margins(k_sigma);
-        match self.allocate_direct_certified_keeping(linear, lower_bounds_rad, &margins) {
+        let first_order = self.allocate_direct_keeping(linear, lower_bounds_rad, &margins)?;
+        let Some(params) = certify else {
+            return Ok(Ok(first_order));
+        };
+        match self.certified_keeping(linear, lower_bounds_rad, &margins, params) {
             Ok(d) => Ok(Ok(d)),
             Err(E2eError::NoSecondOrderBound { .. } | E2eError::NoConvergence { .. }) => {
-                Ok(first_order)
+                Ok(Ok(first_order))
             }
             Err(e) => Err(e),
         }
@@ -879,7 +835,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
         let linear = self.linearization();
         let mut boxes = Vec::new();
         for b in r.boxes.iter().chain([&r.direct_box, &r.yield_box]) {
-            boxes.push(self.combined_box_of(
+            boxes.push(self.combined_box(
                 &b.name,
                 &b.worst_case,
                 &b.upper_bounds_rad,
@@ -889,16 +845,17 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
                 settings,
             )?);
         }
-        let direct = match self.allocate_direct_with_noise_certified(
+        let direct = match self.allocate_direct_with_noise(
             &linear,
             lower_bounds_rad,
             budget,
             k_sigma,
+            Some(&CertifyParams::default()),
         )? {
             Ok(allocation) => {
                 let answer = self.combined_box(
                     "direct with noise",
-                    &linear,
+                    &self.worst_case(&linear, &allocation.upper_bounds_rad)?,
                     &allocation.upper_bounds_rad,
                     lower_bounds_rad,
                     budget,
@@ -920,9 +877,10 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
         })
     }
 
-    /// The time/table trade-off for `noise` with `timing`'s shape (every dwell scaled alike,
-    /// the move time and sample rate kept): the shortest dwell at which some table suffices
-    /// (bisection on $\log T$ over `dwell_range_s`), and $J$ of the direct allocation with the
+    /// The time/table trade-off for `inputs` ([`TradeoffInputs`]: the noise with the timing's
+    /// shape, every dwell scaled alike, the move time and sample rate kept): the shortest
+    /// dwell at which some table suffices (bisection on $\log T$ over
+    /// [`TradeoffInputs::dwell_range_s`]), and $J$ of the direct allocation with the
     /// noise part kept free on [`TradeoffParams::points`] dwells from
     /// [`TradeoffParams::first`] to [`TradeoffParams::span`] times it (within the range), with
     /// the knee; [`TradeoffParams::default`]'s tuning (see [`crate::NoiseQuestions::tradeoff_with`]).
@@ -930,24 +888,8 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     /// # Errors
     /// [`E2eError::Field`] for a bad range or `k_sigma`; as
     /// [`crate::NoiseQuestions::allocate_direct_with_noise`].
-    pub fn tradeoff(
-        &self,
-        linear: &Linearization,
-        lower_bounds_rad: &[f64],
-        noise: &[Option<NoiseModel>],
-        timing: &Timing,
-        k_sigma: f64,
-        dwell_range_s: (f64, f64),
-    ) -> Result<Tradeoff, E2eError> {
-        self.tradeoff_with(
-            linear,
-            lower_bounds_rad,
-            noise,
-            timing,
-            k_sigma,
-            dwell_range_s,
-            &TradeoffParams::default(),
-        )
+    pub fn tradeoff(&self, inputs: &TradeoffInputs<'_>) -> Result<Tradeoff, E2eError> {
+        self.tradeoff_with(inputs, &TradeoffParams::default())
     }
 
     /// [`crate::NoiseQuestions::tradeoff`] with its tuning given.
@@ -955,17 +897,19 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     /// # Errors
     /// As [`crate::NoiseQuestions::tradeoff`]; [`E2eError::Field`] for bad `params`
     /// ([`TradeoffParams::checked`]).
-    #[allow(clippy::too_many_arguments)]
     pub fn tradeoff_with(
         &self,
-        linear: &Linearization,
-        lower_bounds_rad: &[f64],
-        noise: &[Option<NoiseModel>],
-        timing: &Timing,
-        k_sigma: f64,
-        dwell_range_s: (f64, f64),
+        inputs: &TradeoffInputs<'_>,
         params: &TradeoffParams,
     ) -> Result<Tradeoff, E2eError> {
+        let TradeoffInputs {
+            linear,
+            lower_bounds_rad,
+            noise,
+            timing,
+            k_sigma,
+            dwell_range_s,
+        } = *inputs;
         let params = params.checked()?;
         check_k_sigma(k_sigma)?;
         let mean = timing.dwell_s().iter().sum::<f64>() / timing.positions() as f64;
@@ -1044,7 +988,7 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
                 let t = log_spaced(first, last, i, params.points);
                 let budget = at(t)?;
                 let objective = self
-                    .allocate_direct_with_noise(linear, lower_bounds_rad, &budget, k_sigma)?
+                    .allocate_direct_with_noise(linear, lower_bounds_rad, &budget, k_sigma, None)?
                     .ok()
                     .map(|d| d.objective);
                 points.push(TradeoffPoint {

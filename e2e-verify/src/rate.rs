@@ -817,8 +817,16 @@ impl crate::RateQuestions<'_> {
     /// tolerances get what the noise leaves; or the outputs whose noise part (with the lower
     /// bounds' table part) leaves no room, as [`crate::NoiseQuestions::allocate_direct_with_noise`].
     ///
+    /// With `certify`, [`crate::RateQuestions::allocate_direct_rate_certified`] with the noise
+    /// part kept free, its search tuned by `certify`: every turntable of the returned boxes
+    /// has an exact-chain error within $\omega_{m,k} - \kappa\sigma_k$ (a study with rate
+    /// steps; a static study's answer is [`crate::NoiseQuestions::allocate_direct_with_noise`]
+    /// with `certify`).
+    ///
     /// # Errors
-    /// As [`crate::RateQuestions::allocate_direct_rate`]; [`E2eError::Field`] for a bad `k_sigma`.
+    /// As [`crate::RateQuestions::allocate_direct_rate`] (with `certify`, as
+    /// [`crate::RateQuestions::allocate_direct_rate_certified`]); [`E2eError::Field`] for a bad
+    /// `k_sigma`.
     pub fn allocate_direct_rate_with_noise(
         &self,
         linear: &crate::Linearization,
@@ -826,20 +834,25 @@ impl crate::RateQuestions<'_> {
         lower_bounds_rad: &[f64],
         budget: &crate::NoiseBudget,
         k_sigma: f64,
+        certify: Option<&crate::CertifyParams>,
     ) -> Result<Result<RateAllocation, Vec<crate::NoRoom>>, E2eError> {
-        let noise = self.rate_noise_margins(linear, lower_bounds_rad, budget, k_sigma)?;
-        let noise = match noise {
+        let noise = match self.rate_noise_margins(linear, lower_bounds_rad, budget, k_sigma)? {
             Ok(m) => m,
             Err(blocked) => return Ok(Err(blocked)),
         };
-        self.with_rate_setup(
-            linear,
-            extra_linear,
-            lower_bounds_rad,
-            |setup, combined, lb| {
-                self.exact_rounds(linear, extra_linear, setup, combined, lb, &noise, &[])
-            },
-        )
+        match certify {
+            None => self.with_rate_setup(
+                linear,
+                extra_linear,
+                lower_bounds_rad,
+                |setup, combined, lb| {
+                    self.exact_rounds(linear, extra_linear, setup, combined, lb, &noise, &[])
+                },
+            ),
+            Some(params) => {
+                self.certified_rate_keeping(linear, extra_linear, lower_bounds_rad, &noise, params)
+            }
+        }
         .map(Ok)
     }
 
@@ -1221,51 +1234,23 @@ impl crate::RateQuestions<'_> {
             extra_linear,
             lower_bounds_rad,
             &vec![0.0; self.n_outputs()],
+            &crate::CertifyParams::default(),
         )
     }
 
-    /// [`crate::RateQuestions::allocate_direct_rate_certified`] with the noise part kept free
-    /// (issue 35): every turntable of the returned boxes has an exact-chain error within
-    /// $\omega_{m,k} - \kappa\sigma_k$ (a study with rate steps; a static study's answer is
-    /// [`crate::NoiseQuestions::allocate_direct_with_noise_certified`]); or the outputs whose noise
-    /// part leaves no room.
-    ///
-    /// # Errors
-    /// As [`crate::RateQuestions::allocate_direct_rate_certified`]; [`E2eError::Field`] for a bad
-    /// `k_sigma`.
-    pub fn allocate_direct_rate_certified_with_noise(
-        &self,
-        linear: &crate::Linearization,
-        extra_linear: &crate::Linearization,
-        lower_bounds_rad: &[f64],
-        budget: &crate::NoiseBudget,
-        k_sigma: f64,
-    ) -> Result<Result<RateAllocation, Vec<crate::NoRoom>>, E2eError> {
-        match self.rate_noise_margins(linear, lower_bounds_rad, budget, k_sigma)? {
-            Ok(noise) => self
-                .certified_rate_keeping(linear, extra_linear, lower_bounds_rad, &noise)
-                .map(Ok),
-            Err(blocked) => Ok(Err(blocked)),
-        }
-    }
-
     /// [`crate::RateQuestions::allocate_direct_rate_certified`] keeping `noise[k]` (output unit)
-    /// of each accuracy free besides the second-order bound.
+    /// of each accuracy free besides the second-order bound, its search tuned by `params`.
     fn certified_rate_keeping(
         &self,
         linear: &crate::Linearization,
         extra_linear: &crate::Linearization,
         lower_bounds_rad: &[f64],
         noise: &[f64],
+        params: &crate::CertifyParams,
     ) -> Result<RateAllocation, E2eError> {
         if !self.has_rate_steps() {
             // no rate tolerance: the static certificate itself
-            let d = self.certified_keeping(
-                linear,
-                lower_bounds_rad,
-                noise,
-                &crate::CertifyParams::default(),
-            )?;
+            let d = self.certified_keeping(linear, lower_bounds_rad, noise, params)?;
             let n = self.len();
             let rows = linear.row_worst_cases(&d.upper_bounds_rad);
             let linear_bounds: Vec<f64> = (0..self.n_outputs())
@@ -1299,6 +1284,7 @@ impl crate::RateQuestions<'_> {
                     lb,
                     ANGLE_TOLERANCE_CEILING_RAD,
                     noise,
+                    params,
                 );
                 if !matches!(first, Err(E2eError::NoConvergence { .. })) {
                     return first;
@@ -1310,7 +1296,8 @@ impl crate::RateQuestions<'_> {
                 let mut best = None;
                 for _ in 0..CEILING_SEARCH_STEPS {
                     let mid = 0.5 * (lo + hi);
-                    match self.certified_rate_rounds(setup, combined, lb, mid.exp(), noise) {
+                    match self.certified_rate_rounds(setup, combined, lb, mid.exp(), noise, params)
+                    {
                         Ok(a) => {
                             best = Some(a);
                             lo = mid;
@@ -1321,7 +1308,9 @@ impl crate::RateQuestions<'_> {
                 }
                 match best {
                     Some(a) => Ok(a),
-                    None => self.certified_rate_rounds(setup, combined, lb, lo.exp(), noise),
+                    None => {
+                        self.certified_rate_rounds(setup, combined, lb, lo.exp(), noise, params)
+                    }
                 }
             },
         )
@@ -1329,7 +1318,7 @@ impl crate::RateQuestions<'_> {
 
     /// The re-solves of [`crate::RateQuestions::allocate_direct_rate_certified`] with every angle
     /// held at `angle_ceiling_rad` (and the relative rate tolerances at
-    /// [`RATE_TOLERANCE_CEILING`]).
+    /// [`RATE_TOLERANCE_CEILING`]), the round-trip share and the largest margin from `params`.
     fn certified_rate_rounds(
         &self,
         setup: &crate::allocate::DirectSetup<'_>,
@@ -1337,8 +1326,8 @@ impl crate::RateQuestions<'_> {
         lb: &[f64],
         angle_ceiling_rad: f64,
         noise: &[f64],
+        params: &crate::CertifyParams,
     ) -> Result<RateAllocation, E2eError> {
-        let params = crate::CertifyParams::default();
         {
             let acc = self.accuracies();
             let n = self.len();

@@ -12,7 +12,7 @@
 //! confidence interval of the answer.
 
 use crate::error::E2eError;
-use crate::linear::Linearization;
+use crate::noise::TradeoffInputs;
 use calib_lsq::Timing;
 use gw_model::noise::{NoiseModel, NoiseParameter};
 
@@ -147,20 +147,16 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
     }
 
     /// The answers' sensitivity to the noise parameters' uncertainties (see the
-    /// [module](self)); `None` when no parameter has one. The arguments are those of
+    /// [module](self)); `None` when no parameter has one. The inputs are those of
     /// [`crate::NoiseQuestions::tradeoff`].
     ///
     /// # Errors
     /// As [`crate::NoiseQuestions::tradeoff`] and [`crate::NoiseQuestions::worst_noise_sigma`].
     pub fn noise_sensitivity(
         &self,
-        linear: &Linearization,
-        lower_bounds_rad: &[f64],
-        noise: &[Option<NoiseModel>],
-        timing: &Timing,
-        k_sigma: f64,
-        dwell_range_s: (f64, f64),
+        inputs: &TradeoffInputs<'_>,
     ) -> Result<Option<NoiseSensitivity>, E2eError> {
+        let (noise, timing) = (inputs.noise, inputs.timing);
         let nominal_sigma = self.worst_noise_sigma(noise, timing)?;
         let mut spreads = Vec::new();
         let mut pessimistic: Vec<Option<NoiseModel>> = noise.to_vec();
@@ -198,9 +194,11 @@ impl<S: tt_kinematics::ScheduleErrorModel + Sync> crate::NoiseQuestions<'_, S> {
             return Ok(None);
         }
         let dwell = |n: &[Option<NoiseModel>]| -> Result<Option<f64>, E2eError> {
-            Ok(self
-                .tradeoff(linear, lower_bounds_rad, n, timing, k_sigma, dwell_range_s)?
-                .min_dwell_s())
+            let corner = TradeoffInputs {
+                noise: n,
+                ..*inputs
+            };
+            Ok(self.tradeoff(&corner)?.min_dwell_s())
         };
         Ok(Some(NoiseSensitivity {
             nominal_sigma,

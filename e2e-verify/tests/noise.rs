@@ -8,8 +8,8 @@ mod common;
 use approx::assert_relative_eq;
 use calib_lsq::Timing;
 use e2e_verify::{
-    DEFAULT_K_SIGMA, Dominant, EndToEnd, McSettings, NoiseBudget, TradeoffParams, Verdict,
-    check_k_sigma,
+    CertifyParams, DEFAULT_K_SIGMA, Dominant, EndToEnd, Linearization, McSettings, NoiseBudget,
+    TradeoffInputs, TradeoffParams, Verdict, check_k_sigma,
 };
 use gw_model::noise::NoiseModel;
 
@@ -32,6 +32,24 @@ fn white(e2e: &EndToEnd, density: f64) -> Vec<Option<NoiseModel>> {
     (0..e2e.n_outputs())
         .map(|_| Some(NoiseModel::new(density, None, 0.0).expect("valid white noise")))
         .collect()
+}
+
+/// The time/table trade-off's inputs at $\kappa = 3$.
+fn at_3_sigma<'a>(
+    linear: &'a Linearization,
+    lower_bounds_rad: &'a [f64],
+    noise: &'a [Option<NoiseModel>],
+    timing: &'a Timing,
+    dwell_range_s: (f64, f64),
+) -> TradeoffInputs<'a> {
+    TradeoffInputs {
+        linear,
+        lower_bounds_rad,
+        noise,
+        timing,
+        k_sigma: 3.0,
+        dwell_range_s,
+    }
 }
 
 /// A small box around the direct allocation's shape (rad).
@@ -81,7 +99,7 @@ fn a_study_without_noise_keeps_every_answer() {
         .noise()
         .combined_box(
             "direct",
-            &linear,
+            &e2e.worst_case(&linear, &ub).unwrap(),
             &ub,
             &lb,
             &budget,
@@ -166,7 +184,7 @@ fn noise_that_takes_the_accuracy_fails_a_box_the_table_alone_meets() {
     // and the allocation says no table suffices: an answer, not an error
     let d = e2e
         .noise()
-        .allocate_direct_with_noise(&linear, &lb, &budget, DEFAULT_K_SIGMA)
+        .allocate_direct_with_noise(&linear, &lb, &budget, DEFAULT_K_SIGMA, None)
         .unwrap();
     let blocked = d.expect_err("no table suffices at 60 s");
     assert!(blocked.iter().all(|b| b.noise_part() >= acc[b.output()]));
@@ -251,7 +269,7 @@ fn direct_allocation_with_noise_gives_the_table_what_the_noise_leaves() {
     let lb = vec![0.0; e2e.n_errors()];
     let d = e2e
         .noise()
-        .allocate_direct_with_noise(&linear, &lb, &budget, 3.0)
+        .allocate_direct_with_noise(&linear, &lb, &budget, 3.0, None)
         .unwrap()
         .expect("a table suffices");
     let plain = e2e.allocate_direct(&linear, &lb).unwrap();
@@ -291,7 +309,7 @@ fn shortest_dwell_for_white_noise_is_the_closed_form() {
     let lb = vec![0.0; e2e.n_errors()];
     let tr = e2e
         .noise()
-        .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, 86_400.0))
+        .tradeoff(&at_3_sigma(&linear, &lb, &noise, &timing, (1e-3, 86_400.0)))
         .unwrap();
     let t = tr.min_dwell_s().expect("a dwell within a day suffices");
     assert!(
@@ -316,7 +334,7 @@ fn shortest_dwell_is_none_when_no_dwell_in_the_range_suffices() {
     let lb = vec![0.0; e2e.n_errors()];
     let tr = e2e
         .noise()
-        .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, 60.0))
+        .tradeoff(&at_3_sigma(&linear, &lb, &noise, &timing, (1e-3, 60.0)))
         .unwrap();
     assert_eq!(tr.min_dwell_s(), None);
     assert!(tr.points().is_empty());
@@ -345,14 +363,13 @@ fn tradeoff_of_a_quiet_sensor_starts_at_one_sample_per_position() {
     let noise = white(&e2e, 1e-12);
     let tr = e2e
         .noise()
-        .tradeoff(
+        .tradeoff(&at_3_sigma(
             &e2e.linearization(),
             &vec![0.0; e2e.n_errors()],
             &noise,
             &timing,
-            3.0,
             (f64::MIN_POSITIVE, 86_400.0),
-        )
+        ))
         .unwrap();
     assert!(tr.min_dwell_at_range_start());
     let shortest = timing
@@ -380,12 +397,12 @@ fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
     let lb = vec![0.0; e2e.n_errors()];
     let first = e2e
         .noise()
-        .allocate_direct_with_noise(&linear, &lb, &budget, 3.0)
+        .allocate_direct_with_noise(&linear, &lb, &budget, 3.0, None)
         .unwrap()
         .expect("a table suffices");
     let cert = e2e
         .noise()
-        .allocate_direct_with_noise_certified(&linear, &lb, &budget, 3.0)
+        .allocate_direct_with_noise(&linear, &lb, &budget, 3.0, Some(&CertifyParams::default()))
         .unwrap()
         .expect("a table suffices");
     assert!(cert.objective() >= first.objective());
@@ -409,6 +426,42 @@ fn certified_direct_allocation_with_noise_meets_its_own_combined_verdict() {
     }
 }
 
+/// `certify` of the allocation with the noise part kept free is the certificate's tuning:
+/// without noise the certified allocation is `allocate_direct_certified_with` itself, bit for
+/// bit, for the default tuning and for a larger round-trip share (which moves the box), and
+/// `None` is `allocate_direct`.
+#[test]
+fn certify_is_the_certificates_tuning_in_the_allocation_with_noise() {
+    let e2e = common::study_e2e("three-axis-example", None);
+    let none: Vec<Option<NoiseModel>> = vec![None; e2e.n_outputs()];
+    let timing = Timing::uniform(e2e.len(), 10.0, 0.0, 100.0).unwrap();
+    let budget = e2e.noise().noise_budget(&none, &timing).unwrap();
+    let linear = e2e.linearization();
+    let lb = vec![0.0; e2e.n_errors()];
+    let with_noise = |certify: Option<&CertifyParams>| {
+        e2e.noise()
+            .allocate_direct_with_noise(&linear, &lb, &budget, 3.0, certify)
+            .unwrap()
+            .expect("without noise a table suffices")
+    };
+    let first = with_noise(None);
+    assert_eq!(first, e2e.allocate_direct(&linear, &lb).unwrap());
+    let mut wide = CertifyParams::default();
+    wide.round_trip_rel = 1e-3;
+    let mut boxes = Vec::new();
+    for params in [CertifyParams::default(), wide] {
+        let certified = with_noise(Some(&params));
+        assert_eq!(
+            certified,
+            e2e.allocate_direct_certified_with(&linear, &lb, &params)
+                .unwrap()
+        );
+        boxes.push(certified);
+    }
+    // the tuning reaches the search: a thousandth of every accuracy kept free moves the box
+    assert_ne!(boxes[0].upper_bounds_rad(), boxes[1].upper_bounds_rad());
+}
+
 #[test]
 fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
     // the tuning is a parameter struct: its default gives `tradeoff`'s curve bit for bit, a
@@ -419,31 +472,17 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
     let noise = white(&e2e, 0.05);
     let linear = e2e.linearization();
     let lb = vec![0.0; e2e.n_errors()];
-    let range = (1e-3, 86_400.0);
-    let plain = e2e
-        .noise()
-        .tradeoff(&linear, &lb, &noise, &timing, 3.0, range)
-        .unwrap();
+    let inputs = at_3_sigma(&linear, &lb, &noise, &timing, (1e-3, 86_400.0));
+    let plain = e2e.noise().tradeoff(&inputs).unwrap();
     let default = e2e
         .noise()
-        .tradeoff_with(
-            &linear,
-            &lb,
-            &noise,
-            &timing,
-            3.0,
-            range,
-            &TradeoffParams::default(),
-        )
+        .tradeoff_with(&inputs, &TradeoffParams::default())
         .unwrap();
     assert_eq!(plain, default);
     assert_eq!(plain.points().len(), TradeoffParams::default().points);
     let mut coarse = TradeoffParams::default();
     coarse.points = 5;
-    let c = e2e
-        .noise()
-        .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &coarse)
-        .unwrap();
+    let c = e2e.noise().tradeoff_with(&inputs, &coarse).unwrap();
     assert_eq!(c.points().len(), 5);
     assert_eq!(c.noise_curve().len(), 5);
     // same bisection: the same shortest dwell; same span: the same first and last dwells
@@ -474,10 +513,7 @@ fn tradeoff_params_set_the_curve_and_default_is_the_tradeoff() {
             p
         }),
     ] {
-        let e = e2e
-            .noise()
-            .tradeoff_with(&linear, &lb, &noise, &timing, 3.0, range, &bad)
-            .unwrap_err();
+        let e = e2e.noise().tradeoff_with(&inputs, &bad).unwrap_err();
         assert!(e.to_string().contains(field), "{field}: {e}");
     }
 }
@@ -608,7 +644,7 @@ fn shortest_dwell_is_found_when_a_drift_makes_the_longest_dwell_fail() {
     let lb = vec![0.0; e2e.n_errors()];
     let tr = e2e
         .noise()
-        .tradeoff(&linear, &lb, &noise, &timing, 3.0, (1e-3, hi))
+        .tradeoff(&at_3_sigma(&linear, &lb, &noise, &timing, (1e-3, hi)))
         .unwrap();
     let t = tr.min_dwell_s().expect("a dwell between the ends suffices");
     assert!(t < hi);

@@ -4,7 +4,9 @@
 mod common;
 
 use approx::assert_relative_eq;
-use e2e_verify::{EndToEnd, ExtraError, ExtraOutputWorstCase, Linearization, RateAllocation};
+use e2e_verify::{
+    CertifyParams, EndToEnd, ExtraError, ExtraOutputWorstCase, Linearization, RateAllocation,
+};
 
 const STUDY: &str = "tactical-rate-table-example";
 
@@ -397,6 +399,40 @@ fn rate_second_order_bound_covers_the_exact_remainder_at_random_points_and_corne
         largest_ratio > 1e-3,
         "largest remainder / bound {largest_ratio}"
     );
+}
+
+/// `certify` of the rate allocation with the noise part kept free is the certificate's
+/// tuning: without noise its first-order form is `allocate_direct_rate` and its certified
+/// form with the default search `allocate_direct_rate_certified`, bit for bit; a larger
+/// round-trip share reaches the rounds (every certified bound within the accuracy less that
+/// share, a box other than the default's).
+#[test]
+fn rate_allocation_with_noise_takes_the_certificates_tuning() {
+    let e = e2e();
+    let (m, n, lb, direct) = direct_rate(&e);
+    let none = vec![None; e.n_outputs()];
+    let timing = calib_lsq::Timing::uniform(e.len(), 10.0, 0.0, 100.0).expect("valid timing");
+    let budget = e.noise().noise_budget(&none, &timing).expect("no noise");
+    let with_noise = |certify: Option<&CertifyParams>| {
+        e.rates()
+            .allocate_direct_rate_with_noise(&m, &n, &lb, &budget, 3.0, certify)
+            .expect("runs")
+            .expect("without noise the table has room")
+    };
+    assert_eq!(with_noise(None), direct);
+    let certified = e
+        .rates()
+        .allocate_direct_rate_certified(&m, &n, &lb)
+        .expect("certifiable");
+    assert_eq!(with_noise(Some(&CertifyParams::default())), certified);
+    let mut wide = CertifyParams::default();
+    wide.round_trip_rel = 1e-3;
+    let w = with_noise(Some(&wide));
+    let cert = w.certificate().expect("certified");
+    for (k, a) in e.accuracies().iter().enumerate() {
+        assert!(cert.linear_bounds()[k] + cert.second_order_bounds()[k] <= a * (1.0 - 1e-3));
+    }
+    assert_ne!(w.combined(), certified.combined());
 }
 
 /// Issue 23: the certified direct allocation with the rate tolerances: its certified bound

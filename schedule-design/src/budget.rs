@@ -492,6 +492,7 @@ impl Evaluator<'_> {
                 self.lower_bounds_rad,
                 &noise,
                 self.budget.k_sigma,
+                None,
             )?
             .ok())
     }
@@ -520,14 +521,14 @@ impl Evaluator<'_> {
         let b = self.budget;
         let n = positions_deg.len();
         self.tally.tradeoff();
-        let tradeoff = self.e2e.noise().tradeoff(
-            &self.linear,
-            self.lower_bounds_rad,
-            b.noise,
-            &b.timing(n, lo)?,
-            b.k_sigma,
-            (lo, b.max_dwell_s),
-        )?;
+        let tradeoff = self.e2e.noise().tradeoff(&e2e_verify::TradeoffInputs {
+            linear: &self.linear,
+            lower_bounds_rad: self.lower_bounds_rad,
+            noise: b.noise,
+            timing: &b.timing(n, lo)?,
+            k_sigma: b.k_sigma,
+            dwell_range_s: (lo, b.max_dwell_s),
+        })?;
         Ok(tradeoff
             .points()
             .iter()

@@ -100,7 +100,7 @@ fn direct_at(
     let lin = e2e.linearization();
     let direct = e2e
         .noise()
-        .allocate_direct_with_noise(&lin, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA)
+        .allocate_direct_with_noise(&lin, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA, None)
         .unwrap();
     (e2e, direct)
 }
@@ -416,7 +416,13 @@ fn count_refinement_bisects_towards_the_best_count_and_the_choice_is_best_of_all
                 .unwrap();
             let j = e2e
                 .noise()
-                .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &noise, DEFAULT_K_SIGMA)
+                .allocate_direct_with_noise(
+                    &linear,
+                    &s.lower_bounds_rad,
+                    &noise,
+                    DEFAULT_K_SIGMA,
+                    None,
+                )
                 .unwrap()
                 .map_or(f64::INFINITY, |d| d.objective());
             assert!(
@@ -543,6 +549,7 @@ fn rate_steps_keep_their_whole_revolution_windows_in_the_time_budget() {
                 &s2.lower_bounds_rad,
                 &noise,
                 DEFAULT_K_SIGMA,
+                None,
             )
             .unwrap()
             .expect("a table suffices at 3000 s");
@@ -598,14 +605,14 @@ fn study_tradeoff(s: &Study, problem: &DesignProblem) -> Vec<(f64, f64, f64)> {
     let e2e = problem.end_to_end(&s.positions_deg).unwrap();
     let tradeoff = e2e
         .noise()
-        .tradeoff(
-            &e2e.linearization(),
-            &s.lower_bounds_rad,
-            &s.noise,
+        .tradeoff(&e2e_verify::TradeoffInputs {
+            linear: &e2e.linearization(),
+            lower_bounds_rad: &s.lower_bounds_rad,
+            noise: &s.noise,
             timing,
-            DEFAULT_K_SIGMA,
-            (f64::MIN_POSITIVE, 86_400.0),
-        )
+            k_sigma: DEFAULT_K_SIGMA,
+            dwell_range_s: (f64::MIN_POSITIVE, 86_400.0),
+        })
         .unwrap();
     tradeoff
         .points()

@@ -19,7 +19,7 @@ use crate::json::{ArcminBounds, CombinedYieldJson, GroupJson, PerAngle, Split, a
 use crate::loaded as st;
 use e2e_verify::{
     BoxAnswer, BuyersAnswer, EndToEnd, EndToEndInputs, McSettings, NoiseAnswer, NoisyDirect,
-    ReadingAnswer, Tradeoff, answer,
+    ReadingAnswer, Tradeoff, TradeoffInputs, answer,
 };
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -104,6 +104,25 @@ impl Scanned {
 /// study's longest accepted dwell.
 pub(crate) const DWELL_SEARCH_S: (f64, f64) = (f64::MIN_POSITIVE, study::limits::DWELL_S.1);
 
+/// The time/table trade-off's inputs for study `s` on `linear`: its noise with `timing`, the
+/// lower bounds `lower_bounds_rad`, $\kappa$ `k_sigma` and the dwells [`DWELL_SEARCH_S`].
+pub(crate) fn tradeoff_inputs<'a>(
+    s: &'a Study,
+    linear: &'a e2e_verify::Linearization,
+    lower_bounds_rad: &'a [f64],
+    timing: &'a calib_lsq::Timing,
+    k_sigma: f64,
+) -> TradeoffInputs<'a> {
+    TradeoffInputs {
+        linear,
+        lower_bounds_rad,
+        noise: &s.noise,
+        timing,
+        k_sigma,
+        dwell_range_s: DWELL_SEARCH_S,
+    }
+}
+
 /// The answer for both error sources, when the study gives noise and a timing.
 ///
 /// # Errors
@@ -119,13 +138,8 @@ pub fn noisy_answer(
     };
     let lb = &a.inputs().lower_bounds_rad;
     let settings = McSettings::new(a.inputs().samples, a.inputs().seed);
-    let scan = DwellScan {
-        s,
-        e2e,
-        lb,
-        timing,
-        k_sigma,
-    };
+    let linear = e2e.linearization();
+    let question = tradeoff_inputs(s, &linear, lb, timing, k_sigma);
     // the trade-off (allocations) beside the readings' answers; those run one after the other
     // (each has a Monte Carlo already on every thread: one at a time keeps the memory of one
     // run); the first error in the serial order returned
@@ -146,58 +160,25 @@ pub fn noisy_answer(
                 })
                 .collect::<Vec<Result<_>>>()
         },
-        || scan.ask(e2e_verify::NoiseQuestions::tradeoff),
+        || {
+            e2e.noise()
+                .tradeoff(&question)
+                .map_err(|e| crate::error::library(e, s))
+        },
     );
     let readings = readings.into_iter().collect::<Result<Vec<_>>>()?;
     let tradeoff = tradeoff?;
     let scanned = Scanned::new(&tradeoff, timing);
-    let sensitivity = scan.ask(e2e_verify::NoiseQuestions::noise_sensitivity)?;
+    let sensitivity = e2e
+        .noise()
+        .noise_sensitivity(&question)
+        .map_err(|e| crate::error::library(e, s))?;
     Ok(Some(NoisyAnswer {
         readings,
         tradeoff,
         scanned,
         sensitivity,
     }))
-}
-
-/// What the time/table trade-off's questions ([`e2e_verify::NoiseQuestions::tradeoff`],
-/// [`e2e_verify::NoiseQuestions::noise_sensitivity`]) are asked of: the lower bounds `lb`
-/// (rad), the study's noise, its `timing` and `k_sigma`, over the dwells the trade-off
-/// searches ([`DWELL_SEARCH_S`]). Both scan the same dwells with the same inputs, named here
-/// once.
-struct DwellScan<'e> {
-    s: &'e Study,
-    e2e: &'e EndToEnd,
-    lb: &'e [f64],
-    timing: &'e calib_lsq::Timing,
-    k_sigma: f64,
-}
-
-impl<'e> DwellScan<'e> {
-    /// The answer of `question`, its error located in the study.
-    fn ask<T>(
-        &self,
-        question: impl FnOnce(
-            &e2e_verify::NoiseQuestions<'e, tt_kinematics::TurntableSchedule>,
-            &e2e_verify::Linearization,
-            &[f64],
-            &[Option<gw_model::noise::NoiseModel>],
-            &calib_lsq::Timing,
-            f64,
-            (f64, f64),
-        ) -> std::result::Result<T, e2e_verify::E2eError>,
-    ) -> Result<T> {
-        question(
-            &self.e2e.noise(),
-            &self.e2e.linearization(),
-            self.lb,
-            &self.s.noise,
-            self.timing,
-            self.k_sigma,
-            DWELL_SEARCH_S,
-        )
-        .map_err(|e| crate::error::library(e, self.s))
-    }
 }
 
 /// Refuse a Monte Carlo size that cannot resolve the yield target `target` (exit 2, before any

@@ -447,16 +447,16 @@ fn noise_standing(s: &Study, positions_deg: &[Vec<f64>]) -> Result<Option<NoiseS
         .zip(e2e.accuracies())
         .filter_map(|(sg, a)| sg.map(|sg| DEFAULT_K_SIGMA * sg / a))
         .fold(0.0, f64::max);
+    let linear = e2e.linearization();
     let min_dwell_s = e2e
         .noise()
-        .tradeoff(
-            &e2e.linearization(),
+        .tradeoff(&crate::end_to_end::tradeoff_inputs(
+            &s2,
+            &linear,
             &s2.lower_bounds_rad,
-            &s2.noise,
             timing,
             DEFAULT_K_SIGMA,
-            crate::end_to_end::DWELL_SEARCH_S,
-        )
+        ))
         .map_err(|e| library(e, &s2))?
         .min_dwell_s();
     Ok(Some(NoiseStanding {
@@ -509,11 +509,12 @@ pub(crate) fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
     let linear = e2e.linearization();
     let answer = e2e
         .noise()
-        .allocate_direct_with_noise_certified(
+        .allocate_direct_with_noise(
             &linear,
             &s.lower_bounds_rad,
             &budget,
             DEFAULT_K_SIGMA,
+            Some(&e2e_verify::CertifyParams::default()),
         )
         .map_err(|e| library(e, s))?;
     let Ok(allocation) = answer else {
@@ -526,7 +527,7 @@ pub(crate) fn noise_counted(s: &Study) -> Result<Option<NoiseCounted>> {
     // the same bounds as the first-order allocation mean it did
     let first_order = e2e
         .noise()
-        .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &budget, DEFAULT_K_SIGMA)
+        .allocate_direct_with_noise(&linear, &s.lower_bounds_rad, &budget, DEFAULT_K_SIGMA, None)
         .map_err(|e| library(e, s))?;
     let certified = first_order.is_ok_and(|f| {
         f.upper_bounds_rad()

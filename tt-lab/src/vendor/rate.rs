@@ -347,18 +347,19 @@ fn with_noise(
     let (lin, extra) = (e2e.linearization(), e2e.rates().extra_linearization());
     let allocation = e2e
         .rates()
-        .allocate_direct_rate_with_noise(&lin, &extra, &s.lower_bounds_rad, budget, k_sigma)
+        .allocate_direct_rate_with_noise(&lin, &extra, &s.lower_bounds_rad, budget, k_sigma, None)
         .map_err(lib)?;
     let certified = match &allocation {
         Ok(_) => Some(
             certified_or_why(
                 s,
-                e2e.rates().allocate_direct_rate_certified_with_noise(
+                e2e.rates().allocate_direct_rate_with_noise(
                     &lin,
                     &extra,
                     &s.lower_bounds_rad,
                     budget,
                     k_sigma,
+                    Some(&e2e_verify::CertifyParams::default()),
                 )
                 .and_then(|c| {
                     c.map_err(|_| e2e_verify::E2eError::NoConvergence {
