@@ -626,7 +626,9 @@ pub(crate) struct SpecificationMeetingJson<'a> {
 }
 
 impl<'a> YieldSpecificationsJson<'a> {
-    fn new(r: &'a ReadingAnswer) -> Option<Self> {
+    /// The view of `r`'s count, `left_out` specifications no table can meet named as not
+    /// counted in its words ([`yield_counts_words`]).
+    fn new(r: &'a ReadingAnswer, left_out: usize) -> Option<Self> {
         let again = r.yield_recheck()?;
         let y = r.yield_based().counted();
         let each = |per: &'a [(String, u64)]| -> Vec<SpecificationMeetingJson<'a>> {
@@ -638,7 +640,7 @@ impl<'a> YieldSpecificationsJson<'a> {
                 .collect()
         };
         Some(Self {
-            counts: y.counts().to_string(),
+            counts: yield_counts_words(r, left_out),
             design_samples: y.count().samples(),
             design_meeting: y.count().meeting(),
             design_per_specification: each(y.per_specification()),
@@ -673,7 +675,14 @@ pub(crate) struct ReadingJson<'a> {
 }
 
 impl<'a> ReadingJson<'a> {
-    fn new(e2e: &'a EndToEnd, r: &'a ReadingAnswer, noise: Option<&'a NoiseAnswer>) -> Self {
+    /// The view of reading `r` of `e2e`, with its noise answer and the specifications no
+    /// table can meet (`not_counted`: left out of its allocations and its yield's count).
+    fn new(
+        e2e: &'a EndToEnd,
+        r: &'a ReadingAnswer,
+        noise: Option<&'a NoiseAnswer>,
+        not_counted: &'a [NoTableSuffices],
+    ) -> Self {
         let names = e2e.turntable().rotation_error_names();
         Self {
             reading: r.reading().to_string(),
@@ -716,8 +725,8 @@ impl<'a> ReadingJson<'a> {
                 min_samples: e2e_verify::min_yield_samples(r.yield_based().target()),
                 bounds_arcmin: arcmin_bounds(&names, r.yield_based().upper_bounds_rad()),
                 remeasured: BoxJson::new(e2e, r.yield_box()),
-                specifications: YieldSpecificationsJson::new(r),
-                not_counted: &[],
+                specifications: YieldSpecificationsJson::new(r, not_counted.len()),
+                not_counted,
             },
             noise: noise.map(|n| NoiseReadingJson::new(e2e, n)),
         }
@@ -993,17 +1002,11 @@ pub struct EndToEndJson<'a> {
 }
 
 impl<'a> EndToEndJson<'a> {
-    /// The command's JSON view of the answer `a` of `e2e` for study `s`.
-    #[must_use]
-    pub fn new(
-        s: &'a Study,
-        e2e: &'a EndToEnd,
-        a: &'a BuyersAnswer,
-        note: Option<&'a String>,
-        seconds: f64,
-        speed: &Throughput,
-        noisy: Option<&'a NoisyAnswer>,
-    ) -> Self {
+    /// The command's JSON view of the answer `r` for study `s`, without the extras
+    /// ([`EndToEndJson::of`] adds them).
+    fn new(s: &'a Study, r: &'a EndToEndAnswer) -> Self {
+        let (e2e, a, note, seconds) = (&r.simulator, &r.answer, r.note.as_ref(), r.seconds);
+        let (speed, noisy) = (&r.throughput, r.noisy.as_ref());
         let names = e2e.turntable().rotation_error_names();
         let r0 = &a.readings()[0];
         let mut bounds: BTreeMap<String, ArcminBounds> = r0
@@ -1062,7 +1065,14 @@ impl<'a> EndToEndJson<'a> {
                 .readings()
                 .iter()
                 .enumerate()
-                .map(|(i, r)| ReadingJson::new(e2e, r, noisy.and_then(|n| n.readings.get(i))))
+                .map(|(i, reading)| {
+                    ReadingJson::new(
+                        e2e,
+                        reading,
+                        noisy.and_then(|n| n.readings.get(i)),
+                        &r.no_table_suffices,
+                    )
+                })
                 .collect(),
             throughput: ThroughputJson {
                 fast_path_turntables_per_s: speed.fast_per_s,
@@ -1280,23 +1290,7 @@ impl<'a> EndToEndJson<'a> {
     #[must_use]
     pub fn of(s: &'a Study, r: &'a EndToEndAnswer) -> Self {
         let e2e = &r.simulator;
-        let mut v = Self::new(
-            s,
-            e2e,
-            &r.answer,
-            r.note.as_ref(),
-            r.seconds,
-            &r.throughput,
-            r.noisy.as_ref(),
-        );
-        // the specifications no table can meet are left out of the yield's count: its words
-        // say so, as the text and the report do
-        for (view, reading) in v.readings.iter_mut().zip(r.answer.readings()) {
-            if let Some(sp) = view.yield_based.specifications.as_mut() {
-                sp.counts = yield_counts_words(reading, r.no_table_suffices.len());
-            }
-            view.yield_based.not_counted = &r.no_table_suffices;
-        }
+        let mut v = Self::new(s, r);
         v.extras.angle_dependent = r
             .angle
             .as_ref()
