@@ -331,7 +331,7 @@ pub fn direct_bounds(a: &BuyersAnswer) -> Vec<(&str, &[f64])> {
 /// One output of the calibration (`end-to-end --json` `outputs`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct OutputJson<'a> {
+pub(crate) struct OutputJson<'a> {
     /// The output's name.
     pub name: &'a str,
     /// Its unit (the study's, e.g. `deg_per_h`).
@@ -967,7 +967,7 @@ pub struct EndToEndJson<'a> {
     /// Time of the answer, s.
     pub seconds: f64,
     /// The calibration's outputs.
-    pub outputs: Vec<OutputJson<'a>>,
+    pub(crate) outputs: Vec<OutputJson<'a>>,
     /// The table's error names.
     pub errors: Vec<&'a str>,
     /// Errors that act only together, with their combination's bound under each direct

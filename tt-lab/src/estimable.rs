@@ -255,7 +255,7 @@ pub(crate) struct AllocationsJson {
 /// One error's status.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ErrorStatusJson<'a> {
+pub(crate) struct ErrorStatusJson<'a> {
     /// The error's name.
     pub name: &'a str,
     /// `alone`, `combined` or `invisible`.
@@ -321,7 +321,7 @@ pub struct EstimableJson<'a> {
     pub(crate) invisible: Vec<CombinationJson>,
     /// Every parameter's status (each error's, or each coefficient's of the study's
     /// angle-dependent model).
-    pub errors: Vec<ErrorStatusJson<'a>>,
+    pub(crate) errors: Vec<ErrorStatusJson<'a>>,
     /// The direct allocations.
     pub(crate) allocation: AllocationsJson,
     /// The worst turntable's rate errors.

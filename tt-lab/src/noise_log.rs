@@ -94,8 +94,9 @@ impl NoiseLog {
     }
 
     /// The JSON view (`allan --json`); `unit`: the log's unit if given.
+    #[cfg(feature = "serde")]
     #[must_use]
-    pub fn view<'a>(&'a self, unit: Option<&'a str>) -> AllanJson<'a> {
+    pub fn view<'a>(&'a self, unit: Option<&'a str>) -> impl serde::Serialize + 'a {
         json_of(self, unit)
     }
 }
@@ -621,7 +622,7 @@ pub(crate) fn noise_block(a: &Analysis) -> NoiseBlock {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct AllanJson<'a> {
+pub(crate) struct AllanJson<'a> {
     /// The log's name (its path, or standard input).
     log: &'a str,
     /// The column analysed.

@@ -100,8 +100,9 @@ impl RequirementAnswer {
     }
 
     /// The JSON view (`requirement --json`).
+    #[cfg(feature = "serde")]
     #[must_use]
-    pub fn view(&self) -> StudyRequirementJson<'_> {
+    pub fn view(&self) -> impl serde::Serialize + '_ {
         StudyRequirementJson {
             requirement: self.computed.view(),
             study: &self.study_path,
@@ -254,7 +255,7 @@ pub(crate) fn requirement_json<'a>(
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct StudyRequirementJson<'a> {
+pub(crate) struct StudyRequirementJson<'a> {
     /// The requirement (its keys at the top level).
     #[cfg_attr(feature = "serde", serde(flatten))]
     requirement: RequirementJson<'a>,

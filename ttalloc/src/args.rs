@@ -6,15 +6,15 @@ use std::path::{Path, PathBuf};
 
 /// `--study`: the study file of a command that defaults to the paper's.
 #[derive(Debug, clap::Args)]
-pub struct StudyFile {
+pub(crate) struct StudyFile {
     /// Study file (default: `studies/gyrowheel-2017.toml`).
     #[arg(long)]
-    pub study: Option<PathBuf>,
+    pub(crate) study: Option<PathBuf>,
 }
 
 impl StudyFile {
     /// The path given, if any.
-    pub fn path(&self) -> Option<&Path> {
+    pub(crate) fn path(&self) -> Option<&Path> {
         self.study.as_deref()
     }
 
@@ -22,7 +22,7 @@ impl StudyFile {
     ///
     /// # Errors
     /// As [`crate::loaded::load`].
-    pub fn load(&self) -> Result<study::Study, crate::InputError> {
+    pub(crate) fn load(&self) -> Result<study::Study, crate::InputError> {
         crate::loaded::load(self.path())
     }
 }

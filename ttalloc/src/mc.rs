@@ -34,7 +34,7 @@ use tt_lab::monte_carlo::{Bounds, McJson, Options};
 
 /// Which tolerance box to verify.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum BoundsChoice {
+pub(crate) enum BoundsChoice {
     /// The study's two-step allocation (the paper's method solved to the optimum).
     TwoStep,
     /// The paper's Table 4 (the paper's table only).
@@ -46,28 +46,28 @@ pub enum BoundsChoice {
 pub struct Args {
     /// `--study` (default: the paper's).
     #[command(flatten)]
-    pub study: crate::args::StudyFile,
+    pub(crate) study: crate::args::StudyFile,
     /// `--samples` and `--seed` (default: the study's `monte_carlo`).
     #[command(flatten)]
     pub(crate) sampling: crate::args::Sampling,
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long, allow_negative_numbers = true, value_parser = crate::args::threads)]
-    pub threads: Option<u32>,
+    pub(crate) threads: Option<u32>,
     /// Tolerance box to verify.
     #[arg(long, value_enum, default_value_t = BoundsChoice::TwoStep, conflicts_with = "tolerances")]
-    pub bounds: BoundsChoice,
+    pub(crate) bounds: BoundsChoice,
     /// A vendor's tolerance file instead of `--bounds`.
     #[arg(long)]
-    pub tolerances: Option<PathBuf>,
+    pub(crate) tolerances: Option<PathBuf>,
     /// Samples per random stream (part of the reproducibility contract).
     #[arg(long, allow_negative_numbers = true, default_value_t = mc_verify::DEFAULT_CHUNK_SIZE, value_parser = crate::args::count_u32)]
-    pub chunk_size: u32,
+    pub(crate) chunk_size: u32,
     /// Histogram bins per angle (1 to 10,000).
     #[arg(long, allow_negative_numbers = true, default_value_t = mc_verify::DEFAULT_HISTOGRAM_BINS, value_parser = parse_bins)]
-    pub bins: usize,
+    pub(crate) bins: usize,
     /// Print JSON instead of text.
     #[arg(long)]
-    pub json: bool,
+    pub(crate) json: bool,
 }
 
 fn parse_bins(s: &str) -> Result<usize, String> {

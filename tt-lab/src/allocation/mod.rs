@@ -39,7 +39,7 @@ pub use crate::vendor::rate::{RateAllocated, allocation as rate_allocation};
 /// One angle's Lemma 1 certificate, degrees.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AxisCertificateJson {
+pub(crate) struct AxisCertificateJson {
     /// The requirement, degrees (`null`: none).
     pub requirement_deg: Option<f64>,
     /// The largest worst case found, degrees.
@@ -187,7 +187,7 @@ pub struct AllocateJson<'a> {
     /// J's unit and definition, in words.
     pub objective_unit: &'static str,
     /// Lemma 1's certificate per angle.
-    pub certificate: PerAngle<AxisCertificateJson>,
+    pub(crate) certificate: PerAngle<AxisCertificateJson>,
     /// Whether Lemma 1 holds over the full range.
     pub lemma1_full_range: bool,
     /// The equal-effects allocation's bounds, arcmin.
@@ -211,7 +211,7 @@ pub struct AllocateJson<'a> {
     pub paper_table4_objective: Option<f64>,
     /// For the paper's table: Table 4's certificate; absent otherwise.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
-    pub paper_table4_certificate: Option<PerAngle<AxisCertificateJson>>,
+    pub(crate) paper_table4_certificate: Option<PerAngle<AxisCertificateJson>>,
     /// `angle_dependent`, `disc_allocation` and `rate_allocation` (each absent when it does
     /// not apply).
     #[cfg_attr(feature = "serde", serde(flatten))]

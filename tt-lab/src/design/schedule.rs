@@ -804,7 +804,7 @@ pub(crate) struct SearchJson {
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(not(feature = "serde"), allow(dead_code))]
-pub struct DesignJson<'a> {
+pub(crate) struct DesignJson<'a> {
     /// The study's path.
     study_path: &'a str,
     /// The study's reading of eq 13.
@@ -876,8 +876,9 @@ pub struct RunView<'a> {
 impl ScheduleAnswer {
     /// The answer's view (`design-schedule --json`) for the study `s` it answers, with the
     /// command line's parts `run`.
+    #[cfg(feature = "serde")]
     #[must_use]
-    pub fn view<'a>(&'a self, s: &'a Study, run: RunView<'a>) -> DesignJson<'a> {
+    pub fn view<'a>(&'a self, s: &'a Study, run: RunView<'a>) -> impl serde::Serialize + 'a {
         to_json(s, self, run)
     }
 }

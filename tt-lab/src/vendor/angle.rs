@@ -836,7 +836,7 @@ pub(crate) struct CompensatedReadingJson<'a> {
 /// The `compensated` key of `check-turntable`.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CompensatedJson<'a> {
+pub(crate) struct CompensatedJson<'a> {
     /// The box that matters (measured errors at their uncertainty, or at the sheet's bound
     /// plus the measured value's largest magnitude when smaller), arcmin.
     pub tolerances_arcmin: ArcminBounds,
@@ -849,7 +849,7 @@ pub struct CompensatedJson<'a> {
 impl<'a> CompensatedJson<'a> {
     /// The view of `c` for `checks`.
     #[must_use]
-    pub fn new(checks: &'a [(EndToEnd, TurntableCheck)], c: &'a Compensated) -> Self {
+    pub(crate) fn new(checks: &'a [(EndToEnd, TurntableCheck)], c: &'a Compensated) -> Self {
         let names = checks[0].0.turntable().rotation_error_names();
         Self {
             tolerances_arcmin: arcmin_bounds(&names, c.sheet.upper_bounds_rad()),

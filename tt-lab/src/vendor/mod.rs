@@ -205,7 +205,7 @@ pub struct CheckJson<'a> {
     /// Without rate steps: the check of the compensated table (`null` without measured
     /// errors); absent with rate steps.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
-    pub compensated: Option<Option<crate::vendor::angle::CompensatedJson<'a>>>,
+    pub(crate) compensated: Option<Option<crate::vendor::angle::CompensatedJson<'a>>>,
     /// With rate steps: what the angular check holds at zero; absent otherwise.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub rate_steps_note: Option<&'static str>,

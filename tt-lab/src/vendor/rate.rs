@@ -407,7 +407,7 @@ pub(crate) struct ExtraPartJson {
 /// One output's worst case over both boxes, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct RateOutputJson<'a> {
+pub(crate) struct RateOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// Its accuracy, output's unit.
@@ -435,7 +435,7 @@ pub struct RateOutputJson<'a> {
 /// One output's noise part in the rate check, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct RateNoiseSplitJson {
+pub(crate) struct RateNoiseSplitJson {
     /// The table's part: the larger of `linear_bound` and `exact_at_vertex`.
     pub table_part: f64,
     /// One standard deviation of the noise, output's unit.
@@ -459,7 +459,7 @@ pub struct RateCheckJson<'a> {
     /// The sheet's rate errors and translations.
     pub(crate) extra_errors: Vec<ExtraErrorJson>,
     /// Every output's worst case.
-    pub outputs: Vec<RateOutputJson<'a>>,
+    pub(crate) outputs: Vec<RateOutputJson<'a>>,
     /// Monte Carlo yield over both boxes, in [0, 1].
     #[cfg_attr(feature = "serde", serde(rename = "yield"))]
     pub yield_fraction: f64,
@@ -556,7 +556,7 @@ impl<'a> RateCheckJson<'a> {
 /// A rate tolerance allocated (`tolerances[]`), in the sheet's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ToleranceJson {
+pub(crate) struct ToleranceJson {
     /// The tolerance's name.
     pub name: String,
     /// Its bound, `unit`; `null` when unbounded.
@@ -571,7 +571,7 @@ pub struct ToleranceJson {
 /// One output of the certified allocation with the rate tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CertifiedOutputJson<'a> {
+pub(crate) struct CertifiedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// Its accuracy, output's unit.
@@ -587,7 +587,7 @@ pub struct CertifiedOutputJson<'a> {
 /// The certified allocation with the rate tolerances (`rate_allocation.certified`).
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CertifiedRateJson<'a> {
+pub(crate) struct CertifiedRateJson<'a> {
     /// J, arcmin^-2.
     pub objective_arcmin: f64,
     /// The angular bounds, arcmin.
@@ -642,7 +642,7 @@ impl<'a> CertifiedRateJson<'a> {
 /// One output of the allocation with the rate tolerances, output's unit.
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct AllocatedOutputJson<'a> {
+pub(crate) struct AllocatedOutputJson<'a> {
     /// The output's name.
     pub output: &'a str,
     /// Its accuracy, output's unit.
@@ -670,9 +670,9 @@ pub struct RateAllocationJson<'a> {
     /// The angular bounds, arcmin.
     pub bounds_arcmin: ArcminBounds,
     /// The rate tolerances.
-    pub tolerances: Vec<ToleranceJson>,
+    pub(crate) tolerances: Vec<ToleranceJson>,
     /// Every output's worst case.
-    pub outputs: Vec<AllocatedOutputJson<'a>>,
+    pub(crate) outputs: Vec<AllocatedOutputJson<'a>>,
     /// Rounds of the exact-chain check.
     pub exact_rounds: usize,
     /// Monte Carlo yield over both boxes, in [0, 1].
@@ -687,7 +687,7 @@ pub struct RateAllocationJson<'a> {
     /// Why the direct allocation is not certified at rate steps.
     pub direct_note: &'static str,
     /// The certified allocation, `null` when there is none (`certified_note`).
-    pub certified: Option<CertifiedRateJson<'a>>,
+    pub(crate) certified: Option<CertifiedRateJson<'a>>,
     /// Why there is no certified allocation, else `null`.
     pub certified_note: Option<&'a str>,
     /// With the study's noise: the allocation keeping the noise part free; absent otherwise.
